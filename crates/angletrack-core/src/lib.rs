@@ -1,0 +1,69 @@
+//! Angle tracking observers (software resolver-to-digital conversion) for firmware:
+//! `no_std`, no allocator, no panic on the per-sample path, `f32` or `f64`.
+//!
+//! A resolver (after demodulation), a sin/cos magnetic encoder or high-frequency injection
+//! gives two noisy signals `y_c ~ cos(theta)` and `y_s ~ sin(theta)`. An angle tracking
+//! observer (ATO) turns them into angle, speed and acceleration, sample by sample. This crate
+//! implements the three observers of Auger, Mansouri-Toudert and Chibah, *Design of advanced
+//! resolver-to-digital converters* (2011), as one predictor-corrector recursion on the scaled
+//! state `X = (theta, Ts Omega[, Ts^2 alpha])`:
+//!
+//! ```text
+//! X_p = A X_e                          A = [[1, 1, 1/2], [0, 1, 1], [0, 0, 1]] (order 3)
+//! eps = y_s cos(x1_p) - y_c sin(x1_p)  heterodyne phase detector
+//! X_e = X_p + L eps                    x1 wrapped to [-pi, pi), whole turns counted
+//! ```
+//!
+//! Only the discrete gains `L` differ between the classical 2nd-order ATO (order 2), the
+//! 3rd-order ATO designed by pole placement and the time-invariant Kalman ATO (order 3).
+//! The gains come from the design tools of the `angletrack` crate or its command line
+//! (`angletrack design ... --format rust`); this crate checks them once, at construction,
+//! and refuses gains outside the stability region of the discrete loop with a
+//! [`ConfigError`] that names the parameter.
+//!
+//! # Firmware use
+//!
+//! ```
+//! use angletrack_core::{Gains, ObserverState};
+//!
+//! // Once, at start-up: gains for a 20 kHz loop (from `angletrack design`).
+//! let gains = Gains::<f32, 3>::new([0.1578, 0.0126, 0.000_34], 50e-6).expect("valid gains");
+//! let mut state = ObserverState::new();
+//!
+//! // In the ADC interrupt, every sample (y_c, y_s normalised to amplitude ~1):
+//! # let (y_c, y_s) = (0.5_f32, 0.866_f32);
+//! let estimate = gains.update(&mut state, y_c, y_s);
+//! let (angle_rad, speed_rad_s) = (estimate.angle, estimate.speed);
+//! # assert!((angle_rad - 1.0472).abs() < 1e-3 && speed_rad_s == 0.0);
+//! ```
+//!
+//! [`Gains`] is immutable and `Copy`; [`ObserverState`] is the mutable part, so one gain set
+//! serves many channels. [`Observer`] bundles both and implements [`AngleTrackingObserver`],
+//! the trait for code that should not care which observer it runs.
+//!
+//! # Float types and the phase detector's sin/cos
+//!
+//! Everything is generic over the sealed [`Real`] trait (`f32`, `f64`); the `f32` path uses
+//! no `f64` arithmetic. The sin/cos of the phase detector is a type parameter: [`Fast`]
+//! (a branch-free polynomial, the default on `f32`) or [`Exact`] (`libm`, the default on
+//! `f64`).
+#![no_std]
+#![deny(missing_docs)]
+// `!(x > 0)` is deliberate throughout: it is true for NaN, which must be refused too.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+mod gains;
+mod observer;
+mod real;
+mod sincos;
+
+pub use gains::{ConfigError, Gains, Order, Parameter, SupportedOrder};
+pub use observer::{
+    AngleTrackingObserver, Estimate, Observer, ObserverState, SecondOrderObserver,
+    ThirdOrderObserver,
+};
+pub use real::Real;
+pub use sincos::{Exact, Fast, SinCos};
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,406 @@
+//! The one predictor-corrector recursion that every angle tracking observer runs.
+
+use crate::gains::{Gains, Order, SupportedOrder, predict};
+use crate::real::Real;
+use crate::sincos::SinCos;
+
+/// What an observer knows after a sample.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Estimate<T> {
+    /// Estimated shaft angle (rad), wrapped to [-pi, pi).
+    pub angle: T,
+    /// Whole turns counted since initialisation (positive counter-clockwise). The
+    /// multi-turn position is `turns * 2 pi + angle` (rad), exact in this split form.
+    pub turns: i64,
+    /// Estimated speed (rad/s).
+    pub speed: T,
+    /// Estimated acceleration (rad/s^2); always 0 for a 2nd-order observer.
+    pub acceleration: T,
+    /// Phase-detector output `eps = y_s cos(angle_p) - y_c sin(angle_p)` of this sample,
+    /// about `A sin(theta - angle_p)` (in the input's units); 0 when the sample was rejected.
+    pub phase_error: T,
+}
+
+impl<T: Real> Estimate<T> {
+    /// The multi-turn position `turns * 2 pi + angle` (rad) in `f64`: exact to `f64`
+    /// rounding whatever the number of turns. Meant for host-side code (on a Cortex-M4F
+    /// `f64` arithmetic is emulated in software).
+    pub fn position(&self) -> f64 {
+        self.turns as f64 * core::f64::consts::TAU + self.angle.to_f64()
+    }
+}
+
+/// The mutable state of one observer channel: the scaled state vector
+/// `x = (theta, Ts Omega[, Ts^2 alpha])` and the turn count.
+///
+/// Separate from the immutable [`Gains`], so that one gain set can drive many channels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ObserverState<T, const N: usize> {
+    pub(crate) x: [T; N],
+    pub(crate) turns: i64,
+    pub(crate) phase_error: T,
+    pub(crate) initialised: bool,
+}
+
+impl<T: Real, const N: usize> Default for ObserverState<T, N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<T: Real, const N: usize> ObserverState<T, N> {
+    /// A state that initialises itself from the first sample it is given: the angle from
+    /// `atan2(y_s, y_c)` (so tracking never starts 180 degrees off), speed and acceleration 0.
+    ///
+    /// ```
+    /// use angletrack_core::{Gains, ObserverState};
+    /// let gains = Gains::<f64, 2>::new([0.05, 0.0012], 1e-4)?;
+    /// let mut state = ObserverState::new();
+    /// let first = gains.update(&mut state, 0.0, 1.0); // theta = 90 degrees
+    /// assert!((first.angle - core::f64::consts::FRAC_PI_2).abs() < 1e-12);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub const fn new() -> Self {
+        Self {
+            x: [zero(); N],
+            turns: 0,
+            phase_error: zero(),
+            initialised: false,
+        }
+    }
+
+    /// A state starting at a known angle (rad, any value: it is wrapped and the whole turns
+    /// counted), speed (rad/s) and acceleration (rad/s^2; ignored at order 2), for the
+    /// given sample period `sample_period` (s).
+    ///
+    /// Non-finite values are replaced by 0.
+    ///
+    /// ```
+    /// use angletrack_core::ObserverState;
+    /// let state = ObserverState::<f32, 3>::at(7.0, 100.0, 0.0, 1e-4);
+    /// assert_eq!(state.turns(), 1);
+    /// assert!((state.angle() - (7.0 - core::f32::consts::TAU)).abs() < 1e-6);
+    /// assert!((state.speed(1e-4) - 100.0).abs() < 1e-3);
+    /// ```
+    pub fn at(angle: T, speed: T, acceleration: T, sample_period: T) -> Self {
+        let finite_or_zero = |v: T| if v.is_finite() { v } else { T::ZERO };
+        let mut x = [T::ZERO; N];
+        let mut turns = 0;
+        x[0] = finite_or_zero(angle);
+        wrap_angle(&mut x[0], &mut turns);
+        if N > 1 {
+            x[1] = finite_or_zero(speed * sample_period);
+        }
+        if N > 2 {
+            x[2] = finite_or_zero(acceleration * sample_period * sample_period);
+        }
+        Self {
+            x,
+            turns,
+            phase_error: T::ZERO,
+            initialised: true,
+        }
+    }
+
+    /// The estimated angle (rad), in [-pi, pi).
+    pub fn angle(&self) -> T {
+        self.x[0]
+    }
+
+    /// Whole turns counted since initialisation.
+    pub fn turns(&self) -> i64 {
+        self.turns
+    }
+
+    /// The estimated speed (rad/s) for the sample period `sample_period` (s).
+    pub fn speed(&self, sample_period: T) -> T {
+        if N > 1 {
+            self.x[1] / sample_period
+        } else {
+            T::ZERO
+        }
+    }
+
+    /// The scaled state vector `(theta, Ts Omega[, Ts^2 alpha])`.
+    pub fn scaled_state(&self) -> [T; N] {
+        self.x
+    }
+
+    /// `false` until the first sample (or [`ObserverState::at`]) has set the angle.
+    pub fn is_initialised(&self) -> bool {
+        self.initialised
+    }
+}
+
+const fn zero<T: Real>() -> T {
+    T::ZERO
+}
+
+/// Wraps `angle` into [-pi, pi) and adds the whole turns removed to `turns`.
+///
+/// The usual case (one turn at most) subtracts 2 pi in two parts (Cody-Waite): the first
+/// subtraction is exact (Sterbenz), so the wrapped angle loses no precision however many
+/// turns have been counted. A non-finite angle becomes 0.
+#[inline(always)]
+pub(crate) fn wrap_angle<T: Real>(angle: &mut T, turns: &mut i64) {
+    if *angle >= T::PI || *angle < -T::PI || !angle.is_finite() {
+        wrap_angle_slow(angle, turns);
+    }
+}
+
+#[inline(never)]
+#[cold]
+fn wrap_angle_slow<T: Real>(angle: &mut T, turns: &mut i64) {
+    let a = *angle;
+    if !a.is_finite() {
+        *angle = T::ZERO;
+        return;
+    }
+    let k = ((a + T::PI) / T::TAU).floor();
+    let mut wrapped = (a - k * T::TAU_HI) - k * T::TAU_LO;
+    let mut whole = k.to_i64_saturating();
+    // Rounding can leave the result on the far side of an edge.
+    if wrapped >= T::PI {
+        wrapped -= T::TAU;
+        whole = whole.wrapping_add(1);
+    } else if wrapped < -T::PI {
+        wrapped += T::TAU;
+        whole = whole.wrapping_sub(1);
+    }
+    if !(wrapped >= -T::PI && wrapped < T::PI) {
+        // Only for absurd magnitudes, where k * 2 pi is not representable.
+        wrapped = T::ZERO;
+    }
+    *angle = wrapped;
+    *turns = turns.wrapping_add(whole);
+}
+
+impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    /// One sample of the observer: predict, detect the phase error, correct.
+    ///
+    /// ```text
+    /// X_p = A X_e                      (Taylor step of the scaled state)
+    /// eps = y_s cos(x1_p) - y_c sin(x1_p)
+    /// X_e = X_p + L eps                (x1 wrapped to [-pi, pi), whole turns counted)
+    /// ```
+    ///
+    /// `y_c` and `y_s` are the demodulated cosine and sine signals (any consistent unit,
+    /// amplitude about 1). The first sample of an uninitialised state sets the angle from
+    /// `atan2(y_s, y_c)`. A sample whose phase-detector output is not finite (NaN or
+    /// infinite input) is not used: the state coasts on its prediction. Never panics.
+    #[inline]
+    pub fn update(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) -> Estimate<T> {
+        if !state.initialised {
+            self.initialise(state, y_c, y_s);
+            return self.estimate(state);
+        }
+        let mut x = predict(&state.x);
+        let mut turns = state.turns;
+        wrap_angle(&mut x[0], &mut turns);
+        let (sin, cos) = S::sin_cos(x[0]);
+        let mut eps = y_s * cos - y_c * sin;
+        if !eps.is_finite() {
+            eps = T::ZERO;
+        }
+        let mut i = 0;
+        while i < N {
+            x[i] += self.l[i] * eps;
+            i += 1;
+        }
+        wrap_angle(&mut x[0], &mut turns);
+        state.x = x;
+        state.turns = turns;
+        state.phase_error = eps;
+        self.estimate(state)
+    }
+
+    /// Sets the state from one sample: angle `atan2(y_s, y_c)`, speed and acceleration 0,
+    /// turns 0. A non-finite sample leaves the state uninitialised.
+    pub fn initialise(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) {
+        let angle = y_s.atan2(y_c);
+        if angle.is_finite() {
+            *state = ObserverState::new();
+            state.x[0] = angle;
+            wrap_angle(&mut state.x[0], &mut state.turns);
+            state.initialised = true;
+        }
+    }
+
+    /// The estimate held by `state`, in physical units.
+    #[inline(always)]
+    pub fn estimate(&self, state: &ObserverState<T, N>) -> Estimate<T> {
+        Estimate {
+            angle: state.x[0],
+            turns: state.turns,
+            speed: if N > 1 {
+                state.x[1] * self.sample_rate
+            } else {
+                T::ZERO
+            },
+            acceleration: if N > 2 {
+                state.x[2] * self.sample_rate_squared
+            } else {
+                T::ZERO
+            },
+            phase_error: state.phase_error,
+        }
+    }
+
+    /// Runs the observer over a block of samples, calling `sink(k, estimate)` for each
+    /// sample `k`; no allocation. Processes `min(y_c.len(), y_s.len())` samples and returns
+    /// that count.
+    ///
+    /// ```
+    /// use angletrack_core::{Gains, ObserverState};
+    /// let gains = Gains::<f32, 3>::new([0.3, 0.04, 0.002], 1e-4)?;
+    /// let mut state = ObserverState::new();
+    /// let (y_c, y_s) = ([1.0_f32; 64], [0.0_f32; 64]);
+    /// let mut speeds = [0.0_f32; 64];
+    /// let n = gains.update_each(&mut state, &y_c, &y_s, |k, e| speeds[k] = e.speed);
+    /// assert_eq!(n, 64);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    #[inline]
+    pub fn update_each<F: FnMut(usize, Estimate<T>)>(
+        &self,
+        state: &mut ObserverState<T, N>,
+        y_c: &[T],
+        y_s: &[T],
+        mut sink: F,
+    ) -> usize {
+        let n = y_c.len().min(y_s.len());
+        for (k, (&c, &s)) in y_c.iter().zip(y_s).enumerate() {
+            sink(k, self.update(state, c, s));
+        }
+        n
+    }
+
+    /// Runs the observer over a block of samples into `out`; no allocation. Processes
+    /// `min(y_c.len(), y_s.len(), out.len())` samples and returns that count.
+    ///
+    /// ```
+    /// use angletrack_core::{Estimate, Gains, ObserverState};
+    /// let gains = Gains::<f64, 2>::new([0.05, 0.0012], 1e-4)?;
+    /// let mut state = ObserverState::new();
+    /// let mut out = [Estimate::default(); 3];
+    /// let n = gains.update_block(&mut state, &[1.0, 1.0, 1.0], &[0.0, 0.0, 0.0], &mut out);
+    /// assert_eq!(n, 3);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    #[inline]
+    pub fn update_block(
+        &self,
+        state: &mut ObserverState<T, N>,
+        y_c: &[T],
+        y_s: &[T],
+        out: &mut [Estimate<T>],
+    ) -> usize {
+        let mut n = 0;
+        for ((&c, &s), slot) in y_c.iter().zip(y_s).zip(out.iter_mut()) {
+            *slot = self.update(state, c, s);
+            n += 1;
+        }
+        n
+    }
+}
+
+/// What every angle tracking observer does, whatever its order and gains: code that uses an
+/// observer takes `impl AngleTrackingObserver<T>` and does not care which one it is.
+pub trait AngleTrackingObserver<T: Real> {
+    /// Feeds one sample (`y_c ~ cos theta`, `y_s ~ sin theta`) and returns the estimate.
+    fn update(&mut self, y_c: T, y_s: T) -> Estimate<T>;
+    /// Feeds a block of samples into `out`; returns the number processed,
+    /// `min(y_c.len(), y_s.len(), out.len())`.
+    fn update_block(&mut self, y_c: &[T], y_s: &[T], out: &mut [Estimate<T>]) -> usize;
+    /// The current estimate, without a new sample.
+    fn estimate(&self) -> Estimate<T>;
+    /// Re-initialises the angle from one sample (`atan2(y_s, y_c)`), speed and acceleration 0.
+    fn initialise(&mut self, y_c: T, y_s: T);
+    /// Forgets everything: the next sample initialises the observer.
+    fn reset(&mut self);
+    /// The sample period (s).
+    fn sample_period(&self) -> T;
+    /// The order of the loop: 2 (angle, speed) or 3 (angle, speed, acceleration).
+    fn order(&self) -> usize;
+}
+
+/// An angle tracking observer: immutable [`Gains`] and its mutable [`ObserverState`].
+///
+/// `N = 2` is the classical type II ATO, `N = 3` the 3rd-order ATO; the continuous-design
+/// and the Kalman 3rd-order observers differ only by their gains. `S` picks the phase
+/// detector's sin/cos ([`Fast`](crate::Fast) by default on `f32`,
+/// [`Exact`](crate::Exact) on `f64`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Observer<T: Real, const N: usize, S = <T as Real>::DefaultSinCos>
+where
+    Order<N>: SupportedOrder,
+{
+    /// The gains (immutable; replace them to retune).
+    pub gains: Gains<T, N, S>,
+    /// The state.
+    pub state: ObserverState<T, N>,
+}
+
+/// The classical 2nd-order (type II) angle tracking observer.
+pub type SecondOrderObserver<T, S = <T as Real>::DefaultSinCos> = Observer<T, 2, S>;
+/// The 3rd-order (type III) angle tracking observer: continuous design by pole placement, or
+/// the time-invariant Kalman ATO (same recursion, Kalman gains).
+pub type ThirdOrderObserver<T, S = <T as Real>::DefaultSinCos> = Observer<T, 3, S>;
+
+impl<T: Real, const N: usize, S: SinCos<T>> Observer<T, N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    /// An observer with the given gains, initialised by its first sample.
+    ///
+    /// ```
+    /// use angletrack_core::{AngleTrackingObserver, Gains, Observer};
+    /// let mut ato = Observer::new(Gains::<f32, 3>::new([0.3, 0.04, 0.002], 1e-4)?);
+    /// let estimate = ato.update(0.0, -1.0);
+    /// assert!((estimate.angle + core::f32::consts::FRAC_PI_2).abs() < 1e-6);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub const fn new(gains: Gains<T, N, S>) -> Self {
+        Self {
+            gains,
+            state: ObserverState::new(),
+        }
+    }
+}
+
+impl<T: Real, const N: usize, S: SinCos<T>> AngleTrackingObserver<T> for Observer<T, N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    #[inline]
+    fn update(&mut self, y_c: T, y_s: T) -> Estimate<T> {
+        self.gains.update(&mut self.state, y_c, y_s)
+    }
+
+    fn update_block(&mut self, y_c: &[T], y_s: &[T], out: &mut [Estimate<T>]) -> usize {
+        self.gains.update_block(&mut self.state, y_c, y_s, out)
+    }
+
+    fn estimate(&self) -> Estimate<T> {
+        self.gains.estimate(&self.state)
+    }
+
+    fn initialise(&mut self, y_c: T, y_s: T) {
+        self.gains.initialise(&mut self.state, y_c, y_s);
+    }
+
+    fn reset(&mut self) {
+        self.state = ObserverState::new();
+    }
+
+    fn sample_period(&self) -> T {
+        self.gains.sample_period
+    }
+
+    fn order(&self) -> usize {
+        N
+    }
+}

@@ -1,0 +1,22 @@
+# Shared helpers for the scripts: sourced, not run.
+
+# Installs Debian packages that are missing (CI and fresh machines run as root).
+need_debian_packages() {
+  local missing=()
+  for p in "$@"; do dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p"); done
+  if [ ${#missing[@]} -gt 0 ]; then
+    local sudo=""; [ "$(id -u)" -ne 0 ] && sudo="sudo"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${missing[@]}" >/dev/null
+  fi
+}
+
+# Makes sure the Rust toolchain has the targets and components the project builds with.
+need_rust() {
+  if ! command -v cargo >/dev/null 2>&1 || ! command -v rustup >/dev/null 2>&1; then
+    echo "angletrack needs Rust installed with rustup (https://rustup.rs)" >&2
+    exit 1
+  fi
+  rustup component add rustfmt clippy >/dev/null 2>&1 || true
+  rustup target add thumbv7em-none-eabihf thumbv6m-none-eabi >/dev/null
+}

@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Formatting, lints, the no_std core on its own for two Cortex-M targets, and every Rust test.
+set -euo pipefail
+source scripts/lib.sh
+need_rust
+cargo fmt --all -- --check
+cargo clippy --workspace --all-targets -- -D warnings
+# The core alone (features of a --workspace build unify, so it is built by itself).
+cargo build -p angletrack-core --target thumbv7em-none-eabihf --release
+cargo build -p angletrack-core --target thumbv6m-none-eabi --release
+cargo test --workspace

@@ -1,0 +1,208 @@
+//! Conversion of Python arguments into sample slices, and of result vectors into numpy arrays.
+//!
+//! Input rules (the same for every function that takes samples):
+//! * a numpy array must be 1-D, non-empty, and of the expected float dtype (`TypeError`
+//!   otherwise: no silent up- or down-cast);
+//! * a non-contiguous (strided, misaligned) array is copied, since that is what a user
+//!   slicing `y[::2]` expects;
+//! * anything else (a list, a tuple) is converted with `numpy.asarray(obj, dtype)`.
+
+use numpy::prelude::*;
+use numpy::{
+    Element, PyArray1, PyArrayDescr, PyReadonlyArray1, PyReadwriteArray1, PyUntypedArray, dtype,
+};
+use pyo3::prelude::*;
+
+use crate::errors::{Error, Result};
+
+/// The float type of a run, chosen from the input's dtype or the user's `dtype` argument.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Float {
+    /// `numpy.float32`.
+    F32,
+    /// `numpy.float64`.
+    F64,
+}
+
+impl Float {
+    /// The numpy name of the dtype.
+    pub fn name(self) -> &'static str {
+        match self {
+            Float::F32 => "float32",
+            Float::F64 => "float64",
+        }
+    }
+
+    /// The float type of a dtype-like Python object (`numpy.float32`, `"float64"`, a
+    /// `numpy.dtype`); `None` gives `float64`.
+    pub fn from_dtype_like(
+        obj: Option<&Bound<'_, PyAny>>,
+        parameter: &'static str,
+    ) -> Result<Self> {
+        let Some(obj) = obj else {
+            return Ok(Float::F64);
+        };
+        if obj.is_none() {
+            return Ok(Float::F64);
+        }
+        let descr = PyArrayDescr::new(obj.py(), obj).map_err(|_| Error::Dtype {
+            parameter,
+            given: type_description(obj),
+            expected: "numpy.float32 or numpy.float64".into(),
+        })?;
+        Self::of_descr(&descr).ok_or_else(|| Error::Dtype {
+            parameter,
+            given: descr.to_string(),
+            expected: "numpy.float32 or numpy.float64".into(),
+        })
+    }
+
+    /// The float type of the samples `obj`: the dtype of a numpy array (float32 or float64,
+    /// `TypeError` otherwise), float64 for anything else (a list is converted as float64).
+    pub fn of_samples(obj: &Bound<'_, PyAny>, parameter: &'static str) -> Result<Self> {
+        match obj.cast::<PyUntypedArray>() {
+            Ok(array) => {
+                let descr = array.dtype();
+                Self::of_descr(&descr).ok_or_else(|| Error::Dtype {
+                    parameter,
+                    given: format!("an array of dtype {descr}"),
+                    expected: "an array of dtype float32 or float64".into(),
+                })
+            }
+            Err(_) => Ok(Float::F64),
+        }
+    }
+
+    fn of_descr(descr: &Bound<'_, PyArrayDescr>) -> Option<Self> {
+        let py = descr.py();
+        if descr.is_equiv_to(&dtype::<f32>(py)) {
+            Some(Float::F32)
+        } else if descr.is_equiv_to(&dtype::<f64>(py)) {
+            Some(Float::F64)
+        } else {
+            None
+        }
+    }
+}
+
+fn type_description(obj: &Bound<'_, PyAny>) -> String {
+    match obj.get_type().name() {
+        Ok(name) => format!("an object of type {name}"),
+        Err(_) => "an object of unknown type".into(),
+    }
+}
+
+/// The samples of one argument: borrowed from a contiguous numpy array, or a copy.
+#[derive(Debug)]
+pub enum Samples<'py, T: Element> {
+    /// A view of the caller's contiguous array (read-only borrow).
+    Borrowed(PyReadonlyArray1<'py, T>),
+    /// A contiguous copy of a strided array.
+    Copied(Vec<T>),
+}
+
+impl<T: Element> Samples<'_, T> {
+    /// The samples as a contiguous slice.
+    pub fn as_slice(&self) -> &[T] {
+        match self {
+            // A borrowed view is only kept when it is contiguous (checked in `samples`).
+            Samples::Borrowed(view) => view.as_slice().unwrap_or(&[]),
+            Samples::Copied(v) => v,
+        }
+    }
+}
+
+/// The samples of argument `parameter`, checked against the rules of this module.
+pub fn samples<'py, T: Element + Copy>(
+    obj: &Bound<'py, PyAny>,
+    parameter: &'static str,
+) -> Result<Samples<'py, T>> {
+    let py = obj.py();
+    let array: Bound<'py, PyUntypedArray> = match obj.cast::<PyUntypedArray>() {
+        Ok(array) => array.clone(),
+        Err(_) => {
+            let numpy = PyModule::import(py, "numpy")?;
+            let converted = numpy
+                .getattr("asarray")?
+                .call1((obj, dtype::<T>(py)))
+                .map_err(|e| {
+                    Error::value(
+                        parameter,
+                        format!("cannot be read as an array of floats ({e})"),
+                    )
+                })?;
+            converted
+                .cast_into::<PyUntypedArray>()
+                .map_err(|e| Error::Python(e.into()))?
+        }
+    };
+    if array.ndim() != 1 {
+        return Err(Error::value(
+            parameter,
+            format!(
+                "expected a 1-D array of samples, got {} dimension(s) (shape {:?})",
+                array.ndim(),
+                array.shape()
+            ),
+        ));
+    }
+    let expected = dtype::<T>(py);
+    let given = array.dtype();
+    if !given.is_equiv_to(&expected) {
+        return Err(Error::Dtype {
+            parameter,
+            given: format!("an array of dtype {given}"),
+            expected: format!("an array of dtype {expected}"),
+        });
+    }
+    if array.len() == 0 {
+        return Err(Error::value(
+            parameter,
+            "is empty: at least one sample is needed",
+        ));
+    }
+    let typed = array
+        .cast_into::<PyArray1<T>>()
+        .map_err(|e| Error::Python(e.into()))?;
+    let view = typed.try_readonly().map_err(|e| {
+        Error::value(
+            parameter,
+            format!("cannot be read while it is being written ({e})"),
+        )
+    })?;
+    if view.as_slice().is_ok() {
+        Ok(Samples::Borrowed(view))
+    } else {
+        Ok(Samples::Copied(view.as_array().iter().copied().collect()))
+    }
+}
+
+/// Checks that two sample arrays have the same length.
+pub fn check_equal_lengths(a: (&'static str, usize), b: (&'static str, usize)) -> Result<()> {
+    if a.1 == b.1 {
+        Ok(())
+    } else {
+        Err(Error::value(
+            b.0,
+            format!(
+                "has {} samples but {} has {}: they must be equal",
+                b.1, a.0, a.1
+            ),
+        ))
+    }
+}
+
+/// A write borrow of an output array the binding has just created.
+pub fn writable<'py, T: Element>(
+    array: &Bound<'py, PyArray1<T>>,
+) -> Result<PyReadwriteArray1<'py, T>> {
+    array
+        .try_readwrite()
+        .map_err(|e| Error::value("output", format!("cannot be written ({e})")))
+}
+
+/// The contiguous slice of an output array the binding has just created.
+pub fn as_slice_mut<'a, T: Element>(view: &'a mut PyReadwriteArray1<'_, T>) -> Result<&'a mut [T]> {
+    view.as_slice_mut()
+        .map_err(|e| Error::value("output", format!("is not contiguous ({e})")))
+}

@@ -1,0 +1,23 @@
+//! The `angletrack._angletrack` Python extension: the angle tracking observers of
+//! `angletrack-core` on numpy arrays, and the design tools of `angletrack`.
+//!
+//! This crate only converts: arguments in (checked by [`arrays`]), results out, errors in
+//! one place ([`errors`]). Every computation is a call into the Rust crates.
+
+use pyo3::prelude::*;
+
+mod arrays;
+mod errors;
+mod observer;
+
+/// The compiled part of the `angletrack` Python package.
+#[pymodule]
+fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_class::<observer::PyGains>()?;
+    m.add_class::<observer::PyObserver>()?;
+    m.add_class::<observer::Estimate>()?;
+    m.add_class::<observer::Estimates>()?;
+    m.add_function(wrap_pyfunction!(observer::track, m)?)?;
+    Ok(())
+}

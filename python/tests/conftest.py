@@ -1,0 +1,32 @@
+"""Shared fixtures: gain sets of the three observers and a simulated resolver capture."""
+
+import numpy as np
+import pytest
+
+import angletrack
+
+# 10 kHz gains of the three observers of the paper (the core's example, track_resolver.rs).
+SAMPLE_PERIOD = 1e-4
+SECOND_ORDER = [0.060_898_63, 0.000_956_514_8]
+THIRD_ORDER = [0.094_326_17, 0.000_562_075, 1.213_522e-5]
+KALMAN = [0.061_286_65, 0.001_937_879, 3.063_843e-5]
+
+
+@pytest.fixture(params=[SECOND_ORDER, THIRD_ORDER, KALMAN], ids=["order2", "order3", "kalman"])
+def gains(request):
+    return angletrack.Gains(request.param, sample_period=SAMPLE_PERIOD)
+
+
+def resolver_capture(n=4000, seed=1, noise=0.01, dtype=np.float64):
+    """A shaft accelerating at 400 rad/s^2 from 5 rad/s, seen by a noisy resolver."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(n) * SAMPLE_PERIOD
+    theta = 0.3 + 5.0 * t + 0.5 * 400.0 * t**2
+    y_c = np.cos(theta) + noise * rng.standard_normal(n)
+    y_s = np.sin(theta) + noise * rng.standard_normal(n)
+    return theta, y_c.astype(dtype), y_s.astype(dtype)
+
+
+@pytest.fixture
+def capture():
+    return resolver_capture()

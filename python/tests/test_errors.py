@@ -1,0 +1,118 @@
+"""Bad input: the right exception, naming the parameter; never a crash."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
+
+import angletrack
+from conftest import SAMPLE_PERIOD, SECOND_ORDER, THIRD_ORDER
+
+
+@pytest.fixture
+def observer32():
+    return angletrack.Observer(angletrack.Gains(THIRD_ORDER, SAMPLE_PERIOD), dtype=np.float32)
+
+
+def test_wrong_dtype_is_a_type_error_naming_the_argument(observer32):
+    ok = np.ones(4, np.float32)
+    with pytest.raises(TypeError, match=r"y_c: .*float32.*float64"):
+        observer32.update(np.ones(4), ok)
+    with pytest.raises(TypeError, match=r"y_s: .*float32.*int64"):
+        observer32.update(ok, np.ones(4, np.int64))
+    with pytest.raises(TypeError, match=r"y_c: .*float32 or float64.*int"):
+        angletrack.track(observer32.gains, np.arange(4), np.arange(4))
+    with pytest.raises(TypeError, match=r"y_s: .*float64.*float32"):
+        angletrack.track(observer32.gains, np.ones(4), ok)  # no silent up-cast of y_s
+    with pytest.raises(TypeError, match=r"dtype: .*float32 or .*float64"):
+        angletrack.Observer(observer32.gains, dtype=np.int16)
+
+
+def test_wrong_shape_length_or_empty_is_a_value_error(observer32):
+    ok = np.ones(4, np.float32)
+    with pytest.raises(ValueError, match=r"y_c: expected a 1-D array.*shape \[2, 2\]"):
+        observer32.update(np.ones((2, 2), np.float32), ok)
+    with pytest.raises(ValueError, match=r"y_s: expected a 1-D array.*0 dimension"):
+        observer32.update(ok, np.float32(1.0))
+    with pytest.raises(ValueError, match=r"y_s: has 3 samples but y_c has 4"):
+        observer32.update(ok, ok[:3])
+    with pytest.raises(ValueError, match=r"y_c: is empty"):
+        observer32.update(ok[:0], ok[:0])
+    with pytest.raises(ValueError, match=r"y_c: cannot be read"):
+        observer32.update(["a", "b"], ["c", "d"])
+    # A refused call leaves the state untouched.
+    assert not observer32.is_initialised
+
+
+@pytest.mark.parametrize(
+    "gains, sample_period, message",
+    [
+        ([0.1, 0.01, -1e-5], 1e-4, r"acceleration_gain \(l3\).*l3 > 0"),
+        ([0.1, -0.01], 1e-4, r"speed_gain \(l2\).*l2 > 0"),
+        ([1.9, 0.5], 1e-4, r"angle_gain \(l1\).*2 l1 \+ l2 < 4"),
+        ([0.1, 0.01], 0.0, r"sample_period must be positive"),
+        ([0.1, 0.01], math.nan, r"sample_period must be finite"),
+        ([math.inf, 0.01], 1e-4, r"angle_gain \(l1\) must be finite"),
+        ([0.1], 1e-4, r"gains: expected 2 values .* or 3 .*got 1"),
+        ([0.1, 0.2, 0.3, 0.4], 1e-4, r"gains: expected 2 values .* or 3 .*got 4"),
+    ],
+)
+def test_refused_gains_name_the_parameter(gains, sample_period, message):
+    with pytest.raises(ValueError, match=message):
+        angletrack.Gains(gains, sample_period)
+
+
+def test_other_bad_arguments():
+    g = angletrack.Gains(SECOND_ORDER, SAMPLE_PERIOD)
+    with pytest.raises(ValueError, match=r"sin_cos: expected 'fast' or 'exact'"):
+        angletrack.Observer(g, sin_cos="slow")
+    with pytest.raises(ValueError, match=r"coefficients: expected 2 values"):
+        angletrack.Gains.from_loop_polynomial([1.0], SAMPLE_PERIOD)
+    with pytest.raises(TypeError):
+        angletrack.Observer([0.1, 0.01])
+
+
+def test_bad_samples_never_make_the_state_non_finite():
+    g = angletrack.Gains(THIRD_ORDER, SAMPLE_PERIOD)
+    theta = np.arange(2000) * 1e-3
+    y_c, y_s = np.cos(theta), np.sin(theta)
+    y_c[500:520] = np.nan
+    y_s[700:710] = np.inf
+    est = angletrack.track(g, y_c, y_s)
+    for name in ("angle", "position", "speed", "acceleration", "phase_error"):
+        assert np.all(np.isfinite(getattr(est, name))), name
+    assert est.position[-1] == pytest.approx(theta[-1], abs=1e-3)
+
+
+float_arrays = hnp.arrays(
+    dtype=st.sampled_from([np.float32, np.float64, np.int32, np.int64, np.bool_, np.complex64, np.float16]),
+    shape=hnp.array_shapes(min_dims=0, max_dims=3, min_side=0, max_side=5),
+    elements=None,
+)
+
+
+@settings(max_examples=300, deadline=None)
+@given(y_c=float_arrays, y_s=float_arrays, dtype=st.sampled_from([np.float32, np.float64]))
+def test_random_junk_raises_the_right_exception_or_gives_finite_results(y_c, y_s, dtype):
+    obs = angletrack.Observer(angletrack.Gains(THIRD_ORDER, SAMPLE_PERIOD), dtype=dtype)
+    expected = None
+    for name, a in (("y_c", y_c), ("y_s", y_s)):
+        if a.ndim != 1:
+            expected = expected or (ValueError, name)
+        elif a.dtype != dtype:
+            expected = expected or (TypeError, name)
+        elif a.size == 0:
+            expected = expected or (ValueError, name)
+    if expected is None and len(y_c) != len(y_s):
+        expected = (ValueError, "y_s")
+    if expected is not None:
+        with pytest.raises(expected[0], match=rf"^{expected[1]}: "):
+            obs.update(y_c, y_s)
+        return
+    est = obs.update(y_c, y_s)
+    assert len(est) == len(y_c)
+    for name in ("angle", "position", "speed", "acceleration", "phase_error"):
+        assert np.all(np.isfinite(getattr(est, name))), name

@@ -1,0 +1,242 @@
+//! The one error type of the design, analysis, scenario and metrics functions.
+
+use core::fmt;
+
+use angletrack_core::ConfigError;
+
+/// An argument of a design, analysis, scenario or metrics function, named in [`Error`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Argument {
+    /// The sample period `Ts` (s).
+    SamplePeriod,
+    /// The tolerated angle error (rad) at a given acceleration.
+    MaxError,
+    /// An acceleration (rad/s^2).
+    Acceleration,
+    /// The damping ratio `m` of a 2nd-order loop.
+    Damping,
+    /// A bandwidth or natural frequency (Hz).
+    Bandwidth,
+    /// A time constant (s), e.g. the `Tc` of a Butterworth setting.
+    TimeConstant,
+    /// The ratio `K` of the real pole to the real part of the complex pair (3rd order).
+    PoleRatio,
+    /// The time constant `T` of the complex pair (s) (3rd order).
+    PoleTimeConstant,
+    /// The ratio `psi` of imaginary to real part of the complex pair (3rd order).
+    PoleFrequencyRatio,
+    /// A target overshoot of the step response (fraction, e.g. 0.1 for 10 %).
+    Overshoot,
+    /// A target 2 % settling time (s).
+    SettlingTime,
+    /// The process noise variance `q` of the scaled jerk `Ts^3 beta` (Kalman design).
+    ProcessNoise,
+    /// The measurement noise variance `r` of each channel (Kalman design).
+    MeasurementNoise,
+    /// The standard deviation of the jerk (rad/s^3).
+    JerkStd,
+    /// The power spectral density of the jerk (rad^2/s^5).
+    JerkDensity,
+    /// The standard deviation of the sensor noise on each channel (amplitude 1).
+    SensorNoiseStd,
+    /// A step size (rad).
+    Step,
+    /// A speed (rad/s).
+    Speed,
+    /// A duration (s).
+    Duration,
+    /// A distance of a move (rad).
+    Distance,
+    /// A jerk limit (rad/s^3).
+    Jerk,
+    /// A frequency (Hz).
+    Frequency,
+    /// An angle (rad).
+    Angle,
+    /// The signal amplitude of the sensor model.
+    Amplitude,
+    /// A DC offset of the sensor model.
+    Offset,
+    /// The relative amplitude imbalance of the sensor model.
+    AmplitudeImbalance,
+    /// The quadrature error (rad) of the sensor model.
+    QuadratureError,
+    /// The relative 3rd harmonic of the sensor model.
+    ThirdHarmonic,
+    /// The number of bits of the ADC.
+    AdcBits,
+    /// The full scale of the ADC.
+    AdcFullScale,
+    /// A tolerance (rad, or a fraction).
+    Tolerance,
+    /// Two input series of different lengths, or an empty series.
+    SeriesLength,
+}
+
+impl Argument {
+    /// The argument's name as written in the function signatures and the Python API.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Argument::SamplePeriod => "sample_period_s",
+            Argument::MaxError => "max_error_rad",
+            Argument::Acceleration => "acceleration_rad_s2",
+            Argument::Damping => "damping",
+            Argument::Bandwidth => "bandwidth_hz",
+            Argument::TimeConstant => "time_constant_s",
+            Argument::PoleRatio => "pole_ratio (K)",
+            Argument::PoleTimeConstant => "pole_time_constant_s (T)",
+            Argument::PoleFrequencyRatio => "pole_frequency_ratio (psi)",
+            Argument::Overshoot => "overshoot",
+            Argument::SettlingTime => "settling_time_s",
+            Argument::ProcessNoise => "process_noise_q",
+            Argument::MeasurementNoise => "measurement_noise_r",
+            Argument::JerkStd => "jerk_std_rad_s3",
+            Argument::JerkDensity => "jerk_density_rad2_s5",
+            Argument::SensorNoiseStd => "sensor_noise_std",
+            Argument::Step => "step_rad",
+            Argument::Speed => "speed_rad_s",
+            Argument::Duration => "duration_s",
+            Argument::Distance => "distance_rad",
+            Argument::Jerk => "jerk_rad_s3",
+            Argument::Frequency => "frequency_hz",
+            Argument::Angle => "angle_rad",
+            Argument::Amplitude => "amplitude",
+            Argument::Offset => "offset",
+            Argument::AmplitudeImbalance => "amplitude_imbalance",
+            Argument::QuadratureError => "quadrature_error_rad",
+            Argument::ThirdHarmonic => "third_harmonic",
+            Argument::AdcBits => "adc_bits",
+            Argument::AdcFullScale => "adc_full_scale",
+            Argument::Tolerance => "tolerance",
+            Argument::SeriesLength => "series length",
+        }
+    }
+}
+
+impl fmt::Display for Argument {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Why a design, analysis, scenario or metrics function refused its arguments.
+///
+/// Every variant names the argument at fault ([`Error::argument`]); the core's
+/// [`ConfigError`] is wrapped when the designed gains themselves are refused.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
+pub enum Error {
+    /// The argument is NaN or infinite.
+    NotFinite(Argument),
+    /// The argument must be strictly positive.
+    NotPositive(Argument),
+    /// The argument is outside its allowed range.
+    OutOfRange {
+        /// The argument at fault.
+        argument: Argument,
+        /// The range it must lie in, in words.
+        expected: &'static str,
+    },
+    /// The design is too fast for the sample rate: the largest `|s_i| Ts` of its continuous
+    /// poles `s_i` (rad/s) times the sample period exceeds what the chosen discretisation
+    /// carries over faithfully (or stably).
+    TooFastForSampleRate {
+        /// The design argument that sets the speed of the loop.
+        argument: Argument,
+        /// The largest `|s_i| Ts` of the design.
+        pole_times_period: f64,
+        /// The limit it must stay below.
+        limit: f64,
+    },
+    /// No design meets the specification (e.g. an overshoot the pole family cannot give).
+    NoSolution(Argument),
+    /// The core refused the designed gains (outside the discrete stability region, or not
+    /// representable in the requested float type).
+    Gains(ConfigError),
+}
+
+impl Error {
+    /// The argument the error names; `None` for [`Error::Gains`], whose
+    /// [`ConfigError::parameter`] names the core's parameter instead.
+    pub const fn argument(&self) -> Option<Argument> {
+        match *self {
+            Error::NotFinite(a) | Error::NotPositive(a) | Error::NoSolution(a) => Some(a),
+            Error::OutOfRange { argument, .. } | Error::TooFastForSampleRate { argument, .. } => {
+                Some(argument)
+            }
+            Error::Gains(_) => None,
+        }
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::NotFinite(a) => write!(f, "{a} must be finite"),
+            Error::NotPositive(a) => write!(f, "{a} must be positive"),
+            Error::OutOfRange { argument, expected } => {
+                write!(f, "{argument} is out of range: expected {expected}")
+            }
+            Error::TooFastForSampleRate {
+                argument,
+                pole_times_period,
+                limit,
+            } => write!(
+                f,
+                "{argument} makes the loop too fast for the sample rate: largest |s| Ts = \
+                 {pole_times_period:.4} must stay below {limit}"
+            ),
+            Error::NoSolution(a) => write!(f, "no design meets the requested {a}"),
+            Error::Gains(e) => write!(f, "the designed gains are refused: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for Error {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Error::Gains(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl From<ConfigError> for Error {
+    fn from(e: ConfigError) -> Self {
+        Error::Gains(e)
+    }
+}
+
+/// Checks that `value` is finite and strictly positive.
+pub(crate) fn positive(value: f64, argument: Argument) -> Result<f64, Error> {
+    if !value.is_finite() {
+        Err(Error::NotFinite(argument))
+    } else if value <= 0.0 {
+        Err(Error::NotPositive(argument))
+    } else {
+        Ok(value)
+    }
+}
+
+/// Checks that `value` is finite.
+pub(crate) fn finite(value: f64, argument: Argument) -> Result<f64, Error> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(Error::NotFinite(argument))
+    }
+}
+
+/// Checks that `value` is finite and at least 0.
+pub(crate) fn non_negative(value: f64, argument: Argument) -> Result<f64, Error> {
+    finite(value, argument)?;
+    if value < 0.0 {
+        Err(Error::OutOfRange {
+            argument,
+            expected: ">= 0",
+        })
+    } else {
+        Ok(value)
+    }
+}

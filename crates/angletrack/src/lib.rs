@@ -1,0 +1,60 @@
+//! Gain design, design analysis, test scenarios and metrics for the angle tracking observers
+//! of [`angletrack_core`] (re-exported as [`core`](crate::core), its main types at the root).
+//!
+//! Going from a specification to firmware gains, and knowing what they will do:
+//!
+//! ```
+//! use angletrack::{Discretisation, DesignReport, Gains, second_order_from_tracking_error};
+//!
+//! // 2nd-order ATO: at most 1 mrad of error at 2000 rad/s^2, 5 % overshoot (m = 1.945),
+//! // sampled at 20 kHz.
+//! let design = second_order_from_tracking_error(
+//!     1e-3, 2e3, 1.945, 50e-6, Discretisation::PoleMatching)?;
+//! let report = DesignReport::new(&design, 0.005)?; // sensor noise 0.005 per channel
+//! println!("{report}");                             // the design's datasheet
+//! // The continuous design overshoots by 5 %; sampled at only ~20 times its bandwidth,
+//! // the discrete loop overshoots less (the report shows both).
+//! assert!((report.continuous_step.unwrap().overshoot - 0.05).abs() < 0.001);
+//! assert!(report.linear_step.overshoot < 0.05);
+//! let firmware_gains: Gains<f32, 2> = design.to_gains()?;  // for the Cortex-M4F
+//! # let _ = firmware_gains;
+//! # Ok::<(), angletrack::Error>(())
+//! ```
+//!
+//! * Design ([`second_order_from_tracking_error`], [`second_order_from_bandwidth`],
+//!   [`second_order_butterworth`], [`third_order_from_poles`], [`third_order_from_overshoot`],
+//!   [`third_order_butterworth`], [`kalman`], [`kalman_from_jerk_std`],
+//!   [`kalman_from_jerk_density`]): `f64` designs; continuous ones are carried to the
+//!   discrete recursion by a [`Discretisation`] of their poles. Every function checks its
+//!   arguments and returns an [`Error`] naming the one at fault.
+//! * Analysis ([`DesignReport`], [`predicted_error`]): poles, bandwidth, error constants,
+//!   noise, step responses (linear and a 179 degree nonlinear step), speed limits.
+//! * Scenarios ([`MotionProfile`], [`SensorModel`], [`Scenario`]): deterministic from a seed.
+//! * Metrics ([`run`], [`Metrics`]): a run of any observer measured against the truth.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+pub use angletrack_core as core;
+pub use angletrack_core::{
+    AngleTrackingObserver, ConfigError, Estimate, Exact, Fast, Gains, Observer, ObserverState,
+    Parameter, Real, SecondOrderObserver, SinCos, ThirdOrderObserver,
+};
+pub use nalgebra::Complex;
+
+mod design;
+mod error;
+mod linalg;
+mod metrics;
+mod report;
+mod scenario;
+
+pub use design::{
+    Design, DesignMethod, Discretisation, KalmanSolution, MAX_POLE_TIMES_PERIOD, StepResponse,
+    convert_gains, kalman, kalman_from_jerk_density, kalman_from_jerk_std,
+    second_order_bandwidth_ratio, second_order_butterworth, second_order_from_bandwidth,
+    second_order_from_tracking_error, third_order_butterworth, third_order_from_overshoot,
+    third_order_from_poles,
+};
+pub use error::{Argument, Error};
+pub use metrics::{ErrorStatistics, Metrics, MetricsOptions, Run, run};
+pub use report::{DesignReport, LARGE_STEP_RAD, PredictedError, SETTLING_BAND, predicted_error};
+pub use scenario::{Kinematics, Motion, MotionProfile, Scenario, SensorModel};

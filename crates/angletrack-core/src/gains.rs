@@ -3,6 +3,7 @@
 use core::fmt;
 use core::marker::PhantomData;
 
+use crate::monitor::{CheckedThresholds, FaultThresholds};
 use crate::real::Real;
 use crate::sincos::SinCos;
 
@@ -47,10 +48,14 @@ pub enum Parameter {
     DegradationLowThreshold,
     /// The filtered phase-detector error above which loss of tracking is flagged.
     LossOfTrackingThreshold,
-    /// The smoothing factor of the filtered phase-detector error.
-    ErrorFilterFactor,
+    /// The smoothing factor of the diagnostics' first-order filters.
+    FilterFactor,
     /// The in-phase component below which a false lock is declared.
     FalseLockThreshold,
+    /// The nominal amplitude of the input signals.
+    NominalAmplitude,
+    /// The largest trackable speed (rad/s) of the loss-of-tracking check.
+    MaxSpeed,
 }
 
 impl Parameter {
@@ -66,8 +71,10 @@ impl Parameter {
             Parameter::DegradationHighThreshold => "degradation_high_threshold",
             Parameter::DegradationLowThreshold => "degradation_low_threshold",
             Parameter::LossOfTrackingThreshold => "loss_of_tracking_threshold",
-            Parameter::ErrorFilterFactor => "error_filter_factor",
+            Parameter::FilterFactor => "filter_factor",
             Parameter::FalseLockThreshold => "false_lock_threshold",
+            Parameter::NominalAmplitude => "nominal_amplitude",
+            Parameter::MaxSpeed => "max_speed",
         }
     }
 
@@ -285,6 +292,7 @@ where
     pub(crate) sample_period: T,
     pub(crate) sample_rate: T,
     pub(crate) sample_rate_squared: T,
+    pub(crate) thresholds: CheckedThresholds<T>,
     pub(crate) sin_cos: PhantomData<S>,
 }
 
@@ -325,8 +333,37 @@ where
             sample_period,
             sample_rate,
             sample_rate_squared: sample_rate * sample_rate,
+            thresholds: FaultThresholds::default().check(sample_period)?,
             sin_cos: PhantomData,
         })
+    }
+
+    /// The same gains with other diagnostics thresholds (checked: see
+    /// [`FaultThresholds`]); the defaults assume a nominal amplitude of 1.
+    ///
+    /// ```
+    /// use angletrack_core::{FaultThresholds, Gains, Parameter};
+    /// let gains = Gains::<f32, 3>::new([0.3, 0.04, 0.002], 1e-4)?
+    ///     .with_fault_thresholds(FaultThresholds::for_amplitude(2048.0))?;
+    /// assert_eq!(gains.fault_thresholds().nominal_amplitude, 2048.0);
+    /// let bad = FaultThresholds { filter_factor: 1.5, ..FaultThresholds::default() };
+    /// let err = gains.with_fault_thresholds(bad).unwrap_err();
+    /// assert_eq!(err.parameter(), Parameter::FilterFactor);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn with_fault_thresholds(
+        self,
+        thresholds: FaultThresholds<T>,
+    ) -> Result<Self, ConfigError> {
+        Ok(Self {
+            thresholds: thresholds.check(self.sample_period)?,
+            ..self
+        })
+    }
+
+    /// The diagnostics thresholds.
+    pub fn fault_thresholds(&self) -> FaultThresholds<T> {
+        self.thresholds.thresholds
     }
 
     /// Gains that give the discrete loop `(I - L e1^T) A` a chosen characteristic polynomial,
@@ -393,6 +430,7 @@ where
             sample_period: self.sample_period,
             sample_rate: self.sample_rate,
             sample_rate_squared: self.sample_rate_squared,
+            thresholds: self.thresholds,
             sin_cos: PhantomData,
         }
     }

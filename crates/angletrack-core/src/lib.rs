@@ -53,11 +53,13 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 mod gains;
+mod monitor;
 mod observer;
 mod real;
 mod sincos;
 
 pub use gains::{ConfigError, Gains, Order, Parameter, SupportedOrder};
+pub use monitor::{FaultThresholds, Faults};
 pub use observer::{
     AngleTrackingObserver, Estimate, Observer, ObserverState, SecondOrderObserver,
     ThirdOrderObserver,
@@ -65,5 +67,7 @@ pub use observer::{
 pub use real::Real;
 pub use sincos::{Exact, Fast, SinCos};
 
+#[cfg(test)]
+mod robustness_tests;
 #[cfg(test)]
 mod tests;

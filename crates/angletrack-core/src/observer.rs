@@ -1,6 +1,7 @@
 //! The one predictor-corrector recursion that every angle tracking observer runs.
 
 use crate::gains::{Gains, Order, SupportedOrder, predict};
+use crate::monitor::{Faults, MonitorState};
 use crate::real::Real;
 use crate::sincos::SinCos;
 
@@ -19,6 +20,8 @@ pub struct Estimate<T> {
     /// Phase-detector output `eps = y_s cos(angle_p) - y_c sin(angle_p)` of this sample,
     /// about `A sin(theta - angle_p)` (in the input's units); 0 when the sample was rejected.
     pub phase_error: T,
+    /// The diagnostics of this sample (the state also latches them).
+    pub faults: Faults,
 }
 
 impl<T: Real> Estimate<T> {
@@ -39,6 +42,8 @@ pub struct ObserverState<T, const N: usize> {
     pub(crate) x: [T; N],
     pub(crate) turns: i64,
     pub(crate) phase_error: T,
+    pub(crate) faults: Faults,
+    pub(crate) monitor: MonitorState<T>,
     pub(crate) initialised: bool,
 }
 
@@ -65,6 +70,8 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
             x: [zero(); N],
             turns: 0,
             phase_error: zero(),
+            faults: Faults::NONE,
+            monitor: MonitorState::new(),
             initialised: false,
         }
     }
@@ -98,6 +105,8 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
             x,
             turns,
             phase_error: T::ZERO,
+            faults: Faults::NONE,
+            monitor: MonitorState::new(),
             initialised: true,
         }
     }
@@ -129,6 +138,29 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
     /// `false` until the first sample (or [`ObserverState::at`]) has set the angle.
     pub fn is_initialised(&self) -> bool {
         self.initialised
+    }
+
+    /// The faults latched since they were last cleared (like reading an RDC chip's fault
+    /// register, without clearing it).
+    pub fn latched_faults(&self) -> Faults {
+        self.monitor.latched
+    }
+
+    /// Returns the latched faults and clears them; a fault still present sets its flag
+    /// again at the next sample.
+    ///
+    /// ```
+    /// use angletrack_core::{Faults, Gains, ObserverState};
+    /// let gains = Gains::<f32, 2>::new([0.05, 0.0012], 1e-4)?;
+    /// let mut state = ObserverState::new();
+    /// gains.update(&mut state, 1.0, 0.0);
+    /// gains.update(&mut state, f32::NAN, 0.0); // a broken ADC read
+    /// assert!(state.clear_faults().contains(Faults::BAD_SAMPLE));
+    /// assert!(state.latched_faults().is_empty());
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn clear_faults(&mut self) -> Faults {
+        core::mem::take(&mut self.monitor.latched)
     }
 }
 
@@ -179,7 +211,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S>
 where
     Order<N>: SupportedOrder,
 {
-    /// One sample of the observer: predict, detect the phase error, correct.
+    /// One sample of the observer: predict, detect the phase error, correct, monitor.
     ///
     /// ```text
     /// X_p = A X_e                      (Taylor step of the scaled state)
@@ -188,11 +220,22 @@ where
     /// ```
     ///
     /// `y_c` and `y_s` are the demodulated cosine and sine signals (any consistent unit,
-    /// amplitude about 1). The first sample of an uninitialised state sets the angle from
-    /// `atan2(y_s, y_c)`. A sample whose phase-detector output is not finite (NaN or
-    /// infinite input) is not used: the state coasts on its prediction. Never panics.
+    /// nominal amplitude as in the [`FaultThresholds`](crate::FaultThresholds), 1 by
+    /// default). The first accepted sample of an uninitialised state sets the angle from
+    /// `atan2(y_s, y_c)`.
+    ///
+    /// A bad sample (NaN, infinite, or amplitude above the input bound) is not used: the
+    /// state coasts on its prediction (speed and acceleration) and the estimate carries
+    /// [`Faults::BAD_SAMPLE`]. The diagnostics then flag loss of signal, degradation of
+    /// signal, loss of tracking and false lock, and re-acquire the angle from `atan2` on a
+    /// false lock (see [`FaultThresholds`](crate::FaultThresholds)). Never fails, never
+    /// panics, and the state stays finite.
     #[inline]
     pub fn update(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) -> Estimate<T> {
+        let amplitude2 = y_c * y_c + y_s * y_s;
+        if !(amplitude2 <= self.thresholds.max_input2) {
+            return self.coast(state);
+        }
         if !state.initialised {
             self.initialise(state, y_c, y_s);
             return self.estimate(state);
@@ -201,10 +244,7 @@ where
         let mut turns = state.turns;
         wrap_angle(&mut x[0], &mut turns);
         let (sin, cos) = S::sin_cos(x[0]);
-        let mut eps = y_s * cos - y_c * sin;
-        if !eps.is_finite() {
-            eps = T::ZERO;
-        }
+        let eps = y_s * cos - y_c * sin;
         let mut i = 0;
         while i < N {
             x[i] += self.l[i] * eps;
@@ -214,11 +254,50 @@ where
         state.x = x;
         state.turns = turns;
         state.phase_error = eps;
+        state.faults = Faults::NONE;
+        if self.thresholds.thresholds.monitor {
+            let speed = if N > 1 { x[1] } else { T::ZERO };
+            let in_phase = y_c * cos + y_s * sin;
+            let (faults, re_acquire) =
+                self.thresholds
+                    .observe(&mut state.monitor, amplitude2, eps, in_phase, speed);
+            state.faults = faults;
+            if re_acquire {
+                self.re_acquire(state, y_c, y_s);
+            }
+        }
         self.estimate(state)
     }
 
+    /// A rejected sample: the state follows its prediction.
+    #[cold]
+    #[inline(never)]
+    fn coast(&self, state: &mut ObserverState<T, N>) -> Estimate<T> {
+        if state.initialised {
+            state.x = predict(&state.x);
+            wrap_angle(&mut state.x[0], &mut state.turns);
+        }
+        state.phase_error = T::ZERO;
+        state.faults = Faults::BAD_SAMPLE;
+        state.monitor.latched |= Faults::BAD_SAMPLE;
+        self.estimate(state)
+    }
+
+    /// False lock: the angle jumps to `atan2(y_s, y_c)` by the shortest way (the turn count
+    /// follows), speed and acceleration are kept, the filters restart.
+    #[cold]
+    #[inline(never)]
+    fn re_acquire(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) {
+        let mut jump = y_s.atan2(y_c) - state.x[0];
+        let mut ignored = 0;
+        wrap_angle(&mut jump, &mut ignored);
+        state.x[0] += jump;
+        wrap_angle(&mut state.x[0], &mut state.turns);
+        state.monitor.primed = false;
+    }
+
     /// Sets the state from one sample: angle `atan2(y_s, y_c)`, speed and acceleration 0,
-    /// turns 0. A non-finite sample leaves the state uninitialised.
+    /// turns 0, faults cleared. A non-finite sample leaves the state unchanged.
     pub fn initialise(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) {
         let angle = y_s.atan2(y_c);
         if angle.is_finite() {
@@ -246,6 +325,7 @@ where
                 T::ZERO
             },
             phase_error: state.phase_error,
+            faults: state.faults,
         }
     }
 
@@ -321,6 +401,10 @@ pub trait AngleTrackingObserver<T: Real> {
     fn initialise(&mut self, y_c: T, y_s: T);
     /// Forgets everything: the next sample initialises the observer.
     fn reset(&mut self);
+    /// The faults latched since they were last cleared.
+    fn latched_faults(&self) -> Faults;
+    /// Returns the latched faults and clears them.
+    fn clear_faults(&mut self) -> Faults;
     /// The sample period (s).
     fn sample_period(&self) -> T;
     /// The order of the loop: 2 (angle, speed) or 3 (angle, speed, acceleration).
@@ -394,6 +478,14 @@ where
 
     fn reset(&mut self) {
         self.state = ObserverState::new();
+    }
+
+    fn latched_faults(&self) -> Faults {
+        self.state.latched_faults()
+    }
+
+    fn clear_faults(&mut self) -> Faults {
+        self.state.clear_faults()
     }
 
     fn sample_period(&self) -> T {

@@ -10,7 +10,15 @@ use proptest::prelude::*;
 use crate::gains::characteristic_polynomial_in_s;
 use crate::*;
 
-const TS: f64 = 1e-4; // 10 kHz
+/// Under Miri (about 10^4 times slower) the tests run the same loops at a 20 times
+/// longer sample period, so that 20 times fewer samples cover the same transients.
+pub(crate) const MIRI_SPEEDUP: usize = if cfg!(miri) { 20 } else { 1 };
+pub(crate) const TS: f64 = 1e-4 * MIRI_SPEEDUP as f64; // 10 kHz
+
+/// A sample count, shortened under Miri.
+pub(crate) const fn n(samples: usize) -> usize {
+    samples / MIRI_SPEEDUP
+}
 
 /// Discrete loop polynomial (in s = z - 1) of pole matching `z = exp(s Ts)` for real poles
 /// and complex pairs `(re, im)` given in rad/s.
@@ -71,12 +79,12 @@ fn third_order(k: f64, t: f64, psi: f64) -> [f64; 3] {
 
 /// Steady-state Kalman gain of the triple integrator (scaled state) for q/r, by iterating the
 /// Riccati recursion (the design crate solves the DARE; this is an independent check).
-fn kalman(q_over_r: f64) -> [f64; 3] {
+pub(crate) fn kalman(q_over_r: f64) -> [f64; 3] {
     let a = [[1.0, 1.0, 0.5], [0.0, 1.0, 1.0], [0.0, 0.0, 1.0]];
     let g = [1.0 / 6.0, 0.5, 1.0];
     let mut p = [[0.0; 3]; 3];
     let mut k = [0.0; 3];
-    for _ in 0..200_000 {
+    for _ in 0..n(20_000) {
         // P_p = A P A^T + q G G^T
         let mut ap = [[0.0; 3]; 3];
         for i in 0..3 {
@@ -132,7 +140,7 @@ where
         .collect()
 }
 
-fn wrap(a: f64) -> f64 {
+pub(crate) fn wrap(a: f64) -> f64 {
     (a + core::f64::consts::PI).rem_euclid(core::f64::consts::TAU) - core::f64::consts::PI
 }
 
@@ -141,7 +149,7 @@ fn mean(v: impl Iterator<Item = f64>) -> f64 {
     s / n as f64
 }
 
-fn designs() -> (Gains<f64, 2>, Gains<f64, 3>, Gains<f64, 3>) {
+pub(crate) fn designs() -> (Gains<f64, 2>, Gains<f64, 3>, Gains<f64, 3>) {
     let w = 2.0 * core::f64::consts::PI * 50.0; // 50 Hz natural frequency
     (
         Gains::new(second_order(w, 1.0), TS).unwrap(),
@@ -150,7 +158,7 @@ fn designs() -> (Gains<f64, 2>, Gains<f64, 3>, Gains<f64, 3>) {
             TS,
         )
         .unwrap(),
-        Gains::new(kalman(1e-9), TS).unwrap(),
+        Gains::new(kalman(1e-9 * (MIRI_SPEEDUP as f64).powi(6)), TS).unwrap(),
     )
 }
 
@@ -169,9 +177,9 @@ fn constant_speed_gives_zero_mean_error_for_all_three_observers() {
         );
         assert!(max_speed < 1e-5, "{name}: speed error {max_speed}");
     };
-    check(run(&o2, 40_000, theta), "2nd order");
-    check(run(&o3, 40_000, theta), "3rd order");
-    check(run(&ok, 40_000, theta), "Kalman");
+    check(run(&o2, n(40_000), theta), "2nd order");
+    check(run(&o3, n(40_000), theta), "3rd order");
+    check(run(&ok, n(40_000), theta), "Kalman");
 }
 
 #[test]
@@ -179,7 +187,7 @@ fn constant_acceleration_biases_only_the_second_order() {
     let (o2, o3, ok) = designs();
     let alpha = 500.0; // rad/s^2
     let theta = |t: f64| (0.5 * alpha * t * t, alpha * t);
-    let n = 40_000;
+    let n = n(40_000);
     let tail = |errors: Vec<(f64, f64)>| mean(errors[n * 3 / 4..].iter().map(|e| e.0));
     // Discrete acceleration constant Ka = l2 / ((1 - l1) Ts^2): the bias is alpha / Ka.
     let [l1, l2] = o2.gains();
@@ -203,7 +211,7 @@ fn multi_turn_f32_keeps_full_resolution_after_a_million_turns() {
     let per_turn = 8u64;
     let step = core::f64::consts::TAU / per_turn as f64;
     let mut state = ObserverState::<f32, 3>::at(0.0, (step / TS) as f32, 0.0, TS as f32);
-    let turns = 1_000_000u64;
+    let turns = if cfg!(miri) { 100 } else { 1_000_000u64 };
     let mut worst = 0.0f64;
     for k in 1..=turns * per_turn {
         let phase = (k % per_turn) as f64 * step; // exact truth, wrapped
@@ -225,8 +233,8 @@ fn f32_and_f64_agree_within_f32_precision() {
     let (_, _, ok) = designs();
     let g32 = Gains::<f32, 3, Exact>::new(ok.gains().map(|g| g as f32), TS as f32).unwrap();
     let theta = |t: f64| (1.0 + 200.0 * t + 300.0 * t * t, 200.0 + 600.0 * t);
-    let e64 = run(&ok, 20_000, theta);
-    let e32 = run(&g32, 20_000, theta);
+    let e64 = run(&ok, n(20_000), theta);
+    let e32 = run(&g32, n(20_000), theta);
     let angle = e64
         .iter()
         .zip(&e32)
@@ -245,7 +253,7 @@ fn f32_and_f64_agree_within_f32_precision() {
 #[test]
 fn fast_sin_cos_error_is_within_its_documented_bound() {
     fn check<T: Real>() -> f64 {
-        let n = 2_000_000;
+        let n = if cfg!(miri) { 2_000 } else { 2_000_000 };
         let mut worst = 0.0f64;
         for i in 0..=n {
             let x =
@@ -272,8 +280,8 @@ fn fast_sin_cos_observer_matches_the_exact_one() {
     let fast = Gains::<f32, 3, Fast>::new([0.3, 0.04, 0.002], TS as f32).unwrap();
     let exact: Gains<f32, 3, Exact> = fast.with_sin_cos();
     let theta = |t: f64| (2.0 + 150.0 * t, 150.0);
-    let a = run(&fast, 20_000, theta);
-    let b = run(&exact, 20_000, theta);
+    let a = run(&fast, n(20_000), theta);
+    let b = run(&exact, n(20_000), theta);
     let worst = a
         .iter()
         .zip(&b)
@@ -411,7 +419,11 @@ fn poly_in_z(c_s: &[f64]) -> Vec<f64> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(400))]
+    #![proptest_config(ProptestConfig {
+        cases: if cfg!(miri) { 4 } else { 400 },
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn stability_check_agrees_with_the_eigenvalues(l1 in -0.5..2.5f64, l2 in -0.5..4.5f64, l3 in -0.2..2.0f64) {

@@ -1,0 +1,338 @@
+//! Diagnostics like an RDC chip's fault register: loss of signal, degradation of signal,
+//! loss of tracking, rejected samples and false lock.
+
+use core::fmt;
+
+use crate::gains::{ConfigError, Parameter, check_positive};
+use crate::real::Real;
+
+/// A set of fault flags (a bit set, `Copy`), as in the AD2S1210's fault register.
+///
+/// Each [`Estimate`](crate::Estimate) carries the flags of its own sample; the observer
+/// state also latches them until the caller clears them
+/// ([`ObserverState::clear_faults`](crate::ObserverState::clear_faults)).
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct Faults(u8);
+
+impl Faults {
+    /// No fault.
+    pub const NONE: Faults = Faults(0);
+    /// Loss of signal: the filtered amplitude `sqrt(y_c^2 + y_s^2)` is below the
+    /// loss-of-signal threshold (sensor disconnected, excitation lost).
+    pub const LOSS_OF_SIGNAL: Faults = Faults(1);
+    /// Degradation of signal: the filtered amplitude is outside
+    /// [degradation low, degradation high] (gain drift, saturation, a broken winding).
+    pub const DEGRADATION_OF_SIGNAL: Faults = Faults(1 << 1);
+    /// Loss of tracking: the filtered phase-detector error is above its threshold, or the
+    /// estimated speed is above the largest trackable speed.
+    pub const LOSS_OF_TRACKING: Faults = Faults(1 << 2);
+    /// The sample was rejected (NaN, infinite, or amplitude above the input bound): the
+    /// observer coasted on its prediction.
+    pub const BAD_SAMPLE: Faults = Faults(1 << 3);
+    /// A lock about 180 degrees off was detected (the filtered in-phase component
+    /// `y_c cos + y_s sin` went below its threshold) and the angle re-acquired from `atan2`.
+    pub const FALSE_LOCK: Faults = Faults(1 << 4);
+
+    const NAMES: [(Faults, &'static str); 5] = [
+        (Faults::LOSS_OF_SIGNAL, "loss of signal"),
+        (Faults::DEGRADATION_OF_SIGNAL, "degradation of signal"),
+        (Faults::LOSS_OF_TRACKING, "loss of tracking"),
+        (Faults::BAD_SAMPLE, "bad sample"),
+        (Faults::FALSE_LOCK, "false lock"),
+    ];
+
+    /// The raw bits (bit 0 loss of signal, 1 degradation of signal, 2 loss of tracking,
+    /// 3 bad sample, 4 false lock).
+    pub const fn bits(self) -> u8 {
+        self.0
+    }
+
+    /// The flags from raw bits (unknown bits are dropped).
+    pub const fn from_bits_truncate(bits: u8) -> Faults {
+        Faults(bits & 0x1f)
+    }
+
+    /// `true` when no flag is set.
+    pub const fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+
+    /// `true` when every flag of `other` is set in `self`.
+    pub const fn contains(self, other: Faults) -> bool {
+        self.0 & other.0 == other.0
+    }
+
+    /// The union of two sets.
+    pub const fn union(self, other: Faults) -> Faults {
+        Faults(self.0 | other.0)
+    }
+
+    /// `flag` if `condition` holds, else no fault.
+    #[inline(always)]
+    const fn when(condition: bool, flag: Faults) -> Faults {
+        Faults(flag.0 * condition as u8)
+    }
+}
+
+impl core::ops::BitOr for Faults {
+    type Output = Faults;
+    fn bitor(self, rhs: Faults) -> Faults {
+        self.union(rhs)
+    }
+}
+
+impl core::ops::BitOrAssign for Faults {
+    fn bitor_assign(&mut self, rhs: Faults) {
+        self.0 |= rhs.0;
+    }
+}
+
+impl fmt::Debug for Faults {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "Faults({self})")
+    }
+}
+
+impl fmt::Display for Faults {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.is_empty() {
+            return f.write_str("none");
+        }
+        let mut first = true;
+        for (flag, name) in Faults::NAMES {
+            if self.contains(flag) {
+                if !first {
+                    f.write_str(", ")?;
+                }
+                f.write_str(name)?;
+                first = false;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Thresholds of the diagnostics and of the input check, in the units of `y_c`, `y_s`
+/// (amplitudes) unless stated. Part of the observer's configuration
+/// ([`Gains::with_fault_thresholds`](crate::Gains::with_fault_thresholds)).
+///
+/// | field | default (nominal amplitude 1) |
+/// | --- | --- |
+/// | `nominal_amplitude` | 1 |
+/// | `max_input_amplitude` | 4 (a sample above is rejected) |
+/// | `loss_of_signal` | 0.25 |
+/// | `degradation_low`, `degradation_high` | 0.5, 1.5 |
+/// | `loss_of_tracking` | 0.1 (filtered `|eps|`, about 5.7 degrees at amplitude 1) |
+/// | `max_speed` | `None`: pi/2 rad per sample, i.e. `pi / (2 Ts)` rad/s |
+/// | `filter_factor` | 1/16 (first-order filters, time constant 16 samples) |
+/// | `false_lock` | 0 (filtered in-phase component; 0 means an error beyond 90 degrees) |
+/// | `monitor` | `true` |
+/// | `re_acquire` | `true` |
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FaultThresholds<T> {
+    /// The amplitude of a healthy signal.
+    pub nominal_amplitude: T,
+    /// A sample with `sqrt(y_c^2 + y_s^2)` above this (or NaN, or infinite) is rejected and
+    /// flagged [`Faults::BAD_SAMPLE`]; the observer coasts on its prediction. Always checked.
+    pub max_input_amplitude: T,
+    /// Filtered amplitude below this: [`Faults::LOSS_OF_SIGNAL`].
+    pub loss_of_signal: T,
+    /// Filtered amplitude below this: [`Faults::DEGRADATION_OF_SIGNAL`].
+    pub degradation_low: T,
+    /// Filtered amplitude above this: [`Faults::DEGRADATION_OF_SIGNAL`].
+    pub degradation_high: T,
+    /// Filtered `|eps|` above this: [`Faults::LOSS_OF_TRACKING`].
+    pub loss_of_tracking: T,
+    /// Estimated `|speed|` (rad/s) above this: [`Faults::LOSS_OF_TRACKING`]. `None`: a
+    /// quarter turn per sample, `pi / (2 Ts)`.
+    pub max_speed: Option<T>,
+    /// Smoothing factor `k` of the first-order filters `f += k (value - f)`, in (0, 1].
+    pub filter_factor: T,
+    /// Filtered in-phase component `y_c cos + y_s sin` (about `A cos(error)`) below this,
+    /// with the signal present: a lock about 180 degrees off.
+    pub false_lock: T,
+    /// Compute the flags (loss of signal, degradation, loss of tracking, false lock). When
+    /// `false`, only the input check runs (cheapest update).
+    pub monitor: bool,
+    /// On a false lock, re-acquire the angle from `atan2(y_s, y_c)`, keeping speed and
+    /// acceleration.
+    pub re_acquire: bool,
+}
+
+impl<T: Real> Default for FaultThresholds<T> {
+    fn default() -> Self {
+        Self::for_amplitude(T::ONE)
+    }
+}
+
+impl<T: Real> FaultThresholds<T> {
+    /// The default thresholds (see the table above) scaled to a nominal amplitude (in the
+    /// units of `y_c`, `y_s`).
+    ///
+    /// ```
+    /// use angletrack_core::FaultThresholds;
+    /// let t = FaultThresholds::<f32>::for_amplitude(2048.0); // raw 12-bit ADC counts
+    /// assert_eq!(t.loss_of_signal, 512.0);
+    /// ```
+    pub fn for_amplitude(nominal_amplitude: T) -> Self {
+        let a = nominal_amplitude;
+        let f = T::from_f32;
+        Self {
+            nominal_amplitude: a,
+            max_input_amplitude: f(4.0) * a,
+            loss_of_signal: f(0.25) * a,
+            degradation_low: f(0.5) * a,
+            degradation_high: f(1.5) * a,
+            loss_of_tracking: f(0.1) * a,
+            max_speed: None,
+            filter_factor: f(0.0625),
+            false_lock: T::ZERO,
+            monitor: true,
+            re_acquire: true,
+        }
+    }
+
+    /// No diagnostics and no re-acquisition, only the input check: the bare loop of the
+    /// paper (use it to study the loop's own large-signal behaviour).
+    ///
+    /// ```
+    /// use angletrack_core::FaultThresholds;
+    /// let t = FaultThresholds::<f64>::disabled();
+    /// assert!(!t.monitor && !t.re_acquire);
+    /// ```
+    pub fn disabled() -> Self {
+        Self {
+            monitor: false,
+            re_acquire: false,
+            ..Self::default()
+        }
+    }
+
+    /// Checks the thresholds: all finite and positive (the false-lock threshold may be
+    /// zero or negative, within the nominal amplitude), ordered
+    /// `loss_of_signal < degradation_low < nominal < degradation_high <= max_input`,
+    /// filter factor in (0, 1]. Returns the squared-amplitude form used per sample.
+    pub(crate) fn check(&self, sample_period: T) -> Result<CheckedThresholds<T>, ConfigError> {
+        let a = check_positive(self.nominal_amplitude, Parameter::NominalAmplitude)?;
+        let max_in = check_positive(self.max_input_amplitude, Parameter::MaxInputAmplitude)?;
+        let los = check_positive(self.loss_of_signal, Parameter::LossOfSignalThreshold)?;
+        let low = check_positive(self.degradation_low, Parameter::DegradationLowThreshold)?;
+        let high = check_positive(self.degradation_high, Parameter::DegradationHighThreshold)?;
+        check_positive(self.loss_of_tracking, Parameter::LossOfTrackingThreshold)?;
+        let k = check_positive(self.filter_factor, Parameter::FilterFactor)?;
+        let max_speed = match self.max_speed {
+            Some(s) => check_positive(s, Parameter::MaxSpeed)?,
+            None => T::FRAC_PI_2 / sample_period,
+        };
+        if !self.false_lock.is_finite() {
+            return Err(ConfigError::NotFinite(Parameter::FalseLockThreshold));
+        }
+        let ordered = [
+            (los < low, Parameter::LossOfSignalThreshold),
+            (low < a, Parameter::DegradationLowThreshold),
+            (high > a, Parameter::DegradationHighThreshold),
+            (max_in >= high, Parameter::MaxInputAmplitude),
+            (k <= T::ONE, Parameter::FilterFactor),
+            (self.false_lock.abs() < a, Parameter::FalseLockThreshold),
+        ];
+        for (ok, parameter) in ordered {
+            if !ok {
+                return Err(ConfigError::OutOfRange(parameter));
+            }
+        }
+        let max_input2 = max_in * max_in;
+        if !max_input2.is_finite() {
+            return Err(ConfigError::OutOfRange(Parameter::MaxInputAmplitude));
+        }
+        Ok(CheckedThresholds {
+            thresholds: *self,
+            max_input2,
+            loss_of_signal2: los * los,
+            degradation_low2: low * low,
+            degradation_high2: high * high,
+            max_scaled_speed: max_speed * sample_period,
+        })
+    }
+}
+
+/// The thresholds with the per-sample comparisons precomputed (squared amplitudes, speed
+/// in rad per sample), so the update needs no square root.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct CheckedThresholds<T> {
+    pub(crate) thresholds: FaultThresholds<T>,
+    pub(crate) max_input2: T,
+    loss_of_signal2: T,
+    degradation_low2: T,
+    degradation_high2: T,
+    max_scaled_speed: T,
+}
+
+/// The monitor's memory in each channel's state: three first-order filters and the latched
+/// fault register.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct MonitorState<T> {
+    /// Filtered `y_c^2 + y_s^2`.
+    pub(crate) amplitude2: T,
+    /// Filtered `|eps|`.
+    pub(crate) error: T,
+    /// Filtered `y_c cos + y_s sin`.
+    pub(crate) in_phase: T,
+    /// Flags latched until cleared.
+    pub(crate) latched: Faults,
+    /// `false` until the filters hold a first sample.
+    pub(crate) primed: bool,
+}
+
+impl<T: Real> MonitorState<T> {
+    /// A monitor whose filters start from the next sample.
+    pub(crate) const fn new() -> Self {
+        Self {
+            amplitude2: T::ZERO,
+            error: T::ZERO,
+            in_phase: T::ZERO,
+            latched: Faults::NONE,
+            primed: false,
+        }
+    }
+}
+
+impl<T: Real> CheckedThresholds<T> {
+    /// Updates the filters with one accepted sample and returns its flags; the second value
+    /// is `true` when the angle must be re-acquired (false lock).
+    #[inline(always)]
+    pub(crate) fn observe(
+        &self,
+        monitor: &mut MonitorState<T>,
+        amplitude2: T,
+        phase_error: T,
+        in_phase: T,
+        scaled_speed: T,
+    ) -> (Faults, bool) {
+        let t = &self.thresholds;
+        if !monitor.primed {
+            monitor.amplitude2 = amplitude2;
+            monitor.error = phase_error.abs();
+            monitor.in_phase = in_phase;
+            monitor.primed = true;
+        }
+        let k = t.filter_factor;
+        monitor.amplitude2 += k * (amplitude2 - monitor.amplitude2);
+        monitor.error += k * (phase_error.abs() - monitor.error);
+        monitor.in_phase += k * (in_phase - monitor.in_phase);
+        let a2 = monitor.amplitude2;
+        let signal_lost = a2 < self.loss_of_signal2;
+        let faults = Faults::when(signal_lost, Faults::LOSS_OF_SIGNAL)
+            | Faults::when(
+                a2 < self.degradation_low2 || a2 > self.degradation_high2,
+                Faults::DEGRADATION_OF_SIGNAL,
+            )
+            | Faults::when(
+                monitor.error > t.loss_of_tracking || scaled_speed.abs() > self.max_scaled_speed,
+                Faults::LOSS_OF_TRACKING,
+            );
+        let false_lock = !signal_lost && monitor.in_phase < t.false_lock;
+        let faults = faults | Faults::when(false_lock, Faults::FALSE_LOCK);
+        monitor.latched |= faults;
+        (faults, false_lock && t.re_acquire)
+    }
+}

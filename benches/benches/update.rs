@@ -1,0 +1,133 @@
+//! Per-sample cost of every observer against the loop a user writes by hand.
+//!
+//! One criterion group per observer and float type (`kalman-f32`, ...), each with the
+//! hand-written baseline (`baseline`: one struct, the standard library's `sin_cos`) and the
+//! core's observer with both phase-detector sin/cos (`exact`, `fast`) through the per-sample
+//! API (`update-*`, a loop over `Gains::update`) and the block API (`block-*`,
+//! `Gains::update_block`). Throughput is in samples, so every report reads as time per
+//! sample and the ratio to `baseline` is the ratio of the reported times.
+//!
+//! Run: `cargo bench -p angletrack-benches` (or `bash scripts/perf-table.sh` for the README
+//! table).
+
+use std::hint::black_box;
+
+use angletrack_benches::{
+    HandWrittenObserver, OBSERVERS, ResolverSignal, SAMPLE_PERIOD_S, float_name, gains,
+};
+use angletrack_core::{
+    Estimate, Exact, Fast, Gains, ObserverState, Order, Real, SinCos, SupportedOrder,
+};
+use criterion::measurement::WallTime;
+use criterion::{BenchmarkGroup, Criterion, Throughput, criterion_group, criterion_main};
+use num_traits::Float;
+
+/// Samples per benchmark iteration (one block).
+const BLOCK: usize = 1024;
+
+/// The block of samples and the true initial state every iteration starts from.
+struct Workload<T> {
+    y_c: Vec<T>,
+    y_s: Vec<T>,
+    angle_rad: f64,
+    speed_rad_s: f64,
+    acceleration_rad_s2: f64,
+}
+
+impl<T: Real> Workload<T> {
+    fn new() -> Self {
+        let signal = ResolverSignal::benchmark(BLOCK);
+        let (y_c, y_s) = signal.channels();
+        Self {
+            y_c,
+            y_s,
+            angle_rad: signal.angle_rad[0],
+            speed_rad_s: signal.speed_rad_s[0],
+            acceleration_rad_s2: signal.acceleration_rad_s2,
+        }
+    }
+
+    fn initial_state<const N: usize>(&self) -> ObserverState<T, N> {
+        ObserverState::at(
+            T::from_f64(self.angle_rad),
+            T::from_f64(self.speed_rad_s),
+            T::from_f64(self.acceleration_rad_s2),
+            T::from_f64(SAMPLE_PERIOD_S),
+        )
+    }
+}
+
+/// The core's observer with sin/cos `S`, through the per-sample and the block API.
+fn bench_core<T: Real, const N: usize, S: SinCos<T>>(
+    group: &mut BenchmarkGroup<'_, WallTime>,
+    workload: &Workload<T>,
+    l: [f64; N],
+    sin_cos: &str,
+) where
+    Order<N>: SupportedOrder,
+{
+    let gains: Gains<T, N, S> = gains(l);
+    let start = workload.initial_state::<N>();
+    group.bench_function(format!("update-{sin_cos}"), |b| {
+        b.iter(|| {
+            let mut state = start;
+            for (&c, &s) in workload.y_c.iter().zip(&workload.y_s) {
+                black_box(gains.update(&mut state, c, s));
+            }
+            state
+        })
+    });
+    let mut out = vec![Estimate::default(); BLOCK];
+    group.bench_function(format!("block-{sin_cos}"), |b| {
+        b.iter(|| {
+            let mut state = start;
+            let n = gains.update_block(&mut state, &workload.y_c, &workload.y_s, &mut out);
+            black_box(&out);
+            (n, state)
+        })
+    });
+}
+
+/// One group: the hand-written baseline, then the core's observer with both sin/cos.
+fn bench_observer<T: Real + Float, const N: usize>(c: &mut Criterion, name: &str, l: [f64; 3])
+where
+    Order<N>: SupportedOrder,
+{
+    let workload = Workload::<T>::new();
+    let mut group = c.benchmark_group(format!("{name}-{}", float_name::<T>()));
+    group.throughput(Throughput::Elements(BLOCK as u64));
+    let start = HandWrittenObserver::<T>::new(
+        l,
+        workload.angle_rad,
+        workload.speed_rad_s,
+        workload.acceleration_rad_s2,
+    );
+    group.bench_function("baseline", |b| {
+        b.iter(|| {
+            let mut observer = start;
+            for (&c, &s) in workload.y_c.iter().zip(&workload.y_s) {
+                black_box(observer.update(c, s));
+            }
+            observer
+        })
+    });
+    let l: [f64; N] = core::array::from_fn(|i| l[i]);
+    bench_core::<T, N, Exact>(&mut group, &workload, l, "exact");
+    bench_core::<T, N, Fast>(&mut group, &workload, l, "fast");
+    group.finish();
+}
+
+fn observers(c: &mut Criterion) {
+    for (name, l) in OBSERVERS {
+        if l[2] == 0.0 {
+            bench_observer::<f32, 2>(c, name, l);
+            bench_observer::<f64, 2>(c, name, l);
+        } else {
+            bench_observer::<f32, 3>(c, name, l);
+            bench_observer::<f64, 3>(c, name, l);
+        }
+    }
+}
+
+criterion_group!(benches, observers);
+criterion_main!(benches);

@@ -1,0 +1,298 @@
+//! The workload that the benchmarks (`benches/update.rs`) and the firmware test
+//! (`tests/firmware`) share: the three observers of the paper with fixed discrete gains, a
+//! simulated resolver, and the hand-written loop every report is compared with.
+//!
+//! Nothing here is published: it exists so that the host benchmark, the Cortex-M4F
+//! instruction count and the firmware's reference data all run the very same observers on
+//! the very same signal.
+
+use angletrack_core::{Gains, Order, Real, SinCos, SupportedOrder};
+use num_traits::Float;
+
+/// Sample period of every benchmark and of the firmware test (s): a 10 kHz loop.
+pub const SAMPLE_PERIOD_S: f64 = 1e-4;
+
+/// Discrete gains `(l1, l2)` of the classical 2nd-order ATO: 50 Hz natural frequency,
+/// damping 1, pole matching at 10 kHz (the gains of the core's `track_resolver` example).
+pub const SECOND_ORDER_GAINS: [f64; 2] = [0.060_898_63, 0.000_956_514_8];
+
+/// Discrete gains `(l1, l2, l3)` of the 3rd-order ATO designed by pole placement
+/// (K = 39.04, psi = 3 pi / 2, pole matching at 10 kHz).
+pub const THIRD_ORDER_GAINS: [f64; 3] = [0.094_326_17, 0.000_562_075, 1.213_522e-5];
+
+/// Discrete gains `(l1, l2, l3)` of the time-invariant Kalman ATO for `q / r = 1e-9`.
+pub const KALMAN_GAINS: [f64; 3] = [0.061_286_65, 0.001_937_879, 3.063_843e-5];
+
+/// The three observers, by the name used in benchmark ids and firmware output, with their
+/// discrete gains (`l3 = 0` for the 2nd-order loop).
+pub const OBSERVERS: [(&str, [f64; 3]); 3] = [
+    (
+        "second-order",
+        [SECOND_ORDER_GAINS[0], SECOND_ORDER_GAINS[1], 0.0],
+    ),
+    ("third-order", THIRD_ORDER_GAINS),
+    ("kalman", KALMAN_GAINS),
+];
+
+/// Checked [`Gains`] of order `N` for the discrete gains `l` at [`SAMPLE_PERIOD_S`].
+///
+/// # Panics
+///
+/// If `l` is outside the stability region: the constants of this crate are not (tested).
+pub fn gains<T: Real, const N: usize, S: SinCos<T>>(l: [f64; N]) -> Gains<T, N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    Gains::new(l.map(T::from_f64), T::from_f64(SAMPLE_PERIOD_S))
+        .expect("the benchmark gains are inside the stability region")
+}
+
+/// The name of a float type as written in ids: `f32` or `f64`.
+pub fn float_name<T: Real>() -> &'static str {
+    core::any::type_name::<T>()
+}
+
+/// A simulated resolver: a shaft under constant acceleration read through two noisy
+/// channels `y_c = cos(theta) + w_c`, `y_s = sin(theta) + w_s` (amplitude 1).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ResolverSignal {
+    /// Cosine channel, one value per sample.
+    pub y_c: Vec<f64>,
+    /// Sine channel, one value per sample.
+    pub y_s: Vec<f64>,
+    /// True shaft angle (rad, not wrapped) at each sample.
+    pub angle_rad: Vec<f64>,
+    /// True speed (rad/s) at each sample.
+    pub speed_rad_s: Vec<f64>,
+    /// Constant true acceleration (rad/s^2).
+    pub acceleration_rad_s2: f64,
+}
+
+impl ResolverSignal {
+    /// `samples` samples at [`SAMPLE_PERIOD_S`] of a shaft starting at `angle_rad`, turning
+    /// at `speed_rad_s` and accelerating at `acceleration_rad_s2`, with Gaussian noise of
+    /// standard deviation `noise` on each channel (deterministic for a given `seed`).
+    ///
+    /// ```
+    /// use angletrack_benches::ResolverSignal;
+    /// let signal = ResolverSignal::simulate(100, 0.5, 300.0, 400.0, 0.0, 1);
+    /// assert!((signal.y_s[0] - 0.5f64.sin()).abs() < 1e-15);
+    /// ```
+    pub fn simulate(
+        samples: usize,
+        angle_rad: f64,
+        speed_rad_s: f64,
+        acceleration_rad_s2: f64,
+        noise: f64,
+        seed: u64,
+    ) -> Self {
+        let mut gaussian = Gaussian::new(seed);
+        let mut signal = Self {
+            y_c: Vec::with_capacity(samples),
+            y_s: Vec::with_capacity(samples),
+            angle_rad: Vec::with_capacity(samples),
+            speed_rad_s: Vec::with_capacity(samples),
+            acceleration_rad_s2,
+        };
+        for k in 0..samples {
+            let t = k as f64 * SAMPLE_PERIOD_S;
+            let theta = angle_rad + speed_rad_s * t + 0.5 * acceleration_rad_s2 * t * t;
+            signal.y_c.push(theta.cos() + noise * gaussian.sample());
+            signal.y_s.push(theta.sin() + noise * gaussian.sample());
+            signal.angle_rad.push(theta);
+            signal
+                .speed_rad_s
+                .push(speed_rad_s + acceleration_rad_s2 * t);
+        }
+        signal
+    }
+
+    /// The workload of the benchmarks and the firmware test: `samples` samples from
+    /// 0.3 rad, 300 rad/s, 400 rad/s^2, noise 0.01 per channel.
+    pub fn benchmark(samples: usize) -> Self {
+        Self::simulate(samples, 0.3, 300.0, 400.0, 0.01, 0x5eed_1234_abcd_0001)
+    }
+
+    /// Number of samples.
+    pub fn len(&self) -> usize {
+        self.y_c.len()
+    }
+
+    /// `true` when there are no samples.
+    pub fn is_empty(&self) -> bool {
+        self.y_c.is_empty()
+    }
+
+    /// Both channels converted to `T`.
+    pub fn channels<T: Real>(&self) -> (Vec<T>, Vec<T>) {
+        (
+            self.y_c.iter().map(|&v| T::from_f64(v)).collect(),
+            self.y_s.iter().map(|&v| T::from_f64(v)).collect(),
+        )
+    }
+}
+
+/// A small deterministic Gaussian source (xorshift64* and Box-Muller): the same numbers on
+/// every machine, no dependency.
+#[derive(Debug, Clone)]
+struct Gaussian(u64);
+
+impl Gaussian {
+    fn new(seed: u64) -> Self {
+        Self(seed.max(1))
+    }
+
+    fn uniform(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        ((self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    }
+
+    fn sample(&mut self) -> f64 {
+        let (u, v) = (self.uniform(), self.uniform());
+        (-2.0 * u.ln()).sqrt() * (core::f64::consts::TAU * v).cos()
+    }
+}
+
+/// The loop a user writes by hand for the same observer, the baseline of every benchmark:
+/// one struct with the angle, speed and acceleration in physical units, the standard
+/// library's `sin_cos`, and an explicit wrap of the angle (no turn count, no checks).
+///
+/// It is the same recursion as the core's (the gains are converted to physical units:
+/// `k_theta = l1`, `k_omega = l2 / Ts`, `k_alpha = l3 / Ts^2`); for the 2nd-order loop
+/// `l3 = 0` and the acceleration stays 0.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HandWrittenObserver<T> {
+    /// Angle (rad), wrapped to [-pi, pi).
+    pub theta: T,
+    /// Speed (rad/s).
+    pub omega: T,
+    /// Acceleration (rad/s^2).
+    pub alpha: T,
+    k_theta: T,
+    k_omega: T,
+    k_alpha: T,
+    ts: T,
+    half_ts2: T,
+}
+
+impl<T: Float> HandWrittenObserver<T> {
+    /// The observer with discrete gains `l` at [`SAMPLE_PERIOD_S`], starting at `angle_rad`,
+    /// `speed_rad_s` and `acceleration_rad_s2` (ignored by the 2nd-order loop, `l3 = 0`,
+    /// whose model has no acceleration).
+    pub fn new(l: [f64; 3], angle_rad: f64, speed_rad_s: f64, acceleration_rad_s2: f64) -> Self {
+        let f = |v: f64| T::from(v).unwrap_or_else(T::nan);
+        let ts = SAMPLE_PERIOD_S;
+        let pi = core::f64::consts::PI;
+        Self {
+            theta: f((angle_rad + pi).rem_euclid(core::f64::consts::TAU) - pi),
+            omega: f(speed_rad_s),
+            alpha: f(if l[2] == 0.0 {
+                0.0
+            } else {
+                acceleration_rad_s2
+            }),
+            k_theta: f(l[0]),
+            k_omega: f(l[1] / ts),
+            k_alpha: f(l[2] / (ts * ts)),
+            ts: f(ts),
+            half_ts2: f(0.5 * ts * ts),
+        }
+    }
+
+    /// One sample: predict, phase detector, correct, wrap. Returns `(angle, speed)`.
+    #[inline]
+    pub fn update(&mut self, y_c: T, y_s: T) -> (T, T) {
+        let pi = T::from(core::f64::consts::PI).unwrap_or_else(T::nan);
+        let theta_p = self.theta + self.omega * self.ts + self.alpha * self.half_ts2;
+        let omega_p = self.omega + self.alpha * self.ts;
+        let (sin, cos) = theta_p.sin_cos();
+        let eps = y_s * cos - y_c * sin;
+        self.theta = theta_p + self.k_theta * eps;
+        self.omega = omega_p + self.k_omega * eps;
+        self.alpha = self.alpha + self.k_alpha * eps;
+        if self.theta >= pi {
+            self.theta = self.theta - (pi + pi);
+        } else if self.theta < -pi {
+            self.theta = self.theta + (pi + pi);
+        }
+        (self.theta, self.omega)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use angletrack_core::{Exact, Fast, ObserverState};
+
+    #[test]
+    fn gains_are_inside_the_stability_region_in_both_float_types() {
+        for l in [THIRD_ORDER_GAINS, KALMAN_GAINS] {
+            assert!(Gains::<f32, 3, Fast>::new(l.map(|v| v as f32), 1e-4).is_ok());
+            assert!(Gains::<f64, 3, Exact>::new(l, 1e-4).is_ok());
+        }
+        let l = SECOND_ORDER_GAINS;
+        assert!(Gains::<f32, 2, Fast>::new(l.map(|v| v as f32), 1e-4).is_ok());
+        assert!(Gains::<f64, 2, Exact>::new(l, 1e-4).is_ok());
+    }
+
+    /// The baseline computes what the core computes: same recursion, same numbers (to the
+    /// rounding of the physical-unit form), so the benchmark ratio compares like with like.
+    #[test]
+    fn hand_written_baseline_tracks_like_the_core() {
+        let signal = ResolverSignal::benchmark(4000);
+        let (angle, speed) = (signal.angle_rad[0], signal.speed_rad_s[0]);
+        let accel = signal.acceleration_rad_s2;
+        for (name, l) in OBSERVERS {
+            let mut hand = HandWrittenObserver::<f64>::new(l, angle, speed, accel);
+            let (mut max_angle, mut max_speed) = (0.0f64, 0.0f64);
+            let mut check = |e: angletrack_core::Estimate<f64>, (theta, omega): (f64, f64)| {
+                let d = (e.angle - theta + 3.0 * core::f64::consts::PI)
+                    .rem_euclid(core::f64::consts::TAU)
+                    - core::f64::consts::PI;
+                max_angle = max_angle.max(d.abs());
+                max_speed = max_speed.max((e.speed - omega).abs());
+            };
+            if l[2] == 0.0 {
+                let g: Gains<f64, 2, Exact> = gains([l[0], l[1]]);
+                let mut s = ObserverState::at(angle, speed, accel, SAMPLE_PERIOD_S);
+                for k in 0..signal.len() {
+                    let e = g.update(&mut s, signal.y_c[k], signal.y_s[k]);
+                    check(e, hand.update(signal.y_c[k], signal.y_s[k]));
+                }
+            } else {
+                let g: Gains<f64, 3, Exact> = gains(l);
+                let mut s = ObserverState::at(angle, speed, accel, SAMPLE_PERIOD_S);
+                for k in 0..signal.len() {
+                    let e = g.update(&mut s, signal.y_c[k], signal.y_s[k]);
+                    check(e, hand.update(signal.y_c[k], signal.y_s[k]));
+                }
+            }
+            assert!(max_angle < 1e-9, "{name}: angle differs by {max_angle} rad");
+            assert!(
+                max_speed < 1e-6,
+                "{name}: speed differs by {max_speed} rad/s"
+            );
+        }
+    }
+
+    #[test]
+    fn simulated_signal_follows_the_shaft() {
+        let s = ResolverSignal::simulate(1001, 0.0, 10.0, 100.0, 0.0, 7);
+        // 0.1 s: angle 10 * 0.1 + 50 * 0.01 = 1.5 rad, speed 20 rad/s.
+        assert!((s.angle_rad[1000] - 1.5).abs() < 1e-12);
+        assert!((s.speed_rad_s[1000] - 20.0).abs() < 1e-12);
+        assert!((s.y_c[1000] - 1.5f64.cos()).abs() < 1e-12);
+        let noisy = ResolverSignal::benchmark(20_000);
+        let rms = (noisy
+            .y_s
+            .iter()
+            .zip(&noisy.angle_rad)
+            .map(|(y, a)| (y - a.sin()).powi(2))
+            .sum::<f64>()
+            / 20_000.0)
+            .sqrt();
+        assert!((rms - 0.01).abs() < 0.0003, "noise rms {rms}");
+    }
+}

@@ -1,0 +1,279 @@
+//! The observers on a Cortex-M4F (QEMU `mps2-an386`, semihosting), in two modes chosen by
+//! the semihosting command line (`-semihosting-config ...,arg=<program>,arg=<mode>,...`):
+//!
+//! * `check [tamper]`: runs every variant (2nd-order, 3rd-order and Kalman ATO, `f32`,
+//!   exact and fast sin/cos) over the simulated resolver and compares every estimate with the
+//!   host's reference, within `f32` tolerances; exits with failure if any sample is out of
+//!   tolerance. `tamper` first corrupts one input sample: the check must then fail (this is
+//!   how the test shows that it can).
+//! * `count <variant> <samples>`: runs one variant over the first `samples` samples and
+//!   nothing else (variant `loop` runs the loop without the update). The instruction
+//!   count per update is the difference of two such runs of different lengths, counted by
+//!   the TCG plugin in `plugin/`.
+#![no_std]
+#![no_main]
+
+mod variants;
+
+use core::hint::black_box;
+
+use angletrack_core::{Estimate, Gains, ObserverState, Order, SinCos, SupportedOrder};
+use cortex_m_rt::entry;
+use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
+use cortex_m_semihosting::{hprintln, nr};
+use variants::{Job, NAMES, Observers, RECORD_BYTES, SAMPLE_BYTES};
+
+include!(concat!(env!("OUT_DIR"), "/scenario.rs"));
+
+/// Largest accepted difference of the multi-turn position `turns * 2 pi + angle` from the
+/// host's (rad): about 60 ulp of pi in `f32`.
+const POSITION_TOLERANCE_RAD: f32 = 1.5e-5;
+/// Largest accepted relative difference of speed and acceleration from the host's (about
+/// 80 ulp), relative to the largest magnitude of the reference over the run.
+const RELATIVE_TOLERANCE: f32 = 1e-5;
+/// The corruption of `tamper` mode: added to `y_s` of the middle sample (the sensor noise
+/// is 0.01).
+const TAMPER: f32 = 0.05;
+
+/// One observer update, kept out of line: the unit whose code size is reported and whose
+/// instructions are counted.
+#[inline(never)]
+fn update<const N: usize, S: SinCos<f32>>(
+    gains: &Gains<f32, N, S>,
+    state: &mut ObserverState<f32, N>,
+    y_c: f32,
+    y_s: f32,
+) -> Estimate<f32>
+where
+    Order<N>: SupportedOrder,
+{
+    gains.update(state, y_c, y_s)
+}
+
+/// What `count` mode's loop calls instead of the update for variant `loop`: nothing but a
+/// default estimate, so that its count is the loop's own cost (call, inputs, result).
+#[inline(never)]
+fn no_update<const N: usize, S: SinCos<f32>>(
+    _gains: &Gains<f32, N, S>,
+    _state: &mut ObserverState<f32, N>,
+    _y_c: f32,
+    _y_s: f32,
+) -> Estimate<f32>
+where
+    Order<N>: SupportedOrder,
+{
+    Estimate::default()
+}
+
+/// The simulated resolver's samples, decoded from the reference data.
+struct Inputs {
+    y_c: [f32; SAMPLES],
+    y_s: [f32; SAMPLES],
+}
+
+impl Inputs {
+    fn load() -> Self {
+        let mut inputs = Inputs {
+            y_c: [0.0; SAMPLES],
+            y_s: [0.0; SAMPLES],
+        };
+        for (k, sample) in REFERENCE[..SAMPLES * SAMPLE_BYTES]
+            .chunks_exact(SAMPLE_BYTES)
+            .enumerate()
+        {
+            let word = |i: usize| [sample[i], sample[i + 1], sample[i + 2], sample[i + 3]];
+            inputs.y_c[k] = f32::from_le_bytes(word(0));
+            inputs.y_s[k] = f32::from_le_bytes(word(4));
+        }
+        inputs
+    }
+}
+
+/// `check` mode: every sample of a variant against the host's reference.
+struct Check<'a> {
+    inputs: &'a Inputs,
+    failures: usize,
+}
+
+impl Job for Check<'_> {
+    fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>)
+    where
+        Order<N>: SupportedOrder,
+    {
+        let base = SAMPLES * SAMPLE_BYTES + index * SAMPLES * RECORD_BYTES;
+        let records = &REFERENCE[base..base + SAMPLES * RECORD_BYTES];
+        let (mut speed_scale, mut acceleration_scale) = (1.0f32, 1.0f32);
+        for r in records.chunks_exact(RECORD_BYTES) {
+            let (_, _, speed, acceleration) = variants::decode(r);
+            speed_scale = speed_scale.max(speed.abs());
+            acceleration_scale = acceleration_scale.max(acceleration.abs());
+        }
+        let mut state = ObserverState::new();
+        let (mut position, mut speed, mut acceleration, mut worst) = (0.0f32, 0.0, 0.0, 0);
+        for (k, r) in records.chunks_exact(RECORD_BYTES).enumerate() {
+            let e = update(&gains, &mut state, self.inputs.y_c[k], self.inputs.y_s[k]);
+            let (angle_ref, turns_ref, speed_ref, acceleration_ref) = variants::decode(r);
+            // Position difference, exact in the split form: whole turns, then the angle.
+            let turns = (e.turns - i64::from(turns_ref)) as f32;
+            let d = (turns * core::f32::consts::TAU + (e.angle - angle_ref)).abs();
+            if worse(d, position) {
+                (position, worst) = (d, k);
+            }
+            let d = (e.speed - speed_ref).abs() / speed_scale;
+            if worse(d, speed) {
+                speed = d;
+            }
+            let d = (e.acceleration - acceleration_ref).abs() / acceleration_scale;
+            if worse(d, acceleration) {
+                acceleration = d;
+            }
+        }
+        let ok = position <= POSITION_TOLERANCE_RAD
+            && speed <= RELATIVE_TOLERANCE
+            && acceleration <= RELATIVE_TOLERANCE;
+        hprintln!(
+            "check {}: {} samples, max |position - host| {:e} rad (sample {}), \
+             speed {:e}, acceleration {:e} (relative): {}",
+            NAMES[index],
+            SAMPLES,
+            position,
+            worst,
+            speed,
+            acceleration,
+            if ok { "ok" } else { "FAIL" }
+        );
+        self.failures += usize::from(!ok);
+    }
+}
+
+/// `true` if the difference `d` is larger than `worst` so far, or NaN (which must fail).
+fn worse(d: f32, worst: f32) -> bool {
+    d > worst || d.is_nan()
+}
+
+/// `count` mode: `samples` updates of one variant (or of the loop alone) and nothing else.
+struct Count<'a> {
+    inputs: &'a Inputs,
+    samples: usize,
+    loop_only: bool,
+}
+
+impl Job for Count<'_> {
+    fn run<const N: usize, S: SinCos<f32>>(&mut self, _index: usize, gains: Gains<f32, N, S>)
+    where
+        Order<N>: SupportedOrder,
+    {
+        let step = if self.loop_only {
+            no_update::<N, S>
+        } else {
+            update::<N, S>
+        };
+        let step = black_box(step);
+        let mut state = ObserverState::new();
+        for k in 0..self.samples.min(SAMPLES) {
+            black_box(&step(
+                &gains,
+                &mut state,
+                self.inputs.y_c[k],
+                self.inputs.y_s[k],
+            ));
+        }
+    }
+}
+
+/// The semihosting command line, split at spaces, without the program name.
+fn command_line(buf: &mut [u8]) -> impl Iterator<Item = &str> {
+    let mut block = [buf.as_mut_ptr() as usize, buf.len()];
+    // SAFETY: SYS_GET_CMDLINE writes at most `block[1]` bytes to `block[0]` (our buffer) and
+    // the length it wrote back into `block[1]`; both live until the call returns.
+    let status =
+        unsafe { cortex_m_semihosting::syscall1(nr::GET_CMDLINE, block.as_mut_ptr() as usize) };
+    let len = if status == 0 {
+        block[1].min(buf.len())
+    } else {
+        0
+    };
+    core::str::from_utf8(&buf[..len])
+        .unwrap_or("")
+        .split(' ')
+        .filter(|w| !w.is_empty())
+        .skip(1)
+}
+
+fn run() -> Result<(), &'static str> {
+    let mut buf = [0u8; 128];
+    let mut args = command_line(&mut buf);
+    let mut inputs = Inputs::load();
+    match args.next() {
+        Some("check") => {
+            let tamper = args.next() == Some("tamper");
+            if tamper {
+                inputs.y_s[SAMPLES / 2] += TAMPER;
+            }
+            let mut check = Check {
+                inputs: &inputs,
+                failures: 0,
+            };
+            for index in 0..NAMES.len() {
+                if !OBSERVERS.run(index, &mut check) {
+                    return Err("gains refused");
+                }
+            }
+            if check.failures > 0 {
+                return Err("estimates differ from the host's");
+            }
+            Ok(())
+        }
+        Some("count") => {
+            let name = args.next().ok_or("count needs a variant")?;
+            let samples = args
+                .next()
+                .and_then(|n| n.parse().ok())
+                .ok_or("count needs a sample count")?;
+            let loop_only = name == "loop";
+            // The loop alone runs with the Kalman variant's types.
+            let index = if loop_only {
+                NAMES.len() - 1
+            } else {
+                NAMES
+                    .iter()
+                    .position(|&n| n == name)
+                    .ok_or("unknown variant")?
+            };
+            let mut count = Count {
+                inputs: &inputs,
+                samples,
+                loop_only,
+            };
+            if OBSERVERS.run(index, &mut count) {
+                Ok(())
+            } else {
+                Err("gains refused")
+            }
+        }
+        _ => Err("usage: check [tamper] | count <variant|loop> <samples>"),
+    }
+}
+
+#[entry]
+fn main() -> ! {
+    match run() {
+        Ok(()) => debug::exit(EXIT_SUCCESS),
+        Err(message) => {
+            hprintln!("error: {}", message);
+            debug::exit(EXIT_FAILURE);
+        }
+    }
+    loop {
+        cortex_m::asm::wfi();
+    }
+}
+
+#[panic_handler]
+fn panic(info: &core::panic::PanicInfo) -> ! {
+    hprintln!("panic: {}", info);
+    debug::exit(EXIT_FAILURE);
+    loop {
+        cortex_m::asm::wfi();
+    }
+}

@@ -35,8 +35,8 @@
 
 pub use angletrack_core as core;
 pub use angletrack_core::{
-    AngleTrackingObserver, ConfigError, Estimate, Exact, Fast, Gains, Observer, ObserverState,
-    Parameter, Real, SecondOrderObserver, SinCos, ThirdOrderObserver,
+    AngleTrackingObserver, ConfigError, Estimate, Exact, Fast, FaultThresholds, Faults, Gains,
+    Observer, ObserverState, Parameter, Real, SecondOrderObserver, SinCos, ThirdOrderObserver,
 };
 pub use nalgebra::Complex;
 

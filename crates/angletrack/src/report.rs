@@ -3,7 +3,7 @@
 use core::f64::consts::PI;
 use core::fmt;
 
-use angletrack_core::{Gains, ObserverState, Order, SupportedOrder};
+use angletrack_core::{FaultThresholds, Gains, ObserverState, Order, SupportedOrder};
 use nalgebra::{Complex, DMatrix, DVector};
 
 use crate::design::{Design, DesignMethod, Discretisation, StepResponse, continuous_step};
@@ -82,16 +82,21 @@ pub struct DesignReport {
     pub linear_step: StepResponse,
     /// Step response of the continuous design, for comparison with `linear_step`.
     pub continuous_step: Option<StepResponse>,
-    /// Response of the nonlinear loop (the core's observer, `f64`, exact sin/cos) to a
-    /// [`LARGE_STEP_RAD`] (179 degree) step from rest.
+    /// Response of the bare nonlinear loop of the paper (the core's observer, `f64`, exact
+    /// sin/cos, diagnostics and re-acquisition disabled) to a [`LARGE_STEP_RAD`]
+    /// (179 degree) step from rest.
     pub large_step: StepResponse,
-    /// The angle (rad, unwrapped) the nonlinear loop ends at after the 179 degree step.
+    /// The angle (rad, unwrapped) the bare nonlinear loop ends at after the 179 degree step.
     pub large_step_final_rad: f64,
+    /// The same step with the gains' own diagnostics (by default the core's false-lock
+    /// detection, which re-acquires the angle from `atan2` once the filtered in-phase
+    /// component turns negative): what the firmware does.
+    pub large_step_with_diagnostics: StepResponse,
     /// The largest speed (rad/s) the phase detector can follow: `pi / Ts`, half a turn per
     /// sample (beyond it the sampled angle aliases).
     pub max_speed_rad_s: f64,
-    /// The largest speed step (rad/s) the nonlinear loop acquires from rest (estimate at
-    /// the right angle, speed 0) without slipping a cycle: found by bisection on a
+    /// The largest speed step (rad/s) the bare nonlinear loop acquires from rest (estimate
+    /// at the right angle, speed 0) without slipping a cycle: found by bisection on a
     /// logarithmic scale between `1e-6 pi/Ts` and `pi/Ts`, assuming acquisition fails
     /// above a single threshold.
     pub acquisition_speed_rad_s: f64,
@@ -357,6 +362,7 @@ impl DesignReport {
         let ts = gains.sample_period();
         let l = gains.gains();
         let discrete = DiscreteLoop::new(&l, ts);
+        let bare = gains.with_fault_thresholds(FaultThresholds::disabled())?;
         let shifted = linalg::roots(&gains.loop_polynomial());
         let discrete_poles: Vec<Complex<f64>> = shifted.iter().map(|u| u + 1.0).collect();
         let equivalent: Vec<Complex<f64>> =
@@ -370,14 +376,16 @@ impl DesignReport {
             .ok_or(Error::NoSolution(Argument::SamplePeriod))?;
         let noise = predicted_error(&gains, sigma, 0.0)?;
         let samples = discrete.horizon(&equivalent);
-        let large = StepResponse::from_samples(
-            simulate_nonlinear(&gains, samples, |_| LARGE_STEP_RAD),
-            0.0,
-            LARGE_STEP_RAD,
-            SETTLING_BAND,
-            ts,
-        );
-        let large_step_final_rad = simulate_nonlinear(&gains, samples, |_| LARGE_STEP_RAD)
+        let large_step = |gains: &Gains<f64, N>| {
+            StepResponse::from_samples(
+                simulate_nonlinear(gains, samples, |_| LARGE_STEP_RAD),
+                0.0,
+                LARGE_STEP_RAD,
+                SETTLING_BAND,
+                ts,
+            )
+        };
+        let large_step_final_rad = simulate_nonlinear(&bare, samples, |_| LARGE_STEP_RAD)
             .last()
             .unwrap_or(0.0);
         Ok(DesignReport {
@@ -404,10 +412,11 @@ impl DesignReport {
             continuous_step: design
                 .continuous_gains
                 .map(|_| continuous_step(&continuous_c)),
-            large_step: large,
+            large_step: large_step(&bare),
             large_step_final_rad,
+            large_step_with_diagnostics: large_step(&gains),
             max_speed_rad_s: PI / ts,
-            acquisition_speed_rad_s: acquisition_speed(&gains, samples),
+            acquisition_speed_rad_s: acquisition_speed(&bare, samples),
         })
     }
 }
@@ -526,12 +535,17 @@ impl fmt::Display for DesignReport {
         }
         row(
             f,
-            "179 degree step (nonlinear)",
+            "179 degree step (bare nonlinear loop)",
             format!(
                 "{}, ends at {:.3} deg",
                 step(&self.large_step),
                 self.large_step_final_rad.to_degrees()
             ),
+        )?;
+        row(
+            f,
+            "179 degree step, with diagnostics",
+            step(&self.large_step_with_diagnostics),
         )?;
         row(
             f,

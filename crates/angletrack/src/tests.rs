@@ -372,16 +372,17 @@ fn acquisition_speed_separates_lock_from_cycle_slip() {
     let design = second_order_from_bandwidth(100.0, 1.0, ts, PM).unwrap();
     let report = DesignReport::new(&design, 0.0).unwrap();
     let speed = report.acquisition_speed_rad_s;
+    // The bare loop of the paper, as the report simulates it.
+    let bare = design
+        .gains
+        .with_fault_thresholds(FaultThresholds::disabled())
+        .unwrap();
     let final_error = |speed: f64| {
         let mut state = ObserverState::at(0.0, 0.0, 0.0, ts);
         let mut error = 0.0;
         for k in 0..20_000 {
             let theta = speed * ts * k as f64;
-            error = theta
-                - design
-                    .gains
-                    .update(&mut state, theta.cos(), theta.sin())
-                    .position();
+            error = theta - bare.update(&mut state, theta.cos(), theta.sin()).position();
         }
         error
     };
@@ -665,8 +666,12 @@ fn metrics_of_a_step_match_the_report_of_the_nonlinear_loop() {
             duration_s: 0.2,
         });
     let s = scenario(&profile, &SensorModel::default(), ts);
-    let estimates = run(&design.gains, &s);
-    let metrics = Metrics::new(&s, &estimates, &MetricsOptions::default()).unwrap();
+    let bare = design
+        .gains
+        .with_fault_thresholds(FaultThresholds::disabled())
+        .unwrap();
+    let options = MetricsOptions::default();
+    let metrics = Metrics::new(&s, &run(&bare, &s), &options).unwrap();
     let overshoot = metrics.overshoot.unwrap();
     assert!(
         (overshoot - report.large_step.overshoot).abs() < 1e-9,
@@ -676,6 +681,16 @@ fn metrics_of_a_step_match_the_report_of_the_nonlinear_loop() {
     assert!((settling - ts - report.large_step.settling_time_s).abs() < 1.5 * ts);
     assert!(metrics.time_to_lock_s.unwrap() > settling);
     assert!(metrics.angle_error_rad.max > 3.0 && metrics.angle_error_rad.max < PI);
+    // With the core's default diagnostics the false lock is detected and the angle
+    // re-acquired: the report's other figure.
+    let with_diagnostics = Metrics::new(&s, &run(&design.gains, &s), &options).unwrap();
+    let overshoot = with_diagnostics.overshoot.unwrap();
+    let expected = report.large_step_with_diagnostics.overshoot;
+    assert!(
+        (overshoot - expected).abs() < 1e-9,
+        "{overshoot} vs {expected}"
+    );
+    assert!(with_diagnostics.settling_time_s.unwrap() < 0.5 * settling);
 }
 
 #[test]

@@ -772,9 +772,12 @@ pub fn kalman_from_jerk_density(
     kalman(density * ts.powi(5), noise * noise, ts).map_err(|e| rename(e, Argument::JerkDensity))
 }
 
-/// Names the caller's argument instead of `q` in an error of [`kalman`].
+/// Names the caller's arguments instead of `q` and `r` in an error of [`kalman`].
 fn rename(e: Error, argument: Argument) -> Error {
     match e {
+        Error::NotPositive(Argument::MeasurementNoise) => {
+            Error::NotPositive(Argument::SensorNoiseStd)
+        }
         Error::NotPositive(Argument::ProcessNoise) => Error::NotPositive(argument),
         Error::NotFinite(Argument::ProcessNoise) => Error::NotFinite(argument),
         Error::OutOfRange {

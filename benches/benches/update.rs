@@ -4,7 +4,8 @@
 //! hand-written baseline (`baseline`: one struct, the standard library's `sin_cos`) and the
 //! core's observer with both phase-detector sin/cos (`exact`, `fast`) through the per-sample
 //! API (`update-*`, a loop over `Gains::update`) and the block API (`block-*`,
-//! `Gains::update_block`). Throughput is in samples, so every report reads as time per
+//! `Gains::update_block`), and the fast one with the diagnostics off (`update-fast-unmonitored`,
+//! `FaultThresholds::disabled()`: the bare loop). Throughput is in samples, so every report reads as time per
 //! sample and the ratio to `baseline` is the ratio of the reported times.
 //!
 //! Run: `cargo bench -p angletrack-benches` (or `bash scripts/perf-table.sh` for the README
@@ -16,7 +17,8 @@ use angletrack_benches::{
     HandWrittenObserver, OBSERVERS, ResolverSignal, SAMPLE_PERIOD_S, float_name, gains,
 };
 use angletrack_core::{
-    Estimate, Exact, Fast, Gains, ObserverState, Order, Real, SinCos, SupportedOrder,
+    Estimate, Exact, Fast, FaultThresholds, Gains, ObserverState, Order, Real, SinCos,
+    SupportedOrder,
 };
 use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, Criterion, Throughput, criterion_group, criterion_main};
@@ -67,16 +69,8 @@ fn bench_core<T: Real, const N: usize, S: SinCos<T>>(
     Order<N>: SupportedOrder,
 {
     let gains: Gains<T, N, S> = gains(l);
+    bench_update(group, workload, gains, &format!("update-{sin_cos}"));
     let start = workload.initial_state::<N>();
-    group.bench_function(format!("update-{sin_cos}"), |b| {
-        b.iter(|| {
-            let mut state = start;
-            for (&c, &s) in workload.y_c.iter().zip(&workload.y_s) {
-                black_box(gains.update(&mut state, c, s));
-            }
-            state
-        })
-    });
     let mut out = vec![Estimate::default(); BLOCK];
     group.bench_function(format!("block-{sin_cos}"), |b| {
         b.iter(|| {
@@ -84,6 +78,27 @@ fn bench_core<T: Real, const N: usize, S: SinCos<T>>(
             let n = gains.update_block(&mut state, &workload.y_c, &workload.y_s, &mut out);
             black_box(&out);
             (n, state)
+        })
+    });
+}
+
+/// The per-sample API: a loop over `Gains::update`.
+fn bench_update<T: Real, const N: usize, S: SinCos<T>>(
+    group: &mut BenchmarkGroup<'_, WallTime>,
+    workload: &Workload<T>,
+    gains: Gains<T, N, S>,
+    id: &str,
+) where
+    Order<N>: SupportedOrder,
+{
+    let start = workload.initial_state::<N>();
+    group.bench_function(id, |b| {
+        b.iter(|| {
+            let mut state = start;
+            for (&c, &s) in workload.y_c.iter().zip(&workload.y_s) {
+                black_box(gains.update(&mut state, c, s));
+            }
+            state
         })
     });
 }
@@ -114,6 +129,10 @@ where
     let l: [f64; N] = core::array::from_fn(|i| l[i]);
     bench_core::<T, N, Exact>(&mut group, &workload, l, "exact");
     bench_core::<T, N, Fast>(&mut group, &workload, l, "fast");
+    let bare = gains::<T, N, Fast>(l)
+        .with_fault_thresholds(FaultThresholds::disabled())
+        .expect("the default thresholds are valid");
+    bench_update(&mut group, &workload, bare, "update-fast-unmonitored");
     group.finish();
 }
 

@@ -6,6 +6,7 @@
 #  3. prints `insns_per_update <observer>-f32-<sincos>: N`: the instructions of one loop
 #     iteration calling the out-of-line update, from two runs of different lengths;
 #     `insns_per_iteration loop: N` is the same loop with an empty callee;
+#     `insns_per_sample_in_block ...: N` the same per sample of one `update_block` call;
 #  4. prints the code size of each f32 update function, alone and with the out-of-line
 #     functions it calls.
 # Needs: cargo with the thumbv7em-none-eabihf target, qemu-system-arm, gcc,
@@ -39,27 +40,27 @@ if output=$(qemu check tamper); then
   exit 1
 fi
 grep -q FAIL <<<"$output" || { echo "$output"; echo "tamper run failed without FAIL" >&2; exit 1; }
-echo "check with one corrupted input sample: fails as it must ($(grep -c FAIL <<<"$output") of 6 variants FAIL)"
+echo "check with one corrupted input sample: fails as it must ($(grep -c FAIL <<<"$output") of $(grep -c "^check " <<<"$output") variants FAIL)"
 
-# insns SAMPLES VARIANT: instructions executed by a count run.
+# insns SAMPLES VARIANT [block]: instructions executed by a count run.
 insns() {
   local log="$target_dir/insns.log"
   rm -f "$log"
-  plugin_option="$plugin,out=$log" qemu count "$2" "$1"
+  plugin_option="$plugin,out=$log" qemu count "$2" "$1" ${3:-}
   sed -n 's/^insns_executed: //p' "$log"
 }
-short=1000
-long=2000
-for variant in loop second-order-f32-exact second-order-f32-fast third-order-f32-exact \
-  third-order-f32-fast kalman-f32-exact kalman-f32-fast; do
-  a=$(insns "$short" "$variant")
-  b=$(insns "$long" "$variant")
-  per=$(awk -v a="$a" -v b="$b" -v n=$((long - short)) 'BEGIN { printf "%.1f", (b - a) / n }')
-  if [ "$variant" = loop ]; then
-    echo "insns_per_iteration loop: $per"
-  else
-    echo "insns_per_update $variant: $per"
-  fi
+# per_sample VARIANT [block]: instructions per sample, from runs of 1000 and 2000 samples.
+per_sample() {
+  local a b
+  a=$(insns 1000 "$@")
+  b=$(insns 2000 "$@")
+  awk -v a="$a" -v b="$b" 'BEGIN { printf "%.1f", (b - a) / 1000 }'
+}
+echo "insns_per_iteration loop: $(per_sample loop)"
+for variant in second-order-f32-exact second-order-f32-fast third-order-f32-exact \
+  third-order-f32-fast kalman-f32-exact kalman-f32-fast kalman-f32-fast-unmonitored; do
+  echo "insns_per_update $variant: $(per_sample "$variant")"
+  echo "insns_per_sample_in_block $variant: $(per_sample "$variant" block)"
 done
 
 # Code size: each update function, then with every function it calls (transitively).
@@ -77,8 +78,12 @@ callees() {
 }
 for order in 2 3; do
   for sin_cos in Fast Exact; do
-    root=$(mangled "angletrack_firmware_test::update::<$order, angletrack_core::sincos::$sin_cos>")
-    [ -n "$root" ] || { echo "no update::<$order, $sin_cos> symbol in $elf" >&2; exit 1; }
+    types="$order, angletrack_core::sincos::$sin_cos"
+    root=$(mangled "angletrack_firmware_test::update::<$types>")
+    [ -n "$root" ] || { echo "no update::<$types> symbol in $elf" >&2; exit 1; }
+    # The update itself: the wrapper, plus the core's update if the compiler kept it apart.
+    core=$(mangled "<angletrack_core::gains::Gains<f32, $types>>::update")
+    own=$(($(size_of "$root") + ${core:+$(size_of "$core")}+0))
     declare -A seen=()
     queue=("$root")
     total=0
@@ -89,11 +94,12 @@ for order in 2 3; do
       [ -z "${seen[$f]:-}" ] || continue
       seen[$f]=1
       total=$((total + $(size_of "$f")))
-      [ "$f" = "$root" ] || called+=("$(demangled "$f" | sed 's/::<.*//; s/.*:://')")
+      [ "$f" = "$root" ] || [ "$f" = "$core" ] ||
+        called+=("$(demangled "$f" | sed 's/::<.*//; s/.*:://')")
       for c in $(callees "$f"); do queue+=("$c"); done
     done
     unset seen
-    echo "code_size update-order$order-f32-${sin_cos,,}: $(size_of "$root") bytes;" \
+    echo "code_size update-order$order-f32-${sin_cos,,}: $own bytes;" \
       "$total bytes with the ${#called[@]} functions it calls (${called[*]:-none})"
   done
 done

@@ -6,10 +6,11 @@
 //!   host's reference, within `f32` tolerances; exits with failure if any sample is out of
 //!   tolerance. `tamper` first corrupts one input sample: the check must then fail (this is
 //!   how the test shows that it can).
-//! * `count <variant> <samples>`: runs one variant over the first `samples` samples and
-//!   nothing else (variant `loop` runs the loop without the update). The instruction
-//!   count per update is the difference of two such runs of different lengths, counted by
-//!   the TCG plugin in `plugin/`.
+//! * `count <variant> <samples> [block]`: runs one variant over the first `samples` samples
+//!   and nothing else: one out-of-line `Gains::update` call per sample (variant `loop` runs
+//!   the loop with an empty callee), or with `block` one `Gains::update_block` call for all
+//!   of them. The instruction count per update is the difference of two such runs of
+//!   different lengths, counted by the TCG plugin in `plugin/`.
 #![no_std]
 #![no_main]
 
@@ -63,6 +64,21 @@ where
     Order<N>: SupportedOrder,
 {
     Estimate::default()
+}
+
+/// A block of updates, kept out of line like [`update`].
+#[inline(never)]
+fn update_block<const N: usize, S: SinCos<f32>>(
+    gains: &Gains<f32, N, S>,
+    state: &mut ObserverState<f32, N>,
+    y_c: &[f32],
+    y_s: &[f32],
+    out: &mut [Estimate<f32>],
+) -> usize
+where
+    Order<N>: SupportedOrder,
+{
+    gains.update_block(state, y_c, y_s, out)
 }
 
 /// The simulated resolver's samples, decoded from the reference data.
@@ -156,6 +172,7 @@ struct Count<'a> {
     inputs: &'a Inputs,
     samples: usize,
     loop_only: bool,
+    block: bool,
 }
 
 impl Job for Count<'_> {
@@ -163,6 +180,15 @@ impl Job for Count<'_> {
     where
         Order<N>: SupportedOrder,
     {
+        let n = self.samples.min(SAMPLES);
+        if self.block {
+            let mut state = ObserverState::new();
+            let mut out = [Estimate::default(); SAMPLES];
+            let (y_c, y_s) = (&self.inputs.y_c[..n], &self.inputs.y_s[..n]);
+            black_box(update_block(&gains, &mut state, y_c, y_s, &mut out));
+            black_box(&out);
+            return;
+        }
         let step = if self.loop_only {
             no_update::<N, S>
         } else {
@@ -170,7 +196,7 @@ impl Job for Count<'_> {
         };
         let step = black_box(step);
         let mut state = ObserverState::new();
-        for k in 0..self.samples.min(SAMPLES) {
+        for k in 0..n {
             black_box(&step(
                 &gains,
                 &mut state,
@@ -230,6 +256,7 @@ fn run() -> Result<(), &'static str> {
                 .next()
                 .and_then(|n| n.parse().ok())
                 .ok_or("count needs a sample count")?;
+            let block = args.next() == Some("block");
             let loop_only = name == "loop";
             // The loop alone runs with the Kalman variant's types.
             let index = if loop_only {
@@ -244,6 +271,7 @@ fn run() -> Result<(), &'static str> {
                 inputs: &inputs,
                 samples,
                 loop_only,
+                block,
             };
             if OBSERVERS.run(index, &mut count) {
                 Ok(())
@@ -251,7 +279,7 @@ fn run() -> Result<(), &'static str> {
                 Err("gains refused")
             }
         }
-        _ => Err("usage: check [tamper] | count <variant|loop> <samples>"),
+        _ => Err("usage: check [tamper] | count <variant|loop> <samples> [block]"),
     }
 }
 

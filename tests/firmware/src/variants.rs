@@ -2,16 +2,20 @@
 //! the build script (which computes the reference on the host) and the firmware (which checks
 //! itself against it), so that both run the same list in the same order.
 
-use angletrack_core::{Estimate, Exact, Fast, Gains, Order, SinCos, SupportedOrder};
+use angletrack_core::{
+    ConfigError, Estimate, Exact, Fast, FaultThresholds, Gains, Order, SinCos, SupportedOrder,
+};
 
-/// The variants, as printed: `<observer>-<float>-<sincos>`.
-pub const NAMES: [&str; 6] = [
+/// The variants, as printed: `<observer>-<float>-<sincos>`; the last one is the Kalman ATO
+/// with the diagnostics switched off (`FaultThresholds::disabled()`: the bare loop).
+pub const NAMES: [&str; 7] = [
     "second-order-f32-exact",
     "second-order-f32-fast",
     "third-order-f32-exact",
     "third-order-f32-fast",
     "kalman-f32-exact",
     "kalman-f32-fast",
+    "kalman-f32-fast-unmonitored",
 ];
 
 /// Bytes of one reference record: angle (rad, f32), turns (i32), speed (rad/s, f32),
@@ -47,28 +51,38 @@ impl Observers {
     /// variant or its gains are refused.
     pub fn run(&self, index: usize, job: &mut impl Job) -> bool {
         let ts = self.sample_period_s;
-        let (order, sin_cos) = (index / 2, index % 2);
-        match (order, sin_cos) {
-            (0, _) => match Gains::<f32, 2, Exact>::new(self.second_order, ts) {
-                Ok(g) if sin_cos == 0 => job.run(index, g),
-                Ok(g) => job.run(index, g.with_sin_cos::<Fast>()),
-                Err(_) => return false,
-            },
-            (1 | 2, _) => {
-                let l = if order == 1 {
-                    self.third_order
-                } else {
-                    self.kalman
-                };
-                match Gains::<f32, 3, Exact>::new(l, ts) {
-                    Ok(g) if sin_cos == 0 => job.run(index, g),
-                    Ok(g) => job.run(index, g.with_sin_cos::<Fast>()),
-                    Err(_) => return false,
-                }
+        let fast = index % 2 == 1 || index == 6;
+        let third = |l: [f32; 3]| -> Result<Gains<f32, 3, Exact>, ConfigError> {
+            let gains = Gains::new(l, ts)?;
+            if index == 6 {
+                gains.with_fault_thresholds(FaultThresholds::disabled())
+            } else {
+                Ok(gains)
             }
+        };
+        match index {
+            0 | 1 => Gains::new(self.second_order, ts).map(|g| run_with(index, g, fast, job)),
+            2 | 3 => third(self.third_order).map(|g| run_with(index, g, fast, job)),
+            4..=6 => third(self.kalman).map(|g| run_with(index, g, fast, job)),
             _ => return false,
         }
-        true
+        .is_ok()
+    }
+}
+
+/// Runs `job` with `gains`, with the fast or the exact sin/cos.
+fn run_with<const N: usize>(
+    index: usize,
+    gains: Gains<f32, N, Exact>,
+    fast: bool,
+    job: &mut impl Job,
+) where
+    Order<N>: SupportedOrder,
+{
+    if fast {
+        job.run(index, gains.with_sin_cos::<Fast>());
+    } else {
+        job.run(index, gains);
     }
 }
 

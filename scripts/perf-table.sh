@@ -1,0 +1,105 @@
+#!/usr/bin/env bash
+# Regenerates the performance table of README.md (between the perf-table markers):
+#  - instructions per update and code size of the f32 update on a Cortex-M4F, from the
+#    firmware test under QEMU (tests/firmware/run.sh);
+#  - ns per sample on this host and the ratio to the hand-written loop, from the criterion
+#    benchmarks (benches/, short measurement: 1 s warm-up, 3 s per benchmark).
+# Usage: bash scripts/perf-table.sh [--print]   (--print: print the table, leave README.md)
+# Takes about 4 minutes. Host figures depend on the machine: run it on a quiet one.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+source scripts/lib.sh
+need_rust
+need_debian_packages qemu-system-arm gcc libc6-dev binutils-arm-none-eabi
+
+firmware=$(bash tests/firmware/run.sh)
+target_dir=$(cargo metadata --format-version 1 --no-deps |
+  sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p')
+cargo bench -q -p angletrack-benches --bench update -- \
+  --warm-up-time 1 --measurement-time 3 --noplot >/dev/null
+
+# ns_per_sample GROUP ID: the fastest of criterion's samples (time per iteration over the
+# throughput). The fastest, not the median: on a shared machine other load only ever adds
+# time, and the median moved by 4x between runs there; criterion's report keeps the spread.
+ns_per_sample() {
+  local dir="$target_dir/criterion/$1/$2/new"
+  local elements
+  elements=$(sed -E 's/.*"throughput":\{"Elements":([0-9]+)\}.*/\1/' "$dir/benchmark.json")
+  sed -E 's/.*"iters":\[([^]]*)\].*"times":\[([^]]*)\].*/\1;\2/' "$dir/sample.json" |
+    awk -F';' -v e="$elements" '{
+      n = split($1, iters, ","); split($2, times, ",")
+      for (i = 1; i <= n; i++) { t = times[i] / iters[i]; if (i == 1 || t < best) best = t }
+      printf "%.2f", best / e
+    }'
+}
+
+firmware_value() { sed -n "s/^$1: //p" <<<"$firmware" | head -n1; }
+
+cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -n1)
+table=$(mktemp)
+trap 'rm -f "$table"' EXIT
+{
+  echo "Measured with \`bash scripts/perf-table.sh\` ($(rustc --version | cut -d' ' -f1-2), commit $(git rev-parse --short HEAD))."
+  echo
+  echo "**Cortex-M4F** (QEMU \`mps2-an386\`, \`f32\`, opt-level 3, fat LTO): instructions per"
+  echo "update, counted by the TCG plugin of \`tests/firmware\`: one loop iteration calling the"
+  echo "out-of-line \`Gains::update\` (the loop alone, with an empty callee: $(firmware_value 'insns_per_iteration loop')),"
+  echo "or per sample of one \`Gains::update_block\` call. Diagnostics off:"
+  echo "\`FaultThresholds::disabled()\`, the bare loop of the paper."
+  echo
+  echo "| observer | exact sin/cos (\`libm\`) | exact, in a block | fast sin/cos | fast, in a block |"
+  echo "| --- | ---: | ---: | ---: | ---: |"
+  # cells VARIANT: its per-call and in-a-block counts as two table cells.
+  cells() {
+    echo "$(firmware_value "insns_per_update $1") | $(firmware_value "insns_per_sample_in_block $1")"
+  }
+  for observer in second-order:"2nd-order ATO" third-order:"3rd-order ATO (pole placement)" \
+    kalman:"Kalman ATO"; do
+    id=${observer%%:*}
+    echo "| ${observer#*:} | $(cells "$id-f32-exact") | $(cells "$id-f32-fast") |"
+  done
+  echo "| Kalman ATO, diagnostics off | | | $(cells kalman-f32-fast-unmonitored) |"
+  echo
+  echo "Code size of the \`f32\` update with fast sin/cos, alone and with the out-of-line"
+  echo "functions it calls (cold paths: wrap, coast, re-acquisition, \`atan2f\`):"
+  for order in 2 3; do
+    echo "order $order: $(firmware_value "code_size update-order$order-f32-fast" | sed 's/;.*//')," \
+      "$(firmware_value "code_size update-order$order-f32-fast" | sed 's/.*; \([0-9]* bytes\).*/\1/')."
+  done
+  echo
+  echo "**Host** (${cpu:-unknown CPU}, one stream): ns per sample (fastest criterion sample), and in"
+  echo "parentheses the ratio to the hand-written loop (one struct, the standard library's"
+  echo "\`sin_cos\`, explicit wrap) on the same samples."
+  echo
+  echo "| observer | float | hand-written | update, exact | update, fast | block, exact | block, fast | update, fast, diagnostics off |"
+  echo "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |"
+  for observer in second-order third-order kalman; do
+    for float in f32 f64; do
+      group="$observer-$float"
+      base=$(ns_per_sample "$group" baseline)
+      row="| $observer | $float | $base"
+      for id in update-exact update-fast block-exact block-fast update-fast-unmonitored; do
+        ns=$(ns_per_sample "$group" "$id")
+        row+=" | $ns ($(awk -v a="$ns" -v b="$base" 'BEGIN { printf "%.2f", a / b }'))"
+      done
+      echo "$row |"
+    done
+  done
+} >"$table"
+
+if [ "${1:-}" = --print ]; then
+  cat "$table"
+  exit 0
+fi
+grep -q '^<!-- perf-table:begin -->$' README.md && grep -q '^<!-- perf-table:end -->$' README.md || {
+  echo "README.md has no <!-- perf-table:begin --> / <!-- perf-table:end --> markers" >&2
+  exit 1
+}
+awk -v table="$table" '
+  /^<!-- perf-table:end -->$/ { skip = 0 }
+  !skip { print }
+  /^<!-- perf-table:begin -->$/ { while ((getline line < table) > 0) print line; skip = 1 }
+' README.md >README.md.new
+mv README.md.new README.md
+cat "$table"
+echo "README.md: performance table updated" >&2

@@ -340,6 +340,12 @@ pub fn second_order_from_tracking_error(
 
 /// `omega_3dB / omega_n` of the continuous loop `(2 m wn s + wn^2) / (s^2 + 2 m wn s + wn^2)`:
 /// `sqrt(1 + 2 m^2 + sqrt((1 + 2 m^2)^2 + 1))`.
+///
+/// ```
+/// // Damping sqrt(2)/2: the -3 dB bandwidth is 2.06 times the natural frequency.
+/// let ratio = angletrack::second_order_bandwidth_ratio(2f64.sqrt() / 2.0);
+/// assert!((ratio - 2.058).abs() < 1e-3);
+/// ```
 pub fn second_order_bandwidth_ratio(damping: f64) -> f64 {
     let a = 1.0 + 2.0 * damping * damping;
     (a + (a * a + 1.0).sqrt()).sqrt()
@@ -628,9 +634,10 @@ pub(crate) fn continuous_step(c: &[f64]) -> StepResponse {
     let fastest_oscillation = poles.iter().map(|p| p.im.abs()).fold(0.0, f64::max);
     let h = (1.0 / (40.0 * fastest)).min(0.02 / fastest_oscillation.max(1e-300));
     let horizon = 16.0 / slowest;
-    let steps = ((horizon / h).ceil() as usize).clamp(100, 4_000_000);
+    let steps = ((horizon / h).ceil() as usize).clamp(100, 1_000_000);
     let h = horizon / steps as f64;
-    // State (x, u): dx = S x + k (u - x1), du = 0, with k the continuous gains.
+    // State (x, u): dx = S x + k (u - x1), du = 0, with k the continuous gains; over one
+    // step of h, x <- Phi x + Gamma u with Phi, Gamma blocks of exp(M h).
     let m = DMatrix::from_fn(n + 1, n + 1, |i, j| {
         let k_i = if i < n { c[n - 1 - i] } else { 0.0 };
         let mut v = 0.0;
@@ -646,14 +653,10 @@ pub(crate) fn continuous_step(c: &[f64]) -> StepResponse {
         v
     });
     let step_matrix = (m * h).exp();
-    let mut z = nalgebra::DVector::zeros(n + 1);
-    z[n] = 1.0;
-    let samples = (0..=steps).map(move |_| {
-        let y = z[0];
-        z = &step_matrix * &z;
-        y
-    });
-    StepResponse::from_samples(samples, 0.0, 1.0, 0.02, h)
+    let phi = step_matrix.view((0, 0), (n, n)).into_owned();
+    let gamma: Vec<f64> = (0..n).map(|i| step_matrix[(i, n)]).collect();
+    let response = core::iter::once(0.0).chain(linalg::affine_response(phi, gamma, steps));
+    StepResponse::from_samples(response, 0.0, 1.0, 0.02, h)
 }
 
 /// The state transition `A` of the Kalman model and its process-noise input `G`.

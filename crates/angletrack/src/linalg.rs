@@ -32,6 +32,25 @@ pub(crate) fn closed_loop(l: &[f64]) -> DMatrix<f64> {
     correction * transition(n)
 }
 
+/// The first component of `x[k+1] = m x[k] + b`, `x[0] = 0`, for `k = 0 .. samples`: the
+/// step response of a linear recursion (no allocation per sample).
+pub(crate) fn affine_response(
+    m: DMatrix<f64>,
+    b: Vec<f64>,
+    samples: usize,
+) -> impl Iterator<Item = f64> {
+    let n = b.len();
+    let mut x = vec![0.0; n];
+    let mut next = vec![0.0; n];
+    (0..samples).map(move |_| {
+        for (i, value) in next.iter_mut().enumerate() {
+            *value = b[i] + (0..n).map(|j| m[(i, j)] * x[j]).sum::<f64>();
+        }
+        core::mem::swap(&mut x, &mut next);
+        x[0]
+    })
+}
+
 /// The first unit vector of dimension `n`.
 pub(crate) fn e1(n: usize) -> DVector<f64> {
     let mut v = DVector::zeros(n);

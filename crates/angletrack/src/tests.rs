@@ -136,6 +136,11 @@ fn out_of_range_arguments_name_the_argument() {
             ..
         })
     ));
+    // Below what K <= 1e4 gives: refused (after a bounded search).
+    assert_eq!(
+        third_order_from_overshoot(1e-9, 0.05, 1.5 * PI, 1e-5, PM).unwrap_err(),
+        Error::NoSolution(Argument::Overshoot)
+    );
     // psi = 1 cannot give 50 % overshoot in the family.
     assert_eq!(
         third_order_from_overshoot(0.5, 0.05, 1.0, 1e-5, PM).unwrap_err(),

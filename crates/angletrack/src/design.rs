@@ -47,13 +47,57 @@ impl Discretisation {
         }
     }
 
-    /// The name used in reports and the Python API.
+    /// The name used in reports.
     pub const fn name(self) -> &'static str {
         match self {
             Discretisation::PoleMatching => "pole matching",
             Discretisation::ForwardEuler => "forward Euler",
             Discretisation::Tustin => "Tustin",
         }
+    }
+
+    /// The identifier used on command lines and in the Python API: `pole_matching`,
+    /// `forward_euler`, `tustin` (what [`str::parse`] accepts, with `-` or a space for
+    /// `_`, in any case).
+    pub const fn id(self) -> &'static str {
+        match self {
+            Discretisation::PoleMatching => "pole_matching",
+            Discretisation::ForwardEuler => "forward_euler",
+            Discretisation::Tustin => "tustin",
+        }
+    }
+}
+
+impl core::str::FromStr for Discretisation {
+    type Err = Error;
+
+    /// Parses [`Discretisation::id`] (case, `-` and spaces ignored).
+    ///
+    /// ```
+    /// use angletrack::Discretisation;
+    /// assert_eq!("Forward-Euler".parse(), Ok(Discretisation::ForwardEuler));
+    /// assert!("zoh".parse::<Discretisation>().is_err());
+    /// ```
+    fn from_str(text: &str) -> Result<Self, Error> {
+        let id: String = text
+            .trim()
+            .chars()
+            .map(|c| match c {
+                '-' | ' ' => '_',
+                c => c.to_ascii_lowercase(),
+            })
+            .collect();
+        [
+            Discretisation::PoleMatching,
+            Discretisation::ForwardEuler,
+            Discretisation::Tustin,
+        ]
+        .into_iter()
+        .find(|d| d.id() == id)
+        .ok_or(Error::OutOfRange {
+            argument: Argument::Discretisation,
+            expected: "pole_matching, forward_euler or tustin",
+        })
     }
 }
 
@@ -117,7 +161,7 @@ pub struct KalmanSolution {
 
 impl KalmanSolution {
     /// `sqrt(P11)` of the filtered covariance (rad): the smallest RMS angle error any linear
-    /// estimator of the model reaches.
+    /// estimator of the model reaches (for the design's own `q` and `r`).
     pub fn angle_floor_rad(&self) -> f64 {
         self.covariance[0][0].sqrt()
     }

@@ -72,6 +72,8 @@ pub enum Argument {
     Tolerance,
     /// Two input series of different lengths, or an empty series.
     SeriesLength,
+    /// The name of a [`Discretisation`](crate::Discretisation).
+    Discretisation,
 }
 
 impl Argument {
@@ -110,6 +112,7 @@ impl Argument {
             Argument::AdcFullScale => "adc_full_scale",
             Argument::Tolerance => "tolerance",
             Argument::SeriesLength => "series length",
+            Argument::Discretisation => "discretisation",
         }
     }
 }

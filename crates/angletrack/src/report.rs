@@ -74,7 +74,8 @@ pub struct DesignReport {
     /// Predicted steady-state RMS speed error (rad/s) from sensor noise alone.
     pub speed_error_rms_rad_s: f64,
     /// Kalman design: `sqrt(P11)` (rad), the smallest RMS angle error of any linear
-    /// estimator for the design's model (sensor noise and random jerk together).
+    /// estimator for the design's model (its own `q` and `r`: random jerk and sensor noise
+    /// together, whatever `sensor_noise_std` the report is for).
     pub kalman_angle_floor_rad: Option<f64>,
     /// Kalman design: `sqrt(P22) / Ts` (rad/s).
     pub kalman_speed_floor_rad_s: Option<f64>,

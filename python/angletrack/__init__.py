@@ -7,27 +7,93 @@ The observers run in Rust (the ``angletrack-core`` crate) with the GIL released;
 input stays float32 and float64 stays float64.
 
 >>> import numpy as np, angletrack
->>> gains = angletrack.Gains([0.06, 0.001], sample_period=1e-4)   # 2nd-order ATO, 10 kHz
+>>> gains = angletrack.Gains([0.06, 0.001], sample_period_s=1e-4)   # 2nd-order ATO, 10 kHz
 >>> theta = np.linspace(0.0, 20.0, 10_000)                        # rad
 >>> est = angletrack.track(gains, np.cos(theta), np.sin(theta))
 >>> round(float(est.position[-1]), 3)
 20.0
 """
 
+import enum as _enum
+
 from angletrack._angletrack import (
+    Design,
+    DesignReport,
+    ErrorStatistics,
     Estimate,
     Estimates,
+    FAULT_BITS,
+    FaultThresholds,
     Gains,
+    KalmanSolution,
+    LARGE_STEP_RAD,
+    MAX_POLE_TIMES_PERIOD,
+    Metrics,
+    MotionProfile,
     Observer,
+    PredictedError,
+    SETTLING_BAND,
+    Scenario,
+    SensorModel,
+    StepResponse,
     __version__,
+    kalman,
+    kalman_from_jerk_density,
+    kalman_from_jerk_std,
+    metrics,
+    predicted_error,
+    second_order_bandwidth_ratio,
+    second_order_butterworth,
+    second_order_from_bandwidth,
+    second_order_from_tracking_error,
+    third_order_butterworth,
+    third_order_from_overshoot,
+    third_order_from_poles,
     track,
 )
 
 __all__ = [
+    "Design",
+    "DesignReport",
+    "ErrorStatistics",
     "Estimate",
     "Estimates",
+    "FaultThresholds",
+    "Faults",
     "Gains",
+    "KalmanSolution",
+    "LARGE_STEP_RAD",
+    "MAX_POLE_TIMES_PERIOD",
+    "Metrics",
+    "MotionProfile",
     "Observer",
+    "PredictedError",
+    "SETTLING_BAND",
+    "Scenario",
+    "SensorModel",
+    "StepResponse",
     "__version__",
+    "kalman",
+    "kalman_from_jerk_density",
+    "kalman_from_jerk_std",
+    "metrics",
+    "predicted_error",
+    "second_order_bandwidth_ratio",
+    "second_order_butterworth",
+    "second_order_from_bandwidth",
+    "second_order_from_tracking_error",
+    "third_order_butterworth",
+    "third_order_from_overshoot",
+    "third_order_from_poles",
     "track",
 ]
+
+#: Fault flags of ``Estimates.faults`` (uint8 per sample), ``Estimate.faults`` and
+#: ``Observer.latched_faults``, as in an RDC chip's fault register: ``Faults(bits)`` names
+#: them, ``est.faults & Faults.BAD_SAMPLE`` selects one.
+Faults = _enum.IntFlag("Faults", dict(FAULT_BITS))
+Faults.__module__ = __name__
+Faults.__doc__ = (
+    "Fault flags as in an RDC chip's fault register: LOSS_OF_SIGNAL, DEGRADATION_OF_SIGNAL, "
+    "LOSS_OF_TRACKING, BAD_SAMPLE (the observer coasted), FALSE_LOCK (re-acquired)."
+)

@@ -16,9 +16,9 @@ class Gains:
     """Discrete gains ``(l1, l2[, l3])`` of the scaled-state recursion and the sample
     period (s), checked against the stability region of the discrete loop."""
 
-    def __init__(self, gains: Sequence[float], sample_period: float) -> None: ...
+    def __init__(self, gains: Sequence[float], sample_period_s: float) -> None: ...
     @staticmethod
-    def from_loop_polynomial(coefficients: Sequence[float], sample_period: float) -> Gains: ...
+    def from_loop_polynomial(coefficients: Sequence[float], sample_period_s: float) -> Gains: ...
     @property
     def gains(self) -> list[float]:
         """The discrete gains (dimensionless)."""
@@ -26,7 +26,7 @@ class Gains:
     def loop_polynomial(self) -> list[float]:
         """Closed-loop characteristic polynomial in ``s = z - 1``, lowest first, monic."""
     @property
-    def sample_period(self) -> float:
+    def sample_period_s(self) -> float:
         """Sample period (s)."""
     @property
     def sample_rate_hz(self) -> float:
@@ -57,6 +57,9 @@ class Estimate:
     @property
     def phase_error(self) -> float:
         """Phase-detector output of the last sample."""
+    @property
+    def faults(self) -> int:
+        """Fault flags of the last sample (see ``angletrack.Faults``)."""
 
 class Estimates:
     """Estimates of a run, one array per quantity. ``position`` is float64; the others
@@ -78,6 +81,9 @@ class Estimates:
     def phase_error(self) -> npt.NDArray[np.floating]:
         """Phase-detector output per sample."""
     @property
+    def faults(self) -> npt.NDArray[np.uint8]:
+        """Fault flags per sample (see ``angletrack.Faults``)."""
+    @property
     def dtype(self) -> str:
         """'float32' or 'float64'."""
     @property
@@ -89,16 +95,24 @@ class Observer:
     """An observer whose state persists between calls: chunked input gives exactly the
     result of one call."""
 
-    def __init__(self, gains: Gains, *, dtype: _DType = None, sin_cos: _SinCos = None) -> None: ...
+    def __init__(
+        self, gains: Gains, *, dtype: _DType = None, sin_cos: _SinCos = None,
+        fault_thresholds: Optional[FaultThresholds] = None,
+    ) -> None: ...
     def update(self, y_c: _Samples, y_s: _Samples) -> Estimates:
         """Runs over 1-D samples of the observer's dtype; GIL released."""
     @property
     def estimate(self) -> Estimate: ...
     def reset(self) -> None: ...
     def initialise(self, y_c: float, y_s: float) -> None: ...
-    def set_state(self, angle: float, speed: float = 0.0, acceleration: float = 0.0) -> None: ...
+    def set_state(self, angle_rad: float, speed_rad_s: float = 0.0, acceleration_rad_s2: float = 0.0) -> None: ...
     @property
     def is_initialised(self) -> bool: ...
+    @property
+    def latched_faults(self) -> int: ...
+    def clear_faults(self) -> int: ...
+    @property
+    def fault_thresholds(self) -> FaultThresholds: ...
     @property
     def gains(self) -> Gains: ...
     @property
@@ -108,7 +122,225 @@ class Observer:
     @property
     def order(self) -> int: ...
     @property
-    def sample_period(self) -> float: ...
+    def sample_period_s(self) -> float: ...
 
-def track(gains: Gains, y_c: _Samples, y_s: _Samples, *, sin_cos: _SinCos = None) -> Estimates:
+def track(
+    gains: Gains, y_c: _Samples, y_s: _Samples, *, sin_cos: _SinCos = None,
+    fault_thresholds: Optional[FaultThresholds] = None,
+) -> Estimates:
     """Runs a fresh observer over the samples in their own dtype (float32 or float64)."""
+
+# ----------------------------------------------------------------- diagnostics
+
+FAULT_BITS: list[tuple[str, int]]
+
+class FaultThresholds:
+    """Diagnostics thresholds (defaults for ``nominal_amplitude``)."""
+
+    def __init__(
+        self,
+        *,
+        nominal_amplitude: float = 1.0,
+        max_input_amplitude: Optional[float] = None,
+        loss_of_signal: Optional[float] = None,
+        degradation_low: Optional[float] = None,
+        degradation_high: Optional[float] = None,
+        loss_of_tracking: Optional[float] = None,
+        max_speed_rad_s: Optional[float] = None,
+        filter_factor: Optional[float] = None,
+        false_lock: Optional[float] = None,
+        monitor: bool = True,
+        re_acquire: bool = True,
+    ) -> None: ...
+    @staticmethod
+    def disabled() -> FaultThresholds:
+        """The bare loop: input check only, no flags, no re-acquisition."""
+    nominal_amplitude: float
+    max_input_amplitude: float
+    loss_of_signal: float
+    degradation_low: float
+    degradation_high: float
+    loss_of_tracking: float
+    max_speed_rad_s: Optional[float]
+    filter_factor: float
+    false_lock: float
+    monitor: bool
+    re_acquire: bool
+
+# ----------------------------------------------------------------- design
+
+_Discretisation = Literal["pole_matching", "forward_euler", "tustin"]
+
+LARGE_STEP_RAD: float
+SETTLING_BAND: float
+MAX_POLE_TIMES_PERIOD: float
+
+class StepResponse:
+    overshoot: float
+    """Overshoot, fraction of the step."""
+    settling_time_s: float
+    """2 % settling time (s)."""
+
+class KalmanSolution:
+    process_noise_q: float
+    measurement_noise_r: float
+    predicted_covariance: list[list[float]]
+    covariance: list[list[float]]
+    angle_floor_rad: float
+    speed_floor_rad_s: float
+
+class PredictedError:
+    angle_rms_rad: float
+    speed_rms_rad_s: float
+
+class DesignReport:
+    """The design's datasheet; ``repr``/``str`` render it as a table."""
+
+    method: str
+    discretisation: Optional[str]
+    order: int
+    sample_period_s: float
+    gains: list[float]
+    discrete_poles: list[complex]
+    continuous_equivalent_poles: list[complex]
+    design_poles: list[complex]
+    pole_shift: Optional[float]
+    bandwidth_hz: Optional[float]
+    acceleration_constant_per_s2: Optional[float]
+    continuous_acceleration_constant_per_s2: Optional[float]
+    error_per_unit_jerk_s3: Optional[float]
+    continuous_error_per_unit_jerk_s3: Optional[float]
+    sensor_noise_std: float
+    angle_error_rms_rad: float
+    speed_error_rms_rad_s: float
+    kalman_angle_floor_rad: Optional[float]
+    kalman_speed_floor_rad_s: Optional[float]
+    linear_step: StepResponse
+    continuous_step: Optional[StepResponse]
+    large_step: StepResponse
+    large_step_final_rad: float
+    max_speed_rad_s: float
+    acquisition_speed_rad_s: float
+
+class Design:
+    """A designed gain set (float64) with what it was designed from."""
+
+    @staticmethod
+    def from_gains(gains: Gains) -> Design: ...
+    gains: Gains
+    method: str
+    discretisation: Optional[str]
+    continuous_poles: list[complex]
+    continuous_gains: Optional[list[float]]
+    kalman: Optional[KalmanSolution]
+    sample_period_s: float
+    order: int
+    def report(self, sensor_noise_std: float = 0.0) -> DesignReport: ...
+
+def predicted_error(gains: Gains, sensor_noise_std: float, process_noise_q: float = 0.0) -> PredictedError: ...
+def second_order_from_tracking_error(
+    max_error_rad: float, acceleration_rad_s2: float, damping: float, sample_period_s: float,
+    discretisation: _Discretisation = "pole_matching",
+) -> Design: ...
+def second_order_from_bandwidth(
+    bandwidth_hz: float, damping: float, sample_period_s: float, discretisation: _Discretisation = "pole_matching"
+) -> Design: ...
+def second_order_butterworth(
+    time_constant_s: float, sample_period_s: float, discretisation: _Discretisation = "pole_matching"
+) -> Design: ...
+def second_order_bandwidth_ratio(damping: float) -> float: ...
+def third_order_from_poles(
+    pole_ratio: float, pole_time_constant_s: float, pole_frequency_ratio: float, sample_period_s: float,
+    discretisation: _Discretisation = "pole_matching",
+) -> Design: ...
+def third_order_butterworth(
+    time_constant_s: float, sample_period_s: float, discretisation: _Discretisation = "pole_matching"
+) -> Design: ...
+def third_order_from_overshoot(
+    overshoot: float, settling_time_s: float, pole_frequency_ratio: float, sample_period_s: float,
+    discretisation: _Discretisation = "pole_matching",
+) -> Design: ...
+def kalman(process_noise_q: float, measurement_noise_r: float, sample_period_s: float) -> Design: ...
+def kalman_from_jerk_std(jerk_std_rad_s3: float, sensor_noise_std: float, sample_period_s: float) -> Design: ...
+def kalman_from_jerk_density(jerk_density_rad2_s5: float, sensor_noise_std: float, sample_period_s: float) -> Design: ...
+
+# ----------------------------------------------------------------- scenarios and metrics
+
+class MotionProfile:
+    def __init__(self, initial_angle_rad: float = 0.0, initial_speed_rad_s: float = 0.0) -> None: ...
+    def constant_speed(self, speed_rad_s: float, duration_s: float) -> MotionProfile: ...
+    def constant_acceleration(self, acceleration_rad_s2: float, duration_s: float) -> MotionProfile: ...
+    def step(self, step_rad: float, duration_s: float) -> MotionProfile: ...
+    def trapezoidal(self, distance_rad: float, max_speed_rad_s: float, max_acceleration_rad_s2: float) -> MotionProfile: ...
+    def s_curve(
+        self, distance_rad: float, max_speed_rad_s: float, max_acceleration_rad_s2: float, max_jerk_rad_s3: float
+    ) -> MotionProfile: ...
+    def speed_ripple(self, ripple_rad_s: float, frequency_hz: float, duration_s: float) -> MotionProfile: ...
+    def reversal(self, acceleration_rad_s2: float) -> MotionProfile: ...
+    def concat(self, other: MotionProfile) -> MotionProfile: ...
+    initial_angle_rad: float
+    initial_speed_rad_s: float
+    def __len__(self) -> int: ...
+
+class SensorModel:
+    def __init__(
+        self,
+        *,
+        amplitude: Optional[float] = None,
+        offset_cos: Optional[float] = None,
+        offset_sin: Optional[float] = None,
+        amplitude_imbalance: Optional[float] = None,
+        quadrature_error_rad: Optional[float] = None,
+        third_harmonic: Optional[float] = None,
+        noise_std: Optional[float] = None,
+        adc_bits: Optional[int] = None,
+        adc_full_scale: Optional[float] = None,
+    ) -> None: ...
+    amplitude: float
+    offset_cos: float
+    offset_sin: float
+    amplitude_imbalance: float
+    quadrature_error_rad: float
+    third_harmonic: float
+    noise_std: float
+    adc_bits: int
+    adc_full_scale: float
+
+class Scenario:
+    @staticmethod
+    def generate(
+        profile: MotionProfile, sensor: Optional[SensorModel] = None, *, sample_period_s: float, seed: int = 0
+    ) -> Scenario: ...
+    @staticmethod
+    def from_arrays(
+        *, sample_period_s: float, angle_rad: _Samples, y_c: _Samples, y_s: _Samples,
+        speed_rad_s: Optional[_Samples] = None,
+    ) -> Scenario: ...
+    sample_period_s: float
+    time_s: npt.NDArray[np.float64]
+    angle_rad: npt.NDArray[np.float64]
+    speed_rad_s: npt.NDArray[np.float64]
+    acceleration_rad_s2: npt.NDArray[np.float64]
+    y_c: npt.NDArray[np.float64]
+    y_s: npt.NDArray[np.float64]
+    has_speed: bool
+    len: int
+    def __len__(self) -> int: ...
+
+class ErrorStatistics:
+    rms: float
+    max: float
+    mean: float
+
+class Metrics:
+    angle_error_rad: ErrorStatistics
+    speed_error_rad_s: Optional[ErrorStatistics]
+    samples: int
+    overshoot: Optional[float]
+    settling_time_s: Optional[float]
+    time_to_lock_s: Optional[float]
+
+def metrics(
+    scenario: Scenario, estimates: Estimates, *, skip_s: float = 0.0, lock_tolerance_rad: float = 0.01,
+    settling_band: float = 0.02,
+) -> Metrics: ...

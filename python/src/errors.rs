@@ -3,7 +3,7 @@
 //! Every fallible function of the binding returns [`Error`]; its `From<Error> for PyErr`
 //! below is the only code that picks a Python exception type:
 //!
-//! * a refused configuration or design parameter (the Rust crates' typed errors) and bad
+//! * a refused configuration or design argument (the Rust crates' typed errors) and bad
 //!   array shapes or lengths are `ValueError`s whose message names the parameter;
 //! * an array of the wrong element type is a `TypeError` naming the parameter, the dtype
 //!   given and the dtype expected;
@@ -18,6 +18,8 @@ use pyo3::exceptions::{PyTypeError, PyValueError};
 pub enum Error {
     /// The core refused a configuration (gains, sample period, thresholds).
     Config(ConfigError),
+    /// A design, analysis, scenario or metrics function of `angletrack` refused an argument.
+    Design(angletrack::Error),
     /// An array (or another argument) has the wrong element type.
     Dtype {
         /// The argument's name.
@@ -54,6 +56,12 @@ impl From<ConfigError> for Error {
     }
 }
 
+impl From<angletrack::Error> for Error {
+    fn from(e: angletrack::Error) -> Self {
+        Error::Design(e)
+    }
+}
+
 impl From<PyErr> for Error {
     fn from(e: PyErr) -> Self {
         Error::Python(e)
@@ -65,6 +73,8 @@ impl From<Error> for PyErr {
         match e {
             // The core's message starts with the parameter's name.
             Error::Config(e) => PyValueError::new_err(e.to_string()),
+            // Its message names the argument (or, for refused gains, the core's parameter).
+            Error::Design(e) => PyValueError::new_err(e.to_string()),
             Error::Dtype {
                 parameter,
                 given,

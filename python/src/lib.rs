@@ -7,8 +7,10 @@
 use pyo3::prelude::*;
 
 mod arrays;
+mod design;
 mod errors;
 mod observer;
+mod scenario;
 
 /// The compiled part of the `angletrack` Python package.
 #[pymodule]
@@ -16,8 +18,12 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<observer::PyGains>()?;
     m.add_class::<observer::PyObserver>()?;
+    m.add_class::<observer::PyFaultThresholds>()?;
+    m.add("FAULT_BITS", observer::fault_bits().to_vec())?;
     m.add_class::<observer::Estimate>()?;
     m.add_class::<observer::Estimates>()?;
     m.add_function(wrap_pyfunction!(observer::track, m)?)?;
+    design::register(m)?;
+    scenario::register(m)?;
     Ok(())
 }

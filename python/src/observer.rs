@@ -6,8 +6,9 @@
 //! owns without a copy.
 
 use angletrack_core::{
-    Estimate as CoreEstimate, Exact, Fast, Gains as CoreGains, Observer as CoreObserver,
-    ObserverState, Order, Real, SinCos, SupportedOrder,
+    Estimate as CoreEstimate, Exact, Fast, FaultThresholds as CoreThresholds, Faults,
+    Gains as CoreGains, Observer as CoreObserver, ObserverState, Order, Real, SinCos,
+    SupportedOrder,
 };
 use numpy::{Element, PyArray1};
 use pyo3::prelude::*;
@@ -71,7 +72,8 @@ impl GainSet {
         }
     }
 
-    fn order(&self) -> usize {
+    /// The observer order (2 or 3).
+    pub fn order(&self) -> usize {
         match self {
             GainSet::Second(_) => 2,
             GainSet::Third(_) => 3,
@@ -102,10 +104,10 @@ pub struct PyGains {
 #[pymethods]
 impl PyGains {
     #[new]
-    #[pyo3(signature = (gains, sample_period))]
-    fn py_new(gains: Vec<f64>, sample_period: f64) -> Result<Self> {
+    #[pyo3(signature = (gains, sample_period_s))]
+    fn py_new(gains: Vec<f64>, sample_period_s: f64) -> Result<Self> {
         Ok(Self {
-            set: GainSet::new(&gains, sample_period)?,
+            set: GainSet::new(&gains, sample_period_s)?,
         })
     }
 
@@ -113,10 +115,10 @@ impl PyGains {
     /// (coefficients lowest first, monic, leading 1 omitted), as the core's pole-matching
     /// entry point.
     #[staticmethod]
-    #[pyo3(signature = (coefficients, sample_period))]
-    fn from_loop_polynomial(coefficients: Vec<f64>, sample_period: f64) -> Result<Self> {
+    #[pyo3(signature = (coefficients, sample_period_s))]
+    fn from_loop_polynomial(coefficients: Vec<f64>, sample_period_s: f64) -> Result<Self> {
         Ok(Self {
-            set: GainSet::from_loop_polynomial(&coefficients, sample_period)?,
+            set: GainSet::from_loop_polynomial(&coefficients, sample_period_s)?,
         })
     }
 
@@ -135,7 +137,7 @@ impl PyGains {
 
     /// The sample period `Ts` (s).
     #[getter]
-    fn sample_period(&self) -> f64 {
+    fn sample_period_s(&self) -> f64 {
         self.set.sample_period()
     }
 
@@ -159,11 +161,174 @@ impl PyGains {
             .map(|x| format!("{x:.9e}"))
             .collect();
         format!(
-            "Gains(gains=[{}], sample_period={:e})  # order {}, {:.6} Hz",
+            "Gains(gains=[{}], sample_period_s={:e})  # order {}, {:.6} Hz",
             l.join(", "),
             self.set.sample_period(),
             self.set.order(),
             1.0 / self.set.sample_period()
+        )
+    }
+}
+
+/// Thresholds of the observer's diagnostics (like an RDC chip's fault register) and of its
+/// input check, in the units of `y_c`, `y_s` unless stated. Keyword arguments override the
+/// defaults for `nominal_amplitude` (the core's `FaultThresholds::for_amplitude`): input
+/// bound 4 A, loss of signal 0.25 A, degradation below 0.5 A or above 1.5 A, loss of
+/// tracking at a filtered |phase error| of 0.1 A, maximum speed pi / (2 Ts) rad/s, filter
+/// factor 1/16, false lock at a filtered in-phase component below 0, monitoring and
+/// re-acquisition on. Checked when an observer is built (`ValueError` naming the field).
+#[pyclass(
+    name = "FaultThresholds",
+    module = "angletrack",
+    frozen,
+    from_py_object
+)]
+#[derive(Debug, Clone, Copy)]
+pub struct PyFaultThresholds {
+    inner: CoreThresholds<f64>,
+}
+
+impl PyFaultThresholds {
+    /// The thresholds in float type `T`.
+    fn typed<T: Real>(&self) -> CoreThresholds<T> {
+        let t = &self.inner;
+        CoreThresholds {
+            nominal_amplitude: T::from_f64(t.nominal_amplitude),
+            max_input_amplitude: T::from_f64(t.max_input_amplitude),
+            loss_of_signal: T::from_f64(t.loss_of_signal),
+            degradation_low: T::from_f64(t.degradation_low),
+            degradation_high: T::from_f64(t.degradation_high),
+            loss_of_tracking: T::from_f64(t.loss_of_tracking),
+            max_speed: t.max_speed.map(T::from_f64),
+            filter_factor: T::from_f64(t.filter_factor),
+            false_lock: T::from_f64(t.false_lock),
+            monitor: t.monitor,
+            re_acquire: t.re_acquire,
+        }
+    }
+}
+
+#[pymethods]
+impl PyFaultThresholds {
+    #[new]
+    #[pyo3(signature = (*, nominal_amplitude = 1.0, max_input_amplitude = None,
+        loss_of_signal = None, degradation_low = None, degradation_high = None,
+        loss_of_tracking = None, max_speed_rad_s = None, filter_factor = None,
+        false_lock = None, monitor = true, re_acquire = true))]
+    #[allow(clippy::too_many_arguments)]
+    fn py_new(
+        nominal_amplitude: f64,
+        max_input_amplitude: Option<f64>,
+        loss_of_signal: Option<f64>,
+        degradation_low: Option<f64>,
+        degradation_high: Option<f64>,
+        loss_of_tracking: Option<f64>,
+        max_speed_rad_s: Option<f64>,
+        filter_factor: Option<f64>,
+        false_lock: Option<f64>,
+        monitor: bool,
+        re_acquire: bool,
+    ) -> Self {
+        let d = CoreThresholds::for_amplitude(nominal_amplitude);
+        Self {
+            inner: CoreThresholds {
+                nominal_amplitude,
+                max_input_amplitude: max_input_amplitude.unwrap_or(d.max_input_amplitude),
+                loss_of_signal: loss_of_signal.unwrap_or(d.loss_of_signal),
+                degradation_low: degradation_low.unwrap_or(d.degradation_low),
+                degradation_high: degradation_high.unwrap_or(d.degradation_high),
+                loss_of_tracking: loss_of_tracking.unwrap_or(d.loss_of_tracking),
+                max_speed: max_speed_rad_s.or(d.max_speed),
+                filter_factor: filter_factor.unwrap_or(d.filter_factor),
+                false_lock: false_lock.unwrap_or(d.false_lock),
+                monitor,
+                re_acquire,
+            },
+        }
+    }
+
+    /// No diagnostics and no re-acquisition, only the input check: the bare loop of the
+    /// paper (to study the loop's own large-signal behaviour).
+    #[staticmethod]
+    fn disabled() -> Self {
+        Self {
+            inner: CoreThresholds::disabled(),
+        }
+    }
+
+    /// The amplitude of a healthy signal.
+    #[getter]
+    fn nominal_amplitude(&self) -> f64 {
+        self.inner.nominal_amplitude
+    }
+    /// Samples with an amplitude above this (or non-finite) are rejected.
+    #[getter]
+    fn max_input_amplitude(&self) -> f64 {
+        self.inner.max_input_amplitude
+    }
+    /// Filtered amplitude below this: loss of signal.
+    #[getter]
+    fn loss_of_signal(&self) -> f64 {
+        self.inner.loss_of_signal
+    }
+    /// Filtered amplitude below this: degradation of signal.
+    #[getter]
+    fn degradation_low(&self) -> f64 {
+        self.inner.degradation_low
+    }
+    /// Filtered amplitude above this: degradation of signal.
+    #[getter]
+    fn degradation_high(&self) -> f64 {
+        self.inner.degradation_high
+    }
+    /// Filtered |phase error| above this: loss of tracking.
+    #[getter]
+    fn loss_of_tracking(&self) -> f64 {
+        self.inner.loss_of_tracking
+    }
+    /// Estimated |speed| (rad/s) above this: loss of tracking; `None`: pi / (2 Ts).
+    #[getter]
+    fn max_speed_rad_s(&self) -> Option<f64> {
+        self.inner.max_speed
+    }
+    /// Smoothing factor of the first-order filters, in (0, 1].
+    #[getter]
+    fn filter_factor(&self) -> f64 {
+        self.inner.filter_factor
+    }
+    /// Filtered in-phase component below this: false lock.
+    #[getter]
+    fn false_lock(&self) -> f64 {
+        self.inner.false_lock
+    }
+    /// Whether the fault flags are computed.
+    #[getter]
+    fn monitor(&self) -> bool {
+        self.inner.monitor
+    }
+    /// Whether a false lock re-acquires the angle from atan2.
+    #[getter]
+    fn re_acquire(&self) -> bool {
+        self.inner.re_acquire
+    }
+
+    fn __repr__(&self) -> String {
+        let t = &self.inner;
+        format!(
+            "FaultThresholds(nominal_amplitude={}, max_input_amplitude={}, loss_of_signal={}, \
+             degradation_low={}, degradation_high={}, loss_of_tracking={}, max_speed_rad_s={}, \
+             filter_factor={}, false_lock={}, monitor={}, re_acquire={})",
+            t.nominal_amplitude,
+            t.max_input_amplitude,
+            t.loss_of_signal,
+            t.degradation_low,
+            t.degradation_high,
+            t.loss_of_tracking,
+            t.max_speed.map_or("None".to_string(), |v| v.to_string()),
+            t.filter_factor,
+            t.false_lock,
+            if t.monitor { "True" } else { "False" },
+            if t.re_acquire { "True" } else { "False" },
         )
     }
 }
@@ -234,26 +399,33 @@ macro_rules! dispatch {
 /// can, at the edge of the stability region, leave it).
 fn typed<T: Real, const N: usize, S: SinCos<T>>(
     g: &CoreGains<f64, N>,
+    thresholds: &PyFaultThresholds,
 ) -> Result<CoreObserver<T, N, S>>
 where
     Order<N>: SupportedOrder,
 {
-    let gains = CoreGains::new(g.gains().map(T::from_f64), T::from_f64(g.sample_period()))?;
+    let gains = CoreGains::new(g.gains().map(T::from_f64), T::from_f64(g.sample_period()))?
+        .with_fault_thresholds(thresholds.typed())?;
     Ok(CoreObserver::new(gains))
 }
 
 impl AnyObserver {
-    fn new(set: &GainSet, float: Float, sin_cos: SinCosKind) -> Result<Self> {
+    fn new(
+        set: &GainSet,
+        float: Float,
+        sin_cos: SinCosKind,
+        t: &PyFaultThresholds,
+    ) -> Result<Self> {
         use {Float::*, SinCosKind::*};
         Ok(match (set, float, sin_cos) {
-            (GainSet::Second(g), F32, Fast) => AnyObserver::F32x2Fast(typed(g)?),
-            (GainSet::Second(g), F32, Exact) => AnyObserver::F32x2Exact(typed(g)?),
-            (GainSet::Third(g), F32, Fast) => AnyObserver::F32x3Fast(typed(g)?),
-            (GainSet::Third(g), F32, Exact) => AnyObserver::F32x3Exact(typed(g)?),
-            (GainSet::Second(g), F64, Fast) => AnyObserver::F64x2Fast(typed(g)?),
-            (GainSet::Second(g), F64, Exact) => AnyObserver::F64x2Exact(typed(g)?),
-            (GainSet::Third(g), F64, Fast) => AnyObserver::F64x3Fast(typed(g)?),
-            (GainSet::Third(g), F64, Exact) => AnyObserver::F64x3Exact(typed(g)?),
+            (GainSet::Second(g), F32, Fast) => AnyObserver::F32x2Fast(typed(g, t)?),
+            (GainSet::Second(g), F32, Exact) => AnyObserver::F32x2Exact(typed(g, t)?),
+            (GainSet::Third(g), F32, Fast) => AnyObserver::F32x3Fast(typed(g, t)?),
+            (GainSet::Third(g), F32, Exact) => AnyObserver::F32x3Exact(typed(g, t)?),
+            (GainSet::Second(g), F64, Fast) => AnyObserver::F64x2Fast(typed(g, t)?),
+            (GainSet::Second(g), F64, Exact) => AnyObserver::F64x2Exact(typed(g, t)?),
+            (GainSet::Third(g), F64, Fast) => AnyObserver::F64x3Fast(typed(g, t)?),
+            (GainSet::Third(g), F64, Exact) => AnyObserver::F64x3Exact(typed(g, t)?),
         })
     }
 
@@ -292,6 +464,14 @@ impl AnyObserver {
     fn is_initialised(&self) -> bool {
         dispatch!(self, o => o.state.is_initialised())
     }
+
+    fn latched_faults(&self) -> Faults {
+        dispatch!(self, o => o.state.latched_faults())
+    }
+
+    fn clear_faults(&mut self) -> Faults {
+        dispatch!(self, o => o.state.clear_faults())
+    }
 }
 
 /// The per-sample outputs of a run: one preallocated slice per quantity, filled in place.
@@ -301,6 +481,7 @@ struct Columns<'a, T> {
     speed: &'a mut [T],
     acceleration: &'a mut [T],
     phase_error: &'a mut [T],
+    faults: &'a mut [u8],
 }
 
 impl<T: Real> Columns<'_, T> {
@@ -319,7 +500,7 @@ impl<T: Real> Columns<'_, T> {
         let (y_c, y_s) = (&y_c[..n], &y_s[..n]);
         let (angle, position) = (&mut self.angle[..n], &mut self.position[..n]);
         let (speed, acceleration) = (&mut self.speed[..n], &mut self.acceleration[..n]);
-        let phase_error = &mut self.phase_error[..n];
+        let (phase_error, faults) = (&mut self.phase_error[..n], &mut self.faults[..n]);
         let (gains, state) = (&observer.gains, &mut observer.state);
         for k in 0..n {
             let e = gains.update(state, y_c[k], y_s[k]);
@@ -328,6 +509,7 @@ impl<T: Real> Columns<'_, T> {
             speed[k] = e.speed;
             acceleration[k] = e.acceleration;
             phase_error[k] = e.phase_error;
+            faults[k] = e.faults.bits();
         }
     }
 }
@@ -352,6 +534,7 @@ where
     let speed = PyArray1::<T>::zeros(py, n, false);
     let acceleration = PyArray1::<T>::zeros(py, n, false);
     let phase_error = PyArray1::<T>::zeros(py, n, false);
+    let faults = PyArray1::<u8>::zeros(py, n, false);
     {
         let mut w = (
             writable(&angle)?,
@@ -359,6 +542,7 @@ where
             writable(&speed)?,
             writable(&acceleration)?,
             writable(&phase_error)?,
+            writable(&faults)?,
         );
         let columns = Columns {
             angle: as_slice_mut(&mut w.0)?,
@@ -366,6 +550,7 @@ where
             speed: as_slice_mut(&mut w.2)?,
             acceleration: as_slice_mut(&mut w.3)?,
             phase_error: as_slice_mut(&mut w.4)?,
+            faults: as_slice_mut(&mut w.5)?,
         };
         py.detach(|| columns.run(observer, y_c, y_s));
     }
@@ -377,6 +562,7 @@ where
         speed: speed.into_any().unbind(),
         acceleration: acceleration.into_any().unbind(),
         phase_error: phase_error.into_any().unbind(),
+        faults: faults.into_any().unbind(),
     })
 }
 
@@ -396,6 +582,8 @@ pub struct Estimate {
     acceleration: f64,
     /// Phase-detector output of the last sample (input units, about `A sin(error)`).
     phase_error: f64,
+    /// Fault flags of the last sample (bits, see `angletrack.Faults`).
+    faults: u8,
 }
 
 impl Estimate {
@@ -407,6 +595,7 @@ impl Estimate {
             speed: e.speed.to_f64(),
             acceleration: e.acceleration.to_f64(),
             phase_error: e.phase_error.to_f64(),
+            faults: e.faults.bits(),
         }
     }
 }
@@ -416,8 +605,14 @@ impl Estimate {
     fn __repr__(&self) -> String {
         format!(
             "Estimate(angle={:.6} rad, turns={}, position={:.6} rad, speed={:.6} rad/s, \
-             acceleration={:.6} rad/s^2, phase_error={:.3e})",
-            self.angle, self.turns, self.position, self.speed, self.acceleration, self.phase_error
+             acceleration={:.6} rad/s^2, phase_error={:.3e}, faults={})",
+            self.angle,
+            self.turns,
+            self.position,
+            self.speed,
+            self.acceleration,
+            self.phase_error,
+            Faults::from_bits_truncate(self.faults)
         )
     }
 }
@@ -430,15 +625,17 @@ impl Estimate {
 #[derive(Debug)]
 pub struct Estimates {
     /// Estimated angle (rad), wrapped to [-pi, pi).
-    angle: Py<PyAny>,
+    pub(crate) angle: Py<PyAny>,
     /// Multi-turn position `turns * 2 pi + angle` (rad), float64.
-    position: Py<PyAny>,
+    pub(crate) position: Py<PyAny>,
     /// Estimated speed (rad/s).
-    speed: Py<PyAny>,
+    pub(crate) speed: Py<PyAny>,
     /// Estimated acceleration (rad/s^2); 0 for a 2nd-order observer.
-    acceleration: Py<PyAny>,
+    pub(crate) acceleration: Py<PyAny>,
     /// Phase-detector output `y_s cos(angle_p) - y_c sin(angle_p)` per sample.
-    phase_error: Py<PyAny>,
+    pub(crate) phase_error: Py<PyAny>,
+    /// Fault flags of each sample (uint8 bits, see `angletrack.Faults`).
+    pub(crate) faults: Py<PyAny>,
     /// The dtype of the angle, speed, acceleration and phase-error arrays.
     dtype: String,
     /// The number of samples.
@@ -454,7 +651,7 @@ impl Estimates {
     fn __repr__(&self) -> String {
         format!(
             "Estimates({} samples, dtype={}: angle, position (float64), speed, acceleration, \
-             phase_error)",
+             phase_error, faults (uint8))",
             self.len, self.dtype
         )
     }
@@ -466,6 +663,7 @@ impl Estimates {
 #[derive(Debug)]
 pub struct PyObserver {
     gains: PyGains,
+    thresholds: PyFaultThresholds,
     float: Float,
     sin_cos: SinCosKind,
     inner: AnyObserver,
@@ -474,17 +672,20 @@ pub struct PyObserver {
 #[pymethods]
 impl PyObserver {
     #[new]
-    #[pyo3(signature = (gains, *, dtype = None, sin_cos = None))]
+    #[pyo3(signature = (gains, *, dtype = None, sin_cos = None, fault_thresholds = None))]
     fn py_new(
         gains: PyGains,
         dtype: Option<&Bound<'_, PyAny>>,
         sin_cos: Option<&str>,
+        fault_thresholds: Option<PyFaultThresholds>,
     ) -> Result<Self> {
         let float = Float::from_dtype_like(dtype, "dtype")?;
         let sin_cos = SinCosKind::parse(sin_cos, float)?;
-        let inner = AnyObserver::new(&gains.set, float, sin_cos)?;
+        let thresholds = fault_thresholds.unwrap_or_else(default_thresholds);
+        let inner = AnyObserver::new(&gains.set, float, sin_cos, &thresholds)?;
         Ok(Self {
             gains,
+            thresholds,
             float,
             sin_cos,
             inner,
@@ -523,9 +724,28 @@ impl PyObserver {
 
     /// Starts from a known angle (rad, any value: wrapped, whole turns counted), speed
     /// (rad/s) and acceleration (rad/s^2, ignored at order 2).
-    #[pyo3(signature = (angle, speed = 0.0, acceleration = 0.0))]
-    fn set_state(&mut self, angle: f64, speed: f64, acceleration: f64) {
-        self.inner.set_state(angle, speed, acceleration);
+    #[pyo3(signature = (angle_rad, speed_rad_s = 0.0, acceleration_rad_s2 = 0.0))]
+    fn set_state(&mut self, angle_rad: f64, speed_rad_s: f64, acceleration_rad_s2: f64) {
+        self.inner
+            .set_state(angle_rad, speed_rad_s, acceleration_rad_s2);
+    }
+
+    /// The faults latched since they were last cleared (bits, see `angletrack.Faults`), like
+    /// reading an RDC chip's fault register.
+    #[getter]
+    fn latched_faults(&self) -> u8 {
+        self.inner.latched_faults().bits()
+    }
+
+    /// Returns the latched faults (bits) and clears them.
+    fn clear_faults(&mut self) -> u8 {
+        self.inner.clear_faults().bits()
+    }
+
+    /// The diagnostics thresholds the observer runs with.
+    #[getter]
+    fn fault_thresholds(&self) -> PyFaultThresholds {
+        self.thresholds
     }
 
     /// `False` until the first sample (or `set_state`) has set the angle.
@@ -560,13 +780,13 @@ impl PyObserver {
 
     /// The sample period (s).
     #[getter]
-    fn sample_period(&self) -> f64 {
+    fn sample_period_s(&self) -> f64 {
         self.gains.set.sample_period()
     }
 
     fn __repr__(&self) -> String {
         format!(
-            "Observer(order={}, dtype={}, sin_cos={}, sample_period={:e} s, gains={:?}, \
+            "Observer(order={}, dtype={}, sin_cos={}, sample_period_s={:e}, gains={:?}, \
              initialised={})",
             self.gains.set.order(),
             self.float.name(),
@@ -581,15 +801,38 @@ impl PyObserver {
 /// Runs a fresh observer with `gains` over `y_c`, `y_s` in the samples' own dtype (float32
 /// or float64) and returns the estimates.
 #[pyfunction]
-#[pyo3(signature = (gains, y_c, y_s, *, sin_cos = None))]
+#[pyo3(signature = (gains, y_c, y_s, *, sin_cos = None, fault_thresholds = None))]
 pub fn track(
     py: Python<'_>,
     gains: PyGains,
     y_c: &Bound<'_, PyAny>,
     y_s: &Bound<'_, PyAny>,
     sin_cos: Option<&str>,
+    fault_thresholds: Option<PyFaultThresholds>,
 ) -> Result<Estimates> {
     let float = Float::of_samples(y_c, "y_c")?;
     let sin_cos = SinCosKind::parse(sin_cos, float)?;
-    AnyObserver::new(&gains.set, float, sin_cos)?.run(py, y_c, y_s)
+    let thresholds = fault_thresholds.unwrap_or_else(default_thresholds);
+    AnyObserver::new(&gains.set, float, sin_cos, &thresholds)?.run(py, y_c, y_s)
+}
+
+fn default_thresholds() -> PyFaultThresholds {
+    PyFaultThresholds {
+        inner: CoreThresholds::default(),
+    }
+}
+
+/// The fault flag bits of `Estimates.faults`, `Estimate.faults` and
+/// `Observer.latched_faults`, by name (the core's `Faults` constants).
+pub fn fault_bits() -> [(&'static str, u8); 5] {
+    [
+        ("LOSS_OF_SIGNAL", Faults::LOSS_OF_SIGNAL.bits()),
+        (
+            "DEGRADATION_OF_SIGNAL",
+            Faults::DEGRADATION_OF_SIGNAL.bits(),
+        ),
+        ("LOSS_OF_TRACKING", Faults::LOSS_OF_TRACKING.bits()),
+        ("BAD_SAMPLE", Faults::BAD_SAMPLE.bits()),
+        ("FALSE_LOCK", Faults::FALSE_LOCK.bits()),
+    ]
 }

@@ -14,7 +14,7 @@ KALMAN = [0.061_286_65, 0.001_937_879, 3.063_843e-5]
 
 @pytest.fixture(params=[SECOND_ORDER, THIRD_ORDER, KALMAN], ids=["order2", "order3", "kalman"])
 def gains(request):
-    return angletrack.Gains(request.param, sample_period=SAMPLE_PERIOD)
+    return angletrack.Gains(request.param, sample_period_s=SAMPLE_PERIOD)
 
 
 def resolver_capture(n=4000, seed=1, noise=0.01, dtype=np.float64):

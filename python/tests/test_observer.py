@@ -24,7 +24,7 @@ def test_imported_from_the_installed_package_not_the_source_tree():
 def test_float64_exact_matches_the_recursion_sample_by_sample(gains, capture):
     _, y_c, y_s = capture
     est = angletrack.track(gains, y_c, y_s, sin_cos="exact")
-    ref = reference.run(gains.gains, gains.sample_period, y_c, y_s)
+    ref = reference.run(gains.gains, gains.sample_period_s, y_c, y_s)
     assert len(est) == len(y_c)
     np.testing.assert_allclose(est.angle, ref["angle"], rtol=0, atol=1e-12)
     np.testing.assert_allclose(est.position, ref["position"], rtol=0, atol=1e-12)
@@ -36,7 +36,7 @@ def test_float64_exact_matches_the_recursion_sample_by_sample(gains, capture):
 def test_float32_fast_stays_close_to_the_float64_recursion(gains, capture):
     theta, y_c, y_s = capture
     est = angletrack.track(gains, y_c.astype(np.float32), y_s.astype(np.float32))
-    ref = reference.run(gains.gains, gains.sample_period, y_c, y_s)
+    ref = reference.run(gains.gains, gains.sample_period_s, y_c, y_s)
     # f32 rounding (6e-8 relative) and the fast sin/cos (error < 3e-7) on a loop that
     # forgets its past within a few hundred samples: a few 1e-6 rad.
     assert np.max(np.abs(est.position - ref["position"])) < 2e-5
@@ -101,7 +101,7 @@ def test_state_control():
     assert not obs.is_initialised
     obs.initialise(0.0, 1.0)
     assert obs.is_initialised and obs.estimate.angle == pytest.approx(math.pi / 2, abs=1e-15)
-    obs.set_state(7.0, speed=100.0, acceleration=3.0)
+    obs.set_state(7.0, speed_rad_s=100.0, acceleration_rad_s2=3.0)
     e = obs.estimate
     assert e.turns == 1 and e.angle == pytest.approx(7.0 - 2 * math.pi, abs=1e-12)
     assert e.position == pytest.approx(7.0, abs=1e-12)
@@ -126,13 +126,13 @@ def test_strided_and_list_inputs_are_copied_not_refused(capture):
 
 
 def test_gains_properties_and_repr():
-    g = angletrack.Gains(THIRD_ORDER, sample_period=SAMPLE_PERIOD)
+    g = angletrack.Gains(THIRD_ORDER, sample_period_s=SAMPLE_PERIOD)
     assert g.order == 3 and g.gains == THIRD_ORDER
-    assert g.sample_period == SAMPLE_PERIOD and g.sample_rate_hz == pytest.approx(1e4)
+    assert g.sample_period_s == SAMPLE_PERIOD and g.sample_rate_hz == pytest.approx(1e4)
     same = angletrack.Gains.from_loop_polynomial(g.loop_polynomial, SAMPLE_PERIOD)
     np.testing.assert_allclose(same.gains, g.gains, rtol=1e-12)
     assert g == angletrack.Gains(THIRD_ORDER, SAMPLE_PERIOD)
-    assert "Gains(gains=[" in repr(g) and "sample_period=1e-4" in repr(g)
+    assert "Gains(gains=[" in repr(g) and "sample_period_s=1e-4" in repr(g)
     obs = angletrack.Observer(g, dtype="float32")
     assert "order=3" in repr(obs) and "float32" in repr(obs)
     assert "float32" in repr(obs.update(np.ones(3, np.float32), np.zeros(3, np.float32)))

@@ -1,0 +1,316 @@
+"""The ``angletrack`` command line: ``design``, ``track`` and ``report``.
+
+Every number comes from the Rust crates through the extension; this module reads
+arguments and files, and writes files and text.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import pathlib
+import sys
+from typing import Optional, Sequence
+
+import numpy as np
+
+import angletrack
+from angletrack import capture as capture_io
+from angletrack import export
+
+
+def _float_list(text: str) -> list[float]:
+    try:
+        return [float(v) for v in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got {text!r}") from None
+
+
+def _add_gains_source(p: argparse.ArgumentParser) -> None:
+    g = p.add_argument_group("gains (one of)")
+    src = g.add_mutually_exclusive_group(required=True)
+    src.add_argument("--gains-file", type=pathlib.Path, metavar="FILE.json",
+                     help="gains written by `angletrack design --format json`")
+    src.add_argument("--gains", type=_float_list, metavar="L1,L2[,L3]",
+                     help="discrete gains (dimensionless); needs --sample-rate or a time column")
+    p.add_argument("--sample-rate", type=float, metavar="HZ",
+                   help="sample rate (Hz); default: from the gains file, else the time column")
+
+
+def _load_gains(args: argparse.Namespace, time_step_s: Optional[float]) -> angletrack.Gains:
+    if args.gains_file is not None:
+        gains = export.gains_from_json(args.gains_file.read_text())
+        if args.sample_rate is not None:
+            gains = angletrack.Gains(gains.gains, sample_period_s=1.0 / args.sample_rate)
+        return gains
+    if args.sample_rate is not None:
+        return angletrack.Gains(args.gains, sample_period_s=1.0 / args.sample_rate)
+    if time_step_s is None:
+        raise ValueError("sample_rate: give --sample-rate (the capture has no time column)")
+    return angletrack.Gains(args.gains, sample_period_s=time_step_s)
+
+
+def _cmd_track(args: argparse.Namespace) -> int:
+    cap = capture_io.read_capture(args.capture)
+    gains = _load_gains(args, cap.sample_period_from_time())
+    dtype = np.dtype(args.dtype)
+    observer = angletrack.Observer(gains, dtype=dtype, sin_cos=args.sin_cos)
+    est = observer.update(cap.y_c.astype(dtype), cap.y_s.astype(dtype))
+    n = len(est)
+    time_s = cap.time_s if cap.time_s is not None else np.arange(n) * gains.sample_period_s
+    columns = {
+        "time_s": time_s,
+        "angle_rad": est.angle,
+        "position_rad": est.position,
+        "speed_rad_s": est.speed,
+        "acceleration_rad_s2": est.acceleration,
+        "phase_error": est.phase_error,
+        "faults": est.faults,
+    }
+    output = args.output or args.capture.with_name(args.capture.stem + "_estimates.csv")
+    capture_io.write_capture(output, columns)
+    print(f"{observer!r}")
+    print(f"{n} samples -> {output}")
+    latched = angletrack.Faults(observer.latched_faults)
+    print(f"faults latched: {latched.name if latched else 'none'}")
+    if cap.reference_rad is not None:
+        truth = angletrack.Scenario.from_arrays(
+            sample_period_s=gains.sample_period_s, angle_rad=cap.reference_rad, y_c=cap.y_c, y_s=cap.y_s
+        )
+        m = angletrack.metrics(truth, est, skip_s=args.skip, lock_tolerance_rad=args.lock_tolerance)
+        e = m.angle_error_rad
+        print(f"angle error against the reference (after {args.skip} s, {m.samples} samples):")
+        print(f"  RMS {e.rms:.6e} rad   max {e.max:.6e} rad   mean {e.mean:+.6e} rad")
+        lock = "not locked at the end" if m.time_to_lock_s is None else f"{m.time_to_lock_s:.6g} s"
+        print(f"  locked (within {args.lock_tolerance} rad) from: {lock}")
+        if m.overshoot is not None:
+            print(f"  overshoot {100 * m.overshoot:.3g} % of the move, 2 % settling {m.settling_time_s:.6g} s")
+    return 0
+
+
+# ----------------------------------------------------------------------------- design
+
+#: For each observer, its design variants: (function, {cli option: keyword argument}).
+#: A variant applies when all its required options are given.
+_DESIGNS = {
+    "second-order": [
+        ("second_order_from_tracking_error", ["max_error", "acceleration"], ["damping"]),
+        ("second_order_from_bandwidth", ["bandwidth"], ["damping"]),
+        ("second_order_butterworth", ["butterworth_time_constant"], []),
+    ],
+    "third-order": [
+        ("third_order_from_poles", ["pole_ratio", "pole_time_constant"], ["pole_frequency_ratio"]),
+        ("third_order_from_overshoot", ["overshoot", "settling_time"], ["pole_frequency_ratio"]),
+        ("third_order_butterworth", ["butterworth_time_constant"], []),
+    ],
+    "kalman": [
+        ("kalman", ["q", "r"], []),
+        ("kalman_from_jerk_std", ["jerk_std", "noise_std"], []),
+        ("kalman_from_jerk_density", ["jerk_density", "noise_std"], []),
+    ],
+}
+
+#: CLI option (dest) -> keyword argument of the design functions.
+_KEYWORDS = {
+    "max_error": "max_error_rad",
+    "acceleration": "acceleration_rad_s2",
+    "damping": "damping",
+    "bandwidth": "bandwidth_hz",
+    "butterworth_time_constant": "time_constant_s",
+    "pole_ratio": "pole_ratio",
+    "pole_time_constant": "pole_time_constant_s",
+    "pole_frequency_ratio": "pole_frequency_ratio",
+    "overshoot": "overshoot",
+    "settling_time": "settling_time_s",
+    "q": "process_noise_q",
+    "r": "measurement_noise_r",
+    "jerk_std": "jerk_std_rad_s3",
+    "jerk_density": "jerk_density_rad2_s5",
+    "noise_std": "sensor_noise_std",
+}
+
+_DEFAULTS = {"damping": 1.0, "pole_frequency_ratio": 3.0 * math.pi / 2.0}
+
+_CONTINUOUS = {"second-order", "third-order"}
+
+
+def _option(dest: str) -> str:
+    return "--" + dest.replace("_", "-")
+
+
+def _design_from_args(args: argparse.Namespace) -> tuple[angletrack.Design, dict]:
+    """Picks the design variant from the options given and calls it."""
+    given = {dest for dest in _KEYWORDS if getattr(args, dest, None) is not None}
+    variants = _DESIGNS[args.observer]
+    matching = [v for v in variants if set(v[1]) <= given]
+    if len(matching) != 1:
+        choices = "; or ".join(" ".join(_option(o) + " ..." for o in req) for _, req, _ in variants)
+        what = "several specifications" if matching else "no complete specification"
+        raise ValueError(f"{args.observer}: {what} given; give exactly one of: {choices}")
+    function, required, optional = matching[0]
+    used = set(required) | set(optional)
+    unused = given - used - ({"noise_std"} if args.observer in _CONTINUOUS else set())
+    if unused:
+        raise ValueError(f"{args.observer}: {', '.join(sorted(_option(u) for u in unused))} not used by {function}")
+    kwargs = {_KEYWORDS[o]: getattr(args, o) for o in required}
+    for o in optional:
+        value = getattr(args, o)
+        kwargs[_KEYWORDS[o]] = _DEFAULTS[o] if value is None else value
+    if args.sample_rate is None or not args.sample_rate > 0:
+        raise ValueError("sample_rate: --sample-rate must be a positive number of Hz")
+    kwargs["sample_period_s"] = 1.0 / args.sample_rate
+    if args.observer in _CONTINUOUS:
+        kwargs["discretisation"] = args.discretisation.replace("-", "_")
+    design = getattr(angletrack, function)(**kwargs)
+    return design, {"function": function, **kwargs}
+
+
+def _cmd_design(args: argparse.Namespace) -> int:
+    design, spec = _design_from_args(args)
+    noise = args.noise_std if args.noise_std is not None else 0.0
+    report = design.report(sensor_noise_std=noise)
+    spec_text = ", ".join(f"{k}={v!r}" for k, v in spec.items() if k != "function")
+    description = (
+        f"{design.method} ({spec['function']}: {spec_text})\n"
+        f"-3 dB bandwidth {report.bandwidth_hz or float('nan'):.6g} Hz, linear step overshoot "
+        f"{100 * report.linear_step.overshoot:.3g} %, 2 % settling {report.linear_step.settling_time_s:.6g} s"
+    )
+    if args.format == "c":
+        text = export.to_c_header(design.gains, name=args.name, dtype=args.dtype, description=description)
+    elif args.format == "rust":
+        text = export.to_rust(design.gains, name=args.name, dtype=args.dtype, description=description)
+    else:
+        metadata = {"method": design.method, "discretisation": design.discretisation, "specification": spec}
+        text = export.to_json(design.gains, metadata=metadata)
+    print(f"{design!r}\n")
+    print(report)
+    if args.output is None:
+        print()
+        sys.stdout.write(text)
+    else:
+        args.output.parent.mkdir(parents=True, exist_ok=True)
+        args.output.write_text(text)
+        print(f"\nwrote the gains ({args.format}, {args.dtype if args.format != 'json' else 'float64'}) to {args.output}")
+    return 0
+
+
+def _add_design_parser(sub) -> None:
+    design = sub.add_parser(
+        "design",
+        help="design gains from a specification, print the design's report, export the gains",
+        description="Designs an observer from a specification, prints its datasheet (poles, "
+        "bandwidth, error constants, noise, step responses) and writes the gains as a C header, a "
+        "Rust const block or JSON, ready for angletrack-core's Gains::new(gains, Ts).",
+    )
+    design.add_argument("observer", choices=sorted(_DESIGNS), help="which observer")
+    design.add_argument("--sample-rate", type=float, required=True, metavar="HZ", help="sample rate (Hz)")
+    spec = design.add_argument_group(
+        "specification (one set, by observer)",
+        "second-order: --max-error and --acceleration [--damping], or --bandwidth [--damping], or "
+        "--butterworth-time-constant; third-order: --pole-ratio and --pole-time-constant "
+        "[--pole-frequency-ratio], or --overshoot and --settling-time [--pole-frequency-ratio], or "
+        "--butterworth-time-constant; kalman: --q and --r, or --jerk-std and --noise-std, or "
+        "--jerk-density and --noise-std",
+    )
+    for dest, (metavar, text) in {
+        "max_error": ("RAD", "tolerated angle error at --acceleration (rad)"),
+        "acceleration": ("RAD_S2", "acceleration of the tolerated error (rad/s^2)"),
+        "damping": ("M", "damping ratio m (default 1; the paper: 1.945 for 5 %% overshoot)"),
+        "bandwidth": ("HZ", "-3 dB bandwidth of the continuous loop (Hz)"),
+        "butterworth_time_constant": ("S", "time constant Tc of the Butterworth setting (s)"),
+        "pole_ratio": ("K", "real pole at -K/T (the paper: 39.04)"),
+        "pole_time_constant": ("S", "time constant T of the complex pair (s)"),
+        "pole_frequency_ratio": ("PSI", "complex pair at (-1 +- j psi)/T (default 3 pi/2)"),
+        "overshoot": ("FRACTION", "target overshoot (0.1 for 10 %%)"),
+        "settling_time": ("S", "target 2 %% settling time (s)"),
+        "q": ("Q", "process noise variance of the scaled jerk Ts^3 beta (rad^2)"),
+        "r": ("R", "measurement noise variance per channel"),
+        "jerk_std": ("RAD_S3", "standard deviation of the jerk (rad/s^3)"),
+        "jerk_density": ("RAD2_S5", "power spectral density of the jerk (rad^2/s^5)"),
+        "noise_std": ("STD", "sensor noise standard deviation per channel (amplitude 1); "
+                      "also the noise of the report's predicted errors"),
+    }.items():
+        spec.add_argument(_option(dest), dest=dest, type=float, metavar=metavar, help=text)
+    design.add_argument("--discretisation", choices=["pole-matching", "forward-euler", "tustin"],
+                        default="pole-matching", help="mapping of a continuous design (default pole-matching)")
+    design.add_argument("--format", choices=["c", "rust", "json"], default="c",
+                        help="gains file format (default c)")
+    design.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",
+                        help="write the gains there (default: print them after the report)")
+    design.add_argument("--dtype", choices=["float32", "float64"], default="float32",
+                        help="float type of the C/Rust constants (default float32; JSON is always float64)")
+    design.add_argument("--name", default="angletrack", help="identifier prefix in the C/Rust output")
+    design.set_defaults(func=_cmd_design)
+
+
+# ----------------------------------------------------------------------------- report
+
+
+def _cmd_report(args: argparse.Namespace) -> int:
+    from angletrack import report
+
+    path = report.write_report(args.out, plots=not args.no_plots)
+    print(f"report: {path}")
+    return 0
+
+
+def _add_report_parser(sub) -> None:
+    rep = sub.add_parser(
+        "report",
+        help="reproduce the paper's comparison of the three observers (report.md + PNG plots)",
+        description="Reproduces the paper's comparison of the 2nd-order, 3rd-order and Kalman "
+        "observers (179 degree step, speed ramp, constant acceleration, noise) and its four "
+        "overshoot figures; writes DIR/report.md and PNG plots (matplotlib).",
+    )
+    rep.add_argument("--out", type=pathlib.Path, required=True, metavar="DIR", help="output directory")
+    rep.add_argument("--no-plots", action="store_true", help="skip the PNG plots (no matplotlib needed)")
+    rep.set_defaults(func=_cmd_report)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="angletrack",
+        description="Angle tracking observers (software resolver-to-digital conversion): "
+        "design gains for firmware, run an observer over a capture, reproduce the paper.",
+    )
+    parser.add_argument("--version", action="version", version=f"angletrack {angletrack.__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    track = sub.add_parser(
+        "track",
+        help="run an observer over a recorded capture (CSV) and write its estimates",
+        description="Runs an observer over CAPTURE.csv (header with y_c, y_s; optional time "
+        "(s) and reference (rad)) and writes the estimates as CSV. With a reference column, "
+        "prints the errors against it.",
+    )
+    track.add_argument("capture", type=pathlib.Path, metavar="CAPTURE.csv")
+    _add_gains_source(track)
+    track.add_argument("--dtype", choices=["float32", "float64"], default="float64",
+                       help="float type the observer runs on (default float64)")
+    track.add_argument("--sin-cos", choices=["fast", "exact"], default=None,
+                       help="phase detector's sin/cos (default: fast for float32, exact for float64)")
+    track.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE.csv",
+                       help="estimates file (default: CAPTURE_estimates.csv beside the capture)")
+    track.add_argument("--skip", type=float, default=0.0, metavar="S",
+                       help="with a reference: leave the first S seconds out of the error statistics")
+    track.add_argument("--lock-tolerance", type=float, default=0.01, metavar="RAD",
+                       help="with a reference: angle error of the lock (default 0.01 rad)")
+    track.set_defaults(func=_cmd_track)
+    _add_design_parser(sub)
+    _add_report_parser(sub)
+    return parser
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """Entry point of the ``angletrack`` console script; returns the exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return args.func(args)
+    except (ValueError, TypeError, OSError, RuntimeError) as e:
+        print(f"angletrack {args.command}: error: {e}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

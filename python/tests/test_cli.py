@@ -1,0 +1,168 @@
+"""The `angletrack` command line: each command runs and writes its files; the C header
+compiles, the Rust block compiles, the JSON round-trips into the same gains."""
+
+import json
+import math
+import pathlib
+import re
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import angletrack
+from angletrack import capture, cli, export
+
+SCRIPT = pathlib.Path(sys.executable).parent / "angletrack"
+
+
+def run_cli(*args, capsys=None):
+    status = cli.main([str(a) for a in args])
+    return status
+
+
+def test_console_script_is_installed():
+    out = subprocess.run([str(SCRIPT), "--version"], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == f"angletrack {angletrack.__version__}"
+
+
+def test_design_c_header_compiles_and_holds_the_float32_gains(tmp_path, capsys):
+    header = tmp_path / "rdc_gains.h"
+    status = run_cli(
+        "design", "third-order", "--sample-rate", 20000, "--pole-ratio", 39.04, "--pole-time-constant", 0.02,
+        "--format", "c", "--output", header, "--name", "rdc",
+    )
+    assert status == 0
+    printed = capsys.readouterr().out
+    assert "| -3 dB bandwidth" in printed and f"wrote the gains (c, float32) to {header}" in printed
+    text = header.read_text()
+    assert "#define RDC_ORDER 3" in text
+    source = tmp_path / "use.c"
+    source.write_text(
+        '#include "rdc_gains.h"\n'
+        "float first_gain(void) { return rdc_gains[0] * RDC_SAMPLE_PERIOD_S * RDC_SAMPLE_RATE_HZ; }\n"
+        "_Static_assert(sizeof(rdc_gains) / sizeof(rdc_gains[0]) == RDC_ORDER, \"order\");\n"
+    )
+    cc = shutil.which("cc")
+    assert cc is not None, "a C compiler (cc) is needed for this test"
+    subprocess.run([cc, "-std=c11", "-Wall", "-Wextra", "-Werror", "-c", str(source), "-o", str(tmp_path / "use.o")],
+                   check=True, cwd=tmp_path)
+    # The literals are the float32 roundings of the designed float64 gains.
+    design = angletrack.third_order_from_poles(
+        pole_ratio=39.04, pole_time_constant_s=0.02, pole_frequency_ratio=3 * math.pi / 2, sample_period_s=1 / 20000
+    )
+    body = re.search(r"rdc_gains\[RDC_ORDER\] = \{(.*)\};", text).group(1)
+    values = [np.float32(v.strip().rstrip("f")) for v in body.split(",")]
+    assert values == [np.float32(g) for g in design.gains.gains]
+
+
+def test_design_json_round_trips_into_the_same_gains(tmp_path):
+    path = tmp_path / "gains.json"
+    status = run_cli("design", "kalman", "--sample-rate", 10000, "--jerk-std", 1e5, "--noise-std", 0.01,
+                     "--format", "json", "--output", path)
+    assert status == 0
+    loaded = export.gains_from_json(path.read_text())
+    design = angletrack.kalman_from_jerk_std(jerk_std_rad_s3=1e5, sensor_noise_std=0.01, sample_period_s=1e-4)
+    assert loaded == design.gains  # exact, float64
+    assert loaded.gains == design.gains.gains and loaded.sample_period_s == design.gains.sample_period_s
+    doc = json.loads(path.read_text())
+    assert doc["design"]["specification"]["function"] == "kalman_from_jerk_std"
+
+
+def test_design_rust_block_compiles(tmp_path):
+    path = tmp_path / "gains.rs"
+    assert run_cli("design", "second-order", "--sample-rate", 10000, "--bandwidth", 100, "--damping", 1.945,
+                   "--format", "rust", "--output", path) == 0
+    text = path.read_text()
+    assert "pub const ANGLETRACK_GAINS: [f32; 2] = [" in text
+    rustc = shutil.which("rustc")
+    assert rustc is not None, "rustc is needed for this test"
+    subprocess.run([rustc, "--edition", "2021", "--crate-type", "lib", "--emit", "metadata", "-o",
+                    str(tmp_path / "gains.rmeta"), str(path)], check=True)
+
+
+def test_design_prints_to_stdout_without_output(capsys):
+    assert run_cli("design", "second-order", "--sample-rate", 10000, "--butterworth-time-constant", 0.005,
+                   "--format", "json") == 0
+    out = capsys.readouterr().out
+    doc = json.loads(out[out.index("{"):])
+    assert doc["order"] == 2 and doc["sample_period_s"] == 1e-4
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["design", "second-order", "--sample-rate", "10000"], "no complete specification"),
+        (["design", "second-order", "--sample-rate", "10000", "--bandwidth", "100", "--max-error", "1e-3",
+          "--acceleration", "10"], "several specifications"),
+        (["design", "kalman", "--sample-rate", "10000", "--q", "1e-9", "--r", "1", "--bandwidth", "3"], "--bandwidth not used"),
+        (["design", "second-order", "--sample-rate", "10000", "--bandwidth", "-5"], "bandwidth_hz must be positive"),
+        (["design", "kalman", "--sample-rate", "0", "--q", "1e-9", "--r", "1"], "sample_rate"),
+    ],
+)
+def test_design_refuses_bad_specifications(args, message, capsys):
+    assert cli.main(args) == 2
+    assert message in capsys.readouterr().err
+
+
+def write_capture(path, n=3000, with_reference=True):
+    t = np.arange(n) * 1e-4
+    theta = 0.5 + 20.0 * t + 0.5 * 300.0 * t**2
+    cols = {"time": t, "y_c": np.cos(theta), "y_s": np.sin(theta)}
+    if with_reference:
+        cols["reference"] = theta
+    capture.write_capture(path, cols)
+    return theta
+
+
+def test_track_writes_estimates_and_prints_metrics(tmp_path, capsys):
+    cap = tmp_path / "capture.csv"
+    theta = write_capture(cap)
+    gains_file = tmp_path / "gains.json"
+    gains_file.write_text(export.to_json(angletrack.Gains([0.1, 0.005, 1e-4], 1e-4)))
+    out = tmp_path / "est.csv"
+    assert run_cli("track", cap, "--gains-file", gains_file, "--output", out, "--skip", 0.1) == 0
+    printed = capsys.readouterr().out
+    assert "angle error" in printed and "RMS" in printed
+    data = np.genfromtxt(out, delimiter=",", names=True)
+    assert data.dtype.names == ("time_s", "angle_rad", "position_rad", "speed_rad_s", "acceleration_rad_s2",
+                                "phase_error", "faults")
+    assert len(data) == len(theta)
+    # The type III loop follows the constant acceleration: the position matches the reference.
+    assert np.max(np.abs(data["position_rad"][1000:] - theta[1000:])) < 1e-4
+    direct = angletrack.track(angletrack.Gains([0.1, 0.005, 1e-4], 1e-4), np.cos(theta), np.sin(theta))
+    np.testing.assert_allclose(data["position_rad"], direct.position, rtol=0, atol=1e-12)
+
+
+def test_track_float32_with_gains_and_sample_rate(tmp_path, capsys):
+    cap = tmp_path / "capture.csv"
+    write_capture(cap, with_reference=False)
+    assert run_cli("track", cap, "--gains", "0.06,0.001", "--dtype", "float32") == 0
+    assert (tmp_path / "capture_estimates.csv").exists()
+    assert "dtype=float32" in capsys.readouterr().out
+
+
+def test_track_refuses_a_capture_without_signals(tmp_path, capsys):
+    cap = tmp_path / "bad.csv"
+    cap.write_text("time,a,b\n0,1,2\n")
+    assert cli.main(["track", str(cap), "--gains", "0.06,0.001", "--sample-rate", "1e4"]) == 2
+    assert "y_c and y_s" in capsys.readouterr().err
+
+
+def test_report_writes_markdown_and_plots(tmp_path):
+    out = tmp_path / "report"
+    proc = subprocess.run([str(SCRIPT), "report", "--out", str(out)], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert "[25/25]" in proc.stderr  # progress lines
+    text = (out / "report.md").read_text()
+    for paper in ("5.0 %", "20.8 %", "10.0 %", "30.9 %"):
+        assert f"| {paper} |" in text
+    # The discrete loop's overshoot is within 0.3 points of the paper's, row by row.
+    deltas = [float(d) for d in re.findall(r"\| ([+-]\d+\.\d\d) \|", text)]
+    assert len(deltas) == 4 and all(abs(d) <= 0.3 for d in deltas)
+    for png in ("step_179.png", "speed_ramp.png", "acceleration.png", "noise.png", "overshoot.png"):
+        data = (out / png).read_bytes()
+        assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000, png
+        assert f"]({png})" in text

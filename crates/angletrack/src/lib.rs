@@ -57,7 +57,7 @@ pub use design::{
 pub use error::{Argument, Error};
 pub use metrics::{ErrorStatistics, Metrics, MetricsOptions, Run, run};
 pub use report::{DesignReport, LARGE_STEP_RAD, PredictedError, SETTLING_BAND, predicted_error};
-pub use scenario::{Kinematics, Motion, MotionProfile, Scenario, SensorModel};
+pub use scenario::{Kinematics, MAX_SAMPLES, Motion, MotionProfile, Scenario, SensorModel};
 
 #[cfg(test)]
 mod tests;

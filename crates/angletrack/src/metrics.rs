@@ -21,7 +21,10 @@ pub struct Run {
 
 /// Runs the observer `gains` (any float type, order and sin/cos) over the scenario's signals,
 /// from a fresh state (initialised by the first sample's `atan2`, as in firmware). The
-/// signals are rounded to `T` first.
+/// signals are rounded to `T` first. The gains' diagnostics thresholds apply as in firmware
+/// (the core's defaults assume amplitude 1: set them with `Gains::with_fault_thresholds`
+/// for another [`SensorModel::amplitude`](crate::SensorModel::amplitude), or disable them
+/// to study the bare loop of the paper).
 ///
 /// ```
 /// use angletrack::{Gains, Motion, MotionProfile, Scenario, SensorModel, run};
@@ -168,7 +171,14 @@ impl Metrics {
             });
         }
         let ts = scenario.sample_period_s;
-        let first = ((skip / ts).ceil() as usize).min(n);
+        let first = (skip / ts).ceil();
+        if !(first < n as f64) {
+            return Err(Error::OutOfRange {
+                argument: Argument::Duration,
+                expected: "skip_s shorter than the run",
+            });
+        }
+        let first = first as usize;
         let angle_errors = || {
             scenario
                 .angle_rad

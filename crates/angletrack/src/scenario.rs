@@ -368,8 +368,12 @@ impl MotionProfile {
         self
     }
 
-    /// The true shaft state at every sample `k Ts` covering the profile's duration.
-    fn sample(&self, sample_period_s: f64) -> Result<Vec<Kinematics>, Error> {
+    /// The number of samples `k Ts` covering the profile's duration and the true shaft
+    /// state at each (computed as they are taken).
+    fn sample(
+        &self,
+        sample_period_s: f64,
+    ) -> Result<(usize, impl Iterator<Item = Kinematics>), Error> {
         finite(self.initial_angle_rad, Argument::Angle)?;
         finite(self.initial_speed_rad_s, Argument::Speed)?;
         // Segment boundaries: start time, start state, phases.
@@ -385,7 +389,7 @@ impl MotionProfile {
             let phases = motion.phases();
             let duration = motion.duration(&phases, start.speed_rad_s);
             let end = motion.at(&phases, start, duration);
-            pieces.push((t0, duration, start, phases, *motion));
+            pieces.push((t0, start, phases, *motion));
             t0 += duration;
             start = end;
         }
@@ -393,29 +397,29 @@ impl MotionProfile {
         if !(samples <= MAX_SAMPLES as f64) {
             return Err(Error::OutOfRange {
                 argument: Argument::Duration,
-                expected: "total duration / sample period <= 2^31",
+                expected: "total duration / sample period <= 10^8 samples",
             });
         }
-        let mut out = Vec::with_capacity(samples as usize);
+        let samples = samples as usize;
         let mut index = 0;
-        for k in 0..samples as usize {
+        let states = (0..samples).map(move |k| {
             let t = k as f64 * sample_period_s;
             while index + 1 < pieces.len() && t >= pieces[index + 1].0 {
                 index += 1;
             }
-            out.push(match pieces.get(index) {
-                Some((start_time, _, state, phases, motion)) => {
+            match pieces.get(index) {
+                Some((start_time, state, phases, motion)) => {
                     motion.at(phases, *state, (t - start_time).max(0.0))
                 }
                 None => start,
-            });
-        }
-        Ok(out)
+            }
+        });
+        Ok((samples, states))
     }
 }
 
-/// Largest number of samples of one scenario.
-const MAX_SAMPLES: usize = 1 << 31;
+/// Largest number of samples of one scenario (the seven series then take 5.6 GB).
+pub const MAX_SAMPLES: usize = 100_000_000;
 
 /// The sensor: what turns the shaft angle into the two signals `y_c`, `y_s`.
 ///
@@ -552,7 +556,7 @@ pub struct Scenario {
 impl Scenario {
     /// Samples `profile` every `sample_period_s` through `sensor`; the noise is drawn from a
     /// ChaCha8 generator seeded with `seed`, so the same arguments give the same scenario on
-    /// every machine.
+    /// every machine. At most [`MAX_SAMPLES`] samples.
     ///
     /// ```
     /// use angletrack::{Motion, MotionProfile, Scenario, SensorModel};
@@ -571,11 +575,10 @@ impl Scenario {
     ) -> Result<Self, Error> {
         let ts = positive(sample_period_s, Argument::SamplePeriod)?;
         sensor.validate()?;
-        let truth = profile.sample(ts)?;
+        let (n, truth) = profile.sample(ts)?;
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let normal = Normal::new(0.0, sensor.noise_std)
             .map_err(|_| Error::NotFinite(Argument::SensorNoiseStd))?;
-        let n = truth.len();
         let mut scenario = Scenario {
             sample_period_s: ts,
             time_s: (0..n).map(|k| k as f64 * ts).collect(),

@@ -731,6 +731,17 @@ fn metrics_wrap_the_angle_and_refuse_mismatched_series() {
         Metrics::new(&s, &perfect, &skipping).unwrap().samples,
         s.len() - 50
     );
+    let everything = MetricsOptions {
+        skip_s: 1.0,
+        ..MetricsOptions::default()
+    };
+    assert!(matches!(
+        Metrics::new(&s, &perfect, &everything),
+        Err(Error::OutOfRange {
+            argument: Argument::Duration,
+            ..
+        })
+    ));
     let short = Run {
         angle_rad: vec![0.0; 3],
         ..perfect.clone()

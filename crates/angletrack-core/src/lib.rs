@@ -52,12 +52,14 @@
 // `!(x > 0)` is deliberate throughout: it is true for NaN, which must be refused too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod bank;
 mod gains;
 mod monitor;
 mod observer;
 mod real;
 mod sincos;
 
+pub use bank::ChannelBank;
 pub use gains::{ConfigError, Gains, Order, Parameter, SupportedOrder};
 pub use monitor::{FaultThresholds, Faults};
 pub use observer::{

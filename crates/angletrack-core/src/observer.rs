@@ -92,9 +92,8 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
     pub fn at(angle: T, speed: T, acceleration: T, sample_period: T) -> Self {
         let finite_or_zero = |v: T| if v.is_finite() { v } else { T::ZERO };
         let mut x = [T::ZERO; N];
-        let mut turns = 0;
         x[0] = finite_or_zero(angle);
-        wrap_angle(&mut x[0], &mut turns);
+        let turns = wrap_angle(&mut x[0]) as i64;
         if N > 1 {
             x[1] = finite_or_zero(speed * sample_period);
         }
@@ -168,43 +167,49 @@ const fn zero<T: Real>() -> T {
     T::ZERO
 }
 
-/// Wraps `angle` into [-pi, pi) and adds the whole turns removed to `turns`.
+/// Wraps `angle` into [-pi, pi) and returns the whole turns removed.
 ///
-/// The usual case (one turn at most) subtracts 2 pi in two parts (Cody-Waite): the first
-/// subtraction is exact (Sterbenz), so the wrapped angle loses no precision however many
-/// turns have been counted. A non-finite angle becomes 0.
+/// The usual case, no wrap, is one pair of comparisons. Otherwise the whole turns are
+/// removed in two parts (Cody-Waite): for one turn the first subtraction is exact
+/// (Sterbenz), so the wrapped angle loses no precision however many turns have been
+/// counted. The code calls no function, so that a loop over channels
+/// ([`ChannelBank`](crate::ChannelBank)) can be vectorised. A non-finite angle, or one too
+/// large for its turns to be counted, becomes 0.
 #[inline(always)]
-pub(crate) fn wrap_angle<T: Real>(angle: &mut T, turns: &mut i64) {
-    if *angle >= T::PI || *angle < -T::PI || !angle.is_finite() {
-        wrap_angle_slow(angle, turns);
-    }
+pub(crate) fn wrap_angle<T: Real>(angle: &mut T) -> i32 {
+    let a = *angle;
+    // Values, not stores, leave the branch: the vectoriser can turn it into selects.
+    let (wrapped, whole) = if (a >= -T::PI) & (a < T::PI) {
+        (a, 0)
+    } else {
+        wrap_whole_turns(a)
+    };
+    *angle = wrapped;
+    whole
 }
 
-#[inline(never)]
-#[cold]
-fn wrap_angle_slow<T: Real>(angle: &mut T, turns: &mut i64) {
-    let a = *angle;
-    if !a.is_finite() {
-        *angle = T::ZERO;
-        return;
-    }
-    let k = ((a + T::PI) / T::TAU).floor();
+/// The rare case of [`wrap_angle`]: `a` outside [-pi, pi) or not finite.
+#[inline(always)]
+fn wrap_whole_turns<T: Real>(a: T) -> (T, i32) {
+    let whole = ((a + T::PI) * T::FRAC_1_TAU).floor_to_i32();
+    let k = T::from_i32(whole);
     let mut wrapped = (a - k * T::TAU_HI) - k * T::TAU_LO;
-    let mut whole = k.to_i64_saturating();
+    let mut whole = whole;
     // Rounding can leave the result on the far side of an edge.
     if wrapped >= T::PI {
         wrapped -= T::TAU;
         whole = whole.wrapping_add(1);
-    } else if wrapped < -T::PI {
+    }
+    if wrapped < -T::PI {
         wrapped += T::TAU;
         whole = whole.wrapping_sub(1);
     }
-    if !(wrapped >= -T::PI && wrapped < T::PI) {
-        // Only for absurd magnitudes, where k * 2 pi is not representable.
-        wrapped = T::ZERO;
+    if wrapped >= -T::PI && wrapped < T::PI {
+        (wrapped, whole)
+    } else {
+        // NaN, or a magnitude whose turns do not fit: k * 2 pi is not representable.
+        (T::ZERO, 0)
     }
-    *angle = wrapped;
-    *turns = turns.wrapping_add(whole);
 }
 
 impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S>
@@ -233,30 +238,25 @@ where
     #[inline]
     pub fn update(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) -> Estimate<T> {
         let amplitude2 = y_c * y_c + y_s * y_s;
-        if !(amplitude2 <= self.thresholds.max_input2) {
-            return self.coast(state);
-        }
+        let valid = amplitude2 <= self.thresholds.max_input2;
         if !state.initialised {
-            self.initialise(state, y_c, y_s);
+            if valid {
+                self.initialise(state, y_c, y_s);
+            } else {
+                state.faults = Faults::BAD_SAMPLE;
+                state.monitor.latched |= Faults::BAD_SAMPLE;
+            }
             return self.estimate(state);
         }
-        let mut x = predict(&state.x);
-        let mut turns = state.turns;
-        wrap_angle(&mut x[0], &mut turns);
-        let (sin, cos) = S::sin_cos(x[0]);
-        let eps = y_s * cos - y_c * sin;
-        let mut i = 0;
-        while i < N {
-            x[i] += self.l[i] * eps;
-            i += 1;
-        }
-        wrap_angle(&mut x[0], &mut turns);
-        state.x = x;
-        state.turns = turns;
+        let (eps, sin, cos, whole) = self.step(&mut state.x, y_c, y_s, valid);
+        state.turns = state.turns.wrapping_add(whole as i64);
         state.phase_error = eps;
         state.faults = Faults::NONE;
-        if self.thresholds.thresholds.monitor {
-            let speed = if N > 1 { x[1] } else { T::ZERO };
+        if !valid {
+            state.faults = Faults::BAD_SAMPLE;
+            state.monitor.latched |= Faults::BAD_SAMPLE;
+        } else if self.thresholds.thresholds.monitor {
+            let speed = if N > 1 { state.x[1] } else { T::ZERO };
             let in_phase = y_c * cos + y_s * sin;
             let (faults, re_acquire) =
                 self.thresholds
@@ -269,18 +269,29 @@ where
         self.estimate(state)
     }
 
-    /// A rejected sample: the state follows its prediction.
-    #[cold]
-    #[inline(never)]
-    fn coast(&self, state: &mut ObserverState<T, N>) -> Estimate<T> {
-        if state.initialised {
-            state.x = predict(&state.x);
-            wrap_angle(&mut state.x[0], &mut state.turns);
+    /// The recursion itself, on one channel's scaled state `x` and turn count: predict,
+    /// detect, correct. A sample that is not `valid` is not used (the correction is
+    /// zero: the state coasts on its prediction). Returns the phase-detector output and the
+    /// sin/cos of the predicted angle.
+    ///
+    /// This is the only implementation of the recursion: the single-channel update and
+    /// the multi-channel [`ChannelBank`](crate::ChannelBank) both call it. The last value
+    /// returned is the number of whole turns the angle crossed.
+    #[inline(always)]
+    pub(crate) fn step(&self, x: &mut [T; N], y_c: T, y_s: T, valid: bool) -> (T, T, T, i32) {
+        let mut p = predict(x);
+        let whole = wrap_angle(&mut p[0]);
+        let (sin, cos) = S::sin_cos(p[0]);
+        let detected = y_s * cos - y_c * sin;
+        let eps = if valid { detected } else { T::ZERO };
+        let mut i = 0;
+        while i < N {
+            p[i] += self.l[i] * eps;
+            i += 1;
         }
-        state.phase_error = T::ZERO;
-        state.faults = Faults::BAD_SAMPLE;
-        state.monitor.latched |= Faults::BAD_SAMPLE;
-        self.estimate(state)
+        let whole = whole.wrapping_add(wrap_angle(&mut p[0]));
+        *x = p;
+        (eps, sin, cos, whole)
     }
 
     /// False lock: the angle jumps to `atan2(y_s, y_c)` by the shortest way (the turn count
@@ -289,10 +300,9 @@ where
     #[inline(never)]
     fn re_acquire(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) {
         let mut jump = y_s.atan2(y_c) - state.x[0];
-        let mut ignored = 0;
-        wrap_angle(&mut jump, &mut ignored);
+        wrap_angle(&mut jump);
         state.x[0] += jump;
-        wrap_angle(&mut state.x[0], &mut state.turns);
+        state.turns = state.turns.wrapping_add(wrap_angle(&mut state.x[0]) as i64);
         state.monitor.primed = false;
     }
 
@@ -303,7 +313,7 @@ where
         if angle.is_finite() {
             *state = ObserverState::new();
             state.x[0] = angle;
-            wrap_angle(&mut state.x[0], &mut state.turns);
+            state.turns = wrap_angle(&mut state.x[0]) as i64;
             state.initialised = true;
         }
     }
@@ -311,21 +321,33 @@ where
     /// The estimate held by `state`, in physical units.
     #[inline(always)]
     pub fn estimate(&self, state: &ObserverState<T, N>) -> Estimate<T> {
+        self.estimate_of(&state.x, state.turns, state.phase_error, state.faults)
+    }
+
+    /// An estimate in physical units from a scaled state.
+    #[inline(always)]
+    pub(crate) fn estimate_of(
+        &self,
+        x: &[T; N],
+        turns: i64,
+        phase_error: T,
+        faults: Faults,
+    ) -> Estimate<T> {
         Estimate {
-            angle: state.x[0],
-            turns: state.turns,
+            angle: x[0],
+            turns,
             speed: if N > 1 {
-                state.x[1] * self.sample_rate
+                x[1] * self.sample_rate
             } else {
                 T::ZERO
             },
             acceleration: if N > 2 {
-                state.x[2] * self.sample_rate_squared
+                x[2] * self.sample_rate_squared
             } else {
                 T::ZERO
             },
-            phase_error: state.phase_error,
-            faults: state.faults,
+            phase_error,
+            faults,
         }
     }
 

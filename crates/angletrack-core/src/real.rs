@@ -57,6 +57,8 @@ pub trait Real:
     const TAU_HI: Self;
     /// Low part of 2 pi: `TAU_HI + TAU_LO` is 2 pi to about twice the type's precision.
     const TAU_LO: Self;
+    /// 1 / (2 pi) (turns per rad).
+    const FRAC_1_TAU: Self;
     /// Machine epsilon.
     const EPSILON: Self;
     /// The largest finite value.
@@ -84,6 +86,11 @@ pub trait Real:
     fn from_i64(n: i64) -> Self;
     /// Saturating conversion to `i64`, rounding towards zero (NaN gives 0).
     fn to_i64_saturating(self) -> i64;
+    /// The largest integer not greater than `self`, as a saturating `i32` (NaN gives 0).
+    /// Pure arithmetic (a truncating conversion and a comparison), no library call.
+    fn floor_to_i32(self) -> i32;
+    /// Conversion from `i32` (exact in `f64`, rounded in `f32` above 2^24).
+    fn from_i32(n: i32) -> Self;
     /// `true` unless the value is NaN or infinite.
     fn is_finite(self) -> bool;
     /// Absolute value.
@@ -146,6 +153,7 @@ macro_rules! impl_real {
             const TAU: Self = core::$m::consts::TAU;
             const TAU_HI: Self = core::$m::consts::TAU;
             const TAU_LO: Self = $tau_lo;
+            const FRAC_1_TAU: Self = 1.0 / core::$m::consts::TAU;
             const EPSILON: Self = $t::EPSILON;
             const MAX: Self = $t::MAX;
             const SIN_POLY: &'static [Self] = &[$($s),*];
@@ -172,6 +180,15 @@ macro_rules! impl_real {
             #[inline(always)]
             fn to_i64_saturating(self) -> i64 {
                 self as i64
+            }
+            #[inline(always)]
+            fn floor_to_i32(self) -> i32 {
+                let truncated = self as i32;
+                truncated.wrapping_sub(((truncated as $t) > self) as i32)
+            }
+            #[inline(always)]
+            fn from_i32(n: i32) -> Self {
+                n as $t
             }
             #[inline(always)]
             fn is_finite(self) -> bool {
@@ -203,7 +220,7 @@ macro_rules! impl_real {
             }
             #[inline(always)]
             fn copysign(self, sign: Self) -> Self {
-                libm::$copysign(self, sign)
+                $t::copysign(self, sign)
             }
             #[inline(always)]
             fn min(self, other: Self) -> Self {

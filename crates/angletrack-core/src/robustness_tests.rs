@@ -88,13 +88,14 @@ fn every_observer_relocks_within_its_settling_time_after_a_180_degree_jump() {
         let settling = settling_samples(&gains);
         let speed = 80.0;
         let mut state = ObserverState::at(0.3, speed, 0.0, TS);
-        for k in 1..2000 {
+        let warm_up = n(2000);
+        for k in 1..warm_up {
             let theta = 0.3 + speed * k as f64 * TS;
             gains.update(&mut state, theta.cos(), theta.sin());
         }
         state.clear_faults();
         // The shaft angle jumps by 180 degrees (a resolver wiring swap, a counting slip).
-        let theta0 = 0.3 + speed * 2000.0 * TS + core::f64::consts::PI - speed * TS;
+        let theta0 = 0.3 + speed * warm_up as f64 * TS + core::f64::consts::PI - speed * TS;
         let lock = samples_to_lock(&gains, state, theta0, speed, 4 * settling);
         assert!(
             lock < settling,
@@ -224,24 +225,25 @@ fn observers_relock_within_their_settling_time_after_a_burst_of_bad_samples() {
         };
         let mut state = ObserverState::new();
         let mut last_outside = 0;
-        for k in 0..6000 + 4 * settling {
+        let (start, end) = (n(3000), n(3000) + n(200).max(5));
+        for k in 0..2 * start + 4 * settling {
             let a = theta(k);
-            let (c, s) = if (3000..3200).contains(&k) {
+            let (c, s) = if (start..end).contains(&k) {
                 (f64::NAN, 1e9)
             } else {
                 (a.cos(), a.sin())
             };
             let e = gains.update(&mut state, c, s);
-            if (3000..3200).contains(&k) {
+            if (start..end).contains(&k) {
                 assert_eq!(e.faults, Faults::BAD_SAMPLE);
-            } else if k > 3200 && wrap(a - e.angle).abs() > 0.02 * core::f64::consts::PI {
+            } else if k > end && wrap(a - e.angle).abs() > 0.02 * core::f64::consts::PI {
                 last_outside = k;
             }
         }
         assert!(
-            last_outside < 3200 + settling,
+            last_outside < end + settling,
             "{name}: relocked {} samples after the burst, settling time {settling}",
-            last_outside.saturating_sub(3200)
+            last_outside.saturating_sub(end)
         );
         assert!(state.latched_faults().contains(Faults::BAD_SAMPLE));
     }
@@ -255,6 +257,7 @@ fn diagnostics_flag_loss_and_degradation_of_signal_and_latch_them() {
     let (_, _, ok) = designs();
     let mut state = ObserverState::new();
     let mut k = 0usize;
+    let runs = if cfg!(miri) { 150 } else { 500 };
     let mut run = |state: &mut ObserverState<f64, 3>, amplitude: f64, n: usize| {
         let mut last = Faults::NONE;
         for _ in 0..n {
@@ -266,21 +269,21 @@ fn diagnostics_flag_loss_and_degradation_of_signal_and_latch_them() {
         }
         last
     };
-    assert_eq!(run(&mut state, 1.0, 500), Faults::NONE);
+    assert_eq!(run(&mut state, 1.0, runs), Faults::NONE);
     assert!(state.latched_faults().is_empty());
-    let lost = run(&mut state, 0.1, 500);
+    let lost = run(&mut state, 0.1, runs);
     assert!(
         lost.contains(Faults::LOSS_OF_SIGNAL | Faults::DEGRADATION_OF_SIGNAL),
         "{lost}"
     );
-    assert_eq!(run(&mut state, 1.0, 500), Faults::NONE);
+    assert_eq!(run(&mut state, 1.0, runs), Faults::NONE);
     assert!(
         state.latched_faults().contains(Faults::LOSS_OF_SIGNAL),
         "latched until cleared"
     );
     assert!(state.clear_faults().contains(Faults::LOSS_OF_SIGNAL));
     assert!(state.latched_faults().is_empty());
-    let high = run(&mut state, 2.0, 500);
+    let high = run(&mut state, 2.0, runs);
     assert_eq!(high, Faults::DEGRADATION_OF_SIGNAL);
     // Above the input bound (4 by default): rejected.
     assert_eq!(run(&mut state, 5.0, 10), Faults::BAD_SAMPLE);

@@ -10,9 +10,9 @@ use proptest::prelude::*;
 use crate::gains::characteristic_polynomial_in_s;
 use crate::*;
 
-/// Under Miri (about 10^4 times slower) the tests run the same loops at a 20 times
-/// longer sample period, so that 20 times fewer samples cover the same transients.
-pub(crate) const MIRI_SPEEDUP: usize = if cfg!(miri) { 20 } else { 1 };
+/// Under Miri (about 10^5 times slower) the tests run the same loops at a 10 times
+/// longer sample period, so that 10 times fewer samples cover the same transients.
+pub(crate) const MIRI_SPEEDUP: usize = if cfg!(miri) { 10 } else { 1 };
 pub(crate) const TS: f64 = 1e-4 * MIRI_SPEEDUP as f64; // 10 kHz
 
 /// A sample count, shortened under Miri.
@@ -149,17 +149,22 @@ fn mean(v: impl Iterator<Item = f64>) -> f64 {
     s / n as f64
 }
 
+/// The three observers of the tests (computed once: Miri is slow at it).
 pub(crate) fn designs() -> (Gains<f64, 2>, Gains<f64, 3>, Gains<f64, 3>) {
-    let w = 2.0 * core::f64::consts::PI * 50.0; // 50 Hz natural frequency
-    (
-        Gains::new(second_order(w, 1.0), TS).unwrap(),
-        Gains::new(
-            third_order(39.04, 39.04 / (3.0 * w), 1.5 * core::f64::consts::PI),
-            TS,
+    static DESIGNS: std::sync::OnceLock<(Gains<f64, 2>, Gains<f64, 3>, Gains<f64, 3>)> =
+        std::sync::OnceLock::new();
+    *DESIGNS.get_or_init(|| {
+        let w = 2.0 * core::f64::consts::PI * 50.0; // 50 Hz natural frequency
+        (
+            Gains::new(second_order(w, 1.0), TS).unwrap(),
+            Gains::new(
+                third_order(39.04, 39.04 / (3.0 * w), 1.5 * core::f64::consts::PI),
+                TS,
+            )
+            .unwrap(),
+            Gains::new(kalman(1e-9 * (MIRI_SPEEDUP as f64).powi(6)), TS).unwrap(),
         )
-        .unwrap(),
-        Gains::new(kalman(1e-9 * (MIRI_SPEEDUP as f64).powi(6)), TS).unwrap(),
-    )
+    })
 }
 
 #[test]
@@ -225,7 +230,9 @@ fn multi_turn_f32_keeps_full_resolution_after_a_million_turns() {
     assert_eq!(last.turns, turns as i64);
     // Full f32 resolution: an ulp near pi is 2.4e-7 rad; a naive f32 multi-turn angle
     // (6.3e6 rad) would have an ulp of 0.5 rad.
-    assert!(worst < 3.0 * 2.4e-7, "worst wrapped-angle error {worst}");
+    // Miri perturbs std's f64 cos/sin (used for the truth here) by a few ulps on purpose.
+    let ulps = if cfg!(miri) { 4.0 } else { 3.0 };
+    assert!(worst < ulps * 2.4e-7, "worst wrapped-angle error {worst}");
 }
 
 #[test]
@@ -444,7 +451,7 @@ proptest! {
         let mut a = ObserverState::at(theta0, speed, 0.0, TS);
         let mut b = ObserverState::at(shifted, speed, 0.0, TS);
         prop_assert_eq!(b.turns() - a.turns(), n);
-        for k in 1..300 {
+        for k in 1..crate::tests::n(300).max(20) {
             let t = k as f64 * TS;
             let (ya, yb) = (theta0 + speed * t, shifted + speed * t);
             let ea = ok.update(&mut a, ya.cos(), ya.sin());
@@ -464,4 +471,46 @@ proptest! {
             prop_assert!((a - b).abs() < 1e-12);
         }
     }
+}
+
+#[test]
+fn a_channel_bank_gives_exactly_the_single_channel_results() {
+    fn check<T: Real, S: SinCos<T>>() {
+        let l = [T::from_f64(0.061), T::from_f64(0.0019), T::from_f64(3.1e-5)];
+        let gains = Gains::<T, 3, S>::new(l, T::from_f64(TS)).unwrap();
+        // Single observers without the fault monitor: the bank does not run it.
+        let single = gains
+            .with_fault_thresholds(FaultThresholds::disabled())
+            .unwrap();
+        const L: usize = 8;
+        let mut bank = ChannelBank::<T, 3, L>::new();
+        let mut states = [ObserverState::<T, 3>::new(); L];
+        for k in 0..n(5000) {
+            let mut y_c = [T::ZERO; L];
+            let mut y_s = [T::ZERO; L];
+            for lane in 0..L {
+                let theta = 0.3 * lane as f64 + (20.0 + 45.0 * lane as f64) * k as f64 * TS;
+                y_c[lane] = T::from_f64(theta.cos());
+                y_s[lane] = T::from_f64(if k % 97 == lane {
+                    f64::NAN
+                } else {
+                    theta.sin()
+                });
+            }
+            gains.update_bank(&mut bank, &y_c, &y_s);
+            for lane in 0..L {
+                let e = single.update(&mut states[lane], y_c[lane], y_s[lane]);
+                let b = gains.bank_estimate(&bank, lane).unwrap();
+                assert_eq!(b, e, "lane {lane}, sample {k}");
+            }
+        }
+        assert!(gains.bank_estimate(&bank, L).is_none());
+        assert!(
+            bank.turns().iter().any(|&t| t > 0),
+            "the lanes turned: {:?}",
+            bank.turns()
+        );
+    }
+    check::<f32, Fast>();
+    check::<f64, Exact>();
 }

@@ -1,0 +1,207 @@
+//! Many independent channels sharing one gain set: several axes, or a Monte Carlo batch.
+
+use crate::gains::{Gains, Order, SupportedOrder};
+use crate::monitor::Faults;
+use crate::observer::{Estimate, wrap_angle};
+use crate::real::Real;
+use crate::sincos::SinCos;
+
+/// The states of `L` independent channels of order `N`, laid out as a struct of arrays
+/// (`x[i][lane]`) so that [`Gains::update_bank`] runs the lanes side by side and the
+/// compiler can vectorise the loop over them. No allocation: the bank is a plain value
+/// (`N * L` floats, `L` turn counts), kept wherever the caller likes.
+///
+/// A bank runs the same recursion as a single observer, with the same rejection of bad
+/// samples (a lane coasts on its prediction and is marked in [`ChannelBank::rejected`]);
+/// it does not run the fault monitor (use single observers where each channel needs
+/// diagnostics).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ChannelBank<T, const N: usize, const L: usize> {
+    x: [[T; L]; N],
+    turns: [i32; L],
+    phase_error: [T; L],
+    rejected: [bool; L],
+    pending: [bool; L],
+    initialised: bool,
+}
+
+impl<T: Real, const N: usize, const L: usize> Default for ChannelBank<T, N, L> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<T: Real, const N: usize, const L: usize> ChannelBank<T, N, L> {
+    /// A bank whose lanes initialise themselves from their first valid sample's `atan2`,
+    /// exactly as single observers do.
+    ///
+    /// ```
+    /// use angletrack_core::{ChannelBank, Gains};
+    /// let gains = Gains::<f32, 3>::new([0.06, 0.0019, 3e-5], 1e-4)?;
+    /// let mut bank = ChannelBank::<f32, 3, 8>::new();
+    /// gains.update_bank(&mut bank, &[0.0; 8], &[1.0; 8]);
+    /// assert!(bank.angles().iter().all(|a| (a - core::f32::consts::FRAC_PI_2).abs() < 1e-6));
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub const fn new() -> Self {
+        Self {
+            x: [[T::ZERO; L]; N],
+            turns: [0; L],
+            phase_error: [T::ZERO; L],
+            rejected: [false; L],
+            pending: [true; L],
+            initialised: false,
+        }
+    }
+
+    /// The estimated angles (rad), each in [-pi, pi).
+    pub fn angles(&self) -> [T; L] {
+        self.x[0]
+    }
+
+    /// The whole turns counted by each lane (an `i32` that wraps around after 2^31 turns,
+    /// to keep the lanes narrow for SIMD; a single observer counts in `i64`).
+    pub fn turns(&self) -> [i32; L] {
+        self.turns
+    }
+
+    /// The phase-detector outputs of the last sample (0 for a rejected sample).
+    pub fn phase_errors(&self) -> [T; L] {
+        self.phase_error
+    }
+
+    /// Which lanes rejected their last sample (NaN, infinite or above the input bound).
+    pub fn rejected(&self) -> [bool; L] {
+        self.rejected
+    }
+
+    /// `false` until every lane has had a valid sample.
+    pub fn is_initialised(&self) -> bool {
+        self.initialised
+    }
+}
+
+impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    /// One sample for each of the `L` lanes of a bank. A lane's first valid sample
+    /// initialises it from `atan2(y_s, y_c)`; until every lane is initialised the lanes run
+    /// one by one, then side by side.
+    ///
+    /// ```
+    /// use angletrack_core::{ChannelBank, Gains};
+    /// let gains = Gains::<f64, 2>::new([0.06, 0.001], 1e-4)?;
+    /// let mut bank = ChannelBank::<f64, 2, 4>::new();
+    /// let (y_c, y_s) = ([1.0, 0.0, -1.0, f64::NAN], [0.0, 1.0, 0.0, 0.0]);
+    /// gains.update_bank(&mut bank, &y_c, &y_s);
+    /// gains.update_bank(&mut bank, &y_c, &y_s);
+    /// assert_eq!(bank.rejected(), [false, false, false, true]);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    #[inline]
+    pub fn update_bank<const L: usize>(
+        &self,
+        bank: &mut ChannelBank<T, N, L>,
+        y_c: &[T; L],
+        y_s: &[T; L],
+    ) {
+        if !bank.initialised {
+            self.initialise_bank(bank, y_c, y_s);
+            return;
+        }
+        for lane in 0..L {
+            self.update_lane(bank, lane, y_c[lane], y_s[lane]);
+        }
+    }
+
+    #[inline(always)]
+    fn update_lane<const L: usize>(
+        &self,
+        bank: &mut ChannelBank<T, N, L>,
+        lane: usize,
+        c: T,
+        s: T,
+    ) {
+        let mut x = [T::ZERO; N];
+        for (i, xi) in x.iter_mut().enumerate() {
+            *xi = bank.x[i][lane];
+        }
+        let valid = c * c + s * s <= self.thresholds.max_input2;
+        let (eps, _, _, whole) = self.step(&mut x, c, s, valid);
+        bank.turns[lane] = bank.turns[lane].wrapping_add(whole);
+        for (i, xi) in x.iter().enumerate() {
+            bank.x[i][lane] = *xi;
+        }
+        bank.phase_error[lane] = eps;
+        bank.rejected[lane] = !valid;
+    }
+
+    /// Runs a bank over a block of samples, `y_c[k][lane]` and `y_s[k][lane]`, calling
+    /// `sink(k, bank)` after each; processes `min(y_c.len(), y_s.len())` samples and returns
+    /// that count. No allocation.
+    pub fn update_bank_each<const L: usize, F: FnMut(usize, &ChannelBank<T, N, L>)>(
+        &self,
+        bank: &mut ChannelBank<T, N, L>,
+        y_c: &[[T; L]],
+        y_s: &[[T; L]],
+        mut sink: F,
+    ) -> usize {
+        let n = y_c.len().min(y_s.len());
+        for (k, (c, s)) in y_c.iter().zip(y_s).enumerate() {
+            self.update_bank(bank, c, s);
+            sink(k, bank);
+        }
+        n
+    }
+
+    /// The estimate of one lane of a bank, in physical units; `None` for a lane index
+    /// outside the bank.
+    pub fn bank_estimate<const L: usize>(
+        &self,
+        bank: &ChannelBank<T, N, L>,
+        lane: usize,
+    ) -> Option<Estimate<T>> {
+        if lane >= L {
+            return None;
+        }
+        let mut x = [T::ZERO; N];
+        for (i, xi) in x.iter_mut().enumerate() {
+            *xi = bank.x[i][lane];
+        }
+        let faults = if bank.rejected[lane] {
+            Faults::BAD_SAMPLE
+        } else {
+            Faults::NONE
+        };
+        Some(self.estimate_of(&x, bank.turns[lane] as i64, bank.phase_error[lane], faults))
+    }
+
+    /// The update while some lanes wait for their first valid sample.
+    #[cold]
+    fn initialise_bank<const L: usize>(
+        &self,
+        bank: &mut ChannelBank<T, N, L>,
+        y_c: &[T; L],
+        y_s: &[T; L],
+    ) {
+        let mut all = true;
+        for lane in 0..L {
+            let (c, s) = (y_c[lane], y_s[lane]);
+            if !bank.pending[lane] {
+                self.update_lane(bank, lane, c, s);
+                continue;
+            }
+            let valid = c * c + s * s <= self.thresholds.max_input2;
+            bank.rejected[lane] = !valid;
+            if valid {
+                let mut angle = s.atan2(c);
+                bank.turns[lane] = wrap_angle(&mut angle);
+                bank.x[0][lane] = angle;
+                bank.pending[lane] = false;
+            }
+            all &= !bank.pending[lane];
+        }
+        bank.initialised = all;
+    }
+}

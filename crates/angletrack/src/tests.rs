@@ -780,3 +780,73 @@ fn roots_and_products_round_trip() {
         assert!(nearest < 1e-10, "{r}: {nearest}");
     }
 }
+
+#[test]
+fn kalman_design_works_over_its_whole_documented_range() {
+    for ratio in [1e-30, 1e-24, 1e-18, 1e-12, 1e-6, 1.0, 1e6] {
+        let design =
+            kalman(ratio * 1e-2, 1e-2, 1e-4).unwrap_or_else(|e| panic!("q/r = {ratio:e}: {e}"));
+        let solution = design.kalman.unwrap();
+        let l = design.gains.gains();
+        let p = solution.predicted_covariance;
+        let r = solution.measurement_noise_r;
+        for i in 0..3 {
+            let expected = p[i][0] / (r + p[0][0]);
+            assert!(
+                (l[i] / expected - 1.0).abs() < 1e-9,
+                "q/r = {ratio:e}, gain {i}"
+            );
+        }
+        // The filtered angle variance is below the measurement's and above 0.
+        assert!(solution.covariance[0][0] > 0.0 && solution.covariance[0][0] < r);
+    }
+}
+
+#[test]
+fn design_functions_never_panic_on_any_argument() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+    let specials = [
+        f64::NAN,
+        f64::INFINITY,
+        -1.0,
+        0.0,
+        f64::MIN_POSITIVE,
+        f64::MAX,
+        1e-300,
+    ];
+    let value = |rng: &mut rand_chacha::ChaCha8Rng| {
+        if rng.random_bool(0.2) {
+            specials[rng.random_range(0..specials.len())]
+        } else {
+            10f64.powf(rng.random_range(-12.0..12.0))
+        }
+    };
+    let disc = [PM, Discretisation::ForwardEuler, Discretisation::Tustin];
+    let mut accepted = 0;
+    for i in 0..300 {
+        let d = disc[i % 3];
+        let a: [f64; 4] = std::array::from_fn(|_| value(&mut rng));
+        let results = [
+            second_order_from_tracking_error(a[0], a[1], a[2], a[3], d).map(|x| x.gains.gains()[0]),
+            second_order_from_bandwidth(a[0], a[1], a[2], d).map(|x| x.gains.gains()[0]),
+            second_order_butterworth(a[0], a[1], d).map(|x| x.gains.gains()[0]),
+            third_order_from_poles(a[0], a[1], a[2], a[3], d).map(|x| x.gains.gains()[0]),
+            third_order_butterworth(a[0], a[1], d).map(|x| x.gains.gains()[0]),
+            kalman(a[0], a[1], a[2]).map(|x| x.gains.gains()[0]),
+            kalman_from_jerk_std(a[0], a[1], a[2]).map(|x| x.gains.gains()[0]),
+            kalman_from_jerk_density(a[0], a[1], a[2]).map(|x| x.gains.gains()[0]),
+        ];
+        for result in results {
+            match result {
+                Ok(l1) => {
+                    assert!(l1.is_finite() && l1 > 0.0);
+                    accepted += 1;
+                }
+                Err(e) => assert!(!e.to_string().is_empty()),
+            }
+        }
+    }
+    // The sweep reaches the accepting side too.
+    assert!(accepted > 100, "only {accepted} designs accepted");
+}

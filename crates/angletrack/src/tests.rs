@@ -799,6 +799,12 @@ fn kalman_design_works_over_its_whole_documented_range() {
         }
         // The filtered angle variance is below the measurement's and above 0.
         assert!(solution.covariance[0][0] > 0.0 && solution.covariance[0][0] < r);
+        if ratio == 1e-30 || ratio == 1e6 {
+            // The extreme designs analyse too (a loop 10^5 samples slow, a near-deadbeat one).
+            let report = DesignReport::new(&design, 0.1).unwrap();
+            assert!(report.angle_error_rms_rad > 0.0 && report.angle_error_rms_rad.is_finite());
+            assert!(report.discrete_poles.iter().all(|z| z.norm() < 1.0));
+        }
     }
 }
 

@@ -218,6 +218,7 @@ class DesignReport:
     linear_step: StepResponse
     continuous_step: Optional[StepResponse]
     large_step: StepResponse
+    large_step_with_diagnostics: StepResponse
     large_step_final_rad: float
     max_speed_rad_s: float
     acquisition_speed_rad_s: float

@@ -364,10 +364,16 @@ impl DesignReport {
     fn continuous_step(&self) -> Option<PyStepResponse> {
         self.inner.continuous_step.map(Into::into)
     }
-    /// Response of the nonlinear loop to a 179 degree step.
+    /// Response of the bare nonlinear loop (no diagnostics) to a 179 degree step from rest.
     #[getter]
     fn large_step(&self) -> PyStepResponse {
         self.inner.large_step.into()
+    }
+    /// The 179 degree step with the core's default diagnostics (false-lock detection
+    /// re-acquires the angle).
+    #[getter]
+    fn large_step_with_diagnostics(&self) -> PyStepResponse {
+        self.inner.large_step_with_diagnostics.into()
     }
     /// Where the nonlinear loop ends after the 179 degree step (rad).
     #[getter]

@@ -157,3 +157,22 @@ def test_diagnostics_flag_bad_samples_and_thresholds_are_checked():
         at.Observer(g, fault_thresholds=at.FaultThresholds(filter_factor=1.5))
     bare = at.Observer(g, fault_thresholds=at.FaultThresholds.disabled())
     assert not bare.fault_thresholds.monitor and not bare.fault_thresholds.re_acquire
+
+
+def test_binding_run_equals_the_crates_own_179_degree_simulation():
+    """The crate's DesignReport simulates the bare loop (f64, exact sin/cos) from rest at 0
+    toward a constant 179 degrees; the binding's observer on the same samples gives the
+    same overshoot, to rounding."""
+    design = at.third_order_from_poles(pole_ratio=39.04, pole_time_constant_s=0.005, pole_frequency_ratio=3 * math.pi / 2, sample_period_s=1e-4)
+    r = design.report()
+    n = 20_000  # 2 s: many settling times
+    target = at.LARGE_STEP_RAD
+    obs = at.Observer(design.gains, dtype=np.float64, sin_cos="exact", fault_thresholds=at.FaultThresholds.disabled())
+    obs.set_state(0.0)
+    est = obs.update(np.full(n, math.cos(target)), np.full(n, math.sin(target)))
+    overshoot = max(0.0, float(np.max((est.position - target) / target)))
+    assert overshoot == pytest.approx(r.large_step.overshoot, rel=1e-12, abs=1e-15)
+    # Both end on the step (the crate simulates a shorter horizon: still settling at 1e-7).
+    assert est.position[-1] == pytest.approx(target, abs=1e-9)
+    assert r.large_step_final_rad == pytest.approx(target, abs=1e-6)
+    assert r.large_step_with_diagnostics.overshoot < r.large_step.overshoot

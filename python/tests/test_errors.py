@@ -75,6 +75,35 @@ def test_other_bad_arguments():
         angletrack.Observer([0.1, 0.01])
 
 
+def test_the_gil_is_released_during_a_run():
+    """Another Python thread runs while the observer works: with the GIL held it could not."""
+    import threading
+    import time
+
+    n = 4_000_000
+    theta = np.arange(n) * 1e-3
+    y_c, y_s = np.cos(theta), np.sin(theta)
+    obs = angletrack.Observer(angletrack.Gains(THIRD_ORDER, SAMPLE_PERIOD))
+    window = {}
+
+    def work():
+        window["start"] = time.perf_counter()
+        obs.update(y_c, y_s)
+        window["end"] = time.perf_counter()
+
+    ticks = []
+    worker = threading.Thread(target=work)
+    worker.start()
+    while worker.is_alive():
+        ticks.append(time.perf_counter())
+    worker.join()
+    start, end = window["start"], window["end"]
+    margin = 0.1 * (end - start)
+    inside = [t for t in ticks if start + margin < t < end - margin]
+    assert end - start > 0.02  # long enough for the check to mean something
+    assert len(inside) > 100
+
+
 def test_bad_samples_never_make_the_state_non_finite():
     g = angletrack.Gains(THIRD_ORDER, SAMPLE_PERIOD)
     theta = np.arange(2000) * 1e-3
@@ -116,3 +145,10 @@ def test_random_junk_raises_the_right_exception_or_gives_finite_results(y_c, y_s
     assert len(est) == len(y_c)
     for name in ("angle", "position", "speed", "acceleration", "phase_error"):
         assert np.all(np.isfinite(getattr(est, name))), name
+    # Junk samples are flagged: non-finite, or amplitude above the default input bound (4).
+    with np.errstate(all="ignore"):
+        amplitude = np.hypot(y_c.astype(np.float64), y_s.astype(np.float64))
+    bad = ~np.isfinite(amplitude) | (amplitude > 4.0)
+    clear = np.abs(amplitude - 4.0) > 1e-3 * 4.0  # away from the bound's rounding
+    flagged = (est.faults & int(angletrack.Faults.BAD_SAMPLE)) != 0
+    np.testing.assert_array_equal(flagged[clear], bad[clear])

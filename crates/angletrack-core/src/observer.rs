@@ -169,7 +169,7 @@ const fn zero<T: Real>() -> T {
 
 /// Wraps `angle` into [-pi, pi) and returns the whole turns removed.
 ///
-/// The usual case, no wrap, is one pair of comparisons. Otherwise the whole turns are
+/// The usual case, no wrap, is one comparison. Otherwise the whole turns are
 /// removed in two parts (Cody-Waite): for one turn the first subtraction is exact
 /// (Sterbenz), so the wrapped angle loses no precision however many turns have been
 /// counted. The code calls no function, so that a loop over channels
@@ -179,7 +179,9 @@ const fn zero<T: Real>() -> T {
 pub(crate) fn wrap_angle<T: Real>(angle: &mut T) -> i32 {
     let a = *angle;
     // Values, not stores, leave the branch: the vectoriser can turn it into selects.
-    let (wrapped, whole) = if (a >= -T::PI) & (a < T::PI) {
+    // One comparison: |a| < pi (false for NaN). The edge a = -pi takes the rare path, which
+    // keeps it.
+    let (wrapped, whole) = if a.abs() < T::PI {
         (a, 0)
     } else {
         wrap_whole_turns(a)

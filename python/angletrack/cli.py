@@ -84,7 +84,10 @@ def _cmd_track(args: argparse.Namespace) -> int:
         lock = "not locked at the end" if m.time_to_lock_s is None else f"{m.time_to_lock_s:.6g} s"
         print(f"  locked (within {args.lock_tolerance} rad) from: {lock}")
         if m.overshoot is not None:
-            print(f"  overshoot {100 * m.overshoot:.3g} % of the move, 2 % settling {m.settling_time_s:.6g} s")
+            print(
+                f"  as a move to the final reference angle: overshoot {100 * m.overshoot:.3g} %, "
+                f"2 % settling {m.settling_time_s:.6g} s"
+            )
     return 0
 
 

@@ -5,6 +5,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import angletrack as at
 
@@ -176,3 +178,30 @@ def test_binding_run_equals_the_crates_own_179_degree_simulation():
     assert est.position[-1] == pytest.approx(target, abs=1e-9)
     assert r.large_step_final_rad == pytest.approx(target, abs=1e-6)
     assert r.large_step_with_diagnostics.overshoot < r.large_step.overshoot
+
+
+any_float = st.floats(allow_nan=True, allow_infinity=True) | st.sampled_from([0.0, -1.0, 1e-300, 1e300])
+DESIGNS = [
+    (at.second_order_from_tracking_error, 4),
+    (at.second_order_from_bandwidth, 3),
+    (at.second_order_butterworth, 2),
+    (at.third_order_from_poles, 4),
+    (at.third_order_butterworth, 2),
+    (at.third_order_from_overshoot, 4),
+    (at.kalman, 3),
+    (at.kalman_from_jerk_std, 3),
+    (at.kalman_from_jerk_density, 3),
+]
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(index=st.integers(0, len(DESIGNS) - 1), values=st.lists(any_float, min_size=4, max_size=4))
+def test_design_functions_under_random_arguments_give_a_design_or_a_value_error(index, values):
+    function, arity = DESIGNS[index]
+    try:
+        design = function(*values[:arity])
+    except ValueError as e:
+        assert str(e)  # a message naming the argument
+        return
+    l = design.gains.gains
+    assert all(math.isfinite(x) for x in l) and design.gains.sample_period_s > 0

@@ -10,7 +10,7 @@ import angletrack
 from conftest import SAMPLE_PERIOD, THIRD_ORDER, resolver_capture
 import reference
 
-FIELDS = ("angle", "position", "speed", "acceleration", "phase_error")
+FIELDS = ("angle", "position", "speed", "acceleration", "phase_error", "faults")
 
 
 def test_imported_from_the_installed_package_not_the_source_tree():

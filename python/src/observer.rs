@@ -153,6 +153,14 @@ impl PyGains {
         self.set.order()
     }
 
+    /// Pickling: rebuilt (and checked again) from the gains and the sample period.
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> (Bound<'py, pyo3::types::PyType>, (Vec<f64>, f64)) {
+        let set = &slf.get().set;
+        (slf.get_type(), (set.gains(), set.sample_period()))
+    }
+
     fn __repr__(&self) -> String {
         let l: Vec<String> = self
             .set

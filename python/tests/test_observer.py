@@ -132,6 +132,9 @@ def test_gains_properties_and_repr():
     same = angletrack.Gains.from_loop_polynomial(g.loop_polynomial, SAMPLE_PERIOD)
     np.testing.assert_allclose(same.gains, g.gains, rtol=1e-12)
     assert g == angletrack.Gains(THIRD_ORDER, SAMPLE_PERIOD)
+    import pickle
+
+    assert pickle.loads(pickle.dumps(g)) == g
     assert "Gains(gains=[" in repr(g) and "sample_period_s=1e-4" in repr(g)
     obs = angletrack.Observer(g, dtype="float32")
     assert "order=3" in repr(obs) and "float32" in repr(obs)

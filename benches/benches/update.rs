@@ -14,7 +14,8 @@
 use std::hint::black_box;
 
 use angletrack_benches::{
-    HandWrittenObserver, OBSERVERS, ResolverSignal, SAMPLE_PERIOD_S, float_name, gains,
+    HandWrittenObserver, OBSERVERS, SAMPLE_PERIOD_S, benchmark_scenario, channels, float_name,
+    gains,
 };
 use angletrack_core::{
     Estimate, Exact, Fast, FaultThresholds, Gains, ObserverState, Order, Real, SinCos,
@@ -38,14 +39,14 @@ struct Workload<T> {
 
 impl<T: Real> Workload<T> {
     fn new() -> Self {
-        let signal = ResolverSignal::benchmark(BLOCK);
-        let (y_c, y_s) = signal.channels();
+        let signal = benchmark_scenario(BLOCK);
+        let (y_c, y_s) = channels(&signal);
         Self {
             y_c,
             y_s,
             angle_rad: signal.angle_rad[0],
             speed_rad_s: signal.speed_rad_s[0],
-            acceleration_rad_s2: signal.acceleration_rad_s2,
+            acceleration_rad_s2: signal.acceleration_rad_s2[0],
         }
     }
 

@@ -1,11 +1,13 @@
 //! The workload that the benchmarks (`benches/update.rs`) and the firmware test
 //! (`tests/firmware`) share: the three observers of the paper with fixed discrete gains, a
-//! simulated resolver, and the hand-written loop every report is compared with.
+//! simulated resolver (from the `angletrack` crate's scenario generator), and the
+//! hand-written loop every report is compared with.
 //!
 //! Nothing here is published: it exists so that the host benchmark, the Cortex-M4F
 //! instruction count and the firmware's reference data all run the very same observers on
 //! the very same signal.
 
+use angletrack::{Motion, MotionProfile, Scenario, SensorModel};
 use angletrack_core::{Gains, Order, Real, SinCos, SupportedOrder};
 use num_traits::Float;
 
@@ -52,107 +54,52 @@ pub fn float_name<T: Real>() -> &'static str {
     core::any::type_name::<T>()
 }
 
-/// A simulated resolver: a shaft under constant acceleration read through two noisy
-/// channels `y_c = cos(theta) + w_c`, `y_s = sin(theta) + w_s` (amplitude 1).
-#[derive(Debug, Clone, PartialEq)]
-pub struct ResolverSignal {
-    /// Cosine channel, one value per sample.
-    pub y_c: Vec<f64>,
-    /// Sine channel, one value per sample.
-    pub y_s: Vec<f64>,
-    /// True shaft angle (rad, not wrapped) at each sample.
-    pub angle_rad: Vec<f64>,
-    /// True speed (rad/s) at each sample.
-    pub speed_rad_s: Vec<f64>,
-    /// Constant true acceleration (rad/s^2).
-    pub acceleration_rad_s2: f64,
+/// Seed of the sensor noise of [`benchmark_scenario`].
+pub const SEED: u64 = 0x5eed_1234_abcd_0001;
+
+/// The workload of the benchmarks and the firmware test, from the `angletrack` crate's
+/// scenario generator: `samples` samples at [`SAMPLE_PERIOD_S`] of a shaft starting at
+/// 0.3 rad and 300 rad/s and accelerating at 400 rad/s^2, read by a resolver with noise
+/// 0.01 (standard deviation, per channel, amplitude 1).
+///
+/// ```
+/// let scenario = angletrack_benches::benchmark_scenario(1000);
+/// assert_eq!(scenario.len(), 1000);
+/// assert!((scenario.speed_rad_s[999] - (300.0 + 400.0 * 999e-4)).abs() < 1e-9);
+/// ```
+///
+/// # Panics
+///
+/// If `samples` is above [`angletrack::MAX_SAMPLES`].
+pub fn benchmark_scenario(samples: usize) -> Scenario {
+    let profile = MotionProfile::new(0.3, 300.0).then(Motion::ConstantAcceleration {
+        acceleration_rad_s2: 400.0,
+        duration_s: samples as f64 * SAMPLE_PERIOD_S,
+    });
+    let mut scenario = Scenario::generate(
+        &profile,
+        &SensorModel::with_noise(0.01),
+        SAMPLE_PERIOD_S,
+        SEED,
+    )
+    .expect("the benchmark scenario is valid");
+    for v in [
+        &mut scenario.time_s,
+        &mut scenario.angle_rad,
+        &mut scenario.speed_rad_s,
+        &mut scenario.acceleration_rad_s2,
+        &mut scenario.y_c,
+        &mut scenario.y_s,
+    ] {
+        v.truncate(samples);
+    }
+    scenario
 }
 
-impl ResolverSignal {
-    /// `samples` samples at [`SAMPLE_PERIOD_S`] of a shaft starting at `angle_rad`, turning
-    /// at `speed_rad_s` and accelerating at `acceleration_rad_s2`, with Gaussian noise of
-    /// standard deviation `noise` on each channel (deterministic for a given `seed`).
-    ///
-    /// ```
-    /// use angletrack_benches::ResolverSignal;
-    /// let signal = ResolverSignal::simulate(100, 0.5, 300.0, 400.0, 0.0, 1);
-    /// assert!((signal.y_s[0] - 0.5f64.sin()).abs() < 1e-15);
-    /// ```
-    pub fn simulate(
-        samples: usize,
-        angle_rad: f64,
-        speed_rad_s: f64,
-        acceleration_rad_s2: f64,
-        noise: f64,
-        seed: u64,
-    ) -> Self {
-        let mut gaussian = Gaussian::new(seed);
-        let mut signal = Self {
-            y_c: Vec::with_capacity(samples),
-            y_s: Vec::with_capacity(samples),
-            angle_rad: Vec::with_capacity(samples),
-            speed_rad_s: Vec::with_capacity(samples),
-            acceleration_rad_s2,
-        };
-        for k in 0..samples {
-            let t = k as f64 * SAMPLE_PERIOD_S;
-            let theta = angle_rad + speed_rad_s * t + 0.5 * acceleration_rad_s2 * t * t;
-            signal.y_c.push(theta.cos() + noise * gaussian.sample());
-            signal.y_s.push(theta.sin() + noise * gaussian.sample());
-            signal.angle_rad.push(theta);
-            signal
-                .speed_rad_s
-                .push(speed_rad_s + acceleration_rad_s2 * t);
-        }
-        signal
-    }
-
-    /// The workload of the benchmarks and the firmware test: `samples` samples from
-    /// 0.3 rad, 300 rad/s, 400 rad/s^2, noise 0.01 per channel.
-    pub fn benchmark(samples: usize) -> Self {
-        Self::simulate(samples, 0.3, 300.0, 400.0, 0.01, 0x5eed_1234_abcd_0001)
-    }
-
-    /// Number of samples.
-    pub fn len(&self) -> usize {
-        self.y_c.len()
-    }
-
-    /// `true` when there are no samples.
-    pub fn is_empty(&self) -> bool {
-        self.y_c.is_empty()
-    }
-
-    /// Both channels converted to `T`.
-    pub fn channels<T: Real>(&self) -> (Vec<T>, Vec<T>) {
-        (
-            self.y_c.iter().map(|&v| T::from_f64(v)).collect(),
-            self.y_s.iter().map(|&v| T::from_f64(v)).collect(),
-        )
-    }
-}
-
-/// A small deterministic Gaussian source (xorshift64* and Box-Muller): the same numbers on
-/// every machine, no dependency.
-#[derive(Debug, Clone)]
-struct Gaussian(u64);
-
-impl Gaussian {
-    fn new(seed: u64) -> Self {
-        Self(seed.max(1))
-    }
-
-    fn uniform(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        ((self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    }
-
-    fn sample(&mut self) -> f64 {
-        let (u, v) = (self.uniform(), self.uniform());
-        (-2.0 * u.ln()).sqrt() * (core::f64::consts::TAU * v).cos()
-    }
+/// The two channels `(y_c, y_s)` of `scenario` converted to `T`.
+pub fn channels<T: Real>(scenario: &Scenario) -> (Vec<T>, Vec<T>) {
+    let convert = |v: &[f64]| v.iter().map(|&x| T::from_f64(x)).collect();
+    (convert(&scenario.y_c), convert(&scenario.y_s))
 }
 
 /// The loop a user writes by hand for the same observer, the baseline of every benchmark:
@@ -241,9 +188,9 @@ mod tests {
     /// rounding of the physical-unit form), so the benchmark ratio compares like with like.
     #[test]
     fn hand_written_baseline_tracks_like_the_core() {
-        let signal = ResolverSignal::benchmark(4000);
+        let signal = benchmark_scenario(4000);
         let (angle, speed) = (signal.angle_rad[0], signal.speed_rad_s[0]);
-        let accel = signal.acceleration_rad_s2;
+        let accel = signal.acceleration_rad_s2[0];
         for (name, l) in OBSERVERS {
             let mut hand = HandWrittenObserver::<f64>::new(l, angle, speed, accel);
             let (mut max_angle, mut max_speed) = (0.0f64, 0.0f64);
@@ -275,24 +222,5 @@ mod tests {
                 "{name}: speed differs by {max_speed} rad/s"
             );
         }
-    }
-
-    #[test]
-    fn simulated_signal_follows_the_shaft() {
-        let s = ResolverSignal::simulate(1001, 0.0, 10.0, 100.0, 0.0, 7);
-        // 0.1 s: angle 10 * 0.1 + 50 * 0.01 = 1.5 rad, speed 20 rad/s.
-        assert!((s.angle_rad[1000] - 1.5).abs() < 1e-12);
-        assert!((s.speed_rad_s[1000] - 20.0).abs() < 1e-12);
-        assert!((s.y_c[1000] - 1.5f64.cos()).abs() < 1e-12);
-        let noisy = ResolverSignal::benchmark(20_000);
-        let rms = (noisy
-            .y_s
-            .iter()
-            .zip(&noisy.angle_rad)
-            .map(|(y, a)| (y - a.sin()).powi(2))
-            .sum::<f64>()
-            / 20_000.0)
-            .sqrt();
-        assert!((rms - 0.01).abs() < 0.0003, "noise rms {rms}");
     }
 }

@@ -4,7 +4,9 @@
 
 use std::{env, fs, path::PathBuf};
 
-use angletrack_benches::{KALMAN_GAINS, ResolverSignal, SECOND_ORDER_GAINS, THIRD_ORDER_GAINS};
+use angletrack_benches::{
+    KALMAN_GAINS, SECOND_ORDER_GAINS, THIRD_ORDER_GAINS, benchmark_scenario, channels,
+};
 use angletrack_core::{Gains, ObserverState, Order, SinCos, SupportedOrder};
 
 #[path = "src/variants.rs"]
@@ -43,15 +45,13 @@ fn main() {
     println!("cargo:rerun-if-changed=memory.x");
     println!("cargo:rerun-if-changed=src/variants.rs");
 
-    let f32s = |l: &[f64]| l.iter().map(|&v| v as f32).collect::<Vec<_>>();
     let observers = Observers {
         second_order: SECOND_ORDER_GAINS.map(|v| v as f32),
         third_order: THIRD_ORDER_GAINS.map(|v| v as f32),
         kalman: KALMAN_GAINS.map(|v| v as f32),
         sample_period_s: angletrack_benches::SAMPLE_PERIOD_S as f32,
     };
-    let signal = ResolverSignal::benchmark(SAMPLES);
-    let (y_c, y_s) = (f32s(&signal.y_c), f32s(&signal.y_s));
+    let (y_c, y_s) = channels::<f32>(&benchmark_scenario(SAMPLES));
     let mut data = Vec::new();
     for (c, s) in y_c.iter().zip(&y_s) {
         data.extend_from_slice(&c.to_le_bytes());

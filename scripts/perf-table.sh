@@ -2,8 +2,9 @@
 # Regenerates the performance table of README.md (between the perf-table markers):
 #  - instructions per update and code size of the f32 update on a Cortex-M4F, from the
 #    firmware test under QEMU (tests/firmware/run.sh);
-#  - ns per sample on this host and the ratio to the hand-written loop, from the criterion
-#    benchmarks (benches/, short measurement: 1 s warm-up, 3 s per benchmark).
+#  - ns per sample on this host and the ratio to the hand-written loop, and the multi-channel
+#    throughput (ChannelBank), from the criterion benchmarks (benches/, short measurement:
+#    1 s warm-up, 3 s per benchmark).
 # Usage: bash scripts/perf-table.sh [--print]   (--print: print the table, leave README.md)
 # Takes about 4 minutes. Host figures depend on the machine: run it on a quiet one.
 set -euo pipefail
@@ -83,6 +84,21 @@ trap 'rm -f "$table"' EXIT
         row+=" | $ns ($(awk -v a="$ns" -v b="$base" 'BEGIN { printf "%.2f", a / b }'))"
       done
       echo "$row |"
+    done
+  done
+  echo
+  echo "**Host, multi-channel**: a \`ChannelBank\` of 16 channels sharing one gain set (fast"
+  echo "sin/cos, no fault monitor), ns per channel-sample, against one stream of \`Gains::update\`"
+  echo "(fast sin/cos); the gain is the throughput per channel-sample over the single stream's."
+  echo
+  echo "| observer | float | single stream | bank of 16 | throughput gain |"
+  echo "| --- | --- | ---: | ---: | ---: |"
+  for observer in second-order third-order kalman; do
+    for float in f32 f64; do
+      single=$(ns_per_sample "$observer-$float" update-fast)
+      bank=$(ns_per_sample "$observer-$float" bank-fast-16)
+      echo "| $observer | $float | $single | $bank |" \
+        "$(awk -v a="$single" -v b="$bank" 'BEGIN { printf "%.1fx", a / b }') |"
     done
   done
 } >"$table"

@@ -5,7 +5,8 @@
 //! core's observer with both phase-detector sin/cos (`exact`, `fast`) through the per-sample
 //! API (`update-*`, a loop over `Gains::update`) and the block API (`block-*`,
 //! `Gains::update_block`), and the fast one with the diagnostics off (`update-fast-unmonitored`,
-//! `FaultThresholds::disabled()`: the bare loop). Throughput is in samples, so every report reads as time per
+//! `FaultThresholds::disabled()`: the bare loop), and a `ChannelBank` of 16 channels sharing
+//! the gains (`bank-fast-16`, throughput in channel-samples). Throughput is in samples, so every report reads as time per
 //! sample and the ratio to `baseline` is the ratio of the reported times.
 //!
 //! Run: `cargo bench -p angletrack-benches` (or `bash scripts/perf-table.sh` for the README
@@ -18,7 +19,7 @@ use angletrack_benches::{
     gains,
 };
 use angletrack_core::{
-    Estimate, Exact, Fast, FaultThresholds, Gains, ObserverState, Order, Real, SinCos,
+    ChannelBank, Estimate, Exact, Fast, FaultThresholds, Gains, ObserverState, Order, Real, SinCos,
     SupportedOrder,
 };
 use criterion::measurement::WallTime;
@@ -27,6 +28,9 @@ use num_traits::Float;
 
 /// Samples per benchmark iteration (one block).
 const BLOCK: usize = 1024;
+
+/// Lanes of the multi-channel benchmark (`bank-fast-16`).
+const LANES: usize = 16;
 
 /// The block of samples and the true initial state every iteration starts from.
 struct Workload<T> {
@@ -104,6 +108,38 @@ fn bench_update<T: Real, const N: usize, S: SinCos<T>>(
     });
 }
 
+/// `L` channels in a [`ChannelBank`], lane `j` reading the workload's samples from
+/// `j` on; the bank is initialised by its first sample outside the timed loop.
+fn bench_bank<T: Real, const N: usize, const L: usize>(
+    group: &mut BenchmarkGroup<'_, WallTime>,
+    gains: Gains<T, N, Fast>,
+    id: &str,
+) where
+    Order<N>: SupportedOrder,
+{
+    let signal = benchmark_scenario(BLOCK + L);
+    let (c, s) = channels::<T>(&signal);
+    let y_c: Vec<[T; L]> = (0..=BLOCK)
+        .map(|k| core::array::from_fn(|j| c[k + j]))
+        .collect();
+    let y_s: Vec<[T; L]> = (0..=BLOCK)
+        .map(|k| core::array::from_fn(|j| s[k + j]))
+        .collect();
+    let mut start = ChannelBank::<T, N, L>::new();
+    gains.update_bank(&mut start, &y_c[0], &y_s[0]);
+    group.throughput(Throughput::Elements((BLOCK * L) as u64));
+    group.bench_function(id, |b| {
+        b.iter(|| {
+            let mut bank = start;
+            for (c, s) in y_c[1..].iter().zip(&y_s[1..]) {
+                gains.update_bank(&mut bank, c, s);
+            }
+            bank
+        })
+    });
+    group.throughput(Throughput::Elements(BLOCK as u64));
+}
+
 /// One group: the hand-written baseline, then the core's observer with both sin/cos.
 fn bench_observer<T: Real + Float, const N: usize>(c: &mut Criterion, name: &str, l: [f64; 3])
 where
@@ -134,6 +170,7 @@ where
         .with_fault_thresholds(FaultThresholds::disabled())
         .expect("the default thresholds are valid");
     bench_update(&mut group, &workload, bare, "update-fast-unmonitored");
+    bench_bank::<T, N, LANES>(&mut group, gains(l), &format!("bank-fast-{LANES}"));
     group.finish();
 }
 

@@ -220,7 +220,7 @@ where
 
 #[test]
 fn a_million_junk_samples_keep_every_state_finite() {
-    let samples = if cfg!(miri) { 2_000 } else { 1_000_000 };
+    let samples = if cfg!(miri) { 800 } else { 1_000_000 };
     let (o2, o3, ok) = designs();
     junk_keeps_state_finite(o2, samples, 1);
     junk_keeps_state_finite(o3, samples / 4, 2);

@@ -61,11 +61,12 @@ trap 'rm -f "$table"' EXIT
   done
   echo "| Kalman ATO, diagnostics off | | | $(cells kalman-f32-fast-unmonitored) |"
   echo
-  echo "Code size of the \`f32\` update with fast sin/cos, alone and with the out-of-line"
-  echo "functions it calls (cold paths: wrap, coast, re-acquisition, \`atan2f\`):"
+  echo "Code size of the \`f32\` update with fast sin/cos (\`Gains::update\`), alone and with"
+  echo "the out-of-line functions it calls:"
+  echo
   for order in 2 3; do
-    echo "order $order: $(firmware_value "code_size update-order$order-f32-fast" | sed 's/;.*//')," \
-      "$(firmware_value "code_size update-order$order-f32-fast" | sed 's/.*; \([0-9]* bytes\).*/\1/')."
+    echo "- order $order: $(firmware_value "code_size update-order$order-f32-fast" |
+      sed 's/^\([0-9]*\) bytes; \([0-9]*\) bytes with the .* functions it calls (\(.*\))/\1 bytes; \2 bytes with \3/')"
   done
   echo
   echo "**Host** (${cpu:-unknown CPU}, one stream): ns per sample (fastest criterion sample), and in"
@@ -74,6 +75,7 @@ trap 'rm -f "$table"' EXIT
   echo
   echo "| observer | float | hand-written | update, exact | update, fast | block, exact | block, fast | update, fast, diagnostics off |"
   echo "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |"
+  bank_rows=""
   for observer in second-order third-order kalman; do
     for float in f32 f64; do
       group="$observer-$float"
@@ -84,6 +86,10 @@ trap 'rm -f "$table"' EXIT
         row+=" | $ns ($(awk -v a="$ns" -v b="$base" 'BEGIN { printf "%.2f", a / b }'))"
       done
       echo "$row |"
+      single=$(ns_per_sample "$group" update-fast)
+      bank=$(ns_per_sample "$group" bank-fast-16)
+      gain=$(awk -v a="$single" -v b="$bank" 'BEGIN { printf "%.1fx", a / b }')
+      bank_rows+="| $observer | $float | $single | $bank | $gain |"$'\n'
     done
   done
   echo
@@ -93,14 +99,7 @@ trap 'rm -f "$table"' EXIT
   echo
   echo "| observer | float | single stream | bank of 16 | throughput gain |"
   echo "| --- | --- | ---: | ---: | ---: |"
-  for observer in second-order third-order kalman; do
-    for float in f32 f64; do
-      single=$(ns_per_sample "$observer-$float" update-fast)
-      bank=$(ns_per_sample "$observer-$float" bank-fast-16)
-      echo "| $observer | $float | $single | $bank |" \
-        "$(awk -v a="$single" -v b="$bank" 'BEGIN { printf "%.1fx", a / b }') |"
-    done
-  done
+  printf '%s' "$bank_rows"
 } >"$table"
 
 if [ "${1:-}" = --print ]; then

@@ -31,6 +31,7 @@ from angletrack._angletrack import (
     Metrics,
     MotionProfile,
     Observer,
+    ObserverBatch,
     PredictedError,
     SETTLING_BAND,
     Scenario,
@@ -50,6 +51,7 @@ from angletrack._angletrack import (
     third_order_from_overshoot,
     third_order_from_poles,
     track,
+    track_batch,
 )
 
 __all__ = [
@@ -67,6 +69,7 @@ __all__ = [
     "Metrics",
     "MotionProfile",
     "Observer",
+    "ObserverBatch",
     "PredictedError",
     "SETTLING_BAND",
     "Scenario",
@@ -86,6 +89,7 @@ __all__ = [
     "third_order_from_overshoot",
     "third_order_from_poles",
     "track",
+    "track_batch",
 ]
 
 #: Fault flags of ``Estimates.faults`` (uint8 per sample), ``Estimate.faults`` and

@@ -130,6 +130,35 @@ def track(
 ) -> Estimates:
     """Runs a fresh observer over the samples in their own dtype (float32 or float64)."""
 
+_ChannelSamples = Union[npt.NDArray[np.float32], npt.NDArray[np.float64], Sequence[Sequence[float]]]
+
+class ObserverBatch:
+    """Many observers on one gain set, run 8 at a time side by side; 2-D arrays
+    (channels x samples). Each channel equals an ``Observer`` with
+    ``FaultThresholds.disabled()`` (bad samples rejected, no fault monitor); the state
+    persists between calls."""
+
+    def __init__(
+        self, gains: Gains, channels: int, *, dtype: _DType = None, sin_cos: _SinCos = None,
+    ) -> None: ...
+    def update(self, y_c: _ChannelSamples, y_s: _ChannelSamples) -> Estimates:
+        """Runs over 2-D samples (channels x samples) of the batch's dtype; GIL released.
+        The arrays of the result have the inputs' shape."""
+    @property
+    def channels(self) -> int: ...
+    @property
+    def gains(self) -> Gains: ...
+    @property
+    def dtype(self) -> Literal["float32", "float64"]: ...
+    @property
+    def sin_cos(self) -> Literal["fast", "exact"]: ...
+
+def track_batch(
+    gains: Gains, y_c: _ChannelSamples, y_s: _ChannelSamples, *, sin_cos: _SinCos = None,
+) -> Estimates:
+    """Runs a fresh ``ObserverBatch`` over 2-D samples (channels x samples) in their own
+    dtype; the result's arrays have the inputs' shape."""
+
 # ----------------------------------------------------------------- diagnostics
 
 FAULT_BITS: list[tuple[str, int]]

@@ -206,3 +206,44 @@ pub fn as_slice_mut<'a, T: Element>(view: &'a mut PyReadwriteArray1<'_, T>) -> R
     view.as_slice_mut()
         .map_err(|e| Error::value("output", format!("is not contiguous ({e})")))
 }
+
+/// Samples of many channels: a 2-D array (`channels x samples`, any layout; a copy is made
+/// only if it is not C-contiguous) flattened row-major, checked like [`samples`], with the
+/// number of samples per channel.
+pub fn channel_samples<'py, T: Element + Copy>(
+    obj: &Bound<'py, PyAny>,
+    parameter: &'static str,
+) -> Result<(Samples<'py, T>, usize, usize)> {
+    let py = obj.py();
+    let numpy = PyModule::import(py, "numpy")?;
+    let array = match obj.cast::<PyUntypedArray>() {
+        Ok(array) => array.clone(),
+        Err(_) => numpy
+            .getattr("asarray")?
+            .call1((obj, dtype::<T>(py)))
+            .map_err(|e| {
+                Error::value(
+                    parameter,
+                    format!("cannot be read as an array of floats ({e})"),
+                )
+            })?
+            .cast_into::<PyUntypedArray>()
+            .map_err(|e| Error::Python(e.into()))?,
+    };
+    if array.ndim() != 2 {
+        return Err(Error::value(
+            parameter,
+            format!(
+                "expected a 2-D array (channels x samples), got {} dimension(s) (shape {:?})",
+                array.ndim(),
+                array.shape()
+            ),
+        ));
+    }
+    let (channels, per_channel) = (array.shape()[0], array.shape()[1]);
+    let flat = numpy
+        .getattr("ascontiguousarray")?
+        .call1((array,))?
+        .call_method1("reshape", (-1,))?;
+    Ok((samples::<T>(&flat, parameter)?, channels, per_channel))
+}

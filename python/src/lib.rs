@@ -7,6 +7,7 @@
 use pyo3::prelude::*;
 
 mod arrays;
+mod batch;
 mod design;
 mod errors;
 mod observer;
@@ -23,6 +24,8 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<observer::Estimate>()?;
     m.add_class::<observer::Estimates>()?;
     m.add_function(wrap_pyfunction!(observer::track, m)?)?;
+    m.add_class::<batch::PyObserverBatch>()?;
+    m.add_function(wrap_pyfunction!(batch::track_batch, m)?)?;
     design::register(m)?;
     scenario::register(m)?;
     Ok(())

@@ -65,7 +65,7 @@ impl GainSet {
         }
     }
 
-    fn sample_period(&self) -> f64 {
+    pub(crate) fn sample_period(&self) -> f64 {
         match self {
             GainSet::Second(g) => g.sample_period(),
             GainSet::Third(g) => g.sample_period(),
@@ -343,7 +343,7 @@ impl PyFaultThresholds {
 
 /// Which sin/cos the phase detector uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SinCosKind {
+pub(crate) enum SinCosKind {
     /// The core's branch-free polynomial (`Fast`).
     Fast,
     /// `libm` (`Exact`).
@@ -351,7 +351,7 @@ pub enum SinCosKind {
 }
 
 impl SinCosKind {
-    fn parse(name: Option<&str>, float: Float) -> Result<Self> {
+    pub(crate) fn parse(name: Option<&str>, float: Float) -> Result<Self> {
         match name {
             None => Ok(match float {
                 Float::F32 => SinCosKind::Fast,
@@ -366,7 +366,7 @@ impl SinCosKind {
         }
     }
 
-    fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             SinCosKind::Fast => "fast",
             SinCosKind::Exact => "exact",
@@ -645,9 +645,9 @@ pub struct Estimates {
     /// Fault flags of each sample (uint8 bits, see `angletrack.Faults`).
     pub(crate) faults: Py<PyAny>,
     /// The dtype of the angle, speed, acceleration and phase-error arrays.
-    dtype: String,
+    pub(crate) dtype: String,
     /// The number of samples.
-    len: usize,
+    pub(crate) len: usize,
 }
 
 #[pymethods]

@@ -74,6 +74,8 @@ pub enum Argument {
     SeriesLength,
     /// The name of a [`Discretisation`](crate::Discretisation).
     Discretisation,
+    /// The number of channels of a [`ChannelBatch`](crate::ChannelBatch).
+    Channels,
 }
 
 impl Argument {
@@ -113,6 +115,7 @@ impl Argument {
             Argument::Tolerance => "tolerance",
             Argument::SeriesLength => "series length",
             Argument::Discretisation => "discretisation",
+            Argument::Channels => "channels",
         }
     }
 }

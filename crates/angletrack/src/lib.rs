@@ -31,15 +31,19 @@
 //!   noise, step responses (linear and a 179 degree nonlinear step), speed limits.
 //! * Scenarios ([`MotionProfile`], [`SensorModel`], [`Scenario`]): deterministic from a seed.
 //! * Metrics ([`run`], [`Metrics`]): a run of any observer measured against the truth.
+//! * Many channels ([`ChannelBatch`]): any number of channels on one gain set, run by the
+//!   core's vectorisable [`ChannelBank`](angletrack_core::ChannelBank)s.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub use angletrack_core as core;
 pub use angletrack_core::{
-    AngleTrackingObserver, ConfigError, Estimate, Exact, Fast, FaultThresholds, Faults, Gains,
-    Observer, ObserverState, Parameter, Real, SecondOrderObserver, SinCos, ThirdOrderObserver,
+    AngleTrackingObserver, ChannelBank, ConfigError, Estimate, Exact, Fast, FaultThresholds,
+    Faults, Gains, Observer, ObserverState, Parameter, Real, SecondOrderObserver, SinCos,
+    ThirdOrderObserver,
 };
 pub use nalgebra::Complex;
 
+mod batch;
 mod design;
 mod error;
 mod linalg;
@@ -47,6 +51,7 @@ mod metrics;
 mod report;
 mod scenario;
 
+pub use batch::{BatchColumns, ChannelBatch, LANES};
 pub use design::{
     Design, DesignMethod, Discretisation, KalmanSolution, MAX_POLE_TIMES_PERIOD, StepResponse,
     convert_gains, kalman, kalman_from_jerk_density, kalman_from_jerk_std,

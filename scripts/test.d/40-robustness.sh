@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Robustness of the core: no panic path in the f32 update (proved by linking), no f64
+# software routine on the Fast path, the core's tests under Miri, and each fuzz target for
+# about a minute on the corpus kept in fuzz/corpus.
+set -euo pipefail
+source scripts/lib.sh
+need_rust
+fuzz_seconds="${ANGLETRACK_FUZZ_SECONDS:-60}"
+
+rustup component add llvm-tools >/dev/null
+nm_tool=$(ls "$(rustc --print sysroot)"/lib/rustlib/*/bin/llvm-nm | head -n 1)
+
+echo "--- no panic path in the f32 update (tests/no-panic, thumbv7em-none-eabihf)"
+image_symbols() { # $1: cargo feature flags
+  (cd tests/no-panic && cargo build -q --release --target-dir target $1)
+  "$nm_tool" -C "tests/no-panic/target/thumbv7em-none-eabihf/release/angletrack-no-panic"
+}
+panics='rust_begin_unwind|core::panicking::'
+if image_symbols "" | grep -E "$panics"; then
+  echo "FAIL: a panic path remains in the f32 update (symbols above)" >&2; exit 1
+fi
+if image_symbols "--no-default-features" | grep -E "$panics|__aeabi_d|df3"; then
+  echo "FAIL: the Fast-only f32 image has a panic path or f64 software routines (above)" >&2; exit 1
+fi
+if ! image_symbols "--features panic-control" | grep -qE "$panics"; then
+  echo "FAIL: the negative control (a call that can panic) was not detected" >&2; exit 1
+fi
+echo "no panic path; no f64 routine on the Fast path; the negative control is detected"
+
+echo "--- Miri: the core's unit tests"
+rustup toolchain install nightly --profile minimal >/dev/null 2>&1 || true
+rustup +nightly component add miri rust-src >/dev/null
+cargo +nightly miri test -p angletrack-core --lib
+
+echo "--- fuzzing (${fuzz_seconds} s per target)"
+if ! cargo fuzz --version 2>/dev/null | grep -q "0.13"; then
+  cargo install cargo-fuzz --version 0.13.2 --locked
+fi
+log=$(mktemp)
+for target in $(cd fuzz && cargo +nightly fuzz list); do
+  mkdir -p "fuzz/corpus/$target"
+  status=0
+  (cd fuzz && cargo +nightly fuzz run "$target" "corpus/$target" -- -max_len=4096 \
+    -max_total_time="$fuzz_seconds" -print_final_stats=1) >"$log" 2>&1 || status=$?
+  grep -E "^Done|stat::number_of_executed_units|panicked|SUMMARY|ERROR" "$log" || true
+  if [ "$status" -ne 0 ]; then
+    tail -n 40 "$log" >&2
+    echo "FAIL: fuzz target $target failed (status $status)" >&2; exit 1
+  fi
+done

@@ -1,0 +1,61 @@
+//! Every f32 per-sample entry point of the core, fed with values the optimiser cannot see
+//! (`black_box`). The panic handler below is only kept by the linker if some path of these
+//! calls can panic; `scripts/test.d/40-robustness.sh` fails when its symbol is in the image.
+#![no_std]
+#![no_main]
+
+use core::hint::black_box;
+
+use angletrack_core::{
+    AngleTrackingObserver, Estimate, Exact, Fast, Gains, Observer, ObserverState, Order, SinCos,
+    SupportedOrder,
+};
+use cortex_m_rt::entry;
+
+fn exercise<const N: usize, S: SinCos<f32>>(l: [f32; N]) -> f32
+where
+    Order<N>: SupportedOrder,
+{
+    let Ok(gains) = Gains::<f32, N, S>::new(black_box(l), black_box(1e-4)) else {
+        return 0.0;
+    };
+    let mut state = ObserverState::new();
+    let mut sum = 0.0;
+    for _ in 0..black_box(8) {
+        let e = gains.update(&mut state, black_box(0.5), black_box(0.5));
+        sum += e.angle + e.speed + e.acceleration + e.phase_error + e.faults.bits() as f32;
+    }
+    let samples = black_box([0.25f32; 16]);
+    let mut out = [Estimate::default(); 16];
+    let n = gains.update_block(&mut state, &samples, &samples, &mut out);
+    gains.update_each(&mut state, &samples, &samples, |k, e| sum += e.angle * k as f32);
+    let mut observer = Observer::new(gains);
+    sum += observer.update(black_box(1.0), black_box(0.0)).angle;
+    sum + out[black_box(3) % 16].angle + n as f32 + state.clear_faults().bits() as f32
+}
+
+#[entry]
+fn main() -> ! {
+    let mut sum = exercise::<2, Fast>([0.06, 0.001]);
+    sum += exercise::<3, Fast>([0.06, 0.0019, 3e-5]);
+    if cfg!(feature = "exact") {
+        sum += exercise::<2, Exact>([0.06, 0.001]);
+        sum += exercise::<3, Exact>([0.06, 0.0019, 3e-5]);
+    }
+    if cfg!(feature = "panic-control") {
+        let table = black_box([1.0f32; 4]);
+        sum += table[black_box(7usize)];
+    }
+    black_box(sum);
+    loop {
+        black_box(());
+    }
+}
+
+/// Kept in the image only if a panic path remains.
+#[panic_handler]
+fn angletrack_panic_path_exists(_: &core::panic::PanicInfo) -> ! {
+    loop {
+        black_box(());
+    }
+}

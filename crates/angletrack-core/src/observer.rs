@@ -310,6 +310,8 @@ where
 
     /// Sets the state from one sample: angle `atan2(y_s, y_c)`, speed and acceleration 0,
     /// turns 0, faults cleared. A non-finite sample leaves the state unchanged.
+    #[cold]
+    #[inline(never)]
     pub fn initialise(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) {
         let angle = y_s.atan2(y_c);
         if angle.is_finite() {

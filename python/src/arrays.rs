@@ -112,30 +112,35 @@ impl<T: Element> Samples<'_, T> {
     }
 }
 
+/// An array as it is, or anything else (a list) converted to an array of `T`.
+fn as_array<'py, T: Element>(
+    obj: &Bound<'py, PyAny>,
+    parameter: &'static str,
+) -> Result<Bound<'py, PyUntypedArray>> {
+    if let Ok(array) = obj.cast::<PyUntypedArray>() {
+        return Ok(array.clone());
+    }
+    let py = obj.py();
+    PyModule::import(py, "numpy")?
+        .getattr("asarray")?
+        .call1((obj, dtype::<T>(py)))
+        .map_err(|e| {
+            Error::value(
+                parameter,
+                format!("cannot be read as an array of floats ({e})"),
+            )
+        })?
+        .cast_into::<PyUntypedArray>()
+        .map_err(|e| Error::Python(e.into()))
+}
+
 /// The samples of argument `parameter`, checked against the rules of this module.
 pub fn samples<'py, T: Element + Copy>(
     obj: &Bound<'py, PyAny>,
     parameter: &'static str,
 ) -> Result<Samples<'py, T>> {
     let py = obj.py();
-    let array: Bound<'py, PyUntypedArray> = match obj.cast::<PyUntypedArray>() {
-        Ok(array) => array.clone(),
-        Err(_) => {
-            let numpy = PyModule::import(py, "numpy")?;
-            let converted = numpy
-                .getattr("asarray")?
-                .call1((obj, dtype::<T>(py)))
-                .map_err(|e| {
-                    Error::value(
-                        parameter,
-                        format!("cannot be read as an array of floats ({e})"),
-                    )
-                })?;
-            converted
-                .cast_into::<PyUntypedArray>()
-                .map_err(|e| Error::Python(e.into()))?
-        }
-    };
+    let array = as_array::<T>(obj, parameter)?;
     if array.ndim() != 1 {
         return Err(Error::value(
             parameter,
@@ -214,22 +219,8 @@ pub fn channel_samples<'py, T: Element + Copy>(
     obj: &Bound<'py, PyAny>,
     parameter: &'static str,
 ) -> Result<(Samples<'py, T>, usize, usize)> {
-    let py = obj.py();
-    let numpy = PyModule::import(py, "numpy")?;
-    let array = match obj.cast::<PyUntypedArray>() {
-        Ok(array) => array.clone(),
-        Err(_) => numpy
-            .getattr("asarray")?
-            .call1((obj, dtype::<T>(py)))
-            .map_err(|e| {
-                Error::value(
-                    parameter,
-                    format!("cannot be read as an array of floats ({e})"),
-                )
-            })?
-            .cast_into::<PyUntypedArray>()
-            .map_err(|e| Error::Python(e.into()))?,
-    };
+    let numpy = PyModule::import(obj.py(), "numpy")?;
+    let array = as_array::<T>(obj, parameter)?;
     if array.ndim() != 2 {
         return Err(Error::value(
             parameter,

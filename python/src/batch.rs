@@ -1,14 +1,14 @@
 //! `ObserverBatch` and `track_batch`: many channels on one gain set (the design crate's
 //! `ChannelBatch`, run by the core's vectorisable `ChannelBank`s) on 2-D numpy arrays.
 
-use angletrack::{BatchColumns, ChannelBatch};
+use angletrack::ChannelBatch;
 use angletrack_core::{Exact, Fast, Gains as CoreGains, Order, Real, SinCos, SupportedOrder};
-use numpy::{Element, PyArray1};
+use numpy::Element;
 use pyo3::prelude::*;
 
-use crate::arrays::{Float, as_slice_mut, channel_samples, writable};
+use crate::arrays::{Float, channel_samples};
 use crate::errors::{Error, Result};
-use crate::observer::{Estimates, GainSet, PyGains, SinCosKind};
+use crate::observer::{Estimates, GainSet, OutputArrays, PyGains, SinCosKind};
 
 /// A batch of any float type, order and sin/cos.
 #[derive(Debug, Clone)]
@@ -98,47 +98,10 @@ where
             ),
         ));
     }
-    let n = channels_c * samples;
-    let angle = PyArray1::<T>::zeros(py, n, false);
-    let position = PyArray1::<f64>::zeros(py, n, false);
-    let speed = PyArray1::<T>::zeros(py, n, false);
-    let acceleration = PyArray1::<T>::zeros(py, n, false);
-    let phase_error = PyArray1::<T>::zeros(py, n, false);
-    let faults = PyArray1::<u8>::zeros(py, n, false);
-    {
-        let mut w = (
-            writable(&angle)?,
-            writable(&position)?,
-            writable(&speed)?,
-            writable(&acceleration)?,
-            writable(&phase_error)?,
-            writable(&faults)?,
-        );
-        let columns = BatchColumns {
-            angle: as_slice_mut(&mut w.0)?,
-            position: as_slice_mut(&mut w.1)?,
-            speed: as_slice_mut(&mut w.2)?,
-            acceleration: as_slice_mut(&mut w.3)?,
-            phase_error: as_slice_mut(&mut w.4)?,
-            faults: as_slice_mut(&mut w.5)?,
-        };
-        let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
-        py.detach(|| batch.run(y_c, y_s, samples, columns))?;
-    }
-    let shape = (channels_c, samples);
-    let shaped = |a: Bound<'_, PyAny>| -> Result<Py<PyAny>> {
-        Ok(a.call_method1("reshape", shape)?.unbind())
-    };
-    Ok(Estimates {
-        len: samples,
-        dtype: numpy::dtype::<T>(py).to_string(),
-        angle: shaped(angle.into_any())?,
-        position: shaped(position.into_any())?,
-        speed: shaped(speed.into_any())?,
-        acceleration: shaped(acceleration.into_any())?,
-        phase_error: shaped(phase_error.into_any())?,
-        faults: shaped(faults.into_any())?,
-    })
+    let out = OutputArrays::<T>::new(py, channels_c * samples);
+    let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
+    out.fill(py, |columns| batch.run(y_c, y_s, samples, columns))??;
+    out.into_estimates(samples, Some((channels_c, samples)))
 }
 
 /// Many independent observers on one gain set: `channels` channels (several axes, a Monte

@@ -13,6 +13,8 @@ use angletrack_core::{
 use numpy::{Element, PyArray1};
 use pyo3::prelude::*;
 
+use angletrack::BatchColumns;
+
 use crate::arrays::{Float, as_slice_mut, check_equal_lengths, samples, writable};
 use crate::errors::{Error, Result};
 
@@ -482,43 +484,106 @@ impl AnyObserver {
     }
 }
 
-/// The per-sample outputs of a run: one preallocated slice per quantity, filled in place.
-struct Columns<'a, T> {
-    angle: &'a mut [T],
-    position: &'a mut [f64],
-    speed: &'a mut [T],
-    acceleration: &'a mut [T],
-    phase_error: &'a mut [T],
-    faults: &'a mut [u8],
+/// Runs `observer` over `y_c`, `y_s` into the columns (all of equal length, checked by the
+/// caller). Called with the GIL released: no Python object is touched.
+fn run_columns<T: Real, const N: usize, S: SinCos<T>>(
+    columns: BatchColumns<'_, T>,
+    observer: &mut CoreObserver<T, N, S>,
+    y_c: &[T],
+    y_s: &[T],
+) where
+    Order<N>: SupportedOrder,
+{
+    let n = y_c.len().min(y_s.len()).min(columns.angle.len());
+    // Slices of one length: the bounds checks of the loop below are removed.
+    let (y_c, y_s) = (&y_c[..n], &y_s[..n]);
+    let (angle, position) = (&mut columns.angle[..n], &mut columns.position[..n]);
+    let (speed, acceleration) = (&mut columns.speed[..n], &mut columns.acceleration[..n]);
+    let (phase_error, faults) = (&mut columns.phase_error[..n], &mut columns.faults[..n]);
+    let (gains, state) = (&observer.gains, &mut observer.state);
+    for k in 0..n {
+        let e = gains.update(state, y_c[k], y_s[k]);
+        angle[k] = e.angle;
+        position[k] = e.position();
+        speed[k] = e.speed;
+        acceleration[k] = e.acceleration;
+        phase_error[k] = e.phase_error;
+        faults[k] = e.faults.bits();
+    }
 }
 
-impl<T: Real> Columns<'_, T> {
-    /// Runs `observer` over `y_c`, `y_s` into the columns (all of equal length, checked by
-    /// the caller). Called with the GIL released: no Python object is touched.
-    fn run<const N: usize, S: SinCos<T>>(
-        self,
-        observer: &mut CoreObserver<T, N, S>,
-        y_c: &[T],
-        y_s: &[T],
-    ) where
-        Order<N>: SupportedOrder,
-    {
-        let n = y_c.len().min(y_s.len()).min(self.angle.len());
-        // Slices of one length: the bounds checks of the loop below are removed.
-        let (y_c, y_s) = (&y_c[..n], &y_s[..n]);
-        let (angle, position) = (&mut self.angle[..n], &mut self.position[..n]);
-        let (speed, acceleration) = (&mut self.speed[..n], &mut self.acceleration[..n]);
-        let (phase_error, faults) = (&mut self.phase_error[..n], &mut self.faults[..n]);
-        let (gains, state) = (&observer.gains, &mut observer.state);
-        for k in 0..n {
-            let e = gains.update(state, y_c[k], y_s[k]);
-            angle[k] = e.angle;
-            position[k] = e.position();
-            speed[k] = e.speed;
-            acceleration[k] = e.acceleration;
-            phase_error[k] = e.phase_error;
-            faults[k] = e.faults.bits();
+/// The output arrays of a run, allocated by numpy (which asks for huge pages on large
+/// arrays) and written in place.
+pub(crate) struct OutputArrays<'py, T: Element> {
+    angle: Bound<'py, PyArray1<T>>,
+    position: Bound<'py, PyArray1<f64>>,
+    speed: Bound<'py, PyArray1<T>>,
+    acceleration: Bound<'py, PyArray1<T>>,
+    phase_error: Bound<'py, PyArray1<T>>,
+    faults: Bound<'py, PyArray1<u8>>,
+}
+
+impl<'py, T: Real + Element> OutputArrays<'py, T> {
+    /// `n` elements per quantity.
+    pub(crate) fn new(py: Python<'py>, n: usize) -> Self {
+        Self {
+            angle: PyArray1::zeros(py, n, false),
+            position: PyArray1::zeros(py, n, false),
+            speed: PyArray1::zeros(py, n, false),
+            acceleration: PyArray1::zeros(py, n, false),
+            phase_error: PyArray1::zeros(py, n, false),
+            faults: PyArray1::zeros(py, n, false),
         }
+    }
+
+    /// Calls `fill` with the arrays' slices, the GIL released.
+    pub(crate) fn fill<R: Send>(
+        &self,
+        py: Python<'_>,
+        fill: impl FnOnce(BatchColumns<'_, T>) -> R + Send,
+    ) -> Result<R> {
+        let mut w = (
+            writable(&self.angle)?,
+            writable(&self.position)?,
+            writable(&self.speed)?,
+            writable(&self.acceleration)?,
+            writable(&self.phase_error)?,
+            writable(&self.faults)?,
+        );
+        let columns = BatchColumns {
+            angle: as_slice_mut(&mut w.0)?,
+            position: as_slice_mut(&mut w.1)?,
+            speed: as_slice_mut(&mut w.2)?,
+            acceleration: as_slice_mut(&mut w.3)?,
+            phase_error: as_slice_mut(&mut w.4)?,
+            faults: as_slice_mut(&mut w.5)?,
+        };
+        Ok(py.detach(|| fill(columns)))
+    }
+
+    /// The `Estimates` of `len` samples, each array reshaped to `shape` if given.
+    pub(crate) fn into_estimates(
+        self,
+        len: usize,
+        shape: Option<(usize, usize)>,
+    ) -> Result<Estimates> {
+        let py = self.angle.py();
+        let shaped = |a: Bound<'py, PyAny>| -> Result<Py<PyAny>> {
+            Ok(match shape {
+                Some(shape) => a.call_method1("reshape", shape)?.unbind(),
+                None => a.unbind(),
+            })
+        };
+        Ok(Estimates {
+            len,
+            dtype: numpy::dtype::<T>(py).to_string(),
+            angle: shaped(self.angle.into_any())?,
+            position: shaped(self.position.into_any())?,
+            speed: shaped(self.speed.into_any())?,
+            acceleration: shaped(self.acceleration.into_any())?,
+            phase_error: shaped(self.phase_error.into_any())?,
+            faults: shaped(self.faults.into_any())?,
+        })
     }
 }
 
@@ -535,43 +600,9 @@ where
     let y_s = samples::<T>(y_s, "y_s")?;
     let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
     check_equal_lengths(("y_c", y_c.len()), ("y_s", y_s.len()))?;
-    let n = y_c.len();
-    // Allocated by numpy (which asks for huge pages on large arrays), written in place.
-    let angle = PyArray1::<T>::zeros(py, n, false);
-    let position = PyArray1::<f64>::zeros(py, n, false);
-    let speed = PyArray1::<T>::zeros(py, n, false);
-    let acceleration = PyArray1::<T>::zeros(py, n, false);
-    let phase_error = PyArray1::<T>::zeros(py, n, false);
-    let faults = PyArray1::<u8>::zeros(py, n, false);
-    {
-        let mut w = (
-            writable(&angle)?,
-            writable(&position)?,
-            writable(&speed)?,
-            writable(&acceleration)?,
-            writable(&phase_error)?,
-            writable(&faults)?,
-        );
-        let columns = Columns {
-            angle: as_slice_mut(&mut w.0)?,
-            position: as_slice_mut(&mut w.1)?,
-            speed: as_slice_mut(&mut w.2)?,
-            acceleration: as_slice_mut(&mut w.3)?,
-            phase_error: as_slice_mut(&mut w.4)?,
-            faults: as_slice_mut(&mut w.5)?,
-        };
-        py.detach(|| columns.run(observer, y_c, y_s));
-    }
-    Ok(Estimates {
-        len: n,
-        dtype: numpy::dtype::<T>(py).to_string(),
-        angle: angle.into_any().unbind(),
-        position: position.into_any().unbind(),
-        speed: speed.into_any().unbind(),
-        acceleration: acceleration.into_any().unbind(),
-        phase_error: phase_error.into_any().unbind(),
-        faults: faults.into_any().unbind(),
-    })
+    let out = OutputArrays::<T>::new(py, y_c.len());
+    out.fill(py, |columns| run_columns(columns, observer, y_c, y_s))?;
+    out.into_estimates(y_c.len(), None)
 }
 
 /// What an observer knows after its last sample (scalars, in `float`).

@@ -80,7 +80,9 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
     /// counted), speed (rad/s) and acceleration (rad/s^2; ignored at order 2), for the
     /// given sample period `sample_period` (s).
     ///
-    /// Non-finite values are replaced by 0.
+    /// Non-finite values are replaced by 0. Speed and acceleration are limited to what a
+    /// sampled loop can represent: half a turn per sample (`pi / Ts` rad/s, beyond which
+    /// the angle aliases) and `pi / Ts^2` rad/s^2, so that no state starts near overflow.
     ///
     /// ```
     /// use angletrack_core::ObserverState;
@@ -91,14 +93,15 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
     /// ```
     pub fn at(angle: T, speed: T, acceleration: T, sample_period: T) -> Self {
         let finite_or_zero = |v: T| if v.is_finite() { v } else { T::ZERO };
+        let limited = |v: T| finite_or_zero(v).max(-T::PI).min(T::PI);
         let mut x = [T::ZERO; N];
         x[0] = finite_or_zero(angle);
         let turns = wrap_angle(&mut x[0]) as i64;
         if N > 1 {
-            x[1] = finite_or_zero(speed * sample_period);
+            x[1] = limited(speed * sample_period);
         }
         if N > 2 {
-            x[2] = finite_or_zero(acceleration * sample_period * sample_period);
+            x[2] = limited(acceleration * sample_period * sample_period);
         }
         Self {
             x,

@@ -413,3 +413,18 @@ fn fault_thresholds_are_checked_naming_the_parameter() {
             .is_ok()
     );
 }
+
+#[test]
+fn a_state_started_at_absurd_speed_and_acceleration_stays_finite_while_coasting() {
+    // Found by the fuzzer: x = (0, 3.4e38, 1.9e38) overflowed in the prediction.
+    let gains = Gains::<f32, 3>::new([0.06, 0.0019, 3e-5], 1e-4).unwrap();
+    let mut state = ObserverState::at(0.0, f32::MAX, f32::MAX, 1e-4);
+    assert_eq!(state.scaled_state()[1], core::f32::consts::PI);
+    for _ in 0..n(10_000) {
+        gains.update(&mut state, f32::NAN, 0.0);
+        assert!(
+            state.scaled_state().iter().all(|x| x.is_finite()),
+            "{state:?}"
+        );
+    }
+}

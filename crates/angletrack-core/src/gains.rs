@@ -309,8 +309,9 @@ where
     /// Checks and wraps discrete gains `l` (dimensionless, for the scaled state) and the
     /// sample period `sample_period` (s).
     ///
-    /// Refuses non-finite values, a non-positive sample period and gains outside the
-    /// stability region of the discrete loop (see [`ConfigError`]).
+    /// Refuses non-finite values, a non-positive sample period or one outside
+    /// [1 ps, 1000 s], and gains outside the stability region of the discrete loop (see
+    /// [`ConfigError`]).
     ///
     /// ```
     /// use angletrack_core::{Gains, ConfigError, Parameter};
@@ -324,10 +325,12 @@ where
     /// ```
     pub fn new(l: [T; N], sample_period: T) -> Result<Self, ConfigError> {
         let sample_period = check_positive(sample_period, Parameter::SamplePeriod)?;
-        let sample_rate = T::ONE / sample_period;
-        if !sample_rate.is_finite() || !(sample_rate * sample_rate).is_finite() {
+        // A physical range (1 ps to 1000 s): speed and acceleration are the scaled state
+        // times 1/Ts and 1/Ts^2, which must not overflow for any state the loop can reach.
+        if !(sample_period >= T::from_f32(1e-12) && sample_period <= T::from_f32(1e3)) {
             return Err(ConfigError::OutOfRange(Parameter::SamplePeriod));
         }
+        let sample_rate = T::ONE / sample_period;
         for (i, gain) in l.iter().enumerate() {
             if !gain.is_finite() {
                 return Err(ConfigError::NotFinite(Parameter::gain(i)));

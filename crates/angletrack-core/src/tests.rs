@@ -332,6 +332,11 @@ fn bad_configuration_is_refused_naming_the_parameter() {
     assert_eq!(e, ConfigError::NotFinite(Parameter::SpeedGain));
     let e = Gains::<f32, 2>::new([0.1, 0.01], 1e-39).unwrap_err();
     assert_eq!(e, ConfigError::OutOfRange(Parameter::SamplePeriod));
+    let e = Gains::<f64, 2>::new([0.1, 0.01], 1.4e-148).unwrap_err();
+    assert_eq!(e, ConfigError::OutOfRange(Parameter::SamplePeriod));
+    let e = Gains::<f64, 2>::new([0.1, 0.01], 1e4).unwrap_err();
+    assert_eq!(e, ConfigError::OutOfRange(Parameter::SamplePeriod));
+    assert!(Gains::<f32, 2>::new([0.1, 0.01], 1e-12).is_ok());
     let text = std::format!("{}", ConfigError::NotFinite(Parameter::SpeedGain));
     assert_eq!(text, "speed_gain (l2) must be finite");
 }

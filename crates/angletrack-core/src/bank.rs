@@ -2,7 +2,7 @@
 
 use crate::gains::{Gains, Order, SupportedOrder};
 use crate::monitor::Faults;
-use crate::observer::{Estimate, wrap_angle};
+use crate::observer::{Estimate, sample_angle};
 use crate::real::Real;
 use crate::sincos::SinCos;
 
@@ -127,7 +127,7 @@ where
         for (i, xi) in x.iter_mut().enumerate() {
             *xi = bank.x[i][lane];
         }
-        let valid = c * c + s * s <= self.thresholds.max_input2;
+        let (_, valid) = self.thresholds.accept(c, s);
         let (eps, _, _, whole) = self.step(&mut x, c, s, valid);
         bank.turns[lane] = bank.turns[lane].wrapping_add(whole);
         for (i, xi) in x.iter().enumerate() {
@@ -192,11 +192,10 @@ where
                 self.update_lane(bank, lane, c, s);
                 continue;
             }
-            let valid = c * c + s * s <= self.thresholds.max_input2;
+            let (_, valid) = self.thresholds.accept(c, s);
             bank.rejected[lane] = !valid;
-            if valid {
-                let mut angle = s.atan2(c);
-                bank.turns[lane] = wrap_angle(&mut angle);
+            if let (true, Some((angle, whole))) = (valid, sample_angle(c, s)) {
+                bank.turns[lane] = whole;
                 bank.x[0][lane] = angle;
                 bank.pending[lane] = false;
             }

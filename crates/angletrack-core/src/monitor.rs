@@ -297,6 +297,14 @@ impl<T: Real> MonitorState<T> {
 }
 
 impl<T: Real> CheckedThresholds<T> {
+    /// `y_c^2 + y_s^2` of a sample and whether it is accepted: finite and within the input
+    /// bound (NaN compares false, so it is refused).
+    #[inline(always)]
+    pub(crate) fn accept(&self, y_c: T, y_s: T) -> (T, bool) {
+        let amplitude2 = y_c * y_c + y_s * y_s;
+        (amplitude2, amplitude2 <= self.max_input2)
+    }
+
     /// Updates the filters with one accepted sample and returns its flags; the second value
     /// is `true` when the angle must be re-acquired (false lock).
     #[inline(always)]

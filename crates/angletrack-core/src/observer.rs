@@ -148,6 +148,12 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
         self.monitor.latched
     }
 
+    /// Marks the current sample as rejected (flag and latch).
+    fn reject_sample(&mut self) {
+        self.faults = Faults::BAD_SAMPLE;
+        self.monitor.latched |= Faults::BAD_SAMPLE;
+    }
+
     /// Returns the latched faults and clears them; a fault still present sets its flag
     /// again at the next sample.
     ///
@@ -191,6 +197,18 @@ pub(crate) fn wrap_angle<T: Real>(angle: &mut T) -> i32 {
     };
     *angle = wrapped;
     whole
+}
+
+/// The angle of one sample, `atan2(y_s, y_c)` wrapped to [-pi, pi), and the whole turns the
+/// wrap removed; `None` for a non-finite sample. Initialises single observers and banks.
+#[inline]
+pub(crate) fn sample_angle<T: Real>(y_c: T, y_s: T) -> Option<(T, i32)> {
+    let mut angle = y_s.atan2(y_c);
+    if !angle.is_finite() {
+        return None;
+    }
+    let whole = wrap_angle(&mut angle);
+    Some((angle, whole))
 }
 
 /// The rare case of [`wrap_angle`]: `a` outside [-pi, pi) or not finite.
@@ -242,14 +260,12 @@ where
     /// panics, and the state stays finite.
     #[inline]
     pub fn update(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) -> Estimate<T> {
-        let amplitude2 = y_c * y_c + y_s * y_s;
-        let valid = amplitude2 <= self.thresholds.max_input2;
+        let (amplitude2, valid) = self.thresholds.accept(y_c, y_s);
         if !state.initialised {
             if valid {
                 self.initialise(state, y_c, y_s);
             } else {
-                state.faults = Faults::BAD_SAMPLE;
-                state.monitor.latched |= Faults::BAD_SAMPLE;
+                state.reject_sample();
             }
             return self.estimate(state);
         }
@@ -258,8 +274,7 @@ where
         state.phase_error = eps;
         state.faults = Faults::NONE;
         if !valid {
-            state.faults = Faults::BAD_SAMPLE;
-            state.monitor.latched |= Faults::BAD_SAMPLE;
+            state.reject_sample();
         } else if self.thresholds.thresholds.monitor {
             let speed = if N > 1 { state.x[1] } else { T::ZERO };
             let in_phase = y_c * cos + y_s * sin;
@@ -316,11 +331,10 @@ where
     #[cold]
     #[inline(never)]
     pub fn initialise(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) {
-        let angle = y_s.atan2(y_c);
-        if angle.is_finite() {
+        if let Some((angle, whole)) = sample_angle(y_c, y_s) {
             *state = ObserverState::new();
             state.x[0] = angle;
-            state.turns = wrap_angle(&mut state.x[0]) as i64;
+            state.turns = whole as i64;
             state.initialised = true;
         }
     }

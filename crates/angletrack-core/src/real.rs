@@ -82,10 +82,6 @@ pub trait Real:
     fn from_f64(x: f64) -> Self;
     /// Conversion to `f64` (exact for both types); meant for host-side code.
     fn to_f64(self) -> f64;
-    /// Conversion from a whole number of turns' count, rounding to the nearest value.
-    fn from_i64(n: i64) -> Self;
-    /// Saturating conversion to `i64`, rounding towards zero (NaN gives 0).
-    fn to_i64_saturating(self) -> i64;
     /// The largest integer not greater than `self`, as a saturating `i32` (NaN gives 0).
     /// Pure arithmetic (a truncating conversion and a comparison), no library call.
     fn floor_to_i32(self) -> i32;
@@ -180,14 +176,6 @@ macro_rules! impl_real {
             #[inline(always)]
             fn to_f64(self) -> f64 {
                 self as f64
-            }
-            #[inline(always)]
-            fn from_i64(n: i64) -> Self {
-                n as $t
-            }
-            #[inline(always)]
-            fn to_i64_saturating(self) -> i64 {
-                self as i64
             }
             #[inline(always)]
             fn floor_to_i32(self) -> i32 {

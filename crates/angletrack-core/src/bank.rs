@@ -2,7 +2,7 @@
 
 use crate::gains::{Gains, Order, SupportedOrder};
 use crate::monitor::Faults;
-use crate::observer::{Estimate, sample_angle};
+use crate::observer::{Estimate, FullWrap, OneTurnWrap, Wrap, sample_angle};
 use crate::real::Real;
 use crate::sincos::SinCos;
 
@@ -110,13 +110,59 @@ where
             self.initialise_bank(bank, y_c, y_s);
             return;
         }
+        if !self.lanes_within_one_turn(bank) {
+            self.update_lanes_one_by_one(bank, y_c, y_s);
+            return;
+        }
+        // Side by side: the same operations on every lane and no branch (the wrap is by
+        // selects), so the compiler vectorises this loop.
         for lane in 0..L {
-            self.update_lane(bank, lane, y_c[lane], y_s[lane]);
+            self.update_lane::<OneTurnWrap, L>(bank, lane, y_c[lane], y_s[lane]);
         }
     }
 
+    /// Whether no angle of this sample can go more than about one turn off [-pi, pi), so
+    /// that [`OneTurnWrap`] does the wrap of every lane: the predicted angle
+    /// `theta + Ts Omega + Ts^2 alpha / 2` stays within 2 pi when every lane's speed and
+    /// acceleration (scaled) satisfy `|Ts Omega| + |Ts^2 alpha| <= pi` (a speed of half a turn
+    /// per sample, beyond anything a loop tracks), and the correction `l1 eps` within pi when
+    /// `l1` times the largest accepted amplitude is (true of any gain designed for the
+    /// nominal amplitude).
     #[inline(always)]
-    fn update_lane<const L: usize>(
+    fn lanes_within_one_turn<const L: usize>(&self, bank: &ChannelBank<T, N, L>) -> bool {
+        let l1 = self.l[0];
+        if !(l1 * l1 * self.thresholds.max_input2 <= T::PI * T::PI) {
+            return false;
+        }
+        let mut within = true;
+        for lane in 0..L {
+            let mut motion = T::ZERO;
+            for xi in &bank.x[1..] {
+                motion += xi[lane].abs();
+            }
+            within &= motion <= T::PI;
+        }
+        within
+    }
+
+    /// The update of a bank whose lanes may go more than a turn off in one sample (see
+    /// [`Gains::lanes_within_one_turn`]): lane by lane, with the single observer's wrap.
+    #[cold]
+    #[inline(never)]
+    fn update_lanes_one_by_one<const L: usize>(
+        &self,
+        bank: &mut ChannelBank<T, N, L>,
+        y_c: &[T; L],
+        y_s: &[T; L],
+    ) {
+        for lane in 0..L {
+            self.update_lane::<FullWrap, L>(bank, lane, y_c[lane], y_s[lane]);
+        }
+    }
+
+    /// One lane of a bank: the recursion with the wrap `W`.
+    #[inline(always)]
+    fn update_lane<W: Wrap, const L: usize>(
         &self,
         bank: &mut ChannelBank<T, N, L>,
         lane: usize,
@@ -128,12 +174,12 @@ where
             *xi = bank.x[i][lane];
         }
         let (_, valid) = self.thresholds.accept(c, s);
-        let (eps, _, _, whole) = self.step(&mut x, c, s, valid);
-        bank.turns[lane] = bank.turns[lane].wrapping_add(whole);
+        let step = self.step::<W>(&mut x, c, s, valid);
+        bank.turns[lane] = bank.turns[lane].wrapping_add(step.whole);
         for (i, xi) in x.iter().enumerate() {
             bank.x[i][lane] = *xi;
         }
-        bank.phase_error[lane] = eps;
+        bank.phase_error[lane] = step.eps;
         bank.rejected[lane] = !valid;
     }
 
@@ -189,7 +235,7 @@ where
         for lane in 0..L {
             let (c, s) = (y_c[lane], y_s[lane]);
             if !bank.pending[lane] {
-                self.update_lane(bank, lane, c, s);
+                self.update_lane::<FullWrap, L>(bank, lane, c, s);
                 continue;
             }
             let (_, valid) = self.thresholds.accept(c, s);

@@ -148,6 +148,17 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
         self.monitor.latched
     }
 
+    /// Starts again at `angle` (rad, wrapped) and `whole` turns, speed and acceleration 0,
+    /// filters empty, with the faults `latched`.
+    #[inline(always)]
+    fn restart(&mut self, angle: T, whole: i32, latched: Faults) {
+        *self = Self::new();
+        self.x[0] = angle;
+        self.turns = whole as i64;
+        self.monitor.latched = latched;
+        self.initialised = true;
+    }
+
     /// Marks the current sample as rejected (flag and latch).
     fn reject_sample(&mut self) {
         self.faults = Faults::BAD_SAMPLE;
@@ -178,30 +189,26 @@ const fn zero<T: Real>() -> T {
 
 /// Wraps `angle` into [-pi, pi) and returns the whole turns removed.
 ///
-/// The usual case, no wrap, is one comparison. Otherwise the whole turns are
-/// removed in two parts (Cody-Waite): for one turn the first subtraction is exact
-/// (Sterbenz), so the wrapped angle loses no precision however many turns have been
-/// counted. The code calls no function, so that a loop over channels
-/// ([`ChannelBank`](crate::ChannelBank)) can be vectorised. A non-finite angle, or one too
-/// large for its turns to be counted, becomes 0.
+/// The usual case, no wrap, is one comparison and a branch; everything else is out of line
+/// ([`wrap_whole_turns`]). A non-finite angle, or one too large for its turns to be counted,
+/// becomes 0.
 #[inline(always)]
 pub(crate) fn wrap_angle<T: Real>(angle: &mut T) -> i32 {
-    let a = *angle;
-    // Values, not stores, leave the branch: the vectoriser can turn it into selects.
     // One comparison: |a| < pi (false for NaN). The edge a = -pi takes the rare path, which
     // keeps it.
-    let (wrapped, whole) = if a.abs() < T::PI {
-        (a, 0)
-    } else {
-        wrap_whole_turns(a)
-    };
+    if angle.abs() < T::PI {
+        return 0;
+    }
+    let (wrapped, whole) = wrap_whole_turns(*angle);
     *angle = wrapped;
     whole
 }
 
 /// The angle of one sample, `atan2(y_s, y_c)` wrapped to [-pi, pi), and the whole turns the
-/// wrap removed; `None` for a non-finite sample. Initialises single observers and banks.
-#[inline]
+/// wrap removed; `None` for a non-finite sample. Initialises single observers and banks; out
+/// of line and a function of values only (see [`Gains::update`]).
+#[cold]
+#[inline(never)]
 pub(crate) fn sample_angle<T: Real>(y_c: T, y_s: T) -> Option<(T, i32)> {
     let mut angle = y_s.atan2(y_c);
     if !angle.is_finite() {
@@ -211,9 +218,59 @@ pub(crate) fn sample_angle<T: Real>(y_c: T, y_s: T) -> Option<(T, i32)> {
     Some((angle, whole))
 }
 
-/// The rare case of [`wrap_angle`]: `a` outside [-pi, pi) or not finite.
+/// At most one turn off [-pi, pi): `a - k 2 pi` for `k` in {-1, 0, 1}, by selects and no
+/// branch (so that a loop over the lanes of a [`ChannelBank`](crate::ChannelBank)
+/// vectorises), with 2 pi in two parts (Cody-Waite): `a - TAU_HI` is exact (Sterbenz), so the
+/// wrapped angle loses no precision however many turns have been counted. Returns the
+/// wrapped angle and `k`.
+///
+/// For |a| < [`one_turn_limit`] the result is in [-pi, pi): in `f32`, `TAU_LO < 0` and `PI` lies
+/// above pi, so rounding cannot cross an edge; in `f64` it can, and
+/// [`Real::ONE_TURN_EDGE_FIX`] adds the move by one more turn that puts it back.
 #[inline(always)]
-fn wrap_whole_turns<T: Real>(a: T) -> (T, i32) {
+pub(crate) fn wrap_one_turn<T: Real>(a: T) -> (T, i32) {
+    let up = a >= T::PI;
+    let down = a < -T::PI;
+    let k = if up {
+        T::ONE
+    } else if down {
+        -T::ONE
+    } else {
+        T::ZERO
+    };
+    // k = 0 gives back a exactly.
+    let wrapped = (a - k * T::TAU_HI) - k * T::TAU_LO;
+    let whole = i32::from(up) - i32::from(down);
+    if !T::ONE_TURN_EDGE_FIX {
+        return (wrapped, whole);
+    }
+    let high = wrapped >= T::PI;
+    let low = wrapped < -T::PI;
+    let wrapped = if high {
+        wrapped - T::TAU
+    } else if low {
+        wrapped + T::TAU
+    } else {
+        wrapped
+    };
+    (wrapped, whole + i32::from(high) - i32::from(low))
+}
+
+/// The largest |angle| (rad) [`wrap_one_turn`] is used on: 2.5 pi, a margin of half a turn
+/// below where one turn would not be enough.
+pub(crate) fn one_turn_limit<T: Real>() -> T {
+    T::PI * T::from_f32(2.5)
+}
+
+/// The rare case of [`wrap_angle`]: `a` outside (-pi, pi), or not finite. Up to
+/// [`one_turn_limit`], exactly as [`wrap_one_turn`] does (so a bank's lanes and a single
+/// observer agree to the bit); more turns are counted with a floor.
+#[cold]
+#[inline(never)]
+pub(crate) fn wrap_whole_turns<T: Real>(a: T) -> (T, i32) {
+    if a.abs() < one_turn_limit() {
+        return wrap_one_turn(a);
+    }
     let whole = ((a + T::PI) * T::FRAC_1_TAU).floor_to_i32();
     let k = T::from_i32(whole);
     let mut wrapped = (a - k * T::TAU_HI) - k * T::TAU_LO;
@@ -233,6 +290,61 @@ fn wrap_whole_turns<T: Real>(a: T) -> (T, i32) {
         // NaN, or a magnitude whose turns do not fit: k * 2 pi is not representable.
         (T::ZERO, 0)
     }
+}
+
+/// False lock: the angle `atan2(y_s, y_c)` reached from `angle` by the shortest way, and the
+/// whole turns crossed on the way (the caller keeps speed and acceleration).
+#[cold]
+#[inline(never)]
+fn re_acquired<T: Real>(angle: T, y_c: T, y_s: T) -> (T, i32) {
+    let mut jump = y_s.atan2(y_c) - angle;
+    wrap_angle(&mut jump);
+    let mut angle = angle + jump;
+    let whole = wrap_angle(&mut angle);
+    (angle, whole)
+}
+
+/// How a step wraps the angle: [`FullWrap`] for a single channel, [`OneTurnWrap`] for the
+/// lanes of a bank.
+pub(crate) trait Wrap {
+    /// Wraps `angle` into [-pi, pi); returns the whole turns removed.
+    fn wrap<T: Real>(angle: &mut T) -> i32;
+}
+
+/// Any number of turns: a comparison and a branch, the rare case out of line.
+pub(crate) struct FullWrap;
+
+/// At most one turn, by selects ([`wrap_one_turn`]): for angles within
+/// [`one_turn_limit`], which the caller makes sure of.
+pub(crate) struct OneTurnWrap;
+
+impl Wrap for FullWrap {
+    #[inline(always)]
+    fn wrap<T: Real>(angle: &mut T) -> i32 {
+        wrap_angle(angle)
+    }
+}
+
+impl Wrap for OneTurnWrap {
+    #[inline(always)]
+    fn wrap<T: Real>(angle: &mut T) -> i32 {
+        let (wrapped, whole) = wrap_one_turn(*angle);
+        *angle = wrapped;
+        whole
+    }
+}
+
+/// What one step of the recursion gives besides the new state.
+#[derive(Clone, Copy)]
+pub(crate) struct Step<T> {
+    /// Phase-detector output (0 for a sample that was not used).
+    pub(crate) eps: T,
+    /// sin of the predicted angle.
+    pub(crate) sin: T,
+    /// cos of the predicted angle.
+    pub(crate) cos: T,
+    /// Whole turns the angle crossed.
+    pub(crate) whole: i32,
 }
 
 impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S>
@@ -260,47 +372,59 @@ where
     /// panics, and the state stays finite.
     #[inline]
     pub fn update(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) -> Estimate<T> {
+        self.update_in_place(state, y_c, y_s)
+    }
+
+    /// The body of [`Gains::update`], inlined into the block APIs so that the state stays in
+    /// registers from one sample to the next.
+    #[inline(always)]
+    fn update_in_place(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) -> Estimate<T> {
         let (amplitude2, valid) = self.thresholds.accept(y_c, y_s);
         if !state.initialised {
-            if valid {
-                self.initialise(state, y_c, y_s);
-            } else {
-                state.reject_sample();
+            // The angle comes from an out-of-line function of values only, so that the state
+            // can live in registers in a loop over samples.
+            match if valid { sample_angle(y_c, y_s) } else { None } {
+                Some((angle, whole)) => state.restart(angle, whole, state.monitor.latched),
+                None => state.reject_sample(),
             }
             return self.estimate(state);
         }
-        let (eps, sin, cos, whole) = self.step(&mut state.x, y_c, y_s, valid);
-        state.turns = state.turns.wrapping_add(whole as i64);
-        state.phase_error = eps;
+        let step = self.step::<FullWrap>(&mut state.x, y_c, y_s, valid);
+        if step.whole != 0 {
+            state.turns = state.turns.wrapping_add(step.whole as i64);
+        }
+        state.phase_error = step.eps;
         state.faults = Faults::NONE;
         if !valid {
             state.reject_sample();
         } else if self.thresholds.thresholds.monitor {
             let speed = if N > 1 { state.x[1] } else { T::ZERO };
-            let in_phase = y_c * cos + y_s * sin;
+            let in_phase = y_c * step.cos + y_s * step.sin;
             let (faults, re_acquire) =
                 self.thresholds
-                    .observe(&mut state.monitor, amplitude2, eps, in_phase, speed);
+                    .observe(&mut state.monitor, amplitude2, step.eps, in_phase, speed);
             state.faults = faults;
             if re_acquire {
-                self.re_acquire(state, y_c, y_s);
+                let (angle, whole) = re_acquired(state.x[0], y_c, y_s);
+                state.x[0] = angle;
+                state.turns = state.turns.wrapping_add(whole as i64);
+                state.monitor.primed = false;
             }
         }
         self.estimate(state)
     }
 
-    /// The recursion itself, on one channel's scaled state `x` and turn count: predict,
-    /// detect, correct. A sample that is not `valid` is not used (the correction is
-    /// zero: the state coasts on its prediction). Returns the phase-detector output and the
-    /// sin/cos of the predicted angle.
+    /// The recursion itself, on one channel's scaled state `x`: predict, detect, correct. A
+    /// sample that is not `valid` is not used (the correction is zero: the state coasts on
+    /// its prediction). `W` wraps the angle: [`FullWrap`] for one channel, [`OneTurnWrap`]
+    /// for the lanes of a bank.
     ///
     /// This is the only implementation of the recursion: the single-channel update and
-    /// the multi-channel [`ChannelBank`](crate::ChannelBank) both call it. The last value
-    /// returned is the number of whole turns the angle crossed.
+    /// the multi-channel [`ChannelBank`](crate::ChannelBank) both call it.
     #[inline(always)]
-    pub(crate) fn step(&self, x: &mut [T; N], y_c: T, y_s: T, valid: bool) -> (T, T, T, i32) {
+    pub(crate) fn step<W: Wrap>(&self, x: &mut [T; N], y_c: T, y_s: T, valid: bool) -> Step<T> {
         let mut p = predict(x);
-        let whole = wrap_angle(&mut p[0]);
+        let whole = W::wrap(&mut p[0]);
         let (sin, cos) = S::sin_cos(p[0]);
         let detected = y_s * cos - y_c * sin;
         let eps = if valid { detected } else { T::ZERO };
@@ -309,21 +433,14 @@ where
             p[i] += self.l[i] * eps;
             i += 1;
         }
-        let whole = whole.wrapping_add(wrap_angle(&mut p[0]));
+        let corrected = W::wrap(&mut p[0]);
         *x = p;
-        (eps, sin, cos, whole)
-    }
-
-    /// False lock: the angle jumps to `atan2(y_s, y_c)` by the shortest way (the turn count
-    /// follows), speed and acceleration are kept, the filters restart.
-    #[cold]
-    #[inline(never)]
-    fn re_acquire(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) {
-        let mut jump = y_s.atan2(y_c) - state.x[0];
-        wrap_angle(&mut jump);
-        state.x[0] += jump;
-        state.turns = state.turns.wrapping_add(wrap_angle(&mut state.x[0]) as i64);
-        state.monitor.primed = false;
+        Step {
+            eps,
+            sin,
+            cos,
+            whole: whole.wrapping_add(corrected),
+        }
     }
 
     /// Sets the state from one sample: angle `atan2(y_s, y_c)`, speed and acceleration 0,
@@ -332,10 +449,7 @@ where
     #[inline(never)]
     pub fn initialise(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) {
         if let Some((angle, whole)) = sample_angle(y_c, y_s) {
-            *state = ObserverState::new();
-            state.x[0] = angle;
-            state.turns = whole as i64;
-            state.initialised = true;
+            state.restart(angle, whole, Faults::NONE);
         }
     }
 
@@ -395,9 +509,11 @@ where
         mut sink: F,
     ) -> usize {
         let n = y_c.len().min(y_s.len());
+        let mut local = *state;
         for (k, (&c, &s)) in y_c.iter().zip(y_s).enumerate() {
-            sink(k, self.update(state, c, s));
+            sink(k, self.update_in_place(&mut local, c, s));
         }
+        *state = local;
         n
     }
 
@@ -421,11 +537,13 @@ where
         y_s: &[T],
         out: &mut [Estimate<T>],
     ) -> usize {
+        let mut local = *state;
         let mut n = 0;
         for ((&c, &s), slot) in y_c.iter().zip(y_s).zip(out.iter_mut()) {
-            *slot = self.update(state, c, s);
+            *slot = self.update_in_place(&mut local, c, s);
             n += 1;
         }
+        *state = local;
         n
     }
 }

@@ -72,6 +72,12 @@ pub trait Real:
     /// The phase detector's sin/cos when none is named: [`Fast`](crate::Fast) for `f32`
     /// (firmware), [`Exact`](crate::Exact) for `f64` (host).
     type DefaultSinCos: crate::SinCos<Self>;
+    /// Whether a one-turn wrap `(a - TAU_HI) - TAU_LO` of an angle just above pi (or its
+    /// mirror) can round to just outside [-pi, pi) and needs a second move: `false` for
+    /// `f32` (`PI` above pi, `TAU_LO < 0`: the exact result is inside and rounding is
+    /// monotone), `true` for `f64` (`PI` below pi).
+    #[doc(hidden)]
+    const ONE_TURN_EDGE_FIX: bool;
     /// Documented bound of the absolute error of [`Real::fast_sin_cos`] over [-pi, pi].
     const FAST_SIN_COS_MAX_ERROR: Self;
 
@@ -145,7 +151,7 @@ fn estrin<T: Real>(t: T, c: &[T]) -> T {
 }
 
 macro_rules! impl_real {
-    ($t:ident, $m:ident, $default:ident, $tau_lo:expr, $eps_fast:expr, [$($s:expr),*], [$($c:expr),*],
+    ($t:ident, $m:ident, $default:ident, $tau_lo:expr, $edge_fix:expr, $eps_fast:expr, [$($s:expr),*], [$($c:expr),*],
      $sqrt:ident, $floor:ident, $atan2:ident, $exp:ident, $sincos:ident, $copysign:ident) => {
         impl Real for $t {
             const ZERO: Self = 0.0;
@@ -163,6 +169,7 @@ macro_rules! impl_real {
             const SIN_POLY: &'static [Self] = &[$($s),*];
             const COS_POLY: &'static [Self] = &[$($c),*];
             const FAST_SIN_COS_MAX_ERROR: Self = $eps_fast;
+            const ONE_TURN_EDGE_FIX: bool = $edge_fix;
             type DefaultSinCos = crate::$default;
 
             #[inline(always)]
@@ -237,6 +244,7 @@ impl_real!(
     f32,
     Fast,
     -1.748_455_6e-7_f32,
+    false,
     3e-7,
     [
         0.999_999_976_589_421_1,
@@ -267,6 +275,7 @@ impl_real!(
     f64,
     Exact,
     2.449_293_598_294_706_4e-16_f64,
+    true,
     2e-13,
     [
         0.999_999_999_999_581_1,

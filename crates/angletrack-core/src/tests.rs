@@ -519,3 +519,74 @@ fn a_channel_bank_gives_exactly_the_single_channel_results() {
     check::<f32, Fast>();
     check::<f64, Exact>();
 }
+
+/// The one-turn wrap of a bank's lanes (by selects) lands in [-pi, pi) and removes exactly
+/// the turns it reports, for every angle up to its limit, including every float within 2000
+/// ulps of the edges +-pi and +-2 pi; and it is what the single observer's wrap gives.
+#[test]
+fn the_one_turn_wrap_lands_in_range_and_agrees_with_the_full_wrap() {
+    use crate::observer::{one_turn_limit, wrap_angle, wrap_one_turn};
+    fn check<T: Real>(a: T) {
+        let (wrapped, whole) = wrap_one_turn(a);
+        assert!(wrapped >= -T::PI && wrapped < T::PI, "{a} -> {wrapped}");
+        // The turns removed, to the rounding of one subtraction at |a|.
+        let removed = a.to_f64() - wrapped.to_f64() - f64::from(whole) * core::f64::consts::TAU;
+        assert!(
+            removed.abs() <= 4.0 * a.abs().to_f64().max(1.0) * T::EPSILON.to_f64(),
+            "{a}"
+        );
+        let mut full = a;
+        assert_eq!((wrap_angle(&mut full), full), (whole, wrapped), "{a}");
+    }
+    let limit = one_turn_limit::<f64>();
+    let sweep = if cfg!(miri) { 200 } else { 200_000 };
+    for k in 0..=sweep {
+        let a = -limit + 2.0 * limit * k as f64 / sweep as f64;
+        check(a);
+        check(a as f32);
+    }
+    let ulps = if cfg!(miri) { 20 } else { 2000 };
+    for edge in [core::f64::consts::PI, core::f64::consts::TAU] {
+        for sign in [1.0, -1.0] {
+            let (e64, e32) = (sign * edge, (sign * edge) as f32);
+            for d in -ulps..=ulps {
+                check(f64::from_bits((e64.to_bits() as i64 + d) as u64));
+                check(f32::from_bits((e32.to_bits() as i32 + d as i32) as u32));
+            }
+        }
+    }
+}
+
+/// Gains so strong that one correction can move the angle by more than half a turn make the
+/// bank run its lanes one by one with the full wrap: still exactly the single observers.
+#[test]
+fn a_bank_with_corrections_beyond_half_a_turn_gives_the_single_channel_results() {
+    let gains = Gains::<f32, 3>::new([0.9, 0.3, 0.01], 1e-4).unwrap();
+    let single = gains
+        .with_fault_thresholds(FaultThresholds::disabled())
+        .unwrap();
+    const L: usize = 4;
+    let mut bank = ChannelBank::<f32, 3, L>::new();
+    let mut states = [ObserverState::<f32, 3>::new(); L];
+    for k in 0..if cfg!(miri) { 50 } else { 2000 } {
+        let mut y_c = [0.0f32; L];
+        let mut y_s = [0.0f32; L];
+        for lane in 0..L {
+            // Amplitude up to 3.9 (accepted: the bound is 4), angle jumping about.
+            let theta = (k * (lane + 3)) as f32 * 0.77;
+            let amplitude = 0.5 + 3.4 * ((k + lane) % 5) as f32 / 4.0;
+            y_c[lane] = amplitude * libm::cosf(theta);
+            y_s[lane] = amplitude * libm::sinf(theta);
+        }
+        gains.update_bank(&mut bank, &y_c, &y_s);
+        for lane in 0..L {
+            let e = single.update(&mut states[lane], y_c[lane], y_s[lane]);
+            assert_eq!(
+                gains.bank_estimate(&bank, lane).unwrap(),
+                e,
+                "lane {lane}, sample {k}"
+            );
+            assert!(e.angle >= -core::f32::consts::PI && e.angle < core::f32::consts::PI);
+        }
+    }
+}

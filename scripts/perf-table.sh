@@ -44,8 +44,9 @@ trap 'rm -f "$table"' EXIT
   echo
   echo "**Cortex-M4F** (QEMU \`mps2-an386\`, \`f32\`, opt-level 3, fat LTO): instructions per"
   echo "update, counted by the TCG plugin of \`tests/firmware\` inside the measured function and"
-  echo "the functions it calls: one \`Gains::update\` call (the calling loop adds"
-  echo "$(awk -v a="$(firmware_value 'insns_per_iteration kalman-f32-fast')" -v b="$(firmware_value 'insns_per_update kalman-f32-fast')" 'BEGIN { printf "%.1f", a - b }')"
+  loop_cost=$(awk -v a="$(firmware_value 'insns_per_iteration kalman-f32-fast')" \
+    -v b="$(firmware_value 'insns_per_update kalman-f32-fast')" 'BEGIN { printf "%.1f", a - b }')
+  echo "the functions it calls: one \`Gains::update\` call (the calling loop adds $loop_cost"
   echo "per sample: loading the inputs, the call, storing the estimate), or per sample of one"
   echo "\`Gains::update_block\` call. The default diagnostics run, except in the last row"
   echo "(\`FaultThresholds::disabled()\`: the bare loop of the paper)."

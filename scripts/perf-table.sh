@@ -4,9 +4,11 @@
 #    firmware test under QEMU (tests/firmware/run.sh);
 #  - ns per sample on this host and the ratio to the hand-written loop, and the multi-channel
 #    throughput (ChannelBank), from the criterion benchmarks (benches/, short measurement:
-#    1 s warm-up, 3 s per benchmark).
+#    1 s warm-up, 3 s per benchmark), built for the portable x86-64 baseline (SSE2) as cargo
+#    builds by default; the multi-channel rows again built with `-C target-cpu=x86-64-v3`
+#    (AVX2 and FMA: 8 f32 lanes) when this CPU has them.
 # Usage: bash scripts/perf-table.sh [--print]   (--print: print the table, leave README.md)
-# Takes about 4 minutes. Host figures depend on the machine: run it on a quiet one.
+# Takes about 8 minutes. Host figures depend on the machine: run it on a quiet one.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/lib.sh
@@ -18,12 +20,20 @@ target_dir=$(cargo metadata --format-version 1 --no-deps |
   sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p')
 cargo bench -q -p angletrack-benches --bench update -- \
   --warm-up-time 1 --measurement-time 3 --noplot >/dev/null
+v3_dir="$target_dir/x86-64-v3"
+has_v3=false
+if grep -qw avx2 /proc/cpuinfo && grep -qw fma /proc/cpuinfo && grep -qw bmi2 /proc/cpuinfo; then
+  has_v3=true
+  RUSTFLAGS="-C target-cpu=x86-64-v3" CARGO_TARGET_DIR="$v3_dir" cargo bench -q \
+    -p angletrack-benches --bench update -- '/(update-fast-unmonitored|bank-fast-16)$' \
+    --warm-up-time 1 --measurement-time 3 --noplot >/dev/null
+fi
 
-# ns_per_sample GROUP ID: the fastest of criterion's samples (time per iteration over the
+# ns_per_sample GROUP ID [TARGET_DIR]: the fastest of criterion's samples (time per iteration over the
 # throughput). The fastest, not the median: on a shared machine other load only ever adds
 # time, and the median moved by 4x between runs there; criterion's report keeps the spread.
 ns_per_sample() {
-  local dir="$target_dir/criterion/$1/$2/new"
+  local dir="${3:-$target_dir}/criterion/$1/$2/new"
   local elements
   elements=$(sed -E 's/.*"throughput":\{"Elements":([0-9]+)\}.*/\1/' "$dir/benchmark.json")
   sed -E 's/.*"iters":\[([^]]*)\].*"times":\[([^]]*)\].*/\1;\2/' "$dir/sample.json" |
@@ -92,17 +102,29 @@ trap 'rm -f "$table"' EXIT
       single=$(ns_per_sample "$group" update-fast-unmonitored)
       bank=$(ns_per_sample "$group" bank-fast-16)
       gain=$(awk -v a="$single" -v b="$bank" 'BEGIN { printf "%.1fx", a / b }')
-      bank_rows+="| $observer | $float | $single | $bank | $gain |"$'\n'
+      row="| $observer | $float | $single | $bank | $gain"
+      if $has_v3; then
+        single=$(ns_per_sample "$group" update-fast-unmonitored "$v3_dir")
+        bank=$(ns_per_sample "$group" bank-fast-16 "$v3_dir")
+        gain=$(awk -v a="$single" -v b="$bank" 'BEGIN { printf "%.1fx", a / b }')
+        row+=" | $single | $bank | $gain"
+      else
+        row+=" | | |"
+      fi
+      bank_rows+="$row |"$'\n'
     done
   done
   echo
   echo "**Host, multi-channel**: a \`ChannelBank\` of 16 channels sharing one gain set (fast"
   echo "sin/cos; a bank runs no fault monitor), ns per channel-sample, against one stream of"
   echo "\`Gains::update\` doing the same work (fast sin/cos, diagnostics off); the gain is the"
-  echo "throughput per channel-sample over the single stream's."
+  echo "throughput per channel-sample over the single stream's. The first three columns come from"
+  echo "the build above (portable x86-64: SSE2, 4 \`f32\` lanes); the last three from the same"
+  echo "benchmarks built with \`RUSTFLAGS=\"-C target-cpu=x86-64-v3\"\` (AVX2 and FMA: 8 \`f32\` lanes;"
+  echo "empty where this CPU lacks them)."
   echo
-  echo "| observer | float | single stream | bank of 16 | throughput gain |"
-  echo "| --- | --- | ---: | ---: | ---: |"
+  echo "| observer | float | single stream | bank of 16 | throughput gain | single stream, x86-64-v3 | bank of 16, x86-64-v3 | throughput gain, x86-64-v3 |"
+  echo "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |"
   printf '%s' "$bank_rows"
 } >"$table"
 

@@ -160,21 +160,22 @@ pub(crate) fn check_positive<T: Real>(value: T, parameter: Parameter) -> Result<
 /// The prediction `A x` of the recursion: a Taylor step of the scaled state
 /// `(theta, Ts Omega, Ts^2 alpha)`, `A[i][j] = 1/(j-i)!` for `j >= i`.
 ///
-/// Each row adds its own state last, `x0 + (x1 + x2/2)`: the higher states are ready
-/// earlier in the loop, so this shortens the chain of dependent additions.
+/// Each row adds left to right, `(x0 + x1) + x2/2`: in the loop every state is corrected at
+/// the same time, so `x0 + x1` runs while `x2/2` is multiplied and the chain from one
+/// sample's phase error to the next predicted angle is two additions after the correction
+/// (`x0 + (x1 + x2/2)` would be three).
 #[inline(always)]
 pub(crate) fn predict<T: Real, const N: usize>(x: &[T; N]) -> [T; N] {
     let mut p = *x;
     let mut i = 0;
     while i < N {
-        // -0 + v is v exactly, so the empty start folds away.
-        let mut tail = -T::ZERO;
+        let mut sum = x[i];
         let mut j = i + 1;
         while j < N {
-            tail += if j - i == 1 { x[j] } else { x[j] * T::HALF };
+            sum += if j - i == 1 { x[j] } else { x[j] * T::HALF };
             j += 1;
         }
-        p[i] = x[i] + tail;
+        p[i] = sum;
         i += 1;
     }
     p

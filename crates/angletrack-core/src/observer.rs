@@ -339,10 +339,8 @@ impl Wrap for OneTurnWrap {
 pub(crate) struct Step<T> {
     /// Phase-detector output (0 for a sample that was not used).
     pub(crate) eps: T,
-    /// sin of the predicted angle.
-    pub(crate) sin: T,
-    /// cos of the predicted angle.
-    pub(crate) cos: T,
+    /// In-phase component `y_c cos + y_s sin` of the predicted angle (about `A cos(error)`).
+    pub(crate) in_phase: T,
     /// Whole turns the angle crossed.
     pub(crate) whole: i32,
 }
@@ -399,10 +397,13 @@ where
             state.reject_sample();
         } else if self.thresholds.thresholds.monitor {
             let speed = if N > 1 { state.x[1] } else { T::ZERO };
-            let in_phase = y_c * step.cos + y_s * step.sin;
-            let (faults, re_acquire) =
-                self.thresholds
-                    .observe(&mut state.monitor, amplitude2, step.eps, in_phase, speed);
+            let (faults, re_acquire) = self.thresholds.observe(
+                &mut state.monitor,
+                amplitude2,
+                step.eps,
+                step.in_phase,
+                speed,
+            );
             state.faults = faults;
             if re_acquire {
                 let (angle, whole) = re_acquired(state.x[0], y_c, y_s);
@@ -425,8 +426,7 @@ where
     pub(crate) fn step<W: Wrap>(&self, x: &mut [T; N], y_c: T, y_s: T, valid: bool) -> Step<T> {
         let mut p = predict(x);
         let whole = W::wrap(&mut p[0]);
-        let (sin, cos) = S::sin_cos(p[0]);
-        let detected = y_s * cos - y_c * sin;
+        let (detected, in_phase) = S::phase_detector(p[0], y_c, y_s);
         let eps = if valid { detected } else { T::ZERO };
         let mut i = 0;
         while i < N {
@@ -437,8 +437,7 @@ where
         *x = p;
         Step {
             eps,
-            sin,
-            cos,
+            in_phase,
             whole: whole.wrapping_add(corrected),
         }
     }

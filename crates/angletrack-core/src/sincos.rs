@@ -11,6 +11,18 @@ pub trait SinCos<T: Real>:
 {
     /// `(sin angle, cos angle)` for `angle` in [-pi, pi) (rad).
     fn sin_cos(angle: T) -> (T, T);
+
+    /// The heterodyne phase detector on `angle` (rad, in [-pi, pi)): the phase error
+    /// `eps = y_s cos(angle) - y_c sin(angle)` and the in-phase component
+    /// `y_c cos(angle) + y_s sin(angle)` (about `A cos(theta - angle)`).
+    ///
+    /// The default computes [`SinCos::sin_cos`] first; [`Fast`] folds the inputs into its
+    /// polynomials ([`Real::fast_phase_detector`]).
+    #[inline(always)]
+    fn phase_detector(angle: T, y_c: T, y_s: T) -> (T, T) {
+        let (sin, cos) = Self::sin_cos(angle);
+        (y_s * cos - y_c * sin, y_c * cos + y_s * sin)
+    }
 }
 
 /// sin/cos from [`libm`], correct to an ulp. On a Cortex-M4F, `libm`'s `sinf`/`cosf`
@@ -35,5 +47,10 @@ impl<T: Real> SinCos<T> for Fast {
     #[inline(always)]
     fn sin_cos(angle: T) -> (T, T) {
         angle.fast_sin_cos()
+    }
+
+    #[inline(always)]
+    fn phase_detector(angle: T, y_c: T, y_s: T) -> (T, T) {
+        angle.fast_phase_detector(y_c, y_s)
     }
 }

@@ -328,6 +328,29 @@ impl<T: Real> CheckedThresholds<T> {
         monitor.error += k * (phase_error.abs() - monitor.error);
         monitor.in_phase += k * (in_phase - monitor.in_phase);
         let a2 = monitor.amplitude2;
+        // The usual case in one chain of tests: no flag at all. Loss of signal lies below the
+        // degradation band (checked at construction), so an amplitude inside the band rules
+        // out both; then tracking and the in-phase component. Anything else is sorted out of
+        // line, flag by flag.
+        if a2 >= self.degradation_low2
+            && a2 <= self.degradation_high2
+            && monitor.error <= t.loss_of_tracking
+            && scaled_speed.abs() <= self.max_scaled_speed
+            && monitor.in_phase >= t.false_lock
+        {
+            return (Faults::NONE, false);
+        }
+        let (faults, false_lock) = self.flags(a2, monitor.error, monitor.in_phase, scaled_speed);
+        monitor.latched |= faults;
+        (faults, false_lock && t.re_acquire)
+    }
+
+    /// The flags of filtered values outside the usual case of [`CheckedThresholds::observe`]
+    /// (out of line: a fault is rare), and whether they declare a false lock.
+    #[cold]
+    #[inline(never)]
+    fn flags(&self, a2: T, error: T, in_phase: T, scaled_speed: T) -> (Faults, bool) {
+        let t = &self.thresholds;
         let signal_lost = a2 < self.loss_of_signal2;
         let faults = Faults::when(signal_lost, Faults::LOSS_OF_SIGNAL)
             | Faults::when(
@@ -335,12 +358,13 @@ impl<T: Real> CheckedThresholds<T> {
                 Faults::DEGRADATION_OF_SIGNAL,
             )
             | Faults::when(
-                monitor.error > t.loss_of_tracking || scaled_speed.abs() > self.max_scaled_speed,
+                error > t.loss_of_tracking || scaled_speed.abs() > self.max_scaled_speed,
                 Faults::LOSS_OF_TRACKING,
             );
-        let false_lock = !signal_lost && monitor.in_phase < t.false_lock;
-        let faults = faults | Faults::when(false_lock, Faults::FALSE_LOCK);
-        monitor.latched |= faults;
-        (faults, false_lock && t.re_acquire)
+        let false_lock = !signal_lost && in_phase < t.false_lock;
+        (
+            faults | Faults::when(false_lock, Faults::FALSE_LOCK),
+            false_lock,
+        )
     }
 }

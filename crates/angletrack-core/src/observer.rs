@@ -159,6 +159,17 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
         self.initialised = true;
     }
 
+    /// Books one step of the recursion: the whole turns it crossed and its phase-detector
+    /// output; the sample's faults start empty.
+    #[inline(always)]
+    fn advance(&mut self, whole: i32, phase_error: T) {
+        if whole != 0 {
+            self.turns = self.turns.wrapping_add(whole as i64);
+        }
+        self.phase_error = phase_error;
+        self.faults = Faults::NONE;
+    }
+
     /// Marks the current sample as rejected (flag and latch).
     fn reject_sample(&mut self) {
         self.faults = Faults::BAD_SAMPLE;
@@ -378,24 +389,26 @@ where
     #[inline(always)]
     fn update_in_place(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) -> Estimate<T> {
         let (amplitude2, valid) = self.thresholds.accept(y_c, y_s);
-        if !state.initialised {
-            // The angle comes from an out-of-line function of values only, so that the state
-            // can live in registers in a loop over samples.
-            match if valid { sample_angle(y_c, y_s) } else { None } {
-                Some((angle, whole)) => state.restart(angle, whole, state.monitor.latched),
-                None => state.reject_sample(),
+        if !(valid && state.initialised) {
+            // Rare: the first sample, or one that is rejected. Out of line, through functions
+            // of values only, so that the state can live in registers in a loop over samples;
+            // the usual path below then knows the sample is used.
+            if !state.initialised {
+                match if valid { sample_angle(y_c, y_s) } else { None } {
+                    Some((angle, whole)) => state.restart(angle, whole, state.monitor.latched),
+                    None => state.reject_sample(),
+                }
+            } else {
+                let (x, whole) = self.coast(state.x);
+                state.x = x;
+                state.advance(whole, T::ZERO);
+                state.reject_sample();
             }
             return self.estimate(state);
         }
-        let step = self.step::<FullWrap>(&mut state.x, y_c, y_s, valid);
-        if step.whole != 0 {
-            state.turns = state.turns.wrapping_add(step.whole as i64);
-        }
-        state.phase_error = step.eps;
-        state.faults = Faults::NONE;
-        if !valid {
-            state.reject_sample();
-        } else if self.thresholds.thresholds.monitor {
+        let step = self.step::<FullWrap>(&mut state.x, y_c, y_s, true);
+        state.advance(step.whole, step.eps);
+        if self.thresholds.thresholds.monitor {
             let speed = if N > 1 { state.x[1] } else { T::ZERO };
             let (faults, re_acquire) = self.thresholds.observe(
                 &mut state.monitor,
@@ -440,6 +453,16 @@ where
             in_phase,
             whole: whole.wrapping_add(corrected),
         }
+    }
+
+    /// The recursion on a sample that is not used (the state coasts on its prediction): the
+    /// new scaled state and the whole turns crossed. Out of line, as the rare case of
+    /// [`Gains::update`].
+    #[cold]
+    #[inline(never)]
+    fn coast(&self, mut x: [T; N]) -> ([T; N], i32) {
+        let step = self.step::<FullWrap>(&mut x, T::ZERO, T::ZERO, false);
+        (x, step.whole)
     }
 
     /// Sets the state from one sample: angle `atan2(y_s, y_c)`, speed and acceleration 0,

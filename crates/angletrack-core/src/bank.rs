@@ -2,7 +2,9 @@
 
 use crate::gains::{Gains, Order, SupportedOrder};
 use crate::monitor::Faults;
-use crate::observer::{Estimate, FullWrap, OneTurnWrap, Wrap, sample_angle};
+use crate::observer::{
+    Estimate, FullWrap, OneTurnWrap, Wrap, one_turn_limit, sample_angle, wrapped,
+};
 use crate::real::Real;
 use crate::sincos::SinCos;
 
@@ -18,6 +20,7 @@ use crate::sincos::SinCos;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ChannelBank<T, const N: usize, const L: usize> {
     x: [[T; L]; N],
+    next_angle: [T; L],
     turns: [i32; L],
     phase_error: [T; L],
     rejected: [bool; L],
@@ -46,6 +49,7 @@ impl<T: Real, const N: usize, const L: usize> ChannelBank<T, N, L> {
     pub const fn new() -> Self {
         Self {
             x: [[T::ZERO; L]; N],
+            next_angle: [T::ZERO; L],
             turns: [0; L],
             phase_error: [T::ZERO; L],
             rejected: [false; L],
@@ -56,13 +60,20 @@ impl<T: Real, const N: usize, const L: usize> ChannelBank<T, N, L> {
 
     /// The estimated angles (rad), each in [-pi, pi).
     pub fn angles(&self) -> [T; L] {
-        self.x[0]
+        core::array::from_fn(|lane| self.wrapped(lane).0)
     }
 
     /// The whole turns counted by each lane (an `i32` that wraps around after 2^31 turns,
     /// to keep the lanes narrow for SIMD; a single observer counts in `i64`).
     pub fn turns(&self) -> [i32; L] {
-        self.turns
+        core::array::from_fn(|lane| self.wrapped(lane).1 as i32)
+    }
+
+    /// A lane's corrected angle as read (wrapped into [-pi, pi)) and its turn count: the
+    /// lanes keep the angle as the recursion leaves it (see
+    /// [`ObserverState`](crate::ObserverState)).
+    fn wrapped(&self, lane: usize) -> (T, i64) {
+        wrapped(self.x[0][lane], i64::from(self.turns[lane]))
     }
 
     /// The phase-detector outputs of the last sample (0 for a rejected sample).
@@ -121,26 +132,15 @@ where
         }
     }
 
-    /// Whether no angle of this sample can go more than about one turn off [-pi, pi), so
-    /// that [`OneTurnWrap`] does the wrap of every lane: the predicted angle
-    /// `theta + Ts Omega + Ts^2 alpha / 2` stays within 2 pi when every lane's speed and
-    /// acceleration (scaled) satisfy `|Ts Omega| + |Ts^2 alpha| <= pi` (a speed of half a turn
-    /// per sample, beyond anything a loop tracks), and the correction `l1 eps` within pi when
-    /// `l1` times the largest accepted amplitude is (true of any gain designed for the
-    /// nominal amplitude).
+    /// Whether every lane's predicted angle is within [`one_turn_limit`] (about a turn off
+    /// [-pi, pi)), so that [`OneTurnWrap`] wraps it: true of any lane a loop tracks (the
+    /// prediction moves by the speed and acceleration of one sample, and by the correction).
     #[inline(always)]
     fn lanes_within_one_turn<const L: usize>(&self, bank: &ChannelBank<T, N, L>) -> bool {
-        let l1 = self.l[0];
-        if !(l1 * l1 * self.thresholds.max_input2 <= T::PI * T::PI) {
-            return false;
-        }
+        let limit = one_turn_limit::<T>();
         let mut within = true;
         for lane in 0..L {
-            let mut motion = T::ZERO;
-            for xi in &bank.x[1..] {
-                motion += xi[lane].abs();
-            }
-            within &= motion <= T::PI;
+            within &= bank.next_angle[lane].abs() < limit;
         }
         within
     }
@@ -173,12 +173,14 @@ where
         for (i, xi) in x.iter_mut().enumerate() {
             *xi = bank.x[i][lane];
         }
+        let mut next_angle = bank.next_angle[lane];
         let (_, valid) = self.thresholds.accept(c, s);
-        let step = self.step::<W>(&mut x, c, s, valid);
+        let step = self.step::<W>(&mut x, &mut next_angle, c, s, valid);
         bank.turns[lane] = bank.turns[lane].wrapping_add(step.whole);
         for (i, xi) in x.iter().enumerate() {
             bank.x[i][lane] = *xi;
         }
+        bank.next_angle[lane] = next_angle;
         bank.phase_error[lane] = step.eps;
         bank.rejected[lane] = !valid;
     }
@@ -243,6 +245,7 @@ where
             if let (true, Some((angle, whole))) = (valid, sample_angle(c, s)) {
                 bank.turns[lane] = whole;
                 bank.x[0][lane] = angle;
+                bank.next_angle[lane] = angle;
                 bank.pending[lane] = false;
             }
             all &= !bank.pending[lane];

@@ -299,6 +299,9 @@ where
     pub(crate) sample_period: T,
     pub(crate) sample_rate: T,
     pub(crate) sample_rate_squared: T,
+    /// `(A L)[0] = l1 + l2 + l3/2`: how much one sample's phase error moves the next
+    /// sample's predicted angle.
+    pub(crate) next_angle_gain: T,
     pub(crate) thresholds: CheckedThresholds<T>,
     pub(crate) sin_cos: PhantomData<S>,
 }
@@ -343,6 +346,7 @@ where
             sample_period,
             sample_rate,
             sample_rate_squared: sample_rate * sample_rate,
+            next_angle_gain: predict(&l)[0],
             thresholds: FaultThresholds::default().check(sample_period)?,
             sin_cos: PhantomData,
         })
@@ -440,6 +444,7 @@ where
             sample_period: self.sample_period,
             sample_rate: self.sample_rate,
             sample_rate_squared: self.sample_rate_squared,
+            next_angle_gain: self.next_angle_gain,
             thresholds: self.thresholds,
             sin_cos: PhantomData,
         }

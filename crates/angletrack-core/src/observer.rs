@@ -34,12 +34,19 @@ impl<T: Real> Estimate<T> {
 }
 
 /// The mutable state of one observer channel: the scaled state vector
-/// `x = (theta, Ts Omega[, Ts^2 alpha])` and the turn count.
+/// `x = (theta, Ts Omega[, Ts^2 alpha])`, the next sample's predicted angle and the turn
+/// count.
 ///
 /// Separate from the immutable [`Gains`], so that one gain set can drive many channels.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ObserverState<T, const N: usize> {
+    /// The corrected state. Its angle `x[0]` is the predicted angle (in [-pi, pi)) plus the
+    /// correction, so it may lie up to that correction outside [-pi, pi): it is wrapped
+    /// (and its turn counted) when read, and never feeds the next prediction.
     pub(crate) x: [T; N],
+    /// The next sample's predicted angle `(A x)[0]`, computed from this sample's prediction
+    /// as `(A X_p)[0] + (A L)[0] eps`, in the turn counted by `turns` (wrapped when used).
+    pub(crate) next_angle: T,
     pub(crate) turns: i64,
     pub(crate) phase_error: T,
     pub(crate) faults: Faults,
@@ -68,6 +75,7 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
     pub const fn new() -> Self {
         Self {
             x: [zero(); N],
+            next_angle: zero(),
             turns: 0,
             phase_error: zero(),
             faults: Faults::NONE,
@@ -105,6 +113,7 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
         }
         Self {
             x,
+            next_angle: predict(&x)[0],
             turns,
             phase_error: T::ZERO,
             faults: Faults::NONE,
@@ -115,12 +124,12 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
 
     /// The estimated angle (rad), in [-pi, pi).
     pub fn angle(&self) -> T {
-        self.x[0]
+        wrapped(self.x[0], self.turns).0
     }
 
     /// Whole turns counted since initialisation.
     pub fn turns(&self) -> i64 {
-        self.turns
+        wrapped(self.x[0], self.turns).1
     }
 
     /// The estimated speed (rad/s) for the sample period `sample_period` (s).
@@ -132,9 +141,11 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
         }
     }
 
-    /// The scaled state vector `(theta, Ts Omega[, Ts^2 alpha])`.
+    /// The scaled state vector `(theta, Ts Omega[, Ts^2 alpha])`, the angle in [-pi, pi).
     pub fn scaled_state(&self) -> [T; N] {
-        self.x
+        let mut x = self.x;
+        x[0] = self.angle();
+        x
     }
 
     /// `false` until the first sample (or [`ObserverState::at`]) has set the angle.
@@ -154,6 +165,7 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
     fn restart(&mut self, angle: T, whole: i32, latched: Faults) {
         *self = Self::new();
         self.x[0] = angle;
+        self.next_angle = angle;
         self.turns = whole as i64;
         self.monitor.latched = latched;
         self.initialised = true;
@@ -196,6 +208,15 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
 
 const fn zero<T: Real>() -> T {
     T::ZERO
+}
+
+/// A corrected angle `x0` of a state counting `turns` turns, as read: wrapped into
+/// [-pi, pi), and the turn count with the wrap's whole turns.
+#[inline(always)]
+pub(crate) fn wrapped<T: Real>(x0: T, turns: i64) -> (T, i64) {
+    let mut angle = x0;
+    let whole = wrap_angle(&mut angle);
+    (angle, turns.wrapping_add(whole as i64))
 }
 
 /// Wraps `angle` into [-pi, pi) and returns the whole turns removed.
@@ -352,7 +373,7 @@ pub(crate) struct Step<T> {
     pub(crate) eps: T,
     /// In-phase component `y_c cos + y_s sin` of the predicted angle (about `A cos(error)`).
     pub(crate) in_phase: T,
-    /// Whole turns the angle crossed.
+    /// Whole turns the wrap of the predicted angle removed.
     pub(crate) whole: i32,
 }
 
@@ -399,14 +420,15 @@ where
                     None => state.reject_sample(),
                 }
             } else {
-                let (x, whole) = self.coast(state.x);
+                let (x, next_angle, whole) = self.coast(state.x, state.next_angle);
                 state.x = x;
+                state.next_angle = next_angle;
                 state.advance(whole, T::ZERO);
                 state.reject_sample();
             }
             return self.estimate(state);
         }
-        let step = self.step::<FullWrap>(&mut state.x, y_c, y_s, true);
+        let step = self.step::<FullWrap>(&mut state.x, &mut state.next_angle, y_c, y_s, true);
         state.advance(step.whole, step.eps);
         if self.thresholds.thresholds.monitor {
             let speed = if N > 1 { state.x[1] } else { T::ZERO };
@@ -421,6 +443,7 @@ where
             if re_acquire {
                 let (angle, whole) = re_acquired(state.x[0], y_c, y_s);
                 state.x[0] = angle;
+                state.next_angle = predict(&state.x)[0];
                 state.turns = state.turns.wrapping_add(whole as i64);
                 state.monitor.primed = false;
             }
@@ -428,30 +451,51 @@ where
         self.estimate(state)
     }
 
-    /// The recursion itself, on one channel's scaled state `x`: predict, detect, correct. A
-    /// sample that is not `valid` is not used (the correction is zero: the state coasts on
-    /// its prediction). `W` wraps the angle: [`FullWrap`] for one channel, [`OneTurnWrap`]
-    /// for the lanes of a bank.
+    /// The recursion itself, on one channel's scaled state `x` and the predicted angle
+    /// `next_angle` the previous sample left: predict, detect, correct. A sample that is not
+    /// `valid` is not used (the correction is zero: the state coasts on its prediction). `W`
+    /// wraps the predicted angle: [`FullWrap`] for one channel, [`OneTurnWrap`] for the lanes
+    /// of a bank.
+    ///
+    /// ```text
+    /// X_p = A X_e                      (the angle row is next_angle, wrapped)
+    /// eps = y_s cos(x1_p) - y_c sin(x1_p)
+    /// X_e = X_p + L eps                (x1_e wrapped when read)
+    /// next_angle = (A X_p)[0] + (A L)[0] eps
+    /// ```
+    ///
+    /// `next_angle` is `(A X_e)[0]` with the sum taken in another order: the sample's phase
+    /// error reaches the next phase detector through one multiplication and one addition, the
+    /// shortest chain a loop over samples can wait on. The angle of `x` feeds nothing but the
+    /// estimate, so it is not wrapped here.
     ///
     /// This is the only implementation of the recursion: the single-channel update and
     /// the multi-channel [`ChannelBank`](crate::ChannelBank) both call it.
     #[inline(always)]
-    pub(crate) fn step<W: Wrap>(&self, x: &mut [T; N], y_c: T, y_s: T, valid: bool) -> Step<T> {
+    pub(crate) fn step<W: Wrap>(
+        &self,
+        x: &mut [T; N],
+        next_angle: &mut T,
+        y_c: T,
+        y_s: T,
+        valid: bool,
+    ) -> Step<T> {
         let mut p = predict(x);
+        p[0] = *next_angle;
         let whole = W::wrap(&mut p[0]);
         let (detected, in_phase) = S::phase_detector(p[0], y_c, y_s);
         let eps = if valid { detected } else { T::ZERO };
+        *next_angle = predict(&p)[0] + self.next_angle_gain * eps;
         let mut i = 0;
         while i < N {
             p[i] += self.l[i] * eps;
             i += 1;
         }
-        let corrected = W::wrap(&mut p[0]);
         *x = p;
         Step {
             eps,
             in_phase,
-            whole: whole.wrapping_add(corrected),
+            whole,
         }
     }
 
@@ -460,9 +504,9 @@ where
     /// [`Gains::update`].
     #[cold]
     #[inline(never)]
-    fn coast(&self, mut x: [T; N]) -> ([T; N], i32) {
-        let step = self.step::<FullWrap>(&mut x, T::ZERO, T::ZERO, false);
-        (x, step.whole)
+    fn coast(&self, mut x: [T; N], mut next_angle: T) -> ([T; N], T, i32) {
+        let step = self.step::<FullWrap>(&mut x, &mut next_angle, T::ZERO, T::ZERO, false);
+        (x, next_angle, step.whole)
     }
 
     /// Sets the state from one sample: angle `atan2(y_s, y_c)`, speed and acceleration 0,
@@ -490,8 +534,9 @@ where
         phase_error: T,
         faults: Faults,
     ) -> Estimate<T> {
+        let (angle, turns) = wrapped(x[0], turns);
         Estimate {
-            angle: x[0],
+            angle,
             turns,
             speed: if N > 1 {
                 x[1] * self.sample_rate

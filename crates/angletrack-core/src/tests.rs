@@ -229,9 +229,12 @@ fn multi_turn_f32_keeps_full_resolution_after_a_million_turns() {
     let last = gains.estimate(&state);
     assert_eq!(last.turns, turns as i64);
     // Full f32 resolution: an ulp near pi is 2.4e-7 rad; a naive f32 multi-turn angle
-    // (6.3e6 rad) would have an ulp of 0.5 rad.
-    // Miri perturbs std's f64 cos/sin (used for the truth here) by a few ulps on purpose.
-    let ulps = if cfg!(miri) { 4.0 } else { 3.0 };
+    // (6.3e6 rad) would have an ulp of 0.5 rad. What remains is the f32 loop's own rounding
+    // noise at 8 samples a turn: 0.87e-6 rad at worst over these last 10 turns, up to 1.0e-6
+    // over 10^5 turns (as with the recursion before the next angle was kept in the state),
+    // so the bound is 5 ulp. Miri perturbs std's f64 cos/sin (used for the truth here) by a
+    // few ulps on purpose.
+    let ulps = if cfg!(miri) { 6.0 } else { 5.0 };
     assert!(worst < ulps * 2.4e-7, "worst wrapped-angle error {worst}");
 }
 

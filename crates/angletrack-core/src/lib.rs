@@ -14,6 +14,11 @@
 //! X_e = X_p + L eps                    x1 wrapped to [-pi, pi), whole turns counted
 //! ```
 //!
+//! The state also keeps the next sample's predicted angle, `(A X_p)[0] + (A L)[0] eps`
+//! (the same sum as `(A X_e)[0]`, taken in another order): one sample's phase error then
+//! reaches the next phase detector through a single multiply-add, which is what a loop over
+//! samples waits for on a host.
+//!
 //! Only the discrete gains `L` differ between the classical 2nd-order ATO (order 2), the
 //! 3rd-order ATO designed by pole placement and the time-invariant Kalman ATO (order 3).
 //! The gains come from the design tools of the `angletrack` crate or its command line

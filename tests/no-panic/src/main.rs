@@ -1,4 +1,4 @@
-//! Every f32 per-sample entry point of the core, fed with values the optimiser cannot see
+//! Every f32 per-sample entry point of the core (single observers and channel banks), fed with values the optimiser cannot see
 //! (`black_box`). The panic handler below is only kept by the linker if some path of these
 //! calls can panic; `scripts/test.d/40-robustness.sh` fails when its symbol is in the image.
 #![no_std]
@@ -7,8 +7,8 @@
 use core::hint::black_box;
 
 use angletrack_core::{
-    AngleTrackingObserver, Estimate, Exact, Fast, Gains, Observer, ObserverState, Order, SinCos,
-    SupportedOrder,
+    AngleTrackingObserver, ChannelBank, Estimate, Exact, Fast, Gains, Observer, ObserverState,
+    Order, SinCos, SupportedOrder,
 };
 use cortex_m_rt::entry;
 
@@ -28,9 +28,23 @@ where
     let samples = black_box([0.25f32; 16]);
     let mut out = [Estimate::default(); 16];
     let n = gains.update_block(&mut state, &samples, &samples, &mut out);
-    gains.update_each(&mut state, &samples, &samples, |k, e| sum += e.angle * k as f32);
+    gains.update_each(&mut state, &samples, &samples, |k, e| {
+        sum += e.angle * k as f32
+    });
     let mut observer = Observer::new(gains);
     sum += observer.update(black_box(1.0), black_box(0.0)).angle;
+    // A bank of channels: its update (side by side and lane by lane), block update and
+    // accessors.
+    let mut bank = ChannelBank::<f32, N, 4>::new();
+    for _ in 0..black_box(4) {
+        gains.update_bank(&mut bank, &black_box([0.5; 4]), &black_box([-0.5; 4]));
+    }
+    let lanes = black_box([[0.25f32; 4]; 3]);
+    gains.update_bank_each(&mut bank, &lanes, &lanes, |k, b| sum += b.angles()[k % 4]);
+    sum += bank.angles()[1] + bank.turns()[2] as f32 + bank.phase_errors()[0];
+    if let Some(e) = gains.bank_estimate(&bank, black_box(2)) {
+        sum += e.angle + e.speed;
+    }
     sum + out[black_box(3) % 16].angle + n as f32 + state.clear_faults().bits() as f32
 }
 

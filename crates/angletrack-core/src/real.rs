@@ -157,10 +157,14 @@ pub trait Real:
     }
 }
 
-/// Estrin evaluation of `c[0] + c[1] t + ... + c[7] t^7` (`c` has at most 8 coefficients;
-/// its length is a constant, so the branches fold away): pairs `c[2i] + c[2i+1] t`
-/// combined with `t^2` and `t^4`. The chain of dependent operations is about half as long
-/// as Horner's, which matters because the observer's loop is latency-bound.
+/// Estrin-like evaluation of `c[0] + c[1] t + ... + c[7] t^7` (`c` has at most 8
+/// coefficients; its length is a constant, so the branches fold away): pairs
+/// `c[2i] + c[2i+1] t` combined with powers of `t`. The chain of dependent operations is about
+/// half as long as Horner's, which matters because the observer's loop is latency-bound.
+///
+/// Five coefficients (the `f32` polynomials) split as `(c0 + c1 t + c2 t^2) + t^3 (c3 + c4 t)`:
+/// both halves are ready two multiply-adds after `t^2`, one step sooner than Estrin's
+/// `(c0 + c1 t + t^2 (c2 + c3 t)) + t^4 c4`, for the same number of operations.
 #[inline(always)]
 fn estrin<T: Real>(t: T, c: &[T]) -> T {
     let pair = |i: usize| match (c.get(2 * i), c.get(2 * i + 1)) {
@@ -169,10 +173,11 @@ fn estrin<T: Real>(t: T, c: &[T]) -> T {
         _ => T::ZERO,
     };
     let t2 = t * t;
-    match c.len() {
-        0..=2 => pair(0),
-        3..=4 => pair(0) + t2 * pair(1),
-        5..=6 => (pair(0) + t2 * pair(1)) + (t2 * t2) * pair(2),
+    match *c {
+        [_] | [_, _] => pair(0),
+        [_, _, _] | [_, _, _, _] => pair(0) + t2 * pair(1),
+        [_, _, c2, c3, c4] => (pair(0) + c2 * t2) + (t2 * t) * (c3 + c4 * t),
+        [_, _, _, _, _, _] => (pair(0) + t2 * pair(1)) + (t2 * t2) * pair(2),
         _ => (pair(0) + t2 * pair(1)) + (t2 * t2) * (pair(2) + t2 * pair(3)),
     }
 }

@@ -2,6 +2,7 @@
 
 extern crate std;
 
+use crate::gains::predict;
 use crate::tests::{TS, designs, n, wrap};
 use crate::*;
 
@@ -209,7 +210,7 @@ where
             );
         }
         assert!(e.angle.is_finite() && e.speed.is_finite() && e.acceleration.is_finite());
-        assert!(e.phase_error.is_finite());
+        assert!(e.phase_error.is_finite() && state.next_angle.is_finite());
         assert!(e.angle >= -T::PI && e.angle < T::PI);
     }
     assert!(
@@ -427,4 +428,56 @@ fn a_state_started_at_absurd_speed_and_acceleration_stays_finite_while_coasting(
             "{state:?}"
         );
     }
+}
+
+/// The predicted angle a state keeps for the next sample is the prediction of its corrected
+/// state, `(A x)[0]`, in the same turn and to within rounding, after every kind of update:
+/// initialisation, tracking across many turns, coasting over rejected samples, and the jump
+/// of a false-lock re-acquisition (all of which the run is checked to go through).
+#[test]
+fn the_next_predicted_angle_is_the_prediction_of_the_corrected_state() {
+    fn check<T: Real, const N: usize>(gains: Gains<T, N>, tolerance: f64)
+    where
+        Order<N>: SupportedOrder,
+    {
+        let mut bits = Bits(0x5eed);
+        let mut state = ObserverState::new();
+        let mut latched = Faults::NONE;
+        let mut turns = 0;
+        let samples = n(20_000);
+        for k in 0..samples {
+            // 300 rad/s, then a 180 degree jump of the true angle half way (a false lock).
+            let jump = if k >= samples / 2 {
+                core::f64::consts::PI
+            } else {
+                0.0
+            };
+            let theta = 0.03 * k as f64 + jump;
+            let noise = 0.01 * (bits.unit() - 0.5);
+            let (mut c, s) = (theta.cos() + noise, theta.sin() - noise);
+            if k % 1000 >= 990 {
+                c = f64::NAN; // a burst of broken reads: the state coasts
+            }
+            let e = gains.update(&mut state, T::from_f64(c), T::from_f64(s));
+            latched |= e.faults;
+            turns = e.turns;
+            let predicted = predict(&state.x)[0].to_f64();
+            let kept = state.next_angle.to_f64();
+            assert!(
+                (kept - predicted).abs() <= tolerance,
+                "sample {k}: next angle {kept}, prediction of the state {predicted}"
+            );
+        }
+        assert!(
+            latched.contains(Faults::BAD_SAMPLE | Faults::FALSE_LOCK),
+            "{latched}"
+        );
+        assert!(turns.abs() > 5, "the run crossed {turns} turns");
+    }
+    let (o2, o3, ok) = designs();
+    check(with_default_monitor(o2), 1e-13);
+    check(with_default_monitor(o3), 1e-13);
+    check(with_default_monitor(ok), 1e-13);
+    let g32 = Gains::<f32, 3>::new(ok.gains().map(|g| g as f32), TS as f32).unwrap();
+    check(g32, 2e-6);
 }

@@ -214,8 +214,11 @@ const fn zero<T: Real>() -> T {
 /// [-pi, pi), and the turn count with the wrap's whole turns.
 #[inline(always)]
 pub(crate) fn wrapped<T: Real>(x0: T, turns: i64) -> (T, i64) {
-    let mut angle = x0;
-    let whole = wrap_angle(&mut angle);
+    // The usual case returns both as they are (no addition of zero turns on the way).
+    if x0.abs() < T::PI {
+        return (x0, turns);
+    }
+    let (angle, whole) = wrap_whole_turns(x0);
     (angle, turns.wrapping_add(whole as i64))
 }
 

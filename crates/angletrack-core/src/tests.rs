@@ -260,29 +260,38 @@ fn f32_and_f64_agree_within_f32_precision() {
     assert!(speed < 0.05, "speed differs by {speed}");
 }
 
-#[test]
-fn fast_sin_cos_error_is_within_its_documented_bound() {
-    fn check<T: Real>() -> f64 {
-        let n = if cfg!(miri) { 2_000 } else { 2_000_000 };
-        let mut worst = 0.0f64;
-        for i in 0..=n {
-            let x =
-                T::from_f64(-core::f64::consts::PI + core::f64::consts::TAU * i as f64 / n as f64);
-            let (s, c) = x.fast_sin_cos();
-            let (s64, c64) = x.to_f64().sin_cos();
-            worst = worst
-                .max((s.to_f64() - s64).abs())
-                .max((c.to_f64() - c64).abs());
-        }
-        assert!(worst < T::FAST_SIN_COS_MAX_ERROR.to_f64(), "error {worst}");
-        worst
+/// The largest of `error(x, sin x, cos x)` (sin and cos in `f64`) over `n + 1` angles `x`
+/// evenly spread over [-pi, pi].
+fn worst_over_the_angle_range<T: Real>(n: usize, mut error: impl FnMut(T, f64, f64) -> f64) -> f64 {
+    let mut worst = 0.0f64;
+    for i in 0..=n {
+        let x = T::from_f64(-core::f64::consts::PI + core::f64::consts::TAU * i as f64 / n as f64);
+        let (s64, c64) = x.to_f64().sin_cos();
+        worst = worst.max(error(x, s64, c64));
     }
-    let e32 = check::<f32>();
-    let e64 = check::<f64>();
+    worst
+}
+
+/// A sweep that found no error at all compared nothing: each float type must show some.
+fn assert_the_sweeps_measured_something(e32: f64, e64: f64) {
     assert!(
         e32 > 1e-9 && e64 > 1e-17,
         "the sweep measured something: {e32} {e64}"
     );
+}
+
+#[test]
+fn fast_sin_cos_error_is_within_its_documented_bound() {
+    fn check<T: Real>() -> f64 {
+        let n = if cfg!(miri) { 2_000 } else { 2_000_000 };
+        let worst = worst_over_the_angle_range::<T>(n, |x, s64, c64| {
+            let (s, c) = x.fast_sin_cos();
+            (s.to_f64() - s64).abs().max((c.to_f64() - c64).abs())
+        });
+        assert!(worst < T::FAST_SIN_COS_MAX_ERROR.to_f64(), "error {worst}");
+        worst
+    }
+    assert_the_sweeps_measured_something(check::<f32>(), check::<f64>());
 }
 
 /// The folded phase detector of `Fast` computes what the sin/cos it folds would give: both
@@ -300,11 +309,8 @@ fn fast_phase_detector_matches_the_sin_cos_it_folds() {
             (3.5, -0.1),
             (0.0, -1.0),
         ];
-        let mut worst = 0.0f64;
-        for i in 0..=n {
-            let x =
-                T::from_f64(-core::f64::consts::PI + core::f64::consts::TAU * i as f64 / n as f64);
-            let (s64, c64) = x.to_f64().sin_cos();
+        worst_over_the_angle_range::<T>(n, |x, s64, c64| {
+            let mut worst = 0.0f64;
             for (y_c, y_s) in inputs {
                 let (eps, in_phase) =
                     <Fast as SinCos<T>>::phase_detector(x, T::from_f64(y_c), T::from_f64(y_s));
@@ -320,15 +326,10 @@ fn fast_phase_detector_matches_the_sin_cos_it_folds() {
                 );
                 worst = worst.max(d_eps / amplitude).max(d_in / amplitude);
             }
-        }
-        worst
+            worst
+        })
     }
-    let e32 = check::<f32>();
-    let e64 = check::<f64>();
-    assert!(
-        e32 > 1e-9 && e64 > 1e-17,
-        "the sweep measured something: {e32} {e64}"
-    );
+    assert_the_sweeps_measured_something(check::<f32>(), check::<f64>());
 }
 
 #[test]

@@ -474,10 +474,19 @@ fn the_next_predicted_angle_is_the_prediction_of_the_corrected_state() {
         );
         assert!(turns.abs() > 5, "the run crossed {turns} turns");
     }
-    let (o2, o3, ok) = designs();
-    check(with_default_monitor(o2), 1e-13);
-    check(with_default_monitor(o3), 1e-13);
-    check(with_default_monitor(ok), 1e-13);
-    let g32 = Gains::<f32, 3>::new(ok.gains().map(|g| g as f32), TS as f32).unwrap();
-    check(g32, 2e-6);
+    // Discrete gains fixed per sample (not designed for TS, which Miri changes), so that the
+    // loop's dynamics per sample, and so the false lock, are the same under Miri.
+    check(Gains::<f64, 2>::new([0.06, 0.001], TS).unwrap(), 1e-13);
+    check(
+        Gains::<f64, 3>::new([0.094, 5.6e-4, 1.2e-5], TS).unwrap(),
+        1e-13,
+    );
+    check(
+        Gains::<f64, 3>::new([0.061, 0.0019, 3.1e-5], TS).unwrap(),
+        1e-13,
+    );
+    check(
+        Gains::<f32, 3>::new([0.061, 0.0019, 3.1e-5], TS as f32).unwrap(),
+        2e-6,
+    );
 }

@@ -25,7 +25,7 @@ has_v3=false
 if grep -qw avx2 /proc/cpuinfo && grep -qw fma /proc/cpuinfo && grep -qw bmi2 /proc/cpuinfo; then
   has_v3=true
   RUSTFLAGS="-C target-cpu=x86-64-v3" CARGO_TARGET_DIR="$v3_dir" cargo bench -q \
-    -p angletrack-benches --bench update -- '/(update-fast-unmonitored|bank-fast-16)$' \
+    -p angletrack-benches --bench update -- '/(update-fast-unmonitored|bank-fast-16|bank-fast-64)$' \
     --warm-up-time 1 --measurement-time 3 --noplot >/dev/null
 fi
 
@@ -45,6 +45,19 @@ ns_per_sample() {
 }
 
 firmware_value() { sed -n "s/^$1: //p" <<<"$firmware" | head -n1; }
+
+# bank_row GROUP BUILD TARGET_DIR: one row of the multi-channel table, "observer | float |
+# build | single stream | bank of 16 (gain) | bank of 64 (gain)".
+bank_row() {
+  local single row bank lanes
+  single=$(ns_per_sample "$1" update-fast-unmonitored "$3")
+  row="| ${1%-*} | ${1##*-} | $2 | $single"
+  for lanes in 16 64; do
+    bank=$(ns_per_sample "$1" "bank-fast-$lanes" "$3")
+    row+=" | $bank ($(awk -v a="$single" -v b="$bank" 'BEGIN { printf "%.1fx", a / b }'))"
+  done
+  echo "$row |"
+}
 
 cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -n1)
 table=$(mktemp)
@@ -99,32 +112,22 @@ trap 'rm -f "$table"' EXIT
         row+=" | $ns ($(awk -v a="$ns" -v b="$base" 'BEGIN { printf "%.2f", a / b }'))"
       done
       echo "$row |"
-      single=$(ns_per_sample "$group" update-fast-unmonitored)
-      bank=$(ns_per_sample "$group" bank-fast-16)
-      gain=$(awk -v a="$single" -v b="$bank" 'BEGIN { printf "%.1fx", a / b }')
-      row="| $observer | $float | $single | $bank | $gain"
+      bank_rows+="$(bank_row "$group" x86-64 "$target_dir")"$'\n'
       if $has_v3; then
-        single=$(ns_per_sample "$group" update-fast-unmonitored "$v3_dir")
-        bank=$(ns_per_sample "$group" bank-fast-16 "$v3_dir")
-        gain=$(awk -v a="$single" -v b="$bank" 'BEGIN { printf "%.1fx", a / b }')
-        row+=" | $single | $bank | $gain"
-      else
-        row+=" | | |"
+        bank_rows+="$(bank_row "$group" x86-64-v3 "$v3_dir")"$'\n'
       fi
-      bank_rows+="$row |"$'\n'
     done
   done
   echo
-  echo "**Host, multi-channel**: a \`ChannelBank\` of 16 channels sharing one gain set (fast"
-  echo "sin/cos; a bank runs no fault monitor), ns per channel-sample, against one stream of"
-  echo "\`Gains::update\` doing the same work (fast sin/cos, diagnostics off); the gain is the"
-  echo "throughput per channel-sample over the single stream's. The first three columns come from"
-  echo "the build above (portable x86-64: SSE2, 4 \`f32\` lanes); the last three from the same"
-  echo "benchmarks built with \`RUSTFLAGS=\"-C target-cpu=x86-64-v3\"\` (AVX2 and FMA: 8 \`f32\` lanes;"
-  echo "empty where this CPU lacks them)."
+  echo "**Host, multi-channel**: \`ChannelBank\`s of 16 and 64 channels sharing one gain set"
+  echo "(fast sin/cos; a bank runs no fault monitor), ns per channel-sample, and in parentheses the"
+  echo "throughput per channel-sample over that of one stream of \`Gains::update\` doing the same"
+  echo "work (fast sin/cos, diagnostics off). Build \`x86-64\` is the one above (portable: SSE2,"
+  echo "4 \`f32\` lanes); \`x86-64-v3\` is the same benchmarks built with"
+  echo "\`RUSTFLAGS=\"-C target-cpu=x86-64-v3\"\` (AVX2 and FMA: 8 \`f32\` lanes), where this CPU has it."
   echo
-  echo "| observer | float | single stream | bank of 16 | throughput gain | single stream, x86-64-v3 | bank of 16, x86-64-v3 | throughput gain, x86-64-v3 |"
-  echo "| --- | --- | ---: | ---: | ---: | ---: | ---: | ---: |"
+  echo "| observer | float | build | single stream | bank of 16 | bank of 64 |"
+  echo "| --- | --- | --- | ---: | ---: | ---: |"
   printf '%s' "$bank_rows"
 } >"$table"
 

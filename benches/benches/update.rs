@@ -5,9 +5,10 @@
 //! core's observer with both phase-detector sin/cos (`exact`, `fast`) through the per-sample
 //! API (`update-*`, a loop over `Gains::update`) and the block API (`block-*`,
 //! `Gains::update_block`), and the fast one with the diagnostics off (`update-fast-unmonitored`,
-//! `FaultThresholds::disabled()`: the bare loop), and a `ChannelBank` of 16 channels sharing
-//! the gains (`bank-fast-16`, throughput in channel-samples). Throughput is in samples, so every report reads as time per
-//! sample and the ratio to `baseline` is the ratio of the reported times.
+//! `FaultThresholds::disabled()`: the bare loop), and `ChannelBank`s of 16 and 64 channels
+//! sharing the gains (`bank-fast-16`, `bank-fast-64`, throughput in channel-samples).
+//! Throughput is in samples, so every report reads as time per sample and the ratio to
+//! `baseline` is the ratio of the reported times.
 //!
 //! Run: `cargo bench -p angletrack-benches` (or `bash scripts/perf-table.sh` for the README
 //! table).
@@ -29,8 +30,10 @@ use num_traits::Float;
 /// Samples per benchmark iteration (one block).
 const BLOCK: usize = 1024;
 
-/// Lanes of the multi-channel benchmark (`bank-fast-16`).
-const LANES: usize = 16;
+/// Lanes of the multi-channel benchmarks: a bank of 16 (the axes of a machine; one sample of
+/// the bank is a few vector registers, so it waits on the recursion's latency) and one of
+/// 64 (a Monte Carlo batch; enough independent work per sample to be throughput-bound).
+const LANES: [usize; 2] = [16, 64];
 
 /// The block of samples and the true initial state every iteration starts from.
 struct Workload<T> {
@@ -170,7 +173,8 @@ where
         .with_fault_thresholds(FaultThresholds::disabled())
         .expect("the default thresholds are valid");
     bench_update(&mut group, &workload, bare, "update-fast-unmonitored");
-    bench_bank::<T, N, LANES>(&mut group, gains(l), &format!("bank-fast-{LANES}"));
+    bench_bank::<T, N, { LANES[0] }>(&mut group, gains(l), &format!("bank-fast-{}", LANES[0]));
+    bench_bank::<T, N, { LANES[1] }>(&mut group, gains(l), &format!("bank-fast-{}", LANES[1]));
     group.finish();
 }
 

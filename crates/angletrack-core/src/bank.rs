@@ -3,7 +3,7 @@
 use crate::gains::{Gains, Order, SupportedOrder};
 use crate::monitor::Faults;
 use crate::observer::{
-    Estimate, FullWrap, OneTurnWrap, Wrap, one_turn_limit, sample_angle, wrapped,
+    Estimate, FullWrap, NoWrap, OneTurnWrap, Wrap, one_turn_limit, sample_angle, wrapped,
 };
 use crate::real::Real;
 use crate::sincos::SinCos;
@@ -24,7 +24,9 @@ pub struct ChannelBank<T, const N: usize, const L: usize> {
     next_angle: [T; L],
     turns: [i32; L],
     phase_error: [T; L],
-    rejected: [bool; L],
+    /// 1 for a lane whose last sample was rejected, else 0: lane-wide integers, which a
+    /// vectorised loop stores as they are (bytes would have to be packed first).
+    rejected: [u32; L],
     pending: [bool; L],
     initialised: bool,
 }
@@ -53,7 +55,7 @@ impl<T: Real, const N: usize, const L: usize> ChannelBank<T, N, L> {
             next_angle: [T::ZERO; L],
             turns: [0; L],
             phase_error: [T::ZERO; L],
-            rejected: [false; L],
+            rejected: [0; L],
             pending: [true; L],
             initialised: false,
         }
@@ -84,13 +86,24 @@ impl<T: Real, const N: usize, const L: usize> ChannelBank<T, N, L> {
 
     /// Which lanes rejected their last sample (NaN, infinite or above the input bound).
     pub fn rejected(&self) -> [bool; L] {
-        self.rejected
+        self.rejected.map(|r| r != 0)
     }
 
     /// `false` until every lane has had a valid sample.
     pub fn is_initialised(&self) -> bool {
         self.initialised
     }
+}
+
+/// The wrap a bank's predicted angles need in one sample (see [`Gains::lanes_wrap`]).
+#[derive(Clone, Copy)]
+enum LanesWrap {
+    /// Every angle is in [-pi, pi) already.
+    None,
+    /// Every angle is within about a turn: [`OneTurnWrap`].
+    OneTurn,
+    /// Some angle is further off, or not finite: each lane with the single observer's wrap.
+    Full,
 }
 
 impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S>
@@ -122,32 +135,53 @@ where
             self.initialise_bank(bank, y_c, y_s);
             return;
         }
-        if !self.lanes_within_one_turn(bank) {
-            self.update_lanes_one_by_one(bank, y_c, y_s);
-            return;
-        }
-        // Side by side: the same operations on every lane and no branch (the wrap is by
-        // selects), so the compiler vectorises this loop.
-        for lane in 0..L {
-            self.update_lane::<OneTurnWrap, L>(bank, lane, y_c[lane], y_s[lane]);
+        // Side by side: the same operations on every lane and no branch in the loop, so the
+        // compiler vectorises it. The wrap of the predicted angles is chosen for the whole
+        // bank: none in the usual sample (every lane inside [-pi, pi): a lane crosses the
+        // edge once a turn), by selects when a lane crossed it, one by one beyond a turn.
+        match self.lanes_wrap(bank) {
+            LanesWrap::None => {
+                for lane in 0..L {
+                    self.update_lane::<NoWrap, L>(bank, lane, y_c[lane], y_s[lane]);
+                }
+            }
+            LanesWrap::OneTurn => {
+                for lane in 0..L {
+                    self.update_lane::<OneTurnWrap, L>(bank, lane, y_c[lane], y_s[lane]);
+                }
+            }
+            LanesWrap::Full => self.update_lanes_one_by_one(bank, y_c, y_s),
         }
     }
 
-    /// Whether every lane's predicted angle is within [`one_turn_limit`] (about a turn off
-    /// [-pi, pi)), so that [`OneTurnWrap`] wraps it: true of any lane a loop tracks (the
-    /// prediction moves by the speed and acceleration of one sample, and by the correction).
+    /// How the lanes' predicted angles must be wrapped this sample: not at all if every one
+    /// is in [-pi, pi); by [`OneTurnWrap`] if every one is within [`one_turn_limit`] (about a
+    /// turn off), which is true of any lane a loop tracks (the prediction moves by the
+    /// speed and acceleration of one sample, and by the correction); else lane by lane.
     #[inline(always)]
-    fn lanes_within_one_turn<const L: usize>(&self, bank: &ChannelBank<T, N, L>) -> bool {
+    fn lanes_wrap<const L: usize>(&self, bank: &ChannelBank<T, N, L>) -> LanesWrap {
+        // Each test is false for NaN.
+        let mut inside = true;
+        for &angle in &bank.next_angle {
+            inside &= angle >= -T::PI && angle < T::PI;
+        }
+        if inside {
+            return LanesWrap::None;
+        }
         let limit = one_turn_limit::<T>();
         let mut within = true;
-        for lane in 0..L {
-            within &= bank.next_angle[lane].abs() < limit;
+        for &angle in &bank.next_angle {
+            within &= angle.abs() < limit;
         }
-        within
+        if within {
+            LanesWrap::OneTurn
+        } else {
+            LanesWrap::Full
+        }
     }
 
     /// The update of a bank whose lanes may go more than a turn off in one sample (see
-    /// [`Gains::lanes_within_one_turn`]): lane by lane, with the single observer's wrap.
+    /// [`Gains::lanes_wrap`]): lane by lane, with the single observer's wrap.
     #[cold]
     #[inline(never)]
     fn update_lanes_one_by_one<const L: usize>(
@@ -183,7 +217,7 @@ where
         }
         bank.next_angle[lane] = next_angle;
         bank.phase_error[lane] = step.eps;
-        bank.rejected[lane] = !valid;
+        bank.rejected[lane] = u32::from(!valid);
     }
 
     /// Runs a bank over a block of samples, `y_c[k][lane]` and `y_s[k][lane]`, calling
@@ -218,7 +252,7 @@ where
         for (i, xi) in x.iter_mut().enumerate() {
             *xi = bank.x[i][lane];
         }
-        let faults = if bank.rejected[lane] {
+        let faults = if bank.rejected[lane] != 0 {
             Faults::BAD_SAMPLE
         } else {
             Faults::NONE
@@ -242,7 +276,7 @@ where
                 continue;
             }
             let (_, valid) = self.thresholds.accept(c, s);
-            bank.rejected[lane] = !valid;
+            bank.rejected[lane] = u32::from(!valid);
             if let (true, Some((angle, whole))) = (valid, sample_angle(c, s)) {
                 bank.turns[lane] = whole;
                 bank.x[0][lane] = angle;

@@ -353,6 +353,17 @@ pub(crate) struct FullWrap;
 /// [`one_turn_limit`], which the caller makes sure of.
 pub(crate) struct OneTurnWrap;
 
+/// No wrap at all: for angles already in [-pi, pi), which the caller makes sure of (it is
+/// then what [`OneTurnWrap`] gives, to the bit).
+pub(crate) struct NoWrap;
+
+impl Wrap for NoWrap {
+    #[inline(always)]
+    fn wrap<T: Real>(_angle: &mut T) -> i32 {
+        0
+    }
+}
+
 impl Wrap for FullWrap {
     #[inline(always)]
     fn wrap<T: Real>(angle: &mut T) -> i32 {

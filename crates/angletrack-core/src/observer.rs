@@ -339,8 +339,8 @@ fn re_acquired<T: Real>(angle: T, y_c: T, y_s: T) -> (T, i32) {
     (angle, whole)
 }
 
-/// How a step wraps the angle: [`FullWrap`] for a single channel, [`OneTurnWrap`] for the
-/// lanes of a bank.
+/// How a step wraps the predicted angle: [`FullWrap`] for a single channel, [`NoWrap`] or
+/// [`OneTurnWrap`] for the lanes of a bank.
 pub(crate) trait Wrap {
     /// Wraps `angle` into [-pi, pi); returns the whole turns removed.
     fn wrap<T: Real>(angle: &mut T) -> i32;
@@ -468,8 +468,8 @@ where
     /// The recursion itself, on one channel's scaled state `x` and the predicted angle
     /// `next_angle` the previous sample left: predict, detect, correct. A sample that is not
     /// `valid` is not used (the correction is zero: the state coasts on its prediction). `W`
-    /// wraps the predicted angle: [`FullWrap`] for one channel, [`OneTurnWrap`] for the lanes
-    /// of a bank.
+    /// wraps the predicted angle: [`FullWrap`] for one channel; [`NoWrap`] or [`OneTurnWrap`]
+    /// for the lanes of a bank, as the bank's angles need.
     ///
     /// ```text
     /// X_p = A X_e                      (the angle row is next_angle, wrapped)

@@ -514,8 +514,8 @@ where
     }
 
     /// The recursion on a sample that is not used (the state coasts on its prediction): the
-    /// new scaled state and the whole turns crossed. Out of line, as the rare case of
-    /// [`Gains::update`].
+    /// new scaled state, the next predicted angle and the whole turns crossed. Out of line,
+    /// as the rare case of [`Gains::update`].
     #[cold]
     #[inline(never)]
     fn coast(&self, mut x: [T; N], mut next_angle: T) -> ([T; N], T, i32) {

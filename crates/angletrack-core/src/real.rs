@@ -107,8 +107,6 @@ pub trait Real:
     fn exp(self) -> Self;
     /// `(sin, cos)` correctly rounded to within an ulp, from [`libm`].
     fn sin_cos(self) -> (Self, Self);
-    /// The sign of `sign` with the magnitude of `self`.
-    fn copysign(self, sign: Self) -> Self;
     /// The smaller of two values (the other one if either is NaN).
     fn min(self, other: Self) -> Self;
     /// The larger of two values (the other one if either is NaN).
@@ -184,7 +182,7 @@ fn estrin<T: Real>(t: T, c: &[T]) -> T {
 
 macro_rules! impl_real {
     ($t:ident, $bits:ident, $m:ident, $default:ident, $tau_lo:expr, $edge_fix:expr, $eps_fast:expr, [$($s:expr),*], [$($c:expr),*],
-     $sqrt:ident, $floor:ident, $atan2:ident, $exp:ident, $sincos:ident, $copysign:ident) => {
+     $sqrt:ident, $floor:ident, $atan2:ident, $exp:ident, $sincos:ident) => {
         impl Real for $t {
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
@@ -259,10 +257,6 @@ macro_rules! impl_real {
                 $t::from_bits(self.to_bits() ^ (sign.to_bits() & SIGN_BIT))
             }
             #[inline(always)]
-            fn copysign(self, sign: Self) -> Self {
-                $t::copysign(self, sign)
-            }
-            #[inline(always)]
             fn min(self, other: Self) -> Self {
                 $t::min(self, other)
             }
@@ -302,8 +296,7 @@ impl_real!(
     floorf,
     atan2f,
     expf,
-    sincosf,
-    copysignf
+    sincosf
 );
 
 // f64: sin degree 13 and cos degree 14 minimax fits on [-pi/2, pi/2]; measured error over
@@ -339,6 +332,5 @@ impl_real!(
     floor,
     atan2,
     exp,
-    sincos,
-    copysign
+    sincos
 );

@@ -59,7 +59,7 @@ bank_row() {
   echo "$row |"
 }
 
-cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -n1)
+cpu=$(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo)
 table=$(mktemp)
 trap 'rm -f "$table"' EXIT
 {

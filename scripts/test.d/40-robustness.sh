@@ -45,12 +45,17 @@ if [[ "$(cargo fuzz --version 2>/dev/null || true)" != *" 0.13."* ]]; then
   cargo install cargo-fuzz --version 0.13.2 --locked
 fi
 log=$(mktemp)
+# libFuzzer writes the inputs it finds into its first corpus directory and only reads the
+# others: the kept corpus (fuzz/corpus) is read, and the new inputs go to a scratch
+# directory, so that a test run leaves the working tree as it found it.
+found=$(mktemp -d)
 for target in $(cd fuzz && cargo +nightly fuzz list); do
-  mkdir -p "fuzz/corpus/$target"
+  mkdir -p "fuzz/corpus/$target" "$found/$target"
   status=0
-  (cd fuzz && cargo +nightly fuzz run "$target" "corpus/$target" -- -max_len=4096 \
-    -max_total_time="$fuzz_seconds" -print_final_stats=1) >"$log" 2>&1 || status=$?
+  (cd fuzz && cargo +nightly fuzz run "$target" "$found/$target" "corpus/$target" -- \
+    -max_len=4096 -max_total_time="$fuzz_seconds" -print_final_stats=1) >"$log" 2>&1 || status=$?
   grep -E "^Done|stat::number_of_executed_units|panicked|SUMMARY|ERROR" "$log" || true
+  echo "$target: $(ls "$found/$target" | wc -l) new inputs beyond fuzz/corpus/$target (in $found/$target)"
   if [ "$status" -ne 0 ]; then
     tail -n 40 "$log" >&2
     echo "FAIL: fuzz target $target failed (status $status)" >&2; exit 1

@@ -214,7 +214,9 @@ const fn zero<T: Real>() -> T {
 /// [-pi, pi), and the turn count with the wrap's whole turns.
 #[inline(always)]
 pub(crate) fn wrapped<T: Real>(x0: T, turns: i64) -> (T, i64) {
-    // The usual case returns both as they are (no addition of zero turns on the way).
+    // The usual case returns both as they are (no addition of zero turns on the way). The
+    // test repeats `wrap_angle`'s on purpose: calling it and matching its zero costs 3
+    // instructions per update on a Cortex-M4F (tests/firmware, 144.3 -> 147.3).
     if x0.abs() < T::PI {
         return (x0, turns);
     }

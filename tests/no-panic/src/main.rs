@@ -1,6 +1,7 @@
-//! Every f32 per-sample entry point of the core (single observers and channel banks), fed with values the optimiser cannot see
-//! (`black_box`). The panic handler below is only kept by the linker if some path of these
-//! calls can panic; `scripts/test.d/40-robustness.sh` fails when its symbol is in the image.
+//! Every f32 per-sample entry point of the core (single observers and channel banks), fed
+//! with values the optimiser cannot see (`black_box`). The panic handler below is only kept
+//! by the linker if some path of these calls can panic; `scripts/test.d/40-robustness.sh`
+//! fails when its symbol is in the image.
 #![no_std]
 #![no_main]
 

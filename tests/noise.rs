@@ -1,8 +1,8 @@
 //! The noise predictions of the design report checked by simulation over 10^6 samples:
-//! the RMS errors of the discrete Lyapunov equation, and the Kalman floor `sqrt(P11)`.
+//! the RMS errors of the discrete Lyapunov equation (`docs/theory.md §8`), and the Kalman
+//! floor `sqrt(P11)` (`§4`).
 
-use std::f64::consts::PI;
-
+use angletrack::paper::{POLE_FREQUENCY_RATIO, POLE_RATIO};
 use angletrack::{
     DesignReport, Discretisation, Gains, Metrics, MetricsOptions, Motion, MotionProfile,
     ObserverState, Scenario, SensorModel, kalman, predicted_error, run,
@@ -49,7 +49,14 @@ fn within_5_percent(what: &str, simulated: f64, predicted: f64) {
 fn predicted_rms_errors_match_simulation_over_a_million_samples() {
     let scenario = constant_speed();
     let second = second_order_from_bandwidth(80.0, 0.8, TS, Discretisation::PoleMatching).unwrap();
-    let third = third_order_from_poles(39.04, 0.01, 1.5 * PI, TS, Discretisation::Tustin).unwrap();
+    let third = third_order_from_poles(
+        POLE_RATIO,
+        0.01,
+        POLE_FREQUENCY_RATIO,
+        TS,
+        Discretisation::Tustin,
+    )
+    .unwrap();
     let optimal = kalman(1e-12, SIGMA * SIGMA, TS).unwrap();
 
     let r2 = DesignReport::new(&second, SIGMA).unwrap();

@@ -1,13 +1,12 @@
 //! The figures of Auger, Mansouri-Toudert and Chibah, *Design of advanced resolver-to-digital
-//! converters* (2011), reproduced through the `angletrack` API (NOTES.md sections 2 to 4).
+//! converters* (2011), reproduced through the `angletrack` API: the designs of
+//! `docs/theory.md §2` and `§3`, the Kalman ATO of `§4`.
 
-use std::f64::consts::{PI, SQRT_2};
-
-use angletrack::core::{Order, SupportedOrder};
+use angletrack::paper::{BUTTERWORTH_DAMPING, FIVE_PERCENT_DAMPING, PaperSetting};
 use angletrack::{
-    Design, DesignReport, Discretisation, Gains, Metrics, MetricsOptions, Motion, MotionProfile,
+    AnyDesign, DesignReport, Discretisation, Gains, Metrics, MetricsOptions, Motion, MotionProfile,
     ObserverState, Scenario, SensorModel, kalman_from_jerk_std, run, second_order_butterworth,
-    second_order_from_tracking_error, third_order_butterworth, third_order_from_poles,
+    second_order_from_tracking_error,
 };
 use nalgebra::{Matrix2, Matrix3, Matrix3x2, Vector2, Vector3};
 
@@ -18,19 +17,13 @@ const RATIO: f64 = 400.0;
 
 /// The sample period that puts the sample rate at `ratio` times the closed-loop -3 dB
 /// bandwidth of `design(ts)` (iterated: the discrete bandwidth depends a little on `ts`).
-fn period_for_ratio<const N: usize>(
-    ratio: f64,
-    design: impl Fn(f64) -> Design<N>,
-) -> (f64, DesignReport)
-where
-    Order<N>: SupportedOrder,
-{
+fn period_for_ratio(ratio: f64, design: impl Fn(f64) -> AnyDesign) -> (f64, DesignReport) {
     let mut ts = 1e-6;
     for _ in 0..3 {
-        let report = DesignReport::new(&design(ts), 0.0).unwrap();
+        let report = design(ts).report(0.0).unwrap();
         ts = 1.0 / (ratio * report.bandwidth_hz.unwrap());
     }
-    let report = DesignReport::new(&design(ts), 0.0).unwrap();
+    let report = design(ts).report(0.0).unwrap();
     let achieved = 1.0 / (ts * report.bandwidth_hz.unwrap());
     assert!(
         achieved >= ratio * 0.999,
@@ -42,13 +35,7 @@ where
 /// Checks the paper's overshoot (percent) for the linear step response of the continuous
 /// design and of the discrete loop sampled at `RATIO` times its bandwidth (0.3 point), and
 /// returns the report for the large-step checks.
-fn check_overshoot<const N: usize>(
-    paper_percent: f64,
-    design: impl Fn(f64) -> Design<N>,
-) -> DesignReport
-where
-    Order<N>: SupportedOrder,
-{
+fn check_overshoot(paper_percent: f64, design: impl Fn(f64) -> AnyDesign) -> DesignReport {
     let (_, report) = period_for_ratio(RATIO, design);
     let continuous = 100.0 * report.continuous_step.unwrap().overshoot;
     let discrete = 100.0 * report.linear_step.overshoot;
@@ -72,34 +59,38 @@ where
     report
 }
 
+/// [`check_overshoot`] of one of the paper's settings, against the overshoot it quotes.
+fn check_setting(setting: PaperSetting) -> DesignReport {
+    check_overshoot(setting.overshoot_percent(), |ts| {
+        setting.design(ts, PM).unwrap()
+    })
+}
+
 #[test]
 fn second_order_damping_1_945_overshoots_5_percent() {
-    let report = check_overshoot(5.0, |ts| {
-        second_order_from_tracking_error(1e-3, 1e3, 1.945, ts, PM).unwrap()
-    });
+    let report = check_setting(PaperSetting::SecondOrderFivePercent);
     assert!(report.large_step.overshoot < report.linear_step.overshoot);
 }
 
 #[test]
 fn second_order_butterworth_overshoots_20_8_percent() {
-    check_overshoot(20.8, |ts| {
-        second_order_from_tracking_error(1e-3, 1e3, SQRT_2 / 2.0, ts, PM).unwrap()
-    });
+    let setting = PaperSetting::SecondOrderButterworth;
+    check_setting(setting);
     // The dedicated Butterworth setting is the same loop.
-    let report = check_overshoot(20.8, |ts| second_order_butterworth(1e-2, ts, PM).unwrap());
+    let report = check_overshoot(setting.overshoot_percent(), |ts| {
+        second_order_butterworth(1e-2, ts, PM).unwrap().into()
+    });
     assert!(report.large_step.overshoot < report.linear_step.overshoot);
 }
 
 #[test]
 fn third_order_k_39_04_psi_3pi_2_overshoots_10_percent() {
-    check_overshoot(10.0, |ts| {
-        third_order_from_poles(39.04, 0.01, 1.5 * PI, ts, PM).unwrap()
-    });
+    check_setting(PaperSetting::ThirdOrderTenPercent);
 }
 
 #[test]
 fn third_order_butterworth_overshoots_30_9_percent() {
-    check_overshoot(30.9, |ts| third_order_butterworth(1e-2, ts, PM).unwrap());
+    check_setting(PaperSetting::ThirdOrderButterworth);
 }
 
 #[test]
@@ -107,7 +98,7 @@ fn second_order_bias_under_constant_acceleration_is_alpha_over_k_b() {
     // 1 mrad tolerated at 1000 rad/s^2: k_b1 = 1e6 s^-2. At 1 MHz the discrete acceleration
     // constant is within 0.2 % of k_b1.
     let (max_error, alpha, ts) = (1e-3, 1e3, 1e-6);
-    for damping in [SQRT_2 / 2.0, 1.0, 1.945] {
+    for damping in [BUTTERWORTH_DAMPING, 1.0, FIVE_PERCENT_DAMPING] {
         let design = second_order_from_tracking_error(max_error, alpha, damping, ts, PM).unwrap();
         let [_, k_b] = design.continuous_gains.unwrap();
         let ka = DesignReport::new(&design, 0.0)
@@ -138,7 +129,7 @@ fn second_order_bias_under_constant_acceleration_is_alpha_over_k_b() {
     }
 }
 
-/// The full extended Kalman filter of NOTES.md section 4: 3 states, the 2-D measurement
+/// The full extended Kalman filter of the model of `docs/theory.md §4`: 3 states, the 2-D measurement
 /// `(cos x1, sin x1)` with covariance `r I`, and a time-varying covariance.
 struct ExtendedKalmanFilter {
     x: Vector3<f64>,

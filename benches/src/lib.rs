@@ -7,23 +7,24 @@
 //! instruction count and the firmware's reference data all run the very same observers on
 //! the very same signal.
 
-use angletrack::{Motion, MotionProfile, Scenario, SensorModel};
+use angletrack::{Motion, MotionProfile, Scenario, SensorModel, paper};
 use angletrack_core::{Gains, Order, Real, SinCos, SupportedOrder};
 use num_traits::Float;
 
 /// Sample period of every benchmark and of the firmware test (s): a 10 kHz loop.
-pub const SAMPLE_PERIOD_S: f64 = 1e-4;
+pub const SAMPLE_PERIOD_S: f64 = paper::BENCHMARK_SAMPLE_PERIOD_S;
 
-/// Discrete gains `(l1, l2)` of the classical 2nd-order ATO: 50 Hz natural frequency,
-/// damping 1, pole matching at 10 kHz (the gains of the core's `track_resolver` example).
-pub const SECOND_ORDER_GAINS: [f64; 2] = [0.060_898_63, 0.000_956_514_8];
+/// Discrete gains `(l1, l2)` of the classical 2nd-order ATO (see
+/// [`paper::BENCHMARK_SECOND_ORDER_GAINS`]; the gains of the core's `track_resolver` example).
+pub const SECOND_ORDER_GAINS: [f64; 2] = paper::BENCHMARK_SECOND_ORDER_GAINS;
 
-/// Discrete gains `(l1, l2, l3)` of the 3rd-order ATO designed by pole placement
-/// (K = 39.04, psi = 3 pi / 2, pole matching at 10 kHz).
-pub const THIRD_ORDER_GAINS: [f64; 3] = [0.094_326_17, 0.000_562_075, 1.213_522e-5];
+/// Discrete gains `(l1, l2, l3)` of the 3rd-order ATO designed by pole placement (see
+/// [`paper::BENCHMARK_THIRD_ORDER_GAINS`]).
+pub const THIRD_ORDER_GAINS: [f64; 3] = paper::BENCHMARK_THIRD_ORDER_GAINS;
 
-/// Discrete gains `(l1, l2, l3)` of the time-invariant Kalman ATO for `q / r = 1e-9`.
-pub const KALMAN_GAINS: [f64; 3] = [0.061_286_65, 0.001_937_879, 3.063_843e-5];
+/// Discrete gains `(l1, l2, l3)` of the time-invariant Kalman ATO (see
+/// [`paper::BENCHMARK_KALMAN_GAINS`]).
+pub const KALMAN_GAINS: [f64; 3] = paper::BENCHMARK_KALMAN_GAINS;
 
 /// The three observers, by the name used in benchmark ids and firmware output, with their
 /// discrete gains (`l3 = 0` for the 2nd-order loop).

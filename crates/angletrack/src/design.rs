@@ -239,6 +239,70 @@ where
     }
 }
 
+/// A design of either order, for code that handles the 2nd- and 3rd-order observers
+/// alike (tables of settings, the Python binding).
+#[derive(Debug, Clone, PartialEq)]
+pub enum AnyDesign {
+    /// A 2nd-order design.
+    Second(Design<2>),
+    /// A 3rd-order design.
+    Third(Design<3>),
+}
+
+impl From<Design<2>> for AnyDesign {
+    fn from(design: Design<2>) -> Self {
+        AnyDesign::Second(design)
+    }
+}
+
+impl From<Design<3>> for AnyDesign {
+    fn from(design: Design<3>) -> Self {
+        AnyDesign::Third(design)
+    }
+}
+
+impl AnyDesign {
+    /// The loop order (2 or 3).
+    pub fn order(&self) -> usize {
+        match self {
+            AnyDesign::Second(_) => 2,
+            AnyDesign::Third(_) => 3,
+        }
+    }
+
+    /// The discrete gains `(l1, l2[, l3])`.
+    pub fn gains(&self) -> Vec<f64> {
+        match self {
+            AnyDesign::Second(d) => d.gains.gains().to_vec(),
+            AnyDesign::Third(d) => d.gains.gains().to_vec(),
+        }
+    }
+
+    /// The sample period (s).
+    pub fn sample_period(&self) -> f64 {
+        match self {
+            AnyDesign::Second(d) => d.sample_period(),
+            AnyDesign::Third(d) => d.sample_period(),
+        }
+    }
+
+    /// [`DesignReport::new`](crate::DesignReport::new) of the design.
+    ///
+    /// ```
+    /// use angletrack::{AnyDesign, Discretisation, second_order_butterworth};
+    /// let design: AnyDesign =
+    ///     second_order_butterworth(1e-2, 1e-5, Discretisation::PoleMatching)?.into();
+    /// assert_eq!(design.report(0.0)?.order, 2);
+    /// # Ok::<(), angletrack::Error>(())
+    /// ```
+    pub fn report(&self, sensor_noise_std: f64) -> Result<crate::DesignReport, Error> {
+        match self {
+            AnyDesign::Second(d) => crate::DesignReport::new(d, sensor_noise_std),
+            AnyDesign::Third(d) => crate::DesignReport::new(d, sensor_noise_std),
+        }
+    }
+}
+
 /// Rounds `f64` gains to the float type `T` and checks them again with the core (a gain set
 /// close to the edge of the stability region can leave it by rounding).
 ///

@@ -48,13 +48,14 @@ mod design;
 mod error;
 mod linalg;
 mod metrics;
+pub mod paper;
 mod report;
 mod scenario;
 
 pub use batch::{BatchColumns, ChannelBatch, LANES};
 pub use design::{
-    Design, DesignMethod, Discretisation, KalmanSolution, MAX_POLE_TIMES_PERIOD, StepResponse,
-    convert_gains, kalman, kalman_from_jerk_density, kalman_from_jerk_std,
+    AnyDesign, Design, DesignMethod, Discretisation, KalmanSolution, MAX_POLE_TIMES_PERIOD,
+    StepResponse, convert_gains, kalman, kalman_from_jerk_density, kalman_from_jerk_std,
     second_order_bandwidth_ratio, second_order_butterworth, second_order_from_bandwidth,
     second_order_from_tracking_error, third_order_butterworth, third_order_from_overshoot,
     third_order_from_poles,

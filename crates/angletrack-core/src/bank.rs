@@ -1,12 +1,13 @@
 //! Many independent channels sharing one gain set: several axes, or a Monte Carlo batch.
+//! [`ChannelBank`] keeps their states side by side so that [`Gains::update_bank`] runs the
+//! one recursion (`docs/theory.md §5`) on every lane at once, vectorised.
 
-use crate::gains::{Gains, Order, SupportedOrder};
-use crate::monitor::Faults;
-use crate::observer::{
-    Estimate, FullWrap, NoWrap, OneTurnWrap, Wrap, one_turn_limit, sample_angle, wrapped,
-};
+use crate::faults::Faults;
+use crate::gains::Gains;
 use crate::real::Real;
 use crate::sincos::SinCos;
+use crate::state::Estimate;
+use crate::wrap::{FullWrap, NoWrap, OneTurnWrap, Wrap, one_turn_limit, sample_angle, wrapped};
 
 /// The states of `L` independent channels of order `N`, laid out as a struct of arrays
 /// (`x[i][lane]`) so that [`Gains::update_bank`] runs the lanes side by side and the
@@ -106,10 +107,7 @@ enum LanesWrap {
     Full,
 }
 
-impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S>
-where
-    Order<N>: SupportedOrder,
-{
+impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// One sample for each of the `L` lanes of a bank. A lane's first valid sample
     /// initialises it from `atan2(y_s, y_c)`; until every lane is initialised the lanes run
     /// one by one, then side by side.
@@ -288,3 +286,6 @@ where
         bank.initialised = all;
     }
 }
+
+#[cfg(test)]
+mod tests;

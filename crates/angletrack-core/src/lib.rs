@@ -58,23 +58,27 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 mod bank;
+mod error;
+mod faults;
 mod gains;
 mod monitor;
 mod observer;
 mod real;
 mod sincos;
+mod stability;
+mod state;
+mod update;
+mod wrap;
 
 pub use bank::ChannelBank;
-pub use gains::{ConfigError, Gains, Order, Parameter, SupportedOrder};
-pub use monitor::{FaultThresholds, Faults};
-pub use observer::{
-    AngleTrackingObserver, Estimate, Observer, ObserverState, SecondOrderObserver,
-    ThirdOrderObserver,
-};
+pub use error::{ConfigError, Parameter};
+pub use faults::Faults;
+pub use gains::{Gains, Order, SupportedOrder};
+pub use monitor::FaultThresholds;
+pub use observer::{AngleTrackingObserver, Observer, SecondOrderObserver, ThirdOrderObserver};
 pub use real::Real;
 pub use sincos::{Exact, Fast, SinCos};
+pub use state::{Estimate, ObserverState};
 
 #[cfg(test)]
-mod robustness_tests;
-#[cfg(test)]
-mod tests;
+mod test_support;

@@ -2,10 +2,9 @@
 //!
 //! All transcendental functions go through [`libm`], so the crate stays `no_std`. The `f32`
 //! implementation never touches `f64` arithmetic: a Cortex-M4F has a single-precision FPU
-//! only, and any `f64` operation there becomes a slow software call.
-
-// The polynomial coefficients are written as fitted (in f64); the compiler rounds them.
-#![allow(clippy::excessive_precision)]
+//! only, and any `f64` operation there becomes a slow software call. The coefficients of
+//! the fast sin/cos polynomials are constants of each type; their evaluation is in
+//! `sincos.rs` (`docs/theory.md §11`).
 
 use core::fmt::{Debug, Display};
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
@@ -61,8 +60,6 @@ pub trait Real:
     const FRAC_1_TAU: Self;
     /// Machine epsilon.
     const EPSILON: Self;
-    /// The largest finite value.
-    const MAX: Self;
     /// Coefficients of the odd minimax polynomial for sin on [-pi/2, pi/2], lowest first.
     #[doc(hidden)]
     const SIN_POLY: &'static [Self];
@@ -97,14 +94,8 @@ pub trait Real:
     fn is_finite(self) -> bool;
     /// Absolute value.
     fn abs(self) -> Self;
-    /// Square root.
-    fn sqrt(self) -> Self;
-    /// Largest integer value not greater than `self`.
-    fn floor(self) -> Self;
     /// Four-quadrant arctangent of `self / x` (rad, in [-pi, pi]).
     fn atan2(self, x: Self) -> Self;
-    /// Exponential.
-    fn exp(self) -> Self;
     /// `(sin, cos)` correctly rounded to within an ulp, from [`libm`].
     fn sin_cos(self) -> (Self, Self);
     /// The smaller of two values (the other one if either is NaN).
@@ -125,8 +116,7 @@ pub trait Real:
     /// Outside that range the result is wrong; the observer only calls it on a wrapped angle.
     #[inline(always)]
     fn fast_sin_cos(self) -> (Self, Self) {
-        let (w, p, q) = self.fast_reduced();
-        (q.times_sign_of(self), w * p)
+        crate::sincos::fast_sin_cos(self)
     }
 
     /// The heterodyne phase detector on the angle `self` (in [-pi, pi]) with the
@@ -139,50 +129,13 @@ pub trait Real:
     /// phase error, which is what a single observer's loop waits for.
     #[inline(always)]
     fn fast_phase_detector(self, y_c: Self, y_s: Self) -> (Self, Self) {
-        let (w, p, q) = self.fast_reduced();
-        let eps = (y_s * w) * p - y_c.times_sign_of(self) * q;
-        let in_phase = (y_c * w) * p + y_s.times_sign_of(self) * q;
-        (eps, in_phase)
-    }
-
-    /// The shared part of [`Real::fast_sin_cos`]: `w = pi/2 - |x|`, `P(w^2)` and `Q(w^2)`.
-    #[doc(hidden)]
-    #[inline(always)]
-    fn fast_reduced(self) -> (Self, Self, Self) {
-        let w = Self::FRAC_PI_2 - self.abs();
-        let w2 = w * w;
-        (w, estrin(w2, Self::SIN_POLY), estrin(w2, Self::COS_POLY))
-    }
-}
-
-/// Estrin-like evaluation of `c[0] + c[1] t + ... + c[7] t^7` (`c` has at most 8
-/// coefficients; its length is a constant, so the branches fold away): pairs
-/// `c[2i] + c[2i+1] t` combined with powers of `t`. The chain of dependent operations is about
-/// half as long as Horner's, which matters because the observer's loop is latency-bound.
-///
-/// Five coefficients (the `f32` polynomials) split as `(c0 + c1 t + c2 t^2) + t^3 (c3 + c4 t)`:
-/// both halves are ready two multiply-adds after `t^2`, one step sooner than Estrin's
-/// `(c0 + c1 t + t^2 (c2 + c3 t)) + t^4 c4`, for the same number of operations.
-#[inline(always)]
-fn estrin<T: Real>(t: T, c: &[T]) -> T {
-    let pair = |i: usize| match (c.get(2 * i), c.get(2 * i + 1)) {
-        (Some(&low), Some(&high)) => low + high * t,
-        (Some(&low), None) => low,
-        _ => T::ZERO,
-    };
-    let t2 = t * t;
-    match *c {
-        [_] | [_, _] => pair(0),
-        [_, _, _] | [_, _, _, _] => pair(0) + t2 * pair(1),
-        [_, _, c2, c3, c4] => (pair(0) + c2 * t2) + (t2 * t) * (c3 + c4 * t),
-        [_, _, _, _, _, _] => (pair(0) + t2 * pair(1)) + (t2 * t2) * pair(2),
-        _ => (pair(0) + t2 * pair(1)) + (t2 * t2) * (pair(2) + t2 * pair(3)),
+        crate::sincos::fast_phase_detector(self, y_c, y_s)
     }
 }
 
 macro_rules! impl_real {
-    ($t:ident, $bits:ident, $m:ident, $default:ident, $tau_lo:expr, $edge_fix:expr, $eps_fast:expr, [$($s:expr),*], [$($c:expr),*],
-     $sqrt:ident, $floor:ident, $atan2:ident, $exp:ident, $sincos:ident) => {
+    ($t:ident, $bits:ident, $m:ident, $default:ident, $tau_lo:expr, $edge_fix:expr, $eps_fast:expr, $sin_poly:path, $cos_poly:path,
+     $atan2:ident, $sincos:ident) => {
         impl Real for $t {
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
@@ -195,9 +148,8 @@ macro_rules! impl_real {
             const TAU_LO: Self = $tau_lo;
             const FRAC_1_TAU: Self = 1.0 / core::$m::consts::TAU;
             const EPSILON: Self = $t::EPSILON;
-            const MAX: Self = $t::MAX;
-            const SIN_POLY: &'static [Self] = &[$($s),*];
-            const COS_POLY: &'static [Self] = &[$($c),*];
+            const SIN_POLY: &'static [Self] = &$sin_poly;
+            const COS_POLY: &'static [Self] = &$cos_poly;
             const FAST_SIN_COS_MAX_ERROR: Self = $eps_fast;
             const ONE_TURN_EDGE_FIX: bool = $edge_fix;
             type DefaultSinCos = crate::$default;
@@ -232,20 +184,8 @@ macro_rules! impl_real {
                 $t::abs(self)
             }
             #[inline(always)]
-            fn sqrt(self) -> Self {
-                libm::$sqrt(self)
-            }
-            #[inline(always)]
-            fn floor(self) -> Self {
-                libm::$floor(self)
-            }
-            #[inline(always)]
             fn atan2(self, x: Self) -> Self {
                 libm::$atan2(self, x)
-            }
-            #[inline(always)]
-            fn exp(self) -> Self {
-                libm::$exp(self)
             }
             #[inline(always)]
             fn sin_cos(self) -> (Self, Self) {
@@ -268,8 +208,7 @@ macro_rules! impl_real {
     };
 }
 
-// f32: sin degree 9 (3.3e-9) and cos degree 8 (4.7e-8) minimax fits on [-pi/2, pi/2];
-// with f32 rounding the measured error over [-pi, pi] is 2.5e-7 (2 ulp of 1), bound 3e-7.
+// f32: the fast sin/cos's error bound is 3e-7 (see `sincos::F32_SIN_POLY`).
 impl_real!(
     f32,
     u32,
@@ -278,29 +217,13 @@ impl_real!(
     -1.748_455_6e-7_f32,
     false,
     3e-7,
-    [
-        0.999_999_976_589_421_1,
-        -0.166_666_476_343_451_5,
-        0.008_332_899_818_388_598,
-        -0.000_198_008_974_585_745,
-        2.590_487_887_643_711e-6
-    ],
-    [
-        0.999_999_953_465_633_9,
-        -0.499_999_053_454_307_2,
-        0.041_663_584_653_655_84,
-        -0.001_385_370_401_288_166,
-        2.315_392_487_334_255_7e-5
-    ],
-    sqrtf,
-    floorf,
+    crate::sincos::F32_SIN_POLY,
+    crate::sincos::F32_COS_POLY,
     atan2f,
-    expf,
     sincosf
 );
 
-// f64: sin degree 13 and cos degree 14 minimax fits on [-pi/2, pi/2]; measured error over
-// [-pi, pi] below 2e-13.
+// f64: the fast sin/cos's error bound is 2e-13 (see `sincos::F64_SIN_POLY`).
 impl_real!(
     f64,
     u64,
@@ -309,28 +232,8 @@ impl_real!(
     2.449_293_598_294_706_4e-16_f64,
     true,
     2e-13,
-    [
-        0.999_999_999_999_581_1,
-        -0.166_666_666_660_421_6,
-        0.008_333_333_306_421_803,
-        -0.000_198_412_647_213_031_67,
-        2.755_681_878_744_559e-6,
-        -2.502_587_063_968_331_2e-8,
-        1.535_579_996_492_231_2e-10
-    ],
-    [
-        0.999_999_999_999_992_2,
-        -0.500_000_000_000_023_1,
-        0.041_666_666_666_174_38,
-        -0.001_388_888_886_794_840_3,
-        2.480_158_351_217_398_6e-5,
-        -2.755_696_539_430_419e-7,
-        2.085_897_288_228_722e-9,
-        -1.101_291_280_392_047_2e-11
-    ],
-    sqrt,
-    floor,
+    crate::sincos::F64_SIN_POLY,
+    crate::sincos::F64_COS_POLY,
     atan2,
-    exp,
     sincos
 );

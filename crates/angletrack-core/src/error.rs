@@ -1,0 +1,152 @@
+//! Why a configuration is refused: [`ConfigError`], naming the [`Parameter`] by the name the
+//! caller wrote. Gains and thresholds are checked once, at construction, so that the
+//! per-sample update never fails.
+
+use core::fmt;
+
+use crate::real::Real;
+
+/// A parameter of an observer's configuration, named in [`ConfigError`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Parameter {
+    /// The sample period `Ts` (s).
+    SamplePeriod,
+    /// The angle gain `l1` (dimensionless).
+    AngleGain,
+    /// The speed gain `l2` (dimensionless, scaled by `Ts`).
+    SpeedGain,
+    /// The acceleration gain `l3` (dimensionless, scaled by `Ts^2`).
+    AccelerationGain,
+    /// The input amplitude above which a sample is rejected as absurd.
+    MaxInputAmplitude,
+    /// The amplitude below which loss of signal is flagged.
+    LossOfSignalThreshold,
+    /// The amplitude above which degradation of signal is flagged.
+    DegradationHighThreshold,
+    /// The amplitude below which degradation of signal is flagged.
+    DegradationLowThreshold,
+    /// The filtered phase-detector error above which loss of tracking is flagged.
+    LossOfTrackingThreshold,
+    /// The smoothing factor of the diagnostics' first-order filters.
+    FilterFactor,
+    /// The in-phase component below which a false lock is declared.
+    FalseLockThreshold,
+    /// The nominal amplitude of the input signals.
+    NominalAmplitude,
+    /// The largest trackable speed (rad/s) of the loss-of-tracking check.
+    MaxSpeed,
+}
+
+impl Parameter {
+    /// The parameter's name as the caller writes it: the argument of [`Gains::new`]
+    /// (`gains[i]`, `sample_period_s`), the field of
+    /// [`FaultThresholds`](crate::FaultThresholds), and the keyword of the Python API
+    /// (whose `max_speed_rad_s` carries the unit the Rust field `max_speed` documents).
+    ///
+    /// [`Gains::new`]: crate::Gains::new
+    ///
+    /// ```
+    /// use angletrack_core::{Gains, Parameter};
+    /// let err = Gains::<f32, 2>::new([0.05, 0.0012], 0.0).unwrap_err();
+    /// assert_eq!(err.parameter().name(), "sample_period_s");
+    /// assert_eq!(err.to_string(), "sample_period_s must be positive");
+    /// assert_eq!(Parameter::SpeedGain.name(), "gains[1] (l2)");
+    /// ```
+    pub const fn name(self) -> &'static str {
+        match self {
+            Parameter::SamplePeriod => "sample_period_s",
+            Parameter::AngleGain => "gains[0] (l1)",
+            Parameter::SpeedGain => "gains[1] (l2)",
+            Parameter::AccelerationGain => "gains[2] (l3)",
+            Parameter::MaxInputAmplitude => "max_input_amplitude",
+            Parameter::LossOfSignalThreshold => "loss_of_signal",
+            Parameter::DegradationHighThreshold => "degradation_high",
+            Parameter::DegradationLowThreshold => "degradation_low",
+            Parameter::LossOfTrackingThreshold => "loss_of_tracking",
+            Parameter::FilterFactor => "filter_factor",
+            Parameter::FalseLockThreshold => "false_lock",
+            Parameter::NominalAmplitude => "nominal_amplitude",
+            Parameter::MaxSpeed => "max_speed_rad_s",
+        }
+    }
+
+    /// The parameter naming gain `l[index]` (0: angle, 1: speed, 2: acceleration).
+    pub const fn gain(index: usize) -> Parameter {
+        match index {
+            0 => Parameter::AngleGain,
+            1 => Parameter::SpeedGain,
+            _ => Parameter::AccelerationGain,
+        }
+    }
+}
+
+impl fmt::Display for Parameter {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Why a configuration was refused. Returned once, at construction; the per-sample update
+/// never fails.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum ConfigError {
+    /// The parameter is NaN or infinite.
+    NotFinite(Parameter),
+    /// The parameter must be strictly positive.
+    NotPositive(Parameter),
+    /// The parameter is outside its allowed range (see the parameter's documentation).
+    OutOfRange(Parameter),
+    /// The gains put a pole of the discrete loop `(I - L e1^T) A` on or outside the unit
+    /// circle; the named gain is the one whose stability condition fails
+    /// (`docs/theory.md §6`).
+    Unstable {
+        /// The gain whose stability condition fails.
+        parameter: Parameter,
+        /// The condition, in the gains `l1, l2, l3`, that must hold.
+        condition: &'static str,
+    },
+}
+
+impl ConfigError {
+    /// The parameter the error names.
+    pub const fn parameter(&self) -> Parameter {
+        match *self {
+            ConfigError::NotFinite(p)
+            | ConfigError::NotPositive(p)
+            | ConfigError::OutOfRange(p) => p,
+            ConfigError::Unstable { parameter, .. } => parameter,
+        }
+    }
+}
+
+impl fmt::Display for ConfigError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ConfigError::NotFinite(p) => write!(f, "{p} must be finite"),
+            ConfigError::NotPositive(p) => write!(f, "{p} must be positive"),
+            ConfigError::OutOfRange(p) => write!(f, "{p} is out of its allowed range"),
+            ConfigError::Unstable {
+                parameter,
+                condition,
+            } => write!(
+                f,
+                "{parameter} puts the discrete loop outside its stability region: {condition} must hold"
+            ),
+        }
+    }
+}
+
+impl core::error::Error for ConfigError {}
+
+/// Checks that a parameter is finite and strictly positive.
+pub(crate) fn check_positive<T: Real>(value: T, parameter: Parameter) -> Result<T, ConfigError> {
+    if !value.is_finite() {
+        Err(ConfigError::NotFinite(parameter))
+    } else if !(value > T::ZERO) {
+        Err(ConfigError::NotPositive(parameter))
+    } else {
+        Ok(value)
+    }
+}

@@ -1,0 +1,110 @@
+//! [`Faults`]: the fault register of a sample and of a channel (latched), a bit set with
+//! the flags of `docs/theory.md §10` and their names.
+
+use core::fmt;
+
+/// A set of fault flags (a bit set, `Copy`), as in the AD2S1210's fault register.
+///
+/// Each [`Estimate`](crate::Estimate) carries the flags of its own sample; the observer
+/// state also latches them until the caller clears them
+/// ([`ObserverState::clear_faults`](crate::ObserverState::clear_faults)).
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct Faults(u8);
+
+impl Faults {
+    /// No fault.
+    pub const NONE: Faults = Faults(0);
+    /// Loss of signal: the filtered amplitude `sqrt(y_c^2 + y_s^2)` is below the
+    /// loss-of-signal threshold (sensor disconnected, excitation lost).
+    pub const LOSS_OF_SIGNAL: Faults = Faults(1);
+    /// Degradation of signal: the filtered amplitude is outside
+    /// [degradation low, degradation high] (gain drift, saturation, a broken winding).
+    pub const DEGRADATION_OF_SIGNAL: Faults = Faults(1 << 1);
+    /// Loss of tracking: the filtered phase-detector error is above its threshold, or the
+    /// estimated speed is above the largest trackable speed.
+    pub const LOSS_OF_TRACKING: Faults = Faults(1 << 2);
+    /// The sample was rejected (NaN, infinite, or amplitude above the input bound): the
+    /// observer coasted on its prediction.
+    pub const BAD_SAMPLE: Faults = Faults(1 << 3);
+    /// A lock about 180 degrees off was detected (the filtered in-phase component
+    /// `y_c cos + y_s sin` went below its threshold) and the angle re-acquired from `atan2`.
+    pub const FALSE_LOCK: Faults = Faults(1 << 4);
+
+    const NAMES: [(Faults, &'static str); 5] = [
+        (Faults::LOSS_OF_SIGNAL, "loss of signal"),
+        (Faults::DEGRADATION_OF_SIGNAL, "degradation of signal"),
+        (Faults::LOSS_OF_TRACKING, "loss of tracking"),
+        (Faults::BAD_SAMPLE, "bad sample"),
+        (Faults::FALSE_LOCK, "false lock"),
+    ];
+
+    /// The raw bits (bit 0 loss of signal, 1 degradation of signal, 2 loss of tracking,
+    /// 3 bad sample, 4 false lock).
+    pub const fn bits(self) -> u8 {
+        self.0
+    }
+
+    /// The flags from raw bits (unknown bits are dropped).
+    pub const fn from_bits_truncate(bits: u8) -> Faults {
+        Faults(bits & 0x1f)
+    }
+
+    /// `true` when no flag is set.
+    pub const fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+
+    /// `true` when every flag of `other` is set in `self`.
+    pub const fn contains(self, other: Faults) -> bool {
+        self.0 & other.0 == other.0
+    }
+
+    /// The union of two sets.
+    pub const fn union(self, other: Faults) -> Faults {
+        Faults(self.0 | other.0)
+    }
+
+    /// `flag` if `condition` holds, else no fault.
+    #[inline(always)]
+    pub(crate) const fn when(condition: bool, flag: Faults) -> Faults {
+        Faults(flag.0 * condition as u8)
+    }
+}
+
+impl core::ops::BitOr for Faults {
+    type Output = Faults;
+    fn bitor(self, rhs: Faults) -> Faults {
+        self.union(rhs)
+    }
+}
+
+impl core::ops::BitOrAssign for Faults {
+    fn bitor_assign(&mut self, rhs: Faults) {
+        self.0 |= rhs.0;
+    }
+}
+
+impl fmt::Debug for Faults {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "Faults({self})")
+    }
+}
+
+impl fmt::Display for Faults {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.is_empty() {
+            return f.write_str("none");
+        }
+        let mut first = true;
+        for (flag, name) in Faults::NAMES {
+            if self.contains(flag) {
+                if !first {
+                    f.write_str(", ")?;
+                }
+                f.write_str(name)?;
+                first = false;
+            }
+        }
+        Ok(())
+    }
+}

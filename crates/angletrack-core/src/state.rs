@@ -1,0 +1,239 @@
+//! The scaled state of one channel and its prediction: [`ObserverState`] (what the recursion
+//! updates), [`Estimate`] (what it reports, in physical units) and the Taylor step `A x`
+//! that predicts the next sample (`docs/theory.md §5`).
+
+use crate::faults::Faults;
+use crate::monitor::MonitorState;
+use crate::real::Real;
+use crate::wrap::{wrap_angle, wrapped};
+
+/// What an observer knows after a sample.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Estimate<T> {
+    /// Estimated shaft angle (rad), wrapped to [-pi, pi).
+    pub angle: T,
+    /// Whole turns counted since initialisation (positive counter-clockwise). The
+    /// multi-turn position is `turns * 2 pi + angle` (rad), exact in this split form.
+    pub turns: i64,
+    /// Estimated speed (rad/s).
+    pub speed: T,
+    /// Estimated acceleration (rad/s^2); always 0 for a 2nd-order observer.
+    pub acceleration: T,
+    /// Phase-detector output `eps = y_s cos(angle_p) - y_c sin(angle_p)` of this sample,
+    /// about `A sin(theta - angle_p)` (in the input's units, `docs/theory.md §1`); 0 when the
+    /// sample was rejected.
+    pub phase_error: T,
+    /// The diagnostics of this sample (the state also latches them).
+    pub faults: Faults,
+}
+
+impl<T: Real> Estimate<T> {
+    /// The multi-turn position `turns * 2 pi + angle` (rad) in `f64`: exact to `f64`
+    /// rounding whatever the number of turns. Meant for host-side code (on a Cortex-M4F
+    /// `f64` arithmetic is emulated in software).
+    pub fn position(&self) -> f64 {
+        self.turns as f64 * core::f64::consts::TAU + self.angle.to_f64()
+    }
+}
+
+/// The mutable state of one observer channel: the scaled state vector
+/// `x = (theta, Ts Omega[, Ts^2 alpha])`, the next sample's predicted angle and the turn
+/// count.
+///
+/// Separate from the immutable [`Gains`](crate::Gains), so that one gain set can drive many
+/// channels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ObserverState<T, const N: usize> {
+    /// The corrected state. Its angle `x[0]` is the predicted angle (in [-pi, pi)) plus the
+    /// correction, so it may lie up to that correction outside [-pi, pi): it is wrapped
+    /// (and its turn counted) when read, and never feeds the next prediction.
+    pub(crate) x: [T; N],
+    /// The next sample's predicted angle `(A x)[0]`, computed from this sample's prediction
+    /// as `(A X_p)[0] + (A L)[0] eps`, in the turn counted by `turns` (wrapped when used).
+    pub(crate) next_angle: T,
+    pub(crate) turns: i64,
+    pub(crate) phase_error: T,
+    pub(crate) faults: Faults,
+    pub(crate) monitor: MonitorState<T>,
+    pub(crate) initialised: bool,
+}
+
+impl<T: Real, const N: usize> Default for ObserverState<T, N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<T: Real, const N: usize> ObserverState<T, N> {
+    /// A state that initialises itself from the first sample it is given: the angle from
+    /// `atan2(y_s, y_c)` (so tracking never starts 180 degrees off), speed and acceleration 0.
+    ///
+    /// ```
+    /// use angletrack_core::{Gains, ObserverState};
+    /// let gains = Gains::<f64, 2>::new([0.05, 0.0012], 1e-4)?;
+    /// let mut state = ObserverState::new();
+    /// let first = gains.update(&mut state, 0.0, 1.0); // theta = 90 degrees
+    /// assert!((first.angle - core::f64::consts::FRAC_PI_2).abs() < 1e-12);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub const fn new() -> Self {
+        Self {
+            x: [zero(); N],
+            next_angle: zero(),
+            turns: 0,
+            phase_error: zero(),
+            faults: Faults::NONE,
+            monitor: MonitorState::new(),
+            initialised: false,
+        }
+    }
+
+    /// A state starting at a known angle `angle_rad` (any value: it is wrapped and the whole
+    /// turns counted), speed `speed_rad_s` and acceleration `acceleration_rad_s2` (ignored at
+    /// order 2), for the sample period `sample_period_s` (s).
+    ///
+    /// Non-finite values are replaced by 0. Speed and acceleration are limited to what a
+    /// sampled loop can represent: half a turn per sample (`pi / Ts` rad/s, beyond which
+    /// the angle aliases) and `pi / Ts^2` rad/s^2, so that no state starts near overflow.
+    ///
+    /// ```
+    /// use angletrack_core::ObserverState;
+    /// let state = ObserverState::<f32, 3>::at(7.0, 100.0, 0.0, 1e-4);
+    /// assert_eq!(state.turns(), 1);
+    /// assert!((state.angle() - (7.0 - core::f32::consts::TAU)).abs() < 1e-6);
+    /// assert!((state.speed(1e-4) - 100.0).abs() < 1e-3);
+    /// ```
+    pub fn at(angle_rad: T, speed_rad_s: T, acceleration_rad_s2: T, sample_period_s: T) -> Self {
+        let finite_or_zero = |v: T| if v.is_finite() { v } else { T::ZERO };
+        let limited = |v: T| finite_or_zero(v).max(-T::PI).min(T::PI);
+        let mut x = [T::ZERO; N];
+        x[0] = finite_or_zero(angle_rad);
+        let turns = wrap_angle(&mut x[0]) as i64;
+        if N > 1 {
+            x[1] = limited(speed_rad_s * sample_period_s);
+        }
+        if N > 2 {
+            x[2] = limited(acceleration_rad_s2 * sample_period_s * sample_period_s);
+        }
+        Self {
+            x,
+            next_angle: predict(&x)[0],
+            turns,
+            phase_error: T::ZERO,
+            faults: Faults::NONE,
+            monitor: MonitorState::new(),
+            initialised: true,
+        }
+    }
+
+    /// The estimated angle (rad), in [-pi, pi).
+    pub fn angle(&self) -> T {
+        wrapped(self.x[0], self.turns).0
+    }
+
+    /// Whole turns counted since initialisation.
+    pub fn turns(&self) -> i64 {
+        wrapped(self.x[0], self.turns).1
+    }
+
+    /// The estimated speed (rad/s) for the sample period `sample_period_s` (s).
+    pub fn speed(&self, sample_period_s: T) -> T {
+        if N > 1 {
+            self.x[1] / sample_period_s
+        } else {
+            T::ZERO
+        }
+    }
+
+    /// The scaled state vector `(theta, Ts Omega[, Ts^2 alpha])`, the angle in [-pi, pi).
+    pub fn scaled_state(&self) -> [T; N] {
+        let mut x = self.x;
+        x[0] = self.angle();
+        x
+    }
+
+    /// `false` until the first sample (or [`ObserverState::at`]) has set the angle.
+    pub fn is_initialised(&self) -> bool {
+        self.initialised
+    }
+
+    /// The faults latched since they were last cleared (like reading an RDC chip's fault
+    /// register, without clearing it).
+    pub fn latched_faults(&self) -> Faults {
+        self.monitor.latched
+    }
+
+    /// Returns the latched faults and clears them; a fault still present sets its flag
+    /// again at the next sample.
+    ///
+    /// ```
+    /// use angletrack_core::{Faults, Gains, ObserverState};
+    /// let gains = Gains::<f32, 2>::new([0.05, 0.0012], 1e-4)?;
+    /// let mut state = ObserverState::new();
+    /// gains.update(&mut state, 1.0, 0.0);
+    /// gains.update(&mut state, f32::NAN, 0.0); // a broken ADC read
+    /// assert!(state.clear_faults().contains(Faults::BAD_SAMPLE));
+    /// assert!(state.latched_faults().is_empty());
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn clear_faults(&mut self) -> Faults {
+        core::mem::take(&mut self.monitor.latched)
+    }
+
+    /// Starts again at `angle` (rad, wrapped) and `whole` turns, speed and acceleration 0,
+    /// filters empty, with the faults `latched`.
+    #[inline(always)]
+    pub(crate) fn restart(&mut self, angle: T, whole: i32, latched: Faults) {
+        *self = Self::new();
+        self.x[0] = angle;
+        self.next_angle = angle;
+        self.turns = whole as i64;
+        self.monitor.latched = latched;
+        self.initialised = true;
+    }
+
+    /// Books one step of the recursion: the whole turns it crossed and its phase-detector
+    /// output; the sample's faults start empty.
+    #[inline(always)]
+    pub(crate) fn advance(&mut self, whole: i32, phase_error: T) {
+        if whole != 0 {
+            self.turns = self.turns.wrapping_add(whole as i64);
+        }
+        self.phase_error = phase_error;
+        self.faults = Faults::NONE;
+    }
+
+    /// Marks the current sample as rejected (flag and latch).
+    pub(crate) fn reject_sample(&mut self) {
+        self.faults = Faults::BAD_SAMPLE;
+        self.monitor.latched |= Faults::BAD_SAMPLE;
+    }
+}
+
+const fn zero<T: Real>() -> T {
+    T::ZERO
+}
+
+/// The prediction `A x` of the recursion: a Taylor step of the scaled state
+/// `(theta, Ts Omega, Ts^2 alpha)`, `A[i][j] = 1/(j-i)!` for `j >= i`.
+///
+/// Each row adds left to right, `(x0 + x1) + x2/2`: in the loop every state is corrected at
+/// the same time, so `x0 + x1` runs while `x2/2` is multiplied and the chain from one
+/// sample's phase error to the next predicted angle is two additions after the correction
+/// (`x0 + (x1 + x2/2)` would be three).
+#[inline(always)]
+pub(crate) fn predict<T: Real, const N: usize>(x: &[T; N]) -> [T; N] {
+    let mut p = *x;
+    let mut i = 0;
+    while i < N {
+        let mut sum = x[i];
+        let mut j = i + 1;
+        while j < N {
+            sum += if j - i == 1 { x[j] } else { x[j] * T::HALF };
+            j += 1;
+        }
+        p[i] = sum;
+        i += 1;
+    }
+    p
+}

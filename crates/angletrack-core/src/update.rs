@@ -1,0 +1,265 @@
+//! The one predictor-corrector recursion that every angle tracking observer runs
+//! (`docs/theory.md §5`), on one channel: the per-sample [`Gains::update`] with its rare
+//! cases (first sample, rejected sample, false lock), and its block forms
+//! [`Gains::update_block`] and [`Gains::update_each`]. A
+//! [`ChannelBank`](crate::ChannelBank) runs the same step on each of its lanes.
+//!
+//! The update needs no [`SupportedOrder`](crate::SupportedOrder) bound: it is written for
+//! any order `N`, and a [`Gains`] exists only for the orders its constructors accept.
+
+use crate::faults::Faults;
+use crate::gains::Gains;
+use crate::real::Real;
+use crate::sincos::SinCos;
+use crate::state::{Estimate, ObserverState, predict};
+use crate::wrap::{FullWrap, Wrap, re_acquired, sample_angle, wrapped};
+
+/// What one step of the recursion gives besides the new state.
+#[derive(Clone, Copy)]
+pub(crate) struct Step<T> {
+    /// Phase-detector output (0 for a sample that was not used).
+    pub(crate) eps: T,
+    /// In-phase component `y_c cos + y_s sin` of the predicted angle (about `A cos(error)`).
+    pub(crate) in_phase: T,
+    /// Whole turns the wrap of the predicted angle removed.
+    pub(crate) whole: i32,
+}
+
+impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
+    /// One sample of the observer: predict, detect the phase error, correct, monitor.
+    ///
+    /// ```text
+    /// X_p = A X_e                      (Taylor step of the scaled state)
+    /// eps = y_s cos(x1_p) - y_c sin(x1_p)
+    /// X_e = X_p + L eps                (x1 wrapped to [-pi, pi), whole turns counted)
+    /// ```
+    ///
+    /// `y_c` and `y_s` are the demodulated cosine and sine signals (any consistent unit,
+    /// nominal amplitude as in the [`FaultThresholds`](crate::FaultThresholds), 1 by
+    /// default). The first accepted sample of an uninitialised state sets the angle from
+    /// `atan2(y_s, y_c)`.
+    ///
+    /// A bad sample (NaN, infinite, or amplitude above the input bound) is not used: the
+    /// state coasts on its prediction (speed and acceleration) and the estimate carries
+    /// [`Faults::BAD_SAMPLE`]. The diagnostics then flag loss of signal, degradation of
+    /// signal, loss of tracking and false lock, and re-acquire the angle from `atan2` on a
+    /// false lock (see [`FaultThresholds`](crate::FaultThresholds)). Never fails, never
+    /// panics, and the state stays finite.
+    #[inline]
+    pub fn update(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) -> Estimate<T> {
+        self.update_in_place(state, y_c, y_s)
+    }
+
+    /// The body of [`Gains::update`], inlined into the block APIs so that the state stays in
+    /// registers from one sample to the next.
+    #[inline(always)]
+    fn update_in_place(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) -> Estimate<T> {
+        let (amplitude2, valid) = self.thresholds.accept(y_c, y_s);
+        if !(valid && state.initialised) {
+            // Rare: the first sample, or one that is rejected. Out of line, through functions
+            // of values only, so that the state can live in registers in a loop over samples;
+            // the usual path below then knows the sample is used.
+            if !state.initialised {
+                match if valid { sample_angle(y_c, y_s) } else { None } {
+                    Some((angle, whole)) => state.restart(angle, whole, state.monitor.latched),
+                    None => state.reject_sample(),
+                }
+            } else {
+                let (x, next_angle, whole) = self.coast(state.x, state.next_angle);
+                state.x = x;
+                state.next_angle = next_angle;
+                state.advance(whole, T::ZERO);
+                state.reject_sample();
+            }
+            return self.estimate(state);
+        }
+        let step = self.step::<FullWrap>(&mut state.x, &mut state.next_angle, y_c, y_s, true);
+        state.advance(step.whole, step.eps);
+        if self.thresholds.thresholds.monitor {
+            let speed = if N > 1 { state.x[1] } else { T::ZERO };
+            let (faults, re_acquire) = self.thresholds.observe(
+                &mut state.monitor,
+                amplitude2,
+                step.eps,
+                step.in_phase,
+                speed,
+            );
+            state.faults = faults;
+            if re_acquire {
+                let (angle, whole) = re_acquired(state.x[0], y_c, y_s);
+                state.x[0] = angle;
+                state.next_angle = predict(&state.x)[0];
+                state.turns = state.turns.wrapping_add(whole as i64);
+                state.monitor.primed = false;
+            }
+        }
+        self.estimate(state)
+    }
+
+    /// The recursion itself, on one channel's scaled state `x` and the predicted angle
+    /// `next_angle` the previous sample left: predict, detect, correct. A sample that is not
+    /// `valid` is not used (the correction is zero: the state coasts on its prediction). `W`
+    /// wraps the predicted angle: [`FullWrap`] for one channel;
+    /// [`NoWrap`](crate::wrap::NoWrap) or [`OneTurnWrap`](crate::wrap::OneTurnWrap) for the
+    /// lanes of a bank, as the bank's angles need.
+    ///
+    /// ```text
+    /// X_p = A X_e                      (the angle row is next_angle, wrapped)
+    /// eps = y_s cos(x1_p) - y_c sin(x1_p)
+    /// X_e = X_p + L eps                (x1_e wrapped when read)
+    /// next_angle = (A X_p)[0] + (A L)[0] eps
+    /// ```
+    ///
+    /// `next_angle` is `(A X_e)[0]` with the sum taken in another order: the sample's phase
+    /// error reaches the next phase detector through one multiplication and one addition, the
+    /// shortest chain a loop over samples can wait on. The angle of `x` feeds nothing but the
+    /// estimate, so it is not wrapped here.
+    ///
+    /// This is the only implementation of the recursion: the single-channel update and
+    /// the multi-channel [`ChannelBank`](crate::ChannelBank) both call it.
+    #[inline(always)]
+    pub(crate) fn step<W: Wrap>(
+        &self,
+        x: &mut [T; N],
+        next_angle: &mut T,
+        y_c: T,
+        y_s: T,
+        valid: bool,
+    ) -> Step<T> {
+        let mut p = predict(x);
+        p[0] = *next_angle;
+        let whole = W::wrap(&mut p[0]);
+        let (detected, in_phase) = S::phase_detector(p[0], y_c, y_s);
+        let eps = if valid { detected } else { T::ZERO };
+        *next_angle = predict(&p)[0] + self.next_angle_gain * eps;
+        let mut i = 0;
+        while i < N {
+            p[i] += self.l[i] * eps;
+            i += 1;
+        }
+        *x = p;
+        Step {
+            eps,
+            in_phase,
+            whole,
+        }
+    }
+
+    /// The recursion on a sample that is not used (the state coasts on its prediction): the
+    /// new scaled state, the next predicted angle and the whole turns crossed. Out of line,
+    /// as the rare case of [`Gains::update`].
+    #[cold]
+    #[inline(never)]
+    fn coast(&self, mut x: [T; N], mut next_angle: T) -> ([T; N], T, i32) {
+        let step = self.step::<FullWrap>(&mut x, &mut next_angle, T::ZERO, T::ZERO, false);
+        (x, next_angle, step.whole)
+    }
+
+    /// Sets the state from one sample: angle `atan2(y_s, y_c)`, speed and acceleration 0,
+    /// turns 0, faults cleared. A non-finite sample leaves the state unchanged.
+    #[cold]
+    #[inline(never)]
+    pub fn initialise(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) {
+        if let Some((angle, whole)) = sample_angle(y_c, y_s) {
+            state.restart(angle, whole, Faults::NONE);
+        }
+    }
+
+    /// The estimate held by `state`, in physical units.
+    #[inline(always)]
+    pub fn estimate(&self, state: &ObserverState<T, N>) -> Estimate<T> {
+        self.estimate_of(&state.x, state.turns, state.phase_error, state.faults)
+    }
+
+    /// An estimate in physical units from a scaled state.
+    #[inline(always)]
+    pub(crate) fn estimate_of(
+        &self,
+        x: &[T; N],
+        turns: i64,
+        phase_error: T,
+        faults: Faults,
+    ) -> Estimate<T> {
+        let (angle, turns) = wrapped(x[0], turns);
+        Estimate {
+            angle,
+            turns,
+            speed: if N > 1 {
+                x[1] * self.sample_rate
+            } else {
+                T::ZERO
+            },
+            acceleration: if N > 2 {
+                x[2] * self.sample_rate_squared
+            } else {
+                T::ZERO
+            },
+            phase_error,
+            faults,
+        }
+    }
+
+    /// Runs the observer over a block of samples, calling `sink(k, estimate)` for each
+    /// sample `k`; no allocation. Processes `min(y_c.len(), y_s.len())` samples and returns
+    /// that count.
+    ///
+    /// ```
+    /// use angletrack_core::{Gains, ObserverState};
+    /// let gains = Gains::<f32, 3>::new([0.3, 0.04, 0.002], 1e-4)?;
+    /// let mut state = ObserverState::new();
+    /// let (y_c, y_s) = ([1.0_f32; 64], [0.0_f32; 64]);
+    /// let mut speeds = [0.0_f32; 64];
+    /// let n = gains.update_each(&mut state, &y_c, &y_s, |k, e| speeds[k] = e.speed);
+    /// assert_eq!(n, 64);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    #[inline]
+    pub fn update_each<F: FnMut(usize, Estimate<T>)>(
+        &self,
+        state: &mut ObserverState<T, N>,
+        y_c: &[T],
+        y_s: &[T],
+        mut sink: F,
+    ) -> usize {
+        let n = y_c.len().min(y_s.len());
+        let mut local = *state;
+        for (k, (&c, &s)) in y_c.iter().zip(y_s).enumerate() {
+            sink(k, self.update_in_place(&mut local, c, s));
+        }
+        *state = local;
+        n
+    }
+
+    /// Runs the observer over a block of samples into `out`; no allocation. Processes
+    /// `min(y_c.len(), y_s.len(), out.len())` samples and returns that count.
+    ///
+    /// ```
+    /// use angletrack_core::{Estimate, Gains, ObserverState};
+    /// let gains = Gains::<f64, 2>::new([0.05, 0.0012], 1e-4)?;
+    /// let mut state = ObserverState::new();
+    /// let mut out = [Estimate::default(); 3];
+    /// let n = gains.update_block(&mut state, &[1.0, 1.0, 1.0], &[0.0, 0.0, 0.0], &mut out);
+    /// assert_eq!(n, 3);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    #[inline]
+    pub fn update_block(
+        &self,
+        state: &mut ObserverState<T, N>,
+        y_c: &[T],
+        y_s: &[T],
+        out: &mut [Estimate<T>],
+    ) -> usize {
+        let mut local = *state;
+        let mut n = 0;
+        for ((&c, &s), slot) in y_c.iter().zip(y_s).zip(out.iter_mut()) {
+            *slot = self.update_in_place(&mut local, c, s);
+            n += 1;
+        }
+        *state = local;
+        n
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,181 @@
+//! Angles kept in [-pi, pi) with the whole turns counted apart (`docs/theory.md §5`): the
+//! wrap of the recursion's predicted angle, for a single channel ([`FullWrap`]) and for the
+//! lanes of a bank ([`NoWrap`], [`OneTurnWrap`]), the wrap of an angle as read, and the
+//! angle `atan2(y_s, y_c)` of a sample, which (re-)acquires a channel's angle.
+
+use crate::real::Real;
+
+/// A corrected angle `x0` of a state counting `turns` turns, as read: wrapped into
+/// [-pi, pi), and the turn count with the wrap's whole turns.
+#[inline(always)]
+pub(crate) fn wrapped<T: Real>(x0: T, turns: i64) -> (T, i64) {
+    // The usual case returns both as they are (no addition of zero turns on the way). The
+    // test repeats `wrap_angle`'s on purpose: calling it and matching its zero costs 3
+    // instructions per update on a Cortex-M4F (measured by tests/firmware).
+    if x0.abs() < T::PI {
+        return (x0, turns);
+    }
+    let (angle, whole) = wrap_whole_turns(x0);
+    (angle, turns.wrapping_add(whole as i64))
+}
+/// Wraps `angle` into [-pi, pi) and returns the whole turns removed.
+///
+/// The usual case, no wrap, is one comparison and a branch; everything else is out of line
+/// ([`wrap_whole_turns`]). A non-finite angle, or one too large for its turns to be counted,
+/// becomes 0.
+#[inline(always)]
+pub(crate) fn wrap_angle<T: Real>(angle: &mut T) -> i32 {
+    // One comparison: |a| < pi (false for NaN). The edge a = -pi takes the rare path, which
+    // keeps it.
+    if angle.abs() < T::PI {
+        return 0;
+    }
+    let (wrapped, whole) = wrap_whole_turns(*angle);
+    *angle = wrapped;
+    whole
+}
+
+/// The angle of one sample, `atan2(y_s, y_c)` wrapped to [-pi, pi), and the whole turns the
+/// wrap removed; `None` for a non-finite sample. Initialises single observers and banks; out
+/// of line and a function of values only (see [`Gains::update`](crate::Gains::update)).
+#[cold]
+#[inline(never)]
+pub(crate) fn sample_angle<T: Real>(y_c: T, y_s: T) -> Option<(T, i32)> {
+    let mut angle = y_s.atan2(y_c);
+    if !angle.is_finite() {
+        return None;
+    }
+    let whole = wrap_angle(&mut angle);
+    Some((angle, whole))
+}
+
+/// At most one turn off [-pi, pi): `a - k 2 pi` for `k` in {-1, 0, 1}, by selects and no
+/// branch (so that a loop over the lanes of a [`ChannelBank`](crate::ChannelBank)
+/// vectorises), with 2 pi in two parts (Cody-Waite): `a - TAU_HI` is exact (Sterbenz), so the
+/// wrapped angle loses no precision however many turns have been counted. Returns the
+/// wrapped angle and `k`.
+///
+/// For |a| < [`one_turn_limit`] the result is in [-pi, pi): in `f32`, `TAU_LO < 0` and `PI` lies
+/// above pi, so rounding cannot cross an edge; in `f64` it can, and
+/// [`Real::ONE_TURN_EDGE_FIX`] adds the move by one more turn that puts it back.
+#[inline(always)]
+pub(crate) fn wrap_one_turn<T: Real>(a: T) -> (T, i32) {
+    let up = a >= T::PI;
+    let down = a < -T::PI;
+    let k = if up {
+        T::ONE
+    } else if down {
+        -T::ONE
+    } else {
+        T::ZERO
+    };
+    // k = 0 gives back a exactly.
+    let wrapped = (a - k * T::TAU_HI) - k * T::TAU_LO;
+    let whole = i32::from(up) - i32::from(down);
+    if !T::ONE_TURN_EDGE_FIX {
+        return (wrapped, whole);
+    }
+    let high = wrapped >= T::PI;
+    let low = wrapped < -T::PI;
+    let wrapped = if high {
+        wrapped - T::TAU
+    } else if low {
+        wrapped + T::TAU
+    } else {
+        wrapped
+    };
+    (wrapped, whole + i32::from(high) - i32::from(low))
+}
+
+/// The largest |angle| (rad) [`wrap_one_turn`] is used on: 2.5 pi, a margin of half a turn
+/// below where one turn would not be enough.
+pub(crate) fn one_turn_limit<T: Real>() -> T {
+    T::PI * T::from_f32(2.5)
+}
+
+/// The rare case of [`wrap_angle`]: `a` outside (-pi, pi), or not finite. Up to
+/// [`one_turn_limit`], exactly as [`wrap_one_turn`] does (so a bank's lanes and a single
+/// observer agree to the bit); more turns are counted with a floor.
+#[cold]
+#[inline(never)]
+pub(crate) fn wrap_whole_turns<T: Real>(a: T) -> (T, i32) {
+    if a.abs() < one_turn_limit() {
+        return wrap_one_turn(a);
+    }
+    let whole = ((a + T::PI) * T::FRAC_1_TAU).floor_to_i32();
+    let k = T::from_i32(whole);
+    let mut wrapped = (a - k * T::TAU_HI) - k * T::TAU_LO;
+    let mut whole = whole;
+    // Rounding can leave the result on the far side of an edge.
+    if wrapped >= T::PI {
+        wrapped -= T::TAU;
+        whole = whole.wrapping_add(1);
+    }
+    if wrapped < -T::PI {
+        wrapped += T::TAU;
+        whole = whole.wrapping_sub(1);
+    }
+    if wrapped >= -T::PI && wrapped < T::PI {
+        (wrapped, whole)
+    } else {
+        // NaN, or a magnitude whose turns do not fit: k * 2 pi is not representable.
+        (T::ZERO, 0)
+    }
+}
+
+/// Re-acquisition after a false lock (`docs/theory.md §10`): the angle `atan2(y_s, y_c)`
+/// reached from `angle` by the shortest way, and the whole turns crossed on the way (the
+/// caller keeps speed and acceleration).
+#[cold]
+#[inline(never)]
+pub(crate) fn re_acquired<T: Real>(angle: T, y_c: T, y_s: T) -> (T, i32) {
+    let mut jump = y_s.atan2(y_c) - angle;
+    wrap_angle(&mut jump);
+    let mut angle = angle + jump;
+    let whole = wrap_angle(&mut angle);
+    (angle, whole)
+}
+
+/// How a step wraps the predicted angle: [`FullWrap`] for a single channel, [`NoWrap`] or
+/// [`OneTurnWrap`] for the lanes of a bank.
+pub(crate) trait Wrap {
+    /// Wraps `angle` into [-pi, pi); returns the whole turns removed.
+    fn wrap<T: Real>(angle: &mut T) -> i32;
+}
+
+/// Any number of turns: a comparison and a branch, the rare case out of line.
+pub(crate) struct FullWrap;
+
+/// At most one turn, by selects ([`wrap_one_turn`]): for angles within
+/// [`one_turn_limit`], which the caller makes sure of.
+pub(crate) struct OneTurnWrap;
+
+/// No wrap at all: for angles already in [-pi, pi), which the caller makes sure of (it is
+/// then what [`OneTurnWrap`] gives, to the bit).
+pub(crate) struct NoWrap;
+
+impl Wrap for NoWrap {
+    #[inline(always)]
+    fn wrap<T: Real>(_angle: &mut T) -> i32 {
+        0
+    }
+}
+
+impl Wrap for FullWrap {
+    #[inline(always)]
+    fn wrap<T: Real>(angle: &mut T) -> i32 {
+        wrap_angle(angle)
+    }
+}
+
+impl Wrap for OneTurnWrap {
+    #[inline(always)]
+    fn wrap<T: Real>(angle: &mut T) -> i32 {
+        let (wrapped, whole) = wrap_one_turn(*angle);
+        *angle = wrapped;
+        whole
+    }
+}
+
+#[cfg(test)]
+mod tests;

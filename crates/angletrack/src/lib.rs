@@ -1,5 +1,5 @@
 //! Gain design, design analysis, test scenarios and metrics for the angle tracking observers
-//! of [`angletrack_core`] (re-exported as [`core`](crate::core), its main types at the root).
+//! of [`angletrack_core`] (re-exported as [`core`], its main types at the root).
 //!
 //! Going from a specification to firmware gains, and knowing what they will do:
 //!
@@ -32,7 +32,7 @@
 //! * Scenarios ([`MotionProfile`], [`SensorModel`], [`Scenario`]): deterministic from a seed.
 //! * Metrics ([`run`], [`Metrics`]): a run of any observer measured against the truth.
 //! * Many channels ([`ChannelBatch`]): any number of channels on one gain set, run by the
-//!   core's vectorisable [`ChannelBank`](angletrack_core::ChannelBank)s.
+//!   core's vectorisable [`ChannelBank`]s.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub use angletrack_core as core;
@@ -43,27 +43,25 @@ pub use angletrack_core::{
 };
 pub use nalgebra::Complex;
 
-mod batch;
+mod analysis;
 mod design;
 mod error;
 mod linalg;
-mod metrics;
 pub mod paper;
-mod report;
-mod scenario;
+mod sim;
 
-pub use batch::{BatchColumns, ChannelBatch, LANES};
+pub use analysis::{
+    DesignReport, LARGE_STEP_RAD, PredictedError, SETTLING_BAND, StepResponse, predicted_error,
+};
 pub use design::{
     AnyDesign, Design, DesignMethod, Discretisation, KalmanSolution, MAX_POLE_TIMES_PERIOD,
-    StepResponse, convert_gains, kalman, kalman_from_jerk_density, kalman_from_jerk_std,
+    convert_gains, kalman, kalman_from_jerk_density, kalman_from_jerk_std,
     second_order_bandwidth_ratio, second_order_butterworth, second_order_from_bandwidth,
     second_order_from_tracking_error, third_order_butterworth, third_order_from_overshoot,
     third_order_from_poles,
 };
 pub use error::{Argument, Error};
-pub use metrics::{ErrorStatistics, Metrics, MetricsOptions, Run, run};
-pub use report::{DesignReport, LARGE_STEP_RAD, PredictedError, SETTLING_BAND, predicted_error};
-pub use scenario::{Kinematics, MAX_SAMPLES, Motion, MotionProfile, Scenario, SensorModel};
-
-#[cfg(test)]
-mod tests;
+pub use sim::{
+    BatchColumns, ChannelBatch, ErrorStatistics, Kinematics, LANES, MAX_SAMPLES, Metrics,
+    MetricsOptions, Motion, MotionProfile, Run, Scenario, SensorModel, run,
+};

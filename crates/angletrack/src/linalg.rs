@@ -219,3 +219,26 @@ pub(crate) fn discrete_riccati(
     }
     None
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn roots_and_products_round_trip() {
+        let roots = [
+            Complex::new(-3e-7, 0.0),
+            Complex::new(-1e-3, 2e-3),
+            Complex::new(-1e-3, -2e-3),
+        ];
+        let c = monic_from_roots(&roots);
+        let back = super::roots(&c);
+        for r in &roots {
+            let nearest = back
+                .iter()
+                .map(|b| (b - r).norm() / r.norm())
+                .fold(f64::INFINITY, f64::min);
+            assert!(nearest < 1e-10, "{r}: {nearest}");
+        }
+    }
+}

@@ -4,9 +4,9 @@ use core::f64::consts::{PI, TAU};
 
 use angletrack_core::{Gains, ObserverState, Order, Real, SinCos, SupportedOrder};
 
-use crate::design::StepResponse;
+use super::Scenario;
+use crate::analysis::StepResponse;
 use crate::error::{Argument, Error, non_negative, positive};
-use crate::scenario::Scenario;
 
 /// The estimates of one run, one value per sample, in `f64`.
 #[derive(Debug, Clone, PartialEq, Default)]

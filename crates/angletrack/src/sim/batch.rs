@@ -38,7 +38,7 @@ pub struct BatchColumns<'a, T> {
     pub acceleration: &'a mut [T],
     /// Phase-detector output.
     pub phase_error: &'a mut [T],
-    /// Fault bits: [`Faults::BAD_SAMPLE`] for a rejected sample (the bank runs no monitor).
+    /// Fault bits: [`Faults::BAD_SAMPLE`](angletrack_core::Faults::BAD_SAMPLE) for a rejected sample (the bank runs no monitor).
     pub faults: &'a mut [u8],
 }
 

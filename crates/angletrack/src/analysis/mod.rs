@@ -1,0 +1,17 @@
+//! Analysis of a gain set: step responses, noise prediction, speed limits and the design
+//! report that gathers them.
+
+mod discrete_loop;
+mod display;
+mod noise;
+mod report;
+mod speed;
+mod step;
+
+pub use noise::{PredictedError, predicted_error};
+pub use report::DesignReport;
+pub(crate) use step::continuous_step;
+pub use step::{LARGE_STEP_RAD, SETTLING_BAND, StepResponse};
+
+#[cfg(test)]
+mod tests;

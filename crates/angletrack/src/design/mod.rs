@@ -1,0 +1,33 @@
+//! Gain design: from time-domain specifications, pole placement and noise variances to the
+//! discrete gains of the core's recursion.
+//!
+//! Continuous designs (`docs/theory.md §2`, `§3`) give the closed-loop poles `s_i` (rad/s)
+//! of the continuous loop `s^N + k_a s^(N-1) + k_b s^(N-2) [+ k_c]`; a [`Discretisation`]
+//! (`§7`) maps them to discrete poles `z_i`, and
+//! [`Gains::from_loop_polynomial`](angletrack_core::Gains::from_loop_polynomial) gives the
+//! gains whose loop `(I - L e1^T) A` has exactly those poles. The Kalman ATO (`§4`) is
+//! designed on the discrete model directly.
+//!
+//! Vectors follow the core's orders: gains in the order of the state they correct (angle
+//! first: `(l1, l2, l3)`, `(k_a, k_b, k_c)`), polynomial coefficients lowest power first
+//! (`c0` first).
+
+mod designs;
+mod discretisation;
+mod kalman;
+mod second_order;
+mod third_order;
+
+pub use designs::{AnyDesign, Design, DesignMethod, convert_gains};
+pub use discretisation::{Discretisation, MAX_POLE_TIMES_PERIOD};
+pub use kalman::{KalmanSolution, kalman, kalman_from_jerk_density, kalman_from_jerk_std};
+pub use second_order::{
+    second_order_bandwidth_ratio, second_order_butterworth, second_order_from_bandwidth,
+    second_order_from_tracking_error,
+};
+pub use third_order::{
+    third_order_butterworth, third_order_from_overshoot, third_order_from_poles,
+};
+
+#[cfg(test)]
+mod tests;

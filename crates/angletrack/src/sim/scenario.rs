@@ -1,0 +1,89 @@
+//! Test scenarios, deterministic from a seed: a motion profile of the shaft and a sensor
+//! model, sampled into the true angle, speed and acceleration beside `y_c` and `y_s`.
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, Normal};
+
+use super::{MotionProfile, SensorModel};
+use crate::error::{Argument, Error, positive};
+
+/// Largest number of samples of one scenario (the seven series then take 5.6 GB).
+pub const MAX_SAMPLES: usize = 100_000_000;
+
+/// A sampled scenario: the truth beside the sensor signals, one value per sample.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Scenario {
+    /// Sample period (s).
+    pub sample_period_s: f64,
+    /// Sample times `k Ts` (s).
+    pub time_s: Vec<f64>,
+    /// True angle (rad, unwrapped).
+    pub angle_rad: Vec<f64>,
+    /// True speed (rad/s).
+    pub speed_rad_s: Vec<f64>,
+    /// True acceleration (rad/s^2).
+    pub acceleration_rad_s2: Vec<f64>,
+    /// Cosine signal.
+    pub y_c: Vec<f64>,
+    /// Sine signal.
+    pub y_s: Vec<f64>,
+}
+
+impl Scenario {
+    /// Samples `profile` every `sample_period_s` through `sensor`; the noise is drawn from a
+    /// ChaCha8 generator seeded with `seed`, so the same arguments give the same scenario on
+    /// every machine. At most [`MAX_SAMPLES`] samples.
+    ///
+    /// ```
+    /// use angletrack::{Motion, MotionProfile, Scenario, SensorModel};
+    /// let profile = MotionProfile::new(0.0, 0.0).then(Motion::Trapezoidal {
+    ///     distance_rad: 10.0, max_speed_rad_s: 50.0, max_acceleration_rad_s2: 500.0 });
+    /// let scenario = Scenario::generate(&profile, &SensorModel::with_noise(0.01), 1e-4, 7)?;
+    /// assert!((scenario.angle_rad.last().unwrap() - 10.0).abs() < 1e-9);
+    /// assert_eq!(scenario, Scenario::generate(&profile, &SensorModel::with_noise(0.01), 1e-4, 7)?);
+    /// # Ok::<(), angletrack::Error>(())
+    /// ```
+    pub fn generate(
+        profile: &MotionProfile,
+        sensor: &SensorModel,
+        sample_period_s: f64,
+        seed: u64,
+    ) -> Result<Self, Error> {
+        let ts = positive(sample_period_s, Argument::SamplePeriod)?;
+        sensor.validate()?;
+        let (n, truth) = profile.sample(ts)?;
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let normal = Normal::new(0.0, sensor.noise_std)
+            .map_err(|_| Error::NotFinite(Argument::SensorNoiseStd))?;
+        let mut scenario = Scenario {
+            sample_period_s: ts,
+            time_s: (0..n).map(|k| k as f64 * ts).collect(),
+            angle_rad: Vec::with_capacity(n),
+            speed_rad_s: Vec::with_capacity(n),
+            acceleration_rad_s2: Vec::with_capacity(n),
+            y_c: Vec::with_capacity(n),
+            y_s: Vec::with_capacity(n),
+        };
+        for state in truth {
+            let (w_c, w_s) = (normal.sample(&mut rng), normal.sample(&mut rng));
+            let (y_c, y_s) = sensor.signals(state.angle_rad, w_c, w_s);
+            scenario.angle_rad.push(state.angle_rad);
+            scenario.speed_rad_s.push(state.speed_rad_s);
+            scenario.acceleration_rad_s2.push(state.acceleration_rad_s2);
+            scenario.y_c.push(y_c);
+            scenario.y_s.push(y_s);
+        }
+        Ok(scenario)
+    }
+
+    /// The number of samples.
+    pub fn len(&self) -> usize {
+        self.time_s.len()
+    }
+
+    /// `true` without samples.
+    pub fn is_empty(&self) -> bool {
+        self.time_s.is_empty()
+    }
+}

@@ -13,7 +13,7 @@ struct Input {
     order: bool,
     fast: bool,
     gains: [f64; 3],
-    sample_period: f64,
+    sample_period_s: f64,
     thresholds: Option<Thresholds>,
     initial: Option<(f64, f64, f64)>,
     samples: Vec<(f64, f64)>,
@@ -42,7 +42,7 @@ where
     for (slot, g) in l.iter_mut().zip(input.gains) {
         *slot = T::from_f64(g);
     }
-    let Ok(mut gains) = Gains::<T, N, S>::new(l, T::from_f64(input.sample_period)) else {
+    let Ok(mut gains) = Gains::<T, N, S>::new(l, T::from_f64(input.sample_period_s)) else {
         return;
     };
     if let Some(t) = &input.thresholds {

@@ -30,7 +30,17 @@ impl Faults {
     /// `y_c cos + y_s sin` went below its threshold) and the angle re-acquired from `atan2`.
     pub const FALSE_LOCK: Faults = Faults(1 << 4);
 
-    const NAMES: [(Faults, &'static str); 5] = [
+    /// Every flag with its name, in bit order: the names [`Display`](fmt::Display) writes
+    /// (the constant's name in lower case, words apart), for code that lists the flags, such
+    /// as a binding that builds its own flag type from them.
+    ///
+    /// ```
+    /// use angletrack_core::Faults;
+    /// let (flag, name) = Faults::NAMES[3];
+    /// assert_eq!((flag, name), (Faults::BAD_SAMPLE, "bad sample"));
+    /// assert_eq!(Faults::NAMES.iter().fold(Faults::NONE, |all, (f, _)| all | *f).bits(), 0x1f);
+    /// ```
+    pub const NAMES: [(Faults, &'static str); 5] = [
         (Faults::LOSS_OF_SIGNAL, "loss of signal"),
         (Faults::DEGRADATION_OF_SIGNAL, "degradation of signal"),
         (Faults::LOSS_OF_TRACKING, "loss of tracking"),

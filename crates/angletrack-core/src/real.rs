@@ -9,6 +9,8 @@
 use core::fmt::{Debug, Display};
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
 
+use crate::sincos::{F32_COS_POLY, F32_SIN_POLY, F64_COS_POLY, F64_SIN_POLY};
+
 mod sealed {
     pub trait Sealed {}
     impl Sealed for f32 {}
@@ -134,19 +136,20 @@ pub trait Real:
 }
 
 macro_rules! impl_real {
-    ($t:ident, $bits:ident, $m:ident, $default:ident, $tau_lo:expr, $edge_fix:expr, $eps_fast:expr, $sin_poly:path, $cos_poly:path,
-     $atan2:ident, $sincos:ident) => {
+    ($t:ident, bits $bits:ident, default $default:ident, tau_lo $tau_lo:expr,
+     one_turn_edge_fix $edge_fix:expr, fast_error $eps_fast:expr,
+     polynomials $sin_poly:path, $cos_poly:path, libm $atan2:ident, $sincos:ident) => {
         impl Real for $t {
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
             const HALF: Self = 0.5;
             const TWO: Self = 2.0;
-            const PI: Self = core::$m::consts::PI;
-            const FRAC_PI_2: Self = core::$m::consts::FRAC_PI_2;
-            const TAU: Self = core::$m::consts::TAU;
-            const TAU_HI: Self = core::$m::consts::TAU;
+            const PI: Self = core::$t::consts::PI;
+            const FRAC_PI_2: Self = core::$t::consts::FRAC_PI_2;
+            const TAU: Self = core::$t::consts::TAU;
+            const TAU_HI: Self = core::$t::consts::TAU;
             const TAU_LO: Self = $tau_lo;
-            const FRAC_1_TAU: Self = 1.0 / core::$m::consts::TAU;
+            const FRAC_1_TAU: Self = 1.0 / core::$t::consts::TAU;
             const EPSILON: Self = $t::EPSILON;
             const SIN_POLY: &'static [Self] = &$sin_poly;
             const COS_POLY: &'static [Self] = &$cos_poly;
@@ -208,32 +211,14 @@ macro_rules! impl_real {
     };
 }
 
-// f32: the fast sin/cos's error bound is 3e-7 (see `sincos::F32_SIN_POLY`).
-impl_real!(
-    f32,
-    u32,
-    f32,
-    Fast,
-    -1.748_455_6e-7_f32,
-    false,
-    3e-7,
-    crate::sincos::F32_SIN_POLY,
-    crate::sincos::F32_COS_POLY,
-    atan2f,
-    sincosf
-);
+// The constants and `libm` functions of each type; the polynomials' error bounds are
+// explained with their coefficients in `sincos.rs`.
+impl_real! {
+    f32, bits u32, default Fast, tau_lo -1.748_455_6e-7_f32, one_turn_edge_fix false,
+    fast_error 3e-7, polynomials F32_SIN_POLY, F32_COS_POLY, libm atan2f, sincosf
+}
 
-// f64: the fast sin/cos's error bound is 2e-13 (see `sincos::F64_SIN_POLY`).
-impl_real!(
-    f64,
-    u64,
-    f64,
-    Exact,
-    2.449_293_598_294_706_4e-16_f64,
-    true,
-    2e-13,
-    crate::sincos::F64_SIN_POLY,
-    crate::sincos::F64_COS_POLY,
-    atan2,
-    sincos
-);
+impl_real! {
+    f64, bits u64, default Exact, tau_lo 2.449_293_598_294_706_4e-16_f64, one_turn_edge_fix true,
+    fast_error 2e-13, polynomials F64_SIN_POLY, F64_COS_POLY, libm atan2, sincos
+}

@@ -137,6 +137,19 @@ pub(crate) fn run<T: Real, const N: usize, S: SinCos<T>>(
         .collect()
 }
 
+/// The largest `|part(a) - part(b)|` over the samples of two runs (see [`run`]).
+pub(crate) fn largest_difference(
+    a: &[(f64, f64)],
+    b: &[(f64, f64)],
+    part: impl Fn(&(f64, f64)) -> f64,
+) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (part(x) - part(y)).abs())
+        .fold(0.0, f64::max)
+}
+
+/// `a` wrapped into [-pi, pi).
 pub(crate) fn wrap(a: f64) -> f64 {
     (a + core::f64::consts::PI).rem_euclid(core::f64::consts::TAU) - core::f64::consts::PI
 }

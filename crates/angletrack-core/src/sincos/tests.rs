@@ -1,7 +1,7 @@
 //! The fast sin/cos and its folded phase detector against `f64`'s own, and an observer
 //! with it against one with the exact sin/cos (`docs/theory.md §11`).
 
-use crate::test_support::{TS, n, run};
+use crate::test_support::{TS, largest_difference, n, run};
 use crate::*;
 
 /// The largest of `error(x, sin x, cos x)` (sin and cos in `f64`) over `n + 1` angles `x`
@@ -83,10 +83,6 @@ fn fast_sin_cos_observer_matches_the_exact_one() {
     let theta = |t: f64| (2.0 + 150.0 * t, 150.0);
     let a = run(&fast, n(20_000), theta);
     let b = run(&exact, n(20_000), theta);
-    let worst = a
-        .iter()
-        .zip(&b)
-        .map(|(x, y)| (x.0 - y.0).abs())
-        .fold(0.0, f64::max);
+    let worst = largest_difference(&a, &b, |e| e.0);
     assert!(worst < 1e-6, "fast sin/cos moved the angle by {worst} rad");
 }

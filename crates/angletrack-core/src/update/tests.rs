@@ -9,7 +9,7 @@ use proptest::prelude::*;
 
 use crate::state::predict;
 use crate::test_support::{
-    Bits, TS, designs, mean, n, proptest_config, run, settling_samples, wrap,
+    Bits, TS, designs, largest_difference, mean, n, proptest_config, run, settling_samples, wrap,
 };
 use crate::*;
 
@@ -78,8 +78,8 @@ fn multi_turn_f32_keeps_full_resolution_after_a_million_turns() {
     // (6.3e6 rad) would have an ulp of 0.5 rad. What remains is the f32 loop's own rounding
     // noise at 8 samples a turn: 0.87e-6 rad at worst over these last 10 turns, up to 1.0e-6
     // over 10^5 turns; keeping the next predicted angle in the state reorders one sum and
-    // does not add to it. So the bound is 5 ulp. Miri perturbs std's f64 cos/sin (used for the truth here) by a
-    // few ulps on purpose.
+    // does not add to it. So the bound is 5 ulp. Miri perturbs std's f64 cos/sin (used for
+    // the truth here) by a few ulps on purpose.
     let ulps = if cfg!(miri) { 6.0 } else { 5.0 };
     assert!(worst < ulps * 2.4e-7, "worst wrapped-angle error {worst}");
 }
@@ -91,16 +91,8 @@ fn f32_and_f64_agree_within_f32_precision() {
     let theta = |t: f64| (1.0 + 200.0 * t + 300.0 * t * t, 200.0 + 600.0 * t);
     let e64 = run(&ok, n(20_000), theta);
     let e32 = run(&g32, n(20_000), theta);
-    let angle = e64
-        .iter()
-        .zip(&e32)
-        .map(|(a, b)| (a.0 - b.0).abs())
-        .fold(0.0, f64::max);
-    let speed = e64
-        .iter()
-        .zip(&e32)
-        .map(|(a, b)| (a.1 - b.1).abs())
-        .fold(0.0, f64::max);
+    let angle = largest_difference(&e64, &e32, |e| e.0);
+    let speed = largest_difference(&e64, &e32, |e| e.1);
     assert!(angle < 2e-5, "angle differs by {angle}");
     // Speed is x2 / Ts: f32 rounding of x2 (~1e-7 relative) times 1/Ts.
     assert!(speed < 0.05, "speed differs by {speed}");

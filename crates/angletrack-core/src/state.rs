@@ -94,7 +94,8 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
     ///
     /// Non-finite values are replaced by 0. Speed and acceleration are limited to what a
     /// sampled loop can represent: half a turn per sample (`pi / Ts` rad/s, beyond which
-    /// the angle aliases) and `pi / Ts^2` rad/s^2, so that no state starts near overflow.
+    /// the angle aliases, `docs/theory.md §9`) and `pi / Ts^2` rad/s^2, so that no state
+    /// starts near overflow.
     ///
     /// ```
     /// use angletrack_core::ObserverState;

@@ -13,10 +13,8 @@ import numpy as np
 import angletrack as at
 
 N = int(sys.argv[1]) if len(sys.argv) > 1 else 10_000_000
-GAINS = {
-    2: at.Gains([0.060_898_63, 0.000_956_514_8], sample_period_s=1e-4),
-    3: at.Gains([0.061_286_65, 0.001_937_879, 3.063_843e-5], sample_period_s=1e-4),
-}
+SECOND_ORDER, _, KALMAN = at.paper_benchmark_gains()
+GAINS = {2: SECOND_ORDER, 3: KALMAN}
 
 
 def main() -> None:

@@ -1,23 +1,35 @@
-//! The one place where errors become Python exceptions.
+//! The one place where errors become Python exceptions, and where the Rust crates' parameter
+//! names become the names of the Python arguments.
 //!
 //! Every fallible function of the binding returns [`Error`]; its `From<Error> for PyErr`
 //! below is the only code that picks a Python exception type:
 //!
-//! * a refused configuration or design argument (the Rust crates' typed errors) and bad
-//!   array shapes or lengths are `ValueError`s whose message names the parameter;
+//! * a refused argument (a configuration or design argument refused by the Rust crates, a
+//!   bad array shape or length, an unknown name) is an `angletrack.ConfigError`, a subclass
+//!   of `ValueError` whose `parameter` attribute is the argument's name as the caller
+//!   spelled it, and whose message starts with that name;
 //! * an array of the wrong element type is a `TypeError` naming the parameter, the dtype
 //!   given and the dtype expected;
 //! * errors raised by Python itself while converting arguments pass through unchanged.
 
-use angletrack_core::ConfigError;
-use pyo3::PyErr;
+use angletrack::Argument;
+use angletrack_core::{ConfigError as CoreConfigError, Parameter};
 use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+
+pyo3::create_exception!(
+    angletrack,
+    ConfigError,
+    PyValueError,
+    "An argument the extension refused. `parameter` is the argument's name as the caller \
+     spelled it (`\"sample_period_s\"`, `\"gains\"`, `\"y_c\"`); the message starts with it."
+);
 
 /// Why a call into the binding failed.
 #[derive(Debug)]
 pub enum Error {
     /// The core refused a configuration (gains, sample period, thresholds).
-    Config(ConfigError),
+    Config(CoreConfigError),
     /// A design, analysis, scenario or metrics function of `angletrack` refused an argument.
     Design(angletrack::Error),
     /// An array (or another argument) has the wrong element type.
@@ -41,7 +53,7 @@ pub enum Error {
 }
 
 impl Error {
-    /// A `ValueError` about `parameter`.
+    /// A refused value of `parameter`.
     pub fn value(parameter: &'static str, message: impl Into<String>) -> Self {
         Error::Value {
             parameter,
@@ -50,8 +62,8 @@ impl Error {
     }
 }
 
-impl From<ConfigError> for Error {
-    fn from(e: ConfigError) -> Self {
+impl From<CoreConfigError> for Error {
+    fn from(e: CoreConfigError) -> Self {
         Error::Config(e)
     }
 }
@@ -68,13 +80,64 @@ impl From<PyErr> for Error {
     }
 }
 
+/// The Python argument a parameter of the core's configuration comes from: the core names
+/// the Python arguments, except that the gains arrive as one sequence, `gains`, whose
+/// element the core names (`gains[0] (l1)`).
+fn python_parameter(p: Parameter) -> &'static str {
+    match p {
+        Parameter::AngleGain | Parameter::SpeedGain | Parameter::AccelerationGain => "gains",
+        other => other.name(),
+    }
+}
+
+/// The Python argument a design, scenario or metrics argument comes from: the crate's name
+/// without the symbol it adds in parentheses (`pole_ratio (K)` is the argument `pole_ratio`).
+fn python_argument(a: Argument) -> &'static str {
+    let name = a.name();
+    name.split_once(" (").map_or(name, |(argument, _)| argument)
+}
+
+/// `message`, led by the name of the Python argument `python` if it does not start with it.
+fn python_message(python: &str, message: String) -> String {
+    if message.starts_with(python) {
+        message
+    } else {
+        format!("{python}: {message}")
+    }
+}
+
+/// The `ConfigError` of `parameter` with `message`.
+fn config_error(parameter: &str, message: String) -> PyErr {
+    Python::attach(|py| {
+        let e = ConfigError::new_err(message);
+        match e.value(py).setattr("parameter", parameter) {
+            Ok(()) => e,
+            Err(setattr) => setattr,
+        }
+    })
+}
+
+/// The `ConfigError` of a core error, under the Python argument's name, `suffix` appended.
+fn core_config_error(e: &CoreConfigError, suffix: &str) -> PyErr {
+    let python = python_parameter(e.parameter());
+    let message = python_message(python, e.to_string());
+    config_error(python, format!("{message}{suffix}"))
+}
+
 impl From<Error> for PyErr {
     fn from(e: Error) -> Self {
         match e {
-            // The core's message starts with the parameter's name.
-            Error::Config(e) => PyValueError::new_err(e.to_string()),
-            // Its message names the argument (or, for refused gains, the core's parameter).
-            Error::Design(e) => PyValueError::new_err(e.to_string()),
+            Error::Config(e) => core_config_error(&e, ""),
+            Error::Design(angletrack::Error::Gains(e)) => {
+                core_config_error(&e, " (the designed gains are refused)")
+            }
+            Error::Design(e) => match e.argument() {
+                Some(a) => {
+                    let python = python_argument(a);
+                    config_error(python, python_message(python, e.to_string()))
+                }
+                None => PyValueError::new_err(e.to_string()),
+            },
             Error::Dtype {
                 parameter,
                 given,
@@ -84,7 +147,7 @@ impl From<Error> for PyErr {
                  silent conversion is made)"
             )),
             Error::Value { parameter, message } => {
-                PyValueError::new_err(format!("{parameter}: {message}"))
+                config_error(parameter, format!("{parameter}: {message}"))
             }
             Error::Python(e) => e,
         }

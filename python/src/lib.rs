@@ -6,27 +6,39 @@
 
 use pyo3::prelude::*;
 
+mod analysis;
 mod arrays;
 mod batch;
 mod design;
+mod design_functions;
+mod diagnostics;
+mod dispatch;
 mod errors;
+mod estimates;
+mod gains;
+mod metrics;
+mod motion;
 mod observer;
+mod paper;
 mod scenario;
 
 /// The compiled part of the `angletrack` Python package.
 #[pymodule]
 fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
-    m.add_class::<observer::PyGains>()?;
+    m.add("ConfigError", m.py().get_type::<errors::ConfigError>())?;
+    m.add_class::<gains::PyGains>()?;
     m.add_class::<observer::PyObserver>()?;
-    m.add_class::<observer::PyFaultThresholds>()?;
-    m.add("FAULT_BITS", observer::fault_bits().to_vec())?;
-    m.add_class::<observer::Estimate>()?;
-    m.add_class::<observer::Estimates>()?;
+    m.add_class::<diagnostics::PyFaultThresholds>()?;
+    m.add("FAULT_BITS", diagnostics::fault_bits().to_vec())?;
+    m.add_class::<estimates::Estimate>()?;
+    m.add_class::<estimates::Estimates>()?;
     m.add_function(wrap_pyfunction!(observer::track, m)?)?;
     m.add_class::<batch::PyObserverBatch>()?;
     m.add_function(wrap_pyfunction!(batch::track_batch, m)?)?;
-    design::register(m)?;
+    design_functions::register(m)?;
     scenario::register(m)?;
+    metrics::register(m)?;
+    paper::register(m)?;
     Ok(())
 }

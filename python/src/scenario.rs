@@ -1,209 +1,13 @@
-//! Scenarios (motion profile + sensor model, deterministic from a seed) and the metrics of a
-//! run against the truth, from the `angletrack` crate.
+//! `SensorModel` and `Scenario`: sampled test signals with their truth, deterministic from a
+//! seed, from the `angletrack` crate.
 
-use angletrack::{ErrorStatistics, Metrics, MetricsOptions, Motion, MotionProfile, SensorModel};
+use angletrack::SensorModel;
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 
-use crate::arrays::{Float, check_equal_lengths, samples};
+use crate::arrays::{check_equal_lengths, samples};
 use crate::errors::{Error, Result};
-use crate::observer::Estimates;
-
-/// A motion profile of the shaft: an initial angle (rad) and speed (rad/s), then segments
-/// run one after the other. Each method returns a new profile with one more segment.
-#[pyclass(name = "MotionProfile", module = "angletrack", frozen)]
-#[derive(Debug, Clone)]
-pub struct PyMotionProfile {
-    inner: MotionProfile,
-}
-
-impl PyMotionProfile {
-    fn then(&self, motion: Motion) -> Self {
-        Self {
-            inner: self.inner.clone().then(motion),
-        }
-    }
-}
-
-#[pymethods]
-impl PyMotionProfile {
-    #[new]
-    #[pyo3(signature = (initial_angle_rad = 0.0, initial_speed_rad_s = 0.0))]
-    fn py_new(initial_angle_rad: f64, initial_speed_rad_s: f64) -> Self {
-        Self {
-            inner: MotionProfile::new(initial_angle_rad, initial_speed_rad_s),
-        }
-    }
-
-    /// Constant speed `speed_rad_s` for `duration_s` (a speed step if it differs).
-    #[pyo3(signature = (speed_rad_s, duration_s))]
-    fn constant_speed(&self, speed_rad_s: f64, duration_s: f64) -> Self {
-        self.then(Motion::ConstantSpeed {
-            speed_rad_s,
-            duration_s,
-        })
-    }
-
-    /// Constant acceleration `acceleration_rad_s2` from the current speed for `duration_s`.
-    #[pyo3(signature = (acceleration_rad_s2, duration_s))]
-    fn constant_acceleration(&self, acceleration_rad_s2: f64, duration_s: f64) -> Self {
-        self.then(Motion::ConstantAcceleration {
-            acceleration_rad_s2,
-            duration_s,
-        })
-    }
-
-    /// A position step of `step_rad` at the segment's start, then the current speed held
-    /// for `duration_s`.
-    #[pyo3(signature = (step_rad, duration_s))]
-    fn step(&self, step_rad: f64, duration_s: f64) -> Self {
-        self.then(Motion::Step {
-            step_rad,
-            duration_s,
-        })
-    }
-
-    /// A point-to-point move of `distance_rad` with a trapezoidal speed profile.
-    #[pyo3(signature = (distance_rad, max_speed_rad_s, max_acceleration_rad_s2))]
-    fn trapezoidal(
-        &self,
-        distance_rad: f64,
-        max_speed_rad_s: f64,
-        max_acceleration_rad_s2: f64,
-    ) -> Self {
-        self.then(Motion::Trapezoidal {
-            distance_rad,
-            max_speed_rad_s,
-            max_acceleration_rad_s2,
-        })
-    }
-
-    /// A point-to-point move of `distance_rad` with a jerk-limited S-curve speed profile.
-    #[pyo3(signature = (distance_rad, max_speed_rad_s, max_acceleration_rad_s2, max_jerk_rad_s3))]
-    fn s_curve(
-        &self,
-        distance_rad: f64,
-        max_speed_rad_s: f64,
-        max_acceleration_rad_s2: f64,
-        max_jerk_rad_s3: f64,
-    ) -> Self {
-        self.then(Motion::SCurve {
-            distance_rad,
-            max_speed_rad_s,
-            max_acceleration_rad_s2,
-            max_jerk_rad_s3,
-        })
-    }
-
-    /// A sinusoidal speed ripple of amplitude `ripple_rad_s` at `frequency_hz` around the
-    /// current speed, for `duration_s`.
-    #[pyo3(signature = (ripple_rad_s, frequency_hz, duration_s))]
-    fn speed_ripple(&self, ripple_rad_s: f64, frequency_hz: f64, duration_s: f64) -> Self {
-        self.then(Motion::SpeedRipple {
-            ripple_rad_s,
-            frequency_hz,
-            duration_s,
-        })
-    }
-
-    /// A reversal of the current speed at constant deceleration `acceleration_rad_s2`.
-    #[pyo3(signature = (acceleration_rad_s2))]
-    fn reversal(&self, acceleration_rad_s2: f64) -> Self {
-        self.then(Motion::Reversal {
-            acceleration_rad_s2,
-        })
-    }
-
-    /// This profile followed by the segments of `other` (its initial values are ignored).
-    #[pyo3(signature = (other))]
-    fn concat(&self, other: &PyMotionProfile) -> Self {
-        let mut inner = self.inner.clone();
-        inner.segments.extend(other.inner.segments.iter().copied());
-        Self { inner }
-    }
-
-    /// Initial angle (rad).
-    #[getter]
-    fn initial_angle_rad(&self) -> f64 {
-        self.inner.initial_angle_rad
-    }
-
-    /// Initial speed (rad/s).
-    #[getter]
-    fn initial_speed_rad_s(&self) -> f64 {
-        self.inner.initial_speed_rad_s
-    }
-
-    /// Number of segments.
-    fn __len__(&self) -> usize {
-        self.inner.segments.len()
-    }
-
-    fn __repr__(&self) -> String {
-        let segments: Vec<String> = self
-            .inner
-            .segments
-            .iter()
-            .map(|m| format!(".{}", segment_text(m)))
-            .collect();
-        format!(
-            "MotionProfile(initial_angle_rad={:?}, initial_speed_rad_s={:?}){}",
-            self.inner.initial_angle_rad,
-            self.inner.initial_speed_rad_s,
-            segments.join("")
-        )
-    }
-}
-
-fn segment_text(m: &Motion) -> String {
-    match *m {
-        Motion::ConstantSpeed {
-            speed_rad_s,
-            duration_s,
-        } => format!("constant_speed(speed_rad_s={speed_rad_s:?}, duration_s={duration_s:?})"),
-        Motion::ConstantAcceleration {
-            acceleration_rad_s2,
-            duration_s,
-        } => format!(
-            "constant_acceleration(acceleration_rad_s2={acceleration_rad_s2:?}, duration_s={duration_s:?})"
-        ),
-        Motion::Step {
-            step_rad,
-            duration_s,
-        } => format!("step(step_rad={step_rad:?}, duration_s={duration_s:?})"),
-        Motion::Trapezoidal {
-            distance_rad,
-            max_speed_rad_s,
-            max_acceleration_rad_s2,
-        } => format!(
-            "trapezoidal(distance_rad={distance_rad:?}, max_speed_rad_s={max_speed_rad_s:?}, \
-             max_acceleration_rad_s2={max_acceleration_rad_s2:?})"
-        ),
-        Motion::SCurve {
-            distance_rad,
-            max_speed_rad_s,
-            max_acceleration_rad_s2,
-            max_jerk_rad_s3,
-        } => format!(
-            "s_curve(distance_rad={distance_rad:?}, max_speed_rad_s={max_speed_rad_s:?}, \
-             max_acceleration_rad_s2={max_acceleration_rad_s2:?}, max_jerk_rad_s3={max_jerk_rad_s3:?})"
-        ),
-        Motion::SpeedRipple {
-            ripple_rad_s,
-            frequency_hz,
-            duration_s,
-        } => format!(
-            "speed_ripple(ripple_rad_s={ripple_rad_s:?}, frequency_hz={frequency_hz:?}, \
-             duration_s={duration_s:?})"
-        ),
-        Motion::Reversal {
-            acceleration_rad_s2,
-        } => format!("reversal(acceleration_rad_s2={acceleration_rad_s2:?})"),
-        // A segment added to the crate later: its Debug form.
-        #[allow(unreachable_patterns)]
-        ref other => format!("{other:?}"),
-    }
-}
+use crate::motion::PyMotionProfile;
 
 /// The sensor that turns the shaft angle into `y_c` and `y_s`: amplitude, DC offsets,
 /// amplitude imbalance, quadrature error (rad), relative 3rd harmonic, white noise
@@ -306,23 +110,23 @@ impl PySensorModel {
 #[derive(Debug)]
 pub struct PyScenario {
     /// Sample period (s).
-    sample_period_s: f64,
+    pub(crate) sample_period_s: f64,
     /// Sample times (s).
-    time_s: Py<PyArray1<f64>>,
+    pub(crate) time_s: Py<PyArray1<f64>>,
     /// True angle (rad, unwrapped).
-    angle_rad: Py<PyArray1<f64>>,
+    pub(crate) angle_rad: Py<PyArray1<f64>>,
     /// True speed (rad/s); NaN where unknown (a capture without a speed reference).
-    speed_rad_s: Py<PyArray1<f64>>,
+    pub(crate) speed_rad_s: Py<PyArray1<f64>>,
     /// True acceleration (rad/s^2); NaN where unknown.
-    acceleration_rad_s2: Py<PyArray1<f64>>,
+    pub(crate) acceleration_rad_s2: Py<PyArray1<f64>>,
     /// Cosine signal.
-    y_c: Py<PyArray1<f64>>,
+    pub(crate) y_c: Py<PyArray1<f64>>,
     /// Sine signal.
-    y_s: Py<PyArray1<f64>>,
+    pub(crate) y_s: Py<PyArray1<f64>>,
     /// `False` when the speed truth is unknown (speed metrics are then not computed).
-    has_speed: bool,
+    pub(crate) has_speed: bool,
     /// Number of samples.
-    len: usize,
+    pub(crate) len: usize,
 }
 
 fn array(py: Python<'_>, v: Vec<f64>) -> Py<PyArray1<f64>> {
@@ -420,159 +224,10 @@ impl PyScenario {
     }
 }
 
-/// Mean, RMS and largest magnitude of an error series.
-#[pyclass(name = "ErrorStatistics", module = "angletrack", frozen, get_all)]
-#[derive(Debug, Clone)]
-pub struct PyErrorStatistics {
-    /// Root mean square.
-    rms: f64,
-    /// Largest magnitude.
-    max: f64,
-    /// Mean (signed: a bias).
-    mean: f64,
-}
-
-impl From<ErrorStatistics> for PyErrorStatistics {
-    fn from(s: ErrorStatistics) -> Self {
-        Self {
-            rms: s.rms,
-            max: s.max,
-            mean: s.mean,
-        }
-    }
-}
-
-#[pymethods]
-impl PyErrorStatistics {
-    fn __repr__(&self) -> String {
-        format!(
-            "ErrorStatistics(rms={:.6e}, max={:.6e}, mean={:.6e})",
-            self.rms, self.max, self.mean
-        )
-    }
-}
-
-/// The quality of a run against the truth (errors are truth - estimate).
-#[pyclass(name = "Metrics", module = "angletrack", frozen, get_all)]
-#[derive(Debug, Clone)]
-pub struct PyMetrics {
-    /// Wrapped angle error (rad) over the samples from `skip_s` on.
-    angle_error_rad: PyErrorStatistics,
-    /// Speed error (rad/s) over the same samples; `None` without a speed truth.
-    speed_error_rad_s: Option<PyErrorStatistics>,
-    /// Number of samples in the statistics.
-    samples: usize,
-    /// Overshoot past the truth's final angle, as a fraction of the move; `None` when the
-    /// truth ends where it started.
-    overshoot: Option<f64>,
-    /// Time (s) after which the estimate stays within the settling band of the move.
-    settling_time_s: Option<f64>,
-    /// Time (s) from which the wrapped angle error stays within the lock tolerance.
-    time_to_lock_s: Option<f64>,
-}
-
-fn optional(v: Option<f64>, scale: f64, unit: &str) -> String {
-    v.map_or("None".into(), |x| format!("{:.6e}{unit}", x * scale))
-}
-
-#[pymethods]
-impl PyMetrics {
-    fn __repr__(&self) -> String {
-        format!(
-            "Metrics(angle_error_rad: rms={:.6e} max={:.6e} mean={:.6e}; speed_error_rad_s: {}; \
-             samples={}, overshoot={}, settling_time_s={}, time_to_lock_s={})",
-            self.angle_error_rad.rms,
-            self.angle_error_rad.max,
-            self.angle_error_rad.mean,
-            self.speed_error_rad_s
-                .as_ref()
-                .map_or("None".into(), |s| format!(
-                    "rms={:.6e} max={:.6e} mean={:.6e}",
-                    s.rms, s.max, s.mean
-                )),
-            self.samples,
-            optional(self.overshoot, 1.0, ""),
-            optional(self.settling_time_s, 1.0, ""),
-            optional(self.time_to_lock_s, 1.0, ""),
-        )
-    }
-}
-
-/// An estimates array as float64 (position is float64 already; float32 quantities are
-/// widened, exactly).
-fn as_f64(array: &Bound<'_, PyAny>, parameter: &'static str) -> Result<Vec<f64>> {
-    Ok(match Float::of_samples(array, parameter)? {
-        Float::F64 => samples::<f64>(array, parameter)?.as_slice().to_vec(),
-        Float::F32 => samples::<f32>(array, parameter)?
-            .as_slice()
-            .iter()
-            .map(|&x| f64::from(x))
-            .collect(),
-    })
-}
-
-/// Measures the estimates of a run against the scenario's truth: wrapped angle error and
-/// speed error statistics from `skip_s` (s) on, overshoot and settling time (band
-/// `settling_band` of the move), and time to lock (error within `lock_tolerance_rad`).
-#[pyfunction]
-#[pyo3(signature = (scenario, estimates, *, skip_s = 0.0, lock_tolerance_rad = 0.01, settling_band = 0.02))]
-pub fn metrics(
-    py: Python<'_>,
-    scenario: &PyScenario,
-    estimates: &Estimates,
-    skip_s: f64,
-    lock_tolerance_rad: f64,
-    settling_band: f64,
-) -> Result<PyMetrics> {
-    let truth = angletrack::Scenario {
-        sample_period_s: scenario.sample_period_s,
-        time_s: samples::<f64>(scenario.time_s.bind(py).as_any(), "scenario.time_s")?
-            .as_slice()
-            .to_vec(),
-        angle_rad: samples::<f64>(scenario.angle_rad.bind(py).as_any(), "scenario.angle_rad")?
-            .as_slice()
-            .to_vec(),
-        speed_rad_s: if scenario.has_speed {
-            samples::<f64>(
-                scenario.speed_rad_s.bind(py).as_any(),
-                "scenario.speed_rad_s",
-            )?
-            .as_slice()
-            .to_vec()
-        } else {
-            // Unknown speed truth: any finite series; its statistics are not reported.
-            vec![0.0; scenario.len]
-        },
-        ..Default::default()
-    };
-    let run = angletrack::Run {
-        angle_rad: as_f64(estimates.position.bind(py), "estimates.position")?,
-        speed_rad_s: as_f64(estimates.speed.bind(py), "estimates.speed")?,
-        acceleration_rad_s2: as_f64(estimates.acceleration.bind(py), "estimates.acceleration")?,
-    };
-    let options = MetricsOptions {
-        skip_s,
-        lock_tolerance_rad,
-        settling_band,
-    };
-    let m = py.detach(|| Metrics::new(&truth, &run, &options))?;
-    Ok(PyMetrics {
-        angle_error_rad: m.angle_error_rad.into(),
-        speed_error_rad_s: scenario.has_speed.then(|| m.speed_error_rad_s.into()),
-        samples: m.samples,
-        overshoot: m.overshoot,
-        settling_time_s: m.settling_time_s,
-        time_to_lock_s: m.time_to_lock_s,
-    })
-}
-
-/// Adds this module's classes and functions to the extension module.
+/// Adds this module's classes to the extension module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_class::<PyMotionProfile>()?;
+    m.add_class::<crate::motion::PyMotionProfile>()?;
     m.add_class::<PySensorModel>()?;
     m.add_class::<PyScenario>()?;
-    m.add_class::<PyErrorStatistics>()?;
-    m.add_class::<PyMetrics>()?;
-    m.add_function(wrap_pyfunction!(metrics, m)?)?;
     Ok(())
 }

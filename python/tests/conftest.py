@@ -5,11 +5,11 @@ import pytest
 
 import angletrack
 
-# 10 kHz gains of the three observers of the paper (the core's example, track_resolver.rs).
-SAMPLE_PERIOD = 1e-4
-SECOND_ORDER = [0.060_898_63, 0.000_956_514_8]
-THIRD_ORDER = [0.094_326_17, 0.000_562_075, 1.213_522e-5]
-KALMAN = [0.061_286_65, 0.001_937_879, 3.063_843e-5]
+# 10 kHz gains of the three observers of the paper, as the benchmarks and the firmware run
+# them (angletrack::paper).
+_BENCHMARK = angletrack.paper_benchmark_gains()
+SAMPLE_PERIOD = _BENCHMARK[0].sample_period_s
+SECOND_ORDER, THIRD_ORDER, KALMAN = (g.gains for g in _BENCHMARK)
 
 
 @pytest.fixture(params=[SECOND_ORDER, THIRD_ORDER, KALMAN], ids=["order2", "order3", "kalman"])

@@ -1,5 +1,7 @@
-"""An independent, plain-Python restatement of the observer recursion (NOTES.md section 5),
-used to check the Rust results sample by sample. Slow on purpose: it is the specification.
+"""An independent, plain-Python restatement of the observer recursion (the scaled discrete
+state and the predictor-corrector recursion, with wrapping and turn counting:
+docs/theory.md §5), used to check the Rust results sample by sample. Slow on purpose: it is
+the specification.
 """
 
 import math

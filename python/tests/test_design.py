@@ -12,18 +12,24 @@ import angletrack as at
 
 
 def test_paper_overshoots_through_the_binding():
-    ts = 1e-5  # 100 kHz, at least 200 times each bandwidth
-    cases = [
-        (at.second_order_from_tracking_error(max_error_rad=1e-3, acceleration_rad_s2=100.0, damping=1.945, sample_period_s=ts), 0.050),
-        (at.second_order_from_tracking_error(max_error_rad=1e-3, acceleration_rad_s2=100.0, damping=math.sqrt(2) / 2, sample_period_s=ts), 0.208),
-        (at.third_order_from_poles(pole_ratio=39.04, pole_time_constant_s=0.02, pole_frequency_ratio=3 * math.pi / 2, sample_period_s=ts), 0.100),
-        (at.third_order_butterworth(time_constant_s=0.005, sample_period_s=ts), 0.309),
-    ]
-    for design, paper in cases:
-        r = design.report(sensor_noise_std=0.0)
+    settings = at.paper_settings()  # 100 kHz, at least 200 times each bandwidth
+    assert at.PAPER_OVERSHOOT_SAMPLE_PERIOD_S == 1e-5
+    assert [s.paper_overshoot_percent for s in settings] == [5.0, 20.8, 10.0, 30.9]
+    for setting in settings:
+        r = setting.design.report(sensor_noise_std=0.0)
+        paper = setting.paper_overshoot_percent / 100.0
+        assert r.sample_period_s == at.PAPER_OVERSHOOT_SAMPLE_PERIOD_S
         assert r.sample_period_s * r.bandwidth_hz < 1 / 200
         assert r.linear_step.overshoot == pytest.approx(paper, abs=0.003)
         assert r.continuous_step.overshoot == pytest.approx(paper, abs=0.001)
+
+
+def test_paper_compared_observers_are_the_three_observers_at_10_khz():
+    observers = dict(at.paper_compared_observers())
+    assert list(observers) == ["2nd-order ATO", "3rd-order ATO", "Kalman ATO"]
+    for design in observers.values():
+        assert design.sample_period_s == at.PAPER_COMPARISON_SAMPLE_PERIOD_S == 1e-4
+    assert observers["2nd-order ATO"].report().bandwidth_hz == pytest.approx(at.PAPER_COMPARISON_BANDWIDTH_HZ, rel=0.02)
 
 
 def test_second_order_acceleration_constant_and_design_fields():
@@ -56,20 +62,27 @@ def test_kalman_design_matches_the_crate_doc_figures():
 
 
 @pytest.mark.parametrize(
-    "call, message",
+    "call, parameter, message",
     [
-        (lambda: at.kalman(process_noise_q=-1.0, measurement_noise_r=1.0, sample_period_s=1e-4), r"process_noise_q must be positive"),
-        (lambda: at.kalman(process_noise_q=1.0, measurement_noise_r=math.nan, sample_period_s=1e-4), r"measurement_noise_r must be finite"),
-        (lambda: at.second_order_from_bandwidth(bandwidth_hz=1e5, damping=1.0, sample_period_s=1e-4), r"bandwidth_hz makes the loop too fast"),
-        (lambda: at.second_order_from_tracking_error(max_error_rad=0.0, acceleration_rad_s2=1.0, damping=1.0, sample_period_s=1e-4), r"max_error_rad must be positive"),
-        (lambda: at.third_order_from_poles(pole_ratio=39.04, pole_time_constant_s=0.02, pole_frequency_ratio=1.0, sample_period_s=0.0), r"sample_period_s must be positive"),
-        (lambda: at.third_order_butterworth(time_constant_s=0.005, sample_period_s=1e-4, discretisation="zoh"), r"discretisation: expected 'pole_matching'"),
-        (lambda: at.kalman_from_jerk_density(jerk_density_rad2_s5=-1.0, sensor_noise_std=0.01, sample_period_s=1e-4), r"jerk_density_rad2_s5 must be positive"),
+        (lambda: at.kalman(process_noise_q=-1.0, measurement_noise_r=1.0, sample_period_s=1e-4), "process_noise_q", r"process_noise_q must be positive"),
+        (lambda: at.kalman(process_noise_q=1.0, measurement_noise_r=math.nan, sample_period_s=1e-4), "measurement_noise_r", r"measurement_noise_r must be finite"),
+        (lambda: at.second_order_from_bandwidth(bandwidth_hz=1e5, damping=1.0, sample_period_s=1e-4), "bandwidth_hz", r"bandwidth_hz makes the loop too fast"),
+        (lambda: at.second_order_from_tracking_error(max_error_rad=0.0, acceleration_rad_s2=1.0, damping=1.0, sample_period_s=1e-4), "max_error_rad", r"max_error_rad must be positive"),
+        (lambda: at.third_order_from_poles(pole_ratio=39.04, pole_time_constant_s=0.02, pole_frequency_ratio=1.0, sample_period_s=0.0), "sample_period_s", r"sample_period_s must be positive"),
+        (lambda: at.third_order_from_poles(pole_ratio=-1.0, pole_time_constant_s=0.02, pole_frequency_ratio=1.0, sample_period_s=1e-4), "pole_ratio", r"^pole_ratio \(K\) must be positive"),
+        (lambda: at.third_order_butterworth(time_constant_s=0.005, sample_period_s=1e-4, discretisation="zoh"), "discretisation", r"discretisation .*expected pole_matching, forward_euler or tustin"),
+        (lambda: at.kalman_from_jerk_density(jerk_density_rad2_s5=-1.0, sensor_noise_std=0.01, sample_period_s=1e-4), "jerk_density_rad2_s5", r"jerk_density_rad2_s5 must be positive"),
     ],
 )
-def test_design_errors_name_the_argument(call, message):
-    with pytest.raises(ValueError, match=message):
+def test_design_errors_name_the_argument(call, parameter, message):
+    with pytest.raises(at.ConfigError, match=message) as e:
         call()
+    assert e.value.parameter == parameter
+
+
+def test_discretisation_names_are_parsed_by_the_crate():
+    kw = dict(time_constant_s=0.005, sample_period_s=1e-4)
+    assert at.third_order_butterworth(**kw, discretisation="Forward-Euler").discretisation == "forward_euler"
 
 
 def test_discretisations_differ_and_are_reported():

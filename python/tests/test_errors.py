@@ -48,21 +48,48 @@ def test_wrong_shape_length_or_empty_is_a_value_error(observer32):
 
 
 @pytest.mark.parametrize(
-    "gains, sample_period, message",
+    "gains, sample_period, parameter, message",
     [
-        ([0.1, 0.01, -1e-5], 1e-4, r"acceleration_gain \(l3\).*l3 > 0"),
-        ([0.1, -0.01], 1e-4, r"speed_gain \(l2\).*l2 > 0"),
-        ([1.9, 0.5], 1e-4, r"angle_gain \(l1\).*2 l1 \+ l2 < 4"),
-        ([0.1, 0.01], 0.0, r"sample_period must be positive"),
-        ([0.1, 0.01], math.nan, r"sample_period must be finite"),
-        ([math.inf, 0.01], 1e-4, r"angle_gain \(l1\) must be finite"),
-        ([0.1], 1e-4, r"gains: expected 2 values .* or 3 .*got 1"),
-        ([0.1, 0.2, 0.3, 0.4], 1e-4, r"gains: expected 2 values .* or 3 .*got 4"),
+        ([0.1, 0.01, -1e-5], 1e-4, "gains", r"^gains\[2\] \(l3\).*l3 > 0"),
+        ([0.1, -0.01], 1e-4, "gains", r"^gains\[1\] \(l2\).*l2 > 0"),
+        ([1.9, 0.5], 1e-4, "gains", r"^gains\[0\] \(l1\).*2 l1 \+ l2 < 4"),
+        ([0.1, 0.01], 0.0, "sample_period_s", r"^sample_period_s must be positive"),
+        ([0.1, 0.01], math.nan, "sample_period_s", r"^sample_period_s must be finite"),
+        ([math.inf, 0.01], 1e-4, "gains", r"^gains\[0\] \(l1\) must be finite"),
+        ([0.1], 1e-4, "gains", r"gains: expected 2 values .* or 3 .*got 1"),
+        ([0.1, 0.2, 0.3, 0.4], 1e-4, "gains", r"gains: expected 2 values .* or 3 .*got 4"),
     ],
 )
-def test_refused_gains_name_the_parameter(gains, sample_period, message):
-    with pytest.raises(ValueError, match=message):
+def test_refused_gains_name_the_parameter(gains, sample_period, parameter, message):
+    with pytest.raises(angletrack.ConfigError, match=message) as e:
         angletrack.Gains(gains, sample_period)
+    assert e.value.parameter == parameter
+    assert str(e.value).startswith(parameter)
+
+
+def test_config_error_is_a_value_error_naming_the_callers_argument():
+    with pytest.raises(angletrack.ConfigError) as e:
+        angletrack.Gains(SECOND_ORDER, sample_period_s=-1.0)
+    assert e.value.parameter == "sample_period_s"
+    assert isinstance(e.value, ValueError)
+    assert "sample_period must" not in str(e.value)
+    g = angletrack.Gains(SECOND_ORDER, SAMPLE_PERIOD)
+    for thresholds, parameter in (
+        (angletrack.FaultThresholds(loss_of_signal=-1.0), "loss_of_signal"),
+        (angletrack.FaultThresholds(degradation_low=1.2), "degradation_low"),
+        (angletrack.FaultThresholds(max_speed_rad_s=0.0), "max_speed_rad_s"),
+        (angletrack.FaultThresholds(false_lock=math.nan), "false_lock"),
+    ):
+        with pytest.raises(angletrack.ConfigError) as e:
+            angletrack.Observer(g, fault_thresholds=thresholds)
+        assert e.value.parameter == parameter
+        assert str(e.value).startswith(parameter)
+    with pytest.raises(angletrack.ConfigError) as e:
+        angletrack.Observer(g, sin_cos="slow")
+    assert e.value.parameter == "sin_cos"
+    with pytest.raises(angletrack.ConfigError) as e:
+        angletrack.Observer(g).update(np.ones(3), np.ones(2))
+    assert e.value.parameter == "y_s"
 
 
 def test_other_bad_arguments():

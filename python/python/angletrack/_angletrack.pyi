@@ -36,30 +36,12 @@ class Gains:
         """2 (angle, speed) or 3 (angle, speed, acceleration)."""
     def __eq__(self, other: object) -> bool: ...
 
-class Estimate:
-    """The estimate after the last sample (scalars)."""
+class ConfigError(ValueError):
+    """An argument the extension refused (its value, range, shape or length, or an unknown
+    name); the message starts with the argument's name."""
 
-    @property
-    def angle(self) -> float:
-        """Angle (rad), wrapped to [-pi, pi)."""
-    @property
-    def turns(self) -> int:
-        """Whole turns counted since initialisation."""
-    @property
-    def position(self) -> float:
-        """Multi-turn position ``turns * 2 pi + angle`` (rad)."""
-    @property
-    def speed(self) -> float:
-        """Speed (rad/s)."""
-    @property
-    def acceleration(self) -> float:
-        """Acceleration (rad/s^2); 0 at order 2."""
-    @property
-    def phase_error(self) -> float:
-        """Phase-detector output of the last sample."""
-    @property
-    def faults(self) -> int:
-        """Fault flags of the last sample (see ``angletrack.Faults``)."""
+    parameter: str
+    """The argument's name as the caller spelled it (``"sample_period_s"``, ``"gains"``)."""
 
 class Estimates:
     """Estimates of a run, one array per quantity. ``position`` is float64; the others
@@ -70,13 +52,13 @@ class Estimates:
         """Angle (rad), wrapped to [-pi, pi)."""
     @property
     def position(self) -> npt.NDArray[np.float64]:
-        """Multi-turn position (rad)."""
+        """Multi-turn position ``turns * 2 pi + angle`` (rad)."""
     @property
     def speed(self) -> npt.NDArray[np.floating]:
         """Speed (rad/s)."""
     @property
     def acceleration(self) -> npt.NDArray[np.floating]:
-        """Acceleration (rad/s^2)."""
+        """Acceleration (rad/s^2); 0 at order 2."""
     @property
     def phase_error(self) -> npt.NDArray[np.floating]:
         """Phase-detector output per sample."""
@@ -91,7 +73,33 @@ class Estimates:
         """Number of samples."""
     def __len__(self) -> int: ...
 
-class Observer:
+class Estimate:
+    """The quantities of ``Estimates`` after the last sample, as Python scalars, with the
+    whole ``turns`` counted since initialisation."""
+
+    angle: float
+    turns: int
+    position: float
+    speed: float
+    acceleration: float
+    phase_error: float
+    faults: int
+
+class _RunSettings:
+    """What an ``Observer`` or an ``ObserverBatch`` runs with."""
+
+    @property
+    def gains(self) -> Gains: ...
+    @property
+    def dtype(self) -> Literal["float32", "float64"]: ...
+    @property
+    def sin_cos(self) -> Literal["fast", "exact"]: ...
+    @property
+    def order(self) -> int: ...
+    @property
+    def sample_period_s(self) -> float: ...
+
+class Observer(_RunSettings):
     """An observer whose state persists between calls: chunked input gives exactly the
     result of one call."""
 
@@ -113,16 +121,6 @@ class Observer:
     def clear_faults(self) -> int: ...
     @property
     def fault_thresholds(self) -> FaultThresholds: ...
-    @property
-    def gains(self) -> Gains: ...
-    @property
-    def dtype(self) -> Literal["float32", "float64"]: ...
-    @property
-    def sin_cos(self) -> Literal["fast", "exact"]: ...
-    @property
-    def order(self) -> int: ...
-    @property
-    def sample_period_s(self) -> float: ...
 
 def track(
     gains: Gains, y_c: _Samples, y_s: _Samples, *, sin_cos: _SinCos = None,
@@ -132,7 +130,7 @@ def track(
 
 _ChannelSamples = Union[npt.NDArray[np.float32], npt.NDArray[np.float64], Sequence[Sequence[float]]]
 
-class ObserverBatch:
+class ObserverBatch(_RunSettings):
     """Many observers on one gain set, run 8 at a time side by side; 2-D arrays
     (channels x samples). Each channel equals an ``Observer`` with
     ``FaultThresholds.disabled()`` (bad samples rejected, no fault monitor); the state
@@ -146,12 +144,6 @@ class ObserverBatch:
         The arrays of the result have the inputs' shape."""
     @property
     def channels(self) -> int: ...
-    @property
-    def gains(self) -> Gains: ...
-    @property
-    def dtype(self) -> Literal["float32", "float64"]: ...
-    @property
-    def sin_cos(self) -> Literal["fast", "exact"]: ...
 
 def track_batch(
     gains: Gains, y_c: _ChannelSamples, y_s: _ChannelSamples, *, sin_cos: _SinCos = None,
@@ -293,6 +285,33 @@ def third_order_from_overshoot(
 def kalman(process_noise_q: float, measurement_noise_r: float, sample_period_s: float) -> Design: ...
 def kalman_from_jerk_std(jerk_std_rad_s3: float, sensor_noise_std: float, sample_period_s: float) -> Design: ...
 def kalman_from_jerk_density(jerk_density_rad2_s5: float, sensor_noise_std: float, sample_period_s: float) -> Design: ...
+
+# ----------------------------------------------------------------- the paper
+
+PAPER_FIVE_PERCENT_DAMPING: float
+PAPER_BUTTERWORTH_DAMPING: float
+PAPER_POLE_RATIO: float
+PAPER_POLE_FREQUENCY_RATIO: float
+PAPER_OVERSHOOT_SAMPLE_PERIOD_S: float
+PAPER_COMPARISON_SAMPLE_PERIOD_S: float
+PAPER_COMPARISON_BANDWIDTH_HZ: float
+PAPER_COMPARISON_SENSOR_NOISE_STD: float
+
+class PaperSetting:
+    """One of the four settings whose step-response overshoot the paper quotes."""
+
+    name: str
+    paper_overshoot_percent: float
+    design: Design
+
+def paper_settings(
+    sample_period_s: float = ..., discretisation: _Discretisation = "pole_matching"
+) -> list[PaperSetting]:
+    """The paper's four settings, in its order (by default at 100 kHz)."""
+def paper_compared_observers() -> list[tuple[str, Design]]:
+    """The 2nd-order, 3rd-order and Kalman ATOs the report compares, ``(name, design)``."""
+def paper_benchmark_gains() -> list[Gains]:
+    """The benchmarks' 10 kHz gains of the 2nd-order, 3rd-order and Kalman ATOs."""
 
 # ----------------------------------------------------------------- scenarios and metrics
 

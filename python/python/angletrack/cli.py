@@ -7,16 +7,25 @@ arguments and files, and writes files and text.
 from __future__ import annotations
 
 import argparse
-import math
 import pathlib
 import sys
-from typing import Optional, Sequence
+from typing import Callable, Optional, Sequence
 
 import numpy as np
 
 import angletrack
 from angletrack import capture as capture_io
 from angletrack import export
+
+
+def _command(sub, run: Callable[[argparse.Namespace], int]) -> argparse.ArgumentParser:
+    """The subcommand NAME of ``run`` (named ``_cmd_NAME``): the first line of its docstring
+    is the command's help, the rest its description."""
+    help_line, _, description = run.__doc__.partition("\n\n")
+    name = run.__name__[len("_cmd_"):]
+    parser = sub.add_parser(name, help=help_line.strip(), description=" ".join(description.split()))
+    parser.set_defaults(func=run)
+    return parser
 
 
 def _float_list(text: str) -> list[float]:
@@ -51,6 +60,12 @@ def _load_gains(args: argparse.Namespace, time_step_s: Optional[float]) -> angle
 
 
 def _cmd_track(args: argparse.Namespace) -> int:
+    """run an observer over a recorded capture (CSV) and write its estimates
+
+    Runs an observer over CAPTURE.csv (header with y_c, y_s; optional time (s) and reference
+    (rad)) and writes the estimates as CSV. With a reference column, prints the errors
+    against it.
+    """
     cap = capture_io.read_capture(args.capture)
     gains = _load_gains(args, cap.sample_period_from_time())
     dtype = np.dtype(args.dtype)
@@ -132,7 +147,7 @@ _KEYWORDS = {
     "noise_std": "sensor_noise_std",
 }
 
-_DEFAULTS = {"damping": 1.0, "pole_frequency_ratio": 3.0 * math.pi / 2.0}
+_DEFAULTS = {"damping": 1.0, "pole_frequency_ratio": angletrack.PAPER_POLE_FREQUENCY_RATIO}
 
 _CONTINUOUS = {"second-order", "third-order"}
 
@@ -163,12 +178,63 @@ def _design_from_args(args: argparse.Namespace) -> tuple[angletrack.Design, dict
         raise ValueError("sample_rate: --sample-rate must be a positive number of Hz")
     kwargs["sample_period_s"] = 1.0 / args.sample_rate
     if args.observer in _CONTINUOUS:
-        kwargs["discretisation"] = args.discretisation.replace("-", "_")
+        kwargs["discretisation"] = args.discretisation
     design = getattr(angletrack, function)(**kwargs)
     return design, {"function": function, **kwargs}
 
 
+def _add_design_parser(sub) -> None:
+    design = _command(sub, _cmd_design)
+    design.add_argument("observer", choices=sorted(_DESIGNS), help="which observer")
+    design.add_argument("--sample-rate", type=float, required=True, metavar="HZ", help="sample rate (Hz)")
+    spec = design.add_argument_group(
+        "specification (one set, by observer)",
+        "second-order: --max-error and --acceleration [--damping], or --bandwidth [--damping], or "
+        "--butterworth-time-constant; third-order: --pole-ratio and --pole-time-constant "
+        "[--pole-frequency-ratio], or --overshoot and --settling-time [--pole-frequency-ratio], or "
+        "--butterworth-time-constant; kalman: --q and --r, or --jerk-std and --noise-std, or "
+        "--jerk-density and --noise-std",
+    )
+    for dest, (metavar, text) in {
+        "max_error": ("RAD", "tolerated angle error at --acceleration (rad)"),
+        "acceleration": ("RAD_S2", "acceleration of the tolerated error (rad/s^2)"),
+        "damping": ("M", f"damping ratio m (default 1; the paper: {angletrack.PAPER_FIVE_PERCENT_DAMPING} "
+                    "for 5 %% overshoot)"),
+        "bandwidth": ("HZ", "-3 dB bandwidth of the continuous loop (Hz)"),
+        "butterworth_time_constant": ("S", "time constant Tc of the Butterworth setting (s)"),
+        "pole_ratio": ("K", f"real pole at -K/T (the paper: {angletrack.PAPER_POLE_RATIO})"),
+        "pole_time_constant": ("S", "time constant T of the complex pair (s)"),
+        "pole_frequency_ratio": ("PSI", "complex pair at (-1 +- j psi)/T (default 3 pi/2)"),
+        "overshoot": ("FRACTION", "target overshoot (0.1 for 10 %%)"),
+        "settling_time": ("S", "target 2 %% settling time (s)"),
+        "q": ("Q", "process noise variance of the scaled jerk Ts^3 beta (rad^2)"),
+        "r": ("R", "measurement noise variance per channel"),
+        "jerk_std": ("RAD_S3", "standard deviation of the jerk (rad/s^3)"),
+        "jerk_density": ("RAD2_S5", "power spectral density of the jerk (rad^2/s^5)"),
+        "noise_std": ("STD", "sensor noise standard deviation per channel (amplitude 1); "
+                      "also the noise of the report's predicted errors"),
+    }.items():
+        spec.add_argument(_option(dest), dest=dest, type=float, metavar=metavar, help=text)
+    # The design functions parse the name (the Rust crate's Discretisation::from_str).
+    design.add_argument("--discretisation", default="pole_matching", metavar="NAME",
+                        help="mapping of a continuous design: pole_matching (default), forward_euler or "
+                        "tustin ('-' for '_' and any case accepted)")
+    design.add_argument("--format", choices=["c", "rust", "json"], default="c",
+                        help="gains file format (default c)")
+    design.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",
+                        help="write the gains there (default: print them after the report)")
+    design.add_argument("--dtype", choices=["float32", "float64"], default="float32",
+                        help="float type of the C/Rust constants (default float32; JSON is always float64)")
+    design.add_argument("--name", default="angletrack", help="identifier prefix in the C/Rust output")
+
+
 def _cmd_design(args: argparse.Namespace) -> int:
+    """design gains from a specification, print the design's report, export the gains
+
+    Designs an observer from a specification, prints its datasheet (poles, bandwidth, error
+    constants, noise, step responses) and writes the gains as a C header, a Rust const block
+    or JSON, ready for angletrack-core's Gains::new(gains, Ts).
+    """
     design, spec = _design_from_args(args)
     noise = args.noise_std if args.noise_std is not None else 0.0
     report = design.report(sensor_noise_std=noise)
@@ -197,77 +263,27 @@ def _cmd_design(args: argparse.Namespace) -> int:
     return 0
 
 
-def _add_design_parser(sub) -> None:
-    design = sub.add_parser(
-        "design",
-        help="design gains from a specification, print the design's report, export the gains",
-        description="Designs an observer from a specification, prints its datasheet (poles, "
-        "bandwidth, error constants, noise, step responses) and writes the gains as a C header, a "
-        "Rust const block or JSON, ready for angletrack-core's Gains::new(gains, Ts).",
-    )
-    design.add_argument("observer", choices=sorted(_DESIGNS), help="which observer")
-    design.add_argument("--sample-rate", type=float, required=True, metavar="HZ", help="sample rate (Hz)")
-    spec = design.add_argument_group(
-        "specification (one set, by observer)",
-        "second-order: --max-error and --acceleration [--damping], or --bandwidth [--damping], or "
-        "--butterworth-time-constant; third-order: --pole-ratio and --pole-time-constant "
-        "[--pole-frequency-ratio], or --overshoot and --settling-time [--pole-frequency-ratio], or "
-        "--butterworth-time-constant; kalman: --q and --r, or --jerk-std and --noise-std, or "
-        "--jerk-density and --noise-std",
-    )
-    for dest, (metavar, text) in {
-        "max_error": ("RAD", "tolerated angle error at --acceleration (rad)"),
-        "acceleration": ("RAD_S2", "acceleration of the tolerated error (rad/s^2)"),
-        "damping": ("M", "damping ratio m (default 1; the paper: 1.945 for 5 %% overshoot)"),
-        "bandwidth": ("HZ", "-3 dB bandwidth of the continuous loop (Hz)"),
-        "butterworth_time_constant": ("S", "time constant Tc of the Butterworth setting (s)"),
-        "pole_ratio": ("K", "real pole at -K/T (the paper: 39.04)"),
-        "pole_time_constant": ("S", "time constant T of the complex pair (s)"),
-        "pole_frequency_ratio": ("PSI", "complex pair at (-1 +- j psi)/T (default 3 pi/2)"),
-        "overshoot": ("FRACTION", "target overshoot (0.1 for 10 %%)"),
-        "settling_time": ("S", "target 2 %% settling time (s)"),
-        "q": ("Q", "process noise variance of the scaled jerk Ts^3 beta (rad^2)"),
-        "r": ("R", "measurement noise variance per channel"),
-        "jerk_std": ("RAD_S3", "standard deviation of the jerk (rad/s^3)"),
-        "jerk_density": ("RAD2_S5", "power spectral density of the jerk (rad^2/s^5)"),
-        "noise_std": ("STD", "sensor noise standard deviation per channel (amplitude 1); "
-                      "also the noise of the report's predicted errors"),
-    }.items():
-        spec.add_argument(_option(dest), dest=dest, type=float, metavar=metavar, help=text)
-    design.add_argument("--discretisation", choices=["pole-matching", "forward-euler", "tustin"],
-                        default="pole-matching", help="mapping of a continuous design (default pole-matching)")
-    design.add_argument("--format", choices=["c", "rust", "json"], default="c",
-                        help="gains file format (default c)")
-    design.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",
-                        help="write the gains there (default: print them after the report)")
-    design.add_argument("--dtype", choices=["float32", "float64"], default="float32",
-                        help="float type of the C/Rust constants (default float32; JSON is always float64)")
-    design.add_argument("--name", default="angletrack", help="identifier prefix in the C/Rust output")
-    design.set_defaults(func=_cmd_design)
-
-
 # ----------------------------------------------------------------------------- report
 
 
+def _add_report_parser(sub) -> None:
+    rep = _command(sub, _cmd_report)
+    rep.add_argument("--out", type=pathlib.Path, required=True, metavar="DIR", help="output directory")
+    rep.add_argument("--no-plots", action="store_true", help="skip the PNG plots (no matplotlib needed)")
+
+
 def _cmd_report(args: argparse.Namespace) -> int:
+    """reproduce the paper's comparison of the three observers (report.md + PNG plots)
+
+    Reproduces the paper's comparison of the 2nd-order, 3rd-order and Kalman observers (179
+    degree step, speed ramp, constant acceleration, noise) and its four overshoot figures;
+    writes DIR/report.md and PNG plots (matplotlib).
+    """
     from angletrack import report
 
     path = report.write_report(args.out, plots=not args.no_plots)
     print(f"report: {path}")
     return 0
-
-
-def _add_report_parser(sub) -> None:
-    rep = sub.add_parser(
-        "report",
-        help="reproduce the paper's comparison of the three observers (report.md + PNG plots)",
-        description="Reproduces the paper's comparison of the 2nd-order, 3rd-order and Kalman "
-        "observers (179 degree step, speed ramp, constant acceleration, noise) and its four "
-        "overshoot figures; writes DIR/report.md and PNG plots (matplotlib).",
-    )
-    rep.add_argument("--out", type=pathlib.Path, required=True, metavar="DIR", help="output directory")
-    rep.add_argument("--no-plots", action="store_true", help="skip the PNG plots (no matplotlib needed)")
-    rep.set_defaults(func=_cmd_report)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -279,13 +295,14 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"angletrack {angletrack.__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
-    track = sub.add_parser(
-        "track",
-        help="run an observer over a recorded capture (CSV) and write its estimates",
-        description="Runs an observer over CAPTURE.csv (header with y_c, y_s; optional time "
-        "(s) and reference (rad)) and writes the estimates as CSV. With a reference column, "
-        "prints the errors against it.",
-    )
+    _add_track_parser(sub)
+    _add_design_parser(sub)
+    _add_report_parser(sub)
+    return parser
+
+
+def _add_track_parser(sub) -> None:
+    track = _command(sub, _cmd_track)
     track.add_argument("capture", type=pathlib.Path, metavar="CAPTURE.csv")
     _add_gains_source(track)
     track.add_argument("--dtype", choices=["float32", "float64"], default="float64",
@@ -298,10 +315,6 @@ def build_parser() -> argparse.ArgumentParser:
                        help="with a reference: leave the first S seconds out of the error statistics")
     track.add_argument("--lock-tolerance", type=float, default=0.01, metavar="RAD",
                        help="with a reference: angle error of the lock (default 0.01 rad)")
-    track.set_defaults(func=_cmd_track)
-    _add_design_parser(sub)
-    _add_report_parser(sub)
-    return parser
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:

@@ -1,18 +1,9 @@
 """``angletrack report``: the paper's comparison of the three observers, reproduced.
 
-Every figure comes from the Rust crates (design functions, ``DesignReport``, scenarios,
-observers, metrics); this module chooses the settings, calls them, and writes
-``report.md`` with its tables and PNG plots (matplotlib).
-
-Settings:
-
-* Overshoot of the paper's four settings (section 1), at 100 kHz, at least 200 times each
-  loop's bandwidth: the 2nd-order ATO with damping m = 1.945 and m = sqrt(2)/2, the
-  3rd-order ATO with K = 39.04, psi = 3 pi / 2, and the 3rd-order Butterworth setting.
-* The three observers compared on the same signals (sections 2 and 3), at 10 kHz with
-  about 100 Hz of -3 dB bandwidth each: the 2nd-order ATO (m = 1.945), the 3rd-order ATO
-  (K = 39.04, psi = 3 pi / 2) and the time-invariant Kalman ATO for a sensor noise of 0.01
-  per channel.
+Every figure comes from the Rust crates: the paper's settings and the compared observers
+(``angletrack::paper``, through ``paper_settings`` and ``paper_compared_observers``), their
+``DesignReport``s, scenarios, observers and metrics. This module runs them and writes
+``report.md``, one function per section, with the PNG plots of ``report_plots``.
 """
 
 from __future__ import annotations
@@ -24,54 +15,16 @@ import sys
 import time
 from typing import Callable, Optional
 
-import numpy as np
-
 import angletrack as at
+from angletrack import report_plots
 
-#: The paper's overshoot figures (percent) for its four settings.
-PAPER_OVERSHOOT_PERCENT = {
-    "2nd order, m = 1.945": 5.0,
-    "2nd order, Butterworth m = sqrt(2)/2": 20.8,
-    "3rd order, K = 39.04, psi = 3 pi/2": 10.0,
-    "3rd order, Butterworth": 30.9,
-}
+SAMPLE_PERIOD_S = at.PAPER_COMPARISON_SAMPLE_PERIOD_S
+SENSOR_NOISE_STD = at.PAPER_COMPARISON_SENSOR_NOISE_STD
+HOLD_S = 0.01  # rest before the step: the observers start locked
+ACCELERATION_RAD_S2 = 2000.0  # of the constant-acceleration scenario
 
-OVERSHOOT_SAMPLE_PERIOD_S = 1e-5  # 100 kHz
-COMPARISON_SAMPLE_PERIOD_S = 1e-4  # 10 kHz
-SENSOR_NOISE_STD = 0.01
-PSI = 3.0 * math.pi / 2.0
-
-
-def paper_settings() -> dict[str, at.Design]:
-    """The four settings whose overshoot the paper quotes, at 100 kHz."""
-    ts = OVERSHOOT_SAMPLE_PERIOD_S
-    return {
-        # Tolerated error 1 mrad at 100 rad/s^2: Ka = 1e5 1/s^2.
-        "2nd order, m = 1.945": at.second_order_from_tracking_error(
-            max_error_rad=1e-3, acceleration_rad_s2=100.0, damping=1.945, sample_period_s=ts
-        ),
-        "2nd order, Butterworth m = sqrt(2)/2": at.second_order_from_tracking_error(
-            max_error_rad=1e-3, acceleration_rad_s2=100.0, damping=math.sqrt(2.0) / 2.0, sample_period_s=ts
-        ),
-        "3rd order, K = 39.04, psi = 3 pi/2": at.third_order_from_poles(
-            pole_ratio=39.04, pole_time_constant_s=0.02, pole_frequency_ratio=PSI, sample_period_s=ts
-        ),
-        "3rd order, Butterworth": at.third_order_butterworth(time_constant_s=0.005, sample_period_s=ts),
-    }
-
-
-def compared_observers() -> dict[str, at.Design]:
-    """The three observers of the comparison, at 10 kHz, each about 100 Hz wide."""
-    ts = COMPARISON_SAMPLE_PERIOD_S
-    return {
-        "2nd-order ATO": at.second_order_from_bandwidth(bandwidth_hz=100.0, damping=1.945, sample_period_s=ts),
-        "3rd-order ATO": at.third_order_from_poles(
-            pole_ratio=39.04, pole_time_constant_s=0.068, pole_frequency_ratio=PSI, sample_period_s=ts
-        ),
-        "Kalman ATO": at.kalman_from_jerk_std(
-            jerk_std_rad_s3=1e5, sensor_noise_std=SENSOR_NOISE_STD, sample_period_s=ts
-        ),
-    }
+#: The paper's loops have no diagnostics: the comparison runs the bare loop.
+BARE_LOOP = at.FaultThresholds.disabled()
 
 
 @dataclasses.dataclass
@@ -87,13 +40,20 @@ class ScenarioSpec:
     move_at_s: float = 0.0
 
 
-HOLD_S = 0.01  # rest before the step: the observers start locked
+@dataclasses.dataclass
+class ScenarioResult:
+    """The compared observers run over one scenario: ``runs[name] = (estimates, metrics)``
+    of the bare loop, ``with_diagnostics`` the same with the core's default diagnostics
+    (filled for the step only)."""
 
-#: The paper's loops have no diagnostics: the comparison runs the bare loop.
-BARE_LOOP = at.FaultThresholds.disabled()
+    spec: ScenarioSpec
+    scenario: at.Scenario
+    runs: dict[str, tuple[at.Estimates, at.Metrics]]
+    with_diagnostics: dict[str, tuple[at.Estimates, at.Metrics]]
 
 
 def scenarios() -> list[ScenarioSpec]:
+    """The four test signals of the comparison: step, speed ramp, acceleration, noise."""
     ideal = at.SensorModel()
     return [
         ScenarioSpec(
@@ -113,8 +73,8 @@ def scenarios() -> list[ScenarioSpec]:
         ),
         ScenarioSpec(
             "acceleration",
-            "Constant acceleration: 2000 rad/s^2 from 10 rad/s for 0.6 s",
-            at.MotionProfile(0.0, 10.0).constant_acceleration(2000.0, 0.6),
+            f"Constant acceleration: {ACCELERATION_RAD_S2:.0f} rad/s^2 from 10 rad/s for 0.6 s",
+            at.MotionProfile(0.0, 10.0).constant_acceleration(ACCELERATION_RAD_S2, 0.6),
             ideal,
             skip_s=0.3,
         ),
@@ -140,7 +100,8 @@ class Progress:
         print(f"[{self.done:>2}/{self.total}] {elapsed:6.2f} s  {what}", file=self.stream, flush=True)
 
 
-def _pct(x: Optional[float]) -> str:
+def pct(x: Optional[float]) -> str:
+    """A fraction as a percentage, ``-`` for ``None``."""
     return "-" if x is None else f"{100.0 * x:.2f} %"
 
 
@@ -156,103 +117,97 @@ def _table(header: list[str], rows: list[list[str]]) -> str:
     return "\n".join(lines)
 
 
-def _plots_module():
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        raise RuntimeError(
-            "the report's plots need matplotlib: pip install 'angletrack[plot]' (or run with --no-plots)"
-        ) from None
-    return plt
+def _khz(sample_period_s: float) -> str:
+    return f"{1 / sample_period_s / 1e3:.0f} kHz"
 
 
-def write_report(out_dir: pathlib.Path, *, plots: bool = True, progress: Optional[Progress] = None) -> pathlib.Path:
-    """Runs the comparison and writes ``out_dir/report.md`` (and PNG plots). Returns the
-    path of ``report.md``."""
-    out_dir = pathlib.Path(out_dir)
-    out_dir.mkdir(parents=True, exist_ok=True)
-    plt = _plots_module() if plots else None
-    specs = scenarios()
-    observers = compared_observers()
-    settings = paper_settings()
-    total = len(settings) + len(observers) + len(specs) * len(observers) + (len(specs) + 1 if plots else 0) + 1
-    progress = progress or Progress(total)
-    started = time.perf_counter()
-    md: list[str] = []
+def _figure(plots: bool, caption: str, file: str) -> list[str]:
+    return ["", f"![{caption}]({file})" if plots else "", ""]
 
-    md.append("# angletrack report: the three observers of Auger, Mansouri-Toudert and Chibah (2011)")
-    md.append("")
-    md.append(
+
+def run_scenarios(
+    specs: list[ScenarioSpec], observers: dict[str, at.Design], progress: Progress
+) -> dict[str, ScenarioResult]:
+    """Runs every observer over every scenario (seeded 1, 2, ... in order)."""
+    results = {}
+    for seed, spec in enumerate(specs, start=1):
+        sc = at.Scenario.generate(spec.profile, spec.sensor, sample_period_s=SAMPLE_PERIOD_S, seed=seed)
+        result = results[spec.key] = ScenarioResult(spec, sc, {}, {})
+        for name, design in observers.items():
+            est = at.track(design.gains, sc.y_c, sc.y_s, fault_thresholds=BARE_LOOP)
+            result.runs[name] = (est, at.metrics(sc, est, skip_s=spec.skip_s))
+            if spec.key == "step":
+                # False-lock detection re-acquires the angle: the step seen with diagnostics.
+                est_d = at.track(design.gains, sc.y_c, sc.y_s)
+                result.with_diagnostics[name] = (est_d, at.metrics(sc, est_d, skip_s=spec.skip_s))
+            progress.step(f"{spec.key}: {name} ({len(sc)} samples)")
+    return results
+
+
+def section_header() -> list[str]:
+    """The title and what computed the figures."""
+    return [
+        "# angletrack report: the three observers of Auger, Mansouri-Toudert and Chibah (2011)",
+        "",
         f"Generated by `angletrack report` (angletrack {at.__version__}). Every figure is computed by "
         "the Rust crates: the design functions and `DesignReport` of `angletrack`, the observers of "
-        "`angletrack-core` (float64, exact sin/cos), seeded scenarios and metrics."
-    )
+        "`angletrack-core` (float64, exact sin/cos), seeded scenarios and metrics.",
+    ]
 
-    # 1. The paper's overshoot figures.
-    md += ["", "## 1. Step-response overshoot of the paper's four settings", ""]
-    md.append(
-        f"Designed at {1 / OVERSHOOT_SAMPLE_PERIOD_S / 1e3:.0f} kHz and carried to the discrete loop by pole "
-        "matching. *Continuous* is the continuous design's step response, *discrete* the linear "
-        "(small-signal) response of the sampled loop, *179 degree step* the nonlinear loop (the "
-        "core's recursion with its phase detector) after a 179 degree step."
-    )
-    md.append("")
+
+def section_overshoot(settings: list[at.PaperSetting], progress: Progress, plots: bool) -> list[str]:
+    """Section 1: the step-response overshoot of the paper's four settings."""
     rows = []
-    small_steps = {}
-    for name, design in settings.items():
-        r = design.report(sensor_noise_std=0.0)
-        progress.step(f"design report: {name}")
-        paper = PAPER_OVERSHOOT_PERCENT[name]
+    for setting in settings:
+        r = setting.design.report(sensor_noise_std=0.0)
+        progress.step(f"design report: {setting.name}")
+        paper = setting.paper_overshoot_percent
         ratio = (1.0 / r.sample_period_s) / r.bandwidth_hz if r.bandwidth_hz else float("nan")
         rows.append(
             [
-                name,
+                setting.name,
                 f"{paper:.1f} %",
-                _pct(r.continuous_step.overshoot if r.continuous_step else None),
-                _pct(r.linear_step.overshoot),
+                pct(r.continuous_step.overshoot if r.continuous_step else None),
+                pct(r.linear_step.overshoot),
                 f"{100.0 * r.linear_step.overshoot - paper:+.2f}",
-                _pct(r.large_step.overshoot),
+                pct(r.large_step.overshoot),
                 _num(r.bandwidth_hz, ".1f") + " Hz",
                 f"{ratio:.0f}",
                 _num(r.linear_step.settling_time_s, ".4g", 1e3) + " ms",
             ]
         )
-        small_steps[name] = design
-    md.append(
-        _table(
-            [
-                "setting",
-                "paper",
-                "continuous",
-                "discrete (linear)",
-                "discrete - paper (points)",
-                "179 degree step",
-                "-3 dB bandwidth",
-                "fs / bandwidth",
-                "2 % settling",
-            ],
-            rows,
-        )
-    )
+    header = [
+        "setting",
+        "paper",
+        "continuous",
+        "discrete (linear)",
+        "discrete - paper (points)",
+        "179 degree step",
+        "-3 dB bandwidth",
+        "fs / bandwidth",
+        "2 % settling",
+    ]
+    md = [
+        "",
+        "## 1. Step-response overshoot of the paper's four settings",
+        "",
+        f"Designed at {_khz(settings[0].design.sample_period_s)} and carried to the discrete loop by "
+        "pole matching. *Continuous* is the continuous design's step response, *discrete* the linear "
+        "(small-signal) response of the sampled loop, *179 degree step* the nonlinear loop (the "
+        "core's recursion with its phase detector) after a 179 degree step.",
+        "",
+        _table(header, rows),
+    ]
     if plots:
         md += ["", "![small-signal step responses of the four settings](overshoot.png)"]
+    return md
 
-    # 2. The three observers.
-    md += ["", "## 2. The three observers compared", ""]
-    md.append(
-        f"All three at {1 / COMPARISON_SAMPLE_PERIOD_S / 1e3:.0f} kHz with about 100 Hz of -3 dB bandwidth; "
-        f"noise figures for white noise of {SENSOR_NOISE_STD} per channel (amplitude 1)."
-    )
-    md.append("")
-    reports = {}
+
+def section_observers(observers: dict[str, at.Design], reports: dict[str, at.DesignReport]) -> list[str]:
+    """Section 2: the three observers' designs side by side."""
     rows = []
     for name, design in observers.items():
-        r = design.report(sensor_noise_std=SENSOR_NOISE_STD)
-        reports[name] = r
-        progress.step(f"design report: {name}")
+        r = reports[name]
         rows.append(
             [
                 name,
@@ -261,242 +216,200 @@ def write_report(out_dir: pathlib.Path, *, plots: bool = True, progress: Optiona
                 _num(r.bandwidth_hz, ".1f") + " Hz",
                 _num(r.acceleration_constant_per_s2, ".4g") if r.order == 2 else "inf (type III)",
                 _num(r.error_per_unit_jerk_s3, ".3g") if r.order == 3 else "-",
-                _pct(r.linear_step.overshoot),
+                pct(r.linear_step.overshoot),
                 _num(r.angle_error_rms_rad, ".3g", 1e3),
                 _num(r.kalman_angle_floor_rad, ".3g", 1e3),
                 _num(r.acquisition_speed_rad_s, ".4g"),
             ]
         )
-    md.append(
-        _table(
-            [
-                "observer",
-                "design",
-                "gains l",
-                "bandwidth",
-                "Ka (1/s^2)",
-                "error per jerk (s^3)",
-                "linear overshoot",
-                "predicted RMS angle error (mrad)",
-                "Kalman floor (mrad)",
-                "speed step acquired (rad/s)",
-            ],
-            rows,
+    header = [
+        "observer",
+        "design",
+        "gains l",
+        "bandwidth",
+        "Ka (1/s^2)",
+        "error per jerk (s^3)",
+        "linear overshoot",
+        "predicted RMS angle error (mrad)",
+        "Kalman floor (mrad)",
+        "speed step acquired (rad/s)",
+    ]
+    return [
+        "",
+        "## 2. The three observers compared",
+        "",
+        f"All three at {_khz(SAMPLE_PERIOD_S)} with about {at.PAPER_COMPARISON_BANDWIDTH_HZ:.0f} Hz of "
+        f"-3 dB bandwidth; noise figures for white noise of {SENSOR_NOISE_STD} per channel (amplitude 1).",
+        "",
+        _table(header, rows),
+    ]
+
+
+#: Extra columns of a scenario table: (observer name, estimates, metrics) -> cells.
+ExtraColumns = Callable[[str, at.Estimates, at.Metrics], list[str]]
+
+
+def scenario_table(result: ScenarioResult, extra_header: list[str], extra: ExtraColumns) -> str:
+    """The error statistics of every observer over one scenario, then ``extra`` columns."""
+    rows = []
+    for name, (est, m) in result.runs.items():
+        speed = m.speed_error_rad_s.rms if m.speed_error_rad_s else None
+        e = m.angle_error_rad
+        rows.append(
+            [name, _num(e.rms, ".3g", 1e3), _num(e.max, ".3g", 1e3), _num(e.mean, ".3g", 1e3), _num(speed, ".3g")]
+            + extra(name, est, m)
         )
-    )
+    header = ["observer", "RMS angle error (mrad)", "max (mrad)", "mean (mrad)", "RMS speed error (rad/s)"]
+    return _table(header + extra_header, rows)
 
-    # 3. Scenarios.
-    md += ["", "## 3. Scenarios", ""]
-    md.append(
-        "The observers run as the paper's bare loops (float64, exact sin/cos, no diagnostics) on "
-        f"seeded scenarios at {1 / COMPARISON_SAMPLE_PERIOD_S / 1e3:.0f} kHz. Errors are truth - estimate; "
-        "the angle error is wrapped to [-pi, pi)."
-    )
-    md.append("")
-    results: dict[str, dict[str, tuple[at.Estimates, at.Metrics]]] = {}
-    scenario_data: dict[str, at.Scenario] = {}
-    with_diagnostics: dict[str, tuple[at.Estimates, at.Metrics]] = {}
-    for seed, spec in enumerate(specs, start=1):
-        sc = at.Scenario.generate(spec.profile, spec.sensor, sample_period_s=COMPARISON_SAMPLE_PERIOD_S, seed=seed)
-        scenario_data[spec.key] = sc
-        results[spec.key] = {}
-        for name, design in observers.items():
-            # The bare loop of the paper: no diagnostics, no false-lock re-acquisition.
-            est = at.track(design.gains, sc.y_c, sc.y_s, fault_thresholds=BARE_LOOP)
-            m = at.metrics(sc, est, skip_s=spec.skip_s)
-            results[spec.key][name] = (est, m)
-            if spec.key == "step":
-                # The same loop with the core's diagnostics (false-lock detection re-acquires).
-                est_d = at.track(design.gains, sc.y_c, sc.y_s)
-                with_diagnostics[name] = (est_d, at.metrics(sc, est_d, skip_s=spec.skip_s))
-            progress.step(f"{spec.key}: {name} ({len(sc)} samples)")
 
-    def scenario_table(spec: ScenarioSpec, extra_header, extra) -> str:
-        rows = []
-        for name in observers:
-            est, m = results[spec.key][name]
-            rows.append(
-                [
-                    name,
-                    _num(m.angle_error_rad.rms, ".3g", 1e3),
-                    _num(m.angle_error_rad.max, ".3g", 1e3),
-                    _num(m.angle_error_rad.mean, ".3g", 1e3),
-                    _num(m.speed_error_rad_s.rms if m.speed_error_rad_s else None, ".3g"),
-                    *extra(name, est, m),
-                ]
-            )
-        return _table(
-            ["observer", "RMS angle error (mrad)", "max (mrad)", "mean (mrad)", "RMS speed error (rad/s)", *extra_header],
-            rows,
-        )
+def section_step(result: ScenarioResult, plots: bool) -> list[str]:
+    """Section 3, the 179 degree step, bare and with diagnostics."""
+    spec = result.spec
 
-    step, ramp, accel, noise = specs
-    md += [f"### {step.title}", ""]
-    md.append(
+    def after(t: Optional[float]) -> Optional[float]:
+        return None if t is None else t - spec.move_at_s
+
+    def extra(name: str, est: at.Estimates, m: at.Metrics) -> list[str]:
+        diagnosed = result.with_diagnostics[name][1]
+        return [
+            pct(m.overshoot),
+            _num(after(m.settling_time_s), ".4g", 1e3),
+            _num(after(m.time_to_lock_s), ".4g", 1e3),
+            pct(diagnosed.overshoot),
+            _num(after(diagnosed.time_to_lock_s), ".4g", 1e3),
+        ]
+
+    header = [
+        "overshoot",
+        "2 % settling after the step (ms)",
+        "locked (0.01 rad) after the step (ms)",
+        "with diagnostics: overshoot",
+        "with diagnostics: locked after (ms)",
+    ]
+    return [
+        f"### {spec.title}",
+        "",
         f"At rest for {HOLD_S * 1e3:.0f} ms, then the angle jumps by 179 degrees (a 180 degree step "
-        "would start on the loop's unstable equilibrium)."
-    )
-    md.append("")
-    after = lambda t: None if t is None else t - step.move_at_s  # noqa: E731
-    md.append(
-        scenario_table(
-            step,
-            [
-                "overshoot",
-                "2 % settling after the step (ms)",
-                "locked (0.01 rad) after the step (ms)",
-                "with diagnostics: overshoot",
-                "with diagnostics: locked after (ms)",
-            ],
-            lambda name, est, m: [
-                _pct(m.overshoot),
-                _num(after(m.settling_time_s), ".4g", 1e3),
-                _num(after(m.time_to_lock_s), ".4g", 1e3),
-                _pct(with_diagnostics[name][1].overshoot),
-                _num(after(with_diagnostics[name][1].time_to_lock_s), ".4g", 1e3),
-            ],
-        )
-    )
-    md.append("")
-    md.append(
+        "would start on the loop's unstable equilibrium).",
+        "",
+        scenario_table(result, header, extra),
+        "",
         "*With diagnostics*: the same observers with the core's default fault thresholds, whose "
-        "false-lock detection sees the error beyond 90 degrees and re-acquires the angle from atan2."
-    )
-    md += ["", "![179 degree step](step_179.png)" if plots else "", ""]
+        "false-lock detection sees the error beyond 90 degrees and re-acquires the angle from atan2.",
+        *_figure(plots, "179 degree step", "step_179.png"),
+    ]
 
-    md += [f"### {ramp.title}", ""]
-    md.append(
+
+def section_speed_ramp(result: ScenarioResult, plots: bool) -> list[str]:
+    """Section 3, the speed ramp."""
+    return [
+        f"### {result.spec.title}",
+        "",
         "The 2nd-order (type II) loop lags by acceleration / Ka while the speed ramps; the type III "
-        "loops follow a ramp of speed without steady error."
-    )
-    md.append("")
-    md.append(scenario_table(ramp, ["locked from (ms)"], lambda name, est, m: [_num(m.time_to_lock_s, ".4g", 1e3)]))
-    md += ["", "![speed ramp](speed_ramp.png)" if plots else "", ""]
+        "loops follow a ramp of speed without steady error.",
+        "",
+        scenario_table(result, ["locked from (ms)"], lambda name, est, m: [_num(m.time_to_lock_s, ".4g", 1e3)]),
+        *_figure(plots, "speed ramp", "speed_ramp.png"),
+    ]
 
-    md += [f"### {accel.title}", ""]
-    alpha = 2000.0
-    md.append(
-        f"Statistics after {accel.skip_s} s. Predicted steady-state error of the 2nd-order loop: "
-        f"alpha / Ka = {alpha:.0f} / {reports['2nd-order ATO'].acceleration_constant_per_s2:.6g} = "
-        f"{1e3 * alpha / reports['2nd-order ATO'].acceleration_constant_per_s2:.4g} mrad; the 3rd-order loops: 0."
-    )
-    md.append("")
-    md.append(
-        scenario_table(
-            accel,
-            ["predicted mean (mrad)"],
-            lambda name, est, m: [
-                _num(alpha / reports[name].acceleration_constant_per_s2, ".4g", 1e3) if reports[name].order == 2 else "0"
-            ],
-        )
-    )
-    md += ["", "![constant acceleration](acceleration.png)" if plots else "", ""]
 
-    md += [f"### {noise.title}", ""]
-    md.append(
-        f"Statistics after {noise.skip_s} s, beside the RMS errors the design reports predict from the "
-        "discrete Lyapunov equation of the linearised loop."
-    )
-    md.append("")
-    md.append(
-        scenario_table(
-            noise,
-            ["predicted RMS angle (mrad)", "measured / predicted", "predicted RMS speed (rad/s)"],
-            lambda name, est, m: [
-                _num(reports[name].angle_error_rms_rad, ".3g", 1e3),
-                f"{m.angle_error_rad.rms / reports[name].angle_error_rms_rad:.3f}",
-                _num(reports[name].speed_error_rms_rad_s, ".3g"),
-            ],
-        )
-    )
-    md += ["", "![noise](noise.png)" if plots else "", ""]
+def section_acceleration(result: ScenarioResult, reports: dict[str, at.DesignReport], plots: bool) -> list[str]:
+    """Section 3, the constant acceleration, beside the 2nd-order loop's predicted lag."""
+    alpha = ACCELERATION_RAD_S2
+    ka = reports["2nd-order ATO"].acceleration_constant_per_s2
 
-    # 4. Datasheets.
-    md += ["## 4. Design datasheets (`DesignReport`)", ""]
+    def predicted_mean(name: str, est: at.Estimates, m: at.Metrics) -> list[str]:
+        r = reports[name]
+        return [_num(alpha / r.acceleration_constant_per_s2, ".4g", 1e3) if r.order == 2 else "0"]
+
+    return [
+        f"### {result.spec.title}",
+        "",
+        f"Statistics after {result.spec.skip_s} s. Predicted steady-state error of the 2nd-order loop: "
+        f"alpha / Ka = {alpha:.0f} / {ka:.6g} = {1e3 * alpha / ka:.4g} mrad; the 3rd-order loops: 0.",
+        "",
+        scenario_table(result, ["predicted mean (mrad)"], predicted_mean),
+        *_figure(plots, "constant acceleration", "acceleration.png"),
+    ]
+
+
+def section_noise(result: ScenarioResult, reports: dict[str, at.DesignReport], plots: bool) -> list[str]:
+    """Section 3, the noise, beside the RMS errors the design reports predict."""
+
+    def predicted(name: str, est: at.Estimates, m: at.Metrics) -> list[str]:
+        r = reports[name]
+        return [
+            _num(r.angle_error_rms_rad, ".3g", 1e3),
+            f"{m.angle_error_rad.rms / r.angle_error_rms_rad:.3f}",
+            _num(r.speed_error_rms_rad_s, ".3g"),
+        ]
+
+    header = ["predicted RMS angle (mrad)", "measured / predicted", "predicted RMS speed (rad/s)"]
+    return [
+        f"### {result.spec.title}",
+        "",
+        f"Statistics after {result.spec.skip_s} s, beside the RMS errors the design reports predict from "
+        "the discrete Lyapunov equation of the linearised loop.",
+        "",
+        scenario_table(result, header, predicted),
+        *_figure(plots, "noise", "noise.png"),
+    ]
+
+
+def section_scenarios(
+    results: dict[str, ScenarioResult], reports: dict[str, at.DesignReport], plots: bool
+) -> list[str]:
+    """Section 3: the observers on the four scenarios."""
+    return [
+        "",
+        "## 3. Scenarios",
+        "",
+        "The observers run as the paper's bare loops (float64, exact sin/cos, no diagnostics) on "
+        f"seeded scenarios at {_khz(SAMPLE_PERIOD_S)}. Errors are truth - estimate; "
+        "the angle error is wrapped to [-pi, pi).",
+        "",
+        *section_step(results["step"], plots),
+        *section_speed_ramp(results["speed_ramp"], plots),
+        *section_acceleration(results["acceleration"], reports, plots),
+        *section_noise(results["noise"], reports, plots),
+    ]
+
+
+def section_datasheets(reports: dict[str, at.DesignReport]) -> list[str]:
+    """Section 4: each observer's ``DesignReport`` as a table."""
+    md = ["## 4. Design datasheets (`DesignReport`)", ""]
     for name, r in reports.items():
         md += [f"### {name}", "", "| quantity | value |", "| --- | --- |", str(r).rstrip(), ""]
+    return md
 
-    if plots:
-        _plot_all(plt, out_dir, specs, scenario_data, results, small_steps, progress)
 
-    elapsed = time.perf_counter() - started
-    md.append(f"_Computed in {elapsed:.1f} s._")
+def write_report(out_dir: pathlib.Path, *, plots: bool = True, progress: Optional[Progress] = None) -> pathlib.Path:
+    """Runs the comparison and writes ``out_dir/report.md`` (and PNG plots). Returns the
+    path of ``report.md``."""
+    out_dir = pathlib.Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    plt = report_plots.pyplot() if plots else None
+    specs = scenarios()
+    observers = dict(at.paper_compared_observers())
+    settings = at.paper_settings()
+    total = len(settings) + len(observers) + len(specs) * len(observers) + (len(specs) + 1 if plots else 0) + 1
+    progress = progress or Progress(total)
+    started = time.perf_counter()
+
+    md = section_header() + section_overshoot(settings, progress, plots)
+    reports = {}
+    for name, design in observers.items():
+        reports[name] = design.report(sensor_noise_std=SENSOR_NOISE_STD)
+        progress.step(f"design report: {name}")
+    md += section_observers(observers, reports)
+    results = run_scenarios(specs, observers, progress)
+    md += section_scenarios(results, reports, plots) + section_datasheets(reports)
+    if plt is not None:
+        report_plots.plot_all(plt, out_dir, results, settings, progress.step)
+
+    md.append(f"_Computed in {time.perf_counter() - started:.1f} s._")
     path = out_dir / "report.md"
     path.write_text("\n".join(md) + "\n")
     progress.step(f"wrote {path}")
     return path
-
-
-def _plot_all(plt, out_dir, specs, scenario_data, results, small_steps, progress) -> None:
-    colours = {"2nd-order ATO": "tab:blue", "3rd-order ATO": "tab:orange", "Kalman ATO": "tab:green"}
-
-    def save(fig, name: str) -> None:
-        fig.tight_layout()
-        fig.savefig(out_dir / name, dpi=110)
-        plt.close(fig)
-        progress.step(f"plot {name}")
-
-    def error_mrad(sc, est):
-        return 1e3 * np.angle(np.exp(1j * (sc.angle_rad - est.position)))
-
-    # Step of 179 degrees.
-    sc = scenario_data["step"]
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
-    t_ms = 1e3 * sc.time_s
-    a1.plot(t_ms, np.degrees(sc.angle_rad), "k--", lw=1, label="true angle")
-    for name, (est, m) in results["step"].items():
-        a1.plot(t_ms, np.degrees(est.position), color=colours[name], label=f"{name} (overshoot {_pct(m.overshoot)})")
-        a2.plot(t_ms, np.degrees(est.speed) / 1e3, color=colours[name], label=name)
-    a1.set_ylabel("angle (deg)")
-    a1.set_title("Step of 179 degrees at 10 kHz")
-    a1.legend(loc="lower right", fontsize=8)
-    a2.set_ylabel("speed estimate (10^3 deg/s)")
-    a2.set_xlabel("time (ms)")
-    a1.grid(alpha=0.3), a2.grid(alpha=0.3)
-    save(fig, "step_179.png")
-
-    for key, title in (("speed_ramp", "Speed ramp"), ("acceleration", "Constant acceleration"), ("noise", "Noise")):
-        sc = scenario_data[key]
-        fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
-        t_ms = 1e3 * sc.time_s
-        for name, (est, m) in results[key].items():
-            a1.plot(t_ms, error_mrad(sc, est), color=colours[name], lw=0.8, label=name)
-            a2.plot(t_ms, sc.speed_rad_s - est.speed, color=colours[name], lw=0.8, label=name)
-        a1.set_ylabel("angle error (mrad)")
-        a2.set_ylabel("speed error (rad/s)")
-        a2.set_xlabel("time (ms)")
-        spec = next(s for s in specs if s.key == key)
-        a1.set_title(spec.title)
-        for a in (a1, a2):
-            a.grid(alpha=0.3)
-            a.legend(loc="upper right", fontsize=8)
-        if key != "noise":
-            a1.set_ylim(*_robust_limits(np.concatenate([error_mrad(sc, e) for e, _ in results[key].values()])))
-        a2.set_ylim(*_robust_limits(np.concatenate([sc.speed_rad_s - e.speed for e, _ in results[key].values()])))
-        save(fig, f"{key}.png")
-
-    # Small-signal step responses of the paper's four settings.
-    fig, ax = plt.subplots(figsize=(8, 4.5))
-    step_rad = 1e-3
-    for name, design in small_steps.items():
-        hold = 0.001
-        profile = at.MotionProfile(0.0, 0.0).constant_speed(0.0, hold).step(step_rad, 0.12)
-        sc = at.Scenario.generate(profile, sample_period_s=design.sample_period_s)
-        est = at.track(design.gains, sc.y_c, sc.y_s, fault_thresholds=BARE_LOOP)
-        m = at.metrics(sc, est)
-        ax.plot(1e3 * (sc.time_s - hold), est.position / step_rad, label=f"{name}: {_pct(m.overshoot)} (paper {PAPER_OVERSHOOT_PERCENT[name]} %)")
-    ax.axhline(1.0, color="k", lw=0.8, ls="--")
-    ax.set_xlim(-1, 120)
-    ax.set_xlabel("time after the step (ms)")
-    ax.set_ylabel("angle / step")
-    ax.set_title("Small-signal step responses of the paper's settings (100 kHz)")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="lower right")
-    save(fig, "overshoot.png")
-
-
-def _robust_limits(values: np.ndarray) -> tuple[float, float]:
-    """Limits that show the bulk of a series (ignoring the first-sample transient)."""
-    lo, hi = np.percentile(values, [0.5, 99.5])
-    pad = 0.1 * (hi - lo) + 1e-12
-    return float(lo - pad), float(hi + pad)

@@ -1,0 +1,135 @@
+"""The PNG figures of ``angletrack report`` (matplotlib), one function per figure."""
+
+from __future__ import annotations
+
+import pathlib
+from typing import TYPE_CHECKING, Callable
+
+import numpy as np
+
+import angletrack as at
+
+if TYPE_CHECKING:
+    from angletrack.report import ScenarioResult
+
+COLOURS = {"2nd-order ATO": "tab:blue", "3rd-order ATO": "tab:orange", "Kalman ATO": "tab:green"}
+
+#: The scenarios plotted as errors over time.
+ERROR_FIGURES = ("speed_ramp", "acceleration", "noise")
+
+
+def pyplot():
+    """matplotlib's pyplot on the file-only Agg backend, or a ``RuntimeError`` saying how to
+    get it."""
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        raise RuntimeError(
+            "the report's plots need matplotlib: pip install 'angletrack[plot]' (or run with --no-plots)"
+        ) from None
+    return plt
+
+
+def _pct(x) -> str:
+    return "-" if x is None else f"{100.0 * x:.2f} %"
+
+
+def _save(plt, fig, path: pathlib.Path) -> None:
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _error_mrad(sc: at.Scenario, est: at.Estimates) -> np.ndarray:
+    return 1e3 * np.angle(np.exp(1j * (sc.angle_rad - est.position)))
+
+
+def _robust_limits(values: np.ndarray) -> tuple[float, float]:
+    """Limits that show the bulk of a series (ignoring the first-sample transient)."""
+    lo, hi = np.percentile(values, [0.5, 99.5])
+    pad = 0.1 * (hi - lo) + 1e-12
+    return float(lo - pad), float(hi + pad)
+
+
+def plot_step(plt, result: ScenarioResult, path: pathlib.Path) -> None:
+    """The 179 degree step: the angle and speed estimates of every observer."""
+    sc = result.scenario
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    t_ms = 1e3 * sc.time_s
+    a1.plot(t_ms, np.degrees(sc.angle_rad), "k--", lw=1, label="true angle")
+    for name, (est, m) in result.runs.items():
+        a1.plot(t_ms, np.degrees(est.position), color=COLOURS[name], label=f"{name} (overshoot {_pct(m.overshoot)})")
+        a2.plot(t_ms, np.degrees(est.speed) / 1e3, color=COLOURS[name], label=name)
+    a1.set_ylabel("angle (deg)")
+    a1.set_title(f"Step of 179 degrees at {1e-3 / sc.sample_period_s:.0f} kHz")
+    a1.legend(loc="lower right", fontsize=8)
+    a2.set_ylabel("speed estimate (10^3 deg/s)")
+    a2.set_xlabel("time (ms)")
+    a1.grid(alpha=0.3), a2.grid(alpha=0.3)
+    _save(plt, fig, path)
+
+
+def plot_errors(plt, result: ScenarioResult, path: pathlib.Path) -> None:
+    """The angle and speed errors of every observer over one scenario."""
+    sc = result.scenario
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    t_ms = 1e3 * sc.time_s
+    for name, (est, m) in result.runs.items():
+        a1.plot(t_ms, _error_mrad(sc, est), color=COLOURS[name], lw=0.8, label=name)
+        a2.plot(t_ms, sc.speed_rad_s - est.speed, color=COLOURS[name], lw=0.8, label=name)
+    a1.set_ylabel("angle error (mrad)")
+    a2.set_ylabel("speed error (rad/s)")
+    a2.set_xlabel("time (ms)")
+    a1.set_title(result.spec.title)
+    for a in (a1, a2):
+        a.grid(alpha=0.3)
+        a.legend(loc="upper right", fontsize=8)
+    runs = result.runs.values()
+    # Noise fills the angle axis evenly; elsewhere the start-up transient would flatten the rest.
+    if result.spec.key != "noise":
+        a1.set_ylim(*_robust_limits(np.concatenate([_error_mrad(sc, e) for e, _ in runs])))
+    a2.set_ylim(*_robust_limits(np.concatenate([sc.speed_rad_s - e.speed for e, _ in runs])))
+    _save(plt, fig, path)
+
+
+def plot_overshoot(plt, settings: list[at.PaperSetting], path: pathlib.Path) -> None:
+    """Small-signal step responses of the paper's settings, each run by the observer."""
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    step_rad, hold_s = 1e-3, 0.001
+    for setting in settings:
+        design = setting.design
+        profile = at.MotionProfile(0.0, 0.0).constant_speed(0.0, hold_s).step(step_rad, 0.12)
+        sc = at.Scenario.generate(profile, sample_period_s=design.sample_period_s)
+        est = at.track(design.gains, sc.y_c, sc.y_s, fault_thresholds=at.FaultThresholds.disabled())
+        m = at.metrics(sc, est)
+        label = f"{setting.name}: {_pct(m.overshoot)} (paper {setting.paper_overshoot_percent} %)"
+        ax.plot(1e3 * (sc.time_s - hold_s), est.position / step_rad, label=label)
+    ax.axhline(1.0, color="k", lw=0.8, ls="--")
+    ax.set_xlim(-1, 120)
+    ax.set_xlabel("time after the step (ms)")
+    ax.set_ylabel("angle / step")
+    rate_khz = 1e-3 / settings[0].design.sample_period_s
+    ax.set_title(f"Small-signal step responses of the paper's settings ({rate_khz:.0f} kHz)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="lower right")
+    _save(plt, fig, path)
+
+
+def plot_all(
+    plt,
+    out_dir: pathlib.Path,
+    results: dict[str, ScenarioResult],
+    settings: list[at.PaperSetting],
+    done: Callable[[str], None],
+) -> None:
+    """Writes every figure into ``out_dir``, calling ``done`` with a line after each."""
+    plot_step(plt, results["step"], out_dir / "step_179.png")
+    done("plot step_179.png")
+    for key in ERROR_FIGURES:
+        plot_errors(plt, results[key], out_dir / f"{key}.png")
+        done(f"plot {key}.png")
+    plot_overshoot(plt, settings, out_dir / "overshoot.png")
+    done("plot overshoot.png")

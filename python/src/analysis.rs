@@ -1,0 +1,247 @@
+//! The analysis of a gain set: `DesignReport` (the design's datasheet), `StepResponse` and
+//! `predicted_error` (the noise prediction of the linearised loop).
+
+use angletrack::core::{Order, SupportedOrder};
+use pyo3::prelude::*;
+use pyo3::types::PyComplex;
+
+use crate::design::complex_list;
+use crate::errors::Result;
+use crate::gains::{GainSet, PyGains, with_gains};
+
+/// Overshoot and 2 % settling time of a step response.
+#[pyclass(name = "StepResponse", module = "angletrack", frozen, get_all)]
+#[derive(Debug, Clone)]
+pub struct PyStepResponse {
+    /// Overshoot, as a fraction of the step (0.1 for 10 %).
+    overshoot: f64,
+    /// 2 % settling time (s).
+    settling_time_s: f64,
+}
+
+impl From<angletrack::StepResponse> for PyStepResponse {
+    fn from(s: angletrack::StepResponse) -> Self {
+        Self {
+            overshoot: s.overshoot,
+            settling_time_s: s.settling_time_s,
+        }
+    }
+}
+
+#[pymethods]
+impl PyStepResponse {
+    fn __repr__(&self) -> String {
+        format!(
+            "StepResponse(overshoot={:.4} ({:.2} %), settling_time_s={:.6e})",
+            self.overshoot,
+            100.0 * self.overshoot,
+            self.settling_time_s
+        )
+    }
+}
+
+/// Everything the analysis predicts about a gain set, in physical units (the design's
+/// datasheet). `repr()` and `str()` render it as a table.
+#[pyclass(module = "angletrack", frozen)]
+#[derive(Debug, Clone)]
+pub struct DesignReport {
+    inner: angletrack::DesignReport,
+}
+
+impl From<angletrack::DesignReport> for DesignReport {
+    fn from(inner: angletrack::DesignReport) -> Self {
+        Self { inner }
+    }
+}
+
+#[pymethods]
+impl DesignReport {
+    /// The design rule, in words.
+    #[getter]
+    fn method(&self) -> &'static str {
+        self.inner.method.name()
+    }
+    /// The mapping of a continuous design, or `None`.
+    #[getter]
+    fn discretisation(&self) -> Option<&'static str> {
+        self.inner.discretisation.map(|d| d.id())
+    }
+    /// Loop order (2 or 3).
+    #[getter]
+    fn order(&self) -> usize {
+        self.inner.order
+    }
+    /// Sample period (s).
+    #[getter]
+    fn sample_period_s(&self) -> f64 {
+        self.inner.sample_period_s
+    }
+    /// The discrete gains.
+    #[getter]
+    fn gains(&self) -> Vec<f64> {
+        self.inner.gains.clone()
+    }
+    /// Poles `z_i` of the discrete loop.
+    #[getter]
+    fn discrete_poles<'py>(&self, py: Python<'py>) -> Vec<Bound<'py, PyComplex>> {
+        complex_list(py, &self.inner.discrete_poles)
+    }
+    /// Their continuous equivalents `ln(z_i) / Ts` (rad/s).
+    #[getter]
+    fn continuous_equivalent_poles<'py>(&self, py: Python<'py>) -> Vec<Bound<'py, PyComplex>> {
+        complex_list(py, &self.inner.continuous_equivalent_poles)
+    }
+    /// The continuous design's poles (rad/s); empty for Kalman and given gains.
+    #[getter]
+    fn design_poles<'py>(&self, py: Python<'py>) -> Vec<Bound<'py, PyComplex>> {
+        complex_list(py, &self.inner.design_poles)
+    }
+    /// Largest relative pole shift of the discretisation, or `None`.
+    #[getter]
+    fn pole_shift(&self) -> Option<f64> {
+        self.inner.pole_shift
+    }
+    /// -3 dB bandwidth (Hz) of the closed-loop angle transfer function, or `None`.
+    #[getter]
+    fn bandwidth_hz(&self) -> Option<f64> {
+        self.inner.bandwidth_hz
+    }
+    /// Order 2: discrete acceleration constant Ka (1/s^2).
+    #[getter]
+    fn acceleration_constant_per_s2(&self) -> Option<f64> {
+        self.inner.acceleration_constant_per_s2
+    }
+    /// Order 2: continuous acceleration constant `k_b1` (1/s^2).
+    #[getter]
+    fn continuous_acceleration_constant_per_s2(&self) -> Option<f64> {
+        self.inner.continuous_acceleration_constant_per_s2
+    }
+    /// Order 3: steady-state angle error per unit jerk (s^3).
+    #[getter]
+    fn error_per_unit_jerk_s3(&self) -> Option<f64> {
+        self.inner.error_per_unit_jerk_s3
+    }
+    /// Order 3: `1 / k_c2` of the continuous design (s^3).
+    #[getter]
+    fn continuous_error_per_unit_jerk_s3(&self) -> Option<f64> {
+        self.inner.continuous_error_per_unit_jerk_s3
+    }
+    /// The sensor noise standard deviation the noise figures are for.
+    #[getter]
+    fn sensor_noise_std(&self) -> f64 {
+        self.inner.sensor_noise_std
+    }
+    /// Predicted steady-state RMS angle error (rad) from sensor noise.
+    #[getter]
+    fn angle_error_rms_rad(&self) -> f64 {
+        self.inner.angle_error_rms_rad
+    }
+    /// Predicted steady-state RMS speed error (rad/s) from sensor noise.
+    #[getter]
+    fn speed_error_rms_rad_s(&self) -> f64 {
+        self.inner.speed_error_rms_rad_s
+    }
+    /// Kalman design: `sqrt(P11)` (rad).
+    #[getter]
+    fn kalman_angle_floor_rad(&self) -> Option<f64> {
+        self.inner.kalman_angle_floor_rad
+    }
+    /// Kalman design: `sqrt(P22) / Ts` (rad/s).
+    #[getter]
+    fn kalman_speed_floor_rad_s(&self) -> Option<f64> {
+        self.inner.kalman_speed_floor_rad_s
+    }
+    /// Small-signal (linear) step response of the discrete loop.
+    #[getter]
+    fn linear_step(&self) -> PyStepResponse {
+        self.inner.linear_step.into()
+    }
+    /// Step response of the continuous design, or `None`.
+    #[getter]
+    fn continuous_step(&self) -> Option<PyStepResponse> {
+        self.inner.continuous_step.map(Into::into)
+    }
+    /// Response of the bare nonlinear loop (no diagnostics) to a 179 degree step from rest.
+    #[getter]
+    fn large_step(&self) -> PyStepResponse {
+        self.inner.large_step.into()
+    }
+    /// The 179 degree step with the core's default diagnostics (false-lock detection
+    /// re-acquires the angle).
+    #[getter]
+    fn large_step_with_diagnostics(&self) -> PyStepResponse {
+        self.inner.large_step_with_diagnostics.into()
+    }
+    /// Where the nonlinear loop ends after the 179 degree step (rad).
+    #[getter]
+    fn large_step_final_rad(&self) -> f64 {
+        self.inner.large_step_final_rad
+    }
+    /// The largest speed the phase detector can follow, `pi / Ts` (rad/s).
+    #[getter]
+    fn max_speed_rad_s(&self) -> f64 {
+        self.inner.max_speed_rad_s
+    }
+    /// The largest speed step (rad/s) the loop acquires from rest without slipping a cycle.
+    #[getter]
+    fn acquisition_speed_rad_s(&self) -> f64 {
+        self.inner.acquisition_speed_rad_s
+    }
+
+    fn __str__(&self) -> String {
+        self.inner.to_string()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("DesignReport:\n{}", self.inner)
+    }
+}
+
+/// Predicted RMS errors of the linearised loop.
+#[pyclass(name = "PredictedError", module = "angletrack", frozen, get_all)]
+#[derive(Debug, Clone)]
+pub struct PyPredictedError {
+    /// RMS angle error (rad).
+    angle_rms_rad: f64,
+    /// RMS speed error (rad/s).
+    speed_rms_rad_s: f64,
+}
+
+#[pymethods]
+impl PyPredictedError {
+    fn __repr__(&self) -> String {
+        format!(
+            "PredictedError(angle_rms_rad={:.6e}, speed_rms_rad_s={:.6e})",
+            self.angle_rms_rad, self.speed_rms_rad_s
+        )
+    }
+}
+
+fn predicted<const N: usize>(
+    gains: &angletrack::Gains<f64, N>,
+    sensor_noise_std: f64,
+    process_noise_q: f64,
+) -> Result<PyPredictedError>
+where
+    Order<N>: SupportedOrder,
+{
+    let p = angletrack::predicted_error(gains, sensor_noise_std, process_noise_q)?;
+    Ok(PyPredictedError {
+        angle_rms_rad: p.angle_rms_rad,
+        speed_rms_rad_s: p.speed_rms_rad_s,
+    })
+}
+
+/// Steady-state RMS angle and speed errors of the linearised loop with `gains`, driven by
+/// white sensor noise of standard deviation `sensor_noise_std` per channel and a white
+/// N-th derivative of the angle of scaled variance `process_noise_q` (discrete Lyapunov
+/// equation).
+#[pyfunction]
+#[pyo3(signature = (gains, sensor_noise_std, process_noise_q = 0.0))]
+pub fn predicted_error(
+    gains: PyGains,
+    sensor_noise_std: f64,
+    process_noise_q: f64,
+) -> Result<PyPredictedError> {
+    with_gains!(&gains.set, g => predicted(g, sensor_noise_std, process_noise_q))
+}

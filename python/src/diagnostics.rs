@@ -1,0 +1,168 @@
+//! `FaultThresholds` and the fault flags: the core's diagnostics, configured from Python.
+
+use angletrack_core::{FaultThresholds as CoreThresholds, Faults, Real};
+use pyo3::prelude::*;
+
+/// Thresholds of the observer's diagnostics (like an RDC chip's fault register) and of its
+/// input check, in the units of `y_c`, `y_s` unless stated. Keyword arguments override the
+/// defaults for `nominal_amplitude` (the core's `FaultThresholds::for_amplitude`): input
+/// bound 4 A, loss of signal 0.25 A, degradation below 0.5 A or above 1.5 A, loss of
+/// tracking at a filtered |phase error| of 0.1 A, maximum speed pi / (2 Ts) rad/s, filter
+/// factor 1/16, false lock at a filtered in-phase component below 0, monitoring and
+/// re-acquisition on. Checked when an observer is built (`ConfigError` naming the field).
+#[pyclass(
+    name = "FaultThresholds",
+    module = "angletrack",
+    frozen,
+    get_all,
+    from_py_object
+)]
+#[derive(Debug, Clone, Copy)]
+pub struct PyFaultThresholds {
+    /// The amplitude of a healthy signal.
+    nominal_amplitude: f64,
+    /// Samples with an amplitude above this (or non-finite) are rejected.
+    max_input_amplitude: f64,
+    /// Filtered amplitude below this: loss of signal.
+    loss_of_signal: f64,
+    /// Filtered amplitude below this: degradation of signal.
+    degradation_low: f64,
+    /// Filtered amplitude above this: degradation of signal.
+    degradation_high: f64,
+    /// Filtered |phase error| above this: loss of tracking.
+    loss_of_tracking: f64,
+    /// Estimated |speed| (rad/s) above this: loss of tracking; `None`: pi / (2 Ts).
+    max_speed_rad_s: Option<f64>,
+    /// Smoothing factor of the first-order filters, in (0, 1].
+    filter_factor: f64,
+    /// Filtered in-phase component below this: false lock.
+    false_lock: f64,
+    /// Whether the fault flags are computed (the input check always runs).
+    monitor: bool,
+    /// Whether a false lock re-acquires the angle from atan2.
+    re_acquire: bool,
+}
+
+impl From<CoreThresholds<f64>> for PyFaultThresholds {
+    fn from(t: CoreThresholds<f64>) -> Self {
+        Self {
+            nominal_amplitude: t.nominal_amplitude,
+            max_input_amplitude: t.max_input_amplitude,
+            loss_of_signal: t.loss_of_signal,
+            degradation_low: t.degradation_low,
+            degradation_high: t.degradation_high,
+            loss_of_tracking: t.loss_of_tracking,
+            max_speed_rad_s: t.max_speed,
+            filter_factor: t.filter_factor,
+            false_lock: t.false_lock,
+            monitor: t.monitor,
+            re_acquire: t.re_acquire,
+        }
+    }
+}
+
+impl Default for PyFaultThresholds {
+    fn default() -> Self {
+        CoreThresholds::default().into()
+    }
+}
+
+impl PyFaultThresholds {
+    /// The thresholds in float type `T`.
+    pub fn typed<T: Real>(&self) -> CoreThresholds<T> {
+        CoreThresholds {
+            nominal_amplitude: T::from_f64(self.nominal_amplitude),
+            max_input_amplitude: T::from_f64(self.max_input_amplitude),
+            loss_of_signal: T::from_f64(self.loss_of_signal),
+            degradation_low: T::from_f64(self.degradation_low),
+            degradation_high: T::from_f64(self.degradation_high),
+            loss_of_tracking: T::from_f64(self.loss_of_tracking),
+            max_speed: self.max_speed_rad_s.map(T::from_f64),
+            filter_factor: T::from_f64(self.filter_factor),
+            false_lock: T::from_f64(self.false_lock),
+            monitor: self.monitor,
+            re_acquire: self.re_acquire,
+        }
+    }
+}
+
+#[pymethods]
+impl PyFaultThresholds {
+    #[new]
+    #[pyo3(signature = (*, nominal_amplitude = 1.0, max_input_amplitude = None,
+        loss_of_signal = None, degradation_low = None, degradation_high = None,
+        loss_of_tracking = None, max_speed_rad_s = None, filter_factor = None,
+        false_lock = None, monitor = true, re_acquire = true))]
+    #[allow(clippy::too_many_arguments)]
+    fn py_new(
+        nominal_amplitude: f64,
+        max_input_amplitude: Option<f64>,
+        loss_of_signal: Option<f64>,
+        degradation_low: Option<f64>,
+        degradation_high: Option<f64>,
+        loss_of_tracking: Option<f64>,
+        max_speed_rad_s: Option<f64>,
+        filter_factor: Option<f64>,
+        false_lock: Option<f64>,
+        monitor: bool,
+        re_acquire: bool,
+    ) -> Self {
+        let d = Self::from(CoreThresholds::for_amplitude(nominal_amplitude));
+        Self {
+            nominal_amplitude,
+            max_input_amplitude: max_input_amplitude.unwrap_or(d.max_input_amplitude),
+            loss_of_signal: loss_of_signal.unwrap_or(d.loss_of_signal),
+            degradation_low: degradation_low.unwrap_or(d.degradation_low),
+            degradation_high: degradation_high.unwrap_or(d.degradation_high),
+            loss_of_tracking: loss_of_tracking.unwrap_or(d.loss_of_tracking),
+            max_speed_rad_s: max_speed_rad_s.or(d.max_speed_rad_s),
+            filter_factor: filter_factor.unwrap_or(d.filter_factor),
+            false_lock: false_lock.unwrap_or(d.false_lock),
+            monitor,
+            re_acquire,
+        }
+    }
+
+    /// No diagnostics and no re-acquisition, only the input check: the bare loop of the
+    /// paper (to study the loop's own large-signal behaviour).
+    #[staticmethod]
+    fn disabled() -> Self {
+        CoreThresholds::disabled().into()
+    }
+
+    fn __repr__(&self) -> String {
+        let python_bool = |b: bool| if b { "True" } else { "False" };
+        format!(
+            "FaultThresholds(nominal_amplitude={}, max_input_amplitude={}, loss_of_signal={}, \
+             degradation_low={}, degradation_high={}, loss_of_tracking={}, max_speed_rad_s={}, \
+             filter_factor={}, false_lock={}, monitor={}, re_acquire={})",
+            self.nominal_amplitude,
+            self.max_input_amplitude,
+            self.loss_of_signal,
+            self.degradation_low,
+            self.degradation_high,
+            self.loss_of_tracking,
+            self.max_speed_rad_s
+                .map_or("None".to_string(), |v| v.to_string()),
+            self.filter_factor,
+            self.false_lock,
+            python_bool(self.monitor),
+            python_bool(self.re_acquire),
+        )
+    }
+}
+
+/// The fault flag bits of `Estimates.faults`, `Estimate.faults` and
+/// `Observer.latched_faults`, by name (the core's `Faults` constants).
+pub fn fault_bits() -> [(&'static str, u8); 5] {
+    [
+        ("LOSS_OF_SIGNAL", Faults::LOSS_OF_SIGNAL.bits()),
+        (
+            "DEGRADATION_OF_SIGNAL",
+            Faults::DEGRADATION_OF_SIGNAL.bits(),
+        ),
+        ("LOSS_OF_TRACKING", Faults::LOSS_OF_TRACKING.bits()),
+        ("BAD_SAMPLE", Faults::BAD_SAMPLE.bits()),
+        ("FALSE_LOCK", Faults::FALSE_LOCK.bits()),
+    ]
+}

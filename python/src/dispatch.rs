@@ -1,0 +1,211 @@
+//! The one dispatch from what a Python caller chooses at run time (float type, order,
+//! sin/cos) to the concrete generic types of the Rust crates, and the settings `Observer` and
+//! `ObserverBatch` share (their common base class, with its getters).
+
+use core::fmt::Debug;
+
+use angletrack::{ChannelBatch, convert_gains};
+use angletrack_core::{
+    Exact, Fast, Gains as CoreGains, Observer as CoreObserver, Order, Real, SinCos, SupportedOrder,
+};
+use numpy::Element;
+use pyo3::prelude::*;
+
+use crate::arrays::Float;
+use crate::diagnostics::PyFaultThresholds;
+use crate::errors::{Error, Result};
+use crate::estimates::Estimates;
+use crate::gains::{GainSet, PyGains};
+use crate::observer::ObserverOps;
+
+/// Which sin/cos the phase detector uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SinCosKind {
+    /// The core's branch-free polynomial (`Fast`).
+    Fast,
+    /// `libm` (`Exact`).
+    Exact,
+}
+
+impl SinCosKind {
+    /// The sin/cos named `name`; `None` gives the fast one in float32 (where its error is
+    /// below the float's own) and the exact one in float64.
+    pub fn parse(name: Option<&str>, float: Float) -> Result<Self> {
+        match name {
+            None => Ok(match float {
+                Float::F32 => SinCosKind::Fast,
+                Float::F64 => SinCosKind::Exact,
+            }),
+            Some("fast") => Ok(SinCosKind::Fast),
+            Some("exact") => Ok(SinCosKind::Exact),
+            Some(other) => Err(Error::value(
+                "sin_cos",
+                format!("expected 'fast' or 'exact', got {other:?}"),
+            )),
+        }
+    }
+
+    /// Its name in the Python API.
+    pub fn name(self) -> &'static str {
+        match self {
+            SinCosKind::Fast => "fast",
+            SinCosKind::Exact => "exact",
+        }
+    }
+}
+
+/// A float type the binding runs observers on: one of the core's, that numpy stores.
+pub trait Sample: Real + Element {}
+impl<T: Real + Element> Sample for T {}
+
+/// A sin/cos of the phase detector, as the observers the binding keeps in Python objects
+/// (shared between threads) hold it.
+pub trait PhaseSinCos<T: Real>: SinCos<T> + Debug + Send + Sync {}
+impl<T: Real, S: SinCos<T> + Debug + Send + Sync> PhaseSinCos<T> for S {}
+
+/// Gains of the float type, order and sin/cos a caller chose, behind one object: what an
+/// `Observer` or an `ObserverBatch` is built from.
+pub trait TypedGains {
+    /// A core observer with the diagnostics `thresholds`.
+    fn observer(&self, thresholds: &PyFaultThresholds) -> Result<Box<dyn ObserverOps>>;
+    /// A batch of `channels` observers (the input check only, no diagnostics).
+    fn batch(&self, channels: usize) -> Result<Box<dyn Run>>;
+}
+
+impl<T: Sample, const N: usize, S: PhaseSinCos<T>> TypedGains for CoreGains<T, N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    fn observer(&self, thresholds: &PyFaultThresholds) -> Result<Box<dyn ObserverOps>> {
+        let gains = self.with_fault_thresholds(thresholds.typed())?;
+        Ok(Box::new(CoreObserver::new(gains)))
+    }
+
+    fn batch(&self, channels: usize) -> Result<Box<dyn Run>> {
+        Ok(Box::new(ChannelBatch::new(*self, channels)?))
+    }
+}
+
+/// Something that runs over sample arrays of the Python caller: an observer or a batch of
+/// concrete types behind the one dispatch.
+pub trait Run: Debug + Send + Sync {
+    /// Runs over `y_c`, `y_s` and returns the estimates of every sample; the state carries
+    /// over to the next call.
+    fn run(&mut self, py: Python<'_>, y_c: Arg<'_, '_>, y_s: Arg<'_, '_>) -> Result<Estimates>;
+}
+
+/// A Python argument as the binding receives it, converted where it is used.
+pub type Arg<'a, 'py> = &'a Bound<'py, PyAny>;
+
+/// What an `Observer` or an `ObserverBatch` runs with: the gains (float64, checked), the
+/// float type and the phase detector's sin/cos. Shared getters of both classes.
+#[pyclass(name = "_RunSettings", module = "angletrack", subclass)]
+#[derive(Debug, Clone)]
+pub struct RunSettings {
+    gains: PyGains,
+    float: Float,
+    sin_cos: SinCosKind,
+}
+
+impl RunSettings {
+    /// The settings of a constructor's arguments: `dtype` a numpy dtype (or `None`, float64),
+    /// `sin_cos` a name (or `None`, the default of the float type).
+    pub fn from_arguments(
+        gains: PyGains,
+        dtype: Option<&Bound<'_, PyAny>>,
+        sin_cos: Option<&str>,
+    ) -> Result<Self> {
+        Self::new(gains, Float::from_dtype_like(dtype, "dtype")?, sin_cos)
+    }
+
+    /// The settings for `gains` in the float type `float` with the sin/cos named `sin_cos`.
+    pub fn new(gains: PyGains, float: Float, sin_cos: Option<&str>) -> Result<Self> {
+        let sin_cos = SinCosKind::parse(sin_cos, float)?;
+        Ok(Self {
+            gains,
+            float,
+            sin_cos,
+        })
+    }
+
+    /// The gains' float64 set.
+    pub fn gain_set(&self) -> &GainSet {
+        &self.gains.set
+    }
+
+    /// The gains in the chosen float type (checked again there: rounding to float32 can
+    /// leave the stability region at its edge) with the chosen sin/cos.
+    pub fn typed_gains(&self) -> Result<Box<dyn TypedGains>> {
+        match self.float {
+            Float::F32 => self.with_float::<f32>(),
+            Float::F64 => self.with_float::<f64>(),
+        }
+    }
+
+    fn with_float<T: Sample>(&self) -> Result<Box<dyn TypedGains>> {
+        match self.sin_cos {
+            SinCosKind::Fast => self.with_types::<T, Fast>(),
+            SinCosKind::Exact => self.with_types::<T, Exact>(),
+        }
+    }
+
+    fn with_types<T: Sample, S: PhaseSinCos<T>>(&self) -> Result<Box<dyn TypedGains>> {
+        Ok(match &self.gains.set {
+            GainSet::Second(g) => Box::new(convert_gains::<T, 2>(g)?.with_sin_cos::<S>()),
+            GainSet::Third(g) => Box::new(convert_gains::<T, 3>(g)?.with_sin_cos::<S>()),
+        })
+    }
+
+    /// The initialiser of a subclass whose value `class` makes from the typed gains.
+    pub fn subclass<C: pyo3::PyClass<BaseType = Self>>(
+        self,
+        class: impl FnOnce(&dyn TypedGains) -> Result<C>,
+    ) -> Result<PyClassInitializer<C>> {
+        let value = class(self.typed_gains()?.as_ref())?;
+        Ok(PyClassInitializer::from(self).add_subclass(value))
+    }
+
+    /// `order=..., dtype=..., sin_cos=..., sample_period_s=...` for the subclasses' `repr`.
+    pub fn describe(&self) -> String {
+        format!(
+            "order={}, dtype={}, sin_cos={}, sample_period_s={:e}",
+            self.gains.set.order(),
+            self.float.name(),
+            self.sin_cos.name(),
+            self.gains.set.sample_period()
+        )
+    }
+}
+
+#[pymethods]
+impl RunSettings {
+    /// The gains it runs with.
+    #[getter]
+    fn gains(&self) -> PyGains {
+        self.gains.clone()
+    }
+
+    /// The float type it runs on: 'float32' or 'float64'.
+    #[getter]
+    fn dtype(&self) -> &'static str {
+        self.float.name()
+    }
+
+    /// The phase detector's sin/cos: 'fast' (polynomial) or 'exact' (libm).
+    #[getter]
+    fn sin_cos(&self) -> &'static str {
+        self.sin_cos.name()
+    }
+
+    /// The observer order (2 or 3).
+    #[getter]
+    fn order(&self) -> usize {
+        self.gains.set.order()
+    }
+
+    /// The sample period (s).
+    #[getter]
+    fn sample_period_s(&self) -> f64 {
+        self.gains.set.sample_period()
+    }
+}

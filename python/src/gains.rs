@@ -1,0 +1,177 @@
+//! `Gains`: the discrete gains of one observer and its sample period, checked by the core.
+
+use angletrack_core::{ConfigError, Gains as CoreGains};
+use pyo3::prelude::*;
+use pyo3::types::PyType;
+
+use crate::errors::{Error, Result};
+
+/// Checked discrete gains of order 2 or 3, in `f64` (the Python-side configuration).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum GainSet {
+    /// Order 2: `(l1, l2)`.
+    Second(CoreGains<f64, 2>),
+    /// Order 3: `(l1, l2, l3)`.
+    Third(CoreGains<f64, 3>),
+}
+
+/// Runs `$body` with `$g` bound to the concrete core gains inside a [`GainSet`].
+macro_rules! with_gains {
+    ($set:expr, $g:ident => $body:expr) => {
+        match $set {
+            GainSet::Second($g) => $body,
+            GainSet::Third($g) => $body,
+        }
+    };
+}
+pub(crate) use with_gains;
+
+impl GainSet {
+    /// Checks gains `l` (length 2 or 3) and the sample period (s) with the core.
+    pub fn new(l: &[f64], sample_period_s: f64) -> Result<Self> {
+        Self::of_order(
+            l,
+            "gains",
+            |l| CoreGains::new(l, sample_period_s),
+            |l| CoreGains::new(l, sample_period_s),
+        )
+    }
+
+    /// Gains from the closed-loop characteristic polynomial in `s = z - 1` (coefficients,
+    /// lowest first, leading 1 omitted).
+    pub fn from_loop_polynomial(c: &[f64], sample_period_s: f64) -> Result<Self> {
+        Self::of_order(
+            c,
+            "coefficients",
+            |c| CoreGains::from_loop_polynomial(c, sample_period_s),
+            |c| CoreGains::from_loop_polynomial(c, sample_period_s),
+        )
+    }
+
+    /// Calls `second` or `third` with the 2 or 3 `values` of argument `parameter`.
+    fn of_order(
+        values: &[f64],
+        parameter: &'static str,
+        second: impl FnOnce([f64; 2]) -> core::result::Result<CoreGains<f64, 2>, ConfigError>,
+        third: impl FnOnce([f64; 3]) -> core::result::Result<CoreGains<f64, 3>, ConfigError>,
+    ) -> Result<Self> {
+        match *values {
+            [a, b] => Ok(GainSet::Second(second([a, b])?)),
+            [a, b, c] => Ok(GainSet::Third(third([a, b, c])?)),
+            _ => Err(Error::value(
+                parameter,
+                format!(
+                    "expected 2 values (2nd-order observer) or 3 (3rd-order), got {}",
+                    values.len()
+                ),
+            )),
+        }
+    }
+
+    /// The discrete gains `(l1, l2[, l3])`.
+    pub fn gains(&self) -> Vec<f64> {
+        with_gains!(self, g => g.gains().to_vec())
+    }
+
+    fn loop_polynomial(&self) -> Vec<f64> {
+        with_gains!(self, g => g.loop_polynomial().to_vec())
+    }
+
+    /// The sample period (s).
+    pub fn sample_period(&self) -> f64 {
+        with_gains!(self, g => g.sample_period())
+    }
+
+    /// The observer order (2 or 3).
+    pub fn order(&self) -> usize {
+        with_gains!(self, g => g.order())
+    }
+}
+
+/// Discrete gains of an angle tracking observer, checked against the stability region of the
+/// discrete loop.
+///
+/// `gains` are `(l1, l2)` (2nd order) or `(l1, l2, l3)` (3rd order), dimensionless, for the
+/// scaled state `(theta, Ts*Omega, Ts^2*alpha)`; `sample_period_s` is `Ts` in seconds.
+/// Raises `ConfigError` (parameter `gains`) naming the gain whose stability condition fails.
+#[pyclass(name = "Gains", module = "angletrack", frozen, eq, from_py_object)]
+#[derive(Debug, Clone, PartialEq)]
+pub struct PyGains {
+    /// The checked gains.
+    pub set: GainSet,
+}
+
+#[pymethods]
+impl PyGains {
+    #[new]
+    #[pyo3(signature = (gains, sample_period_s))]
+    fn py_new(gains: Vec<f64>, sample_period_s: f64) -> Result<Self> {
+        Ok(Self {
+            set: GainSet::new(&gains, sample_period_s)?,
+        })
+    }
+
+    /// Gains from the closed-loop characteristic polynomial written in `s = z - 1`
+    /// (coefficients lowest first, monic, leading 1 omitted), as the core's pole-matching
+    /// entry point.
+    #[staticmethod]
+    #[pyo3(signature = (coefficients, sample_period_s))]
+    fn from_loop_polynomial(coefficients: Vec<f64>, sample_period_s: f64) -> Result<Self> {
+        Ok(Self {
+            set: GainSet::from_loop_polynomial(&coefficients, sample_period_s)?,
+        })
+    }
+
+    /// The discrete gains `(l1, l2[, l3])` (dimensionless).
+    #[getter]
+    fn gains(&self) -> Vec<f64> {
+        self.set.gains()
+    }
+
+    /// Coefficients (lowest first, leading 1 omitted) of the closed-loop characteristic
+    /// polynomial in `s = z - 1`.
+    #[getter]
+    fn loop_polynomial(&self) -> Vec<f64> {
+        self.set.loop_polynomial()
+    }
+
+    /// The sample period `Ts` (s).
+    #[getter]
+    fn sample_period_s(&self) -> f64 {
+        self.set.sample_period()
+    }
+
+    /// The sample rate `1/Ts` (Hz).
+    #[getter]
+    fn sample_rate_hz(&self) -> f64 {
+        1.0 / self.set.sample_period()
+    }
+
+    /// The observer order: 2 (angle, speed) or 3 (angle, speed, acceleration).
+    #[getter]
+    fn order(&self) -> usize {
+        self.set.order()
+    }
+
+    /// Pickling: rebuilt (and checked again) from the gains and the sample period.
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> (Bound<'py, PyType>, (Vec<f64>, f64)) {
+        let set = &slf.get().set;
+        (slf.get_type(), (set.gains(), set.sample_period()))
+    }
+
+    fn __repr__(&self) -> String {
+        let l: Vec<String> = self
+            .set
+            .gains()
+            .iter()
+            .map(|x| format!("{x:.9e}"))
+            .collect();
+        format!(
+            "Gains(gains=[{}], sample_period_s={:e})  # order {}, {:.6} Hz",
+            l.join(", "),
+            self.set.sample_period(),
+            self.set.order(),
+            1.0 / self.set.sample_period()
+        )
+    }
+}

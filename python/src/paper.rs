@@ -1,0 +1,112 @@
+//! The paper's settings and reference observers (`angletrack::paper`): what `angletrack
+//! report` reproduces, and the gains the tests and benchmarks run.
+
+use angletrack::paper::{self, ComparedObserver, PaperSetting};
+use pyo3::prelude::*;
+
+use crate::design::PyDesign;
+use crate::errors::Result;
+use crate::gains::{GainSet, PyGains};
+
+/// One of the four settings whose step-response overshoot the paper quotes.
+#[pyclass(name = "PaperSetting", module = "angletrack", frozen, get_all)]
+#[derive(Debug, Clone)]
+pub struct PyPaperSetting {
+    /// The setting, in words (`"2nd order, m = 1.945"`).
+    name: &'static str,
+    /// The overshoot the paper quotes (percent).
+    paper_overshoot_percent: f64,
+    /// The setting designed at the requested sample period.
+    design: PyDesign,
+}
+
+#[pymethods]
+impl PyPaperSetting {
+    fn __repr__(&self) -> String {
+        format!(
+            "PaperSetting(name={:?}, paper_overshoot_percent={}, design=...)",
+            self.name, self.paper_overshoot_percent
+        )
+    }
+}
+
+/// The paper's four settings, in its order, designed at `sample_period_s` (by default
+/// 100 kHz, at least 200 times each loop's bandwidth) with `discretisation`.
+#[pyfunction]
+#[pyo3(signature = (sample_period_s = paper::OVERSHOOT_SAMPLE_PERIOD_S, discretisation = "pole_matching"))]
+pub fn paper_settings(sample_period_s: f64, discretisation: &str) -> Result<Vec<PyPaperSetting>> {
+    let discretisation = discretisation.parse()?;
+    PaperSetting::ALL
+        .into_iter()
+        .map(|s| {
+            Ok(PyPaperSetting {
+                name: s.name(),
+                paper_overshoot_percent: s.overshoot_percent(),
+                design: s.design(sample_period_s, discretisation)?.into(),
+            })
+        })
+        .collect()
+}
+
+/// The three observers the report compares, `(name, design)`: the 2nd-order, 3rd-order and
+/// Kalman ATOs, each about `PAPER_COMPARISON_BANDWIDTH_HZ` wide at
+/// `PAPER_COMPARISON_SAMPLE_PERIOD_S`.
+#[pyfunction]
+pub fn paper_compared_observers() -> Result<Vec<(&'static str, PyDesign)>> {
+    ComparedObserver::ALL
+        .into_iter()
+        .map(|o| Ok((o.name(), o.design()?.into())))
+        .collect()
+}
+
+/// The fixed discrete gains of the benchmarks (10 kHz): the 2nd-order, 3rd-order and Kalman
+/// ATOs, as the firmware embeds them.
+#[pyfunction]
+pub fn paper_benchmark_gains() -> Result<Vec<PyGains>> {
+    let ts = paper::BENCHMARK_SAMPLE_PERIOD_S;
+    [
+        &paper::BENCHMARK_SECOND_ORDER_GAINS[..],
+        &paper::BENCHMARK_THIRD_ORDER_GAINS[..],
+        &paper::BENCHMARK_KALMAN_GAINS[..],
+    ]
+    .into_iter()
+    .map(|l| {
+        Ok(PyGains {
+            set: GainSet::new(l, ts)?,
+        })
+    })
+    .collect()
+}
+
+/// Adds this module's classes, functions and constants to the extension module.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyPaperSetting>()?;
+    m.add_function(wrap_pyfunction!(paper_settings, m)?)?;
+    m.add_function(wrap_pyfunction!(paper_compared_observers, m)?)?;
+    m.add_function(wrap_pyfunction!(paper_benchmark_gains, m)?)?;
+    for (name, value) in [
+        ("PAPER_FIVE_PERCENT_DAMPING", paper::FIVE_PERCENT_DAMPING),
+        ("PAPER_BUTTERWORTH_DAMPING", paper::BUTTERWORTH_DAMPING),
+        ("PAPER_POLE_RATIO", paper::POLE_RATIO),
+        ("PAPER_POLE_FREQUENCY_RATIO", paper::POLE_FREQUENCY_RATIO),
+        (
+            "PAPER_OVERSHOOT_SAMPLE_PERIOD_S",
+            paper::OVERSHOOT_SAMPLE_PERIOD_S,
+        ),
+        (
+            "PAPER_COMPARISON_SAMPLE_PERIOD_S",
+            paper::COMPARISON_SAMPLE_PERIOD_S,
+        ),
+        (
+            "PAPER_COMPARISON_BANDWIDTH_HZ",
+            paper::COMPARISON_BANDWIDTH_HZ,
+        ),
+        (
+            "PAPER_COMPARISON_SENSOR_NOISE_STD",
+            paper::COMPARISON_SENSOR_NOISE_STD,
+        ),
+    ] {
+        m.add(name, value)?;
+    }
+    Ok(())
+}

@@ -78,10 +78,10 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
     /// ```
     pub const fn new() -> Self {
         Self {
-            x: [zero(); N],
-            next_angle: zero(),
+            x: [T::ZERO; N],
+            next_angle: T::ZERO,
             turns: 0,
-            phase_error: zero(),
+            phase_error: T::ZERO,
             faults: Faults::NONE,
             monitor: MonitorState::new(),
             initialised: false,
@@ -209,10 +209,6 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
         self.faults = Faults::BAD_SAMPLE;
         self.monitor.latched |= Faults::BAD_SAMPLE;
     }
-}
-
-const fn zero<T: Real>() -> T {
-    T::ZERO
 }
 
 /// The prediction `A x` of the recursion: a Taylor step of the scaled state

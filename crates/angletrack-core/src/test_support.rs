@@ -20,8 +20,8 @@ pub(crate) const fn n(samples: usize) -> usize {
     samples / MIRI_SPEEDUP
 }
 
-/// Discrete loop polynomial (in s = z - 1) of pole matching `z = exp(s Ts)` for real poles
-/// and complex pairs `(re, im)` given in rad/s.
+/// Discrete loop polynomial (in s = z - 1) of pole matching `z = exp(s Ts)`
+/// (`docs/theory.md §7`) for real poles and complex pairs `(re, im)` given in rad/s.
 fn matched_loop_polynomial(real: &[f64], pairs: &[(f64, f64)], ts: f64) -> Vec<f64> {
     // Polynomial coefficients, lowest first, leading 1.
     let mut poly = std::vec![1.0];
@@ -78,7 +78,8 @@ fn third_order(k: f64, t: f64, psi: f64) -> [f64; 3] {
 }
 
 /// Steady-state Kalman gain of the triple integrator (scaled state) for q/r, by iterating the
-/// Riccati recursion (the design crate solves the DARE; this is an independent check).
+/// Riccati recursion (the design crate solves the DARE of `docs/theory.md §4`; this is an
+/// independent check).
 fn kalman(q_over_r: f64) -> [f64; 3] {
     let a = [[1.0, 1.0, 0.5], [0.0, 1.0, 1.0], [0.0, 0.0, 1.0]];
     let g = [1.0 / 6.0, 0.5, 1.0];

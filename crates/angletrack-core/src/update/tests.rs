@@ -1,5 +1,6 @@
-//! The recursion on one channel: tracking without bias where the loop's type allows it,
-//! multi-turn resolution, float types, bad samples, and the kept next predicted angle.
+//! The recursion on one channel (`docs/theory.md §5`): tracking without bias where the
+//! loop's type allows it, multi-turn resolution, float types, bad samples, and the kept next
+//! predicted angle.
 
 extern crate std;
 

@@ -153,16 +153,11 @@ impl PyFaultThresholds {
 }
 
 /// The fault flag bits of `Estimates.faults`, `Estimate.faults` and
-/// `Observer.latched_faults`, by name (the core's `Faults` constants).
-pub fn fault_bits() -> [(&'static str, u8); 5] {
-    [
-        ("LOSS_OF_SIGNAL", Faults::LOSS_OF_SIGNAL.bits()),
-        (
-            "DEGRADATION_OF_SIGNAL",
-            Faults::DEGRADATION_OF_SIGNAL.bits(),
-        ),
-        ("LOSS_OF_TRACKING", Faults::LOSS_OF_TRACKING.bits()),
-        ("BAD_SAMPLE", Faults::BAD_SAMPLE.bits()),
-        ("FALSE_LOCK", Faults::FALSE_LOCK.bits()),
-    ]
+/// `Observer.latched_faults`, by the names of the core's `Faults` constants
+/// (`LOSS_OF_SIGNAL`: the core's "loss of signal" in upper case, words joined by `_`).
+pub fn fault_bits() -> Vec<(String, u8)> {
+    Faults::NAMES
+        .iter()
+        .map(|(flag, name)| (name.to_uppercase().replace(' ', "_"), flag.bits()))
+        .collect()
 }

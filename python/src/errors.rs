@@ -128,9 +128,10 @@ impl From<Error> for PyErr {
     fn from(e: Error) -> Self {
         match e {
             Error::Config(e) => core_config_error(&e, ""),
-            Error::Design(angletrack::Error::Gains(e)) => {
-                core_config_error(&e, " (the designed gains are refused)")
-            }
+            Error::Design(angletrack::Error::Gains(e)) => core_config_error(
+                &e,
+                " (the gains as designed, or rounded to the requested float type)",
+            ),
             Error::Design(e) => match e.argument() {
                 Some(a) => {
                     let python = python_argument(a);

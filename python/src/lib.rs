@@ -30,7 +30,7 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<gains::PyGains>()?;
     m.add_class::<observer::PyObserver>()?;
     m.add_class::<diagnostics::PyFaultThresholds>()?;
-    m.add("FAULT_BITS", diagnostics::fault_bits().to_vec())?;
+    m.add("FAULT_BITS", diagnostics::fault_bits())?;
     m.add_class::<estimates::Estimate>()?;
     m.add_class::<estimates::Estimates>()?;
     m.add_function(wrap_pyfunction!(observer::track, m)?)?;

@@ -39,7 +39,7 @@ def test_second_order_acceleration_constant_and_design_fields():
     assert k_b == pytest.approx(1e6, rel=1e-12) and k_a == pytest.approx(2.0 * 1e3, rel=1e-12)
     assert len(d.continuous_poles) == 2 and all(isinstance(p, complex) for p in d.continuous_poles)
     r = d.report(sensor_noise_std=0.01)
-    # Ka of the discrete loop = l2 / ((1 - l1) Ts^2), close to the continuous k_b1.
+    # Ka of the discrete loop = l2 / ((1 - l1) Ts^2), close to the continuous k_b1 (docs/theory.md §2).
     l1, l2 = d.gains.gains
     assert r.acceleration_constant_per_s2 == pytest.approx(l2 / ((1 - l1) * 1e-10), rel=1e-9)
     assert r.acceleration_constant_per_s2 == pytest.approx(1e6, rel=0.02)
@@ -54,7 +54,7 @@ def test_kalman_design_matches_the_crate_doc_figures():
     assert l1 == pytest.approx(0.0613, abs=1e-3) and l2 == pytest.approx(0.00194, abs=1e-5) and l3 == pytest.approx(3.06e-5, abs=1e-7)
     k = d.kalman
     assert 0 < k.angle_floor_rad < 1 and k.process_noise_q == 1e-9 and len(k.covariance) == 3
-    # The predicted error of a Kalman design at its own q, r is its Riccati floor.
+    # The predicted error of a Kalman design at its own q, r is its Riccati floor (docs/theory.md §4, §8).
     p = at.predicted_error(d.gains, sensor_noise_std=1.0, process_noise_q=1e-9)
     assert p.angle_rms_rad == pytest.approx(k.angle_floor_rad, rel=1e-6)
     same = at.kalman_from_jerk_std(jerk_std_rad_s3=math.sqrt(1e-9) / 1e-12, sensor_noise_std=1.0, sample_period_s=1e-4)

@@ -61,6 +61,7 @@ def test_wrong_shape_length_or_empty_is_a_value_error(observer32):
     ],
 )
 def test_refused_gains_name_the_parameter(gains, sample_period, parameter, message):
+    """Each gain is named with the stability condition it fails (docs/theory.md §6)."""
     with pytest.raises(angletrack.ConfigError, match=message) as e:
         angletrack.Gains(gains, sample_period)
     assert e.value.parameter == parameter

@@ -22,6 +22,7 @@ def test_imported_from_the_installed_package_not_the_source_tree():
 
 
 def test_float64_exact_matches_the_recursion_sample_by_sample(gains, capture):
+    """The one predictor-corrector recursion, wrapping and turn counting (docs/theory.md §5)."""
     _, y_c, y_s = capture
     est = angletrack.track(gains, y_c, y_s, sin_cos="exact")
     ref = reference.run(gains.gains, gains.sample_period_s, y_c, y_s)

@@ -4,31 +4,37 @@
 //! Going from a specification to firmware gains, and knowing what they will do:
 //!
 //! ```
-//! use angletrack::{Discretisation, DesignReport, Gains, second_order_from_tracking_error};
+//! use angletrack::{DesignReport, Gains, second_order_from_tracking_error_sampled};
 //!
-//! // 2nd-order ATO: at most 1 mrad of error at 2000 rad/s^2, 5 % overshoot (m = 1.945),
-//! // sampled at 20 kHz.
-//! let design = second_order_from_tracking_error(
-//!     1e-3, 2e3, 1.945, 50e-6, Discretisation::PoleMatching)?;
+//! // 2nd-order ATO: at most 1 mrad of error at 2000 rad/s^2 and 5 % overshoot, met by the
+//! // loop as it runs, sampled at 20 kHz.
+//! let design = second_order_from_tracking_error_sampled(1e-3, 2e3, 0.05, 50e-6)?;
 //! let report = DesignReport::new(&design, 0.005)?; // sensor noise 0.005 per channel
 //! println!("{report}");                             // the design's datasheet
-//! // The continuous design overshoots by 5 %; sampled at only ~20 times its bandwidth,
-//! // the discrete loop overshoots less (the report shows both).
-//! assert!((report.continuous_step.unwrap().overshoot - 0.05).abs() < 0.001);
-//! assert!(report.linear_step.overshoot < 0.05);
+//! let error_rad = 2e3 / report.acceleration_constant_per_s2.unwrap();
+//! assert!((error_rad - 1e-3).abs() < 1e-12);        // 1 mrad at 2000 rad/s^2
+//! assert!((report.linear_step.overshoot - 0.05).abs() < 1e-6); // 5 %
 //! let firmware_gains: Gains<f32, 2> = design.to_gains()?;  // for the Cortex-M4F
 //! # let _ = firmware_gains;
 //! # Ok::<(), angletrack::Error>(())
 //! ```
 //!
-//! * Design ([`second_order_from_tracking_error`], [`second_order_from_bandwidth`],
+//! The paper's rule, [`second_order_from_tracking_error`] with damping 1.945, meets the same
+//! specification on the continuous loop; sampled at 20 kHz, its loop gives 0.869 mrad and
+//! 4.35 %, closer to the specification the faster the sampling.
+//!
+//! * Design ([`second_order_from_tracking_error`],
+//!   [`second_order_from_tracking_error_sampled`], [`second_order_from_bandwidth`],
 //!   [`second_order_butterworth`], [`third_order_from_poles`], [`third_order_from_overshoot`],
 //!   [`third_order_butterworth`], [`kalman`], [`kalman_from_jerk_std`],
 //!   [`kalman_from_jerk_density`]): `f64` designs; continuous ones are carried to the
 //!   discrete recursion by a [`Discretisation`] of their poles. Every function checks its
 //!   arguments and returns an [`Error`] naming the one at fault.
-//! * Analysis ([`DesignReport`], [`predicted_error`]): poles, bandwidth, error constants,
-//!   noise, step responses (linear and a 179 degree nonlinear step), speed limits.
+//! * Analysis ([`DesignReport`], [`predicted_error`], [`predicted_error_on_kalman_model`],
+//!   [`max_trackable_speed_rad_s`]): poles, bandwidth, error constants, noise, step
+//!   responses (linear and a 179 degree nonlinear step), speed limits.
+//! * The paper ([`paper`]): its four settings, the three observers it compares and the
+//!   benchmarks' gains, for the tests, examples, benchmarks and report alike.
 //! * Scenarios ([`MotionProfile`], [`SensorModel`], [`Scenario`]): deterministic from a seed.
 //! * Metrics ([`run`], [`Metrics`]): a run of any observer measured against the truth.
 //! * Many channels ([`ChannelBatch`]): any number of channels on one gain set, run by the
@@ -51,14 +57,15 @@ pub mod paper;
 mod sim;
 
 pub use analysis::{
-    DesignReport, LARGE_STEP_RAD, PredictedError, SETTLING_BAND, StepResponse, predicted_error,
+    DesignReport, LARGE_STEP_RAD, PredictedError, SETTLING_BAND, StepResponse,
+    max_trackable_speed_rad_s, predicted_error, predicted_error_on_kalman_model,
 };
 pub use design::{
     AnyDesign, Design, DesignMethod, Discretisation, KalmanSolution, MAX_POLE_TIMES_PERIOD,
     convert_gains, kalman, kalman_from_jerk_density, kalman_from_jerk_std,
     second_order_bandwidth_ratio, second_order_butterworth, second_order_from_bandwidth,
-    second_order_from_tracking_error, third_order_butterworth, third_order_from_overshoot,
-    third_order_from_poles,
+    second_order_from_tracking_error, second_order_from_tracking_error_sampled,
+    third_order_butterworth, third_order_from_overshoot, third_order_from_poles,
 };
 pub use error::{Argument, Error};
 pub use sim::{

@@ -220,6 +220,25 @@ pub(crate) fn discrete_riccati(
     None
 }
 
+/// The point where `above` turns from true (at `low`) to false (at `high`), by bisection to
+/// a relative `tolerance`.
+pub(crate) fn bisect(
+    above: impl Fn(f64) -> bool,
+    mut low: f64,
+    mut high: f64,
+    tolerance: f64,
+) -> f64 {
+    while high - low > tolerance * high {
+        let mid = 0.5 * (low + high);
+        if above(mid) {
+            low = mid;
+        } else {
+            high = mid;
+        }
+    }
+    0.5 * (low + high)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,6 +3,7 @@
 
 use core::f64::consts::PI;
 
+use angletrack_core::{Gains, Order, SupportedOrder};
 use nalgebra::{Complex, DMatrix, DVector};
 
 use super::step::{SETTLING_BAND, StepResponse};
@@ -10,6 +11,32 @@ use crate::linalg;
 
 /// Longest simulation (samples) used for a step response or one acquisition trial.
 const MAX_SIMULATION_SAMPLES: usize = 4_000_000;
+
+/// The poles of the discrete loop of `gains`: `z_i - 1` (computed without cancellation from
+/// the loop polynomial in `z - 1`) and their continuous equivalents `ln(z_i) / Ts` (rad/s).
+pub(super) fn loop_poles<const N: usize>(
+    gains: &Gains<f64, N>,
+) -> (Vec<Complex<f64>>, Vec<Complex<f64>>)
+where
+    Order<N>: SupportedOrder,
+{
+    let ts = gains.sample_period();
+    let shifted = linalg::roots(&gains.loop_polynomial());
+    let equivalent = shifted.iter().map(|&u| linalg::ln_1p(u) / ts).collect();
+    (shifted, equivalent)
+}
+
+/// The small-signal (linear) step response of the discrete loop of `gains`, simulated until
+/// every transient has decayed; `None` if that takes more than the longest simulation.
+pub(crate) fn small_signal_step<const N: usize>(gains: &Gains<f64, N>) -> Option<StepResponse>
+where
+    Order<N>: SupportedOrder,
+{
+    let discrete = DiscreteLoop::new(&gains.gains(), gains.sample_period());
+    let (_, equivalent) = loop_poles(gains);
+    let samples = discrete.horizon(&equivalent);
+    (samples < MAX_SIMULATION_SAMPLES).then(|| discrete.linear_step(samples))
+}
 
 /// The closed-loop matrices of a discrete gain set.
 pub(super) struct DiscreteLoop {

@@ -102,7 +102,7 @@ impl fmt::Display for DesignReport {
         }
         row(
             f,
-            &format!("RMS error at sensor noise {:.3e}", self.sensor_noise_std),
+            &format!("RMS error, sensor noise {:.3e} only", self.sensor_noise_std),
             format!(
                 "angle {:.6e} rad, speed {:.6e} rad/s",
                 self.angle_error_rms_rad, self.speed_error_rms_rad_s
@@ -111,7 +111,7 @@ impl fmt::Display for DesignReport {
         if let (Some(a), Some(s)) = (self.kalman_angle_floor_rad, self.kalman_speed_floor_rad_s) {
             row(
                 f,
-                "Kalman floor sqrt(P11), sqrt(P22)/Ts",
+                "Kalman floor sqrt(P11) (own q and r, random jerk)",
                 format!("angle {a:.6e} rad, speed {s:.6e} rad/s"),
             )?;
         }
@@ -135,7 +135,7 @@ impl fmt::Display for DesignReport {
         )?;
         row(
             f,
-            "max speed (pi / Ts)",
+            "max trackable speed (pi / Ts)",
             format!("{:.6e} rad/s", self.max_speed_rad_s),
         )?;
         row(

@@ -8,8 +8,10 @@ mod report;
 mod speed;
 mod step;
 
-pub use noise::{PredictedError, predicted_error};
+pub(crate) use discrete_loop::small_signal_step;
+pub use noise::{PredictedError, predicted_error, predicted_error_on_kalman_model};
 pub use report::DesignReport;
+pub use speed::max_trackable_speed_rad_s;
 pub(crate) use step::continuous_step;
 pub use step::{LARGE_STEP_RAD, SETTLING_BAND, StepResponse};
 

@@ -1,13 +1,11 @@
 //! The design's "datasheet": everything the analysis predicts about a gain set.
 
-use core::f64::consts::PI;
-
 use angletrack_core::{FaultThresholds, Gains, Order, SupportedOrder};
 use nalgebra::Complex;
 
-use super::discrete_loop::DiscreteLoop;
+use super::discrete_loop::{DiscreteLoop, loop_poles};
 use super::noise::predicted_error;
-use super::speed::{acquisition_speed, simulate_nonlinear};
+use super::speed::{acquisition_speed, max_trackable_speed_rad_s, simulate_nonlinear};
 use super::step::{LARGE_STEP_RAD, SETTLING_BAND, StepResponse, continuous_step};
 use crate::design::{Design, DesignMethod, Discretisation};
 use crate::error::{Argument, Error, non_negative};
@@ -61,16 +59,24 @@ pub struct DesignReport {
     /// The sensor noise standard deviation per channel the noise figures are for
     /// (amplitude 1).
     pub sensor_noise_std: f64,
-    /// Predicted steady-state RMS angle error (rad) from sensor noise alone (discrete
-    /// Lyapunov equation of the linearised loop).
+    /// Predicted steady-state RMS angle error (rad) from the sensor noise `sensor_noise_std`
+    /// alone, no process noise: a shaft whose motion the loop follows without steady error
+    /// (constant speed; constant acceleration too at order 3). Discrete Lyapunov equation of
+    /// the linearised loop (`docs/theory.md §8`). The figure to compare observers on for
+    /// sensor noise.
     pub angle_error_rms_rad: f64,
-    /// Predicted steady-state RMS speed error (rad/s) from sensor noise alone.
+    /// Predicted steady-state RMS speed error (rad/s), on the assumptions of
+    /// `angle_error_rms_rad`.
     pub speed_error_rms_rad_s: f64,
-    /// Kalman design: `sqrt(P11)` (rad), the smallest RMS angle error of any linear
-    /// estimator for the design's model (its own `q` and `r`: random jerk and sensor noise
-    /// together, whatever `sensor_noise_std` the report is for).
+    /// Kalman design: `sqrt(P11)` (rad), the RMS angle error on the design's own model: its
+    /// own measurement noise `r` AND a random jerk of its own variance `q`, whatever
+    /// `sensor_noise_std` the report is for. It includes the random jerk, so it exceeds
+    /// `angle_error_rms_rad` (sensor noise alone) for the same `r`. It is the smallest RMS
+    /// angle error any linear observer reaches on that model; other observers compare with
+    /// it through [`predicted_error_on_kalman_model`](crate::predicted_error_on_kalman_model).
     pub kalman_angle_floor_rad: Option<f64>,
-    /// Kalman design: `sqrt(P22) / Ts` (rad/s).
+    /// Kalman design: `sqrt(P22) / Ts` (rad/s), on the assumptions of
+    /// `kalman_angle_floor_rad`.
     pub kalman_speed_floor_rad_s: Option<f64>,
     /// Small-signal (linear) step response of the discrete loop.
     pub linear_step: StepResponse,
@@ -86,13 +92,14 @@ pub struct DesignReport {
     /// detection, which re-acquires the angle from `atan2` once the filtered in-phase
     /// component turns negative): what the firmware does.
     pub large_step_with_diagnostics: StepResponse,
-    /// The largest speed (rad/s) the phase detector can follow: `pi / Ts`, half a turn per
-    /// sample (beyond it the sampled angle aliases).
+    /// The largest speed (rad/s) the observer tracks: the Nyquist speed `pi / Ts`, half a
+    /// turn per sample ([`max_trackable_speed_rad_s`](crate::max_trackable_speed_rad_s),
+    /// `docs/theory.md §9`).
     pub max_speed_rad_s: f64,
     /// The largest speed step (rad/s) the bare nonlinear loop acquires from rest (estimate
     /// at the right angle, speed 0) without slipping a cycle: found by bisection on a
-    /// logarithmic scale between `1e-6 pi/Ts` and `pi/Ts`, assuming acquisition fails
-    /// above a single threshold.
+    /// logarithmic scale between `1e-6` and 1 times `max_speed_rad_s`, assuming acquisition
+    /// fails above a single threshold.
     pub acquisition_speed_rad_s: f64,
 }
 
@@ -141,13 +148,10 @@ impl DesignReport {
         let l = gains.gains();
         let discrete = DiscreteLoop::new(&l, ts);
         let bare = gains.with_fault_thresholds(FaultThresholds::disabled())?;
-        let shifted = linalg::roots(&gains.loop_polynomial());
+        let (shifted, equivalent) = loop_poles(&gains);
         let discrete_poles: Vec<Complex<f64>> = shifted.iter().map(|u| u + 1.0).collect();
-        let equivalent: Vec<Complex<f64>> =
-            shifted.iter().map(|&u| linalg::ln_1p(u) / ts).collect();
         let continuous_c = design
-            .continuous_gains
-            .map(|k| k.iter().rev().copied().collect::<Vec<f64>>())
+            .continuous_loop_polynomial()
             .unwrap_or_else(|| linalg::monic_from_roots(&equivalent));
         let per_unit = discrete
             .error_per_unit_derivative()
@@ -188,12 +192,12 @@ impl DesignReport {
             kalman_speed_floor_rad_s: design.kalman.map(|k| k.speed_floor_rad_s(ts)),
             linear_step: discrete.linear_step(samples),
             continuous_step: design
-                .continuous_gains
-                .map(|_| continuous_step(&continuous_c)),
+                .continuous_loop_polynomial()
+                .map(|c| continuous_step(&c)),
             large_step: bare_step,
             large_step_final_rad,
             large_step_with_diagnostics: large_step(&gains).0,
-            max_speed_rad_s: PI / ts,
+            max_speed_rad_s: max_trackable_speed_rad_s(ts),
             acquisition_speed_rad_s: acquisition_speed(&bare, samples),
         })
     }

@@ -1,8 +1,33 @@
-//! Speed limits of the nonlinear loop (`docs/theory.md §9`).
+//! Speed limits (`docs/theory.md §9`): the largest speed an observer tracks, stated once,
+//! and the largest speed step the nonlinear loop acquires from rest.
 
 use core::f64::consts::PI;
 
 use angletrack_core::{Gains, ObserverState, Order, SupportedOrder};
+
+/// The largest speed (rad/s) an observer sampled every `sample_period_s` (s) tracks: the
+/// Nyquist speed `pi / Ts`, half a turn per sample (`docs/theory.md §9`).
+///
+/// Below it the samples `(cos theta_k, sin theta_k)` determine the speed: an observer
+/// started at any speed up to it, or brought up to it by an acceleration its loop follows,
+/// tracks without a cycle slip (tested for the three observers of
+/// [`paper::ComparedObserver`](crate::paper::ComparedObserver)). Above it, `Omega` and
+/// `Omega - 2 pi / Ts` give the same samples. A loop already locked still follows by
+/// continuity, since its prediction carries the speed and the phase detector sees only the
+/// prediction error (the same observers, ramped at 2000 rad/s^2, track to 2.5 `pi / Ts`),
+/// but nothing in the samples confirms the speed any more: any acquisition with an unknown
+/// speed locks onto an alias, and
+/// [`ObserverState::at`](angletrack_core::ObserverState::at) limits a starting speed to
+/// this one. It is an upper bound: how fast a given loop acquires a speed step from rest is
+/// [`DesignReport::acquisition_speed_rad_s`](crate::DesignReport::acquisition_speed_rad_s).
+///
+/// ```
+/// let limit = angletrack::max_trackable_speed_rad_s(1e-4); // 10 kHz
+/// assert!((limit - 31_415.926).abs() < 1e-3);              // 5000 turns per second
+/// ```
+pub fn max_trackable_speed_rad_s(sample_period_s: f64) -> f64 {
+    PI / sample_period_s
+}
 
 /// The nonlinear loop (the core's observer) from rest at angle 0, fed `truth(k)`, returns the
 /// unwrapped estimated angles.
@@ -36,7 +61,7 @@ where
             .unwrap_or(0.0);
         (last - step * (samples - 1) as f64).abs() < 0.1
     };
-    let top = PI / ts;
+    let top = max_trackable_speed_rad_s(ts);
     if acquires(top) {
         return top;
     }

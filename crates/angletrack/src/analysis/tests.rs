@@ -2,7 +2,7 @@
 
 use std::f64::consts::PI;
 
-use angletrack_core::ObserverState;
+use angletrack_core::{Gains, ObserverState};
 
 use crate::*;
 
@@ -56,7 +56,7 @@ fn report_renders_every_figure() {
         "Kalman floor",
         "linear step",
         "179 degree step",
-        "max speed",
+        "max trackable speed",
         "acquired from rest",
     ] {
         assert!(text.contains(needle), "missing {needle} in\n{text}");
@@ -97,5 +97,112 @@ fn acquisition_speed_separates_lock_from_cycle_slip() {
     assert!(
         final_error(1.02 * speed).abs() > 1.0,
         "a cycle is slipped above"
+    );
+}
+
+/// The largest unwrapped angle error (rad) of `gains` (with their default diagnostics, as
+/// in the firmware) over a shaft at rest brought at `acceleration` rad/s^2 up to `speed`
+/// rad/s, then held there for 0.1 s; with `acceleration` 0, a shaft and an observer both
+/// started at `speed`.
+fn worst_error_up_to<const N: usize>(gains: &Gains<f64, N>, speed: f64, acceleration: f64) -> f64
+where
+    angletrack_core::Order<N>: angletrack_core::SupportedOrder,
+{
+    let ts = gains.sample_period();
+    let ramp_s = if acceleration > 0.0 {
+        speed / acceleration
+    } else {
+        0.0
+    };
+    let start_speed = if acceleration > 0.0 { 0.0 } else { speed };
+    let mut state = ObserverState::at(0.0, start_speed, 0.0, ts);
+    let samples = ((ramp_s + 0.1) / ts) as usize;
+    // The state is the one of the sample before the first: the shaft starts one sample on.
+    let angle = |t: f64| {
+        let ramp = t.min(ramp_s);
+        start_speed * t + 0.5 * acceleration * ramp * ramp + acceleration * ramp_s * (t - ramp)
+    };
+    (1..=samples)
+        .map(|k| {
+            let theta = angle(k as f64 * ts);
+            (theta
+                - gains
+                    .update(&mut state, theta.cos(), theta.sin())
+                    .position())
+            .abs()
+        })
+        .fold(0.0, f64::max)
+}
+
+/// `docs/theory.md §9`: every compared observer tracks up to the documented limit without a
+/// cycle slip, started there or ramped up to it, and a locked loop keeps following beyond it.
+#[test]
+fn observers_track_up_to_the_documented_speed_limit_without_a_cycle_slip() {
+    use crate::paper::ComparedObserver;
+    let check = |name: &str, worst: [f64; 3]| {
+        let [started, ramped, beyond] = worst;
+        assert!(
+            started < 1e-6,
+            "{name} started below the limit: {started} rad"
+        );
+        assert!(ramped < 0.1, "{name} ramped below the limit: {ramped} rad");
+        assert!(beyond < 0.1, "{name} ramped beyond the limit: {beyond} rad");
+    };
+    for observer in ComparedObserver::ALL {
+        let design = observer.design().unwrap();
+        let limit = max_trackable_speed_rad_s(design.sample_period());
+        assert_eq!(design.report(0.0).unwrap().max_speed_rad_s, limit);
+        let speeds = [(0.99 * limit, 0.0), (0.99 * limit, 2e3), (1.5 * limit, 2e3)];
+        let worst = match &design {
+            AnyDesign::Second(d) => speeds.map(|(v, a)| worst_error_up_to(&d.gains, v, a)),
+            AnyDesign::Third(d) => speeds.map(|(v, a)| worst_error_up_to(&d.gains, v, a)),
+        };
+        check(observer.name(), worst);
+    }
+}
+
+#[test]
+fn observers_compare_with_the_kalman_floor_on_its_own_model() {
+    use crate::paper::ComparedObserver;
+    let designs = ComparedObserver::ALL.map(|o| o.design().unwrap());
+    let AnyDesign::Third(optimal) = &designs[2] else {
+        panic!("the Kalman ATO is 3rd order")
+    };
+    let solution = optimal.kalman.unwrap();
+    let (sigma, q) = (
+        solution.measurement_noise_r.sqrt(),
+        solution.process_noise_q,
+    );
+    let floor = solution.angle_floor_rad();
+    let own = predicted_error_on_kalman_model(&optimal.gains, sigma, q)
+        .unwrap()
+        .unwrap();
+    assert!((own.angle_rms_rad / floor - 1.0).abs() < 1e-8);
+    // Sensor noise alone is below the floor, which adds the random jerk.
+    let report = DesignReport::new(optimal, sigma).unwrap();
+    assert!(report.angle_error_rms_rad < floor);
+    assert_eq!(report.kalman_angle_floor_rad, Some(floor));
+    let AnyDesign::Third(third) = &designs[1] else {
+        panic!("the 3rd-order ATO is 3rd order")
+    };
+    let third = predicted_error_on_kalman_model(&third.gains, sigma, q)
+        .unwrap()
+        .unwrap();
+    assert!(
+        third.angle_rms_rad > floor,
+        "{} vs {floor}",
+        third.angle_rms_rad
+    );
+    let AnyDesign::Second(second) = &designs[0] else {
+        panic!("the 2nd-order ATO is 2nd order")
+    };
+    assert_eq!(
+        predicted_error_on_kalman_model(&second.gains, sigma, q),
+        Ok(None)
+    );
+    let without_jerk = predicted_error_on_kalman_model(&second.gains, sigma, 0.0).unwrap();
+    assert_eq!(
+        without_jerk,
+        Some(predicted_error(&second.gains, sigma, 0.0).unwrap())
     );
 }

@@ -14,6 +14,9 @@ use crate::error::Error;
 pub enum DesignMethod {
     /// 2nd order from a tolerated error at an acceleration and a damping.
     SecondOrderTrackingError,
+    /// 2nd order from a tolerated error at an acceleration and an overshoot, both met by
+    /// the sampled loop itself.
+    SecondOrderSampledTrackingError,
     /// 2nd order from a -3 dB bandwidth and a damping.
     SecondOrderBandwidth,
     /// 2nd-order Butterworth setting (damping `sqrt(2)/2`).
@@ -35,6 +38,9 @@ impl DesignMethod {
     pub const fn name(self) -> &'static str {
         match self {
             DesignMethod::SecondOrderTrackingError => "2nd order, tracking error at acceleration",
+            DesignMethod::SecondOrderSampledTrackingError => {
+                "2nd order, tracking error and overshoot of the sampled loop"
+            }
             DesignMethod::SecondOrderBandwidth => "2nd order, bandwidth and damping",
             DesignMethod::SecondOrderButterworth => "2nd order, Butterworth",
             DesignMethod::ThirdOrderPolePlacement => "3rd order, pole placement (K, T, psi)",
@@ -63,7 +69,10 @@ where
     pub discretisation: Option<Discretisation>,
     /// The continuous closed-loop poles (rad/s) of a continuous design; empty otherwise.
     pub continuous_poles: Vec<Complex<f64>>,
-    /// The continuous gains `(k_a, k_b[, k_c])` of a continuous design.
+    /// The continuous gains `(k_a, k_b[, k_c])` of a continuous design, in the order of the
+    /// discrete gains `(l1, l2[, l3])`: the gain of the angle first (`l_i ~ k_i Ts^i` for a
+    /// loop much slower than its sample rate). The loop polynomial they form, lowest power
+    /// first as everywhere, is [`Design::continuous_loop_polynomial`].
     pub continuous_gains: Option<[f64; N]>,
     /// The steady-state Riccati solution of a Kalman design.
     pub kalman: Option<KalmanSolution>,
@@ -110,6 +119,23 @@ where
     /// The sample period (s).
     pub fn sample_period(&self) -> f64 {
         self.gains.sample_period()
+    }
+
+    /// The coefficients `(c0, .., c_{N-1})` of the continuous loop polynomial
+    /// `s^N + c_{N-1} s^{N-1} + .. + c0` of a continuous design, lowest power first as
+    /// [`Gains::loop_polynomial`]: the continuous gains in reverse order (`c0 = k_b` at
+    /// order 2, `c0 = k_c` at order 3).
+    ///
+    /// ```
+    /// use angletrack::{Discretisation, second_order_butterworth};
+    /// let design = second_order_butterworth(1e-2, 1e-4, Discretisation::PoleMatching)?;
+    /// let [k_a, k_b] = design.continuous_gains.unwrap();
+    /// assert_eq!(design.continuous_loop_polynomial(), Some(vec![k_b, k_a]));
+    /// # Ok::<(), angletrack::Error>(())
+    /// ```
+    pub fn continuous_loop_polynomial(&self) -> Option<Vec<f64>> {
+        self.continuous_gains
+            .map(|k| k.iter().rev().copied().collect())
     }
 }
 

@@ -92,17 +92,14 @@ pub fn kalman(
     };
     let gains = Gains::new(l, ts)?;
     Ok(Design {
-        gains,
         method: DesignMethod::Kalman,
-        discretisation: None,
-        continuous_poles: Vec::new(),
-        continuous_gains: None,
         kalman: Some(KalmanSolution {
             process_noise_q: q,
             measurement_noise_r: r,
             predicted_covariance: to_array(&p),
             covariance: to_array(&filtered),
         }),
+        ..Design::from_gains(gains)
     })
 }
 

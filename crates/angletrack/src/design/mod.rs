@@ -15,12 +15,14 @@
 mod designs;
 mod discretisation;
 mod kalman;
+mod sampled;
 mod second_order;
 mod third_order;
 
 pub use designs::{AnyDesign, Design, DesignMethod, convert_gains};
 pub use discretisation::{Discretisation, MAX_POLE_TIMES_PERIOD};
 pub use kalman::{KalmanSolution, kalman, kalman_from_jerk_density, kalman_from_jerk_std};
+pub use sampled::second_order_from_tracking_error_sampled;
 pub use second_order::{
     second_order_bandwidth_ratio, second_order_butterworth, second_order_from_bandwidth,
     second_order_from_tracking_error,

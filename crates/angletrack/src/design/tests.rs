@@ -2,7 +2,7 @@
 
 use std::f64::consts::{PI, SQRT_2};
 
-use angletrack_core::Gains;
+use angletrack_core::{Gains, ObserverState};
 
 use crate::*;
 
@@ -357,7 +357,7 @@ fn design_functions_never_panic_on_any_argument() {
     for i in 0..300 {
         let d = disc[i % 3];
         let a: [f64; 4] = std::array::from_fn(|_| value(&mut rng));
-        let results = [
+        let mut results = [
             second_order_from_tracking_error(a[0], a[1], a[2], a[3], d).map(|x| x.gains.gains()[0]),
             second_order_from_bandwidth(a[0], a[1], a[2], d).map(|x| x.gains.gains()[0]),
             second_order_butterworth(a[0], a[1], d).map(|x| x.gains.gains()[0]),
@@ -366,7 +366,15 @@ fn design_functions_never_panic_on_any_argument() {
             kalman(a[0], a[1], a[2]).map(|x| x.gains.gains()[0]),
             kalman_from_jerk_std(a[0], a[1], a[2]).map(|x| x.gains.gains()[0]),
             kalman_from_jerk_density(a[0], a[1], a[2]).map(|x| x.gains.gains()[0]),
-        ];
+        ]
+        .to_vec();
+        // The sampled design simulates its loop: one call in ten keeps the sweep short.
+        if i % 10 == 0 {
+            results.push(
+                second_order_from_tracking_error_sampled(a[0], a[1], a[2], a[3])
+                    .map(|x| x.gains.gains()[0]),
+            );
+        }
         for result in results {
             match result {
                 Ok(l1) => {
@@ -379,4 +387,82 @@ fn design_functions_never_panic_on_any_argument() {
     }
     // The sweep reaches the accepting side too.
     assert!(accepted > 100, "only {accepted} designs accepted");
+}
+
+/// The headline specification (1 mrad at 2000 rad/s^2, 5 %, 20 kHz): the sampled design
+/// meets it on the discrete loop, where the paper's continuous rule falls short.
+#[test]
+fn sampled_design_meets_tracking_error_and_overshoot_on_the_discrete_loop() {
+    let (max_error, alpha, ts) = (1e-3, 2e3, 50e-6);
+    let design = second_order_from_tracking_error_sampled(max_error, alpha, 0.05, ts).unwrap();
+    assert_eq!(design.method, DesignMethod::SecondOrderSampledTrackingError);
+    let report = DesignReport::new(&design, 0.0).unwrap();
+    let error = alpha / report.acceleration_constant_per_s2.unwrap();
+    assert!((error / max_error - 1.0).abs() < 1e-9, "{error} rad");
+    let overshoot = report.linear_step.overshoot;
+    assert!((overshoot - 0.05).abs() < 1e-6, "{overshoot}");
+    // The core's loop under constant acceleration settles at that error (sin e ~ e).
+    let mut state = ObserverState::at(0.0, 0.0, 0.0, ts);
+    let mut last = 0.0;
+    for k in 0..40_000 {
+        let theta = 0.5 * alpha * (k as f64 * ts).powi(2);
+        last = theta
+            - design
+                .gains
+                .update(&mut state, theta.cos(), theta.sin())
+                .position();
+    }
+    assert!((last / max_error - 1.0).abs() < 1e-3, "{last} rad");
+    // The paper's rule for the same specification: 0.869 mrad and 4.35 % when sampled.
+    let paper = second_order_from_tracking_error(max_error, alpha, 1.945, ts, PM).unwrap();
+    let paper = DesignReport::new(&paper, 0.0).unwrap();
+    let paper_error = alpha / paper.acceleration_constant_per_s2.unwrap();
+    assert!((paper_error - 0.869e-3).abs() < 1e-6, "{paper_error}");
+    assert!((paper.linear_step.overshoot - 0.0435).abs() < 5e-4);
+}
+
+#[test]
+fn sampled_design_reaches_overshoots_across_its_range_and_refuses_the_rest() {
+    for (overshoot, ts) in [(0.2, 1e-4), (0.01, 1e-6), (0.001, 1e-4), (0.9, 1e-4)] {
+        let design = second_order_from_tracking_error_sampled(1e-3, 1e3, overshoot, ts).unwrap();
+        let report = DesignReport::new(&design, 0.0).unwrap();
+        assert!(
+            (report.linear_step.overshoot - overshoot).abs() < 1e-6,
+            "{overshoot}"
+        );
+        let ka = report.acceleration_constant_per_s2.unwrap();
+        assert!((ka / 1e6 - 1.0).abs() < 1e-9, "{overshoot}: Ka {ka}");
+    }
+    use Argument::*;
+    check_arguments(
+        [1e-3, 1e3, 0.05, 1e-4],
+        [MaxError, Acceleration, Overshoot, SamplePeriod],
+        |[e, a, o, ts]| second_order_from_tracking_error_sampled(e, a, o, ts),
+    );
+    let sampled = |o: f64, ts: f64| second_order_from_tracking_error_sampled(1e-3, 1e3, o, ts);
+    assert!(matches!(
+        sampled(1.0, 1e-4),
+        Err(Error::OutOfRange {
+            argument: Overshoot,
+            ..
+        })
+    ));
+    assert_eq!(
+        sampled(1e-9, 1e-4).unwrap_err(),
+        Error::NoSolution(Overshoot)
+    );
+    assert!(matches!(
+        sampled(0.05, 2e-3),
+        Err(Error::TooFastForSampleRate {
+            argument: MaxError,
+            ..
+        })
+    ));
+    assert!(matches!(
+        sampled(0.05, 1e-8),
+        Err(Error::OutOfRange {
+            argument: MaxError,
+            ..
+        })
+    ));
 }

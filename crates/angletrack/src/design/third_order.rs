@@ -162,16 +162,8 @@ pub fn third_order_from_overshoot(
         k_prev = k;
         o_prev = o;
     }
-    let (mut a, mut b, decreasing) = bracket.ok_or(Error::NoSolution(Argument::Overshoot))?;
-    while (b - a) > 1e-10 * b {
-        let mid = 0.5 * (a + b);
-        if (overshoot_at(mid) > target) == decreasing {
-            a = mid;
-        } else {
-            b = mid;
-        }
-    }
-    let k = 0.5 * (a + b);
+    let (a, b, decreasing) = bracket.ok_or(Error::NoSolution(Argument::Overshoot))?;
+    let k = linalg::bisect(|k| (overshoot_at(k) > target) == decreasing, a, b, 1e-10);
     let unit = continuous_step(&linalg::monic_from_roots(&third_order_poles(k, 1.0, psi)));
     let t = settling / unit.settling_time_s;
     if !t.is_finite() || t <= 0.0 {

@@ -96,9 +96,7 @@ fn bench_update<T: Real, const N: usize, S: SinCos<T>>(
     workload: &Workload<T>,
     gains: Gains<T, N, S>,
     id: &str,
-) where
-    Order<N>: SupportedOrder,
-{
+) {
     let start = workload.initial_state::<N>();
     group.bench_function(id, |b| {
         b.iter(|| {
@@ -117,9 +115,7 @@ fn bench_bank<T: Real, const N: usize, const L: usize>(
     group: &mut BenchmarkGroup<'_, WallTime>,
     gains: Gains<T, N, Fast>,
     id: &str,
-) where
-    Order<N>: SupportedOrder,
-{
+) {
     let signal = benchmark_scenario(BLOCK + L);
     let (c, s) = channels::<T>(&signal);
     let y_c: Vec<[T; L]> = (0..=BLOCK)

@@ -3,7 +3,7 @@
 
 use core::f64::consts::PI;
 
-use angletrack_core::{Gains, Order, SupportedOrder};
+use angletrack_core::Gains;
 use nalgebra::{Complex, DMatrix, DVector};
 
 use super::step::{SETTLING_BAND, StepResponse};
@@ -16,10 +16,7 @@ const MAX_SIMULATION_SAMPLES: usize = 4_000_000;
 /// the loop polynomial in `z - 1`) and their continuous equivalents `ln(z_i) / Ts` (rad/s).
 pub(super) fn loop_poles<const N: usize>(
     gains: &Gains<f64, N>,
-) -> (Vec<Complex<f64>>, Vec<Complex<f64>>)
-where
-    Order<N>: SupportedOrder,
-{
+) -> (Vec<Complex<f64>>, Vec<Complex<f64>>) {
     let ts = gains.sample_period();
     let shifted = linalg::roots(&gains.loop_polynomial());
     let equivalent = shifted.iter().map(|&u| linalg::ln_1p(u) / ts).collect();
@@ -28,10 +25,7 @@ where
 
 /// The small-signal (linear) step response of the discrete loop of `gains`, simulated until
 /// every transient has decayed; `None` if that takes more than the longest simulation.
-pub(crate) fn small_signal_step<const N: usize>(gains: &Gains<f64, N>) -> Option<StepResponse>
-where
-    Order<N>: SupportedOrder,
-{
+pub(crate) fn small_signal_step<const N: usize>(gains: &Gains<f64, N>) -> Option<StepResponse> {
     let discrete = DiscreteLoop::new(&gains.gains(), gains.sample_period());
     let (_, equivalent) = loop_poles(gains);
     let samples = discrete.horizon(&equivalent);

@@ -1,7 +1,7 @@
 //! Noise prediction (`docs/theory.md §8`): the steady-state error covariance of the
 //! linearised loop, from the discrete Lyapunov equation.
 
-use angletrack_core::{Gains, Order, SupportedOrder};
+use angletrack_core::Gains;
 
 use super::discrete_loop::DiscreteLoop;
 use crate::error::{Argument, Error, non_negative};
@@ -39,10 +39,7 @@ pub fn predicted_error<const N: usize>(
     gains: &Gains<f64, N>,
     sensor_noise_std: f64,
     process_noise_q: f64,
-) -> Result<PredictedError, Error>
-where
-    Order<N>: SupportedOrder,
-{
+) -> Result<PredictedError, Error> {
     let sigma = non_negative(sensor_noise_std, Argument::SensorNoiseStd)?;
     let q = non_negative(process_noise_q, Argument::ProcessNoise)?;
     let ts = gains.sample_period();
@@ -83,10 +80,7 @@ pub fn predicted_error_on_kalman_model<const N: usize>(
     gains: &Gains<f64, N>,
     sensor_noise_std: f64,
     jerk_process_noise_q: f64,
-) -> Result<Option<PredictedError>, Error>
-where
-    Order<N>: SupportedOrder,
-{
+) -> Result<Option<PredictedError>, Error> {
     let q = non_negative(jerk_process_noise_q, Argument::ProcessNoise)?;
     if N == 2 && q > 0.0 {
         non_negative(sensor_noise_std, Argument::SensorNoiseStd)?;

@@ -1,6 +1,6 @@
 //! The design's "datasheet": everything the analysis predicts about a gain set.
 
-use angletrack_core::{FaultThresholds, Gains, Order, SupportedOrder};
+use angletrack_core::{FaultThresholds, Gains};
 use nalgebra::Complex;
 
 use super::discrete_loop::{DiscreteLoop, loop_poles};
@@ -138,10 +138,7 @@ impl DesignReport {
     /// println!("{report}");
     /// # Ok::<(), angletrack::Error>(())
     /// ```
-    pub fn new<const N: usize>(design: &Design<N>, sensor_noise_std: f64) -> Result<Self, Error>
-    where
-        Order<N>: SupportedOrder,
-    {
+    pub fn new<const N: usize>(design: &Design<N>, sensor_noise_std: f64) -> Result<Self, Error> {
         let sigma = non_negative(sensor_noise_std, Argument::SensorNoiseStd)?;
         let gains = design.gains;
         let ts = gains.sample_period();

@@ -3,7 +3,7 @@
 
 use core::f64::consts::PI;
 
-use angletrack_core::{Gains, ObserverState, Order, SupportedOrder};
+use angletrack_core::{Gains, ObserverState};
 
 /// The largest speed (rad/s) an observer sampled every `sample_period_s` (s) tracks: the
 /// Nyquist speed `pi / Ts`, half a turn per sample (`docs/theory.md §9`).
@@ -35,10 +35,7 @@ pub(super) fn simulate_nonlinear<const N: usize>(
     gains: &Gains<f64, N>,
     samples: usize,
     truth: impl Fn(usize) -> f64,
-) -> impl Iterator<Item = f64>
-where
-    Order<N>: SupportedOrder,
-{
+) -> impl Iterator<Item = f64> {
     let gains = *gains;
     let mut state = ObserverState::at(0.0, 0.0, 0.0, gains.sample_period());
     (0..samples).map(move |k| {
@@ -49,10 +46,7 @@ where
 
 /// The largest speed step acquired from rest without a cycle slip, see
 /// [`DesignReport::acquisition_speed_rad_s`].
-pub(super) fn acquisition_speed<const N: usize>(gains: &Gains<f64, N>, samples: usize) -> f64
-where
-    Order<N>: SupportedOrder,
-{
+pub(super) fn acquisition_speed<const N: usize>(gains: &Gains<f64, N>, samples: usize) -> f64 {
     let ts = gains.sample_period();
     let acquires = |speed: f64| {
         let step = speed * ts;

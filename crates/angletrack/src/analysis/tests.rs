@@ -104,10 +104,7 @@ fn acquisition_speed_separates_lock_from_cycle_slip() {
 /// in the firmware) over a shaft at rest brought at `acceleration` rad/s^2 up to `speed`
 /// rad/s, then held there for 0.1 s; with `acceleration` 0, a shaft and an observer both
 /// started at `speed`.
-fn worst_error_up_to<const N: usize>(gains: &Gains<f64, N>, speed: f64, acceleration: f64) -> f64
-where
-    angletrack_core::Order<N>: angletrack_core::SupportedOrder,
-{
+fn worst_error_up_to<const N: usize>(gains: &Gains<f64, N>, speed: f64, acceleration: f64) -> f64 {
     let ts = gains.sample_period();
     let ramp_s = if acceleration > 0.0 {
         speed / acceleration

@@ -57,10 +57,7 @@ impl DesignMethod {
 /// Convert to the float type of the firmware with [`Design::to_gains`]; analyse with
 /// [`DesignReport::new`](crate::DesignReport::new).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Design<const N: usize>
-where
-    Order<N>: SupportedOrder,
-{
+pub struct Design<const N: usize> {
     /// The discrete gains, checked by the core.
     pub gains: Gains<f64, N>,
     /// The design rule.
@@ -78,10 +75,7 @@ where
     pub kalman: Option<KalmanSolution>,
 }
 
-impl<const N: usize> Design<N>
-where
-    Order<N>: SupportedOrder,
-{
+impl<const N: usize> Design<N> {
     /// Wraps gains designed elsewhere, to analyse them.
     ///
     /// ```
@@ -112,7 +106,10 @@ where
     /// assert_eq!(gains.sample_period(), 1e-4_f32);
     /// # Ok::<(), angletrack::Error>(())
     /// ```
-    pub fn to_gains<T: Real>(&self) -> Result<Gains<T, N>, Error> {
+    pub fn to_gains<T: Real>(&self) -> Result<Gains<T, N>, Error>
+    where
+        Order<N>: SupportedOrder,
+    {
         convert_gains(&self.gains)
     }
 

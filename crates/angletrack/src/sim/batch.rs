@@ -1,6 +1,6 @@
 //! Any number of channels on one gain set: several axes, or a Monte Carlo batch.
 
-use angletrack_core::{ChannelBank, Gains, Order, Real, SinCos, SupportedOrder};
+use angletrack_core::{ChannelBank, Gains, Real, SinCos};
 
 use crate::error::{Argument, Error};
 
@@ -15,10 +15,7 @@ pub const LANES: usize = 8;
 /// Samples and outputs are `channels x samples` arrays in row-major order (channel `c`,
 /// sample `k` at `c * samples + k`).
 #[derive(Debug, Clone)]
-pub struct ChannelBatch<T: Real, const N: usize, S = <T as Real>::DefaultSinCos>
-where
-    Order<N>: SupportedOrder,
-{
+pub struct ChannelBatch<T: Real, const N: usize, S = <T as Real>::DefaultSinCos> {
     gains: Gains<T, N, S>,
     channels: usize,
     banks: Vec<ChannelBank<T, N, LANES>>,
@@ -42,10 +39,7 @@ pub struct BatchColumns<'a, T> {
     pub faults: &'a mut [u8],
 }
 
-impl<T: Real, const N: usize, S: SinCos<T>> ChannelBatch<T, N, S>
-where
-    Order<N>: SupportedOrder,
-{
+impl<T: Real, const N: usize, S: SinCos<T>> ChannelBatch<T, N, S> {
     /// A batch of `channels` observers, each initialised by its first valid sample.
     ///
     /// ```

@@ -2,7 +2,7 @@
 
 use core::f64::consts::{PI, TAU};
 
-use angletrack_core::{Gains, ObserverState, Order, Real, SinCos, SupportedOrder};
+use angletrack_core::{Gains, ObserverState, Real, SinCos};
 
 use super::Scenario;
 use crate::analysis::StepResponse;
@@ -39,10 +39,7 @@ pub struct Run {
 pub fn run<T: Real, const N: usize, S: SinCos<T>>(
     gains: &Gains<T, N, S>,
     scenario: &Scenario,
-) -> Run
-where
-    Order<N>: SupportedOrder,
-{
+) -> Run {
     let n = scenario.y_c.len().min(scenario.y_s.len());
     let mut out = Run {
         angle_rad: Vec::with_capacity(n),

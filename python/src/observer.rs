@@ -4,9 +4,7 @@
 //! estimates out, with the GIL released, straight into preallocated arrays that numpy owns.
 
 use angletrack::BatchColumns;
-use angletrack_core::{
-    Faults, Observer as CoreObserver, ObserverState, Order, Real, SinCos, SupportedOrder,
-};
+use angletrack_core::{Faults, Observer as CoreObserver, ObserverState, Real, SinCos};
 use pyo3::prelude::*;
 
 use crate::arrays::{Float, check_equal_lengths, samples};
@@ -28,10 +26,7 @@ pub trait ObserverOps: Run {
     fn clear_faults(&mut self) -> Faults;
 }
 
-impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for CoreObserver<T, N, S>
-where
-    Order<N>: SupportedOrder,
-{
+impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for CoreObserver<T, N, S> {
     fn run(&mut self, py: Python<'_>, y_c: Arg<'_, '_>, y_s: Arg<'_, '_>) -> Result<Estimates> {
         let y_c = samples::<T>(y_c, "y_c")?;
         let y_s = samples::<T>(y_s, "y_s")?;
@@ -43,10 +38,7 @@ where
     }
 }
 
-impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for CoreObserver<T, N, S>
-where
-    Order<N>: SupportedOrder,
-{
+impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for CoreObserver<T, N, S> {
     fn estimate(&self) -> Estimate {
         Estimate::from_core(&self.gains.estimate(&self.state))
     }
@@ -89,9 +81,7 @@ fn run_columns<T: Real, const N: usize, S: SinCos<T>>(
     observer: &mut CoreObserver<T, N, S>,
     y_c: &[T],
     y_s: &[T],
-) where
-    Order<N>: SupportedOrder,
-{
+) {
     let n = y_c.len().min(y_s.len()).min(columns.angle.len());
     // Slices of one length: the bounds checks of the loop below are removed.
     let (y_c, y_s) = (&y_c[..n], &y_s[..n]);

@@ -129,8 +129,8 @@ fn second_order_bias_under_constant_acceleration_is_alpha_over_k_b() {
     }
 }
 
-/// The full extended Kalman filter of the model of `docs/theory.md §4`: 3 states, the 2-D measurement
-/// `(cos x1, sin x1)` with covariance `r I`, and a time-varying covariance.
+/// The full extended Kalman filter of the model of `docs/theory.md §4`: 3 states, the 2-D
+/// measurement `(cos x1, sin x1)` with covariance `r I`, and a time-varying covariance.
 struct ExtendedKalmanFilter {
     x: Vector3<f64>,
     p: Matrix3<f64>,

@@ -39,6 +39,10 @@
 //! * Metrics ([`run`], [`Metrics`]): a run of any observer measured against the truth.
 //! * Many channels ([`ChannelBatch`]): any number of channels on one gain set, run by the
 //!   core's vectorisable [`ChannelBank`]s.
+//!
+//! The mathematics is in the repository's `docs/theory.md`: the designs in §2 to §4, the
+//! discretisations in §7, the noise prediction in §8, the speed limits in §9; each module
+//! cites the section it implements.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub use angletrack_core as core;

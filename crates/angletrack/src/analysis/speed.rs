@@ -19,7 +19,9 @@ use angletrack_core::{Gains, ObserverState};
 /// speed locks onto an alias, and
 /// [`ObserverState::at`](angletrack_core::ObserverState::at) limits a starting speed to
 /// this one. It is an upper bound: how fast a given loop acquires a speed step from rest is
-/// [`DesignReport::acquisition_speed_rad_s`](crate::DesignReport::acquisition_speed_rad_s).
+/// [`DesignReport::acquisition_speed_rad_s`](crate::DesignReport::acquisition_speed_rad_s),
+/// and the monitor raises `LOSS_OF_TRACKING` from half of it by default, keeping a quarter
+/// turn per sample of margin to the alias boundary (`§9`, the monitor's threshold).
 ///
 /// ```
 /// let limit = angletrack::max_trackable_speed_rad_s(1e-4); // 10 kHz

@@ -1,4 +1,5 @@
-//! Unit tests of the analysis: steady-state errors, the report, the acquisition speed.
+//! Unit tests of the analysis: steady-state errors, the report, noise on the Kalman model
+//! (`docs/theory.md §8`) and the speed limits (`§9`).
 
 use std::f64::consts::PI;
 

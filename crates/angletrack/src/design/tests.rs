@@ -1,4 +1,5 @@
-//! Unit tests of the design functions: arguments, gains, poles and discretisations.
+//! Unit tests of the design functions: arguments, gains, poles and discretisations
+//! (`docs/theory.md §2` to `§4`, `§7`).
 
 use std::f64::consts::{PI, SQRT_2};
 

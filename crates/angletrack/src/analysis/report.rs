@@ -48,8 +48,9 @@ pub struct DesignReport {
     /// Order 2: the discrete acceleration constant `Ka = l2 / ((1 - l1) Ts^2)` (1/s^2); the
     /// steady-state angle error under constant acceleration `alpha` is `alpha / Ka`.
     pub acceleration_constant_per_s2: Option<f64>,
-    /// Order 2: the continuous `k_b1` of the design (or, for given gains, the product of the
-    /// continuous-equivalent poles) (1/s^2).
+    /// Order 2: the continuous `k_b1` of a continuous design; for a design without a
+    /// continuous loop (given, sampled or Kalman gains), the product of the
+    /// continuous-equivalent poles (1/s^2).
     pub continuous_acceleration_constant_per_s2: Option<f64>,
     /// Order 3: steady-state angle error (rad) per unit constant jerk (rad/s^3) of the
     /// discrete loop (s^3).

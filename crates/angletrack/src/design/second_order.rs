@@ -32,7 +32,10 @@ fn check_damping(damping: f64) -> Result<f64, Error> {
 /// sets `k_a1 = 2 m sqrt(k_b1)`.
 ///
 /// `m = 1.945` gives 5 % overshoot, `m = sqrt(2)/2` (Butterworth) 20.8 %. The discrete
-/// loop's acceleration constant differs from `k_b1` by the discretisation (see the report).
+/// loop's acceleration constant and overshoot differ from the continuous loop's by the
+/// discretisation (see the report), more so the fewer samples per loop time constant;
+/// [`second_order_from_tracking_error_sampled`](crate::second_order_from_tracking_error_sampled)
+/// meets the same specification on the sampled loop.
 ///
 /// ```
 /// use angletrack::{Discretisation, second_order_from_tracking_error};

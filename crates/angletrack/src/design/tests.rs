@@ -1,10 +1,11 @@
 //! Unit tests of the design functions: arguments, gains, poles and discretisations
 //! (`docs/theory.md §2` to `§4`, `§7`).
 
-use std::f64::consts::{PI, SQRT_2};
+use std::f64::consts::SQRT_2;
 
 use angletrack_core::{Gains, ObserverState};
 
+use crate::paper::{POLE_FREQUENCY_RATIO, POLE_RATIO};
 use crate::*;
 
 const PM: Discretisation = Discretisation::PoleMatching;
@@ -59,7 +60,7 @@ fn every_design_function_refuses_each_bad_argument() {
         second_order_butterworth(tc, ts, PM)
     });
     check_arguments(
-        [39.04, 0.01, 1.5 * PI, 1e-5],
+        [POLE_RATIO, 0.01, POLE_FREQUENCY_RATIO, 1e-5],
         [
             PoleRatio,
             PoleTimeConstant,
@@ -69,7 +70,7 @@ fn every_design_function_refuses_each_bad_argument() {
         |[k, t, psi, ts]| third_order_from_poles(k, t, psi, ts, PM),
     );
     check_arguments(
-        [0.1, 0.05, 1.5 * PI, 1e-5],
+        [0.1, 0.05, POLE_FREQUENCY_RATIO, 1e-5],
         [Overshoot, SettlingTime, PoleFrequencyRatio, SamplePeriod],
         |[o, st, psi, ts]| third_order_from_overshoot(o, st, psi, ts, PM),
     );
@@ -106,7 +107,13 @@ fn out_of_range_arguments_name_the_argument() {
     assert!(too_fast.to_string().contains("bandwidth_hz"));
     // Lightly damped complex poles leave the forward-Euler stability region first.
     // K = 2, T = 1 ms at 10 kHz: the complex pair has |s| Ts = 0.48 > 2 / sqrt(1 + psi^2).
-    let euler = third_order_from_poles(2.0, 1e-3, 1.5 * PI, 1e-4, Discretisation::ForwardEuler);
+    let euler = third_order_from_poles(
+        2.0,
+        1e-3,
+        POLE_FREQUENCY_RATIO,
+        1e-4,
+        Discretisation::ForwardEuler,
+    );
     assert!(matches!(
         euler,
         Err(Error::TooFastForSampleRate {
@@ -114,7 +121,7 @@ fn out_of_range_arguments_name_the_argument() {
             ..
         })
     ));
-    assert!(third_order_from_poles(2.0, 1e-3, 1.5 * PI, 1e-4, PM).is_ok());
+    assert!(third_order_from_poles(2.0, 1e-3, POLE_FREQUENCY_RATIO, 1e-4, PM).is_ok());
     assert!(matches!(
         second_order_from_tracking_error(1e-3, 1e3, 1e4, 1e-5, PM),
         Err(Error::OutOfRange {
@@ -138,7 +145,7 @@ fn out_of_range_arguments_name_the_argument() {
     ));
     // Below what K <= 1e4 gives: refused (after a bounded search).
     assert_eq!(
-        third_order_from_overshoot(1e-9, 0.05, 1.5 * PI, 1e-5, PM).unwrap_err(),
+        third_order_from_overshoot(1e-9, 0.05, POLE_FREQUENCY_RATIO, 1e-5, PM).unwrap_err(),
         Error::NoSolution(Argument::Overshoot)
     );
     // psi = 1 cannot give 50 % overshoot in the family.
@@ -161,7 +168,7 @@ fn shift(design_report: &DesignReport) -> f64 {
 #[test]
 fn pole_matching_is_exact_to_rounding_even_far_below_the_sample_rate() {
     for ts in [1e-3, 1e-5, 1e-7, 1e-9] {
-        let design = third_order_from_poles(39.04, 0.1, 1.5 * PI, ts, PM).unwrap();
+        let design = third_order_from_poles(POLE_RATIO, 0.1, POLE_FREQUENCY_RATIO, ts, PM).unwrap();
         let poles = crate::linalg::roots(&design.gains.loop_polynomial());
         for s in &design.continuous_poles {
             let nearest = poles
@@ -237,16 +244,16 @@ fn butterworth_settings_have_the_textbook_gains() {
 
 #[test]
 fn overshoot_design_meets_its_overshoot_and_settling_time() {
-    let design = third_order_from_overshoot(0.1, 0.04, 1.5 * PI, 2e-6, PM).unwrap();
+    let design = third_order_from_overshoot(0.1, 0.04, POLE_FREQUENCY_RATIO, 2e-6, PM).unwrap();
     let report = DesignReport::new(&design, 0.0).unwrap();
     let continuous = report.continuous_step.unwrap();
     assert!((continuous.overshoot - 0.1).abs() < 1e-6);
     assert!((continuous.settling_time_s / 0.04 - 1.0).abs() < 1e-3);
     // The discrete loop, at ~700 times its bandwidth, follows within 0.1 point.
     assert!((report.linear_step.overshoot - 0.1).abs() < 1e-3);
-    // The paper's K for 10 %: 39.04.
+    // The paper's K for 10 %.
     let k = design.continuous_poles[0].re / design.continuous_poles[1].re;
-    assert!((k - 39.04).abs() < 0.05, "K = {k}");
+    assert!((k - POLE_RATIO).abs() < 0.05, "K = {k}");
 }
 
 #[test]

@@ -2,6 +2,7 @@
 
 use std::f64::consts::PI;
 
+use crate::paper::{POLE_FREQUENCY_RATIO, POLE_RATIO};
 use crate::*;
 
 const PM: Discretisation = Discretisation::PoleMatching;
@@ -266,7 +267,7 @@ fn scenario_refuses_bad_arguments() {
 #[test]
 fn metrics_of_a_step_match_the_report_of_the_nonlinear_loop() {
     let ts = 1e-5;
-    let design = third_order_from_poles(39.04, 0.01, 1.5 * PI, ts, PM).unwrap();
+    let design = third_order_from_poles(POLE_RATIO, 0.01, POLE_FREQUENCY_RATIO, ts, PM).unwrap();
     let report = DesignReport::new(&design, 0.0).unwrap();
     // At rest for one sample (the observer initialises on it), then the 179 degree step.
     let profile = MotionProfile::new(0.0, 0.0)

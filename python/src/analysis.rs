@@ -1,7 +1,6 @@
 //! The analysis of a gain set: `DesignReport` (the design's datasheet), `StepResponse` and
 //! `predicted_error` (the noise prediction of the linearised loop).
 
-use angletrack::core::{Order, SupportedOrder};
 use pyo3::prelude::*;
 use pyo3::types::PyComplex;
 
@@ -131,22 +130,25 @@ impl DesignReport {
     fn sensor_noise_std(&self) -> f64 {
         self.inner.sensor_noise_std
     }
-    /// Predicted steady-state RMS angle error (rad) from sensor noise.
+    /// Predicted steady-state RMS angle error (rad) from the sensor noise alone (the shaft
+    /// at constant speed), the same assumption for every design.
     #[getter]
     fn angle_error_rms_rad(&self) -> f64 {
         self.inner.angle_error_rms_rad
     }
-    /// Predicted steady-state RMS speed error (rad/s) from sensor noise.
+    /// Predicted steady-state RMS speed error (rad/s) from the sensor noise alone.
     #[getter]
     fn speed_error_rms_rad_s(&self) -> f64 {
         self.inner.speed_error_rms_rad_s
     }
-    /// Kalman design: `sqrt(P11)` (rad).
+    /// Kalman design: `sqrt(P11)` (rad), the RMS angle error on the design's own model
+    /// (its `q` and `r`, random jerk included): the smallest any linear observer reaches
+    /// there, so larger than `angle_error_rms_rad` (sensor noise alone).
     #[getter]
     fn kalman_angle_floor_rad(&self) -> Option<f64> {
         self.inner.kalman_angle_floor_rad
     }
-    /// Kalman design: `sqrt(P22) / Ts` (rad/s).
+    /// Kalman design: `sqrt(P22) / Ts` (rad/s), on the model of `kalman_angle_floor_rad`.
     #[getter]
     fn kalman_speed_floor_rad_s(&self) -> Option<f64> {
         self.inner.kalman_speed_floor_rad_s
@@ -177,7 +179,7 @@ impl DesignReport {
     fn large_step_final_rad(&self) -> f64 {
         self.inner.large_step_final_rad
     }
-    /// The largest speed the phase detector can follow, `pi / Ts` (rad/s).
+    /// The largest trackable speed, `pi / Ts` (rad/s, `docs/theory.md §9`).
     #[getter]
     fn max_speed_rad_s(&self) -> f64 {
         self.inner.max_speed_rad_s
@@ -217,19 +219,13 @@ impl PyPredictedError {
     }
 }
 
-fn predicted<const N: usize>(
-    gains: &angletrack::Gains<f64, N>,
-    sensor_noise_std: f64,
-    process_noise_q: f64,
-) -> Result<PyPredictedError>
-where
-    Order<N>: SupportedOrder,
-{
-    let p = angletrack::predicted_error(gains, sensor_noise_std, process_noise_q)?;
-    Ok(PyPredictedError {
-        angle_rms_rad: p.angle_rms_rad,
-        speed_rms_rad_s: p.speed_rms_rad_s,
-    })
+impl From<angletrack::PredictedError> for PyPredictedError {
+    fn from(p: angletrack::PredictedError) -> Self {
+        Self {
+            angle_rms_rad: p.angle_rms_rad,
+            speed_rms_rad_s: p.speed_rms_rad_s,
+        }
+    }
 }
 
 /// Steady-state RMS angle and speed errors of the linearised loop with `gains`, driven by
@@ -243,5 +239,34 @@ pub fn predicted_error(
     sensor_noise_std: f64,
     process_noise_q: f64,
 ) -> Result<PyPredictedError> {
-    with_gains!(&gains.set, g => predicted(g, sensor_noise_std, process_noise_q))
+    let p = with_gains!(&gains.set, g => angletrack::predicted_error(g, sensor_noise_std, process_noise_q))?;
+    Ok(p.into())
+}
+
+/// Steady-state RMS angle and speed errors of the loop with `gains` on the Kalman ATO's
+/// model: white sensor noise `sensor_noise_std` per channel and a random jerk of scaled
+/// variance `process_noise_q` (a Kalman design's own `q`). `None` for a 2nd-order loop with
+/// `process_noise_q > 0`: a random jerk makes the acceleration a random walk, which a type-2
+/// loop does not follow to a steady state.
+#[pyfunction]
+#[pyo3(signature = (gains, sensor_noise_std, process_noise_q))]
+pub fn predicted_error_on_kalman_model(
+    gains: PyGains,
+    sensor_noise_std: f64,
+    process_noise_q: f64,
+) -> Result<Option<PyPredictedError>> {
+    let p = with_gains!(&gains.set, g => angletrack::predicted_error_on_kalman_model(
+        g,
+        sensor_noise_std,
+        process_noise_q
+    ))?;
+    Ok(p.map(Into::into))
+}
+
+/// The largest speed (rad/s) an observer sampled every `sample_period_s` tracks: `pi / Ts`,
+/// half a turn per sample (`docs/theory.md §9`).
+#[pyfunction]
+#[pyo3(signature = (sample_period_s))]
+pub fn max_trackable_speed_rad_s(sample_period_s: f64) -> f64 {
+    angletrack::max_trackable_speed_rad_s(sample_period_s)
 }

@@ -134,10 +134,19 @@ impl PyDesign {
         with_design!(&self.inner, d => complex_list(py, &d.continuous_poles))
     }
 
-    /// The continuous gains `(k_a, k_b[, k_c])` (1/s, 1/s^2, 1/s^3) of a continuous design.
+    /// The continuous gains `(k_a, k_b[, k_c])` (1/s, 1/s^2, 1/s^3) of a continuous design,
+    /// in the order of `gains` (the state each corrects, angle first: `l_i ~ k_i Ts^i`).
     #[getter]
     fn continuous_gains(&self) -> Option<Vec<f64>> {
         with_design!(&self.inner, d => d.continuous_gains.map(|k| k.to_vec()))
+    }
+
+    /// Coefficients (lowest power first, leading 1 omitted) of the continuous closed-loop
+    /// polynomial `s^N + ... + c0` of a continuous design, the order of
+    /// `Gains.loop_polynomial`: `continuous_gains` reversed.
+    #[getter]
+    fn continuous_loop_polynomial(&self) -> Option<Vec<f64>> {
+        with_design!(&self.inner, d => d.continuous_loop_polynomial())
     }
 
     /// The Riccati solution of a Kalman design; `None` otherwise.

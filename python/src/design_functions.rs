@@ -2,7 +2,10 @@
 
 use pyo3::prelude::*;
 
-use crate::analysis::{DesignReport, PyPredictedError, PyStepResponse, predicted_error};
+use crate::analysis::{
+    DesignReport, PyPredictedError, PyStepResponse, max_trackable_speed_rad_s, predicted_error,
+    predicted_error_on_kalman_model,
+};
 use crate::design::{PyDesign, PyKalmanSolution};
 use crate::errors::Result;
 
@@ -25,6 +28,26 @@ pub fn second_order_from_tracking_error(
         damping,
         sample_period_s,
         d,
+    )?
+    .into())
+}
+
+/// 2nd-order ATO whose sampled loop has exactly the angle error `max_error_rad` at the
+/// acceleration `acceleration_rad_s2` and exactly the step-response `overshoot` (fraction,
+/// 0.05 for 5 %): the discrete loop is designed directly, so no discretisation shifts it.
+#[pyfunction]
+#[pyo3(signature = (max_error_rad, acceleration_rad_s2, overshoot, sample_period_s))]
+pub fn second_order_from_tracking_error_sampled(
+    max_error_rad: f64,
+    acceleration_rad_s2: f64,
+    overshoot: f64,
+    sample_period_s: f64,
+) -> Result<PyDesign> {
+    Ok(angletrack::second_order_from_tracking_error_sampled(
+        max_error_rad,
+        acceleration_rad_s2,
+        overshoot,
+        sample_period_s,
     )?
     .into())
 }
@@ -173,6 +196,12 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyKalmanSolution>()?;
     m.add_class::<PyPredictedError>()?;
     m.add_function(wrap_pyfunction!(predicted_error, m)?)?;
+    m.add_function(wrap_pyfunction!(predicted_error_on_kalman_model, m)?)?;
+    m.add_function(wrap_pyfunction!(max_trackable_speed_rad_s, m)?)?;
+    m.add_function(wrap_pyfunction!(
+        second_order_from_tracking_error_sampled,
+        m
+    )?)?;
     m.add_function(wrap_pyfunction!(second_order_from_tracking_error, m)?)?;
     m.add_function(wrap_pyfunction!(second_order_from_bandwidth, m)?)?;
     m.add_function(wrap_pyfunction!(second_order_butterworth, m)?)?;

@@ -71,6 +71,17 @@ def test_design_json_round_trips_into_the_same_gains(tmp_path):
     assert doc["design"]["specification"]["function"] == "kalman_from_jerk_std"
 
 
+def test_design_sampled_second_order_when_the_overshoot_is_given(tmp_path):
+    path = tmp_path / "gains.json"
+    assert run_cli("design", "second-order", "--sample-rate", 20000, "--max-error", 1e-3, "--acceleration", 2000,
+                   "--overshoot", 0.05, "--format", "json", "--output", path) == 0
+    doc = json.loads(path.read_text())
+    assert doc["design"]["specification"]["function"] == "second_order_from_tracking_error_sampled"
+    assert "discretisation" not in doc["design"]["specification"]
+    assert run_cli("design", "second-order", "--sample-rate", 20000, "--max-error", 1e-3, "--acceleration", 2000,
+                   "--discretisation", "zoh") == 2
+
+
 def test_design_rust_block_compiles(tmp_path):
     path = tmp_path / "gains.rs"
     assert run_cli("design", "second-order", "--sample-rate", 10000, "--bandwidth", 100, "--damping", 1.945,
@@ -159,6 +170,10 @@ def test_report_writes_markdown_and_plots(tmp_path):
     text = (out / "report.md").read_text()
     for paper in ("5.0 %", "20.8 %", "10.0 %", "30.9 %"):
         assert f"| {paper} |" in text
+    # Section 2's noise columns, each on one stated model.
+    assert "RMS angle error, sensor noise 0.01 only (mrad)" in text
+    assert "RMS angle error on the Kalman model: noise 0.01 + random jerk 1e5 rad/s^3 (mrad)" in text
+    assert "| unbounded |" in text
     # The discrete loop's overshoot is within 0.3 points of the paper's, row by row.
     deltas = [float(d) for d in re.findall(r"\| ([+-]\d+\.\d\d) \|", text)]
     assert len(deltas) == 4 and all(abs(d) <= 0.3 for d in deltas)

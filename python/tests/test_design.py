@@ -218,3 +218,55 @@ def test_design_functions_under_random_arguments_give_a_design_or_a_value_error(
         return
     l = design.gains.gains
     assert all(math.isfinite(x) for x in l) and design.gains.sample_period_s > 0
+
+
+def test_noise_on_the_kalman_model_compares_the_three_observers():
+    """Sensor noise and the Kalman model's random jerk (docs/theory.md §4, §8)."""
+    observers = dict(at.paper_compared_observers())
+    kalman = observers["Kalman ATO"]
+    q = kalman.kalman.process_noise_q
+    noise = at.PAPER_COMPARISON_SENSOR_NOISE_STD
+    assert at.predicted_error_on_kalman_model(observers["2nd-order ATO"].gains, noise, q) is None
+    floor = kalman.report(sensor_noise_std=noise).kalman_angle_floor_rad
+    on_model = at.predicted_error_on_kalman_model(kalman.gains, noise, q)
+    assert on_model.angle_rms_rad == pytest.approx(floor, rel=1e-6)
+    third = at.predicted_error_on_kalman_model(observers["3rd-order ATO"].gains, noise, q)
+    assert third.angle_rms_rad > on_model.angle_rms_rad
+    # Without the random jerk it is the sensor-noise-only figure of every design.
+    for design in observers.values():
+        alone = at.predicted_error_on_kalman_model(design.gains, noise, 0.0)
+        assert alone.angle_rms_rad == pytest.approx(design.report(sensor_noise_std=noise).angle_error_rms_rad, rel=1e-12)
+    with pytest.raises(at.ConfigError) as e:
+        at.predicted_error_on_kalman_model(kalman.gains, noise, -1.0)
+    assert e.value.parameter == "process_noise_q"
+
+
+def test_largest_trackable_speed_is_half_a_turn_per_sample():
+    """docs/theory.md §9."""
+    assert at.max_trackable_speed_rad_s(1e-4) == pytest.approx(math.pi / 1e-4, rel=1e-15)
+    d = at.second_order_butterworth(time_constant_s=0.005, sample_period_s=1e-4)
+    assert d.report().max_speed_rad_s == at.max_trackable_speed_rad_s(1e-4)
+
+
+def test_sampled_tracking_error_design_meets_its_specification_on_the_sampled_loop():
+    d = at.second_order_from_tracking_error_sampled(
+        max_error_rad=1e-3, acceleration_rad_s2=2e3, overshoot=0.05, sample_period_s=50e-6
+    )
+    assert d.order == 2 and d.discretisation is None and d.continuous_gains is None
+    np.testing.assert_allclose(d.gains.gains, [0.2134374, 0.003932813], rtol=1e-6)
+    r = d.report()
+    assert 2e3 / r.acceleration_constant_per_s2 == pytest.approx(1e-3, rel=1e-3)
+    assert r.linear_step.overshoot == pytest.approx(0.05, abs=1e-4)
+    with pytest.raises(at.ConfigError) as e:
+        at.second_order_from_tracking_error_sampled(
+            max_error_rad=1e-3, acceleration_rad_s2=2e3, overshoot=1.5, sample_period_s=50e-6
+        )
+    assert e.value.parameter == "overshoot"
+
+
+def test_continuous_gains_pair_with_the_gains_and_the_loop_polynomial_is_lowest_first():
+    d = at.third_order_butterworth(time_constant_s=0.005, sample_period_s=1e-4)
+    k_a, k_b, k_c = d.continuous_gains
+    tc = 0.005
+    assert (k_a, k_b, k_c) == pytest.approx((2 / tc, 2 / tc**2, 1 / tc**3), rel=1e-12)
+    assert d.continuous_loop_polynomial == [k_c, k_b, k_a]

@@ -254,12 +254,25 @@ class Design:
     discretisation: Optional[str]
     continuous_poles: list[complex]
     continuous_gains: Optional[list[float]]
+    """``(k_a, k_b[, k_c])``, in the order of ``gains`` (angle first)."""
+    continuous_loop_polynomial: Optional[list[float]]
+    """The continuous loop polynomial, lowest power first, monic (``continuous_gains`` reversed)."""
     kalman: Optional[KalmanSolution]
     sample_period_s: float
     order: int
     def report(self, sensor_noise_std: float = 0.0) -> DesignReport: ...
 
 def predicted_error(gains: Gains, sensor_noise_std: float, process_noise_q: float = 0.0) -> PredictedError: ...
+def predicted_error_on_kalman_model(
+    gains: Gains, sensor_noise_std: float, process_noise_q: float
+) -> Optional[PredictedError]:
+    """The errors on the Kalman ATO's model (noise and random jerk); ``None`` for a 2nd-order loop."""
+def max_trackable_speed_rad_s(sample_period_s: float) -> float:
+    """``pi / Ts`` (docs/theory.md §9)."""
+def second_order_from_tracking_error_sampled(
+    max_error_rad: float, acceleration_rad_s2: float, overshoot: float, sample_period_s: float
+) -> Design:
+    """The sampled loop has exactly that error at that acceleration, and that overshoot."""
 def second_order_from_tracking_error(
     max_error_rad: float, acceleration_rad_s2: float, damping: float, sample_period_s: float,
     discretisation: _Discretisation = "pole_matching",

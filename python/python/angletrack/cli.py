@@ -108,10 +108,12 @@ def _cmd_track(args: argparse.Namespace) -> int:
 
 # ----------------------------------------------------------------------------- design
 
-#: For each observer, its design variants: (function, {cli option: keyword argument}).
-#: A variant applies when all its required options are given.
+#: For each observer, its design variants: (function, required options, optional options).
+#: A variant applies when all its required options are given; of two that apply, the one whose
+#: options include the other's is meant.
 _DESIGNS = {
     "second-order": [
+        ("second_order_from_tracking_error_sampled", ["max_error", "acceleration", "overshoot"], []),
         ("second_order_from_tracking_error", ["max_error", "acceleration"], ["damping"]),
         ("second_order_from_bandwidth", ["bandwidth"], ["damping"]),
         ("second_order_butterworth", ["butterworth_time_constant"], []),
@@ -151,6 +153,9 @@ _DEFAULTS = {"damping": 1.0, "pole_frequency_ratio": angletrack.PAPER_POLE_FREQU
 
 _CONTINUOUS = {"second-order", "third-order"}
 
+#: Design functions that design the discrete loop itself: no discretisation argument.
+_DISCRETE = {"second_order_from_tracking_error_sampled", "kalman", "kalman_from_jerk_std", "kalman_from_jerk_density"}
+
 
 def _option(dest: str) -> str:
     return "--" + dest.replace("_", "-")
@@ -161,6 +166,7 @@ def _design_from_args(args: argparse.Namespace) -> tuple[angletrack.Design, dict
     given = {dest for dest in _KEYWORDS if getattr(args, dest, None) is not None}
     variants = _DESIGNS[args.observer]
     matching = [v for v in variants if set(v[1]) <= given]
+    matching = [v for v in matching if not any(set(v[1]) < set(w[1]) for w in matching)]
     if len(matching) != 1:
         choices = "; or ".join(" ".join(_option(o) + " ..." for o in req) for _, req, _ in variants)
         what = "several specifications" if matching else "no complete specification"
@@ -177,7 +183,7 @@ def _design_from_args(args: argparse.Namespace) -> tuple[angletrack.Design, dict
     if args.sample_rate is None or not args.sample_rate > 0:
         raise ValueError("sample_rate: --sample-rate must be a positive number of Hz")
     kwargs["sample_period_s"] = 1.0 / args.sample_rate
-    if args.observer in _CONTINUOUS:
+    if function not in _DISCRETE:
         kwargs["discretisation"] = args.discretisation
     design = getattr(angletrack, function)(**kwargs)
     return design, {"function": function, **kwargs}
@@ -189,7 +195,8 @@ def _add_design_parser(sub) -> None:
     design.add_argument("--sample-rate", type=float, required=True, metavar="HZ", help="sample rate (Hz)")
     spec = design.add_argument_group(
         "specification (one set, by observer)",
-        "second-order: --max-error and --acceleration [--damping], or --bandwidth [--damping], or "
+        "second-order: --max-error, --acceleration and --overshoot (met by the sampled loop itself), "
+        "or --max-error and --acceleration [--damping], or --bandwidth [--damping], or "
         "--butterworth-time-constant; third-order: --pole-ratio and --pole-time-constant "
         "[--pole-frequency-ratio], or --overshoot and --settling-time [--pole-frequency-ratio], or "
         "--butterworth-time-constant; kalman: --q and --r, or --jerk-std and --noise-std, or "

@@ -204,10 +204,13 @@ def section_overshoot(settings: list[at.PaperSetting], progress: Progress, plots
 
 
 def section_observers(observers: dict[str, at.Design], reports: dict[str, at.DesignReport]) -> list[str]:
-    """Section 2: the three observers' designs side by side."""
+    """Section 2: the three observers' designs side by side, their noise figures on two stated
+    models: the sensor noise alone, and the Kalman ATO's own model (noise and random jerk)."""
+    jerk_q = observers["Kalman ATO"].kalman.process_noise_q
     rows = []
     for name, design in observers.items():
         r = reports[name]
+        on_kalman_model = at.predicted_error_on_kalman_model(design.gains, SENSOR_NOISE_STD, jerk_q)
         rows.append(
             [
                 name,
@@ -218,10 +221,11 @@ def section_observers(observers: dict[str, at.Design], reports: dict[str, at.Des
                 _num(r.error_per_unit_jerk_s3, ".3g") if r.order == 3 else "-",
                 pct(r.linear_step.overshoot),
                 _num(r.angle_error_rms_rad, ".3g", 1e3),
-                _num(r.kalman_angle_floor_rad, ".3g", 1e3),
+                "unbounded" if on_kalman_model is None else _num(on_kalman_model.angle_rms_rad, ".3g", 1e3),
                 _num(r.acquisition_speed_rad_s, ".4g"),
             ]
         )
+    jerk_std = math.sqrt(jerk_q) / SAMPLE_PERIOD_S**3
     header = [
         "observer",
         "design",
@@ -230,8 +234,9 @@ def section_observers(observers: dict[str, at.Design], reports: dict[str, at.Des
         "Ka (1/s^2)",
         "error per jerk (s^3)",
         "linear overshoot",
-        "predicted RMS angle error (mrad)",
-        "Kalman floor (mrad)",
+        f"RMS angle error, sensor noise {SENSOR_NOISE_STD} only (mrad)",
+        f"RMS angle error on the Kalman model: noise {SENSOR_NOISE_STD} + random jerk "
+        f"{jerk_std:.0e}".replace("e+0", "e") + " rad/s^3 (mrad)",
         "speed step acquired (rad/s)",
     ]
     return [
@@ -242,6 +247,12 @@ def section_observers(observers: dict[str, at.Design], reports: dict[str, at.Des
         f"-3 dB bandwidth; noise figures for white noise of {SENSOR_NOISE_STD} per channel (amplitude 1).",
         "",
         _table(header, rows),
+        "",
+        "The second noise column is the Kalman design's own model; the Kalman ATO's entry is its floor "
+        "sqrt(P11), the smallest RMS error any linear observer reaches on that model, and larger than its "
+        "sensor-noise-only figure because it includes the random jerk. On that model the 2nd-order ATO has "
+        "no steady state: a random jerk makes the acceleration a random walk, which a type II loop does not "
+        "follow with a bounded error.",
     ]
 
 

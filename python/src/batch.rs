@@ -2,7 +2,6 @@
 //! `ChannelBatch`, run by the core's vectorisable `ChannelBank`s) on 2-D numpy arrays.
 
 use angletrack::ChannelBatch;
-use angletrack_core::{Order, SupportedOrder};
 use pyo3::prelude::*;
 
 use crate::arrays::{Float, channel_samples};
@@ -11,10 +10,7 @@ use crate::errors::{Error, Result};
 use crate::estimates::{Estimates, OutputArrays};
 use crate::gains::PyGains;
 
-impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for ChannelBatch<T, N, S>
-where
-    Order<N>: SupportedOrder,
-{
+impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for ChannelBatch<T, N, S> {
     fn run(&mut self, py: Python<'_>, y_c: Arg<'_, '_>, y_s: Arg<'_, '_>) -> Result<Estimates> {
         let (y_c, channels_c, samples) = channel_samples::<T>(y_c, "y_c")?;
         let (y_s, channels_s, samples_s) = channel_samples::<T>(y_s, "y_s")?;

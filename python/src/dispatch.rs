@@ -5,9 +5,7 @@
 use core::fmt::Debug;
 
 use angletrack::{ChannelBatch, convert_gains};
-use angletrack_core::{
-    Exact, Fast, Gains as CoreGains, Observer as CoreObserver, Order, Real, SinCos, SupportedOrder,
-};
+use angletrack_core::{Exact, Fast, Gains as CoreGains, Observer as CoreObserver, Real, SinCos};
 use numpy::Element;
 use pyo3::prelude::*;
 
@@ -73,10 +71,7 @@ pub trait TypedGains {
     fn batch(&self, channels: usize) -> Result<Box<dyn Run>>;
 }
 
-impl<T: Sample, const N: usize, S: PhaseSinCos<T>> TypedGains for CoreGains<T, N, S>
-where
-    Order<N>: SupportedOrder,
-{
+impl<T: Sample, const N: usize, S: PhaseSinCos<T>> TypedGains for CoreGains<T, N, S> {
     fn observer(&self, thresholds: &PyFaultThresholds) -> Result<Box<dyn ObserverOps>> {
         let gains = self.with_fault_thresholds(thresholds.typed())?;
         Ok(Box::new(CoreObserver::new(gains)))

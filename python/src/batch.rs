@@ -70,17 +70,17 @@ impl PyObserverBatch {
         })
     }
 
+    /// The number of channels.
+    #[getter]
+    fn channels(&self) -> usize {
+        self.channels
+    }
+
     /// Runs every channel over its samples: `y_c`, `y_s` are 2-D arrays (channels x
     /// samples) of the batch's dtype; returns `Estimates` whose arrays have that shape.
     #[pyo3(signature = (y_c, y_s))]
     fn update(&mut self, py: Python<'_>, y_c: Arg<'_, '_>, y_s: Arg<'_, '_>) -> Result<Estimates> {
         self.inner.run(py, y_c, y_s)
-    }
-
-    /// The number of channels.
-    #[getter]
-    fn channels(&self) -> usize {
-        self.channels
     }
 
     fn __repr__(slf: PyRef<'_, Self>) -> String {

@@ -157,6 +157,16 @@ pub enum Error {
     },
     /// No design meets the specification (e.g. an overshoot the pole family cannot give).
     NoSolution(Argument),
+    /// The design's discrete gains are refused by the core although every argument is in
+    /// range on its own: a loop so slow against the sample rate that its gains underflow,
+    /// or whose gains round out of the stability region. `argument` is the design argument
+    /// that sets the loop's speed; `gains` is the core's reason.
+    GainsRefused {
+        /// The design argument that sets the speed of the loop.
+        argument: Argument,
+        /// The core's reason for refusing the gains.
+        gains: ConfigError,
+    },
     /// The core refused the designed gains (outside the discrete stability region, or not
     /// representable in the requested float type).
     Gains(ConfigError),
@@ -168,9 +178,9 @@ impl Error {
     pub const fn argument(&self) -> Option<Argument> {
         match *self {
             Error::NotFinite(a) | Error::NotPositive(a) | Error::NoSolution(a) => Some(a),
-            Error::OutOfRange { argument, .. } | Error::TooFastForSampleRate { argument, .. } => {
-                Some(argument)
-            }
+            Error::OutOfRange { argument, .. }
+            | Error::TooFastForSampleRate { argument, .. }
+            | Error::GainsRefused { argument, .. } => Some(argument),
             Error::Gains(_) => None,
         }
     }
@@ -187,6 +197,14 @@ impl fmt::Display for Error {
             Error::TooFastForSampleRate {
                 argument,
                 pole_times_period,
+                ..
+            } if pole_times_period.is_nan() => write!(
+                f,
+                "{argument} puts the loop's poles out of floating-point range"
+            ),
+            Error::TooFastForSampleRate {
+                argument,
+                pole_times_period,
                 limit,
             } => write!(
                 f,
@@ -194,6 +212,11 @@ impl fmt::Display for Error {
                  {pole_times_period:.4} must stay below {limit}"
             ),
             Error::NoSolution(a) => write!(f, "no design meets the requested {a}"),
+            Error::GainsRefused { argument, gains } => write!(
+                f,
+                "{argument} gives discrete gains the core refuses (the loop is too slow or \
+                 too fast for the sample rate): {gains}"
+            ),
             Error::Gains(e) => write!(f, "the designed gains are refused: {e}"),
         }
     }
@@ -202,8 +225,40 @@ impl fmt::Display for Error {
 impl std::error::Error for Error {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
-            Error::Gains(e) => Some(e),
+            Error::Gains(e) | Error::GainsRefused { gains: e, .. } => Some(e),
             _ => None,
+        }
+    }
+}
+
+impl Error {
+    /// The same error with `to` named wherever it names `from`: a design that passes its
+    /// own arguments on under other names (`sensor_noise_std` becomes `r`) reports the
+    /// caller's.
+    pub(crate) fn renamed(self, from: Argument, to: Argument) -> Self {
+        let swap = |a: Argument| if a == from { to } else { a };
+        match self {
+            Error::NotFinite(a) => Error::NotFinite(swap(a)),
+            Error::NotPositive(a) => Error::NotPositive(swap(a)),
+            Error::NoSolution(a) => Error::NoSolution(swap(a)),
+            Error::OutOfRange { argument, expected } => Error::OutOfRange {
+                argument: swap(argument),
+                expected,
+            },
+            Error::TooFastForSampleRate {
+                argument,
+                pole_times_period,
+                limit,
+            } => Error::TooFastForSampleRate {
+                argument: swap(argument),
+                pole_times_period,
+                limit,
+            },
+            Error::GainsRefused { argument, gains } => Error::GainsRefused {
+                argument: swap(argument),
+                gains,
+            },
+            Error::Gains(e) => Error::Gains(e),
         }
     }
 }

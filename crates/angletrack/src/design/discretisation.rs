@@ -115,7 +115,12 @@ where
     Order<N>: SupportedOrder,
 {
     let ts = positive(sample_period_s, Argument::SamplePeriod)?;
-    let fastest = poles.iter().map(|s| s.norm() * ts).fold(0.0, f64::max);
+    // A NaN pole (an argument so large that the poles overflow) must not be folded away by
+    // `f64::max`, which drops NaN: it is kept, and then refused below.
+    let fastest = poles
+        .iter()
+        .map(|s| s.norm() * ts)
+        .fold(0.0, |a: f64, b| if b.is_nan() || b > a { b } else { a });
     if !(fastest <= MAX_POLE_TIMES_PERIOD) {
         return Err(Error::TooFastForSampleRate {
             argument: speed_argument,
@@ -148,7 +153,11 @@ where
     let c = linalg::monic_from_roots(&shifted);
     let mut coefficients = [0.0; N];
     coefficients.copy_from_slice(&c);
-    let gains = Gains::from_loop_polynomial(coefficients, ts)?;
+    let gains =
+        Gains::from_loop_polynomial(coefficients, ts).map_err(|gains| Error::GainsRefused {
+            argument: speed_argument,
+            gains,
+        })?;
     let continuous = linalg::monic_from_roots(&poles);
     let mut continuous_gains = [0.0; N];
     for (k, gain) in continuous_gains.iter_mut().enumerate() {

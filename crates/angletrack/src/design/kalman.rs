@@ -151,17 +151,6 @@ pub fn kalman_from_jerk_density(
 
 /// Names the caller's arguments instead of `q` and `r` in an error of [`kalman`].
 fn rename(e: Error, argument: Argument) -> Error {
-    match e {
-        Error::NotPositive(Argument::MeasurementNoise) => {
-            Error::NotPositive(Argument::SensorNoiseStd)
-        }
-        Error::NotPositive(Argument::ProcessNoise) => Error::NotPositive(argument),
-        Error::NotFinite(Argument::ProcessNoise) => Error::NotFinite(argument),
-        Error::OutOfRange {
-            argument: Argument::ProcessNoise,
-            expected,
-        } => Error::OutOfRange { argument, expected },
-        Error::NoSolution(Argument::ProcessNoise) => Error::NoSolution(argument),
-        other => other,
-    }
+    e.renamed(Argument::ProcessNoise, argument)
+        .renamed(Argument::MeasurementNoise, Argument::SensorNoiseStd)
 }

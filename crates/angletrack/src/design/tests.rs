@@ -474,3 +474,28 @@ fn sampled_design_reaches_overshoots_across_its_range_and_refuses_the_rest() {
         })
     ));
 }
+
+#[test]
+fn designs_name_the_caller_s_argument_at_the_extremes_of_its_range() {
+    // A loop so slow that its gains underflow is refused naming the argument that sets its
+    // speed, not the core's gains, which the caller never wrote.
+    match third_order_butterworth(1e120, 1e-4, PM) {
+        Err(Error::GainsRefused { argument, .. }) => assert_eq!(argument, Argument::TimeConstant),
+        other => panic!("expected GainsRefused, got {other:?}"),
+    }
+    // Poles that overflow to NaN are refused, not folded away, and the message says so.
+    let e = second_order_butterworth(1e300, 1e-4, PM).unwrap_err();
+    assert_eq!(e.argument(), Some(Argument::TimeConstant));
+    assert!(e.to_string().contains("out of floating-point range"), "{e}");
+    let e = second_order_from_bandwidth(1e300, 1.0, 1e-4, PM).unwrap_err();
+    assert_eq!(e.argument(), Some(Argument::Bandwidth), "{e}");
+    // The noise passed on to the Kalman design as r is reported under the caller's name.
+    assert_eq!(
+        kalman_from_jerk_std(1e5, 1e300, 1e-4).unwrap_err(),
+        Error::NotFinite(Argument::SensorNoiseStd)
+    );
+    assert_eq!(
+        kalman_from_jerk_density(1e6, 1e300, 1e-4).unwrap_err(),
+        Error::NotFinite(Argument::SensorNoiseStd)
+    );
+}

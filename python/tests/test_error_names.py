@@ -1,0 +1,110 @@
+"""Every refused argument is named as the caller spelled it.
+
+Each public function and method that takes numbers is called with one argument at a time
+replaced by a bad value; whenever the call raises `angletrack.ConfigError`, its `parameter`
+must be one of the names in that call's own signature and its message must start with it.
+"""
+
+import inspect
+import math
+
+import numpy as np
+import pytest
+
+import angletrack as at
+
+BAD_VALUES = (math.nan, math.inf, -1.0, 0.0, 1e300)
+TS = 1e-4
+
+
+def _profile():
+    return at.MotionProfile(0.0, 10.0)
+
+
+# (label, callable, valid keyword arguments). Every numeric argument is probed in turn.
+CASES = [
+    ("Gains", at.Gains, dict(gains=[0.06, 0.0019, 3e-5], sample_period_s=TS)),
+    ("kalman", at.kalman, dict(process_noise_q=1e-9, measurement_noise_r=1.0, sample_period_s=TS)),
+    ("kalman_from_jerk_std", at.kalman_from_jerk_std,
+     dict(jerk_std_rad_s3=1e5, sensor_noise_std=0.01, sample_period_s=TS)),
+    ("kalman_from_jerk_density", at.kalman_from_jerk_density,
+     dict(jerk_density_rad2_s5=1e6, sensor_noise_std=0.01, sample_period_s=TS)),
+    ("second_order_butterworth", at.second_order_butterworth,
+     dict(time_constant_s=0.005, sample_period_s=TS)),
+    ("second_order_from_bandwidth", at.second_order_from_bandwidth,
+     dict(bandwidth_hz=100.0, damping=1.0, sample_period_s=TS)),
+    ("second_order_from_tracking_error", at.second_order_from_tracking_error,
+     dict(max_error_rad=1e-3, acceleration_rad_s2=100.0, damping=1.0, sample_period_s=TS)),
+    ("second_order_from_tracking_error_sampled", at.second_order_from_tracking_error_sampled,
+     dict(max_error_rad=1e-3, acceleration_rad_s2=2e3, overshoot=0.05, sample_period_s=50e-6)),
+    ("second_order_bandwidth_ratio", at.second_order_bandwidth_ratio, dict(damping=1.0)),
+    ("third_order_butterworth", at.third_order_butterworth,
+     dict(time_constant_s=0.005, sample_period_s=TS)),
+    ("third_order_from_poles", at.third_order_from_poles,
+     dict(pole_ratio=39.04, pole_time_constant_s=0.02, pole_frequency_ratio=4.71,
+          sample_period_s=TS)),
+    ("third_order_from_overshoot", at.third_order_from_overshoot,
+     dict(overshoot=0.1, settling_time_s=0.05, pole_frequency_ratio=4.71, sample_period_s=TS)),
+    ("max_trackable_speed_rad_s", at.max_trackable_speed_rad_s, dict(sample_period_s=TS)),
+    ("predicted_error", at.predicted_error,
+     dict(gains=at.Gains([0.06, 0.0019, 3e-5], TS), sensor_noise_std=0.01, process_noise_q=0.0)),
+    ("predicted_error_on_kalman_model", at.predicted_error_on_kalman_model,
+     dict(gains=at.Gains([0.06, 0.0019, 3e-5], TS), sensor_noise_std=0.01,
+          process_noise_q=1e-12)),
+    ("FaultThresholds", at.FaultThresholds,
+     dict(nominal_amplitude=1.0, max_input_amplitude=4.0, loss_of_signal=0.25,
+          degradation_low=0.5, degradation_high=1.5, loss_of_tracking=0.1,
+          max_speed_rad_s=1e4, filter_factor=0.0625, false_lock=0.0)),
+    ("SensorModel", at.SensorModel,
+     dict(amplitude=1.0, offset_cos=0.01, offset_sin=0.01, amplitude_imbalance=0.01,
+          quadrature_error_rad=0.01, third_harmonic=0.01, noise_std=0.01)),
+    ("MotionProfile", at.MotionProfile, dict(initial_angle_rad=0.0, initial_speed_rad_s=10.0)),
+    ("MotionProfile.constant_speed", lambda **k: _profile().constant_speed(**k),
+     dict(speed_rad_s=10.0, duration_s=0.1)),
+    ("MotionProfile.constant_acceleration", lambda **k: _profile().constant_acceleration(**k),
+     dict(acceleration_rad_s2=10.0, duration_s=0.1)),
+    ("MotionProfile.step", lambda **k: _profile().step(**k), dict(step_rad=0.5, duration_s=0.1)),
+    ("MotionProfile.reversal", lambda **k: _profile().reversal(**k),
+     dict(acceleration_rad_s2=100.0)),
+    ("MotionProfile.speed_ripple", lambda **k: _profile().speed_ripple(**k),
+     dict(ripple_rad_s=1.0, frequency_hz=5.0, duration_s=0.1)),
+    ("MotionProfile.trapezoidal", lambda **k: _profile().trapezoidal(**k),
+     dict(distance_rad=10.0, max_speed_rad_s=50.0, max_acceleration_rad_s2=500.0)),
+    ("MotionProfile.s_curve", lambda **k: _profile().s_curve(**k),
+     dict(distance_rad=10.0, max_speed_rad_s=50.0, max_acceleration_rad_s2=500.0,
+          max_jerk_rad_s3=1e4)),
+]
+
+
+def _probes():
+    for label, call, kwargs in CASES:
+        for name, value in kwargs.items():
+            if isinstance(value, float):
+                for bad in BAD_VALUES:
+                    yield pytest.param(call, kwargs, name, bad, id=f"{label}-{name}-{bad}")
+
+
+@pytest.mark.parametrize("call,kwargs,name,bad", list(_probes()))
+def test_a_refused_argument_is_named_as_the_caller_spelled_it(call, kwargs, name, bad):
+    args = dict(kwargs, **{name: bad})
+    try:
+        call(**args)
+    except at.ConfigError as e:
+        assert e.parameter in args, f"{e.parameter!r} is not an argument of this call: {e}"
+        assert str(e).startswith(e.parameter), str(e)
+
+
+def test_every_case_is_valid_as_written():
+    # The probes only mean something if the unmodified call is accepted.
+    for label, call, kwargs in CASES:
+        call(**kwargs)
+
+
+def test_scenario_generation_names_its_keywords():
+    with pytest.raises(at.ConfigError) as e:
+        at.Scenario.generate(_profile().constant_speed(10.0, 0.01), sample_period_s=-1.0)
+    assert e.value.parameter == "sample_period_s"
+    with pytest.raises(at.ConfigError) as e:
+        at.Scenario.from_arrays(sample_period_s=TS, angle_rad=np.zeros(3), y_c=np.zeros(3),
+                                y_s=np.zeros(2))
+    assert e.value.parameter in ("y_c", "y_s", "angle_rad")

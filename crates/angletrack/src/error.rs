@@ -48,16 +48,10 @@ pub enum Argument {
     Duration,
     /// A distance of a move (rad).
     Distance,
-    /// A jerk limit (rad/s^3).
-    Jerk,
     /// A frequency (Hz).
     Frequency,
-    /// An angle (rad).
-    Angle,
     /// The signal amplitude of the sensor model.
     Amplitude,
-    /// A DC offset of the sensor model.
-    Offset,
     /// The relative amplitude imbalance of the sensor model.
     AmplitudeImbalance,
     /// The quadrature error (rad) of the sensor model.
@@ -68,14 +62,38 @@ pub enum Argument {
     AdcBits,
     /// The full scale of the ADC.
     AdcFullScale,
-    /// A tolerance (rad, or a fraction).
-    Tolerance,
     /// Two input series of different lengths, or an empty series.
     SeriesLength,
     /// The name of a [`Discretisation`](crate::Discretisation).
     Discretisation,
     /// The number of channels of a [`ChannelBatch`](crate::ChannelBatch).
     Channels,
+    /// The initial angle of a [`MotionProfile`](crate::MotionProfile) (rad).
+    InitialAngle,
+    /// The initial speed of a [`MotionProfile`](crate::MotionProfile) (rad/s).
+    InitialSpeed,
+    /// The speed limit of a trapezoidal or S-curve move (rad/s).
+    MaxSpeed,
+    /// The acceleration limit of a trapezoidal or S-curve move (rad/s^2).
+    MaxAcceleration,
+    /// The jerk limit of an S-curve move (rad/s^3).
+    MaxJerk,
+    /// The amplitude of a speed ripple (rad/s).
+    Ripple,
+    /// The DC offset of the cosine channel of the sensor model.
+    OffsetCos,
+    /// The DC offset of the sine channel of the sensor model.
+    OffsetSin,
+    /// The standard deviation of the sensor model's noise on each channel.
+    NoiseStd,
+    /// The whole motion profile, when only its total length is at fault.
+    Profile,
+    /// The time skipped before the metrics start (s).
+    Skip,
+    /// The angle error within which an observer counts as locked (rad).
+    LockTolerance,
+    /// The relative band of the settling time.
+    SettlingBand,
 }
 
 impl Argument {
@@ -102,20 +120,29 @@ impl Argument {
             Argument::Speed => "speed_rad_s",
             Argument::Duration => "duration_s",
             Argument::Distance => "distance_rad",
-            Argument::Jerk => "jerk_rad_s3",
             Argument::Frequency => "frequency_hz",
-            Argument::Angle => "angle_rad",
             Argument::Amplitude => "amplitude",
-            Argument::Offset => "offset",
             Argument::AmplitudeImbalance => "amplitude_imbalance",
             Argument::QuadratureError => "quadrature_error_rad",
             Argument::ThirdHarmonic => "third_harmonic",
             Argument::AdcBits => "adc_bits",
             Argument::AdcFullScale => "adc_full_scale",
-            Argument::Tolerance => "tolerance",
             Argument::SeriesLength => "series length",
             Argument::Discretisation => "discretisation",
             Argument::Channels => "channels",
+            Argument::InitialAngle => "initial_angle_rad",
+            Argument::InitialSpeed => "initial_speed_rad_s",
+            Argument::MaxSpeed => "max_speed_rad_s",
+            Argument::MaxAcceleration => "max_acceleration_rad_s2",
+            Argument::MaxJerk => "max_jerk_rad_s3",
+            Argument::Ripple => "ripple_rad_s",
+            Argument::OffsetCos => "offset_cos",
+            Argument::OffsetSin => "offset_sin",
+            Argument::NoiseStd => "noise_std",
+            Argument::Profile => "profile",
+            Argument::Skip => "skip_s",
+            Argument::LockTolerance => "lock_tolerance_rad",
+            Argument::SettlingBand => "settling_band",
         }
     }
 }

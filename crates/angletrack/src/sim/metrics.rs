@@ -151,9 +151,9 @@ impl Metrics {
     /// # Ok::<(), angletrack::Error>(())
     /// ```
     pub fn new(scenario: &Scenario, run: &Run, options: &MetricsOptions) -> Result<Self, Error> {
-        let skip = non_negative(options.skip_s, Argument::Duration)?;
-        let lock = positive(options.lock_tolerance_rad, Argument::Tolerance)?;
-        let band = positive(options.settling_band, Argument::Tolerance)?;
+        let skip = non_negative(options.skip_s, Argument::Skip)?;
+        let lock = positive(options.lock_tolerance_rad, Argument::LockTolerance)?;
+        let band = positive(options.settling_band, Argument::SettlingBand)?;
         let n = scenario.len();
         let lengths = [
             scenario.angle_rad.len(),
@@ -171,8 +171,8 @@ impl Metrics {
         let first = (skip / ts).ceil();
         if !(first < n as f64) {
             return Err(Error::OutOfRange {
-                argument: Argument::Duration,
-                expected: "skip_s shorter than the run",
+                argument: Argument::Skip,
+                expected: "shorter than the run",
             });
         }
         let first = first as usize;

@@ -204,8 +204,8 @@ impl Motion {
                 max_acceleration_rad_s2,
             } => {
                 finite(distance_rad, Argument::Distance)?;
-                positive(max_speed_rad_s, Argument::Speed)?;
-                positive(max_acceleration_rad_s2, Argument::Acceleration)?;
+                positive(max_speed_rad_s, Argument::MaxSpeed)?;
+                positive(max_acceleration_rad_s2, Argument::MaxAcceleration)?;
             }
             Motion::SCurve {
                 distance_rad,
@@ -214,16 +214,16 @@ impl Motion {
                 max_jerk_rad_s3,
             } => {
                 finite(distance_rad, Argument::Distance)?;
-                positive(max_speed_rad_s, Argument::Speed)?;
-                positive(max_acceleration_rad_s2, Argument::Acceleration)?;
-                positive(max_jerk_rad_s3, Argument::Jerk)?;
+                positive(max_speed_rad_s, Argument::MaxSpeed)?;
+                positive(max_acceleration_rad_s2, Argument::MaxAcceleration)?;
+                positive(max_jerk_rad_s3, Argument::MaxJerk)?;
             }
             Motion::SpeedRipple {
                 ripple_rad_s,
                 frequency_hz,
                 duration_s,
             } => {
-                finite(ripple_rad_s, Argument::Speed)?;
+                finite(ripple_rad_s, Argument::Ripple)?;
                 positive(frequency_hz, Argument::Frequency)?;
                 non_negative(duration_s, Argument::Duration)?;
             }
@@ -371,8 +371,8 @@ impl MotionProfile {
         &self,
         sample_period_s: f64,
     ) -> Result<(usize, impl Iterator<Item = Kinematics>), Error> {
-        finite(self.initial_angle_rad, Argument::Angle)?;
-        finite(self.initial_speed_rad_s, Argument::Speed)?;
+        finite(self.initial_angle_rad, Argument::InitialAngle)?;
+        finite(self.initial_speed_rad_s, Argument::InitialSpeed)?;
         // Segment boundaries: start time, start state, phases.
         let mut start = Kinematics {
             angle_rad: self.initial_angle_rad,
@@ -393,8 +393,8 @@ impl MotionProfile {
         let samples = (t0 / sample_period_s).floor() + 1.0;
         if !(samples <= MAX_SAMPLES as f64) {
             return Err(Error::OutOfRange {
-                argument: Argument::Duration,
-                expected: "total duration / sample period <= 10^8 samples",
+                argument: Argument::Profile,
+                expected: "a total duration of at most 10^8 sample periods",
             });
         }
         let samples = samples as usize;

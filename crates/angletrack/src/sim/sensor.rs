@@ -69,8 +69,8 @@ impl SensorModel {
 
     pub(super) fn validate(&self) -> Result<(), Error> {
         positive(self.amplitude, Argument::Amplitude)?;
-        finite(self.offset_cos, Argument::Offset)?;
-        finite(self.offset_sin, Argument::Offset)?;
+        finite(self.offset_cos, Argument::OffsetCos)?;
+        finite(self.offset_sin, Argument::OffsetSin)?;
         finite(self.amplitude_imbalance, Argument::AmplitudeImbalance)?;
         if self.amplitude_imbalance <= -1.0 {
             return Err(Error::OutOfRange {
@@ -80,7 +80,7 @@ impl SensorModel {
         }
         finite(self.quadrature_error_rad, Argument::QuadratureError)?;
         finite(self.third_harmonic, Argument::ThirdHarmonic)?;
-        non_negative(self.noise_std, Argument::SensorNoiseStd)?;
+        non_negative(self.noise_std, Argument::NoiseStd)?;
         if self.adc_bits > 32 {
             return Err(Error::OutOfRange {
                 argument: Argument::AdcBits,

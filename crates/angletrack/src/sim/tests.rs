@@ -209,7 +209,7 @@ fn scenario_refuses_bad_arguments() {
             max_jerk_rad_s3: 0.0
         })
         .unwrap_err(),
-        Error::NotPositive(Argument::Jerk)
+        Error::NotPositive(Argument::MaxJerk)
     );
     assert_eq!(
         bad(Motion::Reversal {
@@ -224,7 +224,7 @@ fn scenario_refuses_bad_arguments() {
             duration_s: 1e9
         }),
         Err(Error::OutOfRange {
-            argument: Argument::Duration,
+            argument: Argument::Profile,
             ..
         })
     ));
@@ -236,7 +236,7 @@ fn scenario_refuses_bad_arguments() {
             },
             Argument::Amplitude,
         ),
-        (SensorModel::with_noise(-0.1), Argument::SensorNoiseStd),
+        (SensorModel::with_noise(-0.1), Argument::NoiseStd),
         (
             SensorModel {
                 adc_bits: 40,
@@ -347,7 +347,7 @@ fn metrics_wrap_the_angle_and_refuse_mismatched_series() {
     assert!(matches!(
         Metrics::new(&s, &perfect, &everything),
         Err(Error::OutOfRange {
-            argument: Argument::Duration,
+            argument: Argument::Skip,
             ..
         })
     ));
@@ -368,6 +368,6 @@ fn metrics_wrap_the_angle_and_refuse_mismatched_series() {
     };
     assert_eq!(
         Metrics::new(&s, &perfect, &bad).unwrap_err(),
-        Error::NotPositive(Argument::Tolerance)
+        Error::NotPositive(Argument::LockTolerance)
     );
 }

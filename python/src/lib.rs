@@ -1,8 +1,8 @@
 //! The `angletrack._angletrack` Python extension: the angle tracking observers of
 //! `angletrack-core` on numpy arrays, and the design tools of `angletrack`.
 //!
-//! This crate only converts: arguments in (checked by [`arrays`]), results out, errors in
-//! one place ([`errors`]). Every computation is a call into the Rust crates.
+//! This crate only converts: arguments in (checked by `arrays`), results out, errors in
+//! one place (`errors`). Every computation is a call into the Rust crates.
 
 use pyo3::prelude::*;
 

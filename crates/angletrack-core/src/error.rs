@@ -34,7 +34,7 @@ pub enum Parameter {
     FalseLockThreshold,
     /// The nominal amplitude of the input signals.
     NominalAmplitude,
-    /// The largest trackable speed (rad/s) of the loss-of-tracking check.
+    /// The estimated speed (rad/s) above which loss of tracking is flagged.
     MaxSpeed,
 }
 

@@ -21,13 +21,16 @@ impl Faults {
     /// [degradation low, degradation high] (gain drift, saturation, a broken winding).
     pub const DEGRADATION_OF_SIGNAL: Faults = Faults(1 << 1);
     /// Loss of tracking: the filtered phase-detector error is above its threshold, or the
-    /// estimated speed is above the largest trackable speed.
+    /// estimated speed is above the monitor's speed threshold
+    /// ([`FaultThresholds::max_speed`](crate::FaultThresholds::max_speed): by default a
+    /// quarter turn per sample, half the largest trackable speed, `docs/theory.md §9`).
     pub const LOSS_OF_TRACKING: Faults = Faults(1 << 2);
     /// The sample was rejected (NaN, infinite, or amplitude above the input bound): the
     /// observer coasted on its prediction.
     pub const BAD_SAMPLE: Faults = Faults(1 << 3);
     /// A lock about 180 degrees off was detected (the filtered in-phase component
-    /// `y_c cos + y_s sin` went below its threshold) and the angle re-acquired from `atan2`.
+    /// `y_c cos + y_s sin` went below its threshold); with `re_acquire` on, the angle is
+    /// re-acquired from `atan2`.
     pub const FALSE_LOCK: Faults = Faults(1 << 4);
 
     /// Every flag with its name, in bit order: the names [`Display`](fmt::Display) writes
@@ -55,6 +58,12 @@ impl Faults {
     }
 
     /// The flags from raw bits (unknown bits are dropped).
+    ///
+    /// ```
+    /// use angletrack_core::Faults;
+    /// let faults = Faults::from_bits_truncate(0xe8); // bad sample and three unknown bits
+    /// assert_eq!(faults, Faults::BAD_SAMPLE);
+    /// ```
     pub const fn from_bits_truncate(bits: u8) -> Faults {
         Faults(bits & 0x1f)
     }

@@ -342,7 +342,14 @@ pub struct MotionProfile {
 }
 
 impl MotionProfile {
-    /// A profile starting at `initial_angle_rad` and `initial_speed_rad_s`, without segments.
+    /// A profile starting at `initial_angle_rad` and `initial_speed_rad_s`, without segments
+    /// (add them with [`MotionProfile::then`]).
+    ///
+    /// ```
+    /// use angletrack::MotionProfile;
+    /// let profile = MotionProfile::new(0.5, 20.0); // 0.5 rad, turning at 20 rad/s
+    /// assert!(profile.segments.is_empty());
+    /// ```
     pub fn new(initial_angle_rad: f64, initial_speed_rad_s: f64) -> Self {
         Self {
             initial_angle_rad,

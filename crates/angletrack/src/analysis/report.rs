@@ -69,15 +69,17 @@ pub struct DesignReport {
     /// Predicted steady-state RMS speed error (rad/s), on the assumptions of
     /// `angle_error_rms_rad`.
     pub speed_error_rms_rad_s: f64,
-    /// Kalman design: `sqrt(P11)` (rad), the RMS angle error on the design's own model: its
-    /// own measurement noise `r` AND a random jerk of its own variance `q`, whatever
-    /// `sensor_noise_std` the report is for. It includes the random jerk, so it exceeds
-    /// `angle_error_rms_rad` (sensor noise alone) for the same `r`. It is the smallest RMS
-    /// angle error any linear observer reaches on that model; other observers compare with
-    /// it through [`predicted_error_on_kalman_model`](crate::predicted_error_on_kalman_model).
+    /// Kalman design: `sqrt(P11)` of the filtered covariance (rad,
+    /// [`KalmanSolution::angle_floor_rad`](crate::KalmanSolution::angle_floor_rad)), the RMS
+    /// angle error on the design's own model: its own measurement noise `r` AND a random jerk
+    /// of its own variance `q`, whatever `sensor_noise_std` the report is for. It includes
+    /// the random jerk, so it exceeds `angle_error_rms_rad` (sensor noise alone) for the same
+    /// `r`. It is the smallest RMS angle error any linear observer reaches on that model;
+    /// other observers compare with it through
+    /// [`predicted_error_on_kalman_model`](crate::predicted_error_on_kalman_model).
     pub kalman_angle_floor_rad: Option<f64>,
-    /// Kalman design: `sqrt(P22) / Ts` (rad/s), on the assumptions of
-    /// `kalman_angle_floor_rad`.
+    /// Kalman design: `sqrt(P22) / Ts` of the filtered covariance (rad/s), on the
+    /// assumptions of `kalman_angle_floor_rad`.
     pub kalman_speed_floor_rad_s: Option<f64>,
     /// Small-signal (linear) step response of the discrete loop.
     pub linear_step: StepResponse,

@@ -150,7 +150,7 @@ fn observers_track_up_to_the_documented_speed_limit_without_a_cycle_slip() {
         let design = observer.design().unwrap();
         let limit = max_trackable_speed_rad_s(design.sample_period());
         assert_eq!(design.report(0.0).unwrap().max_speed_rad_s, limit);
-        let speeds = [(0.99 * limit, 0.0), (0.99 * limit, 2e3), (1.5 * limit, 2e3)];
+        let speeds = [(0.99 * limit, 0.0), (0.99 * limit, 2e3), (2.5 * limit, 2e3)];
         let worst = match &design {
             AnyDesign::Second(d) => speeds.map(|(v, a)| worst_error_up_to(&d.gains, v, a)),
             AnyDesign::Third(d) => speeds.map(|(v, a)| worst_error_up_to(&d.gains, v, a)),

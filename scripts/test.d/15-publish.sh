@@ -92,8 +92,8 @@ fi
 
 echo "--- docs"
 while read -r name _msrv _dir; do
-  target=()
-  [ "$name" = angletrack-core ] && target=(--target thumbv7em-none-eabihf)
+  target=(--target thumbv7em-none-eabihf)
+  [ "$name" = angletrack-core ] || target=()
   RUSTDOCFLAGS="-D warnings" cargo doc -q --no-deps -p "$name" "${target[@]}"
-  echo "$name: docs build without warnings ${target[*]}"
+  echo "$name: docs build without warnings (${target[1]:-host})"
 done <<<"$crates"

@@ -29,7 +29,11 @@ if [ ${#wheels[@]} -ne 1 ]; then
   echo "FAIL: expected one abi3 wheel of angletrack" >&2; exit 1
 fi
 wheel="${wheels[0]}"
-echo "built $(basename "$wheel")"
+contents=$(python3 -m zipfile -l "$wheel")
+for file in angletrack/_angletrack.abi3.so angletrack/py.typed licenses/LICENSE-MIT licenses/LICENSE-APACHE; do
+  grep -q "$file" <<<"$contents" || { echo "FAIL: $file is not in $(basename "$wheel")" >&2; exit 1; }
+done
+echo "built $(basename "$wheel") (with the abi3 extension, the type stubs' marker and both licences)"
 
 echo "--- installing the wheel into a fresh virtual environment, no Rust on PATH"
 # The PyPI description's example (python/README.md, its first python block) runs there too.

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # What crates.io and a vendoring firmware project get from the publishable crates:
-# - their manifests agree with the workspace (version, licence, repository, lints), since they
-#   write those keys out instead of inheriting them;
+# - their manifests agree with the workspace (version, licence, repository, lints, shared
+#   dependencies' versions), since they write those keys out instead of inheriting them, and
+#   their READMEs state their MSRV;
 # - a crate copied out of the repository alone (the core; the std crate beside the core)
 #   builds, and so does the Rust example of its README (the core's for the Cortex-M4F);
 # - `cargo publish --dry-run` of the whole workspace: each publishable crate is packaged and
@@ -29,6 +30,8 @@ for crate_dir in sys.argv[1:]:
                             f"the workspace's is {workspace['package'][key]!r}")
     if package.get("readme") != "README.md":
         failures.append(f"{crate_dir}: readme must be the crate's own README.md")
+    elif f"Rust {package['rust-version']} or newer" not in open(f"{crate_dir}/README.md").read():
+        failures.append(f"{crate_dir}/README.md does not say \"Rust {package['rust-version']} or newer\"")
     if manifest.get("lints") != workspace["lints"]:
         failures.append(f"{crate_dir}: [lints] differ from [workspace.lints]")
     version_of = lambda spec: spec if isinstance(spec, str) else spec.get("version")

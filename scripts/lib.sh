@@ -20,3 +20,13 @@ need_rust() {
   rustup component add rustfmt clippy >/dev/null 2>&1 || true
   rustup target add thumbv7em-none-eabihf thumbv6m-none-eabi >/dev/null
 }
+
+# Prints one line per workspace member that may be published (no `publish = false`): its
+# name, its rust-version (the MSRV it declares) and its directory.
+publishable_crates() {
+  cargo metadata --no-deps --format-version 1 | python3 -c '
+import json, os, sys
+for p in json.load(sys.stdin)["packages"]:
+    if p["publish"] != []:
+        print(p["name"], p["rust_version"], os.path.dirname(p["manifest_path"]))'
+}

@@ -1,16 +1,72 @@
 #!/usr/bin/env bash
-# The Python package: builds it and installs it into python/.venv (pip install ./python, with
-# the pinned tools of python/requirements-dev.txt), then runs its pytest suite against the
-# installed package from a directory where the source tree is not importable.
+# The Python package as its users get it: builds the abi3 wheel with maturin (pinned in
+# python/requirements-dev.txt) into a scratch directory, installs it into a fresh virtual
+# environment with no Rust toolchain on PATH (so nothing can be compiled: the wheel alone
+# must do), then runs the pytest suite against that installation from a directory where
+# the source tree is not importable.
 set -euo pipefail
 source scripts/lib.sh
 need_rust
 source python/scripts/venv.sh
-angletrack_venv
+angletrack_tools_venv
 command -v cc >/dev/null 2>&1 || need_debian_packages gcc
 root="$(pwd)"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
+
+echo "--- maturin build --release (abi3 wheel)"
+status=0
+python/.venv/bin/maturin build --release --manifest-path python/Cargo.toml --out "$work/wheels" \
+  >"$work/maturin.log" 2>&1 || status=$?
+grep -E "abi3|warning|error" "$work/maturin.log" || true
+if [ "$status" -ne 0 ]; then
+  cat "$work/maturin.log" >&2; echo "FAIL: maturin build (status $status)" >&2; exit 1
+fi
+shopt -s nullglob
+wheels=("$work"/wheels/angletrack-*-abi3-*.whl)
+if [ ${#wheels[@]} -ne 1 ]; then
+  ls -l "$work/wheels" >&2
+  echo "FAIL: expected one abi3 wheel of angletrack" >&2; exit 1
+fi
+wheel="${wheels[0]}"
+contents=$(python3 -m zipfile -l "$wheel")
+for file in angletrack/_angletrack.abi3.so angletrack/py.typed licenses/LICENSE-MIT licenses/LICENSE-APACHE; do
+  grep -q "$file" <<<"$contents" || { echo "FAIL: $file is not in $(basename "$wheel")" >&2; exit 1; }
+done
+echo "built $(basename "$wheel") (with the abi3 extension, the type stubs' marker and both licences)"
+
+echo "--- installing the wheel into a fresh virtual environment, no Rust on PATH"
+# The PyPI description's example (python/README.md, its first python block) runs there too.
+awk '/^```python/ { on = 1; next } on && /^```/ { exit } on { print }' python/README.md \
+  >"$work/readme_example.py"
+python3 -m venv "$work/venv"
+# PATH without any directory that holds a Rust toolchain (cargo, rustc or rustup).
+no_rust_path=""
+IFS=: read -ra path_dirs <<<"$PATH"
+for dir in "${path_dirs[@]}"; do
+  [ -n "$dir" ] || continue
+  [ -e "$dir/cargo" ] || [ -e "$dir/rustc" ] || [ -e "$dir/rustup" ] && continue
+  no_rust_path="${no_rust_path:+$no_rust_path:}$dir"
+done
+env -u CARGO_HOME -u RUSTUP_HOME -u RUSTUP_TOOLCHAIN -u CARGO -u RUSTC PATH="$no_rust_path" \
+  "$BASH" -euo pipefail -c '
+    venv="$1"; wheel="$2"; constraints="$3"
+    if command -v cargo || command -v rustc || command -v rustup; then
+      echo "FAIL: a Rust toolchain is still on PATH (above)" >&2; exit 1
+    fi
+    echo "no cargo, rustc or rustup on PATH"
+    # Binary wheels only, versions pinned by the tools list: nothing is built here.
+    "$venv/bin/python" -m pip --disable-pip-version-check -q install --only-binary :all: \
+      -c "$constraints" "$wheel[plot]" pytest hypothesis
+    cd "$venv"
+    "$venv/bin/python" -c "import angletrack; print(\"imported\", angletrack.__name__, angletrack.__version__, \"from\", angletrack.__file__)"
+    "$venv/bin/angletrack" --version
+    "$venv/bin/python" "$4" >"$4.out"
+    echo "python/README.md example: $(tail -n 1 "$4.out")"
+  ' _ "$work/venv" "$wheel" "$root/python/requirements-dev.txt" "$work/readme_example.py"
+
+echo "--- pytest against the installed wheel"
 cd "$work"
+# Rust is on PATH again here: one test compiles the design command's Rust output with rustc.
 # Any non-zero exit fails the step, including pytest's 5 (no test collected).
-"$root/python/.venv/bin/python" -m pytest -p no:cacheprovider -q "$root/python/tests"
+PATH="$work/venv/bin:$PATH" "$work/venv/bin/python" -m pytest -p no:cacheprovider -q "$root/python/tests"

@@ -6,6 +6,7 @@
 use core::marker::PhantomData;
 
 use crate::error::{ConfigError, Parameter, check_positive};
+use crate::learning::{CalibrationSettings, CheckedCalibration};
 use crate::monitor::{CheckedThresholds, FaultThresholds};
 use crate::real::Real;
 use crate::sincos::SinCos;
@@ -51,6 +52,9 @@ pub struct Gains<T: Real, const N: usize, S = <T as Real>::DefaultSinCos> {
     /// sample's predicted angle.
     pub(crate) next_angle_gain: T,
     pub(crate) thresholds: CheckedThresholds<T>,
+    /// The online calibration's settings (used by
+    /// [`Gains::update_calibrated`](crate::Gains::update_calibrated) only).
+    pub(crate) calibration: CheckedCalibration<T>,
     pub(crate) sin_cos: PhantomData<S>,
 }
 
@@ -96,6 +100,7 @@ where
             sample_rate_squared: sample_rate * sample_rate,
             next_angle_gain: predict(&gains)[0],
             thresholds: FaultThresholds::default().check(sample_period)?,
+            calibration: CalibrationSettings::default().check(sample_period)?,
             sin_cos: PhantomData,
         })
     }
@@ -180,6 +185,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             sample_rate_squared: self.sample_rate_squared,
             next_angle_gain: self.next_angle_gain,
             thresholds: self.thresholds,
+            calibration: self.calibration,
             sin_cos: PhantomData,
         }
     }

@@ -65,10 +65,13 @@
 // `!(x > 0)` is deliberate throughout: it is true for NaN, which must be refused too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod adc;
 mod bank;
+mod calibration;
 mod error;
 mod faults;
 mod gains;
+mod learning;
 mod monitor;
 mod observer;
 mod real;
@@ -78,14 +81,17 @@ mod state;
 mod update;
 mod wrap;
 
+pub use adc::{AdcSample, AdcScaling, MAX_MID_SCALE_COUNTS};
 pub use bank::ChannelBank;
+pub use calibration::SensorCalibration;
 pub use error::{ConfigError, Parameter};
 pub use faults::Faults;
 pub use gains::{Gains, Order, SupportedOrder};
+pub use learning::{CalibrationMode, CalibrationSettings, Calibrator};
 pub use monitor::FaultThresholds;
 pub use observer::{AngleTrackingObserver, Observer, SecondOrderObserver, ThirdOrderObserver};
 pub use real::Real;
-pub use sincos::{Exact, Fast, SinCos};
+pub use sincos::{Detection, Exact, Fast, SinCos};
 pub use state::{Estimate, ObserverState};
 
 #[cfg(test)]

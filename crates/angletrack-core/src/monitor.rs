@@ -11,13 +11,20 @@ use crate::real::Real;
 /// (amplitudes) unless stated. Part of the observer's configuration
 /// ([`Gains::with_fault_thresholds`](crate::Gains::with_fault_thresholds)).
 ///
+/// The loop itself is unit-free (its phase error is normalised by the signal's magnitude,
+/// `docs/theory.md §12`), but these amplitude checks compare the signal with a healthy one,
+/// so they need its nominal amplitude in the caller's units: build them with
+/// [`FaultThresholds::for_amplitude`] (for raw ADC counts with the mid-scale removed, the
+/// amplitude in counts), or feed samples through an [`AdcScaling`](crate::AdcScaling),
+/// which makes the defaults fractions of full scale.
+///
 /// | field | default (nominal amplitude 1) |
 /// | --- | --- |
 /// | `nominal_amplitude` | 1 |
 /// | `max_input_amplitude` | 4 (a sample above is rejected) |
 /// | `loss_of_signal` | 0.25 |
 /// | `degradation_low`, `degradation_high` | 0.5, 1.5 |
-/// | `loss_of_tracking` | 0.1 (filtered `|eps|`, about 5.7 degrees at amplitude 1) |
+/// | `loss_of_tracking` | 0.1 (filtered `|eps|`, `eps` the sine of the phase error: about 5.7 degrees; dimensionless) |
 /// | `max_speed` | `None`: pi/2 rad per sample, i.e. `pi / (2 Ts)` rad/s |
 /// | `filter_factor` | 1/16 (first-order filters, time constant 16 samples) |
 /// | `false_lock` | 0 (filtered in-phase component; 0 means an error beyond 90 degrees) |
@@ -36,7 +43,9 @@ pub struct FaultThresholds<T> {
     pub degradation_low: T,
     /// Filtered amplitude above this: [`Faults::DEGRADATION_OF_SIGNAL`].
     pub degradation_high: T,
-    /// Filtered `|eps|` above this: [`Faults::LOSS_OF_TRACKING`].
+    /// Filtered `|eps|` above this: [`Faults::LOSS_OF_TRACKING`]. `eps` is the normalised
+    /// phase error (about the sine of the angle error), so this is dimensionless, the same
+    /// for every amplitude.
     pub loss_of_tracking: T,
     /// Estimated `|speed|` (rad/s) above this: [`Faults::LOSS_OF_TRACKING`]. `None`: a
     /// quarter turn per sample, `pi / (2 Ts)` (`docs/theory.md §9`). Named
@@ -62,13 +71,16 @@ impl<T: Real> Default for FaultThresholds<T> {
 }
 
 impl<T: Real> FaultThresholds<T> {
-    /// The default thresholds (see the table above) scaled to a nominal amplitude (in the
-    /// units of `y_c`, `y_s`).
+    /// The default thresholds (see the table above) with the amplitude checks scaled to a
+    /// nominal amplitude (in the units of `y_c`, `y_s`); the loss-of-tracking threshold is
+    /// dimensionless and stays 0.1.
     ///
     /// ```
     /// use angletrack_core::FaultThresholds;
-    /// let t = FaultThresholds::<f32>::for_amplitude(2048.0); // raw 12-bit ADC counts
-    /// assert_eq!(t.loss_of_signal, 512.0);
+    /// // Raw 12-bit ADC counts with the mid-scale removed, amplitude about 1800 counts.
+    /// let t = FaultThresholds::<f32>::for_amplitude(1800.0);
+    /// assert_eq!(t.loss_of_signal, 450.0);
+    /// assert_eq!(t.loss_of_tracking, 0.1);
     /// ```
     pub fn for_amplitude(nominal_amplitude: T) -> Self {
         let a = nominal_amplitude;
@@ -79,7 +91,7 @@ impl<T: Real> FaultThresholds<T> {
             loss_of_signal: f(0.25) * a,
             degradation_low: f(0.5) * a,
             degradation_high: f(1.5) * a,
-            loss_of_tracking: f(0.1) * a,
+            loss_of_tracking: f(0.1),
             max_speed: None,
             filter_factor: f(0.0625),
             false_lock: T::ZERO,
@@ -137,7 +149,9 @@ impl<T: Real> FaultThresholds<T> {
             }
         }
         let max_input2 = max_in * max_in;
-        if !max_input2.is_finite() {
+        // The amplitude tracker divides `y_c^2 + y_s^2` by a magnitude that is at least
+        // `sqrt(MIN_POSITIVE)` (`docs/theory.md §12`): the quotient must stay finite.
+        if !(max_input2 / T::MIN_POSITIVE.sqrt()).is_finite() {
             return Err(ConfigError::OutOfRange(Parameter::MaxInputAmplitude));
         }
         Ok(CheckedThresholds {

@@ -160,6 +160,8 @@ impl<T: Real> FaultThresholds<T> {
             loss_of_signal2: los * los,
             degradation_low2: low * low,
             degradation_high2: high * high,
+            degradation_middle2: (low * low + high * high) * T::HALF,
+            degradation_half_width2: (high * high - low * low) * T::HALF,
             max_scaled_speed: max_speed * sample_period_s,
         })
     }
@@ -174,6 +176,10 @@ pub(crate) struct CheckedThresholds<T> {
     loss_of_signal2: T,
     degradation_low2: T,
     degradation_high2: T,
+    /// The middle of [`degradation_low2`, `degradation_high2`] and its half width: the
+    /// usual case tests the band with one comparison.
+    degradation_middle2: T,
+    degradation_half_width2: T,
     max_scaled_speed: T,
 }
 
@@ -189,8 +195,6 @@ pub(crate) struct MonitorState<T> {
     pub(crate) in_phase: T,
     /// Flags latched until cleared.
     pub(crate) latched: Faults,
-    /// `false` until the filters hold a first sample.
-    pub(crate) primed: bool,
 }
 
 impl<T: Real> MonitorState<T> {
@@ -201,18 +205,34 @@ impl<T: Real> MonitorState<T> {
             error: T::ZERO,
             in_phase: T::ZERO,
             latched: Faults::NONE,
-            primed: false,
         }
+    }
+
+    /// Starts the phase-error and in-phase filters from an angle that agrees with the
+    /// sample of magnitude `magnitude`: no error, the in-phase component the magnitude.
+    /// Done where the angle is set (first sample, re-acquisition), so that the per-sample
+    /// update has no first-sample test.
+    pub(crate) fn prime_phase(&mut self, magnitude: T) {
+        self.error = T::ZERO;
+        self.in_phase = magnitude;
     }
 }
 
 impl<T: Real> CheckedThresholds<T> {
-    /// `y_c^2 + y_s^2` of a sample and whether it is accepted: finite and within the input
-    /// bound (NaN compares false, so it is refused).
+    /// `y_c^2 + y_s^2 + m` of a sample and whether it is accepted: finite and within the
+    /// input bound (NaN compares false, so it is refused). `m` is [`Real::MIN_POSITIVE`],
+    /// which keeps the amplitude tracker's magnitude positive (`docs/theory.md §12`) and is
+    /// negligible anywhere else; added first, it costs no instruction of its own.
     #[inline(always)]
     pub(crate) fn accept(&self, y_c: T, y_s: T) -> (T, bool) {
-        let amplitude2 = y_c * y_c + y_s * y_s;
+        let amplitude2 = self.amplitude2(y_c, y_s);
         (amplitude2, amplitude2 <= self.max_input2)
+    }
+
+    /// `y_c^2 + y_s^2 + m` (see [`CheckedThresholds::accept`]).
+    #[inline(always)]
+    pub(crate) fn amplitude2(&self, y_c: T, y_s: T) -> T {
+        (T::MIN_POSITIVE + y_c * y_c) + y_s * y_s
     }
 
     /// Updates the filters with one accepted sample and returns its flags; the second value
@@ -227,12 +247,6 @@ impl<T: Real> CheckedThresholds<T> {
         scaled_speed: T,
     ) -> (Faults, bool) {
         let t = &self.thresholds;
-        if !monitor.primed {
-            monitor.amplitude2 = amplitude2;
-            monitor.error = phase_error.abs();
-            monitor.in_phase = in_phase;
-            monitor.primed = true;
-        }
         let k = t.filter_factor;
         monitor.amplitude2 += k * (amplitude2 - monitor.amplitude2);
         monitor.error += k * (phase_error.abs() - monitor.error);
@@ -242,8 +256,9 @@ impl<T: Real> CheckedThresholds<T> {
         // degradation band (checked at construction), so an amplitude inside the band rules
         // out both; then tracking and the in-phase component. Anything else is sorted out of
         // line, flag by flag.
-        if a2 >= self.degradation_low2
-            && a2 <= self.degradation_high2
+        // One comparison for the band (one rounding of its edges, which `flags` then
+        // sorts out exactly; NaN fails it).
+        if (a2 - self.degradation_middle2).abs() <= self.degradation_half_width2
             && monitor.error <= t.loss_of_tracking
             && scaled_speed.abs() <= self.max_scaled_speed
             && monitor.in_phase >= t.false_lock

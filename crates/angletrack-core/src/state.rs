@@ -5,6 +5,7 @@
 use crate::faults::Faults;
 use crate::monitor::MonitorState;
 use crate::real::Real;
+use crate::update::magnitude;
 use crate::wrap::{wrap_angle, wrapped};
 
 /// What an observer knows after a sample.
@@ -192,10 +193,10 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
     }
 
     /// The monitor's filtered amplitude `sqrt(filtered y_c^2 + y_s^2)` (input units), which
-    /// its loss-of-signal and degradation checks compare (`docs/theory.md §10`); 0 while
-    /// the monitor is off or has seen no sample.
+    /// its loss-of-signal and degradation checks compare (`docs/theory.md §10`); 0 before
+    /// the first used sample, and the first sample's while the monitor is off.
     pub fn filtered_amplitude(&self) -> T {
-        if self.monitor.primed {
+        if self.tracking {
             self.monitor.amplitude2.sqrt()
         } else {
             T::ZERO
@@ -226,28 +227,40 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
     }
 
     /// Starts again at `angle` (rad, wrapped) and `whole` turns, speed and acceleration 0,
-    /// filters empty, the magnitude `amplitude`, with the faults `latched`.
+    /// from a sample of `y_c^2 + y_s^2` `amplitude2` (the angle being that sample's), with
+    /// the faults `latched`.
     #[inline(always)]
-    pub(crate) fn restart(&mut self, angle: T, whole: i32, amplitude: T, latched: Faults) {
+    pub(crate) fn restart(&mut self, angle: T, whole: i32, amplitude2: T, latched: Faults) {
         *self = Self::new();
         self.x[0] = angle;
         self.next_angle = angle;
         self.turns = whole as i64;
         self.monitor.latched = latched;
-        self.amplitude = amplitude;
         self.initialised = true;
+        self.start_tracking(amplitude2);
+    }
+
+    /// The first used sample of a state whose angle is known, of `y_c^2 + y_s^2`
+    /// `amplitude2`: sets the magnitude the phase error is normalised by, and starts the
+    /// monitor's filters from it (zero phase error, the in-phase component the magnitude),
+    /// so that the per-sample update needs no test for it.
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn start_tracking(&mut self, amplitude2: T) {
+        self.amplitude = magnitude(amplitude2);
+        self.monitor.amplitude2 = amplitude2;
+        self.monitor.prime_phase(self.amplitude);
         self.tracking = true;
     }
 
     /// Books one step of the recursion: the whole turns it crossed and its phase-detector
-    /// output; the sample's faults start empty.
+    /// output (the caller stores the sample's faults).
     #[inline(always)]
     pub(crate) fn advance(&mut self, whole: i32, phase_error: T) {
         if whole != 0 {
             self.turns = self.turns.wrapping_add(whole as i64);
         }
         self.phase_error = phase_error;
-        self.faults = Faults::NONE;
     }
 
     /// Marks the current sample as rejected (flag and latch).

@@ -111,8 +111,8 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             if !state.initialised {
                 match if valid { sample_angle(y_c, y_s) } else { None } {
                     Some((angle, whole)) => {
-                        let amplitude = magnitude(amplitude2);
-                        state.restart(angle, whole, amplitude, state.monitor.latched);
+                        let latched = state.monitor.latched;
+                        state.restart(angle, whole, amplitude2, latched);
                     }
                     None => state.reject_sample(),
                 }
@@ -124,13 +124,14 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
                 state.x = x;
                 state.next_angle = next_angle;
                 state.advance(whole, T::ZERO);
+                state.faults = Faults::NONE;
                 state.reject_sample();
                 observe(None);
                 return self.estimate(state);
             }
-            // A state started at a known angle: its first used sample starts the magnitude.
-            state.amplitude = magnitude(amplitude2);
-            state.tracking = true;
+            // A state started at a known angle: its first used sample starts the magnitude
+            // and the monitor's filters.
+            state.start_tracking(amplitude2);
         }
         let sample = Sample {
             y_c,
@@ -145,7 +146,8 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             sample,
         );
         state.advance(step.whole, step.eps);
-        if self.thresholds.thresholds.monitor {
+        // The sample's faults are stored once, whether the monitor runs or not.
+        state.faults = if self.thresholds.thresholds.monitor {
             let speed = if N > 1 { state.x[1] } else { T::ZERO };
             let (faults, re_acquire) = self.thresholds.observe(
                 &mut state.monitor,
@@ -154,15 +156,19 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
                 step.in_phase,
                 speed,
             );
-            state.faults = faults;
             if re_acquire {
                 let (angle, whole) = re_acquired(state.x[0], y_c, y_s);
                 state.x[0] = angle;
                 state.next_angle = predict(&state.x)[0];
                 state.turns = state.turns.wrapping_add(whole as i64);
-                state.monitor.primed = false;
+                // The angle now agrees with the sample: the phase error and in-phase
+                // filters start again from it.
+                state.monitor.prime_phase(state.amplitude);
             }
-        }
+            faults
+        } else {
+            Faults::NONE
+        };
         observe(Some(UsedSample {
             sin_cos: step.sin_cos,
             scaled_speed: if N > 1 { state.x[1] } else { T::ZERO },
@@ -258,7 +264,12 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     #[inline(never)]
     pub fn initialise(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) {
         if let Some((angle, whole)) = sample_angle(y_c, y_s) {
-            state.restart(angle, whole, magnitude(y_c * y_c + y_s * y_s), Faults::NONE);
+            state.restart(
+                angle,
+                whole,
+                self.thresholds.amplitude2(y_c, y_s),
+                Faults::NONE,
+            );
         }
     }
 
@@ -358,21 +369,23 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     }
 }
 
-/// One Heron (Newton) step of `sqrt(amplitude2 + m)` from `previous` (> 0): the mean of
-/// `previous` and `(amplitude2 + m) / previous`, never below `sqrt(m)` (arithmetic and
-/// geometric means), so never zero; [`Real::MIN_POSITIVE`] is `m`.
+/// One Heron (Newton) step of `sqrt(amplitude2)` from `previous` (> 0): the mean of
+/// `previous` and `amplitude2 / previous`, never below `sqrt(amplitude2)` (arithmetic and
+/// geometric means); `amplitude2` includes `m` = [`Real::MIN_POSITIVE`], so the magnitude
+/// is never below `sqrt(m)`, never zero.
 #[inline(always)]
 pub(crate) fn heron_step<T: Real>(previous: T, amplitude2: T) -> T {
-    (previous + (amplitude2 + T::MIN_POSITIVE) / previous) * T::HALF
+    (previous + amplitude2 / previous) * T::HALF
 }
 
-/// The magnitude `sqrt(y_c^2 + y_s^2 + m)` of a sample from its `amplitude2` (exactly: the
-/// first sample's, which starts the tracker of [`heron_step`]); out of line, as the square
-/// root is a software routine on a Cortex-M4F.
+/// The magnitude `sqrt(y_c^2 + y_s^2 + m)` of a sample from its `amplitude2` (which includes
+/// `m`, see [`CheckedThresholds::accept`](crate::monitor::CheckedThresholds::accept)):
+/// exactly, for the first sample, which starts the tracker of [`heron_step`]. Out of line,
+/// as the square root is a software routine on a Cortex-M4F.
 #[cold]
 #[inline(never)]
 pub(crate) fn magnitude<T: Real>(amplitude2: T) -> T {
-    (amplitude2 + T::MIN_POSITIVE).sqrt()
+    amplitude2.sqrt()
 }
 
 #[cfg(test)]

@@ -389,4 +389,6 @@ pub(crate) fn magnitude<T: Real>(amplitude2: T) -> T {
 }
 
 #[cfg(test)]
+mod amplitude_tests;
+#[cfg(test)]
 mod tests;

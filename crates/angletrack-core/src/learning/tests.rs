@@ -186,7 +186,7 @@ fn calibration_faults_follow_the_bounds() {
         let calibration = SensorCalibration::new(o_c, o_s, a_c, a_s, phi).unwrap();
         let mut calibrator = Calibrator::from_calibration(calibration);
         let mut state = ObserverState::new();
-        let e = gains.update_calibrated(&mut state, &mut calibrator, 1.0, 0.0);
+        gains.update_calibrated(&mut state, &mut calibrator, 1.0, 0.0);
         let e = gains.update_calibrated(&mut state, &mut calibrator, 1.0, 0.0);
         assert_eq!(e.faults, expected);
         assert_eq!(state.latched_faults(), expected);
@@ -257,7 +257,7 @@ fn junk_never_turns_the_calibration_nan() {
         };
         // Mostly a clean fast rotation, so that turns complete; junk now and then.
         let th = 0.05 * k as f32;
-        let (y_c, y_s) = if bits.next() % 512 == 0 {
+        let (y_c, y_s) = if bits.next().is_multiple_of(512) {
             (junk(&mut bits), junk(&mut bits))
         } else {
             (0.05 + th.cos(), 1.1 * (th + 0.05).sin())

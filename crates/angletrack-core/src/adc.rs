@@ -72,6 +72,16 @@ pub struct AdcScaling<T> {
     units_per_count: T,
 }
 
+impl<T: Real> Default for AdcScaling<T> {
+    /// No scaling: mid-scale 0, one count per unit.
+    fn default() -> Self {
+        Self {
+            mid_scale_counts: 0,
+            units_per_count: T::ONE,
+        }
+    }
+}
+
 impl<T: Real> AdcScaling<T> {
     /// An ADC front end removing `mid_scale_counts` (the reading of a zero signal, at most
     /// [`MAX_MID_SCALE_COUNTS`] in magnitude) and dividing by `counts_per_unit` (counts per

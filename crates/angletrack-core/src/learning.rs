@@ -101,7 +101,10 @@ pub(crate) struct CheckedCalibration<T> {
 }
 
 impl<T: Real> CheckedCalibration<T> {
-    /// The faults a calibration's parameters raise against the bounds.
+    /// The faults a calibration's parameters raise against the bounds (out of line: once per
+    /// change of the calibration).
+    #[cold]
+    #[inline(never)]
     fn sensor_faults(&self, calibration: &SensorCalibration<T>) -> Faults {
         let s = &self.settings;
         let (o_c, o_s) = calibration.offsets();
@@ -142,6 +145,9 @@ pub struct Calibrator<T> {
     progress: T,
     /// The speed (rad per sample) at the first sample of the current partial turn.
     start_speed: T,
+    /// The faults of the calibration against the settings' bounds, computed when the
+    /// calibration changes (`None`: to be computed at the next sample).
+    sensor_faults: Option<Faults>,
     /// Over the current partial turn, each sample with the weight `w` (1, and the fraction
     /// of the last one that completes the turn): `[sum w, sum w y_c, sum w y_s,
     /// sum w y_c cos p, sum w y_c sin p, sum w y_s cos p, sum w y_s sin p]`.
@@ -172,6 +178,7 @@ impl<T: Real> Calibrator<T> {
             turns_learned: 0,
             progress: T::ZERO,
             start_speed: T::ZERO,
+            sensor_faults: None,
             sums: [T::ZERO; 7],
         }
     }
@@ -207,6 +214,7 @@ impl<T: Real> Calibrator<T> {
         self.calibration = calibration;
         self.regression = calibration.regression();
         self.turns_learned = 16;
+        self.sensor_faults = None;
         self.discard_turn();
     }
 
@@ -342,6 +350,7 @@ impl<T: Real> Calibrator<T> {
         }
         if let Ok(calibration) = SensorCalibration::from_regression(&blended) {
             self.calibration = calibration;
+            self.sensor_faults = None;
             self.regression = blended;
             self.turns_learned = self.turns_learned.saturating_add(1);
         }
@@ -430,7 +439,14 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
                 calibrator.learn(checked, used, y_c, y_s);
             }
         });
-        let faults = checked.sensor_faults(&calibrator.calibration);
+        let faults = match calibrator.sensor_faults {
+            Some(faults) => faults,
+            None => {
+                let faults = checked.sensor_faults(&calibrator.calibration);
+                calibrator.sensor_faults = Some(faults);
+                faults
+            }
+        };
         if !faults.is_empty() {
             estimate.faults |= faults;
             state.faults |= faults;

@@ -100,7 +100,9 @@ impl<T: Real> SensorCalibration<T> {
         if !(quadrature_rad.abs() < Self::max_quadrature_rad()) {
             return Err(ConfigError::OutOfRange(Parameter::Quadrature));
         }
-        let (sin, cos) = quadrature_rad.sin_cos();
+        // The polynomial sin/cos (`docs/theory.md §11`, within 3e-7 in `f32`): `libm`'s would
+        // compute in `f64`, which the `f32` path avoids.
+        let (sin, cos) = quadrature_rad.fast_sin_cos();
         let sine_gain = amplitude_c / (amplitude_s * cos);
         if !(sine_gain.is_finite() && sine_gain > T::ZERO) {
             return Err(ConfigError::OutOfRange(Parameter::AmplitudeSin));
@@ -140,7 +142,7 @@ impl<T: Real> SensorCalibration<T> {
     /// The regression `[o_c, o_s, a1, b1, a2, b2]` this calibration stands for, with no
     /// rotation (see [`SensorCalibration::from_regression`]).
     pub(crate) fn regression(&self) -> [T; 6] {
-        let (sin, cos) = self.quadrature_rad.sin_cos();
+        let (sin, cos) = self.quadrature_rad.fast_sin_cos();
         [
             self.offset_c,
             self.offset_s,

@@ -16,7 +16,7 @@ use crate::gains::Gains;
 use crate::real::Real;
 use crate::sincos::SinCos;
 use crate::state::{Estimate, ObserverState};
-use crate::update::UsedSample;
+use crate::update::{SampleObserver, UsedSample};
 
 /// The faults that stop the estimator and discard its partial turn: the observer's angle is
 /// then not the sensor's.
@@ -358,6 +358,25 @@ impl<T: Real> Calibrator<T> {
     }
 }
 
+/// The estimator as [`Gains::update_observing`] sees it: the raw sample `raw` of the
+/// corrected one the observer runs on.
+struct Learner<'a, T> {
+    calibrator: &'a mut Calibrator<T>,
+    checked: &'a CheckedCalibration<T>,
+    learning: bool,
+    raw: (T, T),
+}
+
+impl<T: Real> SampleObserver<T> for Learner<'_, T> {
+    #[inline(always)]
+    fn observe(self, used: Option<UsedSample<T>>) {
+        if self.learning {
+            self.calibrator
+                .learn(self.checked, used, self.raw.0, self.raw.1);
+        }
+    }
+}
+
 impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// The same gains with other online-calibration settings (checked: see
     /// [`CalibrationSettings`]).
@@ -434,11 +453,13 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         }
         let (c, s) = calibrator.calibration.correct(y_c, y_s);
         let checked = &self.calibration;
-        let mut estimate = self.update_observing(state, c, s, |used| {
-            if mode == CalibrationMode::Learning {
-                calibrator.learn(checked, used, y_c, y_s);
-            }
-        });
+        let learner = Learner {
+            calibrator: &mut *calibrator,
+            checked,
+            learning: mode == CalibrationMode::Learning,
+            raw: (y_c, y_s),
+        };
+        let mut estimate = self.update_observing(state, c, s, learner);
         let faults = match calibrator.sensor_faults {
             Some(faults) => faults,
             None => {

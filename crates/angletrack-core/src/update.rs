@@ -50,6 +50,18 @@ pub(crate) struct UsedSample<T> {
     pub(crate) faults: Faults,
 }
 
+/// What [`Gains::update_observing`] shows each sample to: a trait rather than a closure,
+/// so that its method can be inlined into the update's loop (a closure may stay a call).
+pub(crate) trait SampleObserver<T> {
+    /// One sample: `Some` for a used sample, `None` for one that was not used.
+    fn observe(self, used: Option<UsedSample<T>>);
+}
+
+impl<T> SampleObserver<T> for () {
+    #[inline(always)]
+    fn observe(self, _used: Option<UsedSample<T>>) {}
+}
+
 impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// One sample of the observer: predict, detect the phase error, correct, monitor.
     ///
@@ -87,20 +99,20 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// registers from one sample to the next.
     #[inline(always)]
     fn update_in_place(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) -> Estimate<T> {
-        self.update_observing(state, y_c, y_s, |_| {})
+        self.update_observing(state, y_c, y_s, ())
     }
 
-    /// [`Gains::update`] that also shows each sample to `observe`: `Some` with what the
+    /// [`Gains::update`] that also shows each sample to `observer`: `Some` with what the
     /// recursion computed for a used sample (after the monitor), `None` for a sample that
     /// was not used (rejected, or the first one). The online calibration learns through it;
-    /// the plain update passes a closure that does nothing, which costs nothing.
+    /// the plain update passes `()`, which does nothing and costs nothing.
     #[inline(always)]
     pub(crate) fn update_observing(
         &self,
         state: &mut ObserverState<T, N>,
         y_c: T,
         y_s: T,
-        observe: impl FnOnce(Option<UsedSample<T>>),
+        observer: impl SampleObserver<T>,
     ) -> Estimate<T> {
         let (amplitude2, valid) = self.thresholds.accept(y_c, y_s);
         if !(valid && state.tracking) {
@@ -116,7 +128,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
                     }
                     None => state.reject_sample(),
                 }
-                observe(None);
+                observer.observe(None);
                 return self.estimate(state);
             }
             if !valid {
@@ -126,7 +138,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
                 state.advance(whole, T::ZERO);
                 state.faults = Faults::NONE;
                 state.reject_sample();
-                observe(None);
+                observer.observe(None);
                 return self.estimate(state);
             }
             // A state started at a known angle: its first used sample starts the magnitude
@@ -169,7 +181,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         } else {
             Faults::NONE
         };
-        observe(Some(UsedSample {
+        observer.observe(Some(UsedSample {
             sin_cos: step.sin_cos,
             scaled_speed: if N > 1 { state.x[1] } else { T::ZERO },
             faults: state.faults,

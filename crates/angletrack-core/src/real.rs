@@ -98,6 +98,12 @@ pub trait Real:
     /// Square root, from [`libm`] (in software on a Cortex-M4F: meant for the rare paths,
     /// such as the first sample, not for every sample).
     fn sqrt(self) -> Self;
+    /// The magnitude `sqrt(amplitude2)` the phase error of a used sample is normalised by,
+    /// from the previous sample's `previous` (`docs/theory.md §12`): in `f32` (firmware,
+    /// where a Cortex-M4F computes square roots in software) one Heron step from `previous`,
+    /// exact for a steady amplitude; in `f64` (hosts, which have a square-root instruction)
+    /// the square root itself, so the normalised error is exactly `eps / |y|`.
+    fn track_magnitude(previous: Self, amplitude2: Self) -> Self;
     /// `true` unless the value is NaN or infinite.
     fn is_finite(self) -> bool;
     /// Absolute value.
@@ -144,7 +150,8 @@ pub trait Real:
 macro_rules! impl_real {
     ($t:ident, bits $bits:ident, default $default:ident, tau_lo $tau_lo:expr,
      one_turn_edge_fix $edge_fix:expr, fast_error $eps_fast:expr,
-     polynomials $sin_poly:path, $cos_poly:path, libm $atan2:ident, $sincos:ident, $sqrt:ident) => {
+     polynomials $sin_poly:path, $cos_poly:path, libm $atan2:ident, $sincos:ident, $sqrt:ident,
+     track_magnitude $track:expr) => {
         impl Real for $t {
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
@@ -190,6 +197,10 @@ macro_rules! impl_real {
                 libm::$sqrt(self)
             }
             #[inline(always)]
+            fn track_magnitude(previous: Self, amplitude2: Self) -> Self {
+                $track(previous, amplitude2)
+            }
+            #[inline(always)]
             fn is_finite(self) -> bool {
                 $t::is_finite(self)
             }
@@ -226,10 +237,12 @@ macro_rules! impl_real {
 // explained with their coefficients in `sincos.rs`.
 impl_real! {
     f32, bits u32, default Fast, tau_lo -1.748_455_6e-7_f32, one_turn_edge_fix false,
-    fast_error 3e-7, polynomials F32_SIN_POLY, F32_COS_POLY, libm atan2f, sincosf, sqrtf
+    fast_error 3e-7, polynomials F32_SIN_POLY, F32_COS_POLY, libm atan2f, sincosf, sqrtf,
+    track_magnitude crate::update::heron_step::<f32>
 }
 
 impl_real! {
     f64, bits u64, default Exact, tau_lo 2.449_293_598_294_706_4e-16_f64, one_turn_edge_fix true,
-    fast_error 2e-13, polynomials F64_SIN_POLY, F64_COS_POLY, libm atan2, sincos, sqrt
+    fast_error 2e-13, polynomials F64_SIN_POLY, F64_COS_POLY, libm atan2, sincos, sqrt,
+    track_magnitude |_previous, amplitude2| libm::sqrt(amplitude2)
 }

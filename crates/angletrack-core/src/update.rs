@@ -211,11 +211,11 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// The phase error is normalised by the signal's magnitude (`docs/theory.md §12`), so
     /// that `eps` is the sine of the phase error whatever the amplitude and its units and
     /// the loop's dynamics are the ones its gains were designed and checked for. The
-    /// magnitude `amplitude` is tracked by one Heron (Newton) step per sample towards
-    /// `sqrt(y_c^2 + y_s^2 + m)` from the previous sample's value, `amplitude2` being the
-    /// `y_c^2 + y_s^2` the input check computed: two divisions, no square root (which a
-    /// Cortex-M4F computes in software), exact for a steady amplitude, and within 2 % one
-    /// sample after a 20 % amplitude step. `m` is the type's smallest normal number
+    /// magnitude `amplitude` is [`Real::track_magnitude`] of `sqrt(y_c^2 + y_s^2 + m)`,
+    /// `amplitude2` being the `y_c^2 + y_s^2 + m` the input check computed: in `f64` the
+    /// square root itself; in `f32` one Heron (Newton) step from the previous sample's
+    /// value, two divisions and no square root (which a Cortex-M4F computes in software),
+    /// exact for a steady amplitude and within 2 % one sample after a 20 % amplitude step. `m` is the type's smallest normal number
     /// ([`Real::MIN_POSITIVE`]): it keeps the magnitude positive (Heron's step never goes
     /// below `sqrt(m)`), so that a zero sample gives `eps = 0` (the state coasts) instead of
     /// `0 / 0`. A sample that is not used leaves `amplitude` as it is.
@@ -231,7 +231,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         p[0] = *next_angle;
         let whole = W::wrap(&mut p[0]);
         let detection = S::detect(p[0], sample.y_c, sample.y_s);
-        let tracked = heron_step(*amplitude, sample.amplitude2);
+        let tracked = T::track_magnitude(*amplitude, sample.amplitude2);
         let eps = if sample.valid {
             *amplitude = tracked;
             detection.phase_error / tracked

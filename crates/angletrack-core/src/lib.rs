@@ -15,7 +15,7 @@
 //! ```
 //!
 //! The phase error is normalised by the signal's magnitude `|y| = sqrt(y_c^2 + y_s^2)`
-//! (tracked by one Heron step per sample), so the loop's dynamics and the stability checked
+//! (in `f32` tracked by one Heron step per sample), so the loop's dynamics and the stability checked
 //! at construction hold at any amplitude and in any unit: volts, or raw ADC counts.
 //!
 //! The state also keeps the next sample's predicted angle, `(A X_p)[0] + (A L)[0] eps`

@@ -58,8 +58,9 @@ pub struct ObserverState<T, const N: usize> {
     pub(crate) phase_error: T,
     pub(crate) faults: Faults,
     pub(crate) monitor: MonitorState<T>,
-    /// The magnitude `sqrt(y_c^2 + y_s^2)` the phase error is normalised by, tracked by one
-    /// Heron step per sample (`docs/theory.md §12`); set exactly by the first used sample.
+    /// The magnitude `sqrt(y_c^2 + y_s^2)` the phase error is normalised by
+    /// ([`Real::track_magnitude`], `docs/theory.md §12`); set exactly by the first used
+    /// sample.
     pub(crate) amplitude: T,
     /// The angle is known (from a first sample, or [`ObserverState::at`]).
     pub(crate) initialised: bool,
@@ -173,8 +174,9 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
     }
 
     /// The signal's magnitude `sqrt(y_c^2 + y_s^2)` (in the input's units) as the observer
-    /// tracks it to normalise its phase error (`docs/theory.md §12`): exact for a steady
-    /// amplitude, following a change within a few samples; 0 until a first sample is used.
+    /// tracks it to normalise its phase error (`docs/theory.md §12`): the last used sample's
+    /// in `f64`; in `f32` exact for a steady amplitude and following a change within a few
+    /// samples (one Heron step per sample); 0 until a first sample is used.
     /// The monitor's filtered amplitude, which the loss-of-signal and degradation checks
     /// compare, is [`ObserverState::filtered_amplitude`].
     ///

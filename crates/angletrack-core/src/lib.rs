@@ -14,9 +14,9 @@
 //! X_e = X_p + L eps                    x1 wrapped to [-pi, pi), whole turns counted
 //! ```
 //!
-//! The phase error is normalised by the signal's magnitude `|y| = sqrt(y_c^2 + y_s^2)`
-//! (in `f32` tracked by one Heron step per sample), so the loop's dynamics and the stability checked
-//! at construction hold at any amplitude and in any unit: volts, or raw ADC counts.
+//! The phase error is normalised by the signal's magnitude `|y| = sqrt(y_c^2 + y_s^2)` (in
+//! `f32` tracked by one Heron step per sample), so the loop's dynamics and the stability
+//! checked at construction hold at any amplitude and in any unit: volts, or raw ADC counts.
 //!
 //! The state also keeps the next sample's predicted angle, `(A X_p)[0] + (A L)[0] eps`
 //! (the same sum as `(A X_e)[0]`, taken in another order): one sample's phase error then
@@ -74,8 +74,9 @@
 //! The loop needs no nominal amplitude (its phase error is normalised); the diagnostics do,
 //! in the input's units ([`FaultThresholds::for_amplitude`]), which [`AdcScaling`] makes
 //! fractions of full scale. [`Gains`] is immutable and `Copy`; [`ObserverState`] (and a
-//! [`Calibrator`]) are the mutable part, so one gain set serves many channels. [`Observer`] bundles both and implements [`AngleTrackingObserver`],
-//! the trait for code that should not care which observer it runs.
+//! [`Calibrator`]) are the mutable part, so one gain set serves many channels.
+//! [`Observer`] bundles both and implements [`AngleTrackingObserver`], the trait for code
+//! that should not care which observer it runs.
 //!
 //! # Float types and the phase detector's sin/cos
 //!

@@ -24,7 +24,7 @@ use crate::real::Real;
 /// | `max_input_amplitude` | 4 (a sample above is rejected) |
 /// | `loss_of_signal` | 0.25 |
 /// | `degradation_low`, `degradation_high` | 0.5, 1.5 |
-/// | `loss_of_tracking` | 0.1 (filtered `|eps|`, `eps` the sine of the phase error: about 5.7 degrees; dimensionless) |
+/// | `loss_of_tracking` | 0.1 (filtered `|eps|`, the sine of the phase error: 5.7 degrees) |
 /// | `max_speed` | `None`: pi/2 rad per sample, i.e. `pi / (2 Ts)` rad/s |
 /// | `filter_factor` | 1/16 (first-order filters, time constant 16 samples) |
 /// | `false_lock` | 0 (filtered in-phase component; 0 means an error beyond 90 degrees) |

@@ -215,10 +215,11 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// `amplitude2` being the `y_c^2 + y_s^2 + m` the input check computed: in `f64` the
     /// square root itself; in `f32` one Heron (Newton) step from the previous sample's
     /// value, two divisions and no square root (which a Cortex-M4F computes in software),
-    /// exact for a steady amplitude and within 2 % one sample after a 20 % amplitude step. `m` is the type's smallest normal number
-    /// ([`Real::MIN_POSITIVE`]): it keeps the magnitude positive (Heron's step never goes
-    /// below `sqrt(m)`), so that a zero sample gives `eps = 0` (the state coasts) instead of
-    /// `0 / 0`. A sample that is not used leaves `amplitude` as it is.
+    /// exact for a steady amplitude and within 2 % one sample after a 20 % amplitude step.
+    /// `m` is the type's smallest normal number ([`Real::MIN_POSITIVE`]): it keeps the
+    /// magnitude positive (never below `sqrt(m)`), so that a zero sample gives `eps = 0`
+    /// (the state coasts) instead of `0 / 0`. A sample that is not used leaves `amplitude`
+    /// as it is.
     #[inline(always)]
     pub(crate) fn step<W: Wrap>(
         &self,

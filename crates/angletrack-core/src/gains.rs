@@ -5,8 +5,8 @@
 
 use core::marker::PhantomData;
 
+use crate::calibration_settings::{CalibrationSettings, CheckedCalibration};
 use crate::error::{ConfigError, Parameter, check_positive};
-use crate::learning::{CalibrationSettings, CheckedCalibration};
 use crate::monitor::{CheckedThresholds, FaultThresholds};
 use crate::real::Real;
 use crate::sincos::SinCos;

@@ -31,8 +31,8 @@
 //! `wrap` the angle wrap and turn count, `gains` and `stability` the checked configuration,
 //! `monitor` and `faults` the diagnostics, `sincos` the phase detector's sin/cos, `bank`
 //! many channels at once, `observer` the trait over all observers, `error` the refusals,
-//! `adc` the ADC front end, `calibration` the sensor correction and `learning` its online
-//! estimator.
+//! `adc` the ADC front end, `calibration` the sensor correction, `calibration_settings` its
+//! configuration and `learning` its online estimator.
 //!
 //! Only the discrete gains `L` differ between the classical 2nd-order ATO (order 2), the
 //! 3rd-order ATO designed by pole placement and the time-invariant Kalman ATO (order 3).
@@ -92,6 +92,7 @@
 mod adc;
 mod bank;
 mod calibration;
+mod calibration_settings;
 mod error;
 mod faults;
 mod gains;
@@ -108,10 +109,11 @@ mod wrap;
 pub use adc::{AdcSample, AdcScaling, MAX_MID_SCALE_COUNTS};
 pub use bank::ChannelBank;
 pub use calibration::SensorCalibration;
+pub use calibration_settings::CalibrationSettings;
 pub use error::{ConfigError, Parameter};
 pub use faults::Faults;
 pub use gains::{Gains, Order, SupportedOrder};
-pub use learning::{CalibrationMode, CalibrationSettings, Calibrator};
+pub use learning::{CalibrationMode, Calibrator};
 pub use monitor::FaultThresholds;
 pub use observer::{AngleTrackingObserver, Observer, SecondOrderObserver, ThirdOrderObserver};
 pub use real::Real;

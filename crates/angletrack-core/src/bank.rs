@@ -13,8 +13,9 @@ use crate::wrap::{FullWrap, NoWrap, OneTurnWrap, Wrap, one_turn_limit, sample_an
 /// The states of `L` independent channels of order `N`, laid out as a struct of arrays
 /// (`x[i][lane]`) so that [`Gains::update_bank`] runs the lanes side by side and the
 /// compiler can vectorise the loop over them. No allocation: the bank is a plain value
-/// (`(N + 2) * L` floats, for the states, the next predicted angles and the phase errors,
-/// and `L` turn counts and flags), kept wherever the caller likes.
+/// (`(N + 3) * L` floats, for the states, the next predicted angles, the magnitudes the
+/// phase errors are normalised by and the phase errors, and `L` turn counts and flags), kept
+/// wherever the caller likes.
 ///
 /// A bank runs the same recursion as a single observer, with the same rejection of bad
 /// samples (a lane coasts on its prediction and is marked in [`ChannelBank::rejected`]);

@@ -39,6 +39,10 @@ mod sealed {
 /// `(theta, Ts Omega[, Ts^2 alpha])` (`docs/theory.md §5`), the sample period, and the
 /// sin/cos implementation `S` of the phase detector.
 ///
+/// The gains act on the normalised phase error (about the sine of the angle error, whatever
+/// the amplitude, `docs/theory.md §12`): a Kalman design's measurement noise `r` is
+/// `(noise / amplitude)^2`.
+///
 /// Only [`Gains::new`] and [`Gains::from_loop_polynomial`] make one, for `N` = 2 or 3
 /// ([`SupportedOrder`]). `Copy`: one configuration can drive any number of
 /// [`ObserverState`](crate::ObserverState)s (channels).

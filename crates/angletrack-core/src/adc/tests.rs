@@ -94,6 +94,9 @@ fn tracks_quantised_12_and_16_bit_signals_within_the_quantisation_bound() {
     for (bits, amplitude) in [(12, 1800.0), (16, 30_000.0)] {
         let rms = quantised_rms_error(bits, amplitude);
         let bound = 1.0 / (amplitude * 12f64.sqrt());
+        std::println!(
+            "{bits} bits, amplitude {amplitude} counts: RMS {rms:e} rad, bound {bound:e}"
+        );
         assert!(rms < bound, "{bits} bits: RMS {rms:e} rad, bound {bound:e}");
     }
 }

@@ -161,8 +161,11 @@ pub(crate) fn fast_sin_cos<T: Real>(x: T) -> (T, T) {
 #[inline(always)]
 pub(crate) fn fast_phase_detector<T: Real>(x: T, y_c: T, y_s: T) -> (T, T) {
     let (w, p, q) = fast_reduced(x);
-    let eps = (y_s * w) * p - y_c.times_sign_of(x) * q;
-    let in_phase = (y_c * w) * p + y_s.times_sign_of(x) * q;
+    // One sign, +-1, multiplied into both inputs: exact, and on a Cortex-M4F one move to
+    // the integer unit and back for the pair instead of one for each input.
+    let sign = T::ONE.times_sign_of(x);
+    let eps = (y_s * w) * p - (y_c * sign) * q;
+    let in_phase = (y_c * w) * p + (y_s * sign) * q;
     (eps, in_phase)
 }
 

@@ -1,9 +1,15 @@
 //! Fuzzes the per-sample update: arbitrary gains, sample period, diagnostics thresholds and
-//! samples, on both float types, both orders and both sin/cos. Whatever the input: no panic,
-//! and every accepted configuration keeps a finite state and an angle in [-pi, pi).
+//! samples, on both float types, both orders and both sin/cos, through the online
+//! calibration (arbitrary settings and stored calibration, learning or frozen) and the ADC
+//! front end (arbitrary mid-scale, scale and integer samples of every type). Whatever the
+//! input: no panic, and every accepted configuration keeps a finite state and calibration
+//! and an angle in [-pi, pi).
 #![no_main]
 
-use angletrack_core::{Exact, Fast, FaultThresholds, Gains, ObserverState, Order, Real, SinCos, SupportedOrder};
+use angletrack_core::{
+    AdcScaling, CalibrationSettings, Calibrator, Estimate, Exact, Fast, FaultThresholds, Gains,
+    ObserverState, Order, Real, SensorCalibration, SinCos, SupportedOrder,
+};
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
 
@@ -16,7 +22,29 @@ struct Input {
     sample_period_s: f64,
     thresholds: Option<Thresholds>,
     initial: Option<(f64, f64, f64)>,
+    calibration: Option<Calibration>,
+    adc: Option<Adc>,
     samples: Vec<(f64, f64)>,
+}
+
+#[derive(Debug, Arbitrary)]
+struct Calibration {
+    /// offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad.
+    stored: Option<(f64, f64, f64, f64, f64)>,
+    learning: bool,
+    min_speed_rad_s: Option<f64>,
+    max_offset: f64,
+    max_amplitude_mismatch: f64,
+    max_quadrature_rad: f64,
+}
+
+#[derive(Debug, Arbitrary)]
+struct Adc {
+    mid_scale_counts: i32,
+    counts_per_unit: f64,
+    /// 0: i16, 1: u16, else i32.
+    sample_type: u8,
+    raw: Vec<(i32, i32)>,
 }
 
 #[derive(Debug, Arbitrary)]
@@ -65,6 +93,27 @@ where
             Err(_) => return,
         }
     }
+    let mut calibrator = Calibrator::new();
+    if let Some(c) = &input.calibration {
+        let f = T::from_f64;
+        let settings = CalibrationSettings {
+            min_speed_rad_s: c.min_speed_rad_s.map(f),
+            max_offset: f(c.max_offset),
+            max_amplitude_mismatch: f(c.max_amplitude_mismatch),
+            max_quadrature_rad: f(c.max_quadrature_rad),
+        };
+        if let Ok(g) = gains.with_calibration_settings(settings) {
+            gains = g;
+        }
+        if let Some((o_c, o_s, a_c, a_s, phi)) = c.stored {
+            if let Ok(stored) = SensorCalibration::new(f(o_c), f(o_s), f(a_c), f(a_s), f(phi)) {
+                calibrator = Calibrator::from_calibration(stored);
+            }
+        }
+        if c.learning {
+            calibrator.enable();
+        }
+    }
     let mut state = match input.initial {
         Some((angle, speed, acceleration)) => ObserverState::at(
             T::from_f64(angle),
@@ -74,14 +123,45 @@ where
         ),
         None => ObserverState::new(),
     };
+    let check = |e: Estimate<T>, state: &ObserverState<T, N>, calibrator: &Calibrator<T>| {
+        assert!(
+            state.scaled_state().iter().all(|x| x.is_finite()),
+            "{state:?}"
+        );
+        assert!(state.amplitude().is_finite(), "{state:?}");
+        assert!(e.angle >= -T::PI && e.angle < T::PI, "{e:?}");
+        assert!(e.speed.is_finite() && e.acceleration.is_finite() && e.phase_error.is_finite());
+        let (o_c, o_s, a_c, a_s, phi) = calibrator.calibration().parameters();
+        assert!(
+            [o_c, o_s, a_c, a_s, phi].iter().all(|v| v.is_finite()),
+            "{calibrator:?}"
+        );
+    };
     // Repeat the samples so that slow divergence would show.
     for _ in 0..4 {
         for &(y_c, y_s) in &input.samples {
-            let e = gains.update(&mut state, T::from_f64(y_c), T::from_f64(y_s));
-            assert!(state.scaled_state().iter().all(|x| x.is_finite()), "{state:?}");
-            assert!(e.angle >= -T::PI && e.angle < T::PI, "{e:?}");
-            assert!(e.speed.is_finite() && e.acceleration.is_finite() && e.phase_error.is_finite());
+            let (y_c, y_s) = (T::from_f64(y_c), T::from_f64(y_s));
+            let e = gains.update_calibrated(&mut state, &mut calibrator, y_c, y_s);
+            check(e, &state, &calibrator);
         }
+    }
+    let Some(adc) = &input.adc else {
+        return;
+    };
+    let Ok(scaling) = AdcScaling::<T>::new(adc.mid_scale_counts, T::from_f64(adc.counts_per_unit))
+    else {
+        return;
+    };
+    for &(raw_c, raw_s) in &adc.raw {
+        let (y_c, y_s) = match adc.sample_type {
+            0 => scaling.sample(raw_c as i16, raw_s as i16),
+            1 => scaling.sample(raw_c as u16, raw_s as u16),
+            _ => scaling.sample(raw_c, raw_s),
+        };
+        let e = gains.update_calibrated(&mut state, &mut calibrator, y_c, y_s);
+        check(e, &state, &calibrator);
+        let e = gains.update_adc(&mut state, &scaling, raw_c, raw_s);
+        check(e, &state, &calibrator);
     }
 }
 

@@ -7,13 +7,13 @@ use std::{env, fs, path::PathBuf};
 use angletrack_benches::{
     KALMAN_GAINS, SECOND_ORDER_GAINS, THIRD_ORDER_GAINS, benchmark_scenario, channels,
 };
-use angletrack_core::{Gains, ObserverState, Order, SinCos, SupportedOrder};
+use angletrack_core::{Gains, Order, SinCos, SupportedOrder};
 
 #[path = "src/variants.rs"]
 #[allow(dead_code)]
 mod variants;
 
-use variants::{Job, NAMES, Observers};
+use variants::{Channel, Entry, Job, NAMES, Observers, adc_counts, entry};
 
 /// Samples of the simulated resolver (0.2 s at 10 kHz, about 11 turns).
 const SAMPLES: usize = 2000;
@@ -26,14 +26,23 @@ struct Reference<'a> {
 }
 
 impl Job for Reference<'_> {
-    fn run<const N: usize, S: SinCos<f32>>(&mut self, _index: usize, gains: Gains<f32, N, S>)
+    fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>)
     where
         Order<N>: SupportedOrder,
     {
-        let mut state = ObserverState::new();
+        let mut channel = Channel::<N>::new(entry(index));
+        let Channel {
+            state,
+            calibrator,
+            adc,
+        } = &mut channel;
         for (&c, &s) in self.y_c.iter().zip(self.y_s) {
-            self.records
-                .extend_from_slice(&variants::encode(&gains.update(&mut state, c, s)));
+            let estimate = match entry(index) {
+                Entry::Plain => gains.update(state, c, s),
+                Entry::Calibrated => gains.update_calibrated(state, calibrator, c, s),
+                Entry::Adc => gains.update_adc(state, adc, adc_counts(c), adc_counts(s)),
+            };
+            self.records.extend_from_slice(&variants::encode(&estimate));
         }
     }
 }

@@ -96,12 +96,14 @@ measured() {
 }
 # function_of KIND VARIANT: the mangled name of the firmware's out-of-line KIND (update or
 # update_block) for VARIANT: 2nd order for second-order-*, else 3rd (the 3rd-order and the
-# Kalman ATO share it); fast sin/cos unless the name ends in -exact.
+# Kalman ATO share it); fast sin/cos unless the name ends in -exact; the update of a variant
+# ending in -calibrated or -adc is update_calibrated or update_adc.
 function_of() {
-  local order=3 sin_cos=Fast name f
+  local order=3 sin_cos=Fast kind=$1 name f
   case $2 in second-order-*) order=2 ;; esac
   case $2 in *-exact) sin_cos=Exact ;; esac
-  name="angletrack_firmware_test::$1::<$order, angletrack_core::sincos::$sin_cos>"
+  case $1-$2 in update-*-calibrated) kind=update_calibrated ;; update-*-adc) kind=update_adc ;; esac
+  name="angletrack_firmware_test::$kind::<$order, angletrack_core::sincos::$sin_cos>"
   f=$(mangled "$name")
   [ -n "$f" ] || { echo "no $name symbol in $elf" >&2; exit 1; }
   echo "$f"
@@ -135,15 +137,18 @@ ranges=""
 counts=$(per_sample loop)
 echo "insns_per_iteration loop: ${counts% *}"
 for variant in second-order-f32-exact second-order-f32-fast third-order-f32-exact \
-  third-order-f32-fast kalman-f32-exact kalman-f32-fast kalman-f32-fast-unmonitored; do
+  third-order-f32-fast kalman-f32-exact kalman-f32-fast kalman-f32-fast-unmonitored \
+  kalman-f32-fast-calibrated kalman-f32-fast-adc; do
   root=$(function_of update "$variant")
   ranges=$(measured "$root")
   counts=$(per_sample "$variant")
+  echo "insns_per_update $variant: ${counts#* }"
+  echo "insns_per_iteration $variant: ${counts% *}"
+  # The calibrated and ADC entry points have no block form.
+  case $variant in *-calibrated | *-adc) continue ;; esac
   root=$(function_of update_block "$variant")
   ranges=$(measured "$root")
   block=$(per_sample "$variant" block)
-  echo "insns_per_update $variant: ${counts#* }"
-  echo "insns_per_iteration $variant: ${counts% *}"
   echo "insns_per_sample_in_block $variant: ${block#* }"
 done
 

@@ -1,5 +1,7 @@
-//! Tracks a simulated resolver with the three observers of the paper (f32, fast sin/cos) and
-//! prints the angle and speed errors of each.
+//! Tracks a simulated resolver from raw 12-bit ADC counts with the three observers of the
+//! paper (f32, fast sin/cos) and prints the angle and speed errors of each; then a sensor
+//! with offsets, gain imbalance and quadrature error, without and with the online
+//! calibration.
 //!
 //! Run: `cargo run --release -p angletrack-core --example track_resolver`
 //!
@@ -8,7 +10,7 @@
 //! 3rd-order ATO with K = 39.04 and psi = 3 pi / 2 (pole matching), and the Kalman ATO for
 //! q / r = 1e-9.
 
-use angletrack_core::{AngleTrackingObserver, Gains, Observer};
+use angletrack_core::{AdcScaling, Calibrator, Estimate, FaultThresholds, Gains, ObserverState};
 
 const TS: f64 = 1e-4;
 
@@ -38,17 +40,40 @@ fn shaft(t: f64) -> (f64, f64) {
     }
 }
 
-fn report(name: &str, mut observer: impl AngleTrackingObserver<f32>) {
+/// A sensor: offsets and the sine channel's gain (relative to the amplitude) and its
+/// quadrature angle (rad).
+struct Sensor {
+    offsets: (f64, f64),
+    gain: f64,
+    quadrature_rad: f64,
+}
+
+/// A perfect sensor.
+const IDEAL: Sensor = Sensor {
+    offsets: (0.0, 0.0),
+    gain: 1.0,
+    quadrature_rad: 0.0,
+};
+
+/// The amplitude of the signals in ADC counts (12-bit offset binary ADC, mid-scale 2048).
+const AMPLITUDE_COUNTS: f64 = 1800.0;
+
+/// Tracks the shaft through `sensor` and a 12-bit ADC with `update` (raw counts in, estimate
+/// out) and prints the errors over the last 0.25 s (constant speed).
+fn report(name: &str, sensor: &Sensor, mut update: impl FnMut(u16, u16) -> Estimate<f32>) {
     let mut noise = Noise(0x1234_5678_9abc_def1);
-    let sigma = 0.01; // sensor noise, per channel, amplitude 1
+    let sigma = 0.01; // sensor noise, per channel, relative to the amplitude
+    let counts = |v: f64| (2048.0 + AMPLITUDE_COUNTS * v).round().clamp(0.0, 4095.0) as u16;
     let n = (1.0 / TS) as usize;
     let (mut sum_angle, mut sum_speed, mut max_angle, mut count) = (0.0, 0.0, 0.0f64, 0);
     for k in 0..n {
         let (theta, omega) = shaft(k as f64 * TS);
-        let y_c = theta.cos() + sigma * noise.gaussian();
-        let y_s = theta.sin() + sigma * noise.gaussian();
-        let e = observer.update(y_c as f32, y_s as f32);
-        if k >= n / 10 {
+        let y_c = sensor.offsets.0 + theta.cos() + sigma * noise.gaussian();
+        let y_s = sensor.offsets.1
+            + sensor.gain * (theta + sensor.quadrature_rad).sin()
+            + sigma * noise.gaussian();
+        let e = update(counts(y_c), counts(y_s));
+        if k >= 3 * n / 4 {
             let err = (theta - e.position() + core::f64::consts::PI)
                 .rem_euclid(core::f64::consts::TAU)
                 - core::f64::consts::PI;
@@ -59,7 +84,7 @@ fn report(name: &str, mut observer: impl AngleTrackingObserver<f32>) {
         }
     }
     println!(
-        "{name:<28} rms angle error {:>8.3} mrad   max {:>8.3} mrad   rms speed error {:>7.3} rad/s",
+        "{name:<36} rms angle error {:>8.3} mrad   max {:>8.3} mrad   rms speed error {:>7.3} rad/s",
         1e3 * (sum_angle / count as f64).sqrt(),
         1e3 * max_angle,
         (sum_speed / count as f64).sqrt()
@@ -68,14 +93,56 @@ fn report(name: &str, mut observer: impl AngleTrackingObserver<f32>) {
 
 fn main() -> Result<(), angletrack_core::ConfigError> {
     let ts = TS as f32;
-    let second = Gains::<f32, 2>::new([0.060_898_63, 0.000_956_514_8], ts)?;
-    let third = Gains::<f32, 3>::new([0.094_326_17, 0.000_562_075, 1.213_522e-5], ts)?;
-    let kalman = Gains::<f32, 3>::new([0.061_286_65, 0.001_937_879, 3.063_843e-5], ts)?;
+    // The ADC: 12 bits, offset binary; full scale is +-1, the signal 1800 / 2048 of it,
+    // which the diagnostics compare amplitudes with.
+    let adc = AdcScaling::<f32>::offset_binary(12)?;
+    let thresholds = FaultThresholds::for_amplitude((AMPLITUDE_COUNTS / 2048.0) as f32);
+    let second = Gains::<f32, 2>::new([0.060_898_63, 0.000_956_514_8], ts)?
+        .with_fault_thresholds(thresholds)?;
+    let third = Gains::<f32, 3>::new([0.094_326_17, 0.000_562_075, 1.213_522e-5], ts)?
+        .with_fault_thresholds(thresholds)?;
+    let kalman = Gains::<f32, 3>::new([0.061_286_65, 0.001_937_879, 3.063_843e-5], ts)?
+        .with_fault_thresholds(thresholds)?;
     println!(
-        "Resolver at 10 kHz, noise 0.01 per channel, 0.5 s at 400 rad/s^2 then constant speed:"
+        "Resolver at 10 kHz through a 12-bit ADC (amplitude 1800 counts), noise 0.01 per \
+         channel, 0.5 s at 400 rad/s^2 then constant speed:"
     );
-    report("2nd-order ATO (type II)", Observer::new(second));
-    report("3rd-order ATO (type III)", Observer::new(third));
-    report("3rd-order Kalman ATO", Observer::new(kalman));
+    let (mut s2, mut s3, mut sk) = (
+        ObserverState::new(),
+        ObserverState::new(),
+        ObserverState::new(),
+    );
+    report("2nd-order ATO (type II)", &IDEAL, |c, s| {
+        second.update_adc(&mut s2, &adc, c, s)
+    });
+    report("3rd-order ATO (type III)", &IDEAL, |c, s| {
+        third.update_adc(&mut s3, &adc, c, s)
+    });
+    report("3rd-order Kalman ATO", &IDEAL, |c, s| {
+        kalman.update_adc(&mut sk, &adc, c, s)
+    });
+    let real = Sensor {
+        offsets: (0.05, -0.05),
+        gain: 1.1,
+        quadrature_rad: 3f64.to_radians(),
+    };
+    println!("A sensor with offsets 5 %, gain imbalance 10 % and quadrature 3 degrees:");
+    let mut state = ObserverState::new();
+    report("Kalman ATO, uncorrected", &real, |c, s| {
+        kalman.update_adc(&mut state, &adc, c, s)
+    });
+    let (mut state, mut calibrator) = (ObserverState::new(), Calibrator::new());
+    calibrator.enable();
+    report("Kalman ATO, online calibration", &real, |c, s| {
+        let (y_c, y_s) = adc.sample(c, s);
+        kalman.update_calibrated(&mut state, &mut calibrator, y_c, y_s)
+    });
+    let (o_c, o_s, a_c, a_s, phi) = calibrator.calibration().parameters();
+    println!(
+        "learned in {} turns: offsets {o_c:.4} {o_s:.4}, amplitudes {a_c:.4} {a_s:.4} \
+         (full scale), quadrature {:.2} degrees",
+        calibrator.turns_learned(),
+        phi.to_degrees()
+    );
     Ok(())
 }

@@ -7,13 +7,15 @@ use crate::gains::Gains;
 use crate::real::Real;
 use crate::sincos::SinCos;
 use crate::state::Estimate;
+use crate::update::{Sample, magnitude};
 use crate::wrap::{FullWrap, NoWrap, OneTurnWrap, Wrap, one_turn_limit, sample_angle, wrapped};
 
 /// The states of `L` independent channels of order `N`, laid out as a struct of arrays
 /// (`x[i][lane]`) so that [`Gains::update_bank`] runs the lanes side by side and the
 /// compiler can vectorise the loop over them. No allocation: the bank is a plain value
-/// (`(N + 2) * L` floats, for the states, the next predicted angles and the phase errors,
-/// and `L` turn counts and flags), kept wherever the caller likes.
+/// (`(N + 3) * L` floats, for the states, the next predicted angles, the magnitudes the
+/// phase errors are normalised by and the phase errors, and `L` turn counts and flags), kept
+/// wherever the caller likes.
 ///
 /// A bank runs the same recursion as a single observer, with the same rejection of bad
 /// samples (a lane coasts on its prediction and is marked in [`ChannelBank::rejected`]);
@@ -23,6 +25,8 @@ use crate::wrap::{FullWrap, NoWrap, OneTurnWrap, Wrap, one_turn_limit, sample_an
 pub struct ChannelBank<T, const N: usize, const L: usize> {
     x: [[T; L]; N],
     next_angle: [T; L],
+    /// Each lane's tracked magnitude `sqrt(y_c^2 + y_s^2)` (`docs/theory.md §12`).
+    amplitude: [T; L],
     turns: [i32; L],
     phase_error: [T; L],
     /// 1 for a lane whose last sample was rejected, else 0: lane-wide integers, which a
@@ -54,6 +58,7 @@ impl<T: Real, const N: usize, const L: usize> ChannelBank<T, N, L> {
         Self {
             x: [[T::ZERO; L]; N],
             next_angle: [T::ZERO; L],
+            amplitude: [T::ZERO; L],
             turns: [0; L],
             phase_error: [T::ZERO; L],
             rejected: [0; L],
@@ -207,8 +212,16 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             *xi = bank.x[i][lane];
         }
         let mut next_angle = bank.next_angle[lane];
-        let (_, valid) = self.thresholds.accept(c, s);
-        let step = self.step::<W>(&mut x, &mut next_angle, c, s, valid);
+        let mut amplitude = bank.amplitude[lane];
+        let (amplitude2, valid) = self.thresholds.accept(c, s);
+        let sample = Sample {
+            y_c: c,
+            y_s: s,
+            amplitude2,
+            valid,
+        };
+        let step = self.step::<W>(&mut x, &mut next_angle, &mut amplitude, sample);
+        bank.amplitude[lane] = amplitude;
         bank.turns[lane] = bank.turns[lane].wrapping_add(step.whole);
         for (i, xi) in x.iter().enumerate() {
             bank.x[i][lane] = *xi;
@@ -273,9 +286,10 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
                 self.update_lane::<FullWrap, L>(bank, lane, c, s);
                 continue;
             }
-            let (_, valid) = self.thresholds.accept(c, s);
+            let (amplitude2, valid) = self.thresholds.accept(c, s);
             bank.rejected[lane] = u32::from(!valid);
             if let (true, Some((angle, whole))) = (valid, sample_angle(c, s)) {
+                bank.amplitude[lane] = magnitude(amplitude2);
                 bank.turns[lane] = whole;
                 bank.x[0][lane] = angle;
                 bank.next_angle[lane] = angle;

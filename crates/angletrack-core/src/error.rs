@@ -36,6 +36,30 @@ pub enum Parameter {
     NominalAmplitude,
     /// The estimated speed (rad/s) above which loss of tracking is flagged.
     MaxSpeed,
+    /// The ADC reading of a zero signal (counts).
+    MidScaleCounts,
+    /// ADC counts per unit of the observer's input.
+    CountsPerUnit,
+    /// The ADC's resolution (bits).
+    AdcBits,
+    /// The cosine channel's offset of a sensor calibration.
+    OffsetCos,
+    /// The sine channel's offset of a sensor calibration.
+    OffsetSin,
+    /// The cosine channel's amplitude of a sensor calibration.
+    AmplitudeCos,
+    /// The sine channel's amplitude of a sensor calibration.
+    AmplitudeSin,
+    /// The quadrature (non-orthogonality) angle of a sensor calibration (rad).
+    Quadrature,
+    /// The smallest speed (rad/s) at which the online calibration learns.
+    MinSpeed,
+    /// The largest offset (fraction of the amplitude) before a fault is flagged.
+    MaxOffset,
+    /// The largest amplitude mismatch between the channels (fraction) before a fault.
+    MaxAmplitudeMismatch,
+    /// The largest quadrature angle (rad) before a fault is flagged.
+    MaxQuadrature,
 }
 
 impl Parameter {
@@ -68,6 +92,18 @@ impl Parameter {
             Parameter::FalseLockThreshold => "false_lock",
             Parameter::NominalAmplitude => "nominal_amplitude",
             Parameter::MaxSpeed => "max_speed_rad_s",
+            Parameter::MidScaleCounts => "mid_scale_counts",
+            Parameter::CountsPerUnit => "counts_per_unit",
+            Parameter::AdcBits => "bits",
+            Parameter::OffsetCos => "offset_c",
+            Parameter::OffsetSin => "offset_s",
+            Parameter::AmplitudeCos => "amplitude_c",
+            Parameter::AmplitudeSin => "amplitude_s",
+            Parameter::Quadrature => "quadrature_rad",
+            Parameter::MinSpeed => "min_speed_rad_s",
+            Parameter::MaxOffset => "max_offset",
+            Parameter::MaxAmplitudeMismatch => "max_amplitude_mismatch",
+            Parameter::MaxQuadrature => "max_quadrature_rad",
         }
     }
 

@@ -32,6 +32,15 @@ impl Faults {
     /// `y_c cos + y_s sin` went below its threshold); with `re_acquire` on, the angle is
     /// re-acquired from `atan2`.
     pub const FALSE_LOCK: Faults = Faults(1 << 4);
+    /// Amplitude mismatch between the channels, as the AD2S1210's degradation check: the
+    /// online calibration's amplitude ratio `A_s / A_c` is further from 1 than its bound
+    /// ([`CalibrationSettings`](crate::CalibrationSettings); flagged only while a
+    /// [`Calibrator`](crate::Calibrator) is on).
+    pub const AMPLITUDE_MISMATCH: Faults = Faults(1 << 5);
+    /// An offset or the quadrature angle of the online calibration is beyond its bound
+    /// ([`CalibrationSettings`](crate::CalibrationSettings); flagged only while a
+    /// [`Calibrator`](crate::Calibrator) is on).
+    pub const OFFSET_OR_QUADRATURE: Faults = Faults(1 << 6);
 
     /// Every flag with its name, in bit order: the names [`Display`](fmt::Display) writes
     /// (the constant's name in lower case, words apart), for code that lists the flags, such
@@ -41,18 +50,20 @@ impl Faults {
     /// use angletrack_core::Faults;
     /// let (flag, name) = Faults::NAMES[3];
     /// assert_eq!((flag, name), (Faults::BAD_SAMPLE, "bad sample"));
-    /// assert_eq!(Faults::NAMES.iter().fold(Faults::NONE, |all, (f, _)| all | *f).bits(), 0x1f);
+    /// assert_eq!(Faults::NAMES.iter().fold(Faults::NONE, |all, (f, _)| all | *f).bits(), 0x7f);
     /// ```
-    pub const NAMES: [(Faults, &'static str); 5] = [
+    pub const NAMES: [(Faults, &'static str); 7] = [
         (Faults::LOSS_OF_SIGNAL, "loss of signal"),
         (Faults::DEGRADATION_OF_SIGNAL, "degradation of signal"),
         (Faults::LOSS_OF_TRACKING, "loss of tracking"),
         (Faults::BAD_SAMPLE, "bad sample"),
         (Faults::FALSE_LOCK, "false lock"),
+        (Faults::AMPLITUDE_MISMATCH, "amplitude mismatch"),
+        (Faults::OFFSET_OR_QUADRATURE, "offset or quadrature"),
     ];
 
     /// The raw bits (bit 0 loss of signal, 1 degradation of signal, 2 loss of tracking,
-    /// 3 bad sample, 4 false lock).
+    /// 3 bad sample, 4 false lock, 5 amplitude mismatch, 6 offset or quadrature).
     pub const fn bits(self) -> u8 {
         self.0
     }
@@ -65,7 +76,12 @@ impl Faults {
     /// assert_eq!(faults, Faults::BAD_SAMPLE);
     /// ```
     pub const fn from_bits_truncate(bits: u8) -> Faults {
-        Faults(bits & 0x1f)
+        Faults(bits & 0x7f)
+    }
+
+    /// `true` when `self` and `other` share a flag.
+    pub const fn intersects(self, other: Faults) -> bool {
+        self.0 & other.0 != 0
     }
 
     /// `true` when no flag is set.

@@ -5,6 +5,7 @@
 
 use core::marker::PhantomData;
 
+use crate::calibration_settings::{CalibrationSettings, CheckedCalibration};
 use crate::error::{ConfigError, Parameter, check_positive};
 use crate::monitor::{CheckedThresholds, FaultThresholds};
 use crate::real::Real;
@@ -38,6 +39,10 @@ mod sealed {
 /// `(theta, Ts Omega[, Ts^2 alpha])` (`docs/theory.md §5`), the sample period, and the
 /// sin/cos implementation `S` of the phase detector.
 ///
+/// The gains act on the normalised phase error (about the sine of the angle error, whatever
+/// the amplitude, `docs/theory.md §12`): a Kalman design's measurement noise `r` is
+/// `(noise / amplitude)^2`.
+///
 /// Only [`Gains::new`] and [`Gains::from_loop_polynomial`] make one, for `N` = 2 or 3
 /// ([`SupportedOrder`]). `Copy`: one configuration can drive any number of
 /// [`ObserverState`](crate::ObserverState)s (channels).
@@ -51,6 +56,9 @@ pub struct Gains<T: Real, const N: usize, S = <T as Real>::DefaultSinCos> {
     /// sample's predicted angle.
     pub(crate) next_angle_gain: T,
     pub(crate) thresholds: CheckedThresholds<T>,
+    /// The online calibration's settings (used by
+    /// [`Gains::update_calibrated`](crate::Gains::update_calibrated) only).
+    pub(crate) calibration: CheckedCalibration<T>,
     pub(crate) sin_cos: PhantomData<S>,
 }
 
@@ -96,6 +104,7 @@ where
             sample_rate_squared: sample_rate * sample_rate,
             next_angle_gain: predict(&gains)[0],
             thresholds: FaultThresholds::default().check(sample_period)?,
+            calibration: CalibrationSettings::default().check(sample_period)?,
             sin_cos: PhantomData,
         })
     }
@@ -180,6 +189,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             sample_rate_squared: self.sample_rate_squared,
             next_angle_gain: self.next_angle_gain,
             thresholds: self.thresholds,
+            calibration: self.calibration,
             sin_cos: PhantomData,
         }
     }

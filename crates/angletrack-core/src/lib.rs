@@ -10,9 +10,13 @@
 //!
 //! ```text
 //! X_p = A X_e                          A = [[1, 1, 1/2], [0, 1, 1], [0, 0, 1]] (order 3)
-//! eps = y_s cos(x1_p) - y_c sin(x1_p)  heterodyne phase detector
+//! eps = (y_s cos(x1_p) - y_c sin(x1_p)) / |y|   heterodyne phase detector, normalised
 //! X_e = X_p + L eps                    x1 wrapped to [-pi, pi), whole turns counted
 //! ```
+//!
+//! The phase error is normalised by the signal's magnitude `|y| = sqrt(y_c^2 + y_s^2)` (in
+//! `f32` tracked by one Heron step per sample), so the loop's dynamics and the stability
+//! checked at construction hold at any amplitude and in any unit: volts, or raw ADC counts.
 //!
 //! The state also keeps the next sample's predicted angle, `(A X_p)[0] + (A L)[0] eps`
 //! (the same sum as `(A X_e)[0]`, taken in another order): one sample's phase error then
@@ -21,11 +25,14 @@
 //!
 //! The mathematics is in the repository's `docs/theory.md`: the phase detector (§1), the
 //! scaled state and this recursion (§5), the stability check of the gains (§6), the speed
-//! limits (§9), the diagnostics (§10) and the fast sin/cos (§11). Each module implements one
-//! of them: `state` and `update` the recursion, `wrap` the angle wrap and turn count,
-//! `gains` and `stability` the checked configuration, `monitor` and `faults` the
-//! diagnostics, `sincos` the phase detector's sin/cos, `bank` many channels at once,
-//! `observer` the trait over all observers, `error` the refusals.
+//! limits (§9), the diagnostics (§10), the fast sin/cos (§11) and real signals (§12:
+//! amplitude normalisation, ADC scaling, online correction of offsets, imbalance and
+//! quadrature). Each module implements one of them: `state` and `update` the recursion,
+//! `wrap` the angle wrap and turn count, `gains` and `stability` the checked configuration,
+//! `monitor` and `faults` the diagnostics, `sincos` the phase detector's sin/cos, `bank`
+//! many channels at once, `observer` the trait over all observers, `error` the refusals,
+//! `adc` the ADC front end, `calibration` the sensor correction, `calibration_settings` its
+//! configuration and `learning` its online estimator.
 //!
 //! Only the discrete gains `L` differ between the classical 2nd-order ATO (order 2), the
 //! 3rd-order ATO designed by pole placement and the time-invariant Kalman ATO (order 3).
@@ -37,22 +44,39 @@
 //! # Firmware use
 //!
 //! ```
-//! use angletrack_core::{Gains, ObserverState};
+//! use angletrack_core::{AdcScaling, Calibrator, FaultThresholds, Gains, ObserverState};
 //!
-//! // Once, at start-up: gains for a 20 kHz loop (from `angletrack design`).
-//! let gains = Gains::<f32, 3>::new([0.1578, 0.0126, 0.000_34], 50e-6).expect("valid gains");
+//! // Once, at start-up: gains for a 20 kHz loop (from `angletrack design`), a 12-bit ADC
+//! // (offset binary: full scale is +-1) and a signal of about 1800 counts, 0.88 of full
+//! // scale, which the diagnostics compare amplitudes with.
+//! let gains = Gains::<f32, 3>::new([0.1578, 0.0126, 0.000_34], 50e-6)
+//!     .and_then(|g| g.with_fault_thresholds(FaultThresholds::for_amplitude(0.88)))
+//!     .expect("valid configuration");
+//! let adc = AdcScaling::offset_binary(12).expect("valid ADC");
 //! let mut state = ObserverState::new();
 //!
-//! // In the ADC interrupt, every sample (y_c, y_s normalised to amplitude ~1):
-//! # let (y_c, y_s) = (0.5_f32, 0.866_f32);
-//! let estimate = gains.update(&mut state, y_c, y_s);
+//! // In the ADC interrupt, every sample: the raw counts as the ADC gives them.
+//! # let (raw_c, raw_s) = (2048u16 + 900, 2048u16 + 1559);
+//! let estimate = gains.update_adc(&mut state, &adc, raw_c, raw_s);
 //! let (angle_rad, speed_rad_s) = (estimate.angle, estimate.speed);
 //! # assert!((angle_rad - 1.0472).abs() < 1e-3 && speed_rad_s == 0.0);
+//! # assert!(estimate.faults.is_empty());
+//!
+//! // Or with the sensor's offsets, gain imbalance and quadrature learned while tracking
+//! // (store `calibrator.calibration()` in flash, load it with `Calibrator::from_calibration`):
+//! let mut calibrator = Calibrator::new();
+//! calibrator.enable();
+//! let (y_c, y_s) = adc.sample(raw_c, raw_s);
+//! let estimate = gains.update_calibrated(&mut state, &mut calibrator, y_c, y_s);
+//! # assert!((estimate.angle - 1.0472).abs() < 1e-3);
 //! ```
 //!
-//! [`Gains`] is immutable and `Copy`; [`ObserverState`] is the mutable part, so one gain set
-//! serves many channels. [`Observer`] bundles both and implements [`AngleTrackingObserver`],
-//! the trait for code that should not care which observer it runs.
+//! The loop needs no nominal amplitude (its phase error is normalised); the diagnostics do,
+//! in the input's units ([`FaultThresholds::for_amplitude`]), which [`AdcScaling`] makes
+//! fractions of full scale. [`Gains`] is immutable and `Copy`; [`ObserverState`] (and a
+//! [`Calibrator`]) are the mutable part, so one gain set serves many channels.
+//! [`Observer`] bundles both and implements [`AngleTrackingObserver`], the trait for code
+//! that should not care which observer it runs.
 //!
 //! # Float types and the phase detector's sin/cos
 //!
@@ -65,10 +89,14 @@
 // `!(x > 0)` is deliberate throughout: it is true for NaN, which must be refused too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+mod adc;
 mod bank;
+mod calibration;
+mod calibration_settings;
 mod error;
 mod faults;
 mod gains;
+mod learning;
 mod monitor;
 mod observer;
 mod real;
@@ -78,14 +106,18 @@ mod state;
 mod update;
 mod wrap;
 
+pub use adc::{AdcSample, AdcScaling, MAX_MID_SCALE_COUNTS};
 pub use bank::ChannelBank;
+pub use calibration::SensorCalibration;
+pub use calibration_settings::CalibrationSettings;
 pub use error::{ConfigError, Parameter};
 pub use faults::Faults;
 pub use gains::{Gains, Order, SupportedOrder};
+pub use learning::{CalibrationMode, Calibrator};
 pub use monitor::FaultThresholds;
 pub use observer::{AngleTrackingObserver, Observer, SecondOrderObserver, ThirdOrderObserver};
 pub use real::Real;
-pub use sincos::{Exact, Fast, SinCos};
+pub use sincos::{Detection, Exact, Fast, SinCos};
 pub use state::{Estimate, ObserverState};
 
 #[cfg(test)]

@@ -11,13 +11,20 @@ use crate::real::Real;
 /// (amplitudes) unless stated. Part of the observer's configuration
 /// ([`Gains::with_fault_thresholds`](crate::Gains::with_fault_thresholds)).
 ///
+/// The loop itself is unit-free (its phase error is normalised by the signal's magnitude,
+/// `docs/theory.md §12`), but these amplitude checks compare the signal with a healthy one,
+/// so they need its nominal amplitude in the caller's units: build them with
+/// [`FaultThresholds::for_amplitude`] (for raw ADC counts with the mid-scale removed, the
+/// amplitude in counts), or feed samples through an [`AdcScaling`](crate::AdcScaling),
+/// which makes the defaults fractions of full scale.
+///
 /// | field | default (nominal amplitude 1) |
 /// | --- | --- |
 /// | `nominal_amplitude` | 1 |
 /// | `max_input_amplitude` | 4 (a sample above is rejected) |
 /// | `loss_of_signal` | 0.25 |
 /// | `degradation_low`, `degradation_high` | 0.5, 1.5 |
-/// | `loss_of_tracking` | 0.1 (filtered `|eps|`, about 5.7 degrees at amplitude 1) |
+/// | `loss_of_tracking` | 0.1 (filtered `|eps|`, the sine of the phase error: 5.7 degrees) |
 /// | `max_speed` | `None`: pi/2 rad per sample, i.e. `pi / (2 Ts)` rad/s |
 /// | `filter_factor` | 1/16 (first-order filters, time constant 16 samples) |
 /// | `false_lock` | 0 (filtered in-phase component; 0 means an error beyond 90 degrees) |
@@ -36,7 +43,9 @@ pub struct FaultThresholds<T> {
     pub degradation_low: T,
     /// Filtered amplitude above this: [`Faults::DEGRADATION_OF_SIGNAL`].
     pub degradation_high: T,
-    /// Filtered `|eps|` above this: [`Faults::LOSS_OF_TRACKING`].
+    /// Filtered `|eps|` above this: [`Faults::LOSS_OF_TRACKING`]. `eps` is the normalised
+    /// phase error (about the sine of the angle error), so this is dimensionless, the same
+    /// for every amplitude.
     pub loss_of_tracking: T,
     /// Estimated `|speed|` (rad/s) above this: [`Faults::LOSS_OF_TRACKING`]. `None`: a
     /// quarter turn per sample, `pi / (2 Ts)` (`docs/theory.md §9`). Named
@@ -62,13 +71,16 @@ impl<T: Real> Default for FaultThresholds<T> {
 }
 
 impl<T: Real> FaultThresholds<T> {
-    /// The default thresholds (see the table above) scaled to a nominal amplitude (in the
-    /// units of `y_c`, `y_s`).
+    /// The default thresholds (see the table above) with the amplitude checks scaled to a
+    /// nominal amplitude (in the units of `y_c`, `y_s`); the loss-of-tracking threshold is
+    /// dimensionless and stays 0.1.
     ///
     /// ```
     /// use angletrack_core::FaultThresholds;
-    /// let t = FaultThresholds::<f32>::for_amplitude(2048.0); // raw 12-bit ADC counts
-    /// assert_eq!(t.loss_of_signal, 512.0);
+    /// // Raw 12-bit ADC counts with the mid-scale removed, amplitude about 1800 counts.
+    /// let t = FaultThresholds::<f32>::for_amplitude(1800.0);
+    /// assert_eq!(t.loss_of_signal, 450.0);
+    /// assert_eq!(t.loss_of_tracking, 0.1);
     /// ```
     pub fn for_amplitude(nominal_amplitude: T) -> Self {
         let a = nominal_amplitude;
@@ -79,7 +91,7 @@ impl<T: Real> FaultThresholds<T> {
             loss_of_signal: f(0.25) * a,
             degradation_low: f(0.5) * a,
             degradation_high: f(1.5) * a,
-            loss_of_tracking: f(0.1) * a,
+            loss_of_tracking: f(0.1),
             max_speed: None,
             filter_factor: f(0.0625),
             false_lock: T::ZERO,
@@ -137,7 +149,9 @@ impl<T: Real> FaultThresholds<T> {
             }
         }
         let max_input2 = max_in * max_in;
-        if !max_input2.is_finite() {
+        // The amplitude tracker divides `y_c^2 + y_s^2` by a magnitude that is at least
+        // `sqrt(MIN_POSITIVE)` (`docs/theory.md §12`): the quotient must stay finite.
+        if !(max_input2 / T::MIN_POSITIVE.sqrt()).is_finite() {
             return Err(ConfigError::OutOfRange(Parameter::MaxInputAmplitude));
         }
         Ok(CheckedThresholds {
@@ -146,6 +160,8 @@ impl<T: Real> FaultThresholds<T> {
             loss_of_signal2: los * los,
             degradation_low2: low * low,
             degradation_high2: high * high,
+            degradation_middle2: (low * low + high * high) * T::HALF,
+            degradation_half_width2: (high * high - low * low) * T::HALF,
             max_scaled_speed: max_speed * sample_period_s,
         })
     }
@@ -160,6 +176,10 @@ pub(crate) struct CheckedThresholds<T> {
     loss_of_signal2: T,
     degradation_low2: T,
     degradation_high2: T,
+    /// The middle of [`degradation_low2`, `degradation_high2`] and its half width: the
+    /// usual case tests the band with one comparison.
+    degradation_middle2: T,
+    degradation_half_width2: T,
     max_scaled_speed: T,
 }
 
@@ -175,8 +195,6 @@ pub(crate) struct MonitorState<T> {
     pub(crate) in_phase: T,
     /// Flags latched until cleared.
     pub(crate) latched: Faults,
-    /// `false` until the filters hold a first sample.
-    pub(crate) primed: bool,
 }
 
 impl<T: Real> MonitorState<T> {
@@ -187,18 +205,34 @@ impl<T: Real> MonitorState<T> {
             error: T::ZERO,
             in_phase: T::ZERO,
             latched: Faults::NONE,
-            primed: false,
         }
+    }
+
+    /// Starts the phase-error and in-phase filters from an angle that agrees with the
+    /// sample of magnitude `magnitude`: no error, the in-phase component the magnitude.
+    /// Done where the angle is set (first sample, re-acquisition), so that the per-sample
+    /// update has no first-sample test.
+    pub(crate) fn prime_phase(&mut self, magnitude: T) {
+        self.error = T::ZERO;
+        self.in_phase = magnitude;
     }
 }
 
 impl<T: Real> CheckedThresholds<T> {
-    /// `y_c^2 + y_s^2` of a sample and whether it is accepted: finite and within the input
-    /// bound (NaN compares false, so it is refused).
+    /// `y_c^2 + y_s^2 + m` of a sample and whether it is accepted: finite and within the
+    /// input bound (NaN compares false, so it is refused). `m` is [`Real::MIN_POSITIVE`],
+    /// which keeps the amplitude tracker's magnitude positive (`docs/theory.md §12`) and is
+    /// negligible anywhere else; added first, it costs no instruction of its own.
     #[inline(always)]
     pub(crate) fn accept(&self, y_c: T, y_s: T) -> (T, bool) {
-        let amplitude2 = y_c * y_c + y_s * y_s;
+        let amplitude2 = self.amplitude2(y_c, y_s);
         (amplitude2, amplitude2 <= self.max_input2)
+    }
+
+    /// `y_c^2 + y_s^2 + m` (see [`CheckedThresholds::accept`]).
+    #[inline(always)]
+    pub(crate) fn amplitude2(&self, y_c: T, y_s: T) -> T {
+        (T::MIN_POSITIVE + y_c * y_c) + y_s * y_s
     }
 
     /// Updates the filters with one accepted sample and returns its flags; the second value
@@ -213,12 +247,6 @@ impl<T: Real> CheckedThresholds<T> {
         scaled_speed: T,
     ) -> (Faults, bool) {
         let t = &self.thresholds;
-        if !monitor.primed {
-            monitor.amplitude2 = amplitude2;
-            monitor.error = phase_error.abs();
-            monitor.in_phase = in_phase;
-            monitor.primed = true;
-        }
         let k = t.filter_factor;
         monitor.amplitude2 += k * (amplitude2 - monitor.amplitude2);
         monitor.error += k * (phase_error.abs() - monitor.error);
@@ -228,8 +256,9 @@ impl<T: Real> CheckedThresholds<T> {
         // degradation band (checked at construction), so an amplitude inside the band rules
         // out both; then tracking and the in-phase component. Anything else is sorted out of
         // line, flag by flag.
-        if a2 >= self.degradation_low2
-            && a2 <= self.degradation_high2
+        // One comparison for the band (one rounding of its edges, which `flags` then
+        // sorts out exactly; NaN fails it).
+        if (a2 - self.degradation_middle2).abs() <= self.degradation_half_width2
             && monitor.error <= t.loss_of_tracking
             && scaled_speed.abs() <= self.max_scaled_speed
             && monitor.in_phase >= t.false_lock

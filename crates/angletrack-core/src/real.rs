@@ -62,6 +62,9 @@ pub trait Real:
     const FRAC_1_TAU: Self;
     /// Machine epsilon.
     const EPSILON: Self;
+    /// The smallest positive normal number: added to `y_c^2 + y_s^2` in the amplitude
+    /// tracker so that it never divides by zero (`docs/theory.md §12`).
+    const MIN_POSITIVE: Self;
     /// Coefficients of the odd minimax polynomial for sin on [-pi/2, pi/2], lowest first.
     #[doc(hidden)]
     const SIN_POLY: &'static [Self];
@@ -92,6 +95,15 @@ pub trait Real:
     fn floor_to_i32(self) -> i32;
     /// Conversion from `i32` (exact in `f64`, rounded in `f32` above 2^24).
     fn from_i32(n: i32) -> Self;
+    /// Square root, from [`libm`] (in software on a Cortex-M4F: meant for the rare paths,
+    /// such as the first sample, not for every sample).
+    fn sqrt(self) -> Self;
+    /// The magnitude `sqrt(amplitude2)` the phase error of a used sample is normalised by,
+    /// from the previous sample's `previous` (`docs/theory.md §12`): in `f32` (firmware,
+    /// where a Cortex-M4F computes square roots in software) one Heron step from `previous`,
+    /// exact for a steady amplitude; in `f64` (hosts, which have a square-root instruction)
+    /// the square root itself, so the normalised error is exactly `eps / |y|`.
+    fn track_magnitude(previous: Self, amplitude2: Self) -> Self;
     /// `true` unless the value is NaN or infinite.
     fn is_finite(self) -> bool;
     /// Absolute value.
@@ -138,7 +150,8 @@ pub trait Real:
 macro_rules! impl_real {
     ($t:ident, bits $bits:ident, default $default:ident, tau_lo $tau_lo:expr,
      one_turn_edge_fix $edge_fix:expr, fast_error $eps_fast:expr,
-     polynomials $sin_poly:path, $cos_poly:path, libm $atan2:ident, $sincos:ident) => {
+     polynomials $sin_poly:path, $cos_poly:path, libm $atan2:ident, $sincos:ident, $sqrt:ident,
+     track_magnitude $track:expr) => {
         impl Real for $t {
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
@@ -151,6 +164,7 @@ macro_rules! impl_real {
             const TAU_LO: Self = $tau_lo;
             const FRAC_1_TAU: Self = 1.0 / core::$t::consts::TAU;
             const EPSILON: Self = $t::EPSILON;
+            const MIN_POSITIVE: Self = $t::MIN_POSITIVE;
             const SIN_POLY: &'static [Self] = &$sin_poly;
             const COS_POLY: &'static [Self] = &$cos_poly;
             const FAST_SIN_COS_MAX_ERROR: Self = $eps_fast;
@@ -177,6 +191,14 @@ macro_rules! impl_real {
             #[inline(always)]
             fn from_i32(n: i32) -> Self {
                 n as $t
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                libm::$sqrt(self)
+            }
+            #[inline(always)]
+            fn track_magnitude(previous: Self, amplitude2: Self) -> Self {
+                $track(previous, amplitude2)
             }
             #[inline(always)]
             fn is_finite(self) -> bool {
@@ -215,10 +237,12 @@ macro_rules! impl_real {
 // explained with their coefficients in `sincos.rs`.
 impl_real! {
     f32, bits u32, default Fast, tau_lo -1.748_455_6e-7_f32, one_turn_edge_fix false,
-    fast_error 3e-7, polynomials F32_SIN_POLY, F32_COS_POLY, libm atan2f, sincosf
+    fast_error 3e-7, polynomials F32_SIN_POLY, F32_COS_POLY, libm atan2f, sincosf, sqrtf,
+    track_magnitude crate::update::heron_step::<f32>
 }
 
 impl_real! {
     f64, bits u64, default Exact, tau_lo 2.449_293_598_294_706_4e-16_f64, one_turn_edge_fix true,
-    fast_error 2e-13, polynomials F64_SIN_POLY, F64_COS_POLY, libm atan2, sincos
+    fast_error 2e-13, polynomials F64_SIN_POLY, F64_COS_POLY, libm atan2, sincos, sqrt,
+    track_magnitude |_previous, amplitude2| libm::sqrt(amplitude2)
 }

@@ -28,6 +28,37 @@ pub trait SinCos<T: Real>:
         let (sin, cos) = Self::sin_cos(angle);
         (y_s * cos - y_c * sin, y_c * cos + y_s * sin)
     }
+
+    /// The phase detector as the observer runs it: [`SinCos::phase_detector`]'s phase
+    /// error and in-phase component together with the `(sin, cos)` of `angle`, which the
+    /// online calibration's estimator reuses (`docs/theory.md §12`); where nothing reads
+    /// them the compiler drops their computation.
+    ///
+    /// The default computes [`SinCos::sin_cos`] once and the two products from it; an
+    /// implementation that overrides [`SinCos::phase_detector`] should override this too.
+    #[inline(always)]
+    fn detect(angle: T, y_c: T, y_s: T) -> Detection<T> {
+        let (sin, cos) = Self::sin_cos(angle);
+        Detection {
+            phase_error: y_s * cos - y_c * sin,
+            in_phase: y_c * cos + y_s * sin,
+            sin,
+            cos,
+        }
+    }
+}
+
+/// What the phase detector gives for one sample ([`SinCos::detect`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Detection<T> {
+    /// `y_s cos(angle) - y_c sin(angle)`, about `A sin(theta - angle)`.
+    pub phase_error: T,
+    /// `y_c cos(angle) + y_s sin(angle)`, about `A cos(theta - angle)`.
+    pub in_phase: T,
+    /// `sin(angle)`.
+    pub sin: T,
+    /// `cos(angle)`.
+    pub cos: T,
 }
 
 /// sin/cos from [`libm`], correct to an ulp. On a Cortex-M4F, `libm`'s `sinf`/`cosf`
@@ -57,6 +88,19 @@ impl<T: Real> SinCos<T> for Fast {
     #[inline(always)]
     fn phase_detector(angle: T, y_c: T, y_s: T) -> (T, T) {
         angle.fast_phase_detector(y_c, y_s)
+    }
+
+    #[inline(always)]
+    fn detect(angle: T, y_c: T, y_s: T) -> Detection<T> {
+        // Both share the reduction and the polynomials, which the compiler computes once.
+        let (phase_error, in_phase) = angle.fast_phase_detector(y_c, y_s);
+        let (sin, cos) = fast_sin_cos(angle);
+        Detection {
+            phase_error,
+            in_phase,
+            sin,
+            cos,
+        }
     }
 }
 
@@ -117,8 +161,11 @@ pub(crate) fn fast_sin_cos<T: Real>(x: T) -> (T, T) {
 #[inline(always)]
 pub(crate) fn fast_phase_detector<T: Real>(x: T, y_c: T, y_s: T) -> (T, T) {
     let (w, p, q) = fast_reduced(x);
-    let eps = (y_s * w) * p - y_c.times_sign_of(x) * q;
-    let in_phase = (y_c * w) * p + y_s.times_sign_of(x) * q;
+    // One sign, +-1, multiplied into both inputs: exact, and on a Cortex-M4F one move to
+    // the integer unit and back for the pair instead of one for each input.
+    let sign = T::ONE.times_sign_of(x);
+    let eps = (y_s * w) * p - (y_c * sign) * q;
+    let in_phase = (y_c * w) * p + (y_s * sign) * q;
     (eps, in_phase)
 }
 

@@ -5,6 +5,7 @@
 use crate::faults::Faults;
 use crate::monitor::MonitorState;
 use crate::real::Real;
+use crate::update::magnitude;
 use crate::wrap::{wrap_angle, wrapped};
 
 /// What an observer knows after a sample.
@@ -19,8 +20,10 @@ pub struct Estimate<T> {
     pub speed: T,
     /// Estimated acceleration (rad/s^2); always 0 for a 2nd-order observer.
     pub acceleration: T,
-    /// Phase-detector output `eps = y_s cos(angle_p) - y_c sin(angle_p)` of this sample,
-    /// about `A sin(theta - angle_p)` (in the input's units, `docs/theory.md §1`); 0 when the
+    /// Normalised phase-detector output of this sample,
+    /// `(y_s cos(angle_p) - y_c sin(angle_p)) / A`, with `A` the tracked magnitude
+    /// `sqrt(y_c^2 + y_s^2)` ([`ObserverState::amplitude`]): about `sin(theta - angle_p)`,
+    /// dimensionless whatever the input's units (`docs/theory.md §1, §12`); 0 when the
     /// sample was rejected.
     pub phase_error: T,
     /// The diagnostics of this sample (the state also latches them).
@@ -55,7 +58,14 @@ pub struct ObserverState<T, const N: usize> {
     pub(crate) phase_error: T,
     pub(crate) faults: Faults,
     pub(crate) monitor: MonitorState<T>,
+    /// The magnitude `sqrt(y_c^2 + y_s^2)` the phase error is normalised by
+    /// ([`Real::track_magnitude`], `docs/theory.md §12`); set exactly by the first used
+    /// sample.
+    pub(crate) amplitude: T,
+    /// The angle is known (from a first sample, or [`ObserverState::at`]).
     pub(crate) initialised: bool,
+    /// The angle and the magnitude are known: the usual path of the update runs.
+    pub(crate) tracking: bool,
 }
 
 impl<T: Real, const N: usize> Default for ObserverState<T, N> {
@@ -84,7 +94,9 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
             phase_error: T::ZERO,
             faults: Faults::NONE,
             monitor: MonitorState::new(),
+            amplitude: T::ZERO,
             initialised: false,
+            tracking: false,
         }
     }
 
@@ -123,7 +135,10 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
             phase_error: T::ZERO,
             faults: Faults::NONE,
             monitor: MonitorState::new(),
+            amplitude: T::ZERO,
             initialised: true,
+            // The magnitude is not known yet: the first used sample sets it.
+            tracking: false,
         }
     }
 
@@ -158,6 +173,38 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
         self.initialised
     }
 
+    /// The signal's magnitude `sqrt(y_c^2 + y_s^2)` (in the input's units) as the observer
+    /// tracks it to normalise its phase error (`docs/theory.md §12`): the last used sample's
+    /// in `f64`; in `f32` exact for a steady amplitude and following a change within a few
+    /// samples (one Heron step per sample); 0 until a first sample is used.
+    /// The monitor's filtered amplitude, which the loss-of-signal and degradation checks
+    /// compare, is [`ObserverState::filtered_amplitude`].
+    ///
+    /// ```
+    /// use angletrack_core::{FaultThresholds, Gains, ObserverState};
+    /// let gains = Gains::<f32, 3>::new([0.3, 0.04, 0.002], 1e-4)?
+    ///     .with_fault_thresholds(FaultThresholds::for_amplitude(1800.0))?;
+    /// let mut state = ObserverState::new();
+    /// gains.update(&mut state, 1800.0, 0.0); // raw ADC counts, mid-scale removed
+    /// gains.update(&mut state, 1800.0, 0.0);
+    /// assert!((state.amplitude() - 1800.0).abs() < 1e-2);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn amplitude(&self) -> T {
+        self.amplitude
+    }
+
+    /// The monitor's filtered amplitude `sqrt(filtered y_c^2 + y_s^2)` (input units), which
+    /// its loss-of-signal and degradation checks compare (`docs/theory.md §10`); 0 before
+    /// the first used sample, and the first sample's while the monitor is off.
+    pub fn filtered_amplitude(&self) -> T {
+        if self.tracking {
+            self.monitor.amplitude2.sqrt()
+        } else {
+            T::ZERO
+        }
+    }
+
     /// The faults latched since they were last cleared (like reading an RDC chip's fault
     /// register, without clearing it).
     pub fn latched_faults(&self) -> Faults {
@@ -182,26 +229,40 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
     }
 
     /// Starts again at `angle` (rad, wrapped) and `whole` turns, speed and acceleration 0,
-    /// filters empty, with the faults `latched`.
+    /// from a sample of `y_c^2 + y_s^2` `amplitude2` (the angle being that sample's), with
+    /// the faults `latched`.
     #[inline(always)]
-    pub(crate) fn restart(&mut self, angle: T, whole: i32, latched: Faults) {
+    pub(crate) fn restart(&mut self, angle: T, whole: i32, amplitude2: T, latched: Faults) {
         *self = Self::new();
         self.x[0] = angle;
         self.next_angle = angle;
         self.turns = whole as i64;
         self.monitor.latched = latched;
         self.initialised = true;
+        self.start_tracking(amplitude2);
+    }
+
+    /// The first used sample of a state whose angle is known, of `y_c^2 + y_s^2`
+    /// `amplitude2`: sets the magnitude the phase error is normalised by, and starts the
+    /// monitor's filters from it (zero phase error, the in-phase component the magnitude),
+    /// so that the per-sample update needs no test for it.
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn start_tracking(&mut self, amplitude2: T) {
+        self.amplitude = magnitude(amplitude2);
+        self.monitor.amplitude2 = amplitude2;
+        self.monitor.prime_phase(self.amplitude);
+        self.tracking = true;
     }
 
     /// Books one step of the recursion: the whole turns it crossed and its phase-detector
-    /// output; the sample's faults start empty.
+    /// output (the caller stores the sample's faults).
     #[inline(always)]
     pub(crate) fn advance(&mut self, whole: i32, phase_error: T) {
         if whole != 0 {
             self.turns = self.turns.wrapping_add(whole as i64);
         }
         self.phase_error = phase_error;
-        self.faults = Faults::NONE;
     }
 
     /// Marks the current sample as rejected (flag and latch).

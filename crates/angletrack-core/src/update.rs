@@ -17,12 +17,49 @@ use crate::wrap::{FullWrap, Wrap, re_acquired, sample_angle, wrapped};
 /// What one step of the recursion gives besides the new state.
 #[derive(Clone, Copy)]
 pub(crate) struct Step<T> {
-    /// Phase-detector output (0 for a sample that was not used).
+    /// Normalised phase-detector output `eps / sqrt(y_c^2 + y_s^2)`, about the sine of the
+    /// phase error (0 for a sample that was not used).
     pub(crate) eps: T,
     /// In-phase component `y_c cos + y_s sin` of the predicted angle (about `A cos(error)`).
     pub(crate) in_phase: T,
     /// Whole turns the wrap of the predicted angle removed.
     pub(crate) whole: i32,
+    /// `(sin, cos)` of the predicted angle (for the calibration's estimator; the plain
+    /// update leaves them unused and the compiler drops them).
+    pub(crate) sin_cos: (T, T),
+}
+
+/// One sample as the recursion takes it: the signals, their `y_c^2 + y_s^2` (from the input
+/// check) and whether the sample is used.
+#[derive(Clone, Copy)]
+pub(crate) struct Sample<T> {
+    pub(crate) y_c: T,
+    pub(crate) y_s: T,
+    pub(crate) amplitude2: T,
+    pub(crate) valid: bool,
+}
+
+/// What [`Gains::update_observing`] shows of a used sample.
+#[derive(Clone, Copy)]
+pub(crate) struct UsedSample<T> {
+    /// `(sin, cos)` of the sample's predicted angle.
+    pub(crate) sin_cos: (T, T),
+    /// The corrected speed in rad per sample (`Ts Omega`).
+    pub(crate) scaled_speed: T,
+    /// The sample's faults, as the monitor flagged them.
+    pub(crate) faults: Faults,
+}
+
+/// What [`Gains::update_observing`] shows each sample to: a trait rather than a closure,
+/// so that its method can be inlined into the update's loop (a closure may stay a call).
+pub(crate) trait SampleObserver<T> {
+    /// One sample: `Some` for a used sample, `None` for one that was not used.
+    fn observe(self, used: Option<UsedSample<T>>);
+}
+
+impl<T> SampleObserver<T> for () {
+    #[inline(always)]
+    fn observe(self, _used: Option<UsedSample<T>>) {}
 }
 
 impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
@@ -30,14 +67,22 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     ///
     /// ```text
     /// X_p = A X_e                      (Taylor step of the scaled state)
-    /// eps = y_s cos(x1_p) - y_c sin(x1_p)
+    /// eps = (y_s cos(x1_p) - y_c sin(x1_p)) / A      A = sqrt(y_c^2 + y_s^2), tracked
     /// X_e = X_p + L eps                (x1 wrapped to [-pi, pi), whole turns counted)
     /// ```
     ///
-    /// `y_c` and `y_s` are the demodulated cosine and sine signals (any consistent unit,
-    /// nominal amplitude as in the [`FaultThresholds`](crate::FaultThresholds), 1 by
-    /// default). The first accepted sample of an uninitialised state sets the angle from
-    /// `atan2(y_s, y_c)`.
+    /// `y_c` and `y_s` are the demodulated cosine and sine signals. The loop is
+    /// amplitude-invariant: its phase error is normalised by the signal's magnitude
+    /// (`docs/theory.md §12`), so its bandwidth, overshoot and the stability checked at
+    /// construction hold for any amplitude and unit. The diagnostics compare amplitudes, so
+    /// their [`FaultThresholds`](crate::FaultThresholds) must carry the nominal amplitude in
+    /// the input's units (1 by default; [`FaultThresholds::for_amplitude`]), or the samples
+    /// come through an [`AdcScaling`](crate::AdcScaling) ([`Gains::update_adc`]). The first
+    /// accepted sample of an uninitialised state sets the angle from `atan2(y_s, y_c)` and
+    /// the magnitude from `sqrt(y_c^2 + y_s^2)`; a sample of (near) zero magnitude moves
+    /// nothing (`eps = 0`: the state coasts).
+    ///
+    /// [`FaultThresholds::for_amplitude`]: crate::FaultThresholds::for_amplitude
     ///
     /// A bad sample (NaN, infinite, or amplitude above the input bound) is not used: the
     /// state coasts on its prediction (speed and acceleration) and the estimate carries
@@ -54,28 +99,67 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// registers from one sample to the next.
     #[inline(always)]
     fn update_in_place(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) -> Estimate<T> {
+        self.update_observing(state, y_c, y_s, ())
+    }
+
+    /// [`Gains::update`] that also shows each sample to `observer`: `Some` with what the
+    /// recursion computed for a used sample (after the monitor), `None` for a sample that
+    /// was not used (rejected, or the first one). The online calibration learns through it;
+    /// the plain update passes `()`, which does nothing and costs nothing.
+    #[inline(always)]
+    pub(crate) fn update_observing(
+        &self,
+        state: &mut ObserverState<T, N>,
+        y_c: T,
+        y_s: T,
+        observer: impl SampleObserver<T>,
+    ) -> Estimate<T> {
         let (amplitude2, valid) = self.thresholds.accept(y_c, y_s);
-        if !(valid && state.initialised) {
-            // Rare: the first sample, or one that is rejected. Out of line, through functions
-            // of values only, so that the state can live in registers in a loop over samples;
-            // the usual path below then knows the sample is used.
+        if !(valid && state.tracking) {
+            // Rare: the first sample, the first after `ObserverState::at`, or one that is
+            // rejected. Out of line, through functions of values only, so that the state can
+            // live in registers in a loop over samples; the usual path below then knows the
+            // sample is used.
             if !state.initialised {
                 match if valid { sample_angle(y_c, y_s) } else { None } {
-                    Some((angle, whole)) => state.restart(angle, whole, state.monitor.latched),
+                    Some((angle, whole)) => {
+                        let latched = state.monitor.latched;
+                        state.restart(angle, whole, amplitude2, latched);
+                    }
                     None => state.reject_sample(),
                 }
-            } else {
+                observer.observe(None);
+                return self.estimate(state);
+            }
+            if !valid {
                 let (x, next_angle, whole) = self.coast(state.x, state.next_angle);
                 state.x = x;
                 state.next_angle = next_angle;
                 state.advance(whole, T::ZERO);
+                state.faults = Faults::NONE;
                 state.reject_sample();
+                observer.observe(None);
+                return self.estimate(state);
             }
-            return self.estimate(state);
+            // A state started at a known angle: its first used sample starts the magnitude
+            // and the monitor's filters.
+            state.start_tracking(amplitude2);
         }
-        let step = self.step::<FullWrap>(&mut state.x, &mut state.next_angle, y_c, y_s, true);
+        let sample = Sample {
+            y_c,
+            y_s,
+            amplitude2,
+            valid: true,
+        };
+        let step = self.step::<FullWrap>(
+            &mut state.x,
+            &mut state.next_angle,
+            &mut state.amplitude,
+            sample,
+        );
         state.advance(step.whole, step.eps);
-        if self.thresholds.thresholds.monitor {
+        // The sample's faults are stored once, whether the monitor runs or not.
+        state.faults = if self.thresholds.thresholds.monitor {
             let speed = if N > 1 { state.x[1] } else { T::ZERO };
             let (faults, re_acquire) = self.thresholds.observe(
                 &mut state.monitor,
@@ -84,15 +168,24 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
                 step.in_phase,
                 speed,
             );
-            state.faults = faults;
             if re_acquire {
                 let (angle, whole) = re_acquired(state.x[0], y_c, y_s);
                 state.x[0] = angle;
                 state.next_angle = predict(&state.x)[0];
                 state.turns = state.turns.wrapping_add(whole as i64);
-                state.monitor.primed = false;
+                // The angle now agrees with the sample: the phase error and in-phase
+                // filters start again from it.
+                state.monitor.prime_phase(state.amplitude);
             }
-        }
+            faults
+        } else {
+            Faults::NONE
+        };
+        observer.observe(Some(UsedSample {
+            sin_cos: step.sin_cos,
+            scaled_speed: if N > 1 { state.x[1] } else { T::ZERO },
+            faults: state.faults,
+        }));
         self.estimate(state)
     }
 
@@ -105,7 +198,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     ///
     /// ```text
     /// X_p = A X_e                      (the angle row is next_angle, wrapped)
-    /// eps = y_s cos(x1_p) - y_c sin(x1_p)
+    /// eps = (y_s cos(x1_p) - y_c sin(x1_p)) / sqrt(y_c^2 + y_s^2 + m)
     /// X_e = X_p + L eps                (x1_e wrapped when read)
     /// next_angle = (A X_p)[0] + (A L)[0] eps
     /// ```
@@ -115,22 +208,37 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// shortest chain a loop over samples can wait on. The angle of `x` feeds nothing but the
     /// estimate, so it is not wrapped here.
     ///
-    /// This is the only implementation of the recursion: the single-channel update and
-    /// the multi-channel [`ChannelBank`](crate::ChannelBank) both call it.
+    /// The phase error is normalised by the signal's magnitude (`docs/theory.md §12`), so
+    /// that `eps` is the sine of the phase error whatever the amplitude and its units and
+    /// the loop's dynamics are the ones its gains were designed and checked for. The
+    /// magnitude `amplitude` is [`Real::track_magnitude`] of `sqrt(y_c^2 + y_s^2 + m)`,
+    /// `amplitude2` being the `y_c^2 + y_s^2 + m` the input check computed: in `f64` the
+    /// square root itself; in `f32` one Heron (Newton) step from the previous sample's
+    /// value, two divisions and no square root (which a Cortex-M4F computes in software),
+    /// exact for a steady amplitude and within 2 % one sample after a 20 % amplitude step.
+    /// `m` is the type's smallest normal number ([`Real::MIN_POSITIVE`]): it keeps the
+    /// magnitude positive (never below `sqrt(m)`), so that a zero sample gives `eps = 0`
+    /// (the state coasts) instead of `0 / 0`. A sample that is not used leaves `amplitude`
+    /// as it is.
     #[inline(always)]
     pub(crate) fn step<W: Wrap>(
         &self,
         x: &mut [T; N],
         next_angle: &mut T,
-        y_c: T,
-        y_s: T,
-        valid: bool,
+        amplitude: &mut T,
+        sample: Sample<T>,
     ) -> Step<T> {
         let mut p = predict(x);
         p[0] = *next_angle;
         let whole = W::wrap(&mut p[0]);
-        let (detected, in_phase) = S::phase_detector(p[0], y_c, y_s);
-        let eps = if valid { detected } else { T::ZERO };
+        let detection = S::detect(p[0], sample.y_c, sample.y_s);
+        let tracked = T::track_magnitude(*amplitude, sample.amplitude2);
+        let eps = if sample.valid {
+            *amplitude = tracked;
+            detection.phase_error / tracked
+        } else {
+            T::ZERO
+        };
         *next_angle = predict(&p)[0] + self.next_angle_gain * eps;
         let mut i = 0;
         while i < N {
@@ -140,8 +248,9 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         *x = p;
         Step {
             eps,
-            in_phase,
+            in_phase: detection.in_phase,
             whole,
+            sin_cos: (detection.sin, detection.cos),
         }
     }
 
@@ -151,7 +260,14 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     #[cold]
     #[inline(never)]
     fn coast(&self, mut x: [T; N], mut next_angle: T) -> ([T; N], T, i32) {
-        let step = self.step::<FullWrap>(&mut x, &mut next_angle, T::ZERO, T::ZERO, false);
+        let mut unused = T::ONE;
+        let sample = Sample {
+            y_c: T::ZERO,
+            y_s: T::ZERO,
+            amplitude2: T::ZERO,
+            valid: false,
+        };
+        let step = self.step::<FullWrap>(&mut x, &mut next_angle, &mut unused, sample);
         (x, next_angle, step.whole)
     }
 
@@ -161,7 +277,12 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     #[inline(never)]
     pub fn initialise(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) {
         if let Some((angle, whole)) = sample_angle(y_c, y_s) {
-            state.restart(angle, whole, Faults::NONE);
+            state.restart(
+                angle,
+                whole,
+                self.thresholds.amplitude2(y_c, y_s),
+                Faults::NONE,
+            );
         }
     }
 
@@ -261,5 +382,26 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     }
 }
 
+/// One Heron (Newton) step of `sqrt(amplitude2)` from `previous` (> 0): the mean of
+/// `previous` and `amplitude2 / previous`, never below `sqrt(amplitude2)` (arithmetic and
+/// geometric means); `amplitude2` includes `m` = [`Real::MIN_POSITIVE`], so the magnitude
+/// is never below `sqrt(m)`, never zero.
+#[inline(always)]
+pub(crate) fn heron_step<T: Real>(previous: T, amplitude2: T) -> T {
+    (previous + amplitude2 / previous) * T::HALF
+}
+
+/// The magnitude `sqrt(y_c^2 + y_s^2 + m)` of a sample from its `amplitude2` (which includes
+/// `m`, see [`CheckedThresholds::accept`](crate::monitor::CheckedThresholds::accept)):
+/// exactly, for the first sample, which starts the tracker of [`heron_step`]. Out of line,
+/// as the square root is a software routine on a Cortex-M4F.
+#[cold]
+#[inline(never)]
+pub(crate) fn magnitude<T: Real>(amplitude2: T) -> T {
+    amplitude2.sqrt()
+}
+
+#[cfg(test)]
+mod amplitude_tests;
 #[cfg(test)]
 mod tests;

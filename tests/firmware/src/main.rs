@@ -18,11 +18,16 @@ mod variants;
 
 use core::hint::black_box;
 
-use angletrack_core::{Estimate, Gains, ObserverState, Order, SinCos, SupportedOrder};
+use angletrack_core::{
+    AdcScaling, Calibrator, Estimate, Gains, ObserverState, Order, SinCos, SupportedOrder,
+};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::{hprintln, nr};
-use variants::{Job, NAMES, Observers, RECORD_BYTES, SAMPLE_BYTES};
+use variants::{
+    Channel, Entry, Job, LOOP_VARIANT, NAMES, Observers, RECORD_BYTES, SAMPLE_BYTES, adc_counts,
+    entry,
+};
 
 include!(concat!(env!("OUT_DIR"), "/scenario.rs"));
 
@@ -49,6 +54,60 @@ where
     Order<N>: SupportedOrder,
 {
     gains.update(state, y_c, y_s)
+}
+
+/// One update through the online calibration, kept out of line like [`update`].
+#[inline(never)]
+fn update_calibrated<const N: usize, S: SinCos<f32>>(
+    gains: &Gains<f32, N, S>,
+    state: &mut ObserverState<f32, N>,
+    calibrator: &mut Calibrator<f32>,
+    y_c: f32,
+    y_s: f32,
+) -> Estimate<f32>
+where
+    Order<N>: SupportedOrder,
+{
+    gains.update_calibrated(state, calibrator, y_c, y_s)
+}
+
+/// One update from raw ADC counts, kept out of line like [`update`].
+#[inline(never)]
+fn update_adc<const N: usize, S: SinCos<f32>>(
+    gains: &Gains<f32, N, S>,
+    state: &mut ObserverState<f32, N>,
+    adc: &AdcScaling<f32>,
+    raw_c: i16,
+    raw_s: i16,
+) -> Estimate<f32>
+where
+    Order<N>: SupportedOrder,
+{
+    gains.update_adc(state, adc, raw_c, raw_s)
+}
+
+/// One sample of variant `index` on `channel` through its entry point.
+#[inline(always)]
+fn update_entry<const N: usize, S: SinCos<f32>>(
+    index: usize,
+    gains: &Gains<f32, N, S>,
+    channel: &mut Channel<N>,
+    y_c: f32,
+    y_s: f32,
+) -> Estimate<f32>
+where
+    Order<N>: SupportedOrder,
+{
+    let Channel {
+        state,
+        calibrator,
+        adc,
+    } = channel;
+    match entry(index) {
+        Entry::Plain => update(gains, state, y_c, y_s),
+        Entry::Calibrated => update_calibrated(gains, state, calibrator, y_c, y_s),
+        Entry::Adc => update_adc(gains, state, adc, adc_counts(y_c), adc_counts(y_s)),
+    }
 }
 
 /// What `count` mode's loop calls instead of the update for variant `loop`: nothing but a
@@ -124,10 +183,11 @@ impl Job for Check<'_> {
             speed_scale = speed_scale.max(speed.abs());
             acceleration_scale = acceleration_scale.max(acceleration.abs());
         }
-        let mut state = ObserverState::new();
+        let mut channel = Channel::new(entry(index));
         let (mut position, mut speed, mut acceleration, mut worst) = (0.0f32, 0.0, 0.0, 0);
         for (k, r) in records.chunks_exact(RECORD_BYTES).enumerate() {
-            let e = update(&gains, &mut state, self.inputs.y_c[k], self.inputs.y_s[k]);
+            let (y_c, y_s) = (self.inputs.y_c[k], self.inputs.y_s[k]);
+            let e = update_entry(index, &gains, &mut channel, y_c, y_s);
             let (angle_ref, turns_ref, speed_ref, acceleration_ref) = variants::decode(r);
             // Position difference, exact in the split form: whole turns, then the angle.
             let turns = (e.turns - i64::from(turns_ref)) as f32;
@@ -176,11 +236,19 @@ struct Count<'a> {
 }
 
 impl Job for Count<'_> {
-    fn run<const N: usize, S: SinCos<f32>>(&mut self, _index: usize, gains: Gains<f32, N, S>)
+    fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>)
     where
         Order<N>: SupportedOrder,
     {
         let n = self.samples.min(SAMPLES);
+        if !self.loop_only && entry(index) != Entry::Plain {
+            let mut channel = Channel::new(entry(index));
+            for k in 0..n {
+                let (y_c, y_s) = (self.inputs.y_c[k], self.inputs.y_s[k]);
+                black_box(&update_entry(index, &gains, &mut channel, y_c, y_s));
+            }
+            return;
+        }
         if self.block {
             let mut state = ObserverState::new();
             let mut out = [Estimate::default(); SAMPLES];
@@ -260,7 +328,7 @@ fn run() -> Result<(), &'static str> {
             let loop_only = name == "loop";
             // The loop alone runs with the Kalman variant's types.
             let index = if loop_only {
-                NAMES.len() - 1
+                LOOP_VARIANT
             } else {
                 NAMES
                     .iter()

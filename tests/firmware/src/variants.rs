@@ -3,12 +3,16 @@
 //! itself against it), so that both run the same list in the same order.
 
 use angletrack_core::{
-    ConfigError, Estimate, Exact, Fast, FaultThresholds, Gains, Order, SinCos, SupportedOrder,
+    AdcScaling, Calibrator, ConfigError, Estimate, Exact, Fast, FaultThresholds, Gains,
+    ObserverState, Order, SinCos, SupportedOrder,
 };
 
-/// The variants, as printed: `<observer>-<float>-<sincos>`; the last one is the Kalman ATO
-/// with the diagnostics switched off (`FaultThresholds::disabled()`: the bare loop).
-pub const NAMES: [&str; 7] = [
+/// The variants, as printed: `<observer>-<float>-<sincos>[-<entry>]`. `unmonitored` is the
+/// Kalman ATO with the diagnostics switched off (`FaultThresholds::disabled()`: the bare
+/// loop); `calibrated` the Kalman ATO through `Gains::update_calibrated` with the online
+/// calibration learning; `adc` the Kalman ATO through `Gains::update_adc` on 12-bit counts
+/// ([`adc_counts`]).
+pub const NAMES: [&str; 9] = [
     "second-order-f32-exact",
     "second-order-f32-fast",
     "third-order-f32-exact",
@@ -16,7 +20,65 @@ pub const NAMES: [&str; 7] = [
     "kalman-f32-exact",
     "kalman-f32-fast",
     "kalman-f32-fast-unmonitored",
+    "kalman-f32-fast-calibrated",
+    "kalman-f32-fast-adc",
 ];
+
+/// The variant whose types the loop alone (`count loop`) runs with: the unmonitored Kalman
+/// ATO.
+pub const LOOP_VARIANT: usize = 6;
+
+/// Which entry point of the core a variant runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Entry {
+    /// `Gains::update`.
+    Plain,
+    /// `Gains::update_calibrated`, the calibration learning.
+    Calibrated,
+    /// `Gains::update_adc` on [`adc_counts`] of the inputs, 12-bit two's complement.
+    Adc,
+}
+
+/// The entry point of variant `index`.
+pub const fn entry(index: usize) -> Entry {
+    match index {
+        7 => Entry::Calibrated,
+        8 => Entry::Adc,
+        _ => Entry::Plain,
+    }
+}
+
+/// An input sample (amplitude about 1) as a 12-bit two's complement ADC reading (full
+/// scale +-2048 counts), truncated: the same on the host and on the target.
+pub fn adc_counts(y: f32) -> i16 {
+    (y * 2048.0) as i16
+}
+
+/// The state one channel needs for any entry point.
+#[derive(Debug, Clone, Copy)]
+pub struct Channel<const N: usize> {
+    /// The observer's state.
+    pub state: ObserverState<f32, N>,
+    /// The online calibration (learning for [`Entry::Calibrated`], else off).
+    pub calibrator: Calibrator<f32>,
+    /// The ADC front end of [`Entry::Adc`].
+    pub adc: AdcScaling<f32>,
+}
+
+impl<const N: usize> Channel<N> {
+    /// A fresh channel for the entry point `entry`.
+    pub fn new(entry: Entry) -> Self {
+        let mut calibrator = Calibrator::new();
+        if entry == Entry::Calibrated {
+            calibrator.enable();
+        }
+        Self {
+            state: ObserverState::new(),
+            calibrator,
+            adc: AdcScaling::twos_complement(12).unwrap_or_default(),
+        }
+    }
+}
 
 /// Bytes of one reference record: angle (rad, f32), turns (i32), speed (rad/s, f32),
 /// acceleration (rad/s^2, f32), little endian.
@@ -51,7 +113,7 @@ impl Observers {
     /// variant or its gains are refused.
     pub fn run(&self, index: usize, job: &mut impl Job) -> bool {
         let ts = self.sample_period_s;
-        let fast = index % 2 == 1 || index == 6;
+        let fast = index % 2 == 1 || index >= 6;
         let third = |l: [f32; 3]| -> Result<Gains<f32, 3, Exact>, ConfigError> {
             let gains = Gains::new(l, ts)?;
             if index == 6 {
@@ -63,7 +125,7 @@ impl Observers {
         match index {
             0 | 1 => Gains::new(self.second_order, ts).map(|g| run_with(index, g, fast, job)),
             2 | 3 => third(self.third_order).map(|g| run_with(index, g, fast, job)),
-            4..=6 => third(self.kalman).map(|g| run_with(index, g, fast, job)),
+            4..=8 => third(self.kalman).map(|g| run_with(index, g, fast, job)),
             _ => return false,
         }
         .is_ok()

@@ -8,8 +8,8 @@
 use core::hint::black_box;
 
 use angletrack_core::{
-    AngleTrackingObserver, ChannelBank, Estimate, Exact, Fast, Gains, Observer, ObserverState,
-    Order, SinCos, SupportedOrder,
+    AdcScaling, AngleTrackingObserver, CalibrationSettings, Calibrator, ChannelBank, Estimate,
+    Exact, Fast, Gains, Observer, ObserverState, Order, SensorCalibration, SinCos, SupportedOrder,
 };
 use cortex_m_rt::entry;
 
@@ -46,7 +46,63 @@ where
     if let Some(e) = gains.bank_estimate(&bank, black_box(2)) {
         sum += e.angle + e.speed;
     }
+    sum += raw_and_calibrated(&gains);
     sum + out[black_box(3) % 16].angle + n as f32 + state.clear_faults().bits() as f32
+}
+
+/// The ADC entry point (every sample type) and the online calibration (learning, frozen,
+/// written and read), with their constructors.
+fn raw_and_calibrated<const N: usize, S: SinCos<f32>>(gains: &Gains<f32, N, S>) -> f32
+where
+    Order<N>: SupportedOrder,
+{
+    let mut sum = 0.0;
+    let mut state = ObserverState::new();
+    if let Ok(adc) = AdcScaling::<f32>::new(black_box(2048), black_box(2048.0)) {
+        sum += gains
+            .update_adc(&mut state, &adc, black_box(4095u16), black_box(0u16))
+            .angle;
+        sum += gains
+            .update_adc(&mut state, &adc, black_box(-7i16), black_box(9i16))
+            .angle;
+        sum += gains
+            .update_adc(&mut state, &adc, black_box(i32::MIN), black_box(i32::MAX))
+            .angle;
+    }
+    if let Ok(adc) = AdcScaling::<f32>::offset_binary(black_box(12)) {
+        sum += adc.scale(black_box(17u16));
+    }
+    let settings = CalibrationSettings {
+        min_speed_rad_s: Some(black_box(20.0)),
+        ..CalibrationSettings::default()
+    };
+    let Ok(gains) = gains.with_calibration_settings(settings) else {
+        return sum;
+    };
+    let mut calibrator = Calibrator::new();
+    calibrator.enable();
+    let mut angle = 0.0f32;
+    for _ in 0..black_box(400) {
+        angle = if angle > 3.0 {
+            angle - 6.2
+        } else {
+            angle + 0.05
+        };
+        let (y_c, y_s) = (black_box(angle * 0.3), black_box(0.9 - angle * angle * 0.1));
+        sum += gains
+            .update_calibrated(&mut state, &mut calibrator, y_c, y_s)
+            .angle;
+    }
+    calibrator.freeze();
+    sum += gains
+        .update_calibrated(&mut state, &mut calibrator, 0.5, 0.5)
+        .speed;
+    let stored = calibrator.calibration();
+    let (o_c, o_s, a_c, a_s, phi) = stored.parameters();
+    if let Ok(loaded) = SensorCalibration::new(o_c, o_s, a_c, black_box(a_s), phi) {
+        calibrator.set_calibration(loaded);
+    }
+    sum + o_c + state.amplitude() + calibrator.turns_learned() as f32
 }
 
 #[entry]

@@ -1,0 +1,206 @@
+//! Raw ADC counts as the observer's input (`docs/theory.md §12`): [`AdcScaling`], the
+//! front-end stage that removes the mid-scale and scales counts to units of full scale, for
+//! the integer samples an ADC gives ([`AdcSample`]: `i16`, `u16`, `i32`), and
+//! [`Gains::update_adc`], which runs it and the observer in one call.
+
+use crate::error::{ConfigError, Parameter, check_positive};
+use crate::gains::Gains;
+use crate::real::Real;
+use crate::sincos::SinCos;
+use crate::state::{Estimate, ObserverState};
+
+/// The largest mid-scale (in counts, either sign) an [`AdcScaling`] accepts: `2^30`, so that
+/// a sample minus the mid-scale never overflows (see [`AdcSample`]).
+pub const MAX_MID_SCALE_COUNTS: i32 = 1 << 30;
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for i16 {}
+    impl Sealed for u16 {}
+    impl Sealed for i32 {}
+}
+
+/// An integer ADC sample: `i16`, `u16` or `i32` (sealed).
+///
+/// [`AdcSample::counts_from`] gives the sample minus a mid-scale (at most
+/// [`MAX_MID_SCALE_COUNTS`] in magnitude) as a float, without overflow for any sample: `i16`
+/// and `u16` subtract in `i32` (`|sample| < 2^16`, so the difference stays below `2^31`);
+/// `i32` subtracts in `i64` and converts the two halves of the difference (`d >> 1` and
+/// `d & 1`) from `i32`, so that the `f32` path needs no 64-bit conversion routine. The
+/// result is exact while the difference fits the float's mantissa (`2^24` counts in `f32`:
+/// any ADC of up to 24 bits), and rounded to the type beyond.
+pub trait AdcSample: sealed::Sealed + Copy {
+    /// `self - mid_scale_counts` as `T` (`|mid_scale_counts| <= 2^30`).
+    fn counts_from<T: Real>(self, mid_scale_counts: i32) -> T;
+}
+
+impl AdcSample for i16 {
+    #[inline(always)]
+    fn counts_from<T: Real>(self, mid_scale_counts: i32) -> T {
+        T::from_i32(i32::from(self) - mid_scale_counts)
+    }
+}
+
+impl AdcSample for u16 {
+    #[inline(always)]
+    fn counts_from<T: Real>(self, mid_scale_counts: i32) -> T {
+        T::from_i32(i32::from(self) - mid_scale_counts)
+    }
+}
+
+impl AdcSample for i32 {
+    #[inline(always)]
+    fn counts_from<T: Real>(self, mid_scale_counts: i32) -> T {
+        // |d| < 2^31 + 2^30: d >> 1 fits an i32.
+        let d = i64::from(self) - i64::from(mid_scale_counts);
+        T::from_i32((d >> 1) as i32) * T::TWO + T::from_i32((d & 1) as i32)
+    }
+}
+
+/// The ADC front end: `y = (sample - mid_scale) / counts_per_unit`, configured once.
+///
+/// With `counts_per_unit` half the ADC's range (what [`AdcScaling::offset_binary`] and
+/// [`AdcScaling::twos_complement`] choose) the signals are in units of full scale, so the
+/// default [`FaultThresholds`](crate::FaultThresholds) (nominal amplitude 1) become
+/// fractions of full scale; give a nominal amplitude below 1
+/// ([`FaultThresholds::for_amplitude`](crate::FaultThresholds::for_amplitude)) for a
+/// signal that does not fill the range. The loop itself does not care (its phase error is
+/// normalised, `docs/theory.md §12`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AdcScaling<T> {
+    mid_scale_counts: i32,
+    units_per_count: T,
+}
+
+impl<T: Real> Default for AdcScaling<T> {
+    /// No scaling: mid-scale 0, one count per unit.
+    fn default() -> Self {
+        Self {
+            mid_scale_counts: 0,
+            units_per_count: T::ONE,
+        }
+    }
+}
+
+impl<T: Real> AdcScaling<T> {
+    /// An ADC front end removing `mid_scale_counts` (the reading of a zero signal, at most
+    /// [`MAX_MID_SCALE_COUNTS`] in magnitude) and dividing by `counts_per_unit` (counts per
+    /// unit of the observer's input, finite and positive).
+    ///
+    /// ```
+    /// use angletrack_core::{AdcScaling, Parameter};
+    /// // A 12-bit ADC, offset binary, mid-scale 2048: units of full scale.
+    /// let adc = AdcScaling::<f32>::new(2048, 2048.0)?;
+    /// assert_eq!(adc.sample(3848u16, 2048u16), (1800.0 / 2048.0, 0.0));
+    /// let err = AdcScaling::<f32>::new(2048, 0.0).unwrap_err();
+    /// assert_eq!(err.parameter(), Parameter::CountsPerUnit);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn new(mid_scale_counts: i32, counts_per_unit: T) -> Result<Self, ConfigError> {
+        if mid_scale_counts.unsigned_abs() > MAX_MID_SCALE_COUNTS as u32 {
+            return Err(ConfigError::OutOfRange(Parameter::MidScaleCounts));
+        }
+        let counts = check_positive(counts_per_unit, Parameter::CountsPerUnit)?;
+        let units_per_count = T::ONE / counts;
+        if !(units_per_count.is_finite() && units_per_count > T::ZERO) {
+            return Err(ConfigError::OutOfRange(Parameter::CountsPerUnit));
+        }
+        Ok(Self {
+            mid_scale_counts,
+            units_per_count,
+        })
+    }
+
+    /// An unsigned (offset binary) ADC of `bits` bits (2 to 31): mid-scale `2^(bits-1)`,
+    /// `2^(bits-1)` counts per unit (full scale is +-1).
+    ///
+    /// ```
+    /// use angletrack_core::AdcScaling;
+    /// let adc = AdcScaling::<f32>::offset_binary(12)?;
+    /// assert_eq!(adc.sample(4095u16, 0u16), (2047.0 / 2048.0, -1.0));
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn offset_binary(bits: u32) -> Result<Self, ConfigError> {
+        let half = Self::half_range(bits, 31)?;
+        Self::new(half, T::from_i32(half))
+    }
+
+    /// A signed (two's complement) ADC of `bits` bits (2 to 32): mid-scale 0, `2^(bits-1)`
+    /// counts per unit (full scale is +-1).
+    ///
+    /// ```
+    /// use angletrack_core::AdcScaling;
+    /// let adc = AdcScaling::<f64>::twos_complement(16)?;
+    /// assert_eq!(adc.sample(-32768i16, 16384i16), (-1.0, 0.5));
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn twos_complement(bits: u32) -> Result<Self, ConfigError> {
+        let half = Self::half_range(bits, 32)?;
+        // 2^31 counts per unit for 32 bits: 2^30 times 2, exact.
+        let counts = if bits == 32 {
+            T::from_i32(MAX_MID_SCALE_COUNTS) * T::TWO
+        } else {
+            T::from_i32(half)
+        };
+        Self::new(0, counts)
+    }
+
+    /// `2^(bits-1)` for `bits` in [2, `max_bits`] (capped at `2^30`), else the error.
+    fn half_range(bits: u32, max_bits: u32) -> Result<i32, ConfigError> {
+        if !(2..=max_bits).contains(&bits) {
+            return Err(ConfigError::OutOfRange(Parameter::AdcBits));
+        }
+        Ok(1 << (bits - 1).min(30))
+    }
+
+    /// The mid-scale (counts).
+    pub fn mid_scale_counts(&self) -> i32 {
+        self.mid_scale_counts
+    }
+
+    /// The counts per unit of the observer's input.
+    pub fn counts_per_unit(&self) -> T {
+        T::ONE / self.units_per_count
+    }
+
+    /// One channel's sample in the observer's units.
+    #[inline(always)]
+    pub fn scale<I: AdcSample>(&self, raw: I) -> T {
+        raw.counts_from::<T>(self.mid_scale_counts) * self.units_per_count
+    }
+
+    /// The pair `(y_c, y_s)` in the observer's units, from the raw samples of the cosine
+    /// and sine channels.
+    #[inline(always)]
+    pub fn sample<I: AdcSample>(&self, raw_c: I, raw_s: I) -> (T, T) {
+        (self.scale(raw_c), self.scale(raw_s))
+    }
+}
+
+impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
+    /// One sample from raw ADC counts: the front end `adc` then [`Gains::update`].
+    ///
+    /// ```
+    /// use angletrack_core::{AdcScaling, Gains, ObserverState};
+    /// let gains = Gains::<f32, 3>::new([0.3, 0.04, 0.002], 1e-4)?;
+    /// let adc = AdcScaling::offset_binary(12)?;
+    /// let mut state = ObserverState::new();
+    /// let e = gains.update_adc(&mut state, &adc, 2048u16, 3848u16); // 90 degrees
+    /// assert!((e.angle - core::f32::consts::FRAC_PI_2).abs() < 1e-6);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    #[inline]
+    pub fn update_adc<I: AdcSample>(
+        &self,
+        state: &mut ObserverState<T, N>,
+        adc: &AdcScaling<T>,
+        raw_c: I,
+        raw_s: I,
+    ) -> Estimate<T> {
+        let (y_c, y_s) = adc.sample(raw_c, raw_s);
+        self.update(state, y_c, y_s)
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,196 @@
+//! [`SensorCalibration`]: a real sensor's offsets, gain imbalance and quadrature error
+//! (`docs/theory.md §12`), as a `Copy` value that firmware stores and loads, and the
+//! correction it applies to each sample before the phase detector.
+
+use crate::error::{ConfigError, Parameter, check_positive};
+use crate::real::Real;
+
+/// The sensor model `y_c = o_c + A_c cos(theta)`, `y_s = o_s + A_s sin(theta + phi)`: the
+/// two offsets, the two channels' amplitudes (their ratio `g = A_s / A_c` is the gain
+/// imbalance) and the quadrature (non-orthogonality) angle `phi`, in the input's units and
+/// radians (`docs/theory.md §12`).
+///
+/// [`SensorCalibration::correct`] undoes them with the cosine channel as the reference for
+/// both the angle and the scale:
+///
+/// ```text
+/// c = y_c - o_c                                   = A_c cos(theta)
+/// s = (y_s - o_s) A_c / (A_s cos phi) - c tan phi = A_c sin(theta)
+/// ```
+///
+/// so the corrected signal keeps the cosine channel's amplitude and units: the
+/// [`FaultThresholds`](crate::FaultThresholds) stay valid and a loss of signal stays
+/// visible. The two coefficients are computed once, at construction. `Copy` and plain: store
+/// [`SensorCalibration::parameters`] in flash and rebuild it with
+/// [`SensorCalibration::new`] at start-up. The default corrects nothing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SensorCalibration<T> {
+    offset_c: T,
+    offset_s: T,
+    amplitude_c: T,
+    amplitude_s: T,
+    quadrature_rad: T,
+    /// `A_c / (A_s cos phi)`.
+    sine_gain: T,
+    /// `tan phi`.
+    cross_gain: T,
+}
+
+impl<T: Real> Default for SensorCalibration<T> {
+    fn default() -> Self {
+        Self::IDENTITY
+    }
+}
+
+impl<T: Real> SensorCalibration<T> {
+    /// No correction: offsets 0, amplitudes 1, quadrature 0.
+    pub const IDENTITY: Self = Self {
+        offset_c: T::ZERO,
+        offset_s: T::ZERO,
+        amplitude_c: T::ONE,
+        amplitude_s: T::ONE,
+        quadrature_rad: T::ZERO,
+        sine_gain: T::ONE,
+        cross_gain: T::ZERO,
+    };
+
+    /// The largest quadrature angle a calibration may hold (rad): pi/4, beyond which the
+    /// correction (a division by `cos phi`) would amplify the noise by more than `sqrt(2)`;
+    /// real sensors are within a few degrees.
+    pub fn max_quadrature_rad() -> T {
+        T::FRAC_PI_2 * T::HALF
+    }
+
+    /// A calibration from the sensor model's parameters: offsets `offset_c`, `offset_s` and
+    /// amplitudes `amplitude_c`, `amplitude_s` (input units), quadrature `quadrature_rad`.
+    ///
+    /// Refuses non-finite values, amplitudes that are not positive (or whose ratio
+    /// overflows) and a quadrature beyond [`SensorCalibration::max_quadrature_rad`].
+    ///
+    /// ```
+    /// use angletrack_core::{Parameter, SensorCalibration};
+    /// let calibration = SensorCalibration::<f32>::new(0.05, -0.05, 1.0, 1.1, 0.05)?;
+    /// let theta = 0.7_f32;
+    /// let y_c = 0.05 + theta.cos();
+    /// let y_s = -0.05 + 1.1 * (theta + 0.05).sin();
+    /// let (c, s) = calibration.correct(y_c, y_s);
+    /// assert!((c - theta.cos()).abs() < 1e-6 && (s - theta.sin()).abs() < 1e-6);
+    /// let err = SensorCalibration::<f32>::new(0.0, 0.0, 1.0, -1.0, 0.0).unwrap_err();
+    /// assert_eq!(err.parameter(), Parameter::AmplitudeSin);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn new(
+        offset_c: T,
+        offset_s: T,
+        amplitude_c: T,
+        amplitude_s: T,
+        quadrature_rad: T,
+    ) -> Result<Self, ConfigError> {
+        for (value, parameter) in [
+            (offset_c, Parameter::OffsetCos),
+            (offset_s, Parameter::OffsetSin),
+            (quadrature_rad, Parameter::Quadrature),
+        ] {
+            if !value.is_finite() {
+                return Err(ConfigError::NotFinite(parameter));
+            }
+        }
+        let amplitude_c = check_positive(amplitude_c, Parameter::AmplitudeCos)?;
+        let amplitude_s = check_positive(amplitude_s, Parameter::AmplitudeSin)?;
+        if !(quadrature_rad.abs() < Self::max_quadrature_rad()) {
+            return Err(ConfigError::OutOfRange(Parameter::Quadrature));
+        }
+        // The polynomial sin/cos (`docs/theory.md §11`, within 3e-7 in `f32`): `libm`'s would
+        // compute in `f64`, which the `f32` path avoids.
+        let (sin, cos) = quadrature_rad.fast_sin_cos();
+        let sine_gain = amplitude_c / (amplitude_s * cos);
+        if !(sine_gain.is_finite() && sine_gain > T::ZERO) {
+            return Err(ConfigError::OutOfRange(Parameter::AmplitudeSin));
+        }
+        Ok(Self {
+            offset_c,
+            offset_s,
+            amplitude_c,
+            amplitude_s,
+            quadrature_rad,
+            sine_gain,
+            cross_gain: sin / cos,
+        })
+    }
+
+    /// The calibration of the regression of one turn's samples on the observer's angle,
+    /// `y_c = o_c + a1 cos p + b1 sin p`, `y_s = o_s + a2 cos p + b2 sin p`
+    /// (`regression = [o_c, o_s, a1, b1, a2, b2]`): `A_c = |(a1, b1)|`,
+    /// `A_s = |(a2, b2)|`, and `phi` from the angle between the two rows, which leaves out
+    /// the rows' common rotation (the observer's own angle offset: the cosine channel is
+    /// the reference). Checked as [`SensorCalibration::new`].
+    pub(crate) fn from_regression(regression: &[T; 6]) -> Result<Self, ConfigError> {
+        let [offset_c, offset_s, a1, b1, a2, b2] = *regression;
+        let dot = a1 * a2 + b1 * b2; // A_c A_s sin(phi)
+        let cross = a1 * b2 - b1 * a2; // A_c A_s cos(phi)
+        let amplitude_c = (a1 * a1 + b1 * b1).sqrt();
+        let amplitude_s = (a2 * a2 + b2 * b2).sqrt();
+        Self::new(
+            offset_c,
+            offset_s,
+            amplitude_c,
+            amplitude_s,
+            dot.atan2(cross),
+        )
+    }
+
+    /// The regression `[o_c, o_s, a1, b1, a2, b2]` this calibration stands for, with no
+    /// rotation (see [`SensorCalibration::from_regression`]).
+    pub(crate) fn regression(&self) -> [T; 6] {
+        let (sin, cos) = self.quadrature_rad.fast_sin_cos();
+        [
+            self.offset_c,
+            self.offset_s,
+            self.amplitude_c,
+            T::ZERO,
+            self.amplitude_s * sin,
+            self.amplitude_s * cos,
+        ]
+    }
+
+    /// The corrected pair `(c, s) = A_c (cos theta, sin theta)` of a sample (see the type's
+    /// documentation): two subtractions and three multiplications.
+    #[inline(always)]
+    pub fn correct(&self, y_c: T, y_s: T) -> (T, T) {
+        let c = y_c - self.offset_c;
+        let s = (y_s - self.offset_s) * self.sine_gain - c * self.cross_gain;
+        (c, s)
+    }
+
+    /// The parameters `(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)`, in
+    /// the order [`SensorCalibration::new`] takes them.
+    pub fn parameters(&self) -> (T, T, T, T, T) {
+        (
+            self.offset_c,
+            self.offset_s,
+            self.amplitude_c,
+            self.amplitude_s,
+            self.quadrature_rad,
+        )
+    }
+
+    /// The offsets `(o_c, o_s)` (input units).
+    pub fn offsets(&self) -> (T, T) {
+        (self.offset_c, self.offset_s)
+    }
+
+    /// The amplitudes `(A_c, A_s)` (input units).
+    pub fn amplitudes(&self) -> (T, T) {
+        (self.amplitude_c, self.amplitude_s)
+    }
+
+    /// The gain imbalance `A_s / A_c`.
+    pub fn amplitude_ratio(&self) -> T {
+        self.amplitude_s / self.amplitude_c
+    }
+
+    /// The quadrature angle `phi` (rad).
+    pub fn quadrature_rad(&self) -> T {
+        self.quadrature_rad
+    }
+}

@@ -1,0 +1,127 @@
+//! [`CalibrationSettings`]: the configuration of the online calibration
+//! (`docs/theory.md §12`), part of the [`Gains`] and checked there, and the faults a
+//! calibration raises against its bounds.
+
+use crate::calibration::SensorCalibration;
+use crate::error::{ConfigError, Parameter, check_positive};
+use crate::faults::Faults;
+use crate::gains::Gains;
+use crate::real::Real;
+use crate::sincos::SinCos;
+
+/// The configuration of the online calibration: when it learns and the bounds of its
+/// estimates beyond which a fault is flagged. Part of the [`Gains`]
+/// ([`Gains::with_calibration_settings`]), checked there.
+///
+/// | field | default |
+/// | --- | --- |
+/// | `min_speed_rad_s` | `None`: one electrical turn in 4096 samples, `2 pi / (4096 Ts)` |
+/// | `max_offset` | 0.1 (each offset over its channel's amplitude) |
+/// | `max_amplitude_mismatch` | 0.2 (`|A_s / A_c - 1|`) |
+/// | `max_quadrature_rad` | 0.1 rad (5.7 degrees) |
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CalibrationSettings<T> {
+    /// The estimator learns only above this electrical speed (rad/s): a rotor at rest carries
+    /// no information. `None`: one turn in 4096 samples. At least one turn in `2^20`
+    /// samples (so that a turn's sums keep their precision) and at most a quarter turn per
+    /// sample.
+    pub min_speed_rad_s: Option<T>,
+    /// An offset above this fraction of its channel's amplitude flags
+    /// [`Faults::OFFSET_OR_QUADRATURE`].
+    pub max_offset: T,
+    /// `|A_s / A_c - 1|` above this flags [`Faults::AMPLITUDE_MISMATCH`].
+    pub max_amplitude_mismatch: T,
+    /// `|phi|` (rad) above this flags [`Faults::OFFSET_OR_QUADRATURE`].
+    pub max_quadrature_rad: T,
+}
+
+impl<T: Real> Default for CalibrationSettings<T> {
+    fn default() -> Self {
+        Self {
+            min_speed_rad_s: None,
+            max_offset: T::from_f32(0.1),
+            max_amplitude_mismatch: T::from_f32(0.2),
+            max_quadrature_rad: T::from_f32(0.1),
+        }
+    }
+}
+
+impl<T: Real> CalibrationSettings<T> {
+    /// Checks the settings for the sample period `sample_period_s`: every bound finite and
+    /// positive, the minimum speed within its range.
+    pub(crate) fn check(&self, sample_period_s: T) -> Result<CheckedCalibration<T>, ConfigError> {
+        let min_scaled_speed = match self.min_speed_rad_s {
+            Some(speed) => check_positive(speed, Parameter::MinSpeed)? * sample_period_s,
+            None => T::TAU / T::from_f32(4096.0),
+        };
+        let slowest = T::TAU / T::from_f32(1_048_576.0);
+        if !(min_scaled_speed >= slowest && min_scaled_speed <= T::FRAC_PI_2) {
+            return Err(ConfigError::OutOfRange(Parameter::MinSpeed));
+        }
+        check_positive(self.max_offset, Parameter::MaxOffset)?;
+        check_positive(self.max_amplitude_mismatch, Parameter::MaxAmplitudeMismatch)?;
+        check_positive(self.max_quadrature_rad, Parameter::MaxQuadrature)?;
+        Ok(CheckedCalibration {
+            settings: *self,
+            min_scaled_speed,
+        })
+    }
+}
+
+/// The settings with the minimum speed in rad per sample.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct CheckedCalibration<T> {
+    pub(crate) settings: CalibrationSettings<T>,
+    pub(crate) min_scaled_speed: T,
+}
+
+impl<T: Real> CheckedCalibration<T> {
+    /// The faults a calibration's parameters raise against the bounds (out of line: once per
+    /// change of the calibration).
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn sensor_faults(&self, calibration: &SensorCalibration<T>) -> Faults {
+        let s = &self.settings;
+        let (o_c, o_s) = calibration.offsets();
+        let (a_c, a_s) = calibration.amplitudes();
+        let offset_or_quadrature = o_c.abs() > s.max_offset * a_c
+            || o_s.abs() > s.max_offset * a_s
+            || calibration.quadrature_rad().abs() > s.max_quadrature_rad;
+        let mismatch = (calibration.amplitude_ratio() - T::ONE).abs() > s.max_amplitude_mismatch;
+        Faults::when(offset_or_quadrature, Faults::OFFSET_OR_QUADRATURE)
+            | Faults::when(mismatch, Faults::AMPLITUDE_MISMATCH)
+    }
+}
+
+impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
+    /// The same gains with other online-calibration settings (checked: see
+    /// [`CalibrationSettings`]).
+    ///
+    /// ```
+    /// use angletrack_core::{CalibrationSettings, Gains, Parameter};
+    /// let gains = Gains::<f32, 3>::new([0.3, 0.04, 0.002], 1e-4)?
+    ///     .with_calibration_settings(CalibrationSettings {
+    ///         min_speed_rad_s: Some(50.0),
+    ///         ..CalibrationSettings::default()
+    ///     })?;
+    /// assert_eq!(gains.calibration_settings().min_speed_rad_s, Some(50.0));
+    /// let slow = CalibrationSettings { min_speed_rad_s: Some(1e-3), ..Default::default() };
+    /// let err = gains.with_calibration_settings(slow).unwrap_err();
+    /// assert_eq!(err.parameter(), Parameter::MinSpeed);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn with_calibration_settings(
+        self,
+        settings: CalibrationSettings<T>,
+    ) -> Result<Self, ConfigError> {
+        Ok(Self {
+            calibration: settings.check(self.sample_period)?,
+            ..self
+        })
+    }
+
+    /// The online-calibration settings.
+    pub fn calibration_settings(&self) -> CalibrationSettings<T> {
+        self.calibration.settings
+    }
+}

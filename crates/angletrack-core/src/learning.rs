@@ -1,0 +1,366 @@
+//! Online correction of offsets, gain imbalance and quadrature error (`docs/theory.md §12`):
+//! [`Calibrator`] (the mutable state: the [`SensorCalibration`] applied, and its
+//! estimator), and
+//! [`Gains::update_calibrated`], which corrects each sample before the phase detector and
+//! learns the calibration from the observer's own angle while it tracks.
+//!
+//! The estimator integrates, over whole electrical turns of the observer's predicted angle
+//! `p`, the raw samples against `(1, cos p, sin p)`: per completed turn, a Fourier estimate of
+//! the regression `y_c = o_c + a1 cos p + b1 sin p`, `y_s = o_s + a2 cos p + b2 sin p`,
+//! blended into the running estimate with the factor `max(1/(n+1), 1/16)`.
+
+use crate::calibration::SensorCalibration;
+use crate::calibration_settings::CheckedCalibration;
+use crate::faults::Faults;
+use crate::gains::Gains;
+use crate::real::Real;
+use crate::sincos::SinCos;
+use crate::state::{Estimate, ObserverState};
+use crate::update::{SampleObserver, UsedSample};
+
+/// The faults that stop the estimator and discard its partial turn: the observer's angle is
+/// then not the sensor's.
+const NOT_LOCKED: Faults = Faults::LOSS_OF_SIGNAL
+    .union(Faults::LOSS_OF_TRACKING)
+    .union(Faults::BAD_SAMPLE)
+    .union(Faults::FALSE_LOCK);
+
+/// The smallest blend factor of a turn's estimate, `1/16`: the estimate then averages about
+/// the last 16 turns, following a slow drift (temperature, air gap) while averaging noise.
+const MIN_BLEND: f32 = 0.0625;
+
+/// The largest relative change of the speed over a learned turn, 1/64: equal sample weights
+/// then stand for equal angle steps to about 1.6 %, whose leak into the offsets (about
+/// `A / 64 / (2 pi)` per turn, blended at 1/16) stays below the noise's.
+const MAX_SPEED_CHANGE: f32 = 0.015_625;
+
+/// What a [`Calibrator`] does with each sample.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum CalibrationMode {
+    /// Nothing: the samples reach the observer as they are (the default).
+    #[default]
+    Off,
+    /// Corrects each sample and learns the calibration while the observer tracks.
+    Learning,
+    /// Corrects each sample with the calibration as it is, learning nothing.
+    Frozen,
+}
+
+/// The online calibration's state: the [`SensorCalibration`] applied to each sample, the
+/// mode, and the estimator's sums over the current turn. No allocation (`Copy`, 17 floats
+/// and a few words); one per channel, beside its [`ObserverState`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Calibrator<T> {
+    calibration: SensorCalibration<T>,
+    mode: CalibrationMode,
+    /// The blended regression `[o_c, o_s, a1, b1, a2, b2]`.
+    regression: [T; 6],
+    /// Turns learned (blended) so far.
+    turns_learned: u32,
+    /// The angle (rad, signed) the observer's speed has covered in the current partial turn.
+    progress: T,
+    /// The speed (rad per sample) at the first sample of the current partial turn.
+    start_speed: T,
+    /// The faults of the calibration against the settings' bounds, computed when the
+    /// calibration changes (`None`: to be computed at the next sample).
+    sensor_faults: Option<Faults>,
+    /// Over the current partial turn, each sample with the weight `w` (1, and the fraction
+    /// of the last one that completes the turn): `[sum w, sum w y_c, sum w y_s,
+    /// sum w y_c cos p, sum w y_c sin p, sum w y_s cos p, sum w y_s sin p]`.
+    sums: [T; 7],
+}
+
+impl<T: Real> Default for Calibrator<T> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<T: Real> Calibrator<T> {
+    /// A calibrator that is off, with no correction and nothing learned.
+    ///
+    /// ```
+    /// use angletrack_core::{CalibrationMode, Calibrator};
+    /// let mut calibrator = Calibrator::<f32>::new();
+    /// assert_eq!(calibrator.mode(), CalibrationMode::Off);
+    /// calibrator.enable(); // learn while tracking
+    /// assert_eq!(calibrator.mode(), CalibrationMode::Learning);
+    /// ```
+    pub const fn new() -> Self {
+        Self {
+            calibration: SensorCalibration::IDENTITY,
+            mode: CalibrationMode::Off,
+            regression: [T::ZERO; 6],
+            turns_learned: 0,
+            progress: T::ZERO,
+            start_speed: T::ZERO,
+            sensor_faults: None,
+            sums: [T::ZERO; 7],
+        }
+    }
+
+    /// A calibrator applying a stored `calibration` without learning
+    /// ([`CalibrationMode::Frozen`]); [`Calibrator::enable`] continues learning from it, as
+    /// from an estimate of 16 turns.
+    ///
+    /// ```
+    /// use angletrack_core::{CalibrationMode, Calibrator, SensorCalibration};
+    /// // Loaded from flash at start-up.
+    /// let stored = SensorCalibration::<f32>::new(90.0, -90.0, 1800.0, 1980.0, 0.052)?;
+    /// let calibrator = Calibrator::from_calibration(stored);
+    /// assert_eq!(calibrator.mode(), CalibrationMode::Frozen);
+    /// assert_eq!(calibrator.calibration(), stored);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn from_calibration(calibration: SensorCalibration<T>) -> Self {
+        let mut calibrator = Self::new();
+        calibrator.set_calibration(calibration);
+        calibrator.mode = CalibrationMode::Frozen;
+        calibrator
+    }
+
+    /// The calibration applied to each sample (unless off).
+    pub fn calibration(&self) -> SensorCalibration<T> {
+        self.calibration
+    }
+
+    /// Replaces the calibration (learning continues from it, as from an estimate of 16
+    /// turns); the current partial turn is discarded.
+    pub fn set_calibration(&mut self, calibration: SensorCalibration<T>) {
+        self.calibration = calibration;
+        self.regression = calibration.regression();
+        self.turns_learned = 16;
+        self.sensor_faults = None;
+        self.discard_turn();
+    }
+
+    /// Forgets what was learned: no correction, the next completed turn's estimate is taken
+    /// as it is. Keeps the mode.
+    pub fn restart_learning(&mut self) {
+        *self = Self {
+            mode: self.mode,
+            ..Self::new()
+        };
+    }
+
+    /// The mode.
+    pub fn mode(&self) -> CalibrationMode {
+        self.mode
+    }
+
+    /// Corrects the samples and learns ([`CalibrationMode::Learning`]).
+    pub fn enable(&mut self) {
+        self.mode = CalibrationMode::Learning;
+    }
+
+    /// Keeps correcting the samples but stops learning ([`CalibrationMode::Frozen`]).
+    pub fn freeze(&mut self) {
+        self.mode = CalibrationMode::Frozen;
+        self.discard_turn();
+    }
+
+    /// Neither corrects nor learns ([`CalibrationMode::Off`]); keeps the calibration.
+    pub fn disable(&mut self) {
+        self.mode = CalibrationMode::Off;
+        self.discard_turn();
+    }
+
+    /// The number of turns learned since the calibration was started or set.
+    pub fn turns_learned(&self) -> u32 {
+        self.turns_learned
+    }
+
+    fn discard_turn(&mut self) {
+        self.progress = T::ZERO;
+        self.sums = [T::ZERO; 7];
+    }
+
+    /// One sample of the estimator: the raw sample `(y_c, y_s)` and what the observer made
+    /// of its corrected form (`None`: not used). A sample of a faulty, slow or reversing
+    /// observer discards the partial turn; a sample that completes a turn (the speed's angle
+    /// steps add to 2 pi) ends it, counted only for the fraction of its step that completes
+    /// the turn.
+    ///
+    /// The samples are weighted equally (a synchronous average over time), not by the
+    /// estimated speed: the speed ripples at the frequencies the sensor's errors put on the
+    /// angle, and that ripple times the signal would bias the offsets.
+    #[inline(always)]
+    fn learn(
+        &mut self,
+        checked: &CheckedCalibration<T>,
+        used: Option<UsedSample<T>>,
+        y_c: T,
+        y_s: T,
+    ) {
+        let Some(used) = used else {
+            return self.discard_turn();
+        };
+        let step = used.scaled_speed;
+        let progress = self.progress;
+        // NaN-safe: a NaN speed fails the comparison and discards.
+        if used.faults.intersects(NOT_LOCKED)
+            || !(step.abs() >= checked.min_scaled_speed)
+            || step * progress < T::ZERO
+        {
+            return self.discard_turn();
+        }
+        if progress == T::ZERO {
+            self.start_speed = step;
+        }
+        let remaining = T::TAU - progress.abs();
+        let complete = step.abs() >= remaining;
+        let w = if complete {
+            remaining / step.abs()
+        } else {
+            T::ONE
+        };
+        self.progress = progress + step;
+        let (sin, cos) = used.sin_cos;
+        let (wc, ws) = (w * y_c, w * y_s);
+        let terms = [w, wc, ws, wc * cos, wc * sin, ws * cos, ws * sin];
+        for (sum, term) in self.sums.iter_mut().zip(terms) {
+            *sum += term;
+        }
+        if complete {
+            // Equal weights stand for equal angle steps only at a steady speed: a turn over
+            // which the speed changed is dropped (its window would leak the fundamental into
+            // the offsets). The speed's ripple from the sensor's errors is the same at both
+            // ends of a turn, so it does not count.
+            if (step - self.start_speed).abs()
+                <= self.start_speed.abs() * T::from_f32(MAX_SPEED_CHANGE)
+            {
+                self.end_turn();
+            } else {
+                self.discard_turn();
+            }
+        }
+    }
+
+    /// A completed turn: its Fourier estimate of the regression, blended into the running
+    /// one; the calibration it gives is applied only if it passes
+    /// [`SensorCalibration::new`]'s checks (finite, positive amplitudes, quadrature within
+    /// bound), else the turn is dropped.
+    #[cold]
+    #[inline(never)]
+    fn end_turn(&mut self) {
+        let inverse = T::ONE / self.sums[0];
+        let twice = inverse * T::TWO;
+        let s = &self.sums;
+        let estimate = [
+            s[1] * inverse,
+            s[2] * inverse,
+            s[3] * twice,
+            s[4] * twice,
+            s[5] * twice,
+            s[6] * twice,
+        ];
+        let blend = if self.turns_learned == 0 {
+            T::ONE
+        } else {
+            (T::ONE / (T::from_i32(self.turns_learned.min(1 << 20) as i32) + T::ONE))
+                .max(T::from_f32(MIN_BLEND))
+        };
+        let mut blended = self.regression;
+        for (b, e) in blended.iter_mut().zip(estimate) {
+            *b += blend * (e - *b);
+        }
+        if let Ok(calibration) = SensorCalibration::from_regression(&blended) {
+            self.calibration = calibration;
+            self.sensor_faults = None;
+            self.regression = blended;
+            self.turns_learned = self.turns_learned.saturating_add(1);
+        }
+        self.discard_turn();
+    }
+}
+
+/// The estimator as [`Gains::update_observing`] sees it: the raw sample `raw` of the
+/// corrected one the observer runs on.
+struct Learner<'a, T> {
+    calibrator: &'a mut Calibrator<T>,
+    checked: &'a CheckedCalibration<T>,
+    learning: bool,
+    raw: (T, T),
+}
+
+impl<T: Real> SampleObserver<T> for Learner<'_, T> {
+    #[inline(always)]
+    fn observe(self, used: Option<UsedSample<T>>) {
+        if self.learning {
+            self.calibrator
+                .learn(self.checked, used, self.raw.0, self.raw.1);
+        }
+    }
+}
+
+impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
+    /// One sample through the online calibration: unless `calibrator` is off, the sample is
+    /// corrected by its [`SensorCalibration`] before the phase detector, and, while
+    /// learning, the raw sample and the observer's predicted angle feed its estimator
+    /// (only while locked: no loss of signal, loss of tracking, bad sample or false lock
+    /// this sample, and above the minimum speed; the partial turn is discarded otherwise and
+    /// on a reversal, so a rotor at rest or reversing teaches it nothing). A new estimate is
+    /// applied once per completed turn, and only if it passes the calibration's checks: the
+    /// observer's stability does not depend on it (its phase error is normalised), and the
+    /// state never turns NaN. The estimate carries [`Faults::AMPLITUDE_MISMATCH`] and
+    /// [`Faults::OFFSET_OR_QUADRATURE`] when the calibration is beyond the settings'
+    /// bounds.
+    ///
+    /// ```
+    /// use angletrack_core::{Calibrator, FaultThresholds, Gains, ObserverState};
+    /// let gains = Gains::<f32, 3>::new([0.06, 0.0019, 3e-5], 1e-4)?;
+    /// let mut state = ObserverState::new();
+    /// let mut calibrator = Calibrator::new();
+    /// calibrator.enable();
+    /// let speed = 2.0 * core::f32::consts::PI * 50.0; // rad/s, electrical
+    /// for k in 0..4000 {
+    ///     let theta = speed * k as f32 * 1e-4;
+    ///     let y_c = 0.05 + theta.cos();
+    ///     let y_s = -0.05 + 1.1 * (theta + 0.05).sin();
+    ///     gains.update_calibrated(&mut state, &mut calibrator, y_c, y_s);
+    /// }
+    /// let (o_c, o_s) = calibrator.calibration().offsets();
+    /// assert!((o_c - 0.05).abs() < 5e-3 && (o_s + 0.05).abs() < 5e-3);
+    /// assert!((calibrator.calibration().amplitude_ratio() - 1.1).abs() < 5e-3);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    #[inline]
+    pub fn update_calibrated(
+        &self,
+        state: &mut ObserverState<T, N>,
+        calibrator: &mut Calibrator<T>,
+        y_c: T,
+        y_s: T,
+    ) -> Estimate<T> {
+        let mode = calibrator.mode;
+        if mode == CalibrationMode::Off {
+            return self.update(state, y_c, y_s);
+        }
+        let (c, s) = calibrator.calibration.correct(y_c, y_s);
+        let checked = &self.calibration;
+        let learner = Learner {
+            calibrator: &mut *calibrator,
+            checked,
+            learning: mode == CalibrationMode::Learning,
+            raw: (y_c, y_s),
+        };
+        let mut estimate = self.update_observing(state, c, s, learner);
+        let faults = match calibrator.sensor_faults {
+            Some(faults) => faults,
+            None => {
+                let faults = checked.sensor_faults(&calibrator.calibration);
+                calibrator.sensor_faults = Some(faults);
+                faults
+            }
+        };
+        if !faults.is_empty() {
+            estimate.faults |= faults;
+            state.faults |= faults;
+            state.monitor.latched |= faults;
+        }
+        estimate
+    }
+}
+
+#[cfg(test)]
+mod tests;

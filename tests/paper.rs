@@ -196,7 +196,11 @@ fn full_ekf_converges_to_the_time_invariant_kalman_ato() {
     for (k, (&y_c, &y_s)) in scenario.y_c.iter().zip(&scenario.y_s).enumerate() {
         let ato = gains.update(&mut state, y_c, y_s);
         if k > 0 {
-            ekf.update(y_c, y_s);
+            // The ATO's phase detector is normalised by the sample's magnitude (amplitude
+            // invariance, docs/theory.md §12), so it is the steady state of the EKF on the
+            // samples projected onto the unit circle, the EKF's own measurement model.
+            let rho = y_c.hypot(y_s);
+            ekf.update(y_c / rho, y_s / rho);
         }
         if k >= transient {
             largest = largest.max((ekf.x[0] - ato.position()).abs());

@@ -21,16 +21,16 @@ pub(crate) struct OutputArrays<'py, T: Element> {
 }
 
 impl<'py, T: Real + Element> OutputArrays<'py, T> {
-    /// `n` elements per quantity.
-    pub(crate) fn new(py: Python<'py>, n: usize) -> Self {
-        Self {
-            angle: PyArray1::zeros(py, n, false),
-            position: PyArray1::zeros(py, n, false),
-            speed: PyArray1::zeros(py, n, false),
-            acceleration: PyArray1::zeros(py, n, false),
-            phase_error: PyArray1::zeros(py, n, false),
-            faults: PyArray1::zeros(py, n, false),
-        }
+    /// `n` elements per quantity; a `MemoryError` (numpy's own) when they do not fit.
+    pub(crate) fn new(py: Python<'py>, n: usize) -> Result<Self> {
+        Ok(Self {
+            angle: zeros(py, n)?,
+            position: zeros(py, n)?,
+            speed: zeros(py, n)?,
+            acceleration: zeros(py, n)?,
+            phase_error: zeros(py, n)?,
+            faults: zeros(py, n)?,
+        })
     }
 
     /// Calls `fill` with the arrays' slices, the GIL released.
@@ -82,6 +82,15 @@ impl<'py, T: Real + Element> OutputArrays<'py, T> {
             faults: shaped(self.faults.into_any())?,
         })
     }
+}
+
+/// A zeroed array of `n` elements allocated by `numpy.zeros`, which raises `MemoryError`
+/// where the allocation fails (a failed allocation must not abort the interpreter).
+fn zeros<'py, E: Element>(py: Python<'py>, n: usize) -> Result<Bound<'py, PyArray1<E>>> {
+    let array = PyModule::import(py, "numpy")?
+        .getattr("zeros")?
+        .call1((n, numpy::dtype::<E>(py)))?;
+    Ok(array.cast_into::<PyArray1<E>>().map_err(PyErr::from)?)
 }
 
 /// What an observer knows after its last sample (scalars, in `float`).

@@ -197,10 +197,7 @@ pub fn resolve(
                     listed()
                 )
             })?),
-            None if has_header => role
-                .usual_names()
-                .iter()
-                .find_map(|u| find(names, u, true)),
+            None if has_header => role.usual_names().iter().find_map(|u| find(names, u, true)),
             None => None,
         };
     }

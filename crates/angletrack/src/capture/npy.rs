@@ -13,10 +13,10 @@ use super::error::CaptureError;
 use super::source::{RawRows, RowSource};
 
 /// The values of an array as `f64` (exactly for integers up to 2^53), in storage order.
-type Values = Box<dyn Iterator<Item = std::io::Result<f64>>>;
+type Values = Box<dyn Iterator<Item = std::io::Result<f64>> + Send>;
 
 /// The values of `file`, its numpy dtype name and whether the dtype is an integer one.
-fn values<R: Read + 'static>(file: NpyFile<R>) -> Result<(Values, String, bool), String> {
+fn values<R: Read + Send + 'static>(file: NpyFile<R>) -> Result<(Values, String, bool), String> {
     let Some(npyz::DType::Plain(ts)) = Some(file.dtype()) else {
         return Err(format!(
             "a structured or nested array (dtype {}) is not supported: save a 2-D array of \
@@ -69,7 +69,14 @@ pub struct NpySource {
 
 impl core::fmt::Debug for NpySource {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(f, "NpySource({}, {} x {} {})", self.path.display(), self.rows_total, self.columns, self.dtype)
+        write!(
+            f,
+            "NpySource({}, {} x {} {})",
+            self.path.display(),
+            self.rows_total,
+            self.columns,
+            self.dtype
+        )
     }
 }
 
@@ -126,10 +133,15 @@ impl RowSource for NpySource {
             for slot in self.buffer.iter_mut() {
                 *slot = match self.values.next() {
                     Some(Ok(v)) => v,
-                    Some(Err(e)) => return Err(CaptureError::io(&self.path, &e).at(Some(self.row + 1), None)),
+                    Some(Err(e)) => {
+                        return Err(CaptureError::io(&self.path, &e).at(Some(self.row + 1), None));
+                    }
                     None => {
-                        return Err(CaptureError::new(&self.path, "the file ends before its last row")
-                            .at(Some(self.row + 1), None));
+                        return Err(CaptureError::new(
+                            &self.path,
+                            "the file ends before its last row",
+                        )
+                        .at(Some(self.row + 1), None));
                     }
                 };
             }
@@ -192,15 +204,23 @@ impl NpzSource {
                 .by_name(&format!("{name}.npy"))
                 .map_err(|e| fail(e.to_string()))?;
             let mut bytes = Vec::new();
-            entry.read_to_end(&mut bytes).map_err(|e| fail(e.to_string()))?;
-            let npy = NpyFile::new(&bytes[..]).map_err(|e| fail(format!("not a .npy array: {e}")))?;
+            entry
+                .read_to_end(&mut bytes)
+                .map_err(|e| fail(e.to_string()))?;
+            let npy =
+                NpyFile::new(&bytes[..]).map_err(|e| fail(format!("not a .npy array: {e}")))?;
             let shape = npy.shape().to_vec();
             if shape.iter().filter(|&&d| d != 1).count() > 1 {
-                return Err(fail(format!("shape {shape:?}: expected 1-D (one value per sample)")));
+                return Err(fail(format!(
+                    "shape {shape:?}: expected 1-D (one value per sample)"
+                )));
             }
-            let owned = NpyFile::new(std::io::Cursor::new(bytes)).map_err(|e| fail(e.to_string()))?;
+            let owned =
+                NpyFile::new(std::io::Cursor::new(bytes)).map_err(|e| fail(e.to_string()))?;
             let (values, dtype, integer) = values(owned).map_err(fail)?;
-            let column: Vec<f64> = values.collect::<std::io::Result<_>>().map_err(|e| fail(e.to_string()))?;
+            let column: Vec<f64> = values
+                .collect::<std::io::Result<_>>()
+                .map_err(|e| fail(e.to_string()))?;
             if let Some(first) = arrays.first().map(Vec::len).filter(|&n| n != column.len()) {
                 return Err(fail(format!(
                     "has {} values but {:?} has {first}: the columns must be of one length",

@@ -86,7 +86,7 @@ impl CaptureChunk {
 /// ```
 pub struct CaptureReader {
     path: PathBuf,
-    source: Box<dyn RowSource>,
+    source: Box<dyn RowSource + Send>,
     layout: ResolvedColumns,
     /// The columns read, in the order of `roles`.
     wanted: Vec<usize>,
@@ -103,7 +103,13 @@ pub struct CaptureReader {
 
 impl core::fmt::Debug for CaptureReader {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-        write!(f, "CaptureReader({}, {}, {} rows read)", self.path.display(), self.format, self.rows)
+        write!(
+            f,
+            "CaptureReader({}, {}, {} rows read)",
+            self.path.display(),
+            self.format,
+            self.rows
+        )
     }
 }
 
@@ -113,13 +119,15 @@ impl CaptureReader {
     pub fn open(path: impl AsRef<Path>, options: CaptureOptions) -> Result<Self, CaptureError> {
         let path = path.as_ref();
         let fail = |m: String| CaptureError::new(path, m);
-        if !(options.chunk_rows >= 2) {
+        if options.chunk_rows < 2 {
             return Err(fail("chunk_rows: at least 2 rows per chunk".into()));
         }
         if let Some(rate) = options.sample_rate_hz
             && !(rate.is_finite() && rate > 0.0)
         {
-            return Err(fail(format!("sample_rate: {rate} Hz is not a positive finite rate")));
+            return Err(fail(format!(
+                "sample_rate: {rate} Hz is not a positive finite rate"
+            )));
         }
         let mut file = File::open(path).map_err(|e| CaptureError::io(path, &e))?;
         let total_bytes = file.metadata().map_or(0, |m| m.len());
@@ -130,7 +138,8 @@ impl CaptureReader {
             .map_err(|e| CaptureError::io(path, &e))?;
         let complete = (head.len() as u64) >= total_bytes;
         let kind = sniff(path, &head, complete, options.delimiter)?;
-        let (source, names, has_header, format): (Box<dyn RowSource>, _, _, _) = match &kind {
+        let (source, names, has_header, format): (Box<dyn RowSource + Send>, _, _, _) = match &kind
+        {
             Kind::Npy => {
                 let (s, names) = NpySource::open(path)?;
                 (Box::new(s), names, false, "npy".to_string())
@@ -148,7 +157,11 @@ impl CaptureReader {
         };
         let layout = resolve(&options.columns, &names, has_header).map_err(fail)?;
         let mut roles: Vec<Role> = vec![Role::Cosine, Role::Sine];
-        roles.extend([Role::Time, Role::Reference].into_iter().filter(|&r| layout.index(r).is_some()));
+        roles.extend(
+            [Role::Time, Role::Reference]
+                .into_iter()
+                .filter(|&r| layout.index(r).is_some()),
+        );
         let mut wanted: Vec<usize> = roles.iter().filter_map(|&r| layout.index(r)).collect();
         wanted.extend(&layout.other_times);
         let spacing = SpacingCheck::new(options.sample_rate_hz.is_none());
@@ -176,7 +189,8 @@ impl CaptureReader {
             return Ok(None);
         }
         self.raw.clear(self.wanted.len());
-        self.source.read(&self.wanted, &mut self.raw, self.options.chunk_rows)?;
+        self.source
+            .read(&self.wanted, &mut self.raw, self.options.chunk_rows)?;
         let n = self.raw.lines.len();
         if n < self.options.chunk_rows {
             self.done = true;
@@ -185,6 +199,7 @@ impl CaptureReader {
             return Err(self.too_short(n));
         }
         if n == 0 {
+            self.chunk = CaptureChunk::default();
             return Ok(None);
         }
         self.check_and_convert()?;
@@ -194,7 +209,11 @@ impl CaptureReader {
     }
 
     fn too_short(&self, n: usize) -> CaptureError {
-        let what = if n == 0 { "no data rows" } else { "only one data row" };
+        let what = if n == 0 {
+            "no data rows"
+        } else {
+            "only one data row"
+        };
         CaptureError::new(
             &self.path,
             format!("{what}: a capture needs at least 2 samples (one row per sample)"),
@@ -239,7 +258,10 @@ impl CaptureReader {
     fn value_error(&self, k: usize, index: usize, what: &str, value: f64) -> CaptureError {
         CaptureError::new(
             &self.path,
-            format!("column {:?}: the {what} is {value}: it must be finite", self.layout.name(index)),
+            format!(
+                "column {:?}: the {what} is {value}: it must be finite",
+                self.layout.name(index)
+            ),
         )
         .at(Some(self.raw.lines[k]), Some(index + 1))
     }
@@ -277,13 +299,17 @@ impl CaptureReader {
         time_s.clear();
         time_s.extend(raw.iter().map(|&v| unit.to_seconds(v)));
         let name = self.layout.name(index).to_string();
-        self.spacing
-            .check(&time_s, unit)
-            .map_err(|(k, m)| {
-                CaptureError::new(&self.path, format!("column {name:?}: {m}"))
-                    .at(Some(self.raw.lines[k]), Some(index + 1))
-            })?;
+        self.spacing.check(&time_s, unit).map_err(|(k, m)| {
+            CaptureError::new(&self.path, format!("column {name:?}: {m}"))
+                .at(Some(self.raw.lines[k]), Some(index + 1))
+        })?;
         Ok(time_s)
+    }
+
+    /// The chunk the last [`next_chunk`](Self::next_chunk) returned (`None` before the
+    /// first and after the last).
+    pub fn last_chunk(&self) -> Option<&CaptureChunk> {
+        Some(&self.chunk).filter(|c| !c.is_empty())
     }
 
     /// The sample rate (Hz): the stated one, else the time column's (its mean spacing over

@@ -142,7 +142,7 @@ pub fn sniff(
     if header_lines == lines.len() && complete {
         let last = lines[header_lines - 1].0;
         return Err(
-            CaptureError::new(path, "header only: no data rows after it").at(Some(last), None)
+            CaptureError::new(path, "header only: no data rows after it").at(Some(last), None),
         );
     }
     let names: Vec<String> = if has_header {
@@ -152,11 +152,11 @@ pub fn sniff(
             .map(|n| n.trim().trim_matches('"').to_string())
             .collect()
     } else {
-        (0..delimiter.split(first).len()).map(|i| i.to_string()).collect()
+        (0..delimiter.split(first).len())
+            .map(|i| i.to_string())
+            .collect()
     };
-    let lines_before_data = lines
-        .get(header_lines)
-        .map_or(first_line, |&(l, _)| l - 1);
+    let lines_before_data = lines.get(header_lines).map_or(first_line, |&(l, _)| l - 1);
     Ok(Kind::Text(TextLayout {
         bom_bytes,
         delimiter,
@@ -186,7 +186,12 @@ fn text_of<'a>(path: &Path, bytes: &'a [u8], complete: bool) -> Result<&'a str, 
 fn binary(path: &Path, bytes: &[u8], at: usize) -> CaptureError {
     let before = &bytes[..at];
     let line = before.iter().filter(|&&b| b == b'\n').count() as u64 + 1;
-    let column = at - before.iter().rposition(|&b| b == b'\n').map_or(0, |p| p + 1) + 1;
+    let column = at
+        - before
+            .iter()
+            .rposition(|&b| b == b'\n')
+            .map_or(0, |p| p + 1)
+        + 1;
     CaptureError::new(
         path,
         format!(

@@ -60,8 +60,14 @@ impl TextSource {
                     let more = reader
                         .read_byte_record(&mut record)
                         .map_err(|e| csv_error(path, &e))?;
-                    if !more || record.position().map_or(0, |p| p.line()) > layout.lines_before_data {
-                        reader.seek_raw(SeekFrom::Start(position.byte() + layout.bom_bytes), position).map_err(|e| csv_error(path, &e))?;
+                    if !more || record.position().map_or(0, |p| p.line()) > layout.lines_before_data
+                    {
+                        reader
+                            .seek_raw(
+                                SeekFrom::Start(position.byte() + layout.bom_bytes),
+                                position,
+                            )
+                            .map_err(|e| csv_error(path, &e))?;
                         break;
                     }
                 }
@@ -147,7 +153,10 @@ impl RowSource for TextSource {
         match &mut self.rows {
             Rows::Delimited { reader, record, .. } => {
                 while rows.lines.len() < max_rows {
-                    if !reader.read_byte_record(record).map_err(|e| csv_error(path, &e))? {
+                    if !reader
+                        .read_byte_record(record)
+                        .map_err(|e| csv_error(path, &e))?
+                    {
                         break;
                     }
                     let line = record.position().map_or(0, |p| p.line());
@@ -183,7 +192,13 @@ impl RowSource for TextSource {
                         .split(|b| b.is_ascii_whitespace())
                         .filter(|f| !f.is_empty())
                         .collect();
-                    fields.push_row(*number, split.len(), |i| split.get(i).copied(), columns, rows)?;
+                    fields.push_row(
+                        *number,
+                        split.len(),
+                        |i| split.get(i).copied(),
+                        columns,
+                        rows,
+                    )?;
                 }
             }
         }
@@ -192,7 +207,9 @@ impl RowSource for TextSource {
 
     fn bytes_read(&self) -> u64 {
         match &self.rows {
-            Rows::Delimited { reader, bom_bytes, .. } => reader.position().byte() + bom_bytes,
+            Rows::Delimited {
+                reader, bom_bytes, ..
+            } => reader.position().byte() + bom_bytes,
             Rows::Blanks { bytes_read, .. } => *bytes_read,
         }
     }

@@ -59,7 +59,9 @@ impl FromStr for TimeUnit {
             "ms" => Ok(TimeUnit::Milliseconds),
             "us" | "µs" => Ok(TimeUnit::Microseconds),
             "ns" => Ok(TimeUnit::Nanoseconds),
-            other => Err(format!("time_unit: expected s, ms, us or ns, got {other:?}")),
+            other => Err(format!(
+                "time_unit: expected s, ms, us or ns, got {other:?}"
+            )),
         }
     }
 }
@@ -126,7 +128,8 @@ impl SpacingCheck {
             let mut previous = self.last_s.unwrap_or(first);
             for (k, &t) in time_s.iter().enumerate() {
                 let dt = t - previous;
-                if (k > 0 || self.last_s.is_some()) && (dt - step).abs() > SPACING_TOLERANCE * step {
+                if (k > 0 || self.last_s.is_some()) && (dt - step).abs() > SPACING_TOLERANCE * step
+                {
                     return Err((
                         k,
                         format!(

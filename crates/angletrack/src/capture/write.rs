@@ -164,9 +164,19 @@ impl EstimatesWriter {
     /// Appends a chunk (every slice of one length).
     pub fn write<T: OutputFloat>(&mut self, rows: EstimateRows<'_, T>) -> Result<(), CaptureError> {
         let n = rows.time_s.len();
-        let lengths = [rows.angle.len(), rows.position.len(), rows.speed.len(), rows.acceleration.len(), rows.phase_error.len(), rows.faults.len()];
+        let lengths = [
+            rows.angle.len(),
+            rows.position.len(),
+            rows.speed.len(),
+            rows.acceleration.len(),
+            rows.phase_error.len(),
+            rows.faults.len(),
+        ];
         if lengths.iter().any(|&l| l != n) || T::NPY_TYPE != self.npy_type {
-            return Err(CaptureError::new(&self.path, "estimates: columns of different lengths or float types"));
+            return Err(CaptureError::new(
+                &self.path,
+                "estimates: columns of different lengths or float types",
+            ));
         }
         let result = match self.format {
             EstimatesFormat::Csv => write_csv(&mut self.out, &rows),
@@ -182,7 +192,10 @@ impl EstimatesWriter {
         if self.format == EstimatesFormat::Npy {
             let header = self.npy_header();
             let out = &mut self.out;
-            let result = out.flush().and_then(|()| out.seek(SeekFrom::Start(0))).and_then(|_| out.write_all(&header));
+            let result = out
+                .flush()
+                .and_then(|()| out.seek(SeekFrom::Start(0)))
+                .and_then(|_| out.write_all(&header));
             result.map_err(|e| self.io(&e))?;
         }
         self.out.flush().map_err(|e| self.io(&e))?;

@@ -95,6 +95,11 @@ fn optional_array(py: Python<'_>, values: Option<&Vec<f64>>) -> Option<Py<PyArra
     values.map(|v| v.to_pyarray(py).unbind())
 }
 
+/// The array that takes over `values` (no copy: a whole capture is not held twice).
+fn owned_array(py: Python<'_>, values: Vec<f64>) -> Py<PyArray1<f64>> {
+    PyArray1::from_vec(py, values).unbind()
+}
+
 /// A chunk of a capture: float64 arrays of one length (time in seconds).
 #[pyclass(name = "CaptureChunk", module = "angletrack", frozen, get_all)]
 #[derive(Debug)]
@@ -286,13 +291,14 @@ pub fn read_capture(
     let options = options(columns, delimiter, time_unit, sample_rate_hz, 1 << 16)?;
     let read_path = path.clone();
     let c: CoreCapture = py.detach(|| core_read_capture(read_path, options))?;
+    let samples = c.samples;
     Ok(PyCapture {
         path,
-        rows: c.samples.len(),
-        time_s: optional_array(py, c.samples.time_s.as_ref()),
-        y_c: c.samples.y_c.to_pyarray(py).unbind(),
-        y_s: c.samples.y_s.to_pyarray(py).unbind(),
-        reference_rad: optional_array(py, c.samples.reference_rad.as_ref()),
+        rows: samples.len(),
+        time_s: samples.time_s.map(|v| owned_array(py, v)),
+        y_c: owned_array(py, samples.y_c),
+        y_s: owned_array(py, samples.y_s),
+        reference_rad: samples.reference_rad.map(|v| owned_array(py, v)),
         sample_rate_hz: c.sample_rate_hz,
         sample_dtype: c.sample_dtype,
         columns: mapping_dict(py, &c.mapping)?.unbind(),

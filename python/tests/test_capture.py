@@ -129,6 +129,7 @@ def test_a_rate_mismatch_is_refused_naming_both_rates_and_sample_rate_states_the
     assert "the capture's time column says 20000 Hz but the gains are designed for 10000 Hz" in err
     assert not out.exists()  # refused before anything was written
     assert track(cap, "--gains-file", g, "--sample-rate", 20000, "-o", out) == 0
+    assert "the gains designed for 10000 Hz run at the stated 20000 Hz" in capsys.readouterr().out
 
 
 def test_a_time_column_in_microseconds_needs_its_unit(tmp_path, capsys):
@@ -220,3 +221,18 @@ def test_the_reader_refuses_bad_arguments_naming_them():
         with pytest.raises(angletrack.ConfigError) as raised:
             angletrack.read_capture("unused.csv", **kwargs)
         assert raised.value.parameter == parameter and str(raised.value).startswith(parameter)
+
+
+def test_a_headerless_capture_with_a_given_delimiter_and_progress(tmp_path, capsys):
+    t, theta = motion(1000)
+    cap = write_text(tmp_path / "run.dat", None, zip(np.cos(theta), t, np.sin(theta)), "|")
+    assert track(cap, "--gains-file", gains_file(tmp_path)) == 2
+    assert "the capture has no header line (3 columns): name the signals' columns" in one_error_line(capsys)
+    out = tmp_path / "est.csv"
+    assert track(cap, "--gains-file", gains_file(tmp_path), "--delimiter", "|", "--columns", "y_c=0,time=1,y_s=2",
+                 "--progress", "-o", out) == 0
+    captured = capsys.readouterr()
+    assert "angletrack track: 100.0 % 1,000 samples" in captured.err
+    assert "columns time=1, y_c=0, y_s=2" in captured.out
+    est = np.genfromtxt(out, delimiter=",", names=True)
+    np.testing.assert_array_equal(est["time_s"], t)

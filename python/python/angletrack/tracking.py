@@ -153,6 +153,19 @@ def _rejections_error(s: TrackSettings, rejected: int, total: int, reader, y_c_m
     )
 
 
+def _stated_rate_note(s: TrackSettings) -> list[str]:
+    """A line saying that gains designed for another rate run at the stated one."""
+    if s.gains_file is None or s.sample_rate_hz is None:
+        return []
+    designed_hz = export.gains_from_json(s.gains_file.read_text()).sample_rate_hz
+    if abs(s.sample_rate_hz / designed_hz - 1.0) <= RATE_TOLERANCE:
+        return []
+    return [
+        f"note: the gains designed for {designed_hz:.6g} Hz run at the stated {s.sample_rate_hz:.6g} Hz: "
+        f"the loop's bandwidth scales by {s.sample_rate_hz / designed_hz:.6g}"
+    ]
+
+
 def track_capture(s: TrackSettings) -> str:
     """Runs ``s``: writes the estimates to ``s.output`` and returns the summary to print.
     Raises ``ValueError`` (``CaptureError``, ``ConfigError``) on a capture that cannot be
@@ -192,6 +205,7 @@ def track_capture(s: TrackSettings) -> str:
     latched = angletrack.Faults(observer.latched_faults)
     lines = [
         repr(observer),
+        *_stated_rate_note(s),
         f"{total} samples ({reader.format}, {reader.sample_dtype}; columns "
         + ", ".join(f"{k}={v}" for k, v in reader.columns.items())
         + f") -> {s.output}",

@@ -66,16 +66,26 @@ pub fn read_capture(
 ) -> Result<Capture, CaptureError> {
     let mut reader = CaptureReader::open(path, options)?;
     let mut all = CaptureChunk::default();
+    // A capture larger than memory is an error, not an abort: each column grows fallibly.
+    let append = |to: &mut Vec<f64>, from: &[f64], path: &std::path::Path| {
+        to.try_reserve(from.len()).map_err(|_| {
+            CaptureError::new(
+                path,
+                "the capture does not fit in memory: read it in chunks (CaptureReader)",
+            )
+        })?;
+        to.extend_from_slice(from);
+        Ok::<(), CaptureError>(())
+    };
+    let path = reader.path().to_path_buf();
     while let Some(chunk) = reader.next_chunk()? {
-        all.y_c.extend_from_slice(&chunk.y_c);
-        all.y_s.extend_from_slice(&chunk.y_s);
+        append(&mut all.y_c, &chunk.y_c, &path)?;
+        append(&mut all.y_s, &chunk.y_s, &path)?;
         if let Some(t) = &chunk.time_s {
-            all.time_s.get_or_insert_with(Vec::new).extend_from_slice(t);
+            append(all.time_s.get_or_insert_with(Vec::new), t, &path)?;
         }
         if let Some(r) = &chunk.reference_rad {
-            all.reference_rad
-                .get_or_insert_with(Vec::new)
-                .extend_from_slice(r);
+            append(all.reference_rad.get_or_insert_with(Vec::new), r, &path)?;
         }
     }
     Ok(Capture {

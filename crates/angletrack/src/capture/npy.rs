@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use npyz::{NpyFile, TypeChar};
 
 use super::error::CaptureError;
-use super::source::{RawRows, RowSource};
+use super::source::{Filled, RawRows, RowSource};
 
 /// The values of an array as `f64` (exactly for integers up to 2^53), in storage order.
 type Values = Box<dyn Iterator<Item = std::io::Result<f64>> + Send>;
@@ -53,6 +53,10 @@ fn values<R: Read + Send + 'static>(file: NpyFile<R>) -> Result<(Values, String,
     };
     Ok((values, name.to_string(), ts.type_char() != TypeChar::Float))
 }
+
+/// The most columns of a `.npy` capture: a header claiming more is not a capture (and its
+/// row buffer must not be allocated).
+pub const MAX_COLUMNS: usize = 1 << 16;
 
 /// The rows of a 2-D `.npy` array (rows x columns), streamed.
 pub struct NpySource {
@@ -102,6 +106,11 @@ impl NpySource {
                 )));
             }
         };
+        if columns == 0 || columns > MAX_COLUMNS {
+            return Err(fail(format!(
+                "an array of {columns} columns: expected 2 to {MAX_COLUMNS} (rows x columns)"
+            )));
+        }
         let item_bytes = npy.header().dtype().num_bytes().unwrap_or(8) as u64;
         let (values, dtype, integer) = values(npy).map_err(fail)?;
         let names = (0..columns).map(|i| i.to_string()).collect();
@@ -123,12 +132,7 @@ impl NpySource {
 }
 
 impl RowSource for NpySource {
-    fn read(
-        &mut self,
-        columns: &[usize],
-        rows: &mut RawRows,
-        max_rows: usize,
-    ) -> Result<(), CaptureError> {
+    fn read(&mut self, columns: &[usize], rows: &mut RawRows, max_rows: usize) -> Filled {
         while rows.lines.len() < max_rows && self.row < self.rows_total {
             for slot in self.buffer.iter_mut() {
                 *slot = match self.values.next() {
@@ -246,12 +250,7 @@ fn archive(path: &Path) -> Result<zip::ZipArchive<BufReader<File>>, CaptureError
 }
 
 impl RowSource for NpzSource {
-    fn read(
-        &mut self,
-        columns: &[usize],
-        rows: &mut RawRows,
-        max_rows: usize,
-    ) -> Result<(), CaptureError> {
+    fn read(&mut self, columns: &[usize], rows: &mut RawRows, max_rows: usize) -> Filled {
         if self.loaded.is_none() {
             self.loaded = Some(self.load(columns)?);
         }

@@ -25,16 +25,14 @@ impl RawRows {
     }
 }
 
+/// What [`RowSource::read`] gives: the rows were appended, or the first fault.
+pub type Filled = Result<(), CaptureError>;
+
 /// A file format's rows.
 pub trait RowSource {
     /// Appends up to `max_rows` rows of the 0-based `columns` to `rows` (cleared by the
     /// caller); fewer only at the end of the data.
-    fn read(
-        &mut self,
-        columns: &[usize],
-        rows: &mut RawRows,
-        max_rows: usize,
-    ) -> Result<(), CaptureError>;
+    fn read(&mut self, columns: &[usize], rows: &mut RawRows, max_rows: usize) -> Filled;
 
     /// Bytes of the file consumed so far (for progress).
     fn bytes_read(&self) -> u64;

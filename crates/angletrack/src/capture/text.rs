@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use super::error::CaptureError;
 use super::sniff::{Delimiter, TextLayout};
-use super::source::{RawRows, RowSource, field_error, parse_field};
+use super::source::{Filled, RawRows, RowSource, field_error, parse_field};
 
 /// The rows of a text capture.
 #[derive(Debug)]
@@ -142,12 +142,7 @@ fn csv_error(path: &Path, e: &csv::Error) -> CaptureError {
 }
 
 impl RowSource for TextSource {
-    fn read(
-        &mut self,
-        columns: &[usize],
-        rows: &mut RawRows,
-        max_rows: usize,
-    ) -> Result<(), CaptureError> {
+    fn read(&mut self, columns: &[usize], rows: &mut RawRows, max_rows: usize) -> Filled {
         let fields = &self.fields;
         let path = fields.path.as_path();
         match &mut self.rows {

@@ -28,7 +28,21 @@ def test_a_memmap_larger_than_memory_is_a_memory_error(tmp_path):
     with open(path, "wb") as f:
         f.truncate(2**33 * 8)
     samples = np.memmap(path, dtype=np.float64, mode="r", shape=(2**33,))
+    with pytest.raises(MemoryError, match=f"y_c: {2**33 * (5 * 8 + 1)} bytes are needed"):
+        angletrack.track(GAINS, samples, samples)
     with pytest.raises(MemoryError):
+        angletrack.Observer(GAINS).update(samples, samples)
+    del samples
+
+
+def test_outputs_that_fit_one_by_one_but_not_together_are_a_memory_error(tmp_path):
+    # 2**31 float64 samples: each 16 GiB output array alone could be had (overcommitted), the
+    # five of them (82 GiB) not; refused before any is allocated.
+    path = tmp_path / "large.f64"
+    with open(path, "wb") as f:
+        f.truncate(2**31 * 8)
+    samples = np.memmap(path, dtype=np.float64, mode="r", shape=(2**31,))
+    with pytest.raises(MemoryError, match="bytes are needed and cannot be allocated"):
         angletrack.track(GAINS, samples, samples)
     del samples
 

@@ -148,8 +148,15 @@ impl ResolvedColumns {
     }
 }
 
+/// A header name as compared: without case, surrounding blanks or a trailing unit in
+/// brackets (`Time (s)` and `time [s]` are `time`).
 fn normalised(name: &str) -> String {
-    name.trim().to_ascii_lowercase()
+    let name = name.trim();
+    let bare = match name.rfind(['(', '[']) {
+        Some(open) if name.ends_with([')', ']']) && open > 0 => &name[..open],
+        _ => name,
+    };
+    bare.trim().to_ascii_lowercase()
 }
 
 /// Whether a header name is an oscilloscope's time (x) column: `t`, `time`, `x-axis`,

@@ -63,6 +63,18 @@ fn usual_names_need_no_mapping_and_a_bom_is_skipped() {
 }
 
 #[test]
+fn header_names_match_without_their_units() {
+    let c = read(
+        "units.csv",
+        b"Time (s),Cos [V],Sin [V]\n0,1,0\n1,1,0\n",
+        "y_c=cos,y_s=sin",
+    )
+    .unwrap();
+    assert_eq!(c.mapping[0], (Role::Time, "Time (s)".to_string()));
+    assert_eq!(c.sample_rate_hz, Some(1.0));
+}
+
+#[test]
 fn integer_counts_keep_their_dtype_and_indices_map_a_headerless_file() {
     let c = read("adc.csv", b"2048 3548\n2050 3547\n", "y_c=0,y_s=1").unwrap();
     assert_eq!(c.samples.y_c, [2048.0, 2050.0]);

@@ -200,6 +200,17 @@ def test_bad_numbers_are_refused_before_anything_is_written(tmp_path, capsys, ar
     assert expected in capsys.readouterr().err
 
 
+def test_a_fault_part_way_leaves_no_partial_output(tmp_path, capsys):
+    t, theta = motion(200_000)
+    cap = write_text(tmp_path / "run.csv", ["time", "y_c", "y_s"], zip(t, np.cos(theta), np.sin(theta)))
+    with open(cap, "a") as f:
+        f.write("20.0,1,oops\n")
+    out = tmp_path / "est.csv"
+    assert track(cap, "--gains-file", gains_file(tmp_path), "-o", out) == 2
+    assert 'run.csv:200002:3: column "y_s": "oops" is not a number' in one_error_line(capsys)
+    assert not out.exists()
+
+
 def test_a_gains_file_whose_order_contradicts_its_gains_is_refused(tmp_path, capsys):
     path = gains_file(tmp_path)
     doc = json.loads(path.read_text())

@@ -184,20 +184,26 @@ def track_capture(s: TrackSettings) -> str:
     rejected, y_c_sum = 0, 0.0
     bad = int(angletrack.Faults.BAD_SAMPLE)
     s.output.parent.mkdir(parents=True, exist_ok=True)
-    with angletrack.EstimatesWriter(s.output, dtype=dtype) as writer:
-        chunk = first
-        while chunk is not None:
-            est = observer.update(chunk.y_c.astype(dtype, copy=False), chunk.y_s.astype(dtype, copy=False))
-            time_s = chunk.time_s
-            if time_s is None:
-                time_s = (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) * gains.sample_period_s
-            writer.write(time_s, est)
-            rejected += int(np.count_nonzero(est.faults & bad))
-            y_c_sum += float(np.sum(chunk.y_c))
-            if stats is not None:
-                stats.add(time_s, est.angle, chunk.reference_rad)
-            progress.update(reader)
-            chunk = next(chunks, None)
+    try:
+        with angletrack.EstimatesWriter(s.output, dtype=dtype) as writer:
+            chunk = first
+            while chunk is not None:
+                est = observer.update(chunk.y_c.astype(dtype, copy=False), chunk.y_s.astype(dtype, copy=False))
+                time_s = chunk.time_s
+                if time_s is None:
+                    time_s = (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) * gains.sample_period_s
+                writer.write(time_s, est)
+                rejected += int(np.count_nonzero(est.faults & bad))
+                y_c_sum += float(np.sum(chunk.y_c))
+                if stats is not None:
+                    stats.add(time_s, est.angle, chunk.reference_rad)
+                progress.update(reader)
+                chunk = next(chunks, None)
+    except BaseException:
+        # A fault found part way (a malformed row, an interrupt) leaves no partial file that
+        # could pass for the estimates of the whole capture.
+        s.output.unlink(missing_ok=True)
+        raise
     progress.update(reader, final=True)
     total = reader.rows
     if 2 * rejected > total:

@@ -31,6 +31,11 @@ fn every_delimiter_is_sniffed_and_columns_are_mapped_by_name() {
     for (name, text) in [
         ("semicolon.csv", "t;sin;cos\n0;0;1\n0.5;1;0\n1;0;-1\n"),
         ("comma.csv", "t,sin,cos\n0,0,1\n0.5,1,0\n1,0,-1\n"),
+        ("crlf.csv", "t,sin,cos\r\n0,0,1\r\n0.5,1,0\r\n1,0,-1\r\n"),
+        (
+            "quoted.csv",
+            "\"t\",\"sin\",\"cos\"\n\"0\",0,1\n0.5,\"1\",0\n1,0,-1",
+        ),
         ("tab.tsv", "t\tsin\tcos\n0\t0\t1\n0.5\t1\t0\n1\t0\t-1\n"),
         (
             "blanks.txt",
@@ -104,7 +109,13 @@ fn oscilloscope_pairs_use_one_time_column_and_check_the_other() {
 
 #[test]
 fn malformed_inputs_name_the_file_line_and_column() {
-    let cases: [(&str, &[u8], &str, &str); 12] = [
+    let cases: [(&str, &[u8], &str, &str); 13] = [
+        (
+            "crlf_text.csv",
+            b"time,y_c,y_s\r\n0,1,0\r\n\r\n1,abc,0\r\n",
+            "",
+            "crlf_text.csv:4:2: column \"y_c\": \"abc\"",
+        ),
         ("empty.csv", b"", "", "empty.csv:1: empty file"),
         (
             "header_only.csv",

@@ -176,10 +176,18 @@ pub fn samples<'py, T: Element + Copy>(
         )
     })?;
     if view.as_slice().is_ok() {
-        Ok(Samples::Borrowed(view))
-    } else {
-        Ok(Samples::Copied(view.as_array().iter().copied().collect()))
+        return Ok(Samples::Borrowed(view));
     }
+    // A strided or broadcast view may stand for more samples than memory holds: the copy is
+    // asked for first, and refused with a MemoryError rather than an abort.
+    let len = view.len();
+    let mut copy = Vec::new();
+    copy.try_reserve_exact(len).map_err(|_| Error::Memory {
+        parameter,
+        bytes: len as u128 * core::mem::size_of::<T>() as u128,
+    })?;
+    copy.extend(view.as_array().iter().copied());
+    Ok(Samples::Copied(copy))
 }
 
 /// Checks that two sample arrays have the same length.

@@ -32,7 +32,7 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for ChannelBatch<T, N, S>
                 ),
             ));
         }
-        let out = OutputArrays::<T>::new(py, channels_c * samples);
+        let out = OutputArrays::<T>::new(py, channels_c * samples)?;
         let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
         out.fill(py, |columns| {
             ChannelBatch::run(self, y_c, y_s, samples, columns)

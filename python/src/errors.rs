@@ -10,11 +10,17 @@
 //!   spelled it, and whose message starts with that name;
 //! * an array of the wrong element type is a `TypeError` naming the parameter, the dtype
 //!   given and the dtype expected;
+//! * a capture that cannot be read (or estimates not written) is an
+//!   `angletrack.CaptureError`, a subclass of `ValueError` with `path`, `line` and `column`
+//!   attributes (`None` where the fault has no line or column), whose message is
+//!   `FILE:LINE:COLUMN: what`;
+//! * an array larger than the memory left is a `MemoryError` naming the argument;
 //! * errors raised by Python itself while converting arguments pass through unchanged.
 
 use angletrack::Argument;
+use angletrack::capture::CaptureError as CoreCaptureError;
 use angletrack_core::{ConfigError as CoreConfigError, Parameter};
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::exceptions::{PyMemoryError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 
 pyo3::create_exception!(
@@ -23,6 +29,15 @@ pyo3::create_exception!(
     PyValueError,
     "An argument the extension refused. `parameter` is the argument's name as the caller \
      spelled it (`\"sample_period_s\"`, `\"gains\"`, `\"y_c\"`); the message starts with it."
+);
+
+pyo3::create_exception!(
+    angletrack,
+    CaptureError,
+    PyValueError,
+    "A capture that cannot be read, or estimates that cannot be written. `path` is the file, \
+     `line` and `column` the 1-based place of the fault (`None` when the fault is not at one); \
+     the message is `FILE:LINE:COLUMN: what is wrong`."
 );
 
 /// Why a call into the binding failed.
@@ -48,6 +63,15 @@ pub enum Error {
         /// What is wrong with it.
         message: String,
     },
+    /// A capture could not be read, or estimates not written.
+    Capture(CoreCaptureError),
+    /// An argument needs more memory than can be had: `parameter` and the bytes asked for.
+    Memory {
+        /// The argument's name.
+        parameter: &'static str,
+        /// The bytes that could not be allocated.
+        bytes: u128,
+    },
     /// An exception raised by Python (or numpy) while converting an argument.
     Python(PyErr),
 }
@@ -71,6 +95,12 @@ impl From<CoreConfigError> for Error {
 impl From<angletrack::Error> for Error {
     fn from(e: angletrack::Error) -> Self {
         Error::Design(e)
+    }
+}
+
+impl From<CoreCaptureError> for Error {
+    fn from(e: CoreCaptureError) -> Self {
+        Error::Capture(e)
     }
 }
 
@@ -124,6 +154,22 @@ fn core_config_error(e: &CoreConfigError, suffix: &str) -> PyErr {
     config_error(python, format!("{message}{suffix}"))
 }
 
+/// The `CaptureError` of a capture reader's error, with its place as attributes.
+fn capture_error(e: &CoreCaptureError) -> PyErr {
+    Python::attach(|py| {
+        let err = CaptureError::new_err(e.to_string());
+        let value = err.value(py);
+        let set = value
+            .setattr("path", e.path.to_string_lossy().into_owned())
+            .and_then(|()| value.setattr("line", e.line))
+            .and_then(|()| value.setattr("column", e.column));
+        match set {
+            Ok(()) => err,
+            Err(setattr) => setattr,
+        }
+    })
+}
+
 impl From<Error> for PyErr {
     fn from(e: Error) -> Self {
         match e {
@@ -150,6 +196,11 @@ impl From<Error> for PyErr {
             Error::Value { parameter, message } => {
                 config_error(parameter, format!("{parameter}: {message}"))
             }
+            Error::Capture(e) => capture_error(&e),
+            Error::Memory { parameter, bytes } => PyMemoryError::new_err(format!(
+                "{parameter}: {bytes} bytes are needed and cannot be allocated; process the \
+                 samples in chunks (the observers keep their state between calls)"
+            )),
             Error::Python(e) => e,
         }
     }

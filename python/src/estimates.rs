@@ -7,7 +7,7 @@ use numpy::{Element, PyArray1};
 use pyo3::prelude::*;
 
 use crate::arrays::{as_slice_mut, writable};
-use crate::errors::Result;
+use crate::errors::{Error, Result};
 
 /// The output arrays of a run, allocated by numpy (which asks for huge pages on large
 /// arrays) and written in place.
@@ -21,16 +21,26 @@ pub(crate) struct OutputArrays<'py, T: Element> {
 }
 
 impl<'py, T: Real + Element> OutputArrays<'py, T> {
-    /// `n` elements per quantity.
-    pub(crate) fn new(py: Python<'py>, n: usize) -> Self {
-        Self {
-            angle: PyArray1::zeros(py, n, false),
-            position: PyArray1::zeros(py, n, false),
-            speed: PyArray1::zeros(py, n, false),
-            acceleration: PyArray1::zeros(py, n, false),
-            phase_error: PyArray1::zeros(py, n, false),
-            faults: PyArray1::zeros(py, n, false),
+    /// `n` elements per quantity; a `MemoryError` when they need more than the machine's
+    /// physical memory (each allocation alone may succeed, overcommitted, and the run be
+    /// killed when it writes them), or when numpy cannot allocate one.
+    pub(crate) fn new(py: Python<'py>, n: usize) -> Result<Self> {
+        let per_sample = 4 * core::mem::size_of::<T>() + core::mem::size_of::<f64>() + 1;
+        let bytes = n as u128 * per_sample as u128;
+        if physical_memory_bytes(py).is_some_and(|memory| bytes > memory) {
+            return Err(Error::Memory {
+                parameter: "y_c",
+                bytes,
+            });
         }
+        Ok(Self {
+            angle: zeros(py, n)?,
+            position: zeros(py, n)?,
+            speed: zeros(py, n)?,
+            acceleration: zeros(py, n)?,
+            phase_error: zeros(py, n)?,
+            faults: zeros(py, n)?,
+        })
     }
 
     /// Calls `fill` with the arrays' slices, the GIL released.
@@ -82,6 +92,31 @@ impl<'py, T: Real + Element> OutputArrays<'py, T> {
             faults: shaped(self.faults.into_any())?,
         })
     }
+}
+
+/// The machine's physical memory (bytes), if the platform tells it (`os.sysconf`).
+fn physical_memory_bytes(py: Python<'_>) -> Option<u128> {
+    let os = PyModule::import(py, "os").ok()?;
+    let sysconf = |name: &str| -> Option<u128> {
+        let value: i64 = os
+            .getattr("sysconf")
+            .ok()?
+            .call1((name,))
+            .ok()?
+            .extract()
+            .ok()?;
+        u128::try_from(value).ok()
+    };
+    Some(sysconf("SC_PHYS_PAGES")? * sysconf("SC_PAGE_SIZE")?)
+}
+
+/// A zeroed array of `n` elements allocated by `numpy.zeros`, which raises `MemoryError`
+/// where the allocation fails (a failed allocation must not abort the interpreter).
+fn zeros<'py, E: Element>(py: Python<'py>, n: usize) -> Result<Bound<'py, PyArray1<E>>> {
+    let array = PyModule::import(py, "numpy")?
+        .getattr("zeros")?
+        .call1((n, numpy::dtype::<E>(py)))?;
+    Ok(array.cast_into::<PyArray1<E>>().map_err(PyErr::from)?)
 }
 
 /// What an observer knows after its last sample (scalars, in `float`).

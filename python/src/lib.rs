@@ -9,6 +9,7 @@ use pyo3::prelude::*;
 mod analysis;
 mod arrays;
 mod batch;
+mod capture;
 mod design;
 mod design_functions;
 mod diagnostics;
@@ -21,6 +22,7 @@ mod motion;
 mod observer;
 mod paper;
 mod scenario;
+mod writer;
 
 /// The compiled part of the `angletrack` Python package.
 #[pymodule]
@@ -40,5 +42,6 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     scenario::register(m)?;
     metrics::register(m)?;
     paper::register(m)?;
+    capture::register(m)?;
     Ok(())
 }

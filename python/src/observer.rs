@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use crate::arrays::{Float, check_equal_lengths, samples};
 use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::{Arg, PhaseSinCos, Run, RunSettings, Sample};
-use crate::errors::Result;
+use crate::errors::{Error, Result};
 use crate::estimates::{Estimate, Estimates, OutputArrays};
 use crate::gains::PyGains;
 
@@ -32,7 +32,7 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for CoreObserver<T, N, S>
         let y_s = samples::<T>(y_s, "y_s")?;
         let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
         check_equal_lengths(("y_c", y_c.len()), ("y_s", y_s.len()))?;
-        let out = OutputArrays::<T>::new(py, y_c.len());
+        let out = OutputArrays::<T>::new(py, y_c.len())?;
         out.fill(py, |columns| run_columns(columns, self, y_c, y_s))?;
         out.into_estimates(y_c.len(), None)
     }
@@ -100,6 +100,15 @@ fn run_columns<T: Real, const N: usize, S: SinCos<T>>(
     }
 }
 
+/// Refuses the first value that is not finite, naming its parameter: a NaN state would be
+/// silently replaced by the observer's own start.
+fn finite(values: &[(&'static str, f64)]) -> Result<()> {
+    match values.iter().find(|(_, v)| !v.is_finite()) {
+        Some(&(parameter, v)) => Err(Error::value(parameter, format!("{v} is not finite"))),
+        None => Ok(()),
+    }
+}
+
 /// An angle tracking observer running on numpy arrays: checked gains plus a state that
 /// persists between calls, so a capture fed in chunks gives exactly the result of one call.
 #[pyclass(name = "Observer", module = "angletrack", extends = RunSettings)]
@@ -146,17 +155,32 @@ impl PyObserver {
     }
 
     /// Sets the angle from one sample, `atan2(y_s, y_c)`; speed and acceleration 0.
+    /// Refuses (`ConfigError`) a sample that is not finite.
     #[pyo3(signature = (y_c, y_s))]
-    fn initialise(&mut self, y_c: f64, y_s: f64) {
+    fn initialise(&mut self, y_c: f64, y_s: f64) -> Result<()> {
+        finite(&[("y_c", y_c), ("y_s", y_s)])?;
         self.inner.initialise(y_c, y_s);
+        Ok(())
     }
 
     /// Starts from a known angle (rad, any value: wrapped, whole turns counted), speed
-    /// (rad/s) and acceleration (rad/s^2, ignored at order 2).
+    /// (rad/s) and acceleration (rad/s^2, ignored at order 2). Refuses (`ConfigError`) a
+    /// value that is not finite.
     #[pyo3(signature = (angle_rad, speed_rad_s = 0.0, acceleration_rad_s2 = 0.0))]
-    fn set_state(&mut self, angle_rad: f64, speed_rad_s: f64, acceleration_rad_s2: f64) {
+    fn set_state(
+        &mut self,
+        angle_rad: f64,
+        speed_rad_s: f64,
+        acceleration_rad_s2: f64,
+    ) -> Result<()> {
+        finite(&[
+            ("angle_rad", angle_rad),
+            ("speed_rad_s", speed_rad_s),
+            ("acceleration_rad_s2", acceleration_rad_s2),
+        ])?;
         self.inner
             .set_state(angle_rad, speed_rad_s, acceleration_rad_s2);
+        Ok(())
     }
 
     /// The faults latched since they were last cleared (bits, see `angletrack.Faults`), like

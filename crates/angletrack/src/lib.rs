@@ -37,6 +37,9 @@
 //!   benchmarks' gains, for the tests, examples, benchmarks and report alike.
 //! * Scenarios ([`MotionProfile`], [`SensorModel`], [`Scenario`]): deterministic from a seed.
 //! * Metrics ([`run`], [`Metrics`]): a run of any observer measured against the truth.
+//! * Recorded captures ([`capture`]): delimited text of any layout, `.npy` and `.npz`, read
+//!   in chunks of constant memory with every fault named by file, line and column; the
+//!   estimates written back as text or `.npy`.
 //! * Many channels ([`ChannelBatch`]): any number of channels on one gain set, run by the
 //!   core's vectorisable [`ChannelBank`]s.
 //!
@@ -54,6 +57,7 @@ pub use angletrack_core::{
 pub use nalgebra::Complex;
 
 mod analysis;
+pub mod capture;
 mod design;
 mod error;
 mod linalg;

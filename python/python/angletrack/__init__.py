@@ -17,12 +17,17 @@ input stays float32 and float64 stays float64.
 import enum as _enum
 
 from angletrack._angletrack import (
+    Capture,
+    CaptureChunk,
+    CaptureError,
+    CaptureReader,
     ConfigError,
     Design,
     DesignReport,
     ErrorStatistics,
     Estimate,
     Estimates,
+    EstimatesWriter,
     FAULT_BITS,
     FaultThresholds,
     Gains,
@@ -58,6 +63,7 @@ from angletrack._angletrack import (
     paper_settings,
     predicted_error,
     predicted_error_on_kalman_model,
+    read_capture,
     second_order_bandwidth_ratio,
     second_order_butterworth,
     second_order_from_bandwidth,
@@ -71,12 +77,17 @@ from angletrack._angletrack import (
 )
 
 __all__ = [
+    "Capture",
+    "CaptureChunk",
+    "CaptureError",
+    "CaptureReader",
     "ConfigError",
     "Design",
     "DesignReport",
     "ErrorStatistics",
     "Estimate",
     "Estimates",
+    "EstimatesWriter",
     "FaultThresholds",
     "Faults",
     "Gains",
@@ -112,6 +123,7 @@ __all__ = [
     "paper_settings",
     "predicted_error",
     "predicted_error_on_kalman_model",
+    "read_capture",
     "second_order_bandwidth_ratio",
     "second_order_butterworth",
     "second_order_from_bandwidth",

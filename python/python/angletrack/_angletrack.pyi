@@ -1,5 +1,6 @@
 """Type stubs of the compiled extension ``angletrack._angletrack``."""
 
+import os
 from collections.abc import Sequence
 from typing import Literal, Optional, Union
 
@@ -112,8 +113,10 @@ class Observer(_RunSettings):
     @property
     def estimate(self) -> Estimate: ...
     def reset(self) -> None: ...
-    def initialise(self, y_c: float, y_s: float) -> None: ...
-    def set_state(self, angle_rad: float, speed_rad_s: float = 0.0, acceleration_rad_s2: float = 0.0) -> None: ...
+    def initialise(self, y_c: float, y_s: float) -> None:
+        """Angle from one sample; ``ConfigError`` if a value is not finite."""
+    def set_state(self, angle_rad: float, speed_rad_s: float = 0.0, acceleration_rad_s2: float = 0.0) -> None:
+        """Starts from a known state; ``ConfigError`` naming a value that is not finite."""
     @property
     def is_initialised(self) -> bool: ...
     @property
@@ -406,3 +409,102 @@ def metrics(
     scenario: Scenario, estimates: Estimates, *, skip_s: float = 0.0, lock_tolerance_rad: float = 0.01,
     settling_band: float = 0.02,
 ) -> Metrics: ...
+
+# ----------------------------------------------------------------------------- captures
+
+class CaptureError(ValueError):
+    """A capture that cannot be read, or estimates that cannot be written; the message is
+    ``FILE:LINE:COLUMN: what is wrong``."""
+
+    path: str
+    """The file."""
+    line: Optional[int]
+    """The 1-based line of a text file (row of an array) at fault, or ``None``."""
+    column: Optional[int]
+    """The 1-based column at fault, or ``None``."""
+
+_Columns = Union[str, dict[str, Union[str, int]], None]
+_TimeUnit = Literal["s", "ms", "us", "ns"]
+
+class CaptureChunk:
+    """A chunk of a capture: float64 arrays of one length (time in seconds)."""
+
+    first_sample: int
+    """0-based index of the chunk's first sample in the capture."""
+    time_s: Optional[npt.NDArray[np.float64]]
+    y_c: npt.NDArray[np.float64]
+    y_s: npt.NDArray[np.float64]
+    reference_rad: Optional[npt.NDArray[np.float64]]
+    def __len__(self) -> int: ...
+
+class CaptureReader:
+    """A capture read chunk by chunk in constant memory (iterate for ``CaptureChunk``s):
+    delimited text (any delimiter, sniffed; header or not; UTF-8 BOM; an oscilloscope's
+    (x, y) column pairs, whose time columns must agree), NumPy ``.npy`` (2-D, rows x
+    columns) or ``.npz`` (named 1-D arrays). ``columns``: ``"y_c=cos,y_s=sin,time=t"`` or a
+    dict; each value a header name, else a 0-based index; roles left out get their usual
+    names. ``sample_rate_hz`` states the true rate and skips the time column's spacing
+    check. Raises ``CaptureError`` naming the file, line and column of malformed input."""
+
+    def __init__(
+        self, path: Union[str, os.PathLike], *, columns: _Columns = None, delimiter: Optional[str] = None,
+        time_unit: _TimeUnit = "s", sample_rate_hz: Optional[float] = None, chunk_rows: int = 65536,
+    ) -> None: ...
+    def __iter__(self) -> CaptureReader: ...
+    def __next__(self) -> CaptureChunk: ...
+    @property
+    def sample_rate_hz(self) -> Optional[float]:
+        """The stated rate, else the time column's mean spacing so far (Hz), else ``None``."""
+    @property
+    def rows(self) -> int:
+        """Samples read so far."""
+    @property
+    def sample_dtype(self) -> str:
+        """The samples' type as stored: ``int16`` (arrays), ``int64`` (whole numbers in text:
+        raw ADC counts), ``float64``..."""
+    @property
+    def columns(self) -> dict[str, str]:
+        """``{role: column name}`` of the columns used."""
+    @property
+    def format(self) -> str:
+        """``npy``, ``npz`` or ``text, delimiter X``."""
+    @property
+    def path(self) -> str: ...
+    @property
+    def progress_bytes(self) -> tuple[int, int]:
+        """(bytes read, file size)."""
+
+class Capture:
+    """A whole capture: float64 arrays and what was learnt reading it."""
+
+    path: str
+    rows: int
+    time_s: Optional[npt.NDArray[np.float64]]
+    y_c: npt.NDArray[np.float64]
+    y_s: npt.NDArray[np.float64]
+    reference_rad: Optional[npt.NDArray[np.float64]]
+    sample_rate_hz: Optional[float]
+    """The stated rate, else the time column's mean (Hz); ``None`` without either."""
+    sample_dtype: str
+    columns: dict[str, str]
+    format: str
+    def __len__(self) -> int: ...
+
+def read_capture(
+    path: Union[str, os.PathLike], *, columns: _Columns = None, delimiter: Optional[str] = None,
+    time_unit: _TimeUnit = "s", sample_rate_hz: Optional[float] = None,
+) -> Capture:
+    """Reads a whole capture (the checks of ``CaptureReader``)."""
+
+class EstimatesWriter:
+    """Estimates written chunk by chunk: a ``.npy`` structured array (fields ``time_s``,
+    ``angle_rad``, ``position_rad``, ``speed_rad_s``, ``acceleration_rad_s2``,
+    ``phase_error``, ``faults``) for a path ending in ``.npy``, else CSV with those names as
+    header, each number the shortest decimal that reads back to the same float."""
+
+    def __init__(self, path: Union[str, os.PathLike], *, dtype: _DType = None) -> None: ...
+    def write(self, time_s: npt.NDArray[np.float64], estimates: Estimates) -> None: ...
+    def close(self) -> int:
+        """Finishes the file; returns the rows written."""
+    def __enter__(self) -> EstimatesWriter: ...
+    def __exit__(self, *exc: object) -> bool: ...

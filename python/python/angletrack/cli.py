@@ -7,15 +7,14 @@ arguments and files, and writes files and text.
 from __future__ import annotations
 
 import argparse
+import math
 import pathlib
 import sys
 from typing import Callable, Optional, Sequence
 
-import numpy as np
 
 import angletrack
-from angletrack import capture as capture_io
-from angletrack import export
+from angletrack import export, tracking
 
 
 def _command(sub, run: Callable[[argparse.Namespace], int]) -> argparse.ArgumentParser:
@@ -35,6 +34,25 @@ def _float_list(text: str) -> list[float]:
         raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got {text!r}") from None
 
 
+def _number(text: str, *, positive: bool) -> float:
+    """A finite number, positive or at least 0; argparse names the option in its message."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(value) or value < 0 or (positive and value == 0):
+        raise argparse.ArgumentTypeError(f"expected a {'positive' if positive else 'non-negative'} number, got {text}")
+    return value
+
+
+def _positive(text: str) -> float:
+    return _number(text, positive=True)
+
+
+def _non_negative(text: str) -> float:
+    return _number(text, positive=False)
+
+
 def _add_gains_source(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("gains (one of)")
     src = g.add_mutually_exclusive_group(required=True)
@@ -42,67 +60,37 @@ def _add_gains_source(p: argparse.ArgumentParser) -> None:
                      help="gains written by `angletrack design --format json`")
     src.add_argument("--gains", type=_float_list, metavar="L1,L2[,L3]",
                      help="discrete gains (dimensionless); needs --sample-rate or a time column")
-    p.add_argument("--sample-rate", type=float, metavar="HZ",
-                   help="sample rate (Hz); default: from the gains file, else the time column")
-
-
-def _load_gains(args: argparse.Namespace, time_step_s: Optional[float]) -> angletrack.Gains:
-    if args.gains_file is not None:
-        gains = export.gains_from_json(args.gains_file.read_text())
-        if args.sample_rate is not None:
-            gains = angletrack.Gains(gains.gains, sample_period_s=1.0 / args.sample_rate)
-        return gains
-    if args.sample_rate is not None:
-        return angletrack.Gains(args.gains, sample_period_s=1.0 / args.sample_rate)
-    if time_step_s is None:
-        raise ValueError("sample_rate: give --sample-rate (the capture has no time column)")
-    return angletrack.Gains(args.gains, sample_period_s=time_step_s)
+    p.add_argument("--sample-rate", type=_positive, metavar="HZ",
+                   help="the capture's true sample rate (Hz): overrides the gains file's and the time "
+                   "column's, and skips the check of the time column's spacing (rounded or jittered "
+                   "stamps); default: the gains file's, checked against the time column")
 
 
 def _cmd_track(args: argparse.Namespace) -> int:
-    """run an observer over a recorded capture (CSV) and write its estimates
+    """run an observer over a recorded capture and write its estimates
 
-    Runs an observer over CAPTURE.csv (header with y_c, y_s; optional time (s) and reference
-    (rad)) and writes the estimates as CSV. With a reference column, prints the errors
-    against it.
+    Streams CAPTURE (delimited text with any delimiter, with or without a header, an
+    oscilloscope's (x, y) column pairs, integer ADC counts; or NumPy .npy/.npz) through an
+    observer in constant memory and writes the estimates as CSV, or as a .npy structured
+    array when the output ends in .npy. The capture's sample rate (time column) must agree
+    with the gains'. With a reference column, prints the errors against it.
     """
-    cap = capture_io.read_capture(args.capture)
-    gains = _load_gains(args, cap.sample_period_from_time())
-    dtype = np.dtype(args.dtype)
-    observer = angletrack.Observer(gains, dtype=dtype, sin_cos=args.sin_cos)
-    est = observer.update(cap.y_c.astype(dtype), cap.y_s.astype(dtype))
-    n = len(est)
-    time_s = cap.time_s if cap.time_s is not None else np.arange(n) * gains.sample_period_s
-    columns = {
-        "time_s": time_s,
-        "angle_rad": est.angle,
-        "position_rad": est.position,
-        "speed_rad_s": est.speed,
-        "acceleration_rad_s2": est.acceleration,
-        "phase_error": est.phase_error,
-        "faults": est.faults,
-    }
-    output = args.output or args.capture.with_name(args.capture.stem + "_estimates.csv")
-    capture_io.write_capture(output, columns)
-    print(f"{observer!r}")
-    print(f"{n} samples -> {output}")
-    latched = angletrack.Faults(observer.latched_faults)
-    print(f"faults latched: {latched.name if latched else 'none'}")
-    if cap.reference_rad is not None:
-        truth = angletrack.Scenario.from_arrays(
-            sample_period_s=gains.sample_period_s, angle_rad=cap.reference_rad, y_c=cap.y_c, y_s=cap.y_s
-        )
-        m = angletrack.metrics(truth, est, skip_s=args.skip, lock_tolerance_rad=args.lock_tolerance)
-        e = m.angle_error_rad
-        print(f"angle error against the reference (after {args.skip} s, {m.samples} samples):")
-        print(f"  RMS {e.rms:.6e} rad   max {e.max:.6e} rad   mean {e.mean:+.6e} rad")
-        lock = "not locked at the end" if m.time_to_lock_s is None else f"{m.time_to_lock_s:.6g} s"
-        print(f"  locked (within {args.lock_tolerance} rad) from: {lock}")
-        if m.overshoot is not None:
-            print(
-                f"  as a move to the final reference angle: overshoot {100 * m.overshoot:.3g} %, "
-                f"2 % settling {m.settling_time_s:.6g} s"
-            )
+    settings = tracking.TrackSettings(
+        capture=args.capture,
+        output=args.output or args.capture.with_name(args.capture.stem + "_estimates.csv"),
+        gains_file=args.gains_file,
+        gains=args.gains,
+        sample_rate_hz=args.sample_rate,
+        columns=args.columns,
+        delimiter=args.delimiter,
+        time_unit=args.time_unit,
+        dtype=args.dtype,
+        sin_cos=args.sin_cos,
+        skip_s=args.skip,
+        lock_tolerance_rad=args.lock_tolerance,
+        progress=args.progress or sys.stderr.isatty(),
+    )
+    print(tracking.track_capture(settings))
     return 0
 
 
@@ -310,18 +298,30 @@ def build_parser() -> argparse.ArgumentParser:
 
 def _add_track_parser(sub) -> None:
     track = _command(sub, _cmd_track)
-    track.add_argument("capture", type=pathlib.Path, metavar="CAPTURE.csv")
+    track.add_argument("capture", type=pathlib.Path, metavar="CAPTURE")
     _add_gains_source(track)
+    cols = track.add_argument_group("the capture's layout (sniffed by default)")
+    cols.add_argument("--columns", metavar="ROLE=COLUMN,...",
+                      help="which columns hold what: roles y_c, y_s, time, reference; each column a header "
+                      "name, else a 0-based index (e.g. y_c=cos,y_s=sin,time=t or y_c=0,y_s=1); default: the "
+                      "columns named y_c/cos, y_s/sin, time/t, reference/theta")
+    cols.add_argument("--delimiter", metavar="CHAR",
+                      help="field delimiter: one character, 'tab' or 'whitespace' (default: sniffed)")
+    cols.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s",
+                      help="unit of the time column (default s)")
     track.add_argument("--dtype", choices=["float32", "float64"], default="float64",
                        help="float type the observer runs on (default float64)")
     track.add_argument("--sin-cos", choices=["fast", "exact"], default=None,
                        help="phase detector's sin/cos (default: fast for float32, exact for float64)")
-    track.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE.csv",
-                       help="estimates file (default: CAPTURE_estimates.csv beside the capture)")
-    track.add_argument("--skip", type=float, default=0.0, metavar="S",
+    track.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",
+                       help="estimates file: .npy for a NumPy structured array, else CSV (default: "
+                       "CAPTURE_estimates.csv beside the capture)")
+    track.add_argument("--skip", type=_non_negative, default=0.0, metavar="S",
                        help="with a reference: leave the first S seconds out of the error statistics")
-    track.add_argument("--lock-tolerance", type=float, default=0.01, metavar="RAD",
+    track.add_argument("--lock-tolerance", type=_positive, default=0.01, metavar="RAD",
                        help="with a reference: angle error of the lock (default 0.01 rad)")
+    track.add_argument("--progress", action="store_true",
+                       help="report progress on stderr (default: only when stderr is a terminal)")
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
@@ -330,8 +330,10 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     args = parser.parse_args(argv)
     try:
         return args.func(args)
-    except (ValueError, TypeError, OSError, RuntimeError) as e:
-        print(f"angletrack {args.command}: error: {e}", file=sys.stderr)
+    except (ValueError, TypeError, OSError, RuntimeError, MemoryError) as e:
+        # One line, never a traceback: a capture's error reads FILE:LINE:COLUMN: what.
+        message = " ".join(str(e).split())
+        print(f"angletrack: error: {message}", file=sys.stderr)
         return 2
 
 

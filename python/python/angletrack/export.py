@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from angletrack._angletrack import Gains
+from angletrack._angletrack import ConfigError, Gains
 
 JSON_FORMAT = "angletrack-gains"
 JSON_VERSION = 1
@@ -123,4 +123,11 @@ def gains_from_json(text: str) -> Gains:
     for key in ("gains", "sample_period_s"):
         if key not in doc:
             raise ValueError(f"gains file: missing {key!r}")
+    order = doc.get("order")
+    if order is not None and (not isinstance(doc["gains"], list) or order != len(doc["gains"])):
+        # An order that contradicts the gains is a file edited by hand: neither is trusted.
+        count = len(doc["gains"]) if isinstance(doc["gains"], list) else "no list of"
+        e = ConfigError(f"order: the gains file says order {order!r} but holds {count} gains")
+        e.parameter = "order"
+        raise e
     return Gains(doc["gains"], sample_period_s=doc["sample_period_s"])

@@ -48,6 +48,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> ChannelBatch<T, N, S> {
     /// let batch = ChannelBatch::new(gains, 10)?;
     /// assert_eq!(batch.channels(), 10);
     /// assert!(ChannelBatch::new(gains, 0).is_err());
+    /// assert!(ChannelBatch::new(gains, 1 << 40).is_err()); // more state than memory
     /// # Ok::<(), angletrack::Error>(())
     /// ```
     pub fn new(gains: Gains<T, N, S>, channels: usize) -> Result<Self, Error> {
@@ -57,10 +58,19 @@ impl<T: Real, const N: usize, S: SinCos<T>> ChannelBatch<T, N, S> {
                 expected: "at least 1",
             });
         }
+        // A number of channels whose state does not fit in memory is refused, not an abort.
+        let mut banks = Vec::new();
+        banks
+            .try_reserve_exact(channels.div_ceil(LANES))
+            .map_err(|_| Error::OutOfRange {
+                argument: Argument::Channels,
+                expected: "a number of channels whose state fits in memory",
+            })?;
+        banks.resize(channels.div_ceil(LANES), ChannelBank::new());
         Ok(Self {
             gains,
             channels,
-            banks: vec![ChannelBank::new(); channels.div_ceil(LANES)],
+            banks,
         })
     }
 

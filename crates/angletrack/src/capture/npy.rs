@@ -1,0 +1,278 @@
+//! Rows of NumPy files (through the `npyz` crate): a 2-D `.npy` array (rows x columns,
+//! C order) read as it streams, or the named 1-D arrays of an `.npz` (a zip of `.npy`
+//! files, as `numpy.savez` writes), read whole when first asked for: numpy saved them from
+//! memory.
+
+use std::fs::File;
+use std::io::{BufReader, Read};
+use std::path::{Path, PathBuf};
+
+use npyz::{NpyFile, TypeChar};
+
+use super::error::CaptureError;
+use super::source::{Filled, RawRows, RowSource};
+
+/// The values of an array as `f64` (exactly for integers up to 2^53), in storage order.
+type Values = Box<dyn Iterator<Item = std::io::Result<f64>> + Send>;
+
+/// The values of `file`, its numpy dtype name and whether the dtype is an integer one.
+fn values<R: Read + Send + 'static>(file: NpyFile<R>) -> Result<(Values, String, bool), String> {
+    let Some(npyz::DType::Plain(ts)) = Some(file.dtype()) else {
+        return Err(format!(
+            "a structured or nested array (dtype {}) is not supported: save a 2-D array of \
+             numbers, or one array per column in an .npz",
+            file.dtype().descr()
+        ));
+    };
+    let size = ts.size_field();
+    macro_rules! as_f64 {
+        ($t:ty) => {
+            Box::new(
+                file.data::<$t>()
+                    .map_err(|e| e.to_string())?
+                    .map(|v| v.map(|v| v as f64)),
+            ) as Values
+        };
+    }
+    let (values, name) = match (ts.type_char(), size) {
+        (TypeChar::Float, 8) => (as_f64!(f64), "float64"),
+        (TypeChar::Float, 4) => (as_f64!(f32), "float32"),
+        (TypeChar::Int, 8) => (as_f64!(i64), "int64"),
+        (TypeChar::Int, 4) => (as_f64!(i32), "int32"),
+        (TypeChar::Int, 2) => (as_f64!(i16), "int16"),
+        (TypeChar::Int, 1) => (as_f64!(i8), "int8"),
+        (TypeChar::Uint, 8) => (as_f64!(u64), "uint64"),
+        (TypeChar::Uint, 4) => (as_f64!(u32), "uint32"),
+        (TypeChar::Uint, 2) => (as_f64!(u16), "uint16"),
+        (TypeChar::Uint, 1) => (as_f64!(u8), "uint8"),
+        _ => {
+            return Err(format!(
+                "dtype {ts} is not supported: expected integers or float32/float64"
+            ));
+        }
+    };
+    Ok((values, name.to_string(), ts.type_char() != TypeChar::Float))
+}
+
+/// The most columns of a `.npy` capture: a header claiming more is not a capture (and its
+/// row buffer must not be allocated).
+pub const MAX_COLUMNS: usize = 1 << 16;
+
+/// The rows of a 2-D `.npy` array (rows x columns), streamed.
+pub struct NpySource {
+    path: PathBuf,
+    values: Values,
+    dtype: String,
+    integer: bool,
+    columns: usize,
+    rows_total: u64,
+    row: u64,
+    buffer: Vec<f64>,
+    item_bytes: u64,
+}
+
+impl core::fmt::Debug for NpySource {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(
+            f,
+            "NpySource({}, {} x {} {})",
+            self.path.display(),
+            self.rows_total,
+            self.columns,
+            self.dtype
+        )
+    }
+}
+
+impl NpySource {
+    /// Opens the `.npy` file `path`; the columns are named by their 0-based index.
+    pub fn open(path: &Path) -> Result<(Self, Vec<String>), CaptureError> {
+        let fail = |m: String| CaptureError::new(path, m);
+        let file = File::open(path).map_err(|e| CaptureError::io(path, &e))?;
+        let npy = NpyFile::new(BufReader::with_capacity(1 << 20, file))
+            .map_err(|e| fail(format!("not a readable .npy file: {e}")))?;
+        let shape = npy.shape().to_vec();
+        if npy.order() == npyz::Order::Fortran {
+            return Err(fail(
+                "a Fortran-ordered array: save numpy.ascontiguousarray(a) (rows x columns)".into(),
+            ));
+        }
+        let (rows_total, columns) = match shape[..] {
+            [rows, columns] => (rows, columns as usize),
+            _ => {
+                return Err(fail(format!(
+                    "an array of shape {shape:?}: expected 2-D (rows x columns; one row per \
+                     sample), or an .npz with one array per column"
+                )));
+            }
+        };
+        if columns == 0 || columns > MAX_COLUMNS {
+            return Err(fail(format!(
+                "an array of {columns} columns: expected 2 to {MAX_COLUMNS} (rows x columns)"
+            )));
+        }
+        let item_bytes = npy.header().dtype().num_bytes().unwrap_or(8) as u64;
+        let (values, dtype, integer) = values(npy).map_err(fail)?;
+        let names = (0..columns).map(|i| i.to_string()).collect();
+        Ok((
+            Self {
+                path: path.to_path_buf(),
+                values,
+                dtype,
+                integer,
+                columns,
+                rows_total,
+                row: 0,
+                buffer: vec![0.0; columns],
+                item_bytes,
+            },
+            names,
+        ))
+    }
+}
+
+impl RowSource for NpySource {
+    fn read(&mut self, columns: &[usize], rows: &mut RawRows, max_rows: usize) -> Filled {
+        while rows.lines.len() < max_rows && self.row < self.rows_total {
+            for slot in self.buffer.iter_mut() {
+                *slot = match self.values.next() {
+                    Some(Ok(v)) => v,
+                    Some(Err(e)) => {
+                        return Err(CaptureError::io(&self.path, &e).at(Some(self.row + 1), None));
+                    }
+                    None => {
+                        return Err(CaptureError::new(
+                            &self.path,
+                            "the file ends before its last row",
+                        )
+                        .at(Some(self.row + 1), None));
+                    }
+                };
+            }
+            self.row += 1;
+            for (k, &c) in columns.iter().enumerate() {
+                rows.columns[k].push(self.buffer[c]);
+                rows.integers[k] &= self.integer;
+            }
+            rows.lines.push(self.row);
+        }
+        Ok(())
+    }
+
+    fn bytes_read(&self) -> u64 {
+        self.row * self.columns as u64 * self.item_bytes
+    }
+
+    fn stored_dtype(&self) -> Option<String> {
+        Some(self.dtype.clone())
+    }
+}
+
+/// The named 1-D arrays of an `.npz` file, each a column.
+#[derive(Debug)]
+pub struct NpzSource {
+    path: PathBuf,
+    names: Vec<String>,
+    loaded: Option<(Vec<Vec<f64>>, Vec<bool>)>,
+    dtype: Option<String>,
+    row: usize,
+}
+
+impl NpzSource {
+    /// Opens the `.npz` file `path`; the columns are its arrays, by name.
+    pub fn open(path: &Path) -> Result<(Self, Vec<String>), CaptureError> {
+        let archive = archive(path)?;
+        let names: Vec<String> = archive
+            .file_names()
+            .filter_map(|n| n.ok())
+            .map(|n| n.strip_suffix(".npy").unwrap_or(&n).to_string())
+            .collect();
+        let source = Self {
+            path: path.to_path_buf(),
+            names: names.clone(),
+            loaded: None,
+            dtype: None,
+            row: 0,
+        };
+        Ok((source, names))
+    }
+
+    /// Reads the arrays of `columns` whole; they must be 1-D and of one length.
+    fn load(&mut self, columns: &[usize]) -> Result<(Vec<Vec<f64>>, Vec<bool>), CaptureError> {
+        let mut archive = archive(&self.path)?;
+        let (mut arrays, mut integers) = (Vec::new(), Vec::new());
+        for &c in columns {
+            let name = &self.names[c];
+            let fail = |m: String| CaptureError::new(&self.path, format!("array {name:?}: {m}"));
+            let mut entry = archive
+                .by_name(&format!("{name}.npy"))
+                .map_err(|e| fail(e.to_string()))?;
+            let mut bytes = Vec::new();
+            entry
+                .read_to_end(&mut bytes)
+                .map_err(|e| fail(e.to_string()))?;
+            let npy =
+                NpyFile::new(&bytes[..]).map_err(|e| fail(format!("not a .npy array: {e}")))?;
+            let shape = npy.shape().to_vec();
+            if shape.iter().filter(|&&d| d != 1).count() > 1 {
+                return Err(fail(format!(
+                    "shape {shape:?}: expected 1-D (one value per sample)"
+                )));
+            }
+            let owned =
+                NpyFile::new(std::io::Cursor::new(bytes)).map_err(|e| fail(e.to_string()))?;
+            let (values, dtype, integer) = values(owned).map_err(fail)?;
+            let column: Vec<f64> = values
+                .collect::<std::io::Result<_>>()
+                .map_err(|e| fail(e.to_string()))?;
+            if let Some(first) = arrays.first().map(Vec::len).filter(|&n| n != column.len()) {
+                return Err(fail(format!(
+                    "has {} values but {:?} has {first}: the columns must be of one length",
+                    column.len(),
+                    self.names[columns[0]]
+                )));
+            }
+            // The first column asked for is the cosine signal: its dtype is the samples'.
+            if self.dtype.is_none() {
+                self.dtype = Some(dtype);
+            }
+            arrays.push(column);
+            integers.push(integer);
+        }
+        Ok((arrays, integers))
+    }
+}
+
+fn archive(path: &Path) -> Result<zip::ZipArchive<BufReader<File>>, CaptureError> {
+    let file = File::open(path).map_err(|e| CaptureError::io(path, &e))?;
+    zip::ZipArchive::new(BufReader::new(file))
+        .map_err(|e| CaptureError::new(path, format!("not a readable .npz (zip) file: {e}")))
+}
+
+impl RowSource for NpzSource {
+    fn read(&mut self, columns: &[usize], rows: &mut RawRows, max_rows: usize) -> Filled {
+        if self.loaded.is_none() {
+            self.loaded = Some(self.load(columns)?);
+        }
+        let Some((arrays, integers)) = &self.loaded else {
+            return Ok(());
+        };
+        let len = arrays.first().map_or(0, Vec::len);
+        let end = len.min(self.row + max_rows);
+        for (k, array) in arrays.iter().enumerate() {
+            rows.columns[k].extend_from_slice(&array[self.row..end]);
+            rows.integers[k] &= integers[k];
+        }
+        rows.lines.extend((self.row as u64 + 1)..=(end as u64));
+        self.row = end;
+        Ok(())
+    }
+
+    fn bytes_read(&self) -> u64 {
+        0
+    }
+
+    fn stored_dtype(&self) -> Option<String> {
+        self.dtype.clone()
+    }
+}

@@ -1,0 +1,288 @@
+//! The capture reader on small files of every layout, and each malformed input's message.
+
+use super::*;
+use std::path::PathBuf;
+
+fn file(name: &str, bytes: &[u8]) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("angletrack_capture_tests_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, bytes).unwrap();
+    path
+}
+
+fn options(columns: &str) -> CaptureOptions {
+    CaptureOptions {
+        columns: columns.parse().unwrap(),
+        ..Default::default()
+    }
+}
+
+fn read(name: &str, bytes: &[u8], columns: &str) -> Result<Capture, CaptureError> {
+    read_capture(file(name, bytes), options(columns))
+}
+
+fn error(name: &str, bytes: &[u8], columns: &str) -> String {
+    read(name, bytes, columns).unwrap_err().to_string()
+}
+
+#[test]
+fn every_delimiter_is_sniffed_and_columns_are_mapped_by_name() {
+    for (name, text) in [
+        ("semicolon.csv", "t;sin;cos\n0;0;1\n0.5;1;0\n1;0;-1\n"),
+        ("comma.csv", "t,sin,cos\n0,0,1\n0.5,1,0\n1,0,-1\n"),
+        ("crlf.csv", "t,sin,cos\r\n0,0,1\r\n0.5,1,0\r\n1,0,-1\r\n"),
+        (
+            "quoted.csv",
+            "\"t\",\"sin\",\"cos\"\n\"0\",0,1\n0.5,\"1\",0\n1,0,-1",
+        ),
+        ("tab.tsv", "t\tsin\tcos\n0\t0\t1\n0.5\t1\t0\n1\t0\t-1\n"),
+        (
+            "blanks.txt",
+            "  t   sin  cos\n 0  0  1\n 0.5  1 0\n\n 1 0   -1\n",
+        ),
+    ] {
+        let c = read(name, text.as_bytes(), "time=t,y_s=sin,y_c=cos").unwrap();
+        assert_eq!(c.samples.y_c, [1.0, 0.0, -1.0], "{name}");
+        assert_eq!(c.samples.y_s, [0.0, 1.0, 0.0], "{name}");
+        assert_eq!(
+            c.samples.time_s.as_deref(),
+            Some(&[0.0, 0.5, 1.0][..]),
+            "{name}"
+        );
+        assert_eq!(c.sample_rate_hz, Some(2.0), "{name}");
+    }
+}
+
+#[test]
+fn usual_names_need_no_mapping_and_a_bom_is_skipped() {
+    let c = read(
+        "bom.csv",
+        b"\xEF\xBB\xBFtime,y_c,y_s,reference\n0,1.0,0,0\n1,1,0,0\n",
+        "",
+    )
+    .unwrap();
+    assert_eq!(c.sample_dtype, "float64");
+    assert_eq!(c.samples.reference_rad.as_deref(), Some(&[0.0, 0.0][..]));
+    assert_eq!(c.mapping[0], (Role::Time, "time".to_string()));
+}
+
+#[test]
+fn header_names_match_without_their_units() {
+    let c = read(
+        "units.csv",
+        b"Time (s),Cos [V],Sin [V]\n0,1,0\n1,1,0\n",
+        "y_c=cos,y_s=sin",
+    )
+    .unwrap();
+    assert_eq!(c.mapping[0], (Role::Time, "Time (s)".to_string()));
+    assert_eq!(c.sample_rate_hz, Some(1.0));
+}
+
+#[test]
+fn integer_counts_keep_their_dtype_and_indices_map_a_headerless_file() {
+    let c = read("adc.csv", b"2048 3548\n2050 3547\n", "y_c=0,y_s=1").unwrap();
+    assert_eq!(c.samples.y_c, [2048.0, 2050.0]);
+    assert_eq!(c.sample_dtype, "int64");
+    assert!(c.samples.time_s.is_none() && c.sample_rate_hz.is_none());
+    let e = error("headerless.csv", b"1,0\n1,0\n", "");
+    assert!(
+        e.contains("no header line") && e.contains("y_c=0,y_s=1"),
+        "{e}"
+    );
+}
+
+#[test]
+fn oscilloscope_pairs_use_one_time_column_and_check_the_other() {
+    let text = "x-axis,1,x-axis,2\nsecond,Volt,second,Volt\n0,1,0,0\n0.001,0.9,0.001,0.1\n";
+    let c = read("scope.csv", text.as_bytes(), "y_c=1,y_s=2").unwrap();
+    assert_eq!(c.samples.y_s, [0.0, 0.1]);
+    assert_eq!(c.samples.time_s.as_deref(), Some(&[0.0, 0.001][..]));
+    let bad = "t1,ch1,t2,ch2\n0,1,0,0\n0.001,0.9,0.002,0.1\n";
+    let e = error("scope_bad.csv", bad.as_bytes(), "y_c=ch1,y_s=ch2");
+    assert!(
+        e.ends_with("not sampled together; map the columns of one channel pair"),
+        "{e}"
+    );
+    assert!(e.contains("scope_bad.csv:3:3: time column \"t2\""), "{e}");
+}
+
+#[test]
+fn malformed_inputs_name_the_file_line_and_column() {
+    let cases: [(&str, &[u8], &str, &str); 13] = [
+        (
+            "crlf_text.csv",
+            b"time,y_c,y_s\r\n0,1,0\r\n\r\n1,abc,0\r\n",
+            "",
+            "crlf_text.csv:4:2: column \"y_c\": \"abc\"",
+        ),
+        ("empty.csv", b"", "", "empty.csv:1: empty file"),
+        (
+            "header_only.csv",
+            b"time,y_c,y_s\n",
+            "",
+            "header_only.csv:1: header only: no data rows",
+        ),
+        (
+            "one_row.csv",
+            b"time,y_c,y_s\n0,1,0\n",
+            "",
+            "one_row.csv:2: only one data row",
+        ),
+        (
+            "text.csv",
+            b"time,y_c,y_s\n0,1,0\n1,abc,0\n",
+            "",
+            "text.csv:3:2: column \"y_c\": \"abc\" is not a number",
+        ),
+        (
+            "missing.csv",
+            b"time,y_c,y_s\n0,1,0\n1,,0\n",
+            "",
+            "missing.csv:3:2: column \"y_c\": missing value",
+        ),
+        (
+            "short.csv",
+            b"time,y_c,y_s\n0,1,0\n1,1\n",
+            "",
+            "short.csv:3:3: column \"y_s\": missing value (the row has 2 field(s)",
+        ),
+        (
+            "unsorted.csv",
+            b"time,y_c,y_s\n0,1,0\n2,1,0\n1,1,0\n",
+            "",
+            "unsorted.csv:4:1: column \"time\": unsorted time: 1 s after 2 s",
+        ),
+        (
+            "duplicated.csv",
+            b"time,y_c,y_s\n0,1,0\n1,1,0\n1,1,0\n",
+            "",
+            "duplicated.csv:4:1: column \"time\": duplicated time",
+        ),
+        (
+            "nan_time.csv",
+            b"time,y_c,y_s\n0,1,0\nnan,1,0\n",
+            "",
+            "nan_time.csv:3:1: column \"time\": the time is NaN",
+        ),
+        (
+            "nan_ref.csv",
+            b"time,y_c,y_s,reference\n0,1,0,0\n1,1,0,NaN\n",
+            "",
+            "nan_ref.csv:3:4: column \"reference\": the reference angle is NaN",
+        ),
+        (
+            "binary.csv",
+            b"time,y_c\n\x00\x01\xff",
+            "",
+            "binary.csv:2:1: not a text capture: binary data (byte 0x00)",
+        ),
+        (
+            "jitter.csv",
+            b"t,y_c,y_s\n0,1,0\n1,1,0\n2,1,0\n3.5,1,0\n",
+            "",
+            "jitter.csv:5:1: column \"t\": time step 1.5 s differs from the capture's 1 s by more than 1 %",
+        ),
+    ];
+    for (name, bytes, columns, expected) in cases {
+        let e = error(name, bytes, columns);
+        assert!(e.contains(expected), "{name}: {e}");
+    }
+}
+
+#[test]
+fn a_stated_rate_skips_the_spacing_check_and_units_convert_the_time() {
+    let path = file(
+        "jittered.csv",
+        b"t,y_c,y_s\n0,1,0\n100,1,0\n230,1,0\n300,1,0\n",
+    );
+    let stated = CaptureOptions {
+        sample_rate_hz: Some(1e4),
+        time_unit: TimeUnit::Microseconds,
+        ..Default::default()
+    };
+    let c = read_capture(&path, stated).unwrap();
+    assert_eq!(c.sample_rate_hz, Some(1e4));
+    assert_eq!(c.samples.time_s.unwrap()[1], 1e-4);
+}
+
+#[test]
+fn chunks_stream_the_rows_in_order() {
+    let mut text = String::from("time;y_c;y_s\n");
+    for k in 0..1001 {
+        text += &format!(
+            "{};{};{}\n",
+            k as f64 * 1e-4,
+            (k as f64).cos(),
+            (k as f64).sin()
+        );
+    }
+    let options = CaptureOptions {
+        chunk_rows: 100,
+        ..Default::default()
+    };
+    let mut reader = CaptureReader::open(file("chunks.csv", text.as_bytes()), options).unwrap();
+    let mut lengths = Vec::new();
+    while let Some(chunk) = reader.next_chunk().unwrap() {
+        assert_eq!(chunk.y_c[0], (chunk.first_sample as f64).cos());
+        lengths.push(chunk.len());
+    }
+    assert_eq!(lengths.len(), 11);
+    assert_eq!(lengths[10], 1);
+    assert_eq!(reader.rows(), 1001);
+    assert!((reader.sample_rate_hz().unwrap() - 1e4).abs() < 1e-6);
+}
+
+fn npy_2d(descr: &str, rows: usize, data: &[u8]) -> Vec<u8> {
+    let dict = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': ({rows}, 3), }}");
+    let mut h = b"\x93NUMPY\x01\x00".to_vec();
+    let len = (dict.len() + 1).div_ceil(64) * 64 + 64 - 10;
+    h.extend_from_slice(&(len as u16).to_le_bytes());
+    h.extend_from_slice(dict.as_bytes());
+    h.resize(len + 9, b' ');
+    h.push(b'\n');
+    h.extend_from_slice(data);
+    h
+}
+
+#[test]
+fn a_2d_npy_array_streams_its_rows_with_its_dtype() {
+    let values: [i16; 6] = [0, 2048, 3548, 1, 2049, 3547];
+    let data: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+    let path = file("counts.npy", &npy_2d("<i2", 2, &data));
+    let c = read_capture(&path, options("time=0,y_c=1,y_s=2")).unwrap();
+    assert_eq!(c.samples.y_s, [3548.0, 3547.0]);
+    assert_eq!(c.sample_dtype, "int16");
+    assert_eq!(c.format, "npy");
+}
+
+#[test]
+fn estimates_round_trip_through_csv_and_npy() {
+    let rows = EstimateRows {
+        time_s: &[0.0, 1e-4],
+        angle: &[0.1f32, -core::f32::consts::PI],
+        position: &[0.1, 12.566370614359172],
+        speed: &[2.5f32, 1e30],
+        acceleration: &[0.0f32, f32::NAN],
+        phase_error: &[1e-7f32, -0.0],
+        faults: &[0, 200],
+    };
+    let csv = file("est.csv", b"");
+    let mut w = EstimatesWriter::create::<f32>(&csv).unwrap();
+    w.write(rows).unwrap();
+    assert_eq!(w.finish().unwrap(), 2);
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(
+        text.lines().nth(2),
+        Some("0.0001,-3.1415927,12.566370614359172,1e30,NaN,-0.0,200")
+    );
+    let npy = file("est.npy", b"");
+    let mut w = EstimatesWriter::create::<f32>(&npy).unwrap();
+    w.write(rows).unwrap();
+    w.write(rows).unwrap();
+    w.finish().unwrap();
+    let bytes = std::fs::read(&npy).unwrap();
+    let header = npyz::NpyFile::new(&bytes[..]).unwrap();
+    assert_eq!(header.shape(), &[4]);
+    assert_eq!(bytes.len(), 256 + 4 * (8 + 4 + 8 + 4 + 4 + 4 + 1));
+}

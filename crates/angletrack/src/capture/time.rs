@@ -1,0 +1,160 @@
+//! The time column: its unit, and the checks of its order and spacing across chunks.
+
+use core::str::FromStr;
+
+/// The unit of a capture's time column.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum TimeUnit {
+    /// Seconds.
+    #[default]
+    Seconds,
+    /// Milliseconds.
+    Milliseconds,
+    /// Microseconds.
+    Microseconds,
+    /// Nanoseconds.
+    Nanoseconds,
+}
+
+impl TimeUnit {
+    /// Seconds per unit.
+    pub const fn seconds(self) -> f64 {
+        match self {
+            TimeUnit::Seconds => 1.0,
+            TimeUnit::Milliseconds => 1e-3,
+            TimeUnit::Microseconds => 1e-6,
+            TimeUnit::Nanoseconds => 1e-9,
+        }
+    }
+
+    /// `value` in this unit, in seconds (divided, not multiplied by a rounded factor, so that
+    /// whole numbers of microseconds give the nearest `f64` of their seconds).
+    pub fn to_seconds(self, value: f64) -> f64 {
+        match self {
+            TimeUnit::Seconds => value,
+            TimeUnit::Milliseconds => value / 1e3,
+            TimeUnit::Microseconds => value / 1e6,
+            TimeUnit::Nanoseconds => value / 1e9,
+        }
+    }
+
+    /// Its symbol: `s`, `ms`, `us`, `ns`.
+    pub const fn symbol(self) -> &'static str {
+        match self {
+            TimeUnit::Seconds => "s",
+            TimeUnit::Milliseconds => "ms",
+            TimeUnit::Microseconds => "us",
+            TimeUnit::Nanoseconds => "ns",
+        }
+    }
+}
+
+impl FromStr for TimeUnit {
+    type Err = String;
+
+    /// `s`, `ms`, `us` (or `µs`) or `ns`.
+    fn from_str(text: &str) -> Result<Self, String> {
+        match text.trim() {
+            "s" => Ok(TimeUnit::Seconds),
+            "ms" => Ok(TimeUnit::Milliseconds),
+            "us" | "µs" => Ok(TimeUnit::Microseconds),
+            "ns" => Ok(TimeUnit::Nanoseconds),
+            other => Err(format!(
+                "time_unit: expected s, ms, us or ns, got {other:?}"
+            )),
+        }
+    }
+}
+
+/// The spacing of time stamps tolerated around the capture's step: 1 %.
+pub const SPACING_TOLERANCE: f64 = 0.01;
+
+/// The order and spacing checks of a time column read in chunks: each stamp after the one
+/// before it, and (unless the rate was stated) each step within [`SPACING_TOLERANCE`] of
+/// the first chunk's median step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpacingCheck {
+    check_spacing: bool,
+    nominal_step_s: Option<f64>,
+    first_s: Option<f64>,
+    last_s: Option<f64>,
+    count: u64,
+}
+
+impl SpacingCheck {
+    /// A check of a new column; `check_spacing` false when the sample rate is stated.
+    pub fn new(check_spacing: bool) -> Self {
+        Self {
+            check_spacing,
+            nominal_step_s: None,
+            first_s: None,
+            last_s: None,
+            count: 0,
+        }
+    }
+
+    /// Checks the next chunk's stamps (s); the error is the index in the chunk and what is
+    /// wrong.
+    pub fn check(&mut self, time_s: &[f64], unit: TimeUnit) -> Result<(), (usize, String)> {
+        let (Some(&first), Some(&last)) = (time_s.first(), time_s.last()) else {
+            return Ok(());
+        };
+        let shown = |t: f64| format!("{} {}", t / unit.seconds(), unit.symbol());
+        let mut previous = self.last_s;
+        for (k, &t) in time_s.iter().enumerate() {
+            if let Some(p) = previous
+                && !(t > p)
+            {
+                let what = if t == p { "duplicated" } else { "unsorted" };
+                return Err((
+                    k,
+                    format!(
+                        "{what} time: {} after {} on the row before; the time must increase",
+                        shown(t),
+                        shown(p)
+                    ),
+                ));
+            }
+            previous = Some(t);
+        }
+        if self.nominal_step_s.is_none() && time_s.len() >= 2 {
+            // The median step: one odd step of the first chunk neither sets nor hides it.
+            let mut steps: Vec<f64> = time_s.windows(2).map(|w| w[1] - w[0]).collect();
+            let middle = steps.len() / 2;
+            steps.select_nth_unstable_by(middle, f64::total_cmp);
+            self.nominal_step_s = Some(steps[middle]);
+        }
+        if let (true, Some(step)) = (self.check_spacing, self.nominal_step_s) {
+            let mut previous = self.last_s.unwrap_or(first);
+            for (k, &t) in time_s.iter().enumerate() {
+                let dt = t - previous;
+                if (k > 0 || self.last_s.is_some()) && (dt - step).abs() > SPACING_TOLERANCE * step
+                {
+                    return Err((
+                        k,
+                        format!(
+                            "time step {} differs from the capture's {} by more than 1 %: the \
+                             samples are not evenly spaced (rounded or jittered time stamps? \
+                             state the sample rate, --sample-rate, to skip this check)",
+                            shown(dt),
+                            shown(step)
+                        ),
+                    ));
+                }
+                previous = t;
+            }
+        }
+        self.first_s.get_or_insert(first);
+        self.last_s = Some(last);
+        self.count += time_s.len() as u64;
+        Ok(())
+    }
+
+    /// The mean step (s) over the stamps checked so far.
+    pub fn mean_step_s(&self) -> Option<f64> {
+        match (self.first_s, self.last_s) {
+            (Some(a), Some(b)) if self.count >= 2 => Some((b - a) / (self.count - 1) as f64),
+            _ => None,
+        }
+    }
+}

@@ -1,0 +1,222 @@
+"""``angletrack track``: a capture streamed through an observer in constant memory.
+
+The capture is parsed in Rust (:class:`angletrack.CaptureReader`), each chunk is tracked by
+one :class:`angletrack.Observer` whose state carries over, and the estimates are written by
+:class:`angletrack.EstimatesWriter` (CSV or ``.npy``) chunk by chunk. Before anything is
+written, the capture's sample rate is checked against the gains'; after the last chunk, a
+run whose samples were mostly rejected is an error, not a file of zeros.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import pathlib
+import sys
+import time
+from typing import Optional
+
+import numpy as np
+
+import angletrack
+from angletrack import export
+
+#: Relative difference of two sample rates taken as the same rate (the time column's
+#: spacing check uses the same 1 %).
+RATE_TOLERANCE = 0.01
+#: The lowest sample rate taken as plausible for a time column: anything slower is a time
+#: column in another unit (ms, us, ns) read as seconds.
+LOWEST_PLAUSIBLE_RATE_HZ = 1.0
+
+
+@dataclasses.dataclass
+class TrackSettings:
+    """What ``angletrack track`` was asked to do (the CLI's arguments, checked)."""
+
+    capture: pathlib.Path
+    output: pathlib.Path
+    gains_file: Optional[pathlib.Path] = None
+    gains: Optional[list] = None
+    sample_rate_hz: Optional[float] = None
+    columns: Optional[str] = None
+    delimiter: Optional[str] = None
+    time_unit: str = "s"
+    dtype: str = "float64"
+    sin_cos: Optional[str] = None
+    skip_s: float = 0.0
+    lock_tolerance_rad: float = 0.01
+    progress: bool = False
+    chunk_rows: int = 1 << 16
+
+
+def _rate_error(capture_hz: float, gains_hz: float, time_unit: str) -> str:
+    ratio = capture_hz / gains_hz
+    hint = ""
+    for unit, factor in (("ms", 1e3), ("us", 1e6), ("ns", 1e9)):
+        if abs(ratio * factor - 1.0) <= RATE_TOLERANCE and time_unit == "s":
+            hint = f" (the time column looks like it is in {unit}: give --time-unit {unit})"
+    return (
+        f"sample_rate: the capture's time column says {capture_hz:.6g} Hz but the gains are "
+        f"designed for {gains_hz:.6g} Hz{hint}; design gains for the capture's rate, or state the "
+        "true rate with --sample-rate"
+    )
+
+
+def gains_for_capture(s: TrackSettings, capture_rate_hz: Optional[float]) -> angletrack.Gains:
+    """The gains to run at the capture's sample rate, refusing a rate that contradicts them."""
+    if s.gains_file is not None:
+        gains = export.gains_from_json(s.gains_file.read_text())
+        if s.sample_rate_hz is not None:
+            return angletrack.Gains(gains.gains, sample_period_s=1.0 / s.sample_rate_hz)
+        if capture_rate_hz is not None and abs(capture_rate_hz / gains.sample_rate_hz - 1.0) > RATE_TOLERANCE:
+            raise ValueError(_rate_error(capture_rate_hz, gains.sample_rate_hz, s.time_unit))
+        return gains
+    rate = s.sample_rate_hz if s.sample_rate_hz is not None else capture_rate_hz
+    if rate is None:
+        raise ValueError("sample_rate: give --sample-rate (the capture has no time column)")
+    if s.sample_rate_hz is None and rate < LOWEST_PLAUSIBLE_RATE_HZ:
+        raise ValueError(
+            f"sample_rate: the capture's time column says {rate:.6g} Hz, too slow for a sensor "
+            "capture: is the time column in ms, us or ns? give --time-unit, or --sample-rate"
+        )
+    return angletrack.Gains(s.gains, sample_period_s=1.0 / rate)
+
+
+class _ErrorStatistics:
+    """Running statistics of the wrapped angle error against a reference, chunk by chunk."""
+
+    def __init__(self, skip_s: float, tolerance_rad: float):
+        self.skip_s, self.tolerance_rad = skip_s, tolerance_rad
+        self.count, self.total, self.squares, self.largest = 0, 0.0, 0.0, 0.0
+        self.start_s: Optional[float] = None
+        self.lock_s: Optional[float] = None
+
+    def add(self, time_s: np.ndarray, angle: np.ndarray, reference: np.ndarray) -> None:
+        if self.start_s is None:
+            self.start_s = float(time_s[0])
+        error = np.remainder(angle.astype(np.float64) - reference + math.pi, 2 * math.pi) - math.pi
+        outside = np.flatnonzero(np.abs(error) > self.tolerance_rad)
+        if len(outside):
+            # Locked from the sample after the last one outside the tolerance, if any.
+            after = outside[-1] + 1
+            self.lock_s = float(time_s[after]) - self.start_s if after < len(error) else None
+        elif self.lock_s is None:
+            self.lock_s = float(time_s[0]) - self.start_s
+        kept = error[time_s - self.start_s >= self.skip_s]
+        self.count += len(kept)
+        self.total += float(np.sum(kept))
+        self.squares += float(np.dot(kept, kept))
+        self.largest = max(self.largest, float(np.max(np.abs(kept)))) if len(kept) else self.largest
+
+    def report(self) -> str:
+        if self.count == 0:
+            raise ValueError(f"skip: --skip {self.skip_s} s leaves no sample of the capture for the statistics")
+        rms = math.sqrt(self.squares / self.count)
+        lock = "not locked at the end" if self.lock_s is None else f"{self.lock_s:.6g} s"
+        return (
+            f"angle error against the reference (after {self.skip_s} s, {self.count} samples):\n"
+            f"  RMS {rms:.6e} rad   max {self.largest:.6e} rad   mean {self.total / self.count:+.6e} rad\n"
+            f"  locked (within {self.tolerance_rad} rad) from: {lock}"
+        )
+
+
+class _Progress:
+    """A one-line progress report on stderr, refreshed at most twice a second."""
+
+    def __init__(self, enabled: bool):
+        self.enabled, self.started, self.shown = enabled, time.monotonic(), 0.0
+
+    def update(self, reader: angletrack.CaptureReader, final: bool = False) -> None:
+        now = time.monotonic()
+        if not self.enabled or (not final and now - self.shown < 0.5):
+            return
+        self.shown = now
+        done, total = reader.progress_bytes
+        percent = f"{100.0 * done / total:5.1f} %" if total and done else "      "
+        rate = reader.rows / max(now - self.started, 1e-9)
+        end = "\n" if final else ""
+        sys.stderr.write(f"\rangletrack track: {percent} {reader.rows:,} samples, {rate / 1e6:.2f} M samples/s{end}")
+        sys.stderr.flush()
+
+
+def _rejections_error(s: TrackSettings, rejected: int, total: int, reader, y_c_mean: float) -> str:
+    dtype = reader.sample_dtype
+    cause = (
+        f"the samples are {dtype} with y_c averaging {y_c_mean:.6g}: raw ADC counts? scale them to "
+        "about +-1 (subtract the mid-scale, divide by the amplitude)"
+        if dtype.startswith(("int", "uint")) or abs(y_c_mean) > 10
+        else "the signals' amplitude is far from 1, or the samples are not finite"
+    )
+    return (
+        f"{s.capture}: {rejected} of {total} samples ({100.0 * rejected / total:.3g} %) were rejected "
+        f"as bad samples (fault BAD_SAMPLE), so the estimates in {s.output} mean nothing; {cause}"
+    )
+
+
+def _stated_rate_note(s: TrackSettings) -> list[str]:
+    """A line saying that gains designed for another rate run at the stated one."""
+    if s.gains_file is None or s.sample_rate_hz is None:
+        return []
+    designed_hz = export.gains_from_json(s.gains_file.read_text()).sample_rate_hz
+    if abs(s.sample_rate_hz / designed_hz - 1.0) <= RATE_TOLERANCE:
+        return []
+    return [
+        f"note: the gains designed for {designed_hz:.6g} Hz run at the stated {s.sample_rate_hz:.6g} Hz: "
+        f"the loop's bandwidth scales by {s.sample_rate_hz / designed_hz:.6g}"
+    ]
+
+
+def track_capture(s: TrackSettings) -> str:
+    """Runs ``s``: writes the estimates to ``s.output`` and returns the summary to print.
+    Raises ``ValueError`` (``CaptureError``, ``ConfigError``) on a capture that cannot be
+    tracked, before anything is written where it can be told before."""
+    reader = angletrack.CaptureReader(
+        s.capture, columns=s.columns, delimiter=s.delimiter, time_unit=s.time_unit,
+        sample_rate_hz=s.sample_rate_hz, chunk_rows=s.chunk_rows,
+    )
+    chunks = iter(reader)
+    first = next(chunks)
+    gains = gains_for_capture(s, reader.sample_rate_hz if first.time_s is not None else None)
+    dtype = np.dtype(s.dtype)
+    observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos)
+    stats = _ErrorStatistics(s.skip_s, s.lock_tolerance_rad) if first.reference_rad is not None else None
+    progress = _Progress(s.progress)
+    rejected, y_c_sum = 0, 0.0
+    bad = int(angletrack.Faults.BAD_SAMPLE)
+    s.output.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        with angletrack.EstimatesWriter(s.output, dtype=dtype) as writer:
+            chunk = first
+            while chunk is not None:
+                est = observer.update(chunk.y_c.astype(dtype, copy=False), chunk.y_s.astype(dtype, copy=False))
+                time_s = chunk.time_s
+                if time_s is None:
+                    time_s = (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) * gains.sample_period_s
+                writer.write(time_s, est)
+                rejected += int(np.count_nonzero(est.faults & bad))
+                y_c_sum += float(np.sum(chunk.y_c))
+                if stats is not None:
+                    stats.add(time_s, est.angle, chunk.reference_rad)
+                progress.update(reader)
+                chunk = next(chunks, None)
+    except BaseException:
+        # A fault found part way (a malformed row, an interrupt) leaves no partial file that
+        # could pass for the estimates of the whole capture.
+        s.output.unlink(missing_ok=True)
+        raise
+    progress.update(reader, final=True)
+    total = reader.rows
+    if 2 * rejected > total:
+        raise ValueError(_rejections_error(s, rejected, total, reader, y_c_sum / total))
+    latched = angletrack.Faults(observer.latched_faults)
+    lines = [
+        repr(observer),
+        *_stated_rate_note(s),
+        f"{total} samples ({reader.format}, {reader.sample_dtype}; columns "
+        + ", ".join(f"{k}={v}" for k, v in reader.columns.items())
+        + f") -> {s.output}",
+        f"faults latched: {latched.name if latched else 'none'}; {rejected} samples rejected",
+    ]
+    if stats is not None:
+        lines.append(stats.report())
+    return "\n".join(lines)

@@ -21,11 +21,11 @@
 //!
 //! The mathematics is in the repository's `docs/theory.md`: the phase detector (§1), the
 //! scaled state and this recursion (§5), the stability check of the gains (§6), the speed
-//! limits (§9), the diagnostics (§10) and the fast sin/cos (§11). Each module implements one
-//! of them: `state` and `update` the recursion, `wrap` the angle wrap and turn count,
+//! limits (§9), the diagnostics (§10) and the fast sin/cos (§11). One concept per module:
+//! `state` and `update` the recursion, `wrap` the angle wrap and turn count,
 //! `gains` and `stability` the checked configuration, `monitor` and `faults` the
 //! diagnostics, `sincos` the phase detector's sin/cos, `bank` many channels at once,
-//! `observer` the trait over all observers, `error` the refusals.
+//! `observer` the trait over all observers, `error` the refusals, `real` the float types.
 //!
 //! Only the discrete gains `L` differ between the classical 2nd-order ATO (order 2), the
 //! 3rd-order ATO designed by pole placement and the time-invariant Kalman ATO (order 3).

@@ -18,7 +18,7 @@ mod variants;
 
 use core::hint::black_box;
 
-use angletrack_core::{Estimate, Gains, ObserverState, Order, SinCos, SupportedOrder};
+use angletrack_core::{Estimate, Gains, ObserverState, SinCos};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::{hprintln, nr};
@@ -44,10 +44,7 @@ fn update<const N: usize, S: SinCos<f32>>(
     state: &mut ObserverState<f32, N>,
     y_c: f32,
     y_s: f32,
-) -> Estimate<f32>
-where
-    Order<N>: SupportedOrder,
-{
+) -> Estimate<f32> {
     gains.update(state, y_c, y_s)
 }
 
@@ -59,10 +56,7 @@ fn no_update<const N: usize, S: SinCos<f32>>(
     _state: &mut ObserverState<f32, N>,
     _y_c: f32,
     _y_s: f32,
-) -> Estimate<f32>
-where
-    Order<N>: SupportedOrder,
-{
+) -> Estimate<f32> {
     Estimate::default()
 }
 
@@ -74,10 +68,7 @@ fn update_block<const N: usize, S: SinCos<f32>>(
     y_c: &[f32],
     y_s: &[f32],
     out: &mut [Estimate<f32>],
-) -> usize
-where
-    Order<N>: SupportedOrder,
-{
+) -> usize {
     gains.update_block(state, y_c, y_s, out)
 }
 
@@ -112,10 +103,7 @@ struct Check<'a> {
 }
 
 impl Job for Check<'_> {
-    fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>)
-    where
-        Order<N>: SupportedOrder,
-    {
+    fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>) {
         let base = SAMPLES * SAMPLE_BYTES + index * SAMPLES * RECORD_BYTES;
         let records = &REFERENCE[base..base + SAMPLES * RECORD_BYTES];
         let (mut speed_scale, mut acceleration_scale) = (1.0f32, 1.0f32);
@@ -176,10 +164,7 @@ struct Count<'a> {
 }
 
 impl Job for Count<'_> {
-    fn run<const N: usize, S: SinCos<f32>>(&mut self, _index: usize, gains: Gains<f32, N, S>)
-    where
-        Order<N>: SupportedOrder,
-    {
+    fn run<const N: usize, S: SinCos<f32>>(&mut self, _index: usize, gains: Gains<f32, N, S>) {
         let n = self.samples.min(SAMPLES);
         if self.block {
             let mut state = ObserverState::new();

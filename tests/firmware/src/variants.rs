@@ -2,9 +2,7 @@
 //! the build script (which computes the reference on the host) and the firmware (which checks
 //! itself against it), so that both run the same list in the same order.
 
-use angletrack_core::{
-    ConfigError, Estimate, Exact, Fast, FaultThresholds, Gains, Order, SinCos, SupportedOrder,
-};
+use angletrack_core::{ConfigError, Estimate, Exact, Fast, FaultThresholds, Gains, SinCos};
 
 /// The variants, as printed: `<observer>-<float>-<sincos>`; the last one is the Kalman ATO
 /// with the diagnostics switched off (`FaultThresholds::disabled()`: the bare loop).
@@ -41,9 +39,7 @@ pub struct Observers {
 /// Something to do with one variant's checked gains.
 pub trait Job {
     /// Runs on variant `index` (into [`NAMES`]) with its gains.
-    fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>)
-    where
-        Order<N>: SupportedOrder;
+    fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>);
 }
 
 impl Observers {
@@ -76,9 +72,7 @@ fn run_with<const N: usize>(
     gains: Gains<f32, N, Exact>,
     fast: bool,
     job: &mut impl Job,
-) where
-    Order<N>: SupportedOrder,
-{
+) {
     if fast {
         job.run(index, gains.with_sin_cos::<Fast>());
     } else {

@@ -3,7 +3,9 @@
 //! and every accepted configuration keeps a finite state and an angle in [-pi, pi).
 #![no_main]
 
-use angletrack_core::{Exact, Fast, FaultThresholds, Gains, ObserverState, Order, Real, SinCos, SupportedOrder};
+use angletrack_core::{
+    Exact, Fast, FaultThresholds, Gains, ObserverState, Order, Real, SinCos, SupportedOrder,
+};
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
 
@@ -78,7 +80,10 @@ where
     for _ in 0..4 {
         for &(y_c, y_s) in &input.samples {
             let e = gains.update(&mut state, T::from_f64(y_c), T::from_f64(y_s));
-            assert!(state.scaled_state().iter().all(|x| x.is_finite()), "{state:?}");
+            assert!(
+                state.scaled_state().iter().all(|x| x.is_finite()),
+                "{state:?}"
+            );
             assert!(e.angle >= -T::PI && e.angle < T::PI, "{e:?}");
             assert!(e.speed.is_finite() && e.acceleration.is_finite() && e.phase_error.is_finite());
         }

@@ -29,7 +29,7 @@ enum Call {
 #[derive(Debug, Arbitrary)]
 struct Input {
     call: Call,
-    sample_period: f64,
+    sample_period_s: f64,
     discretisation: u8,
     report: bool,
     noise: f64,
@@ -39,7 +39,9 @@ fn check<const N: usize>(design: Design<N>, input: &Input)
 where
     Order<N>: SupportedOrder,
 {
-    let gains = design.to_gains::<f64>().expect("a design's own gains are valid");
+    let gains = design
+        .to_gains::<f64>()
+        .expect("a design's own gains are valid");
     let _ = design.to_gains::<f32>(); // may be refused (f32 range), never panics
     let mut state = ObserverState::new();
     for k in 0..256 {
@@ -53,14 +55,17 @@ where
     if input.report && bandwidth_samples < 2_000.0 {
         if let Ok(report) = DesignReport::new(&design, input.noise) {
             assert!(report.gains.iter().all(|g| g.is_finite()));
-            assert!(report.discrete_poles.iter().all(|z| z.norm() < 1.0), "{report}");
+            assert!(
+                report.discrete_poles.iter().all(|z| z.norm() < 1.0),
+                "{report}"
+            );
             let _ = format!("{report}");
         }
     }
 }
 
 fuzz_target!(|input: Input| {
-    let ts = input.sample_period;
+    let ts = input.sample_period_s;
     let d = match input.discretisation % 3 {
         0 => Discretisation::PoleMatching,
         1 => Discretisation::ForwardEuler,

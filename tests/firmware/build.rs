@@ -7,9 +7,10 @@ use std::{env, fs, path::PathBuf};
 use angletrack_benches::{
     KALMAN_GAINS, SECOND_ORDER_GAINS, THIRD_ORDER_GAINS, benchmark_scenario, channels,
 };
-use angletrack_core::{Gains, Order, SinCos, SupportedOrder};
+use angletrack_core::{Gains, SinCos};
 
 #[path = "src/variants.rs"]
+// Shared with the firmware, which alone reads the records back (`decode`).
 #[allow(dead_code)]
 mod variants;
 
@@ -26,10 +27,7 @@ struct Reference<'a> {
 }
 
 impl Job for Reference<'_> {
-    fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>)
-    where
-        Order<N>: SupportedOrder,
-    {
+    fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>) {
         let mut channel = Channel::<N>::new(entry(index));
         let Channel {
             state,

@@ -27,12 +27,12 @@
 //! scaled state and this recursion (§5), the stability check of the gains (§6), the speed
 //! limits (§9), the diagnostics (§10), the fast sin/cos (§11) and real signals (§12:
 //! amplitude normalisation, ADC scaling, online correction of offsets, imbalance and
-//! quadrature). Each module implements one of them: `state` and `update` the recursion,
-//! `wrap` the angle wrap and turn count, `gains` and `stability` the checked configuration,
-//! `monitor` and `faults` the diagnostics, `sincos` the phase detector's sin/cos, `bank`
-//! many channels at once, `observer` the trait over all observers, `error` the refusals,
-//! `adc` the ADC front end, `calibration` the sensor correction, `calibration_settings` its
-//! configuration and `learning` its online estimator.
+//! quadrature). One concept per module: `state` and `update` the recursion, `wrap` the
+//! angle wrap and turn count, `gains` and `stability` the checked configuration, `monitor`
+//! and `faults` the diagnostics, `sincos` the phase detector's sin/cos, `bank` many channels
+//! at once, `observer` the trait over all observers, `error` the refusals, `real` the float
+//! types, `adc` the ADC front end, `calibration` the sensor correction,
+//! `calibration_settings` its configuration and `learning` its online estimator.
 //!
 //! Only the discrete gains `L` differ between the classical 2nd-order ATO (order 2), the
 //! 3rd-order ATO designed by pole placement and the time-invariant Kalman ATO (order 3).

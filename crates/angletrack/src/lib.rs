@@ -46,6 +46,7 @@
 //! The mathematics is in the repository's `docs/theory.md`: the designs in §2 to §4, the
 //! discretisations in §7, the noise prediction in §8, the speed limits in §9; each module
 //! cites the section it implements.
+// `!(x > 0)` is deliberate throughout: it is true for NaN, which must be refused too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub use angletrack_core as core;

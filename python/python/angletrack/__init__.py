@@ -12,6 +12,16 @@ input stays float32 and float64 stays float64.
 >>> est = angletrack.track(gains, np.cos(theta), np.sin(theta))
 >>> round(float(est.position[-1]), 3)
 20.0
+
+Every argument the package refuses (a value out of range, an unstable gain set, a wrong
+array shape, an unknown name) raises ``angletrack.ConfigError``, a ``ValueError`` whose
+``parameter`` attribute is the argument's name as the caller spelled it:
+
+>>> try:
+...     angletrack.Gains([0.06, 0.001], sample_period_s=0.0)
+... except angletrack.ConfigError as e:
+...     print(e.parameter)
+sample_period_s
 """
 
 import enum as _enum

@@ -282,6 +282,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The ``angletrack`` argument parser with its three subcommands."""
     parser = argparse.ArgumentParser(
         prog="angletrack",
         description="Angle tracking observers (software resolver-to-digital conversion): "

@@ -18,9 +18,7 @@ mod variants;
 
 use core::hint::black_box;
 
-use angletrack_core::{
-    AdcScaling, Calibrator, Estimate, Gains, ObserverState, Order, SinCos, SupportedOrder,
-};
+use angletrack_core::{AdcScaling, Calibrator, Estimate, Gains, ObserverState, SinCos};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::{hprintln, nr};
@@ -49,10 +47,7 @@ fn update<const N: usize, S: SinCos<f32>>(
     state: &mut ObserverState<f32, N>,
     y_c: f32,
     y_s: f32,
-) -> Estimate<f32>
-where
-    Order<N>: SupportedOrder,
-{
+) -> Estimate<f32> {
     gains.update(state, y_c, y_s)
 }
 
@@ -64,10 +59,7 @@ fn update_calibrated<const N: usize, S: SinCos<f32>>(
     calibrator: &mut Calibrator<f32>,
     y_c: f32,
     y_s: f32,
-) -> Estimate<f32>
-where
-    Order<N>: SupportedOrder,
-{
+) -> Estimate<f32> {
     gains.update_calibrated(state, calibrator, y_c, y_s)
 }
 
@@ -79,10 +71,7 @@ fn update_adc<const N: usize, S: SinCos<f32>>(
     adc: &AdcScaling<f32>,
     raw_c: i16,
     raw_s: i16,
-) -> Estimate<f32>
-where
-    Order<N>: SupportedOrder,
-{
+) -> Estimate<f32> {
     gains.update_adc(state, adc, raw_c, raw_s)
 }
 
@@ -94,10 +83,7 @@ fn update_entry<const N: usize, S: SinCos<f32>>(
     channel: &mut Channel<N>,
     y_c: f32,
     y_s: f32,
-) -> Estimate<f32>
-where
-    Order<N>: SupportedOrder,
-{
+) -> Estimate<f32> {
     let Channel {
         state,
         calibrator,
@@ -118,10 +104,7 @@ fn no_update<const N: usize, S: SinCos<f32>>(
     _state: &mut ObserverState<f32, N>,
     _y_c: f32,
     _y_s: f32,
-) -> Estimate<f32>
-where
-    Order<N>: SupportedOrder,
-{
+) -> Estimate<f32> {
     Estimate::default()
 }
 
@@ -133,10 +116,7 @@ fn update_block<const N: usize, S: SinCos<f32>>(
     y_c: &[f32],
     y_s: &[f32],
     out: &mut [Estimate<f32>],
-) -> usize
-where
-    Order<N>: SupportedOrder,
-{
+) -> usize {
     gains.update_block(state, y_c, y_s, out)
 }
 
@@ -171,10 +151,7 @@ struct Check<'a> {
 }
 
 impl Job for Check<'_> {
-    fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>)
-    where
-        Order<N>: SupportedOrder,
-    {
+    fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>) {
         let base = SAMPLES * SAMPLE_BYTES + index * SAMPLES * RECORD_BYTES;
         let records = &REFERENCE[base..base + SAMPLES * RECORD_BYTES];
         let (mut speed_scale, mut acceleration_scale) = (1.0f32, 1.0f32);
@@ -236,10 +213,7 @@ struct Count<'a> {
 }
 
 impl Job for Count<'_> {
-    fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>)
-    where
-        Order<N>: SupportedOrder,
-    {
+    fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>) {
         let n = self.samples.min(SAMPLES);
         if !self.loop_only && entry(index) != Entry::Plain {
             let mut channel = Channel::new(entry(index));

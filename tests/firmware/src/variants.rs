@@ -4,7 +4,7 @@
 
 use angletrack_core::{
     AdcScaling, Calibrator, ConfigError, Estimate, Exact, Fast, FaultThresholds, Gains,
-    ObserverState, Order, SinCos, SupportedOrder,
+    ObserverState, SinCos,
 };
 
 /// The variants, as printed: `<observer>-<float>-<sincos>[-<entry>]`. `unmonitored` is the
@@ -103,9 +103,7 @@ pub struct Observers {
 /// Something to do with one variant's checked gains.
 pub trait Job {
     /// Runs on variant `index` (into [`NAMES`]) with its gains.
-    fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>)
-    where
-        Order<N>: SupportedOrder;
+    fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>);
 }
 
 impl Observers {
@@ -138,9 +136,7 @@ fn run_with<const N: usize>(
     gains: Gains<f32, N, Exact>,
     fast: bool,
     job: &mut impl Job,
-) where
-    Order<N>: SupportedOrder,
-{
+) {
     if fast {
         job.run(index, gains.with_sin_cos::<Fast>());
     } else {

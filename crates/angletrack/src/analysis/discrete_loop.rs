@@ -1,5 +1,6 @@
 //! The linearised discrete loop `F = (I - L e1^T) A` of a gain set (`docs/theory.md §5`,
-//! `§6`, `§8`): steady-state errors, frequency response, noise covariance, step response.
+//! `§6`, `§7`, `§8`): steady-state errors (§5), poles (§6), frequency response and step
+//! response (§7), noise covariance (§8).
 
 use core::f64::consts::PI;
 

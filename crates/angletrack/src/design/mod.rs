@@ -6,7 +6,8 @@
 //! (`§7`) maps them to discrete poles `z_i`, and
 //! [`Gains::from_loop_polynomial`](angletrack_core::Gains::from_loop_polynomial) gives the
 //! gains whose loop `(I - L e1^T) A` has exactly those poles. The Kalman ATO (`§4`) is
-//! designed on the discrete model directly.
+//! designed on the discrete model directly, and the sampled tracking-error design (`§2`)
+//! on the discrete loop.
 //!
 //! Vectors follow the core's orders: gains in the order of the state they correct (angle
 //! first: `(l1, l2, l3)`, `(k_a, k_b, k_c)`), polynomial coefficients lowest power first

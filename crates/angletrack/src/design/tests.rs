@@ -5,7 +5,7 @@ use std::f64::consts::SQRT_2;
 
 use angletrack_core::{Gains, ObserverState};
 
-use crate::paper::{POLE_FREQUENCY_RATIO, POLE_RATIO};
+use crate::paper::{FIVE_PERCENT_DAMPING, POLE_FREQUENCY_RATIO, POLE_RATIO};
 use crate::*;
 
 const PM: Discretisation = Discretisation::PoleMatching;
@@ -422,7 +422,8 @@ fn sampled_design_meets_tracking_error_and_overshoot_on_the_discrete_loop() {
     }
     assert!((last / max_error - 1.0).abs() < 1e-3, "{last} rad");
     // The paper's rule for the same specification: 0.869 mrad and 4.35 % when sampled.
-    let paper = second_order_from_tracking_error(max_error, alpha, 1.945, ts, PM).unwrap();
+    let paper =
+        second_order_from_tracking_error(max_error, alpha, FIVE_PERCENT_DAMPING, ts, PM).unwrap();
     let paper = DesignReport::new(&paper, 0.0).unwrap();
     let paper_error = alpha / paper.acceleration_constant_per_s2.unwrap();
     assert!((paper_error - 0.869e-3).abs() < 1e-6, "{paper_error}");

@@ -25,7 +25,10 @@
 //! of them: `state` and `update` the recursion, `wrap` the angle wrap and turn count,
 //! `gains` and `stability` the checked configuration, `monitor` and `faults` the
 //! diagnostics, `sincos` the phase detector's sin/cos, `bank` many channels at once,
-//! `observer` the trait over all observers, `error` the refusals.
+//! `observer` the trait over all observers, `error` the refusals. The resolver front end
+//! (§13) is `excitation` (the carrier to write out), `demodulator` (ADC samples of the
+//! windings to one `(y_c, y_s)` pair per carrier period, the carrier delay compensated) with
+//! `front_end_faults`, and `outputs` (the electrical angle at the PWM update instant).
 //!
 //! Only the discrete gains `L` differ between the classical 2nd-order ATO (order 2), the
 //! 3rd-order ATO designed by pole placement and the time-invariant Kalman ATO (order 3).
@@ -66,11 +69,15 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 mod bank;
+mod demodulator;
 mod error;
+mod excitation;
 mod faults;
+mod front_end_faults;
 mod gains;
 mod monitor;
 mod observer;
+mod outputs;
 mod real;
 mod sincos;
 mod stability;
@@ -79,11 +86,15 @@ mod update;
 mod wrap;
 
 pub use bank::ChannelBank;
+pub use demodulator::{DemodulatedPair, Demodulator, DemodulatorSettings, DemodulatorState};
 pub use error::{ConfigError, Parameter};
+pub use excitation::{Excitation, ExcitationState, Waveform};
 pub use faults::Faults;
+pub use front_end_faults::FrontEndFaults;
 pub use gains::{Gains, Order, SupportedOrder};
 pub use monitor::FaultThresholds;
 pub use observer::{AngleTrackingObserver, Observer, SecondOrderObserver, ThirdOrderObserver};
+pub use outputs::{DriveAngle, DriveOutputs, DriveOutputsState};
 pub use real::Real;
 pub use sincos::{Exact, Fast, SinCos};
 pub use state::{Estimate, ObserverState};

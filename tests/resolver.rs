@@ -198,3 +198,54 @@ fn locks_from_power_up_within_the_delay_estimation_and_the_settling_time() {
     );
     assert!(lock_s <= startup_s + settling_s);
 }
+
+/// The README's whole chain for a firmware engineer, on a simulated resolver: the excitation
+/// written out, both windings sampled on the same timer, demodulated, tracked, and the
+/// electrical angle of a 4-pole-pair motor at the PWM update, one ADC sample after the
+/// window's last sample.
+#[test]
+fn the_whole_chain_gives_the_electrical_angle_at_the_pwm_update() {
+    use angletrack::{DriveOutputs, DriveOutputsState, Excitation, ExcitationState, Waveform};
+    let run = || -> Result<f64, angletrack::ConfigError> {
+        // Once, at start-up.
+        let excitation = Excitation::new(10_000, 160_000, Waveform::Sine)?;
+        let mut settings = DemodulatorSettings::new(10e3, 1800.0, 0.0, 4095.0);
+        settings.expected_delay_rad = 5.3; // about 305 degrees, from a scope
+        let demodulator = Demodulator::<f32, 16>::new(settings)?;
+        let gains = Gains::<f32, 3>::new([0.518_46, 0.187_35, 0.033_943], 1e-4)?;
+        demodulator.check_gains(&gains)?;
+        let latency_s = demodulator.window_centre_offset_s() + demodulator.adc_sample_period_s();
+        let outputs = DriveOutputs::new(4, 1, latency_s, 1e-4)?.with_speed_cutoff_hz(500.0)?;
+        let mut carrier = ExcitationState::default();
+        let (mut front_end, mut observer) = (DemodulatorState::new(), ObserverState::new());
+        let mut drive = DriveOutputsState::default();
+        // The simulated resolver: 305 degrees of carrier delay, 50 rev/s.
+        let delay_turns = (305.0 / 360.0 * 4_294_967_296.0) as u32;
+        let mut worst = 0.0f64;
+        for j in 0..160_000 / 20 {
+            // In the 160 kHz interrupt: the DAC value, then the ADC samples of this tick.
+            let phase = carrier.phase();
+            let _dac: f32 = excitation.tick(&mut carrier);
+            let t = j as f64 / 160e3;
+            let theta = 0.4 + SPEED_RAD_S * t;
+            let received: f64 = excitation.value_at(phase.wrapping_add(delay_turns));
+            let raw_c = (2048.0 + 1800.0 * theta.cos() * received).round() as f32;
+            let raw_s = (2048.0 + 1800.0 * theta.sin() * received).round() as f32;
+            if let Some((pair, estimate)) =
+                demodulator.feed(&mut front_end, &gains, &mut observer, raw_c, raw_s)
+            {
+                assert!(pair.faults.is_empty() && estimate.faults.is_empty());
+                let angle = outputs.outputs(&mut drive, &estimate);
+                let truth = 4.0 * (0.4 + SPEED_RAD_S * (t + 1.0 / 160e3));
+                let error = (f64::from(angle.electrical_angle) - truth + PI).rem_euclid(TAU) - PI;
+                if t > 0.01 {
+                    worst = worst.max(error.abs());
+                }
+            }
+        }
+        Ok(worst)
+    };
+    let worst = run().expect("valid configuration");
+    println!("whole chain: largest electrical angle error after 10 ms {worst:.2e} rad");
+    assert!(worst < 2e-3);
+}

@@ -103,8 +103,10 @@ pub struct Demodulator<T, const N: usize> {
     cos_table: [T; N],
     scale: T,
     sample_period: T,
-    clip_low: T,
-    clip_high: T,
+    /// The middle of the unclipped codes and half their span: a sample is clipped unless
+    /// `|raw - clip_centre| < clip_half_span` (one comparison per winding, false for NaN).
+    clip_centre: T,
+    clip_half_span: T,
     loss_of_excitation2: T,
     drift_cos: T,
     expected: (T, T),
@@ -291,8 +293,8 @@ impl<T: Real, const N: usize> Demodulator<T, N> {
             cos_table,
             scale: T::TWO / (n * amplitude),
             sample_period: T::ONE / (carrier * n),
-            clip_low: low + margin,
-            clip_high: high - margin,
+            clip_centre: (low + high) * T::HALF,
+            clip_half_span: (high - low) * T::HALF - margin,
             loss_of_excitation2: loss * loss,
             drift_cos: drift.fast_sin_cos().1,
             expected: expected_wrapped.fast_sin_cos(),
@@ -319,7 +321,7 @@ impl<T: Real, const N: usize> Demodulator<T, N> {
         state.sums[1] += raw_c * cos;
         state.sums[2] += raw_s * sin;
         state.sums[3] += raw_s * cos;
-        let inside = |v: T| v > self.clip_low && v < self.clip_high;
+        let inside = |v: T| (v - self.clip_centre).abs() < self.clip_half_span;
         state.clipped |= !(inside(raw_c) && inside(raw_s));
         state.index = k + 1;
         if state.index == N / 4 {

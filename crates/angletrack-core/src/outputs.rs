@@ -146,7 +146,9 @@ impl<T: Real> DriveOutputs<T> {
         let turns = estimate
             .turns
             .wrapping_add(i64::from(wrap_angle(&mut angle)));
-        let ratio = i64::from(self.speed_ratio);
+        // At least 1 by construction; `max` lets the compiler see it, so that the
+        // remainders below have no division-by-zero panic path.
+        let ratio = i64::from(self.speed_ratio.max(1));
         // The resolver's turns in the current mechanical turn, then the electrical turns'
         // fraction (in 1/ratio turns): exact integers, so no precision is lost to the count.
         let within = turns.rem_euclid(ratio) as u64;

@@ -249,3 +249,24 @@ fn the_whole_chain_gives_the_electrical_angle_at_the_pwm_update() {
     println!("whole chain: largest electrical angle error after 10 ms {worst:.2e} rad");
     assert!(worst < 2e-3);
 }
+
+/// A DC common mode on both windings (here 200 counts, the windings' mid-point off the
+/// ADC's mid-scale) sums to zero against the carrier reference over the window: the error is
+/// the noise's, as without it.
+#[test]
+fn a_dc_common_mode_is_rejected() {
+    let model = ResolverModel {
+        carrier_delay_rad: 2.0,
+        common_mode_counts: 200.0, // the peaks at 4048, inside the clip margin
+        ..ResolverModel::default()
+    };
+    let run = track(&model, 0.3, 2.0, 4);
+    let tail = &run.error_rad[run.error_rad.len() / 3..];
+    let rms = (tail.iter().map(|e| e * e).sum::<f64>() / tail.len() as f64).sqrt();
+    let predicted = predicted_error(&design(&model).gains, pair_noise_std(&model), 0.0).unwrap();
+    println!(
+        "common mode 200 counts: RMS {rms:.4e} rad, predicted {:.4e}",
+        predicted.angle_rms_rad
+    );
+    assert!((rms / predicted.angle_rms_rad - 1.0).abs() < 0.1);
+}

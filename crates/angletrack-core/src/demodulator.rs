@@ -248,8 +248,10 @@ impl<T: Real, const N: usize> Demodulator<T, N> {
     /// One ADC sample of each winding (`raw_c` of the cosine winding, `raw_s` of the sine
     /// winding, in counts, any offset), taken at the excitation phase `2 pi k / N` of the
     /// `k`-th sample of the period. Returns a pair once per carrier period, after the
-    /// start-up delay estimate; never panics (a NaN sample gives NaN pairs and the
-    /// [`FrontEndFaults::CLIPPING`] flag, and does not reach the delay estimate).
+    /// start-up delay estimate; never panics. A NaN sample gives NaN pairs for the two
+    /// windows that hold it, flagged [`FrontEndFaults::CLIPPING`] and
+    /// [`FrontEndFaults::LOSS_OF_EXCITATION`] (the observer rejects them as bad samples), and
+    /// does not reach the delay estimate.
     #[inline]
     pub fn push(
         &self,

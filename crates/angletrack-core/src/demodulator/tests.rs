@@ -157,7 +157,9 @@ fn clipping_loss_of_excitation_and_nan_are_flagged() {
             raw(j, 0.3, 0.0, 0.0, (0.0, 0.0))
         }
     });
-    assert!(pairs[0].faults.contains(FrontEndFaults::CLIPPING));
+    let both = FrontEndFaults::CLIPPING | FrontEndFaults::LOSS_OF_EXCITATION;
+    assert!(pairs[0].faults.contains(both) && pairs[1].faults.contains(both));
+    assert!(pairs[0].y_c.is_nan() && pairs[2].faults.is_empty());
     assert!(state.carrier_delay_rad().abs() < 1e-3);
     assert!(
         state

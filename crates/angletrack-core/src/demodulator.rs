@@ -261,13 +261,40 @@ impl<T: Real, const N: usize> Demodulator<T, N> {
     ) -> Option<DemodulatedPair<T>> {
         let k = state.index.min(N - 1);
         let (sin, cos) = (self.sin_table[k], self.cos_table[k]);
-        state.sums[0] += raw_c * sin;
-        state.sums[1] += raw_c * cos;
-        state.sums[2] += raw_s * sin;
-        state.sums[3] += raw_s * cos;
-        let inside = |v: T| (v - self.clip_centre).abs() < self.clip_half_span;
-        state.clipped |= !(inside(raw_c) && inside(raw_s));
+        self.accumulate(
+            &mut state.sums,
+            &mut state.clipped,
+            (sin, cos),
+            raw_c,
+            raw_s,
+        );
         state.index = k + 1;
+        self.end_of_segment(state)
+    }
+
+    /// One sample pair into a segment's partial sums `(I_c, Q_c, I_s, Q_s)` and its clipping
+    /// flag, with the reference `(sin, cos)` of its excitation phase.
+    #[inline(always)]
+    fn accumulate(
+        &self,
+        sums: &mut [T; 4],
+        clipped: &mut bool,
+        (sin, cos): (T, T),
+        raw_c: T,
+        raw_s: T,
+    ) {
+        sums[0] += raw_c * sin;
+        sums[1] += raw_c * cos;
+        sums[2] += raw_s * sin;
+        sums[3] += raw_s * cos;
+        let inside = |v: T| (v - self.clip_centre).abs() < self.clip_half_span;
+        *clipped |= !(inside(raw_c) && inside(raw_s));
+    }
+
+    /// After a sample: the end of the first quarter (a window completes) or of the period,
+    /// when the index has reached it.
+    #[inline(always)]
+    fn end_of_segment(&self, state: &mut DemodulatorState<T>) -> Option<DemodulatedPair<T>> {
         if state.index == N / 4 {
             self.end_of_first_quarter(state)
         } else {
@@ -276,6 +303,60 @@ impl<T: Real, const N: usize> Demodulator<T, N> {
             }
             None
         }
+    }
+
+    /// [`Demodulator::push`] over a block of ADC samples (a DMA buffer), calling
+    /// `sink(pair)` for each pair that completes; no allocation. Processes
+    /// `min(raw_c.len(), raw_s.len())` sample pairs and returns that count, the same pairs
+    /// as [`Demodulator::push`] on each sample.
+    ///
+    /// ```
+    /// use angletrack_core::{Demodulator, DemodulatorSettings, DemodulatorState};
+    /// let demodulator = Demodulator::<f32, 16>::new(DemodulatorSettings::new(10e3, 1800.0, 0.0, 4095.0))?;
+    /// let mut state = DemodulatorState::new();
+    /// let raw_c: [f32; 16 * 20] = core::array::from_fn(|j| {
+    ///     2048.0 + 1800.0 * (core::f32::consts::TAU * (j % 16) as f32 / 16.0).sin()
+    /// });
+    /// let raw_s = [2048.0_f32; 16 * 20];
+    /// let mut pairs = 0;
+    /// let n = demodulator.push_block(&mut state, &raw_c, &raw_s, |pair| {
+    ///     assert!((pair.y_c - 1.0).abs() < 1e-3 && pair.y_s.abs() < 1e-3);
+    ///     pairs += 1;
+    /// });
+    /// assert_eq!((n, pairs), (320, 3)); // 16 windows for the delay, then one per period
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    #[inline]
+    pub fn push_block<F: FnMut(DemodulatedPair<T>)>(
+        &self,
+        state: &mut DemodulatorState<T>,
+        raw_c: &[T],
+        raw_s: &[T],
+        mut sink: F,
+    ) -> usize {
+        let n = raw_c.len().min(raw_s.len());
+        let mut done = 0;
+        while done < n {
+            // One segment (to the end of the first quarter or of the period) at a time, its
+            // partial sums in locals: the inner loop touches no memory but the samples and
+            // the reference table.
+            let k0 = state.index.min(N - 1);
+            let end = if k0 < N / 4 { N / 4 } else { N };
+            let count = (end - k0).min(n - done);
+            let (mut sums, mut clipped) = (state.sums, state.clipped);
+            let reference = self.sin_table[k0..end].iter().zip(&self.cos_table[k0..end]);
+            let samples = raw_c[done..n].iter().zip(&raw_s[done..n]);
+            for ((&sin, &cos), (&c, &s)) in reference.zip(samples) {
+                self.accumulate(&mut sums, &mut clipped, (sin, cos), c, s);
+            }
+            (state.sums, state.clipped) = (sums, clipped);
+            state.index = k0 + count;
+            done += count;
+            if let Some(pair) = self.end_of_segment(state) {
+                sink(pair);
+            }
+        }
+        n
     }
 
     /// The partial sums of the rest of a period are kept; the next period starts.

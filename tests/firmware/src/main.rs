@@ -12,7 +12,8 @@
 //!   of them. The instruction count per update is the difference of two such runs of
 //!   different lengths, counted by the TCG plugin in `plugin/`. Variant `demodulator-f32`
 //!   runs the resolver front end's synchronous demodulator instead, one out-of-line
-//!   `Demodulator::push` per ADC sample pair (`check` compares its pairs with the host's).
+//!   `Demodulator::push` per ADC sample pair, or with `block` one `Demodulator::push_block`
+//!   for all of them (`check` compares its pairs with the host's).
 #![no_std]
 #![no_main]
 
@@ -100,6 +101,20 @@ fn demodulate(
     demodulator.push(state, raw_c, raw_s)
 }
 
+/// A block of ADC sample pairs through the demodulator (`Demodulator::push_block`), kept out
+/// of line: counted per sample pair of one call over all samples.
+#[inline(never)]
+fn demodulate_block(
+    demodulator: &Demodulator<f32, SAMPLES_PER_PERIOD>,
+    state: &mut DemodulatorState<f32>,
+    raw_c: &[f32],
+    raw_s: &[f32],
+) -> usize {
+    demodulator.push_block(state, raw_c, raw_s, |pair| {
+        black_box(pair);
+    })
+}
+
 /// Largest accepted difference of a demodulated pair from the host's (amplitude 1): the
 /// same `f32` operations in the same order, so about an ulp.
 const PAIR_TOLERANCE: f32 = 1e-6;
@@ -146,12 +161,27 @@ fn check_demodulator() -> Result<bool, &'static str> {
     Ok(ok)
 }
 
-/// `count` mode for the demodulator: `samples` ADC sample pairs and nothing else.
-fn count_demodulator(samples: usize) -> Result<(), &'static str> {
+/// `count` mode for the demodulator: `samples` ADC sample pairs and nothing else, one
+/// `push` call each, or with `block` one `push_block` call for all of them.
+fn count_demodulator(samples: usize, block: bool) -> Result<(), &'static str> {
     let demodulator = variants::demodulator().map_err(|_| "demodulator settings refused")?;
-    let step = black_box(demodulate);
     let mut state = DemodulatorState::new();
-    for k in 0..samples.min(SAMPLES) {
+    let n = samples.min(SAMPLES);
+    if block {
+        let (mut raw_c, mut raw_s) = ([0.0f32; SAMPLES], [0.0f32; SAMPLES]);
+        for k in 0..n {
+            (raw_c[k], raw_s[k]) = raw_sample(k);
+        }
+        black_box(demodulate_block(
+            &demodulator,
+            &mut state,
+            &raw_c[..n],
+            &raw_s[..n],
+        ));
+        return Ok(());
+    }
+    let step = black_box(demodulate);
+    for k in 0..n {
         let (c, s) = raw_sample(k);
         black_box(&step(&demodulator, &mut state, c, s));
     }
@@ -336,7 +366,7 @@ fn run() -> Result<(), &'static str> {
                 .ok_or("count needs a sample count")?;
             let block = args.next() == Some("block");
             if name == DEMODULATOR {
-                return count_demodulator(samples);
+                return count_demodulator(samples, block);
             }
             let loop_only = name == "loop";
             // The loop alone runs with the Kalman variant's types.

@@ -52,7 +52,7 @@ where
 }
 
 /// The resolver front end's per-sample entry points: the excitation's tick, the
-/// demodulator's push and feed (with the observer), the drive outputs.
+/// demodulator's push, push_block and feed (with the observer), the drive outputs.
 fn front_end() -> f32 {
     let Ok(excitation) = Excitation::new(black_box(10_000), black_box(160_000), Waveform::Sine)
     else {
@@ -83,6 +83,8 @@ fn front_end() -> f32 {
             sum += angle.electrical_angle + angle.mechanical_turns as f32;
         }
     }
+    let block = black_box([2048.0f32; 37]);
+    demodulator.push_block(&mut front_end, &block, &block[1..], |pair| sum += pair.y_s);
     sum + front_end.clear_faults().bits() as f32
 }
 

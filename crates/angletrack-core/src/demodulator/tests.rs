@@ -248,3 +248,29 @@ fn refuses_each_bad_setting_by_name() {
         Parameter::SamplePeriod
     );
 }
+
+#[test]
+fn a_block_gives_the_pairs_of_single_pushes_whatever_its_cuts() {
+    let d = demodulator(0.3);
+    let signal: std::vec::Vec<(f64, f64)> = (0..16 * 40 + 7)
+        .map(|j| raw(j, 0.3, 200.0, 0.3, (5.0, -3.0)))
+        .collect();
+    let mut single = DemodulatorState::new();
+    let expected: std::vec::Vec<_> = signal
+        .iter()
+        .filter_map(|&(c, s)| d.push(&mut single, c, s))
+        .collect();
+    for cut in [1, 3, 4, 5, 16, 17, 100, 1000] {
+        let mut state = DemodulatorState::new();
+        let mut pairs = std::vec::Vec::new();
+        for chunk in signal.chunks(cut) {
+            let (c, s): (std::vec::Vec<f64>, std::vec::Vec<f64>) = chunk.iter().copied().unzip();
+            assert_eq!(
+                d.push_block(&mut state, &c, &s, |p| pairs.push(p)),
+                chunk.len()
+            );
+        }
+        assert_eq!(pairs, expected, "blocks of {cut}");
+        assert_eq!(state, single);
+    }
+}

@@ -87,6 +87,11 @@ trap 'rm -f "$table"' EXIT
   done
   echo "| Kalman ATO, diagnostics off | | | $(cells kalman-f32-fast-unmonitored) |"
   echo
+  echo "The resolver front end's synchronous demodulator (16 ADC samples per carrier period,"
+  echo "its once-per-period work included): $(firmware_value 'insns_per_sample_pair demodulator-f32')"
+  echo "instructions per ADC sample pair with one \`Demodulator::push\` call each,"
+  echo "$(firmware_value 'insns_per_sample_pair_in_block demodulator-f32') in one \`Demodulator::push_block\` call (a DMA buffer)."
+  echo
   echo "Code size of the \`f32\` update with fast sin/cos (\`Gains::update\`), alone and with"
   echo "the out-of-line functions it calls:"
   echo

@@ -14,7 +14,11 @@ use angletrack_core::{Gains, SinCos};
 #[allow(dead_code)]
 mod variants;
 
-use variants::{Channel, Entry, Job, NAMES, Observers, adc_counts, entry};
+use angletrack_core::DemodulatorState;
+use variants::{
+    CARRIER_AMPLITUDE_COUNTS, CARRIER_DELAY_RAD, Channel, Entry, Job, NAMES, Observers,
+    SAMPLES_PER_PERIOD, adc_counts, demodulator, encode_pair, entry,
+};
 
 /// Samples of the simulated resolver (0.2 s at 10 kHz, about 11 turns).
 const SAMPLES: usize = 2000;
@@ -76,6 +80,11 @@ fn main() {
         );
     }
     fs::write(out.join("reference.bin"), &reference.records).expect("OUT_DIR is writable");
+    fs::write(
+        out.join("demodulator.bin"),
+        demodulator_reference(&y_c, &y_s),
+    )
+    .expect("OUT_DIR is writable");
     let scenario = format!(
         "/// Samples of the simulated resolver.\n\
          pub const SAMPLES: usize = {SAMPLES};\n\
@@ -83,8 +92,42 @@ fn main() {
          pub const OBSERVERS: Observers = Observers {{ second_order: {:?}, third_order: {:?}, \
          kalman: {:?}, sample_period_s: {:?} }};\n\
          /// Input samples, then each variant's reference records (see `variants`).\n\
-         pub static REFERENCE: &[u8] = include_bytes!(concat!(env!(\"OUT_DIR\"), \"/reference.bin\"));\n",
+         pub static REFERENCE: &[u8] = include_bytes!(concat!(env!(\"OUT_DIR\"), \"/reference.bin\"));\n\
+         /// The demodulator's raw ADC samples (counts, f32 pairs), then its pairs.\n\
+         pub static DEMODULATOR_REFERENCE: &[u8] = \
+         include_bytes!(concat!(env!(\"OUT_DIR\"), \"/demodulator.bin\"));\n",
         observers.second_order, observers.third_order, observers.kalman, observers.sample_period_s
     );
     fs::write(out.join("scenario.rs"), scenario).expect("OUT_DIR is writable");
+}
+
+/// The demodulator variant's reference: raw 12-bit samples of both windings, the benchmark
+/// resolver's signals as envelopes of a 10 kHz carrier (each `(y_c, y_s)` held for one
+/// carrier period, sampled 16 times, mid-scale 2048, rounded), then the pairs the core's
+/// demodulator makes of them on the host in `f32`.
+fn demodulator_reference(y_c: &[f32], y_s: &[f32]) -> Vec<u8> {
+    let raw: Vec<(f32, f32)> = (0..SAMPLES)
+        .map(|j| {
+            let k = j / SAMPLES_PER_PERIOD;
+            let phase =
+                std::f64::consts::TAU * (j % SAMPLES_PER_PERIOD) as f64 / SAMPLES_PER_PERIOD as f64;
+            let carrier =
+                f64::from(CARRIER_AMPLITUDE_COUNTS) * (phase + f64::from(CARRIER_DELAY_RAD)).sin();
+            let code = |y: f32| (2048.0 + f64::from(y) * carrier).round() as f32;
+            (code(y_c[k]), code(y_s[k]))
+        })
+        .collect();
+    let mut data = Vec::new();
+    for (c, s) in &raw {
+        data.extend_from_slice(&c.to_le_bytes());
+        data.extend_from_slice(&s.to_le_bytes());
+    }
+    let demodulator = demodulator().expect("valid demodulator settings");
+    let mut state = DemodulatorState::new();
+    for &(c, s) in &raw {
+        if let Some(pair) = demodulator.push(&mut state, c, s) {
+            data.extend_from_slice(&encode_pair(&pair));
+        }
+    }
+    data
 }

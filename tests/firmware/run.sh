@@ -13,6 +13,10 @@
 #     `insns_per_sample_in_block <variant>: N`: the instructions inside `update_block::<N, S>`
 #     and the functions it calls, per sample of one call over all samples;
 #     and `insns_per_iteration loop: N`: the loop alone, with an empty callee;
+#     `insns_per_sample_pair demodulator-f32: N`: the instructions inside the out-of-line
+#     `demodulate` (the core's `Demodulator::push`) and what it calls, per ADC sample pair;
+#     `insns_per_sample_pair_in_block demodulator-f32: N`: the same inside one
+#     `demodulate_block` call (`Demodulator::push_block`) over all samples;
 #  4. prints the code size of each f32 update function, alone and with the out-of-line
 #     functions it calls.
 # Needs: cargo with the thumbv7em-none-eabihf target, qemu-system-arm, gcc,
@@ -151,6 +155,16 @@ for variant in second-order-f32-exact second-order-f32-fast third-order-f32-exac
   block=$(per_sample "$variant" block)
   echo "insns_per_sample_in_block $variant: ${block#* }"
 done
+
+# The resolver front end: the synchronous demodulator per ADC sample pair (its once-per-period
+# work amortised over the period's 16 samples).
+ranges=$(measured "$(mangled "angletrack_firmware_test::demodulate")")
+counts=$(per_sample demodulator-f32)
+echo "insns_per_sample_pair demodulator-f32: ${counts#* }"
+echo "insns_per_iteration demodulator-f32: ${counts% *}"
+ranges=$(measured "$(mangled "angletrack_firmware_test::demodulate_block")")
+block=$(per_sample demodulator-f32 block)
+echo "insns_per_sample_pair_in_block demodulator-f32: ${block#* }"
 
 # Code size: each update function, then with every function it calls (transitively).
 for order in 2 3; do

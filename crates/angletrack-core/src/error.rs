@@ -60,6 +60,34 @@ pub enum Parameter {
     MaxAmplitudeMismatch,
     /// The largest quadrature angle (rad) before a fault is flagged.
     MaxQuadrature,
+    /// The excitation carrier frequency (Hz) of the resolver front end.
+    CarrierFrequency,
+    /// The rate (Hz) of the excitation's DAC/PWM updates or of the ADC samples.
+    TickRate,
+    /// The number of ADC samples per carrier period of the demodulator.
+    SamplesPerPeriod,
+    /// The nominal carrier amplitude at the ADC (counts) of the demodulator.
+    CarrierAmplitude,
+    /// The ADC's code range or the clipping margin inside it (counts).
+    AdcRange,
+    /// The relative carrier amplitude below which loss of excitation is flagged.
+    LossOfExcitationThreshold,
+    /// The carrier phase drift (rad) from its start-up value beyond which a fault is flagged.
+    PhaseDriftBound,
+    /// The carrier delay (rad) the start-up estimate is resolved around.
+    ExpectedDelay,
+    /// The smoothing factor of the carrier delay's tracking.
+    DelayTrackingFactor,
+    /// The number of carrier periods of the start-up delay estimate.
+    StartupPeriods,
+    /// The number of pole pairs of the motor.
+    PolePairs,
+    /// The resolver's speed ratio (electrical turns per mechanical turn).
+    SpeedRatio,
+    /// The latency (s) by which the drive's angle is extrapolated.
+    Latency,
+    /// The cut-off frequency (Hz) or time constant (s) of the speed output's low-pass.
+    SpeedFilter,
 }
 
 impl Parameter {
@@ -104,6 +132,20 @@ impl Parameter {
             Parameter::MaxOffset => "max_offset",
             Parameter::MaxAmplitudeMismatch => "max_amplitude_mismatch",
             Parameter::MaxQuadrature => "max_quadrature_rad",
+            Parameter::CarrierFrequency => "carrier_hz",
+            Parameter::TickRate => "tick_rate_hz",
+            Parameter::SamplesPerPeriod => "samples_per_period",
+            Parameter::CarrierAmplitude => "carrier_amplitude_counts",
+            Parameter::AdcRange => "adc_range",
+            Parameter::LossOfExcitationThreshold => "loss_of_excitation",
+            Parameter::PhaseDriftBound => "phase_drift_bound_rad",
+            Parameter::ExpectedDelay => "expected_delay_rad",
+            Parameter::DelayTrackingFactor => "delay_tracking_factor",
+            Parameter::StartupPeriods => "startup_periods",
+            Parameter::PolePairs => "pole_pairs",
+            Parameter::SpeedRatio => "speed_ratio",
+            Parameter::Latency => "latency_s",
+            Parameter::SpeedFilter => "speed_filter",
         }
     }
 

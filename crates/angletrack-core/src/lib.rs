@@ -33,6 +33,10 @@
 //! at once, `observer` the trait over all observers, `error` the refusals, `real` the float
 //! types, `adc` the ADC front end, `calibration` the sensor correction,
 //! `calibration_settings` its configuration and `learning` its online estimator.
+//! The resolver front end (§13) is `excitation` (the carrier to write out), `demodulator`
+//! (ADC samples of the windings to one `(y_c, y_s)` pair per carrier period, the carrier
+//! delay compensated) with `front_end_faults`, and `outputs` (the electrical angle at the
+//! PWM update instant).
 //!
 //! Only the discrete gains `L` differ between the classical 2nd-order ATO (order 2), the
 //! 3rd-order ATO designed by pole placement and the time-invariant Kalman ATO (order 3).
@@ -93,12 +97,16 @@ mod adc;
 mod bank;
 mod calibration;
 mod calibration_settings;
+mod demodulator;
 mod error;
+mod excitation;
 mod faults;
+mod front_end_faults;
 mod gains;
 mod learning;
 mod monitor;
 mod observer;
+mod outputs;
 mod real;
 mod sincos;
 mod stability;
@@ -110,12 +118,16 @@ pub use adc::{AdcSample, AdcScaling, MAX_MID_SCALE_COUNTS};
 pub use bank::ChannelBank;
 pub use calibration::SensorCalibration;
 pub use calibration_settings::CalibrationSettings;
+pub use demodulator::{DemodulatedPair, Demodulator, DemodulatorSettings, DemodulatorState};
 pub use error::{ConfigError, Parameter};
+pub use excitation::{Excitation, ExcitationState, Waveform};
 pub use faults::Faults;
+pub use front_end_faults::FrontEndFaults;
 pub use gains::{Gains, Order, SupportedOrder};
 pub use learning::{CalibrationMode, Calibrator};
 pub use monitor::FaultThresholds;
 pub use observer::{AngleTrackingObserver, Observer, SecondOrderObserver, ThirdOrderObserver};
+pub use outputs::{DriveAngle, DriveOutputs, DriveOutputsState};
 pub use real::Real;
 pub use sincos::{Detection, Exact, Fast, SinCos};
 pub use state::{Estimate, ObserverState};

@@ -94,6 +94,14 @@ pub enum Argument {
     LockTolerance,
     /// The relative band of the settling time.
     SettlingBand,
+    /// The number of ADC samples per carrier period of a resolver model.
+    SamplesPerPeriod,
+    /// The carrier delay (rad) of a resolver model.
+    CarrierDelay,
+    /// The transformation ratio of a resolver model.
+    TransformationRatio,
+    /// The DC common mode (ADC counts) of a resolver model's windings.
+    CommonMode,
 }
 
 impl Argument {
@@ -143,6 +151,10 @@ impl Argument {
             Argument::Skip => "skip_s",
             Argument::LockTolerance => "lock_tolerance_rad",
             Argument::SettlingBand => "settling_band",
+            Argument::SamplesPerPeriod => "samples_per_period",
+            Argument::CarrierDelay => "carrier_delay_rad",
+            Argument::TransformationRatio => "transformation_ratio",
+            Argument::CommonMode => "common_mode_counts",
         }
     }
 }

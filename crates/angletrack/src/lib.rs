@@ -35,7 +35,9 @@
 //!   responses (linear and a 179 degree nonlinear step), speed limits.
 //! * The paper ([`paper`]): its four settings, the three observers it compares and the
 //!   benchmarks' gains, for the tests, examples, benchmarks and report alike.
-//! * Scenarios ([`MotionProfile`], [`SensorModel`], [`Scenario`]): deterministic from a seed.
+//! * Scenarios ([`MotionProfile`], [`SensorModel`], [`Scenario`]): deterministic from a seed;
+//!   [`ResolverModel`] gives a carrier-excited resolver's raw windings for the core's
+//!   [`Demodulator`].
 //! * Metrics ([`run`], [`Metrics`]): a run of any observer measured against the truth.
 //! * Recorded captures ([`capture`]): delimited text of any layout, `.npy` and `.npz`, read
 //!   in chunks of constant memory with every fault named by file, line and column; the
@@ -54,6 +56,11 @@ pub use angletrack_core::{
     AngleTrackingObserver, ChannelBank, ConfigError, Estimate, Exact, Fast, FaultThresholds,
     Faults, Gains, Observer, ObserverState, Parameter, Real, SecondOrderObserver, SinCos,
     ThirdOrderObserver,
+};
+// The resolver front end (`docs/theory.md §13`).
+pub use angletrack_core::{
+    DemodulatedPair, Demodulator, DemodulatorSettings, DemodulatorState, DriveAngle, DriveOutputs,
+    DriveOutputsState, Excitation, ExcitationState, FrontEndFaults, Waveform,
 };
 pub use nalgebra::Complex;
 
@@ -79,5 +86,5 @@ pub use design::{
 pub use error::{Argument, Error};
 pub use sim::{
     BatchColumns, ChannelBatch, ErrorStatistics, Kinematics, LANES, MAX_SAMPLES, Metrics,
-    MetricsOptions, Motion, MotionProfile, Run, Scenario, SensorModel, run,
+    MetricsOptions, Motion, MotionProfile, ResolverModel, Run, Scenario, SensorModel, run,
 };

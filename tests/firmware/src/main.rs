@@ -10,7 +10,10 @@
 //!   and nothing else: one out-of-line `Gains::update` call per sample (variant `loop` runs
 //!   the loop with an empty callee), or with `block` one `Gains::update_block` call for all
 //!   of them. The instruction count per update is the difference of two such runs of
-//!   different lengths, counted by the TCG plugin in `plugin/`.
+//!   different lengths, counted by the TCG plugin in `plugin/`. Variant `demodulator-f32`
+//!   runs the resolver front end's synchronous demodulator instead, one out-of-line
+//!   `Demodulator::push` per ADC sample pair, or with `block` one `Demodulator::push_block`
+//!   for all of them (`check` compares its pairs with the host's).
 #![no_std]
 #![no_main]
 
@@ -18,13 +21,16 @@ mod variants;
 
 use core::hint::black_box;
 
-use angletrack_core::{AdcScaling, Calibrator, Estimate, Gains, ObserverState, SinCos};
+use angletrack_core::{
+    AdcScaling, Calibrator, DemodulatedPair, Demodulator, DemodulatorState, Estimate, Gains,
+    ObserverState, SinCos,
+};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::{hprintln, nr};
 use variants::{
-    Channel, Entry, Job, LOOP_VARIANT, NAMES, Observers, RECORD_BYTES, SAMPLE_BYTES, adc_counts,
-    entry,
+    Channel, DEMODULATOR, Entry, Job, LOOP_VARIANT, NAMES, Observers, PAIR_BYTES, RECORD_BYTES,
+    SAMPLE_BYTES, SAMPLES_PER_PERIOD, adc_counts, entry,
 };
 
 include!(concat!(env!("OUT_DIR"), "/scenario.rs"));
@@ -118,6 +124,105 @@ fn update_block<const N: usize, S: SinCos<f32>>(
     out: &mut [Estimate<f32>],
 ) -> usize {
     gains.update_block(state, y_c, y_s, out)
+}
+
+/// One ADC sample pair through the synchronous demodulator, kept out of line like
+/// [`update`]: the unit whose instructions are counted per ADC sample pair.
+#[inline(never)]
+fn demodulate(
+    demodulator: &Demodulator<f32, SAMPLES_PER_PERIOD>,
+    state: &mut DemodulatorState<f32>,
+    raw_c: f32,
+    raw_s: f32,
+) -> Option<DemodulatedPair<f32>> {
+    demodulator.push(state, raw_c, raw_s)
+}
+
+/// A block of ADC sample pairs through the demodulator (`Demodulator::push_block`), kept out
+/// of line: counted per sample pair of one call over all samples.
+#[inline(never)]
+fn demodulate_block(
+    demodulator: &Demodulator<f32, SAMPLES_PER_PERIOD>,
+    state: &mut DemodulatorState<f32>,
+    raw_c: &[f32],
+    raw_s: &[f32],
+) -> usize {
+    demodulator.push_block(state, raw_c, raw_s, |pair| {
+        black_box(pair);
+    })
+}
+
+/// Largest accepted difference of a demodulated pair from the host's (amplitude 1): the
+/// same `f32` operations in the same order, so about an ulp.
+const PAIR_TOLERANCE: f32 = 1e-6;
+
+/// The raw ADC samples of the demodulator variant (counts).
+fn raw_sample(k: usize) -> (f32, f32) {
+    let r = &DEMODULATOR_REFERENCE[k * SAMPLE_BYTES..(k + 1) * SAMPLE_BYTES];
+    let word = |i: usize| [r[i], r[i + 1], r[i + 2], r[i + 3]];
+    (f32::from_le_bytes(word(0)), f32::from_le_bytes(word(4)))
+}
+
+/// `check` mode for the demodulator: every pair against the host's. Returns `true` if all
+/// are within [`PAIR_TOLERANCE`].
+fn check_demodulator() -> Result<bool, &'static str> {
+    let demodulator = variants::demodulator().map_err(|_| "demodulator settings refused")?;
+    let mut state = DemodulatorState::new();
+    let mut pairs = DEMODULATOR_REFERENCE[SAMPLES * SAMPLE_BYTES..].chunks_exact(PAIR_BYTES);
+    let (mut worst, mut count, mut missing) = (0.0f32, 0usize, false);
+    for k in 0..SAMPLES {
+        let (c, s) = raw_sample(k);
+        if let Some(pair) = demodulate(&demodulator, &mut state, c, s) {
+            let Some(r) = pairs.next() else {
+                missing = true;
+                break;
+            };
+            let word = |i: usize| f32::from_le_bytes([r[i], r[i + 1], r[i + 2], r[i + 3]]);
+            for d in [(pair.y_c - word(0)).abs(), (pair.y_s - word(4)).abs()] {
+                if worse(d, worst) {
+                    worst = d;
+                }
+            }
+            count += 1;
+        }
+    }
+    let ok = !missing && pairs.next().is_none() && count > 0 && worst <= PAIR_TOLERANCE;
+    hprintln!(
+        "check {}: {} ADC sample pairs, {} pairs, max |pair - host| {:e}: {}",
+        DEMODULATOR,
+        SAMPLES,
+        count,
+        worst,
+        if ok { "ok" } else { "FAIL" }
+    );
+    Ok(ok)
+}
+
+/// `count` mode for the demodulator: `samples` ADC sample pairs and nothing else, one
+/// `push` call each, or with `block` one `push_block` call for all of them.
+fn count_demodulator(samples: usize, block: bool) -> Result<(), &'static str> {
+    let demodulator = variants::demodulator().map_err(|_| "demodulator settings refused")?;
+    let mut state = DemodulatorState::new();
+    let n = samples.min(SAMPLES);
+    if block {
+        let (mut raw_c, mut raw_s) = ([0.0f32; SAMPLES], [0.0f32; SAMPLES]);
+        for k in 0..n {
+            (raw_c[k], raw_s[k]) = raw_sample(k);
+        }
+        black_box(demodulate_block(
+            &demodulator,
+            &mut state,
+            &raw_c[..n],
+            &raw_s[..n],
+        ));
+        return Ok(());
+    }
+    let step = black_box(demodulate);
+    for k in 0..n {
+        let (c, s) = raw_sample(k);
+        black_box(&step(&demodulator, &mut state, c, s));
+    }
+    Ok(())
 }
 
 /// The simulated resolver's samples, decoded from the reference data.
@@ -287,7 +392,8 @@ fn run() -> Result<(), &'static str> {
                     return Err("gains refused");
                 }
             }
-            if check.failures > 0 {
+            let demodulator_ok = check_demodulator()?;
+            if check.failures > 0 || !demodulator_ok {
                 return Err("estimates differ from the host's");
             }
             Ok(())
@@ -299,6 +405,9 @@ fn run() -> Result<(), &'static str> {
                 .and_then(|n| n.parse().ok())
                 .ok_or("count needs a sample count")?;
             let block = args.next() == Some("block");
+            if name == DEMODULATOR {
+                return count_demodulator(samples, block);
+            }
             let loop_only = name == "loop";
             // The loop alone runs with the Kalman variant's types.
             let index = if loop_only {
@@ -321,7 +430,7 @@ fn run() -> Result<(), &'static str> {
                 Err("gains refused")
             }
         }
-        _ => Err("usage: check [tamper] | count <variant|loop> <samples> [block]"),
+        _ => Err("usage: check [tamper] | count <variant|loop|demodulator-f32> <samples> [block]"),
     }
 }
 

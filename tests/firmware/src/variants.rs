@@ -3,8 +3,8 @@
 //! itself against it), so that both run the same list in the same order.
 
 use angletrack_core::{
-    AdcScaling, Calibrator, ConfigError, Estimate, Exact, Fast, FaultThresholds, Gains,
-    ObserverState, SinCos,
+    AdcScaling, Calibrator, ConfigError, DemodulatedPair, Demodulator, DemodulatorSettings,
+    Estimate, Exact, Fast, FaultThresholds, Gains, ObserverState, SinCos,
 };
 
 /// The variants, as printed: `<observer>-<float>-<sincos>[-<entry>]`. `unmonitored` is the
@@ -164,4 +164,36 @@ pub fn decode(r: &[u8]) -> (f32, i32, f32, f32) {
         f32::from_le_bytes(word(8)),
         f32::from_le_bytes(word(12)),
     )
+}
+
+/// The resolver front end's variant, counted per ADC sample pair: the synchronous
+/// demodulator (`Demodulator::push`) alone.
+pub const DEMODULATOR: &str = "demodulator-f32";
+
+/// ADC samples of each winding per carrier period of the demodulator variant.
+pub const SAMPLES_PER_PERIOD: usize = 16;
+
+/// The demodulator variant's carrier amplitude at the ADC (counts) and delay (rad).
+pub const CARRIER_AMPLITUDE_COUNTS: f32 = 1800.0;
+/// The carrier delay of the demodulator variant's raw samples (rad, 305 degrees).
+pub const CARRIER_DELAY_RAD: f32 = 5.323_254;
+
+/// Bytes of one demodulated pair's reference record: `y_c`, `y_s` (f32, little endian).
+pub const PAIR_BYTES: usize = 8;
+
+/// The demodulator of the variant: a 10 kHz carrier, 16 samples per period, 12-bit ADC,
+/// the delay resolved near its true value.
+pub fn demodulator() -> Result<Demodulator<f32, SAMPLES_PER_PERIOD>, ConfigError> {
+    let mut settings = DemodulatorSettings::new(10e3, CARRIER_AMPLITUDE_COUNTS, 0.0, 4095.0);
+    settings.expected_delay_rad = CARRIER_DELAY_RAD - 0.5;
+    Demodulator::new(settings)
+}
+
+/// The reference record of one demodulated pair (written by the build script only).
+#[allow(dead_code)]
+pub fn encode_pair(pair: &DemodulatedPair<f32>) -> [u8; PAIR_BYTES] {
+    let mut r = [0; PAIR_BYTES];
+    r[0..4].copy_from_slice(&pair.y_c.to_le_bytes());
+    r[4..8].copy_from_slice(&pair.y_s.to_le_bytes());
+    r
 }

@@ -1,4 +1,5 @@
-//! Every f32 per-sample entry point of the core (single observers and channel banks), fed
+//! Every f32 per-sample entry point of the core (single observers, channel banks and the
+//! resolver front end), fed
 //! with values the optimiser cannot see (`black_box`). The panic handler below is only kept
 //! by the linker if some path of these calls can panic; `scripts/test.d/40-robustness.sh`
 //! fails when its symbol is in the image.
@@ -8,8 +9,10 @@
 use core::hint::black_box;
 
 use angletrack_core::{
-    AdcScaling, AngleTrackingObserver, CalibrationSettings, Calibrator, ChannelBank, Estimate,
-    Exact, Fast, Gains, Observer, ObserverState, Order, SensorCalibration, SinCos, SupportedOrder,
+    AdcScaling, AngleTrackingObserver, CalibrationSettings, Calibrator, ChannelBank, Demodulator,
+    DemodulatorSettings, DemodulatorState, DriveOutputs, DriveOutputsState, Estimate, Exact,
+    Excitation, ExcitationState, Fast, Gains, Observer, ObserverState, Order, SensorCalibration,
+    SinCos, SupportedOrder, Waveform,
 };
 use cortex_m_rt::entry;
 
@@ -105,9 +108,47 @@ where
     sum + o_c + state.amplitude() + calibrator.turns_learned() as f32
 }
 
+/// The resolver front end's per-sample entry points: the excitation's tick, the
+/// demodulator's push, push_block and feed (with the observer), the drive outputs.
+fn front_end() -> f32 {
+    let Ok(excitation) = Excitation::new(black_box(10_000), black_box(160_000), Waveform::Sine)
+    else {
+        return 0.0;
+    };
+    let settings = DemodulatorSettings::new(black_box(1e4), 1800.0, 0.0, 4095.0);
+    let Ok(demodulator) = Demodulator::<f32, 16>::new(settings) else {
+        return 0.0;
+    };
+    let Ok(gains) = Gains::<f32, 3>::new(black_box([0.5, 0.18, 0.03]), black_box(1e-4)) else {
+        return 0.0;
+    };
+    let Ok(outputs) = DriveOutputs::<f32>::new(black_box(4), black_box(1), 6e-5, 1e-4) else {
+        return 0.0;
+    };
+    let mut carrier = ExcitationState::default();
+    let (mut front_end, mut observer) = (DemodulatorState::new(), ObserverState::new());
+    let mut drive = DriveOutputsState::default();
+    let mut sum = 0.0;
+    for _ in 0..black_box(640) {
+        let dac: f32 = excitation.tick(&mut carrier);
+        let (c, s) = (black_box(2048.0 + dac), black_box(2048.0 - dac));
+        if let Some(pair) = demodulator.push(&mut front_end, c, s) {
+            sum += pair.y_c + pair.faults.bits() as f32;
+        }
+        if let Some((_, e)) = demodulator.feed(&mut front_end, &gains, &mut observer, c, s) {
+            let angle = outputs.outputs(&mut drive, &e);
+            sum += angle.electrical_angle + angle.mechanical_turns as f32;
+        }
+    }
+    let block = black_box([2048.0f32; 37]);
+    demodulator.push_block(&mut front_end, &block, &block[1..], |pair| sum += pair.y_s);
+    sum + front_end.clear_faults().bits() as f32
+}
+
 #[entry]
 fn main() -> ! {
     let mut sum = exercise::<2, Fast>([0.06, 0.001]);
+    sum += front_end();
     sum += exercise::<3, Fast>([0.06, 0.0019, 3e-5]);
     if cfg!(feature = "exact") {
         sum += exercise::<2, Exact>([0.06, 0.001]);

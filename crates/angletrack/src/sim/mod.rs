@@ -1,16 +1,19 @@
 //! Simulation: test scenarios deterministic from a seed (a motion profile of the shaft and a
 //! sensor model, sampled into the truth beside `y_c` and `y_s`), runs of an observer over
-//! them, the metrics of a run, and many channels at once.
+//! them, the metrics of a run, and many channels at once; and a carrier-excited resolver's
+//! raw windings as an ADC samples them (`resolver`).
 
 mod batch;
 mod metrics;
 mod motion;
+mod resolver;
 mod scenario;
 mod sensor;
 
 pub use batch::{BatchColumns, ChannelBatch, LANES};
 pub use metrics::{ErrorStatistics, Metrics, MetricsOptions, Run, run};
 pub use motion::{Kinematics, Motion, MotionProfile};
+pub use resolver::ResolverModel;
 pub use scenario::{MAX_SAMPLES, Scenario};
 pub use sensor::SensorModel;
 

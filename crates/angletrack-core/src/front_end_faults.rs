@@ -1,0 +1,64 @@
+//! [`FrontEndFaults`]: the resolver front end's own fault register (`docs/theory.md §13`),
+//! apart from the observer's [`Faults`](crate::Faults): the excitation and the ADC, as the
+//! AD2S1210 and the AM263Px resolver block report them.
+
+/// A set of front-end fault flags (a bit set, `Copy`), carried by each
+/// [`DemodulatedPair`](crate::DemodulatedPair) and latched by the
+/// [`DemodulatorState`](crate::DemodulatorState).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct FrontEndFaults(u8);
+
+impl FrontEndFaults {
+    /// No fault.
+    pub const NONE: FrontEndFaults = FrontEndFaults(0);
+    /// Loss of excitation: the carrier amplitude at the windings (in-phase and quadrature,
+    /// both windings) is below its threshold: the excitation, a winding or the ADC is gone.
+    pub const LOSS_OF_EXCITATION: FrontEndFaults = FrontEndFaults(1);
+    /// Carrier phase drift: the tracked carrier delay moved from its start-up value by more
+    /// than its bound (44 degrees by default, the AD2S1210's lock range).
+    pub const PHASE_DRIFT: FrontEndFaults = FrontEndFaults(1 << 1);
+    /// Clipping: a raw sample of the window was within the margin of the ADC's rails (or
+    /// not a number).
+    pub const CLIPPING: FrontEndFaults = FrontEndFaults(1 << 2);
+
+    /// The raw bits (bit 0 loss of excitation, 1 phase drift, 2 clipping).
+    pub const fn bits(self) -> u8 {
+        self.0
+    }
+
+    /// `true` when no flag is set.
+    pub const fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+
+    /// `true` when every flag of `other` is set in `self`.
+    ///
+    /// ```
+    /// use angletrack_core::FrontEndFaults;
+    /// let faults = FrontEndFaults::CLIPPING | FrontEndFaults::PHASE_DRIFT;
+    /// assert!(faults.contains(FrontEndFaults::CLIPPING));
+    /// assert!(!faults.contains(FrontEndFaults::LOSS_OF_EXCITATION));
+    /// ```
+    pub const fn contains(self, other: FrontEndFaults) -> bool {
+        self.0 & other.0 == other.0
+    }
+
+    /// `flag` if `condition` holds, else no fault.
+    #[inline(always)]
+    pub(crate) const fn when(condition: bool, flag: FrontEndFaults) -> FrontEndFaults {
+        FrontEndFaults(flag.0 * condition as u8)
+    }
+}
+
+impl core::ops::BitOr for FrontEndFaults {
+    type Output = FrontEndFaults;
+    fn bitor(self, rhs: FrontEndFaults) -> FrontEndFaults {
+        FrontEndFaults(self.0 | rhs.0)
+    }
+}
+
+impl core::ops::BitOrAssign for FrontEndFaults {
+    fn bitor_assign(&mut self, rhs: FrontEndFaults) {
+        self.0 |= rhs.0;
+    }
+}

@@ -176,13 +176,49 @@ impl fmt::Display for ConfigError {
 
 impl core::error::Error for ConfigError {}
 
+/// `?` for `const fn`s (the `?` operator is not available in constant evaluation).
+macro_rules! const_try {
+    ($result:expr) => {
+        match $result {
+            Ok(value) => value,
+            Err(error) => return Err(error),
+        }
+    };
+}
+pub(crate) use const_try;
+
+/// Defines, for the float type `$t`, the `const` check of a positive parameter.
+macro_rules! positive_fns {
+    ($t:ident) => {
+        use super::{ConfigError, Parameter};
+
+        /// Checks that a parameter is finite and strictly positive.
+        pub(crate) const fn check_positive(
+            value: $t,
+            parameter: Parameter,
+        ) -> Result<$t, ConfigError> {
+            if !value.is_finite() {
+                Err(ConfigError::NotFinite(parameter))
+            } else if !(value > 0.0) {
+                Err(ConfigError::NotPositive(parameter))
+            } else {
+                Ok(value)
+            }
+        }
+    };
+}
+
+/// The `f32` check.
+pub(crate) mod for_f32 {
+    positive_fns!(f32);
+}
+
+/// The `f64` check.
+pub(crate) mod for_f64 {
+    positive_fns!(f64);
+}
+
 /// Checks that a parameter is finite and strictly positive.
 pub(crate) fn check_positive<T: Real>(value: T, parameter: Parameter) -> Result<T, ConfigError> {
-    if !value.is_finite() {
-        Err(ConfigError::NotFinite(parameter))
-    } else if !(value > T::ZERO) {
-        Err(ConfigError::NotPositive(parameter))
-    } else {
-        Ok(value)
-    }
+    T::check_positive(value, parameter)
 }

@@ -72,7 +72,7 @@ impl Faults {
     ///
     /// ```
     /// use angletrack_core::Faults;
-    /// let faults = Faults::from_bits_truncate(0xe8); // bad sample and three unknown bits
+    /// let faults = Faults::from_bits_truncate(0x88); // bad sample and an unknown bit
     /// assert_eq!(faults, Faults::BAD_SAMPLE);
     /// ```
     pub const fn from_bits_truncate(bits: u8) -> Faults {

@@ -93,6 +93,7 @@ mod adc;
 mod bank;
 mod calibration;
 mod calibration_settings;
+mod const_config;
 mod error;
 mod faults;
 mod gains;

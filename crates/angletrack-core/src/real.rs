@@ -23,6 +23,7 @@ mod sealed {
 /// few functions the recursion needs, each implemented once per type with [`libm`].
 pub trait Real:
     sealed::Sealed
+    + crate::const_config::ConstChecks
     + Copy
     + Default
     + PartialOrd

@@ -60,6 +60,20 @@ pub enum Parameter {
     MaxAmplitudeMismatch,
     /// The largest quadrature angle (rad) before a fault is flagged.
     MaxQuadrature,
+    /// The closed-loop bandwidth (Hz) of a 2nd-order design.
+    Bandwidth,
+    /// The damping ratio of a 2nd-order design.
+    Damping,
+    /// The ratio `K` of the real pole to the complex pair's real part (3rd-order design).
+    PoleRatio,
+    /// The time constant `T` (s) of a 3rd-order design's poles.
+    PoleTimeConstant,
+    /// The ratio `psi` of the complex pair's imaginary to real part (3rd-order design).
+    PoleFrequencyRatio,
+    /// The scaled process noise `q` of a Kalman design.
+    ProcessNoise,
+    /// The measurement noise `r` of a Kalman design.
+    MeasurementNoise,
 }
 
 impl Parameter {
@@ -104,6 +118,13 @@ impl Parameter {
             Parameter::MaxOffset => "max_offset",
             Parameter::MaxAmplitudeMismatch => "max_amplitude_mismatch",
             Parameter::MaxQuadrature => "max_quadrature_rad",
+            Parameter::Bandwidth => "bandwidth_hz",
+            Parameter::Damping => "damping",
+            Parameter::PoleRatio => "pole_ratio (K)",
+            Parameter::PoleTimeConstant => "pole_time_constant_s (T)",
+            Parameter::PoleFrequencyRatio => "pole_frequency_ratio (psi)",
+            Parameter::ProcessNoise => "process_noise_q",
+            Parameter::MeasurementNoise => "measurement_noise_r",
         }
     }
 

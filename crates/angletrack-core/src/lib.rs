@@ -37,9 +37,13 @@
 //! Only the discrete gains `L` differ between the classical 2nd-order ATO (order 2), the
 //! 3rd-order ATO designed by pole placement and the time-invariant Kalman ATO (order 3).
 //! The gains come from the design tools of the `angletrack` crate or its command line
-//! (`angletrack design ... --format rust`); this crate checks them once, at construction,
-//! and refuses gains outside the stability region of the discrete loop with a
-//! [`ConfigError`] that names the parameter.
+//! (`angletrack design ... --format rust`), or from the common designs here, computed on the
+//! target in its float type so that firmware can retune at run time
+//! ([`Gains::second_order_from_bandwidth`], [`Gains::third_order_from_poles`],
+//! [`Gains::kalman`]); this crate checks them once, at construction, and refuses gains
+//! outside the stability region of the discrete loop with a [`ConfigError`] that names the
+//! parameter. A gain set can also be a `static`, checked by the compiler
+//! ([`Gains::new_const`]).
 //!
 //! # Firmware use
 //!
@@ -94,6 +98,7 @@ mod bank;
 mod calibration;
 mod calibration_settings;
 mod const_config;
+mod design;
 mod error;
 mod faults;
 mod gains;

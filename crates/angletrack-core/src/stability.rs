@@ -11,10 +11,12 @@ macro_rules! stability_fns {
     ($t:ident) => {
         use $crate::error::{ConfigError, Parameter};
 
-        /// `(A x)` for the Taylor step `A` (the `const` twin of `state::predict`, which is on
-        /// the per-sample path and stays generic so that it inlines there).
-        const fn predict<const N: usize>(x: &[$t; N]) -> [$t; N] {
-            let mut p = *x;
+        /// `(A x)` for the Taylor step `A` (`identity`), or `(A - I) x` (not): the
+        /// `const` twin of `state::predict`, which is on the per-sample path and stays
+        /// generic so that it inlines there. `(A - I) x` is summed directly, with no
+        /// cancellation against `x` when its terms are far smaller.
+        const fn taylor_step<const N: usize>(x: &[$t; N], identity: bool) -> [$t; N] {
+            let mut p = if identity { *x } else { [0.0; N] };
             let mut i = 0;
             while i < N {
                 let mut j = i + 1;
@@ -29,22 +31,17 @@ macro_rules! stability_fns {
 
         /// `(A L)[0]`: how much one phase error moves the next predicted angle.
         pub(crate) const fn next_angle_gain<const N: usize>(l: &[$t; N]) -> $t {
-            predict(l)[0]
+            taylor_step(l, true)[0]
         }
 
         /// See [`characteristic_polynomial_in_s`](super::characteristic_polynomial_in_s).
         pub(crate) const fn characteristic_polynomial_in_s<const N: usize>(l: &[$t; N]) -> [$t; N] {
-            let mut v = predict(l);
+            let mut v = taylor_step(l, true);
             let mut c = [0.0; N];
             let mut k = 0;
             while k < N {
                 c[N - 1 - k] = v[0];
-                let next = predict(&v);
-                let mut i = 0;
-                while i < N {
-                    v[i] = next[i] - v[i];
-                    i += 1;
-                }
+                v = taylor_step(&v, false);
                 k += 1;
             }
             c

@@ -20,6 +20,7 @@ use crate::sincos::SinCos;
 /// | `max_amplitude_mismatch` | 0.2 (`|A_s / A_c - 1|`) |
 /// | `max_quadrature_rad` | 0.1 rad (5.7 degrees) |
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct CalibrationSettings<T> {
     /// The estimator learns only above this electrical speed (rad/s): a rotor at rest carries
     /// no information. `None`: one turn in 4096 samples. At least one turn in `2^20`

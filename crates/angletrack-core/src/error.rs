@@ -8,6 +8,7 @@ use crate::real::Real;
 
 /// A parameter of an observer's configuration, named in [`ConfigError`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum Parameter {
     /// The sample period `Ts` (s).
@@ -147,6 +148,7 @@ impl fmt::Display for Parameter {
 /// Why a configuration was refused. Returned once, at construction; the per-sample update
 /// never fails.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum ConfigError {
     /// The parameter is NaN or infinite.

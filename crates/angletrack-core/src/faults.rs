@@ -125,6 +125,27 @@ impl fmt::Debug for Faults {
     }
 }
 
+/// The flags by name, as [`Display`](fmt::Display) writes them (`none` when empty).
+#[cfg(feature = "defmt")]
+impl defmt::Format for Faults {
+    fn format(&self, f: defmt::Formatter<'_>) {
+        if self.is_empty() {
+            defmt::write!(f, "none");
+            return;
+        }
+        let mut first = true;
+        for (flag, name) in Faults::NAMES {
+            if self.contains(flag) {
+                if !first {
+                    defmt::write!(f, ", ");
+                }
+                defmt::write!(f, "{=str}", name);
+                first = false;
+            }
+        }
+    }
+}
+
 impl fmt::Display for Faults {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if self.is_empty() {

@@ -31,6 +31,7 @@ use crate::real::Real;
 /// | `monitor` | `true` |
 /// | `re_acquire` | `true` |
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct FaultThresholds<T> {
     /// The amplitude of a healthy signal.
     pub nominal_amplitude: T,

@@ -10,6 +10,7 @@ use crate::wrap::{wrap_angle, wrapped};
 
 /// What an observer knows after a sample.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Estimate<T> {
     /// Estimated shaft angle (rad), wrapped to [-pi, pi).
     pub angle: T,

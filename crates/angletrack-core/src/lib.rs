@@ -123,7 +123,7 @@ pub use learning::{CalibrationMode, Calibrator};
 pub use monitor::FaultThresholds;
 pub use observer::{AngleTrackingObserver, Observer, SecondOrderObserver, ThirdOrderObserver};
 pub use real::Real;
-pub use sincos::{Detection, Exact, Fast, SinCos};
+pub use sincos::{Detection, Exact, Fast, SinCos, SinCosUnit};
 pub use state::{Estimate, ObserverState};
 
 #[cfg(test)]

@@ -82,6 +82,16 @@
 //! [`Observer`] bundles both and implements [`AngleTrackingObserver`], the trait for code
 //! that should not care which observer it runs.
 //!
+//! # No panic, in optimised builds
+//!
+//! The per-sample entry points (`update`, `update_block`, `update_each`,
+//! `update_adc`, `update_calibrated`, the bank's updates) have no panic path in an optimised
+//! build (`--release`): the repository's `tests/no-panic` image links them for a Cortex-M4F
+//! with a panic handler that the linker must drop, and its test fails if any panic path
+//! remains. Debug builds keep Rust's overflow checks, which can panic on an integer
+//! overflow that release builds wrap. Constructors never panic either: they return a
+//! [`ConfigError`].
+//!
 //! # Float types and the phase detector's sin/cos
 //!
 //! Everything is generic over the sealed [`Real`] trait (`f32`, `f64`); the `f32` path uses

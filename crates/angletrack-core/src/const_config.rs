@@ -122,7 +122,7 @@ macro_rules! const_config {
             ///
             /// An unstable set (here `l3 < 0`) does not compile:
             ///
-            /// ```compile_fail
+            /// ```compile_fail,E0080
             /// use angletrack_core::Gains;
             #[doc = concat!("static GAINS: Gains<", stringify!($t), ", 3> = match Gains::<", stringify!($t), ", 3>::new_const([0.1578, 0.0126, -0.000_34], 50e-6) {")]
             ///     Ok(gains) => gains,
@@ -240,6 +240,21 @@ macro_rules! const_config {
             ///     Err(error) => Err(error),
             /// };
             /// assert_eq!(CHECK, Err(ConfigError::OutOfRange(Parameter::FilterFactor)));
+            /// ```
+            ///
+            /// A `static` of such thresholds does not compile:
+            ///
+            /// ```compile_fail,E0080
+            /// use angletrack_core::FaultThresholds;
+            #[doc = concat!("static THRESHOLDS: FaultThresholds<", stringify!($t), "> = match FaultThresholds {")]
+            ///     filter_factor: 1.5,
+            #[doc = concat!("    ..FaultThresholds::<", stringify!($t), ">::for_amplitude_const(1.0)")]
+            /// }
+            /// .check_const(50e-6)
+            /// {
+            ///     Ok(thresholds) => thresholds,
+            ///     Err(_) => panic!("bad thresholds"),
+            /// };
             /// ```
             pub const fn check_const(self, sample_period_s: $t) -> Result<Self, ConfigError> {
                 match crate::monitor::$m::check(&self, sample_period_s) {

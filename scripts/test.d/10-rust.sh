@@ -8,4 +8,7 @@ cargo clippy --workspace --all-targets -- -D warnings
 # The core alone (features of a --workspace build unify, so it is built by itself).
 cargo build -p angletrack-core --target thumbv7em-none-eabihf --release
 cargo build -p angletrack-core --target thumbv6m-none-eabi --release
+# Firmware that logs with defmt: the optional feature builds for the Cortex-M4F.
+cargo build -p angletrack-core --features defmt --target thumbv7em-none-eabihf
+cargo clippy -p angletrack-core --features defmt --all-targets -- -D warnings
 cargo test --workspace

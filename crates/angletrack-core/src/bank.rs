@@ -220,7 +220,13 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             amplitude2,
             valid,
         };
-        let step = self.step::<W>(&mut x, &mut next_angle, &mut amplitude, sample);
+        let step = self.step::<W, S>(
+            &mut S::default(),
+            &mut x,
+            &mut next_angle,
+            &mut amplitude,
+            sample,
+        );
         bank.amplitude[lane] = amplitude;
         bank.turns[lane] = bank.turns[lane].wrapping_add(step.whole);
         for (i, xi) in x.iter().enumerate() {

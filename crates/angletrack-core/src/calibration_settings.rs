@@ -3,7 +3,7 @@
 //! calibration raises against its bounds.
 
 use crate::calibration::SensorCalibration;
-use crate::error::{ConfigError, Parameter, check_positive};
+use crate::error::ConfigError;
 use crate::faults::Faults;
 use crate::gains::Gains;
 use crate::real::Real;
@@ -20,6 +20,7 @@ use crate::sincos::SinCos;
 /// | `max_amplitude_mismatch` | 0.2 (`|A_s / A_c - 1|`) |
 /// | `max_quadrature_rad` | 0.1 rad (5.7 degrees) |
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct CalibrationSettings<T> {
     /// The estimator learns only above this electrical speed (rad/s): a rotor at rest carries
     /// no information. `None`: one turn in 4096 samples. At least one turn in `2^20`
@@ -37,12 +38,7 @@ pub struct CalibrationSettings<T> {
 
 impl<T: Real> Default for CalibrationSettings<T> {
     fn default() -> Self {
-        Self {
-            min_speed_rad_s: None,
-            max_offset: T::from_f32(0.1),
-            max_amplitude_mismatch: T::from_f32(0.2),
-            max_quadrature_rad: T::from_f32(0.1),
-        }
+        T::default_calibration_settings()
     }
 }
 
@@ -50,27 +46,76 @@ impl<T: Real> CalibrationSettings<T> {
     /// Checks the settings for the sample period `sample_period_s`: every bound finite and
     /// positive, the minimum speed within its range.
     pub(crate) fn check(&self, sample_period_s: T) -> Result<CheckedCalibration<T>, ConfigError> {
-        let min_scaled_speed = match self.min_speed_rad_s {
-            Some(speed) => check_positive(speed, Parameter::MinSpeed)? * sample_period_s,
-            None => T::TAU / T::from_f32(4096.0),
-        };
-        let slowest = T::TAU / T::from_f32(1_048_576.0);
-        if !(min_scaled_speed >= slowest && min_scaled_speed <= T::FRAC_PI_2) {
-            return Err(ConfigError::OutOfRange(Parameter::MinSpeed));
-        }
-        check_positive(self.max_offset, Parameter::MaxOffset)?;
-        check_positive(self.max_amplitude_mismatch, Parameter::MaxAmplitudeMismatch)?;
-        check_positive(self.max_quadrature_rad, Parameter::MaxQuadrature)?;
-        Ok(CheckedCalibration {
-            settings: *self,
-            min_scaled_speed,
-        })
+        T::check_calibration_settings(self, sample_period_s)
     }
+}
+
+/// Defines, for the float type `$t` (its functions in module `$m`), the `const fn`s that
+/// make and check the settings: one implementation for both types and for both the generic
+/// and the `const` constructors (constant evaluation cannot call trait methods).
+macro_rules! calibration_settings_fns {
+    ($t:ident, $m:ident) => {
+        use super::{CalibrationSettings, CheckedCalibration};
+        use $crate::error::$m::check_positive;
+        use $crate::error::{ConfigError, Parameter, const_try};
+
+        /// See [`CalibrationSettings::default`] (the bounds are the `f32` values in both
+        /// types, so that `f32` and `f64` settings agree exactly).
+        pub(crate) const fn default_settings() -> CalibrationSettings<$t> {
+            CalibrationSettings {
+                min_speed_rad_s: None,
+                max_offset: 0.1_f32 as $t,
+                max_amplitude_mismatch: 0.2_f32 as $t,
+                max_quadrature_rad: 0.1_f32 as $t,
+            }
+        }
+
+        /// See [`CalibrationSettings::check`].
+        pub(crate) const fn check(
+            settings: &CalibrationSettings<$t>,
+            sample_period_s: $t,
+        ) -> Result<CheckedCalibration<$t>, ConfigError> {
+            const TAU: $t = core::$t::consts::TAU;
+            let min_scaled_speed = match settings.min_speed_rad_s {
+                Some(speed) => {
+                    const_try!(check_positive(speed, Parameter::MinSpeed)) * sample_period_s
+                }
+                None => TAU / 4096.0,
+            };
+            let slowest = TAU / 1_048_576.0;
+            if !(min_scaled_speed >= slowest && min_scaled_speed <= core::$t::consts::FRAC_PI_2) {
+                return Err(ConfigError::OutOfRange(Parameter::MinSpeed));
+            }
+            const_try!(check_positive(settings.max_offset, Parameter::MaxOffset));
+            const_try!(check_positive(
+                settings.max_amplitude_mismatch,
+                Parameter::MaxAmplitudeMismatch
+            ));
+            const_try!(check_positive(
+                settings.max_quadrature_rad,
+                Parameter::MaxQuadrature
+            ));
+            Ok(CheckedCalibration {
+                settings: *settings,
+                min_scaled_speed,
+            })
+        }
+    };
+}
+
+/// The `f32` functions.
+pub(crate) mod for_f32 {
+    calibration_settings_fns!(f32, for_f32);
+}
+
+/// The `f64` functions.
+pub(crate) mod for_f64 {
+    calibration_settings_fns!(f64, for_f64);
 }
 
 /// The settings with the minimum speed in rad per sample.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct CheckedCalibration<T> {
+pub struct CheckedCalibration<T> {
     pub(crate) settings: CalibrationSettings<T>,
     pub(crate) min_scaled_speed: T,
 }

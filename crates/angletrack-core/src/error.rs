@@ -8,6 +8,7 @@ use crate::real::Real;
 
 /// A parameter of an observer's configuration, named in [`ConfigError`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum Parameter {
     /// The sample period `Ts` (s).
@@ -88,6 +89,20 @@ pub enum Parameter {
     Latency,
     /// The cut-off frequency (Hz) or time constant (s) of the speed output's low-pass.
     SpeedFilter,
+    /// The closed-loop bandwidth (Hz) of a 2nd-order design.
+    Bandwidth,
+    /// The damping ratio of a 2nd-order design.
+    Damping,
+    /// The ratio `K` of the real pole to the complex pair's real part (3rd-order design).
+    PoleRatio,
+    /// The time constant `T` (s) of a 3rd-order design's poles.
+    PoleTimeConstant,
+    /// The ratio `psi` of the complex pair's imaginary to real part (3rd-order design).
+    PoleFrequencyRatio,
+    /// The scaled process noise `q` of a Kalman design.
+    ProcessNoise,
+    /// The measurement noise `r` of a Kalman design.
+    MeasurementNoise,
 }
 
 impl Parameter {
@@ -146,6 +161,13 @@ impl Parameter {
             Parameter::SpeedRatio => "speed_ratio",
             Parameter::Latency => "latency_s",
             Parameter::SpeedFilter => "speed_filter",
+            Parameter::Bandwidth => "bandwidth_hz",
+            Parameter::Damping => "damping",
+            Parameter::PoleRatio => "pole_ratio (K)",
+            Parameter::PoleTimeConstant => "pole_time_constant_s (T)",
+            Parameter::PoleFrequencyRatio => "pole_frequency_ratio (psi)",
+            Parameter::ProcessNoise => "process_noise_q",
+            Parameter::MeasurementNoise => "measurement_noise_r",
         }
     }
 
@@ -168,6 +190,7 @@ impl fmt::Display for Parameter {
 /// Why a configuration was refused. Returned once, at construction; the per-sample update
 /// never fails.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum ConfigError {
     /// The parameter is NaN or infinite.
@@ -218,13 +241,49 @@ impl fmt::Display for ConfigError {
 
 impl core::error::Error for ConfigError {}
 
+/// `?` for `const fn`s (the `?` operator is not available in constant evaluation).
+macro_rules! const_try {
+    ($result:expr) => {
+        match $result {
+            Ok(value) => value,
+            Err(error) => return Err(error),
+        }
+    };
+}
+pub(crate) use const_try;
+
+/// Defines, for the float type `$t`, the `const` check of a positive parameter.
+macro_rules! positive_fns {
+    ($t:ident) => {
+        use super::{ConfigError, Parameter};
+
+        /// Checks that a parameter is finite and strictly positive.
+        pub(crate) const fn check_positive(
+            value: $t,
+            parameter: Parameter,
+        ) -> Result<$t, ConfigError> {
+            if !value.is_finite() {
+                Err(ConfigError::NotFinite(parameter))
+            } else if !(value > 0.0) {
+                Err(ConfigError::NotPositive(parameter))
+            } else {
+                Ok(value)
+            }
+        }
+    };
+}
+
+/// The `f32` check.
+pub(crate) mod for_f32 {
+    positive_fns!(f32);
+}
+
+/// The `f64` check.
+pub(crate) mod for_f64 {
+    positive_fns!(f64);
+}
+
 /// Checks that a parameter is finite and strictly positive.
 pub(crate) fn check_positive<T: Real>(value: T, parameter: Parameter) -> Result<T, ConfigError> {
-    if !value.is_finite() {
-        Err(ConfigError::NotFinite(parameter))
-    } else if !(value > T::ZERO) {
-        Err(ConfigError::NotPositive(parameter))
-    } else {
-        Ok(value)
-    }
+    T::check_positive(value, parameter)
 }

@@ -72,7 +72,7 @@ impl Faults {
     ///
     /// ```
     /// use angletrack_core::Faults;
-    /// let faults = Faults::from_bits_truncate(0xe8); // bad sample and three unknown bits
+    /// let faults = Faults::from_bits_truncate(0x88); // bad sample and an unknown bit
     /// assert_eq!(faults, Faults::BAD_SAMPLE);
     /// ```
     pub const fn from_bits_truncate(bits: u8) -> Faults {
@@ -122,6 +122,27 @@ impl core::ops::BitOrAssign for Faults {
 impl fmt::Debug for Faults {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "Faults({self})")
+    }
+}
+
+/// The flags by name, as [`Display`](fmt::Display) writes them (`none` when empty).
+#[cfg(feature = "defmt")]
+impl defmt::Format for Faults {
+    fn format(&self, f: defmt::Formatter<'_>) {
+        if self.is_empty() {
+            defmt::write!(f, "none");
+            return;
+        }
+        let mut first = true;
+        for (flag, name) in Faults::NAMES {
+            if self.contains(flag) {
+                if !first {
+                    defmt::write!(f, ", ");
+                }
+                defmt::write!(f, "{=str}", name);
+                first = false;
+            }
+        }
     }
 }
 

@@ -5,13 +5,12 @@
 
 use core::marker::PhantomData;
 
-use crate::calibration_settings::{CalibrationSettings, CheckedCalibration};
-use crate::error::{ConfigError, Parameter, check_positive};
+use crate::calibration_settings::CheckedCalibration;
+use crate::error::ConfigError;
 use crate::monitor::{CheckedThresholds, FaultThresholds};
 use crate::real::Real;
 use crate::sincos::SinCos;
-use crate::stability::{characteristic_polynomial_in_s, check_stability, gains_of_loop_polynomial};
-use crate::state::predict;
+use crate::stability::{characteristic_polynomial_in_s, gains_of_loop_polynomial};
 
 /// The orders the recursion supports: 2 (type II loop) and 3 (type III loop).
 ///
@@ -44,7 +43,8 @@ mod sealed {
 /// `(noise / amplitude)^2`.
 ///
 /// Only [`Gains::new`] and [`Gains::from_loop_polynomial`] make one, for `N` = 2 or 3
-/// ([`SupportedOrder`]). `Copy`: one configuration can drive any number of
+/// ([`SupportedOrder`]), or their `const` forms [`Gains::new_const`] and
+/// [`Gains::from_loop_polynomial_const`] for a `static` checked at compile time. `Copy`: one configuration can drive any number of
 /// [`ObserverState`](crate::ObserverState)s (channels).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Gains<T: Real, const N: usize, S = <T as Real>::DefaultSinCos> {
@@ -84,29 +84,8 @@ where
     /// # Ok::<(), ConfigError>(())
     /// ```
     pub fn new(gains: [T; N], sample_period_s: T) -> Result<Self, ConfigError> {
-        let sample_period = check_positive(sample_period_s, Parameter::SamplePeriod)?;
-        // A physical range (1 ps to 1000 s): speed and acceleration are the scaled state
-        // times 1/Ts and 1/Ts^2, which must not overflow for any state the loop can reach.
-        if !(sample_period >= T::from_f32(1e-12) && sample_period <= T::from_f32(1e3)) {
-            return Err(ConfigError::OutOfRange(Parameter::SamplePeriod));
-        }
-        let sample_rate = T::ONE / sample_period;
-        for (i, gain) in gains.iter().enumerate() {
-            if !gain.is_finite() {
-                return Err(ConfigError::NotFinite(Parameter::gain(i)));
-            }
-        }
-        check_stability(&gains)?;
-        Ok(Self {
-            l: gains,
-            sample_period,
-            sample_rate,
-            sample_rate_squared: sample_rate * sample_rate,
-            next_angle_gain: predict(&gains)[0],
-            thresholds: FaultThresholds::default().check(sample_period)?,
-            calibration: CalibrationSettings::default().check(sample_period)?,
-            sin_cos: PhantomData,
-        })
+        // The checks are `const fn`s, shared with `Gains::new_const` (`const_config.rs`).
+        T::new_gains(gains, sample_period_s)
     }
 
     /// Gains that give the discrete loop `(I - L e1^T) A` a chosen characteristic polynomial,

@@ -36,6 +36,7 @@ const MAX_SPEED_CHANGE: f32 = 0.015_625;
 
 /// What a [`Calibrator`] does with each sample.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum CalibrationMode {
     /// Nothing: the samples reach the observer as they are (the default).
     #[default]

@@ -41,9 +41,13 @@
 //! Only the discrete gains `L` differ between the classical 2nd-order ATO (order 2), the
 //! 3rd-order ATO designed by pole placement and the time-invariant Kalman ATO (order 3).
 //! The gains come from the design tools of the `angletrack` crate or its command line
-//! (`angletrack design ... --format rust`); this crate checks them once, at construction,
-//! and refuses gains outside the stability region of the discrete loop with a
-//! [`ConfigError`] that names the parameter.
+//! (`angletrack design ... --format rust`), or from the common designs here, computed on the
+//! target in its float type so that firmware can retune at run time
+//! ([`Gains::second_order_from_bandwidth`], [`Gains::third_order_from_poles`],
+//! [`Gains::kalman`]); this crate checks them once, at construction, and refuses gains
+//! outside the stability region of the discrete loop with a [`ConfigError`] that names the
+//! parameter. A gain set can also be a `static`, checked by the compiler
+//! ([`Gains::new_const`]).
 //!
 //! # Firmware use
 //!
@@ -82,6 +86,16 @@
 //! [`Observer`] bundles both and implements [`AngleTrackingObserver`], the trait for code
 //! that should not care which observer it runs.
 //!
+//! # No panic, in optimised builds
+//!
+//! The per-sample entry points (`update`, `update_block`, `update_each`,
+//! `update_adc`, `update_calibrated`, the bank's updates) have no panic path in an optimised
+//! build (`--release`): the repository's `tests/no-panic` image links them for a Cortex-M4F
+//! with a panic handler that the linker must drop, and its test fails if any panic path
+//! remains. Debug builds keep Rust's overflow checks, which can panic on an integer
+//! overflow that release builds wrap. Constructors never panic either: they return a
+//! [`ConfigError`].
+//!
 //! # Float types and the phase detector's sin/cos
 //!
 //! Everything is generic over the sealed [`Real`] trait (`f32`, `f64`); the `f32` path uses
@@ -97,7 +111,9 @@ mod adc;
 mod bank;
 mod calibration;
 mod calibration_settings;
+mod const_config;
 mod demodulator;
+mod design;
 mod error;
 mod excitation;
 mod faults;
@@ -129,7 +145,7 @@ pub use monitor::FaultThresholds;
 pub use observer::{AngleTrackingObserver, Observer, SecondOrderObserver, ThirdOrderObserver};
 pub use outputs::{DriveAngle, DriveOutputs, DriveOutputsState};
 pub use real::Real;
-pub use sincos::{Detection, Exact, Fast, SinCos};
+pub use sincos::{Detection, Exact, Fast, SinCos, SinCosUnit};
 pub use state::{Estimate, ObserverState};
 
 #[cfg(test)]

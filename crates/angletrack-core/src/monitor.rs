@@ -3,7 +3,7 @@
 //! signal, loss of tracking and false lock from first-order filters of the amplitude, the
 //! phase error and the in-phase component. Its thresholds are checked at construction.
 
-use crate::error::{ConfigError, Parameter, check_positive};
+use crate::error::ConfigError;
 use crate::faults::Faults;
 use crate::real::Real;
 
@@ -31,6 +31,7 @@ use crate::real::Real;
 /// | `monitor` | `true` |
 /// | `re_acquire` | `true` |
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct FaultThresholds<T> {
     /// The amplitude of a healthy signal.
     pub nominal_amplitude: T,
@@ -83,21 +84,7 @@ impl<T: Real> FaultThresholds<T> {
     /// assert_eq!(t.loss_of_tracking, 0.1);
     /// ```
     pub fn for_amplitude(nominal_amplitude: T) -> Self {
-        let a = nominal_amplitude;
-        let f = T::from_f32;
-        Self {
-            nominal_amplitude: a,
-            max_input_amplitude: f(4.0) * a,
-            loss_of_signal: f(0.25) * a,
-            degradation_low: f(0.5) * a,
-            degradation_high: f(1.5) * a,
-            loss_of_tracking: f(0.1),
-            max_speed: None,
-            filter_factor: f(0.0625),
-            false_lock: T::ZERO,
-            monitor: true,
-            re_acquire: true,
-        }
+        T::thresholds_for_amplitude(nominal_amplitude)
     }
 
     /// No diagnostics and no re-acquisition, only the input check: the bare loop of the
@@ -121,66 +108,136 @@ impl<T: Real> FaultThresholds<T> {
     /// `loss_of_signal < degradation_low < nominal < degradation_high <= max_input`,
     /// filter factor in (0, 1]. Returns the squared-amplitude form used per sample.
     pub(crate) fn check(&self, sample_period_s: T) -> Result<CheckedThresholds<T>, ConfigError> {
-        let a = check_positive(self.nominal_amplitude, Parameter::NominalAmplitude)?;
-        let max_in = check_positive(self.max_input_amplitude, Parameter::MaxInputAmplitude)?;
-        let los = check_positive(self.loss_of_signal, Parameter::LossOfSignalThreshold)?;
-        let low = check_positive(self.degradation_low, Parameter::DegradationLowThreshold)?;
-        let high = check_positive(self.degradation_high, Parameter::DegradationHighThreshold)?;
-        check_positive(self.loss_of_tracking, Parameter::LossOfTrackingThreshold)?;
-        let k = check_positive(self.filter_factor, Parameter::FilterFactor)?;
-        let max_speed = match self.max_speed {
-            Some(s) => check_positive(s, Parameter::MaxSpeed)?,
-            None => T::FRAC_PI_2 / sample_period_s,
-        };
-        if !self.false_lock.is_finite() {
-            return Err(ConfigError::NotFinite(Parameter::FalseLockThreshold));
-        }
-        let ordered = [
-            (los < low, Parameter::LossOfSignalThreshold),
-            (low < a, Parameter::DegradationLowThreshold),
-            (high > a, Parameter::DegradationHighThreshold),
-            (max_in >= high, Parameter::MaxInputAmplitude),
-            (k <= T::ONE, Parameter::FilterFactor),
-            (self.false_lock.abs() < a, Parameter::FalseLockThreshold),
-        ];
-        for (ok, parameter) in ordered {
-            if !ok {
-                return Err(ConfigError::OutOfRange(parameter));
+        T::check_thresholds(self, sample_period_s)
+    }
+}
+
+/// Defines, for the float type `$t` (its functions in module `$m`), the `const fn`s that
+/// make and check thresholds: one implementation for both types and for both the generic
+/// and the `const` constructors (constant evaluation cannot call trait methods).
+macro_rules! threshold_fns {
+    ($t:ident, $m:ident, sqrt_min_positive $sqrt_min_positive:expr) => {
+        use super::{CheckedThresholds, FaultThresholds};
+        use $crate::error::$m::check_positive;
+        use $crate::error::{ConfigError, Parameter, const_try};
+
+        /// `sqrt(MIN_POSITIVE)` (exact: a power of two).
+        const SQRT_MIN_POSITIVE: $t = $sqrt_min_positive;
+
+        /// See [`FaultThresholds::for_amplitude`]; the fractions are the `f32` values in
+        /// both types, so that `f32` and `f64` thresholds agree exactly.
+        pub(crate) const fn for_amplitude(a: $t) -> FaultThresholds<$t> {
+            FaultThresholds {
+                nominal_amplitude: a,
+                max_input_amplitude: 4.0 * a,
+                loss_of_signal: 0.25 * a,
+                degradation_low: 0.5 * a,
+                degradation_high: 1.5 * a,
+                loss_of_tracking: 0.1_f32 as $t,
+                max_speed: None,
+                filter_factor: 0.0625,
+                false_lock: 0.0,
+                monitor: true,
+                re_acquire: true,
             }
         }
-        let max_input2 = max_in * max_in;
-        // The amplitude tracker divides `y_c^2 + y_s^2` by a magnitude that is at least
-        // `sqrt(MIN_POSITIVE)` (`docs/theory.md §12`): the quotient must stay finite.
-        if !(max_input2 / T::MIN_POSITIVE.sqrt()).is_finite() {
-            return Err(ConfigError::OutOfRange(Parameter::MaxInputAmplitude));
+
+        /// See [`FaultThresholds::check`].
+        pub(crate) const fn check(
+            t: &FaultThresholds<$t>,
+            sample_period_s: $t,
+        ) -> Result<CheckedThresholds<$t>, ConfigError> {
+            let a = const_try!(check_positive(
+                t.nominal_amplitude,
+                Parameter::NominalAmplitude
+            ));
+            let max_in = const_try!(check_positive(
+                t.max_input_amplitude,
+                Parameter::MaxInputAmplitude
+            ));
+            let los = const_try!(check_positive(
+                t.loss_of_signal,
+                Parameter::LossOfSignalThreshold
+            ));
+            let low = const_try!(check_positive(
+                t.degradation_low,
+                Parameter::DegradationLowThreshold
+            ));
+            let high = const_try!(check_positive(
+                t.degradation_high,
+                Parameter::DegradationHighThreshold
+            ));
+            const_try!(check_positive(
+                t.loss_of_tracking,
+                Parameter::LossOfTrackingThreshold
+            ));
+            let k = const_try!(check_positive(t.filter_factor, Parameter::FilterFactor));
+            let max_speed = match t.max_speed {
+                Some(s) => const_try!(check_positive(s, Parameter::MaxSpeed)),
+                None => core::$t::consts::FRAC_PI_2 / sample_period_s,
+            };
+            if !t.false_lock.is_finite() {
+                return Err(ConfigError::NotFinite(Parameter::FalseLockThreshold));
+            }
+            let ordered = [
+                (los < low, Parameter::LossOfSignalThreshold),
+                (low < a, Parameter::DegradationLowThreshold),
+                (high > a, Parameter::DegradationHighThreshold),
+                (max_in >= high, Parameter::MaxInputAmplitude),
+                (k <= 1.0, Parameter::FilterFactor),
+                (t.false_lock.abs() < a, Parameter::FalseLockThreshold),
+            ];
+            let mut i = 0;
+            while i < ordered.len() {
+                if !ordered[i].0 {
+                    return Err(ConfigError::OutOfRange(ordered[i].1));
+                }
+                i += 1;
+            }
+            let max_input2 = max_in * max_in;
+            // The amplitude tracker divides `y_c^2 + y_s^2` by a magnitude that is at least
+            // `sqrt(MIN_POSITIVE)` (`docs/theory.md §12`): the quotient must stay finite.
+            if !(max_input2 / SQRT_MIN_POSITIVE).is_finite() {
+                return Err(ConfigError::OutOfRange(Parameter::MaxInputAmplitude));
+            }
+            Ok(CheckedThresholds {
+                thresholds: *t,
+                max_input2,
+                loss_of_signal2: los * los,
+                degradation_low2: low * low,
+                degradation_high2: high * high,
+                degradation_middle2: (low * low + high * high) * 0.5,
+                degradation_half_width2: (high * high - low * low) * 0.5,
+                max_scaled_speed: max_speed * sample_period_s,
+            })
         }
-        Ok(CheckedThresholds {
-            thresholds: *self,
-            max_input2,
-            loss_of_signal2: los * los,
-            degradation_low2: low * low,
-            degradation_high2: high * high,
-            degradation_middle2: (low * low + high * high) * T::HALF,
-            degradation_half_width2: (high * high - low * low) * T::HALF,
-            max_scaled_speed: max_speed * sample_period_s,
-        })
-    }
+    };
+}
+
+/// The `f32` functions.
+pub(crate) mod for_f32 {
+    threshold_fns!(f32, for_f32, sqrt_min_positive f32::from_bits(0x2000_0000)); // 2^-63
+}
+
+/// The `f64` functions.
+pub(crate) mod for_f64 {
+    threshold_fns!(f64, for_f64, sqrt_min_positive f64::from_bits(0x2000_0000_0000_0000)); // 2^-511
 }
 
 /// The thresholds with the per-sample comparisons precomputed (squared amplitudes, speed
 /// in rad per sample), so the update needs no square root.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct CheckedThresholds<T> {
+pub struct CheckedThresholds<T> {
     pub(crate) thresholds: FaultThresholds<T>,
     pub(crate) max_input2: T,
-    loss_of_signal2: T,
-    degradation_low2: T,
-    degradation_high2: T,
+    pub(crate) loss_of_signal2: T,
+    pub(crate) degradation_low2: T,
+    pub(crate) degradation_high2: T,
     /// The middle of [`degradation_low2`, `degradation_high2`] and its half width: the
     /// usual case tests the band with one comparison.
-    degradation_middle2: T,
-    degradation_half_width2: T,
-    max_scaled_speed: T,
+    pub(crate) degradation_middle2: T,
+    pub(crate) degradation_half_width2: T,
+    pub(crate) max_scaled_speed: T,
 }
 
 /// The monitor's memory in each channel's state: three first-order filters and the latched

@@ -54,9 +54,9 @@ impl<T: Real> DriveOutputs<T> {
     /// (s). Without a speed filter; add one with [`DriveOutputs::with_speed_cutoff_hz`].
     ///
     /// ```
-    /// use angletrack_core::{DriveOutputs, DriveOutputsState, Estimate, Parameter};
+    /// use angletrack_core::{DriveOutputs, DriveOutputsState, Estimate, Faults, Parameter};
     /// let outputs = DriveOutputs::<f32>::new(4, 1, 50e-6, 1e-4)?;
-    /// let estimate = Estimate { angle: 0.1, turns: 3, speed: 100.0, ..Estimate::default() };
+    /// let estimate = Estimate::new(0.1, 3, 100.0, 0.0, 0.0, Faults::NONE);
     /// let drive = outputs.outputs(&mut DriveOutputsState::default(), &estimate);
     /// assert!((drive.mechanical_angle - 0.105).abs() < 1e-6); // 0.1 + 100 * 50e-6
     /// assert!((drive.electrical_angle - 0.42).abs() < 1e-5);  // 4 pole pairs

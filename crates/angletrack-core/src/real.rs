@@ -23,6 +23,7 @@ mod sealed {
 /// few functions the recursion needs, each implemented once per type with [`libm`].
 pub trait Real:
     sealed::Sealed
+    + crate::const_config::ConstChecks
     + Copy
     + Default
     + PartialOrd
@@ -95,6 +96,9 @@ pub trait Real:
     fn floor_to_i32(self) -> i32;
     /// Conversion from `i32` (exact in `f64`, rounded in `f32` above 2^24).
     fn from_i32(n: i32) -> Self;
+    /// `exp(self) - 1`, accurate for small arguments, from [`libm`] (gain design: pole
+    /// matching, `docs/theory.md §7`).
+    fn exp_m1(self) -> Self;
     /// Square root, from [`libm`] (in software on a Cortex-M4F: meant for the rare paths,
     /// such as the first sample, not for every sample).
     fn sqrt(self) -> Self;
@@ -150,7 +154,7 @@ pub trait Real:
 macro_rules! impl_real {
     ($t:ident, bits $bits:ident, default $default:ident, tau_lo $tau_lo:expr,
      one_turn_edge_fix $edge_fix:expr, fast_error $eps_fast:expr,
-     polynomials $sin_poly:path, $cos_poly:path, libm $atan2:ident, $sincos:ident, $sqrt:ident,
+     polynomials $sin_poly:path, $cos_poly:path, libm $atan2:ident, $sincos:ident, $sqrt:ident, $expm1:ident,
      track_magnitude $track:expr) => {
         impl Real for $t {
             const ZERO: Self = 0.0;
@@ -191,6 +195,10 @@ macro_rules! impl_real {
             #[inline(always)]
             fn from_i32(n: i32) -> Self {
                 n as $t
+            }
+            #[inline]
+            fn exp_m1(self) -> Self {
+                libm::$expm1(self)
             }
             #[inline(always)]
             fn sqrt(self) -> Self {
@@ -237,12 +245,12 @@ macro_rules! impl_real {
 // explained with their coefficients in `sincos.rs`.
 impl_real! {
     f32, bits u32, default Fast, tau_lo -1.748_455_6e-7_f32, one_turn_edge_fix false,
-    fast_error 3e-7, polynomials F32_SIN_POLY, F32_COS_POLY, libm atan2f, sincosf, sqrtf,
+    fast_error 3e-7, polynomials F32_SIN_POLY, F32_COS_POLY, libm atan2f, sincosf, sqrtf, expm1f,
     track_magnitude crate::update::heron_step::<f32>
 }
 
 impl_real! {
     f64, bits u64, default Exact, tau_lo 2.449_293_598_294_706_4e-16_f64, one_turn_edge_fix true,
-    fast_error 2e-13, polynomials F64_SIN_POLY, F64_COS_POLY, libm atan2, sincos, sqrt,
+    fast_error 2e-13, polynomials F64_SIN_POLY, F64_COS_POLY, libm atan2, sincos, sqrt, expm1,
     track_magnitude |_previous, amplitude2| libm::sqrt(amplitude2)
 }

@@ -39,12 +39,40 @@ pub trait SinCos<T: Real>:
     #[inline(always)]
     fn detect(angle: T, y_c: T, y_s: T) -> Detection<T> {
         let (sin, cos) = Self::sin_cos(angle);
-        Detection {
-            phase_error: y_s * cos - y_c * sin,
-            in_phase: y_c * cos + y_s * sin,
-            sin,
-            cos,
-        }
+        Detection::of(sin, cos, y_c, y_s)
+    }
+}
+
+/// A phase detector's sin/cos computed by a unit with state: a hardware coprocessor (the
+/// CORDIC of an STM32G4, whose registers are written and read), a table with a cache, or a
+/// counter for tests. Used by [`Gains::update_with`](crate::Gains::update_with), which
+/// takes the unit by `&mut` for each sample.
+///
+/// Every [`SinCos`] (the zero-sized [`Fast`] and [`Exact`]) is a unit for free, and
+/// [`Gains::update`](crate::Gains::update) runs through the same code with its `S`, which
+/// costs nothing: the unit has no size.
+pub trait SinCosUnit<T: Real> {
+    /// `(sin angle, cos angle)` for `angle` in [-pi, pi) (rad).
+    fn sin_cos(&mut self, angle: T) -> (T, T);
+
+    /// The phase detector on `angle` (see [`SinCos::detect`]); the default computes
+    /// [`SinCosUnit::sin_cos`] once and the two products from it.
+    #[inline(always)]
+    fn detect(&mut self, angle: T, y_c: T, y_s: T) -> Detection<T> {
+        let (sin, cos) = self.sin_cos(angle);
+        Detection::of(sin, cos, y_c, y_s)
+    }
+}
+
+impl<T: Real, S: SinCos<T>> SinCosUnit<T> for S {
+    #[inline(always)]
+    fn sin_cos(&mut self, angle: T) -> (T, T) {
+        S::sin_cos(angle)
+    }
+
+    #[inline(always)]
+    fn detect(&mut self, angle: T, y_c: T, y_s: T) -> Detection<T> {
+        S::detect(angle, y_c, y_s)
     }
 }
 
@@ -59,6 +87,19 @@ pub struct Detection<T> {
     pub sin: T,
     /// `cos(angle)`.
     pub cos: T,
+}
+
+impl<T: Real> Detection<T> {
+    /// The phase detector's outputs from the `(sin, cos)` of its angle.
+    #[inline(always)]
+    fn of(sin: T, cos: T, y_c: T, y_s: T) -> Self {
+        Detection {
+            phase_error: y_s * cos - y_c * sin,
+            in_phase: y_c * cos + y_s * sin,
+            sin,
+            cos,
+        }
+    }
 }
 
 /// sin/cos from [`libm`], correct to an ulp. On a Cortex-M4F, `libm`'s `sinf`/`cosf`

@@ -9,7 +9,13 @@ use crate::update::magnitude;
 use crate::wrap::{wrap_angle, wrapped};
 
 /// What an observer knows after a sample.
+///
+/// Its fields are read directly; it may gain fields (`#[non_exhaustive]`), so code outside
+/// this crate makes one with [`Estimate::new`] (an observer of its own behind
+/// [`AngleTrackingObserver`](crate::AngleTrackingObserver)) or [`Estimate::default`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub struct Estimate<T> {
     /// Estimated shaft angle (rad), wrapped to [-pi, pi).
     pub angle: T,
@@ -31,6 +37,32 @@ pub struct Estimate<T> {
 }
 
 impl<T: Real> Estimate<T> {
+    /// An estimate from its parts: angle (rad, wrapped to [-pi, pi)), whole turns, speed
+    /// (rad/s), acceleration (rad/s^2), normalised phase error and faults.
+    ///
+    /// ```
+    /// use angletrack_core::{Estimate, Faults};
+    /// let e = Estimate::new(1.0_f32, 2, 50.0, 0.0, 1e-3, Faults::NONE);
+    /// assert_eq!((e.angle, e.turns, e.speed), (1.0, 2, 50.0));
+    /// ```
+    pub const fn new(
+        angle: T,
+        turns: i64,
+        speed: T,
+        acceleration: T,
+        phase_error: T,
+        faults: Faults,
+    ) -> Self {
+        Self {
+            angle,
+            turns,
+            speed,
+            acceleration,
+            phase_error,
+            faults,
+        }
+    }
+
     /// The multi-turn position `turns * 2 pi + angle` (rad) in `f64`: exact to `f64`
     /// rounding whatever the number of turns. Meant for host-side code (on a Cortex-M4F
     /// `f64` arithmetic is emulated in software).

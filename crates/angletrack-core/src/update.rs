@@ -10,7 +10,7 @@
 use crate::faults::Faults;
 use crate::gains::Gains;
 use crate::real::Real;
-use crate::sincos::SinCos;
+use crate::sincos::{SinCos, SinCosUnit};
 use crate::state::{Estimate, ObserverState, predict};
 use crate::wrap::{FullWrap, Wrap, re_acquired, sample_angle, wrapped};
 
@@ -114,6 +114,56 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         y_s: T,
         observer: impl SampleObserver<T>,
     ) -> Estimate<T> {
+        // `S` is zero-sized: its unit is a value of no size, and the code the one below.
+        self.update_observing_with(state, &mut S::default(), y_c, y_s, observer)
+    }
+
+    /// [`Gains::update`] with the phase detector's sin/cos computed by `unit`, a stateful
+    /// (hardware) unit such as a CORDIC coprocessor, instead of the gains' `S`: see
+    /// [`SinCosUnit`]. `unit` is used once per used sample, on the wrapped predicted angle.
+    ///
+    /// ```
+    /// use angletrack_core::{Detection, Gains, ObserverState, SinCosUnit};
+    /// /// A unit that counts its uses (a real one would drive a peripheral).
+    /// #[derive(Default)]
+    /// struct CountingUnit {
+    ///     uses: u32,
+    /// }
+    /// impl SinCosUnit<f32> for CountingUnit {
+    ///     fn sin_cos(&mut self, angle: f32) -> (f32, f32) {
+    ///         self.uses += 1;
+    ///         (libm::sinf(angle), libm::cosf(angle))
+    ///     }
+    /// }
+    /// let gains = Gains::<f32, 3>::new([0.1578, 0.0126, 0.000_34], 50e-6)?;
+    /// let (mut state, mut unit) = (ObserverState::new(), CountingUnit::default());
+    /// for _ in 0..3 {
+    ///     gains.update_with(&mut state, &mut unit, 0.5, 0.866);
+    /// }
+    /// assert_eq!(unit.uses, 2); // the first sample sets the angle from atan2
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    #[inline]
+    pub fn update_with<U: SinCosUnit<T>>(
+        &self,
+        state: &mut ObserverState<T, N>,
+        unit: &mut U,
+        y_c: T,
+        y_s: T,
+    ) -> Estimate<T> {
+        self.update_observing_with(state, unit, y_c, y_s, ())
+    }
+
+    /// [`Gains::update_observing`] with the sin/cos of `unit`.
+    #[inline(always)]
+    fn update_observing_with<U: SinCosUnit<T>>(
+        &self,
+        state: &mut ObserverState<T, N>,
+        unit: &mut U,
+        y_c: T,
+        y_s: T,
+        observer: impl SampleObserver<T>,
+    ) -> Estimate<T> {
         let (amplitude2, valid) = self.thresholds.accept(y_c, y_s);
         if !(valid && state.tracking) {
             // Rare: the first sample, the first after `ObserverState::at`, or one that is
@@ -151,7 +201,8 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             amplitude2,
             valid: true,
         };
-        let step = self.step::<FullWrap>(
+        let step = self.step::<FullWrap, U>(
+            unit,
             &mut state.x,
             &mut state.next_angle,
             &mut state.amplitude,
@@ -221,8 +272,9 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// (the state coasts) instead of `0 / 0`. A sample that is not used leaves `amplitude`
     /// as it is.
     #[inline(always)]
-    pub(crate) fn step<W: Wrap>(
+    pub(crate) fn step<W: Wrap, U: SinCosUnit<T>>(
         &self,
+        unit: &mut U,
         x: &mut [T; N],
         next_angle: &mut T,
         amplitude: &mut T,
@@ -231,7 +283,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         let mut p = predict(x);
         p[0] = *next_angle;
         let whole = W::wrap(&mut p[0]);
-        let detection = S::detect(p[0], sample.y_c, sample.y_s);
+        let detection = unit.detect(p[0], sample.y_c, sample.y_s);
         let tracked = T::track_magnitude(*amplitude, sample.amplitude2);
         let eps = if sample.valid {
             *amplitude = tracked;
@@ -267,7 +319,13 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             amplitude2: T::ZERO,
             valid: false,
         };
-        let step = self.step::<FullWrap>(&mut x, &mut next_angle, &mut unused, sample);
+        let step = self.step::<FullWrap, S>(
+            &mut S::default(),
+            &mut x,
+            &mut next_angle,
+            &mut unused,
+            sample,
+        );
         (x, next_angle, step.whole)
     }
 

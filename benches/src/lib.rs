@@ -149,14 +149,16 @@ impl<T: Float> HandWrittenObserver<T> {
         }
     }
 
-    /// One sample: predict, phase detector, correct, wrap. Returns `(angle, speed)`.
+    /// One sample: predict, phase detector (normalised by the sample's magnitude, as the
+    /// core's amplitude-invariant loop is: docs/theory.md §12), correct, wrap. Returns
+    /// `(angle, speed)`.
     #[inline]
     pub fn update(&mut self, y_c: T, y_s: T) -> (T, T) {
         let pi = T::from(core::f64::consts::PI).unwrap_or_else(T::nan);
         let theta_p = self.theta + self.omega * self.ts + self.alpha * self.half_ts2;
         let omega_p = self.omega + self.alpha * self.ts;
         let (sin, cos) = theta_p.sin_cos();
-        let eps = y_s * cos - y_c * sin;
+        let eps = (y_s * cos - y_c * sin) / (y_c * y_c + y_s * y_s).sqrt();
         self.theta = theta_p + self.k_theta * eps;
         self.omega = omega_p + self.k_omega * eps;
         self.alpha = self.alpha + self.k_alpha * eps;

@@ -273,6 +273,14 @@ impl<T: Real> MonitorState<T> {
         self.error = T::ZERO;
         self.in_phase = magnitude;
     }
+
+    /// Starts the phase-error and in-phase filters from one sample's normalised phase error
+    /// and in-phase component: for an angle that was set without looking at the sample
+    /// (`ObserverState::at`), which may disagree with it by any amount.
+    pub(crate) fn prime_from_sample(&mut self, phase_error: T, in_phase: T) {
+        self.error = phase_error.abs();
+        self.in_phase = in_phase;
+    }
 }
 
 impl<T: Real> CheckedThresholds<T> {

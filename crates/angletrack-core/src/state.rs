@@ -262,7 +262,9 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
 
     /// Starts again at `angle` (rad, wrapped) and `whole` turns, speed and acceleration 0,
     /// from a sample of `y_c^2 + y_s^2` `amplitude2` (the angle being that sample's), with
-    /// the faults `latched`.
+    /// the faults `latched`. The magnitude is that sample's; the monitor's phase filters
+    /// start from the next used sample, as after [`ObserverState::at`], so that a step or a
+    /// false lock right after the first sample is seen at once.
     #[inline(always)]
     pub(crate) fn restart(&mut self, angle: T, whole: i32, amplitude2: T, latched: Faults) {
         *self = Self::new();
@@ -271,18 +273,23 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
         self.turns = whole as i64;
         self.monitor.latched = latched;
         self.initialised = true;
-        self.start_tracking(amplitude2);
+        self.amplitude = magnitude(amplitude2);
+        self.monitor.amplitude2 = amplitude2;
     }
 
-    /// The first used sample of a state whose angle is known, of `y_c^2 + y_s^2`
-    /// `amplitude2`: sets the magnitude the phase error is normalised by, and starts the
-    /// monitor's filters from it (zero phase error, the in-phase component the magnitude),
-    /// so that the per-sample update needs no test for it.
+    /// The first used sample after the angle was set, of `y_c^2 + y_s^2` `amplitude2`: a
+    /// state from [`ObserverState::at`] has no magnitude yet and takes this sample's; one
+    /// started by a first sample keeps that sample's, which the recursion then tracks as
+    /// usual (as a [`ChannelBank`](crate::ChannelBank) lane does). The monitor's filters
+    /// start from agreement here; the caller then sets them from the sample's own
+    /// detection. The per-sample update needs no test for any of it.
     #[cold]
     #[inline(never)]
     pub(crate) fn start_tracking(&mut self, amplitude2: T) {
-        self.amplitude = magnitude(amplitude2);
-        self.monitor.amplitude2 = amplitude2;
+        if !(self.amplitude > T::ZERO) {
+            self.amplitude = magnitude(amplitude2);
+            self.monitor.amplitude2 = amplitude2;
+        }
         self.monitor.prime_phase(self.amplitude);
         self.tracking = true;
     }

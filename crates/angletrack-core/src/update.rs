@@ -12,7 +12,7 @@ use crate::gains::Gains;
 use crate::real::Real;
 use crate::sincos::{SinCos, SinCosUnit};
 use crate::state::{Estimate, ObserverState, predict};
-use crate::wrap::{FullWrap, Wrap, re_acquired, sample_angle, wrapped};
+use crate::wrap::{FullWrap, Wrap, re_acquired, sample_angle, wrap_angle, wrapped};
 
 /// What one step of the recursion gives besides the new state.
 #[derive(Clone, Copy)]
@@ -120,7 +120,9 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
 
     /// [`Gains::update`] with the phase detector's sin/cos computed by `unit`, a stateful
     /// (hardware) unit such as a CORDIC coprocessor, instead of the gains' `S`: see
-    /// [`SinCosUnit`]. `unit` is used once per used sample, on the wrapped predicted angle.
+    /// [`SinCosUnit`]. `unit` is used once per used sample, on the wrapped predicted angle,
+    /// and once more on the first used sample after the angle is set (the monitor's filters
+    /// start from that sample's detection, out of line, so that no sample pays a test).
     ///
     /// ```
     /// use angletrack_core::{Detection, Gains, ObserverState, SinCosUnit};
@@ -140,7 +142,9 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// for _ in 0..3 {
     ///     gains.update_with(&mut state, &mut unit, 0.5, 0.866);
     /// }
-    /// assert_eq!(unit.uses, 2); // the first sample sets the angle from atan2
+    /// // The first sample sets the angle from atan2; the second starts the monitor's filters
+    /// // (one use) and is used (one use); the third is used.
+    /// assert_eq!(unit.uses, 3);
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
     #[inline]
@@ -191,9 +195,17 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
                 observer.observe(None);
                 return self.estimate(state);
             }
-            // A state started at a known angle: its first used sample starts the magnitude
-            // and the monitor's filters.
+            // The first used sample after the angle was set (by the first sample's atan2 or
+            // by `ObserverState::at`): it starts the magnitude and the monitor's filters. The
+            // angle need not agree with it (a 179 degree step, a false lock to detect at
+            // once), so the filters start from its own detection at the predicted angle.
             state.start_tracking(amplitude2);
+            let mut angle = state.next_angle;
+            wrap_angle(&mut angle);
+            let detection = unit.detect(angle, y_c, y_s);
+            state
+                .monitor
+                .prime_from_sample(detection.phase_error / state.amplitude, detection.in_phase);
         }
         let sample = Sample {
             y_c,

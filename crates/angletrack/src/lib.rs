@@ -37,6 +37,10 @@
 //!   benchmarks' gains, for the tests, examples, benchmarks and report alike.
 //! * Scenarios ([`MotionProfile`], [`SensorModel`], [`Scenario`]): deterministic from a seed.
 //! * Metrics ([`run`], [`Metrics`]): a run of any observer measured against the truth.
+//! * Real sensor signals ([`run_calibrated`], [`nominal_amplitude`],
+//!   [`capture_fault_thresholds`], [`SensorModel::calibration`]): a run with the core's
+//!   online correction of offsets, imbalance and quadrature, and diagnostics scaled to a
+//!   capture's own amplitude (`docs/theory.md §12`).
 //! * Many channels ([`ChannelBatch`]): any number of channels on one gain set, run by the
 //!   core's vectorisable [`ChannelBank`]s.
 //!
@@ -47,8 +51,9 @@
 
 pub use angletrack_core as core;
 pub use angletrack_core::{
-    AngleTrackingObserver, ChannelBank, ConfigError, Estimate, Exact, Fast, FaultThresholds,
-    Faults, Gains, Observer, ObserverState, Parameter, Real, SecondOrderObserver, SinCos,
+    AdcScaling, AngleTrackingObserver, CalibrationMode, CalibrationSettings, Calibrator,
+    ChannelBank, ConfigError, Estimate, Exact, Fast, FaultThresholds, Faults, Gains, Observer,
+    ObserverState, Parameter, Real, SecondOrderObserver, SensorCalibration, SinCos,
     ThirdOrderObserver,
 };
 pub use nalgebra::Complex;
@@ -74,5 +79,6 @@ pub use design::{
 pub use error::{Argument, Error};
 pub use sim::{
     BatchColumns, ChannelBatch, ErrorStatistics, Kinematics, LANES, MAX_SAMPLES, Metrics,
-    MetricsOptions, Motion, MotionProfile, Run, Scenario, SensorModel, run,
+    MetricsOptions, Motion, MotionProfile, NOMINAL_AMPLITUDE_SAMPLES, Run, Scenario, SensorModel,
+    capture_fault_thresholds, nominal_amplitude, run, run_calibrated,
 };

@@ -3,12 +3,16 @@
 //! them, the metrics of a run, and many channels at once.
 
 mod batch;
+mod calibrated;
 mod metrics;
 mod motion;
 mod scenario;
 mod sensor;
 
 pub use batch::{BatchColumns, ChannelBatch, LANES};
+pub use calibrated::{
+    NOMINAL_AMPLITUDE_SAMPLES, capture_fault_thresholds, nominal_amplitude, run_calibrated,
+};
 pub use metrics::{ErrorStatistics, Metrics, MetricsOptions, Run, run};
 pub use motion::{Kinematics, Motion, MotionProfile};
 pub use scenario::{MAX_SAMPLES, Scenario};

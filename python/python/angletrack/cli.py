@@ -14,6 +14,7 @@ from typing import Callable, Optional, Sequence
 import numpy as np
 
 import angletrack
+from angletrack import calibration as calibration_io
 from angletrack import capture as capture_io
 from angletrack import export
 
@@ -63,13 +64,15 @@ def _cmd_track(args: argparse.Namespace) -> int:
     """run an observer over a recorded capture (CSV) and write its estimates
 
     Runs an observer over CAPTURE.csv (header with y_c, y_s; optional time (s) and reference
-    (rad)) and writes the estimates as CSV. With a reference column, prints the errors
-    against it.
+    (rad)) and writes the estimates as CSV. The signals may be in any unit (volts, raw ADC
+    counts): the loop is amplitude-invariant and the diagnostics are scaled to the capture's
+    own amplitude. With a reference column, prints the errors against it. --calibrate learns
+    and corrects the sensor's offsets, imbalance and quadrature error.
     """
     cap = capture_io.read_capture(args.capture)
     gains = _load_gains(args, cap.sample_period_from_time())
     dtype = np.dtype(args.dtype)
-    observer = angletrack.Observer(gains, dtype=dtype, sin_cos=args.sin_cos)
+    observer = angletrack.Observer(gains, dtype=dtype, sin_cos=args.sin_cos, **_calibration_arguments(args))
     est = observer.update(cap.y_c.astype(dtype), cap.y_s.astype(dtype))
     n = len(est)
     time_s = cap.time_s if cap.time_s is not None else np.arange(n) * gains.sample_period_s
@@ -88,6 +91,7 @@ def _cmd_track(args: argparse.Namespace) -> int:
     print(f"{n} samples -> {output}")
     latched = angletrack.Faults(observer.latched_faults)
     print(f"faults latched: {latched.name if latched else 'none'}")
+    _write_calibration(args, observer)
     if cap.reference_rad is not None:
         truth = angletrack.Scenario.from_arrays(
             sample_period_s=gains.sample_period_s, angle_rad=cap.reference_rad, y_c=cap.y_c, y_s=cap.y_s
@@ -96,6 +100,7 @@ def _cmd_track(args: argparse.Namespace) -> int:
         e = m.angle_error_rad
         print(f"angle error against the reference (after {args.skip} s, {m.samples} samples):")
         print(f"  RMS {e.rms:.6e} rad   max {e.max:.6e} rad   mean {e.mean:+.6e} rad")
+        print(f"  RMS after removing the mean {max(e.rms**2 - e.mean**2, 0.0) ** 0.5:.6e} rad")
         lock = "not locked at the end" if m.time_to_lock_s is None else f"{m.time_to_lock_s:.6g} s"
         print(f"  locked (within {args.lock_tolerance} rad) from: {lock}")
         if m.overshoot is not None:
@@ -104,6 +109,33 @@ def _cmd_track(args: argparse.Namespace) -> int:
                 f"2 % settling {m.settling_time_s:.6g} s"
             )
     return 0
+
+
+def _calibration_arguments(args: argparse.Namespace) -> dict:
+    """The ``Observer`` arguments of ``--calibrate`` (learn while tracking, from the stored
+    calibration if one is given) and ``--calibration FILE`` (apply it, frozen)."""
+    stored = None if args.calibration is None else calibration_io.read(args.calibration)
+    if args.calibrate:
+        return {"calibration": "learn", "initial_calibration": stored}
+    if stored is not None:
+        return {"calibration": "frozen", "initial_calibration": stored}
+    return {}
+
+
+def _write_calibration(args: argparse.Namespace, observer: angletrack.Observer) -> None:
+    """With ``--calibrate``: writes what the observer learned beside the estimates."""
+    if not args.calibrate:
+        return
+    path = calibration_io.default_path(args.capture, args.calibration_out)
+    learned = observer.calibration
+    calibration_io.write(
+        path, learned, turns_learned=observer.calibration_turns_learned, source=str(args.capture)
+    )
+    print(
+        f"calibration learned over {observer.calibration_turns_learned} turns -> {path}: offsets "
+        f"{learned.offset_c:.6g}, {learned.offset_s:.6g}; amplitudes {learned.amplitude_c:.6g}, "
+        f"{learned.amplitude_s:.6g}; quadrature {learned.quadrature_rad:.6g} rad"
+    )
 
 
 # ----------------------------------------------------------------------------- design
@@ -322,6 +354,13 @@ def _add_track_parser(sub) -> None:
                        help="with a reference: leave the first S seconds out of the error statistics")
     track.add_argument("--lock-tolerance", type=float, default=0.01, metavar="RAD",
                        help="with a reference: angle error of the lock (default 0.01 rad)")
+    track.add_argument("--calibrate", action="store_true",
+                       help="learn the sensor's offsets, gain imbalance and quadrature error while tracking, "
+                       "correct them, and write the calibration (JSON) beside the estimates")
+    track.add_argument("--calibration-out", type=pathlib.Path, metavar="FILE.json",
+                       help="with --calibrate: where to write it (default: CAPTURE_calibration.json)")
+    track.add_argument("--calibration", type=pathlib.Path, metavar="FILE.json",
+                       help="apply a stored calibration (frozen; with --calibrate, learning starts from it)")
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:

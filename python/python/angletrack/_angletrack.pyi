@@ -429,6 +429,9 @@ class SensorModel:
     noise_std: float
     adc_bits: int
     adc_full_scale: float
+    def calibration(self) -> SensorCalibration:
+        """The ``SensorCalibration`` of this sensor (offsets, amplitudes ``A`` and
+        ``A (1 + amplitude_imbalance)``, quadrature): what an online calibration learns."""
 
 class Scenario:
     @staticmethod

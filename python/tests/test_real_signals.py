@@ -153,6 +153,10 @@ def test_an_observer_learns_the_calibration_and_applies_it_frozen():
     corrected, _ = error_without_mean(sc.angle_rad, learning.update(c, s).position, first)
     assert 0.05 < uncorrected < 0.075 and corrected < 3e-3, (uncorrected, corrected)
     learned = learning.calibration
+    truth = sensor.calibration()  # the scenario's sensor as the core's calibration model
+    assert (truth.offset_c, truth.offset_s, truth.amplitude_c) == (90.0, -90.0, AMPLITUDE)
+    assert truth.amplitude_s == pytest.approx(1.1 * AMPLITUDE, rel=1e-15)
+    assert truth.quadrature_rad == math.radians(3.0)
     # Turns over which the estimated speed changed by more than 1/64 are dropped (the noise).
     assert learning.calibration_turns_learned >= 20
     assert abs(learned.offset_c - 90.0) < 9.0 and abs(learned.offset_s + 90.0) < 9.0

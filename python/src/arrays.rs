@@ -222,12 +222,13 @@ pub fn as_slice_mut<'a, T: Element>(view: &'a mut PyReadwriteArray1<'_, T>) -> R
 }
 
 /// Samples of many channels: a 2-D array (`channels x samples`, any layout; a copy is made
-/// only if it is not C-contiguous) flattened row-major, checked like [`samples`], with the
-/// number of samples per channel.
+/// only if it is not C-contiguous) flattened row-major, with the number of channels and of
+/// samples per channel. An array of floats is checked like [`samples`] here; raw ADC counts
+/// (`crate::counts`) are returned as they are, for the caller's front end to convert.
 pub fn channel_samples<'py, T: Element + Copy>(
     obj: &Bound<'py, PyAny>,
     parameter: &'static str,
-) -> Result<(Samples<'py, T>, usize, usize)> {
+) -> Result<(Bound<'py, PyAny>, usize, usize)> {
     let numpy = PyModule::import(obj.py(), "numpy")?;
     let array = as_array::<T>(obj, parameter)?;
     if array.ndim() != 2 {
@@ -241,9 +242,13 @@ pub fn channel_samples<'py, T: Element + Copy>(
         ));
     }
     let (channels, per_channel) = (array.shape()[0], array.shape()[1]);
+    let counts = Counts::of_descr(&array.dtype()).is_some();
     let flat = numpy
         .getattr("ascontiguousarray")?
         .call1((array,))?
         .call_method1("reshape", (-1,))?;
-    Ok((samples::<T>(&flat, parameter)?, channels, per_channel))
+    if !counts {
+        samples::<T>(&flat, parameter)?;
+    }
+    Ok((flat, channels, per_channel))
 }

@@ -10,6 +10,7 @@ use numpy::Element;
 use pyo3::prelude::*;
 
 use crate::arrays::Float;
+use crate::batch::Batch;
 use crate::errors::{Error, Result};
 use crate::estimates::Estimates;
 use crate::gains::{GainSet, PyGains};
@@ -76,7 +77,7 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> TypedGains for CoreGains<T, N
     }
 
     fn batch(&self, channels: usize) -> Result<Box<dyn Run>> {
-        Ok(Box::new(ChannelBatch::new(*self, channels)?))
+        Ok(Box::new(Batch::new(ChannelBatch::new(*self, channels)?)))
     }
 }
 

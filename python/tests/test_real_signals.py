@@ -100,6 +100,18 @@ def test_unsigned_counts_take_the_offset_binary_mid_scale_of_their_range():
     assert np.max(np.abs(np.angle(np.exp(1j * (sc.angle_rad - whole.position)))[2000:])) < 0.05
 
 
+def test_a_batch_takes_counts_as_an_observer_does():
+    sc = constant_speed(at.SensorModel(amplitude=AMPLITUDE, noise_std=5.0), turns=2)
+    raw_c = np.stack([counts(sc.y_c + 2048, np.uint16), counts(-sc.y_c + 2048, np.uint16)])
+    raw_s = np.stack([counts(sc.y_s + 2048, np.uint16), counts(-sc.y_s + 2048, np.uint16)])
+    gains = at.Gains(KALMAN, SAMPLE_PERIOD)
+    batch = at.track_batch(gains, raw_c, raw_s)
+    bare = at.FaultThresholds.disabled()
+    for channel in range(2):
+        single = at.track(gains, raw_c[channel], raw_s[channel], fault_thresholds=bare)
+        np.testing.assert_array_equal(batch.position[channel], single.position)
+
+
 def test_integer_arguments_are_checked_naming_them():
     gains = at.Gains(KALMAN, SAMPLE_PERIOD)
     c = np.array([1800, 0, -1800], dtype=np.int16)

@@ -190,7 +190,10 @@ def track(
     float64 for raw counts, scaled as ``Observer`` does). ``fault_thresholds=None`` scales
     the diagnostics to the samples' amplitude."""
 
-_ChannelSamples = Union[npt.NDArray[np.float32], npt.NDArray[np.float64], Sequence[Sequence[float]]]
+_ChannelSamples = Union[
+    npt.NDArray[np.float32], npt.NDArray[np.float64], Sequence[Sequence[float]],
+    npt.NDArray[np.int16], npt.NDArray[np.uint16], npt.NDArray[np.int32],
+]
 
 class ObserverBatch(_RunSettings):
     """Many observers on one gain set, run 8 at a time side by side; 2-D arrays

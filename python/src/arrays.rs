@@ -2,7 +2,8 @@
 //!
 //! Input rules (the same for every function that takes samples):
 //! * a numpy array must be 1-D, non-empty, and of the expected float dtype (`TypeError`
-//!   otherwise: no silent up- or down-cast);
+//!   otherwise: no silent up- or down-cast), or for an observer raw ADC counts (int16,
+//!   uint16, int32: `crate::counts`);
 //! * a non-contiguous (strided, misaligned) array is copied, since that is what a user
 //!   slicing `y[::2]` expects;
 //! * anything else (a list, a tuple) is converted with `numpy.asarray(obj, dtype)`.
@@ -13,6 +14,7 @@ use numpy::{
 };
 use pyo3::prelude::*;
 
+use crate::counts::Counts;
 use crate::errors::{Error, Result};
 
 /// The float type of a run, chosen from the input's dtype or the user's `dtype` argument.
@@ -57,16 +59,23 @@ impl Float {
         })
     }
 
-    /// The float type of the samples `obj`: the dtype of a numpy array (float32 or float64,
+    /// The float type of the samples `obj`: the dtype of a numpy array (float32 or float64;
+    /// float64 for raw ADC counts, int16, uint16 or int32, which it holds exactly;
     /// `TypeError` otherwise), float64 for anything else (a list is converted as float64).
     pub fn of_samples(obj: &Bound<'_, PyAny>, parameter: &'static str) -> Result<Self> {
         match obj.cast::<PyUntypedArray>() {
             Ok(array) => {
                 let descr = array.dtype();
+                if Counts::of_descr(&descr).is_some() {
+                    return Ok(Float::F64);
+                }
                 Self::of_descr(&descr).ok_or_else(|| Error::Dtype {
                     parameter,
                     given: format!("an array of dtype {descr}"),
-                    expected: "an array of dtype float32 or float64".into(),
+                    expected:
+                        "an array of dtype float32 or float64 (or raw ADC counts: int16, uint16 or \
+                               int32)"
+                            .into(),
                 })
             }
             Err(_) => Ok(Float::F64),
@@ -221,12 +230,13 @@ pub fn as_slice_mut<'a, T: Element>(view: &'a mut PyReadwriteArray1<'_, T>) -> R
 }
 
 /// Samples of many channels: a 2-D array (`channels x samples`, any layout; a copy is made
-/// only if it is not C-contiguous) flattened row-major, checked like [`samples`], with the
-/// number of samples per channel.
+/// only if it is not C-contiguous) flattened row-major, with the number of channels and of
+/// samples per channel. An array of floats is checked like [`samples`] here; raw ADC counts
+/// (`crate::counts`) are returned as they are, for the caller's front end to convert.
 pub fn channel_samples<'py, T: Element + Copy>(
     obj: &Bound<'py, PyAny>,
     parameter: &'static str,
-) -> Result<(Samples<'py, T>, usize, usize)> {
+) -> Result<(Bound<'py, PyAny>, usize, usize)> {
     let numpy = PyModule::import(obj.py(), "numpy")?;
     let array = as_array::<T>(obj, parameter)?;
     if array.ndim() != 2 {
@@ -240,9 +250,13 @@ pub fn channel_samples<'py, T: Element + Copy>(
         ));
     }
     let (channels, per_channel) = (array.shape()[0], array.shape()[1]);
+    let counts = Counts::of_descr(&array.dtype()).is_some();
     let flat = numpy
         .getattr("ascontiguousarray")?
         .call1((array,))?
         .call_method1("reshape", (-1,))?;
-    Ok((samples::<T>(&flat, parameter)?, channels, per_channel))
+    if !counts {
+        samples::<T>(&flat, parameter)?;
+    }
+    Ok((flat, channels, per_channel))
 }

@@ -2,15 +2,35 @@
 //! `ChannelBatch`, run by the core's vectorisable `ChannelBank`s) on 2-D numpy arrays.
 
 use angletrack::ChannelBatch;
+use angletrack_core::Real;
 use pyo3::prelude::*;
 
 use crate::arrays::{Float, channel_samples};
+use crate::counts::{AdcInput, AdcSettings};
 use crate::dispatch::{Arg, PhaseSinCos, Run, RunSettings, Sample};
 use crate::errors::{Error, Result};
 use crate::estimates::{Estimates, OutputArrays};
 use crate::gains::PyGains;
 
-impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for ChannelBatch<T, N, S> {
+/// A batch behind the binding's front end: raw ADC counts scaled as an `Observer` scales
+/// them with its default ADC arguments (`crate::counts`).
+#[derive(Debug)]
+pub struct Batch<T: Real, const N: usize, S> {
+    batch: ChannelBatch<T, N, S>,
+    adc: AdcInput<T>,
+}
+
+impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Batch<T, N, S> {
+    /// `batch` with the default front end.
+    pub fn new(batch: ChannelBatch<T, N, S>) -> Self {
+        Self {
+            batch,
+            adc: AdcInput::new(AdcSettings::default()),
+        }
+    }
+}
+
+impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for Batch<T, N, S> {
     fn run(&mut self, py: Python<'_>, y_c: Arg<'_, '_>, y_s: Arg<'_, '_>) -> Result<Estimates> {
         let (y_c, channels_c, samples) = channel_samples::<T>(y_c, "y_c")?;
         let (y_s, channels_s, samples_s) = channel_samples::<T>(y_s, "y_s")?;
@@ -23,19 +43,20 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for ChannelBatch<T, N, S>
                 ),
             ));
         }
-        if channels_c != self.channels() {
+        if channels_c != self.batch.channels() {
             return Err(Error::value(
                 "y_c",
                 format!(
                     "has {channels_c} channels (rows) but the batch has {}",
-                    self.channels()
+                    self.batch.channels()
                 ),
             ));
         }
+        let (y_c, y_s) = self.adc.signals(&y_c, &y_s)?;
         let out = OutputArrays::<T>::new(py, channels_c * samples)?;
         let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
         out.fill(py, |columns| {
-            ChannelBatch::run(self, y_c, y_s, samples, columns)
+            ChannelBatch::run(&mut self.batch, y_c, y_s, samples, columns)
         })??;
         out.into_estimates(samples, Some((channels_c, samples)))
     }
@@ -46,7 +67,8 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for ChannelBatch<T, N, S>
 /// The state persists between calls, so chunks along the sample axis give exactly the result
 /// of one call. Each channel gives exactly what an `Observer` with the same gains and
 /// `FaultThresholds.disabled()` gives: a batch rejects bad samples (fault bit BAD_SAMPLE)
-/// but runs no fault monitor.
+/// but runs no fault monitor. Raw ADC counts (int16, uint16, int32) are accepted as by
+/// `Observer` with its default ADC arguments.
 #[pyclass(name = "ObserverBatch", module = "angletrack", extends = RunSettings)]
 #[derive(Debug)]
 pub struct PyObserverBatch {

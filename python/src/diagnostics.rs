@@ -4,10 +4,12 @@ use angletrack_core::{FaultThresholds as CoreThresholds, Faults, Real};
 use pyo3::prelude::*;
 
 /// Thresholds of the observer's diagnostics (like an RDC chip's fault register) and of its
-/// input check, in the units of `y_c`, `y_s` unless stated. Keyword arguments override the
-/// defaults for `nominal_amplitude` (the core's `FaultThresholds::for_amplitude`): input
-/// bound 4 A, loss of signal 0.25 A, degradation below 0.5 A or above 1.5 A, loss of
-/// tracking at a filtered |phase error| of 0.1 A, maximum speed pi / (2 Ts) rad/s, filter
+/// input check, in the units of `y_c`, `y_s` unless stated (the loop itself needs none: its
+/// phase error is normalised). Keyword arguments override the defaults for
+/// `nominal_amplitude` (the core's `FaultThresholds::for_amplitude`): input bound 4 A, loss
+/// of signal 0.25 A, degradation below 0.5 A or above 1.5 A, loss of tracking at a filtered
+/// |normalised phase error| of 0.1 (about 5.7 degrees, at any amplitude), maximum speed
+/// pi / (2 Ts) rad/s, filter
 /// factor 1/16, false lock at a filtered in-phase component below 0, monitoring and
 /// re-acquisition on. Checked when an observer is built (`ConfigError` naming the field).
 #[pyclass(
@@ -45,19 +47,7 @@ pub struct PyFaultThresholds {
 
 impl From<CoreThresholds<f64>> for PyFaultThresholds {
     fn from(t: CoreThresholds<f64>) -> Self {
-        Self {
-            nominal_amplitude: t.nominal_amplitude,
-            max_input_amplitude: t.max_input_amplitude,
-            loss_of_signal: t.loss_of_signal,
-            degradation_low: t.degradation_low,
-            degradation_high: t.degradation_high,
-            loss_of_tracking: t.loss_of_tracking,
-            max_speed_rad_s: t.max_speed,
-            filter_factor: t.filter_factor,
-            false_lock: t.false_lock,
-            monitor: t.monitor,
-            re_acquire: t.re_acquire,
-        }
+        Self::from_typed(&t)
     }
 }
 
@@ -68,6 +58,23 @@ impl Default for PyFaultThresholds {
 }
 
 impl PyFaultThresholds {
+    /// The Python value of thresholds in float type `T`.
+    pub fn from_typed<T: Real>(t: &CoreThresholds<T>) -> Self {
+        Self {
+            nominal_amplitude: t.nominal_amplitude.to_f64(),
+            max_input_amplitude: t.max_input_amplitude.to_f64(),
+            loss_of_signal: t.loss_of_signal.to_f64(),
+            degradation_low: t.degradation_low.to_f64(),
+            degradation_high: t.degradation_high.to_f64(),
+            loss_of_tracking: t.loss_of_tracking.to_f64(),
+            max_speed_rad_s: t.max_speed.map(Real::to_f64),
+            filter_factor: t.filter_factor.to_f64(),
+            false_lock: t.false_lock.to_f64(),
+            monitor: t.monitor,
+            re_acquire: t.re_acquire,
+        }
+    }
+
     /// The thresholds in float type `T`.
     pub fn typed<T: Real>(&self) -> CoreThresholds<T> {
         CoreThresholds {

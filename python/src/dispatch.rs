@@ -5,16 +5,16 @@
 use core::fmt::Debug;
 
 use angletrack::{ChannelBatch, convert_gains};
-use angletrack_core::{Exact, Fast, Gains as CoreGains, Observer as CoreObserver, Real, SinCos};
+use angletrack_core::{Exact, Fast, Gains as CoreGains, Real, SinCos};
 use numpy::Element;
 use pyo3::prelude::*;
 
 use crate::arrays::Float;
-use crate::diagnostics::PyFaultThresholds;
+use crate::batch::Batch;
 use crate::errors::{Error, Result};
 use crate::estimates::Estimates;
 use crate::gains::{GainSet, PyGains};
-use crate::observer::ObserverOps;
+use crate::observer::{Channel, ObserverOps, ObserverOptions};
 
 /// Which sin/cos the phase detector uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -65,20 +65,19 @@ impl<T: Real, S: SinCos<T> + Debug + Send + Sync> PhaseSinCos<T> for S {}
 /// Gains of the float type, order and sin/cos a caller chose, behind one object: what an
 /// `Observer` or an `ObserverBatch` is built from.
 pub trait TypedGains {
-    /// A core observer with the diagnostics `thresholds`.
-    fn observer(&self, thresholds: &PyFaultThresholds) -> Result<Box<dyn ObserverOps>>;
+    /// A core observer with `options` (diagnostics, ADC counts, calibration).
+    fn observer(&self, options: &ObserverOptions) -> Result<Box<dyn ObserverOps>>;
     /// A batch of `channels` observers (the input check only, no diagnostics).
     fn batch(&self, channels: usize) -> Result<Box<dyn Run>>;
 }
 
 impl<T: Sample, const N: usize, S: PhaseSinCos<T>> TypedGains for CoreGains<T, N, S> {
-    fn observer(&self, thresholds: &PyFaultThresholds) -> Result<Box<dyn ObserverOps>> {
-        let gains = self.with_fault_thresholds(thresholds.typed())?;
-        Ok(Box::new(CoreObserver::new(gains)))
+    fn observer(&self, options: &ObserverOptions) -> Result<Box<dyn ObserverOps>> {
+        Ok(Box::new(Channel::new(*self, options)?))
     }
 
     fn batch(&self, channels: usize) -> Result<Box<dyn Run>> {
-        Ok(Box::new(ChannelBatch::new(*self, channels)?))
+        Ok(Box::new(Batch::new(ChannelBatch::new(*self, channels)?)))
     }
 }
 

@@ -112,10 +112,13 @@ impl From<PyErr> for Error {
 
 /// The Python argument a parameter of the core's configuration comes from: the core names
 /// the Python arguments, except that the gains arrive as one sequence, `gains`, whose
-/// element the core names (`gains[0] (l1)`).
+/// element the core names (`gains[0] (l1)`), and the ADC's arguments carry an `adc_`
+/// prefix.
 fn python_parameter(p: Parameter) -> &'static str {
     match p {
         Parameter::AngleGain | Parameter::SpeedGain | Parameter::AccelerationGain => "gains",
+        Parameter::MidScaleCounts => "adc_mid_scale",
+        Parameter::CountsPerUnit => "adc_counts_per_unit",
         other => other.name(),
     }
 }

@@ -133,7 +133,7 @@ pub struct Estimate {
     speed: f64,
     /// Estimated acceleration (rad/s^2); 0 for a 2nd-order observer.
     acceleration: f64,
-    /// Phase-detector output of the last sample (input units, about `A sin(error)`).
+    /// Normalised phase-detector output of the last sample (about `sin(error)`).
     phase_error: f64,
     /// Fault flags of the last sample (bits, see `angletrack.Faults`).
     faults: u8,
@@ -185,7 +185,8 @@ pub struct Estimates {
     pub(crate) speed: Py<PyAny>,
     /// Estimated acceleration (rad/s^2); 0 for a 2nd-order observer.
     pub(crate) acceleration: Py<PyAny>,
-    /// Phase-detector output `y_s cos(angle_p) - y_c sin(angle_p)` per sample.
+    /// Normalised phase-detector output `(y_s cos(angle_p) - y_c sin(angle_p)) / |y|` per
+    /// sample (about the sine of the angle error, whatever the amplitude).
     pub(crate) phase_error: Py<PyAny>,
     /// Fault flags of each sample (uint8 bits, see `angletrack.Faults`).
     pub(crate) faults: Py<PyAny>,

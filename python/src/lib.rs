@@ -9,7 +9,9 @@ use pyo3::prelude::*;
 mod analysis;
 mod arrays;
 mod batch;
+mod calibration;
 mod capture;
+mod counts;
 mod design;
 mod design_functions;
 mod diagnostics;
@@ -32,6 +34,7 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<gains::PyGains>()?;
     m.add_class::<observer::PyObserver>()?;
     m.add_class::<diagnostics::PyFaultThresholds>()?;
+    m.add_class::<calibration::PySensorCalibration>()?;
     m.add("FAULT_BITS", diagnostics::fault_bits())?;
     m.add_class::<estimates::Estimate>()?;
     m.add_class::<estimates::Estimates>()?;

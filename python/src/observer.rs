@@ -3,16 +3,32 @@
 //! The per-sample work is the core's `Gains::update`; this module only moves samples in and
 //! estimates out, with the GIL released, straight into preallocated arrays that numpy owns.
 
-use angletrack::BatchColumns;
-use angletrack_core::{Faults, Observer as CoreObserver, ObserverState, Real, SinCos};
+use angletrack::{BatchColumns, capture_fault_thresholds};
+use angletrack_core::{
+    CalibrationMode, Calibrator, Faults, Gains as CoreGains, Observer as CoreObserver,
+    ObserverState, Real, SinCos,
+};
 use pyo3::prelude::*;
 
-use crate::arrays::{Float, check_equal_lengths, samples};
+use crate::arrays::{Float, check_equal_lengths};
+use crate::calibration::{CalibrationChoice, PySensorCalibration, mode_name};
+use crate::counts::{AdcInput, AdcSettings};
 use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::{Arg, PhaseSinCos, Run, RunSettings, Sample};
 use crate::errors::{Error, Result};
 use crate::estimates::{Estimate, Estimates, OutputArrays};
 use crate::gains::PyGains;
+
+/// What `Observer` and `track` are asked for besides the gains, float type and sin/cos.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct ObserverOptions {
+    /// The diagnostics' thresholds; `None`: scaled to the first call's samples.
+    pub thresholds: Option<PyFaultThresholds>,
+    /// How integer counts are scaled.
+    pub adc: AdcSettings,
+    /// The online calibration.
+    pub calibration: CalibrationChoice,
+}
 
 /// What `Observer` does with the core observer of whichever float type, order and sin/cos
 /// its settings chose.
@@ -24,61 +40,125 @@ pub trait ObserverOps: Run {
     fn is_initialised(&self) -> bool;
     fn latched_faults(&self) -> Faults;
     fn clear_faults(&mut self) -> Faults;
+    fn fault_thresholds(&self) -> Option<PyFaultThresholds>;
+    fn amplitude(&self) -> f64;
+    fn calibration(&self) -> PySensorCalibration;
+    fn calibration_mode(&self) -> CalibrationMode;
+    fn calibration_turns_learned(&self) -> u32;
+    fn set_calibration(&mut self, choice: &CalibrationChoice) -> Result<()>;
 }
 
-impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for CoreObserver<T, N, S> {
+/// The core observer behind the binding's front end: integer counts scaled
+/// (`crate::counts`), the online calibration, and the diagnostics' thresholds scaled to the
+/// first call's samples when the caller gave none.
+#[derive(Debug)]
+pub struct Channel<T: Real, const N: usize, S> {
+    observer: CoreObserver<T, N, S>,
+    calibrator: Calibrator<T>,
+    adc: AdcInput<T>,
+    thresholds_from_samples: bool,
+}
+
+impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Channel<T, N, S> {
+    /// The observer of `gains` with `options`.
+    pub fn new(gains: CoreGains<T, N, S>, options: &ObserverOptions) -> Result<Self> {
+        let gains = match &options.thresholds {
+            Some(t) => gains.with_fault_thresholds(t.typed())?,
+            None => gains,
+        };
+        Ok(Self {
+            observer: CoreObserver::new(gains),
+            calibrator: options.calibration.calibrator()?,
+            adc: AdcInput::new(options.adc),
+            thresholds_from_samples: options.thresholds.is_none(),
+        })
+    }
+}
+
+impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for Channel<T, N, S> {
     fn run(&mut self, py: Python<'_>, y_c: Arg<'_, '_>, y_s: Arg<'_, '_>) -> Result<Estimates> {
-        let y_c = samples::<T>(y_c, "y_c")?;
-        let y_s = samples::<T>(y_s, "y_s")?;
+        let (y_c, y_s) = self.adc.signals(y_c, y_s)?;
         let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
         check_equal_lengths(("y_c", y_c.len()), ("y_s", y_s.len()))?;
+        if self.thresholds_from_samples {
+            let thresholds = capture_fault_thresholds(y_c, y_s);
+            self.observer.gains = self.observer.gains.with_fault_thresholds(thresholds)?;
+            self.thresholds_from_samples = false;
+        }
         let out = OutputArrays::<T>::new(py, y_c.len())?;
         out.fill(py, |columns| run_columns(columns, self, y_c, y_s))?;
         out.into_estimates(y_c.len(), None)
     }
 }
 
-impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for CoreObserver<T, N, S> {
+impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N, S> {
     fn estimate(&self) -> Estimate {
-        Estimate::from_core(&self.gains.estimate(&self.state))
+        Estimate::from_core(&self.observer.gains.estimate(&self.observer.state))
     }
 
     fn reset(&mut self) {
-        self.state = ObserverState::new();
+        self.observer.state = ObserverState::new();
     }
 
     fn initialise(&mut self, y_c: f64, y_s: f64) {
         let (y_c, y_s) = (T::from_f64(y_c), T::from_f64(y_s));
-        self.gains.initialise(&mut self.state, y_c, y_s);
+        let o = &mut self.observer;
+        o.gains.initialise(&mut o.state, y_c, y_s);
     }
 
     fn set_state(&mut self, angle_rad: f64, speed_rad_s: f64, acceleration_rad_s2: f64) {
-        self.state = ObserverState::at(
+        self.observer.state = ObserverState::at(
             T::from_f64(angle_rad),
             T::from_f64(speed_rad_s),
             T::from_f64(acceleration_rad_s2),
-            self.gains.sample_period(),
+            self.observer.gains.sample_period(),
         );
     }
 
     fn is_initialised(&self) -> bool {
-        self.state.is_initialised()
+        self.observer.state.is_initialised()
     }
 
     fn latched_faults(&self) -> Faults {
-        self.state.latched_faults()
+        self.observer.state.latched_faults()
     }
 
     fn clear_faults(&mut self) -> Faults {
-        self.state.clear_faults()
+        self.observer.state.clear_faults()
+    }
+
+    fn fault_thresholds(&self) -> Option<PyFaultThresholds> {
+        let thresholds = self.observer.gains.fault_thresholds();
+        (!self.thresholds_from_samples).then(|| PyFaultThresholds::from_typed(&thresholds))
+    }
+
+    fn amplitude(&self) -> f64 {
+        self.observer.state.amplitude().to_f64()
+    }
+
+    fn calibration(&self) -> PySensorCalibration {
+        PySensorCalibration::from_core(&self.calibrator.calibration())
+    }
+
+    fn calibration_mode(&self) -> CalibrationMode {
+        self.calibrator.mode()
+    }
+
+    fn calibration_turns_learned(&self) -> u32 {
+        self.calibrator.turns_learned()
+    }
+
+    fn set_calibration(&mut self, choice: &CalibrationChoice) -> Result<()> {
+        self.calibrator = choice.calibrator()?;
+        Ok(())
     }
 }
 
-/// Runs `observer` over `y_c`, `y_s` into the columns (all of equal length, checked by the
+/// Runs `channel` over `y_c`, `y_s` into the columns (all of equal length, checked by the
 /// caller). Called with the GIL released: no Python object is touched.
 fn run_columns<T: Real, const N: usize, S: SinCos<T>>(
     columns: BatchColumns<'_, T>,
-    observer: &mut CoreObserver<T, N, S>,
+    channel: &mut Channel<T, N, S>,
     y_c: &[T],
     y_s: &[T],
 ) {
@@ -88,9 +168,11 @@ fn run_columns<T: Real, const N: usize, S: SinCos<T>>(
     let (angle, position) = (&mut columns.angle[..n], &mut columns.position[..n]);
     let (speed, acceleration) = (&mut columns.speed[..n], &mut columns.acceleration[..n]);
     let (phase_error, faults) = (&mut columns.phase_error[..n], &mut columns.faults[..n]);
-    let (gains, state) = (&observer.gains, &mut observer.state);
+    let (gains, state) = (&channel.observer.gains, &mut channel.observer.state);
+    let calibrator = &mut channel.calibrator;
     for k in 0..n {
-        let e = gains.update(state, y_c[k], y_s[k]);
+        // With the calibration off, the core's plain update (one branch on the mode).
+        let e = gains.update_calibrated(state, calibrator, y_c[k], y_s[k]);
         angle[k] = e.angle;
         position[k] = e.position();
         speed[k] = e.speed;
@@ -111,33 +193,58 @@ fn finite(values: &[(&'static str, f64)]) -> Result<()> {
 
 /// An angle tracking observer running on numpy arrays: checked gains plus a state that
 /// persists between calls, so a capture fed in chunks gives exactly the result of one call.
+///
+/// Samples may be floats of the observer's dtype or raw ADC counts (int16, uint16, int32),
+/// converted exactly: minus `adc_mid_scale` (default 0 for signed counts; for uint16 the
+/// mid-scale of the smallest offset-binary ADC that holds the first call's samples, 2048
+/// for counts up to 4095) and divided by `adc_counts_per_unit` (default 1: the observer
+/// runs in counts). The loop is amplitude-invariant, so counts or volts track alike.
+///
+/// `fault_thresholds=None` (the default) scales the diagnostics to the signal: at the
+/// first `update`, `FaultThresholds(nominal_amplitude=A)` with `A` the median magnitude
+/// `sqrt(y_c^2 + y_s^2)` of its first 4096 samples (amplitude 1 if that is not positive);
+/// give thresholds to state the amplitude yourself.
+///
+/// `calibration`: `None` (off), `"learn"` (correct offsets, gain imbalance and quadrature
+/// error and learn them while tracking, from `initial_calibration` if given) or `"frozen"`
+/// (apply `initial_calibration`, learn nothing). The calibration is in the input's units.
 #[pyclass(name = "Observer", module = "angletrack", extends = RunSettings)]
 #[derive(Debug)]
 pub struct PyObserver {
-    thresholds: PyFaultThresholds,
     inner: Box<dyn ObserverOps>,
 }
 
 #[pymethods]
 impl PyObserver {
     #[new]
-    #[pyo3(signature = (gains, *, dtype = None, sin_cos = None, fault_thresholds = None))]
+    #[pyo3(signature = (gains, *, dtype = None, sin_cos = None, fault_thresholds = None,
+        calibration = None, initial_calibration = None, adc_mid_scale = None,
+        adc_counts_per_unit = None))]
+    #[allow(clippy::too_many_arguments)]
     fn py_new(
         gains: PyGains,
         dtype: Option<&Bound<'_, PyAny>>,
         sin_cos: Option<&str>,
         fault_thresholds: Option<PyFaultThresholds>,
+        calibration: Option<&str>,
+        initial_calibration: Option<PySensorCalibration>,
+        adc_mid_scale: Option<i64>,
+        adc_counts_per_unit: Option<f64>,
     ) -> Result<PyClassInitializer<Self>> {
-        let thresholds = fault_thresholds.unwrap_or_default();
+        let options = ObserverOptions {
+            thresholds: fault_thresholds,
+            adc: AdcSettings::new(adc_mid_scale, adc_counts_per_unit)?,
+            calibration: CalibrationChoice::new(calibration, initial_calibration)?,
+        };
         RunSettings::from_arguments(gains, dtype, sin_cos)?.subclass(|gains| {
-            let inner = gains.observer(&thresholds)?;
-            Ok(Self { thresholds, inner })
+            let inner = gains.observer(&options)?;
+            Ok(Self { inner })
         })
     }
 
     /// Runs the observer over the samples `y_c ~ cos(theta)`, `y_s ~ sin(theta)` (1-D,
-    /// equal lengths, of the observer's dtype) and returns the estimates of every sample.
-    /// The state carries over to the next call.
+    /// equal lengths, of the observer's dtype, or both raw counts of one integer dtype) and
+    /// returns the estimates of every sample. The state carries over to the next call.
     #[pyo3(signature = (y_c, y_s))]
     fn update(&mut self, py: Python<'_>, y_c: Arg<'_, '_>, y_s: Arg<'_, '_>) -> Result<Estimates> {
         self.inner.run(py, y_c, y_s)
@@ -149,7 +256,8 @@ impl PyObserver {
         self.inner.estimate()
     }
 
-    /// Forgets the state: the next sample initialises the observer from its `atan2`.
+    /// Forgets the state: the next sample initialises the observer from its `atan2`. Keeps
+    /// the calibration.
     fn reset(&mut self) {
         self.inner.reset();
     }
@@ -195,10 +303,49 @@ impl PyObserver {
         self.inner.clear_faults().bits()
     }
 
-    /// The diagnostics thresholds the observer runs with.
+    /// The diagnostics thresholds the observer runs with; `None` until the first `update`
+    /// when they are scaled to its samples.
     #[getter]
-    fn fault_thresholds(&self) -> PyFaultThresholds {
-        self.thresholds
+    fn fault_thresholds(&self) -> Option<PyFaultThresholds> {
+        self.inner.fault_thresholds()
+    }
+
+    /// The signal's magnitude `sqrt(y_c^2 + y_s^2)` the loop normalises its phase error by
+    /// (input units, after the calibration's correction).
+    #[getter]
+    fn amplitude(&self) -> f64 {
+        self.inner.amplitude()
+    }
+
+    /// The sensor calibration applied to each sample (unless the calibration is off): what
+    /// it learned so far, or was given.
+    #[getter]
+    fn calibration(&self) -> PySensorCalibration {
+        self.inner.calibration()
+    }
+
+    /// The calibration's mode: `"off"`, `"learn"` or `"frozen"`.
+    #[getter]
+    fn calibration_mode(&self) -> &'static str {
+        mode_name(self.inner.calibration_mode())
+    }
+
+    /// The electrical turns the calibration has learned from since it started or was set.
+    #[getter]
+    fn calibration_turns_learned(&self) -> u32 {
+        self.inner.calibration_turns_learned()
+    }
+
+    /// Sets the calibration as the constructor's `calibration` and `initial_calibration`
+    /// do (`ConfigError` naming them); the state is kept.
+    #[pyo3(signature = (calibration, initial_calibration = None))]
+    fn set_calibration(
+        &mut self,
+        calibration: Option<&str>,
+        initial_calibration: Option<PySensorCalibration>,
+    ) -> Result<()> {
+        let choice = CalibrationChoice::new(calibration, initial_calibration)?;
+        self.inner.set_calibration(&choice)
     }
 
     /// `False` until the first sample (or `set_state`) has set the angle.
@@ -210,18 +357,23 @@ impl PyObserver {
     fn __repr__(slf: PyRef<'_, Self>) -> String {
         let settings = slf.as_super();
         format!(
-            "Observer({}, gains={:?}, initialised={})",
+            "Observer({}, gains={:?}, calibration={}, initialised={})",
             settings.describe(),
             settings.gain_set().gains(),
+            mode_name(slf.inner.calibration_mode()),
             slf.inner.is_initialised()
         )
     }
 }
 
 /// Runs a fresh observer with `gains` over `y_c`, `y_s` in the samples' own dtype (float32
-/// or float64) and returns the estimates.
+/// or float64; float64 for raw ADC counts, int16, uint16 or int32, scaled as `Observer`
+/// does) and returns the estimates. `fault_thresholds=None` scales the diagnostics to the
+/// samples' own amplitude, as `Observer` does.
 #[pyfunction]
-#[pyo3(signature = (gains, y_c, y_s, *, sin_cos = None, fault_thresholds = None))]
+#[pyo3(signature = (gains, y_c, y_s, *, sin_cos = None, fault_thresholds = None,
+    adc_mid_scale = None, adc_counts_per_unit = None))]
+#[allow(clippy::too_many_arguments)]
 pub fn track(
     py: Python<'_>,
     gains: PyGains,
@@ -229,11 +381,17 @@ pub fn track(
     y_s: &Bound<'_, PyAny>,
     sin_cos: Option<&str>,
     fault_thresholds: Option<PyFaultThresholds>,
+    adc_mid_scale: Option<i64>,
+    adc_counts_per_unit: Option<f64>,
 ) -> Result<Estimates> {
     let settings = RunSettings::new(gains, Float::of_samples(y_c, "y_c")?, sin_cos)?;
-    let thresholds = fault_thresholds.unwrap_or_default();
+    let options = ObserverOptions {
+        thresholds: fault_thresholds,
+        adc: AdcSettings::new(adc_mid_scale, adc_counts_per_unit)?,
+        calibration: CalibrationChoice::default(),
+    };
     settings
         .typed_gains()?
-        .observer(&thresholds)?
+        .observer(&options)?
         .run(py, y_c, y_s)
 }

@@ -6,6 +6,7 @@ use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 
 use crate::arrays::{check_equal_lengths, samples};
+use crate::calibration::PySensorCalibration;
 use crate::errors::{Error, Result};
 use crate::motion::PyMotionProfile;
 
@@ -83,6 +84,15 @@ impl PySensorModel {
             adc_bits: adc_bits.unwrap_or(d.adc_bits),
             adc_full_scale: adc_full_scale.unwrap_or(d.adc_full_scale),
         }
+    }
+
+    /// The `SensorCalibration` of this sensor (the core's model: `offset_c = offset_cos`,
+    /// `offset_s = offset_sin`, `amplitude_c = amplitude`, `amplitude_s = amplitude (1 +
+    /// amplitude_imbalance)`, `quadrature_rad = quadrature_error_rad`): what an online
+    /// calibration should learn. `ConfigError` for an invalid model or a quadrature error
+    /// beyond pi/4.
+    fn calibration(&self) -> Result<PySensorCalibration> {
+        Ok(PySensorCalibration::from_core(&self.model().calibration()?))
     }
 
     fn __repr__(&self) -> String {

@@ -1,10 +1,12 @@
 """An independent, plain-Python restatement of the observer recursion (the scaled discrete
 state and the predictor-corrector recursion, with wrapping and turn counting:
-docs/theory.md §5), used to check the Rust results sample by sample. Slow on purpose: it is
+docs/theory.md §5; the phase error normalised by the signal's magnitude, as float64 does it:
+docs/theory.md §12), used to check the Rust results sample by sample. Slow on purpose: it is
 the specification.
 """
 
 import math
+import sys
 
 import numpy as np
 
@@ -37,7 +39,9 @@ def run(gains, sample_period, y_c, y_s):
             else:
                 p = [x[0] + x[1], x[1]]
             p[0], turns = _wrap(p[0], turns)
-            eps = s * math.cos(p[0]) - c * math.sin(p[0])
+            # The smallest normal float keeps the magnitude positive: a zero sample gives 0.
+            magnitude = math.sqrt(c * c + s * s + sys.float_info.min)
+            eps = (s * math.cos(p[0]) - c * math.sin(p[0])) / magnitude
             if not math.isfinite(eps):
                 eps = 0.0
             x = [p[i] + gains[i] * eps for i in range(n_states)]

@@ -166,7 +166,7 @@ def test_report_writes_markdown_and_plots(tmp_path):
     out = tmp_path / "report"
     proc = subprocess.run([str(SCRIPT), "report", "--out", str(out)], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
-    assert "[25/25]" in proc.stderr  # progress lines
+    assert "[27/27]" in proc.stderr  # progress lines
     text = (out / "report.md").read_text()
     for paper in ("5.0 %", "20.8 %", "10.0 %", "30.9 %"):
         assert f"| {paper} |" in text
@@ -177,7 +177,14 @@ def test_report_writes_markdown_and_plots(tmp_path):
     # The discrete loop's overshoot is within 0.3 points of the paper's, row by row.
     deltas = [float(d) for d in re.findall(r"\| ([+-]\d+\.\d\d) \|", text)]
     assert len(deltas) == 4 and all(abs(d) <= 0.3 for d in deltas)
-    for png in ("step_179.png", "speed_ramp.png", "acceleration.png", "noise.png", "overshoot.png"):
+    # Section 5: the imperfect sensor, with and without the online calibration.
+    assert "## 5. A real sensor: offsets, gain imbalance and quadrature error" in text
+    rows = re.findall(r"\| (uncorrected|online calibration) \| ([\d.]+) \| ([\d.]+) \| ([\d.]+) \|", text)
+    (_, rms, first, second), (_, rms_c, first_c, second_c) = rows
+    assert float(rms_c) < 3.0 < 50.0 < float(rms)  # mrad
+    assert float(first) > 20 * float(first_c) and float(second) > 20 * float(second_c)
+    for png in ("step_179.png", "speed_ramp.png", "acceleration.png", "noise.png", "overshoot.png",
+                "sensor_errors.png"):
         data = (out / png).read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000, png
         assert f"]({png})" in text

@@ -154,12 +154,19 @@ float_arrays = hnp.arrays(
 @settings(max_examples=300, deadline=None)
 @given(y_c=float_arrays, y_s=float_arrays, dtype=st.sampled_from([np.float32, np.float64]))
 def test_random_junk_raises_the_right_exception_or_gives_finite_results(y_c, y_s, dtype):
-    obs = angletrack.Observer(angletrack.Gains(THIRD_ORDER, SAMPLE_PERIOD), dtype=dtype)
+    # The default input bound (4, nominal amplitude 1) stated: by default the diagnostics
+    # would be scaled to the samples' own amplitude.
+    obs = angletrack.Observer(
+        angletrack.Gains(THIRD_ORDER, SAMPLE_PERIOD), dtype=dtype, fault_thresholds=angletrack.FaultThresholds()
+    )
+    # Raw ADC counts (int32 here) are accepted, both channels of one counts dtype.
+    counts = y_c.dtype == np.int32
     expected = None
     for name, a in (("y_c", y_c), ("y_s", y_s)):
+        accepted = y_c.dtype if counts else dtype
         if a.ndim != 1:
             expected = expected or (ValueError, name)
-        elif a.dtype != dtype:
+        elif a.dtype != accepted:
             expected = expected or (TypeError, name)
         elif a.size == 0:
             expected = expected or (ValueError, name)

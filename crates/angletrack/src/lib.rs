@@ -42,6 +42,10 @@
 //! * Recorded captures ([`capture`]): delimited text of any layout, `.npy` and `.npz`, read
 //!   in chunks of constant memory with every fault named by file, line and column; the
 //!   estimates written back as text or `.npy`.
+//! * Real sensor signals ([`run_calibrated`], [`nominal_amplitude`],
+//!   [`capture_fault_thresholds`], [`SensorModel::calibration`]): a run with the core's
+//!   online correction of offsets, imbalance and quadrature, and diagnostics scaled to a
+//!   capture's own amplitude (`docs/theory.md §12`).
 //! * Many channels ([`ChannelBatch`]): any number of channels on one gain set, run by the
 //!   core's vectorisable [`ChannelBank`]s.
 //!
@@ -53,8 +57,9 @@
 
 pub use angletrack_core as core;
 pub use angletrack_core::{
-    AngleTrackingObserver, ChannelBank, ConfigError, Estimate, Exact, Fast, FaultThresholds,
-    Faults, Gains, Observer, ObserverState, Parameter, Real, SecondOrderObserver, SinCos,
+    AdcScaling, AngleTrackingObserver, CalibrationMode, CalibrationSettings, Calibrator,
+    ChannelBank, ConfigError, Estimate, Exact, Fast, FaultThresholds, Faults, Gains, Observer,
+    ObserverState, Parameter, Real, SecondOrderObserver, SensorCalibration, SinCos,
     ThirdOrderObserver,
 };
 // The resolver front end (`docs/theory.md §13`).
@@ -86,5 +91,6 @@ pub use design::{
 pub use error::{Argument, Error};
 pub use sim::{
     BatchColumns, ChannelBatch, ErrorStatistics, Kinematics, LANES, MAX_SAMPLES, Metrics,
-    MetricsOptions, Motion, MotionProfile, ResolverModel, Run, Scenario, SensorModel, run,
+    MetricsOptions, Motion, MotionProfile, NOMINAL_AMPLITUDE_SAMPLES, ResolverModel, Run, Scenario,
+    SensorModel, capture_fault_thresholds, nominal_amplitude, run, run_calibrated,
 };

@@ -60,6 +60,7 @@ from angletrack._angletrack import (
     PredictedError,
     SETTLING_BAND,
     Scenario,
+    SensorCalibration,
     SensorModel,
     StepResponse,
     __version__,
@@ -120,6 +121,7 @@ __all__ = [
     "PredictedError",
     "SETTLING_BAND",
     "Scenario",
+    "SensorCalibration",
     "SensorModel",
     "StepResponse",
     "__version__",
@@ -153,5 +155,7 @@ Faults = _enum.IntFlag("Faults", dict(FAULT_BITS))
 Faults.__module__ = __name__
 Faults.__doc__ = (
     "Fault flags as in an RDC chip's fault register: LOSS_OF_SIGNAL, DEGRADATION_OF_SIGNAL, "
-    "LOSS_OF_TRACKING, BAD_SAMPLE (the observer coasted), FALSE_LOCK (re-acquired)."
+    "LOSS_OF_TRACKING, BAD_SAMPLE (the observer coasted), FALSE_LOCK (re-acquired), and with the "
+    "online calibration AMPLITUDE_MISMATCH (channel gains apart) and OFFSET_OR_QUADRATURE (a "
+    "learned offset or quadrature angle beyond its bound)."
 )

@@ -10,6 +10,10 @@ import numpy.typing as npt
 __version__: str
 
 _Samples = Union[npt.NDArray[np.float32], npt.NDArray[np.float64], Sequence[float]]
+#: Samples an observer accepts: floats, or raw ADC counts (int16, uint16, int32) scaled
+#: exactly (minus ``adc_mid_scale``, divided by ``adc_counts_per_unit``).
+_Signal = Union[_Samples, npt.NDArray[np.int16], npt.NDArray[np.uint16], npt.NDArray[np.int32]]
+_CalibrationMode = Optional[Literal["learn", "frozen", "off"]]
 _DType = Union[type[np.float32], type[np.float64], np.dtype, Literal["float32", "float64"], None]
 _SinCos = Optional[Literal["fast", "exact"]]
 
@@ -62,7 +66,7 @@ class Estimates:
         """Acceleration (rad/s^2); 0 at order 2."""
     @property
     def phase_error(self) -> npt.NDArray[np.floating]:
-        """Phase-detector output per sample."""
+        """Normalised phase-detector output per sample (about the sine of the angle error)."""
     @property
     def faults(self) -> npt.NDArray[np.uint8]:
         """Fault flags per sample (see ``angletrack.Faults``)."""
@@ -100,16 +104,55 @@ class _RunSettings:
     @property
     def sample_period_s(self) -> float: ...
 
+class SensorCalibration:
+    """A sensor's calibration, ``y_c = offset_c + amplitude_c cos(theta)``,
+    ``y_s = offset_s + amplitude_s sin(theta + quadrature_rad)``, in the observer's input
+    units and radians; checked (``ConfigError`` naming the field: amplitudes positive,
+    ``|quadrature_rad| < pi/4``, all finite)."""
+
+    offset_c: float
+    offset_s: float
+    amplitude_c: float
+    amplitude_s: float
+    quadrature_rad: float
+    def __init__(
+        self, *, offset_c: float = 0.0, offset_s: float = 0.0, amplitude_c: float = 1.0,
+        amplitude_s: float = 1.0, quadrature_rad: float = 0.0,
+    ) -> None: ...
+    @property
+    def amplitude_ratio(self) -> float:
+        """The gain imbalance ``amplitude_s / amplitude_c``."""
+    def to_dict(self) -> dict[str, float]:
+        """The five fields (for ``json.dumps``)."""
+    @staticmethod
+    def from_dict(d: dict[str, float]) -> SensorCalibration:
+        """From a dict holding the five fields, checked as the constructor."""
+    def __eq__(self, other: object) -> bool: ...
+
 class Observer(_RunSettings):
     """An observer whose state persists between calls: chunked input gives exactly the
-    result of one call."""
+    result of one call.
+
+    Integer samples (int16, uint16, int32) are raw ADC counts: minus ``adc_mid_scale``
+    (default 0 for signed counts; for uint16 the mid-scale ``2^(b-1)`` of the smallest
+    ``b``-bit ADC holding the first call's samples) and divided by ``adc_counts_per_unit``
+    (default 1), exactly. ``fault_thresholds=None`` scales the diagnostics to the signal:
+    ``FaultThresholds(nominal_amplitude=A)``, ``A`` the median ``sqrt(y_c^2 + y_s^2)`` of
+    the first call's first 4096 samples. ``calibration``: ``None`` (off), ``"learn"`` (correct
+    and learn offsets, gain imbalance and quadrature while tracking, from
+    ``initial_calibration`` if given) or ``"frozen"`` (apply ``initial_calibration``)."""
 
     def __init__(
         self, gains: Gains, *, dtype: _DType = None, sin_cos: _SinCos = None,
         fault_thresholds: Optional[FaultThresholds] = None,
+        calibration: _CalibrationMode = None,
+        initial_calibration: Optional[SensorCalibration] = None,
+        adc_mid_scale: Optional[int] = None,
+        adc_counts_per_unit: Optional[float] = None,
     ) -> None: ...
-    def update(self, y_c: _Samples, y_s: _Samples) -> Estimates:
-        """Runs over 1-D samples of the observer's dtype; GIL released."""
+    def update(self, y_c: _Signal, y_s: _Signal) -> Estimates:
+        """Runs over 1-D samples of the observer's dtype, or raw counts of one integer
+        dtype; GIL released."""
     @property
     def estimate(self) -> Estimate: ...
     def reset(self) -> None: ...
@@ -123,15 +166,37 @@ class Observer(_RunSettings):
     def latched_faults(self) -> int: ...
     def clear_faults(self) -> int: ...
     @property
-    def fault_thresholds(self) -> FaultThresholds: ...
+    def fault_thresholds(self) -> Optional[FaultThresholds]:
+        """The thresholds; ``None`` until the first update when scaled to its samples."""
+    @property
+    def amplitude(self) -> float:
+        """The magnitude ``sqrt(y_c^2 + y_s^2)`` the loop normalises by (input units)."""
+    @property
+    def calibration(self) -> SensorCalibration:
+        """The calibration applied (learned so far, or given)."""
+    @property
+    def calibration_mode(self) -> Literal["off", "learn", "frozen"]: ...
+    @property
+    def calibration_turns_learned(self) -> int: ...
+    def set_calibration(
+        self, calibration: _CalibrationMode, initial_calibration: Optional[SensorCalibration] = None
+    ) -> None:
+        """As the constructor's arguments; the state is kept."""
 
 def track(
-    gains: Gains, y_c: _Samples, y_s: _Samples, *, sin_cos: _SinCos = None,
+    gains: Gains, y_c: _Signal, y_s: _Signal, *, sin_cos: _SinCos = None,
     fault_thresholds: Optional[FaultThresholds] = None,
+    adc_mid_scale: Optional[int] = None,
+    adc_counts_per_unit: Optional[float] = None,
 ) -> Estimates:
-    """Runs a fresh observer over the samples in their own dtype (float32 or float64)."""
+    """Runs a fresh observer over the samples in their own dtype (float32 or float64;
+    float64 for raw counts, scaled as ``Observer`` does). ``fault_thresholds=None`` scales
+    the diagnostics to the samples' amplitude."""
 
-_ChannelSamples = Union[npt.NDArray[np.float32], npt.NDArray[np.float64], Sequence[Sequence[float]]]
+_ChannelSamples = Union[
+    npt.NDArray[np.float32], npt.NDArray[np.float64], Sequence[Sequence[float]],
+    npt.NDArray[np.int16], npt.NDArray[np.uint16], npt.NDArray[np.int32],
+]
 
 class ObserverBatch(_RunSettings):
     """Many observers on one gain set, run 8 at a time side by side; 2-D arrays
@@ -370,6 +435,9 @@ class SensorModel:
     noise_std: float
     adc_bits: int
     adc_full_scale: float
+    def calibration(self) -> SensorCalibration:
+        """The ``SensorCalibration`` of this sensor (offsets, amplitudes ``A`` and
+        ``A (1 + amplitude_imbalance)``, quadrature): what an online calibration learns."""
 
 class Scenario:
     @staticmethod

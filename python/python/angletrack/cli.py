@@ -14,6 +14,7 @@ from typing import Callable, Optional, Sequence
 
 
 import angletrack
+from angletrack import calibration as calibration_io
 from angletrack import export, tracking
 
 
@@ -73,7 +74,10 @@ def _cmd_track(args: argparse.Namespace) -> int:
     oscilloscope's (x, y) column pairs, integer ADC counts; or NumPy .npy/.npz) through an
     observer in constant memory and writes the estimates as CSV, or as a .npy structured
     array when the output ends in .npy. The capture's sample rate (time column) must agree
-    with the gains'. With a reference column, prints the errors against it.
+    with the gains'. The signals may be in any unit (volts, raw ADC counts): the loop is
+    amplitude-invariant and the diagnostics are scaled to the capture's own amplitude. With a
+    reference column, prints the errors against it. --calibrate learns and corrects the
+    sensor's offsets, imbalance and quadrature error.
     """
     settings = tracking.TrackSettings(
         capture=args.capture,
@@ -89,9 +93,39 @@ def _cmd_track(args: argparse.Namespace) -> int:
         skip_s=args.skip,
         lock_tolerance_rad=args.lock_tolerance,
         progress=args.progress or sys.stderr.isatty(),
+        observer_arguments=_calibration_arguments(args),
     )
-    print(tracking.track_capture(settings))
+    summary, observer = tracking.track_capture(settings)
+    print(summary)
+    _write_calibration(args, observer)
     return 0
+
+
+def _calibration_arguments(args: argparse.Namespace) -> dict:
+    """The ``Observer`` arguments of ``--calibrate`` (learn while tracking, from the stored
+    calibration if one is given) and ``--calibration FILE`` (apply it, frozen)."""
+    stored = None if args.calibration is None else calibration_io.read(args.calibration)
+    if args.calibrate:
+        return {"calibration": "learn", "initial_calibration": stored}
+    if stored is not None:
+        return {"calibration": "frozen", "initial_calibration": stored}
+    return {}
+
+
+def _write_calibration(args: argparse.Namespace, observer: angletrack.Observer) -> None:
+    """With ``--calibrate``: writes what the observer learned beside the estimates."""
+    if not args.calibrate:
+        return
+    path = calibration_io.default_path(args.capture, args.calibration_out)
+    learned = observer.calibration
+    calibration_io.write(
+        path, learned, turns_learned=observer.calibration_turns_learned, source=str(args.capture)
+    )
+    print(
+        f"calibration learned over {observer.calibration_turns_learned} turns -> {path}: offsets "
+        f"{learned.offset_c:.6g}, {learned.offset_s:.6g}; amplitudes {learned.amplitude_c:.6g}, "
+        f"{learned.amplitude_s:.6g}; quadrature {learned.quadrature_rad:.6g} rad"
+    )
 
 
 # ----------------------------------------------------------------------------- design
@@ -323,6 +357,13 @@ def _add_track_parser(sub) -> None:
                        help="with a reference: angle error of the lock (default 0.01 rad)")
     track.add_argument("--progress", action="store_true",
                        help="report progress on stderr (default: only when stderr is a terminal)")
+    track.add_argument("--calibrate", action="store_true",
+                       help="learn the sensor's offsets, gain imbalance and quadrature error while tracking, "
+                       "correct them, and write the calibration (JSON) beside the estimates")
+    track.add_argument("--calibration-out", type=pathlib.Path, metavar="FILE.json",
+                       help="with --calibrate: where to write it (default: CAPTURE_calibration.json)")
+    track.add_argument("--calibration", type=pathlib.Path, metavar="FILE.json",
+                       help="apply a stored calibration (frozen; with --calibrate, learning starts from it)")
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:

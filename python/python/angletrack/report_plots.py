@@ -11,6 +11,7 @@ import angletrack as at
 
 if TYPE_CHECKING:
     from angletrack.report import ScenarioResult
+    from angletrack.report_sensor import SensorResult
 
 COLOURS = {"2nd-order ATO": "tab:blue", "3rd-order ATO": "tab:orange", "Kalman ATO": "tab:green"}
 
@@ -115,6 +116,29 @@ def plot_overshoot(plt, settings: list[at.PaperSetting], path: pathlib.Path) -> 
     ax.set_title(f"Small-signal step responses of the paper's settings ({rate_khz:.0f} kHz)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="lower right")
+    _save(plt, fig, path)
+
+
+def plot_sensor_errors(plt, result: SensorResult, path: pathlib.Path) -> None:
+    """Section 5: the angle error (mean removed) against the true electrical angle, without
+    and with the online calibration, after the calibration has converged."""
+    sc, k = result.scenario, result.first
+    angle_deg = np.degrees(np.mod(sc.angle_rad[k:], 2 * np.pi))
+    fig, ax = plt.subplots(figsize=(8, 4.5))
+    for name, est, colour in (
+        ("uncorrected", result.uncorrected, "tab:red"),
+        ("online calibration", result.corrected, "tab:green"),
+    ):
+        error = _error_mrad(sc, est)[k:]
+        ax.plot(angle_deg, error - error.mean(), ",", color=colour, alpha=0.5)
+        ax.plot([], [], "o", color=colour, label=f"{name}: RMS {np.std(error):.3g} mrad")
+    ax.set_xlim(0, 360)
+    ax.set_xticks(range(0, 361, 45))
+    ax.set_xlabel("true electrical angle (deg)")
+    ax.set_ylabel("angle error, mean removed (mrad)")
+    ax.set_title("Offsets 5 %, gain imbalance 10 %, quadrature 3 degrees (Kalman ATO)")
+    ax.grid(alpha=0.3)
+    ax.legend(loc="upper right", fontsize=8)
     _save(plt, fig, path)
 
 

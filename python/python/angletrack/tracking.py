@@ -47,6 +47,8 @@ class TrackSettings:
     lock_tolerance_rad: float = 0.01
     progress: bool = False
     chunk_rows: int = 1 << 16
+    #: Further ``Observer`` arguments (the online calibration of ``--calibrate``/``--calibration``).
+    observer_arguments: dict = dataclasses.field(default_factory=dict)
 
 
 def _rate_error(capture_hz: float, gains_hz: float, time_unit: str) -> str:
@@ -116,6 +118,7 @@ class _ErrorStatistics:
         return (
             f"angle error against the reference (after {self.skip_s} s, {self.count} samples):\n"
             f"  RMS {rms:.6e} rad   max {self.largest:.6e} rad   mean {self.total / self.count:+.6e} rad\n"
+            f"  RMS after removing the mean {math.sqrt(max(rms**2 - (self.total / self.count) ** 2, 0.0)):.6e} rad\n"
             f"  locked (within {self.tolerance_rad} rad) from: {lock}"
         )
 
@@ -166,8 +169,9 @@ def _stated_rate_note(s: TrackSettings) -> list[str]:
     ]
 
 
-def track_capture(s: TrackSettings) -> str:
-    """Runs ``s``: writes the estimates to ``s.output`` and returns the summary to print.
+def track_capture(s: TrackSettings) -> tuple[str, angletrack.Observer]:
+    """Runs ``s``: writes the estimates to ``s.output`` and returns the summary to print and
+    the observer at the end of the capture (its learned calibration, its faults).
     Raises ``ValueError`` (``CaptureError``, ``ConfigError``) on a capture that cannot be
     tracked, before anything is written where it can be told before."""
     reader = angletrack.CaptureReader(
@@ -178,7 +182,7 @@ def track_capture(s: TrackSettings) -> str:
     first = next(chunks)
     gains = gains_for_capture(s, reader.sample_rate_hz if first.time_s is not None else None)
     dtype = np.dtype(s.dtype)
-    observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos)
+    observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos, **s.observer_arguments)
     stats = _ErrorStatistics(s.skip_s, s.lock_tolerance_rad) if first.reference_rad is not None else None
     progress = _Progress(s.progress)
     rejected, y_c_sum = 0, 0.0
@@ -219,4 +223,4 @@ def track_capture(s: TrackSettings) -> str:
     ]
     if stats is not None:
         lines.append(stats.report())
-    return "\n".join(lines)
+    return "\n".join(lines), observer

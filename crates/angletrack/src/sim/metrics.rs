@@ -2,7 +2,7 @@
 
 use core::f64::consts::{PI, TAU};
 
-use angletrack_core::{Gains, ObserverState, Real, SinCos};
+use angletrack_core::{Estimate, Gains, ObserverState, Real, SinCos};
 
 use super::Scenario;
 use crate::analysis::StepResponse;
@@ -21,10 +21,13 @@ pub struct Run {
 
 /// Runs the observer `gains` (any float type, order and sin/cos) over the scenario's signals,
 /// from a fresh state (initialised by the first sample's `atan2`, as in firmware). The
-/// signals are rounded to `T` first. The gains' diagnostics thresholds apply as in firmware
-/// (the core's defaults assume amplitude 1: set them with `Gains::with_fault_thresholds`
-/// for another [`SensorModel::amplitude`](crate::SensorModel::amplitude), or disable them
-/// to study the bare loop of the paper).
+/// signals are rounded to `T` first. The loop runs the same at any amplitude (its phase
+/// error is normalised, `docs/theory.md §12`); the gains' diagnostics thresholds apply as
+/// in firmware, and compare amplitudes: the core's defaults assume amplitude 1, so set them
+/// with `Gains::with_fault_thresholds` for another
+/// [`SensorModel::amplitude`](crate::SensorModel::amplitude)
+/// ([`capture_fault_thresholds`](crate::capture_fault_thresholds) estimates it from the
+/// signals), or disable them to study the bare loop of the paper.
 ///
 /// ```
 /// use angletrack::{Gains, Motion, MotionProfile, Scenario, SensorModel, run};
@@ -40,15 +43,24 @@ pub fn run<T: Real, const N: usize, S: SinCos<T>>(
     gains: &Gains<T, N, S>,
     scenario: &Scenario,
 ) -> Run {
+    let mut state = ObserverState::new();
+    run_with(scenario, |c, s| gains.update(&mut state, c, s))
+}
+
+/// The estimates of `update` (one observer's per-sample step, its state captured) over the
+/// scenario's signals rounded to `T`.
+pub(super) fn run_with<T: Real>(
+    scenario: &Scenario,
+    mut update: impl FnMut(T, T) -> Estimate<T>,
+) -> Run {
     let n = scenario.y_c.len().min(scenario.y_s.len());
     let mut out = Run {
         angle_rad: Vec::with_capacity(n),
         speed_rad_s: Vec::with_capacity(n),
         acceleration_rad_s2: Vec::with_capacity(n),
     };
-    let mut state = ObserverState::new();
     for (&c, &s) in scenario.y_c.iter().zip(&scenario.y_s) {
-        let e = gains.update(&mut state, T::from_f64(c), T::from_f64(s));
+        let e = update(T::from_f64(c), T::from_f64(s));
         out.angle_rad.push(e.position());
         out.speed_rad_s.push(e.speed.to_f64());
         out.acceleration_rad_s2.push(e.acceleration.to_f64());

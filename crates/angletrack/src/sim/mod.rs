@@ -4,6 +4,7 @@
 //! raw windings as an ADC samples them (`resolver`).
 
 mod batch;
+mod calibrated;
 mod metrics;
 mod motion;
 mod resolver;
@@ -11,6 +12,9 @@ mod scenario;
 mod sensor;
 
 pub use batch::{BatchColumns, ChannelBatch, LANES};
+pub use calibrated::{
+    NOMINAL_AMPLITUDE_SAMPLES, capture_fault_thresholds, nominal_amplitude, run_calibrated,
+};
 pub use metrics::{ErrorStatistics, Metrics, MetricsOptions, Run, run};
 pub use motion::{Kinematics, Motion, MotionProfile};
 pub use resolver::ResolverModel;

@@ -1,6 +1,8 @@
 //! The sensor model: what turns the shaft angle into the two signals `y_c`, `y_s`
 //! (`docs/theory.md §1`).
 
+use angletrack_core::SensorCalibration;
+
 use crate::error::{Argument, Error, finite, non_negative, positive};
 
 /// The sensor: what turns the shaft angle into the two signals `y_c`, `y_s`.
@@ -13,6 +15,12 @@ use crate::error::{Argument, Error, finite, non_negative, positive};
 /// then, with `adc_bits > 0`, rounding to the ADC grid of `2^adc_bits` levels over
 /// `[-adc_full_scale, adc_full_scale)` (saturating). `w_c`, `w_s` are independent white
 /// Gaussian noises of standard deviation `noise_std`.
+///
+/// Without the 3rd harmonic this is the core's calibration model (`docs/theory.md §12`),
+/// `y_c = o_c + A_c cos(theta)`, `y_s = o_s + A_s sin(theta + phi)`, with `o_c =
+/// offset_cos`, `o_s = offset_sin`, `A_c = amplitude`, `A_s = amplitude (1 +
+/// amplitude_imbalance)` and `phi = quadrature_error_rad`: [`SensorModel::calibration`]
+/// gives the [`SensorCalibration`] that undoes it exactly.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SensorModel {
     /// Amplitude `A` of both signals (1 after normalisation).
@@ -65,6 +73,37 @@ impl SensorModel {
             noise_std,
             ..Self::default()
         }
+    }
+
+    /// The core's [`SensorCalibration`] of this sensor (see the type's documentation): the
+    /// correction an online calibration should learn, for comparing with what it learned.
+    /// Refuses an invalid model, and a quadrature error beyond the calibration's bound
+    /// (`SensorCalibration::max_quadrature_rad`, pi/4).
+    ///
+    /// ```
+    /// use angletrack::SensorModel;
+    /// let sensor = SensorModel { amplitude: 1800.0, offset_cos: 90.0, amplitude_imbalance: 0.1,
+    ///     quadrature_error_rad: 0.05, ..SensorModel::default() };
+    /// let calibration = sensor.calibration()?;
+    /// assert_eq!(calibration.offsets(), (90.0, 0.0));
+    /// assert!((calibration.amplitude_ratio() - 1.1).abs() < 1e-12);
+    /// assert_eq!(calibration.quadrature_rad(), 0.05);
+    /// # Ok::<(), angletrack::Error>(())
+    /// ```
+    pub fn calibration(&self) -> Result<SensorCalibration<f64>, Error> {
+        self.validate()?;
+        let a = self.amplitude;
+        SensorCalibration::new(
+            self.offset_cos,
+            self.offset_sin,
+            a,
+            a * (1.0 + self.amplitude_imbalance),
+            self.quadrature_error_rad,
+        )
+        .map_err(|_| Error::OutOfRange {
+            argument: Argument::QuadratureError,
+            expected: "within +-pi/4 (the calibration's bound), amplitudes representable",
+        })
     }
 
     pub(super) fn validate(&self) -> Result<(), Error> {

@@ -1,0 +1,154 @@
+//! Tests of the calibrated run and of the nominal-amplitude estimate (`docs/theory.md §12`).
+
+use std::f64::consts::{PI, TAU};
+
+use crate::paper::{BENCHMARK_KALMAN_GAINS, BENCHMARK_SAMPLE_PERIOD_S};
+use crate::*;
+
+const AMPLITUDE: f64 = 1800.0;
+const SPEED_RAD_S: f64 = TAU * 10.0;
+
+/// The sensor at 1800 counts: offsets 5 %, imbalance 10 %, quadrature 3 degrees,
+/// noise 1 % of the amplitude.
+fn imperfect_sensor() -> SensorModel {
+    SensorModel {
+        amplitude: AMPLITUDE,
+        offset_cos: 0.05 * AMPLITUDE,
+        offset_sin: -0.05 * AMPLITUDE,
+        amplitude_imbalance: 0.1,
+        quadrature_error_rad: 3f64.to_radians(),
+        noise_std: 0.01 * AMPLITUDE,
+        ..SensorModel::default()
+    }
+}
+
+/// 60 electrical turns at 10 Hz, well below the loop's 100 Hz bandwidth: the loop follows
+/// the sensor's angle error, which is then the sensor's own (about 62 mrad RMS).
+fn constant_speed(sensor: &SensorModel) -> Scenario {
+    let profile = MotionProfile::new(0.3, SPEED_RAD_S).then(Motion::ConstantSpeed {
+        speed_rad_s: SPEED_RAD_S,
+        duration_s: 60.0 / 10.0,
+    });
+    Scenario::generate(&profile, sensor, BENCHMARK_SAMPLE_PERIOD_S, 5).unwrap()
+}
+
+fn gains(scenario: &Scenario) -> Gains<f64, 3> {
+    Gains::new(BENCHMARK_KALMAN_GAINS, BENCHMARK_SAMPLE_PERIOD_S)
+        .and_then(|g| {
+            g.with_fault_thresholds(capture_fault_thresholds(&scenario.y_c, &scenario.y_s))
+        })
+        .unwrap()
+}
+
+/// RMS of the wrapped angle error after removing its mean, from electrical turn `turn` on.
+fn rms_without_mean(scenario: &Scenario, run: &Run, turn: f64) -> f64 {
+    let first = (turn * TAU / SPEED_RAD_S / scenario.sample_period_s) as usize;
+    let errors: Vec<f64> = scenario.angle_rad[first..]
+        .iter()
+        .zip(&run.angle_rad[first..])
+        .map(|(t, e)| (t - e + PI).rem_euclid(TAU) - PI)
+        .collect();
+    let mean = errors.iter().sum::<f64>() / errors.len() as f64;
+    (errors.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / errors.len() as f64).sqrt()
+}
+
+#[test]
+fn the_calibrated_run_learns_the_sensor_and_removes_its_error() {
+    let sensor = imperfect_sensor();
+    let scenario = constant_speed(&sensor);
+    let gains = gains(&scenario);
+    let plain = rms_without_mean(&scenario, &run(&gains, &scenario), 20.0);
+    let mut calibrator = Calibrator::new();
+    calibrator.enable();
+    let (calibrated, calibrator) = run_calibrated(&gains, calibrator, &scenario);
+    let corrected = rms_without_mean(&scenario, &calibrated, 20.0);
+    println!(
+        "uncorrected {:.3} mrad, calibrated {:.3} mrad",
+        plain * 1e3,
+        corrected * 1e3
+    );
+    assert!(plain > 0.03, "the sensor's own error: {plain}");
+    assert!(corrected < 3e-3 && corrected < plain / 10.0, "{corrected}");
+    let learned = calibrator.calibration();
+    let truth = sensor.calibration().unwrap();
+    let (o, t) = (learned.offsets(), truth.offsets());
+    assert!((o.0 - t.0).abs() < 0.005 * AMPLITUDE && (o.1 - t.1).abs() < 0.005 * AMPLITUDE);
+    assert!((learned.amplitude_ratio() - truth.amplitude_ratio()).abs() < 5e-3);
+    assert!((learned.quadrature_rad() - truth.quadrature_rad()).abs() < 5e-3);
+    // Frozen at what it learned, from the first sample: as good from turn 2 on.
+    let (frozen, after) = run_calibrated(&gains, Calibrator::from_calibration(learned), &scenario);
+    assert_eq!(after.calibration(), learned);
+    assert!(rms_without_mean(&scenario, &frozen, 2.0) < 3e-3);
+}
+
+#[test]
+fn runs_at_any_amplitude_give_the_same_angles_with_thresholds_from_the_capture() {
+    let unit = SensorModel::with_noise(0.01);
+    let reference = constant_speed(&unit);
+    let reference_run = run(&gains(&reference), &reference);
+    for amplitude in [1e-3, AMPLITUDE, 1e5] {
+        let scaled = constant_speed(&SensorModel {
+            amplitude,
+            noise_std: 0.01 * amplitude,
+            ..unit
+        });
+        let thresholds = capture_fault_thresholds(&scaled.y_c, &scaled.y_s);
+        let ratio = thresholds.nominal_amplitude / amplitude;
+        assert!((ratio - 1.0).abs() < 0.01, "{amplitude}: {ratio}");
+        let scaled_run = run(&gains(&scaled), &scaled);
+        let worst = reference_run
+            .angle_rad
+            .iter()
+            .zip(&scaled_run.angle_rad)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-9, "amplitude {amplitude}: {worst}");
+    }
+}
+
+#[test]
+fn the_nominal_amplitude_is_the_median_of_the_first_samples() {
+    let n = NOMINAL_AMPLITUDE_SAMPLES + 100;
+    let mut y_c: Vec<f64> = (0..n).map(|k| 2.0 * (0.1 * k as f64).cos()).collect();
+    let y_s: Vec<f64> = (0..n).map(|k| 2.0 * (0.1 * k as f64).sin()).collect();
+    // A few bad and huge samples, and a different amplitude after the first samples.
+    y_c[10] = f64::NAN;
+    y_c[11] = 1e9;
+    for v in &mut y_c[NOMINAL_AMPLITUDE_SAMPLES..] {
+        *v *= 100.0;
+    }
+    let amplitude = nominal_amplitude(&y_c, &y_s).unwrap();
+    assert!((amplitude - 2.0).abs() < 1e-12, "{amplitude}");
+    assert_eq!(nominal_amplitude::<f32>(&[f32::NAN], &[0.0]), None);
+    assert_eq!(nominal_amplitude::<f64>(&[], &[]), None);
+    let defaults = capture_fault_thresholds::<f64>(&[0.0; 4], &[0.0; 4]);
+    assert_eq!(defaults, FaultThresholds::default());
+}
+
+#[test]
+fn the_sensor_model_maps_onto_the_core_calibration() {
+    let sensor = imperfect_sensor();
+    let calibration = sensor.calibration().unwrap();
+    assert_eq!(
+        calibration.parameters(),
+        (90.0, -90.0, AMPLITUDE, AMPLITUDE * 1.1, 3f64.to_radians())
+    );
+    // The calibration undoes the model exactly (no noise, no 3rd harmonic).
+    let exact = SensorModel {
+        noise_std: 0.0,
+        ..sensor
+    };
+    for k in 0..100 {
+        let theta = 0.07 * k as f64;
+        let (y_c, y_s) = exact.signals(theta, 0.0, 0.0);
+        let (c, s) = calibration.correct(y_c, y_s);
+        assert!((c - AMPLITUDE * theta.cos()).abs() < 1e-9);
+        assert!((s - AMPLITUDE * theta.sin()).abs() < 1e-9, "{k}");
+    }
+    let beyond = SensorModel {
+        quadrature_error_rad: 1.0,
+        ..sensor
+    };
+    let err = beyond.calibration().unwrap_err();
+    assert_eq!(err.argument(), Some(Argument::QuadratureError));
+}

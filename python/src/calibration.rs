@@ -1,0 +1,211 @@
+//! `SensorCalibration` and the `calibration` argument of `Observer` and `track`: the core's
+//! online correction of offsets, gain imbalance and quadrature error (`docs/theory.md §12`),
+//! configured, read and written from Python.
+
+use angletrack_core::{CalibrationMode, Calibrator, Real, SensorCalibration as CoreCalibration};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::errors::{Error, Result};
+
+/// A sensor's calibration, the model `y_c = offset_c + amplitude_c cos(theta)`,
+/// `y_s = offset_s + amplitude_s sin(theta + quadrature_rad)` in the observer's input units
+/// (raw counts for integer input, unless `adc_counts_per_unit` is given) and radians. The
+/// correction keeps the cosine channel's amplitude. Checked by the core (`ConfigError`
+/// naming the field: amplitudes positive, `|quadrature_rad| < pi/4`, all finite).
+/// `to_dict()` and `SensorCalibration.from_dict()` carry it to and from JSON.
+#[pyclass(
+    name = "SensorCalibration",
+    module = "angletrack",
+    frozen,
+    get_all,
+    eq,
+    from_py_object
+)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PySensorCalibration {
+    /// Offset of the cosine channel.
+    offset_c: f64,
+    /// Offset of the sine channel.
+    offset_s: f64,
+    /// Amplitude of the cosine channel.
+    amplitude_c: f64,
+    /// Amplitude of the sine channel.
+    amplitude_s: f64,
+    /// Quadrature (non-orthogonality) angle of the sine channel (rad).
+    quadrature_rad: f64,
+}
+
+/// The fields, in the order of the constructor and of `to_dict`.
+const FIELDS: [&str; 5] = [
+    "offset_c",
+    "offset_s",
+    "amplitude_c",
+    "amplitude_s",
+    "quadrature_rad",
+];
+
+impl PySensorCalibration {
+    /// The core's calibration in float type `T` (checked again: rounding may refuse it).
+    pub fn typed<T: Real>(&self) -> Result<CoreCalibration<T>> {
+        let f = T::from_f64;
+        Ok(CoreCalibration::new(
+            f(self.offset_c),
+            f(self.offset_s),
+            f(self.amplitude_c),
+            f(self.amplitude_s),
+            f(self.quadrature_rad),
+        )?)
+    }
+
+    /// The Python value of a core calibration.
+    pub fn from_core<T: Real>(c: &CoreCalibration<T>) -> Self {
+        let (o_c, o_s, a_c, a_s, q) = c.parameters();
+        Self {
+            offset_c: o_c.to_f64(),
+            offset_s: o_s.to_f64(),
+            amplitude_c: a_c.to_f64(),
+            amplitude_s: a_s.to_f64(),
+            quadrature_rad: q.to_f64(),
+        }
+    }
+}
+
+#[pymethods]
+impl PySensorCalibration {
+    #[new]
+    #[pyo3(signature = (*, offset_c = 0.0, offset_s = 0.0, amplitude_c = 1.0, amplitude_s = 1.0,
+        quadrature_rad = 0.0))]
+    fn py_new(
+        offset_c: f64,
+        offset_s: f64,
+        amplitude_c: f64,
+        amplitude_s: f64,
+        quadrature_rad: f64,
+    ) -> Result<Self> {
+        let c = CoreCalibration::new(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)?;
+        Ok(Self::from_core(&c))
+    }
+
+    /// The gain imbalance `amplitude_s / amplitude_c`.
+    #[getter]
+    fn amplitude_ratio(&self) -> f64 {
+        self.amplitude_s / self.amplitude_c
+    }
+
+    /// The fields as a dict of floats (for `json.dumps`).
+    // A Python method takes `&self` (pyo3 passes no Rust value), though the type is `Copy`.
+    #[allow(clippy::wrong_self_convention)]
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = PyDict::new(py);
+        let values = [
+            self.offset_c,
+            self.offset_s,
+            self.amplitude_c,
+            self.amplitude_s,
+            self.quadrature_rad,
+        ];
+        for (name, value) in FIELDS.iter().zip(values) {
+            d.set_item(name, value)?;
+        }
+        Ok(d)
+    }
+
+    /// The calibration of a dict holding the five fields (as `to_dict` writes them; other
+    /// keys are ignored), checked as the constructor does.
+    #[staticmethod]
+    fn from_dict(d: &Bound<'_, PyDict>) -> Result<Self> {
+        let mut values = [0.0; 5];
+        for (value, name) in values.iter_mut().zip(FIELDS) {
+            let item = d
+                .get_item(name)?
+                .ok_or_else(|| Error::value(name_of(name), "missing from the dict"))?;
+            *value = item
+                .extract::<f64>()
+                .map_err(|_| Error::value(name_of(name), "must be a number"))?;
+        }
+        let [o_c, o_s, a_c, a_s, q] = values;
+        Self::py_new(o_c, o_s, a_c, a_s, q)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "SensorCalibration(offset_c={:?}, offset_s={:?}, amplitude_c={:?}, amplitude_s={:?}, \
+             quadrature_rad={:?})",
+            self.offset_c, self.offset_s, self.amplitude_c, self.amplitude_s, self.quadrature_rad
+        )
+    }
+}
+
+/// A field's name as a `'static` parameter name of an error.
+fn name_of(name: &str) -> &'static str {
+    FIELDS
+        .iter()
+        .find(|f| **f == name)
+        .copied()
+        .unwrap_or("calibration")
+}
+
+/// What the `calibration` and `initial_calibration` arguments ask for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CalibrationChoice {
+    mode: CalibrationMode,
+    initial: Option<PySensorCalibration>,
+}
+
+impl CalibrationChoice {
+    /// `calibration`: `None` (off), `"learn"` or `"frozen"`; `initial_calibration` the
+    /// calibration to start from (needed when frozen).
+    pub fn new(mode: Option<&str>, initial: Option<PySensorCalibration>) -> Result<Self> {
+        let mode = match mode {
+            None | Some("off") => CalibrationMode::Off,
+            Some("learn") => CalibrationMode::Learning,
+            Some("frozen") => CalibrationMode::Frozen,
+            Some(other) => {
+                return Err(Error::value(
+                    "calibration",
+                    format!("expected None, 'learn' or 'frozen', got {other:?}"),
+                ));
+            }
+        };
+        if mode == CalibrationMode::Frozen && initial.is_none() {
+            return Err(Error::value(
+                "initial_calibration",
+                "is needed with calibration='frozen' (the calibration to apply)",
+            ));
+        }
+        Ok(Self { mode, initial })
+    }
+
+    /// The core calibrator it stands for, in float type `T`.
+    pub fn calibrator<T: Real>(&self) -> Result<Calibrator<T>> {
+        let mut calibrator = match &self.initial {
+            Some(c) => Calibrator::from_calibration(c.typed()?),
+            None => Calibrator::new(),
+        };
+        match self.mode {
+            CalibrationMode::Off => calibrator.disable(),
+            CalibrationMode::Learning => calibrator.enable(),
+            CalibrationMode::Frozen => calibrator.freeze(),
+        }
+        Ok(calibrator)
+    }
+}
+
+impl Default for CalibrationChoice {
+    fn default() -> Self {
+        Self {
+            mode: CalibrationMode::Off,
+            initial: None,
+        }
+    }
+}
+
+/// The name of a mode in the Python API.
+pub fn mode_name(mode: CalibrationMode) -> &'static str {
+    match mode {
+        CalibrationMode::Off => "off",
+        CalibrationMode::Learning => "learn",
+        CalibrationMode::Frozen => "frozen",
+    }
+}

@@ -1,0 +1,235 @@
+//! Raw ADC counts as an observer's input: integer numpy arrays (int16, uint16, int32)
+//! converted through the core's `AdcScaling`, with no conversion by the caller.
+//!
+//! The rule (the same for `track` and `Observer.update`): the counts minus a mid-scale,
+//! divided by `adc_counts_per_unit` (default 1: the observer runs in counts, converted
+//! exactly: any count fits a float64, and a float32 up to 2^24). The mid-scale is
+//! `adc_mid_scale` if given, else 0 for the signed types (the mid-scale already removed),
+//! and for uint16 (an offset-binary ADC) `2^(b-1)` for the smallest `b` whose range `2^b`
+//! holds every sample of the first call (12 bits for counts up to 4095): a signal centred
+//! on the mid-scale always exceeds it. The loop needs no more (its phase error is
+//! normalised); the diagnostics' amplitudes follow the signal when no thresholds are given
+//! (`angletrack::capture_fault_thresholds`).
+
+use angletrack_core::{AdcSample, AdcScaling};
+use numpy::prelude::*;
+use numpy::{Element, PyArray1, PyArrayDescr, PyUntypedArray, dtype};
+use pyo3::prelude::*;
+
+use crate::arrays::{Samples, samples};
+use crate::dispatch::Sample;
+use crate::errors::{Error, Result};
+
+/// An integer dtype of raw ADC counts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Counts {
+    /// `numpy.int16`.
+    I16,
+    /// `numpy.uint16` (offset binary).
+    U16,
+    /// `numpy.int32`.
+    I32,
+}
+
+impl Counts {
+    /// The counts type of a dtype, `None` for any other.
+    pub fn of_descr(descr: &Bound<'_, PyArrayDescr>) -> Option<Self> {
+        let py = descr.py();
+        if descr.is_equiv_to(&dtype::<i16>(py)) {
+            Some(Counts::I16)
+        } else if descr.is_equiv_to(&dtype::<u16>(py)) {
+            Some(Counts::U16)
+        } else if descr.is_equiv_to(&dtype::<i32>(py)) {
+            Some(Counts::I32)
+        } else {
+            None
+        }
+    }
+
+    /// The counts type of an argument, `None` unless it is an array of integer counts.
+    fn of_samples<'py>(obj: &Bound<'py, PyAny>) -> Option<(Self, Bound<'py, PyUntypedArray>)> {
+        let array = obj.cast::<PyUntypedArray>().ok()?;
+        Some((Self::of_descr(&array.dtype())?, array.clone()))
+    }
+}
+
+/// The ADC arguments of an observer: `adc_mid_scale` (counts, `None`: by the rule of this
+/// module) and `adc_counts_per_unit`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AdcSettings {
+    mid_scale: Option<i32>,
+    counts_per_unit: f64,
+}
+
+impl AdcSettings {
+    /// Checked by the core's `AdcScaling::new` (a `ConfigError` naming `adc_mid_scale` or
+    /// `adc_counts_per_unit`).
+    pub fn new(mid_scale: Option<i64>, counts_per_unit: Option<f64>) -> Result<Self> {
+        let counts_per_unit = counts_per_unit.unwrap_or(1.0);
+        let mid_scale = match mid_scale {
+            None => None,
+            Some(m) => Some(i32::try_from(m).map_err(|_| {
+                Error::value("adc_mid_scale", format!("{m} is beyond +-2^30 counts"))
+            })?),
+        };
+        AdcScaling::<f64>::new(mid_scale.unwrap_or(0), counts_per_unit)?;
+        Ok(Self {
+            mid_scale,
+            counts_per_unit,
+        })
+    }
+}
+
+impl Default for AdcSettings {
+    fn default() -> Self {
+        Self {
+            mid_scale: None,
+            counts_per_unit: 1.0,
+        }
+    }
+}
+
+/// The front end of one observer: its settings, and the scaling they resolved to at the
+/// first call with counts (kept, so that a capture fed in chunks is scaled alike).
+#[derive(Debug, Clone, Copy)]
+pub struct AdcInput<T> {
+    settings: AdcSettings,
+    scaling: Option<AdcScaling<T>>,
+}
+
+impl<T: Sample> AdcInput<T> {
+    /// A front end that resolves its scaling at the first call with counts.
+    pub fn new(settings: AdcSettings) -> Self {
+        Self {
+            settings,
+            scaling: None,
+        }
+    }
+
+    /// The samples of `y_c` and `y_s`: arrays of the observer's float type as they are,
+    /// arrays of counts converted (`y_s` then of `y_c`'s counts type). `y_c` is checked
+    /// first, then `y_s`, each as `crate::arrays::samples` checks floats.
+    pub fn signals<'py>(
+        &mut self,
+        y_c: &Bound<'py, PyAny>,
+        y_s: &Bound<'py, PyAny>,
+    ) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
+        let Some((kind, c)) = Counts::of_samples(y_c) else {
+            return Ok((samples::<T>(y_c, "y_c")?, samples::<T>(y_s, "y_s")?));
+        };
+        match Counts::of_samples(y_s) {
+            Some((ks, s)) if ks == kind => match kind {
+                Counts::I16 => self.convert::<i16>(&c, &s),
+                Counts::U16 => self.convert::<u16>(&c, &s),
+                Counts::I32 => self.convert::<i32>(&c, &s),
+            },
+            other => {
+                // `y_c`'s own shape first, as for floats.
+                match kind {
+                    Counts::I16 => counts::<i16>(&c, "y_c").map(drop),
+                    Counts::U16 => counts::<u16>(&c, "y_c").map(drop),
+                    Counts::I32 => counts::<i32>(&c, "y_c").map(drop),
+                }?;
+                if let Ok(array) = y_s.cast::<PyUntypedArray>()
+                    && array.ndim() != 1
+                {
+                    return Err(Error::value(
+                        "y_s",
+                        format!(
+                            "expected a 1-D array of samples, got shape {:?}",
+                            array.shape()
+                        ),
+                    ));
+                }
+                Err(Error::Dtype {
+                    parameter: "y_s",
+                    given: describe(other.map(|k| k.0)),
+                    expected: format!("raw counts of y_c's dtype, {}", describe(Some(kind))),
+                })
+            }
+        }
+    }
+
+    fn convert<'py, I: Count>(
+        &mut self,
+        y_c: &Bound<'py, PyUntypedArray>,
+        y_s: &Bound<'py, PyUntypedArray>,
+    ) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
+        let c = counts::<I>(y_c, "y_c")?;
+        let s = counts::<I>(y_s, "y_s")?;
+        let scaling = match self.scaling {
+            Some(scaling) => scaling,
+            None => {
+                let mid_scale = match self.settings.mid_scale {
+                    Some(m) => m,
+                    None => I::default_mid_scale(c.iter().chain(&s).copied()),
+                };
+                let counts_per_unit = T::from_f64(self.settings.counts_per_unit);
+                *self
+                    .scaling
+                    .insert(AdcScaling::new(mid_scale, counts_per_unit)?)
+            }
+        };
+        let scale = |v: Vec<I>| Samples::Copied(v.into_iter().map(|x| scaling.scale(x)).collect());
+        Ok((scale(c), scale(s)))
+    }
+}
+
+/// The numpy name of a dtype of samples, for an error message.
+fn describe(counts: Option<Counts>) -> String {
+    match counts {
+        Some(Counts::I16) => "int16".into(),
+        Some(Counts::U16) => "uint16".into(),
+        Some(Counts::I32) => "int32".into(),
+        None => "another dtype".into(),
+    }
+}
+
+/// An integer type of ADC counts as numpy stores it.
+trait Count: AdcSample + Element + Copy {
+    /// The mid-scale of samples `values` when none is given (see the module's rule).
+    fn default_mid_scale(values: impl Iterator<Item = Self>) -> i32;
+}
+
+impl Count for i16 {
+    fn default_mid_scale(_: impl Iterator<Item = Self>) -> i32 {
+        0
+    }
+}
+
+impl Count for i32 {
+    fn default_mid_scale(_: impl Iterator<Item = Self>) -> i32 {
+        0
+    }
+}
+
+impl Count for u16 {
+    fn default_mid_scale(values: impl Iterator<Item = Self>) -> i32 {
+        let max = values.max().unwrap_or(0);
+        let bits = (u16::BITS - max.leading_zeros()).max(2);
+        1 << (bits - 1)
+    }
+}
+
+/// The counts of a 1-D, non-empty array of `I`, copied.
+fn counts<I: Count>(array: &Bound<'_, PyUntypedArray>, parameter: &'static str) -> Result<Vec<I>> {
+    if array.ndim() != 1 || array.len() == 0 {
+        return Err(Error::value(
+            parameter,
+            format!(
+                "expected a non-empty 1-D array of samples, got shape {:?}",
+                array.shape()
+            ),
+        ));
+    }
+    let typed = array
+        .cast::<PyArray1<I>>()
+        .map_err(|e| Error::Python(e.into()))?;
+    let view = typed.try_readonly().map_err(|e| {
+        Error::value(
+            parameter,
+            format!("cannot be read while it is being written ({e})"),
+        )
+    })?;
+    Ok(view.as_array().iter().copied().collect())
+}

@@ -169,6 +169,20 @@ def _stated_rate_note(s: TrackSettings) -> list[str]:
     ]
 
 
+def unsigned_mid_scale(sample_dtype: str, y_c: np.ndarray, y_s: np.ndarray) -> float:
+    """The mid-scale of unsigned ADC counts (0 to 2^b - 1, a zero signal at 2^(b-1)), for a
+    capture of integers none of whose first samples is negative: 2^(b-1) for the smallest
+    b that holds them. 0 otherwise: signed counts and physical units are centred already.
+    The loop needs the signal centred on zero, not scaled (it is amplitude-invariant)."""
+    if not sample_dtype.startswith(("int", "uint")) or len(y_c) == 0:
+        return 0.0
+    low = min(float(np.min(y_c)), float(np.min(y_s)))
+    high = max(float(np.max(y_c)), float(np.max(y_s)))
+    if low < 0 or high <= 0:
+        return 0.0
+    return float(2 ** (math.ceil(math.log2(high + 1.0)) - 1))
+
+
 def track_capture(s: TrackSettings) -> tuple[str, angletrack.Observer]:
     """Runs ``s``: writes the estimates to ``s.output`` and returns the summary to print and
     the observer at the end of the capture (its learned calibration, its faults).
@@ -183,6 +197,7 @@ def track_capture(s: TrackSettings) -> tuple[str, angletrack.Observer]:
     gains = gains_for_capture(s, reader.sample_rate_hz if first.time_s is not None else None)
     dtype = np.dtype(s.dtype)
     observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos, **s.observer_arguments)
+    mid = unsigned_mid_scale(reader.sample_dtype, first.y_c, first.y_s)
     stats = _ErrorStatistics(s.skip_s, s.lock_tolerance_rad) if first.reference_rad is not None else None
     progress = _Progress(s.progress)
     rejected, y_c_sum = 0, 0.0
@@ -192,7 +207,8 @@ def track_capture(s: TrackSettings) -> tuple[str, angletrack.Observer]:
         with angletrack.EstimatesWriter(s.output, dtype=dtype) as writer:
             chunk = first
             while chunk is not None:
-                est = observer.update(chunk.y_c.astype(dtype, copy=False), chunk.y_s.astype(dtype, copy=False))
+                est = observer.update((chunk.y_c - mid).astype(dtype, copy=False),
+                                      (chunk.y_s - mid).astype(dtype, copy=False))
                 time_s = chunk.time_s
                 if time_s is None:
                     time_s = (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) * gains.sample_period_s
@@ -221,6 +237,8 @@ def track_capture(s: TrackSettings) -> tuple[str, angletrack.Observer]:
         + f") -> {s.output}",
         f"faults latched: {latched.name if latched else 'none'}; {rejected} samples rejected",
     ]
+    if mid:
+        lines.insert(2, f"unsigned ADC counts: mid-scale {mid:g} removed")
     if stats is not None:
         lines.append(stats.report())
     return "\n".join(lines), observer

@@ -23,7 +23,7 @@ pub const AT_FAULT_OFFSET_OR_QUADRATURE: u32 = 1 << 6;
 /// Not the sensor's: the call's gains were NULL or not made by `at_gains_f32_new` (or its
 /// state, ADC or calibrator NULL, or not made by their constructor); nothing was computed
 /// and the estimate's other fields are 0.
-pub const AT_FAULT_INVALID_ARGUMENT: u32 = 1 << 31;
+pub const AT_FAULT_INVALID_ARGUMENT: u32 = 0x8000_0000;
 
 /// The C API's fault bits with their names, in bit order (the core's `Faults::NAMES`,
 /// then the C API's own).

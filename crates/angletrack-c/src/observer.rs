@@ -101,14 +101,15 @@ impl at_state_f32 {
     }
 }
 
+/// The core's gains of order `N` in `f32`.
+type GainsF32<const N: usize> = Gains<f32, N>;
+/// The core's state of order `N` in `f32`.
+type StateF32<const N: usize> = ObserverState<f32, N>;
+
 /// One sample of one observer, whatever its order and entry point.
 pub(crate) trait Sample {
     /// Runs the sample through `gains` on `state`.
-    fn update<const N: usize>(
-        self,
-        gains: &Gains<f32, N>,
-        state: &mut ObserverState<f32, N>,
-    ) -> Estimate<f32>
+    fn update<const N: usize>(self, gains: &GainsF32<N>, state: &mut StateF32<N>) -> Estimate<f32>
     where
         Order<N>: SupportedOrder;
 }
@@ -118,11 +119,7 @@ pub(crate) struct Signals(pub(crate) f32, pub(crate) f32);
 
 impl Sample for Signals {
     #[inline(always)]
-    fn update<const N: usize>(
-        self,
-        gains: &Gains<f32, N>,
-        state: &mut ObserverState<f32, N>,
-    ) -> Estimate<f32> {
+    fn update<const N: usize>(self, gains: &GainsF32<N>, state: &mut StateF32<N>) -> Estimate<f32> {
         gains.update(state, self.0, self.1)
     }
 }
@@ -132,11 +129,7 @@ pub(crate) struct Counts<'a, I>(pub(crate) &'a AdcScaling<f32>, pub(crate) I, pu
 
 impl<I: AdcSample> Sample for Counts<'_, I> {
     #[inline(always)]
-    fn update<const N: usize>(
-        self,
-        gains: &Gains<f32, N>,
-        state: &mut ObserverState<f32, N>,
-    ) -> Estimate<f32> {
+    fn update<const N: usize>(self, gains: &GainsF32<N>, state: &mut StateF32<N>) -> Estimate<f32> {
         gains.update_adc(state, self.0, self.1, self.2)
     }
 }
@@ -150,11 +143,7 @@ pub(crate) struct Calibrated<'a>(
 
 impl Sample for Calibrated<'_> {
     #[inline(always)]
-    fn update<const N: usize>(
-        self,
-        gains: &Gains<f32, N>,
-        state: &mut ObserverState<f32, N>,
-    ) -> Estimate<f32> {
+    fn update<const N: usize>(self, gains: &GainsF32<N>, state: &mut StateF32<N>) -> Estimate<f32> {
         gains.update_calibrated(state, self.0.get_mut(), self.1, self.2)
     }
 }

@@ -15,9 +15,8 @@ use core::mem::{align_of, size_of};
 
 use angletrack_core::{AdcScaling, Calibrator, Gains, ObserverState};
 
-/// A type a slot can hold, with its tag. Sealed to `Copy` types with no drop glue and no
-/// invalid bit patterns reachable through the API: a copy of the words is a copy of the
-/// value.
+/// A type a slot can hold, with its tag. `Copy` types only: overwriting one drops nothing,
+/// and a C copy of the words (with the tag) is a copy of the value.
 pub(crate) trait Stored: Copy {
     /// The tag [`put`] writes beside a value of this type; never 0 (a zeroed slot).
     const TAG: u32;

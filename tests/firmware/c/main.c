@@ -2,8 +2,8 @@
  * static library built for thumbv7em-none-eabihf, run under QEMU mps2-an386 (run.sh). It
  * takes the gains `angletrack design --format c` writes (gains_ato3.h), checks them once
  * at start-up, tracks the synthetic resolver of the host test (scenario.h: floats, then
- * 12-bit ADC counts) sample by sample as an ADC interrupt would, and exits 0 if the
- * estimates are within the host test's tolerances. */
+ * 12-bit ADC counts, then through the online calibration) sample by sample as an ADC
+ * interrupt would, and exits 0 if the estimates are within the host test's tolerances. */
 #include "angletrack.h"
 #include "gains_ato3.h"
 #include "scenario.h"
@@ -22,6 +22,7 @@
 static at_gains_f32 gains;
 static at_state_f32 state;
 static at_adc_f32 adc;
+static at_calibrator_f32 calibrator;
 
 static int track(const char *name, const at_adc_f32 *adc_or_null, float angle_tolerance_rad,
                  float speed_tolerance_rad_s) {
@@ -50,5 +51,10 @@ int main(void) {
                    SCENARIO_SPEED_TOLERANCE_RAD_S);
   pass &= track("cortex-m4f 3rd order, 12-bit ADC counts", &adc, SCENARIO_ADC_ANGLE_TOLERANCE_RAD,
                 SCENARIO_ADC_SPEED_TOLERANCE_RAD_S);
+  char line[256];
+  at_sensor_calibration_f32 learned;
+  pass &= scenario_calibrate(&gains, &state, &calibrator, SIGNAL_PERIOD_S, &learned, line,
+                             sizeof line);
+  semihosting_write(line);
   return pass ? 0 : 1;
 }

@@ -45,7 +45,7 @@ run() {
 build example
 output=$(run example) || { echo "$output"; echo "FAIL: the C example exited with an error" >&2; exit 1; }
 echo "$output"
-[ "$(grep -c '^PASS' <<<"$output")" -eq 2 ] || { echo "FAIL: expected 2 PASS lines" >&2; exit 1; }
+[ "$(grep -c '^PASS' <<<"$output")" -eq 3 ] || { echo "FAIL: expected 3 PASS lines" >&2; exit 1; }
 
 build tamper -DTAMPER
 if output=$(run tamper); then

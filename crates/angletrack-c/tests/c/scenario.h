@@ -93,4 +93,32 @@ static int scenario_passes(const char *name, scenario_result r, float angle_tole
   return pass;
 }
 
+/* Learns a sensor with offsets 0.05 and -0.05, amplitude ratio 1.1 and quadrature 0.05 rad
+ * through at_update_f32_calibrated at the scenario's speed, from a fresh state and
+ * calibrator; writes the learned calibration to `learned` and a line to `line`; 1 (PASS) if
+ * it is within 5e-3 of the sensor's. */
+static int scenario_calibrate(const at_gains_f32 *gains, at_state_f32 *state,
+                              at_calibrator_f32 *calibrator, double sample_period_s,
+                              at_sensor_calibration_f32 *learned, char *line, size_t len) {
+  at_state_f32_reset(state);
+  at_calibrator_f32_reset(calibrator);
+  int pass = at_calibrator_f32_set_mode(calibrator, AT_CALIBRATION_LEARNING) == AT_OK;
+  for (long k = 0; k < SCENARIO_SAMPLES; k++) {
+    float theta = (float)scenario_angle(k, SCENARIO_SPEED_RAD_S, sample_period_s);
+    at_update_f32_calibrated(gains, state, calibrator, 0.05f + cosf(theta),
+                             -0.05f + 1.1f * sinf(theta + 0.05f));
+  }
+  pass &= at_calibrator_f32_calibration(calibrator, learned) == AT_OK;
+  float ratio = learned->amplitude_s / learned->amplitude_c;
+  pass &= fabsf(learned->offset_c - 0.05f) < 5e-3f && fabsf(learned->offset_s + 0.05f) < 5e-3f &&
+          fabsf(ratio - 1.1f) < 5e-3f && fabsf(learned->quadrature_rad - 0.05f) < 5e-3f;
+  snprintf(line, len,
+           "%s online calibration: learned in %u turns offsets %.4f %.4f, amplitude ratio %.4f, "
+           "quadrature %.4f rad (sensor: 0.05 -0.05, 1.1, 0.05; tolerance 5e-3)\n",
+           pass ? "PASS" : "FAIL", (unsigned)at_calibrator_f32_turns_learned(calibrator),
+           (double)learned->offset_c, (double)learned->offset_s, (double)ratio,
+           (double)learned->quadrature_rad);
+  return pass;
+}
+
 #endif /* ANGLETRACK_SCENARIO_H */

@@ -1,0 +1,689 @@
+/*
+ * angletrack.h: the C API of angletrack-core, angle tracking observers
+ * (resolver-to-digital conversion) for firmware. Generated from crates/angletrack-c by
+ * cbindgen: do not edit. Link with libangletrack_c.a (cargo build -p angletrack-c --release
+ * [--target thumbv7em-none-eabihf]).
+ *
+ * Once, at start-up: at_gains_f32_new() checks the gains that `angletrack design --format c`
+ * writes (NAME_gains, NAME_ORDER, NAME_SAMPLE_PERIOD_S). Every sample: at_update_f32()
+ * (or at_update_f32_adc_*() on raw ADC counts, at_update_f32_calibrated() through the
+ * online calibration) returns an at_estimate_f32. The structs are plain and sized: place
+ * them in static memory. A zeroed at_state_f32 or at_calibrator_f32 is a fresh one; zeroed
+ * at_gains_f32 or at_adc_f32 are refused until made by their constructor.
+ *
+ * Contract of every function taking pointers: NULL is refused (AT_ERR_NULL_POINTER, or
+ * AT_FAULT_INVALID_ARGUMENT from an update), never undefined behaviour; a non-NULL pointer
+ * points to a live object of its type (`gains` to `order` floats) that nothing else reads
+ * or writes during the call (no aliasing between arguments, no concurrent call on the same
+ * state from an interrupt); each struct was zeroed, made by its constructor, or copied whole
+ * from one that was; its private fields (storage, tag) are never written by C code. No call
+ * panics, allocates or blocks.
+ */
+
+#ifndef ANGLETRACK_H
+#define ANGLETRACK_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/**
+ * The 8-byte words of an `at_adc_f32`'s storage (checked against the Rust type at compile
+ * time, on every target).
+ */
+#define AT_ADC_F32_WORDS 2
+
+/**
+ * The 8-byte words of an `at_calibrator_f32`'s storage (checked against the Rust type at
+ * compile time, on every target).
+ */
+#define AT_CALIBRATOR_F32_WORDS 14
+
+/**
+ * `at_calibrator_f32_mode`: neither corrects nor learns (a fresh calibrator's mode).
+ */
+#define AT_CALIBRATION_OFF 0
+
+/**
+ * `at_calibrator_f32_mode`: corrects each sample and learns while the observer tracks.
+ */
+#define AT_CALIBRATION_LEARNING 1
+
+/**
+ * `at_calibrator_f32_mode`: corrects each sample, learns nothing.
+ */
+#define AT_CALIBRATION_FROZEN 2
+
+/**
+ * Loss of signal: the filtered amplitude is below the loss-of-signal threshold.
+ */
+#define AT_FAULT_LOSS_OF_SIGNAL 1
+
+/**
+ * Degradation of signal: the filtered amplitude is outside [degradation_low, degradation_high].
+ */
+#define AT_FAULT_DEGRADATION_OF_SIGNAL (1 << 1)
+
+/**
+ * Loss of tracking: the filtered phase error or the speed is above its threshold.
+ */
+#define AT_FAULT_LOSS_OF_TRACKING (1 << 2)
+
+/**
+ * The sample was rejected (NaN, infinite, or above the input bound); the observer coasted.
+ */
+#define AT_FAULT_BAD_SAMPLE (1 << 3)
+
+/**
+ * A lock about 180 degrees off was detected (and the angle re-acquired, by default).
+ */
+#define AT_FAULT_FALSE_LOCK (1 << 4)
+
+/**
+ * The online calibration's amplitude ratio is beyond its bound.
+ */
+#define AT_FAULT_AMPLITUDE_MISMATCH (1 << 5)
+
+/**
+ * An offset or the quadrature angle of the online calibration is beyond its bound.
+ */
+#define AT_FAULT_OFFSET_OR_QUADRATURE (1 << 6)
+
+/**
+ * Not the sensor's: the call's gains were NULL or not made by `at_gains_f32_new` (or its
+ * state, ADC or calibrator NULL, or not made by their constructor); nothing was computed
+ * and the estimate's other fields are 0.
+ */
+#define AT_FAULT_INVALID_ARGUMENT 2147483648
+
+/**
+ * The 8-byte words of an `at_gains_f32`'s storage (checked against the Rust type at
+ * compile time, on every target).
+ */
+#define AT_GAINS_F32_WORDS 18
+
+/**
+ * The 8-byte words of an `at_state_f32`'s storage (checked against the Rust type at
+ * compile time, on every target).
+ */
+#define AT_STATE_F32_WORDS 8
+
+/**
+ * What a call that can fail returns: `AT_OK` (0), or the `AT_ERR_*` code of what was
+ * refused. `at_status_message` gives its text.
+ */
+typedef int32_t at_status;
+
+/**
+ * The checked gains, sample period and fault thresholds of an observer (order 2 or 3),
+ * made by `at_gains_f32_new`. Immutable once made: one serves any number of channels
+ * (`at_state_f32`). Place it anywhere (static memory, the stack); copy it by assignment;
+ * never write its fields. A zeroed one is refused by every call (`AT_ERR_NOT_INITIALISED`,
+ * or `AT_FAULT_INVALID_ARGUMENT` from an update).
+ */
+typedef struct at_gains_f32 {
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_GAINS_F32_WORDS];
+  /**
+   * Private: which Rust value `storage` holds.
+   */
+  uint32_t tag;
+} at_gains_f32;
+
+/**
+ * The thresholds of the diagnostics and of the input check, in the input's units
+ * (amplitudes) unless stated: the core's `FaultThresholds`. Start from
+ * `at_fault_thresholds_f32_for_amplitude(nominal)` (the defaults scaled to the nominal
+ * amplitude), change fields, then `at_gains_f32_set_fault_thresholds`.
+ */
+typedef struct at_fault_thresholds_f32 {
+  /**
+   * The amplitude of a healthy signal (default 1).
+   */
+  float nominal_amplitude;
+  /**
+   * A sample with `sqrt(y_c^2 + y_s^2)` above this is rejected (default 4 x nominal).
+   */
+  float max_input_amplitude;
+  /**
+   * Filtered amplitude below this: loss of signal (default 0.25 x nominal).
+   */
+  float loss_of_signal;
+  /**
+   * Filtered amplitude below this: degradation of signal (default 0.5 x nominal).
+   */
+  float degradation_low;
+  /**
+   * Filtered amplitude above this: degradation of signal (default 1.5 x nominal).
+   */
+  float degradation_high;
+  /**
+   * Filtered normalised phase error above this: loss of tracking (default 0.1).
+   */
+  float loss_of_tracking;
+  /**
+   * Estimated |speed| (rad/s) above this: loss of tracking; 0 for the default, a
+   * quarter turn per sample (`pi / (2 Ts)`).
+   */
+  float max_speed_rad_s;
+  /**
+   * Smoothing factor of the diagnostics' first-order filters, in (0, 1] (default 1/16).
+   */
+  float filter_factor;
+  /**
+   * Filtered in-phase component below this: false lock (default 0).
+   */
+  float false_lock;
+  /**
+   * Nonzero: compute the flags (loss of signal, degradation, loss of tracking, false
+   * lock); 0: only the input check runs (default 1).
+   */
+  uint32_t monitor;
+  /**
+   * Nonzero: re-acquire the angle on a false lock (default 1).
+   */
+  uint32_t re_acquire;
+} at_fault_thresholds_f32;
+
+/**
+ * One channel's mutable state: angle, speed, acceleration, turn count, the diagnostics'
+ * filters and latched faults. A zeroed one (C static memory) is a fresh state, as after
+ * `at_state_f32_reset`: it initialises itself from its first sample. It takes the order of
+ * the gains it is updated with: updated with gains of another order than its last, it
+ * starts afresh. Place it anywhere; copy it by assignment; never write its fields.
+ */
+typedef struct at_state_f32 {
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_STATE_F32_WORDS];
+  /**
+   * Private: which Rust value `storage` holds (0: a fresh state).
+   */
+  uint32_t tag;
+} at_state_f32;
+
+/**
+ * What the observer knows after a sample.
+ */
+typedef struct at_estimate_f32 {
+  /**
+   * Estimated angle (rad), wrapped to [-pi, pi).
+   */
+  float angle;
+  /**
+   * Whole turns counted since initialisation (positive counter-clockwise); the
+   * multi-turn position is `turns * 2 pi + angle` (rad).
+   */
+  int64_t turns;
+  /**
+   * Estimated speed (rad/s).
+   */
+  float speed;
+  /**
+   * Estimated acceleration (rad/s^2); 0 for a 2nd-order observer.
+   */
+  float acceleration;
+  /**
+   * Normalised phase-detector output of this sample (about the sine of the phase
+   * error, dimensionless); 0 when the sample was rejected.
+   */
+  float phase_error;
+  /**
+   * This sample's faults (`AT_FAULT_*` bits); the state also latches them.
+   */
+  uint32_t faults;
+} at_estimate_f32;
+
+/**
+ * The checked ADC front end, made by `at_adc_f32_new`, `at_adc_f32_offset_binary` or
+ * `at_adc_f32_twos_complement`. Immutable once made; place it anywhere; copy it by
+ * assignment; never write its fields. A zeroed one is refused.
+ */
+typedef struct at_adc_f32 {
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_ADC_F32_WORDS];
+  /**
+   * Private: whether `storage` holds it.
+   */
+  uint32_t tag;
+} at_adc_f32;
+
+/**
+ * One channel's online calibration: the correction applied to each sample and its
+ * estimator. A zeroed one (C static memory) is a fresh calibrator: off, no correction,
+ * nothing learned. Place it anywhere; copy it by assignment; never write its fields.
+ */
+typedef struct at_calibrator_f32 {
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_CALIBRATOR_F32_WORDS];
+  /**
+   * Private: whether `storage` holds it (0: a fresh calibrator).
+   */
+  uint32_t tag;
+} at_calibrator_f32;
+
+/**
+ * A sensor's calibration, `y_c = offset_c + amplitude_c cos(theta)`,
+ * `y_s = offset_s + amplitude_s sin(theta + quadrature_rad)` (input units, rad): plain
+ * floats to store in flash. `at_calibrator_f32_load` checks them.
+ */
+typedef struct at_sensor_calibration_f32 {
+  /**
+   * Offset of the cosine channel.
+   */
+  float offset_c;
+  /**
+   * Offset of the sine channel.
+   */
+  float offset_s;
+  /**
+   * Amplitude of the cosine channel (positive).
+   */
+  float amplitude_c;
+  /**
+   * Amplitude of the sine channel (positive).
+   */
+  float amplitude_s;
+  /**
+   * Quadrature (non-orthogonality) angle (rad), below pi/4 in magnitude.
+   */
+  float quadrature_rad;
+} at_sensor_calibration_f32;
+
+/**
+ * Success.
+ */
+#define AT_OK 0
+
+/**
+ * A pointer argument was NULL; nothing was written.
+ */
+#define AT_ERR_NULL_POINTER 1
+
+/**
+ * The observer order was not 2 or 3.
+ */
+#define AT_ERR_ORDER 2
+
+/**
+ * A struct argument was not made by its constructor (`at_gains_f32_new`, `at_adc_f32_new`, ...).
+ */
+#define AT_ERR_NOT_INITIALISED 3
+
+/**
+ * The calibration mode was not one of `AT_CALIBRATION_*`.
+ */
+#define AT_ERR_MODE 4
+
+/**
+ * `sample_period_s`: not finite, not positive, or outside [1 ps, 1000 s].
+ */
+#define AT_ERR_SAMPLE_PERIOD_S 16
+
+/**
+ * `gains[0]` (l1): not finite, or outside the stability region of the discrete loop.
+ */
+#define AT_ERR_GAINS_0 17
+
+/**
+ * `gains[1]` (l2): not finite, or outside the stability region of the discrete loop.
+ */
+#define AT_ERR_GAINS_1 18
+
+/**
+ * `gains[2]` (l3): not finite, or outside the stability region of the discrete loop.
+ */
+#define AT_ERR_GAINS_2 19
+
+/**
+ * Fault threshold `max_input_amplitude`.
+ */
+#define AT_ERR_MAX_INPUT_AMPLITUDE 20
+
+/**
+ * Fault threshold `loss_of_signal`.
+ */
+#define AT_ERR_LOSS_OF_SIGNAL 21
+
+/**
+ * Fault threshold `degradation_high`.
+ */
+#define AT_ERR_DEGRADATION_HIGH 22
+
+/**
+ * Fault threshold `degradation_low`.
+ */
+#define AT_ERR_DEGRADATION_LOW 23
+
+/**
+ * Fault threshold `loss_of_tracking`.
+ */
+#define AT_ERR_LOSS_OF_TRACKING 24
+
+/**
+ * Fault threshold `filter_factor`.
+ */
+#define AT_ERR_FILTER_FACTOR 25
+
+/**
+ * Fault threshold `false_lock`.
+ */
+#define AT_ERR_FALSE_LOCK 26
+
+/**
+ * Fault threshold `nominal_amplitude`.
+ */
+#define AT_ERR_NOMINAL_AMPLITUDE 27
+
+/**
+ * Fault threshold `max_speed_rad_s`.
+ */
+#define AT_ERR_MAX_SPEED_RAD_S 28
+
+/**
+ * ADC `mid_scale_counts`.
+ */
+#define AT_ERR_MID_SCALE_COUNTS 29
+
+/**
+ * ADC `counts_per_unit`.
+ */
+#define AT_ERR_COUNTS_PER_UNIT 30
+
+/**
+ * ADC resolution `bits`.
+ */
+#define AT_ERR_BITS 31
+
+/**
+ * Sensor calibration `offset_c`.
+ */
+#define AT_ERR_OFFSET_C 32
+
+/**
+ * Sensor calibration `offset_s`.
+ */
+#define AT_ERR_OFFSET_S 33
+
+/**
+ * Sensor calibration `amplitude_c`.
+ */
+#define AT_ERR_AMPLITUDE_C 34
+
+/**
+ * Sensor calibration `amplitude_s`.
+ */
+#define AT_ERR_AMPLITUDE_S 35
+
+/**
+ * Sensor calibration `quadrature_rad`.
+ */
+#define AT_ERR_QUADRATURE_RAD 36
+
+/**
+ * Calibration setting `min_speed_rad_s`.
+ */
+#define AT_ERR_MIN_SPEED_RAD_S 37
+
+/**
+ * Calibration setting `max_offset`.
+ */
+#define AT_ERR_MAX_OFFSET 38
+
+/**
+ * Calibration setting `max_amplitude_mismatch`.
+ */
+#define AT_ERR_MAX_AMPLITUDE_MISMATCH 39
+
+/**
+ * Calibration setting `max_quadrature_rad`.
+ */
+#define AT_ERR_MAX_QUADRATURE_RAD 40
+
+/**
+ * A parameter this version of the C API has no code for (a newer core's).
+ */
+#define AT_ERR_OTHER_PARAMETER 63
+
+#ifdef __cplusplus
+extern "C" {
+#endif // __cplusplus
+
+/**
+ * Checks `order` (2 or 3) discrete gains `gains` (l1, l2[, l3], dimensionless, as
+ * `angletrack design --format c` writes them) and the sample period `sample_period_s` (s),
+ * and writes the observer's configuration, with the default fault thresholds, to `out`.
+ * Returns `AT_OK`, or the status naming the refused parameter (`AT_ERR_GAINS_2` for an
+ * unstable `l3`, ...); `out` is unchanged on error.
+ *
+ * # Safety
+ * `gains` points to `order` floats; see the header's introduction.
+ */
+at_status at_gains_f32_new(const float *gains,
+                           size_t order,
+                           float sample_period_s,
+                           struct at_gains_f32 *out);
+
+/**
+ * The order (2 or 3) of gains made by `at_gains_f32_new`; 0 for NULL or gains not made.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+size_t at_gains_f32_order(const struct at_gains_f32 *gains);
+
+/**
+ * The default fault thresholds for signals of amplitude `nominal_amplitude` (input units:
+ * 1 for samples in units of full scale, as `at_update_f32_adc_*` gives them).
+ */
+struct at_fault_thresholds_f32 at_fault_thresholds_f32_for_amplitude(float nominal_amplitude);
+
+/**
+ * Replaces the fault thresholds of `gains` (checked: `AT_OK`, or the status naming the
+ * refused threshold; `gains` is unchanged on error). Not while another call uses `gains`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_gains_f32_set_fault_thresholds(struct at_gains_f32 *gains,
+                                            const struct at_fault_thresholds_f32 *thresholds);
+
+/**
+ * Writes the fault thresholds of `gains` to `out`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_gains_f32_fault_thresholds(const struct at_gains_f32 *gains,
+                                        struct at_fault_thresholds_f32 *out);
+
+/**
+ * Makes `state` fresh: it initialises itself from its next sample (angle from
+ * `atan2(y_s, y_c)`, speed 0), with no faults latched. A zeroed state is fresh too. NULL is
+ * ignored.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+void at_state_f32_reset(struct at_state_f32 *state);
+
+/**
+ * Returns the faults latched in `state` since they were last cleared (`AT_FAULT_*` bits)
+ * and clears them; a fault still present is flagged again at the next sample. 0 for NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_state_f32_clear_faults(struct at_state_f32 *state);
+
+/**
+ * One sample of the demodulated signals `y_c ~ cos(theta)`, `y_s ~ sin(theta)` (any unit:
+ * the loop is amplitude-invariant; the fault thresholds are in the same unit): predict,
+ * detect the phase error, correct, monitor. Never fails: a bad sample (NaN, infinite, too
+ * large) is flagged `AT_FAULT_BAD_SAMPLE` and the state coasts. NULL or gains not made:
+ * `AT_FAULT_INVALID_ARGUMENT`, and `state` is unchanged.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_update_f32(const struct at_gains_f32 *gains,
+                                     struct at_state_f32 *state,
+                                     float y_c,
+                                     float y_s);
+
+/**
+ * The text of a status (static, NUL-terminated): the name of the refused parameter as the
+ * Rust core names it (`"gains[2] (l3)"`, `"sample_period_s"`, ...), or what went wrong.
+ */
+const char *at_status_message(at_status status);
+
+/**
+ * The name of one `AT_FAULT_*` bit (static, NUL-terminated: `"loss of signal"`, ...), or
+ * `"unknown fault"`.
+ */
+const char *at_fault_name(uint32_t bit);
+
+/**
+ * Writes to `out` an ADC front end removing `mid_scale_counts` (the reading of a zero
+ * signal, at most 2^30 in magnitude) and dividing by `counts_per_unit` (positive).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_adc_f32_new(int32_t mid_scale_counts, float counts_per_unit, struct at_adc_f32 *out);
+
+/**
+ * Writes to `out` the front end of an unsigned (offset binary) ADC of `bits` bits (2 to
+ * 31): samples in units of full scale (+-1).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_adc_f32_offset_binary(uint32_t bits, struct at_adc_f32 *out);
+
+/**
+ * Writes to `out` the front end of a signed (two's complement) ADC of `bits` bits (2 to
+ * 32): samples in units of full scale (+-1).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_adc_f32_twos_complement(uint32_t bits, struct at_adc_f32 *out);
+
+/**
+ * `at_update_f32` on raw signed 16-bit ADC samples, through the front end `adc`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_update_f32_adc_i16(const struct at_gains_f32 *gains,
+                                             struct at_state_f32 *state,
+                                             const struct at_adc_f32 *adc,
+                                             int16_t raw_c,
+                                             int16_t raw_s);
+
+/**
+ * `at_update_f32` on raw unsigned 16-bit ADC samples, through the front end `adc`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_update_f32_adc_u16(const struct at_gains_f32 *gains,
+                                             struct at_state_f32 *state,
+                                             const struct at_adc_f32 *adc,
+                                             uint16_t raw_c,
+                                             uint16_t raw_s);
+
+/**
+ * `at_update_f32` on raw signed 32-bit ADC samples, through the front end `adc`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_update_f32_adc_i32(const struct at_gains_f32 *gains,
+                                             struct at_state_f32 *state,
+                                             const struct at_adc_f32 *adc,
+                                             int32_t raw_c,
+                                             int32_t raw_s);
+
+/**
+ * Makes `calibrator` fresh: off, no correction, nothing learned (a zeroed one is fresh
+ * too). NULL is ignored.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+void at_calibrator_f32_reset(struct at_calibrator_f32 *calibrator);
+
+/**
+ * Loads a stored calibration into `calibrator` (checked: `AT_OK`, or the status naming
+ * the refused field; unchanged on error), frozen: it corrects each sample and learns
+ * nothing until `at_calibrator_f32_enable`, which continues from it.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_calibrator_f32_load(struct at_calibrator_f32 *calibrator,
+                                 const struct at_sensor_calibration_f32 *stored);
+
+/**
+ * Writes the calibration `calibrator` applies (to store in flash) to `out`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_calibrator_f32_calibration(const struct at_calibrator_f32 *calibrator,
+                                        struct at_sensor_calibration_f32 *out);
+
+/**
+ * Sets the mode of `calibrator`: `AT_CALIBRATION_LEARNING` (correct and learn),
+ * `AT_CALIBRATION_FROZEN` (correct only) or `AT_CALIBRATION_OFF`; the calibration is kept.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_calibrator_f32_set_mode(struct at_calibrator_f32 *calibrator, uint32_t mode);
+
+/**
+ * The mode of `calibrator` (`AT_CALIBRATION_*`); `AT_CALIBRATION_OFF` for NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_calibrator_f32_mode(const struct at_calibrator_f32 *calibrator);
+
+/**
+ * The number of turns `calibrator` has learned since it was started or loaded; 0 for NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_calibrator_f32_turns_learned(const struct at_calibrator_f32 *calibrator);
+
+/**
+ * `at_update_f32` through the online calibration `calibrator`: unless it is off, the
+ * sample is corrected before the phase detector and, while learning, the calibration is
+ * learned from the observer's angle (applied once per completed turn). The estimate
+ * carries `AT_FAULT_AMPLITUDE_MISMATCH` and `AT_FAULT_OFFSET_OR_QUADRATURE` when the
+ * calibration is beyond its bounds.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_update_f32_calibrated(const struct at_gains_f32 *gains,
+                                                struct at_state_f32 *state,
+                                                struct at_calibrator_f32 *calibrator,
+                                                float y_c,
+                                                float y_s);
+
+#ifdef __cplusplus
+}  // extern "C"
+#endif  // __cplusplus
+
+#endif  /* ANGLETRACK_H */

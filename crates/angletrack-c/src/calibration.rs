@@ -1,0 +1,159 @@
+//! `at_calibrator_f32` (the online calibration of one channel, the core's `Calibrator<f32>`)
+//! and `at_sensor_calibration_f32` (the sensor's offsets, amplitudes and quadrature as
+//! plain floats, which firmware stores in flash and loads at start-up).
+
+use angletrack_core::{CalibrationMode, Calibrator, SensorCalibration};
+
+use crate::slot;
+use crate::status::{AT_ERR_MODE, AT_OK, at_status, status_of_result};
+
+/// The 8-byte words of an `at_calibrator_f32`'s storage (checked against the Rust type at
+/// compile time, on every target).
+pub const AT_CALIBRATOR_F32_WORDS: usize = 14;
+
+/// `at_calibrator_f32_mode`: neither corrects nor learns (a fresh calibrator's mode).
+pub const AT_CALIBRATION_OFF: u32 = 0;
+/// `at_calibrator_f32_mode`: corrects each sample and learns while the observer tracks.
+pub const AT_CALIBRATION_LEARNING: u32 = 1;
+/// `at_calibrator_f32_mode`: corrects each sample, learns nothing.
+pub const AT_CALIBRATION_FROZEN: u32 = 2;
+
+/// One channel's online calibration: the correction applied to each sample and its
+/// estimator. A zeroed one (C static memory) is a fresh calibrator: off, no correction,
+/// nothing learned. Place it anywhere; copy it by assignment; never write its fields.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct at_calibrator_f32 {
+    /// Private: the Rust value.
+    storage: [u64; AT_CALIBRATOR_F32_WORDS],
+    /// Private: whether `storage` holds it (0: a fresh calibrator).
+    tag: u32,
+}
+
+/// A sensor's calibration, `y_c = offset_c + amplitude_c cos(theta)`,
+/// `y_s = offset_s + amplitude_s sin(theta + quadrature_rad)` (input units, rad): plain
+/// floats to store in flash. `at_calibrator_f32_load` checks them.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct at_sensor_calibration_f32 {
+    /// Offset of the cosine channel.
+    pub offset_c: f32,
+    /// Offset of the sine channel.
+    pub offset_s: f32,
+    /// Amplitude of the cosine channel (positive).
+    pub amplitude_c: f32,
+    /// Amplitude of the sine channel (positive).
+    pub amplitude_s: f32,
+    /// Quadrature (non-orthogonality) angle (rad), below pi/4 in magnitude.
+    pub quadrature_rad: f32,
+}
+
+impl From<SensorCalibration<f32>> for at_sensor_calibration_f32 {
+    fn from(c: SensorCalibration<f32>) -> Self {
+        let (offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad) = c.parameters();
+        Self {
+            offset_c,
+            offset_s,
+            amplitude_c,
+            amplitude_s,
+            quadrature_rad,
+        }
+    }
+}
+
+impl at_calibrator_f32 {
+    /// A fresh calibrator (all zero, as C static memory holds).
+    pub(crate) const FRESH: Self = Self {
+        storage: [0; AT_CALIBRATOR_F32_WORDS],
+        tag: 0,
+    };
+
+    /// The calibrator held, or a fresh one.
+    pub(crate) fn get_mut(&mut self) -> &mut Calibrator<f32> {
+        slot::get_or_put(&mut self.storage, &mut self.tag, Calibrator::new)
+    }
+
+    /// A copy of the calibrator held, or a fresh one.
+    pub(crate) fn value(&self) -> Calibrator<f32> {
+        slot::get(&self.storage, self.tag).map_or_else(Calibrator::new, |c| *c)
+    }
+
+    /// Loads a stored calibration (checked), frozen; on error `self` is left as it was.
+    pub(crate) fn load(&mut self, stored: &at_sensor_calibration_f32) -> at_status {
+        let s = stored;
+        let calibration = SensorCalibration::new(
+            s.offset_c,
+            s.offset_s,
+            s.amplitude_c,
+            s.amplitude_s,
+            s.quadrature_rad,
+        );
+        if let Ok(calibration) = calibration {
+            slot::put(
+                &mut self.storage,
+                &mut self.tag,
+                Calibrator::from_calibration(calibration),
+            );
+        }
+        status_of_result(calibration)
+    }
+
+    /// Sets the mode from an `AT_CALIBRATION_*` value.
+    pub(crate) fn set_mode(&mut self, mode: u32) -> at_status {
+        let calibrator = self.get_mut();
+        match mode {
+            AT_CALIBRATION_OFF => calibrator.disable(),
+            AT_CALIBRATION_LEARNING => calibrator.enable(),
+            AT_CALIBRATION_FROZEN => calibrator.freeze(),
+            _ => return AT_ERR_MODE,
+        }
+        AT_OK
+    }
+
+    /// The mode, as an `AT_CALIBRATION_*` value.
+    pub(crate) fn mode(&self) -> u32 {
+        match self.value().mode() {
+            CalibrationMode::Learning => AT_CALIBRATION_LEARNING,
+            CalibrationMode::Frozen => AT_CALIBRATION_FROZEN,
+            _ => AT_CALIBRATION_OFF,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::status::AT_ERR_AMPLITUDE_S;
+
+    #[test]
+    fn loads_checks_and_reads_back() {
+        let mut calibrator = at_calibrator_f32::FRESH;
+        assert_eq!(calibrator.mode(), AT_CALIBRATION_OFF);
+        let stored = at_sensor_calibration_f32 {
+            offset_c: 90.0,
+            offset_s: -90.0,
+            amplitude_c: 1800.0,
+            amplitude_s: 1980.0,
+            quadrature_rad: 0.052,
+        };
+        assert_eq!(calibrator.load(&stored), AT_OK);
+        assert_eq!(calibrator.mode(), AT_CALIBRATION_FROZEN);
+        assert_eq!(
+            at_sensor_calibration_f32::from(calibrator.value().calibration()),
+            stored
+        );
+        assert_eq!(calibrator.set_mode(AT_CALIBRATION_LEARNING), AT_OK);
+        assert_eq!(calibrator.mode(), AT_CALIBRATION_LEARNING);
+        assert_eq!(calibrator.set_mode(7), AT_ERR_MODE);
+        let bad = at_sensor_calibration_f32 {
+            amplitude_s: -1.0,
+            ..stored
+        };
+        assert_eq!(calibrator.load(&bad), AT_ERR_AMPLITUDE_S);
+        assert_eq!(
+            calibrator.mode(),
+            AT_CALIBRATION_LEARNING,
+            "a refused load changes nothing"
+        );
+    }
+}

@@ -1,0 +1,69 @@
+//! The fault bits of `at_estimate_f32::faults` and `at_state_f32_clear_faults`: the core's
+//! [`Faults`] bits, and one bit of the C API's own.
+
+use core::ffi::CStr;
+
+#[cfg(test)]
+use angletrack_core::Faults;
+
+/// Loss of signal: the filtered amplitude is below the loss-of-signal threshold.
+pub const AT_FAULT_LOSS_OF_SIGNAL: u32 = 1;
+/// Degradation of signal: the filtered amplitude is outside [degradation_low, degradation_high].
+pub const AT_FAULT_DEGRADATION_OF_SIGNAL: u32 = 1 << 1;
+/// Loss of tracking: the filtered phase error or the speed is above its threshold.
+pub const AT_FAULT_LOSS_OF_TRACKING: u32 = 1 << 2;
+/// The sample was rejected (NaN, infinite, or above the input bound); the observer coasted.
+pub const AT_FAULT_BAD_SAMPLE: u32 = 1 << 3;
+/// A lock about 180 degrees off was detected (and the angle re-acquired, by default).
+pub const AT_FAULT_FALSE_LOCK: u32 = 1 << 4;
+/// The online calibration's amplitude ratio is beyond its bound.
+pub const AT_FAULT_AMPLITUDE_MISMATCH: u32 = 1 << 5;
+/// An offset or the quadrature angle of the online calibration is beyond its bound.
+pub const AT_FAULT_OFFSET_OR_QUADRATURE: u32 = 1 << 6;
+/// Not the sensor's: the call's gains were NULL or not made by `at_gains_f32_new` (or its
+/// state, ADC or calibrator NULL, or not made by their constructor); nothing was computed
+/// and the estimate's other fields are 0.
+pub const AT_FAULT_INVALID_ARGUMENT: u32 = 0x8000_0000;
+
+/// The C API's fault bits with their names, in bit order (the core's `Faults::NAMES`,
+/// then the C API's own).
+const NAMES: [(u32, &CStr); 8] = [
+    (AT_FAULT_LOSS_OF_SIGNAL, c"loss of signal"),
+    (AT_FAULT_DEGRADATION_OF_SIGNAL, c"degradation of signal"),
+    (AT_FAULT_LOSS_OF_TRACKING, c"loss of tracking"),
+    (AT_FAULT_BAD_SAMPLE, c"bad sample"),
+    (AT_FAULT_FALSE_LOCK, c"false lock"),
+    (AT_FAULT_AMPLITUDE_MISMATCH, c"amplitude mismatch"),
+    (AT_FAULT_OFFSET_OR_QUADRATURE, c"offset or quadrature"),
+    (AT_FAULT_INVALID_ARGUMENT, c"invalid argument"),
+];
+
+/// The name of one fault bit, or `"unknown fault"` for anything else (no bit, several).
+pub(crate) fn name(bit: u32) -> &'static CStr {
+    NAMES
+        .iter()
+        .find(|(b, _)| *b == bit)
+        .map_or(c"unknown fault", |(_, name)| name)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The C constants are the core's bits with the core's names, in the core's order.
+    #[test]
+    fn bits_and_names_match_the_core() {
+        assert_eq!(Faults::NAMES.len() + 1, NAMES.len());
+        for ((flag, core_name), (bit, c_name)) in Faults::NAMES.iter().zip(&NAMES) {
+            assert_eq!(u32::from(flag.bits()), *bit);
+            assert_eq!(c_name.to_str(), Ok(*core_name));
+            assert_eq!(name(*bit), *c_name);
+        }
+        let all_core = Faults::NAMES
+            .iter()
+            .fold(0, |all, (f, _)| all | u32::from(f.bits()));
+        assert_eq!(all_core & AT_FAULT_INVALID_ARGUMENT, 0);
+        assert_eq!(name(0).to_str(), Ok("unknown fault"));
+        assert_eq!(name(3).to_str(), Ok("unknown fault"));
+    }
+}

@@ -1,0 +1,219 @@
+//! `at_gains_f32`: the checked configuration of an observer of order 2 or 3 (the core's
+//! `Gains<f32, 2>` or `Gains<f32, 3>`, which a tag tells apart: the core refuses `l3 = 0`,
+//! so order 2 is its own type, not order 3 with a zero gain), and its fault thresholds as
+//! the plain C struct `at_fault_thresholds_f32`.
+
+use angletrack_core::{ConfigError, FaultThresholds, Gains};
+
+use crate::slot;
+use crate::status::{AT_ERR_NOT_INITIALISED, AT_ERR_ORDER, at_status, status_of_result};
+
+/// The 8-byte words of an `at_gains_f32`'s storage (checked against the Rust type at
+/// compile time, on every target).
+pub const AT_GAINS_F32_WORDS: usize = 18;
+
+/// The checked gains, sample period and fault thresholds of an observer (order 2 or 3),
+/// made by `at_gains_f32_new`. Immutable once made: one serves any number of channels
+/// (`at_state_f32`). Place it anywhere (static memory, the stack); copy it by assignment;
+/// never write its fields. A zeroed one is refused by every call (`AT_ERR_NOT_INITIALISED`,
+/// or `AT_FAULT_INVALID_ARGUMENT` from an update).
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct at_gains_f32 {
+    /// Private: the Rust value.
+    storage: [u64; AT_GAINS_F32_WORDS],
+    /// Private: which Rust value `storage` holds.
+    tag: u32,
+}
+
+/// The gains of either order, borrowed from an `at_gains_f32`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum AnyGains<'a> {
+    /// A 2nd-order observer.
+    Two(&'a Gains<f32, 2>),
+    /// A 3rd-order observer.
+    Three(&'a Gains<f32, 3>),
+}
+
+/// Evaluates `$body` with `$g` bound to the `&Gains<f32, N>` of an [`AnyGains`], whatever
+/// its order: the generic code is written once and instantiated for both orders.
+macro_rules! with_gains {
+    ($any:expr, |$g:ident| $body:expr) => {
+        match $any {
+            $crate::gains::AnyGains::Two($g) => $body,
+            $crate::gains::AnyGains::Three($g) => $body,
+        }
+    };
+}
+pub(crate) use with_gains;
+
+impl at_gains_f32 {
+    /// A zeroed struct, as C static memory holds before `at_gains_f32_new`.
+    #[cfg(test)]
+    pub(crate) const ZEROED: Self = Self {
+        storage: [0; AT_GAINS_F32_WORDS],
+        tag: 0,
+    };
+
+    /// The gains, if made by `at_gains_f32_new`.
+    pub(crate) fn get(&self) -> Option<AnyGains<'_>> {
+        if let Some(g) = slot::get(&self.storage, self.tag) {
+            return Some(AnyGains::Two(g));
+        }
+        slot::get(&self.storage, self.tag).map(AnyGains::Three)
+    }
+
+    /// Checks `gains` (`order` of them) and the sample period, and stores them with the
+    /// default fault thresholds; on error `self` is left as it was.
+    pub(crate) fn set(&mut self, gains: &[f32], sample_period_s: f32) -> at_status {
+        match *gains {
+            [l1, l2] => self.store(Gains::<f32, 2>::new([l1, l2], sample_period_s)),
+            [l1, l2, l3] => self.store(Gains::<f32, 3>::new([l1, l2, l3], sample_period_s)),
+            _ => AT_ERR_ORDER,
+        }
+    }
+
+    /// Stores checked gains of either order; returns the status of the check.
+    fn store<G: slot::Stored>(&mut self, result: Result<G, ConfigError>) -> at_status {
+        if let Ok(gains) = result {
+            slot::put(&mut self.storage, &mut self.tag, gains);
+        }
+        status_of_result(result)
+    }
+
+    /// Replaces the fault thresholds (checked as the core does).
+    pub(crate) fn set_fault_thresholds(
+        &mut self,
+        thresholds: &at_fault_thresholds_f32,
+    ) -> at_status {
+        let Some(any) = self.get() else {
+            return AT_ERR_NOT_INITIALISED;
+        };
+        let thresholds = (*thresholds).to_core();
+        match any {
+            AnyGains::Two(g) => self.store(g.with_fault_thresholds(thresholds)),
+            AnyGains::Three(g) => self.store(g.with_fault_thresholds(thresholds)),
+        }
+    }
+
+    /// The fault thresholds, if the gains were made.
+    pub(crate) fn fault_thresholds(&self) -> Option<at_fault_thresholds_f32> {
+        let thresholds = with_gains!(self.get()?, |g| g.fault_thresholds());
+        Some(at_fault_thresholds_f32::from_core(&thresholds))
+    }
+}
+
+/// The thresholds of the diagnostics and of the input check, in the input's units
+/// (amplitudes) unless stated: the core's `FaultThresholds`. Start from
+/// `at_fault_thresholds_f32_for_amplitude(nominal)` (the defaults scaled to the nominal
+/// amplitude), change fields, then `at_gains_f32_set_fault_thresholds`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct at_fault_thresholds_f32 {
+    /// The amplitude of a healthy signal (default 1).
+    pub nominal_amplitude: f32,
+    /// A sample with `sqrt(y_c^2 + y_s^2)` above this is rejected (default 4 x nominal).
+    pub max_input_amplitude: f32,
+    /// Filtered amplitude below this: loss of signal (default 0.25 x nominal).
+    pub loss_of_signal: f32,
+    /// Filtered amplitude below this: degradation of signal (default 0.5 x nominal).
+    pub degradation_low: f32,
+    /// Filtered amplitude above this: degradation of signal (default 1.5 x nominal).
+    pub degradation_high: f32,
+    /// Filtered normalised phase error above this: loss of tracking (default 0.1).
+    pub loss_of_tracking: f32,
+    /// Estimated |speed| (rad/s) above this: loss of tracking; 0 for the default, a
+    /// quarter turn per sample (`pi / (2 Ts)`).
+    pub max_speed_rad_s: f32,
+    /// Smoothing factor of the diagnostics' first-order filters, in (0, 1] (default 1/16).
+    pub filter_factor: f32,
+    /// Filtered in-phase component below this: false lock (default 0).
+    pub false_lock: f32,
+    /// Nonzero: compute the flags (loss of signal, degradation, loss of tracking, false
+    /// lock); 0: only the input check runs (default 1).
+    pub monitor: u32,
+    /// Nonzero: re-acquire the angle on a false lock (default 1).
+    pub re_acquire: u32,
+}
+
+impl at_fault_thresholds_f32 {
+    /// The core's defaults scaled to `nominal_amplitude`.
+    pub(crate) fn for_amplitude(nominal_amplitude: f32) -> Self {
+        Self::from_core(&FaultThresholds::for_amplitude(nominal_amplitude))
+    }
+
+    fn from_core(t: &FaultThresholds<f32>) -> Self {
+        Self {
+            nominal_amplitude: t.nominal_amplitude,
+            max_input_amplitude: t.max_input_amplitude,
+            loss_of_signal: t.loss_of_signal,
+            degradation_low: t.degradation_low,
+            degradation_high: t.degradation_high,
+            loss_of_tracking: t.loss_of_tracking,
+            max_speed_rad_s: t.max_speed.unwrap_or(0.0),
+            filter_factor: t.filter_factor,
+            false_lock: t.false_lock,
+            monitor: u32::from(t.monitor),
+            re_acquire: u32::from(t.re_acquire),
+        }
+    }
+
+    /// The core's thresholds, field by field (assigned to the core's defaults, so that
+    /// fields the core may add keep their defaults).
+    fn to_core(self) -> FaultThresholds<f32> {
+        let mut t = FaultThresholds::for_amplitude(self.nominal_amplitude);
+        t.max_input_amplitude = self.max_input_amplitude;
+        t.loss_of_signal = self.loss_of_signal;
+        t.degradation_low = self.degradation_low;
+        t.degradation_high = self.degradation_high;
+        t.loss_of_tracking = self.loss_of_tracking;
+        t.max_speed = (self.max_speed_rad_s != 0.0).then_some(self.max_speed_rad_s);
+        t.filter_factor = self.filter_factor;
+        t.false_lock = self.false_lock;
+        t.monitor = self.monitor != 0;
+        t.re_acquire = self.re_acquire != 0;
+        t
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::status::{AT_ERR_FILTER_FACTOR, AT_ERR_GAINS_2, AT_ERR_SAMPLE_PERIOD_S, AT_OK};
+
+    #[test]
+    fn checks_as_the_core_and_keeps_the_order() {
+        let mut gains = at_gains_f32::ZEROED;
+        assert!(gains.get().is_none());
+        assert_eq!(gains.set(&[0.3, 0.04, -0.002], 1e-4), AT_ERR_GAINS_2);
+        assert!(
+            gains.get().is_none(),
+            "a refused set leaves the struct as it was"
+        );
+        assert_eq!(gains.set(&[0.3, 0.04], 0.0), AT_ERR_SAMPLE_PERIOD_S);
+        assert_eq!(gains.set(&[0.3], 1e-4), AT_ERR_ORDER);
+        assert_eq!(gains.set(&[0.05, 0.0012], 1e-4), AT_OK);
+        assert!(matches!(gains.get(), Some(AnyGains::Two(g)) if g.gains() == [0.05, 0.0012]));
+        assert_eq!(gains.set(&[0.3, 0.04, 0.002], 1e-4), AT_OK);
+        assert!(matches!(gains.get(), Some(AnyGains::Three(g)) if g.sample_period() == 1e-4));
+    }
+
+    #[test]
+    fn fault_thresholds_round_trip() {
+        let mut gains = at_gains_f32::ZEROED;
+        let mut t = at_fault_thresholds_f32::for_amplitude(1800.0);
+        assert_eq!(gains.set_fault_thresholds(&t), AT_ERR_NOT_INITIALISED);
+        assert_eq!(gains.set(&[0.3, 0.04, 0.002], 1e-4), AT_OK);
+        t.max_speed_rad_s = 1000.0;
+        t.monitor = 0;
+        assert_eq!(gains.set_fault_thresholds(&t), AT_OK);
+        assert_eq!(gains.fault_thresholds(), Some(t));
+        let core = with_gains!(gains.get().unwrap(), |g| g.fault_thresholds());
+        assert_eq!(
+            (core.max_speed, core.monitor, core.loss_of_signal),
+            (Some(1000.0), false, 450.0)
+        );
+        t.filter_factor = 1.5;
+        assert_eq!(gains.set_fault_thresholds(&t), AT_ERR_FILTER_FACTOR);
+    }
+}

@@ -1,0 +1,62 @@
+//! The C API of `angletrack-core`: a static library (`libangletrack_c.a`) and its header
+//! `include/angletrack.h` (generated from this crate by cbindgen, checked in), for firmware
+//! written in C. Built for the host (`cargo build -p angletrack-c --release`) or a
+//! Cortex-M4F (`--target thumbv7em-none-eabihf`).
+//!
+//! Every struct is plain and sized, so that firmware can place it in static memory:
+//! `at_gains_f32` (the checked configuration, order 2 or 3), `at_state_f32` (one channel),
+//! `at_adc_f32` (the ADC front end), `at_calibrator_f32` (the online calibration), and the
+//! C mirrors `at_estimate_f32`, `at_fault_thresholds_f32` and `at_sensor_calibration_f32`.
+//! The first four hold the core's Rust values in private storage, sized at compile time
+//! and checked against the Rust types on every target (`slot`); a zeroed state or
+//! calibrator is a fresh one, zeroed gains or ADC are refused.
+//!
+//! Calls that can fail return an `at_status` (`AT_OK` or an `AT_ERR_*` naming the refused
+//! parameter, `at_status_message` its text); the per-sample updates never fail and return
+//! an `at_estimate_f32` whose `faults` carry the `AT_FAULT_*` bits. No call panics: NULL
+//! pointers give `AT_ERR_NULL_POINTER` (or `AT_FAULT_INVALID_ARGUMENT` from an update),
+//! never undefined behaviour.
+//!
+//! Unsafe code is denied except at the boundary: `ffi` (the `extern "C"` functions and
+//! their pointers) and `slot` (the Rust values in C memory), each unsafe block with its
+//! safety argument. For a bare-metal target the library carries its panic handler (the C
+//! program has none); no call reaches it (tests/firmware/c checks that the linked example
+//! holds no panic code). On a host, std provides it.
+#![no_std]
+#![allow(non_camel_case_types)]
+
+#[cfg(not(target_os = "none"))]
+extern crate std;
+
+mod adc;
+mod calibration;
+mod faults;
+mod ffi;
+mod gains;
+mod observer;
+mod slot;
+mod status;
+
+pub use adc::{AT_ADC_F32_WORDS, at_adc_f32};
+pub use calibration::{
+    AT_CALIBRATION_FROZEN, AT_CALIBRATION_LEARNING, AT_CALIBRATION_OFF, AT_CALIBRATOR_F32_WORDS,
+    at_calibrator_f32, at_sensor_calibration_f32,
+};
+pub use faults::*;
+pub use ffi::*;
+pub use gains::{AT_GAINS_F32_WORDS, at_fault_thresholds_f32, at_gains_f32};
+pub use observer::{AT_STATE_F32_WORDS, at_estimate_f32, at_state_f32};
+pub use status::*;
+
+/// A bare-metal C program has no panic handler; the library's is never reached (no call
+/// panics), and parks the core if it were.
+#[cfg(all(target_os = "none", not(test)))]
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    loop {
+        core::hint::spin_loop();
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,184 @@
+//! `at_status`: what a C API call that can fail returns, `AT_OK` or an error naming the
+//! refused parameter (the core's [`Parameter`]), and its message.
+
+use core::ffi::{CStr, c_char};
+
+use angletrack_core::{ConfigError, Parameter};
+
+/// What a call that can fail returns: `AT_OK` (0), or the `AT_ERR_*` code of what was
+/// refused. `at_status_message` gives its text.
+pub type at_status = i32;
+
+/// Success.
+pub const AT_OK: at_status = 0;
+/// A pointer argument was NULL; nothing was written.
+pub const AT_ERR_NULL_POINTER: at_status = 1;
+/// The observer order was not 2 or 3.
+pub const AT_ERR_ORDER: at_status = 2;
+/// A struct argument was not made by its constructor (`at_gains_f32_new`, `at_adc_f32_new`, ...).
+pub const AT_ERR_NOT_INITIALISED: at_status = 3;
+/// The calibration mode was not one of `AT_CALIBRATION_*`.
+pub const AT_ERR_MODE: at_status = 4;
+/// `sample_period_s`: not finite, not positive, or outside [1 ps, 1000 s].
+pub const AT_ERR_SAMPLE_PERIOD_S: at_status = 16;
+/// `gains[0]` (l1): not finite, or outside the stability region of the discrete loop.
+pub const AT_ERR_GAINS_0: at_status = 17;
+/// `gains[1]` (l2): not finite, or outside the stability region of the discrete loop.
+pub const AT_ERR_GAINS_1: at_status = 18;
+/// `gains[2]` (l3): not finite, or outside the stability region of the discrete loop.
+pub const AT_ERR_GAINS_2: at_status = 19;
+/// Fault threshold `max_input_amplitude`.
+pub const AT_ERR_MAX_INPUT_AMPLITUDE: at_status = 20;
+/// Fault threshold `loss_of_signal`.
+pub const AT_ERR_LOSS_OF_SIGNAL: at_status = 21;
+/// Fault threshold `degradation_high`.
+pub const AT_ERR_DEGRADATION_HIGH: at_status = 22;
+/// Fault threshold `degradation_low`.
+pub const AT_ERR_DEGRADATION_LOW: at_status = 23;
+/// Fault threshold `loss_of_tracking`.
+pub const AT_ERR_LOSS_OF_TRACKING: at_status = 24;
+/// Fault threshold `filter_factor`.
+pub const AT_ERR_FILTER_FACTOR: at_status = 25;
+/// Fault threshold `false_lock`.
+pub const AT_ERR_FALSE_LOCK: at_status = 26;
+/// Fault threshold `nominal_amplitude`.
+pub const AT_ERR_NOMINAL_AMPLITUDE: at_status = 27;
+/// Fault threshold `max_speed_rad_s`.
+pub const AT_ERR_MAX_SPEED_RAD_S: at_status = 28;
+/// ADC `mid_scale_counts`.
+pub const AT_ERR_MID_SCALE_COUNTS: at_status = 29;
+/// ADC `counts_per_unit`.
+pub const AT_ERR_COUNTS_PER_UNIT: at_status = 30;
+/// ADC resolution `bits`.
+pub const AT_ERR_BITS: at_status = 31;
+/// Sensor calibration `offset_c`.
+pub const AT_ERR_OFFSET_C: at_status = 32;
+/// Sensor calibration `offset_s`.
+pub const AT_ERR_OFFSET_S: at_status = 33;
+/// Sensor calibration `amplitude_c`.
+pub const AT_ERR_AMPLITUDE_C: at_status = 34;
+/// Sensor calibration `amplitude_s`.
+pub const AT_ERR_AMPLITUDE_S: at_status = 35;
+/// Sensor calibration `quadrature_rad`.
+pub const AT_ERR_QUADRATURE_RAD: at_status = 36;
+/// Calibration setting `min_speed_rad_s`.
+pub const AT_ERR_MIN_SPEED_RAD_S: at_status = 37;
+/// Calibration setting `max_offset`.
+pub const AT_ERR_MAX_OFFSET: at_status = 38;
+/// Calibration setting `max_amplitude_mismatch`.
+pub const AT_ERR_MAX_AMPLITUDE_MISMATCH: at_status = 39;
+/// Calibration setting `max_quadrature_rad`.
+pub const AT_ERR_MAX_QUADRATURE_RAD: at_status = 40;
+/// A parameter this version of the C API has no code for (a newer core's).
+pub const AT_ERR_OTHER_PARAMETER: at_status = 63;
+
+/// Every parameter with its status code: the one table both directions use.
+const PARAMETERS: [(Parameter, at_status); 25] = [
+    (Parameter::SamplePeriod, AT_ERR_SAMPLE_PERIOD_S),
+    (Parameter::AngleGain, AT_ERR_GAINS_0),
+    (Parameter::SpeedGain, AT_ERR_GAINS_1),
+    (Parameter::AccelerationGain, AT_ERR_GAINS_2),
+    (Parameter::MaxInputAmplitude, AT_ERR_MAX_INPUT_AMPLITUDE),
+    (Parameter::LossOfSignalThreshold, AT_ERR_LOSS_OF_SIGNAL),
+    (Parameter::DegradationHighThreshold, AT_ERR_DEGRADATION_HIGH),
+    (Parameter::DegradationLowThreshold, AT_ERR_DEGRADATION_LOW),
+    (Parameter::LossOfTrackingThreshold, AT_ERR_LOSS_OF_TRACKING),
+    (Parameter::FilterFactor, AT_ERR_FILTER_FACTOR),
+    (Parameter::FalseLockThreshold, AT_ERR_FALSE_LOCK),
+    (Parameter::NominalAmplitude, AT_ERR_NOMINAL_AMPLITUDE),
+    (Parameter::MaxSpeed, AT_ERR_MAX_SPEED_RAD_S),
+    (Parameter::MidScaleCounts, AT_ERR_MID_SCALE_COUNTS),
+    (Parameter::CountsPerUnit, AT_ERR_COUNTS_PER_UNIT),
+    (Parameter::AdcBits, AT_ERR_BITS),
+    (Parameter::OffsetCos, AT_ERR_OFFSET_C),
+    (Parameter::OffsetSin, AT_ERR_OFFSET_S),
+    (Parameter::AmplitudeCos, AT_ERR_AMPLITUDE_C),
+    (Parameter::AmplitudeSin, AT_ERR_AMPLITUDE_S),
+    (Parameter::Quadrature, AT_ERR_QUADRATURE_RAD),
+    (Parameter::MinSpeed, AT_ERR_MIN_SPEED_RAD_S),
+    (Parameter::MaxOffset, AT_ERR_MAX_OFFSET),
+    (
+        Parameter::MaxAmplitudeMismatch,
+        AT_ERR_MAX_AMPLITUDE_MISMATCH,
+    ),
+    (Parameter::MaxQuadrature, AT_ERR_MAX_QUADRATURE_RAD),
+];
+
+/// The status naming the parameter a configuration error refused.
+pub(crate) fn status_of(error: ConfigError) -> at_status {
+    let parameter = error.parameter();
+    PARAMETERS
+        .iter()
+        .find(|(p, _)| *p == parameter)
+        .map_or(AT_ERR_OTHER_PARAMETER, |(_, status)| *status)
+}
+
+/// `AT_OK`, or the status of the error.
+pub(crate) fn status_of_result<T>(result: Result<T, ConfigError>) -> at_status {
+    result.err().map_or(AT_OK, status_of)
+}
+
+/// The text of a status: the name of the refused parameter as the core names it
+/// (`Parameter::name`, e.g. `"gains[2] (l3)"`, `"sample_period_s"`), or what went wrong.
+pub(crate) fn message(status: at_status) -> &'static CStr {
+    match status {
+        AT_OK => c"ok",
+        AT_ERR_NULL_POINTER => c"a pointer argument is NULL",
+        AT_ERR_ORDER => c"order must be 2 or 3",
+        AT_ERR_NOT_INITIALISED => c"a struct argument was not made by its constructor",
+        AT_ERR_MODE => c"mode must be AT_CALIBRATION_OFF, _LEARNING or _FROZEN",
+        AT_ERR_SAMPLE_PERIOD_S => c"sample_period_s",
+        AT_ERR_GAINS_0 => c"gains[0] (l1)",
+        AT_ERR_GAINS_1 => c"gains[1] (l2)",
+        AT_ERR_GAINS_2 => c"gains[2] (l3)",
+        AT_ERR_MAX_INPUT_AMPLITUDE => c"max_input_amplitude",
+        AT_ERR_LOSS_OF_SIGNAL => c"loss_of_signal",
+        AT_ERR_DEGRADATION_HIGH => c"degradation_high",
+        AT_ERR_DEGRADATION_LOW => c"degradation_low",
+        AT_ERR_LOSS_OF_TRACKING => c"loss_of_tracking",
+        AT_ERR_FILTER_FACTOR => c"filter_factor",
+        AT_ERR_FALSE_LOCK => c"false_lock",
+        AT_ERR_NOMINAL_AMPLITUDE => c"nominal_amplitude",
+        AT_ERR_MAX_SPEED_RAD_S => c"max_speed_rad_s",
+        AT_ERR_MID_SCALE_COUNTS => c"mid_scale_counts",
+        AT_ERR_COUNTS_PER_UNIT => c"counts_per_unit",
+        AT_ERR_BITS => c"bits",
+        AT_ERR_OFFSET_C => c"offset_c",
+        AT_ERR_OFFSET_S => c"offset_s",
+        AT_ERR_AMPLITUDE_C => c"amplitude_c",
+        AT_ERR_AMPLITUDE_S => c"amplitude_s",
+        AT_ERR_QUADRATURE_RAD => c"quadrature_rad",
+        AT_ERR_MIN_SPEED_RAD_S => c"min_speed_rad_s",
+        AT_ERR_MAX_OFFSET => c"max_offset",
+        AT_ERR_MAX_AMPLITUDE_MISMATCH => c"max_amplitude_mismatch",
+        AT_ERR_MAX_QUADRATURE_RAD => c"max_quadrature_rad",
+        AT_ERR_OTHER_PARAMETER => c"a parameter of a newer core",
+        _ => c"unknown status",
+    }
+}
+
+/// [`message`] as a C string pointer (static, NUL-terminated).
+pub(crate) fn message_ptr(status: at_status) -> *const c_char {
+    message(status).as_ptr()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each parameter's status names it as the core does, and the codes are distinct.
+    #[test]
+    fn messages_are_the_core_parameter_names() {
+        for (i, (parameter, status)) in PARAMETERS.iter().enumerate() {
+            assert_eq!(
+                message(*status).to_str(),
+                Ok(parameter.name()),
+                "{parameter:?}"
+            );
+            assert_eq!(status_of(ConfigError::NotFinite(*parameter)), *status);
+            assert!(PARAMETERS[..i].iter().all(|(_, s)| s != status));
+        }
+        assert_eq!(message(AT_OK).to_str(), Ok("ok"));
+        assert_eq!(message(-7).to_str(), Ok("unknown status"));
+    }
+}

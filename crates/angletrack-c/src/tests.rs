@@ -1,0 +1,226 @@
+//! Tests of the whole API through its `extern "C"` functions, called as C calls them.
+#![allow(unsafe_code)]
+
+use core::f32::consts::{PI, TAU};
+use core::ptr::{null, null_mut};
+
+use crate::*;
+
+/// The 3rd-order gains of the repository's benchmark (10 kHz).
+const GAINS_3: [f32; 3] = [0.094_326_17, 0.000_562_075, 1.213_522e-5];
+/// The 2nd-order gains of the repository's benchmark (10 kHz).
+const GAINS_2: [f32; 2] = [0.060_898_63, 0.000_956_514_8];
+const SAMPLE_PERIOD_S: f32 = 1e-4;
+
+fn gains_of(l: &[f32]) -> at_gains_f32 {
+    let mut gains = at_gains_f32::ZEROED;
+    // SAFETY: valid pointers to live values.
+    let status = unsafe { at_gains_f32_new(l.as_ptr(), l.len(), SAMPLE_PERIOD_S, &mut gains) };
+    assert_eq!(status, AT_OK);
+    gains
+}
+
+/// Tracks `speed` (rad/s) for 0.5 s from a zeroed state; returns the last estimate and the
+/// true angle then, with `sample` making the call from the true angle.
+fn track(speed: f32, mut sample: impl FnMut(f32) -> at_estimate_f32) -> (at_estimate_f32, f32) {
+    let mut last = at_estimate_f32::default();
+    let mut theta = 0.0_f32;
+    for k in 0..5000 {
+        theta = (0.3 + speed * k as f32 * SAMPLE_PERIOD_S) % TAU;
+        last = sample(theta);
+    }
+    (last, theta)
+}
+
+fn angle_error(estimate: &at_estimate_f32, theta: f32) -> f32 {
+    let e = (estimate.angle - theta) % TAU;
+    (e + 3.0 * PI) % TAU - PI
+}
+
+#[test]
+fn both_orders_track_a_constant_speed() {
+    for l in [&GAINS_2[..], &GAINS_3[..]] {
+        let gains = gains_of(l);
+        let mut state = at_state_f32::FRESH;
+        // SAFETY: valid pointers to live values.
+        assert_eq!(unsafe { at_gains_f32_order(&gains) }, l.len());
+        let (e, theta) = track(300.0, |theta| unsafe {
+            at_update_f32(&gains, &mut state, theta.cos(), theta.sin())
+        });
+        assert!(
+            angle_error(&e, theta).abs() < 1e-3,
+            "order {}: {e:?}",
+            l.len()
+        );
+        assert!((e.speed - 300.0).abs() < 0.5, "order {}: {e:?}", l.len());
+        assert_eq!(e.faults, 0);
+        // 0.3 + 300 x 0.4999 = 150.27 rad: 24 whole turns, the angle in [-pi, pi).
+        assert_eq!(e.turns, 24);
+    }
+}
+
+#[test]
+fn a_state_follows_the_order_of_its_gains() {
+    let (two, three) = (gains_of(&GAINS_2), gains_of(&GAINS_3));
+    let mut state = at_state_f32::FRESH;
+    // SAFETY: valid pointers to live values.
+    unsafe {
+        at_update_f32(&three, &mut state, 1.0, 0.0);
+        let e = at_update_f32(&two, &mut state, 0.0, 1.0);
+        assert!((e.angle - PI / 2.0).abs() < 1e-6, "started afresh: {e:?}");
+    }
+}
+
+#[test]
+fn null_and_zeroed_arguments_are_refused() {
+    let gains = gains_of(&GAINS_3);
+    let zeroed = at_gains_f32::ZEROED;
+    let mut state = at_state_f32::FRESH;
+    let mut out = at_gains_f32::ZEROED;
+    // SAFETY: NULL is what is tested; the other pointers are valid.
+    unsafe {
+        assert_eq!(
+            at_gains_f32_new(null(), 3, 1e-4, &mut out),
+            AT_ERR_NULL_POINTER
+        );
+        assert_eq!(
+            at_gains_f32_new(GAINS_3.as_ptr(), 3, 1e-4, null_mut()),
+            AT_ERR_NULL_POINTER
+        );
+        assert_eq!(
+            at_gains_f32_new(GAINS_3.as_ptr(), 4, 1e-4, &mut out),
+            AT_ERR_ORDER
+        );
+        assert_eq!(
+            at_update_f32(null(), &mut state, 1.0, 0.0),
+            at_estimate_f32::INVALID
+        );
+        assert_eq!(
+            at_update_f32(&gains, null_mut(), 1.0, 0.0),
+            at_estimate_f32::INVALID
+        );
+        assert_eq!(
+            at_update_f32(&zeroed, &mut state, 1.0, 0.0).faults,
+            AT_FAULT_INVALID_ARGUMENT
+        );
+        assert_eq!(at_gains_f32_order(&zeroed), 0);
+        assert_eq!(at_state_f32_clear_faults(null_mut()), 0);
+        at_state_f32_reset(null_mut());
+        let t = at_fault_thresholds_f32_for_amplitude(1.0);
+        let mut zeroed_mut = zeroed;
+        assert_eq!(
+            at_gains_f32_set_fault_thresholds(&mut zeroed_mut, &t),
+            AT_ERR_NOT_INITIALISED
+        );
+        assert_eq!(
+            at_gains_f32_set_fault_thresholds(null_mut(), &t),
+            AT_ERR_NULL_POINTER
+        );
+        let adc = at_adc_f32::ZEROED;
+        let e = at_update_f32_adc_u16(&gains, &mut state, &adc, 2048, 2048);
+        assert_eq!(e.faults, AT_FAULT_INVALID_ARGUMENT);
+        assert_eq!(
+            at_calibrator_f32_load(null_mut(), null()),
+            AT_ERR_NULL_POINTER
+        );
+        assert_eq!(at_calibrator_f32_mode(null()), AT_CALIBRATION_OFF);
+    }
+    assert_eq!(state.clone_tag(), 0, "no refused call touched the state");
+}
+
+#[test]
+fn faults_latch_and_clear() {
+    let gains = gains_of(&GAINS_3);
+    let mut state = at_state_f32::FRESH;
+    // SAFETY: valid pointers to live values.
+    unsafe {
+        at_update_f32(&gains, &mut state, 1.0, 0.0);
+        assert_eq!(
+            at_update_f32(&gains, &mut state, f32::NAN, 0.0).faults,
+            AT_FAULT_BAD_SAMPLE
+        );
+        at_update_f32(&gains, &mut state, 1.0, 0.0);
+        assert_eq!(at_state_f32_clear_faults(&mut state), AT_FAULT_BAD_SAMPLE);
+        assert_eq!(at_state_f32_clear_faults(&mut state), 0);
+    }
+}
+
+#[test]
+fn adc_counts_track_as_floats_do() {
+    let gains = gains_of(&GAINS_3);
+    let mut adc = at_adc_f32::ZEROED;
+    let mut state = at_state_f32::FRESH;
+    // SAFETY: valid pointers to live values.
+    unsafe {
+        assert_eq!(at_adc_f32_offset_binary(40, &mut adc), AT_ERR_BITS);
+        assert_eq!(at_adc_f32_offset_binary(12, &mut adc), AT_OK);
+    }
+    let counts = |x: f32| (2048.0 + 1800.0 * x).round() as u16;
+    let (e, theta) = track(-200.0, |theta| unsafe {
+        at_update_f32_adc_u16(
+            &gains,
+            &mut state,
+            &adc,
+            counts(theta.cos()),
+            counts(theta.sin()),
+        )
+    });
+    assert!(angle_error(&e, theta).abs() < 2e-3, "{e:?}");
+    assert!((e.speed + 200.0).abs() < 1.0, "{e:?}");
+    assert_eq!(
+        e.faults, 0,
+        "1800 of 2048 counts is within the default thresholds"
+    );
+}
+
+#[test]
+fn calibration_learns_offsets_and_round_trips() {
+    let gains = gains_of(&GAINS_3);
+    let mut state = at_state_f32::FRESH;
+    let mut calibrator = at_calibrator_f32::FRESH;
+    let mut learned = at_sensor_calibration_f32 {
+        offset_c: 0.0,
+        offset_s: 0.0,
+        amplitude_c: 0.0,
+        amplitude_s: 0.0,
+        quadrature_rad: 0.0,
+    };
+    // SAFETY: valid pointers to live values.
+    unsafe {
+        assert_eq!(
+            at_calibrator_f32_set_mode(&mut calibrator, AT_CALIBRATION_LEARNING),
+            AT_OK
+        );
+        track(2.0 * PI * 50.0, |theta| {
+            let (y_c, y_s) = (0.05 + theta.cos(), -0.05 + 1.1 * (theta + 0.05).sin());
+            at_update_f32_calibrated(&gains, &mut state, &mut calibrator, y_c, y_s)
+        });
+        assert!(at_calibrator_f32_turns_learned(&calibrator) > 5);
+        assert_eq!(
+            at_calibrator_f32_calibration(&calibrator, &mut learned),
+            AT_OK
+        );
+        assert!((learned.offset_c - 0.05).abs() < 5e-3 && (learned.offset_s + 0.05).abs() < 5e-3);
+        assert!(
+            (learned.amplitude_s / learned.amplitude_c - 1.1).abs() < 5e-3,
+            "{learned:?}"
+        );
+        // Stored in flash, loaded at the next start-up.
+        let mut loaded = at_calibrator_f32::FRESH;
+        assert_eq!(at_calibrator_f32_load(&mut loaded, &learned), AT_OK);
+        assert_eq!(at_calibrator_f32_mode(&loaded), AT_CALIBRATION_FROZEN);
+        let mut again = learned;
+        assert_eq!(at_calibrator_f32_calibration(&loaded, &mut again), AT_OK);
+        assert_eq!(again, learned);
+    }
+}
+
+#[test]
+fn status_and_fault_texts_are_c_strings() {
+    let text = |p: *const core::ffi::c_char| {
+        // SAFETY: the API returns static NUL-terminated strings.
+        unsafe { core::ffi::CStr::from_ptr(p) }.to_str().unwrap()
+    };
+    assert_eq!(text(at_status_message(AT_ERR_GAINS_2)), "gains[2] (l3)");
+    assert_eq!(text(at_fault_name(AT_FAULT_FALSE_LOCK)), "false lock");
+}

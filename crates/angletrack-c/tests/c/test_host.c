@@ -1,0 +1,117 @@
+/* The C API on the host: a C program written against angletrack.h, linked with
+ * libangletrack_c.a, that designs nothing: it takes the gains `angletrack design --format c`
+ * writes (gains_ato3.h, gains_ato2.h), tracks a synthetic resolver (scenario.h) and checks
+ * the refusals (invalid gains, NULL pointers, zeroed structs). Prints one line per check
+ * and exits 0 if all pass. Built and run by scripts/test.d/16-c-api.sh. */
+#include <stdio.h>
+#include <string.h>
+
+#include "angletrack.h"
+#include "gains_ato2.h"
+#include "gains_ato3.h"
+#include "scenario.h"
+
+/* Statically allocated, as firmware would: zeroed, so the states are fresh. */
+static at_gains_f32 gains3, gains2, zeroed_gains;
+static at_state_f32 state;
+static at_adc_f32 adc;
+static at_calibrator_f32 calibrator;
+
+static int failures = 0;
+
+static void check(int pass, const char *what) {
+  printf("%s %s\n", pass ? "PASS" : "FAIL", what);
+  failures += !pass;
+}
+
+static void check_status(at_status got, at_status expected, const char *what) {
+  char line[200];
+  snprintf(line, sizeof line, "%s: status %d \"%s\" (expected %d)", what, (int)got,
+           at_status_message(got), (int)expected);
+  check(got == expected, line);
+}
+
+static void track(const char *name, const at_gains_f32 *gains, const at_adc_f32 *adc_or_null,
+                  double sample_period_s, float angle_tolerance, float speed_tolerance) {
+  char line[300];
+  at_state_f32_reset(&state);
+  scenario_result r = scenario_track(gains, &state, adc_or_null, SCENARIO_SPEED_RAD_S, sample_period_s,
+                                     SCENARIO_AMPLITUDE, SCENARIO_SAMPLES, SCENARIO_WINDOW);
+  int pass = scenario_passes(name, r, angle_tolerance, speed_tolerance, line, sizeof line);
+  fputs(line, stdout);
+  failures += !pass;
+}
+
+int main(void) {
+  printf("sizeof: at_gains_f32 %zu, at_state_f32 %zu, at_adc_f32 %zu, at_calibrator_f32 %zu, "
+         "at_estimate_f32 %zu bytes\n",
+         sizeof(at_gains_f32), sizeof(at_state_f32), sizeof(at_adc_f32),
+         sizeof(at_calibrator_f32), sizeof(at_estimate_f32));
+
+  /* The gains exactly as `angletrack design --format c` writes them. */
+  check_status(at_gains_f32_new(ato3_gains, ATO3_ORDER, ATO3_SAMPLE_PERIOD_S, &gains3), AT_OK,
+               "ato3 gains accepted");
+  check_status(at_gains_f32_new(ato2_gains, ATO2_ORDER, ATO2_SAMPLE_PERIOD_S, &gains2), AT_OK,
+               "ato2 gains accepted");
+  check(at_gains_f32_order(&gains3) == 3 && at_gains_f32_order(&gains2) == 2, "orders 3 and 2");
+
+  track("3rd order, 50 Hz", &gains3, NULL, ATO3_SAMPLE_PERIOD_S, SCENARIO_ANGLE_TOLERANCE_RAD,
+        SCENARIO_SPEED_TOLERANCE_RAD_S);
+  track("2nd order, 50 Hz", &gains2, NULL, ATO2_SAMPLE_PERIOD_S, SCENARIO_ANGLE_TOLERANCE_RAD,
+        SCENARIO_SPEED_TOLERANCE_RAD_S);
+  check_status(at_adc_f32_offset_binary(12, &adc), AT_OK, "12-bit offset-binary ADC");
+  track("3rd order, 12-bit ADC counts", &gains3, &adc, ATO3_SAMPLE_PERIOD_S,
+        SCENARIO_ADC_ANGLE_TOLERANCE_RAD, SCENARIO_ADC_SPEED_TOLERANCE_RAD_S);
+
+  /* Refusals: the status names the parameter, and `out` is unchanged. */
+  at_gains_f32 out = gains3;
+  const float unstable[3] = {0.3f, 0.04f, -0.002f};
+  check_status(at_gains_f32_new(unstable, 3, 1e-4f, &out), AT_ERR_GAINS_2, "l3 < 0 refused");
+  check(strcmp(at_status_message(AT_ERR_GAINS_2), "gains[2] (l3)") == 0, "message names l3");
+  check(memcmp(&out, &gains3, sizeof out) == 0, "refused gains leave out unchanged");
+  check_status(at_gains_f32_new(ato3_gains, 3, 0.0f, &out), AT_ERR_SAMPLE_PERIOD_S,
+               "zero sample period refused");
+  check_status(at_gains_f32_new(ato3_gains, 4, 1e-4f, &out), AT_ERR_ORDER, "order 4 refused");
+  at_fault_thresholds_f32 thresholds = at_fault_thresholds_f32_for_amplitude(0.9f);
+  thresholds.filter_factor = 1.5f;
+  check_status(at_gains_f32_set_fault_thresholds(&out, &thresholds), AT_ERR_FILTER_FACTOR,
+               "filter factor 1.5 refused");
+
+  /* NULL pointers and zeroed structs: an error, never a crash. */
+  check_status(at_gains_f32_new(NULL, 3, 1e-4f, &out), AT_ERR_NULL_POINTER, "NULL gains");
+  check_status(at_gains_f32_new(ato3_gains, 3, 1e-4f, NULL), AT_ERR_NULL_POINTER, "NULL out");
+  check(at_update_f32(NULL, &state, 1.0f, 0.0f).faults == AT_FAULT_INVALID_ARGUMENT,
+        "update with NULL gains flags AT_FAULT_INVALID_ARGUMENT");
+  check(at_update_f32(&gains3, NULL, 1.0f, 0.0f).faults == AT_FAULT_INVALID_ARGUMENT,
+        "update with NULL state flags AT_FAULT_INVALID_ARGUMENT");
+  check(at_update_f32(&zeroed_gains, &state, 1.0f, 0.0f).faults == AT_FAULT_INVALID_ARGUMENT,
+        "update with zeroed gains flags AT_FAULT_INVALID_ARGUMENT");
+  check(at_state_f32_clear_faults(NULL) == 0u, "clear faults of NULL");
+  at_state_f32_reset(NULL);
+  check_status(at_calibrator_f32_load(NULL, NULL), AT_ERR_NULL_POINTER, "NULL calibrator");
+
+  /* Faults: a NaN sample is flagged, latched, and cleared. */
+  at_state_f32_reset(&state);
+  at_update_f32(&gains3, &state, 1.0f, 0.0f);
+  check(at_update_f32(&gains3, &state, NAN, 0.0f).faults == AT_FAULT_BAD_SAMPLE,
+        "NaN sample flagged bad sample");
+  check(at_state_f32_clear_faults(&state) == AT_FAULT_BAD_SAMPLE &&
+            at_state_f32_clear_faults(&state) == 0u,
+        "bad sample latched, then cleared");
+  check(strcmp(at_fault_name(AT_FAULT_BAD_SAMPLE), "bad sample") == 0, "fault name");
+
+  /* Online calibration: learn a sensor's offsets, store them, load them. */
+  at_sensor_calibration_f32 learned;
+  char line[300];
+  int pass = scenario_calibrate(&gains3, &state, &calibrator, ATO3_SAMPLE_PERIOD_S, &learned, line,
+                                sizeof line);
+  fputs(line, stdout);
+  failures += !pass;
+  at_calibrator_f32 loaded;
+  at_calibrator_f32_reset(&loaded);
+  check_status(at_calibrator_f32_load(&loaded, &learned), AT_OK, "stored calibration loaded");
+  check(at_calibrator_f32_mode(&loaded) == AT_CALIBRATION_FROZEN, "loaded calibration frozen");
+
+  printf("%s: %d check(s) failed\n", failures ? "FAIL" : "PASS", failures);
+  return failures ? 1 : 0;
+}

@@ -1,0 +1,60 @@
+/* The C API on a Cortex-M4F: a firmware written in C against angletrack.h, linked with the
+ * static library built for thumbv7em-none-eabihf, run under QEMU mps2-an386 (run.sh). It
+ * takes the gains `angletrack design --format c` writes (gains_ato3.h), checks them once
+ * at start-up, tracks the synthetic resolver of the host test (scenario.h: floats, then
+ * 12-bit ADC counts, then through the online calibration) sample by sample as an ADC
+ * interrupt would, and exits 0 if the estimates are within the host test's tolerances. */
+#include "angletrack.h"
+#include "gains_ato3.h"
+#include "scenario.h"
+#include "semihosting.h"
+
+/* The sample period of the synthetic signal: the gains', or, built with -DTAMPER (run.sh
+ * checks that the check can fail), 1 % longer, so that the true speed per sample is 1 %
+ * above the speed the check expects. */
+#ifdef TAMPER
+#define SIGNAL_PERIOD_S (ATO3_SAMPLE_PERIOD_S * 1.01)
+#else
+#define SIGNAL_PERIOD_S ATO3_SAMPLE_PERIOD_S
+#endif
+
+/* Static memory, zeroed at start-up: the states are fresh. */
+static at_gains_f32 gains;
+static at_state_f32 state;
+static at_adc_f32 adc;
+static at_calibrator_f32 calibrator;
+
+static int track(const char *name, const at_adc_f32 *adc_or_null, float angle_tolerance_rad,
+                 float speed_tolerance_rad_s) {
+  char line[256];
+  at_state_f32_reset(&state);
+  scenario_result r = scenario_track(&gains, &state, adc_or_null, SCENARIO_SPEED_RAD_S,
+                                     SIGNAL_PERIOD_S, SCENARIO_AMPLITUDE, SCENARIO_SAMPLES,
+                                     SCENARIO_WINDOW);
+  int pass = scenario_passes(name, r, angle_tolerance_rad, speed_tolerance_rad_s, line,
+                             sizeof line);
+  semihosting_write(line);
+  return pass;
+}
+
+int main(void) {
+  at_status status = at_gains_f32_new(ato3_gains, ATO3_ORDER, ATO3_SAMPLE_PERIOD_S, &gains);
+  if (status != AT_OK) {
+    semihosting_write("FAIL: gains refused: ");
+    semihosting_write(at_status_message(status));
+    semihosting_write("\n");
+    return 1;
+  }
+  if (at_adc_f32_offset_binary(12, &adc) != AT_OK) return 1;
+  /* The host test's tolerances. */
+  int pass = track("cortex-m4f 3rd order, 50 Hz", NULL, SCENARIO_ANGLE_TOLERANCE_RAD,
+                   SCENARIO_SPEED_TOLERANCE_RAD_S);
+  pass &= track("cortex-m4f 3rd order, 12-bit ADC counts", &adc, SCENARIO_ADC_ANGLE_TOLERANCE_RAD,
+                SCENARIO_ADC_SPEED_TOLERANCE_RAD_S);
+  char line[256];
+  at_sensor_calibration_f32 learned;
+  pass &= scenario_calibrate(&gains, &state, &calibrator, SIGNAL_PERIOD_S, &learned, line,
+                             sizeof line);
+  semihosting_write(line);
+  return pass ? 0 : 1;
+}

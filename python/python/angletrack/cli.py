@@ -14,7 +14,7 @@ from typing import Callable, Optional, Sequence
 
 
 import angletrack
-from angletrack import export, tracking
+from angletrack import export, resolver, tracking
 
 
 def _command(sub, run: Callable[[argparse.Namespace], int]) -> argparse.ArgumentParser:
@@ -89,6 +89,7 @@ def _cmd_track(args: argparse.Namespace) -> int:
         skip_s=args.skip,
         lock_tolerance_rad=args.lock_tolerance,
         progress=args.progress or sys.stderr.isatty(),
+        **resolver.track_options(args),
     )
     print(tracking.track_capture(settings))
     return 0
@@ -323,6 +324,7 @@ def _add_track_parser(sub) -> None:
                        help="with a reference: angle error of the lock (default 0.01 rad)")
     track.add_argument("--progress", action="store_true",
                        help="report progress on stderr (default: only when stderr is a terminal)")
+    resolver.add_track_arguments(track)
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:

@@ -47,6 +47,13 @@ class TrackSettings:
     lock_tolerance_rad: float = 0.01
     progress: bool = False
     chunk_rows: int = 1 << 16
+    # The demodulating path (angletrack.resolver), taken when carrier_hz is given.
+    carrier_hz: Optional[float] = None
+    samples_per_period: Optional[int] = None
+    carrier_amplitude_counts: Optional[float] = None
+    expected_delay_deg: float = 0.0
+    pole_pairs: Optional[int] = None
+    latency_s: Optional[float] = None
 
 
 def _rate_error(capture_hz: float, gains_hz: float, time_unit: str) -> str:
@@ -170,6 +177,12 @@ def track_capture(s: TrackSettings) -> str:
     """Runs ``s``: writes the estimates to ``s.output`` and returns the summary to print.
     Raises ``ValueError`` (``CaptureError``, ``ConfigError``) on a capture that cannot be
     tracked, before anything is written where it can be told before."""
+    if s.carrier_hz is not None or s.pole_pairs is not None or s.latency_s is not None:
+        from angletrack import resolver
+
+        if s.carrier_hz is None:
+            raise ValueError("pole_pairs: --pole-pairs and --latency need --carrier-hz (the resolver path)")
+        return resolver.track_windings(s)
     reader = angletrack.CaptureReader(
         s.capture, columns=s.columns, delimiter=s.delimiter, time_unit=s.time_unit,
         sample_rate_hz=s.sample_rate_hz, chunk_rows=s.chunk_rows,

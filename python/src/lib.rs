@@ -16,6 +16,7 @@ mod design;
 mod design_functions;
 mod diagnostics;
 mod dispatch;
+mod drive;
 mod errors;
 mod estimates;
 mod gains;
@@ -23,6 +24,7 @@ mod metrics;
 mod motion;
 mod observer;
 mod paper;
+mod resolver;
 mod scenario;
 mod writer;
 
@@ -46,5 +48,6 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     metrics::register(m)?;
     paper::register(m)?;
     capture::register(m)?;
+    resolver::register(m)?;
     Ok(())
 }

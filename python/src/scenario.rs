@@ -143,6 +143,23 @@ fn array(py: Python<'_>, v: Vec<f64>) -> Py<PyArray1<f64>> {
     v.into_pyarray(py).unbind()
 }
 
+impl PyScenario {
+    /// The Python scenario of a generated one (its truth known, speed included).
+    pub(crate) fn from_scenario(py: Python<'_>, s: angletrack::Scenario) -> Self {
+        Self {
+            len: s.len(),
+            sample_period_s: s.sample_period_s,
+            time_s: array(py, s.time_s),
+            angle_rad: array(py, s.angle_rad),
+            speed_rad_s: array(py, s.speed_rad_s),
+            acceleration_rad_s2: array(py, s.acceleration_rad_s2),
+            y_c: array(py, s.y_c),
+            y_s: array(py, s.y_s),
+            has_speed: true,
+        }
+    }
+}
+
 #[pymethods]
 impl PyScenario {
     /// Samples `profile` every `sample_period_s` through `sensor` (an ideal sensor if
@@ -162,17 +179,7 @@ impl PyScenario {
         let s = py.detach(move || {
             angletrack::Scenario::generate(&profile, &sensor, sample_period_s, seed)
         })?;
-        Ok(Self {
-            len: s.len(),
-            sample_period_s: s.sample_period_s,
-            time_s: array(py, s.time_s),
-            angle_rad: array(py, s.angle_rad),
-            speed_rad_s: array(py, s.speed_rad_s),
-            acceleration_rad_s2: array(py, s.acceleration_rad_s2),
-            y_c: array(py, s.y_c),
-            y_s: array(py, s.y_s),
-            has_speed: true,
-        })
+        Ok(Self::from_scenario(py, s))
     }
 
     /// A scenario from recorded arrays (a capture with a reference angle): the truth

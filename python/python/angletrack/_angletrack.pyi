@@ -576,3 +576,114 @@ class EstimatesWriter:
         """Finishes the file; returns the rows written."""
     def __enter__(self) -> EstimatesWriter: ...
     def __exit__(self, *exc: object) -> bool: ...
+
+# ----------------------------------------------------------------------------- resolver front end
+
+SUPPORTED_SAMPLES_PER_PERIOD: list[int]
+"""The samples per carrier period ``Demodulator`` supports: 4, 8, 16, 32, 64."""
+
+class DemodulatedPairs:
+    """The pairs of one ``Demodulator.push``: one element per carrier period."""
+
+    time_s: npt.NDArray[np.float64]
+    """The time (s) at which each pair holds, the centre of its window, from the first ADC sample."""
+    y_c: npt.NDArray[np.float64]
+    y_s: npt.NDArray[np.float64]
+    quadrature_c: npt.NDArray[np.float64]
+    quadrature_s: npt.NDArray[np.float64]
+    window: npt.NDArray[np.uint64]
+    faults: npt.NDArray[np.uint8]
+    """Front-end faults: 1 loss of excitation, 2 carrier phase drift, 4 clipping."""
+    def __len__(self) -> int: ...
+
+class Demodulator:
+    """The synchronous demodulator of a resolver front end (float64)."""
+
+    def __init__(
+        self,
+        *,
+        carrier_hz: float,
+        samples_per_period: int,
+        carrier_amplitude_counts: float,
+        adc_min_code: float = 0.0,
+        adc_max_code: float = 4095.0,
+        expected_delay_rad: float = 0.0,
+        delay_tracking_factor: Optional[float] = None,
+        startup_periods: Optional[int] = None,
+        phase_drift_bound_rad: Optional[float] = None,
+        loss_of_excitation: Optional[float] = None,
+    ) -> None: ...
+    def push(self, raw_c: _Samples, raw_s: _Samples) -> DemodulatedPairs: ...
+    @property
+    def samples_per_period(self) -> int: ...
+    @property
+    def pair_period_s(self) -> float: ...
+    @property
+    def window_centre_offset_s(self) -> float: ...
+    @property
+    def is_delay_ready(self) -> bool: ...
+    @property
+    def carrier_delay_rad(self) -> float: ...
+    @property
+    def startup_delay_rad(self) -> float: ...
+    @property
+    def latched_faults(self) -> int: ...
+
+class ResolverModel:
+    """A carrier-excited resolver sampled by an ADC clocked with the excitation."""
+
+    def __init__(
+        self,
+        *,
+        carrier_hz: Optional[float] = None,
+        samples_per_period: Optional[int] = None,
+        carrier_delay_rad: Optional[float] = None,
+        excitation_amplitude_counts: Optional[float] = None,
+        transformation_ratio: Optional[float] = None,
+        winding_imbalance: Optional[float] = None,
+        common_mode_counts: Optional[float] = None,
+        adc_bits: Optional[int] = None,
+        noise_std_counts: Optional[float] = None,
+    ) -> None: ...
+    carrier_hz: float
+    samples_per_period: int
+    carrier_delay_rad: float
+    excitation_amplitude_counts: float
+    transformation_ratio: float
+    winding_imbalance: float
+    common_mode_counts: float
+    adc_bits: int
+    noise_std_counts: float
+    @property
+    def amplitude_counts(self) -> float: ...
+    @property
+    def adc_sample_period_s(self) -> float: ...
+    @property
+    def mid_scale_counts(self) -> float: ...
+
+def resolver_windings(profile: MotionProfile, model: Optional[ResolverModel] = None, *, seed: int = 0) -> Scenario: ...
+
+class DriveAngles:
+    """The drive's outputs of one ``DriveOutputs.update``, one element per estimate."""
+
+    electrical_angle_rad: npt.NDArray[np.float64]
+    electrical_speed_rad_s: npt.NDArray[np.float64]
+    mechanical_angle_rad: npt.NDArray[np.float64]
+    mechanical_turns: npt.NDArray[np.int64]
+    mechanical_speed_rad_s: npt.NDArray[np.float64]
+
+class DriveOutputs:
+    """The angle a drive needs: electrical, at the PWM update instant, with the speed filtered."""
+
+    def __init__(
+        self,
+        *,
+        sample_period_s: float,
+        pole_pairs: int = 1,
+        speed_ratio: int = 1,
+        latency_s: float = 0.0,
+        speed_cutoff_hz: Optional[float] = None,
+    ) -> None: ...
+    def update(self, estimates: Estimates) -> DriveAngles: ...
+    @property
+    def latency_s(self) -> float: ...

@@ -15,7 +15,7 @@ from typing import Callable, Optional, Sequence
 
 import angletrack
 from angletrack import calibration as calibration_io
-from angletrack import export, tracking
+from angletrack import export, resolver, tracking
 
 
 def _command(sub, run: Callable[[argparse.Namespace], int]) -> argparse.ArgumentParser:
@@ -94,6 +94,7 @@ def _cmd_track(args: argparse.Namespace) -> int:
         lock_tolerance_rad=args.lock_tolerance,
         progress=args.progress or sys.stderr.isatty(),
         observer_arguments=_calibration_arguments(args),
+        **resolver.track_options(args),
     )
     summary, observer = tracking.track_capture(settings)
     print(summary)
@@ -112,9 +113,9 @@ def _calibration_arguments(args: argparse.Namespace) -> dict:
     return {}
 
 
-def _write_calibration(args: argparse.Namespace, observer: angletrack.Observer) -> None:
+def _write_calibration(args: argparse.Namespace, observer: Optional[angletrack.Observer]) -> None:
     """With ``--calibrate``: writes what the observer learned beside the estimates."""
-    if not args.calibrate:
+    if not args.calibrate or observer is None:
         return
     path = calibration_io.default_path(args.capture, args.calibration_out)
     learned = observer.calibration
@@ -364,6 +365,7 @@ def _add_track_parser(sub) -> None:
                        help="with --calibrate: where to write it (default: CAPTURE_calibration.json)")
     track.add_argument("--calibration", type=pathlib.Path, metavar="FILE.json",
                        help="apply a stored calibration (frozen; with --calibrate, learning starts from it)")
+    resolver.add_track_arguments(track)
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:

@@ -49,6 +49,13 @@ class TrackSettings:
     chunk_rows: int = 1 << 16
     #: Further ``Observer`` arguments (the online calibration of ``--calibrate``/``--calibration``).
     observer_arguments: dict = dataclasses.field(default_factory=dict)
+    # The demodulating path (angletrack.resolver), taken when carrier_hz is given.
+    carrier_hz: Optional[float] = None
+    samples_per_period: Optional[int] = None
+    carrier_amplitude_counts: Optional[float] = None
+    expected_delay_deg: float = 0.0
+    pole_pairs: Optional[int] = None
+    latency_s: Optional[float] = None
 
 
 def _rate_error(capture_hz: float, gains_hz: float, time_unit: str) -> str:
@@ -183,11 +190,21 @@ def unsigned_mid_scale(sample_dtype: str, y_c: np.ndarray, y_s: np.ndarray) -> f
     return float(2 ** (math.ceil(math.log2(high + 1.0)) - 1))
 
 
-def track_capture(s: TrackSettings) -> tuple[str, angletrack.Observer]:
+def track_capture(s: TrackSettings) -> tuple[str, Optional[angletrack.Observer]]:
     """Runs ``s``: writes the estimates to ``s.output`` and returns the summary to print and
-    the observer at the end of the capture (its learned calibration, its faults).
+    the observer at the end of the capture (its learned calibration, its faults; ``None``
+    for carrier-modulated windings, whose observer runs inside the demodulating path).
     Raises ``ValueError`` (``CaptureError``, ``ConfigError``) on a capture that cannot be
     tracked, before anything is written where it can be told before."""
+    if s.carrier_hz is not None or s.pole_pairs is not None or s.latency_s is not None:
+        from angletrack import resolver
+
+        if s.carrier_hz is None:
+            raise ValueError("pole_pairs: --pole-pairs and --latency need --carrier-hz (the resolver path)")
+        if s.observer_arguments:
+            raise ValueError("calibration: --calibrate and --calibration apply to y_c, y_s samples, not to "
+                             "carrier-modulated windings (--carrier-hz)")
+        return resolver.track_windings(s), None
     reader = angletrack.CaptureReader(
         s.capture, columns=s.columns, delimiter=s.delimiter, time_unit=s.time_unit,
         sample_rate_hz=s.sample_rate_hz, chunk_rows=s.chunk_rows,

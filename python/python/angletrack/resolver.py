@@ -1,0 +1,255 @@
+"""The resolver front end in Python and ``angletrack track --carrier-hz`` (``docs/theory.md §13``).
+
+A capture whose ``y_c``, ``y_s`` columns are the raw windings of a carrier-excited resolver
+(ADC counts at the capture's rate, ``N`` samples per carrier period, the first at excitation
+phase 0) is demodulated by :class:`angletrack.Demodulator` into one ``(y_c, y_s)`` pair per
+carrier period, each holding at the centre of its demodulation window; the pairs feed an
+:class:`angletrack.Observer` whose gains run at the carrier frequency. The estimates are
+time-stamped with those window centres, and a reference column is compared there
+(interpolated, unwrapped).
+
+Output columns (CSV): ``time_s`` (the window centre: the time at which the row's angle
+holds), ``angle_rad``, ``position_rad``, ``speed_rad_s``, ``acceleration_rad_s2``,
+``phase_error``, ``faults`` (the observer's), ``front_end_faults`` (1 loss of excitation, 2
+carrier phase drift, 4 clipping), ``y_c``, ``y_s`` (the demodulated pair); with
+``--pole-pairs`` or ``--latency`` also ``electrical_angle_rad`` (pole pairs times the
+mechanical angle at ``time_s + latency``, wrapped to [-pi, pi)) and
+``electrical_speed_rad_s``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import math
+from typing import Optional
+
+import numpy as np
+
+import angletrack
+from angletrack import export
+
+
+def demodulate(raw_c, raw_s, *, carrier_hz: float, samples_per_period: int,
+               carrier_amplitude_counts: float, **settings):
+    """Demodulates whole arrays of raw winding samples: returns ``(pairs, demodulator)``,
+    the :class:`angletrack.DemodulatedPairs` (time stamps at the window centres, ``y_c``,
+    ``y_s``, front-end faults) and the :class:`angletrack.Demodulator` after the last sample
+    (its ``startup_delay_rad`` and ``carrier_delay_rad`` are the estimated carrier delay).
+    ``settings``: the other keyword arguments of :class:`angletrack.Demodulator`."""
+    demodulator = angletrack.Demodulator(
+        carrier_hz=carrier_hz, samples_per_period=samples_per_period,
+        carrier_amplitude_counts=carrier_amplitude_counts, **settings,
+    )
+    return demodulator.push(raw_c, raw_s), demodulator
+
+
+def drive_outputs(estimates, *, sample_period_s: float, pole_pairs: int = 1, speed_ratio: int = 1,
+                  latency_s: float = 0.0, speed_cutoff_hz: Optional[float] = None):
+    """The :class:`angletrack.DriveAngles` of an observer's ``estimates`` (one run, from its
+    start): the electrical angle for ``pole_pairs`` and ``speed_ratio`` extrapolated by
+    ``latency_s``, and the speed low-passed at ``speed_cutoff_hz`` if given."""
+    outputs = angletrack.DriveOutputs(
+        sample_period_s=sample_period_s, pole_pairs=pole_pairs, speed_ratio=speed_ratio,
+        latency_s=latency_s, speed_cutoff_hz=speed_cutoff_hz,
+    )
+    return outputs.update(estimates)
+
+
+def add_track_arguments(track: argparse.ArgumentParser) -> None:
+    """The ``track`` options of the demodulating path (one group)."""
+    g = track.add_argument_group(
+        "resolver windings (--carrier-hz)",
+        "y_c, y_s are the raw windings (ADC counts) sampled N times per carrier period, the first "
+        "sample at excitation phase 0; the estimates come once per carrier period, stamped with "
+        "the centre of their demodulation window; the gains must be designed at the carrier frequency",
+    )
+    g.add_argument("--carrier-hz", type=float, metavar="HZ", help="the excitation carrier frequency (Hz)")
+    g.add_argument("--samples-per-period", type=int, metavar="N",
+                   help="ADC samples per carrier period, one of "
+                   f"{', '.join(map(str, angletrack.SUPPORTED_SAMPLES_PER_PERIOD))} (default: the "
+                   "capture's rate / the carrier frequency, which must be one of them)")
+    g.add_argument("--carrier-amplitude", type=float, metavar="COUNTS",
+                   help="a winding's carrier amplitude at envelope 1 (counts, peak); default: "
+                   "measured on the first chunk")
+    g.add_argument("--expected-delay-deg", type=float, default=0.0, metavar="DEG",
+                   help="the carrier delay the start-up estimate (modulo 180 degrees) is resolved "
+                   "around (default 0)")
+    g.add_argument("--pole-pairs", type=int, metavar="P",
+                   help="write electrical_angle_rad for a motor of P pole pairs (default 1)")
+    g.add_argument("--latency", type=float, metavar="S",
+                   help="extrapolate electrical_angle_rad by S seconds from each row's time_s (the PWM "
+                   "update instant; default 0)")
+
+
+def track_options(args: argparse.Namespace) -> dict:
+    """The :class:`angletrack.tracking.TrackSettings` fields of the options above."""
+    return {
+        "carrier_hz": args.carrier_hz,
+        "samples_per_period": args.samples_per_period,
+        "carrier_amplitude_counts": args.carrier_amplitude,
+        "expected_delay_deg": args.expected_delay_deg,
+        "pole_pairs": args.pole_pairs,
+        "latency_s": args.latency,
+    }
+
+
+def _samples_per_period(capture_hz: Optional[float], carrier_hz: float, stated: Optional[int]) -> int:
+    supported = list(angletrack.SUPPORTED_SAMPLES_PER_PERIOD)
+    if stated is not None:
+        if stated not in supported:
+            raise ValueError(f"samples_per_period: --samples-per-period {stated} is not one of {supported}")
+        return stated
+    if capture_hz is None:
+        raise ValueError("samples_per_period: the capture has no time column: give --samples-per-period "
+                         "or --sample-rate (the ADC rate)")
+    ratio = capture_hz / carrier_hz
+    n = round(ratio)
+    if abs(ratio - n) > 0.01 * n or n not in supported:
+        raise ValueError(
+            f"samples_per_period: the capture's rate {capture_hz:.6g} Hz over the carrier {carrier_hz:.6g} Hz "
+            f"is {ratio:.6g} samples per period; expected one of {supported}"
+        )
+    return n
+
+
+def _gains(s, carrier_hz: float) -> angletrack.Gains:
+    from angletrack.tracking import RATE_TOLERANCE
+
+    if s.gains_file is None:
+        return angletrack.Gains(s.gains, sample_period_s=1.0 / carrier_hz)
+    gains = export.gains_from_json(s.gains_file.read_text())
+    if abs(gains.sample_rate_hz / carrier_hz - 1.0) > RATE_TOLERANCE:
+        raise ValueError(
+            f"sample_rate: the gains in {s.gains_file} are designed for {gains.sample_rate_hz:.6g} Hz but "
+            f"the carrier (--carrier-hz) is {carrier_hz:.6g} Hz: the estimates come once per carrier period, "
+            f"so design the gains at {carrier_hz:.6g} Hz"
+        )
+    return gains
+
+
+def _adc_range(first) -> tuple[float, float]:
+    """The ADC's codes, guessed from the first chunk: the smallest power-of-two span holding
+    its samples (unsigned from 0 if none is negative)."""
+    largest = float(max(np.max(np.abs(first.y_c)), np.max(np.abs(first.y_s)), 1.0))
+    bits = math.ceil(math.log2(largest + 1.0))
+    if min(np.min(first.y_c), np.min(first.y_s)) >= 0:
+        return 0.0, 2.0**bits - 1.0
+    return -(2.0**bits), 2.0**bits - 1.0
+
+
+def _measured_amplitude(first) -> float:
+    """A winding's carrier amplitude at envelope 1: the windings' variances sum to ``A^2 / 2``
+    at every shaft angle."""
+    return math.sqrt(2.0 * (float(np.var(first.y_c)) + float(np.var(first.y_s))))
+
+
+@dataclasses.dataclass
+class _Reference:
+    """The reference angle, unwrapped across chunks, with the last samples kept so that a
+    window centre in the previous chunk is interpolated too."""
+
+    time_s: np.ndarray = dataclasses.field(default_factory=lambda: np.empty(0))
+    angle_rad: np.ndarray = dataclasses.field(default_factory=lambda: np.empty(0))
+
+    def add(self, time_s: np.ndarray, reference: np.ndarray, keep: int) -> None:
+        if len(self.angle_rad):
+            unwrapped = np.unwrap(np.concatenate(([self.angle_rad[-1]], reference)))[1:]
+        else:
+            unwrapped = np.unwrap(reference)
+        self.time_s = np.concatenate((self.time_s[-keep:], time_s))
+        self.angle_rad = np.concatenate((self.angle_rad[-keep:], unwrapped))
+
+    def at(self, time_s: np.ndarray) -> np.ndarray:
+        return np.interp(time_s, self.time_s, self.angle_rad)
+
+
+def track_windings(s) -> str:
+    """``angletrack track --carrier-hz``: demodulates, tracks, writes the CSV, returns the
+    summary (``s`` a :class:`angletrack.tracking.TrackSettings`)."""
+    from angletrack.tracking import _ErrorStatistics
+
+    if s.output.suffix == ".npy":
+        raise ValueError("output: --carrier-hz writes CSV (its extra columns have no .npy layout yet)")
+    reader = angletrack.CaptureReader(
+        s.capture, columns=s.columns, delimiter=s.delimiter, time_unit=s.time_unit,
+        sample_rate_hz=s.sample_rate_hz, chunk_rows=s.chunk_rows,
+    )
+    chunks = iter(reader)
+    first = next(chunks)
+    capture_hz = reader.sample_rate_hz
+    carrier_hz = s.carrier_hz
+    n = _samples_per_period(capture_hz, carrier_hz, s.samples_per_period)
+    adc_hz = n * carrier_hz
+    gains = _gains(s, carrier_hz)
+    amplitude = s.carrier_amplitude_counts or _measured_amplitude(first)
+    adc_min, adc_max = _adc_range(first)
+    demodulator = angletrack.Demodulator(
+        carrier_hz=carrier_hz, samples_per_period=n, carrier_amplitude_counts=amplitude,
+        adc_min_code=adc_min, adc_max_code=adc_max, expected_delay_rad=math.radians(s.expected_delay_deg),
+    )
+    dtype = np.dtype(s.dtype)
+    observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos)
+    drive = None
+    if s.pole_pairs is not None or s.latency_s is not None:
+        drive = angletrack.DriveOutputs(
+            sample_period_s=gains.sample_period_s, pole_pairs=s.pole_pairs or 1, latency_s=s.latency_s or 0.0,
+        )
+    t0 = float(first.time_s[0]) if first.time_s is not None else 0.0
+    stats = _ErrorStatistics(s.skip_s, s.lock_tolerance_rad) if first.reference_rad is not None else None
+    reference = _Reference()
+    names = ["time_s", "angle_rad", "position_rad", "speed_rad_s", "acceleration_rad_s2", "phase_error",
+             "faults", "front_end_faults", "y_c", "y_s"]
+    if drive is not None:
+        names += ["electrical_angle_rad", "electrical_speed_rad_s"]
+    pairs_total = 0
+    s.output.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        with open(s.output, "w") as out:
+            out.write(",".join(names) + "\n")
+            chunk = first
+            while chunk is not None:
+                if stats is not None:
+                    t = chunk.time_s
+                    if t is None:
+                        t = t0 + (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) / adc_hz
+                    reference.add(t, chunk.reference_rad, keep=2 * n)
+                pairs = demodulator.push(chunk.y_c, chunk.y_s)
+                if len(pairs):
+                    time_s = t0 + pairs.time_s
+                    est = observer.update(pairs.y_c.astype(dtype), pairs.y_s.astype(dtype))
+                    columns = [time_s, est.angle, est.position, est.speed, est.acceleration, est.phase_error,
+                               est.faults, pairs.faults, pairs.y_c, pairs.y_s]
+                    if drive is not None:
+                        angles = drive.update(est)
+                        columns += [angles.electrical_angle_rad, angles.electrical_speed_rad_s]
+                    rows = np.column_stack([np.asarray(c, dtype=np.float64) for c in columns])
+                    np.savetxt(out, rows, fmt="%.17g", delimiter=",")
+                    pairs_total += len(pairs)
+                    if stats is not None:
+                        stats.add(time_s, est.angle, reference.at(time_s))
+                chunk = next(chunks, None)
+    except BaseException:
+        s.output.unlink(missing_ok=True)
+        raise
+    if pairs_total == 0:
+        raise ValueError(f"{s.capture}: too short: no pair left the demodulator's start-up "
+                         f"({reader.rows} samples)")
+    latched = angletrack.Faults(observer.latched_faults)
+    lines = [
+        repr(observer),
+        f"{reader.rows} ADC samples at {adc_hz:.6g} Hz ({n} per {carrier_hz:.6g} Hz carrier period; amplitude "
+        f"{amplitude:.6g} counts, ADC codes {adc_min:.0f} to {adc_max:.0f}) -> {pairs_total} estimates -> {s.output}",
+        f"carrier delay: {math.degrees(demodulator.startup_delay_rad) % 360.0:.3f} deg at start-up, "
+        f"{math.degrees(demodulator.carrier_delay_rad) % 360.0:.3f} deg at the end",
+        f"front-end faults latched: {_front_end_names(demodulator.latched_faults)}; "
+        f"observer faults latched: {latched.name if latched else 'none'}",
+    ]
+    if stats is not None:
+        lines.append(stats.report())
+    return "\n".join(lines)
+
+
+def _front_end_names(bits: int) -> str:
+    names = [name for bit, name in ((1, "LOSS_OF_EXCITATION"), (2, "PHASE_DRIFT"), (4, "CLIPPING")) if bits & bit]
+    return "|".join(names) if names else "none"

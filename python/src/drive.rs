@@ -1,0 +1,116 @@
+//! `DriveOutputs`: the core's drive outputs over an observer's estimates on numpy arrays
+//! (`docs/theory.md §13`): the electrical angle for the pole pairs at the PWM update instant,
+//! and the filtered speed.
+
+use angletrack_core::{
+    DriveOutputs as CoreDriveOutputs, DriveOutputsState, Estimate as CoreEstimate,
+};
+use numpy::{IntoPyArray, PyArray1};
+use pyo3::prelude::*;
+
+use crate::arrays::samples;
+use crate::errors::Result;
+use crate::estimates::Estimates;
+use crate::resolver::renamed;
+
+/// The drive's outputs of one `DriveOutputs.update`, float64 arrays (turns int64), one
+/// element per estimate.
+#[pyclass(name = "DriveAngles", module = "angletrack", frozen, get_all)]
+#[derive(Debug)]
+pub struct PyDriveAngles {
+    /// The motor's electrical angle at the latency (rad, in [-pi, pi)).
+    electrical_angle_rad: Py<PyArray1<f64>>,
+    /// The motor's electrical speed (rad/s), filtered.
+    electrical_speed_rad_s: Py<PyArray1<f64>>,
+    /// The shaft's mechanical angle at the latency (rad, in [-pi, pi)).
+    mechanical_angle_rad: Py<PyArray1<f64>>,
+    /// Whole mechanical turns.
+    mechanical_turns: Py<PyArray1<i64>>,
+    /// The shaft's mechanical speed (rad/s), filtered.
+    mechanical_speed_rad_s: Py<PyArray1<f64>>,
+}
+
+/// What a drive takes from an observer's estimates: the angle extrapolated by `latency_s`
+/// (s, the PWM update instant) from the estimated speed and acceleration, as the electrical
+/// angle of a motor of `pole_pairs` read by a resolver of `speed_ratio`, and the speed with
+/// an optional first-order low-pass of `speed_cutoff_hz`; for estimates every
+/// `sample_period_s`. The speed filter's state carries over between `update` calls.
+#[pyclass(name = "DriveOutputs", module = "angletrack")]
+#[derive(Debug)]
+pub struct PyDriveOutputs {
+    outputs: CoreDriveOutputs<f64>,
+    state: DriveOutputsState<f64>,
+}
+
+#[pymethods]
+impl PyDriveOutputs {
+    #[new]
+    #[pyo3(signature = (*, sample_period_s, pole_pairs = 1, speed_ratio = 1, latency_s = 0.0,
+        speed_cutoff_hz = None))]
+    fn py_new(
+        sample_period_s: f64,
+        pole_pairs: u32,
+        speed_ratio: u32,
+        latency_s: f64,
+        speed_cutoff_hz: Option<f64>,
+    ) -> Result<Self> {
+        let mut outputs =
+            CoreDriveOutputs::new(pole_pairs, speed_ratio, latency_s, sample_period_s)?;
+        if let Some(cutoff) = speed_cutoff_hz {
+            outputs = outputs.with_speed_cutoff_hz(cutoff).map_err(renamed)?;
+        }
+        Ok(Self {
+            outputs,
+            state: DriveOutputsState::default(),
+        })
+    }
+
+    /// The drive's angles of each of `estimates` (an observer's, either dtype).
+    #[pyo3(signature = (estimates))]
+    fn update(&mut self, py: Python<'_>, estimates: PyRef<'_, Estimates>) -> Result<PyDriveAngles> {
+        let column = |a: &Py<PyAny>| -> Result<Vec<f64>> {
+            let as_f64 = a.bind(py).call_method1("astype", ("float64",))?;
+            Ok(samples::<f64>(&as_f64, "estimates")?.as_slice().to_vec())
+        };
+        let angle = column(&estimates.angle)?;
+        let position = column(&estimates.position)?;
+        let speed = column(&estimates.speed)?;
+        let acceleration = column(&estimates.acceleration)?;
+        let n = angle.len();
+        let mut out = (
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+        );
+        for k in 0..n {
+            let estimate = CoreEstimate {
+                angle: angle[k],
+                turns: ((position[k] - angle[k]) / core::f64::consts::TAU).round() as i64,
+                speed: speed[k],
+                acceleration: acceleration[k],
+                ..CoreEstimate::default()
+            };
+            let drive = self.outputs.outputs(&mut self.state, &estimate);
+            out.0.push(drive.electrical_angle);
+            out.1.push(drive.electrical_speed);
+            out.2.push(drive.mechanical_angle);
+            out.3.push(drive.mechanical_turns);
+            out.4.push(drive.mechanical_speed);
+        }
+        Ok(PyDriveAngles {
+            electrical_angle_rad: out.0.into_pyarray(py).unbind(),
+            electrical_speed_rad_s: out.1.into_pyarray(py).unbind(),
+            mechanical_angle_rad: out.2.into_pyarray(py).unbind(),
+            mechanical_turns: out.3.into_pyarray(py).unbind(),
+            mechanical_speed_rad_s: out.4.into_pyarray(py).unbind(),
+        })
+    }
+
+    /// The latency (s) the angle is extrapolated by.
+    #[getter]
+    fn latency_s(&self) -> f64 {
+        self.outputs.latency_s()
+    }
+}

@@ -1,0 +1,414 @@
+//! The resolver front end on numpy arrays (`docs/theory.md §13`): `Demodulator` (the core's
+//! synchronous demodulator, one pair per carrier period from the raw windings), and
+//! `ResolverModel` and `resolver_windings` (the scenario generator's carrier-modulated
+//! windings); the drive's outputs are in `drive`.
+//!
+//! The core's demodulator takes its samples per period as a const generic; the one match in
+//! [`typed_demodulator`] picks it from the supported values at run time.
+
+use core::fmt::Debug;
+
+use angletrack::ResolverModel;
+use angletrack_core::{
+    ConfigError as CoreConfigError, Demodulator as CoreDemodulator, DemodulatorSettings,
+    DemodulatorState, Parameter,
+};
+use numpy::{IntoPyArray, PyArray1};
+use pyo3::prelude::*;
+
+use crate::arrays::{check_equal_lengths, samples};
+use crate::errors::{Error, Result};
+use crate::motion::PyMotionProfile;
+use crate::scenario::PyScenario;
+
+/// The samples per carrier period the binding's demodulator supports.
+pub const SUPPORTED_SAMPLES_PER_PERIOD: [usize; 5] = [4, 8, 16, 32, 64];
+
+/// A core configuration error under the name of this module's Python argument (the core
+/// names the ADC range and the speed filter as settings; the caller gave other arguments).
+pub(crate) fn renamed(e: CoreConfigError) -> Error {
+    let python = match e.parameter() {
+        Parameter::AdcRange => "adc_max_code",
+        Parameter::SpeedFilter => "speed_cutoff_hz",
+        _ => return Error::Config(e),
+    };
+    Error::value(python, e.to_string())
+}
+
+/// The pairs of one call, as arrays.
+#[derive(Debug, Default)]
+struct PairColumns {
+    time_s: Vec<f64>,
+    y_c: Vec<f64>,
+    y_s: Vec<f64>,
+    quadrature_c: Vec<f64>,
+    quadrature_s: Vec<f64>,
+    window: Vec<u64>,
+    faults: Vec<u8>,
+}
+
+/// What `Demodulator` does with the core demodulator of whichever samples per period.
+trait DemodulatorOps: Debug + Send + Sync {
+    fn push(&mut self, raw_c: &[f64], raw_s: &[f64]) -> PairColumns;
+    fn state(&self) -> &DemodulatorState<f64>;
+    fn pair_period_s(&self) -> f64;
+    fn window_centre_offset_s(&self) -> f64;
+}
+
+#[derive(Debug)]
+struct Typed<const N: usize> {
+    demodulator: CoreDemodulator<f64, N>,
+    state: DemodulatorState<f64>,
+}
+
+impl<const N: usize> DemodulatorOps for Typed<N> {
+    fn push(&mut self, raw_c: &[f64], raw_s: &[f64]) -> PairColumns {
+        let mut out = PairColumns::default();
+        let demodulator = &self.demodulator;
+        demodulator.push_block(&mut self.state, raw_c, raw_s, |pair| {
+            out.time_s.push(demodulator.window_centre_s(pair.window));
+            out.y_c.push(pair.y_c);
+            out.y_s.push(pair.y_s);
+            out.quadrature_c.push(pair.quadrature_c);
+            out.quadrature_s.push(pair.quadrature_s);
+            out.window.push(pair.window);
+            out.faults.push(pair.faults.bits());
+        });
+        out
+    }
+
+    fn state(&self) -> &DemodulatorState<f64> {
+        &self.state
+    }
+
+    fn pair_period_s(&self) -> f64 {
+        self.demodulator.pair_period_s()
+    }
+
+    fn window_centre_offset_s(&self) -> f64 {
+        self.demodulator.window_centre_offset_s()
+    }
+}
+
+fn typed<const N: usize>(settings: DemodulatorSettings<f64>) -> Result<Box<dyn DemodulatorOps>> {
+    Ok(Box::new(Typed::<N> {
+        demodulator: CoreDemodulator::new(settings).map_err(renamed)?,
+        state: DemodulatorState::new(),
+    }))
+}
+
+/// The core demodulator for `samples_per_period`, one of [`SUPPORTED_SAMPLES_PER_PERIOD`].
+fn typed_demodulator(
+    samples_per_period: usize,
+    settings: DemodulatorSettings<f64>,
+) -> Result<Box<dyn DemodulatorOps>> {
+    match samples_per_period {
+        4 => typed::<4>(settings),
+        8 => typed::<8>(settings),
+        16 => typed::<16>(settings),
+        32 => typed::<32>(settings),
+        64 => typed::<64>(settings),
+        other => Err(Error::value(
+            "samples_per_period",
+            format!("{other} is not supported: expected one of {SUPPORTED_SAMPLES_PER_PERIOD:?}"),
+        )),
+    }
+}
+
+/// The demodulated pairs of one `Demodulator.push`: one element per carrier period (after the
+/// start-up delay estimate), float64 unless stated.
+#[pyclass(name = "DemodulatedPairs", module = "angletrack", frozen, get_all)]
+#[derive(Debug)]
+pub struct PyDemodulatedPairs {
+    /// The time (s) at which each pair holds, the centre of its window, counting from the
+    /// first ADC sample pushed into the demodulator.
+    time_s: Py<PyArray1<f64>>,
+    /// The cosine winding's envelope (nominal amplitude 1).
+    y_c: Py<PyArray1<f64>>,
+    /// The sine winding's envelope.
+    y_s: Py<PyArray1<f64>>,
+    /// The cosine winding's quadrature component (about 0).
+    quadrature_c: Py<PyArray1<f64>>,
+    /// The sine winding's quadrature component.
+    quadrature_s: Py<PyArray1<f64>>,
+    /// The index of each pair's window (uint64).
+    window: Py<PyArray1<u64>>,
+    /// The front end's faults of each window (uint8 bits: 1 loss of excitation, 2 phase
+    /// drift, 4 clipping).
+    faults: Py<PyArray1<u8>>,
+}
+
+#[pymethods]
+impl PyDemodulatedPairs {
+    fn __len__(&self, py: Python<'_>) -> usize {
+        numpy::PyUntypedArrayMethods::len(self.time_s.bind(py))
+    }
+}
+
+/// The synchronous demodulator of a resolver front end (float64): ADC samples of both
+/// windings, `samples_per_period` (4, 8, 16, 32 or 64) per period of a `carrier_hz`
+/// excitation, the first sample at excitation phase 0, in; one `(y_c, y_s)` pair per carrier
+/// period out, the carrier delay measured at start-up (within 90 degrees of
+/// `expected_delay_rad`) and tracked. The state carries over between `push` calls.
+#[pyclass(name = "Demodulator", module = "angletrack")]
+#[derive(Debug)]
+pub struct PyDemodulator {
+    inner: Box<dyn DemodulatorOps>,
+    samples_per_period: usize,
+}
+
+#[pymethods]
+impl PyDemodulator {
+    #[new]
+    #[pyo3(signature = (*, carrier_hz, samples_per_period, carrier_amplitude_counts,
+        adc_min_code = 0.0, adc_max_code = 4095.0, expected_delay_rad = 0.0,
+        delay_tracking_factor = None, startup_periods = None, phase_drift_bound_rad = None,
+        loss_of_excitation = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn py_new(
+        carrier_hz: f64,
+        samples_per_period: usize,
+        carrier_amplitude_counts: f64,
+        adc_min_code: f64,
+        adc_max_code: f64,
+        expected_delay_rad: f64,
+        delay_tracking_factor: Option<f64>,
+        startup_periods: Option<u32>,
+        phase_drift_bound_rad: Option<f64>,
+        loss_of_excitation: Option<f64>,
+    ) -> Result<Self> {
+        let mut settings = DemodulatorSettings::new(
+            carrier_hz,
+            carrier_amplitude_counts,
+            adc_min_code,
+            adc_max_code,
+        );
+        settings.expected_delay_rad = expected_delay_rad;
+        let d = settings;
+        settings.delay_tracking_factor = delay_tracking_factor.unwrap_or(d.delay_tracking_factor);
+        settings.startup_periods = startup_periods.unwrap_or(d.startup_periods);
+        settings.phase_drift_bound_rad = phase_drift_bound_rad.unwrap_or(d.phase_drift_bound_rad);
+        settings.loss_of_excitation = loss_of_excitation.unwrap_or(d.loss_of_excitation);
+        Ok(Self {
+            inner: typed_demodulator(samples_per_period, settings)?,
+            samples_per_period,
+        })
+    }
+
+    /// Pushes ADC samples of the cosine (`raw_c`) and sine (`raw_s`) windings (counts, 1-D
+    /// float64 arrays of one length) and returns the pairs that complete.
+    #[pyo3(signature = (raw_c, raw_s))]
+    fn push(
+        &mut self,
+        py: Python<'_>,
+        raw_c: &Bound<'_, PyAny>,
+        raw_s: &Bound<'_, PyAny>,
+    ) -> Result<PyDemodulatedPairs> {
+        let c = samples::<f64>(raw_c, "raw_c")?;
+        let s = samples::<f64>(raw_s, "raw_s")?;
+        let (c, s) = (c.as_slice(), s.as_slice());
+        check_equal_lengths(("raw_c", c.len()), ("raw_s", s.len()))?;
+        let inner = &mut self.inner;
+        let p = py.detach(|| inner.push(c, s));
+        Ok(PyDemodulatedPairs {
+            time_s: p.time_s.into_pyarray(py).unbind(),
+            y_c: p.y_c.into_pyarray(py).unbind(),
+            y_s: p.y_s.into_pyarray(py).unbind(),
+            quadrature_c: p.quadrature_c.into_pyarray(py).unbind(),
+            quadrature_s: p.quadrature_s.into_pyarray(py).unbind(),
+            window: p.window.into_pyarray(py).unbind(),
+            faults: p.faults.into_pyarray(py).unbind(),
+        })
+    }
+
+    /// ADC samples per carrier period.
+    #[getter]
+    fn samples_per_period(&self) -> usize {
+        self.samples_per_period
+    }
+
+    /// The pairs' period (s): one carrier period, the sample period the gains must have.
+    #[getter]
+    fn pair_period_s(&self) -> f64 {
+        self.inner.pair_period_s()
+    }
+
+    /// The delay (s) from the start of a window to its centre, where its pair holds.
+    #[getter]
+    fn window_centre_offset_s(&self) -> f64 {
+        self.inner.window_centre_offset_s()
+    }
+
+    /// `True` once the start-up delay estimate is done (pairs come out from then on).
+    #[getter]
+    fn is_delay_ready(&self) -> bool {
+        self.inner.state().is_delay_ready()
+    }
+
+    /// The carrier delay as tracked (rad, in [-pi, pi]).
+    #[getter]
+    fn carrier_delay_rad(&self) -> f64 {
+        self.inner.state().carrier_delay_rad()
+    }
+
+    /// The carrier delay measured at start-up (rad, in [-pi, pi]).
+    #[getter]
+    fn startup_delay_rad(&self) -> f64 {
+        self.inner.state().startup_delay_rad()
+    }
+
+    /// The front-end faults latched so far (bits, as `DemodulatedPairs.faults`).
+    #[getter]
+    fn latched_faults(&self) -> u8 {
+        self.inner.state().latched_faults().bits()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Demodulator(samples_per_period={}, pair_period_s={:e})",
+            self.samples_per_period,
+            self.inner.pair_period_s()
+        )
+    }
+}
+
+/// A carrier-excited resolver sampled by an ADC clocked with the excitation (the std crate's
+/// `ResolverModel`; defaults: 10 kHz carrier, 16 samples per period, 12-bit ADC, amplitude
+/// 1800 counts, noise 1 LSB, no delay). Checked when windings are generated.
+#[pyclass(name = "ResolverModel", module = "angletrack", frozen, get_all)]
+#[derive(Debug, Clone)]
+pub struct PyResolverModel {
+    /// The excitation carrier frequency (Hz).
+    carrier_hz: f64,
+    /// ADC samples of each winding per carrier period.
+    samples_per_period: usize,
+    /// The carrier's phase delay from the excitation to the ADC (rad).
+    carrier_delay_rad: f64,
+    /// The excitation's amplitude (counts, as the windings would show it at ratio 1).
+    excitation_amplitude_counts: f64,
+    /// Winding amplitude over excitation amplitude.
+    transformation_ratio: f64,
+    /// The sine winding's relative amplitude error.
+    winding_imbalance: f64,
+    /// A DC common mode on both windings (counts).
+    common_mode_counts: f64,
+    /// The ADC's resolution (bits); 0 for no quantisation.
+    adc_bits: u32,
+    /// The noise's standard deviation on each sample (counts).
+    noise_std_counts: f64,
+}
+
+impl PyResolverModel {
+    fn model(&self) -> ResolverModel {
+        ResolverModel {
+            carrier_hz: self.carrier_hz,
+            samples_per_period: self.samples_per_period,
+            carrier_delay_rad: self.carrier_delay_rad,
+            excitation_amplitude_counts: self.excitation_amplitude_counts,
+            transformation_ratio: self.transformation_ratio,
+            winding_imbalance: self.winding_imbalance,
+            common_mode_counts: self.common_mode_counts,
+            adc_bits: self.adc_bits,
+            noise_std_counts: self.noise_std_counts,
+        }
+    }
+}
+
+#[pymethods]
+impl PyResolverModel {
+    #[new]
+    #[pyo3(signature = (*, carrier_hz = None, samples_per_period = None, carrier_delay_rad = None,
+        excitation_amplitude_counts = None, transformation_ratio = None, winding_imbalance = None,
+        common_mode_counts = None, adc_bits = None, noise_std_counts = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn py_new(
+        carrier_hz: Option<f64>,
+        samples_per_period: Option<usize>,
+        carrier_delay_rad: Option<f64>,
+        excitation_amplitude_counts: Option<f64>,
+        transformation_ratio: Option<f64>,
+        winding_imbalance: Option<f64>,
+        common_mode_counts: Option<f64>,
+        adc_bits: Option<u32>,
+        noise_std_counts: Option<f64>,
+    ) -> Self {
+        let d = ResolverModel::default();
+        Self {
+            carrier_hz: carrier_hz.unwrap_or(d.carrier_hz),
+            samples_per_period: samples_per_period.unwrap_or(d.samples_per_period),
+            carrier_delay_rad: carrier_delay_rad.unwrap_or(d.carrier_delay_rad),
+            excitation_amplitude_counts: excitation_amplitude_counts
+                .unwrap_or(d.excitation_amplitude_counts),
+            transformation_ratio: transformation_ratio.unwrap_or(d.transformation_ratio),
+            winding_imbalance: winding_imbalance.unwrap_or(d.winding_imbalance),
+            common_mode_counts: common_mode_counts.unwrap_or(d.common_mode_counts),
+            adc_bits: adc_bits.unwrap_or(d.adc_bits),
+            noise_std_counts: noise_std_counts.unwrap_or(d.noise_std_counts),
+        }
+    }
+
+    /// The carrier amplitude of a winding at the ADC (counts) at envelope 1.
+    #[getter]
+    fn amplitude_counts(&self) -> f64 {
+        self.model().amplitude_counts()
+    }
+
+    /// The ADC sample period (s).
+    #[getter]
+    fn adc_sample_period_s(&self) -> f64 {
+        self.model().adc_sample_period_s()
+    }
+
+    /// The ADC's mid-scale code (0 without an ADC).
+    #[getter]
+    fn mid_scale_counts(&self) -> f64 {
+        self.model().mid_scale_counts()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("{:?}", self.model())
+    }
+}
+
+/// The windings of a carrier-excited resolver following `profile`, as an ADC samples them:
+/// a `Scenario` at the ADC rate whose `y_c`, `y_s` are the raw samples (counts) beside the
+/// truth; the noise from a ChaCha8 generator seeded with `seed`.
+#[pyfunction]
+#[pyo3(signature = (profile, model = None, *, seed = 0))]
+pub fn resolver_windings(
+    py: Python<'_>,
+    profile: &PyMotionProfile,
+    model: Option<&PyResolverModel>,
+    seed: u64,
+) -> Result<PyScenario> {
+    let model = model.map_or_else(ResolverModel::default, PyResolverModel::model);
+    // The crate names these two after their kind; the caller wrote the model's field names.
+    if !(model.carrier_hz.is_finite() && model.carrier_hz > 0.0) {
+        return Err(Error::value("carrier_hz", "must be finite and positive"));
+    }
+    let amplitude = model.excitation_amplitude_counts;
+    if !(amplitude.is_finite() && amplitude > 0.0) {
+        return Err(Error::value(
+            "excitation_amplitude_counts",
+            "must be finite and positive",
+        ));
+    }
+    let profile = profile.inner.clone();
+    let s = py.detach(move || angletrack::Scenario::resolver_windings(&profile, &model, seed))?;
+    Ok(PyScenario::from_scenario(py, s))
+}
+
+/// Adds this module's classes and functions to the extension module.
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyDemodulator>()?;
+    m.add_class::<PyDemodulatedPairs>()?;
+    m.add_class::<PyResolverModel>()?;
+    m.add_function(wrap_pyfunction!(resolver_windings, m)?)?;
+    m.add_class::<crate::drive::PyDriveOutputs>()?;
+    m.add_class::<crate::drive::PyDriveAngles>()?;
+    m.add(
+        "SUPPORTED_SAMPLES_PER_PERIOD",
+        SUPPORTED_SAMPLES_PER_PERIOD.to_vec(),
+    )?;
+    Ok(())
+}

@@ -1,0 +1,149 @@
+"""The resolver front end from Python (docs/theory.md §13): the demodulator, the scenario
+generator's windings and the drive outputs through the binding, and ``angletrack track
+--carrier-hz`` end to end on the issue's reference front end."""
+
+import math
+
+import numpy as np
+import pytest
+
+import angletrack
+from angletrack import capture, cli
+
+CARRIER_HZ = 10_000.0
+SPEED_RAD_S = 50.0 * 2 * math.pi  # 50 rev/s
+DELAY_RAD = math.radians(305.0)
+
+
+def windings(duration_s=0.05, delay_rad=DELAY_RAD, seed=1):
+    """A 10 kHz carrier sampled at 160 kHz by a 12-bit ADC, amplitude 1800 counts, noise
+    1 LSB, at a constant 50 rev/s."""
+    profile = angletrack.MotionProfile(0.3, SPEED_RAD_S).constant_speed(SPEED_RAD_S, duration_s)
+    model = angletrack.ResolverModel(carrier_delay_rad=delay_rad)
+    return angletrack.resolver_windings(profile, model, seed=seed), model
+
+
+def write_raw(path, scenario):
+    capture.write_capture(path, {"time": scenario.time_s, "y_c": scenario.y_c, "y_s": scenario.y_s,
+                                 "reference": scenario.angle_rad})
+
+
+def design_gains(path, sample_rate_hz):
+    status = cli.main(["design", "kalman", "--sample-rate", str(sample_rate_hz), "--jerk-std", "1e6",
+                       "--noise-std", "2e-4", "--format", "json", "--output", str(path)])
+    assert status == 0
+
+
+def test_resolver_windings_are_the_reference_front_end():
+    scenario, model = windings(duration_s=0.01)
+    assert model.amplitude_counts == 1800.0 and model.adc_sample_period_s == pytest.approx(1 / 160e3)
+    assert len(scenario) == 1601 and scenario.sample_period_s == pytest.approx(1 / 160e3)
+    assert np.all((scenario.y_c >= 0) & (scenario.y_c <= 4095)) and np.all(scenario.y_c == np.round(scenario.y_c))
+
+
+def test_demodulator_estimates_the_delay_and_stamps_the_window_centres():
+    scenario, model = windings(duration_s=0.01)
+    pairs, demodulator = angletrack.demodulate(
+        scenario.y_c, scenario.y_s, carrier_hz=CARRIER_HZ, samples_per_period=16,
+        carrier_amplitude_counts=model.amplitude_counts, expected_delay_rad=DELAY_RAD,
+    )
+    # The delay modulo 360 degrees, estimated within 1 degree in 10 ms (docs/theory.md §13).
+    error = math.remainder(demodulator.startup_delay_rad - DELAY_RAD, 2 * math.pi)
+    assert abs(error) < math.radians(1.0)
+    assert demodulator.pair_period_s == pytest.approx(1e-4)
+    # The first pair after the 16 start-up windows holds at the centre of its 5N/4 window.
+    assert pairs.window[0] == 16 and len(pairs) == 100 - 16 - 1
+    np.testing.assert_allclose(pairs.time_s, (pairs.window * 16 + (20 - 1) / 2) / 160e3, rtol=1e-12)
+    truth = np.interp(pairs.time_s, scenario.time_s, scenario.angle_rad)
+    angle = np.arctan2(pairs.y_s, pairs.y_c)
+    assert np.max(np.abs(np.remainder(angle - truth + math.pi, 2 * math.pi) - math.pi)) < 5e-3
+    assert np.all(pairs.faults == 0)
+
+
+def test_demodulator_refuses_an_unsupported_period_naming_it():
+    with pytest.raises(angletrack.ConfigError, match="samples_per_period") as e:
+        angletrack.Demodulator(carrier_hz=1e4, samples_per_period=12, carrier_amplitude_counts=1800)
+    assert e.value.parameter == "samples_per_period"
+    with pytest.raises(angletrack.ConfigError) as e:
+        angletrack.Demodulator(carrier_hz=-1.0, samples_per_period=16, carrier_amplitude_counts=1800)
+    assert e.value.parameter == "carrier_hz"
+
+
+def test_drive_outputs_extrapolate_the_electrical_angle():
+    gains = angletrack.Gains([0.3, 0.04, 0.002], 1e-4)
+    theta = 0.1 + 100.0 * np.arange(2000) * 1e-4
+    est = angletrack.track(gains, np.cos(theta), np.sin(theta))
+    angles = angletrack.drive_outputs(est, sample_period_s=1e-4, pole_pairs=4, latency_s=60e-6)
+    expected = 4 * (theta + 100.0 * 60e-6)
+    error = np.remainder(angles.electrical_angle_rad - expected + math.pi, 2 * math.pi) - math.pi
+    assert np.max(np.abs(error[1000:])) < 1e-6
+    with pytest.raises(angletrack.ConfigError) as e:
+        angletrack.DriveOutputs(sample_period_s=1e-4, pole_pairs=0)
+    assert e.value.parameter == "pole_pairs"
+    with pytest.raises(angletrack.ConfigError) as e:
+        angletrack.DriveOutputs(sample_period_s=1e-4, speed_cutoff_hz=6e3)
+    assert e.value.parameter == "speed_cutoff_hz"
+
+
+def test_track_carrier_follows_the_reference_within_2_mrad(tmp_path, capsys):
+    scenario, _ = windings()
+    raw, gains_file, out = tmp_path / "raw.csv", tmp_path / "g.json", tmp_path / "est.csv"
+    write_raw(raw, scenario)
+    design_gains(gains_file, 10_000)
+    capsys.readouterr()
+    status = cli.main(["track", str(raw), "--carrier-hz", "10000", "--gains-file", str(gains_file),
+                       "--expected-delay-deg", "305", "--output", str(out), "--skip", "0.02"])
+    printed = capsys.readouterr().out
+    assert status == 0, printed
+    rms = float(printed.split("RMS ")[1].split()[0])
+    # Measured: 9.877e-05 rad RMS after 20 ms (the issue's target: below 2 mrad; the design's
+    # predicted noise figure at sensor noise 2e-4 is 9.98e-05 rad).
+    assert rms < 2e-3, printed
+    data = np.genfromtxt(out, delimiter=",", names=True)
+    assert data.dtype.names[:2] == ("time_s", "angle_rad") and "front_end_faults" in data.dtype.names
+    # One estimate per carrier period, stamped at the window centres.
+    assert np.allclose(np.diff(data["time_s"]), 1e-4)
+    truth = np.interp(data["time_s"], scenario.time_s, scenario.angle_rad)
+    error = np.remainder(data["angle_rad"] - truth + math.pi, 2 * math.pi) - math.pi
+    # The statistics' --skip counts from the first estimate.
+    kept = data["time_s"] - data["time_s"][0] >= 0.02
+    assert np.sqrt(np.mean(error[kept] ** 2)) == pytest.approx(rms, rel=1e-3)
+
+
+@pytest.mark.parametrize(
+    "gains_hz, carrier_hz, expected",
+    [
+        # Gains at the ADC rate, not the carrier's: refused naming both rates.
+        (160_000, "10000", ["sample_rate", "160000 Hz", "10000 Hz"]),
+        # A carrier whose period is not a supported number of ADC samples.
+        (12_000, "12000", ["samples_per_period", "160000 Hz", "12000 Hz"]),
+    ],
+)
+def test_track_carrier_refuses_in_one_line(tmp_path, capsys, gains_hz, carrier_hz, expected):
+    scenario, _ = windings(duration_s=0.005)
+    raw, gains_file = tmp_path / "raw.csv", tmp_path / "g.json"
+    write_raw(raw, scenario)
+    design_gains(gains_file, gains_hz)
+    capsys.readouterr()
+    assert cli.main(["track", str(raw), "--carrier-hz", carrier_hz, "--gains-file", str(gains_file)]) == 2
+    err = capsys.readouterr().err
+    assert all(e in err for e in expected) and len(err.strip().splitlines()) == 1, err
+
+
+def test_track_carrier_electrical_angle_at_the_latency(tmp_path, capsys):
+    scenario, _ = windings()
+    raw, gains_file, out = tmp_path / "raw.csv", tmp_path / "g.json", tmp_path / "est.csv"
+    write_raw(raw, scenario)
+    design_gains(gains_file, 10_000)
+    status = cli.main(["track", str(raw), "--carrier-hz", "10000", "--gains-file", str(gains_file),
+                       "--expected-delay-deg", "305", "--pole-pairs", "4", "--latency", "60e-6",
+                       "--output", str(out)])
+    assert status == 0
+    data = np.genfromtxt(out, delimiter=",", names=True)
+    kept = data["time_s"] > 0.02
+    # The electrical angle at time_s + latency: 4 times the reference there.
+    expected = 4 * np.interp(data["time_s"] + 60e-6, scenario.time_s, scenario.angle_rad)
+    error = np.remainder(data["electrical_angle_rad"] - expected + math.pi, 2 * math.pi) - math.pi
+    # Tolerance: 4 times the 2 mrad RMS target of the mechanical angle. Measured: 4.25e-04 rad RMS.
+    assert np.sqrt(np.mean(error[kept] ** 2)) < 8e-3
+    assert np.allclose(data["electrical_speed_rad_s"][kept], 4 * SPEED_RAD_S, rtol=1e-2)

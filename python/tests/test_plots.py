@@ -80,6 +80,14 @@ def test_harmonic_spectrum_recovers_a_third_harmonic():
     assert np.all(np.delete(amplitudes, [0, 2]) < 5e-5)
 
 
+def test_no_spectrum_from_less_than_a_turn():
+    bins = AngleErrorBins()
+    angle = np.linspace(0.0, math.pi, 1000)
+    bins.add(angle, 1e-3 * np.cos(3 * angle))
+    assert 0.49 < bins.widest_gap() < 0.51
+    assert np.isnan(bins.harmonics_rad()).all()
+
+
 def test_envelope_keeps_a_spike_of_one_sample_and_at_most_max_points():
     env = Envelope(max_points=1000)
     values = np.zeros(1_000_000)

@@ -20,6 +20,9 @@ import numpy as np
 ERROR_BINS = 720
 #: Harmonic orders shown in the spectrum.
 HARMONIC_ORDERS = tuple(range(1, 11))
+#: The widest gap without samples (fraction of the electrical turn) that the spectrum
+#: interpolates over; a wider one would invent the error there.
+WIDEST_GAP = 0.1
 
 
 def wrap(angle: np.ndarray) -> np.ndarray:
@@ -185,11 +188,21 @@ class AngleErrorBins:
             means[~filled] = np.interp(x[~filled], x[filled], means[filled], period=2 * math.pi)
         return means
 
+    def widest_gap(self) -> float:
+        """The widest run of bins without samples, around the turn (fraction of the turn):
+        a phase-locked sample rate fills only some bins, evenly spread, which is no gap."""
+        filled = np.flatnonzero(self.counts)
+        if len(filled) == 0:
+            return 1.0
+        steps = np.diff(np.append(filled, filled[0] + len(self.counts)))
+        return float(steps.max() - 1) / len(self.counts)
+
     def harmonics_rad(self, orders=HARMONIC_ORDERS) -> np.ndarray:
         """Amplitudes (rad, peak) of the error's harmonics of the electrical angle, ``e =
-        sum_k A_k cos(k theta + phi_k)``, from the binned mean over the turn."""
+        sum_k A_k cos(k theta + phi_k)``, from the binned mean over the turn; ``NaN`` when
+        the samples leave a gap wider than :data:`WIDEST_GAP` of the turn."""
         means = self.mean_error_rad()
-        if not np.isfinite(means).all():
+        if self.widest_gap() > WIDEST_GAP or not np.isfinite(means).all():
             return np.full(len(orders), np.nan)
         spectrum = np.fft.rfft(means) * (2.0 / len(means))
         return np.abs(spectrum[list(orders)])

@@ -25,6 +25,7 @@ import angletrack
 from angletrack import tracking
 from angletrack.capture_analysis import (
     HARMONIC_ORDERS,
+    WIDEST_GAP,
     AngleErrorBins,
     ConicMoments,
     EllipseFit,
@@ -70,13 +71,14 @@ class CaptureAnalysis:
         result = {"capture": self.path, "rows": self.rows, "ellipse": fit, "error_reference": self.reference}
         if self.reference is not None and self.errors.count:
             result["angle_error_rms_rad"] = self.errors.rms_rad()
+        if self.reference is not None and self.errors.count and self.errors.widest_gap() <= WIDEST_GAP:
             result["harmonics_rad"] = dict(zip(map(str, HARMONIC_ORDERS), self.errors.harmonics_rad().tolist()))
         return result
 
     def describe(self) -> str:
         """A few lines for the terminal."""
         lines = [self.description, "ellipse: " + (self.fit.describe() if self.fit else "no ellipse fits the samples")]
-        if self.reference is not None and self.errors.count:
+        if self.reference is not None and self.errors.count and self.errors.widest_gap() <= WIDEST_GAP:
             harmonics = self.errors.harmonics_rad()
             top = sorted(zip(HARMONIC_ORDERS, harmonics), key=lambda kv: -kv[1])[:3]
             lines.append(
@@ -194,8 +196,12 @@ def _angle_error(ax_error, ax_spectrum, a: CaptureAnalysis) -> None:
     angle, error = a.error_scatter.points()
     ax_error.plot(np.degrees(angle), 1e3 * error, ".", ms=1, color="0.6", alpha=0.3, rasterized=True,
                   label="samples")
-    mean = a.errors.mean_error_rad()
-    ax_error.plot(np.degrees(a.errors.centres_rad()), 1e3 * mean, color="k", lw=0.9, label="mean per 0.5 degree")
+    filled = a.errors.counts > 0
+    mean = a.errors.mean_error_rad()[filled]
+    # A line only where the gaps between the filled bins are narrow enough to bridge.
+    style = {"lw": 0.9} if a.errors.widest_gap() <= WIDEST_GAP else {"ls": "none", "marker": "o", "ms": 3}
+    ax_error.plot(np.degrees(a.errors.centres_rad()[filled]), 1e3 * mean, color="k", label="mean per 0.5 degree",
+                  **style)
     lo, hi = np.percentile(1e3 * error, [0.5, 99.5]) if len(error) else (-1.0, 1.0)
     lo, hi = min(lo, 1e3 * mean.min()), max(hi, 1e3 * mean.max())
     pad = 0.15 * (hi - lo) + 1e-6
@@ -209,6 +215,10 @@ def _angle_error(ax_error, ax_spectrum, a: CaptureAnalysis) -> None:
     ax_error.legend(loc="upper right", fontsize=7.5, framealpha=0.85, markerscale=6)
 
     amplitudes = 1e3 * a.errors.harmonics_rad()
+    if not np.isfinite(amplitudes).all():
+        _no_data(ax_spectrum, f"no spectrum: {100 * a.errors.widest_gap():.0f} % of the\n"
+                 "electrical turn has no sample\n(a capture of a whole turn has one)")
+        return
     bars = ax_spectrum.bar(HARMONIC_ORDERS, amplitudes, color="tab:purple", width=0.6)
     # Upright labels: ten of them side by side would run into each other.
     ax_spectrum.bar_label(bars, fmt="%.2g", fontsize=7.5, padding=3, rotation=90)

@@ -68,7 +68,7 @@ def plot_step(plt, result: ScenarioResult, path: pathlib.Path) -> None:
 def _figure_legend(fig, ax) -> None:
     """One legend for the whole figure, above the axes, so that it covers no trace."""
     fig.legend(*ax.get_legend_handles_labels(), loc="upper center", ncol=3, fontsize=8, frameon=False,
-               bbox_to_anchor=(0.5, 0.96))
+               bbox_to_anchor=(0.5, 0.945))
 
 
 def plot_errors(plt, result: ScenarioResult, path: pathlib.Path) -> None:
@@ -90,7 +90,7 @@ def plot_errors(plt, result: ScenarioResult, path: pathlib.Path) -> None:
     # The start-up transient would flatten the rest.
     a1.set_ylim(*_robust_limits(np.concatenate([_error_mrad(sc, e) for e, _ in runs])))
     a2.set_ylim(*_robust_limits(np.concatenate([sc.speed_rad_s - e.speed for e, _ in runs])))
-    _save(plt, fig, path, top=0.945)
+    _save(plt, fig, path, top=0.975)
 
 
 def plot_noise(plt, result: ScenarioResult, path: pathlib.Path) -> None:

@@ -110,11 +110,12 @@ def _trade_off(ax, points: list[TradeOffPoint], chosen: TradeOffPoint, noise_std
     for value, colour in ((chosen.noise_rms_rad, "tab:blue"), (chosen.tracking_error_rad, "tab:orange")):
         ax.plot([chosen.bandwidth_hz], [1e3 * value], "o", color=colour, ms=7)
     ax.axvline(chosen.bandwidth_hz, color="tab:red", ls="--", lw=0.8, label=f"this design, {chosen.bandwidth_hz:.4g} Hz")
-    from matplotlib.ticker import FormatStrFormatter
+    from matplotlib.ticker import FormatStrFormatter, FuncFormatter
 
-    # Plain numbers of Hz: the decade spans few major ticks.
+    # Plain numbers of Hz: the decade spans few major ticks, so 2, 3 and 5 times them are
+    # labelled too (the others would run into each other).
     ax.xaxis.set_major_formatter(FormatStrFormatter("%g"))
-    ax.xaxis.set_minor_formatter(FormatStrFormatter("%g"))
+    ax.xaxis.set_minor_formatter(FuncFormatter(lambda x, _: f"{x:g}" if f"{x:.0e}"[0] in "235" else ""))
     ax.tick_params(axis="x", which="minor", labelsize=7)
     ax.set_xlabel("-3 dB bandwidth (Hz)")
     ax.set_ylabel("angle error (mrad)")

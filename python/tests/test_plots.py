@@ -167,6 +167,19 @@ def test_capture_analysis_against_the_reference_column(tmp_path):
     np.testing.assert_allclose(a.speed.series()[1], 2 * math.pi * 20.0, rtol=1e-9)
 
 
+def test_capture_analysis_draws_at_most_max_points_per_series(tmp_path):
+    cap = write_npz(tmp_path / "c.npz", error=third_harmonic)
+    gains_file = tmp_path / "g.json"
+    gains_file.write_text(export.to_json(angletrack.second_order_from_bandwidth(20.0, 1.0, 1 / RATE_HZ).gains))
+    a = plots.analyse_capture(settings(cap, gains_file=gains_file, chunk_rows=7000), max_points=1000)
+    assert a.rows == 60_000
+    assert 500 < len(a.lissajous.points()[0]) <= 1000 and len(a.error_scatter.points()[0]) <= 1000
+    assert len(a.speed.series()[0]) <= 1001
+    assert all(len(env.series()[0]) <= 1001 for env in a.faults.values())
+    # The binned error uses every sample, whatever is drawn.
+    assert a.errors.count == 60_000
+
+
 def test_capture_analysis_against_the_observer_without_reference(tmp_path):
     cap = write_npz(tmp_path / "c.npz", reference=False, error=third_harmonic, noise=1e-3)
     gains_file = tmp_path / "g.json"

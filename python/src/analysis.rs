@@ -1,6 +1,8 @@
-//! The analysis of a gain set: `DesignReport` (the design's datasheet), `StepResponse` and
-//! `predicted_error` (the noise prediction of the linearised loop).
+//! The analysis of a gain set: `DesignReport` (the design's datasheet), `StepResponse`,
+//! `predicted_error` (the noise prediction of the linearised loop) and
+//! `closed_loop_response` (its frequency response).
 
+use numpy::{Complex64, PyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyComplex;
 
@@ -269,4 +271,20 @@ pub fn predicted_error_on_kalman_model(
 #[pyo3(signature = (sample_period_s))]
 pub fn max_trackable_speed_rad_s(sample_period_s: f64) -> f64 {
     angletrack::max_trackable_speed_rad_s(sample_period_s)
+}
+
+/// The closed-loop angle transfer `H(z) = X1_e / Theta` of the linearised discrete loop of
+/// `gains` at `z = exp(j 2 pi f Ts)` for each frequency `f` of `frequencies_hz` (Hz, finite,
+/// at least 0), as a complex128 array (`docs/theory.md §5`): `H = 1` at 0 Hz, `|H|` falls
+/// through `1/sqrt(2)` at the design report's `bandwidth_hz`.
+#[pyfunction]
+#[pyo3(signature = (gains, frequencies_hz))]
+pub fn closed_loop_response<'py>(
+    py: Python<'py>,
+    gains: PyGains,
+    frequencies_hz: Vec<f64>,
+) -> Result<Bound<'py, PyArray1<Complex64>>> {
+    let h = with_gains!(&gains.set, g => angletrack::closed_loop_response(g, &frequencies_hz))?;
+    let h: Vec<Complex64> = h.into_iter().map(|c| Complex64::new(c.re, c.im)).collect();
+    Ok(PyArray1::from_vec(py, h))
 }

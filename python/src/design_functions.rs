@@ -3,8 +3,8 @@
 use pyo3::prelude::*;
 
 use crate::analysis::{
-    DesignReport, PyPredictedError, PyStepResponse, max_trackable_speed_rad_s, predicted_error,
-    predicted_error_on_kalman_model,
+    DesignReport, PyPredictedError, PyStepResponse, closed_loop_response,
+    max_trackable_speed_rad_s, predicted_error, predicted_error_on_kalman_model,
 };
 use crate::design::{PyDesign, PyKalmanSolution};
 use crate::errors::Result;
@@ -196,6 +196,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyKalmanSolution>()?;
     m.add_class::<PyPredictedError>()?;
     m.add_function(wrap_pyfunction!(predicted_error, m)?)?;
+    m.add_function(wrap_pyfunction!(closed_loop_response, m)?)?;
     m.add_function(wrap_pyfunction!(predicted_error_on_kalman_model, m)?)?;
     m.add_function(wrap_pyfunction!(max_trackable_speed_rad_s, m)?)?;
     m.add_function(wrap_pyfunction!(

@@ -79,7 +79,8 @@ mod sim;
 
 pub use analysis::{
     DesignReport, LARGE_STEP_RAD, PredictedError, SETTLING_BAND, StepResponse,
-    max_trackable_speed_rad_s, predicted_error, predicted_error_on_kalman_model,
+    closed_loop_response, max_trackable_speed_rad_s, predicted_error,
+    predicted_error_on_kalman_model,
 };
 pub use design::{
     AnyDesign, Design, DesignMethod, Discretisation, KalmanSolution, MAX_POLE_TIMES_PERIOD,

@@ -335,6 +335,11 @@ def predicted_error_on_kalman_model(
     gains: Gains, sensor_noise_std: float, process_noise_q: float
 ) -> Optional[PredictedError]:
     """The errors on the Kalman ATO's model (noise and random jerk); ``None`` for a 2nd-order loop."""
+def closed_loop_response(
+    gains: Gains, frequencies_hz: Union[Sequence[float], npt.NDArray[np.float64]]
+) -> npt.NDArray[np.complex128]:
+    """``H(z) = X1_e / Theta`` of the discrete loop at ``z = exp(j 2 pi f Ts)`` for each
+    frequency (Hz): 1 at 0 Hz, ``|H| = 1/sqrt(2)`` at the report's ``bandwidth_hz``."""
 def max_trackable_speed_rad_s(sample_period_s: float) -> float:
     """``pi / Ts`` (docs/theory.md §9)."""
 def second_order_from_tracking_error_sampled(

@@ -1,4 +1,4 @@
-"""The ``angletrack`` command line: ``design``, ``track`` and ``report``.
+"""The ``angletrack`` command line: ``design``, ``track``, ``plot`` and ``report``.
 
 Every number comes from the Rust crates through the extension; this module reads
 arguments and files, and writes files and text.
@@ -54,9 +54,9 @@ def _non_negative(text: str) -> float:
     return _number(text, positive=False)
 
 
-def _add_gains_source(p: argparse.ArgumentParser) -> None:
-    g = p.add_argument_group("gains (one of)")
-    src = g.add_mutually_exclusive_group(required=True)
+def _add_gains_source(p: argparse.ArgumentParser, required: bool = True) -> None:
+    g = p.add_argument_group("gains (one of)" if required else "gains (optional: run the observer)")
+    src = g.add_mutually_exclusive_group(required=required)
     src.add_argument("--gains-file", type=pathlib.Path, metavar="FILE.json",
                      help="gains written by `angletrack design --format json`")
     src.add_argument("--gains", type=_float_list, metavar="L1,L2[,L3]",
@@ -99,6 +99,11 @@ def _cmd_track(args: argparse.Namespace) -> int:
     summary, observer = tracking.track_capture(settings)
     print(summary)
     _write_calibration(args, observer)
+    if args.plot is not None:
+        from angletrack import plots
+
+        png = args.plot or settings.output.with_suffix(".png")
+        print(plots.plot_capture_file(settings, png))
     return 0
 
 
@@ -256,6 +261,12 @@ def _add_design_parser(sub) -> None:
     design.add_argument("--dtype", choices=["float32", "float64"], default="float32",
                         help="float type of the C/Rust constants (default float32; JSON is always float64)")
     design.add_argument("--name", default="angletrack", help="identifier prefix in the C/Rust output")
+    design.add_argument("--plot", type=_png_path, metavar="FILE.png",
+                        help="draw the loop's Bode plot and its noise-against-bandwidth trade-off")
+    design.add_argument("--plot-acceleration", type=_positive, default=1000.0, metavar="RAD_S2",
+                        help="acceleration of the trade-off's tracking error, 2nd order (default 1000 rad/s^2)")
+    design.add_argument("--plot-jerk", type=_positive, default=1e5, metavar="RAD_S3",
+                        help="jerk of the trade-off's tracking error, 3rd order (default 1e5 rad/s^3)")
 
 
 def _cmd_design(args: argparse.Namespace) -> int:
@@ -290,6 +301,74 @@ def _cmd_design(args: argparse.Namespace) -> int:
         args.output.parent.mkdir(parents=True, exist_ok=True)
         args.output.write_text(text)
         print(f"\nwrote the gains ({args.format}, {args.dtype if args.format != 'json' else 'float64'}) to {args.output}")
+    if args.plot is not None:
+        from angletrack import design_plots
+
+        print(design_plots.plot_design(
+            design, args.plot, sensor_noise_std=noise or _PLOT_NOISE_STD, acceleration_rad_s2=args.plot_acceleration,
+            jerk_rad_s3=args.plot_jerk, title=f"{design.method}: " + ", ".join(
+                f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}" for k, v in spec.items() if k != "function"),
+        ))
+    return 0
+
+
+# ----------------------------------------------------------------------------- plot
+
+#: Sensor noise of `design --plot`'s trade-off without --noise-std (per channel, amplitude 1).
+_PLOT_NOISE_STD = 1e-3
+
+
+def _png_path(text: str):
+    """A .png file name; ``""`` (the option without its value) stays ``""``: the command's
+    default name."""
+    if text and not text.lower().endswith(".png"):
+        raise argparse.ArgumentTypeError(f"expected a file name ending in .png, got {text!r}")
+    return pathlib.Path(text) if text else ""
+
+
+def _add_plot_parser(sub) -> None:
+    plot = _command(sub, _cmd_plot)
+    plot.add_argument("capture", type=pathlib.Path, metavar="CAPTURE")
+    _add_gains_source(plot, required=False)
+    plot.add_argument("--columns", metavar="ROLE=COLUMN,...", help="as for `angletrack track`")
+    plot.add_argument("--delimiter", metavar="CHAR", help="as for `angletrack track`")
+    plot.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s", help="unit of the time column")
+    plot.add_argument("--skip", type=_non_negative, default=0.0, metavar="S",
+                      help="leave the first S seconds out of the angle error")
+    where = plot.add_mutually_exclusive_group()
+    where.add_argument("--output", "-o", type=_png_path, metavar="FILE.png",
+                       help="the figure (default: CAPTURE_plot.png beside the capture)")
+    where.add_argument("--out", type=pathlib.Path, metavar="DIR",
+                       help="directory for CAPTURE_plot.png and CAPTURE_plot.json (the fitted figures)")
+    plot.add_argument("--max-points", type=int, default=200_000, metavar="N",
+                      help="most points drawn per series (default 200000): larger captures are decimated")
+
+
+def _cmd_plot(args: argparse.Namespace) -> int:
+    """draw a capture: Lissajous with its ellipse, angle error and harmonics, speed, faults
+
+    Draws one PNG of CAPTURE: the Lissajous figure of (y_c, y_s) with the least-squares
+    ellipse (offsets, amplitude ratio, quadrature); the angle error atan2(y_s, y_c) minus the
+    reference column (else the observer's angle, with gains) against the electrical angle,
+    and its harmonics 1 to 10; the speed and the observer's fault flags over time. Reads
+    the capture in chunks: any size, at most --max-points points per series.
+    """
+    from angletrack import plots
+
+    if args.max_points < 2:
+        raise ValueError(f"max_points: --max-points must be at least 2, got {args.max_points}")
+    settings = tracking.TrackSettings(
+        capture=args.capture, output=args.capture, gains_file=args.gains_file, gains=args.gains,
+        sample_rate_hz=args.sample_rate, columns=args.columns, delimiter=args.delimiter,
+        time_unit=args.time_unit, skip_s=args.skip,
+    )
+    name = args.capture.stem + "_plot"
+    summary = None
+    if args.out is not None:
+        png, summary = args.out / f"{name}.png", args.out / f"{name}.json"
+    else:
+        png = args.output or args.capture.with_name(f"{name}.png")
+    print(plots.plot_capture_file(settings, png, summary_json=summary, max_points=args.max_points))
     return 0
 
 
@@ -329,6 +408,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_track_parser(sub)
     _add_design_parser(sub)
     _add_report_parser(sub)
+    _add_plot_parser(sub)
     return parser
 
 
@@ -366,6 +446,9 @@ def _add_track_parser(sub) -> None:
     track.add_argument("--calibration", type=pathlib.Path, metavar="FILE.json",
                        help="apply a stored calibration (frozen; with --calibrate, learning starts from it)")
     resolver.add_track_arguments(track)
+    track.add_argument("--plot", nargs="?", const="", type=_png_path, metavar="FILE.png",
+                       help="also draw the capture (as `angletrack plot`) into FILE.png (default: the "
+                       "output's name with .png)")
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 import angletrack as at
+from angletrack import plots
 
 if TYPE_CHECKING:
     from angletrack.report import ScenarioResult
@@ -22,24 +23,16 @@ ERROR_FIGURES = ("speed_ramp", "acceleration", "noise")
 def pyplot():
     """matplotlib's pyplot on the file-only Agg backend, or a ``RuntimeError`` saying how to
     get it."""
-    try:
-        import matplotlib
-
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-    except ImportError:
-        raise RuntimeError(
-            "the report's plots need matplotlib: pip install 'angletrack[plot]' (or run with --no-plots)"
-        ) from None
-    return plt
+    return plots.pyplot(" (or run with --no-plots)")
 
 
 def _pct(x) -> str:
     return "-" if x is None else f"{100.0 * x:.2f} %"
 
 
-def _save(plt, fig, path: pathlib.Path) -> None:
-    fig.tight_layout()
+def _save(plt, fig, path: pathlib.Path, top: float = 1.0) -> None:
+    """Lays out the axes below ``top`` (figure fraction), writes the PNG and closes the figure."""
+    fig.tight_layout(rect=(0, 0, 1, top))
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
@@ -63,20 +56,26 @@ def plot_step(plt, result: ScenarioResult, path: pathlib.Path) -> None:
     a1.plot(t_ms, np.degrees(sc.angle_rad), "k--", lw=1, label="true angle")
     for name, (est, m) in result.runs.items():
         a1.plot(t_ms, np.degrees(est.position), color=COLOURS[name], label=f"{name} (overshoot {_pct(m.overshoot)})")
-        a2.plot(t_ms, np.degrees(est.speed) / 1e3, color=COLOURS[name], label=name)
+        a2.plot(t_ms, est.speed, color=COLOURS[name], label=name)
     a1.set_ylabel("angle (deg)")
     a1.set_title(f"Step of 179 degrees at {1e-3 / sc.sample_period_s:.0f} kHz")
     a1.legend(loc="lower right", fontsize=8)
-    a2.set_ylabel("speed estimate (10^3 deg/s)")
+    a2.set_ylabel("speed estimate (rad/s)")
     a2.set_xlabel("time (ms)")
     a1.grid(alpha=0.3), a2.grid(alpha=0.3)
     _save(plt, fig, path)
 
 
+def _figure_legend(fig, ax) -> None:
+    """One legend for the whole figure, above the axes, so that it covers no trace."""
+    fig.legend(*ax.get_legend_handles_labels(), loc="upper center", ncol=3, fontsize=8, frameon=False,
+               bbox_to_anchor=(0.5, 0.945))
+
+
 def plot_errors(plt, result: ScenarioResult, path: pathlib.Path) -> None:
-    """The angle and speed errors of every observer over one scenario."""
+    """The angle and speed errors of every observer over one scenario, overlaid."""
     sc = result.scenario
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6.4), sharex=True)
     t_ms = 1e3 * sc.time_s
     for name, (est, m) in result.runs.items():
         a1.plot(t_ms, _error_mrad(sc, est), color=COLOURS[name], lw=0.8, label=name)
@@ -84,15 +83,46 @@ def plot_errors(plt, result: ScenarioResult, path: pathlib.Path) -> None:
     a1.set_ylabel("angle error (mrad)")
     a2.set_ylabel("speed error (rad/s)")
     a2.set_xlabel("time (ms)")
-    a1.set_title(result.spec.title)
+    fig.suptitle(result.spec.title, fontsize=11)
+    _figure_legend(fig, a1)
     for a in (a1, a2):
         a.grid(alpha=0.3)
-        a.legend(loc="upper right", fontsize=8)
     runs = result.runs.values()
-    # Noise fills the angle axis evenly; elsewhere the start-up transient would flatten the rest.
-    if result.spec.key != "noise":
-        a1.set_ylim(*_robust_limits(np.concatenate([_error_mrad(sc, e) for e, _ in runs])))
+    # The start-up transient would flatten the rest.
+    a1.set_ylim(*_robust_limits(np.concatenate([_error_mrad(sc, e) for e, _ in runs])))
     a2.set_ylim(*_robust_limits(np.concatenate([sc.speed_rad_s - e.speed for e, _ in runs])))
+    _save(plt, fig, path, top=0.975)
+
+
+def plot_noise(plt, result: ScenarioResult, path: pathlib.Path) -> None:
+    """The angle and speed errors of each observer under noise, one row per observer on
+    shared axes: overlaid, the last trace drawn would hide the others."""
+    sc = result.scenario
+    runs = result.runs
+    fig, axes = plt.subplots(len(runs), 2, figsize=(10, 2.3 * len(runs) + 0.8), sharex=True, sharey="col",
+                             squeeze=False)
+    t_ms = 1e3 * sc.time_s
+    kept = sc.time_s >= result.spec.skip_s
+    for (name, (est, m)), (a1, a2) in zip(runs.items(), axes):
+        speed = m.speed_error_rad_s.rms if m.speed_error_rad_s else float("nan")
+        a1.plot(t_ms, _error_mrad(sc, est), color=COLOURS[name], lw=0.5)
+        a2.plot(t_ms, sc.speed_rad_s - est.speed, color=COLOURS[name], lw=0.5)
+        a1.set_title(f"{name}: RMS {1e3 * m.angle_error_rad.rms:.3g} mrad", fontsize=9, loc="left")
+        a2.set_title(f"{name}: RMS {speed:.3g} rad/s", fontsize=9, loc="left")
+        a1.set_ylabel("angle error (mrad)")
+        a2.set_ylabel("speed error (rad/s)")
+        for a in (a1, a2):
+            a.grid(alpha=0.3)
+            # The start-up transient, left out of the statistics, would flatten the noise.
+            a.axvspan(t_ms[0], 1e3 * result.spec.skip_s, color="0.92", zorder=0)
+    # Shared axes per column: limits from the noise after the start-up of every observer.
+    for column, error in enumerate((lambda e: _error_mrad(sc, e), lambda e: sc.speed_rad_s - e.speed)):
+        peak = max(float(np.max(np.abs(error(e)[kept]))) for e, _ in runs.values())
+        axes[0, column].set_ylim(-1.05 * peak, 1.05 * peak)
+    axes[-1, 0].set_xlabel("time (ms)")
+    axes[-1, 1].set_xlabel("time (ms)")
+    fig.suptitle(f"{result.spec.title}\n(statistics after {result.spec.skip_s} s, the start-up shaded and "
+                 "clipped)", fontsize=10)
     _save(plt, fig, path)
 
 
@@ -153,7 +183,7 @@ def plot_all(
     plot_step(plt, results["step"], out_dir / "step_179.png")
     done("plot step_179.png")
     for key in ERROR_FIGURES:
-        plot_errors(plt, results[key], out_dir / f"{key}.png")
+        (plot_noise if key == "noise" else plot_errors)(plt, results[key], out_dir / f"{key}.png")
         done(f"plot {key}.png")
     plot_overshoot(plt, settings, out_dir / "overshoot.png")
     done("plot overshoot.png")

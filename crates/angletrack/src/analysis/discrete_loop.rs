@@ -72,16 +72,24 @@ impl DiscreteLoop {
         Some(e[0])
     }
 
-    /// `|X1_e / Theta|` at frequency `hz`: with `s = z - 1`,
-    /// `(z I - F) = s I - (A - I) + L e1^T A`, `X_e = z (zI - F)^-1 L Theta`.
-    fn gain_at(&self, hz: f64) -> f64 {
+    /// `X1_e / Theta` at frequency `hz`, `z = e^(j 2 pi hz Ts)`: with `s = z - 1`,
+    /// `(z I - F) = s I - (A - I) + L e1^T A`, `X_e = z (zI - F)^-1 L Theta`. Formed in
+    /// `s` so that low frequencies keep their relative precision (`docs/theory.md §6`).
+    pub(super) fn response_at(&self, hz: f64) -> Complex<f64> {
         let n = self.order();
         let s = linalg::exp_m1(Complex::new(0.0, 2.0 * PI * hz * self.ts));
         let z = s + 1.0;
         let m = self.identity_minus_f().map(|v| Complex::new(v, 0.0))
             + DMatrix::<Complex<f64>>::identity(n, n) * s;
         let rhs = DVector::from_iterator(n, self.l.iter().map(|&v| z * v));
-        m.lu().solve(&rhs).map_or(f64::NAN, |x| x[0].norm())
+        m.lu()
+            .solve(&rhs)
+            .map_or(Complex::new(f64::NAN, f64::NAN), |x| x[0])
+    }
+
+    /// `|X1_e / Theta|` at frequency `hz`.
+    fn gain_at(&self, hz: f64) -> f64 {
+        self.response_at(hz).norm()
     }
 
     /// The -3 dB bandwidth (Hz), see [`DesignReport::bandwidth_hz`].

@@ -1,14 +1,16 @@
-//! Analysis of a gain set: step responses, noise prediction, speed limits and the design
-//! report that gathers them.
+//! Analysis of a gain set: step responses, frequency response, noise prediction, speed
+//! limits and the design report that gathers them.
 
 mod discrete_loop;
 mod display;
+mod frequency_response;
 mod noise;
 mod report;
 mod speed;
 mod step;
 
 pub(crate) use discrete_loop::small_signal_step;
+pub use frequency_response::closed_loop_response;
 pub use noise::{PredictedError, predicted_error, predicted_error_on_kalman_model};
 pub use report::DesignReport;
 pub use speed::max_trackable_speed_rad_s;

@@ -1,0 +1,321 @@
+"""``angletrack plot`` (and ``angletrack track --plot``): one figure of what an engineer looks
+at in a capture, computed chunk by chunk in constant memory (:mod:`angletrack.capture_analysis`):
+
+* the Lissajous figure of (y_c, y_s) with the least-squares ellipse, its offsets, amplitude
+  ratio and quadrature;
+* the angle error ``atan2(y_s, y_c) - reference`` against the electrical angle and its
+  harmonic spectrum (orders 1 to 10), against the capture's reference column, or against the
+  observer's own angle when there is none (the sensor's angle-dependent errors lie above the
+  loop's bandwidth, so the observer does not follow them);
+* the speed over time (the observer's, else the reference's differences);
+* the observer's fault flags over time, one row per flag.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import pathlib
+from typing import Optional
+
+import numpy as np
+
+import angletrack
+from angletrack import tracking
+from angletrack.capture_analysis import (
+    HARMONIC_ORDERS,
+    WIDEST_GAP,
+    AngleErrorBins,
+    ConicMoments,
+    EllipseFit,
+    Envelope,
+    Stride,
+    wrap,
+)
+
+#: Most points drawn per series: a 1e7-row capture is decimated to this.
+MAX_POINTS = 200_000
+#: Size of the figure (inches) and its resolution (dots per inch).
+FIGURE_SIZE_IN = (15.0, 10.5)
+DPI = 100
+
+
+@dataclasses.dataclass
+class CaptureAnalysis:
+    """Everything the figure draws, accumulated over the whole capture."""
+
+    path: str
+    rows: int
+    description: str
+    fit: Optional[EllipseFit]
+    lissajous: Stride
+    #: What the error is measured against, in words; ``None`` when there is nothing to
+    #: measure against (no reference column, no gains).
+    reference: Optional[str]
+    errors: AngleErrorBins
+    error_scatter: Stride
+    #: Where the speed comes from, in words, or ``None``.
+    speed_source: Optional[str]
+    speed: Envelope
+    #: ``{flag name: envelope of 0/1}``, empty without an observer.
+    faults: dict[str, Envelope]
+    #: The time axis' unit: ``s``, or ``sample`` without a time column or a rate.
+    time_unit: str
+
+    def summary(self) -> dict:
+        """The figures as plain numbers (the ``--out`` directory's JSON)."""
+        fit = dataclasses.asdict(self.fit) if self.fit else None
+        if fit:
+            fit["amplitude_ratio"] = self.fit.amplitude_ratio
+        result = {"capture": self.path, "rows": self.rows, "ellipse": fit, "error_reference": self.reference}
+        if self.reference is not None and self.errors.count:
+            result["angle_error_rms_rad"] = self.errors.rms_rad()
+        if self.reference is not None and self.errors.count and self.errors.widest_gap() <= WIDEST_GAP:
+            result["harmonics_rad"] = dict(zip(map(str, HARMONIC_ORDERS), self.errors.harmonics_rad().tolist()))
+        return result
+
+    def describe(self) -> str:
+        """A few lines for the terminal."""
+        lines = [self.description, "ellipse: " + (self.fit.describe() if self.fit else "no ellipse fits the samples")]
+        if self.reference is not None and self.errors.count and self.errors.widest_gap() <= WIDEST_GAP:
+            harmonics = self.errors.harmonics_rad()
+            top = sorted(zip(HARMONIC_ORDERS, harmonics), key=lambda kv: -kv[1])[:3]
+            lines.append(
+                f"angle error against {self.reference}: RMS {1e3 * self.errors.rms_rad():.4g} mrad; largest "
+                "harmonics " + ", ".join(f"{k}: {1e3 * a:.3g} mrad" for k, a in top)
+            )
+        return "\n".join(lines)
+
+
+def analyse_capture(s: tracking.TrackSettings, max_points: int = MAX_POINTS) -> CaptureAnalysis:
+    """Reads ``s.capture`` chunk by chunk, runs the observer when gains are given (checked
+    against the capture's rate as ``angletrack track`` does) and accumulates the figure's
+    data. ``s.output`` is not used."""
+    reader = angletrack.CaptureReader(
+        s.capture, columns=s.columns, delimiter=s.delimiter, time_unit=s.time_unit,
+        sample_rate_hz=s.sample_rate_hz, chunk_rows=s.chunk_rows,
+    )
+    chunks = iter(reader)
+    first = next(chunks)
+    observer = None
+    if s.gains_file is not None or s.gains is not None:
+        gains = tracking.gains_for_capture(s, reader.sample_rate_hz if first.time_s is not None else None)
+        observer = angletrack.Observer(gains, dtype=np.dtype(s.dtype), sin_cos=s.sin_cos)
+        rate_hz: Optional[float] = gains.sample_rate_hz
+    else:
+        rate_hz = reader.sample_rate_hz
+    reference = (
+        "the reference column" if first.reference_rad is not None
+        else "the observer's angle (no reference column)" if observer is not None else None
+    )
+    a = CaptureAnalysis(
+        path=str(s.capture), rows=0, description="", fit=None, lissajous=Stride(max_points),
+        reference=reference, errors=AngleErrorBins(), error_scatter=Stride(max_points),
+        speed_source=("the observer" if observer is not None
+                      else "the reference's differences" if first.reference_rad is not None else None),
+        speed=Envelope(max_points),
+        faults={name: Envelope(max_points) for name, _ in angletrack.FAULT_BITS} if observer else {},
+        time_unit="s" if (first.time_s is not None or rate_hz) else "sample",
+    )
+    moments = ConicMoments()
+    previous: Optional[tuple[float, float]] = None  # (time, reference) of the last sample
+    start: Optional[float] = None
+    chunk = first
+    while chunk is not None:
+        n = len(chunk)
+        index = chunk.first_sample + np.arange(n, dtype=np.float64)
+        time_s = chunk.time_s if chunk.time_s is not None else (index / rate_hz if rate_hz else index)
+        start = float(time_s[0]) if start is None else start
+        moments.add(chunk.y_c, chunk.y_s)
+        a.lissajous.add(chunk.y_c, chunk.y_s)
+        angle = chunk.reference_rad
+        if observer is not None:
+            est = observer.update(chunk.y_c.astype(s.dtype, copy=False), chunk.y_s.astype(s.dtype, copy=False))
+            angle = est.angle.astype(np.float64) if angle is None else angle
+            a.speed.add(time_s, est.speed)
+            for name, bit in angletrack.FAULT_BITS:
+                a.faults[name].add(time_s, (est.faults & bit) != 0)
+        elif chunk.reference_rad is not None:
+            t = np.concatenate([[previous[0]], time_s]) if previous else time_s
+            r = np.concatenate([[previous[1]], chunk.reference_rad]) if previous else chunk.reference_rad
+            if len(r) > 1:
+                a.speed.add(t[1:], wrap(np.diff(r)) / np.diff(t))
+            previous = (float(time_s[-1]), float(chunk.reference_rad[-1]))
+        if angle is not None:
+            kept = time_s - start >= s.skip_s
+            error = wrap(np.arctan2(chunk.y_s, chunk.y_c) - angle)[kept]
+            electrical = np.remainder(angle[kept], 2 * math.pi)
+            a.errors.add(electrical, error)
+            a.error_scatter.add(electrical, error)
+        a.rows += n
+        chunk = next(chunks, None)
+    a.fit = moments.fit()
+    a.description = (
+        f"{a.rows} samples ({reader.format}, {reader.sample_dtype}; columns "
+        + ", ".join(f"{k}={v}" for k, v in reader.columns.items()) + ")"
+    )
+    return a
+
+
+def _lissajous(ax, a: CaptureAnalysis) -> None:
+    y_c, y_s = a.lissajous.points()
+    ax.plot(y_c, y_s, ".", ms=1.5, color="tab:blue", alpha=0.3, rasterized=True,
+            label=f"samples ({len(y_c):,} of {a.rows:,})")
+    if a.fit is not None:
+        f = a.fit
+        ax.plot(*f.points(), color="tab:red", lw=1.5, label=(
+            f"least-squares ellipse\noffsets y_c {f.offset_cos:+.4f}, y_s {f.offset_sin:+.4f}\n"
+            f"amplitudes {f.amplitude_cos:.4g}, {f.amplitude_sin:.4g}\namplitude ratio a_s/a_c {f.amplitude_ratio:.4f}\n"
+            f"quadrature {1e3 * f.quadrature_rad:+.2f} mrad"
+        ))
+        radius = 0.5 * (f.amplitude_cos + f.amplitude_sin)
+        circle = np.linspace(0.0, 2 * math.pi, 361)
+        ax.plot(radius * np.cos(circle), radius * np.sin(circle), color="0.4", ls="--", lw=0.8,
+                label="circle of the mean amplitude\nabout the origin")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("y_c (as recorded)")
+    ax.set_ylabel("y_s (as recorded)")
+    ax.set_title("Lissajous of (y_c, y_s)")
+    ax.grid(alpha=0.3)
+    # The ring's inside is empty on any usable capture: the legend goes there.
+    ax.legend(loc="center", fontsize=7.5, framealpha=0.85, markerscale=6)
+
+
+def _no_data(ax, text: str) -> None:
+    ax.text(0.5, 0.5, text, ha="center", va="center", transform=ax.transAxes, fontsize=10, color="0.3", wrap=True)
+    ax.set_xticks([]), ax.set_yticks([])
+
+
+def _angle_error(ax_error, ax_spectrum, a: CaptureAnalysis) -> None:
+    if a.reference is None or a.errors.count == 0:
+        for ax in (ax_error, ax_spectrum):
+            _no_data(ax, "no reference column and no gains:\ngive --gains-file to measure the angle error\n"
+                     "against the observer's angle")
+        return
+    angle, error = a.error_scatter.points()
+    ax_error.plot(np.degrees(angle), 1e3 * error, ".", ms=1, color="0.6", alpha=0.3, rasterized=True,
+                  label="samples")
+    filled = a.errors.counts > 0
+    mean = a.errors.mean_error_rad()[filled]
+    # A line only where the gaps between the filled bins are narrow enough to bridge.
+    style = {"lw": 0.9} if a.errors.widest_gap() <= WIDEST_GAP else {"ls": "none", "marker": "o", "ms": 3}
+    ax_error.plot(np.degrees(a.errors.centres_rad()[filled]), 1e3 * mean, color="k", label="mean per 0.5 degree",
+                  **style)
+    lo, hi = np.percentile(1e3 * error, [0.5, 99.5]) if len(error) else (-1.0, 1.0)
+    lo, hi = min(lo, 1e3 * mean.min()), max(hi, 1e3 * mean.max())
+    pad = 0.15 * (hi - lo) + 1e-6
+    ax_error.set_ylim(lo - pad, hi + pad)
+    ax_error.set_xlim(0, 360)
+    ax_error.set_xticks(range(0, 361, 45))
+    ax_error.set_xlabel("electrical angle (deg)")
+    ax_error.set_ylabel("angle error (mrad)")
+    ax_error.set_title(f"atan2(y_s, y_c) - {a.reference}\nRMS {1e3 * a.errors.rms_rad():.3g} mrad", fontsize=10)
+    ax_error.grid(alpha=0.3)
+    ax_error.legend(loc="upper right", fontsize=7.5, framealpha=0.85, markerscale=6)
+
+    amplitudes = 1e3 * a.errors.harmonics_rad()
+    if not np.isfinite(amplitudes).all():
+        _no_data(ax_spectrum, f"no spectrum: {100 * a.errors.widest_gap():.0f} % of the\n"
+                 "electrical turn has no sample\n(a capture of a whole turn has one)")
+        return
+    bars = ax_spectrum.bar(HARMONIC_ORDERS, amplitudes, color="tab:purple", width=0.6)
+    # Upright labels: ten of them side by side would run into each other.
+    ax_spectrum.bar_label(bars, fmt="%.2g", fontsize=7.5, padding=3, rotation=90)
+    ax_spectrum.set_xticks(HARMONIC_ORDERS)
+    ax_spectrum.set_ylim(0, 1.25 * max(float(np.nanmax(amplitudes)), 1e-6))
+    ax_spectrum.set_xlabel("harmonic order of the electrical angle")
+    ax_spectrum.set_ylabel("amplitude (mrad, peak)")
+    ax_spectrum.set_title("Harmonics of the angle error", fontsize=10)
+    ax_spectrum.grid(alpha=0.3, axis="y")
+
+
+def _envelope_line(ax, env: Envelope, scale: float, **style) -> None:
+    """Draws a min/max envelope as one line through each block's low and high."""
+    t, low, high = env.series()
+    ax.plot(np.repeat(t * scale, 2), np.column_stack([low, high]).ravel(), **style)
+
+
+def _time_scale(a: CaptureAnalysis) -> tuple[float, str]:
+    if a.time_unit == "sample":
+        return 1.0, "sample"
+    t, _, _ = a.speed.series()
+    if not a.faults and len(t) == 0:
+        return 1.0, "time (s)"
+    span = float(t[-1] - t[0]) if len(t) else 1.0
+    return (1e3, "time (ms)") if span < 1.0 else (1.0, "time (s)")
+
+
+def _speed_and_faults(ax_speed, ax_faults, a: CaptureAnalysis) -> None:
+    scale, label = _time_scale(a)
+    if a.speed_source is None:
+        _no_data(ax_speed, "no gains and no reference column: give --gains-file to see the speed")
+    else:
+        _envelope_line(ax_speed, a.speed, scale, color="tab:blue", lw=0.8)
+        unit = "rad/sample" if a.time_unit == "sample" else "rad/s"
+        ax_speed.set_ylabel(f"speed ({unit})")
+        ax_speed.set_title(f"Speed from {a.speed_source} (electrical)", fontsize=10)
+        ax_speed.grid(alpha=0.3)
+    if not a.faults:
+        _no_data(ax_faults, "fault flags: give --gains-file to run the observer")
+        return
+    names = list(a.faults)
+    for row, name in enumerate(names):
+        t, _, active = a.faults[name].series()
+        ax_faults.fill_between(t * scale, row - 0.35, row + 0.35, where=active > 0, step="post",
+                               color="tab:red", lw=0)
+        ax_faults.axhline(row, color="0.85", lw=0.5, zorder=0)
+    ax_faults.set_yticks(range(len(names)), names, fontsize=8)
+    ax_faults.set_ylim(-0.6, len(names) - 0.4)
+    ax_faults.set_xlabel(label)
+    ax_faults.set_title("Fault flags of the observer (red: raised)", fontsize=10)
+
+
+def plot_capture(plt, a: CaptureAnalysis, path: pathlib.Path) -> None:
+    """Draws the figure of ``a`` into ``path`` (PNG)."""
+    fig = plt.figure(figsize=FIGURE_SIZE_IN)
+    grid = fig.add_gridspec(3, 3, height_ratios=[3.2, 1.5, 1.2])
+    ax_lissajous = fig.add_subplot(grid[0, 0])
+    ax_error = fig.add_subplot(grid[0, 1])
+    ax_spectrum = fig.add_subplot(grid[0, 2])
+    ax_speed = fig.add_subplot(grid[1, :])
+    ax_faults = fig.add_subplot(grid[2, :], sharex=ax_speed if a.faults and a.speed_source else None)
+    _lissajous(ax_lissajous, a)
+    _angle_error(ax_error, ax_spectrum, a)
+    _speed_and_faults(ax_speed, ax_faults, a)
+    fig.suptitle(f"{pathlib.Path(a.path).name}: {a.description}", fontsize=11)
+    fig.tight_layout(rect=(0, 0, 1, 0.975))
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=DPI)
+    plt.close(fig)
+
+
+def pyplot(hint: str = ""):
+    """matplotlib's pyplot on the file-only Agg backend, or a one-line ``RuntimeError``
+    saying how to get it (then ``hint``)."""
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        raise RuntimeError(f"plotting needs matplotlib: pip install 'angletrack[plot]'{hint}") from None
+    return plt
+
+
+def plot_capture_file(
+    s: tracking.TrackSettings, png: pathlib.Path, *, summary_json: Optional[pathlib.Path] = None,
+    max_points: int = MAX_POINTS,
+) -> str:
+    """Analyses ``s.capture``, writes the figure to ``png`` (and the figures' numbers to
+    ``summary_json``); returns the lines to print."""
+    plt = pyplot()
+    if png.suffix.lower() != ".png":
+        raise ValueError(f"plot: {png} is not a .png file name")
+    a = analyse_capture(s, max_points)
+    plot_capture(plt, a, png)
+    lines = [a.describe(), f"plot: {png}"]
+    if summary_json is not None:
+        summary_json.write_text(json.dumps(a.summary(), indent=2) + "\n")
+        lines.append(f"figures: {summary_json}")
+    return "\n".join(lines)

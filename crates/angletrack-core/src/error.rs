@@ -60,6 +60,8 @@ pub enum Parameter {
     MaxAmplitudeMismatch,
     /// The largest quadrature angle (rad) before a fault is flagged.
     MaxQuadrature,
+    /// The coefficients of an [`AngleCorrection`](crate::AngleCorrection) (rad).
+    AngleCorrection,
 }
 
 impl Parameter {
@@ -104,6 +106,7 @@ impl Parameter {
             Parameter::MaxOffset => "max_offset",
             Parameter::MaxAmplitudeMismatch => "max_amplitude_mismatch",
             Parameter::MaxQuadrature => "max_quadrature_rad",
+            Parameter::AngleCorrection => "angle_correction",
         }
     }
 

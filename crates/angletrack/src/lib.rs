@@ -50,13 +50,14 @@
 
 pub use angletrack_core as core;
 pub use angletrack_core::{
-    AngleTrackingObserver, ChannelBank, ConfigError, Estimate, Exact, Fast, FaultThresholds,
-    Faults, Gains, Observer, ObserverState, Parameter, Real, SecondOrderObserver, SinCos,
-    ThirdOrderObserver,
+    AngleCorrection, AngleTrackingObserver, Calibrator, ChannelBank, ConfigError, Estimate, Exact,
+    Fast, FaultThresholds, Faults, Gains, Observer, ObserverState, Parameter, Real,
+    SecondOrderObserver, SensorCalibration, SinCos, ThirdOrderObserver,
 };
 pub use nalgebra::Complex;
 
 mod analysis;
+mod calibration;
 pub mod capture;
 mod design;
 mod error;
@@ -68,6 +69,10 @@ pub use analysis::{
     DesignReport, LARGE_STEP_RAD, PredictedError, SETTLING_BAND, StepResponse,
     max_trackable_speed_rad_s, predicted_error, predicted_error_on_kalman_model,
 };
+pub use calibration::{
+    CalibrationOptions, CaptureCalibration, MIN_ERROR_TRANSFER, error_transfer,
+    learn_angle_correction,
+};
 pub use design::{
     AnyDesign, Design, DesignMethod, Discretisation, KalmanSolution, MAX_POLE_TIMES_PERIOD,
     convert_gains, kalman, kalman_from_jerk_density, kalman_from_jerk_std,
@@ -77,6 +82,6 @@ pub use design::{
 };
 pub use error::{Argument, Error};
 pub use sim::{
-    BatchColumns, ChannelBatch, ErrorStatistics, Kinematics, LANES, MAX_SAMPLES, Metrics,
-    MetricsOptions, Motion, MotionProfile, Run, Scenario, SensorModel, run,
+    BatchColumns, ChannelBatch, ErrorStatistics, Kinematics, LANES, MAX_ANGLE_ERROR_HARMONICS,
+    MAX_SAMPLES, Metrics, MetricsOptions, Motion, MotionProfile, Run, Scenario, SensorModel, run,
 };

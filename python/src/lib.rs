@@ -7,6 +7,7 @@
 use pyo3::prelude::*;
 
 mod analysis;
+mod angle_calibration;
 mod arrays;
 mod batch;
 mod capture;
@@ -43,5 +44,6 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     metrics::register(m)?;
     paper::register(m)?;
     capture::register(m)?;
+    angle_calibration::register(m)?;
     Ok(())
 }

@@ -2,7 +2,7 @@
 
 import os
 from collections.abc import Sequence
-from typing import Literal, Optional, Union
+from typing import Any, Literal, Optional, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -357,6 +357,7 @@ class SensorModel:
         amplitude_imbalance: Optional[float] = None,
         quadrature_error_rad: Optional[float] = None,
         third_harmonic: Optional[float] = None,
+        angle_error_harmonics: Optional[Sequence[tuple[int, float, float]]] = None,
         noise_std: Optional[float] = None,
         adc_bits: Optional[int] = None,
         adc_full_scale: Optional[float] = None,
@@ -367,6 +368,7 @@ class SensorModel:
     amplitude_imbalance: float
     quadrature_error_rad: float
     third_harmonic: float
+    angle_error_harmonics: list[tuple[int, float, float]]
     noise_std: float
     adc_bits: int
     adc_full_scale: float
@@ -508,3 +510,18 @@ class EstimatesWriter:
         """Finishes the file; returns the rows written."""
     def __enter__(self) -> EstimatesWriter: ...
     def __exit__(self, *exc: object) -> bool: ...
+
+# ----------------------------------------------------------- angle error calibration
+
+def learn_calibration(
+    gains: Gains, y_c: _Samples, y_s: _Samples, *, lowest_order: int = 1, highest_order: int = 8,
+    settle_fraction: float = 0.2,
+) -> dict[str, Any]:
+    """The calibration of a capture at roughly constant speed (see ``angletrack.calibrate``)."""
+
+class _CorrectedObserver:
+    def __init__(
+        self, gains: Gains, sensor: tuple[float, float, float, float, float], cos: Sequence[float],
+        sin: Sequence[float],
+    ) -> None: ...
+    def update(self, y_c: _Samples, y_s: _Samples) -> Estimates: ...

@@ -14,7 +14,7 @@ from typing import Callable, Optional, Sequence
 
 
 import angletrack
-from angletrack import export, tracking
+from angletrack import export, harmonics, tracking
 
 
 def _command(sub, run: Callable[[argparse.Namespace], int]) -> argparse.ArgumentParser:
@@ -89,6 +89,7 @@ def _cmd_track(args: argparse.Namespace) -> int:
         skip_s=args.skip,
         lock_tolerance_rad=args.lock_tolerance,
         progress=args.progress or sys.stderr.isatty(),
+        calibration=args.calibration,
     )
     print(tracking.track_capture(settings))
     return 0
@@ -293,7 +294,55 @@ def build_parser() -> argparse.ArgumentParser:
     _add_track_parser(sub)
     _add_design_parser(sub)
     _add_report_parser(sub)
+    _add_calibrate_parser(sub)
     return parser
+
+
+def _cmd_calibrate(args: argparse.Namespace) -> int:
+    """learn a sensor's calibration (offsets, imbalance, quadrature, angle error harmonics)
+
+    Reads CAPTURE (a run at roughly constant speed, at least 5 electrical turns after the
+    first fifth, fast enough that the lowest learned order lies above the loop's bandwidth),
+    tracks it with the gains, and writes what it learned: JSON for `angletrack track
+    --calibration`, or a C header / Rust const block for firmware.
+    """
+    capture = angletrack.read_capture(args.capture, columns=args.columns, delimiter=args.delimiter,
+                                      time_unit=args.time_unit, sample_rate_hz=args.sample_rate)
+    settings = tracking.TrackSettings(capture=args.capture, output=args.output, gains_file=args.gains_file,
+                                      gains=args.gains, sample_rate_hz=args.sample_rate,
+                                      time_unit=args.time_unit)
+    gains = tracking.gains_for_capture(settings, capture.sample_rate_hz if capture.time_s is not None else None)
+    cal = harmonics.calibrate(capture.y_c, capture.y_s, gains, lowest_order=args.lowest_order,
+                              highest_order=args.highest_order)
+    text = {"json": cal.to_json, "c": cal.to_c_header, "rust": cal.to_rust}[args.format]()
+    if args.output is None:
+        print(text, end="")
+    else:
+        args.output.write_text(text)
+    orders = ", ".join(f"{k}: {cal.harmonic_amplitude(k) * 1e3:.3g}" for k in range(args.lowest_order,
+                                                                                     args.highest_order + 1))
+    print(f"learned from {cal.turns:.0f} turns at {cal.speed_rad_s:.6g} rad/s: angle error "
+          f"{cal.error_rms_rad * 1e3:.3g} mrad RMS, {cal.residual_rms_rad * 1e3:.3g} mrad left by the fit; "
+          f"harmonics (mrad) {orders}", file=sys.stderr if args.output is None else sys.stdout)
+    return 0
+
+
+def _add_calibrate_parser(sub) -> None:
+    cal = _command(sub, _cmd_calibrate)
+    cal.add_argument("capture", type=pathlib.Path, metavar="CAPTURE")
+    _add_gains_source(cal)
+    cal.add_argument("--columns", metavar="ROLE=COLUMN,...", help="which columns hold what (as for track)")
+    cal.add_argument("--delimiter", metavar="CHAR", help="field delimiter (default: sniffed)")
+    cal.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s",
+                     help="unit of the time column (default s)")
+    cal.add_argument("--lowest-order", type=int, default=1, metavar="K",
+                     help="lowest harmonic of the angle error learned (default 1)")
+    cal.add_argument("--highest-order", type=int, default=harmonics.MAX_ORDER, metavar="K",
+                     help=f"highest harmonic learned (default and most {harmonics.MAX_ORDER})")
+    cal.add_argument("--format", choices=["json", "c", "rust"], default="json",
+                     help="json (for track --calibration, default), c (header) or rust (const block)")
+    cal.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",
+                     help="where to write it (default: standard output)")
 
 
 def _add_track_parser(sub) -> None:
@@ -320,6 +369,9 @@ def _add_track_parser(sub) -> None:
                        help="with a reference: leave the first S seconds out of the error statistics")
     track.add_argument("--lock-tolerance", type=_positive, default=0.01, metavar="RAD",
                        help="with a reference: angle error of the lock (default 0.01 rad)")
+    track.add_argument("--calibration", type=pathlib.Path, metavar="CAL.json",
+                       help="a calibration from `angletrack calibrate`: the samples are corrected (offsets, "
+                       "imbalance, quadrature, angle error harmonics) before the phase detector (float64)")
     track.add_argument("--progress", action="store_true",
                        help="report progress on stderr (default: only when stderr is a terminal)")
 

@@ -19,7 +19,7 @@ from typing import Optional
 import numpy as np
 
 import angletrack
-from angletrack import export
+from angletrack import export, harmonics
 
 #: Relative difference of two sample rates taken as the same rate (the time column's
 #: spacing check uses the same 1 %).
@@ -47,6 +47,7 @@ class TrackSettings:
     lock_tolerance_rad: float = 0.01
     progress: bool = False
     chunk_rows: int = 1 << 16
+    calibration: Optional[pathlib.Path] = None
 
 
 def _rate_error(capture_hz: float, gains_hz: float, time_unit: str) -> str:
@@ -178,7 +179,12 @@ def track_capture(s: TrackSettings) -> str:
     first = next(chunks)
     gains = gains_for_capture(s, reader.sample_rate_hz if first.time_s is not None else None)
     dtype = np.dtype(s.dtype)
-    observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos)
+    calibration = harmonics.read_calibration(s.calibration)
+    if calibration is not None:
+        dtype = np.dtype(np.float64)
+        observer = harmonics.CalibratedObserver(gains, calibration)
+    else:
+        observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos)
     stats = _ErrorStatistics(s.skip_s, s.lock_tolerance_rad) if first.reference_rad is not None else None
     progress = _Progress(s.progress)
     rejected, y_c_sum = 0, 0.0

@@ -7,8 +7,8 @@ angle as the reference), and track with them removed inside the phase detector.
     >>> theta = 2 * np.pi * 200 * np.arange(5000) * 5e-5
     >>> read = theta + 5e-3 * np.sin(3 * theta + 0.3)
     >>> cal = angletrack.calibrate(np.cos(read) + 0.05, np.sin(read), g)
-    >>> round(cal.harmonic_amplitude(3), 4)
-    0.005
+    >>> abs(cal.harmonic_amplitude(3) - 5e-3) < 3e-4
+    True
     >>> est = angletrack.track_calibrated(g, np.cos(read) + 0.05, np.sin(read), cal)
 
 The learned correction is exact only where the harmonics lie above the loop's bandwidth at

@@ -85,13 +85,14 @@ impl PyDriveOutputs {
             Vec::with_capacity(n),
         );
         for k in 0..n {
-            let estimate = CoreEstimate {
-                angle: angle[k],
-                turns: ((position[k] - angle[k]) / core::f64::consts::TAU).round() as i64,
-                speed: speed[k],
-                acceleration: acceleration[k],
-                ..CoreEstimate::default()
-            };
+            let estimate = CoreEstimate::new(
+                angle[k],
+                ((position[k] - angle[k]) / core::f64::consts::TAU).round() as i64,
+                speed[k],
+                acceleration[k],
+                0.0,
+                angletrack_core::Faults::NONE,
+            );
             let drive = self.outputs.outputs(&mut self.state, &estimate);
             out.0.push(drive.electrical_angle);
             out.1.push(drive.electrical_speed);

@@ -7,6 +7,7 @@
 use pyo3::prelude::*;
 
 mod analysis;
+mod angle_calibration;
 mod arrays;
 mod batch;
 mod calibration;
@@ -49,5 +50,6 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     paper::register(m)?;
     capture::register(m)?;
     resolver::register(m)?;
+    angle_calibration::register(m)?;
     Ok(())
 }

@@ -1,7 +1,7 @@
 //! `SensorModel` and `Scenario`: sampled test signals with their truth, deterministic from a
 //! seed, from the `angletrack` crate.
 
-use angletrack::SensorModel;
+use angletrack::{MAX_ANGLE_ERROR_HARMONICS, SensorModel};
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 
@@ -10,8 +10,20 @@ use crate::calibration::PySensorCalibration;
 use crate::errors::{Error, Result};
 use crate::motion::PyMotionProfile;
 
+/// The sensor model's fixed table of angle error harmonics from the Python list (at most
+/// [`MAX_ANGLE_ERROR_HARMONICS`], checked at construction); unused entries have amplitude 0.
+fn harmonics_table(list: &[(u32, f64, f64)]) -> [(u32, f64, f64); MAX_ANGLE_ERROR_HARMONICS] {
+    let mut table = [(0, 0.0, 0.0); MAX_ANGLE_ERROR_HARMONICS];
+    for (slot, &harmonic) in table.iter_mut().zip(list) {
+        *slot = harmonic;
+    }
+    table
+}
+
 /// The sensor that turns the shaft angle into `y_c` and `y_s`: amplitude, DC offsets,
-/// amplitude imbalance, quadrature error (rad), relative 3rd harmonic, white noise
+/// amplitude imbalance, quadrature error (rad), relative 3rd harmonic, harmonics of the angle
+/// error (`angle_error_harmonics`: up to 8 `(order, amplitude rad, phase rad)`, the reading
+/// being `theta + sum a sin(k theta + p)`), white noise
 /// (standard deviation per channel) and ADC quantisation (`adc_bits`, 0 for none, over
 /// `[-adc_full_scale, adc_full_scale)`). Checked when a scenario is generated.
 #[pyclass(name = "SensorModel", module = "angletrack", frozen, get_all)]
@@ -29,6 +41,8 @@ pub struct PySensorModel {
     quadrature_error_rad: f64,
     /// Relative amplitude of the 3rd harmonic.
     third_harmonic: f64,
+    /// Harmonics `(order, amplitude rad, phase rad)` of the angle error.
+    angle_error_harmonics: Vec<(u32, f64, f64)>,
     /// Standard deviation of the white noise on each signal.
     noise_std: f64,
     /// ADC resolution (bits); 0 for no quantisation.
@@ -46,6 +60,7 @@ impl PySensorModel {
             amplitude_imbalance: self.amplitude_imbalance,
             quadrature_error_rad: self.quadrature_error_rad,
             third_harmonic: self.third_harmonic,
+            angle_error_harmonics: harmonics_table(&self.angle_error_harmonics),
             noise_std: self.noise_std,
             adc_bits: self.adc_bits,
             adc_full_scale: self.adc_full_scale,
@@ -58,7 +73,7 @@ impl PySensorModel {
     #[new]
     #[pyo3(signature = (*, amplitude = None, offset_cos = None, offset_sin = None,
         amplitude_imbalance = None, quadrature_error_rad = None, third_harmonic = None,
-        noise_std = None, adc_bits = None, adc_full_scale = None))]
+        angle_error_harmonics = None, noise_std = None, adc_bits = None, adc_full_scale = None))]
     #[allow(clippy::too_many_arguments)]
     fn py_new(
         amplitude: Option<f64>,
@@ -67,23 +82,35 @@ impl PySensorModel {
         amplitude_imbalance: Option<f64>,
         quadrature_error_rad: Option<f64>,
         third_harmonic: Option<f64>,
+        angle_error_harmonics: Option<Vec<(u32, f64, f64)>>,
         noise_std: Option<f64>,
         adc_bits: Option<u32>,
         adc_full_scale: Option<f64>,
-    ) -> Self {
+    ) -> Result<Self> {
+        let angle_error_harmonics = angle_error_harmonics.unwrap_or_default();
+        if angle_error_harmonics.len() > MAX_ANGLE_ERROR_HARMONICS {
+            return Err(Error::value(
+                "angle_error_harmonics",
+                format!(
+                    "holds {} harmonics, at most {MAX_ANGLE_ERROR_HARMONICS} are supported",
+                    angle_error_harmonics.len()
+                ),
+            ));
+        }
         // Defaults are the crate's ideal sensor.
         let d = SensorModel::default();
-        Self {
+        Ok(Self {
             amplitude: amplitude.unwrap_or(d.amplitude),
             offset_cos: offset_cos.unwrap_or(d.offset_cos),
             offset_sin: offset_sin.unwrap_or(d.offset_sin),
             amplitude_imbalance: amplitude_imbalance.unwrap_or(d.amplitude_imbalance),
             quadrature_error_rad: quadrature_error_rad.unwrap_or(d.quadrature_error_rad),
             third_harmonic: third_harmonic.unwrap_or(d.third_harmonic),
+            angle_error_harmonics,
             noise_std: noise_std.unwrap_or(d.noise_std),
             adc_bits: adc_bits.unwrap_or(d.adc_bits),
             adc_full_scale: adc_full_scale.unwrap_or(d.adc_full_scale),
-        }
+        })
     }
 
     /// The `SensorCalibration` of this sensor (the core's model: `offset_c = offset_cos`,

@@ -103,6 +103,8 @@ pub enum Parameter {
     ProcessNoise,
     /// The measurement noise `r` of a Kalman design.
     MeasurementNoise,
+    /// The coefficients of an [`AngleCorrection`](crate::AngleCorrection) (rad).
+    AngleCorrection,
 }
 
 impl Parameter {
@@ -168,6 +170,7 @@ impl Parameter {
             Parameter::PoleFrequencyRatio => "pole_frequency_ratio (psi)",
             Parameter::ProcessNoise => "process_noise_q",
             Parameter::MeasurementNoise => "measurement_noise_r",
+            Parameter::AngleCorrection => "angle_correction",
         }
     }
 

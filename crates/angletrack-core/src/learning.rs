@@ -333,11 +333,29 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         y_c: T,
         y_s: T,
     ) -> Estimate<T> {
+        self.update_calibrated_mapped(state, calibrator, y_c, y_s, |_, c, s| (c, s))
+    }
+
+    /// [`Gains::update_calibrated`] whose corrected sample goes through `map` (given the
+    /// state before the sample) on its way to the observer, as the angle correction
+    /// ([`Gains::update_calibrated_corrected`]) needs; the estimator still learns from the
+    /// raw sample. With the calibrator off, only `map` applies.
+    #[inline(always)]
+    pub(crate) fn update_calibrated_mapped(
+        &self,
+        state: &mut ObserverState<T, N>,
+        calibrator: &mut Calibrator<T>,
+        y_c: T,
+        y_s: T,
+        map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
+    ) -> Estimate<T> {
         let mode = calibrator.mode;
         if mode == CalibrationMode::Off {
-            return self.update(state, y_c, y_s);
+            let (c, s) = map(state, y_c, y_s);
+            return self.update(state, c, s);
         }
         let (c, s) = calibrator.calibration.correct(y_c, y_s);
+        let (c, s) = map(state, c, s);
         let checked = &self.calibration;
         let learner = Learner {
             calibrator: &mut *calibrator,

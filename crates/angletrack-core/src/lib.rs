@@ -108,6 +108,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 mod adc;
+mod angle_correction;
 mod bank;
 mod calibration;
 mod calibration_settings;
@@ -131,6 +132,7 @@ mod update;
 mod wrap;
 
 pub use adc::{AdcSample, AdcScaling, MAX_MID_SCALE_COUNTS};
+pub use angle_correction::{AngleCorrection, MAX_CORRECTION_ORDER};
 pub use bank::ChannelBank;
 pub use calibration::SensorCalibration;
 pub use calibration_settings::CalibrationSettings;

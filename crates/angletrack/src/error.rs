@@ -58,6 +58,12 @@ pub enum Argument {
     QuadratureError,
     /// The relative 3rd harmonic of the sensor model.
     ThirdHarmonic,
+    /// The harmonics `(order, amplitude, phase)` of the sensor model's angle error.
+    AngleErrorHarmonics,
+    /// The harmonic orders an angle correction learns (`lowest_order`, `highest_order`).
+    CorrectionOrder,
+    /// The capture a calibration learns from (its speed, length or signals).
+    CalibrationCapture,
     /// The number of bits of the ADC.
     AdcBits,
     /// The full scale of the ADC.
@@ -133,6 +139,9 @@ impl Argument {
             Argument::AmplitudeImbalance => "amplitude_imbalance",
             Argument::QuadratureError => "quadrature_error_rad",
             Argument::ThirdHarmonic => "third_harmonic",
+            Argument::AngleErrorHarmonics => "angle_error_harmonics",
+            Argument::CorrectionOrder => "order",
+            Argument::CalibrationCapture => "capture",
             Argument::AdcBits => "adc_bits",
             Argument::AdcFullScale => "adc_full_scale",
             Argument::SeriesLength => "series length",

@@ -57,9 +57,9 @@
 
 pub use angletrack_core as core;
 pub use angletrack_core::{
-    AdcScaling, AngleTrackingObserver, CalibrationMode, CalibrationSettings, Calibrator,
-    ChannelBank, ConfigError, Estimate, Exact, Fast, FaultThresholds, Faults, Gains, Observer,
-    ObserverState, Parameter, Real, SecondOrderObserver, SensorCalibration, SinCos,
+    AdcScaling, AngleCorrection, AngleTrackingObserver, CalibrationMode, CalibrationSettings,
+    Calibrator, ChannelBank, ConfigError, Estimate, Exact, Fast, FaultThresholds, Faults, Gains,
+    Observer, ObserverState, Parameter, Real, SecondOrderObserver, SensorCalibration, SinCos,
     ThirdOrderObserver,
 };
 // The resolver front end (`docs/theory.md §13`).
@@ -70,6 +70,7 @@ pub use angletrack_core::{
 pub use nalgebra::Complex;
 
 mod analysis;
+mod calibration;
 pub mod capture;
 mod design;
 mod error;
@@ -82,6 +83,10 @@ pub use analysis::{
     closed_loop_response, max_trackable_speed_rad_s, predicted_error,
     predicted_error_on_kalman_model,
 };
+pub use calibration::{
+    CalibrationOptions, CaptureCalibration, MIN_ERROR_TRANSFER, error_transfer,
+    learn_angle_correction,
+};
 pub use design::{
     AnyDesign, Design, DesignMethod, Discretisation, KalmanSolution, MAX_POLE_TIMES_PERIOD,
     convert_gains, kalman, kalman_from_jerk_density, kalman_from_jerk_std,
@@ -91,7 +96,8 @@ pub use design::{
 };
 pub use error::{Argument, Error};
 pub use sim::{
-    BatchColumns, ChannelBatch, ErrorStatistics, Kinematics, LANES, MAX_SAMPLES, Metrics,
-    MetricsOptions, Motion, MotionProfile, NOMINAL_AMPLITUDE_SAMPLES, ResolverModel, Run, Scenario,
-    SensorModel, capture_fault_thresholds, nominal_amplitude, run, run_calibrated,
+    BatchColumns, ChannelBatch, ErrorStatistics, Kinematics, LANES, MAX_ANGLE_ERROR_HARMONICS,
+    MAX_SAMPLES, Metrics, MetricsOptions, Motion, MotionProfile, NOMINAL_AMPLITUDE_SAMPLES,
+    ResolverModel, Run, Scenario, SensorModel, capture_fault_thresholds, nominal_amplitude, run,
+    run_calibrated,
 };

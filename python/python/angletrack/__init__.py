@@ -164,11 +164,22 @@ __all__ = [
     "third_order_from_poles",
     "track",
     "track_batch",
+    "Calibration",
+    "CalibratedObserver",
+    "calibrate",
+    "track_calibrated",
 ]
 
 #: Fault flags of ``Estimates.faults`` (uint8 per sample), ``Estimate.faults`` and
 #: ``Observer.latched_faults``, as in an RDC chip's fault register: ``Faults(bits)`` names
 #: them, ``est.faults & Faults.BAD_SAMPLE`` selects one.
+from angletrack.harmonics import (  # noqa: E402
+    CalibratedObserver,
+    Calibration,
+    calibrate,
+    track_calibrated,
+)
+
 Faults = _enum.IntFlag("Faults", dict(FAULT_BITS))
 Faults.__module__ = __name__
 Faults.__doc__ = (

@@ -2,7 +2,7 @@
 
 import os
 from collections.abc import Sequence
-from typing import Literal, Optional, Union
+from typing import Any, Literal, Optional, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -427,6 +427,7 @@ class SensorModel:
         amplitude_imbalance: Optional[float] = None,
         quadrature_error_rad: Optional[float] = None,
         third_harmonic: Optional[float] = None,
+        angle_error_harmonics: Optional[Sequence[tuple[int, float, float]]] = None,
         noise_std: Optional[float] = None,
         adc_bits: Optional[int] = None,
         adc_full_scale: Optional[float] = None,
@@ -437,6 +438,7 @@ class SensorModel:
     amplitude_imbalance: float
     quadrature_error_rad: float
     third_harmonic: float
+    angle_error_harmonics: list[tuple[int, float, float]]
     noise_std: float
     adc_bits: int
     adc_full_scale: float
@@ -692,3 +694,17 @@ class DriveOutputs:
     def update(self, estimates: Estimates) -> DriveAngles: ...
     @property
     def latency_s(self) -> float: ...
+# ----------------------------------------------------------- angle error calibration
+
+def learn_calibration(
+    gains: Gains, y_c: _Samples, y_s: _Samples, *, lowest_order: int = 1, highest_order: int = 8,
+    settle_fraction: float = 0.2,
+) -> dict[str, Any]:
+    """The calibration of a capture at roughly constant speed (see ``angletrack.calibrate``)."""
+
+class _CorrectedObserver:
+    def __init__(
+        self, gains: Gains, sensor: tuple[float, float, float, float, float], cos: Sequence[float],
+        sin: Sequence[float],
+    ) -> None: ...
+    def update(self, y_c: _Samples, y_s: _Samples) -> Estimates: ...

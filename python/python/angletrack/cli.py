@@ -7,6 +7,7 @@ arguments and files, and writes files and text.
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import pathlib
 import sys
@@ -15,7 +16,7 @@ from typing import Callable, Optional, Sequence
 
 import angletrack
 from angletrack import calibration as calibration_io
-from angletrack import export, resolver, tracking
+from angletrack import export, harmonics, resolver, tracking
 
 
 def _command(sub, run: Callable[[argparse.Namespace], int]) -> argparse.ArgumentParser:
@@ -95,6 +96,7 @@ def _cmd_track(args: argparse.Namespace) -> int:
         progress=args.progress or sys.stderr.isatty(),
         observer_arguments=_calibration_arguments(args),
         **resolver.track_options(args),
+        calibration=args.calibration if _is_angle_calibration(args.calibration) else None,
     )
     summary, observer = tracking.track_capture(settings)
     print(summary)
@@ -107,9 +109,25 @@ def _cmd_track(args: argparse.Namespace) -> int:
     return 0
 
 
+def _is_angle_calibration(path: Optional[pathlib.Path]) -> bool:
+    """Whether ``--calibration FILE`` is an angle calibration written by ``angletrack
+    calibrate`` (the sensor's offsets, imbalance and quadrature with its angle-dependent
+    error), rather than the sensor calibration that ``track --calibrate`` writes."""
+    if path is None:
+        return False
+    try:
+        doc = json.loads(pathlib.Path(path).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return False
+    return isinstance(doc, dict) and doc.get("format") == harmonics.JSON_FORMAT
+
+
 def _calibration_arguments(args: argparse.Namespace) -> dict:
     """The ``Observer`` arguments of ``--calibrate`` (learn while tracking, from the stored
-    calibration if one is given) and ``--calibration FILE`` (apply it, frozen)."""
+    calibration if one is given) and ``--calibration FILE`` (apply it, frozen). An angle
+    calibration from ``angletrack calibrate`` goes to the calibrated observer instead."""
+    if _is_angle_calibration(args.calibration):
+        return {}
     stored = None if args.calibration is None else calibration_io.read(args.calibration)
     if args.calibrate:
         return {"calibration": "learn", "initial_calibration": stored}
@@ -409,7 +427,55 @@ def build_parser() -> argparse.ArgumentParser:
     _add_design_parser(sub)
     _add_report_parser(sub)
     _add_plot_parser(sub)
+    _add_calibrate_parser(sub)
     return parser
+
+
+def _cmd_calibrate(args: argparse.Namespace) -> int:
+    """learn a sensor's calibration (offsets, imbalance, quadrature, angle error harmonics)
+
+    Reads CAPTURE (a run at roughly constant speed, at least 5 electrical turns after the
+    first fifth, fast enough that the lowest learned order lies above the loop's bandwidth),
+    tracks it with the gains, and writes what it learned: JSON for `angletrack track
+    --calibration`, or a C header / Rust const block for firmware.
+    """
+    capture = angletrack.read_capture(args.capture, columns=args.columns, delimiter=args.delimiter,
+                                      time_unit=args.time_unit, sample_rate_hz=args.sample_rate)
+    settings = tracking.TrackSettings(capture=args.capture, output=args.output, gains_file=args.gains_file,
+                                      gains=args.gains, sample_rate_hz=args.sample_rate,
+                                      time_unit=args.time_unit)
+    gains = tracking.gains_for_capture(settings, capture.sample_rate_hz if capture.time_s is not None else None)
+    cal = harmonics.calibrate(capture.y_c, capture.y_s, gains, lowest_order=args.lowest_order,
+                              highest_order=args.highest_order)
+    text = {"json": cal.to_json, "c": cal.to_c_header, "rust": cal.to_rust}[args.format]()
+    if args.output is None:
+        print(text, end="")
+    else:
+        args.output.write_text(text)
+    orders = ", ".join(f"{k}: {cal.harmonic_amplitude(k) * 1e3:.3g}" for k in range(args.lowest_order,
+                                                                                     args.highest_order + 1))
+    print(f"learned from {cal.turns:.0f} turns at {cal.speed_rad_s:.6g} rad/s: angle error "
+          f"{cal.error_rms_rad * 1e3:.3g} mrad RMS, {cal.residual_rms_rad * 1e3:.3g} mrad left by the fit; "
+          f"harmonics (mrad) {orders}", file=sys.stderr if args.output is None else sys.stdout)
+    return 0
+
+
+def _add_calibrate_parser(sub) -> None:
+    cal = _command(sub, _cmd_calibrate)
+    cal.add_argument("capture", type=pathlib.Path, metavar="CAPTURE")
+    _add_gains_source(cal)
+    cal.add_argument("--columns", metavar="ROLE=COLUMN,...", help="which columns hold what (as for track)")
+    cal.add_argument("--delimiter", metavar="CHAR", help="field delimiter (default: sniffed)")
+    cal.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s",
+                     help="unit of the time column (default s)")
+    cal.add_argument("--lowest-order", type=int, default=1, metavar="K",
+                     help="lowest harmonic of the angle error learned (default 1)")
+    cal.add_argument("--highest-order", type=int, default=harmonics.MAX_ORDER, metavar="K",
+                     help=f"highest harmonic learned (default and most {harmonics.MAX_ORDER})")
+    cal.add_argument("--format", choices=["json", "c", "rust"], default="json",
+                     help="json (for track --calibration, default), c (header) or rust (const block)")
+    cal.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",
+                     help="where to write it (default: standard output)")
 
 
 def _add_track_parser(sub) -> None:
@@ -444,7 +510,9 @@ def _add_track_parser(sub) -> None:
     track.add_argument("--calibration-out", type=pathlib.Path, metavar="FILE.json",
                        help="with --calibrate: where to write it (default: CAPTURE_calibration.json)")
     track.add_argument("--calibration", type=pathlib.Path, metavar="FILE.json",
-                       help="apply a stored calibration (frozen; with --calibrate, learning starts from it)")
+                       help="apply a stored calibration: one from `angletrack calibrate` (offsets, imbalance, "
+                       "quadrature and the angle error harmonics, corrected before the phase detector, float64), "
+                       "or one that --calibrate wrote (frozen; with --calibrate, learning starts from it)")
     resolver.add_track_arguments(track)
     track.add_argument("--plot", nargs="?", const="", type=_png_path, metavar="FILE.png",
                        help="also draw the capture (as `angletrack plot`) into FILE.png (default: the "

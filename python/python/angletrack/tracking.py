@@ -19,7 +19,7 @@ from typing import Optional
 import numpy as np
 
 import angletrack
-from angletrack import export
+from angletrack import export, harmonics
 
 #: Relative difference of two sample rates taken as the same rate (the time column's
 #: spacing check uses the same 1 %).
@@ -56,6 +56,7 @@ class TrackSettings:
     expected_delay_deg: float = 0.0
     pole_pairs: Optional[int] = None
     latency_s: Optional[float] = None
+    calibration: Optional[pathlib.Path] = None
 
 
 def _rate_error(capture_hz: float, gains_hz: float, time_unit: str) -> str:
@@ -213,7 +214,15 @@ def track_capture(s: TrackSettings) -> tuple[str, Optional[angletrack.Observer]]
     first = next(chunks)
     gains = gains_for_capture(s, reader.sample_rate_hz if first.time_s is not None else None)
     dtype = np.dtype(s.dtype)
-    observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos, **s.observer_arguments)
+    calibration = harmonics.read_calibration(s.calibration)
+    if calibration is not None:
+        if s.observer_arguments:
+            raise ValueError("calibration: --calibrate learns offsets, imbalance and quadrature; an angle "
+                             "calibration from `angletrack calibrate` already holds them")
+        dtype = np.dtype(np.float64)
+        observer = harmonics.CalibratedObserver(gains, calibration)
+    else:
+        observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos, **s.observer_arguments)
     mid = unsigned_mid_scale(reader.sample_dtype, first.y_c, first.y_s)
     stats = _ErrorStatistics(s.skip_s, s.lock_tolerance_rad) if first.reference_rad is not None else None
     progress = _Progress(s.progress)

@@ -19,7 +19,7 @@ pub use metrics::{ErrorStatistics, Metrics, MetricsOptions, Run, run};
 pub use motion::{Kinematics, Motion, MotionProfile};
 pub use resolver::ResolverModel;
 pub use scenario::{MAX_SAMPLES, Scenario};
-pub use sensor::SensorModel;
+pub use sensor::{MAX_ANGLE_ERROR_HARMONICS, SensorModel};
 
 #[cfg(test)]
 mod tests;

@@ -5,12 +5,20 @@ use angletrack_core::SensorCalibration;
 
 use crate::error::{Argument, Error, finite, non_negative, positive};
 
+/// The most harmonics of the angle error a [`SensorModel`] holds.
+pub const MAX_ANGLE_ERROR_HARMONICS: usize = 8;
+
 /// The sensor: what turns the shaft angle into the two signals `y_c`, `y_s`.
 ///
 /// ```text
 /// y_c = A cos(theta) + A h3 cos(3 theta) + offset_cos + w_c
 /// y_s = A (1 + imbalance) sin(theta + quadrature_error) + A h3 sin(3 theta) + offset_sin + w_s
 /// ```
+///
+/// where, with `angle_error_harmonics` `(k, a_k, p_k)`, `theta` in the `cos` and `sin` of
+/// the fundamental is the sensor's reading `theta + d(theta)`,
+/// `d(theta) = sum_k a_k sin(k theta + p_k)`: the angle-dependent error that the
+/// `angletrack` calibration learns ([`crate::learn_angle_correction`]).
 ///
 /// then, with `adc_bits > 0`, rounding to the ADC grid of `2^adc_bits` levels over
 /// `[-adc_full_scale, adc_full_scale)` (saturating). `w_c`, `w_s` are independent white
@@ -35,6 +43,9 @@ pub struct SensorModel {
     pub quadrature_error_rad: f64,
     /// Relative amplitude `h3` of the 3rd harmonic on both signals.
     pub third_harmonic: f64,
+    /// Harmonics of the angle error, `(order k, amplitude a_k in rad, phase p_k in rad)`:
+    /// `d(theta) = sum_k a_k sin(k theta + p_k)`; entries of amplitude 0 are unused.
+    pub angle_error_harmonics: [(u32, f64, f64); MAX_ANGLE_ERROR_HARMONICS],
     /// Standard deviation of the white noise on each signal.
     pub noise_std: f64,
     /// ADC resolution in bits; 0 for no quantisation.
@@ -53,6 +64,7 @@ impl Default for SensorModel {
             amplitude_imbalance: 0.0,
             quadrature_error_rad: 0.0,
             third_harmonic: 0.0,
+            angle_error_harmonics: [(0, 0.0, 0.0); MAX_ANGLE_ERROR_HARMONICS],
             noise_std: 0.0,
             adc_bits: 0,
             adc_full_scale: 1.25,
@@ -119,6 +131,10 @@ impl SensorModel {
         }
         finite(self.quadrature_error_rad, Argument::QuadratureError)?;
         finite(self.third_harmonic, Argument::ThirdHarmonic)?;
+        for &(_, amplitude, phase) in &self.angle_error_harmonics {
+            finite(amplitude, Argument::AngleErrorHarmonics)?;
+            finite(phase, Argument::AngleErrorHarmonics)?;
+        }
         non_negative(self.noise_std, Argument::NoiseStd)?;
         if self.adc_bits > 32 {
             return Err(Error::OutOfRange {
@@ -141,13 +157,23 @@ impl SensorModel {
         code * lsb
     }
 
+    /// The angle error `d(theta)` (rad) of `angle_error_harmonics`.
+    pub fn angle_error(&self, theta: f64) -> f64 {
+        self.angle_error_harmonics
+            .iter()
+            .filter(|h| h.1 != 0.0)
+            .map(|&(k, amplitude, phase)| amplitude * (k as f64 * theta + phase).sin())
+            .sum()
+    }
+
     /// `(y_c, y_s)` for the shaft angle `theta` (rad) and the noise samples.
     pub(super) fn signals(&self, theta: f64, noise_c: f64, noise_s: f64) -> (f64, f64) {
         let a = self.amplitude;
         let h = a * self.third_harmonic;
         let (s3, c3) = (3.0 * theta).sin_cos();
-        let y_c = a * theta.cos() + h * c3 + self.offset_cos + noise_c;
-        let y_s = a * (1.0 + self.amplitude_imbalance) * (theta + self.quadrature_error_rad).sin()
+        let read = theta + self.angle_error(theta);
+        let y_c = a * read.cos() + h * c3 + self.offset_cos + noise_c;
+        let y_s = a * (1.0 + self.amplitude_imbalance) * (read + self.quadrature_error_rad).sin()
             + h * s3
             + self.offset_sin
             + noise_s;

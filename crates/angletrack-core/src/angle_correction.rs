@@ -1,0 +1,299 @@
+//! [`AngleCorrection`]: a sensor's angle-dependent error (harmonics of the electrical angle
+//! that no offset, imbalance or quadrature correction removes), as a `Copy` table of
+//! Fourier coefficients, and [`Gains::update_corrected`], which removes it inside the phase
+//! detector (`docs/theory.md §12`).
+//!
+//! The sensor gives `y = A (cos(theta + d(theta)), sin(theta + d(theta)))` with
+//!
+//! ```text
+//! d(theta) = sum_{k=1..order} a_k cos(k theta) + b_k sin(k theta)
+//! ```
+//!
+//! Rotating the sample by `-d(p)`, `p` the observer's predicted angle, makes the phase
+//! detector's output `sin(theta + d(theta) - p - d(p))`: the detector evaluated at
+//! `p + d(p)`, whose zero is at `p = theta` when `p` is close to `theta`. Inside the loop,
+//! the observer then tracks `theta` itself: its speed and acceleration no longer ripple
+//! with `d`'s harmonics, which a correction of the output angle would leave in them.
+//!
+//! `d(p)` costs one sin/cos of `p` and, per order, the Chebyshev recurrence
+//! `sin((k+1)p) = 2 cos p sin(kp) - sin((k-1)p)` (and its cosine twin) and two
+//! multiply-adds; the rotation, with `sin d = d - d^3/6` and `cos d = 1 - d^2/2`
+//! (within `|d|^4/24` for `|d|` up to [`AngleCorrection::max_total_rad`]), a few more.
+
+use crate::error::{ConfigError, Parameter};
+use crate::gains::Gains;
+use crate::learning::Calibrator;
+use crate::real::Real;
+use crate::sincos::SinCos;
+use crate::state::{Estimate, ObserverState};
+use crate::wrap::wrap_angle;
+
+/// The highest harmonic order an [`AngleCorrection`] holds.
+pub const MAX_CORRECTION_ORDER: usize = 8;
+
+/// An angle-dependent sensor error `d(theta) = sum_k a_k cos(k theta) + b_k sin(k theta)`,
+/// `k = 1..=MAX_CORRECTION_ORDER` (rad), to be removed by [`Gains::update_corrected`] (see
+/// the module's documentation). Learned from a capture by the `angletrack` crate's
+/// `calibrate`; `Copy` and fixed-size, so firmware keeps it in flash and in the
+/// configuration beside the [`Gains`]. The default corrects nothing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AngleCorrection<T> {
+    /// `a_k` (index `k - 1`), rad.
+    cos_coefficients: [T; MAX_CORRECTION_ORDER],
+    /// `b_k` (index `k - 1`), rad.
+    sin_coefficients: [T; MAX_CORRECTION_ORDER],
+    /// The highest order with a non-zero coefficient (0: no correction).
+    order: usize,
+}
+
+impl<T: Real> Default for AngleCorrection<T> {
+    fn default() -> Self {
+        Self::NONE
+    }
+}
+
+impl<T: Real> AngleCorrection<T> {
+    /// No correction.
+    pub const NONE: Self = Self {
+        cos_coefficients: [T::ZERO; MAX_CORRECTION_ORDER],
+        sin_coefficients: [T::ZERO; MAX_CORRECTION_ORDER],
+        order: 0,
+    };
+
+    /// The largest `sum_k |a_k| + |b_k|` (rad), a bound of `|d|`: 0.25 rad, within which the
+    /// rotation's polynomial sin/cos of `d` err by less than `|d|^4/24` (2e-4 at the bound,
+    /// 1e-10 for a sensor's few mrad). Real sensors are within a few tens of mrad.
+    pub fn max_total_rad() -> T {
+        T::from_f32(0.25)
+    }
+
+    /// A correction from its coefficients `cos_coefficients[k - 1] = a_k` and
+    /// `sin_coefficients[k - 1] = b_k` (rad), `d(theta) = sum_k a_k cos(k theta) +
+    /// b_k sin(k theta)`.
+    ///
+    /// Refuses non-finite coefficients and a total `sum_k |a_k| + |b_k|` beyond
+    /// [`AngleCorrection::max_total_rad`] ([`Parameter::AngleCorrection`]).
+    ///
+    /// ```
+    /// use angletrack_core::{AngleCorrection, Parameter};
+    /// // 5 mrad of 3rd harmonic (sine phase) and 5 mrad of 4th (cosine phase).
+    /// let mut a = [0.0_f32; 8];
+    /// let mut b = [0.0_f32; 8];
+    /// b[2] = 5e-3;
+    /// a[3] = 5e-3;
+    /// let correction = AngleCorrection::new(a, b)?;
+    /// assert_eq!(correction.order(), 4);
+    /// let theta = 0.3_f32;
+    /// let d = 5e-3 * (3.0 * theta).sin() + 5e-3 * (4.0 * theta).cos();
+    /// assert!((correction.error_at(theta) - d).abs() < 1e-7);
+    /// b[0] = f32::NAN;
+    /// let err = AngleCorrection::new(a, b).unwrap_err();
+    /// assert_eq!(err.parameter(), Parameter::AngleCorrection);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn new(
+        cos_coefficients: [T; MAX_CORRECTION_ORDER],
+        sin_coefficients: [T; MAX_CORRECTION_ORDER],
+    ) -> Result<Self, ConfigError> {
+        let mut total = T::ZERO;
+        let mut order = 0;
+        for k in 0..MAX_CORRECTION_ORDER {
+            let (a, b) = (cos_coefficients[k], sin_coefficients[k]);
+            if !(a.is_finite() && b.is_finite()) {
+                return Err(ConfigError::NotFinite(Parameter::AngleCorrection));
+            }
+            total += a.abs() + b.abs();
+            if a != T::ZERO || b != T::ZERO {
+                order = k + 1;
+            }
+        }
+        if !(total <= Self::max_total_rad()) {
+            return Err(ConfigError::OutOfRange(Parameter::AngleCorrection));
+        }
+        Ok(Self {
+            cos_coefficients,
+            sin_coefficients,
+            order,
+        })
+    }
+
+    /// The coefficients `(a, b)`: `a[k - 1] = a_k`, `b[k - 1] = b_k` (rad), as
+    /// [`AngleCorrection::new`] takes them.
+    pub fn coefficients(&self) -> ([T; MAX_CORRECTION_ORDER], [T; MAX_CORRECTION_ORDER]) {
+        (self.cos_coefficients, self.sin_coefficients)
+    }
+
+    /// The highest order with a non-zero coefficient (0: no correction); the cost of
+    /// [`AngleCorrection::error_from_sin_cos`] grows with it.
+    pub fn order(&self) -> usize {
+        self.order
+    }
+
+    /// `d(angle)` (rad) for `angle` in [-pi, pi], with the polynomial sin/cos
+    /// (`docs/theory.md §11`).
+    pub fn error_at(&self, angle: T) -> T {
+        let (sin, cos) = angle.fast_sin_cos();
+        self.error_from_sin_cos(sin, cos)
+    }
+
+    /// `d(p)` (rad) from `sin p` and `cos p`: the Chebyshev recurrence up to
+    /// [`AngleCorrection::order`], four multiply-adds per order.
+    #[inline(always)]
+    pub fn error_from_sin_cos(&self, sin: T, cos: T) -> T {
+        let two_cos = cos + cos;
+        let (mut sin_prev, mut cos_prev) = (T::ZERO, T::ONE);
+        let (mut sin_k, mut cos_k) = (sin, cos);
+        let mut d = T::ZERO;
+        for k in 0..self.order.min(MAX_CORRECTION_ORDER) {
+            d += self.cos_coefficients[k] * cos_k + self.sin_coefficients[k] * sin_k;
+            let sin_next = two_cos * sin_k - sin_prev;
+            let cos_next = two_cos * cos_k - cos_prev;
+            (sin_prev, cos_prev, sin_k, cos_k) = (sin_k, cos_k, sin_next, cos_next);
+        }
+        d
+    }
+
+    /// The sample `(y_c, y_s)` rotated by `-d(p)`, `(sin p, cos p)` given: the phase
+    /// detector at `p` then gives what it would at `p + d(p)` (see the module's
+    /// documentation). Keeps the sample's magnitude (to `|d|^4/24`).
+    #[inline(always)]
+    pub fn rotate(&self, sin_p: T, cos_p: T, y_c: T, y_s: T) -> (T, T) {
+        let d = self.error_from_sin_cos(sin_p, cos_p);
+        let d2 = d * d;
+        let sin_d = d - d * d2 * T::from_f32(1.0 / 6.0);
+        let cos_d = T::ONE - d2 * T::HALF;
+        (y_c * cos_d + y_s * sin_d, y_s * cos_d - y_c * sin_d)
+    }
+
+    /// The sample rotated by `-d` of the angle the observer in `state` predicts for it (see
+    /// [`AngleCorrection::rotate`]); unchanged while the state has no angle yet (its first
+    /// sample sets the angle from `atan2`, off by `d` there, which the loop then removes),
+    /// or when there is nothing to correct.
+    #[inline(always)]
+    pub(crate) fn rotate_for<S: SinCos<T>, const N: usize>(
+        &self,
+        state: &ObserverState<T, N>,
+        y_c: T,
+        y_s: T,
+    ) -> (T, T) {
+        if self.order == 0 || !state.initialised {
+            return (y_c, y_s);
+        }
+        let mut p = state.next_angle;
+        wrap_angle(&mut p);
+        let (sin_p, cos_p) = S::sin_cos(p);
+        self.rotate(sin_p, cos_p, y_c, y_s)
+    }
+}
+
+impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
+    /// One sample with the sensor's angle-dependent error `correction` removed inside the
+    /// phase detector (see [`AngleCorrection`]): the sample is rotated by `-d(p)` of the
+    /// predicted angle `p`, then goes through [`Gains::update`]. The estimate's angle,
+    /// speed and acceleration are then those of the shaft, without `d`'s harmonics.
+    ///
+    /// ```
+    /// use angletrack_core::{AngleCorrection, Gains, ObserverState};
+    /// let gains = Gains::<f64, 3>::new([0.06, 0.0019, 3e-5], 1e-4)?;
+    /// let mut b = [0.0; 8];
+    /// b[2] = 0.01; // the sensor reads theta + 0.01 sin(3 theta)
+    /// let correction = AngleCorrection::new([0.0; 8], b)?;
+    /// let (mut plain, mut corrected) = (ObserverState::new(), ObserverState::new());
+    /// let speed = 2.0 * core::f64::consts::PI * 50.0;
+    /// let (mut worst_plain, mut worst_corrected) = (0.0_f64, 0.0_f64);
+    /// for k in 0..8000 {
+    ///     let theta = speed * k as f64 * 1e-4;
+    ///     let measured = theta + 0.01 * (3.0 * theta).sin();
+    ///     let (y_c, y_s) = (measured.cos(), measured.sin());
+    ///     let e = gains.update(&mut plain, y_c, y_s);
+    ///     let f = gains.update_corrected(&mut corrected, &correction, y_c, y_s);
+    ///     if k > 4000 {
+    ///         let error = |angle: f64| (angle - theta).sin().abs();
+    ///         worst_plain = worst_plain.max(error(e.angle));
+    ///         worst_corrected = worst_corrected.max(error(f.angle));
+    ///     }
+    /// }
+    /// assert!(worst_plain > 5e-3 && worst_corrected < 1e-4);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    #[inline]
+    pub fn update_corrected(
+        &self,
+        state: &mut ObserverState<T, N>,
+        correction: &AngleCorrection<T>,
+        y_c: T,
+        y_s: T,
+    ) -> Estimate<T> {
+        let (c, s) = correction.rotate_for::<S, N>(state, y_c, y_s);
+        self.update(state, c, s)
+    }
+
+    /// [`Gains::update_calibrated`] with the angle-dependent error `correction` removed as
+    /// in [`Gains::update_corrected`]: the sample is corrected by the calibrator's
+    /// [`SensorCalibration`](crate::SensorCalibration) (offsets, imbalance, quadrature),
+    /// then rotated by `-d(p)`; the calibrator learns from the raw sample as it does alone.
+    #[inline]
+    pub fn update_calibrated_corrected(
+        &self,
+        state: &mut ObserverState<T, N>,
+        calibrator: &mut Calibrator<T>,
+        correction: &AngleCorrection<T>,
+        y_c: T,
+        y_s: T,
+    ) -> Estimate<T> {
+        self.update_calibrated_mapped(state, calibrator, y_c, y_s, |state, c, s| {
+            correction.rotate_for::<S, N>(state, c, s)
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn recurrence_matches_direct_sum_to_the_highest_order() {
+        let mut a = [0.0_f64; MAX_CORRECTION_ORDER];
+        let mut b = [0.0_f64; MAX_CORRECTION_ORDER];
+        for k in 0..MAX_CORRECTION_ORDER {
+            a[k] = 1e-3 * (k as f64 + 1.0);
+            b[k] = -7e-4 * (k as f64 * 0.7).cos();
+        }
+        let correction = AngleCorrection::new(a, b).unwrap();
+        assert_eq!(correction.order(), MAX_CORRECTION_ORDER);
+        for i in 0..100 {
+            let theta = -3.1 + 0.062 * i as f64;
+            let direct: f64 = (0..MAX_CORRECTION_ORDER)
+                .map(|k| {
+                    let kt = (k as f64 + 1.0) * theta;
+                    a[k] * libm::cos(kt) + b[k] * libm::sin(kt)
+                })
+                .sum();
+            assert!((correction.error_at(theta) - direct).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn too_large_a_correction_is_refused() {
+        let mut a = [0.0_f32; MAX_CORRECTION_ORDER];
+        a[0] = 0.2;
+        a[1] = -0.06;
+        assert_eq!(
+            AngleCorrection::new(a, [0.0; MAX_CORRECTION_ORDER]),
+            Err(ConfigError::OutOfRange(Parameter::AngleCorrection))
+        );
+    }
+
+    #[test]
+    fn rotation_moves_the_detector_by_the_error() {
+        let mut b = [0.0_f32; MAX_CORRECTION_ORDER];
+        b[3] = 0.02;
+        let correction = AngleCorrection::new([0.0; MAX_CORRECTION_ORDER], b).unwrap();
+        let p = 0.4_f32;
+        let d = 0.02 * libm::sinf(4.0 * p);
+        let (y_c, y_s) = (libm::cosf(p + d), libm::sinf(p + d));
+        let (c, s) = correction.rotate(libm::sinf(p), libm::cosf(p), y_c, y_s);
+        assert!((s * libm::cosf(p) - c * libm::sinf(p)).abs() < 1e-6);
+        assert!((c * c + s * s - 1.0).abs() < 1e-6);
+    }
+}

@@ -60,3 +60,45 @@ def default_path(capture: pathlib.Path, output: Optional[pathlib.Path] = None) -
     """Where ``--calibrate`` writes without ``--calibration-out``: ``CAPTURE_calibration.json``
     beside the capture."""
     return output or capture.with_name(capture.stem + "_calibration.json")
+
+
+def is_angle_calibration(path: Optional[pathlib.Path]) -> bool:
+    """Whether ``--calibration FILE`` is an angle calibration written by ``angletrack
+    calibrate`` (the sensor's offsets, imbalance and quadrature with its angle-dependent
+    error), rather than the sensor calibration that ``track --calibrate`` writes."""
+    from angletrack import harmonics
+
+    if path is None:
+        return False
+    try:
+        doc = json.loads(pathlib.Path(path).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return False
+    return isinstance(doc, dict) and doc.get("format") == harmonics.JSON_FORMAT
+
+
+def observer_arguments(calibrate: bool, path: Optional[pathlib.Path]) -> dict:
+    """The ``Observer`` arguments of ``--calibrate`` (learn while tracking, from the stored
+    calibration if one is given) and ``--calibration FILE`` (apply it, frozen). An angle
+    calibration from ``angletrack calibrate`` goes to the calibrated observer instead."""
+    if is_angle_calibration(path):
+        return {}
+    stored = None if path is None else read(path)
+    if calibrate:
+        return {"calibration": "learn", "initial_calibration": stored}
+    if stored is not None:
+        return {"calibration": "frozen", "initial_calibration": stored}
+    return {}
+
+
+def write_learned(capture: pathlib.Path, output: Optional[pathlib.Path], observer: Any) -> str:
+    """Writes what ``observer`` learned beside the estimates of ``capture`` (or to
+    ``output``) and returns the line that says so."""
+    path = default_path(capture, output)
+    learned = observer.calibration
+    write(path, learned, turns_learned=observer.calibration_turns_learned, source=str(capture))
+    return (
+        f"calibration learned over {observer.calibration_turns_learned} turns -> {path}: offsets "
+        f"{learned.offset_c:.6g}, {learned.offset_s:.6g}; amplitudes {learned.amplitude_c:.6g}, "
+        f"{learned.amplitude_s:.6g}; quadrature {learned.quadrature_rad:.6g} rad"
+    )

@@ -7,7 +7,6 @@ arguments and files, and writes files and text.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import pathlib
 import sys
@@ -94,62 +93,20 @@ def _cmd_track(args: argparse.Namespace) -> int:
         skip_s=args.skip,
         lock_tolerance_rad=args.lock_tolerance,
         progress=args.progress or sys.stderr.isatty(),
-        observer_arguments=_calibration_arguments(args),
+        observer_arguments=calibration_io.observer_arguments(args.calibrate, args.calibration),
         **resolver.track_options(args),
-        calibration=args.calibration if _is_angle_calibration(args.calibration) else None,
+        calibration=args.calibration if calibration_io.is_angle_calibration(args.calibration) else None,
     )
     summary, observer = tracking.track_capture(settings)
     print(summary)
-    _write_calibration(args, observer)
+    if args.calibrate and observer is not None:
+        print(calibration_io.write_learned(args.capture, args.calibration_out, observer))
     if args.plot is not None:
         from angletrack import plots
 
         png = args.plot or settings.output.with_suffix(".png")
         print(plots.plot_capture_file(settings, png))
     return 0
-
-
-def _is_angle_calibration(path: Optional[pathlib.Path]) -> bool:
-    """Whether ``--calibration FILE`` is an angle calibration written by ``angletrack
-    calibrate`` (the sensor's offsets, imbalance and quadrature with its angle-dependent
-    error), rather than the sensor calibration that ``track --calibrate`` writes."""
-    if path is None:
-        return False
-    try:
-        doc = json.loads(pathlib.Path(path).read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return False
-    return isinstance(doc, dict) and doc.get("format") == harmonics.JSON_FORMAT
-
-
-def _calibration_arguments(args: argparse.Namespace) -> dict:
-    """The ``Observer`` arguments of ``--calibrate`` (learn while tracking, from the stored
-    calibration if one is given) and ``--calibration FILE`` (apply it, frozen). An angle
-    calibration from ``angletrack calibrate`` goes to the calibrated observer instead."""
-    if _is_angle_calibration(args.calibration):
-        return {}
-    stored = None if args.calibration is None else calibration_io.read(args.calibration)
-    if args.calibrate:
-        return {"calibration": "learn", "initial_calibration": stored}
-    if stored is not None:
-        return {"calibration": "frozen", "initial_calibration": stored}
-    return {}
-
-
-def _write_calibration(args: argparse.Namespace, observer: Optional[angletrack.Observer]) -> None:
-    """With ``--calibrate``: writes what the observer learned beside the estimates."""
-    if not args.calibrate or observer is None:
-        return
-    path = calibration_io.default_path(args.capture, args.calibration_out)
-    learned = observer.calibration
-    calibration_io.write(
-        path, learned, turns_learned=observer.calibration_turns_learned, source=str(args.capture)
-    )
-    print(
-        f"calibration learned over {observer.calibration_turns_learned} turns -> {path}: offsets "
-        f"{learned.offset_c:.6g}, {learned.offset_s:.6g}; amplitudes {learned.amplitude_c:.6g}, "
-        f"{learned.amplitude_s:.6g}; quadrature {learned.quadrature_rad:.6g} rad"
-    )
 
 
 # ----------------------------------------------------------------------------- design

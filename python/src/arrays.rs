@@ -178,12 +178,7 @@ pub fn samples<'py, T: Element + Copy>(
     let typed = array
         .cast_into::<PyArray1<T>>()
         .map_err(|e| Error::Python(e.into()))?;
-    let view = typed.try_readonly().map_err(|e| {
-        Error::value(
-            parameter,
-            format!("cannot be read while it is being written ({e})"),
-        )
-    })?;
+    let view = read_only(&typed, parameter)?;
     if view.as_slice().is_ok() {
         return Ok(Samples::Borrowed(view));
     }
@@ -259,4 +254,17 @@ pub fn channel_samples<'py, T: Element + Copy>(
         samples::<T>(&flat, parameter)?;
     }
     Ok((flat, channels, per_channel))
+}
+
+/// A read-only view of `typed`, refused naming `parameter` while Python code writes to it.
+pub(crate) fn read_only<'py, E: Element>(
+    typed: &Bound<'py, PyArray1<E>>,
+    parameter: &'static str,
+) -> Result<PyReadonlyArray1<'py, E>> {
+    typed.try_readonly().map_err(|e| {
+        Error::value(
+            parameter,
+            format!("cannot be read while it is being written ({e})"),
+        )
+    })
 }

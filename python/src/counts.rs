@@ -16,7 +16,7 @@ use numpy::prelude::*;
 use numpy::{Element, PyArray1, PyArrayDescr, PyUntypedArray, dtype};
 use pyo3::prelude::*;
 
-use crate::arrays::{Samples, samples};
+use crate::arrays::{Samples, read_only, samples};
 use crate::dispatch::Sample;
 use crate::errors::{Error, Result};
 
@@ -225,11 +225,6 @@ fn counts<I: Count>(array: &Bound<'_, PyUntypedArray>, parameter: &'static str) 
     let typed = array
         .cast::<PyArray1<I>>()
         .map_err(|e| Error::Python(e.into()))?;
-    let view = typed.try_readonly().map_err(|e| {
-        Error::value(
-            parameter,
-            format!("cannot be read while it is being written ({e})"),
-        )
-    })?;
+    let view = read_only(typed, parameter)?;
     Ok(view.as_array().iter().copied().collect())
 }

@@ -110,16 +110,23 @@ def to_json(gains: Gains, *, metadata: dict[str, Any] | None = None) -> str:
     return json.dumps(doc, indent=2) + "\n"
 
 
-def gains_from_json(text: str) -> Gains:
-    """The :class:`Gains` of a JSON document written by :func:`to_json` (checked again)."""
+def json_document(text: str, what: str, format: str, version: int) -> dict:
+    """The JSON object of ``text``, checked to be a ``format`` document of ``version``;
+    ``ValueError`` starting with ``what`` (``"gains file"``) otherwise."""
     try:
         doc = json.loads(text)
     except json.JSONDecodeError as e:
-        raise ValueError(f"gains file: not JSON ({e})") from None
-    if not isinstance(doc, dict) or doc.get("format") != JSON_FORMAT:
-        raise ValueError(f"gains file: not an {JSON_FORMAT} document")
-    if doc.get("version") != JSON_VERSION:
-        raise ValueError(f"gains file: version {doc.get('version')!r} is not supported (expected {JSON_VERSION})")
+        raise ValueError(f"{what}: not JSON ({e})") from None
+    if not isinstance(doc, dict) or doc.get("format") != format:
+        raise ValueError(f"{what}: not an {format} document")
+    if doc.get("version") != version:
+        raise ValueError(f"{what}: version {doc.get('version')!r} is not supported (expected {version})")
+    return doc
+
+
+def gains_from_json(text: str) -> Gains:
+    """The :class:`Gains` of a JSON document written by :func:`to_json` (checked again)."""
+    doc = json_document(text, "gains file", JSON_FORMAT, JSON_VERSION)
     for key in ("gains", "sample_period_s"):
         if key not in doc:
             raise ValueError(f"gains file: missing {key!r}")

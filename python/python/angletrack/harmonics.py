@@ -69,14 +69,7 @@ class Calibration:
     def from_json(cls, text: str) -> "Calibration":
         """The calibration of a document written by :meth:`to_json` (checked by the core when
         used)."""
-        try:
-            doc = json.loads(text)
-        except json.JSONDecodeError as e:
-            raise ValueError(f"calibration file: not JSON ({e})") from None
-        if not isinstance(doc, dict) or doc.get("format") != JSON_FORMAT:
-            raise ValueError(f"calibration file: not an {JSON_FORMAT} document")
-        if doc.get("version") != JSON_VERSION:
-            raise ValueError(f"calibration file: version {doc.get('version')!r} is not supported")
+        doc = export.json_document(text, "calibration file", JSON_FORMAT, JSON_VERSION)
         for key, length in (("sensor", 5), ("cos", MAX_ORDER), ("sin", MAX_ORDER)):
             if not isinstance(doc.get(key), list) or len(doc[key]) != length:
                 raise ValueError(f"calibration file: {key!r} must be a list of {length} numbers")

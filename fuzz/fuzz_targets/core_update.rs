@@ -75,19 +75,18 @@ where
     };
     if let Some(t) = &input.thresholds {
         let f = T::from_f64;
-        let thresholds = FaultThresholds {
-            nominal_amplitude: f(t.nominal_amplitude),
-            max_input_amplitude: f(t.max_input_amplitude),
-            loss_of_signal: f(t.loss_of_signal),
-            degradation_low: f(t.degradation_low),
-            degradation_high: f(t.degradation_high),
-            loss_of_tracking: f(t.loss_of_tracking),
-            max_speed: t.max_speed.map(f),
-            filter_factor: f(t.filter_factor),
-            false_lock: f(t.false_lock),
-            monitor: t.monitor,
-            re_acquire: t.re_acquire,
-        };
+        let mut thresholds = FaultThresholds::default();
+        thresholds.nominal_amplitude = f(t.nominal_amplitude);
+        thresholds.max_input_amplitude = f(t.max_input_amplitude);
+        thresholds.loss_of_signal = f(t.loss_of_signal);
+        thresholds.degradation_low = f(t.degradation_low);
+        thresholds.degradation_high = f(t.degradation_high);
+        thresholds.loss_of_tracking = f(t.loss_of_tracking);
+        thresholds.max_speed = t.max_speed.map(f);
+        thresholds.filter_factor = f(t.filter_factor);
+        thresholds.false_lock = f(t.false_lock);
+        thresholds.monitor = t.monitor;
+        thresholds.re_acquire = t.re_acquire;
         match gains.with_fault_thresholds(thresholds) {
             Ok(g) => gains = g,
             Err(_) => return,
@@ -96,12 +95,11 @@ where
     let mut calibrator = Calibrator::new();
     if let Some(c) = &input.calibration {
         let f = T::from_f64;
-        let settings = CalibrationSettings {
-            min_speed_rad_s: c.min_speed_rad_s.map(f),
-            max_offset: f(c.max_offset),
-            max_amplitude_mismatch: f(c.max_amplitude_mismatch),
-            max_quadrature_rad: f(c.max_quadrature_rad),
-        };
+        let mut settings = CalibrationSettings::default();
+        settings.min_speed_rad_s = c.min_speed_rad_s.map(f);
+        settings.max_offset = f(c.max_offset);
+        settings.max_amplitude_mismatch = f(c.max_amplitude_mismatch);
+        settings.max_quadrature_rad = f(c.max_quadrature_rad);
         if let Ok(g) = gains.with_calibration_settings(settings) {
             gains = g;
         }

@@ -77,19 +77,19 @@ impl PyFaultThresholds {
 
     /// The thresholds in float type `T`.
     pub fn typed<T: Real>(&self) -> CoreThresholds<T> {
-        CoreThresholds {
-            nominal_amplitude: T::from_f64(self.nominal_amplitude),
-            max_input_amplitude: T::from_f64(self.max_input_amplitude),
-            loss_of_signal: T::from_f64(self.loss_of_signal),
-            degradation_low: T::from_f64(self.degradation_low),
-            degradation_high: T::from_f64(self.degradation_high),
-            loss_of_tracking: T::from_f64(self.loss_of_tracking),
-            max_speed: self.max_speed_rad_s.map(T::from_f64),
-            filter_factor: T::from_f64(self.filter_factor),
-            false_lock: T::from_f64(self.false_lock),
-            monitor: self.monitor,
-            re_acquire: self.re_acquire,
-        }
+        let mut t = CoreThresholds::default();
+        t.nominal_amplitude = T::from_f64(self.nominal_amplitude);
+        t.max_input_amplitude = T::from_f64(self.max_input_amplitude);
+        t.loss_of_signal = T::from_f64(self.loss_of_signal);
+        t.degradation_low = T::from_f64(self.degradation_low);
+        t.degradation_high = T::from_f64(self.degradation_high);
+        t.loss_of_tracking = T::from_f64(self.loss_of_tracking);
+        t.max_speed = self.max_speed_rad_s.map(T::from_f64);
+        t.filter_factor = T::from_f64(self.filter_factor);
+        t.false_lock = T::from_f64(self.false_lock);
+        t.monitor = self.monitor;
+        t.re_acquire = self.re_acquire;
+        t
     }
 }
 

@@ -21,6 +21,7 @@ use crate::sincos::SinCos;
 /// | `max_quadrature_rad` | 0.1 rad (5.7 degrees) |
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub struct CalibrationSettings<T> {
     /// The estimator learns only above this electrical speed (rad/s): a rotor at rest carries
     /// no information. `None`: one turn in 4096 samples. At least one turn in `2^20`
@@ -145,12 +146,14 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// ```
     /// use angletrack_core::{CalibrationSettings, Gains, Parameter};
     /// let gains = Gains::<f32, 3>::new([0.3, 0.04, 0.002], 1e-4)?
-    ///     .with_calibration_settings(CalibrationSettings {
-    ///         min_speed_rad_s: Some(50.0),
-    ///         ..CalibrationSettings::default()
+    ///     .with_calibration_settings({
+    ///         let mut s = CalibrationSettings::default();
+    ///         s.min_speed_rad_s = Some(50.0);
+    ///         s
     ///     })?;
     /// assert_eq!(gains.calibration_settings().min_speed_rad_s, Some(50.0));
-    /// let slow = CalibrationSettings { min_speed_rad_s: Some(1e-3), ..Default::default() };
+    /// let mut slow = CalibrationSettings::default();
+    /// slow.min_speed_rad_s = Some(1e-3);
     /// let err = gains.with_calibration_settings(slow).unwrap_err();
     /// assert_eq!(err.parameter(), Parameter::MinSpeed);
     /// # Ok::<(), angletrack_core::ConfigError>(())

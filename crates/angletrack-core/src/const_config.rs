@@ -186,9 +186,10 @@ macro_rules! const_config {
             ///
             /// ```
             /// use angletrack_core::{CalibrationSettings, Gains};
-            #[doc = concat!("const SETTINGS: CalibrationSettings<", stringify!($t), "> = CalibrationSettings {")]
-            ///     min_speed_rad_s: Some(50.0),
-            #[doc = concat!("    ..CalibrationSettings::<", stringify!($t), ">::default_const()")]
+            #[doc = concat!("const SETTINGS: CalibrationSettings<", stringify!($t), "> = {")]
+            #[doc = concat!("    let mut s = CalibrationSettings::<", stringify!($t), ">::default_const();")]
+            ///     s.min_speed_rad_s = Some(50.0);
+            ///     s
             /// };
             #[doc = concat!("static GAINS: Gains<", stringify!($t), ", 2> = match Gains::<", stringify!($t), ", 2>::new_const([0.05, 0.0012], 1e-4) {")]
             ///     Ok(gains) => match gains.with_calibration_settings_const(SETTINGS) {
@@ -231,9 +232,10 @@ macro_rules! const_config {
             ///
             /// ```
             /// use angletrack_core::{ConfigError, FaultThresholds, Parameter};
-            #[doc = concat!("const BAD: FaultThresholds<", stringify!($t), "> = FaultThresholds {")]
-            ///     filter_factor: 1.5,
-            #[doc = concat!("    ..FaultThresholds::<", stringify!($t), ">::for_amplitude_const(1.0)")]
+            #[doc = concat!("const BAD: FaultThresholds<", stringify!($t), "> = {")]
+            #[doc = concat!("    let mut t = FaultThresholds::<", stringify!($t), ">::for_amplitude_const(1.0);")]
+            ///     t.filter_factor = 1.5;
+            ///     t
             /// };
             /// const CHECK: Result<(), ConfigError> = match BAD.check_const(50e-6) {
             ///     Ok(_) => Ok(()),
@@ -246,9 +248,10 @@ macro_rules! const_config {
             ///
             /// ```compile_fail,E0080
             /// use angletrack_core::FaultThresholds;
-            #[doc = concat!("static THRESHOLDS: FaultThresholds<", stringify!($t), "> = match FaultThresholds {")]
-            ///     filter_factor: 1.5,
-            #[doc = concat!("    ..FaultThresholds::<", stringify!($t), ">::for_amplitude_const(1.0)")]
+            #[doc = concat!("static THRESHOLDS: FaultThresholds<", stringify!($t), "> = match {")]
+            #[doc = concat!("    let mut t = FaultThresholds::<", stringify!($t), ">::for_amplitude_const(1.0);")]
+            ///     t.filter_factor = 1.5;
+            ///     t
             /// }
             /// .check_const(50e-6)
             /// {

@@ -124,7 +124,8 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// let gains = Gains::<f32, 3>::new([0.3, 0.04, 0.002], 1e-4)?
     ///     .with_fault_thresholds(FaultThresholds::for_amplitude(2048.0))?;
     /// assert_eq!(gains.fault_thresholds().nominal_amplitude, 2048.0);
-    /// let bad = FaultThresholds { filter_factor: 1.5, ..FaultThresholds::default() };
+    /// let mut bad = FaultThresholds::default();
+    /// bad.filter_factor = 1.5;
     /// let err = gains.with_fault_thresholds(bad).unwrap_err();
     /// assert_eq!(err.parameter(), Parameter::FilterFactor);
     /// # Ok::<(), angletrack_core::ConfigError>(())

@@ -32,6 +32,7 @@ use crate::real::Real;
 /// | `re_acquire` | `true` |
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
 pub struct FaultThresholds<T> {
     /// The amplitude of a healthy signal.
     pub nominal_amplitude: T,

@@ -75,10 +75,8 @@ where
     if let Ok(adc) = AdcScaling::<f32>::offset_binary(black_box(12)) {
         sum += adc.scale(black_box(17u16));
     }
-    let settings = CalibrationSettings {
-        min_speed_rad_s: Some(black_box(20.0)),
-        ..CalibrationSettings::default()
-    };
+    let mut settings = CalibrationSettings::default();
+    settings.min_speed_rad_s = Some(black_box(20.0));
     let Ok(gains) = gains.with_calibration_settings(settings) else {
         return sum;
     };

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Robustness of the core: no panic path in the f32 update (proved by linking), no f64
-# software routine on the Fast path, the core's tests under Miri, and each fuzz target for
-# about a minute on the corpus kept in fuzz/corpus.
+# software routine on the Fast path, the core's and the C API's tests under Miri, and each
+# fuzz target for about a minute on the corpus kept in fuzz/corpus.
 set -euo pipefail
 source scripts/lib.sh
 need_rust
@@ -34,12 +34,13 @@ if ! grep -qE "$panics" <<<"$symbols"; then
 fi
 echo "no panic path; no f64 routine on the Fast path; the negative control is detected"
 
-echo "--- Miri: the core's unit tests"
+echo "--- Miri: the core's unit tests and the C API's (its unsafe slots and extern calls)"
 rustup toolchain install nightly --profile minimal >/dev/null 2>&1 || true
 rustup +nightly component add miri rust-src >/dev/null
 # The workspace optimises its test builds; Miri ignores opt-level and warns, so it gets 0.
 # libm computes sqrt by inline assembly on x86, which Miri cannot run: its portable code instead.
-cargo +nightly miri test --config profile.test.opt-level=0 -p angletrack-core --lib --features libm/force-soft-floats
+cargo +nightly miri test --config profile.test.opt-level=0 -p angletrack-core -p angletrack-c --lib \
+  --features libm/force-soft-floats
 
 echo "--- fuzzing (${fuzz_seconds} s per target)"
 if [[ "$(cargo fuzz --version 2>/dev/null || true)" != *" 0.13."* ]]; then

@@ -1,6 +1,8 @@
 //! `at_adc_f32`: the ADC front end (the core's `AdcScaling<f32>`), which makes raw integer
 //! samples the observer's input: `y = (raw - mid_scale_counts) / counts_per_unit`.
 
+use core::mem::MaybeUninit;
+
 use angletrack_core::{AdcScaling, ConfigError};
 
 use crate::slot;
@@ -17,7 +19,7 @@ pub const AT_ADC_F32_WORDS: usize = 2;
 #[derive(Debug, Clone, Copy)]
 pub struct at_adc_f32 {
     /// Private: the Rust value.
-    storage: [u64; AT_ADC_F32_WORDS],
+    storage: [MaybeUninit<u64>; AT_ADC_F32_WORDS],
     /// Private: whether `storage` holds it.
     tag: u32,
 }
@@ -26,7 +28,7 @@ impl at_adc_f32 {
     /// A zeroed struct, as C static memory holds before its constructor.
     #[cfg(test)]
     pub(crate) const ZEROED: Self = Self {
-        storage: [0; AT_ADC_F32_WORDS],
+        storage: [MaybeUninit::new(0); AT_ADC_F32_WORDS],
         tag: 0,
     };
 

@@ -2,6 +2,8 @@
 //! and `at_sensor_calibration_f32` (the sensor's offsets, amplitudes and quadrature as
 //! plain floats, which firmware stores in flash and loads at start-up).
 
+use core::mem::MaybeUninit;
+
 use angletrack_core::{CalibrationMode, Calibrator, SensorCalibration};
 
 use crate::slot;
@@ -25,7 +27,7 @@ pub const AT_CALIBRATION_FROZEN: u32 = 2;
 #[derive(Debug, Clone, Copy)]
 pub struct at_calibrator_f32 {
     /// Private: the Rust value.
-    storage: [u64; AT_CALIBRATOR_F32_WORDS],
+    storage: [MaybeUninit<u64>; AT_CALIBRATOR_F32_WORDS],
     /// Private: whether `storage` holds it (0: a fresh calibrator).
     tag: u32,
 }
@@ -64,7 +66,7 @@ impl From<SensorCalibration<f32>> for at_sensor_calibration_f32 {
 impl at_calibrator_f32 {
     /// A fresh calibrator (all zero, as C static memory holds).
     pub(crate) const FRESH: Self = Self {
-        storage: [0; AT_CALIBRATOR_F32_WORDS],
+        storage: [MaybeUninit::new(0); AT_CALIBRATOR_F32_WORDS],
         tag: 0,
     };
 

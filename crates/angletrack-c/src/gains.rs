@@ -3,6 +3,8 @@
 //! so order 2 is its own type, not order 3 with a zero gain), and its fault thresholds as
 //! the plain C struct `at_fault_thresholds_f32`.
 
+use core::mem::MaybeUninit;
+
 use angletrack_core::{ConfigError, FaultThresholds, Gains};
 
 use crate::slot;
@@ -21,7 +23,7 @@ pub const AT_GAINS_F32_WORDS: usize = 18;
 #[derive(Debug, Clone, Copy)]
 pub struct at_gains_f32 {
     /// Private: the Rust value.
-    storage: [u64; AT_GAINS_F32_WORDS],
+    storage: [MaybeUninit<u64>; AT_GAINS_F32_WORDS],
     /// Private: which Rust value `storage` holds.
     tag: u32,
 }
@@ -51,7 +53,7 @@ impl at_gains_f32 {
     /// A zeroed struct, as C static memory holds before `at_gains_f32_new`.
     #[cfg(test)]
     pub(crate) const ZEROED: Self = Self {
-        storage: [0; AT_GAINS_F32_WORDS],
+        storage: [MaybeUninit::new(0); AT_GAINS_F32_WORDS],
         tag: 0,
     };
 

@@ -2,6 +2,8 @@
 //! with) and `at_estimate_f32` (what an update reports), and the updates: plain, from ADC
 //! counts, and through the online calibration.
 
+use core::mem::MaybeUninit;
+
 use angletrack_core::{
     AdcSample, AdcScaling, Estimate, Gains, ObserverState, Order, SupportedOrder,
 };
@@ -24,7 +26,7 @@ pub const AT_STATE_F32_WORDS: usize = 8;
 #[derive(Debug, Clone, Copy)]
 pub struct at_state_f32 {
     /// Private: the Rust value.
-    storage: [u64; AT_STATE_F32_WORDS],
+    storage: [MaybeUninit<u64>; AT_STATE_F32_WORDS],
     /// Private: which Rust value `storage` holds (0: a fresh state).
     tag: u32,
 }
@@ -77,7 +79,7 @@ impl at_estimate_f32 {
 impl at_state_f32 {
     /// A fresh state (all zero, as C static memory holds).
     pub(crate) const FRESH: Self = Self {
-        storage: [0; AT_STATE_F32_WORDS],
+        storage: [MaybeUninit::new(0); AT_STATE_F32_WORDS],
         tag: 0,
     };
 

@@ -2,6 +2,10 @@
 //! structs (`at_gains_f32`, `at_state_f32`, ...), which C code sizes from the header and may
 //! place anywhere (static memory, the stack), copy by assignment and zero.
 //!
+//! The words are `MaybeUninit<u64>` (plain `uint64_t` in C): a Rust value written there
+//! leaves its padding bytes uninitialised, and a copy of the struct by value in Rust (C
+//! copies bytes) must not read those as integers. Miri checks this in the crate's tests.
+//!
 //! A slot holds one of a few `Copy` types, told apart by a tag that only [`put`] writes,
 //! right after it wrote a value of that type: [`get`] and [`get_mut`] read the words as the
 //! type only when the tag is the type's. A zeroed or never-initialised struct has no
@@ -11,7 +15,7 @@
 //! API (or copies a whole struct), as the header says.
 #![allow(unsafe_code)]
 
-use core::mem::{align_of, size_of};
+use core::mem::{MaybeUninit, align_of, size_of};
 
 use angletrack_core::{AdcScaling, Calibrator, Gains, ObserverState};
 
@@ -49,7 +53,10 @@ const fn fits<T, const W: usize>() -> bool {
 }
 
 /// The value in `words` if `tag` is `T`'s.
-pub(crate) fn get<T: Stored, const W: usize>(words: &[u64; W], tag: u32) -> Option<&T> {
+pub(crate) fn get<T: Stored, const W: usize>(
+    words: &[MaybeUninit<u64>; W],
+    tag: u32,
+) -> Option<&T> {
     const { assert!(fits::<T, W>(), "a C API struct's storage is too small") };
     if tag != T::TAG {
         return None;
@@ -63,7 +70,7 @@ pub(crate) fn get<T: Stored, const W: usize>(words: &[u64; W], tag: u32) -> Opti
 
 /// The value in `words` if `tag` is `T`'s, else `start()` stored there (and tagged).
 pub(crate) fn get_or_put<'a, T: Stored, const W: usize>(
-    words: &'a mut [u64; W],
+    words: &'a mut [MaybeUninit<u64>; W],
     tag: &mut u32,
     start: impl FnOnce() -> T,
 ) -> &'a mut T {
@@ -80,7 +87,11 @@ pub(crate) fn get_or_put<'a, T: Stored, const W: usize>(
 }
 
 /// Stores `value` in `words` and tags them as `T`.
-pub(crate) fn put<T: Stored, const W: usize>(words: &mut [u64; W], tag: &mut u32, value: T) {
+pub(crate) fn put<T: Stored, const W: usize>(
+    words: &mut [MaybeUninit<u64>; W],
+    tag: &mut u32,
+    value: T,
+) {
     const { assert!(fits::<T, W>(), "a C API struct's storage is too small") };
     // SAFETY: the words are aligned for `T` and hold a `T` (checked at compile time above);
     // `T` is `Copy`, so overwriting whatever the words held drops nothing.

@@ -79,6 +79,7 @@ def _cmd_track(args: argparse.Namespace) -> int:
     reference column, prints the errors against it. --calibrate learns and corrects the
     sensor's offsets, imbalance and quadrature error.
     """
+    stored = calibration_io.read_stored(args.calibration)
     settings = tracking.TrackSettings(
         capture=args.capture,
         output=args.output or args.capture.with_name(args.capture.stem + "_estimates.csv"),
@@ -93,9 +94,9 @@ def _cmd_track(args: argparse.Namespace) -> int:
         skip_s=args.skip,
         lock_tolerance_rad=args.lock_tolerance,
         progress=args.progress or sys.stderr.isatty(),
-        observer_arguments=calibration_io.observer_arguments(args.calibrate, args.calibration),
+        observer_arguments=calibration_io.observer_arguments(args.calibrate, stored),
         **resolver.track_options(args),
-        calibration=args.calibration if calibration_io.is_angle_calibration(args.calibration) else None,
+        calibration=calibration_io.angle_calibration(stored),
     )
     summary, observer = tracking.track_capture(settings)
     print(summary)

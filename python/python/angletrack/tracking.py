@@ -57,7 +57,9 @@ class TrackSettings:
     expected_delay_deg: float = 0.0
     pole_pairs: Optional[int] = None
     latency_s: Optional[float] = None
-    calibration: Optional[pathlib.Path] = None
+    #: The angle calibration of ``--calibration`` (from ``angletrack calibrate``), applied by a
+    #: ``harmonics.CalibratedObserver``.
+    calibration: Optional[harmonics.Calibration] = None
 
 
 def _rate_error(capture_hz: float, gains_hz: float, time_unit: str) -> str:
@@ -204,7 +206,7 @@ def track_capture(s: TrackSettings) -> tuple[str, Optional[angletrack.Observer]]
 
         if s.carrier_hz is None:
             raise ValueError("pole_pairs: --pole-pairs and --latency need --carrier-hz (the resolver path)")
-        if s.observer_arguments:
+        if s.observer_arguments or s.calibration is not None:
             raise ValueError("calibration: --calibrate and --calibration apply to y_c, y_s samples, not to "
                              "carrier-modulated windings (--carrier-hz)")
         return resolver.track_windings(s), None
@@ -216,7 +218,7 @@ def track_capture(s: TrackSettings) -> tuple[str, Optional[angletrack.Observer]]
     first = next(chunks)
     gains = gains_for_capture(s, reader.sample_rate_hz if first.time_s is not None else None)
     dtype = np.dtype(s.dtype)
-    calibration = harmonics.read_calibration(s.calibration)
+    calibration = s.calibration
     if calibration is not None:
         if s.observer_arguments:
             raise ValueError("calibration: --calibrate learns offsets, imbalance and quadrature; an angle "

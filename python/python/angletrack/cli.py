@@ -397,14 +397,10 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     tracks it with the gains, and writes what it learned: JSON for `angletrack track
     --calibration`, or a C header / Rust const block for firmware.
     """
-    capture = angletrack.read_capture(args.capture, columns=args.columns, delimiter=args.delimiter,
-                                      time_unit=args.time_unit, sample_rate_hz=args.sample_rate)
     settings = tracking.TrackSettings(capture=args.capture, output=args.output, gains_file=args.gains_file,
-                                      gains=args.gains, sample_rate_hz=args.sample_rate,
-                                      time_unit=args.time_unit)
-    gains = tracking.gains_for_capture(settings, capture.sample_rate_hz if capture.time_s is not None else None)
-    cal = harmonics.calibrate(capture.y_c, capture.y_s, gains, lowest_order=args.lowest_order,
-                              highest_order=args.highest_order)
+                                      gains=args.gains, sample_rate_hz=args.sample_rate, columns=args.columns,
+                                      delimiter=args.delimiter, time_unit=args.time_unit)
+    cal = tracking.calibrate_capture(settings, lowest_order=args.lowest_order, highest_order=args.highest_order)
     text = {"json": cal.to_json, "c": cal.to_c_header, "rust": cal.to_rust}[args.format]()
     if args.output is None:
         print(text, end="")

@@ -361,8 +361,10 @@ def _cmd_report(args: argparse.Namespace) -> int:
     """reproduce the paper's comparison of the three observers (report.md + PNG plots)
 
     Reproduces the paper's comparison of the 2nd-order, 3rd-order and Kalman observers (179
-    degree step, speed ramp, constant acceleration, noise) and its four overshoot figures;
-    writes DIR/report.md and PNG plots (matplotlib).
+    degree step, speed ramp, constant acceleration, noise) and its four overshoot figures,
+    then corrects a sensor's offsets, imbalance and quadrature with the online calibration and
+    its angle-dependent errors with `angletrack calibrate`'s; writes DIR/report.md, the
+    section's captures and calibration (DIR/harmonics/) and PNG plots (matplotlib).
     """
     from angletrack import report
 

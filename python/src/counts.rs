@@ -5,9 +5,10 @@
 //! divided by `adc_counts_per_unit` (default 1: the observer runs in counts, converted
 //! exactly: any count fits a float64, and a float32 up to 2^24). The mid-scale is
 //! `adc_mid_scale` if given, else 0 for the signed types (the mid-scale already removed),
-//! and for uint16 (an offset-binary ADC) `2^(b-1)` for the smallest `b` whose range `2^b`
-//! holds every sample of the first call (12 bits for counts up to 4095): a signal centred
-//! on the mid-scale always exceeds it. The loop needs no more (its phase error is
+//! and for uint16 (an offset-binary ADC) `offset_binary_mid_scale` of the largest sample of
+//! the first call: `2^(b-1)` for the smallest `b` whose range `2^b` holds it (12 bits for
+//! counts up to 4095), since a signal centred on the mid-scale always exceeds it. `angletrack
+//! track` takes the same rule for a capture of non-negative whole counts. The loop needs no more (its phase error is
 //! normalised); the diagnostics' amplitudes follow the signal when no thresholds are given
 //! (`angletrack::capture_fault_thresholds`).
 
@@ -205,10 +206,46 @@ impl Count for i32 {
 
 impl Count for u16 {
     fn default_mid_scale(values: impl Iterator<Item = Self>) -> i32 {
-        let max = values.max().unwrap_or(0);
-        let bits = (u16::BITS - max.leading_zeros()).max(2);
-        1 << (bits - 1)
+        let largest = values.max().unwrap_or(0);
+        // At most 2^15: a u16 always holds it.
+        i32::from(u16::try_from(mid_scale_of(u64::from(largest))).unwrap_or(u16::MAX))
     }
+}
+
+/// The mid-scale `2^(b-1)` of offset-binary counts (0 to `2^b - 1`, a zero signal at
+/// `2^(b-1)`) for the smallest `b`, at least 2, whose range `2^b` holds `largest`.
+fn mid_scale_of(largest: u64) -> u64 {
+    let bits = (u64::BITS - largest.leading_zeros()).max(2);
+    1 << (bits - 1)
+}
+
+/// The largest count `offset_binary_mid_scale` takes: 2^53, below which every whole number
+/// is a float64.
+const LARGEST_EXACT_COUNT: f64 = 9_007_199_254_740_992.0;
+
+/// The mid-scale (counts) of unsigned, offset-binary ADC counts whose largest sample is
+/// `largest_count` (a whole number, 0 to 2^53): `2^(b-1)` for the smallest `b`, at least 2,
+/// whose range `2^b` holds it (2048 for 12-bit counts up to 4095). The rule by which an
+/// observer centres uint16 counts without `adc_mid_scale`.
+///
+/// >>> from angletrack._angletrack import offset_binary_mid_scale
+/// >>> offset_binary_mid_scale(4095), offset_binary_mid_scale(4096)
+/// (2048, 4096)
+#[pyfunction]
+pub fn offset_binary_mid_scale(largest_count: f64) -> Result<u64> {
+    if !(largest_count.is_finite()
+        && largest_count >= 0.0
+        && largest_count.fract() == 0.0
+        && largest_count <= LARGEST_EXACT_COUNT)
+    {
+        return Err(Error::value(
+            "largest_count",
+            format!("{largest_count}: expected a whole number of counts from 0 to 2^53"),
+        ));
+    }
+    // Checked above: a whole number from 0 to 2^53, exact as a u64.
+    let largest = largest_count as u64;
+    Ok(mid_scale_of(largest))
 }
 
 /// The counts of a 1-D, non-empty array of `I`, copied.

@@ -44,6 +44,7 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(observer::track, m)?)?;
     m.add_class::<batch::PyObserverBatch>()?;
     m.add_function(wrap_pyfunction!(batch::track_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(counts::offset_binary_mid_scale, m)?)?;
     design_functions::register(m)?;
     scenario::register(m)?;
     metrics::register(m)?;

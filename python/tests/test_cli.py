@@ -166,7 +166,7 @@ def test_report_writes_markdown_and_plots(tmp_path):
     out = tmp_path / "report"
     proc = subprocess.run([str(SCRIPT), "report", "--out", str(out)], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
-    assert "[27/27]" in proc.stderr  # progress lines
+    assert "[29/29]" in proc.stderr  # progress lines
     text = (out / "report.md").read_text()
     for paper in ("5.0 %", "20.8 %", "10.0 %", "30.9 %"):
         assert f"| {paper} |" in text
@@ -183,8 +183,13 @@ def test_report_writes_markdown_and_plots(tmp_path):
     (_, rms, first, second), (_, rms_c, first_c, second_c) = rows
     assert float(rms_c) < 3.0 < 50.0 < float(rms)  # mrad
     assert float(first) > 20 * float(first_c) and float(second) > 20 * float(second_c)
+    # Section 6: the harmonic sensor, learned by `angletrack calibrate`, below 0.5 mrad after.
+    assert "## 6. Angle-dependent errors" in text
+    after = float(re.search(r"\| `angletrack track --calibration` \| ([\d.]+) \|", text).group(1))
+    assert after < 0.5  # mrad
+    assert (out / "harmonics" / "calibration.json").exists()
     for png in ("step_179.png", "speed_ramp.png", "acceleration.png", "noise.png", "overshoot.png",
-                "sensor_errors.png"):
+                "sensor_errors.png", "harmonics.png"):
         data = (out / png).read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000, png
         assert f"]({png})" in text

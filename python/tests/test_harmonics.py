@@ -135,3 +135,50 @@ def test_calibration_c_header_compiles_and_rust_block_has_the_constants(tmp_path
                    check=True, cwd=tmp_path)
     rust = cal.to_rust(name="rdc")
     assert "pub const RDC_ANGLE_COS: [f32; 8]" in rust and "pub const RDC_SENSOR: (f32, f32, f32, f32, f32)" in rust
+
+
+def test_track_reads_the_calibration_file_once_and_tells_its_kind(tmp_path, capsys, monkeypatch):
+    from angletrack import calibration
+
+    cap = tmp_path / "cap.csv"
+    write(cap, rippling_capture())
+    gains_file, cal_file = tmp_path / "g.json", tmp_path / "cal.json"
+    gains_file.write_text(export.to_json(gains()))
+    cal_file.write_text(angletrack.calibrate(learning_capture().y_c, learning_capture().y_s, gains()).to_json())
+    reads = []
+    read_text = type(cal_file).read_text
+
+    def counted(self, *args, **kwargs):
+        reads.append(self.name)
+        return read_text(self, *args, **kwargs)
+
+    monkeypatch.setattr(type(cal_file), "read_text", counted)
+    assert cli.main([str(a) for a in ("track", cap, "--gains-file", gains_file, "--calibration", cal_file,
+                                       "-o", tmp_path / "est.npy")]) == 0
+    assert reads.count("cal.json") == 1
+    assert capsys.readouterr().out.startswith("CalibratedObserver(")
+    # The two kinds of calibration file, and the arguments each gives the observer.
+    stored = calibration.read_stored(cal_file)
+    assert isinstance(stored, angletrack.Calibration) and calibration.angle_calibration(stored) is stored
+    assert calibration.observer_arguments(False, stored) == {}
+    sensor_file = tmp_path / "sensor.json"
+    calibration.write(sensor_file, harmonic_sensor().calibration())
+    sensor = calibration.read_stored(sensor_file)
+    assert isinstance(sensor, angletrack.SensorCalibration) and calibration.angle_calibration(sensor) is None
+    assert calibration.observer_arguments(False, sensor) == {"calibration": "frozen", "initial_calibration": sensor}
+    assert calibration.observer_arguments(True, None) == {"calibration": "learn", "initial_calibration": None}
+    # A missing file is one line naming it.
+    assert cli.main([str(a) for a in ("track", cap, "--gains-file", gains_file, "--calibration",
+                                       tmp_path / "missing.json")]) == 2
+    err = capsys.readouterr().err
+    assert "missing.json" in err and err.count("\n") == 1
+
+
+def test_an_angle_calibration_is_refused_for_carrier_modulated_windings(tmp_path):
+    from angletrack import tracking
+
+    cal = angletrack.calibrate(learning_capture().y_c, learning_capture().y_s, gains())
+    settings = tracking.TrackSettings(capture=tmp_path / "windings.csv", output=tmp_path / "est.csv",
+                                      gains=gains().gains, carrier_hz=1e3, calibration=cal)
+    with pytest.raises(ValueError, match="calibration: .*carrier-modulated windings"):
+        tracking.track_capture(settings)

@@ -79,6 +79,30 @@ def test_signed_counts_track_exactly_as_their_float64_values(dtype):
     assert abs(obs.amplitude / AMPLITUDE - 1.0) < 0.2
 
 
+def test_track_and_the_observer_centre_unsigned_counts_by_one_rule():
+    from angletrack import tracking
+
+    gains = at.Gains(KALMAN, SAMPLE_PERIOD)
+    sc = constant_speed(at.SensorModel(amplitude=AMPLITUDE, noise_std=5.0), turns=1)
+    for centre in (2048, 16384):  # 12-bit and 15-bit counts
+        raw_c, raw_s = counts(sc.y_c + centre, np.uint16), counts(sc.y_s + centre, np.uint16)
+        # What `angletrack track` removes from a capture of whole counts (float64 chunks) ...
+        mid = tracking.unsigned_mid_scale("int64", raw_c.astype(np.float64), raw_s.astype(np.float64))
+        assert mid == centre
+        # ... is what the observer removes from uint16 counts by itself.
+        np.testing.assert_array_equal(at.track(gains, raw_c, raw_s).position,
+                                      at.track(gains, raw_c, raw_s, adc_mid_scale=int(mid)).position)
+    assert [at._angletrack.offset_binary_mid_scale(n) for n in (0, 1, 3, 4, 4095, 4096, 65535)] == [
+        2, 2, 2, 4, 2048, 4096, 32768]
+    # Signed counts, physical units and a capture without a positive count are centred already.
+    assert tracking.unsigned_mid_scale("int64", np.array([-3.0, 4000.0]), np.array([5.0, 6.0])) == 0
+    assert tracking.unsigned_mid_scale("float64", np.array([3.0]), np.array([5.0])) == 0
+    assert tracking.unsigned_mid_scale("int64", np.zeros(3), np.zeros(3)) == 0
+    for bad in (-1.0, 0.5, float("nan"), 2.0**60):
+        with pytest.raises(ValueError, match="largest_count"):
+            at._angletrack.offset_binary_mid_scale(bad)
+
+
 def test_unsigned_counts_take_the_offset_binary_mid_scale_of_their_range():
     sc = constant_speed(at.SensorModel(amplitude=AMPLITUDE, noise_std=5.0), turns=3)
     raw_c, raw_s = counts(sc.y_c + 2048, np.uint16), counts(sc.y_s + 2048, np.uint16)

@@ -193,6 +193,11 @@ def track(
     float64 for raw counts, scaled as ``Observer`` does). ``fault_thresholds=None`` scales
     the diagnostics to the samples' amplitude."""
 
+def offset_binary_mid_scale(largest_count: float) -> int:
+    """The mid-scale (counts) of unsigned, offset-binary ADC counts whose largest sample is
+    ``largest_count`` (a whole number, 0 to 2^53): ``2^(b-1)`` for the smallest ``b``, at
+    least 2, whose range ``2^b`` holds it; the rule an observer centres uint16 counts by."""
+
 _ChannelSamples = Union[
     npt.NDArray[np.float32], npt.NDArray[np.float64], Sequence[Sequence[float]],
     npt.NDArray[np.int16], npt.NDArray[np.uint16], npt.NDArray[np.int32],

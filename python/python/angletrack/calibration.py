@@ -16,9 +16,12 @@ from __future__ import annotations
 
 import json
 import pathlib
-from typing import Any, Optional
+from typing import TYPE_CHECKING, Any, Optional, Union
 
 from angletrack import SensorCalibration
+
+if TYPE_CHECKING:
+    from angletrack import harmonics
 
 FORMAT = "angletrack-sensor-calibration"
 VERSION = 1
@@ -62,33 +65,42 @@ def default_path(capture: pathlib.Path, output: Optional[pathlib.Path] = None) -
     return output or capture.with_name(capture.stem + "_calibration.json")
 
 
-def is_angle_calibration(path: Optional[pathlib.Path]) -> bool:
-    """Whether ``--calibration FILE`` is an angle calibration written by ``angletrack
-    calibrate`` (the sensor's offsets, imbalance and quadrature with its angle-dependent
-    error), rather than the sensor calibration that ``track --calibrate`` writes."""
+def read_stored(path: Optional[pathlib.Path]) -> Union[None, SensorCalibration, "harmonics.Calibration"]:
+    """The calibration in the file ``--calibration FILE``, read once; its type says its kind:
+    a ``harmonics.Calibration`` for an angle calibration written by ``angletrack calibrate``
+    (the sensor's offsets, imbalance and quadrature with its angle-dependent error), else the
+    ``SensorCalibration`` that ``track --calibrate`` writes (``None`` for ``None``)."""
     from angletrack import harmonics
 
     if path is None:
-        return False
+        return None
+    text = pathlib.Path(path).read_text(encoding="utf-8")
     try:
-        doc = json.loads(pathlib.Path(path).read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return False
-    return isinstance(doc, dict) and doc.get("format") == harmonics.JSON_FORMAT
+        doc = json.loads(text)
+    except json.JSONDecodeError:
+        doc = None
+    if isinstance(doc, dict) and doc.get("format") == harmonics.JSON_FORMAT:
+        return harmonics.Calibration.from_json(text)
+    return from_json(text)
 
 
-def observer_arguments(calibrate: bool, path: Optional[pathlib.Path]) -> dict:
+def observer_arguments(calibrate: bool, stored: Union[None, SensorCalibration, "harmonics.Calibration"]) -> dict:
     """The ``Observer`` arguments of ``--calibrate`` (learn while tracking, from the stored
-    calibration if one is given) and ``--calibration FILE`` (apply it, frozen). An angle
-    calibration from ``angletrack calibrate`` goes to the calibrated observer instead."""
-    if is_angle_calibration(path):
+    calibration if one is given) and ``--calibration FILE`` (apply ``stored``, what
+    :func:`read_stored` read from it, frozen). An angle calibration from ``angletrack
+    calibrate`` goes to the calibrated observer instead: no arguments."""
+    if stored is not None and not isinstance(stored, SensorCalibration):
         return {}
-    stored = None if path is None else read(path)
     if calibrate:
         return {"calibration": "learn", "initial_calibration": stored}
     if stored is not None:
         return {"calibration": "frozen", "initial_calibration": stored}
     return {}
+
+
+def angle_calibration(stored: Union[None, SensorCalibration, "harmonics.Calibration"]) -> Optional["harmonics.Calibration"]:
+    """``stored`` if it is an angle calibration from ``angletrack calibrate``, else ``None``."""
+    return None if stored is None or isinstance(stored, SensorCalibration) else stored
 
 
 def write_learned(capture: pathlib.Path, output: Optional[pathlib.Path], observer: Any) -> str:

@@ -79,6 +79,7 @@ def _cmd_track(args: argparse.Namespace) -> int:
     reference column, prints the errors against it. --calibrate learns and corrects the
     sensor's offsets, imbalance and quadrature error.
     """
+    stored = calibration_io.read_stored(args.calibration)
     settings = tracking.TrackSettings(
         capture=args.capture,
         output=args.output or args.capture.with_name(args.capture.stem + "_estimates.csv"),
@@ -93,9 +94,9 @@ def _cmd_track(args: argparse.Namespace) -> int:
         skip_s=args.skip,
         lock_tolerance_rad=args.lock_tolerance,
         progress=args.progress or sys.stderr.isatty(),
-        observer_arguments=calibration_io.observer_arguments(args.calibrate, args.calibration),
+        observer_arguments=calibration_io.observer_arguments(args.calibrate, stored),
         **resolver.track_options(args),
-        calibration=args.calibration if calibration_io.is_angle_calibration(args.calibration) else None,
+        calibration=calibration_io.angle_calibration(stored),
     )
     summary, observer = tracking.track_capture(settings)
     print(summary)
@@ -360,8 +361,10 @@ def _cmd_report(args: argparse.Namespace) -> int:
     """reproduce the paper's comparison of the three observers (report.md + PNG plots)
 
     Reproduces the paper's comparison of the 2nd-order, 3rd-order and Kalman observers (179
-    degree step, speed ramp, constant acceleration, noise) and its four overshoot figures;
-    writes DIR/report.md and PNG plots (matplotlib).
+    degree step, speed ramp, constant acceleration, noise) and its four overshoot figures,
+    then corrects a sensor's offsets, imbalance and quadrature with the online calibration and
+    its angle-dependent errors with `angletrack calibrate`'s; writes DIR/report.md, the
+    section's captures and calibration (DIR/harmonics/) and PNG plots (matplotlib).
     """
     from angletrack import report
 
@@ -396,14 +399,10 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     tracks it with the gains, and writes what it learned: JSON for `angletrack track
     --calibration`, or a C header / Rust const block for firmware.
     """
-    capture = angletrack.read_capture(args.capture, columns=args.columns, delimiter=args.delimiter,
-                                      time_unit=args.time_unit, sample_rate_hz=args.sample_rate)
     settings = tracking.TrackSettings(capture=args.capture, output=args.output, gains_file=args.gains_file,
-                                      gains=args.gains, sample_rate_hz=args.sample_rate,
-                                      time_unit=args.time_unit)
-    gains = tracking.gains_for_capture(settings, capture.sample_rate_hz if capture.time_s is not None else None)
-    cal = harmonics.calibrate(capture.y_c, capture.y_s, gains, lowest_order=args.lowest_order,
-                              highest_order=args.highest_order)
+                                      gains=args.gains, sample_rate_hz=args.sample_rate, columns=args.columns,
+                                      delimiter=args.delimiter, time_unit=args.time_unit)
+    cal = tracking.calibrate_capture(settings, lowest_order=args.lowest_order, highest_order=args.highest_order)
     text = {"json": cal.to_json, "c": cal.to_c_header, "rust": cal.to_rust}[args.format]()
     if args.output is None:
         print(text, end="")

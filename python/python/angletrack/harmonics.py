@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
-from typing import Any, Optional
+from typing import Any
 
 import numpy as np
 
@@ -165,9 +165,3 @@ def track_calibrated(gains: Gains, y_c: Any, y_s: Any, calibration: Calibration)
     """The estimates of ``(y_c, y_s)`` tracked by a :class:`CalibratedObserver`."""
     return CalibratedObserver(gains, calibration).update(y_c, y_s)
 
-
-def read_calibration(path: Any) -> Optional[Calibration]:
-    """The calibration in the JSON file ``path`` (``None`` for ``None``)."""
-    if path is None:
-        return None
-    return Calibration.from_json(open(path, encoding="utf-8").read())

@@ -1,5 +1,6 @@
-"""``angletrack report``: the paper's comparison of the three observers, reproduced, and a
-real sensor's errors corrected by the online calibration.
+"""``angletrack report``: the paper's comparison of the three observers, reproduced, a
+real sensor's errors corrected by the online calibration, and its angle-dependent errors by
+the calibration of ``angletrack calibrate``.
 
 Every figure comes from the Rust crates: the paper's settings and the compared observers
 (``angletrack::paper``, through ``paper_settings`` and ``paper_compared_observers``), their
@@ -17,7 +18,12 @@ import time
 from typing import Callable, Optional
 
 import angletrack as at
-from angletrack import report_plots, report_sensor
+from angletrack import report_harmonics, report_plots, report_sensor
+from angletrack.report_markdown import figure as _figure
+from angletrack.report_markdown import khz as _khz
+from angletrack.report_markdown import num as _num
+from angletrack.report_markdown import pct
+from angletrack.report_markdown import table as _table
 from angletrack.report_sensor import SensorResult
 
 SAMPLE_PERIOD_S = at.PAPER_COMPARISON_SAMPLE_PERIOD_S
@@ -100,31 +106,6 @@ class Progress:
         self.done += 1
         elapsed = time.perf_counter() - self.start
         print(f"[{self.done:>2}/{self.total}] {elapsed:6.2f} s  {what}", file=self.stream, flush=True)
-
-
-def pct(x: Optional[float]) -> str:
-    """A fraction as a percentage, ``-`` for ``None``."""
-    return "-" if x is None else f"{100.0 * x:.2f} %"
-
-
-def _num(x: Optional[float], fmt: str = ".3g", scale: float = 1.0) -> str:
-    if x is None or (isinstance(x, float) and math.isnan(x)):
-        return "-"
-    return format(x * scale, fmt)
-
-
-def _table(header: list[str], rows: list[list[str]]) -> str:
-    lines = ["| " + " | ".join(header) + " |", "|" + "|".join(" --- " for _ in header) + "|"]
-    lines += ["| " + " | ".join(r) + " |" for r in rows]
-    return "\n".join(lines)
-
-
-def _khz(sample_period_s: float) -> str:
-    return f"{1 / sample_period_s / 1e3:.0f} kHz"
-
-
-def _figure(plots: bool, caption: str, file: str) -> list[str]:
-    return ["", f"![{caption}]({file})" if plots else "", ""]
 
 
 def run_scenarios(
@@ -452,7 +433,7 @@ def write_report(out_dir: pathlib.Path, *, plots: bool = True, progress: Optiona
     specs = scenarios()
     observers = dict(at.paper_compared_observers())
     settings = at.paper_settings()
-    total = len(settings) + len(observers) + len(specs) * len(observers) + 1 + (len(specs) + 2 if plots else 0) + 1
+    total = len(settings) + len(observers) + len(specs) * len(observers) + 2 + (len(specs) + 3 if plots else 0) + 1
     progress = progress or Progress(total)
     started = time.perf_counter()
 
@@ -466,10 +447,16 @@ def write_report(out_dir: pathlib.Path, *, plots: bool = True, progress: Optiona
     sensor = report_sensor.run_sensor(observers["Kalman ATO"], SAMPLE_PERIOD_S)
     progress.step(f"imperfect sensor: uncorrected and calibrated ({len(sensor.scenario)} samples)")
     md += section_scenarios(results, reports, plots) + section_datasheets(reports) + section_sensor(sensor, plots)
+    harmonic = report_harmonics.run_harmonics(out_dir / "harmonics")
+    progress.step(f"angle-dependent errors: calibrate, track without and with the calibration "
+                  f"({len(harmonic.scenario)} samples)")
+    md += report_harmonics.section_harmonics(harmonic, plots)
     if plt is not None:
         report_plots.plot_all(plt, out_dir, results, settings, progress.step)
         report_plots.plot_sensor_errors(plt, sensor, out_dir / "sensor_errors.png")
         progress.step("plot sensor_errors.png")
+        report_plots.plot_harmonic_errors(plt, harmonic, out_dir / "harmonics.png")
+        progress.step("plot harmonics.png")
 
     md.append(f"_Computed in {time.perf_counter() - started:.1f} s._")
     path = out_dir / "report.md"

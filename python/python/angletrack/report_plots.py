@@ -12,6 +12,7 @@ from angletrack import plots
 
 if TYPE_CHECKING:
     from angletrack.report import ScenarioResult
+    from angletrack.report_harmonics import HarmonicsResult
     from angletrack.report_sensor import SensorResult
 
 COLOURS = {"2nd-order ATO": "tab:blue", "3rd-order ATO": "tab:orange", "Kalman ATO": "tab:green"}
@@ -169,6 +170,50 @@ def plot_sensor_errors(plt, result: SensorResult, path: pathlib.Path) -> None:
     ax.set_title("Offsets 5 %, gain imbalance 10 %, quadrature 3 degrees (Kalman ATO)")
     ax.grid(alpha=0.3)
     ax.legend(loc="upper right", fontsize=8)
+    _save(plt, fig, path)
+
+
+def plot_harmonic_errors(plt, result: HarmonicsResult, path: pathlib.Path) -> None:
+    """Section 6: the angle error (mean removed) against the true electrical angle without
+    and with the calibration, one panel each (their scales differ a hundredfold), and the
+    harmonic spectra of both beside the sensor's own angle error, on a log scale."""
+    from angletrack.capture_analysis import HARMONIC_ORDERS
+    from angletrack.report_harmonics import HARMONICS
+
+    fig = plt.figure(figsize=(11, 6))
+    grid = fig.add_gridspec(2, 2, width_ratios=(3, 2))
+    spectrum = fig.add_subplot(grid[:, 1])
+    orders = np.asarray(HARMONIC_ORDERS, dtype=float)
+    runs = (("uncorrected", result.uncorrected_error_rad, "tab:red", -0.2),
+            ("with the calibration", result.calibrated_error_rad, "tab:green", 0.2))
+    for row, (name, error, colour, shift) in enumerate(runs):
+        ax = fig.add_subplot(grid[row, 0])
+        bins = result.binned(error)
+        kept = error[result.first:] - np.mean(error[result.first:])
+        angle_deg = np.degrees(np.mod(result.scenario.angle_rad[result.first:], 2 * np.pi))
+        ax.plot(angle_deg[::3], 1e3 * kept[::3], ".", ms=1, color=colour, alpha=0.25, rasterized=True)
+        ax.plot(np.degrees(bins.centres_rad()), 1e3 * bins.mean_error_rad(), color="k", lw=1)
+        ax.set_xlim(0, 360)
+        ax.set_xticks(range(0, 361, 45))
+        ax.set_ylabel("angle error (mrad)")
+        ax.set_title(f"{name}: RMS {1e3 * result.statistics(error)[0]:.3g} mrad", fontsize=10, loc="left")
+        ax.grid(alpha=0.3)
+        spectrum.bar(orders + shift, 1e3 * bins.harmonics_rad(), width=0.4, color=colour, label=name)
+    ax.set_xlabel("true electrical angle (deg)")
+    truth = [(k, a) for k, a, _ in HARMONICS]
+    spectrum.plot([k for k, _ in truth], [1e3 * a for _, a in truth], "kx", ms=8, mew=2,
+                  label="the sensor's angle error d(theta)")
+    spectrum.set_yscale("log")
+    spectrum.set_ylim(1e-3, 300)
+    spectrum.set_xticks(HARMONIC_ORDERS)
+    spectrum.set_xlabel("harmonic order of the electrical angle")
+    spectrum.set_ylabel("amplitude (mrad, peak)")
+    spectrum.set_title("Harmonics of the angle error", fontsize=10, loc="left")
+    spectrum.grid(alpha=0.3, axis="y", which="both")
+    spectrum.legend(loc="upper right", fontsize=8, framealpha=0.9)
+    fig.suptitle(f"Tracked with a +-5 % speed ripple after the calibration (noise floor predicted "
+                 f"{1e3 * result.predicted_noise_rad:.3g} mrad RMS); dots: samples, black: mean per 0.5 degree",
+                 fontsize=10)
     _save(plt, fig, path)
 
 

@@ -20,6 +20,7 @@ import numpy as np
 
 import angletrack
 from angletrack import export, harmonics
+from angletrack._angletrack import offset_binary_mid_scale
 
 #: Relative difference of two sample rates taken as the same rate (the time column's
 #: spacing check uses the same 1 %).
@@ -56,7 +57,9 @@ class TrackSettings:
     expected_delay_deg: float = 0.0
     pole_pairs: Optional[int] = None
     latency_s: Optional[float] = None
-    calibration: Optional[pathlib.Path] = None
+    #: The angle calibration of ``--calibration`` (from ``angletrack calibrate``), applied by a
+    #: ``harmonics.CalibratedObserver``.
+    calibration: Optional[harmonics.Calibration] = None
 
 
 def _rate_error(capture_hz: float, gains_hz: float, time_unit: str) -> str:
@@ -178,17 +181,18 @@ def _stated_rate_note(s: TrackSettings) -> list[str]:
 
 
 def unsigned_mid_scale(sample_dtype: str, y_c: np.ndarray, y_s: np.ndarray) -> float:
-    """The mid-scale of unsigned ADC counts (0 to 2^b - 1, a zero signal at 2^(b-1)), for a
-    capture of integers none of whose first samples is negative: 2^(b-1) for the smallest
-    b that holds them. 0 otherwise: signed counts and physical units are centred already.
-    The loop needs the signal centred on zero, not scaled (it is amplitude-invariant)."""
+    """The mid-scale of unsigned ADC counts, for a capture of integers none of whose first
+    samples is negative and some positive: the observer's rule for uint16 counts
+    (:func:`angletrack._angletrack.offset_binary_mid_scale` of the largest sample). 0
+    otherwise: signed counts and physical units are centred already. The loop needs the
+    signal centred on zero, not scaled (it is amplitude-invariant)."""
     if not sample_dtype.startswith(("int", "uint")) or len(y_c) == 0:
         return 0.0
     low = min(float(np.min(y_c)), float(np.min(y_s)))
     high = max(float(np.max(y_c)), float(np.max(y_s)))
     if low < 0 or high <= 0:
         return 0.0
-    return float(2 ** (math.ceil(math.log2(high + 1.0)) - 1))
+    return float(offset_binary_mid_scale(high))
 
 
 def track_capture(s: TrackSettings) -> tuple[str, Optional[angletrack.Observer]]:
@@ -202,7 +206,7 @@ def track_capture(s: TrackSettings) -> tuple[str, Optional[angletrack.Observer]]
 
         if s.carrier_hz is None:
             raise ValueError("pole_pairs: --pole-pairs and --latency need --carrier-hz (the resolver path)")
-        if s.observer_arguments:
+        if s.observer_arguments or s.calibration is not None:
             raise ValueError("calibration: --calibrate and --calibration apply to y_c, y_s samples, not to "
                              "carrier-modulated windings (--carrier-hz)")
         return resolver.track_windings(s), None
@@ -214,7 +218,7 @@ def track_capture(s: TrackSettings) -> tuple[str, Optional[angletrack.Observer]]
     first = next(chunks)
     gains = gains_for_capture(s, reader.sample_rate_hz if first.time_s is not None else None)
     dtype = np.dtype(s.dtype)
-    calibration = harmonics.read_calibration(s.calibration)
+    calibration = s.calibration
     if calibration is not None:
         if s.observer_arguments:
             raise ValueError("calibration: --calibrate learns offsets, imbalance and quadrature; an angle "
@@ -268,3 +272,15 @@ def track_capture(s: TrackSettings) -> tuple[str, Optional[angletrack.Observer]]
     if stats is not None:
         lines.append(stats.report())
     return "\n".join(lines), observer
+
+
+def calibrate_capture(s: TrackSettings, *, lowest_order: int = 1,
+                      highest_order: int = harmonics.MAX_ORDER) -> harmonics.Calibration:
+    """``angletrack calibrate``: the :class:`harmonics.Calibration` learned from the capture
+    ``s.capture`` (read whole, ``s.columns``, ``s.delimiter``, ``s.time_unit``) tracked with
+    the gains of ``s`` at its sample rate (checked as for :func:`track_capture`)."""
+    capture = angletrack.read_capture(s.capture, columns=s.columns, delimiter=s.delimiter,
+                                      time_unit=s.time_unit, sample_rate_hz=s.sample_rate_hz)
+    gains = gains_for_capture(s, capture.sample_rate_hz if capture.time_s is not None else None)
+    return harmonics.calibrate(capture.y_c, capture.y_s, gains, lowest_order=lowest_order,
+                               highest_order=highest_order)

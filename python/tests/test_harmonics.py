@@ -121,6 +121,24 @@ def test_cli_calibrate_refuses_a_slow_capture_in_one_line(tmp_path, capsys):
     assert err.startswith("angletrack: error:") and "bandwidth" in err and err.count("\n") == 1
 
 
+def test_cli_calibrate_refuses_a_capture_too_short_for_the_offsets_then_learns_with_more_settling(
+        tmp_path, capsys):
+    # 30 turns: the first fifth (6 turns) teaches the offsets 1 turn after lock, which would
+    # leave a fifth of the 5 % sine offset in the calibration: refused, naming the remedy.
+    cap = tmp_path / "short.csv"
+    write(cap, scenario(angletrack.MotionProfile(0.0, SPEED_RAD_S).constant_speed(SPEED_RAD_S, 30 / 200), 3))
+    gains_file = tmp_path / "g.json"
+    gains_file.write_text(export.to_json(gains()))
+    assert cli.main([str(a) for a in ("calibrate", cap, "--gains-file", gains_file)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("angletrack: error:") and "settle_fraction" in err and err.count("\n") == 1
+    cal_file = tmp_path / "cal.json"
+    assert cli.main([str(a) for a in ("calibrate", cap, "--gains-file", gains_file, "--settle-fraction", 0.5,
+                                      "--output", cal_file)]) == 0
+    offset_c, offset_s = json.loads(cal_file.read_text())["sensor"][:2]
+    assert abs(offset_c - 0.05) < 2e-3 and abs(offset_s + 0.05) < 2e-3
+
+
 def test_calibration_c_header_compiles_and_rust_block_has_the_constants(tmp_path):
     s = learning_capture()
     cal = angletrack.calibrate(s.y_c, s.y_s, gains())

@@ -394,15 +394,17 @@ def build_parser() -> argparse.ArgumentParser:
 def _cmd_calibrate(args: argparse.Namespace) -> int:
     """learn a sensor's calibration (offsets, imbalance, quadrature, angle error harmonics)
 
-    Reads CAPTURE (a run at roughly constant speed, at least 5 electrical turns after the
-    first fifth, fast enough that the lowest learned order lies above the loop's bandwidth),
+    Reads CAPTURE (a run at roughly constant speed: enough turns in its first fifth for the
+    offsets to be learned over 4 turns after lock, at least 5 electrical turns after it, fast
+    enough that the lowest learned order lies above the loop's bandwidth),
     tracks it with the gains, and writes what it learned: JSON for `angletrack track
     --calibration`, or a C header / Rust const block for firmware.
     """
     settings = tracking.TrackSettings(capture=args.capture, output=args.output, gains_file=args.gains_file,
                                       gains=args.gains, sample_rate_hz=args.sample_rate, columns=args.columns,
                                       delimiter=args.delimiter, time_unit=args.time_unit)
-    cal = tracking.calibrate_capture(settings, lowest_order=args.lowest_order, highest_order=args.highest_order)
+    cal = tracking.calibrate_capture(settings, lowest_order=args.lowest_order, highest_order=args.highest_order,
+                                     settle_fraction=args.settle_fraction)
     text = {"json": cal.to_json, "c": cal.to_c_header, "rust": cal.to_rust}[args.format]()
     if args.output is None:
         print(text, end="")
@@ -428,6 +430,9 @@ def _add_calibrate_parser(sub) -> None:
                      help="lowest harmonic of the angle error learned (default 1)")
     cal.add_argument("--highest-order", type=int, default=harmonics.MAX_ORDER, metavar="K",
                      help=f"highest harmonic learned (default and most {harmonics.MAX_ORDER})")
+    cal.add_argument("--settle-fraction", type=float, default=0.2, metavar="F",
+                     help="fraction of the capture, from its start, that learns the offsets, imbalance "
+                     "and quadrature while the loop settles (settle_fraction, in [0, 1); default 0.2)")
     cal.add_argument("--format", choices=["json", "c", "rust"], default="json",
                      help="json (for track --calibration, default), c (header) or rust (const block)")
     cal.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",

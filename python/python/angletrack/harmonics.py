@@ -125,8 +125,9 @@ def calibrate(y_c: Any, y_s: Any, gains: Gains, *, lowest_order: int = 1, highes
     tracked with ``gains``: the online offset/imbalance/quadrature calibration over the first
     ``settle_fraction`` of it, then the harmonics ``lowest_order..highest_order`` of the angle
     error over the whole turns after that. Raises ``ValueError`` for a capture whose speed is
-    not steady, too slow for the lowest order to lie above the loop's bandwidth, or shorter
-    than 5 turns."""
+    not steady, too slow for the lowest order to lie above the loop's bandwidth, whose first
+    ``settle_fraction`` teaches the online calibration fewer than 4 turns, or shorter than 5
+    turns after it."""
     y_c = np.ascontiguousarray(y_c, dtype=np.float64)
     y_s = np.ascontiguousarray(y_s, dtype=np.float64)
     learned = learn_calibration(gains, y_c, y_s, lowest_order=lowest_order, highest_order=highest_order,

@@ -274,8 +274,8 @@ def track_capture(s: TrackSettings) -> tuple[str, Optional[angletrack.Observer]]
     return "\n".join(lines), observer
 
 
-def calibrate_capture(s: TrackSettings, *, lowest_order: int = 1,
-                      highest_order: int = harmonics.MAX_ORDER) -> harmonics.Calibration:
+def calibrate_capture(s: TrackSettings, *, lowest_order: int = 1, highest_order: int = harmonics.MAX_ORDER,
+                      settle_fraction: float = 0.2) -> harmonics.Calibration:
     """``angletrack calibrate``: the :class:`harmonics.Calibration` learned from the capture
     ``s.capture`` (read whole, ``s.columns``, ``s.delimiter``, ``s.time_unit``) tracked with
     the gains of ``s`` at its sample rate (checked as for :func:`track_capture`)."""
@@ -283,4 +283,4 @@ def calibrate_capture(s: TrackSettings, *, lowest_order: int = 1,
                                       time_unit=s.time_unit, sample_rate_hz=s.sample_rate_hz)
     gains = gains_for_capture(s, capture.sample_rate_hz if capture.time_s is not None else None)
     return harmonics.calibrate(capture.y_c, capture.y_s, gains, lowest_order=lowest_order,
-                               highest_order=highest_order)
+                               highest_order=highest_order, settle_fraction=settle_fraction)

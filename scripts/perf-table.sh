@@ -100,6 +100,7 @@ trap 'rm -f "$firmware_table" "$host_table"' EXIT
   echo
   echo "Per sample inside one block update (\`Gains::update_block\`; 250 samples a call on the"
   echo "Cortex-M0, whose 16 KiB of RAM hold no more estimates), M4F / M0:"
+  echo
   sed -n 's/^insns_per_sample_in_block \(.*\): \(.*\)/\1 \2/p' <<<"$firmware" | grep -v -- '-m0 ' |
     while read -r m4 n; do
       echo "$(describe "${m4%-m4}"): $n / $(firmware_value "insns_per_sample_in_block ${m4%-m4}-m0");"

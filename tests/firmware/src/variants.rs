@@ -3,7 +3,12 @@
 //! itself against it and counts), so that both run the same list in the same order.
 //!
 //! A variant is a [`Tracker`]: one of the core's entry points with its gains, or a baseline
-//! (`baseline`). The list is the [`variants!`] table at the end: one line per variant.
+//! (`baseline`). The list is the [`variants!`] table below: one line per variant. A variant
+//! of an entry point that has a `Tracker` here (`Plain`, `Calibrated`, `Adc`, `Corrected`,
+//! `PhaseLockedLoop`) is that one line; another entry point (another arithmetic, say) first
+//! needs its `Tracker`: its state, input and output types, and its estimate as a [`Record`].
+//! `run.sh` prints each variant under its name on the Cortex-M4F (`-m4` appended if it
+//! contains `-fixed`) and with `-m0` appended on the Cortex-M0.
 
 use angletrack_core::{
     AdcScaling, AngleCorrection, Calibrator, ConfigError, DemodulatedPair, Demodulator,

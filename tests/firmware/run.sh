@@ -138,9 +138,10 @@ measured() {
 # functions_of VARIANT: "KIND MANGLED" lines, KIND update or update_block: the out-of-line
 # functions of VARIANT, from the addresses the firmware prints.
 functions_of() {
-  local kind address
+  local kind address f
   plugin_option="" qemu functions "$1" | while read -r kind address; do
-    echo "$kind $(function_at "$address")"
+    f=$(function_at "$address")
+    echo "$kind $f"
   done
 }
 

@@ -1,21 +1,145 @@
 #!/usr/bin/env bash
-# Regenerates the performance table of README.md (between the perf-table markers):
-#  - instructions per update and code size of the f32 update on a Cortex-M4F, from the
-#    firmware test under QEMU (tests/firmware/run.sh);
-#  - ns per sample on this host and the ratio to the hand-written loop, and the multi-channel
-#    throughput (ChannelBank), from the criterion benchmarks (benches/, short measurement:
-#    1 s warm-up, 3 s per benchmark), built for the portable x86-64 baseline (SSE2) as cargo
-#    builds by default; the multi-channel rows again built with `-C target-cpu=x86-64-v3`
-#    (AVX2 and FMA: 8 f32 lanes) when this CPU has them.
-# Usage: bash scripts/perf-table.sh [--print]   (--print: print the table, leave README.md)
-# Takes about 8 minutes. Host figures depend on the machine: run it on a quiet one.
+# Regenerates the performance tables of README.md:
+#  - between the firmware-table markers, instructions per update and code size on a
+#    Cortex-M4F and a Cortex-M0 of every variant of the firmware test under QEMU
+#    (tests/firmware/run.sh), beside the atan2 + PLL baselines with the ratio to each;
+#  - between the perf-table markers, ns per sample on this host and the ratio to the
+#    hand-written loop, and the multi-channel throughput (ChannelBank), from the criterion
+#    benchmarks (benches/, short measurement: 1 s warm-up, 3 s per benchmark), built for the
+#    portable x86-64 baseline (SSE2) as cargo builds by default; the multi-channel rows again
+#    built with `-C target-cpu=x86-64-v3` (AVX2 and FMA: 8 f32 lanes) when this CPU has them.
+# Usage: bash scripts/perf-table.sh [--firmware] [--print]
+#   --firmware: the firmware table only (about a minute; the host table takes about 8);
+#   --print: print the tables, leave README.md.
+# Host figures depend on the machine: run it on a quiet one. Firmware counts do not.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/lib.sh
 need_rust
 need_debian_packages qemu-system-arm gcc libc6-dev binutils-arm-none-eabi
 
+firmware_only=false print=false
+for arg in "$@"; do
+  case $arg in
+    --firmware) firmware_only=true ;;
+    --print) print=true ;;
+    *) echo "usage: bash scripts/perf-table.sh [--firmware] [--print]" >&2; exit 1 ;;
+  esac
+done
+
 firmware=$(bash tests/firmware/run.sh)
+firmware_value() { sed -n "s/^$1: //p" <<<"$firmware" | head -n1; }
+
+# describe VARIANT: the table's words for a variant of tests/firmware/src/variants.rs (its
+# name in backquotes for one not listed here).
+describe() {
+  case $1 in
+    kalman-f32-fast) echo "Kalman ATO, \`f32\`, fast sin/cos" ;;
+    kalman-f32-fast-unmonitored) echo "Kalman ATO, \`f32\`, fast sin/cos, diagnostics off" ;;
+    kalman-f32-exact) echo "Kalman ATO, \`f32\`, exact sin/cos (\`libm\`)" ;;
+    kalman-f32-fast-calibrated) echo "Kalman ATO, \`f32\`, fast, calibration learning (\`update_calibrated\`)" ;;
+    kalman-f32-fast-adc) echo "Kalman ATO, \`f32\`, fast, from 12-bit counts (\`update_adc\`)" ;;
+    kalman-f32-fast-angle-corrected) echo "Kalman ATO, \`f32\`, fast, angle correction of order 4 (\`update_corrected\`)" ;;
+    kalman-fixed) echo "Kalman ATO, fixed point" ;;
+    second-order-f32-fast) echo "2nd-order ATO, \`f32\`, fast sin/cos" ;;
+    second-order-f32-exact) echo "2nd-order ATO, \`f32\`, exact sin/cos" ;;
+    third-order-f32-fast) echo "3rd-order ATO (pole placement), \`f32\`, fast sin/cos" ;;
+    third-order-f32-exact) echo "3rd-order ATO (pole placement), \`f32\`, exact sin/cos" ;;
+    baseline-atan2-pll-f32) echo "**baseline**: \`libm\` \`atan2f\` + 2nd-order PLL, \`f32\`" ;;
+    baseline-fast-atan2-pll-f32) echo "**baseline**: fast atan2 (1.5e-3 rad) + 2nd-order PLL, \`f32\`" ;;
+    *) echo "\`$1\`" ;;
+  esac
+}
+# cells LABEL [SUFFIX]: the instructions per update of LABEL and its ratio to each baseline
+# on the same core (the baselines' labels end in SUFFIX: -m0 on the Cortex-M0); empty cells
+# if the firmware test did not print it.
+cells() {
+  local n core_suffix=${2:-}
+  n=$(firmware_value "insns_per_update $1")
+  if [ -z "$n" ]; then
+    echo " | | "
+    return
+  fi
+  awk -v n="$n" -v a="$(firmware_value "insns_per_update baseline-atan2-pll-f32$core_suffix")" \
+    -v b="$(firmware_value "insns_per_update baseline-fast-atan2-pll-f32$core_suffix")" \
+    'BEGIN { printf "%s | %.2f | %.2f", n, n / a, n / b }'
+}
+# code LABEL: "own (with callees)" bytes of LABEL's update.
+code() {
+  firmware_value "code_size $1" | sed -n 's/^\([0-9]*\) bytes; \([0-9]*\) bytes with .*/\1 (\2)/p'
+}
+
+firmware_table=$(mktemp)
+host_table=$(mktemp)
+trap 'rm -f "$firmware_table" "$host_table"' EXIT
+{
+  echo "Measured with \`bash scripts/perf-table.sh --firmware\` ($(rustc --version | cut -d' ' -f1-2), commit $(git rev-parse --short HEAD))."
+  echo
+  echo "**Cortex-M4F and Cortex-M0** (QEMU \`mps2-an386\` and \`microbit\`, opt-level 3, fat LTO; the"
+  echo "Cortex-M0 has no FPU: every \`f32\` operation is a call to a soft-float routine):"
+  echo "instructions per update, counted by the TCG plugin of \`tests/firmware\` inside the"
+  echo "variant's out-of-line update and the functions it calls, per call, over samples 1000 to"
+  echo "2000 of the benchmark signal; in the next columns, that count over the baselines' on the"
+  echo "same core (below 1: cheaper than the baseline). The default diagnostics run unless"
+  echo "\"diagnostics off\" (\`FaultThresholds::disabled()\`: the bare loop of the paper). The"
+  echo "baselines are what open firmware does instead (the ODrive style): the angle of each"
+  echo "sample by an arctangent, tracked by a critically damped 2nd-order PLL of the same 50 Hz"
+  echo "as the 2nd-order ATO (\`tests/firmware/src/baseline.rs\`). Code: bytes of the update"
+  echo "function, and in parentheses with the out-of-line functions it calls (\`libm\`, and on the"
+  echo "Cortex-M0 the soft-float routines)."
+  echo
+  echo "| variant | M4F | / \`atan2f\` + PLL | / fast atan2 + PLL | M0 | / \`atan2f\` + PLL | / fast atan2 + PLL | code M4F | code M0 |"
+  echo "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"
+  # One row per variant, in the firmware's order: its M4F label (the f32 variants' names,
+  # or NAME-m4), its M0 label NAME-m0.
+  sed -n 's/^insns_per_update \(.*\): .*/\1/p' <<<"$firmware" | grep -v -- '-m0$' |
+    while read -r m4; do
+      name=${m4%-m4}
+      echo "| $(describe "$name") | $(cells "$m4") | $(cells "$name-m0" -m0) | $(code "$m4") | $(code "$name-m0") |"
+    done
+  echo
+  echo "Per sample inside one block update (\`Gains::update_block\`; 250 samples a call on the"
+  echo "Cortex-M0, whose 16 KiB of RAM hold no more estimates), M4F / M0:"
+  echo
+  sed -n 's/^insns_per_sample_in_block \(.*\): \(.*\)/\1 \2/p' <<<"$firmware" | grep -v -- '-m0 ' |
+    while read -r m4 n; do
+      echo "$(describe "${m4%-m4}"): $n / $(firmware_value "insns_per_sample_in_block ${m4%-m4}-m0");"
+    done | sed '$ s/;$/./; s/^/- /'
+  echo
+  echo "The calling loop adds $(awk -v a="$(firmware_value 'insns_per_iteration kalman-f32-fast')" \
+    -v b="$(firmware_value 'insns_per_update kalman-f32-fast')" 'BEGIN { printf "%.1f", a - b }') instructions per sample on the Cortex-M4F"
+  echo "(loading the inputs, the call, storing the estimate). The resolver front end's synchronous"
+  echo "demodulator (16 ADC samples per carrier period, its once-per-period work included) costs"
+  echo "$(firmware_value 'insns_per_sample_pair demodulator-f32') / $(firmware_value 'insns_per_sample_pair demodulator-f32-m0') instructions per ADC sample pair (M4F / M0) with one"
+  echo "\`Demodulator::push\` call each, $(firmware_value 'insns_per_sample_pair_in_block demodulator-f32') / $(firmware_value 'insns_per_sample_pair_in_block demodulator-f32-m0') in one \`Demodulator::push_block\` call."
+} >"$firmware_table"
+
+# replace_section NAME FILE: README.md's lines between <!-- NAME:begin --> and
+# <!-- NAME:end --> replaced by FILE.
+replace_section() {
+  grep -q "^<!-- $1:begin -->$" README.md && grep -q "^<!-- $1:end -->$" README.md || {
+    echo "README.md has no <!-- $1:begin --> / <!-- $1:end --> markers" >&2
+    exit 1
+  }
+  awk -v table="$2" -v begin="<!-- $1:begin -->" -v end="<!-- $1:end -->" '
+    $0 == end { skip = 0 }
+    !skip { print }
+    $0 == begin { while ((getline line < table) > 0) print line; skip = 1 }
+  ' README.md >README.md.new
+  mv README.md.new README.md
+}
+
+if $firmware_only; then
+  if $print; then
+    cat "$firmware_table"
+  else
+    replace_section firmware-table "$firmware_table"
+    cat "$firmware_table"
+    echo "README.md: firmware table updated" >&2
+  fi
+  exit 0
+fi
+
 target_dir=$(cargo metadata --format-version 1 --no-deps |
   sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p')
 cargo bench -q -p angletrack-benches --bench update -- \
@@ -44,8 +168,6 @@ ns_per_sample() {
     }'
 }
 
-firmware_value() { sed -n "s/^$1: //p" <<<"$firmware" | head -n1; }
-
 # bank_row GROUP BUILD TARGET_DIR: one row of the multi-channel table, "observer | float |
 # build | single stream | bank of 16 (gain) | bank of 64 (gain)".
 bank_row() {
@@ -60,45 +182,8 @@ bank_row() {
 }
 
 cpu=$(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo)
-table=$(mktemp)
-trap 'rm -f "$table"' EXIT
 {
   echo "Measured with \`bash scripts/perf-table.sh\` ($(rustc --version | cut -d' ' -f1-2), commit $(git rev-parse --short HEAD))."
-  echo
-  echo "**Cortex-M4F** (QEMU \`mps2-an386\`, \`f32\`, opt-level 3, fat LTO): instructions per"
-  echo "update, counted by the TCG plugin of \`tests/firmware\` inside the measured function and"
-  loop_cost=$(awk -v a="$(firmware_value 'insns_per_iteration kalman-f32-fast')" \
-    -v b="$(firmware_value 'insns_per_update kalman-f32-fast')" 'BEGIN { printf "%.1f", a - b }')
-  echo "the functions it calls: one \`Gains::update\` call (the calling loop adds $loop_cost"
-  echo "per sample: loading the inputs, the call, storing the estimate), or per sample of one"
-  echo "\`Gains::update_block\` call. The default diagnostics run, except in the last row"
-  echo "(\`FaultThresholds::disabled()\`: the bare loop of the paper)."
-  echo
-  echo "| observer | exact sin/cos (\`libm\`) | exact, in a block | fast sin/cos | fast, in a block |"
-  echo "| --- | ---: | ---: | ---: | ---: |"
-  # cells VARIANT: its per-call and in-a-block counts as two table cells.
-  cells() {
-    echo "$(firmware_value "insns_per_update $1") | $(firmware_value "insns_per_sample_in_block $1")"
-  }
-  for observer in second-order:"2nd-order ATO" third-order:"3rd-order ATO (pole placement)" \
-    kalman:"Kalman ATO"; do
-    id=${observer%%:*}
-    echo "| ${observer#*:} | $(cells "$id-f32-exact") | $(cells "$id-f32-fast") |"
-  done
-  echo "| Kalman ATO, diagnostics off | | | $(cells kalman-f32-fast-unmonitored) |"
-  echo
-  echo "The resolver front end's synchronous demodulator (16 ADC samples per carrier period,"
-  echo "its once-per-period work included): $(firmware_value 'insns_per_sample_pair demodulator-f32')"
-  echo "instructions per ADC sample pair with one \`Demodulator::push\` call each,"
-  echo "$(firmware_value 'insns_per_sample_pair_in_block demodulator-f32') in one \`Demodulator::push_block\` call (a DMA buffer)."
-  echo
-  echo "Code size of the \`f32\` update with fast sin/cos (\`Gains::update\`), alone and with"
-  echo "the out-of-line functions it calls:"
-  echo
-  for order in 2 3; do
-    echo "- order $order: $(firmware_value "code_size update-order$order-f32-fast" |
-      sed 's/^\([0-9]*\) bytes; \([0-9]*\) bytes with the .* functions it calls (\(.*\))/\1 bytes; \2 bytes with \3/')"
-  done
   echo
   echo "**Host** (${cpu:-unknown CPU}, one stream): ns per sample (fastest criterion sample), and in"
   echo "parentheses the ratio to the hand-written loop (one struct, the standard library's"
@@ -134,21 +219,13 @@ trap 'rm -f "$table"' EXIT
   echo "| observer | float | build | single stream | bank of 16 | bank of 64 |"
   echo "| --- | --- | --- | ---: | ---: | ---: |"
   printf '%s' "$bank_rows"
-} >"$table"
+} >"$host_table"
 
-if [ "${1:-}" = --print ]; then
-  cat "$table"
+if $print; then
+  cat "$firmware_table" "$host_table"
   exit 0
 fi
-grep -q '^<!-- perf-table:begin -->$' README.md && grep -q '^<!-- perf-table:end -->$' README.md || {
-  echo "README.md has no <!-- perf-table:begin --> / <!-- perf-table:end --> markers" >&2
-  exit 1
-}
-awk -v table="$table" '
-  /^<!-- perf-table:end -->$/ { skip = 0 }
-  !skip { print }
-  /^<!-- perf-table:begin -->$/ { while ((getline line < table) > 0) print line; skip = 1 }
-' README.md >README.md.new
-mv README.md.new README.md
-cat "$table"
-echo "README.md: performance table updated" >&2
+replace_section firmware-table "$firmware_table"
+replace_section perf-table "$host_table"
+cat "$firmware_table" "$host_table"
+echo "README.md: performance tables updated" >&2

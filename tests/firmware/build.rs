@@ -1,14 +1,16 @@
 //! Computes the firmware's reference on the host: the simulated resolver of the benchmarks
-//! (`angletrack-benches`), and every observer variant run over it by the same core crate in
-//! `f32`. The firmware embeds both and checks its own estimates against them.
+//! (`angletrack-benches`), and every variant (observers and baselines) run over it by the same
+//! code in `f32`. The firmware embeds both and checks its own estimates against them.
 
 use std::{env, fs, path::PathBuf};
 
 use angletrack_benches::{
     KALMAN_GAINS, SECOND_ORDER_GAINS, THIRD_ORDER_GAINS, benchmark_scenario, channels,
 };
-use angletrack_core::{Gains, SinCos};
-
+#[path = "src/baseline.rs"]
+// Shared with the firmware, which alone checks the fast arctangent's error bound.
+#[allow(dead_code)]
+mod baseline;
 #[path = "src/variants.rs"]
 // Shared with the firmware, which alone reads the records back (`decode`).
 #[allow(dead_code)]
@@ -16,45 +18,82 @@ mod variants;
 
 use angletrack_core::DemodulatorState;
 use variants::{
-    CARRIER_AMPLITUDE_COUNTS, CARRIER_DELAY_RAD, Channel, Entry, Job, NAMES, Observers,
-    SAMPLES_PER_PERIOD, adc_counts, demodulator, encode_pair, entry,
+    CARRIER_AMPLITUDE_COUNTS, CARRIER_DELAY_RAD, Job, NAMES, Observers, SAMPLES_PER_PERIOD,
+    Tracker, demodulator, encode_pair,
 };
 
-/// Samples of the simulated resolver (0.2 s at 10 kHz, about 11 turns).
+/// Samples of the simulated resolver (0.2 s at 10 kHz, about 11 turns): the inputs of
+/// every run, on both cores.
 const SAMPLES: usize = 2000;
+/// Samples whose estimates the Cortex-M0 checks (the first 30 ms): every variant's reference
+/// records must fit its 256 KiB of flash (the Cortex-M4F checks all).
+const CHECKED_SAMPLES_M0: usize = 300;
+/// The most samples of one block update on the Cortex-M0, whose estimates must fit its
+/// 16 KiB of RAM (the Cortex-M4F runs all in one block).
+const BLOCK_SAMPLES_M0: usize = 250;
 
-/// Runs a variant over the signal and appends its reference records.
+/// Largest accepted difference (rad) of every variant's multi-turn position from the
+/// simulated shaft's over the second half of the samples, once the loops have settled: the
+/// sensor noise (0.01) and the baselines' lag under acceleration (4 mrad) are within it. A
+/// sanity check of the variants themselves (a baseline that did not track would be no
+/// baseline); the firmware's own check is against the records, much tighter.
+const TRACKING_TOLERANCE_RAD: f64 = 0.03;
+
+/// Runs a variant over the signal and appends its reference records (of the first
+/// `checked` samples).
 struct Reference<'a> {
     y_c: &'a [f32],
     y_s: &'a [f32],
+    /// The simulated shaft's angle (rad, multi-turn).
+    angle_rad: &'a [f64],
+    checked: usize,
     records: Vec<u8>,
 }
 
 impl Job for Reference<'_> {
-    fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>) {
-        let mut channel = Channel::<N>::new(entry(index));
-        let Channel {
-            state,
-            calibrator,
-            adc,
-        } = &mut channel;
-        for (&c, &s) in self.y_c.iter().zip(self.y_s) {
-            let estimate = match entry(index) {
-                Entry::Plain => gains.update(state, c, s),
-                Entry::Calibrated => gains.update_calibrated(state, calibrator, c, s),
-                Entry::Adc => gains.update_adc(state, adc, adc_counts(c), adc_counts(s)),
-            };
-            self.records.extend_from_slice(&variants::encode(&estimate));
+    fn run<T: Tracker>(&mut self, index: usize, tracker: T) {
+        let mut state = tracker.new_state();
+        let mut worst = 0.0f64;
+        for (k, (&c, &s)) in self.y_c.iter().zip(self.y_s).enumerate() {
+            let output = tracker.update(&mut state, T::input(c), T::input(s));
+            let record = T::record(&state, &output);
+            if k < self.checked {
+                self.records.extend_from_slice(&record.encode());
+            }
+            let position =
+                f64::from(record.turns) * std::f64::consts::TAU + f64::from(record.angle);
+            if 2 * k >= self.y_c.len() {
+                worst = worst.max((position - self.angle_rad[k]).abs());
+            }
         }
+        assert!(
+            worst <= TRACKING_TOLERANCE_RAD,
+            "{} does not track the shaft: {worst} rad off",
+            NAMES[index]
+        );
     }
 }
 
 fn main() {
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
-    fs::copy("memory.x", out.join("memory.x")).expect("memory.x is readable");
+    // The Cortex-M0 (thumbv6m) build runs on QEMU's micro:bit (nRF51), the other on mps2-an386.
+    let m0 = env::var("TARGET").is_ok_and(|t| t.starts_with("thumbv6m"));
+    let (memory, checked, block) = if m0 {
+        ("memory-m0.x", CHECKED_SAMPLES_M0, BLOCK_SAMPLES_M0)
+    } else {
+        ("memory-m4.x", SAMPLES, SAMPLES)
+    };
+    fs::copy(memory, out.join("memory.x")).expect("memory.x is readable");
     println!("cargo:rustc-link-search={}", out.display());
-    println!("cargo:rerun-if-changed=memory.x");
-    println!("cargo:rerun-if-changed=src/variants.rs");
+    // Named apart (not memory.x): the linker looks in the package's directory first.
+    for input in [
+        "memory-m4.x",
+        "memory-m0.x",
+        "src/variants.rs",
+        "src/baseline.rs",
+    ] {
+        println!("cargo:rerun-if-changed={input}");
+    }
 
     let observers = Observers {
         second_order: SECOND_ORDER_GAINS.map(|v| v as f32),
@@ -62,51 +101,59 @@ fn main() {
         kalman: KALMAN_GAINS.map(|v| v as f32),
         sample_period_s: angletrack_benches::SAMPLE_PERIOD_S as f32,
     };
-    let (y_c, y_s) = channels::<f32>(&benchmark_scenario(SAMPLES));
-    let mut data = Vec::new();
-    for (c, s) in y_c.iter().zip(&y_s) {
-        data.extend_from_slice(&c.to_le_bytes());
-        data.extend_from_slice(&s.to_le_bytes());
-    }
+    let scenario = benchmark_scenario(SAMPLES);
+    let (y_c, y_s) = channels::<f32>(&scenario);
     let mut reference = Reference {
         y_c: &y_c,
         y_s: &y_s,
-        records: data,
+        angle_rad: &scenario.angle_rad,
+        checked,
+        records: Vec::new(),
     };
     for (index, name) in NAMES.iter().enumerate() {
-        assert!(
+        assert_eq!(
             observers.run(index, &mut reference),
+            Ok(true),
             "gains of {name} refused"
         );
     }
     fs::write(out.join("reference.bin"), &reference.records).expect("OUT_DIR is writable");
-    fs::write(
-        out.join("demodulator.bin"),
-        demodulator_reference(&y_c, &y_s),
-    )
-    .expect("OUT_DIR is writable");
+    let (raw_c, raw_s, pairs) = demodulator_reference(&y_c, &y_s);
+    fs::write(out.join("demodulator.bin"), pairs).expect("OUT_DIR is writable");
     let scenario = format!(
         "/// Samples of the simulated resolver.\n\
          pub const SAMPLES: usize = {SAMPLES};\n\
+         /// Samples whose estimates `check` compares with the host's.\n\
+         pub const CHECKED_SAMPLES: usize = {checked};\n\
+         /// The most samples of one block update.\n\
+         pub const BLOCK_SAMPLES: usize = {block};\n\
+         /// The simulated resolver's samples, cosine winding.\n\
+         pub static Y_C: [f32; SAMPLES] = {y_c:?};\n\
+         /// The simulated resolver's samples, sine winding.\n\
+         pub static Y_S: [f32; SAMPLES] = {y_s:?};\n\
          /// The observers' gains and sample period, as the host used them.\n\
          pub const OBSERVERS: Observers = Observers {{ second_order: {:?}, third_order: {:?}, \
          kalman: {:?}, sample_period_s: {:?} }};\n\
-         /// Input samples, then each variant's reference records (see `variants`).\n\
+         /// Each variant's reference records of the first `CHECKED_SAMPLES` samples (see `variants`).\n\
          pub static REFERENCE: &[u8] = include_bytes!(concat!(env!(\"OUT_DIR\"), \"/reference.bin\"));\n\
-         /// The demodulator's raw ADC samples (counts, f32 pairs), then its pairs.\n\
-         pub static DEMODULATOR_REFERENCE: &[u8] = \
+         /// The demodulator's raw ADC samples (counts), cosine winding.\n\
+         pub static RAW_C: [f32; SAMPLES] = {raw_c:?};\n\
+         /// The demodulator's raw ADC samples (counts), sine winding.\n\
+         pub static RAW_S: [f32; SAMPLES] = {raw_s:?};\n\
+         /// The demodulator's pairs from the raw samples, as the host made them.\n\
+         pub static DEMODULATOR_PAIRS: &[u8] = \
          include_bytes!(concat!(env!(\"OUT_DIR\"), \"/demodulator.bin\"));\n",
         observers.second_order, observers.third_order, observers.kalman, observers.sample_period_s
     );
     fs::write(out.join("scenario.rs"), scenario).expect("OUT_DIR is writable");
 }
 
-/// The demodulator variant's reference: raw 12-bit samples of both windings, the benchmark
-/// resolver's signals as envelopes of a 10 kHz carrier (each `(y_c, y_s)` held for one
-/// carrier period, sampled 16 times, mid-scale 2048, rounded), then the pairs the core's
-/// demodulator makes of them on the host in `f32`.
-fn demodulator_reference(y_c: &[f32], y_s: &[f32]) -> Vec<u8> {
-    let raw: Vec<(f32, f32)> = (0..SAMPLES)
+/// The demodulator variant's reference: raw 12-bit samples of both windings (`raw_c`,
+/// `raw_s`), the benchmark resolver's signals as envelopes of a 10 kHz carrier (each
+/// `(y_c, y_s)` held for one carrier period, sampled 16 times, mid-scale 2048, rounded), and
+/// the bytes of the pairs the core's demodulator makes of them on the host in `f32`.
+fn demodulator_reference(y_c: &[f32], y_s: &[f32]) -> (Vec<f32>, Vec<f32>, Vec<u8>) {
+    let (raw_c, raw_s): (Vec<f32>, Vec<f32>) = (0..SAMPLES)
         .map(|j| {
             let k = j / SAMPLES_PER_PERIOD;
             let phase =
@@ -116,18 +163,14 @@ fn demodulator_reference(y_c: &[f32], y_s: &[f32]) -> Vec<u8> {
             let code = |y: f32| (2048.0 + f64::from(y) * carrier).round() as f32;
             (code(y_c[k]), code(y_s[k]))
         })
-        .collect();
-    let mut data = Vec::new();
-    for (c, s) in &raw {
-        data.extend_from_slice(&c.to_le_bytes());
-        data.extend_from_slice(&s.to_le_bytes());
-    }
+        .unzip();
     let demodulator = demodulator().expect("valid demodulator settings");
     let mut state = DemodulatorState::new();
-    for &(c, s) in &raw {
+    let mut pairs = Vec::new();
+    for (&c, &s) in raw_c.iter().zip(&raw_s) {
         if let Some(pair) = demodulator.push(&mut state, c, s) {
-            data.extend_from_slice(&encode_pair(&pair));
+            pairs.extend_from_slice(&encode_pair(&pair));
         }
     }
-    data
+    (raw_c, raw_s, pairs)
 }

@@ -1,64 +1,92 @@
 #!/usr/bin/env bash
-# The firmware test: builds the QEMU instruction-count plugin and the Cortex-M4F firmware,
-# runs the firmware under `qemu-system-arm -machine mps2-an386 -cpu cortex-m4`, and
-#  1. checks every observer variant against the host's reference (fails if out of tolerance);
+# The firmware test: builds the QEMU instruction-count plugin and the firmware (src/) for two
+# cores, and runs each under QEMU with semihosting:
+#  - Cortex-M4F: thumbv7em-none-eabihf on `qemu-system-arm -machine mps2-an386 -cpu cortex-m4`;
+#  - Cortex-M0 (no FPU): thumbv6m-none-eabi on `qemu-system-arm -machine microbit` (nRF51:
+#    256 KiB of flash, 16 KiB of RAM: it checks the estimates of the first 300 samples only,
+#    and runs block updates 250 samples at a time).
+# For each core it
+#  1. checks every variant (src/variants.rs) against the host's reference and the baselines'
+#     fast arctangent against atan2f (fails if out of tolerance);
 #  2. checks that the check can fail: with one input sample corrupted it must report FAIL;
 #  3. counts instructions with the TCG plugin (plugin/insn_count.c), per sample from two runs
-#     of 1000 and 2000 samples, for each variant `<observer>-f32-<sincos>` and prints
-#     `insns_per_update <variant>: N`: the instructions executed inside the out-of-line
-#     update (the firmware's `update::<N, S>` wrapper) and the functions it calls,
-#     transitively (the plugin's address ranges, from the symbol table), per call;
+#     of 1000 and 2000 samples (the same signal on both cores), and
+#     prints, for each variant (`-m0` appended to its name on the M0, `-m4` on the M4F to
+#     the fixed-point ones):
+#     `insns_per_update <variant>: N`: the instructions executed inside the variant's
+#     out-of-line update (the firmware's `update::<T>`, whose address the firmware prints)
+#     and the functions it calls, transitively (the plugin's address ranges, from the
+#     symbol table), per call;
 #     `insns_per_iteration <variant>: N`: all instructions of one iteration of the loop
 #     calling it (update plus loop: inputs, call through a black-boxed pointer, result);
-#     `insns_per_sample_in_block <variant>: N`: the instructions inside `update_block::<N, S>`
-#     and the functions it calls, per sample of one call over all samples;
+#     `insns_per_sample_in_block <variant>: N` (variants with a block form): the instructions
+#     inside `update_block::<T>` and the functions it calls, per sample of one call over all
+#     samples;
 #     and `insns_per_iteration loop: N`: the loop alone, with an empty callee;
 #     `insns_per_sample_pair demodulator-f32: N`: the instructions inside the out-of-line
 #     `demodulate` (the core's `Demodulator::push`) and what it calls, per ADC sample pair;
 #     `insns_per_sample_pair_in_block demodulator-f32: N`: the same inside one
 #     `demodulate_block` call (`Demodulator::push_block`) over all samples;
-#  4. prints the code size of each f32 update function, alone and with the out-of-line
-#     functions it calls.
-# Needs: cargo with the thumbv7em-none-eabihf target, qemu-system-arm, gcc,
-# arm-none-eabi-nm/objdump (scripts/test.d/30-firmware.sh installs them).
-# Usage: bash tests/firmware/run.sh   (FIRMWARE_TARGET_DIR overrides the build directory)
+#  4. prints the code size of each variant's update function, alone and with the out-of-line
+#     functions it calls (`code_size <variant>: N bytes; M bytes with ...`), and on the M4F
+#     under the older names `code_size update-order<2|3>-f32-<fast|exact>` too (the 2nd- and
+#     3rd-order variants' lines).
+# Needs: cargo with the thumbv7em-none-eabihf and thumbv6m-none-eabi targets, qemu-system-arm,
+# gcc, arm-none-eabi-nm/objdump (scripts/test.d/30-firmware.sh installs them).
+# Usage: bash tests/firmware/run.sh [m4|m0]   (default both; FIRMWARE_TARGET_DIR overrides the
+# build directory)
 set -euo pipefail
 shopt -s inherit_errexit
 cd "$(dirname "$0")"
 target_dir="${FIRMWARE_TARGET_DIR:-$PWD/target}"
 export CARGO_TARGET_DIR="$target_dir"
-elf="$target_dir/thumbv7em-none-eabihf/release/angletrack-firmware-test"
 plugin="$target_dir/insn_count.so"
 
 mkdir -p "$target_dir"
 gcc -O2 -Wall -Wextra -Werror -shared -fPIC -fvisibility=hidden -o "$plugin" plugin/insn_count.c
-cargo build --release --locked -q
+
+# The sample counts of the two count runs.
+runs=(1000 2000)
+# Per core (set by `core_settings`): the target, the image and QEMU's machine.
+core_settings() {
+  case $1 in
+    m4)
+      target=thumbv7em-none-eabihf machine=(-machine mps2-an386 -cpu cortex-m4)
+      ;;
+    m0)
+      target=thumbv6m-none-eabi machine=(-machine microbit)
+      ;;
+    *) echo "unknown core $1 (m4 or m0)" >&2; exit 1 ;;
+  esac
+  core=$1
+  elf="$target_dir/$target/release/angletrack-firmware-test"
+}
+# label VARIANT: its printed name: `-m0` appended on the M0; on the M4F the fixed-point
+# variants get `-m4` (they are for cores with or without an FPU), the others keep their names.
+label() {
+  case $core-$1 in
+    m0-*) echo "$1-m0" ;;
+    m4-*-fixed*) echo "$1-m4" ;;
+    *) echo "$1" ;;
+  esac
+}
 
 # qemu ARGS...: runs the firmware with ARGS on its semihosting command line.
 qemu() {
   local config="enable=on,target=native,arg=angletrack-firmware-test"
   for a in "$@"; do config+=",arg=$a"; done
-  timeout 300 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -nographic -monitor none \
+  timeout 300 qemu-system-arm "${machine[@]}" -nographic -monitor none \
     -serial none ${plugin_option:+-plugin "$plugin_option"} -semihosting-config "$config" \
     -kernel "$elf"
 }
 
-plugin_option=""
-qemu check
-if output=$(qemu check tamper); then
-  echo "$output"
-  echo "the check did not fail on a corrupted input sample" >&2
-  exit 1
-fi
-grep -q FAIL <<<"$output" || { echo "$output"; echo "tamper run failed without FAIL" >&2; exit 1; }
-echo "check with one corrupted input sample: fails as it must ($(grep -c FAIL <<<"$output") of $(grep -c "^check " <<<"$output") variants FAIL)"
-
 # The functions of the firmware: symbol tables (mangled and demangled, side by side), and the
 # functions a function calls (direct branches to another symbol: calls and tail calls;
 # calls through a pointer are not seen).
-symbols=$(paste <(arm-none-eabi-nm "$elf") <(arm-none-eabi-nm -C "$elf"))
-sized_symbols=$(arm-none-eabi-nm -S "$elf")
-mangled() { awk -F'\t' -v d="$1" '{ sub(/^[0-9a-f]+ [tT] /, "", $2) } $2 == d { split($1, m, " "); print m[3]; exit }' <<<"$symbols"; }
+load_symbols() {
+  symbols=$(paste <(arm-none-eabi-nm "$elf") <(arm-none-eabi-nm -C "$elf"))
+  sized_symbols=$(arm-none-eabi-nm -S "$elf")
+}
 demangled() { awk -F'\t' -v m="$1" '{ split($1, f, " ") } f[3] == m { sub(/^[0-9a-f]+ [a-zA-Z] /, "", $2); print $2; exit }' <<<"$symbols"; }
 # sized NAME: "ADDRESS SIZE" (hex) of the symbol NAME (mangled), or nothing.
 sized() { awk -v s="$1" 'NF == 4 && $4 == s { print $1, $2; exit }' <<<"$sized_symbols"; }
@@ -67,6 +95,15 @@ size_of() {
   hex=$(sized "$1")
   hex=${hex#* }
   echo $((16#${hex:-0}))
+}
+# function_at ADDRESS: the mangled name of the function at ADDRESS (as the firmware prints a
+# function pointer: hex, the Thumb bit set).
+function_at() {
+  local address f
+  address=$(printf '%08x' $(($1 & ~1)))
+  f=$(awk -v a="$address" 'NF == 4 && $1 == a && ($3 == "t" || $3 == "T") { print $4; exit }' <<<"$sized_symbols")
+  [ -n "$f" ] || { echo "no function at $1 in $elf" >&2; exit 1; }
+  echo "$f"
 }
 callees() {
   arm-none-eabi-objdump -d --no-show-raw-insn --disassemble="$1" "$elf" |
@@ -98,19 +135,14 @@ measured() {
   done < <(reachable "$1")
   (IFS=:; echo "${list[*]}")
 }
-# function_of KIND VARIANT: the mangled name of the firmware's out-of-line KIND (update or
-# update_block) for VARIANT: 2nd order for second-order-*, else 3rd (the 3rd-order and the
-# Kalman ATO share it); fast sin/cos unless the name ends in -exact; the update of a variant
-# ending in -calibrated or -adc is update_calibrated or update_adc.
-function_of() {
-  local order=3 sin_cos=Fast kind=$1 name f
-  case $2 in second-order-*) order=2 ;; esac
-  case $2 in *-exact) sin_cos=Exact ;; esac
-  case $1-$2 in update-*-calibrated) kind=update_calibrated ;; update-*-adc) kind=update_adc ;; esac
-  name="angletrack_firmware_test::$kind::<$order, angletrack_core::sincos::$sin_cos>"
-  f=$(mangled "$name")
-  [ -n "$f" ] || { echo "no $name symbol in $elf" >&2; exit 1; }
-  echo "$f"
+# functions_of VARIANT: "KIND MANGLED" lines, KIND update or update_block: the out-of-line
+# functions of VARIANT, from the addresses the firmware prints.
+functions_of() {
+  local kind address f
+  plugin_option="" qemu functions "$1" | while read -r kind address; do
+    f=$(function_at "$address")
+    echo "$kind $f"
+  done
 }
 
 # insns SAMPLES VARIANT [block]: "ALL IN_RANGES", the instructions executed by a count run and
@@ -127,62 +159,100 @@ insns() {
   fi
   echo "$all ${in_ranges:-$all}"
 }
-# per_sample VARIANT [block]: "ALL IN_RANGES" per sample, from runs of 1000 and 2000 samples.
+# per_sample VARIANT [block]: "ALL IN_RANGES" per sample, from runs of ${runs[0]} and
+# ${runs[1]} samples.
 per_sample() {
   local a b
-  a=$(insns 1000 "$@")
-  b=$(insns 2000 "$@")
-  awk -v a="$a" -v b="$b" 'BEGIN {
+  a=$(insns "${runs[0]}" "$@")
+  b=$(insns "${runs[1]}" "$@")
+  awk -v a="$a" -v b="$b" -v n=$((runs[1] - runs[0])) 'BEGIN {
     split(a, x, " "); split(b, y, " ")
-    printf "%.1f %.1f", (y[1] - x[1]) / 1000, (y[2] - x[2]) / 1000
+    printf "%.1f %.1f", (y[1] - x[1]) / n, (y[2] - x[2]) / n
   }'
 }
-ranges=""
-counts=$(per_sample loop)
-echo "insns_per_iteration loop: ${counts% *}"
-for variant in second-order-f32-exact second-order-f32-fast third-order-f32-exact \
-  third-order-f32-fast kalman-f32-exact kalman-f32-fast kalman-f32-fast-unmonitored \
-  kalman-f32-fast-calibrated kalman-f32-fast-adc; do
-  root=$(function_of update "$variant")
-  ranges=$(measured "$root")
-  counts=$(per_sample "$variant")
-  echo "insns_per_update $variant: ${counts#* }"
-  echo "insns_per_iteration $variant: ${counts% *}"
-  # The calibrated and ADC entry points have no block form.
-  case $variant in *-calibrated | *-adc) continue ;; esac
-  root=$(function_of update_block "$variant")
-  ranges=$(measured "$root")
-  block=$(per_sample "$variant" block)
-  echo "insns_per_sample_in_block $variant: ${block#* }"
-done
 
-# The resolver front end: the synchronous demodulator per ADC sample pair (its once-per-period
-# work amortised over the period's 16 samples).
-ranges=$(measured "$(mangled "angletrack_firmware_test::demodulate")")
-counts=$(per_sample demodulator-f32)
-echo "insns_per_sample_pair demodulator-f32: ${counts#* }"
-echo "insns_per_iteration demodulator-f32: ${counts% *}"
-ranges=$(measured "$(mangled "angletrack_firmware_test::demodulate_block")")
-block=$(per_sample demodulator-f32 block)
-echo "insns_per_sample_pair_in_block demodulator-f32: ${block#* }"
+# code_size LABEL ROOT: the code size line of the function ROOT (mangled) under LABEL.
+code_size() {
+  local total=0 called=() f
+  while read -r f; do
+    total=$((total + $(size_of "$f")))
+    [ "$f" = "$2" ] || called+=("$(demangled "$f" | sed 's/::<.*//; s/.*:://')")
+  done < <(reachable "$2")
+  echo "code_size $1: $(size_of "$2") bytes;" \
+    "$total bytes with the ${#called[@]} functions it calls (${called[*]:-none})"
+}
 
-# Code size: each update function, then with every function it calls (transitively).
-for order in 2 3; do
-  for sin_cos in Fast Exact; do
-    types="$order, angletrack_core::sincos::$sin_cos"
-    root=$(mangled "angletrack_firmware_test::update::<$types>")
-    [ -n "$root" ] || { echo "no update::<$types> symbol in $elf" >&2; exit 1; }
-    # The update itself: the wrapper, plus the core's update if the compiler kept it apart.
-    core=$(mangled "<angletrack_core::gains::Gains<f32, $types>>::update")
-    own=$(($(size_of "$root") + ${core:+$(size_of "$core")}+0))
-    total=0
-    called=()
-    while read -r f; do
-      total=$((total + $(size_of "$f")))
-      [ "$f" = "$root" ] || [ "$f" = "$core" ] ||
-        called+=("$(demangled "$f" | sed 's/::<.*//; s/.*:://')")
-    done < <(reachable "$root")
-    echo "code_size update-order$order-f32-${sin_cos,,}: $own bytes;" \
-      "$total bytes with the ${#called[@]} functions it calls (${called[*]:-none})"
+# run_core CORE: everything above, on one core.
+run_core() {
+  core_settings "$1"
+  cargo build --release --locked -q --target "$target"
+  plugin_option=""
+  qemu check
+  if output=$(qemu check tamper); then
+    echo "$output"
+    echo "the check did not fail on a corrupted input sample ($core)" >&2
+    exit 1
+  fi
+  grep -q FAIL <<<"$output" || { echo "$output"; echo "tamper run failed without FAIL" >&2; exit 1; }
+  echo "check with one corrupted input sample ($core): fails as it must" \
+    "($(grep -c FAIL <<<"$output") of $(grep -c "^check " <<<"$output") checks FAIL)"
+
+  load_symbols
+  local variants variant name kind root counts functions sizes=()
+  variants=$(qemu variants)
+  ranges=""
+  counts=$(per_sample loop)
+  echo "insns_per_iteration $(label loop): ${counts% *}"
+  for variant in $variants; do
+    name=$(label "$variant")
+    # Captured first, so that a failure stops the script (set -e).
+    functions=$(functions_of "$variant")
+    while read -r kind root; do
+      ranges=$(measured "$root")
+      if [ "$kind" = update ]; then
+        counts=$(per_sample "$variant")
+        echo "insns_per_update $name: ${counts#* }"
+        echo "insns_per_iteration $name: ${counts% *}"
+        sizes+=("$name $root")
+      else
+        counts=$(per_sample "$variant" block)
+        echo "insns_per_sample_in_block $name: ${counts#* }"
+      fi
+    done <<<"$functions"
   done
+
+  # The resolver front end: the synchronous demodulator per ADC sample pair (its
+  # once-per-period work amortised over the period's 16 samples).
+  name=$(label demodulator-f32)
+  functions=$(functions_of demodulator-f32)
+  while read -r kind root; do
+    ranges=$(measured "$root")
+    if [ "$kind" = update ]; then
+      counts=$(per_sample demodulator-f32)
+      echo "insns_per_sample_pair $name: ${counts#* }"
+      echo "insns_per_iteration $name: ${counts% *}"
+    else
+      counts=$(per_sample demodulator-f32 block)
+      echo "insns_per_sample_pair_in_block $name: ${counts#* }"
+    fi
+  done <<<"$functions"
+
+  # Code size: each update function, then with every function it calls (transitively).
+  for variant in "${sizes[@]}"; do
+    code_size "${variant% *}" "${variant#* }"
+    case $core-${variant% *} in
+      m4-second-order-f32-fast | m4-second-order-f32-exact | m4-third-order-f32-fast | \
+        m4-third-order-f32-exact)
+        name=${variant% *}
+        name=${name/second-order/update-order2}
+        code_size "${name/third-order/update-order3}" "${variant#* }"
+        ;;
+    esac
+  done
+}
+
+cores=("$@")
+[ ${#cores[@]} -gt 0 ] || cores=(m4 m0)
+for c in "${cores[@]}"; do
+  run_core "$c"
 done

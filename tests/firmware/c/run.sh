@@ -2,7 +2,7 @@
 # The C API on a Cortex-M4F: builds libangletrack_c.a for thumbv7em-none-eabihf, compiles the
 # C example (main.c, startup.c) with arm-none-eabi-gcc against crates/angletrack-c/include/
 # angletrack.h, links it with newlib (snprintf, sinf) into an image for QEMU mps2-an386
-# (link.ld, on the Rust firmware test's memory.x), and
+# (link.ld, on the Rust firmware test's memory-m4.x), and
 #  1. runs it: it must exit 0 and print PASS for each tracking check;
 #  2. checks that the check can fail: built with -DTAMPER (a signal 1 % faster than the
 #     check expects) it must exit 1 and print FAIL;

@@ -13,9 +13,10 @@
  *
  * Each translation block, when translated, gets an inline counter increment of its number of
  * instructions and, with ranges, a second one of the number of its instructions in a range;
- * the emulator adds them every time the block runs (mps2-an386 has one vCPU, so single
- * counters are exact). A block left early by an exception counts whole: the firmware test
- * takes the difference of two runs of different lengths, in which such events cancel.
+ * the emulator adds them every time the block runs (mps2-an386 and microbit have one vCPU,
+ * so single counters are exact). A block left early by an exception counts whole: the
+ * firmware test takes the difference of two runs of different lengths, in which such events
+ * cancel.
  */
 #include <ctype.h>
 #include <errno.h>

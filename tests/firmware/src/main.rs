@@ -1,36 +1,40 @@
-//! The observers on a Cortex-M4F (QEMU `mps2-an386`, semihosting), in two modes chosen by
-//! the semihosting command line (`-semihosting-config ...,arg=<program>,arg=<mode>,...`):
+//! The variants (`variants.rs`: observers, entry points, baselines) on a Cortex-M (QEMU with
+//! semihosting: `mps2-an386` for the Cortex-M4F build, thumbv7em-none-eabihf; `microbit` for
+//! the Cortex-M0 build, thumbv6m-none-eabi), in modes chosen by the semihosting command line
+//! (`-semihosting-config ...,arg=<program>,arg=<mode>,...`):
 //!
-//! * `check [tamper]`: runs every variant (2nd-order, 3rd-order and Kalman ATO, `f32`,
-//!   exact and fast sin/cos) over the simulated resolver and compares every estimate with the
-//!   host's reference, within `f32` tolerances; exits with failure if any sample is out of
-//!   tolerance. `tamper` first corrupts one input sample: the check must then fail (this is
-//!   how the test shows that it can).
+//! * `check [tamper]`: runs every variant over the simulated resolver and compares every
+//!   estimate with the host's reference, within `f32` tolerances; also the demodulator's
+//!   pairs, and the baselines' fast arctangent against `atan2f` over a sweep. Exits with
+//!   failure if any is out of tolerance. `tamper` first corrupts one input sample: the check
+//!   must then fail (this is how the test shows that it can).
+//! * `variants`: prints the variants' names, one a line.
+//! * `functions <variant>`: prints the addresses of the variant's out-of-line update (and
+//!   block update, if it has one), which `run.sh` finds in the symbol table.
 //! * `count <variant> <samples> [block]`: runs one variant over the first `samples` samples
-//!   and nothing else: one out-of-line `Gains::update` call per sample (variant `loop` runs
-//!   the loop with an empty callee), or with `block` one `Gains::update_block` call for all
-//!   of them. The instruction count per update is the difference of two such runs of
-//!   different lengths, counted by the TCG plugin in `plugin/`. Variant `demodulator-f32`
-//!   runs the resolver front end's synchronous demodulator instead, one out-of-line
-//!   `Demodulator::push` per ADC sample pair, or with `block` one `Demodulator::push_block`
-//!   for all of them (`check` compares its pairs with the host's).
+//!   and nothing else: one out-of-line update call per sample (variant `loop` runs the loop
+//!   with an empty callee), or with `block` one block update call for all of them. The
+//!   instruction count per update is the difference of two such runs of different lengths,
+//!   counted by the TCG plugin in `plugin/`. Variant `demodulator-f32` runs the resolver
+//!   front end's synchronous demodulator instead, one out-of-line `Demodulator::push` per
+//!   ADC sample pair, or with `block` one `Demodulator::push_block` for all of them (`check`
+//!   compares its pairs with the host's).
 #![no_std]
 #![no_main]
 
+mod baseline;
 mod variants;
 
 use core::hint::black_box;
 
-use angletrack_core::{
-    AdcScaling, Calibrator, DemodulatedPair, Demodulator, DemodulatorState, Estimate, Gains,
-    ObserverState, SinCos,
-};
+use angletrack_core::{DemodulatedPair, Demodulator, DemodulatorState, Real};
+use baseline::{Atan2, FAST_ATAN2_MAX_ERROR_RAD, FastAtan2, LibmAtan2};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::{hprintln, nr};
 use variants::{
-    Channel, DEMODULATOR, Entry, Job, LOOP_VARIANT, NAMES, Observers, PAIR_BYTES, RECORD_BYTES,
-    SAMPLE_BYTES, SAMPLES_PER_PERIOD, adc_counts, entry,
+    DEMODULATOR, Job, LOOP_VARIANT, NAMES, Observers, PAIR_BYTES, RECORD_BYTES, Record,
+    SAMPLES_PER_PERIOD, Tracker,
 };
 
 include!(concat!(env!("OUT_DIR"), "/scenario.rs"));
@@ -45,85 +49,40 @@ const RELATIVE_TOLERANCE: f32 = 1e-5;
 /// is 0.01).
 const TAMPER: f32 = 0.05;
 
-/// One observer update, kept out of line: the unit whose code size is reported and whose
-/// instructions are counted.
+/// One update of a variant, kept out of line: the unit whose code size is reported and
+/// whose instructions are counted.
 #[inline(never)]
-fn update<const N: usize, S: SinCos<f32>>(
-    gains: &Gains<f32, N, S>,
-    state: &mut ObserverState<f32, N>,
-    y_c: f32,
-    y_s: f32,
-) -> Estimate<f32> {
-    gains.update(state, y_c, y_s)
-}
-
-/// One update through the online calibration, kept out of line like [`update`].
-#[inline(never)]
-fn update_calibrated<const N: usize, S: SinCos<f32>>(
-    gains: &Gains<f32, N, S>,
-    state: &mut ObserverState<f32, N>,
-    calibrator: &mut Calibrator<f32>,
-    y_c: f32,
-    y_s: f32,
-) -> Estimate<f32> {
-    gains.update_calibrated(state, calibrator, y_c, y_s)
-}
-
-/// One update from raw ADC counts, kept out of line like [`update`].
-#[inline(never)]
-fn update_adc<const N: usize, S: SinCos<f32>>(
-    gains: &Gains<f32, N, S>,
-    state: &mut ObserverState<f32, N>,
-    adc: &AdcScaling<f32>,
-    raw_c: i16,
-    raw_s: i16,
-) -> Estimate<f32> {
-    gains.update_adc(state, adc, raw_c, raw_s)
-}
-
-/// One sample of variant `index` on `channel` through its entry point.
-#[inline(always)]
-fn update_entry<const N: usize, S: SinCos<f32>>(
-    index: usize,
-    gains: &Gains<f32, N, S>,
-    channel: &mut Channel<N>,
-    y_c: f32,
-    y_s: f32,
-) -> Estimate<f32> {
-    let Channel {
-        state,
-        calibrator,
-        adc,
-    } = channel;
-    match entry(index) {
-        Entry::Plain => update(gains, state, y_c, y_s),
-        Entry::Calibrated => update_calibrated(gains, state, calibrator, y_c, y_s),
-        Entry::Adc => update_adc(gains, state, adc, adc_counts(y_c), adc_counts(y_s)),
-    }
+fn update<T: Tracker>(
+    tracker: &T,
+    state: &mut T::State,
+    y_c: T::Input,
+    y_s: T::Input,
+) -> T::Output {
+    tracker.update(state, y_c, y_s)
 }
 
 /// What `count` mode's loop calls instead of the update for variant `loop`: nothing but a
-/// default estimate, so that its count is the loop's own cost (call, inputs, result).
+/// default output, so that its count is the loop's own cost (call, inputs, result).
 #[inline(never)]
-fn no_update<const N: usize, S: SinCos<f32>>(
-    _gains: &Gains<f32, N, S>,
-    _state: &mut ObserverState<f32, N>,
-    _y_c: f32,
-    _y_s: f32,
-) -> Estimate<f32> {
-    Estimate::default()
+fn no_update<T: Tracker>(
+    _tracker: &T,
+    _state: &mut T::State,
+    _y_c: T::Input,
+    _y_s: T::Input,
+) -> T::Output {
+    T::Output::default()
 }
 
 /// A block of updates, kept out of line like [`update`].
 #[inline(never)]
-fn update_block<const N: usize, S: SinCos<f32>>(
-    gains: &Gains<f32, N, S>,
-    state: &mut ObserverState<f32, N>,
+fn update_block<T: Tracker>(
+    tracker: &T,
+    state: &mut T::State,
     y_c: &[f32],
     y_s: &[f32],
-    out: &mut [Estimate<f32>],
+    out: &mut [T::Output],
 ) -> usize {
-    gains.update_block(state, y_c, y_s, out)
+    tracker.update_block(state, y_c, y_s, out)
 }
 
 /// One ADC sample pair through the synchronous demodulator, kept out of line like
@@ -156,22 +115,14 @@ fn demodulate_block(
 /// same `f32` operations in the same order, so about an ulp.
 const PAIR_TOLERANCE: f32 = 1e-6;
 
-/// The raw ADC samples of the demodulator variant (counts).
-fn raw_sample(k: usize) -> (f32, f32) {
-    let r = &DEMODULATOR_REFERENCE[k * SAMPLE_BYTES..(k + 1) * SAMPLE_BYTES];
-    let word = |i: usize| [r[i], r[i + 1], r[i + 2], r[i + 3]];
-    (f32::from_le_bytes(word(0)), f32::from_le_bytes(word(4)))
-}
-
 /// `check` mode for the demodulator: every pair against the host's. Returns `true` if all
 /// are within [`PAIR_TOLERANCE`].
 fn check_demodulator() -> Result<bool, &'static str> {
     let demodulator = variants::demodulator().map_err(|_| "demodulator settings refused")?;
     let mut state = DemodulatorState::new();
-    let mut pairs = DEMODULATOR_REFERENCE[SAMPLES * SAMPLE_BYTES..].chunks_exact(PAIR_BYTES);
+    let mut pairs = DEMODULATOR_PAIRS.chunks_exact(PAIR_BYTES);
     let (mut worst, mut count, mut missing) = (0.0f32, 0usize, false);
-    for k in 0..SAMPLES {
-        let (c, s) = raw_sample(k);
+    for (&c, &s) in RAW_C.iter().zip(&RAW_S) {
         if let Some(pair) = demodulate(&demodulator, &mut state, c, s) {
             let Some(r) = pairs.next() else {
                 missing = true;
@@ -205,83 +156,66 @@ fn count_demodulator(samples: usize, block: bool) -> Result<(), &'static str> {
     let mut state = DemodulatorState::new();
     let n = samples.min(SAMPLES);
     if block {
-        let (mut raw_c, mut raw_s) = ([0.0f32; SAMPLES], [0.0f32; SAMPLES]);
-        for k in 0..n {
-            (raw_c[k], raw_s[k]) = raw_sample(k);
-        }
         black_box(demodulate_block(
             &demodulator,
             &mut state,
-            &raw_c[..n],
-            &raw_s[..n],
+            &RAW_C[..n],
+            &RAW_S[..n],
         ));
         return Ok(());
     }
     let step = black_box(demodulate);
     for k in 0..n {
-        let (c, s) = raw_sample(k);
-        black_box(&step(&demodulator, &mut state, c, s));
+        black_box(&step(&demodulator, &mut state, RAW_C[k], RAW_S[k]));
     }
     Ok(())
 }
 
-/// The simulated resolver's samples, decoded from the reference data.
-struct Inputs {
-    y_c: [f32; SAMPLES],
-    y_s: [f32; SAMPLES],
-}
-
-impl Inputs {
-    fn load() -> Self {
-        let mut inputs = Inputs {
-            y_c: [0.0; SAMPLES],
-            y_s: [0.0; SAMPLES],
-        };
-        for (k, sample) in REFERENCE[..SAMPLES * SAMPLE_BYTES]
-            .chunks_exact(SAMPLE_BYTES)
-            .enumerate()
-        {
-            let word = |i: usize| [sample[i], sample[i + 1], sample[i + 2], sample[i + 3]];
-            inputs.y_c[k] = f32::from_le_bytes(word(0));
-            inputs.y_s[k] = f32::from_le_bytes(word(4));
-        }
-        inputs
-    }
+/// Input sample `k` of `check` mode: `(Y_C[k], Y_S[k])`, the middle checked one corrupted
+/// by [`TAMPER`] if `tamper`.
+fn checked_input(k: usize, tamper: bool) -> (f32, f32) {
+    let corruption = if tamper && k == CHECKED_SAMPLES / 2 {
+        TAMPER
+    } else {
+        0.0
+    };
+    (Y_C[k], Y_S[k] + corruption)
 }
 
 /// `check` mode: every sample of a variant against the host's reference.
-struct Check<'a> {
-    inputs: &'a Inputs,
+struct Check {
+    tamper: bool,
     failures: usize,
 }
 
-impl Job for Check<'_> {
-    fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>) {
-        let base = SAMPLES * SAMPLE_BYTES + index * SAMPLES * RECORD_BYTES;
-        let records = &REFERENCE[base..base + SAMPLES * RECORD_BYTES];
+impl Job for Check {
+    fn run<T: Tracker>(&mut self, index: usize, tracker: T) {
+        let base = index * CHECKED_SAMPLES * RECORD_BYTES;
+        let records = &REFERENCE[base..base + CHECKED_SAMPLES * RECORD_BYTES];
         let (mut speed_scale, mut acceleration_scale) = (1.0f32, 1.0f32);
         for r in records.chunks_exact(RECORD_BYTES) {
-            let (_, _, speed, acceleration) = variants::decode(r);
-            speed_scale = speed_scale.max(speed.abs());
-            acceleration_scale = acceleration_scale.max(acceleration.abs());
+            let r = Record::decode(r);
+            speed_scale = speed_scale.max(r.speed.abs());
+            acceleration_scale = acceleration_scale.max(r.acceleration.abs());
         }
-        let mut channel = Channel::new(entry(index));
+        let mut state = tracker.new_state();
         let (mut position, mut speed, mut acceleration, mut worst) = (0.0f32, 0.0, 0.0, 0);
         for (k, r) in records.chunks_exact(RECORD_BYTES).enumerate() {
-            let (y_c, y_s) = (self.inputs.y_c[k], self.inputs.y_s[k]);
-            let e = update_entry(index, &gains, &mut channel, y_c, y_s);
-            let (angle_ref, turns_ref, speed_ref, acceleration_ref) = variants::decode(r);
+            let (y_c, y_s) = checked_input(k, self.tamper);
+            let output = update(&tracker, &mut state, T::input(y_c), T::input(y_s));
+            let e = T::record(&state, &output);
+            let r = Record::decode(r);
             // Position difference, exact in the split form: whole turns, then the angle.
-            let turns = (e.turns - i64::from(turns_ref)) as f32;
-            let d = (turns * core::f32::consts::TAU + (e.angle - angle_ref)).abs();
+            let turns = e.turns.wrapping_sub(r.turns) as f32;
+            let d = (turns * core::f32::consts::TAU + (e.angle - r.angle)).abs();
             if worse(d, position) {
                 (position, worst) = (d, k);
             }
-            let d = (e.speed - speed_ref).abs() / speed_scale;
+            let d = (e.speed - r.speed).abs() / speed_scale;
             if worse(d, speed) {
                 speed = d;
             }
-            let d = (e.acceleration - acceleration_ref).abs() / acceleration_scale;
+            let d = (e.acceleration - r.acceleration).abs() / acceleration_scale;
             if worse(d, acceleration) {
                 acceleration = d;
             }
@@ -293,7 +227,7 @@ impl Job for Check<'_> {
             "check {}: {} samples, max |position - host| {:e} rad (sample {}), \
              speed {:e}, acceleration {:e} (relative): {}",
             NAMES[index],
-            SAMPLES,
+            CHECKED_SAMPLES,
             position,
             worst,
             speed,
@@ -304,53 +238,117 @@ impl Job for Check<'_> {
     }
 }
 
+/// Points of the fast arctangent's error sweep: a full turn at each of three magnitudes.
+const ATAN2_SWEEP_POINTS: usize = 4096;
+
+/// `check` mode for the baselines' fast arctangent: its largest error against `atan2f`
+/// over [`ATAN2_SWEEP_POINTS`] angles at magnitudes 0.1, 1 and 3 (and the axes, where the
+/// octants meet). Returns `true` if within [`FAST_ATAN2_MAX_ERROR_RAD`].
+fn check_fast_atan2() -> bool {
+    let mut worst = 0.0f32;
+    for magnitude in [0.1f32, 1.0, 3.0] {
+        for k in 0..ATAN2_SWEEP_POINTS {
+            let angle = core::f32::consts::TAU * k as f32 / ATAN2_SWEEP_POINTS as f32;
+            let (sin, cos) = Real::sin_cos(angle);
+            let (y, x) = (magnitude * sin, magnitude * cos);
+            let exact = LibmAtan2::atan2(y, x);
+            let mut d = (FastAtan2::atan2(y, x) - exact).abs();
+            // atan2 at pi and -pi are the same angle.
+            d = d.min((d - core::f32::consts::TAU).abs());
+            if worse(d, worst) {
+                worst = d;
+            }
+        }
+    }
+    let ok = worst <= FAST_ATAN2_MAX_ERROR_RAD;
+    hprintln!(
+        "check fast-atan2: {} points, max |fast - atan2f| {:e} rad (bound {:e}): {}",
+        3 * ATAN2_SWEEP_POINTS,
+        worst,
+        FAST_ATAN2_MAX_ERROR_RAD,
+        if ok { "ok" } else { "FAIL" }
+    );
+    ok
+}
+
 /// `true` if the difference `d` is larger than `worst` so far, or NaN (which must fail).
 fn worse(d: f32, worst: f32) -> bool {
     d > worst || d.is_nan()
 }
 
 /// `count` mode: `samples` updates of one variant (or of the loop alone) and nothing else.
-struct Count<'a> {
-    inputs: &'a Inputs,
+struct Count {
     samples: usize,
     loop_only: bool,
     block: bool,
 }
 
-impl Job for Count<'_> {
-    fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>) {
+impl Job for Count {
+    fn run<T: Tracker>(&mut self, _index: usize, tracker: T) {
         let n = self.samples.min(SAMPLES);
-        if !self.loop_only && entry(index) != Entry::Plain {
-            let mut channel = Channel::new(entry(index));
-            for k in 0..n {
-                let (y_c, y_s) = (self.inputs.y_c[k], self.inputs.y_s[k]);
-                black_box(&update_entry(index, &gains, &mut channel, y_c, y_s));
-            }
-            return;
-        }
+        let mut state = tracker.new_state();
         if self.block {
-            let mut state = ObserverState::new();
-            let mut out = [Estimate::default(); SAMPLES];
-            let (y_c, y_s) = (&self.inputs.y_c[..n], &self.inputs.y_s[..n]);
-            black_box(update_block(&gains, &mut state, y_c, y_s, &mut out));
-            black_box(&out);
+            count_block(&tracker, &mut state, n);
             return;
         }
         let step = if self.loop_only {
-            no_update::<N, S>
+            no_update::<T>
         } else {
-            update::<N, S>
+            update::<T>
         };
         let step = black_box(step);
-        let mut state = ObserverState::new();
         for k in 0..n {
-            black_box(&step(
-                &gains,
-                &mut state,
-                self.inputs.y_c[k],
-                self.inputs.y_s[k],
-            ));
+            let (y_c, y_s) = (T::input(Y_C[k]), T::input(Y_S[k]));
+            black_box(&step(&tracker, &mut state, y_c, y_s));
         }
+    }
+}
+
+/// `count ... block` mode: block updates over the first `n` samples, [`BLOCK_SAMPLES`] at
+/// a time (one call on the Cortex-M4F; the Cortex-M0's 16 KiB of RAM hold fewer estimates).
+/// Out of line, so that each variant's estimates take the stack in turn.
+#[inline(never)]
+fn count_block<T: Tracker>(tracker: &T, state: &mut T::State, n: usize) {
+    let mut out = [T::Output::default(); BLOCK_SAMPLES];
+    for start in (0..n).step_by(BLOCK_SAMPLES) {
+        let end = n.min(start + BLOCK_SAMPLES);
+        let (y_c, y_s) = (&Y_C[start..end], &Y_S[start..end]);
+        black_box(update_block(tracker, state, y_c, y_s, &mut out));
+        black_box(&out);
+    }
+}
+
+/// `functions` mode: the addresses of the variant's out-of-line functions, for the
+/// symbol table: `update 0x...` (what `count` calls), and `update_block 0x...` if the
+/// variant has a block form.
+struct Functions;
+
+impl Job for Functions {
+    fn run<T: Tracker>(&mut self, _index: usize, _tracker: T) {
+        let update = update::<T> as fn(_, _, _, _) -> _;
+        hprintln!("update {:#x}", update as usize);
+        if T::BLOCK {
+            let block = update_block::<T> as fn(_, _, _, _, _) -> _;
+            hprintln!("update_block {:#x}", block as usize);
+        }
+    }
+}
+
+/// The index of variant `name` (`loop`: [`LOOP_VARIANT`]'s).
+fn variant(name: &str) -> Result<usize, &'static str> {
+    let name = if name == "loop" { LOOP_VARIANT } else { name };
+    NAMES
+        .iter()
+        .position(|&n| n == name)
+        .ok_or("unknown variant")
+}
+
+/// Runs `job` on variant `index`.
+fn run_variant(index: usize, job: &mut impl Job) -> Result<(), &'static str> {
+    match OBSERVERS.run(index, job) {
+        Ok(true) => Ok(()),
+        Ok(false) => Err("unknown variant"),
+        Err(_) => Err("gains refused"),
     }
 }
 
@@ -376,27 +374,38 @@ fn command_line(buf: &mut [u8]) -> impl Iterator<Item = &str> {
 fn run() -> Result<(), &'static str> {
     let mut buf = [0u8; 128];
     let mut args = command_line(&mut buf);
-    let mut inputs = Inputs::load();
     match args.next() {
         Some("check") => {
-            let tamper = args.next() == Some("tamper");
-            if tamper {
-                inputs.y_s[SAMPLES / 2] += TAMPER;
-            }
             let mut check = Check {
-                inputs: &inputs,
+                tamper: args.next() == Some("tamper"),
                 failures: 0,
             };
             for index in 0..NAMES.len() {
-                if !OBSERVERS.run(index, &mut check) {
-                    return Err("gains refused");
-                }
+                run_variant(index, &mut check)?;
             }
             let demodulator_ok = check_demodulator()?;
-            if check.failures > 0 || !demodulator_ok {
+            let atan2_ok = check_fast_atan2();
+            if check.failures > 0 || !demodulator_ok || !atan2_ok {
                 return Err("estimates differ from the host's");
             }
             Ok(())
+        }
+        Some("variants") => {
+            for name in NAMES {
+                hprintln!("{}", name);
+            }
+            Ok(())
+        }
+        Some("functions") => {
+            let name = args.next().ok_or("functions needs a variant")?;
+            if name == DEMODULATOR {
+                let push = demodulate as fn(_, _, _, _) -> _;
+                hprintln!("update {:#x}", push as usize);
+                let block = demodulate_block as fn(_, _, _, _) -> _;
+                hprintln!("update_block {:#x}", block as usize);
+                return Ok(());
+            }
+            run_variant(variant(name)?, &mut Functions)
         }
         Some("count") => {
             let name = args.next().ok_or("count needs a variant")?;
@@ -408,29 +417,15 @@ fn run() -> Result<(), &'static str> {
             if name == DEMODULATOR {
                 return count_demodulator(samples, block);
             }
-            let loop_only = name == "loop";
-            // The loop alone runs with the Kalman variant's types.
-            let index = if loop_only {
-                LOOP_VARIANT
-            } else {
-                NAMES
-                    .iter()
-                    .position(|&n| n == name)
-                    .ok_or("unknown variant")?
-            };
             let mut count = Count {
-                inputs: &inputs,
                 samples,
-                loop_only,
+                loop_only: name == "loop",
                 block,
             };
-            if OBSERVERS.run(index, &mut count) {
-                Ok(())
-            } else {
-                Err("gains refused")
-            }
+            run_variant(variant(name)?, &mut count)
         }
-        _ => Err("usage: check [tamper] | count <variant|loop|demodulator-f32> <samples> [block]"),
+        _ => Err("usage: check [tamper] | variants | functions <variant> \
+                  | count <variant|loop|demodulator-f32> <samples> [block]"),
     }
 }
 

@@ -1,50 +1,194 @@
-//! The observer variants of the firmware test and the layout of the reference data: shared by
-//! the build script (which computes the reference on the host) and the firmware (which checks
-//! itself against it), so that both run the same list in the same order.
+//! The variants of the firmware test and the layout of the reference data: shared by the
+//! build script (which computes the reference on the host) and the firmware (which checks
+//! itself against it and counts), so that both run the same list in the same order.
+//!
+//! A variant is a [`Tracker`]: one of the core's entry points with its gains, or a baseline
+//! (`baseline`). The list is the [`variants!`] table below: one line per variant. A variant
+//! of an entry point that has a `Tracker` here (`Plain`, `Calibrated`, `Adc`, `Corrected`,
+//! `PhaseLockedLoop`) is that one line; another entry point (another arithmetic, say) first
+//! needs its `Tracker`: its state, input and output types, and its estimate as a [`Record`].
+//! `run.sh` prints each variant under its name on the Cortex-M4F (`-m4` appended if it
+//! contains `-fixed`) and with `-m0` appended on the Cortex-M0.
 
 use angletrack_core::{
-    AdcScaling, Calibrator, ConfigError, DemodulatedPair, Demodulator, DemodulatorSettings,
-    Estimate, Exact, Fast, FaultThresholds, Gains, ObserverState, SinCos,
+    AdcScaling, AngleCorrection, Calibrator, ConfigError, DemodulatedPair, Demodulator,
+    DemodulatorSettings, Estimate, Exact, Fast, FaultThresholds, Gains, MAX_CORRECTION_ORDER,
+    ObserverState, Order, SinCos, SupportedOrder,
 };
 
-/// The variants, as printed: `<observer>-<float>-<sincos>[-<entry>]`. `unmonitored` is the
-/// Kalman ATO with the diagnostics switched off (`FaultThresholds::disabled()`: the bare
-/// loop); `calibrated` the Kalman ATO through `Gains::update_calibrated` with the online
-/// calibration learning; `adc` the Kalman ATO through `Gains::update_adc` on 12-bit counts
-/// ([`adc_counts`]).
-pub const NAMES: [&str; 9] = [
-    "second-order-f32-exact",
-    "second-order-f32-fast",
-    "third-order-f32-exact",
-    "third-order-f32-fast",
-    "kalman-f32-exact",
-    "kalman-f32-fast",
-    "kalman-f32-fast-unmonitored",
-    "kalman-f32-fast-calibrated",
-    "kalman-f32-fast-adc",
-];
+use crate::baseline::{Atan2, FastAtan2, LibmAtan2, PhaseLockedLoop, PllState};
 
-/// The variant whose types the loop alone (`count loop`) runs with: the unmonitored Kalman
-/// ATO.
-pub const LOOP_VARIANT: usize = 6;
-
-/// Which entry point of the core a variant runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Entry {
-    /// `Gains::update`.
-    Plain,
-    /// `Gains::update_calibrated`, the calibration learning.
-    Calibrated,
-    /// `Gains::update_adc` on [`adc_counts`] of the inputs, 12-bit two's complement.
-    Adc,
+/// What a variant runs per sample, and how its result compares with the host's.
+pub trait Tracker {
+    /// The per-channel state.
+    type State;
+    /// One input sample as the entry point takes it.
+    type Input: Copy;
+    /// What one update returns.
+    type Output: Copy + Default;
+    /// Whether [`Tracker::update_block`] is the core's block form (else it runs nothing).
+    const BLOCK: bool = false;
+    /// A fresh state.
+    fn new_state(&self) -> Self::State;
+    /// An input sample (amplitude about 1) as the entry point takes it; converted outside
+    /// the counted update.
+    fn input(y: f32) -> Self::Input;
+    /// One sample.
+    fn update(&self, state: &mut Self::State, y_c: Self::Input, y_s: Self::Input) -> Self::Output;
+    /// The estimate after an update, as compared with the host's.
+    fn record(state: &Self::State, output: &Self::Output) -> Record;
+    /// All samples in one call, if [`Tracker::BLOCK`]; returns the number of outputs.
+    fn update_block(
+        &self,
+        _state: &mut Self::State,
+        _y_c: &[f32],
+        _y_s: &[f32],
+        _out: &mut [Self::Output],
+    ) -> usize {
+        0
+    }
 }
 
-/// The entry point of variant `index`.
-pub const fn entry(index: usize) -> Entry {
-    match index {
-        7 => Entry::Calibrated,
-        8 => Entry::Adc,
-        _ => Entry::Plain,
+/// The core's `Gains::update`.
+#[derive(Debug, Clone, Copy)]
+pub struct Plain<const N: usize, S>(pub Gains<f32, N, S>);
+
+impl<const N: usize, S: SinCos<f32>> Tracker for Plain<N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    type State = ObserverState<f32, N>;
+    type Input = f32;
+    type Output = Estimate<f32>;
+    const BLOCK: bool = true;
+    fn new_state(&self) -> Self::State {
+        ObserverState::new()
+    }
+    fn input(y: f32) -> f32 {
+        y
+    }
+    #[inline(always)]
+    fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) -> Estimate<f32> {
+        self.0.update(state, y_c, y_s)
+    }
+    fn record(_: &Self::State, output: &Estimate<f32>) -> Record {
+        Record::of(output)
+    }
+    #[inline(always)]
+    fn update_block(
+        &self,
+        state: &mut Self::State,
+        y_c: &[f32],
+        y_s: &[f32],
+        out: &mut [Estimate<f32>],
+    ) -> usize {
+        self.0.update_block(state, y_c, y_s, out)
+    }
+}
+
+/// The core's `Gains::update_calibrated`, the online calibration learning.
+#[derive(Debug, Clone, Copy)]
+pub struct Calibrated<const N: usize, S>(pub Gains<f32, N, S>);
+
+impl<const N: usize, S: SinCos<f32>> Tracker for Calibrated<N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    type State = (ObserverState<f32, N>, Calibrator<f32>);
+    type Input = f32;
+    type Output = Estimate<f32>;
+    fn new_state(&self) -> Self::State {
+        let mut calibrator = Calibrator::new();
+        calibrator.enable();
+        (ObserverState::new(), calibrator)
+    }
+    fn input(y: f32) -> f32 {
+        y
+    }
+    #[inline(always)]
+    fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) -> Estimate<f32> {
+        let (observer, calibrator) = state;
+        self.0.update_calibrated(observer, calibrator, y_c, y_s)
+    }
+    fn record(_: &Self::State, output: &Estimate<f32>) -> Record {
+        Record::of(output)
+    }
+}
+
+/// The core's `Gains::update_adc` on [`adc_counts`] of the inputs, 12-bit two's complement.
+#[derive(Debug, Clone, Copy)]
+pub struct Adc<const N: usize, S>(pub Gains<f32, N, S>, pub AdcScaling<f32>);
+
+impl<const N: usize, S: SinCos<f32>> Tracker for Adc<N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    type State = ObserverState<f32, N>;
+    type Input = i16;
+    type Output = Estimate<f32>;
+    fn new_state(&self) -> Self::State {
+        ObserverState::new()
+    }
+    fn input(y: f32) -> i16 {
+        adc_counts(y)
+    }
+    #[inline(always)]
+    fn update(&self, state: &mut Self::State, raw_c: i16, raw_s: i16) -> Estimate<f32> {
+        self.0.update_adc(state, &self.1, raw_c, raw_s)
+    }
+    fn record(_: &Self::State, output: &Estimate<f32>) -> Record {
+        Record::of(output)
+    }
+}
+
+/// The core's `Gains::update_corrected`: the angle-harmonic correction [`correction`].
+#[derive(Debug, Clone, Copy)]
+pub struct Corrected<const N: usize, S>(pub Gains<f32, N, S>, pub AngleCorrection<f32>);
+
+impl<const N: usize, S: SinCos<f32>> Tracker for Corrected<N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    type State = ObserverState<f32, N>;
+    type Input = f32;
+    type Output = Estimate<f32>;
+    fn new_state(&self) -> Self::State {
+        ObserverState::new()
+    }
+    fn input(y: f32) -> f32 {
+        y
+    }
+    #[inline(always)]
+    fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) -> Estimate<f32> {
+        self.0.update_corrected(state, &self.1, y_c, y_s)
+    }
+    fn record(_: &Self::State, output: &Estimate<f32>) -> Record {
+        Record::of(output)
+    }
+}
+
+/// The baseline: an arctangent and a 2nd-order PLL; its state is its estimate.
+impl<A: Atan2> Tracker for PhaseLockedLoop<A> {
+    type State = PllState;
+    type Input = f32;
+    type Output = ();
+    fn new_state(&self) -> PllState {
+        PllState::default()
+    }
+    fn input(y: f32) -> f32 {
+        y
+    }
+    #[inline(always)]
+    fn update(&self, state: &mut PllState, y_c: f32, y_s: f32) {
+        PhaseLockedLoop::update(self, state, y_c, y_s)
+    }
+    fn record(state: &PllState, _: &()) -> Record {
+        Record {
+            angle: state.angle,
+            turns: state.turns,
+            speed: state.speed,
+            acceleration: 0.0,
+        }
     }
 }
 
@@ -54,38 +198,72 @@ pub fn adc_counts(y: f32) -> i16 {
     (y * 2048.0) as i16
 }
 
-/// The state one channel needs for any entry point.
-#[derive(Debug, Clone, Copy)]
-pub struct Channel<const N: usize> {
-    /// The observer's state.
-    pub state: ObserverState<f32, N>,
-    /// The online calibration (learning for [`Entry::Calibrated`], else off).
-    pub calibrator: Calibrator<f32>,
-    /// The ADC front end of [`Entry::Adc`].
-    pub adc: AdcScaling<f32>,
+/// The angle-harmonic correction of the `angle-corrected` variant, order 4: a few mrad of
+/// each harmonic, as a real resolver has (the benchmark's signal has none: the variant is
+/// there for its cost; the host reference checks it all the same).
+pub fn correction() -> Result<AngleCorrection<f32>, ConfigError> {
+    let mut a = [0.0; MAX_CORRECTION_ORDER];
+    let mut b = [0.0; MAX_CORRECTION_ORDER];
+    a[..4].copy_from_slice(&[2e-3, -1e-3, 5e-4, 1.5e-3]);
+    b[..4].copy_from_slice(&[-1e-3, 3e-3, -5e-4, 1e-3]);
+    AngleCorrection::new(a, b)
 }
 
-impl<const N: usize> Channel<N> {
-    /// A fresh channel for the entry point `entry`.
-    pub fn new(entry: Entry) -> Self {
-        let mut calibrator = Calibrator::new();
-        if entry == Entry::Calibrated {
-            calibrator.enable();
-        }
+/// The natural frequency of the baselines' PLL (rad/s): that of the benchmarks' 2nd-order
+/// ATO (50 Hz, damping 1).
+pub const PLL_BANDWIDTH_RAD_S: f32 = core::f32::consts::TAU * 50.0;
+
+/// The estimate compared with the host's: angle (rad), whole turns, speed (rad/s),
+/// acceleration (rad/s^2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Record {
+    /// Angle (rad).
+    pub angle: f32,
+    /// Whole turns.
+    pub turns: i32,
+    /// Speed (rad/s).
+    pub speed: f32,
+    /// Acceleration (rad/s^2).
+    pub acceleration: f32,
+}
+
+/// Bytes of one encoded [`Record`]: angle (f32), turns (i32), speed (f32), acceleration
+/// (f32), little endian.
+pub const RECORD_BYTES: usize = 16;
+
+impl Record {
+    /// The record of an observer's estimate.
+    pub fn of(estimate: &Estimate<f32>) -> Self {
         Self {
-            state: ObserverState::new(),
-            calibrator,
-            adc: AdcScaling::twos_complement(12).unwrap_or_default(),
+            angle: estimate.angle,
+            turns: estimate.turns as i32,
+            speed: estimate.speed,
+            acceleration: estimate.acceleration,
+        }
+    }
+
+    /// The record's bytes (written by the build script only).
+    #[allow(dead_code)]
+    pub fn encode(&self) -> [u8; RECORD_BYTES] {
+        let mut r = [0; RECORD_BYTES];
+        r[0..4].copy_from_slice(&self.angle.to_le_bytes());
+        r[4..8].copy_from_slice(&self.turns.to_le_bytes());
+        r[8..12].copy_from_slice(&self.speed.to_le_bytes());
+        r[12..16].copy_from_slice(&self.acceleration.to_le_bytes());
+        r
+    }
+
+    /// The record of [`Record::encode`]'s bytes.
+    pub fn decode(r: &[u8]) -> Self {
+        let word = |i: usize| [r[i], r[i + 1], r[i + 2], r[i + 3]];
+        Self {
+            angle: f32::from_le_bytes(word(0)),
+            turns: i32::from_le_bytes(word(4)),
+            speed: f32::from_le_bytes(word(8)),
+            acceleration: f32::from_le_bytes(word(12)),
         }
     }
 }
-
-/// Bytes of one reference record: angle (rad, f32), turns (i32), speed (rad/s, f32),
-/// acceleration (rad/s^2, f32), little endian.
-pub const RECORD_BYTES: usize = 16;
-
-/// Bytes of one input sample: `y_c`, `y_s` (f32, little endian).
-pub const SAMPLE_BYTES: usize = 8;
 
 /// The discrete gains of the three observers and the sample period (s), in `f32`.
 #[derive(Debug, Clone, Copy)]
@@ -100,71 +278,84 @@ pub struct Observers {
     pub sample_period_s: f32,
 }
 
-/// Something to do with one variant's checked gains.
-pub trait Job {
-    /// Runs on variant `index` (into [`NAMES`]) with its gains.
-    fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>);
-}
-
 impl Observers {
-    /// Runs `job` on variant `index`. Returns `false` (and runs nothing) if `index` is not a
-    /// variant or its gains are refused.
-    pub fn run(&self, index: usize, job: &mut impl Job) -> bool {
-        let ts = self.sample_period_s;
-        let fast = index % 2 == 1 || index >= 6;
-        let third = |l: [f32; 3]| -> Result<Gains<f32, 3, Exact>, ConfigError> {
-            let gains = Gains::new(l, ts)?;
-            if index == 6 {
-                gains.with_fault_thresholds(FaultThresholds::disabled())
-            } else {
-                Ok(gains)
-            }
-        };
-        match index {
-            0 | 1 => Gains::new(self.second_order, ts).map(|g| run_with(index, g, fast, job)),
-            2 | 3 => third(self.third_order).map(|g| run_with(index, g, fast, job)),
-            4..=8 => third(self.kalman).map(|g| run_with(index, g, fast, job)),
-            _ => return false,
-        }
-        .is_ok()
+    fn second_order(&self) -> Result<Gains<f32, 2, Exact>, ConfigError> {
+        Gains::new(self.second_order, self.sample_period_s)
+    }
+    fn third_order(&self) -> Result<Gains<f32, 3, Exact>, ConfigError> {
+        Gains::new(self.third_order, self.sample_period_s)
+    }
+    fn kalman(&self) -> Result<Gains<f32, 3, Exact>, ConfigError> {
+        Gains::new(self.kalman, self.sample_period_s)
+    }
+    fn pll<A: Atan2>(&self) -> PhaseLockedLoop<A> {
+        PhaseLockedLoop::new(PLL_BANDWIDTH_RAD_S, self.sample_period_s)
     }
 }
 
-/// Runs `job` with `gains`, with the fast or the exact sin/cos.
-fn run_with<const N: usize>(
-    index: usize,
+/// The gains with the fast (polynomial) sin/cos.
+fn fast<const N: usize>(gains: Gains<f32, N, Exact>) -> Gains<f32, N, Fast> {
+    gains.with_sin_cos()
+}
+
+/// The gains with the diagnostics off (`FaultThresholds::disabled()`: the bare loop).
+fn unmonitored<const N: usize>(
     gains: Gains<f32, N, Exact>,
-    fast: bool,
-    job: &mut impl Job,
-) {
-    if fast {
-        job.run(index, gains.with_sin_cos::<Fast>());
-    } else {
-        job.run(index, gains);
-    }
+) -> Result<Gains<f32, N, Exact>, ConfigError> {
+    gains.with_fault_thresholds(FaultThresholds::disabled())
 }
 
-/// The reference record of one estimate (written by the build script only).
-#[allow(dead_code)]
-pub fn encode(estimate: &Estimate<f32>) -> [u8; RECORD_BYTES] {
-    let mut r = [0; RECORD_BYTES];
-    r[0..4].copy_from_slice(&estimate.angle.to_le_bytes());
-    r[4..8].copy_from_slice(&(estimate.turns as i32).to_le_bytes());
-    r[8..12].copy_from_slice(&estimate.speed.to_le_bytes());
-    r[12..16].copy_from_slice(&estimate.acceleration.to_le_bytes());
-    r
+/// Something to do with one variant's tracker.
+pub trait Job {
+    /// Runs on variant `index` (into [`NAMES`]).
+    fn run<T: Tracker>(&mut self, index: usize, tracker: T);
 }
 
-/// `(angle, turns, speed, acceleration)` of a reference record.
-pub fn decode(r: &[u8]) -> (f32, i32, f32, f32) {
-    let word = |i: usize| [r[i], r[i + 1], r[i + 2], r[i + 3]];
-    (
-        f32::from_le_bytes(word(0)),
-        i32::from_le_bytes(word(4)),
-        f32::from_le_bytes(word(8)),
-        f32::from_le_bytes(word(12)),
-    )
+/// The variant table: `"name" => |observers| tracker,` one line per variant (the tracker a
+/// `Result<impl Tracker, ConfigError>`), which makes [`NAMES`] and [`Observers::run`].
+macro_rules! variants {
+    ($($name:literal => |$o:ident| $tracker:expr,)*) => {
+        /// The variants, as printed: `<observer>-<arithmetic>-<sincos>[-<entry>]`, or
+        /// `baseline-<arctangent>-pll-<arithmetic>`.
+        pub const NAMES: &[&str] = &[$($name),*];
+
+        impl Observers {
+            /// Runs `job` on variant `index`. Returns `Ok(false)` (and runs nothing) if
+            /// `index` is not a variant, the error if its gains are refused.
+            pub fn run(&self, index: usize, job: &mut impl Job) -> Result<bool, ConfigError> {
+                let mut i = 0;
+                $(
+                    if index == i {
+                        let $o = self;
+                        job.run(index, $tracker?);
+                        return Ok(true);
+                    }
+                    i += 1;
+                )*
+                let _ = i;
+                Ok(false)
+            }
+        }
+    };
 }
+
+variants! {
+    "second-order-f32-exact" => |o| o.second_order().map(Plain),
+    "second-order-f32-fast" => |o| o.second_order().map(fast).map(Plain),
+    "third-order-f32-exact" => |o| o.third_order().map(Plain),
+    "third-order-f32-fast" => |o| o.third_order().map(fast).map(Plain),
+    "kalman-f32-exact" => |o| o.kalman().map(Plain),
+    "kalman-f32-fast" => |o| o.kalman().map(fast).map(Plain),
+    "kalman-f32-fast-unmonitored" => |o| o.kalman().and_then(unmonitored).map(fast).map(Plain),
+    "kalman-f32-fast-calibrated" => |o| o.kalman().map(fast).map(Calibrated),
+    "kalman-f32-fast-adc" => |o| Ok(Adc(fast(o.kalman()?), AdcScaling::twos_complement(12)?)),
+    "kalman-f32-fast-angle-corrected" => |o| Ok(Corrected(fast(o.kalman()?), correction()?)),
+    "baseline-atan2-pll-f32" => |o| Ok(o.pll::<LibmAtan2>()),
+    "baseline-fast-atan2-pll-f32" => |o| Ok(o.pll::<FastAtan2>()),
+}
+
+/// The variant whose types the loop alone (`count loop`) runs with.
+pub const LOOP_VARIANT: &str = "kalman-f32-fast-unmonitored";
 
 /// The resolver front end's variant, counted per ADC sample pair: the synchronous
 /// demodulator (`Demodulator::push`) alone.
@@ -178,7 +369,7 @@ pub const CARRIER_AMPLITUDE_COUNTS: f32 = 1800.0;
 /// The carrier delay of the demodulator variant's raw samples (rad, 305 degrees).
 pub const CARRIER_DELAY_RAD: f32 = 5.323_254;
 
-/// Bytes of one demodulated pair's reference record: `y_c`, `y_s` (f32, little endian).
+/// Bytes of one input sample or demodulated pair: `y_c`, `y_s` (f32, little endian).
 pub const PAIR_BYTES: usize = 8;
 
 /// The demodulator of the variant: a 10 kHz carrier, 16 samples per period, 12-bit ADC,

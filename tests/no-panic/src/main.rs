@@ -1,18 +1,20 @@
-//! Every f32 per-sample entry point of the core (single observers, channel banks and the
-//! resolver front end), fed
-//! with values the optimiser cannot see (`black_box`). The panic handler below is only kept
-//! by the linker if some path of these calls can panic; `scripts/test.d/40-robustness.sh`
-//! fails when its symbol is in the image.
+//! Every f32 per-sample entry point of the core (single observers, channel banks, the
+//! angle-harmonic correction and the resolver front end), fed with values the optimiser
+//! cannot see (`black_box`). The panic handler below is only kept by the linker if some path
+//! of these calls can panic; `scripts/test.d/40-robustness.sh` builds the image for a
+//! Cortex-M4F (thumbv7em-none-eabihf) and a Cortex-M0 (thumbv6m-none-eabi, soft float) and
+//! fails when the handler's symbol is in either.
 #![no_std]
 #![no_main]
 
 use core::hint::black_box;
 
 use angletrack_core::{
-    AdcScaling, AngleTrackingObserver, CalibrationSettings, Calibrator, ChannelBank, Demodulator,
-    DemodulatorSettings, DemodulatorState, DriveOutputs, DriveOutputsState, Estimate, Exact,
-    Excitation, ExcitationState, Fast, Gains, Observer, ObserverState, Order, SensorCalibration,
-    SinCos, SupportedOrder, Waveform,
+    AdcScaling, AngleCorrection, AngleTrackingObserver, CalibrationSettings, Calibrator,
+    ChannelBank, Demodulator, DemodulatorSettings, DemodulatorState, DriveOutputs,
+    DriveOutputsState, Estimate, Exact, Excitation, ExcitationState, Fast, Gains,
+    MAX_CORRECTION_ORDER, Observer, ObserverState, Order, SensorCalibration, SinCos,
+    SupportedOrder, Waveform,
 };
 use cortex_m_rt::entry;
 
@@ -35,6 +37,7 @@ where
     gains.update_each(&mut state, &samples, &samples, |k, e| {
         sum += e.angle * k as f32
     });
+    sum += corrected(&gains);
     let mut observer = Observer::new(gains);
     sum += observer.update(black_box(1.0), black_box(0.0)).angle;
     // A bank of channels: its update (side by side and lane by lane), block update and
@@ -106,6 +109,34 @@ where
     sum + o_c + state.amplitude() + calibrator.turns_learned() as f32
 }
 
+/// The angle-harmonic correction (order 4), alone and after the calibration.
+fn corrected<const N: usize, S: SinCos<f32>>(gains: &Gains<f32, N, S>) -> f32
+where
+    Order<N>: SupportedOrder,
+{
+    let (mut a, mut b) = (
+        [0.0f32; MAX_CORRECTION_ORDER],
+        [0.0f32; MAX_CORRECTION_ORDER],
+    );
+    a[..4].copy_from_slice(&black_box([2e-3, -1e-3, 5e-4, 1.5e-3]));
+    b[..4].copy_from_slice(&black_box([-1e-3, 3e-3, -5e-4, 1e-3]));
+    let Ok(correction) = AngleCorrection::new(a, b) else {
+        return 0.0;
+    };
+    let (mut state, mut calibrator) = (ObserverState::new(), Calibrator::new());
+    let mut sum = 0.0;
+    for _ in 0..black_box(8) {
+        let (y_c, y_s) = (black_box(0.6), black_box(-0.8));
+        sum += gains
+            .update_corrected(&mut state, &correction, y_c, y_s)
+            .angle;
+        sum += gains
+            .update_calibrated_corrected(&mut state, &mut calibrator, &correction, y_c, y_s)
+            .speed;
+    }
+    sum + correction.error_at(black_box(0.3))
+}
+
 /// The resolver front end's per-sample entry points: the excitation's tick, the
 /// demodulator's push, push_block and feed (with the observer), the drive outputs.
 fn front_end() -> f32 {
@@ -145,6 +176,7 @@ fn front_end() -> f32 {
 
 #[entry]
 fn main() -> ! {
+    // One line per entry point (or family of them, generic over the order and sin/cos).
     let mut sum = exercise::<2, Fast>([0.06, 0.001]);
     sum += front_end();
     sum += exercise::<3, Fast>([0.06, 0.0019, 3e-5]);

@@ -9,8 +9,8 @@ use crate::error::{Argument, Error};
 pub const LANES: usize = 8;
 
 /// Samples a bank runs between the gather of its inputs and the scatter of its outputs:
-/// the block's lane-major copies (inputs and every output, about 57 KiB in `f64`) stay in
-/// the cache while each channel's row is read and written in runs of this many samples.
+/// the block's lane-major copies (inputs and outputs, at most 57 KiB in `f64`) stay in the
+/// cache while each channel's row is read and written in runs of this many samples.
 const BLOCK: usize = 128;
 
 /// Runs `channels` independent observers that share one gain set, [`LANES`] at a time in
@@ -116,7 +116,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> ChannelBatch<T, N, S> {
                 expected: "every input and output of channels * samples values",
             });
         }
-        let mut block = Block::new();
+        let mut block = Block::new(&out);
         for (b, bank) in self.banks.iter_mut().enumerate() {
             let rows = Rows {
                 first: b * LANES,
@@ -177,29 +177,33 @@ impl Rows {
 }
 
 /// One bank's samples and estimates over [`BLOCK`] samples, lane-major (`[k][lane]`), as
-/// the bank reads and writes them.
+/// the bank reads and writes them; empty for an output not asked for.
 struct Block<T> {
-    y_c: Box<[[T; LANES]; BLOCK]>,
-    y_s: Box<[[T; LANES]; BLOCK]>,
-    angle: Box<[[T; LANES]; BLOCK]>,
-    position: Box<[[f64; LANES]; BLOCK]>,
-    speed: Box<[[T; LANES]; BLOCK]>,
-    acceleration: Box<[[T; LANES]; BLOCK]>,
-    phase_error: Box<[[T; LANES]; BLOCK]>,
-    faults: Box<[[u8; LANES]; BLOCK]>,
+    y_c: Vec<[T; LANES]>,
+    y_s: Vec<[T; LANES]>,
+    angle: Vec<[T; LANES]>,
+    position: Vec<[f64; LANES]>,
+    speed: Vec<[T; LANES]>,
+    acceleration: Vec<[T; LANES]>,
+    phase_error: Vec<[T; LANES]>,
+    faults: Vec<[u8; LANES]>,
 }
 
 impl<T: Real> Block<T> {
-    fn new() -> Self {
+    /// The buffers of the inputs and of the outputs `out` holds.
+    fn new(out: &EstimateColumns<'_, T>) -> Self {
+        fn lanes<E: Copy>(wanted: bool, value: E) -> Vec<[E; LANES]> {
+            vec![[value; LANES]; if wanted { BLOCK } else { 0 }]
+        }
         Self {
-            y_c: Box::new([[T::ONE; LANES]; BLOCK]),
-            y_s: Box::new([[T::ZERO; LANES]; BLOCK]),
-            angle: Box::new([[T::ZERO; LANES]; BLOCK]),
-            position: Box::new([[0.0; LANES]; BLOCK]),
-            speed: Box::new([[T::ZERO; LANES]; BLOCK]),
-            acceleration: Box::new([[T::ZERO; LANES]; BLOCK]),
-            phase_error: Box::new([[T::ZERO; LANES]; BLOCK]),
-            faults: Box::new([[0; LANES]; BLOCK]),
+            y_c: lanes(true, T::ONE),
+            y_s: lanes(true, T::ZERO),
+            angle: lanes(out.has(Output::Angle), T::ZERO),
+            position: lanes(out.has(Output::Position), 0.0),
+            speed: lanes(out.has(Output::Speed), T::ZERO),
+            acceleration: lanes(out.has(Output::Acceleration), T::ZERO),
+            phase_error: lanes(out.has(Output::PhaseError), T::ZERO),
+            faults: lanes(out.has(Output::Faults), 0),
         }
     }
 

@@ -18,8 +18,9 @@ impl OutputSelection {
     /// Every output.
     pub(crate) const ALL: Self = Self([true; 6]);
 
-    /// The selection of argument `outputs`: `None` for every output, else a name or a
-    /// sequence of names (`Output::name`); an unknown name is refused, named.
+    /// The selection of argument `outputs`: `None` for every output, else a name or an
+    /// iterable of names (`Output::name`: a tuple, a list, a set); an unknown name is
+    /// refused, named.
     pub(crate) fn from_argument(outputs: Option<&Bound<'_, PyAny>>) -> Result<Self> {
         let Some(outputs) = outputs.filter(|o| !o.is_none()) else {
             return Ok(Self::ALL);
@@ -27,12 +28,18 @@ impl OutputSelection {
         let names: Vec<String> = if let Ok(name) = outputs.cast::<PyString>() {
             vec![name.to_string()]
         } else {
-            outputs.extract().map_err(|_| {
+            let refused = |_| {
                 Error::value(
                     "outputs",
-                    "expected a sequence of output names (str), e.g. ('angle', 'speed')",
+                    "expected output names (str), e.g. ('angle', 'speed')",
                 )
-            })?
+            };
+            outputs
+                .try_iter()
+                .map_err(refused)?
+                .map(|name| name.and_then(|n| n.extract::<String>()))
+                .collect::<PyResult<_>>()
+                .map_err(refused)?
         };
         let mut selected = [false; 6];
         for name in &names {

@@ -1,7 +1,7 @@
 """Type stubs of the compiled extension ``angletrack._angletrack``."""
 
 import os
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from typing import Any, Literal, Optional, Union
 
 import numpy as np
@@ -195,7 +195,7 @@ def track(
 
 #: The estimates a batch may be asked for (``outputs=``).
 _OutputName = Literal["angle", "position", "speed", "acceleration", "phase_error", "faults"]
-_Outputs = Union[_OutputName, Sequence[_OutputName], None]
+_Outputs = Union[_OutputName, Iterable[_OutputName], None]
 
 _ChannelSamples = Union[
     npt.NDArray[np.float32], npt.NDArray[np.float64], Sequence[Sequence[float]],

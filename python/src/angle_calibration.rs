@@ -3,7 +3,7 @@
 //! `angletrack.harmonics` (`calibrate`, `Calibration`, `CalibratedObserver`).
 
 use angletrack::{
-    AngleCorrection, BatchColumns, CalibrationOptions, Calibrator, Gains, ObserverState,
+    AngleCorrection, CalibrationOptions, Calibrator, EstimateColumns, Gains, ObserverState,
     SensorCalibration,
 };
 use angletrack_core::MAX_CORRECTION_ORDER;
@@ -134,7 +134,7 @@ impl PyCorrectedObserver {
             Channel::Second(g, state) => run(g, state, calibrator, correction, c, s, columns),
             Channel::Third(g, state) => run(g, state, calibrator, correction, c, s, columns),
         })?;
-        out.into_estimates(n, None)
+        out.into_estimates(py, n, None)
     }
 }
 
@@ -146,16 +146,11 @@ fn run<const N: usize>(
     correction: &AngleCorrection<f64>,
     y_c: &[f64],
     y_s: &[f64],
-    columns: BatchColumns<'_, f64>,
+    mut columns: EstimateColumns<'_, f64>,
 ) {
     for (k, (&c, &s)) in y_c.iter().zip(y_s).enumerate() {
         let e = gains.update_calibrated_corrected(state, calibrator, correction, c, s);
-        columns.angle[k] = e.angle;
-        columns.position[k] = e.position();
-        columns.speed[k] = e.speed;
-        columns.acceleration[k] = e.acceleration;
-        columns.phase_error[k] = e.phase_error;
-        columns.faults[k] = e.faults.bits();
+        columns.set(k, &e);
     }
 }
 

@@ -7,9 +7,9 @@ use pyo3::prelude::*;
 
 use crate::arrays::{Float, channel_samples};
 use crate::counts::{AdcInput, AdcSettings};
-use crate::dispatch::{Arg, PhaseSinCos, Run, RunSettings, Sample};
+use crate::dispatch::{Arg, PhaseSinCos, RunSettings, Sample};
 use crate::errors::{Error, Result};
-use crate::estimates::{Estimates, OutputArrays};
+use crate::estimates::{Estimates, OutputArrays, OutputSelection};
 use crate::gains::PyGains;
 
 /// A batch behind the binding's front end: raw ADC counts scaled as an `Observer` scales
@@ -30,8 +30,27 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Batch<T, N, S> {
     }
 }
 
-impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for Batch<T, N, S> {
-    fn run(&mut self, py: Python<'_>, y_c: Arg<'_, '_>, y_s: Arg<'_, '_>) -> Result<Estimates> {
+/// A batch of concrete types behind the one dispatch (`crate::dispatch`).
+pub trait RunBatch: core::fmt::Debug + Send + Sync {
+    /// Runs over 2-D `y_c`, `y_s` (channels x samples) and returns the estimates in
+    /// `outputs`, shaped like the inputs; the state carries over to the next call.
+    fn run(
+        &mut self,
+        py: Python<'_>,
+        y_c: Arg<'_, '_>,
+        y_s: Arg<'_, '_>,
+        outputs: OutputSelection,
+    ) -> Result<Estimates>;
+}
+
+impl<T: Sample, const N: usize, S: PhaseSinCos<T>> RunBatch for Batch<T, N, S> {
+    fn run(
+        &mut self,
+        py: Python<'_>,
+        y_c: Arg<'_, '_>,
+        y_s: Arg<'_, '_>,
+        outputs: OutputSelection,
+    ) -> Result<Estimates> {
         let (y_c, channels_c, samples) = channel_samples::<T>(y_c, "y_c")?;
         let (y_s, channels_s, samples_s) = channel_samples::<T>(y_s, "y_s")?;
         if (channels_c, samples) != (channels_s, samples_s) {
@@ -53,12 +72,12 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for Batch<T, N, S> {
             ));
         }
         let (y_c, y_s) = self.adc.signals(&y_c, &y_s)?;
-        let out = OutputArrays::<T>::new(py, channels_c * samples)?;
+        let out = OutputArrays::<T>::selected(py, channels_c * samples, outputs)?;
         let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
         out.fill(py, |columns| {
             ChannelBatch::run(&mut self.batch, y_c, y_s, samples, columns)
         })??;
-        out.into_estimates(samples, Some((channels_c, samples)))
+        out.into_estimates(py, samples, Some((channels_c, samples)))
     }
 }
 
@@ -68,12 +87,13 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for Batch<T, N, S> {
 /// of one call. Each channel gives exactly what an `Observer` with the same gains and
 /// `FaultThresholds.disabled()` gives: a batch rejects bad samples (fault bit BAD_SAMPLE)
 /// but runs no fault monitor. Raw ADC counts (int16, uint16, int32) are accepted as by
-/// `Observer` with its default ADC arguments.
+/// `Observer` with its default ADC arguments. `update(..., outputs=("angle", "speed"))`
+/// computes and returns only those estimates (the others are `None`).
 #[pyclass(name = "ObserverBatch", module = "angletrack", extends = RunSettings)]
 #[derive(Debug)]
 pub struct PyObserverBatch {
     channels: usize,
-    inner: Box<dyn Run>,
+    inner: Box<dyn RunBatch>,
 }
 
 #[pymethods]
@@ -100,9 +120,18 @@ impl PyObserverBatch {
 
     /// Runs every channel over its samples: `y_c`, `y_s` are 2-D arrays (channels x
     /// samples) of the batch's dtype; returns `Estimates` whose arrays have that shape.
-    #[pyo3(signature = (y_c, y_s))]
-    fn update(&mut self, py: Python<'_>, y_c: Arg<'_, '_>, y_s: Arg<'_, '_>) -> Result<Estimates> {
-        self.inner.run(py, y_c, y_s)
+    /// `outputs` names the estimates to compute (`angle`, `position`, `speed`,
+    /// `acceleration`, `phase_error`, `faults`; `None`: all), the others are `None`.
+    #[pyo3(signature = (y_c, y_s, *, outputs = None))]
+    fn update(
+        &mut self,
+        py: Python<'_>,
+        y_c: Arg<'_, '_>,
+        y_s: Arg<'_, '_>,
+        outputs: Option<Arg<'_, '_>>,
+    ) -> Result<Estimates> {
+        let outputs = OutputSelection::from_argument(outputs)?;
+        self.inner.run(py, y_c, y_s, outputs)
     }
 
     fn __repr__(slf: PyRef<'_, Self>) -> String {
@@ -115,21 +144,27 @@ impl PyObserverBatch {
 }
 
 /// Runs a fresh batch of observers with `gains` over 2-D arrays `y_c`, `y_s` (channels x
-/// samples) in their own dtype and returns the estimates, shaped like the inputs.
+/// samples) in their own dtype and returns the estimates, shaped like the inputs: those
+/// named in `outputs` (`None`: all; e.g. `("angle", "speed")`), the others `None`.
 #[pyfunction]
-#[pyo3(signature = (gains, y_c, y_s, *, sin_cos = None))]
+#[pyo3(signature = (gains, y_c, y_s, *, sin_cos = None, outputs = None))]
 pub fn track_batch(
     py: Python<'_>,
     gains: PyGains,
     y_c: &Bound<'_, PyAny>,
     y_s: &Bound<'_, PyAny>,
     sin_cos: Option<&str>,
+    outputs: Option<&Bound<'_, PyAny>>,
 ) -> Result<Estimates> {
+    let outputs = OutputSelection::from_argument(outputs)?;
     let settings = RunSettings::new(gains, Float::of_samples(y_c, "y_c")?, sin_cos)?;
     let channels = y_c
         .getattr("shape")
         .and_then(|s| s.get_item(0))
         .and_then(|c| c.extract::<usize>())
         .map_err(|_| Error::value("y_c", "expected a 2-D array (channels x samples)"))?;
-    settings.typed_gains()?.batch(channels)?.run(py, y_c, y_s)
+    settings
+        .typed_gains()?
+        .batch(channels)?
+        .run(py, y_c, y_s, outputs)
 }

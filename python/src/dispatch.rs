@@ -10,7 +10,7 @@ use numpy::Element;
 use pyo3::prelude::*;
 
 use crate::arrays::Float;
-use crate::batch::Batch;
+use crate::batch::{Batch, RunBatch};
 use crate::errors::{Error, Result};
 use crate::estimates::Estimates;
 use crate::gains::{GainSet, PyGains};
@@ -68,7 +68,7 @@ pub trait TypedGains {
     /// A core observer with `options` (diagnostics, ADC counts, calibration).
     fn observer(&self, options: &ObserverOptions) -> Result<Box<dyn ObserverOps>>;
     /// A batch of `channels` observers (the input check only, no diagnostics).
-    fn batch(&self, channels: usize) -> Result<Box<dyn Run>>;
+    fn batch(&self, channels: usize) -> Result<Box<dyn RunBatch>>;
 }
 
 impl<T: Sample, const N: usize, S: PhaseSinCos<T>> TypedGains for CoreGains<T, N, S> {
@@ -76,13 +76,13 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> TypedGains for CoreGains<T, N
         Ok(Box::new(Channel::new(*self, options)?))
     }
 
-    fn batch(&self, channels: usize) -> Result<Box<dyn Run>> {
+    fn batch(&self, channels: usize) -> Result<Box<dyn RunBatch>> {
         Ok(Box::new(Batch::new(ChannelBatch::new(*self, channels)?)))
     }
 }
 
-/// Something that runs over sample arrays of the Python caller: an observer or a batch of
-/// concrete types behind the one dispatch.
+/// Something that runs over sample arrays of the Python caller: an observer of concrete
+/// types behind the one dispatch.
 pub trait Run: Debug + Send + Sync {
     /// Runs over `y_c`, `y_s` and returns the estimates of every sample; the state carries
     /// over to the next call.

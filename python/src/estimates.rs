@@ -1,31 +1,95 @@
 //! `Estimate` and `Estimates`: what observers give back, and the numpy arrays a run writes
 //! its estimates into.
 
-use angletrack::BatchColumns;
+use angletrack::{EstimateColumns, Output};
 use angletrack_core::{Estimate as CoreEstimate, Faults, Real};
-use numpy::{Element, PyArray1};
+use numpy::{Element, PyArray1, PyReadwriteArray1};
 use pyo3::prelude::*;
+use pyo3::types::PyString;
 
 use crate::arrays::{as_slice_mut, writable};
 use crate::errors::{Error, Result};
 
+/// The estimates a caller asked for (`outputs=`): every one unless told otherwise.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct OutputSelection([bool; 6]);
+
+impl OutputSelection {
+    /// Every output.
+    pub(crate) const ALL: Self = Self([true; 6]);
+
+    /// The selection of argument `outputs`: `None` for every output, else a name or an
+    /// iterable of names (`Output::name`: a tuple, a list, a set); an unknown name is
+    /// refused, named.
+    pub(crate) fn from_argument(outputs: Option<&Bound<'_, PyAny>>) -> Result<Self> {
+        let Some(outputs) = outputs.filter(|o| !o.is_none()) else {
+            return Ok(Self::ALL);
+        };
+        let names: Vec<String> = if let Ok(name) = outputs.cast::<PyString>() {
+            vec![name.to_string()]
+        } else {
+            let refused = |_| {
+                Error::value(
+                    "outputs",
+                    "expected output names (str), e.g. ('angle', 'speed')",
+                )
+            };
+            outputs
+                .try_iter()
+                .map_err(refused)?
+                .map(|name| name.and_then(|n| n.extract::<String>()))
+                .collect::<PyResult<_>>()
+                .map_err(refused)?
+        };
+        let mut selected = [false; 6];
+        for name in &names {
+            let output = Output::from_name(name).ok_or_else(|| {
+                let known: Vec<&str> = Output::ALL.iter().map(|o| o.name()).collect();
+                Error::value(
+                    "outputs",
+                    format!(
+                        "unknown output '{name}': expected some of {}",
+                        known.join(", ")
+                    ),
+                )
+            })?;
+            selected[output as usize] = true;
+        }
+        Ok(Self(selected))
+    }
+
+    fn has(self, output: Output) -> bool {
+        self.0[output as usize]
+    }
+}
+
 /// The output arrays of a run, allocated by numpy (which asks for huge pages on large
-/// arrays) and written in place.
+/// arrays) and written in place; `None` for an output not asked for.
 pub(crate) struct OutputArrays<'py, T: Element> {
-    angle: Bound<'py, PyArray1<T>>,
-    position: Bound<'py, PyArray1<f64>>,
-    speed: Bound<'py, PyArray1<T>>,
-    acceleration: Bound<'py, PyArray1<T>>,
-    phase_error: Bound<'py, PyArray1<T>>,
-    faults: Bound<'py, PyArray1<u8>>,
+    angle: Option<Bound<'py, PyArray1<T>>>,
+    position: Option<Bound<'py, PyArray1<f64>>>,
+    speed: Option<Bound<'py, PyArray1<T>>>,
+    acceleration: Option<Bound<'py, PyArray1<T>>>,
+    phase_error: Option<Bound<'py, PyArray1<T>>>,
+    faults: Option<Bound<'py, PyArray1<u8>>>,
 }
 
 impl<'py, T: Real + Element> OutputArrays<'py, T> {
-    /// `n` elements per quantity; a `MemoryError` when they need more than the machine's
-    /// physical memory (each allocation alone may succeed, overcommitted, and the run be
-    /// killed when it writes them), or when numpy cannot allocate one.
+    /// `n` elements of every quantity (see [`OutputArrays::selected`]).
     pub(crate) fn new(py: Python<'py>, n: usize) -> Result<Self> {
-        let per_sample = 4 * core::mem::size_of::<T>() + core::mem::size_of::<f64>() + 1;
+        Self::selected(py, n, OutputSelection::ALL)
+    }
+
+    /// `n` elements of each quantity in `outputs`; a `MemoryError` when they need more
+    /// than the machine's physical memory (each allocation alone may succeed,
+    /// overcommitted, and the run be killed when it writes them), or when numpy cannot
+    /// allocate one.
+    pub(crate) fn selected(py: Python<'py>, n: usize, outputs: OutputSelection) -> Result<Self> {
+        let per_sample: usize = Output::ALL
+            .iter()
+            .filter(|&&o| outputs.has(o))
+            .map(|o| o.bytes_per_sample::<T>())
+            .sum();
         let bytes = n as u128 * per_sample as u128;
         if physical_memory_bytes(py).is_some_and(|memory| bytes > memory) {
             return Err(Error::Memory {
@@ -33,13 +97,14 @@ impl<'py, T: Real + Element> OutputArrays<'py, T> {
                 bytes,
             });
         }
+        let array = |output: Output| outputs.has(output).then_some(n);
         Ok(Self {
-            angle: zeros(py, n)?,
-            position: zeros(py, n)?,
-            speed: zeros(py, n)?,
-            acceleration: zeros(py, n)?,
-            phase_error: zeros(py, n)?,
-            faults: zeros(py, n)?,
+            angle: zeros(py, array(Output::Angle))?,
+            position: zeros(py, array(Output::Position))?,
+            speed: zeros(py, array(Output::Speed))?,
+            acceleration: zeros(py, array(Output::Acceleration))?,
+            phase_error: zeros(py, array(Output::PhaseError))?,
+            faults: zeros(py, array(Output::Faults))?,
         })
     }
 
@@ -47,51 +112,67 @@ impl<'py, T: Real + Element> OutputArrays<'py, T> {
     pub(crate) fn fill<R: Send>(
         &self,
         py: Python<'_>,
-        fill: impl FnOnce(BatchColumns<'_, T>) -> R + Send,
+        fill: impl FnOnce(EstimateColumns<'_, T>) -> R + Send,
     ) -> Result<R> {
         let mut w = (
-            writable(&self.angle)?,
-            writable(&self.position)?,
-            writable(&self.speed)?,
-            writable(&self.acceleration)?,
-            writable(&self.phase_error)?,
-            writable(&self.faults)?,
+            write(&self.angle)?,
+            write(&self.position)?,
+            write(&self.speed)?,
+            write(&self.acceleration)?,
+            write(&self.phase_error)?,
+            write(&self.faults)?,
         );
-        let columns = BatchColumns {
-            angle: as_slice_mut(&mut w.0)?,
-            position: as_slice_mut(&mut w.1)?,
-            speed: as_slice_mut(&mut w.2)?,
-            acceleration: as_slice_mut(&mut w.3)?,
-            phase_error: as_slice_mut(&mut w.4)?,
-            faults: as_slice_mut(&mut w.5)?,
+        let columns = EstimateColumns {
+            angle: slice(&mut w.0)?,
+            position: slice(&mut w.1)?,
+            speed: slice(&mut w.2)?,
+            acceleration: slice(&mut w.3)?,
+            phase_error: slice(&mut w.4)?,
+            faults: slice(&mut w.5)?,
         };
         Ok(py.detach(|| fill(columns)))
     }
 
-    /// The `Estimates` of `len` samples, each array reshaped to `shape` if given.
+    /// The `Estimates` of `len` samples, each array reshaped to `shape` if given, `None`
+    /// for an output not asked for.
     pub(crate) fn into_estimates(
         self,
+        py: Python<'py>,
         len: usize,
         shape: Option<(usize, usize)>,
     ) -> Result<Estimates> {
-        let py = self.angle.py();
-        let shaped = |a: Bound<'py, PyAny>| -> Result<Py<PyAny>> {
-            Ok(match shape {
-                Some(shape) => a.call_method1("reshape", shape)?.unbind(),
-                None => a.unbind(),
+        let shaped = |a: Option<Bound<'py, PyAny>>| -> Result<Py<PyAny>> {
+            Ok(match (a, shape) {
+                (None, _) => py.None(),
+                (Some(a), Some(shape)) => a.call_method1("reshape", shape)?.unbind(),
+                (Some(a), None) => a.unbind(),
             })
         };
         Ok(Estimates {
             len,
             dtype: numpy::dtype::<T>(py).to_string(),
-            angle: shaped(self.angle.into_any())?,
-            position: shaped(self.position.into_any())?,
-            speed: shaped(self.speed.into_any())?,
-            acceleration: shaped(self.acceleration.into_any())?,
-            phase_error: shaped(self.phase_error.into_any())?,
-            faults: shaped(self.faults.into_any())?,
+            angle: shaped(self.angle.map(Bound::into_any))?,
+            position: shaped(self.position.map(Bound::into_any))?,
+            speed: shaped(self.speed.map(Bound::into_any))?,
+            acceleration: shaped(self.acceleration.map(Bound::into_any))?,
+            phase_error: shaped(self.phase_error.map(Bound::into_any))?,
+            faults: shaped(self.faults.map(Bound::into_any))?,
         })
     }
+}
+
+/// A write borrow of an output array, if there is one.
+fn write<'py, E: Element>(
+    array: &Option<Bound<'py, PyArray1<E>>>,
+) -> Result<Option<PyReadwriteArray1<'py, E>>> {
+    array.as_ref().map(writable).transpose()
+}
+
+/// The slice of a write borrow, if there is one.
+fn slice<'a, E: Element>(
+    view: &'a mut Option<PyReadwriteArray1<'_, E>>,
+) -> Result<Option<&'a mut [E]>> {
+    view.as_mut().map(as_slice_mut).transpose()
 }
 
 /// The machine's physical memory (bytes), if the platform tells it (`os.sysconf`).
@@ -111,12 +192,19 @@ fn physical_memory_bytes(py: Python<'_>) -> Option<u128> {
 }
 
 /// A zeroed array of `n` elements allocated by `numpy.zeros`, which raises `MemoryError`
-/// where the allocation fails (a failed allocation must not abort the interpreter).
-fn zeros<'py, E: Element>(py: Python<'py>, n: usize) -> Result<Bound<'py, PyArray1<E>>> {
+/// where the allocation fails (a failed allocation must not abort the interpreter); `None`
+/// for no array.
+fn zeros<'py, E: Element>(
+    py: Python<'py>,
+    n: Option<usize>,
+) -> Result<Option<Bound<'py, PyArray1<E>>>> {
+    let Some(n) = n else {
+        return Ok(None);
+    };
     let array = PyModule::import(py, "numpy")?
         .getattr("zeros")?
         .call1((n, numpy::dtype::<E>(py)))?;
-    Ok(array.cast_into::<PyArray1<E>>().map_err(PyErr::from)?)
+    Ok(Some(array.cast_into::<PyArray1<E>>().map_err(PyErr::from)?))
 }
 
 /// What an observer knows after its last sample (scalars, in `float`).
@@ -173,7 +261,8 @@ impl Estimate {
 /// The estimates of a run, one numpy array per quantity, one element per sample.
 ///
 /// `angle`, `speed`, `acceleration` and `phase_error` have the dtype of the input
-/// (float32 or float64); `position` is always float64.
+/// (float32 or float64); `position` is always float64. A quantity left out of a batch's
+/// `outputs` is `None`.
 #[pyclass(module = "angletrack", frozen, get_all)]
 #[derive(Debug)]
 pub struct Estimates {
@@ -202,11 +291,25 @@ impl Estimates {
         self.len
     }
 
-    fn __repr__(&self) -> String {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let arrays = [
+            (&self.angle, "angle"),
+            (&self.position, "position (float64)"),
+            (&self.speed, "speed"),
+            (&self.acceleration, "acceleration"),
+            (&self.phase_error, "phase_error"),
+            (&self.faults, "faults (uint8)"),
+        ];
+        let present: Vec<&str> = arrays
+            .iter()
+            .filter(|(array, _)| !array.is_none(py))
+            .map(|&(_, name)| name)
+            .collect();
         format!(
-            "Estimates({} samples, dtype={}: angle, position (float64), speed, acceleration, \
-             phase_error, faults (uint8))",
-            self.len, self.dtype
+            "Estimates({} samples, dtype={}: {})",
+            self.len,
+            self.dtype,
+            present.join(", ")
         )
     }
 }

@@ -3,7 +3,7 @@
 //! The per-sample work is the core's `Gains::update`; this module only moves samples in and
 //! estimates out, with the GIL released, straight into preallocated arrays that numpy owns.
 
-use angletrack::{BatchColumns, capture_fault_thresholds};
+use angletrack::{EstimateColumns, capture_fault_thresholds};
 use angletrack_core::{
     CalibrationMode, Calibrator, Faults, Gains as CoreGains, Observer as CoreObserver,
     ObserverState, Real, SinCos,
@@ -87,7 +87,7 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for Channel<T, N, S> {
         }
         let out = OutputArrays::<T>::new(py, y_c.len())?;
         out.fill(py, |columns| run_columns(columns, self, y_c, y_s))?;
-        out.into_estimates(y_c.len(), None)
+        out.into_estimates(py, y_c.len(), None)
     }
 }
 
@@ -157,28 +157,16 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
 /// Runs `channel` over `y_c`, `y_s` into the columns (all of equal length, checked by the
 /// caller). Called with the GIL released: no Python object is touched.
 fn run_columns<T: Real, const N: usize, S: SinCos<T>>(
-    columns: BatchColumns<'_, T>,
+    mut columns: EstimateColumns<'_, T>,
     channel: &mut Channel<T, N, S>,
     y_c: &[T],
     y_s: &[T],
 ) {
-    let n = y_c.len().min(y_s.len()).min(columns.angle.len());
-    // Slices of one length: the bounds checks of the loop below are removed.
-    let (y_c, y_s) = (&y_c[..n], &y_s[..n]);
-    let (angle, position) = (&mut columns.angle[..n], &mut columns.position[..n]);
-    let (speed, acceleration) = (&mut columns.speed[..n], &mut columns.acceleration[..n]);
-    let (phase_error, faults) = (&mut columns.phase_error[..n], &mut columns.faults[..n]);
     let (gains, state) = (&channel.observer.gains, &mut channel.observer.state);
     let calibrator = &mut channel.calibrator;
-    for k in 0..n {
+    for (k, (&c, &s)) in y_c.iter().zip(y_s).enumerate() {
         // With the calibration off, the core's plain update (one branch on the mode).
-        let e = gains.update_calibrated(state, calibrator, y_c[k], y_s[k]);
-        angle[k] = e.angle;
-        position[k] = e.position();
-        speed[k] = e.speed;
-        acceleration[k] = e.acceleration;
-        phase_error[k] = e.phase_error;
-        faults[k] = e.faults.bits();
+        columns.set(k, &gains.update_calibrated(state, calibrator, c, s));
     }
 }
 

@@ -46,6 +46,48 @@ def test_a_batch_streams_in_chunks_exactly_as_one_call():
     assert "channels=9" in repr(batch)
 
 
+@pytest.mark.parametrize("dtype", [np.float32, np.float64])
+def test_selected_outputs_equal_the_full_run_and_single_observers(dtype):
+    # Bit for bit (tolerance 0): the selection changes what is written, not the recursion.
+    g = angletrack.Gains([0.061, 0.0019, 3.1e-5], sample_period_s=1e-4)
+    y_c, y_s = _channels(11, 700, dtype)  # a partial bank; 700 samples end inside a block
+    full = angletrack.track_batch(g, y_c, y_s)
+    picked = angletrack.track_batch(g, y_c, y_s, outputs=["angle", "speed", "angle"])
+    assert picked.position is None and picked.acceleration is None and picked.faults is None
+    assert picked.phase_error is None and picked.angle.shape == (11, 700)
+    np.testing.assert_array_equal(picked.angle, full.angle)
+    np.testing.assert_array_equal(picked.speed, full.speed)
+    assert "angle, speed)" in repr(picked)
+    batch = angletrack.ObserverBatch(g, 11, dtype=dtype)
+    first = batch.update(y_c[:, :300], y_s[:, :300], outputs="position")
+    rest = batch.update(y_c[:, 300:], y_s[:, 300:], outputs={"faults", "position"})
+    assert first.angle is None and rest.faults.dtype == np.uint8
+    np.testing.assert_array_equal(np.hstack([first.position, rest.position]), full.position)
+    np.testing.assert_array_equal(rest.faults, full.faults[:, 300:])
+    for c in (0, 3, 10):
+        single = angletrack.Observer(
+            g, dtype=dtype, fault_thresholds=angletrack.FaultThresholds.disabled()
+        ).update(y_c[c], y_s[c])
+        np.testing.assert_array_equal(picked.angle[c], single.angle)
+        np.testing.assert_array_equal(picked.speed[c], single.speed)
+    # No output: the channels still run, and the next call goes on from their state.
+    quiet = angletrack.ObserverBatch(g, 11, dtype=dtype)
+    assert quiet.update(y_c[:, :300], y_s[:, :300], outputs=()).angle is None
+    after = quiet.update(y_c[:, 300:], y_s[:, 300:], outputs=("angle",))
+    np.testing.assert_array_equal(after.angle, full.angle[:, 300:])
+
+
+def test_unknown_outputs_are_refused_naming_outputs_and_the_name():
+    g = angletrack.Gains([0.06, 0.001], sample_period_s=1e-4)
+    y = np.ones((2, 5))
+    with pytest.raises(angletrack.ConfigError, match="outputs.*'velocity'") as e:
+        angletrack.track_batch(g, y, 0 * y, outputs=("angle", "velocity"))
+    assert e.value.parameter == "outputs"
+    for bad in ([1, 2], 3):
+        with pytest.raises(ValueError, match="outputs"):
+            angletrack.ObserverBatch(g, 2).update(y, 0 * y, outputs=bad)
+
+
 def test_bad_batch_inputs_raise_naming_the_parameter():
     g = angletrack.Gains([0.06, 0.001], sample_period_s=1e-4)
     batch = angletrack.ObserverBatch(g, 2)

@@ -1,7 +1,7 @@
 """Type stubs of the compiled extension ``angletrack._angletrack``."""
 
 import os
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from typing import Any, Literal, Optional, Union
 
 import numpy as np
@@ -50,7 +50,7 @@ class ConfigError(ValueError):
 
 class Estimates:
     """Estimates of a run, one array per quantity. ``position`` is float64; the others
-    have the input's dtype."""
+    have the input's dtype. A quantity left out of a batch's ``outputs`` is ``None``."""
 
     @property
     def angle(self) -> npt.NDArray[np.floating]:
@@ -198,6 +198,10 @@ def offset_binary_mid_scale(largest_count: float) -> int:
     ``largest_count`` (a whole number, 0 to 2^53): ``2^(b-1)`` for the smallest ``b``, at
     least 2, whose range ``2^b`` holds it; the rule an observer centres uint16 counts by."""
 
+#: The estimates a batch may be asked for (``outputs=``).
+_OutputName = Literal["angle", "position", "speed", "acceleration", "phase_error", "faults"]
+_Outputs = Union[_OutputName, Iterable[_OutputName], None]
+
 _ChannelSamples = Union[
     npt.NDArray[np.float32], npt.NDArray[np.float64], Sequence[Sequence[float]],
     npt.NDArray[np.int16], npt.NDArray[np.uint16], npt.NDArray[np.int32],
@@ -212,17 +216,24 @@ class ObserverBatch(_RunSettings):
     def __init__(
         self, gains: Gains, channels: int, *, dtype: _DType = None, sin_cos: _SinCos = None,
     ) -> None: ...
-    def update(self, y_c: _ChannelSamples, y_s: _ChannelSamples) -> Estimates:
+    def update(
+        self, y_c: _ChannelSamples, y_s: _ChannelSamples, *, outputs: _Outputs = None
+    ) -> Estimates:
         """Runs over 2-D samples (channels x samples) of the batch's dtype; GIL released.
-        The arrays of the result have the inputs' shape."""
+        The arrays of the result have the inputs' shape. ``outputs`` (e.g. ``("angle",
+        "speed")``, default all) names the estimates computed and returned; the others are
+        ``None``. An unknown name is a ``ConfigError`` naming ``outputs``."""
     @property
     def channels(self) -> int: ...
 
 def track_batch(
     gains: Gains, y_c: _ChannelSamples, y_s: _ChannelSamples, *, sin_cos: _SinCos = None,
+    outputs: _Outputs = None,
 ) -> Estimates:
     """Runs a fresh ``ObserverBatch`` over 2-D samples (channels x samples) in their own
-    dtype; the result's arrays have the inputs' shape."""
+    dtype; the result's arrays have the inputs' shape. Only the estimates named in
+    ``outputs`` (e.g. ``("angle", "speed")``, default all) are computed and allocated, the
+    others are ``None``: ask for what you use, the run's memory traffic follows."""
 
 # ----------------------------------------------------------------- diagnostics
 

@@ -5,16 +5,18 @@
 
 mod batch;
 mod calibrated;
+mod columns;
 mod metrics;
 mod motion;
 mod resolver;
 mod scenario;
 mod sensor;
 
-pub use batch::{BatchColumns, ChannelBatch, LANES};
+pub use batch::{ChannelBatch, LANES};
 pub use calibrated::{
     NOMINAL_AMPLITUDE_SAMPLES, capture_fault_thresholds, nominal_amplitude, run_calibrated,
 };
+pub use columns::{EstimateColumns, Output};
 pub use metrics::{ErrorStatistics, Metrics, MetricsOptions, Run, run};
 pub use motion::{Kinematics, Motion, MotionProfile};
 pub use resolver::ResolverModel;

@@ -1,0 +1,150 @@
+//! The estimates of a run written out one column per quantity, only the quantities the
+//! caller asked for: what a single channel, a [`ChannelBatch`](crate::ChannelBatch) and the
+//! Python binding write into.
+
+use angletrack_core::{Estimate, Real};
+
+/// One quantity of an [`Estimate`] a run can write out, by the name the Python API and the
+/// command line give it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Output {
+    /// Estimated angle (rad), wrapped to [-pi, pi).
+    Angle,
+    /// Multi-turn position `turns * 2 pi + angle` (rad), in `f64`.
+    Position,
+    /// Estimated speed (rad/s).
+    Speed,
+    /// Estimated acceleration (rad/s^2); 0 at order 2.
+    Acceleration,
+    /// Normalised phase-detector output.
+    PhaseError,
+    /// Fault bits ([`Faults`](angletrack_core::Faults)).
+    Faults,
+}
+
+impl Output {
+    /// Every output, in the order of [`Estimate`]'s fields.
+    pub const ALL: [Output; 6] = [
+        Output::Angle,
+        Output::Position,
+        Output::Speed,
+        Output::Acceleration,
+        Output::PhaseError,
+        Output::Faults,
+    ];
+
+    /// Its name: `angle`, `position`, `speed`, `acceleration`, `phase_error` or `faults`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Output::Angle => "angle",
+            Output::Position => "position",
+            Output::Speed => "speed",
+            Output::Acceleration => "acceleration",
+            Output::PhaseError => "phase_error",
+            Output::Faults => "faults",
+        }
+    }
+
+    /// The output named `name` (as [`Output::name`] spells it), `None` for any other name.
+    ///
+    /// ```
+    /// use angletrack::Output;
+    /// assert_eq!(Output::from_name("speed"), Some(Output::Speed));
+    /// assert_eq!(Output::from_name("velocity"), None);
+    /// ```
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|output| output.name() == name)
+    }
+
+    /// The bytes one sample of it takes in a run of float type `T` (the position is `f64`,
+    /// the faults one byte).
+    pub const fn bytes_per_sample<T>(self) -> usize {
+        match self {
+            Output::Position => core::mem::size_of::<f64>(),
+            Output::Faults => 1,
+            _ => core::mem::size_of::<T>(),
+        }
+    }
+}
+
+/// Where a run writes its estimates: one slice per quantity, `None` for a quantity nobody
+/// asked for (neither computed beyond need nor written). Element `i` of every column
+/// belongs to sample `i` of the run (for a batch: channel `c`, sample `k` at
+/// `c * samples + k`).
+#[derive(Debug, Default)]
+pub struct EstimateColumns<'a, T> {
+    /// Estimated angle (rad), wrapped to [-pi, pi).
+    pub angle: Option<&'a mut [T]>,
+    /// Multi-turn position `turns * 2 pi + angle` (rad).
+    pub position: Option<&'a mut [f64]>,
+    /// Estimated speed (rad/s).
+    pub speed: Option<&'a mut [T]>,
+    /// Estimated acceleration (rad/s^2); 0 at order 2.
+    pub acceleration: Option<&'a mut [T]>,
+    /// Phase-detector output.
+    pub phase_error: Option<&'a mut [T]>,
+    /// Fault bits ([`Faults::bits`](angletrack_core::Faults::bits)).
+    pub faults: Option<&'a mut [u8]>,
+}
+
+impl<T: Real> EstimateColumns<'_, T> {
+    /// Whether the columns hold `output`.
+    pub fn has(&self, output: Output) -> bool {
+        match output {
+            Output::Angle => self.angle.is_some(),
+            Output::Position => self.position.is_some(),
+            Output::Speed => self.speed.is_some(),
+            Output::Acceleration => self.acceleration.is_some(),
+            Output::PhaseError => self.phase_error.is_some(),
+            Output::Faults => self.faults.is_some(),
+        }
+    }
+
+    /// Whether every column present holds exactly `len` elements.
+    pub fn all_of_len(&self, len: usize) -> bool {
+        let fits = |column: Option<usize>| column.is_none_or(|n| n == len);
+        fits(self.angle.as_deref().map(<[T]>::len))
+            && fits(self.position.as_deref().map(<[f64]>::len))
+            && fits(self.speed.as_deref().map(<[T]>::len))
+            && fits(self.acceleration.as_deref().map(<[T]>::len))
+            && fits(self.phase_error.as_deref().map(<[T]>::len))
+            && fits(self.faults.as_deref().map(<[u8]>::len))
+    }
+
+    /// Writes the quantities of `e` the columns hold at `index`.
+    ///
+    /// # Panics
+    /// If `index` is outside a column present (check [`EstimateColumns::all_of_len`] first).
+    ///
+    /// ```
+    /// use angletrack::EstimateColumns;
+    /// use angletrack_core::{Estimate, Faults};
+    /// let (mut angle, mut speed) = ([0.0_f32; 3], [0.0_f32; 3]);
+    /// let mut columns = EstimateColumns {
+    ///     angle: Some(&mut angle), speed: Some(&mut speed), ..Default::default()
+    /// };
+    /// columns.set(1, &Estimate::new(0.5, 4, 60.0, 0.0, 1e-3, Faults::NONE));
+    /// assert_eq!((angle[1], speed[1]), (0.5, 60.0));
+    /// ```
+    #[inline]
+    pub fn set(&mut self, index: usize, e: &Estimate<T>) {
+        if let Some(c) = self.angle.as_deref_mut() {
+            c[index] = e.angle;
+        }
+        if let Some(c) = self.position.as_deref_mut() {
+            c[index] = e.position();
+        }
+        if let Some(c) = self.speed.as_deref_mut() {
+            c[index] = e.speed;
+        }
+        if let Some(c) = self.acceleration.as_deref_mut() {
+            c[index] = e.acceleration;
+        }
+        if let Some(c) = self.phase_error.as_deref_mut() {
+            c[index] = e.phase_error;
+        }
+        if let Some(c) = self.faults.as_deref_mut() {
+            c[index] = e.faults.bits();
+        }
+    }
+}

@@ -109,6 +109,13 @@ def test_cli_calibrate_then_track_with_calibration_below_half_a_milliradian(tmp_
     assert math.sqrt(rms**2 - mean**2) < 5e-4, printed
     data = np.genfromtxt(out, delimiter=",", names=True)
     assert wrapped_rms_after_mean(data["angle_rad"], test.angle_rad, len(test) // 2) < 5e-4
+    # --calibrate beside an angle calibration is refused in one line, before anything is written.
+    refused_out = tmp_path / "refused.csv"
+    assert cli.main([str(a) for a in ("track", cap2, "--gains-file", gains_file, "--calibration", cal_file,
+                                       "--calibrate", "--output", refused_out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("angletrack: error: calibration:") and "--calibrate" in err and err.count("\n") == 1
+    assert not refused_out.exists()
 
 
 def test_cli_calibrate_refuses_a_slow_capture_in_one_line(tmp_path, capsys):

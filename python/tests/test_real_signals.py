@@ -101,6 +101,9 @@ def test_track_and_the_observer_centre_unsigned_counts_by_one_rule():
     for bad in (-1.0, 0.5, float("nan"), 2.0**60):
         with pytest.raises(ValueError, match="largest_count"):
             at._angletrack.offset_binary_mid_scale(bad)
+    # Through track, counts beyond what float64 holds exactly name the capture, not the binding's argument.
+    with pytest.raises(ValueError, match="^capture: unsigned counts up to"):
+        tracking.unsigned_mid_scale("uint64", np.array([1.0, 2.0**60]), np.array([1.0, 1.0]))
 
 
 def test_unsigned_counts_take_the_offset_binary_mid_scale_of_their_range():

@@ -88,8 +88,13 @@ def observer_arguments(calibrate: bool, stored: Union[None, SensorCalibration, "
     """The ``Observer`` arguments of ``--calibrate`` (learn while tracking, from the stored
     calibration if one is given) and ``--calibration FILE`` (apply ``stored``, what
     :func:`read_stored` read from it, frozen). An angle calibration from ``angletrack
-    calibrate`` goes to the calibrated observer instead: no arguments."""
+    calibrate`` goes to the calibrated observer instead: no arguments, and ``--calibrate`` is
+    refused with it (that calibration already holds the offsets, imbalance and quadrature;
+    learning them again would leave its harmonics fitted to other ones)."""
     if stored is not None and not isinstance(stored, SensorCalibration):
+        if calibrate:
+            raise ValueError("calibration: --calibrate learns offsets, imbalance and quadrature; an angle "
+                             "calibration from `angletrack calibrate` already holds them")
         return {}
     if calibrate:
         return {"calibration": "learn", "initial_calibration": stored}

@@ -394,9 +394,10 @@ def build_parser() -> argparse.ArgumentParser:
 def _cmd_calibrate(args: argparse.Namespace) -> int:
     """learn a sensor's calibration (offsets, imbalance, quadrature, angle error harmonics)
 
-    Reads CAPTURE (a run at roughly constant speed: enough turns in its first fifth for the
-    offsets to be learned over 4 turns after lock, at least 5 electrical turns after it, fast
-    enough that the lowest learned order lies above the loop's bandwidth),
+    Reads CAPTURE (a run at roughly constant speed: enough turns in its first
+    --settle-fraction, a fifth by default, for the offsets to be learned over 4 turns after
+    lock, at least 5 electrical turns after it, fast enough that the lowest learned order
+    lies above the loop's bandwidth),
     tracks it with the gains, and writes what it learned: JSON for `angletrack track
     --calibration`, or a C header / Rust const block for firmware.
     """

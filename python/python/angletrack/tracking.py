@@ -192,6 +192,9 @@ def unsigned_mid_scale(sample_dtype: str, y_c: np.ndarray, y_s: np.ndarray) -> f
     high = max(float(np.max(y_c)), float(np.max(y_s)))
     if low < 0 or high <= 0:
         return 0.0
+    if not high <= 2.0**53:
+        raise ValueError(f"capture: unsigned counts up to {high:.0f}, beyond the 2^53 an observer's float64 "
+                         "holds exactly")
     return float(offset_binary_mid_scale(high))
 
 
@@ -220,9 +223,6 @@ def track_capture(s: TrackSettings) -> tuple[str, Optional[angletrack.Observer]]
     dtype = np.dtype(s.dtype)
     calibration = s.calibration
     if calibration is not None:
-        if s.observer_arguments:
-            raise ValueError("calibration: --calibrate learns offsets, imbalance and quadrature; an angle "
-                             "calibration from `angletrack calibrate` already holds them")
         dtype = np.dtype(np.float64)
         observer = harmonics.CalibratedObserver(gains, calibration)
     else:

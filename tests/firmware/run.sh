@@ -28,9 +28,7 @@
 #     `insns_per_sample_pair_in_block demodulator-f32: N`: the same inside one
 #     `demodulate_block` call (`Demodulator::push_block`) over all samples;
 #  4. prints the code size of each variant's update function, alone and with the out-of-line
-#     functions it calls (`code_size <variant>: N bytes; M bytes with ...`), and on the M4F
-#     under the older names `code_size update-order<2|3>-f32-<fast|exact>` too (the 2nd- and
-#     3rd-order variants' lines).
+#     functions it calls (`code_size <variant>: N bytes; M bytes with ...`).
 # Needs: cargo with the thumbv7em-none-eabihf and thumbv6m-none-eabi targets, qemu-system-arm,
 # gcc, arm-none-eabi-nm/objdump (scripts/test.d/30-firmware.sh installs them).
 # Usage: bash tests/firmware/run.sh [m4|m0]   (default both; FIRMWARE_TARGET_DIR overrides the
@@ -240,14 +238,6 @@ run_core() {
   # Code size: each update function, then with every function it calls (transitively).
   for variant in "${sizes[@]}"; do
     code_size "${variant% *}" "${variant#* }"
-    case $core-${variant% *} in
-      m4-second-order-f32-fast | m4-second-order-f32-exact | m4-third-order-f32-fast | \
-        m4-third-order-f32-exact)
-        name=${variant% *}
-        name=${name/second-order/update-order2}
-        code_size "${name/third-order/update-order3}" "${variant#* }"
-        ;;
-    esac
   done
 }
 

@@ -6,8 +6,8 @@
 //! * `check [tamper]`: runs every variant over the simulated resolver and compares every
 //!   estimate with the host's reference, within `f32` tolerances; also the demodulator's
 //!   pairs, and the baselines' fast arctangent against `atan2f` over a sweep. Exits with
-//!   failure if any is out of tolerance. `tamper` first corrupts one input sample: the check
-//!   must then fail (this is how the test shows that it can).
+//!   failure if any is out of tolerance. `tamper` first corrupts one input of each check:
+//!   every check must then fail (this is how the test shows that each can).
 //! * `variants`: prints the variants' names, one a line.
 //! * `functions <variant>`: prints the addresses of the variant's out-of-line update (and
 //!   block update, if it has one), which `run.sh` finds in the symbol table.
@@ -33,8 +33,8 @@ use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::{hprintln, nr};
 use variants::{
-    DEMODULATOR, Job, LOOP_VARIANT, NAMES, Observers, PAIR_BYTES, RECORD_BYTES, Record,
-    SAMPLES_PER_PERIOD, Tracker,
+    CARRIER_AMPLITUDE_COUNTS, DEMODULATOR, Job, LOOP_VARIANT, NAMES, Observers, PAIR_BYTES,
+    RECORD_BYTES, Record, SAMPLES_PER_PERIOD, Tracker,
 };
 
 include!(concat!(env!("OUT_DIR"), "/scenario.rs"));
@@ -45,9 +45,21 @@ const POSITION_TOLERANCE_RAD: f32 = 1.5e-5;
 /// Largest accepted relative difference of speed and acceleration from the host's (about
 /// 80 ulp), relative to the largest magnitude of the reference over the run.
 const RELATIVE_TOLERANCE: f32 = 1e-5;
-/// The corruption of `tamper` mode: added to `y_s` of the middle sample (the sensor noise
-/// is 0.01).
+/// The corruption of `tamper` mode (the sensor noise is 0.01), added to one input of each
+/// check: `y_s` of the middle sample of every variant, `y` of the middle point of the fast
+/// arctangent's sweep, and (times the carrier amplitude, in counts) the middle raw sample of
+/// the demodulator's sine winding.
 const TAMPER: f32 = 0.05;
+
+/// The corruption of input `k` of a check's `inputs` in `tamper` mode: [`TAMPER`] at the
+/// middle one, else none.
+fn corruption(tamper: bool, k: usize, inputs: usize) -> f32 {
+    if tamper && k == inputs / 2 {
+        TAMPER
+    } else {
+        0.0
+    }
+}
 
 /// One update of a variant, kept out of line: the unit whose code size is reported and
 /// whose instructions are counted.
@@ -115,14 +127,15 @@ fn demodulate_block(
 /// same `f32` operations in the same order, so about an ulp.
 const PAIR_TOLERANCE: f32 = 1e-6;
 
-/// `check` mode for the demodulator: every pair against the host's. Returns `true` if all
-/// are within [`PAIR_TOLERANCE`].
-fn check_demodulator() -> Result<bool, &'static str> {
+/// `check` mode for the demodulator: every pair against the host's (with one raw sample
+/// corrupted if `tamper`). Returns `true` if all are within [`PAIR_TOLERANCE`].
+fn check_demodulator(tamper: bool) -> Result<bool, &'static str> {
     let demodulator = variants::demodulator().map_err(|_| "demodulator settings refused")?;
     let mut state = DemodulatorState::new();
     let mut pairs = DEMODULATOR_PAIRS.chunks_exact(PAIR_BYTES);
     let (mut worst, mut count, mut missing) = (0.0f32, 0usize, false);
-    for (&c, &s) in RAW_C.iter().zip(&RAW_S) {
+    for (k, (&c, &s)) in RAW_C.iter().zip(&RAW_S).enumerate() {
+        let s = s + corruption(tamper, k, SAMPLES) * CARRIER_AMPLITUDE_COUNTS;
         if let Some(pair) = demodulate(&demodulator, &mut state, c, s) {
             let Some(r) = pairs.next() else {
                 missing = true;
@@ -174,12 +187,7 @@ fn count_demodulator(samples: usize, block: bool) -> Result<(), &'static str> {
 /// Input sample `k` of `check` mode: `(Y_C[k], Y_S[k])`, the middle checked one corrupted
 /// by [`TAMPER`] if `tamper`.
 fn checked_input(k: usize, tamper: bool) -> (f32, f32) {
-    let corruption = if tamper && k == CHECKED_SAMPLES / 2 {
-        TAMPER
-    } else {
-        0.0
-    };
-    (Y_C[k], Y_S[k] + corruption)
+    (Y_C[k], Y_S[k] + corruption(tamper, k, CHECKED_SAMPLES))
 }
 
 /// `check` mode: every sample of a variant against the host's reference.
@@ -243,16 +251,19 @@ const ATAN2_SWEEP_POINTS: usize = 4096;
 
 /// `check` mode for the baselines' fast arctangent: its largest error against `atan2f`
 /// over [`ATAN2_SWEEP_POINTS`] angles at magnitudes 0.1, 1 and 3 (and the axes, where the
-/// octants meet). Returns `true` if within [`FAST_ATAN2_MAX_ERROR_RAD`].
-fn check_fast_atan2() -> bool {
+/// octants meet), with `y` of the middle point fed to the fast arctangent corrupted if
+/// `tamper`. Returns `true` if within [`FAST_ATAN2_MAX_ERROR_RAD`].
+fn check_fast_atan2(tamper: bool) -> bool {
     let mut worst = 0.0f32;
-    for magnitude in [0.1f32, 1.0, 3.0] {
+    for (m, magnitude) in [0.1f32, 1.0, 3.0].into_iter().enumerate() {
         for k in 0..ATAN2_SWEEP_POINTS {
             let angle = core::f32::consts::TAU * k as f32 / ATAN2_SWEEP_POINTS as f32;
             let (sin, cos) = Real::sin_cos(angle);
             let (y, x) = (magnitude * sin, magnitude * cos);
             let exact = LibmAtan2::atan2(y, x);
-            let mut d = (FastAtan2::atan2(y, x) - exact).abs();
+            let point = m * ATAN2_SWEEP_POINTS + k;
+            let fed = y + corruption(tamper, point, 3 * ATAN2_SWEEP_POINTS);
+            let mut d = (FastAtan2::atan2(fed, x) - exact).abs();
             // atan2 at pi and -pi are the same angle.
             d = d.min((d - core::f32::consts::TAU).abs());
             if worse(d, worst) {
@@ -383,8 +394,8 @@ fn run() -> Result<(), &'static str> {
             for index in 0..NAMES.len() {
                 run_variant(index, &mut check)?;
             }
-            let demodulator_ok = check_demodulator()?;
-            let atan2_ok = check_fast_atan2();
+            let demodulator_ok = check_demodulator(check.tamper)?;
+            let atan2_ok = check_fast_atan2(check.tamper);
             if check.failures > 0 || !demodulator_ok || !atan2_ok {
                 return Err("estimates differ from the host's");
             }

@@ -5,8 +5,9 @@
 //! A variant is a [`Tracker`]: one of the core's entry points with its gains, or a baseline
 //! (`baseline`). The list is the [`variants!`] table below: one line per variant. A variant
 //! of an entry point that has a `Tracker` here (`Plain`, `Calibrated`, `Adc`, `Corrected`,
-//! `PhaseLockedLoop`) is that one line; another entry point (another arithmetic, say) first
-//! needs its `Tracker`: its state, input and output types, and its estimate as a [`Record`].
+//! `PhaseLockedLoop`) is that one line; another `f32` entry point of the core first needs its
+//! [`EntryPoint`] (its state, input type and call), and anything else (another arithmetic,
+//! say) its `Tracker`: its state, input and output types, and its estimate as a [`Record`].
 //! `run.sh` prints each variant under its name on the Cortex-M4F (`-m4` appended if it
 //! contains `-fixed`) and with `-m0` appended on the Cortex-M0.
 
@@ -49,30 +50,97 @@ pub trait Tracker {
     }
 }
 
+/// One of the core's `Gains` entry points on an `f32` observer ([`Plain`], [`Calibrated`],
+/// [`Adc`], [`Corrected`]): what differs between them. Each is a [`Tracker`] through the one
+/// implementation below, which returns the core's estimate and records it.
+pub trait EntryPoint {
+    /// The per-channel state.
+    type State: Default;
+    /// One input sample as the entry point takes it.
+    type Input: Sample;
+    /// Whether [`EntryPoint::update_block`] is the core's block form (else it runs nothing).
+    const BLOCK: bool = false;
+    /// A fresh state.
+    fn new_state(&self) -> Self::State {
+        Self::State::default()
+    }
+    /// One sample.
+    fn update(&self, state: &mut Self::State, y_c: Self::Input, y_s: Self::Input) -> Estimate<f32>;
+    /// All samples in one call, if [`EntryPoint::BLOCK`]; returns the number of outputs.
+    fn update_block(
+        &self,
+        _state: &mut Self::State,
+        _y_c: &[f32],
+        _y_s: &[f32],
+        _out: &mut [Estimate<f32>],
+    ) -> usize {
+        0
+    }
+}
+
+/// An input sample's form, from the simulated signal's sample (amplitude about 1).
+pub trait Sample: Copy {
+    /// The signal's sample `y` in this form.
+    fn from_signal(y: f32) -> Self;
+}
+
+impl Sample for f32 {
+    fn from_signal(y: f32) -> f32 {
+        y
+    }
+}
+
+/// The [`Adc`] entry point's input: [`adc_counts`].
+impl Sample for i16 {
+    fn from_signal(y: f32) -> i16 {
+        adc_counts(y)
+    }
+}
+
+impl<E: EntryPoint> Tracker for E {
+    type State = E::State;
+    type Input = E::Input;
+    type Output = Estimate<f32>;
+    const BLOCK: bool = E::BLOCK;
+    fn new_state(&self) -> E::State {
+        EntryPoint::new_state(self)
+    }
+    fn input(y: f32) -> E::Input {
+        E::Input::from_signal(y)
+    }
+    #[inline(always)]
+    fn update(&self, state: &mut E::State, y_c: E::Input, y_s: E::Input) -> Estimate<f32> {
+        EntryPoint::update(self, state, y_c, y_s)
+    }
+    fn record(_: &E::State, output: &Estimate<f32>) -> Record {
+        Record::of(output)
+    }
+    #[inline(always)]
+    fn update_block(
+        &self,
+        state: &mut E::State,
+        y_c: &[f32],
+        y_s: &[f32],
+        out: &mut [Estimate<f32>],
+    ) -> usize {
+        EntryPoint::update_block(self, state, y_c, y_s, out)
+    }
+}
+
 /// The core's `Gains::update`.
 #[derive(Debug, Clone, Copy)]
 pub struct Plain<const N: usize, S>(pub Gains<f32, N, S>);
 
-impl<const N: usize, S: SinCos<f32>> Tracker for Plain<N, S>
+impl<const N: usize, S: SinCos<f32>> EntryPoint for Plain<N, S>
 where
     Order<N>: SupportedOrder,
 {
     type State = ObserverState<f32, N>;
     type Input = f32;
-    type Output = Estimate<f32>;
     const BLOCK: bool = true;
-    fn new_state(&self) -> Self::State {
-        ObserverState::new()
-    }
-    fn input(y: f32) -> f32 {
-        y
-    }
     #[inline(always)]
     fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) -> Estimate<f32> {
         self.0.update(state, y_c, y_s)
-    }
-    fn record(_: &Self::State, output: &Estimate<f32>) -> Record {
-        Record::of(output)
     }
     #[inline(always)]
     fn update_block(
@@ -90,28 +158,21 @@ where
 #[derive(Debug, Clone, Copy)]
 pub struct Calibrated<const N: usize, S>(pub Gains<f32, N, S>);
 
-impl<const N: usize, S: SinCos<f32>> Tracker for Calibrated<N, S>
+impl<const N: usize, S: SinCos<f32>> EntryPoint for Calibrated<N, S>
 where
     Order<N>: SupportedOrder,
 {
     type State = (ObserverState<f32, N>, Calibrator<f32>);
     type Input = f32;
-    type Output = Estimate<f32>;
     fn new_state(&self) -> Self::State {
         let mut calibrator = Calibrator::new();
         calibrator.enable();
         (ObserverState::new(), calibrator)
     }
-    fn input(y: f32) -> f32 {
-        y
-    }
     #[inline(always)]
     fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) -> Estimate<f32> {
         let (observer, calibrator) = state;
         self.0.update_calibrated(observer, calibrator, y_c, y_s)
-    }
-    fn record(_: &Self::State, output: &Estimate<f32>) -> Record {
-        Record::of(output)
     }
 }
 
@@ -119,25 +180,15 @@ where
 #[derive(Debug, Clone, Copy)]
 pub struct Adc<const N: usize, S>(pub Gains<f32, N, S>, pub AdcScaling<f32>);
 
-impl<const N: usize, S: SinCos<f32>> Tracker for Adc<N, S>
+impl<const N: usize, S: SinCos<f32>> EntryPoint for Adc<N, S>
 where
     Order<N>: SupportedOrder,
 {
     type State = ObserverState<f32, N>;
     type Input = i16;
-    type Output = Estimate<f32>;
-    fn new_state(&self) -> Self::State {
-        ObserverState::new()
-    }
-    fn input(y: f32) -> i16 {
-        adc_counts(y)
-    }
     #[inline(always)]
     fn update(&self, state: &mut Self::State, raw_c: i16, raw_s: i16) -> Estimate<f32> {
         self.0.update_adc(state, &self.1, raw_c, raw_s)
-    }
-    fn record(_: &Self::State, output: &Estimate<f32>) -> Record {
-        Record::of(output)
     }
 }
 
@@ -145,25 +196,15 @@ where
 #[derive(Debug, Clone, Copy)]
 pub struct Corrected<const N: usize, S>(pub Gains<f32, N, S>, pub AngleCorrection<f32>);
 
-impl<const N: usize, S: SinCos<f32>> Tracker for Corrected<N, S>
+impl<const N: usize, S: SinCos<f32>> EntryPoint for Corrected<N, S>
 where
     Order<N>: SupportedOrder,
 {
     type State = ObserverState<f32, N>;
     type Input = f32;
-    type Output = Estimate<f32>;
-    fn new_state(&self) -> Self::State {
-        ObserverState::new()
-    }
-    fn input(y: f32) -> f32 {
-        y
-    }
     #[inline(always)]
     fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) -> Estimate<f32> {
         self.0.update_corrected(state, &self.1, y_c, y_s)
-    }
-    fn record(_: &Self::State, output: &Estimate<f32>) -> Record {
-        Record::of(output)
     }
 }
 

@@ -40,8 +40,10 @@ impl Job for Reference<'_> {
         } = &mut channel;
         for (&c, &s) in self.y_c.iter().zip(self.y_s) {
             let estimate = match entry(index) {
-                Entry::Plain => gains.update(state, c, s),
-                Entry::Calibrated => gains.update_calibrated(state, calibrator, c, s),
+                Entry::Plain | Entry::Track => gains.update(state, c, s),
+                Entry::Calibrated | Entry::CalibratedOff => {
+                    gains.update_calibrated(state, calibrator, c, s)
+                }
                 Entry::Adc => gains.update_adc(state, adc, adc_counts(c), adc_counts(s)),
             };
             self.records.extend_from_slice(&variants::encode(&estimate));

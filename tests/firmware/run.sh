@@ -106,7 +106,11 @@ function_of() {
   local order=3 sin_cos=Fast kind=$1 name f
   case $2 in second-order-*) order=2 ;; esac
   case $2 in *-exact) sin_cos=Exact ;; esac
-  case $1-$2 in update-*-calibrated) kind=update_calibrated ;; update-*-adc) kind=update_adc ;; esac
+  case $1-$2 in
+  update-*-calibrated | update-*-calibrated-off) kind=update_calibrated ;;
+  update-*-adc) kind=update_adc ;;
+  update-*-track | update-*-track-unmonitored) kind=track ;;
+  esac
   name="angletrack_firmware_test::$kind::<$order, angletrack_core::sincos::$sin_cos>"
   f=$(mangled "$name")
   [ -n "$f" ] || { echo "no $name symbol in $elf" >&2; exit 1; }
@@ -142,14 +146,15 @@ counts=$(per_sample loop)
 echo "insns_per_iteration loop: ${counts% *}"
 for variant in second-order-f32-exact second-order-f32-fast third-order-f32-exact \
   third-order-f32-fast kalman-f32-exact kalman-f32-fast kalman-f32-fast-unmonitored \
-  kalman-f32-fast-calibrated kalman-f32-fast-adc; do
+  kalman-f32-fast-calibrated kalman-f32-fast-calibrated-off kalman-f32-fast-adc \
+  kalman-f32-fast-track kalman-f32-fast-track-unmonitored; do
   root=$(function_of update "$variant")
   ranges=$(measured "$root")
   counts=$(per_sample "$variant")
   echo "insns_per_update $variant: ${counts#* }"
   echo "insns_per_iteration $variant: ${counts% *}"
-  # The calibrated and ADC entry points have no block form.
-  case $variant in *-calibrated | *-adc) continue ;; esac
+  # The calibrated, ADC and track entry points have no block form.
+  case $variant in *-calibrated | *-calibrated-off | *-adc | *-track | *-track-unmonitored) continue ;; esac
   root=$(function_of update_block "$variant")
   ranges=$(measured "$root")
   block=$(per_sample "$variant" block)

@@ -372,9 +372,10 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
                 faults
             }
         };
+        // On the estimate and latched; not in the state's faults of the sample, which
+        // the usual path of the update does not rewrite (they would outlive the mode).
         if !faults.is_empty() {
             estimate.faults |= faults;
-            state.faults |= faults;
             state.monitor.latched |= faults;
         }
         estimate

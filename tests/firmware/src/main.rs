@@ -57,6 +57,17 @@ fn update<const N: usize, S: SinCos<f32>>(
     gains.update(state, y_c, y_s)
 }
 
+/// One sample through `Gains::track` (no estimate), kept out of line like [`update`].
+#[inline(never)]
+fn track<const N: usize, S: SinCos<f32>>(
+    gains: &Gains<f32, N, S>,
+    state: &mut ObserverState<f32, N>,
+    y_c: f32,
+    y_s: f32,
+) {
+    gains.track(state, y_c, y_s)
+}
+
 /// One update through the online calibration, kept out of line like [`update`].
 #[inline(never)]
 fn update_calibrated<const N: usize, S: SinCos<f32>>(
@@ -97,7 +108,13 @@ fn update_entry<const N: usize, S: SinCos<f32>>(
     } = channel;
     match entry(index) {
         Entry::Plain => update(gains, state, y_c, y_s),
-        Entry::Calibrated => update_calibrated(gains, state, calibrator, y_c, y_s),
+        Entry::Calibrated | Entry::CalibratedOff => {
+            update_calibrated(gains, state, calibrator, y_c, y_s)
+        }
+        Entry::Track => {
+            track(gains, state, y_c, y_s);
+            gains.estimate(state)
+        }
         Entry::Adc => update_adc(gains, state, adc, adc_counts(y_c), adc_counts(y_s)),
     }
 }
@@ -320,6 +337,14 @@ struct Count<'a> {
 impl Job for Count<'_> {
     fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>) {
         let n = self.samples.min(SAMPLES);
+        if !self.loop_only && entry(index) == Entry::Track {
+            let mut state = ObserverState::new();
+            for k in 0..n {
+                track(&gains, &mut state, self.inputs.y_c[k], self.inputs.y_s[k]);
+            }
+            black_box(&state);
+            return;
+        }
         if !self.loop_only && entry(index) != Entry::Plain {
             let mut channel = Channel::new(entry(index));
             for k in 0..n {

@@ -11,8 +11,11 @@ use angletrack_core::{
 /// Kalman ATO with the diagnostics switched off (`FaultThresholds::disabled()`: the bare
 /// loop); `calibrated` the Kalman ATO through `Gains::update_calibrated` with the online
 /// calibration learning; `adc` the Kalman ATO through `Gains::update_adc` on 12-bit counts
-/// ([`adc_counts`]).
-pub const NAMES: [&str; 9] = [
+/// ([`adc_counts`]); `track` the Kalman ATO through `Gains::track` (the state only, the
+/// estimate read with `Gains::estimate` when checked), with default diagnostics or
+/// unmonitored; `calibrated-off` through `Gains::update_calibrated` with the calibration
+/// off.
+pub const NAMES: [&str; 12] = [
     "second-order-f32-exact",
     "second-order-f32-fast",
     "third-order-f32-exact",
@@ -22,6 +25,9 @@ pub const NAMES: [&str; 9] = [
     "kalman-f32-fast-unmonitored",
     "kalman-f32-fast-calibrated",
     "kalman-f32-fast-adc",
+    "kalman-f32-fast-track",
+    "kalman-f32-fast-track-unmonitored",
+    "kalman-f32-fast-calibrated-off",
 ];
 
 /// The variant whose types the loop alone (`count loop`) runs with: the unmonitored Kalman
@@ -37,6 +43,10 @@ pub enum Entry {
     Calibrated,
     /// `Gains::update_adc` on [`adc_counts`] of the inputs, 12-bit two's complement.
     Adc,
+    /// `Gains::track`, the estimate read by `Gains::estimate` only where it is checked.
+    Track,
+    /// `Gains::update_calibrated` with the calibration off.
+    CalibratedOff,
 }
 
 /// The entry point of variant `index`.
@@ -44,6 +54,8 @@ pub const fn entry(index: usize) -> Entry {
     match index {
         7 => Entry::Calibrated,
         8 => Entry::Adc,
+        9 | 10 => Entry::Track,
+        11 => Entry::CalibratedOff,
         _ => Entry::Plain,
     }
 }
@@ -114,7 +126,7 @@ impl Observers {
         let fast = index % 2 == 1 || index >= 6;
         let third = |l: [f32; 3]| -> Result<Gains<f32, 3, Exact>, ConfigError> {
             let gains = Gains::new(l, ts)?;
-            if index == 6 {
+            if index == 6 || index == 10 {
                 gains.with_fault_thresholds(FaultThresholds::disabled())
             } else {
                 Ok(gains)
@@ -123,7 +135,7 @@ impl Observers {
         match index {
             0 | 1 => Gains::new(self.second_order, ts).map(|g| run_with(index, g, fast, job)),
             2 | 3 => third(self.third_order).map(|g| run_with(index, g, fast, job)),
-            4..=8 => third(self.kalman).map(|g| run_with(index, g, fast, job)),
+            4..=11 => third(self.kalman).map(|g| run_with(index, g, fast, job)),
             _ => return false,
         }
         .is_ok()

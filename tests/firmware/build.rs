@@ -41,7 +41,7 @@ impl Job for Reference<'_> {
         for (&c, &s) in self.y_c.iter().zip(self.y_s) {
             let estimate = match entry(index) {
                 Entry::Plain | Entry::Track => gains.update(state, c, s),
-                Entry::Calibrated | Entry::CalibratedOff => {
+                Entry::Calibrated | Entry::CalibratedOff | Entry::TrackCalibratedOff => {
                     gains.update_calibrated(state, calibrator, c, s)
                 }
                 Entry::Adc => gains.update_adc(state, adc, adc_counts(c), adc_counts(s)),

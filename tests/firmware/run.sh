@@ -101,15 +101,17 @@ measured() {
 # function_of KIND VARIANT: the mangled name of the firmware's out-of-line KIND (update or
 # update_block) for VARIANT: 2nd order for second-order-*, else 3rd (the 3rd-order and the
 # Kalman ATO share it); fast sin/cos unless the name ends in -exact; the update of a variant
-# ending in -calibrated or -adc is update_calibrated or update_adc.
+# ending in -calibrated[-off] or -adc is update_calibrated or update_adc, of one ending in
+# -track[-unmonitored] track, of -track-calibrated-off track_calibrated.
 function_of() {
   local order=3 sin_cos=Fast kind=$1 name f
   case $2 in second-order-*) order=2 ;; esac
   case $2 in *-exact) sin_cos=Exact ;; esac
   case $1-$2 in
+  update-*-track-calibrated-off) kind=track_calibrated ;;
+  update-*-track | update-*-track-unmonitored) kind=track ;;
   update-*-calibrated | update-*-calibrated-off) kind=update_calibrated ;;
   update-*-adc) kind=update_adc ;;
-  update-*-track | update-*-track-unmonitored) kind=track ;;
   esac
   name="angletrack_firmware_test::$kind::<$order, angletrack_core::sincos::$sin_cos>"
   f=$(mangled "$name")
@@ -147,14 +149,14 @@ echo "insns_per_iteration loop: ${counts% *}"
 for variant in second-order-f32-exact second-order-f32-fast third-order-f32-exact \
   third-order-f32-fast kalman-f32-exact kalman-f32-fast kalman-f32-fast-unmonitored \
   kalman-f32-fast-calibrated kalman-f32-fast-calibrated-off kalman-f32-fast-adc \
-  kalman-f32-fast-track kalman-f32-fast-track-unmonitored; do
+  kalman-f32-fast-track kalman-f32-fast-track-unmonitored kalman-f32-fast-track-calibrated-off; do
   root=$(function_of update "$variant")
   ranges=$(measured "$root")
   counts=$(per_sample "$variant")
   echo "insns_per_update $variant: ${counts#* }"
   echo "insns_per_iteration $variant: ${counts% *}"
   # The calibrated, ADC and track entry points have no block form.
-  case $variant in *-calibrated | *-calibrated-off | *-adc | *-track | *-track-unmonitored) continue ;; esac
+  case $variant in *-calibrated | *-calibrated-off | *-adc | *-track*) continue ;; esac
   root=$(function_of update_block "$variant")
   ranges=$(measured "$root")
   block=$(per_sample "$variant" block)

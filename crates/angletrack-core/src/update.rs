@@ -136,7 +136,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
 
     /// [`Gains::track`] with an `observer` (see [`Gains::update_observing`]).
     #[inline(always)]
-    fn track_observing(
+    pub(crate) fn track_observing(
         &self,
         state: &mut ObserverState<T, N>,
         y_c: T,

@@ -68,6 +68,19 @@ fn track<const N: usize, S: SinCos<f32>>(
     gains.track(state, y_c, y_s)
 }
 
+/// One sample through `Gains::track_calibrated` (no estimate), kept out of line like
+/// [`update`].
+#[inline(never)]
+fn track_calibrated<const N: usize, S: SinCos<f32>>(
+    gains: &Gains<f32, N, S>,
+    state: &mut ObserverState<f32, N>,
+    calibrator: &mut Calibrator<f32>,
+    y_c: f32,
+    y_s: f32,
+) {
+    gains.track_calibrated(state, calibrator, y_c, y_s)
+}
+
 /// One update through the online calibration, kept out of line like [`update`].
 #[inline(never)]
 fn update_calibrated<const N: usize, S: SinCos<f32>>(
@@ -113,6 +126,10 @@ fn update_entry<const N: usize, S: SinCos<f32>>(
         }
         Entry::Track => {
             track(gains, state, y_c, y_s);
+            gains.estimate(state)
+        }
+        Entry::TrackCalibratedOff => {
+            track_calibrated(gains, state, calibrator, y_c, y_s);
             gains.estimate(state)
         }
         Entry::Adc => update_adc(gains, state, adc, adc_counts(y_c), adc_counts(y_s)),
@@ -337,12 +354,21 @@ struct Count<'a> {
 impl Job for Count<'_> {
     fn run<const N: usize, S: SinCos<f32>>(&mut self, index: usize, gains: Gains<f32, N, S>) {
         let n = self.samples.min(SAMPLES);
-        if !self.loop_only && entry(index) == Entry::Track {
-            let mut state = ObserverState::new();
+        let track_entry = matches!(entry(index), Entry::Track | Entry::TrackCalibratedOff);
+        if !self.loop_only && track_entry {
+            let mut channel = Channel::<N>::new(entry(index));
             for k in 0..n {
-                track(&gains, &mut state, self.inputs.y_c[k], self.inputs.y_s[k]);
+                let (y_c, y_s) = (self.inputs.y_c[k], self.inputs.y_s[k]);
+                let Channel {
+                    state, calibrator, ..
+                } = &mut channel;
+                if entry(index) == Entry::Track {
+                    track(&gains, state, y_c, y_s);
+                } else {
+                    track_calibrated(&gains, state, calibrator, y_c, y_s);
+                }
             }
-            black_box(&state);
+            black_box(&channel);
             return;
         }
         if !self.loop_only && entry(index) != Entry::Plain {

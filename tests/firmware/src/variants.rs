@@ -14,8 +14,8 @@ use angletrack_core::{
 /// ([`adc_counts`]); `track` the Kalman ATO through `Gains::track` (the state only, the
 /// estimate read with `Gains::estimate` when checked), with default diagnostics or
 /// unmonitored; `calibrated-off` through `Gains::update_calibrated` with the calibration
-/// off.
-pub const NAMES: [&str; 12] = [
+/// off, `track-calibrated-off` through `Gains::track_calibrated` with it off.
+pub const NAMES: [&str; 13] = [
     "second-order-f32-exact",
     "second-order-f32-fast",
     "third-order-f32-exact",
@@ -28,6 +28,7 @@ pub const NAMES: [&str; 12] = [
     "kalman-f32-fast-track",
     "kalman-f32-fast-track-unmonitored",
     "kalman-f32-fast-calibrated-off",
+    "kalman-f32-fast-track-calibrated-off",
 ];
 
 /// The variant whose types the loop alone (`count loop`) runs with: the unmonitored Kalman
@@ -47,6 +48,8 @@ pub enum Entry {
     Track,
     /// `Gains::update_calibrated` with the calibration off.
     CalibratedOff,
+    /// `Gains::track_calibrated` with the calibration off.
+    TrackCalibratedOff,
 }
 
 /// The entry point of variant `index`.
@@ -56,6 +59,7 @@ pub const fn entry(index: usize) -> Entry {
         8 => Entry::Adc,
         9 | 10 => Entry::Track,
         11 => Entry::CalibratedOff,
+        12 => Entry::TrackCalibratedOff,
         _ => Entry::Plain,
     }
 }
@@ -135,7 +139,7 @@ impl Observers {
         match index {
             0 | 1 => Gains::new(self.second_order, ts).map(|g| run_with(index, g, fast, job)),
             2 | 3 => third(self.third_order).map(|g| run_with(index, g, fast, job)),
-            4..=11 => third(self.kalman).map(|g| run_with(index, g, fast, job)),
+            4..=12 => third(self.kalman).map(|g| run_with(index, g, fast, job)),
             _ => return false,
         }
         .is_ok()

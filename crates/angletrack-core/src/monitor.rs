@@ -8,7 +8,8 @@
 //! flags are decided once per window of `W` used samples (`W` a power of two, 16 by
 //! default: [`FaultThresholds::filter_factor`]), out of line. A fault present over a whole
 //! window is flagged at that window's end: at most `2 W - 1` used samples after it starts
-//! (31 by default). A rejected sample is flagged at once.
+//! (31 by default). A rejected sample is flagged at once. The first window after the angle
+//! is set is its first used sample alone (a start 180 degrees off is caught at once).
 
 use crate::error::ConfigError;
 use crate::faults::Faults;
@@ -279,6 +280,8 @@ pub(crate) struct MonitorState<T> {
     pub(crate) error_sum: T,
     /// Used samples left in the current window (0: no window started yet).
     pub(crate) remaining: u32,
+    /// `1 / length` of the current window (exact: a power of two).
+    pub(crate) length_inverse: T,
     /// Mean `y_c^2 + y_s^2` of the last window (of the first sample before one ends).
     pub(crate) amplitude2: T,
     /// The flags of the last window, held until the next one ends.
@@ -294,18 +297,21 @@ impl<T: Real> MonitorState<T> {
             amplitude2_sum: T::ZERO,
             error_sum: T::ZERO,
             remaining: 0,
+            length_inverse: T::ONE,
             amplitude2: T::ZERO,
             flags: Faults::NONE,
             latched: Faults::NONE,
         }
     }
 
-    /// Starts a new window of `window` used samples. Done where the angle is set (first
-    /// used sample, re-acquisition), so that no window mixes two angles.
-    pub(crate) fn start_window(&mut self, window: u32) {
+    /// Starts a new window of `window` used samples, whose `1 / window` is
+    /// `window_inverse`. Done where the angle is set (first used sample, re-acquisition),
+    /// so that no window mixes two angles.
+    pub(crate) fn start_window(&mut self, window: u32, window_inverse: T) {
         self.amplitude2_sum = T::ZERO;
         self.error_sum = T::ZERO;
         self.remaining = window;
+        self.length_inverse = window_inverse;
     }
 
     /// Adds one used sample to the window; `true` when it ends the window (the caller then
@@ -346,7 +352,7 @@ impl<T: Real> CheckedThresholds<T> {
         scaled_speed: T,
         in_phase: T,
     ) -> bool {
-        let mean = |sum: T| sum * self.window_inverse;
+        let mean = |sum: T| sum * monitor.length_inverse;
         monitor.amplitude2 = mean(monitor.amplitude2_sum);
         let (faults, false_lock) = self.flags(
             monitor.amplitude2,
@@ -356,7 +362,7 @@ impl<T: Real> CheckedThresholds<T> {
         );
         monitor.flags = faults;
         monitor.latched |= faults;
-        monitor.start_window(self.window);
+        monitor.start_window(self.window, self.window_inverse);
         false_lock && self.thresholds.re_acquire
     }
 

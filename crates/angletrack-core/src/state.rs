@@ -292,17 +292,20 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
     /// started by a first sample keeps that sample's, which the recursion then tracks as
     /// usual (as a [`ChannelBank`](crate::ChannelBank) lane does). The predicted angle
     /// leaves its parking place, the faults are the monitor's again, and the monitor starts
-    /// its first window, of `window` used samples (a window under way goes on: rejected
-    /// samples do not restart it). The per-sample update needs no test for any of it.
+    /// its first window, of this sample alone (a window under way goes on: rejected samples
+    /// do not restart it). The per-sample update needs no test for any of it.
     #[cold]
     #[inline(never)]
-    pub(crate) fn start_tracking(&mut self, amplitude2: T, window: u32) {
+    pub(crate) fn start_tracking(&mut self, amplitude2: T) {
         if !(self.amplitude > T::ZERO) {
             self.amplitude = magnitude(amplitude2);
             self.monitor.amplitude2 = amplitude2;
         }
+        // The first window is the first used sample alone: an angle set without looking at
+        // the signal (`ObserverState::at`) may be 180 degrees off, a false lock to catch
+        // before the loop runs from it; then windows of `window` samples.
         if self.monitor.remaining == 0 {
-            self.monitor.start_window(window);
+            self.monitor.start_window(1, T::ONE);
         }
         self.next_angle = predict(&self.x)[0];
         self.faults = self.monitor.flags;

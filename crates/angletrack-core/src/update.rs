@@ -309,7 +309,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             // by `ObserverState::at`), or after a rejected sample: the predicted angle comes
             // back from its parking place, the sample's faults are the monitor's again, and
             // the magnitude and the monitor's window start if they have not.
-            state.start_tracking(amplitude2, self.thresholds.window);
+            state.start_tracking(amplitude2);
         }
         let whole = wrap_angle(&mut state.next_angle);
         state.turns = state.turns.wrapping_add(whole as i64);

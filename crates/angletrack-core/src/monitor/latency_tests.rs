@@ -93,7 +93,7 @@ fn loss_of_tracking_is_flagged_within_two_windows() {
 }
 
 #[test]
-fn over_speed_is_flagged_at_the_end_of_the_first_window() {
+fn over_speed_is_flagged_within_one_window() {
     // Speed above a quarter turn per sample, the loop tracking it: only the speed check
     // can see it, at the end of each window.
     let o2 = Gains::<f64, 2>::new([0.06, 0.001], TS).unwrap();
@@ -171,4 +171,16 @@ fn the_window_is_the_power_of_two_of_the_filter_factor() {
         assert_eq!(checked.window, window, "filter factor {factor}");
         assert_eq!(checked.window_inverse * window as f64, 1.0);
     }
+}
+
+#[test]
+fn a_start_180_degrees_off_is_flagged_at_the_first_used_sample() {
+    // A state started at a known angle that is wrong by 179 degrees: the first window is
+    // the first used sample alone, which flags the false lock and re-acquires.
+    let gains = kalman();
+    let truth = 179f64.to_radians();
+    let mut state = ObserverState::at(0.0, 0.0, 0.0, TS);
+    let e = gains.update(&mut state, truth.cos(), truth.sin());
+    assert!(e.faults.contains(Faults::FALSE_LOCK), "{}", e.faults);
+    assert!((e.angle - truth).abs() < 0.05, "re-acquired at {}", e.angle);
 }

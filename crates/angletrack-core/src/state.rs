@@ -32,7 +32,9 @@ pub struct Estimate<T> {
     /// dimensionless whatever the input's units (`docs/theory.md §1, §12`); 0 when the
     /// sample was rejected.
     pub phase_error: T,
-    /// The diagnostics of this sample (the state also latches them).
+    /// The diagnostics: the monitor's flags of its last window (held until the next one
+    /// ends, `docs/theory.md §10`) and this sample's [`Faults::BAD_SAMPLE`] (the state also
+    /// latches them).
     pub faults: Faults,
 }
 

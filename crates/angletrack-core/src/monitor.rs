@@ -353,20 +353,33 @@ impl<T: Real> CheckedThresholds<T> {
         in_phase: T,
     ) -> bool {
         let mean = |sum: T| sum * monitor.length_inverse;
-        monitor.amplitude2 = mean(monitor.amplitude2_sum);
-        let (faults, false_lock) = self.flags(
-            monitor.amplitude2,
-            mean(monitor.error_sum),
-            in_phase,
-            scaled_speed,
-        );
+        let (a2, error) = (mean(monitor.amplitude2_sum), mean(monitor.error_sum));
+        monitor.amplitude2 = a2;
+        let t = &self.thresholds;
+        // The usual case in one chain of tests: no flag at all. Loss of signal lies below the
+        // degradation band (checked at construction), so an amplitude inside the band rules
+        // out both; one comparison for the band (one rounding of its edges, which `flags`
+        // then sorts out exactly; NaN fails it).
+        let (faults, false_lock) = if (a2 - self.degradation_middle2).abs()
+            <= self.degradation_half_width2
+            && error <= t.loss_of_tracking
+            && scaled_speed.abs() <= self.max_scaled_speed
+            && in_phase >= t.false_lock
+        {
+            (Faults::NONE, false)
+        } else {
+            self.flags(a2, error, in_phase, scaled_speed)
+        };
         monitor.flags = faults;
         monitor.latched |= faults;
         monitor.start_window(self.window, self.window_inverse);
         false_lock && self.thresholds.re_acquire
     }
 
-    /// The flags of a window's means, and whether they declare a false lock.
+    /// The flags of a window outside the usual case of [`CheckedThresholds::decide`] (out
+    /// of line: a fault is rare), and whether they declare a false lock.
+    #[cold]
+    #[inline(never)]
     fn flags(&self, a2: T, error: T, in_phase: T, scaled_speed: T) -> (Faults, bool) {
         let t = &self.thresholds;
         let signal_lost = a2 < self.loss_of_signal2;

@@ -84,10 +84,12 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     ///
     /// A bad sample (NaN, infinite, or amplitude above the input bound) is not used: the
     /// state coasts on its prediction (speed and acceleration) and the estimate carries
-    /// [`Faults::BAD_SAMPLE`]. The diagnostics then flag loss of signal, degradation of
-    /// signal, loss of tracking and false lock, and re-acquire the angle from `atan2` on a
-    /// false lock (see [`FaultThresholds`](crate::FaultThresholds)). Never fails, never
-    /// panics, and the state stays finite.
+    /// [`Faults::BAD_SAMPLE`]. The diagnostics flag loss of signal, degradation of signal,
+    /// loss of tracking and false lock once per window of used samples (16 by default: a
+    /// fault is flagged within 31 samples, `docs/theory.md §10`), hold the flags until the
+    /// next window ends, and re-acquire the angle from `atan2` on a false lock (see
+    /// [`FaultThresholds`](crate::FaultThresholds)). Never fails, never panics, and the
+    /// state stays finite.
     #[inline]
     pub fn update(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) -> Estimate<T> {
         self.track(state, y_c, y_s);

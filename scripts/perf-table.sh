@@ -38,6 +38,10 @@ describe() {
     kalman-f32-fast-unmonitored) echo "Kalman ATO, \`f32\`, fast sin/cos, diagnostics off" ;;
     kalman-f32-exact) echo "Kalman ATO, \`f32\`, exact sin/cos (\`libm\`)" ;;
     kalman-f32-fast-calibrated) echo "Kalman ATO, \`f32\`, fast, calibration learning (\`update_calibrated\`)" ;;
+    kalman-f32-fast-calibrated-off) echo "Kalman ATO, \`f32\`, fast, calibration off (\`update_calibrated\`)" ;;
+    kalman-f32-fast-track) echo "Kalman ATO, \`f32\`, fast sin/cos, \`track\` (estimate on demand)" ;;
+    kalman-f32-fast-track-unmonitored) echo "Kalman ATO, \`f32\`, fast sin/cos, \`track\`, diagnostics off" ;;
+    kalman-f32-fast-track-calibrated-off) echo "Kalman ATO, \`f32\`, fast, \`track_calibrated\`, calibration off" ;;
     kalman-f32-fast-adc) echo "Kalman ATO, \`f32\`, fast, from 12-bit counts (\`update_adc\`)" ;;
     kalman-f32-fast-angle-corrected) echo "Kalman ATO, \`f32\`, fast, angle correction of order 4 (\`update_corrected\`)" ;;
     kalman-fixed) echo "Kalman ATO, fixed point" ;;
@@ -46,7 +50,7 @@ describe() {
     third-order-f32-fast) echo "3rd-order ATO (pole placement), \`f32\`, fast sin/cos" ;;
     third-order-f32-exact) echo "3rd-order ATO (pole placement), \`f32\`, exact sin/cos" ;;
     baseline-atan2-pll-f32) echo "**baseline**: \`libm\` \`atan2f\` + 2nd-order PLL, \`f32\`" ;;
-    baseline-fast-atan2-pll-f32) echo "**baseline**: fast atan2 (1.5e-3 rad) + 2nd-order PLL, \`f32\`" ;;
+    baseline-fast-atan2-pll-f32) echo "**baseline**: fast atan2 (error 1.51e-3 rad) + 2nd-order PLL, \`f32\`" ;;
     *) echo "\`$1\`" ;;
   esac
 }
@@ -98,7 +102,7 @@ trap 'rm -f "$firmware_table" "$host_table"' EXIT
       echo "| $(describe "$name") | $(cells "$m4") | $(cells "$name-m0" -m0) | $(code "$m4") | $(code "$name-m0") |"
     done
   echo
-  echo "Per sample inside one block update (\`Gains::update_block\`; 250 samples a call on the"
+  echo "Per sample inside one block update (\`Gains::update_block\`; 200 samples a call on the"
   echo "Cortex-M0, whose 16 KiB of RAM hold no more estimates), M4F / M0:"
   echo
   sed -n 's/^insns_per_sample_in_block \(.*\): \(.*\)/\1 \2/p' <<<"$firmware" | grep -v -- '-m0 ' |

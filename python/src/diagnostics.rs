@@ -7,11 +7,12 @@ use pyo3::prelude::*;
 /// input check, in the units of `y_c`, `y_s` unless stated (the loop itself needs none: its
 /// phase error is normalised). Keyword arguments override the defaults for
 /// `nominal_amplitude` (the core's `FaultThresholds::for_amplitude`): input bound 4 A, loss
-/// of signal 0.25 A, degradation below 0.5 A or above 1.5 A, loss of tracking at a filtered
+/// of signal 0.25 A, degradation below 0.5 A or above 1.5 A, loss of tracking at a mean
 /// |normalised phase error| of 0.1 (about 5.7 degrees, at any amplitude), maximum speed
-/// pi / (2 Ts) rad/s, filter
-/// factor 1/16, false lock at a filtered in-phase component below 0, monitoring and
-/// re-acquisition on. Checked when an observer is built (`ConfigError` naming the field).
+/// pi / (2 Ts) rad/s, filter factor 1/16 (the monitor decides once per window of 16 used
+/// samples, from its means: a fault is flagged within 31 samples, a bad sample at once),
+/// false lock at an in-phase component below 0, monitoring and re-acquisition on. Checked
+/// when an observer is built (`ConfigError` naming the field).
 #[pyclass(
     name = "FaultThresholds",
     module = "angletrack",
@@ -25,19 +26,20 @@ pub struct PyFaultThresholds {
     nominal_amplitude: f64,
     /// Samples with an amplitude above this (or non-finite) are rejected.
     max_input_amplitude: f64,
-    /// Filtered amplitude below this: loss of signal.
+    /// A window's RMS amplitude below this: loss of signal.
     loss_of_signal: f64,
-    /// Filtered amplitude below this: degradation of signal.
+    /// A window's RMS amplitude below this: degradation of signal.
     degradation_low: f64,
-    /// Filtered amplitude above this: degradation of signal.
+    /// A window's RMS amplitude above this: degradation of signal.
     degradation_high: f64,
-    /// Filtered |phase error| above this: loss of tracking.
+    /// A window's mean |phase error| above this: loss of tracking.
     loss_of_tracking: f64,
     /// Estimated |speed| (rad/s) above this: loss of tracking; `None`: pi / (2 Ts).
     max_speed_rad_s: Option<f64>,
-    /// Smoothing factor of the first-order filters, in (0, 1].
+    /// 1 / W for the monitor's window of W used samples (1 / filter_factor rounded down to
+    /// a power of two, at most 4096), in (0, 1]: a fault is flagged within 2 W - 1 samples.
     filter_factor: f64,
-    /// Filtered in-phase component below this: false lock.
+    /// In-phase component at a window's end below this: false lock.
     false_lock: f64,
     /// Whether the fault flags are computed (the input check always runs).
     monitor: bool,

@@ -30,7 +30,7 @@ const SAMPLES: usize = 2000;
 const CHECKED_SAMPLES_M0: usize = 300;
 /// The most samples of one block update on the Cortex-M0, whose estimates must fit its
 /// 16 KiB of RAM (the Cortex-M4F runs all in one block).
-const BLOCK_SAMPLES_M0: usize = 250;
+const BLOCK_SAMPLES_M0: usize = 200;
 
 /// Largest accepted difference (rad) of every variant's multi-turn position from the
 /// simulated shaft's over the second half of the samples, once the loops have settled: the
@@ -56,7 +56,7 @@ impl Job for Reference<'_> {
         let mut worst = 0.0f64;
         for (k, (&c, &s)) in self.y_c.iter().zip(self.y_s).enumerate() {
             let output = tracker.update(&mut state, T::input(c), T::input(s));
-            let record = T::record(&state, &output);
+            let record = tracker.record(&state, &output);
             if k < self.checked {
                 self.records.extend_from_slice(&record.encode());
             }

@@ -54,17 +54,17 @@
 #define AT_CALIBRATION_FROZEN 2
 
 /**
- * Loss of signal: the filtered amplitude is below the loss-of-signal threshold.
+ * Loss of signal: a window's RMS amplitude is below the loss-of-signal threshold.
  */
 #define AT_FAULT_LOSS_OF_SIGNAL 1
 
 /**
- * Degradation of signal: the filtered amplitude is outside [degradation_low, degradation_high].
+ * Degradation of signal: a window's RMS amplitude is outside [degradation_low, degradation_high].
  */
 #define AT_FAULT_DEGRADATION_OF_SIGNAL (1 << 1)
 
 /**
- * Loss of tracking: the filtered phase error or the speed is above its threshold.
+ * Loss of tracking: a window's mean phase error or its last speed is above its threshold.
  */
 #define AT_FAULT_LOSS_OF_TRACKING (1 << 2)
 
@@ -147,19 +147,19 @@ typedef struct at_fault_thresholds_f32 {
    */
   float max_input_amplitude;
   /**
-   * Filtered amplitude below this: loss of signal (default 0.25 x nominal).
+   * A window's RMS amplitude below this: loss of signal (default 0.25 x nominal).
    */
   float loss_of_signal;
   /**
-   * Filtered amplitude below this: degradation of signal (default 0.5 x nominal).
+   * A window's RMS amplitude below this: degradation of signal (default 0.5 x nominal).
    */
   float degradation_low;
   /**
-   * Filtered amplitude above this: degradation of signal (default 1.5 x nominal).
+   * A window's RMS amplitude above this: degradation of signal (default 1.5 x nominal).
    */
   float degradation_high;
   /**
-   * Filtered normalised phase error above this: loss of tracking (default 0.1).
+   * A window's mean normalised phase error above this: loss of tracking (default 0.1).
    */
   float loss_of_tracking;
   /**
@@ -168,11 +168,13 @@ typedef struct at_fault_thresholds_f32 {
    */
   float max_speed_rad_s;
   /**
-   * Smoothing factor of the diagnostics' first-order filters, in (0, 1] (default 1/16).
+   * 1 / W for the diagnostics' window of W used samples (1 / filter_factor rounded down
+   * to a power of two, at most 4096), in (0, 1] (default 1/16: a fault is flagged within
+   * 31 samples).
    */
   float filter_factor;
   /**
-   * Filtered in-phase component below this: false lock (default 0).
+   * The in-phase component at a window's end below this: false lock (default 0).
    */
   float false_lock;
   /**

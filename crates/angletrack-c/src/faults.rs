@@ -6,11 +6,11 @@ use core::ffi::CStr;
 #[cfg(test)]
 use angletrack_core::Faults;
 
-/// Loss of signal: the filtered amplitude is below the loss-of-signal threshold.
+/// Loss of signal: a window's RMS amplitude is below the loss-of-signal threshold.
 pub const AT_FAULT_LOSS_OF_SIGNAL: u32 = 1;
-/// Degradation of signal: the filtered amplitude is outside [degradation_low, degradation_high].
+/// Degradation of signal: a window's RMS amplitude is outside [degradation_low, degradation_high].
 pub const AT_FAULT_DEGRADATION_OF_SIGNAL: u32 = 1 << 1;
-/// Loss of tracking: the filtered phase error or the speed is above its threshold.
+/// Loss of tracking: a window's mean phase error or its last speed is above its threshold.
 pub const AT_FAULT_LOSS_OF_TRACKING: u32 = 1 << 2;
 /// The sample was rejected (NaN, infinite, or above the input bound); the observer coasted.
 pub const AT_FAULT_BAD_SAMPLE: u32 = 1 << 3;

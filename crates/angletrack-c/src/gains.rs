@@ -116,20 +116,22 @@ pub struct at_fault_thresholds_f32 {
     pub nominal_amplitude: f32,
     /// A sample with `sqrt(y_c^2 + y_s^2)` above this is rejected (default 4 x nominal).
     pub max_input_amplitude: f32,
-    /// Filtered amplitude below this: loss of signal (default 0.25 x nominal).
+    /// A window's RMS amplitude below this: loss of signal (default 0.25 x nominal).
     pub loss_of_signal: f32,
-    /// Filtered amplitude below this: degradation of signal (default 0.5 x nominal).
+    /// A window's RMS amplitude below this: degradation of signal (default 0.5 x nominal).
     pub degradation_low: f32,
-    /// Filtered amplitude above this: degradation of signal (default 1.5 x nominal).
+    /// A window's RMS amplitude above this: degradation of signal (default 1.5 x nominal).
     pub degradation_high: f32,
-    /// Filtered normalised phase error above this: loss of tracking (default 0.1).
+    /// A window's mean normalised phase error above this: loss of tracking (default 0.1).
     pub loss_of_tracking: f32,
     /// Estimated |speed| (rad/s) above this: loss of tracking; 0 for the default, a
     /// quarter turn per sample (`pi / (2 Ts)`).
     pub max_speed_rad_s: f32,
-    /// Smoothing factor of the diagnostics' first-order filters, in (0, 1] (default 1/16).
+    /// 1 / W for the diagnostics' window of W used samples (1 / filter_factor rounded down
+    /// to a power of two, at most 4096), in (0, 1] (default 1/16: a fault is flagged within
+    /// 31 samples).
     pub filter_factor: f32,
-    /// Filtered in-phase component below this: false lock (default 0).
+    /// The in-phase component at a window's end below this: false lock (default 0).
     pub false_lock: f32,
     /// Nonzero: compute the flags (loss of signal, degradation, loss of tracking, false
     /// lock); 0: only the input check runs (default 1).

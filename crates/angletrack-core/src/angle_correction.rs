@@ -179,7 +179,7 @@ impl<T: Real> AngleCorrection<T> {
         if self.order == 0 || !state.initialised {
             return (y_c, y_s);
         }
-        let mut p = state.next_angle;
+        let mut p = state.predicted_angle();
         wrap_angle(&mut p);
         let (sin_p, cos_p) = S::sin_cos(p);
         self.rotate(sin_p, cos_p, y_c, y_s)

@@ -5,8 +5,9 @@ use core::fmt;
 
 /// A set of fault flags (a bit set, `Copy`), as in the AD2S1210's fault register.
 ///
-/// Each [`Estimate`](crate::Estimate) carries the flags of its own sample; the observer
-/// state also latches them until the caller clears them
+/// Each [`Estimate`](crate::Estimate) carries the monitor's flags of its last window (held
+/// until the next one ends, `docs/theory.md §10`) and the bad-sample flag of its own
+/// sample; the observer state also latches them until the caller clears them
 /// ([`ObserverState::clear_faults`](crate::ObserverState::clear_faults)).
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub struct Faults(u8);
@@ -14,23 +15,23 @@ pub struct Faults(u8);
 impl Faults {
     /// No fault.
     pub const NONE: Faults = Faults(0);
-    /// Loss of signal: the filtered amplitude `sqrt(y_c^2 + y_s^2)` is below the
-    /// loss-of-signal threshold (sensor disconnected, excitation lost).
+    /// Loss of signal: the RMS amplitude `sqrt(y_c^2 + y_s^2)` over the monitor's window is
+    /// below the loss-of-signal threshold (sensor disconnected, excitation lost).
     pub const LOSS_OF_SIGNAL: Faults = Faults(1);
-    /// Degradation of signal: the filtered amplitude is outside
+    /// Degradation of signal: the window's RMS amplitude is outside
     /// [degradation low, degradation high] (gain drift, saturation, a broken winding).
     pub const DEGRADATION_OF_SIGNAL: Faults = Faults(1 << 1);
-    /// Loss of tracking: the filtered phase-detector error is above its threshold, or the
-    /// estimated speed is above the monitor's speed threshold
+    /// Loss of tracking: the window's mean phase-detector error is above its threshold, or
+    /// the estimated speed at the window's end is above the monitor's speed threshold
     /// ([`FaultThresholds::max_speed`](crate::FaultThresholds::max_speed): by default a
     /// quarter turn per sample, half the largest trackable speed, `docs/theory.md §9`).
     pub const LOSS_OF_TRACKING: Faults = Faults(1 << 2);
     /// The sample was rejected (NaN, infinite, or amplitude above the input bound): the
     /// observer coasted on its prediction.
     pub const BAD_SAMPLE: Faults = Faults(1 << 3);
-    /// A lock about 180 degrees off was detected (the filtered in-phase component
-    /// `y_c cos + y_s sin` went below its threshold); with `re_acquire` on, the angle is
-    /// re-acquired from `atan2`.
+    /// A lock about 180 degrees off was detected (the in-phase component
+    /// `y_c cos + y_s sin` at the window's end went below its threshold); with `re_acquire`
+    /// on, the angle is re-acquired from `atan2`.
     pub const FALSE_LOCK: Faults = Faults(1 << 4);
     /// Amplitude mismatch between the channels, as the AD2S1210's degradation check: the
     /// online calibration's amplitude ratio `A_s / A_c` is further from 1 than its bound

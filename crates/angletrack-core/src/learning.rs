@@ -336,6 +336,39 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         self.update_calibrated_mapped(state, calibrator, y_c, y_s, |_, c, s| (c, s))
     }
 
+    /// [`Gains::update_calibrated`] without the estimate, as [`Gains::track`] is
+    /// [`Gains::update`] without it: the cheapest per-sample entry point through the
+    /// calibration. The calibration's faults ([`Faults::AMPLITUDE_MISMATCH`],
+    /// [`Faults::OFFSET_OR_QUADRATURE`]) are latched in the state
+    /// ([`ObserverState::latched_faults`]); [`Gains::estimate`] does not carry them.
+    ///
+    /// ```
+    /// use angletrack_core::{Calibrator, Gains, ObserverState};
+    /// let gains = Gains::<f32, 3>::new([0.06, 0.0019, 3e-5], 1e-4)?;
+    /// let (mut state, mut twin) = (ObserverState::new(), ObserverState::new());
+    /// let (mut calibrator, mut twin_calibrator) = (Calibrator::new(), Calibrator::new());
+    /// calibrator.enable();
+    /// twin_calibrator.enable();
+    /// for k in 0..100 {
+    ///     let theta = 0.01 * k as f32;
+    ///     let (y_c, y_s) = (0.05 + theta.cos(), theta.sin());
+    ///     gains.track_calibrated(&mut state, &mut calibrator, y_c, y_s);
+    ///     let e = gains.update_calibrated(&mut twin, &mut twin_calibrator, y_c, y_s);
+    ///     assert_eq!(gains.estimate(&state), e);
+    /// }
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    #[inline]
+    pub fn track_calibrated(
+        &self,
+        state: &mut ObserverState<T, N>,
+        calibrator: &mut Calibrator<T>,
+        y_c: T,
+        y_s: T,
+    ) {
+        self.track_calibrated_mapped(state, calibrator, y_c, y_s, |_, c, s| (c, s));
+    }
+
     /// [`Gains::update_calibrated`] whose corrected sample goes through `map` (given the
     /// state before the sample) on its way to the observer, as the angle correction
     /// ([`Gains::update_calibrated_corrected`]) needs; the estimator still learns from the
@@ -349,10 +382,28 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         y_s: T,
         map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
     ) -> Estimate<T> {
+        let faults = self.track_calibrated_mapped(state, calibrator, y_c, y_s, map);
+        let mut estimate = self.estimate(state);
+        estimate.faults |= faults;
+        estimate
+    }
+
+    /// The body of [`Gains::update_calibrated_mapped`] without the estimate; returns the
+    /// calibration's faults (latched here), which the estimate of the sample carries.
+    #[inline(always)]
+    fn track_calibrated_mapped(
+        &self,
+        state: &mut ObserverState<T, N>,
+        calibrator: &mut Calibrator<T>,
+        y_c: T,
+        y_s: T,
+        map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
+    ) -> Faults {
         let mode = calibrator.mode;
         if mode == CalibrationMode::Off {
             let (c, s) = map(state, y_c, y_s);
-            return self.update(state, c, s);
+            self.track(state, c, s);
+            return Faults::NONE;
         }
         let (c, s) = calibrator.calibration.correct(y_c, y_s);
         let (c, s) = map(state, c, s);
@@ -363,7 +414,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             learning: mode == CalibrationMode::Learning,
             raw: (y_c, y_s),
         };
-        let mut estimate = self.update_observing(state, c, s, learner);
+        self.track_observing(state, c, s, learner);
         let faults = match calibrator.sensor_faults {
             Some(faults) => faults,
             None => {
@@ -372,12 +423,11 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
                 faults
             }
         };
-        if !faults.is_empty() {
-            estimate.faults |= faults;
-            state.faults |= faults;
-            state.monitor.latched |= faults;
-        }
-        estimate
+        // Latched, and on the sample's estimate; not in the state's faults of the sample,
+        // which the usual path of the update does not rewrite (they would outlive the
+        // mode).
+        state.monitor.latched |= faults;
+        faults
     }
 }
 

@@ -1,7 +1,15 @@
 //! Diagnostics like an RDC chip's fault register (`docs/theory.md §10`): the input check
 //! that rejects bad samples, and the monitor that flags loss of signal, degradation of
-//! signal, loss of tracking and false lock from first-order filters of the amplitude, the
-//! phase error and the in-phase component. Its thresholds are checked at construction.
+//! signal, loss of tracking and false lock from the means of the amplitude and of the
+//! phase error over windows of samples, and from the speed and the in-phase component at
+//! each window's end. Its thresholds are checked at construction.
+//!
+//! Each used sample only adds to two sums and counts down (a few instructions); the
+//! flags are decided once per window of `W` used samples (`W` a power of two, 16 by
+//! default: [`FaultThresholds::filter_factor`]), out of line. A fault present over a whole
+//! window is flagged at that window's end: at most `2 W - 1` used samples after it starts
+//! (31 by default). A rejected sample is flagged at once. The first window after the angle
+//! is set is its first used sample alone (a start 180 degrees off is caught at once).
 
 use crate::error::ConfigError;
 use crate::faults::Faults;
@@ -26,7 +34,7 @@ use crate::real::Real;
 /// | `degradation_low`, `degradation_high` | 0.5, 1.5 |
 /// | `loss_of_tracking` | 0.1 (filtered `|eps|`, the sine of the phase error: 5.7 degrees) |
 /// | `max_speed` | `None`: pi/2 rad per sample, i.e. `pi / (2 Ts)` rad/s |
-/// | `filter_factor` | 1/16 (first-order filters, time constant 16 samples) |
+/// | `filter_factor` | 1/16 (windows of 16 samples) |
 /// | `false_lock` | 0 (filtered in-phase component; 0 means an error beyond 90 degrees) |
 /// | `monitor` | `true` |
 /// | `re_acquire` | `true` |
@@ -39,24 +47,30 @@ pub struct FaultThresholds<T> {
     /// A sample with `sqrt(y_c^2 + y_s^2)` above this (or NaN, or infinite) is rejected and
     /// flagged [`Faults::BAD_SAMPLE`]; the observer coasts on its prediction. Always checked.
     pub max_input_amplitude: T,
-    /// Filtered amplitude below this: [`Faults::LOSS_OF_SIGNAL`].
+    /// Amplitude `sqrt(mean of y_c^2 + y_s^2)` over a window below this:
+    /// [`Faults::LOSS_OF_SIGNAL`].
     pub loss_of_signal: T,
-    /// Filtered amplitude below this: [`Faults::DEGRADATION_OF_SIGNAL`].
+    /// Window amplitude below this: [`Faults::DEGRADATION_OF_SIGNAL`].
     pub degradation_low: T,
-    /// Filtered amplitude above this: [`Faults::DEGRADATION_OF_SIGNAL`].
+    /// Window amplitude above this: [`Faults::DEGRADATION_OF_SIGNAL`].
     pub degradation_high: T,
-    /// Filtered `|eps|` above this: [`Faults::LOSS_OF_TRACKING`]. `eps` is the normalised
+    /// Mean `|eps|` over a window above this: [`Faults::LOSS_OF_TRACKING`]. `eps` is the normalised
     /// phase error (about the sine of the angle error), so this is dimensionless, the same
     /// for every amplitude.
     pub loss_of_tracking: T,
-    /// Estimated `|speed|` (rad/s) above this: [`Faults::LOSS_OF_TRACKING`]. `None`: a
+    /// Estimated `|speed|` (rad/s) at the end of a window above this:
+    /// [`Faults::LOSS_OF_TRACKING`]. `None`: a
     /// quarter turn per sample, `pi / (2 Ts)` (`docs/theory.md §9`). Named
     /// `max_speed_rad_s` in errors and in the Python API.
     pub max_speed: Option<T>,
-    /// Smoothing factor `k` of the first-order filters `f += k (value - f)`, in (0, 1].
+    /// `1 / W`, in (0, 1], for the monitor's window of `W` used samples: `W` is `1 /
+    /// filter_factor` rounded down to a power of two, at most 4096 (the default 1/16
+    /// gives 16). The flags are decided once per window, from its means: a fault
+    /// present over a whole window is flagged within `2 W - 1` used samples.
     pub filter_factor: T,
-    /// Filtered in-phase component `y_c cos + y_s sin` (about `A cos(error)`) below this,
-    /// with the signal present: a lock about 180 degrees off.
+    /// In-phase component `y_c cos + y_s sin` (about `A cos(error)`) of the last sample of a
+    /// window, at its corrected angle, below this, with the signal present: a lock about
+    /// 180 degrees off.
     pub false_lock: T,
     /// Compute the flags (loss of signal, degradation, loss of tracking, false lock). When
     /// `false`, only the input check runs (cheapest update).
@@ -195,6 +209,12 @@ macro_rules! threshold_fns {
                 }
                 i += 1;
             }
+            // The window: the largest power of two W <= 1/k (k <= 1, checked above), at
+            // most MAX_WINDOW.
+            let mut window = 1u32;
+            while window < super::MAX_WINDOW && (2 * window) as $t * k <= 1.0 {
+                window *= 2;
+            }
             let max_input2 = max_in * max_in;
             // The amplitude tracker divides `y_c^2 + y_s^2` by a magnitude that is at least
             // `sqrt(MIN_POSITIVE)` (`docs/theory.md §12`): the quotient must stay finite.
@@ -210,6 +230,8 @@ macro_rules! threshold_fns {
                 degradation_middle2: (low * low + high * high) * 0.5,
                 degradation_half_width2: (high * high - low * low) * 0.5,
                 max_scaled_speed: max_speed * sample_period_s,
+                window,
+                window_inverse: 1.0 / window as $t,
             })
         }
     };
@@ -225,6 +247,10 @@ pub(crate) mod for_f64 {
     threshold_fns!(f64, for_f64, sqrt_min_positive f64::from_bits(0x2000_0000_0000_0000)); // 2^-511
 }
 
+/// The largest window of the monitor (used samples): `2^12`, so that its sums stay accurate
+/// in `f32` and a fault is flagged within `2^13` samples whatever the filter factor.
+pub(crate) const MAX_WINDOW: u32 = 1 << 12;
+
 /// The thresholds with the per-sample comparisons precomputed (squared amplitudes, speed
 /// in rad per sample), so the update needs no square root.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -239,48 +265,63 @@ pub struct CheckedThresholds<T> {
     pub(crate) degradation_middle2: T,
     pub(crate) degradation_half_width2: T,
     pub(crate) max_scaled_speed: T,
+    /// The monitor's window `W` (used samples, a power of two) and `1 / W` (exact).
+    pub(crate) window: u32,
+    pub(crate) window_inverse: T,
 }
 
-/// The monitor's memory in each channel's state: three first-order filters and the latched
-/// fault register.
+/// The monitor's memory in each channel's state: the sums over the current window, the
+/// used samples left in it, the flags of the last window and the latched fault register.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct MonitorState<T> {
-    /// Filtered `y_c^2 + y_s^2`.
+    /// Sum of `y_c^2 + y_s^2` over the current window.
+    pub(crate) amplitude2_sum: T,
+    /// Sum of `|eps|` over the current window.
+    pub(crate) error_sum: T,
+    /// Used samples left in the current window (0: no window started yet).
+    pub(crate) remaining: u32,
+    /// `1 / length` of the current window (exact: a power of two).
+    pub(crate) length_inverse: T,
+    /// Mean `y_c^2 + y_s^2` of the last window (of the first sample before one ends).
     pub(crate) amplitude2: T,
-    /// Filtered `|eps|`.
-    pub(crate) error: T,
-    /// Filtered `y_c cos + y_s sin`.
-    pub(crate) in_phase: T,
+    /// The flags of the last window, held until the next one ends.
+    pub(crate) flags: Faults,
     /// Flags latched until cleared.
     pub(crate) latched: Faults,
 }
 
 impl<T: Real> MonitorState<T> {
-    /// A monitor whose filters start from the next sample.
+    /// A monitor whose first window starts at the next used sample.
     pub(crate) const fn new() -> Self {
         Self {
+            amplitude2_sum: T::ZERO,
+            error_sum: T::ZERO,
+            remaining: 0,
+            length_inverse: T::ONE,
             amplitude2: T::ZERO,
-            error: T::ZERO,
-            in_phase: T::ZERO,
+            flags: Faults::NONE,
             latched: Faults::NONE,
         }
     }
 
-    /// Starts the phase-error and in-phase filters from an angle that agrees with the
-    /// sample of magnitude `magnitude`: no error, the in-phase component the magnitude.
-    /// Done where the angle is set (first sample, re-acquisition), so that the per-sample
-    /// update has no first-sample test.
-    pub(crate) fn prime_phase(&mut self, magnitude: T) {
-        self.error = T::ZERO;
-        self.in_phase = magnitude;
+    /// Starts a new window of `window` used samples, whose `1 / window` is
+    /// `window_inverse`. Done where the angle is set (first used sample, re-acquisition),
+    /// so that no window mixes two angles.
+    pub(crate) fn start_window(&mut self, window: u32, window_inverse: T) {
+        self.amplitude2_sum = T::ZERO;
+        self.error_sum = T::ZERO;
+        self.remaining = window;
+        self.length_inverse = window_inverse;
     }
 
-    /// Starts the phase-error and in-phase filters from one sample's normalised phase error
-    /// and in-phase component: for an angle that was set without looking at the sample
-    /// (`ObserverState::at`), which may disagree with it by any amount.
-    pub(crate) fn prime_from_sample(&mut self, phase_error: T, in_phase: T) {
-        self.error = phase_error.abs();
-        self.in_phase = in_phase;
+    /// Adds one used sample to the window; `true` when it ends the window (the caller then
+    /// decides the flags, [`CheckedThresholds::decide`]).
+    #[inline(always)]
+    pub(crate) fn accumulate(&mut self, amplitude2: T, phase_error: T) -> bool {
+        self.amplitude2_sum += amplitude2;
+        self.error_sum += phase_error.abs();
+        self.remaining = self.remaining.wrapping_sub(1);
+        self.remaining == 0
     }
 }
 
@@ -301,43 +342,42 @@ impl<T: Real> CheckedThresholds<T> {
         (T::MIN_POSITIVE + y_c * y_c) + y_s * y_s
     }
 
-    /// Updates the filters with one accepted sample and returns its flags; the second value
-    /// is `true` when the angle must be re-acquired (false lock).
-    #[inline(always)]
-    pub(crate) fn observe(
+    /// The end of a window: its flags from its means, and from the speed `scaled_speed`
+    /// (rad per sample) and the in-phase component `in_phase` (`y_c cos + y_s sin` of the
+    /// corrected angle) of its last sample, held in `monitor.flags` and latched, and a new
+    /// window started. Returns `true` when the angle must be re-acquired (false lock).
+    pub(crate) fn decide(
         &self,
         monitor: &mut MonitorState<T>,
-        amplitude2: T,
-        phase_error: T,
-        in_phase: T,
         scaled_speed: T,
-    ) -> (Faults, bool) {
+        in_phase: T,
+    ) -> bool {
+        let mean = |sum: T| sum * monitor.length_inverse;
+        let (a2, error) = (mean(monitor.amplitude2_sum), mean(monitor.error_sum));
+        monitor.amplitude2 = a2;
         let t = &self.thresholds;
-        let k = t.filter_factor;
-        monitor.amplitude2 += k * (amplitude2 - monitor.amplitude2);
-        monitor.error += k * (phase_error.abs() - monitor.error);
-        monitor.in_phase += k * (in_phase - monitor.in_phase);
-        let a2 = monitor.amplitude2;
         // The usual case in one chain of tests: no flag at all. Loss of signal lies below the
         // degradation band (checked at construction), so an amplitude inside the band rules
-        // out both; then tracking and the in-phase component. Anything else is sorted out of
-        // line, flag by flag.
-        // One comparison for the band (one rounding of its edges, which `flags` then
-        // sorts out exactly; NaN fails it).
-        if (a2 - self.degradation_middle2).abs() <= self.degradation_half_width2
-            && monitor.error <= t.loss_of_tracking
+        // out both; one comparison for the band (one rounding of its edges, which `flags`
+        // then sorts out exactly; NaN fails it).
+        let (faults, false_lock) = if (a2 - self.degradation_middle2).abs()
+            <= self.degradation_half_width2
+            && error <= t.loss_of_tracking
             && scaled_speed.abs() <= self.max_scaled_speed
-            && monitor.in_phase >= t.false_lock
+            && in_phase >= t.false_lock
         {
-            return (Faults::NONE, false);
-        }
-        let (faults, false_lock) = self.flags(a2, monitor.error, monitor.in_phase, scaled_speed);
+            (Faults::NONE, false)
+        } else {
+            self.flags(a2, error, in_phase, scaled_speed)
+        };
+        monitor.flags = faults;
         monitor.latched |= faults;
-        (faults, false_lock && t.re_acquire)
+        monitor.start_window(self.window, self.window_inverse);
+        false_lock && self.thresholds.re_acquire
     }
 
-    /// The flags of filtered values outside the usual case of [`CheckedThresholds::observe`]
-    /// (out of line: a fault is rare), and whether they declare a false lock.
+    /// The flags of a window outside the usual case of [`CheckedThresholds::decide`] (out
+    /// of line: a fault is rare), and whether they declare a false lock.
     #[cold]
     #[inline(never)]
     fn flags(&self, a2: T, error: T, in_phase: T, scaled_speed: T) -> (Faults, bool) {
@@ -360,5 +400,7 @@ impl<T: Real> CheckedThresholds<T> {
     }
 }
 
+#[cfg(test)]
+mod latency_tests;
 #[cfg(test)]
 mod tests;

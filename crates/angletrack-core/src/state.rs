@@ -32,7 +32,9 @@ pub struct Estimate<T> {
     /// dimensionless whatever the input's units (`docs/theory.md §1, §12`); 0 when the
     /// sample was rejected.
     pub phase_error: T,
-    /// The diagnostics of this sample (the state also latches them).
+    /// The diagnostics: the monitor's flags of its last window (held until the next one
+    /// ends, `docs/theory.md §10`) and this sample's [`Faults::BAD_SAMPLE`] (the state also
+    /// latches them).
     pub faults: Faults,
 }
 
@@ -85,6 +87,11 @@ pub struct ObserverState<T, const N: usize> {
     pub(crate) x: [T; N],
     /// The next sample's predicted angle `(A x)[0]`, computed from this sample's prediction
     /// as `(A X_p)[0] + (A L)[0] eps`, in the turn counted by `turns` (wrapped when used).
+    /// While the state is not tracking (before its first used sample, after a rejected
+    /// one) it is parked outside [-pi, pi) (`PARKED_ANGLE`), so that the one comparison of
+    /// the wrap sends the next sample to the update's rare path, which starts tracking
+    /// again: the usual path needs no test of its own and stores no fault flag
+    /// ([`ObserverState::predicted_angle`] gives the prediction at any time).
     pub(crate) next_angle: T,
     pub(crate) turns: i64,
     pub(crate) phase_error: T,
@@ -96,7 +103,8 @@ pub struct ObserverState<T, const N: usize> {
     pub(crate) amplitude: T,
     /// The angle is known (from a first sample, or [`ObserverState::at`]).
     pub(crate) initialised: bool,
-    /// The angle and the magnitude are known: the usual path of the update runs.
+    /// The angle and the magnitude are known and the last sample was used: the predicted
+    /// angle `next_angle` is live and the usual path of the update runs (else it is parked).
     pub(crate) tracking: bool,
 }
 
@@ -107,6 +115,10 @@ impl<T: Real, const N: usize> Default for ObserverState<T, N> {
 }
 
 impl<T: Real, const N: usize> ObserverState<T, N> {
+    /// Where `next_angle` is parked while the state is not tracking: `2 pi`, outside the
+    /// [-pi, pi) the wrap keeps a predicted angle in.
+    pub(crate) const PARKED_ANGLE: T = T::TAU;
+
     /// A state that initialises itself from the first sample it is given: the angle from
     /// `atan2(y_s, y_c)` (so tracking never starts 180 degrees off), speed and acceleration 0.
     ///
@@ -121,7 +133,7 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
     pub const fn new() -> Self {
         Self {
             x: [T::ZERO; N],
-            next_angle: T::ZERO,
+            next_angle: Self::PARKED_ANGLE,
             turns: 0,
             phase_error: T::ZERO,
             faults: Faults::NONE,
@@ -162,7 +174,7 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
         }
         Self {
             x,
-            next_angle: predict(&x)[0],
+            next_angle: Self::PARKED_ANGLE,
             turns,
             phase_error: T::ZERO,
             faults: Faults::NONE,
@@ -226,11 +238,12 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
         self.amplitude
     }
 
-    /// The monitor's filtered amplitude `sqrt(filtered y_c^2 + y_s^2)` (input units), which
-    /// its loss-of-signal and degradation checks compare (`docs/theory.md §10`); 0 before
-    /// the first used sample, and the first sample's while the monitor is off.
+    /// The monitor's amplitude `sqrt(mean of y_c^2 + y_s^2)` over its last window (input
+    /// units), which its loss-of-signal and degradation checks compare
+    /// (`docs/theory.md §10`); the first sample's until a window ends (always, while the
+    /// monitor is off), 0 before a first sample is used.
     pub fn filtered_amplitude(&self) -> T {
-        if self.tracking {
+        if self.initialised {
             self.monitor.amplitude2.sqrt()
         } else {
             T::ZERO
@@ -269,7 +282,6 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
     pub(crate) fn restart(&mut self, angle: T, whole: i32, amplitude2: T, latched: Faults) {
         *self = Self::new();
         self.x[0] = angle;
-        self.next_angle = angle;
         self.turns = whole as i64;
         self.monitor.latched = latched;
         self.initialised = true;
@@ -280,9 +292,10 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
     /// The first used sample after the angle was set, of `y_c^2 + y_s^2` `amplitude2`: a
     /// state from [`ObserverState::at`] has no magnitude yet and takes this sample's; one
     /// started by a first sample keeps that sample's, which the recursion then tracks as
-    /// usual (as a [`ChannelBank`](crate::ChannelBank) lane does). The monitor's filters
-    /// start from agreement here; the caller then sets them from the sample's own
-    /// detection. The per-sample update needs no test for any of it.
+    /// usual (as a [`ChannelBank`](crate::ChannelBank) lane does). The predicted angle
+    /// leaves its parking place, the faults are the monitor's again, and the monitor starts
+    /// its first window, of this sample alone (a window under way goes on: rejected samples
+    /// do not restart it). The per-sample update needs no test for any of it.
     #[cold]
     #[inline(never)]
     pub(crate) fn start_tracking(&mut self, amplitude2: T) {
@@ -290,8 +303,25 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
             self.amplitude = magnitude(amplitude2);
             self.monitor.amplitude2 = amplitude2;
         }
-        self.monitor.prime_phase(self.amplitude);
+        // The first window is the first used sample alone: an angle set without looking at
+        // the signal (`ObserverState::at`) may be 180 degrees off, a false lock to catch
+        // before the loop runs from it; then windows of `window` samples.
+        if self.monitor.remaining == 0 {
+            self.monitor.start_window(1, T::ONE);
+        }
+        self.next_angle = predict(&self.x)[0];
+        self.faults = self.monitor.flags;
         self.tracking = true;
+    }
+
+    /// The next sample's predicted angle `(A x)[0]` (rad, not wrapped), tracking or not.
+    #[inline(always)]
+    pub(crate) fn predicted_angle(&self) -> T {
+        if self.tracking {
+            self.next_angle
+        } else {
+            predict(&self.x)[0]
+        }
     }
 
     /// Books one step of the recursion: the whole turns it crossed and its phase-detector
@@ -304,10 +334,14 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
         self.phase_error = phase_error;
     }
 
-    /// Marks the current sample as rejected (flag and latch).
+    /// Marks the current sample as rejected (flag and latch; the monitor's flags of its
+    /// last window hold) and parks the predicted angle, so that the next sample goes
+    /// through the rare path, which clears the flag.
     pub(crate) fn reject_sample(&mut self) {
-        self.faults = Faults::BAD_SAMPLE;
+        self.faults = Faults::BAD_SAMPLE | self.monitor.flags;
         self.monitor.latched |= Faults::BAD_SAMPLE;
+        self.next_angle = Self::PARKED_ANGLE;
+        self.tracking = false;
     }
 }
 

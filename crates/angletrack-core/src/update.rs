@@ -12,7 +12,7 @@ use crate::gains::Gains;
 use crate::real::Real;
 use crate::sincos::{SinCos, SinCosUnit};
 use crate::state::{Estimate, ObserverState, predict};
-use crate::wrap::{FullWrap, Wrap, re_acquired, sample_angle, wrap_angle, wrapped};
+use crate::wrap::{FullWrap, NoWrap, Wrap, re_acquired, sample_angle, wrap_angle, wrapped};
 
 /// What one step of the recursion gives besides the new state.
 #[derive(Clone, Copy)]
@@ -20,8 +20,6 @@ pub(crate) struct Step<T> {
     /// Normalised phase-detector output `eps / sqrt(y_c^2 + y_s^2)`, about the sine of the
     /// phase error (0 for a sample that was not used).
     pub(crate) eps: T,
-    /// In-phase component `y_c cos + y_s sin` of the predicted angle (about `A cos(error)`).
-    pub(crate) in_phase: T,
     /// Whole turns the wrap of the predicted angle removed.
     pub(crate) whole: i32,
     /// `(sin, cos)` of the predicted angle (for the calibration's estimator; the plain
@@ -86,20 +84,40 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     ///
     /// A bad sample (NaN, infinite, or amplitude above the input bound) is not used: the
     /// state coasts on its prediction (speed and acceleration) and the estimate carries
-    /// [`Faults::BAD_SAMPLE`]. The diagnostics then flag loss of signal, degradation of
-    /// signal, loss of tracking and false lock, and re-acquire the angle from `atan2` on a
-    /// false lock (see [`FaultThresholds`](crate::FaultThresholds)). Never fails, never
-    /// panics, and the state stays finite.
+    /// [`Faults::BAD_SAMPLE`]. The diagnostics flag loss of signal, degradation of signal,
+    /// loss of tracking and false lock once per window of used samples (16 by default: a
+    /// fault is flagged within 31 samples, `docs/theory.md §10`), hold the flags until the
+    /// next window ends, and re-acquire the angle from `atan2` on a false lock (see
+    /// [`FaultThresholds`](crate::FaultThresholds)). Never fails, never panics, and the
+    /// state stays finite.
     #[inline]
     pub fn update(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) -> Estimate<T> {
-        self.update_in_place(state, y_c, y_s)
+        self.track(state, y_c, y_s);
+        self.estimate(state)
     }
 
-    /// The body of [`Gains::update`], inlined into the block APIs so that the state stays in
-    /// registers from one sample to the next.
-    #[inline(always)]
-    fn update_in_place(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) -> Estimate<T> {
-        self.update_observing(state, y_c, y_s, ())
+    /// [`Gains::update`] without the estimate: the state takes the sample and nothing is
+    /// computed in physical units, the cheapest per-sample entry point (for a control loop
+    /// that reads the estimate at its own rate). Read it when needed with
+    /// [`Gains::estimate`] (everything [`Gains::update`] would have returned for this
+    /// sample, to the bit) or [`ObserverState::angle`].
+    ///
+    /// ```
+    /// use angletrack_core::{Gains, ObserverState};
+    /// let gains = Gains::<f32, 3>::new([0.3, 0.04, 0.002], 50e-6)?;
+    /// let (mut state, mut twin) = (ObserverState::new(), ObserverState::new());
+    /// for k in 0..100 {
+    ///     let theta = 0.01 * k as f32;
+    ///     gains.track(&mut state, theta.cos(), theta.sin());
+    ///     let e = gains.update(&mut twin, theta.cos(), theta.sin());
+    ///     assert_eq!(gains.estimate(&state), e);
+    /// }
+    /// assert!((state.angle() - 0.99).abs() < 1e-3);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    #[inline]
+    pub fn track(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) {
+        self.track_observing(state, y_c, y_s, ());
     }
 
     /// [`Gains::update`] that also shows each sample to `observer`: `Some` with what the
@@ -114,15 +132,26 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         y_s: T,
         observer: impl SampleObserver<T>,
     ) -> Estimate<T> {
+        self.track_observing(state, y_c, y_s, observer);
+        self.estimate(state)
+    }
+
+    /// [`Gains::track`] with an `observer` (see [`Gains::update_observing`]).
+    #[inline(always)]
+    pub(crate) fn track_observing(
+        &self,
+        state: &mut ObserverState<T, N>,
+        y_c: T,
+        y_s: T,
+        observer: impl SampleObserver<T>,
+    ) {
         // `S` is zero-sized: its unit is a value of no size, and the code the one below.
-        self.update_observing_with(state, &mut S::default(), y_c, y_s, observer)
+        self.track_observing_with(state, &mut S::default(), y_c, y_s, observer);
     }
 
     /// [`Gains::update`] with the phase detector's sin/cos computed by `unit`, a stateful
     /// (hardware) unit such as a CORDIC coprocessor, instead of the gains' `S`: see
-    /// [`SinCosUnit`]. `unit` is used once per used sample, on the wrapped predicted angle,
-    /// and once more on the first used sample after the angle is set (the monitor's filters
-    /// start from that sample's detection, out of line, so that no sample pays a test).
+    /// [`SinCosUnit`]. `unit` is used once per used sample, on the wrapped predicted angle.
     ///
     /// ```
     /// use angletrack_core::{Detection, Gains, ObserverState, SinCosUnit};
@@ -142,9 +171,8 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// for _ in 0..3 {
     ///     gains.update_with(&mut state, &mut unit, 0.5, 0.866);
     /// }
-    /// // The first sample sets the angle from atan2; the second starts the monitor's filters
-    /// // (one use) and is used (one use); the third is used.
-    /// assert_eq!(unit.uses, 3);
+    /// // The first sample sets the angle from atan2; the second and third are used.
+    /// assert_eq!(unit.uses, 2);
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
     #[inline]
@@ -155,101 +183,159 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         y_c: T,
         y_s: T,
     ) -> Estimate<T> {
-        self.update_observing_with(state, unit, y_c, y_s, ())
+        self.track_observing_with(state, unit, y_c, y_s, ());
+        self.estimate(state)
     }
 
-    /// [`Gains::update_observing`] with the sin/cos of `unit`.
+    /// The body of every single-channel entry point: [`Gains::track`] with the sin/cos of
+    /// `unit` and an `observer`.
+    ///
+    /// The usual path tests twice: the input check, and whether the predicted angle is in
+    /// [-pi, pi) (the wrap's test, which a state that is not tracking fails too, its
+    /// predicted angle being parked outside). Everything else, the first sample, a rejected
+    /// sample, a wrap, the monitor's decision once per window, is out of line.
     #[inline(always)]
-    fn update_observing_with<U: SinCosUnit<T>>(
+    fn track_observing_with<U: SinCosUnit<T>>(
         &self,
         state: &mut ObserverState<T, N>,
         unit: &mut U,
         y_c: T,
         y_s: T,
         observer: impl SampleObserver<T>,
-    ) -> Estimate<T> {
+    ) {
         let (amplitude2, valid) = self.thresholds.accept(y_c, y_s);
-        if !(valid && state.tracking) {
-            // Rare: the first sample, the first after `ObserverState::at`, or one that is
-            // rejected. Out of line, through functions of values only, so that the state can
-            // live in registers in a loop over samples; the usual path below then knows the
-            // sample is used.
-            if !state.initialised {
-                match if valid { sample_angle(y_c, y_s) } else { None } {
-                    Some((angle, whole)) => {
-                        let latched = state.monitor.latched;
-                        state.restart(angle, whole, amplitude2, latched);
-                    }
-                    None => state.reject_sample(),
-                }
-                observer.observe(None);
-                return self.estimate(state);
-            }
-            if !valid {
-                let (x, next_angle, whole) = self.coast(state.x, state.next_angle);
-                state.x = x;
-                state.next_angle = next_angle;
-                state.advance(whole, T::ZERO);
-                state.faults = Faults::NONE;
-                state.reject_sample();
-                observer.observe(None);
-                return self.estimate(state);
-            }
-            // The first used sample after the angle was set (by the first sample's atan2 or
-            // by `ObserverState::at`): it starts the magnitude and the monitor's filters. The
-            // angle need not agree with it (a 179 degree step, a false lock to detect at
-            // once), so the filters start from its own detection at the predicted angle.
-            state.start_tracking(amplitude2);
-            let mut angle = state.next_angle;
-            wrap_angle(&mut angle);
-            let detection = unit.detect(angle, y_c, y_s);
-            state
-                .monitor
-                .prime_from_sample(detection.phase_error / state.amplitude, detection.in_phase);
+        if !(valid && state.next_angle.abs() < T::PI) {
+            // A call in tail position: the usual path then calls nothing and saves no
+            // register.
+            return self.track_rare(state, unit, y_c, y_s, amplitude2, valid, observer);
         }
+        self.track_used(state, unit, y_c, y_s, amplitude2, observer);
+    }
+
+    /// [`Gains::track_observing_with`] on a sample the usual path's two tests sent out of
+    /// line: [`Gains::prepare`], then the recursion if the sample is used.
+    #[cold]
+    #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
+    fn track_rare<U: SinCosUnit<T>>(
+        &self,
+        state: &mut ObserverState<T, N>,
+        unit: &mut U,
+        y_c: T,
+        y_s: T,
+        amplitude2: T,
+        valid: bool,
+        observer: impl SampleObserver<T>,
+    ) {
+        if self.prepare(state, y_c, y_s, amplitude2, valid) {
+            self.track_used(state, unit, y_c, y_s, amplitude2, observer);
+        } else {
+            observer.observe(None);
+        }
+    }
+
+    /// A used sample, its predicted angle in [-pi, pi): the recursion, the monitor's sums,
+    /// and its decision at the end of a window.
+    #[inline(always)]
+    fn track_used<U: SinCosUnit<T>>(
+        &self,
+        state: &mut ObserverState<T, N>,
+        unit: &mut U,
+        y_c: T,
+        y_s: T,
+        amplitude2: T,
+        observer: impl SampleObserver<T>,
+    ) {
         let sample = Sample {
             y_c,
             y_s,
             amplitude2,
             valid: true,
         };
-        let step = self.step::<FullWrap, U>(
+        let step = self.step::<NoWrap, U>(
             unit,
             &mut state.x,
             &mut state.next_angle,
             &mut state.amplitude,
             sample,
         );
-        state.advance(step.whole, step.eps);
-        // The sample's faults are stored once, whether the monitor runs or not.
-        state.faults = if self.thresholds.thresholds.monitor {
-            let speed = if N > 1 { state.x[1] } else { T::ZERO };
-            let (faults, re_acquire) = self.thresholds.observe(
-                &mut state.monitor,
-                amplitude2,
-                step.eps,
-                step.in_phase,
-                speed,
-            );
-            if re_acquire {
-                let (angle, whole) = re_acquired(state.x[0], y_c, y_s);
-                state.x[0] = angle;
-                state.next_angle = predict(&state.x)[0];
-                state.turns = state.turns.wrapping_add(whole as i64);
-                // The angle now agrees with the sample: the phase error and in-phase
-                // filters start again from it.
-                state.monitor.prime_phase(state.amplitude);
-            }
-            faults
-        } else {
-            Faults::NONE
-        };
+        state.phase_error = step.eps;
+        // The sample's faults are those already in the state: the monitor's of its last
+        // window, set where they change (out of line: at a decision, and by `prepare` after
+        // a rejected sample).
+        if self.thresholds.thresholds.monitor && state.monitor.accumulate(amplitude2, step.eps) {
+            self.decide(state, y_c, y_s);
+        }
         observer.observe(Some(UsedSample {
             sin_cos: step.sin_cos,
             scaled_speed: if N > 1 { state.x[1] } else { T::ZERO },
             faults: state.faults,
         }));
-        self.estimate(state)
+    }
+
+    /// The rare cases of the update, before the recursion: the first sample (sets the
+    /// angle), a rejected sample (the state coasts), the first used sample after the angle
+    /// was set (starts tracking), a predicted angle to wrap. Returns `true` when the sample
+    /// is to be used by the recursion, its predicted angle now in [-pi, pi).
+    #[cold]
+    #[inline(never)]
+    fn prepare(
+        &self,
+        state: &mut ObserverState<T, N>,
+        y_c: T,
+        y_s: T,
+        amplitude2: T,
+        valid: bool,
+    ) -> bool {
+        if !state.initialised {
+            match if valid { sample_angle(y_c, y_s) } else { None } {
+                Some((angle, whole)) => {
+                    let latched = state.monitor.latched;
+                    state.restart(angle, whole, amplitude2, latched);
+                }
+                None => state.reject_sample(),
+            }
+            return false;
+        }
+        if !valid {
+            // The state coasts; its predicted angle, parked by `reject_sample`, is that of
+            // the coasted state, `predict(x)[0]` (`coast` computes it so, to the bit).
+            let (x, _, whole) = self.coast(state.x, state.predicted_angle());
+            state.x = x;
+            state.advance(whole, T::ZERO);
+            state.reject_sample();
+            return false;
+        }
+        if !state.tracking {
+            // The first used sample after the angle was set (by the first sample's atan2 or
+            // by `ObserverState::at`), or after a rejected sample: the predicted angle comes
+            // back from its parking place, the sample's faults are the monitor's again, and
+            // the magnitude and the monitor's window start if they have not.
+            state.start_tracking(amplitude2);
+        }
+        let whole = wrap_angle(&mut state.next_angle);
+        state.turns = state.turns.wrapping_add(whole as i64);
+        true
+    }
+
+    /// The end of the monitor's window (once per window, out of line): the flags of its
+    /// means and of its last sample `(y_c, y_s)`, whose in-phase component is taken at the
+    /// corrected angle (by the fast polynomial sin/cos whatever `S`: a threshold test needs
+    /// no more than its 3e-7), and on a false lock the angle re-acquired from that sample.
+    #[cold]
+    #[inline(never)]
+    fn decide(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) {
+        let speed = if N > 1 { state.x[1] } else { T::ZERO };
+        let (sin, cos) = wrapped(state.x[0], 0).0.fast_sin_cos();
+        let in_phase = y_c * cos + y_s * sin;
+        let re_acquire = self.thresholds.decide(&mut state.monitor, speed, in_phase);
+        state.faults = state.monitor.flags;
+        if re_acquire {
+            let (angle, whole) = re_acquired(state.x[0], y_c, y_s);
+            state.x[0] = angle;
+            state.next_angle = predict(&state.x)[0];
+            state.turns = state.turns.wrapping_add(whole as i64);
+        }
     }
 
     /// The recursion itself, on one channel's scaled state `x` and the predicted angle
@@ -312,7 +398,6 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         *x = p;
         Step {
             eps,
-            in_phase: detection.in_phase,
             whole,
             sin_cos: (detection.sin, detection.cos),
         }
@@ -415,7 +500,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         let n = y_c.len().min(y_s.len());
         let mut local = *state;
         for (k, (&c, &s)) in y_c.iter().zip(y_s).enumerate() {
-            sink(k, self.update_in_place(&mut local, c, s));
+            sink(k, self.update_observing(&mut local, c, s, ()));
         }
         *state = local;
         n
@@ -444,7 +529,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         let mut local = *state;
         let mut n = 0;
         for ((&c, &s), slot) in y_c.iter().zip(y_s).zip(out.iter_mut()) {
-            *slot = self.update_in_place(&mut local, c, s);
+            *slot = self.update_observing(&mut local, c, s, ());
             n += 1;
         }
         *state = local;

@@ -211,7 +211,7 @@ impl Job for Check {
         for (k, r) in records.chunks_exact(RECORD_BYTES).enumerate() {
             let (y_c, y_s) = checked_input(k, self.tamper);
             let output = update(&tracker, &mut state, T::input(y_c), T::input(y_s));
-            let e = T::record(&state, &output);
+            let e = tracker.record(&state, &output);
             let r = Record::decode(r);
             // Position difference, exact in the split form: whole turns, then the angle.
             let turns = e.turns.wrapping_sub(r.turns) as f32;

@@ -36,8 +36,9 @@ pub trait Tracker {
     fn input(y: f32) -> Self::Input;
     /// One sample.
     fn update(&self, state: &mut Self::State, y_c: Self::Input, y_s: Self::Input) -> Self::Output;
-    /// The estimate after an update, as compared with the host's.
-    fn record(state: &Self::State, output: &Self::Output) -> Record;
+    /// The estimate after an update, as compared with the host's (read outside the counted
+    /// update: an entry point that returns no estimate computes it here, on demand).
+    fn record(&self, state: &Self::State, output: &Self::Output) -> Record;
     /// All samples in one call, if [`Tracker::BLOCK`]; returns the number of outputs.
     fn update_block(
         &self,
@@ -112,7 +113,7 @@ impl<E: EntryPoint> Tracker for E {
     fn update(&self, state: &mut E::State, y_c: E::Input, y_s: E::Input) -> Estimate<f32> {
         EntryPoint::update(self, state, y_c, y_s)
     }
-    fn record(_: &E::State, output: &Estimate<f32>) -> Record {
+    fn record(&self, _: &E::State, output: &Estimate<f32>) -> Record {
         Record::of(output)
     }
     #[inline(always)]
@@ -208,6 +209,79 @@ where
     }
 }
 
+/// The core's `Gains::track`: the state only, the estimate read on demand
+/// (`Gains::estimate`) where it is checked, outside the counted update.
+#[derive(Debug, Clone, Copy)]
+pub struct Track<const N: usize, S>(pub Gains<f32, N, S>);
+
+impl<const N: usize, S: SinCos<f32>> Tracker for Track<N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    type State = ObserverState<f32, N>;
+    type Input = f32;
+    type Output = ();
+    fn new_state(&self) -> Self::State {
+        ObserverState::new()
+    }
+    fn input(y: f32) -> f32 {
+        y
+    }
+    #[inline(always)]
+    fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) {
+        self.0.track(state, y_c, y_s)
+    }
+    fn record(&self, state: &Self::State, _: &()) -> Record {
+        Record::of(&self.0.estimate(state))
+    }
+}
+
+/// The core's `Gains::track_calibrated` with the calibration off (the cost of having the
+/// online calibration in the update, not of learning): the state only, the estimate read
+/// on demand where it is checked.
+#[derive(Debug, Clone, Copy)]
+pub struct TrackCalibratedOff<const N: usize, S>(pub Gains<f32, N, S>);
+
+impl<const N: usize, S: SinCos<f32>> Tracker for TrackCalibratedOff<N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    type State = (ObserverState<f32, N>, Calibrator<f32>);
+    type Input = f32;
+    type Output = ();
+    fn new_state(&self) -> Self::State {
+        (ObserverState::new(), Calibrator::new())
+    }
+    fn input(y: f32) -> f32 {
+        y
+    }
+    #[inline(always)]
+    fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) {
+        let (observer, calibrator) = state;
+        self.0.track_calibrated(observer, calibrator, y_c, y_s)
+    }
+    fn record(&self, state: &Self::State, _: &()) -> Record {
+        Record::of(&self.0.estimate(&state.0))
+    }
+}
+
+/// The core's `Gains::update_calibrated` with the calibration off.
+#[derive(Debug, Clone, Copy)]
+pub struct CalibratedOff<const N: usize, S>(pub Gains<f32, N, S>);
+
+impl<const N: usize, S: SinCos<f32>> EntryPoint for CalibratedOff<N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    type State = (ObserverState<f32, N>, Calibrator<f32>);
+    type Input = f32;
+    #[inline(always)]
+    fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) -> Estimate<f32> {
+        let (observer, calibrator) = state;
+        self.0.update_calibrated(observer, calibrator, y_c, y_s)
+    }
+}
+
 /// The baseline: an arctangent and a 2nd-order PLL; its state is its estimate.
 impl<A: Atan2> Tracker for PhaseLockedLoop<A> {
     type State = PllState;
@@ -223,7 +297,7 @@ impl<A: Atan2> Tracker for PhaseLockedLoop<A> {
     fn update(&self, state: &mut PllState, y_c: f32, y_s: f32) {
         PhaseLockedLoop::update(self, state, y_c, y_s)
     }
-    fn record(state: &PllState, _: &()) -> Record {
+    fn record(&self, state: &PllState, _: &()) -> Record {
         Record {
             angle: state.angle,
             turns: state.turns,
@@ -389,6 +463,10 @@ variants! {
     "kalman-f32-fast" => |o| o.kalman().map(fast).map(Plain),
     "kalman-f32-fast-unmonitored" => |o| o.kalman().and_then(unmonitored).map(fast).map(Plain),
     "kalman-f32-fast-calibrated" => |o| o.kalman().map(fast).map(Calibrated),
+    "kalman-f32-fast-calibrated-off" => |o| o.kalman().map(fast).map(CalibratedOff),
+    "kalman-f32-fast-track" => |o| o.kalman().map(fast).map(Track),
+    "kalman-f32-fast-track-unmonitored" => |o| o.kalman().and_then(unmonitored).map(fast).map(Track),
+    "kalman-f32-fast-track-calibrated-off" => |o| o.kalman().map(fast).map(TrackCalibratedOff),
     "kalman-f32-fast-adc" => |o| Ok(Adc(fast(o.kalman()?), AdcScaling::twos_complement(12)?)),
     "kalman-f32-fast-angle-corrected" => |o| Ok(Corrected(fast(o.kalman()?), correction()?)),
     "baseline-atan2-pll-f32" => |o| Ok(o.pll::<LibmAtan2>()),

@@ -263,7 +263,7 @@ fn the_next_predicted_angle_is_the_prediction_of_the_corrected_state() {
             latched |= e.faults;
             turns = e.turns;
             let predicted = predict(&state.x)[0].to_f64();
-            let kept = state.next_angle.to_f64();
+            let kept = state.predicted_angle().to_f64();
             assert!(
                 (kept - predicted).abs() <= tolerance,
                 "sample {k}: next angle {kept}, prediction of the state {predicted}"

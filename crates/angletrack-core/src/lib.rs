@@ -125,6 +125,7 @@ mod monitor;
 mod observer;
 mod outputs;
 mod real;
+mod recursion;
 mod sincos;
 mod stability;
 mod state;

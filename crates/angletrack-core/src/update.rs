@@ -292,30 +292,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         amplitude: &mut T,
         sample: Sample<T>,
     ) -> Step<T> {
-        let mut p = predict(x);
-        p[0] = *next_angle;
-        let whole = W::wrap(&mut p[0]);
-        let detection = unit.detect(p[0], sample.y_c, sample.y_s);
-        let tracked = T::track_magnitude(*amplitude, sample.amplitude2);
-        let eps = if sample.valid {
-            *amplitude = tracked;
-            detection.phase_error / tracked
-        } else {
-            T::ZERO
-        };
-        *next_angle = predict(&p)[0] + self.next_angle_gain * eps;
-        let mut i = 0;
-        while i < N {
-            p[i] += self.l[i] * eps;
-            i += 1;
-        }
-        *x = p;
-        Step {
-            eps,
-            in_phase: detection.in_phase,
-            whole,
-            sin_cos: (detection.sin, detection.cos),
-        }
+        crate::recursion::step::<Self, U, W, N>(self, unit, x, next_angle, amplitude, sample)
     }
 
     /// The recursion on a sample that is not used (the state coasts on its prediction): the

@@ -118,6 +118,7 @@ mod design;
 mod error;
 mod excitation;
 mod faults;
+pub mod fixed;
 mod front_end_faults;
 mod gains;
 mod learning;
@@ -141,6 +142,7 @@ pub use demodulator::{DemodulatedPair, Demodulator, DemodulatorSettings, Demodul
 pub use error::{ConfigError, Parameter};
 pub use excitation::{Excitation, ExcitationState, Waveform};
 pub use faults::Faults;
+pub use fixed::{FixedEstimate, FixedGains, FixedState};
 pub use front_end_faults::FrontEndFaults;
 pub use gains::{Gains, Order, SupportedOrder};
 pub use learning::{CalibrationMode, Calibrator};

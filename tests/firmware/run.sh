@@ -166,6 +166,13 @@ ranges=$(measured "$(mangled "angletrack_firmware_test::demodulate_block")")
 block=$(per_sample demodulator-f32 block)
 echo "insns_per_sample_pair_in_block demodulator-f32: ${block#* }"
 
+# The fixed-point Kalman ATO (16-bit samples, default diagnostics).
+ranges=$(measured "$(mangled "angletrack_firmware_test::fixed::update_fixed")")
+counts=$(per_sample kalman-fixed)
+echo "insns_per_update kalman-fixed-m4: ${counts#* }"
+echo "insns_per_iteration kalman-fixed-m4: ${counts% *}"
+echo "code_size update-kalman-fixed: $(size_of "$(mangled "angletrack_firmware_test::fixed::update_fixed")") bytes"
+
 # Code size: each update function, then with every function it calls (transitively).
 for order in 2 3; do
   for sin_cos in Fast Exact; do

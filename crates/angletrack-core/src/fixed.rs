@@ -3,7 +3,7 @@
 //! 16-bit samples in, a sine table for the phase detector and the phase error normalised by
 //! a tracked reciprocal of the amplitude (no division), all run by the same one recursion
 //! as the floats (`recursion.rs`). Formats, ranges, why nothing overflows and the accuracy:
-//! `docs/theory.md §13`.
+//! `docs/theory.md §14`.
 
 mod binary_angle;
 mod gains;

@@ -2,7 +2,7 @@
 //! once over its arithmetic: [`Arithmetic`] is what a number format must provide (predict,
 //! wrap, detect, normalise, correct) and [`step`] is the recursion itself. The floats
 //! (`f32`, `f64`) implement it through [`Gains`]; the integers of the fixed-point path
-//! (`docs/theory.md §13`) through [`FixedGains`](crate::FixedGains).
+//! (`docs/theory.md §14`) through [`FixedGains`](crate::FixedGains).
 
 use crate::gains::Gains;
 use crate::real::Real;

@@ -17,6 +17,7 @@
 #![no_std]
 #![no_main]
 
+mod fixed;
 mod variants;
 
 use core::hint::black_box;
@@ -393,7 +394,14 @@ fn run() -> Result<(), &'static str> {
                 }
             }
             let demodulator_ok = check_demodulator()?;
-            if check.failures > 0 || !demodulator_ok {
+            let fixed_ok = fixed::check(
+                &variants::fixed_gains(&OBSERVERS).map_err(|_| "fixed gains refused")?,
+                &inputs.y_c,
+                &inputs.y_s,
+                &REFERENCE[SAMPLES * SAMPLE_BYTES + variants::FIXED_REFERENCE * SAMPLES * RECORD_BYTES..]
+                    [..SAMPLES * RECORD_BYTES],
+            );
+            if check.failures > 0 || !demodulator_ok || !fixed_ok {
                 return Err("estimates differ from the host's");
             }
             Ok(())
@@ -407,6 +415,12 @@ fn run() -> Result<(), &'static str> {
             let block = args.next() == Some("block");
             if name == DEMODULATOR {
                 return count_demodulator(samples, block);
+            }
+            if name == variants::FIXED {
+                let gains = variants::fixed_gains(&OBSERVERS).map_err(|_| "fixed gains refused")?;
+                let n = samples.min(SAMPLES);
+                fixed::count(&gains, &inputs.y_c[..n], &inputs.y_s[..n]);
+                return Ok(());
             }
             let loop_only = name == "loop";
             // The loop alone runs with the Kalman variant's types.

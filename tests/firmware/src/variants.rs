@@ -197,3 +197,26 @@ pub fn encode_pair(pair: &DemodulatedPair<f32>) -> [u8; PAIR_BYTES] {
     r[4..8].copy_from_slice(&pair.y_s.to_le_bytes());
     r
 }
+
+/// The fixed-point variant: the Kalman ATO's gains quantised (`angletrack_core::fixed`) on the
+/// inputs as 16-bit counts ([`fixed_counts`]), with default diagnostics. Counted and checked
+/// apart from [`NAMES`], whose variants run in `f32`.
+pub const FIXED: &str = "kalman-fixed";
+
+/// The [`NAMES`] variant the fixed-point variant is checked against (its host reference).
+pub const FIXED_REFERENCE: usize = 5;
+
+/// An input sample (amplitude about 1) in the fixed-point variant's counts: amplitude 2^14,
+/// rounded; the same on the host and on the target.
+pub fn fixed_counts(y: f32) -> i16 {
+    let scaled = y * 16384.0;
+    (if scaled >= 0.0 { scaled + 0.5 } else { scaled - 0.5 }) as i16
+}
+
+/// The fixed-point variant's gains: the Kalman ATO's, quantised.
+pub fn fixed_gains(observers: &Observers) -> Result<angletrack_core::FixedGains<3>, ConfigError> {
+    angletrack_core::FixedGains::new(
+        observers.kalman.map(f64::from),
+        f64::from(observers.sample_period_s),
+    )
+}

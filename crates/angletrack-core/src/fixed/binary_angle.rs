@@ -1,4 +1,4 @@
-//! The binary angle of the fixed-point path (`docs/theory.md §13`): a wrapping `i32` with
+//! The binary angle of the fixed-point path (`docs/theory.md §14`): a wrapping `i32` with
 //! 2^32 units per turn (`i32::MIN` is -pi, 0 is 0), its sin/cos table with a first-order
 //! correction inside each table step (the phase detector), and its integer `atan2`
 //! (CORDIC, for the first sample and re-acquisition).
@@ -99,7 +99,7 @@ pub fn binary_angle_to_rad(angle: i32) -> f64 {
 }
 
 /// The phase detector at the binary angle `angle` on samples `y_c`, `y_s` in
-/// [-32768, 32767] (`docs/theory.md §13`): `(phase error, in-phase component, sin, cos)`,
+/// [-32768, 32767] (`docs/theory.md §14`): `(phase error, in-phase component, sin, cos)`,
 /// all in counts times 2^15 (the table's Q15) but `sin`, `cos` (Q15).
 ///
 /// The angle is rounded to the nearest of 256 table entries `theta_k`; the residual

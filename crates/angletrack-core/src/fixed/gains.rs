@@ -1,46 +1,48 @@
 //! [`FixedGains`]: the checked configuration of the fixed-point observer, quantised from the
-//! floating-point gains a design gives (`docs/theory.md §13`), and the integer thresholds of
+//! floating-point gains a design gives (`docs/theory.md §14`), and the integer thresholds of
 //! its diagnostics.
 
 use crate::error::{ConfigError, Parameter};
 use crate::gains::{Order, SupportedOrder};
 use crate::stability::for_f64::check_stability;
 
-/// Fraction bits of the speed state (2^-32 turn per sample: the binary angle's unit).
-const SPEED_FRACTION_BITS: u32 = 0;
-
 /// The most fraction bits the acceleration state may have below the binary angle's unit.
 const MAX_ACCELERATION_FRACTION_BITS: u32 = 16;
 
-/// The largest gain mantissa: `mantissa * eps` stays below 2^31 for `|eps| <= 2^15`.
-const MAX_MANTISSA: i64 = 65_535;
+/// The largest gain mantissa: `mantissa * eps` plus the rounding (at most 2^30) stays below
+/// 2^31 for `|eps| <= 2^15`.
+const MAX_MANTISSA: i64 = 32_767;
 
 /// Signal amplitudes (counts) the fixed-point path normalises exactly: from 4096 (below, the
 /// loop gain falls with the amplitude and loss of signal is flagged) to any `i16` signal.
 pub const MIN_NORMALISED_AMPLITUDE_COUNTS: i32 = 4096;
 
 /// The checked, immutable configuration of the fixed-point angle tracking observer of order
-/// `N` (2 or 3): each gain `l_i` as a 16-bit mantissa and a right shift, the fraction bits
+/// `N` (2 or 3): each gain `l_i` as a 15-bit mantissa and a right shift, the fraction bits
 /// of each state, and the diagnostics' thresholds in the integers the update compares.
 ///
 /// The state components are the binary angle (2^32 per turn), the speed in 2^-32 turn per
 /// sample and, for `N = 3`, the acceleration in 2^-(32 + F) turn per sample^2, `F` chosen
-/// here (at most 16) so that `l3` keeps 16 significant bits (`docs/theory.md §13`).
+/// here from `l3` for range and resolution (`docs/theory.md §14`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FixedGains<const N: usize> {
-    /// `l_i 2^(17 + F_i) / (2 pi) = mantissa_i 2^-shift_i`: the correction of state `i` is
-    /// `(mantissa_i eps) >> shift_i` for `eps` in Q15.
+    /// `l_i 2^(17 + F_i) / (2 pi) = mantissa_i 2^-shift_i`, the mantissa of 15 bits: the
+    /// correction of state `i` is `mantissa_i eps 2^-shift_i` for `eps` in Q15.
     pub(crate) mantissa: [i32; N],
     pub(crate) shift: [u32; N],
-    /// Fraction bits `F_i` of each state below 2^-32 turn per sample^i.
-    pub(crate) fraction_bits: [u32; N],
+    /// Half a unit of each shift (`2^(shift_i - 1)`, 0 for no shift): the corrections round
+    /// to nearest.
+    pub(crate) rounding: [i32; N],
+    /// Fraction bits `F` of the acceleration state below 2^-32 turn per sample^2 (the angle
+    /// and the speed have none).
+    pub(crate) acceleration_bits: u32,
     /// The sample period (s), for conversions to physical units.
     pub(crate) sample_period_s: f64,
     pub(crate) monitor: FixedThresholds,
 }
 
 /// The fixed-point monitor's thresholds, as the update compares them
-/// (`docs/theory.md §13`): amplitudes as the reciprocal tracker's values, the phase error
+/// (`docs/theory.md §14`): amplitudes as the reciprocal tracker's values, the phase error
 /// and in-phase component in Q15.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct FixedThresholds {
@@ -84,6 +86,23 @@ impl FixedThresholds {
     }
 }
 
+/// Fraction bits of the acceleration state for the gain `l3`: the most (at most 16) that
+/// leave room for 1024 of the largest corrections (`l3` times a phase error of 1) before
+/// the state saturates, `2^31 >= 1024 l3 2^(32 + F) / (2 pi)`: an acquisition transient
+/// (tens of samples at large phase errors) stays far inside the range, and one unit of
+/// the phase error (2^-15) still moves the state by at least 32 units (below 16 bits)
+/// (`docs/theory.md §14`).
+fn acceleration_fraction_bits(l3: f64) -> u32 {
+    let bits = libm::floor(libm::log2(core::f64::consts::PI / (1024.0 * l3)));
+    bits.clamp(0.0, f64::from(MAX_ACCELERATION_FRACTION_BITS)) as u32
+}
+
+/// Fraction bits of state `i` below 2^-32 turn per sample^i: none for the angle and the
+/// speed, `acceleration_bits` for the acceleration.
+pub(crate) const fn fraction_bits(i: usize, acceleration_bits: u32) -> u32 {
+    if i < 2 { 0 } else { acceleration_bits }
+}
+
 /// The parameter naming gain `i`.
 const fn gain_parameter(i: usize) -> Parameter {
     match i {
@@ -93,7 +112,7 @@ const fn gain_parameter(i: usize) -> Parameter {
     }
 }
 
-/// `gain 2^bits / (2 pi)` as a mantissa below 2^16 and a right shift, or `None` if it does
+/// `gain 2^bits / (2 pi)` as a mantissa below 2^15 and a right shift, or `None` if it does
 /// not fit with a shift of 0.
 fn quantise(gain: f64, bits: u32) -> Option<(i32, u32)> {
     let scaled = gain * libm::ldexp(1.0, bits as i32) / core::f64::consts::TAU;
@@ -138,7 +157,7 @@ where
         if sample_period_s <= 0.0 {
             return Err(ConfigError::NotPositive(Parameter::SamplePeriod));
         }
-        let mut fraction_bits = [SPEED_FRACTION_BITS; N];
+        let mut acceleration_bits = 0;
         let mut mantissa = [0; N];
         let mut shift = [0; N];
         for (i, &gain) in gains.iter().enumerate() {
@@ -150,15 +169,10 @@ where
                 return Err(ConfigError::NotPositive(parameter));
             }
             if i == 2 {
-                // The most fraction bits for which l3 still fits its mantissa.
-                let mut bits = MAX_ACCELERATION_FRACTION_BITS;
-                while bits > 0 && quantise(gain, 17 + bits).is_none() {
-                    bits -= 1;
-                }
-                fraction_bits[i] = bits;
+                acceleration_bits = acceleration_fraction_bits(gain);
             }
-            let (m, s) =
-                quantise(gain, 17 + fraction_bits[i]).ok_or(ConfigError::OutOfRange(parameter))?;
+            let (m, s) = quantise(gain, 17 + fraction_bits(i, acceleration_bits))
+                .ok_or(ConfigError::OutOfRange(parameter))?;
             if m == 0 {
                 return Err(ConfigError::OutOfRange(parameter));
             }
@@ -168,7 +182,8 @@ where
         let fixed = Self {
             mantissa,
             shift,
-            fraction_bits,
+            rounding: shift.map(|s| if s == 0 { 0 } else { 1 << (s - 1) }),
+            acceleration_bits,
             sample_period_s,
             monitor: FixedThresholds::for_amplitude(16384.0),
         };
@@ -182,7 +197,8 @@ impl<const N: usize> FixedGains<N> {
     /// the loop that runs, whose stability [`FixedGains::new`] checked.
     pub fn gains(&self) -> [f64; N] {
         core::array::from_fn(|i| {
-            let exponent = -(self.shift[i] as i32) - 17 - self.fraction_bits[i] as i32;
+            let exponent =
+                -(self.shift[i] as i32) - 17 - fraction_bits(i, self.acceleration_bits) as i32;
             libm::ldexp(f64::from(self.mantissa[i]), exponent) * core::f64::consts::TAU
         })
     }
@@ -222,6 +238,6 @@ impl<const N: usize> FixedGains<N> {
 
     /// Fraction bits of the acceleration state below 2^-32 turn per sample^2 (0 for `N = 2`).
     pub fn acceleration_fraction_bits(&self) -> u32 {
-        if N > 2 { self.fraction_bits[N - 1] } else { 0 }
+        self.acceleration_bits
     }
 }

@@ -1,5 +1,5 @@
 //! The state of one fixed-point channel ([`FixedState`]) and what the fixed-point update
-//! reports ([`FixedEstimate`]), in the integers of `docs/theory.md §13`.
+//! reports ([`FixedEstimate`]), in the integers of `docs/theory.md §14`.
 
 use crate::faults::Faults;
 
@@ -33,7 +33,7 @@ pub struct FixedState<const N: usize> {
     pub(crate) faults: Faults,
     /// Faults latched since the last [`FixedState::clear_faults`].
     pub(crate) latched: Faults,
-    /// Filtered `|eps|` (Q15) and filtered in-phase component (Q15).
+    /// Filtered `|eps|` (Q15) and filtered in-phase component (counts times 2^7).
     pub(crate) error_filter: i32,
     pub(crate) in_phase_filter: i32,
     /// Whether the first sample has set the angle.
@@ -58,7 +58,7 @@ impl<const N: usize> FixedState<N> {
             faults: Faults::NONE,
             latched: Faults::NONE,
             error_filter: 0,
-            in_phase_filter: 1 << 15,
+            in_phase_filter: 1 << 20,
             initialised: false,
         }
     }
@@ -82,7 +82,7 @@ impl<const N: usize> FixedState<N> {
 }
 
 /// What the fixed-point observer knows after a sample, in its integers
-/// (`docs/theory.md §13`); [`FixedGains`](crate::FixedGains) converts them to physical
+/// (`docs/theory.md §14`); [`FixedGains`](crate::FixedGains) converts them to physical
 /// units on a host.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct FixedEstimate {

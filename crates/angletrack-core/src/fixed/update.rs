@@ -1,9 +1,9 @@
-//! The fixed-point update (`docs/theory.md §13`): the integer [`Arithmetic`] of the one
+//! The fixed-point update (`docs/theory.md §14`): the integer [`Arithmetic`] of the one
 //! recursion ([`step`]), the amplitude's reciprocal tracker that normalises the phase error
 //! without a division, the first sample, and the monitor in integers.
 
 use super::binary_angle::{atan2, detect};
-use super::gains::FixedGains;
+use super::gains::{FixedGains, fraction_bits};
 use super::state::{FixedEstimate, FixedState};
 use crate::faults::Faults;
 use crate::recursion::{Arithmetic, step};
@@ -26,7 +26,7 @@ pub(crate) struct SineTable;
 
 /// One Newton step of the reciprocal square root: `r (3 - r^2 m) / 2` with
 /// `m = amplitude2_half 2^-53`, so that `r` tends to `2^27 / sqrt(y_c^2 + y_s^2)`
-/// (`docs/theory.md §13`). The factor is kept in [1/2, 3/2], so a far-off `r` (a step of the
+/// (`docs/theory.md §14`). The factor is kept in [1/2, 3/2], so a far-off `r` (a step of the
 /// amplitude) moves by at most half or half again per sample and converges; the result is
 /// kept in [`MIN_RECIPROCAL`], [`MAX_RECIPROCAL`]. Every product is below 2^31:
 /// `r^2 < 2^30`, `(r^2 >> 15)(m2 / 2^16) <= 2^15 2^15`, `r f <= 32767 49152`.
@@ -46,12 +46,13 @@ fn amplitude2_half(y_c: i32, y_s: i32) -> i32 {
     ((y_c * y_c) >> 1) + ((y_s * y_s) >> 1)
 }
 
-/// A value normalised by the tracked reciprocal, in Q15: `(v >> 15) r >> 12`, for
-/// `|v| < 1.54e9` (a phase-detector output): `|v >> 15| <= 46911`, times `r < 2^15` stays
-/// below 1.54e9.
+/// A value normalised by the tracked reciprocal, in Q15: `(v / 2^15) r / 2^12`, each shift
+/// rounded to nearest (a floor would bias the phase error, and a loop settles where the
+/// phase error is zero). For `|v| < 1.54e9` (a phase-detector output): `|(v + 2^14) >> 15|
+/// <= 46911`, times `r < 2^15`, plus `2^11`, stays below 1.54e9.
 #[inline(always)]
 fn normalised(value: i32, reciprocal: i32) -> i32 {
-    ((value >> 15) * reciprocal) >> 12
+    ((((value + (1 << 14)) >> 15) * reciprocal) + (1 << 11)) >> 12
 }
 
 impl<const N: usize> Arithmetic<SineTable, N> for FixedGains<N> {
@@ -68,7 +69,11 @@ impl<const N: usize> Arithmetic<SineTable, N> for FixedGains<N> {
         while i < N {
             let mut j = i + 1;
             while j < N {
-                let shift = self.fraction_bits[j] - self.fraction_bits[i] + (j - i - 1) as u32;
+                // The angle and speed have no fraction bits: only the acceleration's shift
+                // is a variable (the loops unroll, so the others are constants).
+                let shift = fraction_bits(j, self.acceleration_bits)
+                    - fraction_bits(i, self.acceleration_bits)
+                    + (j - i - 1) as u32;
                 p[i] = p[i].wrapping_add(x[j] >> shift);
                 j += 1;
             }
@@ -107,15 +112,17 @@ impl<const N: usize> Arithmetic<SineTable, N> for FixedGains<N> {
         normalised(phase_error, *reciprocal).clamp(-(1 << 15), 1 << 15)
     }
 
-    /// `x_i += (mantissa_i eps) >> shift_i` (`|mantissa_i eps| < 2^16 2^15`), the angle and
-    /// speed wrapping, the acceleration saturating; the next predicted angle is the
+    /// `x_i += (mantissa_i eps + rounding_i) >> shift_i`, rounded to nearest (a floor would
+    /// bias the speed by half a unit per sample, which a 2nd-order loop turns into an angle
+    /// error; `|mantissa_i eps| <= (2^15 - 1) 2^15`, plus `rounding_i <= 2^30`, stays below
+    /// 2^31), the angle and speed wrapping, the acceleration saturating; the next predicted angle is the
     /// prediction of the corrected state; the turns the angle crossed are the carry of its
     /// change (the shortest way: below half a turn per sample).
     #[inline(always)]
     fn correct(&self, x: &[i32; N], p: &mut [i32; N], eps: i32) -> (i32, i32) {
         let mut i = 0;
         while i < N {
-            let delta = (self.mantissa[i] * eps) >> self.shift[i];
+            let delta = (self.mantissa[i] * eps + self.rounding[i]) >> self.shift[i];
             p[i] = if i == 2 {
                 p[i].saturating_add(delta)
             } else {
@@ -144,7 +151,7 @@ impl<const N: usize> FixedGains<N> {
     /// the ADC's mid-scale removed; amplitudes from 4096 to 46341 counts are normalised
     /// exactly, so a 12-bit reading is shifted left by 3 or 4): predict, detect, normalise,
     /// correct by the one recursion of every observer, then the monitor. Never fails, never
-    /// panics, never overflows (`docs/theory.md §13`).
+    /// panics, never overflows (`docs/theory.md §14`).
     ///
     /// ```
     /// use angletrack_core::{Faults, FixedGains, FixedState};
@@ -193,9 +200,9 @@ impl<const N: usize> FixedGains<N> {
         Self::estimate(state)
     }
 
-    /// The monitor (`docs/theory.md §13`): loss of signal and degradation from the tracked
+    /// The monitor (`docs/theory.md §14`): loss of signal and degradation from the tracked
     /// reciprocal (an amplitude estimate), loss of tracking from the filtered `|eps|` and the
-    /// speed, false lock from the filtered in-phase component, with the float monitor's
+    /// speed, false lock from the sign of the filtered in-phase component, with the float monitor's
     /// default thresholds and a filter time constant of 16 samples; a false lock re-acquires
     /// the angle from `atan2`.
     #[inline(always)]
@@ -210,8 +217,9 @@ impl<const N: usize> FixedGains<N> {
         let t = &self.monitor;
         // |eps| <= 2^15 and the filters stay within the range of their inputs.
         state.error_filter += (eps.abs() - state.error_filter) >> 4;
-        let in_phase = normalised(in_phase, state.reciprocal);
-        state.in_phase_filter += (in_phase - state.in_phase_filter) >> 4;
+        // The false-lock test is the filtered in-phase component's sign: the raw component
+        // scaled down by 2^8 (|.| < 6e6) needs no normalisation.
+        state.in_phase_filter += ((in_phase >> 8) - state.in_phase_filter) >> 4;
         let r = state.reciprocal;
         let speed = if N > 1 { state.x[1] } else { 0 };
         if r <= t.degradation_low
@@ -253,7 +261,7 @@ impl<const N: usize> FixedGains<N> {
                 .wrapping_add(i64::from(crossed_turns(state.x[0], angle)));
             state.x[0] = angle;
             state.next_angle = Arithmetic::<SineTable, N>::predict(self, &state.x)[0];
-            state.in_phase_filter = 1 << 15;
+            state.in_phase_filter = 1 << 20;
         }
         faults
     }

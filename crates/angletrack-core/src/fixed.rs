@@ -11,7 +11,7 @@ mod state;
 mod update;
 
 pub use binary_angle::{binary_angle, binary_angle_to_rad};
-pub use gains::{FixedGains, MIN_NORMALISED_AMPLITUDE_COUNTS};
+pub use gains::{FixedConstants, FixedGains, MIN_NORMALISED_AMPLITUDE_COUNTS};
 pub use state::{FixedEstimate, FixedState};
 pub use update::{MAX_RECIPROCAL, MIN_RECIPROCAL};
 

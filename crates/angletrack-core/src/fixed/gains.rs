@@ -41,6 +41,19 @@ pub struct FixedGains<const N: usize> {
     pub(crate) monitor: FixedThresholds,
 }
 
+/// The integer constants of a [`FixedGains`]: what a firmware embeds (the `angletrack`
+/// crate's designs and `angletrack design --dtype fixed` print them) and gives back to
+/// [`FixedGains::from_constants`], which checks them again.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FixedConstants<const N: usize> {
+    /// The gains' mantissas (1 to 32767): `l_i = mantissa_i 2^-shift_i 2 pi / 2^(17 + F_i)`.
+    pub mantissa: [i32; N],
+    /// The gains' right shifts (0 to 31).
+    pub shift: [u32; N],
+    /// Fraction bits `F` of the acceleration state (0 to 16; 0 for a 2nd-order observer).
+    pub acceleration_bits: u32,
+}
+
 /// The fixed-point monitor's thresholds, as the update compares them
 /// (`docs/theory.md §14`): amplitudes as the reciprocal tracker's values, the phase error
 /// and in-phase component in Q15.
@@ -179,6 +192,56 @@ where
             mantissa[i] = m;
             shift[i] = s;
         }
+        Self::from_constants(
+            FixedConstants {
+                mantissa,
+                shift,
+                acceleration_bits,
+            },
+            sample_period_s,
+        )
+    }
+
+    /// The fixed-point gains from their integer constants (as [`FixedGains::constants`]
+    /// gives them) and the sample period (s), checked again as [`FixedGains::new`] checks
+    /// its quantised gains: each mantissa in 1 to 32767 and shift at most 31
+    /// (`ConfigError::OutOfRange` naming the gain), the acceleration's fraction bits at
+    /// most 16, and the loop they represent inside the stability region.
+    ///
+    /// ```
+    /// use angletrack_core::{FixedGains, Parameter};
+    /// let designed = FixedGains::<3>::new([0.1578, 0.0126, 0.000_34], 50e-6)?;
+    /// let embedded = FixedGains::<3>::from_constants(designed.constants(), 50e-6)?;
+    /// assert_eq!(embedded, designed);
+    /// let mut broken = designed.constants();
+    /// broken.mantissa[2] = 0;
+    /// let err = FixedGains::<3>::from_constants(broken, 50e-6).unwrap_err();
+    /// assert_eq!(err.parameter(), Parameter::AccelerationGain);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn from_constants(
+        constants: FixedConstants<N>,
+        sample_period_s: f64,
+    ) -> Result<Self, ConfigError> {
+        if !sample_period_s.is_finite() {
+            return Err(ConfigError::NotFinite(Parameter::SamplePeriod));
+        }
+        if sample_period_s <= 0.0 {
+            return Err(ConfigError::NotPositive(Parameter::SamplePeriod));
+        }
+        let FixedConstants {
+            mantissa,
+            shift,
+            acceleration_bits,
+        } = constants;
+        for i in 0..N {
+            if !(1..=MAX_MANTISSA as i32).contains(&mantissa[i]) || shift[i] > 31 {
+                return Err(ConfigError::OutOfRange(gain_parameter(i)));
+            }
+        }
+        if acceleration_bits > MAX_ACCELERATION_FRACTION_BITS || (N < 3 && acceleration_bits > 0) {
+            return Err(ConfigError::OutOfRange(gain_parameter(2)));
+        }
         let fixed = Self {
             mantissa,
             shift,
@@ -229,6 +292,15 @@ impl<const N: usize> FixedGains<N> {
             Some(a) => FixedThresholds::for_amplitude(a),
         };
         Ok(Self { monitor, ..self })
+    }
+
+    /// The integer constants (for [`FixedGains::from_constants`]).
+    pub fn constants(&self) -> FixedConstants<N> {
+        FixedConstants {
+            mantissa: self.mantissa,
+            shift: self.shift,
+            acceleration_bits: self.acceleration_bits,
+        }
     }
 
     /// The sample period `Ts` (s).

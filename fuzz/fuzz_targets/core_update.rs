@@ -3,13 +3,18 @@
 //! calibration (arbitrary settings and stored calibration, learning or frozen) and the ADC
 //! front end (arbitrary mid-scale, scale and integer samples of every type). Whatever the
 //! input: no panic, and every accepted configuration keeps a finite state and calibration
-//! and an angle in [-pi, pi).
+//! and an angle in [-pi, pi). The fixed-point observer too (`docs/theory.md §14`): arbitrary
+//! gains, sample period, monitor amplitude and 16-bit samples; no panic (a build with
+//! overflow checks would panic on any overflow), the phase error within [-1, 1] in Q15 and
+//! the reciprocal tracker within its range.
 #![no_main]
 
 use angletrack_core::{
-    AdcScaling, CalibrationSettings, Calibrator, Estimate, Exact, Fast, FaultThresholds, Gains,
-    ObserverState, Order, Real, SensorCalibration, SinCos, SupportedOrder,
+    AdcScaling, CalibrationSettings, Calibrator, Estimate, Exact, Fast, FaultThresholds,
+    FixedGains, FixedState, Gains, ObserverState, Order, Real, SensorCalibration, SinCos,
+    SupportedOrder,
 };
+use angletrack_core::fixed::{MAX_RECIPROCAL, MIN_RECIPROCAL};
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
 
@@ -25,6 +30,17 @@ struct Input {
     calibration: Option<Calibration>,
     adc: Option<Adc>,
     samples: Vec<(f64, f64)>,
+    fixed: Option<Fixed>,
+}
+
+#[derive(Debug, Arbitrary)]
+struct Fixed {
+    order: bool,
+    gains: [f64; 3],
+    sample_period_s: f64,
+    /// `Some(None)`: monitor off; `Some(Some(a))`: nominal amplitude `a` counts.
+    monitor: Option<Option<f64>>,
+    samples: Vec<(i16, i16)>,
 }
 
 #[derive(Debug, Arbitrary)]
@@ -172,7 +188,38 @@ fn dispatch<T: Real>(input: &Input) {
     }
 }
 
+/// The fixed-point observer of order `N` over the input's samples.
+fn run_fixed<const N: usize>(fixed: &Fixed)
+where
+    Order<N>: SupportedOrder,
+{
+    let mut l = [0.0; N];
+    l.copy_from_slice(&fixed.gains[..N]);
+    let Ok(mut gains) = FixedGains::<N>::new(l, fixed.sample_period_s) else {
+        return;
+    };
+    if let Some(monitor) = fixed.monitor {
+        match gains.with_monitor(monitor) {
+            Ok(g) => gains = g,
+            Err(_) => return,
+        }
+    }
+    let mut state = FixedState::new();
+    for &(c, s) in &fixed.samples {
+        let e = gains.update(&mut state, c, s);
+        assert!(e.phase_error.abs() <= 1 << 15, "{e:?}");
+        assert!((MIN_RECIPROCAL..=MAX_RECIPROCAL).contains(&state.reciprocal()));
+    }
+}
+
 fuzz_target!(|input: Input| {
+    if let Some(fixed) = &input.fixed {
+        if fixed.order {
+            run_fixed::<3>(fixed);
+        } else {
+            run_fixed::<2>(fixed);
+        }
+    }
     if input.float {
         dispatch::<f32>(&input)
     } else {

@@ -3,7 +3,7 @@
 
 use angletrack::{AnyDesign, Complex, Design, KalmanSolution};
 use pyo3::prelude::*;
-use pyo3::types::PyComplex;
+use pyo3::types::{PyComplex, PyDict};
 
 use crate::analysis::DesignReport;
 use crate::errors::Result;
@@ -174,6 +174,21 @@ impl PyDesign {
         let inner = self.inner.clone();
         let report = py.detach(move || inner.report(sensor_noise_std))?;
         Ok(report.into())
+    }
+
+    /// The design's constants for the core's fixed-point observer (`docs/theory.md §14`): a
+    /// dict with `mantissa`, `shift` (one per gain), `acceleration_bits`, the
+    /// `quantised_gains` they represent and `sample_period_s`. Raises `ConfigError` naming
+    /// the gain if one rounds to zero or the quantised loop is unstable.
+    fn fixed_constants<'py>(&self, py: Python<'py>) -> Result<Bound<'py, PyDict>> {
+        let c = self.inner.fixed_constants()?;
+        let dict = PyDict::new(py);
+        dict.set_item("mantissa", c.mantissa)?;
+        dict.set_item("shift", c.shift)?;
+        dict.set_item("acceleration_bits", c.acceleration_bits)?;
+        dict.set_item("quantised_gains", c.quantised_gains)?;
+        dict.set_item("sample_period_s", c.sample_period_s)?;
+        Ok(dict)
     }
 
     fn __repr__(&self) -> String {

@@ -193,3 +193,27 @@ def test_report_writes_markdown_and_plots(tmp_path):
         data = (out / png).read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000, png
         assert f"]({png})" in text
+
+
+def test_design_fixed_constants_in_every_format(tmp_path):
+    # The Kalman ATO at 10 kHz: its gains quantised for the fixed-point observer
+    # (docs/theory.md §14), the same constants in C, Rust and JSON.
+    spec = ["design", "kalman", "--sample-rate", 10000, "--jerk-std", 1e5, "--noise-std", 0.01, "--dtype", "fixed"]
+    json_path, header, rust = tmp_path / "fixed.json", tmp_path / "fixed.h", tmp_path / "fixed.rs"
+    assert run_cli(*spec, "--format", "json", "--output", json_path) == 0
+    assert run_cli(*spec, "--format", "c", "--output", header, "--name", "rdc") == 0
+    assert run_cli(*spec, "--format", "rust", "--output", rust) == 0
+    doc = json.loads(json_path.read_text())
+    assert doc["format"] == "angletrack-fixed-gains" and doc["order"] == 3
+    assert all(2**14 <= m < 2**15 for m in doc["mantissa"])
+    design = angletrack.kalman_from_jerk_std(1e5, 0.01, 1e-4)
+    for q, g in zip(doc["quantised_gains"], design.gains.gains):
+        assert abs(q / g - 1.0) <= 2.0**-15
+    mantissa = ", ".join(str(m) for m in doc["mantissa"])
+    assert f"rdc_gain_mantissa[RDC_ORDER] = {{{mantissa}}};" in header.read_text()
+    assert f"mantissa: [{mantissa}]" in rust.read_text()
+    source = tmp_path / "use.c"
+    source.write_text('#include "fixed.h"\nint first(void) { return rdc_gain_mantissa[0] + RDC_ACCELERATION_BITS; }\n')
+    gcc = shutil.which("gcc")
+    assert gcc is not None, "gcc is needed for this test"
+    subprocess.run([gcc, "-std=c99", "-Wall", "-Werror", "-c", "-o", str(tmp_path / "use.o"), str(source)], check=True)

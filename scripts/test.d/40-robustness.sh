@@ -13,7 +13,7 @@ nm_tool=$(ls "$(rustc --print sysroot)"/lib/rustlib/*/bin/llvm-nm | head -n 1)
 
 # The images (tests/no-panic) are built for each core: adding one is one word here.
 no_panic_targets=(thumbv7em-none-eabihf thumbv6m-none-eabi)
-echo "--- no panic path in the f32 update (tests/no-panic, ${no_panic_targets[*]})"
+echo "--- no panic path in the f32 and fixed-point updates (tests/no-panic, ${no_panic_targets[*]})"
 image_symbols() { # $1: target; $2: cargo feature flags; prints the image's demangled symbol names
   (cd tests/no-panic && cargo build -q --release --target-dir target --target "$1" $2)
   "$nm_tool" -C --just-symbol-name "tests/no-panic/target/$1/release/angletrack-no-panic"
@@ -33,7 +33,7 @@ f64_routines='\b(__aeabi_c?d[a-z0-9_]+|__aeabi_[a-z]+2d|__[a-z]+df[a-z0-9]*)\b'
 for target in "${no_panic_targets[@]}"; do
   symbols=$(image_symbols "$target" "")
   if grep -E "$panics" <<<"$symbols"; then
-    echo "FAIL: a panic path remains in the f32 update on $target (symbols above)" >&2; exit 1
+    echo "FAIL: a panic path remains in the f32 or fixed-point update on $target (symbols above)" >&2; exit 1
   fi
   # The Exact sin/cos (libm's sinf/cosf compute in f64) link f64 routines: the check sees them.
   if ! grep -qE "$f64_routines" <<<"$symbols"; then

@@ -20,6 +20,10 @@ pub(crate) struct Step<T> {
     /// Normalised phase-detector output `eps / sqrt(y_c^2 + y_s^2)`, about the sine of the
     /// phase error (0 for a sample that was not used).
     pub(crate) eps: T,
+    /// In-phase component `y_c cos + y_s sin` of the predicted angle (about `A cos(error)`),
+    /// for the fixed-point monitor; the float update, whose monitor computes it once per
+    /// window, leaves it unused and the compiler drops it.
+    pub(crate) in_phase: T,
     /// Whole turns the wrap of the predicted angle removed.
     pub(crate) whole: i32,
     /// `(sin, cos)` of the predicted angle (for the calibration's estimator; the plain
@@ -378,29 +382,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         amplitude: &mut T,
         sample: Sample<T>,
     ) -> Step<T> {
-        let mut p = predict(x);
-        p[0] = *next_angle;
-        let whole = W::wrap(&mut p[0]);
-        let detection = unit.detect(p[0], sample.y_c, sample.y_s);
-        let tracked = T::track_magnitude(*amplitude, sample.amplitude2);
-        let eps = if sample.valid {
-            *amplitude = tracked;
-            detection.phase_error / tracked
-        } else {
-            T::ZERO
-        };
-        *next_angle = predict(&p)[0] + self.next_angle_gain * eps;
-        let mut i = 0;
-        while i < N {
-            p[i] += self.l[i] * eps;
-            i += 1;
-        }
-        *x = p;
-        Step {
-            eps,
-            whole,
-            sin_cos: (detection.sin, detection.cos),
-        }
+        crate::recursion::step::<Self, U, W, N>(self, unit, x, next_angle, amplitude, sample)
     }
 
     /// The recursion on a sample that is not used (the state coasts on its prediction): the

@@ -88,8 +88,8 @@ pub use calibration::{
     learn_angle_correction,
 };
 pub use design::{
-    AnyDesign, Design, DesignMethod, Discretisation, KalmanSolution, MAX_POLE_TIMES_PERIOD,
-    convert_gains, kalman, kalman_from_jerk_density, kalman_from_jerk_std,
+    AnyDesign, Design, DesignMethod, Discretisation, FixedDesignConstants, KalmanSolution,
+    MAX_POLE_TIMES_PERIOD, convert_gains, kalman, kalman_from_jerk_density, kalman_from_jerk_std,
     second_order_bandwidth_ratio, second_order_butterworth, second_order_from_bandwidth,
     second_order_from_tracking_error, second_order_from_tracking_error_sampled,
     third_order_butterworth, third_order_from_overshoot, third_order_from_poles,

@@ -234,8 +234,9 @@ def _add_design_parser(sub) -> None:
                         help="gains file format (default c)")
     design.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",
                         help="write the gains there (default: print them after the report)")
-    design.add_argument("--dtype", choices=["float32", "float64"], default="float32",
-                        help="float type of the C/Rust constants (default float32; JSON is always float64)")
+    design.add_argument("--dtype", choices=["float32", "float64", "fixed"], default="float32",
+                        help="float type of the C/Rust constants (default float32; JSON is always float64), "
+                             "or fixed: the fixed-point observer's integer constants (docs/theory.md §14)")
     design.add_argument("--name", default="angletrack", help="identifier prefix in the C/Rust output")
     design.add_argument("--plot", type=_png_path, metavar="FILE.png",
                         help="draw the loop's Bode plot and its noise-against-bandwidth trade-off")
@@ -261,12 +262,20 @@ def _cmd_design(args: argparse.Namespace) -> int:
         f"-3 dB bandwidth {report.bandwidth_hz or float('nan'):.6g} Hz, linear step overshoot "
         f"{100 * report.linear_step.overshoot:.3g} %, 2 % settling {report.linear_step.settling_time_s:.6g} s"
     )
-    if args.format == "c":
+    metadata = {"method": design.method, "discretisation": design.discretisation, "specification": spec}
+    if args.dtype == "fixed":
+        constants = design.fixed_constants()
+        if args.format == "c":
+            text = export.fixed_to_c_header(constants, name=args.name, description=description)
+        elif args.format == "rust":
+            text = export.fixed_to_rust(constants, name=args.name, description=description)
+        else:
+            text = export.fixed_to_json(constants, metadata=metadata)
+    elif args.format == "c":
         text = export.to_c_header(design.gains, name=args.name, dtype=args.dtype, description=description)
     elif args.format == "rust":
         text = export.to_rust(design.gains, name=args.name, dtype=args.dtype, description=description)
     else:
-        metadata = {"method": design.method, "discretisation": design.discretisation, "specification": spec}
         text = export.to_json(design.gains, metadata=metadata)
     print(f"{design!r}\n")
     print(report)
@@ -276,7 +285,8 @@ def _cmd_design(args: argparse.Namespace) -> int:
     else:
         args.output.parent.mkdir(parents=True, exist_ok=True)
         args.output.write_text(text)
-        print(f"\nwrote the gains ({args.format}, {args.dtype if args.format != 'json' else 'float64'}) to {args.output}")
+        kind = args.dtype if args.format != 'json' or args.dtype == 'fixed' else 'float64'
+        print(f"\nwrote the gains ({args.format}, {kind}) to {args.output}")
     if args.plot is not None:
         from angletrack import design_plots
 

@@ -13,8 +13,8 @@
 
 use angletrack_core::{
     AdcScaling, AngleCorrection, Calibrator, ConfigError, DemodulatedPair, Demodulator,
-    DemodulatorSettings, Estimate, Exact, Fast, FaultThresholds, Gains, MAX_CORRECTION_ORDER,
-    ObserverState, Order, SinCos, SupportedOrder,
+    DemodulatorSettings, Estimate, Exact, Fast, FaultThresholds, FixedEstimate, FixedGains,
+    FixedState, Gains, MAX_CORRECTION_ORDER, ObserverState, Order, SinCos, SupportedOrder,
 };
 
 use crate::baseline::{Atan2, FastAtan2, LibmAtan2, PhaseLockedLoop, PllState};
@@ -403,6 +403,10 @@ impl Observers {
     fn kalman(&self) -> Result<Gains<f32, 3, Exact>, ConfigError> {
         Gains::new(self.kalman, self.sample_period_s)
     }
+    fn fixed(&self) -> Result<Fixed<3>, ConfigError> {
+        let gains = FixedGains::new(self.kalman.map(f64::from), f64::from(self.sample_period_s))?;
+        Ok(Fixed(gains, self.sample_period_s))
+    }
     fn pll<A: Atan2>(&self) -> PhaseLockedLoop<A> {
         PhaseLockedLoop::new(PLL_BANDWIDTH_RAD_S, self.sample_period_s)
     }
@@ -469,6 +473,7 @@ variants! {
     "kalman-f32-fast-track-calibrated-off" => |o| o.kalman().map(fast).map(TrackCalibratedOff),
     "kalman-f32-fast-adc" => |o| Ok(Adc(fast(o.kalman()?), AdcScaling::twos_complement(12)?)),
     "kalman-f32-fast-angle-corrected" => |o| Ok(Corrected(fast(o.kalman()?), correction()?)),
+    "kalman-fixed" => |o| o.fixed(),
     "baseline-atan2-pll-f32" => |o| Ok(o.pll::<LibmAtan2>()),
     "baseline-fast-atan2-pll-f32" => |o| Ok(o.pll::<FastAtan2>()),
 }
@@ -506,4 +511,52 @@ pub fn encode_pair(pair: &DemodulatedPair<f32>) -> [u8; PAIR_BYTES] {
     r[0..4].copy_from_slice(&pair.y_c.to_le_bytes());
     r[4..8].copy_from_slice(&pair.y_s.to_le_bytes());
     r
+}
+
+/// An input sample (amplitude about 1) in the fixed-point variant's counts: amplitude 2^14,
+/// rounded; the same on the host and on the target.
+pub fn fixed_counts(y: f32) -> i16 {
+    let scaled = y * 16384.0;
+    (if scaled >= 0.0 {
+        scaled + 0.5
+    } else {
+        scaled - 0.5
+    }) as i16
+}
+
+/// The core's fixed-point observer (`FixedGains::update`, `docs/theory.md §14`) on 16-bit
+/// counts ([`fixed_counts`]), with its default diagnostics, and the sample period (s) its
+/// estimate is converted with (in `f32`, outside the counted update).
+#[derive(Debug, Clone, Copy)]
+pub struct Fixed<const N: usize>(pub FixedGains<N>, pub f32);
+
+impl<const N: usize> Tracker for Fixed<N>
+where
+    Order<N>: SupportedOrder,
+{
+    type State = FixedState<N>;
+    type Input = i16;
+    type Output = FixedEstimate;
+    fn new_state(&self) -> FixedState<N> {
+        FixedState::new()
+    }
+    fn input(y: f32) -> i16 {
+        fixed_counts(y)
+    }
+    #[inline(always)]
+    fn update(&self, state: &mut FixedState<N>, y_c: i16, y_s: i16) -> FixedEstimate {
+        self.0.update(state, y_c, y_s)
+    }
+    fn record(&self, _: &FixedState<N>, e: &FixedEstimate) -> Record {
+        // 2^-32 turn in rad, and 2^-F more for the acceleration's fraction bits.
+        const RAD_PER_UNIT: f32 = core::f32::consts::TAU / 4_294_967_296.0;
+        let acceleration_unit = RAD_PER_UNIT / (1u32 << self.0.acceleration_fraction_bits()) as f32;
+        let rate = 1.0 / self.1;
+        Record {
+            angle: e.angle as f32 * RAD_PER_UNIT,
+            turns: e.turns as i32,
+            speed: e.speed as f32 * RAD_PER_UNIT * rate,
+            acceleration: e.acceleration as f32 * acceleration_unit * rate * rate,
+        }
+    }
 }

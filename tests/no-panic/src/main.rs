@@ -1,5 +1,6 @@
 //! Every f32 per-sample entry point of the core (single observers, channel banks, the
-//! angle-harmonic correction and the resolver front end), fed with values the optimiser
+//! angle-harmonic correction and the resolver front end) and the fixed-point observer's, fed
+//! with values the optimiser
 //! cannot see (`black_box`). The panic handler below is only kept by the linker if some path
 //! of these calls can panic; `scripts/test.d/40-robustness.sh` builds the image for a
 //! Cortex-M4F (thumbv7em-none-eabihf) and a Cortex-M0 (thumbv6m-none-eabi, soft float) and
@@ -12,8 +13,8 @@ use core::hint::black_box;
 use angletrack_core::{
     AdcScaling, AngleCorrection, AngleTrackingObserver, CalibrationSettings, Calibrator,
     ChannelBank, Demodulator, DemodulatorSettings, DemodulatorState, DriveOutputs,
-    DriveOutputsState, Estimate, Exact, Excitation, ExcitationState, Fast, Gains,
-    MAX_CORRECTION_ORDER, Observer, ObserverState, Order, SensorCalibration, SinCos,
+    DriveOutputsState, Estimate, Exact, Excitation, ExcitationState, Fast, FixedGains, FixedState,
+    Gains, MAX_CORRECTION_ORDER, Observer, ObserverState, Order, SensorCalibration, SinCos,
     SupportedOrder, Waveform,
 };
 use cortex_m_rt::entry;
@@ -174,6 +175,29 @@ fn front_end() -> f32 {
     sum + front_end.clear_faults().bits() as f32
 }
 
+/// The fixed-point observer (`docs/theory.md §14`): construction, its update on the extreme
+/// `i16` samples and others the optimiser cannot see, and its estimate.
+fn fixed_point<const N: usize>(l: [f64; N]) -> f32
+where
+    Order<N>: SupportedOrder,
+{
+    let Ok(gains) = FixedGains::<N>::new(black_box(l), black_box(1e-4)) else {
+        return 0.0;
+    };
+    let Ok(gains) = gains.with_monitor(black_box(Some(20_000.0))) else {
+        return 0.0;
+    };
+    let mut state = FixedState::new();
+    let mut sum = 0i64;
+    for k in 0..black_box(8i16) {
+        let (y_c, y_s) = (black_box(i16::MIN + k), black_box(i16::MAX - k));
+        let e = gains.update(&mut state, y_c, y_s);
+        sum += e.turns + i64::from(e.angle) + i64::from(e.speed) + i64::from(e.phase_error);
+    }
+    let e = FixedGains::<N>::estimate(&state);
+    (sum + i64::from(e.acceleration) + i64::from(state.latched_faults().bits())) as f32
+}
+
 #[entry]
 fn main() -> ! {
     // One line per entry point (or family of them, generic over the order and sin/cos).
@@ -183,6 +207,10 @@ fn main() -> ! {
     if cfg!(feature = "exact") {
         sum += exercise::<2, Exact>([0.06, 0.001]);
         sum += exercise::<3, Exact>([0.06, 0.0019, 3e-5]);
+    }
+    if cfg!(feature = "fixed-point") {
+        sum += fixed_point::<2>([0.06, 0.001]);
+        sum += fixed_point::<3>([0.06, 0.0019, 3e-5]);
     }
     if cfg!(feature = "panic-control") {
         let table = black_box([1.0f32; 4]);

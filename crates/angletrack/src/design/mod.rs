@@ -15,6 +15,7 @@
 
 mod designs;
 mod discretisation;
+mod fixed;
 mod kalman;
 mod sampled;
 mod second_order;
@@ -22,6 +23,7 @@ mod third_order;
 
 pub use designs::{AnyDesign, Design, DesignMethod, convert_gains};
 pub use discretisation::{Discretisation, MAX_POLE_TIMES_PERIOD};
+pub use fixed::FixedDesignConstants;
 pub use kalman::{KalmanSolution, kalman, kalman_from_jerk_density, kalman_from_jerk_std};
 pub use sampled::second_order_from_tracking_error_sampled;
 pub use second_order::{

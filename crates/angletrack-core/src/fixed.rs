@@ -1,0 +1,19 @@
+//! The fixed-point observer for cores without an FPU (Cortex-M0/M0+): the angle as a binary
+//! angle (2^32 per turn, wrapping, the turns counted apart), the state in scaled integers,
+//! 16-bit samples in, a sine table for the phase detector and the phase error normalised by
+//! a tracked reciprocal of the amplitude (no division), all run by the same one recursion
+//! as the floats (`recursion.rs`). Formats, ranges, why nothing overflows and the accuracy:
+//! `docs/theory.md §14`.
+
+mod binary_angle;
+mod gains;
+mod state;
+mod update;
+
+pub use binary_angle::{binary_angle, binary_angle_to_rad};
+pub use gains::{FixedConstants, FixedGains, MIN_NORMALISED_AMPLITUDE_COUNTS};
+pub use state::{FixedEstimate, FixedState};
+pub use update::{MAX_RECIPROCAL, MIN_RECIPROCAL};
+
+#[cfg(test)]
+mod tests;

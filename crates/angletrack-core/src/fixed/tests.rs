@@ -1,0 +1,255 @@
+//! Tests of the fixed-point path (`docs/theory.md §14`): the table and the phase detector's
+//! accuracy, the integer atan2, the quantisation checks, tracking and turn counting, and
+//! (property tests, in a build with overflow checks) that no input overflows anything.
+
+use proptest::prelude::*;
+
+use super::binary_angle::{SIN_Q15, atan2, detect};
+use super::update::track_reciprocal;
+use super::*;
+use crate::{ConfigError, Faults, Parameter};
+
+/// Samples at and next to the ends of the `i16` range.
+const EXTREMES: [i16; 6] = [i16::MIN, -32767, -1, 0, 1, 32767];
+
+const KALMAN: [f64; 3] = [0.1578, 0.0126, 0.000_34];
+
+#[test]
+fn sine_table_is_within_half_a_unit_of_q15() {
+    for (k, &v) in SIN_Q15.iter().enumerate() {
+        let exact = 32767.0 * libm::sin(core::f64::consts::TAU * k as f64 / 256.0);
+        assert!((f64::from(v) - exact).abs() <= 0.5 + 1e-9, "entry {k}");
+    }
+}
+
+#[test]
+fn phase_detector_error_is_below_4e_5_of_the_amplitude() {
+    // The signal at theta, the detector at theta - err for errors up to 0.2 rad: the output
+    // over (amplitude 2^15) against sin(err), across the whole turn.
+    let amplitude = 30000.0;
+    let mut worst: f64 = 0.0;
+    for k in 0..20_000 {
+        let angle = (k as i64 * 214_748_367) as i32;
+        let err = 0.2 * libm::sin(k as f64 * 0.37);
+        let theta = binary_angle_to_rad(angle) + err;
+        let y_c = libm::round(amplitude * libm::cos(theta)) as i32;
+        let y_s = libm::round(amplitude * libm::sin(theta)) as i32;
+        let (phase_error, _, _, _) = detect(angle, y_c, y_s);
+        let got = f64::from(phase_error) / (amplitude * 32767.0);
+        worst = worst.max((got - libm::sin(err)).abs());
+    }
+    // Table rounding (0.5 / 32767 per entry, up to 2.2e-5 on the pair), input rounding
+    // (0.5 / 30000 per channel, up to 2.4e-5) and the residual's neglected terms (3e-7).
+    assert!(worst < 4.7e-5, "worst {worst}");
+}
+
+#[test]
+fn atan2_is_within_2_to_the_minus_24_of_a_turn() {
+    for k in 0..10_000 {
+        let theta = core::f64::consts::PI * (2.0 * k as f64 / 10_000.0 - 1.0);
+        let (c, s) = (
+            libm::round(20000.0 * libm::cos(theta)) as i32,
+            libm::round(20000.0 * libm::sin(theta)) as i32,
+        );
+        let exact = binary_angle(libm::atan2(f64::from(s), f64::from(c)));
+        let error = atan2(s, c).wrapping_sub(exact);
+        assert!(error.abs() < 1 << 8, "theta {theta}: error {error}");
+    }
+    assert_eq!(atan2(0, 0), 0);
+    assert!(atan2(0, -32768).wrapping_sub(i32::MIN).abs() < 1 << 8);
+}
+
+#[test]
+fn reciprocal_converges_on_every_amplitude_in_range() {
+    for amplitude in [4100.0, 8192.0, 16384.0, 30000.0, 46340.0] {
+        let half2 = (amplitude * amplitude / 2.0) as i32;
+        let mut r = MAX_RECIPROCAL;
+        for _ in 0..40 {
+            r = track_reciprocal(r, half2);
+        }
+        let exact = 134_217_728.0 / amplitude;
+        assert!(
+            (f64::from(r) / exact - 1.0).abs() < 2e-3,
+            "{amplitude}: {r} vs {exact}"
+        );
+    }
+}
+
+#[test]
+fn quantisation_keeps_15_bits_and_refuses_gains_that_round_to_zero() {
+    let gains = FixedGains::<3>::new(KALMAN, 50e-6).unwrap();
+    for (q, l) in gains.gains().iter().zip(KALMAN) {
+        // A mantissa of at least 2^14: half a unit is at most 2^-15 of the gain.
+        assert!((q / l - 1.0).abs() <= 2f64.powi(-15), "{q} vs {l}");
+    }
+    let err = FixedGains::<2>::new([0.05, 1e-25], 1e-4).unwrap_err();
+    assert_eq!(err, ConfigError::OutOfRange(Parameter::SpeedGain));
+    assert_eq!(err.parameter().name(), "gains[1] (l2)");
+    let err = FixedGains::<3>::new([0.1, 0.01, -1e-6], 1e-4).unwrap_err();
+    assert_eq!(err.parameter().name(), "gains[2] (l3)");
+    let err = FixedGains::<2>::new([3.5, 0.1], 1e-4).unwrap_err();
+    assert_eq!(err, ConfigError::OutOfRange(Parameter::AngleGain));
+    let err = FixedGains::<2>::new([1.5, 1.1], 1e-4).unwrap_err();
+    assert!(matches!(
+        err,
+        ConfigError::Unstable {
+            parameter: Parameter::AngleGain,
+            ..
+        }
+    ));
+    let err = FixedGains::<2>::new([0.05, 0.001], f64::NAN).unwrap_err();
+    assert_eq!(err, ConfigError::NotFinite(Parameter::SamplePeriod));
+}
+
+#[test]
+fn quantised_loop_leaving_the_stability_region_is_refused() {
+    // On the edge 2 l1 + l2 = 4: some l2 just inside it in f64 is pushed out by the
+    // rounding of the quantised gains, and refused with the condition that fails.
+    let mut candidates = (0..50).flat_map(|i| {
+        let l1 = 1.22 + 0.006 * f64::from(i);
+        (1..100).map(move |k| (l1, 4.0 - 2.0 * l1 - f64::from(k) * 1e-7))
+    });
+    let refused = candidates.find_map(|(l1, l2)| {
+        assert!(crate::Gains::<f64, 2>::new([l1, l2], 1e-4).is_ok());
+        FixedGains::<2>::new([l1, l2], 1e-4).err()
+    });
+    assert_eq!(
+        refused,
+        Some(ConfigError::Unstable {
+            parameter: Parameter::AngleGain,
+            condition: "2 l1 + l2 < 4"
+        })
+    );
+}
+
+/// Samples of amplitude `amplitude` at the angles `theta(k)`.
+fn sample(amplitude: f64, theta: f64) -> (i16, i16) {
+    (
+        libm::round(amplitude * libm::cos(theta)) as i16,
+        libm::round(amplitude * libm::sin(theta)) as i16,
+    )
+}
+
+#[test]
+fn tracks_a_ramp_over_hundreds_of_turns_with_exact_turns() {
+    let gains = FixedGains::<3>::new(KALMAN, 50e-6).unwrap();
+    let mut state = FixedState::new();
+    // A constant acceleration of 5e-5 rad per sample^2: 1 rad per sample (3.2 turns per
+    // millisecond) after 20000 samples, 1592 turns on the way.
+    let acceleration = 5e-5;
+    let theta = |k: f64| 0.5 * acceleration * k * k;
+    let n = 20_000;
+    let mut e = FixedEstimate::default();
+    for k in 0..n {
+        let (c, s) = sample(16384.0, theta(k as f64));
+        e = gains.update(&mut state, c, s);
+        // After the first millisecond (the loop starts from rest), within 2e-4 rad.
+        let position = gains.position_rad(&e);
+        assert!(
+            k < 1000 || (position - theta(k as f64)).abs() < 2e-4,
+            "k {k}: {position}"
+        );
+    }
+    let last = (n - 1) as f64;
+    assert_eq!(
+        e.turns,
+        libm::round(theta(last) / core::f64::consts::TAU) as i64
+    );
+    assert!((gains.speed_rad_s(&e) - acceleration * last / 50e-6).abs() < 0.05);
+    assert_eq!(state.latched_faults(), Faults::NONE);
+}
+
+#[test]
+fn monitor_flags_loss_of_signal_and_false_lock() {
+    let gains = FixedGains::<3>::new(KALMAN, 50e-6).unwrap();
+    let mut state = FixedState::new();
+    for k in 0..200 {
+        let (c, s) = sample(16384.0, 0.01 * k as f64);
+        gains.update(&mut state, c, s);
+    }
+    assert_eq!(state.latched_faults(), Faults::NONE);
+    let mut lost = FixedEstimate::default();
+    for _ in 0..50 {
+        lost = gains.update(&mut state, 10, -3);
+    }
+    assert!(lost.faults.contains(Faults::LOSS_OF_SIGNAL));
+    // A 180 degree jump of the signal: false lock, then re-acquired and clean.
+    let mut state = FixedState::new();
+    for _ in 0..100 {
+        gains.update(&mut state, 16384, 0);
+    }
+    for _ in 0..40 {
+        gains.update(&mut state, -16384, 0);
+    }
+    assert!(state.latched_faults().contains(Faults::FALSE_LOCK));
+    let e = gains.update(&mut state, -16384, 0);
+    assert!(
+        (e.angle.wrapping_sub(i32::MIN)).abs() < 1 << 20,
+        "{}",
+        e.angle
+    );
+}
+
+#[test]
+fn unmonitored_gains_flag_nothing() {
+    let gains = FixedGains::<2>::new([0.05, 0.0012], 1e-4)
+        .unwrap()
+        .with_monitor(None)
+        .unwrap();
+    let mut state = FixedState::new();
+    for _ in 0..100 {
+        assert_eq!(gains.update(&mut state, 3, 0).faults, Faults::NONE);
+    }
+}
+
+proptest! {
+    // Any samples, any gains in the stability region: in a test build (overflow checks on)
+    // an overflow would panic; the state's bounds hold after every sample.
+    #[test]
+    fn no_input_overflows_or_leaves_the_bounds(
+        samples in prop::collection::vec((any::<i16>(), any::<i16>()), 1..400),
+        l1 in 1e-4_f64..1.55,
+        l2_fraction in 1e-6_f64..1.0,
+        l3_fraction in 1e-6_f64..1.0,
+    ) {
+        // Gains inside the order-3 region: l2 < 4 - 2 l1, l3 a fraction of its bound.
+        let l2 = l2_fraction * (4.0 - 2.0 * l1) * 0.5;
+        let l3 = l3_fraction * 2.0 * l2 * 4.0 * l1 / (8.0 - 4.0 * l1 - 2.0 * l2 + 2.0 * l2) * 0.5;
+        if let Ok(gains) = FixedGains::<3>::new([l1, l2, l3], 1e-4) {
+            let mut state = FixedState::new();
+            for &(c, s) in &samples {
+                let e = gains.update(&mut state, c, s);
+                prop_assert!(e.phase_error.abs() <= 1 << 15);
+                prop_assert!((MIN_RECIPROCAL..=MAX_RECIPROCAL).contains(&state.reciprocal()));
+            }
+        }
+        // The 2nd-order gains are always accepted (l2 within the format): never vacuous.
+        let gains = FixedGains::<2>::new([l1, l2.min(1.5)], 1e-4);
+        prop_assert!(gains.is_ok(), "{:?}", gains);
+        if let Ok(gains) = gains {
+            let mut state = FixedState::new();
+            for &(c, s) in &samples {
+                let e = gains.update(&mut state, c, s);
+                prop_assert!(e.phase_error.abs() <= 1 << 15);
+            }
+        }
+    }
+
+    #[test]
+    fn extreme_samples_do_not_overflow(
+        samples in prop::collection::vec(
+            (prop::sample::select(&EXTREMES[..]),
+             prop::sample::select(&EXTREMES[..])), 1..300),
+        angle in any::<i32>(),
+    ) {
+        for &(c, s) in &samples {
+            let (phase_error, in_phase, _, _) = detect(angle, c.into(), s.into());
+            prop_assert!(phase_error.abs() < 1_540_000_000 && in_phase.abs() < 1_520_000_000);
+        }
+        let gains = FixedGains::<3>::new([1.5, 0.05, 0.001], 1e-4).unwrap();
+        let mut state = FixedState::new();
+        for &(c, s) in &samples {
+            gains.update(&mut state, c, s);
+        }
+    }
+}

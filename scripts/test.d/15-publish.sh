@@ -85,6 +85,14 @@ echo "--- cargo publish --dry-run"
 # from its package against a local registry of the others (the core is not on crates.io
 # yet, so the std crate could not be verified on its own). --allow-dirty: the test command
 # also runs on work trees with uncommitted changes.
+# Cargo unpacks each verified package into its registry's source cache and takes a version
+# found there as immutable, as a registry's are: an earlier run's copy of these unpublished
+# crates would be built instead of the current one. Removed first.
+cargo_home="${CARGO_HOME:-$HOME/.cargo}"
+while read -r name _msrv dir; do
+  version=$(sed -n 's/^version = "\(.*\)"/\1/p' "$dir/Cargo.toml" | head -n 1)
+  rm -rf "$cargo_home"/registry/src/*/"$name-$version"
+done <<<"$crates"
 log="$scratch/publish.log"
 status=0
 cargo publish --dry-run --workspace --allow-dirty >"$log" 2>&1 || status=$?

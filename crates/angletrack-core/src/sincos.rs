@@ -216,19 +216,23 @@ pub(crate) fn fast_phase_detector<T: Real>(x: T, y_c: T, y_s: T) -> (T, T) {
 fn fast_reduced<T: Real>(x: T) -> (T, T, T) {
     let w = T::FRAC_PI_2 - x.abs();
     let w2 = w * w;
-    (w, estrin(w2, T::SIN_POLY), estrin(w2, T::COS_POLY))
+    (w, polynomial(w2, T::SIN_POLY), polynomial(w2, T::COS_POLY))
 }
 
-/// Estrin-like evaluation of `c[0] + c[1] t + ... + c[7] t^7` (`c` has at most 8
-/// coefficients; its length is a constant, so the branches fold away): pairs
-/// `c[2i] + c[2i+1] t` combined with powers of `t`. The chain of dependent operations is about
-/// half as long as Horner's, which matters because the observer's loop is latency-bound.
+/// Evaluation of `c[0] + c[1] t + ... + c[7] t^7` (`c` has at most 8 coefficients; its
+/// length is a constant, so the branches fold away).
 ///
-/// Five coefficients (the `f32` polynomials) split as `(c0 + c1 t + c2 t^2) + t^3 (c3 + c4 t)`:
-/// both halves are ready two multiply-adds after `t^2`, one step sooner than Estrin's
-/// `(c0 + c1 t + t^2 (c2 + c3 t)) + t^4 c4`, for the same number of operations.
+/// Five coefficients (the `f32` polynomials, the firmware's) by Horner's rule: four
+/// multiply-adds per polynomial and no powers of `t`, two instructions fewer per sample
+/// than a split into halves, and one coefficient live at a time, so that on a Cortex-M4F
+/// the phase detector fits in the scratch float registers (none saved and restored). There
+/// every instruction counts and the chain's length hardly does.
+///
+/// The `f64` polynomials (hosts, whose loop is latency-bound) Estrin-like: pairs
+/// `c[2i] + c[2i+1] t` combined with powers of `t`, a chain of dependent operations about
+/// half as long as Horner's.
 #[inline(always)]
-fn estrin<T: Real>(t: T, c: &[T]) -> T {
+fn polynomial<T: Real>(t: T, c: &[T]) -> T {
     let pair = |i: usize| match (c.get(2 * i), c.get(2 * i + 1)) {
         (Some(&low), Some(&high)) => low + high * t,
         (Some(&low), None) => low,
@@ -238,7 +242,7 @@ fn estrin<T: Real>(t: T, c: &[T]) -> T {
     match *c {
         [_] | [_, _] => pair(0),
         [_, _, _] | [_, _, _, _] => pair(0) + t2 * pair(1),
-        [_, _, c2, c3, c4] => (pair(0) + c2 * t2) + (t2 * t) * (c3 + c4 * t),
+        [c0, c1, c2, c3, c4] => (((c4 * t + c3) * t + c2) * t + c1) * t + c0,
         [_, _, _, _, _, _] => (pair(0) + t2 * pair(1)) + (t2 * t2) * pair(2),
         _ => (pair(0) + t2 * pair(1)) + (t2 * t2) * (pair(2) + t2 * pair(3)),
     }

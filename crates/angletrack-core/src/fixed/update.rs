@@ -19,6 +19,11 @@ pub const MIN_RECIPROCAL: i32 = 2048;
 /// ([`MIN_NORMALISED_AMPLITUDE_COUNTS`](crate::fixed::MIN_NORMALISED_AMPLITUDE_COUNTS)).
 pub const MAX_RECIPROCAL: i32 = (1 << 15) - 1;
 
+/// Samples per window of the fixed-point monitor: the flags are decided at each window's
+/// end, so a fault present over a whole window is flagged at most `2 W - 1` samples after it
+/// starts (`docs/theory.md §14`).
+pub const MONITOR_WINDOW: u32 = 16;
+
 /// The phase detector of the fixed-point path: the binary angle's sine table
 /// ([`detect`]). Zero-sized.
 #[derive(Debug, Clone, Copy, Default)]
@@ -171,10 +176,34 @@ impl<const N: usize> FixedGains<N> {
     /// ```
     #[inline]
     pub fn update(&self, state: &mut FixedState<N>, y_c: i16, y_s: i16) -> FixedEstimate {
+        self.track(state, y_c, y_s);
+        Self::estimate(state)
+    }
+
+    /// [`FixedGains::update`] without the estimate: the state (and its faults) updated,
+    /// the estimate read on demand by [`FixedGains::estimate`] (the cheaper per-sample
+    /// entry point where the estimate is read less often than every sample).
+    ///
+    /// ```
+    /// use angletrack_core::{Faults, FixedGains, FixedState};
+    /// let gains = FixedGains::<3>::new([0.1578, 0.0126, 0.000_34], 50e-6)?;
+    /// let mut state = FixedState::new();
+    /// for k in 0..2000 {
+    ///     let theta = 0.1 * k as f64;
+    ///     let (c, s) = ((16384.0 * theta.cos()) as i16, (16384.0 * theta.sin()) as i16);
+    ///     gains.track(&mut state, c, s);
+    /// }
+    /// let e = FixedGains::estimate(&state);
+    /// assert!((gains.speed_rad_s(&e) - 2000.0).abs() < 0.1);
+    /// assert_eq!(e.faults, Faults::NONE);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    #[inline]
+    pub fn track(&self, state: &mut FixedState<N>, y_c: i16, y_s: i16) {
         let (y_c, y_s) = (i32::from(y_c), i32::from(y_s));
         if !state.initialised {
             self.initialise(state, y_c, y_s);
-            return Self::estimate(state);
+            return;
         }
         let sample = Sample {
             y_c,
@@ -192,68 +221,50 @@ impl<const N: usize> FixedGains<N> {
         );
         state.turns = state.turns.wrapping_add(i64::from(step.whole));
         state.phase_error = step.eps;
-        state.faults = if self.monitor.enabled {
-            self.observe(state, step.eps, step.in_phase, y_c, y_s)
-        } else {
-            Faults::NONE
-        };
-        Self::estimate(state)
+        if self.monitor.enabled {
+            self.observe(state, step.eps, step.in_phase, y_c, y_s);
+        }
     }
 
-    /// The monitor (`docs/theory.md §14`): loss of signal and degradation from the tracked
-    /// reciprocal (an amplitude estimate), loss of tracking from the filtered `|eps|` and the
-    /// speed, false lock from the sign of the filtered in-phase component, with the float monitor's
-    /// default thresholds and a filter time constant of 16 samples; a false lock re-acquires
-    /// the angle from `atan2`.
+    /// The monitor's per-sample part (`docs/theory.md §14`): `|eps|` summed over a window
+    /// of [`MONITOR_WINDOW`] samples (at most 2^19: no overflow), and the flags decided at
+    /// the window's end.
     #[inline(always)]
-    fn observe(
-        &self,
-        state: &mut FixedState<N>,
-        eps: i32,
-        in_phase: i32,
-        y_c: i32,
-        y_s: i32,
-    ) -> Faults {
+    fn observe(&self, state: &mut FixedState<N>, eps: i32, in_phase: i32, y_c: i32, y_s: i32) {
+        state.error_sum += eps.abs();
+        state.window_left -= 1;
+        if state.window_left == 0 {
+            self.decide(state, in_phase, y_c, y_s);
+        }
+    }
+
+    /// The flags at a window's end (out of line: once per window), latched, and the
+    /// re-acquisition after a false lock: loss of signal and degradation from the tracked
+    /// reciprocal (an amplitude estimate), loss of tracking from the window's mean `|eps|`
+    /// and the speed, false lock from the sign of the window's last in-phase component, with
+    /// the float monitor's default thresholds.
+    #[inline(never)]
+    fn decide(&self, state: &mut FixedState<N>, in_phase: i32, y_c: i32, y_s: i32) {
         let t = &self.monitor;
-        // |eps| <= 2^15 and the filters stay within the range of their inputs.
-        state.error_filter += (eps.abs() - state.error_filter) >> 4;
-        // The false-lock test is the filtered in-phase component's sign: the raw component
-        // scaled down by 2^8 (|.| < 6e6) needs no normalisation.
-        state.in_phase_filter += ((in_phase >> 8) - state.in_phase_filter) >> 4;
         let r = state.reciprocal;
         let speed = if N > 1 { state.x[1] } else { 0 };
-        if r <= t.degradation_low
-            && r >= t.degradation_high
-            && state.error_filter <= t.loss_of_tracking
-            && speed.unsigned_abs() <= t.max_speed as u32
-            && state.in_phase_filter >= 0
-        {
-            return Faults::NONE;
-        }
-        self.flag(state, speed, y_c, y_s)
-    }
-
-    /// The flags outside the usual case (out of line: a fault is rare), latched, and the
-    /// re-acquisition after a false lock.
-    #[cold]
-    #[inline(never)]
-    fn flag(&self, state: &mut FixedState<N>, speed: i32, y_c: i32, y_s: i32) -> Faults {
-        let t = &self.monitor;
-        let r = state.reciprocal;
         let signal_lost = r >= t.loss_of_signal;
-        let false_lock = !signal_lost && state.in_phase_filter < 0;
+        let false_lock = !signal_lost && in_phase < 0;
         let faults = Faults::when(signal_lost, Faults::LOSS_OF_SIGNAL)
             | Faults::when(
                 r > t.degradation_low || r < t.degradation_high,
                 Faults::DEGRADATION_OF_SIGNAL,
             )
             | Faults::when(
-                state.error_filter > t.loss_of_tracking
+                state.error_sum > t.loss_of_tracking * MONITOR_WINDOW as i32
                     || speed.unsigned_abs() > t.max_speed as u32,
                 Faults::LOSS_OF_TRACKING,
             )
             | Faults::when(false_lock, Faults::FALSE_LOCK);
+        state.faults = faults;
         state.latched |= faults;
+        state.error_sum = 0;
+        state.window_left = MONITOR_WINDOW;
         if false_lock {
             let angle = atan2(y_s, y_c);
             state.turns = state
@@ -261,9 +272,7 @@ impl<const N: usize> FixedGains<N> {
                 .wrapping_add(i64::from(crossed_turns(state.x[0], angle)));
             state.x[0] = angle;
             state.next_angle = Arithmetic::<SineTable, N>::predict(self, &state.x)[0];
-            state.in_phase_filter = 1 << 20;
         }
-        faults
     }
 
     /// The first sample: the angle from `atan2`, speed and acceleration 0, the reciprocal

@@ -7,6 +7,7 @@
 
 mod binary_angle;
 mod gains;
+mod shift;
 mod state;
 mod update;
 

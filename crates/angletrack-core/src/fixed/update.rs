@@ -3,7 +3,7 @@
 //! without a division, the first sample, and the monitor in integers.
 
 use super::binary_angle::{atan2, detect};
-use super::gains::{FixedGains, fraction_bits};
+use super::gains::FixedGains;
 use super::state::{FixedEstimate, FixedState};
 use crate::faults::Faults;
 use crate::recursion::{Arithmetic, step};
@@ -76,9 +76,11 @@ impl<const N: usize> Arithmetic<SineTable, N> for FixedGains<N> {
             while j < N {
                 // The angle and speed have no fraction bits: only the acceleration's shift
                 // is a variable (the loops unroll, so the others are constants).
-                let shift = fraction_bits(j, self.acceleration_bits)
-                    - fraction_bits(i, self.acceleration_bits)
-                    + (j - i - 1) as u32;
+                let shift = if j < 2 {
+                    (j - i - 1) as u32
+                } else {
+                    self.acceleration_shift[i].bits()
+                };
                 p[i] = p[i].wrapping_add(x[j] >> shift);
                 j += 1;
             }
@@ -127,7 +129,7 @@ impl<const N: usize> Arithmetic<SineTable, N> for FixedGains<N> {
     fn correct(&self, x: &[i32; N], p: &mut [i32; N], eps: i32) -> (i32, i32) {
         let mut i = 0;
         while i < N {
-            let delta = (self.mantissa[i] * eps + self.rounding[i]) >> self.shift[i];
+            let delta = (self.mantissa[i] * eps + self.rounding[i]) >> self.shift[i].bits();
             p[i] = if i == 2 {
                 p[i].saturating_add(delta)
             } else {
@@ -219,7 +221,10 @@ impl<const N: usize> FixedGains<N> {
             &mut state.reciprocal,
             sample,
         );
-        state.turns = state.turns.wrapping_add(i64::from(step.whole));
+        // A turn is crossed rarely: the 64-bit count is read and written only then.
+        if step.whole != 0 {
+            state.turns = state.turns.wrapping_add(i64::from(step.whole));
+        }
         state.phase_error = step.eps;
         if self.monitor.enabled {
             self.observe(state, step.eps, step.in_phase, y_c, y_s);

@@ -33,7 +33,11 @@ pub(crate) struct SineTable;
 /// `m = amplitude2_half 2^-53`, so that `r` tends to `2^27 / sqrt(y_c^2 + y_s^2)`
 /// (`docs/theory.md §14`). The factor is kept in [1/2, 3/2], so a far-off `r` (a step of the
 /// amplitude) moves by at most half or half again per sample and converges; the result is
-/// kept in [`MIN_RECIPROCAL`], [`MAX_RECIPROCAL`]. Every product is below 2^31:
+/// kept at most [`MAX_RECIPROCAL`] and stays at least [`MIN_RECIPROCAL`] (from any `r` in
+/// range) without a clamp: the result is non-decreasing in the factor, the factor
+/// non-increasing in the amplitude, and at the largest (`amplitude2_half = 2^30`) every `r`
+/// in range steps to at least `MIN_RECIPROCAL` (test
+/// `reciprocal_stays_in_range_without_a_lower_clamp`). Every product is below 2^31:
 /// `r^2 < 2^30`, `(r^2 >> 15)(m2 / 2^16) <= 2^15 2^15`, `r f <= 32767 49152`.
 #[inline(always)]
 pub(crate) fn track_reciprocal(reciprocal: i32, amplitude2_half: i32) -> i32 {
@@ -42,7 +46,7 @@ pub(crate) fn track_reciprocal(reciprocal: i32, amplitude2_half: i32) -> i32 {
     // (3 - x 2^-23) / 2 in Q15.
     let factor = ((3 << 23) - x) >> 9;
     let factor = factor.max(1 << 14);
-    ((reciprocal * factor) >> 15).clamp(MIN_RECIPROCAL, MAX_RECIPROCAL)
+    ((reciprocal * factor) >> 15).min(MAX_RECIPROCAL)
 }
 
 /// `(y_c^2 + y_s^2) / 2` of a sample in [-32768, 32767]: at most 2^30.

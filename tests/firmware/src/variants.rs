@@ -407,6 +407,10 @@ impl Observers {
         let gains = FixedGains::new(self.kalman.map(f64::from), f64::from(self.sample_period_s))?;
         Ok(Fixed(gains, self.sample_period_s))
     }
+    fn fixed_unmonitored(&self) -> Result<Fixed<3>, ConfigError> {
+        let Fixed(gains, sample_period_s) = self.fixed()?;
+        Ok(Fixed(gains.with_monitor(None)?, sample_period_s))
+    }
     fn pll<A: Atan2>(&self) -> PhaseLockedLoop<A> {
         PhaseLockedLoop::new(PLL_BANDWIDTH_RAD_S, self.sample_period_s)
     }
@@ -475,6 +479,7 @@ variants! {
     "kalman-f32-fast-angle-corrected" => |o| Ok(Corrected(fast(o.kalman()?), correction()?)),
     "kalman-fixed" => |o| o.fixed(),
     "kalman-fixed-track" => |o| o.fixed().map(FixedTrack),
+    "kalman-fixed-track-unmonitored" => |o| o.fixed_unmonitored().map(FixedTrack),
     "baseline-atan2-pll-f32" => |o| Ok(o.pll::<LibmAtan2>()),
     "baseline-fast-atan2-pll-f32" => |o| Ok(o.pll::<FastAtan2>()),
 }

@@ -295,8 +295,14 @@ impl<const N: usize> FixedGains<N> {
         state.x[0] = atan2(y_s, y_c);
         state.next_angle = state.x[0];
         let amplitude2 = amplitude2_half(y_c, y_s);
+        // Until a fixed point (or 24 steps): the same result as 24 steps, and a loop that is
+        // not unrolled into a kilobyte of code.
         for _ in 0..24 {
-            state.reciprocal = track_reciprocal(state.reciprocal, amplitude2);
+            let next = track_reciprocal(state.reciprocal, amplitude2);
+            if next == state.reciprocal {
+                break;
+            }
+            state.reciprocal = next;
         }
         state.initialised = true;
     }

@@ -112,15 +112,16 @@ impl<const N: usize> Arithmetic<SineTable, N> for FixedGains<N> {
     }
 
     /// `eps = phase_error / amplitude` in Q15, by the reciprocal tracked with this sample,
-    /// kept in [-2^15, 2^15] (the sine's range; beyond it only while the tracker catches up
-    /// with an amplitude step).
+    /// kept in [-2^15, 2^15 - 1] (the sine's range, less a unit at the top: one saturation
+    /// instruction on a Cortex-M4; beyond it only while the tracker catches up with an
+    /// amplitude step).
     #[inline(always)]
     fn normalise(reciprocal: &mut i32, sample: &Sample<i32>, phase_error: i32) -> i32 {
         if !sample.valid {
             return 0;
         }
         *reciprocal = track_reciprocal(*reciprocal, sample.amplitude2);
-        normalised(phase_error, *reciprocal).clamp(-(1 << 15), 1 << 15)
+        normalised(phase_error, *reciprocal).clamp(-(1 << 15), (1 << 15) - 1)
     }
 
     /// `x_i += (mantissa_i eps + rounding_i) >> shift_i`, rounded to nearest (a floor would

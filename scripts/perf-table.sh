@@ -45,6 +45,8 @@ describe() {
     kalman-f32-fast-adc) echo "Kalman ATO, \`f32\`, fast, from 12-bit counts (\`update_adc\`)" ;;
     kalman-f32-fast-angle-corrected) echo "Kalman ATO, \`f32\`, fast, angle correction of order 4 (\`update_corrected\`)" ;;
     kalman-fixed) echo "Kalman ATO, fixed point" ;;
+    kalman-fixed-track) echo "Kalman ATO, fixed point, \`track\` (estimate on demand)" ;;
+    kalman-fixed-track-unmonitored) echo "Kalman ATO, fixed point, \`track\`, diagnostics off" ;;
     second-order-f32-fast) echo "2nd-order ATO, \`f32\`, fast sin/cos" ;;
     second-order-f32-exact) echo "2nd-order ATO, \`f32\`, exact sin/cos" ;;
     third-order-f32-fast) echo "3rd-order ATO (pole placement), \`f32\`, fast sin/cos" ;;

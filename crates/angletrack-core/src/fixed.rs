@@ -7,13 +7,16 @@
 
 mod binary_angle;
 mod gains;
+mod shift;
 mod state;
 mod update;
 
 pub use binary_angle::{binary_angle, binary_angle_to_rad};
 pub use gains::{FixedConstants, FixedGains, MIN_NORMALISED_AMPLITUDE_COUNTS};
 pub use state::{FixedEstimate, FixedState};
-pub use update::{MAX_RECIPROCAL, MIN_RECIPROCAL};
+pub use update::{MAX_RECIPROCAL, MIN_RECIPROCAL, MONITOR_WINDOW};
 
+#[cfg(test)]
+mod monitor_tests;
 #[cfg(test)]
 mod tests;

@@ -407,6 +407,10 @@ impl Observers {
         let gains = FixedGains::new(self.kalman.map(f64::from), f64::from(self.sample_period_s))?;
         Ok(Fixed(gains, self.sample_period_s))
     }
+    fn fixed_unmonitored(&self) -> Result<Fixed<3>, ConfigError> {
+        let Fixed(gains, sample_period_s) = self.fixed()?;
+        Ok(Fixed(gains.with_monitor(None)?, sample_period_s))
+    }
     fn pll<A: Atan2>(&self) -> PhaseLockedLoop<A> {
         PhaseLockedLoop::new(PLL_BANDWIDTH_RAD_S, self.sample_period_s)
     }
@@ -474,6 +478,8 @@ variants! {
     "kalman-f32-fast-adc" => |o| Ok(Adc(fast(o.kalman()?), AdcScaling::twos_complement(12)?)),
     "kalman-f32-fast-angle-corrected" => |o| Ok(Corrected(fast(o.kalman()?), correction()?)),
     "kalman-fixed" => |o| o.fixed(),
+    "kalman-fixed-track" => |o| o.fixed().map(FixedTrack),
+    "kalman-fixed-track-unmonitored" => |o| o.fixed_unmonitored().map(FixedTrack),
     "baseline-atan2-pll-f32" => |o| Ok(o.pll::<LibmAtan2>()),
     "baseline-fast-atan2-pll-f32" => |o| Ok(o.pll::<FastAtan2>()),
 }
@@ -558,5 +564,32 @@ where
             speed: e.speed as f32 * RAD_PER_UNIT * rate,
             acceleration: e.acceleration as f32 * acceleration_unit * rate * rate,
         }
+    }
+}
+
+/// The core's fixed-point observer through `FixedGains::track` (the state updated, no
+/// estimate returned), the estimate read on demand outside the counted update.
+#[derive(Debug, Clone, Copy)]
+pub struct FixedTrack<const N: usize>(pub Fixed<N>);
+
+impl<const N: usize> Tracker for FixedTrack<N>
+where
+    Order<N>: SupportedOrder,
+{
+    type State = FixedState<N>;
+    type Input = i16;
+    type Output = ();
+    fn new_state(&self) -> FixedState<N> {
+        FixedState::new()
+    }
+    fn input(y: f32) -> i16 {
+        fixed_counts(y)
+    }
+    #[inline(always)]
+    fn update(&self, state: &mut FixedState<N>, y_c: i16, y_s: i16) {
+        self.0.0.track(state, y_c, y_s);
+    }
+    fn record(&self, state: &FixedState<N>, _: &()) -> Record {
+        self.0.record(state, &FixedGains::estimate(state))
     }
 }

@@ -193,6 +193,7 @@ where
         let (y_c, y_s) = (black_box(i16::MIN + k), black_box(i16::MAX - k));
         let e = gains.update(&mut state, y_c, y_s);
         sum += e.turns + i64::from(e.angle) + i64::from(e.speed) + i64::from(e.phase_error);
+        gains.track(&mut state, black_box(y_s), black_box(y_c));
     }
     let e = FixedGains::<N>::estimate(&state);
     (sum + i64::from(e.acceleration) + i64::from(state.latched_faults().bits())) as f32

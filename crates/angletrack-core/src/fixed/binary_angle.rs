@@ -113,7 +113,8 @@ pub fn binary_angle_to_rad(angle: i32) -> f64 {
 pub(crate) fn detect(angle: i32, y_c: i32, y_s: i32) -> (i32, i32, i32, i32) {
     // The nearest entry: the top 8 bits of angle + half a step, as an unsigned turn.
     let index = (angle.wrapping_add(1 << 23) as u32 >> 24) as usize;
-    let residual = angle.wrapping_sub((index << 24) as u32 as i32);
+    // The angle less the entry's, in [-2^23, 2^23): its low 24 bits, sign-extended.
+    let residual = (angle << 8) >> 8;
     let sin = i32::from(SIN_Q15[index]);
     let cos = i32::from(SIN_Q15[index + STEPS_PER_TURN / 4]);
     let phase_error = y_s * cos - y_c * sin;

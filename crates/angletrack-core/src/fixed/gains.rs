@@ -2,6 +2,7 @@
 //! floating-point gains a design gives (`docs/theory.md §14`), and the integer thresholds of
 //! its diagnostics.
 
+use super::shift::Shift;
 use crate::error::{ConfigError, Parameter};
 use crate::gains::{Order, SupportedOrder};
 use crate::stability::for_f64::check_stability;
@@ -29,13 +30,16 @@ pub struct FixedGains<const N: usize> {
     /// `l_i 2^(17 + F_i) / (2 pi) = mantissa_i 2^-shift_i`, the mantissa of 15 bits: the
     /// correction of state `i` is `mantissa_i eps 2^-shift_i` for `eps` in Q15.
     pub(crate) mantissa: [i32; N],
-    pub(crate) shift: [u32; N],
+    pub(crate) shift: [Shift; N],
     /// Half a unit of each shift (`2^(shift_i - 1)`, 0 for no shift): the corrections round
     /// to nearest.
     pub(crate) rounding: [i32; N],
     /// Fraction bits `F` of the acceleration state below 2^-32 turn per sample^2 (the angle
     /// and the speed have none).
     pub(crate) acceleration_bits: u32,
+    /// The shifts of the acceleration's terms in the predicted angle and speed (`F + 1`
+    /// and `F`).
+    pub(crate) acceleration_shift: [Shift; 2],
     /// The sample period (s), for conversions to physical units.
     pub(crate) sample_period_s: f64,
     pub(crate) monitor: FixedThresholds,
@@ -244,9 +248,13 @@ where
         }
         let fixed = Self {
             mantissa,
-            shift,
+            shift: shift.map(Shift::new),
             rounding: shift.map(|s| if s == 0 { 0 } else { 1 << (s - 1) }),
             acceleration_bits,
+            acceleration_shift: [
+                Shift::new(acceleration_bits + 1),
+                Shift::new(acceleration_bits),
+            ],
             sample_period_s,
             monitor: FixedThresholds::for_amplitude(16384.0),
         };
@@ -260,8 +268,9 @@ impl<const N: usize> FixedGains<N> {
     /// the loop that runs, whose stability [`FixedGains::new`] checked.
     pub fn gains(&self) -> [f64; N] {
         core::array::from_fn(|i| {
-            let exponent =
-                -(self.shift[i] as i32) - 17 - fraction_bits(i, self.acceleration_bits) as i32;
+            let exponent = -(self.shift[i].bits() as i32)
+                - 17
+                - fraction_bits(i, self.acceleration_bits) as i32;
             libm::ldexp(f64::from(self.mantissa[i]), exponent) * core::f64::consts::TAU
         })
     }
@@ -298,7 +307,7 @@ impl<const N: usize> FixedGains<N> {
     pub fn constants(&self) -> FixedConstants<N> {
         FixedConstants {
             mantissa: self.mantissa,
-            shift: self.shift,
+            shift: self.shift.map(Shift::bits),
             acceleration_bits: self.acceleration_bits,
         }
     }

@@ -1,6 +1,7 @@
 //! The state of one fixed-point channel ([`FixedState`]) and what the fixed-point update
 //! reports ([`FixedEstimate`]), in the integers of `docs/theory.md §14`.
 
+use super::update::MONITOR_WINDOW;
 use crate::faults::Faults;
 
 /// The mutable state of one fixed-point observer channel: the integer state vector (binary
@@ -29,13 +30,14 @@ pub struct FixedState<const N: usize> {
     pub(crate) turns: i64,
     /// The last sample's normalised phase error (Q15).
     pub(crate) phase_error: i32,
-    /// The last sample's faults.
+    /// The faults of the monitor's last window.
     pub(crate) faults: Faults,
     /// Faults latched since the last [`FixedState::clear_faults`].
     pub(crate) latched: Faults,
-    /// Filtered `|eps|` (Q15) and filtered in-phase component (counts times 2^7).
-    pub(crate) error_filter: i32,
-    pub(crate) in_phase_filter: i32,
+    /// The monitor's sum of `|eps|` (Q15) over the current window.
+    pub(crate) error_sum: i32,
+    /// Samples left in the monitor's window (its flags are decided when this reaches 0).
+    pub(crate) window_left: u32,
     /// Whether the first sample has set the angle.
     pub(crate) initialised: bool,
 }
@@ -57,8 +59,8 @@ impl<const N: usize> FixedState<N> {
             phase_error: 0,
             faults: Faults::NONE,
             latched: Faults::NONE,
-            error_filter: 0,
-            in_phase_filter: 1 << 20,
+            error_sum: 0,
+            window_left: MONITOR_WINDOW,
             initialised: false,
         }
     }
@@ -98,6 +100,6 @@ pub struct FixedEstimate {
     pub acceleration: i32,
     /// Normalised phase error (Q15: 2^15 is 1), about `sin(theta - angle_p)`.
     pub phase_error: i32,
-    /// The diagnostics of this sample.
+    /// The diagnostics of the monitor's last window (`docs/theory.md §14`).
     pub faults: Faults,
 }

@@ -76,6 +76,20 @@ fn reciprocal_converges_on_every_amplitude_in_range() {
 }
 
 #[test]
+fn reciprocal_stays_in_range_without_a_lower_clamp() {
+    // The lowest step of every r in range is at the largest amplitude2_half, 2^30 (both
+    // samples -32768): the tracker has no lower clamp.
+    let lowest = (MIN_RECIPROCAL..=MAX_RECIPROCAL)
+        .map(|r| track_reciprocal(r, 1 << 30))
+        .min();
+    assert_eq!(lowest, Some(MIN_RECIPROCAL));
+    let largest = (MIN_RECIPROCAL..=MAX_RECIPROCAL)
+        .map(|r| track_reciprocal(r, 0))
+        .max();
+    assert_eq!(largest, Some(MAX_RECIPROCAL));
+}
+
+#[test]
 fn quantisation_keeps_15_bits_and_refuses_gains_that_round_to_zero() {
     let gains = FixedGains::<3>::new(KALMAN, 50e-6).unwrap();
     for (q, l) in gains.gains().iter().zip(KALMAN) {

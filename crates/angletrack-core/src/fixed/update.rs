@@ -3,7 +3,7 @@
 //! without a division, the first sample, and the monitor in integers.
 
 use super::binary_angle::{atan2, detect};
-use super::gains::{FixedGains, fraction_bits};
+use super::gains::FixedGains;
 use super::state::{FixedEstimate, FixedState};
 use crate::faults::Faults;
 use crate::recursion::{Arithmetic, step};
@@ -19,6 +19,11 @@ pub const MIN_RECIPROCAL: i32 = 2048;
 /// ([`MIN_NORMALISED_AMPLITUDE_COUNTS`](crate::fixed::MIN_NORMALISED_AMPLITUDE_COUNTS)).
 pub const MAX_RECIPROCAL: i32 = (1 << 15) - 1;
 
+/// Samples per window of the fixed-point monitor: the flags are decided at each window's
+/// end, so a fault present over a whole window is flagged at most `2 W - 1` samples after it
+/// starts (`docs/theory.md §14`).
+pub const MONITOR_WINDOW: u32 = 16;
+
 /// The phase detector of the fixed-point path: the binary angle's sine table
 /// ([`detect`]). Zero-sized.
 #[derive(Debug, Clone, Copy, Default)]
@@ -28,7 +33,11 @@ pub(crate) struct SineTable;
 /// `m = amplitude2_half 2^-53`, so that `r` tends to `2^27 / sqrt(y_c^2 + y_s^2)`
 /// (`docs/theory.md §14`). The factor is kept in [1/2, 3/2], so a far-off `r` (a step of the
 /// amplitude) moves by at most half or half again per sample and converges; the result is
-/// kept in [`MIN_RECIPROCAL`], [`MAX_RECIPROCAL`]. Every product is below 2^31:
+/// kept at most [`MAX_RECIPROCAL`] and stays at least [`MIN_RECIPROCAL`] (from any `r` in
+/// range) without a clamp: the result is non-decreasing in the factor, the factor
+/// non-increasing in the amplitude, and at the largest (`amplitude2_half = 2^30`) every `r`
+/// in range steps to at least `MIN_RECIPROCAL` (test
+/// `reciprocal_stays_in_range_without_a_lower_clamp`). Every product is below 2^31:
 /// `r^2 < 2^30`, `(r^2 >> 15)(m2 / 2^16) <= 2^15 2^15`, `r f <= 32767 49152`.
 #[inline(always)]
 pub(crate) fn track_reciprocal(reciprocal: i32, amplitude2_half: i32) -> i32 {
@@ -37,7 +46,7 @@ pub(crate) fn track_reciprocal(reciprocal: i32, amplitude2_half: i32) -> i32 {
     // (3 - x 2^-23) / 2 in Q15.
     let factor = ((3 << 23) - x) >> 9;
     let factor = factor.max(1 << 14);
-    ((reciprocal * factor) >> 15).clamp(MIN_RECIPROCAL, MAX_RECIPROCAL)
+    ((reciprocal * factor) >> 15).min(MAX_RECIPROCAL)
 }
 
 /// `(y_c^2 + y_s^2) / 2` of a sample in [-32768, 32767]: at most 2^30.
@@ -71,9 +80,11 @@ impl<const N: usize> Arithmetic<SineTable, N> for FixedGains<N> {
             while j < N {
                 // The angle and speed have no fraction bits: only the acceleration's shift
                 // is a variable (the loops unroll, so the others are constants).
-                let shift = fraction_bits(j, self.acceleration_bits)
-                    - fraction_bits(i, self.acceleration_bits)
-                    + (j - i - 1) as u32;
+                let shift = if j < 2 {
+                    (j - i - 1) as u32
+                } else {
+                    self.acceleration_shift[i].bits()
+                };
                 p[i] = p[i].wrapping_add(x[j] >> shift);
                 j += 1;
             }
@@ -101,15 +112,16 @@ impl<const N: usize> Arithmetic<SineTable, N> for FixedGains<N> {
     }
 
     /// `eps = phase_error / amplitude` in Q15, by the reciprocal tracked with this sample,
-    /// kept in [-2^15, 2^15] (the sine's range; beyond it only while the tracker catches up
-    /// with an amplitude step).
+    /// kept in [-2^15, 2^15 - 1] (the sine's range, less a unit at the top: one saturation
+    /// instruction on a Cortex-M4; beyond it only while the tracker catches up with an
+    /// amplitude step).
     #[inline(always)]
     fn normalise(reciprocal: &mut i32, sample: &Sample<i32>, phase_error: i32) -> i32 {
         if !sample.valid {
             return 0;
         }
         *reciprocal = track_reciprocal(*reciprocal, sample.amplitude2);
-        normalised(phase_error, *reciprocal).clamp(-(1 << 15), 1 << 15)
+        normalised(phase_error, *reciprocal).clamp(-(1 << 15), (1 << 15) - 1)
     }
 
     /// `x_i += (mantissa_i eps + rounding_i) >> shift_i`, rounded to nearest (a floor would
@@ -122,7 +134,7 @@ impl<const N: usize> Arithmetic<SineTable, N> for FixedGains<N> {
     fn correct(&self, x: &[i32; N], p: &mut [i32; N], eps: i32) -> (i32, i32) {
         let mut i = 0;
         while i < N {
-            let delta = (self.mantissa[i] * eps + self.rounding[i]) >> self.shift[i];
+            let delta = (self.mantissa[i] * eps + self.rounding[i]) >> self.shift[i].bits();
             p[i] = if i == 2 {
                 p[i].saturating_add(delta)
             } else {
@@ -171,10 +183,34 @@ impl<const N: usize> FixedGains<N> {
     /// ```
     #[inline]
     pub fn update(&self, state: &mut FixedState<N>, y_c: i16, y_s: i16) -> FixedEstimate {
+        self.track(state, y_c, y_s);
+        Self::estimate(state)
+    }
+
+    /// [`FixedGains::update`] without the estimate: the state (and its faults) updated,
+    /// the estimate read on demand by [`FixedGains::estimate`] (the cheaper per-sample
+    /// entry point where the estimate is read less often than every sample).
+    ///
+    /// ```
+    /// use angletrack_core::{Faults, FixedGains, FixedState};
+    /// let gains = FixedGains::<3>::new([0.1578, 0.0126, 0.000_34], 50e-6)?;
+    /// let mut state = FixedState::new();
+    /// for k in 0..2000 {
+    ///     let theta = 0.1 * k as f64;
+    ///     let (c, s) = ((16384.0 * theta.cos()) as i16, (16384.0 * theta.sin()) as i16);
+    ///     gains.track(&mut state, c, s);
+    /// }
+    /// let e = FixedGains::estimate(&state);
+    /// assert!((gains.speed_rad_s(&e) - 2000.0).abs() < 0.1);
+    /// assert_eq!(e.faults, Faults::NONE);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    #[inline]
+    pub fn track(&self, state: &mut FixedState<N>, y_c: i16, y_s: i16) {
         let (y_c, y_s) = (i32::from(y_c), i32::from(y_s));
         if !state.initialised {
             self.initialise(state, y_c, y_s);
-            return Self::estimate(state);
+            return;
         }
         let sample = Sample {
             y_c,
@@ -190,70 +226,55 @@ impl<const N: usize> FixedGains<N> {
             &mut state.reciprocal,
             sample,
         );
-        state.turns = state.turns.wrapping_add(i64::from(step.whole));
+        // A turn is crossed rarely: the 64-bit count is read and written only then.
+        if step.whole != 0 {
+            state.turns = state.turns.wrapping_add(i64::from(step.whole));
+        }
         state.phase_error = step.eps;
-        state.faults = if self.monitor.enabled {
-            self.observe(state, step.eps, step.in_phase, y_c, y_s)
-        } else {
-            Faults::NONE
-        };
-        Self::estimate(state)
+        if self.monitor.enabled {
+            self.observe(state, step.eps, step.in_phase, y_c, y_s);
+        }
     }
 
-    /// The monitor (`docs/theory.md §14`): loss of signal and degradation from the tracked
-    /// reciprocal (an amplitude estimate), loss of tracking from the filtered `|eps|` and the
-    /// speed, false lock from the sign of the filtered in-phase component, with the float monitor's
-    /// default thresholds and a filter time constant of 16 samples; a false lock re-acquires
-    /// the angle from `atan2`.
+    /// The monitor's per-sample part (`docs/theory.md §14`): `|eps|` summed over a window
+    /// of [`MONITOR_WINDOW`] samples (at most 2^19: no overflow), and the flags decided at
+    /// the window's end.
     #[inline(always)]
-    fn observe(
-        &self,
-        state: &mut FixedState<N>,
-        eps: i32,
-        in_phase: i32,
-        y_c: i32,
-        y_s: i32,
-    ) -> Faults {
+    fn observe(&self, state: &mut FixedState<N>, eps: i32, in_phase: i32, y_c: i32, y_s: i32) {
+        state.error_sum += eps.abs();
+        state.window_left -= 1;
+        if state.window_left == 0 {
+            self.decide(state, in_phase, y_c, y_s);
+        }
+    }
+
+    /// The flags at a window's end (out of line: once per window), latched, and the
+    /// re-acquisition after a false lock: loss of signal and degradation from the tracked
+    /// reciprocal (an amplitude estimate), loss of tracking from the window's mean `|eps|`
+    /// and the speed, false lock from the sign of the window's last in-phase component, with
+    /// the float monitor's default thresholds.
+    #[inline(never)]
+    fn decide(&self, state: &mut FixedState<N>, in_phase: i32, y_c: i32, y_s: i32) {
         let t = &self.monitor;
-        // |eps| <= 2^15 and the filters stay within the range of their inputs.
-        state.error_filter += (eps.abs() - state.error_filter) >> 4;
-        // The false-lock test is the filtered in-phase component's sign: the raw component
-        // scaled down by 2^8 (|.| < 6e6) needs no normalisation.
-        state.in_phase_filter += ((in_phase >> 8) - state.in_phase_filter) >> 4;
         let r = state.reciprocal;
         let speed = if N > 1 { state.x[1] } else { 0 };
-        if r <= t.degradation_low
-            && r >= t.degradation_high
-            && state.error_filter <= t.loss_of_tracking
-            && speed.unsigned_abs() <= t.max_speed as u32
-            && state.in_phase_filter >= 0
-        {
-            return Faults::NONE;
-        }
-        self.flag(state, speed, y_c, y_s)
-    }
-
-    /// The flags outside the usual case (out of line: a fault is rare), latched, and the
-    /// re-acquisition after a false lock.
-    #[cold]
-    #[inline(never)]
-    fn flag(&self, state: &mut FixedState<N>, speed: i32, y_c: i32, y_s: i32) -> Faults {
-        let t = &self.monitor;
-        let r = state.reciprocal;
         let signal_lost = r >= t.loss_of_signal;
-        let false_lock = !signal_lost && state.in_phase_filter < 0;
+        let false_lock = !signal_lost && in_phase < 0;
         let faults = Faults::when(signal_lost, Faults::LOSS_OF_SIGNAL)
             | Faults::when(
                 r > t.degradation_low || r < t.degradation_high,
                 Faults::DEGRADATION_OF_SIGNAL,
             )
             | Faults::when(
-                state.error_filter > t.loss_of_tracking
+                state.error_sum > t.loss_of_tracking * MONITOR_WINDOW as i32
                     || speed.unsigned_abs() > t.max_speed as u32,
                 Faults::LOSS_OF_TRACKING,
             )
             | Faults::when(false_lock, Faults::FALSE_LOCK);
+        state.faults = faults;
         state.latched |= faults;
+        state.error_sum = 0;
+        state.window_left = MONITOR_WINDOW;
         if false_lock {
             let angle = atan2(y_s, y_c);
             state.turns = state
@@ -261,9 +282,7 @@ impl<const N: usize> FixedGains<N> {
                 .wrapping_add(i64::from(crossed_turns(state.x[0], angle)));
             state.x[0] = angle;
             state.next_angle = Arithmetic::<SineTable, N>::predict(self, &state.x)[0];
-            state.in_phase_filter = 1 << 20;
         }
-        faults
     }
 
     /// The first sample: the angle from `atan2`, speed and acceleration 0, the reciprocal
@@ -277,8 +296,14 @@ impl<const N: usize> FixedGains<N> {
         state.x[0] = atan2(y_s, y_c);
         state.next_angle = state.x[0];
         let amplitude2 = amplitude2_half(y_c, y_s);
+        // Until a fixed point (or 24 steps): the same result as 24 steps, and a loop that is
+        // not unrolled into a kilobyte of code.
         for _ in 0..24 {
-            state.reciprocal = track_reciprocal(state.reciprocal, amplitude2);
+            let next = track_reciprocal(state.reciprocal, amplitude2);
+            if next == state.reciprocal {
+                break;
+            }
+            state.reciprocal = next;
         }
         state.initialised = true;
     }

@@ -1,0 +1,144 @@
+//! The fixed-point monitor's latency per fault (`docs/theory.md §14`): each fault, begun at
+//! every offset within the monitor's window, is flagged within its documented bound, and
+//! nothing is flagged before it.
+
+use super::update::MONITOR_WINDOW;
+use super::*;
+use crate::Faults;
+
+const KALMAN: [f64; 3] = [0.1578, 0.0126, 0.000_34];
+
+/// The window (samples).
+const W: usize = MONITOR_WINDOW as usize;
+
+/// Samples the reciprocal tracker takes from the nominal amplitude to beyond a threshold of
+/// the monitor (it moves by a factor of 3/2 or 1/2 per sample): the amplitude faults'
+/// latency is `W + TRACKER_SAMPLES - 1`.
+const TRACKER_SAMPLES: usize = 4;
+
+/// The signal of amplitude `amplitude` (counts) at `theta` (rad), rounded to counts.
+fn counts(amplitude: f64, theta: f64) -> (i16, i16) {
+    (
+        libm::round(amplitude * libm::cos(theta)) as i16,
+        libm::round(amplitude * libm::sin(theta)) as i16,
+    )
+}
+
+/// The worst number of samples, over every start within the window, from the first sample
+/// of the fault to the first estimate that shows `flag`, asserted below `bound`. The signal
+/// is healthy (16384 counts, 0.01 rad per sample) for 200 samples plus the offset, then
+/// `fault(k, theta)` (k from 0 at the fault's start).
+fn worst_latency(flag: Faults, bound: usize, fault: impl Fn(usize, f64) -> (i16, i16)) -> usize {
+    let gains = FixedGains::<3>::new(KALMAN, 50e-6).unwrap();
+    let mut worst = 0;
+    for offset in 0..W {
+        let mut state = FixedState::new();
+        let healthy = 200 + offset;
+        for k in 0..healthy {
+            let (c, s) = counts(16384.0, 0.01 * k as f64);
+            gains.track(&mut state, c, s);
+        }
+        assert_eq!(state.latched_faults(), Faults::NONE, "offset {offset}");
+        let latency = (0..4 * W).find(|&k| {
+            let (c, s) = fault(k, 0.01 * (healthy + k) as f64);
+            gains.track(&mut state, c, s);
+            FixedGains::estimate(&state).faults.contains(flag)
+        });
+        let latency = latency.map_or(usize::MAX, |k| k + 1);
+        assert!(latency <= bound, "{flag:?}, offset {offset}: {latency}");
+        worst = worst.max(latency);
+    }
+    worst
+}
+
+#[test]
+fn loss_of_signal_is_flagged_within_a_window_and_the_trackers_convergence() {
+    // The sensor disconnected: 2000 counts left (below a quarter of 16384).
+    let worst = worst_latency(
+        Faults::LOSS_OF_SIGNAL,
+        W + TRACKER_SAMPLES - 1,
+        |_, theta| counts(2000.0, theta),
+    );
+    // A fault begun just before a window's end waits for the next one.
+    assert!(worst > W, "{worst}");
+}
+
+#[test]
+fn degradation_of_signal_is_flagged_both_ways() {
+    // 6000 counts (below half of nominal, above a quarter) and 30000 (above 3/2).
+    for amplitude in [6000.0, 30000.0] {
+        worst_latency(
+            Faults::DEGRADATION_OF_SIGNAL,
+            W + TRACKER_SAMPLES - 1,
+            |_, theta| counts(amplitude, theta),
+        );
+    }
+}
+
+#[test]
+fn loss_of_tracking_is_flagged_within_two_windows() {
+    // The angle alternating by a quarter turn each sample: the loop cannot follow, its
+    // phase error is about sin(45 degrees) in magnitude, the in-phase component positive.
+    let worst = worst_latency(Faults::LOSS_OF_TRACKING, 2 * W - 1, |k, theta| {
+        counts(
+            16384.0,
+            theta
+                + if k % 2 == 0 {
+                    0.0
+                } else {
+                    core::f64::consts::FRAC_PI_2
+                },
+        )
+    });
+    assert!(worst > W, "{worst}");
+}
+
+#[test]
+fn false_lock_is_flagged_within_a_window_and_re_acquired() {
+    // A half-turn jump: the phase error is zero, the in-phase component negative.
+    let worst = worst_latency(Faults::FALSE_LOCK, W, |_, theta| {
+        counts(16384.0, theta + core::f64::consts::PI)
+    });
+    assert!(worst >= W / 2, "{worst}");
+    // After the flag, the angle is the signal's.
+    let gains = FixedGains::<3>::new(KALMAN, 50e-6).unwrap();
+    let mut state = FixedState::new();
+    for _ in 0..100 {
+        gains.track(&mut state, 16384, 0);
+    }
+    for _ in 0..W {
+        gains.track(&mut state, -16384, 0);
+    }
+    assert!(state.latched_faults().contains(Faults::FALSE_LOCK));
+    gains.track(&mut state, -16384, 0);
+    let angle = FixedGains::estimate(&state).angle;
+    assert!(angle.wrapping_sub(i32::MIN).abs() < 1 << 20, "{angle}");
+}
+
+#[test]
+fn speed_beyond_a_quarter_turn_per_sample_is_loss_of_tracking() {
+    // The loop locked on a signal at 0.3 turn per sample (its phase error near zero): only
+    // the speed check flags it, at the window's end.
+    let gains = FixedGains::<3>::new(KALMAN, 50e-6).unwrap();
+    let speed_turns = 0.3;
+    let theta = |k: usize| core::f64::consts::TAU * speed_turns * k as f64;
+    let mut state = FixedState::new();
+    gains.track(&mut state, 16384, 0);
+    state.x[1] = binary_angle(core::f64::consts::TAU * speed_turns);
+    state.next_angle = state.x[0].wrapping_add(state.x[1]);
+    let mut flagged = None;
+    for k in 1..=W {
+        let (c, s) = counts(16384.0, theta(k));
+        gains.track(&mut state, c, s);
+        assert!(
+            state.phase_error.abs() < 100,
+            "k {k}: {}",
+            state.phase_error
+        );
+        if flagged.is_none() && FixedGains::estimate(&state).faults != Faults::NONE {
+            flagged = Some((k, FixedGains::estimate(&state).faults));
+        }
+    }
+    // The first window starts after the first sample (which sets the angle).
+    assert_eq!(flagged, Some((W, Faults::LOSS_OF_TRACKING)));
+}

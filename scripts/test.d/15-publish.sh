@@ -85,15 +85,17 @@ echo "--- cargo publish --dry-run"
 # from its package against a local registry of the others (the core is not on crates.io
 # yet, so the std crate could not be verified on its own). --allow-dirty: the test command
 # also runs on work trees with uncommitted changes.
-# Cargo unpacks each verified package into its registry's source cache, and builds it into
-# target/package, taking a version found in either as immutable, as a registry's are: an
-# earlier run's copy of these unpublished crates would be built instead of the current one.
-# Both are removed first.
+# Cargo unpacks each verified package into its registry's source cache and builds it into
+# the target directory, and takes a registry version it finds unpacked or built as
+# immutable: an earlier run's copy of these unpublished crates would be used instead of the
+# current one. Their unpacked copies and their builds' fingerprints are removed first.
 rm -rf "$CARGO_TARGET_DIR/package"
 cargo_home="${CARGO_HOME:-$HOME/.cargo}"
 while read -r name _msrv dir; do
   version=$(sed -n 's/^version = "\(.*\)"/\1/p' "$dir/Cargo.toml" | head -n 1)
   rm -rf "$cargo_home"/registry/src/*/"$name-$version"
+  [ -d "$CARGO_TARGET_DIR/debug/.fingerprint" ] &&
+    find "$CARGO_TARGET_DIR/debug/.fingerprint" -maxdepth 1 -regex ".*/$name-[0-9a-f]*" -exec rm -rf {} +
 done <<<"$crates"
 log="$scratch/publish.log"
 status=0

@@ -9,12 +9,12 @@
 //! the reciprocal tracker within its range.
 #![no_main]
 
+use angletrack_core::fixed::{MAX_RECIPROCAL, MIN_RECIPROCAL};
 use angletrack_core::{
     AdcScaling, CalibrationSettings, Calibrator, Estimate, Exact, Fast, FaultThresholds,
     FixedGains, FixedState, Gains, ObserverState, Order, Real, SensorCalibration, SinCos,
     SupportedOrder,
 };
-use angletrack_core::fixed::{MAX_RECIPROCAL, MIN_RECIPROCAL};
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
 
@@ -204,9 +204,12 @@ where
             Err(_) => return,
         }
     }
-    let mut state = FixedState::new();
+    // `track` (the state only) must leave exactly the state `update` leaves.
+    let (mut state, mut tracked) = (FixedState::new(), FixedState::new());
     for &(c, s) in &fixed.samples {
         let e = gains.update(&mut state, c, s);
+        gains.track(&mut tracked, c, s);
+        assert_eq!(FixedGains::<N>::estimate(&tracked), e);
         assert!(e.phase_error.abs() <= 1 << 15, "{e:?}");
         assert!((MIN_RECIPROCAL..=MAX_RECIPROCAL).contains(&state.reciprocal()));
     }

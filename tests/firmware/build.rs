@@ -11,6 +11,10 @@ use angletrack_benches::{
 // Shared with the firmware, which alone checks the fast arctangent's error bound.
 #[allow(dead_code)]
 mod baseline;
+#[path = "src/trackers.rs"]
+// Shared with the firmware.
+#[allow(dead_code)]
+mod trackers;
 #[path = "src/variants.rs"]
 // Shared with the firmware, which alone reads the records back (`decode`).
 #[allow(dead_code)]

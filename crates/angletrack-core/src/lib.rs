@@ -110,6 +110,7 @@
 mod adc;
 mod angle_correction;
 mod bank;
+mod block;
 mod calibration;
 mod calibration_settings;
 mod const_config;

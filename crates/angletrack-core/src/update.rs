@@ -1,8 +1,8 @@
-//! The one predictor-corrector recursion that every angle tracking observer runs
-//! (`docs/theory.md §5`), on one channel: the per-sample [`Gains::update`] with its rare
-//! cases (first sample, rejected sample, false lock), and its block forms
-//! [`Gains::update_block`] and [`Gains::update_each`]. A
-//! [`ChannelBank`](crate::ChannelBank) runs the same step on each of its lanes.
+//! The float observers' per-sample update around the one recursion (`recursion.rs`,
+//! `docs/theory.md §5`), on one channel: [`Gains::update`] and [`Gains::track`] with their
+//! rare cases (first sample, rejected sample, false lock) and the windowed monitor's
+//! decision; the block forms are in `block.rs`. A [`ChannelBank`](crate::ChannelBank) runs
+//! the same step on each of its lanes.
 //!
 //! The update needs no [`SupportedOrder`](crate::SupportedOrder) bound: it is written for
 //! any order `N`, and a [`Gains`] exists only for the orders its constructors accept.
@@ -468,67 +468,6 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             phase_error,
             faults,
         }
-    }
-
-    /// Runs the observer over a block of samples, calling `sink(k, estimate)` for each
-    /// sample `k`; no allocation. Processes `min(y_c.len(), y_s.len())` samples and returns
-    /// that count.
-    ///
-    /// ```
-    /// use angletrack_core::{Gains, ObserverState};
-    /// let gains = Gains::<f32, 3>::new([0.3, 0.04, 0.002], 1e-4)?;
-    /// let mut state = ObserverState::new();
-    /// let (y_c, y_s) = ([1.0_f32; 64], [0.0_f32; 64]);
-    /// let mut speeds = [0.0_f32; 64];
-    /// let n = gains.update_each(&mut state, &y_c, &y_s, |k, e| speeds[k] = e.speed);
-    /// assert_eq!(n, 64);
-    /// # Ok::<(), angletrack_core::ConfigError>(())
-    /// ```
-    #[inline]
-    pub fn update_each<F: FnMut(usize, Estimate<T>)>(
-        &self,
-        state: &mut ObserverState<T, N>,
-        y_c: &[T],
-        y_s: &[T],
-        mut sink: F,
-    ) -> usize {
-        let n = y_c.len().min(y_s.len());
-        let mut local = *state;
-        for (k, (&c, &s)) in y_c.iter().zip(y_s).enumerate() {
-            sink(k, self.update_observing(&mut local, c, s, ()));
-        }
-        *state = local;
-        n
-    }
-
-    /// Runs the observer over a block of samples into `out`; no allocation. Processes
-    /// `min(y_c.len(), y_s.len(), out.len())` samples and returns that count.
-    ///
-    /// ```
-    /// use angletrack_core::{Estimate, Gains, ObserverState};
-    /// let gains = Gains::<f64, 2>::new([0.05, 0.0012], 1e-4)?;
-    /// let mut state = ObserverState::new();
-    /// let mut out = [Estimate::default(); 3];
-    /// let n = gains.update_block(&mut state, &[1.0, 1.0, 1.0], &[0.0, 0.0, 0.0], &mut out);
-    /// assert_eq!(n, 3);
-    /// # Ok::<(), angletrack_core::ConfigError>(())
-    /// ```
-    #[inline]
-    pub fn update_block(
-        &self,
-        state: &mut ObserverState<T, N>,
-        y_c: &[T],
-        y_s: &[T],
-        out: &mut [Estimate<T>],
-    ) -> usize {
-        let mut local = *state;
-        let mut n = 0;
-        for ((&c, &s), slot) in y_c.iter().zip(y_s).zip(out.iter_mut()) {
-            *slot = self.update_observing(&mut local, c, s, ());
-            n += 1;
-        }
-        *state = local;
-        n
     }
 }
 

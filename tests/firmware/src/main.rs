@@ -23,6 +23,7 @@
 #![no_main]
 
 mod baseline;
+mod trackers;
 mod variants;
 
 use core::hint::black_box;

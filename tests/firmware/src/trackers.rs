@@ -1,0 +1,382 @@
+//! The trackers of the firmware test's variants: what one variant runs per sample
+//! ([`Tracker`]), the core's `f32` entry points ([`EntryPoint`]: `Plain`, `Calibrated`,
+//! `Adc`, `Corrected`, `CalibratedOff`), those that return no estimate (`Track`,
+//! `TrackCalibratedOff`), the fixed-point observer (`Fixed`, `FixedTrack`) and the
+//! baselines' PLL. Shared, like `variants.rs`, by the build script and the firmware.
+
+use angletrack_core::{
+    AdcScaling, AngleCorrection, Calibrator, Estimate, FixedEstimate, FixedGains, FixedState,
+    Gains, ObserverState, Order, SinCos, SupportedOrder,
+};
+
+use crate::baseline::{Atan2, PhaseLockedLoop, PllState};
+use crate::variants::Record;
+
+/// What a variant runs per sample, and how its result compares with the host's.
+pub trait Tracker {
+    /// The per-channel state.
+    type State;
+    /// One input sample as the entry point takes it.
+    type Input: Copy;
+    /// What one update returns.
+    type Output: Copy + Default;
+    /// Whether [`Tracker::update_block`] is the core's block form (else it runs nothing).
+    const BLOCK: bool = false;
+    /// A fresh state.
+    fn new_state(&self) -> Self::State;
+    /// An input sample (amplitude about 1) as the entry point takes it; converted outside
+    /// the counted update.
+    fn input(y: f32) -> Self::Input;
+    /// One sample.
+    fn update(&self, state: &mut Self::State, y_c: Self::Input, y_s: Self::Input) -> Self::Output;
+    /// The estimate after an update, as compared with the host's (read outside the counted
+    /// update: an entry point that returns no estimate computes it here, on demand).
+    fn record(&self, state: &Self::State, output: &Self::Output) -> Record;
+    /// All samples in one call, if [`Tracker::BLOCK`]; returns the number of outputs.
+    fn update_block(
+        &self,
+        _state: &mut Self::State,
+        _y_c: &[f32],
+        _y_s: &[f32],
+        _out: &mut [Self::Output],
+    ) -> usize {
+        0
+    }
+}
+
+/// One of the core's `Gains` entry points on an `f32` observer ([`Plain`], [`Calibrated`],
+/// [`Adc`], [`Corrected`]): what differs between them. Each is a [`Tracker`] through the one
+/// implementation below, which returns the core's estimate and records it.
+pub trait EntryPoint {
+    /// The per-channel state.
+    type State: Default;
+    /// One input sample as the entry point takes it.
+    type Input: Sample;
+    /// Whether [`EntryPoint::update_block`] is the core's block form (else it runs nothing).
+    const BLOCK: bool = false;
+    /// A fresh state.
+    fn new_state(&self) -> Self::State {
+        Self::State::default()
+    }
+    /// One sample.
+    fn update(&self, state: &mut Self::State, y_c: Self::Input, y_s: Self::Input) -> Estimate<f32>;
+    /// All samples in one call, if [`EntryPoint::BLOCK`]; returns the number of outputs.
+    fn update_block(
+        &self,
+        _state: &mut Self::State,
+        _y_c: &[f32],
+        _y_s: &[f32],
+        _out: &mut [Estimate<f32>],
+    ) -> usize {
+        0
+    }
+}
+
+/// An input sample's form, from the simulated signal's sample (amplitude about 1).
+pub trait Sample: Copy {
+    /// The signal's sample `y` in this form.
+    fn from_signal(y: f32) -> Self;
+}
+
+impl Sample for f32 {
+    fn from_signal(y: f32) -> f32 {
+        y
+    }
+}
+
+/// The [`Adc`] entry point's input: [`adc_counts`].
+impl Sample for i16 {
+    fn from_signal(y: f32) -> i16 {
+        adc_counts(y)
+    }
+}
+
+impl<E: EntryPoint> Tracker for E {
+    type State = E::State;
+    type Input = E::Input;
+    type Output = Estimate<f32>;
+    const BLOCK: bool = E::BLOCK;
+    fn new_state(&self) -> E::State {
+        EntryPoint::new_state(self)
+    }
+    fn input(y: f32) -> E::Input {
+        E::Input::from_signal(y)
+    }
+    #[inline(always)]
+    fn update(&self, state: &mut E::State, y_c: E::Input, y_s: E::Input) -> Estimate<f32> {
+        EntryPoint::update(self, state, y_c, y_s)
+    }
+    fn record(&self, _: &E::State, output: &Estimate<f32>) -> Record {
+        Record::of(output)
+    }
+    #[inline(always)]
+    fn update_block(
+        &self,
+        state: &mut E::State,
+        y_c: &[f32],
+        y_s: &[f32],
+        out: &mut [Estimate<f32>],
+    ) -> usize {
+        EntryPoint::update_block(self, state, y_c, y_s, out)
+    }
+}
+
+/// The core's `Gains::update`.
+#[derive(Debug, Clone, Copy)]
+pub struct Plain<const N: usize, S>(pub Gains<f32, N, S>);
+
+impl<const N: usize, S: SinCos<f32>> EntryPoint for Plain<N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    type State = ObserverState<f32, N>;
+    type Input = f32;
+    const BLOCK: bool = true;
+    #[inline(always)]
+    fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) -> Estimate<f32> {
+        self.0.update(state, y_c, y_s)
+    }
+    #[inline(always)]
+    fn update_block(
+        &self,
+        state: &mut Self::State,
+        y_c: &[f32],
+        y_s: &[f32],
+        out: &mut [Estimate<f32>],
+    ) -> usize {
+        self.0.update_block(state, y_c, y_s, out)
+    }
+}
+
+/// The core's `Gains::update_calibrated`, the online calibration learning.
+#[derive(Debug, Clone, Copy)]
+pub struct Calibrated<const N: usize, S>(pub Gains<f32, N, S>);
+
+impl<const N: usize, S: SinCos<f32>> EntryPoint for Calibrated<N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    type State = (ObserverState<f32, N>, Calibrator<f32>);
+    type Input = f32;
+    fn new_state(&self) -> Self::State {
+        let mut calibrator = Calibrator::new();
+        calibrator.enable();
+        (ObserverState::new(), calibrator)
+    }
+    #[inline(always)]
+    fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) -> Estimate<f32> {
+        let (observer, calibrator) = state;
+        self.0.update_calibrated(observer, calibrator, y_c, y_s)
+    }
+}
+
+/// The core's `Gains::update_adc` on [`adc_counts`] of the inputs, 12-bit two's complement.
+#[derive(Debug, Clone, Copy)]
+pub struct Adc<const N: usize, S>(pub Gains<f32, N, S>, pub AdcScaling<f32>);
+
+impl<const N: usize, S: SinCos<f32>> EntryPoint for Adc<N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    type State = ObserverState<f32, N>;
+    type Input = i16;
+    #[inline(always)]
+    fn update(&self, state: &mut Self::State, raw_c: i16, raw_s: i16) -> Estimate<f32> {
+        self.0.update_adc(state, &self.1, raw_c, raw_s)
+    }
+}
+
+/// The core's `Gains::update_corrected`: the angle-harmonic correction [`correction`].
+#[derive(Debug, Clone, Copy)]
+pub struct Corrected<const N: usize, S>(pub Gains<f32, N, S>, pub AngleCorrection<f32>);
+
+impl<const N: usize, S: SinCos<f32>> EntryPoint for Corrected<N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    type State = ObserverState<f32, N>;
+    type Input = f32;
+    #[inline(always)]
+    fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) -> Estimate<f32> {
+        self.0.update_corrected(state, &self.1, y_c, y_s)
+    }
+}
+
+/// The core's `Gains::track`: the state only, the estimate read on demand
+/// (`Gains::estimate`) where it is checked, outside the counted update.
+#[derive(Debug, Clone, Copy)]
+pub struct Track<const N: usize, S>(pub Gains<f32, N, S>);
+
+impl<const N: usize, S: SinCos<f32>> Tracker for Track<N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    type State = ObserverState<f32, N>;
+    type Input = f32;
+    type Output = ();
+    fn new_state(&self) -> Self::State {
+        ObserverState::new()
+    }
+    fn input(y: f32) -> f32 {
+        y
+    }
+    #[inline(always)]
+    fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) {
+        self.0.track(state, y_c, y_s)
+    }
+    fn record(&self, state: &Self::State, _: &()) -> Record {
+        Record::of(&self.0.estimate(state))
+    }
+}
+
+/// The core's `Gains::track_calibrated` with the calibration off (the cost of having the
+/// online calibration in the update, not of learning): the state only, the estimate read
+/// on demand where it is checked.
+#[derive(Debug, Clone, Copy)]
+pub struct TrackCalibratedOff<const N: usize, S>(pub Gains<f32, N, S>);
+
+impl<const N: usize, S: SinCos<f32>> Tracker for TrackCalibratedOff<N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    type State = (ObserverState<f32, N>, Calibrator<f32>);
+    type Input = f32;
+    type Output = ();
+    fn new_state(&self) -> Self::State {
+        (ObserverState::new(), Calibrator::new())
+    }
+    fn input(y: f32) -> f32 {
+        y
+    }
+    #[inline(always)]
+    fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) {
+        let (observer, calibrator) = state;
+        self.0.track_calibrated(observer, calibrator, y_c, y_s)
+    }
+    fn record(&self, state: &Self::State, _: &()) -> Record {
+        Record::of(&self.0.estimate(&state.0))
+    }
+}
+
+/// The core's `Gains::update_calibrated` with the calibration off.
+#[derive(Debug, Clone, Copy)]
+pub struct CalibratedOff<const N: usize, S>(pub Gains<f32, N, S>);
+
+impl<const N: usize, S: SinCos<f32>> EntryPoint for CalibratedOff<N, S>
+where
+    Order<N>: SupportedOrder,
+{
+    type State = (ObserverState<f32, N>, Calibrator<f32>);
+    type Input = f32;
+    #[inline(always)]
+    fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) -> Estimate<f32> {
+        let (observer, calibrator) = state;
+        self.0.update_calibrated(observer, calibrator, y_c, y_s)
+    }
+}
+
+/// The baseline: an arctangent and a 2nd-order PLL; its state is its estimate.
+impl<A: Atan2> Tracker for PhaseLockedLoop<A> {
+    type State = PllState;
+    type Input = f32;
+    type Output = ();
+    fn new_state(&self) -> PllState {
+        PllState::default()
+    }
+    fn input(y: f32) -> f32 {
+        y
+    }
+    #[inline(always)]
+    fn update(&self, state: &mut PllState, y_c: f32, y_s: f32) {
+        PhaseLockedLoop::update(self, state, y_c, y_s)
+    }
+    fn record(&self, state: &PllState, _: &()) -> Record {
+        Record {
+            angle: state.angle,
+            turns: state.turns,
+            speed: state.speed,
+            acceleration: 0.0,
+        }
+    }
+}
+
+/// An input sample (amplitude about 1) as a 12-bit two's complement ADC reading (full
+/// scale +-2048 counts), truncated: the same on the host and on the target.
+pub fn adc_counts(y: f32) -> i16 {
+    (y * 2048.0) as i16
+}
+
+/// An input sample (amplitude about 1) in the fixed-point variant's counts: amplitude 2^14,
+/// rounded; the same on the host and on the target.
+pub fn fixed_counts(y: f32) -> i16 {
+    let scaled = y * 16384.0;
+    (if scaled >= 0.0 {
+        scaled + 0.5
+    } else {
+        scaled - 0.5
+    }) as i16
+}
+
+/// The core's fixed-point observer (`FixedGains::update`, `docs/theory.md §14`) on 16-bit
+/// counts ([`fixed_counts`]), with its default diagnostics, and the sample period (s) its
+/// estimate is converted with (in `f32`, outside the counted update).
+#[derive(Debug, Clone, Copy)]
+pub struct Fixed<const N: usize>(pub FixedGains<N>, pub f32);
+
+impl<const N: usize> Tracker for Fixed<N>
+where
+    Order<N>: SupportedOrder,
+{
+    type State = FixedState<N>;
+    type Input = i16;
+    type Output = FixedEstimate;
+    fn new_state(&self) -> FixedState<N> {
+        FixedState::new()
+    }
+    fn input(y: f32) -> i16 {
+        fixed_counts(y)
+    }
+    #[inline(always)]
+    fn update(&self, state: &mut FixedState<N>, y_c: i16, y_s: i16) -> FixedEstimate {
+        self.0.update(state, y_c, y_s)
+    }
+    fn record(&self, _: &FixedState<N>, e: &FixedEstimate) -> Record {
+        // 2^-32 turn in rad, and 2^-F more for the acceleration's fraction bits.
+        const RAD_PER_UNIT: f32 = core::f32::consts::TAU / 4_294_967_296.0;
+        let acceleration_unit = RAD_PER_UNIT / (1u32 << self.0.acceleration_fraction_bits()) as f32;
+        let rate = 1.0 / self.1;
+        Record {
+            angle: e.angle as f32 * RAD_PER_UNIT,
+            turns: e.turns as i32,
+            speed: e.speed as f32 * RAD_PER_UNIT * rate,
+            acceleration: e.acceleration as f32 * acceleration_unit * rate * rate,
+        }
+    }
+}
+
+/// The core's fixed-point observer through `FixedGains::track` (the state updated, no
+/// estimate returned), the estimate read on demand outside the counted update.
+#[derive(Debug, Clone, Copy)]
+pub struct FixedTrack<const N: usize>(pub Fixed<N>);
+
+impl<const N: usize> Tracker for FixedTrack<N>
+where
+    Order<N>: SupportedOrder,
+{
+    type State = FixedState<N>;
+    type Input = i16;
+    type Output = ();
+    fn new_state(&self) -> FixedState<N> {
+        FixedState::new()
+    }
+    fn input(y: f32) -> i16 {
+        fixed_counts(y)
+    }
+    #[inline(always)]
+    fn update(&self, state: &mut FixedState<N>, y_c: i16, y_s: i16) {
+        self.0.0.track(state, y_c, y_s);
+    }
+    fn record(&self, state: &FixedState<N>, _: &()) -> Record {
+        self.0.record(state, &FixedGains::estimate(state))
+    }
+}

@@ -37,10 +37,12 @@ def test_learned_harmonics_match_the_sensors_within_stated_tolerances(result):
         # (measured 0.003 and 0.001).
         assert learned == pytest.approx(amplitude, abs=1e-4)
         assert abs(math.remainder(learned_phase - phase, 2 * math.pi)) < 0.02
-    # The orders the sensor lacks, beyond those that take up the offsets' and quadrature's
-    # remainder (orders 1, 2: measured 0.59 and 0.61 mrad), are below 0.1 mrad.
+    # The orders the sensor lacks are below 0.1 mrad, beyond orders 1 and 2, which take up
+    # what the online stage leaves of the offsets and of a spurious quadrature (measured 1.27
+    # and 1.47 mrad since the per-sample update's rework for issue 13, 0.59 and 0.61 before
+    # it; the residual after the correction is the same 0.21 mrad).
     assert all(rows[k][1] < 1e-4 for k in range(5, 9))
-    assert all(rows[k][1] < 1e-3 for k in (1, 2))
+    assert all(rows[k][1] < 2e-3 for k in (1, 2))
 
 
 def test_the_section_is_what_the_command_line_computes(result, tmp_path, capsys):

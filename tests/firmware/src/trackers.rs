@@ -4,6 +4,7 @@
 //! `TrackCalibratedOff`), the fixed-point observer (`Fixed`, `FixedTrack`) and the
 //! baselines' PLL. Shared, like `variants.rs`, by the build script and the firmware.
 
+use angletrack_core::fixed::binary_angle_to_rad;
 use angletrack_core::{
     AdcScaling, AngleCorrection, Calibrator, Estimate, FixedEstimate, FixedGains, FixedState,
     Gains, ObserverState, Order, SinCos, SupportedOrder,
@@ -318,10 +319,9 @@ pub fn fixed_counts(y: f32) -> i16 {
 }
 
 /// The core's fixed-point observer (`FixedGains::update`, `docs/theory.md §14`) on 16-bit
-/// counts ([`fixed_counts`]), with its default diagnostics, and the sample period (s) its
-/// estimate is converted with (in `f32`, outside the counted update).
+/// counts ([`fixed_counts`]), with its default diagnostics.
 #[derive(Debug, Clone, Copy)]
-pub struct Fixed<const N: usize>(pub FixedGains<N>, pub f32);
+pub struct Fixed<const N: usize>(pub FixedGains<N>);
 
 impl<const N: usize> Tracker for Fixed<N>
 where
@@ -341,15 +341,12 @@ where
         self.0.update(state, y_c, y_s)
     }
     fn record(&self, _: &FixedState<N>, e: &FixedEstimate) -> Record {
-        // 2^-32 turn in rad, and 2^-F more for the acceleration's fraction bits.
-        const RAD_PER_UNIT: f32 = core::f32::consts::TAU / 4_294_967_296.0;
-        let acceleration_unit = RAD_PER_UNIT / (1u32 << self.0.acceleration_fraction_bits()) as f32;
-        let rate = 1.0 / self.1;
+        // The core's conversions to physical units (in f64, outside the counted update).
         Record {
-            angle: e.angle as f32 * RAD_PER_UNIT,
+            angle: binary_angle_to_rad(e.angle) as f32,
             turns: e.turns as i32,
-            speed: e.speed as f32 * RAD_PER_UNIT * rate,
-            acceleration: e.acceleration as f32 * acceleration_unit * rate * rate,
+            speed: self.0.speed_rad_s(e) as f32,
+            acceleration: self.0.acceleration_rad_s2(e) as f32,
         }
     }
 }

@@ -115,11 +115,11 @@ impl Observers {
     }
     fn fixed(&self) -> Result<Fixed<3>, ConfigError> {
         let gains = FixedGains::new(self.kalman.map(f64::from), f64::from(self.sample_period_s))?;
-        Ok(Fixed(gains, self.sample_period_s))
+        Ok(Fixed(gains))
     }
     fn fixed_unmonitored(&self) -> Result<Fixed<3>, ConfigError> {
-        let Fixed(gains, sample_period_s) = self.fixed()?;
-        Ok(Fixed(gains.with_monitor(None)?, sample_period_s))
+        let Fixed(gains) = self.fixed()?;
+        Ok(Fixed(gains.with_monitor(None)?))
     }
     fn pll<A: Atan2>(&self) -> PhaseLockedLoop<A> {
         PhaseLockedLoop::new(PLL_BANDWIDTH_RAD_S, self.sample_period_s)

@@ -192,10 +192,11 @@ def unsigned_mid_scale(sample_dtype: str, y_c: np.ndarray, y_s: np.ndarray) -> f
     high = max(float(np.max(y_c)), float(np.max(y_s)))
     if low < 0 or high <= 0:
         return 0.0
-    if not high <= 2.0**53:
-        raise ValueError(f"capture: unsigned counts up to {high:.0f}, beyond the 2^53 an observer's float64 "
-                         "holds exactly")
-    return float(offset_binary_mid_scale(high))
+    try:
+        return float(offset_binary_mid_scale(high))
+    except ValueError as e:
+        # The binding's rule names its own argument; a capture's user gave no such argument.
+        raise ValueError(f"capture: unsigned counts up to {high:.0f}: {e}") from None
 
 
 def track_capture(s: TrackSettings) -> tuple[str, Optional[angletrack.Observer]]:

@@ -112,25 +112,94 @@ fn fixed_point_follows_the_f64_observer_on_the_paper_settings() {
     }
 }
 
-#[test]
-fn fixed_point_follows_the_f64_observer_through_an_acquisition() {
-    // The benchmarks' and the firmware test's signal: the observer starts at rest on a shaft
-    // turning at 300 rad/s and accelerating (phase errors up to 0.3 for 100 samples).
+/// The RMS difference (turns) of the two observers through the benchmarks' and the
+/// firmware test's signal, with sensor noise `noise`: the observer starts at rest on a shaft
+/// turning at 300 rad/s and accelerating (phase errors up to 0.3 for 100 samples).
+fn acquisition_rms(gains: [f64; 3], noise: f64) -> f64 {
     let profile = MotionProfile::new(0.3, 300.0).then(Motion::ConstantAcceleration {
         acceleration_rad_s2: 400.0,
         duration_s: 0.2,
     });
     let ts = angletrack::paper::BENCHMARK_SAMPLE_PERIOD_S;
-    let scenario = Scenario::generate(&profile, &SensorModel::with_noise(0.01), ts, 7).unwrap();
-    for gains in [
-        angletrack::paper::BENCHMARK_KALMAN_GAINS,
-        angletrack::paper::BENCHMARK_THIRD_ORDER_GAINS,
-    ] {
-        let rms = rms_difference(gains, &scenario);
-        println!(
-            "{gains:?}: RMS {rms:.3e} turn ({:.3} of 2^-16)",
-            rms / RMS_TOLERANCE_TURNS
-        );
+    let scenario = Scenario::generate(&profile, &SensorModel::with_noise(noise), ts, 7).unwrap();
+    let rms = rms_difference(gains, &scenario);
+    println!(
+        "{gains:?}, noise {noise}: RMS {rms:.3e} turn ({:.3} of 2^-16)",
+        rms / RMS_TOLERANCE_TURNS
+    );
+    rms
+}
+
+const ACQUISITION_GAINS: [[f64; 3]; 2] = [
+    angletrack::paper::BENCHMARK_KALMAN_GAINS,
+    angletrack::paper::BENCHMARK_THIRD_ORDER_GAINS,
+];
+
+#[test]
+fn fixed_point_follows_the_f64_observer_through_an_acquisition() {
+    for gains in ACQUISITION_GAINS {
+        let rms = acquisition_rms(gains, 0.0);
         assert!(rms < RMS_TOLERANCE_TURNS, "{gains:?}: {rms:e} turn");
+    }
+}
+
+/// RMS errors (turns) against the true angle of the fixed-point and the `f64` observers,
+/// over the second half of the scenario (after the acquisition).
+fn rms_errors<const N: usize>(gains: [f64; N], scenario: &Scenario) -> (f64, f64)
+where
+    angletrack::core::Order<N>: angletrack::core::SupportedOrder,
+{
+    let ts = scenario.sample_period_s;
+    let float = Gains::<f64, N>::new(gains, ts).expect("the design's gains");
+    let fixed = FixedGains::<N>::new(gains, ts).expect("the design's gains, quantised");
+    let (mut float_state, mut fixed_state) = (ObserverState::new(), FixedState::new());
+    let (mut fixed_sum, mut float_sum) = (0.0, 0.0);
+    let samples = scenario
+        .y_c
+        .iter()
+        .zip(&scenario.y_s)
+        .zip(&scenario.angle_rad);
+    let half = scenario.y_c.len() / 2;
+    for (k, ((&c, &s), &truth)) in samples.enumerate() {
+        let e = float.update(&mut float_state, c, s);
+        let f = fixed.update(&mut fixed_state, counts(c), counts(s));
+        if k >= half {
+            let turns = |rad: f64| rad / std::f64::consts::TAU;
+            fixed_sum += turns(fixed.position_rad(&f) - truth).powi(2);
+            float_sum += turns(e.position() - truth).powi(2);
+        }
+    }
+    let n = (scenario.y_c.len() - half) as f64;
+    ((fixed_sum / n).sqrt(), (float_sum / n).sqrt())
+}
+
+/// With sensor noise, a large-signal transient shows the one difference of design
+/// (`docs/theory.md §14`): the `f64` observer divides each sample's phase error by that
+/// sample's own magnitude, noise included, the fixed-point observer by the magnitude it
+/// reads once per window. At phase errors of 0.3 and 1 % noise the two loops' gains then
+/// differ by about 1 % from sample to sample, and the estimates by 7e-5 to 8e-5 turn RMS
+/// over the run (measured); bounded here by 2^-13 turn. Neither is the closer to the true
+/// angle once the acquisition is over: the fixed-point observer's error is within 2 % of
+/// the `f64` observer's over the run's second half. The
+/// paper's scenarios, with the same noise, stay within 2^-16 (the tests above).
+#[test]
+fn through_a_noisy_acquisition_the_difference_is_the_normalisations() {
+    for gains in ACQUISITION_GAINS {
+        let rms = acquisition_rms(gains, 0.01);
+        assert!(rms < 8.0 * RMS_TOLERANCE_TURNS, "{gains:?}: {rms:e} turn");
+        let profile = MotionProfile::new(0.3, 300.0).then(Motion::ConstantAcceleration {
+            acceleration_rad_s2: 400.0,
+            duration_s: 0.2,
+        });
+        let ts = angletrack::paper::BENCHMARK_SAMPLE_PERIOD_S;
+        let scenario = Scenario::generate(&profile, &SensorModel::with_noise(0.01), ts, 7).unwrap();
+        let (fixed, float) = rms_errors(gains, &scenario);
+        println!(
+            "{gains:?}: error against the true angle {fixed:.3e} (fixed), {float:.3e} (f64) turn"
+        );
+        assert!(
+            fixed < 1.02 * float,
+            "{gains:?}: {fixed:e} against {float:e} turn"
+        );
     }
 }

@@ -177,15 +177,14 @@ impl PyDesign {
     }
 
     /// The design's constants for the core's fixed-point observer (`docs/theory.md §14`): a
-    /// dict with `mantissa`, `shift` (one per gain), `acceleration_bits`, the
-    /// `quantised_gains` they represent and `sample_period_s`. Raises `ConfigError` naming
-    /// the gain if one rounds to zero or the quantised loop is unstable.
+    /// dict with `multiplier` (one per gain), `acceleration_shift`, the `quantised_gains`
+    /// they represent and `sample_period_s`. Raises `ConfigError` naming the gain if one
+    /// rounds to zero, does not fit, or the quantised loop is unstable.
     fn fixed_constants<'py>(&self, py: Python<'py>) -> Result<Bound<'py, PyDict>> {
         let c = self.inner.fixed_constants()?;
         let dict = PyDict::new(py);
-        dict.set_item("mantissa", c.mantissa)?;
-        dict.set_item("shift", c.shift)?;
-        dict.set_item("acceleration_bits", c.acceleration_bits)?;
+        dict.set_item("multiplier", c.multiplier)?;
+        dict.set_item("acceleration_shift", c.acceleration_shift)?;
         dict.set_item("quantised_gains", c.quantised_gains)?;
         dict.set_item("sample_period_s", c.sample_period_s)?;
         Ok(dict)

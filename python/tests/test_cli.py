@@ -206,15 +206,17 @@ def test_design_fixed_constants_in_every_format(tmp_path):
     assert run_cli(*spec, "--format", "rust", "--output", rust) == 0
     doc = json.loads(json_path.read_text())
     assert doc["format"] == "angletrack-fixed-gains" and doc["order"] == 3
-    assert all(2**14 <= m < 2**15 for m in doc["mantissa"])
+    # Each multiplier keeps at least 16 bits; the acceleration's shift is in 1..15.
+    assert all(2**16 <= m < 2**31 for m in doc["multiplier"]) and 1 <= doc["acceleration_shift"] <= 15
     design = angletrack.kalman_from_jerk_std(1e5, 0.01, 1e-4)
-    for q, g in zip(doc["quantised_gains"], design.gains.gains):
-        assert abs(q / g - 1.0) <= 2.0**-15
-    mantissa = ", ".join(str(m) for m in doc["mantissa"])
-    assert f"rdc_gain_mantissa[RDC_ORDER] = {{{mantissa}}};" in header.read_text()
-    assert f"mantissa: [{mantissa}]" in rust.read_text()
+    for q, g, m in zip(doc["quantised_gains"], design.gains.gains, doc["multiplier"]):
+        # Within half a unit of the multiplier.
+        assert abs(q / g - 1.0) <= 0.5 / m + 1e-15
+    multiplier = ", ".join(str(m) for m in doc["multiplier"])
+    assert f"rdc_gain_multiplier[RDC_ORDER] = {{{multiplier}}};" in header.read_text()
+    assert f"multiplier: [{multiplier}], acceleration_shift: {doc['acceleration_shift']}" in rust.read_text()
     source = tmp_path / "use.c"
-    source.write_text('#include "fixed.h"\nint first(void) { return rdc_gain_mantissa[0] + RDC_ACCELERATION_BITS; }\n')
+    source.write_text('#include "fixed.h"\nint first(void) { return rdc_gain_multiplier[0] + RDC_ACCELERATION_SHIFT; }\n')
     gcc = shutil.which("gcc")
     assert gcc is not None, "gcc is needed for this test"
     subprocess.run([gcc, "-std=c99", "-Wall", "-Werror", "-c", "-o", str(tmp_path / "use.o"), str(source)], check=True)

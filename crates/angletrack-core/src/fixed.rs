@@ -1,13 +1,13 @@
 //! The fixed-point observer for cores without an FPU (Cortex-M0/M0+): the angle as a binary
 //! angle (2^32 per turn, wrapping, the turns counted apart), the state in scaled integers,
 //! 16-bit samples in, a sine table for the phase detector and the phase error normalised by
-//! a tracked reciprocal of the amplitude (no division), all run by the same one recursion
-//! as the floats (`recursion.rs`). Formats, ranges, why nothing overflows and the accuracy:
+//! a reciprocal of the amplitude updated once per window (no division per sample), all run
+//! by the same one recursion as the floats (`recursion.rs`). Formats, ranges, why nothing overflows and the accuracy:
 //! `docs/theory.md §14`.
 
 mod binary_angle;
 mod gains;
-mod shift;
+mod multiply;
 mod state;
 mod update;
 

@@ -20,9 +20,13 @@ pub(crate) trait Arithmetic<U, const N: usize> {
     /// What tracks the signal's magnitude from one sample to the next (the magnitude for
     /// the floats, its reciprocal for the fixed-point path).
     type Magnitude: Copy;
+    /// The state vector (`[T; N]` for the floats; the fixed-point path keeps its
+    /// acceleration in 64 bits).
+    type Vector: Copy;
 
-    /// The Taylor step `A x` of the state (`docs/theory.md §5`).
-    fn predict(&self, x: &[Self::Value; N]) -> [Self::Value; N];
+    /// The Taylor step `A x` of the state (`docs/theory.md §5`), with its angle replaced by
+    /// `angle`, the prediction the previous sample left (wrapped).
+    fn predict(&self, x: &Self::Vector, angle: Self::Value) -> Self::Vector;
 
     /// Wraps the predicted angle into one turn; returns the whole turns removed.
     fn wrap<W: Wrap>(angle: &mut Self::Value) -> i32;
@@ -48,8 +52,8 @@ pub(crate) trait Arithmetic<U, const N: usize> {
     /// corrected angle crossed (0 where the angle is wrapped by [`Arithmetic::wrap`]).
     fn correct(
         &self,
-        x: &[Self::Value; N],
-        p: &mut [Self::Value; N],
+        x: &Self::Vector,
+        p: &mut Self::Vector,
         eps: Self::Value,
     ) -> (Self::Value, i32);
 }
@@ -61,22 +65,21 @@ pub(crate) trait Arithmetic<U, const N: usize> {
 pub(crate) fn step<A: Arithmetic<U, N>, U, W: Wrap, const N: usize>(
     arithmetic: &A,
     unit: &mut U,
-    x: &mut [A::Value; N],
+    x: &mut A::Vector,
     next_angle: &mut A::Value,
     magnitude: &mut A::Magnitude,
     sample: Sample<A::Value>,
 ) -> Step<A::Value> {
-    let mut p = arithmetic.predict(x);
-    p[0] = *next_angle;
-    let wrapped = A::wrap::<W>(&mut p[0]);
-    let detection = A::detect(unit, p[0], sample.y_c, sample.y_s);
+    let mut angle = *next_angle;
+    let wrapped = A::wrap::<W>(&mut angle);
+    let detection = A::detect(unit, angle, sample.y_c, sample.y_s);
     let eps = A::normalise(magnitude, &sample, detection.phase_error);
+    let mut p = arithmetic.predict(x, angle);
     let (next, crossed) = arithmetic.correct(x, &mut p, eps);
     *next_angle = next;
     *x = p;
     Step {
         eps,
-        in_phase: detection.in_phase,
         whole: wrapped + crossed,
         sin_cos: (detection.sin, detection.cos),
     }
@@ -85,10 +88,13 @@ pub(crate) fn step<A: Arithmetic<U, N>, U, W: Wrap, const N: usize>(
 impl<T: Real, const N: usize, S: SinCos<T>, U: SinCosUnit<T>> Arithmetic<U, N> for Gains<T, N, S> {
     type Value = T;
     type Magnitude = T;
+    type Vector = [T; N];
 
     #[inline(always)]
-    fn predict(&self, x: &[T; N]) -> [T; N] {
-        predict(x)
+    fn predict(&self, x: &[T; N], angle: T) -> [T; N] {
+        let mut p = predict(x);
+        p[0] = angle;
+        p
     }
 
     #[inline(always)]

@@ -20,10 +20,6 @@ pub(crate) struct Step<T> {
     /// Normalised phase-detector output `eps / sqrt(y_c^2 + y_s^2)`, about the sine of the
     /// phase error (0 for a sample that was not used).
     pub(crate) eps: T,
-    /// In-phase component `y_c cos + y_s sin` of the predicted angle (about `A cos(error)`),
-    /// for the fixed-point monitor; the float update, whose monitor computes it once per
-    /// window, leaves it unused and the compiler drops it.
-    pub(crate) in_phase: T,
     /// Whole turns the wrap of the predicted angle removed.
     pub(crate) whole: i32,
     /// `(sin, cos)` of the predicted angle (for the calibration's estimator; the plain

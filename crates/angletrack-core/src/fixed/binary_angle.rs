@@ -3,12 +3,18 @@
 //! correction inside each table step (the phase detector), and its integer `atan2`
 //! (CORDIC, for the first sample and re-acquisition).
 
+use super::multiply::mul_q16;
+
 /// Entries of the sine table per turn (a power of two: the index is the top 8 bits).
 const STEPS_PER_TURN: usize = 256;
 
 /// `round(32767 sin(2 pi k / 256))` for `k` in 0..320: the sine over one turn and the
-/// cosine (`cos x = sin(x + pi/2)`, 64 entries further) from one table of 640 bytes.
+/// cosine (`cos x = sin(x + pi/2)`, 64 entries further).
 pub(crate) const SIN_Q15: [i16; STEPS_PER_TURN + STEPS_PER_TURN / 4] = sin_table();
+
+/// Entry `k`'s sine in the low half-word and cosine in the high one (1 KiB): one load per
+/// sample, and a Cortex-M4 multiplies the half-words as they are (`SMULBB`, `SMULTB`).
+const SIN_COS_Q15: [u32; STEPS_PER_TURN] = sin_cos_table();
 
 /// `round(2 pi 2^12)`: 2 pi in Q12, to turn a residual angle into radians.
 const TWO_PI_Q12: i32 = 25_736;
@@ -66,6 +72,18 @@ const fn sin_table() -> [i16; STEPS_PER_TURN + STEPS_PER_TURN / 4] {
     table
 }
 
+const fn sin_cos_table() -> [u32; STEPS_PER_TURN] {
+    let mut table = [0; STEPS_PER_TURN];
+    let mut k = 0;
+    while k < STEPS_PER_TURN {
+        let sin = SIN_Q15[k] as u16 as u32;
+        let cos = SIN_Q15[k + STEPS_PER_TURN / 4] as u16 as u32;
+        table[k] = cos << 16 | sin;
+        k += 1;
+    }
+    table
+}
+
 const fn atan_table() -> [i32; 30] {
     let mut table = [0; 30];
     // atan(1) = pi/4: an eighth of a turn, 2^29 exactly.
@@ -106,22 +124,23 @@ pub fn binary_angle_to_rad(angle: i32) -> f64 {
 /// `d = angle - theta_k` (|d| <= pi/256 rad) enters to first order:
 /// `y_s cos(theta) - y_c sin(theta) = e_k cos d - i_k sin d ~ e_k - i_k d`, whose neglected
 /// terms are below `|y| d^2 |err| / 2 + |y| d^3 / 6`, about `3e-7 |y|` near lock.
-/// No intermediate overflows: `|e_k|, |i_k| <= |y| 32767.5 < 1.52e9` (Cauchy-Schwarz),
-/// `|i_k >> 15| <= 46341`, `|(d >> 9) 25736| < 4.22e8`, their product below `2.99e8`,
-/// and `|e_k - correction| < 1.54e9 < 2^31`.
+/// No intermediate overflows: `|e_k|, |i_k| <= |y| 32767.5 < 1.52e9` (Cauchy-Schwarz), the
+/// residual in 2^-24 turn is in [-2^15, 2^15), times `2 pi 2^12` below `8.44e8`, `i_k >> 16`
+/// in [-23194, 23193], their product over 2^16 below `3e8`, and
+/// `|e_k - correction| < 1.54e9 < 2^31`.
 #[inline(always)]
 pub(crate) fn detect(angle: i32, y_c: i32, y_s: i32) -> (i32, i32, i32, i32) {
     // The nearest entry: the top 8 bits of angle + half a step, as an unsigned turn.
     let index = (angle.wrapping_add(1 << 23) as u32 >> 24) as usize;
-    // The angle less the entry's, in [-2^23, 2^23): its low 24 bits, sign-extended.
-    let residual = (angle << 8) >> 8;
-    let sin = i32::from(SIN_Q15[index]);
-    let cos = i32::from(SIN_Q15[index + STEPS_PER_TURN / 4]);
+    let entry = SIN_COS_Q15[index] as i32;
+    let (sin, cos) = (i32::from(entry as i16), entry >> 16);
     let phase_error = y_s * cos - y_c * sin;
     let in_phase = y_c * cos + y_s * sin;
-    // d in rad times 2^35, then (i_k / 2^15) (d 2^19) / 2^4 = i_k d.
-    let residual_rad = (residual >> 9) * TWO_PI_Q12;
-    let correction = ((in_phase >> 15) * (residual_rad >> 16)) >> 4;
+    // The angle less the entry's, in 2^-24 turn: bits 8 to 23, sign-extended (one `SBFX`).
+    let residual = (angle << 8) >> 16;
+    // d in rad times 2^36, then (d 2^36)(i_k / 2^16) / 2^16 / 2^4 = i_k d.
+    let residual_rad = residual * TWO_PI_Q12;
+    let correction = mul_q16(residual_rad, (in_phase >> 16) as i16) >> 4;
     (phase_error - correction, in_phase, sin, cos)
 }
 

@@ -1,12 +1,24 @@
 //! The state of one fixed-point channel ([`FixedState`]) and what the fixed-point update
 //! reports ([`FixedEstimate`]), in the integers of `docs/theory.md §14`.
 
-use super::update::MONITOR_WINDOW;
 use crate::faults::Faults;
+
+/// The state vector of the fixed-point recursion: binary angle (2^32 per turn), speed
+/// (2^-32 turn per sample) and acceleration (2^-63 turn per sample^2; 0 for a 2nd-order
+/// observer), each wrapping: modulo one turn, one turn per sample and two turns per
+/// sample^2, a lattice the recursion maps onto itself, so that a wrap changes nothing the
+/// observer computes (`docs/theory.md §14`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[repr(C)]
+pub(crate) struct FixedVector {
+    pub(crate) angle: i32,
+    pub(crate) speed: i32,
+    pub(crate) acceleration: i64,
+}
 
 /// The mutable state of one fixed-point observer channel: the integer state vector (binary
 /// angle, speed, acceleration), the next sample's predicted binary angle, the reciprocal of
-/// the signal's magnitude, the turn count and the monitor's filters.
+/// the signal's magnitude, the turn count and the monitor's window sums.
 ///
 /// ```
 /// use angletrack_core::{FixedGains, FixedState};
@@ -17,27 +29,36 @@ use crate::faults::Faults;
 /// assert!((e.angle - (1 << 30)).abs() < 64);
 /// # Ok::<(), angletrack_core::ConfigError>(())
 /// ```
+// `repr(C)`: the fields the per-sample path reads and writes side by side, which a
+// Cortex-M loads and stores with one instruction (the window's first, at offset 0).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(C)]
 pub struct FixedState<const N: usize> {
-    /// Binary angle (2^32 per turn, wrapping), speed (2^-32 turn per sample), acceleration
-    /// (2^-(32 + F) turn per sample^2).
-    pub(crate) x: [i32; N],
-    /// The predicted binary angle of the next sample.
-    pub(crate) next_angle: i32,
-    /// `2^27 / amplitude` (amplitude in counts), tracked by one Newton step per sample.
-    pub(crate) reciprocal: i32,
-    /// Whole turns of the binary angle `x[0]` since initialisation.
-    pub(crate) turns: i64,
+    /// The monitor's sum of `|eps|` (Q15, each term within one unit below) over the
+    /// current window.
+    pub(crate) error_sum: u32,
+    /// Samples left in the window (its end: the reciprocal, the flags; the first sample's
+    /// window has one sample, at whose end the state is initialised).
+    pub(crate) window_left: u32,
     /// The last sample's normalised phase error (Q15).
     pub(crate) phase_error: i32,
+    /// The last sample `(y_c, y_s)` (counts), from which the window's end reads the
+    /// amplitude, the in-phase component, and the angle on the first sample and after a
+    /// false lock.
+    pub(crate) sample: [i16; 2],
+    /// The predicted binary angle of the next sample.
+    pub(crate) next_angle: i32,
+    /// `2^27 / amplitude` (amplitude in counts), updated at each window's end.
+    pub(crate) reciprocal: i32,
+    /// The state vector (the corrected estimate of the last sample).
+    pub(crate) x: FixedVector,
+    /// Whole turns the binary angle crossed since initialisation (the position is
+    /// `turns + angle / 2^32` turns).
+    pub(crate) turns: i64,
     /// The faults of the monitor's last window.
     pub(crate) faults: Faults,
     /// Faults latched since the last [`FixedState::clear_faults`].
     pub(crate) latched: Faults,
-    /// The monitor's sum of `|eps|` (Q15) over the current window.
-    pub(crate) error_sum: i32,
-    /// Samples left in the monitor's window (its flags are decided when this reaches 0).
-    pub(crate) window_left: u32,
     /// Whether the first sample has set the angle.
     pub(crate) initialised: bool,
 }
@@ -52,15 +73,21 @@ impl<const N: usize> FixedState<N> {
     /// A state waiting for its first sample (which sets the angle from `atan2`).
     pub const fn new() -> Self {
         Self {
-            x: [0; N],
+            // Above every threshold: the first window is not taken for a healthy one.
+            error_sum: 1 << 31,
+            window_left: 1,
+            phase_error: 0,
+            sample: [0; 2],
             next_angle: 0,
             reciprocal: 1 << 13,
+            x: FixedVector {
+                angle: 0,
+                speed: 0,
+                acceleration: 0,
+            },
             turns: 0,
-            phase_error: 0,
             faults: Faults::NONE,
             latched: Faults::NONE,
-            error_sum: 0,
-            window_left: MONITOR_WINDOW,
             initialised: false,
         }
     }
@@ -94,10 +121,9 @@ pub struct FixedEstimate {
     pub turns: i64,
     /// Speed (2^-32 turn per sample).
     pub speed: i32,
-    /// Acceleration (2^-(32 + F) turn per sample^2, `F` from
-    /// [`FixedGains::acceleration_fraction_bits`](crate::FixedGains::acceleration_fraction_bits));
+    /// Acceleration (2^-63 turn per sample^2, wrapping modulo two turns per sample^2);
     /// 0 for a 2nd-order observer.
-    pub acceleration: i32,
+    pub acceleration: i64,
     /// Normalised phase error (Q15: 2^15 is 1), about `sin(theta - angle_p)`.
     pub phase_error: i32,
     /// The diagnostics of the monitor's last window (`docs/theory.md §14`).

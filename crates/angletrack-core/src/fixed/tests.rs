@@ -90,11 +90,11 @@ fn reciprocal_stays_in_range_without_a_lower_clamp() {
 }
 
 #[test]
-fn quantisation_keeps_15_bits_and_refuses_gains_that_round_to_zero() {
+fn quantisation_is_within_2_to_the_minus_18_and_refuses_gains_that_round_to_zero() {
     let gains = FixedGains::<3>::new(KALMAN, 50e-6).unwrap();
     for (q, l) in gains.gains().iter().zip(KALMAN) {
-        // A mantissa of at least 2^14: half a unit is at most 2^-15 of the gain.
-        assert!((q / l - 1.0).abs() <= 2f64.powi(-15), "{q} vs {l}");
+        // The smallest multiplier, l3's, is about 232,000: half a unit is below 2^-18 of it.
+        assert!((q / l - 1.0).abs() <= 2f64.powi(-18), "{q} vs {l}");
     }
     let err = FixedGains::<2>::new([0.05, 1e-25], 1e-4).unwrap_err();
     assert_eq!(err, ConfigError::OutOfRange(Parameter::SpeedGain));
@@ -118,10 +118,11 @@ fn quantisation_keeps_15_bits_and_refuses_gains_that_round_to_zero() {
 #[test]
 fn quantised_loop_leaving_the_stability_region_is_refused() {
     // On the edge 2 l1 + l2 = 4: some l2 just inside it in f64 is pushed out by the
-    // rounding of the quantised gains, and refused with the condition that fails.
+    // rounding of the quantised gains (a unit of the multipliers is 2 pi 2^-33 = 7.3e-10),
+    // and refused with the condition that fails.
     let mut candidates = (0..50).flat_map(|i| {
         let l1 = 1.22 + 0.006 * f64::from(i);
-        (1..100).map(move |k| (l1, 4.0 - 2.0 * l1 - f64::from(k) * 1e-7))
+        (1..100).map(move |k| (l1, 4.0 - 2.0 * l1 - f64::from(k) * 1e-11))
     });
     let refused = candidates.find_map(|(l1, l2)| {
         assert!(crate::Gains::<f64, 2>::new([l1, l2], 1e-4).is_ok());
@@ -142,6 +143,37 @@ fn sample(amplitude: f64, theta: f64) -> (i16, i16) {
         libm::round(amplitude * libm::cos(theta)) as i16,
         libm::round(amplitude * libm::sin(theta)) as i16,
     )
+}
+
+/// The reciprocal `2^27 / amplitude` the state holds, relative to the exact one.
+fn reciprocal_error(state: &FixedState<3>, amplitude: f64) -> f64 {
+    f64::from(state.reciprocal()) * amplitude / 134_217_728.0 - 1.0
+}
+
+#[test]
+fn reciprocal_is_set_by_the_first_sample_and_follows_an_amplitude_step_in_ten_windows() {
+    let gains = FixedGains::<3>::new(KALMAN, 50e-6).unwrap();
+    let window = MONITOR_WINDOW as usize;
+    for (before, after) in [(16384.0, 8192.0), (16384.0, 30000.0), (30000.0, 16384.0)] {
+        let mut state = FixedState::new();
+        let (c, s) = sample(before, 0.3);
+        gains.track(&mut state, c, s);
+        assert!(reciprocal_error(&state, before).abs() < 2e-3, "{before}");
+        let theta = |k: usize| 0.3 + 0.01 * k as f64;
+        for k in 1..=10 * window {
+            let (c, s) = sample(before, theta(k));
+            gains.track(&mut state, c, s);
+        }
+        assert!(reciprocal_error(&state, before).abs() < 2e-3, "{before}");
+        // Half a Newton step (itself at most a factor 3/2) per window's end: halving the
+        // amplitude takes 9 windows to within 1 %; bounded here by 10.
+        for k in 1..=10 * window {
+            let (c, s) = sample(after, theta(10 * window + k));
+            gains.track(&mut state, c, s);
+        }
+        let error = reciprocal_error(&state, after);
+        assert!(error.abs() < 0.01, "{before} to {after}: {error}");
+    }
 }
 
 #[test]

@@ -1,28 +1,31 @@
 //! The fixed-point update (`docs/theory.md §14`): the integer [`Arithmetic`] of the one
-//! recursion ([`step`]), the amplitude's reciprocal tracker that normalises the phase error
-//! without a division, the first sample, and the monitor in integers.
+//! recursion ([`step`]), the window that updates the amplitude's reciprocal and decides the
+//! monitor's flags, and the first sample.
 
 use super::binary_angle::{atan2, detect};
 use super::gains::FixedGains;
-use super::state::{FixedEstimate, FixedState};
+use super::multiply::{add_round_q16, add_wide, mul_q16};
+use super::state::{FixedEstimate, FixedState, FixedVector};
 use crate::faults::Faults;
 use crate::recursion::{Arithmetic, step};
 use crate::sincos::Detection;
 use crate::update::Sample;
 use crate::wrap::{NoWrap, Wrap};
 
-/// The smallest value of the tracked reciprocal `2^27 / amplitude`: amplitudes up to 65536
-/// counts, above any `i16` signal's `32768 sqrt(2)`.
+/// The smallest value of the reciprocal `2^27 / amplitude`: amplitudes up to 65536 counts,
+/// above any `i16` signal's `32768 sqrt(2)`.
 pub const MIN_RECIPROCAL: i32 = 2048;
 
-/// The largest value of the tracked reciprocal, `2^15 - 1`: amplitudes down to 4096 counts
+/// The largest value of the reciprocal, `2^15 - 1`: amplitudes down to 4096 counts
 /// ([`MIN_NORMALISED_AMPLITUDE_COUNTS`](crate::fixed::MIN_NORMALISED_AMPLITUDE_COUNTS)).
 pub const MAX_RECIPROCAL: i32 = (1 << 15) - 1;
 
-/// Samples per window of the fixed-point monitor: the flags are decided at each window's
-/// end, so a fault present over a whole window is flagged at most `2 W - 1` samples after it
-/// starts (`docs/theory.md §14`).
-pub const MONITOR_WINDOW: u32 = 16;
+/// Samples per window: the amplitude's reciprocal is updated and the monitor's flags are
+/// decided at each window's end (out of line, so that the per-sample path stays short): a
+/// loss of signal or degradation is flagged at the end of the window it starts in, at most
+/// `W` samples after, a loss of tracking present over a whole window at most `2 W - 1`
+/// samples after it starts (`docs/theory.md §14`).
+pub const MONITOR_WINDOW: u32 = 32;
 
 /// The phase detector of the fixed-point path: the binary angle's sine table
 /// ([`detect`]). Zero-sized.
@@ -32,7 +35,7 @@ pub(crate) struct SineTable;
 /// One Newton step of the reciprocal square root: `r (3 - r^2 m) / 2` with
 /// `m = amplitude2_half 2^-53`, so that `r` tends to `2^27 / sqrt(y_c^2 + y_s^2)`
 /// (`docs/theory.md §14`). The factor is kept in [1/2, 3/2], so a far-off `r` (a step of the
-/// amplitude) moves by at most half or half again per sample and converges; the result is
+/// amplitude) moves by at most half or half again per step and converges; the result is
 /// kept at most [`MAX_RECIPROCAL`] and stays at least [`MIN_RECIPROCAL`] (from any `r` in
 /// range) without a clamp: the result is non-decreasing in the factor, the factor
 /// non-increasing in the amplitude, and at the largest (`amplitude2_half = 2^30`) every `r`
@@ -49,48 +52,55 @@ pub(crate) fn track_reciprocal(reciprocal: i32, amplitude2_half: i32) -> i32 {
     ((reciprocal * factor) >> 15).min(MAX_RECIPROCAL)
 }
 
-/// `(y_c^2 + y_s^2) / 2` of a sample in [-32768, 32767]: at most 2^30.
+/// The speed change of one sample, `acceleration 2^-63` turn in 2^-32 turn per sample
+/// (floored), modulo one turn per sample.
 #[inline(always)]
-fn amplitude2_half(y_c: i32, y_s: i32) -> i32 {
-    ((y_c * y_c) >> 1) + ((y_s * y_s) >> 1)
+fn speed_change(acceleration: i64) -> i32 {
+    (acceleration >> 31) as i32
 }
 
-/// A value normalised by the tracked reciprocal, in Q15: `(v / 2^15) r / 2^12`, each shift
-/// rounded to nearest (a floor would bias the phase error, and a loop settles where the
-/// phase error is zero). For `|v| < 1.54e9` (a phase-detector output): `|(v + 2^14) >> 15|
-/// <= 46911`, times `r < 2^15`, plus `2^11`, stays below 1.54e9.
-#[inline(always)]
-fn normalised(value: i32, reciprocal: i32) -> i32 {
-    ((((value + (1 << 14)) >> 15) * reciprocal) + (1 << 11)) >> 12
+impl<const N: usize> FixedGains<N> {
+    /// The corrected speed of the last sample: the state keeps the next sample's predicted
+    /// speed, this less the acceleration's change.
+    #[inline(always)]
+    fn corrected_speed(x: &FixedVector) -> i32 {
+        match N {
+            1 => 0,
+            2 => x.speed,
+            _ => x.speed.wrapping_sub(speed_change(x.acceleration)),
+        }
+    }
+
+    /// The predicted angle of the next sample, `angle + speed + acceleration / 2` in 2^-32
+    /// turn (`acceleration 2^-64` turn is the top word of the acceleration).
+    #[inline(always)]
+    fn next_angle(x: &FixedVector) -> i32 {
+        let angle = if N > 1 {
+            x.angle.wrapping_add(x.speed)
+        } else {
+            x.angle
+        };
+        if N > 2 {
+            angle.wrapping_add((x.acceleration >> 32) as i32)
+        } else {
+            angle
+        }
+    }
 }
 
 impl<const N: usize> Arithmetic<SineTable, N> for FixedGains<N> {
     type Value = i32;
     type Magnitude = i32;
+    type Vector = FixedVector;
 
-    /// `p_i = x_i + sum_{j > i} x_j / (j - i)!` with each state's fraction bits; the angle
-    /// and the speed wrap (they are modular: one turn, one turn per sample), the acceleration
-    /// is carried without change.
+    /// The angle and the speed are the predictions the previous sample left (the state
+    /// keeps the predicted speed, as it keeps the predicted angle: the acceleration that
+    /// changes it is then not needed after its own correction); every component wraps
+    /// (modulo one turn, one turn per sample, two turns per sample^2: the recursion maps
+    /// that lattice onto itself, `docs/theory.md §14`).
     #[inline(always)]
-    fn predict(&self, x: &[i32; N]) -> [i32; N] {
-        let mut p = *x;
-        let mut i = 0;
-        while i < N {
-            let mut j = i + 1;
-            while j < N {
-                // The angle and speed have no fraction bits: only the acceleration's shift
-                // is a variable (the loops unroll, so the others are constants).
-                let shift = if j < 2 {
-                    (j - i - 1) as u32
-                } else {
-                    self.acceleration_shift[i].bits()
-                };
-                p[i] = p[i].wrapping_add(x[j] >> shift);
-                j += 1;
-            }
-            i += 1;
-        }
-        p
+    fn predict(&self, x: &FixedVector, angle: i32) -> FixedVector {
+        FixedVector { angle, ..*x }
     }
 
     /// The binary angle wraps by itself: no turn is removed here (they are counted in
@@ -111,39 +121,46 @@ impl<const N: usize> Arithmetic<SineTable, N> for FixedGains<N> {
         }
     }
 
-    /// `eps = phase_error / amplitude` in Q15, by the reciprocal tracked with this sample,
-    /// kept in [-2^15, 2^15 - 1] (the sine's range, less a unit at the top: one saturation
-    /// instruction on a Cortex-M4; beyond it only while the tracker catches up with an
-    /// amplitude step).
+    /// `eps = phase_error / amplitude` in Q15 by the reciprocal (updated at each window's
+    /// end, not here), rounded to nearest (a floor would bias the phase error, and a loop
+    /// settles where the phase error is zero) and kept in [-2^15, 2^15 - 1] (one `SSAT` on a
+    /// Cortex-M4; beyond +-1 only while the reciprocal catches up with an amplitude step).
+    /// `(phase_error r / 2^16 + 2^10) / 2^11` with `|phase_error| < 1.54e9` and
+    /// `r < 2^15`: below `7.7e8`, no overflow.
     #[inline(always)]
-    fn normalise(reciprocal: &mut i32, sample: &Sample<i32>, phase_error: i32) -> i32 {
-        if !sample.valid {
-            return 0;
-        }
-        *reciprocal = track_reciprocal(*reciprocal, sample.amplitude2);
-        normalised(phase_error, *reciprocal).clamp(-(1 << 15), (1 << 15) - 1)
+    fn normalise(reciprocal: &mut i32, _sample: &Sample<i32>, phase_error: i32) -> i32 {
+        // The reciprocal is in [MIN_RECIPROCAL, MAX_RECIPROCAL]: 16 bits.
+        let scaled = mul_q16(phase_error, *reciprocal as i16);
+        ((scaled + (1 << 10)) >> 11).clamp(-(1 << 15), (1 << 15) - 1)
     }
 
-    /// `x_i += (mantissa_i eps + rounding_i) >> shift_i`, rounded to nearest (a floor would
-    /// bias the speed by half a unit per sample, which a 2nd-order loop turns into an angle
-    /// error; `|mantissa_i eps| <= (2^15 - 1) 2^15`, plus `rounding_i <= 2^30`, stays below
-    /// 2^31), the angle and speed wrapping, the acceleration saturating; the next predicted angle is the
-    /// prediction of the corrected state; the turns the angle crossed are the carry of its
-    /// change (the shortest way: below half a turn per sample).
+    /// The angle and the speed by `round(multiplier eps / 2^16)`, the acceleration by
+    /// `multiplier eps 2^k` in its 64 bits, each wrapping (`docs/theory.md §14`); the next
+    /// predicted angle is the prediction of the corrected state. The turns the angle
+    /// crossed are counted by [`FixedGains::track`] (none are returned here).
     #[inline(always)]
-    fn correct(&self, x: &[i32; N], p: &mut [i32; N], eps: i32) -> (i32, i32) {
-        let mut i = 0;
-        while i < N {
-            let delta = (self.mantissa[i] * eps + self.rounding[i]) >> self.shift[i].bits();
-            p[i] = if i == 2 {
-                p[i].saturating_add(delta)
-            } else {
-                p[i].wrapping_add(delta)
-            };
-            i += 1;
+    fn correct(&self, _x: &FixedVector, p: &mut FixedVector, eps: i32) -> (i32, i32) {
+        // eps is in [-2^15, 2^15 - 1] (`normalise`).
+        let eps = eps as i16;
+        p.angle = add_round_q16(p.angle, self.multiplier[0], eps);
+        if N > 1 {
+            p.speed = add_round_q16(p.speed, self.multiplier[1], eps);
         }
-        let next = Arithmetic::<SineTable, N>::predict(self, p)[0];
-        (next, crossed_turns(x[0], p[0]))
+        if N > 2 {
+            p.acceleration = add_wide(
+                p.acceleration,
+                self.multiplier[N - 1],
+                eps,
+                self.acceleration_scale,
+                self.acceleration_shift,
+            );
+        }
+        let next_angle = Self::next_angle(p);
+        if N > 2 {
+            // The next sample's predicted speed.
+            p.speed = p.speed.wrapping_add(speed_change(p.acceleration));
+        }
+        (next_angle, 0)
     }
 }
 
@@ -156,6 +173,34 @@ fn crossed_turns(from: i32, to: i32) -> i32 {
         None if change > 0 => 1,
         None => -1,
     }
+}
+
+/// Counts the turn the predicted angle crossed from `from` to the state's (out of line:
+/// rare).
+#[cold]
+#[inline(never)]
+fn count_turn<const N: usize>(state: &mut FixedState<N>, from: i32) {
+    state.turns = state
+        .turns
+        .wrapping_add(i64::from(crossed_turns(from, state.next_angle)));
+}
+
+/// The whole turns of the estimate's angle: those of the predicted angle (which the state
+/// counts) and the turn between the two, if any.
+fn turns_of_estimate<const N: usize>(state: &FixedState<N>) -> i64 {
+    state
+        .turns
+        .wrapping_add(i64::from(crossed_turns(state.next_angle, state.x.angle)))
+}
+
+/// Sets the estimate's angle to `angle` by the shortest way (a re-acquisition), and its
+/// prediction, keeping the turns continuous.
+fn set_angle<const N: usize>(state: &mut FixedState<N>, angle: i32, next_angle: i32) {
+    let turns =
+        turns_of_estimate(state).wrapping_add(i64::from(crossed_turns(state.x.angle, angle)));
+    state.x.angle = angle;
+    state.next_angle = next_angle;
+    state.turns = turns.wrapping_add(i64::from(crossed_turns(angle, next_angle)));
 }
 
 impl<const N: usize> FixedGains<N> {
@@ -205,17 +250,19 @@ impl<const N: usize> FixedGains<N> {
     /// assert_eq!(e.faults, Faults::NONE);
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
-    #[inline]
+    // Always inlined, as the float path's: a call costs a Cortex-M a few instructions more.
+    #[inline(always)]
     pub fn track(&self, state: &mut FixedState<N>, y_c: i16, y_s: i16) {
+        // Stored first: the sample's registers are then free for the rest.
+        state.sample = [y_c, y_s];
         let (y_c, y_s) = (i32::from(y_c), i32::from(y_s));
-        if !state.initialised {
-            self.initialise(state, y_c, y_s);
-            return;
-        }
+        let from = state.next_angle;
         let sample = Sample {
             y_c,
             y_s,
-            amplitude2: amplitude2_half(y_c, y_s),
+            // The fixed-point path reads the amplitude once per window, and every integer
+            // sample is valid.
+            amplitude2: 0,
             valid: true,
         };
         let step = step::<Self, SineTable, NoWrap, N>(
@@ -226,76 +273,140 @@ impl<const N: usize> FixedGains<N> {
             &mut state.reciprocal,
             sample,
         );
-        // A turn is crossed rarely: the 64-bit count is read and written only then.
-        if step.whole != 0 {
-            state.turns = state.turns.wrapping_add(i64::from(step.whole));
+        // The turns the predicted angle crossed from one sample to the next: the carry of
+        // its change (the shortest way: below half a turn per sample); rare, so the 64-bit
+        // count is read and written only then. Counted on the predicted angle, already in a
+        // register; the estimate's angle is within half a turn of it (`turns_of_estimate`).
+        if from
+            .checked_add(state.next_angle.wrapping_sub(from))
+            .is_none()
+        {
+            count_turn(state, from);
         }
         state.phase_error = step.eps;
-        if self.monitor.enabled {
-            self.observe(state, step.eps, step.in_phase, y_c, y_s);
-        }
-    }
-
-    /// The monitor's per-sample part (`docs/theory.md §14`): `|eps|` summed over a window
-    /// of [`MONITOR_WINDOW`] samples (at most 2^19: no overflow), and the flags decided at
-    /// the window's end.
-    #[inline(always)]
-    fn observe(&self, state: &mut FixedState<N>, eps: i32, in_phase: i32, y_c: i32, y_s: i32) {
-        state.error_sum += eps.abs();
-        state.window_left -= 1;
+        // At most 16 2^15, no overflow. `eps ^ (eps >> 31)` is `|eps|` less one for a
+        // negative `eps` (one instruction): a window's sum is within 16 units of the sum of
+        // `|eps|`, 0.03 % of the threshold.
+        state.error_sum += (step.eps ^ (step.eps >> 31)) as u32;
+        // At least 1 here: set to MONITOR_WINDOW (or 1 by `FixedState::new`) when it reaches 0.
+        state.window_left = state.window_left.wrapping_sub(1);
         if state.window_left == 0 {
-            self.decide(state, in_phase, y_c, y_s);
+            self.end_window(state);
         }
     }
 
-    /// The flags at a window's end (out of line: once per window), latched, and the
-    /// re-acquisition after a false lock: loss of signal and degradation from the tracked
-    /// reciprocal (an amplitude estimate), loss of tracking from the window's mean `|eps|`
-    /// and the speed, false lock from the sign of the window's last in-phase component, with
-    /// the float monitor's default thresholds.
+    /// The last sample, in counts.
+    fn last_sample(state: &FixedState<N>) -> (i32, i32) {
+        (i32::from(state.sample[0]), i32::from(state.sample[1]))
+    }
+
+    /// The angle of the last sample: `atan2(y_s, y_c)`.
+    fn sample_angle(state: &FixedState<N>) -> i32 {
+        let (y_c, y_s) = Self::last_sample(state);
+        atan2(y_s, y_c)
+    }
+
+    /// Half the last sample's square amplitude, `(y_c^2 + y_s^2) / 2`: at most 2^30.
+    fn amplitude2_half(state: &FixedState<N>) -> i32 {
+        let (y_c, y_s) = Self::last_sample(state);
+        // The sum is at most 2^31: in 32 bits unsigned.
+        (((y_c * y_c) as u32).wrapping_add((y_s * y_s) as u32) >> 1) as i32
+    }
+
+    /// The in-phase component of the last sample at its estimated angle: its sign tells a
+    /// false lock (the estimate more than a quarter turn off).
+    fn last_in_phase(state: &FixedState<N>) -> i32 {
+        let (y_c, y_s) = Self::last_sample(state);
+        detect(state.x.angle, y_c, y_s).1
+    }
+
+    /// A window's end (out of line: once per window): half a Newton step of the reciprocal
+    /// toward the amplitude of the window's last sample (half: the sample's noise is
+    /// averaged over a few windows), then, for a healthy window, the flags cleared; otherwise ([`FixedGains::end_window_with_fault`]) the first sample's
+    /// initialisation, or with the monitor on the flags, latched, and the re-acquisition
+    /// after a false lock: loss of signal and degradation from that amplitude, loss of
+    /// tracking from the window's mean `|eps|` and the speed, false lock from the sign of
+    /// the last in-phase component, with the float monitor's default thresholds.
     #[inline(never)]
-    fn decide(&self, state: &mut FixedState<N>, in_phase: i32, y_c: i32, y_s: i32) {
-        let t = &self.monitor;
+    fn end_window(&self, state: &mut FixedState<N>) {
+        let amplitude2 = Self::amplitude2_half(state);
+        // Between r and the Newton step's result, both in range: in range.
         let r = state.reciprocal;
-        let speed = if N > 1 { state.x[1] } else { 0 };
-        let signal_lost = r >= t.loss_of_signal;
-        let false_lock = !signal_lost && in_phase < 0;
+        state.reciprocal = r + ((track_reciprocal(r, amplitude2) - r) >> 1);
+        let t = &self.monitor;
+        // The predicted speed: within one sample's change of the corrected one, far below
+        // the quarter turn per sample the check is for.
+        let speed = state.x.speed;
+        // Loss of signal is below the degradation band: in the band, neither. The first
+        // window's error sum starts at 2^31 (`FixedState::new`), above every threshold, so
+        // that it is not taken for healthy; an unmonitored observer's thresholds pass every
+        // window but a false lock and the first.
+        let amplitude2 = amplitude2 as u32;
+        let healthy = amplitude2.wrapping_sub(t.degradation_low)
+            <= t.degradation_high - t.degradation_low
+            && state.error_sum <= t.loss_of_tracking
+            && speed.unsigned_abs() <= t.max_speed
+            && Self::last_in_phase(state) >= 0;
+        if healthy {
+            state.faults = Faults::NONE;
+        } else {
+            self.end_window_with_fault(state, amplitude2, speed);
+        }
+        state.error_sum = 0;
+        state.window_left = MONITOR_WINDOW;
+    }
+
+    /// The window's end that [`FixedGains::end_window`] did not find healthy: the first
+    /// sample's, or one with a fault (out of line: rare).
+    #[cold]
+    #[inline(never)]
+    fn end_window_with_fault(&self, state: &mut FixedState<N>, amplitude2: u32, speed: i32) {
+        if !state.initialised {
+            self.initialise(state);
+            return;
+        }
+        let t = &self.monitor;
+        if !t.enabled {
+            return;
+        }
+        let signal_lost = amplitude2 < t.loss_of_signal;
+        let false_lock = !signal_lost && Self::last_in_phase(state) < 0;
         let faults = Faults::when(signal_lost, Faults::LOSS_OF_SIGNAL)
             | Faults::when(
-                r > t.degradation_low || r < t.degradation_high,
+                amplitude2 < t.degradation_low || amplitude2 > t.degradation_high,
                 Faults::DEGRADATION_OF_SIGNAL,
             )
             | Faults::when(
-                state.error_sum > t.loss_of_tracking * MONITOR_WINDOW as i32
-                    || speed.unsigned_abs() > t.max_speed as u32,
+                state.error_sum > t.loss_of_tracking || speed.unsigned_abs() > t.max_speed,
                 Faults::LOSS_OF_TRACKING,
             )
             | Faults::when(false_lock, Faults::FALSE_LOCK);
         state.faults = faults;
         state.latched |= faults;
-        state.error_sum = 0;
-        state.window_left = MONITOR_WINDOW;
         if false_lock {
-            let angle = atan2(y_s, y_c);
-            state.turns = state
-                .turns
-                .wrapping_add(i64::from(crossed_turns(state.x[0], angle)));
-            state.x[0] = angle;
-            state.next_angle = Arithmetic::<SineTable, N>::predict(self, &state.x)[0];
+            let angle = Self::sample_angle(state);
+            let speed = Self::corrected_speed(&state.x);
+            let next_angle = Self::next_angle(&FixedVector {
+                angle,
+                speed,
+                ..state.x
+            });
+            set_angle(state, angle, next_angle);
         }
     }
 
     /// The first sample: the angle from `atan2`, speed and acceleration 0, the reciprocal
-    /// converged on the sample's amplitude.
+    /// converged on the sample's amplitude, the first full window started.
     #[cold]
     #[inline(never)]
-    fn initialise(&self, state: &mut FixedState<N>, y_c: i32, y_s: i32) {
+    fn initialise(&self, state: &mut FixedState<N>) {
+        let angle = Self::sample_angle(state);
+        let amplitude2 = Self::amplitude2_half(state);
         let latched = state.latched;
         *state = FixedState::new();
         state.latched = latched;
-        state.x[0] = atan2(y_s, y_c);
-        state.next_angle = state.x[0];
-        let amplitude2 = amplitude2_half(y_c, y_s);
+        state.x.angle = angle;
+        state.next_angle = angle;
         // Until a fixed point (or 24 steps): the same result as 24 steps, and a loop that is
         // not unrolled into a kilobyte of code.
         for _ in 0..24 {
@@ -305,6 +416,7 @@ impl<const N: usize> FixedGains<N> {
             }
             state.reciprocal = next;
         }
+        state.window_left = MONITOR_WINDOW;
         state.initialised = true;
     }
 
@@ -312,10 +424,10 @@ impl<const N: usize> FixedGains<N> {
     #[inline(always)]
     pub fn estimate(state: &FixedState<N>) -> FixedEstimate {
         FixedEstimate {
-            angle: state.x[0],
-            turns: state.turns,
-            speed: if N > 1 { state.x[1] } else { 0 },
-            acceleration: if N > 2 { state.x[N - 1] } else { 0 },
+            angle: state.x.angle,
+            turns: turns_of_estimate(state),
+            speed: Self::corrected_speed(&state.x),
+            acceleration: if N > 2 { state.x.acceleration } else { 0 },
             phase_error: state.phase_error,
             faults: state.faults,
         }
@@ -332,10 +444,9 @@ impl<const N: usize> FixedGains<N> {
         f64::from(estimate.speed) / 4_294_967_296.0 * core::f64::consts::TAU / self.sample_period_s
     }
 
-    /// The estimate's acceleration (rad/s^2).
+    /// The estimate's acceleration (rad/s^2), from 2^-63 turn per sample^2.
     pub fn acceleration_rad_s2(&self, estimate: &FixedEstimate) -> f64 {
-        let unit = libm::ldexp(1.0, -32 - self.acceleration_fraction_bits() as i32);
-        f64::from(estimate.acceleration) * unit * core::f64::consts::TAU
+        libm::ldexp(estimate.acceleration as f64, -63) * core::f64::consts::TAU
             / (self.sample_period_s * self.sample_period_s)
     }
 }

@@ -22,7 +22,7 @@ where
     /// let AnyDesign::Third(design) = ComparedObserver::Kalman.design()? else { unreachable!() };
     /// let fixed = design.fixed_gains()?;
     /// for (q, l) in fixed.gains().iter().zip(design.gains.gains()) {
-    ///     assert!((q / l - 1.0).abs() <= 2f64.powi(-15));
+    ///     assert!((q / l - 1.0).abs() <= 2f64.powi(-16));
     /// }
     /// # Ok::<(), angletrack::Error>(())
     /// ```
@@ -35,13 +35,14 @@ where
 /// [`FixedConstants`] as vectors, with the gains they represent and the sample period.
 #[derive(Debug, Clone, PartialEq)]
 pub struct FixedDesignConstants {
-    /// The gains' mantissas (1 to 32767), `l1` first.
-    pub mantissa: Vec<i32>,
-    /// The gains' right shifts (0 to 31).
-    pub shift: Vec<u32>,
-    /// Fraction bits of the acceleration state (0 for a 2nd-order observer).
-    pub acceleration_bits: u32,
-    /// The gains the constants represent (what runs: within 2^-15 of the design's).
+    /// The gains' multipliers (1 to 2^31 - 1), `l1` first: `l_i = multiplier_i 2 pi / 2^s_i`,
+    /// `s = (33, 33, 48 - acceleration_shift)`.
+    pub multiplier: Vec<i32>,
+    /// The left shift of the phase error in the acceleration's correction (1 to 15; 0 for a
+    /// 2nd-order observer).
+    pub acceleration_shift: u32,
+    /// The gains the constants represent (what runs: within half a unit of each
+    /// multiplier of the design's).
     pub quantised_gains: Vec<f64>,
     /// The sample period (s).
     pub sample_period_s: f64,
@@ -50,14 +51,12 @@ pub struct FixedDesignConstants {
 impl FixedDesignConstants {
     fn of<const N: usize>(gains: &FixedGains<N>) -> Self {
         let FixedConstants {
-            mantissa,
-            shift,
-            acceleration_bits,
+            multiplier,
+            acceleration_shift,
         } = gains.constants();
         Self {
-            mantissa: mantissa.to_vec(),
-            shift: shift.to_vec(),
-            acceleration_bits,
+            multiplier: multiplier.to_vec(),
+            acceleration_shift,
             quantised_gains: gains.gains().to_vec(),
             sample_period_s: gains.sample_period(),
         }
@@ -70,8 +69,8 @@ impl AnyDesign {
     /// ```
     /// use angletrack::paper::ComparedObserver;
     /// let constants = ComparedObserver::SecondOrder.design()?.fixed_constants()?;
-    /// assert_eq!(constants.mantissa.len(), 2);
-    /// assert!(constants.mantissa.iter().all(|&m| (1 << 14..1 << 15).contains(&m)));
+    /// assert_eq!(constants.multiplier.len(), 2);
+    /// assert!(constants.multiplier.iter().all(|&m| m >= 1 << 16));
     /// # Ok::<(), angletrack::Error>(())
     /// ```
     pub fn fixed_constants(&self) -> Result<FixedDesignConstants, Error> {
@@ -90,8 +89,9 @@ mod tests {
     use crate::paper::{ComparedObserver, OVERSHOOT_SAMPLE_PERIOD_S, PaperSetting};
     use crate::{Discretisation, Gains};
 
-    /// Every paper design quantises within 2^-15 of its gains, and its constants give the
-    /// same fixed-point gains back through the core's check.
+    /// Every paper design quantises within half a unit of each multiplier (and within
+    /// 2^-16 of its gains), and its constants give the same fixed-point gains back through
+    /// the core's check.
     #[test]
     fn paper_designs_quantise_and_round_trip() {
         let mut designs: Vec<AnyDesign> = ComparedObserver::ALL
@@ -104,8 +104,13 @@ mod tests {
         }));
         for design in designs {
             let constants = design.fixed_constants().unwrap();
-            for (q, l) in constants.quantised_gains.iter().zip(design.gains()) {
-                assert!((q / l - 1.0).abs() <= 2f64.powi(-15), "{q} vs {l}");
+            let pairs = constants.quantised_gains.iter().zip(design.gains());
+            for ((q, l), m) in pairs.zip(&constants.multiplier) {
+                assert!(
+                    (q / l - 1.0).abs() <= 0.5 / f64::from(*m) + 1e-15,
+                    "{q} vs {l}"
+                );
+                assert!((q / l - 1.0).abs() <= 2f64.powi(-16), "{q} vs {l}");
             }
             if let AnyDesign::Third(d) = &design {
                 let fixed = d.fixed_gains().unwrap();

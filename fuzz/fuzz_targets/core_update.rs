@@ -91,18 +91,17 @@ where
     };
     if let Some(t) = &input.thresholds {
         let f = T::from_f64;
-        let mut thresholds = FaultThresholds::default();
-        thresholds.nominal_amplitude = f(t.nominal_amplitude);
-        thresholds.max_input_amplitude = f(t.max_input_amplitude);
-        thresholds.loss_of_signal = f(t.loss_of_signal);
-        thresholds.degradation_low = f(t.degradation_low);
-        thresholds.degradation_high = f(t.degradation_high);
-        thresholds.loss_of_tracking = f(t.loss_of_tracking);
-        thresholds.max_speed = t.max_speed.map(f);
-        thresholds.filter_factor = f(t.filter_factor);
-        thresholds.false_lock = f(t.false_lock);
-        thresholds.monitor = t.monitor;
-        thresholds.re_acquire = t.re_acquire;
+        let thresholds = FaultThresholds::for_amplitude(f(t.nominal_amplitude))
+            .with_max_input_amplitude(f(t.max_input_amplitude))
+            .with_loss_of_signal(f(t.loss_of_signal))
+            .with_degradation_low(f(t.degradation_low))
+            .with_degradation_high(f(t.degradation_high))
+            .with_loss_of_tracking(f(t.loss_of_tracking))
+            .with_max_speed(t.max_speed.map(f))
+            .with_filter_factor(f(t.filter_factor))
+            .with_false_lock(f(t.false_lock))
+            .with_monitor(t.monitor)
+            .with_re_acquire(t.re_acquire);
         match gains.with_fault_thresholds(thresholds) {
             Ok(g) => gains = g,
             Err(_) => return,

@@ -146,12 +146,13 @@ fn run<const N: usize>(
     correction: &AngleCorrection<f64>,
     y_c: &[f64],
     y_s: &[f64],
-    mut columns: EstimateColumns<'_, f64>,
+    columns: EstimateColumns<'_, f64>,
 ) {
-    for (k, (&c, &s)) in y_c.iter().zip(y_s).enumerate() {
-        let e = gains.update_calibrated_corrected(state, calibrator, correction, c, s);
-        columns.set(k, &e);
-    }
+    columns.write(
+        y_c.iter()
+            .zip(y_s)
+            .map(|(&c, &s)| gains.update_calibrated_corrected(state, calibrator, correction, c, s)),
+    );
 }
 
 /// Adds the functions to the module.

@@ -158,8 +158,10 @@ pub fn track_batch(
 ) -> Result<Estimates> {
     let outputs = OutputSelection::from_argument(outputs)?;
     let settings = RunSettings::new(gains, Float::of_samples(y_c, "y_c")?, sin_cos)?;
-    let channels = y_c
-        .getattr("shape")
+    // `numpy.shape` reads nested sequences too (the run refuses any shape but 2-D).
+    let channels = PyModule::import(py, "numpy")?
+        .getattr("shape")?
+        .call1((y_c,))
         .and_then(|s| s.get_item(0))
         .and_then(|c| c.extract::<usize>())
         .map_err(|_| Error::value("y_c", "expected a 2-D array (channels x samples)"))?;

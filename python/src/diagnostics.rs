@@ -77,21 +77,20 @@ impl PyFaultThresholds {
         }
     }
 
-    /// The thresholds in float type `T`.
+    /// The thresholds in float type `T` (checked where an observer takes them).
     pub fn typed<T: Real>(&self) -> CoreThresholds<T> {
-        let mut t = CoreThresholds::default();
-        t.nominal_amplitude = T::from_f64(self.nominal_amplitude);
-        t.max_input_amplitude = T::from_f64(self.max_input_amplitude);
-        t.loss_of_signal = T::from_f64(self.loss_of_signal);
-        t.degradation_low = T::from_f64(self.degradation_low);
-        t.degradation_high = T::from_f64(self.degradation_high);
-        t.loss_of_tracking = T::from_f64(self.loss_of_tracking);
-        t.max_speed = self.max_speed_rad_s.map(T::from_f64);
-        t.filter_factor = T::from_f64(self.filter_factor);
-        t.false_lock = T::from_f64(self.false_lock);
-        t.monitor = self.monitor;
-        t.re_acquire = self.re_acquire;
-        t
+        let f = T::from_f64;
+        CoreThresholds::for_amplitude(f(self.nominal_amplitude))
+            .with_max_input_amplitude(f(self.max_input_amplitude))
+            .with_loss_of_signal(f(self.loss_of_signal))
+            .with_degradation_low(f(self.degradation_low))
+            .with_degradation_high(f(self.degradation_high))
+            .with_loss_of_tracking(f(self.loss_of_tracking))
+            .with_max_speed(self.max_speed_rad_s.map(f))
+            .with_filter_factor(f(self.filter_factor))
+            .with_false_lock(f(self.false_lock))
+            .with_monitor(self.monitor)
+            .with_re_acquire(self.re_acquire)
     }
 }
 

@@ -157,17 +157,19 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
 /// Runs `channel` over `y_c`, `y_s` into the columns (all of equal length, checked by the
 /// caller). Called with the GIL released: no Python object is touched.
 fn run_columns<T: Real, const N: usize, S: SinCos<T>>(
-    mut columns: EstimateColumns<'_, T>,
+    columns: EstimateColumns<'_, T>,
     channel: &mut Channel<T, N, S>,
     y_c: &[T],
     y_s: &[T],
 ) {
     let (gains, state) = (&channel.observer.gains, &mut channel.observer.state);
     let calibrator = &mut channel.calibrator;
-    for (k, (&c, &s)) in y_c.iter().zip(y_s).enumerate() {
-        // With the calibration off, the core's plain update (one branch on the mode).
-        columns.set(k, &gains.update_calibrated(state, calibrator, c, s));
-    }
+    // With the calibration off, the core's plain update (one branch on the mode).
+    columns.write(
+        y_c.iter()
+            .zip(y_s)
+            .map(|(&c, &s)| gains.update_calibrated(state, calibrator, c, s)),
+    );
 }
 
 /// Refuses the first value that is not finite, naming its parameter: a NaN state would be

@@ -1,5 +1,7 @@
 """Shared fixtures: gain sets of the three observers and a simulated resolver capture."""
 
+import pathlib
+
 import numpy as np
 import pytest
 
@@ -30,3 +32,18 @@ def resolver_capture(n=4000, seed=1, noise=0.01, dtype=np.float64):
 @pytest.fixture
 def capture():
     return resolver_capture()
+
+
+@pytest.fixture
+def file_reads(monkeypatch):
+    """The names of the files read through ``pathlib.Path.read_text`` during the test, one
+    entry per read (to check that a command reads a file once)."""
+    reads = []
+    read_text = pathlib.Path.read_text
+
+    def counted(self, *args, **kwargs):
+        reads.append(self.name)
+        return read_text(self, *args, **kwargs)
+
+    monkeypatch.setattr(pathlib.Path, "read_text", counted)
+    return reads

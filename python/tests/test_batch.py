@@ -106,3 +106,14 @@ def test_bad_batch_inputs_raise_naming_the_parameter():
     # A transposed (non-contiguous) view is copied, not refused.
     y = np.ones((5, 2)).T
     assert batch.update(y, np.zeros((5, 2)).T).angle.shape == (2, 5)
+
+
+def test_track_batch_takes_nested_lists_as_the_stubs_say():
+    g = angletrack.Gains([0.06, 0.001], sample_period_s=1e-4)
+    y_c, y_s = _channels(5, 120, np.float64)
+    from_lists = angletrack.track_batch(g, y_c.tolist(), y_s.tolist(), outputs=("angle",))
+    np.testing.assert_array_equal(from_lists.angle, angletrack.track_batch(g, y_c, y_s).angle)
+    with pytest.raises(ValueError, match="y_c.*2-D"):
+        angletrack.track_batch(g, y_c[0].tolist(), y_s[0].tolist())
+    with pytest.raises(ValueError, match="y_c.*2-D"):
+        angletrack.track_batch(g, 1.0, 0.0)

@@ -150,6 +150,16 @@ def test_a_rate_mismatch_is_refused_naming_both_rates_and_sample_rate_states_the
     assert "the gains designed for 10000 Hz run at the stated 20000 Hz" in capsys.readouterr().out
 
 
+def test_track_reads_the_gains_file_once(tmp_path, capsys, file_reads):
+    # At a stated rate other than the design's, both the gains and the note need the file.
+    t, theta = motion(2000, sample_period_s=5e-5)
+    cap = write_text(tmp_path / "run.csv", ["time", "y_c", "y_s"], zip(t, np.cos(theta), np.sin(theta)))
+    g = gains_file(tmp_path, sample_period_s=1e-4)
+    assert track(cap, "--gains-file", g, "--sample-rate", 20000, "-o", tmp_path / "est.csv") == 0
+    assert "the gains designed for 10000 Hz run at the stated 20000 Hz" in capsys.readouterr().out
+    assert file_reads.count("gains.json") == 1
+
+
 def test_a_time_column_in_microseconds_needs_its_unit(tmp_path, capsys):
     t, theta = motion(1000)
     cap = write_text(tmp_path / "run.csv", ["time", "y_c", "y_s"], zip(np.round(t * 1e6), np.cos(theta), np.sin(theta)))

@@ -162,7 +162,7 @@ def test_calibration_c_header_compiles_and_rust_block_has_the_constants(tmp_path
     assert "pub const RDC_ANGLE_COS: [f32; 8]" in rust and "pub const RDC_SENSOR: (f32, f32, f32, f32, f32)" in rust
 
 
-def test_track_reads_the_calibration_file_once_and_tells_its_kind(tmp_path, capsys, monkeypatch):
+def test_track_reads_the_calibration_file_once_and_tells_its_kind(tmp_path, capsys, file_reads):
     from angletrack import calibration
 
     cap = tmp_path / "cap.csv"
@@ -170,17 +170,9 @@ def test_track_reads_the_calibration_file_once_and_tells_its_kind(tmp_path, caps
     gains_file, cal_file = tmp_path / "g.json", tmp_path / "cal.json"
     gains_file.write_text(export.to_json(gains()))
     cal_file.write_text(angletrack.calibrate(learning_capture().y_c, learning_capture().y_s, gains()).to_json())
-    reads = []
-    read_text = type(cal_file).read_text
-
-    def counted(self, *args, **kwargs):
-        reads.append(self.name)
-        return read_text(self, *args, **kwargs)
-
-    monkeypatch.setattr(type(cal_file), "read_text", counted)
     assert cli.main([str(a) for a in ("track", cap, "--gains-file", gains_file, "--calibration", cal_file,
                                        "-o", tmp_path / "est.npy")]) == 0
-    assert reads.count("cal.json") == 1
+    assert file_reads.count("cal.json") == 1
     assert capsys.readouterr().out.startswith("CalibratedObserver(")
     # The two kinds of calibration file, and the arguments each gives the observer.
     stored = calibration.read_stored(cal_file)

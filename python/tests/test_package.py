@@ -6,6 +6,8 @@ import doctest
 import inspect
 import pathlib
 
+import numpy as np
+
 import angletrack
 from angletrack import _angletrack
 
@@ -70,6 +72,43 @@ def test_stub_signatures_match_the_extension():
             assert runtime_parameters(obj) == stub_parameters(function), function.name
             checked += 1
     assert checked > 40
+
+
+def test_estimates_stubs_type_as_optional_exactly_what_a_batch_may_leave_out():
+    tree = ast.parse((PACKAGE / "_angletrack.pyi").read_text())
+    classes = {node.name: node for node in tree.body if isinstance(node, ast.ClassDef)}
+
+    def property_types(name):
+        return {
+            f.name: ast.unparse(f.returns)
+            for f in classes[name].body
+            if isinstance(f, ast.FunctionDef) and "property" in [ast.unparse(d) for d in f.decorator_list]
+        }
+
+    gains = angletrack.Gains([0.1, 0.005], 1e-4)
+    samples = np.array([[1.0, 0.9], [0.0, 0.1]])
+    left_out = angletrack.track_batch(gains, samples, samples, outputs=())
+    may_be_none = {name for name in property_types("Estimates") if getattr(left_out, name) is None}
+    assert may_be_none == {"angle", "position", "speed", "acceleration", "phase_error", "faults"}
+    selected, full = property_types("_SelectedEstimates"), property_types("Estimates")
+    assert {name for name, t in selected.items() if t.startswith("Optional[")} == may_be_none
+    assert not any(t.startswith("Optional[") for t in full.values())
+    assert all(full[name] == selected[name][len("Optional["):-1] for name in may_be_none)
+    everything = angletrack.track_batch(gains, samples, samples)
+    assert all(getattr(everything, name) is not None for name in may_be_none)
+    # A batch call returns `Estimates` when `outputs` is left out (None), else `_SelectedEstimates`.
+    batch_calls = [f for f in tree.body if isinstance(f, ast.FunctionDef) and f.name == "track_batch"]
+    batch_calls += [f for f in classes["ObserverBatch"].body if isinstance(f, ast.FunctionDef) and f.name == "update"]
+    returns = {
+        (f.name, ast.unparse(next(a.annotation for a in f.args.kwonlyargs if a.arg == "outputs"))): ast.unparse(f.returns)
+        for f in batch_calls
+    }
+    assert returns == {
+        ("track_batch", "None"): "Estimates",
+        ("track_batch", "_Outputs"): "_SelectedEstimates",
+        ("update", "None"): "Estimates",
+        ("update", "_Outputs"): "_SelectedEstimates",
+    }
 
 
 def test_package_docstring_examples_run():

@@ -124,6 +124,7 @@ mod front_end_faults;
 mod gains;
 mod learning;
 mod monitor;
+mod monitor_thresholds;
 mod observer;
 mod outputs;
 mod real;

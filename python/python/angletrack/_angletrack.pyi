@@ -2,7 +2,7 @@
 
 import os
 from collections.abc import Iterable, Sequence
-from typing import Any, Literal, Optional, Union
+from typing import Any, Literal, Optional, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -48,27 +48,28 @@ class ConfigError(ValueError):
     parameter: str
     """The argument's name as the caller spelled it (``"sample_period_s"``, ``"gains"``)."""
 
-class Estimates:
-    """Estimates of a run, one array per quantity. ``position`` is float64; the others
-    have the input's dtype. A quantity left out of a batch's ``outputs`` is ``None``."""
+class _SelectedEstimates:
+    """What a batch run with ``outputs=`` returns (an ``Estimates`` at run time): the
+    quantities named in ``outputs`` as arrays, the others ``None``. ``position`` is float64;
+    the others have the input's dtype."""
 
     @property
-    def angle(self) -> npt.NDArray[np.floating]:
+    def angle(self) -> Optional[npt.NDArray[np.floating]]:
         """Angle (rad), wrapped to [-pi, pi)."""
     @property
-    def position(self) -> npt.NDArray[np.float64]:
+    def position(self) -> Optional[npt.NDArray[np.float64]]:
         """Multi-turn position ``turns * 2 pi + angle`` (rad)."""
     @property
-    def speed(self) -> npt.NDArray[np.floating]:
+    def speed(self) -> Optional[npt.NDArray[np.floating]]:
         """Speed (rad/s)."""
     @property
-    def acceleration(self) -> npt.NDArray[np.floating]:
+    def acceleration(self) -> Optional[npt.NDArray[np.floating]]:
         """Acceleration (rad/s^2); 0 at order 2."""
     @property
-    def phase_error(self) -> npt.NDArray[np.floating]:
+    def phase_error(self) -> Optional[npt.NDArray[np.floating]]:
         """Normalised phase-detector output per sample (about the sine of the angle error)."""
     @property
-    def faults(self) -> npt.NDArray[np.uint8]:
+    def faults(self) -> Optional[npt.NDArray[np.uint8]]:
         """Fault flags per sample (see ``angletrack.Faults``)."""
     @property
     def dtype(self) -> str:
@@ -77,6 +78,25 @@ class Estimates:
     def len(self) -> int:
         """Number of samples."""
     def __len__(self) -> int: ...
+
+class Estimates(_SelectedEstimates):
+    """Estimates of a run, one array per quantity. ``position`` is float64; the others
+    have the input's dtype. Every array is present, except in what a batch run with
+    ``outputs=`` returns (typed ``_SelectedEstimates``), where a quantity left out is
+    ``None``."""
+
+    @property
+    def angle(self) -> npt.NDArray[np.floating]: ...
+    @property
+    def position(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def speed(self) -> npt.NDArray[np.floating]: ...
+    @property
+    def acceleration(self) -> npt.NDArray[np.floating]: ...
+    @property
+    def phase_error(self) -> npt.NDArray[np.floating]: ...
+    @property
+    def faults(self) -> npt.NDArray[np.uint8]: ...
 
 class Estimate:
     """The quantities of ``Estimates`` after the last sample, as Python scalars, with the
@@ -216,9 +236,12 @@ class ObserverBatch(_RunSettings):
     def __init__(
         self, gains: Gains, channels: int, *, dtype: _DType = None, sin_cos: _SinCos = None,
     ) -> None: ...
+    @overload
+    def update(self, y_c: _ChannelSamples, y_s: _ChannelSamples, *, outputs: None = None) -> Estimates: ...
+    @overload
     def update(
-        self, y_c: _ChannelSamples, y_s: _ChannelSamples, *, outputs: _Outputs = None
-    ) -> Estimates:
+        self, y_c: _ChannelSamples, y_s: _ChannelSamples, *, outputs: _Outputs
+    ) -> _SelectedEstimates:
         """Runs over 2-D samples (channels x samples) of the batch's dtype; GIL released.
         The arrays of the result have the inputs' shape. ``outputs`` (e.g. ``("angle",
         "speed")``, default all) names the estimates computed and returned; the others are
@@ -226,10 +249,16 @@ class ObserverBatch(_RunSettings):
     @property
     def channels(self) -> int: ...
 
+@overload
 def track_batch(
     gains: Gains, y_c: _ChannelSamples, y_s: _ChannelSamples, *, sin_cos: _SinCos = None,
-    outputs: _Outputs = None,
-) -> Estimates:
+    outputs: None = None,
+) -> Estimates: ...
+@overload
+def track_batch(
+    gains: Gains, y_c: _ChannelSamples, y_s: _ChannelSamples, *, sin_cos: _SinCos = None,
+    outputs: _Outputs,
+) -> _SelectedEstimates:
     """Runs a fresh ``ObserverBatch`` over 2-D samples (channels x samples) in their own
     dtype; the result's arrays have the inputs' shape. Only the estimates named in
     ``outputs`` (e.g. ``("angle", "speed")``, default all) are computed and allocated, the

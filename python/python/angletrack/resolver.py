@@ -116,9 +116,9 @@ def _samples_per_period(capture_hz: Optional[float], carrier_hz: float, stated: 
 def _gains(s, carrier_hz: float) -> angletrack.Gains:
     from angletrack.tracking import RATE_TOLERANCE
 
-    if s.gains_file is None:
+    gains = s.designed_gains
+    if gains is None:
         return angletrack.Gains(s.gains, sample_period_s=1.0 / carrier_hz)
-    gains = export.gains_from_json(s.gains_file.read_text())
     if abs(gains.sample_rate_hz / carrier_hz - 1.0) > RATE_TOLERANCE:
         raise ValueError(
             f"sample_rate: the gains in {s.gains_file} are designed for {gains.sample_rate_hz:.6g} Hz but "

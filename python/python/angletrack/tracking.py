@@ -10,6 +10,7 @@ run whose samples were mostly rejected is an error, not a file of zeros.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import pathlib
 import sys
@@ -61,6 +62,12 @@ class TrackSettings:
     #: ``harmonics.CalibratedObserver``.
     calibration: Optional[harmonics.Calibration] = None
 
+    @functools.cached_property
+    def designed_gains(self) -> Optional[angletrack.Gains]:
+        """The gains in ``gains_file`` at their designed rate (``None`` without one), read
+        once however many steps ask for them."""
+        return None if self.gains_file is None else export.gains_from_json(self.gains_file.read_text())
+
 
 def _rate_error(capture_hz: float, gains_hz: float, time_unit: str) -> str:
     ratio = capture_hz / gains_hz
@@ -77,8 +84,8 @@ def _rate_error(capture_hz: float, gains_hz: float, time_unit: str) -> str:
 
 def gains_for_capture(s: TrackSettings, capture_rate_hz: Optional[float]) -> angletrack.Gains:
     """The gains to run at the capture's sample rate, refusing a rate that contradicts them."""
-    if s.gains_file is not None:
-        gains = export.gains_from_json(s.gains_file.read_text())
+    gains = s.designed_gains
+    if gains is not None:
         if s.sample_rate_hz is not None:
             return angletrack.Gains(gains.gains, sample_period_s=1.0 / s.sample_rate_hz)
         if capture_rate_hz is not None and abs(capture_rate_hz / gains.sample_rate_hz - 1.0) > RATE_TOLERANCE:
@@ -169,9 +176,9 @@ def _rejections_error(s: TrackSettings, rejected: int, total: int, reader, y_c_m
 
 def _stated_rate_note(s: TrackSettings) -> list[str]:
     """A line saying that gains designed for another rate run at the stated one."""
-    if s.gains_file is None or s.sample_rate_hz is None:
+    if s.designed_gains is None or s.sample_rate_hz is None:
         return []
-    designed_hz = export.gains_from_json(s.gains_file.read_text()).sample_rate_hz
+    designed_hz = s.designed_gains.sample_rate_hz
     if abs(s.sample_rate_hz / designed_hz - 1.0) <= RATE_TOLERANCE:
         return []
     return [

@@ -4,8 +4,9 @@
 # angletrack.h, links it with newlib (snprintf, sinf) into an image for QEMU mps2-an386
 # (link.ld, on the Rust firmware test's memory-m4.x), and
 #  1. runs it: it must exit 0 and print PASS for each tracking check;
-#  2. checks that the check can fail: built with -DTAMPER (a signal 1 % faster than the
-#     check expects) it must exit 1 and print FAIL;
+#  2. checks that each check can fail: built with -DTAMPER (one input of each check
+#     corrupted: the signal 1 % faster than the tracking checks expect, the sensor's offset
+#     0.01 off the calibration check's) it must exit 1 and every check must print FAIL;
 #  3. checks that the image holds no panic code: no C API call can reach the library's
 #     panic handler, so the linker's garbage collection drops it;
 #  4. prints the image's code size.
@@ -45,14 +46,22 @@ run() {
 build example
 output=$(run example) || { echo "$output"; echo "FAIL: the C example exited with an error" >&2; exit 1; }
 echo "$output"
-[ "$(grep -c '^PASS' <<<"$output")" -eq 3 ] || { echo "FAIL: expected 3 PASS lines" >&2; exit 1; }
+checks=3
+[ "$(grep -c '^PASS' <<<"$output")" -eq "$checks" ] ||
+  { echo "FAIL: expected $checks PASS lines" >&2; exit 1; }
 
 build tamper -DTAMPER
 if output=$(run tamper); then
   echo "$output"; echo "FAIL: the tampered C example passed" >&2; exit 1
 fi
-grep -q '^FAIL' <<<"$output" || { echo "$output"; echo "FAIL: tampered run failed without FAIL" >&2; exit 1; }
-echo "check with a signal 1 % faster than expected: fails as it must"
+# Every check (as many lines as the clean run's PASS lines) must fail on its corrupted input.
+failed=$(grep -c '^FAIL' <<<"$output" || true)
+if [ "$failed" -ne "$checks" ] || [ "$(grep -cE '^(PASS|FAIL)' <<<"$output")" -ne "$checks" ]; then
+  echo "$output"
+  echo "FAIL: with one corrupted input per check, $failed of $checks checks FAIL; all must" >&2
+  exit 1
+fi
+echo "checks with one corrupted input each: all $failed of $checks FAIL, as they must"
 
 if panics=$(arm-none-eabi-nm -C "$out/example.elf" | grep -iE 'panic|rust_begin_unwind'); then
   echo "$panics"; echo "FAIL: the C example's image holds panic code" >&2; exit 1

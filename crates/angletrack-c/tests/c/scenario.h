@@ -93,6 +93,13 @@ static int scenario_passes(const char *name, scenario_result r, float angle_tole
   return pass;
 }
 
+/* The cosine offset of the sensor that scenario_calibrate's signal comes from; its check
+ * expects 0.05. A firmware test defines it otherwise before the include to see the check
+ * fail (tests/firmware/c/main.c, -DTAMPER). */
+#ifndef SCENARIO_SIGNAL_OFFSET_C
+#define SCENARIO_SIGNAL_OFFSET_C 0.05f
+#endif
+
 /* Learns a sensor with offsets 0.05 and -0.05, amplitude ratio 1.1 and quadrature 0.05 rad
  * through at_update_f32_calibrated at the scenario's speed, from a fresh state and
  * calibrator; writes the learned calibration to `learned` and a line to `line`; 1 (PASS) if
@@ -105,7 +112,7 @@ static int scenario_calibrate(const at_gains_f32 *gains, at_state_f32 *state,
   int pass = at_calibrator_f32_set_mode(calibrator, AT_CALIBRATION_LEARNING) == AT_OK;
   for (long k = 0; k < SCENARIO_SAMPLES; k++) {
     float theta = (float)scenario_angle(k, SCENARIO_SPEED_RAD_S, sample_period_s);
-    at_update_f32_calibrated(gains, state, calibrator, 0.05f + cosf(theta),
+    at_update_f32_calibrated(gains, state, calibrator, SCENARIO_SIGNAL_OFFSET_C + cosf(theta),
                              -0.05f + 1.1f * sinf(theta + 0.05f));
   }
   pass &= at_calibrator_f32_calibration(calibrator, learned) == AT_OK;

@@ -111,40 +111,68 @@ impl<T: Real> EstimateColumns<'_, T> {
             && fits(self.faults.as_deref().map(<[u8]>::len))
     }
 
-    /// Writes the quantities of `e` the columns hold at `index`.
-    ///
-    /// # Panics
-    /// If `index` is outside a column present (check [`EstimateColumns::all_of_len`] first).
+    /// The length of the shortest column present, `None` when none is.
+    fn shortest(&self) -> Option<usize> {
+        [
+            self.angle.as_deref().map(<[T]>::len),
+            self.position.as_deref().map(<[f64]>::len),
+            self.speed.as_deref().map(<[T]>::len),
+            self.acceleration.as_deref().map(<[T]>::len),
+            self.phase_error.as_deref().map(<[T]>::len),
+            self.faults.as_deref().map(<[u8]>::len),
+        ]
+        .into_iter()
+        .flatten()
+        .min()
+    }
+
+    /// Writes the quantities the columns hold of each estimate in turn, from element 0 on,
+    /// and returns how many estimates it took. It takes no more than the shortest column
+    /// present holds (all of them when no column is present), so a lazy iterator (an
+    /// observer's update per sample) runs exactly over the samples written; the caller
+    /// checks the lengths first ([`EstimateColumns::all_of_len`]) when every sample must
+    /// be written.
     ///
     /// ```
     /// use angletrack::EstimateColumns;
     /// use angletrack_core::{Estimate, Faults};
-    /// let (mut angle, mut speed) = ([0.0_f32; 3], [0.0_f32; 3]);
-    /// let mut columns = EstimateColumns {
+    /// let (mut angle, mut speed) = ([0.0_f32; 2], [0.0_f32; 2]);
+    /// let columns = EstimateColumns {
     ///     angle: Some(&mut angle), speed: Some(&mut speed), ..Default::default()
     /// };
-    /// columns.set(1, &Estimate::new(0.5, 4, 60.0, 0.0, 1e-3, Faults::NONE));
-    /// assert_eq!((angle[1], speed[1]), (0.5, 60.0));
+    /// let estimates = (1..=3).map(|k| Estimate::new(0.5 * k as f32, 0, 60.0, 0.0, 0.0, Faults::NONE));
+    /// assert_eq!(columns.write(estimates), 2); // the third estimate is not even computed
+    /// assert_eq!((angle, speed), ([0.5, 1.0], [60.0, 60.0]));
     /// ```
     #[inline]
-    pub fn set(&mut self, index: usize, e: &Estimate<T>) {
-        if let Some(c) = self.angle.as_deref_mut() {
-            c[index] = e.angle;
+    pub fn write(self, estimates: impl IntoIterator<Item = Estimate<T>>) -> usize {
+        let limit = self.shortest().unwrap_or(usize::MAX);
+        let mut angle = self.angle.map(|c| c.iter_mut());
+        let mut position = self.position.map(|c| c.iter_mut());
+        let mut speed = self.speed.map(|c| c.iter_mut());
+        let mut acceleration = self.acceleration.map(|c| c.iter_mut());
+        let mut phase_error = self.phase_error.map(|c| c.iter_mut());
+        let mut faults = self.faults.map(|c| c.iter_mut());
+        let mut written = 0;
+        for e in estimates.into_iter().take(limit) {
+            // Each column holds at least `limit` elements: every `next` below is `Some`.
+            put(&mut angle, || e.angle);
+            put(&mut position, || e.position());
+            put(&mut speed, || e.speed);
+            put(&mut acceleration, || e.acceleration);
+            put(&mut phase_error, || e.phase_error);
+            put(&mut faults, || e.faults.bits());
+            written += 1;
         }
-        if let Some(c) = self.position.as_deref_mut() {
-            c[index] = e.position();
-        }
-        if let Some(c) = self.speed.as_deref_mut() {
-            c[index] = e.speed;
-        }
-        if let Some(c) = self.acceleration.as_deref_mut() {
-            c[index] = e.acceleration;
-        }
-        if let Some(c) = self.phase_error.as_deref_mut() {
-            c[index] = e.phase_error;
-        }
-        if let Some(c) = self.faults.as_deref_mut() {
-            c[index] = e.faults.bits();
-        }
+        written
+    }
+}
+
+/// Writes `value()` into the next element of `column`, if the column is present (the
+/// value is computed only then).
+#[inline(always)]
+fn put<'a, E: 'a>(column: &mut Option<impl Iterator<Item = &'a mut E>>, value: impl FnOnce() -> E) {
+    if let Some(slot) = column.as_mut().and_then(Iterator::next) {
+        *slot = value();
     }
 }

@@ -371,3 +371,48 @@ fn metrics_wrap_the_angle_and_refuse_mismatched_series() {
         Error::NotPositive(Argument::LockTolerance)
     );
 }
+
+#[test]
+fn estimate_columns_take_what_their_shortest_column_holds() {
+    use angletrack_core::{Estimate, Faults};
+    let estimate = |k: usize| {
+        Estimate::new(
+            0.25 * k as f64,
+            k as i64,
+            3.0,
+            4.0,
+            0.5,
+            Faults::LOSS_OF_SIGNAL,
+        )
+    };
+    // No column: every estimate is taken (the observer runs over all its samples).
+    let mut taken = 0;
+    let none = EstimateColumns::<f64>::default();
+    assert_eq!(
+        none.write((0..7).map(|k| {
+            taken += 1;
+            estimate(k)
+        })),
+        7
+    );
+    assert_eq!(taken, 7);
+    // Columns of 3 and 5 elements: 3 estimates taken, written at 0, 1, 2 of each.
+    let (mut position, mut faults, mut taken) = ([0.0; 3], [0_u8; 5], 0);
+    let columns = EstimateColumns::<f64> {
+        position: Some(&mut position),
+        faults: Some(&mut faults),
+        ..Default::default()
+    };
+    assert_eq!(
+        columns.write((0..10).map(|k| {
+            taken += 1;
+            estimate(k)
+        })),
+        3
+    );
+    assert_eq!(taken, 3);
+    let two_pi = 2.0 * PI;
+    assert_eq!(position, [0.0, two_pi + 0.25, 2.0 * two_pi + 0.5]);
+    let flag = Faults::LOSS_OF_SIGNAL.bits();
+    assert_eq!(faults, [flag, flag, flag, 0, 0]);
+}

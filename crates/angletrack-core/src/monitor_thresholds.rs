@@ -1,0 +1,109 @@
+//! The builder of [`FaultThresholds`]: code outside this crate cannot write the
+//! `#[non_exhaustive]` struct as a literal, so it starts from
+//! [`FaultThresholds::for_amplitude`] and sets each other field by name with these
+//! `const fn`s (usable for a `static` in firmware). Nothing is checked here: the thresholds
+//! are checked where an observer's configuration takes them
+//! ([`Gains::with_fault_thresholds`](crate::Gains::with_fault_thresholds)), with the
+//! [`ConfigError`](crate::ConfigError) naming the parameter.
+
+use crate::monitor::FaultThresholds;
+
+impl<T: Copy> FaultThresholds<T> {
+    /// The same thresholds with [`FaultThresholds::max_input_amplitude`] set (units of
+    /// `y_c`, `y_s`). Every setter works alike; a value out of range is refused by
+    /// [`Gains::with_fault_thresholds`](crate::Gains::with_fault_thresholds), naming it:
+    ///
+    /// ```
+    /// use angletrack_core::{FaultThresholds, Gains, Parameter};
+    /// // Raw ADC counts with the mid-scale removed, amplitude about 1800 counts.
+    /// let thresholds = FaultThresholds::<f32>::for_amplitude(1800.0)
+    ///     .with_max_input_amplitude(2047.0)
+    ///     .with_loss_of_signal(300.0)
+    ///     .with_degradation_low(1000.0)
+    ///     .with_degradation_high(2000.0)
+    ///     .with_loss_of_tracking(0.05)
+    ///     .with_max_speed(Some(3000.0))
+    ///     .with_filter_factor(1.0 / 32.0)
+    ///     .with_false_lock(0.0)
+    ///     .with_monitor(true)
+    ///     .with_re_acquire(false);
+    /// assert_eq!((thresholds.loss_of_signal, thresholds.max_speed), (300.0, Some(3000.0)));
+    /// let gains = Gains::<f32, 3>::new([0.3, 0.04, 0.002], 1e-4)?
+    ///     .with_fault_thresholds(thresholds)?;
+    /// assert_eq!(gains.fault_thresholds(), thresholds);
+    /// let below_nominal = thresholds.with_degradation_high(1700.0);
+    /// let err = gains.with_fault_thresholds(below_nominal).unwrap_err();
+    /// assert_eq!(err.parameter(), Parameter::DegradationHighThreshold);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub const fn with_max_input_amplitude(mut self, max_input_amplitude: T) -> Self {
+        self.max_input_amplitude = max_input_amplitude;
+        self
+    }
+
+    /// The same thresholds with [`FaultThresholds::loss_of_signal`] set (units of `y_c`,
+    /// `y_s`); see [`FaultThresholds::with_max_input_amplitude`] for an example.
+    pub const fn with_loss_of_signal(mut self, loss_of_signal: T) -> Self {
+        self.loss_of_signal = loss_of_signal;
+        self
+    }
+
+    /// The same thresholds with [`FaultThresholds::degradation_low`] set (units of `y_c`,
+    /// `y_s`); see [`FaultThresholds::with_max_input_amplitude`] for an example.
+    pub const fn with_degradation_low(mut self, degradation_low: T) -> Self {
+        self.degradation_low = degradation_low;
+        self
+    }
+
+    /// The same thresholds with [`FaultThresholds::degradation_high`] set (units of `y_c`,
+    /// `y_s`); see [`FaultThresholds::with_max_input_amplitude`] for an example.
+    pub const fn with_degradation_high(mut self, degradation_high: T) -> Self {
+        self.degradation_high = degradation_high;
+        self
+    }
+
+    /// The same thresholds with [`FaultThresholds::loss_of_tracking`] set (dimensionless);
+    /// see [`FaultThresholds::with_max_input_amplitude`] for an example.
+    pub const fn with_loss_of_tracking(mut self, loss_of_tracking: T) -> Self {
+        self.loss_of_tracking = loss_of_tracking;
+        self
+    }
+
+    /// The same thresholds with [`FaultThresholds::max_speed`] set (rad/s; `None`: a
+    /// quarter turn per sample); see [`FaultThresholds::with_max_input_amplitude`] for an
+    /// example.
+    pub const fn with_max_speed(mut self, max_speed_rad_s: Option<T>) -> Self {
+        self.max_speed = max_speed_rad_s;
+        self
+    }
+
+    /// The same thresholds with [`FaultThresholds::filter_factor`] set (`1 / W` for a
+    /// window of `W` used samples); see [`FaultThresholds::with_max_input_amplitude`] for an
+    /// example.
+    pub const fn with_filter_factor(mut self, filter_factor: T) -> Self {
+        self.filter_factor = filter_factor;
+        self
+    }
+
+    /// The same thresholds with [`FaultThresholds::false_lock`] set (units of `y_c`,
+    /// `y_s`); see [`FaultThresholds::with_max_input_amplitude`] for an example.
+    pub const fn with_false_lock(mut self, false_lock: T) -> Self {
+        self.false_lock = false_lock;
+        self
+    }
+
+    /// The same thresholds with [`FaultThresholds::monitor`] set (whether the flags are
+    /// computed); see [`FaultThresholds::with_max_input_amplitude`] for an example.
+    pub const fn with_monitor(mut self, monitor: bool) -> Self {
+        self.monitor = monitor;
+        self
+    }
+
+    /// The same thresholds with [`FaultThresholds::re_acquire`] set (whether a false lock
+    /// re-acquires the angle); see [`FaultThresholds::with_max_input_amplitude`] for an
+    /// example.
+    pub const fn with_re_acquire(mut self, re_acquire: bool) -> Self {
+        self.re_acquire = re_acquire;
+        self
+    }
+}

@@ -71,9 +71,9 @@ pub(crate) struct FixedThresholds {
 }
 
 /// Half the square amplitude of a signal of `amplitude_counts`.
-fn amplitude2_half_of(amplitude_counts: f64) -> u32 {
-    let half_square = libm::round(amplitude_counts * amplitude_counts / 2.0);
-    half_square.clamp(0.0, f64::from(u32::MAX)) as u32
+const fn amplitude2_half_of(amplitude_counts: f64) -> u32 {
+    // Rounded to nearest (a non-negative value; `as` saturates at u32::MAX).
+    (amplitude_counts * amplitude_counts / 2.0 + 0.5) as u32
 }
 
 impl FixedThresholds {
@@ -92,7 +92,7 @@ impl FixedThresholds {
     /// The float monitor's default thresholds (`FaultThresholds`) for signals of
     /// `nominal_counts`: loss of signal below 1/4, degradation outside [1/2, 3/2], loss of
     /// tracking above a mean `|eps|` of 0.1, a quarter turn per sample.
-    fn for_amplitude(nominal_counts: f64) -> Self {
+    const fn for_amplitude(nominal_counts: f64) -> Self {
         Self {
             enabled: true,
             loss_of_signal: amplitude2_half_of(nominal_counts * 0.25),
@@ -112,17 +112,13 @@ const ACCELERATION_SHIFTS: core::ops::RangeInclusive<u32> = 1..=15;
 /// by `round(multiplier eps 2^-16)` in units of 2^-32 turn (per sample), so
 /// `multiplier = l 2^-15 2^16 2^32 / (2 pi)`; the acceleration by `multiplier eps 2^k` in
 /// units of 2^-63 turn per sample^2, so `multiplier = l 2^-15 2^-k 2^63 / (2 pi)`.
-const fn multiplier_exponent(i: usize, acceleration_shift: u32) -> i32 {
-    if i < 2 {
-        33
-    } else {
-        48 - acceleration_shift as i32
-    }
+const fn multiplier_exponent(i: usize, acceleration_shift: u32) -> u32 {
+    if i < 2 { 33 } else { 48 - acceleration_shift }
 }
 
 /// `round(gain 2^exponent / (2 pi))` if it is a multiplier (1 to 2^31 - 1).
-fn quantise(gain: f64, exponent: i32) -> Option<i32> {
-    let scaled = libm::round(libm::ldexp(gain * TURNS_PER_RAD, exponent));
+fn quantise(gain: f64, exponent: u32) -> Option<i32> {
+    let scaled = libm::round(libm::ldexp(gain * TURNS_PER_RAD, exponent as i32));
     (1.0..=f64::from(i32::MAX))
         .contains(&scaled)
         .then_some(scaled as i32)
@@ -185,7 +181,7 @@ where
                 while acceleration_shift < *ACCELERATION_SHIFTS.end()
                     && libm::ldexp(
                         gain * TURNS_PER_RAD,
-                        multiplier_exponent(2, acceleration_shift),
+                        multiplier_exponent(2, acceleration_shift) as i32,
                     ) >= f64::from(i32::MAX)
                 {
                     acceleration_shift += 1;
@@ -220,7 +216,35 @@ where
     /// assert_eq!(err.parameter(), Parameter::AccelerationGain);
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
-    pub fn from_constants(
+    ///
+    /// A `const fn`: a firmware checks its constants (as `angletrack design --dtype fixed
+    /// --format rust` prints them) when it compiles, into a `static`:
+    ///
+    /// ```
+    /// use angletrack_core::{FixedGains, fixed::FixedConstants};
+    /// const KALMAN: FixedConstants<3> = FixedConstants {
+    ///     multiplier: [215_733_201, 17_225_845, 1_903_920_691],
+    ///     acceleration_shift: 3,
+    /// };
+    /// static GAINS: FixedGains<3> = match FixedGains::from_constants(KALMAN, 50e-6) {
+    ///     Ok(gains) => gains,
+    ///     Err(_) => panic!("the fixed-point gains are refused"),
+    /// };
+    /// let designed = FixedGains::<3>::new([0.1578, 0.0126, 0.000_34], 50e-6).unwrap();
+    /// assert_eq!(GAINS, designed);
+    /// ```
+    ///
+    /// Refused constants fail the build:
+    ///
+    /// ```compile_fail
+    /// use angletrack_core::{FixedGains, fixed::FixedConstants};
+    /// const BROKEN: FixedConstants<2> = FixedConstants { multiplier: [0, 1], acceleration_shift: 0 };
+    /// static GAINS: FixedGains<2> = match FixedGains::from_constants(BROKEN, 1e-4) {
+    ///     Ok(gains) => gains,
+    ///     Err(_) => panic!("the fixed-point gains are refused"),
+    /// };
+    /// ```
+    pub const fn from_constants(
         constants: FixedConstants<N>,
         sample_period_s: f64,
     ) -> Result<Self, ConfigError> {
@@ -230,13 +254,17 @@ where
         if sample_period_s <= 0.0 {
             return Err(ConfigError::NotPositive(Parameter::SamplePeriod));
         }
-        for (i, &m) in constants.multiplier.iter().enumerate() {
-            if m < 1 {
+        let mut i = 0;
+        while i < N {
+            if constants.multiplier[i] < 1 {
                 return Err(ConfigError::OutOfRange(gain_parameter(i)));
             }
+            i += 1;
         }
         let shift = constants.acceleration_shift;
-        if (N > 2 && !ACCELERATION_SHIFTS.contains(&shift)) || (N < 3 && shift > 0) {
+        let shift_in_range =
+            *ACCELERATION_SHIFTS.start() <= shift && shift <= *ACCELERATION_SHIFTS.end();
+        if (N > 2 && !shift_in_range) || (N < 3 && shift > 0) {
             return Err(ConfigError::OutOfRange(gain_parameter(2)));
         }
         let fixed = Self {
@@ -246,8 +274,10 @@ where
             sample_period_s,
             monitor: FixedThresholds::for_amplitude(16384.0),
         };
-        check_stability(&fixed.gains())?;
-        Ok(fixed)
+        match check_stability(&fixed.gains()) {
+            Ok(()) => Ok(fixed),
+            Err(e) => Err(e),
+        }
     }
 }
 
@@ -255,11 +285,17 @@ impl<const N: usize> FixedGains<N> {
     /// The gains the integers represent (`l_i = multiplier_i 2 pi / 2^s_i`,
     /// `s = (33, 33, 48 - k)`): the loop that runs, whose stability [`FixedGains::new`]
     /// checked.
-    pub fn gains(&self) -> [f64; N] {
-        core::array::from_fn(|i| {
-            let exponent = multiplier_exponent(i, self.acceleration_shift);
-            libm::ldexp(f64::from(self.multiplier[i]), -exponent) * core::f64::consts::TAU
-        })
+    pub const fn gains(&self) -> [f64; N] {
+        let mut gains = [0.0; N];
+        let mut i = 0;
+        while i < N {
+            // 2^-s, s <= 48: the exponent field of an f64 (`const`, unlike `ldexp`).
+            let exponent = multiplier_exponent(i, self.acceleration_shift) as u64;
+            let scale = f64::from_bits((1023 - exponent) << 52);
+            gains[i] = self.multiplier[i] as f64 * scale * core::f64::consts::TAU;
+            i += 1;
+        }
+        gains
     }
 
     /// The same gains with the diagnostics' thresholds for signals of

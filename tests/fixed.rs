@@ -43,8 +43,8 @@ fn counts(y: f64) -> i16 {
     (y * 16384.0).round() as i16
 }
 
-/// RMS (turns) of the difference of the fixed-point and the `f64` observers' positions.
-fn rms_difference<const N: usize>(gains: [f64; N], scenario: &Scenario) -> f64
+/// The positions (turns) of the fixed-point and the `f64` observers, sample by sample.
+fn positions<const N: usize>(gains: [f64; N], scenario: &Scenario) -> Vec<(f64, f64)>
 where
     angletrack::core::Order<N>: angletrack::core::SupportedOrder,
 {
@@ -52,15 +52,31 @@ where
     let float = Gains::<f64, N>::new(gains, ts).expect("the design's gains");
     let fixed = FixedGains::<N>::new(gains, ts).expect("the design's gains, quantised");
     let (mut float_state, mut fixed_state) = (ObserverState::new(), FixedState::new());
-    let mut sum = 0.0;
-    for (&c, &s) in scenario.y_c.iter().zip(&scenario.y_s) {
-        let e = float.update(&mut float_state, c, s);
-        let f = fixed.update(&mut fixed_state, counts(c), counts(s));
-        let float_turns = e.position() / std::f64::consts::TAU;
-        let fixed_turns = fixed.position_rad(&f) / std::f64::consts::TAU;
-        sum += (fixed_turns - float_turns).powi(2);
-    }
-    (sum / scenario.y_c.len() as f64).sqrt()
+    let turns = |rad: f64| rad / std::f64::consts::TAU;
+    let samples = scenario.y_c.iter().zip(&scenario.y_s);
+    samples
+        .map(|(&c, &s)| {
+            let e = float.update(&mut float_state, c, s);
+            let f = fixed.update(&mut fixed_state, counts(c), counts(s));
+            (turns(fixed.position_rad(&f)), turns(e.position()))
+        })
+        .collect()
+}
+
+/// The RMS of `errors`.
+fn rms(errors: impl ExactSizeIterator<Item = f64>) -> f64 {
+    let n = errors.len() as f64;
+    (errors.map(|e| e * e).sum::<f64>() / n).sqrt()
+}
+
+/// RMS (turns) of the difference of the fixed-point and the `f64` observers' positions.
+fn rms_difference<const N: usize>(gains: [f64; N], scenario: &Scenario) -> f64
+where
+    angletrack::core::Order<N>: angletrack::core::SupportedOrder,
+{
+    rms(positions(gains, scenario)
+        .into_iter()
+        .map(|(fixed, float)| fixed - float))
 }
 
 /// [`rms_difference`] of a design of either order.
@@ -149,28 +165,20 @@ fn rms_errors<const N: usize>(gains: [f64; N], scenario: &Scenario) -> (f64, f64
 where
     angletrack::core::Order<N>: angletrack::core::SupportedOrder,
 {
-    let ts = scenario.sample_period_s;
-    let float = Gains::<f64, N>::new(gains, ts).expect("the design's gains");
-    let fixed = FixedGains::<N>::new(gains, ts).expect("the design's gains, quantised");
-    let (mut float_state, mut fixed_state) = (ObserverState::new(), FixedState::new());
-    let (mut fixed_sum, mut float_sum) = (0.0, 0.0);
-    let samples = scenario
-        .y_c
-        .iter()
-        .zip(&scenario.y_s)
-        .zip(&scenario.angle_rad);
     let half = scenario.y_c.len() / 2;
-    for (k, ((&c, &s), &truth)) in samples.enumerate() {
-        let e = float.update(&mut float_state, c, s);
-        let f = fixed.update(&mut fixed_state, counts(c), counts(s));
-        if k >= half {
-            let turns = |rad: f64| rad / std::f64::consts::TAU;
-            fixed_sum += turns(fixed.position_rad(&f) - truth).powi(2);
-            float_sum += turns(e.position() - truth).powi(2);
-        }
-    }
-    let n = (scenario.y_c.len() - half) as f64;
-    ((fixed_sum / n).sqrt(), (float_sum / n).sqrt())
+    let errors: Vec<(f64, f64)> = positions(gains, scenario)
+        .into_iter()
+        .zip(&scenario.angle_rad)
+        .skip(half)
+        .map(|((fixed, float), truth)| {
+            let truth = truth / std::f64::consts::TAU;
+            (fixed - truth, float - truth)
+        })
+        .collect();
+    (
+        rms(errors.iter().map(|e| e.0)),
+        rms(errors.iter().map(|e| e.1)),
+    )
 }
 
 /// With sensor noise, a large-signal transient shows the one difference of design

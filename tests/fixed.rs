@@ -128,17 +128,21 @@ fn fixed_point_follows_the_f64_observer_on_the_paper_settings() {
     }
 }
 
-/// The RMS difference (turns) of the two observers through the benchmarks' and the
-/// firmware test's signal, with sensor noise `noise`: the observer starts at rest on a shaft
-/// turning at 300 rad/s and accelerating (phase errors up to 0.3 for 100 samples).
-fn acquisition_rms(gains: [f64; 3], noise: f64) -> f64 {
+/// The benchmarks' and the firmware test's signal, with sensor noise `noise`: the observer
+/// starts at rest on a shaft turning at 300 rad/s and accelerating (phase errors up to 0.3
+/// for 100 samples).
+fn acquisition(noise: f64) -> Scenario {
     let profile = MotionProfile::new(0.3, 300.0).then(Motion::ConstantAcceleration {
         acceleration_rad_s2: 400.0,
         duration_s: 0.2,
     });
     let ts = angletrack::paper::BENCHMARK_SAMPLE_PERIOD_S;
-    let scenario = Scenario::generate(&profile, &SensorModel::with_noise(noise), ts, 7).unwrap();
-    let rms = rms_difference(gains, &scenario);
+    Scenario::generate(&profile, &SensorModel::with_noise(noise), ts, 7).unwrap()
+}
+
+/// The RMS difference (turns) of the two observers through [`acquisition`].
+fn acquisition_rms(gains: [f64; 3], noise: f64) -> f64 {
+    let rms = rms_difference(gains, &acquisition(noise));
     println!(
         "{gains:?}, noise {noise}: RMS {rms:.3e} turn ({:.3} of 2^-16)",
         rms / RMS_TOLERANCE_TURNS
@@ -195,13 +199,7 @@ fn through_a_noisy_acquisition_the_difference_is_the_normalisations() {
     for gains in ACQUISITION_GAINS {
         let rms = acquisition_rms(gains, 0.01);
         assert!(rms < 8.0 * RMS_TOLERANCE_TURNS, "{gains:?}: {rms:e} turn");
-        let profile = MotionProfile::new(0.3, 300.0).then(Motion::ConstantAcceleration {
-            acceleration_rad_s2: 400.0,
-            duration_s: 0.2,
-        });
-        let ts = angletrack::paper::BENCHMARK_SAMPLE_PERIOD_S;
-        let scenario = Scenario::generate(&profile, &SensorModel::with_noise(0.01), ts, 7).unwrap();
-        let (fixed, float) = rms_errors(gains, &scenario);
+        let (fixed, float) = rms_errors(gains, &acquisition(0.01));
         println!(
             "{gains:?}: error against the true angle {fixed:.3e} (fixed), {float:.3e} (f64) turn"
         );

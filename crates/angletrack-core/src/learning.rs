@@ -373,6 +373,10 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// state before the sample) on its way to the observer, as the angle correction
     /// ([`Gains::update_calibrated_corrected`]) needs; the estimator still learns from the
     /// raw sample. With the calibrator off, only `map` applies.
+    ///
+    /// With the calibrator off this is [`Gains::update`] and one test of the mode; the
+    /// calibrator's path is out of line ([`Gains::update_calibrating`]), so that its
+    /// registers are saved there only.
     #[inline(always)]
     pub(crate) fn update_calibrated_mapped(
         &self,
@@ -382,14 +386,30 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         y_s: T,
         map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
     ) -> Estimate<T> {
-        let faults = self.track_calibrated_mapped(state, calibrator, y_c, y_s, map);
+        if calibrator.mode == CalibrationMode::Off {
+            let (c, s) = map(state, y_c, y_s);
+            return self.update(state, c, s);
+        }
+        self.update_calibrating(state, calibrator, y_c, y_s, map)
+    }
+
+    /// [`Gains::update_calibrated_mapped`] with the calibrator on (learning or frozen).
+    #[inline(never)]
+    fn update_calibrating(
+        &self,
+        state: &mut ObserverState<T, N>,
+        calibrator: &mut Calibrator<T>,
+        y_c: T,
+        y_s: T,
+        map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
+    ) -> Estimate<T> {
+        let faults = self.calibrating(state, calibrator, y_c, y_s, map);
         let mut estimate = self.estimate(state);
         estimate.faults |= faults;
         estimate
     }
 
-    /// The body of [`Gains::update_calibrated_mapped`] without the estimate; returns the
-    /// calibration's faults (latched here), which the estimate of the sample carries.
+    /// [`Gains::update_calibrated_mapped`] without the estimate.
     #[inline(always)]
     fn track_calibrated_mapped(
         &self,
@@ -398,13 +418,40 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         y_c: T,
         y_s: T,
         map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
+    ) {
+        if calibrator.mode == CalibrationMode::Off {
+            let (c, s) = map(state, y_c, y_s);
+            return self.track(state, c, s);
+        }
+        self.track_calibrating(state, calibrator, y_c, y_s, map);
+    }
+
+    /// [`Gains::track_calibrated_mapped`] with the calibrator on (learning or frozen).
+    #[inline(never)]
+    fn track_calibrating(
+        &self,
+        state: &mut ObserverState<T, N>,
+        calibrator: &mut Calibrator<T>,
+        y_c: T,
+        y_s: T,
+        map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
+    ) {
+        self.calibrating(state, calibrator, y_c, y_s, map);
+    }
+
+    /// One sample through a calibrator that is on (learning or frozen): corrected, `map`ped,
+    /// tracked, and learnt from; returns the calibration's faults (latched here), which the
+    /// estimate of the sample carries.
+    #[inline(always)]
+    fn calibrating(
+        &self,
+        state: &mut ObserverState<T, N>,
+        calibrator: &mut Calibrator<T>,
+        y_c: T,
+        y_s: T,
+        map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
     ) -> Faults {
         let mode = calibrator.mode;
-        if mode == CalibrationMode::Off {
-            let (c, s) = map(state, y_c, y_s);
-            self.track(state, c, s);
-            return Faults::NONE;
-        }
         let (c, s) = calibrator.calibration.correct(y_c, y_s);
         let (c, s) = map(state, c, s);
         let checked = &self.calibration;

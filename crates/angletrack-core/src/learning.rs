@@ -373,10 +373,6 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// state before the sample) on its way to the observer, as the angle correction
     /// ([`Gains::update_calibrated_corrected`]) needs; the estimator still learns from the
     /// raw sample. With the calibrator off, only `map` applies.
-    ///
-    /// With the calibrator off this is [`Gains::update`] and one test of the mode; the
-    /// calibrator's path is out of line ([`Gains::update_calibrating`]), so that its
-    /// registers are saved there only.
     #[inline(always)]
     pub(crate) fn update_calibrated_mapped(
         &self,
@@ -386,27 +382,18 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         y_s: T,
         map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
     ) -> Estimate<T> {
-        if calibrator.mode == CalibrationMode::Off {
-            let (c, s) = map(state, y_c, y_s);
-            return self.update(state, c, s);
-        }
-        self.update_calibrating(state, calibrator, y_c, y_s, map)
-    }
-
-    /// [`Gains::update_calibrated_mapped`] with the calibrator on (learning or frozen).
-    #[inline(never)]
-    fn update_calibrating(
-        &self,
-        state: &mut ObserverState<T, N>,
-        calibrator: &mut Calibrator<T>,
-        y_c: T,
-        y_s: T,
-        map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
-    ) -> Estimate<T> {
-        let faults = self.calibrating(state, calibrator, y_c, y_s, map);
-        let mut estimate = self.estimate(state);
-        estimate.faults |= faults;
-        estimate
+        self.through_calibrator(
+            state,
+            calibrator,
+            (y_c, y_s),
+            map,
+            |gains, state, c, s| gains.update(state, c, s),
+            |gains, state, faults| {
+                let mut estimate = gains.estimate(state);
+                estimate.faults |= faults;
+                estimate
+            },
+        )
     }
 
     /// [`Gains::update_calibrated_mapped`] without the estimate.
@@ -419,24 +406,50 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         y_s: T,
         map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
     ) {
-        if calibrator.mode == CalibrationMode::Off {
-            let (c, s) = map(state, y_c, y_s);
-            return self.track(state, c, s);
-        }
-        self.track_calibrating(state, calibrator, y_c, y_s, map);
+        self.through_calibrator(
+            state,
+            calibrator,
+            (y_c, y_s),
+            map,
+            |gains, state, c, s| gains.track(state, c, s),
+            |_, _, _| (),
+        );
     }
 
-    /// [`Gains::track_calibrated_mapped`] with the calibrator on (learning or frozen).
-    #[inline(never)]
-    fn track_calibrating(
+    /// The mode's test of every calibrated entry point: with the calibrator off, the
+    /// `map`ped sample goes to `plain` (the entry point without calibration, inlined: the
+    /// calibration then costs that one test); on, through [`Gains::calibrating`] out of
+    /// line (so that the registers it needs are saved there only), whose faults `finish`
+    /// turns into the entry point's result.
+    #[inline(always)]
+    fn through_calibrator<R>(
         &self,
         state: &mut ObserverState<T, N>,
         calibrator: &mut Calibrator<T>,
-        y_c: T,
-        y_s: T,
+        (y_c, y_s): (T, T),
         map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
-    ) {
-        self.calibrating(state, calibrator, y_c, y_s, map);
+        plain: impl FnOnce(&Self, &mut ObserverState<T, N>, T, T) -> R,
+        finish: impl FnOnce(&Self, &ObserverState<T, N>, Faults) -> R,
+    ) -> R {
+        if calibrator.mode == CalibrationMode::Off {
+            let (c, s) = map(state, y_c, y_s);
+            return plain(self, state, c, s);
+        }
+        self.calibrating_out_of_line(state, calibrator, (y_c, y_s), map, finish)
+    }
+
+    /// [`Gains::calibrating`], then `finish` (see [`Gains::through_calibrator`]).
+    #[inline(never)]
+    fn calibrating_out_of_line<R>(
+        &self,
+        state: &mut ObserverState<T, N>,
+        calibrator: &mut Calibrator<T>,
+        (y_c, y_s): (T, T),
+        map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
+        finish: impl FnOnce(&Self, &ObserverState<T, N>, Faults) -> R,
+    ) -> R {
+        let faults = self.calibrating(state, calibrator, y_c, y_s, map);
+        finish(self, state, faults)
     }
 
     /// One sample through a calibrator that is on (learning or frozen): corrected, `map`ped,

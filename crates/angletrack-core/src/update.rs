@@ -215,15 +215,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             // register.
             return self.track_rare(state, unit, y_c, y_s, observer);
         }
-        // The monitor's switch is tested here, before the recursion, and the used sample's
-        // path is written out for each side (the code of the recursion twice): each copy
-        // then ends without a test, one instruction less per monitored sample on a
-        // Cortex-M4F than a test after the recursion.
-        if self.thresholds.thresholds.monitor {
-            self.track_used::<U, true>(state, unit, y_c, y_s, amplitude2, predicted, observer);
-        } else {
-            self.track_used::<U, false>(state, unit, y_c, y_s, amplitude2, predicted, observer);
-        }
+        self.track_used(state, unit, y_c, y_s, amplitude2, predicted, observer);
     }
 
     /// [`Gains::track_observing_with`] on a sample the usual path's two tests sent out of
@@ -241,18 +233,17 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         let (amplitude2, valid) = self.thresholds.accept(y_c, y_s);
         match self.prepare(state, y_c, y_s, amplitude2, valid) {
             Some(predicted) => {
-                self.track_used::<U, true>(state, unit, y_c, y_s, amplitude2, predicted, observer)
+                self.track_used(state, unit, y_c, y_s, amplitude2, predicted, observer)
             }
             None => observer.observe(None),
         }
     }
 
-    /// A used sample, its predicted angle `predicted` in [-pi, pi): the recursion, the
-    /// monitor's sums, and its decision at the end of a window. `MONITOR` `false` leaves
-    /// the monitor out (for a caller that has tested its switch); `true` tests the switch.
+    /// A used sample, its predicted angle `predicted` in [-pi, pi): the recursion, and if
+    /// the monitor's switch is on, its sums and its decision at the end of a window.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
-    fn track_used<U: SinCosUnit<T>, const MONITOR: bool>(
+    fn track_used<U: SinCosUnit<T>>(
         &self,
         state: &mut ObserverState<T, N>,
         unit: &mut U,
@@ -284,10 +275,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         // The sample's faults are those already in the state: the monitor's of its last
         // window, set where they change (out of line: at a decision, and by `prepare` after
         // a rejected sample).
-        if MONITOR
-            && self.thresholds.thresholds.monitor
-            && state.monitor.accumulate(amplitude2, step.eps)
-        {
+        if self.thresholds.thresholds.monitor && state.monitor.accumulate(amplitude2, step.eps) {
             self.decide(state, y_c, y_s);
         }
         observer.observe(Some(UsedSample {

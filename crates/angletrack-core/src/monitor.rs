@@ -332,23 +332,14 @@ impl<T: Real> CheckedThresholds<T> {
     /// negligible anywhere else; added first, it costs no instruction of its own.
     #[inline(always)]
     pub(crate) fn accept(&self, y_c: T, y_s: T) -> (T, bool) {
-        self.accept_biased(T::MIN_POSITIVE, y_c, y_s)
-    }
-
-    /// [`CheckedThresholds::accept`] with `bias` in place of `m`: the single-channel
-    /// update's usual path adds its state's `bias`, which is `m` while the state tracks and
-    /// infinity while it does not, so that the test refuses the sample of a state that does not
-    /// track (its rare path then decides with [`CheckedThresholds::accept`]).
-    #[inline(always)]
-    pub(crate) fn accept_biased(&self, bias: T, y_c: T, y_s: T) -> (T, bool) {
-        let amplitude2 = (bias + y_c * y_c) + y_s * y_s;
+        let amplitude2 = self.amplitude2(y_c, y_s);
         (amplitude2, amplitude2 <= self.max_input2)
     }
 
     /// `y_c^2 + y_s^2 + m` (see [`CheckedThresholds::accept`]).
     #[inline(always)]
     pub(crate) fn amplitude2(&self, y_c: T, y_s: T) -> T {
-        self.accept(y_c, y_s).0
+        (T::MIN_POSITIVE + y_c * y_c) + y_s * y_s
     }
 
     /// The end of a window: its flags from its means, and from the speed `scaled_speed`

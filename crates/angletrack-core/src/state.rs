@@ -83,14 +83,16 @@ impl<T: Real> Estimate<T> {
 pub struct ObserverState<T, const N: usize> {
     /// The corrected state. Its angle `x[0]` is the predicted angle (in [-pi, pi)) plus the
     /// correction, so it may lie up to that correction outside [-pi, pi): it is wrapped
-    /// (and its turn counted) when read.
+    /// (and its turn counted) when read; the next prediction starts from `next_angle`.
     pub(crate) x: [T; N],
-    /// The next sample's predicted angle `(A x)[0]` in `f64`, summed from this sample's
-    /// prediction as `(A X_p)[0] + (A L)[0] eps` (see `Gains::step`), in the turn counted
-    /// by `turns` (wrapped when used); live while the state tracks. `f32` does not keep it
-    /// ([`Real::FEWEST_INSTRUCTIONS`]): its next predicted angle is `(A x)[0]` of the
-    /// stored state, the same number, summed at the next sample, one store fewer
-    /// ([`ObserverState::tracked_predicted_angle`]).
+    /// The next sample's predicted angle `(A x)[0]` (in `f64` summed from this sample's
+    /// prediction as `(A X_p)[0] + (A L)[0] eps`, see `Gains::step`), in
+    /// the turn counted by `turns` (wrapped when used).
+    /// While the state is not tracking (before its first used sample, after a rejected
+    /// one) it is parked outside [-pi, pi) (`PARKED_ANGLE`), so that the one comparison of
+    /// the wrap sends the next sample to the update's rare path, which starts tracking
+    /// again: the usual path needs no test of its own and stores no fault flag
+    /// ([`ObserverState::predicted_angle`] gives the prediction at any time).
     pub(crate) next_angle: T,
     pub(crate) turns: i64,
     pub(crate) phase_error: T,
@@ -103,15 +105,8 @@ pub struct ObserverState<T, const N: usize> {
     /// The angle is known (from a first sample, or [`ObserverState::at`]).
     pub(crate) initialised: bool,
     /// The angle and the magnitude are known and the last sample was used: the predicted
-    /// angle is live and the usual path of the update runs.
+    /// angle `next_angle` is live and the usual path of the update runs (else it is parked).
     pub(crate) tracking: bool,
-    /// What the update's usual path adds to `y_c^2 + y_s^2` in its input check
-    /// ([`CheckedThresholds::accept_biased`](crate::monitor::CheckedThresholds::accept_biased)):
-    /// `m` ([`Real::MIN_POSITIVE`]) while the state tracks, infinity while it does not (before
-    /// its first used sample, after a rejected one), so that the input check's one
-    /// comparison also sends those samples to the update's rare path, which starts tracking
-    /// again: the usual path needs no test of its own and stores no fault flag.
-    pub(crate) bias: T,
 }
 
 impl<T: Real, const N: usize> Default for ObserverState<T, N> {
@@ -121,6 +116,10 @@ impl<T: Real, const N: usize> Default for ObserverState<T, N> {
 }
 
 impl<T: Real, const N: usize> ObserverState<T, N> {
+    /// Where `next_angle` is parked while the state is not tracking: `2 pi`, outside the
+    /// [-pi, pi) the wrap keeps a predicted angle in.
+    pub(crate) const PARKED_ANGLE: T = T::TAU;
+
     /// A state that initialises itself from the first sample it is given: the angle from
     /// `atan2(y_s, y_c)` (so tracking never starts 180 degrees off), speed and acceleration 0.
     ///
@@ -135,7 +134,7 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
     pub const fn new() -> Self {
         Self {
             x: [T::ZERO; N],
-            next_angle: T::ZERO,
+            next_angle: Self::PARKED_ANGLE,
             turns: 0,
             phase_error: T::ZERO,
             faults: Faults::NONE,
@@ -143,7 +142,6 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
             amplitude: T::ZERO,
             initialised: false,
             tracking: false,
-            bias: T::INFINITY,
         }
     }
 
@@ -177,7 +175,7 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
         }
         Self {
             x,
-            next_angle: T::ZERO,
+            next_angle: Self::PARKED_ANGLE,
             turns,
             phase_error: T::ZERO,
             faults: Faults::NONE,
@@ -186,7 +184,6 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
             initialised: true,
             // The magnitude is not known yet: the first used sample sets it.
             tracking: false,
-            bias: T::INFINITY,
         }
     }
 
@@ -296,8 +293,8 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
     /// The first used sample after the angle was set, of `y_c^2 + y_s^2` `amplitude2`: a
     /// state from [`ObserverState::at`] has no magnitude yet and takes this sample's; one
     /// started by a first sample keeps that sample's, which the recursion then tracks as
-    /// usual (as a [`ChannelBank`](crate::ChannelBank) lane does). The predicted angle is
-    /// live again, the faults are the monitor's again, and the monitor starts
+    /// usual (as a [`ChannelBank`](crate::ChannelBank) lane does). The predicted angle
+    /// leaves its parking place, the faults are the monitor's again, and the monitor starts
     /// its first window, of this sample alone (a window under way goes on: rejected samples
     /// do not restart it). The per-sample update needs no test for any of it.
     #[cold]
@@ -316,27 +313,15 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
         self.next_angle = predict(&self.x)[0];
         self.faults = self.monitor.flags;
         self.tracking = true;
-        self.bias = T::MIN_POSITIVE;
     }
 
     /// The next sample's predicted angle `(A x)[0]` (rad, not wrapped), tracking or not.
     #[inline(always)]
     pub(crate) fn predicted_angle(&self) -> T {
         if self.tracking {
-            self.tracked_predicted_angle()
-        } else {
-            predict(&self.x)[0]
-        }
-    }
-
-    /// [`ObserverState::predicted_angle`] of a state that tracks (of any other, a number
-    /// that means nothing): `next_angle` in `f64`, `(A x)[0]` in `f32`.
-    #[inline(always)]
-    pub(crate) fn tracked_predicted_angle(&self) -> T {
-        if T::FEWEST_INSTRUCTIONS {
-            predict(&self.x)[0]
-        } else {
             self.next_angle
+        } else {
+            predict(&self.x)[0]
         }
     }
 
@@ -351,13 +336,13 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
     }
 
     /// Marks the current sample as rejected (flag and latch; the monitor's flags of its
-    /// last window hold) and stops tracking (`bias` infinite), so that the next sample goes
+    /// last window hold) and parks the predicted angle, so that the next sample goes
     /// through the rare path, which clears the flag.
     pub(crate) fn reject_sample(&mut self) {
         self.faults = Faults::BAD_SAMPLE | self.monitor.flags;
         self.monitor.latched |= Faults::BAD_SAMPLE;
+        self.next_angle = Self::PARKED_ANGLE;
         self.tracking = false;
-        self.bias = T::INFINITY;
     }
 }
 

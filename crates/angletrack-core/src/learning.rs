@@ -435,12 +435,14 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             let (c, s) = map(state, y_c, y_s);
             return plain(self, state, c, s);
         }
-        self.calibrating_out_of_line(state, calibrator, (y_c, y_s), map, finish)
+        self.calibrating(state, calibrator, (y_c, y_s), map, finish)
     }
 
-    /// [`Gains::calibrating`], then `finish` (see [`Gains::through_calibrator`]).
+    /// One sample through a calibrator that is on (learning or frozen): corrected, `map`ped,
+    /// tracked, and learnt from; the calibration's faults (latched here, and carried by
+    /// the sample's estimate) go to `finish` (see [`Gains::through_calibrator`]).
     #[inline(never)]
-    fn calibrating_out_of_line<R>(
+    fn calibrating<R>(
         &self,
         state: &mut ObserverState<T, N>,
         calibrator: &mut Calibrator<T>,
@@ -448,22 +450,6 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
         finish: impl FnOnce(&Self, &ObserverState<T, N>, Faults) -> R,
     ) -> R {
-        let faults = self.calibrating(state, calibrator, y_c, y_s, map);
-        finish(self, state, faults)
-    }
-
-    /// One sample through a calibrator that is on (learning or frozen): corrected, `map`ped,
-    /// tracked, and learnt from; returns the calibration's faults (latched here), which the
-    /// estimate of the sample carries.
-    #[inline(always)]
-    fn calibrating(
-        &self,
-        state: &mut ObserverState<T, N>,
-        calibrator: &mut Calibrator<T>,
-        y_c: T,
-        y_s: T,
-        map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
-    ) -> Faults {
         let mode = calibrator.mode;
         let (c, s) = calibrator.calibration.correct(y_c, y_s);
         let (c, s) = map(state, c, s);
@@ -487,7 +473,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         // which the usual path of the update does not rewrite (they would outlive the
         // mode).
         state.monitor.latched |= faults;
-        faults
+        finish(self, state, faults)
     }
 }
 

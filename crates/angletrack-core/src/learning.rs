@@ -382,14 +382,21 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         y_s: T,
         map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
     ) -> Estimate<T> {
-        let faults = self.track_calibrated_mapped(state, calibrator, y_c, y_s, map);
-        let mut estimate = self.estimate(state);
-        estimate.faults |= faults;
-        estimate
+        self.through_calibrator(
+            state,
+            calibrator,
+            (y_c, y_s),
+            map,
+            |gains, state, c, s| gains.update(state, c, s),
+            |gains, state, faults| {
+                let mut estimate = gains.estimate(state);
+                estimate.faults |= faults;
+                estimate
+            },
+        )
     }
 
-    /// The body of [`Gains::update_calibrated_mapped`] without the estimate; returns the
-    /// calibration's faults (latched here), which the estimate of the sample carries.
+    /// [`Gains::update_calibrated_mapped`] without the estimate.
     #[inline(always)]
     fn track_calibrated_mapped(
         &self,
@@ -398,13 +405,52 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         y_c: T,
         y_s: T,
         map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
-    ) -> Faults {
-        let mode = calibrator.mode;
-        if mode == CalibrationMode::Off {
+    ) {
+        self.through_calibrator(
+            state,
+            calibrator,
+            (y_c, y_s),
+            map,
+            |gains, state, c, s| gains.track(state, c, s),
+            |_, _, _| (),
+        );
+    }
+
+    /// The mode's test of every calibrated entry point: with the calibrator off, the
+    /// `map`ped sample goes to `plain` (the entry point without calibration, inlined: the
+    /// calibration then costs that one test); on, through [`Gains::calibrating`] out of
+    /// line (so that the registers it needs are saved there only), whose faults `finish`
+    /// turns into the entry point's result.
+    #[inline(always)]
+    fn through_calibrator<R>(
+        &self,
+        state: &mut ObserverState<T, N>,
+        calibrator: &mut Calibrator<T>,
+        (y_c, y_s): (T, T),
+        map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
+        plain: impl FnOnce(&Self, &mut ObserverState<T, N>, T, T) -> R,
+        finish: impl FnOnce(&Self, &ObserverState<T, N>, Faults) -> R,
+    ) -> R {
+        if calibrator.mode == CalibrationMode::Off {
             let (c, s) = map(state, y_c, y_s);
-            self.track(state, c, s);
-            return Faults::NONE;
+            return plain(self, state, c, s);
         }
+        self.calibrating(state, calibrator, (y_c, y_s), map, finish)
+    }
+
+    /// One sample through a calibrator that is on (learning or frozen): corrected, `map`ped,
+    /// tracked, and learnt from; the calibration's faults (latched here, and carried by
+    /// the sample's estimate) go to `finish` (see [`Gains::through_calibrator`]).
+    #[inline(never)]
+    fn calibrating<R>(
+        &self,
+        state: &mut ObserverState<T, N>,
+        calibrator: &mut Calibrator<T>,
+        (y_c, y_s): (T, T),
+        map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
+        finish: impl FnOnce(&Self, &ObserverState<T, N>, Faults) -> R,
+    ) -> R {
+        let mode = calibrator.mode;
         let (c, s) = calibrator.calibration.correct(y_c, y_s);
         let (c, s) = map(state, c, s);
         let checked = &self.calibration;
@@ -427,7 +473,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         // which the usual path of the update does not rewrite (they would outlive the
         // mode).
         state.monitor.latched |= faults;
-        faults
+        finish(self, state, faults)
     }
 }
 

@@ -18,10 +18,11 @@
 //! `f32` tracked by one Heron step per sample), so the loop's dynamics and the stability
 //! checked at construction hold at any amplitude and in any unit: volts, or raw ADC counts.
 //!
-//! The state also keeps the next sample's predicted angle, `(A X_p)[0] + (A L)[0] eps`
-//! (the same sum as `(A X_e)[0]`, taken in another order): one sample's phase error then
+//! The state also keeps the next sample's predicted angle `(A X_e)[0]`; in `f64` summed as
+//! `(A X_p)[0] + (A L)[0] eps` (the same sum in another order): one sample's phase error then
 //! reaches the next phase detector through a single multiply-add, which is what a loop over
-//! samples waits for on a host.
+//! samples waits for on a host (`f32`, the firmware's type, saves that multiply-add's
+//! instructions instead).
 //!
 //! The mathematics is in the repository's `docs/theory.md`: the phase detector (§1), the
 //! scaled state and this recursion (§5), the stability check of the gains (§6), the speed

@@ -83,6 +83,13 @@ pub trait Real:
     const ONE_TURN_EDGE_FIX: bool;
     /// Documented bound of the absolute error of [`Real::fast_sin_cos`] over [-pi, pi].
     const FAST_SIN_COS_MAX_ERROR: Self;
+    /// How the update is written where the two differ: `true` for `f32`, the type of
+    /// firmware (a Cortex-M4F's FPU is single precision), for the fewest instructions;
+    /// `false` for `f64` (hosts, whose loop over one channel's samples waits on each
+    /// sample's result) for the shortest chain of dependent operations from one sample's
+    /// phase error to the next sample's.
+    #[doc(hidden)]
+    const FEWEST_INSTRUCTIONS: bool;
 
     /// Conversion from `f32` (exact for both types).
     fn from_f32(x: f32) -> Self;
@@ -153,7 +160,7 @@ pub trait Real:
 
 macro_rules! impl_real {
     ($t:ident, bits $bits:ident, default $default:ident, tau_lo $tau_lo:expr,
-     one_turn_edge_fix $edge_fix:expr, fast_error $eps_fast:expr,
+     one_turn_edge_fix $edge_fix:expr, fast_error $eps_fast:expr, fewest_instructions $fewest:expr,
      polynomials $sin_poly:path, $cos_poly:path, libm $atan2:ident, $sincos:ident, $sqrt:ident, $expm1:ident,
      track_magnitude $track:expr) => {
         impl Real for $t {
@@ -173,6 +180,7 @@ macro_rules! impl_real {
             const COS_POLY: &'static [Self] = &$cos_poly;
             const FAST_SIN_COS_MAX_ERROR: Self = $eps_fast;
             const ONE_TURN_EDGE_FIX: bool = $edge_fix;
+            const FEWEST_INSTRUCTIONS: bool = $fewest;
             type DefaultSinCos = crate::$default;
 
             #[inline(always)]
@@ -245,12 +253,12 @@ macro_rules! impl_real {
 // explained with their coefficients in `sincos.rs`.
 impl_real! {
     f32, bits u32, default Fast, tau_lo -1.748_455_6e-7_f32, one_turn_edge_fix false,
-    fast_error 3e-7, polynomials F32_SIN_POLY, F32_COS_POLY, libm atan2f, sincosf, sqrtf, expm1f,
+    fast_error 3e-7, fewest_instructions true, polynomials F32_SIN_POLY, F32_COS_POLY, libm atan2f, sincosf, sqrtf, expm1f,
     track_magnitude crate::update::heron_step::<f32>
 }
 
 impl_real! {
     f64, bits u64, default Exact, tau_lo 2.449_293_598_294_706_4e-16_f64, one_turn_edge_fix true,
-    fast_error 2e-13, polynomials F64_SIN_POLY, F64_COS_POLY, libm atan2, sincos, sqrt, expm1,
+    fast_error 2e-13, fewest_instructions false, polynomials F64_SIN_POLY, F64_COS_POLY, libm atan2, sincos, sqrt, expm1,
     track_magnitude |_previous, amplitude2| libm::sqrt(amplitude2)
 }

@@ -118,17 +118,25 @@ impl<T: Real, const N: usize, S: SinCos<T>, U: SinCosUnit<T>> Arithmetic<U, N> f
         }
     }
 
-    /// `next_angle = (A X_p)[0] + (A L)[0] eps`: `(A X_e)[0]` summed in another order, so
-    /// that the phase error reaches the next phase detector through one multiplication and
-    /// one addition. The corrected angle is not wrapped (it is wrapped when read).
+    /// `next_angle = (A X_e)[0]`, the prediction of the corrected state; where the chain of
+    /// dependent operations counts more than the instructions (`f64`,
+    /// [`Real::FEWEST_INSTRUCTIONS`]), summed in another order, `(A X_p)[0] + (A L)[0] eps`,
+    /// so that the phase error reaches the next phase detector through one multiplication
+    /// and one addition (`f32` saves that multiplication and the load of `(A L)[0]`). The
+    /// corrected angle is not wrapped (it is wrapped when read).
     #[inline(always)]
     fn correct(&self, _x: &[T; N], p: &mut [T; N], eps: T) -> (T, i32) {
-        let next = predict(p)[0] + self.next_angle_gain * eps;
+        let short_chain = predict(p)[0] + self.next_angle_gain * eps;
         let mut i = 0;
         while i < N {
             p[i] += self.l[i] * eps;
             i += 1;
         }
+        let next = if T::FEWEST_INSTRUCTIONS {
+            predict(p)[0]
+        } else {
+            short_chain
+        };
         (next, 0)
     }
 }

@@ -146,8 +146,9 @@ impl<T: Real> SinCos<T> for Fast {
 }
 
 /// `sin w = w P(w^2)` on [-pi/2, pi/2] in `f32`, the coefficients of `P` lowest first: a
-/// degree 9 minimax fit (error 3.3e-9). With `f32` rounding the fast sin/cos's measured
-/// error over [-pi, pi] is 2.5e-7 (2 ulp of 1), hence its bound 3e-7.
+/// degree 9 minimax fit (error 3.3e-9), whose constant coefficient rounds to 1 in `f32`
+/// ([`times_sin_polynomial`] saves an instruction by it). With `f32` rounding the fast
+/// sin/cos's measured error over [-pi, pi] is 2.5e-7 (2 ulp of 1), hence its bound 3e-7.
 pub(crate) const F32_SIN_POLY: [f32; 5] = [
     0.999_999_976_589_421_1,
     -0.166_666_476_343_451_5,
@@ -193,46 +194,65 @@ pub(crate) const F64_COS_POLY: [f64; 8] = [
 /// [`Real::fast_sin_cos`]: `(sign(x) Q(w^2), w P(w^2))` with `w = pi/2 - |x|`.
 #[inline(always)]
 pub(crate) fn fast_sin_cos<T: Real>(x: T) -> (T, T) {
-    let (w, p, q) = fast_reduced(x);
-    (q.times_sign_of(x), w * p)
+    let (w, w2, q) = fast_reduced(x);
+    (q.times_sign_of(x), times_sin_polynomial(w, w2))
 }
 
 /// [`Real::fast_phase_detector`]: the phase error and the in-phase component with the
 /// inputs folded into the polynomials' factors.
 #[inline(always)]
 pub(crate) fn fast_phase_detector<T: Real>(x: T, y_c: T, y_s: T) -> (T, T) {
-    let (w, p, q) = fast_reduced(x);
+    let (w, w2, q) = fast_reduced(x);
     // One sign, +-1, multiplied into both inputs: exact, and on a Cortex-M4F one move to
     // the integer unit and back for the pair instead of one for each input.
     let sign = T::ONE.times_sign_of(x);
-    let eps = (y_s * w) * p - (y_c * sign) * q;
-    let in_phase = (y_c * w) * p + (y_s * sign) * q;
+    let eps = times_sin_polynomial(y_s * w, w2) - (y_c * sign) * q;
+    let in_phase = times_sin_polynomial(y_c * w, w2) + (y_s * sign) * q;
     (eps, in_phase)
 }
 
 /// The shared part of [`fast_sin_cos`] and [`fast_phase_detector`]: `w = pi/2 - |x|`,
-/// `P(w^2)` and `Q(w^2)`.
+/// `w^2` and `Q(w^2)`.
 #[inline(always)]
 fn fast_reduced<T: Real>(x: T) -> (T, T, T) {
     let w = T::FRAC_PI_2 - x.abs();
     let w2 = w * w;
-    (w, polynomial(w2, T::SIN_POLY), polynomial(w2, T::COS_POLY))
+    (w, w2, polynomial(w2, T::COS_POLY))
+}
+
+/// `y P(t)`, `P` the sin polynomial ([`Real::SIN_POLY`]). Where its constant coefficient
+/// is 1 (the `f32` one, 0.999_999_977 rounded), as `y + (y t) P1(t)` with `P1` the
+/// polynomial of the other coefficients, `(P(t) - 1) / t`: the same polynomial, the 1
+/// neither loaded nor multiplied (one instruction fewer on a Cortex-M4F), and `y t` ready
+/// before `P1` is (one operation less on the chain).
+#[inline(always)]
+fn times_sin_polynomial<T: Real>(y: T, t: T) -> T {
+    match T::SIN_POLY {
+        [one, rest @ ..] if *one == T::ONE => y + (y * t) * polynomial(t, rest),
+        all => y * polynomial(t, all),
+    }
 }
 
 /// Evaluation of `c[0] + c[1] t + ... + c[7] t^7` (`c` has at most 8 coefficients; its
 /// length is a constant, so the branches fold away).
 ///
-/// Five coefficients (the `f32` polynomials, the firmware's) by Horner's rule: four
-/// multiply-adds per polynomial and no powers of `t`, two instructions fewer per sample
+/// In `f32` (the firmware's type, [`Real::FEWEST_INSTRUCTIONS`]) by Horner's rule: one
+/// multiply-add per coefficient and no powers of `t`, two instructions fewer per sample
 /// than a split into halves, and one coefficient live at a time, so that on a Cortex-M4F
 /// the phase detector fits in the scratch float registers (none saved and restored). There
 /// every instruction counts and the chain's length hardly does.
 ///
-/// The `f64` polynomials (hosts, whose loop is latency-bound) Estrin-like: pairs
-/// `c[2i] + c[2i+1] t` combined with powers of `t`, a chain of dependent operations about
-/// half as long as Horner's.
+/// In `f64` (hosts, whose loop is latency-bound) Estrin-like: pairs `c[2i] + c[2i+1] t`
+/// combined with powers of `t`, a chain of dependent operations about half as long as
+/// Horner's.
 #[inline(always)]
 fn polynomial<T: Real>(t: T, c: &[T]) -> T {
+    if T::FEWEST_INSTRUCTIONS {
+        let Some((&highest, lower)) = c.split_last() else {
+            return T::ZERO;
+        };
+        return lower.iter().rev().fold(highest, |sum, &ck| sum * t + ck);
+    }
     let pair = |i: usize| match (c.get(2 * i), c.get(2 * i + 1)) {
         (Some(&low), Some(&high)) => low + high * t,
         (Some(&low), None) => low,
@@ -242,8 +262,7 @@ fn polynomial<T: Real>(t: T, c: &[T]) -> T {
     match *c {
         [_] | [_, _] => pair(0),
         [_, _, _] | [_, _, _, _] => pair(0) + t2 * pair(1),
-        [c0, c1, c2, c3, c4] => (((c4 * t + c3) * t + c2) * t + c1) * t + c0,
-        [_, _, _, _, _, _] => (pair(0) + t2 * pair(1)) + (t2 * t2) * pair(2),
+        [_, _, _, _, _] | [_, _, _, _, _, _] => (pair(0) + t2 * pair(1)) + (t2 * t2) * pair(2),
         _ => (pair(0) + t2 * pair(1)) + (t2 * t2) * (pair(2) + t2 * pair(3)),
     }
 }

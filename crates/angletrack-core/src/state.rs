@@ -83,10 +83,11 @@ impl<T: Real> Estimate<T> {
 pub struct ObserverState<T, const N: usize> {
     /// The corrected state. Its angle `x[0]` is the predicted angle (in [-pi, pi)) plus the
     /// correction, so it may lie up to that correction outside [-pi, pi): it is wrapped
-    /// (and its turn counted) when read, and never feeds the next prediction.
+    /// (and its turn counted) when read; the next prediction starts from `next_angle`.
     pub(crate) x: [T; N],
-    /// The next sample's predicted angle `(A x)[0]`, computed from this sample's prediction
-    /// as `(A X_p)[0] + (A L)[0] eps`, in the turn counted by `turns` (wrapped when used).
+    /// The next sample's predicted angle `(A x)[0]` (in `f64` summed from this sample's
+    /// prediction as `(A X_p)[0] + (A L)[0] eps`, see `Gains::step`), in
+    /// the turn counted by `turns` (wrapped when used).
     /// While the state is not tracking (before its first used sample, after a rejected
     /// one) it is parked outside [-pi, pi) (`PARKED_ANGLE`), so that the one comparison of
     /// the wrap sends the next sample to the update's rare path, which starts tracking

@@ -362,13 +362,15 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// X_p = A X_e                      (the angle row is next_angle, wrapped)
     /// eps = (y_s cos(x1_p) - y_c sin(x1_p)) / sqrt(y_c^2 + y_s^2 + m)
     /// X_e = X_p + L eps                (x1_e wrapped when read)
-    /// next_angle = (A X_p)[0] + (A L)[0] eps
+    /// next_angle = (A X_e)[0]          (f64: (A X_p)[0] + (A L)[0] eps)
     /// ```
     ///
-    /// `next_angle` is `(A X_e)[0]` with the sum taken in another order: the sample's phase
-    /// error reaches the next phase detector through one multiplication and one addition, the
-    /// shortest chain a loop over samples can wait on. The angle of `x` feeds nothing but the
-    /// estimate, so it is not wrapped here.
+    /// In `f64` (hosts) `next_angle` is `(A X_e)[0]` with the sum taken in another order:
+    /// the sample's phase error reaches the next phase detector through one multiplication
+    /// and one addition, the shortest chain a loop over samples can wait on; `f32`
+    /// (firmware) sums `(A X_e)[0]` itself, one multiplication and one load fewer
+    /// ([`Real::FEWEST_INSTRUCTIONS`]). The angle of `x` is not wrapped here (it is
+    /// wrapped when read).
     ///
     /// The phase error is normalised by the signal's magnitude (`docs/theory.md §12`), so
     /// that `eps` is the sine of the phase error whatever the amplitude and its units and

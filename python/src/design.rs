@@ -1,7 +1,7 @@
 //! `Design`, the designed gain set of the `angletrack` crate with what it was designed from,
 //! and `KalmanSolution`, the Riccati solution of a Kalman design.
 
-use angletrack::{AnyDesign, Complex, Design, KalmanSolution};
+use angletrack::{AnyDesign, Complex, Design, FixedDesignConstants, KalmanSolution};
 use pyo3::prelude::*;
 use pyo3::types::{PyComplex, PyDict};
 
@@ -75,6 +75,17 @@ impl PyKalmanSolution {
     }
 }
 
+/// The dict of fixed-point constants `Design.fixed_constants()` and
+/// `FixedObserver.constants` give.
+pub(crate) fn constants_dict(py: Python<'_>, c: FixedDesignConstants) -> Result<Bound<'_, PyDict>> {
+    let dict = PyDict::new(py);
+    dict.set_item("multiplier", c.multiplier)?;
+    dict.set_item("acceleration_shift", c.acceleration_shift)?;
+    dict.set_item("quantised_gains", c.quantised_gains)?;
+    dict.set_item("sample_period_s", c.sample_period_s)?;
+    Ok(dict)
+}
+
 /// A designed gain set (float64) with what it was designed from. Analyse it with
 /// `report()`; run it with `Observer(design.gains, dtype=...)`.
 #[pyclass(name = "Design", module = "angletrack", frozen)]
@@ -84,7 +95,8 @@ pub struct PyDesign {
 }
 
 impl PyDesign {
-    fn gain_set(&self) -> GainSet {
+    /// The designed gains.
+    pub(crate) fn gain_set(&self) -> GainSet {
         match &self.inner {
             AnyDesign::Second(d) => GainSet::Second(d.gains),
             AnyDesign::Third(d) => GainSet::Third(d.gains),
@@ -181,13 +193,7 @@ impl PyDesign {
     /// they represent and `sample_period_s`. Raises `ConfigError` naming the gain if one
     /// rounds to zero, does not fit, or the quantised loop is unstable.
     fn fixed_constants<'py>(&self, py: Python<'py>) -> Result<Bound<'py, PyDict>> {
-        let c = self.inner.fixed_constants()?;
-        let dict = PyDict::new(py);
-        dict.set_item("multiplier", c.multiplier)?;
-        dict.set_item("acceleration_shift", c.acceleration_shift)?;
-        dict.set_item("quantised_gains", c.quantised_gains)?;
-        dict.set_item("sample_period_s", c.sample_period_s)?;
-        Ok(dict)
+        constants_dict(py, self.inner.fixed_constants()?)
     }
 
     fn __repr__(&self) -> String {

@@ -194,7 +194,7 @@ fn physical_memory_bytes(py: Python<'_>) -> Option<u128> {
 /// A zeroed array of `n` elements allocated by `numpy.zeros`, which raises `MemoryError`
 /// where the allocation fails (a failed allocation must not abort the interpreter); `None`
 /// for no array.
-fn zeros<'py, E: Element>(
+pub(crate) fn zeros<'py, E: Element>(
     py: Python<'py>,
     n: Option<usize>,
 ) -> Result<Option<Bound<'py, PyArray1<E>>>> {

@@ -20,6 +20,8 @@ mod dispatch;
 mod drive;
 mod errors;
 mod estimates;
+mod fixed;
+mod fixed_estimates;
 mod gains;
 mod metrics;
 mod motion;
@@ -42,6 +44,9 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<estimates::Estimate>()?;
     m.add_class::<estimates::Estimates>()?;
     m.add_function(wrap_pyfunction!(observer::track, m)?)?;
+    m.add_class::<fixed::PyFixedObserver>()?;
+    m.add_class::<fixed_estimates::FixedEstimate>()?;
+    m.add_class::<fixed_estimates::FixedEstimates>()?;
     m.add_class::<batch::PyObserverBatch>()?;
     m.add_function(wrap_pyfunction!(batch::track_batch, m)?)?;
     m.add_function(wrap_pyfunction!(counts::offset_binary_mid_scale, m)?)?;

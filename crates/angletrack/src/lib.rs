@@ -96,8 +96,8 @@ pub use design::{
 };
 pub use error::{Argument, Error};
 pub use sim::{
-    ChannelBatch, ErrorStatistics, EstimateColumns, Kinematics, LANES, MAX_ANGLE_ERROR_HARMONICS,
-    MAX_SAMPLES, Metrics, MetricsOptions, Motion, MotionProfile, NOMINAL_AMPLITUDE_SAMPLES, Output,
-    ResolverModel, Run, Scenario, SensorModel, capture_fault_thresholds, nominal_amplitude, run,
-    run_calibrated,
+    ChannelBatch, ErrorStatistics, EstimateColumns, FixedColumns, Kinematics, LANES,
+    MAX_ANGLE_ERROR_HARMONICS, MAX_SAMPLES, Metrics, MetricsOptions, Motion, MotionProfile,
+    NOMINAL_AMPLITUDE_SAMPLES, Output, ResolverModel, Run, Scenario, SensorModel,
+    capture_fault_thresholds, nominal_amplitude, run, run_calibrated,
 };

@@ -213,6 +213,101 @@ def track(
     float64 for raw counts, scaled as ``Observer`` does). ``fault_thresholds=None`` scales
     the diagnostics to the samples' amplitude."""
 
+#: Samples the fixed-point observer accepts: int16 counts (mid-scale removed), or integers
+#: within int16 (a list); no other dtype is converted.
+_Counts = Union[npt.NDArray[np.int16], Sequence[int]]
+
+class FixedEstimate:
+    """What a ``FixedObserver`` knows after its last sample: the firmware's integers and the
+    same in physical units."""
+
+    angle: int
+    """Binary angle (2^32 per turn, -2^31 is -pi)."""
+    turns: int
+    """Whole turns since initialisation: the position is ``turns + angle / 2^32`` turns."""
+    speed: int
+    """Speed (2^-32 turn per sample)."""
+    acceleration: int
+    """Acceleration (2^-63 turn per sample^2); 0 for a 2nd-order observer."""
+    phase_error: int
+    """Normalised phase error (Q15: 2^15 is 1)."""
+    faults: int
+    """Fault flags of the monitor's last window (bits, see ``Faults``)."""
+    position_rad: float
+    """Multi-turn position (rad)."""
+    speed_rad_s: float
+    """Speed (rad/s)."""
+    acceleration_rad_s2: float
+    """Acceleration (rad/s^2)."""
+
+class FixedEstimates:
+    """The estimates of ``FixedObserver.update``, one array per quantity, one element per
+    sample: the firmware's integers and the same in physical units (float64)."""
+
+    angle: npt.NDArray[np.int32]
+    """Binary angle (2^32 per turn, -2^31 is -pi)."""
+    turns: npt.NDArray[np.int64]
+    """Whole turns since initialisation."""
+    speed: npt.NDArray[np.int32]
+    """Speed (2^-32 turn per sample)."""
+    acceleration: npt.NDArray[np.int64]
+    """Acceleration (2^-63 turn per sample^2); 0 for a 2nd-order observer."""
+    phase_error: npt.NDArray[np.int32]
+    """Normalised phase error (Q15: 2^15 is 1)."""
+    faults: npt.NDArray[np.uint8]
+    """Fault flags of the monitor's window each sample ends in (bits, see ``Faults``)."""
+    position_rad: npt.NDArray[np.float64]
+    """Multi-turn position ``2 pi (turns + angle / 2^32)`` (rad)."""
+    speed_rad_s: npt.NDArray[np.float64]
+    """Speed (rad/s)."""
+    acceleration_rad_s2: npt.NDArray[np.float64]
+    """Acceleration (rad/s^2)."""
+    def __len__(self) -> int: ...
+
+class FixedObserver:
+    """The core's fixed-point observer (docs/theory.md §14): bit for bit what a Cortex-M0/M4
+    firmware running ``FixedGains::update`` computes, on int16 samples (counts, mid-scale
+    removed), its state kept between calls (chunks give exactly one call's result).
+
+    ``design`` (a ``Design`` or ``Gains``) is quantised by the core (``ConfigError`` naming
+    the gain). ``nominal_amplitude`` (counts, 16384 to 46341) sets the monitor's
+    thresholds; ``None`` turns it off."""
+
+    def __init__(self, design: Union[Design, Gains], *, nominal_amplitude: Optional[float] = 16384.0) -> None: ...
+    @staticmethod
+    def from_constants(
+        constants: dict[str, Any], sample_period_s: float, *, nominal_amplitude: Optional[float] = 16384.0
+    ) -> FixedObserver:
+        """The observer of the integers a firmware embeds: the dict ``Design.fixed_constants()``
+        returns (``multiplier``, ``acceleration_shift``; other keys ignored), checked again
+        (``ConfigError``, parameter ``constants``, naming the gain)."""
+    def update(self, y_c: _Counts, y_s: _Counts) -> FixedEstimates:
+        """Runs over the int16 samples (1-D, equal lengths; ``TypeError`` for another dtype,
+        ``ConfigError`` for a value outside int16 or unequal lengths) and returns the
+        estimates of every sample."""
+    @property
+    def estimate(self) -> FixedEstimate:
+        """The estimate after the last sample."""
+    def reset(self) -> None:
+        """Forgets the state: the next sample sets the angle from its ``atan2``."""
+    @property
+    def constants(self) -> dict[str, Any]:
+        """The integer constants (as ``Design.fixed_constants()``)."""
+    @property
+    def gains(self) -> list[float]:
+        """The gains the integers represent (the loop that runs)."""
+    @property
+    def sample_period_s(self) -> float:
+        """The sample period (s)."""
+    @property
+    def order(self) -> int:
+        """The observer order: 2 or 3."""
+    @property
+    def latched_faults(self) -> int:
+        """The faults latched since they were last cleared (bits, see ``Faults``)."""
+    def clear_faults(self) -> int:
+        """Returns the latched faults (bits) and clears them."""
+
 def offset_binary_mid_scale(largest_count: float) -> int:
     """The mid-scale (counts) of unsigned, offset-binary ADC counts whose largest sample is
     ``largest_count`` (a whole number, 0 to 2^53): ``2^(b-1)`` for the smallest ``b``, at

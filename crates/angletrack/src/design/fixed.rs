@@ -49,7 +49,19 @@ pub struct FixedDesignConstants {
 }
 
 impl FixedDesignConstants {
-    fn of<const N: usize>(gains: &FixedGains<N>) -> Self {
+    /// The constants of the fixed-point gains `gains` (of either order), as
+    /// [`AnyDesign::fixed_constants`] gives a design's.
+    ///
+    /// ```
+    /// use angletrack::FixedDesignConstants;
+    /// use angletrack_core::FixedGains;
+    /// let gains = FixedGains::<2>::new([0.05, 0.0012], 1e-4)?;
+    /// let constants = FixedDesignConstants::of(&gains);
+    /// assert_eq!(constants.multiplier, gains.constants().multiplier.to_vec());
+    /// assert_eq!(constants.acceleration_shift, 0);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn of<const N: usize>(gains: &FixedGains<N>) -> Self {
         let FixedConstants {
             multiplier,
             acceleration_shift,

@@ -6,6 +6,7 @@
 mod batch;
 mod calibrated;
 mod columns;
+mod fixed_columns;
 mod metrics;
 mod motion;
 mod resolver;
@@ -17,6 +18,7 @@ pub use calibrated::{
     NOMINAL_AMPLITUDE_SAMPLES, capture_fault_thresholds, nominal_amplitude, run_calibrated,
 };
 pub use columns::{EstimateColumns, Output};
+pub use fixed_columns::FixedColumns;
 pub use metrics::{ErrorStatistics, Metrics, MetricsOptions, Run, run};
 pub use motion::{Kinematics, Motion, MotionProfile};
 pub use resolver::ResolverModel;

@@ -83,11 +83,11 @@ pub trait Real:
     const ONE_TURN_EDGE_FIX: bool;
     /// Documented bound of the absolute error of [`Real::fast_sin_cos`] over [-pi, pi].
     const FAST_SIN_COS_MAX_ERROR: Self;
-    /// How the update is written where the two differ: `true` for `f32`, the type of
-    /// firmware (a Cortex-M4F's FPU is single precision), for the fewest instructions;
-    /// `false` for `f64` (hosts, whose loop over one channel's samples waits on each
-    /// sample's result) for the shortest chain of dependent operations from one sample's
-    /// phase error to the next sample's.
+    /// How the update is written where the two differ: `true` for `f32` on a bare-metal Arm
+    /// core (a Cortex-M's in-order pipeline pays per instruction; its FPU is single
+    /// precision), for the fewest instructions; `false` elsewhere (a host's out-of-order core,
+    /// whose loop over one channel's samples waits on each sample's result) for the shortest
+    /// chain of dependent operations from one sample's phase error to the next sample's.
     #[doc(hidden)]
     const FEWEST_INSTRUCTIONS: bool;
 
@@ -253,7 +253,7 @@ macro_rules! impl_real {
 // explained with their coefficients in `sincos.rs`.
 impl_real! {
     f32, bits u32, default Fast, tau_lo -1.748_455_6e-7_f32, one_turn_edge_fix false,
-    fast_error 3e-7, fewest_instructions true, polynomials F32_SIN_POLY, F32_COS_POLY, libm atan2f, sincosf, sqrtf, expm1f,
+    fast_error 3e-7, fewest_instructions cfg!(all(target_arch = "arm", target_os = "none")), polynomials F32_SIN_POLY, F32_COS_POLY, libm atan2f, sincosf, sqrtf, expm1f,
     track_magnitude crate::update::heron_step::<f32>
 }
 

@@ -194,30 +194,45 @@ pub(crate) const F64_COS_POLY: [f64; 8] = [
 /// [`Real::fast_sin_cos`]: `(sign(x) Q(w^2), w P(w^2))` with `w = pi/2 - |x|`.
 #[inline(always)]
 pub(crate) fn fast_sin_cos<T: Real>(x: T) -> (T, T) {
-    let (w, w2, q) = fast_reduced(x);
-    (q.times_sign_of(x), times_sin_polynomial(w, w2))
+    fast_sin_cos_by(x, T::FEWEST_INSTRUCTIONS)
+}
+
+/// [`fast_sin_cos`] with its polynomials by Horner's rule or not (`horner`, a constant
+/// where it is called: the branches fold away), so that the tests check both rules on
+/// every target.
+#[inline(always)]
+pub(crate) fn fast_sin_cos_by<T: Real>(x: T, horner: bool) -> (T, T) {
+    let (w, w2, q) = fast_reduced(x, horner);
+    (q.times_sign_of(x), times_sin_polynomial(w, w2, horner))
 }
 
 /// [`Real::fast_phase_detector`]: the phase error and the in-phase component with the
 /// inputs folded into the polynomials' factors.
 #[inline(always)]
 pub(crate) fn fast_phase_detector<T: Real>(x: T, y_c: T, y_s: T) -> (T, T) {
-    let (w, w2, q) = fast_reduced(x);
+    fast_phase_detector_by(x, y_c, y_s, T::FEWEST_INSTRUCTIONS)
+}
+
+/// [`fast_phase_detector`] with its polynomials by Horner's rule or not (as
+/// [`fast_sin_cos_by`]).
+#[inline(always)]
+pub(crate) fn fast_phase_detector_by<T: Real>(x: T, y_c: T, y_s: T, horner: bool) -> (T, T) {
+    let (w, w2, q) = fast_reduced(x, horner);
     // One sign, +-1, multiplied into both inputs: exact, and on a Cortex-M4F one move to
     // the integer unit and back for the pair instead of one for each input.
     let sign = T::ONE.times_sign_of(x);
-    let eps = times_sin_polynomial(y_s * w, w2) - (y_c * sign) * q;
-    let in_phase = times_sin_polynomial(y_c * w, w2) + (y_s * sign) * q;
+    let eps = times_sin_polynomial(y_s * w, w2, horner) - (y_c * sign) * q;
+    let in_phase = times_sin_polynomial(y_c * w, w2, horner) + (y_s * sign) * q;
     (eps, in_phase)
 }
 
 /// The shared part of [`fast_sin_cos`] and [`fast_phase_detector`]: `w = pi/2 - |x|`,
 /// `w^2` and `Q(w^2)`.
 #[inline(always)]
-fn fast_reduced<T: Real>(x: T) -> (T, T, T) {
+fn fast_reduced<T: Real>(x: T, horner: bool) -> (T, T, T) {
     let w = T::FRAC_PI_2 - x.abs();
     let w2 = w * w;
-    (w, w2, polynomial(w2, T::COS_POLY))
+    (w, w2, polynomial(w2, T::COS_POLY, horner))
 }
 
 /// `y P(t)`, `P` the sin polynomial ([`Real::SIN_POLY`]). Where its constant coefficient
@@ -226,28 +241,28 @@ fn fast_reduced<T: Real>(x: T) -> (T, T, T) {
 /// neither loaded nor multiplied (one instruction fewer on a Cortex-M4F), and `y t` ready
 /// before `P1` is (one operation less on the chain).
 #[inline(always)]
-fn times_sin_polynomial<T: Real>(y: T, t: T) -> T {
+fn times_sin_polynomial<T: Real>(y: T, t: T, horner: bool) -> T {
     match T::SIN_POLY {
-        [one, rest @ ..] if *one == T::ONE => y + (y * t) * polynomial(t, rest),
-        all => y * polynomial(t, all),
+        [one, rest @ ..] if *one == T::ONE => y + (y * t) * polynomial(t, rest, horner),
+        all => y * polynomial(t, all, horner),
     }
 }
 
 /// Evaluation of `c[0] + c[1] t + ... + c[7] t^7` (`c` has at most 8 coefficients; its
 /// length is a constant, so the branches fold away).
 ///
-/// In `f32` (the firmware's type, [`Real::FEWEST_INSTRUCTIONS`]) by Horner's rule: one
-/// multiply-add per coefficient and no powers of `t`, two instructions fewer per sample
+/// With `horner` (`f32` on a Cortex-M, [`Real::FEWEST_INSTRUCTIONS`]) by Horner's rule:
+/// one multiply-add per coefficient and no powers of `t`, two instructions fewer per sample
 /// than a split into halves, and one coefficient live at a time, so that on a Cortex-M4F
 /// the phase detector fits in the scratch float registers (none saved and restored). There
 /// every instruction counts and the chain's length hardly does.
 ///
-/// In `f64` (hosts, whose loop is latency-bound) Estrin-like: pairs `c[2i] + c[2i+1] t`
+/// Otherwise (hosts, whose loop is latency-bound) Estrin-like: pairs `c[2i] + c[2i+1] t`
 /// combined with powers of `t`, a chain of dependent operations about half as long as
 /// Horner's.
 #[inline(always)]
-fn polynomial<T: Real>(t: T, c: &[T]) -> T {
-    if T::FEWEST_INSTRUCTIONS {
+fn polynomial<T: Real>(t: T, c: &[T], horner: bool) -> T {
+    if horner {
         let Some((&highest, lower)) = c.split_last() else {
             return T::ZERO;
         };

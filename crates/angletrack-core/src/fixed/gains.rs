@@ -116,9 +116,15 @@ const fn multiplier_exponent(i: usize, acceleration_shift: u32) -> u32 {
     if i < 2 { 33 } else { 48 - acceleration_shift }
 }
 
-/// `round(gain 2^exponent / (2 pi))` if it is a multiplier (1 to 2^31 - 1).
-fn quantise(gain: f64, exponent: u32) -> Option<i32> {
-    let scaled = libm::round(libm::ldexp(gain * TURNS_PER_RAD, exponent as i32));
+/// `2^s_i` ([`multiplier_exponent`], at most 2^48), exactly: the exponent field of an `f64`
+/// (`const`, unlike `ldexp`).
+const fn multiplier_scale(i: usize, acceleration_shift: u32) -> f64 {
+    f64::from_bits((1023 + multiplier_exponent(i, acceleration_shift) as u64) << 52)
+}
+
+/// `round(gain 2^s_i / (2 pi))` if it is a multiplier (1 to 2^31 - 1).
+fn quantise(gain: f64, i: usize, acceleration_shift: u32) -> Option<i32> {
+    let scaled = libm::round(gain * TURNS_PER_RAD * multiplier_scale(i, acceleration_shift));
     (1.0..=f64::from(i32::MAX))
         .contains(&scaled)
         .then_some(scaled as i32)
@@ -179,16 +185,14 @@ where
             if i == 2 {
                 // The smallest shift whose multiplier fits: the most bits of l3.
                 while acceleration_shift < *ACCELERATION_SHIFTS.end()
-                    && libm::ldexp(
-                        gain * TURNS_PER_RAD,
-                        multiplier_exponent(2, acceleration_shift) as i32,
-                    ) >= f64::from(i32::MAX)
+                    && gain * TURNS_PER_RAD * multiplier_scale(2, acceleration_shift)
+                        >= f64::from(i32::MAX)
                 {
                     acceleration_shift += 1;
                 }
             }
-            multiplier[i] = quantise(gain, multiplier_exponent(i, acceleration_shift))
-                .ok_or(ConfigError::OutOfRange(parameter))?;
+            multiplier[i] =
+                quantise(gain, i, acceleration_shift).ok_or(ConfigError::OutOfRange(parameter))?;
         }
         Self::from_constants(
             FixedConstants {
@@ -289,10 +293,9 @@ impl<const N: usize> FixedGains<N> {
         let mut gains = [0.0; N];
         let mut i = 0;
         while i < N {
-            // 2^-s, s <= 48: the exponent field of an f64 (`const`, unlike `ldexp`).
-            let exponent = multiplier_exponent(i, self.acceleration_shift) as u64;
-            let scale = f64::from_bits((1023 - exponent) << 52);
-            gains[i] = self.multiplier[i] as f64 * scale * core::f64::consts::TAU;
+            // Divided by a power of two: exact.
+            let scale = multiplier_scale(i, self.acceleration_shift);
+            gains[i] = self.multiplier[i] as f64 / scale * core::f64::consts::TAU;
             i += 1;
         }
         gains

@@ -284,9 +284,9 @@ impl<const N: usize> FixedGains<N> {
             count_turn(state, from);
         }
         state.phase_error = step.eps;
-        // At most 16 2^15, no overflow. `eps ^ (eps >> 31)` is `|eps|` less one for a
-        // negative `eps` (one instruction): a window's sum is within 16 units of the sum of
-        // `|eps|`, 0.03 % of the threshold.
+        // At most MONITOR_WINDOW 2^15 = 2^20, no overflow. `eps ^ (eps >> 31)` is `|eps|`
+        // less one for a negative `eps` (one instruction): a window's sum is within
+        // MONITOR_WINDOW units of the sum of `|eps|`, 0.03 % of the threshold.
         state.error_sum += (step.eps ^ (step.eps >> 31)) as u32;
         // At least 1 here: set to MONITOR_WINDOW (or 1 by `FixedState::new`) when it reaches 0.
         state.window_left = state.window_left.wrapping_sub(1);
@@ -322,7 +322,8 @@ impl<const N: usize> FixedGains<N> {
 
     /// A window's end (out of line: once per window): half a Newton step of the reciprocal
     /// toward the amplitude of the window's last sample (half: the sample's noise is
-    /// averaged over a few windows), then, for a healthy window, the flags cleared; otherwise ([`FixedGains::end_window_with_fault`]) the first sample's
+    /// averaged over a few windows), then, for a healthy window, the flags cleared;
+    /// otherwise ([`FixedGains::end_window_with_fault`]) the first sample's
     /// initialisation, or with the monitor on the flags, latched, and the re-acquisition
     /// after a false lock: loss of signal and degradation from that amplitude, loss of
     /// tracking from the window's mean `|eps|` and the speed, false lock from the sign of

@@ -1,6 +1,6 @@
 //! `FaultThresholds` and the fault flags: the core's diagnostics, configured from Python.
 
-use angletrack_core::{FaultThresholds as CoreThresholds, Faults, Real};
+use angletrack_core::{FaultThresholds as CoreThresholds, Faults, Float, Real};
 use pyo3::prelude::*;
 
 /// Thresholds of the observer's diagnostics (like an RDC chip's fault register) and of its
@@ -69,7 +69,7 @@ impl PyFaultThresholds {
             degradation_low: t.degradation_low.to_f64(),
             degradation_high: t.degradation_high.to_f64(),
             loss_of_tracking: t.loss_of_tracking.to_f64(),
-            max_speed_rad_s: t.max_speed.map(Real::to_f64),
+            max_speed_rad_s: t.max_speed.map(Float::to_f64),
             filter_factor: t.filter_factor.to_f64(),
             false_lock: t.false_lock.to_f64(),
             monitor: t.monitor,

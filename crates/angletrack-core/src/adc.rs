@@ -3,10 +3,11 @@
 //! the integer samples an ADC gives ([`AdcSample`]: `i16`, `u16`, `i32`), and
 //! [`Gains::update_adc`], which runs it and the observer in one call.
 
-use crate::error::{ConfigError, Parameter, check_positive};
+use crate::error::{ConfigError, Parameter};
 use crate::gains::Gains;
-use crate::real::Real;
-use crate::sincos::SinCos;
+use crate::real::Float;
+use crate::real::check_positive;
+use crate::real::sincos::SinCos;
 use crate::state::{Estimate, ObserverState};
 
 /// The largest mid-scale (in counts, either sign) an [`AdcScaling`] accepts: `2^30`, so that
@@ -31,26 +32,26 @@ mod sealed {
 /// any ADC of up to 24 bits), and rounded to the type beyond.
 pub trait AdcSample: sealed::Sealed + Copy {
     /// `self - mid_scale_counts` as `T` (`|mid_scale_counts| <= 2^30`).
-    fn counts_from<T: Real>(self, mid_scale_counts: i32) -> T;
+    fn counts_from<T: Float>(self, mid_scale_counts: i32) -> T;
 }
 
 impl AdcSample for i16 {
     #[inline(always)]
-    fn counts_from<T: Real>(self, mid_scale_counts: i32) -> T {
+    fn counts_from<T: Float>(self, mid_scale_counts: i32) -> T {
         T::from_i32(i32::from(self) - mid_scale_counts)
     }
 }
 
 impl AdcSample for u16 {
     #[inline(always)]
-    fn counts_from<T: Real>(self, mid_scale_counts: i32) -> T {
+    fn counts_from<T: Float>(self, mid_scale_counts: i32) -> T {
         T::from_i32(i32::from(self) - mid_scale_counts)
     }
 }
 
 impl AdcSample for i32 {
     #[inline(always)]
-    fn counts_from<T: Real>(self, mid_scale_counts: i32) -> T {
+    fn counts_from<T: Float>(self, mid_scale_counts: i32) -> T {
         // |d| < 2^31 + 2^30: d >> 1 fits an i32.
         let d = i64::from(self) - i64::from(mid_scale_counts);
         T::from_i32((d >> 1) as i32) * T::TWO + T::from_i32((d & 1) as i32)
@@ -72,7 +73,7 @@ pub struct AdcScaling<T> {
     units_per_count: T,
 }
 
-impl<T: Real> Default for AdcScaling<T> {
+impl<T: Float> Default for AdcScaling<T> {
     /// No scaling: mid-scale 0, one count per unit.
     fn default() -> Self {
         Self {
@@ -82,7 +83,7 @@ impl<T: Real> Default for AdcScaling<T> {
     }
 }
 
-impl<T: Real> AdcScaling<T> {
+impl<T: Float> AdcScaling<T> {
     /// An ADC front end removing `mid_scale_counts` (the reading of a zero signal, at most
     /// [`MAX_MID_SCALE_COUNTS`] in magnitude) and dividing by `counts_per_unit` (counts per
     /// unit of the observer's input, finite and positive).
@@ -177,7 +178,7 @@ impl<T: Real> AdcScaling<T> {
     }
 }
 
-impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
+impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// One sample from raw ADC counts: the front end `adc` then [`Gains::update`].
     ///
     /// ```

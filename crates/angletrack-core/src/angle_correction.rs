@@ -23,8 +23,8 @@
 use crate::error::{ConfigError, Parameter};
 use crate::gains::Gains;
 use crate::learning::Calibrator;
-use crate::real::Real;
-use crate::sincos::SinCos;
+use crate::real::Float;
+use crate::real::sincos::SinCos;
 use crate::state::{Estimate, ObserverState};
 use crate::wrap::wrap_angle;
 
@@ -46,13 +46,13 @@ pub struct AngleCorrection<T> {
     order: usize,
 }
 
-impl<T: Real> Default for AngleCorrection<T> {
+impl<T: Float> Default for AngleCorrection<T> {
     fn default() -> Self {
         Self::NONE
     }
 }
 
-impl<T: Real> AngleCorrection<T> {
+impl<T: Float> AngleCorrection<T> {
     /// No correction.
     pub const NONE: Self = Self {
         cos_coefficients: [T::ZERO; MAX_CORRECTION_ORDER],
@@ -62,7 +62,7 @@ impl<T: Real> AngleCorrection<T> {
 
     /// The largest `sum_k |a_k| + |b_k|` (rad), a bound of `|d|`: 0.25 rad, within which the
     /// rotation's polynomial sin/cos of `d` err by less than `|d|^4/24` (2e-4 at the bound,
-    /// 1e-10 for a sensor's few mrad). Real sensors are within a few tens of mrad.
+    /// 1e-10 for a sensor's few mrad). Float sensors are within a few tens of mrad.
     pub fn max_total_rad() -> T {
         T::from_f32(0.25)
     }
@@ -186,7 +186,7 @@ impl<T: Real> AngleCorrection<T> {
     }
 }
 
-impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
+impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// One sample with the sensor's angle-dependent error `correction` removed inside the
     /// phase detector (see [`AngleCorrection`]): the sample is rotated by `-d(p)` of the
     /// predicted angle `p`, then goes through [`Gains::update`]. The estimate's angle,

@@ -4,10 +4,11 @@
 
 use crate::faults::Faults;
 use crate::gains::Gains;
-use crate::real::Real;
-use crate::sincos::SinCos;
+use crate::real::Float;
+use crate::real::sincos::SinCos;
+use crate::recursion::Sample;
 use crate::state::Estimate;
-use crate::update::{Sample, magnitude};
+use crate::state::magnitude;
 use crate::wrap::{FullWrap, NoWrap, OneTurnWrap, Wrap, one_turn_limit, sample_angle, wrapped};
 
 /// The states of `L` independent channels of order `N`, laid out as a struct of arrays
@@ -36,13 +37,13 @@ pub struct ChannelBank<T, const N: usize, const L: usize> {
     initialised: bool,
 }
 
-impl<T: Real, const N: usize, const L: usize> Default for ChannelBank<T, N, L> {
+impl<T: Float, const N: usize, const L: usize> Default for ChannelBank<T, N, L> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<T: Real, const N: usize, const L: usize> ChannelBank<T, N, L> {
+impl<T: Float, const N: usize, const L: usize> ChannelBank<T, N, L> {
     /// A bank whose lanes initialise themselves from their first valid sample's `atan2`,
     /// exactly as single observers do.
     ///
@@ -112,7 +113,7 @@ enum LanesWrap {
     Full,
 }
 
-impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
+impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// One sample for each of the `L` lanes of a bank. A lane's first valid sample
     /// initialises it from `atan2(y_s, y_c)`; until every lane is initialised the lanes run
     /// one by one, then side by side.

@@ -3,11 +3,11 @@
 //! local copy so that it can live in registers for the whole block.
 
 use crate::gains::Gains;
-use crate::real::Real;
-use crate::sincos::SinCos;
+use crate::real::Float;
+use crate::real::sincos::SinCos;
 use crate::state::{Estimate, ObserverState};
 
-impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
+impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// Runs the observer over a block of samples, calling `sink(k, estimate)` for each
     /// sample `k`; no allocation. Processes `min(y_c.len(), y_s.len())` samples and returns
     /// that count.

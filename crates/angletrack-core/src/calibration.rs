@@ -2,8 +2,9 @@
 //! (`docs/theory.md §12`), as a `Copy` value that firmware stores and loads, and the
 //! correction it applies to each sample before the phase detector.
 
-use crate::error::{ConfigError, Parameter, check_positive};
-use crate::real::Real;
+use crate::error::{ConfigError, Parameter};
+use crate::real::Float;
+use crate::real::check_positive;
 
 /// The sensor model `y_c = o_c + A_c cos(theta)`, `y_s = o_s + A_s sin(theta + phi)`: the
 /// two offsets, the two channels' amplitudes (their ratio `g = A_s / A_c` is the gain
@@ -36,13 +37,13 @@ pub struct SensorCalibration<T> {
     cross_gain: T,
 }
 
-impl<T: Real> Default for SensorCalibration<T> {
+impl<T: Float> Default for SensorCalibration<T> {
     fn default() -> Self {
         Self::IDENTITY
     }
 }
 
-impl<T: Real> SensorCalibration<T> {
+impl<T: Float> SensorCalibration<T> {
     /// No correction: offsets 0, amplitudes 1, quadrature 0.
     pub const IDENTITY: Self = Self {
         offset_c: T::ZERO,

@@ -1,17 +1,14 @@
 //! [`CalibrationSettings`]: the configuration of the online calibration
-//! (`docs/theory.md §12`), part of the [`Gains`] and checked there, and the faults a
+//! (`docs/theory.md §12`), part of the [`Gains`](crate::Gains) and checked there, and the faults a
 //! calibration raises against its bounds.
 
 use crate::calibration::SensorCalibration;
-use crate::error::ConfigError;
 use crate::faults::Faults;
-use crate::gains::Gains;
-use crate::real::Real;
-use crate::sincos::SinCos;
+use crate::real::Float;
 
 /// The configuration of the online calibration: when it learns and the bounds of its
-/// estimates beyond which a fault is flagged. Part of the [`Gains`]
-/// ([`Gains::with_calibration_settings`]), checked there.
+/// estimates beyond which a fault is flagged. Part of the [`Gains`](crate::Gains)
+/// ([`Gains::with_calibration_settings`](crate::Gains::with_calibration_settings)), checked there.
 ///
 /// | field | default |
 /// | --- | --- |
@@ -35,20 +32,6 @@ pub struct CalibrationSettings<T> {
     pub max_amplitude_mismatch: T,
     /// `|phi|` (rad) above this flags [`Faults::OFFSET_OR_QUADRATURE`].
     pub max_quadrature_rad: T,
-}
-
-impl<T: Real> Default for CalibrationSettings<T> {
-    fn default() -> Self {
-        T::default_calibration_settings()
-    }
-}
-
-impl<T: Real> CalibrationSettings<T> {
-    /// Checks the settings for the sample period `sample_period_s`: every bound finite and
-    /// positive, the minimum speed within its range.
-    pub(crate) fn check(&self, sample_period_s: T) -> Result<CheckedCalibration<T>, ConfigError> {
-        T::check_calibration_settings(self, sample_period_s)
-    }
 }
 
 /// Defines, for the float type `$t` (its functions in module `$m`), the `const fn`s that
@@ -121,7 +104,7 @@ pub struct CheckedCalibration<T> {
     pub(crate) min_scaled_speed: T,
 }
 
-impl<T: Real> CheckedCalibration<T> {
+impl<T: Float> CheckedCalibration<T> {
     /// The faults a calibration's parameters raise against the bounds (out of line: once per
     /// change of the calibration).
     #[cold]
@@ -136,40 +119,5 @@ impl<T: Real> CheckedCalibration<T> {
         let mismatch = (calibration.amplitude_ratio() - T::ONE).abs() > s.max_amplitude_mismatch;
         Faults::when(offset_or_quadrature, Faults::OFFSET_OR_QUADRATURE)
             | Faults::when(mismatch, Faults::AMPLITUDE_MISMATCH)
-    }
-}
-
-impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
-    /// The same gains with other online-calibration settings (checked: see
-    /// [`CalibrationSettings`]).
-    ///
-    /// ```
-    /// use angletrack_core::{CalibrationSettings, Gains, Parameter};
-    /// let gains = Gains::<f32, 3>::new([0.3, 0.04, 0.002], 1e-4)?
-    ///     .with_calibration_settings({
-    ///         let mut s = CalibrationSettings::default();
-    ///         s.min_speed_rad_s = Some(50.0);
-    ///         s
-    ///     })?;
-    /// assert_eq!(gains.calibration_settings().min_speed_rad_s, Some(50.0));
-    /// let mut slow = CalibrationSettings::default();
-    /// slow.min_speed_rad_s = Some(1e-3);
-    /// let err = gains.with_calibration_settings(slow).unwrap_err();
-    /// assert_eq!(err.parameter(), Parameter::MinSpeed);
-    /// # Ok::<(), angletrack_core::ConfigError>(())
-    /// ```
-    pub fn with_calibration_settings(
-        self,
-        settings: CalibrationSettings<T>,
-    ) -> Result<Self, ConfigError> {
-        Ok(Self {
-            calibration: settings.check(self.sample_period)?,
-            ..self
-        })
-    }
-
-    /// The online-calibration settings.
-    pub fn calibration_settings(&self) -> CalibrationSettings<T> {
-        self.calibration.settings
     }
 }

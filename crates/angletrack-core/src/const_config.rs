@@ -15,41 +15,48 @@ use crate::calibration_settings::{CalibrationSettings, CheckedCalibration};
 use crate::error::{ConfigError, Parameter};
 use crate::gains::{Gains, Order, SupportedOrder};
 use crate::monitor::{CheckedThresholds, FaultThresholds};
-use crate::real::Real;
+use crate::real::Float;
 
-/// The checks and defaults of a configuration, per float type (implemented for `f32` and
-/// `f64` by calling their `const fn`s). Not nameable outside the crate: a sealed supertrait
-/// of [`Real`].
-pub trait ConstChecks: Sized {
-    /// Checks that a parameter is finite and strictly positive.
-    fn check_positive(value: Self, parameter: Parameter) -> Result<Self, ConfigError>;
-    /// The loop polynomial of gains `l` (`docs/theory.md §6`).
-    fn characteristic_polynomial_in_s<const N: usize>(l: &[Self; N]) -> [Self; N];
-    /// The gains of a loop polynomial `c` (`docs/theory.md §6`).
-    fn gains_of_loop_polynomial<const N: usize>(c: &[Self; N]) -> [Self; N];
-    /// [`Gains::new`].
-    fn new_gains<const N: usize, S>(
-        gains: [Self; N],
-        sample_period_s: Self,
-    ) -> Result<Gains<Self, N, S>, ConfigError>
-    where
-        Self: Real,
-        Order<N>: SupportedOrder;
-    /// [`FaultThresholds::for_amplitude`].
-    fn thresholds_for_amplitude(nominal_amplitude: Self) -> FaultThresholds<Self>;
-    /// The check of [`FaultThresholds`].
-    fn check_thresholds(
-        thresholds: &FaultThresholds<Self>,
-        sample_period_s: Self,
-    ) -> Result<CheckedThresholds<Self>, ConfigError>;
-    /// [`CalibrationSettings::default`].
-    fn default_calibration_settings() -> CalibrationSettings<Self>;
-    /// The check of [`CalibrationSettings`].
-    fn check_calibration_settings(
-        settings: &CalibrationSettings<Self>,
-        sample_period_s: Self,
-    ) -> Result<CheckedCalibration<Self>, ConfigError>;
+/// A float type the observers run on and whose configurations are checked: `f32`
+/// (firmware) or `f64` (host). Sealed: only those two implement it.
+///
+/// It is [`Float`] (the arithmetic, which the per-sample code needs) with the `const`
+/// checks of the configurations (a sealed trait, not nameable outside the crate), which
+/// the checked constructors ([`Gains::new`], [`FaultThresholds::for_amplitude`], ...) need.
+/// Code generic over the float type bounds it by `Real`.
+pub trait Real: Float + ConstChecks {}
+
+impl<T: Float + ConstChecks> Real for T {}
+
+mod sealed {
+    /// The checks of [`ConstChecks`](super::ConstChecks), per float type: not nameable
+    /// outside the crate, so that no other type can be a [`Real`](super::Real).
+    pub trait ConstChecks: Sized {
+        /// [`Gains::new`](crate::Gains::new).
+        fn new_gains<const N: usize, S>(
+            gains: [Self; N],
+            sample_period_s: Self,
+        ) -> Result<crate::Gains<Self, N, S>, crate::ConfigError>
+        where
+            Self: crate::Float,
+            crate::Order<N>: crate::SupportedOrder;
+        /// [`FaultThresholds::for_amplitude`](crate::FaultThresholds::for_amplitude).
+        fn thresholds_for_amplitude(nominal_amplitude: Self) -> crate::FaultThresholds<Self>;
+        /// The check of [`FaultThresholds`](crate::FaultThresholds).
+        fn check_thresholds(
+            thresholds: &crate::FaultThresholds<Self>,
+            sample_period_s: Self,
+        ) -> Result<crate::monitor::CheckedThresholds<Self>, crate::ConfigError>;
+        /// [`CalibrationSettings::default`](crate::CalibrationSettings::default).
+        fn default_calibration_settings() -> crate::CalibrationSettings<Self>;
+        /// The check of [`CalibrationSettings`](crate::CalibrationSettings).
+        fn check_calibration_settings(
+            settings: &crate::CalibrationSettings<Self>,
+            sample_period_s: Self,
+        ) -> Result<crate::calibration_settings::CheckedCalibration<Self>, crate::ConfigError>;
+    }
 }
+pub(crate) use sealed::ConstChecks;
 
 /// Defines, for the float type `$t` (its functions in modules `$m`), the `const`
 /// constructors and the [`ConstChecks`] implementation.
@@ -282,18 +289,6 @@ macro_rules! const_config {
 
         impl ConstChecks for $t {
             #[inline]
-            fn check_positive(value: Self, parameter: Parameter) -> Result<Self, ConfigError> {
-                crate::error::$m::check_positive(value, parameter)
-            }
-            #[inline]
-            fn characteristic_polynomial_in_s<const N: usize>(l: &[Self; N]) -> [Self; N] {
-                crate::stability::$m::characteristic_polynomial_in_s(l)
-            }
-            #[inline]
-            fn gains_of_loop_polynomial<const N: usize>(c: &[Self; N]) -> [Self; N] {
-                crate::stability::$m::gains_of_loop_polynomial(c)
-            }
-            #[inline]
             fn new_gains<const N: usize, S>(
                 gains: [Self; N],
                 sample_period_s: Self,
@@ -340,6 +335,8 @@ mod for_f64 {
     use super::*;
     const_config!(f64, for_f64);
 }
+
+mod checked;
 
 #[cfg(test)]
 mod tests;

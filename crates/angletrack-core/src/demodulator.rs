@@ -18,11 +18,12 @@
 //! that component has the opposite sign, so the average cancels it for any delay, and the
 //! pair holds at the centre of the window.
 
-use crate::error::{ConfigError, Parameter, check_positive};
+use crate::error::{ConfigError, Parameter};
 use crate::front_end_faults::FrontEndFaults;
 use crate::gains::Gains;
-use crate::real::Real;
-use crate::sincos::SinCos;
+use crate::real::Float;
+use crate::real::check_positive;
+use crate::real::sincos::SinCos;
 use crate::state::{Estimate, ObserverState};
 
 mod settings;
@@ -58,7 +59,7 @@ pub struct Demodulator<T, const N: usize> {
     startup_periods: u32,
 }
 
-impl<T: Real, const N: usize> Demodulator<T, N> {
+impl<T: Float, const N: usize> Demodulator<T, N> {
     /// Checks `settings` and builds the reference tables for `N` samples per period.
     ///
     /// Refuses `N` not a positive multiple of 4, a non-positive carrier or amplitude, an

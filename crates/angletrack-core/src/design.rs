@@ -11,10 +11,11 @@
 //! far slower than its sample rate keeps its precision, and the gains are those of the loop
 //! polynomial `prod (s - (z_i - 1))` in `s = z - 1` ([`Gains::from_loop_polynomial`]).
 
-use crate::error::{ConfigError, Parameter, check_positive};
+use crate::const_config::Real;
+use crate::error::{ConfigError, Parameter};
 use crate::gains::Gains;
-use crate::real::Real;
-use crate::sincos::SinCos;
+use crate::real::check_positive;
+use crate::real::sincos::SinCos;
 
 mod kalman;
 

@@ -4,8 +4,6 @@
 
 use core::fmt;
 
-use crate::real::Real;
-
 /// A parameter of an observer's configuration, named in [`ConfigError`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -284,9 +282,4 @@ pub(crate) mod for_f32 {
 /// The `f64` check.
 pub(crate) mod for_f64 {
     positive_fns!(f64);
-}
-
-/// Checks that a parameter is finite and strictly positive.
-pub(crate) fn check_positive<T: Real>(value: T, parameter: Parameter) -> Result<T, ConfigError> {
-    T::check_positive(value, parameter)
 }

@@ -9,7 +9,7 @@
 //! however long the drive runs (a float accumulator would drift by its rounding every tick).
 
 use crate::error::{ConfigError, Parameter};
-use crate::real::Real;
+use crate::real::Float;
 
 /// The excitation's waveform.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -94,7 +94,7 @@ impl Excitation {
     /// Advances the accumulator by one tick and returns the carrier value of this tick, in
     /// [-1, 1] (scale it to the DAC's codes or the PWM's compare value).
     #[inline]
-    pub fn tick<T: Real>(&self, state: &mut ExcitationState) -> T {
+    pub fn tick<T: Float>(&self, state: &mut ExcitationState) -> T {
         let phase = state.phase;
         state.phase = phase.wrapping_add(self.step);
         // Both terms are below the tick rate, so the sum fits in a u64 and one subtraction
@@ -108,7 +108,7 @@ impl Excitation {
 
     /// The carrier value at `phase` (a turn fraction times 2^32), in [-1, 1].
     #[inline]
-    pub fn value_at<T: Real>(&self, phase: u32) -> T {
+    pub fn value_at<T: Float>(&self, phase: u32) -> T {
         match self.waveform {
             Waveform::Sine => phase_to_rad::<T>(phase).fast_sin_cos().0,
             Waveform::Square if phase < 1 << 31 => T::ONE,
@@ -136,7 +136,7 @@ impl Excitation {
     /// assert!((t - 25e-6).abs() < 1e-9); // a quarter period
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
-    pub fn peak_sample_time_s<T: Real>(&self, carrier_delay_rad: T) -> T {
+    pub fn peak_sample_time_s<T: Float>(&self, carrier_delay_rad: T) -> T {
         let mut phase = T::FRAC_PI_2 - carrier_delay_rad;
         crate::wrap::wrap_angle(&mut phase);
         if phase < T::ZERO {
@@ -165,7 +165,7 @@ impl Excitation {
 /// A turn fraction times 2^32 as an angle in [-pi, pi) (rad): the phase read as a signed
 /// integer, so the angle is already wrapped.
 #[inline(always)]
-fn phase_to_rad<T: Real>(phase: u32) -> T {
+fn phase_to_rad<T: Float>(phase: u32) -> T {
     // 2 pi / 2^32 is exact in both types up to the rounding of pi.
     T::from_i32(phase as i32) * (T::PI * T::from_f32(1.0 / 2_147_483_648.0))
 }

@@ -13,8 +13,8 @@ use crate::calibration::SensorCalibration;
 use crate::calibration_settings::CheckedCalibration;
 use crate::faults::Faults;
 use crate::gains::Gains;
-use crate::real::Real;
-use crate::sincos::SinCos;
+use crate::real::Float;
+use crate::real::sincos::SinCos;
 use crate::state::{Estimate, ObserverState};
 use crate::update::{SampleObserver, UsedSample};
 
@@ -71,13 +71,13 @@ pub struct Calibrator<T> {
     sums: [T; 7],
 }
 
-impl<T: Real> Default for Calibrator<T> {
+impl<T: Float> Default for Calibrator<T> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<T: Real> Calibrator<T> {
+impl<T: Float> Calibrator<T> {
     /// A calibrator that is off, with no correction and nothing learned.
     ///
     /// ```
@@ -284,7 +284,7 @@ struct Learner<'a, T> {
     raw: (T, T),
 }
 
-impl<T: Real> SampleObserver<T> for Learner<'_, T> {
+impl<T: Float> SampleObserver<T> for Learner<'_, T> {
     #[inline(always)]
     fn observe(self, used: Option<UsedSample<T>>) {
         if self.learning {
@@ -294,7 +294,7 @@ impl<T: Real> SampleObserver<T> for Learner<'_, T> {
     }
 }
 
-impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
+impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// One sample through the online calibration: unless `calibrator` is off, the sample is
     /// corrected by its [`SensorCalibration`] before the phase detector, and, while
     /// learning, the raw sample and the observer's predicted angle feed its estimator

@@ -30,9 +30,10 @@
 //! amplitude normalisation, ADC scaling, online correction of offsets, imbalance and
 //! quadrature). One concept per module: `state` and `update` the recursion, `wrap` the
 //! angle wrap and turn count, `gains` and `stability` the checked configuration, `monitor`
-//! and `faults` the diagnostics, `sincos` the phase detector's sin/cos, `bank` many channels
+//! and `faults` the diagnostics, `real::sincos` the phase detector's sin/cos, `bank` many channels
 //! at once, `observer` the trait over all observers, `error` the refusals, `real` the float
-//! types, `adc` the ADC front end, `calibration` the sensor correction,
+//! types' arithmetic ([`Float`]) and sin/cos, `const_config` the checked configurations
+//! ([`Real`]: [`Float`] with the configurations' checks), `adc` the ADC front end, `calibration` the sensor correction,
 //! `calibration_settings` its configuration and `learning` its online estimator.
 //! The resolver front end (§13) is `excitation` (the carrier to write out), `demodulator`
 //! (ADC samples of the windings to one `(y_c, y_s)` pair per carrier period, the carrier
@@ -100,7 +101,11 @@
 //! # Float types and the phase detector's sin/cos
 //!
 //! Everything is generic over the sealed [`Real`] trait (`f32`, `f64`); the `f32` path uses
-//! no `f64` arithmetic. The sin/cos of the phase detector is a type parameter: [`Fast`]
+//! no `f64` arithmetic. [`Real`] is [`Float`], the arithmetic that the per-sample code
+//! needs, together with the checks of the configurations: the modules form layers that
+//! import only downwards (the numbers, the recursion and its state, the observer and its
+//! monitor, the front-end stages, the configurations' checked constructors, the designs),
+//! so the per-sample code is bounded by [`Float`] and the constructors by [`Real`]. The sin/cos of the phase detector is a type parameter: [`Fast`]
 //! (a branch-free polynomial, the default on `f32`) or [`Exact`] (`libm`, the default on
 //! `f64`).
 #![no_std]
@@ -130,7 +135,6 @@ mod observer;
 mod outputs;
 mod real;
 mod recursion;
-mod sincos;
 mod stability;
 mod state;
 mod update;
@@ -141,6 +145,7 @@ pub use angle_correction::{AngleCorrection, MAX_CORRECTION_ORDER};
 pub use bank::ChannelBank;
 pub use calibration::SensorCalibration;
 pub use calibration_settings::CalibrationSettings;
+pub use const_config::Real;
 pub use demodulator::{DemodulatedPair, Demodulator, DemodulatorSettings, DemodulatorState};
 pub use error::{ConfigError, Parameter};
 pub use excitation::{Excitation, ExcitationState, Waveform};
@@ -152,8 +157,8 @@ pub use learning::{CalibrationMode, Calibrator};
 pub use monitor::FaultThresholds;
 pub use observer::{AngleTrackingObserver, Observer, SecondOrderObserver, ThirdOrderObserver};
 pub use outputs::{DriveAngle, DriveOutputs, DriveOutputsState};
-pub use real::Real;
-pub use sincos::{Detection, Exact, Fast, SinCos, SinCosUnit};
+pub use real::Float;
+pub use real::sincos::{Detection, Exact, Fast, SinCos, SinCosUnit};
 pub use state::{Estimate, ObserverState};
 
 #[cfg(test)]

@@ -11,9 +11,8 @@
 //! (31 by default). A rejected sample is flagged at once. The first window after the angle
 //! is set is its first used sample alone (a start 180 degrees off is caught at once).
 
-use crate::error::ConfigError;
 use crate::faults::Faults;
-use crate::real::Real;
+use crate::real::Float;
 
 /// Thresholds of the diagnostics and of the input check, in the units of `y_c`, `y_s`
 /// (amplitudes) unless stated. Part of the observer's configuration
@@ -78,53 +77,6 @@ pub struct FaultThresholds<T> {
     /// On a false lock, re-acquire the angle from `atan2(y_s, y_c)`, keeping speed and
     /// acceleration.
     pub re_acquire: bool,
-}
-
-impl<T: Real> Default for FaultThresholds<T> {
-    fn default() -> Self {
-        Self::for_amplitude(T::ONE)
-    }
-}
-
-impl<T: Real> FaultThresholds<T> {
-    /// The default thresholds (see the table above) with the amplitude checks scaled to a
-    /// nominal amplitude (in the units of `y_c`, `y_s`); the loss-of-tracking threshold is
-    /// dimensionless and stays 0.1.
-    ///
-    /// ```
-    /// use angletrack_core::FaultThresholds;
-    /// // Raw 12-bit ADC counts with the mid-scale removed, amplitude about 1800 counts.
-    /// let t = FaultThresholds::<f32>::for_amplitude(1800.0);
-    /// assert_eq!(t.loss_of_signal, 450.0);
-    /// assert_eq!(t.loss_of_tracking, 0.1);
-    /// ```
-    pub fn for_amplitude(nominal_amplitude: T) -> Self {
-        T::thresholds_for_amplitude(nominal_amplitude)
-    }
-
-    /// No diagnostics and no re-acquisition, only the input check: the bare loop of the
-    /// paper (use it to study the loop's own large-signal behaviour).
-    ///
-    /// ```
-    /// use angletrack_core::FaultThresholds;
-    /// let t = FaultThresholds::<f64>::disabled();
-    /// assert!(!t.monitor && !t.re_acquire);
-    /// ```
-    pub fn disabled() -> Self {
-        Self {
-            monitor: false,
-            re_acquire: false,
-            ..Self::default()
-        }
-    }
-
-    /// Checks the thresholds: all finite and positive (the false-lock threshold may be
-    /// zero or negative, within the nominal amplitude), ordered
-    /// `loss_of_signal < degradation_low < nominal < degradation_high <= max_input`,
-    /// filter factor in (0, 1]. Returns the squared-amplitude form used per sample.
-    pub(crate) fn check(&self, sample_period_s: T) -> Result<CheckedThresholds<T>, ConfigError> {
-        T::check_thresholds(self, sample_period_s)
-    }
 }
 
 /// Defines, for the float type `$t` (its functions in module `$m`), the `const fn`s that
@@ -290,7 +242,7 @@ pub(crate) struct MonitorState<T> {
     pub(crate) latched: Faults,
 }
 
-impl<T: Real> MonitorState<T> {
+impl<T: Float> MonitorState<T> {
     /// A monitor whose first window starts at the next used sample.
     pub(crate) const fn new() -> Self {
         Self {
@@ -325,9 +277,9 @@ impl<T: Real> MonitorState<T> {
     }
 }
 
-impl<T: Real> CheckedThresholds<T> {
+impl<T: Float> CheckedThresholds<T> {
     /// `y_c^2 + y_s^2 + m` of a sample and whether it is accepted: finite and within the
-    /// input bound (NaN compares false, so it is refused). `m` is [`Real::MIN_POSITIVE`],
+    /// input bound (NaN compares false, so it is refused). `m` is [`Float::MIN_POSITIVE`],
     /// which keeps the amplitude tracker's magnitude positive (`docs/theory.md §12`) and is
     /// negligible anywhere else; added first, it costs no instruction of its own.
     #[inline(always)]

@@ -3,13 +3,13 @@
 
 use crate::faults::Faults;
 use crate::gains::Gains;
-use crate::real::Real;
-use crate::sincos::SinCos;
+use crate::real::Float;
+use crate::real::sincos::SinCos;
 use crate::state::{Estimate, ObserverState};
 
 /// What every angle tracking observer does, whatever its order and gains: code that uses an
 /// observer takes `impl AngleTrackingObserver<T>` and does not care which one it is.
-pub trait AngleTrackingObserver<T: Real> {
+pub trait AngleTrackingObserver<T: Float> {
     /// Feeds one sample (`y_c ~ cos theta`, `y_s ~ sin theta`) and returns the estimate.
     fn update(&mut self, y_c: T, y_s: T) -> Estimate<T>;
     /// Feeds a block of samples into `out`; returns the number processed,
@@ -38,7 +38,7 @@ pub trait AngleTrackingObserver<T: Real> {
 /// detector's sin/cos ([`Fast`](crate::Fast) by default on `f32`,
 /// [`Exact`](crate::Exact) on `f64`).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Observer<T: Real, const N: usize, S = <T as Real>::DefaultSinCos> {
+pub struct Observer<T: Float, const N: usize, S = <T as Float>::DefaultSinCos> {
     /// The gains (immutable; replace them to retune).
     pub gains: Gains<T, N, S>,
     /// The state.
@@ -46,12 +46,12 @@ pub struct Observer<T: Real, const N: usize, S = <T as Real>::DefaultSinCos> {
 }
 
 /// The classical 2nd-order (type II) angle tracking observer.
-pub type SecondOrderObserver<T, S = <T as Real>::DefaultSinCos> = Observer<T, 2, S>;
+pub type SecondOrderObserver<T, S = <T as Float>::DefaultSinCos> = Observer<T, 2, S>;
 /// The 3rd-order (type III) angle tracking observer: continuous design by pole placement, or
 /// the time-invariant Kalman ATO (same recursion, Kalman gains).
-pub type ThirdOrderObserver<T, S = <T as Real>::DefaultSinCos> = Observer<T, 3, S>;
+pub type ThirdOrderObserver<T, S = <T as Float>::DefaultSinCos> = Observer<T, 3, S>;
 
-impl<T: Real, const N: usize, S: SinCos<T>> Observer<T, N, S> {
+impl<T: Float, const N: usize, S: SinCos<T>> Observer<T, N, S> {
     /// An observer with the given gains, initialised by its first sample.
     ///
     /// ```
@@ -69,7 +69,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Observer<T, N, S> {
     }
 }
 
-impl<T: Real, const N: usize, S: SinCos<T>> AngleTrackingObserver<T> for Observer<T, N, S> {
+impl<T: Float, const N: usize, S: SinCos<T>> AngleTrackingObserver<T> for Observer<T, N, S> {
     #[inline]
     fn update(&mut self, y_c: T, y_s: T) -> Estimate<T> {
         self.gains.update(&mut self.state, y_c, y_s)

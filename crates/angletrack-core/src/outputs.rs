@@ -3,8 +3,9 @@
 //! angle for its pole pairs and the shaft's mechanical angle for the resolver's speed ratio,
 //! and the speed with an optional low-pass.
 
-use crate::error::{ConfigError, Parameter, check_positive};
-use crate::real::Real;
+use crate::error::{ConfigError, Parameter};
+use crate::real::Float;
+use crate::real::check_positive;
 use crate::state::Estimate;
 use crate::wrap::wrap_angle;
 
@@ -46,7 +47,7 @@ pub struct DriveAngle<T> {
     pub mechanical_speed: T,
 }
 
-impl<T: Real> DriveOutputs<T> {
+impl<T: Float> DriveOutputs<T> {
     /// Outputs for a motor of `pole_pairs` pole pairs read by a resolver of speed ratio
     /// `speed_ratio` (electrical turns of the resolver per mechanical turn: 1 for a 1X
     /// resolver), the angle extrapolated by `latency_s` (s, in [0, 1]: from the observer's

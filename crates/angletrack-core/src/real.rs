@@ -9,7 +9,10 @@
 use core::fmt::{Debug, Display};
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
 
-use crate::sincos::{F32_COS_POLY, F32_SIN_POLY, F64_COS_POLY, F64_SIN_POLY};
+pub(crate) mod sincos;
+
+use crate::error::{ConfigError, Parameter};
+use sincos::{F32_COS_POLY, F32_SIN_POLY, F64_COS_POLY, F64_SIN_POLY};
 
 mod sealed {
     pub trait Sealed {}
@@ -21,9 +24,8 @@ mod sealed {
 ///
 /// The trait is sealed: only `f32` and `f64` implement it. It carries the constants and the
 /// few functions the recursion needs, each implemented once per type with [`libm`].
-pub trait Real:
+pub trait Float:
     sealed::Sealed
-    + crate::const_config::ConstChecks
     + Copy
     + Default
     + PartialOrd
@@ -74,14 +76,14 @@ pub trait Real:
     const COS_POLY: &'static [Self];
     /// The phase detector's sin/cos when none is named: [`Fast`](crate::Fast) for `f32`
     /// (firmware), [`Exact`](crate::Exact) for `f64` (host).
-    type DefaultSinCos: crate::SinCos<Self>;
+    type DefaultSinCos: sincos::SinCos<Self>;
     /// Whether a one-turn wrap `(a - TAU_HI) - TAU_LO` of an angle just above pi (or its
     /// mirror) can round to just outside [-pi, pi) and needs a second move: `false` for
     /// `f32` (`PI` above pi, `TAU_LO < 0`: the exact result is inside and rounding is
     /// monotone), `true` for `f64` (`PI` below pi).
     #[doc(hidden)]
     const ONE_TURN_EDGE_FIX: bool;
-    /// Documented bound of the absolute error of [`Real::fast_sin_cos`] over [-pi, pi].
+    /// Documented bound of the absolute error of [`Float::fast_sin_cos`] over [-pi, pi].
     const FAST_SIN_COS_MAX_ERROR: Self;
     /// How the update is written where the two differ: `true` for `f32` on a bare-metal Arm
     /// core (a Cortex-M's in-order pipeline pays per instruction; its FPU is single
@@ -133,19 +135,38 @@ pub trait Real:
     /// Cortex-M4F fewer instructions than a comparison and a select).
     fn times_sign_of(self, sign: Self) -> Self;
 
+    /// Checks that a parameter is finite and strictly positive: the type's `const fn` of
+    /// `error.rs`, which the `const` constructors call directly.
+    #[doc(hidden)]
+    fn check_positive(value: Self, parameter: Parameter) -> Result<Self, ConfigError>;
+    /// Coefficients `c[k]` of the closed-loop characteristic polynomial in `s = z - 1`,
+    /// `s^N + c[N-1] s^(N-1) + ... + c[0]`, for gains `l` (`docs/theory.md §6`): the type's
+    /// `const fn` of `stability.rs`. With `D = A - I` (nilpotent) and the rank-one
+    /// correction, `det(s I - D + A L e1^T) = s^N + sum_k s^(N-1-k) e1^T D^k A L`; the
+    /// coefficients are linear in the gains.
+    #[doc(hidden)]
+    fn characteristic_polynomial_in_s<const N: usize>(l: &[Self; N]) -> [Self; N];
+    /// The gains whose loop has the characteristic polynomial `c` (in `s = z - 1`, as
+    /// [`Float::characteristic_polynomial_in_s`] gives it): the type's `const fn` of
+    /// `stability.rs`. The map from gains to coefficients is linear and triangular:
+    /// `c[N-1-k]` depends on `l[k..N]` only, with a unit coefficient on `l[k]`, so back
+    /// substitution solves it.
+    #[doc(hidden)]
+    fn gains_of_loop_polynomial<const N: usize>(c: &[Self; N]) -> [Self; N];
+
     /// `(sin, cos)` by a branch-free polynomial, for arguments in [-pi, pi].
     ///
     /// With `w = pi/2 - |x|` in [-pi/2, pi/2], `sin x = sign(x) cos w` and `cos x = sin w`;
     /// `sin w = w P(w^2)` and `cos w = Q(w^2)` are minimax polynomials sharing `w^2`. The
-    /// absolute error over [-pi, pi] is below [`Real::FAST_SIN_COS_MAX_ERROR`] (tested).
+    /// absolute error over [-pi, pi] is below [`Float::FAST_SIN_COS_MAX_ERROR`] (tested).
     /// Outside that range the result is wrong; the observer only calls it on a wrapped angle.
     #[inline(always)]
     fn fast_sin_cos(self) -> (Self, Self) {
-        crate::sincos::fast_sin_cos(self)
+        sincos::fast_sin_cos(self)
     }
 
     /// The heterodyne phase detector on the angle `self` (in [-pi, pi]) with the
-    /// [`Real::fast_sin_cos`] polynomials: `(y_s cos x - y_c sin x, y_c cos x + y_s sin x)`,
+    /// [`Float::fast_sin_cos`] polynomials: `(y_s cos x - y_c sin x, y_c cos x + y_s sin x)`,
     /// the phase error `eps` and the in-phase component.
     ///
     /// The inputs are folded into the polynomials' factors, `eps = (y_s w) P(w^2) -
@@ -154,7 +175,7 @@ pub trait Real:
     /// phase error, which is what a single observer's loop waits for.
     #[inline(always)]
     fn fast_phase_detector(self, y_c: Self, y_s: Self) -> (Self, Self) {
-        crate::sincos::fast_phase_detector(self, y_c, y_s)
+        sincos::fast_phase_detector(self, y_c, y_s)
     }
 }
 
@@ -162,8 +183,8 @@ macro_rules! impl_real {
     ($t:ident, bits $bits:ident, default $default:ident, tau_lo $tau_lo:expr,
      one_turn_edge_fix $edge_fix:expr, fast_error $eps_fast:expr, fewest_instructions $fewest:expr,
      polynomials $sin_poly:path, $cos_poly:path, libm $atan2:ident, $sincos:ident, $sqrt:ident, $expm1:ident,
-     track_magnitude $track:expr) => {
-        impl Real for $t {
+     track_magnitude $track:expr, checks $m:ident) => {
+        impl Float for $t {
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
             const HALF: Self = 0.5;
@@ -181,7 +202,7 @@ macro_rules! impl_real {
             const FAST_SIN_COS_MAX_ERROR: Self = $eps_fast;
             const ONE_TURN_EDGE_FIX: bool = $edge_fix;
             const FEWEST_INSTRUCTIONS: bool = $fewest;
-            type DefaultSinCos = crate::$default;
+            type DefaultSinCos = sincos::$default;
 
             #[inline(always)]
             fn from_f32(x: f32) -> Self {
@@ -237,6 +258,18 @@ macro_rules! impl_real {
                 const SIGN_BIT: $bits = 1 << ($bits::BITS - 1);
                 $t::from_bits(self.to_bits() ^ (sign.to_bits() & SIGN_BIT))
             }
+            #[inline]
+            fn check_positive(value: Self, parameter: Parameter) -> Result<Self, ConfigError> {
+                crate::error::$m::check_positive(value, parameter)
+            }
+            #[inline]
+            fn characteristic_polynomial_in_s<const N: usize>(l: &[Self; N]) -> [Self; N] {
+                crate::stability::$m::characteristic_polynomial_in_s(l)
+            }
+            #[inline]
+            fn gains_of_loop_polynomial<const N: usize>(c: &[Self; N]) -> [Self; N] {
+                crate::stability::$m::gains_of_loop_polynomial(c)
+            }
             #[inline(always)]
             fn min(self, other: Self) -> Self {
                 $t::min(self, other)
@@ -254,11 +287,25 @@ macro_rules! impl_real {
 impl_real! {
     f32, bits u32, default Fast, tau_lo -1.748_455_6e-7_f32, one_turn_edge_fix false,
     fast_error 3e-7, fewest_instructions cfg!(all(target_arch = "arm", target_os = "none")), polynomials F32_SIN_POLY, F32_COS_POLY, libm atan2f, sincosf, sqrtf, expm1f,
-    track_magnitude crate::update::heron_step::<f32>
+    track_magnitude heron_step::<f32>, checks for_f32
 }
 
 impl_real! {
     f64, bits u64, default Exact, tau_lo 2.449_293_598_294_706_4e-16_f64, one_turn_edge_fix true,
     fast_error 2e-13, fewest_instructions false, polynomials F64_SIN_POLY, F64_COS_POLY, libm atan2, sincos, sqrt, expm1,
-    track_magnitude |_previous, amplitude2| libm::sqrt(amplitude2)
+    track_magnitude |_previous, amplitude2| libm::sqrt(amplitude2), checks for_f64
+}
+
+/// One Heron (Newton) step of `sqrt(amplitude2)` from `previous` (> 0): the mean of
+/// `previous` and `amplitude2 / previous`, never below `sqrt(amplitude2)` (arithmetic and
+/// geometric means); `amplitude2` includes `m` = [`Float::MIN_POSITIVE`], so the magnitude
+/// is never below `sqrt(m)`, never zero.
+#[inline(always)]
+pub(crate) fn heron_step<T: Float>(previous: T, amplitude2: T) -> T {
+    (previous + amplitude2 / previous) * T::HALF
+}
+
+/// Checks that a parameter is finite and strictly positive ([`Float::check_positive`]).
+pub(crate) fn check_positive<T: Float>(value: T, parameter: Parameter) -> Result<T, ConfigError> {
+    T::check_positive(value, parameter)
 }

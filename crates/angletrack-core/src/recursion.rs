@@ -1,15 +1,34 @@
 //! The one predictor-corrector recursion of every observer (`docs/theory.md §5`), written
 //! once over its arithmetic: [`Arithmetic`] is what a number format must provide (predict,
 //! wrap, detect, normalise, correct) and [`step`] is the recursion itself. The floats
-//! (`f32`, `f64`) implement it through [`Gains`]; the integers of the fixed-point path
+//! (`f32`, `f64`) implement it through [`Gains`](crate::Gains); the integers of the fixed-point path
 //! (`docs/theory.md §14`) through [`FixedGains`](crate::FixedGains).
 
-use crate::gains::Gains;
-use crate::real::Real;
-use crate::sincos::{Detection, SinCos, SinCosUnit};
-use crate::state::predict;
-use crate::update::{Sample, Step};
+use crate::real::sincos::Detection;
 use crate::wrap::Wrap;
+
+/// What one step of the recursion gives besides the new state.
+#[derive(Clone, Copy)]
+pub(crate) struct Step<T> {
+    /// Normalised phase-detector output `eps / sqrt(y_c^2 + y_s^2)`, about the sine of the
+    /// phase error (0 for a sample that was not used).
+    pub(crate) eps: T,
+    /// Whole turns the wrap of the predicted angle removed.
+    pub(crate) whole: i32,
+    /// `(sin, cos)` of the predicted angle (for the calibration's estimator; the plain
+    /// update leaves them unused and the compiler drops them).
+    pub(crate) sin_cos: (T, T),
+}
+
+/// One sample as the recursion takes it: the signals, their `y_c^2 + y_s^2` (from the input
+/// check) and whether the sample is used.
+#[derive(Clone, Copy)]
+pub(crate) struct Sample<T> {
+    pub(crate) y_c: T,
+    pub(crate) y_s: T,
+    pub(crate) amplitude2: T,
+    pub(crate) valid: bool,
+}
 
 /// The operations of one step of the recursion in one number format, with `U` the unit that
 /// computes the phase detector's sin/cos and `N` the order.
@@ -60,7 +79,7 @@ pub(crate) trait Arithmetic<U, const N: usize> {
 
 /// The recursion, on one channel's state `x`, the predicted angle `next_angle` the previous
 /// sample left and the tracked `magnitude`: predict, wrap, detect, normalise, correct (see
-/// [`Gains::step`] for the equations). `W` wraps the predicted angle of the floats.
+/// [`Gains::step`](crate::Gains::step) for the equations). `W` wraps the predicted angle of the floats.
 #[inline(always)]
 pub(crate) fn step<A: Arithmetic<U, N>, U, W: Wrap, const N: usize>(
     arithmetic: &A,
@@ -82,61 +101,5 @@ pub(crate) fn step<A: Arithmetic<U, N>, U, W: Wrap, const N: usize>(
         eps,
         whole: wrapped + crossed,
         sin_cos: (detection.sin, detection.cos),
-    }
-}
-
-impl<T: Real, const N: usize, S: SinCos<T>, U: SinCosUnit<T>> Arithmetic<U, N> for Gains<T, N, S> {
-    type Value = T;
-    type Magnitude = T;
-    type Vector = [T; N];
-
-    #[inline(always)]
-    fn predict(&self, x: &[T; N], angle: T) -> [T; N] {
-        let mut p = predict(x);
-        p[0] = angle;
-        p
-    }
-
-    #[inline(always)]
-    fn wrap<W: Wrap>(angle: &mut T) -> i32 {
-        W::wrap(angle)
-    }
-
-    #[inline(always)]
-    fn detect(unit: &mut U, angle: T, y_c: T, y_s: T) -> Detection<T> {
-        unit.detect(angle, y_c, y_s)
-    }
-
-    #[inline(always)]
-    fn normalise(amplitude: &mut T, sample: &Sample<T>, phase_error: T) -> T {
-        let tracked = T::track_magnitude(*amplitude, sample.amplitude2);
-        if sample.valid {
-            *amplitude = tracked;
-            phase_error / tracked
-        } else {
-            T::ZERO
-        }
-    }
-
-    /// `next_angle = (A X_e)[0]`, the prediction of the corrected state; where the chain of
-    /// dependent operations counts more than the instructions (`f64`,
-    /// [`Real::FEWEST_INSTRUCTIONS`]), summed in another order, `(A X_p)[0] + (A L)[0] eps`,
-    /// so that the phase error reaches the next phase detector through one multiplication
-    /// and one addition (`f32` saves that multiplication and the load of `(A L)[0]`). The
-    /// corrected angle is not wrapped (it is wrapped when read).
-    #[inline(always)]
-    fn correct(&self, _x: &[T; N], p: &mut [T; N], eps: T) -> (T, i32) {
-        let short_chain = predict(p)[0] + self.next_angle_gain * eps;
-        let mut i = 0;
-        while i < N {
-            p[i] += self.l[i] * eps;
-            i += 1;
-        }
-        let next = if T::FEWEST_INSTRUCTIONS {
-            predict(p)[0]
-        } else {
-            short_chain
-        };
-        (next, 0)
     }
 }

@@ -2,11 +2,9 @@
 //! gains, its inverse (the gains that give a chosen polynomial), and the check that every
 //! pole lies inside the unit circle: `docs/theory.md §6`.
 
-use crate::real::Real;
-
 /// Defines, for the float type `$t`, the `const fn`s of this module's mathematics (one
 /// implementation for both types: constant evaluation cannot call trait methods, so the
-/// generic functions below dispatch to these through [`ConstChecks`](crate::checks::ConstChecks)).
+/// generic functions below reach these through [`Float`](crate::Float)'s hidden methods).
 macro_rules! stability_fns {
     ($t:ident) => {
         use $crate::error::{ConfigError, Parameter};
@@ -86,7 +84,7 @@ macro_rules! stability_fns {
         /// The conditions are those of orders 2 and 3, hence the bound.
         pub(crate) const fn check_stability<const N: usize>(l: &[$t; N]) -> Result<(), ConfigError>
         where
-            $crate::gains::Order<N>: $crate::gains::SupportedOrder,
+            $crate::stability::Order<N>: $crate::stability::SupportedOrder,
         {
             let c = characteristic_polynomial_in_s(l);
             // w-polynomial: sum_k c_k (2w)^k (1-w)^(N-k), with c_N = 1; coefficients in w.
@@ -166,21 +164,25 @@ pub(crate) mod for_f64 {
     stability_fns!(f64);
 }
 
-/// Coefficients `c[k]` of the closed-loop characteristic polynomial in `s = z - 1`,
-/// `s^N + c[N-1] s^(N-1) + ... + c[0]`, for gains `l`.
+/// The orders the recursion supports: 2 (type II loop) and 3 (type III loop).
 ///
-/// With `D = A - I` (nilpotent) and the rank-one correction, `det(s I - D + A L e1^T)`
-/// `= s^N + sum_k s^(N-1-k) e1^T D^k A L`; the coefficients are linear in the gains.
-pub(crate) fn characteristic_polynomial_in_s<T: Real, const N: usize>(l: &[T; N]) -> [T; N] {
-    T::characteristic_polynomial_in_s(l)
-}
+/// Implemented for [`Order<2>`] and [`Order<3>`] only. It bounds the constructors of
+/// [`Gains`](crate::Gains), the only place where the order's mathematics (the stability conditions) is
+/// specific to 2 and 3: an observer of any other order cannot be made, and the update,
+/// written for any `N`, needs no bound.
+pub trait SupportedOrder: sealed::Sealed {}
 
-/// The gains whose loop has the characteristic polynomial `c` (in `s = z - 1`, as
-/// [`characteristic_polynomial_in_s`] gives it). The map from gains to coefficients is linear
-/// and triangular: `c[N-1-k]` depends on `l[k..N]` only, with a unit coefficient on `l[k]`,
-/// so back substitution solves it.
-pub(crate) fn gains_of_loop_polynomial<T: Real, const N: usize>(c: &[T; N]) -> [T; N] {
-    T::gains_of_loop_polynomial(c)
+/// Marker for the observer order `N` (the number of states: angle, speed, acceleration).
+#[derive(Debug, Clone, Copy)]
+pub struct Order<const N: usize>;
+
+impl SupportedOrder for Order<2> {}
+impl SupportedOrder for Order<3> {}
+
+mod sealed {
+    pub trait Sealed {}
+    impl Sealed for super::Order<2> {}
+    impl Sealed for super::Order<3> {}
 }
 
 #[cfg(test)]

@@ -4,8 +4,7 @@
 
 use crate::faults::Faults;
 use crate::monitor::MonitorState;
-use crate::real::Real;
-use crate::update::magnitude;
+use crate::real::Float;
 use crate::wrap::{wrap_angle, wrapped};
 
 /// What an observer knows after a sample.
@@ -38,7 +37,7 @@ pub struct Estimate<T> {
     pub faults: Faults,
 }
 
-impl<T: Real> Estimate<T> {
+impl<T: Float> Estimate<T> {
     /// An estimate from its parts: angle (rad, wrapped to [-pi, pi)), whole turns, speed
     /// (rad/s), acceleration (rad/s^2), normalised phase error and faults.
     ///
@@ -99,7 +98,7 @@ pub struct ObserverState<T, const N: usize> {
     pub(crate) faults: Faults,
     pub(crate) monitor: MonitorState<T>,
     /// The magnitude `sqrt(y_c^2 + y_s^2)` the phase error is normalised by
-    /// ([`Real::track_magnitude`], `docs/theory.md §12`); set exactly by the first used
+    /// ([`Float::track_magnitude`], `docs/theory.md §12`); set exactly by the first used
     /// sample.
     pub(crate) amplitude: T,
     /// The angle is known (from a first sample, or [`ObserverState::at`]).
@@ -109,13 +108,13 @@ pub struct ObserverState<T, const N: usize> {
     pub(crate) tracking: bool,
 }
 
-impl<T: Real, const N: usize> Default for ObserverState<T, N> {
+impl<T: Float, const N: usize> Default for ObserverState<T, N> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<T: Real, const N: usize> ObserverState<T, N> {
+impl<T: Float, const N: usize> ObserverState<T, N> {
     /// Where `next_angle` is parked while the state is not tracking: `2 pi`, outside the
     /// [-pi, pi) the wrap keeps a predicted angle in.
     pub(crate) const PARKED_ANGLE: T = T::TAU;
@@ -354,7 +353,7 @@ impl<T: Real, const N: usize> ObserverState<T, N> {
 /// sample's phase error to the next predicted angle is two additions after the correction
 /// (`x0 + (x1 + x2/2)` would be three).
 #[inline(always)]
-pub(crate) fn predict<T: Real, const N: usize>(x: &[T; N]) -> [T; N] {
+pub(crate) fn predict<T: Float, const N: usize>(x: &[T; N]) -> [T; N] {
     let mut p = *x;
     let mut i = 0;
     while i < N {
@@ -368,4 +367,14 @@ pub(crate) fn predict<T: Real, const N: usize>(x: &[T; N]) -> [T; N] {
         i += 1;
     }
     p
+}
+
+/// The magnitude `sqrt(y_c^2 + y_s^2 + m)` of a sample from its `amplitude2` (which includes
+/// `m`, see [`CheckedThresholds::accept`](crate::monitor::CheckedThresholds::accept)):
+/// exactly, for the first sample, which starts the tracker of [`heron_step`]. Out of line,
+/// as the square root is a software routine on a Cortex-M4F.
+#[cold]
+#[inline(never)]
+pub(crate) fn magnitude<T: Float>(amplitude2: T) -> T {
+    amplitude2.sqrt()
 }

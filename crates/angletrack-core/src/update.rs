@@ -9,33 +9,11 @@
 
 use crate::faults::Faults;
 use crate::gains::Gains;
-use crate::real::Real;
-use crate::sincos::{SinCos, SinCosUnit};
+use crate::real::Float;
+use crate::real::sincos::{SinCos, SinCosUnit};
+use crate::recursion::{Sample, Step};
 use crate::state::{Estimate, ObserverState, predict};
 use crate::wrap::{FullWrap, NoWrap, Wrap, re_acquired, sample_angle, wrap_angle, wrapped};
-
-/// What one step of the recursion gives besides the new state.
-#[derive(Clone, Copy)]
-pub(crate) struct Step<T> {
-    /// Normalised phase-detector output `eps / sqrt(y_c^2 + y_s^2)`, about the sine of the
-    /// phase error (0 for a sample that was not used).
-    pub(crate) eps: T,
-    /// Whole turns the wrap of the predicted angle removed.
-    pub(crate) whole: i32,
-    /// `(sin, cos)` of the predicted angle (for the calibration's estimator; the plain
-    /// update leaves them unused and the compiler drops them).
-    pub(crate) sin_cos: (T, T),
-}
-
-/// One sample as the recursion takes it: the signals, their `y_c^2 + y_s^2` (from the input
-/// check) and whether the sample is used.
-#[derive(Clone, Copy)]
-pub(crate) struct Sample<T> {
-    pub(crate) y_c: T,
-    pub(crate) y_s: T,
-    pub(crate) amplitude2: T,
-    pub(crate) valid: bool,
-}
 
 /// What [`Gains::update_observing`] shows of a used sample.
 #[derive(Clone, Copy)]
@@ -60,7 +38,7 @@ impl<T> SampleObserver<T> for () {
     fn observe(self, _used: Option<UsedSample<T>>) {}
 }
 
-impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
+impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// One sample of the observer: predict, detect the phase error, correct, monitor.
     ///
     /// ```text
@@ -369,18 +347,18 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// the sample's phase error reaches the next phase detector through one multiplication
     /// and one addition, the shortest chain a loop over samples can wait on; `f32`
     /// (firmware) sums `(A X_e)[0]` itself, one multiplication and one load fewer
-    /// ([`Real::FEWEST_INSTRUCTIONS`]). The angle of `x` is not wrapped here (it is
+    /// ([`Float::FEWEST_INSTRUCTIONS`]). The angle of `x` is not wrapped here (it is
     /// wrapped when read).
     ///
     /// The phase error is normalised by the signal's magnitude (`docs/theory.md §12`), so
     /// that `eps` is the sine of the phase error whatever the amplitude and its units and
     /// the loop's dynamics are the ones its gains were designed and checked for. The
-    /// magnitude `amplitude` is [`Real::track_magnitude`] of `sqrt(y_c^2 + y_s^2 + m)`,
+    /// magnitude `amplitude` is [`Float::track_magnitude`] of `sqrt(y_c^2 + y_s^2 + m)`,
     /// `amplitude2` being the `y_c^2 + y_s^2 + m` the input check computed: in `f64` the
     /// square root itself; in `f32` one Heron (Newton) step from the previous sample's
     /// value, two divisions and no square root (which a Cortex-M4F computes in software),
     /// exact for a steady amplitude and within 2 % one sample after a 20 % amplitude step.
-    /// `m` is the type's smallest normal number ([`Real::MIN_POSITIVE`]): it keeps the
+    /// `m` is the type's smallest normal number ([`Float::MIN_POSITIVE`]): it keeps the
     /// magnitude positive (never below `sqrt(m)`), so that a zero sample gives `eps = 0`
     /// (the state coasts) instead of `0 / 0`. A sample that is not used leaves `amplitude`
     /// as it is.
@@ -469,24 +447,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     }
 }
 
-/// One Heron (Newton) step of `sqrt(amplitude2)` from `previous` (> 0): the mean of
-/// `previous` and `amplitude2 / previous`, never below `sqrt(amplitude2)` (arithmetic and
-/// geometric means); `amplitude2` includes `m` = [`Real::MIN_POSITIVE`], so the magnitude
-/// is never below `sqrt(m)`, never zero.
-#[inline(always)]
-pub(crate) fn heron_step<T: Real>(previous: T, amplitude2: T) -> T {
-    (previous + amplitude2 / previous) * T::HALF
-}
-
-/// The magnitude `sqrt(y_c^2 + y_s^2 + m)` of a sample from its `amplitude2` (which includes
-/// `m`, see [`CheckedThresholds::accept`](crate::monitor::CheckedThresholds::accept)):
-/// exactly, for the first sample, which starts the tracker of [`heron_step`]. Out of line,
-/// as the square root is a software routine on a Cortex-M4F.
-#[cold]
-#[inline(never)]
-pub(crate) fn magnitude<T: Real>(amplitude2: T) -> T {
-    amplitude2.sqrt()
-}
+mod arithmetic;
 
 #[cfg(test)]
 mod amplitude_tests;

@@ -3,12 +3,12 @@
 //! lanes of a bank ([`NoWrap`], [`OneTurnWrap`]), the wrap of an angle as read, and the
 //! angle `atan2(y_s, y_c)` of a sample, which (re-)acquires a channel's angle.
 
-use crate::real::Real;
+use crate::real::Float;
 
 /// A corrected angle `x0` of a state counting `turns` turns, as read: wrapped into
 /// [-pi, pi), and the turn count with the wrap's whole turns.
 #[inline(always)]
-pub(crate) fn wrapped<T: Real>(x0: T, turns: i64) -> (T, i64) {
+pub(crate) fn wrapped<T: Float>(x0: T, turns: i64) -> (T, i64) {
     // The usual case returns both as they are (no addition of zero turns on the way). The
     // test repeats `wrap_angle`'s on purpose: calling it and matching its zero costs 3
     // instructions per update on a Cortex-M4F (measured by tests/firmware).
@@ -24,7 +24,7 @@ pub(crate) fn wrapped<T: Real>(x0: T, turns: i64) -> (T, i64) {
 /// ([`wrap_whole_turns`]). A non-finite angle, or one too large for its turns to be counted,
 /// becomes 0.
 #[inline(always)]
-pub(crate) fn wrap_angle<T: Real>(angle: &mut T) -> i32 {
+pub(crate) fn wrap_angle<T: Float>(angle: &mut T) -> i32 {
     // One comparison: |a| < pi (false for NaN). The edge a = -pi takes the rare path, which
     // keeps it.
     if angle.abs() < T::PI {
@@ -40,7 +40,7 @@ pub(crate) fn wrap_angle<T: Real>(angle: &mut T) -> i32 {
 /// of line and a function of values only (see [`Gains::update`](crate::Gains::update)).
 #[cold]
 #[inline(never)]
-pub(crate) fn sample_angle<T: Real>(y_c: T, y_s: T) -> Option<(T, i32)> {
+pub(crate) fn sample_angle<T: Float>(y_c: T, y_s: T) -> Option<(T, i32)> {
     let mut angle = y_s.atan2(y_c);
     if !angle.is_finite() {
         return None;
@@ -57,9 +57,9 @@ pub(crate) fn sample_angle<T: Real>(y_c: T, y_s: T) -> Option<(T, i32)> {
 ///
 /// For |a| < [`one_turn_limit`] the result is in [-pi, pi): in `f32`, `TAU_LO < 0` and `PI` lies
 /// above pi, so rounding cannot cross an edge; in `f64` it can, and
-/// [`Real::ONE_TURN_EDGE_FIX`] adds the move by one more turn that puts it back.
+/// [`Float::ONE_TURN_EDGE_FIX`] adds the move by one more turn that puts it back.
 #[inline(always)]
-pub(crate) fn wrap_one_turn<T: Real>(a: T) -> (T, i32) {
+pub(crate) fn wrap_one_turn<T: Float>(a: T) -> (T, i32) {
     let up = a >= T::PI;
     let down = a < -T::PI;
     let k = if up {
@@ -89,7 +89,7 @@ pub(crate) fn wrap_one_turn<T: Real>(a: T) -> (T, i32) {
 
 /// The largest |angle| (rad) [`wrap_one_turn`] is used on: 2.5 pi, a margin of half a turn
 /// below where one turn would not be enough.
-pub(crate) fn one_turn_limit<T: Real>() -> T {
+pub(crate) fn one_turn_limit<T: Float>() -> T {
     T::PI * T::from_f32(2.5)
 }
 
@@ -98,7 +98,7 @@ pub(crate) fn one_turn_limit<T: Real>() -> T {
 /// observer agree to the bit); more turns are counted with a floor.
 #[cold]
 #[inline(never)]
-pub(crate) fn wrap_whole_turns<T: Real>(a: T) -> (T, i32) {
+pub(crate) fn wrap_whole_turns<T: Float>(a: T) -> (T, i32) {
     if a.abs() < one_turn_limit() {
         return wrap_one_turn(a);
     }
@@ -128,7 +128,7 @@ pub(crate) fn wrap_whole_turns<T: Real>(a: T) -> (T, i32) {
 /// caller keeps speed and acceleration).
 #[cold]
 #[inline(never)]
-pub(crate) fn re_acquired<T: Real>(angle: T, y_c: T, y_s: T) -> (T, i32) {
+pub(crate) fn re_acquired<T: Float>(angle: T, y_c: T, y_s: T) -> (T, i32) {
     let mut jump = y_s.atan2(y_c) - angle;
     wrap_angle(&mut jump);
     let mut angle = angle + jump;
@@ -140,7 +140,7 @@ pub(crate) fn re_acquired<T: Real>(angle: T, y_c: T, y_s: T) -> (T, i32) {
 /// [`OneTurnWrap`] for the lanes of a bank.
 pub(crate) trait Wrap {
     /// Wraps `angle` into [-pi, pi); returns the whole turns removed.
-    fn wrap<T: Real>(angle: &mut T) -> i32;
+    fn wrap<T: Float>(angle: &mut T) -> i32;
 }
 
 /// Any number of turns: a comparison and a branch, the rare case out of line.
@@ -156,21 +156,21 @@ pub(crate) struct NoWrap;
 
 impl Wrap for NoWrap {
     #[inline(always)]
-    fn wrap<T: Real>(_angle: &mut T) -> i32 {
+    fn wrap<T: Float>(_angle: &mut T) -> i32 {
         0
     }
 }
 
 impl Wrap for FullWrap {
     #[inline(always)]
-    fn wrap<T: Real>(angle: &mut T) -> i32 {
+    fn wrap<T: Float>(angle: &mut T) -> i32 {
         wrap_angle(angle)
     }
 }
 
 impl Wrap for OneTurnWrap {
     #[inline(always)]
-    fn wrap<T: Real>(angle: &mut T) -> i32 {
+    fn wrap<T: Float>(angle: &mut T) -> i32 {
         let (wrapped, whole) = wrap_one_turn(*angle);
         *angle = wrapped;
         whole

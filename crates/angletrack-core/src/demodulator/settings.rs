@@ -1,7 +1,7 @@
 //! The settings of the synchronous demodulator (`docs/theory.md §13`), as the caller writes
 //! them, with their defaults; [`Demodulator::new`](crate::Demodulator::new) checks them.
 
-use crate::real::Real;
+use crate::real::Float;
 
 /// The settings of a [`Demodulator`](crate::Demodulator), checked by [`Demodulator::new`](crate::Demodulator::new).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -32,7 +32,7 @@ pub struct DemodulatorSettings<T> {
     pub startup_periods: u32,
 }
 
-impl<T: Real> DemodulatorSettings<T> {
+impl<T: Float> DemodulatorSettings<T> {
     /// Settings for a carrier of `carrier_hz` (Hz) and amplitude `carrier_amplitude_counts`
     /// at an ADC whose codes run from `adc_min_code` to `adc_max_code`, with the defaults:
     /// clip margin 1/256 of the range, loss of excitation below 0.25, phase drift bound

@@ -2,7 +2,7 @@
 //! per carrier period, and the partial sums, carrier delay and faults kept between samples.
 
 use crate::front_end_faults::FrontEndFaults;
-use crate::real::Real;
+use crate::real::Float;
 
 /// One demodulated pair: the windings' envelopes at the centre of their window.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -40,13 +40,13 @@ pub struct DemodulatorState<T> {
     pub(super) latched: FrontEndFaults,
 }
 
-impl<T: Real> Default for DemodulatorState<T> {
+impl<T: Float> Default for DemodulatorState<T> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<T: Real> DemodulatorState<T> {
+impl<T: Float> DemodulatorState<T> {
     /// A state at power-up: the next sample is the first of a carrier period (excitation
     /// phase 0), the delay not yet measured.
     pub const fn new() -> Self {

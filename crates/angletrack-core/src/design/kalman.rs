@@ -2,10 +2,11 @@
 //! gain of the Kalman filter of the scaled triple integrator, from the discrete algebraic
 //! Riccati equation (DARE) solved in the observer's float type.
 
-use crate::error::{ConfigError, Parameter, check_positive};
+use crate::const_config::Real;
+use crate::error::{ConfigError, Parameter};
 use crate::gains::Gains;
-use crate::real::Real;
-use crate::sincos::SinCos;
+use crate::real::check_positive;
+use crate::real::sincos::SinCos;
 
 /// A 3 x 3 matrix, rows first.
 type Matrix<T> = [[T; 3]; 3];

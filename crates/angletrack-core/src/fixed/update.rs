@@ -7,9 +7,9 @@ use super::gains::FixedGains;
 use super::multiply::{add_round_q16, add_wide, mul_q16};
 use super::state::{FixedEstimate, FixedState, FixedVector};
 use crate::faults::Faults;
+use crate::real::sincos::Detection;
+use crate::recursion::Sample;
 use crate::recursion::{Arithmetic, step};
-use crate::sincos::Detection;
-use crate::update::Sample;
 use crate::wrap::{NoWrap, Wrap};
 
 /// The smallest value of the reciprocal `2^27 / amplitude`: amplitudes up to 65536 counts,

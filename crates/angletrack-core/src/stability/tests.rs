@@ -7,7 +7,7 @@ use std::vec::Vec;
 
 use proptest::prelude::*;
 
-use crate::stability::characteristic_polynomial_in_s;
+use crate::stability::for_f64::characteristic_polynomial_in_s;
 use crate::test_support::proptest_config;
 use crate::*;
 

@@ -1,6 +1,6 @@
 //! The wraps of the recursion agree with each other and land in [-pi, pi).
 
-use crate::real::Real;
+use crate::const_config::Real;
 use crate::wrap::{one_turn_limit, wrap_angle, wrap_one_turn};
 
 /// The one-turn wrap of a bank's lanes (by selects) lands in [-pi, pi) and removes exactly

@@ -1,6 +1,6 @@
 //! Any number of channels on one gain set: several axes, or a Monte Carlo batch.
 
-use angletrack_core::{ChannelBank, Gains, Real, SinCos};
+use angletrack_core::{ChannelBank, Float, Gains, Real, SinCos};
 
 use super::columns::{EstimateColumns, Output};
 use crate::error::{Argument, Error};
@@ -21,7 +21,7 @@ const BLOCK: usize = 128;
 /// Samples and outputs are `channels x samples` arrays in row-major order (channel `c`,
 /// sample `k` at `c * samples + k`).
 #[derive(Debug, Clone)]
-pub struct ChannelBatch<T: Real, const N: usize, S = <T as Real>::DefaultSinCos> {
+pub struct ChannelBatch<T: Real, const N: usize, S = <T as Float>::DefaultSinCos> {
     gains: Gains<T, N, S>,
     channels: usize,
     banks: Vec<ChannelBank<T, N, LANES>>,

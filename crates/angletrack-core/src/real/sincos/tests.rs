@@ -31,7 +31,7 @@ fn fast_sin_cos_error_is_within_its_documented_bound() {
     fn check<T: Real>(horner: bool) -> f64 {
         let n = if cfg!(miri) { 2_000 } else { 2_000_000 };
         let worst = worst_over_the_angle_range::<T>(n, |x, s64, c64| {
-            let (s, c) = crate::sincos::fast_sin_cos_by(x, horner);
+            let (s, c) = crate::real::sincos::fast_sin_cos_by(x, horner);
             (s.to_f64() - s64).abs().max((c.to_f64() - c64).abs())
         });
         assert!(worst < T::FAST_SIN_COS_MAX_ERROR.to_f64(), "error {worst}");
@@ -60,7 +60,7 @@ fn fast_phase_detector_matches_the_sin_cos_it_folds() {
         worst_over_the_angle_range::<T>(n, |x, s64, c64| {
             let mut worst = 0.0f64;
             for (y_c, y_s) in inputs {
-                let (eps, in_phase) = crate::sincos::fast_phase_detector_by(
+                let (eps, in_phase) = crate::real::sincos::fast_phase_detector_by(
                     x,
                     T::from_f64(y_c),
                     T::from_f64(y_s),

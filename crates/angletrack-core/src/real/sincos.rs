@@ -5,13 +5,13 @@
 // The polynomial coefficients are written as fitted (in f64); the compiler rounds them.
 #![allow(clippy::excessive_precision)]
 
-use crate::real::Real;
+use crate::real::Float;
 
 /// How the phase detector computes `(sin, cos)` of the predicted angle.
 ///
 /// The argument is always the wrapped predicted angle, in [-pi, pi). Implement it to plug
 /// in a hardware unit or a table; [`Exact`] and [`Fast`] are provided.
-pub trait SinCos<T: Real>:
+pub trait SinCos<T: Float>:
     Copy + core::fmt::Debug + Default + PartialEq + Send + Sync + 'static
 {
     /// `(sin angle, cos angle)` for `angle` in [-pi, pi) (rad).
@@ -22,7 +22,7 @@ pub trait SinCos<T: Real>:
     /// `y_c cos(angle) + y_s sin(angle)` (about `A cos(theta - angle)`).
     ///
     /// The default computes [`SinCos::sin_cos`] first; [`Fast`] folds the inputs into its
-    /// polynomials ([`Real::fast_phase_detector`]).
+    /// polynomials ([`Float::fast_phase_detector`]).
     #[inline(always)]
     fn phase_detector(angle: T, y_c: T, y_s: T) -> (T, T) {
         let (sin, cos) = Self::sin_cos(angle);
@@ -51,7 +51,7 @@ pub trait SinCos<T: Real>:
 /// Every [`SinCos`] (the zero-sized [`Fast`] and [`Exact`]) is a unit for free, and
 /// [`Gains::update`](crate::Gains::update) runs through the same code with its `S`, which
 /// costs nothing: the unit has no size.
-pub trait SinCosUnit<T: Real> {
+pub trait SinCosUnit<T: Float> {
     /// `(sin angle, cos angle)` for `angle` in [-pi, pi) (rad).
     fn sin_cos(&mut self, angle: T) -> (T, T);
 
@@ -64,7 +64,7 @@ pub trait SinCosUnit<T: Real> {
     }
 }
 
-impl<T: Real, S: SinCos<T>> SinCosUnit<T> for S {
+impl<T: Float, S: SinCos<T>> SinCosUnit<T> for S {
     #[inline(always)]
     fn sin_cos(&mut self, angle: T) -> (T, T) {
         S::sin_cos(angle)
@@ -89,7 +89,7 @@ pub struct Detection<T> {
     pub cos: T,
 }
 
-impl<T: Real> Detection<T> {
+impl<T: Float> Detection<T> {
     /// The phase detector's outputs from the `(sin, cos)` of its angle.
     #[inline(always)]
     fn of(sin: T, cos: T, y_c: T, y_s: T) -> Self {
@@ -108,19 +108,19 @@ impl<T: Real> Detection<T> {
 pub struct Exact;
 
 /// sin/cos by a branch-free minimax polynomial valid on [-pi, pi]
-/// ([`Real::fast_sin_cos`]): absolute error below [`Real::FAST_SIN_COS_MAX_ERROR`]
+/// ([`Float::fast_sin_cos`]): absolute error below [`Float::FAST_SIN_COS_MAX_ERROR`]
 /// (3e-7 in `f32`, 2e-13 in `f64`), a few tens of single-precision instructions.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
 pub struct Fast;
 
-impl<T: Real> SinCos<T> for Exact {
+impl<T: Float> SinCos<T> for Exact {
     #[inline(always)]
     fn sin_cos(angle: T) -> (T, T) {
         angle.sin_cos()
     }
 }
 
-impl<T: Real> SinCos<T> for Fast {
+impl<T: Float> SinCos<T> for Fast {
     #[inline(always)]
     fn sin_cos(angle: T) -> (T, T) {
         angle.fast_sin_cos()
@@ -191,9 +191,9 @@ pub(crate) const F64_COS_POLY: [f64; 8] = [
     -1.101_291_280_392_047_2e-11,
 ];
 
-/// [`Real::fast_sin_cos`]: `(sign(x) Q(w^2), w P(w^2))` with `w = pi/2 - |x|`.
+/// [`Float::fast_sin_cos`]: `(sign(x) Q(w^2), w P(w^2))` with `w = pi/2 - |x|`.
 #[inline(always)]
-pub(crate) fn fast_sin_cos<T: Real>(x: T) -> (T, T) {
+pub(crate) fn fast_sin_cos<T: Float>(x: T) -> (T, T) {
     fast_sin_cos_by(x, T::FEWEST_INSTRUCTIONS)
 }
 
@@ -201,22 +201,22 @@ pub(crate) fn fast_sin_cos<T: Real>(x: T) -> (T, T) {
 /// where it is called: the branches fold away), so that the tests check both rules on
 /// every target.
 #[inline(always)]
-pub(crate) fn fast_sin_cos_by<T: Real>(x: T, horner: bool) -> (T, T) {
+pub(crate) fn fast_sin_cos_by<T: Float>(x: T, horner: bool) -> (T, T) {
     let (w, w2, q) = fast_reduced(x, horner);
     (q.times_sign_of(x), times_sin_polynomial(w, w2, horner))
 }
 
-/// [`Real::fast_phase_detector`]: the phase error and the in-phase component with the
+/// [`Float::fast_phase_detector`]: the phase error and the in-phase component with the
 /// inputs folded into the polynomials' factors.
 #[inline(always)]
-pub(crate) fn fast_phase_detector<T: Real>(x: T, y_c: T, y_s: T) -> (T, T) {
+pub(crate) fn fast_phase_detector<T: Float>(x: T, y_c: T, y_s: T) -> (T, T) {
     fast_phase_detector_by(x, y_c, y_s, T::FEWEST_INSTRUCTIONS)
 }
 
 /// [`fast_phase_detector`] with its polynomials by Horner's rule or not (as
 /// [`fast_sin_cos_by`]).
 #[inline(always)]
-pub(crate) fn fast_phase_detector_by<T: Real>(x: T, y_c: T, y_s: T, horner: bool) -> (T, T) {
+pub(crate) fn fast_phase_detector_by<T: Float>(x: T, y_c: T, y_s: T, horner: bool) -> (T, T) {
     let (w, w2, q) = fast_reduced(x, horner);
     // One sign, +-1, multiplied into both inputs: exact, and on a Cortex-M4F one move to
     // the integer unit and back for the pair instead of one for each input.
@@ -229,19 +229,19 @@ pub(crate) fn fast_phase_detector_by<T: Real>(x: T, y_c: T, y_s: T, horner: bool
 /// The shared part of [`fast_sin_cos`] and [`fast_phase_detector`]: `w = pi/2 - |x|`,
 /// `w^2` and `Q(w^2)`.
 #[inline(always)]
-fn fast_reduced<T: Real>(x: T, horner: bool) -> (T, T, T) {
+fn fast_reduced<T: Float>(x: T, horner: bool) -> (T, T, T) {
     let w = T::FRAC_PI_2 - x.abs();
     let w2 = w * w;
     (w, w2, polynomial(w2, T::COS_POLY, horner))
 }
 
-/// `y P(t)`, `P` the sin polynomial ([`Real::SIN_POLY`]). Where its constant coefficient
+/// `y P(t)`, `P` the sin polynomial ([`Float::SIN_POLY`]). Where its constant coefficient
 /// is 1 (the `f32` one, 0.999_999_977 rounded), as `y + (y t) P1(t)` with `P1` the
 /// polynomial of the other coefficients, `(P(t) - 1) / t`: the same polynomial, the 1
 /// neither loaded nor multiplied (one instruction fewer on a Cortex-M4F), and `y t` ready
 /// before `P1` is (one operation less on the chain).
 #[inline(always)]
-fn times_sin_polynomial<T: Real>(y: T, t: T, horner: bool) -> T {
+fn times_sin_polynomial<T: Float>(y: T, t: T, horner: bool) -> T {
     match T::SIN_POLY {
         [one, rest @ ..] if *one == T::ONE => y + (y * t) * polynomial(t, rest, horner),
         all => y * polynomial(t, all, horner),
@@ -251,7 +251,7 @@ fn times_sin_polynomial<T: Real>(y: T, t: T, horner: bool) -> T {
 /// Evaluation of `c[0] + c[1] t + ... + c[7] t^7` (`c` has at most 8 coefficients; its
 /// length is a constant, so the branches fold away).
 ///
-/// With `horner` (`f32` on a Cortex-M, [`Real::FEWEST_INSTRUCTIONS`]) by Horner's rule:
+/// With `horner` (`f32` on a Cortex-M, [`Float::FEWEST_INSTRUCTIONS`]) by Horner's rule:
 /// one multiply-add per coefficient and no powers of `t`, two instructions fewer per sample
 /// than a split into halves, and one coefficient live at a time, so that on a Cortex-M4F
 /// the phase detector fits in the scratch float registers (none saved and restored). There
@@ -261,7 +261,7 @@ fn times_sin_polynomial<T: Real>(y: T, t: T, horner: bool) -> T {
 /// combined with powers of `t`, a chain of dependent operations about half as long as
 /// Horner's.
 #[inline(always)]
-fn polynomial<T: Real>(t: T, c: &[T], horner: bool) -> T {
+fn polynomial<T: Float>(t: T, c: &[T], horner: bool) -> T {
     if horner {
         let Some((&highest, lower)) = c.split_last() else {
             return T::ZERO;

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The firmware test: every observer variant and the atan2 + PLL baselines on a Cortex-M4F
 # (QEMU mps2-an386) and a Cortex-M0 (QEMU microbit), checked against the host within f32
-# tolerance, with their instruction counts per update and code sizes.
+# tolerance, with their instruction counts per update and code sizes; fails if a count is
+# above its budget in tests/firmware/budgets.txt.
 set -euo pipefail
 source scripts/lib.sh
 need_rust

@@ -94,6 +94,7 @@ fn main() {
         "memory-m4.x",
         "memory-m0.x",
         "src/variants.rs",
+        "src/trackers.rs",
         "src/baseline.rs",
     ] {
         println!("cargo:rerun-if-changed={input}");
@@ -122,6 +123,19 @@ fn main() {
         );
     }
     fs::write(out.join("reference.bin"), &reference.records).expect("OUT_DIR is writable");
+    // `count` mode's inputs of the trackers that take counts, converted here rather than in
+    // the counted loop (`trackers::Inputs`).
+    let counts = |convert: fn(f32) -> i16, y: &[f32]| -> Vec<i16> {
+        y.iter().map(|&y| convert(y)).collect()
+    };
+    let (adc_c, adc_s) = (
+        counts(trackers::adc_counts, &y_c),
+        counts(trackers::adc_counts, &y_s),
+    );
+    let (fixed_c, fixed_s) = (
+        counts(trackers::fixed_counts, &y_c),
+        counts(trackers::fixed_counts, &y_s),
+    );
     let (raw_c, raw_s, pairs) = demodulator_reference(&y_c, &y_s);
     fs::write(out.join("demodulator.bin"), pairs).expect("OUT_DIR is writable");
     let scenario = format!(
@@ -135,6 +149,14 @@ fn main() {
          pub static Y_C: [f32; SAMPLES] = {y_c:?};\n\
          /// The simulated resolver's samples, sine winding.\n\
          pub static Y_S: [f32; SAMPLES] = {y_s:?};\n\
+         /// The samples as 12-bit ADC counts (`trackers::adc_counts`), cosine winding.\n\
+         pub static ADC_C: [i16; SAMPLES] = {adc_c:?};\n\
+         /// The samples as 12-bit ADC counts, sine winding.\n\
+         pub static ADC_S: [i16; SAMPLES] = {adc_s:?};\n\
+         /// The samples in the fixed-point variants' counts (`trackers::fixed_counts`), cosine winding.\n\
+         pub static FIXED_C: [i16; SAMPLES] = {fixed_c:?};\n\
+         /// The samples in the fixed-point variants' counts, sine winding.\n\
+         pub static FIXED_S: [i16; SAMPLES] = {fixed_s:?};\n\
          /// The observers' gains and sample period, as the host used them.\n\
          pub const OBSERVERS: Observers = Observers {{ second_order: {:?}, third_order: {:?}, \
          kalman: {:?}, sample_period_s: {:?} }};\n\

@@ -29,7 +29,16 @@
 #     `insns_per_sample_pair_in_block demodulator-f32: N`: the same inside one
 #     `demodulate_block` call (`Demodulator::push_block`) over all samples;
 #  4. prints the code size of each variant's update function, alone and with the out-of-line
-#     functions it calls (`code_size <variant>: N bytes; M bytes with ...`).
+#     functions it calls (`code_size <variant>: N bytes; M bytes with ...`);
+# then, with the counts of all cores run (kept in counts.txt in the build directory),
+#  5. checks them against their budgets (budgets.txt, checked by budgets.sh): prints
+#     `budget <count> <variant>: N <= B ok` for each, a warning where an interim ceiling
+#     stands above a target the count misses, and fails if a count is above its budget or a
+#     budgeted count was not printed (a renamed variant must take its budget with it);
+#  6. checks that the budget check can fail: with every budgeted count raised above its
+#     budget, then removed, every budget must FAIL.
+# `count` mode's inputs are converted before its runs (by build.rs), so that no conversion
+# of the harness runs inside the counted ranges.
 # Needs: cargo with the thumbv7em-none-eabihf and thumbv6m-none-eabi targets, qemu-system-arm,
 # gcc, arm-none-eabi-nm/objdump (scripts/test.d/30-firmware.sh installs them).
 # Usage: bash tests/firmware/run.sh [m4|m0]   (default both; FIRMWARE_TARGET_DIR overrides the
@@ -258,6 +267,9 @@ run_core() {
 
 cores=("$@")
 [ ${#cores[@]} -gt 0 ] || cores=(m4 m0)
+counts="$target_dir/counts.txt"
 for c in "${cores[@]}"; do
   run_core "$c"
-done
+done | tee "$counts"
+bash budgets.sh check "$counts" "${cores[@]}"
+bash budgets.sh tamper "$counts" "${cores[@]}"

@@ -4,7 +4,8 @@
 //! (`-semihosting-config ...,arg=<program>,arg=<mode>,...`):
 //!
 //! * `check [tamper]`: runs every variant over the simulated resolver and compares every
-//!   estimate with the host's reference, within `f32` tolerances; also the demodulator's
+//!   estimate with the host's reference, within `f32` tolerances; also `count` mode's
+//!   inputs (converted before its runs) against the checked ones, the demodulator's
 //!   pairs, and the baselines' fast arctangent against `atan2f` over a sweep. Exits with
 //!   failure if any is out of tolerance. `tamper` first corrupts one input of each check:
 //!   every check must then fail (this is how the test shows that each can).
@@ -12,8 +13,9 @@
 //! * `functions <variant>`: prints the addresses of the variant's out-of-line update (and
 //!   block update, if it has one), which `run.sh` finds in the symbol table.
 //! * `count <variant> <samples> [block]`: runs one variant over the first `samples` samples
-//!   and nothing else: one out-of-line update call per sample (variant `loop` runs the loop
-//!   with an empty callee), or with `block` one block update call for all of them. The
+//!   and nothing else (its inputs converted before the run, by the build script): one
+//!   out-of-line update call per sample (variant `loop` runs the loop with an empty
+//!   callee), or with `block` one block update call for all of them. The
 //!   instruction count per update is the difference of two such runs of different lengths,
 //!   counted by the TCG plugin in `plugin/`. Variant `demodulator-f32` runs the resolver
 //!   front end's synchronous demodulator instead, one out-of-line `Demodulator::push` per
@@ -33,12 +35,21 @@ use baseline::{Atan2, FAST_ATAN2_MAX_ERROR_RAD, FastAtan2, LibmAtan2};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::{hprintln, nr};
+use trackers::Inputs;
 use variants::{
     CARRIER_AMPLITUDE_COUNTS, DEMODULATOR, Job, LOOP_VARIANT, NAMES, Observers, PAIR_BYTES,
     RECORD_BYTES, Record, SAMPLES_PER_PERIOD, Tracker,
 };
 
 include!(concat!(env!("OUT_DIR"), "/scenario.rs"));
+
+/// The signal in every form the trackers take, for `count` mode (converted by the build
+/// script; `check` mode verifies them against [`Tracker::input`]).
+static INPUTS: Inputs = Inputs {
+    signal: [&Y_C, &Y_S],
+    adc: [&ADC_C, &ADC_S],
+    fixed: [&FIXED_C, &FIXED_S],
+};
 
 /// Largest accepted difference of the multi-turn position `turns * 2 pi + angle` from the
 /// host's (rad): about 60 ulp of pi in `f32`.
@@ -247,6 +258,30 @@ impl Job for Check {
     }
 }
 
+/// `check` mode for `count` mode's inputs: every variant's [`Tracker::counted_inputs`] must
+/// be [`Tracker::input`] of every sample of the signal (the sine winding's middle sample
+/// corrupted by [`TAMPER`] if `tamper`), so that the counted runs track the checked inputs.
+struct CheckInputs {
+    tamper: bool,
+    /// Variants checked, and those whose counted inputs differ.
+    variants: usize,
+    differ: usize,
+}
+
+impl Job for CheckInputs {
+    fn run<T: Tracker>(&mut self, _index: usize, _tracker: T) {
+        let [c, s] = T::counted_inputs(&INPUTS);
+        let same = c.len() == SAMPLES
+            && s.len() == SAMPLES
+            && (0..SAMPLES).all(|k| {
+                let y_s = Y_S[k] + corruption(self.tamper, k, SAMPLES);
+                c[k] == T::input(Y_C[k]) && s[k] == T::input(y_s)
+            });
+        self.variants += 1;
+        self.differ += usize::from(!same);
+    }
+}
+
 /// Points of the fast arctangent's error sweep: a full turn at each of three magnitudes.
 const ATAN2_SWEEP_POINTS: usize = 4096;
 
@@ -309,8 +344,10 @@ impl Job for Count {
             update::<T>
         };
         let step = black_box(step);
-        for k in 0..n {
-            let (y_c, y_s) = (T::input(Y_C[k]), T::input(Y_S[k]));
+        // The inputs as the tracker takes them, converted before the run: the counted range
+        // holds the update alone.
+        let [y_c, y_s] = T::counted_inputs(&INPUTS);
+        for (&y_c, &y_s) in y_c[..n].iter().zip(&y_s[..n]) {
             black_box(&step(&tracker, &mut state, y_c, y_s));
         }
     }
@@ -392,12 +429,27 @@ fn run() -> Result<(), &'static str> {
                 tamper: args.next() == Some("tamper"),
                 failures: 0,
             };
+            let mut inputs = CheckInputs {
+                tamper: check.tamper,
+                variants: 0,
+                differ: 0,
+            };
             for index in 0..NAMES.len() {
                 run_variant(index, &mut check)?;
+                run_variant(index, &mut inputs)?;
             }
+            let inputs_ok = inputs.variants > 0 && inputs.differ == 0;
+            hprintln!(
+                "check counted-inputs: {} variants, {} samples, {} with counted inputs other \
+                 than the checked ones: {}",
+                inputs.variants,
+                SAMPLES,
+                inputs.differ,
+                if inputs_ok { "ok" } else { "FAIL" }
+            );
             let demodulator_ok = check_demodulator(check.tamper)?;
             let atan2_ok = check_fast_atan2(check.tamper);
-            if check.failures > 0 || !demodulator_ok || !atan2_ok {
+            if check.failures > 0 || !inputs_ok || !demodulator_ok || !atan2_ok {
                 return Err("estimates differ from the host's");
             }
             Ok(())

@@ -18,16 +18,20 @@ pub trait Tracker {
     /// The per-channel state.
     type State;
     /// One input sample as the entry point takes it.
-    type Input: Copy;
+    type Input: Copy + PartialEq + 'static;
     /// What one update returns.
     type Output: Copy + Default;
     /// Whether [`Tracker::update_block`] is the core's block form (else it runs nothing).
     const BLOCK: bool = false;
     /// A fresh state.
     fn new_state(&self) -> Self::State;
-    /// An input sample (amplitude about 1) as the entry point takes it; converted outside
-    /// the counted update.
+    /// An input sample (amplitude about 1) as the entry point takes it (`check` mode and
+    /// the build script convert with it).
     fn input(y: f32) -> Self::Input;
+    /// The samples of `count` mode's runs as the entry point takes them, `[y_c, y_s]`:
+    /// [`Tracker::input`] of the signal, converted before the run (by the build script), so
+    /// that no conversion runs in the counted range (`check` mode verifies them).
+    fn counted_inputs(inputs: &Inputs) -> [&'static [Self::Input]; 2];
     /// One sample.
     fn update(&self, state: &mut Self::State, y_c: Self::Input, y_s: Self::Input) -> Self::Output;
     /// The estimate after an update, as compared with the host's (read outside the counted
@@ -73,15 +77,35 @@ pub trait EntryPoint {
     }
 }
 
+/// The simulated signal's samples in each form a tracker takes, `[y_c, y_s]`, converted
+/// before `count` mode's runs (by the build script): a conversion inside the loop would run
+/// in the counted range whenever the update calls the same routines (on the Cortex-M0 the
+/// soft-float multiply and float-to-int conversion of [`adc_counts`], which `update_adc`
+/// calls too).
+#[derive(Debug, Clone, Copy)]
+pub struct Inputs {
+    /// The signal (amplitude about 1).
+    pub signal: [&'static [f32]; 2],
+    /// [`adc_counts`] of the signal.
+    pub adc: [&'static [i16]; 2],
+    /// [`fixed_counts`] of the signal.
+    pub fixed: [&'static [i16]; 2],
+}
+
 /// An input sample's form, from the simulated signal's sample (amplitude about 1).
-pub trait Sample: Copy {
+pub trait Sample: Copy + PartialEq + 'static {
     /// The signal's sample `y` in this form.
     fn from_signal(y: f32) -> Self;
+    /// The signal in this form ([`Tracker::counted_inputs`]).
+    fn counted(inputs: &Inputs) -> [&'static [Self]; 2];
 }
 
 impl Sample for f32 {
     fn from_signal(y: f32) -> f32 {
         y
+    }
+    fn counted(inputs: &Inputs) -> [&'static [f32]; 2] {
+        inputs.signal
     }
 }
 
@@ -89,6 +113,9 @@ impl Sample for f32 {
 impl Sample for i16 {
     fn from_signal(y: f32) -> i16 {
         adc_counts(y)
+    }
+    fn counted(inputs: &Inputs) -> [&'static [i16]; 2] {
+        inputs.adc
     }
 }
 
@@ -102,6 +129,9 @@ impl<E: EntryPoint> Tracker for E {
     }
     fn input(y: f32) -> E::Input {
         E::Input::from_signal(y)
+    }
+    fn counted_inputs(inputs: &Inputs) -> [&'static [E::Input]; 2] {
+        E::Input::counted(inputs)
     }
     #[inline(always)]
     fn update(&self, state: &mut E::State, y_c: E::Input, y_s: E::Input) -> Estimate<f32> {
@@ -221,6 +251,9 @@ where
     fn input(y: f32) -> f32 {
         y
     }
+    fn counted_inputs(inputs: &Inputs) -> [&'static [f32]; 2] {
+        inputs.signal
+    }
     #[inline(always)]
     fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) {
         self.0.track(state, y_c, y_s)
@@ -248,6 +281,9 @@ where
     }
     fn input(y: f32) -> f32 {
         y
+    }
+    fn counted_inputs(inputs: &Inputs) -> [&'static [f32]; 2] {
+        inputs.signal
     }
     #[inline(always)]
     fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) {
@@ -286,6 +322,9 @@ impl<A: Atan2> Tracker for PhaseLockedLoop<A> {
     }
     fn input(y: f32) -> f32 {
         y
+    }
+    fn counted_inputs(inputs: &Inputs) -> [&'static [f32]; 2] {
+        inputs.signal
     }
     #[inline(always)]
     fn update(&self, state: &mut PllState, y_c: f32, y_s: f32) {
@@ -336,6 +375,9 @@ where
     fn input(y: f32) -> i16 {
         fixed_counts(y)
     }
+    fn counted_inputs(inputs: &Inputs) -> [&'static [i16]; 2] {
+        inputs.fixed
+    }
     #[inline(always)]
     fn update(&self, state: &mut FixedState<N>, y_c: i16, y_s: i16) -> FixedEstimate {
         self.0.update(state, y_c, y_s)
@@ -368,6 +410,9 @@ where
     }
     fn input(y: f32) -> i16 {
         fixed_counts(y)
+    }
+    fn counted_inputs(inputs: &Inputs) -> [&'static [i16]; 2] {
+        inputs.fixed
     }
     #[inline(always)]
     fn update(&self, state: &mut FixedState<N>, y_c: i16, y_s: i16) {

@@ -15,7 +15,7 @@
 
 use core::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI, TAU};
 
-use angletrack_core::Real;
+use angletrack_core::Float;
 
 /// A four-quadrant arctangent in `f32`.
 pub trait Atan2 {
@@ -30,7 +30,7 @@ pub struct LibmAtan2;
 impl Atan2 for LibmAtan2 {
     #[inline(always)]
     fn atan2(y: f32, x: f32) -> f32 {
-        Real::atan2(y, x)
+        Float::atan2(y, x)
     }
 }
 

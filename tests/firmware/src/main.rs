@@ -30,7 +30,7 @@ mod variants;
 
 use core::hint::black_box;
 
-use angletrack_core::{DemodulatedPair, Demodulator, DemodulatorState, Real};
+use angletrack_core::{DemodulatedPair, Demodulator, DemodulatorState, Float};
 use baseline::{Atan2, FAST_ATAN2_MAX_ERROR_RAD, FastAtan2, LibmAtan2};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
@@ -294,7 +294,7 @@ fn check_fast_atan2(tamper: bool) -> bool {
     for (m, magnitude) in [0.1f32, 1.0, 3.0].into_iter().enumerate() {
         for k in 0..ATAN2_SWEEP_POINTS {
             let angle = core::f32::consts::TAU * k as f32 / ATAN2_SWEEP_POINTS as f32;
-            let (sin, cos) = Real::sin_cos(angle);
+            let (sin, cos) = Float::sin_cos(angle);
             let (y, x) = (magnitude * sin, magnitude * cos);
             let exact = LibmAtan2::atan2(y, x);
             let point = m * ATAN2_SWEEP_POINTS + k;

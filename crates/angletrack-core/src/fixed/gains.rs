@@ -304,21 +304,40 @@ impl<const N: usize> FixedGains<N> {
     /// The same gains with the diagnostics' thresholds for signals of
     /// `nominal_amplitude_counts` (from 16384 to 46341 counts: loss of signal, a quarter of
     /// it, must stay within the normalised range), or with the monitor off (`None`).
+    /// A `const fn`, so that a firmware's `static` configuration carries its amplitude.
     ///
     /// ```
+    /// use angletrack_core::fixed::FixedConstants;
     /// use angletrack_core::{FixedGains, Parameter};
     /// let gains = FixedGains::<2>::new([0.05, 0.0012], 1e-4)?.with_monitor(Some(28_000.0))?;
     /// let err = gains.with_monitor(Some(2000.0)).unwrap_err();
     /// assert_eq!(err.parameter(), Parameter::NominalAmplitude);
+    ///
+    /// // A firmware's static, checked at compile time: 12-bit counts shifted by 4 (about
+    /// // 28,800 counts of amplitude).
+    /// static GAINS: FixedGains<2> = match FixedGains::<2>::from_constants(
+    ///     FixedConstants { multiplier: [68_356_528, 1_640_557], acceleration_shift: 0 },
+    ///     1e-4,
+    /// ) {
+    ///     Ok(gains) => match gains.with_monitor(Some(28_800.0)) {
+    ///         Ok(gains) => gains,
+    ///         Err(_) => panic!("bad amplitude"),
+    ///     },
+    ///     Err(_) => panic!("unstable gains"),
+    /// };
+    /// assert_eq!(GAINS.constants(), gains.constants());
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
-    pub fn with_monitor(self, nominal_amplitude_counts: Option<f64>) -> Result<Self, ConfigError> {
+    pub const fn with_monitor(
+        self,
+        nominal_amplitude_counts: Option<f64>,
+    ) -> Result<Self, ConfigError> {
         let monitor = match nominal_amplitude_counts {
             None => FixedThresholds::OFF,
             Some(a) if !a.is_finite() => {
                 return Err(ConfigError::NotFinite(Parameter::NominalAmplitude));
             }
-            Some(a) if !(16384.0..=46341.0).contains(&a) => {
+            Some(a) if !(a >= 16384.0 && a <= 46341.0) => {
                 return Err(ConfigError::OutOfRange(Parameter::NominalAmplitude));
             }
             Some(a) => FixedThresholds::for_amplitude(a),

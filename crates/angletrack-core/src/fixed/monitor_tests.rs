@@ -133,3 +133,37 @@ fn speed_beyond_a_quarter_turn_per_sample_is_loss_of_tracking() {
     // The first window starts after the first sample (which sets the angle).
     assert_eq!(flagged, Some((W, Faults::LOSS_OF_TRACKING)));
 }
+
+/// The faults latched over 2000 samples of 12-bit counts of amplitude 1800 shifted by 4
+/// (28,800 counts), 0.01 rad per sample, after the first 200, with `gains`.
+fn latched_on_shifted_counts<const N: usize>(gains: FixedGains<N>) -> Faults {
+    let mut state = FixedState::new();
+    for k in 0..2200 {
+        let (c, s) = counts(1800.0, 0.01 * k as f64);
+        gains.track(&mut state, c << 4, s << 4);
+        if k == 200 {
+            state.clear_faults();
+        }
+    }
+    state.latched_faults()
+}
+
+#[test]
+fn the_nominal_amplitude_of_shifted_counts_is_set_in_a_static() {
+    // The README's fixed-point example: the monitor's amplitude in the same `static` as the
+    // gains. With the default 16384, 28,800 counts are above 3/2 of nominal: degraded.
+    const CONSTANTS: FixedConstants<2> = FixedConstants {
+        multiplier: [68_356_528, 1_640_557],
+        acceleration_shift: 0,
+    };
+    static SHIFTED: FixedGains<2> = match FixedGains::<2>::from_constants(CONSTANTS, 1e-4) {
+        Ok(gains) => match gains.with_monitor(Some(28_800.0)) {
+            Ok(gains) => gains,
+            Err(_) => panic!("bad amplitude"),
+        },
+        Err(_) => panic!("unstable gains"),
+    };
+    assert_eq!(latched_on_shifted_counts(SHIFTED), Faults::NONE);
+    let default = FixedGains::<2>::from_constants(CONSTANTS, 1e-4).unwrap();
+    assert!(latched_on_shifted_counts(default).contains(Faults::DEGRADATION_OF_SIGNAL));
+}

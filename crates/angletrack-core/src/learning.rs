@@ -171,6 +171,20 @@ impl<T: Float> Calibrator<T> {
         self.turns_learned
     }
 
+    /// The faults of the calibration against the bounds of `checked`, computed once per
+    /// change of the calibration.
+    #[inline(always)]
+    pub(crate) fn sensor_faults(&mut self, checked: &CheckedCalibration<T>) -> Faults {
+        match self.sensor_faults {
+            Some(faults) => faults,
+            None => {
+                let faults = checked.sensor_faults(&self.calibration);
+                self.sensor_faults = Some(faults);
+                faults
+            }
+        }
+    }
+
     fn discard_turn(&mut self) {
         self.progress = T::ZERO;
         self.sums = [T::ZERO; 7];
@@ -186,7 +200,7 @@ impl<T: Float> Calibrator<T> {
     /// estimated speed: the speed ripples at the frequencies the sensor's errors put on the
     /// angle, and that ripple times the signal would bias the offsets.
     #[inline(always)]
-    fn learn(
+    pub(crate) fn learn(
         &mut self,
         checked: &CheckedCalibration<T>,
         used: Option<UsedSample<T>>,
@@ -461,14 +475,7 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             raw: (y_c, y_s),
         };
         self.track_observing(state, c, s, learner);
-        let faults = match calibrator.sensor_faults {
-            Some(faults) => faults,
-            None => {
-                let faults = checked.sensor_faults(&calibrator.calibration);
-                calibrator.sensor_faults = Some(faults);
-                faults
-            }
-        };
+        let faults = calibrator.sensor_faults(checked);
         // Latched, and on the sample's estimate; not in the state's faults of the sample,
         // which the usual path of the update does not rewrite (they would outlive the
         // mode).

@@ -176,3 +176,24 @@ impl<T: Real> CalibrationSettings<T> {
         T::check_calibration_settings(self, sample_period_s)
     }
 }
+
+impl<T: Real> crate::chain::OnlineCalibration<T> {
+    /// The online calibration with `settings`, checked for the observer's sample period
+    /// `sample_period_s` (s): see [`CalibrationSettings`].
+    ///
+    /// ```
+    /// use angletrack_core::{CalibrationSettings, OnlineCalibration, Parameter};
+    /// let online = OnlineCalibration::<f32>::new(CalibrationSettings::default(), 1e-4)?;
+    /// assert_eq!(online.settings(), CalibrationSettings::default());
+    /// let mut slow = CalibrationSettings::default();
+    /// slow.min_speed_rad_s = Some(1e-3);
+    /// let err = OnlineCalibration::<f32>::new(slow, 1e-4).unwrap_err();
+    /// assert_eq!(err.parameter(), Parameter::MinSpeed);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn new(settings: CalibrationSettings<T>, sample_period_s: T) -> Result<Self, ConfigError> {
+        Ok(Self {
+            checked: settings.check(sample_period_s)?,
+        })
+    }
+}

@@ -1,0 +1,118 @@
+//! The front end's stages as [`Stage`]s of a chain: the ADC ([`AdcScaling`], counts to
+//! units), a stored sensor calibration ([`SensorCalibration`]: offsets, imbalance,
+//! quadrature), the online calibration ([`OnlineCalibration`] with its [`Calibrator`], which
+//! learns from the observer's feedback) and the harmonic angle correction
+//! ([`AngleCorrection`], which rotates each sample by the error at the observer's
+//! prediction).
+
+use super::{Feedback, Prediction, Stage};
+use crate::adc::{AdcSample, AdcScaling};
+use crate::angle_correction::AngleCorrection;
+use crate::calibration::SensorCalibration;
+use crate::calibration_settings::{CalibrationSettings, CheckedCalibration};
+use crate::faults::Faults;
+use crate::learning::{CalibrationMode, Calibrator};
+use crate::real::Float;
+use crate::update::UsedSample;
+
+/// Raw ADC counts `(raw_c, raw_s)` to the pair in units ([`AdcScaling::sample`]).
+impl<T: Float, I: AdcSample> Stage<T, (I, I)> for AdcScaling<T> {
+    type State = ();
+    type Memo = ();
+
+    #[inline(always)]
+    fn forward(&self, _: &mut (), _: &impl Prediction<T>, (raw_c, raw_s): (I, I)) -> ((T, T), ()) {
+        (self.sample(raw_c, raw_s), ())
+    }
+}
+
+/// A stored calibration, applied to every sample ([`SensorCalibration::correct`]).
+impl<T: Float> Stage<T, (T, T)> for SensorCalibration<T> {
+    type State = ();
+    type Memo = ();
+
+    #[inline(always)]
+    fn forward(&self, _: &mut (), _: &impl Prediction<T>, (y_c, y_s): (T, T)) -> ((T, T), ()) {
+        (self.correct(y_c, y_s), ())
+    }
+}
+
+/// The harmonic angle error removed inside the phase detector: the sample rotated by
+/// `-d(p)` at the observer's predicted angle `p` (see [`AngleCorrection`]).
+impl<T: Float> Stage<T, (T, T)> for AngleCorrection<T> {
+    type State = ();
+    type Memo = ();
+
+    #[inline(always)]
+    fn forward(
+        &self,
+        _: &mut (),
+        prediction: &impl Prediction<T>,
+        (y_c, y_s): (T, T),
+    ) -> ((T, T), ()) {
+        if self.order() == 0 {
+            return ((y_c, y_s), ());
+        }
+        let (sin_p, cos_p) = prediction.sin_cos();
+        (self.rotate(sin_p, cos_p, y_c, y_s), ())
+    }
+}
+
+/// The online calibration's configuration as a stage: its checked settings (when it learns,
+/// the bounds of its faults). Its state is a [`Calibrator`], whose mode says whether it is
+/// off, learning or frozen; it corrects each sample by its calibration unless off, and
+/// while learning, learns from the raw sample and the observer's feedback (see
+/// [`Gains::update_calibrated`](crate::Gains::update_calibrated)). Its faults
+/// ([`Faults::AMPLITUDE_MISMATCH`], [`Faults::OFFSET_OR_QUADRATURE`]) are the
+/// calibration's against the settings' bounds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OnlineCalibration<T> {
+    pub(crate) checked: CheckedCalibration<T>,
+}
+
+impl<T: Float> OnlineCalibration<T> {
+    /// The settings.
+    pub fn settings(&self) -> CalibrationSettings<T> {
+        self.checked.settings
+    }
+}
+
+impl<T: Float> Stage<T, (T, T)> for OnlineCalibration<T> {
+    type State = Calibrator<T>;
+    type Memo = (T, T);
+
+    #[inline(always)]
+    fn forward(
+        &self,
+        calibrator: &mut Calibrator<T>,
+        _: &impl Prediction<T>,
+        (y_c, y_s): (T, T),
+    ) -> ((T, T), (T, T)) {
+        let corrected = if calibrator.mode() == CalibrationMode::Off {
+            (y_c, y_s)
+        } else {
+            calibrator.calibration().correct(y_c, y_s)
+        };
+        (corrected, (y_c, y_s))
+    }
+
+    #[inline(always)]
+    fn feedback(&self, calibrator: &mut Calibrator<T>, raw: (T, T), used: Option<Feedback<T>>) {
+        if calibrator.mode() == CalibrationMode::Learning {
+            let used = used.map(|f| UsedSample {
+                sin_cos: f.sin_cos,
+                scaled_speed: f.scaled_speed,
+                faults: f.faults,
+            });
+            calibrator.learn(&self.checked, used, raw.0, raw.1);
+        }
+    }
+
+    #[inline(always)]
+    fn faults(&self, calibrator: &mut Calibrator<T>) -> Faults {
+        if calibrator.mode() == CalibrationMode::Off {
+            return Faults::NONE;
+        }
+        calibrator.sensor_faults(&self.checked)
+    }
+}

@@ -142,6 +142,10 @@ pub use bank::ChannelBank;
 pub use calibration::SensorCalibration;
 pub use calibration_settings::CalibrationSettings;
 pub use demodulator::{DemodulatedPair, Demodulator, DemodulatorSettings, DemodulatorState};
+pub use design::{
+    Discretisation, MAX_POLE_TIMES_PERIOD, PolePair, UnknownDiscretisation,
+    second_order_bandwidth_ratio,
+};
 pub use error::{ConfigError, Parameter};
 pub use excitation::{Excitation, ExcitationState, Waveform};
 pub use faults::Faults;

@@ -209,6 +209,4 @@ impl<T: Real, S: SinCos<T>> Gains<T, 3, S> {
 }
 
 #[cfg(test)]
-mod reference;
-#[cfg(test)]
 mod tests;

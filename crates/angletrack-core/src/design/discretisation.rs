@@ -8,6 +8,8 @@
 use core::fmt;
 use core::str::FromStr;
 
+#[cfg(doc)]
+use super::MAX_POLE_TIMES_PERIOD;
 use super::{PolePair, check_sample_rate};
 use crate::error::{ConfigError, Parameter, check_positive};
 use crate::gains::Gains;
@@ -41,7 +43,9 @@ impl Discretisation {
     ];
 
     /// `z - 1` as `(re, im)` for the continuous pole `re + j im` (rad/s) and the sample
-    /// period `ts` (s), accurate when `|s| Ts` is small (no `1 +` that would round away).
+    /// period `ts` (s), accurate when `|s| Ts` is small (no `1 +` that would round away),
+    /// for the poles of a design: `|s| Ts <= 1` ([`MAX_POLE_TIMES_PERIOD`]). Pole matching's
+    /// sine is a series for that range, so that `f32` needs no `f64` routine.
     ///
     /// ```
     /// use angletrack_core::Discretisation;

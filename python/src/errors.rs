@@ -92,6 +92,12 @@ impl From<CoreConfigError> for Error {
     }
 }
 
+impl From<angletrack::core::UnknownDiscretisation> for Error {
+    fn from(e: angletrack::core::UnknownDiscretisation) -> Self {
+        Error::Design(e.into())
+    }
+}
+
 impl From<angletrack::Error> for Error {
     fn from(e: angletrack::Error) -> Self {
         Error::Design(e)

@@ -2,14 +2,16 @@
 //! no `f64` arithmetic): the classical 2nd-order ATO from a bandwidth and a damping ratio
 //! (`docs/theory.md §2`), the 3rd-order ATO from its poles `(K, T, psi)` (§3) and the
 //! time-invariant Kalman ATO from `q` and `r` (§4, in `design/kalman.rs`), so that firmware
-//! can retune at run time. They give the same gains as the `angletrack` crate's designs
-//! with their default pole matching, to the float type's precision (tested against that
-//! crate's values in `design/tests.rs`).
+//! can retune at run time. These are the designs: the `angletrack` crate's design functions
+//! call them in `f64` and add what needs allocation (reports, frequency responses, the
+//! searches over a specification).
 //!
-//! Pole matching (`docs/theory.md §7`): each continuous closed-loop pole `s_i` becomes the
-//! discrete pole `z_i = exp(s_i Ts)`, carried as `z_i - 1 = expm1(s_i Ts)` so that a loop
-//! far slower than its sample rate keeps its precision, and the gains are those of the loop
-//! polynomial `prod (s - (z_i - 1))` in `s = z - 1` ([`Gains::from_loop_polynomial`]).
+//! A continuous design reaches the recursion through a [`Discretisation`]
+//! (`docs/theory.md §7`, `design/discretisation.rs`): pole matching by default, each
+//! continuous closed-loop pole `s_i` becoming the discrete pole `z_i = exp(s_i Ts)`, carried
+//! as `z_i - 1 = expm1(s_i Ts)` so that a loop far slower than its sample rate keeps its
+//! precision, and the gains are those of the loop polynomial `prod (s - (z_i - 1))` in
+//! `s = z - 1` ([`Gains::from_loop_polynomial`]).
 
 use crate::const_config::Real;
 use crate::error::{ConfigError, Parameter};
@@ -17,77 +19,81 @@ use crate::gains::Gains;
 use crate::real::check_positive;
 use crate::real::sincos::SinCos;
 
+mod discretisation;
 mod kalman;
 
-/// The largest `|s_i| Ts` of a continuous design, as in the `angletrack` crate: every
-/// continuous pole below the sample rate in rad/s. Beyond it the discrete loop no longer
-/// behaves like the continuous design.
-const MAX_POLE_TIMES_PERIOD: f32 = 1.0;
+pub use discretisation::{Discretisation, UnknownDiscretisation};
 
-/// A pair of continuous closed-loop poles (rad/s).
-#[derive(Debug, Clone, Copy)]
-enum PolePair<T> {
+/// The largest `|s_i| Ts` a continuous design may have: every continuous pole must lie
+/// below the sample rate in rad/s (`|s_i| <= 1 / Ts`, i.e. pole frequencies below
+/// `fs / (2 pi)`). Beyond it the discrete loop no longer behaves like the continuous design
+/// whatever the mapping.
+pub const MAX_POLE_TIMES_PERIOD: f32 = 1.0;
+
+/// A pair of continuous closed-loop poles (rad/s): the 2nd-order loop's, or the pair beside
+/// the real pole of the 3rd-order loop.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PolePair<T> {
     /// `re +- j im`.
-    Complex { re: T, im: T },
-    /// Two real poles.
+    Complex {
+        /// The real part (rad/s).
+        re: T,
+        /// The imaginary part of the upper pole (rad/s).
+        im: T,
+    },
+    /// Two real poles (rad/s).
     Real(T, T),
 }
 
 impl<T: Real> PolePair<T> {
+    /// The roots of `s^2 + 2 m wn s + wn^2` for the natural frequency
+    /// `natural_frequency_rad_s` (`wn`) and the damping `damping` (`m`): complex below
+    /// `m = 1`, real from it on.
+    ///
+    /// ```
+    /// use angletrack_core::PolePair;
+    /// assert_eq!(PolePair::second_order(2.0_f64, 0.0), PolePair::Complex { re: -0.0, im: 2.0 });
+    /// let PolePair::Real(fast, slow) = PolePair::second_order(1.0_f64, 1.25) else { panic!() };
+    /// assert!((fast - -2.0).abs() < 1e-15 && (slow - -0.5).abs() < 1e-15);
+    /// ```
+    pub fn second_order(natural_frequency_rad_s: T, damping: T) -> Self {
+        let (wn, m) = (natural_frequency_rad_s, damping);
+        // With (1 - m)(1 + m) for 1 - m^2 (no cancellation near critical damping) and the
+        // smaller real root from the product of the roots (no cancellation at heavy
+        // damping).
+        let spread = (T::ONE - m) * (T::ONE + m);
+        if spread > T::ZERO {
+            PolePair::Complex {
+                re: -(m * wn),
+                im: wn * spread.sqrt(),
+            }
+        } else {
+            let fast = -(wn * (m + (-spread).sqrt()));
+            PolePair::Real(fast, wn * wn / fast)
+        }
+    }
+
     /// The largest pole magnitude (rad/s).
-    fn fastest(self) -> T {
+    pub fn fastest(self) -> T {
         match self {
             PolePair::Complex { re, im } => (re * re + im * im).sqrt(),
             PolePair::Real(a, b) => a.abs().max(b.abs()),
         }
     }
 
-    /// The monic factor `s^2 + b s + c` (returned as `(b, c)`) of the discrete loop
-    /// polynomial in `s = z - 1` whose roots are the pole-matched `z_i - 1`.
-    fn matched_factor(self, sample_period: T) -> (T, T) {
+    /// The two poles as `(re, im)`, in increasing order of `(re, im)`: the lower or the
+    /// faster real one first.
+    pub fn poles(self) -> [(T, T); 2] {
         match self {
             PolePair::Complex { re, im } => {
-                let (u_re, u_im) = matched_complex(re * sample_period, im * sample_period);
-                (-(u_re + u_re), u_re * u_re + u_im * u_im)
+                let im = im.abs();
+                [(re, -im), (re, im)]
             }
-            PolePair::Real(a, b) => {
-                let (u1, u2) = ((a * sample_period).exp_m1(), (b * sample_period).exp_m1());
-                (-(u1 + u2), u1 * u2)
-            }
+            // A comparison, not `min`/`max`, which would drop a NaN pole.
+            PolePair::Real(a, b) if b < a => [(b, T::ZERO), (a, T::ZERO)],
+            PolePair::Real(a, b) => [(a, T::ZERO), (b, T::ZERO)],
         }
     }
-}
-
-/// `exp(x + j y) - 1`, accurate for small `x + j y`: the real part is
-/// `expm1(x) cos y - 2 sin^2(y / 2)` with `cos y = 1 - 2 sin^2(y / 2)`, with no
-/// cancellation.
-fn matched_complex<T: Real>(x: T, y: T) -> (T, T) {
-    let sin_half = small_angle_sin(y * T::HALF);
-    let versine = T::TWO * sin_half * sin_half;
-    let expm1 = x.exp_m1();
-    (
-        expm1 * (T::ONE - versine) - versine,
-        (expm1 + T::ONE) * small_angle_sin(y),
-    )
-}
-
-/// `sin y` for `|y| <= 1` (a design's poles are below the sample rate), to about an ulp
-/// relative, by its Taylor series: `libm`'s `sinf` computes in `f64`, which a Cortex-M4F
-/// emulates in software, and the phase detector's polynomial is accurate in absolute terms
-/// only, not for the small angles of a slow loop.
-fn small_angle_sin<T: Real>(y: T) -> T {
-    // The 10th term is below y^21 / 21! < 2e-20: negligible in f64.
-    let y2 = y * y;
-    let mut term = y;
-    let mut sum = y;
-    let mut k = 1;
-    while k < 10 {
-        let n = T::from_i32(2 * k);
-        term = -(term * y2 / (n * (n + T::ONE)));
-        sum += term;
-        k += 1;
-    }
-    sum
 }
 
 /// Refuses a design whose fastest pole `fastest` (rad/s) is at or beyond the sample rate
@@ -112,10 +118,16 @@ fn check_bounded<T: Real>(value: T, max: f32, parameter: Parameter) -> Result<T,
     Ok(value)
 }
 
-/// The ratio of the -3 dB bandwidth of the classical 2nd-order loop to its natural
-/// frequency, for the damping ratio `m` (`docs/theory.md §2`):
-/// `sqrt(a + sqrt(a^2 + 1))`, `a = 1 + 2 m^2`.
-fn second_order_bandwidth_ratio<T: Real>(m: T) -> T {
+/// The ratio `omega_3dB / omega_n` of the -3 dB bandwidth of the classical 2nd-order loop
+/// `(2 m wn s + wn^2) / (s^2 + 2 m wn s + wn^2)` to its natural frequency, for the damping
+/// ratio `m` (`docs/theory.md §2`): `sqrt(a + sqrt(a^2 + 1))`, `a = 1 + 2 m^2`.
+///
+/// ```
+/// // Damping sqrt(2)/2: the -3 dB bandwidth is 2.06 times the natural frequency.
+/// let ratio = angletrack_core::second_order_bandwidth_ratio(2f64.sqrt() / 2.0);
+/// assert!((ratio - 2.058).abs() < 1e-3);
+/// ```
+pub fn second_order_bandwidth_ratio<T: Real>(m: T) -> T {
     let a = T::ONE + T::TWO * m * m;
     (a + (a * a + T::ONE).sqrt()).sqrt()
 }
@@ -149,22 +161,9 @@ impl<T: Real, S: SinCos<T>> Gains<T, 2, S> {
         let m = check_bounded(damping, 1e3, Parameter::Damping)?;
         let ts = check_positive(sample_period_s, Parameter::SamplePeriod)?;
         let wn = T::TAU * bandwidth / second_order_bandwidth_ratio(m);
-        // The roots of s^2 + 2 m wn s + wn^2, with (1 - m)(1 + m) for 1 - m^2 (no
-        // cancellation near critical damping) and the smaller real root from the product
-        // of the roots (no cancellation at heavy damping).
-        let spread = (T::ONE - m) * (T::ONE + m);
-        let pair = if spread > T::ZERO {
-            PolePair::Complex {
-                re: -(m * wn),
-                im: wn * spread.sqrt(),
-            }
-        } else {
-            let fast = -(wn * (m + (-spread).sqrt()));
-            PolePair::Real(fast, wn * wn / fast)
-        };
+        let pair = PolePair::second_order(wn, m);
         check_sample_rate(pair.fastest(), ts, Parameter::Bandwidth)?;
-        let (b, c) = pair.matched_factor(ts);
-        Self::from_loop_polynomial([c, b], ts)
+        Self::from_continuous_poles(pair, ts, Discretisation::PoleMatching)
     }
 }
 
@@ -206,14 +205,9 @@ impl<T: Real, S: SinCos<T>> Gains<T, 3, S> {
         };
         let fastest = real_pole.abs().max(pair.fastest());
         check_sample_rate(fastest, ts, Parameter::PoleTimeConstant)?;
-        let (b, c) = pair.matched_factor(ts);
-        let u = (real_pole * ts).exp_m1();
-        // (s - u)(s^2 + b s + c), lowest coefficient first.
-        Self::from_loop_polynomial([-(u * c), c - u * b, b - u], ts)
+        Self::from_continuous_poles(real_pole, pair, ts, Discretisation::PoleMatching)
     }
 }
 
-#[cfg(test)]
-mod reference;
 #[cfg(test)]
 mod tests;

@@ -149,6 +149,10 @@ pub use calibration_settings::CalibrationSettings;
 pub use chain::{Chain, ChainState, Feedback, OnlineCalibration, Prediction, Stage};
 pub use const_config::Real;
 pub use demodulator::{DemodulatedPair, Demodulator, DemodulatorSettings, DemodulatorState};
+pub use design::{
+    Discretisation, MAX_POLE_TIMES_PERIOD, PolePair, UnknownDiscretisation,
+    second_order_bandwidth_ratio,
+};
 pub use error::{ConfigError, Parameter};
 pub use excitation::{Excitation, ExcitationState, Waveform};
 pub use faults::Faults;

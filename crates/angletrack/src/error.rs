@@ -2,7 +2,7 @@
 
 use core::fmt;
 
-use angletrack_core::ConfigError;
+use angletrack_core::{ConfigError, UnknownDiscretisation};
 
 /// An argument of a design, analysis, scenario or metrics function, named in [`Error`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -314,6 +314,16 @@ impl Error {
 impl From<ConfigError> for Error {
     fn from(e: ConfigError) -> Self {
         Error::Gains(e)
+    }
+}
+
+/// A discretisation's name not understood, as the design arguments report it.
+impl From<UnknownDiscretisation> for Error {
+    fn from(_: UnknownDiscretisation) -> Self {
+        Error::OutOfRange {
+            argument: Argument::Discretisation,
+            expected: "pole_matching, forward_euler or tustin",
+        }
     }
 }
 

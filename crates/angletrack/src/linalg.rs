@@ -1,5 +1,6 @@
 //! The linear algebra behind design and analysis (nalgebra, `f64`): polynomial roots and
-//! products, the matrices of the discrete loop, the discrete Lyapunov and Riccati equations.
+//! products, the matrices of the discrete loop, the discrete Lyapunov equation (the
+//! Riccati equation of the Kalman design is the core's).
 
 use nalgebra::{Complex, DMatrix, DVector};
 
@@ -178,43 +179,6 @@ pub(crate) fn discrete_lyapunov(f: &DMatrix<f64>, q: &DMatrix<f64>) -> Option<DM
         s = next;
         if done || a.norm() < 1e-30 {
             return s.iter().all(|v| v.is_finite()).then_some(s);
-        }
-    }
-    None
-}
-
-/// The a-priori (predicted) covariance `P` of the steady-state Kalman filter of
-/// `x[k+1] = A x[k] + w`, `y = h^T x + v`, `cov(w) = Q`, `var(v) = r`:
-/// `P = A (P - P h h^T P / (h^T P h + r)) A^T + Q`, by the structure-preserving doubling
-/// algorithm (quadratic convergence). `None` if it does not converge.
-pub(crate) fn discrete_riccati(
-    a: &DMatrix<f64>,
-    h: &DVector<f64>,
-    q: &DMatrix<f64>,
-    r: f64,
-) -> Option<DMatrix<f64>> {
-    let n = a.nrows();
-    let identity = DMatrix::<f64>::identity(n, n);
-    // Dual (control) form: A_k = A^T, G_k = h h^T / r, H_k -> P.
-    let mut ak = a.transpose();
-    let mut gk = h * h.transpose() / r;
-    let mut hk = q.clone();
-    for _ in 0..200 {
-        let w = (&identity + &gk * &hk).try_inverse()?;
-        let a_next = &ak * &w * &ak;
-        let g_next = &gk + &ak * &w * &gk * ak.transpose();
-        let h_next = &hk + ak.transpose() * &hk * &w * &ak;
-        let change = (&h_next - &hk).norm();
-        ak = a_next;
-        gk = g_next;
-        hk = h_next;
-        if !hk.iter().all(|v| v.is_finite()) {
-            return None;
-        }
-        if change <= 1e-15 * hk.norm() {
-            // Symmetrise against rounding.
-            let p = (&hk + hk.transpose()) * 0.5;
-            return Some(p);
         }
     }
     None

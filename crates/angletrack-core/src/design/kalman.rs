@@ -41,25 +41,49 @@ impl<T: Real, S: SinCos<T>> Gains<T, 3, S> {
         measurement_noise_r: T,
         sample_period_s: T,
     ) -> Result<Self, ConfigError> {
+        Self::kalman_with_covariance(process_noise_q, measurement_noise_r, sample_period_s)
+            .map(|(gains, _)| gains)
+    }
+
+    /// [`Gains::kalman`] with the a-priori (predicted) error covariance `P` of the
+    /// steady-state filter it solves for, on the scaled state `(theta, Ts Omega, Ts^2 alpha)`
+    /// (rows first): `P = A (P - P e1 e1^T P / (P11 + r)) A^T + q g g^T`, and the gains are
+    /// `P e1 / (P11 + r)`. The `angletrack` crate reports it with the design.
+    ///
+    /// ```
+    /// use angletrack_core::Gains;
+    /// let (gains, p) = Gains::<f64, 3>::kalman_with_covariance(1e-12, 1e-4, 50e-6)?;
+    /// let l1 = gains.gains()[0];
+    /// assert!((l1 - p[0][0] / (p[0][0] + 1e-4)).abs() < 1e-15);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn kalman_with_covariance(
+        process_noise_q: T,
+        measurement_noise_r: T,
+        sample_period_s: T,
+    ) -> Result<(Self, [[T; 3]; 3]), ConfigError> {
         let q = check_positive(process_noise_q, Parameter::ProcessNoise)?;
         let r = check_positive(measurement_noise_r, Parameter::MeasurementNoise)?;
         let ts = check_positive(sample_period_s, Parameter::SamplePeriod)?;
         let ratio = q / r;
-        if !(ratio >= T::from_f32(1e-30) && ratio <= T::from_f32(1e6)) {
+        // `from_f64` (folded to a constant) keeps the bound exact in `f64`: the nearest `f32`
+        // to 1e-30 lies above it.
+        if !(ratio >= T::from_f64(1e-30) && ratio <= T::from_f32(1e6)) {
             return Err(ConfigError::OutOfRange(Parameter::ProcessNoise));
         }
         // Solved for r = 1 (well scaled): the gain depends on q / r only.
         let p =
             predicted_covariance(ratio).ok_or(ConfigError::OutOfRange(Parameter::ProcessNoise))?;
         let denominator = T::ONE + p[0][0];
-        Self::new(
+        let gains = Self::new(
             [
                 p[0][0] / denominator,
                 p[1][0] / denominator,
                 p[2][0] / denominator,
             ],
             ts,
-        )
+        )?;
+        Ok((gains, p.map(|row| row.map(|v| v * r))))
     }
 }
 

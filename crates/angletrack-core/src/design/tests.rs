@@ -1,71 +1,8 @@
-//! The core's designs against the `angletrack` crate's (`design/reference.rs`, a grid of
-//! settings): relative agreement per gain within 1e-9 in `f64` and within 1e-4 in `f32`
-//! (`docs/theory.md §2, §3, §4, §7`), and the refusals naming the parameter.
+//! The designs' refusals, naming the parameter. Their gains are checked across the crates
+//! (`tests/design.rs` at the repository root): the `f32` designs against the `f64` ones, and
+//! both against the eigenvalues of the designed loop and the Riccati residual.
 
-use super::reference::{KALMAN, SECOND_ORDER, THIRD_ORDER};
 use crate::*;
-
-/// Relative agreement of the `f64` designs with the `angletrack` crate's.
-const F64_TOLERANCE: f64 = 1e-9;
-/// Relative agreement of the `f32` designs with the `angletrack` crate's (`f64`) ones.
-const F32_TOLERANCE: f64 = 1e-4;
-
-/// The largest relative difference between the gains.
-fn relative_error<const N: usize>(actual: [f64; N], expected: [f64; N]) -> f64 {
-    (0..N)
-        .map(|i| ((actual[i] - expected[i]) / expected[i]).abs())
-        .fold(0.0, f64::max)
-}
-
-fn widened<const N: usize>(gains: [f32; N]) -> [f64; N] {
-    gains.map(f64::from)
-}
-
-#[test]
-fn second_order_from_bandwidth_agrees_with_the_std_crate() {
-    let (mut worst64, mut worst32) = (0.0_f64, 0.0_f64);
-    for &(bandwidth, damping, ts, expected) in SECOND_ORDER {
-        let g64 = Gains::<f64, 2>::second_order_from_bandwidth(bandwidth, damping, ts).unwrap();
-        worst64 = worst64.max(relative_error(g64.gains(), expected));
-        let g32 = Gains::<f32, 2>::second_order_from_bandwidth(
-            bandwidth as f32,
-            damping as f32,
-            ts as f32,
-        )
-        .unwrap();
-        worst32 = worst32.max(relative_error(widened(g32.gains()), expected));
-    }
-    assert!(worst64 < F64_TOLERANCE, "f64: {worst64:e}");
-    assert!(worst32 < F32_TOLERANCE, "f32: {worst32:e}");
-}
-
-#[test]
-fn third_order_from_poles_agrees_with_the_std_crate() {
-    let (mut worst64, mut worst32) = (0.0_f64, 0.0_f64);
-    for &(k, t, psi, ts, expected) in THIRD_ORDER {
-        let g64 = Gains::<f64, 3>::third_order_from_poles(k, t, psi, ts).unwrap();
-        worst64 = worst64.max(relative_error(g64.gains(), expected));
-        let g32 =
-            Gains::<f32, 3>::third_order_from_poles(k as f32, t as f32, psi as f32, ts as f32)
-                .unwrap();
-        worst32 = worst32.max(relative_error(widened(g32.gains()), expected));
-    }
-    assert!(worst64 < F64_TOLERANCE, "f64: {worst64:e}");
-    assert!(worst32 < F32_TOLERANCE, "f32: {worst32:e}");
-}
-
-#[test]
-fn kalman_agrees_with_the_std_crate() {
-    let (mut worst64, mut worst32) = (0.0_f64, 0.0_f64);
-    for &(q, r, expected) in KALMAN {
-        let g64 = Gains::<f64, 3>::kalman(q, r, 50e-6).unwrap();
-        worst64 = worst64.max(relative_error(g64.gains(), expected));
-        let g32 = Gains::<f32, 3>::kalman(q as f32, r as f32, 50e-6).unwrap();
-        worst32 = worst32.max(relative_error(widened(g32.gains()), expected));
-    }
-    assert!(worst64 < F64_TOLERANCE, "f64: {worst64:e}");
-    assert!(worst32 < F32_TOLERANCE, "f32: {worst32:e}");
-}
 
 #[test]
 fn designs_refuse_what_they_cannot_design_naming_the_parameter() {
@@ -132,5 +69,33 @@ fn designs_refuse_what_they_cannot_design_naming_the_parameter() {
     assert_eq!(
         kalman(1e7, 1.0, 1e-4).map_err(parameter),
         Err(Parameter::ProcessNoise)
+    );
+}
+
+#[test]
+fn continuous_poles_are_refused_beyond_the_sample_rate_and_outside_the_stability_region() {
+    let pair = PolePair::second_order(2e3_f32, 0.05);
+    let from_poles = Gains::<f32, 2>::from_continuous_poles;
+    assert!(from_poles(pair, 1e-4, Discretisation::PoleMatching).is_ok());
+    assert!(from_poles(pair, 1e-4, Discretisation::Tustin).is_ok());
+    // |1 + s Ts| = |1 - 0.01 + 0.2 j| > 1: the Euler step leaves the unit circle.
+    assert!(matches!(
+        from_poles(pair, 1e-4, Discretisation::ForwardEuler),
+        Err(ConfigError::Unstable { .. })
+    ));
+    assert_eq!(
+        from_poles(pair, 1e-3, Discretisation::PoleMatching).map_err(|e| e.parameter()),
+        Err(Parameter::SamplePeriod)
+    );
+    let third = Gains::<f64, 3>::from_continuous_poles;
+    assert_eq!(
+        third(
+            -2e4,
+            PolePair::second_order(2e3, 0.05),
+            1e-4,
+            Discretisation::Tustin
+        )
+        .map_err(|e| e.parameter()),
+        Err(Parameter::SamplePeriod)
     );
 }

@@ -1,111 +1,62 @@
-//! Carrying a continuous design to the discrete recursion (`docs/theory.md §7`): each
-//! continuous closed-loop pole `s_i` is mapped to a discrete pole `z_i`, and the gains are
-//! those whose loop `(I - L e1^T) A` has exactly the poles `z_i`. The loop polynomial is
-//! written in `z - 1`, computed from `z_i - 1` directly (`exp_m1` for pole matching), so
-//! that a loop a million times slower than its sample rate is designed to full precision.
+//! Carrying a continuous design to the discrete recursion (`docs/theory.md §7`): the core's
+//! [`Gains::from_continuous_poles`] maps the continuous closed-loop poles with the chosen
+//! [`Discretisation`] and gives the gains; this adds what a [`Design`] reports (the poles,
+//! the continuous gains) and the errors that name the caller's argument.
 
-use angletrack_core::{Gains, Order, SupportedOrder};
+use angletrack_core::{ConfigError, Discretisation, Gains, Order, PolePair, SupportedOrder};
 use nalgebra::Complex;
 
 use super::{Design, DesignMethod};
 use crate::error::{Argument, Error, positive};
 use crate::linalg;
 
-/// How a continuous design is carried over to the discrete recursion.
-///
-/// Each maps every continuous closed-loop pole `s_i` to a discrete pole `z_i`, and the gains
-/// are chosen so that the discrete loop has exactly the poles `z_i`. The
-/// [`DesignReport`](crate::DesignReport) shows how far the result moves from the continuous
-/// design (continuous-equivalent poles `ln(z_i) / Ts`, overshoot of both step responses).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub enum Discretisation {
-    /// `z = exp(s Ts)`: the discrete poles are exactly the sampled continuous poles (the
-    /// default). Stable for any stable continuous design.
-    #[default]
-    PoleMatching,
-    /// `z = 1 + s Ts`: the explicit Euler step of the continuous loop. Unstable once
-    /// `|1 + s Ts| >= 1` for some pole (lightly damped poles first); refused there.
-    ForwardEuler,
-    /// `z = (1 + s Ts/2) / (1 - s Ts/2)`: the bilinear (trapezoidal) map. Stable for any
-    /// stable continuous design; compresses high frequencies.
-    Tustin,
-}
-
-impl Discretisation {
-    /// `z - 1` for the continuous pole `s` (rad/s) and the sample period `ts` (s).
-    pub fn map_pole(self, s: Complex<f64>, ts: f64) -> Complex<f64> {
-        let w = s * ts;
-        match self {
-            Discretisation::PoleMatching => linalg::exp_m1(w),
-            Discretisation::ForwardEuler => w,
-            Discretisation::Tustin => w / (Complex::new(1.0, 0.0) - w * 0.5),
-        }
-    }
-
-    /// The name used in reports.
-    pub const fn name(self) -> &'static str {
-        match self {
-            Discretisation::PoleMatching => "pole matching",
-            Discretisation::ForwardEuler => "forward Euler",
-            Discretisation::Tustin => "Tustin",
-        }
-    }
-
-    /// The identifier used on command lines and in the Python API: `pole_matching`,
-    /// `forward_euler`, `tustin` (what [`str::parse`] accepts, with `-` or a space for
-    /// `_`, in any case).
-    pub const fn id(self) -> &'static str {
-        match self {
-            Discretisation::PoleMatching => "pole_matching",
-            Discretisation::ForwardEuler => "forward_euler",
-            Discretisation::Tustin => "tustin",
-        }
-    }
-}
-
-impl core::str::FromStr for Discretisation {
-    type Err = Error;
-
-    /// Parses [`Discretisation::id`] (case, `-` and spaces ignored).
-    ///
-    /// ```
-    /// use angletrack::Discretisation;
-    /// assert_eq!("Forward-Euler".parse(), Ok(Discretisation::ForwardEuler));
-    /// assert!("zoh".parse::<Discretisation>().is_err());
-    /// ```
-    fn from_str(text: &str) -> Result<Self, Error> {
-        let id: String = text
-            .trim()
-            .chars()
-            .map(|c| match c {
-                '-' | ' ' => '_',
-                c => c.to_ascii_lowercase(),
-            })
-            .collect();
-        [
-            Discretisation::PoleMatching,
-            Discretisation::ForwardEuler,
-            Discretisation::Tustin,
-        ]
-        .into_iter()
-        .find(|d| d.id() == id)
-        .ok_or(Error::OutOfRange {
-            argument: Argument::Discretisation,
-            expected: "pole_matching, forward_euler or tustin",
-        })
-    }
-}
-
 /// The largest `|s_i| Ts` a continuous design may have: every continuous pole must lie
 /// below the sample rate in rad/s (`|s_i| <= 1 / Ts`, i.e. pole frequencies below
 /// `fs / (2 pi)`). Beyond it the discrete loop no longer behaves like the continuous design
-/// whatever the mapping.
-pub const MAX_POLE_TIMES_PERIOD: f64 = 1.0;
+/// whatever the mapping. The core's limit, in `f64`.
+pub const MAX_POLE_TIMES_PERIOD: f64 = angletrack_core::MAX_POLE_TIMES_PERIOD as f64;
+
+/// The continuous closed-loop poles of a design of order `N` (rad/s), as the core takes
+/// them: a pair at order 2, a real pole and a pair at order 3.
+pub(super) trait ContinuousPoles<const N: usize>: Copy
+where
+    Order<N>: SupportedOrder,
+{
+    /// The poles, the real one first at order 3, each pair in increasing `(re, im)`.
+    fn poles(self) -> Vec<Complex<f64>>;
+
+    /// The core's gains for the poles mapped by `discretisation`.
+    fn gains(self, ts: f64, discretisation: Discretisation) -> Result<Gains<f64, N>, ConfigError>;
+}
+
+impl ContinuousPoles<2> for PolePair<f64> {
+    fn poles(self) -> Vec<Complex<f64>> {
+        self.poles().map(|(re, im)| Complex::new(re, im)).to_vec()
+    }
+
+    fn gains(self, ts: f64, discretisation: Discretisation) -> Result<Gains<f64, 2>, ConfigError> {
+        Gains::<f64, 2>::from_continuous_poles(self, ts, discretisation)
+    }
+}
+
+/// The real pole and the pair of a 3rd-order design.
+impl ContinuousPoles<3> for (f64, PolePair<f64>) {
+    fn poles(self) -> Vec<Complex<f64>> {
+        let (real, pair) = self;
+        let mut poles = vec![Complex::new(real, 0.0)];
+        poles.extend(ContinuousPoles::<2>::poles(pair));
+        poles
+    }
+
+    fn gains(self, ts: f64, discretisation: Discretisation) -> Result<Gains<f64, 3>, ConfigError> {
+        Gains::<f64, 3>::from_continuous_poles(self.0, self.1, ts, discretisation)
+    }
+}
 
 /// Carries continuous closed-loop poles to discrete gains: the shared last step of every
 /// continuous design.
 pub(super) fn discretise<const N: usize>(
-    poles: Vec<Complex<f64>>,
+    continuous: impl ContinuousPoles<N>,
     sample_period_s: f64,
     discretisation: Discretisation,
     speed_argument: Argument,
@@ -115,6 +66,7 @@ where
     Order<N>: SupportedOrder,
 {
     let ts = positive(sample_period_s, Argument::SamplePeriod)?;
+    let poles = continuous.poles();
     // A NaN pole (an argument so large that the poles overflow) must not be folded away by
     // `f64::max`, which drops NaN: it is kept, and then refused below.
     let fastest = poles
@@ -128,15 +80,15 @@ where
             limit: MAX_POLE_TIMES_PERIOD,
         });
     }
-    let shifted: Vec<Complex<f64>> = poles
-        .iter()
-        .map(|&s| discretisation.map_pole(s, ts))
-        .collect();
     if discretisation == Discretisation::ForwardEuler {
-        // |z| = |1 + s Ts| must stay below 1.
-        let largest = shifted
+        // |z| = |1 + s Ts| must stay below 1; the core refuses the gains too, but the
+        // limit on |s| Ts is this crate's to report.
+        let largest = poles
             .iter()
-            .map(|u| (Complex::new(1.0, 0.0) + u).norm())
+            .map(|s| {
+                let (re, im) = discretisation.map_pole(s.re, s.im, ts);
+                Complex::new(1.0 + re, im).norm()
+            })
             .fold(0.0, f64::max);
         if !(largest < 1.0) {
             let limit = poles
@@ -150,11 +102,9 @@ where
             });
         }
     }
-    let c = linalg::monic_from_roots(&shifted);
-    let mut coefficients = [0.0; N];
-    coefficients.copy_from_slice(&c);
-    let gains =
-        Gains::from_loop_polynomial(coefficients, ts).map_err(|gains| Error::GainsRefused {
+    let gains = continuous
+        .gains(ts, discretisation)
+        .map_err(|gains| Error::GainsRefused {
             argument: speed_argument,
             gains,
         })?;

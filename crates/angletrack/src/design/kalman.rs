@@ -2,12 +2,11 @@
 //! Kalman filter of the triple integrator, from the scaled process noise `q` and the
 //! measurement noise `r`, or from physical units of the jerk.
 
-use angletrack_core::Gains;
-use nalgebra::DMatrix;
+use angletrack_core::{Gains, Parameter};
+use nalgebra::Matrix3;
 
 use super::{Design, DesignMethod};
 use crate::error::{Argument, Error, positive};
-use crate::linalg;
 
 /// The steady-state solution of the Kalman design, on the scaled state
 /// `(theta, Ts Omega, Ts^2 alpha)`.
@@ -36,20 +35,15 @@ impl KalmanSolution {
     }
 }
 
-/// The state transition `A` of the Kalman model and its process-noise input `G`.
-fn kalman_model() -> (DMatrix<f64>, DMatrix<f64>) {
-    let g = linalg::taylor_remainder(3);
-    (linalg::transition(3), &g * g.transpose())
-}
-
 /// The time-invariant Kalman ATO (3rd order): the steady-state gain of the Kalman filter of
 /// the triple integrator `X[k+1] = A3 X[k] + G v[k]` on the scaled state
 /// `(theta, Ts Omega, Ts^2 alpha)`, `G = (1/6, 1/2, 1)`, `var(v) = q` (`v = Ts^3 beta`, the
 /// scaled jerk), measured through the phase detector with noise variance `r` per channel.
 ///
-/// Solves the discrete algebraic Riccati equation for the predicted covariance `P` (nalgebra,
-/// doubling algorithm) and returns `K_lin = P e1 / (r + P11)`; the gains depend on `q / r`
-/// only. The ratio must lie in `[1e-30, 1e6]`.
+/// The gains and the predicted covariance `P` are the core's
+/// [`Gains::kalman_with_covariance`] (the discrete algebraic Riccati equation, doubling
+/// algorithm) in `f64`: `K_lin = P e1 / (r + P11)`, depending on `q / r` only. The ratio
+/// must lie in `[1e-30, 1e6]`.
 ///
 /// ```
 /// use angletrack::kalman;
@@ -75,29 +69,22 @@ pub fn kalman(
             expected: "1e-30 <= q / r <= 1e6",
         });
     }
-    // Solve for r = 1 (well scaled), then scale the covariances by r.
-    let (a, gg) = kalman_model();
-    let h = linalg::e1(3);
-    let p = linalg::discrete_riccati(&a, &h, &(gg * ratio), 1.0)
-        .ok_or(Error::NoSolution(Argument::ProcessNoise))?;
-    let denominator = 1.0 + p[(0, 0)];
-    let l = [
-        p[(0, 0)] / denominator,
-        p[(1, 0)] / denominator,
-        p[(2, 0)] / denominator,
-    ];
-    let filtered = &p - (p.column(0) * p.row(0)) / denominator;
-    let to_array = |m: &DMatrix<f64>| -> [[f64; 3]; 3] {
-        core::array::from_fn(|i| core::array::from_fn(|j| m[(i, j)] * r))
-    };
-    let gains = Gains::new(l, ts)?;
+    // The core's solver (one DARE solver for the firmware and the host), in f64; the
+    // arguments were checked above, so a refusal naming `q` is the solver's.
+    let (gains, predicted) =
+        Gains::<f64, 3>::kalman_with_covariance(q, r, ts).map_err(|e| match e.parameter() {
+            Parameter::ProcessNoise => Error::NoSolution(Argument::ProcessNoise),
+            _ => Error::Gains(e),
+        })?;
+    let p = Matrix3::from_fn(|i, j| predicted[i][j]);
+    let filtered = p - p.column(0) * p.row(0) / (r + p[(0, 0)]);
     Ok(Design {
         method: DesignMethod::Kalman,
         kalman: Some(KalmanSolution {
             process_noise_q: q,
             measurement_noise_r: r,
-            predicted_covariance: to_array(&p),
-            covariance: to_array(&filtered),
+            predicted_covariance: predicted,
+            covariance: core::array::from_fn(|i| core::array::from_fn(|j| filtered[(i, j)])),
         }),
         ..Design::from_gains(gains)
     })

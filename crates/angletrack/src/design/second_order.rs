@@ -1,19 +1,13 @@
 //! The classical 2nd-order ATO (`docs/theory.md §2`): the continuous loop
 //! `s^2 + k_a1 s + k_b1` from a tracking error, a bandwidth or the Butterworth setting.
 
-use core::f64::consts::{PI, SQRT_2};
+use core::f64::consts::{FRAC_1_SQRT_2, PI};
 
-use nalgebra::Complex;
+use angletrack_core::PolePair;
 
 use super::discretisation::discretise;
 use super::{Design, DesignMethod, Discretisation};
 use crate::error::{Argument, Error, positive};
-use crate::linalg;
-
-/// The roots of `s^2 + k_a s + k_b`.
-fn second_order_poles(k_a: f64, k_b: f64) -> Vec<Complex<f64>> {
-    linalg::roots(&[k_b, k_a])
-}
 
 fn check_damping(damping: f64) -> Result<f64, Error> {
     positive(damping, Argument::Damping)?;
@@ -66,7 +60,7 @@ pub fn second_order_from_tracking_error(
         });
     }
     discretise(
-        second_order_poles(k_a, k_b),
+        PolePair::second_order(k_b.sqrt(), m),
         sample_period_s,
         discretisation,
         Argument::MaxError,
@@ -83,8 +77,7 @@ pub fn second_order_from_tracking_error(
 /// assert!((ratio - 2.058).abs() < 1e-3);
 /// ```
 pub fn second_order_bandwidth_ratio(damping: f64) -> f64 {
-    let a = 1.0 + 2.0 * damping * damping;
-    (a + (a * a + 1.0).sqrt()).sqrt()
+    angletrack_core::second_order_bandwidth_ratio(damping)
 }
 
 /// The 2nd-order ATO with a given -3 dB bandwidth of the continuous closed loop
@@ -110,7 +103,7 @@ pub fn second_order_from_bandwidth(
     positive(sample_period_s, Argument::SamplePeriod)?;
     let wn = 2.0 * PI * bandwidth / second_order_bandwidth_ratio(m);
     discretise(
-        second_order_poles(2.0 * m * wn, wn * wn),
+        PolePair::second_order(wn, m),
         sample_period_s,
         discretisation,
         Argument::Bandwidth,
@@ -136,7 +129,7 @@ pub fn second_order_butterworth(
     let tc = positive(time_constant_s, Argument::TimeConstant)?;
     positive(sample_period_s, Argument::SamplePeriod)?;
     discretise(
-        second_order_poles(SQRT_2 / tc, 1.0 / (tc * tc)),
+        PolePair::second_order(1.0 / tc, FRAC_1_SQRT_2),
         sample_period_s,
         discretisation,
         Argument::TimeConstant,

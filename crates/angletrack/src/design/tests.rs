@@ -484,9 +484,14 @@ fn designs_name_the_caller_s_argument_at_the_extremes_of_its_range() {
         Err(Error::GainsRefused { argument, .. }) => assert_eq!(argument, Argument::TimeConstant),
         other => panic!("expected GainsRefused, got {other:?}"),
     }
-    // Poles that overflow to NaN are refused, not folded away, and the message says so.
-    let e = second_order_butterworth(1e300, 1e-4, PM).unwrap_err();
-    assert_eq!(e.argument(), Some(Argument::TimeConstant));
+    match second_order_butterworth(1e300, 1e-4, PM) {
+        Err(Error::GainsRefused { argument, .. }) => assert_eq!(argument, Argument::TimeConstant),
+        other => panic!("expected GainsRefused, got {other:?}"),
+    }
+    // Poles that overflow to NaN (a critically damped pair at an infinite natural frequency)
+    // are refused, not folded away, and the message says so.
+    let e = second_order_from_bandwidth(1e308, 1.0, 1e-4, PM).unwrap_err();
+    assert_eq!(e.argument(), Some(Argument::Bandwidth));
     assert!(e.to_string().contains("out of floating-point range"), "{e}");
     let e = second_order_from_bandwidth(1e300, 1.0, 1e-4, PM).unwrap_err();
     assert_eq!(e.argument(), Some(Argument::Bandwidth), "{e}");

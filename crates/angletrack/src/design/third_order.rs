@@ -2,21 +2,23 @@
 //! complex pair at `(-1 +- j psi)/T`, from `(K, T, psi)`, from a target overshoot and
 //! settling time, or the Butterworth setting.
 
-use nalgebra::Complex;
+use angletrack_core::PolePair;
 
-use super::discretisation::discretise;
+use super::discretisation::{ContinuousPoles, discretise};
 use super::{Design, DesignMethod, Discretisation};
 use crate::analysis::continuous_step;
 use crate::error::{Argument, Error, positive};
 use crate::linalg;
 
 /// The continuous poles `-K/T` and `(-1 +- j psi)/T` of the 3rd-order pole placement.
-fn third_order_poles(k: f64, t: f64, psi: f64) -> Vec<Complex<f64>> {
-    vec![
-        Complex::new(-k / t, 0.0),
-        Complex::new(-1.0 / t, -psi / t),
-        Complex::new(-1.0 / t, psi / t),
-    ]
+fn third_order_poles(k: f64, t: f64, psi: f64) -> (f64, PolePair<f64>) {
+    (
+        -k / t,
+        PolePair::Complex {
+            re: -1.0 / t,
+            im: psi / t,
+        },
+    )
 }
 
 fn check_pole_family(k: f64, psi: f64) -> Result<(), Error> {
@@ -92,11 +94,13 @@ pub fn third_order_butterworth(
     let tc = positive(time_constant_s, Argument::TimeConstant)?;
     positive(sample_period_s, Argument::SamplePeriod)?;
     let half = 0.5 / tc;
-    let poles = vec![
-        Complex::new(-1.0 / tc, 0.0),
-        Complex::new(-half, -3.0_f64.sqrt() * half),
-        Complex::new(-half, 3.0_f64.sqrt() * half),
-    ];
+    let poles = (
+        -1.0 / tc,
+        PolePair::Complex {
+            re: -half,
+            im: 3.0_f64.sqrt() * half,
+        },
+    );
     discretise(
         poles,
         sample_period_s,
@@ -144,7 +148,10 @@ pub fn third_order_from_overshoot(
     positive(sample_period_s, Argument::SamplePeriod)?;
     let psi = pole_frequency_ratio;
     let overshoot_at = |k: f64| -> f64 {
-        continuous_step(&linalg::monic_from_roots(&third_order_poles(k, 1.0, psi))).overshoot
+        continuous_step(&linalg::monic_from_roots(
+            &third_order_poles(k, 1.0, psi).poles(),
+        ))
+        .overshoot
     };
     let (lo, hi) = POLE_RATIO_SEARCH;
     let steps = 60;
@@ -164,7 +171,9 @@ pub fn third_order_from_overshoot(
     }
     let (a, b, decreasing) = bracket.ok_or(Error::NoSolution(Argument::Overshoot))?;
     let k = linalg::bisect(|k| (overshoot_at(k) > target) == decreasing, a, b, 1e-10);
-    let unit = continuous_step(&linalg::monic_from_roots(&third_order_poles(k, 1.0, psi)));
+    let unit = continuous_step(&linalg::monic_from_roots(
+        &third_order_poles(k, 1.0, psi).poles(),
+    ));
     let t = settling / unit.settling_time_s;
     if !t.is_finite() || t <= 0.0 {
         return Err(Error::NoSolution(Argument::SettlingTime));

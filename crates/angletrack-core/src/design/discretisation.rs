@@ -11,10 +11,11 @@ use core::str::FromStr;
 #[cfg(doc)]
 use super::MAX_POLE_TIMES_PERIOD;
 use super::{PolePair, check_sample_rate};
-use crate::error::{ConfigError, Parameter, check_positive};
+use crate::const_config::Real;
+use crate::error::{ConfigError, Parameter};
 use crate::gains::Gains;
-use crate::real::Real;
-use crate::sincos::SinCos;
+use crate::real::check_positive;
+use crate::real::sincos::SinCos;
 
 /// How a continuous design is carried over to the discrete recursion.
 ///

@@ -33,6 +33,9 @@ mod sealed {
 pub trait AdcSample: sealed::Sealed + Copy {
     /// `self - mid_scale_counts` as `T` (`|mid_scale_counts| <= 2^30`).
     fn counts_from<T: Float>(self, mid_scale_counts: i32) -> T;
+    /// `self - mid_scale_counts` in `i32`, saturated (exact for `i16` and `u16`).
+    #[doc(hidden)]
+    fn difference_from(self, mid_scale_counts: i32) -> i32;
 }
 
 impl AdcSample for i16 {
@@ -40,12 +43,20 @@ impl AdcSample for i16 {
     fn counts_from<T: Float>(self, mid_scale_counts: i32) -> T {
         T::from_i32(i32::from(self) - mid_scale_counts)
     }
+    #[inline(always)]
+    fn difference_from(self, mid_scale_counts: i32) -> i32 {
+        i32::from(self) - mid_scale_counts
+    }
 }
 
 impl AdcSample for u16 {
     #[inline(always)]
     fn counts_from<T: Float>(self, mid_scale_counts: i32) -> T {
         T::from_i32(i32::from(self) - mid_scale_counts)
+    }
+    #[inline(always)]
+    fn difference_from(self, mid_scale_counts: i32) -> i32 {
+        i32::from(self) - mid_scale_counts
     }
 }
 
@@ -55,6 +66,10 @@ impl AdcSample for i32 {
         // |d| < 2^31 + 2^30: d >> 1 fits an i32.
         let d = i64::from(self) - i64::from(mid_scale_counts);
         T::from_i32((d >> 1) as i32) * T::TWO + T::from_i32((d & 1) as i32)
+    }
+    #[inline(always)]
+    fn difference_from(self, mid_scale_counts: i32) -> i32 {
+        self.saturating_sub(mid_scale_counts)
     }
 }
 
@@ -200,6 +215,94 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     ) -> Estimate<T> {
         let (y_c, y_s) = adc.sample(raw_c, raw_s);
         self.update(state, y_c, y_s)
+    }
+}
+
+/// ADC counts to the fixed-point observer's 16-bit samples: `(sample - mid_scale) 2^shift`,
+/// saturated to `i16` (`docs/theory.md §14`). The fixed-point observer normalises the
+/// amplitude itself (4096 to 46341 counts are exact), so the shift only brings the ADC's
+/// range to 16 bits: a 12-bit ADC is shifted by 4. Configured once, `const`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AdcCounts {
+    mid_scale_counts: i32,
+    shift: u32,
+    /// The differences that do not saturate once shifted: `[-2^15, 2^15 - 1] >> shift`.
+    low: i32,
+    high: i32,
+}
+
+impl AdcCounts {
+    /// Counts with `mid_scale_counts` (at most [`MAX_MID_SCALE_COUNTS`] in magnitude)
+    /// removed, shifted left by `shift` (0 to 15) bits.
+    ///
+    /// ```
+    /// use angletrack_core::{AdcCounts, Parameter};
+    /// let adc = AdcCounts::new(2048, 4)?;
+    /// assert_eq!(adc.sample(3848u16, 2048u16), (1800 * 16, 0));
+    /// assert_eq!(AdcCounts::new(0, 16).unwrap_err().parameter(), Parameter::AdcShift);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub const fn new(mid_scale_counts: i32, shift: u32) -> Result<Self, ConfigError> {
+        if mid_scale_counts.unsigned_abs() > MAX_MID_SCALE_COUNTS as u32 {
+            return Err(ConfigError::OutOfRange(Parameter::MidScaleCounts));
+        }
+        if shift > 15 {
+            return Err(ConfigError::OutOfRange(Parameter::AdcShift));
+        }
+        Ok(Self {
+            mid_scale_counts,
+            shift,
+            low: -(1 << 15) >> shift,
+            high: ((1 << 15) - 1) >> shift,
+        })
+    }
+
+    /// An unsigned (offset binary) ADC of `bits` bits (2 to 16): mid-scale `2^(bits-1)`,
+    /// shifted by `16 - bits` (full scale is +-32768).
+    ///
+    /// ```
+    /// use angletrack_core::AdcCounts;
+    /// static ADC: AdcCounts = match AdcCounts::offset_binary(12) {
+    ///     Ok(adc) => adc,
+    ///     Err(_) => panic!("bad ADC"),
+    /// };
+    /// assert_eq!(ADC.sample(4095u16, 0u16), (2047 * 16, -32768));
+    /// ```
+    pub const fn offset_binary(bits: u32) -> Result<Self, ConfigError> {
+        if bits < 2 || bits > 16 {
+            return Err(ConfigError::OutOfRange(Parameter::AdcBits));
+        }
+        Self::new(1 << (bits - 1), 16 - bits)
+    }
+
+    /// A signed (two's complement) ADC of `bits` bits (2 to 16): mid-scale 0, shifted by
+    /// `16 - bits`.
+    ///
+    /// ```
+    /// use angletrack_core::AdcCounts;
+    /// let adc = AdcCounts::twos_complement(16)?;
+    /// assert_eq!(adc.sample(-32768i16, 16384i16), (-32768, 16384));
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub const fn twos_complement(bits: u32) -> Result<Self, ConfigError> {
+        if bits < 2 || bits > 16 {
+            return Err(ConfigError::OutOfRange(Parameter::AdcBits));
+        }
+        Self::new(0, 16 - bits)
+    }
+
+    /// One channel's sample for the fixed-point observer.
+    #[inline(always)]
+    pub fn scale<I: AdcSample>(&self, raw: I) -> i16 {
+        let difference = raw.difference_from(self.mid_scale_counts);
+        (difference.clamp(self.low, self.high) << self.shift) as i16
+    }
+
+    /// The pair `(y_c, y_s)` for the fixed-point observer, from the raw samples of the
+    /// cosine and sine channels.
+    #[inline(always)]
+    pub fn sample<I: AdcSample>(&self, raw_c: I, raw_s: I) -> (i16, i16) {
+        (self.scale(raw_c), self.scale(raw_s))
     }
 }
 

@@ -158,11 +158,7 @@ impl<T: Float> AngleCorrection<T> {
     /// documentation). Keeps the sample's magnitude (to `|d|^4/24`).
     #[inline(always)]
     pub fn rotate(&self, sin_p: T, cos_p: T, y_c: T, y_s: T) -> (T, T) {
-        let d = self.error_from_sin_cos(sin_p, cos_p);
-        let d2 = d * d;
-        let sin_d = d - d * d2 * T::from_f32(1.0 / 6.0);
-        let cos_d = T::ONE - d2 * T::HALF;
-        (y_c * cos_d + y_s * sin_d, y_s * cos_d - y_c * sin_d)
+        rotate_by(self.error_from_sin_cos(sin_p, cos_p), y_c, y_s)
     }
 
     /// The sample rotated by `-d` of the angle the observer in `state` predicts for it (see
@@ -184,6 +180,17 @@ impl<T: Float> AngleCorrection<T> {
         let (sin_p, cos_p) = S::sin_cos(p);
         self.rotate(sin_p, cos_p, y_c, y_s)
     }
+}
+
+/// The sample `(y_c, y_s)` rotated by `-d` (rad, within
+/// [`AngleCorrection::max_total_rad`]), with `sin d = d - d^3/6` and `cos d = 1 - d^2/2`:
+/// keeps the sample's magnitude to `|d|^4/24`.
+#[inline(always)]
+pub(crate) fn rotate_by<T: Float>(d: T, y_c: T, y_s: T) -> (T, T) {
+    let d2 = d * d;
+    let sin_d = d - d * d2 * T::from_f32(1.0 / 6.0);
+    let cos_d = T::ONE - d2 * T::HALF;
+    (y_c * cos_d + y_s * sin_d, y_s * cos_d - y_c * sin_d)
 }
 
 impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {

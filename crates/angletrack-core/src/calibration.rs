@@ -195,3 +195,82 @@ impl<T: Float> SensorCalibration<T> {
         self.quadrature_rad
     }
 }
+
+/// A [`SensorCalibration`] in the fixed-point observer's integers: the offsets in counts of
+/// its 16-bit samples and the two coefficients in Q14, applied by
+/// [`FixedCalibration::correct`] with no overflow and the result saturated to `i16`. Learned
+/// in float (on the host, or by the online calibration on a core with an FPU) and loaded as
+/// these constants; `const` to build from them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FixedCalibration {
+    offset_c: i16,
+    offset_s: i16,
+    /// `A_c / (A_s cos phi)` in Q14: below 2.
+    sine_gain_q14: i16,
+    /// `tan phi` in Q14: within +-1 (`|phi| <= pi/4`).
+    cross_gain_q14: i16,
+}
+
+impl Default for FixedCalibration {
+    fn default() -> Self {
+        Self::IDENTITY
+    }
+}
+
+impl FixedCalibration {
+    /// No correction.
+    pub const IDENTITY: Self = Self {
+        offset_c: 0,
+        offset_s: 0,
+        sine_gain_q14: 1 << 14,
+        cross_gain_q14: 0,
+    };
+
+    /// The integers of `calibration`, whose offsets are in counts of the fixed-point
+    /// observer's 16-bit samples (what `calibrate` learns from a capture of those samples).
+    /// Refuses offsets outside `i16` and a sine gain `A_c / (A_s cos phi)` of 2 or more
+    /// (the sine channel less than half the cosine's), naming the parameter.
+    ///
+    /// ```
+    /// use angletrack_core::{FixedCalibration, SensorCalibration};
+    /// let learned = SensorCalibration::<f64>::new(300.0, -200.0, 16000.0, 17000.0, 0.02)?;
+    /// let fixed = FixedCalibration::new(&learned)?;
+    /// let theta = 0.7_f64;
+    /// let y_c = (300.0 + 16000.0 * theta.cos()).round() as i16;
+    /// let y_s = (-200.0 + 17000.0 * (theta + 0.02).sin()).round() as i16;
+    /// let (c, s) = fixed.correct(y_c, y_s);
+    /// assert!((f64::from(c) - 16000.0 * theta.cos()).abs() <= 1.0);
+    /// assert!((f64::from(s) - 16000.0 * theta.sin()).abs() <= 2.0);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn new(calibration: &SensorCalibration<f64>) -> Result<Self, ConfigError> {
+        let in_i16 = |v: f64, parameter: Parameter| {
+            let rounded = libm::round(v);
+            if (-32768.0..=32767.0).contains(&rounded) {
+                Ok(rounded as i16)
+            } else {
+                Err(ConfigError::OutOfRange(parameter))
+            }
+        };
+        let q14 = |v: f64| libm::round(v * 16384.0);
+        Ok(Self {
+            offset_c: in_i16(calibration.offset_c, Parameter::OffsetCos)?,
+            offset_s: in_i16(calibration.offset_s, Parameter::OffsetSin)?,
+            sine_gain_q14: in_i16(q14(calibration.sine_gain), Parameter::AmplitudeSin)?,
+            cross_gain_q14: in_i16(q14(calibration.cross_gain), Parameter::Quadrature)?,
+        })
+    }
+
+    /// The corrected pair (see [`SensorCalibration::correct`]), saturated to `i16`:
+    /// `c = y_c - o_c`, `s = ((y_s - o_s) g - c t) / 2^14` rounded, `g` and `t` the Q14
+    /// coefficients (every product below 2^30 and their sum below 2^31: no overflow).
+    #[inline(always)]
+    pub fn correct(&self, y_c: i16, y_s: i16) -> (i16, i16) {
+        let c = (i32::from(y_c) - i32::from(self.offset_c)).clamp(-32768, 32767);
+        let s = (i32::from(y_s) - i32::from(self.offset_s)).clamp(-32768, 32767);
+        let s = (s * i32::from(self.sine_gain_q14) - c * i32::from(self.cross_gain_q14)
+            + (1 << 13))
+            >> 14;
+        (c as i16, s.clamp(-32768, 32767) as i16)
+    }
+}

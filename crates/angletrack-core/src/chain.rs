@@ -4,36 +4,44 @@
 //! The composition, the feedback interface and an example are on [`Chain`].
 
 use crate::faults::Faults;
+use crate::fixed::{FixedEstimate, FixedGains, FixedState};
 use crate::gains::Gains;
-use crate::real::Float;
 use crate::real::sincos::SinCos;
+use crate::real::{ChainNumber, Float};
 use crate::state::{Estimate, ObserverState};
-use crate::update::{SampleObserver, UsedSample};
-use crate::wrap::wrap_angle;
 
-/// The observer's prediction for the sample a stage is processing.
-pub trait Prediction<T> {
-    /// `(sin, cos)` of the observer's predicted angle for this sample (the angle wrapped to
-    /// [-pi, pi), by the observer's phase-detector sin/cos).
-    fn sin_cos(&self) -> (T, T);
+mod observers;
+mod stages;
+
+pub use stages::OnlineCalibration;
+
+/// The observer's prediction for the sample a stage is processing, in the observer's
+/// number format: for the float observers the angle in rad and `(sin, cos)` in `T`; for
+/// the fixed-point observer the binary angle (2^32 per turn) and `(sin, cos)` in Q15.
+pub trait Prediction<V: ChainNumber> {
+    /// The observer's predicted angle for this sample, wrapped to one turn.
+    fn angle(&self) -> V::Angle;
+    /// `(sin, cos)` of the predicted angle (by the observer's phase-detector sin/cos).
+    fn sin_cos(&self) -> (V, V);
 }
 
 /// What the observer made of a sample it used, for the stages before it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[non_exhaustive]
-pub struct Feedback<T> {
-    /// `(sin, cos)` of the sample's predicted angle.
-    pub sin_cos: (T, T),
-    /// The corrected speed in rad per sample (`Ts Omega`; 0 at order 1).
-    pub scaled_speed: T,
+pub struct Feedback<V> {
+    /// `(sin, cos)` of the sample's predicted angle (Q15 for the fixed-point observer).
+    pub sin_cos: (V, V),
+    /// The corrected speed per sample: rad for the float observers (`Ts Omega`; 0 at
+    /// order 1), 2^-16 turn for the fixed-point observer (saturated).
+    pub scaled_speed: V,
     /// The sample's faults, as the observer's monitor flagged them.
     pub faults: Faults,
 }
 
 /// A front-end stage: `&self` is its immutable configuration, [`Stage::State`] its mutable
-/// state; it turns an input `X` into the `(y_c, y_s)` pair the next stage (or the observer)
-/// takes. See [`Chain`] for the composition and the feedback interface.
-pub trait Stage<T: Float, X> {
+/// state; it turns an input `X` into the `(y_c, y_s)` pair of values `V` the next stage (or
+/// the observer) takes. See [`Chain`] for the composition and the feedback interface.
+pub trait Stage<V: ChainNumber, X> {
     /// The stage's mutable state (`()` for a stage without one).
     type State;
     /// What [`Stage::forward`] keeps of a sample for [`Stage::feedback`] (`()` where the
@@ -45,14 +53,14 @@ pub trait Stage<T: Float, X> {
     fn forward(
         &self,
         state: &mut Self::State,
-        prediction: &impl Prediction<T>,
+        prediction: &impl Prediction<V>,
         input: X,
-    ) -> ((T, T), Self::Memo);
+    ) -> ((V, V), Self::Memo);
 
     /// What the observer made of the sample: `Some` for a sample it used, `None` for one it
     /// did not. The default does nothing.
     #[inline(always)]
-    fn feedback(&self, _state: &mut Self::State, _memo: Self::Memo, _used: Option<Feedback<T>>) {}
+    fn feedback(&self, _state: &mut Self::State, _memo: Self::Memo, _used: Option<Feedback<V>>) {}
 
     /// The stage's own faults (the default: none), carried by the estimate of
     /// [`Chain::update`] and latched in the observer's state.
@@ -63,18 +71,18 @@ pub trait Stage<T: Float, X> {
 }
 
 /// No stage: the pair goes to the observer as it is.
-impl<T: Float> Stage<T, (T, T)> for () {
+impl<V: ChainNumber> Stage<V, (V, V)> for () {
     type State = ();
     type Memo = ();
 
     #[inline(always)]
-    fn forward(&self, _: &mut (), _: &impl Prediction<T>, input: (T, T)) -> ((T, T), ()) {
+    fn forward(&self, _: &mut (), _: &impl Prediction<V>, input: (V, V)) -> ((V, V), ()) {
         (input, ())
     }
 }
 
 /// `A` then `B`.
-impl<T: Float, X, A: Stage<T, X>, B: Stage<T, (T, T)>> Stage<T, X> for (A, B) {
+impl<V: ChainNumber, X, A: Stage<V, X>, B: Stage<V, (V, V)>> Stage<V, X> for (A, B) {
     type State = (A::State, B::State);
     type Memo = (A::Memo, B::Memo);
 
@@ -82,16 +90,16 @@ impl<T: Float, X, A: Stage<T, X>, B: Stage<T, (T, T)>> Stage<T, X> for (A, B) {
     fn forward(
         &self,
         state: &mut Self::State,
-        prediction: &impl Prediction<T>,
+        prediction: &impl Prediction<V>,
         input: X,
-    ) -> ((T, T), Self::Memo) {
+    ) -> ((V, V), Self::Memo) {
         let (pair, first) = self.0.forward(&mut state.0, prediction, input);
         let (pair, second) = self.1.forward(&mut state.1, prediction, pair);
         (pair, (first, second))
     }
 
     #[inline(always)]
-    fn feedback(&self, state: &mut Self::State, memo: Self::Memo, used: Option<Feedback<T>>) {
+    fn feedback(&self, state: &mut Self::State, memo: Self::Memo, used: Option<Feedback<V>>) {
         self.0.feedback(&mut state.0, memo.0, used);
         self.1.feedback(&mut state.1, memo.1, used);
     }
@@ -102,8 +110,9 @@ impl<T: Float, X, A: Stage<T, X>, B: Stage<T, (T, T)>> Stage<T, X> for (A, B) {
     }
 }
 
-/// A front end `F` (a [`Stage`], or a nest of pairs of them) and the observer's [`Gains`]:
-/// the immutable configuration of one signal chain. `Copy` where its stages are, so one
+/// A front end `F` (a [`Stage`], or a nest of pairs of them) and an observer `O` (the float
+/// observers' [`Gains`], or the fixed-point [`FixedGains`]): the immutable configuration of
+/// one signal chain. `Copy` where its stages are, so one
 /// chain serves many channels, each with its [`ChainState`].
 ///
 /// A [`Stage`] is an immutable `Copy` configuration (the `&self` of its methods) with a
@@ -136,83 +145,49 @@ impl<T: Float, X, A: Stage<T, X>, B: Stage<T, (T, T)>> Stage<T, X> for (A, B) {
 /// # Ok::<(), angletrack_core::ConfigError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Chain<F, T: Float, const N: usize, S = <T as Float>::DefaultSinCos> {
+pub struct Chain<F, O> {
     /// The stages before the observer.
     pub front_end: F,
     /// The observer.
-    pub gains: Gains<T, N, S>,
+    pub observer: O,
 }
 
-/// The mutable state of one channel of a [`Chain`]: its front end's and its observer's.
+/// The mutable state of one channel of a [`Chain`]: its front end's `F` (a nest of pairs,
+/// as the front end's stages) and its observer's `O`.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ChainState<F, T, const N: usize> {
-    /// The front end's state (a nest of pairs, as the front end's stages).
+pub struct ChainState<F, O> {
+    /// The front end's state.
     pub front_end: F,
     /// The observer's state.
-    pub observer: ObserverState<T, N>,
+    pub observer: O,
 }
 
-impl<F: Default, T: Float, const N: usize> Default for ChainState<F, T, N> {
+impl<F: Default, O: Default> Default for ChainState<F, O> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<F: Default, T: Float, const N: usize> ChainState<F, T, N> {
+impl<F: Default, O: Default> ChainState<F, O> {
     /// The state of a chain that has seen no sample: each stage's default state, and an
     /// observer that initialises itself from its first sample.
     ///
     /// ```
-    /// use angletrack_core::{ChainState, Calibrator};
-    /// let state: ChainState<Calibrator<f32>, f32, 3> = ChainState::new();
+    /// use angletrack_core::{Calibrator, ChainState, ObserverState};
+    /// let state: ChainState<Calibrator<f32>, ObserverState<f32, 3>> = ChainState::new();
     /// assert!(!state.observer.is_initialised());
     /// ```
     pub fn new() -> Self {
         Self {
             front_end: F::default(),
-            observer: ObserverState::new(),
+            observer: O::default(),
         }
     }
 }
 
-/// The observer's prediction, computed only if a stage asks for it.
-struct ObserverPrediction<'a, T, const N: usize, S> {
-    state: &'a ObserverState<T, N>,
-    sin_cos: core::marker::PhantomData<S>,
-}
-
-impl<T: Float, const N: usize, S: SinCos<T>> Prediction<T> for ObserverPrediction<'_, T, N, S> {
-    #[inline(always)]
-    fn sin_cos(&self) -> (T, T) {
-        let mut angle = self.state.predicted_angle();
-        wrap_angle(&mut angle);
-        S::sin_cos(angle)
-    }
-}
-
-/// Hands what the observer made of a sample back to the front end `F` (of input `X`).
-struct ToFrontEnd<'a, T: Float, X, F: Stage<T, X>> {
-    front_end: &'a F,
-    state: &'a mut F::State,
-    memo: F::Memo,
-    input: core::marker::PhantomData<fn(X) -> T>,
-}
-
-impl<T: Float, X, F: Stage<T, X>> SampleObserver<T> for ToFrontEnd<'_, T, X, F> {
-    #[inline(always)]
-    fn observe(self, used: Option<UsedSample<T>>) {
-        let used = used.map(|u| Feedback {
-            sin_cos: u.sin_cos,
-            scaled_speed: u.scaled_speed,
-            faults: u.faults,
-        });
-        self.front_end.feedback(self.state, self.memo, used);
-    }
-}
-
-impl<F, T: Float, const N: usize, S: SinCos<T>> Chain<F, T, N, S> {
-    /// The chain of the front end `front_end` and the observer `gains` (both checked when
-    /// they were made: a chain cannot be invalid).
+impl<F, O> Chain<F, O> {
+    /// The chain of the front end `front_end` and the observer `observer` (both checked
+    /// when they were made: a chain cannot be invalid).
     ///
     /// ```
     /// use angletrack_core::{AdcScaling, Chain, ChainState, Gains};
@@ -223,80 +198,90 @@ impl<F, T: Float, const N: usize, S: SinCos<T>> Chain<F, T, N, S> {
     /// assert!(chain.estimate(&state).angle.abs() < 1e-3);
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
-    pub const fn new(front_end: F, gains: Gains<T, N, S>) -> Self {
-        Self { front_end, gains }
-    }
-
-    /// One sample `input` through the front end and the observer: the state only, the
-    /// cheapest per-sample form ([`Chain::estimate`] reads the estimate on demand). The
-    /// front end's faults are latched in the observer's state.
-    #[inline]
-    pub fn track<X>(&self, state: &mut ChainState<F::State, T, N>, input: X)
-    where
-        F: Stage<T, X>,
-    {
-        let prediction = ObserverPrediction::<T, N, S> {
-            state: &state.observer,
-            sin_cos: core::marker::PhantomData,
-        };
-        let ((y_c, y_s), memo) = self
-            .front_end
-            .forward(&mut state.front_end, &prediction, input);
-        let to_front_end = ToFrontEnd {
-            front_end: &self.front_end,
-            state: &mut state.front_end,
-            memo,
-            input: core::marker::PhantomData,
-        };
-        self.gains
-            .track_observing(&mut state.observer, y_c, y_s, to_front_end);
-        let faults = self.front_end.faults(&mut state.front_end);
-        if !faults.is_empty() {
-            state.observer.monitor.latched |= faults;
+    pub const fn new(front_end: F, observer: O) -> Self {
+        Self {
+            front_end,
+            observer,
         }
-    }
-
-    /// [`Chain::track`], then the estimate, which carries the front end's faults.
-    #[inline]
-    pub fn update<X>(&self, state: &mut ChainState<F::State, T, N>, input: X) -> Estimate<T>
-    where
-        F: Stage<T, X>,
-    {
-        self.track(state, input);
-        let mut estimate = self.gains.estimate(&state.observer);
-        estimate.faults |= self.front_end.faults(&mut state.front_end);
-        estimate
-    }
-
-    /// The estimate held by `state`, in physical units (the observer's faults; the front
-    /// end's are latched).
-    #[inline]
-    pub fn estimate<St>(&self, state: &ChainState<St, T, N>) -> Estimate<T> {
-        self.gains.estimate(&state.observer)
-    }
-
-    /// [`Chain::update`] on each of `inputs`, the estimates written to `estimates` (the
-    /// shorter of the two sets the count, which is returned).
-    pub fn update_block<X: Copy>(
-        &self,
-        state: &mut ChainState<F::State, T, N>,
-        inputs: &[X],
-        estimates: &mut [Estimate<T>],
-    ) -> usize
-    where
-        F: Stage<T, X>,
-    {
-        let count = inputs.len().min(estimates.len());
-        for (input, estimate) in inputs.iter().zip(estimates.iter_mut()) {
-            *estimate = self.update(state, *input);
-        }
-        count
     }
 }
 
-mod stages;
+/// The chain's per-sample forms for one observer type: `track` (the state only, the
+/// cheapest per-sample form, the front end's faults latched), `update` (`track`, then the
+/// estimate, which carries the front end's faults), `estimate` (on demand) and
+/// `update_block` (`update` on each input).
+macro_rules! chain_forms {
+    ($value:ty, $state:ty, $estimate:ty) => {
+        /// One sample `input` through the front end and the observer: the state only (the
+        /// cheapest per-sample form; [`Chain::estimate`] reads the estimate on demand).
+        /// The front end's faults are latched in the observer's state.
+        #[inline]
+        pub fn track<X>(&self, state: &mut ChainState<F::State, $state>, input: X)
+        where
+            F: Stage<$value, X>,
+        {
+            observers::track(
+                &self.observer,
+                &mut state.observer,
+                &self.front_end,
+                &mut state.front_end,
+                input,
+            );
+        }
 
-pub use stages::OnlineCalibration;
+        /// [`Chain::track`], then the estimate, which carries the front end's faults.
+        #[inline]
+        pub fn update<X>(&self, state: &mut ChainState<F::State, $state>, input: X) -> $estimate
+        where
+            F: Stage<$value, X>,
+        {
+            self.track(state, input);
+            let mut estimate = self.estimate(state);
+            estimate.faults |= self.front_end.faults(&mut state.front_end);
+            estimate
+        }
+
+        /// [`Chain::update`] on each of `inputs`, the estimates written to `estimates`
+        /// (the shorter of the two sets the count, which is returned).
+        pub fn update_block<X: Copy>(
+            &self,
+            state: &mut ChainState<F::State, $state>,
+            inputs: &[X],
+            estimates: &mut [$estimate],
+        ) -> usize
+        where
+            F: Stage<$value, X>,
+        {
+            let count = inputs.len().min(estimates.len());
+            for (input, estimate) in inputs.iter().zip(estimates.iter_mut()) {
+                *estimate = self.update(state, *input);
+            }
+            count
+        }
+    };
+}
+
+impl<F, T: Float, const N: usize, S: SinCos<T>> Chain<F, Gains<T, N, S>> {
+    chain_forms!(T, ObserverState<T, N>, Estimate<T>);
+
+    /// The estimate held by `state`, in physical units (the observer's faults; the front
+    /// end's are latched in the state).
+    #[inline]
+    pub fn estimate<St>(&self, state: &ChainState<St, ObserverState<T, N>>) -> Estimate<T> {
+        self.observer.estimate(&state.observer)
+    }
+}
+
+impl<F, const N: usize> Chain<F, FixedGains<N>> {
+    chain_forms!(i16, FixedState<N>, FixedEstimate);
+
+    /// The estimate held by `state` (the observer's faults; the front end's are latched
+    /// in the state).
+    #[inline]
+    pub fn estimate<St>(&self, state: &ChainState<St, FixedState<N>>) -> FixedEstimate {
+        FixedGains::estimate(&state.observer)
+    }
+}
 
 #[cfg(test)]
 mod tests;

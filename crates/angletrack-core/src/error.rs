@@ -41,6 +41,10 @@ pub enum Parameter {
     CountsPerUnit,
     /// The ADC's resolution (bits).
     AdcBits,
+    /// The left shift of ADC counts into the fixed-point observer's 16-bit samples (bits).
+    AdcShift,
+    /// A measured angle-error curve (rad), sampled over one electrical turn.
+    AngleErrorCurve,
     /// The cosine channel's offset of a sensor calibration.
     OffsetCos,
     /// The sine channel's offset of a sensor calibration.
@@ -138,6 +142,8 @@ impl Parameter {
             Parameter::MidScaleCounts => "mid_scale_counts",
             Parameter::CountsPerUnit => "counts_per_unit",
             Parameter::AdcBits => "bits",
+            Parameter::AdcShift => "shift",
+            Parameter::AngleErrorCurve => "curve",
             Parameter::OffsetCos => "offset_c",
             Parameter::OffsetSin => "offset_s",
             Parameter::AmplitudeCos => "amplitude_c",

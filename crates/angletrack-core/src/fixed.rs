@@ -11,6 +11,7 @@ mod multiply;
 mod state;
 mod update;
 
+pub(crate) use binary_angle::sin_cos_q15;
 pub use binary_angle::{binary_angle, binary_angle_to_rad};
 pub use gains::{FixedConstants, FixedGains, MIN_NORMALISED_AMPLITUDE_COUNTS};
 pub use state::{FixedEstimate, FixedState};

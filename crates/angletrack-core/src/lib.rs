@@ -115,6 +115,7 @@
 
 mod adc;
 mod angle_correction;
+mod angle_table;
 mod bank;
 mod block;
 mod calibration;
@@ -141,10 +142,11 @@ mod state;
 mod update;
 mod wrap;
 
-pub use adc::{AdcSample, AdcScaling, MAX_MID_SCALE_COUNTS};
+pub use adc::{AdcCounts, AdcSample, AdcScaling, MAX_MID_SCALE_COUNTS};
 pub use angle_correction::{AngleCorrection, MAX_CORRECTION_ORDER};
+pub use angle_table::{AngleCorrectionTable, FixedAngleCorrectionTable};
 pub use bank::ChannelBank;
-pub use calibration::SensorCalibration;
+pub use calibration::{FixedCalibration, SensorCalibration};
 pub use calibration_settings::CalibrationSettings;
 pub use chain::{Chain, ChainState, Feedback, OnlineCalibration, Prediction, Stage};
 pub use const_config::Real;
@@ -163,8 +165,8 @@ pub use learning::{CalibrationMode, Calibrator};
 pub use monitor::FaultThresholds;
 pub use observer::{AngleTrackingObserver, Observer, SecondOrderObserver, ThirdOrderObserver};
 pub use outputs::{DriveAngle, DriveOutputs, DriveOutputsState};
-pub use real::Float;
 pub use real::sincos::{Detection, Exact, Fast, SinCos, SinCosUnit};
+pub use real::{ChainNumber, Float};
 pub use state::{Estimate, ObserverState};
 
 #[cfg(test)]

@@ -26,6 +26,7 @@ mod sealed {
 /// few functions the recursion needs, each implemented once per type with [`libm`].
 pub trait Float:
     sealed::Sealed
+    + ChainNumber<Angle = Self>
     + Copy
     + Default
     + PartialOrd
@@ -177,6 +178,26 @@ pub trait Float:
     fn fast_phase_detector(self, y_c: Self, y_s: Self) -> (Self, Self) {
         sincos::fast_phase_detector(self, y_c, y_s)
     }
+}
+
+/// The number format of a chain's samples, and the format of its angles: rad in the same
+/// float for `f32` and `f64`; the binary angle (`i32`, 2^32 per turn) for the fixed-point
+/// observer's `i16` samples.
+pub trait ChainNumber: Copy {
+    /// The format of an angle.
+    type Angle: Copy;
+}
+
+impl ChainNumber for f32 {
+    type Angle = f32;
+}
+
+impl ChainNumber for f64 {
+    type Angle = f64;
+}
+
+impl ChainNumber for i16 {
+    type Angle = i32;
 }
 
 macro_rules! impl_real {

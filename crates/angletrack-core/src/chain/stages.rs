@@ -1,14 +1,16 @@
 //! The front end's stages as [`Stage`]s of a chain: the ADC ([`AdcScaling`], counts to
 //! units), a stored sensor calibration ([`SensorCalibration`]: offsets, imbalance,
 //! quadrature), the online calibration ([`OnlineCalibration`] with its [`Calibrator`], which
-//! learns from the observer's feedback) and the harmonic angle correction
+//! learns from the observer's feedback), the harmonic angle correction
 //! ([`AngleCorrection`], which rotates each sample by the error at the observer's
-//! prediction).
+//! prediction) and its table ([`AngleCorrectionTable`]); for the fixed-point observer,
+//! the same in integers ([`AdcCounts`], [`FixedCalibration`], [`FixedAngleCorrectionTable`]).
 
 use super::{Feedback, Prediction, Stage};
-use crate::adc::{AdcSample, AdcScaling};
+use crate::adc::{AdcCounts, AdcSample, AdcScaling};
 use crate::angle_correction::AngleCorrection;
-use crate::calibration::SensorCalibration;
+use crate::angle_table::{AngleCorrectionTable, FixedAngleCorrectionTable};
+use crate::calibration::{FixedCalibration, SensorCalibration};
 use crate::calibration_settings::{CalibrationSettings, CheckedCalibration};
 use crate::faults::Faults;
 use crate::learning::{CalibrationMode, Calibrator};
@@ -114,5 +116,69 @@ impl<T: Float> Stage<T, (T, T)> for OnlineCalibration<T> {
             return Faults::NONE;
         }
         calibrator.sensor_faults(&self.checked)
+    }
+}
+
+/// The angle error's table, read at the observer's predicted angle.
+impl<T: Float, const L: usize> Stage<T, (T, T)> for AngleCorrectionTable<T, L> {
+    type State = ();
+    type Memo = ();
+
+    #[inline(always)]
+    fn forward(
+        &self,
+        _: &mut (),
+        prediction: &impl Prediction<T>,
+        (y_c, y_s): (T, T),
+    ) -> ((T, T), ()) {
+        (self.rotate(prediction.angle(), y_c, y_s), ())
+    }
+}
+
+/// Raw ADC counts to the fixed-point observer's 16-bit samples.
+impl<I: AdcSample> Stage<i16, (I, I)> for AdcCounts {
+    type State = ();
+    type Memo = ();
+
+    #[inline(always)]
+    fn forward(
+        &self,
+        _: &mut (),
+        _: &impl Prediction<i16>,
+        (raw_c, raw_s): (I, I),
+    ) -> ((i16, i16), ()) {
+        (self.sample(raw_c, raw_s), ())
+    }
+}
+
+/// A stored calibration in integers.
+impl Stage<i16, (i16, i16)> for FixedCalibration {
+    type State = ();
+    type Memo = ();
+
+    #[inline(always)]
+    fn forward(
+        &self,
+        _: &mut (),
+        _: &impl Prediction<i16>,
+        (y_c, y_s): (i16, i16),
+    ) -> ((i16, i16), ()) {
+        (self.correct(y_c, y_s), ())
+    }
+}
+
+/// The angle error's table in integers, read at the predicted binary angle.
+impl<const L: usize> Stage<i16, (i16, i16)> for FixedAngleCorrectionTable<L> {
+    type State = ();
+    type Memo = ();
+
+    #[inline(always)]
+    fn forward(
+        &self,
+        _: &mut (),
+        prediction: &impl Prediction<i16>,
+        (y_c, y_s): (i16, i16),
+    ) -> ((i16, i16), ()) {
+        (self.rotate(prediction.angle(), y_c, y_s), ())
     }
 }

@@ -144,6 +144,15 @@ pub(crate) fn detect(angle: i32, y_c: i32, y_s: i32) -> (i32, i32, i32, i32) {
     (phase_error - correction, in_phase, sin, cos)
 }
 
+/// `(sin, cos)` in Q15 of the table entry nearest to the binary angle `angle` (within half a
+/// step, pi/256 rad): what the fixed-point observer's prediction gives a chain's stages.
+#[inline(always)]
+pub(crate) fn sin_cos_q15(angle: i32) -> (i16, i16) {
+    let index = (angle.wrapping_add(1 << 23) as u32 >> 24) as usize;
+    let entry = SIN_COS_Q15[index] as i32;
+    (entry as i16, (entry >> 16) as i16)
+}
+
 /// `atan2(y_s, y_c)` as a binary angle, by 30 CORDIC rotations (error below 2^-26 of a
 /// turn); 0 for (0, 0). Out of line: the first sample and re-acquisition only.
 #[cold]

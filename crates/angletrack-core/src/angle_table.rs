@@ -1,0 +1,227 @@
+//! The angle correction as a table over the electrical turn (`docs/theory.md §12`): the
+//! sensor's angle error `d(theta)` at `L` equally spaced angles, read at the observer's
+//! predicted angle by linear interpolation, and the sample rotated by `-d` there, as
+//! [`AngleCorrection`] does from its harmonics. A table costs the same whatever the error's
+//! shape or order: an index, two loads and a multiply-add for `d`, then the rotation.
+//! Generated from learned harmonics ([`AngleCorrectionTable::from_harmonics`]) or from a
+//! measured error curve ([`AngleCorrectionTable::from_curve`]); in fixed point
+//! ([`FixedAngleCorrectionTable`]) indexed by the binary angle's top bits.
+//!
+//! With the rotation's `sin d = d - d^3/6` and `cos d = 1 - d^2/2` (within `|d|^4/24` for
+//! `|d|` up to [`AngleCorrection::max_total_rad`]) and the linear interpolation of a smooth
+//! `d` (within `h^2 max|d''| / 8`, `h = 2 pi / L`: 1.7e-7 rad for a 4 mrad error at the 3rd
+//! harmonic and `L = 1024`, as [`AngleCorrectionTable::from_harmonics`]' example asserts),
+//! the correction is as good as the harmonics'.
+
+use crate::angle_correction::AngleCorrection;
+use crate::error::{ConfigError, Parameter};
+use crate::real::Float;
+
+/// The sensor's angle error `d` (rad) at the `L` angles `-pi + 2 pi k / L` of one electrical
+/// turn (`L` a power of two, 4 to 4096), removed inside the phase detector as
+/// [`AngleCorrection`] is: each sample is rotated by `-d(p)`, `d` interpolated linearly at
+/// the observer's predicted angle `p`. `Copy`: firmware keeps it in flash.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AngleCorrectionTable<T, const L: usize> {
+    errors: [T; L],
+}
+
+impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
+    /// `L` as a float: entries per turn.
+    const LENGTH_IS_A_POWER_OF_TWO: () = assert!(
+        L.is_power_of_two() && L >= 4 && L <= 4096,
+        "the table's length L must be a power of two from 4 to 4096"
+    );
+
+    /// The table of `errors` (rad) at the angles `-pi + 2 pi k / L`. Refuses a non-finite
+    /// entry or one beyond [`AngleCorrection::max_total_rad`] (0.25 rad), naming
+    /// `angle_correction`.
+    ///
+    /// ```
+    /// use angletrack_core::{AngleCorrectionTable, Parameter};
+    /// let table = AngleCorrectionTable::<f32, 4>::new([0.0, 0.01, 0.0, -0.01])?;
+    /// // Linear between the entries: -pi/4 lies half-way between -pi/2 and 0.
+    /// assert!((table.error_at(-core::f32::consts::FRAC_PI_4) - 0.005).abs() < 1e-6);
+    /// let err = AngleCorrectionTable::<f32, 4>::new([0.0, 0.3, 0.0, 0.0]).unwrap_err();
+    /// assert_eq!(err.parameter(), Parameter::AngleCorrection);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn new(errors: [T; L]) -> Result<Self, ConfigError> {
+        let () = Self::LENGTH_IS_A_POWER_OF_TWO;
+        for d in errors {
+            if !d.is_finite() {
+                return Err(ConfigError::NotFinite(Parameter::AngleCorrection));
+            }
+            if !(d.abs() <= AngleCorrection::<T>::max_total_rad()) {
+                return Err(ConfigError::OutOfRange(Parameter::AngleCorrection));
+            }
+        }
+        Ok(Self { errors })
+    }
+
+    /// The table of a harmonic correction: its error at each of the `L` angles.
+    ///
+    /// ```
+    /// use angletrack_core::{AngleCorrection, AngleCorrectionTable};
+    /// let mut b = [0.0; 8];
+    /// b[2] = 0.004; // 4 mrad at the 3rd harmonic
+    /// let harmonics = AngleCorrection::<f64>::new([0.0; 8], b)?;
+    /// let table = AngleCorrectionTable::<f64, 1024>::from_harmonics(&harmonics);
+    /// let worst = (0..1000)
+    ///     .map(|i| -core::f64::consts::PI + 6.28e-3 * i as f64)
+    ///     .map(|a| (table.error_at(a) - harmonics.error_at(a)).abs())
+    ///     .fold(0.0, f64::max);
+    /// assert!(worst < 2e-7, "{worst}");
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn from_harmonics(harmonics: &AngleCorrection<T>) -> Self {
+        let () = Self::LENGTH_IS_A_POWER_OF_TWO;
+        let mut errors = [T::ZERO; L];
+        for (k, d) in errors.iter_mut().enumerate() {
+            *d = harmonics.error_at(Self::angle_of(k));
+        }
+        // Every entry is within the harmonics' checked total.
+        Self { errors }
+    }
+
+    /// The table of a measured error curve: `curve[j]` (rad) at the angle
+    /// `-pi + 2 pi j / curve.len()`, at least 2 points over one electrical turn (an
+    /// encoder's error against a reference, binned by angle), resampled to `L` entries by
+    /// periodic linear interpolation. Refuses a curve of fewer than 2 points (naming
+    /// `curve`) and entries as [`AngleCorrectionTable::new`] does.
+    ///
+    /// ```
+    /// use angletrack_core::AngleCorrectionTable;
+    /// let curve = [0.0, 0.002, 0.0, -0.002]; // rad at -pi, -pi/2, 0, pi/2
+    /// let table = AngleCorrectionTable::<f32, 8>::from_curve(&curve)?;
+    /// assert!((table.error_at(-core::f32::consts::FRAC_PI_2) - 0.002).abs() < 1e-7);
+    /// assert!((table.error_at(-3.0 * core::f32::consts::FRAC_PI_4) - 0.001).abs() < 1e-7);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn from_curve(curve: &[T]) -> Result<Self, ConfigError> {
+        let () = Self::LENGTH_IS_A_POWER_OF_TWO;
+        let points = curve.len();
+        if points < 2 {
+            return Err(ConfigError::OutOfRange(Parameter::AngleErrorCurve));
+        }
+        let mut errors = [T::ZERO; L];
+        for (k, d) in errors.iter_mut().enumerate() {
+            // The curve's position of entry k, in points: k points / L, exact in any float.
+            let position =
+                T::from_i32(k as i32) * T::from_i32(points as i32) / T::from_i32(L as i32);
+            let j = position.floor_to_i32().max(0) as usize % points;
+            let fraction = position - T::from_i32(j as i32);
+            let (a, b) = (curve[j], curve[(j + 1) % points]);
+            *d = a + (b - a) * fraction;
+        }
+        Self::new(errors)
+    }
+
+    /// The angle of entry `k` (rad): `-pi + 2 pi k / L`.
+    fn angle_of(k: usize) -> T {
+        -T::PI + T::TAU * T::from_i32(k as i32) / T::from_i32(L as i32)
+    }
+
+    /// The entries (rad), at the angles `-pi + 2 pi k / L`.
+    pub fn errors(&self) -> &[T; L] {
+        &self.errors
+    }
+
+    /// The error `d` (rad) at `angle` (rad, in [-pi, pi); any other angle is wrapped into
+    /// the table by its index), interpolated linearly between the two nearest entries.
+    #[inline(always)]
+    pub fn error_at(&self, angle: T) -> T {
+        // The position in entries from -pi: in [0, L) for an angle in [-pi, pi).
+        let position = (angle + T::PI) * (T::from_i32(L as i32) * T::FRAC_1_TAU);
+        let whole = position.floor_to_i32();
+        let fraction = position - T::from_i32(whole);
+        // Masked: a power of two, so the index is always in the table (no bounds check).
+        let k = whole as usize & (L - 1);
+        let (a, b) = (self.errors[k], self.errors[(k + 1) & (L - 1)]);
+        a + (b - a) * fraction
+    }
+
+    /// The sample `(y_c, y_s)` rotated by `-d(p)` at the predicted angle `p` (rad, in
+    /// [-pi, pi)): see [`AngleCorrection::rotate`].
+    #[inline(always)]
+    pub fn rotate(&self, p: T, y_c: T, y_s: T) -> (T, T) {
+        crate::angle_correction::rotate_by(self.error_at(p), y_c, y_s)
+    }
+}
+
+/// An [`AngleCorrectionTable`] in the fixed-point observer's integers: the error in Q15 rad
+/// (2^-15 rad, 3e-5 rad) at `L` angles, indexed by the top bits of the predicted binary
+/// angle and interpolated by the next 15; the rotation in Q15 with the same
+/// `sin d = d - d^3/6`, `cos d = 1 - d^2/2`, saturated to `i16`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FixedAngleCorrectionTable<const L: usize> {
+    errors_q15: [i16; L],
+}
+
+impl<const L: usize> FixedAngleCorrectionTable<L> {
+    /// The table's index bits: `L = 2^BITS`.
+    const BITS: u32 = {
+        assert!(
+            L.is_power_of_two() && L >= 4 && L <= 4096,
+            "the table's length L must be a power of two from 4 to 4096"
+        );
+        L.trailing_zeros()
+    };
+
+    /// The integers of a float table (rad, within 0.25 rad: within `i16` in Q15), each
+    /// rounded to the nearest 2^-15 rad.
+    ///
+    /// ```
+    /// use angletrack_core::{AngleCorrectionTable, FixedAngleCorrectionTable};
+    /// let table = AngleCorrectionTable::<f64, 4>::new([0.0, 0.01, 0.0, -0.01])?;
+    /// let fixed = FixedAngleCorrectionTable::from_table(&table);
+    /// assert_eq!(fixed.errors_q15(), &[0, 328, 0, -328]);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn from_table(table: &AngleCorrectionTable<f64, L>) -> Self {
+        let _ = Self::BITS;
+        let mut errors_q15 = [0; L];
+        for (q, d) in errors_q15.iter_mut().zip(table.errors()) {
+            // |d| <= 0.25 rad: at most 8192 in Q15.
+            *q = libm::round(d * 32768.0) as i16;
+        }
+        Self { errors_q15 }
+    }
+
+    /// The entries (Q15 rad).
+    pub fn errors_q15(&self) -> &[i16; L] {
+        &self.errors_q15
+    }
+
+    /// The error `d` in Q15 rad at the binary angle `angle` (2^32 per turn, `i32::MIN` is
+    /// -pi), interpolated linearly.
+    #[inline(always)]
+    pub fn error_at(&self, angle: i32) -> i32 {
+        // The angle from -pi as an unsigned turn: the index is its top bits, the fraction
+        // the next 15.
+        let turn = angle.wrapping_sub(i32::MIN) as u32;
+        let k = (turn >> (32 - Self::BITS)) as usize & (L - 1);
+        let fraction = ((turn << Self::BITS) >> 17) as i32;
+        let a = i32::from(self.errors_q15[k]);
+        let b = i32::from(self.errors_q15[(k + 1) & (L - 1)]);
+        // |b - a| <= 2^14, fraction < 2^15: the product is below 2^29.
+        a + (((b - a) * fraction) >> 15)
+    }
+
+    /// The sample rotated by `-d` at the predicted binary angle `angle` (see
+    /// [`AngleCorrectionTable::rotate`]), saturated to `i16`. With `|d| <= 2^13` (0.25 rad)
+    /// and `|y| < 2^15`, every product is below 2^29: no overflow.
+    #[inline(always)]
+    pub fn rotate(&self, angle: i32, y_c: i16, y_s: i16) -> (i16, i16) {
+        let d = self.error_at(angle);
+        let d2 = (d * d) >> 15;
+        // sin d = d - d^3/6 (5461 / 2^15 = 1/6), 1 - cos d = d^2/2: Q15.
+        let sin_d = d - ((((d * d2) >> 15) * 5461) >> 15);
+        let half_d2 = d2 >> 1;
+        let (c, s) = (i32::from(y_c), i32::from(y_s));
+        let c_out = c + ((s * sin_d - c * half_d2 + (1 << 14)) >> 15);
+        let s_out = s + ((-c * sin_d - s * half_d2 + (1 << 14)) >> 15);
+        let saturate = |v: i32| v.clamp(-32768, 32767) as i16;
+        (saturate(c_out), saturate(s_out))
+    }
+}

@@ -53,7 +53,7 @@
 //! * Calibration files ([`CalibrationFile`]): a sensor calibration learned while tracking
 //!   ([`SensorCalibrationRecord`]) or by [`learn_angle_correction`] ([`CaptureCalibration`])
 //!   as JSON, read back exactly, every refusal naming the file and the field.
-//! * Raw ADC counts and units ([`CountsInput`], [`offset_binary_mid_scale`],
+//! * Raw ADC counts and units ([`CountsInput`], [`offset_binary_mid_scale`], [`capture_mid_scale`],
 //!   [`ThresholdPolicy`]): the mid-scale of unsigned counts found from the first samples, and
 //!   the monitor's thresholds scaled to the first samples' amplitude.
 //!
@@ -99,7 +99,10 @@ pub use calibration::{
     CalibrationOptions, CaptureCalibration, MIN_ERROR_TRANSFER, SENSOR_CALIBRATION_FORMAT,
     SensorCalibrationRecord, error_transfer, learn_angle_correction,
 };
-pub use counts::{AdcCount, CountsInput, CountsSettings, offset_binary_mid_scale};
+pub use counts::{
+    AdcCount, CountsInput, CountsSettings, UnsignedCountsError, capture_mid_scale,
+    offset_binary_mid_scale,
+};
 pub use design::{
     AnyDesign, Design, DesignMethod, Discretisation, FixedDesignConstants, KalmanSolution,
     MAX_POLE_TIMES_PERIOD, convert_gains, kalman, kalman_from_jerk_density, kalman_from_jerk_std,

@@ -1,6 +1,6 @@
-//! The calibration files: files the Python package wrote before the format moved into this
-//! crate read back exactly (`tests/fixtures/calibration/`), round trips, and refusals that
-//! name the file and the field.
+//! The calibration files: files in the Python `json` module's layout (`tests/fixtures/
+//! calibration/`, as users hold them) read back exactly, round trips, and refusals that name
+//! the file and the field.
 
 use std::path::PathBuf;
 
@@ -46,7 +46,7 @@ fn sensor_record() -> SensorCalibrationRecord {
 }
 
 #[test]
-fn files_written_by_the_python_package_read_back_exactly() {
+fn files_in_the_python_json_layout_read_back_exactly() {
     let angle = CalibrationFile::read(&fixture("angle.json")).unwrap();
     assert_eq!(angle, CalibrationFile::Angle(angle_calibration()));
     let sensor = CalibrationFile::read(&fixture("sensor.json")).unwrap();

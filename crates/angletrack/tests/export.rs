@@ -1,6 +1,7 @@
-//! The generated C headers and Rust `const` blocks, byte for byte against the files the
-//! Python package generated for the same values before the generators moved into this
-//! crate (`tests/fixtures/export/`).
+//! The generated C headers and Rust `const` blocks, byte for byte against reference files
+//! (`tests/fixtures/export/`, written by the NumPy-formatting generator the command line
+//! used), so that a header or `const` block checked into a firmware project regenerates
+//! unchanged.
 
 use angletrack::export::{
     FloatType, calibration_c_header, calibration_rust, fixed_c_header, fixed_rust, gains_c_header,

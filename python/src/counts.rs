@@ -55,13 +55,12 @@ pub fn adc_settings(
     mid_scale: Option<i64>,
     counts_per_unit: Option<f64>,
 ) -> Result<CountsSettings> {
-    let mid_scale =
-        match mid_scale {
-            None => None,
-            Some(m) => Some(i32::try_from(m).map_err(|_| {
-                Error::value("adc_mid_scale", format!("{m} is beyond +-2^30 counts"))
-            })?),
-        };
+    let mid_scale = mid_scale
+        .map(|m| {
+            i32::try_from(m)
+                .map_err(|_| Error::value("adc_mid_scale", format!("{m} is beyond +-2^30 counts")))
+        })
+        .transpose()?;
     Ok(CountsSettings::new(
         mid_scale,
         counts_per_unit.unwrap_or(1.0),

@@ -3,8 +3,8 @@
 //! `angletrack.harmonics` (`calibrate`, `Calibration`, `CalibratedObserver`).
 
 use angletrack::{
-    AngleCorrection, CalibrationOptions, Calibrator, EstimateColumns, Gains, ObserverState,
-    SensorCalibration,
+    AngleCorrection, CalibrationOptions, Calibrator, CaptureCalibration, EstimateColumns, Gains,
+    ObserverState, SensorCalibration,
 };
 use angletrack_core::MAX_CORRECTION_ORDER;
 use pyo3::prelude::*;
@@ -16,7 +16,7 @@ use crate::estimates::{Estimates, OutputArrays};
 use crate::gains::{GainSet, PyGains, with_gains};
 
 /// The sensor calibration `(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)`.
-type SensorParameters = (f64, f64, f64, f64, f64);
+pub type SensorParameters = (f64, f64, f64, f64, f64);
 
 /// Learns the calibration of a capture `(y_c, y_s)` at roughly constant speed tracked with
 /// `gains` (float64): a dict with `sensor` (the offsets, amplitudes and quadrature), `cos`
@@ -44,6 +44,15 @@ pub fn learn_calibration<'py>(
     let learned = with_gains!(gains.set, g => py.detach(|| {
         angletrack::learn_angle_correction(&g, c, s, &options)
     }))?;
+    learned_dict(py, &learned)
+}
+
+/// The dict of a learned calibration: `sensor`, `cos`, `sin`, `speed_rad_s`, `turns`,
+/// `error_rms_rad` and `residual_rms_rad`.
+pub fn learned_dict<'py>(
+    py: Python<'py>,
+    learned: &CaptureCalibration,
+) -> Result<Bound<'py, PyDict>> {
     let (a, b) = learned.correction.coefficients();
     let out = PyDict::new(py);
     out.set_item("sensor", learned.sensor.parameters())?;
@@ -57,7 +66,7 @@ pub fn learn_calibration<'py>(
 }
 
 /// The core's sensor calibration and angle correction from their parameters, checked.
-fn checked(
+pub fn checked(
     sensor: SensorParameters,
     cos: Vec<f64>,
     sin: Vec<f64>,

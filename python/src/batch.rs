@@ -6,7 +6,9 @@ use angletrack_core::Real;
 use pyo3::prelude::*;
 
 use crate::arrays::{Float, channel_samples};
-use crate::counts::{AdcInput, AdcSettings};
+use angletrack::CountsSettings;
+
+use crate::counts::AdcInput;
 use crate::dispatch::{Arg, PhaseSinCos, RunSettings, Sample};
 use crate::errors::{Error, Result};
 use crate::estimates::{Estimates, OutputArrays, OutputSelection};
@@ -25,7 +27,7 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Batch<T, N, S> {
     pub fn new(batch: ChannelBatch<T, N, S>) -> Self {
         Self {
             batch,
-            adc: AdcInput::new(AdcSettings::default()),
+            adc: AdcInput::new(CountsSettings::default()),
         }
     }
 }

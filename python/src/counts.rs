@@ -1,18 +1,13 @@
 //! Raw ADC counts as an observer's input: integer numpy arrays (int16, uint16, int32)
 //! converted through the core's `AdcScaling`, with no conversion by the caller.
 //!
-//! The rule (the same for `track` and `Observer.update`): the counts minus a mid-scale,
-//! divided by `adc_counts_per_unit` (default 1: the observer runs in counts, converted
-//! exactly: any count fits a float64, and a float32 up to 2^24). The mid-scale is
-//! `adc_mid_scale` if given, else 0 for the signed types (the mid-scale already removed),
-//! and for uint16 (an offset-binary ADC) `offset_binary_mid_scale` of the largest sample of
-//! the first call: `2^(b-1)` for the smallest `b` whose range `2^b` holds it (12 bits for
-//! counts up to 4095), since a signal centred on the mid-scale always exceeds it. `angletrack
-//! track` takes the same rule for a capture of non-negative whole counts. The loop needs no more (its phase error is
-//! normalised); the diagnostics' amplitudes follow the signal when no thresholds are given
-//! (`angletrack::capture_fault_thresholds`).
+//! The rule (the same for `track` and `Observer.update`, and `angletrack track` takes it for a
+//! capture of non-negative whole counts) is `angletrack::CountsInput`'s: the counts minus a
+//! mid-scale, divided by `adc_counts_per_unit` (default 1: the observer runs in counts), the
+//! mid-scale of uint16 counts found from the first call's samples when `adc_mid_scale` is not
+//! given. This module only moves numpy arrays in and out.
 
-use angletrack_core::{AdcSample, AdcScaling};
+use angletrack::{AdcCount, CountsInput, CountsSettings};
 use numpy::prelude::*;
 use numpy::{Element, PyArray1, PyArrayDescr, PyUntypedArray, dtype};
 use pyo3::prelude::*;
@@ -55,55 +50,35 @@ impl Counts {
 }
 
 /// The ADC arguments of an observer: `adc_mid_scale` (counts, `None`: by the rule of this
-/// module) and `adc_counts_per_unit`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AdcSettings {
-    mid_scale: Option<i32>,
-    counts_per_unit: f64,
-}
-
-impl AdcSettings {
-    /// Checked by the core's `AdcScaling::new` (a `ConfigError` naming `adc_mid_scale` or
-    /// `adc_counts_per_unit`).
-    pub fn new(mid_scale: Option<i64>, counts_per_unit: Option<f64>) -> Result<Self> {
-        let counts_per_unit = counts_per_unit.unwrap_or(1.0);
-        let mid_scale = match mid_scale {
-            None => None,
-            Some(m) => Some(i32::try_from(m).map_err(|_| {
-                Error::value("adc_mid_scale", format!("{m} is beyond +-2^30 counts"))
-            })?),
-        };
-        AdcScaling::<f64>::new(mid_scale.unwrap_or(0), counts_per_unit)?;
-        Ok(Self {
-            mid_scale,
-            counts_per_unit,
+/// module) and `adc_counts_per_unit`, checked by the core (a `ConfigError` naming either).
+pub fn adc_settings(
+    mid_scale: Option<i64>,
+    counts_per_unit: Option<f64>,
+) -> Result<CountsSettings> {
+    let mid_scale = mid_scale
+        .map(|m| {
+            i32::try_from(m)
+                .map_err(|_| Error::value("adc_mid_scale", format!("{m} is beyond +-2^30 counts")))
         })
-    }
+        .transpose()?;
+    Ok(CountsSettings::new(
+        mid_scale,
+        counts_per_unit.unwrap_or(1.0),
+    )?)
 }
 
-impl Default for AdcSettings {
-    fn default() -> Self {
-        Self {
-            mid_scale: None,
-            counts_per_unit: 1.0,
-        }
-    }
-}
-
-/// The front end of one observer: its settings, and the scaling they resolved to at the
-/// first call with counts (kept, so that a capture fed in chunks is scaled alike).
+/// The front end of one observer: the crate's `CountsInput`, which decides the scaling at
+/// the first call with counts and keeps it, so that a capture fed in chunks is scaled alike.
 #[derive(Debug, Clone, Copy)]
 pub struct AdcInput<T> {
-    settings: AdcSettings,
-    scaling: Option<AdcScaling<T>>,
+    input: CountsInput<T>,
 }
 
 impl<T: Sample> AdcInput<T> {
-    /// A front end that resolves its scaling at the first call with counts.
-    pub fn new(settings: AdcSettings) -> Self {
+    /// A front end that decides its scaling at the first call with counts.
+    pub fn new(settings: CountsSettings) -> Self {
         Self {
-            settings,
-            scaling: None,
+            input: CountsInput::new(settings),
         }
     }
 
@@ -158,21 +133,8 @@ impl<T: Sample> AdcInput<T> {
     ) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
         let c = counts::<I>(y_c, "y_c")?;
         let s = counts::<I>(y_s, "y_s")?;
-        let scaling = match self.scaling {
-            Some(scaling) => scaling,
-            None => {
-                let mid_scale = match self.settings.mid_scale {
-                    Some(m) => m,
-                    None => I::default_mid_scale(c.iter().chain(&s).copied()),
-                };
-                let counts_per_unit = T::from_f64(self.settings.counts_per_unit);
-                *self
-                    .scaling
-                    .insert(AdcScaling::new(mid_scale, counts_per_unit)?)
-            }
-        };
-        let scale = |v: Vec<I>| Samples::Copied(v.into_iter().map(|x| scaling.scale(x)).collect());
-        Ok((scale(c), scale(s)))
+        let (c, s) = self.input.scale(&c, &s)?;
+        Ok((Samples::Copied(c), Samples::Copied(s)))
     }
 }
 
@@ -187,37 +149,11 @@ fn describe(counts: Option<Counts>) -> String {
 }
 
 /// An integer type of ADC counts as numpy stores it.
-trait Count: AdcSample + Element + Copy {
-    /// The mid-scale of samples `values` when none is given (see the module's rule).
-    fn default_mid_scale(values: impl Iterator<Item = Self>) -> i32;
-}
+trait Count: AdcCount + Element + Copy {}
 
-impl Count for i16 {
-    fn default_mid_scale(_: impl Iterator<Item = Self>) -> i32 {
-        0
-    }
-}
-
-impl Count for i32 {
-    fn default_mid_scale(_: impl Iterator<Item = Self>) -> i32 {
-        0
-    }
-}
-
-impl Count for u16 {
-    fn default_mid_scale(values: impl Iterator<Item = Self>) -> i32 {
-        let largest = values.max().unwrap_or(0);
-        // At most 2^15: a u16 always holds it.
-        i32::from(u16::try_from(mid_scale_of(u64::from(largest))).unwrap_or(u16::MAX))
-    }
-}
-
-/// The mid-scale `2^(b-1)` of offset-binary counts (0 to `2^b - 1`, a zero signal at
-/// `2^(b-1)`) for the smallest `b`, at least 2, whose range `2^b` holds `largest`.
-fn mid_scale_of(largest: u64) -> u64 {
-    let bits = (u64::BITS - largest.leading_zeros()).max(2);
-    1 << (bits - 1)
-}
+impl Count for i16 {}
+impl Count for u16 {}
+impl Count for i32 {}
 
 /// The largest count `offset_binary_mid_scale` takes: 2^53, below which every whole number
 /// is a float64.
@@ -245,7 +181,18 @@ pub fn offset_binary_mid_scale(largest_count: f64) -> Result<u64> {
     }
     // Checked above: a whole number from 0 to 2^53, exact as a u64.
     let largest = largest_count as u64;
-    Ok(mid_scale_of(largest))
+    Ok(angletrack::offset_binary_mid_scale(largest))
+}
+
+/// The mid-scale (counts) of a capture of whole counts read as floats, from its first
+/// samples `y_c`, `y_s` (`angletrack::capture_mid_scale`): 0 for signed counts or a capture
+/// centred already, else `offset_binary_mid_scale` of the largest sample. A `ConfigError`
+/// (parameter `capture`) for counts no ADC gives.
+#[pyfunction]
+pub fn capture_mid_scale(y_c: &Bound<'_, PyAny>, y_s: &Bound<'_, PyAny>) -> Result<u64> {
+    let (c, s) = (samples::<f64>(y_c, "y_c")?, samples::<f64>(y_s, "y_s")?);
+    angletrack::capture_mid_scale(c.as_slice(), s.as_slice())
+        .map_err(|e| Error::value("capture", e.to_string()))
 }
 
 /// The counts of a 1-D, non-empty array of `I`, copied.

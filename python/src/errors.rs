@@ -14,6 +14,8 @@
 //!   `angletrack.CaptureError`, a subclass of `ValueError` with `path`, `line` and `column`
 //!   attributes (`None` where the fault has no line or column), whose message is
 //!   `FILE:LINE:COLUMN: what`;
+//! * a calibration file that cannot be read is a `ValueError` whose message is
+//!   `FILE: FIELD: what is wrong`;
 //! * an array larger than the memory left is a `MemoryError` naming the argument;
 //! * errors raised by Python itself while converting arguments pass through unchanged.
 
@@ -72,6 +74,10 @@ pub enum Error {
         /// The bytes that could not be allocated.
         bytes: u128,
     },
+    /// A firmware source generator refused its arguments.
+    Export(angletrack::export::ExportError),
+    /// A calibration file could not be read.
+    CalibrationFile(angletrack::CalibrationFileError),
     /// An exception raised by Python (or numpy) while converting an argument.
     Python(PyErr),
 }
@@ -107,6 +113,18 @@ impl From<angletrack::Error> for Error {
 impl From<CoreCaptureError> for Error {
     fn from(e: CoreCaptureError) -> Self {
         Error::Capture(e)
+    }
+}
+
+impl From<angletrack::export::ExportError> for Error {
+    fn from(e: angletrack::export::ExportError) -> Self {
+        Error::Export(e)
+    }
+}
+
+impl From<angletrack::CalibrationFileError> for Error {
+    fn from(e: angletrack::CalibrationFileError) -> Self {
+        Error::CalibrationFile(e)
     }
 }
 
@@ -210,6 +228,8 @@ impl From<Error> for PyErr {
                 "{parameter}: {bytes} bytes are needed and cannot be allocated; process the \
                  samples in chunks (the observers keep their state between calls)"
             )),
+            Error::Export(e) => config_error(e.field(), e.to_string()),
+            Error::CalibrationFile(e) => PyValueError::new_err(e.to_string()),
             Error::Python(e) => e,
         }
     }

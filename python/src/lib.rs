@@ -11,6 +11,7 @@ mod angle_calibration;
 mod arrays;
 mod batch;
 mod calibration;
+mod calibration_file;
 mod capture;
 mod counts;
 mod design;
@@ -20,6 +21,7 @@ mod dispatch;
 mod drive;
 mod errors;
 mod estimates;
+mod export;
 mod fixed;
 mod fixed_estimates;
 mod gains;
@@ -50,6 +52,7 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<batch::PyObserverBatch>()?;
     m.add_function(wrap_pyfunction!(batch::track_batch, m)?)?;
     m.add_function(wrap_pyfunction!(counts::offset_binary_mid_scale, m)?)?;
+    m.add_function(wrap_pyfunction!(counts::capture_mid_scale, m)?)?;
     design_functions::register(m)?;
     scenario::register(m)?;
     metrics::register(m)?;
@@ -57,5 +60,7 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     capture::register(m)?;
     resolver::register(m)?;
     angle_calibration::register(m)?;
+    export::register(m)?;
+    calibration_file::register(m)?;
     Ok(())
 }

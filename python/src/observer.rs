@@ -3,7 +3,7 @@
 //! The per-sample work is the core's `Gains::update`; this module only moves samples in and
 //! estimates out, with the GIL released, straight into preallocated arrays that numpy owns.
 
-use angletrack::{EstimateColumns, capture_fault_thresholds};
+use angletrack::{CountsSettings, EstimateColumns, ThresholdPolicy};
 use angletrack_core::{
     CalibrationMode, Calibrator, Faults, Gains as CoreGains, Observer as CoreObserver,
     ObserverState, Real, SinCos,
@@ -12,7 +12,7 @@ use pyo3::prelude::*;
 
 use crate::arrays::{Float, check_equal_lengths};
 use crate::calibration::{CalibrationChoice, PySensorCalibration, mode_name};
-use crate::counts::{AdcInput, AdcSettings};
+use crate::counts::{AdcInput, adc_settings};
 use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::{Arg, PhaseSinCos, Run, RunSettings, Sample};
 use crate::errors::{Error, Result};
@@ -25,7 +25,7 @@ pub struct ObserverOptions {
     /// The diagnostics' thresholds; `None`: scaled to the first call's samples.
     pub thresholds: Option<PyFaultThresholds>,
     /// How integer counts are scaled.
-    pub adc: AdcSettings,
+    pub adc: CountsSettings,
     /// The online calibration.
     pub calibration: CalibrationChoice,
 }
@@ -49,28 +49,29 @@ pub trait ObserverOps: Run {
 }
 
 /// The core observer behind the binding's front end: integer counts scaled
-/// (`crate::counts`), the online calibration, and the diagnostics' thresholds scaled to the
-/// first call's samples when the caller gave none.
+/// (`crate::counts`), the online calibration, and the diagnostics' thresholds by the crate's
+/// `ThresholdPolicy` (scaled to the first call's samples when the caller gave none).
 #[derive(Debug)]
 pub struct Channel<T: Real, const N: usize, S> {
     observer: CoreObserver<T, N, S>,
     calibrator: Calibrator<T>,
     adc: AdcInput<T>,
-    thresholds_from_samples: bool,
+    thresholds: ThresholdPolicy<T>,
 }
 
 impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Channel<T, N, S> {
     /// The observer of `gains` with `options`.
     pub fn new(gains: CoreGains<T, N, S>, options: &ObserverOptions) -> Result<Self> {
-        let gains = match &options.thresholds {
-            Some(t) => gains.with_fault_thresholds(t.typed())?,
+        let thresholds = ThresholdPolicy::new(options.thresholds.map(|t| t.typed()));
+        let gains = match thresholds.thresholds() {
+            Some(t) => gains.with_fault_thresholds(t)?,
             None => gains,
         };
         Ok(Self {
             observer: CoreObserver::new(gains),
             calibrator: options.calibration.calibrator()?,
             adc: AdcInput::new(options.adc),
-            thresholds_from_samples: options.thresholds.is_none(),
+            thresholds,
         })
     }
 }
@@ -80,10 +81,8 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for Channel<T, N, S> {
         let (y_c, y_s) = self.adc.signals(y_c, y_s)?;
         let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
         check_equal_lengths(("y_c", y_c.len()), ("y_s", y_s.len()))?;
-        if self.thresholds_from_samples {
-            let thresholds = capture_fault_thresholds(y_c, y_s);
+        if let Some(thresholds) = self.thresholds.decide(y_c, y_s) {
             self.observer.gains = self.observer.gains.with_fault_thresholds(thresholds)?;
-            self.thresholds_from_samples = false;
         }
         let out = OutputArrays::<T>::new(py, y_c.len())?;
         out.fill(py, |columns| run_columns(columns, self, y_c, y_s))?;
@@ -128,8 +127,11 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
     }
 
     fn fault_thresholds(&self) -> Option<PyFaultThresholds> {
+        // The gains' own (checked) thresholds, once the policy has decided them.
         let thresholds = self.observer.gains.fault_thresholds();
-        (!self.thresholds_from_samples).then(|| PyFaultThresholds::from_typed(&thresholds))
+        self.thresholds
+            .thresholds()
+            .map(|_| PyFaultThresholds::from_typed(&thresholds))
     }
 
     fn amplitude(&self) -> f64 {
@@ -223,7 +225,7 @@ impl PyObserver {
     ) -> Result<PyClassInitializer<Self>> {
         let options = ObserverOptions {
             thresholds: fault_thresholds,
-            adc: AdcSettings::new(adc_mid_scale, adc_counts_per_unit)?,
+            adc: adc_settings(adc_mid_scale, adc_counts_per_unit)?,
             calibration: CalibrationChoice::new(calibration, initial_calibration)?,
         };
         RunSettings::from_arguments(gains, dtype, sin_cos)?.subclass(|gains| {
@@ -377,7 +379,7 @@ pub fn track(
     let settings = RunSettings::new(gains, Float::of_samples(y_c, "y_c")?, sin_cos)?;
     let options = ObserverOptions {
         thresholds: fault_thresholds,
-        adc: AdcSettings::new(adc_mid_scale, adc_counts_per_unit)?,
+        adc: adc_settings(adc_mid_scale, adc_counts_per_unit)?,
         calibration: CalibrationChoice::default(),
     };
     settings

@@ -48,6 +48,14 @@
 //!   capture's own amplitude (`docs/theory.md §12`).
 //! * Many channels ([`ChannelBatch`]): any number of channels on one gain set, run by the
 //!   core's vectorisable [`ChannelBank`]s.
+//! * Firmware source ([`export`]): the gains, the fixed-point constants and a calibration as a
+//!   C header or Rust `const`s, in the firmware's float type.
+//! * Calibration files ([`CalibrationFile`]): a sensor calibration learned while tracking
+//!   ([`SensorCalibrationRecord`]) or by [`learn_angle_correction`] ([`CaptureCalibration`])
+//!   as JSON, read back exactly, every refusal naming the file and the field.
+//! * Raw ADC counts and units ([`CountsInput`], [`offset_binary_mid_scale`], [`capture_mid_scale`],
+//!   [`ThresholdPolicy`]): the mid-scale of unsigned counts found from the first samples, and
+//!   the monitor's thresholds scaled to the first samples' amplitude.
 //!
 //! The mathematics is in the repository's `docs/theory.md`: the designs in §2 to §4, the
 //! discretisations in §7, the noise prediction in §8, the speed limits in §9; each module
@@ -72,11 +80,14 @@ pub use nalgebra::Complex;
 mod analysis;
 mod calibration;
 pub mod capture;
+mod counts;
 mod design;
 mod error;
+pub mod export;
 mod linalg;
 pub mod paper;
 mod sim;
+mod thresholds;
 
 pub use analysis::{
     DesignReport, LARGE_STEP_RAD, PredictedError, SETTLING_BAND, StepResponse,
@@ -84,8 +95,13 @@ pub use analysis::{
     predicted_error_on_kalman_model,
 };
 pub use calibration::{
-    CalibrationOptions, CaptureCalibration, MIN_ERROR_TRANSFER, error_transfer,
-    learn_angle_correction,
+    ANGLE_CALIBRATION_FORMAT, CALIBRATION_FILE_VERSION, CalibrationFile, CalibrationFileError,
+    CalibrationOptions, CaptureCalibration, MIN_ERROR_TRANSFER, SENSOR_CALIBRATION_FORMAT,
+    SensorCalibrationRecord, error_transfer, learn_angle_correction,
+};
+pub use counts::{
+    AdcCount, CountsInput, CountsSettings, UnsignedCountsError, capture_mid_scale,
+    offset_binary_mid_scale,
 };
 pub use design::{
     AnyDesign, Design, DesignMethod, Discretisation, FixedDesignConstants, KalmanSolution,
@@ -101,3 +117,4 @@ pub use sim::{
     NOMINAL_AMPLITUDE_SAMPLES, Output, ResolverModel, Run, Scenario, SensorModel,
     capture_fault_thresholds, nominal_amplitude, run, run_calibrated,
 };
+pub use thresholds::ThresholdPolicy;

@@ -2,7 +2,7 @@
 
 import os
 from collections.abc import Iterable, Sequence
-from typing import Any, Literal, Optional, Union, overload
+from typing import Literal, Optional, TypedDict, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -16,6 +16,31 @@ _Signal = Union[_Samples, npt.NDArray[np.int16], npt.NDArray[np.uint16], npt.NDA
 _CalibrationMode = Optional[Literal["learn", "frozen", "off"]]
 _DType = Union[type[np.float32], type[np.float64], np.dtype, Literal["float32", "float64"], None]
 _SinCos = Optional[Literal["fast", "exact"]]
+#: The float type of the constants written for firmware.
+_FloatType = Literal["float32", "float64"]
+_SensorParameters = tuple[float, float, float, float, float]
+
+class _FixedConstants(TypedDict):
+    """The fixed-point constants of a design (``Design.fixed_constants()``)."""
+
+    multiplier: list[int]
+    acceleration_shift: int
+    quantised_gains: list[float]
+    sample_period_s: float
+
+class _LearnedCalibration(TypedDict):
+    """An angle calibration as the extension gives it (``learn_calibration``, a calibration
+    file): the sensor's ``(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)``,
+    the angle error's ``cos`` and ``sin`` coefficients (8 each, rad) and what the learning
+    saw (NaN where unknown)."""
+
+    sensor: _SensorParameters
+    cos: list[float]
+    sin: list[float]
+    speed_rad_s: float
+    turns: float
+    error_rms_rad: float
+    residual_rms_rad: float
 
 class Gains:
     """Discrete gains ``(l1, l2[, l3])`` of the scaled-state recursion and the sample
@@ -276,7 +301,7 @@ class FixedObserver:
     def __init__(self, design: Union[Design, Gains], *, nominal_amplitude: Optional[float] = 16384.0) -> None: ...
     @staticmethod
     def from_constants(
-        constants: dict[str, Any], sample_period_s: float, *, nominal_amplitude: Optional[float] = 16384.0
+        constants: _FixedConstants, sample_period_s: float, *, nominal_amplitude: Optional[float] = 16384.0
     ) -> FixedObserver:
         """The observer of the integers a firmware embeds: the dict ``Design.fixed_constants()``
         returns (``multiplier``, ``acceleration_shift``; other keys ignored), checked again
@@ -291,7 +316,7 @@ class FixedObserver:
     def reset(self) -> None:
         """Forgets the state: the next sample sets the angle from its ``atan2``."""
     @property
-    def constants(self) -> dict[str, Any]:
+    def constants(self) -> _FixedConstants:
         """The integer constants (as ``Design.fixed_constants()``)."""
     @property
     def gains(self) -> list[float]:
@@ -312,6 +337,11 @@ def offset_binary_mid_scale(largest_count: float) -> int:
     """The mid-scale (counts) of unsigned, offset-binary ADC counts whose largest sample is
     ``largest_count`` (a whole number, 0 to 2^53): ``2^(b-1)`` for the smallest ``b``, at
     least 2, whose range ``2^b`` holds it; the rule an observer centres uint16 counts by."""
+
+def capture_mid_scale(y_c: _Samples, y_s: _Samples) -> int:
+    """The mid-scale (counts) of a capture of whole counts read as floats, from its first
+    samples: 0 if a sample is negative or none is positive, else ``offset_binary_mid_scale``
+    of the largest; ``ConfigError`` (parameter ``capture``) for counts no ADC gives."""
 
 #: The estimates a batch may be asked for (``outputs=``).
 _OutputName = Literal["angle", "position", "speed", "acceleration", "phase_error", "faults"]
@@ -469,7 +499,7 @@ class Design:
     sample_period_s: float
     order: int
     def report(self, sensor_noise_std: float = 0.0) -> DesignReport: ...
-    def fixed_constants(self) -> dict[str, Any]: ...
+    def fixed_constants(self) -> _FixedConstants: ...
 
 def predicted_error(gains: Gains, sensor_noise_std: float, process_noise_q: float = 0.0) -> PredictedError: ...
 def predicted_error_on_kalman_model(
@@ -840,12 +870,64 @@ class DriveOutputs:
 def learn_calibration(
     gains: Gains, y_c: _Samples, y_s: _Samples, *, lowest_order: int = 1, highest_order: int = 8,
     settle_fraction: float = 0.2,
-) -> dict[str, Any]:
+) -> _LearnedCalibration:
     """The calibration of a capture at roughly constant speed (see ``angletrack.calibrate``)."""
 
 class _CorrectedObserver:
     def __init__(
-        self, gains: Gains, sensor: tuple[float, float, float, float, float], cos: Sequence[float],
+        self, gains: Gains, sensor: _SensorParameters, cos: Sequence[float],
         sin: Sequence[float],
     ) -> None: ...
     def update(self, y_c: _Samples, y_s: _Samples) -> Estimates: ...
+
+# ----------------------------------------------------------- firmware source (angletrack::export)
+
+def gains_c_header(
+    gains: Gains, *, name: str = "angletrack", dtype: _FloatType = "float32", description: str = ""
+) -> str:
+    """A C header with the gains, the sample period, the sample rate and the order in
+    ``dtype``; ``ConfigError`` naming ``name`` (not an identifier), ``dtype`` or the value
+    not finite in ``dtype``."""
+def gains_rust(
+    gains: Gains, *, name: str = "angletrack", dtype: _FloatType = "float32", description: str = ""
+) -> str:
+    """A block of Rust ``const`` for ``angletrack_core::Gains::new``."""
+def fixed_c_header(constants: _FixedConstants, *, name: str = "angletrack", description: str = "") -> str:
+    """A C header with the fixed-point constants of ``Design.fixed_constants()``."""
+def fixed_rust(constants: _FixedConstants, *, name: str = "angletrack", description: str = "") -> str:
+    """A Rust ``const`` for ``angletrack_core::FixedGains::from_constants``."""
+def calibration_c_header(
+    sensor: _SensorParameters, cos: Sequence[float], sin: Sequence[float], *, name: str = "angletrack",
+    dtype: _FloatType = "float32",
+) -> str:
+    """A C header with a sensor calibration and an angle correction (checked by the core)."""
+def calibration_rust(
+    sensor: _SensorParameters, cos: Sequence[float], sin: Sequence[float], *, name: str = "angletrack",
+    dtype: _FloatType = "float32",
+) -> str:
+    """A block of Rust ``const`` for ``SensorCalibration::new`` and ``AngleCorrection::new``."""
+
+# ----------------------------------------------------------- calibration files (angletrack::CalibrationFile)
+
+#: The ``format`` of a sensor calibration file (``angletrack track --calibrate``).
+SENSOR_CALIBRATION_FORMAT: str
+#: The ``format`` of an angle calibration file (``angletrack calibrate``).
+ANGLE_CALIBRATION_FORMAT: str
+
+def sensor_calibration_to_json(
+    calibration: SensorCalibration, *, turns_learned: Optional[int] = None, source: Optional[str] = None
+) -> str:
+    """The JSON text of a sensor calibration file."""
+def angle_calibration_to_json(
+    sensor: _SensorParameters, cos: Sequence[float], sin: Sequence[float], speed_rad_s: float, turns: float,
+    error_rms_rad: float, residual_rms_rad: float,
+) -> str:
+    """The JSON text of an angle calibration file (the calibration checked by the core)."""
+def calibration_from_json(text: str, file: str) -> Union[SensorCalibration, _LearnedCalibration]:
+    """The calibration of a file's text of either format; ``ValueError`` naming ``file`` and
+    the field at fault."""
+def sensor_calibration_from_json(text: str, file: str) -> SensorCalibration:
+    """The calibration of a sensor calibration file's text (or a bare object of its five
+    fields)."""
+def angle_calibration_from_json(text: str, file: str) -> _LearnedCalibration:
+    """The calibration of an angle calibration file's text (another format is refused)."""

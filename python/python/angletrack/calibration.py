@@ -1,6 +1,8 @@
 """A sensor's calibration as a JSON file (what ``angletrack track --calibrate`` writes and
 ``--calibration`` reads): offsets, amplitudes and quadrature angle of
-``SensorCalibration``, in the capture's units, beside what produced them.
+``SensorCalibration``, in the capture's units, beside what produced them. The format is the
+Rust crate's (``angletrack::CalibrationFile``), which reads and writes the text; this module
+reads and writes the files.
 
 The file is one JSON object::
 
@@ -14,49 +16,41 @@ Only ``calibration`` is needed to read it back; the other keys say where it came
 
 from __future__ import annotations
 
-import json
 import pathlib
 from typing import TYPE_CHECKING, Any, Optional, Union
 
-from angletrack import SensorCalibration
+from angletrack import SensorCalibration, _angletrack
 
 if TYPE_CHECKING:
     from angletrack import harmonics
 
-FORMAT = "angletrack-sensor-calibration"
-VERSION = 1
+#: The ``format`` of the file :func:`to_json` writes (the Rust crate's
+#: ``SensorCalibrationRecord``).
+FORMAT = _angletrack.SENSOR_CALIBRATION_FORMAT
 
 
-def to_json(calibration: SensorCalibration, **metadata: Any) -> str:
-    """The calibration as the JSON text of this module's format, with ``metadata`` keys
-    (``turns_learned``, ``source``) beside it."""
-    doc = {"format": FORMAT, "version": VERSION, "calibration": calibration.to_dict(), **metadata}
-    return json.dumps(doc, indent=2) + "\n"
+def to_json(calibration: SensorCalibration, *, turns_learned: Optional[int] = None,
+            source: Optional[str] = None) -> str:
+    """The calibration as the JSON text of this module's format, with ``turns_learned`` and
+    ``source`` beside it when given."""
+    return _angletrack.sensor_calibration_to_json(calibration, turns_learned=turns_learned, source=source)
 
 
-def from_json(text: str) -> SensorCalibration:
+def from_json(text: str, file: str = "calibration") -> SensorCalibration:
     """The calibration of JSON text of this module's format (or a bare object of the five
-    fields); ``ValueError`` naming what is missing or refused."""
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise ValueError(f"calibration: not JSON ({e})") from None
-    if not isinstance(doc, dict):
-        raise ValueError("calibration: expected a JSON object")
-    fields = doc.get("calibration", doc)
-    if not isinstance(fields, dict):
-        raise ValueError("calibration: the 'calibration' key must hold an object")
-    return SensorCalibration.from_dict(fields)
+    fields); ``ValueError`` naming ``file`` and the field missing or refused."""
+    return _angletrack.sensor_calibration_from_json(text, file)
 
 
-def write(path: pathlib.Path, calibration: SensorCalibration, **metadata: Any) -> None:
-    """Writes ``calibration`` (and ``metadata``) to ``path`` as JSON."""
-    pathlib.Path(path).write_text(to_json(calibration, **metadata))
+def write(path: pathlib.Path, calibration: SensorCalibration, *, turns_learned: Optional[int] = None,
+          source: Optional[str] = None) -> None:
+    """Writes ``calibration`` (with ``turns_learned`` and ``source``) to ``path`` as JSON."""
+    pathlib.Path(path).write_text(to_json(calibration, turns_learned=turns_learned, source=source))
 
 
 def read(path: pathlib.Path) -> SensorCalibration:
     """Reads a calibration written by ``write`` (or by hand: the five fields)."""
-    return from_json(pathlib.Path(path).read_text())
+    return from_json(pathlib.Path(path).read_text(), str(path))
 
 
 def default_path(capture: pathlib.Path, output: Optional[pathlib.Path] = None) -> pathlib.Path:
@@ -74,14 +68,8 @@ def read_stored(path: Optional[pathlib.Path]) -> Union[None, SensorCalibration, 
 
     if path is None:
         return None
-    text = pathlib.Path(path).read_text(encoding="utf-8")
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError:
-        doc = None
-    if isinstance(doc, dict) and doc.get("format") == harmonics.JSON_FORMAT:
-        return harmonics.Calibration.from_json(text)
-    return from_json(text)
+    stored = _angletrack.calibration_from_json(pathlib.Path(path).read_text(encoding="utf-8"), str(path))
+    return stored if isinstance(stored, SensorCalibration) else harmonics.Calibration.from_learned(stored)
 
 
 def observer_arguments(calibrate: bool, stored: Union[None, SensorCalibration, "harmonics.Calibration"]) -> dict:

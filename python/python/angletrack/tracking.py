@@ -21,7 +21,7 @@ import numpy as np
 
 import angletrack
 from angletrack import export, harmonics
-from angletrack._angletrack import offset_binary_mid_scale
+from angletrack._angletrack import capture_mid_scale
 
 #: Relative difference of two sample rates taken as the same rate (the time column's
 #: spacing check uses the same 1 %).
@@ -190,20 +190,13 @@ def _stated_rate_note(s: TrackSettings) -> list[str]:
 def unsigned_mid_scale(sample_dtype: str, y_c: np.ndarray, y_s: np.ndarray) -> float:
     """The mid-scale of unsigned ADC counts, for a capture of integers none of whose first
     samples is negative and some positive: the observer's rule for uint16 counts
-    (:func:`angletrack._angletrack.offset_binary_mid_scale` of the largest sample). 0
-    otherwise: signed counts and physical units are centred already. The loop needs the
-    signal centred on zero, not scaled (it is amplitude-invariant)."""
+    (the Rust crate's ``capture_mid_scale``: ``offset_binary_mid_scale`` of the largest
+    sample). 0 otherwise: signed counts and physical units are centred already. The loop
+    needs the signal centred on zero, not scaled (it is amplitude-invariant)."""
     if not sample_dtype.startswith(("int", "uint")) or len(y_c) == 0:
         return 0.0
-    low = min(float(np.min(y_c)), float(np.min(y_s)))
-    high = max(float(np.max(y_c)), float(np.max(y_s)))
-    if low < 0 or high <= 0:
-        return 0.0
-    try:
-        return float(offset_binary_mid_scale(high))
-    except ValueError as e:
-        # The binding's rule names its own argument; a capture's user gave no such argument.
-        raise ValueError(f"capture: unsigned counts up to {high:.0f}: {e}") from None
+    return float(capture_mid_scale(np.ascontiguousarray(y_c, dtype=np.float64),
+                                   np.ascontiguousarray(y_s, dtype=np.float64)))
 
 
 def track_capture(s: TrackSettings) -> tuple[str, Optional[angletrack.Observer]]:

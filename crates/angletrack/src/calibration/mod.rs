@@ -26,6 +26,13 @@ use nalgebra::Complex;
 
 use crate::error::{Argument, Error};
 
+mod file;
+
+pub use file::{
+    ANGLE_CALIBRATION_FORMAT, CALIBRATION_FILE_VERSION, CalibrationFile, CalibrationFileError,
+    SENSOR_CALIBRATION_FORMAT, SensorCalibrationRecord,
+};
+
 /// The smallest `|E/D|` of the loop at the lowest learned harmonic (see the module's
 /// documentation): the learned coefficients are divided by it, so their noise grows by at
 /// most 2.

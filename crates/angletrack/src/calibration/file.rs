@@ -1,0 +1,366 @@
+//! The calibration files: JSON documents of a sensor's calibration, read back by
+//! `angletrack track --calibration`.
+//!
+//! Two kinds, told apart by their `format` key:
+//!
+//! * `angletrack-sensor-calibration` ([`SensorCalibrationRecord`], written by `angletrack
+//!   track --calibrate`): the offsets, amplitudes and quadrature of the core's
+//!   [`SensorCalibration`] under `calibration`, beside `turns_learned` and `source` (where
+//!   it came from). A bare object of the five fields is read too (a file written by hand).
+//! * `angletrack-calibration` ([`CaptureCalibration`], written by `angletrack calibrate`):
+//!   `sensor` (the five parameters in [`SensorCalibration::new`]'s order), `cos` and `sin`
+//!   (the [`AngleCorrection`]'s coefficients, 8 each) and what the learning saw.
+//!
+//! Numbers are written as the shortest decimal of their `f64` and read back exactly; a
+//! value that is not finite is written `null` (and read back as NaN) where NaN is allowed.
+//! Every value read is checked by the core, and every error names the file and the field.
+//!
+//! ```
+//! use angletrack::{CalibrationFile, SensorCalibration, SensorCalibrationRecord};
+//! let record = SensorCalibrationRecord {
+//!     calibration: SensorCalibration::new(90.0, -90.0, 1800.0, 1980.0, 0.0524)?,
+//!     turns_learned: Some(42),
+//!     source: Some("capture.csv".into()),
+//! };
+//! let text = record.to_json();
+//! assert!(text.starts_with("{\n  \"format\": \"angletrack-sensor-calibration\",\n"));
+//! let read = CalibrationFile::from_json(&text, "cal.json")?;
+//! assert_eq!(read, CalibrationFile::Sensor(record));
+//! let bad = text.replace("1980.0", "-1.0");
+//! let e = CalibrationFile::from_json(&bad, "cal.json").unwrap_err();
+//! assert_eq!(e.to_string(), "cal.json: calibration.amplitude_s: amplitude_s must be positive");
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use core::fmt;
+use std::path::Path;
+
+use angletrack_core::{AngleCorrection, MAX_CORRECTION_ORDER, SensorCalibration};
+use serde_json::{Map, Value};
+
+use super::CaptureCalibration;
+
+/// The `format` of a file of [`SensorCalibrationRecord`].
+pub const SENSOR_CALIBRATION_FORMAT: &str = "angletrack-sensor-calibration";
+/// The `format` of a file of [`CaptureCalibration`].
+pub const ANGLE_CALIBRATION_FORMAT: &str = "angletrack-calibration";
+/// The `version` both formats are written with, and the only one read.
+pub const CALIBRATION_FILE_VERSION: u64 = 1;
+
+/// The fields of a sensor calibration, in [`SensorCalibration::new`]'s order.
+const SENSOR_FIELDS: [&str; 5] = [
+    "offset_c",
+    "offset_s",
+    "amplitude_c",
+    "amplitude_s",
+    "quadrature_rad",
+];
+
+/// A sensor calibration learned while tracking, with what learned it: the document of
+/// [`SENSOR_CALIBRATION_FORMAT`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct SensorCalibrationRecord {
+    /// The offsets, amplitudes and quadrature (the capture's units, rad).
+    pub calibration: SensorCalibration<f64>,
+    /// The turns the online calibration learned from, if known.
+    pub turns_learned: Option<u32>,
+    /// The capture it was learned from, if known.
+    pub source: Option<String>,
+}
+
+/// A calibration file of either kind, as [`CalibrationFile::from_json`] tells them apart.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CalibrationFile {
+    /// Offsets, imbalance and quadrature (`angletrack track --calibrate`).
+    Sensor(SensorCalibrationRecord),
+    /// Offsets, imbalance, quadrature and the angle error's harmonics (`angletrack
+    /// calibrate`).
+    Angle(CaptureCalibration),
+}
+
+/// Why a calibration file could not be read or written: the file (or the name the caller
+/// gave its text), the field at fault (`None` for the whole file: not JSON, not readable),
+/// and what is wrong.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CalibrationFileError {
+    /// The file's path, or the name of its text.
+    pub file: String,
+    /// The field at fault, dotted for a nested one (`calibration.amplitude_s`).
+    pub field: Option<String>,
+    /// What is wrong with it.
+    pub reason: String,
+}
+
+impl CalibrationFileError {
+    fn new(file: &str, field: Option<&str>, reason: impl Into<String>) -> Self {
+        Self {
+            file: file.to_string(),
+            field: field.map(str::to_string),
+            reason: reason.into(),
+        }
+    }
+}
+
+impl fmt::Display for CalibrationFileError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.field {
+            Some(field) => write!(f, "{}: {field}: {}", self.file, self.reason),
+            None => write!(f, "{}: {}", self.file, self.reason),
+        }
+    }
+}
+
+impl std::error::Error for CalibrationFileError {}
+
+impl CalibrationFile {
+    /// The calibration of the JSON `text` of either format (or a bare object of the sensor
+    /// calibration's five fields); `file` names it in errors.
+    pub fn from_json(text: &str, file: &str) -> Result<Self, CalibrationFileError> {
+        let doc = Document::parse(text, file)?;
+        match doc.object.get("format").and_then(Value::as_str) {
+            Some(ANGLE_CALIBRATION_FORMAT) => doc.angle().map(CalibrationFile::Angle),
+            _ => doc.sensor().map(CalibrationFile::Sensor),
+        }
+    }
+
+    /// The JSON text of the calibration, in its format.
+    pub fn to_json(&self) -> String {
+        match self {
+            CalibrationFile::Sensor(record) => record.to_json(),
+            CalibrationFile::Angle(calibration) => calibration.to_json(),
+        }
+    }
+
+    /// Reads the calibration file at `path` (either format).
+    pub fn read(path: &Path) -> Result<Self, CalibrationFileError> {
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| CalibrationFileError::new(&name, None, e.to_string()))?;
+        Self::from_json(&text, &name)
+    }
+
+    /// Writes the calibration to `path` as [`CalibrationFile::to_json`].
+    pub fn write(&self, path: &Path) -> Result<(), CalibrationFileError> {
+        std::fs::write(path, self.to_json()).map_err(|e| {
+            CalibrationFileError::new(&path.display().to_string(), None, e.to_string())
+        })
+    }
+}
+
+impl SensorCalibrationRecord {
+    /// The calibration of JSON `text` of [`SENSOR_CALIBRATION_FORMAT`] (or a bare object of
+    /// the five fields); `file` names it in errors.
+    pub fn from_json(text: &str, file: &str) -> Result<Self, CalibrationFileError> {
+        Document::parse(text, file)?.sensor()
+    }
+
+    /// The JSON text of [`SENSOR_CALIBRATION_FORMAT`].
+    pub fn to_json(&self) -> String {
+        let (o_c, o_s, a_c, a_s, q) = self.calibration.parameters();
+        let fields: Vec<String> = SENSOR_FIELDS
+            .iter()
+            .zip([o_c, o_s, a_c, a_s, q])
+            .map(|(name, value)| format!("    \"{name}\": {}", number(value)))
+            .collect();
+        let mut members = vec![
+            format!("  \"format\": \"{SENSOR_CALIBRATION_FORMAT}\""),
+            format!("  \"version\": {CALIBRATION_FILE_VERSION}"),
+            format!("  \"calibration\": {{\n{}\n  }}", fields.join(",\n")),
+        ];
+        if let Some(turns) = self.turns_learned {
+            members.push(format!("  \"turns_learned\": {turns}"));
+        }
+        if let Some(source) = &self.source {
+            members.push(format!("  \"source\": {}", Value::from(source.as_str())));
+        }
+        format!("{{\n{}\n}}\n", members.join(",\n"))
+    }
+}
+
+impl CaptureCalibration {
+    /// The calibration of JSON `text` of [`ANGLE_CALIBRATION_FORMAT`] (another format is
+    /// refused); `file` names it in errors.
+    pub fn from_json(text: &str, file: &str) -> Result<Self, CalibrationFileError> {
+        Document::parse(text, file)?.angle()
+    }
+
+    /// The JSON text of [`ANGLE_CALIBRATION_FORMAT`].
+    pub fn to_json(&self) -> String {
+        let (o_c, o_s, a_c, a_s, q) = self.sensor.parameters();
+        let (cos, sin) = self.correction.coefficients();
+        let list = |values: &[f64]| {
+            let items: Vec<String> = values
+                .iter()
+                .map(|&v| format!("    {}", number(v)))
+                .collect();
+            format!("[\n{}\n  ]", items.join(",\n"))
+        };
+        let members = [
+            format!("  \"format\": \"{ANGLE_CALIBRATION_FORMAT}\""),
+            format!("  \"version\": {CALIBRATION_FILE_VERSION}"),
+            format!("  \"sensor\": {}", list(&[o_c, o_s, a_c, a_s, q])),
+            format!("  \"cos\": {}", list(&cos)),
+            format!("  \"sin\": {}", list(&sin)),
+            format!("  \"speed_rad_s\": {}", number(self.speed_rad_s)),
+            format!("  \"turns\": {}", number(self.turns)),
+            format!("  \"error_rms_rad\": {}", number(self.error_rms_rad)),
+            format!("  \"residual_rms_rad\": {}", number(self.residual_rms_rad)),
+        ];
+        format!("{{\n{}\n}}\n", members.join(",\n"))
+    }
+}
+
+/// `value` as a JSON number: its shortest round-trip decimal, `null` if not finite.
+fn number(value: f64) -> String {
+    if value.is_finite() {
+        format!("{value:?}")
+    } else {
+        "null".to_string()
+    }
+}
+
+/// A parsed JSON object and the name of its file, for the errors.
+struct Document<'a> {
+    object: Map<String, Value>,
+    file: &'a str,
+}
+
+impl<'a> Document<'a> {
+    fn parse(text: &str, file: &'a str) -> Result<Self, CalibrationFileError> {
+        let value: Value = serde_json::from_str(text)
+            .map_err(|e| CalibrationFileError::new(file, None, format!("not JSON ({e})")))?;
+        match value {
+            Value::Object(object) => Ok(Self { object, file }),
+            _ => Err(CalibrationFileError::new(
+                file,
+                None,
+                "expected a JSON object",
+            )),
+        }
+    }
+
+    fn error(&self, field: &str, reason: impl Into<String>) -> CalibrationFileError {
+        CalibrationFileError::new(self.file, Some(field), reason)
+    }
+
+    /// Refuses a `version` other than [`CALIBRATION_FILE_VERSION`] (a missing one too).
+    fn check_version(&self) -> Result<(), CalibrationFileError> {
+        match self.object.get("version") {
+            Some(v) if v.as_u64() == Some(CALIBRATION_FILE_VERSION) => Ok(()),
+            other => Err(self.error(
+                "version",
+                format!(
+                    "{} is not supported (expected {CALIBRATION_FILE_VERSION})",
+                    other.map_or("none".to_string(), Value::to_string)
+                ),
+            )),
+        }
+    }
+
+    fn sensor(&self) -> Result<SensorCalibrationRecord, CalibrationFileError> {
+        match self.object.get("format") {
+            None => {}
+            Some(Value::String(f)) if f == SENSOR_CALIBRATION_FORMAT => self.check_version()?,
+            Some(other) => {
+                return Err(self.error(
+                    "format",
+                    format!("expected {SENSOR_CALIBRATION_FORMAT:?}, got {other}"),
+                ));
+            }
+        }
+        let (fields, prefix) = match self.object.get("calibration") {
+            Some(Value::Object(fields)) => (fields, "calibration."),
+            Some(_) => return Err(self.error("calibration", "must hold an object")),
+            None => (&self.object, ""),
+        };
+        let mut values = [0.0; 5];
+        for (value, name) in values.iter_mut().zip(SENSOR_FIELDS) {
+            let field = format!("{prefix}{name}");
+            *value = match fields.get(name) {
+                Some(v) => v
+                    .as_f64()
+                    .ok_or_else(|| self.error(&field, format!("must be a number, got {v}")))?,
+                None => return Err(self.error(&field, "missing")),
+            };
+        }
+        let [o_c, o_s, a_c, a_s, q] = values;
+        let calibration = SensorCalibration::new(o_c, o_s, a_c, a_s, q)
+            .map_err(|e| self.error(&format!("{prefix}{}", e.parameter().name()), e.to_string()))?;
+        let turns_learned =
+            match self.object.get("turns_learned") {
+                None | Some(Value::Null) => None,
+                Some(v) => Some(v.as_u64().and_then(|t| u32::try_from(t).ok()).ok_or_else(
+                    || {
+                        self.error(
+                            "turns_learned",
+                            format!("must be a whole number of turns, got {v}"),
+                        )
+                    },
+                )?),
+            };
+        let source = match self.object.get("source") {
+            None | Some(Value::Null) => None,
+            Some(Value::String(s)) => Some(s.clone()),
+            Some(v) => return Err(self.error("source", format!("must be a string, got {v}"))),
+        };
+        Ok(SensorCalibrationRecord {
+            calibration,
+            turns_learned,
+            source,
+        })
+    }
+
+    fn angle(&self) -> Result<CaptureCalibration, CalibrationFileError> {
+        match self.object.get("format") {
+            Some(Value::String(f)) if f == ANGLE_CALIBRATION_FORMAT => {}
+            _ => {
+                return Err(self.error(
+                    "format",
+                    format!("not an {ANGLE_CALIBRATION_FORMAT} document"),
+                ));
+            }
+        }
+        self.check_version()?;
+        let [o_c, o_s, a_c, a_s, q] = self.numbers::<5>("sensor")?;
+        let sensor = SensorCalibration::new(o_c, o_s, a_c, a_s, q)
+            .map_err(|e| self.error("sensor", e.to_string()))?;
+        let cos = self.numbers::<MAX_CORRECTION_ORDER>("cos")?;
+        let sin = self.numbers::<MAX_CORRECTION_ORDER>("sin")?;
+        let correction =
+            AngleCorrection::new(cos, sin).map_err(|e| self.error("cos, sin", e.to_string()))?;
+        Ok(CaptureCalibration {
+            sensor,
+            correction,
+            speed_rad_s: self.optional_number("speed_rad_s")?,
+            turns: self.optional_number("turns")?,
+            error_rms_rad: self.optional_number("error_rms_rad")?,
+            residual_rms_rad: self.optional_number("residual_rms_rad")?,
+        })
+    }
+
+    /// The list of `N` numbers under `field`.
+    fn numbers<const N: usize>(&self, field: &str) -> Result<[f64; N], CalibrationFileError> {
+        let refused = || self.error(field, format!("must be a list of {N} numbers"));
+        let list = self
+            .object
+            .get(field)
+            .and_then(Value::as_array)
+            .filter(|list| list.len() == N)
+            .ok_or_else(refused)?;
+        let mut out = [0.0; N];
+        for (slot, value) in out.iter_mut().zip(list) {
+            *slot = value.as_f64().ok_or_else(refused)?;
+        }
+        Ok(out)
+    }
+
+    /// The number under `field`; NaN when it is missing or `null`.
+    fn optional_number(&self, field: &str) -> Result<f64, CalibrationFileError> {
+        match self.object.get(field) {
+            None | Some(Value::Null) => Ok(f64::NAN),
+            Some(v) => v
+                .as_f64()
+                .ok_or_else(|| self.error(field, format!("must be a number, got {v}"))),
+        }
+    }
+}

@@ -3,7 +3,7 @@
 # cores, and runs each under QEMU with semihosting:
 #  - Cortex-M4F: thumbv7em-none-eabihf on `qemu-system-arm -machine mps2-an386 -cpu cortex-m4`;
 #  - Cortex-M0 (no FPU): thumbv6m-none-eabi on `qemu-system-arm -machine microbit` (nRF51:
-#    256 KiB of flash, 16 KiB of RAM: it checks the estimates of the first 300 samples only,
+#    256 KiB of flash, 16 KiB of RAM: it checks the estimates of the first 250 samples only,
 #    and runs block updates 250 samples at a time).
 # For each core it
 #  1. checks every variant (src/variants.rs) against the host's reference and the baselines'

@@ -131,8 +131,10 @@ impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
     /// the table by its index), interpolated linearly between the two nearest entries.
     #[inline(always)]
     pub fn error_at(&self, angle: T) -> T {
-        // The position in entries from -pi: in [0, L) for an angle in [-pi, pi).
-        let position = (angle + T::PI) * (T::from_i32(L as i32) * T::FRAC_1_TAU);
+        // The position in entries from -pi, one multiply-add: in [0, L) for an angle in
+        // [-pi, pi).
+        let entries_per_rad = T::from_i32(L as i32) * T::FRAC_1_TAU;
+        let position = angle * entries_per_rad + T::from_i32(L as i32 / 2);
         let whole = position.floor_to_i32();
         let fraction = position - T::from_i32(whole);
         // Masked: a power of two, so the index is always in the table (no bounds check).

@@ -19,7 +19,9 @@ pub use stages::OnlineCalibration;
 /// number format: for the float observers the angle in rad and `(sin, cos)` in `T`; for
 /// the fixed-point observer the binary angle (2^32 per turn) and `(sin, cos)` in Q15.
 pub trait Prediction<V: ChainNumber> {
-    /// The observer's predicted angle for this sample, wrapped to one turn.
+    /// The observer's predicted angle for this sample: within one turn while the observer
+    /// tracks (for the floats, possibly a turn outside [-pi, pi) on the sample that starts
+    /// tracking: a stage that needs one turn wraps it).
     fn angle(&self) -> V::Angle;
     /// `(sin, cos)` of the predicted angle (by the observer's phase-detector sin/cos).
     fn sin_cos(&self) -> (V, V);
@@ -68,6 +70,16 @@ pub trait Stage<V: ChainNumber, X> {
     fn faults(&self, _state: &mut Self::State) -> Faults {
         Faults::NONE
     }
+
+    /// Whether the stage, in its `state`, neither learns from the sample nor flags a fault
+    /// (an online calibration that is off): the chain then runs the observer without
+    /// [`Stage::feedback`] and [`Stage::faults`], at the cost of the stages' forward pass
+    /// alone, and otherwise out of line with them. The default, `true`, is for a stage that
+    /// has neither; a stage that overrides either must override this too.
+    #[inline(always)]
+    fn quiet(&self, _state: &Self::State) -> bool {
+        true
+    }
 }
 
 /// No stage: the pair goes to the observer as it is.
@@ -107,6 +119,11 @@ impl<V: ChainNumber, X, A: Stage<V, X>, B: Stage<V, (V, V)>> Stage<V, X> for (A,
     #[inline(always)]
     fn faults(&self, state: &mut Self::State) -> Faults {
         self.0.faults(&mut state.0) | self.1.faults(&mut state.1)
+    }
+
+    #[inline(always)]
+    fn quiet(&self, state: &Self::State) -> bool {
+        self.0.quiet(&state.0) && self.1.quiet(&state.1)
     }
 }
 
@@ -220,13 +237,7 @@ macro_rules! chain_forms {
         where
             F: Stage<$value, X>,
         {
-            observers::track(
-                &self.observer,
-                &mut state.observer,
-                &self.front_end,
-                &mut state.front_end,
-                input,
-            );
+            observers::track::<_, _, _, _, ()>(self, state, input)
         }
 
         /// [`Chain::track`], then the estimate, which carries the front end's faults.
@@ -235,10 +246,7 @@ macro_rules! chain_forms {
         where
             F: Stage<$value, X>,
         {
-            self.track(state, input);
-            let mut estimate = self.estimate(state);
-            estimate.faults |= self.front_end.faults(&mut state.front_end);
-            estimate
+            observers::track(self, state, input)
         }
 
         /// [`Chain::update`] on each of `inputs`, the estimates written to `estimates`

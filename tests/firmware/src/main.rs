@@ -25,6 +25,7 @@
 #![no_main]
 
 mod baseline;
+mod chains;
 mod trackers;
 mod variants;
 

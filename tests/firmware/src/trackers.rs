@@ -1,13 +1,13 @@
 //! The trackers of the firmware test's variants: what one variant runs per sample
-//! ([`Tracker`]), the core's `f32` entry points ([`EntryPoint`]: `Plain`, `Calibrated`,
-//! `Adc`, `Corrected`, `CalibratedOff`), those that return no estimate (`Track`,
-//! `TrackCalibratedOff`), the fixed-point observer (`Fixed`, `FixedTrack`) and the
-//! baselines' PLL. Shared, like `variants.rs`, by the build script and the firmware.
+//! ([`Tracker`]), the core's `f32` entry points ([`EntryPoint`]: `Plain`; the signal
+//! chains' in `chains.rs`), those that return no estimate (`Track`), the fixed-point
+//! observer (`Fixed`, `FixedTrack`) and the baselines' PLL. Shared, like `variants.rs`, by
+//! the build script and the firmware.
 
 use angletrack_core::fixed::binary_angle_to_rad;
 use angletrack_core::{
-    AdcScaling, AngleCorrection, Calibrator, Estimate, FixedEstimate, FixedGains, FixedState,
-    Gains, ObserverState, Order, SinCos, SupportedOrder,
+    Estimate, FixedEstimate, FixedGains, FixedState, Gains, ObserverState, Order, SinCos,
+    SupportedOrder,
 };
 
 use crate::baseline::{Atan2, PhaseLockedLoop, PllState};
@@ -109,7 +109,7 @@ impl Sample for f32 {
     }
 }
 
-/// The [`Adc`] entry point's input: [`adc_counts`].
+/// The ADC chain's input: [`adc_counts`].
 impl Sample for i16 {
     fn from_signal(y: f32) -> i16 {
         adc_counts(y)
@@ -179,60 +179,6 @@ where
     }
 }
 
-/// The core's `Gains::update_calibrated`, the online calibration learning.
-#[derive(Debug, Clone, Copy)]
-pub struct Calibrated<const N: usize, S>(pub Gains<f32, N, S>);
-
-impl<const N: usize, S: SinCos<f32>> EntryPoint for Calibrated<N, S>
-where
-    Order<N>: SupportedOrder,
-{
-    type State = (ObserverState<f32, N>, Calibrator<f32>);
-    type Input = f32;
-    fn new_state(&self) -> Self::State {
-        let mut calibrator = Calibrator::new();
-        calibrator.enable();
-        (ObserverState::new(), calibrator)
-    }
-    #[inline(always)]
-    fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) -> Estimate<f32> {
-        let (observer, calibrator) = state;
-        self.0.update_calibrated(observer, calibrator, y_c, y_s)
-    }
-}
-
-/// The core's `Gains::update_adc` on [`adc_counts`] of the inputs, 12-bit two's complement.
-#[derive(Debug, Clone, Copy)]
-pub struct Adc<const N: usize, S>(pub Gains<f32, N, S>, pub AdcScaling<f32>);
-
-impl<const N: usize, S: SinCos<f32>> EntryPoint for Adc<N, S>
-where
-    Order<N>: SupportedOrder,
-{
-    type State = ObserverState<f32, N>;
-    type Input = i16;
-    #[inline(always)]
-    fn update(&self, state: &mut Self::State, raw_c: i16, raw_s: i16) -> Estimate<f32> {
-        self.0.update_adc(state, &self.1, raw_c, raw_s)
-    }
-}
-
-/// The core's `Gains::update_corrected`: the angle-harmonic correction [`correction`].
-#[derive(Debug, Clone, Copy)]
-pub struct Corrected<const N: usize, S>(pub Gains<f32, N, S>, pub AngleCorrection<f32>);
-
-impl<const N: usize, S: SinCos<f32>> EntryPoint for Corrected<N, S>
-where
-    Order<N>: SupportedOrder,
-{
-    type State = ObserverState<f32, N>;
-    type Input = f32;
-    #[inline(always)]
-    fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) -> Estimate<f32> {
-        self.0.update_corrected(state, &self.1, y_c, y_s)
-    }
-}
-
 /// The core's `Gains::track`: the state only, the estimate read on demand
 /// (`Gains::estimate`) where it is checked, outside the counted update.
 #[derive(Debug, Clone, Copy)]
@@ -260,55 +206,6 @@ where
     }
     fn record(&self, state: &Self::State, _: &()) -> Record {
         Record::of(&self.0.estimate(state))
-    }
-}
-
-/// The core's `Gains::track_calibrated` with the calibration off (the cost of having the
-/// online calibration in the update, not of learning): the state only, the estimate read
-/// on demand where it is checked.
-#[derive(Debug, Clone, Copy)]
-pub struct TrackCalibratedOff<const N: usize, S>(pub Gains<f32, N, S>);
-
-impl<const N: usize, S: SinCos<f32>> Tracker for TrackCalibratedOff<N, S>
-where
-    Order<N>: SupportedOrder,
-{
-    type State = (ObserverState<f32, N>, Calibrator<f32>);
-    type Input = f32;
-    type Output = ();
-    fn new_state(&self) -> Self::State {
-        (ObserverState::new(), Calibrator::new())
-    }
-    fn input(y: f32) -> f32 {
-        y
-    }
-    fn counted_inputs(inputs: &Inputs) -> [&'static [f32]; 2] {
-        inputs.signal
-    }
-    #[inline(always)]
-    fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) {
-        let (observer, calibrator) = state;
-        self.0.track_calibrated(observer, calibrator, y_c, y_s)
-    }
-    fn record(&self, state: &Self::State, _: &()) -> Record {
-        Record::of(&self.0.estimate(&state.0))
-    }
-}
-
-/// The core's `Gains::update_calibrated` with the calibration off.
-#[derive(Debug, Clone, Copy)]
-pub struct CalibratedOff<const N: usize, S>(pub Gains<f32, N, S>);
-
-impl<const N: usize, S: SinCos<f32>> EntryPoint for CalibratedOff<N, S>
-where
-    Order<N>: SupportedOrder,
-{
-    type State = (ObserverState<f32, N>, Calibrator<f32>);
-    type Input = f32;
-    #[inline(always)]
-    fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) -> Estimate<f32> {
-        let (observer, calibrator) = state;
-        self.0.update_calibrated(observer, calibrator, y_c, y_s)
     }
 }
 

@@ -13,15 +13,18 @@
 //! contains `-fixed`) and with `-m0` appended on the Cortex-M0.
 
 use angletrack_core::{
-    AdcScaling, AngleCorrection, ConfigError, DemodulatedPair, Demodulator, DemodulatorSettings,
-    Estimate, Exact, Fast, FaultThresholds, FixedGains, Gains, MAX_CORRECTION_ORDER,
+    AdcScaling, AngleCorrection, Chain, ConfigError, DemodulatedPair, Demodulator,
+    DemodulatorSettings, Estimate, Exact, Fast, FaultThresholds, FixedGains, Gains,
+    MAX_CORRECTION_ORDER,
 };
 
 use crate::baseline::{Atan2, FastAtan2, LibmAtan2, PhaseLockedLoop};
-pub use crate::trackers::Tracker;
-use crate::trackers::{
-    Adc, Calibrated, CalibratedOff, Corrected, Fixed, FixedTrack, Plain, Track, TrackCalibratedOff,
+use crate::chains::{
+    ChainTrack, ChainUpdate, FixedChainTrack, Online, StoredCorrections, fixed_corrections, online,
+    stored_corrections,
 };
+pub use crate::trackers::Tracker;
+use crate::trackers::{Fixed, FixedTrack, Plain, Track};
 
 /// The angle-harmonic correction of the `angle-corrected` variant, order 4: a few mrad of
 /// each harmonic, as a real resolver has (the benchmark's signal has none: the variant is
@@ -121,6 +124,30 @@ impl Observers {
         let Fixed(gains) = self.fixed()?;
         Ok(Fixed(gains.with_monitor(None)?))
     }
+    /// The fast Kalman observer through the online calibration, learning or off.
+    fn calibrated(
+        &self,
+        learning: bool,
+    ) -> Result<Chain<Online, Gains<f32, 3, Fast>>, ConfigError> {
+        let gains = fast(self.kalman()?);
+        Ok(Chain::new(online(&gains, learning)?, gains))
+    }
+    /// The fast Kalman observer through a stored calibration and the angle error's table.
+    fn corrected(&self) -> Result<ChainTrack<StoredCorrections, 3, Fast>, ConfigError> {
+        let gains = fast(self.kalman()?);
+        Ok(ChainTrack(Chain::new(
+            stored_corrections(&correction()?)?,
+            gains,
+        )))
+    }
+    /// The fixed-point observer through a stored calibration and the angle error's table.
+    fn fixed_corrected(&self) -> Result<FixedChainTrack<3>, ConfigError> {
+        let Fixed(gains) = self.fixed()?;
+        Ok(FixedChainTrack(Chain::new(
+            fixed_corrections(&correction()?)?,
+            gains,
+        )))
+    }
     fn pll<A: Atan2>(&self) -> PhaseLockedLoop<A> {
         PhaseLockedLoop::new(PLL_BANDWIDTH_RAD_S, self.sample_period_s)
     }
@@ -180,16 +207,18 @@ variants! {
     "kalman-f32-exact" => |o| o.kalman().map(Plain),
     "kalman-f32-fast" => |o| o.kalman().map(fast).map(Plain),
     "kalman-f32-fast-unmonitored" => |o| o.kalman().and_then(unmonitored).map(fast).map(Plain),
-    "kalman-f32-fast-calibrated" => |o| o.kalman().map(fast).map(Calibrated),
-    "kalman-f32-fast-calibrated-off" => |o| o.kalman().map(fast).map(CalibratedOff),
+    "kalman-f32-fast-calibrated" => |o| o.calibrated(true).map(ChainUpdate),
+    "kalman-f32-fast-calibrated-off" => |o| o.calibrated(false).map(ChainUpdate),
     "kalman-f32-fast-track" => |o| o.kalman().map(fast).map(Track),
     "kalman-f32-fast-track-unmonitored" => |o| o.kalman().and_then(unmonitored).map(fast).map(Track),
-    "kalman-f32-fast-track-calibrated-off" => |o| o.kalman().map(fast).map(TrackCalibratedOff),
-    "kalman-f32-fast-adc" => |o| Ok(Adc(fast(o.kalman()?), AdcScaling::twos_complement(12)?)),
-    "kalman-f32-fast-angle-corrected" => |o| Ok(Corrected(fast(o.kalman()?), correction()?)),
+    "kalman-f32-fast-track-calibrated-off" => |o| o.calibrated(false).map(ChainTrack),
+    "kalman-f32-fast-track-corrected" => |o| o.corrected(),
+    "kalman-f32-fast-adc" => |o| Ok(ChainUpdate(Chain::new(AdcScaling::twos_complement(12)?, fast(o.kalman()?)))),
+    "kalman-f32-fast-angle-corrected" => |o| Ok(ChainUpdate(Chain::new(correction()?, fast(o.kalman()?)))),
     "kalman-fixed" => |o| o.fixed(),
     "kalman-fixed-track" => |o| o.fixed().map(FixedTrack),
     "kalman-fixed-track-unmonitored" => |o| o.fixed_unmonitored().map(FixedTrack),
+    "kalman-fixed-track-corrected" => |o| o.fixed_corrected(),
     "baseline-atan2-pll-f32" => |o| Ok(o.pll::<LibmAtan2>()),
     "baseline-fast-atan2-pll-f32" => |o| Ok(o.pll::<FastAtan2>()),
 }

@@ -4,14 +4,14 @@
 
 use core::marker::PhantomData;
 
-use super::{Feedback, Prediction, Stage};
+use super::{Chain, ChainState, Feedback, Prediction, Stage};
 use crate::faults::Faults;
-use crate::fixed::{FixedGains, FixedState};
+use crate::fixed::{FixedEstimate, FixedGains, FixedState};
 use crate::gains::Gains;
 use crate::real::ChainNumber;
 use crate::real::Float;
 use crate::real::sincos::SinCos;
-use crate::state::ObserverState;
+use crate::state::{Estimate, ObserverState};
 use crate::update::{SampleObserver, UsedSample};
 use crate::wrap::wrap_angle;
 
@@ -19,6 +19,8 @@ use crate::wrap::wrap_angle;
 pub(crate) trait Observe<V: ChainNumber> {
     /// The observer's state.
     type State;
+    /// The observer's estimate.
+    type Estimate;
     /// The prediction the front end sees.
     type Prediction<'a>: Prediction<V>
     where
@@ -39,6 +41,9 @@ pub(crate) trait Observe<V: ChainNumber> {
 
     /// Latches `faults` in `state`.
     fn latch(state: &mut Self::State, faults: Faults);
+
+    /// The estimate `state` holds, with `faults` added.
+    fn estimate_with(&self, state: &Self::State, faults: Faults) -> Self::Estimate;
 }
 
 /// The float observers' prediction: computed only if a stage asks for it.
@@ -48,21 +53,25 @@ pub(crate) struct FloatPrediction<'a, T, const N: usize, S> {
 }
 
 impl<T: Float, const N: usize, S: SinCos<T>> Prediction<T> for FloatPrediction<'_, T, N, S> {
+    /// The predicted angle as the observer keeps it: in [-pi, pi) while it tracks (the
+    /// usual path), otherwise possibly a turn outside (a stage that needs one turn wraps it,
+    /// as [`Prediction::sin_cos`] does; a table indexes it modulo its length).
     #[inline(always)]
     fn angle(&self) -> T {
-        let mut angle = self.state.predicted_angle();
-        wrap_angle(&mut angle);
-        angle
+        self.state.predicted_angle()
     }
 
     #[inline(always)]
     fn sin_cos(&self) -> (T, T) {
-        S::sin_cos(self.angle())
+        let mut angle = self.state.predicted_angle();
+        wrap_angle(&mut angle);
+        S::sin_cos(angle)
     }
 }
 
 impl<T: Float, const N: usize, S: SinCos<T>> Observe<T> for Gains<T, N, S> {
     type State = ObserverState<T, N>;
+    type Estimate = Estimate<T>;
     type Prediction<'a>
         = FloatPrediction<'a, T, N, S>
     where
@@ -91,6 +100,13 @@ impl<T: Float, const N: usize, S: SinCos<T>> Observe<T> for Gains<T, N, S> {
     fn latch(state: &mut ObserverState<T, N>, faults: Faults) {
         state.monitor.latched |= faults;
     }
+
+    #[inline(always)]
+    fn estimate_with(&self, state: &ObserverState<T, N>, faults: Faults) -> Estimate<T> {
+        let mut estimate = self.estimate(state);
+        estimate.faults |= faults;
+        estimate
+    }
 }
 
 /// The fixed-point observer's prediction: the binary angle and its Q15 sin/cos.
@@ -112,6 +128,7 @@ impl<const N: usize> Prediction<i16> for FixedPrediction<'_, N> {
 
 impl<const N: usize> Observe<i16> for FixedGains<N> {
     type State = FixedState<N>;
+    type Estimate = FixedEstimate;
     type Prediction<'a> = FixedPrediction<'a, N>;
 
     #[inline(always)]
@@ -133,6 +150,13 @@ impl<const N: usize> Observe<i16> for FixedGains<N> {
     #[inline(always)]
     fn latch(state: &mut FixedState<N>, faults: Faults) {
         state.latched |= faults;
+    }
+
+    #[inline(always)]
+    fn estimate_with(&self, state: &FixedState<N>, faults: Faults) -> FixedEstimate {
+        let mut estimate = FixedGains::estimate(state);
+        estimate.faults |= faults;
+        estimate
     }
 }
 
@@ -156,26 +180,79 @@ impl<V: ChainNumber, X, F: Stage<V, X>> SampleObserver<V> for ToFrontEnd<'_, V, 
     }
 }
 
-/// The body of every chain's `track`: the front end's forward pass with the observer's
-/// prediction, the observer's step, the feedback to the front end, its faults latched.
+/// What a chain's per-sample form returns: nothing (`track`) or the estimate (`update`).
+pub(crate) trait Output<V: ChainNumber, O: Observe<V>> {
+    /// The result for the observer's `state` after a sample, with the front end's `faults`.
+    fn of(observer: &O, state: &O::State, faults: Faults) -> Self;
+}
+
+impl<V: ChainNumber, O: Observe<V>> Output<V, O> for () {
+    #[inline(always)]
+    fn of(_: &O, _: &O::State, _: Faults) {}
+}
+
+/// The float observers' estimate, as [`Observe::estimate_with`].
+impl<T: Float, const N: usize, S: SinCos<T>> Output<T, Gains<T, N, S>> for Estimate<T> {
+    #[inline(always)]
+    fn of(observer: &Gains<T, N, S>, state: &ObserverState<T, N>, faults: Faults) -> Self {
+        observer.estimate_with(state, faults)
+    }
+}
+
+/// The fixed-point observer's estimate, as [`Observe::estimate_with`].
+impl<const N: usize> Output<i16, FixedGains<N>> for FixedEstimate {
+    #[inline(always)]
+    fn of(observer: &FixedGains<N>, state: &FixedState<N>, faults: Faults) -> Self {
+        observer.estimate_with(state, faults)
+    }
+}
+
+/// The body of every chain's `track` and `update`: the front end's forward pass with the
+/// observer's prediction, then the observer's step, and the result `R`; unless the front
+/// end is quiet, out of line with the feedback to the front end and its faults latched
+/// (which the result then carries).
 #[inline(always)]
-pub(crate) fn track<V: ChainNumber, X, F: Stage<V, X>, O: Observe<V>>(
-    observer: &O,
-    state: &mut O::State,
-    front_end: &F,
-    front_state: &mut F::State,
+pub(crate) fn track<V: ChainNumber, X, F: Stage<V, X>, O: Observe<V>, R: Output<V, O>>(
+    chain: &Chain<F, O>,
+    state: &mut ChainState<F::State, O::State>,
     input: X,
-) {
-    let ((y_c, y_s), memo) = front_end.forward(front_state, &observer.prediction(state), input);
+) -> R {
+    if chain.front_end.quiet(&state.front_end) {
+        let ((y_c, y_s), _) = {
+            let prediction = chain.observer.prediction(&state.observer);
+            chain.front_end.forward(&mut state.front_end, &prediction, input)
+        };
+        chain
+            .observer
+            .track_observing(&mut state.observer, y_c, y_s, ());
+        return R::of(&chain.observer, &state.observer, Faults::NONE);
+    }
+    // A call in tail position: the quiet path calls nothing and saves no register.
+    track_with_feedback(chain, state, input)
+}
+
+/// [`track`] on a sample that a stage learns from or flags (out of line, as the online
+/// calibration's learning: the registers it needs are saved here only).
+#[inline(never)]
+fn track_with_feedback<V: ChainNumber, X, F: Stage<V, X>, O: Observe<V>, R: Output<V, O>>(
+    chain: &Chain<F, O>,
+    state: &mut ChainState<F::State, O::State>,
+    input: X,
+) -> R {
+    let (front_end, observer) = (&chain.front_end, &chain.observer);
+    let ((y_c, y_s), memo) = {
+        let prediction = observer.prediction(&state.observer);
+        front_end.forward(&mut state.front_end, &prediction, input)
+    };
     let to_front_end = ToFrontEnd {
         front_end,
-        state: &mut *front_state,
+        state: &mut state.front_end,
         memo,
         input: PhantomData,
     };
-    observer.track_observing(state, y_c, y_s, to_front_end);
-    let faults = front_end.faults(front_state);
-    if !faults.is_empty() {
-        O::latch(state, faults);
-    }
+    observer.track_observing(&mut state.observer, y_c, y_s, to_front_end);
+    let faults = front_end.faults(&mut state.front_end);
+    // Latched unconditionally: cheaper than a test.
+    O::latch(&mut state.observer, faults);
+    R::of(observer, &state.observer, faults)
 }

@@ -117,6 +117,11 @@ impl<T: Float> Stage<T, (T, T)> for OnlineCalibration<T> {
         }
         calibrator.sensor_faults(&self.checked)
     }
+
+    #[inline(always)]
+    fn quiet(&self, calibrator: &Calibrator<T>) -> bool {
+        calibrator.mode() == CalibrationMode::Off
+    }
 }
 
 /// The angle error's table, read at the observer's predicted angle.

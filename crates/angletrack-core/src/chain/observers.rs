@@ -136,6 +136,10 @@ impl<const N: usize> Observe<i16> for FixedGains<N> {
         FixedPrediction { state }
     }
 
+    /// [`FixedGains::track`], the feedback taken from the state around it (every integer
+    /// sample is used): the Q15 `(sin, cos)` of the predicted angle, the corrected speed in
+    /// 2^-16 turn per sample (saturated) and the faults. Where nothing reads it (`()`), the
+    /// compiler drops it: the observer's own update is untouched.
     #[inline(always)]
     fn track_observing(
         &self,
@@ -144,7 +148,14 @@ impl<const N: usize> Observe<i16> for FixedGains<N> {
         y_s: i16,
         observer: impl SampleObserver<i16>,
     ) {
-        FixedGains::track_observing(self, state, y_c, y_s, observer);
+        let sin_cos = crate::fixed::sin_cos_q15(state.next_angle);
+        self.track(state, y_c, y_s);
+        let speed = FixedGains::<N>::corrected_speed(&state.x) >> 16;
+        observer.observe(Some(UsedSample {
+            sin_cos,
+            scaled_speed: speed.clamp(-32768, 32767) as i16,
+            faults: state.faults,
+        }));
     }
 
     #[inline(always)]
@@ -220,7 +231,9 @@ pub(crate) fn track<V: ChainNumber, X, F: Stage<V, X>, O: Observe<V>, R: Output<
     if chain.front_end.quiet(&state.front_end) {
         let ((y_c, y_s), _) = {
             let prediction = chain.observer.prediction(&state.observer);
-            chain.front_end.forward(&mut state.front_end, &prediction, input)
+            chain
+                .front_end
+                .forward(&mut state.front_end, &prediction, input)
         };
         chain
             .observer
@@ -232,7 +245,9 @@ pub(crate) fn track<V: ChainNumber, X, F: Stage<V, X>, O: Observe<V>, R: Output<
 }
 
 /// [`track`] on a sample that a stage learns from or flags (out of line, as the online
-/// calibration's learning: the registers it needs are saved here only).
+/// calibration's learning: the registers it needs are saved here only; `cold`, so that
+/// the quiet path is laid out first and costs its one test).
+#[cold]
 #[inline(never)]
 fn track_with_feedback<V: ChainNumber, X, F: Stage<V, X>, O: Observe<V>, R: Output<V, O>>(
     chain: &Chain<F, O>,

@@ -10,7 +10,6 @@ use crate::faults::Faults;
 use crate::real::sincos::Detection;
 use crate::recursion::Sample;
 use crate::recursion::{Arithmetic, step};
-use crate::update::{SampleObserver, UsedSample};
 use crate::wrap::{NoWrap, Wrap};
 
 /// The smallest value of the reciprocal `2^27 / amplitude`: amplitudes up to 65536 counts,
@@ -64,7 +63,7 @@ impl<const N: usize> FixedGains<N> {
     /// The corrected speed of the last sample: the state keeps the next sample's predicted
     /// speed, this less the acceleration's change.
     #[inline(always)]
-    fn corrected_speed(x: &FixedVector) -> i32 {
+    pub(crate) fn corrected_speed(x: &FixedVector) -> i32 {
         match N {
             1 => 0,
             2 => x.speed,
@@ -254,21 +253,6 @@ impl<const N: usize> FixedGains<N> {
     // Always inlined, as the float path's: a call costs a Cortex-M a few instructions more.
     #[inline(always)]
     pub fn track(&self, state: &mut FixedState<N>, y_c: i16, y_s: i16) {
-        self.track_observing(state, y_c, y_s, ());
-    }
-
-    /// [`FixedGains::track`] showing each sample to `observer` (the stages of a signal
-    /// chain before the observer): the `(sin, cos)` of the predicted angle (Q15), the
-    /// corrected speed in 2^-16 turn per sample (saturated to 16 bits) and the faults.
-    /// Every integer sample is used. The plain update passes `()`, which costs nothing.
-    #[inline(always)]
-    pub(crate) fn track_observing(
-        &self,
-        state: &mut FixedState<N>,
-        y_c: i16,
-        y_s: i16,
-        observer: impl SampleObserver<i16>,
-    ) {
         // Stored first: the sample's registers are then free for the rest.
         state.sample = [y_c, y_s];
         let (y_c, y_s) = (i32::from(y_c), i32::from(y_s));
@@ -309,12 +293,6 @@ impl<const N: usize> FixedGains<N> {
         if state.window_left == 0 {
             self.end_window(state);
         }
-        let q15 = |v: i32| v.clamp(-32768, 32767) as i16;
-        observer.observe(Some(UsedSample {
-            sin_cos: (q15(step.sin_cos.0), q15(step.sin_cos.1)),
-            scaled_speed: q15(Self::corrected_speed(&state.x) >> 16),
-            faults: state.faults,
-        }));
     }
 
     /// The last sample, in counts.

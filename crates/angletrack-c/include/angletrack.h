@@ -11,6 +11,13 @@
  * them in static memory. A zeroed at_state_f32 or at_calibrator_f32 is a fresh one; zeroed
  * at_gains_f32 or at_adc_f32 are refused until made by their constructor.
  *
+ * Layout: every struct made by the library starts with its private tag (which Rust value it
+ * holds) and layout word (a fingerprint of the build that wrote it: AT_LAYOUT_VERSION, the
+ * library's version, the struct's size, the target). A struct written by another build of
+ * the library is refused with AT_ERR_OTHER_BUILD (AT_FAULT_INVALID_ARGUMENT from an update),
+ * never read; at start-up, at_layout_version() == AT_LAYOUT_VERSION checks that the header
+ * is the library's.
+ *
  * Contract of every function taking pointers: NULL is refused (AT_ERR_NULL_POINTER, or
  * AT_FAULT_INVALID_ARGUMENT from an update), never undefined behaviour; a non-NULL pointer
  * points to a live object of its type (`gains` to `order` floats) that nothing else reads
@@ -108,6 +115,14 @@
 #define AT_STATE_F32_WORDS 8
 
 /**
+ * The version of the C structs' layout, bumped whenever a struct of the header or a Rust
+ * value the library stores in one changes; part of every struct's layout word (with the
+ * crate's version and the sizes, which change it without a bump). `at_layout_version()`
+ * returns the library's, to compare with the header's at start-up.
+ */
+#define AT_LAYOUT_VERSION 2
+
+/**
  * What a call that can fail returns: `AT_OK` (0), or the `AT_ERR_*` code of what was
  * refused. `at_status_message` gives its text.
  */
@@ -122,13 +137,17 @@ typedef int32_t at_status;
  */
 typedef struct at_gains_f32 {
   /**
-   * Private: the Rust value.
-   */
-  uint64_t storage[AT_GAINS_F32_WORDS];
-  /**
    * Private: which Rust value `storage` holds.
    */
   uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_GAINS_F32_WORDS];
 } at_gains_f32;
 
 /**
@@ -197,13 +216,17 @@ typedef struct at_fault_thresholds_f32 {
  */
 typedef struct at_state_f32 {
   /**
-   * Private: the Rust value.
-   */
-  uint64_t storage[AT_STATE_F32_WORDS];
-  /**
    * Private: which Rust value `storage` holds (0: a fresh state).
    */
   uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_STATE_F32_WORDS];
 } at_state_f32;
 
 /**
@@ -245,13 +268,17 @@ typedef struct at_estimate_f32 {
  */
 typedef struct at_adc_f32 {
   /**
-   * Private: the Rust value.
-   */
-  uint64_t storage[AT_ADC_F32_WORDS];
-  /**
    * Private: whether `storage` holds it.
    */
   uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_ADC_F32_WORDS];
 } at_adc_f32;
 
 /**
@@ -261,13 +288,17 @@ typedef struct at_adc_f32 {
  */
 typedef struct at_calibrator_f32 {
   /**
-   * Private: the Rust value.
-   */
-  uint64_t storage[AT_CALIBRATOR_F32_WORDS];
-  /**
    * Private: whether `storage` holds it (0: a fresh calibrator).
    */
   uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_CALIBRATOR_F32_WORDS];
 } at_calibrator_f32;
 
 /**
@@ -322,6 +353,13 @@ typedef struct at_sensor_calibration_f32 {
  * The calibration mode was not one of `AT_CALIBRATION_*`.
  */
 #define AT_ERR_MODE 4
+
+/**
+ * A struct argument was made by another build of the library (its layout word, written
+ * with its tag, is not this build's: another layout version `AT_LAYOUT_VERSION`, library
+ * version, struct size or target); it was not read. Make it again with this build.
+ */
+#define AT_ERR_OTHER_BUILD 5
 
 /**
  * `sample_period_s`: not finite, not positive, or outside [1 ps, 1000 s].
@@ -538,6 +576,14 @@ struct at_estimate_f32 at_update_f32(const struct at_gains_f32 *gains,
                                      struct at_state_f32 *state,
                                      float y_c,
                                      float y_s);
+
+/**
+ * The C structs' layout version of the library (`AT_LAYOUT_VERSION` of the header it was
+ * built with): a firmware compares it with the header's at start-up. Every struct also
+ * carries its build's layout beside its tag, so that one written by another build is
+ * refused (`AT_ERR_OTHER_BUILD`) rather than read.
+ */
+uint32_t at_layout_version(void);
 
 /**
  * The text of a status (static, NUL-terminated): the name of the refused parameter as the

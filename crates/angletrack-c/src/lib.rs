@@ -9,7 +9,10 @@
 //! C mirrors `at_estimate_f32`, `at_fault_thresholds_f32` and `at_sensor_calibration_f32`.
 //! The first four hold the core's Rust values in private storage, sized at compile time
 //! and checked against the Rust types on every target (`slot`); a zeroed state or
-//! calibrator is a fresh one, zeroed gains or ADC are refused.
+//! calibrator is a fresh one, zeroed gains or ADC are refused. Each starts with a tag and a
+//! layout word (the fingerprint of the build that wrote it: `AT_LAYOUT_VERSION`, the
+//! crate's version, the struct's size, the target), so that a struct from another build is
+//! refused (`AT_ERR_OTHER_BUILD`), never read.
 //!
 //! Calls that can fail return an `at_status` (`AT_OK` or an `AT_ERR_*` naming the refused
 //! parameter, `at_status_message` its text); the per-sample updates never fail and return
@@ -46,6 +49,7 @@ pub use faults::*;
 pub use ffi::*;
 pub use gains::{AT_GAINS_F32_WORDS, at_fault_thresholds_f32, at_gains_f32};
 pub use observer::{AT_STATE_F32_WORDS, at_estimate_f32, at_state_f32};
+pub use slot::AT_LAYOUT_VERSION;
 pub use status::*;
 
 /// A bare-metal C program has no panic handler; the library's is never reached (no call

@@ -19,6 +19,10 @@ pub const AT_ERR_ORDER: at_status = 2;
 pub const AT_ERR_NOT_INITIALISED: at_status = 3;
 /// The calibration mode was not one of `AT_CALIBRATION_*`.
 pub const AT_ERR_MODE: at_status = 4;
+/// A struct argument was made by another build of the library (its layout word, written
+/// with its tag, is not this build's: another layout version `AT_LAYOUT_VERSION`, library
+/// version, struct size or target); it was not read. Make it again with this build.
+pub const AT_ERR_OTHER_BUILD: at_status = 5;
 /// `sample_period_s`: not finite, not positive, or outside [1 ps, 1000 s].
 pub const AT_ERR_SAMPLE_PERIOD_S: at_status = 16;
 /// `gains[0]` (l1): not finite, or outside the stability region of the discrete loop.
@@ -127,6 +131,9 @@ pub(crate) fn message(status: at_status) -> &'static CStr {
         AT_ERR_ORDER => c"order must be 2 or 3",
         AT_ERR_NOT_INITIALISED => c"a struct argument was not made by its constructor",
         AT_ERR_MODE => c"mode must be AT_CALIBRATION_OFF, _LEARNING or _FROZEN",
+        AT_ERR_OTHER_BUILD => {
+            c"a struct argument was made by another build of the library (layout version or size differs)"
+        }
         AT_ERR_SAMPLE_PERIOD_S => c"sample_period_s",
         AT_ERR_GAINS_0 => c"gains[0] (l1)",
         AT_ERR_GAINS_1 => c"gains[1] (l2)",

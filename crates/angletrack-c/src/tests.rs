@@ -224,3 +224,43 @@ fn status_and_fault_texts_are_c_strings() {
     assert_eq!(text(at_status_message(AT_ERR_GAINS_2)), "gains[2] (l3)");
     assert_eq!(text(at_fault_name(AT_FAULT_FALSE_LOCK)), "false lock");
 }
+
+#[test]
+fn structs_of_another_build_are_refused_and_left_as_they_are() {
+    let gains = gains_of(&GAINS_3);
+    let mut other = gains;
+    other.set_layout_for_test(at_gains_f32::LAYOUT.wrapping_add(2));
+    let mut thresholds = at_fault_thresholds_f32_for_amplitude(1.0);
+    // SAFETY: valid pointers to live values.
+    unsafe {
+        assert_eq!(at_layout_version(), AT_LAYOUT_VERSION);
+        assert_eq!(
+            at_gains_f32_fault_thresholds(&other, &mut thresholds),
+            AT_ERR_OTHER_BUILD
+        );
+        let mut fresh = at_state_f32::FRESH;
+        assert_eq!(
+            at_update_f32(&other, &mut fresh, 1.0, 0.0),
+            at_estimate_f32::INVALID
+        );
+        assert_eq!(fresh.clone_tag(), 0);
+        let mut calibrator = at_calibrator_f32::FRESH;
+        assert_eq!(
+            at_calibrator_f32_set_mode(&mut calibrator, AT_CALIBRATION_LEARNING),
+            AT_OK
+        );
+        calibrator.set_layout_for_test(1);
+        let before = calibrator.clone_tag();
+        assert_eq!(
+            at_calibrator_f32_set_mode(&mut calibrator, AT_CALIBRATION_FROZEN),
+            AT_ERR_OTHER_BUILD
+        );
+        assert_eq!(calibrator.clone_tag(), before);
+        assert_eq!(at_calibrator_f32_mode(&calibrator), AT_CALIBRATION_OFF);
+    }
+    assert_ne!(
+        at_gains_f32::LAYOUT,
+        at_state_f32::LAYOUT,
+        "the size is in the layout"
+    );
+}

@@ -1,7 +1,8 @@
 /* The C API on the host: a C program written against angletrack.h, linked with
  * libangletrack_c.a, that designs nothing: it takes the gains `angletrack design --format c`
  * writes (gains_ato3.h, gains_ato2.h), tracks a synthetic resolver (scenario.h) and checks
- * the refusals (invalid gains, NULL pointers, zeroed structs). Prints one line per check
+ * the refusals (invalid gains, NULL pointers, zeroed structs, structs of another build).
+ * Prints one line per check
  * and exits 0 if all pass. Built and run by scripts/test.d/16-c-api.sh. */
 #include <stdio.h>
 #include <string.h>
@@ -40,6 +41,24 @@ static void track(const char *name, const at_gains_f32 *gains, const at_adc_f32 
   int pass = scenario_passes(name, r, angle_tolerance, speed_tolerance, line, sizeof line);
   fputs(line, stdout);
   failures += !pass;
+}
+
+/* Structs of another build (another layout version, struct size, library version or
+ * target: another layout word beside an "AT" tag) are refused, never read. The private
+ * `layout` field is written here only to make such a struct. */
+static void layouts(void) {
+  check(at_layout_version() == AT_LAYOUT_VERSION, "the library's layout version is the header's");
+  at_gains_f32 other = gains3;
+  other.layout += 2;
+  at_fault_thresholds_f32 t;
+  check_status(at_gains_f32_fault_thresholds(&other, &t), AT_ERR_OTHER_BUILD,
+               "gains of another build refused");
+  check(at_update_f32(&other, &state, 1.0f, 0.0f).faults == AT_FAULT_INVALID_ARGUMENT,
+        "update with gains of another build flags AT_FAULT_INVALID_ARGUMENT");
+  at_calibrator_f32 other_calibrator = calibrator;
+  other_calibrator.layout += 2;
+  check_status(at_calibrator_f32_set_mode(&other_calibrator, AT_CALIBRATION_LEARNING),
+               AT_ERR_OTHER_BUILD, "calibrator of another build refused");
 }
 
 int main(void) {
@@ -111,6 +130,8 @@ int main(void) {
   at_calibrator_f32_reset(&loaded);
   check_status(at_calibrator_f32_load(&loaded, &learned), AT_OK, "stored calibration loaded");
   check(at_calibrator_f32_mode(&loaded) == AT_CALIBRATION_FROZEN, "loaded calibration frozen");
+
+  layouts();
 
   printf("%s: %d check(s) failed\n", failures ? "FAIL" : "PASS", failures);
   return failures ? 1 : 0;

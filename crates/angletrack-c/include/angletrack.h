@@ -2,14 +2,20 @@
  * angletrack.h: the C API of angletrack-core, angle tracking observers
  * (resolver-to-digital conversion) for firmware. Generated from crates/angletrack-c by
  * cbindgen: do not edit. Link with libangletrack_c.a (cargo build -p angletrack-c --release
- * [--target thumbv7em-none-eabihf]).
+ * [--target thumbv7em-none-eabihf or thumbv6m-none-eabi]).
  *
  * Once, at start-up: at_gains_f32_new() checks the gains that `angletrack design --format c`
  * writes (NAME_gains, NAME_ORDER, NAME_SAMPLE_PERIOD_S). Every sample: at_update_f32()
  * (or at_update_f32_adc_*() on raw ADC counts, at_update_f32_calibrated() through the
- * online calibration) returns an at_estimate_f32. The structs are plain and sized: place
- * them in static memory. A zeroed at_state_f32 or at_calibrator_f32 is a fresh one; zeroed
- * at_gains_f32 or at_adc_f32 are refused until made by their constructor.
+ * online calibration) returns an at_estimate_f32. On a core without an FPU (Cortex-M0),
+ * the fixed-point observer: at_fixed_gains_from_constants() checks the integer constants of
+ * `angletrack design --dtype fixed --format c` (NAME_gain_multiplier, NAME_ORDER,
+ * NAME_ACCELERATION_SHIFT, NAME_SAMPLE_PERIOD_S), at_fixed_gains_set_monitor() sets the
+ * signal's amplitude in counts; every sample, at_fixed_track() on int16 samples (counts
+ * less mid-scale, 12-bit ones shifted left by 4), at_fixed_state_estimate() on demand (or
+ * at_fixed_update(), both). The structs are plain and sized: place them in static memory.
+ * A zeroed at_state_f32, at_fixed_state or at_calibrator_f32 is a fresh one; zeroed
+ * at_gains_f32, at_fixed_gains or at_adc_f32 are refused until made by their constructor.
  *
  * Layout: every struct made by the library starts with its private tag (which Rust value it
  * holds) and layout word (a fingerprint of the build that wrote it: AT_LAYOUT_VERSION, the
@@ -23,7 +29,7 @@
  * points to a live object of its type (`gains` to `order` floats) that nothing else reads
  * or writes during the call (no aliasing between arguments, no concurrent call on the same
  * state from an interrupt); each struct was zeroed, made by its constructor, or copied whole
- * from one that was; its private fields (storage, tag) are never written by C code. No call
+ * from one that was; its private fields (tag, layout, storage) are never written by C code. No call
  * panics, allocates or blocks.
  */
 
@@ -101,6 +107,18 @@
  * and the estimate's other fields are 0.
  */
 #define AT_FAULT_INVALID_ARGUMENT 2147483648
+
+/**
+ * The 8-byte words of an `at_fixed_gains`'s storage (checked against the Rust type at
+ * compile time, on every target).
+ */
+#define AT_FIXED_GAINS_WORDS 8
+
+/**
+ * The 8-byte words of an `at_fixed_state`'s storage (checked against the Rust type at
+ * compile time, on every target).
+ */
+#define AT_FIXED_STATE_WORDS 8
 
 /**
  * The 8-byte words of an `at_gains_f32`'s storage (checked against the Rust type at
@@ -328,6 +346,82 @@ typedef struct at_sensor_calibration_f32 {
    */
   float quadrature_rad;
 } at_sensor_calibration_f32;
+
+/**
+ * The checked configuration of a fixed-point observer (order 2 or 3): the gains' integer
+ * multipliers, the acceleration's shift, the sample period and the monitor's integer
+ * thresholds. Made by `at_fixed_gains_from_constants` or `at_fixed_gains_new`; immutable
+ * once made (but for `at_fixed_gains_set_monitor`), one serves any number of channels. Place
+ * it anywhere; copy it by assignment; never write its fields. A zeroed one is refused.
+ */
+typedef struct at_fixed_gains {
+  /**
+   * Private: which Rust value `storage` holds (0: none).
+   */
+  uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_FIXED_GAINS_WORDS];
+} at_fixed_gains;
+
+/**
+ * One fixed-point channel's mutable state: the integer state vector, the amplitude's
+ * reciprocal, the turn count, the monitor's window and latched faults. A zeroed one (C
+ * static memory) is a fresh state, as after `at_fixed_state_reset`: it initialises itself
+ * from its first sample. It takes the order of the gains it is updated with (updated with
+ * gains of another order than its last, it starts afresh). Place it anywhere; copy it by
+ * assignment; never write its fields.
+ */
+typedef struct at_fixed_state {
+  /**
+   * Private: which Rust value `storage` holds (0: a fresh state).
+   */
+  uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_FIXED_STATE_WORDS];
+} at_fixed_state;
+
+/**
+ * What the fixed-point observer knows after a sample, in its integers.
+ */
+typedef struct at_fixed_estimate {
+  /**
+   * Binary angle: 2^32 per turn, `INT32_MIN` is -pi (rad = angle * 2 pi / 2^32).
+   */
+  int32_t angle;
+  /**
+   * Whole turns since initialisation: the position is `turns + angle / 2^32` turns.
+   */
+  int64_t turns;
+  /**
+   * Speed (2^-32 turn per sample).
+   */
+  int32_t speed;
+  /**
+   * Acceleration (2^-63 turn per sample^2); 0 for a 2nd-order observer.
+   */
+  int64_t acceleration;
+  /**
+   * Normalised phase error (Q15: 32768 is 1), about the sine of the phase error.
+   */
+  int32_t phase_error;
+  /**
+   * The monitor's last window's faults (`AT_FAULT_*` bits), or
+   * `AT_FAULT_INVALID_ARGUMENT` alone when the call's arguments were refused.
+   */
+  uint32_t faults;
+} at_fixed_estimate;
 
 /**
  * Success.
@@ -729,6 +823,133 @@ struct at_estimate_f32 at_update_f32_calibrated(const struct at_gains_f32 *gains
                                                 struct at_calibrator_f32 *calibrator,
                                                 float y_c,
                                                 float y_s);
+
+/**
+ * Checks the integer constants of a fixed-point observer of order `order` (2 or 3), as
+ * `angletrack design --dtype fixed --format c --name NAME` prints them (`NAME_gain_multiplier`,
+ * `NAME_ORDER`, `NAME_ACCELERATION_SHIFT`, `NAME_SAMPLE_PERIOD_S`): each multiplier
+ * positive, the shift 1 to 15 (0 at order 2), the loop they represent stable. Writes the
+ * configuration, with the monitor's thresholds for a nominal amplitude of 16384 counts, to
+ * `out`; `out` is unchanged on error (`AT_ERR_GAINS_0`..`_2` naming the gain,
+ * `AT_ERR_SAMPLE_PERIOD_S`, ...).
+ *
+ * # Safety
+ * `multiplier` points to `order` integers; see the header's introduction.
+ */
+at_status at_fixed_gains_from_constants(const int32_t *multiplier,
+                                        size_t order,
+                                        uint32_t acceleration_shift,
+                                        double sample_period_s,
+                                        struct at_fixed_gains *out);
+
+/**
+ * Quantises `order` (2 or 3) float gains `gains` (l1, l2[, l3], as `angletrack design
+ * --format c` writes them and `at_gains_f32_new` takes them) at the sample period
+ * `sample_period_s` (s) into a fixed-point observer's configuration, checked (a gain that
+ * rounds to zero or does not fit is refused, naming it), to `out` (unchanged on error).
+ * Costs double-precision arithmetic: at start-up, or on the host (then embed the
+ * constants and use `at_fixed_gains_from_constants`).
+ *
+ * # Safety
+ * `gains` points to `order` floats; see the header's introduction.
+ */
+at_status at_fixed_gains_new(const float *gains,
+                             size_t order,
+                             double sample_period_s,
+                             struct at_fixed_gains *out);
+
+/**
+ * Sets the monitor of `gains` for signals of `nominal_amplitude_counts` (16384 to 46341
+ * counts: a 12-bit reading shifted left by 4 is about 28,800), or turns it off with 0 (only
+ * the input's handling remains). `AT_OK`, or `AT_ERR_NOMINAL_AMPLITUDE` (`gains` unchanged).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_fixed_gains_set_monitor(struct at_fixed_gains *gains, double nominal_amplitude_counts);
+
+/**
+ * The order (2 or 3) of fixed-point gains; 0 for NULL or gains not made (or another
+ * build's).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+size_t at_fixed_gains_order(const struct at_fixed_gains *gains);
+
+/**
+ * Makes `state` fresh (it initialises itself from its next sample); a zeroed state is
+ * fresh too. NULL is ignored.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+void at_fixed_state_reset(struct at_fixed_state *state);
+
+/**
+ * Returns the faults latched in `state` since they were last cleared (`AT_FAULT_*` bits)
+ * and clears them. 0 for NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_fixed_state_clear_faults(struct at_fixed_state *state);
+
+/**
+ * One sample of the integer signals `y_c ~ cos(theta)`, `y_s ~ sin(theta)` (counts, the
+ * ADC's mid-scale removed; amplitudes from 4096 to 46341 counts are normalised exactly, so
+ * a 12-bit reading is shifted left by 3 or 4), the state only: the cheapest per-sample
+ * call (`at_fixed_state_estimate` reads the estimate on demand). Returns 0, or
+ * `AT_FAULT_INVALID_ARGUMENT` when a pointer is NULL, the gains were not made or a struct
+ * is another build's (then `state` is unchanged).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_fixed_track(const struct at_fixed_gains *gains,
+                        struct at_fixed_state *state,
+                        int16_t y_c,
+                        int16_t y_s);
+
+/**
+ * `at_fixed_track`, then the estimate (`at_fixed_state_estimate`); on refused arguments
+ * an estimate whose faults are `AT_FAULT_INVALID_ARGUMENT` (the rest 0).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_fixed_estimate at_fixed_update(const struct at_fixed_gains *gains,
+                                         struct at_fixed_state *state,
+                                         int16_t y_c,
+                                         int16_t y_s);
+
+/**
+ * The estimate `state` holds (its last sample's; all zero for a fresh state). NULL or
+ * another build's state: `AT_FAULT_INVALID_ARGUMENT`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_fixed_estimate at_fixed_state_estimate(const struct at_fixed_state *state);
+
+/**
+ * The multi-turn position of `estimate` (rad): `2 pi (turns + angle / 2^32)`. 0 for NULL.
+ * Double-precision arithmetic: for a host, or out of the sample loop.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+double at_fixed_position_rad(const struct at_fixed_estimate *estimate);
+
+/**
+ * The speed of `estimate` (rad/s) at the sample period of `gains`. 0 for NULL or gains
+ * not made. Double-precision arithmetic: for a host, or out of the sample loop.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+double at_fixed_speed_rad_s(const struct at_fixed_gains *gains,
+                            const struct at_fixed_estimate *estimate);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -1,12 +1,16 @@
 //! The C API of `angletrack-core`: a static library (`libangletrack_c.a`) and its header
 //! `include/angletrack.h` (generated from this crate by cbindgen, checked in), for firmware
-//! written in C. Built for the host (`cargo build -p angletrack-c --release`) or a
-//! Cortex-M4F (`--target thumbv7em-none-eabihf`).
+//! written in C. Built for the host (`cargo build -p angletrack-c --release`), a
+//! Cortex-M4F (`--target thumbv7em-none-eabihf`) or a Cortex-M0 (`thumbv6m-none-eabi`).
 //!
 //! Every struct is plain and sized, so that firmware can place it in static memory:
 //! `at_gains_f32` (the checked configuration, order 2 or 3), `at_state_f32` (one channel),
 //! `at_adc_f32` (the ADC front end), `at_calibrator_f32` (the online calibration), and the
-//! C mirrors `at_estimate_f32`, `at_fault_thresholds_f32` and `at_sensor_calibration_f32`.
+//! C mirrors `at_estimate_f32`, `at_fault_thresholds_f32` and `at_sensor_calibration_f32`;
+//! for cores without an FPU, the fixed-point observer: `at_fixed_gains` (its checked
+//! integer configuration, from the constants `angletrack design --dtype fixed --format c`
+//! prints or from float gains), `at_fixed_state` (one channel, int16 samples) and the
+//! mirror `at_fixed_estimate` (`fixed`).
 //! The first four hold the core's Rust values in private storage, sized at compile time
 //! and checked against the Rust types on every target (`slot`); a zeroed state or
 //! calibrator is a fresh one, zeroed gains or ADC are refused. Each starts with a tag and a
@@ -35,6 +39,8 @@ mod adc;
 mod calibration;
 mod faults;
 mod ffi;
+mod ffi_fixed;
+mod fixed;
 mod gains;
 mod observer;
 mod slot;
@@ -47,6 +53,10 @@ pub use calibration::{
 };
 pub use faults::*;
 pub use ffi::*;
+pub use ffi_fixed::*;
+pub use fixed::{
+    AT_FIXED_GAINS_WORDS, AT_FIXED_STATE_WORDS, at_fixed_estimate, at_fixed_gains, at_fixed_state,
+};
 pub use gains::{AT_GAINS_F32_WORDS, at_fault_thresholds_f32, at_gains_f32};
 pub use observer::{AT_STATE_F32_WORDS, at_estimate_f32, at_state_f32};
 pub use slot::AT_LAYOUT_VERSION;

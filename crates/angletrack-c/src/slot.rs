@@ -1,5 +1,5 @@
 //! Rust values kept in C memory: the private `tag`, `layout` and `storage` words of the C
-//! API's structs (`at_gains_f32`, `at_state_f32`, ...), which C code sizes
+//! API's structs (`at_gains_f32`, `at_state_f32`, `at_fixed_gains`, ...), which C code sizes
 //! from the header and may place anywhere (static memory, the stack), copy by assignment
 //! and zero.
 //!
@@ -27,7 +27,7 @@
 
 use core::mem::{MaybeUninit, align_of, size_of};
 
-use angletrack_core::{AdcScaling, Calibrator, Gains, ObserverState};
+use angletrack_core::{AdcScaling, Calibrator, FixedGains, FixedState, Gains, ObserverState};
 
 use crate::status::{AT_ERR_NOT_INITIALISED, AT_ERR_OTHER_BUILD, at_status};
 
@@ -65,6 +65,19 @@ impl Stored for AdcScaling<f32> {
 impl Stored for Calibrator<f32> {
     const TAG: u32 = 0x4154_4301; // "ATC"
 }
+impl Stored for FixedGains<2> {
+    const TAG: u32 = 0x4154_6702; // "ATg", order 2
+}
+impl Stored for FixedGains<3> {
+    const TAG: u32 = 0x4154_6703; // "ATg", order 3
+}
+impl Stored for FixedState<2> {
+    const TAG: u32 = 0x4154_7302; // "ATs", order 2
+}
+impl Stored for FixedState<3> {
+    const TAG: u32 = 0x4154_7303; // "ATs", order 3
+}
+
 /// Why a slot's words are not read as a value.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Refused {
@@ -115,7 +128,11 @@ const BUILD: u32 = {
     h = hash_type::<ObserverState<f32, 2>>(h);
     h = hash_type::<ObserverState<f32, 3>>(h);
     h = hash_type::<AdcScaling<f32>>(h);
-    hash_type::<Calibrator<f32>>(h)
+    h = hash_type::<Calibrator<f32>>(h);
+    h = hash_type::<FixedGains<2>>(h);
+    h = hash_type::<FixedGains<3>>(h);
+    h = hash_type::<FixedState<2>>(h);
+    hash_type::<FixedState<3>>(h)
 };
 
 /// The layout word of a C struct of `size` bytes in this build (never 0).

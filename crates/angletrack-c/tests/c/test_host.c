@@ -1,13 +1,15 @@
 /* The C API on the host: a C program written against angletrack.h, linked with
  * libangletrack_c.a, that designs nothing: it takes the gains `angletrack design --format c`
  * writes (gains_ato3.h, gains_ato2.h), tracks a synthetic resolver (scenario.h) and checks
- * the refusals (invalid gains, NULL pointers, zeroed structs, structs of another build).
- * Prints one line per check
+ * the refusals (invalid gains, NULL pointers, zeroed structs, structs of another build); the
+ * fixed-point observer from the constants `angletrack design --dtype fixed --format c`
+ * prints (fixed_ato3.h) on 12-bit counts. Prints one line per check
  * and exits 0 if all pass. Built and run by scripts/test.d/16-c-api.sh. */
 #include <stdio.h>
 #include <string.h>
 
 #include "angletrack.h"
+#include "fixed_ato3.h"
 #include "gains_ato2.h"
 #include "gains_ato3.h"
 #include "scenario.h"
@@ -17,6 +19,8 @@ static at_gains_f32 gains3, gains2, zeroed_gains;
 static at_state_f32 state;
 static at_adc_f32 adc;
 static at_calibrator_f32 calibrator;
+static at_fixed_gains fixed3, zeroed_fixed;
+static at_fixed_state fixed_state;
 
 static int failures = 0;
 
@@ -43,6 +47,70 @@ static void track(const char *name, const at_gains_f32 *gains, const at_adc_f32 
   failures += !pass;
 }
 
+/* The fixed-point observer: the constants accepted, the scenario tracked from 12-bit
+ * offset-binary counts (mid-scale removed, shifted left by 4: amplitude 28,800), the
+ * refusals. */
+static void fixed_point(void) {
+  char line[300];
+  check_status(at_fixed_gains_from_constants(fixed3_gain_multiplier, FIXED3_ORDER,
+                                             FIXED3_ACCELERATION_SHIFT, FIXED3_SAMPLE_PERIOD_S,
+                                             &fixed3),
+               AT_OK, "fixed-point constants accepted");
+  check_status(at_fixed_gains_set_monitor(&fixed3, 1800.0 * 16.0), AT_OK,
+               "fixed-point monitor at 28,800 counts");
+  check(at_fixed_gains_order(&fixed3) == 3 && at_fixed_gains_order(&zeroed_fixed) == 0,
+        "fixed-point order 3; 0 for zeroed gains");
+  double worst_angle = 0.0, worst_speed = 0.0;
+  uint32_t faults = 0;
+  for (long k = 0; k < SCENARIO_SAMPLES; k++) {
+    double theta = scenario_angle(k, SCENARIO_SPEED_RAD_S, FIXED3_SAMPLE_PERIOD_S);
+    int16_t y_c = (int16_t)(lrint(1800.0 * cos(theta)) * 16);
+    int16_t y_s = (int16_t)(lrint(1800.0 * sin(theta)) * 16);
+    faults |= at_fixed_track(&fixed3, &fixed_state, y_c, y_s);
+    if (k < SCENARIO_SAMPLES - SCENARIO_WINDOW) continue;
+    at_fixed_estimate e = at_fixed_state_estimate(&fixed_state);
+    double angle = e.angle * (2.0 * SCENARIO_PI / 4294967296.0);
+    double angle_error = fabs(scenario_wrapped(angle - theta));
+    double speed_error = fabs(at_fixed_speed_rad_s(&fixed3, &e) - SCENARIO_SPEED_RAD_S);
+    if (angle_error > worst_angle) worst_angle = angle_error;
+    if (speed_error > worst_speed) worst_speed = speed_error;
+    faults |= e.faults;
+  }
+  snprintf(line, sizeof line,
+           "fixed point from 12-bit counts: worst angle error %.3g rad, speed error %.3g rad/s, "
+           "faults 0x%x",
+           worst_angle, worst_speed, (unsigned)faults);
+  check(worst_angle < 3e-4 && worst_speed < 0.1 && faults == 0u, line);
+  at_fixed_estimate e = at_fixed_state_estimate(&fixed_state);
+  double position = at_fixed_position_rad(&e);
+  check(fabs(position - (0.3 + SCENARIO_SPEED_RAD_S * 4999 * 1e-4)) < 1e-3,
+        "fixed-point multi-turn position");
+
+  /* Refusals. */
+  at_fixed_gains out = fixed3;
+  const int32_t zero_l1[3] = {0, 768430, 271817595};
+  check_status(at_fixed_gains_from_constants(zero_l1, 3, 1, 1e-4, &out), AT_ERR_GAINS_0,
+               "fixed-point multiplier 0 refused");
+  check_status(at_fixed_gains_from_constants(fixed3_gain_multiplier, 3, 0, 1e-4, &out),
+               AT_ERR_GAINS_2, "fixed-point shift 0 at order 3 refused");
+  check_status(at_fixed_gains_from_constants(fixed3_gain_multiplier, 4, 1, 1e-4, &out),
+               AT_ERR_ORDER, "fixed-point order 4 refused");
+  check(memcmp(&out, &fixed3, sizeof out) == 0, "refused constants leave out unchanged");
+  const float too_small[2] = {1e-30f, 1e-3f};
+  check_status(at_fixed_gains_new(too_small, 2, 1e-4, &out), AT_ERR_GAINS_0,
+               "fixed-point l1 rounding to 0 refused");
+  check_status(at_fixed_gains_set_monitor(&out, 2000.0), AT_ERR_NOMINAL_AMPLITUDE,
+               "fixed-point monitor at 2000 counts refused");
+  check_status(at_fixed_gains_set_monitor(&zeroed_fixed, 20000.0), AT_ERR_NOT_INITIALISED,
+               "zeroed fixed-point gains refused");
+  check_status(at_fixed_gains_new(NULL, 2, 1e-4, &out), AT_ERR_NULL_POINTER,
+               "NULL fixed-point gains");
+  check(at_fixed_track(&zeroed_fixed, &fixed_state, 1, 0) == AT_FAULT_INVALID_ARGUMENT &&
+            at_fixed_track(&fixed3, NULL, 1, 0) == AT_FAULT_INVALID_ARGUMENT &&
+            at_fixed_update(NULL, &fixed_state, 1, 0).faults == AT_FAULT_INVALID_ARGUMENT,
+        "fixed-point track and update with NULL or zeroed arguments refused");
+}
+
 /* Structs of another build (another layout version, struct size, library version or
  * target: another layout word beside an "AT" tag) are refused, never read. The private
  * `layout` field is written here only to make such a struct. */
@@ -55,10 +123,25 @@ static void layouts(void) {
                "gains of another build refused");
   check(at_update_f32(&other, &state, 1.0f, 0.0f).faults == AT_FAULT_INVALID_ARGUMENT,
         "update with gains of another build flags AT_FAULT_INVALID_ARGUMENT");
+  at_fixed_gains other_fixed = fixed3;
+  other_fixed.layout += 2;
+  check_status(at_fixed_gains_set_monitor(&other_fixed, 20000.0), AT_ERR_OTHER_BUILD,
+               "fixed-point gains of another build refused");
+  at_fixed_state other_state = fixed_state;
+  other_state.layout += 2;
+  at_fixed_state before = other_state;
+  check(at_fixed_track(&fixed3, &other_state, 1, 0) == AT_FAULT_INVALID_ARGUMENT &&
+            at_fixed_state_estimate(&other_state).faults == AT_FAULT_INVALID_ARGUMENT &&
+            memcmp(&before, &other_state, sizeof before) == 0,
+        "a fixed-point state of another build refused and left unchanged");
+  at_fixed_state_reset(&other_state);
+  check(at_fixed_track(&fixed3, &other_state, 1, 0) == 0u, "reset, it is this build's");
   at_calibrator_f32 other_calibrator = calibrator;
   other_calibrator.layout += 2;
   check_status(at_calibrator_f32_set_mode(&other_calibrator, AT_CALIBRATION_LEARNING),
                AT_ERR_OTHER_BUILD, "calibrator of another build refused");
+  printf("sizeof: at_fixed_gains %zu, at_fixed_state %zu, at_fixed_estimate %zu bytes\n",
+         sizeof(at_fixed_gains), sizeof(at_fixed_state), sizeof(at_fixed_estimate));
 }
 
 int main(void) {
@@ -131,6 +214,7 @@ int main(void) {
   check_status(at_calibrator_f32_load(&loaded, &learned), AT_OK, "stored calibration loaded");
   check(at_calibrator_f32_mode(&loaded) == AT_CALIBRATION_FROZEN, "loaded calibration frozen");
 
+  fixed_point();
   layouts();
 
   printf("%s: %d check(s) failed\n", failures ? "FAIL" : "PASS", failures);

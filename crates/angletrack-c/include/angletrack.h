@@ -13,9 +13,14 @@
  * NAME_ACCELERATION_SHIFT, NAME_SAMPLE_PERIOD_S), at_fixed_gains_set_monitor() sets the
  * signal's amplitude in counts; every sample, at_fixed_track() on int16 samples (counts
  * less mid-scale, 12-bit ones shifted left by 4), at_fixed_state_estimate() on demand (or
- * at_fixed_update(), both). The structs are plain and sized: place them in static memory.
- * A zeroed at_state_f32, at_fixed_state or at_calibrator_f32 is a fresh one; zeroed
- * at_gains_f32, at_fixed_gains or at_adc_f32 are refused until made by their constructor.
+ * at_fixed_update(), both). One signal chain of optional stages (at_chain_f32_new(): the
+ * ADC, a stored calibration or the online calibration with its at_calibration_settings_f32,
+ * the harmonic at_angle_correction_f32, the observer) serves every combination:
+ * at_chain_f32_track*() on floats or counts, at_chain_f32_estimate() on demand, or
+ * at_chain_f32_update*(). The structs are plain and sized: place them in static memory.
+ * A zeroed at_state_f32, at_fixed_state, at_chain_state_f32 or at_calibrator_f32 is a fresh
+ * one; zeroed at_gains_f32, at_fixed_gains, at_chain_f32 or at_adc_f32 are refused until
+ * made by their constructor.
  *
  * Layout: every struct made by the library starts with its private tag (which Rust value it
  * holds) and layout word (a fingerprint of the build that wrote it: AT_LAYOUT_VERSION, the
@@ -65,6 +70,24 @@
  * `at_calibrator_f32_mode`: corrects each sample, learns nothing.
  */
 #define AT_CALIBRATION_FROZEN 2
+
+/**
+ * The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
+ * compile time, on every target).
+ */
+#define AT_CHAIN_F32_WORDS 34
+
+/**
+ * The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
+ * compile time, on every target).
+ */
+#define AT_CHAIN_STATE_F32_WORDS 22
+
+/**
+ * The harmonic orders an `at_angle_correction_f32` holds (the core's
+ * `MAX_CORRECTION_ORDER`: the struct's arrays are the core's, checked at compile time).
+ */
+#define AT_CORRECTION_ORDER 8
 
 /**
  * Loss of signal: a window's RMS amplitude is below the loss-of-signal threshold.
@@ -348,6 +371,91 @@ typedef struct at_sensor_calibration_f32 {
 } at_sensor_calibration_f32;
 
 /**
+ * The online calibration's settings (the core's `CalibrationSettings`): when it learns and
+ * the bounds beyond which its estimates raise a fault. Start from
+ * `at_calibration_settings_f32_default()`.
+ */
+typedef struct at_calibration_settings_f32 {
+  /**
+   * Learns only above this electrical speed (rad/s); 0 for the default, one turn in
+   * 4096 samples.
+   */
+  float min_speed_rad_s;
+  /**
+   * An offset above this fraction of its channel's amplitude flags
+   * `AT_FAULT_OFFSET_OR_QUADRATURE` (default 0.1).
+   */
+  float max_offset;
+  /**
+   * `|A_s / A_c - 1|` above this flags `AT_FAULT_AMPLITUDE_MISMATCH` (default 0.2).
+   */
+  float max_amplitude_mismatch;
+  /**
+   * `|quadrature|` (rad) above this flags `AT_FAULT_OFFSET_OR_QUADRATURE` (default 0.1).
+   */
+  float max_quadrature_rad;
+} at_calibration_settings_f32;
+
+/**
+ * A harmonic angle error `d(theta) = sum_k a_k cos(k theta) + b_k sin(k theta)`, `k = 1..8`
+ * (rad), as `angletrack calibrate` learns it: the chain rotates each sample by `-d` at the
+ * observer's predicted angle. All zero corrects nothing.
+ */
+typedef struct at_angle_correction_f32 {
+  /**
+   * `a_k` at index `k - 1` (rad).
+   */
+  float cos_coefficients[AT_CORRECTION_ORDER];
+  /**
+   * `b_k` at index `k - 1` (rad).
+   */
+  float sin_coefficients[AT_CORRECTION_ORDER];
+} at_angle_correction_f32;
+
+/**
+ * The checked configuration of one signal chain, made by `at_chain_f32_new` from the
+ * observer's gains and optional stages. Immutable once made: one serves any number of
+ * channels (`at_chain_state_f32`). Place it anywhere; copy it by assignment; never write its
+ * fields. A zeroed one is refused.
+ */
+typedef struct at_chain_f32 {
+  /**
+   * Private: which Rust value `storage` holds (0: none).
+   */
+  uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_CHAIN_F32_WORDS];
+} at_chain_f32;
+
+/**
+ * One channel's state of a signal chain: the observer's state and the online
+ * calibration's estimator. A zeroed one is fresh (as after `at_chain_state_f32_reset`): the
+ * observer initialises itself from its first sample, the online calibration is off until
+ * `at_chain_state_f32_set_calibration_mode`. Place it anywhere; copy it by assignment;
+ * never write its fields.
+ */
+typedef struct at_chain_state_f32 {
+  /**
+   * Private: which Rust value `storage` holds (0: a fresh state).
+   */
+  uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_CHAIN_STATE_F32_WORDS];
+} at_chain_state_f32;
+
+/**
  * The checked configuration of a fixed-point observer (order 2 or 3): the gains' integer
  * multipliers, the acceleration's shift, the sample period and the monitor's integer
  * thresholds. Made by `at_fixed_gains_from_constants` or `at_fixed_gains_new`; immutable
@@ -454,6 +562,12 @@ typedef struct at_fixed_estimate {
  * version, struct size or target); it was not read. Make it again with this build.
  */
 #define AT_ERR_OTHER_BUILD 5
+
+/**
+ * `at_chain_f32_new` was given both a stored calibration and the online calibration's
+ * settings (a chain has one calibration stage).
+ */
+#define AT_ERR_STAGES 6
 
 /**
  * `sample_period_s`: not finite, not positive, or outside [1 ps, 1000 s].
@@ -579,6 +693,12 @@ typedef struct at_fixed_estimate {
  * Calibration setting `max_quadrature_rad`.
  */
 #define AT_ERR_MAX_QUADRATURE_RAD 40
+
+/**
+ * Angle correction: a coefficient not finite, or their total `sum |a_k| + |b_k|` above
+ * 0.25 rad.
+ */
+#define AT_ERR_ANGLE_CORRECTION 41
 
 /**
  * A parameter this version of the C API has no code for (a newer core's).
@@ -823,6 +943,227 @@ struct at_estimate_f32 at_update_f32_calibrated(const struct at_gains_f32 *gains
                                                 struct at_calibrator_f32 *calibrator,
                                                 float y_c,
                                                 float y_s);
+
+/**
+ * The online calibration's default settings (the core's `CalibrationSettings::default`).
+ */
+struct at_calibration_settings_f32 at_calibration_settings_f32_default(void);
+
+/**
+ * Builds a signal chain into `out`: the observer `gains` (required) after the optional
+ * stages, each NULL when absent, in this order: the ADC front end `adc` (then the chain
+ * takes counts: `at_chain_f32_track_u16`, ...), one calibration stage (a stored calibration
+ * `stored`, applied to every sample, or the online calibration with its `settings`,
+ * learning per channel in `at_chain_state_f32`; not both: `AT_ERR_STAGES`), and the
+ * harmonic angle correction `correction`. Every stage is checked (`AT_ERR_*` naming the
+ * refused parameter, `AT_ERR_ANGLE_CORRECTION`, ...; `out` unchanged on error); the stages
+ * are copied, so they need not outlive the call.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_chain_f32_new(const struct at_gains_f32 *gains,
+                           const struct at_adc_f32 *adc,
+                           const struct at_sensor_calibration_f32 *stored,
+                           const struct at_calibration_settings_f32 *settings,
+                           const struct at_angle_correction_f32 *correction,
+                           struct at_chain_f32 *out);
+
+/**
+ * One sample `(y_c, y_s)` through the chain's stages and observer, the state only (the
+ * cheapest per-sample call; `at_chain_f32_estimate` reads the estimate on demand, the
+ * stages' faults are latched in the state). Returns 0, or `AT_FAULT_INVALID_ARGUMENT`
+ * (nothing changed) for a NULL pointer, a chain not made or a struct of another build. A
+ * chain with an ADC stage takes `y_c`, `y_s` as already scaled (the ADC is for counts).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_f32_track(const struct at_chain_f32 *chain,
+                            struct at_chain_state_f32 *state,
+                            float y_c,
+                            float y_s);
+
+/**
+ * `at_chain_f32_track`, then the estimate, which carries the stages' faults.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_chain_f32_update(const struct at_chain_f32 *chain,
+                                           struct at_chain_state_f32 *state,
+                                           float y_c,
+                                           float y_s);
+
+/**
+ * `at_chain_f32_track` on raw `i16` ADC counts, through the chain's ADC stage
+ * (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_f32_track_i16(const struct at_chain_f32 *chain,
+                                struct at_chain_state_f32 *state,
+                                int16_t raw_c,
+                                int16_t raw_s);
+
+/**
+ * `at_chain_f32_update` on raw `i16` ADC counts, through the chain's ADC stage
+ * (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_chain_f32_update_i16(const struct at_chain_f32 *chain,
+                                               struct at_chain_state_f32 *state,
+                                               int16_t raw_c,
+                                               int16_t raw_s);
+
+/**
+ * `at_chain_f32_track` on raw `u16` ADC counts, through the chain's ADC stage
+ * (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_f32_track_u16(const struct at_chain_f32 *chain,
+                                struct at_chain_state_f32 *state,
+                                uint16_t raw_c,
+                                uint16_t raw_s);
+
+/**
+ * `at_chain_f32_update` on raw `u16` ADC counts, through the chain's ADC stage
+ * (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_chain_f32_update_u16(const struct at_chain_f32 *chain,
+                                               struct at_chain_state_f32 *state,
+                                               uint16_t raw_c,
+                                               uint16_t raw_s);
+
+/**
+ * `at_chain_f32_track` on raw `i32` ADC counts, through the chain's ADC stage
+ * (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_f32_track_i32(const struct at_chain_f32 *chain,
+                                struct at_chain_state_f32 *state,
+                                int32_t raw_c,
+                                int32_t raw_s);
+
+/**
+ * `at_chain_f32_update` on raw `i32` ADC counts, through the chain's ADC stage
+ * (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_chain_f32_update_i32(const struct at_chain_f32 *chain,
+                                               struct at_chain_state_f32 *state,
+                                               int32_t raw_c,
+                                               int32_t raw_s);
+
+/**
+ * The estimate `state` holds for `chain` (its last sample's; the observer's faults, the
+ * stages' latched in the state). Refused arguments: `AT_FAULT_INVALID_ARGUMENT`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_chain_f32_estimate(const struct at_chain_f32 *chain,
+                                             const struct at_chain_state_f32 *state);
+
+/**
+ * Makes `state` fresh: the observer initialises itself from its next sample, the online
+ * calibration is off with nothing learned. NULL is ignored.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+void at_chain_state_f32_reset(struct at_chain_state_f32 *state);
+
+/**
+ * Returns the faults latched in `state` (the observer's and the stages', `AT_FAULT_*`
+ * bits) and clears them. 0 for NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_state_f32_clear_faults(struct at_chain_state_f32 *state);
+
+/**
+ * Sets the mode of the online calibration in `state`: `AT_CALIBRATION_LEARNING`,
+ * `_FROZEN` or `_OFF` (the calibration is kept). Effective in a chain with the online
+ * calibration stage.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_chain_state_f32_set_calibration_mode(struct at_chain_state_f32 *state, uint32_t mode);
+
+/**
+ * The mode of the online calibration in `state` (`AT_CALIBRATION_*`; off for NULL).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_state_f32_calibration_mode(const struct at_chain_state_f32 *state);
+
+/**
+ * Loads a stored calibration into the online calibration of `state` (checked; unchanged on
+ * error), frozen: it corrects and learns nothing until set to learn, continuing from it.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_chain_state_f32_load_calibration(struct at_chain_state_f32 *state,
+                                              const struct at_sensor_calibration_f32 *stored);
+
+/**
+ * Writes the calibration the online calibration of `state` applies (to store in flash) to
+ * `out`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_chain_state_f32_calibration(const struct at_chain_state_f32 *state,
+                                         struct at_sensor_calibration_f32 *out);
+
+/**
+ * The turns the online calibration of `state` has learned since started or loaded; 0 for
+ * NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_state_f32_turns_learned(const struct at_chain_state_f32 *state);
+
+/**
+ * `at_update_f32` without the estimate: the state (and its latched faults) only, the
+ * cheapest per-sample call of the plain observer; `at_state_f32_estimate` reads the
+ * estimate on demand. Returns 0, or `AT_FAULT_INVALID_ARGUMENT` for refused arguments.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_track_f32(const struct at_gains_f32 *gains,
+                      struct at_state_f32 *state,
+                      float y_c,
+                      float y_s);
+
+/**
+ * The estimate `state` holds for `gains` (its last sample's); refused arguments:
+ * `AT_FAULT_INVALID_ARGUMENT`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_state_f32_estimate(const struct at_gains_f32 *gains,
+                                             const struct at_state_f32 *state);
 
 /**
  * Checks the integer constants of a fixed-point observer of order `order` (2 or 3), as

@@ -4,7 +4,7 @@
 
 use core::mem::MaybeUninit;
 
-use angletrack_core::{CalibrationMode, Calibrator, SensorCalibration};
+use angletrack_core::{CalibrationMode, Calibrator, ConfigError, SensorCalibration};
 
 use crate::slot::{self, Refused};
 use crate::status::{AT_ERR_MODE, AT_OK, at_status, status_of_result};
@@ -87,14 +87,7 @@ impl at_calibrator_f32 {
 
     /// Loads a stored calibration (checked), frozen; on error `self` is left as it was.
     pub(crate) fn load(&mut self, stored: &at_sensor_calibration_f32) -> at_status {
-        let s = stored;
-        let calibration = SensorCalibration::new(
-            s.offset_c,
-            s.offset_s,
-            s.amplitude_c,
-            s.amplitude_s,
-            s.quadrature_rad,
-        );
+        let calibration = stored.checked();
         if let Ok(calibration) = calibration {
             self.slot_put(Calibrator::from_calibration(calibration));
         }
@@ -103,26 +96,56 @@ impl at_calibrator_f32 {
 
     /// Sets the mode from an `AT_CALIBRATION_*` value.
     pub(crate) fn set_mode(&mut self, mode: u32) -> at_status {
-        let calibrator = match self.get_mut() {
-            Ok(calibrator) => calibrator,
-            Err(refused) => return refused.status(),
-        };
-        match mode {
-            AT_CALIBRATION_OFF => calibrator.disable(),
-            AT_CALIBRATION_LEARNING => calibrator.enable(),
-            AT_CALIBRATION_FROZEN => calibrator.freeze(),
-            _ => return AT_ERR_MODE,
+        match self.get_mut() {
+            Ok(calibrator) => set_mode_of(calibrator, mode),
+            Err(refused) => refused.status(),
         }
-        AT_OK
     }
 
     /// The mode, as an `AT_CALIBRATION_*` value (off for another build's calibrator).
     pub(crate) fn mode(&self) -> u32 {
-        match self.value().map(|c| c.mode()) {
-            Ok(CalibrationMode::Learning) => AT_CALIBRATION_LEARNING,
-            Ok(CalibrationMode::Frozen) => AT_CALIBRATION_FROZEN,
-            _ => AT_CALIBRATION_OFF,
-        }
+        self.value().map_or(AT_CALIBRATION_OFF, |c| mode_of(&c))
+    }
+}
+
+impl at_sensor_calibration_f32 {
+    /// The core's calibration, checked.
+    pub(crate) fn checked(&self) -> Result<SensorCalibration<f32>, ConfigError> {
+        SensorCalibration::new(
+            self.offset_c,
+            self.offset_s,
+            self.amplitude_c,
+            self.amplitude_s,
+            self.quadrature_rad,
+        )
+    }
+}
+
+#[cfg(test)]
+impl at_sensor_calibration_f32 {
+    /// The calibration that corrects nothing.
+    pub(crate) fn from_core_identity() -> Self {
+        SensorCalibration::IDENTITY.into()
+    }
+}
+
+/// Sets the mode of `calibrator` from an `AT_CALIBRATION_*` value.
+pub(crate) fn set_mode_of(calibrator: &mut Calibrator<f32>, mode: u32) -> at_status {
+    match mode {
+        AT_CALIBRATION_OFF => calibrator.disable(),
+        AT_CALIBRATION_LEARNING => calibrator.enable(),
+        AT_CALIBRATION_FROZEN => calibrator.freeze(),
+        _ => return AT_ERR_MODE,
+    }
+    AT_OK
+}
+
+/// The mode of `calibrator`, as an `AT_CALIBRATION_*` value.
+pub(crate) fn mode_of(calibrator: &Calibrator<f32>) -> u32 {
+    match calibrator.mode() {
+        CalibrationMode::Learning => AT_CALIBRATION_LEARNING,
+        CalibrationMode::Frozen => AT_CALIBRATION_FROZEN,
+        _ => AT_CALIBRATION_OFF,
     }
 }
 

@@ -10,7 +10,10 @@
 //! for cores without an FPU, the fixed-point observer: `at_fixed_gains` (its checked
 //! integer configuration, from the constants `angletrack design --dtype fixed --format c`
 //! prints or from float gains), `at_fixed_state` (one channel, int16 samples) and the
-//! mirror `at_fixed_estimate` (`fixed`).
+//! mirror `at_fixed_estimate` (`fixed`); the signal chain, `at_chain_f32` (the core's
+//! `Chain` of optional stages: ADC, stored or online calibration, angle correction, and the
+//! observer) with its per-channel `at_chain_state_f32`, and the plain stage settings
+//! `at_angle_correction_f32` and `at_calibration_settings_f32` (`chain`).
 //! The first four hold the core's Rust values in private storage, sized at compile time
 //! and checked against the Rust types on every target (`slot`); a zeroed state or
 //! calibrator is a fresh one, zeroed gains or ADC are refused. Each starts with a tag and a
@@ -37,8 +40,10 @@ extern crate std;
 
 mod adc;
 mod calibration;
+mod chain;
 mod faults;
 mod ffi;
+mod ffi_chain;
 mod ffi_fixed;
 mod fixed;
 mod gains;
@@ -51,8 +56,13 @@ pub use calibration::{
     AT_CALIBRATION_FROZEN, AT_CALIBRATION_LEARNING, AT_CALIBRATION_OFF, AT_CALIBRATOR_F32_WORDS,
     at_calibrator_f32, at_sensor_calibration_f32,
 };
+pub use chain::{
+    AT_CHAIN_F32_WORDS, AT_CHAIN_STATE_F32_WORDS, AT_CORRECTION_ORDER, at_angle_correction_f32,
+    at_calibration_settings_f32, at_chain_f32, at_chain_state_f32,
+};
 pub use faults::*;
 pub use ffi::*;
+pub use ffi_chain::*;
 pub use ffi_fixed::*;
 pub use fixed::{
     AT_FIXED_GAINS_WORDS, AT_FIXED_STATE_WORDS, at_fixed_estimate, at_fixed_gains, at_fixed_state,
@@ -74,3 +84,5 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_chain;

@@ -86,11 +86,24 @@ impl at_state_f32 {
 
     /// The state of an observer of order `N`: the one held, or a fresh one if it held none
     /// or one of the other order; refused if another build's.
-    fn of_order<const N: usize>(&mut self) -> Result<&mut ObserverState<f32, N>, Refused>
+    pub(crate) fn of_order<const N: usize>(&mut self) -> Result<&mut ObserverState<f32, N>, Refused>
     where
         ObserverState<f32, N>: Stored,
     {
         self.slot_get_or_put(ObserverState::new)
+    }
+
+    /// A copy of the state of order `N`: the one held, or a fresh one if it holds none or
+    /// one of the other order; refused if another build's.
+    pub(crate) fn value_of_order<const N: usize>(&self) -> Result<ObserverState<f32, N>, Refused>
+    where
+        ObserverState<f32, N>: Stored,
+    {
+        match self.slot_get() {
+            Ok(s) => Ok(*s),
+            Err(Refused::NotInitialised) => Ok(ObserverState::new()),
+            Err(refused) => Err(refused),
+        }
     }
 
     /// Returns the latched faults (`AT_FAULT_*` bits) and clears them; 0 for a fresh state

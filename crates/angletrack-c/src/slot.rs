@@ -132,7 +132,11 @@ const BUILD: u32 = {
     h = hash_type::<FixedGains<2>>(h);
     h = hash_type::<FixedGains<3>>(h);
     h = hash_type::<FixedState<2>>(h);
-    hash_type::<FixedState<3>>(h)
+    h = hash_type::<FixedState<3>>(h);
+    h = hash_type::<crate::chain::ChainF32<2>>(h);
+    h = hash_type::<crate::chain::ChainF32<3>>(h);
+    h = hash_type::<crate::chain::StateF32<2>>(h);
+    hash_type::<crate::chain::StateF32<3>>(h)
 };
 
 /// The layout word of a C struct of `size` bytes in this build (never 0).

@@ -23,6 +23,9 @@ pub const AT_ERR_MODE: at_status = 4;
 /// with its tag, is not this build's: another layout version `AT_LAYOUT_VERSION`, library
 /// version, struct size or target); it was not read. Make it again with this build.
 pub const AT_ERR_OTHER_BUILD: at_status = 5;
+/// `at_chain_f32_new` was given both a stored calibration and the online calibration's
+/// settings (a chain has one calibration stage).
+pub const AT_ERR_STAGES: at_status = 6;
 /// `sample_period_s`: not finite, not positive, or outside [1 ps, 1000 s].
 pub const AT_ERR_SAMPLE_PERIOD_S: at_status = 16;
 /// `gains[0]` (l1): not finite, or outside the stability region of the discrete loop.
@@ -73,11 +76,14 @@ pub const AT_ERR_MAX_OFFSET: at_status = 38;
 pub const AT_ERR_MAX_AMPLITUDE_MISMATCH: at_status = 39;
 /// Calibration setting `max_quadrature_rad`.
 pub const AT_ERR_MAX_QUADRATURE_RAD: at_status = 40;
+/// Angle correction: a coefficient not finite, or their total `sum |a_k| + |b_k|` above
+/// 0.25 rad.
+pub const AT_ERR_ANGLE_CORRECTION: at_status = 41;
 /// A parameter this version of the C API has no code for (a newer core's).
 pub const AT_ERR_OTHER_PARAMETER: at_status = 63;
 
 /// Every parameter with its status code: the one table both directions use.
-const PARAMETERS: [(Parameter, at_status); 25] = [
+const PARAMETERS: [(Parameter, at_status); 26] = [
     (Parameter::SamplePeriod, AT_ERR_SAMPLE_PERIOD_S),
     (Parameter::AngleGain, AT_ERR_GAINS_0),
     (Parameter::SpeedGain, AT_ERR_GAINS_1),
@@ -106,6 +112,7 @@ const PARAMETERS: [(Parameter, at_status); 25] = [
         AT_ERR_MAX_AMPLITUDE_MISMATCH,
     ),
     (Parameter::MaxQuadrature, AT_ERR_MAX_QUADRATURE_RAD),
+    (Parameter::AngleCorrection, AT_ERR_ANGLE_CORRECTION),
 ];
 
 /// The status naming the parameter a configuration error refused.
@@ -159,6 +166,8 @@ pub(crate) fn message(status: at_status) -> &'static CStr {
         AT_ERR_MAX_OFFSET => c"max_offset",
         AT_ERR_MAX_AMPLITUDE_MISMATCH => c"max_amplitude_mismatch",
         AT_ERR_MAX_QUADRATURE_RAD => c"max_quadrature_rad",
+        AT_ERR_ANGLE_CORRECTION => c"angle_correction",
+        AT_ERR_STAGES => c"a chain takes a stored calibration or the online calibration, not both",
         AT_ERR_OTHER_PARAMETER => c"a parameter of a newer core",
         _ => c"unknown status",
     }

@@ -21,6 +21,8 @@ static at_adc_f32 adc;
 static at_calibrator_f32 calibrator;
 static at_fixed_gains fixed3, zeroed_fixed;
 static at_fixed_state fixed_state;
+static at_chain_f32 chain, plain_chain;
+static at_chain_state_f32 chain_state;
 
 static int failures = 0;
 
@@ -109,6 +111,98 @@ static void fixed_point(void) {
             at_fixed_track(&fixed3, NULL, 1, 0) == AT_FAULT_INVALID_ARGUMENT &&
             at_fixed_update(NULL, &fixed_state, 1, 0).faults == AT_FAULT_INVALID_ARGUMENT,
         "fixed-point track and update with NULL or zeroed arguments refused");
+}
+
+/* The worst angle error over the last 0.1 s of the scenario's sensor with 2 % offsets, 5 %
+ * imbalance, 0.01 rad of quadrature and 5 mrad of 3rd harmonic, as 12-bit counts through
+ * `chain` (which has the 12-bit ADC stage). */
+static double chain_worst_error(const at_chain_f32 *c, uint32_t *faults) {
+  double worst = 0.0;
+  *faults = 0u;
+  at_chain_state_f32_reset(&chain_state);
+  for (long k = 0; k < SCENARIO_SAMPLES; k++) {
+    double theta = scenario_angle(k, SCENARIO_SPEED_RAD_S, ATO3_SAMPLE_PERIOD_S);
+    double d = theta + 5e-3 * sin(3.0 * theta);
+    double y_c = 0.02 + 0.8 * cos(d), y_s = -0.01 + 0.84 * sin(d + 0.01);
+    at_chain_f32_track_u16(c, &chain_state, (uint16_t)lrint(2048.0 + 2048.0 * y_c),
+                           (uint16_t)lrint(2048.0 + 2048.0 * y_s));
+    if (k < SCENARIO_SAMPLES - SCENARIO_WINDOW) continue;
+    at_estimate_f32 e = at_chain_f32_estimate(c, &chain_state);
+    double error = fabs(scenario_wrapped((double)e.angle - theta));
+    if (error > worst) worst = error;
+    *faults |= e.faults;
+  }
+  return worst;
+}
+
+/* The signal chain: stages chosen at run time, one track for every combination. */
+static void chains(void) {
+  char line[300];
+  /* The sensor's stored calibration (in units of full scale) and harmonic error. */
+  at_sensor_calibration_f32 stored = {0.02f, -0.01f, 0.8f, 0.84f, 0.01f};
+  at_angle_correction_f32 correction;
+  memset(&correction, 0, sizeof correction);
+  correction.sin_coefficients[2] = 5e-3f;
+  check_status(at_chain_f32_new(&gains3, &adc, &stored, NULL, &correction, &chain), AT_OK,
+               "chain: ADC, stored calibration, angle correction, observer");
+  check_status(at_chain_f32_new(&gains3, &adc, NULL, NULL, NULL, &plain_chain), AT_OK,
+               "chain: ADC, observer");
+  uint32_t faults, plain_faults;
+  double corrected = chain_worst_error(&chain, &faults);
+  double plain = chain_worst_error(&plain_chain, &plain_faults);
+  snprintf(line, sizeof line,
+           "chain from 12-bit counts of an imperfect sensor: worst angle error %.3g rad "
+           "corrected (faults 0x%x), %.3g rad without the calibration and correction",
+           corrected, (unsigned)faults, plain);
+  check(corrected < 2e-4 && faults == 0u && plain > 0.02, line);
+
+  /* The online calibration as a stage: learns per channel, in the chain's state. */
+  at_calibration_settings_f32 settings = at_calibration_settings_f32_default();
+  check_status(at_chain_f32_new(&gains3, NULL, &stored, &settings, NULL, &chain), AT_ERR_STAGES,
+               "chain: stored and online calibration refused");
+  check_status(at_chain_f32_new(&gains3, NULL, NULL, &settings, NULL, &chain), AT_OK,
+               "chain: online calibration, observer");
+  at_chain_state_f32_reset(&chain_state);
+  check_status(at_chain_state_f32_set_calibration_mode(&chain_state, AT_CALIBRATION_LEARNING),
+               AT_OK, "chain: online calibration learning");
+  for (long k = 0; k < SCENARIO_SAMPLES; k++) {
+    double theta = scenario_angle(k, SCENARIO_SPEED_RAD_S, ATO3_SAMPLE_PERIOD_S);
+    at_chain_f32_track(&chain, &chain_state, (float)(0.05 + cos(theta)),
+                       (float)(-0.05 + 1.1 * sin(theta + 0.05)));
+  }
+  at_sensor_calibration_f32 learned;
+  check_status(at_chain_state_f32_calibration(&chain_state, &learned), AT_OK,
+               "chain: the learned calibration read");
+  snprintf(line, sizeof line, "chain: learned in %u turns offsets %.4f %.4f, ratio %.4f",
+           (unsigned)at_chain_state_f32_turns_learned(&chain_state), learned.offset_c,
+           learned.offset_s, learned.amplitude_s / learned.amplitude_c);
+  check(fabs(learned.offset_c - 0.05) < 5e-3 && fabs(learned.offset_s + 0.05) < 5e-3 &&
+            fabs(learned.amplitude_s / learned.amplitude_c - 1.1) < 5e-3,
+        line);
+  settings.max_offset = -1.0f;
+  check_status(at_chain_f32_new(&gains3, NULL, NULL, &settings, NULL, &chain),
+               AT_ERR_MAX_OFFSET, "chain: negative max_offset refused");
+  correction.cos_coefficients[7] = 0.3f;
+  check_status(at_chain_f32_new(&gains3, NULL, NULL, NULL, &correction, &chain),
+               AT_ERR_ANGLE_CORRECTION, "chain: angle correction above 0.25 rad refused");
+  check(at_chain_f32_track_u16(&plain_chain, NULL, 1, 2) == AT_FAULT_INVALID_ARGUMENT,
+        "chain: NULL state refused");
+
+  /* The plain observer's state-only form: the estimate on demand is the update's. */
+  at_state_f32 tracked, updated;
+  at_state_f32_reset(&tracked);
+  at_state_f32_reset(&updated);
+  int same = 1;
+  for (long k = 0; k < 100; k++) {
+    double theta = scenario_angle(k, SCENARIO_SPEED_RAD_S, ATO3_SAMPLE_PERIOD_S);
+    at_estimate_f32 e = at_update_f32(&gains3, &updated, (float)cos(theta), (float)sin(theta));
+    same &= at_track_f32(&gains3, &tracked, (float)cos(theta), (float)sin(theta)) == 0u;
+    at_estimate_f32 on_demand = at_state_f32_estimate(&gains3, &tracked);
+    same &= e.angle == on_demand.angle && e.turns == on_demand.turns &&
+            e.speed == on_demand.speed && e.acceleration == on_demand.acceleration &&
+            e.phase_error == on_demand.phase_error && e.faults == on_demand.faults;
+  }
+  check(same, "at_track_f32 + at_state_f32_estimate give at_update_f32's estimates");
 }
 
 /* Structs of another build (another layout version, struct size, library version or
@@ -215,6 +309,7 @@ int main(void) {
   check(at_calibrator_f32_mode(&loaded) == AT_CALIBRATION_FROZEN, "loaded calibration frozen");
 
   fixed_point();
+  chains();
   layouts();
 
   printf("%s: %d check(s) failed\n", failures ? "FAIL" : "PASS", failures);

@@ -17,7 +17,9 @@
  * ADC, a stored calibration or the online calibration with its at_calibration_settings_f32,
  * the harmonic at_angle_correction_f32, the observer) serves every combination:
  * at_chain_f32_track*() on floats or counts, at_chain_f32_estimate() on demand, or
- * at_chain_f32_update*(). The structs are plain and sized: place them in static memory.
+ * at_chain_f32_update*(). From raw resolver windings, at_demodulator_f32_push() gives one
+ * (y_c, y_s) pair per carrier period for the chain. The structs are plain and sized: place
+ * them in static memory.
  * A zeroed at_state_f32, at_fixed_state, at_chain_state_f32 or at_calibrator_f32 is a fresh
  * one; zeroed at_gains_f32, at_fixed_gains, at_chain_f32 or at_adc_f32 are refused until
  * made by their constructor.
@@ -88,6 +90,35 @@
  * `MAX_CORRECTION_ORDER`: the struct's arrays are the core's, checked at compile time).
  */
 #define AT_CORRECTION_ORDER 8
+
+/**
+ * The 8-byte words of an `at_demodulator_f32`'s storage (checked against the Rust types at
+ * compile time, on every target).
+ */
+#define AT_DEMODULATOR_F32_WORDS 40
+
+/**
+ * The 8-byte words of an `at_demodulator_state_f32`'s storage (checked against the Rust
+ * type at compile time, on every target).
+ */
+#define AT_DEMODULATOR_STATE_F32_WORDS 16
+
+/**
+ * A pair's front-end fault: loss of excitation (the carrier amplitude at the windings
+ * below its threshold).
+ */
+#define AT_FRONT_END_FAULT_LOSS_OF_EXCITATION 1
+
+/**
+ * A pair's front-end fault: the tracked carrier delay drifted beyond its bound.
+ */
+#define AT_FRONT_END_FAULT_PHASE_DRIFT (1 << 1)
+
+/**
+ * A pair's front-end fault: a raw sample of the window was within the margin of the ADC's
+ * rails (or not a number).
+ */
+#define AT_FRONT_END_FAULT_CLIPPING (1 << 2)
 
 /**
  * Loss of signal: a window's RMS amplitude is below the loss-of-signal threshold.
@@ -456,6 +487,126 @@ typedef struct at_chain_state_f32 {
 } at_chain_state_f32;
 
 /**
+ * The demodulator's settings (the core's `DemodulatorSettings`): start from
+ * `at_demodulator_settings_f32_new`, which fills in the defaults.
+ */
+typedef struct at_demodulator_settings_f32 {
+  /**
+   * The excitation carrier frequency (Hz); the ADC samples `N` times per period.
+   */
+  float carrier_hz;
+  /**
+   * A winding's nominal carrier amplitude at the ADC (counts, peak): the pairs are
+   * divided by it (nominal amplitude 1).
+   */
+  float carrier_amplitude_counts;
+  /**
+   * The lowest ADC code.
+   */
+  float adc_min_code;
+  /**
+   * The highest ADC code.
+   */
+  float adc_max_code;
+  /**
+   * A raw sample within this many counts of a rail counts as clipped (default 1/256 of
+   * the range).
+   */
+  float clip_margin_counts;
+  /**
+   * Loss of excitation below this carrier amplitude, relative to nominal (default 0.25).
+   */
+  float loss_of_excitation;
+  /**
+   * Phase drift beyond this (rad) from the start-up delay (default 44 degrees).
+   */
+  float phase_drift_bound_rad;
+  /**
+   * The delay (rad) the start-up estimate is resolved around (default 0).
+   */
+  float expected_delay_rad;
+  /**
+   * The fraction of each period's delay error applied after start-up (default 0.01).
+   */
+  float delay_tracking_factor;
+  /**
+   * The carrier periods the start-up delay estimate averages (default 16).
+   */
+  uint32_t startup_periods;
+} at_demodulator_settings_f32;
+
+/**
+ * The checked configuration of a synchronous demodulator, made by `at_demodulator_f32_new`
+ * (reference tables, scale, thresholds). Immutable once made; place it anywhere; copy it by
+ * assignment; never write its fields. A zeroed one is refused.
+ */
+typedef struct at_demodulator_f32 {
+  /**
+   * Private: which Rust value `storage` holds (0: none).
+   */
+  uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_DEMODULATOR_F32_WORDS];
+} at_demodulator_f32;
+
+/**
+ * One channel's demodulator state: partial sums, the carrier delay, latched front-end
+ * faults. A zeroed one is fresh (as after `at_demodulator_state_f32_reset`): its next
+ * sample is the first of a carrier period (excitation phase 0). Place it anywhere; copy it
+ * by assignment; never write its fields.
+ */
+typedef struct at_demodulator_state_f32 {
+  /**
+   * Private: which Rust value `storage` holds (0: a fresh state).
+   */
+  uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_DEMODULATOR_STATE_F32_WORDS];
+} at_demodulator_state_f32;
+
+/**
+ * One demodulated pair: the windings' envelopes at the centre of their window.
+ */
+typedef struct at_demodulated_pair_f32 {
+  /**
+   * The cosine winding's envelope, `~ cos theta` (nominal amplitude 1).
+   */
+  float y_c;
+  /**
+   * The sine winding's envelope, `~ sin theta`.
+   */
+  float y_s;
+  /**
+   * The cosine winding's quadrature component (about 0).
+   */
+  float quadrature_c;
+  /**
+   * The sine winding's quadrature component (about 0).
+   */
+  float quadrature_s;
+  /**
+   * The index of the window (window `p` starts at ADC sample `p N`).
+   */
+  uint64_t window;
+  /**
+   * This window's front-end faults (`AT_FRONT_END_FAULT_*` bits).
+   */
+  uint32_t faults;
+} at_demodulated_pair_f32;
+
+/**
  * The checked configuration of a fixed-point observer (order 2 or 3): the gains' integer
  * multipliers, the acceleration's shift, the sample period and the monitor's integer
  * thresholds. Made by `at_fixed_gains_from_constants` or `at_fixed_gains_new`; immutable
@@ -699,6 +850,51 @@ typedef struct at_fixed_estimate {
  * 0.25 rad.
  */
 #define AT_ERR_ANGLE_CORRECTION 41
+
+/**
+ * Demodulator setting `carrier_hz`.
+ */
+#define AT_ERR_CARRIER_HZ 42
+
+/**
+ * Demodulator: samples per carrier period (8, 16 or 32 in the C API).
+ */
+#define AT_ERR_SAMPLES_PER_PERIOD 43
+
+/**
+ * Demodulator setting `carrier_amplitude_counts`.
+ */
+#define AT_ERR_CARRIER_AMPLITUDE_COUNTS 44
+
+/**
+ * Demodulator settings `adc_min_code`, `adc_max_code`, `clip_margin_counts`.
+ */
+#define AT_ERR_ADC_RANGE 45
+
+/**
+ * Demodulator setting `loss_of_excitation`.
+ */
+#define AT_ERR_LOSS_OF_EXCITATION 46
+
+/**
+ * Demodulator setting `phase_drift_bound_rad`.
+ */
+#define AT_ERR_PHASE_DRIFT_BOUND_RAD 47
+
+/**
+ * Demodulator setting `expected_delay_rad`.
+ */
+#define AT_ERR_EXPECTED_DELAY_RAD 48
+
+/**
+ * Demodulator setting `delay_tracking_factor`.
+ */
+#define AT_ERR_DELAY_TRACKING_FACTOR 49
+
+/**
+ * Demodulator setting `startup_periods`.
+ */
+#define AT_ERR_STARTUP_PERIODS 50
 
 /**
  * A parameter this version of the C API has no code for (a newer core's).
@@ -1164,6 +1360,76 @@ uint32_t at_track_f32(const struct at_gains_f32 *gains,
  */
 struct at_estimate_f32 at_state_f32_estimate(const struct at_gains_f32 *gains,
                                              const struct at_state_f32 *state);
+
+/**
+ * The demodulator's settings for a carrier of `carrier_hz` (Hz) and amplitude
+ * `carrier_amplitude_counts` (counts, peak) at an ADC whose codes run from `adc_min_code` to
+ * `adc_max_code`, with the core's defaults for the rest (clip margin 1/256 of the range,
+ * loss of excitation below 0.25, phase drift bound 44 degrees, expected delay 0, delay
+ * tracking factor 0.01, start-up over 16 periods).
+ */
+struct at_demodulator_settings_f32 at_demodulator_settings_f32_new(float carrier_hz,
+                                                                   float carrier_amplitude_counts,
+                                                                   float adc_min_code,
+                                                                   float adc_max_code);
+
+/**
+ * Checks `settings` for `samples_per_period` ADC samples per carrier period (8, 16 or 32:
+ * `AT_ERR_SAMPLES_PER_PERIOD` otherwise) and writes the demodulator to `out` (unchanged on
+ * error; `AT_ERR_CARRIER_HZ`, `AT_ERR_ADC_RANGE`, ... name the refused setting).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_demodulator_f32_new(const struct at_demodulator_settings_f32 *settings,
+                                 uint32_t samples_per_period,
+                                 struct at_demodulator_f32 *out);
+
+/**
+ * Checks that `chain` runs at the demodulator's pair rate: its observer's sample period is
+ * the carrier period (to a relative 1e-4), else `AT_ERR_SAMPLE_PERIOD_S`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_demodulator_f32_check_chain(const struct at_demodulator_f32 *demodulator,
+                                         const struct at_chain_f32 *chain);
+
+/**
+ * One ADC sample of each winding (`raw_c` of the cosine winding, `raw_s` of the sine
+ * winding, in counts), taken at the excitation phase `2 pi k / N` of the `k`-th sample of
+ * the carrier period. Once per period (after the start-up delay estimate) writes a pair to
+ * `out` and returns 1; else returns 0 (`out` untouched). Refused arguments (NULL, a
+ * demodulator not made, a struct of another build): `AT_FAULT_INVALID_ARGUMENT`, nothing
+ * changed. Feed the pair's `y_c`, `y_s` to a chain whose gains run at the carrier period
+ * (`at_demodulator_f32_check_chain`).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_demodulator_f32_push(const struct at_demodulator_f32 *demodulator,
+                                 struct at_demodulator_state_f32 *state,
+                                 float raw_c,
+                                 float raw_s,
+                                 struct at_demodulated_pair_f32 *out);
+
+/**
+ * Makes `state` fresh: its next sample is the first of a carrier period, the delay not yet
+ * measured. NULL is ignored.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+void at_demodulator_state_f32_reset(struct at_demodulator_state_f32 *state);
+
+/**
+ * Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits) and clears
+ * them. 0 for NULL (or another build's state).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_demodulator_state_f32_clear_faults(struct at_demodulator_state_f32 *state);
 
 /**
  * Checks the integer constants of a fixed-point observer of order `order` (2 or 3), as

@@ -13,7 +13,9 @@
 //! mirror `at_fixed_estimate` (`fixed`); the signal chain, `at_chain_f32` (the core's
 //! `Chain` of optional stages: ADC, stored or online calibration, angle correction, and the
 //! observer) with its per-channel `at_chain_state_f32`, and the plain stage settings
-//! `at_angle_correction_f32` and `at_calibration_settings_f32` (`chain`).
+//! `at_angle_correction_f32` and `at_calibration_settings_f32` (`chain`); the synchronous
+//! demodulator, `at_demodulator_f32` with its `at_demodulator_state_f32`, which turns a
+//! resolver's windings into the chain's pairs (`demodulator`).
 //! The first four hold the core's Rust values in private storage, sized at compile time
 //! and checked against the Rust types on every target (`slot`); a zeroed state or
 //! calibrator is a fresh one, zeroed gains or ADC are refused. Each starts with a tag and a
@@ -41,9 +43,11 @@ extern crate std;
 mod adc;
 mod calibration;
 mod chain;
+mod demodulator;
 mod faults;
 mod ffi;
 mod ffi_chain;
+mod ffi_demodulator;
 mod ffi_fixed;
 mod fixed;
 mod gains;
@@ -60,9 +64,15 @@ pub use chain::{
     AT_CHAIN_F32_WORDS, AT_CHAIN_STATE_F32_WORDS, AT_CORRECTION_ORDER, at_angle_correction_f32,
     at_calibration_settings_f32, at_chain_f32, at_chain_state_f32,
 };
+pub use demodulator::{
+    AT_DEMODULATOR_F32_WORDS, AT_DEMODULATOR_STATE_F32_WORDS, AT_FRONT_END_FAULT_CLIPPING,
+    AT_FRONT_END_FAULT_LOSS_OF_EXCITATION, AT_FRONT_END_FAULT_PHASE_DRIFT, at_demodulated_pair_f32,
+    at_demodulator_f32, at_demodulator_settings_f32, at_demodulator_state_f32,
+};
 pub use faults::*;
 pub use ffi::*;
 pub use ffi_chain::*;
+pub use ffi_demodulator::*;
 pub use ffi_fixed::*;
 pub use fixed::{
     AT_FIXED_GAINS_WORDS, AT_FIXED_STATE_WORDS, at_fixed_estimate, at_fixed_gains, at_fixed_state,
@@ -86,3 +96,5 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
 mod tests;
 #[cfg(test)]
 mod tests_chain;
+#[cfg(test)]
+mod tests_demodulator;

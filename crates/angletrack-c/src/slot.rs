@@ -136,7 +136,11 @@ const BUILD: u32 = {
     h = hash_type::<crate::chain::ChainF32<2>>(h);
     h = hash_type::<crate::chain::ChainF32<3>>(h);
     h = hash_type::<crate::chain::StateF32<2>>(h);
-    hash_type::<crate::chain::StateF32<3>>(h)
+    h = hash_type::<crate::chain::StateF32<3>>(h);
+    h = hash_type::<angletrack_core::Demodulator<f32, 8>>(h);
+    h = hash_type::<angletrack_core::Demodulator<f32, 16>>(h);
+    h = hash_type::<angletrack_core::Demodulator<f32, 32>>(h);
+    hash_type::<angletrack_core::DemodulatorState<f32>>(h)
 };
 
 /// The layout word of a C struct of `size` bytes in this build (never 0).

@@ -205,6 +205,39 @@ static void chains(void) {
   check(same, "at_track_f32 + at_state_f32_estimate give at_update_f32's estimates");
 }
 
+/* The demodulator: resolver windings sampled 16 times per 10 kHz carrier period by a 12-bit
+ * ADC, one pair per period into a chain running at the carrier period. */
+static void demodulation(void) {
+  at_demodulator_settings_f32 settings = at_demodulator_settings_f32_new(10e3f, 1800.0f, 0.0f, 4095.0f);
+  static at_demodulator_f32 demodulator;
+  static at_demodulator_state_f32 demodulator_state;
+  check_status(at_demodulator_f32_new(&settings, 12, &demodulator), AT_ERR_SAMPLES_PER_PERIOD,
+               "demodulator: 12 samples per period refused");
+  check_status(at_demodulator_f32_new(&settings, 16, &demodulator), AT_OK,
+               "demodulator: 16 samples per period");
+  check_status(at_chain_f32_new(&gains3, NULL, NULL, NULL, NULL, &chain), AT_OK, "chain: observer");
+  check_status(at_demodulator_f32_check_chain(&demodulator, &chain), AT_OK,
+               "demodulator: the chain runs at the carrier period");
+  at_chain_state_f32_reset(&chain_state);
+  at_demodulated_pair_f32 pair;
+  double theta = 0.6;
+  long pairs = 0;
+  for (long k = 0; k < 16 * 400; k++) {
+    double carrier = 1800.0 * sin(2.0 * SCENARIO_PI * (double)(k % 16) / 16.0);
+    float raw_c = (float)lrint(2048.0 + cos(theta) * carrier);
+    float raw_s = (float)lrint(2048.0 + sin(theta) * carrier);
+    if (at_demodulator_f32_push(&demodulator, &demodulator_state, raw_c, raw_s, &pair) == 1u) {
+      at_chain_f32_track(&chain, &chain_state, pair.y_c, pair.y_s);
+      pairs++;
+    }
+  }
+  at_estimate_f32 e = at_chain_f32_estimate(&chain, &chain_state);
+  char line[200];
+  snprintf(line, sizeof line, "demodulator: %ld pairs, angle %.5f rad (true %.5f), faults 0x%x",
+           pairs, e.angle, theta, (unsigned)(e.faults | pair.faults));
+  check(fabs(e.angle - theta) < 1e-3 && pairs == 383 && (e.faults | pair.faults) == 0u, line);
+}
+
 /* Structs of another build (another layout version, struct size, library version or
  * target: another layout word beside an "AT" tag) are refused, never read. The private
  * `layout` field is written here only to make such a struct. */
@@ -310,6 +343,7 @@ int main(void) {
 
   fixed_point();
   chains();
+  demodulation();
   layouts();
 
   printf("%s: %d check(s) failed\n", failures ? "FAIL" : "PASS", failures);

@@ -126,10 +126,11 @@ impl at_fixed_gains {
     /// The gains, if made by a constructor of this build.
     #[inline(always)]
     pub(crate) fn get(&self) -> Result<AnyFixed<'_>, Refused> {
-        match self.slot_get() {
-            Ok(g) => Ok(AnyFixed::Two(g)),
-            Err(Refused::NotInitialised) => self.slot_get().map(AnyFixed::Three),
-            Err(refused) => Err(refused),
+        // One comparison selects the order; the checked read refuses the rest.
+        if self.tag == <FixedGains<2> as Stored>::TAG {
+            self.slot_get().map(AnyFixed::Two)
+        } else {
+            self.slot_get().map(AnyFixed::Three)
         }
     }
 

@@ -155,13 +155,20 @@ const fn fits<T, const W: usize>() -> bool {
     size_of::<T>() <= W * size_of::<u64>() && align_of::<T>() <= align_of::<u64>()
 }
 
-/// Whether a struct's `tag` and `layout` words were written by another build: an "AT" tag
-/// beside another layout word than `expected`.
-const fn other_build(tag: u32, layout: u32, expected: u32) -> bool {
-    tag >> 16 == TAG_FAMILY && layout != expected
+/// Why a struct whose tag and layout are not `T`'s of this build holds no `T`: another
+/// build's, or none (out of line: the per-sample paths take the other branch).
+#[cold]
+#[inline(never)]
+fn refusal(tag: u32, layout: u32, expected: u32) -> Refused {
+    if tag >> 16 == TAG_FAMILY && layout != expected {
+        Refused::OtherBuild
+    } else {
+        Refused::NotInitialised
+    }
 }
 
 /// The value in `words` if `tag` is `T`'s and `layout` this build's `expected`.
+#[inline(always)]
 pub(crate) fn get<T: Stored, const W: usize>(
     words: &[MaybeUninit<u64>; W],
     tag: u32,
@@ -169,11 +176,8 @@ pub(crate) fn get<T: Stored, const W: usize>(
     expected: u32,
 ) -> Result<&T, Refused> {
     const { assert!(fits::<T, W>(), "a C API struct's storage is too small") };
-    if other_build(tag, layout, expected) {
-        return Err(Refused::OtherBuild);
-    }
-    if tag != T::TAG {
-        return Err(Refused::NotInitialised);
+    if tag != T::TAG || layout != expected {
+        return Err(refusal(tag, layout, expected));
     }
     // SAFETY: `words` is aligned for `T` and large enough (checked at compile time above),
     // and with the tag `T::TAG` and this build's layout word it holds a valid `T`: only
@@ -185,6 +189,7 @@ pub(crate) fn get<T: Stored, const W: usize>(
 
 /// The value in `words` if `tag` is `T`'s, else `start()` stored there (and tagged); refused
 /// only when the struct is another build's.
+#[inline(always)]
 pub(crate) fn get_or_put<'a, T: Stored, const W: usize>(
     words: &'a mut [MaybeUninit<u64>; W],
     tag: &mut u32,
@@ -193,20 +198,16 @@ pub(crate) fn get_or_put<'a, T: Stored, const W: usize>(
     start: impl FnOnce() -> T,
 ) -> Result<&'a mut T, Refused> {
     const { assert!(fits::<T, W>(), "a C API struct's storage is too small") };
-    if other_build(*tag, *layout, expected) {
-        return Err(Refused::OtherBuild);
-    }
-    let place = words.as_mut_ptr().cast::<T>();
-    if *tag != T::TAG {
-        // SAFETY: as in `put`.
-        unsafe { place.write(start()) };
-        *tag = T::TAG;
-        *layout = expected;
+    if *tag != T::TAG || *layout != expected {
+        if refusal(*tag, *layout, expected) == Refused::OtherBuild {
+            return Err(Refused::OtherBuild);
+        }
+        put(words, tag, layout, expected, start());
     }
     // SAFETY: the words hold a valid `T` (the tag is `T`'s and the layout this build's: see
-    // `get`, or it was just written); the exclusive borrow of `words` makes the reference
-    // unique.
-    Ok(unsafe { &mut *place })
+    // `get`, or it was just written by `put`); the exclusive borrow of `words` makes the
+    // reference unique.
+    Ok(unsafe { &mut *words.as_mut_ptr().cast::<T>() })
 }
 
 /// Stores `value` in `words` and tags them as `T`, of this build's layout `expected`.

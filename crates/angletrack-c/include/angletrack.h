@@ -2,21 +2,41 @@
  * angletrack.h: the C API of angletrack-core, angle tracking observers
  * (resolver-to-digital conversion) for firmware. Generated from crates/angletrack-c by
  * cbindgen: do not edit. Link with libangletrack_c.a (cargo build -p angletrack-c --release
- * [--target thumbv7em-none-eabihf]).
+ * [--target thumbv7em-none-eabihf or thumbv6m-none-eabi]).
  *
  * Once, at start-up: at_gains_f32_new() checks the gains that `angletrack design --format c`
  * writes (NAME_gains, NAME_ORDER, NAME_SAMPLE_PERIOD_S). Every sample: at_update_f32()
  * (or at_update_f32_adc_*() on raw ADC counts, at_update_f32_calibrated() through the
- * online calibration) returns an at_estimate_f32. The structs are plain and sized: place
- * them in static memory. A zeroed at_state_f32 or at_calibrator_f32 is a fresh one; zeroed
- * at_gains_f32 or at_adc_f32 are refused until made by their constructor.
+ * online calibration) returns an at_estimate_f32. On a core without an FPU (Cortex-M0),
+ * the fixed-point observer: at_fixed_gains_from_constants() checks the integer constants of
+ * `angletrack design --dtype fixed --format c` (NAME_gain_multiplier, NAME_ORDER,
+ * NAME_ACCELERATION_SHIFT, NAME_SAMPLE_PERIOD_S), at_fixed_gains_set_monitor() sets the
+ * signal's amplitude in counts; every sample, at_fixed_track() on int16 samples (counts
+ * less mid-scale, 12-bit ones shifted left by 4), at_fixed_state_estimate() on demand (or
+ * at_fixed_update(), both). One signal chain of optional stages (at_chain_f32_new(): the
+ * ADC, a stored calibration or the online calibration with its at_calibration_settings_f32,
+ * the harmonic at_angle_correction_f32, the observer) serves every combination:
+ * at_chain_f32_track*() on floats or counts, at_chain_f32_estimate() on demand, or
+ * at_chain_f32_update*(). From raw resolver windings, at_demodulator_f32_push() gives one
+ * (y_c, y_s) pair per carrier period for the chain. The structs are plain and sized: place
+ * them in static memory.
+ * A zeroed at_state_f32, at_fixed_state, at_chain_state_f32 or at_calibrator_f32 is a fresh
+ * one; zeroed at_gains_f32, at_fixed_gains, at_chain_f32 or at_adc_f32 are refused until
+ * made by their constructor.
+ *
+ * Layout: every struct made by the library starts with its private tag (which Rust value it
+ * holds) and layout word (a fingerprint of the build that wrote it: AT_LAYOUT_VERSION, the
+ * library's version, the struct's size, the target). A struct written by another build of
+ * the library is refused with AT_ERR_OTHER_BUILD (AT_FAULT_INVALID_ARGUMENT from an update),
+ * never read; at start-up, at_layout_version() == AT_LAYOUT_VERSION checks that the header
+ * is the library's.
  *
  * Contract of every function taking pointers: NULL is refused (AT_ERR_NULL_POINTER, or
  * AT_FAULT_INVALID_ARGUMENT from an update), never undefined behaviour; a non-NULL pointer
  * points to a live object of its type (`gains` to `order` floats) that nothing else reads
  * or writes during the call (no aliasing between arguments, no concurrent call on the same
  * state from an interrupt); each struct was zeroed, made by its constructor, or copied whole
- * from one that was; its private fields (storage, tag) are never written by C code. No call
+ * from one that was; its private fields (tag, layout, storage) are never written by C code. No call
  * panics, allocates or blocks.
  */
 
@@ -52,6 +72,53 @@
  * `at_calibrator_f32_mode`: corrects each sample, learns nothing.
  */
 #define AT_CALIBRATION_FROZEN 2
+
+/**
+ * The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
+ * compile time, on every target).
+ */
+#define AT_CHAIN_F32_WORDS 34
+
+/**
+ * The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
+ * compile time, on every target).
+ */
+#define AT_CHAIN_STATE_F32_WORDS 22
+
+/**
+ * The harmonic orders an `at_angle_correction_f32` holds (the core's
+ * `MAX_CORRECTION_ORDER`: the struct's arrays are the core's, checked at compile time).
+ */
+#define AT_CORRECTION_ORDER 8
+
+/**
+ * The 8-byte words of an `at_demodulator_f32`'s storage (checked against the Rust types at
+ * compile time, on every target).
+ */
+#define AT_DEMODULATOR_F32_WORDS 40
+
+/**
+ * The 8-byte words of an `at_demodulator_state_f32`'s storage (checked against the Rust
+ * type at compile time, on every target).
+ */
+#define AT_DEMODULATOR_STATE_F32_WORDS 16
+
+/**
+ * A pair's front-end fault: loss of excitation (the carrier amplitude at the windings
+ * below its threshold).
+ */
+#define AT_FRONT_END_FAULT_LOSS_OF_EXCITATION 1
+
+/**
+ * A pair's front-end fault: the tracked carrier delay drifted beyond its bound.
+ */
+#define AT_FRONT_END_FAULT_PHASE_DRIFT (1 << 1)
+
+/**
+ * A pair's front-end fault: a raw sample of the window was within the margin of the ADC's
+ * rails (or not a number).
+ */
+#define AT_FRONT_END_FAULT_CLIPPING (1 << 2)
 
 /**
  * Loss of signal: a window's RMS amplitude is below the loss-of-signal threshold.
@@ -96,6 +163,18 @@
 #define AT_FAULT_INVALID_ARGUMENT 2147483648
 
 /**
+ * The 8-byte words of an `at_fixed_gains`'s storage (checked against the Rust type at
+ * compile time, on every target).
+ */
+#define AT_FIXED_GAINS_WORDS 8
+
+/**
+ * The 8-byte words of an `at_fixed_state`'s storage (checked against the Rust type at
+ * compile time, on every target).
+ */
+#define AT_FIXED_STATE_WORDS 8
+
+/**
  * The 8-byte words of an `at_gains_f32`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
@@ -106,6 +185,14 @@
  * compile time, on every target).
  */
 #define AT_STATE_F32_WORDS 8
+
+/**
+ * The version of the C structs' layout, bumped whenever a struct of the header or a Rust
+ * value the library stores in one changes; part of every struct's layout word (with the
+ * crate's version and the sizes, which change it without a bump). `at_layout_version()`
+ * returns the library's, to compare with the header's at start-up.
+ */
+#define AT_LAYOUT_VERSION 2
 
 /**
  * What a call that can fail returns: `AT_OK` (0), or the `AT_ERR_*` code of what was
@@ -122,13 +209,17 @@ typedef int32_t at_status;
  */
 typedef struct at_gains_f32 {
   /**
-   * Private: the Rust value.
-   */
-  uint64_t storage[AT_GAINS_F32_WORDS];
-  /**
    * Private: which Rust value `storage` holds.
    */
   uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_GAINS_F32_WORDS];
 } at_gains_f32;
 
 /**
@@ -197,13 +288,17 @@ typedef struct at_fault_thresholds_f32 {
  */
 typedef struct at_state_f32 {
   /**
-   * Private: the Rust value.
-   */
-  uint64_t storage[AT_STATE_F32_WORDS];
-  /**
    * Private: which Rust value `storage` holds (0: a fresh state).
    */
   uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_STATE_F32_WORDS];
 } at_state_f32;
 
 /**
@@ -245,13 +340,17 @@ typedef struct at_estimate_f32 {
  */
 typedef struct at_adc_f32 {
   /**
-   * Private: the Rust value.
-   */
-  uint64_t storage[AT_ADC_F32_WORDS];
-  /**
    * Private: whether `storage` holds it.
    */
   uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_ADC_F32_WORDS];
 } at_adc_f32;
 
 /**
@@ -261,13 +360,17 @@ typedef struct at_adc_f32 {
  */
 typedef struct at_calibrator_f32 {
   /**
-   * Private: the Rust value.
-   */
-  uint64_t storage[AT_CALIBRATOR_F32_WORDS];
-  /**
    * Private: whether `storage` holds it (0: a fresh calibrator).
    */
   uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_CALIBRATOR_F32_WORDS];
 } at_calibrator_f32;
 
 /**
@@ -299,6 +402,287 @@ typedef struct at_sensor_calibration_f32 {
 } at_sensor_calibration_f32;
 
 /**
+ * The online calibration's settings (the core's `CalibrationSettings`): when it learns and
+ * the bounds beyond which its estimates raise a fault. Start from
+ * `at_calibration_settings_f32_default()`.
+ */
+typedef struct at_calibration_settings_f32 {
+  /**
+   * Learns only above this electrical speed (rad/s); 0 for the default, one turn in
+   * 4096 samples.
+   */
+  float min_speed_rad_s;
+  /**
+   * An offset above this fraction of its channel's amplitude flags
+   * `AT_FAULT_OFFSET_OR_QUADRATURE` (default 0.1).
+   */
+  float max_offset;
+  /**
+   * `|A_s / A_c - 1|` above this flags `AT_FAULT_AMPLITUDE_MISMATCH` (default 0.2).
+   */
+  float max_amplitude_mismatch;
+  /**
+   * `|quadrature|` (rad) above this flags `AT_FAULT_OFFSET_OR_QUADRATURE` (default 0.1).
+   */
+  float max_quadrature_rad;
+} at_calibration_settings_f32;
+
+/**
+ * A harmonic angle error `d(theta) = sum_k a_k cos(k theta) + b_k sin(k theta)`, `k = 1..8`
+ * (rad), as `angletrack calibrate` learns it: the chain rotates each sample by `-d` at the
+ * observer's predicted angle. All zero corrects nothing.
+ */
+typedef struct at_angle_correction_f32 {
+  /**
+   * `a_k` at index `k - 1` (rad).
+   */
+  float cos_coefficients[AT_CORRECTION_ORDER];
+  /**
+   * `b_k` at index `k - 1` (rad).
+   */
+  float sin_coefficients[AT_CORRECTION_ORDER];
+} at_angle_correction_f32;
+
+/**
+ * The checked configuration of one signal chain, made by `at_chain_f32_new` from the
+ * observer's gains and optional stages. Immutable once made: one serves any number of
+ * channels (`at_chain_state_f32`). Place it anywhere; copy it by assignment; never write its
+ * fields. A zeroed one is refused.
+ */
+typedef struct at_chain_f32 {
+  /**
+   * Private: which Rust value `storage` holds (0: none).
+   */
+  uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_CHAIN_F32_WORDS];
+} at_chain_f32;
+
+/**
+ * One channel's state of a signal chain: the observer's state and the online
+ * calibration's estimator. A zeroed one is fresh (as after `at_chain_state_f32_reset`): the
+ * observer initialises itself from its first sample, the online calibration is off until
+ * `at_chain_state_f32_set_calibration_mode`. Place it anywhere; copy it by assignment;
+ * never write its fields.
+ */
+typedef struct at_chain_state_f32 {
+  /**
+   * Private: which Rust value `storage` holds (0: a fresh state).
+   */
+  uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_CHAIN_STATE_F32_WORDS];
+} at_chain_state_f32;
+
+/**
+ * The demodulator's settings (the core's `DemodulatorSettings`): start from
+ * `at_demodulator_settings_f32_new`, which fills in the defaults.
+ */
+typedef struct at_demodulator_settings_f32 {
+  /**
+   * The excitation carrier frequency (Hz); the ADC samples `N` times per period.
+   */
+  float carrier_hz;
+  /**
+   * A winding's nominal carrier amplitude at the ADC (counts, peak): the pairs are
+   * divided by it (nominal amplitude 1).
+   */
+  float carrier_amplitude_counts;
+  /**
+   * The lowest ADC code.
+   */
+  float adc_min_code;
+  /**
+   * The highest ADC code.
+   */
+  float adc_max_code;
+  /**
+   * A raw sample within this many counts of a rail counts as clipped (default 1/256 of
+   * the range).
+   */
+  float clip_margin_counts;
+  /**
+   * Loss of excitation below this carrier amplitude, relative to nominal (default 0.25).
+   */
+  float loss_of_excitation;
+  /**
+   * Phase drift beyond this (rad) from the start-up delay (default 44 degrees).
+   */
+  float phase_drift_bound_rad;
+  /**
+   * The delay (rad) the start-up estimate is resolved around (default 0).
+   */
+  float expected_delay_rad;
+  /**
+   * The fraction of each period's delay error applied after start-up (default 0.01).
+   */
+  float delay_tracking_factor;
+  /**
+   * The carrier periods the start-up delay estimate averages (default 16).
+   */
+  uint32_t startup_periods;
+} at_demodulator_settings_f32;
+
+/**
+ * The checked configuration of a synchronous demodulator, made by `at_demodulator_f32_new`
+ * (reference tables, scale, thresholds). Immutable once made; place it anywhere; copy it by
+ * assignment; never write its fields. A zeroed one is refused.
+ */
+typedef struct at_demodulator_f32 {
+  /**
+   * Private: which Rust value `storage` holds (0: none).
+   */
+  uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_DEMODULATOR_F32_WORDS];
+} at_demodulator_f32;
+
+/**
+ * One channel's demodulator state: partial sums, the carrier delay, latched front-end
+ * faults. A zeroed one is fresh (as after `at_demodulator_state_f32_reset`): its next
+ * sample is the first of a carrier period (excitation phase 0). Place it anywhere; copy it
+ * by assignment; never write its fields.
+ */
+typedef struct at_demodulator_state_f32 {
+  /**
+   * Private: which Rust value `storage` holds (0: a fresh state).
+   */
+  uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_DEMODULATOR_STATE_F32_WORDS];
+} at_demodulator_state_f32;
+
+/**
+ * One demodulated pair: the windings' envelopes at the centre of their window.
+ */
+typedef struct at_demodulated_pair_f32 {
+  /**
+   * The cosine winding's envelope, `~ cos theta` (nominal amplitude 1).
+   */
+  float y_c;
+  /**
+   * The sine winding's envelope, `~ sin theta`.
+   */
+  float y_s;
+  /**
+   * The cosine winding's quadrature component (about 0).
+   */
+  float quadrature_c;
+  /**
+   * The sine winding's quadrature component (about 0).
+   */
+  float quadrature_s;
+  /**
+   * The index of the window (window `p` starts at ADC sample `p N`).
+   */
+  uint64_t window;
+  /**
+   * This window's front-end faults (`AT_FRONT_END_FAULT_*` bits).
+   */
+  uint32_t faults;
+} at_demodulated_pair_f32;
+
+/**
+ * The checked configuration of a fixed-point observer (order 2 or 3): the gains' integer
+ * multipliers, the acceleration's shift, the sample period and the monitor's integer
+ * thresholds. Made by `at_fixed_gains_from_constants` or `at_fixed_gains_new`; immutable
+ * once made (but for `at_fixed_gains_set_monitor`), one serves any number of channels. Place
+ * it anywhere; copy it by assignment; never write its fields. A zeroed one is refused.
+ */
+typedef struct at_fixed_gains {
+  /**
+   * Private: which Rust value `storage` holds (0: none).
+   */
+  uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_FIXED_GAINS_WORDS];
+} at_fixed_gains;
+
+/**
+ * One fixed-point channel's mutable state: the integer state vector, the amplitude's
+ * reciprocal, the turn count, the monitor's window and latched faults. A zeroed one (C
+ * static memory) is a fresh state, as after `at_fixed_state_reset`: it initialises itself
+ * from its first sample. It takes the order of the gains it is updated with (updated with
+ * gains of another order than its last, it starts afresh). Place it anywhere; copy it by
+ * assignment; never write its fields.
+ */
+typedef struct at_fixed_state {
+  /**
+   * Private: which Rust value `storage` holds (0: a fresh state).
+   */
+  uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_FIXED_STATE_WORDS];
+} at_fixed_state;
+
+/**
+ * What the fixed-point observer knows after a sample, in its integers.
+ */
+typedef struct at_fixed_estimate {
+  /**
+   * Binary angle: 2^32 per turn, `INT32_MIN` is -pi (rad = angle * 2 pi / 2^32).
+   */
+  int32_t angle;
+  /**
+   * Whole turns since initialisation: the position is `turns + angle / 2^32` turns.
+   */
+  int64_t turns;
+  /**
+   * Speed (2^-32 turn per sample).
+   */
+  int32_t speed;
+  /**
+   * Acceleration (2^-63 turn per sample^2); 0 for a 2nd-order observer.
+   */
+  int64_t acceleration;
+  /**
+   * Normalised phase error (Q15: 32768 is 1), about the sine of the phase error.
+   */
+  int32_t phase_error;
+  /**
+   * The monitor's last window's faults (`AT_FAULT_*` bits), or
+   * `AT_FAULT_INVALID_ARGUMENT` alone when the call's arguments were refused.
+   */
+  uint32_t faults;
+} at_fixed_estimate;
+
+/**
  * Success.
  */
 #define AT_OK 0
@@ -322,6 +706,19 @@ typedef struct at_sensor_calibration_f32 {
  * The calibration mode was not one of `AT_CALIBRATION_*`.
  */
 #define AT_ERR_MODE 4
+
+/**
+ * A struct argument was made by another build of the library (its layout word, written
+ * with its tag, is not this build's: another layout version `AT_LAYOUT_VERSION`, library
+ * version, struct size or target); it was not read. Make it again with this build.
+ */
+#define AT_ERR_OTHER_BUILD 5
+
+/**
+ * `at_chain_f32_new` was given both a stored calibration and the online calibration's
+ * settings (a chain has one calibration stage).
+ */
+#define AT_ERR_STAGES 6
 
 /**
  * `sample_period_s`: not finite, not positive, or outside [1 ps, 1000 s].
@@ -449,6 +846,57 @@ typedef struct at_sensor_calibration_f32 {
 #define AT_ERR_MAX_QUADRATURE_RAD 40
 
 /**
+ * Angle correction: a coefficient not finite, or their total `sum |a_k| + |b_k|` above
+ * 0.25 rad.
+ */
+#define AT_ERR_ANGLE_CORRECTION 41
+
+/**
+ * Demodulator setting `carrier_hz`.
+ */
+#define AT_ERR_CARRIER_HZ 42
+
+/**
+ * Demodulator: samples per carrier period (8, 16 or 32 in the C API).
+ */
+#define AT_ERR_SAMPLES_PER_PERIOD 43
+
+/**
+ * Demodulator setting `carrier_amplitude_counts`.
+ */
+#define AT_ERR_CARRIER_AMPLITUDE_COUNTS 44
+
+/**
+ * Demodulator settings `adc_min_code`, `adc_max_code`, `clip_margin_counts`.
+ */
+#define AT_ERR_ADC_RANGE 45
+
+/**
+ * Demodulator setting `loss_of_excitation`.
+ */
+#define AT_ERR_LOSS_OF_EXCITATION 46
+
+/**
+ * Demodulator setting `phase_drift_bound_rad`.
+ */
+#define AT_ERR_PHASE_DRIFT_BOUND_RAD 47
+
+/**
+ * Demodulator setting `expected_delay_rad`.
+ */
+#define AT_ERR_EXPECTED_DELAY_RAD 48
+
+/**
+ * Demodulator setting `delay_tracking_factor`.
+ */
+#define AT_ERR_DELAY_TRACKING_FACTOR 49
+
+/**
+ * Demodulator setting `startup_periods`.
+ */
+#define AT_ERR_STARTUP_PERIODS 50
+
+/**
  * A parameter this version of the C API has no code for (a newer core's).
  */
 #define AT_ERR_OTHER_PARAMETER 63
@@ -538,6 +986,14 @@ struct at_estimate_f32 at_update_f32(const struct at_gains_f32 *gains,
                                      struct at_state_f32 *state,
                                      float y_c,
                                      float y_s);
+
+/**
+ * The C structs' layout version of the library (`AT_LAYOUT_VERSION` of the header it was
+ * built with): a firmware compares it with the header's at start-up. Every struct also
+ * carries its build's layout beside its tag, so that one written by another build is
+ * refused (`AT_ERR_OTHER_BUILD`) rather than read.
+ */
+uint32_t at_layout_version(void);
 
 /**
  * The text of a status (static, NUL-terminated): the name of the refused parameter as the
@@ -683,6 +1139,424 @@ struct at_estimate_f32 at_update_f32_calibrated(const struct at_gains_f32 *gains
                                                 struct at_calibrator_f32 *calibrator,
                                                 float y_c,
                                                 float y_s);
+
+/**
+ * The online calibration's default settings (the core's `CalibrationSettings::default`).
+ */
+struct at_calibration_settings_f32 at_calibration_settings_f32_default(void);
+
+/**
+ * Builds a signal chain into `out`: the observer `gains` (required) after the optional
+ * stages, each NULL when absent, in this order: the ADC front end `adc` (then the chain
+ * takes counts: `at_chain_f32_track_u16`, ...), one calibration stage (a stored calibration
+ * `stored`, applied to every sample, or the online calibration with its `settings`,
+ * learning per channel in `at_chain_state_f32`; not both: `AT_ERR_STAGES`), and the
+ * harmonic angle correction `correction`. Every stage is checked (`AT_ERR_*` naming the
+ * refused parameter, `AT_ERR_ANGLE_CORRECTION`, ...; `out` unchanged on error); the stages
+ * are copied, so they need not outlive the call.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_chain_f32_new(const struct at_gains_f32 *gains,
+                           const struct at_adc_f32 *adc,
+                           const struct at_sensor_calibration_f32 *stored,
+                           const struct at_calibration_settings_f32 *settings,
+                           const struct at_angle_correction_f32 *correction,
+                           struct at_chain_f32 *out);
+
+/**
+ * One sample `(y_c, y_s)` through the chain's stages and observer, the state only (the
+ * cheapest per-sample call; `at_chain_f32_estimate` reads the estimate on demand, the
+ * stages' faults are latched in the state). Returns 0, or `AT_FAULT_INVALID_ARGUMENT`
+ * (nothing changed) for a NULL pointer, a chain not made or a struct of another build. A
+ * chain with an ADC stage takes `y_c`, `y_s` as already scaled (the ADC is for counts).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_f32_track(const struct at_chain_f32 *chain,
+                            struct at_chain_state_f32 *state,
+                            float y_c,
+                            float y_s);
+
+/**
+ * `at_chain_f32_track`, then the estimate, which carries the stages' faults.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_chain_f32_update(const struct at_chain_f32 *chain,
+                                           struct at_chain_state_f32 *state,
+                                           float y_c,
+                                           float y_s);
+
+/**
+ * `at_chain_f32_track` on raw `i16` ADC counts, through the chain's ADC stage
+ * (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_f32_track_i16(const struct at_chain_f32 *chain,
+                                struct at_chain_state_f32 *state,
+                                int16_t raw_c,
+                                int16_t raw_s);
+
+/**
+ * `at_chain_f32_update` on raw `i16` ADC counts, through the chain's ADC stage
+ * (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_chain_f32_update_i16(const struct at_chain_f32 *chain,
+                                               struct at_chain_state_f32 *state,
+                                               int16_t raw_c,
+                                               int16_t raw_s);
+
+/**
+ * `at_chain_f32_track` on raw `u16` ADC counts, through the chain's ADC stage
+ * (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_f32_track_u16(const struct at_chain_f32 *chain,
+                                struct at_chain_state_f32 *state,
+                                uint16_t raw_c,
+                                uint16_t raw_s);
+
+/**
+ * `at_chain_f32_update` on raw `u16` ADC counts, through the chain's ADC stage
+ * (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_chain_f32_update_u16(const struct at_chain_f32 *chain,
+                                               struct at_chain_state_f32 *state,
+                                               uint16_t raw_c,
+                                               uint16_t raw_s);
+
+/**
+ * `at_chain_f32_track` on raw `i32` ADC counts, through the chain's ADC stage
+ * (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_f32_track_i32(const struct at_chain_f32 *chain,
+                                struct at_chain_state_f32 *state,
+                                int32_t raw_c,
+                                int32_t raw_s);
+
+/**
+ * `at_chain_f32_update` on raw `i32` ADC counts, through the chain's ADC stage
+ * (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_chain_f32_update_i32(const struct at_chain_f32 *chain,
+                                               struct at_chain_state_f32 *state,
+                                               int32_t raw_c,
+                                               int32_t raw_s);
+
+/**
+ * The estimate `state` holds for `chain` (its last sample's; the observer's faults, the
+ * stages' latched in the state). Refused arguments: `AT_FAULT_INVALID_ARGUMENT`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_chain_f32_estimate(const struct at_chain_f32 *chain,
+                                             const struct at_chain_state_f32 *state);
+
+/**
+ * Makes `state` fresh: the observer initialises itself from its next sample, the online
+ * calibration is off with nothing learned. NULL is ignored.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+void at_chain_state_f32_reset(struct at_chain_state_f32 *state);
+
+/**
+ * Returns the faults latched in `state` (the observer's and the stages', `AT_FAULT_*`
+ * bits) and clears them. 0 for NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_state_f32_clear_faults(struct at_chain_state_f32 *state);
+
+/**
+ * Sets the mode of the online calibration in `state`: `AT_CALIBRATION_LEARNING`,
+ * `_FROZEN` or `_OFF` (the calibration is kept). Effective in a chain with the online
+ * calibration stage.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_chain_state_f32_set_calibration_mode(struct at_chain_state_f32 *state, uint32_t mode);
+
+/**
+ * The mode of the online calibration in `state` (`AT_CALIBRATION_*`; off for NULL).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_state_f32_calibration_mode(const struct at_chain_state_f32 *state);
+
+/**
+ * Loads a stored calibration into the online calibration of `state` (checked; unchanged on
+ * error), frozen: it corrects and learns nothing until set to learn, continuing from it.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_chain_state_f32_load_calibration(struct at_chain_state_f32 *state,
+                                              const struct at_sensor_calibration_f32 *stored);
+
+/**
+ * Writes the calibration the online calibration of `state` applies (to store in flash) to
+ * `out`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_chain_state_f32_calibration(const struct at_chain_state_f32 *state,
+                                         struct at_sensor_calibration_f32 *out);
+
+/**
+ * The turns the online calibration of `state` has learned since started or loaded; 0 for
+ * NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_state_f32_turns_learned(const struct at_chain_state_f32 *state);
+
+/**
+ * `at_update_f32` without the estimate: the state (and its latched faults) only, the
+ * cheapest per-sample call of the plain observer; `at_state_f32_estimate` reads the
+ * estimate on demand. Returns 0, or `AT_FAULT_INVALID_ARGUMENT` for refused arguments.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_track_f32(const struct at_gains_f32 *gains,
+                      struct at_state_f32 *state,
+                      float y_c,
+                      float y_s);
+
+/**
+ * The estimate `state` holds for `gains` (its last sample's); refused arguments:
+ * `AT_FAULT_INVALID_ARGUMENT`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_state_f32_estimate(const struct at_gains_f32 *gains,
+                                             const struct at_state_f32 *state);
+
+/**
+ * The demodulator's settings for a carrier of `carrier_hz` (Hz) and amplitude
+ * `carrier_amplitude_counts` (counts, peak) at an ADC whose codes run from `adc_min_code` to
+ * `adc_max_code`, with the core's defaults for the rest (clip margin 1/256 of the range,
+ * loss of excitation below 0.25, phase drift bound 44 degrees, expected delay 0, delay
+ * tracking factor 0.01, start-up over 16 periods).
+ */
+struct at_demodulator_settings_f32 at_demodulator_settings_f32_new(float carrier_hz,
+                                                                   float carrier_amplitude_counts,
+                                                                   float adc_min_code,
+                                                                   float adc_max_code);
+
+/**
+ * Checks `settings` for `samples_per_period` ADC samples per carrier period (8, 16 or 32:
+ * `AT_ERR_SAMPLES_PER_PERIOD` otherwise) and writes the demodulator to `out` (unchanged on
+ * error; `AT_ERR_CARRIER_HZ`, `AT_ERR_ADC_RANGE`, ... name the refused setting).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_demodulator_f32_new(const struct at_demodulator_settings_f32 *settings,
+                                 uint32_t samples_per_period,
+                                 struct at_demodulator_f32 *out);
+
+/**
+ * Checks that `chain` runs at the demodulator's pair rate: its observer's sample period is
+ * the carrier period (to a relative 1e-4), else `AT_ERR_SAMPLE_PERIOD_S`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_demodulator_f32_check_chain(const struct at_demodulator_f32 *demodulator,
+                                         const struct at_chain_f32 *chain);
+
+/**
+ * One ADC sample of each winding (`raw_c` of the cosine winding, `raw_s` of the sine
+ * winding, in counts), taken at the excitation phase `2 pi k / N` of the `k`-th sample of
+ * the carrier period. Once per period (after the start-up delay estimate) writes a pair to
+ * `out` and returns 1; else returns 0 (`out` untouched). Refused arguments (NULL, a
+ * demodulator not made, a struct of another build): `AT_FAULT_INVALID_ARGUMENT`, nothing
+ * changed. Feed the pair's `y_c`, `y_s` to a chain whose gains run at the carrier period
+ * (`at_demodulator_f32_check_chain`).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_demodulator_f32_push(const struct at_demodulator_f32 *demodulator,
+                                 struct at_demodulator_state_f32 *state,
+                                 float raw_c,
+                                 float raw_s,
+                                 struct at_demodulated_pair_f32 *out);
+
+/**
+ * Makes `state` fresh: its next sample is the first of a carrier period, the delay not yet
+ * measured. NULL is ignored.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+void at_demodulator_state_f32_reset(struct at_demodulator_state_f32 *state);
+
+/**
+ * Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits) and clears
+ * them. 0 for NULL (or another build's state).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_demodulator_state_f32_clear_faults(struct at_demodulator_state_f32 *state);
+
+/**
+ * Checks the integer constants of a fixed-point observer of order `order` (2 or 3), as
+ * `angletrack design --dtype fixed --format c --name NAME` prints them (`NAME_gain_multiplier`,
+ * `NAME_ORDER`, `NAME_ACCELERATION_SHIFT`, `NAME_SAMPLE_PERIOD_S`): each multiplier
+ * positive, the shift 1 to 15 (0 at order 2), the loop they represent stable. Writes the
+ * configuration, with the monitor's thresholds for a nominal amplitude of 16384 counts, to
+ * `out`; `out` is unchanged on error (`AT_ERR_GAINS_0`..`_2` naming the gain,
+ * `AT_ERR_SAMPLE_PERIOD_S`, ...).
+ *
+ * # Safety
+ * `multiplier` points to `order` integers; see the header's introduction.
+ */
+at_status at_fixed_gains_from_constants(const int32_t *multiplier,
+                                        size_t order,
+                                        uint32_t acceleration_shift,
+                                        double sample_period_s,
+                                        struct at_fixed_gains *out);
+
+/**
+ * Quantises `order` (2 or 3) float gains `gains` (l1, l2[, l3], as `angletrack design
+ * --format c` writes them and `at_gains_f32_new` takes them) at the sample period
+ * `sample_period_s` (s) into a fixed-point observer's configuration, checked (a gain that
+ * rounds to zero or does not fit is refused, naming it), to `out` (unchanged on error).
+ * Costs double-precision arithmetic: at start-up, or on the host (then embed the
+ * constants and use `at_fixed_gains_from_constants`).
+ *
+ * # Safety
+ * `gains` points to `order` floats; see the header's introduction.
+ */
+at_status at_fixed_gains_new(const float *gains,
+                             size_t order,
+                             double sample_period_s,
+                             struct at_fixed_gains *out);
+
+/**
+ * Sets the monitor of `gains` for signals of `nominal_amplitude_counts` (16384 to 46341
+ * counts: a 12-bit reading shifted left by 4 is about 28,800), or turns it off with 0 (only
+ * the input's handling remains). `AT_OK`, or `AT_ERR_NOMINAL_AMPLITUDE` (`gains` unchanged).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_fixed_gains_set_monitor(struct at_fixed_gains *gains, double nominal_amplitude_counts);
+
+/**
+ * The order (2 or 3) of fixed-point gains; 0 for NULL or gains not made (or another
+ * build's).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+size_t at_fixed_gains_order(const struct at_fixed_gains *gains);
+
+/**
+ * Makes `state` fresh (it initialises itself from its next sample); a zeroed state is
+ * fresh too. NULL is ignored.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+void at_fixed_state_reset(struct at_fixed_state *state);
+
+/**
+ * Returns the faults latched in `state` since they were last cleared (`AT_FAULT_*` bits)
+ * and clears them. 0 for NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_fixed_state_clear_faults(struct at_fixed_state *state);
+
+/**
+ * One sample of the integer signals `y_c ~ cos(theta)`, `y_s ~ sin(theta)` (counts, the
+ * ADC's mid-scale removed; amplitudes from 4096 to 46341 counts are normalised exactly, so
+ * a 12-bit reading is shifted left by 3 or 4), the state only: the cheapest per-sample
+ * call (`at_fixed_state_estimate` reads the estimate on demand). Returns 0, or
+ * `AT_FAULT_INVALID_ARGUMENT` when a pointer is NULL, the gains were not made or a struct
+ * is another build's (then `state` is unchanged).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_fixed_track(const struct at_fixed_gains *gains,
+                        struct at_fixed_state *state,
+                        int16_t y_c,
+                        int16_t y_s);
+
+/**
+ * `at_fixed_track`, then the estimate (`at_fixed_state_estimate`); on refused arguments
+ * an estimate whose faults are `AT_FAULT_INVALID_ARGUMENT` (the rest 0).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_fixed_estimate at_fixed_update(const struct at_fixed_gains *gains,
+                                         struct at_fixed_state *state,
+                                         int16_t y_c,
+                                         int16_t y_s);
+
+/**
+ * The estimate `state` holds (its last sample's; all zero for a fresh state). NULL or
+ * another build's state: `AT_FAULT_INVALID_ARGUMENT`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_fixed_estimate at_fixed_state_estimate(const struct at_fixed_state *state);
+
+/**
+ * The multi-turn position of `estimate` (rad): `2 pi (turns + angle / 2^32)`. 0 for NULL.
+ * Double-precision arithmetic: for a host, or out of the sample loop.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+double at_fixed_position_rad(const struct at_fixed_estimate *estimate);
+
+/**
+ * The speed of `estimate` (rad/s) at the sample period of `gains`. 0 for NULL or gains
+ * not made. Double-precision arithmetic: for a host, or out of the sample loop.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+double at_fixed_speed_rad_s(const struct at_fixed_gains *gains,
+                            const struct at_fixed_estimate *estimate);
 
 #ifdef __cplusplus
 }  // extern "C"

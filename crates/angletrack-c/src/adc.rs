@@ -5,7 +5,7 @@ use core::mem::MaybeUninit;
 
 use angletrack_core::{AdcScaling, ConfigError};
 
-use crate::slot;
+use crate::slot::{self, Refused};
 use crate::status::{at_status, status_of_result};
 
 /// The 8-byte words of an `at_adc_f32`'s storage (checked against the Rust type at compile
@@ -18,29 +18,26 @@ pub const AT_ADC_F32_WORDS: usize = 2;
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct at_adc_f32 {
-    /// Private: the Rust value.
-    storage: [MaybeUninit<u64>; AT_ADC_F32_WORDS],
     /// Private: whether `storage` holds it.
     tag: u32,
+    /// Private: the layout of the build that wrote it.
+    layout: u32,
+    /// Private: the Rust value.
+    storage: [MaybeUninit<u64>; AT_ADC_F32_WORDS],
 }
 
-impl at_adc_f32 {
-    /// A zeroed struct, as C static memory holds before its constructor.
-    #[cfg(test)]
-    pub(crate) const ZEROED: Self = Self {
-        storage: [MaybeUninit::new(0); AT_ADC_F32_WORDS],
-        tag: 0,
-    };
+slot::slot_struct!(at_adc_f32, AT_ADC_F32_WORDS);
 
-    /// The front end, if made by a constructor.
-    pub(crate) fn get(&self) -> Option<&AdcScaling<f32>> {
-        slot::get(&self.storage, self.tag)
+impl at_adc_f32 {
+    /// The front end, if made by a constructor of this build.
+    pub(crate) fn get(&self) -> Result<&AdcScaling<f32>, Refused> {
+        self.slot_get()
     }
 
     /// Stores a checked front end; on error `self` is left as it was.
     pub(crate) fn set(&mut self, adc: Result<AdcScaling<f32>, ConfigError>) -> at_status {
         if let Ok(adc) = adc {
-            slot::put(&mut self.storage, &mut self.tag, adc);
+            self.slot_put(adc);
         }
         status_of_result(adc)
     }
@@ -54,13 +51,13 @@ mod tests {
     #[test]
     fn stores_the_checked_front_end() {
         let mut adc = at_adc_f32::ZEROED;
-        assert!(adc.get().is_none());
+        assert!(adc.get().is_err());
         assert_eq!(adc.set(AdcScaling::offset_binary(40)), AT_ERR_BITS);
-        assert!(adc.get().is_none());
+        assert!(adc.get().is_err());
         assert_eq!(adc.set(AdcScaling::offset_binary(12)), AT_OK);
         assert_eq!(
             adc.get().map(|a| a.sample(4095u16, 0u16)),
-            Some((2047.0 / 2048.0, -1.0))
+            Ok((2047.0 / 2048.0, -1.0))
         );
     }
 }

@@ -4,9 +4,9 @@
 
 use core::mem::MaybeUninit;
 
-use angletrack_core::{CalibrationMode, Calibrator, SensorCalibration};
+use angletrack_core::{CalibrationMode, Calibrator, ConfigError, SensorCalibration};
 
-use crate::slot;
+use crate::slot::{self, Refused};
 use crate::status::{AT_ERR_MODE, AT_OK, at_status, status_of_result};
 
 /// The 8-byte words of an `at_calibrator_f32`'s storage (checked against the Rust type at
@@ -26,11 +26,15 @@ pub const AT_CALIBRATION_FROZEN: u32 = 2;
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct at_calibrator_f32 {
-    /// Private: the Rust value.
-    storage: [MaybeUninit<u64>; AT_CALIBRATOR_F32_WORDS],
     /// Private: whether `storage` holds it (0: a fresh calibrator).
     tag: u32,
+    /// Private: the layout of the build that wrote it.
+    layout: u32,
+    /// Private: the Rust value.
+    storage: [MaybeUninit<u64>; AT_CALIBRATOR_F32_WORDS],
 }
+
+slot::slot_struct!(at_calibrator_f32, AT_CALIBRATOR_F32_WORDS);
 
 /// A sensor's calibration, `y_c = offset_c + amplitude_c cos(theta)`,
 /// `y_s = offset_s + amplitude_s sin(theta + quadrature_rad)` (input units, rad): plain
@@ -65,60 +69,83 @@ impl From<SensorCalibration<f32>> for at_sensor_calibration_f32 {
 
 impl at_calibrator_f32 {
     /// A fresh calibrator (all zero, as C static memory holds).
-    pub(crate) const FRESH: Self = Self {
-        storage: [MaybeUninit::new(0); AT_CALIBRATOR_F32_WORDS],
-        tag: 0,
-    };
+    pub(crate) const FRESH: Self = Self::ZEROED;
 
-    /// The calibrator held, or a fresh one.
-    pub(crate) fn get_mut(&mut self) -> &mut Calibrator<f32> {
-        slot::get_or_put(&mut self.storage, &mut self.tag, Calibrator::new)
+    /// The calibrator held, or a fresh one; refused if another build's.
+    pub(crate) fn get_mut(&mut self) -> Result<&mut Calibrator<f32>, Refused> {
+        self.slot_get_or_put(Calibrator::new)
     }
 
-    /// A copy of the calibrator held, or a fresh one.
-    pub(crate) fn value(&self) -> Calibrator<f32> {
-        slot::get(&self.storage, self.tag).map_or_else(Calibrator::new, |c| *c)
+    /// A copy of the calibrator held, or a fresh one; refused if another build's.
+    pub(crate) fn value(&self) -> Result<Calibrator<f32>, Refused> {
+        match self.slot_get() {
+            Ok(c) => Ok(*c),
+            Err(Refused::NotInitialised) => Ok(Calibrator::new()),
+            Err(refused) => Err(refused),
+        }
     }
 
     /// Loads a stored calibration (checked), frozen; on error `self` is left as it was.
     pub(crate) fn load(&mut self, stored: &at_sensor_calibration_f32) -> at_status {
-        let s = stored;
-        let calibration = SensorCalibration::new(
-            s.offset_c,
-            s.offset_s,
-            s.amplitude_c,
-            s.amplitude_s,
-            s.quadrature_rad,
-        );
+        let calibration = stored.checked();
         if let Ok(calibration) = calibration {
-            slot::put(
-                &mut self.storage,
-                &mut self.tag,
-                Calibrator::from_calibration(calibration),
-            );
+            self.slot_put(Calibrator::from_calibration(calibration));
         }
         status_of_result(calibration)
     }
 
     /// Sets the mode from an `AT_CALIBRATION_*` value.
     pub(crate) fn set_mode(&mut self, mode: u32) -> at_status {
-        let calibrator = self.get_mut();
-        match mode {
-            AT_CALIBRATION_OFF => calibrator.disable(),
-            AT_CALIBRATION_LEARNING => calibrator.enable(),
-            AT_CALIBRATION_FROZEN => calibrator.freeze(),
-            _ => return AT_ERR_MODE,
+        match self.get_mut() {
+            Ok(calibrator) => set_mode_of(calibrator, mode),
+            Err(refused) => refused.status(),
         }
-        AT_OK
     }
 
-    /// The mode, as an `AT_CALIBRATION_*` value.
+    /// The mode, as an `AT_CALIBRATION_*` value (off for another build's calibrator).
     pub(crate) fn mode(&self) -> u32 {
-        match self.value().mode() {
-            CalibrationMode::Learning => AT_CALIBRATION_LEARNING,
-            CalibrationMode::Frozen => AT_CALIBRATION_FROZEN,
-            _ => AT_CALIBRATION_OFF,
-        }
+        self.value().map_or(AT_CALIBRATION_OFF, |c| mode_of(&c))
+    }
+}
+
+impl at_sensor_calibration_f32 {
+    /// The core's calibration, checked.
+    pub(crate) fn checked(&self) -> Result<SensorCalibration<f32>, ConfigError> {
+        SensorCalibration::new(
+            self.offset_c,
+            self.offset_s,
+            self.amplitude_c,
+            self.amplitude_s,
+            self.quadrature_rad,
+        )
+    }
+}
+
+#[cfg(test)]
+impl at_sensor_calibration_f32 {
+    /// The calibration that corrects nothing.
+    pub(crate) fn from_core_identity() -> Self {
+        SensorCalibration::IDENTITY.into()
+    }
+}
+
+/// Sets the mode of `calibrator` from an `AT_CALIBRATION_*` value.
+pub(crate) fn set_mode_of(calibrator: &mut Calibrator<f32>, mode: u32) -> at_status {
+    match mode {
+        AT_CALIBRATION_OFF => calibrator.disable(),
+        AT_CALIBRATION_LEARNING => calibrator.enable(),
+        AT_CALIBRATION_FROZEN => calibrator.freeze(),
+        _ => return AT_ERR_MODE,
+    }
+    AT_OK
+}
+
+/// The mode of `calibrator`, as an `AT_CALIBRATION_*` value.
+pub(crate) fn mode_of(calibrator: &Calibrator<f32>) -> u32 {
+    match calibrator.mode() {
+        CalibrationMode::Learning => AT_CALIBRATION_LEARNING,
+        CalibrationMode::Frozen => AT_CALIBRATION_FROZEN,
+        _ => AT_CALIBRATION_OFF,
     }
 }
 
@@ -141,7 +168,7 @@ mod tests {
         assert_eq!(calibrator.load(&stored), AT_OK);
         assert_eq!(calibrator.mode(), AT_CALIBRATION_FROZEN);
         assert_eq!(
-            at_sensor_calibration_f32::from(calibrator.value().calibration()),
+            at_sensor_calibration_f32::from(calibrator.value().unwrap().calibration()),
             stored
         );
         assert_eq!(calibrator.set_mode(AT_CALIBRATION_LEARNING), AT_OK);

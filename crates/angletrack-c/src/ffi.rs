@@ -18,9 +18,8 @@ use crate::calibration::{at_calibrator_f32, at_sensor_calibration_f32};
 use crate::faults;
 use crate::gains::{at_fault_thresholds_f32, at_gains_f32, with_gains};
 use crate::observer::{Calibrated, Counts, Signals, at_estimate_f32, at_state_f32, run};
-use crate::status::{
-    AT_ERR_NOT_INITIALISED, AT_ERR_NULL_POINTER, AT_ERR_ORDER, AT_OK, at_status, message_ptr,
-};
+use crate::slot::AT_LAYOUT_VERSION;
+use crate::status::{AT_ERR_NULL_POINTER, AT_ERR_ORDER, AT_OK, at_status, message_ptr};
 
 /// Checks `order` (2 or 3) discrete gains `gains` (l1, l2[, l3], dimensionless, as
 /// `angletrack design --format c` writes them) and the sample period `sample_period_s` (s),
@@ -62,7 +61,7 @@ pub unsafe extern "C" fn at_gains_f32_order(gains: *const at_gains_f32) -> usize
     // SAFETY: the caller's contract; NULL is checked by `as_ref`.
     let gains = unsafe { gains.as_ref() };
     gains
-        .and_then(at_gains_f32::get)
+        .and_then(|g| g.get().ok())
         .map_or(0, |any| with_gains!(any, |g| g.order()))
 }
 
@@ -106,11 +105,11 @@ pub unsafe extern "C" fn at_gains_f32_fault_thresholds(
         return AT_ERR_NULL_POINTER;
     };
     match gains.fault_thresholds() {
-        Some(thresholds) => {
+        Ok(thresholds) => {
             *out = thresholds;
             AT_OK
         }
-        None => AT_ERR_NOT_INITIALISED,
+        Err(refused) => refused.status(),
     }
 }
 
@@ -159,6 +158,15 @@ pub unsafe extern "C" fn at_update_f32(
         (Some(gains), Some(state)) => run(gains, state, Signals(y_c, y_s)),
         _ => at_estimate_f32::INVALID,
     }
+}
+
+/// The C structs' layout version of the library (`AT_LAYOUT_VERSION` of the header it was
+/// built with): a firmware compares it with the header's at start-up. Every struct also
+/// carries its build's layout beside its tag, so that one written by another build is
+/// refused (`AT_ERR_OTHER_BUILD`) rather than read.
+#[unsafe(no_mangle)]
+pub extern "C" fn at_layout_version() -> u32 {
+    AT_LAYOUT_VERSION
 }
 
 /// The text of a status (static, NUL-terminated): the name of the refused parameter as the
@@ -232,8 +240,8 @@ unsafe fn update_adc<I: AdcSample>(
     // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
     match unsafe { (gains.as_ref(), state.as_mut(), adc.as_ref()) } {
         (Some(gains), Some(state), Some(adc)) => match adc.get() {
-            Some(adc) => run(gains, state, Counts(adc, raw_c, raw_s)),
-            None => at_estimate_f32::INVALID,
+            Ok(adc) => run(gains, state, Counts(adc, raw_c, raw_s)),
+            Err(_) => at_estimate_f32::INVALID,
         },
         _ => at_estimate_f32::INVALID,
     }
@@ -329,10 +337,13 @@ pub unsafe extern "C" fn at_calibrator_f32_calibration(
 ) -> at_status {
     // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
     match unsafe { (calibrator.as_ref(), out.as_mut()) } {
-        (Some(calibrator), Some(out)) => {
-            *out = calibrator.value().calibration().into();
-            AT_OK
-        }
+        (Some(calibrator), Some(out)) => match calibrator.value() {
+            Ok(calibrator) => {
+                *out = calibrator.calibration().into();
+                AT_OK
+            }
+            Err(refused) => refused.status(),
+        },
         _ => AT_ERR_NULL_POINTER,
     }
 }
@@ -373,7 +384,9 @@ pub unsafe extern "C" fn at_calibrator_f32_turns_learned(
     calibrator: *const at_calibrator_f32,
 ) -> u32 {
     // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-    unsafe { calibrator.as_ref() }.map_or(0, |c| c.value().turns_learned())
+    unsafe { calibrator.as_ref() }
+        .and_then(|c| c.value().ok())
+        .map_or(0, |c| c.turns_learned())
 }
 
 /// `at_update_f32` through the online calibration `calibrator`: unless it is off, the

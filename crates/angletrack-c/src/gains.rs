@@ -7,8 +7,8 @@ use core::mem::MaybeUninit;
 
 use angletrack_core::{ConfigError, FaultThresholds, Gains};
 
-use crate::slot;
-use crate::status::{AT_ERR_NOT_INITIALISED, AT_ERR_ORDER, at_status, status_of_result};
+use crate::slot::{self, Refused};
+use crate::status::{AT_ERR_ORDER, at_status, status_of_result};
 
 /// The 8-byte words of an `at_gains_f32`'s storage (checked against the Rust type at
 /// compile time, on every target).
@@ -22,11 +22,15 @@ pub const AT_GAINS_F32_WORDS: usize = 18;
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct at_gains_f32 {
-    /// Private: the Rust value.
-    storage: [MaybeUninit<u64>; AT_GAINS_F32_WORDS],
     /// Private: which Rust value `storage` holds.
     tag: u32,
+    /// Private: the layout of the build that wrote it.
+    layout: u32,
+    /// Private: the Rust value.
+    storage: [MaybeUninit<u64>; AT_GAINS_F32_WORDS],
 }
+
+slot::slot_struct!(at_gains_f32, AT_GAINS_F32_WORDS);
 
 /// The gains of either order, borrowed from an `at_gains_f32`.
 #[derive(Debug, Clone, Copy)]
@@ -50,19 +54,13 @@ macro_rules! with_gains {
 pub(crate) use with_gains;
 
 impl at_gains_f32 {
-    /// A zeroed struct, as C static memory holds before `at_gains_f32_new`.
-    #[cfg(test)]
-    pub(crate) const ZEROED: Self = Self {
-        storage: [MaybeUninit::new(0); AT_GAINS_F32_WORDS],
-        tag: 0,
-    };
-
-    /// The gains, if made by `at_gains_f32_new`.
-    pub(crate) fn get(&self) -> Option<AnyGains<'_>> {
-        if let Some(g) = slot::get(&self.storage, self.tag) {
-            return Some(AnyGains::Two(g));
+    /// The gains, if made by `at_gains_f32_new` of this build.
+    pub(crate) fn get(&self) -> Result<AnyGains<'_>, Refused> {
+        match self.slot_get() {
+            Ok(g) => Ok(AnyGains::Two(g)),
+            Err(Refused::NotInitialised) => self.slot_get().map(AnyGains::Three),
+            Err(refused) => Err(refused),
         }
-        slot::get(&self.storage, self.tag).map(AnyGains::Three)
     }
 
     /// Checks `gains` (`order` of them) and the sample period, and stores them with the
@@ -78,7 +76,7 @@ impl at_gains_f32 {
     /// Stores checked gains of either order; returns the status of the check.
     fn store<G: slot::Stored>(&mut self, result: Result<G, ConfigError>) -> at_status {
         if let Ok(gains) = result {
-            slot::put(&mut self.storage, &mut self.tag, gains);
+            self.slot_put(gains);
         }
         status_of_result(result)
     }
@@ -88,8 +86,9 @@ impl at_gains_f32 {
         &mut self,
         thresholds: &at_fault_thresholds_f32,
     ) -> at_status {
-        let Some(any) = self.get() else {
-            return AT_ERR_NOT_INITIALISED;
+        let any = match self.get() {
+            Ok(any) => any,
+            Err(refused) => return refused.status(),
         };
         let thresholds = (*thresholds).to_core();
         match any {
@@ -99,9 +98,9 @@ impl at_gains_f32 {
     }
 
     /// The fault thresholds, if the gains were made.
-    pub(crate) fn fault_thresholds(&self) -> Option<at_fault_thresholds_f32> {
+    pub(crate) fn fault_thresholds(&self) -> Result<at_fault_thresholds_f32, Refused> {
         let thresholds = with_gains!(self.get()?, |g| g.fault_thresholds());
-        Some(at_fault_thresholds_f32::from_core(&thresholds))
+        Ok(at_fault_thresholds_f32::from_core(&thresholds))
     }
 }
 
@@ -183,23 +182,25 @@ impl at_fault_thresholds_f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::status::{AT_ERR_FILTER_FACTOR, AT_ERR_GAINS_2, AT_ERR_SAMPLE_PERIOD_S, AT_OK};
+    use crate::status::{
+        AT_ERR_FILTER_FACTOR, AT_ERR_GAINS_2, AT_ERR_NOT_INITIALISED, AT_ERR_SAMPLE_PERIOD_S, AT_OK,
+    };
 
     #[test]
     fn checks_as_the_core_and_keeps_the_order() {
         let mut gains = at_gains_f32::ZEROED;
-        assert!(gains.get().is_none());
+        assert!(gains.get().is_err());
         assert_eq!(gains.set(&[0.3, 0.04, -0.002], 1e-4), AT_ERR_GAINS_2);
         assert!(
-            gains.get().is_none(),
+            gains.get().is_err(),
             "a refused set leaves the struct as it was"
         );
         assert_eq!(gains.set(&[0.3, 0.04], 0.0), AT_ERR_SAMPLE_PERIOD_S);
         assert_eq!(gains.set(&[0.3], 1e-4), AT_ERR_ORDER);
         assert_eq!(gains.set(&[0.05, 0.0012], 1e-4), AT_OK);
-        assert!(matches!(gains.get(), Some(AnyGains::Two(g)) if g.gains() == [0.05, 0.0012]));
+        assert!(matches!(gains.get(), Ok(AnyGains::Two(g)) if g.gains() == [0.05, 0.0012]));
         assert_eq!(gains.set(&[0.3, 0.04, 0.002], 1e-4), AT_OK);
-        assert!(matches!(gains.get(), Some(AnyGains::Three(g)) if g.sample_period() == 1e-4));
+        assert!(matches!(gains.get(), Ok(AnyGains::Three(g)) if g.sample_period() == 1e-4));
     }
 
     #[test]
@@ -211,7 +212,7 @@ mod tests {
         t.max_speed_rad_s = 1000.0;
         t.monitor = 0;
         assert_eq!(gains.set_fault_thresholds(&t), AT_OK);
-        assert_eq!(gains.fault_thresholds(), Some(t));
+        assert_eq!(gains.fault_thresholds(), Ok(t));
         let core = with_gains!(gains.get().unwrap(), |g| g.fault_thresholds());
         assert_eq!(
             (core.max_speed, core.monitor, core.loss_of_signal),

@@ -1,15 +1,27 @@
 //! The C API of `angletrack-core`: a static library (`libangletrack_c.a`) and its header
 //! `include/angletrack.h` (generated from this crate by cbindgen, checked in), for firmware
-//! written in C. Built for the host (`cargo build -p angletrack-c --release`) or a
-//! Cortex-M4F (`--target thumbv7em-none-eabihf`).
+//! written in C. Built for the host (`cargo build -p angletrack-c --release`), a
+//! Cortex-M4F (`--target thumbv7em-none-eabihf`) or a Cortex-M0 (`thumbv6m-none-eabi`).
 //!
 //! Every struct is plain and sized, so that firmware can place it in static memory:
 //! `at_gains_f32` (the checked configuration, order 2 or 3), `at_state_f32` (one channel),
 //! `at_adc_f32` (the ADC front end), `at_calibrator_f32` (the online calibration), and the
-//! C mirrors `at_estimate_f32`, `at_fault_thresholds_f32` and `at_sensor_calibration_f32`.
+//! C mirrors `at_estimate_f32`, `at_fault_thresholds_f32` and `at_sensor_calibration_f32`;
+//! for cores without an FPU, the fixed-point observer: `at_fixed_gains` (its checked
+//! integer configuration, from the constants `angletrack design --dtype fixed --format c`
+//! prints or from float gains), `at_fixed_state` (one channel, int16 samples) and the
+//! mirror `at_fixed_estimate` (`fixed`); the signal chain, `at_chain_f32` (the core's
+//! `Chain` of optional stages: ADC, stored or online calibration, angle correction, and the
+//! observer) with its per-channel `at_chain_state_f32`, and the plain stage settings
+//! `at_angle_correction_f32` and `at_calibration_settings_f32` (`chain`); the synchronous
+//! demodulator, `at_demodulator_f32` with its `at_demodulator_state_f32`, which turns a
+//! resolver's windings into the chain's pairs (`demodulator`).
 //! The first four hold the core's Rust values in private storage, sized at compile time
 //! and checked against the Rust types on every target (`slot`); a zeroed state or
-//! calibrator is a fresh one, zeroed gains or ADC are refused.
+//! calibrator is a fresh one, zeroed gains or ADC are refused. Each starts with a tag and a
+//! layout word (the fingerprint of the build that wrote it: `AT_LAYOUT_VERSION`, the
+//! crate's version, the struct's size, the target), so that a struct from another build is
+//! refused (`AT_ERR_OTHER_BUILD`), never read.
 //!
 //! Calls that can fail return an `at_status` (`AT_OK` or an `AT_ERR_*` naming the refused
 //! parameter, `at_status_message` its text); the per-sample updates never fail and return
@@ -30,8 +42,14 @@ extern crate std;
 
 mod adc;
 mod calibration;
+mod chain;
+mod demodulator;
 mod faults;
 mod ffi;
+mod ffi_chain;
+mod ffi_demodulator;
+mod ffi_fixed;
+mod fixed;
 mod gains;
 mod observer;
 mod slot;
@@ -42,10 +60,26 @@ pub use calibration::{
     AT_CALIBRATION_FROZEN, AT_CALIBRATION_LEARNING, AT_CALIBRATION_OFF, AT_CALIBRATOR_F32_WORDS,
     at_calibrator_f32, at_sensor_calibration_f32,
 };
+pub use chain::{
+    AT_CHAIN_F32_WORDS, AT_CHAIN_STATE_F32_WORDS, AT_CORRECTION_ORDER, at_angle_correction_f32,
+    at_calibration_settings_f32, at_chain_f32, at_chain_state_f32,
+};
+pub use demodulator::{
+    AT_DEMODULATOR_F32_WORDS, AT_DEMODULATOR_STATE_F32_WORDS, AT_FRONT_END_FAULT_CLIPPING,
+    AT_FRONT_END_FAULT_LOSS_OF_EXCITATION, AT_FRONT_END_FAULT_PHASE_DRIFT, at_demodulated_pair_f32,
+    at_demodulator_f32, at_demodulator_settings_f32, at_demodulator_state_f32,
+};
 pub use faults::*;
 pub use ffi::*;
+pub use ffi_chain::*;
+pub use ffi_demodulator::*;
+pub use ffi_fixed::*;
+pub use fixed::{
+    AT_FIXED_GAINS_WORDS, AT_FIXED_STATE_WORDS, at_fixed_estimate, at_fixed_gains, at_fixed_state,
+};
 pub use gains::{AT_GAINS_F32_WORDS, at_fault_thresholds_f32, at_gains_f32};
 pub use observer::{AT_STATE_F32_WORDS, at_estimate_f32, at_state_f32};
+pub use slot::AT_LAYOUT_VERSION;
 pub use status::*;
 
 /// A bare-metal C program has no panic handler; the library's is never reached (no call
@@ -60,3 +94,7 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_chain;
+#[cfg(test)]
+mod tests_demodulator;

@@ -11,7 +11,7 @@ use angletrack_core::{
 use crate::calibration::at_calibrator_f32;
 use crate::faults::AT_FAULT_INVALID_ARGUMENT;
 use crate::gains::{at_gains_f32, with_gains};
-use crate::slot::{self, Stored};
+use crate::slot::{self, Refused, Stored};
 
 /// The 8-byte words of an `at_state_f32`'s storage (checked against the Rust type at
 /// compile time, on every target).
@@ -25,11 +25,15 @@ pub const AT_STATE_F32_WORDS: usize = 8;
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct at_state_f32 {
-    /// Private: the Rust value.
-    storage: [MaybeUninit<u64>; AT_STATE_F32_WORDS],
     /// Private: which Rust value `storage` holds (0: a fresh state).
     tag: u32,
+    /// Private: the layout of the build that wrote it.
+    layout: u32,
+    /// Private: the Rust value.
+    storage: [MaybeUninit<u64>; AT_STATE_F32_WORDS],
 }
+
+slot::slot_struct!(at_state_f32, AT_STATE_F32_WORDS);
 
 /// What the observer knows after a sample.
 #[repr(C)]
@@ -78,28 +82,43 @@ impl at_estimate_f32 {
 
 impl at_state_f32 {
     /// A fresh state (all zero, as C static memory holds).
-    pub(crate) const FRESH: Self = Self {
-        storage: [MaybeUninit::new(0); AT_STATE_F32_WORDS],
-        tag: 0,
-    };
+    pub(crate) const FRESH: Self = Self::ZEROED;
 
     /// The state of an observer of order `N`: the one held, or a fresh one if it held none
-    /// or one of the other order.
-    fn of_order<const N: usize>(&mut self) -> &mut ObserverState<f32, N>
+    /// or one of the other order; refused if another build's.
+    pub(crate) fn of_order<const N: usize>(&mut self) -> Result<&mut ObserverState<f32, N>, Refused>
     where
         ObserverState<f32, N>: Stored,
     {
-        slot::get_or_put(&mut self.storage, &mut self.tag, ObserverState::new)
+        self.slot_get_or_put(ObserverState::new)
     }
 
-    /// Returns the latched faults (`AT_FAULT_*` bits) and clears them; 0 for a fresh state.
+    /// A copy of the state of order `N`: the one held, or a fresh one if it holds none or
+    /// one of the other order; refused if another build's.
+    pub(crate) fn value_of_order<const N: usize>(&self) -> Result<ObserverState<f32, N>, Refused>
+    where
+        ObserverState<f32, N>: Stored,
+    {
+        match self.slot_get() {
+            Ok(s) => Ok(*s),
+            Err(Refused::NotInitialised) => Ok(ObserverState::new()),
+            Err(refused) => Err(refused),
+        }
+    }
+
+    /// Returns the latched faults (`AT_FAULT_*` bits) and clears them; 0 for a fresh state
+    /// (or another build's).
     pub(crate) fn clear_faults(&mut self) -> u32 {
         let faults = match self.tag {
-            t if t == <ObserverState<f32, 2> as Stored>::TAG => self.of_order::<2>().clear_faults(),
-            t if t == <ObserverState<f32, 3> as Stored>::TAG => self.of_order::<3>().clear_faults(),
+            t if t == <ObserverState<f32, 2> as Stored>::TAG => {
+                self.of_order::<2>().map(|s| s.clear_faults())
+            }
+            t if t == <ObserverState<f32, 3> as Stored>::TAG => {
+                self.of_order::<3>().map(|s| s.clear_faults())
+            }
             _ => return 0,
         };
-        u32::from(faults.bits())
+        faults.map_or(0, |f| u32::from(f.bits()))
     }
 }
 
@@ -111,7 +130,11 @@ type StateF32<const N: usize> = ObserverState<f32, N>;
 /// One sample of one observer, whatever its order and entry point.
 pub(crate) trait Sample {
     /// Runs the sample through `gains` on `state`.
-    fn update<const N: usize>(self, gains: &GainsF32<N>, state: &mut StateF32<N>) -> Estimate<f32>
+    fn update<const N: usize>(
+        self,
+        gains: &GainsF32<N>,
+        state: &mut StateF32<N>,
+    ) -> at_estimate_f32
     where
         Order<N>: SupportedOrder;
 }
@@ -121,8 +144,12 @@ pub(crate) struct Signals(pub(crate) f32, pub(crate) f32);
 
 impl Sample for Signals {
     #[inline(always)]
-    fn update<const N: usize>(self, gains: &GainsF32<N>, state: &mut StateF32<N>) -> Estimate<f32> {
-        gains.update(state, self.0, self.1)
+    fn update<const N: usize>(
+        self,
+        gains: &GainsF32<N>,
+        state: &mut StateF32<N>,
+    ) -> at_estimate_f32 {
+        gains.update(state, self.0, self.1).into()
     }
 }
 
@@ -131,8 +158,12 @@ pub(crate) struct Counts<'a, I>(pub(crate) &'a AdcScaling<f32>, pub(crate) I, pu
 
 impl<I: AdcSample> Sample for Counts<'_, I> {
     #[inline(always)]
-    fn update<const N: usize>(self, gains: &GainsF32<N>, state: &mut StateF32<N>) -> Estimate<f32> {
-        gains.update_adc(state, self.0, self.1, self.2)
+    fn update<const N: usize>(
+        self,
+        gains: &GainsF32<N>,
+        state: &mut StateF32<N>,
+    ) -> at_estimate_f32 {
+        gains.update_adc(state, self.0, self.1, self.2).into()
     }
 }
 
@@ -145,8 +176,17 @@ pub(crate) struct Calibrated<'a>(
 
 impl Sample for Calibrated<'_> {
     #[inline(always)]
-    fn update<const N: usize>(self, gains: &GainsF32<N>, state: &mut StateF32<N>) -> Estimate<f32> {
-        gains.update_calibrated(state, self.0.get_mut(), self.1, self.2)
+    fn update<const N: usize>(
+        self,
+        gains: &GainsF32<N>,
+        state: &mut StateF32<N>,
+    ) -> at_estimate_f32 {
+        match self.0.get_mut() {
+            Ok(calibrator) => gains
+                .update_calibrated(state, calibrator, self.1, self.2)
+                .into(),
+            Err(_) => at_estimate_f32::INVALID,
+        }
     }
 }
 
@@ -158,15 +198,10 @@ pub(crate) fn run(
     sample: impl Sample,
 ) -> at_estimate_f32 {
     match gains.get() {
-        Some(any) => with_gains!(any, |g| sample.update(g, state.of_order()).into()),
-        None => at_estimate_f32::INVALID,
-    }
-}
-
-#[cfg(test)]
-impl at_state_f32 {
-    /// The tag, for tests that check a state was left untouched.
-    pub(crate) fn clone_tag(&self) -> u32 {
-        self.tag
+        Ok(any) => with_gains!(any, |g| match state.of_order() {
+            Ok(state) => sample.update(g, state),
+            Err(_) => at_estimate_f32::INVALID,
+        }),
+        Err(_) => at_estimate_f32::INVALID,
     }
 }

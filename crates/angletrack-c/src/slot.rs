@@ -1,30 +1,51 @@
-//! Rust values kept in C memory: the private `storage` words and `tag` of the C API's
-//! structs (`at_gains_f32`, `at_state_f32`, ...), which C code sizes from the header and may
-//! place anywhere (static memory, the stack), copy by assignment and zero.
+//! Rust values kept in C memory: the private `tag`, `layout` and `storage` words of the C
+//! API's structs (`at_gains_f32`, `at_state_f32`, `at_fixed_gains`, ...), which C code sizes
+//! from the header and may place anywhere (static memory, the stack), copy by assignment
+//! and zero.
 //!
 //! The words are `MaybeUninit<u64>` (plain `uint64_t` in C): a Rust value written there
 //! leaves its padding bytes uninitialised, and a copy of the struct by value in Rust (C
 //! copies bytes) must not read those as integers. Miri checks this in the crate's tests.
 //!
 //! A slot holds one of a few `Copy` types, told apart by a tag that only [`put`] writes,
-//! right after it wrote a value of that type: [`get`] and [`get_mut`] read the words as the
-//! type only when the tag is the type's. A zeroed or never-initialised struct has no
+//! right after it wrote a value of that type: [`get`] and [`get_or_put`] read the words as
+//! the type only when the tag is the type's. A zeroed or never-initialised struct has no
 //! type's tag (tag 0, or garbage that does not match), so it is refused or started afresh
 //! instead of being read as a Rust value. The tags are 32-bit values unlikely to appear
-//! by chance; the guarantee holds as long as C code writes the structs only through the
-//! API (or copies a whole struct), as the header says.
+//! by chance, all starting with the bytes "AT" (`0x4154` in the high half).
+//!
+//! Beside the tag, [`put`] writes the struct's layout word: a fingerprint of this build's
+//! layouts ([`layout_of`]: the C API's layout version `AT_LAYOUT_VERSION`, the crate's
+//! version, the C struct's size and the size and alignment of every stored Rust type). A
+//! struct written by another build of the library (another version, a header of another
+//! size, another target) carries an "AT" tag with another layout word: it is refused as
+//! such ([`Refused::OtherBuild`]), never read. The tag and the layout word are the struct's
+//! first two fields, at the same offsets in every build. The guarantee holds as long as C
+//! code writes the structs only through the API (or copies a whole struct), as the header
+//! says.
 #![allow(unsafe_code)]
 
 use core::mem::{MaybeUninit, align_of, size_of};
 
-use angletrack_core::{AdcScaling, Calibrator, Gains, ObserverState};
+use angletrack_core::{AdcScaling, Calibrator, FixedGains, FixedState, Gains, ObserverState};
+
+use crate::status::{AT_ERR_NOT_INITIALISED, AT_ERR_OTHER_BUILD, at_status};
+
+/// The version of the C structs' layout, bumped whenever a struct of the header or a Rust
+/// value the library stores in one changes; part of every struct's layout word (with the
+/// crate's version and the sizes, which change it without a bump). `at_layout_version()`
+/// returns the library's, to compare with the header's at start-up.
+pub const AT_LAYOUT_VERSION: u32 = 2;
 
 /// A type a slot can hold, with its tag. `Copy` types only: overwriting one drops nothing,
 /// and a C copy of the words (with the tag) is a copy of the value.
 pub(crate) trait Stored: Copy {
-    /// The tag [`put`] writes beside a value of this type; never 0 (a zeroed slot).
+    /// The tag [`put`] writes beside a value of this type; "AT" in its high half, never 0.
     const TAG: u32;
 }
+
+/// The high half of every tag: "AT".
+const TAG_FAMILY: u32 = 0x4154;
 
 impl Stored for Gains<f32, 2> {
     const TAG: u32 = 0x4154_4702; // "ATG", order 2
@@ -44,6 +65,88 @@ impl Stored for AdcScaling<f32> {
 impl Stored for Calibrator<f32> {
     const TAG: u32 = 0x4154_4301; // "ATC"
 }
+impl Stored for FixedGains<2> {
+    const TAG: u32 = 0x4154_6702; // "ATg", order 2
+}
+impl Stored for FixedGains<3> {
+    const TAG: u32 = 0x4154_6703; // "ATg", order 3
+}
+impl Stored for FixedState<2> {
+    const TAG: u32 = 0x4154_7302; // "ATs", order 2
+}
+impl Stored for FixedState<3> {
+    const TAG: u32 = 0x4154_7303; // "ATs", order 3
+}
+
+/// Why a slot's words are not read as a value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Refused {
+    /// Zeroed, never made, or holding another type: no value of the type asked for.
+    NotInitialised,
+    /// Made by another build of the library (its layout word is not this build's).
+    OtherBuild,
+}
+
+impl Refused {
+    /// The status a call refusing the struct returns.
+    pub(crate) const fn status(self) -> at_status {
+        match self {
+            Refused::NotInitialised => AT_ERR_NOT_INITIALISED,
+            Refused::OtherBuild => AT_ERR_OTHER_BUILD,
+        }
+    }
+}
+
+/// One step of the 32-bit FNV-1a hash over `value`'s four bytes.
+const fn hash(mut h: u32, value: u32) -> u32 {
+    let bytes = value.to_le_bytes();
+    let mut i = 0;
+    while i < 4 {
+        h = (h ^ bytes[i] as u32).wrapping_mul(0x0100_0193);
+        i += 1;
+    }
+    h
+}
+
+/// The size and alignment of `T` hashed into `h`.
+const fn hash_type<T>(h: u32) -> u32 {
+    hash(hash(h, size_of::<T>() as u32), align_of::<T>() as u32)
+}
+
+/// This build's fingerprint of the layouts: the layout version, the crate's version and
+/// every stored type's size and alignment.
+const BUILD: u32 = {
+    let mut h = hash(0x811c_9dc5, AT_LAYOUT_VERSION);
+    let version = env!("CARGO_PKG_VERSION").as_bytes();
+    let mut i = 0;
+    while i < version.len() {
+        h = hash(h, version[i] as u32);
+        i += 1;
+    }
+    h = hash_type::<Gains<f32, 2>>(h);
+    h = hash_type::<Gains<f32, 3>>(h);
+    h = hash_type::<ObserverState<f32, 2>>(h);
+    h = hash_type::<ObserverState<f32, 3>>(h);
+    h = hash_type::<AdcScaling<f32>>(h);
+    h = hash_type::<Calibrator<f32>>(h);
+    h = hash_type::<FixedGains<2>>(h);
+    h = hash_type::<FixedGains<3>>(h);
+    h = hash_type::<FixedState<2>>(h);
+    h = hash_type::<FixedState<3>>(h);
+    h = hash_type::<crate::chain::ChainF32<2>>(h);
+    h = hash_type::<crate::chain::ChainF32<3>>(h);
+    h = hash_type::<crate::chain::StateF32<2>>(h);
+    h = hash_type::<crate::chain::StateF32<3>>(h);
+    h = hash_type::<angletrack_core::Demodulator<f32, 8>>(h);
+    h = hash_type::<angletrack_core::Demodulator<f32, 16>>(h);
+    h = hash_type::<angletrack_core::Demodulator<f32, 32>>(h);
+    hash_type::<angletrack_core::DemodulatorState<f32>>(h)
+};
+
+/// The layout word of a C struct of `size` bytes in this build (never 0).
+pub(crate) const fn layout_of(size: usize) -> u32 {
+    hash(BUILD, size as u32) | 1
+}
 
 /// Fails to compile unless a `T` fits in `W` words of 8 bytes with their alignment: the
 /// header's storage sizes are checked against the Rust types at every build, on every
@@ -52,44 +155,67 @@ const fn fits<T, const W: usize>() -> bool {
     size_of::<T>() <= W * size_of::<u64>() && align_of::<T>() <= align_of::<u64>()
 }
 
-/// The value in `words` if `tag` is `T`'s.
+/// Why a struct whose tag and layout are not `T`'s of this build holds no `T`: another
+/// build's, or none (out of line: the per-sample paths take the other branch).
+#[cold]
+#[inline(never)]
+fn refusal(tag: u32, layout: u32, expected: u32) -> Refused {
+    if tag >> 16 == TAG_FAMILY && layout != expected {
+        Refused::OtherBuild
+    } else {
+        Refused::NotInitialised
+    }
+}
+
+/// The value in `words` if `tag` is `T`'s and `layout` this build's `expected`.
+#[inline(always)]
 pub(crate) fn get<T: Stored, const W: usize>(
     words: &[MaybeUninit<u64>; W],
     tag: u32,
-) -> Option<&T> {
+    layout: u32,
+    expected: u32,
+) -> Result<&T, Refused> {
     const { assert!(fits::<T, W>(), "a C API struct's storage is too small") };
-    if tag != T::TAG {
-        return None;
+    if tag != T::TAG || layout != expected {
+        return Err(refusal(tag, layout, expected));
     }
     // SAFETY: `words` is aligned for `T` and large enough (checked at compile time above),
-    // and with the tag `T::TAG` it holds a valid `T`: only `put::<T>` writes that tag, after
-    // writing a `T` there, and whatever C does with the struct (copy it whole, as the header
-    // allows) keeps the pair together. The borrow of `words` bounds the reference's life.
-    Some(unsafe { &*words.as_ptr().cast::<T>() })
+    // and with the tag `T::TAG` and this build's layout word it holds a valid `T`: only
+    // `put::<T>` writes that pair, after writing a `T` there, and whatever C does with the
+    // struct (copy it whole, as the header allows) keeps them together. The borrow of
+    // `words` bounds the reference's life.
+    Ok(unsafe { &*words.as_ptr().cast::<T>() })
 }
 
-/// The value in `words` if `tag` is `T`'s, else `start()` stored there (and tagged).
+/// The value in `words` if `tag` is `T`'s, else `start()` stored there (and tagged); refused
+/// only when the struct is another build's.
+#[inline(always)]
 pub(crate) fn get_or_put<'a, T: Stored, const W: usize>(
     words: &'a mut [MaybeUninit<u64>; W],
     tag: &mut u32,
+    layout: &mut u32,
+    expected: u32,
     start: impl FnOnce() -> T,
-) -> &'a mut T {
+) -> Result<&'a mut T, Refused> {
     const { assert!(fits::<T, W>(), "a C API struct's storage is too small") };
-    let place = words.as_mut_ptr().cast::<T>();
-    if *tag != T::TAG {
-        // SAFETY: as in `put`.
-        unsafe { place.write(start()) };
-        *tag = T::TAG;
+    if *tag != T::TAG || *layout != expected {
+        if refusal(*tag, *layout, expected) == Refused::OtherBuild {
+            return Err(Refused::OtherBuild);
+        }
+        put(words, tag, layout, expected, start());
     }
-    // SAFETY: the words hold a valid `T` (the tag is `T`'s: see `get`, or it was just
-    // written); the exclusive borrow of `words` makes the reference unique.
-    unsafe { &mut *place }
+    // SAFETY: the words hold a valid `T` (the tag is `T`'s and the layout this build's: see
+    // `get`, or it was just written by `put`); the exclusive borrow of `words` makes the
+    // reference unique.
+    Ok(unsafe { &mut *words.as_mut_ptr().cast::<T>() })
 }
 
-/// Stores `value` in `words` and tags them as `T`.
+/// Stores `value` in `words` and tags them as `T`, of this build's layout `expected`.
 pub(crate) fn put<T: Stored, const W: usize>(
     words: &mut [MaybeUninit<u64>; W],
     tag: &mut u32,
+    layout: &mut u32,
+    expected: u32,
     value: T,
 ) {
     const { assert!(fits::<T, W>(), "a C API struct's storage is too small") };
@@ -97,4 +223,75 @@ pub(crate) fn put<T: Stored, const W: usize>(
     // `T` is `Copy`, so overwriting whatever the words held drops nothing.
     unsafe { words.as_mut_ptr().cast::<T>().write(value) };
     *tag = T::TAG;
+    *layout = expected;
 }
+
+/// The slot methods of a C struct with the fields `tag`, `layout` and `storage` (of `$words`
+/// words): `ZEROED`, `LAYOUT` (this build's layout word for it), `slot_get`,
+/// `slot_get_or_put` and `slot_put`, which call this module's functions with its fields.
+macro_rules! slot_struct {
+    ($name:ident, $words:expr) => {
+        impl $name {
+            /// A zeroed struct, as C static memory holds.
+            #[allow(dead_code)]
+            pub(crate) const ZEROED: Self = Self {
+                tag: 0,
+                layout: 0,
+                storage: [core::mem::MaybeUninit::new(0); $words],
+            };
+
+            /// This build's layout word for this struct.
+            pub(crate) const LAYOUT: u32 = $crate::slot::layout_of(core::mem::size_of::<Self>());
+
+            /// The value held, if it is a `T` of this build.
+            #[allow(dead_code)]
+            pub(crate) fn slot_get<T: $crate::slot::Stored>(
+                &self,
+            ) -> Result<&T, $crate::slot::Refused> {
+                $crate::slot::get(&self.storage, self.tag, self.layout, Self::LAYOUT)
+            }
+
+            /// The `T` held, or `start()` stored; refused if another build's.
+            #[allow(dead_code)]
+            pub(crate) fn slot_get_or_put<T: $crate::slot::Stored>(
+                &mut self,
+                start: impl FnOnce() -> T,
+            ) -> Result<&mut T, $crate::slot::Refused> {
+                $crate::slot::get_or_put(
+                    &mut self.storage,
+                    &mut self.tag,
+                    &mut self.layout,
+                    Self::LAYOUT,
+                    start,
+                )
+            }
+
+            /// Stores `value`.
+            #[allow(dead_code)]
+            pub(crate) fn slot_put<T: $crate::slot::Stored>(&mut self, value: T) {
+                $crate::slot::put(
+                    &mut self.storage,
+                    &mut self.tag,
+                    &mut self.layout,
+                    Self::LAYOUT,
+                    value,
+                )
+            }
+
+            /// The tag, for tests that check a struct was left untouched.
+            #[cfg(test)]
+            #[allow(dead_code)]
+            pub(crate) fn clone_tag(&self) -> u32 {
+                self.tag
+            }
+
+            /// Writes the layout word, for tests that make a struct of another build.
+            #[cfg(test)]
+            #[allow(dead_code)]
+            pub(crate) fn set_layout_for_test(&mut self, layout: u32) {
+                self.layout = layout;
+            }
+        }
+    };
+}
+pub(crate) use slot_struct;

@@ -19,6 +19,13 @@ pub const AT_ERR_ORDER: at_status = 2;
 pub const AT_ERR_NOT_INITIALISED: at_status = 3;
 /// The calibration mode was not one of `AT_CALIBRATION_*`.
 pub const AT_ERR_MODE: at_status = 4;
+/// A struct argument was made by another build of the library (its layout word, written
+/// with its tag, is not this build's: another layout version `AT_LAYOUT_VERSION`, library
+/// version, struct size or target); it was not read. Make it again with this build.
+pub const AT_ERR_OTHER_BUILD: at_status = 5;
+/// `at_chain_f32_new` was given both a stored calibration and the online calibration's
+/// settings (a chain has one calibration stage).
+pub const AT_ERR_STAGES: at_status = 6;
 /// `sample_period_s`: not finite, not positive, or outside [1 ps, 1000 s].
 pub const AT_ERR_SAMPLE_PERIOD_S: at_status = 16;
 /// `gains[0]` (l1): not finite, or outside the stability region of the discrete loop.
@@ -69,11 +76,32 @@ pub const AT_ERR_MAX_OFFSET: at_status = 38;
 pub const AT_ERR_MAX_AMPLITUDE_MISMATCH: at_status = 39;
 /// Calibration setting `max_quadrature_rad`.
 pub const AT_ERR_MAX_QUADRATURE_RAD: at_status = 40;
+/// Angle correction: a coefficient not finite, or their total `sum |a_k| + |b_k|` above
+/// 0.25 rad.
+pub const AT_ERR_ANGLE_CORRECTION: at_status = 41;
+/// Demodulator setting `carrier_hz`.
+pub const AT_ERR_CARRIER_HZ: at_status = 42;
+/// Demodulator: samples per carrier period (8, 16 or 32 in the C API).
+pub const AT_ERR_SAMPLES_PER_PERIOD: at_status = 43;
+/// Demodulator setting `carrier_amplitude_counts`.
+pub const AT_ERR_CARRIER_AMPLITUDE_COUNTS: at_status = 44;
+/// Demodulator settings `adc_min_code`, `adc_max_code`, `clip_margin_counts`.
+pub const AT_ERR_ADC_RANGE: at_status = 45;
+/// Demodulator setting `loss_of_excitation`.
+pub const AT_ERR_LOSS_OF_EXCITATION: at_status = 46;
+/// Demodulator setting `phase_drift_bound_rad`.
+pub const AT_ERR_PHASE_DRIFT_BOUND_RAD: at_status = 47;
+/// Demodulator setting `expected_delay_rad`.
+pub const AT_ERR_EXPECTED_DELAY_RAD: at_status = 48;
+/// Demodulator setting `delay_tracking_factor`.
+pub const AT_ERR_DELAY_TRACKING_FACTOR: at_status = 49;
+/// Demodulator setting `startup_periods`.
+pub const AT_ERR_STARTUP_PERIODS: at_status = 50;
 /// A parameter this version of the C API has no code for (a newer core's).
 pub const AT_ERR_OTHER_PARAMETER: at_status = 63;
 
 /// Every parameter with its status code: the one table both directions use.
-const PARAMETERS: [(Parameter, at_status); 25] = [
+const PARAMETERS: [(Parameter, at_status); 35] = [
     (Parameter::SamplePeriod, AT_ERR_SAMPLE_PERIOD_S),
     (Parameter::AngleGain, AT_ERR_GAINS_0),
     (Parameter::SpeedGain, AT_ERR_GAINS_1),
@@ -102,6 +130,19 @@ const PARAMETERS: [(Parameter, at_status); 25] = [
         AT_ERR_MAX_AMPLITUDE_MISMATCH,
     ),
     (Parameter::MaxQuadrature, AT_ERR_MAX_QUADRATURE_RAD),
+    (Parameter::AngleCorrection, AT_ERR_ANGLE_CORRECTION),
+    (Parameter::CarrierFrequency, AT_ERR_CARRIER_HZ),
+    (Parameter::SamplesPerPeriod, AT_ERR_SAMPLES_PER_PERIOD),
+    (Parameter::CarrierAmplitude, AT_ERR_CARRIER_AMPLITUDE_COUNTS),
+    (Parameter::AdcRange, AT_ERR_ADC_RANGE),
+    (
+        Parameter::LossOfExcitationThreshold,
+        AT_ERR_LOSS_OF_EXCITATION,
+    ),
+    (Parameter::PhaseDriftBound, AT_ERR_PHASE_DRIFT_BOUND_RAD),
+    (Parameter::ExpectedDelay, AT_ERR_EXPECTED_DELAY_RAD),
+    (Parameter::DelayTrackingFactor, AT_ERR_DELAY_TRACKING_FACTOR),
+    (Parameter::StartupPeriods, AT_ERR_STARTUP_PERIODS),
 ];
 
 /// The status naming the parameter a configuration error refused.
@@ -127,6 +168,9 @@ pub(crate) fn message(status: at_status) -> &'static CStr {
         AT_ERR_ORDER => c"order must be 2 or 3",
         AT_ERR_NOT_INITIALISED => c"a struct argument was not made by its constructor",
         AT_ERR_MODE => c"mode must be AT_CALIBRATION_OFF, _LEARNING or _FROZEN",
+        AT_ERR_OTHER_BUILD => {
+            c"a struct argument was made by another build of the library (layout version or size differs)"
+        }
         AT_ERR_SAMPLE_PERIOD_S => c"sample_period_s",
         AT_ERR_GAINS_0 => c"gains[0] (l1)",
         AT_ERR_GAINS_1 => c"gains[1] (l2)",
@@ -152,6 +196,17 @@ pub(crate) fn message(status: at_status) -> &'static CStr {
         AT_ERR_MAX_OFFSET => c"max_offset",
         AT_ERR_MAX_AMPLITUDE_MISMATCH => c"max_amplitude_mismatch",
         AT_ERR_MAX_QUADRATURE_RAD => c"max_quadrature_rad",
+        AT_ERR_ANGLE_CORRECTION => c"angle_correction",
+        AT_ERR_CARRIER_HZ => c"carrier_hz",
+        AT_ERR_SAMPLES_PER_PERIOD => c"samples_per_period",
+        AT_ERR_CARRIER_AMPLITUDE_COUNTS => c"carrier_amplitude_counts",
+        AT_ERR_ADC_RANGE => c"adc_range",
+        AT_ERR_LOSS_OF_EXCITATION => c"loss_of_excitation",
+        AT_ERR_PHASE_DRIFT_BOUND_RAD => c"phase_drift_bound_rad",
+        AT_ERR_EXPECTED_DELAY_RAD => c"expected_delay_rad",
+        AT_ERR_DELAY_TRACKING_FACTOR => c"delay_tracking_factor",
+        AT_ERR_STARTUP_PERIODS => c"startup_periods",
+        AT_ERR_STAGES => c"a chain takes a stored calibration or the online calibration, not both",
         AT_ERR_OTHER_PARAMETER => c"a parameter of a newer core",
         _ => c"unknown status",
     }

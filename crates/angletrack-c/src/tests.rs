@@ -224,3 +224,110 @@ fn status_and_fault_texts_are_c_strings() {
     assert_eq!(text(at_status_message(AT_ERR_GAINS_2)), "gains[2] (l3)");
     assert_eq!(text(at_fault_name(AT_FAULT_FALSE_LOCK)), "false lock");
 }
+
+/// The benchmark's 3rd-order gains as fixed-point constants (tests/c/fixed_ato3.h).
+const FIXED_3: [i32; 3] = [128_956_186, 768_430, 271_817_595];
+
+#[test]
+fn fixed_point_tracks_counts_and_reads_the_estimate_on_demand() {
+    let mut gains = at_fixed_gains::ZEROED;
+    let mut state = at_fixed_state::FRESH;
+    // SAFETY: valid pointers to live values.
+    unsafe {
+        assert_eq!(
+            at_fixed_gains_from_constants(FIXED_3.as_ptr(), 3, 1, 1e-4, &mut gains),
+            AT_OK
+        );
+        assert_eq!(at_fixed_gains_set_monitor(&mut gains, 28_800.0), AT_OK);
+        assert_eq!(at_fixed_gains_order(&gains), 3);
+        let speed = 2.0 * core::f64::consts::PI * 50.0;
+        // Fewer samples under Miri, whose interpreter is slow: the loop settles in 0.3 s.
+        let samples = if cfg!(miri) { 400 } else { 5000 };
+        for k in 0..samples {
+            let theta = 0.3 + speed * f64::from(k) * 1e-4;
+            let count = |x: f64| ((1800.0 * x).round() * 16.0) as i16;
+            let invalid =
+                at_fixed_track(&gains, &mut state, count(theta.cos()), count(theta.sin()));
+            assert_eq!(invalid, 0);
+        }
+        let e = at_fixed_state_estimate(&state);
+        if !cfg!(miri) {
+            assert!(
+                (at_fixed_speed_rad_s(&gains, &e) - speed).abs() < 0.1,
+                "{e:?}"
+            );
+            let position = 0.3 + speed * 4999e-4;
+            assert!((at_fixed_position_rad(&e) - position).abs() < 1e-3, "{e:?}");
+            assert_eq!(e.faults, 0);
+        }
+        let copy = state;
+        assert_eq!(
+            at_fixed_update(&gains, &mut state, 16384, 0).angle,
+            at_fixed_state_estimate(&state).angle
+        );
+        assert_ne!(
+            at_fixed_state_estimate(&copy),
+            at_fixed_state_estimate(&state)
+        );
+    }
+}
+
+#[test]
+fn structs_of_another_build_are_refused_and_left_as_they_are() {
+    let gains = gains_of(&GAINS_3);
+    let mut other = gains;
+    other.set_layout_for_test(at_gains_f32::LAYOUT.wrapping_add(2));
+    let mut fixed = at_fixed_gains::ZEROED;
+    let mut state = at_fixed_state::FRESH;
+    let mut thresholds = at_fault_thresholds_f32_for_amplitude(1.0);
+    // SAFETY: valid pointers to live values.
+    unsafe {
+        assert_eq!(at_layout_version(), AT_LAYOUT_VERSION);
+        assert_eq!(
+            at_gains_f32_fault_thresholds(&other, &mut thresholds),
+            AT_ERR_OTHER_BUILD
+        );
+        let mut fresh = at_state_f32::FRESH;
+        assert_eq!(
+            at_update_f32(&other, &mut fresh, 1.0, 0.0),
+            at_estimate_f32::INVALID
+        );
+        assert_eq!(fresh.clone_tag(), 0);
+        let mut calibrator = at_calibrator_f32::FRESH;
+        assert_eq!(
+            at_calibrator_f32_set_mode(&mut calibrator, AT_CALIBRATION_LEARNING),
+            AT_OK
+        );
+        calibrator.set_layout_for_test(1);
+        let before = calibrator.clone_tag();
+        assert_eq!(
+            at_calibrator_f32_set_mode(&mut calibrator, AT_CALIBRATION_FROZEN),
+            AT_ERR_OTHER_BUILD
+        );
+        assert_eq!(calibrator.clone_tag(), before);
+        assert_eq!(at_calibrator_f32_mode(&calibrator), AT_CALIBRATION_OFF);
+        assert_eq!(
+            at_fixed_gains_from_constants(FIXED_3.as_ptr(), 3, 1, 1e-4, &mut fixed),
+            AT_OK
+        );
+        assert_eq!(at_fixed_track(&fixed, &mut state, 16384, 0), 0);
+        state.set_layout_for_test(1);
+        let before = state.clone_tag();
+        assert_eq!(
+            at_fixed_track(&fixed, &mut state, 16384, 0),
+            AT_FAULT_INVALID_ARGUMENT
+        );
+        assert_eq!(at_fixed_state_estimate(&state), at_fixed_estimate::INVALID);
+        assert_eq!(state.clone_tag(), before);
+        fixed.set_layout_for_test(3);
+        assert_eq!(
+            at_fixed_gains_set_monitor(&mut fixed, 20_000.0),
+            AT_ERR_OTHER_BUILD
+        );
+    }
+    assert_ne!(
+        at_gains_f32::LAYOUT,
+        at_fixed_gains::LAYOUT,
+        "the size is in the layout"
+    );
+}

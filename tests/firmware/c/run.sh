@@ -1,18 +1,25 @@
 #!/usr/bin/env bash
-# The C API on a Cortex-M4F: builds libangletrack_c.a for thumbv7em-none-eabihf, compiles the
-# C example (main.c, startup.c) with arm-none-eabi-gcc against crates/angletrack-c/include/
-# angletrack.h, links it with newlib (snprintf, sinf) into an image for QEMU mps2-an386
-# (link.ld, on the Rust firmware test's memory-m4.x), and
-#  1. runs it: it must exit 0 and print PASS for each tracking check;
+# The C API on two cores, each example built with arm-none-eabi-gcc against
+# crates/angletrack-c/include/angletrack.h and linked with newlib and the static library
+# built for its target (the sections in sections.ld, on the Rust firmware test's memory
+# maps):
+#  - Cortex-M4F (main.c, thumbv7em-none-eabihf, QEMU mps2-an386, link-m4.ld): the float
+#    observer from floats, from 12-bit ADC counts and through the online calibration;
+#  - Cortex-M0 (main_m0.c, thumbv6m-none-eabi, QEMU microbit, link-m0.ld): the fixed-point
+#    observer from 12-bit ADC counts, from its integer constants and from float gains.
+# For each:
+#  1. runs it: it must exit 0 and print PASS for each of its checks;
 #  2. checks that each check can fail: built with -DTAMPER (one input of each check
 #     corrupted: the signal 1 % faster than the tracking checks expect, the sensor's offset
 #     0.01 off the calibration check's) it must exit 1 and every check must print FAIL;
 #  3. checks that the image holds no panic code: no C API call can reach the library's
 #     panic handler, so the linker's garbage collection drops it;
 #  4. prints the image's code size.
-# Needs: cargo with the thumbv7em-none-eabihf target, qemu-system-arm, gcc-arm-none-eabi,
-# libnewlib-arm-none-eabi (scripts/test.d/16-c-api.sh installs them).
-# Usage: bash tests/firmware/c/run.sh   (CARGO_TARGET_DIR overrides the build directory)
+# Needs: cargo with the thumbv7em-none-eabihf and thumbv6m-none-eabi targets,
+# qemu-system-arm, gcc-arm-none-eabi, libnewlib-arm-none-eabi (scripts/test.d/16-c-api.sh
+# installs them).
+# Usage: bash tests/firmware/c/run.sh [m4|m0]   (default both; CARGO_TARGET_DIR overrides
+# the build directory)
 set -euo pipefail
 shopt -s inherit_errexit
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -21,50 +28,76 @@ target_dir="${CARGO_TARGET_DIR:-$root/target}"
 out="$target_dir/c-example"
 mkdir -p "$out"
 
-(cd "$root" && CARGO_TARGET_DIR="$target_dir" cargo build -q --locked -p angletrack-c --release \
-  --target thumbv7em-none-eabihf)
-lib="$target_dir/thumbv7em-none-eabihf/release/libangletrack_c.a"
+# Per core (set by `core_settings`): the target, the compiler's CPU flags, QEMU's machine,
+# the example's source and its number of checks.
+core_settings() {
+  case $1 in
+    m4)
+      target=thumbv7em-none-eabihf main=main.c checks=3
+      cpu=(-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16)
+      machine=(-machine mps2-an386 -cpu cortex-m4)
+      ;;
+    m0)
+      target=thumbv6m-none-eabi main=main_m0.c checks=2
+      cpu=(-mcpu=cortex-m0 -mthumb)
+      machine=(-machine microbit)
+      ;;
+    *) echo "unknown core $1 (m4 or m0)" >&2; exit 1 ;;
+  esac
+  core=$1
+  lib="$target_dir/$target/release/libangletrack_c.a"
+}
 
-cpu=(-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16)
-# build NAME [CFLAGS...]: the image $out/NAME.elf.
+# build NAME [CFLAGS...]: the image $out/NAME.elf of the current core.
 build() {
   local name=$1
   shift
   arm-none-eabi-gcc "${cpu[@]}" -std=c11 -O2 -g -Wall -Wextra -Werror -ffunction-sections \
     -fdata-sections -I"$root/crates/angletrack-c/include" -I"$root/crates/angletrack-c/tests/c" \
-    "$@" "$here/main.c" "$here/startup.c" \
-    -nostartfiles --specs=nosys.specs -L"$here/.." -T"$here/link.ld" -Wl,--gc-sections,--no-warn-execstack \
-    "$lib" -lm -o "$out/$name.elf"
+    "$@" "$here/$main" "$here/startup.c" \
+    -nostartfiles --specs=nosys.specs -L"$here/.." -L"$here" -T"$here/link-$core.ld" \
+    -Wl,--gc-sections,--no-warn-execstack "$lib" -lm -o "$out/$name.elf"
 }
 # run NAME: runs the image under QEMU with semihosting (its exit status is the image's); the
 # image's console (SYS_WRITE0, which QEMU writes to its stderr) on stdout.
 run() {
-  timeout 120 qemu-system-arm -machine mps2-an386 -cpu cortex-m4 -nographic -monitor none \
+  timeout 120 qemu-system-arm "${machine[@]}" -nographic -monitor none \
     -serial none -semihosting-config enable=on,target=native -kernel "$out/$1.elf" 2>&1
 }
 
-build example
-output=$(run example) || { echo "$output"; echo "FAIL: the C example exited with an error" >&2; exit 1; }
-echo "$output"
-checks=3
-[ "$(grep -c '^PASS' <<<"$output")" -eq "$checks" ] ||
-  { echo "FAIL: expected $checks PASS lines" >&2; exit 1; }
+cores=("$@")
+[ ${#cores[@]} -gt 0 ] || cores=(m4 m0)
+for c in "${cores[@]}"; do
+  core_settings "$c"
+  echo "--- the C example on the $core ($target)"
+  (cd "$root" && CARGO_TARGET_DIR="$target_dir" cargo build -q --locked -p angletrack-c \
+    --release --target "$target")
 
-build tamper -DTAMPER
-if output=$(run tamper); then
-  echo "$output"; echo "FAIL: the tampered C example passed" >&2; exit 1
-fi
-# Every check (as many lines as the clean run's PASS lines) must fail on its corrupted input.
-failed=$(grep -c '^FAIL' <<<"$output" || true)
-if [ "$failed" -ne "$checks" ] || [ "$(grep -cE '^(PASS|FAIL)' <<<"$output")" -ne "$checks" ]; then
+  build "example-$core"
+  output=$(run "example-$core") ||
+    { echo "$output"; echo "FAIL: the $core C example exited with an error" >&2; exit 1; }
   echo "$output"
-  echo "FAIL: with one corrupted input per check, $failed of $checks checks FAIL; all must" >&2
-  exit 1
-fi
-echo "checks with one corrupted input each: all $failed of $checks FAIL, as they must"
+  [ "$(grep -c '^PASS' <<<"$output")" -eq "$checks" ] ||
+    { echo "FAIL: expected $checks PASS lines" >&2; exit 1; }
 
-if panics=$(arm-none-eabi-nm -C "$out/example.elf" | grep -iE 'panic|rust_begin_unwind'); then
-  echo "$panics"; echo "FAIL: the C example's image holds panic code" >&2; exit 1
-fi
-echo "no panic code in the image"
-arm-none-eabi-size "$out/example.elf" | awk 'NR == 2 { print "image size: text " $1 " bytes, data " $2 ", bss " $3 }'
+  build "tamper-$core" -DTAMPER
+  if output=$(run "tamper-$core"); then
+    echo "$output"; echo "FAIL: the tampered $core C example passed" >&2; exit 1
+  fi
+  # Every check (as many lines as the clean run's PASS lines) must fail on its corrupted
+  # input.
+  failed=$(grep -c '^FAIL' <<<"$output" || true)
+  if [ "$failed" -ne "$checks" ] || [ "$(grep -cE '^(PASS|FAIL)' <<<"$output")" -ne "$checks" ]; then
+    echo "$output"
+    echo "FAIL: with one corrupted input per check, $failed of $checks checks FAIL; all must" >&2
+    exit 1
+  fi
+  echo "checks with one corrupted input each: all $failed of $checks FAIL, as they must"
+
+  if panics=$(arm-none-eabi-nm -C "$out/example-$core.elf" | grep -iE 'panic|rust_begin_unwind'); then
+    echo "$panics"; echo "FAIL: the $core C example's image holds panic code" >&2; exit 1
+  fi
+  echo "no panic code in the image"
+  arm-none-eabi-size "$out/example-$core.elf" |
+    awk 'NR == 2 { print "image size: text " $1 " bytes, data " $2 ", bss " $3 }'
+done

@@ -1,5 +1,6 @@
-/* A minimal Cortex-M4F start-up for the C example under QEMU: the vector table, the reset
- * handler (FPU on, .data copied, .bss zeroed, main called) and the two semihosting calls
+/* A minimal Cortex-M start-up for the C examples under QEMU (the Cortex-M4F's and the
+ * Cortex-M0's): the vector table, the reset handler (the FPU on where there is one, .data
+ * copied, .bss zeroed, main called) and the two semihosting calls
  * the example needs: write a string to the host's console, and exit QEMU with a status. */
 #include <stdint.h>
 
@@ -29,9 +30,11 @@ void semihosting_exit(int status) {
 }
 
 void Reset_Handler(void) {
+#if defined(__ARM_FP)
   /* Full access to CP10 and CP11 (the FPU) before any floating-point instruction. */
   *(volatile uint32_t *)0xE000ED88u |= 0xFu << 20;
   __asm__ volatile("dsb\n isb" ::: "memory");
+#endif
   for (uint32_t *from = &_data_load, *to = &_data_start; to < &_data_end;) *to++ = *from++;
   for (uint32_t *to = &_bss_start; to < &_bss_end;) *to++ = 0u;
   semihosting_exit(main());

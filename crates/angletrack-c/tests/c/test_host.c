@@ -1,12 +1,15 @@
 /* The C API on the host: a C program written against angletrack.h, linked with
  * libangletrack_c.a, that designs nothing: it takes the gains `angletrack design --format c`
  * writes (gains_ato3.h, gains_ato2.h), tracks a synthetic resolver (scenario.h) and checks
- * the refusals (invalid gains, NULL pointers, zeroed structs). Prints one line per check
+ * the refusals (invalid gains, NULL pointers, zeroed structs, structs of another build); the
+ * fixed-point observer from the constants `angletrack design --dtype fixed --format c`
+ * prints (fixed_ato3.h) on 12-bit counts. Prints one line per check
  * and exits 0 if all pass. Built and run by scripts/test.d/16-c-api.sh. */
 #include <stdio.h>
 #include <string.h>
 
 #include "angletrack.h"
+#include "fixed_ato3.h"
 #include "gains_ato2.h"
 #include "gains_ato3.h"
 #include "scenario.h"
@@ -16,6 +19,10 @@ static at_gains_f32 gains3, gains2, zeroed_gains;
 static at_state_f32 state;
 static at_adc_f32 adc;
 static at_calibrator_f32 calibrator;
+static at_fixed_gains fixed3, zeroed_fixed;
+static at_fixed_state fixed_state;
+static at_chain_f32 chain, plain_chain;
+static at_chain_state_f32 chain_state;
 
 static int failures = 0;
 
@@ -40,6 +47,228 @@ static void track(const char *name, const at_gains_f32 *gains, const at_adc_f32 
   int pass = scenario_passes(name, r, angle_tolerance, speed_tolerance, line, sizeof line);
   fputs(line, stdout);
   failures += !pass;
+}
+
+/* The fixed-point observer: the constants accepted, the scenario tracked from 12-bit
+ * offset-binary counts (mid-scale removed, shifted left by 4: amplitude 28,800), the
+ * refusals. */
+static void fixed_point(void) {
+  char line[300];
+  check_status(at_fixed_gains_from_constants(fixed3_gain_multiplier, FIXED3_ORDER,
+                                             FIXED3_ACCELERATION_SHIFT, FIXED3_SAMPLE_PERIOD_S,
+                                             &fixed3),
+               AT_OK, "fixed-point constants accepted");
+  check_status(at_fixed_gains_set_monitor(&fixed3, 1800.0 * 16.0), AT_OK,
+               "fixed-point monitor at 28,800 counts");
+  check(at_fixed_gains_order(&fixed3) == 3 && at_fixed_gains_order(&zeroed_fixed) == 0,
+        "fixed-point order 3; 0 for zeroed gains");
+  double worst_angle = 0.0, worst_speed = 0.0;
+  uint32_t faults = 0;
+  for (long k = 0; k < SCENARIO_SAMPLES; k++) {
+    double theta = scenario_angle(k, SCENARIO_SPEED_RAD_S, FIXED3_SAMPLE_PERIOD_S);
+    int16_t y_c = (int16_t)(lrint(1800.0 * cos(theta)) * 16);
+    int16_t y_s = (int16_t)(lrint(1800.0 * sin(theta)) * 16);
+    faults |= at_fixed_track(&fixed3, &fixed_state, y_c, y_s);
+    if (k < SCENARIO_SAMPLES - SCENARIO_WINDOW) continue;
+    at_fixed_estimate e = at_fixed_state_estimate(&fixed_state);
+    double angle = e.angle * (2.0 * SCENARIO_PI / 4294967296.0);
+    double angle_error = fabs(scenario_wrapped(angle - theta));
+    double speed_error = fabs(at_fixed_speed_rad_s(&fixed3, &e) - SCENARIO_SPEED_RAD_S);
+    if (angle_error > worst_angle) worst_angle = angle_error;
+    if (speed_error > worst_speed) worst_speed = speed_error;
+    faults |= e.faults;
+  }
+  snprintf(line, sizeof line,
+           "fixed point from 12-bit counts: worst angle error %.3g rad, speed error %.3g rad/s, "
+           "faults 0x%x",
+           worst_angle, worst_speed, (unsigned)faults);
+  check(worst_angle < 3e-4 && worst_speed < 0.1 && faults == 0u, line);
+  at_fixed_estimate e = at_fixed_state_estimate(&fixed_state);
+  double position = at_fixed_position_rad(&e);
+  check(fabs(position - (0.3 + SCENARIO_SPEED_RAD_S * 4999 * 1e-4)) < 1e-3,
+        "fixed-point multi-turn position");
+
+  /* Refusals. */
+  at_fixed_gains out = fixed3;
+  const int32_t zero_l1[3] = {0, 768430, 271817595};
+  check_status(at_fixed_gains_from_constants(zero_l1, 3, 1, 1e-4, &out), AT_ERR_GAINS_0,
+               "fixed-point multiplier 0 refused");
+  check_status(at_fixed_gains_from_constants(fixed3_gain_multiplier, 3, 0, 1e-4, &out),
+               AT_ERR_GAINS_2, "fixed-point shift 0 at order 3 refused");
+  check_status(at_fixed_gains_from_constants(fixed3_gain_multiplier, 4, 1, 1e-4, &out),
+               AT_ERR_ORDER, "fixed-point order 4 refused");
+  check(memcmp(&out, &fixed3, sizeof out) == 0, "refused constants leave out unchanged");
+  const float too_small[2] = {1e-30f, 1e-3f};
+  check_status(at_fixed_gains_new(too_small, 2, 1e-4, &out), AT_ERR_GAINS_0,
+               "fixed-point l1 rounding to 0 refused");
+  check_status(at_fixed_gains_set_monitor(&out, 2000.0), AT_ERR_NOMINAL_AMPLITUDE,
+               "fixed-point monitor at 2000 counts refused");
+  check_status(at_fixed_gains_set_monitor(&zeroed_fixed, 20000.0), AT_ERR_NOT_INITIALISED,
+               "zeroed fixed-point gains refused");
+  check_status(at_fixed_gains_new(NULL, 2, 1e-4, &out), AT_ERR_NULL_POINTER,
+               "NULL fixed-point gains");
+  check(at_fixed_track(&zeroed_fixed, &fixed_state, 1, 0) == AT_FAULT_INVALID_ARGUMENT &&
+            at_fixed_track(&fixed3, NULL, 1, 0) == AT_FAULT_INVALID_ARGUMENT &&
+            at_fixed_update(NULL, &fixed_state, 1, 0).faults == AT_FAULT_INVALID_ARGUMENT,
+        "fixed-point track and update with NULL or zeroed arguments refused");
+}
+
+/* The worst angle error over the last 0.1 s of the scenario's sensor with 2 % offsets, 5 %
+ * imbalance, 0.01 rad of quadrature and 5 mrad of 3rd harmonic, as 12-bit counts through
+ * `chain` (which has the 12-bit ADC stage). */
+static double chain_worst_error(const at_chain_f32 *c, uint32_t *faults) {
+  double worst = 0.0;
+  *faults = 0u;
+  at_chain_state_f32_reset(&chain_state);
+  for (long k = 0; k < SCENARIO_SAMPLES; k++) {
+    double theta = scenario_angle(k, SCENARIO_SPEED_RAD_S, ATO3_SAMPLE_PERIOD_S);
+    double d = theta + 5e-3 * sin(3.0 * theta);
+    double y_c = 0.02 + 0.8 * cos(d), y_s = -0.01 + 0.84 * sin(d + 0.01);
+    at_chain_f32_track_u16(c, &chain_state, (uint16_t)lrint(2048.0 + 2048.0 * y_c),
+                           (uint16_t)lrint(2048.0 + 2048.0 * y_s));
+    if (k < SCENARIO_SAMPLES - SCENARIO_WINDOW) continue;
+    at_estimate_f32 e = at_chain_f32_estimate(c, &chain_state);
+    double error = fabs(scenario_wrapped((double)e.angle - theta));
+    if (error > worst) worst = error;
+    *faults |= e.faults;
+  }
+  return worst;
+}
+
+/* The signal chain: stages chosen at run time, one track for every combination. */
+static void chains(void) {
+  char line[300];
+  /* The sensor's stored calibration (in units of full scale) and harmonic error. */
+  at_sensor_calibration_f32 stored = {0.02f, -0.01f, 0.8f, 0.84f, 0.01f};
+  at_angle_correction_f32 correction;
+  memset(&correction, 0, sizeof correction);
+  correction.sin_coefficients[2] = 5e-3f;
+  check_status(at_chain_f32_new(&gains3, &adc, &stored, NULL, &correction, &chain), AT_OK,
+               "chain: ADC, stored calibration, angle correction, observer");
+  check_status(at_chain_f32_new(&gains3, &adc, NULL, NULL, NULL, &plain_chain), AT_OK,
+               "chain: ADC, observer");
+  uint32_t faults, plain_faults;
+  double corrected = chain_worst_error(&chain, &faults);
+  double plain = chain_worst_error(&plain_chain, &plain_faults);
+  snprintf(line, sizeof line,
+           "chain from 12-bit counts of an imperfect sensor: worst angle error %.3g rad "
+           "corrected (faults 0x%x), %.3g rad without the calibration and correction",
+           corrected, (unsigned)faults, plain);
+  check(corrected < 2e-4 && faults == 0u && plain > 0.02, line);
+
+  /* The online calibration as a stage: learns per channel, in the chain's state. */
+  at_calibration_settings_f32 settings = at_calibration_settings_f32_default();
+  check_status(at_chain_f32_new(&gains3, NULL, &stored, &settings, NULL, &chain), AT_ERR_STAGES,
+               "chain: stored and online calibration refused");
+  check_status(at_chain_f32_new(&gains3, NULL, NULL, &settings, NULL, &chain), AT_OK,
+               "chain: online calibration, observer");
+  at_chain_state_f32_reset(&chain_state);
+  check_status(at_chain_state_f32_set_calibration_mode(&chain_state, AT_CALIBRATION_LEARNING),
+               AT_OK, "chain: online calibration learning");
+  for (long k = 0; k < SCENARIO_SAMPLES; k++) {
+    double theta = scenario_angle(k, SCENARIO_SPEED_RAD_S, ATO3_SAMPLE_PERIOD_S);
+    at_chain_f32_track(&chain, &chain_state, (float)(0.05 + cos(theta)),
+                       (float)(-0.05 + 1.1 * sin(theta + 0.05)));
+  }
+  at_sensor_calibration_f32 learned;
+  check_status(at_chain_state_f32_calibration(&chain_state, &learned), AT_OK,
+               "chain: the learned calibration read");
+  snprintf(line, sizeof line, "chain: learned in %u turns offsets %.4f %.4f, ratio %.4f",
+           (unsigned)at_chain_state_f32_turns_learned(&chain_state), learned.offset_c,
+           learned.offset_s, learned.amplitude_s / learned.amplitude_c);
+  check(fabs(learned.offset_c - 0.05) < 5e-3 && fabs(learned.offset_s + 0.05) < 5e-3 &&
+            fabs(learned.amplitude_s / learned.amplitude_c - 1.1) < 5e-3,
+        line);
+  settings.max_offset = -1.0f;
+  check_status(at_chain_f32_new(&gains3, NULL, NULL, &settings, NULL, &chain),
+               AT_ERR_MAX_OFFSET, "chain: negative max_offset refused");
+  correction.cos_coefficients[7] = 0.3f;
+  check_status(at_chain_f32_new(&gains3, NULL, NULL, NULL, &correction, &chain),
+               AT_ERR_ANGLE_CORRECTION, "chain: angle correction above 0.25 rad refused");
+  check(at_chain_f32_track_u16(&plain_chain, NULL, 1, 2) == AT_FAULT_INVALID_ARGUMENT,
+        "chain: NULL state refused");
+
+  /* The plain observer's state-only form: the estimate on demand is the update's. */
+  at_state_f32 tracked, updated;
+  at_state_f32_reset(&tracked);
+  at_state_f32_reset(&updated);
+  int same = 1;
+  for (long k = 0; k < 100; k++) {
+    double theta = scenario_angle(k, SCENARIO_SPEED_RAD_S, ATO3_SAMPLE_PERIOD_S);
+    at_estimate_f32 e = at_update_f32(&gains3, &updated, (float)cos(theta), (float)sin(theta));
+    same &= at_track_f32(&gains3, &tracked, (float)cos(theta), (float)sin(theta)) == 0u;
+    at_estimate_f32 on_demand = at_state_f32_estimate(&gains3, &tracked);
+    same &= e.angle == on_demand.angle && e.turns == on_demand.turns &&
+            e.speed == on_demand.speed && e.acceleration == on_demand.acceleration &&
+            e.phase_error == on_demand.phase_error && e.faults == on_demand.faults;
+  }
+  check(same, "at_track_f32 + at_state_f32_estimate give at_update_f32's estimates");
+}
+
+/* The demodulator: resolver windings sampled 16 times per 10 kHz carrier period by a 12-bit
+ * ADC, one pair per period into a chain running at the carrier period. */
+static void demodulation(void) {
+  at_demodulator_settings_f32 settings = at_demodulator_settings_f32_new(10e3f, 1800.0f, 0.0f, 4095.0f);
+  static at_demodulator_f32 demodulator;
+  static at_demodulator_state_f32 demodulator_state;
+  check_status(at_demodulator_f32_new(&settings, 12, &demodulator), AT_ERR_SAMPLES_PER_PERIOD,
+               "demodulator: 12 samples per period refused");
+  check_status(at_demodulator_f32_new(&settings, 16, &demodulator), AT_OK,
+               "demodulator: 16 samples per period");
+  check_status(at_chain_f32_new(&gains3, NULL, NULL, NULL, NULL, &chain), AT_OK, "chain: observer");
+  check_status(at_demodulator_f32_check_chain(&demodulator, &chain), AT_OK,
+               "demodulator: the chain runs at the carrier period");
+  at_chain_state_f32_reset(&chain_state);
+  at_demodulated_pair_f32 pair;
+  double theta = 0.6;
+  long pairs = 0;
+  for (long k = 0; k < 16 * 400; k++) {
+    double carrier = 1800.0 * sin(2.0 * SCENARIO_PI * (double)(k % 16) / 16.0);
+    float raw_c = (float)lrint(2048.0 + cos(theta) * carrier);
+    float raw_s = (float)lrint(2048.0 + sin(theta) * carrier);
+    if (at_demodulator_f32_push(&demodulator, &demodulator_state, raw_c, raw_s, &pair) == 1u) {
+      at_chain_f32_track(&chain, &chain_state, pair.y_c, pair.y_s);
+      pairs++;
+    }
+  }
+  at_estimate_f32 e = at_chain_f32_estimate(&chain, &chain_state);
+  char line[200];
+  snprintf(line, sizeof line, "demodulator: %ld pairs, angle %.5f rad (true %.5f), faults 0x%x",
+           pairs, e.angle, theta, (unsigned)(e.faults | pair.faults));
+  check(fabs(e.angle - theta) < 1e-3 && pairs == 383 && (e.faults | pair.faults) == 0u, line);
+}
+
+/* Structs of another build (another layout version, struct size, library version or
+ * target: another layout word beside an "AT" tag) are refused, never read. The private
+ * `layout` field is written here only to make such a struct. */
+static void layouts(void) {
+  check(at_layout_version() == AT_LAYOUT_VERSION, "the library's layout version is the header's");
+  at_gains_f32 other = gains3;
+  other.layout += 2;
+  at_fault_thresholds_f32 t;
+  check_status(at_gains_f32_fault_thresholds(&other, &t), AT_ERR_OTHER_BUILD,
+               "gains of another build refused");
+  check(at_update_f32(&other, &state, 1.0f, 0.0f).faults == AT_FAULT_INVALID_ARGUMENT,
+        "update with gains of another build flags AT_FAULT_INVALID_ARGUMENT");
+  at_fixed_gains other_fixed = fixed3;
+  other_fixed.layout += 2;
+  check_status(at_fixed_gains_set_monitor(&other_fixed, 20000.0), AT_ERR_OTHER_BUILD,
+               "fixed-point gains of another build refused");
+  at_fixed_state other_state = fixed_state;
+  other_state.layout += 2;
+  at_fixed_state before = other_state;
+  check(at_fixed_track(&fixed3, &other_state, 1, 0) == AT_FAULT_INVALID_ARGUMENT &&
+            at_fixed_state_estimate(&other_state).faults == AT_FAULT_INVALID_ARGUMENT &&
+            memcmp(&before, &other_state, sizeof before) == 0,
+        "a fixed-point state of another build refused and left unchanged");
+  at_fixed_state_reset(&other_state);
+  check(at_fixed_track(&fixed3, &other_state, 1, 0) == 0u, "reset, it is this build's");
+  at_calibrator_f32 other_calibrator = calibrator;
+  other_calibrator.layout += 2;
+  check_status(at_calibrator_f32_set_mode(&other_calibrator, AT_CALIBRATION_LEARNING),
+               AT_ERR_OTHER_BUILD, "calibrator of another build refused");
+  printf("sizeof: at_fixed_gains %zu, at_fixed_state %zu, at_fixed_estimate %zu bytes\n",
+         sizeof(at_fixed_gains), sizeof(at_fixed_state), sizeof(at_fixed_estimate));
 }
 
 int main(void) {
@@ -111,6 +340,11 @@ int main(void) {
   at_calibrator_f32_reset(&loaded);
   check_status(at_calibrator_f32_load(&loaded, &learned), AT_OK, "stored calibration loaded");
   check(at_calibrator_f32_mode(&loaded) == AT_CALIBRATION_FROZEN, "loaded calibration frozen");
+
+  fixed_point();
+  chains();
+  demodulation();
+  layouts();
 
   printf("%s: %d check(s) failed\n", failures ? "FAIL" : "PASS", failures);
   return failures ? 1 : 0;

@@ -1,0 +1,419 @@
+//! The `extern "C"` functions of the signal chain (`at_chain_f32_*`, `at_chain_state_f32_*`)
+//! and of the float observer's state-only form (`at_track_f32`, `at_state_f32_estimate`):
+//! each checks its pointers, turns them into references, and calls the safe code of
+//! `chain` (or the core). The caller's contract is `ffi`'s.
+#![allow(unsafe_code)]
+
+use angletrack_core::Calibrator;
+
+use crate::adc::at_adc_f32;
+use crate::calibration::{at_sensor_calibration_f32, mode_of, set_mode_of};
+use crate::chain::{
+    Counts, Input, Pair, Stages, at_angle_correction_f32, at_calibration_settings_f32,
+    at_chain_f32, at_chain_state_f32, estimate, track, update,
+};
+use crate::faults::AT_FAULT_INVALID_ARGUMENT;
+use crate::gains::{at_gains_f32, with_gains};
+use crate::observer::{at_estimate_f32, at_state_f32};
+use crate::status::{AT_ERR_NULL_POINTER, AT_OK, at_status, status_of_result};
+
+/// The online calibration's default settings (the core's `CalibrationSettings::default`).
+#[unsafe(no_mangle)]
+pub extern "C" fn at_calibration_settings_f32_default() -> at_calibration_settings_f32 {
+    at_calibration_settings_f32::default_settings()
+}
+
+/// Builds a signal chain into `out`: the observer `gains` (required) after the optional
+/// stages, each NULL when absent, in this order: the ADC front end `adc` (then the chain
+/// takes counts: `at_chain_f32_track_u16`, ...), one calibration stage (a stored calibration
+/// `stored`, applied to every sample, or the online calibration with its `settings`,
+/// learning per channel in `at_chain_state_f32`; not both: `AT_ERR_STAGES`), and the
+/// harmonic angle correction `correction`. Every stage is checked (`AT_ERR_*` naming the
+/// refused parameter, `AT_ERR_ANGLE_CORRECTION`, ...; `out` unchanged on error); the stages
+/// are copied, so they need not outlive the call.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_f32_new(
+    gains: *const at_gains_f32,
+    adc: *const at_adc_f32,
+    stored: *const at_sensor_calibration_f32,
+    settings: *const at_calibration_settings_f32,
+    correction: *const at_angle_correction_f32,
+    out: *mut at_chain_f32,
+) -> at_status {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
+    let (Some(gains), Some(out)) = (unsafe { (gains.as_ref(), out.as_mut()) }) else {
+        return AT_ERR_NULL_POINTER;
+    };
+    // SAFETY: the caller's contract; NULL (an absent stage) is checked by `as_ref`.
+    let adc = match unsafe { adc.as_ref() }.map(at_adc_f32::get) {
+        Some(Ok(adc)) => Some(adc),
+        Some(Err(refused)) => return refused.status(),
+        None => None,
+    };
+    // SAFETY: as above.
+    let stages = unsafe {
+        Stages {
+            adc,
+            stored: stored.as_ref(),
+            online: settings.as_ref(),
+            correction: correction.as_ref(),
+        }
+    };
+    out.set(gains, stages)
+}
+
+/// The body of the `at_chain_f32_track*` functions.
+///
+/// # Safety
+/// As theirs.
+unsafe fn track_input(
+    chain: *const at_chain_f32,
+    state: *mut at_chain_state_f32,
+    input: impl Input,
+) -> u32 {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
+    match unsafe { (chain.as_ref(), state.as_mut()) } {
+        (Some(chain), Some(state)) => {
+            if track(chain, state, input) {
+                0
+            } else {
+                AT_FAULT_INVALID_ARGUMENT
+            }
+        }
+        _ => AT_FAULT_INVALID_ARGUMENT,
+    }
+}
+
+/// The body of the `at_chain_f32_update*` functions.
+///
+/// # Safety
+/// As theirs.
+unsafe fn update_input(
+    chain: *const at_chain_f32,
+    state: *mut at_chain_state_f32,
+    input: impl Input,
+) -> at_estimate_f32 {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
+    match unsafe { (chain.as_ref(), state.as_mut()) } {
+        (Some(chain), Some(state)) => update(chain, state, input),
+        _ => at_estimate_f32::INVALID,
+    }
+}
+
+/// One sample `(y_c, y_s)` through the chain's stages and observer, the state only (the
+/// cheapest per-sample call; `at_chain_f32_estimate` reads the estimate on demand, the
+/// stages' faults are latched in the state). Returns 0, or `AT_FAULT_INVALID_ARGUMENT`
+/// (nothing changed) for a NULL pointer, a chain not made or a struct of another build. A
+/// chain with an ADC stage takes `y_c`, `y_s` as already scaled (the ADC is for counts).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_f32_track(
+    chain: *const at_chain_f32,
+    state: *mut at_chain_state_f32,
+    y_c: f32,
+    y_s: f32,
+) -> u32 {
+    // SAFETY: the same contract.
+    unsafe { track_input(chain, state, Pair(y_c, y_s)) }
+}
+
+/// `at_chain_f32_track`, then the estimate, which carries the stages' faults.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_f32_update(
+    chain: *const at_chain_f32,
+    state: *mut at_chain_state_f32,
+    y_c: f32,
+    y_s: f32,
+) -> at_estimate_f32 {
+    // SAFETY: the same contract.
+    unsafe { update_input(chain, state, Pair(y_c, y_s)) }
+}
+
+/// `at_chain_f32_track` on raw `i16` ADC counts, through the chain's ADC stage
+/// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_f32_track_i16(
+    chain: *const at_chain_f32,
+    state: *mut at_chain_state_f32,
+    raw_c: i16,
+    raw_s: i16,
+) -> u32 {
+    // SAFETY: the same contract.
+    unsafe { track_input(chain, state, Counts(raw_c, raw_s)) }
+}
+
+/// `at_chain_f32_update` on raw `i16` ADC counts, through the chain's ADC stage
+/// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_f32_update_i16(
+    chain: *const at_chain_f32,
+    state: *mut at_chain_state_f32,
+    raw_c: i16,
+    raw_s: i16,
+) -> at_estimate_f32 {
+    // SAFETY: the same contract.
+    unsafe { update_input(chain, state, Counts(raw_c, raw_s)) }
+}
+
+/// `at_chain_f32_track` on raw `u16` ADC counts, through the chain's ADC stage
+/// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_f32_track_u16(
+    chain: *const at_chain_f32,
+    state: *mut at_chain_state_f32,
+    raw_c: u16,
+    raw_s: u16,
+) -> u32 {
+    // SAFETY: the same contract.
+    unsafe { track_input(chain, state, Counts(raw_c, raw_s)) }
+}
+
+/// `at_chain_f32_update` on raw `u16` ADC counts, through the chain's ADC stage
+/// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_f32_update_u16(
+    chain: *const at_chain_f32,
+    state: *mut at_chain_state_f32,
+    raw_c: u16,
+    raw_s: u16,
+) -> at_estimate_f32 {
+    // SAFETY: the same contract.
+    unsafe { update_input(chain, state, Counts(raw_c, raw_s)) }
+}
+
+/// `at_chain_f32_track` on raw `i32` ADC counts, through the chain's ADC stage
+/// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_f32_track_i32(
+    chain: *const at_chain_f32,
+    state: *mut at_chain_state_f32,
+    raw_c: i32,
+    raw_s: i32,
+) -> u32 {
+    // SAFETY: the same contract.
+    unsafe { track_input(chain, state, Counts(raw_c, raw_s)) }
+}
+
+/// `at_chain_f32_update` on raw `i32` ADC counts, through the chain's ADC stage
+/// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_f32_update_i32(
+    chain: *const at_chain_f32,
+    state: *mut at_chain_state_f32,
+    raw_c: i32,
+    raw_s: i32,
+) -> at_estimate_f32 {
+    // SAFETY: the same contract.
+    unsafe { update_input(chain, state, Counts(raw_c, raw_s)) }
+}
+
+/// The estimate `state` holds for `chain` (its last sample's; the observer's faults, the
+/// stages' latched in the state). Refused arguments: `AT_FAULT_INVALID_ARGUMENT`.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_f32_estimate(
+    chain: *const at_chain_f32,
+    state: *const at_chain_state_f32,
+) -> at_estimate_f32 {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
+    match unsafe { (chain.as_ref(), state.as_ref()) } {
+        (Some(chain), Some(state)) => estimate(chain, state),
+        _ => at_estimate_f32::INVALID,
+    }
+}
+
+/// Makes `state` fresh: the observer initialises itself from its next sample, the online
+/// calibration is off with nothing learned. NULL is ignored.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_state_f32_reset(state: *mut at_chain_state_f32) {
+    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
+    if let Some(state) = unsafe { state.as_mut() } {
+        *state = at_chain_state_f32::FRESH;
+    }
+}
+
+/// Returns the faults latched in `state` (the observer's and the stages', `AT_FAULT_*`
+/// bits) and clears them. 0 for NULL.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_state_f32_clear_faults(state: *mut at_chain_state_f32) -> u32 {
+    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
+    unsafe { state.as_mut() }.map_or(0, at_chain_state_f32::clear_faults)
+}
+
+/// Sets the mode of the online calibration in `state`: `AT_CALIBRATION_LEARNING`,
+/// `_FROZEN` or `_OFF` (the calibration is kept). Effective in a chain with the online
+/// calibration stage.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_state_f32_set_calibration_mode(
+    state: *mut at_chain_state_f32,
+    mode: u32,
+) -> at_status {
+    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
+    match unsafe { state.as_mut() }.map(at_chain_state_f32::calibrator) {
+        Some(Ok(calibrator)) => set_mode_of(calibrator, mode),
+        Some(Err(refused)) => refused.status(),
+        None => AT_ERR_NULL_POINTER,
+    }
+}
+
+/// The mode of the online calibration in `state` (`AT_CALIBRATION_*`; off for NULL).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_state_f32_calibration_mode(
+    state: *const at_chain_state_f32,
+) -> u32 {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
+    unsafe { state.as_ref() }
+        .and_then(|s| s.calibrator_value().ok())
+        .map_or(0, |c| mode_of(&c))
+}
+
+/// Loads a stored calibration into the online calibration of `state` (checked; unchanged on
+/// error), frozen: it corrects and learns nothing until set to learn, continuing from it.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_state_f32_load_calibration(
+    state: *mut at_chain_state_f32,
+    stored: *const at_sensor_calibration_f32,
+) -> at_status {
+    // SAFETY: the caller's contract; NULL is checked by `as_mut` and `as_ref`.
+    let (Some(state), Some(stored)) = (unsafe { (state.as_mut(), stored.as_ref()) }) else {
+        return AT_ERR_NULL_POINTER;
+    };
+    let calibration = stored.checked();
+    if let Ok(calibration) = calibration {
+        match state.calibrator() {
+            Ok(calibrator) => *calibrator = Calibrator::from_calibration(calibration),
+            Err(refused) => return refused.status(),
+        }
+    }
+    status_of_result(calibration)
+}
+
+/// Writes the calibration the online calibration of `state` applies (to store in flash) to
+/// `out`.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_state_f32_calibration(
+    state: *const at_chain_state_f32,
+    out: *mut at_sensor_calibration_f32,
+) -> at_status {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
+    let (Some(state), Some(out)) = (unsafe { (state.as_ref(), out.as_mut()) }) else {
+        return AT_ERR_NULL_POINTER;
+    };
+    match state.calibrator_value() {
+        Ok(calibrator) => {
+            *out = calibrator.calibration().into();
+            AT_OK
+        }
+        Err(refused) => refused.status(),
+    }
+}
+
+/// The turns the online calibration of `state` has learned since started or loaded; 0 for
+/// NULL.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_state_f32_turns_learned(state: *const at_chain_state_f32) -> u32 {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
+    unsafe { state.as_ref() }
+        .and_then(|s| s.calibrator_value().ok())
+        .map_or(0, |c| c.turns_learned())
+}
+
+/// `at_update_f32` without the estimate: the state (and its latched faults) only, the
+/// cheapest per-sample call of the plain observer; `at_state_f32_estimate` reads the
+/// estimate on demand. Returns 0, or `AT_FAULT_INVALID_ARGUMENT` for refused arguments.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_track_f32(
+    gains: *const at_gains_f32,
+    state: *mut at_state_f32,
+    y_c: f32,
+    y_s: f32,
+) -> u32 {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
+    let (Some(gains), Some(state)) = (unsafe { (gains.as_ref(), state.as_mut()) }) else {
+        return AT_FAULT_INVALID_ARGUMENT;
+    };
+    let Ok(any) = gains.get() else {
+        return AT_FAULT_INVALID_ARGUMENT;
+    };
+    with_gains!(any, |g| match state.of_order() {
+        Ok(s) => {
+            g.track(s, y_c, y_s);
+            0
+        }
+        Err(_) => AT_FAULT_INVALID_ARGUMENT,
+    })
+}
+
+/// The estimate `state` holds for `gains` (its last sample's); refused arguments:
+/// `AT_FAULT_INVALID_ARGUMENT`.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_state_f32_estimate(
+    gains: *const at_gains_f32,
+    state: *const at_state_f32,
+) -> at_estimate_f32 {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
+    let (Some(gains), Some(state)) = (unsafe { (gains.as_ref(), state.as_ref()) }) else {
+        return at_estimate_f32::INVALID;
+    };
+    match gains.get() {
+        Ok(any) => with_gains!(any, |g| state
+            .value_of_order()
+            .map_or(at_estimate_f32::INVALID, |s| g.estimate(&s).into())),
+        Err(_) => at_estimate_f32::INVALID,
+    }
+}

@@ -1,0 +1,219 @@
+//! Tests of the signal chain through its `extern "C"` functions: each combination agrees
+//! with the per-combination call it replaces, bit for bit, and the stages correct an
+//! imperfect sensor.
+#![allow(unsafe_code)]
+
+use core::f32::consts::{PI, TAU};
+use core::ptr::null;
+
+use crate::*;
+
+const GAINS_3: [f32; 3] = [0.094_326_17, 0.000_562_075, 1.213_522e-5];
+/// Fewer samples under Miri, whose interpreter is slow.
+const SAMPLES: u32 = if cfg!(miri) { 300 } else { 5000 };
+
+fn gains() -> at_gains_f32 {
+    let mut gains = at_gains_f32::ZEROED;
+    // SAFETY: valid pointers to live values.
+    assert_eq!(
+        unsafe { at_gains_f32_new(GAINS_3.as_ptr(), 3, 1e-4, &mut gains) },
+        AT_OK
+    );
+    gains
+}
+
+/// The chain of `gains` and the stages given (NULL when `None`).
+fn chain_of(
+    adc: Option<&at_adc_f32>,
+    stored: Option<&at_sensor_calibration_f32>,
+    settings: Option<&at_calibration_settings_f32>,
+    correction: Option<&at_angle_correction_f32>,
+) -> Result<at_chain_f32, at_status> {
+    let gains = gains();
+    let mut chain = at_chain_f32::ZEROED;
+    // SAFETY: valid pointers to live values, or NULL.
+    let status = unsafe {
+        at_chain_f32_new(
+            &gains,
+            adc.map_or(null(), |a| a),
+            stored.map_or(null(), |s| s),
+            settings.map_or(null(), |s| s),
+            correction.map_or(null(), |c| c),
+            &mut chain,
+        )
+    };
+    if status == AT_OK {
+        Ok(chain)
+    } else {
+        Err(status)
+    }
+}
+
+/// The angle of sample `k` at 50 Hz electrical from 0.3 rad, in [0, 2 pi).
+fn theta(k: u32) -> f32 {
+    (0.3 + 2.0 * PI * 50.0 * k as f32 * 1e-4) % TAU
+}
+
+fn wrapped(e: f32) -> f32 {
+    (e % TAU + 3.0 * PI) % TAU - PI
+}
+
+#[test]
+fn each_combination_agrees_with_the_call_it_replaces() {
+    let gains = gains();
+    let mut adc = at_adc_f32::ZEROED;
+    let settings = at_calibration_settings_f32_default();
+    // SAFETY: valid pointers to live values.
+    unsafe {
+        assert_eq!(at_adc_f32_offset_binary(12, &mut adc), AT_OK);
+        let plain = chain_of(None, None, None, None).unwrap();
+        let counts = chain_of(Some(&adc), None, None, None).unwrap();
+        let online = chain_of(None, None, Some(&settings), None).unwrap();
+        let (mut s1, mut s2, mut s3) = (
+            at_state_f32::FRESH,
+            at_state_f32::FRESH,
+            at_state_f32::FRESH,
+        );
+        let mut s4 = at_state_f32::FRESH;
+        let mut calibrator = at_calibrator_f32::FRESH;
+        let (mut c1, mut c2, mut c3) = (
+            at_chain_state_f32::FRESH,
+            at_chain_state_f32::FRESH,
+            at_chain_state_f32::FRESH,
+        );
+        at_calibrator_f32_set_mode(&mut calibrator, AT_CALIBRATION_LEARNING);
+        at_chain_state_f32_set_calibration_mode(&mut c3, AT_CALIBRATION_LEARNING);
+        for k in 0..SAMPLES {
+            let t = theta(k);
+            let (y_c, y_s) = (0.05 + t.cos(), -0.05 + 1.1 * (t + 0.05).sin());
+            let raw = |x: f32| (2048.0 + 1800.0 * x / 1.2).round() as u16;
+            assert_eq!(
+                at_chain_f32_update(&plain, &mut c1, y_c, y_s),
+                at_update_f32(&gains, &mut s1, y_c, y_s)
+            );
+            assert_eq!(
+                at_chain_f32_update_u16(&counts, &mut c2, raw(y_c), raw(y_s)),
+                at_update_f32_adc_u16(&gains, &mut s2, &adc, raw(y_c), raw(y_s))
+            );
+            assert_eq!(
+                at_chain_f32_update(&online, &mut c3, y_c, y_s),
+                at_update_f32_calibrated(&gains, &mut s3, &mut calibrator, y_c, y_s)
+            );
+            assert_eq!(at_track_f32(&gains, &mut s4, y_c, y_s), 0);
+            assert_eq!(
+                at_state_f32_estimate(&gains, &s4),
+                at_chain_f32_estimate(&plain, &c1)
+            );
+        }
+        let mut learned = at_sensor_calibration_f32::from_core_identity();
+        assert_eq!(at_chain_state_f32_calibration(&c3, &mut learned), AT_OK);
+        let mut expected = learned;
+        assert_eq!(
+            at_calibrator_f32_calibration(&calibrator, &mut expected),
+            AT_OK
+        );
+        assert_eq!(learned, expected);
+        assert_eq!(
+            at_chain_state_f32_turns_learned(&c3),
+            at_calibrator_f32_turns_learned(&calibrator)
+        );
+        assert_eq!(
+            at_chain_state_f32_calibration_mode(&c3),
+            AT_CALIBRATION_LEARNING
+        );
+        // Counts into a chain without an ADC stage are refused, the state unchanged.
+        let before = at_chain_f32_estimate(&plain, &c1);
+        assert_eq!(
+            at_chain_f32_track_u16(&plain, &mut c1, 1, 2),
+            AT_FAULT_INVALID_ARGUMENT
+        );
+        assert_eq!(at_chain_f32_estimate(&plain, &c1), before);
+    }
+}
+
+#[test]
+fn a_stored_calibration_and_the_angle_correction_remove_the_sensor_errors() {
+    // The sensor: offsets, imbalance, quadrature and 5 mrad of 3rd harmonic.
+    let stored = at_sensor_calibration_f32 {
+        offset_c: 0.02,
+        offset_s: -0.01,
+        amplitude_c: 1.0,
+        amplitude_s: 1.05,
+        quadrature_rad: 0.01,
+    };
+    let mut correction = at_angle_correction_f32::default();
+    correction.sin_coefficients[2] = 5e-3;
+    let sensor = |t: f32| {
+        let d = t + 5e-3 * (3.0 * t).sin();
+        (0.02 + d.cos(), -0.01 + 1.05 * (d + 0.01).sin())
+    };
+    let worst = |chain: &at_chain_f32| {
+        let mut state = at_chain_state_f32::FRESH;
+        let mut worst = 0.0_f32;
+        for k in 0..SAMPLES {
+            let (y_c, y_s) = sensor(theta(k));
+            // SAFETY: valid pointers to live values.
+            let e = unsafe { at_chain_f32_update(chain, &mut state, y_c, y_s) };
+            // The loop settles within 0.3 s: the last 0.1 s.
+            if k >= SAMPLES - SAMPLES / 5 {
+                worst = worst.max(wrapped(e.angle - theta(k)).abs());
+            }
+        }
+        worst
+    };
+    let plain = worst(&chain_of(None, None, None, None).unwrap());
+    let corrected = worst(&chain_of(None, Some(&stored), None, Some(&correction)).unwrap());
+    if !cfg!(miri) {
+        assert!(plain > 0.02, "{plain}");
+        assert!(corrected < 1e-4, "{corrected}");
+    }
+}
+
+#[test]
+fn refusals_name_the_stage() {
+    let stored = at_sensor_calibration_f32::from_core_identity();
+    let mut settings = at_calibration_settings_f32_default();
+    assert_eq!(
+        chain_of(None, Some(&stored), Some(&settings), None).err(),
+        Some(AT_ERR_STAGES)
+    );
+    let mut correction = at_angle_correction_f32::default();
+    correction.cos_coefficients[7] = 0.3;
+    assert_eq!(
+        chain_of(None, None, None, Some(&correction)).err(),
+        Some(AT_ERR_ANGLE_CORRECTION)
+    );
+    settings.min_speed_rad_s = 1e-3;
+    assert_eq!(
+        chain_of(None, None, Some(&settings), None).err(),
+        Some(AT_ERR_MIN_SPEED_RAD_S)
+    );
+    let bad = at_sensor_calibration_f32 {
+        amplitude_c: 0.0,
+        ..stored
+    };
+    assert_eq!(
+        chain_of(None, Some(&bad), None, None).err(),
+        Some(AT_ERR_AMPLITUDE_C)
+    );
+    let zeroed = at_chain_f32::ZEROED;
+    let mut state = at_chain_state_f32::FRESH;
+    // SAFETY: valid pointers to live values.
+    unsafe {
+        assert_eq!(
+            at_chain_f32_track(&zeroed, &mut state, 1.0, 0.0),
+            AT_FAULT_INVALID_ARGUMENT
+        );
+        let chain = chain_of(None, None, None, None).unwrap();
+        assert_eq!(at_chain_f32_track(&chain, &mut state, 1.0, 0.0), 0);
+        state.set_layout_for_test(1);
+        assert_eq!(
+            at_chain_f32_update(&chain, &mut state, 1.0, 0.0),
+            at_estimate_f32::INVALID
+        );
+        assert_eq!(
+            at_chain_state_f32_set_calibration_mode(&mut state, AT_CALIBRATION_LEARNING),
+            AT_ERR_OTHER_BUILD
+        );
+    }
+}

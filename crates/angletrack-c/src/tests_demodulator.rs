@@ -1,0 +1,117 @@
+//! Tests of the synchronous demodulator through its `extern "C"` functions: resolver
+//! windings to pairs, which a chain tracks, and the refusals.
+#![allow(unsafe_code)]
+
+use core::f32::consts::TAU;
+use core::ptr::null;
+
+use crate::*;
+
+const GAINS_3: [f32; 3] = [0.094_326_17, 0.000_562_075, 1.213_522e-5];
+
+/// A chain of the benchmark's gains at `sample_period_s`, no stage.
+fn chain_at(sample_period_s: f32) -> at_chain_f32 {
+    let mut gains = at_gains_f32::ZEROED;
+    let mut chain = at_chain_f32::ZEROED;
+    // SAFETY: valid pointers to live values, or NULL.
+    unsafe {
+        assert_eq!(
+            at_gains_f32_new(GAINS_3.as_ptr(), 3, sample_period_s, &mut gains),
+            AT_OK
+        );
+        assert_eq!(
+            at_chain_f32_new(&gains, null(), null(), null(), null(), &mut chain),
+            AT_OK
+        );
+    }
+    chain
+}
+
+#[test]
+fn windings_to_pairs_to_the_angle() {
+    // A 10 kHz carrier sampled 16 times per period by a 12-bit ADC, amplitude 1800 counts.
+    let settings = at_demodulator_settings_f32_new(10e3, 1800.0, 0.0, 4095.0);
+    let mut demodulator = at_demodulator_f32::ZEROED;
+    let mut state = at_demodulator_state_f32::FRESH;
+    let chain = chain_at(1e-4);
+    let mut chain_state = at_chain_state_f32::FRESH;
+    let mut pair = at_demodulated_pair_f32::default();
+    let theta = 0.6_f32;
+    let periods = if cfg!(miri) { 40 } else { 400 };
+    let mut pairs = 0;
+    // SAFETY: valid pointers to live values.
+    unsafe {
+        assert_eq!(
+            at_demodulator_f32_new(&settings, 16, &mut demodulator),
+            AT_OK
+        );
+        assert_eq!(at_demodulator_f32_check_chain(&demodulator, &chain), AT_OK);
+        for k in 0..16 * periods {
+            let carrier = 1800.0 * (TAU * (k % 16) as f32 / 16.0).sin();
+            let (raw_c, raw_s) = (
+                2048.0 + theta.cos() * carrier,
+                2048.0 + theta.sin() * carrier,
+            );
+            if at_demodulator_f32_push(&demodulator, &mut state, raw_c, raw_s, &mut pair) == 1 {
+                assert_eq!(
+                    at_chain_f32_track(&chain, &mut chain_state, pair.y_c, pair.y_s),
+                    0
+                );
+                pairs += 1;
+            }
+        }
+        let e = at_chain_f32_estimate(&chain, &chain_state);
+        assert!((e.angle - theta).abs() < 1e-3, "{e:?}");
+        assert!(
+            (pair.y_c - theta.cos()).abs() < 1e-3 && pair.faults == 0,
+            "{pair:?}"
+        );
+        // One pair per period once the 16 start-up periods have measured the delay (the
+        // first pair completes in the period after them).
+        assert_eq!(pairs, periods - 17);
+        assert_eq!(at_demodulator_state_f32_clear_faults(&mut state), 0);
+    }
+}
+
+#[test]
+fn refusals_name_the_setting() {
+    let mut settings = at_demodulator_settings_f32_new(10e3, 1800.0, 0.0, 4095.0);
+    let mut demodulator = at_demodulator_f32::ZEROED;
+    let mut state = at_demodulator_state_f32::FRESH;
+    let mut pair = at_demodulated_pair_f32::default();
+    // SAFETY: valid pointers to live values, or NULL.
+    unsafe {
+        assert_eq!(
+            at_demodulator_f32_new(&settings, 12, &mut demodulator),
+            AT_ERR_SAMPLES_PER_PERIOD
+        );
+        assert_eq!(
+            at_demodulator_f32_push(&demodulator, &mut state, 0.0, 0.0, &mut pair),
+            AT_FAULT_INVALID_ARGUMENT,
+            "a demodulator not made"
+        );
+        settings.adc_max_code = settings.adc_min_code;
+        assert_eq!(
+            at_demodulator_f32_new(&settings, 16, &mut demodulator),
+            AT_ERR_ADC_RANGE
+        );
+        let settings = at_demodulator_settings_f32_new(10e3, 1800.0, 0.0, 4095.0);
+        assert_eq!(
+            at_demodulator_f32_new(&settings, 32, &mut demodulator),
+            AT_OK
+        );
+        assert_eq!(
+            at_demodulator_f32_check_chain(&demodulator, &chain_at(2e-4)),
+            AT_ERR_SAMPLE_PERIOD_S
+        );
+        assert_eq!(
+            at_demodulator_f32_new(null(), 16, &mut demodulator),
+            AT_ERR_NULL_POINTER
+        );
+        demodulator.set_layout_for_test(1);
+        assert_eq!(
+            at_demodulator_f32_check_chain(&demodulator, &chain_at(1e-4)),
+            AT_ERR_OTHER_BUILD
+        );
+    }
+}

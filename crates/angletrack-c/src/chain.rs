@@ -5,7 +5,7 @@
 //! and the plain C mirrors of the stages' settings, `at_angle_correction_f32` and
 //! `at_calibration_settings_f32`.
 //!
-//! The chain is the core's `Chain<(Calibration, AngleCorrection), f32, N>`: [`Calibration`]
+//! The chain is the core's `Chain<(Calibration, AngleCorrection), Gains<f32, N>>`: [`Calibration`]
 //! is the one calibration stage of C's choice (none, the core's `SensorCalibration`, or its
 //! `OnlineCalibration`), which delegates each of the core's `Stage` methods to the stage it
 //! holds; an absent angle correction is the core's `AngleCorrection::NONE`, which the core
@@ -15,8 +15,8 @@ use core::mem::MaybeUninit;
 
 use angletrack_core::{
     AdcSample, AdcScaling, AngleCorrection, CalibrationSettings, Calibrator, Chain, ChainState,
-    ConfigError, Faults, Feedback, Gains, MAX_CORRECTION_ORDER, OnlineCalibration, Order,
-    Prediction, SensorCalibration, Stage, SupportedOrder,
+    ConfigError, Faults, Feedback, Gains, MAX_CORRECTION_ORDER, ObserverState, OnlineCalibration,
+    Order, Prediction, SensorCalibration, Stage, SupportedOrder,
 };
 
 use crate::calibration::at_sensor_calibration_f32;
@@ -176,6 +176,14 @@ impl Stage<f32, (f32, f32)> for Calibration {
             _ => Faults::NONE,
         }
     }
+
+    #[inline(always)]
+    fn quiet(&self, calibrator: &Calibrator<f32>) -> bool {
+        match self {
+            Calibration::Online(online) => online.quiet(calibrator),
+            _ => true,
+        }
+    }
 }
 
 /// The front end of the chain after the ADC.
@@ -187,11 +195,11 @@ pub(crate) struct ChainF32<const N: usize> {
     /// The ADC stage, for counts.
     pub(crate) adc: Option<AdcScaling<f32>>,
     /// The core's chain.
-    pub(crate) chain: Chain<FrontEnd, f32, N>,
+    pub(crate) chain: Chain<FrontEnd, Gains<f32, N>>,
 }
 
 /// The state of a chain of order `N`.
-pub(crate) type StateF32<const N: usize> = ChainState<(Calibrator<f32>, ()), f32, N>;
+pub(crate) type StateF32<const N: usize> = ChainState<(Calibrator<f32>, ()), ObserverState<f32, N>>;
 
 impl Stored for ChainF32<2> {
     const TAG: u32 = 0x4154_4b02; // "ATK", order 2

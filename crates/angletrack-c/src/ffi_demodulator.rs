@@ -73,8 +73,8 @@ pub unsafe extern "C" fn at_demodulator_f32_check_chain(
         (Err(refused), _) | (_, Err(refused)) => return refused.status(),
     };
     with_demodulator!(demodulator, |d| match chain {
-        AnyChain::Two(c) => status_of_result(d.check_gains(&c.chain.gains)),
-        AnyChain::Three(c) => status_of_result(d.check_gains(&c.chain.gains)),
+        AnyChain::Two(c) => status_of_result(d.check_gains(&c.chain.observer)),
+        AnyChain::Three(c) => status_of_result(d.check_gains(&c.chain.observer)),
     })
 }
 

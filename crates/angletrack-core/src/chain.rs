@@ -72,14 +72,11 @@ pub trait Stage<V: ChainNumber, X> {
     }
 
     /// Whether the stage, in its `state`, neither learns from the sample nor flags a fault
-    /// (an online calibration that is off): the chain then runs the observer without
-    /// [`Stage::feedback`] and [`Stage::faults`], at the cost of the stages' forward pass
-    /// alone, and otherwise out of line with them. The default, `true`, is for a stage that
-    /// has neither; a stage that overrides either must override this too.
-    #[inline(always)]
-    fn quiet(&self, _state: &Self::State) -> bool {
-        true
-    }
+    /// (`true` for a stage that has neither; an online calibration that is off): the chain
+    /// then runs the observer without [`Stage::feedback`] and [`Stage::faults`], at the cost
+    /// of the stages' forward pass alone, and otherwise out of line with them. Required, so
+    /// that no stage that learns is silently left quiet.
+    fn quiet(&self, state: &Self::State) -> bool;
 }
 
 /// No stage: the pair goes to the observer as it is.
@@ -90,6 +87,11 @@ impl<V: ChainNumber> Stage<V, (V, V)> for () {
     #[inline(always)]
     fn forward(&self, _: &mut (), _: &impl Prediction<V>, input: (V, V)) -> ((V, V), ()) {
         (input, ())
+    }
+
+    #[inline(always)]
+    fn quiet(&self, _: &()) -> bool {
+        true
     }
 }
 

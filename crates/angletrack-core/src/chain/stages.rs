@@ -26,6 +26,11 @@ impl<T: Float, I: AdcSample> Stage<T, (I, I)> for AdcScaling<T> {
     fn forward(&self, _: &mut (), _: &impl Prediction<T>, (raw_c, raw_s): (I, I)) -> ((T, T), ()) {
         (self.sample(raw_c, raw_s), ())
     }
+
+    #[inline(always)]
+    fn quiet(&self, _: &()) -> bool {
+        true
+    }
 }
 
 /// A stored calibration, applied to every sample ([`SensorCalibration::correct`]).
@@ -36,6 +41,11 @@ impl<T: Float> Stage<T, (T, T)> for SensorCalibration<T> {
     #[inline(always)]
     fn forward(&self, _: &mut (), _: &impl Prediction<T>, (y_c, y_s): (T, T)) -> ((T, T), ()) {
         (self.correct(y_c, y_s), ())
+    }
+
+    #[inline(always)]
+    fn quiet(&self, _: &()) -> bool {
+        true
     }
 }
 
@@ -57,6 +67,11 @@ impl<T: Float> Stage<T, (T, T)> for AngleCorrection<T> {
         }
         let (sin_p, cos_p) = prediction.sin_cos();
         (self.rotate(sin_p, cos_p, y_c, y_s), ())
+    }
+
+    #[inline(always)]
+    fn quiet(&self, _: &()) -> bool {
+        true
     }
 }
 
@@ -138,6 +153,11 @@ impl<T: Float, const L: usize> Stage<T, (T, T)> for AngleCorrectionTable<T, L> {
     ) -> ((T, T), ()) {
         (self.rotate(prediction.angle(), y_c, y_s), ())
     }
+
+    #[inline(always)]
+    fn quiet(&self, _: &()) -> bool {
+        true
+    }
 }
 
 /// Raw ADC counts to the fixed-point observer's 16-bit samples.
@@ -153,6 +173,11 @@ impl<I: AdcSample> Stage<i16, (I, I)> for AdcCounts {
         (raw_c, raw_s): (I, I),
     ) -> ((i16, i16), ()) {
         (self.sample(raw_c, raw_s), ())
+    }
+
+    #[inline(always)]
+    fn quiet(&self, _: &()) -> bool {
+        true
     }
 }
 
@@ -170,6 +195,11 @@ impl Stage<i16, (i16, i16)> for FixedCalibration {
     ) -> ((i16, i16), ()) {
         (self.correct(y_c, y_s), ())
     }
+
+    #[inline(always)]
+    fn quiet(&self, _: &()) -> bool {
+        true
+    }
 }
 
 /// The angle error's table in integers, read at the predicted binary angle.
@@ -185,5 +215,10 @@ impl<const L: usize> Stage<i16, (i16, i16)> for FixedAngleCorrectionTable<L> {
         (y_c, y_s): (i16, i16),
     ) -> ((i16, i16), ()) {
         (self.rotate(prediction.angle(), y_c, y_s), ())
+    }
+
+    #[inline(always)]
+    fn quiet(&self, _: &()) -> bool {
+        true
     }
 }

@@ -1,4 +1,4 @@
-//! The angle correction as a table over the electrical turn (`docs/theory.md §12`): the
+//! The angle correction as a table over the electrical turn (`docs/theory.md §15`): the
 //! sensor's angle error `d(theta)` at `L` equally spaced angles, read at the observer's
 //! predicted angle by linear interpolation, and the sample rotated by `-d` there, as
 //! [`AngleCorrection`] does from its harmonics. A table costs the same whatever the error's

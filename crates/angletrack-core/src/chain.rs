@@ -1,5 +1,5 @@
 //! The signal chain: front-end stages composed with the observer, with one
-//! [`Chain::track`] and one [`Chain::update`] for every combination (`docs/theory.md §12`).
+//! [`Chain::track`] and one [`Chain::update`] for every combination (`docs/theory.md §15`).
 //!
 //! The composition, the feedback interface and an example are on [`Chain`].
 

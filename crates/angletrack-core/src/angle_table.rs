@@ -23,7 +23,9 @@ use crate::real::Float;
 /// the observer's predicted angle `p`. `Copy`: firmware keeps it in flash.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AngleCorrectionTable<T, const L: usize> {
-    errors: [T; L],
+    /// Per entry `k`: `d_k` and the step to the next entry, `d_{k+1} - d_k` (periodic),
+    /// side by side, so that the interpolation loads both from one address.
+    segments: [[T; 2]; L],
 }
 
 impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
@@ -56,7 +58,26 @@ impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
                 return Err(ConfigError::OutOfRange(Parameter::AngleCorrection));
             }
         }
-        Ok(Self { errors })
+        Ok(Self::of_errors(&errors))
+    }
+
+    /// The table of checked `errors`.
+    fn of_errors(errors: &[T; L]) -> Self {
+        let mut table = Self {
+            segments: [[T::ZERO; 2]; L],
+        };
+        for (segment, &d) in table.segments.iter_mut().zip(errors) {
+            segment[0] = d;
+        }
+        table.set_steps();
+        table
+    }
+
+    /// Each entry's step to the next (periodic), from the entries.
+    fn set_steps(&mut self) {
+        for k in 0..L {
+            self.segments[k][1] = self.segments[(k + 1) % L][0] - self.segments[k][0];
+        }
     }
 
     /// The table of a harmonic correction: its error at each of the `L` angles.
@@ -76,12 +97,16 @@ impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
     /// ```
     pub fn from_harmonics(harmonics: &AngleCorrection<T>) -> Self {
         let () = Self::LENGTH_IS_A_POWER_OF_TWO;
-        let mut errors = [T::ZERO; L];
-        for (k, d) in errors.iter_mut().enumerate() {
-            *d = harmonics.error_at(Self::angle_of(k));
+        // Every entry is within the harmonics' checked total. Built in place: a firmware's
+        // stack holds one table, not two.
+        let mut table = Self {
+            segments: [[T::ZERO; 2]; L],
+        };
+        for (k, segment) in table.segments.iter_mut().enumerate() {
+            segment[0] = harmonics.error_at(Self::angle_of(k));
         }
-        // Every entry is within the harmonics' checked total.
-        Self { errors }
+        table.set_steps();
+        table
     }
 
     /// The table of a measured error curve: `curve[j]` (rad) at the angle
@@ -123,24 +148,28 @@ impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
     }
 
     /// The entries (rad), at the angles `-pi + 2 pi k / L`.
-    pub fn errors(&self) -> &[T; L] {
-        &self.errors
+    pub fn errors(&self) -> [T; L] {
+        let mut errors = [T::ZERO; L];
+        for (d, segment) in errors.iter_mut().zip(&self.segments) {
+            *d = segment[0];
+        }
+        errors
     }
 
     /// The error `d` (rad) at `angle` (rad, in [-pi, pi); any other angle is wrapped into
     /// the table by its index), interpolated linearly between the two nearest entries.
     #[inline(always)]
     pub fn error_at(&self, angle: T) -> T {
-        // The position in entries from -pi, one multiply-add: in [0, L) for an angle in
-        // [-pi, pi).
+        // The position in entries from -pi, plus one turn so that it stays positive (and
+        // its truncation is its floor) for any angle above -3 pi: one multiply-add, in
+        // [L, 2 L) for an angle in [-pi, pi); the mask below removes the turn.
         let entries_per_rad = T::from_i32(L as i32) * T::FRAC_1_TAU;
-        let position = angle * entries_per_rad + T::from_i32(L as i32 / 2);
-        let whole = position.floor_to_i32();
+        let position = angle * entries_per_rad + T::from_i32(3 * (L as i32) / 2);
+        let whole = position.truncate_to_i32();
         let fraction = position - T::from_i32(whole);
         // Masked: a power of two, so the index is always in the table (no bounds check).
-        let k = whole as usize & (L - 1);
-        let (a, b) = (self.errors[k], self.errors[(k + 1) & (L - 1)]);
-        a + (b - a) * fraction
+        let [d, step] = self.segments[whole as usize & (L - 1)];
+        d + step * fraction
     }
 
     /// The sample `(y_c, y_s)` rotated by `-d(p)` at the predicted angle `p` (rad, in
@@ -157,7 +186,8 @@ impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
 /// `sin d = d - d^3/6`, `cos d = 1 - d^2/2`, saturated to `i16`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FixedAngleCorrectionTable<const L: usize> {
-    errors_q15: [i16; L],
+    /// Per entry `k`: `d_k` and `d_{k+1} - d_k` (periodic), Q15 rad, side by side.
+    segments_q15: [[i16; 2]; L],
 }
 
 impl<const L: usize> FixedAngleCorrectionTable<L> {
@@ -177,22 +207,57 @@ impl<const L: usize> FixedAngleCorrectionTable<L> {
     /// use angletrack_core::{AngleCorrectionTable, FixedAngleCorrectionTable};
     /// let table = AngleCorrectionTable::<f64, 4>::new([0.0, 0.01, 0.0, -0.01])?;
     /// let fixed = FixedAngleCorrectionTable::from_table(&table);
-    /// assert_eq!(fixed.errors_q15(), &[0, 328, 0, -328]);
+    /// assert_eq!(fixed.errors_q15(), [0, 328, 0, -328]);
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
     pub fn from_table(table: &AngleCorrectionTable<f64, L>) -> Self {
+        Self::of_errors(|k| table.segments[k][0])
+    }
+
+    /// The table of a harmonic correction in integers, each entry its error at the angle
+    /// `-pi + 2 pi k / L` rounded to Q15: as [`AngleCorrectionTable::from_harmonics`]
+    /// then [`FixedAngleCorrectionTable::from_table`], with no float table in between.
+    ///
+    /// ```
+    /// use angletrack_core::{AngleCorrection, AngleCorrectionTable, FixedAngleCorrectionTable};
+    /// let mut b = [0.0; 8];
+    /// b[2] = 0.004;
+    /// let harmonics = AngleCorrection::<f64>::new([0.0; 8], b)?;
+    /// let direct = FixedAngleCorrectionTable::<256>::from_harmonics(&harmonics);
+    /// let through_floats =
+    ///     FixedAngleCorrectionTable::from_table(&AngleCorrectionTable::from_harmonics(&harmonics));
+    /// assert_eq!(direct, through_floats);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn from_harmonics(harmonics: &AngleCorrection<f64>) -> Self {
+        Self::of_errors(|k| harmonics.error_at(AngleCorrectionTable::<f64, L>::angle_of(k)))
+    }
+
+    /// The table of the errors `error(k)` (rad, within 0.25 rad), each rounded to Q15.
+    fn of_errors(error: impl Fn(usize) -> f64) -> Self {
         let _ = Self::BITS;
-        let mut errors_q15 = [0; L];
-        for (q, d) in errors_q15.iter_mut().zip(table.errors()) {
+        let mut table = Self {
+            segments_q15: [[0; 2]; L],
+        };
+        for (k, segment) in table.segments_q15.iter_mut().enumerate() {
             // |d| <= 0.25 rad: at most 8192 in Q15.
-            *q = libm::round(d * 32768.0) as i16;
+            segment[0] = libm::round(error(k) * 32768.0) as i16;
         }
-        Self { errors_q15 }
+        for k in 0..L {
+            // |step| <= 16384: in 16 bits.
+            table.segments_q15[k][1] =
+                table.segments_q15[(k + 1) % L][0] - table.segments_q15[k][0];
+        }
+        table
     }
 
     /// The entries (Q15 rad).
-    pub fn errors_q15(&self) -> &[i16; L] {
-        &self.errors_q15
+    pub fn errors_q15(&self) -> [i16; L] {
+        let mut errors = [0; L];
+        for (d, segment) in errors.iter_mut().zip(&self.segments_q15) {
+            *d = segment[0];
+        }
+        errors
     }
 
     /// The error `d` in Q15 rad at the binary angle `angle` (2^32 per turn, `i32::MIN` is
@@ -202,12 +267,10 @@ impl<const L: usize> FixedAngleCorrectionTable<L> {
         // The angle from -pi as an unsigned turn: the index is its top bits, the fraction
         // the next 15.
         let turn = angle.wrapping_sub(i32::MIN) as u32;
-        let k = (turn >> (32 - Self::BITS)) as usize & (L - 1);
+        let [d, step] = self.segments_q15[(turn >> (32 - Self::BITS)) as usize & (L - 1)];
         let fraction = ((turn << Self::BITS) >> 17) as i32;
-        let a = i32::from(self.errors_q15[k]);
-        let b = i32::from(self.errors_q15[(k + 1) & (L - 1)]);
-        // |b - a| <= 2^14, fraction < 2^15: the product is below 2^29.
-        a + (((b - a) * fraction) >> 15)
+        // |step| <= 2^14, fraction < 2^15: the product is below 2^29.
+        i32::from(d) + ((i32::from(step) * fraction) >> 15)
     }
 
     /// The sample rotated by `-d` at the predicted binary angle `angle` (see

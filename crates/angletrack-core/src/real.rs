@@ -104,6 +104,9 @@ pub trait Float:
     /// The largest integer not greater than `self`, as a saturating `i32` (NaN gives 0).
     /// Pure arithmetic (a truncating conversion and a comparison), no library call.
     fn floor_to_i32(self) -> i32;
+    /// `self` rounded toward zero, as a saturating `i32` (NaN gives 0): one conversion
+    /// instruction on a Cortex-M4F, the floor for `self >= 0`.
+    fn truncate_to_i32(self) -> i32;
     /// Conversion from `i32` (exact in `f64`, rounded in `f32` above 2^24).
     fn from_i32(n: i32) -> Self;
     /// `exp(self) - 1`, accurate for small arguments, from [`libm`] (gain design: pole
@@ -241,6 +244,10 @@ macro_rules! impl_real {
             fn floor_to_i32(self) -> i32 {
                 let truncated = self as i32;
                 truncated.wrapping_sub(((truncated as $t) > self) as i32)
+            }
+            #[inline(always)]
+            fn truncate_to_i32(self) -> i32 {
+                self as i32
             }
             #[inline(always)]
             fn from_i32(n: i32) -> Self {

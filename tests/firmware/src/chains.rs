@@ -186,10 +186,9 @@ pub fn fixed_corrections(
     let stored = SensorCalibration::<f64>::new(0.002 * f, -0.003 * f, f, 1.004 * f, 0.003)?;
     let (cos, sin) = harmonics.coefficients();
     let harmonics = AngleCorrection::<f64>::new(cos.map(f64::from), sin.map(f64::from))?;
-    let table = AngleCorrectionTable::<f64, 256>::from_harmonics(&harmonics);
     Ok((
         FixedCalibration::new(&stored)?,
-        FixedAngleCorrectionTable::from_table(&table),
+        FixedAngleCorrectionTable::from_harmonics(&harmonics),
     ))
 }
 

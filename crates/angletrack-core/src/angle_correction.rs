@@ -1,7 +1,7 @@
 //! [`AngleCorrection`]: a sensor's angle-dependent error (harmonics of the electrical angle
 //! that no offset, imbalance or quadrature correction removes), as a `Copy` table of
-//! Fourier coefficients, and [`Gains::update_corrected`], which removes it inside the phase
-//! detector (`docs/theory.md §12`).
+//! Fourier coefficients, removed inside the phase detector by a signal chain's stage
+//! ([`Chain`](crate::Chain), `docs/theory.md §15`).
 //!
 //! The sensor gives `y = A (cos(theta + d(theta)), sin(theta + d(theta)))` with
 //!
@@ -32,7 +32,7 @@ use crate::wrap::wrap_angle;
 pub const MAX_CORRECTION_ORDER: usize = 8;
 
 /// An angle-dependent sensor error `d(theta) = sum_k a_k cos(k theta) + b_k sin(k theta)`,
-/// `k = 1..=MAX_CORRECTION_ORDER` (rad), to be removed by [`Gains::update_corrected`] (see
+/// `k = 1..=MAX_CORRECTION_ORDER` (rad), to be removed inside the phase detector by a chain's stage ([`Chain`](crate::Chain), see
 /// the module's documentation). Learned from a capture by the `angletrack` crate's
 /// `calibrate`; `Copy` and fixed-size, so firmware keeps it in flash and in the
 /// configuration beside the [`Gains`]. The default corrects nothing.
@@ -194,49 +194,8 @@ pub(crate) fn rotate_by<T: Float>(d: T, y_c: T, y_s: T) -> (T, T) {
 }
 
 impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
-    /// One sample with the sensor's angle-dependent error `correction` removed inside the
-    /// phase detector (see [`AngleCorrection`]): the sample is rotated by `-d(p)` of the
-    /// predicted angle `p`, then goes through [`Gains::update`]. The estimate's angle,
-    /// speed and acceleration are then those of the shaft, without `d`'s harmonics.
-    ///
-    /// ```
-    /// use angletrack_core::{AngleCorrection, Gains, ObserverState};
-    /// let gains = Gains::<f64, 3>::new([0.06, 0.0019, 3e-5], 1e-4)?;
-    /// let mut b = [0.0; 8];
-    /// b[2] = 0.01; // the sensor reads theta + 0.01 sin(3 theta)
-    /// let correction = AngleCorrection::new([0.0; 8], b)?;
-    /// let (mut plain, mut corrected) = (ObserverState::new(), ObserverState::new());
-    /// let speed = 2.0 * core::f64::consts::PI * 50.0;
-    /// let (mut worst_plain, mut worst_corrected) = (0.0_f64, 0.0_f64);
-    /// for k in 0..8000 {
-    ///     let theta = speed * k as f64 * 1e-4;
-    ///     let measured = theta + 0.01 * (3.0 * theta).sin();
-    ///     let (y_c, y_s) = (measured.cos(), measured.sin());
-    ///     let e = gains.update(&mut plain, y_c, y_s);
-    ///     let f = gains.update_corrected(&mut corrected, &correction, y_c, y_s);
-    ///     if k > 4000 {
-    ///         let error = |angle: f64| (angle - theta).sin().abs();
-    ///         worst_plain = worst_plain.max(error(e.angle));
-    ///         worst_corrected = worst_corrected.max(error(f.angle));
-    ///     }
-    /// }
-    /// assert!(worst_plain > 5e-3 && worst_corrected < 1e-4);
-    /// # Ok::<(), angletrack_core::ConfigError>(())
-    /// ```
-    #[inline]
-    pub fn update_corrected(
-        &self,
-        state: &mut ObserverState<T, N>,
-        correction: &AngleCorrection<T>,
-        y_c: T,
-        y_s: T,
-    ) -> Estimate<T> {
-        let (c, s) = correction.rotate_for::<S, N>(state, y_c, y_s);
-        self.update(state, c, s)
-    }
-
     /// [`Gains::update_calibrated`] with the angle-dependent error `correction` removed as
-    /// in [`Gains::update_corrected`]: the sample is corrected by the calibrator's
+    /// a chain's [`AngleCorrection`] stage does: the sample is corrected by the calibrator's
     /// [`SensorCalibration`](crate::SensorCalibration) (offsets, imbalance, quadrature),
     /// then rotated by `-d(p)`; the calibrator learns from the raw sample as it does alone.
     #[inline]

@@ -238,24 +238,6 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         bank.rejected[lane] = u32::from(!valid);
     }
 
-    /// Runs a bank over a block of samples, `y_c[k][lane]` and `y_s[k][lane]`, calling
-    /// `sink(k, bank)` after each; processes `min(y_c.len(), y_s.len())` samples and returns
-    /// that count. No allocation.
-    pub fn update_bank_each<const L: usize, F: FnMut(usize, &ChannelBank<T, N, L>)>(
-        &self,
-        bank: &mut ChannelBank<T, N, L>,
-        y_c: &[[T; L]],
-        y_s: &[[T; L]],
-        mut sink: F,
-    ) -> usize {
-        let n = y_c.len().min(y_s.len());
-        for (k, (c, s)) in y_c.iter().zip(y_s).enumerate() {
-            self.update_bank(bank, c, s);
-            sink(k, bank);
-        }
-        n
-    }
-
     /// The estimate of one lane of a bank, in physical units; `None` for a lane index
     /// outside the bank.
     pub fn bank_estimate<const L: usize>(

@@ -1,6 +1,6 @@
-//! The block forms of the one-channel update (`update.rs`): [`Gains::update_each`] and
-//! [`Gains::update_block`] run [`Gains::update`] over slices of samples, the state kept in a
-//! local copy so that it can live in registers for the whole block.
+//! The block form of the one-channel update (`update.rs`): [`Gains::update_block`] runs
+//! [`Gains::update`] over slices of samples, the state kept in a local copy so that it can
+//! live in registers for the whole block.
 
 use crate::gains::Gains;
 use crate::real::Float;
@@ -8,37 +8,6 @@ use crate::real::sincos::SinCos;
 use crate::state::{Estimate, ObserverState};
 
 impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
-    /// Runs the observer over a block of samples, calling `sink(k, estimate)` for each
-    /// sample `k`; no allocation. Processes `min(y_c.len(), y_s.len())` samples and returns
-    /// that count.
-    ///
-    /// ```
-    /// use angletrack_core::{Gains, ObserverState};
-    /// let gains = Gains::<f32, 3>::new([0.3, 0.04, 0.002], 1e-4)?;
-    /// let mut state = ObserverState::new();
-    /// let (y_c, y_s) = ([1.0_f32; 64], [0.0_f32; 64]);
-    /// let mut speeds = [0.0_f32; 64];
-    /// let n = gains.update_each(&mut state, &y_c, &y_s, |k, e| speeds[k] = e.speed);
-    /// assert_eq!(n, 64);
-    /// # Ok::<(), angletrack_core::ConfigError>(())
-    /// ```
-    #[inline]
-    pub fn update_each<F: FnMut(usize, Estimate<T>)>(
-        &self,
-        state: &mut ObserverState<T, N>,
-        y_c: &[T],
-        y_s: &[T],
-        mut sink: F,
-    ) -> usize {
-        let n = y_c.len().min(y_s.len());
-        let mut local = *state;
-        for (k, (&c, &s)) in y_c.iter().zip(y_s).enumerate() {
-            sink(k, self.update_observing(&mut local, c, s, ()));
-        }
-        *state = local;
-        n
-    }
-
     /// Runs the observer over a block of samples into `out`; no allocation. Processes
     /// `min(y_c.len(), y_s.len(), out.len())` samples and returns that count.
     ///

@@ -350,39 +350,6 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         self.update_calibrated_mapped(state, calibrator, y_c, y_s, |_, c, s| (c, s))
     }
 
-    /// [`Gains::update_calibrated`] without the estimate, as [`Gains::track`] is
-    /// [`Gains::update`] without it: the cheapest per-sample entry point through the
-    /// calibration. The calibration's faults ([`Faults::AMPLITUDE_MISMATCH`],
-    /// [`Faults::OFFSET_OR_QUADRATURE`]) are latched in the state
-    /// ([`ObserverState::latched_faults`]); [`Gains::estimate`] does not carry them.
-    ///
-    /// ```
-    /// use angletrack_core::{Calibrator, Gains, ObserverState};
-    /// let gains = Gains::<f32, 3>::new([0.06, 0.0019, 3e-5], 1e-4)?;
-    /// let (mut state, mut twin) = (ObserverState::new(), ObserverState::new());
-    /// let (mut calibrator, mut twin_calibrator) = (Calibrator::new(), Calibrator::new());
-    /// calibrator.enable();
-    /// twin_calibrator.enable();
-    /// for k in 0..100 {
-    ///     let theta = 0.01 * k as f32;
-    ///     let (y_c, y_s) = (0.05 + theta.cos(), theta.sin());
-    ///     gains.track_calibrated(&mut state, &mut calibrator, y_c, y_s);
-    ///     let e = gains.update_calibrated(&mut twin, &mut twin_calibrator, y_c, y_s);
-    ///     assert_eq!(gains.estimate(&state), e);
-    /// }
-    /// # Ok::<(), angletrack_core::ConfigError>(())
-    /// ```
-    #[inline]
-    pub fn track_calibrated(
-        &self,
-        state: &mut ObserverState<T, N>,
-        calibrator: &mut Calibrator<T>,
-        y_c: T,
-        y_s: T,
-    ) {
-        self.track_calibrated_mapped(state, calibrator, y_c, y_s, |_, c, s| (c, s));
-    }
-
     /// [`Gains::update_calibrated`] whose corrected sample goes through `map` (given the
     /// state before the sample) on its way to the observer, as the angle correction
     /// ([`Gains::update_calibrated_corrected`]) needs; the estimator still learns from the
@@ -408,26 +375,6 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
                 estimate
             },
         )
-    }
-
-    /// [`Gains::update_calibrated_mapped`] without the estimate.
-    #[inline(always)]
-    fn track_calibrated_mapped(
-        &self,
-        state: &mut ObserverState<T, N>,
-        calibrator: &mut Calibrator<T>,
-        y_c: T,
-        y_s: T,
-        map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
-    ) {
-        self.through_calibrator(
-            state,
-            calibrator,
-            (y_c, y_s),
-            map,
-            |gains, state, c, s| gains.track(state, c, s),
-            |_, _, _| (),
-        );
     }
 
     /// The mode's test of every calibrated entry point: with the calibrator off, the

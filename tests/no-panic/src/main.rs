@@ -1,7 +1,6 @@
-//! Every f32 per-sample entry point of the core (single observers, channel banks, the
-//! angle-harmonic correction and the resolver front end) and the fixed-point observer's, fed
-//! with values the optimiser
-//! cannot see (`black_box`). The panic handler below is only kept by the linker if some path
+//! Every f32 per-sample entry point of the core (single observers, channel banks, signal
+//! chains with every front-end stage, the resolver front end) and the fixed-point observer's
+//! and chain's, fed with values the optimiser cannot see (`black_box`). The panic handler below is only kept by the linker if some path
 //! of these calls can panic; `scripts/test.d/40-robustness.sh` builds the image for a
 //! Cortex-M4F (thumbv7em-none-eabihf) and a Cortex-M0 (thumbv6m-none-eabi, soft float) and
 //! fails when the handler's symbol is in either.
@@ -11,11 +10,12 @@
 use core::hint::black_box;
 
 use angletrack_core::{
-    AdcScaling, AngleCorrection, AngleTrackingObserver, CalibrationSettings, Calibrator,
-    ChannelBank, Demodulator, DemodulatorSettings, DemodulatorState, DriveOutputs,
-    DriveOutputsState, Estimate, Exact, Excitation, ExcitationState, Fast, FixedGains, FixedState,
-    Gains, MAX_CORRECTION_ORDER, Observer, ObserverState, Order, SensorCalibration, SinCos,
-    SupportedOrder, Waveform,
+    AdcCounts, AdcScaling, AngleCorrection, AngleCorrectionTable, AngleTrackingObserver,
+    CalibrationSettings, Calibrator, Chain, ChainState, ChannelBank, Demodulator,
+    DemodulatorSettings, DemodulatorState, DriveOutputs, DriveOutputsState, Estimate, Exact,
+    Excitation, ExcitationState, Fast, FixedAngleCorrectionTable, FixedCalibration, FixedGains,
+    FixedState, Gains, MAX_CORRECTION_ORDER, Observer, ObserverState, OnlineCalibration, Order,
+    SensorCalibration, SinCos, SupportedOrder, Waveform,
 };
 use cortex_m_rt::entry;
 
@@ -35,9 +35,6 @@ where
     let samples = black_box([0.25f32; 16]);
     let mut out = [Estimate::default(); 16];
     let n = gains.update_block(&mut state, &samples, &samples, &mut out);
-    gains.update_each(&mut state, &samples, &samples, |k, e| {
-        sum += e.angle * k as f32
-    });
     sum += corrected(&gains);
     let mut observer = Observer::new(gains);
     sum += observer.update(black_box(1.0), black_box(0.0)).angle;
@@ -47,8 +44,6 @@ where
     for _ in 0..black_box(4) {
         gains.update_bank(&mut bank, &black_box([0.5; 4]), &black_box([-0.5; 4]));
     }
-    let lanes = black_box([[0.25f32; 4]; 3]);
-    gains.update_bank_each(&mut bank, &lanes, &lanes, |k, b| sum += b.angles()[k % 4]);
     sum += bank.angles()[1] + bank.turns()[2] as f32 + bank.phase_errors()[0];
     if let Some(e) = gains.bank_estimate(&bank, black_box(2)) {
         sum += e.angle + e.speed;
@@ -126,15 +121,36 @@ where
     };
     let (mut state, mut calibrator) = (ObserverState::new(), Calibrator::new());
     let mut sum = 0.0;
-    for _ in 0..black_box(8) {
+    // The chain of every float stage: counts, a stored calibration, the online one (its
+    // mode changed on the way), the harmonics and their table.
+    let Ok(adc) = AdcScaling::<f32>::offset_binary(black_box(12)) else {
+        return 0.0;
+    };
+    let Ok(stored) = SensorCalibration::new(black_box(0.01), 0.0, 1.0, 1.02, 0.01) else {
+        return 0.0;
+    };
+    let Ok(online) = OnlineCalibration::new(CalibrationSettings::default(), gains.sample_period())
+    else {
+        return 0.0;
+    };
+    let table = AngleCorrectionTable::<f32, 256>::from_harmonics(&correction);
+    let chain = Chain::new((adc, (stored, (online, (correction, table)))), *gains);
+    let mut chain_state =
+        ChainState::<((), ((), (Calibrator<f32>, ((), ())))), ObserverState<f32, N>>::new();
+    chain_state.front_end.1.1.0.enable();
+    for k in 0..black_box(8u16) {
         let (y_c, y_s) = (black_box(0.6), black_box(-0.8));
-        sum += gains
-            .update_corrected(&mut state, &correction, y_c, y_s)
-            .angle;
         sum += gains
             .update_calibrated_corrected(&mut state, &mut calibrator, &correction, y_c, y_s)
             .speed;
+        let raw = (black_box(2048 + 100 * k), black_box(4000 - 100 * k));
+        sum += chain.update(&mut chain_state, raw).angle;
+        chain.track(&mut chain_state, raw);
+        if k == black_box(4) {
+            chain_state.front_end.1.1.0.freeze();
+        }
     }
+    sum += chain.estimate(&chain_state).speed + table.error_at(black_box(0.3));
     sum + correction.error_at(black_box(0.3))
 }
 
@@ -196,7 +212,41 @@ where
         gains.track(&mut state, black_box(y_s), black_box(y_c));
     }
     let e = FixedGains::<N>::estimate(&state);
-    (sum + i64::from(e.acceleration) + i64::from(state.latched_faults().bits())) as f32
+    sum += i64::from(e.acceleration) + i64::from(state.latched_faults().bits());
+    // The fixed-point chain of every integer stage, on each counts type.
+    let Ok(stored) =
+        SensorCalibration::<f64>::new(black_box(300.0), -200.0, 16000.0, 17000.0, 0.02)
+    else {
+        return 0.0;
+    };
+    let Ok(calibration) = FixedCalibration::new(&stored) else {
+        return 0.0;
+    };
+    let (mut a, b) = (
+        [0.0f64; MAX_CORRECTION_ORDER],
+        [0.0f64; MAX_CORRECTION_ORDER],
+    );
+    a[2] = black_box(4e-3);
+    let Ok(harmonics) = AngleCorrection::new(a, b) else {
+        return 0.0;
+    };
+    let table = FixedAngleCorrectionTable::<256>::from_harmonics(&harmonics);
+    let (Ok(unsigned), Ok(signed)) = (
+        AdcCounts::offset_binary(black_box(12)),
+        AdcCounts::twos_complement(black_box(16)),
+    ) else {
+        return 0.0;
+    };
+    let chain = Chain::new((unsigned, (calibration, table)), gains);
+    let signed_chain = Chain::new((signed, (calibration, table)), gains);
+    let mut chain_state = ChainState::new();
+    for k in 0..black_box(8u16) {
+        let e = chain.update(&mut chain_state, (black_box(4095 - k), black_box(k)));
+        sum += i64::from(e.angle) + e.turns;
+        signed_chain.track(&mut chain_state, (black_box(i16::MIN), black_box(i16::MAX)));
+        signed_chain.track(&mut chain_state, (black_box(i32::MIN), black_box(i32::MAX)));
+    }
+    (sum + i64::from(chain.estimate(&chain_state).speed)) as f32
 }
 
 #[entry]

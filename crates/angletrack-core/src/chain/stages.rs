@@ -17,63 +17,83 @@ use crate::learning::{CalibrationMode, Calibrator};
 use crate::real::Float;
 use crate::update::UsedSample;
 
-/// Raw ADC counts `(raw_c, raw_s)` to the pair in units ([`AdcScaling::sample`]).
-impl<T: Float, I: AdcSample> Stage<T, (I, I)> for AdcScaling<T> {
-    type State = ();
-    type Memo = ();
+/// A stage with no state and nothing to learn or flag (always quiet): `$doc`, for
+/// `impl<$generics> Stage<$value, $input> for $stage`, whose forward pass is `$forward`
+/// of the stage `$self`, the observer's prediction `$prediction` and the input `$x`.
+macro_rules! memoryless_stage {
+    ($(#[doc = $doc:literal])* [$($generics:tt)*] $stage:ty, $value:ty, $input:ty,
+     |$self:ident, $prediction:ident, $x:pat_param| $forward:expr) => {
+        $(#[doc = $doc])*
+        impl<$($generics)*> Stage<$value, $input> for $stage {
+            type State = ();
+            type Memo = ();
 
-    #[inline(always)]
-    fn forward(&self, _: &mut (), _: &impl Prediction<T>, (raw_c, raw_s): (I, I)) -> ((T, T), ()) {
-        (self.sample(raw_c, raw_s), ())
-    }
+            #[inline(always)]
+            fn forward(
+                &self,
+                _: &mut (),
+                $prediction: &impl Prediction<$value>,
+                $x: $input,
+            ) -> (($value, $value), ()) {
+                let $self = self;
+                ($forward, ())
+            }
 
-    #[inline(always)]
-    fn quiet(&self, _: &()) -> bool {
-        true
-    }
-}
-
-/// A stored calibration, applied to every sample ([`SensorCalibration::correct`]).
-impl<T: Float> Stage<T, (T, T)> for SensorCalibration<T> {
-    type State = ();
-    type Memo = ();
-
-    #[inline(always)]
-    fn forward(&self, _: &mut (), _: &impl Prediction<T>, (y_c, y_s): (T, T)) -> ((T, T), ()) {
-        (self.correct(y_c, y_s), ())
-    }
-
-    #[inline(always)]
-    fn quiet(&self, _: &()) -> bool {
-        true
-    }
-}
-
-/// The harmonic angle error removed inside the phase detector: the sample rotated by
-/// `-d(p)` at the observer's predicted angle `p` (see [`AngleCorrection`]).
-impl<T: Float> Stage<T, (T, T)> for AngleCorrection<T> {
-    type State = ();
-    type Memo = ();
-
-    #[inline(always)]
-    fn forward(
-        &self,
-        _: &mut (),
-        prediction: &impl Prediction<T>,
-        (y_c, y_s): (T, T),
-    ) -> ((T, T), ()) {
-        if self.order() == 0 {
-            return ((y_c, y_s), ());
+            #[inline(always)]
+            fn quiet(&self, _: &()) -> bool {
+                true
+            }
         }
-        let (sin_p, cos_p) = prediction.sin_cos();
-        (self.rotate(sin_p, cos_p, y_c, y_s), ())
-    }
-
-    #[inline(always)]
-    fn quiet(&self, _: &()) -> bool {
-        true
-    }
+    };
 }
+
+memoryless_stage!(
+    /// Raw ADC counts `(raw_c, raw_s)` to the pair in units ([`AdcScaling::sample`]).
+    [T: Float, I: AdcSample] AdcScaling<T>, T, (I, I),
+    |adc, _prediction, (raw_c, raw_s)| adc.sample(raw_c, raw_s)
+);
+
+memoryless_stage!(
+    /// A stored calibration, applied to every sample ([`SensorCalibration::correct`]).
+    [T: Float] SensorCalibration<T>, T, (T, T),
+    |calibration, _prediction, (y_c, y_s)| calibration.correct(y_c, y_s)
+);
+
+memoryless_stage!(
+    /// The harmonic angle error removed inside the phase detector: the sample rotated by
+    /// `-d(p)` at the observer's predicted angle `p` (see [`AngleCorrection`]).
+    [T: Float] AngleCorrection<T>, T, (T, T),
+    |correction, prediction, (y_c, y_s)| if correction.order() == 0 {
+        (y_c, y_s)
+    } else {
+        let (sin_p, cos_p) = prediction.sin_cos();
+        correction.rotate(sin_p, cos_p, y_c, y_s)
+    }
+);
+
+memoryless_stage!(
+    /// The angle error's table, read at the observer's predicted angle.
+    [T: Float, const L: usize] AngleCorrectionTable<T, L>, T, (T, T),
+    |table, prediction, (y_c, y_s)| table.rotate(prediction.angle(), y_c, y_s)
+);
+
+memoryless_stage!(
+    /// Raw ADC counts to the fixed-point observer's 16-bit samples.
+    [I: AdcSample] AdcCounts, i16, (I, I),
+    |adc, _prediction, (raw_c, raw_s)| adc.sample(raw_c, raw_s)
+);
+
+memoryless_stage!(
+    /// A stored calibration in integers.
+    [] FixedCalibration, i16, (i16, i16),
+    |calibration, _prediction, (y_c, y_s)| calibration.correct(y_c, y_s)
+);
+
+memoryless_stage!(
+    /// The angle error's table in integers, read at the predicted binary angle.
+    [const L: usize] FixedAngleCorrectionTable<L>, i16, (i16, i16),
+    |table, prediction, (y_c, y_s)| table.rotate(prediction.angle(), y_c, y_s)
+);
 
 /// The online calibration's configuration as a stage: its checked settings (when it learns,
 /// the bounds of its faults). Its state is a [`Calibrator`], whose mode says whether it is
@@ -136,89 +156,5 @@ impl<T: Float> Stage<T, (T, T)> for OnlineCalibration<T> {
     #[inline(always)]
     fn quiet(&self, calibrator: &Calibrator<T>) -> bool {
         calibrator.mode() == CalibrationMode::Off
-    }
-}
-
-/// The angle error's table, read at the observer's predicted angle.
-impl<T: Float, const L: usize> Stage<T, (T, T)> for AngleCorrectionTable<T, L> {
-    type State = ();
-    type Memo = ();
-
-    #[inline(always)]
-    fn forward(
-        &self,
-        _: &mut (),
-        prediction: &impl Prediction<T>,
-        (y_c, y_s): (T, T),
-    ) -> ((T, T), ()) {
-        (self.rotate(prediction.angle(), y_c, y_s), ())
-    }
-
-    #[inline(always)]
-    fn quiet(&self, _: &()) -> bool {
-        true
-    }
-}
-
-/// Raw ADC counts to the fixed-point observer's 16-bit samples.
-impl<I: AdcSample> Stage<i16, (I, I)> for AdcCounts {
-    type State = ();
-    type Memo = ();
-
-    #[inline(always)]
-    fn forward(
-        &self,
-        _: &mut (),
-        _: &impl Prediction<i16>,
-        (raw_c, raw_s): (I, I),
-    ) -> ((i16, i16), ()) {
-        (self.sample(raw_c, raw_s), ())
-    }
-
-    #[inline(always)]
-    fn quiet(&self, _: &()) -> bool {
-        true
-    }
-}
-
-/// A stored calibration in integers.
-impl Stage<i16, (i16, i16)> for FixedCalibration {
-    type State = ();
-    type Memo = ();
-
-    #[inline(always)]
-    fn forward(
-        &self,
-        _: &mut (),
-        _: &impl Prediction<i16>,
-        (y_c, y_s): (i16, i16),
-    ) -> ((i16, i16), ()) {
-        (self.correct(y_c, y_s), ())
-    }
-
-    #[inline(always)]
-    fn quiet(&self, _: &()) -> bool {
-        true
-    }
-}
-
-/// The angle error's table in integers, read at the predicted binary angle.
-impl<const L: usize> Stage<i16, (i16, i16)> for FixedAngleCorrectionTable<L> {
-    type State = ();
-    type Memo = ();
-
-    #[inline(always)]
-    fn forward(
-        &self,
-        _: &mut (),
-        prediction: &impl Prediction<i16>,
-        (y_c, y_s): (i16, i16),
-    ) -> ((i16, i16), ()) {
-        (self.rotate(prediction.angle(), y_c, y_s), ())
-    }
-
-    #[inline(always)]
-    fn quiet(&self, _: &()) -> bool {
-        true
     }
 }

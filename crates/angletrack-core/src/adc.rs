@@ -295,7 +295,9 @@ impl AdcCounts {
     #[inline(always)]
     pub fn scale<I: AdcSample>(&self, raw: I) -> i16 {
         let difference = raw.difference_from(self.mid_scale_counts);
-        (difference.clamp(self.low, self.high) << self.shift) as i16
+        // `max` then `min`, not `clamp`, whose check of its bounds' order would be a panic
+        // path for a configuration the optimiser cannot see (one from C memory, say).
+        (difference.max(self.low).min(self.high) << self.shift) as i16
     }
 
     /// The pair `(y_c, y_s)` for the fixed-point observer, from the raw samples of the

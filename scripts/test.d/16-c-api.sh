@@ -7,8 +7,9 @@
 #   (including structs of another build);
 # - the C examples (tests/firmware/c), built with arm-none-eabi-gcc against the library
 #   built for their targets, track under QEMU (tests/firmware/c/run.sh): the float observer
-#   on a Cortex-M4F (thumbv7em-none-eabihf, mps2-an386), the fixed-point observer from
-#   12-bit counts on a Cortex-M0 (thumbv6m-none-eabi, microbit).
+#   on a Cortex-M4F (thumbv7em-none-eabihf, mps2-an386), the fixed-point chain from raw
+#   12-bit counts (a stored calibration and the angle-correction table) on a Cortex-M0
+#   (thumbv6m-none-eabi, microbit), with its instructions per sample.
 set -euo pipefail
 source scripts/lib.sh
 need_rust

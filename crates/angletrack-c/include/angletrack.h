@@ -80,7 +80,7 @@
  * The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_F32_WORDS 34
+#define AT_CHAIN_F32_WORDS 152
 
 /**
  * The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
@@ -466,6 +466,20 @@ typedef struct at_angle_correction_f32 {
 } at_angle_correction_f32;
 
 /**
+ * The sensor's angle error `d` (rad) at the angles `-pi + 2 pi k / 256`: the f32 chain
+ * rotates each sample by `-d` at the observer's predicted angle, `d` interpolated linearly
+ * (an alternative to the harmonic `at_angle_correction_f32`: the same cost whatever the
+ * error's shape). Each entry finite and within 0.25 rad; all zero corrects nothing. Made by
+ * `at_angle_correction_table_f32_from_harmonics` or `_from_curve`, or written directly.
+ */
+typedef struct at_angle_correction_table_f32 {
+  /**
+   * `d` (rad) at the angle `-pi + 2 pi k / 256`, index `k`.
+   */
+  float errors_rad[AT_ANGLE_TABLE_LENGTH];
+} at_angle_correction_table_f32;
+
+/**
  * The checked configuration of one signal chain, made by `at_chain_f32_new` from the
  * observer's gains and optional stages. Immutable once made: one serves any number of
  * channels (`at_chain_state_f32`). Place it anywhere; copy it by assignment; never write its
@@ -634,20 +648,6 @@ typedef struct at_fixed_estimate {
    */
   uint32_t faults;
 } at_fixed_estimate;
-
-/**
- * The sensor's angle error `d` (rad) at the angles `-pi + 2 pi k / 256`: the f32 chain
- * rotates each sample by `-d` at the observer's predicted angle, `d` interpolated linearly
- * (an alternative to the harmonic `at_angle_correction_f32`: the same cost whatever the
- * error's shape). Each entry finite and within 0.25 rad; all zero corrects nothing. Made by
- * `at_angle_correction_table_f32_from_harmonics` or `_from_curve`, or written directly.
- */
-typedef struct at_angle_correction_table_f32 {
-  /**
-   * `d` (rad) at the angle `-pi + 2 pi k / 256`, index `k`.
-   */
-  float errors_rad[AT_ANGLE_TABLE_LENGTH];
-} at_angle_correction_table_f32;
 
 /**
  * The demodulator's settings (the core's `DemodulatorSettings`): start from
@@ -826,7 +826,8 @@ typedef struct at_fixed_state {
 
 /**
  * `at_chain_f32_new` was given both a stored calibration and the online calibration's
- * settings (a chain has one calibration stage).
+ * settings (a chain has one calibration stage), or both the harmonic angle correction and
+ * its table (one angle correction).
  */
 #define AT_ERR_STAGES 6
 
@@ -1270,8 +1271,9 @@ struct at_calibration_settings_f32 at_calibration_settings_f32_default(void);
  * stages, each NULL when absent, in this order: the ADC front end `adc` (then the chain
  * takes counts: `at_chain_f32_track_u16`, ...), one calibration stage (a stored calibration
  * `stored`, applied to every sample, or the online calibration with its `settings`,
- * learning per channel in `at_chain_state_f32`; not both: `AT_ERR_STAGES`), and the
- * harmonic angle correction `correction`. Every stage is checked (`AT_ERR_*` naming the
+ * learning per channel in `at_chain_state_f32`; not both: `AT_ERR_STAGES`), and one angle
+ * correction (the harmonic `correction` or its `table`, the same cost whatever the error's
+ * shape; not both: `AT_ERR_STAGES`). Every stage is checked (`AT_ERR_*` naming the
  * refused parameter, `AT_ERR_ANGLE_CORRECTION`, ...; `out` unchanged on error); the stages
  * are copied, so they need not outlive the call.
  *
@@ -1283,6 +1285,7 @@ at_status at_chain_f32_new(const struct at_gains_f32 *gains,
                            const struct at_sensor_calibration_f32 *stored,
                            const struct at_calibration_settings_f32 *settings,
                            const struct at_angle_correction_f32 *correction,
+                           const struct at_angle_correction_table_f32 *table,
                            struct at_chain_f32 *out);
 
 /**

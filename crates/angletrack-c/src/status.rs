@@ -24,7 +24,8 @@ pub const AT_ERR_MODE: at_status = 4;
 /// version, struct size or target); it was not read. Make it again with this build.
 pub const AT_ERR_OTHER_BUILD: at_status = 5;
 /// `at_chain_f32_new` was given both a stored calibration and the online calibration's
-/// settings (a chain has one calibration stage).
+/// settings (a chain has one calibration stage), or both the harmonic angle correction and
+/// its table (one angle correction).
 pub const AT_ERR_STAGES: at_status = 6;
 /// `sample_period_s`: not finite, not positive, or outside [1 ps, 1000 s].
 pub const AT_ERR_SAMPLE_PERIOD_S: at_status = 16;
@@ -214,7 +215,9 @@ pub(crate) fn message(status: at_status) -> &'static CStr {
         AT_ERR_STARTUP_PERIODS => c"startup_periods",
         AT_ERR_SHIFT => c"shift",
         AT_ERR_CURVE => c"curve",
-        AT_ERR_STAGES => c"a chain takes a stored calibration or the online calibration, not both",
+        AT_ERR_STAGES => {
+            c"a chain takes one calibration (stored or online) and one angle correction (harmonics or table)"
+        }
         AT_ERR_OTHER_PARAMETER => c"a parameter of a newer core",
         _ => c"unknown status",
     }

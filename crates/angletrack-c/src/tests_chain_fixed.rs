@@ -349,6 +349,10 @@ fn the_storage_is_tight() {
             AT_CHAIN_FIXED_WORDS,
         ),
         (
+            size_of::<crate::chain::ChainF32<2>>().max(size_of::<crate::chain::ChainF32<3>>()),
+            AT_CHAIN_F32_WORDS,
+        ),
+        (
             size_of::<StateFixed<2>>().max(size_of::<StateFixed<3>>()),
             AT_CHAIN_STATE_FIXED_WORDS,
         ),

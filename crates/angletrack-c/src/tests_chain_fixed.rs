@@ -182,8 +182,11 @@ fn the_stored_calibration_and_the_table_correct_a_sensor() {
     let corrected = chain_of(Some(&adc), Some(&calibration), Some(&table), 28_800.0).unwrap();
     let plain = chain_of(Some(&adc), None, None, 0.0).unwrap();
     let (good, bad) = (worst_error(&corrected), worst_error(&plain));
-    assert!(good < 1e-3, "{good}");
-    assert!(bad > 10.0 * good && bad > 0.02, "{bad} against {good}");
+    // Under Miri, too few samples to settle: the calls only.
+    if !cfg!(miri) {
+        assert!(good < 1e-3, "{good}");
+        assert!(bad > 10.0 * good && bad > 0.02, "{bad} against {good}");
+    }
 }
 
 #[test]

@@ -13,16 +13,19 @@
  * NAME_ACCELERATION_SHIFT, NAME_SAMPLE_PERIOD_S), at_fixed_gains_set_monitor() sets the
  * signal's amplitude in counts; every sample, at_fixed_track() on int16 samples (counts
  * less mid-scale, 12-bit ones shifted left by 4), at_fixed_state_estimate() on demand (or
- * at_fixed_update(), both). One signal chain of optional stages (at_chain_f32_new(): the
+ * at_fixed_update(), both); its signal chain, at_chain_fixed_new() (the ADC's at_adc_counts,
+ * a stored calibration in the observer's 16-bit counts, the Q15 at_angle_table_fixed, the
+ * monitor's amplitude), takes raw counts: at_chain_fixed_track_u16() (or _i16, _i32),
+ * at_chain_fixed_estimate() on demand. One float signal chain of optional stages (at_chain_f32_new(): the
  * ADC, a stored calibration or the online calibration with its at_calibration_settings_f32,
  * the harmonic at_angle_correction_f32, the observer) serves every combination:
  * at_chain_f32_track*() on floats or counts, at_chain_f32_estimate() on demand, or
  * at_chain_f32_update*(). From raw resolver windings, at_demodulator_f32_push() gives one
  * (y_c, y_s) pair per carrier period for the chain. The structs are plain and sized: place
  * them in static memory.
- * A zeroed at_state_f32, at_fixed_state, at_chain_state_f32 or at_calibrator_f32 is a fresh
- * one; zeroed at_gains_f32, at_fixed_gains, at_chain_f32 or at_adc_f32 are refused until
- * made by their constructor.
+ * A zeroed at_state_f32, at_fixed_state, at_chain_state_f32, at_chain_state_fixed or
+ * at_calibrator_f32 is a fresh one; zeroed at_gains_f32, at_fixed_gains, at_chain_f32,
+ * at_chain_fixed or at_adc_f32 are refused until made by their constructor.
  *
  * Layout: every struct made by the library starts with its private tag (which Rust value it
  * holds) and layout word (a fingerprint of the build that wrote it: AT_LAYOUT_VERSION, the
@@ -77,7 +80,7 @@
  * The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_F32_WORDS 34
+#define AT_CHAIN_F32_WORDS 152
 
 /**
  * The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
@@ -90,6 +93,18 @@
  * `MAX_CORRECTION_ORDER`: the struct's arrays are the core's, checked at compile time).
  */
 #define AT_CORRECTION_ORDER 8
+
+/**
+ * The 8-byte words of an `at_chain_fixed`'s storage (checked against the Rust type at
+ * compile time, on every target).
+ */
+#define AT_CHAIN_FIXED_WORDS 76
+
+/**
+ * The 8-byte words of an `at_chain_state_fixed`'s storage (checked against the Rust type at
+ * compile time, on every target).
+ */
+#define AT_CHAIN_STATE_FIXED_WORDS 7
 
 /**
  * The 8-byte words of an `at_demodulator_f32`'s storage (checked against the Rust types at
@@ -192,7 +207,14 @@
  * crate's version and the sizes, which change it without a bump). `at_layout_version()`
  * returns the library's, to compare with the header's at start-up.
  */
-#define AT_LAYOUT_VERSION 2
+#define AT_LAYOUT_VERSION 3
+
+/**
+ * The entries of an angle-correction table (`at_angle_correction_table_f32`,
+ * `at_angle_table_fixed`): the error at the angles `-pi + 2 pi k / 256`, `k = 0..255`,
+ * interpolated linearly between them at the observer's predicted angle.
+ */
+#define AT_ANGLE_TABLE_LENGTH 256
 
 /**
  * What a call that can fail returns: `AT_OK` (0), or the `AT_ERR_*` code of what was
@@ -444,6 +466,20 @@ typedef struct at_angle_correction_f32 {
 } at_angle_correction_f32;
 
 /**
+ * The sensor's angle error `d` (rad) at the angles `-pi + 2 pi k / 256`: the f32 chain
+ * rotates each sample by `-d` at the observer's predicted angle, `d` interpolated linearly
+ * (an alternative to the harmonic `at_angle_correction_f32`: the same cost whatever the
+ * error's shape). Each entry finite and within 0.25 rad; all zero corrects nothing. Made by
+ * `at_angle_correction_table_f32_from_harmonics` or `_from_curve`, or written directly.
+ */
+typedef struct at_angle_correction_table_f32 {
+  /**
+   * `d` (rad) at the angle `-pi + 2 pi k / 256`, index `k`.
+   */
+  float errors_rad[AT_ANGLE_TABLE_LENGTH];
+} at_angle_correction_table_f32;
+
+/**
  * The checked configuration of one signal chain, made by `at_chain_f32_new` from the
  * observer's gains and optional stages. Immutable once made: one serves any number of
  * channels (`at_chain_state_f32`). Place it anywhere; copy it by assignment; never write its
@@ -485,6 +521,133 @@ typedef struct at_chain_state_f32 {
    */
   uint64_t storage[AT_CHAIN_STATE_F32_WORDS];
 } at_chain_state_f32;
+
+/**
+ * The ADC of a fixed-point chain (the core's `AdcCounts`): each count less
+ * `mid_scale_counts`, shifted left by `shift` (0 to 15) bits to the observer's 16-bit range,
+ * saturated. Plain: write it (`{2048, 4}` for a 12-bit offset-binary ADC), or fill it with
+ * `at_adc_counts_offset_binary` or `at_adc_counts_twos_complement`; `at_chain_fixed_new`
+ * checks it.
+ */
+typedef struct at_adc_counts {
+  /**
+   * The count of a zero signal (at most 2^30 in magnitude): `2^(bits-1)` for an offset
+   * binary ADC, 0 for a two's complement one.
+   */
+  int32_t mid_scale_counts;
+  /**
+   * The left shift (0 to 15) to the observer's 16 bits: `16 - bits`.
+   */
+  uint32_t shift;
+} at_adc_counts;
+
+/**
+ * The checked configuration of a fixed-point observer (order 2 or 3): the gains' integer
+ * multipliers, the acceleration's shift, the sample period and the monitor's integer
+ * thresholds. Made by `at_fixed_gains_from_constants` or `at_fixed_gains_new`; immutable
+ * once made (but for `at_fixed_gains_set_monitor`), one serves any number of channels. Place
+ * it anywhere; copy it by assignment; never write its fields. A zeroed one is refused.
+ */
+typedef struct at_fixed_gains {
+  /**
+   * Private: which Rust value `storage` holds (0: none).
+   */
+  uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_FIXED_GAINS_WORDS];
+} at_fixed_gains;
+
+/**
+ * The sensor's angle error `d` in Q15 rad (2^-15 rad) at the angles `-pi + 2 pi k / 256`
+ * (the top 8 bits of the binary angle, offset by half a turn), for the fixed-point chain,
+ * which rotates each sample by `-d` in integers at the predicted binary angle. Each entry
+ * within 8192 (0.25 rad); all zero corrects nothing. Made by
+ * `at_angle_table_fixed_from_errors` or `_from_harmonics`, or kept `const`.
+ */
+typedef struct at_angle_table_fixed {
+  /**
+   * `d` (Q15 rad) at the angle `-pi + 2 pi k / 256`, index `k`.
+   */
+  int16_t errors_q15[AT_ANGLE_TABLE_LENGTH];
+} at_angle_table_fixed;
+
+/**
+ * The checked configuration of one fixed-point signal chain, made by `at_chain_fixed_new`.
+ * Immutable once made: one serves any number of channels (`at_chain_state_fixed`). Place it
+ * anywhere; copy it by assignment; never write its fields. A zeroed one is refused.
+ */
+typedef struct at_chain_fixed {
+  /**
+   * Private: which Rust value `storage` holds (0: none).
+   */
+  uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_CHAIN_FIXED_WORDS];
+} at_chain_fixed;
+
+/**
+ * One channel's state of a fixed-point chain (the observer's: the stages keep none). A
+ * zeroed one is fresh (as after `at_chain_state_fixed_reset`): the observer initialises
+ * itself from its first sample. Place it anywhere; copy it by assignment; never write its
+ * fields.
+ */
+typedef struct at_chain_state_fixed {
+  /**
+   * Private: which Rust value `storage` holds (0: a fresh state).
+   */
+  uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_CHAIN_STATE_FIXED_WORDS];
+} at_chain_state_fixed;
+
+/**
+ * What the fixed-point observer knows after a sample, in its integers.
+ */
+typedef struct at_fixed_estimate {
+  /**
+   * Binary angle: 2^32 per turn, `INT32_MIN` is -pi (rad = angle * 2 pi / 2^32).
+   */
+  int32_t angle;
+  /**
+   * Whole turns since initialisation: the position is `turns + angle / 2^32` turns.
+   */
+  int64_t turns;
+  /**
+   * Speed (2^-32 turn per sample).
+   */
+  int32_t speed;
+  /**
+   * Acceleration (2^-63 turn per sample^2); 0 for a 2nd-order observer.
+   */
+  int64_t acceleration;
+  /**
+   * Normalised phase error (Q15: 32768 is 1), about the sine of the phase error.
+   */
+  int32_t phase_error;
+  /**
+   * The monitor's last window's faults (`AT_FAULT_*` bits), or
+   * `AT_FAULT_INVALID_ARGUMENT` alone when the call's arguments were refused.
+   */
+  uint32_t faults;
+} at_fixed_estimate;
 
 /**
  * The demodulator's settings (the core's `DemodulatorSettings`): start from
@@ -607,28 +770,6 @@ typedef struct at_demodulated_pair_f32 {
 } at_demodulated_pair_f32;
 
 /**
- * The checked configuration of a fixed-point observer (order 2 or 3): the gains' integer
- * multipliers, the acceleration's shift, the sample period and the monitor's integer
- * thresholds. Made by `at_fixed_gains_from_constants` or `at_fixed_gains_new`; immutable
- * once made (but for `at_fixed_gains_set_monitor`), one serves any number of channels. Place
- * it anywhere; copy it by assignment; never write its fields. A zeroed one is refused.
- */
-typedef struct at_fixed_gains {
-  /**
-   * Private: which Rust value `storage` holds (0: none).
-   */
-  uint32_t tag;
-  /**
-   * Private: the layout of the build that wrote it.
-   */
-  uint32_t layout;
-  /**
-   * Private: the Rust value.
-   */
-  uint64_t storage[AT_FIXED_GAINS_WORDS];
-} at_fixed_gains;
-
-/**
  * One fixed-point channel's mutable state: the integer state vector, the amplitude's
  * reciprocal, the turn count, the monitor's window and latched faults. A zeroed one (C
  * static memory) is a fresh state, as after `at_fixed_state_reset`: it initialises itself
@@ -650,37 +791,6 @@ typedef struct at_fixed_state {
    */
   uint64_t storage[AT_FIXED_STATE_WORDS];
 } at_fixed_state;
-
-/**
- * What the fixed-point observer knows after a sample, in its integers.
- */
-typedef struct at_fixed_estimate {
-  /**
-   * Binary angle: 2^32 per turn, `INT32_MIN` is -pi (rad = angle * 2 pi / 2^32).
-   */
-  int32_t angle;
-  /**
-   * Whole turns since initialisation: the position is `turns + angle / 2^32` turns.
-   */
-  int64_t turns;
-  /**
-   * Speed (2^-32 turn per sample).
-   */
-  int32_t speed;
-  /**
-   * Acceleration (2^-63 turn per sample^2); 0 for a 2nd-order observer.
-   */
-  int64_t acceleration;
-  /**
-   * Normalised phase error (Q15: 32768 is 1), about the sine of the phase error.
-   */
-  int32_t phase_error;
-  /**
-   * The monitor's last window's faults (`AT_FAULT_*` bits), or
-   * `AT_FAULT_INVALID_ARGUMENT` alone when the call's arguments were refused.
-   */
-  uint32_t faults;
-} at_fixed_estimate;
 
 /**
  * Success.
@@ -716,7 +826,8 @@ typedef struct at_fixed_estimate {
 
 /**
  * `at_chain_f32_new` was given both a stored calibration and the online calibration's
- * settings (a chain has one calibration stage).
+ * settings (a chain has one calibration stage), or both the harmonic angle correction and
+ * its table (one angle correction).
  */
 #define AT_ERR_STAGES 6
 
@@ -895,6 +1006,16 @@ typedef struct at_fixed_estimate {
  * Demodulator setting `startup_periods`.
  */
 #define AT_ERR_STARTUP_PERIODS 50
+
+/**
+ * ADC setting `shift` (0 to 15).
+ */
+#define AT_ERR_SHIFT 51
+
+/**
+ * An angle error `curve` of fewer than 2 points.
+ */
+#define AT_ERR_CURVE 52
 
 /**
  * A parameter this version of the C API has no code for (a newer core's).
@@ -1150,8 +1271,9 @@ struct at_calibration_settings_f32 at_calibration_settings_f32_default(void);
  * stages, each NULL when absent, in this order: the ADC front end `adc` (then the chain
  * takes counts: `at_chain_f32_track_u16`, ...), one calibration stage (a stored calibration
  * `stored`, applied to every sample, or the online calibration with its `settings`,
- * learning per channel in `at_chain_state_f32`; not both: `AT_ERR_STAGES`), and the
- * harmonic angle correction `correction`. Every stage is checked (`AT_ERR_*` naming the
+ * learning per channel in `at_chain_state_f32`; not both: `AT_ERR_STAGES`), and one angle
+ * correction (the harmonic `correction` or its `table`, the same cost whatever the error's
+ * shape; not both: `AT_ERR_STAGES`). Every stage is checked (`AT_ERR_*` naming the
  * refused parameter, `AT_ERR_ANGLE_CORRECTION`, ...; `out` unchanged on error); the stages
  * are copied, so they need not outlive the call.
  *
@@ -1163,6 +1285,7 @@ at_status at_chain_f32_new(const struct at_gains_f32 *gains,
                            const struct at_sensor_calibration_f32 *stored,
                            const struct at_calibration_settings_f32 *settings,
                            const struct at_angle_correction_f32 *correction,
+                           const struct at_angle_correction_table_f32 *table,
                            struct at_chain_f32 *out);
 
 /**
@@ -1360,6 +1483,211 @@ uint32_t at_track_f32(const struct at_gains_f32 *gains,
  */
 struct at_estimate_f32 at_state_f32_estimate(const struct at_gains_f32 *gains,
                                              const struct at_state_f32 *state);
+
+/**
+ * The settings of an offset-binary (unsigned) ADC of `bits` bits (2 to 16): mid-scale
+ * `2^(bits-1)`, shifted by `16 - bits`, to `out` (`AT_ERR_BITS`; `out` unchanged on error).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_adc_counts_offset_binary(uint32_t bits, struct at_adc_counts *out);
+
+/**
+ * The settings of a two's complement (signed) ADC of `bits` bits (2 to 16): mid-scale 0,
+ * shifted by `16 - bits`, to `out` (`AT_ERR_BITS`; `out` unchanged on error).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_adc_counts_twos_complement(uint32_t bits, struct at_adc_counts *out);
+
+/**
+ * Builds a fixed-point signal chain into `out`: the fixed-point observer `gains` (required;
+ * its monitor set here for `nominal_amplitude_counts`, the amplitude of the observer's
+ * 16-bit input after the stages, 16384 to 46341, or off for 0: `AT_ERR_NOMINAL_AMPLITUDE`)
+ * after the optional stages, each NULL when absent: the ADC `adc` (then the chain takes
+ * counts of any width, `at_chain_fixed_track_u16`, `_i32`, ...; without it, `int16`
+ * samples only), a stored `calibration` (offsets and amplitudes in the observer's 16-bit
+ * counts, after the ADC's shift; converted to integers: `AT_ERR_OFFSET_C`, ...,
+ * `AT_ERR_AMPLITUDE_S` for a sine channel less than half the cosine's), and the angle
+ * correction `table` (`AT_ERR_ANGLE_CORRECTION`). `out` unchanged on error; the stages are
+ * copied, so they need not outlive the call. Double-precision arithmetic: at start-up.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_chain_fixed_new(const struct at_fixed_gains *gains,
+                             const struct at_adc_counts *adc,
+                             const struct at_sensor_calibration_f32 *calibration,
+                             const struct at_angle_table_fixed *table,
+                             double nominal_amplitude_counts,
+                             struct at_chain_fixed *out);
+
+/**
+ * One sample of `int16` counts through the chain's stages and observer, the state only (the
+ * cheapest per-sample call; `at_chain_fixed_estimate` reads the estimate on demand). A
+ * chain without an ADC takes `int16` samples as they are. Returns 0, or
+ * `AT_FAULT_INVALID_ARGUMENT` (nothing changed) for a NULL pointer, a chain not made or a
+ * struct of another build.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_fixed_track_i16(const struct at_chain_fixed *chain,
+                                  struct at_chain_state_fixed *state,
+                                  int16_t raw_c,
+                                  int16_t raw_s);
+
+/**
+ * `at_chain_fixed_track_i16`, then the estimate; on refused arguments an estimate whose
+ * faults are `AT_FAULT_INVALID_ARGUMENT` (the rest 0).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_fixed_estimate at_chain_fixed_update_i16(const struct at_chain_fixed *chain,
+                                                   struct at_chain_state_fixed *state,
+                                                   int16_t raw_c,
+                                                   int16_t raw_s);
+
+/**
+ * `at_chain_fixed_track_i16` on `uint16` counts, through the chain's ADC
+ * (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_fixed_track_u16(const struct at_chain_fixed *chain,
+                                  struct at_chain_state_fixed *state,
+                                  uint16_t raw_c,
+                                  uint16_t raw_s);
+
+/**
+ * `at_chain_fixed_track_u16`, then the estimate; on refused arguments an estimate whose
+ * faults are `AT_FAULT_INVALID_ARGUMENT` (the rest 0).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_fixed_estimate at_chain_fixed_update_u16(const struct at_chain_fixed *chain,
+                                                   struct at_chain_state_fixed *state,
+                                                   uint16_t raw_c,
+                                                   uint16_t raw_s);
+
+/**
+ * `at_chain_fixed_track_i16` on `int32` counts, through the chain's ADC
+ * (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_fixed_track_i32(const struct at_chain_fixed *chain,
+                                  struct at_chain_state_fixed *state,
+                                  int32_t raw_c,
+                                  int32_t raw_s);
+
+/**
+ * `at_chain_fixed_track_i32`, then the estimate; on refused arguments an estimate whose
+ * faults are `AT_FAULT_INVALID_ARGUMENT` (the rest 0).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_fixed_estimate at_chain_fixed_update_i32(const struct at_chain_fixed *chain,
+                                                   struct at_chain_state_fixed *state,
+                                                   int32_t raw_c,
+                                                   int32_t raw_s);
+
+/**
+ * The estimate `state` holds for `chain` (its last sample's; all zero for a fresh state).
+ * Refused arguments: `AT_FAULT_INVALID_ARGUMENT`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_fixed_estimate at_chain_fixed_estimate(const struct at_chain_fixed *chain,
+                                                 const struct at_chain_state_fixed *state);
+
+/**
+ * The sample period (s) of `chain`'s observer; 0 for NULL or a chain not made (for
+ * `at_fixed_estimate`'s speed: `speed / 2^32 * 2 pi / period` rad/s).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+double at_chain_fixed_sample_period_s(const struct at_chain_fixed *chain);
+
+/**
+ * Makes `state` fresh: the observer initialises itself from its next sample. NULL is
+ * ignored.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+void at_chain_state_fixed_reset(struct at_chain_state_fixed *state);
+
+/**
+ * Returns the faults latched in `state` (`AT_FAULT_*` bits) and clears them. 0 for NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_state_fixed_clear_faults(struct at_chain_state_fixed *state);
+
+/**
+ * The fixed-point table of `errors_rad` (`AT_ANGLE_TABLE_LENGTH` errors in rad at the
+ * angles `-pi + 2 pi k / 256`, each finite and within 0.25 rad: `AT_ERR_ANGLE_CORRECTION`),
+ * rounded to Q15, to `out` (unchanged on error).
+ *
+ * # Safety
+ * `errors_rad` points to `AT_ANGLE_TABLE_LENGTH` floats; see the header's introduction.
+ */
+at_status at_angle_table_fixed_from_errors(const float *errors_rad,
+                                           struct at_angle_table_fixed *out);
+
+/**
+ * The fixed-point table of the harmonic angle error `harmonics` (as `angletrack calibrate`
+ * learns it; checked as `at_chain_f32_new` checks it: `AT_ERR_ANGLE_CORRECTION`), rounded to
+ * Q15, to `out` (unchanged on error).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_angle_table_fixed_from_harmonics(const struct at_angle_correction_f32 *harmonics,
+                                              struct at_angle_table_fixed *out);
+
+/**
+ * The float table of the harmonic angle error `harmonics` (checked:
+ * `AT_ERR_ANGLE_CORRECTION`), to `out` (unchanged on error).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_angle_correction_table_f32_from_harmonics(const struct at_angle_correction_f32 *harmonics,
+                                                       struct at_angle_correction_table_f32 *out);
+
+/**
+ * The float table of a measured error curve: `curve[j]` (rad) at the angle
+ * `-pi + 2 pi j / points` (`points` at least 2: `AT_ERR_CURVE`), resampled by periodic linear
+ * interpolation (entries finite and within 0.25 rad: `AT_ERR_ANGLE_CORRECTION`), to `out`
+ * (unchanged on error).
+ *
+ * # Safety
+ * `curve` points to `points` floats; see the header's introduction.
+ */
+at_status at_angle_correction_table_f32_from_curve(const float *curve,
+                                                   size_t points,
+                                                   struct at_angle_correction_table_f32 *out);
+
+/**
+ * Checks a float table (each entry finite and within 0.25 rad): `AT_OK` or
+ * `AT_ERR_ANGLE_CORRECTION` (`at_chain_f32_new` checks it again).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_angle_correction_table_f32_check(const struct at_angle_correction_table_f32 *table);
 
 /**
  * The demodulator's settings for a carrier of `carrier_hz` (Hz) and amplitude

@@ -1,15 +1,17 @@
 //! The signal chain in `f32` (the core's [`Chain`]): `at_chain_f32`, the configuration of
 //! one chain built from optional stages (the ADC, a stored sensor calibration or the online
-//! calibration with its settings, the harmonic angle correction) and the observer's gains;
+//! calibration with its settings, the harmonic angle correction or its table) and the
+//! observer's gains;
 //! `at_chain_state_f32`, one channel's state (the observer's and the online calibration's);
 //! and the plain C mirrors of the stages' settings, `at_angle_correction_f32` and
 //! `at_calibration_settings_f32`.
 //!
-//! The chain is the core's `Chain<(Calibration, AngleCorrection), Gains<f32, N>>`: [`Calibration`]
+//! The chain is the core's `Chain<(Calibration, Correction), Gains<f32, N>>`: [`Calibration`]
 //! is the one calibration stage of C's choice (none, the core's `SensorCalibration`, or its
 //! `OnlineCalibration`), which delegates each of the core's `Stage` methods to the stage it
-//! holds; an absent angle correction is the core's `AngleCorrection::NONE`, which the core
-//! skips. Counts go through the core's `AdcScaling` first, as its ADC stage does.
+//! holds; [`Correction`] likewise the angle correction (none, the core's harmonic
+//! `AngleCorrection` or its `AngleCorrectionTable`). Counts go through the core's
+//! `AdcScaling` first, as its ADC stage does.
 
 use core::mem::MaybeUninit;
 
@@ -24,10 +26,11 @@ use crate::gains::{AnyGains, at_gains_f32};
 use crate::observer::at_estimate_f32;
 use crate::slot::{self, Refused, Stored};
 use crate::status::{AT_ERR_STAGES, at_status, status_of};
+use crate::table::{Correction, at_angle_correction_table_f32};
 
 /// The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_CHAIN_F32_WORDS: usize = 34;
+pub const AT_CHAIN_F32_WORDS: usize = 152;
 /// The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
 /// compile time, on every target).
 pub const AT_CHAIN_STATE_F32_WORDS: usize = 22;
@@ -187,7 +190,7 @@ impl Stage<f32, (f32, f32)> for Calibration {
 }
 
 /// The front end of the chain after the ADC.
-type FrontEnd = (Calibration, AngleCorrection<f32>);
+type FrontEnd = (Calibration, Correction);
 
 /// What an `at_chain_f32` holds: the optional ADC and the core's chain of order `N`.
 #[derive(Debug, Clone, Copy)]
@@ -223,8 +226,10 @@ pub(crate) struct Stages<'a> {
     pub(crate) stored: Option<&'a at_sensor_calibration_f32>,
     /// The online calibration's settings.
     pub(crate) online: Option<&'a at_calibration_settings_f32>,
-    /// The angle correction.
+    /// The harmonic angle correction.
     pub(crate) correction: Option<&'a at_angle_correction_f32>,
+    /// The angle correction's table.
+    pub(crate) table: Option<&'a at_angle_correction_table_f32>,
 }
 
 /// The chain of `gains` and the checked `stages`.
@@ -240,9 +245,13 @@ fn build<const N: usize>(
         )?),
         (None, None) => Calibration::None,
     };
-    let correction = match stages.correction {
-        Some(c) => AngleCorrection::new(c.cos_coefficients, c.sin_coefficients)?,
-        None => AngleCorrection::NONE,
+    let correction = match (stages.correction, stages.table) {
+        (Some(c), _) => Correction::Harmonics(AngleCorrection::new(
+            c.cos_coefficients,
+            c.sin_coefficients,
+        )?),
+        (None, Some(table)) => Correction::Table(table.checked()?),
+        (None, None) => Correction::None,
     };
     Ok(ChainF32 {
         adc: stages.adc.copied(),
@@ -253,7 +262,9 @@ fn build<const N: usize>(
 impl at_chain_f32 {
     /// Builds and stores the chain (`self` unchanged on error).
     pub(crate) fn set(&mut self, gains: &at_gains_f32, stages: Stages<'_>) -> at_status {
-        if stages.stored.is_some() && stages.online.is_some() {
+        if (stages.stored.is_some() && stages.online.is_some())
+            || (stages.correction.is_some() && stages.table.is_some())
+        {
             return AT_ERR_STAGES;
         }
         let result = match gains.get() {

@@ -16,6 +16,7 @@ use crate::faults::AT_FAULT_INVALID_ARGUMENT;
 use crate::gains::{at_gains_f32, with_gains};
 use crate::observer::{at_estimate_f32, at_state_f32};
 use crate::status::{AT_ERR_NULL_POINTER, AT_OK, at_status, status_of_result};
+use crate::table::at_angle_correction_table_f32;
 
 /// The online calibration's default settings (the core's `CalibrationSettings::default`).
 #[unsafe(no_mangle)]
@@ -27,8 +28,9 @@ pub extern "C" fn at_calibration_settings_f32_default() -> at_calibration_settin
 /// stages, each NULL when absent, in this order: the ADC front end `adc` (then the chain
 /// takes counts: `at_chain_f32_track_u16`, ...), one calibration stage (a stored calibration
 /// `stored`, applied to every sample, or the online calibration with its `settings`,
-/// learning per channel in `at_chain_state_f32`; not both: `AT_ERR_STAGES`), and the
-/// harmonic angle correction `correction`. Every stage is checked (`AT_ERR_*` naming the
+/// learning per channel in `at_chain_state_f32`; not both: `AT_ERR_STAGES`), and one angle
+/// correction (the harmonic `correction` or its `table`, the same cost whatever the error's
+/// shape; not both: `AT_ERR_STAGES`). Every stage is checked (`AT_ERR_*` naming the
 /// refused parameter, `AT_ERR_ANGLE_CORRECTION`, ...; `out` unchanged on error); the stages
 /// are copied, so they need not outlive the call.
 ///
@@ -41,6 +43,7 @@ pub unsafe extern "C" fn at_chain_f32_new(
     stored: *const at_sensor_calibration_f32,
     settings: *const at_calibration_settings_f32,
     correction: *const at_angle_correction_f32,
+    table: *const at_angle_correction_table_f32,
     out: *mut at_chain_f32,
 ) -> at_status {
     // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
@@ -60,6 +63,7 @@ pub unsafe extern "C" fn at_chain_f32_new(
             stored: stored.as_ref(),
             online: settings.as_ref(),
             correction: correction.as_ref(),
+            table: table.as_ref(),
         }
     };
     out.set(gains, stages)

@@ -10,7 +10,11 @@
 //! for cores without an FPU, the fixed-point observer: `at_fixed_gains` (its checked
 //! integer configuration, from the constants `angletrack design --dtype fixed --format c`
 //! prints or from float gains), `at_fixed_state` (one channel, int16 samples) and the
-//! mirror `at_fixed_estimate` (`fixed`); the signal chain, `at_chain_f32` (the core's
+//! mirror `at_fixed_estimate` (`fixed`), and its signal chain `at_chain_fixed` with its
+//! `at_chain_state_fixed` and the plain `at_adc_counts` (`chain_fixed`: raw counts, a stored
+//! calibration and an angle-correction table, in integers); the
+//! plain angle-correction tables `at_angle_table_fixed` and `at_angle_correction_table_f32`
+//! (`table`); the float signal chain, `at_chain_f32` (the core's
 //! `Chain` of optional stages: ADC, stored or online calibration, angle correction, and the
 //! observer) with its per-channel `at_chain_state_f32`, and the plain stage settings
 //! `at_angle_correction_f32` and `at_calibration_settings_f32` (`chain`); the synchronous
@@ -43,10 +47,12 @@ extern crate std;
 mod adc;
 mod calibration;
 mod chain;
+mod chain_fixed;
 mod demodulator;
 mod faults;
 mod ffi;
 mod ffi_chain;
+mod ffi_chain_fixed;
 mod ffi_demodulator;
 mod ffi_fixed;
 mod fixed;
@@ -54,6 +60,7 @@ mod gains;
 mod observer;
 mod slot;
 mod status;
+mod table;
 
 pub use adc::{AT_ADC_F32_WORDS, at_adc_f32};
 pub use calibration::{
@@ -64,6 +71,10 @@ pub use chain::{
     AT_CHAIN_F32_WORDS, AT_CHAIN_STATE_F32_WORDS, AT_CORRECTION_ORDER, at_angle_correction_f32,
     at_calibration_settings_f32, at_chain_f32, at_chain_state_f32,
 };
+pub use chain_fixed::{
+    AT_CHAIN_FIXED_WORDS, AT_CHAIN_STATE_FIXED_WORDS, at_adc_counts, at_chain_fixed,
+    at_chain_state_fixed,
+};
 pub use demodulator::{
     AT_DEMODULATOR_F32_WORDS, AT_DEMODULATOR_STATE_F32_WORDS, AT_FRONT_END_FAULT_CLIPPING,
     AT_FRONT_END_FAULT_LOSS_OF_EXCITATION, AT_FRONT_END_FAULT_PHASE_DRIFT, at_demodulated_pair_f32,
@@ -72,6 +83,7 @@ pub use demodulator::{
 pub use faults::*;
 pub use ffi::*;
 pub use ffi_chain::*;
+pub use ffi_chain_fixed::*;
 pub use ffi_demodulator::*;
 pub use ffi_fixed::*;
 pub use fixed::{
@@ -81,6 +93,7 @@ pub use gains::{AT_GAINS_F32_WORDS, at_fault_thresholds_f32, at_gains_f32};
 pub use observer::{AT_STATE_F32_WORDS, at_estimate_f32, at_state_f32};
 pub use slot::AT_LAYOUT_VERSION;
 pub use status::*;
+pub use table::{AT_ANGLE_TABLE_LENGTH, at_angle_correction_table_f32, at_angle_table_fixed};
 
 /// A bare-metal C program has no panic handler; the library's is never reached (no call
 /// panics), and parks the core if it were.
@@ -96,5 +109,7 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
 mod tests;
 #[cfg(test)]
 mod tests_chain;
+#[cfg(test)]
+mod tests_chain_fixed;
 #[cfg(test)]
 mod tests_demodulator;

@@ -35,7 +35,7 @@ use crate::status::{AT_ERR_NOT_INITIALISED, AT_ERR_OTHER_BUILD, at_status};
 /// value the library stores in one changes; part of every struct's layout word (with the
 /// crate's version and the sizes, which change it without a bump). `at_layout_version()`
 /// returns the library's, to compare with the header's at start-up.
-pub const AT_LAYOUT_VERSION: u32 = 2;
+pub const AT_LAYOUT_VERSION: u32 = 3;
 
 /// A type a slot can hold, with its tag. `Copy` types only: overwriting one drops nothing,
 /// and a C copy of the words (with the tag) is a copy of the value.
@@ -137,6 +137,10 @@ const BUILD: u32 = {
     h = hash_type::<crate::chain::ChainF32<3>>(h);
     h = hash_type::<crate::chain::StateF32<2>>(h);
     h = hash_type::<crate::chain::StateF32<3>>(h);
+    h = hash_type::<crate::chain_fixed::ChainFixed<2>>(h);
+    h = hash_type::<crate::chain_fixed::ChainFixed<3>>(h);
+    h = hash_type::<crate::chain_fixed::StateFixed<2>>(h);
+    h = hash_type::<crate::chain_fixed::StateFixed<3>>(h);
     h = hash_type::<angletrack_core::Demodulator<f32, 8>>(h);
     h = hash_type::<angletrack_core::Demodulator<f32, 16>>(h);
     h = hash_type::<angletrack_core::Demodulator<f32, 32>>(h);

@@ -24,7 +24,8 @@ pub const AT_ERR_MODE: at_status = 4;
 /// version, struct size or target); it was not read. Make it again with this build.
 pub const AT_ERR_OTHER_BUILD: at_status = 5;
 /// `at_chain_f32_new` was given both a stored calibration and the online calibration's
-/// settings (a chain has one calibration stage).
+/// settings (a chain has one calibration stage), or both the harmonic angle correction and
+/// its table (one angle correction).
 pub const AT_ERR_STAGES: at_status = 6;
 /// `sample_period_s`: not finite, not positive, or outside [1 ps, 1000 s].
 pub const AT_ERR_SAMPLE_PERIOD_S: at_status = 16;
@@ -97,11 +98,15 @@ pub const AT_ERR_EXPECTED_DELAY_RAD: at_status = 48;
 pub const AT_ERR_DELAY_TRACKING_FACTOR: at_status = 49;
 /// Demodulator setting `startup_periods`.
 pub const AT_ERR_STARTUP_PERIODS: at_status = 50;
+/// ADC setting `shift` (0 to 15).
+pub const AT_ERR_SHIFT: at_status = 51;
+/// An angle error `curve` of fewer than 2 points.
+pub const AT_ERR_CURVE: at_status = 52;
 /// A parameter this version of the C API has no code for (a newer core's).
 pub const AT_ERR_OTHER_PARAMETER: at_status = 63;
 
 /// Every parameter with its status code: the one table both directions use.
-const PARAMETERS: [(Parameter, at_status); 35] = [
+const PARAMETERS: [(Parameter, at_status); 37] = [
     (Parameter::SamplePeriod, AT_ERR_SAMPLE_PERIOD_S),
     (Parameter::AngleGain, AT_ERR_GAINS_0),
     (Parameter::SpeedGain, AT_ERR_GAINS_1),
@@ -143,6 +148,8 @@ const PARAMETERS: [(Parameter, at_status); 35] = [
     (Parameter::ExpectedDelay, AT_ERR_EXPECTED_DELAY_RAD),
     (Parameter::DelayTrackingFactor, AT_ERR_DELAY_TRACKING_FACTOR),
     (Parameter::StartupPeriods, AT_ERR_STARTUP_PERIODS),
+    (Parameter::AdcShift, AT_ERR_SHIFT),
+    (Parameter::AngleErrorCurve, AT_ERR_CURVE),
 ];
 
 /// The status naming the parameter a configuration error refused.
@@ -206,7 +213,11 @@ pub(crate) fn message(status: at_status) -> &'static CStr {
         AT_ERR_EXPECTED_DELAY_RAD => c"expected_delay_rad",
         AT_ERR_DELAY_TRACKING_FACTOR => c"delay_tracking_factor",
         AT_ERR_STARTUP_PERIODS => c"startup_periods",
-        AT_ERR_STAGES => c"a chain takes a stored calibration or the online calibration, not both",
+        AT_ERR_SHIFT => c"shift",
+        AT_ERR_CURVE => c"curve",
+        AT_ERR_STAGES => {
+            c"a chain takes one calibration (stored or online) and one angle correction (harmonics or table)"
+        }
         AT_ERR_OTHER_PARAMETER => c"a parameter of a newer core",
         _ => c"unknown status",
     }

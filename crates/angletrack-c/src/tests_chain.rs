@@ -39,6 +39,7 @@ fn chain_of(
             stored.map_or(null(), |s| s),
             settings.map_or(null(), |s| s),
             correction.map_or(null(), |c| c),
+            null(),
             &mut chain,
         )
     };
@@ -46,6 +47,28 @@ fn chain_of(
         Ok(chain)
     } else {
         Err(status)
+    }
+}
+
+/// The chain of `gains`, `stored`, `correction` and `table` (NULL when `None`): its status.
+fn chain_with_table(
+    stored: Option<&at_sensor_calibration_f32>,
+    correction: Option<&at_angle_correction_f32>,
+    table: &at_angle_correction_table_f32,
+    out: &mut at_chain_f32,
+) -> at_status {
+    let gains = gains();
+    // SAFETY: valid pointers to live values, or NULL.
+    unsafe {
+        at_chain_f32_new(
+            &gains,
+            null(),
+            stored.map_or(null(), |s| s),
+            null(),
+            correction.map_or(null(), |c| c),
+            table,
+            out,
+        )
     }
 }
 
@@ -163,10 +186,31 @@ fn a_stored_calibration_and_the_angle_correction_remove_the_sensor_errors() {
     };
     let plain = worst(&chain_of(None, None, None, None).unwrap());
     let corrected = worst(&chain_of(None, Some(&stored), None, Some(&correction)).unwrap());
+    let mut table = at_angle_correction_table_f32 {
+        errors_rad: [0.0; AT_ANGLE_TABLE_LENGTH],
+    };
+    // SAFETY: valid pointers to live values.
+    let status = unsafe { at_angle_correction_table_f32_from_harmonics(&correction, &mut table) };
+    assert_eq!(status, AT_OK);
+    let mut tabled = at_chain_f32::ZEROED;
+    assert_eq!(
+        chain_with_table(Some(&stored), None, &table, &mut tabled),
+        AT_OK
+    );
+    let tabled = worst(&tabled);
     if !cfg!(miri) {
         assert!(plain > 0.02, "{plain}");
         assert!(corrected < 1e-4, "{corrected}");
+        assert!(tabled < 1e-4, "{tabled}");
     }
+    // One angle correction: not both.
+    let mut chain = at_chain_f32::ZEROED;
+    let both = chain_with_table(None, Some(&correction), &table, &mut chain);
+    assert_eq!(both, AT_ERR_STAGES);
+    table.errors_rad[9] = f32::INFINITY;
+    let bad = chain_with_table(None, None, &table, &mut chain);
+    assert_eq!(bad, AT_ERR_ANGLE_CORRECTION);
+    assert_eq!(chain.clone_tag(), 0, "unchanged on error");
 }
 
 #[test]

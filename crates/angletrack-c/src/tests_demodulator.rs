@@ -20,7 +20,7 @@ fn chain_at(sample_period_s: f32) -> at_chain_f32 {
             AT_OK
         );
         assert_eq!(
-            at_chain_f32_new(&gains, null(), null(), null(), null(), &mut chain),
+            at_chain_f32_new(&gains, null(), null(), null(), null(), null(), &mut chain),
             AT_OK
         );
     }

@@ -1,17 +1,23 @@
-/* The C API's fixed-point observer on a Cortex-M0 (no FPU): a firmware written in C against
- * angletrack.h, linked with the static library built for thumbv6m-none-eabi, run under QEMU
- * microbit (run.sh). It takes the integer constants `angletrack design --dtype fixed
- * --format c` prints (fixed_ato3.h), checks them once at start-up, and tracks a synthetic
- * resolver given as 12-bit offset-binary ADC counts (amplitude 1800 counts) sample by sample
- * as an ADC interrupt would: the counts to the observer's int16 input (mid-scale removed,
- * shifted left by 4: amplitude 28,800, done here in C: the core's fixed-point path has no
- * ADC stage), then at_fixed_track, with the estimate read on demand. Two checks against the
- * true angle and speed over the last 0.1 s, each printing PASS or FAIL:
- *  1. the 3rd-order observer from its integer constants (at_fixed_gains_from_constants),
- *     at_fixed_track + at_fixed_state_estimate;
- *  2. the 2nd-order observer quantised on the target from the float gains `angletrack design
- *     --format c` writes (at_fixed_gains_new), at_fixed_update.
- * The image exits 0 if both pass. */
+/* The C API's fixed-point signal chain on a Cortex-M0 (no FPU): a firmware written in C
+ * against angletrack.h, linked with the static library built for thumbv6m-none-eabi, run
+ * under QEMU microbit (run.sh). It takes the integer constants `angletrack design --dtype
+ * fixed --format c` prints (fixed_ato3.h), builds its chains once at start-up, and tracks a
+ * synthetic resolver given as raw 12-bit offset-binary ADC counts sample by sample, as an ADC
+ * interrupt would: the counts go to at_chain_fixed_track_u16 as they are read (the chain's
+ * ADC removes mid-scale and shifts them to 16 bits; no conversion in C), the estimate is read
+ * on demand. Two checks against the true angle and speed over the last 0.1 s, each printing
+ * PASS or FAIL:
+ *  1. an imperfect sensor (offsets 36 and -27 counts, the sine channel 5 % larger,
+ *     quadrature 30 mrad, and a 3rd-harmonic angle error of 4 mrad) through the 3rd-order
+ *     chain from its integer constants with its stored calibration (the sensor's parameters
+ *     in the observer's 16-bit counts) and the angle-correction table (from the error's
+ *     harmonics, Q15): the angle within ANGLE_TOLERANCE_RAD, and the same sensor through
+ *     the chain without the two corrections at least UNCORRECTED_FACTOR times worse;
+ *  2. an ideal sensor through the 2nd-order chain quantised on the target from the float
+ *     gains `angletrack design --format c` writes (at_fixed_gains_new), with
+ *     at_chain_fixed_update_u16.
+ * The image exits 0 if both pass. Built with -DCOUNT_SAMPLES=N, it only runs the corrected
+ * chain of check 1 for N samples (run.sh counts its instructions per sample). */
 #include <math.h>
 #include <stdio.h>
 
@@ -34,79 +40,118 @@
 #define SPEED_RAD_S (2.0 * PI * 50.0)
 #define SAMPLES 5000L
 #define WINDOW 1000L
-/* 12-bit offset-binary counts: mid-scale 2048, amplitude 1800 counts. */
-#define AMPLITUDE_COUNTS 1800.0f
-/* The observer's input: counts less mid-scale, shifted left by 4 (amplitude 28,800), the
- * monitor's nominal amplitude. */
-#define INPUT_SHIFT 4
-#define NOMINAL_AMPLITUDE (1800.0 * 16.0)
+/* 12-bit offset-binary counts: mid-scale 2048, the cosine channel's amplitude 1800 counts
+ * (28,800 in the observer's 16-bit counts: the monitor's nominal amplitude). */
+#define AMPLITUDE_COUNTS 1800.0
+#define ADC_SHIFT 4
+#define NOMINAL_AMPLITUDE (AMPLITUDE_COUNTS * (1 << ADC_SHIFT))
+/* The imperfect sensor of check 1 (12-bit counts, rad). */
+#define OFFSET_C 36.0
+#define OFFSET_S (-27.0)
+#define AMPLITUDE_S 1890.0
+#define QUADRATURE_RAD 0.03
+#define HARMONIC_3_RAD 0.004
 /* Tolerances over the window: 12-bit quantisation (1/1800 of the amplitude, about 0.6 mrad
- * per sample, filtered by the loop) and the fixed point's sine table. Measured (printed):
- * 85 and 59 urad, 18 and 5 mrad/s; a 1 % error of the speed is 3.1 rad/s. */
-#define ANGLE_TOLERANCE_RAD 3e-4
+ * per sample, filtered by the loop), the fixed point's sine table, the calibration's Q14
+ * coefficients and the table's Q15 entries. Measured (printed): 106 urad corrected, 60 mrad
+ * uncorrected (at least 20 times the tolerance required); 57 urad for the ideal sensor;
+ * speeds within 21 mrad/s; a 1 % error of the speed is 3.1 rad/s. */
+#define ANGLE_TOLERANCE_RAD 5e-4
+#define UNCORRECTED_FACTOR 20.0
 #define SPEED_TOLERANCE_RAD_S 0.1
 
 /* Static memory, zeroed at start-up: the states are fresh. */
 static at_fixed_gains gains3, gains2;
-static at_fixed_state state;
+static at_chain_fixed corrected, uncorrected, ideal;
+static at_chain_state_fixed state;
+static at_angle_table_fixed table;
 
-/* The 12-bit ADC reading of amplitude * x, offset binary. */
-static uint16_t adc_counts(float x) {
-  return (uint16_t)lrintf(2048.0f + AMPLITUDE_COUNTS * x);
+/* The 12-bit ADC reading of `offset + amplitude * x`, offset binary. */
+static uint16_t adc_counts(double offset, double amplitude, double x) {
+  return (uint16_t)lrint(2048.0 + offset + amplitude * x);
 }
 
-/* An offset-binary 12-bit reading as the observer's input: mid-scale removed, shifted. */
-static int16_t observer_input(uint16_t raw) {
-  return (int16_t)(((int32_t)raw - 2048) * (1 << INPUT_SHIFT));
-}
+/* The true angle of sample k (rad). */
+static double true_angle(long k) { return 0.3 + SPEED_RAD_S * (double)k * SIGNAL_PERIOD_S; }
 
+#ifndef COUNT_SAMPLES
 /* The true angle of sample k as a binary angle (2^32 per turn, wrapping). */
 static int32_t true_binary_angle(long k) {
-  double turns = (0.3 + SPEED_RAD_S * (double)k * SIGNAL_PERIOD_S) / (2.0 * PI);
+  double turns = true_angle(k) / (2.0 * PI);
   turns -= floor(turns);
   return (int32_t)(uint32_t)(turns * 4294967296.0);
 }
+#endif
 
-/* Tracks the scenario through `gains` (via at_fixed_update if `with_update`, else
- * at_fixed_track and the estimate on demand) from a fresh state; prints and returns the
- * check's verdict. */
-static int track(const char *name, const at_fixed_gains *gains, int with_update) {
-  double worst_angle = 0.0, worst_speed = 0.0;
-  uint32_t faults = 0;
-  at_fixed_state_reset(&state);
+/* The raw counts of sample k of the imperfect sensor (`imperfect`) or the ideal one. */
+static void sensor(long k, int imperfect, uint16_t *raw_c, uint16_t *raw_s) {
+  double theta = true_angle(k);
+  if (!imperfect) {
+    *raw_c = adc_counts(0.0, AMPLITUDE_COUNTS, cos(theta));
+    *raw_s = adc_counts(0.0, AMPLITUDE_COUNTS, sin(theta));
+    return;
+  }
+  double measured = theta + HARMONIC_3_RAD * sin(3.0 * theta);
+  *raw_c = adc_counts(OFFSET_C, AMPLITUDE_COUNTS, cos(measured));
+  *raw_s = adc_counts(OFFSET_S, AMPLITUDE_S, sin(measured + QUADRATURE_RAD));
+}
+
+#ifndef COUNT_SAMPLES
+/* The worst errors of angle (rad) and speed (rad/s) over the last WINDOW samples, and the
+ * faults there. */
+struct result {
+  double angle, speed;
+  uint32_t faults;
+};
+
+/* Tracks the sensor through `chain` from a fresh state (at_chain_fixed_update_u16 if
+ * `with_update`, else at_chain_fixed_track_u16 and the estimate on demand). */
+static struct result track(const at_chain_fixed *chain, int imperfect, int with_update) {
+  struct result r = {0.0, 0.0, 0u};
+  at_chain_state_fixed_reset(&state);
   for (long k = 0; k < SAMPLES; k++) {
-    double theta = (0.3 + SPEED_RAD_S * (double)k * SIGNAL_PERIOD_S);
-    int16_t y_c = observer_input(adc_counts(cosf((float)theta)));
-    int16_t y_s = observer_input(adc_counts(sinf((float)theta)));
+    uint16_t raw_c, raw_s;
+    sensor(k, imperfect, &raw_c, &raw_s);
     at_fixed_estimate e;
     if (with_update) {
-      e = at_fixed_update(gains, &state, y_c, y_s);
+      e = at_chain_fixed_update_u16(chain, &state, raw_c, raw_s);
     } else {
-      faults |= at_fixed_track(gains, &state, y_c, y_s);
+      r.faults |= at_chain_fixed_track_u16(chain, &state, raw_c, raw_s);
       if (k < SAMPLES - WINDOW) continue;
-      e = at_fixed_state_estimate(&state);
+      e = at_chain_fixed_estimate(chain, &state);
     }
     if (k < SAMPLES - WINDOW) continue;
-    faults |= e.faults;
+    r.faults |= e.faults;
     /* The difference of binary angles wraps to the nearest turn exactly. */
     int32_t error = (int32_t)((uint32_t)e.angle - (uint32_t)true_binary_angle(k));
     double angle_error = fabs((double)error * (2.0 * PI / 4294967296.0));
-    double speed_error = fabs(at_fixed_speed_rad_s(gains, &e) - SPEED_RAD_S);
-    if (angle_error > worst_angle) worst_angle = angle_error;
-    if (speed_error > worst_speed) worst_speed = speed_error;
+    double speed = (double)e.speed / 4294967296.0 * 2.0 * PI / at_chain_fixed_sample_period_s(chain);
+    double speed_error = fabs(speed - SPEED_RAD_S);
+    if (angle_error > r.angle) r.angle = angle_error;
+    if (speed_error > r.speed) r.speed = speed_error;
   }
-  int pass = worst_angle <= ANGLE_TOLERANCE_RAD && worst_speed <= SPEED_TOLERANCE_RAD_S &&
-             faults == 0u;
-  char line[200];
+  return r;
+}
+
+/* Prints a check's verdict line and returns it. */
+static int verdict(int pass, const char *name, const struct result *r, const char *extra) {
+  char line[300];
   snprintf(line, sizeof line,
            "%s %s: worst angle error %ld urad (tolerance %ld), worst speed error %ld mrad/s "
-           "(tolerance %ld), faults 0x%lx\n",
-           pass ? "PASS" : "FAIL", name, (long)lround(worst_angle * 1e6),
-           (long)lround(ANGLE_TOLERANCE_RAD * 1e6), (long)lround(worst_speed * 1e3),
-           (long)lround(SPEED_TOLERANCE_RAD_S * 1e3), (unsigned long)faults);
+           "(tolerance %ld), faults 0x%lx%s\n",
+           pass ? "PASS" : "FAIL", name, (long)lround(r->angle * 1e6),
+           (long)lround(ANGLE_TOLERANCE_RAD * 1e6), (long)lround(r->speed * 1e3),
+           (long)lround(SPEED_TOLERANCE_RAD_S * 1e3), (unsigned long)r->faults, extra);
   semihosting_write(line);
   return pass;
 }
+
+/* Whether `r` is within the tolerances, without faults. */
+static int within(const struct result *r) {
+  return r->angle <= ANGLE_TOLERANCE_RAD && r->speed <= SPEED_TOLERANCE_RAD_S && r->faults == 0u;
+}
+
+#endif
 
 /* Writes the refusal of a constructor and returns 0, or returns 1 for AT_OK. */
 static int accepted(const char *what, at_status status) {
@@ -119,22 +164,64 @@ static int accepted(const char *what, at_status status) {
   return 0;
 }
 
+/* Builds the three chains: the sensor's calibration in the observer's 16-bit counts (as
+ * `angletrack calibrate` learns it from those samples), its angle error's harmonics. */
+static int build(void) {
+  at_adc_counts adc;
+  at_sensor_calibration_f32 calibration = {
+      .offset_c = (float)(OFFSET_C * (1 << ADC_SHIFT)),
+      .offset_s = (float)(OFFSET_S * (1 << ADC_SHIFT)),
+      .amplitude_c = (float)(AMPLITUDE_COUNTS * (1 << ADC_SHIFT)),
+      .amplitude_s = (float)(AMPLITUDE_S * (1 << ADC_SHIFT)),
+      .quadrature_rad = (float)QUADRATURE_RAD,
+  };
+  at_angle_correction_f32 harmonics = {{0.0f}, {0.0f, 0.0f, (float)HARMONIC_3_RAD}};
+  return accepted("the ADC", at_adc_counts_offset_binary(12, &adc)) &&
+         accepted("the fixed-point constants",
+                  at_fixed_gains_from_constants(fixed3_gain_multiplier, FIXED3_ORDER,
+                                                FIXED3_ACCELERATION_SHIFT, FIXED3_SAMPLE_PERIOD_S,
+                                                &gains3)) &&
+         accepted("the float gains",
+                  at_fixed_gains_new(ato2_gains, ATO2_ORDER, ATO2_SAMPLE_PERIOD_S, &gains2)) &&
+         accepted("the table", at_angle_table_fixed_from_harmonics(&harmonics, &table)) &&
+         accepted("the corrected chain", at_chain_fixed_new(&gains3, &adc, &calibration, &table,
+                                                            NOMINAL_AMPLITUDE, &corrected)) &&
+         accepted("the uncorrected chain",
+                  at_chain_fixed_new(&gains3, &adc, NULL, NULL, NOMINAL_AMPLITUDE, &uncorrected)) &&
+         accepted("the ideal sensor's chain",
+                  at_chain_fixed_new(&gains2, &adc, NULL, NULL, NOMINAL_AMPLITUDE, &ideal));
+}
+
 int main(void) {
   if (at_layout_version() != AT_LAYOUT_VERSION) {
     semihosting_write("FAIL: the library's struct layout is not the header's\n");
     return 1;
   }
-  if (!accepted("the fixed-point constants",
-                at_fixed_gains_from_constants(fixed3_gain_multiplier, FIXED3_ORDER,
-                                              FIXED3_ACCELERATION_SHIFT, FIXED3_SAMPLE_PERIOD_S,
-                                              &gains3)) ||
-      !accepted("the monitor's amplitude", at_fixed_gains_set_monitor(&gains3, NOMINAL_AMPLITUDE)) ||
-      !accepted("the float gains",
-                at_fixed_gains_new(ato2_gains, ATO2_ORDER, ATO2_SAMPLE_PERIOD_S, &gains2)) ||
-      !accepted("the monitor's amplitude", at_fixed_gains_set_monitor(&gains2, NOMINAL_AMPLITUDE))) {
-    return 1;
+  if (!build()) return 1;
+#ifdef COUNT_SAMPLES
+  /* Counted: the instructions inside at_chain_fixed_track_u16 and what it calls (run.sh). */
+  uint32_t faults = 0;
+  for (long k = 0; k < COUNT_SAMPLES; k++) {
+    uint16_t raw_c, raw_s;
+    sensor(k, 1, &raw_c, &raw_s);
+    faults |= at_chain_fixed_track_u16(&corrected, &state, raw_c, raw_s);
   }
-  int pass = track("cortex-m0 fixed point, 3rd order from constants, 12-bit counts", &gains3, 0);
-  pass &= track("cortex-m0 fixed point, 2nd order from float gains, 12-bit counts", &gains2, 1);
+  return faults == 0u ? 0 : 1;
+#else
+  struct result good = track(&corrected, 1, 0);
+  struct result bad = track(&uncorrected, 1, 0);
+  char extra[120];
+  int worse = bad.angle >= UNCORRECTED_FACTOR * ANGLE_TOLERANCE_RAD;
+  snprintf(extra, sizeof extra, "; without the corrections %ld urad (at least %ld)",
+           (long)lround(bad.angle * 1e6), (long)lround(UNCORRECTED_FACTOR * ANGLE_TOLERANCE_RAD * 1e6));
+  int pass = verdict(within(&good) && worse,
+                     "cortex-m0 fixed-point chain, 3rd order from constants, 12-bit counts, "
+                     "stored calibration and angle table",
+                     &good, extra);
+  struct result plain = track(&ideal, 0, 1);
+  pass &= verdict(within(&plain),
+                  "cortex-m0 fixed-point chain, 2nd order from float gains, 12-bit counts", &plain,
+                  "");
   return pass ? 0 : 1;
+#endif
 }

@@ -6,7 +6,8 @@
 #  - Cortex-M4F (main.c, thumbv7em-none-eabihf, QEMU mps2-an386, link-m4.ld): the float
 #    observer from floats, from 12-bit ADC counts and through the online calibration;
 #  - Cortex-M0 (main_m0.c, thumbv6m-none-eabi, QEMU microbit, link-m0.ld): the fixed-point
-#    observer from 12-bit ADC counts, from its integer constants and from float gains.
+#    chain from raw 12-bit ADC counts, from its integer constants with a stored calibration
+#    and the angle-correction table on an imperfect sensor, and from float gains.
 # For each:
 #  1. runs it: it must exit 0 and print PASS for each of its checks;
 #  2. checks that each check can fail: built with -DTAMPER (one input of each check
@@ -14,7 +15,12 @@
 #     0.01 off the calibration check's) it must exit 1 and every check must print FAIL;
 #  3. checks that the image holds no panic code: no C API call can reach the library's
 #     panic handler, so the linker's garbage collection drops it;
-#  4. prints the image's code size.
+#  4. prints the image's code size;
+#  5. on the Cortex-M0, counts the instructions of the fixed-point chain per sample with the
+#     firmware test's QEMU plugin (tests/firmware/plugin/insn_count.c): the image built with
+#     -DCOUNT_SAMPLES=N runs the corrected chain's at_chain_fixed_track_u16 N times; the
+#     instructions inside it and the functions it calls (from the symbol table), from runs of
+#     1000 and 2000 samples, per sample: `insns_per_sample c-chain-fixed-corrected-m0: N`.
 # Needs: cargo with the thumbv7em-none-eabihf and thumbv6m-none-eabi targets,
 # qemu-system-arm, gcc-arm-none-eabi, libnewlib-arm-none-eabi (scripts/test.d/16-c-api.sh
 # installs them).
@@ -65,6 +71,45 @@ run() {
     -serial none -semihosting-config enable=on,target=native -kernel "$out/$1.elf" 2>&1
 }
 
+# count_per_sample: the instructions per sample inside at_chain_fixed_track_u16 and the
+# functions it calls (direct branches, transitively), from two runs of the -DCOUNT_SAMPLES
+# image.
+count_per_sample() {
+  local plugin="$out/insn_count.so" counted=at_chain_fixed_track_u16 elf f n
+  gcc -O2 -Wall -Wextra -Werror -shared -fPIC -fvisibility=hidden -I"$here/../plugin" \
+    -o "$plugin" "$here/../plugin/insn_count.c"
+  local -a counts=()
+  for n in 1000 2000; do
+    build "count-$core-$n" -DCOUNT_SAMPLES="$n"
+    elf="$out/count-$core-$n.elf"
+    # The functions reachable from the root, each as START-END (the Thumb bit cleared).
+    local -A seen=()
+    local queue=("$counted") ranges=() entry
+    while [ ${#queue[@]} -gt 0 ]; do
+      f=${queue[0]}
+      queue=("${queue[@]:1}")
+      [ -z "${seen[$f]:-}" ] || continue
+      seen[$f]=1
+      entry=$(arm-none-eabi-nm -S "$elf" | awk -v s="$f" '!found && NF == 4 && $4 == s { print $1, $2; found = 1 }')
+      [ -n "$entry" ] || { echo "no size for $f" >&2; exit 1; }
+      ranges+=("$(printf '0x%x-0x%x' $((16#${entry% *} & ~1)) $(((16#${entry% *} & ~1) + 16#${entry#* })))")
+      for c in $(arm-none-eabi-objdump -d --no-show-raw-insn --disassemble="$f" "$elf" |
+        sed -n 's/.*\tb[a-z.]*\t[0-9a-f]* <\([^>+]*\)>$/\1/p' | sort -u | grep -vxF "$f" || true); do
+        queue+=("$c")
+      done
+    done
+    unset seen
+    rm -f "$out/insns.log"
+    timeout 120 qemu-system-arm "${machine[@]}" -nographic -monitor none -serial none \
+      -plugin "$plugin,out=$out/insns.log,ranges=$(IFS=:; echo "${ranges[*]}")" \
+      -semihosting-config enable=on,target=native -kernel "$elf" >/dev/null 2>&1 ||
+      { echo "FAIL: the counting image ($n samples) exited with an error" >&2; exit 1; }
+    counts+=("$(sed -n 's/^insns_in_ranges: //p' "$out/insns.log")")
+  done
+  awk -v a="${counts[0]}" -v b="${counts[1]}" \
+    'BEGIN { printf "insns_per_sample c-chain-fixed-corrected-m0: %.1f\n", (b - a) / 1000 }'
+}
+
 cores=("$@")
 [ ${#cores[@]} -gt 0 ] || cores=(m4 m0)
 for c in "${cores[@]}"; do
@@ -100,4 +145,5 @@ for c in "${cores[@]}"; do
   echo "no panic code in the image"
   arm-none-eabi-size "$out/example-$core.elf" |
     awk 'NR == 2 { print "image size: text " $1 " bytes, data " $2 ", bss " $3 }'
+  if [ "$core" = m0 ]; then count_per_sample; fi
 done

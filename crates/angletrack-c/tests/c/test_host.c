@@ -3,7 +3,8 @@
  * writes (gains_ato3.h, gains_ato2.h), tracks a synthetic resolver (scenario.h) and checks
  * the refusals (invalid gains, NULL pointers, zeroed structs, structs of another build); the
  * fixed-point observer from the constants `angletrack design --dtype fixed --format c`
- * prints (fixed_ato3.h) on 12-bit counts. Prints one line per check
+ * prints (fixed_ato3.h) on 12-bit counts, and its chain with the angle-correction tables
+ * (test_host_tables.c). Prints one line per check
  * and exits 0 if all pass. Built and run by scripts/test.d/16-c-api.sh. */
 #include <stdio.h>
 #include <string.h>
@@ -13,6 +14,7 @@
 #include "gains_ato2.h"
 #include "gains_ato3.h"
 #include "scenario.h"
+#include "test_host_tables.h"
 
 /* Statically allocated, as firmware would: zeroed, so the states are fresh. */
 static at_gains_f32 gains3, gains2, zeroed_gains;
@@ -143,9 +145,9 @@ static void chains(void) {
   at_angle_correction_f32 correction;
   memset(&correction, 0, sizeof correction);
   correction.sin_coefficients[2] = 5e-3f;
-  check_status(at_chain_f32_new(&gains3, &adc, &stored, NULL, &correction, &chain), AT_OK,
+  check_status(at_chain_f32_new(&gains3, &adc, &stored, NULL, &correction, NULL, &chain), AT_OK,
                "chain: ADC, stored calibration, angle correction, observer");
-  check_status(at_chain_f32_new(&gains3, &adc, NULL, NULL, NULL, &plain_chain), AT_OK,
+  check_status(at_chain_f32_new(&gains3, &adc, NULL, NULL, NULL, NULL, &plain_chain), AT_OK,
                "chain: ADC, observer");
   uint32_t faults, plain_faults;
   double corrected = chain_worst_error(&chain, &faults);
@@ -158,9 +160,9 @@ static void chains(void) {
 
   /* The online calibration as a stage: learns per channel, in the chain's state. */
   at_calibration_settings_f32 settings = at_calibration_settings_f32_default();
-  check_status(at_chain_f32_new(&gains3, NULL, &stored, &settings, NULL, &chain), AT_ERR_STAGES,
+  check_status(at_chain_f32_new(&gains3, NULL, &stored, &settings, NULL, NULL, &chain), AT_ERR_STAGES,
                "chain: stored and online calibration refused");
-  check_status(at_chain_f32_new(&gains3, NULL, NULL, &settings, NULL, &chain), AT_OK,
+  check_status(at_chain_f32_new(&gains3, NULL, NULL, &settings, NULL, NULL, &chain), AT_OK,
                "chain: online calibration, observer");
   at_chain_state_f32_reset(&chain_state);
   check_status(at_chain_state_f32_set_calibration_mode(&chain_state, AT_CALIBRATION_LEARNING),
@@ -180,10 +182,10 @@ static void chains(void) {
             fabs(learned.amplitude_s / learned.amplitude_c - 1.1) < 5e-3,
         line);
   settings.max_offset = -1.0f;
-  check_status(at_chain_f32_new(&gains3, NULL, NULL, &settings, NULL, &chain),
+  check_status(at_chain_f32_new(&gains3, NULL, NULL, &settings, NULL, NULL, &chain),
                AT_ERR_MAX_OFFSET, "chain: negative max_offset refused");
   correction.cos_coefficients[7] = 0.3f;
-  check_status(at_chain_f32_new(&gains3, NULL, NULL, NULL, &correction, &chain),
+  check_status(at_chain_f32_new(&gains3, NULL, NULL, NULL, &correction, NULL, &chain),
                AT_ERR_ANGLE_CORRECTION, "chain: angle correction above 0.25 rad refused");
   check(at_chain_f32_track_u16(&plain_chain, NULL, 1, 2) == AT_FAULT_INVALID_ARGUMENT,
         "chain: NULL state refused");
@@ -215,7 +217,7 @@ static void demodulation(void) {
                "demodulator: 12 samples per period refused");
   check_status(at_demodulator_f32_new(&settings, 16, &demodulator), AT_OK,
                "demodulator: 16 samples per period");
-  check_status(at_chain_f32_new(&gains3, NULL, NULL, NULL, NULL, &chain), AT_OK, "chain: observer");
+  check_status(at_chain_f32_new(&gains3, NULL, NULL, NULL, NULL, NULL, &chain), AT_OK, "chain: observer");
   check_status(at_demodulator_f32_check_chain(&demodulator, &chain), AT_OK,
                "demodulator: the chain runs at the carrier period");
   at_chain_state_f32_reset(&chain_state);
@@ -345,6 +347,7 @@ int main(void) {
   chains();
   demodulation();
   layouts();
+  failures += fixed_chain_checks(&gains3);
 
   printf("%s: %d check(s) failed\n", failures ? "FAIL" : "PASS", failures);
   return failures ? 1 : 0;

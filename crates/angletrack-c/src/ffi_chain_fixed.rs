@@ -1,0 +1,399 @@
+//! The `extern "C"` functions of the fixed-point chain (`at_chain_fixed_*`,
+//! `at_chain_state_fixed_*`, `at_adc_counts_*`) and of the angle-correction tables
+//! (`at_angle_table_fixed_*`, `at_angle_correction_table_f32_*`): each checks its pointers,
+//! turns them into references, and calls the safe code of `chain_fixed` and `table`. The
+//! caller's contract is `ffi`'s.
+#![allow(unsafe_code)]
+
+use angletrack_core::ConfigError;
+
+use crate::calibration::at_sensor_calibration_f32;
+use crate::chain::at_angle_correction_f32;
+use crate::chain_fixed::{
+    FixedInput, FixedStages, at_adc_counts, at_chain_fixed, at_chain_state_fixed, estimate_fixed,
+    sample_period_fixed, track_fixed, update_fixed,
+};
+use crate::faults::AT_FAULT_INVALID_ARGUMENT;
+use crate::fixed::{at_fixed_estimate, at_fixed_gains};
+use crate::status::{AT_ERR_NULL_POINTER, AT_OK, at_status, status_of};
+use crate::table::{AT_ANGLE_TABLE_LENGTH, at_angle_correction_table_f32, at_angle_table_fixed};
+
+/// Writes `result` to `out` (unchanged on error); its status.
+///
+/// # Safety
+/// `out` is NULL or valid for writes (the caller's contract).
+unsafe fn write<T>(result: Result<T, ConfigError>, out: *mut T) -> at_status {
+    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
+    let Some(out) = (unsafe { out.as_mut() }) else {
+        return AT_ERR_NULL_POINTER;
+    };
+    match result {
+        Ok(value) => {
+            *out = value;
+            AT_OK
+        }
+        Err(error) => status_of(error),
+    }
+}
+
+/// The settings of an offset-binary (unsigned) ADC of `bits` bits (2 to 16): mid-scale
+/// `2^(bits-1)`, shifted by `16 - bits`, to `out` (`AT_ERR_BITS`; `out` unchanged on error).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_adc_counts_offset_binary(
+    bits: u32,
+    out: *mut at_adc_counts,
+) -> at_status {
+    // SAFETY: the same contract.
+    unsafe { write(at_adc_counts::of_bits(bits, true), out) }
+}
+
+/// The settings of a two's complement (signed) ADC of `bits` bits (2 to 16): mid-scale 0,
+/// shifted by `16 - bits`, to `out` (`AT_ERR_BITS`; `out` unchanged on error).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_adc_counts_twos_complement(
+    bits: u32,
+    out: *mut at_adc_counts,
+) -> at_status {
+    // SAFETY: the same contract.
+    unsafe { write(at_adc_counts::of_bits(bits, false), out) }
+}
+
+/// Builds a fixed-point signal chain into `out`: the fixed-point observer `gains` (required;
+/// its monitor set here for `nominal_amplitude_counts`, the amplitude of the observer's
+/// 16-bit input after the stages, 16384 to 46341, or off for 0: `AT_ERR_NOMINAL_AMPLITUDE`)
+/// after the optional stages, each NULL when absent: the ADC `adc` (then the chain takes
+/// counts of any width, `at_chain_fixed_track_u16`, `_i32`, ...; without it, `int16`
+/// samples only), a stored `calibration` (offsets and amplitudes in the observer's 16-bit
+/// counts, after the ADC's shift; converted to integers: `AT_ERR_OFFSET_C`, ...,
+/// `AT_ERR_AMPLITUDE_S` for a sine channel less than half the cosine's), and the angle
+/// correction `table` (`AT_ERR_ANGLE_CORRECTION`). `out` unchanged on error; the stages are
+/// copied, so they need not outlive the call. Double-precision arithmetic: at start-up.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_fixed_new(
+    gains: *const at_fixed_gains,
+    adc: *const at_adc_counts,
+    calibration: *const at_sensor_calibration_f32,
+    table: *const at_angle_table_fixed,
+    nominal_amplitude_counts: f64,
+    out: *mut at_chain_fixed,
+) -> at_status {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut` (NULL stages
+    // are absent).
+    let (Some(gains), Some(out), stages) = (unsafe {
+        (
+            gains.as_ref(),
+            out.as_mut(),
+            FixedStages {
+                adc: adc.as_ref(),
+                calibration: calibration.as_ref(),
+                table: table.as_ref(),
+            },
+        )
+    }) else {
+        return AT_ERR_NULL_POINTER;
+    };
+    out.set(gains, stages, nominal_amplitude_counts)
+}
+
+/// The body of the `at_chain_fixed_track_*` functions.
+///
+/// # Safety
+/// As theirs.
+#[inline(always)]
+unsafe fn track_counts<I: FixedInput>(
+    chain: *const at_chain_fixed,
+    state: *mut at_chain_state_fixed,
+    raw_c: I,
+    raw_s: I,
+) -> u32 {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
+    match unsafe { (chain.as_ref(), state.as_mut()) } {
+        (Some(chain), Some(state)) => {
+            if track_fixed(chain, state, raw_c, raw_s) {
+                0
+            } else {
+                AT_FAULT_INVALID_ARGUMENT
+            }
+        }
+        _ => AT_FAULT_INVALID_ARGUMENT,
+    }
+}
+
+/// The body of the `at_chain_fixed_update_*` functions.
+///
+/// # Safety
+/// As theirs.
+#[inline(always)]
+unsafe fn update_counts<I: FixedInput>(
+    chain: *const at_chain_fixed,
+    state: *mut at_chain_state_fixed,
+    raw_c: I,
+    raw_s: I,
+) -> at_fixed_estimate {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
+    match unsafe { (chain.as_ref(), state.as_mut()) } {
+        (Some(chain), Some(state)) => update_fixed(chain, state, raw_c, raw_s),
+        _ => at_fixed_estimate::INVALID,
+    }
+}
+
+/// One sample of `int16` counts through the chain's stages and observer, the state only (the
+/// cheapest per-sample call; `at_chain_fixed_estimate` reads the estimate on demand). A
+/// chain without an ADC takes `int16` samples as they are. Returns 0, or
+/// `AT_FAULT_INVALID_ARGUMENT` (nothing changed) for a NULL pointer, a chain not made or a
+/// struct of another build.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_fixed_track_i16(
+    chain: *const at_chain_fixed,
+    state: *mut at_chain_state_fixed,
+    raw_c: i16,
+    raw_s: i16,
+) -> u32 {
+    // SAFETY: the same contract.
+    unsafe { track_counts(chain, state, raw_c, raw_s) }
+}
+
+/// `at_chain_fixed_track_i16`, then the estimate; on refused arguments an estimate whose
+/// faults are `AT_FAULT_INVALID_ARGUMENT` (the rest 0).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_fixed_update_i16(
+    chain: *const at_chain_fixed,
+    state: *mut at_chain_state_fixed,
+    raw_c: i16,
+    raw_s: i16,
+) -> at_fixed_estimate {
+    // SAFETY: the same contract.
+    unsafe { update_counts(chain, state, raw_c, raw_s) }
+}
+
+/// `at_chain_fixed_track_i16` on `uint16` counts, through the chain's ADC
+/// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_fixed_track_u16(
+    chain: *const at_chain_fixed,
+    state: *mut at_chain_state_fixed,
+    raw_c: u16,
+    raw_s: u16,
+) -> u32 {
+    // SAFETY: the same contract.
+    unsafe { track_counts(chain, state, raw_c, raw_s) }
+}
+
+/// `at_chain_fixed_track_u16`, then the estimate; on refused arguments an estimate whose
+/// faults are `AT_FAULT_INVALID_ARGUMENT` (the rest 0).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_fixed_update_u16(
+    chain: *const at_chain_fixed,
+    state: *mut at_chain_state_fixed,
+    raw_c: u16,
+    raw_s: u16,
+) -> at_fixed_estimate {
+    // SAFETY: the same contract.
+    unsafe { update_counts(chain, state, raw_c, raw_s) }
+}
+
+/// `at_chain_fixed_track_i16` on `int32` counts, through the chain's ADC
+/// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_fixed_track_i32(
+    chain: *const at_chain_fixed,
+    state: *mut at_chain_state_fixed,
+    raw_c: i32,
+    raw_s: i32,
+) -> u32 {
+    // SAFETY: the same contract.
+    unsafe { track_counts(chain, state, raw_c, raw_s) }
+}
+
+/// `at_chain_fixed_track_i32`, then the estimate; on refused arguments an estimate whose
+/// faults are `AT_FAULT_INVALID_ARGUMENT` (the rest 0).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_fixed_update_i32(
+    chain: *const at_chain_fixed,
+    state: *mut at_chain_state_fixed,
+    raw_c: i32,
+    raw_s: i32,
+) -> at_fixed_estimate {
+    // SAFETY: the same contract.
+    unsafe { update_counts(chain, state, raw_c, raw_s) }
+}
+
+/// The estimate `state` holds for `chain` (its last sample's; all zero for a fresh state).
+/// Refused arguments: `AT_FAULT_INVALID_ARGUMENT`.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_fixed_estimate(
+    chain: *const at_chain_fixed,
+    state: *const at_chain_state_fixed,
+) -> at_fixed_estimate {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
+    match unsafe { (chain.as_ref(), state.as_ref()) } {
+        (Some(chain), Some(state)) => estimate_fixed(chain, state),
+        _ => at_fixed_estimate::INVALID,
+    }
+}
+
+/// The sample period (s) of `chain`'s observer; 0 for NULL or a chain not made (for
+/// `at_fixed_estimate`'s speed: `speed / 2^32 * 2 pi / period` rad/s).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_fixed_sample_period_s(chain: *const at_chain_fixed) -> f64 {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
+    unsafe { chain.as_ref() }.map_or(0.0, sample_period_fixed)
+}
+
+/// Makes `state` fresh: the observer initialises itself from its next sample. NULL is
+/// ignored.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_state_fixed_reset(state: *mut at_chain_state_fixed) {
+    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
+    if let Some(state) = unsafe { state.as_mut() } {
+        *state = at_chain_state_fixed::FRESH;
+    }
+}
+
+/// Returns the faults latched in `state` (`AT_FAULT_*` bits) and clears them. 0 for NULL.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_state_fixed_clear_faults(
+    state: *mut at_chain_state_fixed,
+) -> u32 {
+    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
+    unsafe { state.as_mut() }.map_or(0, at_chain_state_fixed::clear_faults)
+}
+
+/// The fixed-point table of `errors_rad` (`AT_ANGLE_TABLE_LENGTH` errors in rad at the
+/// angles `-pi + 2 pi k / 256`, each finite and within 0.25 rad: `AT_ERR_ANGLE_CORRECTION`),
+/// rounded to Q15, to `out` (unchanged on error).
+///
+/// # Safety
+/// `errors_rad` points to `AT_ANGLE_TABLE_LENGTH` floats; see the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_angle_table_fixed_from_errors(
+    errors_rad: *const f32,
+    out: *mut at_angle_table_fixed,
+) -> at_status {
+    // SAFETY: the caller's contract: NULL, or `AT_ANGLE_TABLE_LENGTH` floats.
+    let Some(errors) = (unsafe { errors_rad.cast::<[f32; AT_ANGLE_TABLE_LENGTH]>().as_ref() })
+    else {
+        return AT_ERR_NULL_POINTER;
+    };
+    // SAFETY: the same contract.
+    unsafe { write(at_angle_table_fixed::from_errors(errors), out) }
+}
+
+/// The fixed-point table of the harmonic angle error `harmonics` (as `angletrack calibrate`
+/// learns it; checked as `at_chain_f32_new` checks it: `AT_ERR_ANGLE_CORRECTION`), rounded to
+/// Q15, to `out` (unchanged on error).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_angle_table_fixed_from_harmonics(
+    harmonics: *const at_angle_correction_f32,
+    out: *mut at_angle_table_fixed,
+) -> at_status {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
+    let Some(harmonics) = (unsafe { harmonics.as_ref() }) else {
+        return AT_ERR_NULL_POINTER;
+    };
+    // SAFETY: the same contract.
+    unsafe { write(at_angle_table_fixed::from_harmonics(harmonics), out) }
+}
+
+/// The float table of the harmonic angle error `harmonics` (checked:
+/// `AT_ERR_ANGLE_CORRECTION`), to `out` (unchanged on error).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_angle_correction_table_f32_from_harmonics(
+    harmonics: *const at_angle_correction_f32,
+    out: *mut at_angle_correction_table_f32,
+) -> at_status {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
+    let Some(harmonics) = (unsafe { harmonics.as_ref() }) else {
+        return AT_ERR_NULL_POINTER;
+    };
+    // SAFETY: the same contract.
+    unsafe {
+        write(
+            at_angle_correction_table_f32::from_harmonics(harmonics),
+            out,
+        )
+    }
+}
+
+/// The float table of a measured error curve: `curve[j]` (rad) at the angle
+/// `-pi + 2 pi j / points` (`points` at least 2: `AT_ERR_CURVE`), resampled by periodic linear
+/// interpolation (entries finite and within 0.25 rad: `AT_ERR_ANGLE_CORRECTION`), to `out`
+/// (unchanged on error).
+///
+/// # Safety
+/// `curve` points to `points` floats; see the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_angle_correction_table_f32_from_curve(
+    curve: *const f32,
+    points: usize,
+    out: *mut at_angle_correction_table_f32,
+) -> at_status {
+    if curve.is_null() {
+        return AT_ERR_NULL_POINTER;
+    }
+    // SAFETY: `curve` is not NULL and points to `points` floats (the caller's contract).
+    let curve = unsafe { core::slice::from_raw_parts(curve, points) };
+    // SAFETY: the same contract.
+    unsafe { write(at_angle_correction_table_f32::from_curve(curve), out) }
+}
+
+/// Checks a float table (each entry finite and within 0.25 rad): `AT_OK` or
+/// `AT_ERR_ANGLE_CORRECTION` (`at_chain_f32_new` checks it again).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_angle_correction_table_f32_check(
+    table: *const at_angle_correction_table_f32,
+) -> at_status {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
+    match unsafe { table.as_ref() } {
+        Some(table) => table.checked().err().map_or(AT_OK, status_of),
+        None => AT_ERR_NULL_POINTER,
+    }
+}

@@ -1,0 +1,198 @@
+//! The angle correction as a table over the electrical turn (the core's
+//! `AngleCorrectionTable` and `FixedAngleCorrectionTable`), as plain C structs that firmware
+//! may fill once at start-up or keep `const` in flash: `at_angle_correction_table_f32` (the
+//! error in rad at `AT_ANGLE_TABLE_LENGTH` angles, for the f32 chain) and
+//! `at_angle_table_fixed` (the same in Q15 rad, for the fixed-point chain). Each is made from
+//! the errors in rad, from the harmonics `angletrack calibrate` learns, or (the float one)
+//! from a measured error curve; the chains check them again when they are built.
+
+use angletrack_core::{
+    AngleCorrection, AngleCorrectionTable, ConfigError, FixedAngleCorrectionTable, Prediction,
+    Stage,
+};
+
+use crate::chain::at_angle_correction_f32;
+
+/// The entries of an angle-correction table (`at_angle_correction_table_f32`,
+/// `at_angle_table_fixed`): the error at the angles `-pi + 2 pi k / 256`, `k = 0..255`,
+/// interpolated linearly between them at the observer's predicted angle.
+pub const AT_ANGLE_TABLE_LENGTH: usize = 256;
+
+/// The float table of the core (f64: the fixed-point table is rounded from it).
+pub(crate) type TableF64 = AngleCorrectionTable<f64, AT_ANGLE_TABLE_LENGTH>;
+/// The float table of the f32 chain.
+pub(crate) type TableF32 = AngleCorrectionTable<f32, AT_ANGLE_TABLE_LENGTH>;
+/// The fixed-point chain's table.
+pub(crate) type TableFixed = FixedAngleCorrectionTable<AT_ANGLE_TABLE_LENGTH>;
+
+/// The sensor's angle error `d` (rad) at the angles `-pi + 2 pi k / 256`: the f32 chain
+/// rotates each sample by `-d` at the observer's predicted angle, `d` interpolated linearly
+/// (an alternative to the harmonic `at_angle_correction_f32`: the same cost whatever the
+/// error's shape). Each entry finite and within 0.25 rad; all zero corrects nothing. Made by
+/// `at_angle_correction_table_f32_from_harmonics` or `_from_curve`, or written directly.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct at_angle_correction_table_f32 {
+    /// `d` (rad) at the angle `-pi + 2 pi k / 256`, index `k`.
+    pub errors_rad: [f32; AT_ANGLE_TABLE_LENGTH],
+}
+
+/// The sensor's angle error `d` in Q15 rad (2^-15 rad) at the angles `-pi + 2 pi k / 256`
+/// (the top 8 bits of the binary angle, offset by half a turn), for the fixed-point chain,
+/// which rotates each sample by `-d` in integers at the predicted binary angle. Each entry
+/// within 8192 (0.25 rad); all zero corrects nothing. Made by
+/// `at_angle_table_fixed_from_errors` or `_from_harmonics`, or kept `const`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct at_angle_table_fixed {
+    /// `d` (Q15 rad) at the angle `-pi + 2 pi k / 256`, index `k`.
+    pub errors_q15: [i16; AT_ANGLE_TABLE_LENGTH],
+}
+
+/// The f32 chain's angle correction: none, the harmonic one or its table. As large as the
+/// table whatever it holds: it lives in the C struct's fixed storage (no heap, `Copy`).
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Correction {
+    /// No correction.
+    None,
+    /// The harmonic correction.
+    Harmonics(AngleCorrection<f32>),
+    /// The table.
+    Table(TableF32),
+}
+
+/// The core's stage held, its `forward` delegated to it.
+impl Stage<f32, (f32, f32)> for Correction {
+    type State = ();
+    type Memo = ();
+
+    #[inline(always)]
+    fn forward(
+        &self,
+        state: &mut (),
+        prediction: &impl Prediction<f32>,
+        input: (f32, f32),
+    ) -> ((f32, f32), ()) {
+        match self {
+            Correction::None => (input, ()),
+            Correction::Harmonics(h) => h.forward(state, prediction, input),
+            Correction::Table(t) => t.forward(state, prediction, input),
+        }
+    }
+
+    #[inline(always)]
+    fn quiet(&self, _: &()) -> bool {
+        true
+    }
+}
+
+impl at_angle_correction_f32 {
+    /// The core's harmonics in f64, checked.
+    fn harmonics_f64(&self) -> Result<AngleCorrection<f64>, ConfigError> {
+        AngleCorrection::new(
+            self.cos_coefficients.map(f64::from),
+            self.sin_coefficients.map(f64::from),
+        )
+    }
+}
+
+impl at_angle_correction_table_f32 {
+    /// The core's table, checked.
+    pub(crate) fn checked(&self) -> Result<TableF32, ConfigError> {
+        AngleCorrectionTable::new(self.errors_rad)
+    }
+
+    /// The table of a core table.
+    fn of(table: &TableF32) -> Self {
+        Self {
+            errors_rad: *table.errors(),
+        }
+    }
+
+    /// The table of checked harmonics.
+    pub(crate) fn from_harmonics(h: &at_angle_correction_f32) -> Result<Self, ConfigError> {
+        let harmonics = AngleCorrection::new(h.cos_coefficients, h.sin_coefficients)?;
+        Ok(Self::of(&AngleCorrectionTable::from_harmonics(&harmonics)))
+    }
+
+    /// The table of a measured error curve (`curve[j]` at `-pi + 2 pi j / curve.len()`).
+    pub(crate) fn from_curve(curve: &[f32]) -> Result<Self, ConfigError> {
+        AngleCorrectionTable::from_curve(curve).map(|t| Self::of(&t))
+    }
+}
+
+impl at_angle_table_fixed {
+    /// The core's table, checked (every entry within 0.25 rad).
+    pub(crate) fn checked(&self) -> Result<TableFixed, ConfigError> {
+        let table = TableF64::new(self.errors_q15.map(|q| f64::from(q) / 32768.0))?;
+        // Each entry is a multiple of 2^-15: rounded back to itself.
+        Ok(FixedAngleCorrectionTable::from_table(&table))
+    }
+
+    /// The table of a core table.
+    fn of(table: &TableF64) -> Self {
+        Self {
+            errors_q15: *FixedAngleCorrectionTable::from_table(table).errors_q15(),
+        }
+    }
+
+    /// The table of errors in rad (each finite and within 0.25 rad), rounded to Q15.
+    pub(crate) fn from_errors(errors: &[f32; AT_ANGLE_TABLE_LENGTH]) -> Result<Self, ConfigError> {
+        TableF64::new(errors.map(f64::from)).map(|t| Self::of(&t))
+    }
+
+    /// The table of checked harmonics, rounded to Q15.
+    pub(crate) fn from_harmonics(h: &at_angle_correction_f32) -> Result<Self, ConfigError> {
+        let harmonics = h.harmonics_f64()?;
+        Ok(Self::of(&AngleCorrectionTable::from_harmonics(&harmonics)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use angletrack_core::Parameter;
+
+    fn third_harmonic(b3: f32) -> at_angle_correction_f32 {
+        let mut h = at_angle_correction_f32::default();
+        h.sin_coefficients[2] = b3;
+        h
+    }
+
+    #[test]
+    fn tables_agree_with_their_harmonics() {
+        let h = third_harmonic(0.004);
+        let float = at_angle_correction_table_f32::from_harmonics(&h).unwrap();
+        let fixed = at_angle_table_fixed::from_harmonics(&h).unwrap();
+        for k in 0..AT_ANGLE_TABLE_LENGTH {
+            let angle = -core::f64::consts::PI + core::f64::consts::TAU * k as f64 / 256.0;
+            let d = 0.004 * (3.0 * angle).sin();
+            assert!((f64::from(float.errors_rad[k]) - d).abs() < 1e-7, "{k}");
+            assert!((f64::from(fixed.errors_q15[k]) / 32768.0 - d).abs() <= 0.5 / 32768.0);
+        }
+        assert_eq!(fixed.checked().unwrap().errors_q15(), &fixed.errors_q15);
+        assert!(float.checked().is_ok());
+        let again = at_angle_table_fixed::from_errors(&float.errors_rad).unwrap();
+        assert_eq!(again, fixed);
+    }
+
+    #[test]
+    fn refuses_what_the_core_refuses() {
+        let angle_correction = |e: ConfigError| e.parameter() == Parameter::AngleCorrection;
+        assert!(
+            at_angle_table_fixed::from_harmonics(&third_harmonic(0.3)).is_err_and(angle_correction)
+        );
+        let mut errors = [0.0; AT_ANGLE_TABLE_LENGTH];
+        errors[7] = f32::NAN;
+        assert!(at_angle_table_fixed::from_errors(&errors).is_err_and(angle_correction));
+        let bad = at_angle_table_fixed {
+            errors_q15: [9000; AT_ANGLE_TABLE_LENGTH],
+        };
+        assert!(bad.checked().is_err_and(angle_correction));
+        let curve = at_angle_correction_table_f32::from_curve(&[0.0]);
+        assert!(curve.is_err_and(|e| e.parameter() == Parameter::AngleErrorCurve));
+        let curve = at_angle_correction_table_f32::from_curve(&[0.0, 0.002, 0.0, -0.002]).unwrap();
+        assert!((curve.errors_rad[64] - 0.002).abs() < 1e-7);
+    }
+}

@@ -80,7 +80,7 @@
  * The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_F32_WORDS 152
+#define AT_CHAIN_F32_WORDS 280
 
 /**
  * The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
@@ -98,7 +98,7 @@
  * The 8-byte words of an `at_chain_fixed`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_FIXED_WORDS 76
+#define AT_CHAIN_FIXED_WORDS 140
 
 /**
  * The 8-byte words of an `at_chain_state_fixed`'s storage (checked against the Rust type at

@@ -30,7 +30,7 @@ use crate::table::{Correction, at_angle_correction_table_f32};
 
 /// The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_CHAIN_F32_WORDS: usize = 152;
+pub const AT_CHAIN_F32_WORDS: usize = 280;
 /// The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
 /// compile time, on every target).
 pub const AT_CHAIN_STATE_F32_WORDS: usize = 22;

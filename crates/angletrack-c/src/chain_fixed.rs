@@ -5,11 +5,9 @@
 //! monitor); `at_chain_state_fixed`, one channel's state; and `at_adc_counts`, the plain
 //! ADC settings (the core's `AdcCounts`).
 //!
-//! The chain is the core's `Chain<(Adc, (Optional<FixedCalibration>,
-//! Optional<FixedAngleCorrectionTable<256>>)), FixedGains<N>>`. [`Adc`] is the core's
-//! `AdcCounts` conversion (checked by it, and equal to it: a test compares them), written
-//! here with `max` and `min`: the core's `clamp` keeps a panic path (its `min <= max`
-//! assertion) in a firmware image. A chain without an ADC takes `int16` samples through the
+//! The chain is the core's `Chain<(AdcCounts, (Optional<FixedCalibration>,
+//! Optional<FixedAngleCorrectionTable<256>>)), FixedGains<N>>`. A chain without an ADC
+//! takes `int16` samples through the
 //! identity of `AdcCounts::twos_complement(16)` (a widening, two comparisons and a shift by
 //! 0); an absent calibration or table is skipped by [`Optional`] (one test of its flag), not
 //! run as an identity.
@@ -29,7 +27,7 @@ use crate::table::{TableFixed, at_angle_table_fixed};
 
 /// The 8-byte words of an `at_chain_fixed`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_CHAIN_FIXED_WORDS: usize = 76;
+pub const AT_CHAIN_FIXED_WORDS: usize = 140;
 /// The 8-byte words of an `at_chain_state_fixed`'s storage (checked against the Rust type at
 /// compile time, on every target).
 pub const AT_CHAIN_STATE_FIXED_WORDS: usize = 7;
@@ -64,9 +62,9 @@ impl at_adc_counts {
     }
 
     /// The conversion, checked by the core's `AdcCounts`.
-    fn checked(&self) -> Result<Adc, ConfigError> {
+    fn checked(&self) -> Result<AdcCounts, ConfigError> {
         AdcCounts::new(self.mid_scale_counts, self.shift)?;
-        Ok(Adc::new(self.mid_scale_counts, self.shift))
+        AdcCounts::new(self.mid_scale_counts, self.shift)
     }
 }
 
@@ -103,68 +101,6 @@ pub struct at_chain_state_fixed {
 
 slot::slot_struct!(at_chain_state_fixed, AT_CHAIN_STATE_FIXED_WORDS);
 
-/// The core's `AdcCounts` conversion of checked settings: `(raw - mid_scale) << shift`,
-/// the difference saturated to what fits `i16` once shifted.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Adc {
-    /// The count of a zero signal.
-    mid_scale_counts: i32,
-    /// The left shift (0 to 15).
-    shift: u32,
-    /// The lowest difference that does not saturate once shifted.
-    low: i32,
-    /// The highest difference that does not saturate once shifted.
-    high: i32,
-}
-
-impl Adc {
-    /// The conversion of settings the core checked (`shift` at most 15).
-    const fn new(mid_scale_counts: i32, shift: u32) -> Self {
-        Self {
-            mid_scale_counts,
-            shift,
-            low: -(1 << 15) >> shift,
-            high: ((1 << 15) - 1) >> shift,
-        }
-    }
-
-    /// [`Adc::new`], for the tests.
-    #[cfg(test)]
-    pub(crate) const fn new_for_test(mid_scale_counts: i32, shift: u32) -> Self {
-        Self::new(mid_scale_counts, shift)
-    }
-
-    /// The identity of `int16` samples (`AdcCounts::twos_complement(16)`).
-    const IDENTITY: Self = Self::new(0, 0);
-
-    /// One channel's sample.
-    #[inline(always)]
-    pub(crate) fn scale<I: FixedInput>(&self, raw: I) -> i16 {
-        let difference = raw.minus(self.mid_scale_counts);
-        (difference.max(self.low).min(self.high) << self.shift) as i16
-    }
-}
-
-impl<I: FixedInput> Stage<i16, (I, I)> for Adc {
-    type State = ();
-    type Memo = ();
-
-    #[inline(always)]
-    fn forward(
-        &self,
-        _: &mut (),
-        _: &impl Prediction<i16>,
-        (raw_c, raw_s): (I, I),
-    ) -> ((i16, i16), ()) {
-        ((self.scale(raw_c), self.scale(raw_s)), ())
-    }
-
-    #[inline(always)]
-    fn quiet(&self, _: &()) -> bool {
-        true
-    }
-}
-
 /// A stage that may be absent: skipped (one test) rather than run as an identity.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Optional<S>(pub(crate) Option<S>);
@@ -193,7 +129,10 @@ impl<S: Stage<i16, (i16, i16), State = (), Memo = ()>> Stage<i16, (i16, i16)> fo
 }
 
 /// The front end of a fixed-point chain.
-type FrontEnd = (Adc, (Optional<FixedCalibration>, Optional<TableFixed>));
+type FrontEnd = (
+    AdcCounts,
+    (Optional<FixedCalibration>, Optional<TableFixed>),
+);
 
 /// What an `at_chain_fixed` holds: the core's chain of order `N`, and whether its ADC was
 /// given (else `u16` and `i32` counts are refused).
@@ -263,7 +202,7 @@ where
         has_adc: adc.is_some(),
         chain: Chain::new(
             (
-                adc.unwrap_or(Adc::IDENTITY),
+                adc.unwrap_or(IDENTITY),
                 (Optional(calibration), Optional(table)),
             ),
             observer,
@@ -351,34 +290,26 @@ impl at_chain_state_fixed {
     }
 }
 
+/// The ADC of a chain without one: the identity of `int16` samples.
+const IDENTITY: AdcCounts = match AdcCounts::twos_complement(16) {
+    Ok(adc) => adc,
+    Err(_) => panic!("the identity is a valid ADC"),
+};
+
 /// Counts of a fixed-point chain: `int16` (through the identity if the chain has no ADC),
 /// `uint16` and `int32` (refused without an ADC).
 pub(crate) trait FixedInput: AdcSample {
     /// Whether a chain without an ADC takes this type.
     const WITHOUT_ADC: bool;
-    /// `self - mid_scale_counts` (`|mid_scale_counts| <= 2^30`) in `i32`, saturated.
-    fn minus(self, mid_scale_counts: i32) -> i32;
 }
 impl FixedInput for i16 {
     const WITHOUT_ADC: bool = true;
-    #[inline(always)]
-    fn minus(self, mid_scale_counts: i32) -> i32 {
-        i32::from(self) - mid_scale_counts
-    }
 }
 impl FixedInput for u16 {
     const WITHOUT_ADC: bool = false;
-    #[inline(always)]
-    fn minus(self, mid_scale_counts: i32) -> i32 {
-        i32::from(self) - mid_scale_counts
-    }
 }
 impl FixedInput for i32 {
     const WITHOUT_ADC: bool = false;
-    #[inline(always)]
-    fn minus(self, mid_scale_counts: i32) -> i32 {
-        self.saturating_sub(mid_scale_counts)
-    }
 }
 
 /// One sample through `chain` on `state`: `$body` with the chain `$c` and state `$s` of

@@ -106,7 +106,7 @@ impl at_angle_correction_table_f32 {
     /// The table of a core table.
     fn of(table: &TableF32) -> Self {
         Self {
-            errors_rad: *table.errors(),
+            errors_rad: table.errors(),
         }
     }
 
@@ -133,7 +133,7 @@ impl at_angle_table_fixed {
     /// The table of a core table.
     fn of(table: &TableF64) -> Self {
         Self {
-            errors_q15: *FixedAngleCorrectionTable::from_table(table).errors_q15(),
+            errors_q15: FixedAngleCorrectionTable::from_table(table).errors_q15(),
         }
     }
 
@@ -171,7 +171,7 @@ mod tests {
             assert!((f64::from(float.errors_rad[k]) - d).abs() < 1e-7, "{k}");
             assert!((f64::from(fixed.errors_q15[k]) / 32768.0 - d).abs() <= 0.5 / 32768.0);
         }
-        assert_eq!(fixed.checked().unwrap().errors_q15(), &fixed.errors_q15);
+        assert_eq!(fixed.checked().unwrap().errors_q15(), fixed.errors_q15);
         assert!(float.checked().is_ok());
         let again = at_angle_table_fixed::from_errors(&float.errors_rad).unwrap();
         assert_eq!(again, fixed);

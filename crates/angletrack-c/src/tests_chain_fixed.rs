@@ -7,9 +7,7 @@
 use core::f64::consts::{PI, TAU};
 use core::ptr::null;
 
-use angletrack_core::AdcCounts;
-
-use crate::chain_fixed::{Adc, ChainFixed, StateFixed};
+use crate::chain_fixed::{ChainFixed, StateFixed};
 use crate::*;
 
 /// Fewer samples under Miri, whose interpreter is slow.
@@ -414,37 +412,5 @@ fn float_tables_from_the_c_functions() {
             AT_OK
         );
         assert!((table.errors_rad[0] + 0.01).abs() < 1e-7, "cos(-pi) = -1");
-    }
-}
-
-#[test]
-fn the_adc_is_the_cores() {
-    for (mid, shift) in [(2048, 4), (0, 0), (-5, 3), (1 << 30, 15), (-(1 << 30), 1)] {
-        let (core, ours) = (
-            AdcCounts::new(mid, shift).unwrap(),
-            Adc::new_for_test(mid, shift),
-        );
-        for raw in [
-            i32::MIN,
-            -70_000,
-            -32768,
-            -3,
-            0,
-            1,
-            2047,
-            2048,
-            4095,
-            65535,
-            1 << 30,
-            i32::MAX,
-        ] {
-            assert_eq!(ours.scale(raw), core.scale(raw), "{mid} {shift} {raw}");
-            if let Ok(r) = i16::try_from(raw) {
-                assert_eq!(ours.scale(r), core.scale(r));
-            }
-            if let Ok(r) = u16::try_from(raw) {
-                assert_eq!(ours.scale(r), core.scale(r));
-            }
-        }
     }
 }

@@ -20,7 +20,8 @@
 //! [`learn_angle_correction`] refuses a slower capture.
 
 use angletrack_core::{
-    AngleCorrection, Calibrator, Gains, MAX_CORRECTION_ORDER, ObserverState, SensorCalibration,
+    AngleCorrection, Calibrator, FaultThresholds, Gains, MAX_CORRECTION_ORDER, ObserverState,
+    SensorCalibration,
 };
 use nalgebra::Complex;
 
@@ -180,6 +181,7 @@ pub fn learn_angle_correction<const N: usize>(
             expected: "settle_fraction in [0, 1)",
         });
     }
+    let gains = &for_capture_amplitude(gains, y_c, y_s);
     let settle = (options.settle_fraction * y_c.len() as f64) as usize;
     let (sensor, sensor_turns) = learn_sensor(gains, &y_c[..settle.max(1)], &y_s[..settle.max(1)]);
     let observed = observe(gains, &sensor, y_c, y_s, settle);
@@ -274,6 +276,24 @@ pub fn learn_angle_correction<const N: usize>(
         error_rms_rad,
         residual_rms_rad,
     })
+}
+
+/// `gains` with the diagnostics' thresholds scaled to the capture's measured amplitude
+/// ([`capture_fault_thresholds`](crate::capture_fault_thresholds)) when they carry the
+/// defaults (amplitude 1): the loop is amplitude-invariant, its monitor is not, so that a
+/// capture in counts (amplitude 1800) or in volts (0.455) is learned as a normalised one.
+/// Thresholds the caller set are kept.
+fn for_capture_amplitude<const N: usize>(
+    gains: &Gains<f64, N>,
+    y_c: &[f64],
+    y_s: &[f64],
+) -> Gains<f64, N> {
+    if gains.fault_thresholds() != FaultThresholds::default() {
+        return *gains;
+    }
+    gains
+        .with_fault_thresholds(crate::capture_fault_thresholds(y_c, y_s))
+        .unwrap_or(*gains)
 }
 
 /// The online calibration learned over `y_c`, `y_s`, and the whole turns it learned.

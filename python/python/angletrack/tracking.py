@@ -15,7 +15,7 @@ import math
 import pathlib
 import sys
 import time
-from typing import Optional
+from typing import Optional, Union
 
 import numpy as np
 
@@ -199,10 +199,11 @@ def unsigned_mid_scale(sample_dtype: str, y_c: np.ndarray, y_s: np.ndarray) -> f
                                    np.ascontiguousarray(y_s, dtype=np.float64)))
 
 
-def track_capture(s: TrackSettings) -> tuple[str, Optional[angletrack.Observer]]:
+def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, harmonics.CalibratedObserver]]:
     """Runs ``s``: writes the estimates to ``s.output`` and returns the summary to print and
-    the observer at the end of the capture (its learned calibration, its faults; ``None``
-    for carrier-modulated windings, whose observer runs inside the demodulating path).
+    the observer at the end of the capture (its learned calibration, its faults; for
+    carrier-modulated windings the observer of the demodulated pairs, which go through the
+    same calibration stages as y_c, y_s samples).
     Raises ``ValueError`` (``CaptureError``, ``ConfigError``) on a capture that cannot be
     tracked, before anything is written where it can be told before."""
     if s.carrier_hz is not None or s.pole_pairs is not None or s.latency_s is not None:
@@ -210,10 +211,7 @@ def track_capture(s: TrackSettings) -> tuple[str, Optional[angletrack.Observer]]
 
         if s.carrier_hz is None:
             raise ValueError("pole_pairs: --pole-pairs and --latency need --carrier-hz (the resolver path)")
-        if s.observer_arguments or s.calibration is not None:
-            raise ValueError("calibration: --calibrate and --calibration apply to y_c, y_s samples, not to "
-                             "carrier-modulated windings (--carrier-hz)")
-        return resolver.track_windings(s), None
+        return resolver.track_windings(s)
     reader = angletrack.CaptureReader(
         s.capture, columns=s.columns, delimiter=s.delimiter, time_unit=s.time_unit,
         sample_rate_hz=s.sample_rate_hz, chunk_rows=s.chunk_rows,

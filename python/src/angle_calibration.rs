@@ -4,7 +4,7 @@
 
 use angletrack::{
     AngleCorrection, CalibrationOptions, Calibrator, CaptureCalibration, EstimateColumns, Gains,
-    ObserverState, SensorCalibration,
+    ObserverState, SensorCalibration, ThresholdPolicy,
 };
 use angletrack_core::MAX_CORRECTION_ORDER;
 use pyo3::prelude::*;
@@ -100,6 +100,9 @@ enum Channel {
 #[derive(Debug)]
 pub struct PyCorrectedObserver {
     channel: Channel,
+    /// The monitor's thresholds: scaled to the first call's samples (`ThresholdPolicy`),
+    /// so that counts or volts are monitored as normalised signals are.
+    thresholds: ThresholdPolicy<f64>,
     calibrator: Calibrator<f64>,
     correction: AngleCorrection<f64>,
 }
@@ -120,6 +123,7 @@ impl PyCorrectedObserver {
         };
         Ok(Self {
             channel,
+            thresholds: ThresholdPolicy::new(None),
             calibrator: Calibrator::from_calibration(sensor),
             correction,
         })
@@ -135,6 +139,12 @@ impl PyCorrectedObserver {
         let (c, s) = (samples::<f64>(y_c, "y_c")?, samples::<f64>(y_s, "y_s")?);
         let (c, s) = (c.as_slice(), s.as_slice());
         check_equal_lengths(("y_c", c.len()), ("y_s", s.len()))?;
+        if let Some(thresholds) = self.thresholds.decide(c, s) {
+            self.channel = match self.channel {
+                Channel::Second(g, st) => Channel::Second(g.with_fault_thresholds(thresholds)?, st),
+                Channel::Third(g, st) => Channel::Third(g.with_fault_thresholds(thresholds)?, st),
+            };
+        }
         let n = c.len();
         let out = OutputArrays::<f64>::new(py, n)?;
         let (calibrator, correction) = (&mut self.calibrator, &self.correction);

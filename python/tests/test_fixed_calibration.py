@@ -83,8 +83,12 @@ def test_track_fixed_applies_the_stored_calibration_in_integers(tmp_path, gains_
     assert cli.main(["track", str(test), "--gains-file", str(gains_file), "--skip", "0.1", "--calibration", str(cal),
                      "--output", str(tmp_path / "float.csv")]) == 0
     floating = capsys.readouterr().out
+    assert cli.main(["track", str(test), "--gains-file", str(gains_file), "--skip", "0.1", "--calibration", str(cal),
+                     "--dtype", "float32", "--output", str(tmp_path / "float32.csv")]) == 0
+    single = capsys.readouterr().out
+    assert "dtype=float32" in single and rms_of(single) < rms_of(floating) + 1e-4, single
     print(f"RMS: plain fixed {rms_of(plain):.3e}, fixed calibrated {rms_of(fixed):.3e}, float64 calibrated "
-          f"{rms_of(floating):.3e}")
+          f"{rms_of(floating):.3e}, float32 calibrated {rms_of(single):.3e}")
     # Measured: 1.68e-02 rad RMS without the calibration, 4.30e-04 with it in fixed point,
     # 4.27e-04 in float64 (the noise and the speed ripple's lag).
     assert rms_of(plain) > 5e-3, plain

@@ -910,7 +910,7 @@ def learn_calibration(
 class _CorrectedObserver:
     def __init__(
         self, gains: Gains, sensor: _SensorParameters, cos: Sequence[float],
-        sin: Sequence[float],
+        sin: Sequence[float], *, dtype: _DType = None, sin_cos: _SinCos = None,
     ) -> None: ...
     def update(self, y_c: _Samples, y_s: _Samples) -> Estimates: ...
 

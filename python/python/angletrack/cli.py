@@ -484,7 +484,8 @@ def _add_track_parser(sub) -> None:
                        help="with --calibrate: where to write it (default: CAPTURE_calibration.json)")
     track.add_argument("--calibration", type=pathlib.Path, metavar="FILE.json",
                        help="apply a stored calibration: one from `angletrack calibrate` (offsets, imbalance, "
-                       "quadrature and the angle error harmonics, corrected before the phase detector, float64), "
+                       "quadrature and the angle error harmonics, corrected before the phase detector, in --dtype's "
+                       "type: float32, float64, or integers with fixed), "
                        "or one that --calibrate wrote (frozen; with --calibrate, learning starts from it)")
     resolver.add_track_arguments(track)
     track.add_argument("--plot", nargs="?", const="", type=_png_path, metavar="FILE.png",

@@ -168,11 +168,11 @@ def pairs_observer(s, gains: angletrack.Gains):
     """The observer of the demodulated pairs: the same front-end stages as for y_c, y_s
     samples (``s.observer_arguments``: the online calibration of ``--calibrate``, a stored
     ``SensorCalibration`` of ``--calibration``; an angle calibration from ``angletrack
-    calibrate`` through a :class:`harmonics.CalibratedObserver`, float64)."""
+    calibrate`` through a :class:`harmonics.CalibratedObserver`), in ``s.dtype``."""
     from angletrack import harmonics
 
     if s.calibration is not None:
-        return harmonics.CalibratedObserver(gains, s.calibration)
+        return harmonics.CalibratedObserver(gains, s.calibration, dtype=np.dtype(s.dtype), sin_cos=s.sin_cos)
     return angletrack.Observer(gains, dtype=np.dtype(s.dtype), sin_cos=s.sin_cos, **s.observer_arguments)
 
 
@@ -203,8 +203,6 @@ def track_windings(s) -> tuple:
     )
     dtype = np.dtype(s.dtype)
     observer = pairs_observer(s, gains)
-    if s.calibration is not None:
-        dtype = np.dtype(np.float64)
     drive = None
     if s.pole_pairs is not None or s.latency_s is not None:
         drive = angletrack.DriveOutputs(

@@ -235,8 +235,7 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     dtype = np.dtype(s.dtype)
     calibration = s.calibration
     if calibration is not None:
-        dtype = np.dtype(np.float64)
-        observer = harmonics.CalibratedObserver(gains, calibration)
+        observer = harmonics.CalibratedObserver(gains, calibration, dtype=dtype, sin_cos=s.sin_cos)
     else:
         observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos, **s.observer_arguments)
     mid = unsigned_mid_scale(reader.sample_dtype, first.y_c, first.y_s)

@@ -20,12 +20,13 @@
 //! [`learn_angle_correction`] refuses a slower capture.
 
 use angletrack_core::{
-    AngleCorrection, Calibrator, FaultThresholds, Gains, MAX_CORRECTION_ORDER, ObserverState,
-    SensorCalibration,
+    AngleCorrection, Calibrator, Chain, ChainState, FaultThresholds, Gains, MAX_CORRECTION_ORDER,
+    ObserverState, SensorCalibration,
 };
 use nalgebra::Complex;
 
 use crate::error::{Argument, Error};
+use crate::sim::online_calibration;
 
 mod file;
 
@@ -302,12 +303,13 @@ fn learn_sensor<const N: usize>(
     y_c: &[f64],
     y_s: &[f64],
 ) -> (SensorCalibration<f64>, u32) {
-    let mut state = ObserverState::new();
-    let mut calibrator = Calibrator::new();
-    calibrator.enable();
+    let chain = Chain::new(online_calibration(gains), *gains);
+    let mut state = ChainState::<Calibrator<f64>, ObserverState<f64, N>>::new();
+    state.front_end.enable();
     for (&c, &s) in y_c.iter().zip(y_s) {
-        gains.update_calibrated(&mut state, &mut calibrator, c, s);
+        chain.track(&mut state, (c, s));
     }
+    let calibrator = state.front_end;
     (calibrator.calibration(), calibrator.turns_learned())
 }
 
@@ -331,12 +333,15 @@ fn observe<const N: usize>(
     y_s: &[f64],
     settle: usize,
 ) -> Vec<Observed> {
-    let mut state = ObserverState::new();
-    let mut calibrator = Calibrator::from_calibration(*sensor);
+    let chain = Chain::new(online_calibration(gains), *gains);
+    let mut state = ChainState {
+        front_end: Calibrator::from_calibration(*sensor),
+        observer: ObserverState::new(),
+    };
     let ts = gains.sample_period();
     let mut observed = Vec::with_capacity(y_c.len() - settle);
     for (k, (&raw_c, &raw_s)) in y_c.iter().zip(y_s).enumerate() {
-        let estimate = gains.update_calibrated(&mut state, &mut calibrator, raw_c, raw_s);
+        let estimate = chain.update(&mut state, (raw_c, raw_s));
         if k < settle || !estimate.faults.is_empty() {
             continue;
         }

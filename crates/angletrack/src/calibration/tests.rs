@@ -1,6 +1,6 @@
 use std::f64::consts::{PI, TAU};
 
-use angletrack_core::{Calibrator, Gains, ObserverState};
+use angletrack_core::{Chain, ChainState, Gains};
 
 use super::*;
 use crate::{
@@ -101,22 +101,17 @@ fn learned_correction_leaves_below_half_a_milliradian_on_a_rippling_capture() {
         2,
     );
     let run = |corrected: bool| {
-        let mut state = ObserverState::new();
-        let mut calibrator = Calibrator::from_calibration(learned.sensor);
         let correction = if corrected {
             learned.correction
         } else {
             AngleCorrection::NONE
         };
+        // The stored calibration, then the angle correction, before the observer.
+        let chain = Chain::new((learned.sensor, correction), gains);
+        let mut state = ChainState::new();
         let errors: Vec<f64> = (0..test.len())
             .map(|k| {
-                let e = gains.update_calibrated_corrected(
-                    &mut state,
-                    &mut calibrator,
-                    &correction,
-                    test.y_c[k],
-                    test.y_s[k],
-                );
+                let e = chain.update(&mut state, (test.y_c[k], test.y_s[k]));
                 let d = e.angle - test.angle_rad[k];
                 d.sin().atan2(d.cos())
             })

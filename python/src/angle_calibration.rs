@@ -3,14 +3,16 @@
 //! `angletrack.harmonics` (`calibrate`, `Calibration`, `CalibratedObserver`).
 
 use angletrack::{
-    AngleCorrection, CalibrationOptions, Calibrator, CaptureCalibration, EstimateColumns, Gains,
-    ObserverState, SensorCalibration,
+    AngleCorrection, CalibrationOptions, CaptureCalibration, EstimateColumns, Gains, ObserverState,
+    SensorCalibration, ThresholdPolicy,
 };
 use angletrack_core::MAX_CORRECTION_ORDER;
+use angletrack_core::{Chain, ChainState};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::arrays::{check_equal_lengths, samples};
+use crate::dispatch::{Arg, PhaseSinCos, Run, RunSettings, Sample};
 use crate::errors::{Error, Result};
 use crate::estimates::{Estimates, OutputArrays};
 use crate::gains::{GainSet, PyGains, with_gains};
@@ -85,83 +87,94 @@ pub fn checked(
     Ok((sensor, correction))
 }
 
-/// One channel of either order with its state.
-#[derive(Debug, Clone, Copy)]
-enum Channel {
-    Second(Gains<f64, 2>, ObserverState<f64, 2>),
-    Third(Gains<f64, 3>, ObserverState<f64, 3>),
+/// The corrected observer of concrete types: the core's chain of the stored sensor
+/// calibration and the angle correction before the observer.
+#[derive(Debug)]
+struct Corrected<T: Sample, const N: usize, S: PhaseSinCos<T>> {
+    chain: Chain<(SensorCalibration<T>, AngleCorrection<T>), Gains<T, N, S>>,
+    state: ChainState<((), ()), ObserverState<T, N>>,
+    /// The monitor's thresholds: scaled to the first call's samples (`ThresholdPolicy`),
+    /// so that counts or volts are monitored as normalised signals are.
+    thresholds: ThresholdPolicy<T>,
 }
 
-/// An observer (float64, exact sin/cos) whose samples are corrected by a sensor
-/// calibration (offsets, amplitudes, quadrature) and an angle correction (harmonic
-/// coefficients `cos`, `sin`, rad) before its phase detector; its state carries over from
-/// one `update` to the next, so a capture can be tracked chunk by chunk.
+impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for Corrected<T, N, S> {
+    fn run(&mut self, py: Python<'_>, y_c: Arg<'_, '_>, y_s: Arg<'_, '_>) -> Result<Estimates> {
+        let (c, s) = (samples::<T>(y_c, "y_c")?, samples::<T>(y_s, "y_s")?);
+        let (c, s) = (c.as_slice(), s.as_slice());
+        check_equal_lengths(("y_c", c.len()), ("y_s", s.len()))?;
+        if let Some(thresholds) = self.thresholds.decide(c, s) {
+            self.chain.observer = self.chain.observer.with_fault_thresholds(thresholds)?;
+        }
+        let n = c.len();
+        let out = OutputArrays::<T>::new(py, n)?;
+        let (chain, state) = (&self.chain, &mut self.state);
+        out.fill(py, |columns: EstimateColumns<'_, T>| {
+            columns.write(c.iter().zip(s).map(|(&c, &s)| chain.update(state, (c, s))));
+        })?;
+        out.into_estimates(py, n, None)
+    }
+}
+
+/// The corrected observer for gains of concrete types, its stages converted to `T`
+/// (checked again there).
+pub fn corrected<T: Sample, const N: usize, S: PhaseSinCos<T>>(
+    gains: Gains<T, N, S>,
+    sensor: &SensorCalibration<f64>,
+    correction: &AngleCorrection<f64>,
+) -> Result<Box<dyn Run>> {
+    let f = T::from_f64;
+    let (o_c, o_s, a_c, a_s, phi) = sensor.parameters();
+    let sensor = SensorCalibration::new(f(o_c), f(o_s), f(a_c), f(a_s), f(phi))?;
+    let (a, b) = correction.coefficients();
+    let correction = AngleCorrection::new(a.map(f), b.map(f))?;
+    Ok(Box::new(Corrected {
+        chain: Chain::new((sensor, correction), gains),
+        state: ChainState::new(),
+        thresholds: ThresholdPolicy::new(None),
+    }))
+}
+
+/// An observer whose samples are corrected by a sensor calibration (offsets, amplitudes,
+/// quadrature) and an angle correction (harmonic coefficients `cos`, `sin`, rad) before its
+/// phase detector (the core's chain of both stages), in `dtype` (float32 or float64, default
+/// float64) with `sin_cos` (the default of the dtype); its state carries over from one
+/// `update` to the next, so a capture can be tracked chunk by chunk.
 #[pyclass(name = "_CorrectedObserver", module = "angletrack")]
 #[derive(Debug)]
 pub struct PyCorrectedObserver {
-    channel: Channel,
-    calibrator: Calibrator<f64>,
-    correction: AngleCorrection<f64>,
+    inner: Box<dyn Run>,
 }
 
 #[pymethods]
 impl PyCorrectedObserver {
     #[new]
+    #[pyo3(signature = (gains, sensor, cos, sin, *, dtype = None, sin_cos = None))]
     fn py_new(
         gains: PyGains,
         sensor: SensorParameters,
         cos: Vec<f64>,
         sin: Vec<f64>,
+        dtype: Option<&Bound<'_, PyAny>>,
+        sin_cos: Option<&str>,
     ) -> Result<Self> {
         let (sensor, correction) = checked(sensor, cos, sin)?;
-        let channel = match gains.set {
-            GainSet::Second(g) => Channel::Second(g, ObserverState::new()),
-            GainSet::Third(g) => Channel::Third(g, ObserverState::new()),
-        };
+        let settings = RunSettings::from_arguments(gains, dtype, sin_cos)?;
         Ok(Self {
-            channel,
-            calibrator: Calibrator::from_calibration(sensor),
-            correction,
+            inner: settings.typed_gains()?.corrected(&sensor, &correction)?,
         })
     }
 
-    /// Tracks the samples `(y_c, y_s)` (float64) and returns their estimates.
+    /// Tracks the samples `(y_c, y_s)` (of the observer's dtype) and returns their
+    /// estimates.
     fn update(
         &mut self,
         py: Python<'_>,
         y_c: &Bound<'_, PyAny>,
         y_s: &Bound<'_, PyAny>,
     ) -> Result<Estimates> {
-        let (c, s) = (samples::<f64>(y_c, "y_c")?, samples::<f64>(y_s, "y_s")?);
-        let (c, s) = (c.as_slice(), s.as_slice());
-        check_equal_lengths(("y_c", c.len()), ("y_s", s.len()))?;
-        let n = c.len();
-        let out = OutputArrays::<f64>::new(py, n)?;
-        let (calibrator, correction) = (&mut self.calibrator, &self.correction);
-        let channel = &mut self.channel;
-        out.fill(py, |columns| match channel {
-            Channel::Second(g, state) => run(g, state, calibrator, correction, c, s, columns),
-            Channel::Third(g, state) => run(g, state, calibrator, correction, c, s, columns),
-        })?;
-        out.into_estimates(py, n, None)
+        self.inner.run(py, y_c, y_s)
     }
-}
-
-/// Runs one channel over the samples into the columns.
-fn run<const N: usize>(
-    gains: &Gains<f64, N>,
-    state: &mut ObserverState<f64, N>,
-    calibrator: &mut Calibrator<f64>,
-    correction: &AngleCorrection<f64>,
-    y_c: &[f64],
-    y_s: &[f64],
-    columns: EstimateColumns<'_, f64>,
-) {
-    columns.write(
-        y_c.iter()
-            .zip(y_s)
-            .map(|(&c, &s)| gains.update_calibrated_corrected(state, calibrator, correction, c, s)),
-    );
 }
 
 /// Adds the functions to the module.

@@ -195,6 +195,23 @@ pub fn capture_mid_scale(y_c: &Bound<'_, PyAny>, y_s: &Bound<'_, PyAny>) -> Resu
         .map_err(|e| Error::value("capture", e.to_string()))
 }
 
+/// How a capture's counts reach the fixed-point observer, from its first samples `y_c`,
+/// `y_s` (`angletrack::fixed_input`): `(mid_scale_counts, input_shift, amplitude,
+/// nominal_amplitude)`, the last the monitor's (the `FixedObserver` arguments). A
+/// `ConfigError` (parameter `capture`) for counts no ADC gives.
+#[pyfunction]
+pub fn fixed_input(y_c: &Bound<'_, PyAny>, y_s: &Bound<'_, PyAny>) -> Result<(i32, u32, f64, f64)> {
+    let (c, s) = (samples::<f64>(y_c, "y_c")?, samples::<f64>(y_s, "y_s")?);
+    let i = angletrack::fixed_input(c.as_slice(), s.as_slice())
+        .map_err(|e| Error::value("capture", e.to_string()))?;
+    Ok((
+        i.mid_scale_counts,
+        i.shift,
+        i.amplitude,
+        i.monitor_amplitude,
+    ))
+}
+
 /// The counts of a 1-D, non-empty array of `I`, copied.
 fn counts<I: Count>(array: &Bound<'_, PyUntypedArray>, parameter: &'static str) -> Result<Vec<I>> {
     if array.ndim() != 1 || array.len() == 0 {

@@ -5,7 +5,9 @@
 use core::fmt::Debug;
 
 use angletrack::{ChannelBatch, convert_gains};
-use angletrack_core::{Exact, Fast, Gains as CoreGains, Real, SinCos};
+use angletrack_core::{
+    AngleCorrection, Exact, Fast, Gains as CoreGains, Real, SensorCalibration, SinCos,
+};
 use numpy::Element;
 use pyo3::prelude::*;
 
@@ -69,6 +71,12 @@ pub trait TypedGains {
     fn observer(&self, options: &ObserverOptions) -> Result<Box<dyn ObserverOps>>;
     /// A batch of `channels` observers (the input check only, no diagnostics).
     fn batch(&self, channels: usize) -> Result<Box<dyn RunBatch>>;
+    /// An observer behind the chain of a stored sensor calibration and an angle correction.
+    fn corrected(
+        &self,
+        sensor: &SensorCalibration<f64>,
+        correction: &AngleCorrection<f64>,
+    ) -> Result<Box<dyn Run>>;
 }
 
 impl<T: Sample, const N: usize, S: PhaseSinCos<T>> TypedGains for CoreGains<T, N, S> {
@@ -78,6 +86,14 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> TypedGains for CoreGains<T, N
 
     fn batch(&self, channels: usize) -> Result<Box<dyn RunBatch>> {
         Ok(Box::new(Batch::new(ChannelBatch::new(*self, channels)?)))
+    }
+
+    fn corrected(
+        &self,
+        sensor: &SensorCalibration<f64>,
+        correction: &AngleCorrection<f64>,
+    ) -> Result<Box<dyn Run>> {
+        crate::angle_calibration::corrected(*self, sensor, correction)
     }
 }
 

@@ -5,17 +5,20 @@
 //! silent conversion), converts the constants dict and runs `angletrack::FixedColumns` with
 //! the GIL released.
 
-use angletrack::FixedDesignConstants;
+use angletrack::{FixedDesignConstants, FixedFrontEnd, fixed_front_end};
 use angletrack_core::fixed::FixedConstants;
 use angletrack_core::{
-    ConfigError as CoreConfigError, FixedGains, FixedState, Order, SupportedOrder,
+    AngleCorrection, Chain, ChainState, ConfigError as CoreConfigError, FixedGains, FixedState,
+    Order, SensorCalibration, SupportedOrder,
 };
 use numpy::PyUntypedArray;
 use numpy::prelude::*;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
 
+use crate::angle_calibration::{SensorParameters, checked};
 use crate::arrays::{Samples, check_equal_lengths, samples};
+use crate::calibration::PySensorCalibration;
 use crate::design::{PyDesign, constants_dict};
 use crate::errors::{Error, Result};
 use crate::fixed_estimates::{FixedArrays, FixedEstimate, FixedEstimates};
@@ -198,21 +201,88 @@ fn counts<'py>(obj: &Bound<'py, PyAny>, parameter: &'static str) -> Result<Sampl
 /// that rounds to zero, does not fit, or leaves the quantised loop unstable);
 /// `FixedObserver.from_constants` takes the integers a firmware embeds.
 /// `nominal_amplitude` (counts, 16384 to 46341) sets the monitor's thresholds; `None` turns
-/// the monitor off.
+/// the monitor off. The chain's stages before the observer (`angletrack::fixed_front_end`,
+/// in integers): `mid_scale_counts` removed and the counts shifted left by `input_shift`
+/// bits (`AdcCounts`), then `calibration` (learned in float on the counts before the shift)
+/// applied: a `SensorCalibration` as a `FixedCalibration`, a `harmonics.Calibration` also
+/// with its harmonics as a 1024-entry `FixedAngleCorrectionTable`.
 #[pyclass(name = "FixedObserver", module = "angletrack")]
 #[derive(Debug)]
 pub struct PyFixedObserver {
     channel: FixedChannel,
+    /// The chain's front end (counts, stored calibration, angle correction table), or
+    /// `None`: the samples go to the observer as they are.
+    front_end: Option<FixedFrontEnd>,
+}
+
+/// The stored sensor calibration and angle correction of a chain, either absent.
+type Stages = (Option<SensorCalibration<f64>>, Option<AngleCorrection<f64>>);
+
+/// The sensor calibration and angle correction of argument `calibration`: a
+/// `SensorCalibration` (no angle correction), or an object with the attributes `sensor`
+/// (the 5 parameters), `cos` and `sin` (the harmonics: `harmonics.Calibration`).
+fn stages(calibration: Option<&Bound<'_, PyAny>>) -> Result<Stages> {
+    let Some(calibration) = calibration.filter(|c| !c.is_none()) else {
+        return Ok((None, None));
+    };
+    if let Ok(sensor) = calibration.extract::<PySensorCalibration>() {
+        return Ok((Some(sensor.typed::<f64>()?), None));
+    }
+    let attribute = |name: &str| {
+        calibration.getattr(name).map_err(|_| {
+            Error::value(
+                "calibration",
+                format!(
+                    "expected a SensorCalibration or a harmonics.Calibration, got an object of \
+                     type {} without '{name}'",
+                    calibration.get_type()
+                ),
+            )
+        })
+    };
+    let sensor: SensorParameters = attribute("sensor")?.extract()?;
+    let (cos, sin): (Vec<f64>, Vec<f64>) =
+        (attribute("cos")?.extract()?, attribute("sin")?.extract()?);
+    let (sensor, correction) = checked(sensor, cos, sin)?;
+    Ok((Some(sensor), Some(correction)))
+}
+
+/// The chain's front end of the arguments, or `None` when none of them asks for a stage.
+fn front_end(
+    calibration: Option<&Bound<'_, PyAny>>,
+    mid_scale_counts: i32,
+    input_shift: u32,
+) -> Result<Option<FixedFrontEnd>> {
+    let (sensor, correction) = stages(calibration)?;
+    if sensor.is_none() && mid_scale_counts == 0 && input_shift == 0 {
+        return Ok(None);
+    }
+    Ok(Some(fixed_front_end(
+        mid_scale_counts,
+        input_shift,
+        sensor.as_ref(),
+        correction.as_ref(),
+    )?))
 }
 
 #[pymethods]
 impl PyFixedObserver {
     #[new]
-    #[pyo3(signature = (design, *, nominal_amplitude = Some(16384.0)))]
-    fn py_new(design: &Bound<'_, PyAny>, nominal_amplitude: Option<f64>) -> Result<Self> {
+    #[pyo3(signature = (design, *, nominal_amplitude = Some(16384.0), calibration = None,
+        mid_scale_counts = 0, input_shift = 0))]
+    fn py_new(
+        design: &Bound<'_, PyAny>,
+        nominal_amplitude: Option<f64>,
+        calibration: Option<&Bound<'_, PyAny>>,
+        mid_scale_counts: i32,
+        input_shift: u32,
+    ) -> Result<Self> {
         let channel =
             FixedChannel::of_gains(&designed_gains(design)?)?.with_monitor(nominal_amplitude)?;
-        Ok(Self { channel })
+        Ok(Self {
+            channel,
+            front_end: front_end(calibration, mid_scale_counts, input_shift)?,
+        })
     }
 
     /// The observer of the integer constants a firmware embeds: the dict
@@ -221,11 +291,15 @@ impl PyFixedObserver {
     /// (parameter `constants`) naming the gain whose multiplier or shift is out of range or
     /// leaves the loop unstable.
     #[staticmethod]
-    #[pyo3(signature = (constants, sample_period_s, *, nominal_amplitude = Some(16384.0)))]
+    #[pyo3(signature = (constants, sample_period_s, *, nominal_amplitude = Some(16384.0),
+        calibration = None, mid_scale_counts = 0, input_shift = 0))]
     fn from_constants(
         constants: &Bound<'_, PyAny>,
         sample_period_s: f64,
         nominal_amplitude: Option<f64>,
+        calibration: Option<&Bound<'_, PyAny>>,
+        mid_scale_counts: i32,
+        input_shift: u32,
     ) -> Result<Self> {
         let constants = constants.cast::<PyMapping>().map_err(|_| {
             Error::value(
@@ -246,7 +320,10 @@ impl PyFixedObserver {
             .map_err(|_| not_integers("acceleration_shift", &shift, "an integer from 0 to 15"))?;
         let channel = FixedChannel::of_constants(&multiplier, shift, sample_period_s)?
             .with_monitor(nominal_amplitude)?;
-        Ok(Self { channel })
+        Ok(Self {
+            channel,
+            front_end: front_end(calibration, mid_scale_counts, input_shift)?,
+        })
     }
 
     /// Runs the observer over the int16 samples `y_c ~ cos(theta)`, `y_s ~ sin(theta)`
@@ -263,11 +340,19 @@ impl PyFixedObserver {
         let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
         check_equal_lengths(("y_c", y_c.len()), ("y_s", y_s.len()))?;
         let out = FixedArrays::new(py, y_c.len())?;
-        let channel = &mut self.channel;
-        out.fill(
-            py,
-            |columns| with_channel!(channel, g, s => columns.run(g, s, y_c, y_s)),
-        )?;
+        let (channel, front_end) = (&mut self.channel, self.front_end);
+        out.fill(py, |columns| {
+            with_channel!(channel, g, s => match front_end {
+                None => columns.run(g, s, y_c, y_s),
+                Some(front_end) => {
+                    // The stages hold no state: the chain's is the observer's.
+                    let mut state = ChainState { front_end: ((), ((), ())), observer: *s };
+                    let count = columns.run_chain(&Chain::new(front_end, *g), &mut state, y_c, y_s);
+                    *s = state.observer;
+                    count
+                }
+            })
+        })?;
         Ok(out.into_estimates(y_c.len()))
     }
 

@@ -53,6 +53,7 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(batch::track_batch, m)?)?;
     m.add_function(wrap_pyfunction!(counts::offset_binary_mid_scale, m)?)?;
     m.add_function(wrap_pyfunction!(counts::capture_mid_scale, m)?)?;
+    m.add_function(wrap_pyfunction!(counts::fixed_input, m)?)?;
     design_functions::register(m)?;
     scenario::register(m)?;
     metrics::register(m)?;

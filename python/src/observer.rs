@@ -3,10 +3,10 @@
 //! The per-sample work is the core's `Gains::update`; this module only moves samples in and
 //! estimates out, with the GIL released, straight into preallocated arrays that numpy owns.
 
-use angletrack::{CountsSettings, EstimateColumns, ThresholdPolicy};
+use angletrack::{CountsSettings, EstimateColumns, ThresholdPolicy, online_calibration};
 use angletrack_core::{
-    CalibrationMode, Calibrator, Faults, Gains as CoreGains, Observer as CoreObserver,
-    ObserverState, Real, SinCos,
+    CalibrationMode, Calibrator, Chain, ChainState, Faults, Gains as CoreGains,
+    Observer as CoreObserver, ObserverState, Real, SinCos,
 };
 use pyo3::prelude::*;
 
@@ -164,14 +164,20 @@ fn run_columns<T: Real, const N: usize, S: SinCos<T>>(
     y_c: &[T],
     y_s: &[T],
 ) {
-    let (gains, state) = (&channel.observer.gains, &mut channel.observer.state);
-    let calibrator = &mut channel.calibrator;
-    // With the calibration off, the core's plain update (one branch on the mode).
+    let gains = channel.observer.gains;
+    // The online calibration before the observer: with the calibration off, the chain's
+    // quiet path (one branch on the mode).
+    let chain = Chain::new(online_calibration(&gains), gains);
+    let mut state = ChainState {
+        front_end: channel.calibrator,
+        observer: channel.observer.state,
+    };
     columns.write(
         y_c.iter()
             .zip(y_s)
-            .map(|(&c, &s)| gains.update_calibrated(state, calibrator, c, s)),
+            .map(|(&c, &s)| chain.update(&mut state, (c, s))),
     );
+    (channel.calibrator, channel.observer.state) = (state.front_end, state.observer);
 }
 
 /// Refuses the first value that is not finite, naming its parameter: a NaN state would be

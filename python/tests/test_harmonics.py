@@ -191,11 +191,12 @@ def test_track_reads_the_calibration_file_once_and_tells_its_kind(tmp_path, caps
     assert "missing.json" in err and err.count("\n") == 1
 
 
-def test_an_angle_calibration_is_refused_for_carrier_modulated_windings(tmp_path):
-    from angletrack import tracking
+def test_an_angle_calibration_applies_to_the_pairs_of_carrier_modulated_windings(tmp_path):
+    from angletrack import harmonics, resolver, tracking
 
     cal = angletrack.calibrate(learning_capture().y_c, learning_capture().y_s, gains())
     settings = tracking.TrackSettings(capture=tmp_path / "windings.csv", output=tmp_path / "est.csv",
                                       gains=gains().gains, carrier_hz=1e3, calibration=cal)
-    with pytest.raises(ValueError, match="calibration: .*carrier-modulated windings"):
-        tracking.track_capture(settings)
+    # The demodulated pairs go through the same stages as y_c, y_s samples (issue 21).
+    observer = resolver.pairs_observer(settings, gains())
+    assert isinstance(observer, harmonics.CalibratedObserver) and observer.calibration is cal

@@ -112,9 +112,11 @@ pub use design::{
 };
 pub use error::{Argument, Error};
 pub use sim::{
-    ChannelBatch, ErrorStatistics, EstimateColumns, FixedColumns, Kinematics, LANES,
+    ChannelBatch, ErrorStatistics, EstimateColumns, FIXED_TABLE_LENGTH, FixedChain,
+    FixedChainState, FixedColumns, FixedFrontEnd, FixedInput, Kinematics, LANES,
     MAX_ANGLE_ERROR_HARMONICS, MAX_SAMPLES, Metrics, MetricsOptions, Motion, MotionProfile,
     NOMINAL_AMPLITUDE_SAMPLES, Output, ResolverModel, Run, Scenario, SensorModel,
-    capture_fault_thresholds, nominal_amplitude, run, run_calibrated,
+    capture_fault_thresholds, fixed_front_end, fixed_input, fixed_input_shift,
+    fixed_monitor_amplitude, nominal_amplitude, online_calibration, run, run_calibrated,
 };
 pub use thresholds::ThresholdPolicy;

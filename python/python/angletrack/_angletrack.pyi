@@ -2,7 +2,7 @@
 
 import os
 from collections.abc import Iterable, Sequence
-from typing import Literal, Optional, TypedDict, Union, overload
+from typing import Literal, Optional, Protocol, TypedDict, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -289,6 +289,16 @@ class FixedEstimates:
     """Acceleration (rad/s^2)."""
     def __len__(self) -> int: ...
 
+class _AngleCalibrationLike(Protocol):
+    """What ``FixedObserver`` reads of a ``harmonics.Calibration``."""
+
+    @property
+    def sensor(self) -> tuple[float, float, float, float, float]: ...
+    @property
+    def cos(self) -> Sequence[float]: ...
+    @property
+    def sin(self) -> Sequence[float]: ...
+
 class FixedObserver:
     """The core's fixed-point observer (docs/theory.md §14): bit for bit what a Cortex-M0/M4
     firmware running ``FixedGains::update`` computes, on int16 samples (counts, mid-scale
@@ -296,12 +306,30 @@ class FixedObserver:
 
     ``design`` (a ``Design`` or ``Gains``) is quantised by the core (``ConfigError`` naming
     the gain). ``nominal_amplitude`` (counts, 16384 to 46341) sets the monitor's
-    thresholds; ``None`` turns it off."""
+    thresholds; ``None`` turns it off. The chain's stages, in integers: ``mid_scale_counts``
+    removed and the counts shifted left by ``input_shift`` bits (``AdcCounts``), then
+    ``calibration`` (learned in float on the counts before the shift): a
+    ``SensorCalibration`` (``FixedCalibration``), or a ``harmonics.Calibration`` (also its
+    harmonics as a 1024-entry ``FixedAngleCorrectionTable``)."""
 
-    def __init__(self, design: Union[Design, Gains], *, nominal_amplitude: Optional[float] = 16384.0) -> None: ...
+    def __init__(
+        self,
+        design: Union[Design, Gains],
+        *,
+        nominal_amplitude: Optional[float] = 16384.0,
+        calibration: Union[None, SensorCalibration, _AngleCalibrationLike] = None,
+        mid_scale_counts: int = 0,
+        input_shift: int = 0,
+    ) -> None: ...
     @staticmethod
     def from_constants(
-        constants: _FixedConstants, sample_period_s: float, *, nominal_amplitude: Optional[float] = 16384.0
+        constants: _FixedConstants,
+        sample_period_s: float,
+        *,
+        nominal_amplitude: Optional[float] = 16384.0,
+        calibration: Union[None, SensorCalibration, _AngleCalibrationLike] = None,
+        mid_scale_counts: int = 0,
+        input_shift: int = 0,
     ) -> FixedObserver:
         """The observer of the integers a firmware embeds: the dict ``Design.fixed_constants()``
         returns (``multiplier``, ``acceleration_shift``; other keys ignored), checked again
@@ -337,6 +365,12 @@ def offset_binary_mid_scale(largest_count: float) -> int:
     """The mid-scale (counts) of unsigned, offset-binary ADC counts whose largest sample is
     ``largest_count`` (a whole number, 0 to 2^53): ``2^(b-1)`` for the smallest ``b``, at
     least 2, whose range ``2^b`` holds it; the rule an observer centres uint16 counts by."""
+
+def fixed_input(y_c: _Samples, y_s: _Samples) -> tuple[int, int, float, float]:
+    """How a capture's counts reach the fixed-point observer, from its first samples:
+    ``(mid_scale_counts, input_shift, amplitude, nominal_amplitude)`` (the last the
+    monitor's), the ``FixedObserver`` arguments; ``ConfigError`` (parameter ``capture``)
+    for counts no ADC gives."""
 
 def capture_mid_scale(y_c: _Samples, y_s: _Samples) -> int:
     """The mid-scale (counts) of a capture of whole counts read as floats, from its first
@@ -876,7 +910,7 @@ def learn_calibration(
 class _CorrectedObserver:
     def __init__(
         self, gains: Gains, sensor: _SensorParameters, cos: Sequence[float],
-        sin: Sequence[float],
+        sin: Sequence[float], *, dtype: _DType = None, sin_cos: _SinCos = None,
     ) -> None: ...
     def update(self, y_c: _Samples, y_s: _Samples) -> Estimates: ...
 

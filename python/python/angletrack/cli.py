@@ -463,8 +463,9 @@ def _add_track_parser(sub) -> None:
                       help="field delimiter: one character, 'tab' or 'whitespace' (default: sniffed)")
     cols.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s",
                       help="unit of the time column (default s)")
-    track.add_argument("--dtype", choices=["float32", "float64"], default="float64",
-                       help="float type the observer runs on (default float64)")
+    track.add_argument("--dtype", choices=["float32", "float64", "fixed"], default="float64",
+                       help="number type the observer runs on (default float64); fixed: the fixed-point chain "
+                       "on integer counts (a --calibration applied in integers, as a firmware does)")
     track.add_argument("--sin-cos", choices=["fast", "exact"], default=None,
                        help="phase detector's sin/cos (default: fast for float32, exact for float64)")
     track.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",
@@ -483,7 +484,8 @@ def _add_track_parser(sub) -> None:
                        help="with --calibrate: where to write it (default: CAPTURE_calibration.json)")
     track.add_argument("--calibration", type=pathlib.Path, metavar="FILE.json",
                        help="apply a stored calibration: one from `angletrack calibrate` (offsets, imbalance, "
-                       "quadrature and the angle error harmonics, corrected before the phase detector, float64), "
+                       "quadrature and the angle error harmonics, corrected before the phase detector, in --dtype's "
+                       "type: float32, float64, or integers with fixed), "
                        "or one that --calibrate wrote (frozen; with --calibrate, learning starts from it)")
     resolver.add_track_arguments(track)
     track.add_argument("--plot", nargs="?", const="", type=_png_path, metavar="FILE.png",

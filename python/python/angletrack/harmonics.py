@@ -20,7 +20,7 @@ any speed.
 from __future__ import annotations
 
 import dataclasses
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Optional
 
 import numpy as np
 
@@ -112,26 +112,30 @@ def calibrate(y_c: Any, y_s: Any, gains: Gains, *, lowest_order: int = 1, highes
 
 
 class CalibratedObserver:
-    """An observer (float64) whose samples are corrected by ``calibration`` before its phase
-    detector; ``update`` may be called chunk by chunk."""
+    """An observer whose samples are corrected by ``calibration`` before its phase detector
+    (the core's chain of the stored sensor calibration and the angle correction), in
+    ``dtype`` (float32 or float64) with ``sin_cos`` (default: the dtype's); ``update`` may be
+    called chunk by chunk."""
 
-    def __init__(self, gains: Gains, calibration: Calibration):
+    def __init__(self, gains: Gains, calibration: Calibration, *, dtype: Any = np.float64,
+                 sin_cos: Optional[str] = None):
+        self.dtype = np.dtype(dtype)
         self._inner = _CorrectedObserver(gains, tuple(calibration.sensor), list(calibration.cos),
-                                         list(calibration.sin))
+                                         list(calibration.sin), dtype=self.dtype, sin_cos=sin_cos)
         self.gains = gains
         self.calibration = calibration
         self.latched_faults = 0
 
     def update(self, y_c: Any, y_s: Any):
         """The estimates of the samples ``(y_c, y_s)`` (an ``Estimates``)."""
-        est = self._inner.update(np.ascontiguousarray(y_c, dtype=np.float64),
-                                 np.ascontiguousarray(y_s, dtype=np.float64))
+        est = self._inner.update(np.ascontiguousarray(y_c, dtype=self.dtype),
+                                 np.ascontiguousarray(y_s, dtype=self.dtype))
         self.latched_faults |= int(np.bitwise_or.reduce(est.faults)) if len(est) else 0
         return est
 
     def __repr__(self) -> str:
         orders = [k + 1 for k in range(MAX_ORDER) if self.calibration.cos[k] or self.calibration.sin[k]]
-        return f"CalibratedObserver({self.gains!r}, angle error orders {orders})"
+        return f"CalibratedObserver({self.gains!r}, dtype={self.dtype.name}, angle error orders {orders})"
 
 
 def track_calibrated(gains: Gains, y_c: Any, y_s: Any, calibration: Calibration):

@@ -164,9 +164,22 @@ class _Reference:
         return np.interp(time_s, self.time_s, self.angle_rad)
 
 
-def track_windings(s) -> str:
-    """``angletrack track --carrier-hz``: demodulates, tracks, writes the CSV, returns the
-    summary (``s`` a :class:`angletrack.tracking.TrackSettings`)."""
+def pairs_observer(s, gains: angletrack.Gains):
+    """The observer of the demodulated pairs: the same front-end stages as for y_c, y_s
+    samples (``s.observer_arguments``: the online calibration of ``--calibrate``, a stored
+    ``SensorCalibration`` of ``--calibration``; an angle calibration from ``angletrack
+    calibrate`` through a :class:`harmonics.CalibratedObserver`), in ``s.dtype``."""
+    from angletrack import harmonics
+
+    if s.calibration is not None:
+        return harmonics.CalibratedObserver(gains, s.calibration, dtype=np.dtype(s.dtype), sin_cos=s.sin_cos)
+    return angletrack.Observer(gains, dtype=np.dtype(s.dtype), sin_cos=s.sin_cos, **s.observer_arguments)
+
+
+def track_windings(s) -> tuple:
+    """``angletrack track --carrier-hz``: demodulates, tracks, writes the CSV; returns the
+    summary and the observer of the pairs after the last one (its learned calibration)
+    (``s`` a :class:`angletrack.tracking.TrackSettings`)."""
     from angletrack.tracking import _ErrorStatistics
 
     if s.output.suffix == ".npy":
@@ -189,7 +202,7 @@ def track_windings(s) -> str:
         adc_min_code=adc_min, adc_max_code=adc_max, expected_delay_rad=math.radians(s.expected_delay_deg),
     )
     dtype = np.dtype(s.dtype)
-    observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos)
+    observer = pairs_observer(s, gains)
     drive = None
     if s.pole_pairs is not None or s.latency_s is not None:
         drive = angletrack.DriveOutputs(
@@ -247,7 +260,7 @@ def track_windings(s) -> str:
     ]
     if stats is not None:
         lines.append(stats.report())
-    return "\n".join(lines)
+    return "\n".join(lines), observer
 
 
 def _front_end_names(bits: int) -> str:

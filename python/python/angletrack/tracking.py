@@ -15,7 +15,7 @@ import math
 import pathlib
 import sys
 import time
-from typing import Optional
+from typing import Optional, Union
 
 import numpy as np
 
@@ -199,21 +199,25 @@ def unsigned_mid_scale(sample_dtype: str, y_c: np.ndarray, y_s: np.ndarray) -> f
                                    np.ascontiguousarray(y_s, dtype=np.float64)))
 
 
-def track_capture(s: TrackSettings) -> tuple[str, Optional[angletrack.Observer]]:
+def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, angletrack.FixedObserver, harmonics.CalibratedObserver]]:
     """Runs ``s``: writes the estimates to ``s.output`` and returns the summary to print and
-    the observer at the end of the capture (its learned calibration, its faults; ``None``
-    for carrier-modulated windings, whose observer runs inside the demodulating path).
+    the observer at the end of the capture (its learned calibration, its faults; for
+    carrier-modulated windings the observer of the demodulated pairs, which go through the
+    same calibration stages as y_c, y_s samples).
     Raises ``ValueError`` (``CaptureError``, ``ConfigError``) on a capture that cannot be
     tracked, before anything is written where it can be told before."""
+    if s.dtype == "fixed":
+        from angletrack import fixed_tracking
+
+        refused = fixed_tracking.refusal(s)
+        if refused is not None:
+            raise ValueError(refused)
     if s.carrier_hz is not None or s.pole_pairs is not None or s.latency_s is not None:
         from angletrack import resolver
 
         if s.carrier_hz is None:
             raise ValueError("pole_pairs: --pole-pairs and --latency need --carrier-hz (the resolver path)")
-        if s.observer_arguments or s.calibration is not None:
-            raise ValueError("calibration: --calibrate and --calibration apply to y_c, y_s samples, not to "
-                             "carrier-modulated windings (--carrier-hz)")
-        return resolver.track_windings(s), None
+        return resolver.track_windings(s)
     reader = angletrack.CaptureReader(
         s.capture, columns=s.columns, delimiter=s.delimiter, time_unit=s.time_unit,
         sample_rate_hz=s.sample_rate_hz, chunk_rows=s.chunk_rows,
@@ -221,15 +225,20 @@ def track_capture(s: TrackSettings) -> tuple[str, Optional[angletrack.Observer]]
     chunks = iter(reader)
     first = next(chunks)
     gains = gains_for_capture(s, reader.sample_rate_hz if first.time_s is not None else None)
+    stats = _ErrorStatistics(s.skip_s, s.lock_tolerance_rad) if first.reference_rad is not None else None
+    if s.dtype == "fixed":
+        from angletrack import fixed_tracking
+
+        lines, fixed = fixed_tracking.track_fixed(s, gains, reader, first, stats)
+        return "\n".join(lines[:1] + _stated_rate_note(s) + lines[1:]
+                         + ([stats.report()] if stats is not None else [])), fixed
     dtype = np.dtype(s.dtype)
     calibration = s.calibration
     if calibration is not None:
-        dtype = np.dtype(np.float64)
-        observer = harmonics.CalibratedObserver(gains, calibration)
+        observer = harmonics.CalibratedObserver(gains, calibration, dtype=dtype, sin_cos=s.sin_cos)
     else:
         observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos, **s.observer_arguments)
     mid = unsigned_mid_scale(reader.sample_dtype, first.y_c, first.y_s)
-    stats = _ErrorStatistics(s.skip_s, s.lock_tolerance_rad) if first.reference_rad is not None else None
     progress = _Progress(s.progress)
     rejected, y_c_sum = 0, 0.0
     bad = int(angletrack.Faults.BAD_SAMPLE)
@@ -279,9 +288,14 @@ def calibrate_capture(s: TrackSettings, *, lowest_order: int = 1, highest_order:
                       settle_fraction: float = 0.2) -> harmonics.Calibration:
     """``angletrack calibrate``: the :class:`harmonics.Calibration` learned from the capture
     ``s.capture`` (read whole, ``s.columns``, ``s.delimiter``, ``s.time_unit``) tracked with
-    the gains of ``s`` at its sample rate (checked as for :func:`track_capture`)."""
+    the gains of ``s`` at its sample rate (checked as for :func:`track_capture`). Unsigned
+    counts are centred first (:func:`unsigned_mid_scale`); the amplitude is the capture's
+    own (counts, volts or normalised: the diagnostics are scaled to it)."""
     capture = angletrack.read_capture(s.capture, columns=s.columns, delimiter=s.delimiter,
                                       time_unit=s.time_unit, sample_rate_hz=s.sample_rate_hz)
     gains = gains_for_capture(s, capture.sample_rate_hz if capture.time_s is not None else None)
-    return harmonics.calibrate(capture.y_c, capture.y_s, gains, lowest_order=lowest_order,
+    # Unsigned counts centred as `track` centres them, so that the offsets learned are the
+    # ones `track --calibration` (float or fixed) sees.
+    mid = unsigned_mid_scale(capture.sample_dtype, capture.y_c, capture.y_s)
+    return harmonics.calibrate(capture.y_c - mid, capture.y_s - mid, gains, lowest_order=lowest_order,
                                highest_order=highest_order, settle_fraction=settle_fraction)

@@ -20,11 +20,13 @@
 //! [`learn_angle_correction`] refuses a slower capture.
 
 use angletrack_core::{
-    AngleCorrection, Calibrator, Gains, MAX_CORRECTION_ORDER, ObserverState, SensorCalibration,
+    AngleCorrection, Calibrator, Chain, ChainState, FaultThresholds, Gains, MAX_CORRECTION_ORDER,
+    ObserverState, SensorCalibration,
 };
 use nalgebra::Complex;
 
 use crate::error::{Argument, Error};
+use crate::sim::online_calibration;
 
 mod file;
 
@@ -180,6 +182,7 @@ pub fn learn_angle_correction<const N: usize>(
             expected: "settle_fraction in [0, 1)",
         });
     }
+    let gains = &for_capture_amplitude(gains, y_c, y_s);
     let settle = (options.settle_fraction * y_c.len() as f64) as usize;
     let (sensor, sensor_turns) = learn_sensor(gains, &y_c[..settle.max(1)], &y_s[..settle.max(1)]);
     let observed = observe(gains, &sensor, y_c, y_s, settle);
@@ -276,18 +279,37 @@ pub fn learn_angle_correction<const N: usize>(
     })
 }
 
+/// `gains` with the diagnostics' thresholds scaled to the capture's measured amplitude
+/// ([`capture_fault_thresholds`](crate::capture_fault_thresholds)) when they carry the
+/// defaults (amplitude 1): the loop is amplitude-invariant, its monitor is not, so that a
+/// capture in counts (amplitude 1800) or in volts (0.455) is learned as a normalised one.
+/// Thresholds the caller set are kept.
+fn for_capture_amplitude<const N: usize>(
+    gains: &Gains<f64, N>,
+    y_c: &[f64],
+    y_s: &[f64],
+) -> Gains<f64, N> {
+    if gains.fault_thresholds() != FaultThresholds::default() {
+        return *gains;
+    }
+    gains
+        .with_fault_thresholds(crate::capture_fault_thresholds(y_c, y_s))
+        .unwrap_or(*gains)
+}
+
 /// The online calibration learned over `y_c`, `y_s`, and the whole turns it learned.
 fn learn_sensor<const N: usize>(
     gains: &Gains<f64, N>,
     y_c: &[f64],
     y_s: &[f64],
 ) -> (SensorCalibration<f64>, u32) {
-    let mut state = ObserverState::new();
-    let mut calibrator = Calibrator::new();
-    calibrator.enable();
+    let chain = Chain::new(online_calibration(gains), *gains);
+    let mut state = ChainState::<Calibrator<f64>, ObserverState<f64, N>>::new();
+    state.front_end.enable();
     for (&c, &s) in y_c.iter().zip(y_s) {
-        gains.update_calibrated(&mut state, &mut calibrator, c, s);
+        chain.track(&mut state, (c, s));
     }
+    let calibrator = state.front_end;
     (calibrator.calibration(), calibrator.turns_learned())
 }
 
@@ -311,12 +333,15 @@ fn observe<const N: usize>(
     y_s: &[f64],
     settle: usize,
 ) -> Vec<Observed> {
-    let mut state = ObserverState::new();
-    let mut calibrator = Calibrator::from_calibration(*sensor);
+    let chain = Chain::new(online_calibration(gains), *gains);
+    let mut state = ChainState {
+        front_end: Calibrator::from_calibration(*sensor),
+        observer: ObserverState::new(),
+    };
     let ts = gains.sample_period();
     let mut observed = Vec::with_capacity(y_c.len() - settle);
     for (k, (&raw_c, &raw_s)) in y_c.iter().zip(y_s).enumerate() {
-        let estimate = gains.update_calibrated(&mut state, &mut calibrator, raw_c, raw_s);
+        let estimate = chain.update(&mut state, (raw_c, raw_s));
         if k < settle || !estimate.faults.is_empty() {
             continue;
         }

@@ -4,7 +4,10 @@
 //! diagnostics fit a capture in any unit (volts, raw ADC counts) without the caller stating
 //! it.
 
-use angletrack_core::{Calibrator, FaultThresholds, Gains, ObserverState, Real, SinCos};
+use angletrack_core::{
+    Calibrator, Chain, ChainState, FaultThresholds, Gains, ObserverState, OnlineCalibration, Real,
+    SinCos,
+};
 
 use super::Scenario;
 use super::metrics::{Run, run_with};
@@ -38,14 +41,26 @@ pub const NOMINAL_AMPLITUDE_SAMPLES: usize = 4096;
 /// ```
 pub fn run_calibrated<T: Real, const N: usize, S: SinCos<T>>(
     gains: &Gains<T, N, S>,
-    mut calibrator: Calibrator<T>,
+    calibrator: Calibrator<T>,
     scenario: &Scenario,
 ) -> (Run, Calibrator<T>) {
-    let mut state = ObserverState::new();
-    let run = run_with(scenario, |c, s| {
-        gains.update_calibrated(&mut state, &mut calibrator, c, s)
-    });
-    (run, calibrator)
+    let chain = Chain::new(online_calibration(gains), *gains);
+    let mut state = ChainState {
+        front_end: calibrator,
+        observer: ObserverState::new(),
+    };
+    let run = run_with(scenario, |c, s| chain.update(&mut state, (c, s)));
+    (run, state.front_end)
+}
+
+/// The online calibration stage of a chain before `gains`, with the gains' calibration
+/// settings (the [`Calibrator`] is its state).
+pub fn online_calibration<T: Real, const N: usize, S: SinCos<T>>(
+    gains: &Gains<T, N, S>,
+) -> OnlineCalibration<T> {
+    // The gains checked their settings against their own sample period: this cannot fail.
+    OnlineCalibration::new(gains.calibration_settings(), gains.sample_period())
+        .unwrap_or_else(|e| unreachable!("the gains' calibration settings were checked: {e}"))
 }
 
 /// The nominal amplitude of a capture, estimated from its samples: the median of

@@ -3,7 +3,7 @@
 //! estimates in physical units through the core's conversions. What the Python binding's
 //! `FixedObserver.update` writes into.
 
-use angletrack_core::{FixedEstimate, FixedGains, FixedState};
+use angletrack_core::{Chain, ChainState, FixedEstimate, FixedGains, FixedState, Stage};
 
 /// Where a fixed-point run writes its estimates: one slice per quantity, element `i` of
 /// every column for sample `i`.
@@ -67,6 +67,32 @@ impl FixedColumns<'_> {
         y_c: &[i16],
         y_s: &[i16],
     ) -> usize {
+        self.run_with(gains, y_c, y_s, |c, s| gains.update(state, c, s))
+    }
+
+    /// As [`FixedColumns::run`], through the fixed-point chain `chain` (its front end's
+    /// stages, then its observer, [`Chain::update`] per sample) from `state`: the counts
+    /// `y_c`, `y_s` are the chain's input, before its stages.
+    pub fn run_chain<F: Stage<i16, (i16, i16)>, const N: usize>(
+        self,
+        chain: &Chain<F, FixedGains<N>>,
+        state: &mut ChainState<F::State, FixedState<N>>,
+        y_c: &[i16],
+        y_s: &[i16],
+    ) -> usize {
+        self.run_with(&chain.observer, y_c, y_s, |c, s| {
+            chain.update(state, (c, s))
+        })
+    }
+
+    /// Writes the estimate `update(c, s)` of each sample, in physical units by `gains`.
+    fn run_with<const N: usize>(
+        self,
+        gains: &FixedGains<N>,
+        y_c: &[i16],
+        y_s: &[i16],
+        mut update: impl FnMut(i16, i16) -> FixedEstimate,
+    ) -> usize {
         let Self {
             angle,
             turns,
@@ -91,7 +117,7 @@ impl FixedColumns<'_> {
             .zip(acceleration_rad_s2);
         let mut count = 0;
         for (((c, s), integer), physical) in y_c.iter().zip(y_s).zip(integers).zip(physical) {
-            let e: FixedEstimate = gains.update(state, *c, *s);
+            let e = update(*c, *s);
             let (((((angle, turns), speed), acceleration), phase_error), faults) = integer;
             (*angle, *turns, *speed, *acceleration) = (e.angle, e.turns, e.speed, e.acceleration);
             (*phase_error, *faults) = (e.phase_error, e.faults.bits());

@@ -6,6 +6,7 @@
 mod batch;
 mod calibrated;
 mod columns;
+mod fixed_chain;
 mod fixed_columns;
 mod metrics;
 mod motion;
@@ -15,9 +16,14 @@ mod sensor;
 
 pub use batch::{ChannelBatch, LANES};
 pub use calibrated::{
-    NOMINAL_AMPLITUDE_SAMPLES, capture_fault_thresholds, nominal_amplitude, run_calibrated,
+    NOMINAL_AMPLITUDE_SAMPLES, capture_fault_thresholds, nominal_amplitude, online_calibration,
+    run_calibrated,
 };
 pub use columns::{EstimateColumns, Output};
+pub use fixed_chain::{
+    FIXED_TABLE_LENGTH, FixedChain, FixedChainState, FixedFrontEnd, FixedInput, fixed_front_end,
+    fixed_input, fixed_input_shift, fixed_monitor_amplitude,
+};
 pub use fixed_columns::FixedColumns;
 pub use metrics::{ErrorStatistics, Metrics, MetricsOptions, Run, run};
 pub use motion::{Kinematics, Motion, MotionProfile};

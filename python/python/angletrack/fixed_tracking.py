@@ -1,0 +1,104 @@
+"""``angletrack track --dtype fixed``: a capture of integer counts streamed through the
+fixed-point chain (:class:`angletrack.FixedObserver` with its stages: the mid-scale removed
+and the counts shifted to 16 bits, a stored calibration in integers, the angle correction
+as a table), as a firmware computes it. The mid-scale, the shift and the monitor's
+amplitude are measured from the capture's first samples by the Rust crate
+(``angletrack::fixed_input``); the calibration is learned in float (``angletrack calibrate``
+or ``track --calibrate``) and applied here in integers.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Optional, Union
+
+import numpy as np
+
+import angletrack
+from angletrack._angletrack import fixed_input
+
+if TYPE_CHECKING:
+    from angletrack import harmonics
+    from angletrack.tracking import TrackSettings
+
+#: The columns ``track --dtype fixed`` writes (CSV): the estimates in physical units beside
+#: the firmware's integers of the angle and the phase error.
+COLUMNS = ["time_s", "angle_rad", "position_rad", "speed_rad_s", "acceleration_rad_s2", "phase_error", "faults",
+           "angle_binary"]
+
+
+def refusal(s: "TrackSettings") -> Optional[str]:
+    """The one-line refusal of a combination of options ``--dtype fixed`` cannot run, naming
+    both flags and why; ``None`` when it can."""
+    if s.carrier_hz is not None:
+        return ("dtype: --dtype fixed with --carrier-hz: the demodulator's pairs are float64; track them "
+                "with --dtype float32 or float64")
+    if s.sin_cos is not None:
+        return "dtype: --dtype fixed with --sin-cos: the fixed-point observer has its own Q15 sin/cos table"
+    if s.observer_arguments.get("calibration") == "learn":
+        return ("dtype: --dtype fixed with --calibrate: the online calibration learns in float; learn it "
+                "with --calibrate (float64) or `angletrack calibrate`, then apply it with --dtype fixed "
+                "--calibration FILE")
+    if s.output.suffix == ".npy":
+        return "output: --dtype fixed writes CSV (its estimates have no .npy layout yet)"
+    return None
+
+
+def _counts(values: np.ndarray, capture: object) -> np.ndarray:
+    if values.size and (np.min(values) < -32768 or np.max(values) > 32767):
+        raise ValueError(f"{capture}: --dtype fixed takes counts within int16 (-32768 to 32767); the capture "
+                         f"holds {np.min(values):g} to {np.max(values):g}")
+    return values.astype(np.int16)
+
+
+def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.CaptureReader, first,
+                stats) -> tuple[list[str], angletrack.FixedObserver]:
+    """Runs the capture of ``reader`` (its first chunk ``first`` read already) through the
+    fixed-point chain with ``gains``, writes the estimates to ``s.output`` (CSV) and adds
+    the errors to ``stats``; returns the summary's lines and the observer."""
+    message = refusal(s)
+    if message is not None:
+        raise ValueError(message)
+    if not reader.sample_dtype.startswith(("int", "uint")):
+        raise ValueError(f"dtype: --dtype fixed takes integer ADC counts; {s.capture} holds {reader.sample_dtype} "
+                         "samples (use --dtype float32 or float64)")
+    calibration: Union[None, angletrack.SensorCalibration, "harmonics.Calibration"] = (
+        s.calibration if s.calibration is not None else s.observer_arguments.get("initial_calibration"))
+    mid, shift, amplitude, monitor = fixed_input(first.y_c, first.y_s)
+    observer = angletrack.FixedObserver(gains, nominal_amplitude=monitor, calibration=calibration,
+                                        mid_scale_counts=mid, input_shift=shift)
+    s.output.parent.mkdir(parents=True, exist_ok=True)
+    rejected = 0
+    bad = int(angletrack.Faults.BAD_SAMPLE)
+    try:
+        with open(s.output, "w") as out:
+            out.write(",".join(COLUMNS) + "\n")
+            chunk = first
+            while chunk is not None:
+                est = observer.update(_counts(chunk.y_c, s.capture), _counts(chunk.y_s, s.capture))
+                time_s = chunk.time_s
+                if time_s is None:
+                    time_s = (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) * gains.sample_period_s
+                angle = np.asarray(est.angle, dtype=np.float64) * (math.pi / 2**31)
+                rows = np.column_stack([time_s, angle, est.position_rad, est.speed_rad_s, est.acceleration_rad_s2,
+                                        np.asarray(est.phase_error) / 2**15, est.faults, est.angle])
+                np.savetxt(out, rows, fmt="%.17g", delimiter=",")
+                rejected += int(np.count_nonzero(np.asarray(est.faults) & bad))
+                if stats is not None:
+                    stats.add(time_s, angle, chunk.reference_rad)
+                chunk = next(iter(reader), None)
+    except BaseException:
+        s.output.unlink(missing_ok=True)
+        raise
+    latched = angletrack.Faults(observer.latched_faults)
+    stages = "no stored calibration" if calibration is None else (
+        "stored calibration (FixedCalibration)" if isinstance(calibration, angletrack.SensorCalibration)
+        else "stored calibration (FixedCalibration) and angle correction (FixedAngleCorrectionTable, 1024 entries)")
+    lines = [
+        repr(observer),
+        f"fixed-point chain: counts of amplitude {amplitude:.6g}, mid-scale {mid} removed, shifted left by "
+        f"{shift} bits, monitor amplitude {monitor:.6g}; {stages}",
+        f"{reader.rows} samples ({reader.format}, {reader.sample_dtype}) -> {s.output}",
+        f"faults latched: {latched.name if latched else 'none'}; {rejected} samples rejected",
+    ]
+    return lines, observer

@@ -21,12 +21,7 @@
 //! (within `|d|^4/24` for `|d|` up to [`AngleCorrection::max_total_rad`]), a few more.
 
 use crate::error::{ConfigError, Parameter};
-use crate::gains::Gains;
-use crate::learning::Calibrator;
 use crate::real::Float;
-use crate::real::sincos::SinCos;
-use crate::state::{Estimate, ObserverState};
-use crate::wrap::wrap_angle;
 
 /// The highest harmonic order an [`AngleCorrection`] holds.
 pub const MAX_CORRECTION_ORDER: usize = 8;
@@ -160,26 +155,6 @@ impl<T: Float> AngleCorrection<T> {
     pub fn rotate(&self, sin_p: T, cos_p: T, y_c: T, y_s: T) -> (T, T) {
         rotate_by(self.error_from_sin_cos(sin_p, cos_p), y_c, y_s)
     }
-
-    /// The sample rotated by `-d` of the angle the observer in `state` predicts for it (see
-    /// [`AngleCorrection::rotate`]); unchanged while the state has no angle yet (its first
-    /// sample sets the angle from `atan2`, off by `d` there, which the loop then removes),
-    /// or when there is nothing to correct.
-    #[inline(always)]
-    pub(crate) fn rotate_for<S: SinCos<T>, const N: usize>(
-        &self,
-        state: &ObserverState<T, N>,
-        y_c: T,
-        y_s: T,
-    ) -> (T, T) {
-        if self.order == 0 || !state.initialised {
-            return (y_c, y_s);
-        }
-        let mut p = state.predicted_angle();
-        wrap_angle(&mut p);
-        let (sin_p, cos_p) = S::sin_cos(p);
-        self.rotate(sin_p, cos_p, y_c, y_s)
-    }
 }
 
 /// The sample `(y_c, y_s)` rotated by `-d` (rad, within
@@ -191,26 +166,6 @@ pub(crate) fn rotate_by<T: Float>(d: T, y_c: T, y_s: T) -> (T, T) {
     let sin_d = d - d * d2 * T::from_f32(1.0 / 6.0);
     let cos_d = T::ONE - d2 * T::HALF;
     (y_c * cos_d + y_s * sin_d, y_s * cos_d - y_c * sin_d)
-}
-
-impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
-    /// [`Gains::update_calibrated`] with the angle-dependent error `correction` removed as
-    /// a chain's [`AngleCorrection`] stage does: the sample is corrected by the calibrator's
-    /// [`SensorCalibration`](crate::SensorCalibration) (offsets, imbalance, quadrature),
-    /// then rotated by `-d(p)`; the calibrator learns from the raw sample as it does alone.
-    #[inline]
-    pub fn update_calibrated_corrected(
-        &self,
-        state: &mut ObserverState<T, N>,
-        calibrator: &mut Calibrator<T>,
-        correction: &AngleCorrection<T>,
-        y_c: T,
-        y_s: T,
-    ) -> Estimate<T> {
-        self.update_calibrated_mapped(state, calibrator, y_c, y_s, |state, c, s| {
-            correction.rotate_for::<S, N>(state, c, s)
-        })
-    }
 }
 
 #[cfg(test)]

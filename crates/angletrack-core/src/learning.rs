@@ -352,7 +352,7 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
 
     /// [`Gains::update_calibrated`] whose corrected sample goes through `map` (given the
     /// state before the sample) on its way to the observer, as the angle correction
-    /// ([`Gains::update_calibrated_corrected`]) needs; the estimator still learns from the
+    /// (a chain's stage after the calibration) needs; the estimator still learns from the
     /// raw sample. With the calibrator off, only `map` applies.
     #[inline(always)]
     pub(crate) fn update_calibrated_mapped(

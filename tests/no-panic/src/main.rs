@@ -141,7 +141,7 @@ where
     for k in 0..black_box(8u16) {
         let (y_c, y_s) = (black_box(0.6), black_box(-0.8));
         sum += gains
-            .update_calibrated_corrected(&mut state, &mut calibrator, &correction, y_c, y_s)
+            .update_calibrated(&mut state, &mut calibrator, y_c, y_s)
             .speed;
         let raw = (black_box(2048 + 100 * k), black_box(4000 - 100 * k));
         sum += chain.update(&mut chain_state, raw).angle;

@@ -30,7 +30,7 @@ pub const MAX_CORRECTION_ORDER: usize = 8;
 /// `k = 1..=MAX_CORRECTION_ORDER` (rad), to be removed inside the phase detector by a chain's stage ([`Chain`](crate::Chain), see
 /// the module's documentation). Learned from a capture by the `angletrack` crate's
 /// `calibrate`; `Copy` and fixed-size, so firmware keeps it in flash and in the
-/// configuration beside the [`Gains`]. The default corrects nothing.
+/// configuration beside the [`Gains`](crate::Gains). The default corrects nothing.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AngleCorrection<T> {
     /// `a_k` (index `k - 1`), rad.

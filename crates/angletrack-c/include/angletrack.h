@@ -98,7 +98,7 @@
  * The 8-byte words of an `at_chain_fixed`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_FIXED_WORDS 140
+#define AT_CHAIN_FIXED_WORDS 76
 
 /**
  * The 8-byte words of an `at_chain_state_fixed`'s storage (checked against the Rust type at

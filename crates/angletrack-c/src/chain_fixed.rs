@@ -27,7 +27,7 @@ use crate::table::{TableFixed, at_angle_table_fixed};
 
 /// The 8-byte words of an `at_chain_fixed`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_CHAIN_FIXED_WORDS: usize = 140;
+pub const AT_CHAIN_FIXED_WORDS: usize = 76;
 /// The 8-byte words of an `at_chain_state_fixed`'s storage (checked against the Rust type at
 /// compile time, on every target).
 pub const AT_CHAIN_STATE_FIXED_WORDS: usize = 7;

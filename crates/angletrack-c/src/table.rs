@@ -7,8 +7,8 @@
 //! from a measured error curve; the chains check them again when they are built.
 
 use angletrack_core::{
-    AngleCorrection, AngleCorrectionTable, ConfigError, FixedAngleCorrectionTable, Prediction,
-    Stage,
+    AngleCorrection, AngleCorrectionTable, ConfigError, FixedAngleCorrectionTable, Parameter,
+    Prediction, Stage,
 };
 
 use crate::chain::at_angle_correction_f32;
@@ -18,8 +18,6 @@ use crate::chain::at_angle_correction_f32;
 /// interpolated linearly between them at the observer's predicted angle.
 pub const AT_ANGLE_TABLE_LENGTH: usize = 256;
 
-/// The float table of the core (f64: the fixed-point table is rounded from it).
-pub(crate) type TableF64 = AngleCorrectionTable<f64, AT_ANGLE_TABLE_LENGTH>;
 /// The float table of the f32 chain.
 pub(crate) type TableF32 = AngleCorrectionTable<f32, AT_ANGLE_TABLE_LENGTH>;
 /// The fixed-point chain's table.
@@ -125,27 +123,36 @@ impl at_angle_correction_table_f32 {
 impl at_angle_table_fixed {
     /// The core's table, checked (every entry within 0.25 rad).
     pub(crate) fn checked(&self) -> Result<TableFixed, ConfigError> {
-        let table = TableF64::new(self.errors_q15.map(|q| f64::from(q) / 32768.0))?;
-        // Each entry is a multiple of 2^-15: rounded back to itself.
-        Ok(FixedAngleCorrectionTable::from_table(&table))
+        FixedAngleCorrectionTable::new(self.errors_q15)
     }
 
-    /// The table of a core table.
-    fn of(table: &TableF64) -> Self {
-        Self {
-            errors_q15: FixedAngleCorrectionTable::from_table(table).errors_q15(),
-        }
-    }
-
-    /// The table of errors in rad (each finite and within 0.25 rad), rounded to Q15.
+    /// The table of errors in rad (each finite and within 0.25 rad), rounded to Q15: no
+    /// float table in between (a Cortex-M0's stack is small).
     pub(crate) fn from_errors(errors: &[f32; AT_ANGLE_TABLE_LENGTH]) -> Result<Self, ConfigError> {
-        TableF64::new(errors.map(f64::from)).map(|t| Self::of(&t))
+        let mut errors_q15 = [0; AT_ANGLE_TABLE_LENGTH];
+        for (q, &d) in errors_q15.iter_mut().zip(errors) {
+            if !d.is_finite() {
+                return Err(ConfigError::NotFinite(Parameter::AngleCorrection));
+            }
+            if d.abs() > 0.25 {
+                return Err(ConfigError::OutOfRange(Parameter::AngleCorrection));
+            }
+            // Within 8192, rounded half away from zero (as `round`): the truncation of the
+            // value moved half a unit away from zero.
+            let scaled = d * 32768.0;
+            *q = (scaled + 0.5_f32.copysign(scaled)) as i16;
+        }
+        FixedAngleCorrectionTable::new(errors_q15).map(|t| Self {
+            errors_q15: t.errors_q15(),
+        })
     }
 
-    /// The table of checked harmonics, rounded to Q15.
+    /// The table of checked harmonics, rounded to Q15 (no float table in between).
     pub(crate) fn from_harmonics(h: &at_angle_correction_f32) -> Result<Self, ConfigError> {
         let harmonics = h.harmonics_f64()?;
-        Ok(Self::of(&AngleCorrectionTable::from_harmonics(&harmonics)))
+        Ok(Self {
+            errors_q15: FixedAngleCorrectionTable::from_harmonics(&harmonics).errors_q15(),
+        })
     }
 }
 

@@ -186,8 +186,9 @@ impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
 /// `sin d = d - d^3/6`, `cos d = 1 - d^2/2`, saturated to `i16`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FixedAngleCorrectionTable<const L: usize> {
-    /// Per entry `k`: `d_k` and `d_{k+1} - d_k` (periodic), Q15 rad, side by side.
-    segments_q15: [[i16; 2]; L],
+    /// `d_k` in Q15 rad. One value per entry, not the float table's pair: a Cortex-M0 has
+    /// 16 KiB of RAM, and the step to the next entry is one load and one subtraction.
+    errors_q15: [i16; L],
 }
 
 impl<const L: usize> FixedAngleCorrectionTable<L> {
@@ -199,6 +200,33 @@ impl<const L: usize> FixedAngleCorrectionTable<L> {
         );
         L.trailing_zeros()
     };
+
+    /// The table of the entries `errors_q15` (Q15 rad, at the angles `-pi + 2 pi k / L`),
+    /// each within 0.25 rad (8192), else refused naming `angle_correction`; `const`, for a
+    /// table kept in flash.
+    ///
+    /// ```
+    /// use angletrack_core::{FixedAngleCorrectionTable, Parameter};
+    /// const TABLE: FixedAngleCorrectionTable<4> =
+    ///     match FixedAngleCorrectionTable::new([0, 328, 0, -328]) {
+    ///         Ok(table) => table,
+    ///         Err(_) => panic!("an entry beyond 0.25 rad"),
+    ///     };
+    /// assert_eq!(TABLE.error_at(i32::MIN / 2), 328); // -pi/2
+    /// let err = FixedAngleCorrectionTable::new([0, 8193, 0, 0]).unwrap_err();
+    /// assert_eq!(err.parameter(), Parameter::AngleCorrection);
+    /// ```
+    pub const fn new(errors_q15: [i16; L]) -> Result<Self, ConfigError> {
+        let _ = Self::BITS;
+        let mut k = 0;
+        while k < L {
+            if errors_q15[k].unsigned_abs() > 8192 {
+                return Err(ConfigError::OutOfRange(Parameter::AngleCorrection));
+            }
+            k += 1;
+        }
+        Ok(Self { errors_q15 })
+    }
 
     /// The integers of a float table (rad, within 0.25 rad: within `i16` in Q15), each
     /// rounded to the nearest 2^-15 rad.
@@ -236,28 +264,17 @@ impl<const L: usize> FixedAngleCorrectionTable<L> {
     /// The table of the errors `error(k)` (rad, within 0.25 rad), each rounded to Q15.
     fn of_errors(error: impl Fn(usize) -> f64) -> Self {
         let _ = Self::BITS;
-        let mut table = Self {
-            segments_q15: [[0; 2]; L],
-        };
-        for (k, segment) in table.segments_q15.iter_mut().enumerate() {
+        let mut errors_q15 = [0; L];
+        for (k, q) in errors_q15.iter_mut().enumerate() {
             // |d| <= 0.25 rad: at most 8192 in Q15.
-            segment[0] = libm::round(error(k) * 32768.0) as i16;
+            *q = libm::round(error(k) * 32768.0) as i16;
         }
-        for k in 0..L {
-            // |step| <= 16384: in 16 bits.
-            table.segments_q15[k][1] =
-                table.segments_q15[(k + 1) % L][0] - table.segments_q15[k][0];
-        }
-        table
+        Self { errors_q15 }
     }
 
     /// The entries (Q15 rad).
     pub fn errors_q15(&self) -> [i16; L] {
-        let mut errors = [0; L];
-        for (d, segment) in errors.iter_mut().zip(&self.segments_q15) {
-            *d = segment[0];
-        }
-        errors
+        self.errors_q15
     }
 
     /// The error `d` in Q15 rad at the binary angle `angle` (2^32 per turn, `i32::MIN` is
@@ -267,10 +284,12 @@ impl<const L: usize> FixedAngleCorrectionTable<L> {
         // The angle from -pi as an unsigned turn: the index is its top bits, the fraction
         // the next 15.
         let turn = angle.wrapping_sub(i32::MIN) as u32;
-        let [d, step] = self.segments_q15[(turn >> (32 - Self::BITS)) as usize & (L - 1)];
+        let k = (turn >> (32 - Self::BITS)) as usize & (L - 1);
         let fraction = ((turn << Self::BITS) >> 17) as i32;
+        let d = i32::from(self.errors_q15[k]);
+        let step = i32::from(self.errors_q15[(k + 1) & (L - 1)]) - d;
         // |step| <= 2^14, fraction < 2^15: the product is below 2^29.
-        i32::from(d) + ((i32::from(step) * fraction) >> 15)
+        d + ((step * fraction) >> 15)
     }
 
     /// The sample rotated by `-d` at the predicted binary angle `angle` (see

@@ -5,18 +5,18 @@
 //! monitor); `at_chain_state_fixed`, one channel's state; and `at_adc_counts`, the plain
 //! ADC settings (the core's `AdcCounts`).
 //!
-//! The chain is the core's `Chain<(AdcCounts, (Optional<FixedCalibration>,
-//! Optional<FixedAngleCorrectionTable<256>>)), FixedGains<N>>`. A chain without an ADC
+//! The chain is the core's `Chain<(AdcCounts, (Option<FixedCalibration>,
+//! Option<FixedAngleCorrectionTable<256>>)), FixedGains<N>>`. A chain without an ADC
 //! takes `int16` samples through the
 //! identity of `AdcCounts::twos_complement(16)` (a widening, two comparisons and a shift by
-//! 0); an absent calibration or table is skipped by [`Optional`] (one test of its flag), not
+//! 0); an absent calibration or table is skipped by the core's `Option` stage (one test of its flag), not
 //! run as an identity.
 
 use core::mem::MaybeUninit;
 
 use angletrack_core::{
     AdcCounts, AdcSample, Chain, ChainState, ConfigError, FixedCalibration, FixedGains, FixedState,
-    Order, Prediction, SensorCalibration, Stage, SupportedOrder,
+    Order, SensorCalibration, SupportedOrder,
 };
 
 use crate::calibration::at_sensor_calibration_f32;
@@ -101,38 +101,8 @@ pub struct at_chain_state_fixed {
 
 slot::slot_struct!(at_chain_state_fixed, AT_CHAIN_STATE_FIXED_WORDS);
 
-/// A stage that may be absent: skipped (one test) rather than run as an identity.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Optional<S>(pub(crate) Option<S>);
-
-impl<S: Stage<i16, (i16, i16), State = (), Memo = ()>> Stage<i16, (i16, i16)> for Optional<S> {
-    type State = ();
-    type Memo = ();
-
-    #[inline(always)]
-    fn forward(
-        &self,
-        state: &mut (),
-        prediction: &impl Prediction<i16>,
-        input: (i16, i16),
-    ) -> ((i16, i16), ()) {
-        match &self.0 {
-            Some(stage) => stage.forward(state, prediction, input),
-            None => (input, ()),
-        }
-    }
-
-    #[inline(always)]
-    fn quiet(&self, _: &()) -> bool {
-        true
-    }
-}
-
 /// The front end of a fixed-point chain.
-type FrontEnd = (
-    AdcCounts,
-    (Optional<FixedCalibration>, Optional<TableFixed>),
-);
+type FrontEnd = (AdcCounts, (Option<FixedCalibration>, Option<TableFixed>));
 
 /// What an `at_chain_fixed` holds: the core's chain of order `N`, and whether its ADC was
 /// given (else `u16` and `i32` counts are refused).
@@ -200,13 +170,7 @@ where
     let observer = gains.with_monitor(nominal)?;
     Ok(ChainFixed {
         has_adc: adc.is_some(),
-        chain: Chain::new(
-            (
-                adc.unwrap_or(IDENTITY),
-                (Optional(calibration), Optional(table)),
-            ),
-            observer,
-        ),
+        chain: Chain::new((adc.unwrap_or(IDENTITY), (calibration, table)), observer),
     })
 }
 

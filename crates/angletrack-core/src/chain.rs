@@ -95,6 +95,52 @@ impl<V: ChainNumber> Stage<V, (V, V)> for () {
     }
 }
 
+/// A stage that may be absent (a firmware's configuration chosen at start-up): skipped, at
+/// the cost of one test, when `None`; it learns, flags and is quiet as the stage it holds.
+impl<V: ChainNumber, S: Stage<V, (V, V)>> Stage<V, (V, V)> for Option<S> {
+    type State = S::State;
+    type Memo = Option<S::Memo>;
+
+    #[inline(always)]
+    fn forward(
+        &self,
+        state: &mut S::State,
+        prediction: &impl Prediction<V>,
+        input: (V, V),
+    ) -> ((V, V), Self::Memo) {
+        match self {
+            Some(stage) => {
+                let (pair, memo) = stage.forward(state, prediction, input);
+                (pair, Some(memo))
+            }
+            None => (input, None),
+        }
+    }
+
+    #[inline(always)]
+    fn feedback(&self, state: &mut S::State, memo: Self::Memo, used: Option<Feedback<V>>) {
+        if let (Some(stage), Some(memo)) = (self, memo) {
+            stage.feedback(state, memo, used);
+        }
+    }
+
+    #[inline(always)]
+    fn faults(&self, state: &mut S::State) -> Faults {
+        match self {
+            Some(stage) => stage.faults(state),
+            None => Faults::NONE,
+        }
+    }
+
+    #[inline(always)]
+    fn quiet(&self, state: &S::State) -> bool {
+        match self {
+            Some(stage) => stage.quiet(state),
+            None => true,
+        }
+    }
+}
+
 /// `A` then `B`.
 impl<V: ChainNumber, X, A: Stage<V, X>, B: Stage<V, (V, V)>> Stage<V, X> for (A, B) {
     type State = (A::State, B::State);

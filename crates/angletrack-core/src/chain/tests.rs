@@ -217,3 +217,26 @@ fn the_fixed_rotation_follows_the_float_one() {
     // The Q15 error of 2^-15 rad times 30000 counts, and the roundings: 2.2 counts.
     assert!(worst < 4.0, "{worst}");
 }
+
+#[test]
+fn an_absent_stage_is_skipped_and_a_present_one_learns() {
+    let gains = Gains::<f32, 3>::new([0.06, 0.0019, 3e-5], 1e-4).unwrap();
+    let online = OnlineCalibration::new(CalibrationSettings::default(), 1e-4).unwrap();
+    let present = Chain::new(Some(online), gains);
+    let absent = Chain::new(None::<OnlineCalibration<f32>>, gains);
+    let mut learning: ChainState<Calibrator<f32>, ObserverState<f32, 3>> = ChainState::new();
+    let mut plain: ChainState<Calibrator<f32>, ObserverState<f32, 3>> = ChainState::new();
+    learning.front_end.enable();
+    let mut bare = ObserverState::new();
+    let speed = 2.0 * core::f32::consts::PI * 50.0;
+    for k in 0..4000 {
+        let theta = speed * k as f32 * 1e-4;
+        let (y_c, y_s) = (0.05 + theta.cos(), -0.05 + 1.1 * (theta + 0.05).sin());
+        present.update(&mut learning, (y_c, y_s));
+        let e = absent.update(&mut plain, (y_c, y_s));
+        assert_eq!(e, gains.update(&mut bare, y_c, y_s), "sample {k}");
+    }
+    let (o_c, o_s) = learning.front_end.calibration().offsets();
+    assert!((o_c - 0.05).abs() < 5e-3 && (o_s + 0.05).abs() < 5e-3);
+    assert!(learning.front_end.turns_learned() > 10);
+}

@@ -347,73 +347,28 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         y_c: T,
         y_s: T,
     ) -> Estimate<T> {
-        self.update_calibrated_mapped(state, calibrator, y_c, y_s, |_, c, s| (c, s))
+        // With the calibrator off, the plain update, inlined: the calibration then costs
+        // this one test; on, out of line, so that the registers it needs are saved there
+        // only.
+        if calibrator.mode == CalibrationMode::Off {
+            return self.update(state, y_c, y_s);
+        }
+        self.calibrating(state, calibrator, y_c, y_s)
     }
 
-    /// [`Gains::update_calibrated`] whose corrected sample goes through `map` (given the
-    /// state before the sample) on its way to the observer, as the angle correction
-    /// (a chain's stage after the calibration) needs; the estimator still learns from the
-    /// raw sample. With the calibrator off, only `map` applies.
-    #[inline(always)]
-    pub(crate) fn update_calibrated_mapped(
+    /// One sample through a calibrator that is on (learning or frozen): corrected,
+    /// tracked, and learnt from; the calibration's faults are latched here and carried by
+    /// the sample's estimate.
+    #[inline(never)]
+    fn calibrating(
         &self,
         state: &mut ObserverState<T, N>,
         calibrator: &mut Calibrator<T>,
         y_c: T,
         y_s: T,
-        map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
     ) -> Estimate<T> {
-        self.through_calibrator(
-            state,
-            calibrator,
-            (y_c, y_s),
-            map,
-            |gains, state, c, s| gains.update(state, c, s),
-            |gains, state, faults| {
-                let mut estimate = gains.estimate(state);
-                estimate.faults |= faults;
-                estimate
-            },
-        )
-    }
-
-    /// The mode's test of every calibrated entry point: with the calibrator off, the
-    /// `map`ped sample goes to `plain` (the entry point without calibration, inlined: the
-    /// calibration then costs that one test); on, through [`Gains::calibrating`] out of
-    /// line (so that the registers it needs are saved there only), whose faults `finish`
-    /// turns into the entry point's result.
-    #[inline(always)]
-    fn through_calibrator<R>(
-        &self,
-        state: &mut ObserverState<T, N>,
-        calibrator: &mut Calibrator<T>,
-        (y_c, y_s): (T, T),
-        map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
-        plain: impl FnOnce(&Self, &mut ObserverState<T, N>, T, T) -> R,
-        finish: impl FnOnce(&Self, &ObserverState<T, N>, Faults) -> R,
-    ) -> R {
-        if calibrator.mode == CalibrationMode::Off {
-            let (c, s) = map(state, y_c, y_s);
-            return plain(self, state, c, s);
-        }
-        self.calibrating(state, calibrator, (y_c, y_s), map, finish)
-    }
-
-    /// One sample through a calibrator that is on (learning or frozen): corrected, `map`ped,
-    /// tracked, and learnt from; the calibration's faults (latched here, and carried by
-    /// the sample's estimate) go to `finish` (see [`Gains::through_calibrator`]).
-    #[inline(never)]
-    fn calibrating<R>(
-        &self,
-        state: &mut ObserverState<T, N>,
-        calibrator: &mut Calibrator<T>,
-        (y_c, y_s): (T, T),
-        map: impl FnOnce(&ObserverState<T, N>, T, T) -> (T, T),
-        finish: impl FnOnce(&Self, &ObserverState<T, N>, Faults) -> R,
-    ) -> R {
         let mode = calibrator.mode;
         let (c, s) = calibrator.calibration.correct(y_c, y_s);
-        let (c, s) = map(state, c, s);
         let checked = &self.calibration;
         let learner = Learner {
             calibrator: &mut *calibrator,
@@ -427,7 +382,9 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         // which the usual path of the update does not rewrite (they would outlive the
         // mode).
         state.monitor.latched |= faults;
-        finish(self, state, faults)
+        let mut estimate = self.estimate(state);
+        estimate.faults |= faults;
+        estimate
     }
 }
 

@@ -80,8 +80,8 @@ pub trait EntryPoint {
 /// The simulated signal's samples in each form a tracker takes, `[y_c, y_s]`, converted
 /// before `count` mode's runs (by the build script): a conversion inside the loop would run
 /// in the counted range whenever the update calls the same routines (on the Cortex-M0 the
-/// soft-float multiply and float-to-int conversion of [`adc_counts`], which `update_adc`
-/// calls too).
+/// soft-float multiply and float-to-int conversion of [`adc_counts`], which the ADC
+/// stage calls too).
 #[derive(Debug, Clone, Copy)]
 pub struct Inputs {
     /// The signal (amplitude about 1).

@@ -296,8 +296,10 @@ class RandomSample:
 
 
 #: The observer is locked once its error has stayed within the tolerance for this many time
-#: constants of the loop's slowest pole (2 % of an exponential after 3.9 of them).
+#: constants of the loop's slowest pole (2 % of an exponential after 3.9 of them), averaged
+#: over blocks of an eighth of one.
 LOCK_HOLD_TIME_CONSTANTS = 4.0
+LOCK_BLOCKS_PER_TIME_CONSTANT = 8
 
 
 def slowest_time_constant_samples(loop_polynomial: list[float]) -> float:
@@ -309,31 +311,50 @@ def slowest_time_constant_samples(loop_polynomial: list[float]) -> float:
 
 
 class LockDetector:
-    """Where the observer's start-up ends, chunk by chunk: the lock is the first sample after
-    ``hold`` consecutive samples of an error within ``tolerance_rad`` (a NaN error is
-    outside). From the lock on every sample counts, whatever its error."""
+    """Where the observer's start-up ends, chunk by chunk. The error is averaged over blocks
+    of ``block`` samples (the loop's transient is slow beside a block; the sensor's noise is
+    averaged down), and the lock is the first sample after ``hold`` samples' worth of
+    consecutive blocks whose mean is within ``tolerance_rad`` (a block with a NaN is
+    outside). From the lock on every sample counts, whatever its error. The samples must
+    come in order from the capture's first."""
 
-    def __init__(self, tolerance_rad: float, hold: int) -> None:
+    def __init__(self, tolerance_rad: float, hold: int, block: int = 1) -> None:
         self.tolerance_rad = tolerance_rad
-        self.hold = max(1, int(hold))
+        self.block = max(1, int(block))
+        self.hold_blocks = max(1, -(-int(hold) // self.block))
         #: Index of the lock sample, once reached.
         self.lock_index: Optional[int] = None
+        self._pending = np.empty(0)
+        self._blocks = 0
         self._run_start: Optional[int] = None
+
+    @property
+    def hold(self) -> int:
+        """The samples the error must stay within the tolerance for."""
+        return self.hold_blocks * self.block
 
     def add(self, first_index: int, error_rad: np.ndarray) -> np.ndarray:
         """The chunk's mask of samples at or after the lock (``first_index`` is the
         chunk's first sample in the capture)."""
         n = len(error_rad)
-        index = first_index + np.arange(n)
         if self.lock_index is None:
-            outside = first_index + np.flatnonzero(~(np.abs(error_rad) <= self.tolerance_rad))
-            run_start = first_index if self._run_start is None else self._run_start
+            error = np.concatenate([self._pending, np.asarray(error_rad, dtype=np.float64)])
+            whole = len(error) // self.block * self.block
+            self._pending = error[whole:]
+            means = error[:whole].reshape(-1, self.block).mean(axis=1)
+            first_block = self._blocks
+            self._blocks += len(means)
+            outside = first_block + np.flatnonzero(~(np.abs(means) <= self.tolerance_rad))
+            run_start = first_block if self._run_start is None else self._run_start
             starts = np.concatenate([[run_start], outside + 1])
-            ends = np.append(outside, first_index + n)  # the last run is still open
-            long_enough = np.flatnonzero(ends - starts > self.hold)
+            ends = np.append(outside, self._blocks)  # the last run is still open
+            long_enough = np.flatnonzero(ends - starts > self.hold_blocks)
             if len(long_enough):
-                self.lock_index = int(starts[long_enough[0]]) + self.hold
+                # A block begun in the previous chunk: its samples there are past.
+                lock = (int(starts[long_enough[0]]) + self.hold_blocks) * self.block
+                self.lock_index = max(lock, first_index)
+                self._pending = np.empty(0)
             self._run_start = int(starts[-1])
         if self.lock_index is None:
             return np.zeros(n, dtype=bool)
-        return index >= self.lock_index
+        return first_index + np.arange(n) >= self.lock_index

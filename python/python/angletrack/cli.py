@@ -325,8 +325,9 @@ def _add_plot_parser(sub) -> None:
                       help="against the observer's angle: count its start-up before the lock in the angle error "
                       "(default: left out, and shaded on the figure)")
     plot.add_argument("--lock-tolerance", type=_positive, default=0.01, metavar="RAD",
-                      help="against the observer's angle: it is locked once the error has stayed within RAD "
-                      "(default 0.01) for 4 time constants of the loop")
+                      help="against the observer's angle: it is locked once the error, averaged over blocks of "
+                      "an eighth of the loop's time constant, has stayed within RAD (default 0.01) for 4 time "
+                      "constants")
     where = plot.add_mutually_exclusive_group()
     where.add_argument("--output", "-o", type=_png_path, metavar="FILE.png",
                        help="the figure (default: CAPTURE_plot.png beside the capture)")

@@ -37,6 +37,7 @@ from angletrack.capture_analysis import (
     ConicMoments,
     EllipseFit,
     Envelope,
+    LOCK_BLOCKS_PER_TIME_CONSTANT,
     LOCK_HOLD_TIME_CONSTANTS,
     LockDetector,
     RandomSample,
@@ -144,10 +145,14 @@ class CaptureAnalysis:
         return "\n".join(lines)
 
 
-def _lock_hold_samples(gains: angletrack.Gains) -> int:
-    """Samples the error must stay within the tolerance for the observer to count as locked."""
+def _lock_detector(gains: angletrack.Gains, tolerance_rad: float) -> LockDetector:
+    """The lock of the observer of ``gains``: its error's block means within the tolerance
+    for :data:`LOCK_HOLD_TIME_CONSTANTS` time constants of the loop."""
     tau = slowest_time_constant_samples(gains.loop_polynomial)
-    return int(math.ceil(LOCK_HOLD_TIME_CONSTANTS * tau)) if math.isfinite(tau) else 1
+    if not math.isfinite(tau):
+        return LockDetector(tolerance_rad, 1)
+    block = int(tau / LOCK_BLOCKS_PER_TIME_CONSTANT)
+    return LockDetector(tolerance_rad, int(math.ceil(LOCK_HOLD_TIME_CONSTANTS * tau)), block)
 
 
 def analyse_capture(
@@ -155,9 +160,10 @@ def analyse_capture(
 ) -> CaptureAnalysis:
     """Reads ``s.capture`` chunk by chunk, runs the observer when gains are given (checked
     against the capture's rate as ``angletrack track`` does) and accumulates the figure's
-    data. Against the observer's angle, the error counts from the observer's lock (its error
-    within ``s.lock_tolerance_rad`` for :data:`LOCK_HOLD_TIME_CONSTANTS` time constants of
-    the loop) unless ``include_start_up``; ``s.skip_s`` leaves out the first seconds in
+    data. Against the observer's angle, the error counts from the observer's lock (its error,
+    averaged over blocks of an eighth of the loop's time constant, within
+    ``s.lock_tolerance_rad`` for :data:`LOCK_HOLD_TIME_CONSTANTS` time constants) unless
+    ``include_start_up``; ``s.skip_s`` leaves out the first seconds in
     every case. ``s.output`` is not used."""
     reader = angletrack.CaptureReader(
         s.capture, columns=s.columns, delimiter=s.delimiter, time_unit=s.time_unit,
@@ -172,7 +178,7 @@ def analyse_capture(
         observer = angletrack.Observer(gains, dtype=np.dtype(s.dtype), sin_cos=s.sin_cos)
         rate_hz: Optional[float] = gains.sample_rate_hz
         if first.reference_rad is None:
-            lock = LockDetector(s.lock_tolerance_rad, _lock_hold_samples(gains))
+            lock = _lock_detector(gains, s.lock_tolerance_rad)
     else:
         rate_hz = reader.sample_rate_hz
     reference = (

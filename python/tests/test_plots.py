@@ -375,20 +375,6 @@ def test_plot_counts_the_start_up_when_the_observer_never_locks(tmp_path):
     assert a.start_up == "skipped" and a.lock_s is not None
 
 
-class KeptFigures:
-    """pyplot whose ``close`` keeps the figure, to look at what was drawn."""
-
-    def __init__(self, plt):
-        self.plt, self.figures = plt, []
-
-    def figure(self, *args, **kwargs):
-        self.figures.append(self.plt.figure(*args, **kwargs))
-        return self.figures[-1]
-
-    def close(self, fig):
-        pass
-
-
 def test_a_fault_of_one_sample_shows_at_least_two_pixels_wide(tmp_path):
     n = 60_000  # about 46 samples per pixel column of the time axes
     t = np.arange(n) / RATE_HZ
@@ -396,9 +382,8 @@ def test_a_fault_of_one_sample_shows_at_least_two_pixels_wide(tmp_path):
     y_c[45_000] = np.nan  # one bad sample: the observer coasts
     np.savez(tmp_path / "c.npz", time=t, y_c=y_c, y_s=y_s)
     a = plots.analyse_capture(settings(tmp_path / "c.npz", gains_file=gains_20hz(tmp_path)))
-    kept = KeptFigures(plots.pyplot())
-    plots.plot_capture(kept, a, tmp_path / "c.png")
-    fig = kept.figures[0]
+    plt = plots.pyplot()
+    fig = plots.draw_capture(plt, a)  # laid out, not written
     ax_faults = fig.axes[4]
     row = [name for name, _ in angletrack.FAULT_BITS].index("BAD_SAMPLE")
     spans = [bar for bar in ax_faults.collections
@@ -410,4 +395,4 @@ def test_a_fault_of_one_sample_shows_at_least_two_pixels_wide(tmp_path):
     assert abs(corners[:, 0].min() - left) < 1.0  # where the sample is
     # Every time axis is labelled in seconds.
     assert fig.axes[3].get_xlabel() == fig.axes[4].get_xlabel() == "time from the first sample (s)"
-    kept.plt.close(fig)
+    plt.close(fig)

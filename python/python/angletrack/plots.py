@@ -399,8 +399,8 @@ def _draw_faults(ax_faults, a: CaptureAnalysis) -> None:
             ax_faults.broken_barh(spans, (row - 0.35, 0.7), color="tab:red", lw=0)
 
 
-def plot_capture(plt, a: CaptureAnalysis, path: pathlib.Path) -> None:
-    """Draws the figure of ``a`` into ``path`` (PNG)."""
+def draw_capture(plt, a: CaptureAnalysis):
+    """The figure of ``a`` (a matplotlib ``Figure``, laid out; the caller closes it)."""
     fig = plt.figure(figsize=FIGURE_SIZE_IN)
     grid = fig.add_gridspec(3, 3, height_ratios=[3.2, 1.5, 1.2])
     ax_lissajous = fig.add_subplot(grid[0, 0])
@@ -415,6 +415,12 @@ def plot_capture(plt, a: CaptureAnalysis, path: pathlib.Path) -> None:
     fig.tight_layout(rect=(0, 0, 1, 0.975))
     if a.faults:
         _draw_faults(ax_faults, a)
+    return fig
+
+
+def plot_capture(plt, a: CaptureAnalysis, path: pathlib.Path) -> None:
+    """Draws the figure of ``a`` into ``path`` (PNG)."""
+    fig = draw_capture(plt, a)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=DPI)
     plt.close(fig)

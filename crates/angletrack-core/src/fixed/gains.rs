@@ -4,6 +4,7 @@
 
 use crate::error::{ConfigError, Parameter};
 use crate::gains::{Order, SupportedOrder};
+use crate::monitor::{AmplitudeMeasure, MonitorLimits};
 use crate::stability::for_f64::check_stability;
 
 /// Signal amplitudes (counts) the fixed-point path normalises exactly: from 4096 (below, the
@@ -51,9 +52,10 @@ pub struct FixedConstants<const N: usize> {
 }
 
 /// The fixed-point monitor's thresholds, as the update compares them
-/// (`docs/theory.md §14`): half the square amplitude of a window's last sample
-/// (`(y_c^2 + y_s^2) / 2`), the sum of `|eps|` (Q15) over the window and the speed in 2^-32
-/// turn per sample.
+/// (`docs/theory.md §14`) in the floats' decision ([`MonitorLimits`]): half the square
+/// amplitude of a window's last sample (`(y_c^2 + y_s^2) / 2`), the sum of `|eps|` (Q15)
+/// over the window, `|speed|` in 2^-32 turn per sample and the last sample's in-phase
+/// component (counts times 2^15).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct FixedThresholds {
     /// Run the monitor's flags at all.
@@ -68,6 +70,57 @@ pub(crate) struct FixedThresholds {
     pub(crate) loss_of_tracking: u32,
     /// |speed| (2^-32 turn per sample) above this: loss of tracking (a quarter turn).
     pub(crate) max_speed: u32,
+}
+
+impl MonitorLimits for FixedThresholds {
+    type Amplitude2 = u32;
+    type Error = u32;
+    type Speed = u32;
+    type InPhase = i32;
+
+    #[inline(always)]
+    fn loss_of_signal(&self) -> u32 {
+        self.loss_of_signal
+    }
+
+    #[inline(always)]
+    fn degradation(&self) -> (u32, u32) {
+        (self.degradation_low, self.degradation_high)
+    }
+
+    /// The lower edge and the width (`high >= low`, by construction).
+    #[inline(always)]
+    fn band(&self) -> (u32, u32) {
+        (
+            self.degradation_low,
+            self.degradation_high - self.degradation_low,
+        )
+    }
+
+    #[inline(always)]
+    fn loss_of_tracking(&self) -> u32 {
+        self.loss_of_tracking
+    }
+
+    #[inline(always)]
+    fn max_speed(&self) -> u32 {
+        self.max_speed
+    }
+
+    /// 0: a negative in-phase component, an error beyond a quarter turn.
+    #[inline(always)]
+    fn false_lock(&self) -> i32 {
+        0
+    }
+}
+
+/// The band as its lower edge and width: `a - low <= width` in unsigned wrapping
+/// arithmetic (an amplitude below `low` wraps above the width).
+impl AmplitudeMeasure for u32 {
+    #[inline(always)]
+    fn in_band(self, (low, width): (u32, u32)) -> bool {
+        self.wrapping_sub(low) <= width
+    }
 }
 
 /// Half the square amplitude of a signal of `amplitude_counts`.

@@ -363,13 +363,10 @@ pub(crate) struct WindowMeasures<A, E, S, P> {
     pub(crate) in_phase: P,
 }
 
-/// The monitor's decision on a window, written once over the limits its [`WindowMeasures`]
-/// are compared with, in the same numbers: the floats' [`CheckedThresholds`] and the
-/// fixed-point observer's integer thresholds (`fixed/gains.rs`). Loss of signal below
-/// [`MonitorLimits::loss_of_signal`], degradation outside [`MonitorLimits::degradation`]
-/// (loss of signal lies below that band, checked at construction), loss of tracking above
-/// [`MonitorLimits::loss_of_tracking`] or [`MonitorLimits::max_speed`], false lock below
-/// [`MonitorLimits::false_lock`] with the signal present.
+/// The monitor's decision on a window, written once over the [`Limits`] its
+/// [`WindowMeasures`] are compared with, in the same numbers: the floats'
+/// [`CheckedThresholds`] and the fixed-point observer's integer thresholds
+/// (`fixed/gains.rs`).
 pub(crate) trait MonitorLimits {
     /// The amplitude measure.
     type Amplitude2: AmplitudeMeasure;
@@ -380,28 +377,18 @@ pub(crate) trait MonitorLimits {
     /// The in-phase component.
     type InPhase: Copy + PartialOrd;
 
-    /// Below: loss of signal.
-    fn loss_of_signal(&self) -> Self::Amplitude2;
-    /// Outside `[low, high]`: degradation of signal.
-    fn degradation(&self) -> (Self::Amplitude2, Self::Amplitude2);
-    /// The degradation band in the form of its one comparison
-    /// ([`AmplitudeMeasure::in_band`]).
-    fn band(&self) -> (Self::Amplitude2, Self::Amplitude2);
-    /// Above: loss of tracking.
-    fn loss_of_tracking(&self) -> Self::Error;
-    /// Above: loss of tracking.
-    fn max_speed(&self) -> Self::Speed;
-    /// Below, with the signal present: false lock.
-    fn false_lock(&self) -> Self::InPhase;
+    /// The limits, as values (each read only where a test needs it, once inlined).
+    fn limits(&self) -> Limits<Self::Amplitude2, Self::Error, Self::Speed, Self::InPhase>;
 
     /// Whether a window is healthy, in one chain of tests: no flag at all. Loss of signal
     /// lies below the degradation band, so an amplitude inside the band rules out both.
     #[inline(always)]
     fn healthy(&self, m: &Measures<Self>) -> bool {
-        m.amplitude2.in_band(self.band())
-            && m.error <= self.loss_of_tracking()
-            && m.speed <= self.max_speed()
-            && m.in_phase >= self.false_lock()
+        let l = self.limits();
+        m.amplitude2.in_band(l.band)
+            && m.error <= l.loss_of_tracking
+            && m.speed <= l.max_speed
+            && m.in_phase >= l.false_lock
     }
 
     /// A window's flags, held in `flags` and latched in `latched`; returns whether they
@@ -447,20 +434,39 @@ pub(crate) trait MonitorLimits {
         speed: Self::Speed,
         in_phase: Self::InPhase,
     ) -> (Faults, bool) {
-        let (low, high) = self.degradation();
-        let signal_lost = a2 < self.loss_of_signal();
+        let l = self.limits();
+        let signal_lost = a2 < l.loss_of_signal;
         let faults = Faults::when(signal_lost, Faults::LOSS_OF_SIGNAL)
-            | Faults::when(a2 < low || a2 > high, Faults::DEGRADATION_OF_SIGNAL)
             | Faults::when(
-                error > self.loss_of_tracking() || speed > self.max_speed(),
+                a2 < l.degradation_low || a2 > l.degradation_high,
+                Faults::DEGRADATION_OF_SIGNAL,
+            )
+            | Faults::when(
+                error > l.loss_of_tracking || speed > l.max_speed,
                 Faults::LOSS_OF_TRACKING,
             );
-        let false_lock = !signal_lost && in_phase < self.false_lock();
+        let false_lock = !signal_lost && in_phase < l.false_lock;
         (
             faults | Faults::when(false_lock, Faults::FALSE_LOCK),
             false_lock,
         )
     }
+}
+
+/// What a window's [`WindowMeasures`] are compared with, in the same numbers: loss of signal
+/// below `loss_of_signal`, degradation outside [`degradation_low`, `degradation_high`] (loss
+/// of signal lies below that band, checked at construction), loss of tracking above
+/// `loss_of_tracking` or `max_speed`, false lock below `false_lock` with the signal present.
+pub(crate) struct Limits<A, E, S, P> {
+    pub(crate) loss_of_signal: A,
+    pub(crate) degradation_low: A,
+    pub(crate) degradation_high: A,
+    /// The degradation band in the form of its one comparison
+    /// ([`AmplitudeMeasure::in_band`]).
+    pub(crate) band: (A, A),
+    pub(crate) loss_of_tracking: E,
+    pub(crate) max_speed: S,
+    pub(crate) false_lock: P,
 }
 
 /// The [`WindowMeasures`] in the numbers of limits `L`.
@@ -497,33 +503,16 @@ impl<T: Float> MonitorLimits for CheckedThresholds<T> {
     type InPhase = T;
 
     #[inline(always)]
-    fn loss_of_signal(&self) -> T {
-        self.loss_of_signal2
-    }
-
-    #[inline(always)]
-    fn degradation(&self) -> (T, T) {
-        (self.degradation_low2, self.degradation_high2)
-    }
-
-    #[inline(always)]
-    fn band(&self) -> (T, T) {
-        (self.degradation_middle2, self.degradation_half_width2)
-    }
-
-    #[inline(always)]
-    fn loss_of_tracking(&self) -> T {
-        self.thresholds.loss_of_tracking
-    }
-
-    #[inline(always)]
-    fn max_speed(&self) -> T {
-        self.max_scaled_speed
-    }
-
-    #[inline(always)]
-    fn false_lock(&self) -> T {
-        self.thresholds.false_lock
+    fn limits(&self) -> Limits<T, T, T, T> {
+        Limits {
+            loss_of_signal: self.loss_of_signal2,
+            degradation_low: self.degradation_low2,
+            degradation_high: self.degradation_high2,
+            band: (self.degradation_middle2, self.degradation_half_width2),
+            loss_of_tracking: self.thresholds.loss_of_tracking,
+            max_speed: self.max_scaled_speed,
+            false_lock: self.thresholds.false_lock,
+        }
     }
 }
 

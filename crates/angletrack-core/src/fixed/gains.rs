@@ -4,7 +4,7 @@
 
 use crate::error::{ConfigError, Parameter};
 use crate::gains::{Order, SupportedOrder};
-use crate::monitor::{AmplitudeMeasure, MonitorLimits};
+use crate::monitor::{AmplitudeMeasure, Limits, MonitorLimits};
 use crate::stability::for_f64::check_stability;
 
 /// Signal amplitudes (counts) the fixed-point path normalises exactly: from 4096 (below, the
@@ -78,39 +78,22 @@ impl MonitorLimits for FixedThresholds {
     type Speed = u32;
     type InPhase = i32;
 
+    /// The band as its lower edge and width (`high >= low`, by construction); false lock
+    /// at a negative in-phase component (an error beyond a quarter turn).
     #[inline(always)]
-    fn loss_of_signal(&self) -> u32 {
-        self.loss_of_signal
-    }
-
-    #[inline(always)]
-    fn degradation(&self) -> (u32, u32) {
-        (self.degradation_low, self.degradation_high)
-    }
-
-    /// The lower edge and the width (`high >= low`, by construction).
-    #[inline(always)]
-    fn band(&self) -> (u32, u32) {
-        (
-            self.degradation_low,
-            self.degradation_high - self.degradation_low,
-        )
-    }
-
-    #[inline(always)]
-    fn loss_of_tracking(&self) -> u32 {
-        self.loss_of_tracking
-    }
-
-    #[inline(always)]
-    fn max_speed(&self) -> u32 {
-        self.max_speed
-    }
-
-    /// 0: a negative in-phase component, an error beyond a quarter turn.
-    #[inline(always)]
-    fn false_lock(&self) -> i32 {
-        0
+    fn limits(&self) -> Limits<u32, u32, u32, i32> {
+        Limits {
+            loss_of_signal: self.loss_of_signal,
+            degradation_low: self.degradation_low,
+            degradation_high: self.degradation_high,
+            band: (
+                self.degradation_low,
+                self.degradation_high - self.degradation_low,
+            ),
+            loss_of_tracking: self.loss_of_tracking,
+            max_speed: self.max_speed,
+            false_lock: 0,
+        }
     }
 }
 

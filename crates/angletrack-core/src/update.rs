@@ -9,6 +9,7 @@
 
 use crate::faults::Faults;
 use crate::gains::Gains;
+use crate::monitor::MonitorWindow;
 use crate::real::Float;
 use crate::real::sincos::{SinCos, SinCosUnit};
 use crate::recursion::{Sample, Step};
@@ -253,7 +254,7 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         // a rejected sample).
         if MONITOR
             && self.thresholds.thresholds.monitor
-            && state.monitor.accumulate(amplitude2, step.eps)
+            && state.monitor.accumulate((amplitude2, step.eps))
         {
             self.decide(state, y_c, y_s);
         }

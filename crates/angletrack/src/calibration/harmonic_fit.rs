@@ -249,6 +249,45 @@ impl HarmonicFit {
     }
 }
 
+/// The harmonics `C_k` of the error `e` against the true angle, from those `fitted` against
+/// the estimate `x = theta + u(theta)` of a loop that follows part of the error: with
+/// `transfer[k - 1]` the loop's `E/D` at order `k`, `u = sum_k (1 - T_k)/T_k e_k`, and
+/// `F(x) = e(x - u)`, so `e = F + e' u` to first order, solved by three fixed-point steps
+/// (`e = sum_k Re(C_k e^{jkx})`; products beyond [`SPECTRUM_ORDERS`] are dropped). Without
+/// it, the loop's following of orders 3 and 4 puts their products at orders 6 to 8 and 1
+/// to 2 (`docs/theory.md §12.4`).
+pub(crate) fn undo_loop_following(
+    fitted: &[Complex<f64>; SPECTRUM_ORDERS],
+    transfer: &[Complex<f64>; SPECTRUM_ORDERS],
+) -> [Complex<f64>; SPECTRUM_ORDERS] {
+    const K: i64 = SPECTRUM_ORDERS as i64;
+    // The exponential coefficient of order n (|n| <= K, n != 0) of the real series `c`.
+    let at = |c: &[Complex<f64>; SPECTRUM_ORDERS], n: i64| -> Complex<f64> {
+        let half = c[(n.unsigned_abs() - 1) as usize] * 0.5;
+        if n > 0 { half } else { half.conj() }
+    };
+    let mut e = *fitted;
+    for _ in 0..3 {
+        let mut u = [Complex::new(0.0, 0.0); SPECTRUM_ORDERS];
+        for (k, slot) in u.iter_mut().enumerate() {
+            let t = transfer[k];
+            if t.norm() > 0.0 {
+                *slot = e[k] * ((Complex::new(1.0, 0.0) - t) / t);
+            }
+        }
+        let mut next = *fitted;
+        for (n, slot) in (1..=K).zip(next.iter_mut()) {
+            let mut product = Complex::new(0.0, 0.0);
+            for k in (-K..=K).filter(|&k| k != 0 && k != n && (n - k).abs() <= K) {
+                product += Complex::new(0.0, k as f64) * at(&e, k) * at(&u, n - k);
+            }
+            *slot += product * 2.0;
+        }
+        e = next;
+    }
+    e
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -295,6 +334,26 @@ mod tests {
         kept[2] = true;
         kept[6] = true;
         assert!((fitted.residual_rms(&kept) - 1e-3).abs() < 5e-5);
+    }
+
+    #[test]
+    fn the_loops_following_of_the_error_is_undone() {
+        // e(theta) = 5e-3 cos 3 theta seen against x = theta + u, u = 0.4 e (T_3 = 1/1.4).
+        let mut transfer = [Complex::new(1.0, 0.0); SPECTRUM_ORDERS];
+        transfer[2] = Complex::new(1.0 / 1.4, 0.0);
+        let mut fit = HarmonicFit::new(SPECTRUM_ORDERS);
+        for i in 0..20_000 {
+            let theta = std::f64::consts::TAU * i as f64 / 1000.0;
+            let e = 5e-3 * (3.0 * theta).cos();
+            let x = theta + 0.4 * e;
+            fit.add(x.sin().atan2(x.cos()), x, e);
+        }
+        let fitted = fit.finish().unwrap().coefficients;
+        // Against x, the product e' u shows at order 6: 0.4 * 3 * 25e-6 / 2 = 1.5e-5.
+        assert!(fitted[5].norm() > 1e-5, "{}", fitted[5]);
+        let undone = undo_loop_following(&fitted, &transfer);
+        assert!(undone[5].norm() < 3e-7, "{}", undone[5]);
+        assert!((undone[2].re - 5e-3).abs() < 1e-7, "{}", undone[2]);
     }
 
     #[test]

@@ -9,7 +9,7 @@ use angletrack_core::{
 use nalgebra::Complex;
 
 use super::ellipse::EllipseMoments;
-use super::harmonic_fit::{FittedHarmonics, HarmonicFit};
+use super::harmonic_fit::{FittedHarmonics, HarmonicFit, undo_loop_following};
 use super::quality::{CalibrationMethod, OrderQuality, OrderStatus, SPECTRUM_ORDERS};
 use super::tracker::{LoopTracker, Tracker, Unwrap};
 use super::{
@@ -399,9 +399,19 @@ fn learned_orders(
     let mut orders = [OrderQuality::UNKNOWN; SPECTRUM_ORDERS];
     let mut kept = [false; SPECTRUM_ORDERS];
     let (mut a, mut b) = ([0.0; MAX_CORRECTION_ORDER], [0.0; MAX_CORRECTION_ORDER]);
+    let transfer: [Complex<f64>; SPECTRUM_ORDERS] = core::array::from_fn(|i| {
+        fit.tracker.as_ref().map_or(Complex::new(1.0, 0.0), |t| {
+            t.transfer((i + 1) as f64 * omega.abs())
+        })
+    });
+    let coefficients = if fit.tracker.is_some() {
+        undo_loop_following(&fitted.coefficients, &transfer)
+    } else {
+        fitted.coefficients
+    };
     for (i, quality) in orders.iter_mut().enumerate() {
         let k = i + 1;
-        let mut coefficient = fitted.coefficients[i];
+        let mut coefficient = coefficients[i];
         let mut uncertainty = fitted.uncertainty[i];
         match &fit.tracker {
             // The reference's zero is the mean error away from the sensor's: the

@@ -4,8 +4,8 @@ use angletrack_core::{Chain, ChainState, Gains};
 
 use super::*;
 use crate::{
-    Discretisation, Motion, MotionProfile, Scenario, SensorModel, kalman_from_jerk_std,
-    predicted_error, third_order_butterworth,
+    Discretisation, Motion, MotionProfile, Scenario, SensorModel, predicted_error,
+    third_order_butterworth,
 };
 
 const SAMPLE_PERIOD_S: f64 = 5e-5;
@@ -298,38 +298,46 @@ fn a_capture_too_slow_for_the_gains_starts_above_their_bandwidth_or_is_refused_b
     assert!((own.orders[2].amplitude_rad - 5e-3).abs() < 3e-4);
 }
 
-/// Issue 23: a fast loop (Kalman, jerk 1e5, noise 0.01, 20 kHz) learned spurious orders 6 to
-/// 8 of 0.13 to 0.27 mrad near its bandwidth; none is learned now.
+/// Issue 23: with a fast loop, the calibration learned spurious orders 6 to 8 of 0.13 to
+/// 0.27 mrad where the sensor has none: the loop follows part of orders 3 and 4, and their
+/// products with the error's slope show at orders 6 to 8 against its angle (measured before
+/// `undo_loop_following`: 0.06 to 0.13 mrad at Tc = 0.2 to 0.5 ms, learned). None is
+/// learned now, with the gains' loop or the calibration's own.
 #[test]
 fn no_spurious_order_is_learned_near_a_fast_loops_bandwidth() {
-    let gains = kalman_from_jerk_std(1e5, 0.01, SAMPLE_PERIOD_S)
-        .unwrap()
-        .gains;
     let learning = capture(steady(100.0), 8);
-    for own_loop in [false, true] {
-        let options = CalibrationOptions {
-            own_loop,
-            ..Default::default()
-        };
+    let gains_loop = CalibrationOptions {
+        own_loop: false,
+        ..Default::default()
+    };
+    for (tc, options) in [
+        (1.5e-4, gains_loop),
+        (2e-4, gains_loop),
+        (3e-4, gains_loop),
+        (5e-4, gains_loop),
+        (5e-4, CalibrationOptions::default()),
+    ] {
+        let fast = third_order_butterworth(tc, SAMPLE_PERIOD_S, Discretisation::PoleMatching)
+            .unwrap()
+            .gains;
         let learned =
-            learn_angle_correction(&gains, &learning.y_c, &learning.y_s, None, &options).unwrap();
+            learn_angle_correction(&fast, &learning.y_c, &learning.y_s, None, &options).unwrap();
         for (k, q) in learned.orders.iter().enumerate().take(8) {
             println!(
-                "own loop {own_loop}: order {}: {:.3e} +- {:.1e} {:?}",
+                "Tc {tc} s, {}: order {}: {:.3e} +- {:.1e} {:?}",
+                learned.method,
                 k + 1,
                 q.amplitude_rad,
                 q.uncertainty_rad,
                 q.status
             );
+            if k >= 4 {
+                assert_ne!(q.status, OrderStatus::Learned, "Tc {tc}: order {}", k + 1);
+                // Measured: at most 3.8e-5 rad, the noise of this capture.
+                assert!(q.amplitude_rad < 6e-5, "Tc {tc}: order {}", k + 1);
+            }
         }
-        for k in [5, 6, 7, 8] {
-            assert_ne!(
-                learned.orders[k - 1].status,
-                OrderStatus::Learned,
-                "order {k}"
-            );
-        }
-        assert!((learned.orders[3].amplitude_rad - 5e-3).abs() < 3e-4);
+        assert!((learned.orders[3].amplitude_rad - 5e-3).abs() < 2e-4);
     }
 }
 

@@ -80,6 +80,7 @@ pub use nalgebra::Complex;
 mod analysis;
 mod calibration;
 pub mod capture;
+mod carrier;
 mod counts;
 mod design;
 mod error;
@@ -99,6 +100,7 @@ pub use calibration::{
     CalibrationOptions, CaptureCalibration, MIN_ERROR_TRANSFER, SENSOR_CALIBRATION_FORMAT,
     SensorCalibrationRecord, error_transfer, learn_angle_correction,
 };
+pub use carrier::measured_carrier_cycles_per_sample;
 pub use counts::{
     AdcCount, CountsInput, CountsSettings, UnsignedCountsError, capture_mid_scale,
     offset_binary_mid_scale,

@@ -74,7 +74,33 @@ pub struct AdcInput<T> {
     input: CountsInput<T>,
 }
 
+/// The ADC range argument `adc_range` checked: two finite numbers, the first below the
+/// second.
+pub fn adc_range(range: Option<(f64, f64)>) -> Result<Option<(f64, f64)>> {
+    match range {
+        Some((min, max)) if !(min.is_finite() && max.is_finite()) => Err(Error::value(
+            "adc_range",
+            format!("({min}, {max}): expected two finite numbers"),
+        )),
+        Some((min, max)) if min >= max => Err(Error::value(
+            "adc_range",
+            format!("({min}, {max}): the minimum must be below the maximum"),
+        )),
+        other => Ok(other),
+    }
+}
+
+/// Whether `samples` are raw counts (an array of an integer dtype the observer takes).
+pub fn is_counts(samples: &Bound<'_, PyAny>) -> bool {
+    Counts::of_samples(samples).is_some()
+}
+
 impl<T: Sample> AdcInput<T> {
+    /// The scaling decided at the first call with counts, if any.
+    pub fn decided(&self) -> Option<angletrack_core::AdcScaling<T>> {
+        self.input.decided()
+    }
+
     /// A front end that decides its scaling at the first call with counts.
     pub fn new(settings: CountsSettings) -> Self {
         Self {

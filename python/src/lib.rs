@@ -13,6 +13,7 @@ mod batch;
 mod calibration;
 mod calibration_file;
 mod capture;
+mod carrier;
 mod counts;
 mod design;
 mod design_functions;
@@ -51,6 +52,10 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<fixed_estimates::FixedEstimates>()?;
     m.add_class::<batch::PyObserverBatch>()?;
     m.add_function(wrap_pyfunction!(batch::track_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(
+        carrier::measured_carrier_cycles_per_sample,
+        m
+    )?)?;
     m.add_function(wrap_pyfunction!(counts::offset_binary_mid_scale, m)?)?;
     m.add_function(wrap_pyfunction!(counts::capture_mid_scale, m)?)?;
     m.add_function(wrap_pyfunction!(counts::fixed_input, m)?)?;

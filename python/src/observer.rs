@@ -5,9 +5,11 @@
 
 use angletrack::{CountsSettings, EstimateColumns, ThresholdPolicy, online_calibration};
 use angletrack_core::{
-    CalibrationMode, Calibrator, Chain, ChainState, Faults, Gains as CoreGains,
-    Observer as CoreObserver, ObserverState, Real, SinCos,
+    CalibrationMode, Calibrator, Chain, ChainState, Faults, FrontEndCheck, FrontEndCheckState,
+    FrontEndFaults, Gains as CoreGains, Observer as CoreObserver, ObserverState, Real, SinCos,
+    WindingCheck,
 };
+use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 
 use crate::arrays::{Float, check_equal_lengths};
@@ -28,11 +30,26 @@ pub struct ObserverOptions {
     pub adc: CountsSettings,
     /// The online calibration.
     pub calibration: CalibrationChoice,
+    /// The ADC's range `(min, max)` in the input's units (counts for integer samples):
+    /// a sample at or beyond it is clipped (`crate::front_end`).
+    pub adc_range: Option<(f64, f64)>,
+    /// The windings' nominal envelope amplitude for the winding check (`None`: no check).
+    pub winding_amplitude: Option<f64>,
 }
 
 /// What `Observer` does with the core observer of whichever float type, order and sin/cos
 /// its settings chose.
 pub trait ObserverOps: Run {
+    /// [`Run::run`] with the front-end faults of each sample (`None`: none given).
+    fn run_with_faults(
+        &mut self,
+        py: Python<'_>,
+        y_c: Arg<'_, '_>,
+        y_s: Arg<'_, '_>,
+        front_end_faults: Option<&[u8]>,
+    ) -> Result<Estimates>;
+    /// The front-end faults latched (of the check and the winding check).
+    fn front_end_faults(&self) -> FrontEndFaults;
     fn estimate(&self) -> Estimate;
     fn reset(&mut self);
     fn initialise(&mut self, y_c: f64, y_s: f64);
@@ -57,6 +74,9 @@ pub struct Channel<T: Real, const N: usize, S> {
     calibrator: Calibrator<T>,
     adc: AdcInput<T>,
     thresholds: ThresholdPolicy<T>,
+    adc_range: Option<(f64, f64)>,
+    winding: Option<WindingCheck<T>>,
+    front_end: (FrontEndCheckState, FrontEndCheckState),
 }
 
 impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Channel<T, N, S> {
@@ -72,25 +92,72 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Channel<T, N, S> {
             calibrator: options.calibration.calibrator()?,
             adc: AdcInput::new(options.adc),
             thresholds,
+            adc_range: options.adc_range,
+            winding: options
+                .winding_amplitude
+                .map(|a| WindingCheck::new(T::from_f64(a)))
+                .transpose()
+                .map_err(|e| Error::value("winding_amplitude", e.to_string()))?,
+            front_end: Default::default(),
         })
     }
 }
 
 impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for Channel<T, N, S> {
     fn run(&mut self, py: Python<'_>, y_c: Arg<'_, '_>, y_s: Arg<'_, '_>) -> Result<Estimates> {
-        let (y_c, y_s) = self.adc.signals(y_c, y_s)?;
-        let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
-        check_equal_lengths(("y_c", y_c.len()), ("y_s", y_s.len()))?;
-        if let Some(thresholds) = self.thresholds.decide(y_c, y_s) {
-            self.observer.gains = self.observer.gains.with_fault_thresholds(thresholds)?;
-        }
-        let out = OutputArrays::<T>::new(py, y_c.len())?;
-        out.fill(py, |columns| run_columns(columns, self, y_c, y_s))?;
-        out.into_estimates(py, y_c.len(), None)
+        self.run_with_faults(py, y_c, y_s, None)
     }
 }
 
+impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Channel<T, N, S> {
+    /// The ADC range in the observer's units: counts through the decided scaling when
+    /// `counts` (the samples were counts), else as given.
+    fn range_in_units(&self, counts: bool) -> Option<(T, T)> {
+        let (min, max) = self.adc_range?;
+        match self.adc.decided().filter(|_| counts) {
+            Some(adc) => {
+                let mid = f64::from(adc.mid_scale_counts());
+                let per_unit = adc.counts_per_unit().to_f64();
+                Some((
+                    T::from_f64((min - mid) / per_unit),
+                    T::from_f64((max - mid) / per_unit),
+                ))
+            }
+            None => Some((T::from_f64(min), T::from_f64(max))),
+        }
+    }
+}
 impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N, S> {
+    fn run_with_faults(
+        &mut self,
+        py: Python<'_>,
+        y_c: Arg<'_, '_>,
+        y_s: Arg<'_, '_>,
+        front_end_faults: Option<&[u8]>,
+    ) -> Result<Estimates> {
+        let counts = crate::counts::is_counts(y_c);
+        let (y_c, y_s) = self.adc.signals(y_c, y_s)?;
+        let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
+        check_equal_lengths(("y_c", y_c.len()), ("y_s", y_s.len()))?;
+        if let Some(faults) = front_end_faults {
+            check_equal_lengths(("y_c", y_c.len()), ("front_end_faults", faults.len()))?;
+        }
+        if let Some(thresholds) = self.thresholds.decide(y_c, y_s) {
+            self.observer.gains = self.observer.gains.with_fault_thresholds(thresholds)?;
+        }
+        let check = FrontEndCheck::around((), self.range_in_units(counts))
+            .map_err(|e| Error::value("adc_range", e.to_string()))?;
+        let out = OutputArrays::<T>::new(py, y_c.len())?;
+        out.fill(py, |columns| {
+            run_columns(columns, self, check, (y_c, y_s), front_end_faults)
+        })?;
+        out.into_estimates(py, y_c.len(), None)
+    }
+
+    fn front_end_faults(&self) -> FrontEndFaults {
+        self.front_end.0.latched_faults() | self.front_end.1.latched_faults()
+    }
+
     fn estimate(&self) -> Estimate {
         Estimate::from_core(&self.observer.gains.estimate(&self.observer.state))
     }
@@ -157,27 +224,49 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
 }
 
 /// Runs `channel` over `y_c`, `y_s` into the columns (all of equal length, checked by the
-/// caller). Called with the GIL released: no Python object is touched.
+/// caller), through the front-end `check` with the samples' `front_end_faults` if given.
+/// Called with the GIL released: no Python object is touched.
 fn run_columns<T: Real, const N: usize, S: SinCos<T>>(
     columns: EstimateColumns<'_, T>,
     channel: &mut Channel<T, N, S>,
-    y_c: &[T],
-    y_s: &[T],
+    check: FrontEndCheck<T>,
+    (y_c, y_s): (&[T], &[T]),
+    front_end_faults: Option<&[u8]>,
 ) {
     let gains = channel.observer.gains;
-    // The online calibration before the observer: with the calibration off, the chain's
-    // quiet path (one branch on the mode).
-    let chain = Chain::new(online_calibration(&gains), gains);
+    // The front-end check (quiet on a sample without a fault), the winding check if asked
+    // for, then the online calibration (with the calibration off, the chain's quiet path:
+    // one branch on the mode).
+    let chain = Chain::new(
+        (check, (channel.winding, online_calibration(&gains))),
+        gains,
+    );
     let mut state = ChainState {
-        front_end: channel.calibrator,
+        front_end: (
+            (channel.front_end.0, ()),
+            (channel.front_end.1, channel.calibrator),
+        ),
         observer: channel.observer.state,
+    };
+    let faults = |k: usize| {
+        front_end_faults
+            .and_then(|f| f.get(k))
+            .map_or(FrontEndFaults::NONE, |&bits| {
+                FrontEndFaults::from_bits(bits)
+            })
     };
     columns.write(
         y_c.iter()
             .zip(y_s)
-            .map(|(&c, &s)| chain.update(&mut state, (c, s))),
+            .enumerate()
+            .map(|(k, (&c, &s))| chain.update(&mut state, ((c, s), faults(k)))),
     );
-    (channel.calibrator, channel.observer.state) = (state.front_end, state.observer);
+    let ((check, ()), (winding, calibrator)) = state.front_end;
+    (
+        channel.front_end,
+        channel.calibrator,
+        channel.observer.state,
+    ) = ((check, winding), calibrator, state.observer);
 }
 
 /// Refuses the first value that is not finite, naming its parameter: a NaN state would be
@@ -203,6 +292,16 @@ fn finite(values: &[(&'static str, f64)]) -> Result<()> {
 /// `sqrt(y_c^2 + y_s^2)` of its first 4096 samples (amplitude 1 if that is not positive);
 /// give thresholds to state the amplitude yourself.
 ///
+/// `adc_range=(min, max)`: the ADC's range in the samples' units (counts for integer
+/// samples): a sample at or beyond it in either channel is flagged `Faults.FRONT_END`, and
+/// one clipped in both channels is not used (the observer coasts on its prediction).
+///
+/// `winding_amplitude`: the windings' nominal envelope amplitude in the samples' units (1
+/// for a `Demodulator`'s pairs): a winding open or shorted (reading below a quarter of it
+/// where the prediction puts half of it there, the other winding agreeing with the
+/// prediction) is flagged `Faults.FRONT_END` (front-end bit 16) and coasted through;
+/// `None` (the default): no winding check.
+///
 /// `calibration`: `None` (off), `"learn"` (correct offsets, gain imbalance and quadrature
 /// error and learn them while tracking, from `initial_calibration` if given) or `"frozen"`
 /// (apply `initial_calibration`, learn nothing). The calibration is in the input's units.
@@ -217,7 +316,7 @@ impl PyObserver {
     #[new]
     #[pyo3(signature = (gains, *, dtype = None, sin_cos = None, fault_thresholds = None,
         calibration = None, initial_calibration = None, adc_mid_scale = None,
-        adc_counts_per_unit = None))]
+        adc_counts_per_unit = None, adc_range = None, winding_amplitude = None))]
     #[allow(clippy::too_many_arguments)]
     fn py_new(
         gains: PyGains,
@@ -228,11 +327,15 @@ impl PyObserver {
         initial_calibration: Option<PySensorCalibration>,
         adc_mid_scale: Option<i64>,
         adc_counts_per_unit: Option<f64>,
+        adc_range: Option<(f64, f64)>,
+        winding_amplitude: Option<f64>,
     ) -> Result<PyClassInitializer<Self>> {
         let options = ObserverOptions {
             thresholds: fault_thresholds,
             adc: adc_settings(adc_mid_scale, adc_counts_per_unit)?,
             calibration: CalibrationChoice::new(calibration, initial_calibration)?,
+            adc_range: crate::counts::adc_range(adc_range)?,
+            winding_amplitude,
         };
         RunSettings::from_arguments(gains, dtype, sin_cos)?.subclass(|gains| {
             let inner = gains.observer(&options)?;
@@ -243,9 +346,37 @@ impl PyObserver {
     /// Runs the observer over the samples `y_c ~ cos(theta)`, `y_s ~ sin(theta)` (1-D,
     /// equal lengths, of the observer's dtype, or both raw counts of one integer dtype) and
     /// returns the estimates of every sample. The state carries over to the next call.
-    #[pyo3(signature = (y_c, y_s))]
-    fn update(&mut self, py: Python<'_>, y_c: Arg<'_, '_>, y_s: Arg<'_, '_>) -> Result<Estimates> {
-        self.inner.run(py, y_c, y_s)
+    ///
+    /// `front_end_faults` (uint8, one per sample, the bits of `DemodulatedPairs.faults`):
+    /// while a sample's faults invalidate it (loss of excitation, a winding open or
+    /// shorted) the observer coasts on its prediction, and every flagged sample's estimate
+    /// carries `Faults.FRONT_END`; so do samples clipped against `adc_range`.
+    #[pyo3(signature = (y_c, y_s, front_end_faults = None))]
+    fn update(
+        &mut self,
+        py: Python<'_>,
+        y_c: Arg<'_, '_>,
+        y_s: Arg<'_, '_>,
+        front_end_faults: Option<PyReadonlyArray1<'_, u8>>,
+    ) -> Result<Estimates> {
+        let faults = front_end_faults
+            .as_ref()
+            .map(|f| f.as_slice())
+            .transpose()
+            .map_err(|_| {
+                Error::value(
+                    "front_end_faults",
+                    "expected a contiguous uint8 array".to_string(),
+                )
+            })?;
+        self.inner.run_with_faults(py, y_c, y_s, faults)
+    }
+
+    /// The front-end faults latched since they were last cleared (bits of
+    /// `DemodulatedPairs.faults`, and 4 for a sample clipped against `adc_range`).
+    #[getter]
+    fn latched_front_end_faults(&self) -> u8 {
+        self.inner.front_end_faults().bits()
     }
 
     /// The estimate after the last sample.
@@ -367,10 +498,11 @@ impl PyObserver {
 /// Runs a fresh observer with `gains` over `y_c`, `y_s` in the samples' own dtype (float32
 /// or float64; float64 for raw ADC counts, int16, uint16 or int32, scaled as `Observer`
 /// does) and returns the estimates. `fault_thresholds=None` scales the diagnostics to the
-/// samples' own amplitude, as `Observer` does.
+/// samples' own amplitude, as `Observer` does; `adc_range=(min, max)` flags samples clipped
+/// against it, as `Observer` does.
 #[pyfunction]
 #[pyo3(signature = (gains, y_c, y_s, *, sin_cos = None, fault_thresholds = None,
-    adc_mid_scale = None, adc_counts_per_unit = None))]
+    adc_mid_scale = None, adc_counts_per_unit = None, adc_range = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn track(
     py: Python<'_>,
@@ -381,12 +513,15 @@ pub fn track(
     fault_thresholds: Option<PyFaultThresholds>,
     adc_mid_scale: Option<i64>,
     adc_counts_per_unit: Option<f64>,
+    adc_range: Option<(f64, f64)>,
 ) -> Result<Estimates> {
     let settings = RunSettings::new(gains, Float::of_samples(y_c, "y_c")?, sin_cos)?;
     let options = ObserverOptions {
         thresholds: fault_thresholds,
         adc: adc_settings(adc_mid_scale, adc_counts_per_unit)?,
         calibration: CalibrationChoice::default(),
+        adc_range: crate::counts::adc_range(adc_range)?,
+        winding_amplitude: None,
     };
     settings
         .typed_gains()?

@@ -133,4 +133,5 @@ def test_fault_flags_are_the_cores_bits_by_name():
         "FALSE_LOCK": 16,
         "AMPLITUDE_MISMATCH": 32,
         "OFFSET_OR_QUADRATURE": 64,
+        "FRONT_END": 128,
     }

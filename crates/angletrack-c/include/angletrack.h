@@ -171,6 +171,13 @@
 #define AT_FAULT_OFFSET_OR_QUADRATURE (1 << 6)
 
 /**
+ * A front-end fault: a stage before the observer flagged the sample (the core's
+ * `FrontEndCheck`, `WindingCheck`), and while the fault invalidates it the observer
+ * coasted on its prediction. The C chains have no such stage yet: never set by them.
+ */
+#define AT_FAULT_FRONT_END (1 << 7)
+
+/**
  * Not the sensor's: the call's gains were NULL or not made by `at_gains_f32_new` (or its
  * state, ADC or calibrator NULL, or not made by their constructor); nothing was computed
  * and the estimate's other fields are 0.

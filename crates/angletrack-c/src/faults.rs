@@ -20,6 +20,10 @@ pub const AT_FAULT_FALSE_LOCK: u32 = 1 << 4;
 pub const AT_FAULT_AMPLITUDE_MISMATCH: u32 = 1 << 5;
 /// An offset or the quadrature angle of the online calibration is beyond its bound.
 pub const AT_FAULT_OFFSET_OR_QUADRATURE: u32 = 1 << 6;
+/// A front-end fault: a stage before the observer flagged the sample (the core's
+/// `FrontEndCheck`, `WindingCheck`), and while the fault invalidates it the observer
+/// coasted on its prediction. The C chains have no such stage yet: never set by them.
+pub const AT_FAULT_FRONT_END: u32 = 1 << 7;
 /// Not the sensor's: the call's gains were NULL or not made by `at_gains_f32_new` (or its
 /// state, ADC or calibrator NULL, or not made by their constructor); nothing was computed
 /// and the estimate's other fields are 0.
@@ -27,7 +31,7 @@ pub const AT_FAULT_INVALID_ARGUMENT: u32 = 0x8000_0000;
 
 /// The C API's fault bits with their names, in bit order (the core's `Faults::NAMES`,
 /// then the C API's own).
-const NAMES: [(u32, &CStr); 8] = [
+const NAMES: [(u32, &CStr); 9] = [
     (AT_FAULT_LOSS_OF_SIGNAL, c"loss of signal"),
     (AT_FAULT_DEGRADATION_OF_SIGNAL, c"degradation of signal"),
     (AT_FAULT_LOSS_OF_TRACKING, c"loss of tracking"),
@@ -35,6 +39,7 @@ const NAMES: [(u32, &CStr); 8] = [
     (AT_FAULT_FALSE_LOCK, c"false lock"),
     (AT_FAULT_AMPLITUDE_MISMATCH, c"amplitude mismatch"),
     (AT_FAULT_OFFSET_OR_QUADRATURE, c"offset or quadrature"),
+    (AT_FAULT_FRONT_END, c"front end"),
     (AT_FAULT_INVALID_ARGUMENT, c"invalid argument"),
 ];
 

@@ -10,9 +10,11 @@ use crate::real::sincos::SinCos;
 use crate::real::{ChainNumber, Float};
 use crate::state::{Estimate, ObserverState};
 
+mod front_end_check;
 mod observers;
 mod stages;
 
+pub use front_end_check::{FrontEndCheck, FrontEndCheckState, WindingCheck};
 pub use stages::OnlineCalibration;
 
 /// The observer's prediction for the sample a stage is processing, in the observer's
@@ -71,11 +73,30 @@ pub trait Stage<V: ChainNumber, X> {
         Faults::NONE
     }
 
+    /// Whether the sample the stage last forwarded is not a measurement (a front-end fault
+    /// that invalidates it: loss of excitation, a winding open or shorted, both channels
+    /// clipped; the default: never). The observer then does not use the sample but coasts
+    /// on its prediction (the recursion's prediction step alone: speed and acceleration
+    /// held), and re-acquires at the first sample after the fault as after a rejected one
+    /// (a false-lock check on that sample alone). Read only on the out-of-line path: a
+    /// stage that coasts is not [`Stage::quiet`] on that sample.
+    #[inline(always)]
+    fn coasts(&self, _state: &Self::State) -> bool {
+        false
+    }
+
+    /// Whether [`Stage::quiet`] depends on the sample the stage just forwarded (a check of
+    /// the input, as [`FrontEndCheck`]): the chain then asks after the forward pass, and
+    /// otherwise before it (the default, `false`: the out-of-line path then holds the whole
+    /// sample, the cheapest layout). A constant, so that a chain compiles one of the two.
+    const QUIET_FROM_INPUT: bool = false;
+
     /// Whether the stage, in its `state`, neither learns from the sample nor flags a fault
-    /// (`true` for a stage that has neither; an online calibration that is off): the chain
-    /// then runs the observer without [`Stage::feedback`] and [`Stage::faults`], at the cost
-    /// of the stages' forward pass alone, and otherwise out of line with them. Required, so
-    /// that no stage that learns is silently left quiet.
+    /// (`true` for a stage that has neither; an online calibration that is off; a front-end
+    /// check that found nothing in the sample it just forwarded, asked after the forward
+    /// pass: [`Stage::QUIET_FROM_INPUT`]): the chain then runs the observer without [`Stage::feedback`] and
+    /// [`Stage::faults`], at the cost of the stages' forward pass alone, and otherwise out
+    /// of line with them. Required, so that no stage that learns is silently left quiet.
     fn quiet(&self, state: &Self::State) -> bool;
 }
 
@@ -100,6 +121,7 @@ impl<V: ChainNumber> Stage<V, (V, V)> for () {
 impl<V: ChainNumber, S: Stage<V, (V, V)>> Stage<V, (V, V)> for Option<S> {
     type State = S::State;
     type Memo = Option<S::Memo>;
+    const QUIET_FROM_INPUT: bool = S::QUIET_FROM_INPUT;
 
     #[inline(always)]
     fn forward(
@@ -133,6 +155,14 @@ impl<V: ChainNumber, S: Stage<V, (V, V)>> Stage<V, (V, V)> for Option<S> {
     }
 
     #[inline(always)]
+    fn coasts(&self, state: &S::State) -> bool {
+        match self {
+            Some(stage) => stage.coasts(state),
+            None => false,
+        }
+    }
+
+    #[inline(always)]
     fn quiet(&self, state: &S::State) -> bool {
         match self {
             Some(stage) => stage.quiet(state),
@@ -145,6 +175,7 @@ impl<V: ChainNumber, S: Stage<V, (V, V)>> Stage<V, (V, V)> for Option<S> {
 impl<V: ChainNumber, X, A: Stage<V, X>, B: Stage<V, (V, V)>> Stage<V, X> for (A, B) {
     type State = (A::State, B::State);
     type Memo = (A::Memo, B::Memo);
+    const QUIET_FROM_INPUT: bool = A::QUIET_FROM_INPUT || B::QUIET_FROM_INPUT;
 
     #[inline(always)]
     fn forward(
@@ -167,6 +198,11 @@ impl<V: ChainNumber, X, A: Stage<V, X>, B: Stage<V, (V, V)>> Stage<V, X> for (A,
     #[inline(always)]
     fn faults(&self, state: &mut Self::State) -> Faults {
         self.0.faults(&mut state.0) | self.1.faults(&mut state.1)
+    }
+
+    #[inline(always)]
+    fn coasts(&self, state: &Self::State) -> bool {
+        self.0.coasts(&state.0) || self.1.coasts(&state.1)
     }
 
     #[inline(always)]
@@ -194,7 +230,9 @@ impl<V: ChainNumber, X, A: Stage<V, X>, B: Stage<V, (V, V)>> Stage<V, X> for (A,
 /// - after it, [`Stage::feedback`] with [`Feedback`]: what the observer made of the sample
 ///   (the online calibration learns from it), or `None` for a sample it did not use;
 /// - [`Stage::faults`]: the stage's own faults, carried by the sample's estimate and latched
-///   in the observer's state.
+///   in the observer's state;
+/// - [`Stage::coasts`]: the sample is not a measurement (a front-end fault, as a
+///   [`FrontEndCheck`] finds): the observer coasts on its prediction instead of using it.
 ///
 /// ```
 /// use angletrack_core::{AdcScaling, AngleCorrection, Chain, ChainState, Gains, SensorCalibration};
@@ -339,5 +377,7 @@ impl<F, const N: usize> Chain<F, FixedGains<N>> {
     }
 }
 
+#[cfg(test)]
+mod coast_tests;
 #[cfg(test)]
 mod tests;

@@ -42,6 +42,12 @@ impl Faults {
     /// ([`CalibrationSettings`](crate::CalibrationSettings); flagged only while a
     /// [`Calibrator`](crate::Calibrator) is on).
     pub const OFFSET_OR_QUADRATURE: Faults = Faults(1 << 6);
+    /// A front-end fault: a stage of the chain before the observer flagged the sample (its
+    /// own register says which: [`FrontEndFaults`](crate::FrontEndFaults), or the clipping
+    /// of a [`FrontEndCheck`](crate::FrontEndCheck)). While the fault invalidates the
+    /// measurement (loss of excitation, a winding open or shorted, both channels clipped)
+    /// the observer did not use the sample: it coasted on its prediction.
+    pub const FRONT_END: Faults = Faults(1 << 7);
 
     /// Every flag with its name, in bit order: the names [`Display`](fmt::Display) writes
     /// (the constant's name in lower case, words apart), for code that lists the flags, such
@@ -51,9 +57,9 @@ impl Faults {
     /// use angletrack_core::Faults;
     /// let (flag, name) = Faults::NAMES[3];
     /// assert_eq!((flag, name), (Faults::BAD_SAMPLE, "bad sample"));
-    /// assert_eq!(Faults::NAMES.iter().fold(Faults::NONE, |all, (f, _)| all | *f).bits(), 0x7f);
+    /// assert_eq!(Faults::NAMES.iter().fold(Faults::NONE, |all, (f, _)| all | *f).bits(), 0xff);
     /// ```
-    pub const NAMES: [(Faults, &'static str); 7] = [
+    pub const NAMES: [(Faults, &'static str); 8] = [
         (Faults::LOSS_OF_SIGNAL, "loss of signal"),
         (Faults::DEGRADATION_OF_SIGNAL, "degradation of signal"),
         (Faults::LOSS_OF_TRACKING, "loss of tracking"),
@@ -61,23 +67,24 @@ impl Faults {
         (Faults::FALSE_LOCK, "false lock"),
         (Faults::AMPLITUDE_MISMATCH, "amplitude mismatch"),
         (Faults::OFFSET_OR_QUADRATURE, "offset or quadrature"),
+        (Faults::FRONT_END, "front end"),
     ];
 
     /// The raw bits (bit 0 loss of signal, 1 degradation of signal, 2 loss of tracking,
-    /// 3 bad sample, 4 false lock, 5 amplitude mismatch, 6 offset or quadrature).
+    /// 3 bad sample, 4 false lock, 5 amplitude mismatch, 6 offset or quadrature, 7 front end).
     pub const fn bits(self) -> u8 {
         self.0
     }
 
-    /// The flags from raw bits (unknown bits are dropped).
+    /// The flags from raw bits (every bit of a `u8` is a flag).
     ///
     /// ```
     /// use angletrack_core::Faults;
-    /// let faults = Faults::from_bits_truncate(0x88); // bad sample and an unknown bit
-    /// assert_eq!(faults, Faults::BAD_SAMPLE);
+    /// let faults = Faults::from_bits_truncate(0x88);
+    /// assert_eq!(faults, Faults::BAD_SAMPLE | Faults::FRONT_END);
     /// ```
     pub const fn from_bits_truncate(bits: u8) -> Faults {
-        Faults(bits & 0x7f)
+        Faults(bits)
     }
 
     /// `true` when `self` and `other` share a flag.

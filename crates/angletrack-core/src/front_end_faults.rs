@@ -20,10 +20,32 @@ impl FrontEndFaults {
     /// Clipping: a raw sample of the window was within the margin of the ADC's rails (or
     /// not a number).
     pub const CLIPPING: FrontEndFaults = FrontEndFaults(1 << 2);
+    /// A winding open or shorted: one winding reads near zero where the observer's
+    /// prediction puts at least half the amplitude on it, while the other winding agrees
+    /// with the prediction ([`WindingCheck`](crate::WindingCheck)).
+    pub const WINDING: FrontEndFaults = FrontEndFaults(1 << 4);
 
-    /// The raw bits (bit 0 loss of excitation, 1 phase drift, 2 clipping).
+    /// The faults that invalidate a sample's measurement: the observer of a chain coasts on
+    /// its prediction while one holds ([`FrontEndCheck`](crate::FrontEndCheck)). Clipping
+    /// of one channel does not (the pair is distorted, not lost); both channels clipped is
+    /// the [`FrontEndCheck`](crate::FrontEndCheck)'s own test.
+    pub const INVALIDATING: FrontEndFaults =
+        FrontEndFaults(Self::LOSS_OF_EXCITATION.0 | Self::WINDING.0);
+
+    /// The raw bits (bit 0 loss of excitation, 1 phase drift, 2 clipping, 4 winding).
     pub const fn bits(self) -> u8 {
         self.0
+    }
+
+    /// The flags from raw bits (unknown bits are kept: a newer front end's flags pass
+    /// through).
+    pub const fn from_bits(bits: u8) -> FrontEndFaults {
+        FrontEndFaults(bits)
+    }
+
+    /// `true` when `self` and `other` share a flag.
+    pub const fn intersects(self, other: FrontEndFaults) -> bool {
+        self.0 & other.0 != 0
     }
 
     /// `true` when no flag is set.

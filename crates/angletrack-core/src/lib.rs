@@ -155,7 +155,10 @@ pub use angle_table::{AngleCorrectionTable, FixedAngleCorrectionTable};
 pub use bank::ChannelBank;
 pub use calibration::{FixedCalibration, SensorCalibration};
 pub use calibration_settings::CalibrationSettings;
-pub use chain::{Chain, ChainState, Feedback, OnlineCalibration, Prediction, Stage};
+pub use chain::{
+    Chain, ChainState, Feedback, FrontEndCheck, FrontEndCheckState, OnlineCalibration, Prediction,
+    Stage, WindingCheck,
+};
 pub use const_config::Real;
 pub use demodulator::{DemodulatedPair, Demodulator, DemodulatorSettings, DemodulatorState};
 pub use design::{

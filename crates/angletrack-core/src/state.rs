@@ -106,6 +106,9 @@ pub struct ObserverState<T, const N: usize> {
     /// The angle and the magnitude are known and the last sample was used: the predicted
     /// angle `next_angle` is live and the usual path of the update runs (else it is parked).
     pub(crate) tracking: bool,
+    /// The state coasted through a front-end fault: the next used sample sets the angle
+    /// from its `atan2` (the speed and the acceleration kept) before tracking again.
+    pub(crate) coasted: bool,
 }
 
 impl<T: Float, const N: usize> Default for ObserverState<T, N> {
@@ -141,6 +144,7 @@ impl<T: Float, const N: usize> ObserverState<T, N> {
             amplitude: T::ZERO,
             initialised: false,
             tracking: false,
+            coasted: false,
         }
     }
 
@@ -183,6 +187,7 @@ impl<T: Float, const N: usize> ObserverState<T, N> {
             initialised: true,
             // The magnitude is not known yet: the first used sample sets it.
             tracking: false,
+            coasted: false,
         }
     }
 
@@ -338,8 +343,15 @@ impl<T: Float, const N: usize> ObserverState<T, N> {
     /// last window hold) and parks the predicted angle, so that the next sample goes
     /// through the rare path, which clears the flag.
     pub(crate) fn reject_sample(&mut self) {
-        self.faults = Faults::BAD_SAMPLE | self.monitor.flags;
         self.monitor.latched |= Faults::BAD_SAMPLE;
+        self.park(Faults::BAD_SAMPLE);
+    }
+
+    /// The sample was not used: its faults are `flag` and the monitor's flags of its last
+    /// window, and the predicted angle is parked, so that the next sample goes through the
+    /// rare path, which starts tracking again.
+    pub(crate) fn park(&mut self, flag: Faults) {
+        self.faults = flag | self.monitor.flags;
         self.next_angle = Self::PARKED_ANGLE;
         self.tracking = false;
     }

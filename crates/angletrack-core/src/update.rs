@@ -299,6 +299,19 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             return false;
         }
         if !state.tracking {
+            if state.coasted {
+                // The first sample after a front-end fault: the angle re-acquired from it
+                // (however far the coast drifted: no false lock, and no transient of the
+                // loop correcting the drift), speed and acceleration kept.
+                // The state holds the previous sample's estimate: it moves by the jump
+                // from this sample's prediction to its atan2.
+                let mut jump = y_s.atan2(y_c) - predict(&state.x)[0];
+                wrap_angle(&mut jump);
+                state.x[0] += jump;
+                let whole = wrap_angle(&mut state.x[0]);
+                state.turns = state.turns.wrapping_add(whole as i64);
+                state.coasted = false;
+            }
             // The first used sample after the angle was set (by the first sample's atan2 or
             // by `ObserverState::at`), or after a rejected sample: the predicted angle comes
             // back from its parking place, the sample's faults are the monitor's again, and
@@ -396,6 +409,29 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             sample,
         );
         (x, next_angle, step.whole)
+    }
+
+    /// A sample that is not a measurement (a chain's front end says so:
+    /// [`Stage::coasts`](crate::Stage::coasts)): the angle advances by the speed, and the
+    /// speed and the acceleration are held (not integrated: an acceleration estimate's noise
+    /// would grow quadratically over a fault of many samples, and a shaft through a short
+    /// fault turns at the speed it had); the next used sample sets the angle from its
+    /// `atan2` (by the shortest way, turns counted), so that neither a drift of the coast
+    /// nor a false lock outlasts the fault. A state that has no angle yet is left as it
+    /// is. The front end's flag is the chain's to add.
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn coast_front_end(&self, state: &mut ObserverState<T, N>) {
+        if !state.initialised {
+            return;
+        }
+        if N > 1 {
+            state.x[0] += state.x[1];
+        }
+        let whole = wrap_angle(&mut state.x[0]);
+        state.advance(whole, T::ZERO);
+        state.park(Faults::NONE);
+        state.coasted = true;
     }
 
     /// Sets the state from one sample: angle `atan2(y_s, y_c)`, speed and acceleration 0,

@@ -80,6 +80,7 @@ pub use nalgebra::Complex;
 mod analysis;
 mod calibration;
 pub mod capture;
+mod carrier;
 mod counts;
 mod design;
 mod error;
@@ -101,6 +102,7 @@ pub use calibration::{
     SPECTRUM_ORDERS, SensorCalibrationRecord, error_transfer, learn_angle_correction,
     order_warnings,
 };
+pub use carrier::measured_carrier_cycles_per_sample;
 pub use counts::{
     AdcCount, CountsInput, CountsSettings, UnsignedCountsError, capture_mid_scale,
     offset_binary_mid_scale,

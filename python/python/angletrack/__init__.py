@@ -192,7 +192,9 @@ Faults.__doc__ = (
     "Fault flags as in an RDC chip's fault register: LOSS_OF_SIGNAL, DEGRADATION_OF_SIGNAL, "
     "LOSS_OF_TRACKING, BAD_SAMPLE (the observer coasted), FALSE_LOCK (re-acquired), and with the "
     "online calibration AMPLITUDE_MISMATCH (channel gains apart) and OFFSET_OR_QUADRATURE (a "
-    "learned offset or quadrature angle beyond its bound)."
+    "learned offset or quadrature angle beyond its bound); FRONT_END: a front-end fault (clipping "
+    "against adc_range, a demodulator's fault, a winding open or shorted), coasted through when it "
+    "invalidates the sample."
 )
 
 # The resolver front end's whole-array helpers (pure Python over the extension's classes).

@@ -197,7 +197,12 @@ class Observer(_RunSettings):
     ``FaultThresholds(nominal_amplitude=A)``, ``A`` the median ``sqrt(y_c^2 + y_s^2)`` of
     the first call's first 4096 samples. ``calibration``: ``None`` (off), ``"learn"`` (correct
     and learn offsets, gain imbalance and quadrature while tracking, from
-    ``initial_calibration`` if given) or ``"frozen"`` (apply ``initial_calibration``)."""
+    ``initial_calibration`` if given) or ``"frozen"`` (apply ``initial_calibration``).
+    ``adc_range=(min, max)`` (the samples' units, counts for integer samples): a sample at
+    or beyond it in either channel is flagged ``Faults.FRONT_END``, one clipped in both is
+    coasted through. ``winding_amplitude``: the windings' nominal envelope amplitude (1 for
+    demodulated pairs), against which a winding open or shorted is flagged and coasted
+    through."""
 
     def __init__(
         self, gains: Gains, *, dtype: _DType = None, sin_cos: _SinCos = None,
@@ -206,10 +211,18 @@ class Observer(_RunSettings):
         initial_calibration: Optional[SensorCalibration] = None,
         adc_mid_scale: Optional[int] = None,
         adc_counts_per_unit: Optional[float] = None,
+        adc_range: Optional[tuple[float, float]] = None,
+        winding_amplitude: Optional[float] = None,
     ) -> None: ...
-    def update(self, y_c: _Signal, y_s: _Signal) -> Estimates:
+    def update(self, y_c: _Signal, y_s: _Signal,
+               front_end_faults: Optional[npt.NDArray[np.uint8]] = None) -> Estimates:
         """Runs over 1-D samples of the observer's dtype, or raw counts of one integer
-        dtype; GIL released."""
+        dtype; GIL released. ``front_end_faults`` (one per sample, the bits of
+        ``DemodulatedPairs.faults``): the observer coasts through samples whose faults
+        invalidate them (loss of excitation, a winding open or shorted)."""
+    @property
+    def latched_front_end_faults(self) -> int:
+        """The front-end faults latched (bits of ``DemodulatedPairs.faults``; 16 a winding)."""
     @property
     def estimate(self) -> Estimate: ...
     def reset(self) -> None: ...
@@ -245,6 +258,7 @@ def track(
     fault_thresholds: Optional[FaultThresholds] = None,
     adc_mid_scale: Optional[int] = None,
     adc_counts_per_unit: Optional[float] = None,
+    adc_range: Optional[tuple[float, float]] = None,
 ) -> Estimates:
     """Runs a fresh observer over the samples in their own dtype (float32 or float64;
     float64 for raw counts, scaled as ``Observer`` does). ``fault_thresholds=None`` scales
@@ -372,6 +386,10 @@ class FixedObserver:
         """The faults latched since they were last cleared (bits, see ``Faults``)."""
     def clear_faults(self) -> int:
         """Returns the latched faults (bits) and clears them."""
+
+def measured_carrier_cycles_per_sample(y_c: _Samples, y_s: _Samples) -> Optional[float]:
+    """The carrier frequency of raw windings in cycles per sample, from the tone at twice
+    the carrier in ``y_c^2 + y_s^2``; ``None`` when it cannot be measured."""
 
 def offset_binary_mid_scale(largest_count: float) -> int:
     """The mid-scale (counts) of unsigned, offset-binary ADC counts whose largest sample is

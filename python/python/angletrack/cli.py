@@ -15,6 +15,7 @@ from typing import Callable, Optional, Sequence
 
 import angletrack
 from angletrack import calibration as calibration_io
+from angletrack import clipping
 from angletrack import export, harmonics, resolver, tracking
 
 
@@ -77,7 +78,9 @@ def _cmd_track(args: argparse.Namespace) -> int:
     with the gains'. The signals may be in any unit (volts, raw ADC counts): the loop is
     amplitude-invariant and the diagnostics are scaled to the capture's own amplitude. With a
     reference column, prints the errors against it. --calibrate learns and corrects the
-    sensor's offsets, imbalance and quadrature error.
+    sensor's offsets, imbalance and quadrature error. Clipping is flagged against the ADC's
+    range (--adc-range, --adc-bits; else extremes held flat), and the observer coasts
+    through samples clipped in both channels and through front-end faults.
     """
     stored = calibration_io.read_stored(args.calibration)
     settings = tracking.TrackSettings(
@@ -97,6 +100,7 @@ def _cmd_track(args: argparse.Namespace) -> int:
         observer_arguments=calibration_io.observer_arguments(args.calibrate, stored),
         **resolver.track_options(args),
         calibration=calibration_io.angle_calibration(stored),
+        adc_range=clipping.stated_range(args),
     )
     summary, observer = tracking.track_capture(settings)
     print(summary)
@@ -524,6 +528,7 @@ def _add_track_parser(sub) -> None:
                        "type: float32, float64, or integers with fixed), "
                        "or one that --calibrate wrote (frozen; with --calibrate, learning starts from it)")
     resolver.add_track_arguments(track)
+    clipping.add_arguments(track)
     track.add_argument("--plot", nargs="?", const="", type=_png_path, metavar="FILE.png",
                        help="also draw the capture (as `angletrack plot`) into FILE.png (default: the "
                        "output's name with .png)")
@@ -532,7 +537,7 @@ def _add_track_parser(sub) -> None:
 def main(argv: Optional[Sequence[str]] = None) -> int:
     """Entry point of the ``angletrack`` console script; returns the exit status."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args = parser.parse_args(clipping.joined_negative_range(list(sys.argv[1:] if argv is None else argv)))
     try:
         return args.func(args)
     except (ValueError, TypeError, OSError, RuntimeError, MemoryError) as e:

@@ -10,8 +10,10 @@ time-stamped with those window centres, and a reference column is compared there
 
 Output columns (CSV): ``time_s`` (the window centre: the time at which the row's angle
 holds), ``angle_rad``, ``position_rad``, ``speed_rad_s``, ``acceleration_rad_s2``,
-``phase_error``, ``faults`` (the observer's), ``front_end_faults`` (1 loss of excitation, 2
-carrier phase drift, 4 clipping), ``y_c``, ``y_s`` (the demodulated pair); with
+``phase_error``, ``faults`` (the observer's; ``FRONT_END`` on a pair with a front-end fault,
+through which the observer coasts on its prediction when the fault invalidates the pair: loss
+of excitation, a winding open or shorted), ``front_end_faults`` (the demodulator's: 1 loss
+of excitation, 2 carrier phase drift, 4 clipping), ``y_c``, ``y_s`` (the demodulated pair); with
 ``--pole-pairs`` or ``--latency`` also ``electrical_angle_rad`` (pole pairs times the
 mechanical angle at ``time_s + latency``, wrapped to [-pi, pi)) and
 ``electrical_speed_rad_s``.
@@ -64,11 +66,14 @@ def add_track_arguments(track: argparse.ArgumentParser) -> None:
         "sample at excitation phase 0; the estimates come once per carrier period, stamped with "
         "the centre of their demodulation window; the gains must be designed at the carrier frequency",
     )
-    g.add_argument("--carrier-hz", type=float, metavar="HZ", help="the excitation carrier frequency (Hz)")
+    g.add_argument("--carrier-hz", type=float, metavar="HZ",
+                   help="the excitation carrier frequency (Hz); refused if more than 2 %% from the carrier measured "
+                   "in the capture (the windings' tone at twice the carrier)")
     g.add_argument("--samples-per-period", type=int, metavar="N",
                    help="ADC samples per carrier period, one of "
                    f"{', '.join(map(str, angletrack.SUPPORTED_SAMPLES_PER_PERIOD))} (default: the "
-                   "capture's rate / the carrier frequency, which must be one of them)")
+                   "capture's rate / the carrier frequency, which must be one of them; refused if the time "
+                   "column says otherwise)")
     g.add_argument("--carrier-amplitude", type=float, metavar="COUNTS",
                    help="a winding's carrier amplitude at envelope 1 (counts, peak); default: "
                    "measured on the first chunk")
@@ -113,6 +118,40 @@ def _samples_per_period(capture_hz: Optional[float], carrier_hz: float, stated: 
     return n
 
 
+#: How far a declared carrier may be from the one measured in the capture.
+CARRIER_TOLERANCE = 0.02
+
+
+def refuse_contradicting_rates(first, capture_hz: Optional[float], carrier_hz: float, stated: Optional[int],
+                               n: int) -> None:
+    """Refuses, in one line naming both values, a ``--samples-per-period`` that the capture's
+    time column contradicts (more than 1 %), and a ``--carrier-hz`` more than 2 % from the
+    carrier measured in the first chunk's windings (``measured_carrier_cycles_per_sample``,
+    at the capture's rate, else at ``n`` samples per declared period: then only the ratio
+    is checked)."""
+    if stated is not None and capture_hz is not None:
+        ratio = capture_hz / carrier_hz
+        if abs(ratio / stated - 1.0) > 0.01:
+            raise ValueError(
+                f"samples_per_period: --samples-per-period {stated} contradicts the capture's time column: "
+                f"{capture_hz:.6g} Hz over --carrier-hz {carrier_hz:.6g} is {ratio:.6g} samples per period"
+            )
+    from angletrack._angletrack import measured_carrier_cycles_per_sample
+
+    cycles = measured_carrier_cycles_per_sample(np.asarray(first.y_c, dtype=np.float64),
+                                                np.asarray(first.y_s, dtype=np.float64))
+    if cycles is None:
+        return
+    rate_hz = capture_hz if capture_hz is not None else n * carrier_hz
+    measured_hz = cycles * rate_hz
+    if abs(measured_hz / carrier_hz - 1.0) > CARRIER_TOLERANCE:
+        clock = "the capture's time column" if capture_hz is not None else f"{n} samples per declared period"
+        raise ValueError(
+            f"carrier_hz: --carrier-hz {carrier_hz:.6g} is {100 * (carrier_hz / measured_hz - 1):+.3g} % from the "
+            f"carrier measured in the capture, {measured_hz:.6g} Hz (at {rate_hz:.6g} samples/s, {clock})"
+        )
+
+
 def _gains(s, carrier_hz: float) -> angletrack.Gains:
     from angletrack.tracking import RATE_TOLERANCE
 
@@ -128,14 +167,23 @@ def _gains(s, carrier_hz: float) -> angletrack.Gains:
     return gains
 
 
-def _adc_range(first) -> tuple[float, float]:
-    """The ADC's codes, guessed from the first chunk: the smallest power-of-two span holding
-    its samples (unsigned from 0 if none is negative)."""
+def _adc_range(first, stated: Optional[tuple]) -> tuple[float, float, str]:
+    """The ADC's codes and how they were found: as stated (``--adc-range``, ``--adc-bits``);
+    else the first chunk's extremes where held flat (``clipping.measured_range``); else
+    guessed: the smallest power-of-two span holding its samples (unsigned from 0 if none is
+    negative)."""
+    from angletrack import clipping
+
+    if stated is not None:
+        return stated[0], stated[1], "stated"
+    measured = clipping.measured_range(first.y_c, first.y_s)
+    if measured is not None:
+        return measured[0], measured[1], "measured: extremes held flat"
     largest = float(max(np.max(np.abs(first.y_c)), np.max(np.abs(first.y_s)), 1.0))
     bits = math.ceil(math.log2(largest + 1.0))
     if min(np.min(first.y_c), np.min(first.y_s)) >= 0:
-        return 0.0, 2.0**bits - 1.0
-    return -(2.0**bits), 2.0**bits - 1.0
+        return 0.0, 2.0**bits - 1.0, "guessed"
+    return -(2.0**bits), 2.0**bits - 1.0, "guessed"
 
 
 def _measured_amplitude(first) -> float:
@@ -173,7 +221,20 @@ def pairs_observer(s, gains: angletrack.Gains):
 
     if s.calibration is not None:
         return harmonics.CalibratedObserver(gains, s.calibration, dtype=np.dtype(s.dtype), sin_cos=s.sin_cos)
-    return angletrack.Observer(gains, dtype=np.dtype(s.dtype), sin_cos=s.sin_cos, **s.observer_arguments)
+    # The pairs' envelope is 1 at the carrier amplitude: a winding open or shorted is
+    # checked against it, and coasted through as the demodulator's loss of excitation.
+    return angletrack.Observer(gains, dtype=np.dtype(s.dtype), sin_cos=s.sin_cos, winding_amplitude=1.0,
+                               **s.observer_arguments)
+
+
+def update_on_pairs(observer, pairs, dtype):
+    """The observer's estimates of the demodulated ``pairs``, their front-end faults given
+    to it so that it coasts through those that invalidate a pair (an
+    :class:`angletrack.Observer`; an angle-calibrated observer takes the pairs alone)."""
+    y_c, y_s = pairs.y_c.astype(dtype), pairs.y_s.astype(dtype)
+    if isinstance(observer, angletrack.Observer):
+        return observer.update(y_c, y_s, front_end_faults=pairs.faults)
+    return observer.update(y_c, y_s)
 
 
 def track_windings(s) -> tuple:
@@ -193,10 +254,11 @@ def track_windings(s) -> tuple:
     capture_hz = reader.sample_rate_hz
     carrier_hz = s.carrier_hz
     n = _samples_per_period(capture_hz, carrier_hz, s.samples_per_period)
+    refuse_contradicting_rates(first, capture_hz, carrier_hz, s.samples_per_period, n)
     adc_hz = n * carrier_hz
     gains = _gains(s, carrier_hz)
     amplitude = s.carrier_amplitude_counts or _measured_amplitude(first)
-    adc_min, adc_max = _adc_range(first)
+    adc_min, adc_max, adc_how = _adc_range(first, s.adc_range)
     demodulator = angletrack.Demodulator(
         carrier_hz=carrier_hz, samples_per_period=n, carrier_amplitude_counts=amplitude,
         adc_min_code=adc_min, adc_max_code=adc_max, expected_delay_rad=math.radians(s.expected_delay_deg),
@@ -229,8 +291,10 @@ def track_windings(s) -> tuple:
                     reference.add(t, chunk.reference_rad, keep=2 * n)
                 pairs = demodulator.push(chunk.y_c, chunk.y_s)
                 if len(pairs):
-                    time_s = t0 + pairs.time_s
-                    est = observer.update(pairs.y_c.astype(dtype), pairs.y_s.astype(dtype))
+                    # The capture's clock when it has one (the demodulator counts samples at
+                    # the declared rate).
+                    time_s = t0 + pairs.time_s * (adc_hz / (capture_hz or adc_hz))
+                    est = update_on_pairs(observer, pairs, dtype)
                     columns = [time_s, est.angle, est.position, est.speed, est.acceleration, est.phase_error,
                                est.faults, pairs.faults, pairs.y_c, pairs.y_s]
                     if drive is not None:
@@ -252,10 +316,11 @@ def track_windings(s) -> tuple:
     lines = [
         repr(observer),
         f"{reader.rows} ADC samples at {adc_hz:.6g} Hz ({n} per {carrier_hz:.6g} Hz carrier period; amplitude "
-        f"{amplitude:.6g} counts, ADC codes {adc_min:.0f} to {adc_max:.0f}) -> {pairs_total} estimates -> {s.output}",
+        f"{amplitude:.6g} counts, ADC codes {adc_min:.6g} to {adc_max:.6g}, {adc_how}) -> {pairs_total} estimates -> "
+        f"{s.output}",
         f"carrier delay: {math.degrees(demodulator.startup_delay_rad) % 360.0:.3f} deg at start-up, "
         f"{math.degrees(demodulator.carrier_delay_rad) % 360.0:.3f} deg at the end",
-        f"front-end faults latched: {_front_end_names(demodulator.latched_faults)}; "
+        f"front-end faults latched: {_front_end_names(_latched_front_end(demodulator, observer))}; "
         f"observer faults latched: {latched.name if latched else 'none'}",
     ]
     if stats is not None:
@@ -263,6 +328,13 @@ def track_windings(s) -> tuple:
     return "\n".join(lines), observer
 
 
+def _latched_front_end(demodulator, observer) -> int:
+    """The front-end faults latched by the demodulator and by the observer's checks (a
+    winding open or shorted)."""
+    return demodulator.latched_faults | getattr(observer, "latched_front_end_faults", 0)
+
+
 def _front_end_names(bits: int) -> str:
-    names = [name for bit, name in ((1, "LOSS_OF_EXCITATION"), (2, "PHASE_DRIFT"), (4, "CLIPPING")) if bits & bit]
+    names = [name for bit, name in ((1, "LOSS_OF_EXCITATION"), (2, "PHASE_DRIFT"), (4, "CLIPPING"), (16, "WINDING"))
+             if bits & bit]
     return "|".join(names) if names else "none"

@@ -20,7 +20,7 @@ from typing import Optional, Union
 import numpy as np
 
 import angletrack
-from angletrack import export, harmonics
+from angletrack import clipping, export, harmonics
 from angletrack._angletrack import capture_mid_scale
 
 #: Relative difference of two sample rates taken as the same rate (the time column's
@@ -61,6 +61,9 @@ class TrackSettings:
     #: The angle calibration of ``--calibration`` (from ``angletrack calibrate``), applied by a
     #: ``harmonics.CalibratedObserver``.
     calibration: Optional[harmonics.Calibration] = None
+    #: The ADC's range stated by ``--adc-range``/``--adc-bits`` (the capture's units), against
+    #: which clipping is flagged (``angletrack.clipping``); ``None``: measured.
+    adc_range: Optional[tuple] = None
 
     @functools.cached_property
     def designed_gains(self) -> Optional[angletrack.Gains]:
@@ -229,19 +232,29 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     if s.dtype == "fixed":
         from angletrack import fixed_tracking
 
+        if s.adc_range is not None:
+            raise ValueError("adc_range: --adc-range and --adc-bits are not applied by --dtype fixed yet: "
+                             "track with --dtype float32 or float64")
         lines, fixed = fixed_tracking.track_fixed(s, gains, reader, first, stats)
         return "\n".join(lines[:1] + _stated_rate_note(s) + lines[1:]
                          + ([stats.report()] if stats is not None else [])), fixed
     dtype = np.dtype(s.dtype)
     calibration = s.calibration
+    mid = unsigned_mid_scale(reader.sample_dtype, first.y_c, first.y_s)
+    adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
     if calibration is not None:
+        if s.adc_range is not None:
+            raise ValueError("adc_range: --adc-range and --adc-bits are not applied with an angle calibration "
+                             "(--calibration from `angletrack calibrate`) yet")
+        adc_range = None
         observer = harmonics.CalibratedObserver(gains, calibration, dtype=dtype, sin_cos=s.sin_cos)
     else:
-        observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos, **s.observer_arguments)
-    mid = unsigned_mid_scale(reader.sample_dtype, first.y_c, first.y_s)
+        shifted = None if adc_range is None else (adc_range[0] - mid, adc_range[1] - mid)
+        observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos, adc_range=shifted,
+                                       **s.observer_arguments)
     progress = _Progress(s.progress)
-    rejected, y_c_sum = 0, 0.0
-    bad = int(angletrack.Faults.BAD_SAMPLE)
+    rejected, y_c_sum, flagged = 0, 0.0, 0
+    bad, front_end = int(angletrack.Faults.BAD_SAMPLE), int(angletrack.Faults.FRONT_END)
     s.output.parent.mkdir(parents=True, exist_ok=True)
     try:
         with angletrack.EstimatesWriter(s.output, dtype=dtype) as writer:
@@ -254,6 +267,7 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
                     time_s = (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) * gains.sample_period_s
                 writer.write(time_s, est)
                 rejected += int(np.count_nonzero(est.faults & bad))
+                flagged += int(np.count_nonzero(est.faults & front_end))
                 y_c_sum += float(np.sum(chunk.y_c))
                 if stats is not None:
                     stats.add(time_s, est.angle, chunk.reference_rad)
@@ -279,6 +293,9 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     ]
     if mid:
         lines.insert(2, f"unsigned ADC counts: mid-scale {mid:g} removed")
+    if adc_range is not None:
+        lines.append(f"{clipping.describe(adc_range, s.adc_range is not None)}: {flagged} samples clipped "
+                     "(flagged FRONT_END; those clipped in both channels coasted through)")
     if stats is not None:
         lines.append(stats.report())
     return "\n".join(lines), observer

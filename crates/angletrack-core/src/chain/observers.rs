@@ -39,6 +39,10 @@ pub(crate) trait Observe<V: ChainNumber> {
         observer: impl SampleObserver<V>,
     );
 
+    /// A sample that is not a measurement: the state coasts on its prediction (nothing for
+    /// a state that has no angle yet) and re-acquires at the next sample.
+    fn coast(&self, state: &mut Self::State);
+
     /// Latches `faults` in `state`.
     fn latch(state: &mut Self::State, faults: Faults);
 
@@ -94,6 +98,11 @@ impl<T: Float, const N: usize, S: SinCos<T>> Observe<T> for Gains<T, N, S> {
         observer: impl SampleObserver<T>,
     ) {
         Gains::track_observing(self, state, y_c, y_s, observer);
+    }
+
+    #[inline(always)]
+    fn coast(&self, state: &mut ObserverState<T, N>) {
+        self.coast_front_end(state);
     }
 
     #[inline(always)]
@@ -159,6 +168,11 @@ impl<const N: usize> Observe<i16> for FixedGains<N> {
     }
 
     #[inline(always)]
+    fn coast(&self, state: &mut FixedState<N>) {
+        self.coast_front_end(state);
+    }
+
+    #[inline(always)]
     fn latch(state: &mut FixedState<N>, faults: Faults) {
         state.latched |= faults;
     }
@@ -220,28 +234,34 @@ impl<const N: usize> Output<i16, FixedGains<N>> for FixedEstimate {
 
 /// The body of every chain's `track` and `update`: the front end's forward pass with the
 /// observer's prediction, then the observer's step, and the result `R`; unless the front
-/// end is quiet, out of line with the feedback to the front end and its faults latched
-/// (which the result then carries).
+/// end is quiet, out of line with the feedback to the front end, its faults latched (which
+/// the result then carries) and the observer coasting where the front end says the sample
+/// is not a measurement. Quiet is asked before the forward pass (the out-of-line path then
+/// holds the whole sample), or after it for a front end whose quiet depends on the sample
+/// ([`Stage::QUIET_FROM_INPUT`], a constant: one of the two is compiled).
 #[inline(always)]
 pub(crate) fn track<V: ChainNumber, X, F: Stage<V, X>, O: Observe<V>, R: Output<V, O>>(
     chain: &Chain<F, O>,
     state: &mut ChainState<F::State, O::State>,
     input: X,
 ) -> R {
-    if chain.front_end.quiet(&state.front_end) {
-        let ((y_c, y_s), _) = {
-            let prediction = chain.observer.prediction(&state.observer);
-            chain
-                .front_end
-                .forward(&mut state.front_end, &prediction, input)
-        };
-        chain
-            .observer
-            .track_observing(&mut state.observer, y_c, y_s, ());
-        return R::of(&chain.observer, &state.observer, Faults::NONE);
+    if !F::QUIET_FROM_INPUT && !chain.front_end.quiet(&state.front_end) {
+        // A call in tail position: the quiet path calls nothing and saves no register.
+        return track_with_feedback(chain, state, input);
     }
-    // A call in tail position: the quiet path calls nothing and saves no register.
-    track_with_feedback(chain, state, input)
+    let (pair, memo) = {
+        let prediction = chain.observer.prediction(&state.observer);
+        chain
+            .front_end
+            .forward(&mut state.front_end, &prediction, input)
+    };
+    if F::QUIET_FROM_INPUT && !chain.front_end.quiet(&state.front_end) {
+        return finish_with_feedback_out_of_line(chain, state, pair, memo);
+    }
+    chain
+        .observer
+        .track_observing(&mut state.observer, pair.0, pair.1, ());
+    R::of(&chain.observer, &state.observer, Faults::NONE)
 }
 
 /// [`track`] on a sample that a stage learns from or flags (out of line, as the online
@@ -254,18 +274,57 @@ fn track_with_feedback<V: ChainNumber, X, F: Stage<V, X>, O: Observe<V>, R: Outp
     state: &mut ChainState<F::State, O::State>,
     input: X,
 ) -> R {
+    let (pair, memo) = {
+        let prediction = chain.observer.prediction(&state.observer);
+        chain
+            .front_end
+            .forward(&mut state.front_end, &prediction, input)
+    };
+    finish_with_feedback(chain, state, pair, memo)
+}
+
+/// [`finish_with_feedback`] out of line, for a front end that is quiet or not after the
+/// forward pass.
+#[cold]
+#[inline(never)]
+fn finish_with_feedback_out_of_line<
+    V: ChainNumber,
+    X,
+    F: Stage<V, X>,
+    O: Observe<V>,
+    R: Output<V, O>,
+>(
+    chain: &Chain<F, O>,
+    state: &mut ChainState<F::State, O::State>,
+    pair: (V, V),
+    memo: F::Memo,
+) -> R {
+    finish_with_feedback(chain, state, pair, memo)
+}
+
+/// The observer's step on the front end's `pair` with the feedback of `memo` to the front
+/// end (or its coast, where the front end says the sample is not a measurement), then the
+/// front end's faults, latched and carried by the result.
+#[inline(always)]
+fn finish_with_feedback<V: ChainNumber, X, F: Stage<V, X>, O: Observe<V>, R: Output<V, O>>(
+    chain: &Chain<F, O>,
+    state: &mut ChainState<F::State, O::State>,
+    (y_c, y_s): (V, V),
+    memo: F::Memo,
+) -> R {
     let (front_end, observer) = (&chain.front_end, &chain.observer);
-    let ((y_c, y_s), memo) = {
-        let prediction = observer.prediction(&state.observer);
-        front_end.forward(&mut state.front_end, &prediction, input)
-    };
-    let to_front_end = ToFrontEnd {
-        front_end,
-        state: &mut state.front_end,
-        memo,
-        input: PhantomData,
-    };
-    observer.track_observing(&mut state.observer, y_c, y_s, to_front_end);
+    if front_end.coasts(&state.front_end) {
+        observer.coast(&mut state.observer);
+        front_end.feedback(&mut state.front_end, memo, None);
+    } else {
+        let to_front_end = ToFrontEnd {
+            front_end,
+            state: &mut state.front_end,
+            memo,
+            input: PhantomData,
+        };
+        observer.track_observing(&mut state.observer, y_c, y_s, to_front_end);
+    }
     let faults = front_end.faults(&mut state.front_end);
     // Latched unconditionally: cheaper than a test.
     O::latch(&mut state.observer, faults);

@@ -61,6 +61,9 @@ pub struct FixedState<const N: usize> {
     pub(crate) latched: Faults,
     /// Whether the first sample has set the angle.
     pub(crate) initialised: bool,
+    /// The state coasted through a front-end fault: the next sample's window end sets the
+    /// angle from its `atan2` (the speed and the acceleration kept).
+    pub(crate) coasted: bool,
 }
 
 impl<const N: usize> Default for FixedState<N> {
@@ -89,6 +92,7 @@ impl<const N: usize> FixedState<N> {
             faults: Faults::NONE,
             latched: Faults::NONE,
             initialised: false,
+            coasted: false,
         }
     }
 

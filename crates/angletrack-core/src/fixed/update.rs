@@ -290,6 +290,37 @@ impl<const N: usize> FixedGains<N> {
         }
     }
 
+    /// A sample that is not a measurement (a chain's front end says so:
+    /// [`Stage::coasts`](crate::Stage::coasts)): the angle takes its prediction and then
+    /// advances by the speed, the speed and the acceleration held (as the float observers
+    /// coast); the next sample ends a window of its own, whose end sets the angle from that
+    /// sample's `atan2` (so that neither a drift of the coast nor a false lock outlasts the
+    /// fault). A state that has no angle yet is left as it is. The front end's flag is the
+    /// chain's to add.
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn coast_front_end(&self, state: &mut FixedState<N>) {
+        if !state.initialised {
+            return;
+        }
+        let from = state.next_angle;
+        state.x.angle = from;
+        if N > 1 {
+            state.next_angle = from.wrapping_add(state.x.speed);
+        }
+        if from
+            .checked_add(state.next_angle.wrapping_sub(from))
+            .is_none()
+        {
+            count_turn(state, from);
+        }
+        state.phase_error = 0;
+        // The next sample ends a window that is not taken for healthy: its end re-acquires.
+        state.error_sum = 1 << 31;
+        state.window_left = 1;
+        state.coasted = true;
+    }
+
     /// The last sample, in counts.
     fn last_sample(state: &FixedState<N>) -> (i32, i32) {
         (i32::from(state.sample[0]), i32::from(state.sample[1]))
@@ -357,6 +388,11 @@ impl<const N: usize> FixedGains<N> {
             self.initialise(state);
             return;
         }
+        if state.coasted {
+            state.coasted = false;
+            Self::re_acquire(state);
+            return;
+        }
         if !self.monitor.enabled {
             return;
         }
@@ -365,20 +401,27 @@ impl<const N: usize> FixedGains<N> {
             .monitor
             .decide_window(&measures, &mut state.faults, &mut state.latched)
         {
-            let [y_c, y_s] = state.sample;
-            let (angle, whole) = re_acquired::<i16>(state.x.angle, y_c, y_s);
-            let turns = turns_of_estimate(state).wrapping_add(i64::from(whole));
-            let speed = Self::corrected_speed(&state.x);
-            let next_angle = Self::next_angle(&FixedVector {
-                angle,
-                speed,
-                ..state.x
-            });
-            state.x.angle = angle;
-            state.next_angle = next_angle;
-            // The state counts the turns of the predicted angle.
-            state.turns = turns.wrapping_add(i64::from(crossed_turns::<i16>(angle, next_angle)));
+            Self::re_acquire(state);
         }
+    }
+
+    /// The angle set from the last sample's `atan2` by the shortest way (the floats'
+    /// [`re_acquired`]), the speed and the acceleration kept (after a false lock or a
+    /// coast).
+    fn re_acquire(state: &mut FixedState<N>) {
+        let [y_c, y_s] = state.sample;
+        let (angle, whole) = re_acquired::<i16>(state.x.angle, y_c, y_s);
+        let turns = turns_of_estimate(state).wrapping_add(i64::from(whole));
+        let speed = Self::corrected_speed(&state.x);
+        let next_angle = Self::next_angle(&FixedVector {
+            angle,
+            speed,
+            ..state.x
+        });
+        state.x.angle = angle;
+        state.next_angle = next_angle;
+        // The state counts the turns of the predicted angle.
+        state.turns = turns.wrapping_add(i64::from(crossed_turns::<i16>(angle, next_angle)));
     }
 
     /// The first sample: the angle from `atan2` ([`sample_angle`], the floats' own), speed

@@ -1,0 +1,132 @@
+"""The ADC range of a capture, against which ``angletrack track`` flags clipping: stated
+(``--adc-range MIN,MAX``, or ``--adc-bits N`` with ``--adc-signed`` or ``--adc-unsigned``), or
+else measured on the first chunk (an extreme held flat over several consecutive samples, with
+the samples piled up there, as a clipped signal's are and a clean one's are not).
+
+A sample at or beyond the range in either channel is flagged ``Faults.FRONT_END``
+(``CLIPPING`` among the front-end faults); one clipped in both channels is not used: the
+observer coasts on its prediction (``docs/theory.md §15``).
+"""
+
+from __future__ import annotations
+
+import argparse
+from typing import Optional
+
+import numpy as np
+
+#: Consecutive samples at an extreme that make it a rail.
+FLAT_SAMPLES = 4
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The ADC range options (one group)."""
+    g = parser.add_argument_group(
+        "the ADC's range (clipping)",
+        "a sample at or beyond the range in either channel is flagged FRONT_END (clipping); one clipped in "
+        "both channels is not used (the observer coasts on its prediction); default: the capture's extremes "
+        f"when held flat over {FLAT_SAMPLES} or more consecutive samples (a clipped signal), else no check "
+        "(with --carrier-hz: the smallest power-of-two range holding the windings' samples)",
+    )
+    g.add_argument("--adc-range", metavar="MIN,MAX",
+                   help="the ADC's lowest and highest values in the capture's units (counts or volts), "
+                   "e.g. 0,4095 or -0.9,0.9")
+    g.add_argument("--adc-bits", type=int, metavar="N",
+                   help="the ADC's resolution (bits), with --adc-signed (-2^(N-1) to 2^(N-1)-1) or "
+                   "--adc-unsigned (0 to 2^N-1)")
+    sign = g.add_mutually_exclusive_group()
+    sign.add_argument("--adc-signed", dest="adc_signed", action="store_true", default=None,
+                      help="with --adc-bits: two's complement counts")
+    sign.add_argument("--adc-unsigned", dest="adc_signed", action="store_false",
+                      help="with --adc-bits: offset-binary counts")
+
+
+def joined_negative_range(argv: list[str]) -> list[str]:
+    """``argv`` with ``--adc-range -0.9,0.9`` written ``--adc-range=-0.9,0.9``: a value that
+    starts with ``-`` and holds a comma is taken for an option by ``argparse``."""
+    out: list[str] = []
+    for arg in argv:
+        if out and out[-1] == "--adc-range" and arg.startswith("-") and "," in arg:
+            out[-1] = f"--adc-range={arg}"
+        else:
+            out.append(arg)
+    return out
+
+
+def stated_range(args: argparse.Namespace) -> Optional[tuple[float, float]]:
+    """The range the options state (``None``: none), or a one-line ``ValueError`` naming the
+    option."""
+    bits, signed = getattr(args, "adc_bits", None), getattr(args, "adc_signed", None)
+    text = getattr(args, "adc_range", None)
+    if text is not None:
+        if bits is not None:
+            raise ValueError("adc_range: give --adc-range or --adc-bits, not both")
+        parts = text.split(",")
+        try:
+            low, high = (float(p) for p in parts)
+        except ValueError:
+            raise ValueError(f"adc_range: --adc-range {text!r}: expected MIN,MAX (two numbers)") from None
+        if not (np.isfinite(low) and np.isfinite(high) and low < high):
+            raise ValueError(f"adc_range: --adc-range {text}: expected finite MIN < MAX")
+        return low, high
+    if bits is None:
+        if signed is not None:
+            raise ValueError("adc_range: --adc-signed and --adc-unsigned need --adc-bits")
+        return None
+    if not 2 <= bits <= 32:
+        raise ValueError(f"adc_range: --adc-bits {bits}: expected 2 to 32")
+    if signed is None:
+        raise ValueError(f"adc_range: --adc-bits {bits} needs --adc-signed or --adc-unsigned")
+    if signed:
+        return -(2.0 ** (bits - 1)), 2.0 ** (bits - 1) - 1.0
+    return 0.0, 2.0**bits - 1.0
+
+
+def _held_flat(y: np.ndarray, value: float) -> bool:
+    """Whether ``y`` sits at ``value`` for at least ``FLAT_SAMPLES`` consecutive samples."""
+    at = np.concatenate(([False], y == value, [False]))
+    edges = np.flatnonzero(np.diff(at.astype(np.int8)))
+    return bool(len(edges)) and int(np.max(edges[1::2] - edges[::2])) >= FLAT_SAMPLES
+
+
+def _is_rail(y_c: np.ndarray, y_s: np.ndarray, value: float, inward: float) -> bool:
+    """Whether the extreme ``value`` is a rail: held flat (``FLAT_SAMPLES`` consecutive
+    samples in a channel) and reached by more samples than the band of ``inward`` (a signed
+    half-percent of the span) just inside it holds four times over: a clipped signal piles
+    up at its rail, a clean one (even quantised, and slow enough to repeat its peak code)
+    thins out toward its peak."""
+    if not (_held_flat(y_c, value) or _held_flat(y_s, value)):
+        return False
+    both = np.concatenate((y_c, y_s))
+    at = int(np.count_nonzero(both == value))
+    inside = (both - value) * np.sign(inward)
+    band = int(np.count_nonzero((inside > 0) & (inside <= abs(inward))))
+    return at > 4 * band
+
+
+def measured_range(y_c: np.ndarray, y_s: np.ndarray) -> Optional[tuple[float, float]]:
+    """The range measured on the samples: an extreme (of both channels) that is a rail
+    (held flat over ``FLAT_SAMPLES`` consecutive samples, the samples piled up there); an
+    extreme that is not is put one span beyond, so that it flags nothing. ``None`` when
+    neither is a rail."""
+    y_c, y_s = np.asarray(y_c, dtype=np.float64), np.asarray(y_s, dtype=np.float64)
+    finite = np.concatenate((y_c[np.isfinite(y_c)], y_s[np.isfinite(y_s)]))
+    if len(finite) == 0:
+        return None
+    low, high = float(np.min(finite)), float(np.max(finite))
+    if not low < high:
+        return None
+    span = high - low
+    low_rail = _is_rail(y_c, y_s, low, 0.005 * span)
+    high_rail = _is_rail(y_c, y_s, high, -0.005 * span)
+    if not (low_rail or high_rail):
+        return None
+    return (low if low_rail else low - span), (high if high_rail else high + span)
+
+
+def describe(adc_range: Optional[tuple[float, float]], stated: bool) -> str:
+    """The range for the summary."""
+    if adc_range is None:
+        return "ADC range: none stated, no extreme held flat: clipping not checked"
+    how = "stated" if stated else f"measured: extremes held flat over {FLAT_SAMPLES}+ samples"
+    return f"ADC range {adc_range[0]:.6g} to {adc_range[1]:.6g} ({how})"

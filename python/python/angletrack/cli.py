@@ -320,7 +320,14 @@ def _add_plot_parser(sub) -> None:
     plot.add_argument("--delimiter", metavar="CHAR", help="as for `angletrack track`")
     plot.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s", help="unit of the time column")
     plot.add_argument("--skip", type=_non_negative, default=0.0, metavar="S",
-                      help="leave the first S seconds out of the angle error")
+                      help="leave the first S seconds out of the angle error (as well as the start-up)")
+    plot.add_argument("--include-start-up", action="store_true",
+                      help="against the observer's angle: count its start-up before the lock in the angle error "
+                      "(default: left out, and shaded on the figure)")
+    plot.add_argument("--lock-tolerance", type=_positive, default=0.01, metavar="RAD",
+                      help="against the observer's angle: it is locked once the error, averaged over blocks of "
+                      "an eighth of the loop's time constant, has stayed within RAD (default 0.01) for 4 time "
+                      "constants")
     where = plot.add_mutually_exclusive_group()
     where.add_argument("--output", "-o", type=_png_path, metavar="FILE.png",
                        help="the figure (default: CAPTURE_plot.png beside the capture)")
@@ -336,8 +343,10 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     Draws one PNG of CAPTURE: the Lissajous figure of (y_c, y_s) with the least-squares
     ellipse (offsets, amplitude ratio, quadrature); the angle error atan2(y_s, y_c) minus the
     reference column (else the observer's angle, with gains) against the electrical angle,
-    and its harmonics 1 to 10; the speed and the observer's fault flags over time. Reads
-    the capture in chunks: any size, at most --max-points points per series.
+    and its harmonics 1 to 10; the speed and the observer's fault flags over time. Against
+    the observer's angle, its start-up until lock is left out of the error and shaded.
+    Reads the capture in chunks: any size, at most --max-points points per series (the
+    scatters a random subsample, the time series min and max per point).
     """
     from angletrack import plots
 
@@ -346,7 +355,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     settings = tracking.TrackSettings(
         capture=args.capture, output=args.capture, gains_file=args.gains_file, gains=args.gains,
         sample_rate_hz=args.sample_rate, columns=args.columns, delimiter=args.delimiter,
-        time_unit=args.time_unit, skip_s=args.skip,
+        time_unit=args.time_unit, skip_s=args.skip, lock_tolerance_rad=args.lock_tolerance,
     )
     name = args.capture.stem + "_plot"
     summary = None
@@ -354,7 +363,8 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         png, summary = args.out / f"{name}.png", args.out / f"{name}.json"
     else:
         png = args.output or args.capture.with_name(f"{name}.png")
-    print(plots.plot_capture_file(settings, png, summary_json=summary, max_points=args.max_points))
+    print(plots.plot_capture_file(settings, png, summary_json=summary, max_points=args.max_points,
+                                  include_start_up=args.include_start_up))
     return 0
 
 

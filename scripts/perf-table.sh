@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the performance tables of README.md:
+# Regenerates the performance tables of the user guide, docs/guide/performance.md:
 #  - between the firmware-table markers, instructions per update and code size on a
 #    Cortex-M4F and a Cortex-M0 of every variant of the firmware test under QEMU
 #    (tests/firmware/run.sh), beside the atan2 + PLL baselines with the ratio to each;
@@ -8,26 +8,42 @@
 #    benchmarks (benches/, short measurement: 1 s warm-up, 3 s per benchmark), built for the
 #    portable x86-64 baseline (SSE2) as cargo builds by default; the multi-channel rows again
 #    built with `-C target-cpu=x86-64-v3` (AVX2 and FMA: 8 f32 lanes) when this CPU has them.
-# Usage: bash scripts/perf-table.sh [--firmware] [--print]
+# Usage: bash scripts/perf-table.sh [--firmware] [--counts FILE] [--print]
+#        bash scripts/perf-table.sh --check FILE
 #   --firmware: the firmware table only (about a minute; the host table takes about 8);
-#   --print: print the tables, leave README.md.
+#   --counts FILE: the firmware table from FILE, the output of an earlier run of
+#     tests/firmware/run.sh (kept in tests/firmware/target/counts.txt), instead of a new run;
+#   --print: print the tables, leave the guide;
+#   --check FILE: no run and no change: fails unless the guide's firmware table is the one
+#     FILE's counts give (the same rows, every number within 5 %), as
+#     scripts/test.d/30-firmware.sh checks after each firmware test.
 # Host figures depend on the machine: run it on a quiet one. Firmware counts do not.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/lib.sh
-need_rust
-need_debian_packages qemu-system-arm gcc libc6-dev binutils-arm-none-eabi
+page=docs/guide/performance.md
 
-firmware_only=false print=false
-for arg in "$@"; do
-  case $arg in
+firmware_only=false print=false counts="" check=""
+while [ $# -gt 0 ]; do
+  case $1 in
     --firmware) firmware_only=true ;;
     --print) print=true ;;
-    *) echo "usage: bash scripts/perf-table.sh [--firmware] [--print]" >&2; exit 1 ;;
+    --counts) counts=${2:?--counts needs a file}; shift ;;
+    --check) check=${2:?--check needs a file}; firmware_only=true; counts=$check; shift ;;
+    *) echo "usage: bash scripts/perf-table.sh [--firmware] [--counts FILE] [--print] | --check FILE" >&2; exit 1 ;;
   esac
+  shift
 done
+if [ -z "$check" ]; then
+  need_rust
+  need_debian_packages qemu-system-arm gcc libc6-dev binutils-arm-none-eabi
+fi
 
-firmware=$(bash tests/firmware/run.sh)
+if [ -n "$counts" ]; then
+  firmware=$(cat "$counts")
+else
+  firmware=$(bash tests/firmware/run.sh)
+fi
 firmware_value() { sed -n "s/^$1: //p" <<<"$firmware" | head -n1; }
 
 # describe VARIANT: the table's words for a variant of tests/firmware/src/variants.rs (its
@@ -37,16 +53,18 @@ describe() {
     kalman-f32-fast) echo "Kalman ATO, \`f32\`, fast sin/cos" ;;
     kalman-f32-fast-unmonitored) echo "Kalman ATO, \`f32\`, fast sin/cos, diagnostics off" ;;
     kalman-f32-exact) echo "Kalman ATO, \`f32\`, exact sin/cos (\`libm\`)" ;;
-    kalman-f32-fast-calibrated) echo "Kalman ATO, \`f32\`, fast, calibration learning (\`update_calibrated\`)" ;;
-    kalman-f32-fast-calibrated-off) echo "Kalman ATO, \`f32\`, fast, calibration off (\`update_calibrated\`)" ;;
+    kalman-f32-fast-calibrated) echo "Kalman ATO, \`f32\`, fast, online calibration learning (a chain's \`update\`)" ;;
+    kalman-f32-fast-calibrated-off) echo "Kalman ATO, \`f32\`, fast, online calibration off (a chain's \`update\`)" ;;
     kalman-f32-fast-track) echo "Kalman ATO, \`f32\`, fast sin/cos, \`track\` (estimate on demand)" ;;
     kalman-f32-fast-track-unmonitored) echo "Kalman ATO, \`f32\`, fast sin/cos, \`track\`, diagnostics off" ;;
-    kalman-f32-fast-track-calibrated-off) echo "Kalman ATO, \`f32\`, fast, \`track_calibrated\`, calibration off" ;;
+    kalman-f32-fast-track-calibrated-off) echo "Kalman ATO, \`f32\`, fast, a chain's \`track\`, online calibration off" ;;
+    kalman-f32-fast-track-corrected) echo "Kalman ATO, \`f32\`, fast, a chain's \`track\`, stored calibration and angle table" ;;
     kalman-f32-fast-adc) echo "Kalman ATO, \`f32\`, fast, from 12-bit counts (an \`AdcScaling\` chain)" ;;
-    kalman-f32-fast-angle-corrected) echo "Kalman ATO, \`f32\`, fast, angle correction of order 4 (\`update_corrected\`)" ;;
+    kalman-f32-fast-angle-corrected) echo "Kalman ATO, \`f32\`, fast, angle correction of order 4 (an \`AngleCorrection\` chain)" ;;
     kalman-fixed) echo "Kalman ATO, fixed point" ;;
     kalman-fixed-track) echo "Kalman ATO, fixed point, \`track\` (estimate on demand)" ;;
     kalman-fixed-track-unmonitored) echo "Kalman ATO, fixed point, \`track\`, diagnostics off" ;;
+    kalman-fixed-track-corrected) echo "Kalman ATO, fixed point, a chain's \`track\`, stored calibration and angle table" ;;
     second-order-f32-fast) echo "2nd-order ATO, \`f32\`, fast sin/cos" ;;
     second-order-f32-exact) echo "2nd-order ATO, \`f32\`, exact sin/cos" ;;
     third-order-f32-fast) echo "3rd-order ATO (pole placement), \`f32\`, fast sin/cos" ;;
@@ -79,7 +97,8 @@ firmware_table=$(mktemp)
 host_table=$(mktemp)
 trap 'rm -f "$firmware_table" "$host_table"' EXIT
 {
-  echo "Measured with \`bash scripts/perf-table.sh --firmware\` ($(rustc --version | cut -d' ' -f1-2), commit $(git rev-parse --short HEAD))."
+  echo "Generated by \`bash scripts/perf-table.sh --firmware\` from the firmware test's counts ($(rustc --version | cut -d' ' -f1-2), commit $(git rev-parse --short HEAD));"
+  echo "\`scripts/test.d/30-firmware.sh\` fails unless every figure is within 5 % of its latest run's."
   echo
   echo "**Cortex-M4F and Cortex-M0** (QEMU \`mps2-an386\` and \`microbit\`, opt-level 3, fat LTO; the"
   echo "Cortex-M0 has no FPU: every \`f32\` operation is a call to a soft-float routine):"
@@ -120,28 +139,64 @@ trap 'rm -f "$firmware_table" "$host_table"' EXIT
   echo "\`Demodulator::push\` call each, $(firmware_value 'insns_per_sample_pair_in_block demodulator-f32') / $(firmware_value 'insns_per_sample_pair_in_block demodulator-f32-m0') in one \`Demodulator::push_block\` call."
 } >"$firmware_table"
 
-# replace_section NAME FILE: README.md's lines between <!-- NAME:begin --> and
+# replace_section NAME FILE: the guide's lines between <!-- NAME:begin --> and
 # <!-- NAME:end --> replaced by FILE.
 replace_section() {
-  grep -q "^<!-- $1:begin -->$" README.md && grep -q "^<!-- $1:end -->$" README.md || {
-    echo "README.md has no <!-- $1:begin --> / <!-- $1:end --> markers" >&2
+  grep -q "^<!-- $1:begin -->$" "$page" && grep -q "^<!-- $1:end -->$" "$page" || {
+    echo "$page has no <!-- $1:begin --> / <!-- $1:end --> markers" >&2
     exit 1
   }
   awk -v table="$2" -v begin="<!-- $1:begin -->" -v end="<!-- $1:end -->" '
     $0 == end { skip = 0 }
     !skip { print }
     $0 == begin { while ((getline line < table) > 0) print line; skip = 1 }
-  ' README.md >README.md.new
-  mv README.md.new README.md
+  ' "$page" >"$page.new"
+  mv "$page.new" "$page"
 }
 
+# check_section NAME FILE: fails unless the guide's lines between the NAME markers are FILE's
+# but for the first line (the provenance: rustc, commit), with each number within 5 % (and
+# 0.01, the ratios' rounding) of FILE's and every other character the same.
+check_section() {
+  python3 - "$page" "$1" "$2" <<'PYTHON'
+import re, sys
+page, name, table = sys.argv[1:]
+text = open(page, encoding="utf-8").read()
+begin, end = f"<!-- {name}:begin -->\n", f"\n<!-- {name}:end -->"
+if begin not in text or end not in text:
+    sys.exit(f"FAIL: {page} has no {begin.strip()} / {end.strip()} markers")
+shown = text.split(begin, 1)[1].split(end, 1)[0].splitlines()[1:]
+generated = open(table, encoding="utf-8").read().rstrip("\n").splitlines()[1:]
+number = re.compile(r"\d+(?:\.\d+)?(?:e-?\d+)?")
+problems = []
+if len(shown) != len(generated):
+    problems.append(f"{len(shown)} lines in the guide, {len(generated)} generated")
+for k, (a, b) in enumerate(zip(shown, generated), start=2):
+    if number.sub("#", a) != number.sub("#", b):
+        problems.append(f"line {k} of the table differs:\n  guide:     {a}\n  generated: {b}")
+        continue
+    for x, y in zip(map(float, number.findall(a)), map(float, number.findall(b))):
+        if abs(x - y) > 0.05 * max(abs(x), abs(y)) + 0.01:
+            problems.append(f"line {k}: {x:g} in the guide, {y:g} measured:\n  {b}")
+if problems:
+    print("\n".join(problems), file=sys.stderr)
+    sys.exit(f"FAIL: {page}'s {name} is not the firmware test's: regenerate it with "
+             f"`bash scripts/perf-table.sh --firmware --counts tests/firmware/target/counts.txt`")
+print(f"{page}: the {name} is the one the firmware test's counts give (within 5 %)")
+PYTHON
+}
+
+if [ -n "$check" ]; then
+  check_section firmware-table "$firmware_table"
+  exit 0
+fi
 if $firmware_only; then
   if $print; then
     cat "$firmware_table"
   else
     replace_section firmware-table "$firmware_table"
     cat "$firmware_table"
-    echo "README.md: firmware table updated" >&2
+    echo "$page: firmware table updated" >&2
   fi
   exit 0
 fi
@@ -189,7 +244,7 @@ bank_row() {
 
 cpu=$(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo)
 {
-  echo "Measured with \`bash scripts/perf-table.sh\` ($(rustc --version | cut -d' ' -f1-2), commit $(git rev-parse --short HEAD))."
+  echo "Generated by \`bash scripts/perf-table.sh\` ($(rustc --version | cut -d' ' -f1-2), commit $(git rev-parse --short HEAD)); measured, not checked by the test command."
   echo
   echo "**Host** (${cpu:-unknown CPU}, one stream): ns per sample (fastest criterion sample), and in"
   echo "parentheses the ratio to the hand-written loop (one struct, the standard library's"
@@ -234,4 +289,4 @@ fi
 replace_section firmware-table "$firmware_table"
 replace_section perf-table "$host_table"
 cat "$firmware_table" "$host_table"
-echo "README.md: performance tables updated" >&2
+echo "$page: performance tables updated" >&2

@@ -49,7 +49,7 @@ fn check_overshoot(paper_percent: f64, design: impl Fn(f64) -> AnyDesign) -> Des
     );
     // The nonlinear loop, 179 degree step: the phase detector's sin(e) < e lowers the loop
     // gain during the transient; the loop still ends at 179 degrees (no cycle slip) and its
-    // overshoot stays within 2 points of the linear figure (measured values in the README).
+    // overshoot stays within 2 points of the linear figure (the example paper_figures prints it).
     let nonlinear = 100.0 * report.large_step.overshoot;
     assert!((report.large_step_final_rad.to_degrees() - 179.0).abs() < 1e-3);
     assert!(

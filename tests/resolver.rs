@@ -199,7 +199,7 @@ fn locks_from_power_up_within_the_delay_estimation_and_the_settling_time() {
     assert!(lock_s <= startup_s + settling_s);
 }
 
-/// The README's whole chain for a firmware engineer, on a simulated resolver: the excitation
+/// The guide's whole chain (docs/guide/resolvers.md), on a simulated resolver: the excitation
 /// written out, both windings sampled on the same timer, demodulated, tracked, and the
 /// electrical angle of a 4-pole-pair motor at the PWM update, one ADC sample after the
 /// window's last sample.

@@ -10,8 +10,8 @@
 //! Throughput is in samples, so every report reads as time per sample and the ratio to
 //! `baseline` is the ratio of the reported times.
 //!
-//! Run: `cargo bench -p angletrack-benches` (or `bash scripts/perf-table.sh` for the README
-//! table).
+//! Run: `cargo bench -p angletrack-benches` (or `bash scripts/perf-table.sh` for the guide's
+//! tables).
 
 use std::hint::black_box;
 

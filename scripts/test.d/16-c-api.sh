@@ -9,7 +9,10 @@
 #   built for their targets, track under QEMU (tests/firmware/c/run.sh): the float observer
 #   on a Cortex-M4F (thumbv7em-none-eabihf, mps2-an386), the fixed-point chain from raw
 #   12-bit counts (a stored calibration and the angle-correction table) on a Cortex-M0
-#   (thumbv6m-none-eabi, microbit), with its instructions per sample.
+#   (thumbv6m-none-eabi, microbit), with its instructions per sample;
+# - the C blocks of README.md and docs/guide/*.md compile against the header (-Werror), with
+#   the headers `angletrack design --format c --name motor` writes (tests/c/guide/, which
+#   python/tests/test_guide.py checks against the command's output).
 set -euo pipefail
 source scripts/lib.sh
 need_rust
@@ -43,6 +46,25 @@ cc -std=c11 -O2 -Wall -Wextra -Werror -pedantic -I"$crate/include" -I"$crate/tes
   "$CARGO_TARGET_DIR/release/libangletrack_c.a" \
   -lgcc_s -lutil -lrt -lpthread -lm -ldl -lc -o "$scratch/test_host"
 "$scratch/test_host"
+
+echo "--- the C blocks of the README and the guide compile"
+blocks=0
+for page in README.md docs/guide/*.md; do
+  # Each ```c block of the page as a file of its own, named by the page and its first line.
+  awk -v dir="$scratch" -v page="$(basename "$page" .md)" '
+    /^```c$/ { on = 1; file = dir "/guide-" page "-" NR + 1 ".c"; next }
+    on && /^```/ { on = 0; next }
+    on { print > file }
+  ' "$page"
+done
+for block in "$scratch"/guide-*.c; do
+  [ -e "$block" ] || break
+  cc -std=c11 -Wall -Wextra -Werror -pedantic -I"$crate/include" -I"$crate/tests/c/guide" \
+    -c "$block" -o "${block%.c}.o" || { echo "FAIL: $(basename "$block" .c | sed 's/^guide-//; s/-\([0-9]*\)$/.md line \1/')" >&2; exit 1; }
+  blocks=$((blocks + 1))
+done
+[ "$blocks" -ge 2 ] || { echo "FAIL: $blocks C blocks found in README.md and docs/guide/" >&2; exit 1; }
+echo "$blocks C blocks of README.md and docs/guide/ compile against the header"
 
 echo "--- the C examples under QEMU (Cortex-M4F, Cortex-M0)"
 bash tests/firmware/c/run.sh

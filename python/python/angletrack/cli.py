@@ -15,6 +15,7 @@ from typing import Callable, Optional, Sequence
 
 import angletrack
 from angletrack import calibration as calibration_io
+from angletrack import capture as capture_io
 from angletrack import export, harmonics, resolver, tracking
 
 
@@ -67,6 +68,40 @@ def _add_gains_source(p: argparse.ArgumentParser, required: bool = True) -> None
                    "stamps); default: the gains file's, checked against the time column")
 
 
+def _add_reader_arguments(p) -> None:
+    """The capture-reader options every command that reads a capture shares, beside its
+    --columns, --delimiter and --time-unit."""
+    p.add_argument("--decimal", choices=[".", ","], metavar="MARK",
+                   help="decimal mark of the numbers: '.' or ',' (default: sniffed, ',' for numbers such as "
+                   "0,5 beside a ';', tab or blank delimiter)")
+    p.add_argument("--skip-rows", type=_count, default=0, metavar="N",
+                   help="lines skipped before the header (an instrument's metadata; lines of another width "
+                   "than the data are skipped without it)")
+
+
+def _count(text: str) -> int:
+    """A whole number, 0 or more."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected a whole number of at least 0, got {text}")
+    return value
+
+
+#: The extensions of the estimates track writes (the format follows the extension).
+ESTIMATE_EXTENSIONS = (".csv", ".npy", ".npz")
+
+
+def _refuse_overwriting_inputs(args: argparse.Namespace, outputs: dict) -> None:
+    """Refuses an output that is an input of the command (the capture, the gains file, a
+    stored calibration) or another output, before anything is written."""
+    inputs = {"capture": args.capture, "--gains-file": getattr(args, "gains_file", None),
+              "--calibration": getattr(args, "calibration", None)}
+    capture_io.check_outputs(outputs, inputs)
+
+
 def _cmd_track(args: argparse.Namespace) -> int:
     """run an observer over a recorded capture and write its estimates
 
@@ -79,15 +114,21 @@ def _cmd_track(args: argparse.Namespace) -> int:
     reference column, prints the errors against it. --calibrate learns and corrects the
     sensor's offsets, imbalance and quadrature error.
     """
+    output = args.output or args.capture.with_name(args.capture.stem + "_estimates.csv")
+    png = (args.plot or output.with_suffix(".png")) if args.plot is not None else None
+    calibration_out = calibration_io.default_path(args.capture, args.calibration_out) if args.calibrate else None
+    _refuse_overwriting_inputs(args, {"--output": output, "--calibration-out": calibration_out, "--plot": png})
     stored = calibration_io.read_stored(args.calibration)
     settings = tracking.TrackSettings(
         capture=args.capture,
-        output=args.output or args.capture.with_name(args.capture.stem + "_estimates.csv"),
+        output=output,
         gains_file=args.gains_file,
         gains=args.gains,
         sample_rate_hz=args.sample_rate,
         columns=args.columns,
         delimiter=args.delimiter,
+        decimal=args.decimal,
+        skip_rows=args.skip_rows,
         time_unit=args.time_unit,
         dtype=args.dtype,
         sin_cos=args.sin_cos,
@@ -98,14 +139,19 @@ def _cmd_track(args: argparse.Namespace) -> int:
         **resolver.track_options(args),
         calibration=calibration_io.angle_calibration(stored),
     )
+    suffix = output.suffix.lower()
+    text_only = settings.dtype == "fixed" or settings.carrier_hz is not None
+    if suffix not in ESTIMATE_EXTENSIONS or (text_only and suffix != ".csv"):
+        formats = "CSV (.csv)" if text_only else "CSV (.csv), NumPy (.npy) or .npz"
+        raise ValueError(f"output: {output} names no format this run writes: the estimates' format follows the "
+                         f"extension, here {formats}")
     summary, observer = tracking.track_capture(settings)
     print(summary)
     if args.calibrate and observer is not None:
         print(calibration_io.write_learned(args.capture, args.calibration_out, observer))
-    if args.plot is not None:
+    if png is not None:
         from angletrack import plots
 
-        png = args.plot or settings.output.with_suffix(".png")
         print(plots.plot_capture_file(settings, png))
     return 0
 
@@ -284,7 +330,7 @@ def _cmd_design(args: argparse.Namespace) -> int:
         sys.stdout.write(text)
     else:
         args.output.parent.mkdir(parents=True, exist_ok=True)
-        args.output.write_text(text)
+        capture_io.write_output(args.output, text)
         kind = args.dtype if args.format != 'json' or args.dtype == 'fixed' else 'float64'
         print(f"\nwrote the gains ({args.format}, {kind}) to {args.output}")
     if args.plot is not None:
@@ -319,6 +365,7 @@ def _add_plot_parser(sub) -> None:
     plot.add_argument("--columns", metavar="ROLE=COLUMN,...", help="as for `angletrack track`")
     plot.add_argument("--delimiter", metavar="CHAR", help="as for `angletrack track`")
     plot.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s", help="unit of the time column")
+    _add_reader_arguments(plot)
     plot.add_argument("--skip", type=_non_negative, default=0.0, metavar="S",
                       help="leave the first S seconds out of the angle error")
     where = plot.add_mutually_exclusive_group()
@@ -346,7 +393,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     settings = tracking.TrackSettings(
         capture=args.capture, output=args.capture, gains_file=args.gains_file, gains=args.gains,
         sample_rate_hz=args.sample_rate, columns=args.columns, delimiter=args.delimiter,
-        time_unit=args.time_unit, skip_s=args.skip,
+        decimal=args.decimal, skip_rows=args.skip_rows, time_unit=args.time_unit, skip_s=args.skip,
     )
     name = args.capture.stem + "_plot"
     summary = None
@@ -354,6 +401,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         png, summary = args.out / f"{name}.png", args.out / f"{name}.json"
     else:
         png = args.output or args.capture.with_name(f"{name}.png")
+    _refuse_overwriting_inputs(args, {"--output": png, "--out (figures)": summary})
     print(plots.plot_capture_file(settings, png, summary_json=summary, max_points=args.max_points))
     return 0
 
@@ -411,16 +459,18 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     tracks it with the gains, and writes what it learned: JSON for `angletrack track
     --calibration`, or a C header / Rust const block for firmware.
     """
+    _refuse_overwriting_inputs(args, {"--output": args.output})
     settings = tracking.TrackSettings(capture=args.capture, output=args.output, gains_file=args.gains_file,
                                       gains=args.gains, sample_rate_hz=args.sample_rate, columns=args.columns,
-                                      delimiter=args.delimiter, time_unit=args.time_unit)
+                                      delimiter=args.delimiter, decimal=args.decimal, skip_rows=args.skip_rows,
+                                      time_unit=args.time_unit)
     cal = tracking.calibrate_capture(settings, lowest_order=args.lowest_order, highest_order=args.highest_order,
                                      settle_fraction=args.settle_fraction)
     text = {"json": cal.to_json, "c": cal.to_c_header, "rust": cal.to_rust}[args.format]()
     if args.output is None:
         print(text, end="")
     else:
-        args.output.write_text(text)
+        capture_io.write_output(args.output, text)
     orders = ", ".join(f"{k}: {cal.harmonic_amplitude(k) * 1e3:.3g}" for k in range(args.lowest_order,
                                                                                      args.highest_order + 1))
     print(f"learned from {cal.turns:.0f} turns at {cal.speed_rad_s:.6g} rad/s: angle error "
@@ -437,6 +487,7 @@ def _add_calibrate_parser(sub) -> None:
     cal.add_argument("--delimiter", metavar="CHAR", help="field delimiter (default: sniffed)")
     cal.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s",
                      help="unit of the time column (default s)")
+    _add_reader_arguments(cal)
     cal.add_argument("--lowest-order", type=int, default=1, metavar="K",
                      help="lowest harmonic of the angle error learned (default 1)")
     cal.add_argument("--highest-order", type=int, default=harmonics.MAX_ORDER, metavar="K",
@@ -457,20 +508,23 @@ def _add_track_parser(sub) -> None:
     cols = track.add_argument_group("the capture's layout (sniffed by default)")
     cols.add_argument("--columns", metavar="ROLE=COLUMN,...",
                       help="which columns hold what: roles y_c, y_s, time, reference; each column a header "
-                      "name, else a 0-based index (e.g. y_c=cos,y_s=sin,time=t or y_c=0,y_s=1); default: the "
-                      "columns named y_c/cos, y_s/sin, time/t, reference/theta")
+                      "name, else a 0-based index (e.g. y_c=cos,y_s=sin,time=t or y_c=0,y_s=1), or '-' to ignore "
+                      "a time or reference column (time=-); one column per role; default: the columns named "
+                      "y_c/cos, y_s/sin, time/t, reference/theta")
     cols.add_argument("--delimiter", metavar="CHAR",
                       help="field delimiter: one character, 'tab' or 'whitespace' (default: sniffed)")
     cols.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s",
                       help="unit of the time column (default s)")
+    _add_reader_arguments(cols)
     track.add_argument("--dtype", choices=["float32", "float64", "fixed"], default="float64",
                        help="number type the observer runs on (default float64); fixed: the fixed-point chain "
                        "on integer counts (a --calibration applied in integers, as a firmware does)")
     track.add_argument("--sin-cos", choices=["fast", "exact"], default=None,
                        help="phase detector's sin/cos (default: fast for float32, exact for float64)")
     track.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",
-                       help="estimates file: .npy for a NumPy structured array, else CSV (default: "
-                       "CAPTURE_estimates.csv beside the capture)")
+                       help="estimates file, its format from its extension: .csv, .npy (a NumPy structured "
+                       "array) or .npz (one array per column); never an input; written beside it and renamed "
+                       "when complete (default: CAPTURE_estimates.csv beside the capture)")
     track.add_argument("--skip", type=_non_negative, default=0.0, metavar="S",
                        help="with a reference: leave the first S seconds out of the error statistics")
     track.add_argument("--lock-tolerance", type=_positive, default=0.01, metavar="RAD",

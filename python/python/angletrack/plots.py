@@ -93,8 +93,7 @@ def analyse_capture(s: tracking.TrackSettings, max_points: int = MAX_POINTS) -> 
     against the capture's rate as ``angletrack track`` does) and accumulates the figure's
     data. ``s.output`` is not used."""
     reader = angletrack.CaptureReader(
-        s.capture, columns=s.columns, delimiter=s.delimiter, time_unit=s.time_unit,
-        sample_rate_hz=s.sample_rate_hz, chunk_rows=s.chunk_rows,
+        s.capture, **s.reader_options(), chunk_rows=s.chunk_rows,
     )
     chunks = iter(reader)
     first = next(chunks)
@@ -286,7 +285,8 @@ def plot_capture(plt, a: CaptureAnalysis, path: pathlib.Path) -> None:
     fig.suptitle(f"{pathlib.Path(a.path).name}: {a.description}", fontsize=11)
     fig.tight_layout(rect=(0, 0, 1, 0.975))
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=DPI)
+    with angletrack.OutputFile(path) as target:  # all or nothing
+        fig.savefig(target.temporary_path, dpi=DPI, format="png")
     plt.close(fig)
 
 
@@ -316,6 +316,6 @@ def plot_capture_file(
     plot_capture(plt, a, png)
     lines = [a.describe(), f"plot: {png}"]
     if summary_json is not None:
-        summary_json.write_text(json.dumps(a.summary(), indent=2) + "\n")
+        angletrack.write_output(summary_json, json.dumps(a.summary(), indent=2) + "\n")
         lines.append(f"figures: {summary_json}")
     return "\n".join(lines)

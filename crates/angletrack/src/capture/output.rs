@@ -191,6 +191,11 @@ impl OutputFile {
         &self.target
     }
 
+    /// The temporary file's path (for a writer that opens it itself).
+    pub fn temporary(&self) -> &Path {
+        self.temp.path.as_deref().unwrap_or(&self.target)
+    }
+
     /// Flushes the file to the disk and renames it to the target, replacing it.
     pub fn commit(mut self) -> Result<(), CaptureError> {
         self.file

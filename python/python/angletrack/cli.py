@@ -64,8 +64,9 @@ def _add_gains_source(p: argparse.ArgumentParser, required: bool = True) -> None
                      help="discrete gains (dimensionless); needs --sample-rate or a time column")
     p.add_argument("--sample-rate", type=_positive, metavar="HZ",
                    help="the capture's true sample rate (Hz): overrides the gains file's and the time "
-                   "column's, and skips the check of the time column's spacing (rounded or jittered "
-                   "stamps); default: the gains file's, checked against the time column")
+                   "column's, and skips the check of the time column's spacing (rounded, repeated or "
+                   "jittered stamps; stamps going back are refused); default: the gains file's, checked "
+                   "against the time column")
 
 
 def _add_reader_arguments(p) -> None:

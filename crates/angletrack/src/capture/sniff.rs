@@ -252,8 +252,9 @@ pub fn sniff(
 
 /// How many of the first `lines` are an instrument's metadata (`Model,MSO44`,
 /// `Record Length,10000`, `Label,,`): before the first row of numbers, the lines up to the
-/// last one whose number of fields is not the data's, and after it lines of mostly empty
-/// fields; the header (and units lines) follow. A line of numbers only is never metadata
+/// last one whose number of fields is not the data's (but for a wider header just before
+/// the data), and after it lines of mostly empty fields; the header (and units lines)
+/// follow. A line of numbers only is never metadata
 /// (a malformed first row is reported, not skipped).
 fn metadata_lines(lines: &[(u64, &str)], delimiter: Delimiter, decimal: DecimalMark) -> usize {
     let sample = &lines[..lines.len().min(50)];
@@ -266,7 +267,13 @@ fn metadata_lines(lines: &[(u64, &str)], delimiter: Delimiter, decimal: DecimalM
     else {
         return 0;
     };
-    let Some(last_other) = lines[..data].iter().rposition(|(_, l)| count(l) != fields) else {
+    // A header wider than the rows (a trailing delimiter, a name over an empty column) is
+    // the header, not metadata.
+    let end = match data.checked_sub(1) {
+        Some(h) if count(lines[h].1) > fields => h,
+        _ => data,
+    };
+    let Some(last_other) = lines[..end].iter().rposition(|(_, l)| count(l) != fields) else {
         return 0;
     };
     let mostly_empty = |line: &str| {
@@ -277,7 +284,7 @@ fn metadata_lines(lines: &[(u64, &str)], delimiter: Delimiter, decimal: DecimalM
     while metadata + 1 < data && mostly_empty(lines[metadata].1) {
         metadata += 1;
     }
-    if lines[..metadata].iter().any(|(_, l)| all_numbers(l)) {
+    if lines[..data].iter().any(|(_, l)| all_numbers(l)) {
         return 0;
     }
     metadata

@@ -61,6 +61,14 @@ fn an_oscilloscope_export_skips_its_metadata_lines() {
     };
     let c = read("same_width.csv", text, stated).unwrap();
     assert_eq!(c.samples.y_c, [1.0, 1.0]);
+    // A header wider than its rows is the header, after metadata or not.
+    for text in [
+        "t,y_c,y_s,\n0,1,0\n1e-4,1,0\n",
+        "Model,X\nt,y_c,y_s,\n0,1,0\n1e-4,1,0\n",
+    ] {
+        let c = read("wide.csv", text.as_bytes(), columns("")).unwrap();
+        assert_eq!(c.mapping[0], (Role::Time, "t".to_string()), "{text}");
+    }
     // A malformed first row is an error, not metadata.
     let e = read(
         "bad_row.csv",

@@ -42,7 +42,7 @@ describe() {
     kalman-f32-fast-track) echo "Kalman ATO, \`f32\`, fast sin/cos, \`track\` (estimate on demand)" ;;
     kalman-f32-fast-track-unmonitored) echo "Kalman ATO, \`f32\`, fast sin/cos, \`track\`, diagnostics off" ;;
     kalman-f32-fast-track-calibrated-off) echo "Kalman ATO, \`f32\`, fast, \`track_calibrated\`, calibration off" ;;
-    kalman-f32-fast-adc) echo "Kalman ATO, \`f32\`, fast, from 12-bit counts (\`update_adc\`)" ;;
+    kalman-f32-fast-adc) echo "Kalman ATO, \`f32\`, fast, from 12-bit counts (an \`AdcScaling\` chain)" ;;
     kalman-f32-fast-angle-corrected) echo "Kalman ATO, \`f32\`, fast, angle correction of order 4 (\`update_corrected\`)" ;;
     kalman-fixed) echo "Kalman ATO, fixed point" ;;
     kalman-fixed-track) echo "Kalman ATO, fixed point, \`track\` (estimate on demand)" ;;

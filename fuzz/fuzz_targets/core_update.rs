@@ -11,9 +11,9 @@
 
 use angletrack_core::fixed::{MAX_RECIPROCAL, MIN_RECIPROCAL};
 use angletrack_core::{
-    AdcScaling, CalibrationSettings, Calibrator, Estimate, Exact, Fast, FaultThresholds,
-    FixedGains, FixedState, Gains, ObserverState, Order, Real, SensorCalibration, SinCos,
-    SupportedOrder,
+    AdcScaling, CalibrationSettings, Calibrator, Chain, ChainState, Estimate, Exact, Fast,
+    FaultThresholds, FixedGains, FixedState, Gains, ObserverState, Order, Real, SensorCalibration,
+    SinCos, SupportedOrder,
 };
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
@@ -173,7 +173,12 @@ where
         };
         let e = gains.update_calibrated(&mut state, &mut calibrator, y_c, y_s);
         check(e, &state, &calibrator);
-        let e = gains.update_adc(&mut state, &scaling, raw_c, raw_s);
+        let mut chained = ChainState {
+            front_end: (),
+            observer: state,
+        };
+        let e = Chain::new(scaling, gains).update(&mut chained, (raw_c, raw_s));
+        state = chained.observer;
         check(e, &state, &calibrator);
     }
 }

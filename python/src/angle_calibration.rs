@@ -1,15 +1,17 @@
 //! The angle-dependent error calibration (`angletrack::learn_angle_correction`) and the
 //! observer that applies it, on numpy arrays; the Python package wraps them in
-//! `angletrack.harmonics` (`calibrate`, `Calibration`, `CalibratedObserver`).
+//! `angletrack.harmonics` (`calibrate`, `calibrate_chunks`, `Calibration`,
+//! `CalibratedObserver`).
 
 use angletrack::{
-    AngleCorrection, CalibrationOptions, CaptureCalibration, EstimateColumns, Gains, ObserverState,
+    AngleCorrection, CalibrationError, CalibrationOptions, CaptureCalibration, CaptureCalibrator,
+    EstimateColumns, Gains, ObserverState, OrderQuality, OrderStatus, SPECTRUM_ORDERS,
     SensorCalibration, ThresholdPolicy,
 };
 use angletrack_core::MAX_CORRECTION_ORDER;
 use angletrack_core::{Chain, ChainState};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyList};
 
 use crate::arrays::{check_equal_lengths, samples};
 use crate::dispatch::{Arg, PhaseSinCos, Run, RunSettings, Sample};
@@ -20,37 +22,175 @@ use crate::gains::{GainSet, PyGains, with_gains};
 /// The sensor calibration `(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)`.
 pub type SensorParameters = (f64, f64, f64, f64, f64);
 
-/// Learns the calibration of a capture `(y_c, y_s)` at roughly constant speed tracked with
-/// `gains` (float64): a dict with `sensor` (the offsets, amplitudes and quadrature), `cos`
-/// and `sin` (the correction's coefficients `a_k`, `b_k`, k = 1..8, rad), `speed_rad_s`,
-/// `turns`, `error_rms_rad` and `residual_rms_rad`.
+/// The options of a calibration, checked by the crate.
+#[allow(clippy::too_many_arguments)]
+fn options(
+    lowest_order: Option<usize>,
+    highest_order: usize,
+    settle_fraction: f64,
+    self_calibration: bool,
+    own_loop: bool,
+    min_significance: f64,
+) -> CalibrationOptions {
+    CalibrationOptions {
+        lowest_order,
+        highest_order,
+        settle_fraction,
+        self_calibration,
+        own_loop,
+        min_significance,
+    }
+}
+
+/// A refused calibration as a `ConfigError` naming the option.
+fn refused(e: CalibrationError) -> Error {
+    Error::value(e.option, e.reason)
+}
+
+/// Learns the calibration of a capture `(y_c, y_s)` held in memory (float64), with its
+/// `reference` angle if given (`angletrack::learn_angle_correction`): a dict (see
+/// [`learned_dict`]).
 #[pyfunction]
-#[pyo3(signature = (gains, y_c, y_s, *, lowest_order = 1, highest_order = 8, settle_fraction = 0.2))]
+#[pyo3(signature = (gains, y_c, y_s, *, reference = None, lowest_order = None, highest_order = 8,
+    settle_fraction = 0.2, self_calibration = false, own_loop = true, min_significance = 3.0))]
+#[allow(clippy::too_many_arguments)]
 pub fn learn_calibration<'py>(
     py: Python<'py>,
     gains: PyGains,
     y_c: &Bound<'py, PyAny>,
     y_s: &Bound<'py, PyAny>,
-    lowest_order: usize,
+    reference: Option<&Bound<'py, PyAny>>,
+    lowest_order: Option<usize>,
     highest_order: usize,
     settle_fraction: f64,
+    self_calibration: bool,
+    own_loop: bool,
+    min_significance: f64,
 ) -> Result<Bound<'py, PyDict>> {
     let (c, s) = (samples::<f64>(y_c, "y_c")?, samples::<f64>(y_s, "y_s")?);
     let (c, s) = (c.as_slice(), s.as_slice());
     check_equal_lengths(("y_c", c.len()), ("y_s", s.len()))?;
-    let options = CalibrationOptions {
+    let reference = reference
+        .map(|r| samples::<f64>(r, "reference"))
+        .transpose()?;
+    let reference = reference.as_ref().map(|r| r.as_slice());
+    if let Some(r) = reference {
+        check_equal_lengths(("y_c", c.len()), ("reference", r.len()))?;
+    }
+    let options = options(
         lowest_order,
         highest_order,
         settle_fraction,
-    };
+        self_calibration,
+        own_loop,
+        min_significance,
+    );
     let learned = with_gains!(gains.set, g => py.detach(|| {
-        angletrack::learn_angle_correction(&g, c, s, &options)
-    }))?;
+        angletrack::learn_angle_correction(&g, c, s, reference, &options)
+    }))
+    .map_err(refused)?;
     learned_dict(py, &learned)
 }
 
+/// A calibration learned from a capture read twice, chunk by chunk
+/// (`angletrack::CaptureCalibrator`): `add_geometry` on every chunk, `start_fit`,
+/// `add_fit` on every chunk again, `finish`.
+#[pyclass(name = "_CaptureCalibrator", module = "angletrack")]
+#[derive(Debug)]
+pub struct PyCaptureCalibrator {
+    inner: Option<CaptureCalibrator>,
+    gains: GainSet,
+}
+
+impl PyCaptureCalibrator {
+    fn inner(&mut self) -> Result<&mut CaptureCalibrator> {
+        self.inner
+            .as_mut()
+            .ok_or_else(|| Error::value("calibrator", "finished already"))
+    }
+}
+
+#[pymethods]
+impl PyCaptureCalibrator {
+    #[new]
+    #[pyo3(signature = (gains, *, lowest_order = None, highest_order = 8, settle_fraction = 0.2,
+        self_calibration = false, own_loop = true, min_significance = 3.0))]
+    fn py_new(
+        gains: PyGains,
+        lowest_order: Option<usize>,
+        highest_order: usize,
+        settle_fraction: f64,
+        self_calibration: bool,
+        own_loop: bool,
+        min_significance: f64,
+    ) -> Result<Self> {
+        let options = options(
+            lowest_order,
+            highest_order,
+            settle_fraction,
+            self_calibration,
+            own_loop,
+            min_significance,
+        );
+        let period = with_gains!(&gains.set, g => g.sample_period());
+        Ok(Self {
+            inner: Some(CaptureCalibrator::new(period, &options).map_err(refused)?),
+            gains: gains.set,
+        })
+    }
+
+    /// The first pass: a chunk of raw samples (float64).
+    fn add_geometry(&mut self, y_c: &Bound<'_, PyAny>, y_s: &Bound<'_, PyAny>) -> Result<()> {
+        let (c, s) = (samples::<f64>(y_c, "y_c")?, samples::<f64>(y_s, "y_s")?);
+        check_equal_lengths(("y_c", c.as_slice().len()), ("y_s", s.as_slice().len()))?;
+        self.inner()?.add_geometry(c.as_slice(), s.as_slice());
+        Ok(())
+    }
+
+    /// Ends the first pass; returns the method (`"reference"` when `has_reference` and
+    /// self-calibration is not forced).
+    fn start_fit(&mut self, has_reference: bool) -> Result<&'static str> {
+        let gains = self.gains;
+        let inner = self.inner()?;
+        let method =
+            with_gains!(&gains, g => inner.start_fit(g, has_reference)).map_err(refused)?;
+        Ok(method.name())
+    }
+
+    /// The second pass: a chunk of raw samples and, against a reference, its angles.
+    #[pyo3(signature = (y_c, y_s, reference = None))]
+    fn add_fit(
+        &mut self,
+        y_c: &Bound<'_, PyAny>,
+        y_s: &Bound<'_, PyAny>,
+        reference: Option<&Bound<'_, PyAny>>,
+    ) -> Result<()> {
+        let (c, s) = (samples::<f64>(y_c, "y_c")?, samples::<f64>(y_s, "y_s")?);
+        check_equal_lengths(("y_c", c.as_slice().len()), ("y_s", s.as_slice().len()))?;
+        let reference = reference
+            .map(|r| samples::<f64>(r, "reference"))
+            .transpose()?;
+        let reference = reference.as_ref().map(|r| r.as_slice());
+        if let Some(r) = reference {
+            check_equal_lengths(("y_c", c.as_slice().len()), ("reference", r.len()))?;
+        }
+        self.inner()?.add_fit(c.as_slice(), s.as_slice(), reference);
+        Ok(())
+    }
+
+    /// The calibration learned (a dict, as `learn_calibration` gives).
+    fn finish<'py>(&mut self, py: Python<'py>) -> Result<Bound<'py, PyDict>> {
+        let inner = self
+            .inner
+            .take()
+            .ok_or_else(|| Error::value("calibrator", "finished already"))?;
+        learned_dict(py, &inner.finish().map_err(refused)?)
+    }
+}
+
 /// The dict of a learned calibration: `sensor`, `cos`, `sin`, `speed_rad_s`, `turns`,
-/// `error_rms_rad` and `residual_rms_rad`.
+/// `error_rms_rad`, `residual_rms_rad`, `method`, `orders` (per order 1..12: `order`,
+/// `amplitude_rad`, `uncertainty_rad`, `status`) and `warnings`.
 pub fn learned_dict<'py>(
     py: Python<'py>,
     learned: &CaptureCalibration,
@@ -64,6 +204,38 @@ pub fn learned_dict<'py>(
     out.set_item("turns", learned.turns)?;
     out.set_item("error_rms_rad", learned.error_rms_rad)?;
     out.set_item("residual_rms_rad", learned.residual_rms_rad)?;
+    out.set_item("method", learned.method.name())?;
+    let orders = PyList::empty(py);
+    for (i, q) in learned.orders.iter().enumerate() {
+        let order = PyDict::new(py);
+        order.set_item("order", i + 1)?;
+        order.set_item("amplitude_rad", q.amplitude_rad)?;
+        order.set_item("uncertainty_rad", q.uncertainty_rad)?;
+        order.set_item("status", q.status.name())?;
+        orders.append(order)?;
+    }
+    out.set_item("orders", orders)?;
+    out.set_item("warnings", learned.warnings())?;
+    Ok(out)
+}
+
+/// The orders' quality from `(order, amplitude_rad, uncertainty_rad, status)` tuples
+/// (unknown for the orders not given).
+pub fn orders_of(
+    orders: Option<Vec<(usize, f64, f64, String)>>,
+) -> Result<[OrderQuality; SPECTRUM_ORDERS]> {
+    let mut out = [OrderQuality::UNKNOWN; SPECTRUM_ORDERS];
+    for (order, amplitude_rad, uncertainty_rad, status) in orders.unwrap_or_default() {
+        let slot = order
+            .checked_sub(1)
+            .and_then(|i| out.get_mut(i))
+            .ok_or_else(|| Error::value("orders", format!("order {order} is not in 1..=12")))?;
+        *slot = OrderQuality {
+            amplitude_rad,
+            uncertainty_rad,
+            status: OrderStatus::from_name(&status),
+        };
+    }
     Ok(out)
 }
 
@@ -180,6 +352,7 @@ impl PyCorrectedObserver {
 /// Adds the functions to the module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(learn_calibration, m)?)?;
+    m.add_class::<PyCaptureCalibrator>()?;
     m.add_class::<PyCorrectedObserver>()?;
     Ok(())
 }

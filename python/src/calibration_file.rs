@@ -1,12 +1,12 @@
 //! The calibration files of `angletrack::CalibrationFile` on Python values: JSON text in
 //! and out (the Python package reads and writes the files themselves).
 
-use angletrack::{CalibrationFile, CaptureCalibration, SensorCalibrationRecord};
+use angletrack::{CalibrationFile, CalibrationMethod, CaptureCalibration, SensorCalibrationRecord};
 use pyo3::IntoPyObjectExt;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::angle_calibration::{SensorParameters, checked, learned_dict};
+use crate::angle_calibration::{SensorParameters, checked, learned_dict, orders_of};
 use crate::calibration::PySensorCalibration;
 use crate::errors::Result;
 
@@ -26,8 +26,12 @@ pub fn sensor_calibration_to_json(
     Ok(record.to_json())
 }
 
-/// The JSON text of an angle calibration learned by `angletrack calibrate`.
+/// The JSON text of an angle calibration learned by `angletrack calibrate`, with its
+/// `method` and its `orders` (`(order, amplitude_rad, uncertainty_rad, status)` each) when
+/// known.
 #[pyfunction]
+#[pyo3(signature = (sensor, cos, sin, speed_rad_s, turns, error_rms_rad, residual_rms_rad, *,
+    method = None, orders = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn angle_calibration_to_json(
     sensor: SensorParameters,
@@ -37,6 +41,8 @@ pub fn angle_calibration_to_json(
     turns: f64,
     error_rms_rad: f64,
     residual_rms_rad: f64,
+    method: Option<String>,
+    orders: Option<Vec<(usize, f64, f64, String)>>,
 ) -> Result<String> {
     let (sensor, correction) = checked(sensor, cos, sin)?;
     let calibration = CaptureCalibration {
@@ -46,6 +52,8 @@ pub fn angle_calibration_to_json(
         turns,
         error_rms_rad,
         residual_rms_rad,
+        method: CalibrationMethod::from_name(method.as_deref().unwrap_or("")),
+        orders: orders_of(orders)?,
     };
     Ok(calibration.to_json())
 }

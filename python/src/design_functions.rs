@@ -79,11 +79,18 @@ pub fn second_order_butterworth(
     Ok(angletrack::second_order_butterworth(time_constant_s, sample_period_s, d)?.into())
 }
 
-/// `omega_3dB / omega_n` of the continuous 2nd-order loop with damping `m`.
+/// `omega_3dB / omega_n` of the continuous 2nd-order loop with damping `m`, refused outside
+/// the designs' range `0 < m <= 1000`.
 #[pyfunction]
 #[pyo3(signature = (damping))]
-pub fn second_order_bandwidth_ratio(damping: f64) -> f64 {
-    angletrack::second_order_bandwidth_ratio(damping)
+pub fn second_order_bandwidth_ratio(damping: f64) -> Result<f64> {
+    if !(damping > 0.0 && damping <= 1000.0) {
+        return Err(crate::errors::Error::value(
+            "damping",
+            format!("expected 0 < damping <= 1000, got {damping}"),
+        ));
+    }
+    Ok(angletrack::second_order_bandwidth_ratio(damping))
 }
 
 /// 3rd-order ATO by pole placement: a real pole at `-K/T` and a pair at `(-1 +- j psi)/T`

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import angletrack
-from angletrack import capture, cli, export
+from angletrack import capture, cli, export, harmonics
 
 SAMPLE_PERIOD_S = 5e-5
 SPEED_RAD_S = 2 * math.pi * 200.0
@@ -72,11 +72,19 @@ def test_calibrate_learns_the_harmonics_and_the_json_round_trips():
         angletrack.Calibration.from_json(json.dumps({"format": "angletrack-calibration", "version": 1}))
 
 
-def test_a_capture_too_slow_for_the_loop_is_refused():
-    profile = angletrack.MotionProfile(0.0, 2 * math.pi * 10).constant_speed(2 * math.pi * 10, 1.0)
+def test_a_capture_too_slow_for_the_gains_is_learned_with_the_calibrations_own_loop():
+    # 15 turns/s: the gains' loop follows orders 1 to 3; asked for order 3 with them, the
+    # error names the option and the lowest learnable order; the own loop learns it.
+    profile = angletrack.MotionProfile(0.0, 2 * math.pi * 15).constant_speed(2 * math.pi * 15, 1.0)
     s = scenario(profile, 3)
-    with pytest.raises(ValueError, match="bandwidth"):
-        angletrack.calibrate(s.y_c, s.y_s, gains())
+    with pytest.raises(angletrack.ConfigError, match="lowest learnable order is") as refused:
+        angletrack.calibrate(s.y_c, s.y_s, gains(), own_loop=False, lowest_order=3)
+    assert refused.value.parameter == "lowest_order"
+    chosen = angletrack.calibrate(s.y_c, s.y_s, gains(), own_loop=False)
+    assert chosen.method == "self, the gains' loop" and chosen.orders[2]["status"] == "within the loop's bandwidth"
+    own = angletrack.calibrate(s.y_c, s.y_s, gains())
+    assert own.method == "self, own loop" and own.orders[2]["status"] == "learned"
+    assert own.harmonic_amplitude(3) == pytest.approx(5e-3, abs=3e-4)
 
 
 def test_track_calibrated_in_python_is_below_half_a_milliradian():
@@ -98,7 +106,7 @@ def test_cli_calibrate_then_track_with_calibration_below_half_a_milliradian(tmp_
     gains_file, cal_file, out = tmp_path / "g.json", tmp_path / "cal.json", tmp_path / "est.csv"
     gains_file.write_text(export.to_json(gains()))
     assert cli.main([str(a) for a in ("calibrate", cap1, "--gains-file", gains_file, "--output", cal_file)]) == 0
-    assert "learned from" in capsys.readouterr().out
+    assert capsys.readouterr().out.startswith("calibrated against the reference: 50 turns")
     assert cli.main([str(a) for a in ("track", cap2, "--gains-file", gains_file, "--calibration", cal_file,
                                        "--output", out, "--skip", 0.5)]) == 0
     printed = capsys.readouterr().out
@@ -118,32 +126,45 @@ def test_cli_calibrate_then_track_with_calibration_below_half_a_milliradian(tmp_
     assert not refused_out.exists()
 
 
-def test_cli_calibrate_refuses_a_slow_capture_in_one_line(tmp_path, capsys):
+def test_cli_calibrate_errors_name_the_flags_in_one_line(tmp_path, capsys):
     cap = tmp_path / "slow.csv"
-    write(cap, scenario(angletrack.MotionProfile(0.0, 2 * math.pi * 10).constant_speed(2 * math.pi * 10, 1.0), 4))
+    write(cap, scenario(angletrack.MotionProfile(0.0, 2 * math.pi * 15).constant_speed(2 * math.pi * 15, 1.0), 4))
     gains_file = tmp_path / "g.json"
     gains_file.write_text(export.to_json(gains()))
-    assert cli.main([str(a) for a in ("calibrate", cap, "--gains-file", gains_file)]) == 2
+    base = ["calibrate", str(cap), "--gains-file", str(gains_file)]
+    for extra, flag in ((["--self", "--loop", "gains", "--lowest-order", "2"], "--lowest-order"),
+                        (["--lowest-order", "9"], "--lowest-order"),
+                        (["--self", "--settle-fraction", "0.9"], "--settle-fraction")):
+        assert cli.main(base + extra) == 2
+        err = capsys.readouterr().err
+        assert err.startswith(f"angletrack: error: {flag}:") and err.count("\n") == 1, err
+    short = tmp_path / "short.csv"
+    write(short, scenario(angletrack.MotionProfile(0.0, SPEED_RAD_S).constant_speed(SPEED_RAD_S, 3 / 200), 3))
+    assert cli.main(["calibrate", str(short), "--gains-file", str(gains_file)]) == 2
     err = capsys.readouterr().err
-    assert err.startswith("angletrack: error:") and "bandwidth" in err and err.count("\n") == 1
+    assert "at least 5" in err and err.count("\n") == 1, err
 
 
-def test_cli_calibrate_refuses_a_capture_too_short_for_the_offsets_then_learns_with_more_settling(
-        tmp_path, capsys):
-    # 30 turns: the first fifth (6 turns) teaches the offsets 1 turn after lock, which would
-    # leave a fifth of the 5 % sine offset in the calibration: refused, naming the remedy.
-    cap = tmp_path / "short.csv"
-    write(cap, scenario(angletrack.MotionProfile(0.0, SPEED_RAD_S).constant_speed(SPEED_RAD_S, 30 / 200), 3))
+def test_cli_self_calibration_reports_each_order_with_its_uncertainty(tmp_path, capsys):
+    cap, cal_file = tmp_path / "cap.csv", tmp_path / "cal.json"
+    write(cap, learning_capture())
     gains_file = tmp_path / "g.json"
     gains_file.write_text(export.to_json(gains()))
-    assert cli.main([str(a) for a in ("calibrate", cap, "--gains-file", gains_file)]) == 2
-    err = capsys.readouterr().err
-    assert err.startswith("angletrack: error:") and "settle_fraction" in err and err.count("\n") == 1
-    cal_file = tmp_path / "cal.json"
-    assert cli.main([str(a) for a in ("calibrate", cap, "--gains-file", gains_file, "--settle-fraction", 0.5,
-                                      "--output", cal_file)]) == 0
-    offset_c, offset_s = json.loads(cal_file.read_text())["sensor"][:2]
-    assert abs(offset_c - 0.05) < 2e-3 and abs(offset_s + 0.05) < 2e-3
+    assert cli.main([str(a) for a in ("calibrate", cap, "--gains-file", gains_file, "--self", "-o", cal_file)]) == 0
+    printed = capsys.readouterr().out
+    assert printed.startswith("calibrated by self, own loop: 39 turns"), printed
+    document = json.loads(cal_file.read_text())
+    assert document["method"] == "self, own loop"
+    orders = {o["order"]: o for o in document["orders"]}
+    assert [orders[k]["status"] for k in (1, 2, 3, 4)] == ["not requested", "not requested", "learned", "learned"]
+    # 40 turns of 100 samples after the settling, 1e-3 of angle noise: about
+    # 1e-3 sqrt(2 / 4000) = 2.2e-5 rad per coefficient.
+    for k in range(1, 9):
+        assert 1e-5 < orders[k]["uncertainty_rad"] < 5e-5, orders[k]
+    assert all(orders[k]["status"] != "learned" for k in range(5, 13))
+    cal = harmonics.Calibration.from_json(cal_file.read_text())
+    assert cal.orders[2]["status"] == "learned" and cal.warnings == ()
+    assert "    3" in printed and "not significant" in printed
 
 
 def test_calibration_c_header_compiles_and_rust_block_has_the_constants(tmp_path):
@@ -200,3 +221,55 @@ def test_an_angle_calibration_applies_to_the_pairs_of_carrier_modulated_windings
     # The demodulated pairs go through the same stages as y_c, y_s samples (issue 21).
     observer = resolver.pairs_observer(settings, gains())
     assert isinstance(observer, harmonics.CalibratedObserver) and observer.calibration is cal
+
+
+def int16_capture(path, duration_s, seed):
+    """The harmonic sensor in int16 counts of amplitude 1800 on the 20 kHz clock, with its
+    reference angle; returns the truth."""
+    s = scenario(angletrack.MotionProfile(0.0, SPEED_RAD_S).constant_speed(SPEED_RAD_S, duration_s), seed)
+    y_c, y_s = np.round(1800 * s.y_c).astype(np.int16), np.round(1800 * s.y_s).astype(np.int16)
+    reference = np.remainder(s.angle_rad + math.pi, 2 * math.pi) - math.pi
+    np.savetxt(path, np.column_stack([s.time_s, y_c, y_s, reference]), fmt=["%.17g", "%d", "%d", "%.17g"],
+               delimiter=",", header="time,y_c,y_s,reference", comments="")
+    return s
+
+
+@pytest.mark.parametrize("dtype", ["float64", "fixed"])
+def test_calibrate_int16_counts_then_track_below_half_a_milliradian(tmp_path, capsys, dtype):
+    # Issue 23: calibrated against the reference on one capture of counts, tracked on a
+    # second, the RMS after the mean below 0.5 mrad in float64 and in integers.
+    learning, test, cal = tmp_path / "learn.csv", tmp_path / "test.csv", tmp_path / "cal.json"
+    int16_capture(learning, 0.25, 1)
+    truth = int16_capture(test, 0.5, 2)
+    gains_file = tmp_path / "g.json"
+    gains_file.write_text(export.to_json(gains()))
+    assert cli.main(["calibrate", str(learning), "--gains-file", str(gains_file), "-o", str(cal)]) == 0
+    assert capsys.readouterr().out.startswith("calibrated against the reference")
+    out = tmp_path / "est.csv"
+    assert cli.main(["track", str(test), "--gains-file", str(gains_file), "--calibration", str(cal), "--dtype", dtype,
+                     "--output", str(out)]) == 0
+    data = np.genfromtxt(out, delimiter=",", names=True)
+    rms = wrapped_rms_after_mean(data["angle_rad"], truth.angle_rad, len(truth) // 2)
+    plain = tmp_path / "plain.csv"
+    assert cli.main(["track", str(test), "--gains-file", str(gains_file), "--dtype", dtype, "--output",
+                     str(plain)]) == 0
+    uncorrected = wrapped_rms_after_mean(np.genfromtxt(plain, delimiter=",", names=True)["angle_rad"],
+                                         truth.angle_rad, len(truth) // 2)
+    print(f"{dtype}: {rms:.3e} rad RMS calibrated, {uncorrected:.3e} without")
+    assert rms < 5e-4 and uncorrected > 1e-2
+
+
+def test_calibrate_chunks_equals_calibrate_in_memory_and_old_files_read_as_unknown():
+    s = learning_capture()
+    whole = angletrack.calibrate(s.y_c, s.y_s, gains(), reference=s.angle_rad)
+    chunked = harmonics.calibrate_chunks(
+        lambda: ((s.y_c[k:k + 777], s.y_s[k:k + 777], s.angle_rad[k:k + 777]) for k in range(0, len(s), 777)), gains())
+    assert chunked.method == whole.method == "reference"
+    assert np.allclose(chunked.cos, whole.cos, rtol=0, atol=1e-12)
+    assert chunked.orders[2]["uncertainty_rad"] == pytest.approx(whole.orders[2]["uncertainty_rad"], rel=1e-9)
+    old = json.loads(whole.to_json())
+    for key in ("method", "orders", "warnings"):
+        del old[key]
+    read = harmonics.Calibration.from_json(json.dumps(old))
+    assert read.method == "unknown" and all(o["status"] == "unknown" for o in read.orders)
+    assert read.cos == whole.cos

@@ -12,7 +12,14 @@ import pytest
 
 import angletrack
 from angletrack import cli, export, plots, tracking
-from angletrack.capture_analysis import AngleErrorBins, ConicMoments, Envelope, Stride
+from angletrack.capture_analysis import (
+    AngleErrorBins,
+    ConicMoments,
+    Envelope,
+    LockDetector,
+    RandomSample,
+    slowest_time_constant_samples,
+)
 
 RATE_HZ = 10_000.0
 
@@ -99,13 +106,66 @@ def test_envelope_keeps_a_spike_of_one_sample_and_at_most_max_points():
     assert np.all(np.diff(t) > 0)
 
 
-def test_stride_keeps_every_nth_point_across_chunks():
-    stride = Stride(max_points=100)
-    for start in range(0, 1000, 64):
-        stride.add(np.arange(start, min(start + 64, 1000)))
-    (kept,) = stride.points()
-    assert len(kept) <= 100 and np.all(np.remainder(kept, stride.step) == 0)
-    assert len(kept) == len(range(0, 1000, stride.step))
+def test_random_sample_keeps_max_points_in_order_without_aliasing():
+    # 200 samples per turn: every 8th sample would keep 25 angles of the turn.
+    sample = RandomSample(max_points=5000)
+    n = 200_000
+    for start in range(0, n, 7000):
+        index = np.arange(start, min(start + 7000, n))
+        sample.add(index, np.remainder(index, 200))
+    kept, angle = sample.points()
+    assert len(kept) == 5000 and np.all(np.diff(kept) > 0)
+    assert len(np.unique(angle)) == 200
+    # Uniform over the capture: each tenth of it holds about a tenth of the points.
+    counts = np.bincount((kept * 10 // n).astype(int), minlength=10)
+    assert np.all(np.abs(counts - 500) < 100), counts
+
+
+@pytest.mark.parametrize("chunk", [1000, 65_536])
+def test_lock_detector_finds_the_first_hold_within_the_tolerance_across_chunks(chunk):
+    # Blocks of one sample: the error itself.
+    error = np.full(10_000, 0.5)
+    error[2000:2100] = 0.0  # too short a run
+    error[3000:] = 0.001
+    error[3500] = np.nan  # a bad sample restarts the hold
+    error[9000] = 0.5  # after the lock: still counted
+    lock = LockDetector(tolerance_rad=0.01, hold=600)
+    masks = [lock.add(start, error[start:start + chunk]) for start in range(0, len(error), chunk)]
+    assert lock.lock_index == 3501 + 600
+    assert np.flatnonzero(np.concatenate(masks))[0] == 4101 and np.concatenate(masks)[9000]
+
+
+@pytest.mark.parametrize("chunk", [1000, 4096])
+def test_lock_detector_averages_the_noise_over_blocks(chunk):
+    # A start-up decaying from 1 rad with a time constant of 400 samples, under noise of
+    # 5 mrad RMS (3.5 % of samples beyond 0.01 rad: per sample, 1600 in a row would not
+    # come), then a bad sample.
+    k = np.arange(20_000)
+    error = np.exp(-k / 400) + 5e-3 * np.random.default_rng(1).standard_normal(len(k))
+    error[2500] = np.nan
+    lock = LockDetector(tolerance_rad=0.01, hold=1600, block=50)
+    masks = [lock.add(start, error[start:start + chunk]) for start in range(0, len(error), chunk)]
+    assert lock.hold == 1600
+    # Block means within 0.01 rad from block 37 (1850: exp(-1850/400) = 0.0098); the NaN
+    # block 50 restarts the hold: blocks 51 to 82, locked at sample 4150.
+    assert lock.lock_index == 4150
+    assert np.flatnonzero(np.concatenate(masks))[0] == lock.lock_index
+    assert not LockDetector(tolerance_rad=0.01, hold=1600).add(0, error).any()
+
+
+def test_lock_detector_block_across_chunks_locks_at_the_chunks_first_sample():
+    # Locked at the start of the block after two blocks within the tolerance, once it is
+    # complete.
+    lock = LockDetector(tolerance_rad=0.01, hold=100, block=50)
+    assert not lock.add(0, np.zeros(130)).any()  # blocks 0 and 1; samples 100 to 129 pending
+    # Block 2 (100 to 149) completes in the next chunk: the lock at its start, 100, is past;
+    # it is the chunk's first sample.
+    assert lock.add(130, np.zeros(100)).all() and lock.lock_index == 130
+
+
+def test_slowest_time_constant_of_a_first_order_loop():
+    # A loop polynomial s + 0.01 is the pole z = 0.99: time constant -1 / ln 0.99 samples.
+    assert abs(slowest_time_constant_samples([0.01, 1.0]) - (-1 / math.log(0.99))) < 1e-9
 
 
 def analytic_h(l, z):
@@ -280,3 +340,59 @@ def test_missing_matplotlib_is_a_one_line_error(tmp_path, capsys, monkeypatch):
     assert cli.main(["plot", str(cap)]) == 2
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0 and "pip install 'angletrack[plot]'" in err
+
+
+def gains_20hz(tmp_path):
+    path = tmp_path / "g.json"
+    path.write_text(export.to_json(angletrack.second_order_from_bandwidth(20.0, 1.0, 1 / RATE_HZ).gains))
+    return path
+
+
+def test_plot_leaves_the_observers_start_up_out_of_a_clean_capture(tmp_path):
+    cap = write_npz(tmp_path / "c.npz", n=20_000, reference=False)
+    gains_file = gains_20hz(tmp_path)
+    assert cli.main(["plot", str(cap), "--gains-file", str(gains_file), "--out", str(tmp_path)]) == 0
+    numbers = json.loads((tmp_path / "c_plot.json").read_text())
+    # The 20 Hz loop (slowest time constant 40 ms) is within 0.01 rad after about 0.14 s,
+    # then held 4 time constants (measured: locked at 0.304 s).
+    assert numbers["start_up"] == "skipped" and 0.2 < numbers["lock_s"] < 0.4
+    assert numbers["statistics_from_s"] == numbers["lock_s"]
+    assert max(numbers["harmonics_rad"].values()) < 2e-4 * 1e-3  # measured 4.0e-8 rad
+    # Counted, the start-up from rest would read as a sensor error of tens of mrad.
+    a = plots.analyse_capture(settings(cap, gains_file=gains_file), include_start_up=True)
+    assert a.start_up == "included" and a.errors.harmonics_rad().max() > 0.01  # measured 0.022 rad
+
+
+def test_plot_counts_the_start_up_when_the_observer_never_locks(tmp_path):
+    # Noise of 0.05 per channel (50 mrad of angle noise, 7 mrad in the means of the 49-sample
+    # blocks): some block is beyond 0.01 rad in every hold (noise 0.03 still locks).
+    cap = write_npz(tmp_path / "c.npz", n=5000, reference=False, noise=0.05)
+    a = plots.analyse_capture(settings(cap, gains_file=gains_20hz(tmp_path)))
+    assert a.start_up == "never locked" and a.lock_s is None and a.statistics_from_s == 0.0
+    assert "never locked" in a.describe()
+    # A looser tolerance locks.
+    a = plots.analyse_capture(settings(cap, gains_file=gains_20hz(tmp_path), lock_tolerance_rad=0.05))
+    assert a.start_up == "skipped" and a.lock_s is not None
+
+
+def test_a_fault_of_one_sample_shows_at_least_two_pixels_wide(tmp_path):
+    n = 60_000  # about 46 samples per pixel column of the time axes
+    t = np.arange(n) / RATE_HZ
+    y_c, y_s = sensor(2 * math.pi * 20.0 * t)
+    y_c[45_000] = np.nan  # one bad sample: the observer coasts
+    np.savez(tmp_path / "c.npz", time=t, y_c=y_c, y_s=y_s)
+    a = plots.analyse_capture(settings(tmp_path / "c.npz", gains_file=gains_20hz(tmp_path)))
+    plt = plots.pyplot()
+    fig = plots.draw_capture(plt, a)  # laid out, not written
+    ax_faults = fig.axes[4]
+    row = [name for name, _ in angletrack.FAULT_BITS].index("BAD_SAMPLE")
+    spans = [bar for bar in ax_faults.collections
+             if abs(np.mean(bar.get_paths()[0].get_extents().intervaly) - row) < 0.01]
+    assert len(spans) == 1
+    corners = ax_faults.transData.transform(spans[0].get_paths()[0].vertices)
+    assert np.ptp(corners[:, 0]) >= plots.MIN_FAULT_PX - 1e-6
+    left = ax_faults.transData.transform([[4.5, row]])[0, 0]
+    assert abs(corners[:, 0].min() - left) < 1.0  # where the sample is
+    # Every time axis is labelled in seconds.
+    assert fig.axes[3].get_xlabel() == fig.axes[4].get_xlabel() == "time from the first sample (s)"
+    plt.close(fig)

@@ -71,5 +71,22 @@ def test_the_section_reports_its_numbers_and_draws_its_figure(result, tmp_path):
     assert float(third.group(1)) == 5.0 and float(third.group(2)) == pytest.approx(5.0, abs=0.1)
     assert f"for {RIPPLE_S:g} s" in text and "![" in text
     png = tmp_path / "harmonics.png"
-    report_plots.plot_harmonic_errors(report_plots.pyplot(), result, png)
+    plt = report_plots.pyplot()
+    figures = []
+    # pyplot whose close keeps the figure, to look at its bars.
+    kept = type("KeptFigures", (), {"figure": lambda self, *a, **k: figures.append(plt.figure(*a, **k)) or figures[-1],
+                                    "close": lambda self, fig: None})()
+    report_plots.plot_harmonic_errors(kept, result, png)
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 20_000
+    # Every bar of the spectrum (log axis) rises above the floor, the smallest corrected
+    # ones (about 1e-4 mrad) too, and stays below the top.
+    spectrum = next(ax for ax in figures[0].axes if ax.get_yscale() == "log")
+    heights = [bar.get_height() for bar in spectrum.patches]
+    bottom, top = spectrum.get_ylim()
+    assert len(heights) == 20 and 0 < bottom <= 0.5 * min(heights) and max(heights) < top
+    plt.close(figures[0])
+
+
+def test_log_limits_sit_below_the_smallest_bar():
+    assert report_plots.log_limits(np.array([1.2e-5, 0.3, 40.0])) == pytest.approx((1e-6, 240.0), rel=1e-12)
+    assert report_plots.log_limits(np.array([1e-4, np.nan, 0.0])) == pytest.approx((1e-5, 6e-4), rel=1e-12)

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The Python package as its users get it: builds the abi3 wheel with maturin (pinned in
-# python/requirements-dev.txt) into a scratch directory, installs it into a fresh virtual
+# python/requirements-dev.txt; the release profile less its link-time optimisation) into a
+# scratch directory, installs it into a fresh virtual
 # environment with no Rust toolchain on PATH (so nothing can be compiled: the wheel alone
 # must do), then runs the pytest suite against that installation from a directory where
 # the source tree is not importable.
@@ -14,9 +15,10 @@ root="$(pwd)"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 
-echo "--- maturin build --release (abi3 wheel)"
+echo "--- maturin build --profile wheel-test (abi3 wheel)"
 status=0
-python/.venv/bin/maturin build --release --manifest-path python/Cargo.toml --out "$work/wheels" \
+# The release profile without link-time optimisation (Cargo.toml says why).
+python/.venv/bin/maturin build --profile wheel-test --manifest-path python/Cargo.toml --out "$work/wheels" \
   >"$work/maturin.log" 2>&1 || status=$?
 grep -E "abi3|warning|error" "$work/maturin.log" || true
 if [ "$status" -ne 0 ]; then
@@ -57,7 +59,7 @@ env -u CARGO_HOME -u RUSTUP_HOME -u RUSTUP_TOOLCHAIN -u CARGO -u RUSTC PATH="$no
     echo "no cargo, rustc or rustup on PATH"
     # Binary wheels only, versions pinned by the tools list: nothing is built here.
     "$venv/bin/python" -m pip --disable-pip-version-check -q install --only-binary :all: \
-      -c "$constraints" "$wheel[plot]" pytest hypothesis
+      -c "$constraints" "$wheel[plot]" pytest hypothesis pytest-xdist
     cd "$venv"
     "$venv/bin/python" -c "import angletrack; print(\"imported\", angletrack.__name__, angletrack.__version__, \"from\", angletrack.__file__)"
     "$venv/bin/angletrack" --version
@@ -69,4 +71,5 @@ echo "--- pytest against the installed wheel"
 cd "$work"
 # Rust is on PATH again here: one test compiles the design command's Rust output with rustc.
 # Any non-zero exit fails the step, including pytest's 5 (no test collected).
-PATH="$work/venv/bin:$PATH" "$work/venv/bin/python" -m pytest -p no:cacheprovider -q "$root/python/tests"
+PATH="$work/venv/bin:$PATH" # The tests are independent (each writes only its own tmp_path): one worker per core.
+"$work/venv/bin/python" -m pytest -p no:cacheprovider -q -n "$(nproc)" "$root/python/tests"

@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Robustness of the core: no panic path in the f32 update (proved by linking, for a
 # Cortex-M4F and a Cortex-M0), no f64 software routine on the Fast path, the C API's tests
-# under Miri (the core's too with ANGLETRACK_MIRI=all), and each fuzz target for about a
+# under Miri (the core's too with ANGLETRACK_MIRI=all), and each fuzz target for half a
 # minute on the corpus kept in fuzz/corpus.
 set -euo pipefail
 source scripts/lib.sh
 need_rust
-fuzz_seconds="${ANGLETRACK_FUZZ_SECONDS:-60}"
+fuzz_seconds="${ANGLETRACK_FUZZ_SECONDS:-30}"
 
 rustup component add llvm-tools >/dev/null
 nm_tool=$(ls "$(rustc --print sysroot)"/lib/rustlib/*/bin/llvm-nm | head -n 1)
@@ -61,7 +61,12 @@ rustup +nightly component add miri rust-src >/dev/null
 # The core forbids unsafe code, its arithmetic is checked for overflow by `cargo test`, and
 # its tests take about 10 minutes of Miri's interpreter (half of this command's budget): they
 # run under Miri on request (ANGLETRACK_MIRI=all).
-cargo +nightly miri test --config profile.test.opt-level=0 -p angletrack-c --lib
+# Three tests track half a second of signal through the legacy calls to check convergence
+# (a minute each under Miri); every extern function they call is called by another test, so
+# Miri skips them and `cargo test` runs them.
+cargo +nightly miri test --config profile.test.opt-level=0 -p angletrack-c --lib -- \
+  --skip tests::both_orders_track_a_constant_speed --skip tests::adc_counts_track_as_floats_do \
+  --skip tests::calibration_learns_offsets_and_round_trips
 if [ "${ANGLETRACK_MIRI:-}" = all ]; then
   cargo +nightly miri test --config profile.test.opt-level=0 -p angletrack-core --lib \
     --features libm/force-soft-floats

@@ -26,17 +26,18 @@ mod variants;
 
 use angletrack_core::DemodulatorState;
 use variants::{
-    CARRIER_AMPLITUDE_COUNTS, CARRIER_DELAY_RAD, Job, NAMES, Observers, SAMPLES_PER_PERIOD,
-    Tracker, demodulator, encode_pair,
+    CARRIER_AMPLITUDE_COUNTS, CARRIER_DELAY_RAD, FNV_OFFSET, Job, NAMES, Observers,
+    SAMPLES_PER_PERIOD, Tracker, demodulator, encode_pair, fold_integers,
 };
 
 /// Samples of the simulated resolver (0.2 s at 10 kHz, about 11 turns): the inputs of
 /// every run, on both cores.
 const SAMPLES: usize = 2000;
-/// Samples whose estimates the Cortex-M0 checks (the first 25 ms, through the acquisition):
-/// every variant's reference
-/// records must fit its 256 KiB of flash (the Cortex-M4F checks all).
-const CHECKED_SAMPLES_M0: usize = 250;
+/// Samples whose estimates the Cortex-M0 checks within tolerances (the first 24 ms, through
+/// the acquisition): every variant's reference records must fit its 256 KiB of flash, with
+/// a few KiB to spare (the Cortex-M4F checks all; the fixed-point variants' integers are
+/// checked over all samples on both).
+const CHECKED_SAMPLES_M0: usize = 240;
 /// The most samples of one block update on the Cortex-M0, whose estimates must fit its
 /// 16 KiB of RAM (the Cortex-M4F runs all in one block).
 const BLOCK_SAMPLES_M0: usize = 200;
@@ -57,14 +58,20 @@ struct Reference<'a> {
     angle_rad: &'a [f64],
     checked: usize,
     records: Vec<u8>,
+    /// Per variant, the hash of its integers over all samples (fixed-point variants only).
+    integers: Vec<Option<u64>>,
 }
 
 impl Job for Reference<'_> {
     fn run<T: Tracker>(&mut self, index: usize, tracker: T) {
         let mut state = tracker.new_state();
         let mut worst = 0.0f64;
+        let mut integers = None;
         for (k, (&c, &s)) in self.y_c.iter().zip(self.y_s).enumerate() {
             let output = tracker.update(&mut state, T::input(c), T::input(s));
+            if let Some(words) = tracker.integers(&state, &output) {
+                integers = Some(fold_integers(integers.unwrap_or(FNV_OFFSET), &words));
+            }
             let record = tracker.record(&state, &output);
             if k < self.checked {
                 self.records.extend_from_slice(&record.encode());
@@ -80,6 +87,8 @@ impl Job for Reference<'_> {
             "{} does not track the shaft: {worst} rad off",
             NAMES[index]
         );
+        assert_eq!(self.integers.len(), index, "variants run in order");
+        self.integers.push(integers);
     }
 }
 
@@ -120,6 +129,7 @@ fn main() {
         angle_rad: &scenario.angle_rad,
         checked,
         records: Vec::new(),
+        integers: Vec::new(),
     };
     for (index, name) in NAMES.iter().enumerate() {
         assert_eq!(
@@ -144,6 +154,7 @@ fn main() {
     );
     let (raw_c, raw_s, pairs) = demodulator_reference(&y_c, &y_s);
     fs::write(out.join("demodulator.bin"), pairs).expect("OUT_DIR is writable");
+    let (variants, integers) = (NAMES.len(), &reference.integers);
     let scenario = format!(
         "/// Samples of the simulated resolver.\n\
          pub const SAMPLES: usize = {SAMPLES};\n\
@@ -168,6 +179,9 @@ fn main() {
          kalman: {:?}, sample_period_s: {:?} }};\n\
          /// Each variant's reference records of the first `CHECKED_SAMPLES` samples (see `variants`).\n\
          pub static REFERENCE: &[u8] = include_bytes!(concat!(env!(\"OUT_DIR\"), \"/reference.bin\"));\n\
+         /// Each variant's `variants::fold_integers` of its estimates' integers over all samples \
+         (the fixed-point variants; `None` for the float ones).\n\
+         pub static INTEGERS: [Option<u64>; {variants}] = {integers:?};\n\
          /// The demodulator's raw ADC samples (counts), cosine winding.\n\
          pub static RAW_C: [f32; SAMPLES] = {raw_c:?};\n\
          /// The demodulator's raw ADC samples (counts), sine winding.\n\

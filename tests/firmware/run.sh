@@ -3,10 +3,12 @@
 # cores, and runs each under QEMU with semihosting:
 #  - Cortex-M4F: thumbv7em-none-eabihf on `qemu-system-arm -machine mps2-an386 -cpu cortex-m4`;
 #  - Cortex-M0 (no FPU): thumbv6m-none-eabi on `qemu-system-arm -machine microbit` (nRF51:
-#    256 KiB of flash, 16 KiB of RAM: it checks the estimates of the first 250 samples only,
-#    and runs block updates 250 samples at a time).
+#    256 KiB of flash, 16 KiB of RAM: it checks the float estimates of the first 240 samples
+#    only, the fixed-point ones' integers over all, and runs block updates 200 samples at a
+#    time).
 # For each core it
-#  1. checks every variant (src/variants.rs) against the host's reference and the baselines'
+#  1. checks every variant (src/variants.rs) against the host's reference (the fixed-point
+#     ones' integers exactly, through a hash of all samples) and the baselines'
 #     fast arctangent against atan2f (fails if out of tolerance);
 #  2. checks that each check can fail: with one input of each check corrupted (`check tamper`),
 #     every check must report FAIL;

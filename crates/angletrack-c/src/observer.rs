@@ -163,7 +163,8 @@ impl<I: AdcSample> Sample for Counts<'_, I> {
         gains: &GainsF32<N>,
         state: &mut StateF32<N>,
     ) -> at_estimate_f32 {
-        gains.update_adc(state, self.0, self.1, self.2).into()
+        let (y_c, y_s) = self.0.sample(self.1, self.2);
+        gains.update(state, y_c, y_s).into()
     }
 }
 

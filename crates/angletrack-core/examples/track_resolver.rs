@@ -10,7 +10,10 @@
 //! 3rd-order ATO with K = 39.04 and psi = 3 pi / 2 (pole matching), and the Kalman ATO for
 //! q / r = 1e-9.
 
-use angletrack_core::{AdcScaling, Calibrator, Estimate, FaultThresholds, Gains, ObserverState};
+use angletrack_core::{
+    AdcScaling, Calibrator, Chain, ChainState, Estimate, FaultThresholds, Gains, ObserverState,
+    OnlineCalibration,
+};
 
 const TS: f64 = 1e-4;
 
@@ -107,19 +110,21 @@ fn main() -> Result<(), angletrack_core::ConfigError> {
         "Resolver at 10 kHz through a 12-bit ADC (amplitude 1800 counts), noise 0.01 per \
          channel, 0.5 s at 400 rad/s^2 then constant speed:"
     );
-    let (mut s2, mut s3, mut sk) = (
-        ObserverState::new(),
-        ObserverState::new(),
-        ObserverState::new(),
+    let (mut s2, mut s3, mut sk) = (ChainState::new(), ChainState::new(), ChainState::new());
+    let kalman_gains = kalman;
+    let (second, third, kalman) = (
+        Chain::new(adc, second),
+        Chain::new(adc, third),
+        Chain::new(adc, kalman),
     );
     report("2nd-order ATO (type II)", &IDEAL, |c, s| {
-        second.update_adc(&mut s2, &adc, c, s)
+        second.update(&mut s2, (c, s))
     });
     report("3rd-order ATO (type III)", &IDEAL, |c, s| {
-        third.update_adc(&mut s3, &adc, c, s)
+        third.update(&mut s3, (c, s))
     });
     report("3rd-order Kalman ATO", &IDEAL, |c, s| {
-        kalman.update_adc(&mut sk, &adc, c, s)
+        kalman.update(&mut sk, (c, s))
     });
     let real = Sensor {
         offsets: (0.05, -0.05),
@@ -127,16 +132,19 @@ fn main() -> Result<(), angletrack_core::ConfigError> {
         quadrature_rad: 3f64.to_radians(),
     };
     println!("A sensor with offsets 5 %, gain imbalance 10 % and quadrature 3 degrees:");
-    let mut state = ObserverState::new();
+    let mut state = ChainState::new();
     report("Kalman ATO, uncorrected", &real, |c, s| {
-        kalman.update_adc(&mut state, &adc, c, s)
+        kalman.update(&mut state, (c, s))
     });
-    let (mut state, mut calibrator) = (ObserverState::new(), Calibrator::new());
-    calibrator.enable();
+    // The ADC, then the calibration that learns while the observer tracks.
+    let online = OnlineCalibration::new(kalman_gains.calibration_settings(), ts)?;
+    let calibrated = Chain::new((adc, online), kalman_gains);
+    let mut state: ChainState<((), Calibrator<f32>), ObserverState<f32, 3>> = ChainState::new();
+    state.front_end.1.enable();
     report("Kalman ATO, online calibration", &real, |c, s| {
-        let (y_c, y_s) = adc.sample(c, s);
-        kalman.update_calibrated(&mut state, &mut calibrator, y_c, y_s)
+        calibrated.update(&mut state, (c, s))
     });
+    let calibrator = &state.front_end.1;
     let (o_c, o_s, a_c, a_s, phi) = calibrator.calibration().parameters();
     println!(
         "learned in {} turns: offsets {o_c:.4} {o_s:.4}, amplitudes {a_c:.4} {a_s:.4} \

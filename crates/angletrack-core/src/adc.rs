@@ -1,14 +1,11 @@
 //! Raw ADC counts as the observer's input (`docs/theory.md §12`): [`AdcScaling`], the
 //! front-end stage that removes the mid-scale and scales counts to units of full scale, for
-//! the integer samples an ADC gives ([`AdcSample`]: `i16`, `u16`, `i32`), and
-//! [`Gains::update_adc`], which runs it and the observer in one call.
+//! the integer samples an ADC gives ([`AdcSample`]: `i16`, `u16`, `i32`), a stage of a
+//! [`Chain`](crate::Chain) in front of the observer.
 
 use crate::error::{ConfigError, Parameter};
-use crate::gains::Gains;
 use crate::real::Float;
 use crate::real::check_positive;
-use crate::real::sincos::SinCos;
-use crate::state::{Estimate, ObserverState};
 
 /// The largest mid-scale (in counts, either sign) an [`AdcScaling`] accepts: `2^30`, so that
 /// a sample minus the mid-scale never overflows (see [`AdcSample`]).
@@ -190,31 +187,6 @@ impl<T: Float> AdcScaling<T> {
     #[inline(always)]
     pub fn sample<I: AdcSample>(&self, raw_c: I, raw_s: I) -> (T, T) {
         (self.scale(raw_c), self.scale(raw_s))
-    }
-}
-
-impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
-    /// One sample from raw ADC counts: the front end `adc` then [`Gains::update`].
-    ///
-    /// ```
-    /// use angletrack_core::{AdcScaling, Gains, ObserverState};
-    /// let gains = Gains::<f32, 3>::new([0.3, 0.04, 0.002], 1e-4)?;
-    /// let adc = AdcScaling::offset_binary(12)?;
-    /// let mut state = ObserverState::new();
-    /// let e = gains.update_adc(&mut state, &adc, 2048u16, 3848u16); // 90 degrees
-    /// assert!((e.angle - core::f32::consts::FRAC_PI_2).abs() < 1e-6);
-    /// # Ok::<(), angletrack_core::ConfigError>(())
-    /// ```
-    #[inline]
-    pub fn update_adc<I: AdcSample>(
-        &self,
-        state: &mut ObserverState<T, N>,
-        adc: &AdcScaling<T>,
-        raw_c: I,
-        raw_s: I,
-    ) -> Estimate<T> {
-        let (y_c, y_s) = adc.sample(raw_c, raw_s);
-        self.update(state, y_c, y_s)
     }
 }
 

@@ -2,16 +2,19 @@
 //! sensor's angle error `d(theta)` at `L` equally spaced angles, read at the observer's
 //! predicted angle by linear interpolation, and the sample rotated by `-d` there, as
 //! [`AngleCorrection`] does from its harmonics. A table costs the same whatever the error's
-//! shape or order: an index, two loads and a multiply-add for `d`, then the rotation.
+//! shape or order: an index, two loads and a multiply-add, then the rotation.
 //! Generated from learned harmonics ([`AngleCorrectionTable::from_harmonics`]) or from a
 //! measured error curve ([`AngleCorrectionTable::from_curve`]); in fixed point
 //! ([`FixedAngleCorrectionTable`]) indexed by the binary angle's top bits.
 //!
-//! With the rotation's `sin d = d - d^3/6` and `cos d = 1 - d^2/2` (within `|d|^4/24` for
-//! `|d|` up to [`AngleCorrection::max_total_rad`]) and the linear interpolation of a smooth
-//! `d` (within `h^2 max|d''| / 8`, `h = 2 pi / L`: 1.7e-7 rad for a 4 mrad error at the 3rd
-//! harmonic and `L = 1024`, as [`AngleCorrectionTable::from_harmonics`]' example asserts),
-//! the correction is as good as the harmonics'.
+//! The entries hold `t = tan d`, not `d`: the rotation by `-d` is then
+//! `(y_c + t y_s, y_s - t y_c)`, which is `(y_c, y_s)` rotated by exactly `-d` and scaled by
+//! `1 / cos d` (5e-5 for `d` = 10 mrad, 3 % at the largest `d`, 0.25 rad), a scale the
+//! loop's normalised phase detector removes: two multiply-adds instead of the series of
+//! `sin d` and `cos d`. With the linear interpolation of a smooth error (within
+//! `h^2 max|t''| / 8`, `h = 2 pi / L`: 1.7e-7 rad for a 4 mrad error at the 3rd harmonic
+//! and `L = 1024`, as [`AngleCorrectionTable::from_harmonics`]' example asserts), the
+//! correction is as good as the harmonics'.
 
 use crate::angle_correction::AngleCorrection;
 use crate::error::{ConfigError, Parameter};
@@ -23,8 +26,8 @@ use crate::real::Float;
 /// the observer's predicted angle `p`. `Copy`: firmware keeps it in flash.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AngleCorrectionTable<T, const L: usize> {
-    /// Per entry `k`: `d_k` and the step to the next entry, `d_{k+1} - d_k` (periodic),
-    /// side by side, so that the interpolation loads both from one address.
+    /// Per entry `k`: `t_k = tan d_k` and the step to the next entry, `t_{k+1} - t_k`
+    /// (periodic), side by side, so that the interpolation loads both from one address.
     segments: [[T; 2]; L],
 }
 
@@ -67,7 +70,7 @@ impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
             segments: [[T::ZERO; 2]; L],
         };
         for (segment, &d) in table.segments.iter_mut().zip(errors) {
-            segment[0] = d;
+            segment[0] = tangent(d);
         }
         table.set_steps();
         table
@@ -103,7 +106,7 @@ impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
             segments: [[T::ZERO; 2]; L],
         };
         for (k, segment) in table.segments.iter_mut().enumerate() {
-            segment[0] = harmonics.error_at(Self::angle_of(k));
+            segment[0] = tangent(harmonics.error_at(Self::angle_of(k)));
         }
         table.set_steps();
         table
@@ -147,19 +150,26 @@ impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
         -T::PI + T::TAU * T::from_i32(k as i32) / T::from_i32(L as i32)
     }
 
-    /// The entries (rad), at the angles `-pi + 2 pi k / L`.
+    /// The entries (rad), at the angles `-pi + 2 pi k / L` (from their tangents: within a
+    /// rounding of the errors the table was made of).
     pub fn errors(&self) -> [T; L] {
         let mut errors = [T::ZERO; L];
         for (d, segment) in errors.iter_mut().zip(&self.segments) {
-            *d = segment[0];
+            *d = segment[0].atan2(T::ONE);
         }
         errors
     }
 
     /// The error `d` (rad) at `angle` (rad, in [-pi, pi); any other angle is wrapped into
-    /// the table by its index), interpolated linearly between the two nearest entries.
-    #[inline(always)]
+    /// the table by its index), from its tangent interpolated linearly between the two
+    /// nearest entries.
     pub fn error_at(&self, angle: T) -> T {
+        self.tangent_at(angle).atan2(T::ONE)
+    }
+
+    /// `tan d` at `angle` (see [`AngleCorrectionTable::error_at`]).
+    #[inline(always)]
+    fn tangent_at(&self, angle: T) -> T {
         // The position in entries from -pi, plus one turn so that it stays positive (and
         // its truncation is its floor) for any angle above -3 pi: one multiply-add, in
         // [L, 2 L) for an angle in [-pi, pi); the mask below removes the turn.
@@ -168,27 +178,29 @@ impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
         let whole = position.truncate_to_i32();
         let fraction = position - T::from_i32(whole);
         // Masked: a power of two, so the index is always in the table (no bounds check).
-        let [d, step] = self.segments[whole as usize & (L - 1)];
-        d + step * fraction
+        let [t, step] = self.segments[whole as usize & (L - 1)];
+        t + step * fraction
     }
 
     /// The sample `(y_c, y_s)` rotated by `-d(p)` at the predicted angle `p` (rad, in
-    /// [-pi, pi)): see [`AngleCorrection::rotate`].
+    /// [-pi, pi)) and scaled by `1 / cos d(p)`, which the loop's normalised phase detector
+    /// removes: `(y_c + t y_s, y_s - t y_c)` with `t = tan d(p)`.
     #[inline(always)]
     pub fn rotate(&self, p: T, y_c: T, y_s: T) -> (T, T) {
-        crate::angle_correction::rotate_by(self.error_at(p), y_c, y_s)
+        let t = self.tangent_at(p);
+        (y_c + t * y_s, y_s - t * y_c)
     }
 }
 
-/// An [`AngleCorrectionTable`] in the fixed-point observer's integers: the error in Q15 rad
-/// (2^-15 rad, 3e-5 rad) at `L` angles, indexed by the top bits of the predicted binary
-/// angle and interpolated by the next 15; the rotation in Q15 with the same
-/// `sin d = d - d^3/6`, `cos d = 1 - d^2/2`, saturated to `i16`.
+/// An [`AngleCorrectionTable`] in the fixed-point observer's integers: the error's tangent
+/// in Q15 (2^-15, 3e-5 rad) at `L` angles, indexed by the top bits of the predicted binary
+/// angle and interpolated by the next 15; the same rotation `(y_c + t y_s, y_s - t y_c)`
+/// (exactly `-d`, scaled by `1 / cos d`), rounded and saturated to `i16`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FixedAngleCorrectionTable<const L: usize> {
-    /// `d_k` in Q15 rad. One value per entry, not the float table's pair: a Cortex-M0 has
+    /// `tan d_k` in Q15. One value per entry, not the float table's pair: a Cortex-M0 has
     /// 16 KiB of RAM, and the step to the next entry is one load and one subtraction.
-    errors_q15: [i16; L],
+    tangents_q15: [i16; L],
 }
 
 impl<const L: usize> FixedAngleCorrectionTable<L> {
@@ -218,14 +230,16 @@ impl<const L: usize> FixedAngleCorrectionTable<L> {
     /// ```
     pub const fn new(errors_q15: [i16; L]) -> Result<Self, ConfigError> {
         let _ = Self::BITS;
+        let mut tangents_q15 = [0; L];
         let mut k = 0;
         while k < L {
             if errors_q15[k].unsigned_abs() > 8192 {
                 return Err(ConfigError::OutOfRange(Parameter::AngleCorrection));
             }
+            tangents_q15[k] = tangent_q15(errors_q15[k]);
             k += 1;
         }
-        Ok(Self { errors_q15 })
+        Ok(Self { tangents_q15 })
     }
 
     /// The integers of a float table (rad, within 0.25 rad: within `i16` in Q15), each
@@ -239,7 +253,7 @@ impl<const L: usize> FixedAngleCorrectionTable<L> {
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
     pub fn from_table(table: &AngleCorrectionTable<f64, L>) -> Self {
-        Self::of_errors(|k| table.segments[k][0])
+        Self::of_tangents(|k| table.segments[k][0])
     }
 
     /// The table of a harmonic correction in integers, each entry its error at the angle
@@ -258,54 +272,124 @@ impl<const L: usize> FixedAngleCorrectionTable<L> {
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
     pub fn from_harmonics(harmonics: &AngleCorrection<f64>) -> Self {
-        Self::of_errors(|k| harmonics.error_at(AngleCorrectionTable::<f64, L>::angle_of(k)))
+        Self::of_tangents(|k| {
+            tangent(harmonics.error_at(AngleCorrectionTable::<f64, L>::angle_of(k)))
+        })
     }
 
-    /// The table of the errors `error(k)` (rad, within 0.25 rad), each rounded to Q15.
-    fn of_errors(error: impl Fn(usize) -> f64) -> Self {
+    /// The table of the tangents `tangent(k)` (of errors within 0.25 rad: within 0.2554),
+    /// each rounded to Q15.
+    fn of_tangents(tangent: impl Fn(usize) -> f64) -> Self {
         let _ = Self::BITS;
-        let mut errors_q15 = [0; L];
-        for (k, q) in errors_q15.iter_mut().enumerate() {
-            // |d| <= 0.25 rad: at most 8192 in Q15.
-            *q = libm::round(error(k) * 32768.0) as i16;
+        let mut tangents_q15 = [0; L];
+        for (k, q) in tangents_q15.iter_mut().enumerate() {
+            // |t| <= tan 0.25: at most 8368 in Q15.
+            *q = libm::round(tangent(k) * 32768.0) as i16;
         }
-        Self { errors_q15 }
+        Self { tangents_q15 }
     }
 
-    /// The entries (Q15 rad).
+    /// The entries: the errors (Q15 rad) whose tangents the table holds (each the error the
+    /// table was made of, for a table made of errors in Q15: test
+    /// `angle_table::tests::fixed_tangents_round_trip_every_error`).
     pub fn errors_q15(&self) -> [i16; L] {
-        self.errors_q15
+        let mut errors_q15 = [0; L];
+        for (d, &t) in errors_q15.iter_mut().zip(&self.tangents_q15) {
+            *d = arctangent_q15(t);
+        }
+        errors_q15
     }
 
     /// The error `d` in Q15 rad at the binary angle `angle` (2^32 per turn, `i32::MIN` is
-    /// -pi), interpolated linearly.
-    #[inline(always)]
+    /// -pi), from its tangent interpolated linearly.
     pub fn error_at(&self, angle: i32) -> i32 {
+        let t = self.tangent_at(angle);
+        // |t| <= 8368: within i16.
+        i32::from(arctangent_q15(t as i16))
+    }
+
+    /// `tan d` in Q15 at the binary angle `angle`, interpolated linearly.
+    #[inline(always)]
+    fn tangent_at(&self, angle: i32) -> i32 {
         // The angle from -pi as an unsigned turn: the index is its top bits, the fraction
         // the next 15.
         let turn = angle.wrapping_sub(i32::MIN) as u32;
         let k = (turn >> (32 - Self::BITS)) as usize & (L - 1);
         let fraction = ((turn << Self::BITS) >> 17) as i32;
-        let d = i32::from(self.errors_q15[k]);
-        let step = i32::from(self.errors_q15[(k + 1) & (L - 1)]) - d;
-        // |step| <= 2^14, fraction < 2^15: the product is below 2^29.
-        d + ((step * fraction) >> 15)
+        let t = i32::from(self.tangents_q15[k]);
+        let step = i32::from(self.tangents_q15[(k + 1) & (L - 1)]) - t;
+        // |step| <= 2^15, fraction < 2^15: the product is below 2^30.
+        t + ((step * fraction) >> 15)
     }
 
-    /// The sample rotated by `-d` at the predicted binary angle `angle` (see
-    /// [`AngleCorrectionTable::rotate`]), saturated to `i16`. With `|d| <= 2^13` (0.25 rad)
-    /// and `|y| < 2^15`, every product is below 2^29: no overflow.
+    /// The sample rotated by `-d` at the predicted binary angle `angle` and scaled by
+    /// `1 / cos d` (see [`AngleCorrectionTable::rotate`]), rounded and saturated to `i16`.
+    /// With `|t| <= 8368` and `|y| <= 2^15`, every product is below 2^29: no overflow.
     #[inline(always)]
     pub fn rotate(&self, angle: i32, y_c: i16, y_s: i16) -> (i16, i16) {
-        let d = self.error_at(angle);
-        let d2 = (d * d) >> 15;
-        // sin d = d - d^3/6 (5461 / 2^15 = 1/6), 1 - cos d = d^2/2: Q15.
-        let sin_d = d - ((((d * d2) >> 15) * 5461) >> 15);
-        let half_d2 = d2 >> 1;
+        let t = self.tangent_at(angle);
         let (c, s) = (i32::from(y_c), i32::from(y_s));
-        let c_out = c + ((s * sin_d - c * half_d2 + (1 << 14)) >> 15);
-        let s_out = s + ((-c * sin_d - s * half_d2 + (1 << 14)) >> 15);
+        let c_out = c + ((s * t + (1 << 14)) >> 15);
+        let s_out = s - ((c * t + (1 << 14)) >> 15);
         let saturate = |v: i32| v.clamp(-32768, 32767) as i16;
         (saturate(c_out), saturate(s_out))
     }
 }
+
+/// `tan d` in Q15 of `d` in Q15 rad (`|d| <= 8192`, 0.25 rad), rounded to the nearest: its
+/// series to `d^7` (the next term is below 2^-20 rad there) in Q30 integers; `const`.
+const fn tangent_q15(d: i16) -> i16 {
+    let x = (d as i64) << 15;
+    let x2 = (x * x) >> 30;
+    let x3 = (x * x2) >> 30;
+    let x5 = (x3 * x2) >> 30;
+    let x7 = (x5 * x2) >> 30;
+    let t = x + x3 / 3 + 2 * x5 / 15 + 17 * x7 / 315;
+    round_q30_to_q15(t)
+}
+
+/// The angle in Q15 rad of the tangent `t` in Q15 (`|t| <= 8368`), rounded to the
+/// nearest: `atan t` by its series to `t^9` (the next term is below 2^-24 rad there).
+fn arctangent_q15(t: i16) -> i16 {
+    let x = i64::from(t) << 15;
+    let x2 = (x * x) >> 30;
+    let x3 = (x * x2) >> 30;
+    let x5 = (x3 * x2) >> 30;
+    let x7 = (x5 * x2) >> 30;
+    let x9 = (x7 * x2) >> 30;
+    round_q30_to_q15(x - x3 / 3 + x5 / 5 - x7 / 7 + x9 / 9)
+}
+
+/// A Q30 value (within `i16` once in Q15) rounded half away from zero to Q15.
+const fn round_q30_to_q15(v: i64) -> i16 {
+    let half = 1 << 14;
+    let rounded = if v >= 0 {
+        (v + half) >> 15
+    } else {
+        -((-v + half) >> 15)
+    };
+    rounded as i16
+}
+
+/// `tan d` in floats for `|d| <= 0.25` rad (a table's errors, at construction only): its
+/// series to `d^11` (the next term is below 6e-11 rad there), in the table's own float (no
+/// `f64` routine in an `f32` firmware).
+fn tangent<T: Float>(d: T) -> T {
+    let d2 = d * d;
+    let coefficients = [
+        1.0 / 3.0,
+        2.0 / 15.0,
+        17.0 / 315.0,
+        62.0 / 2835.0,
+        1382.0 / 155_925.0,
+    ];
+    // Horner's rule in d^2: d (1 + d^2 (1/3 + d^2 (2/15 + ...))).
+    let mut sum = T::ZERO;
+    for &c in coefficients.iter().rev() {
+        sum = (sum + T::from_f64(c)) * d2;
+    }
+    d * (T::ONE + sum)
+}
+
+#[cfg(test)]
+mod tests;

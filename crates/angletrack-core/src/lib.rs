@@ -54,7 +54,10 @@
 //! # Firmware use
 //!
 //! ```
-//! use angletrack_core::{AdcScaling, Calibrator, FaultThresholds, Gains, ObserverState};
+//! use angletrack_core::{
+//!     AdcScaling, Calibrator, Chain, ChainState, FaultThresholds, Gains, ObserverState,
+//!     OnlineCalibration,
+//! };
 //!
 //! // Once, at start-up: gains for a 20 kHz loop (from `angletrack design`), a 12-bit ADC
 //! // (offset binary: full scale is +-1) and a signal of about 1800 counts, 0.88 of full
@@ -63,21 +66,25 @@
 //!     .and_then(|g| g.with_fault_thresholds(FaultThresholds::for_amplitude(0.88)))
 //!     .expect("valid configuration");
 //! let adc = AdcScaling::offset_binary(12).expect("valid ADC");
-//! let mut state = ObserverState::new();
+//! let chain = Chain::new(adc, gains);
+//! let mut state = ChainState::new();
 //!
 //! // In the ADC interrupt, every sample: the raw counts as the ADC gives them.
 //! # let (raw_c, raw_s) = (2048u16 + 900, 2048u16 + 1559);
-//! let estimate = gains.update_adc(&mut state, &adc, raw_c, raw_s);
+//! let estimate = chain.update(&mut state, (raw_c, raw_s));
 //! let (angle_rad, speed_rad_s) = (estimate.angle, estimate.speed);
 //! # assert!((angle_rad - 1.0472).abs() < 1e-3 && speed_rad_s == 0.0);
 //! # assert!(estimate.faults.is_empty());
 //!
 //! // Or with the sensor's offsets, gain imbalance and quadrature learned while tracking
-//! // (store `calibrator.calibration()` in flash, load it with `Calibrator::from_calibration`):
+//! // (store `state.front_end.1.calibration()` in flash, load it with
+//! // `Calibrator::from_calibration`):
+//! let online = OnlineCalibration::new(gains.calibration_settings(), 50e-6).expect("valid");
+//! let calibrated = Chain::new((adc, online), gains);
 //! let mut calibrator = Calibrator::new();
 //! calibrator.enable();
-//! let (y_c, y_s) = adc.sample(raw_c, raw_s);
-//! let estimate = gains.update_calibrated(&mut state, &mut calibrator, y_c, y_s);
+//! let mut state = ChainState { front_end: ((), calibrator), observer: ObserverState::new() };
+//! let estimate = calibrated.update(&mut state, (raw_c, raw_s));
 //! # assert!((estimate.angle - 1.0472).abs() < 1e-3);
 //! ```
 //!
@@ -91,7 +98,7 @@
 //! # No panic, in optimised builds
 //!
 //! The per-sample entry points (`update`, `track`, `update_block`, a [`Chain`]'s `track` and `update`,
-//! `update_adc`, `update_calibrated`, the bank's updates) have no panic path in an optimised
+//! `update_calibrated`, the bank's updates) have no panic path in an optimised
 //! build (`--release`): the repository's `tests/no-panic` image links them for a Cortex-M4F
 //! with a panic handler that the linker must drop, and its test fails if any panic path
 //! remains. Debug builds keep Rust's overflow checks, which can panic on an integer

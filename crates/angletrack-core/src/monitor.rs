@@ -265,15 +265,46 @@ impl<T: Float> MonitorState<T> {
         self.remaining = window;
         self.length_inverse = window_inverse;
     }
+}
 
-    /// Adds one used sample to the window; `true` when it ends the window (the caller then
-    /// decides the flags, [`CheckedThresholds::decide`]).
+/// The floats' window: the sums of `y_c^2 + y_s^2` and of `|eps|`.
+impl<T: Float> MonitorWindow for MonitorState<T> {
+    /// `(y_c^2 + y_s^2, eps)`.
+    type Term = (T, T);
+
     #[inline(always)]
-    pub(crate) fn accumulate(&mut self, amplitude2: T, phase_error: T) -> bool {
+    fn add(&mut self, (amplitude2, phase_error): (T, T)) {
         self.amplitude2_sum += amplitude2;
         self.error_sum += phase_error.abs();
-        self.remaining = self.remaining.wrapping_sub(1);
-        self.remaining == 0
+    }
+
+    #[inline(always)]
+    fn remaining(&mut self) -> &mut u32 {
+        &mut self.remaining
+    }
+}
+
+/// A monitor's window as each used sample sees it, written once for the floats
+/// ([`MonitorState`]) and the fixed-point observer (its state, `fixed/update.rs`): the
+/// sample added to the window's sums, and the count down to the window's end, where the
+/// caller decides the flags ([`MonitorLimits::decide_window`]).
+pub(crate) trait MonitorWindow {
+    /// What one used sample adds to the window.
+    type Term;
+
+    /// Adds `term` to the window's sums.
+    fn add(&mut self, term: Self::Term);
+
+    /// The used samples left in the window.
+    fn remaining(&mut self) -> &mut u32;
+
+    /// Adds one used sample to the window; `true` when it ends the window.
+    #[inline(always)]
+    fn accumulate(&mut self, term: Self::Term) -> bool {
+        self.add(term);
+        let remaining = self.remaining();
+        *remaining = remaining.wrapping_sub(1);
+        *remaining == 0
     }
 }
 
@@ -307,48 +338,181 @@ impl<T: Float> CheckedThresholds<T> {
         let mean = |sum: T| sum * monitor.length_inverse;
         let (a2, error) = (mean(monitor.amplitude2_sum), mean(monitor.error_sum));
         monitor.amplitude2 = a2;
-        let t = &self.thresholds;
-        // The usual case in one chain of tests: no flag at all. Loss of signal lies below the
-        // degradation band (checked at construction), so an amplitude inside the band rules
-        // out both; one comparison for the band (one rounding of its edges, which `flags`
-        // then sorts out exactly; NaN fails it).
-        let (faults, false_lock) = if (a2 - self.degradation_middle2).abs()
-            <= self.degradation_half_width2
-            && error <= t.loss_of_tracking
-            && scaled_speed.abs() <= self.max_scaled_speed
-            && in_phase >= t.false_lock
-        {
-            (Faults::NONE, false)
-        } else {
-            self.flags(a2, error, in_phase, scaled_speed)
+        let measures = WindowMeasures {
+            amplitude2: a2,
+            error,
+            speed: scaled_speed.abs(),
+            in_phase,
         };
-        monitor.flags = faults;
-        monitor.latched |= faults;
+        let false_lock = self.decide_window(&measures, &mut monitor.flags, &mut monitor.latched);
         monitor.start_window(self.window, self.window_inverse);
         false_lock && self.thresholds.re_acquire
     }
+}
 
-    /// The flags of a window outside the usual case of [`CheckedThresholds::decide`] (out
-    /// of line: a fault is rare), and whether they declare a false lock.
+/// What the monitor decides a window's flags from, in the numbers of its observer: its
+/// amplitude `A` (the floats: the mean `y_c^2 + y_s^2`; the fixed-point observer: half the
+/// square amplitude of its last sample), its phase error `E` (the mean `|eps|`; the sum of
+/// `|eps|` in Q15), the magnitude of the speed `S` at its end (rad per sample; 2^-32 turn per
+/// sample) and the in-phase component `P` of its last sample.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct WindowMeasures<A, E, S, P> {
+    pub(crate) amplitude2: A,
+    pub(crate) error: E,
+    pub(crate) speed: S,
+    pub(crate) in_phase: P,
+}
+
+/// The monitor's decision on a window, written once over the [`Limits`] its
+/// [`WindowMeasures`] are compared with, in the same numbers: the floats'
+/// [`CheckedThresholds`] and the fixed-point observer's integer thresholds
+/// (`fixed/gains.rs`).
+pub(crate) trait MonitorLimits {
+    /// The amplitude measure.
+    type Amplitude2: AmplitudeMeasure;
+    /// The phase error measure.
+    type Error: Copy + PartialOrd;
+    /// The magnitude of the speed.
+    type Speed: Copy + PartialOrd;
+    /// The in-phase component.
+    type InPhase: Copy + PartialOrd;
+
+    /// The limits, as values (each read only where a test needs it, once inlined).
+    fn limits(&self) -> Limits<Self::Amplitude2, Self::Error, Self::Speed, Self::InPhase>;
+
+    /// Whether a window is healthy, in one chain of tests: no flag at all. Loss of signal
+    /// lies below the degradation band, so an amplitude inside the band rules out both.
+    #[inline(always)]
+    fn healthy(&self, m: &Measures<Self>) -> bool {
+        let l = self.limits();
+        m.amplitude2.in_band(l.band)
+            && m.error <= l.loss_of_tracking
+            && m.speed <= l.max_speed
+            && m.in_phase >= l.false_lock
+    }
+
+    /// A window's flags, held in `flags` and latched in `latched`; returns whether they
+    /// declare a false lock. A healthy window clears the flags and nothing more (the usual
+    /// case, inline); any other is [`MonitorLimits::latch_flags`] (out of line).
+    #[inline(always)]
+    fn decide_window(&self, m: &Measures<Self>, flags: &mut Faults, latched: &mut Faults) -> bool {
+        if self.healthy(m) {
+            *flags = Faults::NONE;
+            return false;
+        }
+        // The measures by value: in registers, not stored for the call.
+        self.latch_flags(m.amplitude2, m.error, m.speed, m.in_phase, flags, latched)
+    }
+
+    /// The flags of a window that is not [`MonitorLimits::healthy`], held in `flags` and
+    /// latched in `latched` (out of line: a fault is rare); returns whether they declare a
+    /// false lock.
     #[cold]
     #[inline(never)]
-    fn flags(&self, a2: T, error: T, in_phase: T, scaled_speed: T) -> (Faults, bool) {
-        let t = &self.thresholds;
-        let signal_lost = a2 < self.loss_of_signal2;
+    fn latch_flags(
+        &self,
+        a2: Self::Amplitude2,
+        error: Self::Error,
+        speed: Self::Speed,
+        in_phase: Self::InPhase,
+        flags: &mut Faults,
+        latched: &mut Faults,
+    ) -> bool {
+        let (faults, false_lock) = self.flags(a2, error, speed, in_phase);
+        *flags = faults;
+        *latched |= faults;
+        false_lock
+    }
+
+    /// The flags of a window that is not [`MonitorLimits::healthy`], from its
+    /// [`WindowMeasures`], and whether they declare a false lock.
+    #[inline(always)]
+    fn flags(
+        &self,
+        a2: Self::Amplitude2,
+        error: Self::Error,
+        speed: Self::Speed,
+        in_phase: Self::InPhase,
+    ) -> (Faults, bool) {
+        let l = self.limits();
+        let signal_lost = a2 < l.loss_of_signal;
         let faults = Faults::when(signal_lost, Faults::LOSS_OF_SIGNAL)
             | Faults::when(
-                a2 < self.degradation_low2 || a2 > self.degradation_high2,
+                a2 < l.degradation_low || a2 > l.degradation_high,
                 Faults::DEGRADATION_OF_SIGNAL,
             )
             | Faults::when(
-                error > t.loss_of_tracking || scaled_speed.abs() > self.max_scaled_speed,
+                error > l.loss_of_tracking || speed > l.max_speed,
                 Faults::LOSS_OF_TRACKING,
             );
-        let false_lock = !signal_lost && in_phase < t.false_lock;
+        let false_lock = !signal_lost && in_phase < l.false_lock;
         (
             faults | Faults::when(false_lock, Faults::FALSE_LOCK),
             false_lock,
         )
+    }
+}
+
+/// What a window's [`WindowMeasures`] are compared with, in the same numbers: loss of signal
+/// below `loss_of_signal`, degradation outside [`degradation_low`, `degradation_high`] (loss
+/// of signal lies below that band, checked at construction), loss of tracking above
+/// `loss_of_tracking` or `max_speed`, false lock below `false_lock` with the signal present.
+pub(crate) struct Limits<A, E, S, P> {
+    pub(crate) loss_of_signal: A,
+    pub(crate) degradation_low: A,
+    pub(crate) degradation_high: A,
+    /// The degradation band in the form of its one comparison
+    /// ([`AmplitudeMeasure::in_band`]).
+    pub(crate) band: (A, A),
+    pub(crate) loss_of_tracking: E,
+    pub(crate) max_speed: S,
+    pub(crate) false_lock: P,
+}
+
+/// The [`WindowMeasures`] in the numbers of limits `L`.
+pub(crate) type Measures<L> = WindowMeasures<
+    <L as MonitorLimits>::Amplitude2,
+    <L as MonitorLimits>::Error,
+    <L as MonitorLimits>::Speed,
+    <L as MonitorLimits>::InPhase,
+>;
+
+/// A monitor's amplitude measure: a float, or the fixed-point observer's `u32`
+/// (`fixed/gains.rs`).
+pub(crate) trait AmplitudeMeasure: Copy + PartialOrd {
+    /// Whether `self` lies in the degradation band, by one comparison with the band's
+    /// precomputed form `band` (NaN is outside).
+    fn in_band(self, band: (Self, Self)) -> bool;
+}
+
+/// The band as its middle and half width: `|a - middle| <= half_width` (one rounding of its
+/// edges, which [`MonitorLimits::flags`] then sorts out exactly).
+impl<T: Float> AmplitudeMeasure for T {
+    #[inline(always)]
+    fn in_band(self, (middle, half_width): (T, T)) -> bool {
+        (self - middle).abs() <= half_width
+    }
+}
+
+/// The floats' limits: the squared amplitudes, the mean `|eps|`, the speed in rad per
+/// sample and the in-phase component, from the checked thresholds.
+impl<T: Float> MonitorLimits for CheckedThresholds<T> {
+    type Amplitude2 = T;
+    type Error = T;
+    type Speed = T;
+    type InPhase = T;
+
+    #[inline(always)]
+    fn limits(&self) -> Limits<T, T, T, T> {
+        Limits {
+            loss_of_signal: self.loss_of_signal2,
+            degradation_low: self.degradation_low2,
+            degradation_high: self.degradation_high2,
+            band: (self.degradation_middle2, self.degradation_half_width2),
+            loss_of_tracking: self.thresholds.loss_of_tracking,
+            max_speed: self.max_scaled_speed,
+            false_lock: self.thresholds.false_lock,
+        }
     }
 }
 

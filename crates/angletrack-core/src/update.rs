@@ -9,6 +9,7 @@
 
 use crate::faults::Faults;
 use crate::gains::Gains;
+use crate::monitor::MonitorWindow;
 use crate::real::Float;
 use crate::real::sincos::{SinCos, SinCosUnit};
 use crate::recursion::{Sample, Step};
@@ -53,7 +54,7 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// construction hold for any amplitude and unit. The diagnostics compare amplitudes, so
     /// their [`FaultThresholds`](crate::FaultThresholds) must carry the nominal amplitude in
     /// the input's units (1 by default; [`FaultThresholds::for_amplitude`]), or the samples
-    /// come through an [`AdcScaling`](crate::AdcScaling) ([`Gains::update_adc`]). The first
+    /// come through an [`AdcScaling`](crate::AdcScaling) (a [`Chain`](crate::Chain)'s stage). The first
     /// accepted sample of an uninitialised state sets the angle from `atan2(y_s, y_c)` and
     /// the magnitude from `sqrt(y_c^2 + y_s^2)`; a sample of (near) zero magnitude moves
     /// nothing (`eps = 0`: the state coasts).
@@ -253,7 +254,7 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         // a rejected sample).
         if MONITOR
             && self.thresholds.thresholds.monitor
-            && state.monitor.accumulate(amplitude2, step.eps)
+            && state.monitor.accumulate((amplitude2, step.eps))
         {
             self.decide(state, y_c, y_s);
         }

@@ -1,9 +1,78 @@
 //! Angles kept in [-pi, pi) with the whole turns counted apart (`docs/theory.md §5`): the
 //! wrap of the recursion's predicted angle, for a single channel ([`FullWrap`]) and for the
 //! lanes of a bank ([`NoWrap`], [`OneTurnWrap`]), the wrap of an angle as read, and the
-//! angle `atan2(y_s, y_c)` of a sample, which (re-)acquires a channel's angle.
+//! angle `atan2(y_s, y_c)` of a sample, which (re-)acquires a channel's angle; the first
+//! sample's angle, the re-acquisition and the turns crossed on the way are written once over
+//! [`TurnArithmetic`], which the floats and the fixed-point format (`fixed/turns.rs`) implement.
 
-use crate::real::Float;
+use crate::real::{ChainNumber, Float};
+
+/// The angle arithmetic of the first sample, the re-acquisition and the turn count: rad for
+/// the floats (an angle in [-pi, pi), the whole turns counted apart), the binary angle for the
+/// fixed-point format's `i16` samples (2^32 per turn: it wraps by itself, and the turns it
+/// crosses are its carries).
+pub(crate) trait TurnArithmetic: ChainNumber {
+    /// `atan2(y_s, y_c)` of a sample (NaN for a float sample that is not finite).
+    fn atan2(y_c: Self, y_s: Self) -> Self::Angle;
+    /// Whether an angle is a number (every binary angle is).
+    fn is_finite(angle: Self::Angle) -> bool;
+    /// Wraps `angle` into one turn; returns the whole turns removed.
+    fn wrap(angle: &mut Self::Angle) -> i32;
+    /// `to - from`, wrapped into one turn: the shortest way from `from` to `to`.
+    fn difference(to: Self::Angle, from: Self::Angle) -> Self::Angle;
+    /// `angle + change` wrapped into one turn, and the whole turns crossed on the way.
+    fn advance(angle: Self::Angle, change: Self::Angle) -> (Self::Angle, i32);
+
+    /// Whether [`TurnArithmetic::advance`] crosses a turn: the usual path's test, which
+    /// counts nothing.
+    #[inline(always)]
+    fn crosses(angle: Self::Angle, change: Self::Angle) -> bool {
+        Self::advance(angle, change).1 != 0
+    }
+}
+
+impl<T: Float> TurnArithmetic for T {
+    #[inline(always)]
+    fn atan2(y_c: T, y_s: T) -> T {
+        y_s.atan2(y_c)
+    }
+
+    #[inline(always)]
+    fn is_finite(angle: T) -> bool {
+        angle.is_finite()
+    }
+
+    #[inline(always)]
+    fn wrap(angle: &mut T) -> i32 {
+        wrap_angle(angle)
+    }
+
+    #[inline(always)]
+    fn difference(to: T, from: T) -> T {
+        let mut change = to - from;
+        wrap_angle(&mut change);
+        change
+    }
+
+    #[inline(always)]
+    fn advance(angle: T, change: T) -> (T, i32) {
+        let mut angle = angle + change;
+        let whole = wrap_angle(&mut angle);
+        (angle, whole)
+    }
+}
+
+/// The whole turns (-1, 0 or 1) crossed from `from` to `to` by the shortest way.
+#[inline(always)]
+pub(crate) fn crossed_turns<A: TurnArithmetic>(from: A::Angle, to: A::Angle) -> i32 {
+    A::advance(from, A::difference(to, from)).1
+}
+
+/// Whether a turn is crossed from `from` to `to` by the shortest way.
+#[inline(always)]
+pub(crate) fn crosses_turn<A: TurnArithmetic>(from: A::Angle, to: A::Angle) -> bool {
+    A::crosses(from, A::difference(to, from))
+}
 
 /// A corrected angle `x0` of a state counting `turns` turns, as read: wrapped into
 /// [-pi, pi), and the turn count with the wrap's whole turns.
@@ -40,12 +109,12 @@ pub(crate) fn wrap_angle<T: Float>(angle: &mut T) -> i32 {
 /// of line and a function of values only (see [`Gains::update`](crate::Gains::update)).
 #[cold]
 #[inline(never)]
-pub(crate) fn sample_angle<T: Float>(y_c: T, y_s: T) -> Option<(T, i32)> {
-    let mut angle = y_s.atan2(y_c);
-    if !angle.is_finite() {
+pub(crate) fn sample_angle<A: TurnArithmetic>(y_c: A, y_s: A) -> Option<(A::Angle, i32)> {
+    let mut angle = A::atan2(y_c, y_s);
+    if !A::is_finite(angle) {
         return None;
     }
-    let whole = wrap_angle(&mut angle);
+    let whole = A::wrap(&mut angle);
     Some((angle, whole))
 }
 
@@ -128,12 +197,8 @@ pub(crate) fn wrap_whole_turns<T: Float>(a: T) -> (T, i32) {
 /// caller keeps speed and acceleration).
 #[cold]
 #[inline(never)]
-pub(crate) fn re_acquired<T: Float>(angle: T, y_c: T, y_s: T) -> (T, i32) {
-    let mut jump = y_s.atan2(y_c) - angle;
-    wrap_angle(&mut jump);
-    let mut angle = angle + jump;
-    let whole = wrap_angle(&mut angle);
-    (angle, whole)
+pub(crate) fn re_acquired<A: TurnArithmetic>(angle: A::Angle, y_c: A, y_s: A) -> (A::Angle, i32) {
+    A::advance(angle, A::difference(A::atan2(y_c, y_s), angle))
 }
 
 /// How a step wraps the predicted angle: [`FullWrap`] for a single channel, [`NoWrap`] or

@@ -95,9 +95,11 @@ pub use analysis::{
     predicted_error_on_kalman_model,
 };
 pub use calibration::{
-    ANGLE_CALIBRATION_FORMAT, CALIBRATION_FILE_VERSION, CalibrationFile, CalibrationFileError,
-    CalibrationOptions, CaptureCalibration, MIN_ERROR_TRANSFER, SENSOR_CALIBRATION_FORMAT,
-    SensorCalibrationRecord, error_transfer, learn_angle_correction,
+    ANGLE_CALIBRATION_FORMAT, CALIBRATION_FILE_VERSION, CalibrationError, CalibrationFile,
+    CalibrationFileError, CalibrationMethod, CalibrationOptions, CaptureCalibration,
+    CaptureCalibrator, MIN_ERROR_TRANSFER, OrderQuality, OrderStatus, SENSOR_CALIBRATION_FORMAT,
+    SPECTRUM_ORDERS, SensorCalibrationRecord, error_transfer, learn_angle_correction,
+    order_warnings,
 };
 pub use counts::{
     AdcCount, CountsInput, CountsSettings, UnsignedCountsError, capture_mid_scale,

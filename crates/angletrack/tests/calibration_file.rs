@@ -5,8 +5,8 @@
 use std::path::PathBuf;
 
 use angletrack::{
-    AngleCorrection, CalibrationFile, CaptureCalibration, SensorCalibration,
-    SensorCalibrationRecord,
+    AngleCorrection, CalibrationFile, CalibrationMethod, CaptureCalibration, OrderQuality,
+    OrderStatus, SPECTRUM_ORDERS, SensorCalibration, SensorCalibrationRecord,
 };
 
 fn fixture(name: &str) -> PathBuf {
@@ -27,6 +27,16 @@ fn angle_calibration() -> CaptureCalibration {
         turns: 160.0,
         error_rms_rad: 0.0071234,
         residual_rms_rad: 1.2e-05,
+        method: CalibrationMethod::Reference,
+        orders: core::array::from_fn(|i| OrderQuality {
+            amplitude_rad: 1e-3 / (i + 1) as f64,
+            uncertainty_rad: 2e-5,
+            status: if i < 8 {
+                OrderStatus::Learned
+            } else {
+                OrderStatus::NotRequested
+            },
+        }),
     }
 }
 
@@ -47,8 +57,27 @@ fn sensor_record() -> SensorCalibrationRecord {
 
 #[test]
 fn files_in_the_python_json_layout_read_back_exactly() {
-    let angle = CalibrationFile::read(&fixture("angle.json")).unwrap();
-    assert_eq!(angle, CalibrationFile::Angle(angle_calibration()));
+    // Written before the method and the orders' quality were: read as unknown.
+    let CalibrationFile::Angle(angle) = CalibrationFile::read(&fixture("angle.json")).unwrap()
+    else {
+        panic!("an angle calibration")
+    };
+    assert_eq!(angle.method, CalibrationMethod::Unknown);
+    assert!(
+        angle
+            .orders
+            .iter()
+            .all(|q| q.status == OrderStatus::Unknown)
+    );
+    assert_eq!(
+        CaptureCalibration {
+            method: CalibrationMethod::Reference,
+            orders: angle_calibration().orders,
+            ..angle
+        },
+        angle_calibration()
+    );
+    assert!(angle.warnings().is_empty());
     let sensor = CalibrationFile::read(&fixture("sensor.json")).unwrap();
     assert_eq!(sensor, CalibrationFile::Sensor(sensor_record()));
 }
@@ -75,6 +104,12 @@ fn both_kinds_round_trip_through_a_file() {
             .speed_rad_s
             .is_nan()
     );
+    assert!(text.contains("\"method\": \"reference\""), "{text}");
+    assert!(
+        text.contains("{\"order\": 12, \"amplitude_rad\": "),
+        "{text}"
+    );
+    assert_eq!(SPECTRUM_ORDERS, 12);
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -127,6 +162,11 @@ fn refusals_name_the_file_and_the_field() {
         ),
         (angle.replace("    1.0,\n", "    -1.0,\n"), "sensor"),
         (angle.replace("-0.0002", "7.0"), "cos, sin"),
+        (angle.replace("\"order\": 3,", "\"order\": 13,"), "orders"),
+        (
+            angle.replace("\"method\": \"reference\"", "\"method\": 3"),
+            "method",
+        ),
     ];
     for (text, expected) in cases {
         assert_eq!(refusal(&text).0.as_deref(), Some(expected), "{text}");

@@ -34,7 +34,7 @@ class _LearnedCalibration(TypedDict):
     """An angle calibration as the extension gives it (``learn_calibration``, a calibration
     file): the sensor's ``(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)``,
     the angle error's ``cos`` and ``sin`` coefficients (8 each, rad) and what the learning
-    saw (NaN where unknown)."""
+    saw (NaN where unknown): the method, each order's quality and the warnings."""
 
     sensor: _SensorParameters
     cos: list[float]
@@ -43,6 +43,18 @@ class _LearnedCalibration(TypedDict):
     turns: float
     error_rms_rad: float
     residual_rms_rad: float
+    method: str
+    orders: list[_OrderQuality]
+    warnings: list[str]
+
+class _OrderQuality(TypedDict):
+    """One harmonic order of a learned angle error: its amplitude (rad), the standard
+    deviation of each of its coefficients (rad) and whether it was learned."""
+
+    order: int
+    amplitude_rad: float
+    uncertainty_rad: float
+    status: str
 
 class Gains:
     """Discrete gains ``(l1, l2[, l3])`` of the scaled-state recursion and the sample
@@ -934,10 +946,25 @@ class DriveOutputs:
 # ----------------------------------------------------------- angle error calibration
 
 def learn_calibration(
-    gains: Gains, y_c: _Samples, y_s: _Samples, *, lowest_order: int = 1, highest_order: int = 8,
-    settle_fraction: float = 0.2,
+    gains: Gains, y_c: _Samples, y_s: _Samples, *, reference: Optional[_Samples] = None,
+    lowest_order: Optional[int] = None, highest_order: int = 8, settle_fraction: float = 0.2,
+    self_calibration: bool = False, own_loop: bool = True, min_significance: float = 3.0,
 ) -> _LearnedCalibration:
-    """The calibration of a capture at roughly constant speed (see ``angletrack.calibrate``)."""
+    """The calibration of a capture held in memory (see ``angletrack.calibrate``)."""
+
+class _CaptureCalibrator:
+    """A calibration learned from a capture read twice in chunks (see
+    ``angletrack.harmonics.calibrate_chunks``)."""
+
+    def __init__(
+        self, gains: Gains, *, lowest_order: Optional[int] = None, highest_order: int = 8,
+        settle_fraction: float = 0.2, self_calibration: bool = False, own_loop: bool = True,
+        min_significance: float = 3.0,
+    ) -> None: ...
+    def add_geometry(self, y_c: _Samples, y_s: _Samples) -> None: ...
+    def start_fit(self, has_reference: bool) -> str: ...
+    def add_fit(self, y_c: _Samples, y_s: _Samples, reference: Optional[_Samples] = None) -> None: ...
+    def finish(self) -> _LearnedCalibration: ...
 
 class _CorrectedObserver:
     def __init__(
@@ -986,9 +1013,11 @@ def sensor_calibration_to_json(
     """The JSON text of a sensor calibration file."""
 def angle_calibration_to_json(
     sensor: _SensorParameters, cos: Sequence[float], sin: Sequence[float], speed_rad_s: float, turns: float,
-    error_rms_rad: float, residual_rms_rad: float,
+    error_rms_rad: float, residual_rms_rad: float, *, method: Optional[str] = None,
+    orders: Optional[Sequence[tuple[int, float, float, str]]] = None,
 ) -> str:
-    """The JSON text of an angle calibration file (the calibration checked by the core)."""
+    """The JSON text of an angle calibration file (the calibration checked by the core), with
+    the method and each order's ``(order, amplitude_rad, uncertainty_rad, status)``."""
 def calibration_from_json(text: str, file: str) -> Union[SensorCalibration, _LearnedCalibration]:
     """The calibration of a file's text of either format; ``ValueError`` naming ``file`` and
     the field at fault."""

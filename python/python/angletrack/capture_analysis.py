@@ -1,7 +1,8 @@
 """What ``angletrack plot`` computes from a capture, chunk by chunk in constant memory: the
 ellipse of the Lissajous figure (offsets, amplitude ratio, quadrature), the angle error
-binned over the electrical turn with its harmonic spectrum, and decimated series for
-plotting (a min/max envelope over time, every n-th point of a scatter).
+binned over the electrical turn with its harmonic spectrum, where the observer's start-up
+ends (its lock), and thinned series for plotting (a min/max envelope over time, a uniform
+random subsample of a scatter).
 
 Each accumulator takes chunks (``add``) and gives its result at any time, so that a capture
 of 1e8 rows costs the memory of one chunk plus a fixed number of plotted points.
@@ -253,26 +254,107 @@ class Envelope:
         )
 
 
-class Stride:
-    """Every ``n``-th point of a scatter, at most ``max_points`` of them: ``n`` doubles (and
-    every other kept point goes) whenever the points would exceed the limit."""
+class RandomSample:
+    """A uniform random subsample of a scatter, at most ``max_points`` points, chunk by chunk:
+    each point gets a random key and the points of the smallest keys are kept (bottom-k
+    sampling). Unlike every n-th point, it cannot alias with a capture's periodicity (200
+    samples per turn thinned by 8 would keep 25 angles)."""
 
-    def __init__(self, max_points: int) -> None:
+    def __init__(self, max_points: int, seed: int = 0) -> None:
         self.max_points = max(2, int(max_points))
-        self.step = 1
         self.seen = 0
+        self._rng = np.random.default_rng(seed)
+        self._keys = np.empty(0)
+        self._order = np.empty(0, dtype=np.int64)
         self.columns: Optional[list[np.ndarray]] = None
 
     def add(self, *columns: np.ndarray) -> None:
-        first = (-self.seen) % self.step
-        picked = [np.asarray(c, dtype=np.float64)[first::self.step] for c in columns]
-        self.seen += len(columns[0])
-        self.columns = picked if self.columns is None else [np.concatenate(p) for p in zip(self.columns, picked)]
-        while len(self.columns[0]) > self.max_points:
-            # The kept points sit at multiples of the step: keeping the even ones keeps
-            # exactly the multiples of twice the step.
-            self.columns = [c[::2] for c in self.columns]
-            self.step *= 2
+        n = len(columns[0])
+        keys = self._rng.random(n)
+        order = self.seen + np.arange(n, dtype=np.int64)
+        self.seen += n
+        picked = [np.asarray(c, dtype=np.float64) for c in columns]
+        if self.columns is not None and len(self._keys) >= self.max_points:
+            # Full: only a key below the largest kept one can enter.
+            entering = keys < self._keys.max()
+            keys, order, picked = keys[entering], order[entering], [c[entering] for c in picked]
+        if self.columns is not None:
+            keys = np.concatenate([self._keys, keys])
+            order = np.concatenate([self._order, order])
+            picked = [np.concatenate(p) for p in zip(self.columns, picked)]
+        if len(keys) > self.max_points:
+            kept = np.argpartition(keys, self.max_points - 1)[: self.max_points]
+            keys, order, picked = keys[kept], order[kept], [c[kept] for c in picked]
+        self._keys, self._order, self.columns = keys, order, picked
 
     def points(self) -> list[np.ndarray]:
-        return self.columns or []
+        """The kept points' columns, in the order they were added."""
+        if self.columns is None:
+            return []
+        ordered = np.argsort(self._order, kind="stable")
+        return [c[ordered] for c in self.columns]
+
+
+#: The observer is locked once its error has stayed within the tolerance for this many time
+#: constants of the loop's slowest pole (2 % of an exponential after 3.9 of them), averaged
+#: over blocks of an eighth of one.
+LOCK_HOLD_TIME_CONSTANTS = 4.0
+LOCK_BLOCKS_PER_TIME_CONSTANT = 8
+
+
+def slowest_time_constant_samples(loop_polynomial: list[float]) -> float:
+    """The time constant (samples) of the slowest closed-loop pole, from the polynomial in
+    ``s = z - 1`` (lowest power first, as ``Gains.loop_polynomial``)."""
+    poles = 1.0 + np.roots(np.asarray(loop_polynomial, dtype=np.float64)[::-1])
+    radius = float(np.abs(poles).max())
+    return -1.0 / math.log(radius) if 0.0 < radius < 1.0 else math.inf
+
+
+class LockDetector:
+    """Where the observer's start-up ends, chunk by chunk. The error is averaged over blocks
+    of ``block`` samples (the loop's transient is slow beside a block; the sensor's noise is
+    averaged down), and the lock is the first sample after ``hold`` samples' worth of
+    consecutive blocks whose mean is within ``tolerance_rad`` (a block with a NaN is
+    outside). From the lock on every sample counts, whatever its error. The samples must
+    come in order from the capture's first."""
+
+    def __init__(self, tolerance_rad: float, hold: int, block: int = 1) -> None:
+        self.tolerance_rad = tolerance_rad
+        self.block = max(1, int(block))
+        self.hold_blocks = max(1, -(-int(hold) // self.block))
+        #: Index of the lock sample, once reached.
+        self.lock_index: Optional[int] = None
+        self._pending = np.empty(0)
+        self._blocks = 0
+        self._run_start: Optional[int] = None
+
+    @property
+    def hold(self) -> int:
+        """The samples the error must stay within the tolerance for."""
+        return self.hold_blocks * self.block
+
+    def add(self, first_index: int, error_rad: np.ndarray) -> np.ndarray:
+        """The chunk's mask of samples at or after the lock (``first_index`` is the
+        chunk's first sample in the capture)."""
+        n = len(error_rad)
+        if self.lock_index is None:
+            error = np.concatenate([self._pending, np.asarray(error_rad, dtype=np.float64)])
+            whole = len(error) // self.block * self.block
+            self._pending = error[whole:]
+            means = error[:whole].reshape(-1, self.block).mean(axis=1)
+            first_block = self._blocks
+            self._blocks += len(means)
+            outside = first_block + np.flatnonzero(~(np.abs(means) <= self.tolerance_rad))
+            run_start = first_block if self._run_start is None else self._run_start
+            starts = np.concatenate([[run_start], outside + 1])
+            ends = np.append(outside, self._blocks)  # the last run is still open
+            long_enough = np.flatnonzero(ends - starts > self.hold_blocks)
+            if len(long_enough):
+                # A block begun in the previous chunk: its samples there are past.
+                lock = (int(starts[long_enough[0]]) + self.hold_blocks) * self.block
+                self.lock_index = max(lock, first_index)
+                self._pending = np.empty(0)
+            self._run_start = int(starts[-1])
+        if self.lock_index is None:
+            return np.zeros(n, dtype=bool)
+        return first_index + np.arange(n) >= self.lock_index

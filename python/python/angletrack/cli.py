@@ -368,7 +368,14 @@ def _add_plot_parser(sub) -> None:
     plot.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s", help="unit of the time column")
     _add_reader_arguments(plot)
     plot.add_argument("--skip", type=_non_negative, default=0.0, metavar="S",
-                      help="leave the first S seconds out of the angle error")
+                      help="leave the first S seconds out of the angle error (as well as the start-up)")
+    plot.add_argument("--include-start-up", action="store_true",
+                      help="against the observer's angle: count its start-up before the lock in the angle error "
+                      "(default: left out, and shaded on the figure)")
+    plot.add_argument("--lock-tolerance", type=_positive, default=0.01, metavar="RAD",
+                      help="against the observer's angle: it is locked once the error, averaged over blocks of "
+                      "an eighth of the loop's time constant, has stayed within RAD (default 0.01) for 4 time "
+                      "constants")
     where = plot.add_mutually_exclusive_group()
     where.add_argument("--output", "-o", type=_png_path, metavar="FILE.png",
                        help="the figure (default: CAPTURE_plot.png beside the capture)")
@@ -384,8 +391,10 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     Draws one PNG of CAPTURE: the Lissajous figure of (y_c, y_s) with the least-squares
     ellipse (offsets, amplitude ratio, quadrature); the angle error atan2(y_s, y_c) minus the
     reference column (else the observer's angle, with gains) against the electrical angle,
-    and its harmonics 1 to 10; the speed and the observer's fault flags over time. Reads
-    the capture in chunks: any size, at most --max-points points per series.
+    and its harmonics 1 to 10; the speed and the observer's fault flags over time. Against
+    the observer's angle, its start-up until lock is left out of the error and shaded.
+    Reads the capture in chunks: any size, at most --max-points points per series (the
+    scatters a random subsample, the time series min and max per point).
     """
     from angletrack import plots
 
@@ -395,6 +404,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         capture=args.capture, output=args.capture, gains_file=args.gains_file, gains=args.gains,
         sample_rate_hz=args.sample_rate, columns=args.columns, delimiter=args.delimiter,
         decimal=args.decimal, skip_rows=args.skip_rows, time_unit=args.time_unit, skip_s=args.skip,
+        lock_tolerance_rad=args.lock_tolerance,
     )
     name = args.capture.stem + "_plot"
     summary = None
@@ -403,7 +413,8 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     else:
         png = args.output or args.capture.with_name(f"{name}.png")
     _refuse_overwriting_inputs(args, {"--output": png, "--out (figures)": summary})
-    print(plots.plot_capture_file(settings, png, summary_json=summary, max_points=args.max_points))
+    print(plots.plot_capture_file(settings, png, summary_json=summary, max_points=args.max_points,
+                                  include_start_up=args.include_start_up))
     return 0
 
 
@@ -450,14 +461,26 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+#: The calibration's options as the CLI spells them, for its errors.
+_CALIBRATE_FLAGS = {
+    "lowest_order": "--lowest-order", "highest_order": "--highest-order", "settle_fraction": "--settle-fraction",
+    "min_significance": "--min-significance", "the calibration's own loop": "--loop own",
+}
+
+
 def _cmd_calibrate(args: argparse.Namespace) -> int:
     """learn a sensor's calibration (offsets, imbalance, quadrature, angle error harmonics)
 
-    Reads CAPTURE (a run at roughly constant speed: enough turns in its first
-    --settle-fraction, a fifth by default, for the offsets to be learned over 4 turns after
-    lock, at least 5 electrical turns after it, fast enough that the lowest learned order
-    lies above the loop's bandwidth),
-    tracks it with the gains, and writes what it learned: JSON for `angletrack track
+    Reads CAPTURE twice in chunks (any length, constant memory; any unit: the amplitude is
+    measured) and learns the offsets, imbalance and quadrature from the least-squares
+    ellipse of its Lissajous figure, then the harmonics of the angle error: against the
+    capture's reference column when it has one (every order, whatever the speed profile),
+    else, or with --self, against the angle of a loop of the calibration's own designed from
+    the capture's speed (--loop own, the default) or of the gains (--loop gains), past the
+    first --settle-fraction, at roughly constant speed, over at least 5 turns. Without a
+    reference an angle-synchronous speed ripple and a sensor error cannot be told apart:
+    orders 1 and 2 are then the ellipse's. Each order is reported with its uncertainty; one
+    below --min-significance times it is not learned. Writes JSON for `angletrack track
     --calibration`, or a C header / Rust const block for firmware.
     """
     _refuse_overwriting_inputs(args, {"--output": args.output})
@@ -465,18 +488,22 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
                                       gains=args.gains, sample_rate_hz=args.sample_rate, columns=args.columns,
                                       delimiter=args.delimiter, decimal=args.decimal, skip_rows=args.skip_rows,
                                       time_unit=args.time_unit)
-    cal = tracking.calibrate_capture(settings, lowest_order=args.lowest_order, highest_order=args.highest_order,
-                                     settle_fraction=args.settle_fraction)
+    try:
+        cal = tracking.calibrate_capture(
+            settings, lowest_order=args.lowest_order, highest_order=args.highest_order,
+            settle_fraction=args.settle_fraction, self_calibration=args.self_calibration,
+            own_loop=args.loop == "own", min_significance=args.min_significance)
+    except angletrack.ConfigError as e:
+        message = str(e)
+        for name, flag in _CALIBRATE_FLAGS.items():
+            message = message.replace(name, flag)
+        raise ValueError(message) from None
     text = {"json": cal.to_json, "c": cal.to_c_header, "rust": cal.to_rust}[args.format]()
     if args.output is None:
         print(text, end="")
     else:
         capture_io.write_output(args.output, text)
-    orders = ", ".join(f"{k}: {cal.harmonic_amplitude(k) * 1e3:.3g}" for k in range(args.lowest_order,
-                                                                                     args.highest_order + 1))
-    print(f"learned from {cal.turns:.0f} turns at {cal.speed_rad_s:.6g} rad/s: angle error "
-          f"{cal.error_rms_rad * 1e3:.3g} mrad RMS, {cal.residual_rms_rad * 1e3:.3g} mrad left by the fit; "
-          f"harmonics (mrad) {orders}", file=sys.stderr if args.output is None else sys.stdout)
+    print(cal.describe(), file=sys.stderr if args.output is None else sys.stdout)
     return 0
 
 
@@ -484,18 +511,28 @@ def _add_calibrate_parser(sub) -> None:
     cal = _command(sub, _cmd_calibrate)
     cal.add_argument("capture", type=pathlib.Path, metavar="CAPTURE")
     _add_gains_source(cal)
-    cal.add_argument("--columns", metavar="ROLE=COLUMN,...", help="which columns hold what (as for track)")
+    cal.add_argument("--columns", metavar="ROLE=COLUMN,...",
+                     help="which columns hold what (as for track; a reference column is calibrated against)")
     cal.add_argument("--delimiter", metavar="CHAR", help="field delimiter (default: sniffed)")
     cal.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s",
                      help="unit of the time column (default s)")
     _add_reader_arguments(cal)
-    cal.add_argument("--lowest-order", type=int, default=1, metavar="K",
-                     help="lowest harmonic of the angle error learned (default 1)")
+    cal.add_argument("--self", dest="self_calibration", action="store_true",
+                     help="self-calibrate even when the capture has a reference column")
+    cal.add_argument("--loop", choices=["own", "gains"], default="own",
+                     help="self-calibration's loop: own (default: one designed from the capture's speed, every "
+                     "order above its bandwidth) or gains (orders within their bandwidth are not learned)")
+    cal.add_argument("--lowest-order", type=int, default=None, metavar="K",
+                     help="lowest harmonic of the angle error learned (default: 1 against a reference, 3 in a "
+                     "self-calibration, raised above the gains' bandwidth with --loop gains)")
     cal.add_argument("--highest-order", type=int, default=harmonics.MAX_ORDER, metavar="K",
                      help=f"highest harmonic learned (default and most {harmonics.MAX_ORDER})")
     cal.add_argument("--settle-fraction", type=float, default=0.2, metavar="F",
-                     help="fraction of the capture, from its start, that learns the offsets, imbalance "
-                     "and quadrature while the loop settles (settle_fraction, in [0, 1); default 0.2)")
+                     help="self-calibration: fraction of the capture, from its start, left out while the loop "
+                     "settles (in [0, 1); default 0.2)")
+    cal.add_argument("--min-significance", type=_non_negative, default=3.0, metavar="X",
+                     help="learn an order only when its amplitude is at least X times its uncertainty "
+                     "(default 3; 0 learns every order, warning of those below their uncertainty)")
     cal.add_argument("--format", choices=["json", "c", "rust"], default="json",
                      help="json (for track --calibration, default), c (header) or rust (const block)")
     cal.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",

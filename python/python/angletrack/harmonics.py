@@ -1,6 +1,8 @@
-"""Angle-dependent error calibration: learn a sensor's offsets, imbalance, quadrature and the
-harmonics of its angle error from a capture at roughly constant speed (the observer's own
-angle as the reference), and track with them removed inside the phase detector.
+"""Angle-dependent error calibration: learn a sensor's offsets, imbalance and quadrature (the
+least-squares Lissajous ellipse) and the harmonics of its angle error (against a reference
+angle when given, else against an observer's angle at roughly constant speed) from a
+capture, with each harmonic's uncertainty, and track with them removed inside the phase
+detector.
 
     >>> import angletrack, numpy as np
     >>> g = angletrack.third_order_butterworth(2e-3, 5e-5).gains
@@ -11,21 +13,23 @@ angle as the reference), and track with them removed inside the phase detector.
     True
     >>> est = angletrack.track_calibrated(g, np.cos(read) + 0.05, np.sin(read), cal)
 
-The learned correction is exact only where the harmonics lie above the loop's bandwidth at
-the capture's speed (the learning divides out the loop's known error transfer and refuses a
-capture where the loop passes more than half of the lowest learned order); it is applied at
-any speed.
+Without a reference, the self-calibration runs a loop of its own designed from the capture's
+speed (or the gains' loop with ``own_loop=False``, whose bandwidth then sets the lowest
+learnable order) and learns orders 3 and up: an angle-synchronous speed ripple and a sensor
+error cannot be told apart without a reference, and orders 1 and 2 are the ellipse's. An
+order below ``min_significance`` times its uncertainty is not learned. The correction is
+applied at any speed.
 """
 
 from __future__ import annotations
 
 import dataclasses
-from typing import TYPE_CHECKING, Any, Optional
+from typing import TYPE_CHECKING, Any, Callable, Iterable, Optional
 
 import numpy as np
 
 from angletrack import _angletrack
-from angletrack._angletrack import Estimates, Gains, _CorrectedObserver, learn_calibration
+from angletrack._angletrack import Estimates, Gains, _CaptureCalibrator, _CorrectedObserver, learn_calibration
 
 if TYPE_CHECKING:
     from angletrack._angletrack import _LearnedCalibration as LearnedCalibration
@@ -41,7 +45,13 @@ class Calibration:
     """A sensor's calibration: ``sensor`` = ``(offset_c, offset_s, amplitude_c, amplitude_s,
     quadrature_rad)`` (the core's ``SensorCalibration::new`` arguments) and the angle error
     ``d(theta) = sum_k cos[k-1] cos(k theta) + sin[k-1] sin(k theta)`` (rad, k = 1..8, the
-    core's ``AngleCorrection::new`` arguments), with what the learning saw."""
+    core's ``AngleCorrection::new`` arguments), with what the learning saw: ``method``
+    (``"reference"``, ``"self, own loop"``, ``"self, the gains' loop"``, ``"unknown"`` for an
+    older file) and ``orders``, one dict per order 1..12 of the angle error (``order``,
+    ``amplitude_rad``, ``uncertainty_rad``: the standard deviation of each coefficient from
+    the residual's noise, ``status``: ``"learned"``, ``"not significant"``, ``"within the
+    loop's bandwidth"``, ``"not requested"``, ``"not resolved"``); those not learned are the
+    residual's spectrum."""
 
     sensor: tuple
     cos: tuple
@@ -50,6 +60,9 @@ class Calibration:
     turns: float = float("nan")
     error_rms_rad: float = float("nan")
     residual_rms_rad: float = float("nan")
+    method: str = "unknown"
+    orders: tuple = ()
+    warnings: tuple = ()
 
     def harmonic_amplitude(self, order: int) -> float:
         """The amplitude (rad) of the angle error's harmonic ``order``."""
@@ -66,7 +79,8 @@ class Calibration:
         ``CaptureCalibration::to_json`` writes it; the calibration is checked first."""
         return _angletrack.angle_calibration_to_json(
             self.sensor, self.cos, self.sin, self.speed_rad_s, self.turns, self.error_rms_rad,
-            self.residual_rms_rad,
+            self.residual_rms_rad, method=self.method,
+            orders=[(o["order"], o["amplitude_rad"], o["uncertainty_rad"], o["status"]) for o in self.orders],
         )
 
     @classmethod
@@ -82,7 +96,26 @@ class Calibration:
             sensor=tuple(learned["sensor"]), cos=tuple(learned["cos"]), sin=tuple(learned["sin"]),
             speed_rad_s=learned["speed_rad_s"], turns=learned["turns"],
             error_rms_rad=learned["error_rms_rad"], residual_rms_rad=learned["residual_rms_rad"],
+            method=learned.get("method", "unknown"), orders=tuple(dict(o) for o in learned.get("orders", ())),
+            warnings=tuple(learned.get("warnings", ())),
         )
+
+    def describe(self) -> str:
+        """The summary ``angletrack calibrate`` prints: the method, the fit, each order's
+        amplitude, uncertainty and status, and the warnings."""
+        lines = [
+            f"calibrated {'against the reference' if self.method == 'reference' else f'by {self.method}'}: "
+            f"{self.turns:.0f} turns at {self.speed_rad_s:.6g} rad/s; angle error {self.error_rms_rad * 1e3:.3g} "
+            f"mrad RMS, {self.residual_rms_rad * 1e3:.3g} mrad left by the learned orders",
+            f"sensor: offsets {self.sensor[0]:.6g}, {self.sensor[1]:.6g}; amplitudes {self.sensor[2]:.6g}, "
+            f"{self.sensor[3]:.6g}; quadrature {self.sensor[4]:.6g} rad",
+            "order  amplitude (mrad)  uncertainty (mrad)  status",
+        ]
+        for o in self.orders:
+            lines.append(f"{o['order']:5d}  {o['amplitude_rad'] * 1e3:16.4f}  {o['uncertainty_rad'] * 1e3:18.4f}  "
+                         f"{o['status']}")
+        lines += [f"warning: {w}" for w in self.warnings]
+        return "\n".join(lines)
 
     def to_c_header(self, *, name: str = "angletrack", dtype: str = "float32") -> str:
         """A C header with the sensor calibration and the correction's coefficients
@@ -95,20 +128,43 @@ class Calibration:
         return _angletrack.calibration_rust(self.sensor, self.cos, self.sin, name=name, dtype=dtype)
 
 
-def calibrate(y_c: Any, y_s: Any, gains: Gains, *, lowest_order: int = 1, highest_order: int = MAX_ORDER,
-              settle_fraction: float = 0.2) -> Calibration:
-    """Learns the :class:`Calibration` of a capture ``(y_c, y_s)`` at roughly constant speed,
-    tracked with ``gains``: the online offset/imbalance/quadrature calibration over the first
-    ``settle_fraction`` of it, then the harmonics ``lowest_order..highest_order`` of the angle
-    error over the whole turns after that. Raises ``ValueError`` for a capture whose speed is
-    not steady, too slow for the lowest order to lie above the loop's bandwidth, whose first
-    ``settle_fraction`` teaches the online calibration fewer than 4 turns, or shorter than 5
-    turns after it."""
+def calibrate(y_c: Any, y_s: Any, gains: Gains, *, reference: Any = None, lowest_order: Optional[int] = None,
+              highest_order: int = MAX_ORDER, settle_fraction: float = 0.2, self_calibration: bool = False,
+              own_loop: bool = True, min_significance: float = 3.0) -> Calibration:
+    """Learns the :class:`Calibration` of a capture ``(y_c, y_s)`` held in memory: the
+    offsets, imbalance and quadrature of its Lissajous ellipse, then the harmonics of the
+    angle error against ``reference`` (rad, electrical) when given and ``self_calibration``
+    is off, else against the angle of the calibration's own loop (``own_loop``) or of
+    ``gains``, past the first ``settle_fraction`` of the capture. ``lowest_order`` (default:
+    1 against a reference, 3 in a self-calibration) to ``highest_order``; an order below
+    ``min_significance`` times its uncertainty is not learned. ``ConfigError`` naming the
+    option at fault (a capture shorter than 5 turns, an order the loop follows, ...)."""
     y_c = np.ascontiguousarray(y_c, dtype=np.float64)
     y_s = np.ascontiguousarray(y_s, dtype=np.float64)
-    learned = learn_calibration(gains, y_c, y_s, lowest_order=lowest_order, highest_order=highest_order,
-                                settle_fraction=settle_fraction)
+    if reference is not None:
+        reference = np.ascontiguousarray(reference, dtype=np.float64)
+    learned = learn_calibration(gains, y_c, y_s, reference=reference, lowest_order=lowest_order,
+                                highest_order=highest_order, settle_fraction=settle_fraction,
+                                self_calibration=self_calibration, own_loop=own_loop,
+                                min_significance=min_significance)
     return Calibration.from_learned(learned)
+
+
+def calibrate_chunks(chunks: Callable[[], Iterable[tuple]], gains: Gains, **options: Any) -> Calibration:
+    """:func:`calibrate` on a capture read twice in chunks, in constant memory: ``chunks()``
+    gives a fresh iterator of ``(y_c, y_s, reference)`` arrays (``reference`` ``None``
+    without a reference column) on each call; ``options`` are :func:`calibrate`'s."""
+    calibrator = _CaptureCalibrator(gains, **options)
+    has_reference = False
+    for y_c, y_s, reference in chunks():
+        calibrator.add_geometry(np.ascontiguousarray(y_c, dtype=np.float64),
+                                np.ascontiguousarray(y_s, dtype=np.float64))
+        has_reference = has_reference or reference is not None
+    calibrator.start_fit(has_reference)
+    for y_c, y_s, reference in chunks():
+        calibrator.add_fit(np.ascontiguousarray(y_c, dtype=np.float64), np.ascontiguousarray(y_s, dtype=np.float64),
+                           None if reference is None else np.ascontiguousarray(reference, dtype=np.float64))
+    return Calibration.from_learned(calibrator.finish())
 
 
 class CalibratedObserver:

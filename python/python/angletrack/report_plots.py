@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import pathlib
 from typing import TYPE_CHECKING, Callable
 
@@ -122,7 +123,7 @@ def plot_noise(plt, result: ScenarioResult, path: pathlib.Path) -> None:
         axes[0, column].set_ylim(-1.05 * peak, 1.05 * peak)
     axes[-1, 0].set_xlabel("time (ms)")
     axes[-1, 1].set_xlabel("time (ms)")
-    fig.suptitle(f"{result.spec.title}\n(statistics after {result.spec.skip_s} s, the start-up shaded and "
+    fig.suptitle(f"{result.spec.title}\n(statistics after {1e3 * result.spec.skip_s:.0f} ms, the start-up shaded and "
                  "clipped)", fontsize=10)
     _save(plt, fig, path)
 
@@ -173,6 +174,17 @@ def plot_sensor_errors(plt, result: SensorResult, path: pathlib.Path) -> None:
     _save(plt, fig, path)
 
 
+def log_limits(values: np.ndarray) -> tuple[float, float]:
+    """Limits of a log axis on which every positive value shows as a bar: the floor a decade
+    boundary at least a factor 2 below the smallest (a bar at the floor has no height), the
+    top room for the legend above the largest."""
+    positive = values[np.isfinite(values) & (values > 0)]
+    if len(positive) == 0:
+        return 1e-3, 1.0
+    floor = 10.0 ** math.floor(math.log10(0.5 * positive.min()))
+    return floor, 6.0 * positive.max()
+
+
 def plot_harmonic_errors(plt, result: HarmonicsResult, path: pathlib.Path) -> None:
     """Section 6: the angle error (mean removed) against the true electrical angle without
     and with the calibration, one panel each (their scales differ a hundredfold), and the
@@ -186,6 +198,7 @@ def plot_harmonic_errors(plt, result: HarmonicsResult, path: pathlib.Path) -> No
     orders = np.asarray(HARMONIC_ORDERS, dtype=float)
     runs = (("uncorrected", result.uncorrected_error_rad, "tab:red", -0.2),
             ("with the calibration", result.calibrated_error_rad, "tab:green", 0.2))
+    heights = []
     for row, (name, error, colour, shift) in enumerate(runs):
         ax = fig.add_subplot(grid[row, 0])
         bins = result.binned(error)
@@ -198,13 +211,14 @@ def plot_harmonic_errors(plt, result: HarmonicsResult, path: pathlib.Path) -> No
         ax.set_ylabel("angle error (mrad)")
         ax.set_title(f"{name}: RMS {1e3 * result.statistics(error)[0]:.3g} mrad", fontsize=10, loc="left")
         ax.grid(alpha=0.3)
-        spectrum.bar(orders + shift, 1e3 * bins.harmonics_rad(), width=0.4, color=colour, label=name)
+        heights.append(1e3 * bins.harmonics_rad())
+        spectrum.bar(orders + shift, heights[-1], width=0.4, color=colour, label=name)
     ax.set_xlabel("true electrical angle (deg)")
     truth = [(k, a) for k, a, _ in HARMONICS]
     spectrum.plot([k for k, _ in truth], [1e3 * a for _, a in truth], "kx", ms=8, mew=2,
                   label="the sensor's angle error d(theta)")
     spectrum.set_yscale("log")
-    spectrum.set_ylim(1e-3, 300)
+    spectrum.set_ylim(*log_limits(np.concatenate(heights + [[1e3 * a for _, a in truth]])))
     spectrum.set_xticks(HARMONIC_ORDERS)
     spectrum.set_xlabel("harmonic order of the electrical angle")
     spectrum.set_ylabel("amplitude (mrad, peak)")

@@ -329,17 +329,26 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     return "\n".join(lines), observer
 
 
-def calibrate_capture(s: TrackSettings, *, lowest_order: int = 1, highest_order: int = harmonics.MAX_ORDER,
-                      settle_fraction: float = 0.2) -> harmonics.Calibration:
+def calibrate_capture(s: TrackSettings, **options) -> harmonics.Calibration:
     """``angletrack calibrate``: the :class:`harmonics.Calibration` learned from the capture
-    ``s.capture`` (read whole, ``s.columns``, ``s.delimiter``, ``s.time_unit``) tracked with
+    ``s.capture`` (``s.columns``, ``s.delimiter``, ``s.time_unit``), read twice in chunks in
+    constant memory (:func:`harmonics.calibrate_chunks`, whose ``options`` these are), with
     the gains of ``s`` at its sample rate (checked as for :func:`track_capture`). Unsigned
-    counts are centred first (:func:`unsigned_mid_scale`); the amplitude is the capture's
-    own (counts, volts or normalised: the diagnostics are scaled to it)."""
-    capture = angletrack.read_capture(s.capture, **s.reader_options())
-    gains = gains_for_capture(s, capture.sample_rate_hz if capture.time_s is not None else None)
-    # Unsigned counts centred as `track` centres them, so that the offsets learned are the
-    # ones `track --calibration` (float or fixed) sees.
-    mid = unsigned_mid_scale(capture.sample_dtype, capture.y_c, capture.y_s)
-    return harmonics.calibrate(capture.y_c - mid, capture.y_s - mid, gains, lowest_order=lowest_order,
-                               highest_order=highest_order, settle_fraction=settle_fraction)
+    counts are centred first (:func:`unsigned_mid_scale`), as ``track`` centres them, so that
+    the offsets learned are the ones ``track --calibration`` (float or fixed) sees; the
+    amplitude is the capture's own (counts, volts or normalised)."""
+
+    def reader() -> angletrack.CaptureReader:
+        return angletrack.CaptureReader(s.capture, **s.reader_options(), chunk_rows=s.chunk_rows)
+
+    first_reader = reader()
+    first = next(iter(first_reader))
+    gains = gains_for_capture(s, first_reader.sample_rate_hz if first.time_s is not None else None)
+    mid = unsigned_mid_scale(first_reader.sample_dtype, first.y_c, first.y_s)
+    del first_reader, first
+
+    def chunks():
+        for chunk in reader():
+            yield chunk.y_c - mid, chunk.y_s - mid, chunk.reference_rad
+
+    return harmonics.calibrate_chunks(chunks, gains, **options)

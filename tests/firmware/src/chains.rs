@@ -220,4 +220,7 @@ where
     fn record(&self, state: &Self::State, _: &()) -> Record {
         Fixed(self.0.observer).record(&state.observer, &self.0.estimate(state))
     }
+    fn integers(&self, state: &Self::State, _: &()) -> Option<[i64; 6]> {
+        Fixed(self.0.observer).integers(&state.observer, &self.0.estimate(state))
+    }
 }

@@ -4,7 +4,8 @@
 //! (`-semihosting-config ...,arg=<program>,arg=<mode>,...`):
 //!
 //! * `check [tamper]`: runs every variant over the simulated resolver and compares every
-//!   estimate with the host's reference, within `f32` tolerances; also `count` mode's
+//!   estimate with the host's reference, within `f32` tolerances (the fixed-point
+//!   variants' integers exactly, over all samples); also `count` mode's
 //!   inputs (converted before its runs) against the checked ones, the demodulator's
 //!   pairs, and the baselines' fast arctangent against `atan2f` over a sweep. Exits with
 //!   failure if any is out of tolerance. `tamper` first corrupts one input of each check:
@@ -38,8 +39,8 @@ use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::{hprintln, nr};
 use trackers::Inputs;
 use variants::{
-    CARRIER_AMPLITUDE_COUNTS, DEMODULATOR, Job, LOOP_VARIANT, NAMES, Observers, PAIR_BYTES,
-    RECORD_BYTES, Record, SAMPLES_PER_PERIOD, Tracker,
+    CARRIER_AMPLITUDE_COUNTS, DEMODULATOR, FNV_OFFSET, Job, LOOP_VARIANT, NAMES, Observers,
+    PAIR_BYTES, RECORD_BYTES, Record, SAMPLES_PER_PERIOD, Tracker, fold_integers,
 };
 
 include!(concat!(env!("OUT_DIR"), "/scenario.rs"));
@@ -203,7 +204,9 @@ fn checked_input(k: usize, tamper: bool) -> (f32, f32) {
     (Y_C[k], Y_S[k] + corruption(tamper, k, CHECKED_SAMPLES))
 }
 
-/// `check` mode: every sample of a variant against the host's reference.
+/// `check` mode: every sample of a variant against the host's reference, within tolerances
+/// (its record: position, speed, acceleration), and for a fixed-point variant its integers
+/// exactly (over all samples, through their hash [`INTEGERS`]).
 struct Check {
     tamper: bool,
     failures: usize,
@@ -221,9 +224,16 @@ impl Job for Check {
         }
         let mut state = tracker.new_state();
         let (mut position, mut speed, mut acceleration, mut worst) = (0.0f32, 0.0, 0.0, 0);
+        let mut integers = None;
+        let mut fold = |state: &T::State, output: &T::Output| {
+            if let Some(words) = tracker.integers(state, output) {
+                integers = Some(fold_integers(integers.unwrap_or(FNV_OFFSET), &words));
+            }
+        };
         for (k, r) in records.chunks_exact(RECORD_BYTES).enumerate() {
             let (y_c, y_s) = checked_input(k, self.tamper);
             let output = update(&tracker, &mut state, T::input(y_c), T::input(y_s));
+            fold(&state, &output);
             let e = tracker.record(&state, &output);
             let r = Record::decode(r);
             // Position difference, exact in the split form: whole turns, then the angle.
@@ -241,18 +251,33 @@ impl Job for Check {
                 acceleration = d;
             }
         }
+        // The integers of the samples beyond the records (on the Cortex-M0) too.
+        if INTEGERS[index].is_some() {
+            for k in (0..SAMPLES).skip(CHECKED_SAMPLES) {
+                let (y_c, y_s) = checked_input(k, self.tamper);
+                let output = update(&tracker, &mut state, T::input(y_c), T::input(y_s));
+                fold(&state, &output);
+            }
+        }
+        let same_integers = integers == INTEGERS[index];
         let ok = position <= POSITION_TOLERANCE_RAD
             && speed <= RELATIVE_TOLERANCE
-            && acceleration <= RELATIVE_TOLERANCE;
+            && acceleration <= RELATIVE_TOLERANCE
+            && same_integers;
         hprintln!(
             "check {}: {} samples, max |position - host| {:e} rad (sample {}), \
-             speed {:e}, acceleration {:e} (relative): {}",
+             speed {:e}, acceleration {:e} (relative){}: {}",
             NAMES[index],
             CHECKED_SAMPLES,
             position,
             worst,
             speed,
             acceleration,
+            match (INTEGERS[index], same_integers) {
+                (None, _) => "",
+                (Some(_), true) => "; integers of all samples identical",
+                (Some(_), false) => "; integers DIFFER",
+            },
             if ok { "ok" } else { "FAIL" }
         );
         self.failures += usize::from(!ok);

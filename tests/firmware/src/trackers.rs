@@ -37,6 +37,13 @@ pub trait Tracker {
     /// The estimate after an update, as compared with the host's (read outside the counted
     /// update: an entry point that returns no estimate computes it here, on demand).
     fn record(&self, state: &Self::State, output: &Self::Output) -> Record;
+    /// The estimate's integers (angle, turns, speed, acceleration, phase error, faults) of a
+    /// tracker that computes in integers, which `check` compares with the host's exactly
+    /// (through [`fold_integers`](crate::variants::fold_integers)); `None` for the float ones,
+    /// compared within tolerances.
+    fn integers(&self, _state: &Self::State, _output: &Self::Output) -> Option<[i64; 6]> {
+        None
+    }
     /// All samples in one call, if [`Tracker::BLOCK`]; returns the number of outputs.
     fn update_block(
         &self,
@@ -80,8 +87,8 @@ pub trait EntryPoint {
 /// The simulated signal's samples in each form a tracker takes, `[y_c, y_s]`, converted
 /// before `count` mode's runs (by the build script): a conversion inside the loop would run
 /// in the counted range whenever the update calls the same routines (on the Cortex-M0 the
-/// soft-float multiply and float-to-int conversion of [`adc_counts`], which `update_adc`
-/// calls too).
+/// soft-float multiply and float-to-int conversion of [`adc_counts`], which the ADC
+/// stage calls too).
 #[derive(Debug, Clone, Copy)]
 pub struct Inputs {
     /// The signal (amplitude about 1).
@@ -288,6 +295,16 @@ where
             acceleration: self.0.acceleration_rad_s2(e) as f32,
         }
     }
+    fn integers(&self, _: &FixedState<N>, e: &FixedEstimate) -> Option<[i64; 6]> {
+        Some([
+            i64::from(e.angle),
+            e.turns,
+            i64::from(e.speed),
+            e.acceleration,
+            i64::from(e.phase_error),
+            i64::from(e.faults.bits()),
+        ])
+    }
 }
 
 /// The core's fixed-point observer through `FixedGains::track` (the state updated, no
@@ -317,5 +334,8 @@ where
     }
     fn record(&self, state: &FixedState<N>, _: &()) -> Record {
         self.0.record(state, &FixedGains::estimate(state))
+    }
+    fn integers(&self, state: &FixedState<N>, _: &()) -> Option<[i64; 6]> {
+        self.0.integers(state, &FixedGains::estimate(state))
     }
 }

@@ -249,6 +249,22 @@ pub fn demodulator() -> Result<Demodulator<f32, SAMPLES_PER_PERIOD>, ConfigError
     Demodulator::new(settings)
 }
 
+/// FNV-1a's (64-bit) start.
+pub const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+
+/// FNV-1a (64-bit) of `hash` extended by the little-endian bytes of `words`: how `check`
+/// compares the integers of a fixed-point variant's every estimate with the host's (a
+/// single differing bit changes it).
+pub fn fold_integers(mut hash: u64, words: &[i64]) -> u64 {
+    for word in words {
+        for byte in word.to_le_bytes() {
+            hash ^= u64::from(byte);
+            hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+    hash
+}
+
 /// The reference record of one demodulated pair (written by the build script only).
 #[allow(dead_code)]
 pub fn encode_pair(pair: &DemodulatedPair<f32>) -> [u8; PAIR_BYTES] {

@@ -61,15 +61,21 @@ where
     let mut sum = 0.0;
     let mut state = ObserverState::new();
     if let Ok(adc) = AdcScaling::<f32>::new(black_box(2048), black_box(2048.0)) {
-        sum += gains
-            .update_adc(&mut state, &adc, black_box(4095u16), black_box(0u16))
+        let chain = Chain::new(adc, *gains);
+        let mut chained = ChainState {
+            front_end: (),
+            observer: state,
+        };
+        sum += chain
+            .update(&mut chained, (black_box(4095u16), black_box(0u16)))
             .angle;
-        sum += gains
-            .update_adc(&mut state, &adc, black_box(-7i16), black_box(9i16))
+        sum += chain
+            .update(&mut chained, (black_box(-7i16), black_box(9i16)))
             .angle;
-        sum += gains
-            .update_adc(&mut state, &adc, black_box(i32::MIN), black_box(i32::MAX))
+        sum += chain
+            .update(&mut chained, (black_box(i32::MIN), black_box(i32::MAX)))
             .angle;
+        state = chained.observer;
     }
     if let Ok(adc) = AdcScaling::<f32>::offset_binary(black_box(12)) {
         sum += adc.scale(black_box(17u16));

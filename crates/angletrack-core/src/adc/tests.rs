@@ -74,13 +74,14 @@ fn quantised_rms_error(bits: u32, amplitude_counts: f64) -> f64 {
     let adc = AdcScaling::<f32>::offset_binary(bits).unwrap();
     let mid = f64::from(adc.mid_scale_counts());
     let speed = 2.0 * core::f64::consts::PI * 7.3; // rad/s
-    let mut state = ObserverState::new();
+    let chain = Chain::new(adc, gains);
+    let mut state = ChainState::new();
     let (mut sum2, mut count) = (0.0, 0);
     let samples = n(20_000);
     for k in 0..samples {
         let theta = 0.4 + speed * k as f64 * TS;
         let raw = |v: f64| (mid + amplitude_counts * v).round() as u16;
-        let e = gains.update_adc(&mut state, &adc, raw(theta.cos()), raw(theta.sin()));
+        let e = chain.update(&mut state, (raw(theta.cos()), raw(theta.sin())));
         if k > samples / 2 {
             sum2 += wrap(theta - e.angle as f64).powi(2);
             count += 1;

@@ -4,6 +4,7 @@
 //! (CORDIC, for the first sample and re-acquisition).
 
 use super::multiply::mul_q16;
+use crate::wrap::TurnArithmetic;
 
 /// Entries of the sine table per turn (a power of two: the index is the top 8 bits).
 const STEPS_PER_TURN: usize = 256;
@@ -186,4 +187,44 @@ pub(crate) fn atan2(y_s: i32, y_c: i32) -> i32 {
         i += 1;
     }
     angle
+}
+
+/// The turns of the fixed-point format ([`TurnArithmetic`] for its `i16` samples, whose
+/// angles are binary angles): the angle wraps by itself, and the turn an addition crosses
+/// by the shortest way (less than half a turn) is its signed carry.
+impl TurnArithmetic for i16 {
+    #[inline(always)]
+    fn atan2(y_c: i16, y_s: i16) -> i32 {
+        atan2(i32::from(y_s), i32::from(y_c))
+    }
+
+    #[inline(always)]
+    fn is_finite(_angle: i32) -> bool {
+        true
+    }
+
+    #[inline(always)]
+    fn wrap(_angle: &mut i32) -> i32 {
+        0
+    }
+
+    #[inline(always)]
+    fn difference(to: i32, from: i32) -> i32 {
+        to.wrapping_sub(from)
+    }
+
+    /// The carry alone (the overflow flag of one addition).
+    #[inline(always)]
+    fn crosses(angle: i32, change: i32) -> bool {
+        angle.checked_add(change).is_none()
+    }
+
+    #[inline(always)]
+    fn advance(angle: i32, change: i32) -> (i32, i32) {
+        match angle.checked_add(change) {
+            Some(sum) => (sum, 0),
+            None if change > 0 => (angle.wrapping_add(change), 1),
+            None => (angle.wrapping_add(change), -1),
+        }
+    }
 }

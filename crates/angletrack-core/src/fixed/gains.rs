@@ -4,6 +4,7 @@
 
 use crate::error::{ConfigError, Parameter};
 use crate::gains::{Order, SupportedOrder};
+use crate::monitor::{AmplitudeMeasure, Limits, MonitorLimits};
 use crate::stability::for_f64::check_stability;
 
 /// Signal amplitudes (counts) the fixed-point path normalises exactly: from 4096 (below, the
@@ -51,9 +52,10 @@ pub struct FixedConstants<const N: usize> {
 }
 
 /// The fixed-point monitor's thresholds, as the update compares them
-/// (`docs/theory.md §14`): half the square amplitude of a window's last sample
-/// (`(y_c^2 + y_s^2) / 2`), the sum of `|eps|` (Q15) over the window and the speed in 2^-32
-/// turn per sample.
+/// (`docs/theory.md §14`) in the floats' decision ([`MonitorLimits`]): half the square
+/// amplitude of a window's last sample (`(y_c^2 + y_s^2) / 2`), the sum of `|eps|` (Q15)
+/// over the window, `|speed|` in 2^-32 turn per sample and the last sample's in-phase
+/// component (counts times 2^15).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct FixedThresholds {
     /// Run the monitor's flags at all.
@@ -68,6 +70,40 @@ pub(crate) struct FixedThresholds {
     pub(crate) loss_of_tracking: u32,
     /// |speed| (2^-32 turn per sample) above this: loss of tracking (a quarter turn).
     pub(crate) max_speed: u32,
+}
+
+impl MonitorLimits for FixedThresholds {
+    type Amplitude2 = u32;
+    type Error = u32;
+    type Speed = u32;
+    type InPhase = i32;
+
+    /// The band as its lower edge and width (`high >= low`, by construction); false lock
+    /// at a negative in-phase component (an error beyond a quarter turn).
+    #[inline(always)]
+    fn limits(&self) -> Limits<u32, u32, u32, i32> {
+        Limits {
+            loss_of_signal: self.loss_of_signal,
+            degradation_low: self.degradation_low,
+            degradation_high: self.degradation_high,
+            band: (
+                self.degradation_low,
+                self.degradation_high - self.degradation_low,
+            ),
+            loss_of_tracking: self.loss_of_tracking,
+            max_speed: self.max_speed,
+            false_lock: 0,
+        }
+    }
+}
+
+/// The band as its lower edge and width: `a - low <= width` in unsigned wrapping
+/// arithmetic (an amplitude below `low` wraps above the width).
+impl AmplitudeMeasure for u32 {
+    #[inline(always)]
+    fn in_band(self, (low, width): (u32, u32)) -> bool {
+        self.wrapping_sub(low) <= width
+    }
 }
 
 /// Half the square amplitude of a signal of `amplitude_counts`.

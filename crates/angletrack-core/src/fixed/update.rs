@@ -2,15 +2,19 @@
 //! recursion ([`step`]), the window that updates the amplitude's reciprocal and decides the
 //! monitor's flags, and the first sample.
 
-use super::binary_angle::{atan2, detect};
-use super::gains::FixedGains;
+use super::binary_angle::detect;
+use super::gains::{FixedGains, FixedThresholds};
 use super::multiply::{add_round_q16, add_wide, mul_q16};
 use super::state::{FixedEstimate, FixedState, FixedVector};
 use crate::faults::Faults;
+use crate::monitor::{Measures, MonitorLimits, MonitorWindow, WindowMeasures};
 use crate::real::sincos::Detection;
 use crate::recursion::Sample;
 use crate::recursion::{Arithmetic, step};
-use crate::wrap::{NoWrap, Wrap};
+use crate::wrap::{NoWrap, Wrap, crossed_turns, crosses_turn, re_acquired, sample_angle};
+
+/// What the fixed-point monitor decides a window from ([`WindowMeasures`] in its integers).
+type FixedMeasures = Measures<FixedThresholds>;
 
 /// The smallest value of the reciprocal `2^27 / amplitude`: amplitudes up to 65536 counts,
 /// above any `i16` signal's `32768 sqrt(2)`.
@@ -164,17 +168,6 @@ impl<const N: usize> Arithmetic<SineTable, N> for FixedGains<N> {
     }
 }
 
-/// The whole turns (-1, 0 or 1) crossed from binary angle `from` to `to` by the shortest way.
-#[inline(always)]
-fn crossed_turns(from: i32, to: i32) -> i32 {
-    let change = to.wrapping_sub(from);
-    match from.checked_add(change) {
-        Some(_) => 0,
-        None if change > 0 => 1,
-        None => -1,
-    }
-}
-
 /// Counts the turn the predicted angle crossed from `from` to the state's (out of line:
 /// rare).
 #[cold]
@@ -182,25 +175,36 @@ fn crossed_turns(from: i32, to: i32) -> i32 {
 fn count_turn<const N: usize>(state: &mut FixedState<N>, from: i32) {
     state.turns = state
         .turns
-        .wrapping_add(i64::from(crossed_turns(from, state.next_angle)));
+        .wrapping_add(i64::from(crossed_turns::<i16>(from, state.next_angle)));
 }
 
 /// The whole turns of the estimate's angle: those of the predicted angle (which the state
 /// counts) and the turn between the two, if any.
 fn turns_of_estimate<const N: usize>(state: &FixedState<N>) -> i64 {
-    state
-        .turns
-        .wrapping_add(i64::from(crossed_turns(state.next_angle, state.x.angle)))
+    state.turns.wrapping_add(i64::from(crossed_turns::<i16>(
+        state.next_angle,
+        state.x.angle,
+    )))
 }
 
-/// Sets the estimate's angle to `angle` by the shortest way (a re-acquisition), and its
-/// prediction, keeping the turns continuous.
-fn set_angle<const N: usize>(state: &mut FixedState<N>, angle: i32, next_angle: i32) {
-    let turns =
-        turns_of_estimate(state).wrapping_add(i64::from(crossed_turns(state.x.angle, angle)));
-    state.x.angle = angle;
-    state.next_angle = next_angle;
-    state.turns = turns.wrapping_add(i64::from(crossed_turns(angle, next_angle)));
+/// The fixed-point window: the sum of `|eps|` (Q15), counted down from [`MONITOR_WINDOW`]
+/// (or from 1 by `FixedState::new`: at least 1 before each sample).
+impl<const N: usize> MonitorWindow for FixedState<N> {
+    /// `eps` (Q15).
+    type Term = i32;
+
+    /// At most MONITOR_WINDOW 2^15 = 2^20, no overflow. `eps ^ (eps >> 31)` is `|eps|` less
+    /// one for a negative `eps` (one instruction): a window's sum is within MONITOR_WINDOW
+    /// units of the sum of `|eps|`, 0.03 % of the threshold.
+    #[inline(always)]
+    fn add(&mut self, eps: i32) {
+        self.error_sum += (eps ^ (eps >> 31)) as u32;
+    }
+
+    #[inline(always)]
+    fn remaining(&mut self) -> &mut u32 {
+        &mut self.window_left
+    }
 }
 
 impl<const N: usize> FixedGains<N> {
@@ -277,20 +281,11 @@ impl<const N: usize> FixedGains<N> {
         // its change (the shortest way: below half a turn per sample); rare, so the 64-bit
         // count is read and written only then. Counted on the predicted angle, already in a
         // register; the estimate's angle is within half a turn of it (`turns_of_estimate`).
-        if from
-            .checked_add(state.next_angle.wrapping_sub(from))
-            .is_none()
-        {
+        if crosses_turn::<i16>(from, state.next_angle) {
             count_turn(state, from);
         }
         state.phase_error = step.eps;
-        // At most MONITOR_WINDOW 2^15 = 2^20, no overflow. `eps ^ (eps >> 31)` is `|eps|`
-        // less one for a negative `eps` (one instruction): a window's sum is within
-        // MONITOR_WINDOW units of the sum of `|eps|`, 0.03 % of the threshold.
-        state.error_sum += (step.eps ^ (step.eps >> 31)) as u32;
-        // At least 1 here: set to MONITOR_WINDOW (or 1 by `FixedState::new`) when it reaches 0.
-        state.window_left = state.window_left.wrapping_sub(1);
-        if state.window_left == 0 {
+        if state.accumulate(step.eps) {
             self.end_window(state);
         }
     }
@@ -300,12 +295,6 @@ impl<const N: usize> FixedGains<N> {
         (i32::from(state.sample[0]), i32::from(state.sample[1]))
     }
 
-    /// The angle of the last sample: `atan2(y_s, y_c)`.
-    fn sample_angle(state: &FixedState<N>) -> i32 {
-        let (y_c, y_s) = Self::last_sample(state);
-        atan2(y_s, y_c)
-    }
-
     /// Half the last sample's square amplitude, `(y_c^2 + y_s^2) / 2`: at most 2^30.
     fn amplitude2_half(state: &FixedState<N>) -> i32 {
         let (y_c, y_s) = Self::last_sample(state);
@@ -313,95 +302,94 @@ impl<const N: usize> FixedGains<N> {
         (((y_c * y_c) as u32).wrapping_add((y_s * y_s) as u32) >> 1) as i32
     }
 
-    /// The in-phase component of the last sample at its estimated angle: its sign tells a
-    /// false lock (the estimate more than a quarter turn off).
-    fn last_in_phase(state: &FixedState<N>) -> i32 {
-        let (y_c, y_s) = Self::last_sample(state);
-        detect(state.x.angle, y_c, y_s).1
-    }
-
     /// A window's end (out of line: once per window): half a Newton step of the reciprocal
     /// toward the amplitude of the window's last sample (half: the sample's noise is
-    /// averaged over a few windows), then, for a healthy window, the flags cleared;
-    /// otherwise ([`FixedGains::end_window_with_fault`]) the first sample's
-    /// initialisation, or with the monitor on the flags, latched, and the re-acquisition
-    /// after a false lock: loss of signal and degradation from that amplitude, loss of
-    /// tracking from the window's mean `|eps|` and the speed, false lock from the sign of
-    /// the last in-phase component, with the float monitor's default thresholds.
+    /// averaged over a few windows), then the monitor's decision ([`MonitorLimits`], the
+    /// floats' own) on that amplitude, the window's sum of `|eps|`, the speed and the last
+    /// sample's in-phase component at its estimated angle; a healthy window clears the
+    /// flags, any other ([`FixedGains::end_window_with_fault`]) is the first sample's, or
+    /// one with a fault.
+    ///
+    /// [`MonitorLimits`]: crate::monitor::MonitorLimits
     #[inline(never)]
     fn end_window(&self, state: &mut FixedState<N>) {
         let amplitude2 = Self::amplitude2_half(state);
         // Between r and the Newton step's result, both in range: in range.
         let r = state.reciprocal;
         state.reciprocal = r + ((track_reciprocal(r, amplitude2) - r) >> 1);
-        let t = &self.monitor;
-        // The predicted speed: within one sample's change of the corrected one, far below
-        // the quarter turn per sample the check is for.
-        let speed = state.x.speed;
-        // Loss of signal is below the degradation band: in the band, neither. The first
-        // window's error sum starts at 2^31 (`FixedState::new`), above every threshold, so
-        // that it is not taken for healthy; an unmonitored observer's thresholds pass every
-        // window but a false lock and the first.
-        let amplitude2 = amplitude2 as u32;
-        let healthy = amplitude2.wrapping_sub(t.degradation_low)
-            <= t.degradation_high - t.degradation_low
-            && state.error_sum <= t.loss_of_tracking
-            && speed.unsigned_abs() <= t.max_speed
-            && Self::last_in_phase(state) >= 0;
-        if healthy {
+        let measures = Self::measures(state, amplitude2 as u32);
+        if self.monitor.healthy(&measures) {
             state.faults = Faults::NONE;
         } else {
-            self.end_window_with_fault(state, amplitude2, speed);
+            self.end_window_with_fault(state, amplitude2 as u32);
         }
         state.error_sum = 0;
         state.window_left = MONITOR_WINDOW;
     }
 
-    /// The window's end that [`FixedGains::end_window`] did not find healthy: the first
-    /// sample's, or one with a fault (out of line: rare).
+    /// What the monitor decides the window from: half the last sample's square amplitude
+    /// `amplitude2`, the window's sum of `|eps|`, the speed and the last sample's in-phase
+    /// component at its estimated angle.
+    #[inline(always)]
+    fn measures(state: &FixedState<N>, amplitude2: u32) -> FixedMeasures {
+        let (y_c, y_s) = Self::last_sample(state);
+        WindowMeasures {
+            amplitude2,
+            // The first window's error sum starts at 2^31 (`FixedState::new`), above every
+            // threshold, so that it is not taken for healthy.
+            error: state.error_sum,
+            // The predicted speed: within one sample's change of the corrected one, far
+            // below the quarter turn per sample the check is for.
+            speed: state.x.speed.unsigned_abs(),
+            // Its sign tells a false lock (the estimate more than a quarter turn off).
+            in_phase: detect(state.x.angle, y_c, y_s).1,
+        }
+    }
+
+    /// The window's end that [`FixedGains::end_window`] did not find healthy, of half a
+    /// square amplitude `amplitude2`: the first sample's, or one with a fault, whose flags
+    /// are held and latched, and after a false lock the angle re-acquired from the last
+    /// sample, keeping the speed (out of line: rare).
     #[cold]
     #[inline(never)]
-    fn end_window_with_fault(&self, state: &mut FixedState<N>, amplitude2: u32, speed: i32) {
+    fn end_window_with_fault(&self, state: &mut FixedState<N>, amplitude2: u32) {
         if !state.initialised {
             self.initialise(state);
             return;
         }
-        let t = &self.monitor;
-        if !t.enabled {
+        if !self.monitor.enabled {
             return;
         }
-        let signal_lost = amplitude2 < t.loss_of_signal;
-        let false_lock = !signal_lost && Self::last_in_phase(state) < 0;
-        let faults = Faults::when(signal_lost, Faults::LOSS_OF_SIGNAL)
-            | Faults::when(
-                amplitude2 < t.degradation_low || amplitude2 > t.degradation_high,
-                Faults::DEGRADATION_OF_SIGNAL,
-            )
-            | Faults::when(
-                state.error_sum > t.loss_of_tracking || speed.unsigned_abs() > t.max_speed,
-                Faults::LOSS_OF_TRACKING,
-            )
-            | Faults::when(false_lock, Faults::FALSE_LOCK);
-        state.faults = faults;
-        state.latched |= faults;
-        if false_lock {
-            let angle = Self::sample_angle(state);
+        let measures = Self::measures(state, amplitude2);
+        if self
+            .monitor
+            .decide_window(&measures, &mut state.faults, &mut state.latched)
+        {
+            let [y_c, y_s] = state.sample;
+            let (angle, whole) = re_acquired::<i16>(state.x.angle, y_c, y_s);
+            let turns = turns_of_estimate(state).wrapping_add(i64::from(whole));
             let speed = Self::corrected_speed(&state.x);
             let next_angle = Self::next_angle(&FixedVector {
                 angle,
                 speed,
                 ..state.x
             });
-            set_angle(state, angle, next_angle);
+            state.x.angle = angle;
+            state.next_angle = next_angle;
+            // The state counts the turns of the predicted angle.
+            state.turns = turns.wrapping_add(i64::from(crossed_turns::<i16>(angle, next_angle)));
         }
     }
 
-    /// The first sample: the angle from `atan2`, speed and acceleration 0, the reciprocal
-    /// converged on the sample's amplitude, the first full window started.
+    /// The first sample: the angle from `atan2` ([`sample_angle`], the floats' own), speed
+    /// and acceleration 0, the reciprocal converged on the sample's amplitude, the first
+    /// full window started.
     #[cold]
     #[inline(never)]
     fn initialise(&self, state: &mut FixedState<N>) {
-        let angle = Self::sample_angle(state);
+        let [y_c, y_s] = state.sample;
+        // Every integer sample has an angle (that of (0, 0) is 0), within one turn.
+        let angle = sample_angle(y_c, y_s).map_or(0, |(angle, _)| angle);
         let amplitude2 = Self::amplitude2_half(state);
         let latched = state.latched;
         *state = FixedState::new();

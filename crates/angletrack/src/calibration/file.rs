@@ -9,7 +9,9 @@
 //!   it came from). A bare object of the five fields is read too (a file written by hand).
 //! * `angletrack-calibration` ([`CaptureCalibration`], written by `angletrack calibrate`):
 //!   `sensor` (the five parameters in [`SensorCalibration::new`]'s order), `cos` and `sin`
-//!   (the [`AngleCorrection`]'s coefficients, 8 each) and what the learning saw.
+//!   (the [`AngleCorrection`]'s coefficients, 8 each) and what the learning saw: `method`
+//!   and `orders` (each order's `amplitude_rad`, `uncertainty_rad` and `status`), which a
+//!   file written before them lacks (read as unknown).
 //!
 //! Numbers are written as the shortest decimal of their `f64` and read back exactly; a
 //! value that is not finite is written `null` (and read back as NaN) where NaN is allowed.
@@ -38,7 +40,7 @@ use std::path::Path;
 use angletrack_core::{AngleCorrection, MAX_CORRECTION_ORDER, SensorCalibration};
 use serde_json::{Map, Value};
 
-use super::CaptureCalibration;
+use super::{CalibrationMethod, CaptureCalibration, OrderQuality, OrderStatus, SPECTRUM_ORDERS};
 
 /// The `format` of a file of [`SensorCalibrationRecord`].
 pub const SENSOR_CALIBRATION_FORMAT: &str = "angletrack-sensor-calibration";
@@ -70,6 +72,8 @@ pub struct SensorCalibrationRecord {
 
 /// A calibration file of either kind, as [`CalibrationFile::from_json`] tells them apart.
 #[derive(Debug, Clone, PartialEq)]
+// A file is read once per run: its size does not matter, and its variants stay plain values.
+#[allow(clippy::large_enum_variant)]
 pub enum CalibrationFile {
     /// Offsets, imbalance and quadrature (`angletrack track --calibrate`).
     Sensor(SensorCalibrationRecord),
@@ -195,6 +199,20 @@ impl CaptureCalibration {
                 .collect();
             format!("[\n{}\n  ]", items.join(",\n"))
         };
+        let orders: Vec<String> = self
+            .orders
+            .iter()
+            .enumerate()
+            .map(|(i, q)| {
+                format!(
+                    "    {{\"order\": {}, \"amplitude_rad\": {}, \"uncertainty_rad\": {}, \"status\": {}}}",
+                    i + 1,
+                    number(q.amplitude_rad),
+                    number(q.uncertainty_rad),
+                    Value::from(q.status.name())
+                )
+            })
+            .collect();
         let members = [
             format!("  \"format\": \"{ANGLE_CALIBRATION_FORMAT}\""),
             format!("  \"version\": {CALIBRATION_FILE_VERSION}"),
@@ -205,6 +223,9 @@ impl CaptureCalibration {
             format!("  \"turns\": {}", number(self.turns)),
             format!("  \"error_rms_rad\": {}", number(self.error_rms_rad)),
             format!("  \"residual_rms_rad\": {}", number(self.residual_rms_rad)),
+            format!("  \"method\": {}", Value::from(self.method.name())),
+            format!("  \"orders\": [\n{}\n  ]", orders.join(",\n")),
+            format!("  \"warnings\": {}", Value::from(self.warnings())),
         ];
         format!("{{\n{}\n}}\n", members.join(",\n"))
     }
@@ -335,7 +356,51 @@ impl<'a> Document<'a> {
             turns: self.optional_number("turns")?,
             error_rms_rad: self.optional_number("error_rms_rad")?,
             residual_rms_rad: self.optional_number("residual_rms_rad")?,
+            method: match self.object.get("method") {
+                None | Some(Value::Null) => CalibrationMethod::Unknown,
+                Some(Value::String(name)) => CalibrationMethod::from_name(name),
+                Some(v) => return Err(self.error("method", format!("must be a string, got {v}"))),
+            },
+            orders: self.orders()?,
         })
+    }
+
+    /// The `orders` list (every order unknown when it is missing, as in older files).
+    fn orders(&self) -> Result<[OrderQuality; SPECTRUM_ORDERS], CalibrationFileError> {
+        let mut orders = [OrderQuality::UNKNOWN; SPECTRUM_ORDERS];
+        let list = match self.object.get("orders") {
+            None | Some(Value::Null) => return Ok(orders),
+            Some(Value::Array(list)) => list,
+            Some(v) => return Err(self.error("orders", format!("must be a list, got {v}"))),
+        };
+        for item in list {
+            let refused = || {
+                self.error(
+                    "orders",
+                    format!("each must be {{\"order\": 1..={SPECTRUM_ORDERS}, \"amplitude_rad\", \"uncertainty_rad\", \"status\"}}, got {item}"),
+                )
+            };
+            let order = item
+                .get("order")
+                .and_then(Value::as_u64)
+                .ok_or_else(refused)? as usize;
+            let slot = order
+                .checked_sub(1)
+                .and_then(|i| orders.get_mut(i))
+                .ok_or_else(refused)?;
+            let number = |key: &str| match item.get(key) {
+                None | Some(Value::Null) => Ok(f64::NAN),
+                Some(v) => v.as_f64().ok_or_else(refused),
+            };
+            *slot = OrderQuality {
+                amplitude_rad: number("amplitude_rad")?,
+                uncertainty_rad: number("uncertainty_rad")?,
+                status: OrderStatus::from_name(
+                    item.get("status").and_then(Value::as_str).unwrap_or(""),
+                ),
+            };
+        }
+        Ok(orders)
     }
 
     /// The list of `N` numbers under `field`.

@@ -60,7 +60,8 @@ impl Float {
     }
 
     /// The float type of the samples `obj`: the dtype of a numpy array (float32 or float64;
-    /// float64 for raw ADC counts, int16, uint16 or int32, which it holds exactly;
+    /// float64 for raw ADC counts, int16, uint16, int32 or int64 (range-checked), which it
+    /// holds exactly;
     /// `TypeError` otherwise), float64 for anything else (a list is converted as float64).
     pub fn of_samples(obj: &Bound<'_, PyAny>, parameter: &'static str) -> Result<Self> {
         match obj.cast::<PyUntypedArray>() {
@@ -73,8 +74,8 @@ impl Float {
                     parameter,
                     given: format!("an array of dtype {descr}"),
                     expected:
-                        "an array of dtype float32 or float64 (or raw ADC counts: int16, uint16 or \
-                               int32)"
+                        "an array of dtype float32 or float64 (or raw ADC counts: int16, uint16, int32 or \
+                               int64)"
                             .into(),
                 })
             }
@@ -267,4 +268,47 @@ pub(crate) fn read_only<'py, E: Element>(
             format!("cannot be read while it is being written ({e})"),
         )
     })
+}
+
+/// A whole-number argument as given (a Python int or a numpy integer, e.g. numpy's default
+/// int64; anything else kept for the message), checked where the argument's name is known
+/// ([`Count::at_least`]): pyo3's own refusals (an `OverflowError` for `-1`) name no argument.
+#[derive(Debug, Clone)]
+pub enum Count {
+    /// The value.
+    Whole(i128),
+    /// Not a whole number: what was given.
+    Other(String),
+}
+
+impl Count {
+    /// The count, at least `min`, or a `ConfigError` naming `parameter`.
+    pub fn at_least(&self, parameter: &'static str, min: usize) -> Result<usize> {
+        match *self {
+            Count::Whole(n) if n >= min as i128 && n <= usize::MAX as i128 => Ok(n as usize),
+            Count::Whole(n) => Err(Error::value(
+                parameter,
+                format!("{n}: expected a whole number of at least {min}"),
+            )),
+            Count::Other(ref given) => Err(Error::value(
+                parameter,
+                format!("expected a whole number, got {given}"),
+            )),
+        }
+    }
+}
+
+impl<'a, 'py> FromPyObject<'a, 'py> for Count {
+    type Error = PyErr;
+
+    fn extract(obj: pyo3::Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        let whole = (!obj.is_instance_of::<pyo3::types::PyBool>())
+            .then(|| obj.call_method0("__index__").ok())
+            .flatten()
+            .and_then(|i| i.extract::<i128>().ok());
+        Ok(match whole {
+            Some(n) => Count::Whole(n),
+            None => Count::Other(crate::gains::type_name(&obj)),
+        })
+    }
 }

@@ -104,10 +104,11 @@ impl PyObserverBatch {
     #[pyo3(signature = (gains, channels, *, dtype = None, sin_cos = None))]
     fn py_new(
         gains: PyGains,
-        channels: usize,
+        channels: crate::arrays::Count,
         dtype: Option<&Bound<'_, PyAny>>,
         sin_cos: Option<&str>,
     ) -> Result<PyClassInitializer<Self>> {
+        let channels = channels.at_least("channels", 1)?;
         RunSettings::from_arguments(gains, dtype, sin_cos)?.subclass(|gains| {
             let inner = gains.batch(channels)?;
             Ok(Self { channels, inner })

@@ -7,12 +7,13 @@ use std::sync::Mutex;
 
 use angletrack::capture::{
     Capture as CoreCapture, CaptureChunk, CaptureOptions, CaptureReader as CoreReader, ColumnMap,
-    Delimiter, Role, TimeUnit, read_capture as core_read_capture,
+    DecimalMark, Delimiter, Role, TimeUnit, read_capture as core_read_capture,
 };
 use numpy::{PyArray1, ToPyArray};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 
+use crate::arrays::Count;
 use crate::errors::{Error, Result};
 
 /// The column mapping of a `columns` argument: `"y_c=cos,y_s=sin"` or a dict
@@ -47,18 +48,39 @@ fn strip(message: &str) -> String {
         .to_string()
 }
 
+/// The Python arguments of the text layout: `delimiter`, `decimal` (`.` or `,`; `None`:
+/// sniffed) and `skip_rows` (lines before the header).
+#[derive(Debug, Clone, Copy)]
+struct Layout<'a> {
+    delimiter: Option<&'a str>,
+    decimal: Option<&'a str>,
+    skip_rows: u64,
+}
+
 /// The reader's options from the Python arguments.
 fn options(
     columns: Option<&Bound<'_, PyAny>>,
-    delimiter: Option<&str>,
+    layout: Layout<'_>,
     time_unit: &str,
     sample_rate_hz: Option<f64>,
     chunk_rows: usize,
 ) -> Result<CaptureOptions> {
-    let delimiter = delimiter
+    let delimiter = layout
+        .delimiter
         .map(Delimiter::parse)
         .transpose()
         .map_err(|m| Error::value("delimiter", m.trim_start_matches("delimiter: ")))?;
+    let decimal = layout
+        .decimal
+        .map(DecimalMark::parse)
+        .transpose()
+        .map_err(|m| Error::value("decimal", m.trim_start_matches("decimal: ")))?;
+    if decimal == Some(DecimalMark::Comma) && delimiter == Some(Delimiter::Byte(b',')) {
+        return Err(Error::value(
+            "decimal",
+            "',' with the delimiter ',': the fields could not be told apart",
+        ));
+    }
     let time_unit: TimeUnit = time_unit
         .parse()
         .map_err(|m: String| Error::value("time_unit", m.trim_start_matches("time_unit: ")))?;
@@ -76,6 +98,8 @@ fn options(
     Ok(CaptureOptions {
         columns: column_map(columns)?,
         delimiter,
+        decimal,
+        skip_rows: layout.skip_rows,
         time_unit,
         sample_rate_hz,
         chunk_rows,
@@ -139,9 +163,13 @@ impl PyCaptureChunk {
 ///
 /// `columns`: `"y_c=cos,y_s=sin,time=t,reference=ref"` or a dict; each value a header name,
 /// else a 0-based index; roles left out get their usual names (`time`/`t`, `y_c`/`cos`,
-/// `y_s`/`sin`, `reference`/`theta`). `delimiter`: one character, `"tab"` or
-/// `"whitespace"` (default: sniffed). `time_unit`: `s`, `ms`, `us` or `ns`.
-/// `sample_rate_hz`: the true rate, which skips the time column's spacing check. Raises
+/// `y_s`/`sin`, `reference`/`theta`); `time="-"` ignores a time column. `delimiter`: one
+/// character, `"tab"` or `"whitespace"` (default: sniffed). `decimal`: `"."` or `","`
+/// (default: sniffed, `,` for numbers such as `0,5` beside another delimiter).
+/// `skip_rows`: lines before the header (an instrument's metadata; lines of another width
+/// than the data are skipped anyway). UTF-8, Latin-1 and UTF-16 (with its byte-order mark)
+/// text is decoded. `time_unit`: `s`, `ms`, `us` or `ns`. `sample_rate_hz`: the true rate,
+/// which skips the time column's spacing check (rounded, repeated stamps pass). Raises
 /// `CaptureError` (file, line, column) on malformed input.
 #[pyclass(name = "CaptureReader", module = "angletrack")]
 #[derive(Debug)]
@@ -161,16 +189,25 @@ impl PyCaptureReader {
 #[pymethods]
 impl PyCaptureReader {
     #[new]
-    #[pyo3(signature = (path, *, columns = None, delimiter = None, time_unit = "s", sample_rate_hz = None, chunk_rows = 65536))]
+    #[pyo3(signature = (path, *, columns = None, delimiter = None, decimal = None, skip_rows = Count::Whole(0), time_unit = "s", sample_rate_hz = None, chunk_rows = Count::Whole(65536)), text_signature = "(path, *, columns=None, delimiter=None, decimal=None, skip_rows=0, time_unit='s', sample_rate_hz=None, chunk_rows=65536)")]
+    #[allow(clippy::too_many_arguments)]
     fn py_new(
         path: PathBuf,
         columns: Option<&Bound<'_, PyAny>>,
         delimiter: Option<&str>,
+        decimal: Option<&str>,
+        skip_rows: Count,
         time_unit: &str,
         sample_rate_hz: Option<f64>,
-        chunk_rows: usize,
+        chunk_rows: Count,
     ) -> Result<Self> {
-        let options = options(columns, delimiter, time_unit, sample_rate_hz, chunk_rows)?;
+        let layout = Layout {
+            delimiter,
+            decimal,
+            skip_rows: skip_rows.at_least("skip_rows", 0)? as u64,
+        };
+        let chunk_rows = chunk_rows.at_least("chunk_rows", 2)?;
+        let options = options(columns, layout, time_unit, sample_rate_hz, chunk_rows)?;
         Ok(Self {
             reader: Mutex::new(CoreReader::open(path, options)?),
         })
@@ -279,16 +316,24 @@ impl PyCapture {
 
 /// Reads a whole capture (see `CaptureReader` for the arguments and the checks).
 #[pyfunction]
-#[pyo3(signature = (path, *, columns = None, delimiter = None, time_unit = "s", sample_rate_hz = None))]
+#[pyo3(signature = (path, *, columns = None, delimiter = None, decimal = None, skip_rows = Count::Whole(0), time_unit = "s", sample_rate_hz = None), text_signature = "(path, *, columns=None, delimiter=None, decimal=None, skip_rows=0, time_unit='s', sample_rate_hz=None)")]
+#[allow(clippy::too_many_arguments)]
 pub fn read_capture(
     py: Python<'_>,
     path: PathBuf,
     columns: Option<&Bound<'_, PyAny>>,
     delimiter: Option<&str>,
+    decimal: Option<&str>,
+    skip_rows: Count,
     time_unit: &str,
     sample_rate_hz: Option<f64>,
 ) -> Result<PyCapture> {
-    let options = options(columns, delimiter, time_unit, sample_rate_hz, 1 << 16)?;
+    let layout = Layout {
+        delimiter,
+        decimal,
+        skip_rows: skip_rows.at_least("skip_rows", 0)? as u64,
+    };
+    let options = options(columns, layout, time_unit, sample_rate_hz, 1 << 16)?;
     let read_path = path.clone();
     let c: CoreCapture = py.detach(|| core_read_capture(read_path, options))?;
     let samples = c.samples;
@@ -306,6 +351,75 @@ pub fn read_capture(
     })
 }
 
+/// The `(name, path)` pairs of a dict `{name: path}` (paths as `str` or `os.PathLike`).
+fn named_paths(obj: &Bound<'_, PyAny>, parameter: &'static str) -> Result<Vec<(String, PathBuf)>> {
+    let dict = obj.cast::<PyDict>().map_err(|_| {
+        Error::value(
+            parameter,
+            format!(
+                "expected a dict {{name: path}}, got {}",
+                crate::gains::type_name(obj)
+            ),
+        )
+    })?;
+    dict.iter()
+        .map(|(name, path)| {
+            let path = path.extract::<PathBuf>().map_err(|_| {
+                Error::value(
+                    parameter,
+                    format!(
+                        "{name}: expected a path, got {}",
+                        crate::gains::type_name(&path)
+                    ),
+                )
+            })?;
+            Ok((name.str()?.to_string(), path))
+        })
+        .collect()
+}
+
+/// Refuses an output that is (through symbolic links, `..` or hard links) one of the
+/// inputs or another output, before anything is written (`angletrack::capture::check_outputs`).
+/// `outputs` and `inputs` are dicts `{name: path}`, the names as the user knows the files
+/// (`"--output"`, `"capture"`); `None` paths are left out. Raises `CaptureError` naming both.
+#[pyfunction]
+#[pyo3(signature = (outputs, inputs))]
+pub fn check_outputs(outputs: &Bound<'_, PyAny>, inputs: &Bound<'_, PyAny>) -> Result<()> {
+    let outputs = named_paths(outputs, "outputs")?;
+    let inputs = named_paths(inputs, "inputs")?;
+    let o: Vec<_> = outputs
+        .iter()
+        .map(|(n, p)| (n.as_str(), p.as_path()))
+        .collect();
+    let i: Vec<_> = inputs
+        .iter()
+        .map(|(n, p)| (n.as_str(), p.as_path()))
+        .collect();
+    Ok(angletrack::capture::check_outputs(&o, &i)?)
+}
+
+/// Writes `data` (`bytes`, or `str` as UTF-8) to `path` all or nothing: to a temporary
+/// file beside it, renamed over it when complete (`angletrack::capture::write_output`).
+#[pyfunction]
+#[pyo3(signature = (path, data))]
+pub fn write_output(py: Python<'_>, path: PathBuf, data: &Bound<'_, PyAny>) -> Result<()> {
+    let bytes: Vec<u8> = if let Ok(text) = data.cast::<PyString>() {
+        text.to_cow()?.into_owned().into_bytes()
+    } else {
+        data.extract::<Vec<u8>>().map_err(|_| {
+            Error::value(
+                "data",
+                format!(
+                    "expected bytes or str, got {}",
+                    crate::gains::type_name(data)
+                ),
+            )
+        })?
+    };
+    py.detach(|| angletrack::capture::write_output(&path, &bytes))?;
+    Ok(())
+}
+
 /// Registers the capture functions and classes in the module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add(
@@ -316,6 +430,9 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyCaptureChunk>()?;
     m.add_class::<PyCapture>()?;
     m.add_function(wrap_pyfunction!(read_capture, m)?)?;
+    m.add_function(wrap_pyfunction!(check_outputs, m)?)?;
+    m.add_function(wrap_pyfunction!(write_output, m)?)?;
     m.add_class::<crate::writer::PyEstimatesWriter>()?;
+    m.add_class::<crate::writer::PyOutputFile>()?;
     Ok(())
 }

@@ -1,5 +1,9 @@
-//! Raw ADC counts as an observer's input: integer numpy arrays (int16, uint16, int32)
-//! converted through the core's `AdcScaling`, with no conversion by the caller.
+//! Raw ADC counts as an observer's input: integer numpy arrays (int16, uint16, int32, and
+//! numpy's default int64, range-checked) converted through the core's `AdcScaling`, with no
+//! conversion by the caller. int64 counts follow the rule `angletrack track` applies to a
+//! capture of whole numbers: with a negative count they are signed (as int32), else
+//! unsigned, centred on the offset-binary mid-scale (as uint16, up to 65535; above, the
+//! mid-scale must be stated).
 //!
 //! The rule (the same for `track` and `Observer.update`, and `angletrack track` takes it for a
 //! capture of non-negative whole counts) is `angletrack::CountsInput`'s: the counts minus a
@@ -25,6 +29,8 @@ pub enum Counts {
     U16,
     /// `numpy.int32`.
     I32,
+    /// `numpy.int64` (numpy's default integer), converted to one of the others.
+    I64,
 }
 
 impl Counts {
@@ -37,6 +43,8 @@ impl Counts {
             Some(Counts::U16)
         } else if descr.is_equiv_to(&dtype::<i32>(py)) {
             Some(Counts::I32)
+        } else if descr.is_equiv_to(&dtype::<i64>(py)) {
+            Some(Counts::I64)
         } else {
             None
         }
@@ -72,6 +80,7 @@ pub fn adc_settings(
 #[derive(Debug, Clone, Copy)]
 pub struct AdcInput<T> {
     input: CountsInput<T>,
+    mid_scale_stated: bool,
 }
 
 /// The ADC range argument `adc_range` checked: two finite numbers, the first below the
@@ -105,6 +114,7 @@ impl<T: Sample> AdcInput<T> {
     pub fn new(settings: CountsSettings) -> Self {
         Self {
             input: CountsInput::new(settings),
+            mid_scale_stated: settings.mid_scale().is_some(),
         }
     }
 
@@ -124,6 +134,7 @@ impl<T: Sample> AdcInput<T> {
                 Counts::I16 => self.convert::<i16>(&c, &s),
                 Counts::U16 => self.convert::<u16>(&c, &s),
                 Counts::I32 => self.convert::<i32>(&c, &s),
+                Counts::I64 => self.convert_i64(&c, &s),
             },
             other => {
                 // `y_c`'s own shape first, as for floats.
@@ -131,6 +142,7 @@ impl<T: Sample> AdcInput<T> {
                     Counts::I16 => counts::<i16>(&c, "y_c").map(drop),
                     Counts::U16 => counts::<u16>(&c, "y_c").map(drop),
                     Counts::I32 => counts::<i32>(&c, "y_c").map(drop),
+                    Counts::I64 => counts::<i64>(&c, "y_c").map(drop),
                 }?;
                 if let Ok(array) = y_s.cast::<PyUntypedArray>()
                     && array.ndim() != 1
@@ -152,6 +164,28 @@ impl<T: Sample> AdcInput<T> {
         }
     }
 
+    /// int64 counts as int32 (signed, or with the mid-scale stated or decided) or uint16
+    /// (non-negative, centred by the offset-binary rule), each checked against its range.
+    fn convert_i64<'py>(
+        &mut self,
+        y_c: &Bound<'py, PyUntypedArray>,
+        y_s: &Bound<'py, PyUntypedArray>,
+    ) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
+        let c = counts::<i64>(y_c, "y_c")?;
+        let s = counts::<i64>(y_s, "y_s")?;
+        let signed = self.mid_scale_stated
+            || self.input.decided().is_some()
+            || c.iter().chain(&s).any(|&v| v < 0);
+        let (c, s) = if signed {
+            let (c, s) = (narrowed::<i32>(&c, "y_c")?, narrowed::<i32>(&s, "y_s")?);
+            self.input.scale(&c, &s)?
+        } else {
+            let (c, s) = (narrowed::<u16>(&c, "y_c")?, narrowed::<u16>(&s, "y_s")?);
+            self.input.scale(&c, &s)?
+        };
+        Ok((Samples::Copied(c), Samples::Copied(s)))
+    }
+
     fn convert<'py, I: Count>(
         &mut self,
         y_c: &Bound<'py, PyUntypedArray>,
@@ -170,6 +204,7 @@ fn describe(counts: Option<Counts>) -> String {
         Some(Counts::I16) => "int16".into(),
         Some(Counts::U16) => "uint16".into(),
         Some(Counts::I32) => "int32".into(),
+        Some(Counts::I64) => "int64".into(),
         None => "another dtype".into(),
     }
 }
@@ -180,6 +215,29 @@ trait Count: AdcCount + Element + Copy {}
 impl Count for i16 {}
 impl Count for u16 {}
 impl Count for i32 {}
+
+/// `counts` (int64) as `I`, or a `ConfigError` naming `parameter` and the first count
+/// beyond `I`'s range.
+fn narrowed<I: TryFrom<i64>>(counts: &[i64], parameter: &'static str) -> Result<Vec<I>> {
+    counts
+        .iter()
+        .enumerate()
+        .map(|(k, &v)| {
+            I::try_from(v).map_err(|_| {
+                let range = if core::mem::size_of::<I>() == 2 {
+                    "0 to 65535 for unsigned counts without adc_mid_scale (state it for a wider \
+                     ADC)"
+                } else {
+                    "+-2^31 for signed counts"
+                };
+                Error::value(
+                    parameter,
+                    format!("int64 count {v} at index {k} is beyond {range}"),
+                )
+            })
+        })
+        .collect()
+}
 
 /// The largest count `offset_binary_mid_scale` takes: 2^53, below which every whole number
 /// is a float64.
@@ -239,7 +297,10 @@ pub fn fixed_input(y_c: &Bound<'_, PyAny>, y_s: &Bound<'_, PyAny>) -> Result<(i3
 }
 
 /// The counts of a 1-D, non-empty array of `I`, copied.
-fn counts<I: Count>(array: &Bound<'_, PyUntypedArray>, parameter: &'static str) -> Result<Vec<I>> {
+fn counts<I: Element + Copy>(
+    array: &Bound<'_, PyUntypedArray>,
+    parameter: &'static str,
+) -> Result<Vec<I>> {
     if array.ndim() != 1 || array.len() == 0 {
         return Err(Error::value(
             parameter,

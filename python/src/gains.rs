@@ -94,18 +94,96 @@ impl GainSet {
 /// `gains` are `(l1, l2)` (2nd order) or `(l1, l2, l3)` (3rd order), dimensionless, for the
 /// scaled state `(theta, Ts*Omega, Ts^2*alpha)`; `sample_period_s` is `Ts` in seconds.
 /// Raises `ConfigError` (parameter `gains`) naming the gain whose stability condition fails.
-#[pyclass(name = "Gains", module = "angletrack", frozen, eq, from_py_object)]
+#[pyclass(name = "Gains", module = "angletrack", frozen, eq)]
 #[derive(Debug, Clone, PartialEq)]
 pub struct PyGains {
     /// The checked gains.
     pub set: GainSet,
 }
 
+/// Every function takes its gains as the argument `gains`: anything but a `Gains` is a
+/// `TypeError` whose message starts with it (pyo3's own would not name it).
+impl<'a, 'py> FromPyObject<'a, 'py> for PyGains {
+    type Error = PyErr;
+
+    fn extract(obj: pyo3::Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        match obj.cast::<PyGains>() {
+            Ok(gains) => Ok(gains.get().clone()),
+            Err(_) => Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                "gains: expected an angletrack.Gains (e.g. Gains([0.06, 0.001], \
+                 sample_period_s=1e-4), or a design's .gains), got {}",
+                type_name(&obj)
+            ))),
+        }
+    }
+}
+
+/// `str 'abc'`: the type and the value of an argument, for a message.
+pub fn type_name(obj: &Bound<'_, PyAny>) -> String {
+    let name = obj
+        .get_type()
+        .name()
+        .map_or_else(|_| "?".to_string(), |n| n.to_string());
+    match obj.repr() {
+        Ok(r) => {
+            let r = r.to_string();
+            let short: String = r.chars().take(40).collect();
+            format!(
+                "{name} {short}{}",
+                if r.len() > short.len() { "..." } else { "" }
+            )
+        }
+        Err(_) => name,
+    }
+}
+
+/// The float of argument `parameter` (an int, a float or a numpy scalar), or a
+/// `ConfigError` naming it.
+pub fn real(obj: &Bound<'_, PyAny>, parameter: &'static str) -> Result<f64> {
+    obj.extract::<f64>().map_err(|_| {
+        Error::value(
+            parameter,
+            format!("expected a number, got {}", type_name(obj)),
+        )
+    })
+}
+
+/// The floats of the sequence argument `parameter`, or a `ConfigError` naming it and the
+/// element at fault.
+pub fn reals(obj: &Bound<'_, PyAny>, parameter: &'static str) -> Result<Vec<f64>> {
+    if obj.is_instance_of::<pyo3::types::PyString>() {
+        return Err(Error::value(
+            parameter,
+            format!("expected a sequence of numbers, got {}", type_name(obj)),
+        ));
+    }
+    let items = obj.try_iter().map_err(|_| {
+        Error::value(
+            parameter,
+            format!("expected a sequence of numbers, got {}", type_name(obj)),
+        )
+    })?;
+    items
+        .enumerate()
+        .map(|(i, item)| {
+            let item = item?;
+            item.extract::<f64>().map_err(|_| {
+                Error::value(
+                    parameter,
+                    format!("element {i} is not a number: {}", type_name(&item)),
+                )
+            })
+        })
+        .collect()
+}
+
 #[pymethods]
 impl PyGains {
     #[new]
     #[pyo3(signature = (gains, sample_period_s))]
-    fn py_new(gains: Vec<f64>, sample_period_s: f64) -> Result<Self> {
+    fn py_new(gains: &Bound<'_, PyAny>, sample_period_s: &Bound<'_, PyAny>) -> Result<Self> {
+        let gains = reals(gains, "gains")?;
+        let sample_period_s = real(sample_period_s, "sample_period_s")?;
         Ok(Self {
             set: GainSet::new(&gains, sample_period_s)?,
         })

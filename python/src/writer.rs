@@ -3,7 +3,9 @@
 
 use std::path::PathBuf;
 
-use angletrack::capture::{EstimateRows, EstimatesWriter as CoreWriter, OutputFloat};
+use angletrack::capture::{
+    EstimateRows, EstimatesWriter as CoreWriter, OutputFile as CoreOutputFile, OutputFloat,
+};
 use numpy::{Element, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 
@@ -13,10 +15,12 @@ use crate::estimates::Estimates;
 
 /// Writes estimates chunk by chunk in constant memory: `.npy` (a structured array with
 /// fields `time_s`, `angle_rad`, `position_rad`, `speed_rad_s`, `acceleration_rad_s2`,
-/// `phase_error`, `faults`) for a path ending in `.npy`, else CSV with a header line of
-/// those names, each number the shortest decimal that reads back to the same float of its
-/// type. `dtype` is the observer's (float32 or float64). Use as a context manager, or call
-/// `close()` (a `.npy` gets its record count then).
+/// `phase_error`, `faults`) for a path ending in `.npy`, `.npz` (one array per field) for
+/// `.npz`, CSV with a header line of those names for `.csv` (each number the shortest
+/// decimal that reads back to the same float of its type); another extension is refused.
+/// `dtype` is the observer's (float32 or float64). The rows go to a temporary file beside
+/// `path`, renamed to it by `close()` (or at the end of a `with` block; after an exception
+/// in the block the file is discarded and `path` left as it was).
 #[pyclass(name = "EstimatesWriter", module = "angletrack")]
 #[derive(Debug)]
 pub struct PyEstimatesWriter {
@@ -121,9 +125,86 @@ impl PyEstimatesWriter {
         slf
     }
 
-    #[pyo3(signature = (*_exc))]
-    fn __exit__(&mut self, _exc: &Bound<'_, pyo3::types::PyTuple>) -> Result<bool> {
-        self.close()?;
+    /// Closes the file; after an exception in the block, discards it instead (the target
+    /// is left as it was: a partial file never passes for the estimates of a capture).
+    #[pyo3(signature = (exc_type, _exc_value, _traceback))]
+    fn __exit__(
+        &mut self,
+        exc_type: &Bound<'_, PyAny>,
+        _exc_value: &Bound<'_, PyAny>,
+        _traceback: &Bound<'_, PyAny>,
+    ) -> Result<bool> {
+        if exc_type.is_none() {
+            self.close()?;
+        } else {
+            self.writer = None;
+        }
+        Ok(false)
+    }
+}
+
+/// An output written all or nothing: open `temporary_path` (beside `path`) and write it;
+/// leaving the `with` block renames it over `path`, or after an exception removes it and
+/// leaves `path` as it was (`angletrack::capture::OutputFile`). For files written by Python
+/// code (figures, text); `EstimatesWriter` does the same itself.
+#[pyclass(name = "OutputFile", module = "angletrack")]
+#[derive(Debug)]
+pub struct PyOutputFile {
+    output: Option<CoreOutputFile>,
+    temporary: PathBuf,
+}
+
+#[pymethods]
+impl PyOutputFile {
+    #[new]
+    #[pyo3(signature = (path))]
+    fn py_new(path: PathBuf) -> Result<Self> {
+        let output = CoreOutputFile::create(&path)?;
+        let temporary = output.temporary().to_path_buf();
+        Ok(Self {
+            output: Some(output),
+            temporary,
+        })
+    }
+
+    /// The temporary file to write, beside the target.
+    #[getter]
+    fn temporary_path(&self) -> PathBuf {
+        self.temporary.clone()
+    }
+
+    /// Renames the temporary file over the target.
+    fn commit(&mut self) -> Result<()> {
+        match self.output.take() {
+            Some(o) => Ok(o.commit()?),
+            None => Err(Error::value(
+                "OutputFile",
+                "is committed or discarded already",
+            )),
+        }
+    }
+
+    /// Removes the temporary file; the target stays as it was.
+    fn discard(&mut self) {
+        self.output = None;
+    }
+
+    fn __enter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
+        slf
+    }
+
+    #[pyo3(signature = (exc_type, _exc_value, _traceback))]
+    fn __exit__(
+        &mut self,
+        exc_type: &Bound<'_, PyAny>,
+        _exc_value: &Bound<'_, PyAny>,
+        _traceback: &Bound<'_, PyAny>,
+    ) -> Result<bool> {
+        if exc_type.is_none() && self.output.is_some() {
+            self.commit()?;
+        } else {
+            self.discard();
+        }
         Ok(false)
     }
 }

@@ -144,7 +144,7 @@ def test_integer_arguments_are_checked_naming_them():
     c = np.array([1800, 0, -1800], dtype=np.int16)
     with pytest.raises(TypeError, match="y_s"):
         at.track(gains, c, c.astype(np.float64))
-    with pytest.raises(TypeError, match="int16, uint16 or int32"):
+    with pytest.raises(TypeError, match="int16, uint16, int32 or int64"):
         at.track(gains, c.astype(np.int8), c.astype(np.int8))
     with pytest.raises(at.ConfigError) as e:
         at.track(gains, c, c, adc_mid_scale=2**40)

@@ -54,6 +54,7 @@ from angletrack._angletrack import (
     Metrics,
     MotionProfile,
     Observer,
+    OutputFile,
     ObserverBatch,
     PAPER_BUTTERWORTH_DAMPING,
     PAPER_COMPARISON_BANDWIDTH_HZ,
@@ -84,6 +85,7 @@ from angletrack._angletrack import (
     paper_settings,
     predicted_error,
     predicted_error_on_kalman_model,
+    check_outputs,
     read_capture,
     resolver_windings,
     second_order_bandwidth_ratio,
@@ -96,6 +98,7 @@ from angletrack._angletrack import (
     third_order_from_poles,
     track,
     track_batch,
+    write_output,
 )
 
 __all__ = [
@@ -127,6 +130,7 @@ __all__ = [
     "MotionProfile",
     "Observer",
     "ObserverBatch",
+    "OutputFile",
     "PAPER_BUTTERWORTH_DAMPING",
     "PAPER_COMPARISON_BANDWIDTH_HZ",
     "PAPER_COMPARISON_SAMPLE_PERIOD_S",
@@ -156,7 +160,9 @@ __all__ = [
     "paper_settings",
     "predicted_error",
     "predicted_error_on_kalman_model",
+    "check_outputs",
     "read_capture",
+    "write_output",
     "demodulate",
     "drive_outputs",
     "resolver_windings",

@@ -12,7 +12,9 @@ __version__: str
 _Samples = Union[npt.NDArray[np.float32], npt.NDArray[np.float64], Sequence[float]]
 #: Samples an observer accepts: floats, or raw ADC counts (int16, uint16, int32) scaled
 #: exactly (minus ``adc_mid_scale``, divided by ``adc_counts_per_unit``).
-_Signal = Union[_Samples, npt.NDArray[np.int16], npt.NDArray[np.uint16], npt.NDArray[np.int32]]
+_Signal = Union[
+    _Samples, npt.NDArray[np.int16], npt.NDArray[np.uint16], npt.NDArray[np.int32], npt.NDArray[np.int64]
+]
 _CalibrationMode = Optional[Literal["learn", "frozen", "off"]]
 _DType = Union[type[np.float32], type[np.float64], np.dtype, Literal["float32", "float64"], None]
 _SinCos = Optional[Literal["fast", "exact"]]
@@ -413,7 +415,7 @@ _Outputs = Union[_OutputName, Iterable[_OutputName], None]
 
 _ChannelSamples = Union[
     npt.NDArray[np.float32], npt.NDArray[np.float64], Sequence[Sequence[float]],
-    npt.NDArray[np.int16], npt.NDArray[np.uint16], npt.NDArray[np.int32],
+    npt.NDArray[np.int16], npt.NDArray[np.uint16], npt.NDArray[np.int32], npt.NDArray[np.int64],
 ]
 
 class ObserverBatch(_RunSettings):
@@ -749,16 +751,20 @@ class CaptureChunk:
 
 class CaptureReader:
     """A capture read chunk by chunk in constant memory (iterate for ``CaptureChunk``s):
-    delimited text (any delimiter, sniffed; header or not; UTF-8 BOM; an oscilloscope's
-    (x, y) column pairs, whose time columns must agree), NumPy ``.npy`` (2-D, rows x
-    columns) or ``.npz`` (named 1-D arrays). ``columns``: ``"y_c=cos,y_s=sin,time=t"`` or a
-    dict; each value a header name, else a 0-based index; roles left out get their usual
-    names. ``sample_rate_hz`` states the true rate and skips the time column's spacing
-    check. Raises ``CaptureError`` naming the file, line and column of malformed input."""
+    delimited text (any delimiter, sniffed; decimal points or commas, sniffed; header or
+    not; an instrument's metadata lines before it, sniffed or ``skip_rows``; UTF-8, Latin-1
+    or UTF-16 with its byte-order mark; an oscilloscope's (x, y) column pairs, whose time
+    columns must agree), NumPy ``.npy`` (2-D, rows x columns) or ``.npz`` (named 1-D arrays,
+    streamed). ``columns``: ``"y_c=cos,y_s=sin,time=t"`` or a dict; each value a header
+    name, else a 0-based index, or ``"-"`` to ignore a time or reference column; one column
+    per role; roles left out get their usual names. ``sample_rate_hz`` states the true rate
+    and skips the time column's spacing check (rounded, repeated stamps pass). Raises
+    ``CaptureError`` naming the file, line and column of malformed input."""
 
     def __init__(
         self, path: Union[str, os.PathLike], *, columns: _Columns = None, delimiter: Optional[str] = None,
-        time_unit: _TimeUnit = "s", sample_rate_hz: Optional[float] = None, chunk_rows: int = 65536,
+        decimal: Optional[Literal[".", ","]] = None, skip_rows: int = 0, time_unit: _TimeUnit = "s",
+        sample_rate_hz: Optional[float] = None, chunk_rows: int = 65536,
     ) -> None: ...
     def __iter__(self) -> CaptureReader: ...
     def __next__(self) -> CaptureChunk: ...
@@ -802,22 +808,48 @@ class Capture:
 
 def read_capture(
     path: Union[str, os.PathLike], *, columns: _Columns = None, delimiter: Optional[str] = None,
-    time_unit: _TimeUnit = "s", sample_rate_hz: Optional[float] = None,
+    decimal: Optional[Literal[".", ","]] = None, skip_rows: int = 0, time_unit: _TimeUnit = "s",
+    sample_rate_hz: Optional[float] = None,
 ) -> Capture:
     """Reads a whole capture (the checks of ``CaptureReader``)."""
 
 class EstimatesWriter:
-    """Estimates written chunk by chunk: a ``.npy`` structured array (fields ``time_s``,
-    ``angle_rad``, ``position_rad``, ``speed_rad_s``, ``acceleration_rad_s2``,
-    ``phase_error``, ``faults``) for a path ending in ``.npy``, else CSV with those names as
-    header, each number the shortest decimal that reads back to the same float."""
+    """Estimates written chunk by chunk, the format from the extension: ``.npy`` (a
+    structured array, fields ``time_s``, ``angle_rad``, ``position_rad``, ``speed_rad_s``,
+    ``acceleration_rad_s2``, ``phase_error``, ``faults``), ``.npz`` (one array per field) or
+    ``.csv`` (those names as header, each number the shortest decimal that reads back to the
+    same float); another extension is refused. Written beside ``path`` and renamed to it by
+    ``close()``; after an exception in a ``with`` block the file is discarded."""
 
     def __init__(self, path: Union[str, os.PathLike], *, dtype: _DType = None) -> None: ...
     def write(self, time_s: npt.NDArray[np.float64], estimates: Estimates) -> None: ...
     def close(self) -> int:
         """Finishes the file; returns the rows written."""
     def __enter__(self) -> EstimatesWriter: ...
-    def __exit__(self, *exc: object) -> bool: ...
+    def __exit__(self, exc_type: object, _exc_value: object, _traceback: object) -> bool: ...
+
+class OutputFile:
+    """An output written all or nothing: write ``temporary_path`` (beside ``path``); the end
+    of the ``with`` block renames it over ``path``, an exception removes it."""
+
+    def __init__(self, path: Union[str, os.PathLike]) -> None: ...
+    @property
+    def temporary_path(self) -> str: ...
+    def commit(self) -> None:
+        """Renames the temporary file over the target."""
+    def discard(self) -> None:
+        """Removes the temporary file; the target stays as it was."""
+    def __enter__(self) -> OutputFile: ...
+    def __exit__(self, exc_type: object, _exc_value: object, _traceback: object) -> bool: ...
+
+def check_outputs(
+    outputs: dict[str, Union[str, os.PathLike]], inputs: dict[str, Union[str, os.PathLike]]
+) -> None:
+    """Refuses (``CaptureError``) an output that is one of the inputs or another output
+    (any spelling: symbolic or hard link, ``..``), before anything is written."""
+
+def write_output(path: Union[str, os.PathLike], data: Union[bytes, str]) -> None:
+    """Writes ``data`` to ``path`` all or nothing (a temporary file beside it, renamed)."""
 
 # ----------------------------------------------------------------------------- resolver front end
 

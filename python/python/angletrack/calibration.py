@@ -44,8 +44,9 @@ def from_json(text: str, file: str = "calibration") -> SensorCalibration:
 
 def write(path: pathlib.Path, calibration: SensorCalibration, *, turns_learned: Optional[int] = None,
           source: Optional[str] = None) -> None:
-    """Writes ``calibration`` (with ``turns_learned`` and ``source``) to ``path`` as JSON."""
-    pathlib.Path(path).write_text(to_json(calibration, turns_learned=turns_learned, source=source))
+    """Writes ``calibration`` (with ``turns_learned`` and ``source``) to ``path`` as JSON, all
+    or nothing."""
+    _angletrack.write_output(path, to_json(calibration, turns_learned=turns_learned, source=source))
 
 
 def read(path: pathlib.Path) -> SensorCalibration:

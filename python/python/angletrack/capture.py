@@ -1,17 +1,33 @@
 """Captures: reading any capture is the extension's (:func:`angletrack.read_capture`,
 :class:`angletrack.CaptureReader`, parsed in Rust); this module writes small captures as CSV
-for examples and tests.
+for examples and tests, and holds the rule that no output replaces an input
+(:func:`check_outputs`, the Rust crate's ``angletrack::capture::check_outputs``).
 """
 
 from __future__ import annotations
 
+import os
 import pathlib
+from typing import Mapping, Optional, Union
 
 import numpy as np
 
-from angletrack._angletrack import read_capture
+from angletrack._angletrack import OutputFile, read_capture, write_output
+from angletrack._angletrack import check_outputs as _check_outputs
 
-__all__ = ["read_capture", "write_capture"]
+__all__ = ["OutputFile", "check_outputs", "read_capture", "write_capture", "write_output"]
+
+_Path = Union[str, "os.PathLike[str]"]
+
+
+def check_outputs(outputs: Mapping[str, Optional[_Path]], inputs: Mapping[str, Optional[_Path]]) -> None:
+    """Refuses (``CaptureError``) an output that is one of the inputs or another output,
+    however it is spelled (symbolic link, hard link, ``out/../capture.csv``), before anything
+    is written. Keys are the names the user knows (``"--output"``, ``"capture"``); ``None``
+    paths (an option not given) are left out.
+    """
+    _check_outputs({k: v for k, v in outputs.items() if v is not None},
+                   {k: v for k, v in inputs.items() if v is not None})
 
 
 def write_capture(path: str | pathlib.Path, columns: dict[str, np.ndarray]) -> None:

@@ -15,6 +15,7 @@ from typing import Callable, Optional, Sequence
 
 import angletrack
 from angletrack import calibration as calibration_io
+from angletrack import capture as capture_io
 from angletrack import clipping
 from angletrack import export, harmonics, resolver, tracking
 
@@ -64,8 +65,43 @@ def _add_gains_source(p: argparse.ArgumentParser, required: bool = True) -> None
                      help="discrete gains (dimensionless); needs --sample-rate or a time column")
     p.add_argument("--sample-rate", type=_positive, metavar="HZ",
                    help="the capture's true sample rate (Hz): overrides the gains file's and the time "
-                   "column's, and skips the check of the time column's spacing (rounded or jittered "
-                   "stamps); default: the gains file's, checked against the time column")
+                   "column's, and skips the check of the time column's spacing (rounded, repeated or "
+                   "jittered stamps; stamps going back are refused); default: the gains file's, checked "
+                   "against the time column")
+
+
+def _add_reader_arguments(p) -> None:
+    """The capture-reader options every command that reads a capture shares, beside its
+    --columns, --delimiter and --time-unit."""
+    p.add_argument("--decimal", choices=[".", ","], metavar="MARK",
+                   help="decimal mark of the numbers: '.' or ',' (default: sniffed, ',' for numbers such as "
+                   "0,5 beside a ';', tab or blank delimiter)")
+    p.add_argument("--skip-rows", type=_count, default=0, metavar="N",
+                   help="lines skipped before the header (an instrument's metadata; lines of another width "
+                   "than the data are skipped without it)")
+
+
+def _count(text: str) -> int:
+    """A whole number, 0 or more."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected a whole number of at least 0, got {text}")
+    return value
+
+
+#: The extensions of the estimates track writes (the format follows the extension).
+ESTIMATE_EXTENSIONS = (".csv", ".npy", ".npz")
+
+
+def _refuse_overwriting_inputs(args: argparse.Namespace, outputs: dict) -> None:
+    """Refuses an output that is an input of the command (the capture, the gains file, a
+    stored calibration) or another output, before anything is written."""
+    inputs = {"capture": args.capture, "--gains-file": getattr(args, "gains_file", None),
+              "--calibration": getattr(args, "calibration", None)}
+    capture_io.check_outputs(outputs, inputs)
 
 
 def _cmd_track(args: argparse.Namespace) -> int:
@@ -82,15 +118,21 @@ def _cmd_track(args: argparse.Namespace) -> int:
     range (--adc-range, --adc-bits; else extremes held flat), and the observer coasts
     through samples clipped in both channels and through front-end faults.
     """
+    output = args.output or args.capture.with_name(args.capture.stem + "_estimates.csv")
+    png = (args.plot or output.with_suffix(".png")) if args.plot is not None else None
+    calibration_out = calibration_io.default_path(args.capture, args.calibration_out) if args.calibrate else None
+    _refuse_overwriting_inputs(args, {"--output": output, "--calibration-out": calibration_out, "--plot": png})
     stored = calibration_io.read_stored(args.calibration)
     settings = tracking.TrackSettings(
         capture=args.capture,
-        output=args.output or args.capture.with_name(args.capture.stem + "_estimates.csv"),
+        output=output,
         gains_file=args.gains_file,
         gains=args.gains,
         sample_rate_hz=args.sample_rate,
         columns=args.columns,
         delimiter=args.delimiter,
+        decimal=args.decimal,
+        skip_rows=args.skip_rows,
         time_unit=args.time_unit,
         dtype=args.dtype,
         sin_cos=args.sin_cos,
@@ -102,14 +144,19 @@ def _cmd_track(args: argparse.Namespace) -> int:
         calibration=calibration_io.angle_calibration(stored),
         adc_range=clipping.stated_range(args),
     )
+    suffix = output.suffix.lower()
+    text_only = settings.dtype == "fixed" or settings.carrier_hz is not None
+    if suffix not in ESTIMATE_EXTENSIONS or (text_only and suffix != ".csv"):
+        formats = "CSV (.csv)" if text_only else "CSV (.csv), NumPy (.npy) or .npz"
+        raise ValueError(f"output: {output} names no format this run writes: the estimates' format follows the "
+                         f"extension, here {formats}")
     summary, observer = tracking.track_capture(settings)
     print(summary)
     if args.calibrate and observer is not None:
         print(calibration_io.write_learned(args.capture, args.calibration_out, observer))
-    if args.plot is not None:
+    if png is not None:
         from angletrack import plots
 
-        png = args.plot or settings.output.with_suffix(".png")
         print(plots.plot_capture_file(settings, png))
     return 0
 
@@ -288,7 +335,7 @@ def _cmd_design(args: argparse.Namespace) -> int:
         sys.stdout.write(text)
     else:
         args.output.parent.mkdir(parents=True, exist_ok=True)
-        args.output.write_text(text)
+        capture_io.write_output(args.output, text)
         kind = args.dtype if args.format != 'json' or args.dtype == 'fixed' else 'float64'
         print(f"\nwrote the gains ({args.format}, {kind}) to {args.output}")
     if args.plot is not None:
@@ -323,6 +370,7 @@ def _add_plot_parser(sub) -> None:
     plot.add_argument("--columns", metavar="ROLE=COLUMN,...", help="as for `angletrack track`")
     plot.add_argument("--delimiter", metavar="CHAR", help="as for `angletrack track`")
     plot.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s", help="unit of the time column")
+    _add_reader_arguments(plot)
     plot.add_argument("--skip", type=_non_negative, default=0.0, metavar="S",
                       help="leave the first S seconds out of the angle error (as well as the start-up)")
     plot.add_argument("--include-start-up", action="store_true",
@@ -359,7 +407,8 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     settings = tracking.TrackSettings(
         capture=args.capture, output=args.capture, gains_file=args.gains_file, gains=args.gains,
         sample_rate_hz=args.sample_rate, columns=args.columns, delimiter=args.delimiter,
-        time_unit=args.time_unit, skip_s=args.skip, lock_tolerance_rad=args.lock_tolerance,
+        decimal=args.decimal, skip_rows=args.skip_rows, time_unit=args.time_unit, skip_s=args.skip,
+        lock_tolerance_rad=args.lock_tolerance,
     )
     name = args.capture.stem + "_plot"
     summary = None
@@ -367,6 +416,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         png, summary = args.out / f"{name}.png", args.out / f"{name}.json"
     else:
         png = args.output or args.capture.with_name(f"{name}.png")
+    _refuse_overwriting_inputs(args, {"--output": png, "--out (figures)": summary})
     print(plots.plot_capture_file(settings, png, summary_json=summary, max_points=args.max_points,
                                   include_start_up=args.include_start_up))
     return 0
@@ -437,9 +487,11 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     below --min-significance times it is not learned. Writes JSON for `angletrack track
     --calibration`, or a C header / Rust const block for firmware.
     """
+    _refuse_overwriting_inputs(args, {"--output": args.output})
     settings = tracking.TrackSettings(capture=args.capture, output=args.output, gains_file=args.gains_file,
                                       gains=args.gains, sample_rate_hz=args.sample_rate, columns=args.columns,
-                                      delimiter=args.delimiter, time_unit=args.time_unit)
+                                      delimiter=args.delimiter, decimal=args.decimal, skip_rows=args.skip_rows,
+                                      time_unit=args.time_unit)
     try:
         cal = tracking.calibrate_capture(
             settings, lowest_order=args.lowest_order, highest_order=args.highest_order,
@@ -454,7 +506,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     if args.output is None:
         print(text, end="")
     else:
-        args.output.write_text(text)
+        capture_io.write_output(args.output, text)
     print(cal.describe(), file=sys.stderr if args.output is None else sys.stdout)
     return 0
 
@@ -468,6 +520,7 @@ def _add_calibrate_parser(sub) -> None:
     cal.add_argument("--delimiter", metavar="CHAR", help="field delimiter (default: sniffed)")
     cal.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s",
                      help="unit of the time column (default s)")
+    _add_reader_arguments(cal)
     cal.add_argument("--self", dest="self_calibration", action="store_true",
                      help="self-calibrate even when the capture has a reference column")
     cal.add_argument("--loop", choices=["own", "gains"], default="own",
@@ -497,20 +550,23 @@ def _add_track_parser(sub) -> None:
     cols = track.add_argument_group("the capture's layout (sniffed by default)")
     cols.add_argument("--columns", metavar="ROLE=COLUMN,...",
                       help="which columns hold what: roles y_c, y_s, time, reference; each column a header "
-                      "name, else a 0-based index (e.g. y_c=cos,y_s=sin,time=t or y_c=0,y_s=1); default: the "
-                      "columns named y_c/cos, y_s/sin, time/t, reference/theta")
+                      "name, else a 0-based index (e.g. y_c=cos,y_s=sin,time=t or y_c=0,y_s=1), or '-' to ignore "
+                      "a time or reference column (time=-); one column per role; default: the columns named "
+                      "y_c/cos, y_s/sin, time/t, reference/theta")
     cols.add_argument("--delimiter", metavar="CHAR",
                       help="field delimiter: one character, 'tab' or 'whitespace' (default: sniffed)")
     cols.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s",
                       help="unit of the time column (default s)")
+    _add_reader_arguments(cols)
     track.add_argument("--dtype", choices=["float32", "float64", "fixed"], default="float64",
                        help="number type the observer runs on (default float64); fixed: the fixed-point chain "
                        "on integer counts (a --calibration applied in integers, as a firmware does)")
     track.add_argument("--sin-cos", choices=["fast", "exact"], default=None,
                        help="phase detector's sin/cos (default: fast for float32, exact for float64)")
     track.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",
-                       help="estimates file: .npy for a NumPy structured array, else CSV (default: "
-                       "CAPTURE_estimates.csv beside the capture)")
+                       help="estimates file, its format from its extension: .csv, .npy (a NumPy structured "
+                       "array) or .npz (one array per column); never an input; written beside it and renamed "
+                       "when complete (default: CAPTURE_estimates.csv beside the capture)")
     track.add_argument("--skip", type=_non_negative, default=0.0, metavar="S",
                        help="with a reference: leave the first S seconds out of the error statistics")
     track.add_argument("--lock-tolerance", type=_positive, default=0.01, metavar="RAD",

@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any, Callable, Iterable, Optional
 import numpy as np
 
 from angletrack import _angletrack
-from angletrack._angletrack import Gains, _CaptureCalibrator, _CorrectedObserver, learn_calibration
+from angletrack._angletrack import Estimates, Gains, _CaptureCalibrator, _CorrectedObserver, learn_calibration
 
 if TYPE_CHECKING:
     from angletrack._angletrack import _LearnedCalibration as LearnedCalibration
@@ -182,7 +182,7 @@ class CalibratedObserver:
         self.calibration = calibration
         self.latched_faults = 0
 
-    def update(self, y_c: Any, y_s: Any):
+    def update(self, y_c: Any, y_s: Any) -> Estimates:
         """The estimates of the samples ``(y_c, y_s)`` (an ``Estimates``)."""
         est = self._inner.update(np.ascontiguousarray(y_c, dtype=self.dtype),
                                  np.ascontiguousarray(y_s, dtype=self.dtype))
@@ -194,7 +194,7 @@ class CalibratedObserver:
         return f"CalibratedObserver({self.gains!r}, dtype={self.dtype.name}, angle error orders {orders})"
 
 
-def track_calibrated(gains: Gains, y_c: Any, y_s: Any, calibration: Calibration):
+def track_calibrated(gains: Gains, y_c: Any, y_s: Any, calibration: Calibration) -> Estimates:
     """The estimates of ``(y_c, y_s)`` tracked by a :class:`CalibratedObserver`."""
     return CalibratedObserver(gains, calibration).update(y_c, y_s)
 

@@ -166,8 +166,7 @@ def analyse_capture(
     ``include_start_up``; ``s.skip_s`` leaves out the first seconds in
     every case. ``s.output`` is not used."""
     reader = angletrack.CaptureReader(
-        s.capture, columns=s.columns, delimiter=s.delimiter, time_unit=s.time_unit,
-        sample_rate_hz=s.sample_rate_hz, chunk_rows=s.chunk_rows,
+        s.capture, **s.reader_options(), chunk_rows=s.chunk_rows,
     )
     chunks = iter(reader)
     first = next(chunks)
@@ -422,7 +421,8 @@ def plot_capture(plt, a: CaptureAnalysis, path: pathlib.Path) -> None:
     """Draws the figure of ``a`` into ``path`` (PNG)."""
     fig = draw_capture(plt, a)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=DPI)
+    with angletrack.OutputFile(path) as target:  # all or nothing
+        fig.savefig(target.temporary_path, dpi=DPI, format="png")
     plt.close(fig)
 
 
@@ -452,6 +452,6 @@ def plot_capture_file(
     plot_capture(plt, a, png)
     lines = [a.describe(), f"plot: {png}"]
     if summary_json is not None:
-        summary_json.write_text(json.dumps(a.summary(), indent=2) + "\n")
+        angletrack.write_output(summary_json, json.dumps(a.summary(), indent=2) + "\n")
         lines.append(f"figures: {summary_json}")
     return "\n".join(lines)

@@ -33,7 +33,7 @@ from angletrack import export
 
 
 def demodulate(raw_c, raw_s, *, carrier_hz: float, samples_per_period: int,
-               carrier_amplitude_counts: float, **settings):
+               carrier_amplitude_counts: float, **settings) -> "tuple[angletrack.DemodulatedPairs, angletrack.Demodulator]":
     """Demodulates whole arrays of raw winding samples: returns ``(pairs, demodulator)``,
     the :class:`angletrack.DemodulatedPairs` (time stamps at the window centres, ``y_c``,
     ``y_s``, front-end faults) and the :class:`angletrack.Demodulator` after the last sample
@@ -47,7 +47,7 @@ def demodulate(raw_c, raw_s, *, carrier_hz: float, samples_per_period: int,
 
 
 def drive_outputs(estimates, *, sample_period_s: float, pole_pairs: int = 1, speed_ratio: int = 1,
-                  latency_s: float = 0.0, speed_cutoff_hz: Optional[float] = None):
+                  latency_s: float = 0.0, speed_cutoff_hz: Optional[float] = None) -> "angletrack.DriveAngles":
     """The :class:`angletrack.DriveAngles` of an observer's ``estimates`` (one run, from its
     start): the electrical angle for ``pole_pairs`` and ``speed_ratio`` extrapolated by
     ``latency_s``, and the speed low-passed at ``speed_cutoff_hz`` if given."""
@@ -246,8 +246,7 @@ def track_windings(s) -> tuple:
     if s.output.suffix == ".npy":
         raise ValueError("output: --carrier-hz writes CSV (its extra columns have no .npy layout yet)")
     reader = angletrack.CaptureReader(
-        s.capture, columns=s.columns, delimiter=s.delimiter, time_unit=s.time_unit,
-        sample_rate_hz=s.sample_rate_hz, chunk_rows=s.chunk_rows,
+        s.capture, **s.reader_options(), chunk_rows=s.chunk_rows,
     )
     chunks = iter(reader)
     first = next(chunks)

@@ -42,6 +42,8 @@ class TrackSettings:
     sample_rate_hz: Optional[float] = None
     columns: Optional[str] = None
     delimiter: Optional[str] = None
+    decimal: Optional[str] = None
+    skip_rows: int = 0
     time_unit: str = "s"
     dtype: str = "float64"
     sin_cos: Optional[str] = None
@@ -65,11 +67,22 @@ class TrackSettings:
     #: which clipping is flagged (``angletrack.clipping``); ``None``: measured.
     adc_range: Optional[tuple] = None
 
+    def reader_options(self) -> dict:
+        """The capture reader's keyword arguments (the capture's layout and rate)."""
+        return dict(columns=self.columns, delimiter=self.delimiter, decimal=self.decimal,
+                    skip_rows=self.skip_rows, time_unit=self.time_unit, sample_rate_hz=self.sample_rate_hz)
+
     @functools.cached_property
     def designed_gains(self) -> Optional[angletrack.Gains]:
         """The gains in ``gains_file`` at their designed rate (``None`` without one), read
         once however many steps ask for them."""
-        return None if self.gains_file is None else export.gains_from_json(self.gains_file.read_text())
+        if self.gains_file is None:
+            return None
+        try:
+            return export.gains_from_json(self.gains_file.read_text())
+        except (ValueError, TypeError) as e:
+            # The file and the field: "g.json: sample_period_s: expected a number, got str 'x'".
+            raise ValueError(f"{self.gains_file}: {e}") from e
 
 
 def _rate_error(capture_hz: float, gains_hz: float, time_unit: str) -> str:
@@ -105,19 +118,27 @@ def gains_for_capture(s: TrackSettings, capture_rate_hz: Optional[float]) -> ang
     return angletrack.Gains(s.gains, sample_period_s=1.0 / rate)
 
 
+#: A reference column in another unit, as the factor from radians to it: (unit, how to convert).
+REFERENCE_UNITS = (("degrees", 180.0 / math.pi, "multiply it by pi/180"),
+                   ("turns", 1.0 / (2.0 * math.pi), "multiply it by 2 pi"))
+
+
 class _ErrorStatistics:
-    """Running statistics of the wrapped angle error against a reference, chunk by chunk."""
+    """Running statistics of the wrapped angle error against a reference, chunk by chunk;
+    and the same against the reference read in degrees and in turns, for a hint."""
 
     def __init__(self, skip_s: float, tolerance_rad: float):
         self.skip_s, self.tolerance_rad = skip_s, tolerance_rad
         self.count, self.total, self.squares, self.largest = 0, 0.0, 0.0, 0.0
         self.start_s: Optional[float] = None
         self.lock_s: Optional[float] = None
+        #: (sum, sum of squares) of the error against the reference read in each unit.
+        self.in_units = [[0.0, 0.0] for _ in REFERENCE_UNITS]
 
     def add(self, time_s: np.ndarray, angle: np.ndarray, reference: np.ndarray) -> None:
         if self.start_s is None:
             self.start_s = float(time_s[0])
-        error = np.remainder(angle.astype(np.float64) - reference + math.pi, 2 * math.pi) - math.pi
+        error = _wrapped(angle.astype(np.float64) - reference)
         outside = np.flatnonzero(np.abs(error) > self.tolerance_rad)
         if len(outside):
             # Locked from the sample after the last one outside the tolerance, if any.
@@ -125,23 +146,52 @@ class _ErrorStatistics:
             self.lock_s = float(time_s[after]) - self.start_s if after < len(error) else None
         elif self.lock_s is None:
             self.lock_s = float(time_s[0]) - self.start_s
-        kept = error[time_s - self.start_s >= self.skip_s]
+        keep = time_s - self.start_s >= self.skip_s
+        kept = error[keep]
         self.count += len(kept)
         self.total += float(np.sum(kept))
         self.squares += float(np.dot(kept, kept))
         self.largest = max(self.largest, float(np.max(np.abs(kept)))) if len(kept) else self.largest
+        for sums, (_, per_rad, _) in zip(self.in_units, REFERENCE_UNITS):
+            other = _wrapped(angle[keep].astype(np.float64) - reference[keep] / per_rad)
+            sums[0] += float(np.sum(other))
+            sums[1] += float(np.dot(other, other))
+
+    def _spread(self, total: float, squares: float) -> float:
+        """The RMS after removing the mean."""
+        return math.sqrt(max(squares / self.count - (total / self.count) ** 2, 0.0))
+
+    def unit_hint(self) -> Optional[str]:
+        """A line naming the unit the reference column seems to be in, when the error
+        against it read in that unit is a tenth of the error against it read in radians
+        and below 0.05 rad; ``None`` otherwise."""
+        spread = self._spread(self.total, self.squares)
+        for (total, squares), (unit, _, how) in zip(self.in_units, REFERENCE_UNITS):
+            other = self._spread(total, squares)
+            if other < 0.05 and other < spread / 10:
+                return (f"  hint: the reference column looks like {unit}, not radians: read in {unit} it "
+                        f"differs from the estimate by {other:.3e} rad RMS after removing the mean; "
+                        f"{how} (or convert the column)")
+        return None
 
     def report(self) -> str:
         if self.count == 0:
             raise ValueError(f"skip: --skip {self.skip_s} s leaves no sample of the capture for the statistics")
         rms = math.sqrt(self.squares / self.count)
         lock = "not locked at the end" if self.lock_s is None else f"{self.lock_s:.6g} s"
+        hint = self.unit_hint()
         return (
             f"angle error against the reference (after {self.skip_s} s, {self.count} samples):\n"
             f"  RMS {rms:.6e} rad   max {self.largest:.6e} rad   mean {self.total / self.count:+.6e} rad\n"
-            f"  RMS after removing the mean {math.sqrt(max(rms**2 - (self.total / self.count) ** 2, 0.0)):.6e} rad\n"
+            f"  RMS after removing the mean {self._spread(self.total, self.squares):.6e} rad\n"
             f"  locked (within {self.tolerance_rad} rad) from: {lock}"
+            + ("" if hint is None else "\n" + hint)
         )
+
+
+def _wrapped(angle: np.ndarray) -> np.ndarray:
+    """``angle`` wrapped to [-pi, pi)."""
+    return np.remainder(angle + math.pi, 2 * math.pi) - math.pi
 
 
 class _Progress:
@@ -222,8 +272,7 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
             raise ValueError("pole_pairs: --pole-pairs and --latency need --carrier-hz (the resolver path)")
         return resolver.track_windings(s)
     reader = angletrack.CaptureReader(
-        s.capture, columns=s.columns, delimiter=s.delimiter, time_unit=s.time_unit,
-        sample_rate_hz=s.sample_rate_hz, chunk_rows=s.chunk_rows,
+        s.capture, **s.reader_options(), chunk_rows=s.chunk_rows,
     )
     chunks = iter(reader)
     first = next(chunks)
@@ -256,28 +305,24 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     rejected, y_c_sum, flagged = 0, 0.0, 0
     bad, front_end = int(angletrack.Faults.BAD_SAMPLE), int(angletrack.Faults.FRONT_END)
     s.output.parent.mkdir(parents=True, exist_ok=True)
-    try:
-        with angletrack.EstimatesWriter(s.output, dtype=dtype) as writer:
-            chunk = first
-            while chunk is not None:
-                est = observer.update((chunk.y_c - mid).astype(dtype, copy=False),
-                                      (chunk.y_s - mid).astype(dtype, copy=False))
-                time_s = chunk.time_s
-                if time_s is None:
-                    time_s = (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) * gains.sample_period_s
-                writer.write(time_s, est)
-                rejected += int(np.count_nonzero(est.faults & bad))
-                flagged += int(np.count_nonzero(est.faults & front_end))
-                y_c_sum += float(np.sum(chunk.y_c))
-                if stats is not None:
-                    stats.add(time_s, est.angle, chunk.reference_rad)
-                progress.update(reader)
-                chunk = next(chunks, None)
-    except BaseException:
-        # A fault found part way (a malformed row, an interrupt) leaves no partial file that
-        # could pass for the estimates of the whole capture.
-        s.output.unlink(missing_ok=True)
-        raise
+    # A fault found part way (a malformed row, an interrupt) leaves no partial file that could
+    # pass for the estimates of the whole capture: the writer discards its temporary file.
+    with angletrack.EstimatesWriter(s.output, dtype=dtype) as writer:
+        chunk = first
+        while chunk is not None:
+            est = observer.update((chunk.y_c - mid).astype(dtype, copy=False),
+                                  (chunk.y_s - mid).astype(dtype, copy=False))
+            time_s = chunk.time_s
+            if time_s is None:
+                time_s = (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) * gains.sample_period_s
+            writer.write(time_s, est)
+            rejected += int(np.count_nonzero(est.faults & bad))
+            flagged += int(np.count_nonzero(est.faults & front_end))
+            y_c_sum += float(np.sum(chunk.y_c))
+            if stats is not None:
+                stats.add(time_s, est.angle, chunk.reference_rad)
+            progress.update(reader)
+            chunk = next(chunks, None)
     progress.update(reader, final=True)
     total = reader.rows
     if 2 * rejected > total:
@@ -311,8 +356,7 @@ def calibrate_capture(s: TrackSettings, **options) -> harmonics.Calibration:
     amplitude is the capture's own (counts, volts or normalised)."""
 
     def reader() -> angletrack.CaptureReader:
-        return angletrack.CaptureReader(s.capture, columns=s.columns, delimiter=s.delimiter, time_unit=s.time_unit,
-                                        sample_rate_hz=s.sample_rate_hz, chunk_rows=s.chunk_rows)
+        return angletrack.CaptureReader(s.capture, **s.reader_options(), chunk_rows=s.chunk_rows)
 
     first_reader = reader()
     first = next(iter(first_reader))

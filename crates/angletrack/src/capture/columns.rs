@@ -50,16 +50,23 @@ impl fmt::Display for Role {
     }
 }
 
+/// The column value that leaves a role out: `time=-` ignores a time column.
+pub const NO_COLUMN: &str = "-";
+
 /// A user's choice of columns: for some roles, a header name or a 0-based index.
 ///
 /// A value is the column of that header name if the header has one; otherwise a whole
 /// number is a 0-based index (headerless files and `.npy` arrays are mapped by index).
+/// [`NO_COLUMN`] (`-`) for the time or the reference ignores the column the usual names
+/// would find (`time=-`: the sample rate is then the stated one).
 ///
 /// ```
 /// use angletrack::capture::{ColumnMap, Role};
-/// let map: ColumnMap = "y_c=cos, y_s=sin, time=t".parse()?;
+/// let map: ColumnMap = "y_c=cos, y_s=sin, time=-".parse()?;
 /// assert_eq!(map.get(Role::Sine), Some("sin"));
+/// assert_eq!(map.get(Role::Time), Some("-"));
 /// assert!("y_c=cos,y_c=sin".parse::<ColumnMap>().is_err()); // twice
+/// assert!("y_c=-".parse::<ColumnMap>().is_err()); // the signals cannot be ignored
 /// # Ok::<(), String>(())
 /// ```
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -85,6 +92,11 @@ impl ColumnMap {
         let column = column.trim();
         if column.is_empty() {
             return Err(format!("columns: {role} names no column"));
+        }
+        if column == NO_COLUMN && matches!(role, Role::Cosine | Role::Sine) {
+            return Err(format!(
+                "columns: {role}=- : the signals cannot be left out (only time and reference)"
+            ));
         }
         self.entries.push((role, column.to_string()));
         Ok(())
@@ -198,6 +210,7 @@ pub fn resolve(
     let mut indices = [None; 4];
     for (slot, role) in indices.iter_mut().zip(Role::ALL) {
         *slot = match map.get(role) {
+            Some(NO_COLUMN) => None,
             Some(wanted) => Some(find(names, wanted, has_header).ok_or_else(|| {
                 format!(
                     "columns: {role}={wanted} names no column (the columns are {})",
@@ -226,12 +239,27 @@ pub fn resolve(
             return Err(format!("no y_c and y_s columns: {how}"));
         }
     }
+    for (a, role_a) in Role::ALL.into_iter().enumerate() {
+        for (b, role_b) in Role::ALL.into_iter().enumerate().skip(a + 1) {
+            if let (Some(i), Some(j)) = (indices[a], indices[b])
+                && i == j
+            {
+                return Err(format!(
+                    "columns: {role_a} and {role_b} are both column {i} ({:?}): each role needs \
+                     its own column",
+                    names.get(i).map_or("", String::as_str)
+                ));
+            }
+        }
+    }
     let mut resolved = ResolvedColumns {
         indices,
         other_times: Vec::new(),
         names: names.to_vec(),
     };
-    pair_times(&mut resolved, has_header);
+    if map.get(Role::Time) != Some(NO_COLUMN) {
+        pair_times(&mut resolved, has_header);
+    }
     Ok(resolved)
 }
 

@@ -1,8 +1,10 @@
-//! Recorded captures: reading any delimited text (`,` `;` tab or blanks, with or without a
-//! header, a UTF-8 byte-order mark, an oscilloscope's (x, y) column pairs), NumPy `.npy`
-//! and `.npz` files, in chunks of constant memory ([`CaptureReader`]) or whole
+//! Recorded captures: reading any delimited text (`,` `;` tab or blanks, decimal points or
+//! commas, with or without a header, metadata lines before it, UTF-8, Latin-1 or UTF-16
+//! with its byte-order mark, an oscilloscope's (x, y) column pairs), NumPy `.npy` and
+//! `.npz` files, in chunks of constant memory ([`CaptureReader`]) or whole
 //! ([`read_capture`]); and writing an observer's estimates the same way
-//! ([`EstimatesWriter`]).
+//! ([`EstimatesWriter`]), never over an input ([`check_outputs`]) and never half
+//! ([`OutputFile`]).
 //!
 //! Every fault of the input is a [`CaptureError`] naming the file, the line and the column:
 //! an empty file, a header without rows, a single row, text or nothing where a number
@@ -12,8 +14,11 @@
 //! kept: the observer rejects them one by one (fault bit `BAD_SAMPLE`).
 
 mod columns;
+mod encoding;
 mod error;
 mod npy;
+mod npy_out;
+mod output;
 mod reader;
 mod sniff;
 mod source;
@@ -23,11 +28,15 @@ mod write;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_real;
 
-pub use columns::{ColumnMap, ResolvedColumns, Role, is_time_name};
+pub use columns::{ColumnMap, NO_COLUMN, ResolvedColumns, Role, is_time_name};
+pub use encoding::Encoding;
 pub use error::CaptureError;
+pub use output::{NamedPath, OutputFile, check_outputs, write_output};
 pub use reader::{CaptureChunk, CaptureOptions, CaptureReader};
-pub use sniff::Delimiter;
+pub use sniff::{DecimalMark, Delimiter};
 pub use time::{SPACING_TOLERANCE, TimeUnit};
 pub use write::{ESTIMATE_COLUMNS, EstimateRows, EstimatesFormat, EstimatesWriter, OutputFloat};
 

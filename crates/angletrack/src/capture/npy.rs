@@ -1,12 +1,12 @@
 //! Rows of NumPy files (through the `npyz` crate): a 2-D `.npy` array (rows x columns,
-//! C order) read as it streams, or the named 1-D arrays of an `.npz` (a zip of `.npy`
-//! files, as `numpy.savez` writes), read whole when first asked for: numpy saved them from
-//! memory.
+//! C order), or the named 1-D arrays of an `.npz` (a zip of `.npy` files, stored or
+//! deflated, as `numpy.savez` and `numpy.savez_compressed` write), each read as it streams.
 
 use std::fs::File;
-use std::io::{BufReader, Read};
+use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
+use flate2::read::DeflateDecoder;
 use npyz::{NpyFile, TypeChar};
 
 use super::error::CaptureError;
@@ -168,14 +168,22 @@ impl RowSource for NpySource {
     }
 }
 
-/// The named 1-D arrays of an `.npz` file, each a column.
-#[derive(Debug)]
+/// The named 1-D arrays of an `.npz` file, each a column, streamed from the zip (stored or
+/// deflated) through a file handle of its own.
 pub struct NpzSource {
     path: PathBuf,
     names: Vec<String>,
-    loaded: Option<(Vec<Vec<f64>>, Vec<bool>)>,
+    columns: Vec<(Values, bool)>,
     dtype: Option<String>,
-    row: usize,
+    rows_total: u64,
+    row: u64,
+    item_bytes: u64,
+}
+
+impl core::fmt::Debug for NpzSource {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(f, "NpzSource({}, row {})", self.path.display(), self.row)
+    }
 }
 
 impl NpzSource {
@@ -190,56 +198,71 @@ impl NpzSource {
         let source = Self {
             path: path.to_path_buf(),
             names: names.clone(),
-            loaded: None,
+            columns: Vec::new(),
             dtype: None,
+            rows_total: 0,
             row: 0,
+            item_bytes: 0,
         };
         Ok((source, names))
     }
 
-    /// Reads the arrays of `columns` whole; they must be 1-D and of one length.
-    fn load(&mut self, columns: &[usize]) -> Result<(Vec<Vec<f64>>, Vec<bool>), CaptureError> {
+    /// Opens the arrays of `columns` as streams; they must be 1-D and of one length.
+    fn open_columns(&mut self, columns: &[usize]) -> Result<(), CaptureError> {
         let mut archive = archive(&self.path)?;
-        let (mut arrays, mut integers) = (Vec::new(), Vec::new());
         for &c in columns {
             let name = &self.names[c];
             let fail = |m: String| CaptureError::new(&self.path, format!("array {name:?}: {m}"));
-            let mut entry = archive
-                .by_name(&format!("{name}.npy"))
-                .map_err(|e| fail(e.to_string()))?;
-            let mut bytes = Vec::new();
-            entry
-                .read_to_end(&mut bytes)
-                .map_err(|e| fail(e.to_string()))?;
-            let npy =
-                NpyFile::new(&bytes[..]).map_err(|e| fail(format!("not a .npy array: {e}")))?;
+            let member = format!("{name}.npy");
+            let (method, start, size) = {
+                let entry = archive.by_name(&member).map_err(|e| fail(e.to_string()))?;
+                let start = entry
+                    .data_start()
+                    .ok_or_else(|| fail("its data cannot be found in the zip".into()))?;
+                (entry.compression(), start, entry.compressed_size())
+            };
+            let mut file = File::open(&self.path).map_err(|e| CaptureError::io(&self.path, &e))?;
+            file.seek(SeekFrom::Start(start))
+                .map_err(|e| CaptureError::io(&self.path, &e))?;
+            let stored = BufReader::with_capacity(1 << 18, file).take(size);
+            let stream: Box<dyn Read + Send> = match method {
+                zip::CompressionMethod::Stored => Box::new(stored),
+                zip::CompressionMethod::Deflated => Box::new(BufReader::with_capacity(
+                    1 << 18,
+                    DeflateDecoder::new(stored),
+                )),
+                other => {
+                    return Err(fail(format!(
+                        "compressed with {other}: save it with numpy.savez or numpy.savez_compressed"
+                    )));
+                }
+            };
+            let npy = NpyFile::new(stream).map_err(|e| fail(format!("not a .npy array: {e}")))?;
             let shape = npy.shape().to_vec();
             if shape.iter().filter(|&&d| d != 1).count() > 1 {
                 return Err(fail(format!(
                     "shape {shape:?}: expected 1-D (one value per sample)"
                 )));
             }
-            let owned =
-                NpyFile::new(std::io::Cursor::new(bytes)).map_err(|e| fail(e.to_string()))?;
-            let (values, dtype, integer) = values(owned).map_err(fail)?;
-            let column: Vec<f64> = values
-                .collect::<std::io::Result<_>>()
-                .map_err(|e| fail(e.to_string()))?;
-            if let Some(first) = arrays.first().map(Vec::len).filter(|&n| n != column.len()) {
+            let len = shape.iter().product::<u64>();
+            let first = self.rows_total;
+            if !self.columns.is_empty() && first != len {
                 return Err(fail(format!(
-                    "has {} values but {:?} has {first}: the columns must be of one length",
-                    column.len(),
+                    "has {len} values but {:?} has {first}: the columns must be of one length",
                     self.names[columns[0]]
                 )));
             }
+            let item_bytes = npy.header().dtype().num_bytes().unwrap_or(8) as u64;
+            let (values, dtype, integer) = values(npy).map_err(fail)?;
             // The first column asked for is the cosine signal: its dtype is the samples'.
             if self.dtype.is_none() {
                 self.dtype = Some(dtype);
             }
-            arrays.push(column);
-            integers.push(integer);
+            self.rows_total = len;
+            self.item_bytes += item_bytes;
+            self.columns.push((values, integer));
         }
-        Ok((arrays, integers))
+        Ok(())
     }
 }
 
@@ -251,25 +274,42 @@ fn archive(path: &Path) -> Result<zip::ZipArchive<BufReader<File>>, CaptureError
 
 impl RowSource for NpzSource {
     fn read(&mut self, columns: &[usize], rows: &mut RawRows, max_rows: usize) -> Filled {
-        if self.loaded.is_none() {
-            self.loaded = Some(self.load(columns)?);
+        if self.columns.is_empty() {
+            self.open_columns(columns)?;
         }
-        let Some((arrays, integers)) = &self.loaded else {
-            return Ok(());
-        };
-        let len = arrays.first().map_or(0, Vec::len);
-        let end = len.min(self.row + max_rows);
-        for (k, array) in arrays.iter().enumerate() {
-            rows.columns[k].extend_from_slice(&array[self.row..end]);
-            rows.integers[k] &= integers[k];
+        let n = (max_rows as u64).min(self.rows_total - self.row);
+        for (k, (values, integer)) in self.columns.iter_mut().enumerate() {
+            let out = &mut rows.columns[k];
+            for i in 0..n {
+                match values.next() {
+                    Some(Ok(v)) => out.push(v),
+                    Some(Err(e)) => {
+                        let at = Some(self.row + i + 1);
+                        let name = &self.names[columns[k]];
+                        return Err(
+                            CaptureError::new(&self.path, format!("array {name:?}: {e}"))
+                                .at(at, None),
+                        );
+                    }
+                    None => {
+                        let name = &self.names[columns[k]];
+                        return Err(CaptureError::new(
+                            &self.path,
+                            format!("array {name:?}: the array ends before its last value"),
+                        )
+                        .at(Some(self.row + i + 1), None));
+                    }
+                }
+            }
+            rows.integers[k] &= *integer;
         }
-        rows.lines.extend((self.row as u64 + 1)..=(end as u64));
-        self.row = end;
+        rows.lines.extend((self.row + 1)..=(self.row + n));
+        self.row += n;
         Ok(())
     }
 
     fn bytes_read(&self) -> u64 {
-        0
+        self.row * self.item_bytes
     }
 
     fn stored_dtype(&self) -> Option<String> {

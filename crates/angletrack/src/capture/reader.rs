@@ -7,9 +7,10 @@ use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use super::columns::{ColumnMap, ResolvedColumns, Role, resolve};
+use super::encoding::Encoding;
 use super::error::CaptureError;
 use super::npy::{NpySource, NpzSource};
-use super::sniff::{Delimiter, Kind, SNIFF_BYTES, sniff};
+use super::sniff::{DecimalMark, Delimiter, Kind, SNIFF_BYTES, TextLayout, TextOptions, sniff};
 use super::source::{RawRows, RowSource};
 use super::text::TextSource;
 use super::time::{SpacingCheck, TimeUnit};
@@ -21,6 +22,12 @@ pub struct CaptureOptions {
     pub columns: ColumnMap,
     /// The field delimiter of a text capture (`None`: sniffed).
     pub delimiter: Option<Delimiter>,
+    /// The decimal mark of a text capture (`None`: sniffed, `,` for numbers such as `0,5`
+    /// with another delimiter).
+    pub decimal: Option<DecimalMark>,
+    /// Lines skipped at the start of a text capture, before its header (an instrument's
+    /// metadata; metadata lines of fewer or more fields than the data are skipped anyway).
+    pub skip_rows: u64,
     /// The unit of the time column.
     pub time_unit: TimeUnit,
     /// The true sample rate (Hz), if the user states it: the time column's spacing is then
@@ -35,11 +42,33 @@ impl Default for CaptureOptions {
         Self {
             columns: ColumnMap::default(),
             delimiter: None,
+            decimal: None,
+            skip_rows: 0,
             time_unit: TimeUnit::Seconds,
             sample_rate_hz: None,
             chunk_rows: 1 << 16,
         }
     }
+}
+
+/// `text, delimiter ;` and what else was not the default: `decimal comma`, the encoding,
+/// the metadata lines skipped.
+fn text_format(layout: &TextLayout) -> String {
+    let mut format = format!("text, delimiter {}", layout.delimiter.name());
+    if layout.decimal == DecimalMark::Comma {
+        format.push_str(", decimal comma");
+    }
+    if layout.encoding != Encoding::Utf8 {
+        format.push_str(", ");
+        format.push_str(layout.encoding.name());
+    }
+    if layout.metadata_lines > 0 {
+        format.push_str(&format!(
+            ", {} metadata lines skipped",
+            layout.metadata_lines
+        ));
+    }
+    format
 }
 
 /// A chunk of samples, each column converted to `f64` (integers exactly) and the time to
@@ -137,7 +166,12 @@ impl CaptureReader {
             .read_to_end(&mut head)
             .map_err(|e| CaptureError::io(path, &e))?;
         let complete = (head.len() as u64) >= total_bytes;
-        let kind = sniff(path, &head, complete, options.delimiter)?;
+        let stated = TextOptions {
+            delimiter: options.delimiter,
+            decimal: options.decimal,
+            skip_rows: options.skip_rows,
+        };
+        let kind = sniff(path, &head, complete, stated)?;
         let (source, names, has_header, format): (Box<dyn RowSource + Send>, _, _, _) = match &kind
         {
             Kind::Npy => {
@@ -152,7 +186,7 @@ impl CaptureReader {
                 Box::new(TextSource::open(path, layout)?),
                 layout.names.clone(),
                 layout.has_header,
-                format!("text, delimiter {}", layout.delimiter.name()),
+                text_format(layout),
             ),
         };
         let layout = resolve(&options.columns, &names, has_header).map_err(fail)?;
@@ -331,7 +365,8 @@ impl CaptureReader {
         &self.path
     }
 
-    /// `npy`, `npz` or `text, delimiter ;`.
+    /// `npy`, `npz` or `text, delimiter ;` (with `, decimal comma`, the encoding if not
+    /// UTF-8, `, N metadata lines skipped`).
     pub fn format(&self) -> &str {
         &self.format
     }

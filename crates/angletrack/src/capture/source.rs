@@ -44,9 +44,10 @@ pub trait RowSource {
     }
 }
 
-/// The value of one text field (blanks around it ignored), and whether it is written as a
-/// whole number; `None` for an empty field.
-pub fn parse_field(field: &[u8]) -> Option<Result<(f64, bool), ()>> {
+/// The value of one text field (blanks around it ignored), with `,` as its decimal mark
+/// when `decimal_comma`, and whether it is written as a whole number; `None` for an empty
+/// field.
+pub fn parse_field(field: &[u8], decimal_comma: bool) -> Option<Result<(f64, bool), ()>> {
     let f = field.trim_ascii();
     let f = f
         .strip_prefix(b"\"")
@@ -60,6 +61,17 @@ pub fn parse_field(field: &[u8]) -> Option<Result<(f64, bool), ()>> {
         .iter()
         .enumerate()
         .all(|(i, &b)| b.is_ascii_digit() || (i == 0 && (b == b'-' || b == b'+')));
+    // A number is short: a longer field is not one, and is refused below.
+    let mut pointed = [0u8; 64];
+    let f = match (decimal_comma, pointed.get_mut(..f.len())) {
+        (true, Some(copy)) => {
+            for (to, &from) in copy.iter_mut().zip(f) {
+                *to = if from == b',' { b'.' } else { from };
+            }
+            &*copy
+        }
+        _ => f,
+    };
     let value = std::str::from_utf8(f)
         .ok()
         .and_then(|t| t.parse::<f64>().ok());

@@ -1,22 +1,26 @@
 //! Rows of delimited text, line by line: fields split at a delimiter byte (outside double
 //! quotes) or at runs of blanks; blank lines and `#` comment lines skipped; every row keeps
-//! its line number, counted the same for `\n` and `\r\n` line ends.
+//! its line number, counted the same for `\n` and `\r\n` line ends. UTF-16 text is read
+//! through a transcoder to UTF-8.
 
 use std::fs::File;
-use std::io::{BufRead, BufReader, Seek, SeekFrom};
+use std::io::{BufRead, BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
+use super::encoding::{Encoding, Utf16Reader};
 use super::error::CaptureError;
-use super::sniff::{Delimiter, TextLayout};
+use super::sniff::{DecimalMark, Delimiter, TextLayout};
 use super::source::{Filled, RawRows, RowSource, field_error, parse_field};
 
 /// The rows of a text capture.
-#[derive(Debug)]
 pub struct TextSource {
     path: PathBuf,
     names: Vec<String>,
     delimiter: Delimiter,
-    reader: BufReader<File>,
+    decimal_comma: bool,
+    /// Bytes of the file per byte of text read (2 for UTF-16's ASCII), for progress.
+    bytes_per_byte: u64,
+    reader: BufReader<Box<dyn Read + Send>>,
     line: Vec<u8>,
     /// The fields of the current line, as byte ranges of `line`.
     fields: Vec<(usize, usize)>,
@@ -30,15 +34,24 @@ impl TextSource {
         let io = |e: std::io::Error| CaptureError::io(path, &e);
         let mut file = File::open(path).map_err(io)?;
         file.seek(SeekFrom::Start(layout.bom_bytes)).map_err(io)?;
+        let (file, bytes_per_byte): (Box<dyn Read + Send>, u64) = match layout.encoding {
+            Encoding::Utf16Le | Encoding::Utf16Be => (
+                Box::new(Utf16Reader::new(BufReader::new(file), layout.encoding)),
+                2,
+            ),
+            Encoding::Utf8 | Encoding::Latin1 => (Box::new(file), 1),
+        };
         let mut source = Self {
             path: path.to_path_buf(),
             names: layout.names.clone(),
             delimiter: layout.delimiter,
+            decimal_comma: layout.decimal == DecimalMark::Comma,
+            bytes_per_byte,
             reader: BufReader::with_capacity(1 << 20, file),
             line: Vec::new(),
             fields: Vec::new(),
             number: 0,
-            bytes_read: layout.bom_bytes,
+            bytes_read: 0,
         };
         while source.number < layout.lines_before_data && source.next_line()? {}
         Ok(source)
@@ -108,7 +121,7 @@ impl TextSource {
         let field = |c: usize| self.fields.get(c).map(|&(a, b)| &self.line[a..b]);
         for (k, &c) in columns.iter().enumerate() {
             let text = field(c);
-            match text.and_then(parse_field) {
+            match text.and_then(|t| parse_field(t, self.decimal_comma)) {
                 Some(Ok((value, integer))) => {
                     rows.columns[k].push(value);
                     rows.integers[k] &= integer;
@@ -133,6 +146,17 @@ impl TextSource {
     }
 }
 
+impl core::fmt::Debug for TextSource {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        write!(
+            f,
+            "TextSource({}, line {})",
+            self.path.display(),
+            self.number
+        )
+    }
+}
+
 impl RowSource for TextSource {
     fn read(&mut self, columns: &[usize], rows: &mut RawRows, max_rows: usize) -> Filled {
         while rows.lines.len() < max_rows && self.next_line()? {
@@ -144,6 +168,6 @@ impl RowSource for TextSource {
     }
 
     fn bytes_read(&self) -> u64 {
-        self.bytes_read
+        self.bytes_read * self.bytes_per_byte
     }
 }

@@ -71,7 +71,8 @@ pub const SPACING_TOLERANCE: f64 = 0.01;
 
 /// The order and spacing checks of a time column read in chunks: each stamp after the one
 /// before it, and (unless the rate was stated) each step within [`SPACING_TOLERANCE`] of
-/// the first chunk's median step.
+/// the first chunk's median step. With the rate stated, a stamp equal to the one before
+/// (rounded stamps) is accepted; one before it never is.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SpacingCheck {
     check_spacing: bool,
@@ -102,14 +103,21 @@ impl SpacingCheck {
         let shown = |t: f64| format!("{} {}", t / unit.seconds(), unit.symbol());
         let mut previous = self.last_s;
         for (k, &t) in time_s.iter().enumerate() {
+            // With the rate stated, rounded stamps may repeat; they never go back.
+            let in_order = |t: f64, p: f64| t > p || (!self.check_spacing && t == p);
             if let Some(p) = previous
-                && !(t > p)
+                && !in_order(t, p)
             {
                 let what = if t == p { "duplicated" } else { "unsorted" };
+                let hint = if t == p {
+                    " (rounded time stamps? state the sample rate, --sample-rate, to accept them)"
+                } else {
+                    ""
+                };
                 return Err((
                     k,
                     format!(
-                        "{what} time: {} after {} on the row before; the time must increase",
+                        "{what} time: {} after {} on the row before; the time must increase{hint}",
                         shown(t),
                         shown(p)
                     ),

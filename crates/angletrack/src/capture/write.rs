@@ -1,12 +1,15 @@
 //! [`EstimatesWriter`]: an observer's estimates written chunk by chunk, as CSV text whose
 //! numbers have the digits their float type needs (the shortest decimal that reads back to
-//! the same float, by `ryu`), or as a NumPy `.npy` structured array.
+//! the same float, by `ryu`), as a NumPy `.npy` structured array or as an `.npz` of one
+//! array per column; written beside the target and renamed over it when complete.
 
 use std::fs::File;
 use std::io::{BufWriter, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 use super::error::CaptureError;
+use super::npy_out::{NpzColumn, npy_header, write_npz};
+use super::output::OutputFile;
 
 /// The columns of the estimates, in file order: `time_s` (f64), `angle_rad`, `position_rad`
 /// (f64), `speed_rad_s`, `acceleration_rad_s2`, `phase_error` (the observer's float type),
@@ -65,24 +68,48 @@ pub struct EstimateRows<'a, T> {
 /// How estimates are stored, from the output file's extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum EstimatesFormat {
-    /// Comma-separated text with a header line (any extension but `.npy`).
+    /// Comma-separated text with a header line (`.csv`).
     Csv,
-    /// A NumPy structured array, one record per sample, fields [`ESTIMATE_COLUMNS`].
+    /// A NumPy structured array, one record per sample, fields [`ESTIMATE_COLUMNS`] (`.npy`).
     Npy,
+    /// A NumPy `.npz` archive of one 1-D array per column, named as [`ESTIMATE_COLUMNS`].
+    Npz,
 }
 
 impl EstimatesFormat {
-    /// The format of `path`: `.npy` for NumPy, anything else CSV.
-    pub fn of_path(path: &Path) -> Self {
-        match path.extension().and_then(|e| e.to_str()) {
-            Some(e) if e.eq_ignore_ascii_case("npy") => EstimatesFormat::Npy,
-            _ => EstimatesFormat::Csv,
-        }
+    /// The format of `path` from its extension (any case): `.csv`, `.npy` or `.npz`;
+    /// `None` for any other, which would hide what the file holds.
+    ///
+    /// ```
+    /// use angletrack::capture::EstimatesFormat;
+    /// use std::path::Path;
+    /// assert_eq!(EstimatesFormat::of_path(Path::new("est.NPZ")), Some(EstimatesFormat::Npz));
+    /// assert_eq!(EstimatesFormat::of_path(Path::new("est.dat")), None);
+    /// ```
+    pub fn of_path(path: &Path) -> Option<Self> {
+        let extension = path.extension().and_then(|e| e.to_str())?;
+        [
+            ("csv", EstimatesFormat::Csv),
+            ("npy", EstimatesFormat::Npy),
+            ("npz", EstimatesFormat::Npz),
+        ]
+        .into_iter()
+        .find(|(e, _)| extension.eq_ignore_ascii_case(e))
+        .map(|(_, f)| f)
     }
 }
 
 /// Room kept in the `.npy` header for the number of records, written when it is known.
 const NPY_HEADER_BYTES: usize = 256;
+
+/// Where the rows go while they are written.
+#[derive(Debug)]
+enum Sink {
+    /// CSV text or `.npy` records, into the output's temporary file.
+    Records(BufWriter<File>),
+    /// One temporary file per column, assembled into the `.npz` at the end.
+    Columns(Vec<NpzColumn>),
+}
 
 /// Writes estimates chunk by chunk in constant memory.
 ///
@@ -101,30 +128,57 @@ const NPY_HEADER_BYTES: usize = 256;
 #[derive(Debug)]
 pub struct EstimatesWriter {
     path: PathBuf,
-    out: BufWriter<File>,
+    output: OutputFile,
+    sink: Sink,
     format: EstimatesFormat,
     npy_type: &'static str,
     rows: u64,
 }
 
 impl EstimatesWriter {
-    /// Creates `path` (format from its extension, [`EstimatesFormat::of_path`]) for
-    /// estimates in the float type `T`.
+    /// Starts `path` (format from its extension, [`EstimatesFormat::of_path`]; another
+    /// extension is refused) for estimates in the float type `T`. The rows go to a
+    /// temporary file beside `path`, renamed to it by [`finish`](Self::finish): a writer
+    /// dropped before leaves `path` as it was.
     pub fn create<T: OutputFloat>(path: impl AsRef<Path>) -> Result<Self, CaptureError> {
         let path = path.as_ref();
-        let file = File::create(path).map_err(|e| CaptureError::io(path, &e))?;
+        let format = EstimatesFormat::of_path(path).ok_or_else(|| {
+            CaptureError::new(
+                path,
+                "output: the estimates' format follows the file's extension: .csv (text), .npy \
+                 (a structured array) or .npz (one array per column)",
+            )
+        })?;
+        let mut output = OutputFile::create(path)?;
+        let io = |e: std::io::Error| CaptureError::io(path, &e);
+        let sink = match format {
+            EstimatesFormat::Npz => Sink::Columns(
+                ESTIMATE_COLUMNS
+                    .iter()
+                    .map(|&name| NpzColumn::create(path, name, field_type(name, T::NPY_TYPE)))
+                    .collect::<Result<_, _>>()?,
+            ),
+            _ => Sink::Records(BufWriter::with_capacity(
+                1 << 20,
+                output.file().try_clone().map_err(io)?,
+            )),
+        };
         let mut writer = Self {
             path: path.to_path_buf(),
-            out: BufWriter::with_capacity(1 << 20, file),
-            format: EstimatesFormat::of_path(path),
+            output,
+            sink,
+            format,
             npy_type: T::NPY_TYPE,
             rows: 0,
         };
         let header = match writer.format {
             EstimatesFormat::Csv => format!("{}\n", ESTIMATE_COLUMNS.join(",")).into_bytes(),
             EstimatesFormat::Npy => writer.npy_header(),
+            EstimatesFormat::Npz => Vec::new(),
         };
-        writer.out.write_all(&header).map_err(|e| writer.io(&e))?;
+        if let Sink::Records(out) = &mut writer.sink {
+            out.write_all(&header).map_err(io)?;
+        }
         Ok(writer)
     }
 
@@ -135,30 +189,12 @@ impl EstimatesWriter {
     /// The `.npy` (version 1.0) header for the records written so far, padded to
     /// [`NPY_HEADER_BYTES`].
     fn npy_header(&self) -> Vec<u8> {
-        let t = self.npy_type;
         let fields: Vec<String> = ESTIMATE_COLUMNS
             .iter()
-            .map(|&name| {
-                let ty = match name {
-                    "time_s" | "position_rad" => "<f8",
-                    "faults" => "|u1",
-                    _ => t,
-                };
-                format!("('{name}', '{ty}')")
-            })
+            .map(|&name| format!("('{name}', '{}')", field_type(name, self.npy_type)))
             .collect();
-        let dict = format!(
-            "{{'descr': [{}], 'fortran_order': False, 'shape': ({},), }}",
-            fields.join(", "),
-            self.rows
-        );
-        let mut header = b"\x93NUMPY\x01\x00".to_vec();
-        let len = NPY_HEADER_BYTES - 10;
-        header.extend_from_slice(&(len as u16).to_le_bytes());
-        header.extend_from_slice(dict.as_bytes());
-        header.resize(NPY_HEADER_BYTES - 1, b' ');
-        header.push(b'\n');
-        header
+        let descr = format!("[{}]", fields.join(", "));
+        npy_header(&descr, &format!("({},)", self.rows), NPY_HEADER_BYTES)
     }
 
     /// Appends a chunk (every slice of one length).
@@ -178,29 +214,90 @@ impl EstimatesWriter {
                 "estimates: columns of different lengths or float types",
             ));
         }
-        let result = match self.format {
-            EstimatesFormat::Csv => write_csv(&mut self.out, &rows),
-            EstimatesFormat::Npy => write_npy(&mut self.out, &rows),
+        let result = match (&mut self.sink, self.format) {
+            (Sink::Records(out), EstimatesFormat::Csv) => write_csv(out, &rows),
+            (Sink::Records(out), _) => write_npy(out, &rows),
+            (Sink::Columns(columns), _) => write_columns(columns, &rows),
         };
         result.map_err(|e| self.io(&e))?;
         self.rows += n as u64;
         Ok(())
     }
 
-    /// Flushes the file (a `.npy` gets its final record count) and returns the rows written.
+    /// Completes the file (a `.npy` gets its final record count, an `.npz` its arrays),
+    /// renames it to the target and returns the rows written.
     pub fn finish(mut self) -> Result<u64, CaptureError> {
-        if self.format == EstimatesFormat::Npy {
-            let header = self.npy_header();
-            let out = &mut self.out;
-            let result = out
-                .flush()
-                .and_then(|()| out.seek(SeekFrom::Start(0)))
-                .and_then(|_| out.write_all(&header));
-            result.map_err(|e| self.io(&e))?;
+        let path = self.path.clone();
+        let io = |e: std::io::Error| CaptureError::io(&path, &e);
+        match std::mem::replace(&mut self.sink, Sink::Columns(Vec::new())) {
+            Sink::Records(mut out) => {
+                if self.format == EstimatesFormat::Npy {
+                    let header = self.npy_header();
+                    out.flush()
+                        .and_then(|()| out.seek(SeekFrom::Start(0)))
+                        .and_then(|_| out.write_all(&header))
+                        .map_err(io)?;
+                }
+                out.flush().map_err(io)?;
+            }
+            Sink::Columns(columns) => {
+                let file = self.output.file().try_clone().map_err(io)?;
+                let mut out = BufWriter::with_capacity(1 << 20, file);
+                write_npz(&mut out, columns, self.rows, &path)?;
+                out.flush().map_err(io)?;
+            }
         }
-        self.out.flush().map_err(|e| self.io(&e))?;
+        self.output.commit()?;
         Ok(self.rows)
     }
+}
+
+/// The numpy type of the estimates' column `name` when the observer's floats are `float`:
+/// the time and the multi-turn position are always `<f8`, the faults `|u1`.
+fn field_type(name: &str, float: &'static str) -> &'static str {
+    match name {
+        "time_s" | "position_rad" => "<f8",
+        "faults" => "|u1",
+        _ => float,
+    }
+}
+
+/// Appends the rows to the `.npz` columns, in [`ESTIMATE_COLUMNS`] order.
+fn write_columns<T: OutputFloat>(
+    columns: &mut [NpzColumn],
+    r: &EstimateRows<'_, T>,
+) -> std::io::Result<()> {
+    let [
+        time,
+        angle,
+        position,
+        speed,
+        acceleration,
+        phase_error,
+        faults,
+    ] = columns
+    else {
+        return Err(std::io::Error::other("the .npz has 7 columns"));
+    };
+    r.time_s
+        .iter()
+        .try_for_each(|v| v.write_le(&mut time.out))?;
+    r.angle
+        .iter()
+        .try_for_each(|v| v.write_le(&mut angle.out))?;
+    r.position
+        .iter()
+        .try_for_each(|v| v.write_le(&mut position.out))?;
+    r.speed
+        .iter()
+        .try_for_each(|v| v.write_le(&mut speed.out))?;
+    r.acceleration
+        .iter()
+        .try_for_each(|v| v.write_le(&mut acceleration.out))?;
+    r.phase_error
+        .iter()
+        .try_for_each(|v| v.write_le(&mut phase_error.out))?;
+    faults.out.write_all(r.faults)
 }
 
 fn write_csv<T: OutputFloat>(out: &mut impl Write, r: &EstimateRows<'_, T>) -> std::io::Result<()> {

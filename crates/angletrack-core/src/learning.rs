@@ -4,6 +4,11 @@
 //! [`Gains::update_calibrated`], which corrects each sample before the phase detector and
 //! learns the calibration from the observer's own angle while it tracks.
 //!
+//! A fresh calibrator first finds each channel's centre from the raw samples alone
+//! ([`centre`]), correcting the samples by the running centre meanwhile, so that an offset
+//! of any size (a bias, counts off mid-scale) lets the observer lock; the estimator then
+//! learns from the centre's calibration on.
+//!
 //! The estimator integrates, over whole electrical turns of the observer's predicted angle
 //! `p`, the raw samples against `(1, cos p, sin p)`: per completed turn, a Fourier estimate of
 //! the regression `y_c = o_c + a1 cos p + b1 sin p`, `y_s = o_s + a2 cos p + b2 sin p`,
@@ -18,12 +23,24 @@ use crate::real::sincos::SinCos;
 use crate::state::{Estimate, ObserverState};
 use crate::update::{SampleObserver, UsedSample};
 
-/// The faults that stop the estimator and discard its partial turn: the observer's angle is
-/// then not the sensor's.
+use centre::CentreFinder;
+
+mod centre;
+
+/// The faults that stop the estimator and discard its partial turn: no signal to learn
+/// from, or an observer locked half a turn away. The monitor's loss of tracking does not:
+/// the errors the calibration exists to remove trip it; the estimator's own lock test
+/// ([`MAX_LOCK_PHASE_ERROR`]) decides instead.
 const NOT_LOCKED: Faults = Faults::LOSS_OF_SIGNAL
-    .union(Faults::LOSS_OF_TRACKING)
     .union(Faults::BAD_SAMPLE)
     .union(Faults::FALSE_LOCK);
+
+/// The estimator's lock test: the normalised phase error of the corrected sample (the sine
+/// of its angle from the observer's prediction) within 0.29 (17 degrees). Wider than the
+/// angle errors the calibration removes (5 % offsets, 10 % imbalance and 3 degrees of
+/// quadrature give at most 0.13 rad), narrower than what an observer that has lost the
+/// angle shows over a turn.
+const MAX_LOCK_PHASE_ERROR: f32 = 0.29;
 
 /// The smallest blend factor of a turn's estimate, `1/16`: the estimate then averages about
 /// the last 16 turns, following a slow drift (temperature, air gap) while averaging noise.
@@ -47,9 +64,29 @@ pub enum CalibrationMode {
     Frozen,
 }
 
+/// Where a learning [`Calibrator`] stands ([`Calibrator::status`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum CalibrationStatus {
+    /// The channels' centres are not found yet: the samples are corrected by the running
+    /// centre (the middle of each channel's range so far) and nothing is learned. A rotor
+    /// at rest, or one that has not turned a whole turn, stays here: its centre is unknown
+    /// (the calibration stays the identity, and the angle is wrong if the signals are
+    /// biased).
+    FindingCentre,
+    /// The centre is known (found, or set with the calibration): learning as the observer
+    /// tracks, or ready to.
+    Centred,
+    /// The centre is known, but [`Calibrator::STALL_TURNS`] electrical turns at speed have
+    /// passed since it was found or since the last turn learned, and none passed the
+    /// estimator's test (lock on the corrected phase error, steady speed, whole turns).
+    Stalled,
+}
+
 /// The online calibration's state: the [`SensorCalibration`] applied to each sample, the
-/// mode, and the estimator's sums over the current turn. No allocation (`Copy`, 17 floats
-/// and a few words); one per channel, beside its [`ObserverState`].
+/// mode, and either the search for the channels' centres or the estimator's sums over the
+/// current turn. No allocation (`Copy`, 25 floats and a few words); one per channel,
+/// beside its [`ObserverState`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Calibrator<T> {
     calibration: SensorCalibration<T>,
@@ -58,17 +95,44 @@ pub struct Calibrator<T> {
     regression: [T; 6],
     /// Turns learned (blended) so far.
     turns_learned: u32,
-    /// The angle (rad, signed) the observer's speed has covered in the current partial turn.
-    progress: T,
-    /// The speed (rad per sample) at the first sample of the current partial turn.
-    start_speed: T,
+    /// The angle (rad) the observer has covered at speed since the centre was found or the
+    /// last turn was learned, in turns it did not learn.
+    unlearned_rad: T,
     /// The faults of the calibration against the settings' bounds, computed when the
     /// calibration changes (`None`: to be computed at the next sample).
     sensor_faults: Option<Faults>,
-    /// Over the current partial turn, each sample with the weight `w` (1, and the fraction
-    /// of the last one that completes the turn): `[sum w, sum w y_c, sum w y_s,
-    /// sum w y_c cos p, sum w y_c sin p, sum w y_s cos p, sum w y_s sin p]`.
+    /// The centre's search, or the current turn's sums.
+    phase: Phase<T>,
+}
+
+/// A [`Calibrator`]'s search for the centre, then its estimator's turn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Phase<T> {
+    /// Before the centre is known.
+    FindingCentre(CentreFinder<T>),
+    /// The current partial turn of the estimator.
+    Centred(Turn<T>),
+}
+
+/// The estimator's current partial turn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Turn<T> {
+    /// The angle (rad, signed) the observer's speed has covered in it.
+    progress: T,
+    /// The speed (rad per sample) at its first sample.
+    start_speed: T,
+    /// Each sample with the weight `w` (1, and the fraction of the last one that completes
+    /// the turn): `[sum w, sum w y_c, sum w y_s, sum w y_c cos p, sum w y_c sin p,
+    /// sum w y_s cos p, sum w y_s sin p]`.
     sums: [T; 7],
+}
+
+impl<T: Float> Turn<T> {
+    const EMPTY: Self = Self {
+        progress: T::ZERO,
+        start_speed: T::ZERO,
+        sums: [T::ZERO; 7],
+    };
 }
 
 impl<T: Float> Default for Calibrator<T> {
@@ -93,12 +157,15 @@ impl<T: Float> Calibrator<T> {
             mode: CalibrationMode::Off,
             regression: [T::ZERO; 6],
             turns_learned: 0,
-            progress: T::ZERO,
-            start_speed: T::ZERO,
+            unlearned_rad: T::ZERO,
             sensor_faults: None,
-            sums: [T::ZERO; 7],
+            phase: Phase::FindingCentre(CentreFinder::new()),
         }
     }
+
+    /// The electrical turns at speed without a learned turn after which
+    /// [`Calibrator::status`] says [`CalibrationStatus::Stalled`]: 16.
+    pub const STALL_TURNS: u32 = 16;
 
     /// A calibrator applying a stored `calibration` without learning
     /// ([`CalibrationMode::Frozen`]); [`Calibrator::enable`] continues learning from it, as
@@ -120,23 +187,49 @@ impl<T: Float> Calibrator<T> {
         calibrator
     }
 
-    /// The calibration applied to each sample (unless off).
+    /// The calibration applied to each sample (unless off) once the centre is known; the
+    /// identity while [`CalibrationStatus::FindingCentre`] (the samples are then corrected
+    /// by the running centre).
     pub fn calibration(&self) -> SensorCalibration<T> {
         self.calibration
     }
 
-    /// Replaces the calibration (learning continues from it, as from an estimate of 16
-    /// turns); the current partial turn is discarded.
+    /// Replaces the calibration (its offsets are the centre; learning continues from it, as
+    /// from an estimate of 16 turns); the current partial turn is discarded.
     pub fn set_calibration(&mut self, calibration: SensorCalibration<T>) {
         self.calibration = calibration;
         self.regression = calibration.regression();
         self.turns_learned = 16;
+        self.unlearned_rad = T::ZERO;
         self.sensor_faults = None;
-        self.discard_turn();
+        self.phase = Phase::Centred(Turn::EMPTY);
     }
 
-    /// Forgets what was learned: no correction, the next completed turn's estimate is taken
-    /// as it is. Keeps the mode.
+    /// Where learning stands: finding the centre, centred, or stalled (see
+    /// [`CalibrationStatus`]).
+    ///
+    /// ```
+    /// use angletrack_core::{CalibrationStatus, Calibrator, SensorCalibration};
+    /// assert_eq!(Calibrator::<f32>::new().status(), CalibrationStatus::FindingCentre);
+    /// let stored = SensorCalibration::<f32>::new(2.5, 2.5, 1.0, 1.0, 0.0)?;
+    /// let calibrator = Calibrator::from_calibration(stored);
+    /// assert_eq!(calibrator.status(), CalibrationStatus::Centred);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn status(&self) -> CalibrationStatus {
+        match self.phase {
+            Phase::FindingCentre(_) => CalibrationStatus::FindingCentre,
+            Phase::Centred(_)
+                if self.unlearned_rad >= T::TAU * T::from_i32(Self::STALL_TURNS as i32) =>
+            {
+                CalibrationStatus::Stalled
+            }
+            Phase::Centred(_) => CalibrationStatus::Centred,
+        }
+    }
+
+    /// Forgets what was learned, the centre included: no correction, the centre is found
+    /// again, and the next completed turn's estimate is taken as it is. Keeps the mode.
     pub fn restart_learning(&mut self) {
         *self = Self {
             mode: self.mode,
@@ -185,16 +278,47 @@ impl<T: Float> Calibrator<T> {
         }
     }
 
+    /// Drops the current partial turn (counted as unlearned); the centre's search goes on.
     fn discard_turn(&mut self) {
-        self.progress = T::ZERO;
-        self.sums = [T::ZERO; 7];
+        if let Phase::Centred(turn) = &mut self.phase {
+            self.unlearned_rad += turn.progress.abs();
+            *turn = Turn::EMPTY;
+        }
+    }
+
+    /// The sample `(y_c, y_s)` corrected: by the calibration once the centre is known, by
+    /// the running centre before.
+    #[inline(always)]
+    pub(crate) fn correct(&self, y_c: T, y_s: T) -> (T, T) {
+        match &self.phase {
+            Phase::Centred(_) => self.calibration.correct(y_c, y_s),
+            Phase::FindingCentre(finder) => {
+                let (centre_c, centre_s) = finder.centre();
+                (y_c - centre_c, y_s - centre_s)
+            }
+        }
+    }
+
+    /// The centre found: its calibration applied, and the estimator's first turn to
+    /// replace it (nothing learned yet).
+    #[cold]
+    #[inline(never)]
+    fn centre_found(&mut self, calibration: SensorCalibration<T>) {
+        self.calibration = calibration;
+        self.regression = calibration.regression();
+        self.turns_learned = 0;
+        self.unlearned_rad = T::ZERO;
+        self.sensor_faults = None;
+        self.phase = Phase::Centred(Turn::EMPTY);
     }
 
     /// One sample of the estimator: the raw sample `(y_c, y_s)` and what the observer made
-    /// of its corrected form (`None`: not used). A sample of a faulty, slow or reversing
-    /// observer discards the partial turn; a sample that completes a turn (the speed's angle
-    /// steps add to 2 pi) ends it, counted only for the fraction of its step that completes
-    /// the turn.
+    /// of its corrected form (`None`: not used). Before the centre is known, the raw sample
+    /// goes to the centre's search only. A sample without signal, of an observer not
+    /// locked on it (a phase error beyond [`MAX_LOCK_PHASE_ERROR`], a false lock), slow or
+    /// reversing discards the partial turn; a sample
+    /// that completes a turn (the speed's angle steps add to 2 pi) ends it, counted only for
+    /// the fraction of its step that completes the turn.
     ///
     /// The samples are weighted equally (a synchronous average over time), not by the
     /// estimated speed: the speed ripples at the frequencies the sensor's errors put on the
@@ -204,23 +328,35 @@ impl<T: Float> Calibrator<T> {
         &mut self,
         checked: &CheckedCalibration<T>,
         used: Option<UsedSample<T>>,
-        y_c: T,
-        y_s: T,
+        (y_c, y_s): (T, T),
     ) {
+        let turn = match &mut self.phase {
+            Phase::Centred(turn) => turn,
+            Phase::FindingCentre(finder) => {
+                if let Some(calibration) = finder.add(y_c, y_s) {
+                    self.centre_found(calibration);
+                }
+                return;
+            }
+        };
         let Some(used) = used else {
             return self.discard_turn();
         };
         let step = used.scaled_speed;
-        let progress = self.progress;
-        // NaN-safe: a NaN speed fails the comparison and discards.
-        if used.faults.intersects(NOT_LOCKED)
-            || !(step.abs() >= checked.min_scaled_speed)
+        let progress = turn.progress;
+        // NaN-safe: a NaN speed or phase error fails the comparisons and discards.
+        let at_speed = step.abs() >= checked.min_scaled_speed;
+        if !(at_speed && used.phase_error.abs() <= T::from_f32(MAX_LOCK_PHASE_ERROR))
+            || used.faults.intersects(NOT_LOCKED)
             || step * progress < T::ZERO
         {
+            if at_speed {
+                self.unlearned_rad += step.abs();
+            }
             return self.discard_turn();
         }
         if progress == T::ZERO {
-            self.start_speed = step;
+            turn.start_speed = step;
         }
         let remaining = T::TAU - progress.abs();
         let complete = step.abs() >= remaining;
@@ -229,11 +365,11 @@ impl<T: Float> Calibrator<T> {
         } else {
             T::ONE
         };
-        self.progress = progress + step;
+        turn.progress = progress + step;
         let (sin, cos) = used.sin_cos;
         let (wc, ws) = (w * y_c, w * y_s);
         let terms = [w, wc, ws, wc * cos, wc * sin, ws * cos, ws * sin];
-        for (sum, term) in self.sums.iter_mut().zip(terms) {
+        for (sum, term) in turn.sums.iter_mut().zip(terms) {
             *sum += term;
         }
         if complete {
@@ -241,8 +377,8 @@ impl<T: Float> Calibrator<T> {
             // which the speed changed is dropped (its window would leak the fundamental into
             // the offsets). The speed's ripple from the sensor's errors is the same at both
             // ends of a turn, so it does not count.
-            if (step - self.start_speed).abs()
-                <= self.start_speed.abs() * T::from_f32(MAX_SPEED_CHANGE)
+            if (step - turn.start_speed).abs()
+                <= turn.start_speed.abs() * T::from_f32(MAX_SPEED_CHANGE)
             {
                 self.end_turn();
             } else {
@@ -258,9 +394,12 @@ impl<T: Float> Calibrator<T> {
     #[cold]
     #[inline(never)]
     fn end_turn(&mut self) {
-        let inverse = T::ONE / self.sums[0];
+        let Phase::Centred(turn) = &self.phase else {
+            return;
+        };
+        let inverse = T::ONE / turn.sums[0];
         let twice = inverse * T::TWO;
-        let s = &self.sums;
+        let s = &turn.sums;
         let estimate = [
             s[1] * inverse,
             s[2] * inverse,
@@ -284,8 +423,11 @@ impl<T: Float> Calibrator<T> {
             self.sensor_faults = None;
             self.regression = blended;
             self.turns_learned = self.turns_learned.saturating_add(1);
+            self.unlearned_rad = T::ZERO;
+            self.phase = Phase::Centred(Turn::EMPTY);
+        } else {
+            self.discard_turn();
         }
-        self.discard_turn();
     }
 }
 
@@ -302,19 +444,20 @@ impl<T: Float> SampleObserver<T> for Learner<'_, T> {
     #[inline(always)]
     fn observe(self, used: Option<UsedSample<T>>) {
         if self.learning {
-            self.calibrator
-                .learn(self.checked, used, self.raw.0, self.raw.1);
+            self.calibrator.learn(self.checked, used, self.raw);
         }
     }
 }
 
 impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// One sample through the online calibration: unless `calibrator` is off, the sample is
-    /// corrected by its [`SensorCalibration`] before the phase detector, and, while
+    /// corrected by its [`SensorCalibration`] before the phase detector (by the running
+    /// centre while the centre is being found, see [`CalibrationStatus`]), and, while
     /// learning, the raw sample and the observer's predicted angle feed its estimator
-    /// (only while locked: no loss of signal, loss of tracking, bad sample or false lock
-    /// this sample, and above the minimum speed; the partial turn is discarded otherwise and
-    /// on a reversal, so a rotor at rest or reversing teaches it nothing). A new estimate is
+    /// (only while locked by its own test: a normalised phase error within 0.29, a signal
+    /// (no loss of signal or bad sample), no false lock, and above the minimum speed; the partial turn is discarded otherwise and on a reversal, so a rotor at rest
+    /// or reversing teaches it nothing; the monitor's loss of tracking, which the errors
+    /// the calibration removes may trip, does not stop it). A new estimate is
     /// applied once per completed turn, and only if it passes the calibration's checks: the
     /// observer's stability does not depend on it (its phase error is normalised), and the
     /// state never turns NaN. The estimate carries [`Faults::AMPLITUDE_MISMATCH`] and
@@ -368,7 +511,7 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         y_s: T,
     ) -> Estimate<T> {
         let mode = calibrator.mode;
-        let (c, s) = calibrator.calibration.correct(y_c, y_s);
+        let (c, s) = calibrator.correct(y_c, y_s);
         let checked = &self.calibration;
         let learner = Learner {
             calibrator: &mut *calibrator,
@@ -390,3 +533,5 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_sensors;

@@ -27,14 +27,6 @@ use centre::CentreFinder;
 
 mod centre;
 
-/// The faults that stop the estimator and discard its partial turn: no signal to learn
-/// from, or an observer locked half a turn away. The monitor's loss of tracking does not:
-/// the errors the calibration exists to remove trip it; the estimator's own lock test
-/// ([`MAX_LOCK_PHASE_ERROR`]) decides instead.
-const NOT_LOCKED: Faults = Faults::LOSS_OF_SIGNAL
-    .union(Faults::BAD_SAMPLE)
-    .union(Faults::FALSE_LOCK);
-
 /// The estimator's lock test: the normalised phase error of the corrected sample (the sine
 /// of its angle from the observer's prediction) within 0.29 (17 degrees). Wider than the
 /// angle errors the calibration removes (5 % offsets, 10 % imbalance and 3 degrees of
@@ -119,7 +111,8 @@ enum Phase<T> {
 struct Turn<T> {
     /// The angle (rad, signed) the observer's speed has covered in it.
     progress: T,
-    /// The speed (rad per sample) at its first sample.
+    /// The speed (rad per sample) where it started: at the sample that ended the turn
+    /// before (0 after a reset: unknown, and the turn is dropped).
     start_speed: T,
     /// Each sample with the weight `w` (1, and the fraction of the last one that completes
     /// the turn): `[sum w, sum w y_c, sum w y_s, sum w y_c cos p, sum w y_c sin p,
@@ -158,7 +151,7 @@ impl<T: Float> Calibrator<T> {
             regression: [T::ZERO; 6],
             turns_learned: 0,
             unlearned_rad: T::ZERO,
-            sensor_faults: None,
+            sensor_faults: Some(Faults::NONE),
             phase: Phase::FindingCentre(CentreFinder::new()),
         }
     }
@@ -191,7 +184,10 @@ impl<T: Float> Calibrator<T> {
     /// identity while [`CalibrationStatus::FindingCentre`] (the samples are then corrected
     /// by the running centre).
     pub fn calibration(&self) -> SensorCalibration<T> {
-        self.calibration
+        match self.phase {
+            Phase::FindingCentre(_) => SensorCalibration::IDENTITY,
+            Phase::Centred(_) => self.calibration,
+        }
     }
 
     /// Replaces the calibration (its offsets are the centre; learning continues from it, as
@@ -279,22 +275,47 @@ impl<T: Float> Calibrator<T> {
     }
 
     /// Drops the current partial turn (counted as unlearned); the centre's search goes on.
+    /// The next turn's start speed is unknown (0): that turn is dropped too.
     fn discard_turn(&mut self) {
+        self.discard_turn_at(T::ZERO);
+    }
+
+    /// [`Calibrator::discard_turn`] at a sample of speed `step` (rad per sample), which
+    /// stands for the next turn's start speed (the next sample's, to the speed's change in
+    /// one sample).
+    #[cold]
+    #[inline(never)]
+    fn discard_turn_at(&mut self, step: T) {
         if let Phase::Centred(turn) = &mut self.phase {
             self.unlearned_rad += turn.progress.abs();
-            *turn = Turn::EMPTY;
+            *turn = Turn {
+                start_speed: step,
+                ..Turn::EMPTY
+            };
         }
     }
 
     /// The sample `(y_c, y_s)` corrected: by the calibration once the centre is known, by
-    /// the running centre before.
+    /// the running centre before (held as a calibration of offsets only, whose faults are
+    /// none).
     #[inline(always)]
     pub(crate) fn correct(&self, y_c: T, y_s: T) -> (T, T) {
-        match &self.phase {
-            Phase::Centred(_) => self.calibration.correct(y_c, y_s),
-            Phase::FindingCentre(finder) => {
+        self.calibration.correct(y_c, y_s)
+    }
+
+    /// One raw sample of the centre's search: the running centre applied, or the centre
+    /// found.
+    #[cold]
+    #[inline(never)]
+    fn find_centre(&mut self, y_c: T, y_s: T) {
+        let Phase::FindingCentre(finder) = &mut self.phase else {
+            return;
+        };
+        match finder.add(y_c, y_s) {
+            Some(calibration) => self.centre_found(calibration),
+            None => {
                 let (centre_c, centre_s) = finder.centre();
-                (y_c - centre_c, y_s - centre_s)
+                self.calibration = SensorCalibration::with_offsets(centre_c, centre_s);
             }
         }
     }
@@ -314,9 +335,11 @@ impl<T: Float> Calibrator<T> {
 
     /// One sample of the estimator: the raw sample `(y_c, y_s)` and what the observer made
     /// of its corrected form (`None`: not used). Before the centre is known, the raw sample
-    /// goes to the centre's search only. A sample without signal, of an observer not
-    /// locked on it (a phase error beyond [`MAX_LOCK_PHASE_ERROR`], a false lock), slow or
-    /// reversing discards the partial turn; a sample
+    /// goes to the centre's search only. A sample of an observer not locked on it (a phase
+    /// error beyond [`MAX_LOCK_PHASE_ERROR`]), slow or reversing discards the partial turn
+    /// (the monitor's faults do not: its loss of tracking is tripped by the errors learning
+    /// removes; a false lock half a turn away is a common rotation, which the estimate
+    /// leaves out; a rejected sample is not used); a sample
     /// that completes a turn (the speed's angle steps add to 2 pi) ends it, counted only for
     /// the fraction of its step that completes the turn.
     ///
@@ -330,14 +353,8 @@ impl<T: Float> Calibrator<T> {
         used: Option<UsedSample<T>>,
         (y_c, y_s): (T, T),
     ) {
-        let turn = match &mut self.phase {
-            Phase::Centred(turn) => turn,
-            Phase::FindingCentre(finder) => {
-                if let Some(calibration) = finder.add(y_c, y_s) {
-                    self.centre_found(calibration);
-                }
-                return;
-            }
+        let Phase::Centred(turn) = &mut self.phase else {
+            return self.find_centre(y_c, y_s);
         };
         let Some(used) = used else {
             return self.discard_turn();
@@ -346,45 +363,56 @@ impl<T: Float> Calibrator<T> {
         let progress = turn.progress;
         // NaN-safe: a NaN speed or phase error fails the comparisons and discards.
         let at_speed = step.abs() >= checked.min_scaled_speed;
-        if !(at_speed && used.phase_error.abs() <= T::from_f32(MAX_LOCK_PHASE_ERROR))
-            || used.faults.intersects(NOT_LOCKED)
+        if !(at_speed
+            && used
+                .phase_error
+                .abs_at_most(T::from_f32(MAX_LOCK_PHASE_ERROR)))
             || step * progress < T::ZERO
         {
             if at_speed {
                 self.unlearned_rad += step.abs();
             }
-            return self.discard_turn();
+            return self.discard_turn_at(step);
         }
-        if progress == T::ZERO {
-            turn.start_speed = step;
-        }
-        let remaining = T::TAU - progress.abs();
-        let complete = step.abs() >= remaining;
-        let w = if complete {
-            remaining / step.abs()
-        } else {
-            T::ONE
-        };
-        turn.progress = progress + step;
+        let next = progress + step;
         let (sin, cos) = used.sin_cos;
+        if next.abs() >= T::TAU {
+            return self.complete_turn(step, (y_c, y_s), (sin, cos));
+        }
+        turn.progress = next;
+        let terms = [T::ONE, y_c, y_s, y_c * cos, y_c * sin, y_s * cos, y_s * sin];
+        for (sum, term) in turn.sums.iter_mut().zip(terms) {
+            *sum += term;
+        }
+    }
+
+    /// The sample that completes the current turn, `step` its speed, `(y_c, y_s)` and
+    /// `(sin, cos)` as in [`Calibrator::learn`]: counted for the fraction `w` of its step
+    /// that completes the turn, then the turn ended, or dropped if the speed changed over
+    /// it.
+    #[cold]
+    #[inline(never)]
+    fn complete_turn(&mut self, step: T, (y_c, y_s): (T, T), (sin, cos): (T, T)) {
+        let Phase::Centred(turn) = &mut self.phase else {
+            return;
+        };
+        let w = (T::TAU - turn.progress.abs()) / step.abs();
+        turn.progress += step;
         let (wc, ws) = (w * y_c, w * y_s);
         let terms = [w, wc, ws, wc * cos, wc * sin, ws * cos, ws * sin];
         for (sum, term) in turn.sums.iter_mut().zip(terms) {
             *sum += term;
         }
-        if complete {
-            // Equal weights stand for equal angle steps only at a steady speed: a turn over
-            // which the speed changed is dropped (its window would leak the fundamental into
-            // the offsets). The speed's ripple from the sensor's errors is the same at both
-            // ends of a turn, so it does not count.
-            if (step - turn.start_speed).abs()
-                <= turn.start_speed.abs() * T::from_f32(MAX_SPEED_CHANGE)
-            {
-                self.end_turn();
-            } else {
-                self.discard_turn();
-            }
+        // Equal weights stand for equal angle steps only at a steady speed: a turn over
+        // which the speed changed is dropped (its window would leak the fundamental into
+        // the offsets). The speed's ripple from the sensor's errors is the same at both
+        // ends of a turn, so it does not count.
+        if (step - turn.start_speed).abs() <= turn.start_speed.abs() * T::from_f32(MAX_SPEED_CHANGE)
+        {
+            self.end_turn();
         }
+        // Learned or not, this turn is over, and the next one starts at this speed.
+        self.discard_turn_at(step);
     }
 
     /// A completed turn: its Fourier estimate of the regression, blended into the running
@@ -424,9 +452,9 @@ impl<T: Float> Calibrator<T> {
             self.regression = blended;
             self.turns_learned = self.turns_learned.saturating_add(1);
             self.unlearned_rad = T::ZERO;
-            self.phase = Phase::Centred(Turn::EMPTY);
-        } else {
-            self.discard_turn();
+            if let Phase::Centred(turn) = &mut self.phase {
+                turn.progress = T::ZERO;
+            }
         }
     }
 }
@@ -454,10 +482,10 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// corrected by its [`SensorCalibration`] before the phase detector (by the running
     /// centre while the centre is being found, see [`CalibrationStatus`]), and, while
     /// learning, the raw sample and the observer's predicted angle feed its estimator
-    /// (only while locked by its own test: a normalised phase error within 0.29, a signal
-    /// (no loss of signal or bad sample), no false lock, and above the minimum speed; the partial turn is discarded otherwise and on a reversal, so a rotor at rest
-    /// or reversing teaches it nothing; the monitor's loss of tracking, which the errors
-    /// the calibration removes may trip, does not stop it). A new estimate is
+    /// (only while locked by its own test: a normalised phase error within 0.29 above the
+    /// minimum speed; the partial turn is discarded otherwise and on a reversal, so a rotor
+    /// at rest or reversing teaches it nothing; the monitor's faults, such as the loss of
+    /// tracking that the errors the calibration removes may trip, do not stop it). A new estimate is
     /// applied once per completed turn, and only if it passes the calibration's checks: the
     /// observer's stability does not depend on it (its phase error is normalised), and the
     /// state never turns NaN. The estimate carries [`Faults::AMPLITUDE_MISMATCH`] and

@@ -5,7 +5,7 @@
 //! learns the calibration from the observer's own angle while it tracks.
 //!
 //! A fresh calibrator first finds each channel's centre from the raw samples alone
-//! ([`centre`]), correcting the samples by the running centre meanwhile, so that an offset
+//! ([`centre`]; provisionally after one turn), and applies it once found, so that an offset
 //! of any size (a bias, counts off mid-scale) lets the observer lock; the estimator then
 //! learns from the centre's calibration on.
 //!
@@ -23,7 +23,7 @@ use crate::real::sincos::SinCos;
 use crate::state::{Estimate, ObserverState};
 use crate::update::{SampleObserver, UsedSample};
 
-use centre::CentreFinder;
+use centre::{CentreFinder, CentreStep};
 
 mod centre;
 
@@ -180,14 +180,12 @@ impl<T: Float> Calibrator<T> {
         calibrator
     }
 
-    /// The calibration applied to each sample (unless off) once the centre is known; the
-    /// identity while [`CalibrationStatus::FindingCentre`] (the samples are then corrected
-    /// by the running centre).
+    /// The calibration applied to each sample (unless off); while
+    /// [`CalibrationStatus::FindingCentre`], the identity (and once a finding turn has
+    /// passed, the provisional centre's offsets, applied so that the observer locks while
+    /// the next turn confirms it).
     pub fn calibration(&self) -> SensorCalibration<T> {
-        match self.phase {
-            Phase::FindingCentre(_) => SensorCalibration::IDENTITY,
-            Phase::Centred(_) => self.calibration,
-        }
+        self.calibration
     }
 
     /// Replaces the calibration (its offsets are the centre; learning continues from it, as
@@ -295,16 +293,15 @@ impl<T: Float> Calibrator<T> {
         }
     }
 
-    /// The sample `(y_c, y_s)` corrected: by the calibration once the centre is known, by
-    /// the running centre before (held as a calibration of offsets only, whose faults are
-    /// none).
+    /// The sample `(y_c, y_s)` corrected by the calibration (before the centre is found,
+    /// none, then the provisional centre of the first finding turn: a centre moving with
+    /// every sample while the ranges fill would throw off a sensor centred already).
     #[inline(always)]
     pub(crate) fn correct(&self, y_c: T, y_s: T) -> (T, T) {
         self.calibration.correct(y_c, y_s)
     }
 
-    /// One raw sample of the centre's search: the running centre applied, or the centre
-    /// found.
+    /// One raw sample of the centre's search, which applies the centre once found.
     #[cold]
     #[inline(never)]
     fn find_centre(&mut self, y_c: T, y_s: T) {
@@ -312,11 +309,13 @@ impl<T: Float> Calibrator<T> {
             return;
         };
         match finder.add(y_c, y_s) {
-            Some(calibration) => self.centre_found(calibration),
-            None => {
-                let (centre_c, centre_s) = finder.centre();
+            CentreStep::Searching => {}
+            CentreStep::Provisional(centre_c, centre_s) => {
+                // Its faults (an offset beyond the bounds, against amplitudes of 1) are not
+                // the sensor's: they stay none.
                 self.calibration = SensorCalibration::with_offsets(centre_c, centre_s);
             }
+            CentreStep::Found(calibration) => self.centre_found(calibration),
         }
     }
 

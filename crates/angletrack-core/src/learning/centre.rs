@@ -42,6 +42,20 @@ const NO_SAMPLE: u8 = 4;
 /// the next quadrant boundary.
 const SPOILT: u8 = 5;
 
+/// What a sample told the search ([`CentreFinder::add`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum CentreStep<T> {
+    /// Nothing new.
+    Searching,
+    /// A finding turn ended with the ranges still growing: the middle `(c, s)` of the
+    /// ranges of the whole turn so far, to apply provisionally (the observer then locks
+    /// while the next turn confirms it).
+    Provisional(T, T),
+    /// The centre found: the centres as offsets, the half-ranges as amplitudes, no
+    /// quadrature.
+    Found(SensorCalibration<T>),
+}
+
 /// The search for the two channels' centres from raw samples (see the module's
 /// documentation). `Copy`, nine floats and three bytes. Meant to be cheap per sample (a few
 /// float comparisons and subtractions, the rest integer tests of the bits), since it runs
@@ -81,26 +95,18 @@ impl<T: Float> CentreFinder<T> {
         }
     }
 
-    /// The running centre `(c, s)`: the middle of each channel's range so far, `(0, 0)`
-    /// before the first sample.
-    #[inline(always)]
-    pub(crate) fn centre(&self) -> (T, T) {
-        self.centre
-    }
-
-    /// One raw sample `(y_c, y_s)` (not finite: ignored). Returns the calibration of the
-    /// centre found, at the sample that finds it: the centres as offsets, the half-ranges
-    /// as amplitudes, no quadrature (the estimator learns it, and refines the rest).
+    /// One raw sample `(y_c, y_s)` (not finite: ignored): what it told (the estimator
+    /// learns the quadrature, and refines the rest).
     #[inline(never)]
-    pub(crate) fn add(&mut self, y_c: T, y_s: T) -> Option<SensorCalibration<T>> {
+    pub(crate) fn add(&mut self, y_c: T, y_s: T) -> CentreStep<T> {
         if !(y_c.is_finite() && y_s.is_finite()) {
-            return None;
+            return CentreStep::Searching;
         }
         if self.quadrant == NO_SAMPLE {
             self.bounds = [y_c, y_c, y_s, y_s];
             self.centre = (y_c, y_s);
             self.restart_turn(SPOILT);
-            return None;
+            return CentreStep::Searching;
         }
         let [min_c, max_c, min_s, max_s] = self.bounds;
         if y_c < min_c || y_c > max_c || y_s < min_s || y_s > max_s {
@@ -110,7 +116,7 @@ impl<T: Float> CentreFinder<T> {
         if d_c.abs_at_most(self.inner.0) && d_s.abs_at_most(self.inner.1) {
             // Near the centre (or the ranges still nothing): the turn tells nothing.
             self.restart_turn(SPOILT);
-            return None;
+            return CentreStep::Searching;
         }
         let quadrant: u8 = match (d_c.sign_bit(), d_s.sign_bit()) {
             (false, false) => 0,
@@ -129,7 +135,7 @@ impl<T: Float> CentreFinder<T> {
         }
         self.quadrant = quadrant;
         if self.quarters.abs() < TURN_QUARTERS {
-            return None;
+            return CentreStep::Searching;
         }
         self.turn_completed()
     }
@@ -151,24 +157,26 @@ impl<T: Float> CentreFinder<T> {
     /// The end of a finding turn: the centre found if the ranges held still over it.
     #[cold]
     #[inline(never)]
-    fn turn_completed(&mut self) -> Option<SensorCalibration<T>> {
+    fn turn_completed(&mut self) -> CentreStep<T> {
         let [min_c, max_c, min_s, max_s] = self.bounds;
         let (range_c, range_s) = (max_c - min_c, max_s - min_s);
         let steady = self.growth <= (range_c + range_s) * T::from_f32(MAX_GROWTH)
             && self.samples >= MIN_TURN_SAMPLES;
         self.restart_turn(self.quadrant);
-        if !steady {
-            return None;
-        }
         let (centre_c, centre_s) = self.centre;
-        SensorCalibration::new(
+        if !steady {
+            return CentreStep::Provisional(centre_c, centre_s);
+        }
+        match SensorCalibration::new(
             centre_c,
             centre_s,
             range_c * T::HALF,
             range_s * T::HALF,
             T::ZERO,
-        )
-        .ok()
+        ) {
+            Ok(calibration) => CentreStep::Found(calibration),
+            Err(_) => CentreStep::Searching,
+        }
     }
 
     /// Starts a new finding turn from a sample in `quadrant`.

@@ -112,7 +112,7 @@ fn rms_from(errors: &[f64], from: f64) -> f64 {
 }
 
 /// The angle error's RMS over turns 20 to 40 of `sensor` through the learning calibrator is
-/// below 2 mrad in `f64` and `f32` (measured 1.30 to 1.35 mrad, mostly the noise's), with
+/// below 2 mrad in `f64` and `f32` (measured 1.28 to 1.36 mrad, mostly the noise's), with
 /// at least 30 turns learned and the status centred.
 fn assert_calibrated(name: &str, sensor: Sensor) {
     let (errors, calibrator, _) = run::<f64>(sensor, 40.0);

@@ -2,7 +2,9 @@
 //! online correction of offsets, gain imbalance and quadrature error (`docs/theory.md §12`),
 //! configured, read and written from Python.
 
-use angletrack_core::{CalibrationMode, Calibrator, Real, SensorCalibration as CoreCalibration};
+use angletrack_core::{
+    CalibrationMode, CalibrationStatus, Calibrator, Real, SensorCalibration as CoreCalibration,
+};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -207,5 +209,14 @@ pub fn mode_name(mode: CalibrationMode) -> &'static str {
         CalibrationMode::Off => "off",
         CalibrationMode::Learning => "learn",
         CalibrationMode::Frozen => "frozen",
+    }
+}
+
+/// The name of a status in the Python API.
+pub fn status_name(status: CalibrationStatus) -> &'static str {
+    match status {
+        CalibrationStatus::FindingCentre => "finding-centre",
+        CalibrationStatus::Centred => "centred",
+        CalibrationStatus::Stalled => "stalled",
     }
 }

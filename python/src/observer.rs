@@ -5,15 +5,15 @@
 
 use angletrack::{CountsSettings, EstimateColumns, ThresholdPolicy, online_calibration};
 use angletrack_core::{
-    CalibrationMode, Calibrator, Chain, ChainState, Faults, FrontEndCheck, FrontEndCheckState,
-    FrontEndFaults, Gains as CoreGains, Observer as CoreObserver, ObserverState, Real, SinCos,
-    WindingCheck,
+    CalibrationMode, CalibrationStatus, Calibrator, Chain, ChainState, Faults, FrontEndCheck,
+    FrontEndCheckState, FrontEndFaults, Gains as CoreGains, Observer as CoreObserver,
+    ObserverState, Real, SinCos, WindingCheck,
 };
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 
 use crate::arrays::{Float, check_equal_lengths};
-use crate::calibration::{CalibrationChoice, PySensorCalibration, mode_name};
+use crate::calibration::{CalibrationChoice, PySensorCalibration, mode_name, status_name};
 use crate::counts::{AdcInput, adc_settings};
 use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::{Arg, PhaseSinCos, Run, RunSettings, Sample};
@@ -62,6 +62,7 @@ pub trait ObserverOps: Run {
     fn calibration(&self) -> PySensorCalibration;
     fn calibration_mode(&self) -> CalibrationMode;
     fn calibration_turns_learned(&self) -> u32;
+    fn calibration_status(&self) -> CalibrationStatus;
     fn set_calibration(&mut self, choice: &CalibrationChoice) -> Result<()>;
 }
 
@@ -215,6 +216,10 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
 
     fn calibration_turns_learned(&self) -> u32 {
         self.calibrator.turns_learned()
+    }
+
+    fn calibration_status(&self) -> CalibrationStatus {
+        self.calibrator.status()
     }
 
     fn set_calibration(&mut self, choice: &CalibrationChoice) -> Result<()> {
@@ -463,6 +468,16 @@ impl PyObserver {
     #[getter]
     fn calibration_turns_learned(&self) -> u32 {
         self.inner.calibration_turns_learned()
+    }
+
+    /// Where the online calibration stands: `"finding-centre"` (the channels' centres are
+    /// not found yet: the rotor has not turned a whole turn, or is at rest; nothing is
+    /// learned and the angle of biased signals is wrong), `"centred"` (learning, or ready
+    /// to), or `"stalled"` (16 electrical turns at speed without a turn learned: the
+    /// observer is not locked within 0.29 of phase error, or the speed is not steady).
+    #[getter]
+    fn calibration_status(&self) -> &'static str {
+        status_name(self.inner.calibration_status())
     }
 
     /// Sets the calibration as the constructor's `calibration` and `initial_calibration`

@@ -77,6 +77,24 @@
 #define AT_CALIBRATION_FROZEN 2
 
 /**
+ * `at_calibrator_f32_status`: the channels' centres are not found yet (the rotor has not
+ * turned a whole turn while learning, or is at rest); nothing is learned (a fresh
+ * calibrator's status).
+ */
+#define AT_CALIBRATION_FINDING_CENTRE 0
+
+/**
+ * `at_calibrator_f32_status`: the centre is known (found, or loaded); learning, or ready to.
+ */
+#define AT_CALIBRATION_CENTRED 1
+
+/**
+ * `at_calibrator_f32_status`: 16 electrical turns at speed without a turn learned (the
+ * observer not locked within 0.29 of phase error, or the speed not steady).
+ */
+#define AT_CALIBRATION_STALLED 2
+
+/**
  * The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
@@ -1251,6 +1269,16 @@ uint32_t at_calibrator_f32_mode(const struct at_calibrator_f32 *calibrator);
  * See the header's introduction.
  */
 uint32_t at_calibrator_f32_turns_learned(const struct at_calibrator_f32 *calibrator);
+
+/**
+ * Where the online calibration of `calibrator` stands: `AT_CALIBRATION_FINDING_CENTRE`,
+ * `AT_CALIBRATION_CENTRED` or `AT_CALIBRATION_STALLED`; `AT_CALIBRATION_FINDING_CENTRE`
+ * for NULL or another build's calibrator.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_calibrator_f32_status(const struct at_calibrator_f32 *calibrator);
 
 /**
  * `at_update_f32` through the online calibration `calibrator`: unless it is off, the

@@ -4,7 +4,9 @@
 
 use core::mem::MaybeUninit;
 
-use angletrack_core::{CalibrationMode, Calibrator, ConfigError, SensorCalibration};
+use angletrack_core::{
+    CalibrationMode, CalibrationStatus, Calibrator, ConfigError, SensorCalibration,
+};
 
 use crate::slot::{self, Refused};
 use crate::status::{AT_ERR_MODE, AT_OK, at_status, status_of_result};
@@ -19,6 +21,16 @@ pub const AT_CALIBRATION_OFF: u32 = 0;
 pub const AT_CALIBRATION_LEARNING: u32 = 1;
 /// `at_calibrator_f32_mode`: corrects each sample, learns nothing.
 pub const AT_CALIBRATION_FROZEN: u32 = 2;
+
+/// `at_calibrator_f32_status`: the channels' centres are not found yet (the rotor has not
+/// turned a whole turn while learning, or is at rest); nothing is learned (a fresh
+/// calibrator's status).
+pub const AT_CALIBRATION_FINDING_CENTRE: u32 = 0;
+/// `at_calibrator_f32_status`: the centre is known (found, or loaded); learning, or ready to.
+pub const AT_CALIBRATION_CENTRED: u32 = 1;
+/// `at_calibrator_f32_status`: 16 electrical turns at speed without a turn learned (the
+/// observer not locked within 0.29 of phase error, or the speed not steady).
+pub const AT_CALIBRATION_STALLED: u32 = 2;
 
 /// One channel's online calibration: the correction applied to each sample and its
 /// estimator. A zeroed one (C static memory) is a fresh calibrator: off, no correction,
@@ -146,6 +158,15 @@ pub(crate) fn mode_of(calibrator: &Calibrator<f32>) -> u32 {
         CalibrationMode::Learning => AT_CALIBRATION_LEARNING,
         CalibrationMode::Frozen => AT_CALIBRATION_FROZEN,
         _ => AT_CALIBRATION_OFF,
+    }
+}
+
+/// The status of `calibrator`, as an `AT_CALIBRATION_*` status value.
+pub(crate) fn status_of(calibrator: &Calibrator<f32>) -> u32 {
+    match calibrator.status() {
+        CalibrationStatus::FindingCentre => AT_CALIBRATION_FINDING_CENTRE,
+        CalibrationStatus::Centred => AT_CALIBRATION_CENTRED,
+        CalibrationStatus::Stalled => AT_CALIBRATION_STALLED,
     }
 }
 

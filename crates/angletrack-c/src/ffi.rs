@@ -14,7 +14,9 @@ use core::ffi::c_char;
 use angletrack_core::{AdcSample, AdcScaling};
 
 use crate::adc::at_adc_f32;
-use crate::calibration::{at_calibrator_f32, at_sensor_calibration_f32};
+use crate::calibration::{
+    AT_CALIBRATION_FINDING_CENTRE, at_calibrator_f32, at_sensor_calibration_f32, status_of,
+};
 use crate::faults;
 use crate::gains::{at_fault_thresholds_f32, at_gains_f32, with_gains};
 use crate::observer::{Calibrated, Counts, Signals, at_estimate_f32, at_state_f32, run};
@@ -387,6 +389,20 @@ pub unsafe extern "C" fn at_calibrator_f32_turns_learned(
     unsafe { calibrator.as_ref() }
         .and_then(|c| c.value().ok())
         .map_or(0, |c| c.turns_learned())
+}
+
+/// Where the online calibration of `calibrator` stands: `AT_CALIBRATION_FINDING_CENTRE`,
+/// `AT_CALIBRATION_CENTRED` or `AT_CALIBRATION_STALLED`; `AT_CALIBRATION_FINDING_CENTRE`
+/// for NULL or another build's calibrator.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_calibrator_f32_status(calibrator: *const at_calibrator_f32) -> u32 {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
+    unsafe { calibrator.as_ref() }
+        .and_then(|c| c.value().ok())
+        .map_or(AT_CALIBRATION_FINDING_CENTRE, |c| status_of(&c))
 }
 
 /// `at_update_f32` through the online calibration `calibrator`: unless it is off, the

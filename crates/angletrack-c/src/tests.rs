@@ -197,6 +197,14 @@ fn calibration_learns_offsets_and_round_trips() {
         });
         assert!(at_calibrator_f32_turns_learned(&calibrator) > 5);
         assert_eq!(
+            at_calibrator_f32_status(&calibrator),
+            AT_CALIBRATION_CENTRED
+        );
+        assert_eq!(
+            at_calibrator_f32_status(&at_calibrator_f32::FRESH),
+            AT_CALIBRATION_FINDING_CENTRE
+        );
+        assert_eq!(
             at_calibrator_f32_calibration(&calibrator, &mut learned),
             AT_OK
         );

@@ -62,6 +62,15 @@ impl<T: Float> SensorCalibration<T> {
         T::FRAC_PI_2 * T::HALF
     }
 
+    /// The calibration that only removes the offsets `(offset_c, offset_s)` (finite).
+    pub(crate) fn with_offsets(offset_c: T, offset_s: T) -> Self {
+        Self {
+            offset_c,
+            offset_s,
+            ..Self::IDENTITY
+        }
+    }
+
     /// A calibration from the sensor model's parameters: offsets `offset_c`, `offset_s` and
     /// amplitudes `amplitude_c`, `amplitude_s` (input units), quadrature `quadrature_rad`.
     ///

@@ -40,6 +40,9 @@ pub struct Feedback<V> {
     pub scaled_speed: V,
     /// The sample's faults, as the observer's monitor flagged them.
     pub faults: Faults,
+    /// The sample's normalised phase error: the sine of the angle between the sample and
+    /// its prediction (Q15 for the fixed-point observer, saturated).
+    pub phase_error: V,
 }
 
 /// A front-end stage: `&self` is its immutable configuration, [`Stage::State`] its mutable

@@ -4,6 +4,11 @@
 //! [`Gains::update_calibrated`], which corrects each sample before the phase detector and
 //! learns the calibration from the observer's own angle while it tracks.
 //!
+//! A fresh calibrator first finds each channel's centre from the raw samples alone
+//! ([`centre`]; provisionally after one turn), and applies it once found, so that an offset
+//! of any size (a bias, counts off mid-scale) lets the observer lock; the estimator then
+//! learns from the centre's calibration on.
+//!
 //! The estimator integrates, over whole electrical turns of the observer's predicted angle
 //! `p`, the raw samples against `(1, cos p, sin p)`: per completed turn, a Fourier estimate of
 //! the regression `y_c = o_c + a1 cos p + b1 sin p`, `y_s = o_s + a2 cos p + b2 sin p`,
@@ -18,12 +23,16 @@ use crate::real::sincos::SinCos;
 use crate::state::{Estimate, ObserverState};
 use crate::update::{SampleObserver, UsedSample};
 
-/// The faults that stop the estimator and discard its partial turn: the observer's angle is
-/// then not the sensor's.
-const NOT_LOCKED: Faults = Faults::LOSS_OF_SIGNAL
-    .union(Faults::LOSS_OF_TRACKING)
-    .union(Faults::BAD_SAMPLE)
-    .union(Faults::FALSE_LOCK);
+use centre::{CentreFinder, CentreStep};
+
+mod centre;
+
+/// The estimator's lock test: the normalised phase error of the corrected sample (the sine
+/// of its angle from the observer's prediction) within 0.29 (17 degrees). Wider than the
+/// angle errors the calibration removes (5 % offsets, 10 % imbalance and 3 degrees of
+/// quadrature give at most 0.13 rad), narrower than what an observer that has lost the
+/// angle shows over a turn.
+const MAX_LOCK_PHASE_ERROR: f32 = 0.29;
 
 /// The smallest blend factor of a turn's estimate, `1/16`: the estimate then averages about
 /// the last 16 turns, following a slow drift (temperature, air gap) while averaging noise.
@@ -47,9 +56,29 @@ pub enum CalibrationMode {
     Frozen,
 }
 
+/// Where a learning [`Calibrator`] stands ([`Calibrator::status`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum CalibrationStatus {
+    /// The channels' centres are not found yet: the samples are corrected by the running
+    /// centre (the middle of each channel's range so far) and nothing is learned. A rotor
+    /// at rest, or one that has not turned a whole turn, stays here: its centre is unknown
+    /// (the calibration stays the identity, and the angle is wrong if the signals are
+    /// biased).
+    FindingCentre,
+    /// The centre is known (found, or set with the calibration): learning as the observer
+    /// tracks, or ready to.
+    Centred,
+    /// The centre is known, but [`Calibrator::STALL_TURNS`] electrical turns at speed have
+    /// passed since it was found or since the last turn learned, and none passed the
+    /// estimator's test (lock on the corrected phase error, steady speed, whole turns).
+    Stalled,
+}
+
 /// The online calibration's state: the [`SensorCalibration`] applied to each sample, the
-/// mode, and the estimator's sums over the current turn. No allocation (`Copy`, 17 floats
-/// and a few words); one per channel, beside its [`ObserverState`].
+/// mode, and either the search for the channels' centres or the estimator's sums over the
+/// current turn. No allocation (`Copy`, 25 floats and a few words); one per channel,
+/// beside its [`ObserverState`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Calibrator<T> {
     calibration: SensorCalibration<T>,
@@ -58,17 +87,45 @@ pub struct Calibrator<T> {
     regression: [T; 6],
     /// Turns learned (blended) so far.
     turns_learned: u32,
-    /// The angle (rad, signed) the observer's speed has covered in the current partial turn.
-    progress: T,
-    /// The speed (rad per sample) at the first sample of the current partial turn.
-    start_speed: T,
+    /// The angle (rad) the observer has covered at speed since the centre was found or the
+    /// last turn was learned, in turns it did not learn.
+    unlearned_rad: T,
     /// The faults of the calibration against the settings' bounds, computed when the
     /// calibration changes (`None`: to be computed at the next sample).
     sensor_faults: Option<Faults>,
-    /// Over the current partial turn, each sample with the weight `w` (1, and the fraction
-    /// of the last one that completes the turn): `[sum w, sum w y_c, sum w y_s,
-    /// sum w y_c cos p, sum w y_c sin p, sum w y_s cos p, sum w y_s sin p]`.
+    /// The centre's search, or the current turn's sums.
+    phase: Phase<T>,
+}
+
+/// A [`Calibrator`]'s search for the centre, then its estimator's turn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Phase<T> {
+    /// Before the centre is known.
+    FindingCentre(CentreFinder<T>),
+    /// The current partial turn of the estimator.
+    Centred(Turn<T>),
+}
+
+/// The estimator's current partial turn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Turn<T> {
+    /// The angle (rad, signed) the observer's speed has covered in it.
+    progress: T,
+    /// The speed (rad per sample) where it started: at the sample that ended the turn
+    /// before (0 after a reset: unknown, and the turn is dropped).
+    start_speed: T,
+    /// Each sample with the weight `w` (1, and the fraction of the last one that completes
+    /// the turn): `[sum w, sum w y_c, sum w y_s, sum w y_c cos p, sum w y_c sin p,
+    /// sum w y_s cos p, sum w y_s sin p]`.
     sums: [T; 7],
+}
+
+impl<T: Float> Turn<T> {
+    const EMPTY: Self = Self {
+        progress: T::ZERO,
+        start_speed: T::ZERO,
+        sums: [T::ZERO; 7],
+    };
 }
 
 impl<T: Float> Default for Calibrator<T> {
@@ -93,12 +150,15 @@ impl<T: Float> Calibrator<T> {
             mode: CalibrationMode::Off,
             regression: [T::ZERO; 6],
             turns_learned: 0,
-            progress: T::ZERO,
-            start_speed: T::ZERO,
-            sensor_faults: None,
-            sums: [T::ZERO; 7],
+            unlearned_rad: T::ZERO,
+            sensor_faults: Some(Faults::NONE),
+            phase: Phase::FindingCentre(CentreFinder::new()),
         }
     }
+
+    /// The electrical turns at speed without a learned turn after which
+    /// [`Calibrator::status`] says [`CalibrationStatus::Stalled`]: 16.
+    pub const STALL_TURNS: u32 = 16;
 
     /// A calibrator applying a stored `calibration` without learning
     /// ([`CalibrationMode::Frozen`]); [`Calibrator::enable`] continues learning from it, as
@@ -120,23 +180,50 @@ impl<T: Float> Calibrator<T> {
         calibrator
     }
 
-    /// The calibration applied to each sample (unless off).
+    /// The calibration applied to each sample (unless off); while
+    /// [`CalibrationStatus::FindingCentre`], the identity (and once a finding turn has
+    /// passed, the provisional centre's offsets, applied so that the observer locks while
+    /// the next turn confirms it).
     pub fn calibration(&self) -> SensorCalibration<T> {
         self.calibration
     }
 
-    /// Replaces the calibration (learning continues from it, as from an estimate of 16
-    /// turns); the current partial turn is discarded.
+    /// Replaces the calibration (its offsets are the centre; learning continues from it, as
+    /// from an estimate of 16 turns); the current partial turn is discarded.
     pub fn set_calibration(&mut self, calibration: SensorCalibration<T>) {
         self.calibration = calibration;
         self.regression = calibration.regression();
         self.turns_learned = 16;
+        self.unlearned_rad = T::ZERO;
         self.sensor_faults = None;
-        self.discard_turn();
+        self.phase = Phase::Centred(Turn::EMPTY);
     }
 
-    /// Forgets what was learned: no correction, the next completed turn's estimate is taken
-    /// as it is. Keeps the mode.
+    /// Where learning stands: finding the centre, centred, or stalled (see
+    /// [`CalibrationStatus`]).
+    ///
+    /// ```
+    /// use angletrack_core::{CalibrationStatus, Calibrator, SensorCalibration};
+    /// assert_eq!(Calibrator::<f32>::new().status(), CalibrationStatus::FindingCentre);
+    /// let stored = SensorCalibration::<f32>::new(2.5, 2.5, 1.0, 1.0, 0.0)?;
+    /// let calibrator = Calibrator::from_calibration(stored);
+    /// assert_eq!(calibrator.status(), CalibrationStatus::Centred);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn status(&self) -> CalibrationStatus {
+        match self.phase {
+            Phase::FindingCentre(_) => CalibrationStatus::FindingCentre,
+            Phase::Centred(_)
+                if self.unlearned_rad >= T::TAU * T::from_i32(Self::STALL_TURNS as i32) =>
+            {
+                CalibrationStatus::Stalled
+            }
+            Phase::Centred(_) => CalibrationStatus::Centred,
+        }
+    }
+
+    /// Forgets what was learned, the centre included: no correction, the centre is found
+    /// again, and the next completed turn's estimate is taken as it is. Keeps the mode.
     pub fn restart_learning(&mut self) {
         *self = Self {
             mode: self.mode,
@@ -185,16 +272,75 @@ impl<T: Float> Calibrator<T> {
         }
     }
 
+    /// Drops the current partial turn (counted as unlearned); the centre's search goes on.
+    /// The next turn's start speed is unknown (0): that turn is dropped too.
     fn discard_turn(&mut self) {
-        self.progress = T::ZERO;
-        self.sums = [T::ZERO; 7];
+        self.discard_turn_at(T::ZERO);
+    }
+
+    /// [`Calibrator::discard_turn`] at a sample of speed `step` (rad per sample), which
+    /// stands for the next turn's start speed (the next sample's, to the speed's change in
+    /// one sample).
+    #[cold]
+    #[inline(never)]
+    fn discard_turn_at(&mut self, step: T) {
+        if let Phase::Centred(turn) = &mut self.phase {
+            self.unlearned_rad += turn.progress.abs();
+            *turn = Turn {
+                start_speed: step,
+                ..Turn::EMPTY
+            };
+        }
+    }
+
+    /// The sample `(y_c, y_s)` corrected by the calibration (before the centre is found,
+    /// none, then the provisional centre of the first finding turn: a centre moving with
+    /// every sample while the ranges fill would throw off a sensor centred already).
+    #[inline(always)]
+    pub(crate) fn correct(&self, y_c: T, y_s: T) -> (T, T) {
+        self.calibration.correct(y_c, y_s)
+    }
+
+    /// One raw sample of the centre's search, which applies the centre once found.
+    #[cold]
+    #[inline(never)]
+    fn find_centre(&mut self, y_c: T, y_s: T) {
+        let Phase::FindingCentre(finder) = &mut self.phase else {
+            return;
+        };
+        match finder.add(y_c, y_s) {
+            CentreStep::Searching => {}
+            CentreStep::Provisional(centre_c, centre_s) => {
+                // Its faults (an offset beyond the bounds, against amplitudes of 1) are not
+                // the sensor's: they stay none.
+                self.calibration = SensorCalibration::with_offsets(centre_c, centre_s);
+            }
+            CentreStep::Found(calibration) => self.centre_found(calibration),
+        }
+    }
+
+    /// The centre found: its calibration applied, and the estimator's first turn to
+    /// replace it (nothing learned yet).
+    #[cold]
+    #[inline(never)]
+    fn centre_found(&mut self, calibration: SensorCalibration<T>) {
+        self.calibration = calibration;
+        self.regression = calibration.regression();
+        self.turns_learned = 0;
+        self.unlearned_rad = T::ZERO;
+        self.sensor_faults = None;
+        self.phase = Phase::Centred(Turn::EMPTY);
     }
 
     /// One sample of the estimator: the raw sample `(y_c, y_s)` and what the observer made
-    /// of its corrected form (`None`: not used). A sample of a faulty, slow or reversing
-    /// observer discards the partial turn; a sample that completes a turn (the speed's angle
-    /// steps add to 2 pi) ends it, counted only for the fraction of its step that completes
-    /// the turn.
+    /// of its corrected form (`None`: not used). Before the centre is known, the raw sample
+    /// goes to the centre's search only. A sample of an observer not locked on it (a phase
+    /// error beyond [`MAX_LOCK_PHASE_ERROR`]), slow or reversing discards the partial turn
+    /// (the monitor's faults do not: its loss of tracking is tripped by the errors learning
+    /// removes; a false lock half a turn away is a common rotation, which the estimate
+    /// leaves out; a rejected sample is not used); a sample
+    /// that completes a turn (the speed's angle steps add to 2 pi) ends it, counted only for
+    /// the fraction of its step that completes the turn.
     ///
     /// The samples are weighted equally (a synchronous average over time), not by the
     /// estimated speed: the speed ripples at the frequencies the sensor's errors put on the
@@ -204,51 +350,68 @@ impl<T: Float> Calibrator<T> {
         &mut self,
         checked: &CheckedCalibration<T>,
         used: Option<UsedSample<T>>,
-        y_c: T,
-        y_s: T,
+        (y_c, y_s): (T, T),
     ) {
+        let Phase::Centred(turn) = &mut self.phase else {
+            return self.find_centre(y_c, y_s);
+        };
         let Some(used) = used else {
             return self.discard_turn();
         };
         let step = used.scaled_speed;
-        let progress = self.progress;
-        // NaN-safe: a NaN speed fails the comparison and discards.
-        if used.faults.intersects(NOT_LOCKED)
-            || !(step.abs() >= checked.min_scaled_speed)
+        let progress = turn.progress;
+        // NaN-safe: a NaN speed or phase error fails the comparisons and discards.
+        let at_speed = step.abs() >= checked.min_scaled_speed;
+        if !(at_speed
+            && used
+                .phase_error
+                .abs_at_most(T::from_f32(MAX_LOCK_PHASE_ERROR)))
             || step * progress < T::ZERO
         {
-            return self.discard_turn();
+            if at_speed {
+                self.unlearned_rad += step.abs();
+            }
+            return self.discard_turn_at(step);
         }
-        if progress == T::ZERO {
-            self.start_speed = step;
-        }
-        let remaining = T::TAU - progress.abs();
-        let complete = step.abs() >= remaining;
-        let w = if complete {
-            remaining / step.abs()
-        } else {
-            T::ONE
-        };
-        self.progress = progress + step;
+        let next = progress + step;
         let (sin, cos) = used.sin_cos;
-        let (wc, ws) = (w * y_c, w * y_s);
-        let terms = [w, wc, ws, wc * cos, wc * sin, ws * cos, ws * sin];
-        for (sum, term) in self.sums.iter_mut().zip(terms) {
+        if next.abs() >= T::TAU {
+            return self.complete_turn(step, (y_c, y_s), (sin, cos));
+        }
+        turn.progress = next;
+        let terms = [T::ONE, y_c, y_s, y_c * cos, y_c * sin, y_s * cos, y_s * sin];
+        for (sum, term) in turn.sums.iter_mut().zip(terms) {
             *sum += term;
         }
-        if complete {
-            // Equal weights stand for equal angle steps only at a steady speed: a turn over
-            // which the speed changed is dropped (its window would leak the fundamental into
-            // the offsets). The speed's ripple from the sensor's errors is the same at both
-            // ends of a turn, so it does not count.
-            if (step - self.start_speed).abs()
-                <= self.start_speed.abs() * T::from_f32(MAX_SPEED_CHANGE)
-            {
-                self.end_turn();
-            } else {
-                self.discard_turn();
-            }
+    }
+
+    /// The sample that completes the current turn, `step` its speed, `(y_c, y_s)` and
+    /// `(sin, cos)` as in [`Calibrator::learn`]: counted for the fraction `w` of its step
+    /// that completes the turn, then the turn ended, or dropped if the speed changed over
+    /// it.
+    #[cold]
+    #[inline(never)]
+    fn complete_turn(&mut self, step: T, (y_c, y_s): (T, T), (sin, cos): (T, T)) {
+        let Phase::Centred(turn) = &mut self.phase else {
+            return;
+        };
+        let w = (T::TAU - turn.progress.abs()) / step.abs();
+        turn.progress += step;
+        let (wc, ws) = (w * y_c, w * y_s);
+        let terms = [w, wc, ws, wc * cos, wc * sin, ws * cos, ws * sin];
+        for (sum, term) in turn.sums.iter_mut().zip(terms) {
+            *sum += term;
         }
+        // Equal weights stand for equal angle steps only at a steady speed: a turn over
+        // which the speed changed is dropped (its window would leak the fundamental into
+        // the offsets). The speed's ripple from the sensor's errors is the same at both
+        // ends of a turn, so it does not count.
+        if (step - turn.start_speed).abs() <= turn.start_speed.abs() * T::from_f32(MAX_SPEED_CHANGE)
+        {
+            self.end_turn();
+        }
+        // Learned or not, this turn is over, and the next one starts at this speed.
+        self.discard_turn_at(step);
     }
 
     /// A completed turn: its Fourier estimate of the regression, blended into the running
@@ -258,9 +421,12 @@ impl<T: Float> Calibrator<T> {
     #[cold]
     #[inline(never)]
     fn end_turn(&mut self) {
-        let inverse = T::ONE / self.sums[0];
+        let Phase::Centred(turn) = &self.phase else {
+            return;
+        };
+        let inverse = T::ONE / turn.sums[0];
         let twice = inverse * T::TWO;
-        let s = &self.sums;
+        let s = &turn.sums;
         let estimate = [
             s[1] * inverse,
             s[2] * inverse,
@@ -284,8 +450,11 @@ impl<T: Float> Calibrator<T> {
             self.sensor_faults = None;
             self.regression = blended;
             self.turns_learned = self.turns_learned.saturating_add(1);
+            self.unlearned_rad = T::ZERO;
+            if let Phase::Centred(turn) = &mut self.phase {
+                turn.progress = T::ZERO;
+            }
         }
-        self.discard_turn();
     }
 }
 
@@ -302,19 +471,20 @@ impl<T: Float> SampleObserver<T> for Learner<'_, T> {
     #[inline(always)]
     fn observe(self, used: Option<UsedSample<T>>) {
         if self.learning {
-            self.calibrator
-                .learn(self.checked, used, self.raw.0, self.raw.1);
+            self.calibrator.learn(self.checked, used, self.raw);
         }
     }
 }
 
 impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// One sample through the online calibration: unless `calibrator` is off, the sample is
-    /// corrected by its [`SensorCalibration`] before the phase detector, and, while
+    /// corrected by its [`SensorCalibration`] before the phase detector (by the running
+    /// centre while the centre is being found, see [`CalibrationStatus`]), and, while
     /// learning, the raw sample and the observer's predicted angle feed its estimator
-    /// (only while locked: no loss of signal, loss of tracking, bad sample or false lock
-    /// this sample, and above the minimum speed; the partial turn is discarded otherwise and
-    /// on a reversal, so a rotor at rest or reversing teaches it nothing). A new estimate is
+    /// (only while locked by its own test: a normalised phase error within 0.29 above the
+    /// minimum speed; the partial turn is discarded otherwise and on a reversal, so a rotor
+    /// at rest or reversing teaches it nothing; the monitor's faults, such as the loss of
+    /// tracking that the errors the calibration removes may trip, do not stop it). A new estimate is
     /// applied once per completed turn, and only if it passes the calibration's checks: the
     /// observer's stability does not depend on it (its phase error is normalised), and the
     /// state never turns NaN. The estimate carries [`Faults::AMPLITUDE_MISMATCH`] and
@@ -368,7 +538,7 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         y_s: T,
     ) -> Estimate<T> {
         let mode = calibrator.mode;
-        let (c, s) = calibrator.calibration.correct(y_c, y_s);
+        let (c, s) = calibrator.correct(y_c, y_s);
         let checked = &self.calibration;
         let learner = Learner {
             calibrator: &mut *calibrator,
@@ -390,3 +560,5 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_sensors;

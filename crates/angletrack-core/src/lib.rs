@@ -171,7 +171,7 @@ pub use faults::Faults;
 pub use fixed::{FixedEstimate, FixedGains, FixedState};
 pub use front_end_faults::FrontEndFaults;
 pub use gains::{Gains, Order, SupportedOrder};
-pub use learning::{CalibrationMode, Calibrator};
+pub use learning::{CalibrationMode, CalibrationStatus, Calibrator};
 pub use monitor::FaultThresholds;
 pub use observer::{AngleTrackingObserver, Observer, SecondOrderObserver, ThirdOrderObserver};
 pub use outputs::{DriveAngle, DriveOutputs, DriveOutputsState};

@@ -139,6 +139,14 @@ pub trait Float:
     /// Cortex-M4F fewer instructions than a comparison and a select).
     fn times_sign_of(self, sign: Self) -> Self;
 
+    /// `|self| <= bound` for a `bound` that is finite and not negative; `false` for a NaN
+    /// `self`. One integer comparison of the bits (the sign bit cleared): a float comparison
+    /// is a library call on a core without an FPU (Cortex-M0).
+    fn abs_at_most(self, bound: Self) -> bool;
+
+    /// `true` when the sign bit is set (negative numbers, -0 and NaNs with it): one bit test.
+    fn sign_bit(self) -> bool;
+
     /// Checks that a parameter is finite and strictly positive: the type's `const fn` of
     /// `error.rs`, which the `const` constructors call directly.
     #[doc(hidden)]
@@ -285,6 +293,16 @@ macro_rules! impl_real {
             fn times_sign_of(self, sign: Self) -> Self {
                 const SIGN_BIT: $bits = 1 << ($bits::BITS - 1);
                 $t::from_bits(self.to_bits() ^ (sign.to_bits() & SIGN_BIT))
+            }
+            #[inline(always)]
+            fn abs_at_most(self, bound: Self) -> bool {
+                // Not negative floats order as their bits; a NaN's are above infinity's.
+                const MAGNITUDE: $bits = <$bits>::MAX >> 1;
+                self.to_bits() & MAGNITUDE <= bound.to_bits()
+            }
+            #[inline(always)]
+            fn sign_bit(self) -> bool {
+                self.to_bits() >> ($bits::BITS - 1) != 0
             }
             #[inline]
             fn check_positive(value: Self, parameter: Parameter) -> Result<Self, ConfigError> {

@@ -25,6 +25,9 @@ pub(crate) struct UsedSample<T> {
     pub(crate) scaled_speed: T,
     /// The sample's faults, as the monitor flagged them.
     pub(crate) faults: Faults,
+    /// The sample's normalised phase error `eps` (the sine of the angle between the sample
+    /// and its prediction).
+    pub(crate) phase_error: T,
 }
 
 /// What [`Gains::update_observing`] shows each sample to: a trait rather than a closure,
@@ -262,6 +265,7 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             sin_cos: step.sin_cos,
             scaled_speed: if N > 1 { state.x[1] } else { T::ZERO },
             faults: state.faults,
+            phase_error: step.eps,
         }));
     }
 

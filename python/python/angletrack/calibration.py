@@ -97,14 +97,31 @@ def angle_calibration(stored: Union[None, SensorCalibration, "harmonics.Calibrat
     return None if stored is None or isinstance(stored, SensorCalibration) else stored
 
 
+#: Why a calibrator in each ``calibration_status`` learned nothing.
+_NOTHING_LEARNED = {
+    "finding-centre": "the channels' centres were not found (the rotor turned less than a whole turn, "
+                      "or stood still), so the angle of biased signals is wrong",
+    "centred": "no whole turn at a steady speed above the minimum speed",
+    "stalled": "the observer was not locked on the corrected signals (phase error within 0.29) over a "
+               "whole turn at a steady speed",
+}
+
+
 def write_learned(capture: pathlib.Path, output: Optional[pathlib.Path], observer: Any) -> str:
     """Writes what ``observer`` learned beside the estimates of ``capture`` (or to
-    ``output``) and returns the line that says so."""
+    ``output``) and returns the line that says so. ``ValueError`` (one line, naming
+    ``--calibrate``) when it learned no turn: nothing is written, and the status says why."""
     path = default_path(capture, output)
     learned = observer.calibration
-    write(path, learned, turns_learned=observer.calibration_turns_learned, source=str(capture))
+    turns, status = observer.calibration_turns_learned, observer.calibration_status
+    if turns == 0:
+        raise ValueError(f"calibration: --calibrate learned 0 turns (status {status}): "
+                         f"{_NOTHING_LEARNED[status]}; no calibration written")
+    write(path, learned, turns_learned=turns, source=str(capture))
+    stalled = ("; status stalled: no turn learned over the last 16 turns at speed"
+               if status == "stalled" else "")
     return (
-        f"calibration learned over {observer.calibration_turns_learned} turns -> {path}: offsets "
+        f"calibration learned over {turns} turns -> {path}: offsets "
         f"{learned.offset_c:.6g}, {learned.offset_s:.6g}; amplitudes {learned.amplitude_c:.6g}, "
-        f"{learned.amplitude_s:.6g}; quadrature {learned.quadrature_rad:.6g} rad"
+        f"{learned.amplitude_s:.6g}; quadrature {learned.quadrature_rad:.6g} rad{stalled}"
     )

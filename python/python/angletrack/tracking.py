@@ -240,6 +240,42 @@ def _stated_rate_note(s: TrackSettings) -> list[str]:
     ]
 
 
+#: A channel whose range's middle is further than this fraction of its half-range from zero
+#: is noted as off-centre by a plain ``track`` (the online calibration finds the centre).
+OFF_CENTRE_FRACTION = 0.25
+
+
+class _Ranges:
+    """Running ranges of the two channels as tracked (after the mid-scale), chunk by chunk."""
+
+    def __init__(self):
+        self.low = [math.inf, math.inf]
+        self.high = [-math.inf, -math.inf]
+
+    def add(self, y_c: np.ndarray, y_s: np.ndarray) -> None:
+        for k, y in enumerate((y_c, y_s)):
+            finite = y[np.isfinite(y)]
+            if len(finite):
+                self.low[k] = min(self.low[k], float(np.min(finite)))
+                self.high[k] = max(self.high[k], float(np.max(finite)))
+
+    def off_centre_note(self) -> list[str]:
+        """A note when either channel's range is centred off zero by more than
+        :data:`OFF_CENTRE_FRACTION` of its half-range: signals on a bias, which the loop
+        (centred on zero) tracks wrongly if the capture holds a whole turn."""
+        centres = [(lo + hi) / 2 for lo, hi in zip(self.low, self.high)]
+        halves = [(hi - lo) / 2 for lo, hi in zip(self.low, self.high)]
+        if not all(math.isfinite(h) and h > 0 for h in halves):
+            return []
+        if all(abs(c) <= OFF_CENTRE_FRACTION * h for c, h in zip(centres, halves)):
+            return []
+        return [
+            f"note: the signals' ranges are centred at ({centres[0]:.6g}, {centres[1]:.6g}), half-ranges "
+            f"({halves[0]:.6g}, {halves[1]:.6g}): if the capture holds a whole turn the signals are biased and "
+            "the angle is wrong; --calibrate finds each channel's centre"
+        ]
+
+
 def unsigned_mid_scale(sample_dtype: str, y_c: np.ndarray, y_s: np.ndarray) -> float:
     """The mid-scale of unsigned ADC counts, for a capture of integers none of whose first
     samples is negative and some positive: the observer's rule for uint16 counts
@@ -303,6 +339,7 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
                                        **s.observer_arguments)
     progress = _Progress(s.progress)
     rejected, y_c_sum, flagged = 0, 0.0, 0
+    ranges = _Ranges()
     bad, front_end = int(angletrack.Faults.BAD_SAMPLE), int(angletrack.Faults.FRONT_END)
     s.output.parent.mkdir(parents=True, exist_ok=True)
     # A fault found part way (a malformed row, an interrupt) leaves no partial file that could
@@ -319,6 +356,7 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
             rejected += int(np.count_nonzero(est.faults & bad))
             flagged += int(np.count_nonzero(est.faults & front_end))
             y_c_sum += float(np.sum(chunk.y_c))
+            ranges.add(chunk.y_c - mid, chunk.y_s - mid)
             if stats is not None:
                 stats.add(time_s, est.angle, chunk.reference_rad)
             progress.update(reader)
@@ -341,6 +379,8 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     if adc_range is not None:
         lines.append(f"{clipping.describe(adc_range, s.adc_range is not None)}: {flagged} samples clipped "
                      "(flagged FRONT_END; those clipped in both channels coasted through)")
+    if not s.observer_arguments and calibration is None:
+        lines += ranges.off_centre_note()
     if stats is not None:
         lines.append(stats.report())
     return "\n".join(lines), observer

@@ -164,6 +164,7 @@ impl<const N: usize> Observe<i16> for FixedGains<N> {
             sin_cos,
             scaled_speed: speed.clamp(-32768, 32767) as i16,
             faults: state.faults,
+            phase_error: state.phase_error.clamp(-32768, 32767) as i16,
         }));
     }
 
@@ -200,6 +201,7 @@ impl<V: ChainNumber, X, F: Stage<V, X>> SampleObserver<V> for ToFrontEnd<'_, V, 
             sin_cos: u.sin_cos,
             scaled_speed: u.scaled_speed,
             faults: u.faults,
+            phase_error: u.phase_error,
         });
         self.front_end.feedback(self.state, self.memo, used);
     }

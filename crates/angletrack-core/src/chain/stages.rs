@@ -128,7 +128,7 @@ impl<T: Float> Stage<T, (T, T)> for OnlineCalibration<T> {
         let corrected = if calibrator.mode() == CalibrationMode::Off {
             (y_c, y_s)
         } else {
-            calibrator.calibration().correct(y_c, y_s)
+            calibrator.correct(y_c, y_s)
         };
         (corrected, (y_c, y_s))
     }
@@ -140,8 +140,9 @@ impl<T: Float> Stage<T, (T, T)> for OnlineCalibration<T> {
                 sin_cos: f.sin_cos,
                 scaled_speed: f.scaled_speed,
                 faults: f.faults,
+                phase_error: f.phase_error,
             });
-            calibrator.learn(&self.checked, used, raw.0, raw.1);
+            calibrator.learn(&self.checked, used, raw);
         }
     }
 

@@ -79,8 +79,7 @@ fn corrects_1x_and_2x_errors_20_times_within_20_turns() {
     let (corrected, calibrator) = run(CalibrationMode::Learning, samples, theta);
     let before = harmonics(&raw, first, theta);
     let after = harmonics(&corrected, first, theta);
-    // Reported (not asserted): the first turn from which the next five turns are 20 times
-    // better at both harmonics.
+    // The first turn from which the next five turns are 20 times better at both harmonics.
     let converged = (1..20).find(|&turn| {
         let from = (turn as f64 * SAMPLES_PER_TURN) as usize;
         let to = ((turn + 5) as f64 * SAMPLES_PER_TURN) as usize;
@@ -95,15 +94,22 @@ fn corrects_1x_and_2x_errors_20_times_within_20_turns() {
         before[1] / after[1],
         calibrator.calibration().parameters()
     );
-    for h in 0..2 {
+    // docs/theory.md §12.3 quotes 0.106 and 0.055 rad before, 7.6e-4 and 5.2e-4 rad after
+    // (138 and 105 times smaller), 20 times smaller from turn 7: each held within 2x.
+    for (h, (quoted_before, quoted_after)) in
+        [(0.106, 7.6e-4), (0.055, 5.2e-4)].into_iter().enumerate()
+    {
         assert!(
-            after[h] * 20.0 < before[h],
+            before[h] > quoted_before / 2.0
+                && before[h] < quoted_before * 2.0
+                && after[h] < quoted_after * 2.0,
             "harmonic {}: {} -> {}",
             h + 1,
             before[h],
             after[h]
         );
     }
+    assert!(matches!(converged, Some(4..=14)), "{converged:?}");
 }
 
 /// The largest deviation of a calibration from the target sensor's: offsets and amplitudes
@@ -140,8 +146,9 @@ fn learns_nothing_at_rest() {
 }
 
 /// Through a reversal (constant deceleration from +50 Hz to -50 Hz over 0.2 s) the learned
-/// calibration stays within 0.2 % of the amplitude (offsets, amplitudes) and 2 mrad
-/// (quadrature) of the sensor's.
+/// calibration stays within 0.16 % of the amplitude (offsets, amplitudes) and 1.6 mrad
+/// (quadrature) of the sensor's: twice the 8.3e-4 measured, which docs/theory.md §12.3
+/// quotes.
 #[test]
 #[cfg_attr(miri, ignore)]
 fn a_reversal_introduces_no_bias() {
@@ -168,7 +175,7 @@ fn a_reversal_introduces_no_bias() {
         worst = worst.max(deviation(&calibrator.calibration()));
     }
     std::println!("reversal: largest deviation from the sensor {worst:e}");
-    assert!(worst < 2e-3, "deviation {worst}");
+    assert!(worst < 1.6e-3, "deviation {worst}");
 }
 
 /// A calibration beyond the settings' bounds flags its faults (and latches them); within

@@ -259,7 +259,8 @@ fn orders_one_and_two_are_learned_against_a_reference_with_its_own_zero() {
             "order {k}: {da} {db}"
         );
         // 20 turns of 100 samples, 1e-3 of noise: sqrt(2/2000) 1e-3 = 3.2e-5 per coefficient.
-        assert!((1.6e-5..6.4e-5).contains(&sigma), "{sigma}");
+        // docs/theory.md §12.4 quotes 3.05e-5 (3.2e-5 expected): held within 2x.
+        assert!((1.6e-5..6.1e-5).contains(&sigma), "{sigma}");
     }
 }
 

@@ -102,7 +102,8 @@ fn corrects_1x_and_2x_errors_20_times_within_20_turns() {
         assert!(
             before[h] > quoted_before / 2.0
                 && before[h] < quoted_before * 2.0
-                && after[h] < quoted_after * 2.0,
+                && after[h] < quoted_after * 2.0
+                && before[h] / after[h] > quoted_before / quoted_after / 2.0,
             "harmonic {}: {} -> {}",
             h + 1,
             before[h],

@@ -283,4 +283,6 @@ fn polynomial<T: Float>(t: T, c: &[T], horner: bool) -> T {
 }
 
 #[cfg(test)]
+mod doc_claims_tests;
+#[cfg(test)]
 mod tests;

@@ -212,10 +212,14 @@ fn against_the_reference_a_speed_ripple_is_not_learned_as_sensor_error() {
          (order 1 learned {:.3e} rad)",
         fooled.orders[0].amplitude_rad
     );
-    // Measured: 0.22 mrad, and 3.24 mrad self-calibrated from order 1 (docs/theory.md §12.4).
+    // Measured: 0.22 mrad, and 3.26 mrad self-calibrated from order 1 (docs/theory.md §12.4),
+    // each held within 2x.
     assert!(after < 4e-4, "{after}");
     assert!((fooled.orders[0].amplitude_rad - 4.6e-3).abs() < 1e-3);
-    assert!(fooled_after > 1.6e-3, "{fooled_after}");
+    assert!(
+        fooled_after > 1.6e-3 && fooled_after < 6.4e-3,
+        "{fooled_after}"
+    );
 }
 
 /// A sensor whose order 1 and 2 angle errors no ellipse shows: learned against the
@@ -255,7 +259,8 @@ fn orders_one_and_two_are_learned_against_a_reference_with_its_own_zero() {
             "order {k}: {da} {db}"
         );
         // 20 turns of 100 samples, 1e-3 of noise: sqrt(2/2000) 1e-3 = 3.2e-5 per coefficient.
-        assert!((1.6e-5..6.4e-5).contains(&sigma), "{sigma}");
+        // docs/theory.md §12.4 quotes 3.05e-5 (3.2e-5 expected): held within 2x.
+        assert!((1.6e-5..6.1e-5).contains(&sigma), "{sigma}");
     }
 }
 

@@ -41,4 +41,6 @@ pub use third_order::{
 };
 
 #[cfg(test)]
+mod doc_claims_tests;
+#[cfg(test)]
 mod tests;

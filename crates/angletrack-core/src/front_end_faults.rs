@@ -14,14 +14,19 @@ impl FrontEndFaults {
     /// Loss of excitation: the carrier amplitude at the windings (in-phase and quadrature,
     /// both windings) is below its threshold: the excitation, a winding or the ADC is gone.
     pub const LOSS_OF_EXCITATION: FrontEndFaults = FrontEndFaults(1);
-    /// Carrier phase drift: the tracked carrier delay moved from its start-up value by more
-    /// than its bound (44 degrees by default, the AD2S1210's lock range).
+    /// Carrier phase drift: the carrier loop is out of lock, its phase error beyond its
+    /// bound (44 degrees by default, the AD2S1210's lock range).
     pub const PHASE_DRIFT: FrontEndFaults = FrontEndFaults(1 << 1);
     /// Clipping: a raw sample of the window was within the margin of the ADC's rails (or
     /// not a number).
     pub const CLIPPING: FrontEndFaults = FrontEndFaults(1 << 2);
 
-    /// The raw bits (bit 0 loss of excitation, 1 phase drift, 2 clipping).
+    /// Weak excitation: the carrier amplitude at the windings is below its threshold (0.7
+    /// of nominal by default) though above the loss of excitation's.
+    pub const WEAK_EXCITATION: FrontEndFaults = FrontEndFaults(1 << 3);
+
+    /// The raw bits (bit 0 loss of excitation, 1 phase drift, 2 clipping, 3 weak
+    /// excitation).
     pub const fn bits(self) -> u8 {
         self.0
     }

@@ -53,8 +53,8 @@ pub struct Demodulator<V: DemodulatorNumber> {
     phase_gain: i64,
     /// The integral gain in step units per Q31 detector unit, Q24.
     step_gain: i64,
-    clip_low: V,
-    clip_high: V,
+    clip_centre: V,
+    clip_half_span: V,
     pair_gain: V::Wide,
     loss_power: V::Wide,
     weak_power: V::Wide,
@@ -132,10 +132,11 @@ impl<V: DemodulatorNumber> Demodulator<V> {
         if !(margin >= R::<V>::ZERO && high - low > margin + margin) {
             return Err(ConfigError::OutOfRange(Parameter::AdcRange));
         }
-        let clip_low =
-            V::from_counts(low + margin).ok_or(ConfigError::NotFinite(Parameter::AdcRange))?;
-        let clip_high =
-            V::from_counts(high - margin).ok_or(ConfigError::NotFinite(Parameter::AdcRange))?;
+        let half = R::<V>::HALF;
+        let clip_centre = V::from_counts((low + high) * half)
+            .ok_or(ConfigError::NotFinite(Parameter::AdcRange))?;
+        let clip_half_span = V::from_counts((high - low) * half - margin)
+            .ok_or(ConfigError::NotFinite(Parameter::AdcRange))?;
         let one = R::<V>::ONE;
         let loss = in_range(
             settings.loss_of_excitation,
@@ -212,8 +213,8 @@ impl<V: DemodulatorNumber> Demodulator<V> {
             step_max: step_at(fraction * (one + error)),
             phase_gain: i64::from(phase_gain),
             step_gain: i64::from(step_gain),
-            clip_low,
-            clip_high,
+            clip_centre,
+            clip_half_span,
             pair_gain,
             loss_power: V::unit_power(loss),
             weak_power: V::unit_power(weak),
@@ -317,8 +318,8 @@ impl<V: DemodulatorNumber> Demodulator<V> {
             V::mac(&mut sums.xc[2], excitation, cos);
             V::accumulate(&mut sums.x[2], excitation);
         }
-        segment.clipped |= V::outside(raw_c, self.clip_low, self.clip_high)
-            | V::outside(raw_s, self.clip_low, self.clip_high);
+        segment.clip |= V::clip_word(raw_c, self.clip_centre, self.clip_half_span)
+            | V::clip_word(raw_s, self.clip_centre, self.clip_half_span);
     }
 
     /// [`Demodulator::push`] over a block of ADC samples (a DMA buffer), calling
@@ -445,7 +446,7 @@ impl<V: DemodulatorNumber> Demodulator<V> {
             sums: Sums::default(),
             first: state.sample,
             length,
-            clipped: false,
+            clip: 0,
         };
         state.left = length;
     }
@@ -504,7 +505,7 @@ impl<V: DemodulatorNumber> Demodulator<V> {
             )
         };
         let ((i_c, q_c), (i_s, q_s)) = (components(0), components(1));
-        let clipped = first.clipped || rest.clipped || last.clipped;
+        let clip = first.clip | rest.clip | last.clip;
         // The centroid of the weights, from the window's first sample.
         let (a, b, c) = (first.length, rest.length, last.length);
         let centre = (a * a.wrapping_sub(1)) / 2
@@ -529,11 +530,17 @@ impl<V: DemodulatorNumber> Demodulator<V> {
         let quadrature = V::add(V::product(q_yc, q_yc), V::product(q_ys, q_ys));
         let power = V::add(in_phase, quadrature);
         let lost = !(power >= self.loss_power);
+        let clipped = clip >> 31 != 0 || !V::is_finite(power);
         let weak = !(power >= self.weak_power);
         // cos 2e (times the power) below cos(2 bound): out of lock.
         let drifted =
             !lost && V::sub(in_phase, quadrature) < V::times_fraction(power, self.drift_cos2);
-        if !lost {
+        if !lost && !state.delay_ready && state.windows.is_multiple_of(2) && in_phase < quadrature {
+            // Acquiring a quarter turn off, where the detector's error vanishes too
+            // (unstably): a quarter turn on (not on the next window, which holds samples
+            // from before).
+            state.phase = state.phase.wrapping_add(QUARTER);
+        } else if !lost {
             let cross = V::add(V::product(y_c, q_yc), V::product(y_s, q_ys));
             // sum I Q / sum (I^2 + Q^2) = sin(2e) / 2, about e (rad), in Q31.
             let error = i64::from(V::ratio_q31(cross, power));
@@ -667,6 +674,14 @@ impl<V: DemodulatorNumber> Demodulator<V> {
         let per = V::Real::from_f32(1.0 / 65_536.0);
         V::Real::from_i32((step >> 16) as i32) * per * self.adc_rate_hz
             + V::Real::from_i32((step & 0xffff) as i32) * per * per * self.adc_rate_hz
+    }
+
+    /// The time (s) from a pair's centre to its window's last sample, at the declared
+    /// carrier: 5/8 of a period (the window's middle, 5/8 of a period before the quarter
+    /// period after its period ends) less half an ADC sample (the last sample stands for
+    /// the half sample before it). Add the time to the output for a drive's latency.
+    pub fn centre_to_end_s(&self) -> V::Real {
+        V::Real::from_f32(0.625) / self.carrier_hz - V::Real::HALF / self.adc_rate_hz
     }
 
     /// The declared carrier period (s): the sample period the observer's gains are designed

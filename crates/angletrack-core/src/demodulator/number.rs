@@ -99,9 +99,14 @@ pub trait DemodulatorNumber:
     /// `sum += x`.
     #[doc(hidden)]
     fn accumulate(sum: &mut Self::Sum, x: Self);
-    /// `true` unless `low < x < high` (and for NaN).
+    /// A word whose sign bit is set when `x` is more than `half_span` from `centre`: the
+    /// words of a segment's samples are ORed, one branch-free operation per sample (a NaN
+    /// is caught by the window's power instead).
     #[doc(hidden)]
-    fn outside(x: Self, low: Self, high: Self) -> bool;
+    fn clip_word(x: Self, centre: Self, half_span: Self) -> u32;
+    /// `false` for a window value that is NaN or infinite.
+    #[doc(hidden)]
+    fn is_finite(x: Self::Wide) -> bool;
     /// The trapezoid window's value from its segments: `2 rest + first + last`.
     #[doc(hidden)]
     fn combine(rest: Self::Sum, first: Self::Sum, last: Self::Sum) -> Self::Wide;
@@ -182,8 +187,14 @@ macro_rules! float_number {
                 *sum += x;
             }
             #[inline(always)]
-            fn outside(x: $t, low: $t, high: $t) -> bool {
-                !(x > low && x < high)
+            fn clip_word(x: $t, centre: $t, half_span: $t) -> u32 {
+                // The sign bit of the float; its top 32 bits for `f64`.
+                ((half_span - (x - centre).abs()).to_bits()
+                    >> (8 * core::mem::size_of::<$t>() - 32)) as u32
+            }
+            #[inline(always)]
+            fn is_finite(x: $t) -> bool {
+                Float::is_finite(x)
             }
             #[inline(always)]
             fn combine(rest: $t, first: $t, last: $t) -> $t {
@@ -280,8 +291,12 @@ impl DemodulatorNumber for i16 {
         *sum += i32::from(x);
     }
     #[inline(always)]
-    fn outside(x: i16, low: i16, high: i16) -> bool {
-        !(x > low && x < high)
+    fn clip_word(x: i16, centre: i16, half_span: i16) -> u32 {
+        (i32::from(half_span) - (i32::from(x) - i32::from(centre)).abs()) as u32
+    }
+    #[inline(always)]
+    fn is_finite(_: i64) -> bool {
+        true
     }
     #[inline(always)]
     fn combine(rest: i32, first: i32, last: i32) -> i64 {

@@ -53,13 +53,14 @@ pub(super) struct Sums<S> {
     pub(super) c: S,
 }
 
-/// A segment: its sums, its first sample, its length and whether a sample was clipped.
+/// A segment: its sums, its first sample, its length and its samples' clipping words ORed
+/// (the sign bit set if one was clipped).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(super) struct Segment<S> {
     pub(super) sums: Sums<S>,
     pub(super) first: u64,
     pub(super) length: u32,
-    pub(super) clipped: bool,
+    pub(super) clip: u32,
 }
 
 /// The mutable state of a [`Demodulator`](crate::Demodulator): the carrier loop's phase and

@@ -1023,7 +1023,7 @@ typedef struct at_fixed_state {
 #define AT_ERR_EXPECTED_DELAY_RAD 48
 
 /**
- * Demodulator setting `delay_tracking_factor`.
+ * Demodulator setting `carrier_loop_bandwidth`.
  */
 #define AT_ERR_CARRIER_LOOP_BANDWIDTH 49
 

@@ -94,7 +94,7 @@ pub const AT_ERR_LOSS_OF_EXCITATION: at_status = 46;
 pub const AT_ERR_PHASE_DRIFT_BOUND_RAD: at_status = 47;
 /// Demodulator setting `expected_delay_rad`.
 pub const AT_ERR_EXPECTED_DELAY_RAD: at_status = 48;
-/// Demodulator setting `delay_tracking_factor`.
+/// Demodulator setting `carrier_loop_bandwidth`.
 pub const AT_ERR_CARRIER_LOOP_BANDWIDTH: at_status = 49;
 /// Demodulator setting `startup_periods`.
 pub const AT_ERR_STARTUP_PERIODS: at_status = 50;

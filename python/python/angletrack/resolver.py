@@ -1,9 +1,10 @@
 """The resolver front end in Python and ``angletrack track --carrier-hz`` (``docs/theory.md §13``).
 
 A capture whose ``y_c``, ``y_s`` columns are the raw windings of a carrier-excited resolver
-(ADC counts at the capture's rate, ``N`` samples per carrier period, the first at excitation
-phase 0) is demodulated by :class:`angletrack.Demodulator` into one ``(y_c, y_s)`` pair per
-carrier period, each holding at the centre of its demodulation window; the pairs feed an
+(ADC counts at the capture's rate, any rate of at least 4 samples per carrier period) is
+demodulated by :class:`angletrack.Demodulator`, which tracks the carrier's phase and
+frequency, into one ``(y_c, y_s)`` pair per carrier period, each holding at the centroid of
+its demodulation window; the pairs feed an
 :class:`angletrack.Observer` whose gains run at the carrier frequency. The estimates are
 time-stamped with those window centres, and a reference column is compared there
 (interpolated, unwrapped).
@@ -11,7 +12,7 @@ time-stamped with those window centres, and a reference column is compared there
 Output columns (CSV): ``time_s`` (the window centre: the time at which the row's angle
 holds), ``angle_rad``, ``position_rad``, ``speed_rad_s``, ``acceleration_rad_s2``,
 ``phase_error``, ``faults`` (the observer's), ``front_end_faults`` (1 loss of excitation, 2
-carrier phase drift, 4 clipping), ``y_c``, ``y_s`` (the demodulated pair); with
+carrier phase drift, 4 clipping, 8 weak excitation), ``y_c``, ``y_s`` (the demodulated pair); with
 ``--pole-pairs`` or ``--latency`` also ``electrical_angle_rad`` (pole pairs times the
 mechanical angle at ``time_s + latency``, wrapped to [-pi, pi)) and
 ``electrical_speed_rad_s``.
@@ -30,18 +31,19 @@ import angletrack
 from angletrack import export
 
 
-def demodulate(raw_c, raw_s, *, carrier_hz: float, samples_per_period: int,
-               carrier_amplitude_counts: float, **settings):
-    """Demodulates whole arrays of raw winding samples: returns ``(pairs, demodulator)``,
-    the :class:`angletrack.DemodulatedPairs` (time stamps at the window centres, ``y_c``,
-    ``y_s``, front-end faults) and the :class:`angletrack.Demodulator` after the last sample
-    (its ``startup_delay_rad`` and ``carrier_delay_rad`` are the estimated carrier delay).
-    ``settings``: the other keyword arguments of :class:`angletrack.Demodulator`."""
+def demodulate(raw_c, raw_s, *, carrier_hz: float, carrier_amplitude_counts: float, excitation=None,
+               **settings):
+    """Demodulates whole arrays of raw winding samples (and of the excitation, if given):
+    returns ``(pairs, demodulator)``, the :class:`angletrack.DemodulatedPairs` (time stamps at
+    the window centroids, ``y_c``, ``y_s``, front-end faults) and the
+    :class:`angletrack.Demodulator` after the last sample (its ``carrier_delay_rad`` is the
+    carrier delay chosen, ``tracked_carrier_hz`` the carrier's frequency). ``settings``: the
+    other keyword arguments of :class:`angletrack.Demodulator` (``adc_rate_hz`` or
+    ``samples_per_period``, ...)."""
     demodulator = angletrack.Demodulator(
-        carrier_hz=carrier_hz, samples_per_period=samples_per_period,
-        carrier_amplitude_counts=carrier_amplitude_counts, **settings,
+        carrier_hz=carrier_hz, carrier_amplitude_counts=carrier_amplitude_counts, **settings,
     )
-    return demodulator.push(raw_c, raw_s), demodulator
+    return demodulator.push(raw_c, raw_s, excitation), demodulator
 
 
 def drive_outputs(estimates, *, sample_period_s: float, pole_pairs: int = 1, speed_ratio: int = 1,
@@ -60,21 +62,21 @@ def add_track_arguments(track: argparse.ArgumentParser) -> None:
     """The ``track`` options of the demodulating path (one group)."""
     g = track.add_argument_group(
         "resolver windings (--carrier-hz)",
-        "y_c, y_s are the raw windings (ADC counts) sampled N times per carrier period, the first "
-        "sample at excitation phase 0; the estimates come once per carrier period, stamped with "
-        "the centre of their demodulation window; the gains must be designed at the carrier frequency",
+        "y_c, y_s are the raw windings (ADC counts) sampled at least 4 times per carrier period (any "
+        "ratio); the carrier's phase and frequency are tracked; the estimates come once per carrier "
+        "period, stamped with the centroid of their demodulation window; the gains must be designed "
+        "at the carrier frequency",
     )
     g.add_argument("--carrier-hz", type=float, metavar="HZ", help="the excitation carrier frequency (Hz)")
-    g.add_argument("--samples-per-period", type=int, metavar="N",
-                   help="ADC samples per carrier period, one of "
-                   f"{', '.join(map(str, angletrack.SUPPORTED_SAMPLES_PER_PERIOD))} (default: the "
-                   "capture's rate / the carrier frequency, which must be one of them)")
+    g.add_argument("--samples-per-period", type=float, metavar="N",
+                   help="ADC samples per carrier period, at least 4, any ratio such as 9.6 (default: the "
+                   "capture's rate / the carrier frequency)")
     g.add_argument("--carrier-amplitude", type=float, metavar="COUNTS",
                    help="a winding's carrier amplitude at envelope 1 (counts, peak); default: "
                    "measured on the first chunk")
     g.add_argument("--expected-delay-deg", type=float, default=0.0, metavar="DEG",
-                   help="the carrier delay the start-up estimate (modulo 180 degrees) is resolved "
-                   "around (default 0)")
+                   help="the carrier's phase at the first sample (degrees) the carrier's half-turn "
+                   "ambiguity is resolved around (default 0)")
     g.add_argument("--pole-pairs", type=int, metavar="P",
                    help="write electrical_angle_rad for a motor of P pole pairs (default 1)")
     g.add_argument("--latency", type=float, metavar="S",
@@ -94,23 +96,23 @@ def track_options(args: argparse.Namespace) -> dict:
     }
 
 
-def _samples_per_period(capture_hz: Optional[float], carrier_hz: float, stated: Optional[int]) -> int:
-    supported = list(angletrack.SUPPORTED_SAMPLES_PER_PERIOD)
+def _adc_rate(capture_hz: Optional[float], carrier_hz: float, stated: Optional[float]) -> tuple[float, float]:
+    """The ADC rate (Hz) and the samples per carrier period: from --samples-per-period if
+    given, else from the capture's rate; at least 4 samples per period."""
     if stated is not None:
-        if stated not in supported:
-            raise ValueError(f"samples_per_period: --samples-per-period {stated} is not one of {supported}")
-        return stated
-    if capture_hz is None:
+        adc_hz = stated * carrier_hz
+    elif capture_hz is None:
         raise ValueError("samples_per_period: the capture has no time column: give --samples-per-period "
                          "or --sample-rate (the ADC rate)")
-    ratio = capture_hz / carrier_hz
-    n = round(ratio)
-    if abs(ratio - n) > 0.01 * n or n not in supported:
+    else:
+        adc_hz = capture_hz
+    ratio = adc_hz / carrier_hz
+    if not ratio >= 4.0:
         raise ValueError(
-            f"samples_per_period: the capture's rate {capture_hz:.6g} Hz over the carrier {carrier_hz:.6g} Hz "
-            f"is {ratio:.6g} samples per period; expected one of {supported}"
+            f"samples_per_period: the ADC rate {adc_hz:.6g} Hz over the carrier {carrier_hz:.6g} Hz "
+            f"is {ratio:.6g} samples per period; at least 4 are needed"
         )
-    return n
+    return adc_hz, ratio
 
 
 def _gains(s, carrier_hz: float) -> angletrack.Gains:
@@ -192,13 +194,12 @@ def track_windings(s) -> tuple:
     first = next(chunks)
     capture_hz = reader.sample_rate_hz
     carrier_hz = s.carrier_hz
-    n = _samples_per_period(capture_hz, carrier_hz, s.samples_per_period)
-    adc_hz = n * carrier_hz
+    adc_hz, n = _adc_rate(capture_hz, carrier_hz, s.samples_per_period)
     gains = _gains(s, carrier_hz)
     amplitude = s.carrier_amplitude_counts or _measured_amplitude(first)
     adc_min, adc_max = _adc_range(first)
     demodulator = angletrack.Demodulator(
-        carrier_hz=carrier_hz, samples_per_period=n, carrier_amplitude_counts=amplitude,
+        carrier_hz=carrier_hz, adc_rate_hz=adc_hz, carrier_amplitude_counts=amplitude,
         adc_min_code=adc_min, adc_max_code=adc_max, expected_delay_rad=math.radians(s.expected_delay_deg),
     )
     dtype = np.dtype(s.dtype)
@@ -226,7 +227,7 @@ def track_windings(s) -> tuple:
                     t = chunk.time_s
                     if t is None:
                         t = t0 + (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) / adc_hz
-                    reference.add(t, chunk.reference_rad, keep=2 * n)
+                    reference.add(t, chunk.reference_rad, keep=2 * math.ceil(n))
                 pairs = demodulator.push(chunk.y_c, chunk.y_s)
                 if len(pairs):
                     time_s = t0 + pairs.time_s
@@ -251,10 +252,13 @@ def track_windings(s) -> tuple:
     latched = angletrack.Faults(observer.latched_faults)
     lines = [
         repr(observer),
-        f"{reader.rows} ADC samples at {adc_hz:.6g} Hz ({n} per {carrier_hz:.6g} Hz carrier period; amplitude "
+        f"{reader.rows} ADC samples at {adc_hz:.6g} Hz ({n:.6g} per {carrier_hz:.6g} Hz carrier period; amplitude "
         f"{amplitude:.6g} counts, ADC codes {adc_min:.0f} to {adc_max:.0f}) -> {pairs_total} estimates -> {s.output}",
-        f"carrier delay: {math.degrees(demodulator.startup_delay_rad) % 360.0:.3f} deg at start-up, "
-        f"{math.degrees(demodulator.carrier_delay_rad) % 360.0:.3f} deg at the end",
+        f"carrier tracked at {demodulator.tracked_carrier_hz:.6g} Hz at the end; carrier delay chosen: "
+        f"{math.degrees(demodulator.carrier_delay_rad) % 360.0:.3f} deg (the windings' carrier phase at the first "
+        f"sample, taken within 90 deg of --expected-delay-deg {s.expected_delay_deg:g}): the windings cannot tell it "
+        f"from the delay 180 deg away, so the mechanical angle carries a 180-degree ambiguity (and so does the "
+        f"electrical angle for an odd pole-pair count)",
         f"front-end faults latched: {_front_end_names(demodulator.latched_faults)}; "
         f"observer faults latched: {latched.name if latched else 'none'}",
     ]
@@ -264,5 +268,6 @@ def track_windings(s) -> tuple:
 
 
 def _front_end_names(bits: int) -> str:
-    names = [name for bit, name in ((1, "LOSS_OF_EXCITATION"), (2, "PHASE_DRIFT"), (4, "CLIPPING")) if bits & bit]
+    names = [name for bit, name in ((1, "LOSS_OF_EXCITATION"), (2, "PHASE_DRIFT"), (4, "CLIPPING"),
+                                    (8, "WEAK_EXCITATION")) if bits & bit]
     return "|".join(names) if names else "none"

@@ -178,3 +178,28 @@ def test_demodulator_any_ratio_an_off_carrier_and_the_excitation_resolving_200_d
     assert demodulator.has_excitation and abs(demodulator.carrier_delay_rad) < 0.05
     assert demodulator.tracked_carrier_hz == pytest.approx(true_hz, abs=1.0)
     assert np.all(pairs.faults == 0)
+
+
+def test_track_carrier_resolves_200_degrees_from_an_excitation_column(tmp_path, capsys):
+    # 150 kHz over a 10 kHz carrier (15 per period), the carrier 200 degrees off phase 0 at
+    # the first sample and recorded in an excitation column, synthesised here with numpy; no
+    # --expected-delay-deg: the excitation resolves the half turn.
+    adc_hz, delay = 150e3, math.radians(200.0)
+    t = np.arange(int(0.05 * adc_hz)) / adc_hz
+    theta = 0.4 + 2 * math.pi * 50.0 * t
+    psi = 2 * math.pi * 10e3 * t + delay
+    rng = np.random.default_rng(3)
+    columns = {"time": t, "y_c": np.round(2048 + 1800 * np.cos(theta) * np.sin(psi) + rng.normal(0, 1, t.size)),
+               "y_s": np.round(2048 + 1800 * np.sin(theta) * np.sin(psi) + rng.normal(0, 1, t.size)),
+               "exc": np.round(2048 + 1000 * np.sin(psi)), "reference": theta}
+    raw, gains_file, out = tmp_path / "raw.csv", tmp_path / "g.json", tmp_path / "est.csv"
+    capture.write_capture(raw, columns)
+    design_gains(gains_file, 10_000)
+    capsys.readouterr()
+    status = cli.main(["track", str(raw), "--carrier-hz", "10000", "--gains-file", str(gains_file),
+                       "--columns", "excitation=exc", "--output", str(out), "--skip", "0.02"])
+    printed = capsys.readouterr().out
+    assert status == 0, printed
+    assert "resolved from it" in printed and "180-degree ambiguity" not in printed, printed
+    rms = float(printed.split("RMS ")[1].split()[0])
+    assert rms < 2e-3, printed

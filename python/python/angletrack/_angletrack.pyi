@@ -715,6 +715,8 @@ class CaptureChunk:
     y_c: npt.NDArray[np.float64]
     y_s: npt.NDArray[np.float64]
     reference_rad: Optional[npt.NDArray[np.float64]]
+    excitation: Optional[npt.NDArray[np.float64]]
+    """The resolver's excitation (counts), from a column mapped as ``excitation``, or ``None``."""
     def __len__(self) -> int: ...
 
 class CaptureReader:

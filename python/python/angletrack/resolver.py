@@ -67,7 +67,9 @@ def add_track_arguments(track: argparse.ArgumentParser) -> None:
         "period, stamped with the centroid of their demodulation window; the gains must be designed "
         "at the carrier frequency",
     )
-    g.add_argument("--carrier-hz", type=float, metavar="HZ", help="the excitation carrier frequency (Hz)")
+    g.add_argument("--carrier-hz", type=float, metavar="HZ",
+                   help="the excitation carrier frequency (Hz), tracked within 3 %%; with --columns excitation=COL "
+                   "(or a column named excitation) the recorded excitation resolves the carrier's half-turn ambiguity")
     g.add_argument("--samples-per-period", type=float, metavar="N",
                    help="ADC samples per carrier period, at least 4, any ratio such as 9.6 (default: the "
                    "capture's rate / the carrier frequency)")
@@ -228,7 +230,7 @@ def track_windings(s) -> tuple:
                     if t is None:
                         t = t0 + (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) / adc_hz
                     reference.add(t, chunk.reference_rad, keep=2 * math.ceil(n))
-                pairs = demodulator.push(chunk.y_c, chunk.y_s)
+                pairs = demodulator.push(chunk.y_c, chunk.y_s, chunk.excitation)
                 if len(pairs):
                     time_s = t0 + pairs.time_s
                     est = observer.update(pairs.y_c.astype(dtype), pairs.y_s.astype(dtype))
@@ -254,17 +256,27 @@ def track_windings(s) -> tuple:
         repr(observer),
         f"{reader.rows} ADC samples at {adc_hz:.6g} Hz ({n:.6g} per {carrier_hz:.6g} Hz carrier period; amplitude "
         f"{amplitude:.6g} counts, ADC codes {adc_min:.0f} to {adc_max:.0f}) -> {pairs_total} estimates -> {s.output}",
-        f"carrier tracked at {demodulator.tracked_carrier_hz:.6g} Hz at the end; carrier delay chosen: "
-        f"{math.degrees(demodulator.carrier_delay_rad) % 360.0:.3f} deg (the windings' carrier phase at the first "
-        f"sample, taken within 90 deg of --expected-delay-deg {s.expected_delay_deg:g}): the windings cannot tell it "
-        f"from the delay 180 deg away, so the mechanical angle carries a 180-degree ambiguity (and so does the "
-        f"electrical angle for an odd pole-pair count)",
+        _delay_line(demodulator, s.expected_delay_deg),
         f"front-end faults latched: {_front_end_names(demodulator.latched_faults)}; "
         f"observer faults latched: {latched.name if latched else 'none'}",
     ]
     if stats is not None:
         lines.append(stats.report())
     return "\n".join(lines), observer
+
+
+def _delay_line(demodulator, expected_delay_deg: float) -> str:
+    """The summary's line on the carrier: its tracked frequency, the delay chosen, and how the
+    half-turn ambiguity was resolved."""
+    delay = math.degrees(demodulator.carrier_delay_rad) % 360.0
+    line = f"carrier tracked at {demodulator.tracked_carrier_hz:.6g} Hz at the end; carrier delay chosen: {delay:.3f} deg "
+    if demodulator.has_excitation:
+        return line + (f"after the excitation column, the half turn resolved from it (within 90 deg of "
+                       f"--expected-delay-deg {expected_delay_deg:g})")
+    return line + (f"(the windings' carrier phase at the first sample, taken within 90 deg of --expected-delay-deg "
+                   f"{expected_delay_deg:g}; no excitation column): the windings cannot tell it from the delay 180 deg "
+                   f"away, so the mechanical angle carries a 180-degree ambiguity (and so does the electrical angle "
+                   f"for an odd pole-pair count)")
 
 
 def _front_end_names(bits: int) -> str:

@@ -135,8 +135,8 @@ trap 'rm -f "$firmware_table" "$host_table"' EXIT
     -v b="$(firmware_value 'insns_per_update kalman-f32-fast')" 'BEGIN { printf "%.1f", a - b }') instructions per sample on the Cortex-M4F"
   echo "(loading the inputs, the call, storing the estimate). The resolver front end's synchronous"
   echo "demodulator (16 ADC samples per carrier period, its once-per-period work included) costs"
-  echo "$(firmware_value 'insns_per_sample_pair demodulator-f32') / $(firmware_value 'insns_per_sample_pair demodulator-f32-m0') instructions per ADC sample pair (M4F / M0) with one"
-  echo "\`Demodulator::push\` call each, $(firmware_value 'insns_per_sample_pair_in_block demodulator-f32') / $(firmware_value 'insns_per_sample_pair_in_block demodulator-f32-m0') in one \`Demodulator::push_block\` call."
+  echo "$(firmware_value 'insns_per_push demodulator-f32') / $(firmware_value 'insns_per_push demodulator-fixed-m0') instructions per ADC sample (M4F in f32 / M0 in fixed point) with one"
+  echo "\`Demodulator::push\` call each, $(firmware_value 'insns_per_sample demodulator-f32') / $(firmware_value 'insns_per_sample demodulator-fixed-m0') in one \`Demodulator::push_block\` call."
 } >"$firmware_table"
 
 # replace_section NAME FILE: the guide's lines between <!-- NAME:begin --> and

@@ -138,6 +138,8 @@ pub struct PyCaptureChunk {
     y_s: Py<PyArray1<f64>>,
     /// The reference angle (rad), or `None`.
     reference_rad: Option<Py<PyArray1<f64>>>,
+    /// The resolver's excitation (counts), or `None`.
+    excitation: Option<Py<PyArray1<f64>>>,
 }
 
 impl PyCaptureChunk {
@@ -148,6 +150,7 @@ impl PyCaptureChunk {
             y_c: c.y_c.to_pyarray(py).unbind(),
             y_s: c.y_s.to_pyarray(py).unbind(),
             reference_rad: optional_array(py, c.reference_rad.as_ref()),
+            excitation: optional_array(py, c.excitation.as_ref()),
         }
     }
 }

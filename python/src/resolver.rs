@@ -1,12 +1,8 @@
 //! The resolver front end on numpy arrays (`docs/theory.md §13`): `Demodulator` (the core's
-//! synchronous demodulator, one pair per carrier period from the raw windings), and
+//! demodulator: the carrier tracked, any ADC rate of 4 or more per period, optionally the
+//! excitation's samples, one pair per carrier period from the raw windings), and
 //! `ResolverModel` and `resolver_windings` (the scenario generator's carrier-modulated
 //! windings); the drive's outputs are in `drive`.
-//!
-//! The core's demodulator takes its samples per period as a const generic; the one match in
-//! [`typed_demodulator`] picks it from the supported values at run time.
-
-use core::fmt::Debug;
 
 use angletrack::ResolverModel;
 use angletrack_core::{
@@ -20,9 +16,6 @@ use crate::arrays::{check_equal_lengths, samples};
 use crate::errors::{Error, Result};
 use crate::motion::PyMotionProfile;
 use crate::scenario::PyScenario;
-
-/// The samples per carrier period the binding's demodulator supports.
-pub const SUPPORTED_SAMPLES_PER_PERIOD: [usize; 5] = [4, 8, 16, 32, 64];
 
 /// A core configuration error under the name of this module's Python argument (the core
 /// names the ADC range and the speed filter as settings; the caller gave other arguments).
@@ -47,81 +40,13 @@ struct PairColumns {
     faults: Vec<u8>,
 }
 
-/// What `Demodulator` does with the core demodulator of whichever samples per period.
-trait DemodulatorOps: Debug + Send + Sync {
-    fn push(&mut self, raw_c: &[f64], raw_s: &[f64]) -> PairColumns;
-    fn state(&self) -> &DemodulatorState<f64>;
-    fn pair_period_s(&self) -> f64;
-    fn window_centre_offset_s(&self) -> f64;
-}
-
-#[derive(Debug)]
-struct Typed<const N: usize> {
-    demodulator: CoreDemodulator<f64, N>,
-    state: DemodulatorState<f64>,
-}
-
-impl<const N: usize> DemodulatorOps for Typed<N> {
-    fn push(&mut self, raw_c: &[f64], raw_s: &[f64]) -> PairColumns {
-        let mut out = PairColumns::default();
-        let demodulator = &self.demodulator;
-        demodulator.push_block(&mut self.state, raw_c, raw_s, |pair| {
-            out.time_s.push(demodulator.window_centre_s(pair.window));
-            out.y_c.push(pair.y_c);
-            out.y_s.push(pair.y_s);
-            out.quadrature_c.push(pair.quadrature_c);
-            out.quadrature_s.push(pair.quadrature_s);
-            out.window.push(pair.window);
-            out.faults.push(pair.faults.bits());
-        });
-        out
-    }
-
-    fn state(&self) -> &DemodulatorState<f64> {
-        &self.state
-    }
-
-    fn pair_period_s(&self) -> f64 {
-        self.demodulator.pair_period_s()
-    }
-
-    fn window_centre_offset_s(&self) -> f64 {
-        self.demodulator.window_centre_offset_s()
-    }
-}
-
-fn typed<const N: usize>(settings: DemodulatorSettings<f64>) -> Result<Box<dyn DemodulatorOps>> {
-    Ok(Box::new(Typed::<N> {
-        demodulator: CoreDemodulator::new(settings).map_err(renamed)?,
-        state: DemodulatorState::new(),
-    }))
-}
-
-/// The core demodulator for `samples_per_period`, one of [`SUPPORTED_SAMPLES_PER_PERIOD`].
-fn typed_demodulator(
-    samples_per_period: usize,
-    settings: DemodulatorSettings<f64>,
-) -> Result<Box<dyn DemodulatorOps>> {
-    match samples_per_period {
-        4 => typed::<4>(settings),
-        8 => typed::<8>(settings),
-        16 => typed::<16>(settings),
-        32 => typed::<32>(settings),
-        64 => typed::<64>(settings),
-        other => Err(Error::value(
-            "samples_per_period",
-            format!("{other} is not supported: expected one of {SUPPORTED_SAMPLES_PER_PERIOD:?}"),
-        )),
-    }
-}
-
 /// The demodulated pairs of one `Demodulator.push`: one element per carrier period (after the
-/// start-up delay estimate), float64 unless stated.
+/// start-up), float64 unless stated.
 #[pyclass(name = "DemodulatedPairs", module = "angletrack", frozen, get_all)]
 #[derive(Debug)]
 pub struct PyDemodulatedPairs {
-    /// The time (s) at which each pair holds, the centre of its window, counting from the
-    /// first ADC sample pushed into the demodulator.
+    /// The time (s) at which each pair holds, the centroid of its window, counting from the
+    /// first ADC sample pushed into the demodulator (at the ADC rate).
     time_s: Py<PyArray1<f64>>,
     /// The cosine winding's envelope (nominal amplitude 1).
     y_c: Py<PyArray1<f64>>,
@@ -131,10 +56,10 @@ pub struct PyDemodulatedPairs {
     quadrature_c: Py<PyArray1<f64>>,
     /// The sine winding's quadrature component.
     quadrature_s: Py<PyArray1<f64>>,
-    /// The index of each pair's window (uint64).
+    /// The index of each pair's window (uint64, start-up windows counted).
     window: Py<PyArray1<u64>>,
     /// The front end's faults of each window (uint8 bits: 1 loss of excitation, 2 phase
-    /// drift, 4 clipping).
+    /// drift, 4 clipping, 8 weak excitation).
     faults: Py<PyArray1<u8>>,
 }
 
@@ -145,71 +70,132 @@ impl PyDemodulatedPairs {
     }
 }
 
-/// The synchronous demodulator of a resolver front end (float64): ADC samples of both
-/// windings, `samples_per_period` (4, 8, 16, 32 or 64) per period of a `carrier_hz`
-/// excitation, the first sample at excitation phase 0, in; one `(y_c, y_s)` pair per carrier
-/// period out, the carrier delay measured at start-up (within 90 degrees of
-/// `expected_delay_rad`) and tracked. The state carries over between `push` calls.
+/// The demodulator of a resolver front end (float64): ADC samples of both windings at
+/// `adc_rate_hz` (at least 4 per period of the `carrier_hz` excitation, any ratio; or
+/// `samples_per_period` times the carrier), optionally with the excitation's samples, in;
+/// one `(y_c, y_s)` pair per tracked carrier period out. The carrier's phase and frequency
+/// are tracked; its half-turn ambiguity is resolved from the excitation when given, else
+/// around `expected_delay_rad` (the carrier's phase at the first sample). The state carries
+/// over between `push` calls.
 #[pyclass(name = "Demodulator", module = "angletrack")]
 #[derive(Debug)]
 pub struct PyDemodulator {
-    inner: Box<dyn DemodulatorOps>,
-    samples_per_period: usize,
+    demodulator: CoreDemodulator<f64>,
+    state: DemodulatorState<f64>,
 }
 
 #[pymethods]
 impl PyDemodulator {
     #[new]
-    #[pyo3(signature = (*, carrier_hz, samples_per_period, carrier_amplitude_counts,
-        adc_min_code = 0.0, adc_max_code = 4095.0, expected_delay_rad = 0.0,
-        delay_tracking_factor = None, startup_periods = None, phase_drift_bound_rad = None,
-        loss_of_excitation = None))]
+    #[pyo3(signature = (*, carrier_hz, carrier_amplitude_counts, adc_rate_hz = None,
+        samples_per_period = None, adc_min_code = 0.0, adc_max_code = 4095.0,
+        expected_delay_rad = 0.0, startup_periods = None, phase_drift_bound_rad = None,
+        loss_of_excitation = None, weak_excitation = None, carrier_loop_bandwidth = None,
+        max_carrier_error = None))]
     #[allow(clippy::too_many_arguments)]
     fn py_new(
         carrier_hz: f64,
-        samples_per_period: usize,
         carrier_amplitude_counts: f64,
+        adc_rate_hz: Option<f64>,
+        samples_per_period: Option<f64>,
         adc_min_code: f64,
         adc_max_code: f64,
         expected_delay_rad: f64,
-        delay_tracking_factor: Option<f64>,
         startup_periods: Option<u32>,
         phase_drift_bound_rad: Option<f64>,
         loss_of_excitation: Option<f64>,
+        weak_excitation: Option<f64>,
+        carrier_loop_bandwidth: Option<f64>,
+        max_carrier_error: Option<f64>,
     ) -> Result<Self> {
+        let adc_rate_hz = match (adc_rate_hz, samples_per_period) {
+            (Some(rate), None) => rate,
+            (None, Some(n)) => n * carrier_hz,
+            _ => {
+                return Err(Error::value(
+                    "adc_rate_hz",
+                    "give adc_rate_hz or samples_per_period, one of them",
+                ));
+            }
+        };
         let mut settings = DemodulatorSettings::new(
             carrier_hz,
+            adc_rate_hz,
             carrier_amplitude_counts,
             adc_min_code,
             adc_max_code,
         );
         settings.expected_delay_rad = expected_delay_rad;
         let d = settings;
-        settings.delay_tracking_factor = delay_tracking_factor.unwrap_or(d.delay_tracking_factor);
         settings.startup_periods = startup_periods.unwrap_or(d.startup_periods);
         settings.phase_drift_bound_rad = phase_drift_bound_rad.unwrap_or(d.phase_drift_bound_rad);
         settings.loss_of_excitation = loss_of_excitation.unwrap_or(d.loss_of_excitation);
+        settings.weak_excitation = weak_excitation.unwrap_or(d.weak_excitation);
+        settings.carrier_loop_bandwidth =
+            carrier_loop_bandwidth.unwrap_or(d.carrier_loop_bandwidth);
+        settings.max_carrier_error = max_carrier_error.unwrap_or(d.max_carrier_error);
+        let demodulator = CoreDemodulator::new(settings).map_err(|e| {
+            if e.parameter() == Parameter::AdcRate && samples_per_period.is_some() {
+                Error::value(
+                    "samples_per_period",
+                    e.to_string().replace("adc_rate_hz", "samples_per_period"),
+                )
+            } else {
+                renamed(e)
+            }
+        })?;
         Ok(Self {
-            inner: typed_demodulator(samples_per_period, settings)?,
-            samples_per_period,
+            demodulator,
+            state: DemodulatorState::new(),
         })
     }
 
     /// Pushes ADC samples of the cosine (`raw_c`) and sine (`raw_s`) windings (counts, 1-D
-    /// float64 arrays of one length) and returns the pairs that complete.
-    #[pyo3(signature = (raw_c, raw_s))]
+    /// float64 arrays of one length), and of the excitation if given (the same length; give
+    /// it on every push of a run or on none), and returns the pairs that complete.
+    #[pyo3(signature = (raw_c, raw_s, excitation = None))]
     fn push(
         &mut self,
         py: Python<'_>,
         raw_c: &Bound<'_, PyAny>,
         raw_s: &Bound<'_, PyAny>,
+        excitation: Option<&Bound<'_, PyAny>>,
     ) -> Result<PyDemodulatedPairs> {
         let c = samples::<f64>(raw_c, "raw_c")?;
         let s = samples::<f64>(raw_s, "raw_s")?;
         let (c, s) = (c.as_slice(), s.as_slice());
         check_equal_lengths(("raw_c", c.len()), ("raw_s", s.len()))?;
-        let inner = &mut self.inner;
-        let p = py.detach(|| inner.push(c, s));
+        let e = excitation
+            .map(|e| samples::<f64>(e, "excitation"))
+            .transpose()?;
+        let e = e.as_ref().map(|e| e.as_slice());
+        if let Some(e) = e {
+            check_equal_lengths(("raw_c", c.len()), ("excitation", e.len()))?;
+        }
+        if self.state.samples() > 0 && e.is_some() != self.state.has_excitation() {
+            return Err(Error::value(
+                "excitation",
+                "give the excitation on every push of a run or on none",
+            ));
+        }
+        let (demodulator, state) = (&self.demodulator, &mut self.state);
+        let p = py.detach(|| {
+            let mut out = PairColumns::default();
+            let sink = |pair: angletrack_core::DemodulatedPair<f64>| {
+                out.time_s.push(demodulator.centre_s(&pair));
+                out.y_c.push(pair.y_c);
+                out.y_s.push(pair.y_s);
+                out.quadrature_c.push(pair.quadrature_c);
+                out.quadrature_s.push(pair.quadrature_s);
+                out.window.push(pair.window);
+                out.faults.push(pair.faults.bits());
+            };
+            match e {
+                Some(e) => demodulator.push_block_with_excitation(state, c, s, e, sink),
+                None => demodulator.push_block(state, c, s, sink),
+            };
+            out
+        });
         Ok(PyDemodulatedPairs {
             time_s: p.time_s.into_pyarray(py).unbind(),
             y_c: p.y_c.into_pyarray(py).unbind(),
@@ -221,53 +207,67 @@ impl PyDemodulator {
         })
     }
 
-    /// ADC samples per carrier period.
+    /// ADC samples per declared carrier period (any ratio of at least 4).
     #[getter]
-    fn samples_per_period(&self) -> usize {
-        self.samples_per_period
+    fn samples_per_period(&self) -> f64 {
+        self.demodulator.samples_per_period()
     }
 
-    /// The pairs' period (s): one carrier period, the sample period the gains must have.
+    /// The declared carrier period (s), the sample period the gains must have.
     #[getter]
     fn pair_period_s(&self) -> f64 {
-        self.inner.pair_period_s()
+        self.demodulator.pair_period_s()
     }
 
-    /// The delay (s) from the start of a window to its centre, where its pair holds.
+    /// The time (s) from a pair's centre to its window's last sample.
     #[getter]
-    fn window_centre_offset_s(&self) -> f64 {
-        self.inner.window_centre_offset_s()
+    fn centre_to_end_s(&self) -> f64 {
+        self.demodulator.centre_to_end_s()
     }
 
-    /// `True` once the start-up delay estimate is done (pairs come out from then on).
+    /// The carrier frequency (Hz) the carrier loop tracks now.
+    #[getter]
+    fn tracked_carrier_hz(&self) -> f64 {
+        self.demodulator.tracked_carrier_hz(&self.state)
+    }
+
+    /// `True` once the start-up is done (pairs come out from then on).
     #[getter]
     fn is_delay_ready(&self) -> bool {
-        self.inner.state().is_delay_ready()
+        self.state.is_delay_ready()
     }
 
-    /// The carrier delay as tracked (rad, in [-pi, pi]).
+    /// `True` if the excitation's samples were pushed (the half turn resolved from them).
+    #[getter]
+    fn has_excitation(&self) -> bool {
+        self.state.has_excitation()
+    }
+
+    /// The carrier delay chosen (rad, in [-pi, pi)): after the excitation if pushed, else
+    /// the carrier's phase at the first sample resolved around `expected_delay_rad` (the
+    /// other half turn would give the shaft half a turn further).
     #[getter]
     fn carrier_delay_rad(&self) -> f64 {
-        self.inner.state().carrier_delay_rad()
+        self.state.carrier_delay_rad()
     }
 
-    /// The carrier delay measured at start-up (rad, in [-pi, pi]).
+    /// The carrier's phase at the first sample chosen at start-up (rad, in [-pi, pi)).
     #[getter]
     fn startup_delay_rad(&self) -> f64 {
-        self.inner.state().startup_delay_rad()
+        self.state.startup_delay_rad()
     }
 
     /// The front-end faults latched so far (bits, as `DemodulatedPairs.faults`).
     #[getter]
     fn latched_faults(&self) -> u8 {
-        self.inner.state().latched_faults().bits()
+        self.state.latched_faults().bits()
     }
 
     fn __repr__(&self) -> String {
         format!(
             "Demodulator(samples_per_period={}, pair_period_s={:e})",
-            self.samples_per_period,
-            self.inner.pair_period_s()
+            self.demodulator.samples_per_period(),
+            self.demodulator.pair_period_s()
         )
     }
 }
@@ -406,9 +406,5 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(resolver_windings, m)?)?;
     m.add_class::<crate::drive::PyDriveOutputs>()?;
     m.add_class::<crate::drive::PyDriveAngles>()?;
-    m.add(
-        "SUPPORTED_SAMPLES_PER_PERIOD",
-        SUPPORTED_SAMPLES_PER_PERIOD.to_vec(),
-    )?;
     Ok(())
 }

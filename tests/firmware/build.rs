@@ -25,6 +25,7 @@ mod trackers;
 mod variants;
 
 use angletrack_core::DemodulatorState;
+use angletrack_core::DemodulatorNumber;
 use variants::{
     CARRIER_AMPLITUDE_COUNTS, CARRIER_DELAY_RAD, FNV_OFFSET, Job, NAMES, Observers,
     SAMPLES_PER_PERIOD, Tracker, demodulator, encode_pair, fold_integers,
@@ -152,8 +153,18 @@ fn main() {
         counts(trackers::fixed_counts, &y_c),
         counts(trackers::fixed_counts, &y_s),
     );
-    let (raw_c, raw_s, pairs) = demodulator_reference(&y_c, &y_s);
-    fs::write(out.join("demodulator.bin"), pairs).expect("OUT_DIR is writable");
+    let (raw_c, raw_s) = demodulator_inputs(&y_c, &y_s);
+    let (raw_c16, raw_s16): (Vec<i16>, Vec<i16>) =
+        (raw_c.iter().map(|&c| c as i16).collect(), raw_s.iter().map(|&s| s as i16).collect());
+    // The Cortex-M0's flash (256 KiB) holds the fixed-point demodulator's inputs only: the
+    // f32 one (in software floats there) is not run on it.
+    let f32_samples = if m0 { 0 } else { SAMPLES };
+    let (raw_c, raw_s) = (&raw_c[..f32_samples], &raw_s[..f32_samples]);
+    fs::write(out.join("demodulator.bin"), demodulator_reference::<f32>(raw_c, raw_s))
+        .expect("OUT_DIR is writable");
+    fs::write(out.join("demodulator-fixed.bin"), demodulator_reference::<i16>(&raw_c16, &raw_s16))
+        .expect("OUT_DIR is writable");
+    let f32_demodulator = !m0;
     let (variants, integers) = (NAMES.len(), &reference.integers);
     let scenario = format!(
         "/// Samples of the simulated resolver.\n\
@@ -183,9 +194,16 @@ fn main() {
          (the fixed-point variants; `None` for the float ones).\n\
          pub static INTEGERS: [Option<u64>; {variants}] = {integers:?};\n\
          /// The demodulator's raw ADC samples (counts), cosine winding.\n\
-         pub static RAW_C: [f32; SAMPLES] = {raw_c:?};\n\
+         pub const F32_DEMODULATOR: bool = {f32_demodulator};\n\
+         pub static RAW_C: [f32; {f32_samples}] = {raw_c:?};\n\
          /// The demodulator's raw ADC samples (counts), sine winding.\n\
-         pub static RAW_S: [f32; SAMPLES] = {raw_s:?};\n\
+         pub static RAW_S: [f32; {f32_samples}] = {raw_s:?};\n\
+         /// The same as `i16` codes, for the fixed-point demodulator.\n\
+         pub static RAW_C16: [i16; SAMPLES] = {raw_c16:?};\n\
+         pub static RAW_S16: [i16; SAMPLES] = {raw_s16:?};\n\
+         /// The fixed-point demodulator's pairs, as the host made them.\n\
+         pub static DEMODULATOR_FIXED_PAIRS: &[u8] = \
+         include_bytes!(concat!(env!(\"OUT_DIR\"), \"/demodulator-fixed.bin\"));\n\
          /// The demodulator's pairs from the raw samples, as the host made them.\n\
          pub static DEMODULATOR_PAIRS: &[u8] = \
          include_bytes!(concat!(env!(\"OUT_DIR\"), \"/demodulator.bin\"));\n",
@@ -194,12 +212,11 @@ fn main() {
     fs::write(out.join("scenario.rs"), scenario).expect("OUT_DIR is writable");
 }
 
-/// The demodulator variant's reference: raw 12-bit samples of both windings (`raw_c`,
+/// The demodulator variants' inputs: raw 12-bit samples of both windings (`raw_c`,
 /// `raw_s`), the benchmark resolver's signals as envelopes of a 10 kHz carrier (each
-/// `(y_c, y_s)` held for one carrier period, sampled 16 times, mid-scale 2048, rounded), and
-/// the bytes of the pairs the core's demodulator makes of them on the host in `f32`.
-fn demodulator_reference(y_c: &[f32], y_s: &[f32]) -> (Vec<f32>, Vec<f32>, Vec<u8>) {
-    let (raw_c, raw_s): (Vec<f32>, Vec<f32>) = (0..SAMPLES)
+/// `(y_c, y_s)` held for one carrier period, sampled 16 times, mid-scale 2048, rounded).
+fn demodulator_inputs(y_c: &[f32], y_s: &[f32]) -> (Vec<f32>, Vec<f32>) {
+    (0..SAMPLES)
         .map(|j| {
             let k = j / SAMPLES_PER_PERIOD;
             let phase =
@@ -209,14 +226,20 @@ fn demodulator_reference(y_c: &[f32], y_s: &[f32]) -> (Vec<f32>, Vec<f32>, Vec<u
             let code = |y: f32| (2048.0 + f64::from(y) * carrier).round() as f32;
             (code(y_c[k]), code(y_s[k]))
         })
-        .unzip();
-    let demodulator = demodulator().expect("valid demodulator settings");
+        .unzip()
+}
+
+/// The bytes of the pairs the core's demodulator makes of the raw samples on the host, in
+/// the number type `V`.
+fn demodulator_reference<V: DemodulatorNumber<Real = f32>>(raw_c: &[V], raw_s: &[V]) -> Vec<u8> {
+    let demodulator = demodulator::<V>().expect("valid demodulator settings");
     let mut state = DemodulatorState::new();
     let mut pairs = Vec::new();
-    for (&c, &s) in raw_c.iter().zip(&raw_s) {
+    for (&c, &s) in raw_c.iter().zip(raw_s) {
         if let Some(pair) = demodulator.push(&mut state, c, s) {
             pairs.extend_from_slice(&encode_pair(&pair));
         }
     }
-    (raw_c, raw_s, pairs)
+    assert!(raw_c.is_empty() || pairs.len() > 50 * variants::PAIR_BYTES, "too few pairs");
+    pairs
 }

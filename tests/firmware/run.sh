@@ -26,10 +26,11 @@
 #     inside `update_block::<T>` and the functions it calls, per sample of one call over all
 #     samples;
 #     and `insns_per_iteration loop: N`: the loop alone, with an empty callee;
-#     `insns_per_sample_pair demodulator-f32: N`: the instructions inside the out-of-line
-#     `demodulate` (the core's `Demodulator::push`) and what it calls, per ADC sample pair;
-#     `insns_per_sample_pair_in_block demodulator-f32: N`: the same inside one
-#     `demodulate_block` call (`Demodulator::push_block`) over all samples;
+#     for the demodulator variants (`demodulator-f32`, `demodulator-fixed`):
+#     `insns_per_push <variant>: N`: the instructions inside the out-of-line `demodulate`
+#     (the core's `Demodulator::push`) and what it calls, per ADC sample (both windings);
+#     `insns_per_sample <variant>: N`: the same inside one `demodulate_block` call
+#     (`Demodulator::push_block`, the firmware's DMA buffer) over all samples;
 #  4. prints the code size of each variant's update function, alone and with the out-of-line
 #     functions it calls (`code_size <variant>: N bytes; M bytes with ...`);
 # then, with the counts of all cores run (kept in counts.txt in the build directory),
@@ -245,21 +246,26 @@ run_core() {
     done <<<"$functions"
   done
 
-  # The resolver front end: the synchronous demodulator per ADC sample pair (its
-  # once-per-period work amortised over the period's 16 samples).
-  name=$(label demodulator-f32)
-  functions=$(functions_of demodulator-f32)
-  while read -r kind root; do
-    ranges=$(measured "$root")
-    if [ "$kind" = update ]; then
-      counts=$(per_sample demodulator-f32)
-      echo "insns_per_sample_pair $name: ${counts#* }"
-      echo "insns_per_iteration $name: ${counts% *}"
-    else
-      counts=$(per_sample demodulator-f32 block)
-      echo "insns_per_sample_pair_in_block $name: ${counts#* }"
-    fi
-  done <<<"$functions"
+  # The resolver front end: the demodulator per ADC sample (its once-per-period work
+  # amortised over the period's 16 samples); in fixed point only on the Cortex-M0 (its image
+  # has no room for the f32 one's inputs).
+  local demodulators=(demodulator-f32 demodulator-fixed)
+  [ "$core" = m4 ] || demodulators=(demodulator-fixed)
+  for variant in "${demodulators[@]}"; do
+    name=$(label $variant)
+    functions=$(functions_of $variant)
+    while read -r kind root; do
+      ranges=$(measured "$root")
+      if [ "$kind" = update ]; then
+        counts=$(per_sample $variant)
+        echo "insns_per_push $name: ${counts#* }"
+        echo "insns_per_iteration $name: ${counts% *}"
+      else
+        counts=$(per_sample $variant block)
+        echo "insns_per_sample $name: ${counts#* }"
+      fi
+    done <<<"$functions"
+  done
 
   # Code size: each update function, then with every function it calls (transitively).
   for variant in "${sizes[@]}"; do

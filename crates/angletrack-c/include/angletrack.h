@@ -128,13 +128,13 @@
  * The 8-byte words of an `at_demodulator_f32`'s storage (checked against the Rust types at
  * compile time, on every target).
  */
-#define AT_DEMODULATOR_F32_WORDS 40
+#define AT_DEMODULATOR_F32_WORDS 10
 
 /**
  * The 8-byte words of an `at_demodulator_state_f32`'s storage (checked against the Rust
  * type at compile time, on every target).
  */
-#define AT_DEMODULATOR_STATE_F32_WORDS 16
+#define AT_DEMODULATOR_STATE_F32_WORDS 31
 
 /**
  * A pair's front-end fault: loss of excitation (the carrier amplitude at the windings
@@ -152,6 +152,12 @@
  * rails (or not a number).
  */
 #define AT_FRONT_END_FAULT_CLIPPING (1 << 2)
+
+/**
+ * A pair's front-end fault: weak excitation (the carrier amplitude at the windings below
+ * its threshold, above the loss of excitation's).
+ */
+#define AT_FRONT_END_FAULT_WEAK_EXCITATION (1 << 3)
 
 /**
  * Loss of signal: a window's RMS amplitude is below the loss-of-signal threshold.
@@ -680,9 +686,13 @@ typedef struct at_fixed_estimate {
  */
 typedef struct at_demodulator_settings_f32 {
   /**
-   * The excitation carrier frequency (Hz); the ADC samples `N` times per period.
+   * The declared excitation carrier frequency (Hz), tracked within `max_carrier_error`.
    */
   float carrier_hz;
+  /**
+   * The ADC's sample rate (Hz): at least 4 times the carrier, any ratio.
+   */
+  float adc_rate_hz;
   /**
    * A winding's nominal carrier amplitude at the ADC (counts, peak): the pairs are
    * divided by it (nominal amplitude 1).
@@ -706,19 +716,29 @@ typedef struct at_demodulator_settings_f32 {
    */
   float loss_of_excitation;
   /**
-   * Phase drift beyond this (rad) from the start-up delay (default 44 degrees).
+   * Weak excitation below this carrier amplitude, relative to nominal (default 0.7).
+   */
+  float weak_excitation;
+  /**
+   * Phase drift (the carrier loop out of lock) beyond this phase error (rad, default
+   * 44 degrees, at most pi/2).
    */
   float phase_drift_bound_rad;
   /**
-   * The delay (rad) the start-up estimate is resolved around (default 0).
+   * The carrier delay (rad) the half turn is resolved around (default 0): after the
+   * excitation when its samples are pushed, else the carrier's phase at the first sample.
    */
   float expected_delay_rad;
   /**
-   * The fraction of each period's delay error applied after start-up (default 0.01).
+   * The carrier loop's natural frequency times the carrier period (rad, default 0.3).
    */
-  float delay_tracking_factor;
+  float carrier_loop_bandwidth;
   /**
-   * The carrier periods the start-up delay estimate averages (default 16).
+   * The largest relative carrier frequency error tracked (default 0.03).
+   */
+  float max_carrier_error;
+  /**
+   * The carrier periods the loop acquires over before the first pair (default 24).
    */
   uint32_t startup_periods;
 } at_demodulator_settings_f32;
@@ -765,7 +785,7 @@ typedef struct at_demodulator_state_f32 {
 } at_demodulator_state_f32;
 
 /**
- * One demodulated pair: the windings' envelopes at the centre of their window.
+ * One demodulated pair: the windings' envelopes at the centroid of their window.
  */
 typedef struct at_demodulated_pair_f32 {
   /**
@@ -785,9 +805,14 @@ typedef struct at_demodulated_pair_f32 {
    */
   float quadrature_s;
   /**
-   * The index of the window (window `p` starts at ADC sample `p N`).
+   * The index of the window (start-up windows included).
    */
   uint64_t window;
+  /**
+   * The ADC sample index (from 0, the first sample pushed) at which the pair holds: the
+   * centroid of its window's weights (divide by the ADC rate for seconds).
+   */
+  double centre_sample;
   /**
    * This window's front-end faults (`AT_FRONT_END_FAULT_*` bits).
    */
@@ -993,7 +1018,7 @@ typedef struct at_fixed_state {
 #define AT_ERR_CARRIER_HZ 42
 
 /**
- * Demodulator: samples per carrier period (8, 16 or 32 in the C API).
+ * Samples per carrier period (the excitation's schedule; the demodulator takes `adc_rate_hz`).
  */
 #define AT_ERR_SAMPLES_PER_PERIOD 43
 
@@ -1023,9 +1048,9 @@ typedef struct at_fixed_state {
 #define AT_ERR_EXPECTED_DELAY_RAD 48
 
 /**
- * Demodulator setting `delay_tracking_factor`.
+ * Demodulator setting `carrier_loop_bandwidth`.
  */
-#define AT_ERR_DELAY_TRACKING_FACTOR 49
+#define AT_ERR_CARRIER_LOOP_BANDWIDTH 49
 
 /**
  * Demodulator setting `startup_periods`.
@@ -1041,6 +1066,21 @@ typedef struct at_fixed_state {
  * An angle error `curve` of fewer than 2 points.
  */
 #define AT_ERR_CURVE 52
+
+/**
+ * Demodulator setting `adc_rate_hz` (at least 4 times the carrier).
+ */
+#define AT_ERR_ADC_RATE_HZ 53
+
+/**
+ * Demodulator setting `weak_excitation`.
+ */
+#define AT_ERR_WEAK_EXCITATION 54
+
+/**
+ * Demodulator setting `max_carrier_error`.
+ */
+#define AT_ERR_MAX_CARRIER_ERROR 55
 
 /**
  * A parameter this version of the C API has no code for (a newer core's).
@@ -1725,32 +1765,33 @@ at_status at_angle_correction_table_f32_from_curve(const float *curve,
 at_status at_angle_correction_table_f32_check(const struct at_angle_correction_table_f32 *table);
 
 /**
- * The demodulator's settings for a carrier of `carrier_hz` (Hz) and amplitude
- * `carrier_amplitude_counts` (counts, peak) at an ADC whose codes run from `adc_min_code` to
- * `adc_max_code`, with the core's defaults for the rest (clip margin 1/256 of the range,
- * loss of excitation below 0.25, phase drift bound 44 degrees, expected delay 0, delay
- * tracking factor 0.01, start-up over 16 periods).
+ * The demodulator's settings for a carrier of `carrier_hz` (Hz) sampled at `adc_rate_hz`
+ * (Hz, at least 4 times the carrier, any ratio) with amplitude `carrier_amplitude_counts`
+ * (counts, peak) at an ADC whose codes run from `adc_min_code` to `adc_max_code`, with the
+ * core's defaults for the rest (clip margin 1/256 of the range, loss of excitation below
+ * 0.25, weak excitation below 0.7, phase drift bound 44 degrees, expected delay 0, carrier
+ * loop bandwidth 0.3, carrier error up to 3 %, start-up over 24 periods).
  */
 struct at_demodulator_settings_f32 at_demodulator_settings_f32_new(float carrier_hz,
+                                                                   float adc_rate_hz,
                                                                    float carrier_amplitude_counts,
                                                                    float adc_min_code,
                                                                    float adc_max_code);
 
 /**
- * Checks `settings` for `samples_per_period` ADC samples per carrier period (8, 16 or 32:
- * `AT_ERR_SAMPLES_PER_PERIOD` otherwise) and writes the demodulator to `out` (unchanged on
- * error; `AT_ERR_CARRIER_HZ`, `AT_ERR_ADC_RANGE`, ... name the refused setting).
+ * Checks `settings` and writes the demodulator to `out` (unchanged on error;
+ * `AT_ERR_CARRIER_HZ`, `AT_ERR_ADC_RATE_HZ`, `AT_ERR_ADC_RANGE`, ... name the refused
+ * setting).
  *
  * # Safety
  * See the header's introduction.
  */
 at_status at_demodulator_f32_new(const struct at_demodulator_settings_f32 *settings,
-                                 uint32_t samples_per_period,
                                  struct at_demodulator_f32 *out);
 
 /**
  * Checks that `chain` runs at the demodulator's pair rate: its observer's sample period is
- * the carrier period (to a relative 1e-4), else `AT_ERR_SAMPLE_PERIOD_S`.
+ * the declared carrier period (to a relative 1e-4), else `AT_ERR_SAMPLE_PERIOD_S`.
  *
  * # Safety
  * See the header's introduction.
@@ -1760,12 +1801,11 @@ at_status at_demodulator_f32_check_chain(const struct at_demodulator_f32 *demodu
 
 /**
  * One ADC sample of each winding (`raw_c` of the cosine winding, `raw_s` of the sine
- * winding, in counts), taken at the excitation phase `2 pi k / N` of the `k`-th sample of
- * the carrier period. Once per period (after the start-up delay estimate) writes a pair to
+ * winding, in counts). Once per tracked carrier period (after the start-up) writes a pair to
  * `out` and returns 1; else returns 0 (`out` untouched). Refused arguments (NULL, a
  * demodulator not made, a struct of another build): `AT_FAULT_INVALID_ARGUMENT`, nothing
- * changed. Feed the pair's `y_c`, `y_s` to a chain whose gains run at the carrier period
- * (`at_demodulator_f32_check_chain`).
+ * changed. Feed the pair's `y_c`, `y_s` to a chain whose gains run at the declared carrier
+ * period (`at_demodulator_f32_check_chain`).
  *
  * # Safety
  * See the header's introduction.
@@ -1775,6 +1815,33 @@ uint32_t at_demodulator_f32_push(const struct at_demodulator_f32 *demodulator,
                                  float raw_c,
                                  float raw_s,
                                  struct at_demodulated_pair_f32 *out);
+
+/**
+ * `at_demodulator_f32_push` with the excitation's sample taken at the same instant (any
+ * offset and amplitude): the carrier's half-turn ambiguity is then resolved from it. Push
+ * all samples of a run with it or all without.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_demodulator_f32_push_with_excitation(const struct at_demodulator_f32 *demodulator,
+                                                 struct at_demodulator_state_f32 *state,
+                                                 float raw_c,
+                                                 float raw_s,
+                                                 float excitation,
+                                                 struct at_demodulated_pair_f32 *out);
+
+/**
+ * The carrier delay the demodulator chose (rad, in [-pi, pi)): with the excitation pushed,
+ * the windings' carrier after it; without, the windings' carrier phase at the first sample,
+ * as resolved at the end of the start-up around `expected_delay_rad`. The other half turn
+ * gives the same windings with the shaft half a turn further. NaN for NULL, another build's
+ * state or before the start-up's end.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+float at_demodulator_state_f32_carrier_delay_rad(struct at_demodulator_state_f32 *state);
 
 /**
  * Makes `state` fresh: its next sample is the first of a carrier period, the delay not yet

@@ -8,25 +8,28 @@ use angletrack_core::DemodulatorSettings;
 use crate::chain::{AnyChain, at_chain_f32};
 use crate::demodulator::{
     at_demodulated_pair_f32, at_demodulator_f32, at_demodulator_settings_f32,
-    at_demodulator_state_f32, with_demodulator,
+    at_demodulator_state_f32,
 };
 use crate::faults::AT_FAULT_INVALID_ARGUMENT;
 use crate::status::{AT_ERR_NULL_POINTER, at_status, status_of_result};
 
-/// The demodulator's settings for a carrier of `carrier_hz` (Hz) and amplitude
-/// `carrier_amplitude_counts` (counts, peak) at an ADC whose codes run from `adc_min_code` to
-/// `adc_max_code`, with the core's defaults for the rest (clip margin 1/256 of the range,
-/// loss of excitation below 0.25, phase drift bound 44 degrees, expected delay 0, delay
-/// tracking factor 0.01, start-up over 16 periods).
+/// The demodulator's settings for a carrier of `carrier_hz` (Hz) sampled at `adc_rate_hz`
+/// (Hz, at least 4 times the carrier, any ratio) with amplitude `carrier_amplitude_counts`
+/// (counts, peak) at an ADC whose codes run from `adc_min_code` to `adc_max_code`, with the
+/// core's defaults for the rest (clip margin 1/256 of the range, loss of excitation below
+/// 0.25, weak excitation below 0.7, phase drift bound 44 degrees, expected delay 0, carrier
+/// loop bandwidth 0.3, carrier error up to 3 %, start-up over 24 periods).
 #[unsafe(no_mangle)]
 pub extern "C" fn at_demodulator_settings_f32_new(
     carrier_hz: f32,
+    adc_rate_hz: f32,
     carrier_amplitude_counts: f32,
     adc_min_code: f32,
     adc_max_code: f32,
 ) -> at_demodulator_settings_f32 {
     DemodulatorSettings::new(
         carrier_hz,
+        adc_rate_hz,
         carrier_amplitude_counts,
         adc_min_code,
         adc_max_code,
@@ -34,27 +37,26 @@ pub extern "C" fn at_demodulator_settings_f32_new(
     .into()
 }
 
-/// Checks `settings` for `samples_per_period` ADC samples per carrier period (8, 16 or 32:
-/// `AT_ERR_SAMPLES_PER_PERIOD` otherwise) and writes the demodulator to `out` (unchanged on
-/// error; `AT_ERR_CARRIER_HZ`, `AT_ERR_ADC_RANGE`, ... name the refused setting).
+/// Checks `settings` and writes the demodulator to `out` (unchanged on error;
+/// `AT_ERR_CARRIER_HZ`, `AT_ERR_ADC_RATE_HZ`, `AT_ERR_ADC_RANGE`, ... name the refused
+/// setting).
 ///
 /// # Safety
 /// See the header's introduction.
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn at_demodulator_f32_new(
     settings: *const at_demodulator_settings_f32,
-    samples_per_period: u32,
     out: *mut at_demodulator_f32,
 ) -> at_status {
     // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
     match unsafe { (settings.as_ref(), out.as_mut()) } {
-        (Some(settings), Some(out)) => out.set(settings, samples_per_period),
+        (Some(settings), Some(out)) => out.set(settings),
         _ => AT_ERR_NULL_POINTER,
     }
 }
 
 /// Checks that `chain` runs at the demodulator's pair rate: its observer's sample period is
-/// the carrier period (to a relative 1e-4), else `AT_ERR_SAMPLE_PERIOD_S`.
+/// the declared carrier period (to a relative 1e-4), else `AT_ERR_SAMPLE_PERIOD_S`.
 ///
 /// # Safety
 /// See the header's introduction.
@@ -72,19 +74,18 @@ pub unsafe extern "C" fn at_demodulator_f32_check_chain(
         (Ok(d), Ok(c)) => (d, c),
         (Err(refused), _) | (_, Err(refused)) => return refused.status(),
     };
-    with_demodulator!(demodulator, |d| match chain {
-        AnyChain::Two(c) => status_of_result(d.check_gains(&c.chain.observer)),
-        AnyChain::Three(c) => status_of_result(d.check_gains(&c.chain.observer)),
-    })
+    match chain {
+        AnyChain::Two(c) => status_of_result(demodulator.check_gains(&c.chain.observer)),
+        AnyChain::Three(c) => status_of_result(demodulator.check_gains(&c.chain.observer)),
+    }
 }
 
 /// One ADC sample of each winding (`raw_c` of the cosine winding, `raw_s` of the sine
-/// winding, in counts), taken at the excitation phase `2 pi k / N` of the `k`-th sample of
-/// the carrier period. Once per period (after the start-up delay estimate) writes a pair to
+/// winding, in counts). Once per tracked carrier period (after the start-up) writes a pair to
 /// `out` and returns 1; else returns 0 (`out` untouched). Refused arguments (NULL, a
 /// demodulator not made, a struct of another build): `AT_FAULT_INVALID_ARGUMENT`, nothing
-/// changed. Feed the pair's `y_c`, `y_s` to a chain whose gains run at the carrier period
-/// (`at_demodulator_f32_check_chain`).
+/// changed. Feed the pair's `y_c`, `y_s` to a chain whose gains run at the declared carrier
+/// period (`at_demodulator_f32_check_chain`).
 ///
 /// # Safety
 /// See the header's introduction.
@@ -96,6 +97,41 @@ pub unsafe extern "C" fn at_demodulator_f32_push(
     raw_s: f32,
     out: *mut at_demodulated_pair_f32,
 ) -> u32 {
+    // SAFETY: the caller's contract, passed on.
+    unsafe { push(demodulator, state, raw_c, raw_s, None, out) }
+}
+
+/// `at_demodulator_f32_push` with the excitation's sample taken at the same instant (any
+/// offset and amplitude): the carrier's half-turn ambiguity is then resolved from it. Push
+/// all samples of a run with it or all without.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_demodulator_f32_push_with_excitation(
+    demodulator: *const at_demodulator_f32,
+    state: *mut at_demodulator_state_f32,
+    raw_c: f32,
+    raw_s: f32,
+    excitation: f32,
+    out: *mut at_demodulated_pair_f32,
+) -> u32 {
+    // SAFETY: the caller's contract, passed on.
+    unsafe { push(demodulator, state, raw_c, raw_s, Some(excitation), out) }
+}
+
+/// The two pushes.
+///
+/// # Safety
+/// The caller's contract of the header's introduction.
+unsafe fn push(
+    demodulator: *const at_demodulator_f32,
+    state: *mut at_demodulator_state_f32,
+    raw_c: f32,
+    raw_s: f32,
+    excitation: Option<f32>,
+    out: *mut at_demodulated_pair_f32,
+) -> u32 {
     // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
     let (Some(demodulator), Some(state), Some(out)) =
         (unsafe { (demodulator.as_ref(), state.as_mut(), out.as_mut()) })
@@ -105,13 +141,36 @@ pub unsafe extern "C" fn at_demodulator_f32_push(
     let (Ok(demodulator), Ok(state)) = (demodulator.get(), state.get_mut()) else {
         return AT_FAULT_INVALID_ARGUMENT;
     };
-    match with_demodulator!(demodulator, |d| d.push(state, raw_c, raw_s)) {
+    let pair = match excitation {
+        Some(e) => demodulator.push_with_excitation(state, raw_c, raw_s, e),
+        None => demodulator.push(state, raw_c, raw_s),
+    };
+    match pair {
         Some(pair) => {
             *out = pair.into();
             1
         }
         None => 0,
     }
+}
+
+/// The carrier delay the demodulator chose (rad, in [-pi, pi)): with the excitation pushed,
+/// the windings' carrier after it; without, the windings' carrier phase at the first sample,
+/// as resolved at the end of the start-up around `expected_delay_rad`. The other half turn
+/// gives the same windings with the shaft half a turn further. NaN for NULL, another build's
+/// state or before the start-up's end.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_demodulator_state_f32_carrier_delay_rad(
+    state: *mut at_demodulator_state_f32,
+) -> f32 {
+    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
+    unsafe { state.as_mut() }
+        .and_then(|s| s.get_mut().ok())
+        .filter(|s| s.is_delay_ready())
+        .map_or(f32::NAN, |s| s.carrier_delay_rad())
 }
 
 /// Makes `state` fresh: its next sample is the first of a carrier period, the delay not yet

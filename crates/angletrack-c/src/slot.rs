@@ -141,9 +141,7 @@ const BUILD: u32 = {
     h = hash_type::<crate::chain_fixed::ChainFixed<3>>(h);
     h = hash_type::<crate::chain_fixed::StateFixed<2>>(h);
     h = hash_type::<crate::chain_fixed::StateFixed<3>>(h);
-    h = hash_type::<angletrack_core::Demodulator<f32, 8>>(h);
-    h = hash_type::<angletrack_core::Demodulator<f32, 16>>(h);
-    h = hash_type::<angletrack_core::Demodulator<f32, 32>>(h);
+    h = hash_type::<angletrack_core::Demodulator<f32>>(h);
     hash_type::<angletrack_core::DemodulatorState<f32>>(h)
 };
 

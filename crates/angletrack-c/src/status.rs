@@ -82,7 +82,7 @@ pub const AT_ERR_MAX_QUADRATURE_RAD: at_status = 40;
 pub const AT_ERR_ANGLE_CORRECTION: at_status = 41;
 /// Demodulator setting `carrier_hz`.
 pub const AT_ERR_CARRIER_HZ: at_status = 42;
-/// Demodulator: samples per carrier period (8, 16 or 32 in the C API).
+/// Samples per carrier period (the excitation's schedule; the demodulator takes `adc_rate_hz`).
 pub const AT_ERR_SAMPLES_PER_PERIOD: at_status = 43;
 /// Demodulator setting `carrier_amplitude_counts`.
 pub const AT_ERR_CARRIER_AMPLITUDE_COUNTS: at_status = 44;
@@ -94,19 +94,25 @@ pub const AT_ERR_LOSS_OF_EXCITATION: at_status = 46;
 pub const AT_ERR_PHASE_DRIFT_BOUND_RAD: at_status = 47;
 /// Demodulator setting `expected_delay_rad`.
 pub const AT_ERR_EXPECTED_DELAY_RAD: at_status = 48;
-/// Demodulator setting `delay_tracking_factor`.
-pub const AT_ERR_DELAY_TRACKING_FACTOR: at_status = 49;
+/// Demodulator setting `carrier_loop_bandwidth`.
+pub const AT_ERR_CARRIER_LOOP_BANDWIDTH: at_status = 49;
 /// Demodulator setting `startup_periods`.
 pub const AT_ERR_STARTUP_PERIODS: at_status = 50;
 /// ADC setting `shift` (0 to 15).
 pub const AT_ERR_SHIFT: at_status = 51;
 /// An angle error `curve` of fewer than 2 points.
 pub const AT_ERR_CURVE: at_status = 52;
+/// Demodulator setting `adc_rate_hz` (at least 4 times the carrier).
+pub const AT_ERR_ADC_RATE_HZ: at_status = 53;
+/// Demodulator setting `weak_excitation`.
+pub const AT_ERR_WEAK_EXCITATION: at_status = 54;
+/// Demodulator setting `max_carrier_error`.
+pub const AT_ERR_MAX_CARRIER_ERROR: at_status = 55;
 /// A parameter this version of the C API has no code for (a newer core's).
 pub const AT_ERR_OTHER_PARAMETER: at_status = 63;
 
 /// Every parameter with its status code: the one table both directions use.
-const PARAMETERS: [(Parameter, at_status); 37] = [
+const PARAMETERS: [(Parameter, at_status); 40] = [
     (Parameter::SamplePeriod, AT_ERR_SAMPLE_PERIOD_S),
     (Parameter::AngleGain, AT_ERR_GAINS_0),
     (Parameter::SpeedGain, AT_ERR_GAINS_1),
@@ -146,7 +152,13 @@ const PARAMETERS: [(Parameter, at_status); 37] = [
     ),
     (Parameter::PhaseDriftBound, AT_ERR_PHASE_DRIFT_BOUND_RAD),
     (Parameter::ExpectedDelay, AT_ERR_EXPECTED_DELAY_RAD),
-    (Parameter::DelayTrackingFactor, AT_ERR_DELAY_TRACKING_FACTOR),
+    (
+        Parameter::CarrierLoopBandwidth,
+        AT_ERR_CARRIER_LOOP_BANDWIDTH,
+    ),
+    (Parameter::AdcRate, AT_ERR_ADC_RATE_HZ),
+    (Parameter::WeakExcitationThreshold, AT_ERR_WEAK_EXCITATION),
+    (Parameter::MaxCarrierError, AT_ERR_MAX_CARRIER_ERROR),
     (Parameter::StartupPeriods, AT_ERR_STARTUP_PERIODS),
     (Parameter::AdcShift, AT_ERR_SHIFT),
     (Parameter::AngleErrorCurve, AT_ERR_CURVE),
@@ -211,7 +223,10 @@ pub(crate) fn message(status: at_status) -> &'static CStr {
         AT_ERR_LOSS_OF_EXCITATION => c"loss_of_excitation",
         AT_ERR_PHASE_DRIFT_BOUND_RAD => c"phase_drift_bound_rad",
         AT_ERR_EXPECTED_DELAY_RAD => c"expected_delay_rad",
-        AT_ERR_DELAY_TRACKING_FACTOR => c"delay_tracking_factor",
+        AT_ERR_CARRIER_LOOP_BANDWIDTH => c"carrier_loop_bandwidth",
+        AT_ERR_ADC_RATE_HZ => c"adc_rate_hz",
+        AT_ERR_WEAK_EXCITATION => c"weak_excitation",
+        AT_ERR_MAX_CARRIER_ERROR => c"max_carrier_error",
         AT_ERR_STARTUP_PERIODS => c"startup_periods",
         AT_ERR_SHIFT => c"shift",
         AT_ERR_CURVE => c"curve",

@@ -30,7 +30,7 @@ fn chain_at(sample_period_s: f32) -> at_chain_f32 {
 #[test]
 fn windings_to_pairs_to_the_angle() {
     // A 10 kHz carrier sampled 16 times per period by a 12-bit ADC, amplitude 1800 counts.
-    let settings = at_demodulator_settings_f32_new(10e3, 1800.0, 0.0, 4095.0);
+    let settings = at_demodulator_settings_f32_new(10e3, 160e3, 1800.0, 0.0, 4095.0);
     let mut demodulator = at_demodulator_f32::ZEROED;
     let mut state = at_demodulator_state_f32::FRESH;
     let chain = chain_at(1e-4);
@@ -41,11 +41,9 @@ fn windings_to_pairs_to_the_angle() {
     let mut pairs = 0;
     // SAFETY: valid pointers to live values.
     unsafe {
-        assert_eq!(
-            at_demodulator_f32_new(&settings, 16, &mut demodulator),
-            AT_OK
-        );
+        assert_eq!(at_demodulator_f32_new(&settings, &mut demodulator), AT_OK);
         assert_eq!(at_demodulator_f32_check_chain(&demodulator, &chain), AT_OK);
+        assert!(at_demodulator_state_f32_carrier_delay_rad(&mut state).is_nan());
         for k in 0..16 * periods {
             let carrier = 1800.0 * (TAU * (k % 16) as f32 / 16.0).sin();
             let (raw_c, raw_s) = (
@@ -66,46 +64,53 @@ fn windings_to_pairs_to_the_angle() {
             (pair.y_c - theta.cos()).abs() < 1e-3 && pair.faults == 0,
             "{pair:?}"
         );
-        // One pair per period once the 16 start-up periods have measured the delay (the
-        // first pair completes in the period after them).
-        assert_eq!(pairs, periods - 17);
+        // One pair per period once the 24 start-up windows have acquired the carrier (a
+        // window completes a quarter period after its period).
+        assert_eq!(pairs, periods - 24);
         assert_eq!(at_demodulator_state_f32_clear_faults(&mut state), 0);
+        let delay = at_demodulator_state_f32_carrier_delay_rad(&mut state);
+        // Taken back to the first sample at the tracked frequency: within a few degrees.
+        assert!(delay.abs() < 0.06, "delay {delay}");
     }
 }
 
 #[test]
 fn refusals_name_the_setting() {
-    let mut settings = at_demodulator_settings_f32_new(10e3, 1800.0, 0.0, 4095.0);
+    let mut settings = at_demodulator_settings_f32_new(10e3, 30e3, 1800.0, 0.0, 4095.0);
     let mut demodulator = at_demodulator_f32::ZEROED;
     let mut state = at_demodulator_state_f32::FRESH;
     let mut pair = at_demodulated_pair_f32::default();
     // SAFETY: valid pointers to live values, or NULL.
     unsafe {
         assert_eq!(
-            at_demodulator_f32_new(&settings, 12, &mut demodulator),
-            AT_ERR_SAMPLES_PER_PERIOD
+            at_demodulator_f32_new(&settings, &mut demodulator),
+            AT_ERR_ADC_RATE_HZ
         );
+        settings.adc_rate_hz = 150e3;
         assert_eq!(
             at_demodulator_f32_push(&demodulator, &mut state, 0.0, 0.0, &mut pair),
             AT_FAULT_INVALID_ARGUMENT,
             "a demodulator not made"
         );
+        settings.weak_excitation = 0.1;
+        assert_eq!(
+            at_demodulator_f32_new(&settings, &mut demodulator),
+            AT_ERR_WEAK_EXCITATION
+        );
+        settings.weak_excitation = 0.7;
         settings.adc_max_code = settings.adc_min_code;
         assert_eq!(
-            at_demodulator_f32_new(&settings, 16, &mut demodulator),
+            at_demodulator_f32_new(&settings, &mut demodulator),
             AT_ERR_ADC_RANGE
         );
-        let settings = at_demodulator_settings_f32_new(10e3, 1800.0, 0.0, 4095.0);
-        assert_eq!(
-            at_demodulator_f32_new(&settings, 32, &mut demodulator),
-            AT_OK
-        );
+        let settings = at_demodulator_settings_f32_new(10e3, 150e3, 1800.0, 0.0, 4095.0);
+        assert_eq!(at_demodulator_f32_new(&settings, &mut demodulator), AT_OK);
         assert_eq!(
             at_demodulator_f32_check_chain(&demodulator, &chain_at(2e-4)),
             AT_ERR_SAMPLE_PERIOD_S
         );
         assert_eq!(
-            at_demodulator_f32_new(null(), 16, &mut demodulator),
+            at_demodulator_f32_new(null(), &mut demodulator),
             AT_ERR_NULL_POINTER
         );
         demodulator.set_layout_for_test(1);

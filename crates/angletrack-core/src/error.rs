@@ -79,8 +79,14 @@ pub enum Parameter {
     PhaseDriftBound,
     /// The carrier delay (rad) the start-up estimate is resolved around.
     ExpectedDelay,
-    /// The smoothing factor of the carrier delay's tracking.
-    DelayTrackingFactor,
+    /// The carrier loop's bandwidth (its natural frequency times the carrier period, rad).
+    CarrierLoopBandwidth,
+    /// The ADC's sample rate (Hz) of the demodulator: at least 4 samples per carrier period.
+    AdcRate,
+    /// The relative carrier amplitude below which weak excitation is flagged.
+    WeakExcitationThreshold,
+    /// The largest relative carrier frequency error the demodulator tracks.
+    MaxCarrierError,
     /// The number of carrier periods of the start-up delay estimate.
     StartupPeriods,
     /// The number of pole pairs of the motor.
@@ -161,7 +167,10 @@ impl Parameter {
             Parameter::LossOfExcitationThreshold => "loss_of_excitation",
             Parameter::PhaseDriftBound => "phase_drift_bound_rad",
             Parameter::ExpectedDelay => "expected_delay_rad",
-            Parameter::DelayTrackingFactor => "delay_tracking_factor",
+            Parameter::CarrierLoopBandwidth => "carrier_loop_bandwidth",
+            Parameter::AdcRate => "adc_rate_hz",
+            Parameter::WeakExcitationThreshold => "weak_excitation",
+            Parameter::MaxCarrierError => "max_carrier_error",
             Parameter::StartupPeriods => "startup_periods",
             Parameter::PolePairs => "pole_pairs",
             Parameter::SpeedRatio => "speed_ratio",

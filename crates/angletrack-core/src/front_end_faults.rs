@@ -14,8 +14,8 @@ impl FrontEndFaults {
     /// Loss of excitation: the carrier amplitude at the windings (in-phase and quadrature,
     /// both windings) is below its threshold: the excitation, a winding or the ADC is gone.
     pub const LOSS_OF_EXCITATION: FrontEndFaults = FrontEndFaults(1);
-    /// Carrier phase drift: the tracked carrier delay moved from its start-up value by more
-    /// than its bound (44 degrees by default, the AD2S1210's lock range).
+    /// Carrier phase drift: the carrier loop is out of lock, its phase error beyond its
+    /// bound (44 degrees by default, the AD2S1210's lock range).
     pub const PHASE_DRIFT: FrontEndFaults = FrontEndFaults(1 << 1);
     /// Clipping: a raw sample of the window was within the margin of the ADC's rails (or
     /// not a number).
@@ -25,14 +25,20 @@ impl FrontEndFaults {
     /// with the prediction ([`WindingCheck`](crate::WindingCheck)).
     pub const WINDING: FrontEndFaults = FrontEndFaults(1 << 4);
 
+    /// Weak excitation: the carrier amplitude at the windings is below its threshold (0.7
+    /// of nominal by default) though above the loss of excitation's.
+    pub const WEAK_EXCITATION: FrontEndFaults = FrontEndFaults(1 << 3);
+
     /// The faults that invalidate a sample's measurement: the observer of a chain coasts on
     /// its prediction while one holds ([`FrontEndCheck`](crate::FrontEndCheck)). Clipping
     /// of one channel does not (the pair is distorted, not lost); both channels clipped is
-    /// the [`FrontEndCheck`](crate::FrontEndCheck)'s own test.
+    /// the [`FrontEndCheck`](crate::FrontEndCheck)'s own test. A weak excitation does not
+    /// either: the pair is a measurement, with less margin.
     pub const INVALIDATING: FrontEndFaults =
         FrontEndFaults(Self::LOSS_OF_EXCITATION.0 | Self::WINDING.0);
 
-    /// The raw bits (bit 0 loss of excitation, 1 phase drift, 2 clipping, 4 winding).
+    /// The raw bits (bit 0 loss of excitation, 1 phase drift, 2 clipping, 3 weak
+    /// excitation, 4 winding).
     pub const fn bits(self) -> u8 {
         self.0
     }

@@ -160,7 +160,10 @@ pub use chain::{
     Stage, WindingCheck,
 };
 pub use const_config::Real;
-pub use demodulator::{DemodulatedPair, Demodulator, DemodulatorSettings, DemodulatorState};
+pub use demodulator::{
+    DemodulatedPair, Demodulator, DemodulatorNumber, DemodulatorSettings, DemodulatorState,
+    FIXED_PAIR_UNIT,
+};
 pub use design::{
     Discretisation, MAX_POLE_TIMES_PERIOD, PolePair, UnknownDiscretisation,
     second_order_bandwidth_ratio,

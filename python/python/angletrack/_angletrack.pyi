@@ -749,6 +749,8 @@ class CaptureChunk:
     y_c: npt.NDArray[np.float64]
     y_s: npt.NDArray[np.float64]
     reference_rad: Optional[npt.NDArray[np.float64]]
+    excitation: Optional[npt.NDArray[np.float64]]
+    """The resolver's excitation (counts), from a column mapped as ``excitation``, or ``None``."""
     def __len__(self) -> int: ...
 
 class CaptureReader:
@@ -855,47 +857,52 @@ def write_output(path: Union[str, os.PathLike], data: Union[bytes, str]) -> None
 
 # ----------------------------------------------------------------------------- resolver front end
 
-SUPPORTED_SAMPLES_PER_PERIOD: list[int]
-"""The samples per carrier period ``Demodulator`` supports: 4, 8, 16, 32, 64."""
-
 class DemodulatedPairs:
     """The pairs of one ``Demodulator.push``: one element per carrier period."""
 
     time_s: npt.NDArray[np.float64]
-    """The time (s) at which each pair holds, the centre of its window, from the first ADC sample."""
+    """The time (s) at which each pair holds, the centroid of its window, from the first ADC sample."""
     y_c: npt.NDArray[np.float64]
     y_s: npt.NDArray[np.float64]
     quadrature_c: npt.NDArray[np.float64]
     quadrature_s: npt.NDArray[np.float64]
     window: npt.NDArray[np.uint64]
     faults: npt.NDArray[np.uint8]
-    """Front-end faults: 1 loss of excitation, 2 carrier phase drift, 4 clipping."""
+    """Front-end faults: 1 loss of excitation, 2 carrier phase drift, 4 clipping, 8 weak excitation."""
     def __len__(self) -> int: ...
 
 class Demodulator:
-    """The synchronous demodulator of a resolver front end (float64)."""
+    """The demodulator of a resolver front end (float64): the carrier tracked, any ADC rate of at
+    least 4 samples per period, optionally the excitation's samples."""
 
     def __init__(
         self,
         *,
         carrier_hz: float,
-        samples_per_period: int,
         carrier_amplitude_counts: float,
+        adc_rate_hz: Optional[float] = None,
+        samples_per_period: Optional[float] = None,
         adc_min_code: float = 0.0,
         adc_max_code: float = 4095.0,
         expected_delay_rad: float = 0.0,
-        delay_tracking_factor: Optional[float] = None,
         startup_periods: Optional[int] = None,
         phase_drift_bound_rad: Optional[float] = None,
         loss_of_excitation: Optional[float] = None,
+        weak_excitation: Optional[float] = None,
+        carrier_loop_bandwidth: Optional[float] = None,
+        max_carrier_error: Optional[float] = None,
     ) -> None: ...
-    def push(self, raw_c: _Samples, raw_s: _Samples) -> DemodulatedPairs: ...
+    def push(self, raw_c: _Samples, raw_s: _Samples, excitation: Optional[_Samples] = None) -> DemodulatedPairs: ...
     @property
-    def samples_per_period(self) -> int: ...
+    def samples_per_period(self) -> float: ...
     @property
     def pair_period_s(self) -> float: ...
     @property
-    def window_centre_offset_s(self) -> float: ...
+    def centre_to_end_s(self) -> float: ...
+    @property
+    def tracked_carrier_hz(self) -> float: ...
+    @property
+    def has_excitation(self) -> bool: ...
     @property
     def is_delay_ready(self) -> bool: ...
     @property

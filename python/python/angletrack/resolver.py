@@ -1,9 +1,10 @@
 """The resolver front end in Python and ``angletrack track --carrier-hz`` (``docs/theory.md §13``).
 
 A capture whose ``y_c``, ``y_s`` columns are the raw windings of a carrier-excited resolver
-(ADC counts at the capture's rate, ``N`` samples per carrier period, the first at excitation
-phase 0) is demodulated by :class:`angletrack.Demodulator` into one ``(y_c, y_s)`` pair per
-carrier period, each holding at the centre of its demodulation window; the pairs feed an
+(ADC counts at the capture's rate, any rate of at least 4 samples per carrier period) is
+demodulated by :class:`angletrack.Demodulator`, which tracks the carrier's phase and
+frequency, into one ``(y_c, y_s)`` pair per carrier period, each holding at the centroid of
+its demodulation window; the pairs feed an
 :class:`angletrack.Observer` whose gains run at the carrier frequency. The estimates are
 time-stamped with those window centres, and a reference column is compared there
 (interpolated, unwrapped).
@@ -12,8 +13,9 @@ Output columns (CSV): ``time_s`` (the window centre: the time at which the row's
 holds), ``angle_rad``, ``position_rad``, ``speed_rad_s``, ``acceleration_rad_s2``,
 ``phase_error``, ``faults`` (the observer's; ``FRONT_END`` on a pair with a front-end fault,
 through which the observer coasts on its prediction when the fault invalidates the pair: loss
-of excitation, a winding open or shorted), ``front_end_faults`` (the demodulator's: 1 loss
-of excitation, 2 carrier phase drift, 4 clipping), ``y_c``, ``y_s`` (the demodulated pair); with
+of excitation, a winding open or shorted), ``front_end_faults`` (the demodulator's and the
+winding check's: 1 loss of excitation, 2 carrier phase drift, 4 clipping, 8 weak excitation,
+16 winding), ``y_c``, ``y_s`` (the demodulated pair); with
 ``--pole-pairs`` or ``--latency`` also ``electrical_angle_rad`` (pole pairs times the
 mechanical angle at ``time_s + latency``, wrapped to [-pi, pi)) and
 ``electrical_speed_rad_s``.
@@ -32,18 +34,19 @@ import angletrack
 from angletrack import export
 
 
-def demodulate(raw_c, raw_s, *, carrier_hz: float, samples_per_period: int,
-               carrier_amplitude_counts: float, **settings) -> "tuple[angletrack.DemodulatedPairs, angletrack.Demodulator]":
-    """Demodulates whole arrays of raw winding samples: returns ``(pairs, demodulator)``,
-    the :class:`angletrack.DemodulatedPairs` (time stamps at the window centres, ``y_c``,
-    ``y_s``, front-end faults) and the :class:`angletrack.Demodulator` after the last sample
-    (its ``startup_delay_rad`` and ``carrier_delay_rad`` are the estimated carrier delay).
-    ``settings``: the other keyword arguments of :class:`angletrack.Demodulator`."""
+def demodulate(raw_c, raw_s, *, carrier_hz: float, carrier_amplitude_counts: float, excitation=None,
+               **settings):
+    """Demodulates whole arrays of raw winding samples (and of the excitation, if given):
+    returns ``(pairs, demodulator)``, the :class:`angletrack.DemodulatedPairs` (time stamps at
+    the window centroids, ``y_c``, ``y_s``, front-end faults) and the
+    :class:`angletrack.Demodulator` after the last sample (its ``carrier_delay_rad`` is the
+    carrier delay chosen, ``tracked_carrier_hz`` the carrier's frequency). ``settings``: the
+    other keyword arguments of :class:`angletrack.Demodulator` (``adc_rate_hz`` or
+    ``samples_per_period``, ...)."""
     demodulator = angletrack.Demodulator(
-        carrier_hz=carrier_hz, samples_per_period=samples_per_period,
-        carrier_amplitude_counts=carrier_amplitude_counts, **settings,
+        carrier_hz=carrier_hz, carrier_amplitude_counts=carrier_amplitude_counts, **settings,
     )
-    return demodulator.push(raw_c, raw_s), demodulator
+    return demodulator.push(raw_c, raw_s, excitation), demodulator
 
 
 def drive_outputs(estimates, *, sample_period_s: float, pole_pairs: int = 1, speed_ratio: int = 1,
@@ -62,24 +65,25 @@ def add_track_arguments(track: argparse.ArgumentParser) -> None:
     """The ``track`` options of the demodulating path (one group)."""
     g = track.add_argument_group(
         "resolver windings (--carrier-hz)",
-        "y_c, y_s are the raw windings (ADC counts) sampled N times per carrier period, the first "
-        "sample at excitation phase 0; the estimates come once per carrier period, stamped with "
-        "the centre of their demodulation window; the gains must be designed at the carrier frequency",
+        "y_c, y_s are the raw windings (ADC counts) sampled at least 4 times per carrier period (any "
+        "ratio); the carrier's phase and frequency are tracked; the estimates come once per carrier "
+        "period, stamped with the centroid of their demodulation window; the gains must be designed "
+        "at the carrier frequency",
     )
     g.add_argument("--carrier-hz", type=float, metavar="HZ",
-                   help="the excitation carrier frequency (Hz); refused if more than 2 %% from the carrier measured "
-                   "in the capture (the windings' tone at twice the carrier)")
-    g.add_argument("--samples-per-period", type=int, metavar="N",
-                   help="ADC samples per carrier period, one of "
-                   f"{', '.join(map(str, angletrack.SUPPORTED_SAMPLES_PER_PERIOD))} (default: the "
-                   "capture's rate / the carrier frequency, which must be one of them; refused if the time "
-                   "column says otherwise)")
+                   help="the excitation carrier frequency (Hz), tracked within 3 %%; refused if more than 2 %% from "
+                   "the carrier measured in the capture (the windings' tone at twice the carrier); with --columns "
+                   "excitation=COL (or a column named excitation) the recorded excitation resolves the carrier's "
+                   "half-turn ambiguity")
+    g.add_argument("--samples-per-period", type=float, metavar="N",
+                   help="ADC samples per carrier period, at least 4, any ratio such as 9.6 (default: the "
+                   "capture's rate / the carrier frequency; refused if the time column says otherwise)")
     g.add_argument("--carrier-amplitude", type=float, metavar="COUNTS",
                    help="a winding's carrier amplitude at envelope 1 (counts, peak); default: "
                    "measured on the first chunk")
     g.add_argument("--expected-delay-deg", type=float, default=0.0, metavar="DEG",
-                   help="the carrier delay the start-up estimate (modulo 180 degrees) is resolved "
-                   "around (default 0)")
+                   help="the carrier's phase at the first sample (degrees) the carrier's half-turn "
+                   "ambiguity is resolved around (default 0)")
     g.add_argument("--pole-pairs", type=int, metavar="P",
                    help="write electrical_angle_rad for a motor of P pole pairs (default 1)")
     g.add_argument("--latency", type=float, metavar="S",
@@ -99,31 +103,31 @@ def track_options(args: argparse.Namespace) -> dict:
     }
 
 
-def _samples_per_period(capture_hz: Optional[float], carrier_hz: float, stated: Optional[int]) -> int:
-    supported = list(angletrack.SUPPORTED_SAMPLES_PER_PERIOD)
+def _adc_rate(capture_hz: Optional[float], carrier_hz: float, stated: Optional[float]) -> tuple[float, float]:
+    """The ADC rate (Hz) and the samples per carrier period: from --samples-per-period if
+    given, else from the capture's rate; at least 4 samples per period."""
     if stated is not None:
-        if stated not in supported:
-            raise ValueError(f"samples_per_period: --samples-per-period {stated} is not one of {supported}")
-        return stated
-    if capture_hz is None:
+        adc_hz = stated * carrier_hz
+    elif capture_hz is None:
         raise ValueError("samples_per_period: the capture has no time column: give --samples-per-period "
                          "or --sample-rate (the ADC rate)")
-    ratio = capture_hz / carrier_hz
-    n = round(ratio)
-    if abs(ratio - n) > 0.01 * n or n not in supported:
+    else:
+        adc_hz = capture_hz
+    ratio = adc_hz / carrier_hz
+    if not ratio >= 4.0:
         raise ValueError(
-            f"samples_per_period: the capture's rate {capture_hz:.6g} Hz over the carrier {carrier_hz:.6g} Hz "
-            f"is {ratio:.6g} samples per period; expected one of {supported}"
+            f"samples_per_period: the ADC rate {adc_hz:.6g} Hz over the carrier {carrier_hz:.6g} Hz "
+            f"is {ratio:.6g} samples per period; at least 4 are needed"
         )
-    return n
+    return adc_hz, ratio
 
 
 #: How far a declared carrier may be from the one measured in the capture.
 CARRIER_TOLERANCE = 0.02
 
 
-def refuse_contradicting_rates(first, capture_hz: Optional[float], carrier_hz: float, stated: Optional[int],
-                               n: int) -> None:
+def refuse_contradicting_rates(first, capture_hz: Optional[float], carrier_hz: float, stated: Optional[float],
+                               n: float) -> None:
     """Refuses, in one line naming both values, a ``--samples-per-period`` that the capture's
     time column contradicts (more than 1 %), and a ``--carrier-hz`` more than 2 % from the
     carrier measured in the first chunk's windings (``measured_carrier_cycles_per_sample``,
@@ -145,7 +149,7 @@ def refuse_contradicting_rates(first, capture_hz: Optional[float], carrier_hz: f
     rate_hz = capture_hz if capture_hz is not None else n * carrier_hz
     measured_hz = cycles * rate_hz
     if abs(measured_hz / carrier_hz - 1.0) > CARRIER_TOLERANCE:
-        clock = "the capture's time column" if capture_hz is not None else f"{n} samples per declared period"
+        clock = "the capture's time column" if capture_hz is not None else f"{n:.6g} samples per declared period"
         raise ValueError(
             f"carrier_hz: --carrier-hz {carrier_hz:.6g} is {100 * (carrier_hz / measured_hz - 1):+.3g} % from the "
             f"carrier measured in the capture, {measured_hz:.6g} Hz (at {rate_hz:.6g} samples/s, {clock})"
@@ -252,14 +256,13 @@ def track_windings(s) -> tuple:
     first = next(chunks)
     capture_hz = reader.sample_rate_hz
     carrier_hz = s.carrier_hz
-    n = _samples_per_period(capture_hz, carrier_hz, s.samples_per_period)
+    adc_hz, n = _adc_rate(capture_hz, carrier_hz, s.samples_per_period)
     refuse_contradicting_rates(first, capture_hz, carrier_hz, s.samples_per_period, n)
-    adc_hz = n * carrier_hz
     gains = _gains(s, carrier_hz)
     amplitude = s.carrier_amplitude_counts or _measured_amplitude(first)
     adc_min, adc_max, adc_how = _adc_range(first, s.adc_range)
     demodulator = angletrack.Demodulator(
-        carrier_hz=carrier_hz, samples_per_period=n, carrier_amplitude_counts=amplitude,
+        carrier_hz=carrier_hz, adc_rate_hz=adc_hz, carrier_amplitude_counts=amplitude,
         adc_min_code=adc_min, adc_max_code=adc_max, expected_delay_rad=math.radians(s.expected_delay_deg),
     )
     dtype = np.dtype(s.dtype)
@@ -287,8 +290,8 @@ def track_windings(s) -> tuple:
                     t = chunk.time_s
                     if t is None:
                         t = t0 + (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) / adc_hz
-                    reference.add(t, chunk.reference_rad, keep=2 * n)
-                pairs = demodulator.push(chunk.y_c, chunk.y_s)
+                    reference.add(t, chunk.reference_rad, keep=2 * math.ceil(n))
+                pairs = demodulator.push(chunk.y_c, chunk.y_s, chunk.excitation)
                 if len(pairs):
                     # The capture's clock when it has one (the demodulator counts samples at
                     # the declared rate).
@@ -314,11 +317,10 @@ def track_windings(s) -> tuple:
     latched = angletrack.Faults(observer.latched_faults)
     lines = [
         repr(observer),
-        f"{reader.rows} ADC samples at {adc_hz:.6g} Hz ({n} per {carrier_hz:.6g} Hz carrier period; amplitude "
+        f"{reader.rows} ADC samples at {adc_hz:.6g} Hz ({n:.6g} per {carrier_hz:.6g} Hz carrier period; amplitude "
         f"{amplitude:.6g} counts, ADC codes {adc_min:.6g} to {adc_max:.6g}, {adc_how}) -> {pairs_total} estimates -> "
         f"{s.output}",
-        f"carrier delay: {math.degrees(demodulator.startup_delay_rad) % 360.0:.3f} deg at start-up, "
-        f"{math.degrees(demodulator.carrier_delay_rad) % 360.0:.3f} deg at the end",
+        _delay_line(demodulator, s.expected_delay_deg),
         f"front-end faults latched: {_front_end_names(_latched_front_end(demodulator, observer))}; "
         f"observer faults latched: {latched.name if latched else 'none'}",
     ]
@@ -333,7 +335,21 @@ def _latched_front_end(demodulator, observer) -> int:
     return demodulator.latched_faults | getattr(observer, "latched_front_end_faults", 0)
 
 
+def _delay_line(demodulator, expected_delay_deg: float) -> str:
+    """The summary's line on the carrier: its tracked frequency, the delay chosen, and how the
+    half-turn ambiguity was resolved."""
+    delay = math.degrees(demodulator.carrier_delay_rad) % 360.0
+    line = f"carrier tracked at {demodulator.tracked_carrier_hz:.6g} Hz at the end; carrier delay chosen: {delay:.3f} deg "
+    if demodulator.has_excitation:
+        return line + (f"after the excitation column, the half turn resolved from it (within 90 deg of "
+                       f"--expected-delay-deg {expected_delay_deg:g})")
+    return line + (f"(the windings' carrier phase at the first sample, taken within 90 deg of --expected-delay-deg "
+                   f"{expected_delay_deg:g}; no excitation column): the windings cannot tell it from the delay 180 deg "
+                   f"away, so the mechanical angle carries a 180-degree ambiguity (and so does the electrical angle "
+                   f"for an odd pole-pair count)")
+
+
 def _front_end_names(bits: int) -> str:
-    names = [name for bit, name in ((1, "LOSS_OF_EXCITATION"), (2, "PHASE_DRIFT"), (4, "CLIPPING"), (16, "WINDING"))
-             if bits & bit]
+    names = [name for bit, name in ((1, "LOSS_OF_EXCITATION"), (2, "PHASE_DRIFT"), (4, "CLIPPING"),
+                                    (8, "WEAK_EXCITATION"), (16, "WINDING")) if bits & bit]
     return "|".join(names) if names else "none"

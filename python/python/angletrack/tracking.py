@@ -55,7 +55,7 @@ class TrackSettings:
     observer_arguments: dict = dataclasses.field(default_factory=dict)
     # The demodulating path (angletrack.resolver), taken when carrier_hz is given.
     carrier_hz: Optional[float] = None
-    samples_per_period: Optional[int] = None
+    samples_per_period: Optional[float] = None
     carrier_amplitude_counts: Optional[float] = None
     expected_delay_deg: float = 0.0
     pole_pairs: Optional[int] = None

@@ -18,10 +18,11 @@
 //!   out-of-line update call per sample (variant `loop` runs the loop with an empty
 //!   callee), or with `block` one block update call for all of them. The
 //!   instruction count per update is the difference of two such runs of different lengths,
-//!   counted by the TCG plugin in `plugin/`. Variant `demodulator-f32` runs the resolver
-//!   front end's synchronous demodulator instead, one out-of-line `Demodulator::push` per
-//!   ADC sample pair, or with `block` one `Demodulator::push_block` for all of them (`check`
-//!   compares its pairs with the host's).
+//!   counted by the TCG plugin in `plugin/`. Variants `demodulator-f32` and
+//!   `demodulator-fixed` run the resolver front end's demodulator instead (in `f32`, in
+//!   fixed point), one out-of-line `Demodulator::push` per ADC sample, or with `block` one
+//!   `Demodulator::push_block` for all of them (`check` compares their pairs with the
+//!   host's).
 #![no_std]
 #![no_main]
 
@@ -32,15 +33,15 @@ mod variants;
 
 use core::hint::black_box;
 
-use angletrack_core::{DemodulatedPair, Demodulator, DemodulatorState, Float};
+use angletrack_core::{DemodulatedPair, Demodulator, DemodulatorNumber, DemodulatorState, Float};
 use baseline::{Atan2, FAST_ATAN2_MAX_ERROR_RAD, FastAtan2, LibmAtan2};
 use cortex_m_rt::entry;
 use cortex_m_semihosting::debug::{self, EXIT_FAILURE, EXIT_SUCCESS};
 use cortex_m_semihosting::{hprintln, nr};
 use trackers::Inputs;
 use variants::{
-    CARRIER_AMPLITUDE_COUNTS, DEMODULATOR, FNV_OFFSET, Job, LOOP_VARIANT, NAMES, Observers,
-    PAIR_BYTES, RECORD_BYTES, Record, SAMPLES_PER_PERIOD, Tracker, fold_integers,
+    CARRIER_AMPLITUDE_COUNTS, DEMODULATORS, FNV_OFFSET, Job, LOOP_VARIANT, NAMES, Observers,
+    PAIR_BYTES, RECORD_BYTES, Record, Tracker, fold_integers,
 };
 
 include!(concat!(env!("OUT_DIR"), "/scenario.rs"));
@@ -111,26 +112,26 @@ fn update_block<T: Tracker>(
     tracker.update_block(state, y_c, y_s, out)
 }
 
-/// One ADC sample pair through the synchronous demodulator, kept out of line like
-/// [`update`]: the unit whose instructions are counted per ADC sample pair.
+/// One ADC sample of both windings through the demodulator, kept out of line like
+/// [`update`]: the unit whose instructions are counted per ADC sample.
 #[inline(never)]
-fn demodulate(
-    demodulator: &Demodulator<f32, SAMPLES_PER_PERIOD>,
-    state: &mut DemodulatorState<f32>,
-    raw_c: f32,
-    raw_s: f32,
-) -> Option<DemodulatedPair<f32>> {
+fn demodulate<V: DemodulatorNumber>(
+    demodulator: &Demodulator<V>,
+    state: &mut DemodulatorState<V>,
+    raw_c: V,
+    raw_s: V,
+) -> Option<DemodulatedPair<V>> {
     demodulator.push(state, raw_c, raw_s)
 }
 
-/// A block of ADC sample pairs through the demodulator (`Demodulator::push_block`), kept out
-/// of line: counted per sample pair of one call over all samples.
+/// A block of ADC samples through the demodulator (`Demodulator::push_block`), kept out
+/// of line: counted per ADC sample of one call over all samples.
 #[inline(never)]
-fn demodulate_block(
-    demodulator: &Demodulator<f32, SAMPLES_PER_PERIOD>,
-    state: &mut DemodulatorState<f32>,
-    raw_c: &[f32],
-    raw_s: &[f32],
+fn demodulate_block<V: DemodulatorNumber>(
+    demodulator: &Demodulator<V>,
+    state: &mut DemodulatorState<V>,
+    raw_c: &[V],
+    raw_s: &[V],
 ) -> usize {
     demodulator.push_block(state, raw_c, raw_s, |pair| {
         black_box(pair);
@@ -138,25 +139,63 @@ fn demodulate_block(
 }
 
 /// Largest accepted difference of a demodulated pair from the host's (amplitude 1): the
-/// same `f32` operations in the same order, so about an ulp.
+/// same operations in the same order, so about an ulp in `f32`, none in fixed point.
 const PAIR_TOLERANCE: f32 = 1e-6;
 
-/// `check` mode for the demodulator: every pair against the host's (with one raw sample
-/// corrupted if `tamper`). Returns `true` if all are within [`PAIR_TOLERANCE`].
-fn check_demodulator(tamper: bool) -> Result<bool, &'static str> {
-    let demodulator = variants::demodulator().map_err(|_| "demodulator settings refused")?;
+/// A demodulator variant's number type, inputs and reference pairs.
+trait DemodulatorVariant: DemodulatorNumber<Real = f32> {
+    /// The raw samples of both windings (none for `f32` on the Cortex-M0).
+    fn raw() -> (&'static [Self], &'static [Self]);
+    /// The host's pairs.
+    fn reference() -> &'static [u8];
+    /// A raw sample corrupted by `corruption` times the carrier amplitude.
+    fn corrupt(x: Self, corruption: f32) -> Self;
+}
+
+impl DemodulatorVariant for f32 {
+    fn raw() -> (&'static [f32], &'static [f32]) {
+        (&RAW_C, &RAW_S)
+    }
+    fn reference() -> &'static [u8] {
+        DEMODULATOR_PAIRS
+    }
+    fn corrupt(x: f32, corruption: f32) -> f32 {
+        x + corruption * CARRIER_AMPLITUDE_COUNTS
+    }
+}
+
+impl DemodulatorVariant for i16 {
+    fn raw() -> (&'static [i16], &'static [i16]) {
+        (&RAW_C16, &RAW_S16)
+    }
+    fn reference() -> &'static [u8] {
+        DEMODULATOR_FIXED_PAIRS
+    }
+    fn corrupt(x: i16, corruption: f32) -> i16 {
+        x.saturating_add((corruption * CARRIER_AMPLITUDE_COUNTS) as i16)
+    }
+}
+
+/// `check` mode for a demodulator variant: every pair against the host's (with one raw
+/// sample corrupted if `tamper`). Returns `true` if all are within [`PAIR_TOLERANCE`].
+fn check_demodulator<V: DemodulatorVariant>(name: &str, tamper: bool) -> Result<bool, &'static str> {
+    let demodulator = variants::demodulator::<V>().map_err(|_| "demodulator settings refused")?;
     let mut state = DemodulatorState::new();
-    let mut pairs = DEMODULATOR_PAIRS.chunks_exact(PAIR_BYTES);
+    let mut pairs = V::reference().chunks_exact(PAIR_BYTES);
     let (mut worst, mut count, mut missing) = (0.0f32, 0usize, false);
-    for (k, (&c, &s)) in RAW_C.iter().zip(&RAW_S).enumerate() {
-        let s = s + corruption(tamper, k, SAMPLES) * CARRIER_AMPLITUDE_COUNTS;
+    let (raw_c, raw_s) = V::raw();
+    for (k, (&c, &s)) in raw_c.iter().zip(raw_s).enumerate() {
+        let s = V::corrupt(s, corruption(tamper, k, SAMPLES));
         if let Some(pair) = demodulate(&demodulator, &mut state, c, s) {
             let Some(r) = pairs.next() else {
                 missing = true;
                 break;
             };
             let word = |i: usize| f32::from_le_bytes([r[i], r[i + 1], r[i + 2], r[i + 3]]);
-            for d in [(pair.y_c - word(0)).abs(), (pair.y_s - word(4)).abs()] {
+            for d in [
+                (V::to_real(pair.y_c) - word(0)).abs(),
+                (V::to_real(pair.y_s) - word(4)).abs(),
+            ] {
                 if worse(d, worst) {
                     worst = d;
                 }
@@ -166,8 +205,8 @@ fn check_demodulator(tamper: bool) -> Result<bool, &'static str> {
     }
     let ok = !missing && pairs.next().is_none() && count > 0 && worst <= PAIR_TOLERANCE;
     hprintln!(
-        "check {}: {} ADC sample pairs, {} pairs, max |pair - host| {:e}: {}",
-        DEMODULATOR,
+        "check {}: {} ADC samples, {} pairs, max |pair - host| {:e}: {}",
+        name,
         SAMPLES,
         count,
         worst,
@@ -176,26 +215,35 @@ fn check_demodulator(tamper: bool) -> Result<bool, &'static str> {
     Ok(ok)
 }
 
-/// `count` mode for the demodulator: `samples` ADC sample pairs and nothing else, one
+/// `count` mode for a demodulator variant: `samples` ADC samples and nothing else, one
 /// `push` call each, or with `block` one `push_block` call for all of them.
-fn count_demodulator(samples: usize, block: bool) -> Result<(), &'static str> {
-    let demodulator = variants::demodulator().map_err(|_| "demodulator settings refused")?;
+fn count_demodulator<V: DemodulatorVariant>(samples: usize, block: bool) -> Result<(), &'static str> {
+    let demodulator = variants::demodulator::<V>().map_err(|_| "demodulator settings refused")?;
     let mut state = DemodulatorState::new();
-    let n = samples.min(SAMPLES);
+    let (raw_c, raw_s) = V::raw();
+    let n = samples.min(raw_c.len()).min(raw_s.len());
     if block {
         black_box(demodulate_block(
             &demodulator,
             &mut state,
-            &RAW_C[..n],
-            &RAW_S[..n],
+            &raw_c[..n],
+            &raw_s[..n],
         ));
         return Ok(());
     }
-    let step = black_box(demodulate);
-    for k in 0..n {
-        black_box(&step(&demodulator, &mut state, RAW_C[k], RAW_S[k]));
+    let step = black_box(demodulate::<V>);
+    for (&c, &s) in raw_c[..n].iter().zip(&raw_s[..n]) {
+        black_box(&step(&demodulator, &mut state, c, s));
     }
     Ok(())
+}
+
+/// Prints the addresses of a demodulator variant's out-of-line functions.
+fn demodulator_functions<V: DemodulatorVariant>() {
+    let push = demodulate::<V> as fn(_, _, _, _) -> _;
+    hprintln!("update {:#x}", push as usize);
+    let block = demodulate_block::<V> as fn(_, _, _, _) -> _;
+    hprintln!("update_block {:#x}", block as usize);
 }
 
 /// Input sample `k` of `check` mode: `(Y_C[k], Y_S[k])`, the middle checked one corrupted
@@ -473,7 +521,9 @@ fn run() -> Result<(), &'static str> {
                 inputs.differ,
                 if inputs_ok { "ok" } else { "FAIL" }
             );
-            let demodulator_ok = check_demodulator(check.tamper)?;
+            // The f32 demodulator's inputs are not in the Cortex-M0's image.
+            let f32_ok = !F32_DEMODULATOR || check_demodulator::<f32>(DEMODULATORS[0], check.tamper)?;
+            let demodulator_ok = f32_ok & check_demodulator::<i16>(DEMODULATORS[1], check.tamper)?;
             let atan2_ok = check_fast_atan2(check.tamper);
             if check.failures > 0 || !inputs_ok || !demodulator_ok || !atan2_ok {
                 return Err("estimates differ from the host's");
@@ -488,11 +538,12 @@ fn run() -> Result<(), &'static str> {
         }
         Some("functions") => {
             let name = args.next().ok_or("functions needs a variant")?;
-            if name == DEMODULATOR {
-                let push = demodulate as fn(_, _, _, _) -> _;
-                hprintln!("update {:#x}", push as usize);
-                let block = demodulate_block as fn(_, _, _, _) -> _;
-                hprintln!("update_block {:#x}", block as usize);
+            if name == DEMODULATORS[0] {
+                demodulator_functions::<f32>();
+                return Ok(());
+            }
+            if name == DEMODULATORS[1] {
+                demodulator_functions::<i16>();
                 return Ok(());
             }
             run_variant(variant(name)?, &mut Functions)
@@ -504,8 +555,11 @@ fn run() -> Result<(), &'static str> {
                 .and_then(|n| n.parse().ok())
                 .ok_or("count needs a sample count")?;
             let block = args.next() == Some("block");
-            if name == DEMODULATOR {
-                return count_demodulator(samples, block);
+            if name == DEMODULATORS[0] {
+                return count_demodulator::<f32>(samples, block);
+            }
+            if name == DEMODULATORS[1] {
+                return count_demodulator::<i16>(samples, block);
             }
             let mut count = Count {
                 samples,
@@ -515,7 +569,7 @@ fn run() -> Result<(), &'static str> {
             run_variant(variant(name)?, &mut count)
         }
         _ => Err("usage: check [tamper] | variants | functions <variant> \
-                  | count <variant|loop|demodulator-f32> <samples> [block]"),
+                  | count <variant|loop|demodulator-f32|demodulator-fixed> <samples> [block]"),
     }
 }
 

@@ -14,7 +14,7 @@
 
 use angletrack_core::{
     AdcScaling, AngleCorrection, Chain, ConfigError, DemodulatedPair, Demodulator,
-    DemodulatorSettings, Estimate, Exact, Fast, FaultThresholds, FixedGains, Gains,
+    DemodulatorNumber, DemodulatorSettings, Estimate, Exact, Fast, FaultThresholds, FixedGains, Gains,
     MAX_CORRECTION_ORDER,
 };
 
@@ -226,25 +226,32 @@ variants! {
 /// The variant whose types the loop alone (`count loop`) runs with.
 pub const LOOP_VARIANT: &str = "kalman-f32-fast-unmonitored";
 
-/// The resolver front end's variant, counted per ADC sample pair: the synchronous
-/// demodulator (`Demodulator::push`) alone.
-pub const DEMODULATOR: &str = "demodulator-f32";
+/// The resolver front end's variants, counted per ADC sample: the demodulator
+/// (`Demodulator::push`, `Demodulator::push_block`) alone, in `f32` and in fixed point.
+pub const DEMODULATORS: [&str; 2] = ["demodulator-f32", "demodulator-fixed"];
 
-/// ADC samples of each winding per carrier period of the demodulator variant.
+/// ADC samples of each winding per carrier period of the demodulator variants.
 pub const SAMPLES_PER_PERIOD: usize = 16;
 
-/// The demodulator variant's carrier amplitude at the ADC (counts) and delay (rad).
+/// The demodulator variants' carrier amplitude at the ADC (counts) and delay (rad).
 pub const CARRIER_AMPLITUDE_COUNTS: f32 = 1800.0;
-/// The carrier delay of the demodulator variant's raw samples (rad, 305 degrees).
+/// The carrier delay of the demodulator variants' raw samples (rad, 305 degrees).
 pub const CARRIER_DELAY_RAD: f32 = 5.323_254;
 
-/// Bytes of one input sample or demodulated pair: `y_c`, `y_s` (f32, little endian).
+/// Bytes of one input sample or demodulated pair: `y_c`, `y_s` (f32, little endian; a
+/// fixed-point pair as the float it stands for, exact).
 pub const PAIR_BYTES: usize = 8;
 
-/// The demodulator of the variant: a 10 kHz carrier, 16 samples per period, 12-bit ADC,
-/// the delay resolved near its true value.
-pub fn demodulator() -> Result<Demodulator<f32, SAMPLES_PER_PERIOD>, ConfigError> {
-    let mut settings = DemodulatorSettings::new(10e3, CARRIER_AMPLITUDE_COUNTS, 0.0, 4095.0);
+/// The demodulator of the variants: a 10 kHz carrier sampled at 160 kHz, 12-bit ADC, the
+/// delay resolved near its true value.
+pub fn demodulator<V: DemodulatorNumber<Real = f32>>() -> Result<Demodulator<V>, ConfigError> {
+    let mut settings = DemodulatorSettings::new(
+        10e3,
+        10e3 * SAMPLES_PER_PERIOD as f32,
+        CARRIER_AMPLITUDE_COUNTS,
+        0.0,
+        4095.0,
+    );
     settings.expected_delay_rad = CARRIER_DELAY_RAD - 0.5;
     Demodulator::new(settings)
 }
@@ -267,9 +274,9 @@ pub fn fold_integers(mut hash: u64, words: &[i64]) -> u64 {
 
 /// The reference record of one demodulated pair (written by the build script only).
 #[allow(dead_code)]
-pub fn encode_pair(pair: &DemodulatedPair<f32>) -> [u8; PAIR_BYTES] {
+pub fn encode_pair<V: DemodulatorNumber<Real = f32>>(pair: &DemodulatedPair<V>) -> [u8; PAIR_BYTES] {
     let mut r = [0; PAIR_BYTES];
-    r[0..4].copy_from_slice(&pair.y_c.to_le_bytes());
-    r[4..8].copy_from_slice(&pair.y_s.to_le_bytes());
+    r[0..4].copy_from_slice(&V::to_real(pair.y_c).to_le_bytes());
+    r[4..8].copy_from_slice(&V::to_real(pair.y_s).to_le_bytes());
     r
 }

@@ -167,8 +167,8 @@ fn front_end() -> f32 {
     else {
         return 0.0;
     };
-    let settings = DemodulatorSettings::new(black_box(1e4), 1800.0, 0.0, 4095.0);
-    let Ok(demodulator) = Demodulator::<f32, 16>::new(settings) else {
+    let settings = DemodulatorSettings::new(black_box(1e4), 1.6e5, 1800.0, 0.0, 4095.0);
+    let Ok(demodulator) = Demodulator::<f32>::new(settings) else {
         return 0.0;
     };
     let Ok(gains) = Gains::<f32, 3>::new(black_box([0.5, 0.18, 0.03]), black_box(1e-4)) else {

@@ -1,86 +1,174 @@
 //! The demodulator's outputs and mutable state (`docs/theory.md §13`): one demodulated pair
-//! per carrier period, and the partial sums, carrier delay and faults kept between samples.
+//! per tracked carrier period, and the carrier loop, the segments' sums and the faults kept
+//! between samples.
 
+use super::number::DemodulatorNumber;
 use crate::front_end_faults::FrontEndFaults;
-use crate::real::Float;
 
-/// One demodulated pair: the windings' envelopes at the centre of their window.
+/// One demodulated pair: the windings' envelopes over one window, holding at its centroid
+/// ([`DemodulatedPair::centre_sample`]).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct DemodulatedPair<T> {
-    /// The cosine winding's envelope, `~ cos theta` (nominal amplitude 1).
-    pub y_c: T,
+pub struct DemodulatedPair<V> {
+    /// The cosine winding's envelope, `~ cos theta` (nominal amplitude 1; Q14 for `i16`).
+    pub y_c: V,
     /// The sine winding's envelope, `~ sin theta`.
-    pub y_s: T,
-    /// The cosine winding's quadrature component (90 degrees from the delayed carrier):
-    /// about 0; its size shows a delay error or a carrier distortion.
-    pub quadrature_c: T,
+    pub y_s: V,
+    /// The cosine winding's quadrature component (90 degrees from the tracked carrier):
+    /// about 0 while the carrier loop is locked.
+    pub quadrature_c: V,
     /// The sine winding's quadrature component.
-    pub quadrature_s: T,
-    /// The index of the window: window `p` starts at ADC sample `p N` and the pair holds at
-    /// [`Demodulator::window_centre_s`](crate::Demodulator::window_centre_s)`(p)`.
+    pub quadrature_s: V,
+    /// The index of the window (0 for the first window, start-up included).
     pub window: u64,
+    /// The index of the window's first ADC sample (0 for the first sample pushed).
+    pub first_sample: u64,
+    /// The window's weighted sample offset from its first sample, times `weight`.
+    pub centre_offset_times_weight: u32,
+    /// The window's weight (its samples counted twice in the middle segment, once at the
+    /// two ends: `docs/theory.md §13`).
+    pub weight: u32,
     /// The front end's faults of this window.
     pub faults: FrontEndFaults,
 }
 
-/// The mutable state of a [`Demodulator`](crate::Demodulator): partial sums, the carrier delay, the faults.
+impl<V> DemodulatedPair<V> {
+    /// The (fractional) ADC sample index at which the pair holds: the centroid of its
+    /// window's weights, `first_sample + centre_offset_times_weight / weight`. In `f64`, for
+    /// host-side code.
+    pub fn centre_sample(&self) -> f64 {
+        self.first_sample as f64
+            + f64::from(self.centre_offset_times_weight) / f64::from(self.weight.max(1))
+    }
+}
+
+/// The sums of one segment of samples: per channel (cosine winding, sine winding,
+/// excitation) the samples times the reference `sin` and `cos`, and the samples; and the
+/// reference's own sums.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(super) struct Sums<S> {
+    pub(super) xs: [S; 3],
+    pub(super) xc: [S; 3],
+    pub(super) x: [S; 3],
+    pub(super) s: S,
+    pub(super) c: S,
+}
+
+/// A segment: its sums, its first sample, its length and its samples' clipping words ORed
+/// (the sign bit set if one was clipped).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(super) struct Segment<S> {
+    pub(super) sums: Sums<S>,
+    pub(super) first: u64,
+    pub(super) length: u32,
+    pub(super) clip: u32,
+}
+
+/// The mutable state of a [`Demodulator`](crate::Demodulator): the carrier loop's phase and
+/// step, the segments' sums, the chosen sign of the carrier, the faults.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DemodulatorState<T> {
-    pub(super) index: usize,
-    pub(super) sums: [T; 4],
-    pub(super) clipped: bool,
-    pub(super) first_quarter: ([T; 4], bool),
-    pub(super) previous_first_quarter: ([T; 4], bool),
-    pub(super) previous_rest: ([T; 4], bool),
+pub struct DemodulatorState<V: DemodulatorNumber> {
+    /// The carrier loop's phase at the next sample (2^32 per turn).
+    pub(super) phase: u32,
+    /// The phase step per sample (2^32 per turn); 0 before the first sample.
+    pub(super) step: u32,
+    /// The next sample's index.
+    pub(super) sample: u64,
+    /// Samples left in the current segment.
+    pub(super) left: u32,
+    /// Whether the current segment is a period's first quarter.
+    pub(super) in_first_quarter: bool,
+    pub(super) current: Segment<V::Sum>,
+    pub(super) first_quarter: Segment<V::Sum>,
+    pub(super) rest: Segment<V::Sum>,
+    /// Rest segments completed (periods).
     pub(super) periods: u64,
-    pub(super) startup_sum: (T, T),
-    pub(super) delay: (T, T),
-    pub(super) startup_delay: (T, T),
+    /// Windows completed.
+    pub(super) windows: u64,
+    /// Whether an excitation sample came with the samples.
+    pub(super) excitation: bool,
+    /// The last window's excitation components `(I, Q)` against the loop's phase.
+    pub(super) excitation_iq: (V::Wide, V::Wide),
+    /// Whether the pairs are negated (the loop locked half a turn from the chosen carrier).
+    pub(super) flip: bool,
+    /// The carrier's phase at the first sample, as chosen at start-up (2^32 per turn).
+    pub(super) startup_delay: u32,
     pub(super) delay_ready: bool,
     pub(super) latched: FrontEndFaults,
 }
 
-impl<T: Float> Default for DemodulatorState<T> {
+impl<V: DemodulatorNumber> Default for DemodulatorState<V> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<T: Float> DemodulatorState<T> {
-    /// A state at power-up: the next sample is the first of a carrier period (excitation
-    /// phase 0), the delay not yet measured.
-    pub const fn new() -> Self {
-        let zero = ([T::ZERO; 4], false);
+impl<V: DemodulatorNumber> DemodulatorState<V> {
+    /// A state at power-up: the next sample is the first, at excitation phase 0 of the
+    /// declared carrier; the carrier not yet acquired.
+    pub fn new() -> Self {
         Self {
-            index: 0,
-            sums: [T::ZERO; 4],
-            clipped: false,
-            first_quarter: zero,
-            previous_first_quarter: zero,
-            previous_rest: zero,
+            phase: 0,
+            step: 0,
+            sample: 0,
+            left: 0,
+            in_first_quarter: true,
+            current: Segment::default(),
+            first_quarter: Segment::default(),
+            rest: Segment::default(),
             periods: 0,
-            startup_sum: (T::ZERO, T::ZERO),
-            delay: (T::ONE, T::ZERO),
-            startup_delay: (T::ONE, T::ZERO),
+            windows: 0,
+            excitation: false,
+            excitation_iq: (V::Wide::default(), V::Wide::default()),
+            flip: false,
+            startup_delay: 0,
             delay_ready: false,
             latched: FrontEndFaults::NONE,
         }
     }
 
-    /// `true` once the start-up delay estimate is done (pairs come out from then on).
+    /// `true` once the start-up is done (pairs come out from then on).
     pub fn is_delay_ready(&self) -> bool {
         self.delay_ready
     }
 
-    /// The carrier delay as tracked (rad, in [-pi, pi]); meant for diagnostics, not the
-    /// per-sample path (one `atan2`).
-    pub fn carrier_delay_rad(&self) -> T {
-        self.delay.1.atan2(self.delay.0)
+    /// The carrier delay chosen (rad, in [-pi, pi)): with a recorded excitation the
+    /// windings' carrier after it, as of the last window; without, the windings' carrier
+    /// phase at the first sample (the declared carrier's phase 0), as chosen at start-up.
+    /// The other half turn is the same signal with the shaft half a turn further
+    /// (`docs/theory.md §13`). Meant for diagnostics (one `atan2`).
+    pub fn carrier_delay_rad(&self) -> V::Real {
+        use crate::real::Float;
+        if self.excitation {
+            let (i, q) = self.excitation_iq;
+            let (i, q) = (V::wide_to_real(i), V::wide_to_real(q));
+            let half = if self.flip {
+                V::Real::PI
+            } else {
+                V::Real::ZERO
+            };
+            let mut delay = (-q).atan2(i) + half;
+            crate::wrap::wrap_angle(&mut delay);
+            delay
+        } else {
+            self.startup_delay_rad()
+        }
     }
 
-    /// The carrier delay measured at start-up (rad, in [-pi, pi]).
-    pub fn startup_delay_rad(&self) -> T {
-        self.startup_delay.1.atan2(self.startup_delay.0)
+    /// The windings' carrier phase at the first sample chosen at start-up (rad, in [-pi, pi)).
+    pub fn startup_delay_rad(&self) -> V::Real {
+        use crate::real::Float;
+        V::Real::from_i32(self.startup_delay as i32)
+            * (V::Real::PI * V::Real::from_f32(1.0 / 2_147_483_648.0))
+    }
+
+    /// Whether the samples came with the excitation (the carrier's sign resolved from it).
+    pub fn has_excitation(&self) -> bool {
+        self.excitation
+    }
+
+    /// The ADC samples pushed so far.
+    pub fn samples(&self) -> u64 {
+        self.sample
     }
 
     /// The faults latched since they were last cleared.

@@ -25,7 +25,7 @@ const ATAN_BINARY: [i32; 30] = atan_table();
 
 /// `sin x` for `|x| <= pi` by its Taylor series (error below 1e-16): `const`, to build the
 /// table at compile time.
-const fn taylor_sin(x: f64) -> f64 {
+pub(crate) const fn taylor_sin(x: f64) -> f64 {
     let mut term = x;
     let mut sum = x;
     let mut n = 1;
@@ -51,7 +51,7 @@ const fn series_atan(x: f64) -> f64 {
 }
 
 /// Rounds to the nearest integer, halves away from zero.
-const fn round_to_i64(v: f64) -> i64 {
+pub(crate) const fn round_to_i64(v: f64) -> i64 {
     if v >= 0.0 {
         (v + 0.5) as i64
     } else {

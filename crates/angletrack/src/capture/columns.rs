@@ -16,19 +16,28 @@ pub enum Role {
     Sine,
     /// A reference angle (rad, unwrapped or wrapped), e.g. from an encoder.
     Reference,
+    /// A resolver's excitation, sampled with its windings (any offset and amplitude).
+    Excitation,
 }
 
 impl Role {
     /// Every role, in the order of a [`ResolvedColumns::indices`].
-    pub const ALL: [Role; 4] = [Role::Time, Role::Cosine, Role::Sine, Role::Reference];
+    pub const ALL: [Role; 5] = [
+        Role::Time,
+        Role::Cosine,
+        Role::Sine,
+        Role::Reference,
+        Role::Excitation,
+    ];
 
-    /// The role's key in a column mapping: `time`, `y_c`, `y_s`, `reference`.
+    /// The role's key in a column mapping: `time`, `y_c`, `y_s`, `reference`, `excitation`.
     pub const fn key(self) -> &'static str {
         match self {
             Role::Time => "time",
             Role::Cosine => "y_c",
             Role::Sine => "y_s",
             Role::Reference => "reference",
+            Role::Excitation => "excitation",
         }
     }
 
@@ -40,6 +49,7 @@ impl Role {
             Role::Cosine => &["y_c", "cos", "cosine", "y_cos"],
             Role::Sine => &["y_s", "sin", "sine", "y_sin"],
             Role::Reference => &["reference", "reference_rad", "theta", "angle", "angle_rad"],
+            Role::Excitation => &["excitation", "exc"],
         }
     }
 }
@@ -119,7 +129,7 @@ impl FromStr for ColumnMap {
                 .into_iter()
                 .find(|r| r.key() == key)
                 .ok_or_else(|| {
-                    format!("columns: unknown role {key:?}: expected time, y_c, y_s or reference")
+                    format!("columns: unknown role {key:?}: expected time, y_c, y_s, reference or excitation")
                 })?;
             map.set(role, column)?;
         }
@@ -131,7 +141,7 @@ impl FromStr for ColumnMap {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ResolvedColumns {
     /// The column of each role in [`Role::ALL`] order (`None`: the capture has none).
-    pub indices: [Option<usize>; 4],
+    pub indices: [Option<usize>; 5],
     /// The further time columns of the signals (an oscilloscope's (x, y) pairs): each must
     /// agree with the time column row by row.
     pub other_times: Vec<usize>,
@@ -207,7 +217,7 @@ pub fn resolve(
             .collect::<Vec<_>>()
             .join(", ")
     };
-    let mut indices = [None; 4];
+    let mut indices = [None; 5];
     for (slot, role) in indices.iter_mut().zip(Role::ALL) {
         *slot = match map.get(role) {
             Some(NO_COLUMN) => None,

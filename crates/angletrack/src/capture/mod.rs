@@ -96,6 +96,9 @@ pub fn read_capture(
         if let Some(r) = &chunk.reference_rad {
             append(all.reference_rad.get_or_insert_with(Vec::new), r, &path)?;
         }
+        if let Some(e) = &chunk.excitation {
+            append(all.excitation.get_or_insert_with(Vec::new), e, &path)?;
+        }
     }
     Ok(Capture {
         samples: all,

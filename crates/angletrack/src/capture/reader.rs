@@ -85,6 +85,8 @@ pub struct CaptureChunk {
     pub y_s: Vec<f64>,
     /// The reference angle (rad), if the capture has one.
     pub reference_rad: Option<Vec<f64>>,
+    /// The resolver's excitation, if the capture has a column for it.
+    pub excitation: Option<Vec<f64>>,
 }
 
 impl CaptureChunk {
@@ -192,7 +194,7 @@ impl CaptureReader {
         let layout = resolve(&options.columns, &names, has_header).map_err(fail)?;
         let mut roles: Vec<Role> = vec![Role::Cosine, Role::Sine];
         roles.extend(
-            [Role::Time, Role::Reference]
+            [Role::Time, Role::Reference, Role::Excitation]
                 .into_iter()
                 .filter(|&r| layout.index(r).is_some()),
         );
@@ -269,19 +271,32 @@ impl CaptureReader {
         };
         copy(c, &mut self.chunk.y_c);
         copy(s, &mut self.chunk.y_s);
-        self.chunk.reference_rad = match self.raw_column(Role::Reference) {
-            Some(r) => {
-                let index = self.layout.index(Role::Reference).unwrap_or(0);
-                let column = &raw.columns[r];
-                if let Some(k) = column.iter().position(|v| !v.is_finite()) {
-                    return Err(self.value_error(k, index, "reference angle", column[k]));
+        for (role, what) in [
+            (Role::Reference, "reference angle"),
+            (Role::Excitation, "excitation"),
+        ] {
+            let slot = match role {
+                Role::Reference => self.chunk.reference_rad.take(),
+                _ => self.chunk.excitation.take(),
+            };
+            let value = match self.raw_column(role) {
+                Some(r) => {
+                    let index = self.layout.index(role).unwrap_or(0);
+                    let column = &raw.columns[r];
+                    if let Some(k) = column.iter().position(|v| !v.is_finite()) {
+                        return Err(self.value_error(k, index, what, column[k]));
+                    }
+                    let mut out = slot.unwrap_or_default();
+                    copy(Some(r), &mut out);
+                    Some(out)
                 }
-                let mut out = self.chunk.reference_rad.take().unwrap_or_default();
-                copy(Some(r), &mut out);
-                Some(out)
+                None => None,
+            };
+            match role {
+                Role::Reference => self.chunk.reference_rad = value,
+                _ => self.chunk.excitation = value,
             }
-            None => None,
-        };
+        }
         self.chunk.time_s = match self.raw_column(Role::Time) {
             Some(t) => Some(self.checked_time(t)?),
             None => None,

@@ -34,11 +34,11 @@ use variants::{
 /// Samples of the simulated resolver (0.2 s at 10 kHz, about 11 turns): the inputs of
 /// every run, on both cores.
 const SAMPLES: usize = 2000;
-/// Samples whose estimates the Cortex-M0 checks within tolerances (the first 24 ms, through
+/// Samples whose estimates the Cortex-M0 checks within tolerances (the first 20 ms, through
 /// the acquisition): every variant's reference records must fit its 256 KiB of flash, with
 /// a few KiB to spare (the Cortex-M4F checks all; the fixed-point variants' integers are
 /// checked over all samples on both).
-const CHECKED_SAMPLES_M0: usize = 240;
+const CHECKED_SAMPLES_M0: usize = 200;
 /// The most samples of one block update on the Cortex-M0, whose estimates must fit its
 /// 16 KiB of RAM (the Cortex-M4F runs all in one block).
 const BLOCK_SAMPLES_M0: usize = 200;

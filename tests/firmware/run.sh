@@ -3,7 +3,7 @@
 # cores, and runs each under QEMU with semihosting:
 #  - Cortex-M4F: thumbv7em-none-eabihf on `qemu-system-arm -machine mps2-an386 -cpu cortex-m4`;
 #  - Cortex-M0 (no FPU): thumbv6m-none-eabi on `qemu-system-arm -machine microbit` (nRF51:
-#    256 KiB of flash, 16 KiB of RAM: it checks the float estimates of the first 240 samples
+#    256 KiB of flash, 16 KiB of RAM: it checks the float estimates of the first 200 samples
 #    only, the fixed-point ones' integers over all, and runs block updates 200 samples at a
 #    time).
 # For each core it

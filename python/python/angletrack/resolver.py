@@ -137,7 +137,7 @@ def refuse_contradicting_rates(first, capture_hz: Optional[float], carrier_hz: f
         ratio = capture_hz / carrier_hz
         if abs(ratio / stated - 1.0) > 0.01:
             raise ValueError(
-                f"samples_per_period: --samples-per-period {stated} contradicts the capture's time column: "
+                f"samples_per_period: --samples-per-period {stated:g} contradicts the capture's time column: "
                 f"{capture_hz:.6g} Hz over --carrier-hz {carrier_hz:.6g} is {ratio:.6g} samples per period"
             )
     from angletrack._angletrack import measured_carrier_cycles_per_sample

@@ -5,7 +5,7 @@
 use core::mem::MaybeUninit;
 
 use angletrack_core::{
-    AdcSample, AdcScaling, Estimate, Gains, ObserverState, Order, SupportedOrder,
+    AdcSample, AdcScaling, Chain, ChainState, Estimate, Gains, ObserverState, Order, SupportedOrder,
 };
 
 use crate::calibration::at_calibrator_f32;
@@ -183,9 +183,18 @@ impl Sample for Calibrated<'_> {
         state: &mut StateF32<N>,
     ) -> at_estimate_f32 {
         match self.0.get_mut() {
-            Ok(calibrator) => gains
-                .update_calibrated(state, calibrator, self.1, self.2)
-                .into(),
+            Ok(calibrator) => {
+                // The chain of the gains' online calibration and the observer, on copies of
+                // the two states the C API keeps apart, written back.
+                let chain = Chain::new(gains.online_calibration(), *gains);
+                let mut chained = ChainState {
+                    front_end: *calibrator,
+                    observer: *state,
+                };
+                let estimate = chain.update(&mut chained, (self.1, self.2));
+                (*calibrator, *state) = (chained.front_end, chained.observer);
+                estimate.into()
+            }
             Err(_) => at_estimate_f32::INVALID,
         }
     }

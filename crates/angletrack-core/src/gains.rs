@@ -34,8 +34,8 @@ pub struct Gains<T: Float, const N: usize, S = <T as Float>::DefaultSinCos> {
     /// sample's predicted angle.
     pub(crate) next_angle_gain: T,
     pub(crate) thresholds: CheckedThresholds<T>,
-    /// The online calibration's settings (used by
-    /// [`Gains::update_calibrated`](crate::Gains::update_calibrated) only).
+    /// The online calibration's settings (the stage of
+    /// [`Gains::online_calibration`](crate::Gains::online_calibration)).
     pub(crate) calibration: CheckedCalibration<T>,
     pub(crate) sin_cos: PhantomData<S>,
 }

@@ -1,8 +1,8 @@
 //! Online correction of offsets, gain imbalance and quadrature error (`docs/theory.md §12`):
 //! [`Calibrator`] (the mutable state: the [`SensorCalibration`] applied, and its
-//! estimator), and
-//! [`Gains::update_calibrated`], which corrects each sample before the phase detector and
-//! learns the calibration from the observer's own angle while it tracks.
+//! estimator), the state of the chain's [`OnlineCalibration`](crate::OnlineCalibration)
+//! stage, which corrects each sample before the phase detector and learns the calibration
+//! from the observer's own angle while it tracks.
 //!
 //! A fresh calibrator first finds each channel's centre from the raw samples alone
 //! ([`centre`]; provisionally after one turn), and applies it once found, so that an offset
@@ -17,11 +17,8 @@
 use crate::calibration::SensorCalibration;
 use crate::calibration_settings::CheckedCalibration;
 use crate::faults::Faults;
-use crate::gains::Gains;
 use crate::real::Float;
-use crate::real::sincos::SinCos;
-use crate::state::{Estimate, ObserverState};
-use crate::update::{SampleObserver, UsedSample};
+use crate::update::UsedSample;
 
 use centre::{CentreFinder, CentreStep};
 
@@ -78,7 +75,7 @@ pub enum CalibrationStatus {
 /// The online calibration's state: the [`SensorCalibration`] applied to each sample, the
 /// mode, and either the search for the channels' centres or the estimator's sums over the
 /// current turn. No allocation (`Copy`, 25 floats and a few words); one per channel,
-/// beside its [`ObserverState`].
+/// beside its [`ObserverState`](crate::ObserverState).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Calibrator<T> {
     calibration: SensorCalibration<T>,
@@ -455,106 +452,6 @@ impl<T: Float> Calibrator<T> {
                 turn.progress = T::ZERO;
             }
         }
-    }
-}
-
-/// The estimator as [`Gains::update_observing`] sees it: the raw sample `raw` of the
-/// corrected one the observer runs on.
-struct Learner<'a, T> {
-    calibrator: &'a mut Calibrator<T>,
-    checked: &'a CheckedCalibration<T>,
-    learning: bool,
-    raw: (T, T),
-}
-
-impl<T: Float> SampleObserver<T> for Learner<'_, T> {
-    #[inline(always)]
-    fn observe(self, used: Option<UsedSample<T>>) {
-        if self.learning {
-            self.calibrator.learn(self.checked, used, self.raw);
-        }
-    }
-}
-
-impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
-    /// One sample through the online calibration: unless `calibrator` is off, the sample is
-    /// corrected by its [`SensorCalibration`] before the phase detector (by the running
-    /// centre while the centre is being found, see [`CalibrationStatus`]), and, while
-    /// learning, the raw sample and the observer's predicted angle feed its estimator
-    /// (only while locked by its own test: a normalised phase error within 0.29 above the
-    /// minimum speed; the partial turn is discarded otherwise and on a reversal, so a rotor
-    /// at rest or reversing teaches it nothing; the monitor's faults, such as the loss of
-    /// tracking that the errors the calibration removes may trip, do not stop it). A new estimate is
-    /// applied once per completed turn, and only if it passes the calibration's checks: the
-    /// observer's stability does not depend on it (its phase error is normalised), and the
-    /// state never turns NaN. The estimate carries [`Faults::AMPLITUDE_MISMATCH`] and
-    /// [`Faults::OFFSET_OR_QUADRATURE`] when the calibration is beyond the settings'
-    /// bounds.
-    ///
-    /// ```
-    /// use angletrack_core::{Calibrator, FaultThresholds, Gains, ObserverState};
-    /// let gains = Gains::<f32, 3>::new([0.06, 0.0019, 3e-5], 1e-4)?;
-    /// let mut state = ObserverState::new();
-    /// let mut calibrator = Calibrator::new();
-    /// calibrator.enable();
-    /// let speed = 2.0 * core::f32::consts::PI * 50.0; // rad/s, electrical
-    /// for k in 0..4000 {
-    ///     let theta = speed * k as f32 * 1e-4;
-    ///     let y_c = 0.05 + theta.cos();
-    ///     let y_s = -0.05 + 1.1 * (theta + 0.05).sin();
-    ///     gains.update_calibrated(&mut state, &mut calibrator, y_c, y_s);
-    /// }
-    /// let (o_c, o_s) = calibrator.calibration().offsets();
-    /// assert!((o_c - 0.05).abs() < 5e-3 && (o_s + 0.05).abs() < 5e-3);
-    /// assert!((calibrator.calibration().amplitude_ratio() - 1.1).abs() < 5e-3);
-    /// # Ok::<(), angletrack_core::ConfigError>(())
-    /// ```
-    #[inline]
-    pub fn update_calibrated(
-        &self,
-        state: &mut ObserverState<T, N>,
-        calibrator: &mut Calibrator<T>,
-        y_c: T,
-        y_s: T,
-    ) -> Estimate<T> {
-        // With the calibrator off, the plain update, inlined: the calibration then costs
-        // this one test; on, out of line, so that the registers it needs are saved there
-        // only.
-        if calibrator.mode == CalibrationMode::Off {
-            return self.update(state, y_c, y_s);
-        }
-        self.calibrating(state, calibrator, y_c, y_s)
-    }
-
-    /// One sample through a calibrator that is on (learning or frozen): corrected,
-    /// tracked, and learnt from; the calibration's faults are latched here and carried by
-    /// the sample's estimate.
-    #[inline(never)]
-    fn calibrating(
-        &self,
-        state: &mut ObserverState<T, N>,
-        calibrator: &mut Calibrator<T>,
-        y_c: T,
-        y_s: T,
-    ) -> Estimate<T> {
-        let mode = calibrator.mode;
-        let (c, s) = calibrator.correct(y_c, y_s);
-        let checked = &self.calibration;
-        let learner = Learner {
-            calibrator: &mut *calibrator,
-            checked,
-            learning: mode == CalibrationMode::Learning,
-            raw: (y_c, y_s),
-        };
-        self.track_observing(state, c, s, learner);
-        let faults = calibrator.sensor_faults(checked);
-        // Latched, and on the sample's estimate; not in the state's faults of the sample,
-        // which the usual path of the update does not rewrite (they would outlive the
-        // mode).
-        state.monitor.latched |= faults;
-        let mut estimate = self.estimate(state);
-        estimate.faults |= faults;
-        estimate
     }
 }
 

@@ -98,7 +98,7 @@
 //! # No panic, in optimised builds
 //!
 //! The per-sample entry points (`update`, `track`, `update_block`, a [`Chain`]'s `track` and `update`,
-//! `update_calibrated`, the bank's updates) have no panic path in an optimised
+//! the bank's updates) have no panic path in an optimised
 //! build (`--release`): the repository's `tests/no-panic` image links them for a Cortex-M4F
 //! with a panic handler that the linker must drop, and its test fails if any panic path
 //! remains. Debug builds keep Rust's overflow checks, which can panic on an integer

@@ -13,8 +13,10 @@ use crate::angle_table::{AngleCorrectionTable, FixedAngleCorrectionTable};
 use crate::calibration::{FixedCalibration, SensorCalibration};
 use crate::calibration_settings::{CalibrationSettings, CheckedCalibration};
 use crate::faults::Faults;
+use crate::gains::Gains;
 use crate::learning::{CalibrationMode, Calibrator};
 use crate::real::Float;
+use crate::real::sincos::SinCos;
 use crate::update::UsedSample;
 
 /// A stage with no state and nothing to learn or flag (always quiet): `$doc`, for
@@ -98,13 +100,42 @@ memoryless_stage!(
 /// The online calibration's configuration as a stage: its checked settings (when it learns,
 /// the bounds of its faults). Its state is a [`Calibrator`], whose mode says whether it is
 /// off, learning or frozen; it corrects each sample by its calibration unless off, and
-/// while learning, learns from the raw sample and the observer's feedback (see
-/// [`Gains::update_calibrated`](crate::Gains::update_calibrated)). Its faults
+/// while learning, learns from the raw sample and the observer's feedback (only while its
+/// own lock test holds: `docs/theory.md §12`). A new estimate is applied once per completed
+/// turn, and only if it passes the calibration's checks. Its faults
 /// ([`Faults::AMPLITUDE_MISMATCH`], [`Faults::OFFSET_OR_QUADRATURE`]) are the
 /// calibration's against the settings' bounds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct OnlineCalibration<T> {
     pub(crate) checked: CheckedCalibration<T>,
+}
+
+impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
+    /// The online calibration with these gains' settings
+    /// ([`Gains::with_calibration_settings`], checked then): a chain's stage.
+    ///
+    /// ```
+    /// use angletrack_core::{Calibrator, Chain, ChainState, Gains, ObserverState};
+    /// let gains = Gains::<f32, 3>::new([0.06, 0.0019, 3e-5], 1e-4)?;
+    /// let chain = Chain::new(gains.online_calibration(), gains);
+    /// let mut calibrator = Calibrator::new();
+    /// calibrator.enable();
+    /// let mut state = ChainState { front_end: calibrator, observer: ObserverState::new() };
+    /// let speed = 2.0 * core::f32::consts::PI * 50.0; // rad/s, electrical
+    /// for k in 0..6000 {
+    ///     let theta = speed * k as f32 * 1e-4;
+    ///     let (y_c, y_s) = (0.05 + theta.cos(), -0.05 + 1.1 * (theta + 0.05).sin());
+    ///     chain.update(&mut state, (y_c, y_s));
+    /// }
+    /// let (o_c, o_s) = state.front_end.calibration().offsets();
+    /// assert!((o_c - 0.05).abs() < 5e-3 && (o_s + 0.05).abs() < 5e-3);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn online_calibration(&self) -> OnlineCalibration<T> {
+        OnlineCalibration {
+            checked: self.calibration,
+        }
+    }
 }
 
 impl<T: Float> OnlineCalibration<T> {

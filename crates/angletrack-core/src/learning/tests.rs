@@ -54,7 +54,13 @@ fn run_with(
     let errors = (0..samples)
         .map(|k| {
             let (y_c, y_s) = sensor(theta(k), &mut bits);
-            let e = gains.update_calibrated(&mut state, &mut calibrator, y_c, y_s);
+            let e = crate::test_support::update_calibrated(
+                &gains,
+                &mut state,
+                &mut calibrator,
+                y_c,
+                y_s,
+            );
             wrap(theta(k) - e.angle)
         })
         .collect();
@@ -232,12 +238,14 @@ fn calibration_faults_follow_the_bounds() {
         let calibration = SensorCalibration::new(o_c, o_s, a_c, a_s, phi).unwrap();
         let mut calibrator = Calibrator::from_calibration(calibration);
         let mut state = ObserverState::new();
-        gains.update_calibrated(&mut state, &mut calibrator, 1.0, 0.0);
-        let e = gains.update_calibrated(&mut state, &mut calibrator, 1.0, 0.0);
+        crate::test_support::update_calibrated(&gains, &mut state, &mut calibrator, 1.0, 0.0);
+        let e =
+            crate::test_support::update_calibrated(&gains, &mut state, &mut calibrator, 1.0, 0.0);
         assert_eq!(e.faults, expected);
         assert_eq!(state.latched_faults(), expected);
         calibrator.disable();
-        let e = gains.update_calibrated(&mut state, &mut calibrator, 1.0, 0.0);
+        let e =
+            crate::test_support::update_calibrated(&gains, &mut state, &mut calibrator, 1.0, 0.0);
         assert_eq!(e.faults, Faults::NONE);
     }
 }
@@ -267,7 +275,13 @@ fn freeze_read_write_and_restart() {
     let mut worst: f64 = 0.0;
     for k in 0..samples {
         let (y_c, y_s) = sensor(theta(k), &mut bits);
-        let e = gains.update_calibrated(&mut state, &mut frozen, y_c + 100.0, y_s);
+        let e = crate::test_support::update_calibrated(
+            &gains,
+            &mut state,
+            &mut frozen,
+            y_c + 100.0,
+            y_s,
+        );
         if k > samples / 2 {
             worst = worst.max(wrap(theta(k) - e.angle).abs());
         }
@@ -308,7 +322,8 @@ fn junk_never_turns_the_calibration_nan() {
         } else {
             (0.05 + th.cos(), 1.1 * (th + 0.05).sin())
         };
-        let e = gains.update_calibrated(&mut state, &mut calibrator, y_c, y_s);
+        let e =
+            crate::test_support::update_calibrated(&gains, &mut state, &mut calibrator, y_c, y_s);
         assert!(e.angle >= -core::f32::consts::PI && e.angle < core::f32::consts::PI);
         assert!(e.speed.is_finite() && e.phase_error.is_finite());
         let (o_c, o_s, a_c, a_s, phi) = calibrator.calibration().parameters();

@@ -87,7 +87,8 @@ fn run_at<T: Real>(
     let errors = (0..samples)
         .map(|k| {
             let (y_c, y_s) = sensor.sample(theta(k), &mut bits);
-            let e = gains.update_calibrated(
+            let e = crate::test_support::update_calibrated(
+                &gains,
                 &mut state,
                 &mut calibrator,
                 T::from_f64(y_c),

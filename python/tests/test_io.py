@@ -95,7 +95,8 @@ def test_an_output_naming_the_capture_is_refused_in_every_form(tmp_path, capsys)
     assert not (tmp_path / "est.csv").exists()
 
 
-def test_a_failed_run_leaves_no_partial_output_and_the_old_file(tmp_path, capsys):
+@pytest.mark.parametrize("dtype", ["float64", "fixed"])
+def test_a_failed_run_leaves_no_partial_output_and_the_old_file(tmp_path, capsys, dtype):
     g = gains_file(tmp_path)
     cap = csv_capture(tmp_path / "capture.csv")
     lines = cap.read_text().splitlines()
@@ -103,7 +104,7 @@ def test_a_failed_run_leaves_no_partial_output_and_the_old_file(tmp_path, capsys
     cap.write_text("\n".join(lines) + "\n")
     out = tmp_path / "est.csv"
     out.write_text("old estimates\n")
-    assert track(cap, "--gains-file", g, "-o", out) == 2
+    assert track(cap, "--gains-file", g, "--dtype", dtype, "-o", out) == 2
     assert "capture.csv:2501:2" in error_line(capsys)
     assert out.read_text() == "old estimates\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["capture.csv", "est.csv", "gains.json"]

@@ -70,26 +70,24 @@ def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.
     s.output.parent.mkdir(parents=True, exist_ok=True)
     rejected = 0
     bad = int(angletrack.Faults.BAD_SAMPLE)
-    try:
-        with open(s.output, "w") as out:
-            out.write(",".join(COLUMNS) + "\n")
-            chunk = first
-            while chunk is not None:
-                est = observer.update(_counts(chunk.y_c, s.capture), _counts(chunk.y_s, s.capture))
-                time_s = chunk.time_s
-                if time_s is None:
-                    time_s = (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) * gains.sample_period_s
-                angle = np.asarray(est.angle, dtype=np.float64) * (math.pi / 2**31)
-                rows = np.column_stack([time_s, angle, est.position_rad, est.speed_rad_s, est.acceleration_rad_s2,
-                                        np.asarray(est.phase_error) / 2**15, est.faults, est.angle])
-                np.savetxt(out, rows, fmt="%.17g", delimiter=",")
-                rejected += int(np.count_nonzero(np.asarray(est.faults) & bad))
-                if stats is not None:
-                    stats.add(time_s, angle, chunk.reference_rad)
-                chunk = next(iter(reader), None)
-    except BaseException:
-        s.output.unlink(missing_ok=True)
-        raise
+    # All or nothing: written beside the output and renamed when complete; a fault part
+    # way (a malformed row, an interrupt) leaves the output as it was.
+    with angletrack.OutputFile(s.output) as target, open(target.temporary_path, "w") as out:
+        out.write(",".join(COLUMNS) + "\n")
+        chunk = first
+        while chunk is not None:
+            est = observer.update(_counts(chunk.y_c, s.capture), _counts(chunk.y_s, s.capture))
+            time_s = chunk.time_s
+            if time_s is None:
+                time_s = (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) * gains.sample_period_s
+            angle = np.asarray(est.angle, dtype=np.float64) * (math.pi / 2**31)
+            rows = np.column_stack([time_s, angle, est.position_rad, est.speed_rad_s, est.acceleration_rad_s2,
+                                    np.asarray(est.phase_error) / 2**15, est.faults, est.angle])
+            np.savetxt(out, rows, fmt="%.17g", delimiter=",")
+            rejected += int(np.count_nonzero(np.asarray(est.faults) & bad))
+            if stats is not None:
+                stats.add(time_s, angle, chunk.reference_rad)
+            chunk = next(iter(reader), None)
     latched = angletrack.Faults(observer.latched_faults)
     stages = "no stored calibration" if calibration is None else (
         "stored calibration (FixedCalibration)" if isinstance(calibration, angletrack.SensorCalibration)

@@ -281,39 +281,37 @@ def track_windings(s) -> tuple:
         names += ["electrical_angle_rad", "electrical_speed_rad_s"]
     pairs_total = 0
     s.output.parent.mkdir(parents=True, exist_ok=True)
-    try:
-        with open(s.output, "w") as out:
-            out.write(",".join(names) + "\n")
-            chunk = first
-            while chunk is not None:
+    # All or nothing: written beside the output and renamed when complete; a fault part
+    # way (a malformed row, an interrupt) leaves the output as it was.
+    with angletrack.OutputFile(s.output) as target, open(target.temporary_path, "w") as out:
+        out.write(",".join(names) + "\n")
+        chunk = first
+        while chunk is not None:
+            if stats is not None:
+                t = chunk.time_s
+                if t is None:
+                    t = t0 + (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) / adc_hz
+                reference.add(t, chunk.reference_rad, keep=2 * math.ceil(n))
+            pairs = demodulator.push(chunk.y_c, chunk.y_s, chunk.excitation)
+            if len(pairs):
+                # The capture's clock when it has one (the demodulator counts samples at
+                # the declared rate).
+                time_s = t0 + pairs.time_s * (adc_hz / (capture_hz or adc_hz))
+                est = update_on_pairs(observer, pairs, dtype)
+                columns = [time_s, est.angle, est.position, est.speed, est.acceleration, est.phase_error,
+                           est.faults, pairs.faults, pairs.y_c, pairs.y_s]
+                if drive is not None:
+                    angles = drive.update(est)
+                    columns += [angles.electrical_angle_rad, angles.electrical_speed_rad_s]
+                rows = np.column_stack([np.asarray(c, dtype=np.float64) for c in columns])
+                np.savetxt(out, rows, fmt="%.17g", delimiter=",")
+                pairs_total += len(pairs)
                 if stats is not None:
-                    t = chunk.time_s
-                    if t is None:
-                        t = t0 + (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) / adc_hz
-                    reference.add(t, chunk.reference_rad, keep=2 * math.ceil(n))
-                pairs = demodulator.push(chunk.y_c, chunk.y_s, chunk.excitation)
-                if len(pairs):
-                    # The capture's clock when it has one (the demodulator counts samples at
-                    # the declared rate).
-                    time_s = t0 + pairs.time_s * (adc_hz / (capture_hz or adc_hz))
-                    est = update_on_pairs(observer, pairs, dtype)
-                    columns = [time_s, est.angle, est.position, est.speed, est.acceleration, est.phase_error,
-                               est.faults, pairs.faults, pairs.y_c, pairs.y_s]
-                    if drive is not None:
-                        angles = drive.update(est)
-                        columns += [angles.electrical_angle_rad, angles.electrical_speed_rad_s]
-                    rows = np.column_stack([np.asarray(c, dtype=np.float64) for c in columns])
-                    np.savetxt(out, rows, fmt="%.17g", delimiter=",")
-                    pairs_total += len(pairs)
-                    if stats is not None:
-                        stats.add(time_s, est.angle, reference.at(time_s))
-                chunk = next(chunks, None)
-    except BaseException:
-        s.output.unlink(missing_ok=True)
-        raise
-    if pairs_total == 0:
-        raise ValueError(f"{s.capture}: too short: no pair left the demodulator's start-up "
-                         f"({reader.rows} samples)")
+                    stats.add(time_s, est.angle, reference.at(time_s))
+            chunk = next(chunks, None)
+        if pairs_total == 0:  # inside the block: no output is left behind
+            raise ValueError(f"{s.capture}: too short: no pair left the demodulator's start-up "
+                             f"({reader.rows} samples)")
     latched = angletrack.Faults(observer.latched_faults)
     lines = [
         repr(observer),

@@ -150,12 +150,18 @@ fn not_integers(key: &str, value: &Bound<'_, PyAny>, expected: &str) -> Error {
     )
 }
 
-/// The samples of argument `parameter` as int16 counts: an int16 numpy array as it is, any
-/// other array refused (`TypeError`: no silent conversion), anything else (a list) read by
-/// numpy and refused unless its values are integers within int16.
+/// The samples of argument `parameter` as int16 counts: an int16 numpy array as it is, an
+/// array of another integer dtype (numpy's default int64 among them) or anything else (a
+/// list) read by numpy and refused unless its values are integers within int16, and an
+/// array of floats refused (`TypeError`: no silent conversion).
 fn counts<'py>(obj: &Bound<'py, PyAny>, parameter: &'static str) -> Result<Samples<'py, i16>> {
-    if obj.cast::<PyUntypedArray>().is_ok() {
-        return samples::<i16>(obj, parameter);
+    if let Ok(array) = obj.cast::<PyUntypedArray>() {
+        let dtype = array.dtype();
+        let other_integers =
+            matches!(dtype.kind(), b'i' | b'u') && !(dtype.kind() == b'i' && dtype.itemsize() == 2);
+        if !other_integers {
+            return samples::<i16>(obj, parameter);
+        }
     }
     let numpy = PyModule::import(obj.py(), "numpy")?;
     let read = numpy

@@ -144,8 +144,11 @@ def test_refused_samples_name_their_argument_and_leave_the_state():
     before = observer.estimate
     _, message = one_line_error(TypeError, lambda: observer.update(c.astype(np.float64), s))
     assert message.startswith("y_c: expected an array of dtype int16, got an array of dtype float64")
-    _, message = one_line_error(TypeError, lambda: observer.update(c, s.astype(np.int32)))
-    assert message.startswith("y_s: expected an array of dtype int16")
+    # Other integer dtypes are read as int16 when every value fits (tested below), else refused.
+    wide = s.astype(np.int32)
+    wide[3] = 40_000
+    e, message = one_line_error(angletrack.ConfigError, lambda: observer.update(c, wide))
+    assert message == "y_s: sample 40000 (index 3) is outside the int16 range [-32768, 32767]"
     e, message = one_line_error(angletrack.ConfigError, lambda: observer.update([0, 40000], [0, 0]))
     assert e.parameter == "y_c"
     assert message == "y_c: sample 40000 (index 1) is outside the int16 range [-32768, 32767]"
@@ -206,3 +209,17 @@ def test_a_signal_dropped_to_2000_counts_is_flagged_within_one_window(drop_at):
     # With the monitor off, nothing is flagged.
     quiet = angletrack.FixedObserver(kalman_design(), nominal_amplitude=None).update(c, s)
     assert not quiet.faults.any()
+
+
+def test_int64_counts_are_read_as_int16_and_counts_outside_int16_are_refused():
+    # numpy's default integers (int64), as the CLI reads them: the same integers as int16.
+    c, s = rotating_counts(300)
+    as_int16 = angletrack.FixedObserver(kalman_design()).update(c, s)
+    as_int64 = angletrack.FixedObserver(kalman_design()).update(c.astype(np.int64), s.astype(np.int64))
+    assert np.array_equal(as_int16.angle, as_int64.angle) and np.array_equal(as_int16.faults, as_int64.faults)
+    wide = c.astype(np.int64)
+    wide[7] = 40_000
+    with pytest.raises(angletrack.ConfigError, match=r"^y_c: .*index 7.*int16"):
+        angletrack.FixedObserver(kalman_design()).update(wide, s.astype(np.int64))
+    with pytest.raises(TypeError, match="^y_s: "):
+        angletrack.FixedObserver(kalman_design()).update(c, s.astype(np.float64))

@@ -270,7 +270,7 @@ def track(
 
 #: Samples the fixed-point observer accepts: int16 counts (mid-scale removed), or integers
 #: within int16 (a list); no other dtype is converted.
-_Counts = Union[npt.NDArray[np.int16], Sequence[int]]
+_Counts = Union[npt.NDArray[np.int16], npt.NDArray[np.int64], npt.NDArray[np.int32], Sequence[int]]
 
 class FixedEstimate:
     """What a ``FixedObserver`` knows after its last sample: the firmware's integers and the
@@ -365,9 +365,10 @@ class FixedObserver:
         returns (``multiplier``, ``acceleration_shift``; other keys ignored), checked again
         (``ConfigError``, parameter ``constants``, naming the gain)."""
     def update(self, y_c: _Counts, y_s: _Counts) -> FixedEstimates:
-        """Runs over the int16 samples (1-D, equal lengths; ``TypeError`` for another dtype,
-        ``ConfigError`` for a value outside int16 or unequal lengths) and returns the
-        estimates of every sample."""
+        """Runs over the int16 samples (1-D, equal lengths; an array of another integer
+        dtype, such as numpy's default int64, is read as int16 when every value fits;
+        ``TypeError`` for floats, ``ConfigError`` for a value outside int16 or unequal
+        lengths) and returns the estimates of every sample."""
     @property
     def estimate(self) -> FixedEstimate:
         """The estimate after the last sample."""

@@ -154,7 +154,8 @@ def clipped_run(tmp_path, capsys, c, s, *options):
 THETA = 0.3 + 0.0314 * np.arange(6000)
 
 
-@pytest.mark.parametrize("options", [(), ("--adc-bits", "12", "--adc-unsigned"), ("--adc-range", "0,4095")])
+@pytest.mark.parametrize("options", [(), ("--adc-bits", "12", "--adc-unsigned"), ("--adc-range", "0,4095"),
+                                     ("--dtype", "fixed"), ("--dtype", "fixed", "--adc-range", "0,4095")])
 def test_both_channels_clipped_at_full_scale_are_flagged(tmp_path, capsys, options):
     # Unsigned 12-bit counts at 1.12 times full scale: 30 % of each channel's samples at a
     # rail, 60 % of the samples with a channel at one.
@@ -167,7 +168,8 @@ def test_both_channels_clipped_at_full_scale_are_flagged(tmp_path, capsys, optio
     assert status == 0, captured.err
     flagged = (est["faults"].astype(int) & FRONT_END) != 0
     assert np.mean(flagged) == pytest.approx(at_rail, abs=0.01)
-    assert "samples clipped" in captured.out and ("stated" in captured.out) == bool(options)
+    stated = any(option.startswith("--adc") for option in options)
+    assert "samples clipped" in captured.out and ("stated" in captured.out) == stated
 
 
 def test_volts_clipped_at_0_9_are_flagged_against_the_stated_range(tmp_path, capsys):
@@ -182,6 +184,23 @@ def test_volts_clipped_at_0_9_are_flagged_against_the_stated_range(tmp_path, cap
     status, captured, est = clipped_run(tmp_path, capsys, np.cos(THETA), np.sin(THETA))
     assert status == 0 and not np.any(est["faults"].astype(int) & FRONT_END)
     assert "samples clipped" not in captured.out
+
+
+def test_clipping_is_flagged_with_an_angle_calibration_too(tmp_path, capsys):
+    # The angle calibration's observer has no clipping stage: its clipped samples are flagged
+    # by the CLI (not coasted through), against the stated range.
+    gains = angletrack.Gains([0.3, 0.04, 0.002], 1e-4)
+    theta = 0.3 + 0.0314 * np.arange(20_000)
+    calibration = angletrack.calibrate(np.cos(theta), np.sin(theta), gains, reference=theta)
+    (tmp_path / "cal.json").write_text(calibration.to_json())
+    c, s = np.clip(np.cos(THETA), -0.9, 0.9), np.clip(np.sin(THETA), -0.9, 0.9)
+    status, captured, est = clipped_run(tmp_path, capsys, c, s, "--adc-range", "-0.9,0.9", "--calibration",
+                                        str(tmp_path / "cal.json"))
+    assert status == 0, captured.err
+    flagged = (est["faults"].astype(int) & FRONT_END) != 0
+    expected = np.mean((np.abs(c) >= 0.9) | (np.abs(s) >= 0.9))
+    assert expected > 0.4 and np.mean(flagged) == pytest.approx(expected, abs=1e-9)
+    assert "samples clipped (flagged FRONT_END; flagged only)" in captured.out
 
 
 def test_signed_12_bit_counts_clipped_from_the_start_are_flagged(tmp_path, capsys):

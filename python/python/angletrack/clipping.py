@@ -15,6 +15,8 @@ from typing import Optional
 
 import numpy as np
 
+import angletrack
+
 #: Consecutive samples at an extreme that make it a rail.
 FLAT_SAMPLES = 4
 
@@ -122,6 +124,21 @@ def measured_range(y_c: np.ndarray, y_s: np.ndarray) -> Optional[tuple[float, fl
     if not (low_rail or high_rail):
         return None
     return (low if low_rail else low - span), (high if high_rail else high + span)
+
+
+def flag_clipped(faults: np.ndarray, y_c: np.ndarray, y_s: np.ndarray,
+                 adc_range: Optional[tuple[float, float]]) -> int:
+    """For the paths whose observer has no clipping stage (the fixed-point chain, an angle
+    calibration): sets ``Faults.FRONT_END`` in ``faults`` on each sample with a channel at
+    or beyond a rail of ``adc_range`` (in the capture's units) and returns their count; the
+    observer does not coast through them there, it only flags them."""
+    if adc_range is None:
+        return 0
+    low, high = adc_range
+    y_c, y_s = np.asarray(y_c, dtype=np.float64), np.asarray(y_s, dtype=np.float64)
+    clipped = (y_c <= low) | (y_c >= high) | (y_s <= low) | (y_s >= high)
+    faults |= np.where(clipped, np.uint8(int(angletrack.Faults.FRONT_END)), np.uint8(0)).astype(faults.dtype)
+    return int(np.count_nonzero(clipped))
 
 
 def describe(adc_range: Optional[tuple[float, float]], stated: bool) -> str:

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Optional, Union
 import numpy as np
 
 import angletrack
+from angletrack import clipping
 from angletrack._angletrack import fixed_input
 
 if TYPE_CHECKING:
@@ -68,8 +69,9 @@ def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.
     observer = angletrack.FixedObserver(gains, nominal_amplitude=monitor, calibration=calibration,
                                         mid_scale_counts=mid, input_shift=shift)
     s.output.parent.mkdir(parents=True, exist_ok=True)
-    rejected = 0
+    rejected = flagged = 0
     bad = int(angletrack.Faults.BAD_SAMPLE)
+    adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
     # All or nothing: written beside the output and renamed when complete; a fault part
     # way (a malformed row, an interrupt) leaves the output as it was.
     with angletrack.OutputFile(s.output) as target, open(target.temporary_path, "w") as out:
@@ -80,9 +82,12 @@ def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.
             time_s = chunk.time_s
             if time_s is None:
                 time_s = (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) * gains.sample_period_s
+            # The fixed-point chain has no clipping stage: clipped samples are flagged here.
+            faults = np.asarray(est.faults)
+            flagged += clipping.flag_clipped(faults, chunk.y_c, chunk.y_s, adc_range)
             angle = np.asarray(est.angle, dtype=np.float64) * (math.pi / 2**31)
             rows = np.column_stack([time_s, angle, est.position_rad, est.speed_rad_s, est.acceleration_rad_s2,
-                                    np.asarray(est.phase_error) / 2**15, est.faults, est.angle])
+                                    np.asarray(est.phase_error) / 2**15, faults, est.angle])
             np.savetxt(out, rows, fmt="%.17g", delimiter=",")
             rejected += int(np.count_nonzero(np.asarray(est.faults) & bad))
             if stats is not None:
@@ -99,4 +104,7 @@ def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.
         f"{reader.rows} samples ({reader.format}, {reader.sample_dtype}) -> {s.output}",
         f"faults latched: {latched.name if latched else 'none'}; {rejected} samples rejected",
     ]
+    if adc_range is not None:
+        lines.append(f"{clipping.describe(adc_range, s.adc_range is not None)}: {flagged} samples clipped "
+                     "(flagged FRONT_END; flagged only)")
     return lines, observer

@@ -317,9 +317,6 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     if s.dtype == "fixed":
         from angletrack import fixed_tracking
 
-        if s.adc_range is not None:
-            raise ValueError("adc_range: --adc-range and --adc-bits are not applied by --dtype fixed yet: "
-                             "track with --dtype float32 or float64")
         lines, fixed = fixed_tracking.track_fixed(s, gains, reader, first, stats)
         return "\n".join(lines[:1] + _stated_rate_note(s) + lines[1:]
                          + ([stats.report()] if stats is not None else [])), fixed
@@ -327,11 +324,10 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     calibration = s.calibration
     mid = unsigned_mid_scale(reader.sample_dtype, first.y_c, first.y_s)
     adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
+    # An angle calibration's observer has no clipping stage: its clipped samples are flagged
+    # here (not coasted through).
+    flag_here = calibration is not None
     if calibration is not None:
-        if s.adc_range is not None:
-            raise ValueError("adc_range: --adc-range and --adc-bits are not applied with an angle calibration "
-                             "(--calibration from `angletrack calibrate`) yet")
-        adc_range = None
         observer = harmonics.CalibratedObserver(gains, calibration, dtype=dtype, sin_cos=s.sin_cos)
     else:
         shifted = None if adc_range is None else (adc_range[0] - mid, adc_range[1] - mid)
@@ -352,6 +348,8 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
             time_s = chunk.time_s
             if time_s is None:
                 time_s = (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) * gains.sample_period_s
+            if flag_here:
+                clipping.flag_clipped(est.faults, chunk.y_c, chunk.y_s, adc_range)
             writer.write(time_s, est)
             rejected += int(np.count_nonzero(est.faults & bad))
             flagged += int(np.count_nonzero(est.faults & front_end))
@@ -377,8 +375,9 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     if mid:
         lines.insert(2, f"unsigned ADC counts: mid-scale {mid:g} removed")
     if adc_range is not None:
+        coasted = "flagged only" if flag_here else "those clipped in both channels coasted through"
         lines.append(f"{clipping.describe(adc_range, s.adc_range is not None)}: {flagged} samples clipped "
-                     "(flagged FRONT_END; those clipped in both channels coasted through)")
+                     f"(flagged FRONT_END; {coasted})")
     if not s.observer_arguments and calibration is None:
         lines += ranges.off_centre_note()
     if stats is not None:

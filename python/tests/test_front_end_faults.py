@@ -253,6 +253,22 @@ def test_samples_per_period_against_the_time_column_is_refused_naming_both(tmp_p
             "--carrier-hz 10000 is 15 samples per period") in err
 
 
+def test_the_speed_is_at_the_tracked_carrier_rate(tmp_path, capsys):
+    # Gains given at the declared carrier's rate (--gains: its sample period 1 / 10050 Hz),
+    # the true carrier 0.5 % slower: the pairs come at the tracked rate and the speed is
+    # rescaled to it (read 0.5 % fast before).
+    t, theta, c, s = windings(0.1)
+    capture, out = tmp_path / "windings.csv", tmp_path / "est.csv"
+    write_csv(capture, time=t, y_c=c, y_s=s)
+    design = angletrack.kalman_from_jerk_std(jerk_std_rad_s3=1e6, sensor_noise_std=2e-4, sample_period_s=1 / 10050)
+    gains = ",".join(repr(g) for g in design.gains.gains)
+    assert cli.main(["track", str(capture), "--gains", gains, "--carrier-hz", "10050", "-o", str(out)]) == 0
+    speed = read_csv(out)["speed_rad_s"]
+    # The mean over the second half (the loop's speed noise averages out): 0.5 % off unscaled.
+    error = abs(np.mean(speed[len(speed) // 2:]) / OMEGA - 1.0)
+    assert error < 5e-4, error
+
+
 def test_the_time_stamps_come_from_the_time_column(tmp_path, carrier_gains, capsys):
     # A declared carrier 0.5 % off (within the 2 %): the rows are stamped by the capture's
     # clock (not the declared carrier's), at the centroids of their windows of an even
@@ -262,4 +278,7 @@ def test_the_time_stamps_come_from_the_time_column(tmp_path, carrier_gains, caps
     position = est["time_s"] * ADC_HZ - 0.5
     np.testing.assert_allclose(position, np.round(position), rtol=0, atol=1e-6)
     np.testing.assert_allclose(np.diff(est["time_s"]) * ADC_HZ, 16.0, rtol=0, atol=1e-6)
+    # The speed at the tracked carrier's rate, not the declared one's (0.5 % fast before).
+    speed = est["speed_rad_s"][-len(est) // 4:]
+    assert np.max(np.abs(speed / OMEGA - 1.0)) < 2e-3
     assert np.max(np.abs(error[len(error) // 2:])) < 5e-3

@@ -298,11 +298,17 @@ def track_windings(s) -> tuple:
                 # the declared rate).
                 time_s = t0 + pairs.time_s * (adc_hz / (capture_hz or adc_hz))
                 est = update_on_pairs(observer, pairs, dtype)
-                columns = [time_s, est.angle, est.position, est.speed, est.acceleration, est.phase_error,
+                # The observer runs at its gains' rate, the pairs come at the tracked
+                # carrier's: its speed and acceleration are rescaled to the latter.
+                scale = demodulator.tracked_carrier_hz * gains.sample_period_s
+                speed = np.asarray(est.speed, dtype=np.float64) * scale
+                acceleration = np.asarray(est.acceleration, dtype=np.float64) * scale**2
+                columns = [time_s, est.angle, est.position, speed, acceleration, est.phase_error,
                            est.faults, pairs.faults, pairs.y_c, pairs.y_s]
                 if drive is not None:
                     angles = drive.update(est)
-                    columns += [angles.electrical_angle_rad, angles.electrical_speed_rad_s]
+                    columns += [angles.electrical_angle_rad,
+                                np.asarray(angles.electrical_speed_rad_s, dtype=np.float64) * scale]
                 rows = np.column_stack([np.asarray(c, dtype=np.float64) for c in columns])
                 np.savetxt(out, rows, fmt="%.17g", delimiter=",")
                 pairs_total += len(pairs)

@@ -186,7 +186,7 @@ where
     ///
     /// Refused, naming the gain: a gain that is not finite or not positive, one that rounds
     /// to zero or does not fit its 31 bits (`ConfigError::OutOfRange`: `l1` and `l2` from
-    /// about 3.7e-10 to below pi/2, `l3` from about 2.4e-14 to below pi/2), and gains whose
+    /// about 3.7e-10 to below pi/2, `l3` from about 2.2e-14 to below pi/2), and gains whose
     /// quantised values
     /// leave the stability region (`ConfigError::Unstable`, the same check as
     /// [`Gains::new`] on the values the integers represent).

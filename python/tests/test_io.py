@@ -35,14 +35,16 @@ def motion(n=N):
     return t, 0.5 + 40.0 * t + 150.0 * t**2
 
 
-def csv_capture(path, reference_scale=None):
+def csv_capture(path, reference_scale=None, counts=False):
     t, theta = motion()
     columns = [t, np.cos(theta), np.sin(theta)]
     header = "time,y_c,y_s"
     if reference_scale is not None:
         columns.append(theta * reference_scale)
         header += ",reference"
-    rows = "\n".join(",".join(repr(float(v)) for v in row) for row in zip(*columns))
+    if counts:  # signed ADC counts of amplitude 1800, as integers
+        columns[1:3] = [np.round(1800 * y).astype(int) for y in columns[1:3]]
+    rows = "\n".join(",".join(repr(v.item()) for v in row) for row in zip(*columns))
     path.write_text(header + "\n" + rows + "\n")
     return path
 
@@ -96,9 +98,13 @@ def test_an_output_naming_the_capture_is_refused_in_every_form(tmp_path, capsys)
 
 
 @pytest.mark.parametrize("dtype", ["float64", "fixed"])
-def test_a_failed_run_leaves_no_partial_output_and_the_old_file(tmp_path, capsys, dtype):
+def test_a_failed_run_leaves_no_partial_output_and_the_old_file(tmp_path, capsys, monkeypatch, dtype):
+    # Chunks of 1000 rows, so that the malformed row is found after the output was opened.
+    reader = angletrack.CaptureReader
+    monkeypatch.setattr(angletrack, "CaptureReader",
+                        lambda *args, chunk_rows, **options: reader(*args, chunk_rows=1000, **options))
     g = gains_file(tmp_path)
-    cap = csv_capture(tmp_path / "capture.csv")
+    cap = csv_capture(tmp_path / "capture.csv", counts=dtype == "fixed")
     lines = cap.read_text().splitlines()
     lines[2500] = "0.25,abc,0"  # past the first chunk
     cap.write_text("\n".join(lines) + "\n")

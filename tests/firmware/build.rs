@@ -24,8 +24,8 @@ mod trackers;
 #[allow(dead_code)]
 mod variants;
 
-use angletrack_core::DemodulatorState;
 use angletrack_core::DemodulatorNumber;
+use angletrack_core::DemodulatorState;
 use variants::{
     CARRIER_AMPLITUDE_COUNTS, CARRIER_DELAY_RAD, FNV_OFFSET, Job, NAMES, Observers,
     SAMPLES_PER_PERIOD, Tracker, demodulator, encode_pair, fold_integers,
@@ -154,16 +154,24 @@ fn main() {
         counts(trackers::fixed_counts, &y_s),
     );
     let (raw_c, raw_s) = demodulator_inputs(&y_c, &y_s);
-    let (raw_c16, raw_s16): (Vec<i16>, Vec<i16>) =
-        (raw_c.iter().map(|&c| c as i16).collect(), raw_s.iter().map(|&s| s as i16).collect());
+    let (raw_c16, raw_s16): (Vec<i16>, Vec<i16>) = (
+        raw_c.iter().map(|&c| c as i16).collect(),
+        raw_s.iter().map(|&s| s as i16).collect(),
+    );
     // The Cortex-M0's flash (256 KiB) holds the fixed-point demodulator's inputs only: the
     // f32 one (in software floats there) is not run on it.
     let f32_samples = if m0 { 0 } else { SAMPLES };
     let (raw_c, raw_s) = (&raw_c[..f32_samples], &raw_s[..f32_samples]);
-    fs::write(out.join("demodulator.bin"), demodulator_reference::<f32>(raw_c, raw_s))
-        .expect("OUT_DIR is writable");
-    fs::write(out.join("demodulator-fixed.bin"), demodulator_reference::<i16>(&raw_c16, &raw_s16))
-        .expect("OUT_DIR is writable");
+    fs::write(
+        out.join("demodulator.bin"),
+        demodulator_reference::<f32>(raw_c, raw_s),
+    )
+    .expect("OUT_DIR is writable");
+    fs::write(
+        out.join("demodulator-fixed.bin"),
+        demodulator_reference::<i16>(&raw_c16, &raw_s16),
+    )
+    .expect("OUT_DIR is writable");
     let f32_demodulator = !m0;
     let (variants, integers) = (NAMES.len(), &reference.integers);
     let scenario = format!(
@@ -240,6 +248,9 @@ fn demodulator_reference<V: DemodulatorNumber<Real = f32>>(raw_c: &[V], raw_s: &
             pairs.extend_from_slice(&encode_pair(&pair));
         }
     }
-    assert!(raw_c.is_empty() || pairs.len() > 50 * variants::PAIR_BYTES, "too few pairs");
+    assert!(
+        raw_c.is_empty() || pairs.len() > 50 * variants::PAIR_BYTES,
+        "too few pairs"
+    );
     pairs
 }

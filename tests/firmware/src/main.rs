@@ -178,7 +178,10 @@ impl DemodulatorVariant for i16 {
 
 /// `check` mode for a demodulator variant: every pair against the host's (with one raw
 /// sample corrupted if `tamper`). Returns `true` if all are within [`PAIR_TOLERANCE`].
-fn check_demodulator<V: DemodulatorVariant>(name: &str, tamper: bool) -> Result<bool, &'static str> {
+fn check_demodulator<V: DemodulatorVariant>(
+    name: &str,
+    tamper: bool,
+) -> Result<bool, &'static str> {
     let demodulator = variants::demodulator::<V>().map_err(|_| "demodulator settings refused")?;
     let mut state = DemodulatorState::new();
     let mut pairs = V::reference().chunks_exact(PAIR_BYTES);
@@ -217,7 +220,10 @@ fn check_demodulator<V: DemodulatorVariant>(name: &str, tamper: bool) -> Result<
 
 /// `count` mode for a demodulator variant: `samples` ADC samples and nothing else, one
 /// `push` call each, or with `block` one `push_block` call for all of them.
-fn count_demodulator<V: DemodulatorVariant>(samples: usize, block: bool) -> Result<(), &'static str> {
+fn count_demodulator<V: DemodulatorVariant>(
+    samples: usize,
+    block: bool,
+) -> Result<(), &'static str> {
     let demodulator = variants::demodulator::<V>().map_err(|_| "demodulator settings refused")?;
     let mut state = DemodulatorState::new();
     let (raw_c, raw_s) = V::raw();
@@ -522,7 +528,8 @@ fn run() -> Result<(), &'static str> {
                 if inputs_ok { "ok" } else { "FAIL" }
             );
             // The f32 demodulator's inputs are not in the Cortex-M0's image.
-            let f32_ok = !F32_DEMODULATOR || check_demodulator::<f32>(DEMODULATORS[0], check.tamper)?;
+            let f32_ok =
+                !F32_DEMODULATOR || check_demodulator::<f32>(DEMODULATORS[0], check.tamper)?;
             let demodulator_ok = f32_ok & check_demodulator::<i16>(DEMODULATORS[1], check.tamper)?;
             let atan2_ok = check_fast_atan2(check.tamper);
             if check.failures > 0 || !inputs_ok || !demodulator_ok || !atan2_ok {

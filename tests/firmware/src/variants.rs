@@ -14,8 +14,8 @@
 
 use angletrack_core::{
     AdcScaling, AngleCorrection, Chain, ConfigError, DemodulatedPair, Demodulator,
-    DemodulatorNumber, DemodulatorSettings, Estimate, Exact, Fast, FaultThresholds, FixedGains, Gains,
-    MAX_CORRECTION_ORDER,
+    DemodulatorNumber, DemodulatorSettings, Estimate, Exact, Fast, FaultThresholds, FixedGains,
+    Gains, MAX_CORRECTION_ORDER,
 };
 
 use crate::baseline::{Atan2, FastAtan2, LibmAtan2, PhaseLockedLoop};
@@ -274,7 +274,9 @@ pub fn fold_integers(mut hash: u64, words: &[i64]) -> u64 {
 
 /// The reference record of one demodulated pair (written by the build script only).
 #[allow(dead_code)]
-pub fn encode_pair<V: DemodulatorNumber<Real = f32>>(pair: &DemodulatedPair<V>) -> [u8; PAIR_BYTES] {
+pub fn encode_pair<V: DemodulatorNumber<Real = f32>>(
+    pair: &DemodulatedPair<V>,
+) -> [u8; PAIR_BYTES] {
     let mut r = [0; PAIR_BYTES];
     r[0..4].copy_from_slice(&V::to_real(pair.y_c).to_le_bytes());
     r[4..8].copy_from_slice(&V::to_real(pair.y_s).to_le_bytes());

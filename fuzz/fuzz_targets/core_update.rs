@@ -154,7 +154,11 @@ where
     for _ in 0..4 {
         for &(y_c, y_s) in &input.samples {
             let (y_c, y_s) = (T::from_f64(y_c), T::from_f64(y_s));
-            let e = update_calibrated(&gains, &mut state, &mut calibrator, y_c, y_s);
+            let e = Chain::new(gains.online_calibration(), gains).update_parts(
+                &mut calibrator,
+                &mut state,
+                (y_c, y_s),
+            );
             check(e, &state, &calibrator);
         }
     }
@@ -171,7 +175,11 @@ where
             1 => scaling.sample(raw_c as u16, raw_s as u16),
             _ => scaling.sample(raw_c, raw_s),
         };
-        let e = update_calibrated(&gains, &mut state, &mut calibrator, y_c, y_s);
+        let e = Chain::new(gains.online_calibration(), gains).update_parts(
+            &mut calibrator,
+            &mut state,
+            (y_c, y_s),
+        );
         check(e, &state, &calibrator);
         let mut chained = ChainState {
             front_end: (),
@@ -233,25 +241,3 @@ fuzz_target!(|input: Input| {
         dispatch::<f64>(&input)
     }
 });
-
-/// One sample through the chain of `gains`' online calibration and the observer, on the
-/// calibrator and the observer's state kept apart: `Chain::update` on copies, written back.
-fn update_calibrated<T: Real, const N: usize, S: SinCos<T>>(
-    gains: &Gains<T, N, S>,
-    state: &mut ObserverState<T, N>,
-    calibrator: &mut Calibrator<T>,
-    y_c: T,
-    y_s: T,
-) -> Estimate<T>
-where
-    Order<N>: SupportedOrder,
-{
-    let chain = Chain::new(gains.online_calibration(), *gains);
-    let mut chained = ChainState {
-        front_end: *calibrator,
-        observer: *state,
-    };
-    let estimate = chain.update(&mut chained, (y_c, y_s));
-    (*calibrator, *state) = (chained.front_end, chained.observer);
-    estimate
-}

@@ -250,6 +250,20 @@ impl<V: ChainNumber, X, A: Stage<V, X>, B: Stage<V, (V, V)>> Stage<V, X> for (A,
 /// assert!((estimate.angle - 1.05).abs() < 0.05);
 /// # Ok::<(), angletrack_core::ConfigError>(())
 /// ```
+///
+/// States kept apart (a calibrator saved on its own, an observer state shared with other
+/// code) take the `_parts` forms, with no copy:
+///
+/// ```
+/// use angletrack_core::{Calibrator, Chain, Gains, ObserverState};
+/// let gains = Gains::<f32, 3>::new([0.1578, 0.0126, 0.000_34], 50e-6)?;
+/// let chain = Chain::new(gains.online_calibration(), gains);
+/// let (mut calibrator, mut observer) = (Calibrator::new(), ObserverState::new());
+/// calibrator.enable();
+/// let estimate = chain.update_parts(&mut calibrator, &mut observer, (0.0f32, 1.0));
+/// assert!((estimate.angle - core::f32::consts::FRAC_PI_2).abs() < 1e-6);
+/// # Ok::<(), angletrack_core::ConfigError>(())
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Chain<F, O> {
     /// The stages before the observer.
@@ -314,8 +328,9 @@ impl<F, O> Chain<F, O> {
 
 /// The chain's per-sample forms for one observer type: `track` (the state only, the
 /// cheapest per-sample form, the front end's faults latched), `update` (`track`, then the
-/// estimate, which carries the front end's faults), `estimate` (on demand) and
-/// `update_block` (`update` on each input).
+/// estimate, which carries the front end's faults), the two on states kept apart
+/// (`track_parts`, `update_parts`), `estimate` (on demand) and `update_block` (`update` on
+/// each input).
 macro_rules! chain_forms {
     ($value:ty, $state:ty, $estimate:ty) => {
         /// One sample `input` through the front end and the observer: the state only (the
@@ -336,6 +351,32 @@ macro_rules! chain_forms {
             F: Stage<$value, X>,
         {
             observers::track(self, state, input)
+        }
+
+        /// [`Chain::track`] on the front end's and the observer's states kept apart (as a
+        /// C caller keeps a calibrator and an observer state, or a firmware that shares one
+        /// observer state between two front ends): the same sample, no copy.
+        #[inline]
+        pub fn track_parts<X>(&self, front_end: &mut F::State, observer: &mut $state, input: X)
+        where
+            F: Stage<$value, X>,
+        {
+            observers::track::<_, _, _, _, ()>(self, &mut (front_end, observer), input)
+        }
+
+        /// [`Chain::update`] on the front end's and the observer's states kept apart (see
+        /// [`Chain::track_parts`]).
+        #[inline]
+        pub fn update_parts<X>(
+            &self,
+            front_end: &mut F::State,
+            observer: &mut $state,
+            input: X,
+        ) -> $estimate
+        where
+            F: Stage<$value, X>,
+        {
+            observers::track(self, &mut (front_end, observer), input)
         }
 
         /// [`Chain::update`] on each of `inputs`, the estimates written to `estimates`

@@ -222,23 +222,3 @@ pub(crate) fn proptest_config() -> ProptestConfig {
         ..ProptestConfig::default()
     }
 }
-
-/// One sample through the chain of `gains`' online calibration and the observer, for tests
-/// that keep the calibrator and the observer's state apart: `Chain::update` on a
-/// `ChainState` of copies of both, written back.
-pub(crate) fn update_calibrated<T: Float, const N: usize, S: SinCos<T>>(
-    gains: &Gains<T, N, S>,
-    state: &mut ObserverState<T, N>,
-    calibrator: &mut Calibrator<T>,
-    y_c: T,
-    y_s: T,
-) -> Estimate<T> {
-    let chain = Chain::new(gains.online_calibration(), *gains);
-    let mut chained = ChainState {
-        front_end: *calibrator,
-        observer: *state,
-    };
-    let estimate = chain.update(&mut chained, (y_c, y_s));
-    (*calibrator, *state) = (chained.front_end, chained.observer);
-    estimate
-}

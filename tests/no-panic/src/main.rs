@@ -15,7 +15,7 @@ use angletrack_core::{
     DemodulatorSettings, DemodulatorState, DriveOutputs, DriveOutputsState, Estimate, Exact,
     Excitation, ExcitationState, Fast, FixedAngleCorrectionTable, FixedCalibration, FixedGains,
     FixedState, Gains, MAX_CORRECTION_ORDER, Observer, ObserverState, OnlineCalibration, Order,
-    Real, SensorCalibration, SinCos, SupportedOrder, Waveform,
+    SensorCalibration, SinCos, SupportedOrder, Waveform,
 };
 use cortex_m_rt::entry;
 
@@ -95,10 +95,14 @@ where
             angle + 0.05
         };
         let (y_c, y_s) = (black_box(angle * 0.3), black_box(0.9 - angle * angle * 0.1));
-        sum += update_calibrated(&gains, &mut state, &mut calibrator, y_c, y_s).angle;
+        sum += Chain::new(gains.online_calibration(), gains)
+            .update_parts(&mut calibrator, &mut state, (y_c, y_s))
+            .angle;
     }
     calibrator.freeze();
-    sum += update_calibrated(&gains, &mut state, &mut calibrator, 0.5, 0.5).speed;
+    sum += Chain::new(gains.online_calibration(), gains)
+        .update_parts(&mut calibrator, &mut state, (0.5, 0.5))
+        .speed;
     let stored = calibrator.calibration();
     let (o_c, o_s, a_c, a_s, phi) = stored.parameters();
     if let Ok(loaded) = SensorCalibration::new(o_c, o_s, a_c, black_box(a_s), phi) {
@@ -142,7 +146,9 @@ where
     chain_state.front_end.1.1.0.enable();
     for k in 0..black_box(8u16) {
         let (y_c, y_s) = (black_box(0.6), black_box(-0.8));
-        sum += update_calibrated(&gains, &mut state, &mut calibrator, y_c, y_s).speed;
+        sum += Chain::new(gains.online_calibration(), *gains)
+            .update_parts(&mut calibrator, &mut state, (y_c, y_s))
+            .speed;
         let raw = (black_box(2048 + 100 * k), black_box(4000 - 100 * k));
         sum += chain.update(&mut chain_state, raw).angle;
         chain.track(&mut chain_state, raw);
@@ -279,26 +285,4 @@ fn angletrack_panic_path_exists(_: &core::panic::PanicInfo) -> ! {
     loop {
         black_box(());
     }
-}
-
-/// One sample through the chain of `gains`' online calibration and the observer, on the
-/// calibrator and the observer's state kept apart: `Chain::update` on copies, written back.
-fn update_calibrated<T: Real, const N: usize, S: SinCos<T>>(
-    gains: &Gains<T, N, S>,
-    state: &mut ObserverState<T, N>,
-    calibrator: &mut Calibrator<T>,
-    y_c: T,
-    y_s: T,
-) -> Estimate<T>
-where
-    Order<N>: SupportedOrder,
-{
-    let chain = Chain::new(gains.online_calibration(), *gains);
-    let mut chained = ChainState {
-        front_end: *calibrator,
-        observer: *state,
-    };
-    let estimate = chain.update(&mut chained, (y_c, y_s));
-    (*calibrator, *state) = (chained.front_end, chained.observer);
-    estimate
 }

@@ -234,6 +234,27 @@ impl<const N: usize> Output<i16, FixedGains<N>> for FixedEstimate {
     }
 }
 
+/// A chain's states, held together ([`ChainState`]: one pointer through the out-of-line
+/// path) or apart (a pair of references, for [`Chain::track_parts`]).
+pub(crate) trait States<F, O> {
+    /// The front end's state and the observer's, borrowed together.
+    fn split(&mut self) -> (&mut F, &mut O);
+}
+
+impl<F, O> States<F, O> for ChainState<F, O> {
+    #[inline(always)]
+    fn split(&mut self) -> (&mut F, &mut O) {
+        (&mut self.front_end, &mut self.observer)
+    }
+}
+
+impl<F, O> States<F, O> for (&mut F, &mut O) {
+    #[inline(always)]
+    fn split(&mut self) -> (&mut F, &mut O) {
+        (&mut *self.0, &mut *self.1)
+    }
+}
+
 /// The body of every chain's `track` and `update`: the front end's forward pass with the
 /// observer's prediction, then the observer's step, and the result `R`; unless the front
 /// end is quiet, out of line with the feedback to the front end, its faults latched (which
@@ -242,28 +263,32 @@ impl<const N: usize> Output<i16, FixedGains<N>> for FixedEstimate {
 /// holds the whole sample), or after it for a front end whose quiet depends on the sample
 /// ([`Stage::QUIET_FROM_INPUT`], a constant: one of the two is compiled).
 #[inline(always)]
-pub(crate) fn track<V: ChainNumber, X, F: Stage<V, X>, O: Observe<V>, R: Output<V, O>>(
+pub(crate) fn track<V, X, F, O, R>(
     chain: &Chain<F, O>,
-    state: &mut ChainState<F::State, O::State>,
+    states: &mut impl States<F::State, O::State>,
     input: X,
-) -> R {
-    if !F::QUIET_FROM_INPUT && !chain.front_end.quiet(&state.front_end) {
+) -> R
+where
+    V: ChainNumber,
+    F: Stage<V, X>,
+    O: Observe<V>,
+    R: Output<V, O>,
+{
+    if !F::QUIET_FROM_INPUT && !chain.front_end.quiet(states.split().0) {
         // A call in tail position: the quiet path calls nothing and saves no register.
-        return track_with_feedback(chain, state, input);
+        return track_with_feedback(chain, states, input);
     }
     let (pair, memo) = {
-        let prediction = chain.observer.prediction(&state.observer);
-        chain
-            .front_end
-            .forward(&mut state.front_end, &prediction, input)
+        let (front_end, observer) = states.split();
+        let prediction = chain.observer.prediction(observer);
+        chain.front_end.forward(front_end, &prediction, input)
     };
-    if F::QUIET_FROM_INPUT && !chain.front_end.quiet(&state.front_end) {
-        return finish_with_feedback_out_of_line(chain, state, pair, memo);
+    if F::QUIET_FROM_INPUT && !chain.front_end.quiet(states.split().0) {
+        return finish_with_feedback_out_of_line(chain, states, pair, memo);
     }
-    chain
-        .observer
-        .track_observing(&mut state.observer, pair.0, pair.1, ());
-    R::of(&chain.observer, &state.observer, Faults::NONE)
+    let observer = states.split().1;
+    chain.observer.track_observing(observer, pair.0, pair.1, ());
+    R::of(&chain.observer, observer, Faults::NONE)
 }
 
 /// [`track`] on a sample that a stage learns from or flags (out of line, as the online
@@ -271,64 +296,76 @@ pub(crate) fn track<V: ChainNumber, X, F: Stage<V, X>, O: Observe<V>, R: Output<
 /// the quiet path is laid out first and costs its one test).
 #[cold]
 #[inline(never)]
-fn track_with_feedback<V: ChainNumber, X, F: Stage<V, X>, O: Observe<V>, R: Output<V, O>>(
+fn track_with_feedback<V, X, F, O, R>(
     chain: &Chain<F, O>,
-    state: &mut ChainState<F::State, O::State>,
+    states: &mut impl States<F::State, O::State>,
     input: X,
-) -> R {
+) -> R
+where
+    V: ChainNumber,
+    F: Stage<V, X>,
+    O: Observe<V>,
+    R: Output<V, O>,
+{
     let (pair, memo) = {
-        let prediction = chain.observer.prediction(&state.observer);
-        chain
-            .front_end
-            .forward(&mut state.front_end, &prediction, input)
+        let (front_end, observer) = states.split();
+        let prediction = chain.observer.prediction(observer);
+        chain.front_end.forward(front_end, &prediction, input)
     };
-    finish_with_feedback(chain, state, pair, memo)
+    finish_with_feedback(chain, states, pair, memo)
 }
 
 /// [`finish_with_feedback`] out of line, for a front end that is quiet or not after the
 /// forward pass.
 #[cold]
 #[inline(never)]
-fn finish_with_feedback_out_of_line<
+fn finish_with_feedback_out_of_line<V, X, F, O, R>(
+    chain: &Chain<F, O>,
+    states: &mut impl States<F::State, O::State>,
+    pair: (V, V),
+    memo: F::Memo,
+) -> R
+where
     V: ChainNumber,
-    X,
     F: Stage<V, X>,
     O: Observe<V>,
     R: Output<V, O>,
->(
-    chain: &Chain<F, O>,
-    state: &mut ChainState<F::State, O::State>,
-    pair: (V, V),
-    memo: F::Memo,
-) -> R {
-    finish_with_feedback(chain, state, pair, memo)
+{
+    finish_with_feedback(chain, states, pair, memo)
 }
 
 /// The observer's step on the front end's `pair` with the feedback of `memo` to the front
 /// end (or its coast, where the front end says the sample is not a measurement), then the
 /// front end's faults, latched and carried by the result.
 #[inline(always)]
-fn finish_with_feedback<V: ChainNumber, X, F: Stage<V, X>, O: Observe<V>, R: Output<V, O>>(
+fn finish_with_feedback<V, X, F, O, R>(
     chain: &Chain<F, O>,
-    state: &mut ChainState<F::State, O::State>,
+    states: &mut impl States<F::State, O::State>,
     (y_c, y_s): (V, V),
     memo: F::Memo,
-) -> R {
+) -> R
+where
+    V: ChainNumber,
+    F: Stage<V, X>,
+    O: Observe<V>,
+    R: Output<V, O>,
+{
     let (front_end, observer) = (&chain.front_end, &chain.observer);
-    if front_end.coasts(&state.front_end) {
-        observer.coast(&mut state.observer);
-        front_end.feedback(&mut state.front_end, memo, None);
+    let (front_end_state, observer_state) = states.split();
+    if front_end.coasts(front_end_state) {
+        observer.coast(observer_state);
+        front_end.feedback(front_end_state, memo, None);
     } else {
         let to_front_end = ToFrontEnd {
             front_end,
-            state: &mut state.front_end,
+            state: &mut *front_end_state,
             memo,
             input: PhantomData,
         };
-        observer.track_observing(&mut state.observer, y_c, y_s, to_front_end);
+        observer.track_observing(observer_state, y_c, y_s, to_front_end);
     }
-    let faults = front_end.faults(&mut state.front_end);
+    let faults = front_end.faults(front_end_state);
     // Latched unconditionally: cheaper than a test.
-    O::latch(&mut state.observer, faults);
-    R::of(observer, &state.observer, faults)
+    O::latch(observer_state, faults);
+    R::of(observer, observer_state, faults)
 }

@@ -54,12 +54,10 @@ fn run_with(
     let errors = (0..samples)
         .map(|k| {
             let (y_c, y_s) = sensor(theta(k), &mut bits);
-            let e = crate::test_support::update_calibrated(
-                &gains,
-                &mut state,
+            let e = Chain::new(gains.online_calibration(), gains).update_parts(
                 &mut calibrator,
-                y_c,
-                y_s,
+                &mut state,
+                (y_c, y_s),
             );
             wrap(theta(k) - e.angle)
         })
@@ -238,14 +236,24 @@ fn calibration_faults_follow_the_bounds() {
         let calibration = SensorCalibration::new(o_c, o_s, a_c, a_s, phi).unwrap();
         let mut calibrator = Calibrator::from_calibration(calibration);
         let mut state = ObserverState::new();
-        crate::test_support::update_calibrated(&gains, &mut state, &mut calibrator, 1.0, 0.0);
-        let e =
-            crate::test_support::update_calibrated(&gains, &mut state, &mut calibrator, 1.0, 0.0);
+        Chain::new(gains.online_calibration(), gains).update_parts(
+            &mut calibrator,
+            &mut state,
+            (1.0, 0.0),
+        );
+        let e = Chain::new(gains.online_calibration(), gains).update_parts(
+            &mut calibrator,
+            &mut state,
+            (1.0, 0.0),
+        );
         assert_eq!(e.faults, expected);
         assert_eq!(state.latched_faults(), expected);
         calibrator.disable();
-        let e =
-            crate::test_support::update_calibrated(&gains, &mut state, &mut calibrator, 1.0, 0.0);
+        let e = Chain::new(gains.online_calibration(), gains).update_parts(
+            &mut calibrator,
+            &mut state,
+            (1.0, 0.0),
+        );
         assert_eq!(e.faults, Faults::NONE);
     }
 }
@@ -275,12 +283,10 @@ fn freeze_read_write_and_restart() {
     let mut worst: f64 = 0.0;
     for k in 0..samples {
         let (y_c, y_s) = sensor(theta(k), &mut bits);
-        let e = crate::test_support::update_calibrated(
-            &gains,
-            &mut state,
+        let e = Chain::new(gains.online_calibration(), gains).update_parts(
             &mut frozen,
-            y_c + 100.0,
-            y_s,
+            &mut state,
+            (y_c + 100.0, y_s),
         );
         if k > samples / 2 {
             worst = worst.max(wrap(theta(k) - e.angle).abs());
@@ -322,8 +328,11 @@ fn junk_never_turns_the_calibration_nan() {
         } else {
             (0.05 + th.cos(), 1.1 * (th + 0.05).sin())
         };
-        let e =
-            crate::test_support::update_calibrated(&gains, &mut state, &mut calibrator, y_c, y_s);
+        let e = Chain::new(gains.online_calibration(), gains).update_parts(
+            &mut calibrator,
+            &mut state,
+            (y_c, y_s),
+        );
         assert!(e.angle >= -core::f32::consts::PI && e.angle < core::f32::consts::PI);
         assert!(e.speed.is_finite() && e.phase_error.is_finite());
         let (o_c, o_s, a_c, a_s, phi) = calibrator.calibration().parameters();

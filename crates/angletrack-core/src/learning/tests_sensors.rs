@@ -87,12 +87,10 @@ fn run_at<T: Real>(
     let errors = (0..samples)
         .map(|k| {
             let (y_c, y_s) = sensor.sample(theta(k), &mut bits);
-            let e = crate::test_support::update_calibrated(
-                &gains,
-                &mut state,
+            let e = Chain::new(gains.online_calibration(), gains).update_parts(
                 &mut calibrator,
-                T::from_f64(y_c),
-                T::from_f64(y_s),
+                &mut state,
+                (T::from_f64(y_c), T::from_f64(y_s)),
             );
             wrap(theta(k) - e.angle.to_f64())
         })

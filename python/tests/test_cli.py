@@ -162,6 +162,29 @@ def test_track_refuses_a_capture_without_signals(tmp_path, capsys):
     assert "y_c and y_s" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("flag, value, expected", [
+    ("--gains-file", "missing.json", "--gains-file: {dir}/missing.json: No such file or directory"),
+    ("--calibration", "missing.json", "--calibration: {dir}/missing.json: No such file or directory"),
+    ("--calibration", "", "--calibration: {dir}: Is a directory"),
+])
+def test_track_names_the_flag_of_a_file_it_cannot_read(tmp_path, capsys, flag, value, expected):
+    cap = tmp_path / "capture.csv"
+    write_capture(cap, with_reference=False)
+    gains = [] if flag == "--gains-file" else ["--gains", "0.06,0.001"]
+    status = cli.main(["track", str(cap), *gains, flag, str(tmp_path / value) if value else str(tmp_path)])
+    err = capsys.readouterr().err
+    assert status == 2 and err.strip() == "angletrack: error: " + expected.format(dir=tmp_path), err
+
+
+def test_track_names_the_output_flag_of_a_format_the_run_does_not_write(tmp_path, capsys):
+    cap = tmp_path / "capture.csv"
+    write_capture(cap, with_reference=False)
+    status = cli.main(["track", str(cap), "--gains", "0.06,0.001", "--dtype", "fixed", "-o", str(tmp_path / "e.npy")])
+    err = capsys.readouterr().err
+    assert status == 2 and "--output: " in err and "with --dtype fixed are CSV (.csv)" in err, err
+    assert not (tmp_path / "e.npy").exists()
+
+
 def test_report_writes_markdown_and_plots(tmp_path):
     out = tmp_path / "report"
     proc = subprocess.run([str(SCRIPT), "report", "--out", str(out)], capture_output=True, text=True, timeout=120)

@@ -69,7 +69,11 @@ def read_stored(path: Optional[pathlib.Path]) -> Union[None, SensorCalibration, 
 
     if path is None:
         return None
-    stored = _angletrack.calibration_from_json(pathlib.Path(path).read_text(encoding="utf-8"), str(path))
+    try:
+        text = pathlib.Path(path).read_text(encoding="utf-8")
+    except OSError as e:
+        raise ValueError(f"--calibration: {path}: {e.strerror or e}") from e
+    stored = _angletrack.calibration_from_json(text, str(path))
     return stored if isinstance(stored, SensorCalibration) else harmonics.Calibration.from_learned(stored)
 
 

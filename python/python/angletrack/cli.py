@@ -148,8 +148,9 @@ def _cmd_track(args: argparse.Namespace) -> int:
     text_only = settings.dtype == "fixed" or settings.carrier_hz is not None
     if suffix not in ESTIMATE_EXTENSIONS or (text_only and suffix != ".csv"):
         formats = "CSV (.csv)" if text_only else "CSV (.csv), NumPy (.npy) or .npz"
-        raise ValueError(f"output: {output} names no format this run writes: the estimates' format follows the "
-                         f"extension, here {formats}")
+        run = " with --dtype fixed" if settings.dtype == "fixed" else " with --carrier-hz" if text_only else ""
+        raise ValueError(f"--output: {output}: the estimates' format follows the extension, and the formats "
+                         f"written{run} are {formats}")
     summary, observer = tracking.track_capture(settings)
     print(summary)
     if args.calibrate and observer is not None:

@@ -79,7 +79,11 @@ class TrackSettings:
         if self.gains_file is None:
             return None
         try:
-            return export.gains_from_json(self.gains_file.read_text())
+            text = self.gains_file.read_text(encoding="utf-8")
+        except OSError as e:
+            raise ValueError(f"--gains-file: {self.gains_file}: {e.strerror or e}") from e
+        try:
+            return export.gains_from_json(text)
         except (ValueError, TypeError) as e:
             # The file and the field: "g.json: sample_period_s: expected a number, got str 'x'".
             raise ValueError(f"{self.gains_file}: {e}") from e

@@ -60,6 +60,9 @@ pub struct Demodulator<V: DemodulatorNumber> {
     weak_power: V::Wide,
     /// `cos(2 bound)`: the loop is out of lock where `cos 2e` is below it.
     drift_cos2: V::Wide,
+    /// 3/4, as [`DemodulatorNumber::times_fraction`] takes it: a weak window with less of
+    /// the last window's power holds a loss's onset.
+    transient_drop: V::Wide,
     expected: u32,
     expected_cos: V::Wide,
     expected_sin: V::Wide,
@@ -219,6 +222,7 @@ impl<V: DemodulatorNumber> Demodulator<V> {
             loss_power: V::unit_power(loss),
             weak_power: V::unit_power(weak),
             drift_cos2: V::fraction(cos2),
+            transient_drop: V::fraction(R::<V>::from_f32(0.75)),
             expected: turn_fraction_to_phase(expected_wrapped * R::<V>::FRAC_1_TAU),
             expected_cos: V::fraction(cos_expected),
             expected_sin: V::fraction(sin_expected),
@@ -421,6 +425,7 @@ impl<V: DemodulatorNumber> Demodulator<V> {
     #[inline(never)]
     fn start(&self, state: &mut DemodulatorState<V>, excitation: bool) {
         state.step = self.step;
+        state.held_step = self.step;
         state.excitation = excitation;
         state.in_first_quarter = true;
         self.begin_segment(state);
@@ -529,9 +534,18 @@ impl<V: DemodulatorNumber> Demodulator<V> {
         let in_phase = V::add(V::product(y_c, y_c), V::product(y_s, y_s));
         let quadrature = V::add(V::product(q_yc, q_yc), V::product(q_ys, q_ys));
         let power = V::add(in_phase, quadrature);
-        let lost = !(power >= self.loss_power);
-        let clipped = clip >> 31 != 0 || !V::is_finite(power);
         let weak = !(power >= self.weak_power);
+        // A weak window right after one without carrier, or with under 3/4 of the last window's
+        // power, holds a loss's end or onset: part of it has no carrier, so its pair
+        // (stamped at the window's centroid, not at its carrier's) is no measurement. A
+        // steady or slowly fading weak excitation is not lost.
+        let gone = !(power >= self.loss_power);
+        let lost = gone
+            || (weak
+                && (state.last_lost
+                    || power < V::times_fraction(state.last_power, self.transient_drop)));
+        (state.last_power, state.last_lost) = (power, gone);
+        let clipped = clip >> 31 != 0 || !V::is_finite(power);
         // cos 2e (times the power) below cos(2 bound): out of lock.
         let drifted =
             !lost && V::sub(in_phase, quadrature) < V::times_fraction(power, self.drift_cos2);
@@ -544,7 +558,11 @@ impl<V: DemodulatorNumber> Demodulator<V> {
             let cross = V::add(V::product(y_c, q_yc), V::product(y_s, q_ys));
             // sum I Q / sum (I^2 + Q^2) = sin(2e) / 2, about e (rad), in Q31.
             let error = i64::from(V::ratio_q31(cross, power));
-            self.correct(state, error);
+            self.correct(state, error, !weak);
+        }
+        if lost {
+            // Through the loss, at the frequency the loop held before it.
+            state.step = state.held_step;
         }
         state.windows = state.windows.wrapping_add(1);
         if let Some((i, q)) = excitation {
@@ -592,14 +610,23 @@ impl<V: DemodulatorNumber> Demodulator<V> {
 
     /// The carrier loop's correction for a phase error `error` (Q31 rad): the phase now,
     /// the step (within the carrier error allowed) from the next sample on.
+    ///
+    /// A window of weak excitation (one that straddles the onset or the end of a loss, or a
+    /// carrier fading) corrects the phase only: its error is too unsure for the frequency.
+    /// A window of full excitation also moves the held step (the frequency the loop keeps
+    /// through a loss) 1/64 of the way to the loop's.
     #[inline(always)]
-    fn correct(&self, state: &mut DemodulatorState<V>, error: i64) {
+    fn correct(&self, state: &mut DemodulatorState<V>, error: i64, full: bool) {
         let phase = ((error * self.phase_gain) >> 16).clamp(-MAX_CORRECTION, MAX_CORRECTION);
         state.phase = state.phase.wrapping_add(phase as i32 as u32);
-        let step = i64::from(state.step) + ((error * self.step_gain) >> 24);
-        state.step = step
-            .max(i64::from(self.step_min))
-            .min(i64::from(self.step_max)) as u32;
+        if full {
+            let step = i64::from(state.step) + ((error * self.step_gain) >> 24);
+            state.step = step
+                .max(i64::from(self.step_min))
+                .min(i64::from(self.step_max)) as u32;
+            let held = i64::from(state.held_step);
+            state.held_step = (held + ((i64::from(state.step) - held) >> 6)) as u32;
+        }
     }
 
     /// The end of the start-up: without an excitation, the half turn whose phase at the

@@ -71,6 +71,15 @@ pub struct DemodulatorState<V: DemodulatorNumber> {
     pub(super) phase: u32,
     /// The phase step per sample (2^32 per turn); 0 before the first sample.
     pub(super) step: u32,
+    /// The step averaged over about 64 windows of full excitation: what the loop runs at
+    /// through a loss of excitation (a window straddling the loss's onset measures a phase
+    /// error that the fast loop would otherwise carry, as a wrong frequency, through the
+    /// whole loss).
+    pub(super) held_step: u32,
+    /// The last window's carrier power (in-phase and quadrature, both windings) and whether
+    /// it was below the loss threshold: a loss's onset and end are told from them.
+    pub(super) last_power: V::Wide,
+    pub(super) last_lost: bool,
     /// The next sample's index.
     pub(super) sample: u64,
     /// Samples left in the current segment.
@@ -109,6 +118,9 @@ impl<V: DemodulatorNumber> DemodulatorState<V> {
         Self {
             phase: 0,
             step: 0,
+            held_step: 0,
+            last_power: V::Wide::default(),
+            last_lost: false,
             sample: 0,
             left: 0,
             in_first_quarter: true,

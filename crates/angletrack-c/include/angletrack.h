@@ -20,8 +20,11 @@
  * ADC, a stored calibration or the online calibration with its at_calibration_settings_f32,
  * the harmonic at_angle_correction_f32, the observer) serves every combination:
  * at_chain_f32_track*() on floats or counts, at_chain_f32_estimate() on demand, or
- * at_chain_f32_update*(). From raw resolver windings, at_demodulator_f32_push() gives one
- * (y_c, y_s) pair per carrier period for the chain. The structs are plain and sized: place
+ * at_chain_f32_update*(); with the ADC's range stated (its bits, or at_adc_f32_set_range()),
+ * a clipped sample is flagged AT_FAULT_FRONT_END. From raw resolver windings,
+ * at_demodulator_f32_push() gives one (y_c, y_s) pair per carrier period, which
+ * at_chain_f32_update_demodulated() takes with its faults (the observer coasts through a
+ * loss of excitation; at_chain_f32_with_winding_check() adds a winding open or shorted). The structs are plain and sized: place
  * them in static memory.
  * A zeroed at_state_f32, at_fixed_state, at_chain_state_f32, at_chain_state_fixed or
  * at_calibrator_f32 is a fresh one; zeroed at_gains_f32, at_fixed_gains, at_chain_f32,
@@ -53,7 +56,7 @@
  * The 8-byte words of an `at_adc_f32`'s storage (checked against the Rust type at compile
  * time, on every target).
  */
-#define AT_ADC_F32_WORDS 2
+#define AT_ADC_F32_WORDS 3
 
 /**
  * The 8-byte words of an `at_calibrator_f32`'s storage (checked against the Rust type at
@@ -98,13 +101,13 @@
  * The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_F32_WORDS 280
+#define AT_CHAIN_F32_WORDS 283
 
 /**
  * The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_STATE_F32_WORDS 22
+#define AT_CHAIN_STATE_F32_WORDS 24
 
 /**
  * The harmonic orders an `at_angle_correction_f32` holds (the core's
@@ -160,6 +163,12 @@
 #define AT_FRONT_END_FAULT_WEAK_EXCITATION (1 << 3)
 
 /**
+ * A front-end fault: a winding open or shorted (the chain's winding check,
+ * `at_chain_f32_with_winding_check`).
+ */
+#define AT_FRONT_END_FAULT_WINDING (1 << 4)
+
+/**
  * Loss of signal: a window's RMS amplitude is below the loss-of-signal threshold.
  */
 #define AT_FAULT_LOSS_OF_SIGNAL 1
@@ -196,8 +205,9 @@
 
 /**
  * A front-end fault: a stage before the observer flagged the sample (the core's
- * `FrontEndCheck`, `WindingCheck`), and while the fault invalidates it the observer
- * coasted on its prediction. The C chains have no such stage yet: never set by them.
+ * `FrontEndCheck`, `WindingCheck`: clipping against the ADC's stated range, a
+ * demodulator's fault, a winding open or shorted), and while the fault invalidates it the
+ * observer coasted on its prediction. Set by the float chain (`at_chain_f32_*`).
  */
 #define AT_FAULT_FRONT_END (1 << 7)
 
@@ -238,7 +248,7 @@
  * crate's version and the sizes, which change it without a bump). `at_layout_version()`
  * returns the library's, to compare with the header's at start-up.
  */
-#define AT_LAYOUT_VERSION 3
+#define AT_LAYOUT_VERSION 4
 
 /**
  * The entries of an angle-correction table (`at_angle_correction_table_f32`,
@@ -554,6 +564,41 @@ typedef struct at_chain_state_f32 {
 } at_chain_state_f32;
 
 /**
+ * One demodulated pair: the windings' envelopes at the centroid of their window.
+ */
+typedef struct at_demodulated_pair_f32 {
+  /**
+   * The cosine winding's envelope, `~ cos theta` (nominal amplitude 1).
+   */
+  float y_c;
+  /**
+   * The sine winding's envelope, `~ sin theta`.
+   */
+  float y_s;
+  /**
+   * The cosine winding's quadrature component (about 0).
+   */
+  float quadrature_c;
+  /**
+   * The sine winding's quadrature component (about 0).
+   */
+  float quadrature_s;
+  /**
+   * The index of the window (start-up windows included).
+   */
+  uint64_t window;
+  /**
+   * The ADC sample index (from 0, the first sample pushed) at which the pair holds: the
+   * centroid of its window's weights (divide by the ADC rate for seconds).
+   */
+  double centre_sample;
+  /**
+   * This window's front-end faults (`AT_FRONT_END_FAULT_*` bits).
+   */
+  uint32_t faults;
+} at_demodulated_pair_f32;
+
+/**
  * The ADC of a fixed-point chain (the core's `AdcCounts`): each count less
  * `mid_scale_counts`, shifted left by `shift` (0 to 15) bits to the observer's 16-bit range,
  * saturated. Plain: write it (`{2048, 4}` for a 12-bit offset-binary ADC), or fill it with
@@ -783,41 +828,6 @@ typedef struct at_demodulator_state_f32 {
    */
   uint64_t storage[AT_DEMODULATOR_STATE_F32_WORDS];
 } at_demodulator_state_f32;
-
-/**
- * One demodulated pair: the windings' envelopes at the centroid of their window.
- */
-typedef struct at_demodulated_pair_f32 {
-  /**
-   * The cosine winding's envelope, `~ cos theta` (nominal amplitude 1).
-   */
-  float y_c;
-  /**
-   * The sine winding's envelope, `~ sin theta`.
-   */
-  float y_s;
-  /**
-   * The cosine winding's quadrature component (about 0).
-   */
-  float quadrature_c;
-  /**
-   * The sine winding's quadrature component (about 0).
-   */
-  float quadrature_s;
-  /**
-   * The index of the window (start-up windows included).
-   */
-  uint64_t window;
-  /**
-   * The ADC sample index (from 0, the first sample pushed) at which the pair holds: the
-   * centroid of its window's weights (divide by the ADC rate for seconds).
-   */
-  double centre_sample;
-  /**
-   * This window's front-end faults (`AT_FRONT_END_FAULT_*` bits).
-   */
-  uint32_t faults;
-} at_demodulated_pair_f32;
 
 /**
  * One fixed-point channel's mutable state: the integer state vector, the amplitude's
@@ -1195,7 +1205,8 @@ const char *at_fault_name(uint32_t bit);
 
 /**
  * Writes to `out` an ADC front end removing `mid_scale_counts` (the reading of a zero
- * signal, at most 2^30 in magnitude) and dividing by `counts_per_unit` (positive).
+ * signal, at most 2^30 in magnitude) and dividing by `counts_per_unit` (positive), with no
+ * range of codes stated (`at_adc_f32_set_range` states it).
  *
  * # Safety
  * See the header's introduction.
@@ -1204,7 +1215,8 @@ at_status at_adc_f32_new(int32_t mid_scale_counts, float counts_per_unit, struct
 
 /**
  * Writes to `out` the front end of an unsigned (offset binary) ADC of `bits` bits (2 to
- * 31): samples in units of full scale (+-1).
+ * 31): samples in units of full scale (+-1), its range of codes stated (0 to
+ * `2^bits - 1`: a chain flags clipping at them, `at_adc_f32_set_range`).
  *
  * # Safety
  * See the header's introduction.
@@ -1213,12 +1225,26 @@ at_status at_adc_f32_offset_binary(uint32_t bits, struct at_adc_f32 *out);
 
 /**
  * Writes to `out` the front end of a signed (two's complement) ADC of `bits` bits (2 to
- * 32): samples in units of full scale (+-1).
+ * 32): samples in units of full scale (+-1), its range of codes stated (`-2^(bits-1)` to
+ * `2^(bits-1) - 1`: a chain flags clipping at them, `at_adc_f32_set_range`).
  *
  * # Safety
  * See the header's introduction.
  */
 at_status at_adc_f32_twos_complement(uint32_t bits, struct at_adc_f32 *out);
+
+/**
+ * States the range of codes of the ADC `adc`: its lowest `min_counts` and highest
+ * `max_counts` (`AT_ERR_ADC_RANGE` unless `min_counts < max_counts`; `adc` unchanged on
+ * error). A chain with this ADC (`at_chain_f32_new`) flags a sample with a channel at or
+ * beyond a rail `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_CLIPPING`), and coasts on its
+ * prediction through one with both channels there; without a stated range it flags
+ * nothing for clipping. The plain observer's `at_update_f32_adc_*` ignore the range.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_adc_f32_set_range(struct at_adc_f32 *adc, int32_t min_counts, int32_t max_counts);
 
 /**
  * `at_update_f32` on raw signed 16-bit ADC samples, through the front end `adc`.
@@ -1344,7 +1370,11 @@ struct at_calibration_settings_f32 at_calibration_settings_f32_default(void);
 /**
  * Builds a signal chain into `out`: the observer `gains` (required) after the optional
  * stages, each NULL when absent, in this order: the ADC front end `adc` (then the chain
- * takes counts: `at_chain_f32_track_u16`, ...), one calibration stage (a stored calibration
+ * takes counts: `at_chain_f32_track_u16`, ...; with its range stated, a sample with a
+ * channel at or beyond a rail is flagged `AT_FAULT_FRONT_END` and one with both there is
+ * coasted through: `at_adc_f32_set_range`), the front-end faults a demodulator gave its
+ * pairs (`at_chain_f32_track_demodulated`: the observer coasts through a loss of
+ * excitation), one calibration stage (a stored calibration
  * `stored`, applied to every sample, or the online calibration with its `settings`,
  * learning per channel in `at_chain_state_f32`; not both: `AT_ERR_STAGES`), and one angle
  * correction (the harmonic `correction` or its `table`, the same cost whatever the error's
@@ -1460,6 +1490,58 @@ struct at_estimate_f32 at_chain_f32_update_i32(const struct at_chain_f32 *chain,
                                                struct at_chain_state_f32 *state,
                                                int32_t raw_c,
                                                int32_t raw_s);
+
+/**
+ * Writes to `out` the chain `chain` with a winding check: a winding open or shorted (one
+ * winding reading below a quarter of `nominal_amplitude` where the observer's prediction
+ * puts at least half of it, the other agreeing with the prediction) is flagged
+ * `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_WINDING`) and coasted through while it holds.
+ * `nominal_amplitude` is the windings' peak in the chain's input units after the
+ * calibration (1 for a demodulator's pairs; `AT_ERR_NOMINAL_AMPLITUDE` unless finite and
+ * positive). `out` unchanged on error.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_chain_f32_with_winding_check(const struct at_chain_f32 *chain,
+                                          float nominal_amplitude,
+                                          struct at_chain_f32 *out);
+
+/**
+ * `at_chain_f32_track` on a demodulator's pair (`at_demodulator_f32_push`), with the
+ * front-end faults of its window: while one invalidates the pair (loss of excitation, a
+ * winding open or shorted) the observer coasts on its prediction instead of using it, and
+ * every fault is latched as `AT_FAULT_FRONT_END` (`at_chain_state_f32_clear_front_end_faults`
+ * gives the front-end bits). Returns 0, or `AT_FAULT_INVALID_ARGUMENT` (nothing changed)
+ * for refused arguments.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_f32_track_demodulated(const struct at_chain_f32 *chain,
+                                        struct at_chain_state_f32 *state,
+                                        const struct at_demodulated_pair_f32 *pair);
+
+/**
+ * `at_chain_f32_track_demodulated`, then the estimate, which carries `AT_FAULT_FRONT_END`
+ * while the pair has a front-end fault.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_chain_f32_update_demodulated(const struct at_chain_f32 *chain,
+                                                       struct at_chain_state_f32 *state,
+                                                       const struct at_demodulated_pair_f32 *pair);
+
+/**
+ * Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
+ * against the ADC's range, the demodulator's faults, a winding open or shorted) and clears
+ * them. 0 for NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_state_f32_clear_front_end_faults(struct at_chain_state_f32 *state);
 
 /**
  * The estimate `state` holds for `chain` (its last sample's; the observer's faults, the

@@ -101,13 +101,13 @@
  * The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_F32_WORDS 283
+#define AT_CHAIN_F32_WORDS 284
 
 /**
  * The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_STATE_F32_WORDS 24
+#define AT_CHAIN_STATE_F32_WORDS 29
 
 /**
  * The harmonic orders an `at_angle_correction_f32` holds (the core's
@@ -1206,7 +1206,8 @@ const char *at_fault_name(uint32_t bit);
 /**
  * Writes to `out` an ADC front end removing `mid_scale_counts` (the reading of a zero
  * signal, at most 2^30 in magnitude) and dividing by `counts_per_unit` (positive), with no
- * range of codes stated (`at_adc_f32_set_range` states it).
+ * range of codes stated (`at_adc_f32_set_range` states it; without it a chain measures
+ * the rails as the extremes held flat).
  *
  * # Safety
  * See the header's introduction.
@@ -1238,8 +1239,11 @@ at_status at_adc_f32_twos_complement(uint32_t bits, struct at_adc_f32 *out);
  * `max_counts` (`AT_ERR_ADC_RANGE` unless `min_counts < max_counts`; `adc` unchanged on
  * error). A chain with this ADC (`at_chain_f32_new`) flags a sample with a channel at or
  * beyond a rail `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_CLIPPING`), and coasts on its
- * prediction through one with both channels there; without a stated range it flags
- * nothing for clipping. The plain observer's `at_update_f32_adc_*` ignore the range.
+ * prediction through one with both channels there. Without a stated range the chain
+ * measures the rails on the counts as they come (the core's `HeldRailCheck`: an extreme a
+ * channel holds for 4 consecutive samples while the other moves, the samples piled up
+ * there, on a signal spanning both sides of mid-scale), a weaker test. The plain
+ * observer's `at_update_f32_adc_*` check neither.
  *
  * # Safety
  * See the header's introduction.

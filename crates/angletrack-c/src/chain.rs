@@ -7,11 +7,13 @@
 //! and the plain C mirrors of the stages' settings, `at_angle_correction_f32` and
 //! `at_calibration_settings_f32`.
 //!
-//! The chain is the core's `Chain<(FrontEndCheck<f32>, (Option<WindingCheck<f32>>,
-//! (Calibration, Correction))), Gains<f32, N>>`: the core's [`FrontEndCheck`] flags clipping
-//! against the ADC's stated range (in the observer's units, through the ADC's scaling) and
-//! passes on the faults a demodulator gave a pair, the observer coasting through those that
-//! invalidate it; the core's [`WindingCheck`], if asked for, a winding open or shorted;
+//! The chain is the core's `Chain<(FrontEndCheck<f32>, (Option<HeldRailCheck>,
+//! (Option<WindingCheck<f32>>, (Calibration, Correction)))), Gains<f32, N>>`: the core's
+//! [`FrontEndCheck`] flags clipping against the ADC's stated range (in the observer's units,
+//! through the ADC's scaling) and passes on the faults a demodulator gave a pair, the
+//! observer coasting through those that invalidate it; for an ADC without a stated range,
+//! the core's [`HeldRailCheck`] flags clipping against the rails it measures; the core's
+//! [`WindingCheck`], if asked for, a winding open or shorted;
 //! [`Calibration`] is the one calibration stage of C's choice (none, the core's
 //! `SensorCalibration`, or its `OnlineCalibration`), which delegates each of the core's
 //! `Stage` methods to the stage it holds; [`Correction`] likewise the angle correction
@@ -23,8 +25,8 @@ use core::mem::MaybeUninit;
 use angletrack_core::{
     AdcSample, AdcScaling, AngleCorrection, CalibrationSettings, Calibrator, Chain, ChainState,
     ConfigError, Faults, Feedback, FrontEndCheck, FrontEndCheckState, FrontEndFaults, Gains,
-    MAX_CORRECTION_ORDER, ObserverState, OnlineCalibration, Order, Prediction, SensorCalibration,
-    Stage, SupportedOrder, WindingCheck,
+    HeldRailCheck, HeldRails, MAX_CORRECTION_ORDER, ObserverState, OnlineCalibration, Order,
+    Prediction, SensorCalibration, Stage, SupportedOrder, WindingCheck,
 };
 
 use crate::adc::AdcF32;
@@ -38,10 +40,10 @@ use crate::table::{Correction, at_angle_correction_table_f32};
 
 /// The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_CHAIN_F32_WORDS: usize = 283;
+pub const AT_CHAIN_F32_WORDS: usize = 284;
 /// The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_CHAIN_STATE_F32_WORDS: usize = 24;
+pub const AT_CHAIN_STATE_F32_WORDS: usize = 29;
 
 /// The checked configuration of one signal chain, made by `at_chain_f32_new` from the
 /// observer's gains and optional stages. Immutable once made: one serves any number of
@@ -198,11 +200,15 @@ impl Stage<f32, (f32, f32)> for Calibration {
 }
 
 /// The front end of the chain after the ADC: the front-end check (clipping against the
-/// stated range, the demodulator's faults), the optional winding check, the calibration
-/// and the angle correction.
+/// stated range, the demodulator's faults), for an ADC without a stated range the rails
+/// measured as extremes held flat, the optional winding check, the calibration and the
+/// angle correction.
 type FrontEnd = (
     FrontEndCheck<f32>,
-    (Option<WindingCheck<f32>>, (Calibration, Correction)),
+    (
+        Option<HeldRailCheck>,
+        (Option<WindingCheck<f32>>, (Calibration, Correction)),
+    ),
 );
 
 /// What an `at_chain_f32` holds: the optional ADC and the core's chain of order `N`.
@@ -214,11 +220,11 @@ pub(crate) struct ChainF32<const N: usize> {
     pub(crate) chain: Chain<FrontEnd, Gains<f32, N>>,
 }
 
-/// The state of the chain's front end: the front-end check's, the winding check's, the
-/// online calibration's.
+/// The state of the chain's front end: the front-end check's, the held rails', the winding
+/// check's, the online calibration's.
 type FrontEndState = (
     (FrontEndCheckState, ()),
-    (FrontEndCheckState, (Calibrator<f32>, ())),
+    (HeldRails<f32>, (FrontEndCheckState, (Calibrator<f32>, ()))),
 );
 
 /// The state of a chain of order `N`.
@@ -273,17 +279,23 @@ fn build<const N: usize>(
         (None, Some(table)) => Correction::Table(table.checked()?),
         (None, None) => Correction::None,
     };
-    let check = FrontEndCheck::around((), stages.adc.and_then(AdcF32::range_in_units))?;
+    let range = stages.adc.and_then(AdcF32::range_in_units);
+    let check = FrontEndCheck::around((), range)?;
+    // Counts without a stated range: their rails measured.
+    let held_rails = (stages.adc.is_some() && range.is_none()).then_some(HeldRailCheck::new());
     Ok(ChainF32 {
         adc: stages.adc.map(|adc| adc.scaling),
-        chain: Chain::new((check, (None, (calibration, correction))), *gains),
+        chain: Chain::new(
+            (check, (held_rails, (None, (calibration, correction)))),
+            *gains,
+        ),
     })
 }
 
 impl<const N: usize> ChainF32<N> {
     /// The chain with the core's winding check for windings of `amplitude` (checked).
     fn with_winding_check(mut self, amplitude: f32) -> Result<Self, ConfigError> {
-        self.chain.front_end.1.0 = Some(WindingCheck::new(amplitude)?);
+        self.chain.front_end.1.1.0 = Some(WindingCheck::new(amplitude)?);
         Ok(self)
     }
 }
@@ -357,20 +369,20 @@ impl at_chain_state_f32 {
     /// another build's.
     pub(crate) fn calibrator(&mut self) -> Result<&mut Calibrator<f32>, Refused> {
         if self.tag == <StateF32<2> as Stored>::TAG {
-            return self.of_order::<2>().map(|s| &mut s.front_end.1.1.0);
+            return self.of_order::<2>().map(|s| &mut s.front_end.1.1.1.0);
         }
-        self.of_order::<3>().map(|s| &mut s.front_end.1.1.0)
+        self.of_order::<3>().map(|s| &mut s.front_end.1.1.1.0)
     }
 
     /// A copy of the calibrator held (a fresh one's for a fresh state).
     pub(crate) fn calibrator_value(&self) -> Result<Calibrator<f32>, Refused> {
         match self.slot_get::<StateF32<2>>() {
-            Ok(s) => return Ok(s.front_end.1.1.0),
+            Ok(s) => return Ok(s.front_end.1.1.1.0),
             Err(Refused::OtherBuild) => return Err(Refused::OtherBuild),
             Err(Refused::NotInitialised) => {}
         }
         match self.slot_get::<StateF32<3>>() {
-            Ok(s) => Ok(s.front_end.1.1.0),
+            Ok(s) => Ok(s.front_end.1.1.1.0),
             Err(Refused::NotInitialised) => Ok(Calibrator::new()),
             Err(refused) => Err(refused),
         }
@@ -397,7 +409,9 @@ impl at_chain_state_f32 {
     pub(crate) fn clear_front_end_faults(&mut self) -> u32 {
         /// Both checks' latched faults, cleared.
         fn of(front_end: &mut FrontEndState) -> u32 {
-            let faults = front_end.0.0.clear_faults() | front_end.1.0.clear_faults();
+            let faults = front_end.0.0.clear_faults()
+                | front_end.1.0.clear_faults()
+                | front_end.1.1.0.clear_faults();
             u32::from(faults.bits())
         }
         match self.tag {

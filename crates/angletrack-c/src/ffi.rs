@@ -187,7 +187,8 @@ pub extern "C" fn at_fault_name(bit: u32) -> *const c_char {
 
 /// Writes to `out` an ADC front end removing `mid_scale_counts` (the reading of a zero
 /// signal, at most 2^30 in magnitude) and dividing by `counts_per_unit` (positive), with no
-/// range of codes stated (`at_adc_f32_set_range` states it).
+/// range of codes stated (`at_adc_f32_set_range` states it; without it a chain measures
+/// the rails as the extremes held flat).
 ///
 /// # Safety
 /// See the header's introduction.
@@ -238,8 +239,11 @@ pub unsafe extern "C" fn at_adc_f32_twos_complement(bits: u32, out: *mut at_adc_
 /// `max_counts` (`AT_ERR_ADC_RANGE` unless `min_counts < max_counts`; `adc` unchanged on
 /// error). A chain with this ADC (`at_chain_f32_new`) flags a sample with a channel at or
 /// beyond a rail `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_CLIPPING`), and coasts on its
-/// prediction through one with both channels there; without a stated range it flags
-/// nothing for clipping. The plain observer's `at_update_f32_adc_*` ignore the range.
+/// prediction through one with both channels there. Without a stated range the chain
+/// measures the rails on the counts as they come (the core's `HeldRailCheck`: an extreme a
+/// channel holds for 4 consecutive samples while the other moves, the samples piled up
+/// there, on a signal spanning both sides of mid-scale), a weaker test. The plain
+/// observer's `at_update_f32_adc_*` check neither.
 ///
 /// # Safety
 /// See the header's introduction.

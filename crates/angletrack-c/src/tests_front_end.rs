@@ -146,6 +146,45 @@ fn offset_binary_counts_are_flagged_at_0_and_4095() {
     }
 }
 
+/// Counts of a resolver at 50 rev/s (10 kHz) and amplitude `amplitude`, rounded and
+/// clipped to a signed 12-bit ADC's codes, through a chain after an ADC of no stated range:
+/// the samples of the second turn flagged `AT_FAULT_FRONT_END`, and the front-end faults
+/// latched.
+fn flagged_without_a_range(amplitude: f32) -> (u32, u32) {
+    let mut adc = at_adc_f32::ZEROED;
+    // SAFETY: valid pointers to live values.
+    assert_eq!(unsafe { at_adc_f32_new(0, 2048.0, &mut adc) }, AT_OK);
+    let chain = chain_after(Some(&adc));
+    let mut state = at_chain_state_f32::FRESH;
+    let mut flagged = 0;
+    let count = |x: f32| (amplitude * x).round().clamp(-2048.0, 2047.0) as i16;
+    for k in 0..400 {
+        let theta = 0.3 + 0.0314 * k as f32;
+        // SAFETY: valid pointers to live values.
+        let e = unsafe {
+            at_chain_f32_update_i16(&chain, &mut state, count(theta.cos()), count(theta.sin()))
+        };
+        if k >= 200 {
+            flagged += u32::from(e.faults & AT_FAULT_FRONT_END != 0);
+        }
+    }
+    // SAFETY: a valid pointer to a live value.
+    (flagged, unsafe {
+        at_chain_state_f32_clear_front_end_faults(&mut state)
+    })
+}
+
+#[test]
+fn without_a_stated_range_the_rails_held_flat_are_found() {
+    // Amplitude 1.4 where the rails are at 0.9: one channel at least at a rail at every
+    // angle, found in the first turn.
+    let (flagged, faults) = flagged_without_a_range(3184.0);
+    assert!(flagged >= 195, "{flagged} of 200");
+    assert_eq!(faults, AT_FRONT_END_FAULT_CLIPPING);
+    // A clean signal: its extremes are no rails.
+    assert_eq!(flagged_without_a_range(1800.0), (0, 0));
+}
+
 /// A demodulator's pair at `angle` (nominal amplitude 1) with the front-end `faults`.
 fn pair_at(angle: f32, faults: u32) -> at_demodulated_pair_f32 {
     at_demodulated_pair_f32 {

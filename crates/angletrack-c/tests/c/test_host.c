@@ -4,7 +4,7 @@
  * the refusals (invalid gains, NULL pointers, zeroed structs, structs of another build); the
  * fixed-point observer from the constants `angletrack design --dtype fixed --format c`
  * prints (fixed_ato3.h) on 12-bit counts, and its chain with the angle-correction tables
- * (test_host_tables.c). Prints one line per check
+ * (test_host_tables.c); the float chain's front-end faults (test_host_front_end.c). Prints one line per check
  * and exits 0 if all pass. Built and run by scripts/test.d/16-c-api.sh. */
 #include <stdio.h>
 #include <string.h>
@@ -14,6 +14,7 @@
 #include "gains_ato2.h"
 #include "gains_ato3.h"
 #include "scenario.h"
+#include "test_host_front_end.h"
 #include "test_host_tables.h"
 
 /* Statically allocated, as firmware would: zeroed, so the states are fresh. */
@@ -241,122 +242,6 @@ static void demodulation(void) {
   check(fabs(e.angle - theta) < 1e-3 && pairs == 376 && (e.faults | pair.faults) == 0u, line);
 }
 
-/* `count` samples of a still shaft at 1 rad (1500 counts from mid-scale `mid`) through
- * `c`, then (`clip_c`, `clip_s`): whether that estimate carries AT_FAULT_FRONT_END with the
- * angle held (the observer coasted), every estimate before it without a fault. */
-static int coasts_through(const at_chain_f32 *c, int32_t mid, int32_t clip_c, int32_t clip_s) {
-  at_chain_state_f32_reset(&chain_state);
-  at_estimate_f32 before = {0};
-  uint32_t faults = 0u;
-  for (int k = 0; k < 200; k++) {
-    before = at_chain_f32_update_i32(c, &chain_state, mid + (int32_t)lrint(1500.0 * cos(1.0)),
-                                     mid + (int32_t)lrint(1500.0 * sin(1.0)));
-    faults |= before.faults;
-  }
-  at_estimate_f32 e = at_chain_f32_update_i32(c, &chain_state, clip_c, clip_s);
-  return faults == 0u && e.faults == AT_FAULT_FRONT_END && fabs(e.angle - before.angle) < 1e-4;
-}
-
-/* The windings of a 12-bit resolver at 50 electrical rev/s (10 kHz carrier sampled at
- * 160 kHz, amplitude 1800 counts, 2 counts of noise) whose excitation is lost for 10 ms
- * after 0.2 s, through the demodulator into `c` with each pair's faults: the worst angle
- * error from the loss on (rad), and the lost pairs and those of them flagged. */
-static double through_a_loss(const at_chain_f32 *c, const at_demodulator_f32 *demodulator,
-                             long *lost, long *flagged) {
-  static at_demodulator_state_f32 demodulator_state;
-  at_demodulator_state_f32_reset(&demodulator_state);
-  at_chain_state_f32_reset(&chain_state);
-  at_demodulated_pair_f32 pair;
-  double worst = 0.0;
-  unsigned noise = 12345u;
-  *lost = *flagged = 0;
-  for (long k = 0; k < 41600; k++) {
-    double t = (double)k / 160e3, theta = 2.0 * SCENARIO_PI * 50.0 * t;
-    double excitation = t >= 0.2 && t < 0.21 ? 0.0 : 1800.0 * sin(2.0 * SCENARIO_PI * 10e3 * t);
-    noise = noise * 1103515245u + 12345u;
-    float n_c = (float)((noise >> 16) % 5u) - 2.0f;
-    noise = noise * 1103515245u + 12345u;
-    float n_s = (float)((noise >> 16) % 5u) - 2.0f;
-    float raw_c = (float)(2048.0 + cos(theta) * excitation) + n_c;
-    float raw_s = (float)(2048.0 + sin(theta) * excitation) + n_s;
-    if (at_demodulator_f32_push(demodulator, &demodulator_state, raw_c, raw_s, &pair) != 1u) continue;
-    at_estimate_f32 e = at_chain_f32_update_demodulated(c, &chain_state, &pair);
-    double centre_s = pair.centre_sample / 160e3;
-    if (centre_s >= 0.2) {
-      double error = fabs(scenario_wrapped((double)e.angle - 2.0 * SCENARIO_PI * 50.0 * centre_s));
-      if (error > worst) worst = error;
-    }
-    if (pair.faults & AT_FRONT_END_FAULT_LOSS_OF_EXCITATION) {
-      (*lost)++;
-      *flagged += (e.faults & AT_FAULT_FRONT_END) != 0u;
-    }
-  }
-  return worst;
-}
-
-/* The front end's faults in the float chain: clipping against the ADC's stated range (its
- * bits, or at_adc_f32_set_range), a demodulator's loss of excitation coasted through. */
-static void front_end_checks(void) {
-  char line[300];
-  static at_adc_f32 signed_adc, stated_adc, unstated_adc;
-  static at_chain_f32 clipping_chain;
-  check_status(at_adc_f32_twos_complement(12, &signed_adc), AT_OK, "signed 12-bit ADC");
-  check_status(at_chain_f32_new(&gains3, &signed_adc, NULL, NULL, NULL, NULL, &clipping_chain),
-               AT_OK, "chain: signed 12-bit ADC, observer");
-  check(coasts_through(&clipping_chain, 0, 2047, -2048),
-        "signed 12-bit counts at 2047 and -2048: flagged front end, coasted through");
-  check(at_chain_f32_update_i16(&clipping_chain, &chain_state, 2047, 300).faults ==
-                AT_FAULT_FRONT_END &&
-            at_chain_f32_update_i16(&clipping_chain, &chain_state, 2046, 300).faults == 0u,
-        "one channel at 2047 flagged, 2046 not");
-  check(at_chain_state_f32_clear_front_end_faults(&chain_state) == AT_FRONT_END_FAULT_CLIPPING &&
-            at_chain_state_f32_clear_front_end_faults(&chain_state) == 0u,
-        "clipping latched in the state, then cleared");
-  check_status(at_adc_f32_new(2048, 2048.0f, &stated_adc), AT_OK, "ADC, no range stated");
-  unstated_adc = stated_adc;
-  check_status(at_adc_f32_set_range(&stated_adc, 4095, 0), AT_ERR_ADC_RANGE,
-               "ADC range 4095 to 0 refused");
-  check_status(at_adc_f32_set_range(&stated_adc, 0, 4095), AT_OK, "ADC range 0 to 4095 stated");
-  check_status(at_chain_f32_new(&gains3, &stated_adc, NULL, NULL, NULL, NULL, &clipping_chain),
-               AT_OK, "chain: offset-binary ADC with its range, observer");
-  check(coasts_through(&clipping_chain, 2048, 4095, 0),
-        "offset-binary counts at 4095 and 0: flagged front end, coasted through");
-  check_status(at_chain_f32_new(&gains3, &unstated_adc, NULL, NULL, NULL, NULL, &clipping_chain),
-               AT_OK, "chain: offset-binary ADC without a range, observer");
-  check(!coasts_through(&clipping_chain, 2048, 4095, 0), "without the range: not flagged");
-
-  /* An ADC with another struct's tag, or of another build: refused. The private fields
-   * are written here only to make such a struct. */
-  at_adc_f32 other = stated_adc;
-  other.tag ^= 1u;
-  check_status(at_chain_f32_new(&gains3, &other, NULL, NULL, NULL, NULL, &clipping_chain),
-               AT_ERR_NOT_INITIALISED, "ADC with a wrong tag refused");
-  other = stated_adc;
-  other.layout += 2;
-  check_status(at_chain_f32_new(&gains3, &other, NULL, NULL, NULL, NULL, &clipping_chain),
-               AT_ERR_OTHER_BUILD, "ADC of another build refused");
-  check_status(at_adc_f32_set_range(&other, 0, 4095), AT_ERR_OTHER_BUILD,
-               "range of an ADC of another build refused");
-
-  /* A 10 ms loss of excitation at 50 rev/s through the demodulator. */
-  static at_demodulator_f32 demodulator;
-  static at_gains_f32 coast_gains;
-  static at_chain_f32 resolver_chain;
-  const float gains[3] = {0.3f, 0.04f, 0.002f};
-  at_demodulator_settings_f32 settings = at_demodulator_settings_f32_new(10e3f, 160e3f, 1800.0f, 0.0f, 4095.0f);
-  check_status(at_demodulator_f32_new(&settings, &demodulator), AT_OK, "demodulator: 160 kHz");
-  check_status(at_gains_f32_new(gains, 3, 1e-4f, &coast_gains), AT_OK, "gains 0.3, 0.04, 0.002");
-  check_status(at_chain_f32_new(&coast_gains, NULL, NULL, NULL, NULL, NULL, &resolver_chain), AT_OK,
-               "chain: observer at the carrier period");
-  long lost, flagged;
-  double worst = through_a_loss(&resolver_chain, &demodulator, &lost, &flagged);
-  snprintf(line, sizeof line,
-           "10 ms loss of excitation at 50 rev/s: worst angle error %.4f rad from the loss on, "
-           "%ld pairs lost, %ld flagged front end",
-           worst, lost, flagged);
-  check(worst < 0.02 && lost >= 98 && lost <= 102 && flagged == lost, line);
-}
-
 /* Structs of another build (another layout version, struct size, library version or
  * target: another layout word beside an "AT" tag) are refused, never read. The private
  * `layout` field is written here only to make such a struct. */
@@ -463,7 +348,7 @@ int main(void) {
   fixed_point();
   chains();
   demodulation();
-  front_end_checks();
+  failures += front_end_checks(&gains3);
   layouts();
   failures += fixed_chain_checks(&gains3);
 

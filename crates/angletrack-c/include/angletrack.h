@@ -15,7 +15,8 @@
  * less mid-scale, 12-bit ones shifted left by 4), at_fixed_state_estimate() on demand (or
  * at_fixed_update(), both); its signal chain, at_chain_fixed_new() (the ADC's at_adc_counts,
  * a stored calibration in the observer's 16-bit counts, the Q15 at_angle_table_fixed, the
- * monitor's amplitude), takes raw counts: at_chain_fixed_track_u16() (or _i16, _i32),
+ * monitor's amplitude; at_chain_fixed_with_adc_range() flags clipped counts), takes raw
+ * counts: at_chain_fixed_track_u16() (or _i16, _i32),
  * at_chain_fixed_estimate() on demand. One float signal chain of optional stages (at_chain_f32_new(): the
  * ADC, a stored calibration or the online calibration with its at_calibration_settings_f32,
  * the harmonic at_angle_correction_f32, the observer) serves every combination:
@@ -119,13 +120,13 @@
  * The 8-byte words of an `at_chain_fixed`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_FIXED_WORDS 76
+#define AT_CHAIN_FIXED_WORDS 77
 
 /**
  * The 8-byte words of an `at_chain_state_fixed`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_STATE_FIXED_WORDS 7
+#define AT_CHAIN_STATE_FIXED_WORDS 8
 
 /**
  * The 8-byte words of an `at_demodulator_f32`'s storage (checked against the Rust types at
@@ -1684,6 +1685,30 @@ at_status at_chain_fixed_new(const struct at_fixed_gains *gains,
                              const struct at_angle_table_fixed *table,
                              double nominal_amplitude_counts,
                              struct at_chain_fixed *out);
+
+/**
+ * Writes to `out` the chain `chain` with the ADC's range of codes stated: its lowest
+ * `min_counts` and highest `max_counts` (raw counts, as the chain takes them;
+ * `AT_ERR_ADC_RANGE` unless `min_counts < max_counts`). A sample with a channel at or
+ * beyond a rail is flagged `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_CLIPPING`), and one
+ * with both there is coasted through. `out` unchanged on error.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_chain_fixed_with_adc_range(const struct at_chain_fixed *chain,
+                                        int32_t min_counts,
+                                        int32_t max_counts,
+                                        struct at_chain_fixed *out);
+
+/**
+ * Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
+ * against the ADC's range) and clears them. 0 for NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_state_fixed_clear_front_end_faults(struct at_chain_state_fixed *state);
 
 /**
  * One sample of `int16` counts through the chain's stages and observer, the state only (the

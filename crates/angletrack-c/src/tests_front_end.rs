@@ -346,3 +346,79 @@ fn structs_of_the_previous_layout_or_holding_another_type_are_refused() {
         );
     }
 }
+
+#[test]
+fn the_fixed_point_chain_flags_signed_12_bit_counts_at_its_stated_rails() {
+    let mut gains = at_fixed_gains::ZEROED;
+    let mut adc = at_adc_counts::default();
+    let mut plain = at_chain_fixed::ZEROED;
+    let mut chain = at_chain_fixed::ZEROED;
+    // SAFETY: valid pointers to live values, or NULL.
+    unsafe {
+        assert_eq!(
+            at_fixed_gains_new(GAINS_3.as_ptr(), 3, 1e-4, &mut gains),
+            AT_OK
+        );
+        assert_eq!(at_adc_counts_twos_complement(12, &mut adc), AT_OK);
+        assert_eq!(
+            at_chain_fixed_new(&gains, &adc, null(), null(), 0.0, &mut plain),
+            AT_OK
+        );
+        assert_eq!(
+            at_chain_fixed_with_adc_range(&plain, 2047, -2048, &mut chain),
+            AT_ERR_ADC_RANGE
+        );
+        assert_eq!(chain.clone_tag(), 0, "unchanged on error");
+        assert_eq!(
+            at_chain_fixed_with_adc_range(&plain, -2048, 2047, &mut chain),
+            AT_OK
+        );
+        let (c, s) = counts_at(1.0, 1500.0);
+        let run = |chain: &at_chain_fixed, state: &mut at_chain_state_fixed| {
+            for _ in 0..20 {
+                let e = at_chain_fixed_update_i16(chain, state, c as i16, s as i16);
+                assert_eq!(e.faults, 0);
+            }
+            let before = at_chain_fixed_estimate(chain, state);
+            (before, at_chain_fixed_update_i16(chain, state, 2047, -2048))
+        };
+        // Both channels at a rail: flagged, the angle held; without the range, used.
+        let mut state = at_chain_state_fixed::FRESH;
+        let (before, e) = run(&chain, &mut state);
+        assert_eq!(e.faults, AT_FAULT_FRONT_END);
+        assert_eq!(e.angle, before.angle.wrapping_add(before.speed));
+        let mut plain_state = at_chain_state_fixed::FRESH;
+        let (before, used) = run(&plain, &mut plain_state);
+        assert_eq!(used.faults, 0);
+        // More than 0.05 rad (2^32 per turn).
+        assert!(used.angle.wrapping_sub(before.angle).unsigned_abs() > 34_000_000);
+        // One channel at a rail: flagged; inside: not.
+        assert_eq!(
+            at_chain_fixed_update_i16(&chain, &mut state, 300, 2047).faults,
+            AT_FAULT_FRONT_END
+        );
+        assert_eq!(
+            at_chain_fixed_update_i16(&chain, &mut state, 300, 2046).faults,
+            0
+        );
+        assert_eq!(
+            at_chain_state_fixed_clear_front_end_faults(&mut state),
+            AT_FRONT_END_FAULT_CLIPPING
+        );
+        assert_eq!(at_chain_state_fixed_clear_front_end_faults(&mut state), 0);
+        assert_eq!(
+            at_chain_state_fixed_clear_front_end_faults(&mut plain_state),
+            0
+        );
+        // A chain of the previous layout version: refused.
+        let mut old = plain;
+        old.set_layout_for_test(layout_of_version(
+            AT_LAYOUT_VERSION - 1,
+            size_of::<at_chain_fixed>(),
+        ));
+        assert_eq!(
+            at_chain_fixed_with_adc_range(&old, -2048, 2047, &mut chain),
+            AT_ERR_OTHER_BUILD
+        );
+    }
+}

@@ -1,8 +1,9 @@
 /* The host C test's checks of the float chain's front-end faults (linked with test_host.c,
  * which calls front_end_checks): clipping against the ADC's stated range (its bits, or
  * at_adc_f32_set_range) and, without one, against the rails measured as extremes held
- * flat; a 10 ms loss of excitation through the demodulator, coasted through; an ADC with a
- * wrong tag or of another build, refused. */
+ * flat; the fixed-point chain's clipping against its stated range; a 10 ms loss of
+ * excitation through the demodulator, coasted through; an ADC with a wrong tag or of
+ * another build, refused. */
 #include <math.h>
 #include <stdio.h>
 
@@ -144,6 +145,34 @@ int front_end_checks(const at_gains_f32 *gains3) {
            "the second turn flagged (latched 0x%x); a clean 1800 counts, %ld",
            clipped, (unsigned)latched, clean);
   check(clipped >= 195 && latched == AT_FRONT_END_FAULT_CLIPPING && clean == 0, line);
+
+  /* The fixed-point chain with its ADC's range stated: signed 12-bit counts. */
+  static at_fixed_gains fixed;
+  static at_chain_fixed plain_fixed, fixed_chain;
+  static at_chain_state_fixed fixed_state;
+  const float fixed_gains[3] = {0.094326f, 0.000562075f, 1.213522e-5f};
+  at_adc_counts counts;
+  check_status(at_fixed_gains_new(fixed_gains, 3, 1e-4f, &fixed), AT_OK, "fixed-point gains");
+  check_status(at_adc_counts_twos_complement(12, &counts), AT_OK, "signed 12-bit counts");
+  check_status(at_chain_fixed_new(&fixed, &counts, NULL, NULL, 0.0, &plain_fixed), AT_OK,
+               "fixed chain: ADC, observer");
+  check_status(at_chain_fixed_with_adc_range(&plain_fixed, 2047, -2048, &fixed_chain),
+               AT_ERR_ADC_RANGE, "fixed chain: range 2047 to -2048 refused");
+  check_status(at_chain_fixed_with_adc_range(&plain_fixed, -2048, 2047, &fixed_chain), AT_OK,
+               "fixed chain: range -2048 to 2047");
+  uint32_t still = 0u;
+  for (int k = 0; k < 20; k++) {
+    still |= at_chain_fixed_update_i16(&fixed_chain, &fixed_state, (int16_t)lrint(1500.0 * cos(1.0)),
+                                       (int16_t)lrint(1500.0 * sin(1.0))).faults;
+  }
+  at_fixed_estimate held = at_chain_fixed_estimate(&fixed_chain, &fixed_state);
+  at_fixed_estimate e = at_chain_fixed_update_i16(&fixed_chain, &fixed_state, 2047, -2048);
+  check(still == 0u && e.faults == AT_FAULT_FRONT_END && (uint32_t)e.angle == (uint32_t)held.angle + (uint32_t)held.speed &&
+            at_chain_fixed_update_i16(&fixed_chain, &fixed_state, 300, 2047).faults ==
+                AT_FAULT_FRONT_END &&
+            at_chain_fixed_update_i16(&fixed_chain, &fixed_state, 300, 2046).faults == 0u &&
+            at_chain_state_fixed_clear_front_end_faults(&fixed_state) == AT_FRONT_END_FAULT_CLIPPING,
+        "fixed chain: counts at 2047 and -2048 flagged and coasted through, one at 2047 flagged");
 
   /* An ADC with another struct's tag, or of another build: refused. The private fields
    * are written here only to make such a struct. */

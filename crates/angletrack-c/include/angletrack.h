@@ -399,8 +399,9 @@ typedef struct at_estimate_f32 {
 
 /**
  * The checked ADC front end, made by `at_adc_f32_new`, `at_adc_f32_offset_binary` or
- * `at_adc_f32_twos_complement`. Immutable once made; place it anywhere; copy it by
- * assignment; never write its fields. A zeroed one is refused.
+ * `at_adc_f32_twos_complement`, with its range of codes (stated by the last two, or by
+ * `at_adc_f32_set_range` at start-up). Immutable once made but for its range; place it
+ * anywhere; copy it by assignment; never write its fields. A zeroed one is refused.
  */
 typedef struct at_adc_f32 {
   /**
@@ -1518,7 +1519,8 @@ at_status at_chain_f32_with_winding_check(const struct at_chain_f32 *chain,
  * winding open or shorted) the observer coasts on its prediction instead of using it, and
  * every fault is latched as `AT_FAULT_FRONT_END` (`at_chain_state_f32_clear_front_end_faults`
  * gives the front-end bits). Returns 0, or `AT_FAULT_INVALID_ARGUMENT` (nothing changed)
- * for refused arguments.
+ * for refused arguments, a chain with an ADC stage among them (the demodulator takes the
+ * counts: build the chain without one).
  *
  * # Safety
  * See the header's introduction.

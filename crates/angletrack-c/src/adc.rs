@@ -24,7 +24,7 @@ pub(crate) struct AdcF32 {
 }
 
 impl Stored for AdcF32 {
-    // "ATA", version 2: with its range.
+    // "ATA" 2: the scaling with its range (a struct holding the scaling alone is refused).
     const TAG: u32 = 0x4154_4102;
 }
 
@@ -52,8 +52,9 @@ pub(crate) fn codes_of(bits: u32, offset_binary: bool) -> (i32, i32) {
 }
 
 /// The checked ADC front end, made by `at_adc_f32_new`, `at_adc_f32_offset_binary` or
-/// `at_adc_f32_twos_complement`. Immutable once made; place it anywhere; copy it by
-/// assignment; never write its fields. A zeroed one is refused.
+/// `at_adc_f32_twos_complement`, with its range of codes (stated by the last two, or by
+/// `at_adc_f32_set_range` at start-up). Immutable once made but for its range; place it
+/// anywhere; copy it by assignment; never write its fields. A zeroed one is refused.
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct at_adc_f32 {

@@ -446,13 +446,15 @@ impl Input for Pair {
 }
 
 /// A demodulator's pair, with the front-end faults of its window (`faults`: the
-/// `AT_FRONT_END_FAULT_*` bits, the core's `FrontEndFaults`).
+/// `AT_FRONT_END_FAULT_*` bits, the core's `FrontEndFaults`), for a chain without an ADC
+/// stage (the demodulator took the counts; the ADC's range, in counts, says nothing of a
+/// pair).
 impl Input for &at_demodulated_pair_f32 {
     #[inline(always)]
-    fn pair(self, _: Option<&AdcScaling<f32>>) -> Option<((f32, f32), FrontEndFaults)> {
+    fn pair(self, adc: Option<&AdcScaling<f32>>) -> Option<((f32, f32), FrontEndFaults)> {
         // The core's flags fit 8 bits; higher bits are none of its.
         let faults = FrontEndFaults::from_bits((self.faults & 0xff) as u8);
-        Some(((self.y_c, self.y_s), faults))
+        adc.is_none().then_some(((self.y_c, self.y_s), faults))
     }
 }
 

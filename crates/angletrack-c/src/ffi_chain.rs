@@ -270,7 +270,8 @@ pub unsafe extern "C" fn at_chain_f32_with_winding_check(
 /// winding open or shorted) the observer coasts on its prediction instead of using it, and
 /// every fault is latched as `AT_FAULT_FRONT_END` (`at_chain_state_f32_clear_front_end_faults`
 /// gives the front-end bits). Returns 0, or `AT_FAULT_INVALID_ARGUMENT` (nothing changed)
-/// for refused arguments.
+/// for refused arguments, a chain with an ADC stage among them (the demodulator takes the
+/// counts: build the chain without one).
 ///
 /// # Safety
 /// See the header's introduction.

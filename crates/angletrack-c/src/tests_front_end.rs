@@ -240,6 +240,13 @@ fn a_demodulator_s_loss_of_excitation_is_flagged_and_coasted_through() {
             at_chain_f32_track_demodulated(&chain, &mut state, null()),
             AT_FAULT_INVALID_ARGUMENT
         );
+        let mut adc = at_adc_f32::ZEROED;
+        assert_eq!(at_adc_f32_offset_binary(12, &mut adc), AT_OK);
+        assert_eq!(
+            at_chain_f32_track_demodulated(&chain_after(Some(&adc)), &mut state, &lost),
+            AT_FAULT_INVALID_ARGUMENT,
+            "a chain with an ADC stage refuses pairs"
+        );
         assert_eq!(
             at_chain_f32_update_demodulated(&chain, &mut state, null()).faults,
             AT_FAULT_INVALID_ARGUMENT

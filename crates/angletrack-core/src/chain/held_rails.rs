@@ -1,6 +1,7 @@
 //! [`HeldRailCheck`]: clipping flagged without a stated ADC range, against the rails
-//! measured on the samples as they come (`docs/theory.md §15`): an extreme held flat, as a
-//! clipped signal's is and a clean one's is not.
+//! measured on the samples as they come: an extreme held flat, as a clipped signal's is and
+//! a clean one's is not (the CLI's test of a measured range, made per sample, with a still
+//! shaft's constant windings told apart).
 
 use super::front_end_check::FrontEndCheckState;
 use super::{Prediction, Stage};
@@ -145,6 +146,15 @@ pub struct HeldRailCheck;
 
 impl HeldRailCheck {
     /// The check (it has no setting).
+    ///
+    /// ```
+    /// use angletrack_core::{Chain, ChainState, Gains, HeldRailCheck};
+    /// let chain = Chain::new(HeldRailCheck::new(), Gains::<f64, 2>::new([0.05, 0.0012], 1e-4)?);
+    /// let mut state = ChainState::new();
+    /// chain.update(&mut state, (0.8, 0.6));
+    /// assert_eq!(state.front_end.rails(), (None, None));
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
     pub const fn new() -> Self {
         Self
     }

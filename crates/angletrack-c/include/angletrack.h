@@ -566,41 +566,6 @@ typedef struct at_chain_state_f32 {
 } at_chain_state_f32;
 
 /**
- * One demodulated pair: the windings' envelopes at the centroid of their window.
- */
-typedef struct at_demodulated_pair_f32 {
-  /**
-   * The cosine winding's envelope, `~ cos theta` (nominal amplitude 1).
-   */
-  float y_c;
-  /**
-   * The sine winding's envelope, `~ sin theta`.
-   */
-  float y_s;
-  /**
-   * The cosine winding's quadrature component (about 0).
-   */
-  float quadrature_c;
-  /**
-   * The sine winding's quadrature component (about 0).
-   */
-  float quadrature_s;
-  /**
-   * The index of the window (start-up windows included).
-   */
-  uint64_t window;
-  /**
-   * The ADC sample index (from 0, the first sample pushed) at which the pair holds: the
-   * centroid of its window's weights (divide by the ADC rate for seconds).
-   */
-  double centre_sample;
-  /**
-   * This window's front-end faults (`AT_FRONT_END_FAULT_*` bits).
-   */
-  uint32_t faults;
-} at_demodulated_pair_f32;
-
-/**
  * The ADC of a fixed-point chain (the core's `AdcCounts`): each count less
  * `mid_scale_counts`, shifted left by `shift` (0 to 15) bits to the observer's 16-bit range,
  * saturated. Plain: write it (`{2048, 4}` for a 12-bit offset-binary ADC), or fill it with
@@ -830,6 +795,41 @@ typedef struct at_demodulator_state_f32 {
    */
   uint64_t storage[AT_DEMODULATOR_STATE_F32_WORDS];
 } at_demodulator_state_f32;
+
+/**
+ * One demodulated pair: the windings' envelopes at the centroid of their window.
+ */
+typedef struct at_demodulated_pair_f32 {
+  /**
+   * The cosine winding's envelope, `~ cos theta` (nominal amplitude 1).
+   */
+  float y_c;
+  /**
+   * The sine winding's envelope, `~ sin theta`.
+   */
+  float y_s;
+  /**
+   * The cosine winding's quadrature component (about 0).
+   */
+  float quadrature_c;
+  /**
+   * The sine winding's quadrature component (about 0).
+   */
+  float quadrature_s;
+  /**
+   * The index of the window (start-up windows included).
+   */
+  uint64_t window;
+  /**
+   * The ADC sample index (from 0, the first sample pushed) at which the pair holds: the
+   * centroid of its window's weights (divide by the ADC rate for seconds).
+   */
+  double centre_sample;
+  /**
+   * This window's front-end faults (`AT_FRONT_END_FAULT_*` bits).
+   */
+  uint32_t faults;
+} at_demodulated_pair_f32;
 
 /**
  * One fixed-point channel's mutable state: the integer state vector, the amplitude's
@@ -1498,59 +1498,6 @@ struct at_estimate_f32 at_chain_f32_update_i32(const struct at_chain_f32 *chain,
                                                int32_t raw_s);
 
 /**
- * Writes to `out` the chain `chain` with a winding check: a winding open or shorted (one
- * winding reading below a quarter of `nominal_amplitude` where the observer's prediction
- * puts at least half of it, the other agreeing with the prediction) is flagged
- * `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_WINDING`) and coasted through while it holds.
- * `nominal_amplitude` is the windings' peak in the chain's input units after the
- * calibration (1 for a demodulator's pairs; `AT_ERR_NOMINAL_AMPLITUDE` unless finite and
- * positive). `out` unchanged on error.
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_chain_f32_with_winding_check(const struct at_chain_f32 *chain,
-                                          float nominal_amplitude,
-                                          struct at_chain_f32 *out);
-
-/**
- * `at_chain_f32_track` on a demodulator's pair (`at_demodulator_f32_push`), with the
- * front-end faults of its window: while one invalidates the pair (loss of excitation, a
- * winding open or shorted) the observer coasts on its prediction instead of using it, and
- * every fault is latched as `AT_FAULT_FRONT_END` (`at_chain_state_f32_clear_front_end_faults`
- * gives the front-end bits). Returns 0, or `AT_FAULT_INVALID_ARGUMENT` (nothing changed)
- * for refused arguments, a chain with an ADC stage among them (the demodulator takes the
- * counts: build the chain without one).
- *
- * # Safety
- * See the header's introduction.
- */
-uint32_t at_chain_f32_track_demodulated(const struct at_chain_f32 *chain,
-                                        struct at_chain_state_f32 *state,
-                                        const struct at_demodulated_pair_f32 *pair);
-
-/**
- * `at_chain_f32_track_demodulated`, then the estimate, which carries `AT_FAULT_FRONT_END`
- * while the pair has a front-end fault.
- *
- * # Safety
- * See the header's introduction.
- */
-struct at_estimate_f32 at_chain_f32_update_demodulated(const struct at_chain_f32 *chain,
-                                                       struct at_chain_state_f32 *state,
-                                                       const struct at_demodulated_pair_f32 *pair);
-
-/**
- * Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
- * against the ADC's range, the demodulator's faults, a winding open or shorted) and clears
- * them. 0 for NULL.
- *
- * # Safety
- * See the header's introduction.
- */
-uint32_t at_chain_state_f32_clear_front_end_faults(struct at_chain_state_f32 *state);
-
-/**
  * The estimate `state` holds for `chain` (its last sample's; the observer's faults, the
  * stages' latched in the state). Refused arguments: `AT_FAULT_INVALID_ARGUMENT`.
  *
@@ -2100,6 +2047,59 @@ double at_fixed_position_rad(const struct at_fixed_estimate *estimate);
  */
 double at_fixed_speed_rad_s(const struct at_fixed_gains *gains,
                             const struct at_fixed_estimate *estimate);
+
+/**
+ * Writes to `out` the chain `chain` with a winding check: a winding open or shorted (one
+ * winding reading below a quarter of `nominal_amplitude` where the observer's prediction
+ * puts at least half of it, the other agreeing with the prediction) is flagged
+ * `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_WINDING`) and coasted through while it holds.
+ * `nominal_amplitude` is the windings' peak in the chain's input units after the
+ * calibration (1 for a demodulator's pairs; `AT_ERR_NOMINAL_AMPLITUDE` unless finite and
+ * positive). `out` unchanged on error.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_chain_f32_with_winding_check(const struct at_chain_f32 *chain,
+                                          float nominal_amplitude,
+                                          struct at_chain_f32 *out);
+
+/**
+ * `at_chain_f32_track` on a demodulator's pair (`at_demodulator_f32_push`), with the
+ * front-end faults of its window: while one invalidates the pair (loss of excitation, a
+ * winding open or shorted) the observer coasts on its prediction instead of using it, and
+ * every fault is latched as `AT_FAULT_FRONT_END` (`at_chain_state_f32_clear_front_end_faults`
+ * gives the front-end bits). Returns 0, or `AT_FAULT_INVALID_ARGUMENT` (nothing changed)
+ * for refused arguments, a chain with an ADC stage among them (the demodulator takes the
+ * counts: build the chain without one).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_f32_track_demodulated(const struct at_chain_f32 *chain,
+                                        struct at_chain_state_f32 *state,
+                                        const struct at_demodulated_pair_f32 *pair);
+
+/**
+ * `at_chain_f32_track_demodulated`, then the estimate, which carries `AT_FAULT_FRONT_END`
+ * while the pair has a front-end fault.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_chain_f32_update_demodulated(const struct at_chain_f32 *chain,
+                                                       struct at_chain_state_f32 *state,
+                                                       const struct at_demodulated_pair_f32 *pair);
+
+/**
+ * Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
+ * against the ADC's range, the demodulator's faults, a winding open or shorted) and clears
+ * them. 0 for NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_state_f32_clear_front_end_faults(struct at_chain_state_f32 *state);
 
 #ifdef __cplusplus
 }  // extern "C"

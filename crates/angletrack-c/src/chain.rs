@@ -14,7 +14,7 @@
 //! observer coasting through those that invalidate it; for an ADC without a stated range,
 //! the core's [`HeldRailCheck`] flags clipping against the rails it measures; the core's
 //! [`WindingCheck`], if asked for, a winding open or shorted;
-//! [`Calibration`] is the one calibration stage of C's choice (none, the core's
+//! `Calibration` (in `calibration`) is the one calibration stage of C's choice (none, the core's
 //! `SensorCalibration`, or its `OnlineCalibration`), which delegates each of the core's
 //! `Stage` methods to the stage it holds; [`Correction`] likewise the angle correction
 //! (none, the core's harmonic `AngleCorrection` or its `AngleCorrectionTable`). Counts go
@@ -24,13 +24,13 @@ use core::mem::MaybeUninit;
 
 use angletrack_core::{
     AdcSample, AdcScaling, AngleCorrection, CalibrationSettings, Calibrator, Chain, ChainState,
-    ConfigError, Faults, Feedback, FrontEndCheck, FrontEndCheckState, FrontEndFaults, Gains,
-    HeldRailCheck, HeldRails, MAX_CORRECTION_ORDER, ObserverState, OnlineCalibration, Order,
-    Prediction, SensorCalibration, Stage, SupportedOrder, WindingCheck,
+    ConfigError, FrontEndCheck, FrontEndCheckState, FrontEndFaults, Gains, HeldRailCheck,
+    HeldRails, MAX_CORRECTION_ORDER, ObserverState, OnlineCalibration, Order, SupportedOrder,
+    WindingCheck,
 };
 
 use crate::adc::AdcF32;
-use crate::calibration::at_sensor_calibration_f32;
+use crate::calibration::{Calibration, at_sensor_calibration_f32};
 use crate::demodulator::at_demodulated_pair_f32;
 use crate::gains::{AnyGains, at_gains_f32};
 use crate::observer::at_estimate_f32;
@@ -137,65 +137,6 @@ impl at_calibration_settings_f32 {
         s.max_amplitude_mismatch = self.max_amplitude_mismatch;
         s.max_quadrature_rad = self.max_quadrature_rad;
         s
-    }
-}
-
-/// The chain's calibration stage: none, a stored calibration or the online calibration.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) enum Calibration {
-    /// No calibration.
-    None,
-    /// A stored calibration, applied to every sample.
-    Stored(SensorCalibration<f32>),
-    /// The online calibration (its state the channel's `Calibrator`).
-    Online(OnlineCalibration<f32>),
-}
-
-/// The core's stage held, each `Stage` method delegated to it.
-impl Stage<f32, (f32, f32)> for Calibration {
-    type State = Calibrator<f32>;
-    type Memo = (f32, f32);
-
-    #[inline(always)]
-    fn forward(
-        &self,
-        calibrator: &mut Calibrator<f32>,
-        prediction: &impl Prediction<f32>,
-        input: (f32, f32),
-    ) -> ((f32, f32), (f32, f32)) {
-        match self {
-            Calibration::None => (input, input),
-            Calibration::Stored(stored) => (stored.forward(&mut (), prediction, input).0, input),
-            Calibration::Online(online) => online.forward(calibrator, prediction, input),
-        }
-    }
-
-    #[inline(always)]
-    fn feedback(
-        &self,
-        calibrator: &mut Calibrator<f32>,
-        raw: (f32, f32),
-        used: Option<Feedback<f32>>,
-    ) {
-        if let Calibration::Online(online) = self {
-            online.feedback(calibrator, raw, used);
-        }
-    }
-
-    #[inline(always)]
-    fn faults(&self, calibrator: &mut Calibrator<f32>) -> Faults {
-        match self {
-            Calibration::Online(online) => online.faults(calibrator),
-            _ => Faults::NONE,
-        }
-    }
-
-    #[inline(always)]
-    fn quiet(&self, calibrator: &Calibrator<f32>) -> bool {
-        match self {
-            Calibration::Online(online) => online.quiet(calibrator),
-            _ => true,
-        }
     }
 }
 

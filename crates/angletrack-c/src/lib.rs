@@ -58,6 +58,7 @@ mod ffi_chain;
 mod ffi_chain_fixed;
 mod ffi_demodulator;
 mod ffi_fixed;
+mod ffi_front_end;
 mod fixed;
 mod gains;
 mod observer;
@@ -91,6 +92,7 @@ pub use ffi_chain::*;
 pub use ffi_chain_fixed::*;
 pub use ffi_demodulator::*;
 pub use ffi_fixed::*;
+pub use ffi_front_end::*;
 pub use fixed::{
     AT_FIXED_GAINS_WORDS, AT_FIXED_STATE_WORDS, at_fixed_estimate, at_fixed_gains, at_fixed_state,
 };

@@ -15,13 +15,17 @@
  * less mid-scale, 12-bit ones shifted left by 4), at_fixed_state_estimate() on demand (or
  * at_fixed_update(), both); its signal chain, at_chain_fixed_new() (the ADC's at_adc_counts,
  * a stored calibration in the observer's 16-bit counts, the Q15 at_angle_table_fixed, the
- * monitor's amplitude), takes raw counts: at_chain_fixed_track_u16() (or _i16, _i32),
+ * monitor's amplitude; at_chain_fixed_with_adc_range() flags clipped counts), takes raw
+ * counts: at_chain_fixed_track_u16() (or _i16, _i32),
  * at_chain_fixed_estimate() on demand. One float signal chain of optional stages (at_chain_f32_new(): the
  * ADC, a stored calibration or the online calibration with its at_calibration_settings_f32,
  * the harmonic at_angle_correction_f32, the observer) serves every combination:
  * at_chain_f32_track*() on floats or counts, at_chain_f32_estimate() on demand, or
- * at_chain_f32_update*(). From raw resolver windings, at_demodulator_f32_push() gives one
- * (y_c, y_s) pair per carrier period for the chain. The structs are plain and sized: place
+ * at_chain_f32_update*(); with the ADC's range stated (its bits, or at_adc_f32_set_range()),
+ * a clipped sample is flagged AT_FAULT_FRONT_END. From raw resolver windings,
+ * at_demodulator_f32_push() gives one (y_c, y_s) pair per carrier period, which
+ * at_chain_f32_update_demodulated() takes with its faults (the observer coasts through a
+ * loss of excitation; at_chain_f32_with_winding_check() adds a winding open or shorted). The structs are plain and sized: place
  * them in static memory.
  * A zeroed at_state_f32, at_fixed_state, at_chain_state_f32, at_chain_state_fixed or
  * at_calibrator_f32 is a fresh one; zeroed at_gains_f32, at_fixed_gains, at_chain_f32,
@@ -53,7 +57,7 @@
  * The 8-byte words of an `at_adc_f32`'s storage (checked against the Rust type at compile
  * time, on every target).
  */
-#define AT_ADC_F32_WORDS 2
+#define AT_ADC_F32_WORDS 3
 
 /**
  * The 8-byte words of an `at_calibrator_f32`'s storage (checked against the Rust type at
@@ -98,13 +102,13 @@
  * The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_F32_WORDS 280
+#define AT_CHAIN_F32_WORDS 284
 
 /**
  * The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_STATE_F32_WORDS 22
+#define AT_CHAIN_STATE_F32_WORDS 29
 
 /**
  * The harmonic orders an `at_angle_correction_f32` holds (the core's
@@ -116,13 +120,13 @@
  * The 8-byte words of an `at_chain_fixed`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_FIXED_WORDS 76
+#define AT_CHAIN_FIXED_WORDS 77
 
 /**
  * The 8-byte words of an `at_chain_state_fixed`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_STATE_FIXED_WORDS 7
+#define AT_CHAIN_STATE_FIXED_WORDS 8
 
 /**
  * The 8-byte words of an `at_demodulator_f32`'s storage (checked against the Rust types at
@@ -158,6 +162,12 @@
  * its threshold, above the loss of excitation's).
  */
 #define AT_FRONT_END_FAULT_WEAK_EXCITATION (1 << 3)
+
+/**
+ * A front-end fault: a winding open or shorted (the chain's winding check,
+ * `at_chain_f32_with_winding_check`).
+ */
+#define AT_FRONT_END_FAULT_WINDING (1 << 4)
 
 /**
  * Loss of signal: a window's RMS amplitude is below the loss-of-signal threshold.
@@ -196,8 +206,9 @@
 
 /**
  * A front-end fault: a stage before the observer flagged the sample (the core's
- * `FrontEndCheck`, `WindingCheck`), and while the fault invalidates it the observer
- * coasted on its prediction. The C chains have no such stage yet: never set by them.
+ * `FrontEndCheck`, `WindingCheck`: clipping against the ADC's stated range, a
+ * demodulator's fault, a winding open or shorted), and while the fault invalidates it the
+ * observer coasted on its prediction. Set by the float chain (`at_chain_f32_*`).
  */
 #define AT_FAULT_FRONT_END (1 << 7)
 
@@ -238,7 +249,7 @@
  * crate's version and the sizes, which change it without a bump). `at_layout_version()`
  * returns the library's, to compare with the header's at start-up.
  */
-#define AT_LAYOUT_VERSION 3
+#define AT_LAYOUT_VERSION 4
 
 /**
  * The entries of an angle-correction table (`at_angle_correction_table_f32`,
@@ -388,8 +399,9 @@ typedef struct at_estimate_f32 {
 
 /**
  * The checked ADC front end, made by `at_adc_f32_new`, `at_adc_f32_offset_binary` or
- * `at_adc_f32_twos_complement`. Immutable once made; place it anywhere; copy it by
- * assignment; never write its fields. A zeroed one is refused.
+ * `at_adc_f32_twos_complement`, with its range of codes (stated by the last two, or by
+ * `at_adc_f32_set_range` at start-up). Immutable once made but for its range; place it
+ * anywhere; copy it by assignment; never write its fields. A zeroed one is refused.
  */
 typedef struct at_adc_f32 {
   /**
@@ -1195,7 +1207,9 @@ const char *at_fault_name(uint32_t bit);
 
 /**
  * Writes to `out` an ADC front end removing `mid_scale_counts` (the reading of a zero
- * signal, at most 2^30 in magnitude) and dividing by `counts_per_unit` (positive).
+ * signal, at most 2^30 in magnitude) and dividing by `counts_per_unit` (positive), with no
+ * range of codes stated (`at_adc_f32_set_range` states it; without it a chain measures
+ * the rails as the extremes held flat).
  *
  * # Safety
  * See the header's introduction.
@@ -1204,7 +1218,8 @@ at_status at_adc_f32_new(int32_t mid_scale_counts, float counts_per_unit, struct
 
 /**
  * Writes to `out` the front end of an unsigned (offset binary) ADC of `bits` bits (2 to
- * 31): samples in units of full scale (+-1).
+ * 31): samples in units of full scale (+-1), its range of codes stated (0 to
+ * `2^bits - 1`: a chain flags clipping at them, `at_adc_f32_set_range`).
  *
  * # Safety
  * See the header's introduction.
@@ -1213,12 +1228,29 @@ at_status at_adc_f32_offset_binary(uint32_t bits, struct at_adc_f32 *out);
 
 /**
  * Writes to `out` the front end of a signed (two's complement) ADC of `bits` bits (2 to
- * 32): samples in units of full scale (+-1).
+ * 32): samples in units of full scale (+-1), its range of codes stated (`-2^(bits-1)` to
+ * `2^(bits-1) - 1`: a chain flags clipping at them, `at_adc_f32_set_range`).
  *
  * # Safety
  * See the header's introduction.
  */
 at_status at_adc_f32_twos_complement(uint32_t bits, struct at_adc_f32 *out);
+
+/**
+ * States the range of codes of the ADC `adc`: its lowest `min_counts` and highest
+ * `max_counts` (`AT_ERR_ADC_RANGE` unless `min_counts < max_counts`; `adc` unchanged on
+ * error). A chain with this ADC (`at_chain_f32_new`) flags a sample with a channel at or
+ * beyond a rail `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_CLIPPING`), and coasts on its
+ * prediction through one with both channels there. Without a stated range the chain
+ * measures the rails on the counts as they come (the core's `HeldRailCheck`: an extreme a
+ * channel holds for 4 consecutive samples while the other moves, the samples piled up
+ * there, on a signal spanning both sides of mid-scale), a weaker test. The plain
+ * observer's `at_update_f32_adc_*` check neither.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_adc_f32_set_range(struct at_adc_f32 *adc, int32_t min_counts, int32_t max_counts);
 
 /**
  * `at_update_f32` on raw signed 16-bit ADC samples, through the front end `adc`.
@@ -1344,7 +1376,11 @@ struct at_calibration_settings_f32 at_calibration_settings_f32_default(void);
 /**
  * Builds a signal chain into `out`: the observer `gains` (required) after the optional
  * stages, each NULL when absent, in this order: the ADC front end `adc` (then the chain
- * takes counts: `at_chain_f32_track_u16`, ...), one calibration stage (a stored calibration
+ * takes counts: `at_chain_f32_track_u16`, ...; with its range stated, a sample with a
+ * channel at or beyond a rail is flagged `AT_FAULT_FRONT_END` and one with both there is
+ * coasted through: `at_adc_f32_set_range`), the front-end faults a demodulator gave its
+ * pairs (`at_chain_f32_track_demodulated`: the observer coasts through a loss of
+ * excitation), one calibration stage (a stored calibration
  * `stored`, applied to every sample, or the online calibration with its `settings`,
  * learning per channel in `at_chain_state_f32`; not both: `AT_ERR_STAGES`), and one angle
  * correction (the harmonic `correction` or its `table`, the same cost whatever the error's
@@ -1598,6 +1634,30 @@ at_status at_chain_fixed_new(const struct at_fixed_gains *gains,
                              const struct at_angle_table_fixed *table,
                              double nominal_amplitude_counts,
                              struct at_chain_fixed *out);
+
+/**
+ * Writes to `out` the chain `chain` with the ADC's range of codes stated: its lowest
+ * `min_counts` and highest `max_counts` (raw counts, as the chain takes them;
+ * `AT_ERR_ADC_RANGE` unless `min_counts < max_counts`). A sample with a channel at or
+ * beyond a rail is flagged `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_CLIPPING`), and one
+ * with both there is coasted through. `out` unchanged on error.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_chain_fixed_with_adc_range(const struct at_chain_fixed *chain,
+                                        int32_t min_counts,
+                                        int32_t max_counts,
+                                        struct at_chain_fixed *out);
+
+/**
+ * Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
+ * against the ADC's range) and clears them. 0 for NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_state_fixed_clear_front_end_faults(struct at_chain_state_fixed *state);
 
 /**
  * One sample of `int16` counts through the chain's stages and observer, the state only (the
@@ -1987,6 +2047,59 @@ double at_fixed_position_rad(const struct at_fixed_estimate *estimate);
  */
 double at_fixed_speed_rad_s(const struct at_fixed_gains *gains,
                             const struct at_fixed_estimate *estimate);
+
+/**
+ * Writes to `out` the chain `chain` with a winding check: a winding open or shorted (one
+ * winding reading below a quarter of `nominal_amplitude` where the observer's prediction
+ * puts at least half of it, the other agreeing with the prediction) is flagged
+ * `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_WINDING`) and coasted through while it holds.
+ * `nominal_amplitude` is the windings' peak in the chain's input units after the
+ * calibration (1 for a demodulator's pairs; `AT_ERR_NOMINAL_AMPLITUDE` unless finite and
+ * positive). `out` unchanged on error.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_chain_f32_with_winding_check(const struct at_chain_f32 *chain,
+                                          float nominal_amplitude,
+                                          struct at_chain_f32 *out);
+
+/**
+ * `at_chain_f32_track` on a demodulator's pair (`at_demodulator_f32_push`), with the
+ * front-end faults of its window: while one invalidates the pair (loss of excitation, a
+ * winding open or shorted) the observer coasts on its prediction instead of using it, and
+ * every fault is latched as `AT_FAULT_FRONT_END` (`at_chain_state_f32_clear_front_end_faults`
+ * gives the front-end bits). Returns 0, or `AT_FAULT_INVALID_ARGUMENT` (nothing changed)
+ * for refused arguments, a chain with an ADC stage among them (the demodulator takes the
+ * counts: build the chain without one).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_f32_track_demodulated(const struct at_chain_f32 *chain,
+                                        struct at_chain_state_f32 *state,
+                                        const struct at_demodulated_pair_f32 *pair);
+
+/**
+ * `at_chain_f32_track_demodulated`, then the estimate, which carries `AT_FAULT_FRONT_END`
+ * while the pair has a front-end fault.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_chain_f32_update_demodulated(const struct at_chain_f32 *chain,
+                                                       struct at_chain_state_f32 *state,
+                                                       const struct at_demodulated_pair_f32 *pair);
+
+/**
+ * Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
+ * against the ADC's range, the demodulator's faults, a winding open or shorted) and clears
+ * them. 0 for NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_state_f32_clear_front_end_faults(struct at_chain_state_f32 *state);
 
 #ifdef __cplusplus
 }  // extern "C"

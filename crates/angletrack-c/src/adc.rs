@@ -1,20 +1,60 @@
 //! `at_adc_f32`: the ADC front end (the core's `AdcScaling<f32>`), which makes raw integer
-//! samples the observer's input: `y = (raw - mid_scale_counts) / counts_per_unit`.
+//! samples the observer's input: `y = (raw - mid_scale_counts) / counts_per_unit`, with
+//! the ADC's stated range (its lowest and highest codes), against which a chain flags
+//! clipping (the core's `FrontEndCheck`, in `chain`).
 
 use core::mem::MaybeUninit;
 
-use angletrack_core::{AdcScaling, ConfigError};
+use angletrack_core::{AdcScaling, ConfigError, FrontEndCheck};
 
-use crate::slot::{self, Refused};
-use crate::status::{at_status, status_of_result};
+use crate::slot::{self, Refused, Stored};
+use crate::status::{AT_OK, at_status, status_of, status_of_result};
 
 /// The 8-byte words of an `at_adc_f32`'s storage (checked against the Rust type at compile
 /// time, on every target).
-pub const AT_ADC_F32_WORDS: usize = 2;
+pub const AT_ADC_F32_WORDS: usize = 3;
+
+/// What an `at_adc_f32` holds: the scaling and the stated range of codes, if any.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct AdcF32 {
+    /// Counts to units.
+    pub(crate) scaling: AdcScaling<f32>,
+    /// The lowest and highest codes (counts), checked ordered.
+    pub(crate) range: Option<(i32, i32)>,
+}
+
+impl Stored for AdcF32 {
+    // "ATA" 2: the scaling with its range (a struct holding the scaling alone is refused).
+    const TAG: u32 = 0x4154_4102;
+}
+
+impl AdcF32 {
+    /// The stated range in the observer's units, through the scaling's own arithmetic (a
+    /// code at a rail scales to the rail's value exactly, up to 2^24 counts from mid-scale).
+    pub(crate) fn range_in_units(&self) -> Option<(f32, f32)> {
+        self.range.map(|(min, max)| self.scaling.sample(min, max))
+    }
+}
+
+/// The codes of an ADC of `bits` bits, offset binary (0 to `2^bits - 1`) or two's complement
+/// (`-2^(bits-1)` to `2^(bits-1) - 1`), for `bits` its constructor accepted.
+pub(crate) fn codes_of(bits: u32, offset_binary: bool) -> (i32, i32) {
+    let span = 1_i64 << bits.min(32);
+    let (min, max) = if offset_binary {
+        (0, span - 1)
+    } else {
+        (-span / 2, span / 2 - 1)
+    };
+    (
+        i32::try_from(min).unwrap_or(i32::MIN),
+        i32::try_from(max).unwrap_or(i32::MAX),
+    )
+}
 
 /// The checked ADC front end, made by `at_adc_f32_new`, `at_adc_f32_offset_binary` or
-/// `at_adc_f32_twos_complement`. Immutable once made; place it anywhere; copy it by
-/// assignment; never write its fields. A zeroed one is refused.
+/// `at_adc_f32_twos_complement`, with its range of codes (stated by the last two, or by
+/// `at_adc_f32_set_range` at start-up). Immutable once made but for its range; place it
+/// anywhere; copy it by assignment; never write its fields. A zeroed one is refused.
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct at_adc_f32 {
@@ -29,35 +69,81 @@ pub struct at_adc_f32 {
 slot::slot_struct!(at_adc_f32, AT_ADC_F32_WORDS);
 
 impl at_adc_f32 {
-    /// The front end, if made by a constructor of this build.
+    /// The scaling, if made by a constructor of this build.
     pub(crate) fn get(&self) -> Result<&AdcScaling<f32>, Refused> {
+        self.stage().map(|adc| &adc.scaling)
+    }
+
+    /// The scaling and its range, if made by a constructor of this build.
+    pub(crate) fn stage(&self) -> Result<&AdcF32, Refused> {
         self.slot_get()
     }
 
-    /// Stores a checked front end; on error `self` is left as it was.
-    pub(crate) fn set(&mut self, adc: Result<AdcScaling<f32>, ConfigError>) -> at_status {
-        if let Ok(adc) = adc {
-            self.slot_put(adc);
+    /// Stores a checked front end with `range` (`None`: no range stated); on error `self`
+    /// is left as it was.
+    pub(crate) fn set(
+        &mut self,
+        scaling: Result<AdcScaling<f32>, ConfigError>,
+        range: Option<(i32, i32)>,
+    ) -> at_status {
+        if let Ok(scaling) = scaling {
+            self.slot_put(AdcF32 { scaling, range });
         }
-        status_of_result(adc)
+        status_of_result(scaling)
+    }
+
+    /// States the range of codes `min` to `max` (checked by the core's `FrontEndCheck`:
+    /// `AT_ERR_ADC_RANGE` unless `min < max`); refused, and `self` unchanged, for an ADC not
+    /// made.
+    pub(crate) fn set_range(&mut self, min: i32, max: i32) -> at_status {
+        let scaling = match self.get() {
+            Ok(scaling) => *scaling,
+            Err(refused) => return refused.status(),
+        };
+        match FrontEndCheck::around((), Some((min, max))) {
+            Ok(_) => {
+                self.slot_put(AdcF32 {
+                    scaling,
+                    range: Some((min, max)),
+                });
+                AT_OK
+            }
+            Err(e) => status_of(e),
+        }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::status::{AT_ERR_BITS, AT_OK};
+    use crate::status::{AT_ERR_ADC_RANGE, AT_ERR_BITS, AT_ERR_NOT_INITIALISED, AT_OK};
 
     #[test]
     fn stores_the_checked_front_end() {
         let mut adc = at_adc_f32::ZEROED;
         assert!(adc.get().is_err());
-        assert_eq!(adc.set(AdcScaling::offset_binary(40)), AT_ERR_BITS);
+        assert_eq!(adc.set_range(0, 4095), AT_ERR_NOT_INITIALISED);
+        assert_eq!(adc.set(AdcScaling::offset_binary(40), None), AT_ERR_BITS);
         assert!(adc.get().is_err());
-        assert_eq!(adc.set(AdcScaling::offset_binary(12)), AT_OK);
+        assert_eq!(adc.set(AdcScaling::offset_binary(12), None), AT_OK);
         assert_eq!(
             adc.get().map(|a| a.sample(4095u16, 0u16)),
             Ok((2047.0 / 2048.0, -1.0))
         );
+        assert_eq!(adc.stage().map(AdcF32::range_in_units), Ok(None));
+        assert_eq!(adc.set_range(4095, 4095), AT_ERR_ADC_RANGE);
+        assert_eq!(adc.set_range(0, 4095), AT_OK);
+        assert_eq!(
+            adc.stage().map(AdcF32::range_in_units),
+            Ok(Some((-1.0, 2047.0 / 2048.0)))
+        );
+    }
+
+    #[test]
+    fn codes_of_each_coding() {
+        assert_eq!(codes_of(12, true), (0, 4095));
+        assert_eq!(codes_of(12, false), (-2048, 2047));
+        assert_eq!(codes_of(31, true), (0, i32::MAX));
+        assert_eq!(codes_of(32, false), (i32::MIN, i32::MAX));
     }
 }

@@ -2,26 +2,36 @@
 //! one chain built from optional stages (the ADC, a stored sensor calibration or the online
 //! calibration with its settings, the harmonic angle correction or its table) and the
 //! observer's gains;
-//! `at_chain_state_f32`, one channel's state (the observer's and the online calibration's);
+//! `at_chain_state_f32`, one channel's state (the observer's, the front-end checks' and the
+//! online calibration's);
 //! and the plain C mirrors of the stages' settings, `at_angle_correction_f32` and
 //! `at_calibration_settings_f32`.
 //!
-//! The chain is the core's `Chain<(Calibration, Correction), Gains<f32, N>>`: [`Calibration`]
-//! is the one calibration stage of C's choice (none, the core's `SensorCalibration`, or its
-//! `OnlineCalibration`), which delegates each of the core's `Stage` methods to the stage it
-//! holds; [`Correction`] likewise the angle correction (none, the core's harmonic
-//! `AngleCorrection` or its `AngleCorrectionTable`). Counts go through the core's
-//! `AdcScaling` first, as its ADC stage does.
+//! The chain is the core's `Chain<(FrontEndCheck<f32>, (Option<HeldRailCheck>,
+//! (Option<WindingCheck<f32>>, (Calibration, Correction)))), Gains<f32, N>>`: the core's
+//! [`FrontEndCheck`] flags clipping against the ADC's stated range (in the observer's units,
+//! through the ADC's scaling) and passes on the faults a demodulator gave a pair, the
+//! observer coasting through those that invalidate it; for an ADC without a stated range,
+//! the core's [`HeldRailCheck`] flags clipping against the rails it measures; the core's
+//! [`WindingCheck`], if asked for, a winding open or shorted;
+//! `Calibration` (in `calibration`) is the one calibration stage of C's choice (none, the core's
+//! `SensorCalibration`, or its `OnlineCalibration`), which delegates each of the core's
+//! `Stage` methods to the stage it holds; [`Correction`] likewise the angle correction
+//! (none, the core's harmonic `AngleCorrection` or its `AngleCorrectionTable`). Counts go
+//! through the core's `AdcScaling` first, as its ADC stage does.
 
 use core::mem::MaybeUninit;
 
 use angletrack_core::{
     AdcSample, AdcScaling, AngleCorrection, CalibrationSettings, Calibrator, Chain, ChainState,
-    ConfigError, Faults, Feedback, Gains, MAX_CORRECTION_ORDER, ObserverState, OnlineCalibration,
-    Order, Prediction, SensorCalibration, Stage, SupportedOrder,
+    ConfigError, FrontEndCheck, FrontEndCheckState, FrontEndFaults, Gains, HeldRailCheck,
+    HeldRails, MAX_CORRECTION_ORDER, ObserverState, OnlineCalibration, Order, SupportedOrder,
+    WindingCheck,
 };
 
-use crate::calibration::at_sensor_calibration_f32;
+use crate::adc::AdcF32;
+use crate::calibration::{Calibration, at_sensor_calibration_f32};
+use crate::demodulator::at_demodulated_pair_f32;
 use crate::gains::{AnyGains, at_gains_f32};
 use crate::observer::at_estimate_f32;
 use crate::slot::{self, Refused, Stored};
@@ -30,10 +40,10 @@ use crate::table::{Correction, at_angle_correction_table_f32};
 
 /// The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_CHAIN_F32_WORDS: usize = 280;
+pub const AT_CHAIN_F32_WORDS: usize = 284;
 /// The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_CHAIN_STATE_F32_WORDS: usize = 22;
+pub const AT_CHAIN_STATE_F32_WORDS: usize = 29;
 
 /// The checked configuration of one signal chain, made by `at_chain_f32_new` from the
 /// observer's gains and optional stages. Immutable once made: one serves any number of
@@ -130,67 +140,17 @@ impl at_calibration_settings_f32 {
     }
 }
 
-/// The chain's calibration stage: none, a stored calibration or the online calibration.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) enum Calibration {
-    /// No calibration.
-    None,
-    /// A stored calibration, applied to every sample.
-    Stored(SensorCalibration<f32>),
-    /// The online calibration (its state the channel's `Calibrator`).
-    Online(OnlineCalibration<f32>),
-}
-
-/// The core's stage held, each `Stage` method delegated to it.
-impl Stage<f32, (f32, f32)> for Calibration {
-    type State = Calibrator<f32>;
-    type Memo = (f32, f32);
-
-    #[inline(always)]
-    fn forward(
-        &self,
-        calibrator: &mut Calibrator<f32>,
-        prediction: &impl Prediction<f32>,
-        input: (f32, f32),
-    ) -> ((f32, f32), (f32, f32)) {
-        match self {
-            Calibration::None => (input, input),
-            Calibration::Stored(stored) => (stored.forward(&mut (), prediction, input).0, input),
-            Calibration::Online(online) => online.forward(calibrator, prediction, input),
-        }
-    }
-
-    #[inline(always)]
-    fn feedback(
-        &self,
-        calibrator: &mut Calibrator<f32>,
-        raw: (f32, f32),
-        used: Option<Feedback<f32>>,
-    ) {
-        if let Calibration::Online(online) = self {
-            online.feedback(calibrator, raw, used);
-        }
-    }
-
-    #[inline(always)]
-    fn faults(&self, calibrator: &mut Calibrator<f32>) -> Faults {
-        match self {
-            Calibration::Online(online) => online.faults(calibrator),
-            _ => Faults::NONE,
-        }
-    }
-
-    #[inline(always)]
-    fn quiet(&self, calibrator: &Calibrator<f32>) -> bool {
-        match self {
-            Calibration::Online(online) => online.quiet(calibrator),
-            _ => true,
-        }
-    }
-}
-
-/// The front end of the chain after the ADC.
-type FrontEnd = (Calibration, Correction);
+/// The front end of the chain after the ADC: the front-end check (clipping against the
+/// stated range, the demodulator's faults), for an ADC without a stated range the rails
+/// measured as extremes held flat, the optional winding check, the calibration and the
+/// angle correction.
+type FrontEnd = (
+    FrontEndCheck<f32>,
+    (
+        Option<HeldRailCheck>,
+        (Option<WindingCheck<f32>>, (Calibration, Correction)),
+    ),
+);
 
 /// What an `at_chain_f32` holds: the optional ADC and the core's chain of order `N`.
 #[derive(Debug, Clone, Copy)]
@@ -201,8 +161,15 @@ pub(crate) struct ChainF32<const N: usize> {
     pub(crate) chain: Chain<FrontEnd, Gains<f32, N>>,
 }
 
+/// The state of the chain's front end: the front-end check's, the held rails', the winding
+/// check's, the online calibration's.
+type FrontEndState = (
+    (FrontEndCheckState, ()),
+    (HeldRails<f32>, (FrontEndCheckState, (Calibrator<f32>, ()))),
+);
+
 /// The state of a chain of order `N`.
-pub(crate) type StateF32<const N: usize> = ChainState<(Calibrator<f32>, ()), ObserverState<f32, N>>;
+pub(crate) type StateF32<const N: usize> = ChainState<FrontEndState, ObserverState<f32, N>>;
 
 impl Stored for ChainF32<2> {
     const TAG: u32 = 0x4154_4b02; // "ATK", order 2
@@ -220,8 +187,8 @@ impl Stored for StateF32<3> {
 /// The optional stages `at_chain_f32_new` takes, as references.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Stages<'a> {
-    /// The ADC front end.
-    pub(crate) adc: Option<&'a AdcScaling<f32>>,
+    /// The ADC front end, with its stated range.
+    pub(crate) adc: Option<&'a AdcF32>,
     /// A stored calibration.
     pub(crate) stored: Option<&'a at_sensor_calibration_f32>,
     /// The online calibration's settings.
@@ -253,10 +220,25 @@ fn build<const N: usize>(
         (None, Some(table)) => Correction::Table(table.checked()?),
         (None, None) => Correction::None,
     };
+    let range = stages.adc.and_then(AdcF32::range_in_units);
+    let check = FrontEndCheck::around((), range)?;
+    // Counts without a stated range: their rails measured.
+    let held_rails = (stages.adc.is_some() && range.is_none()).then_some(HeldRailCheck::new());
     Ok(ChainF32 {
-        adc: stages.adc.copied(),
-        chain: Chain::new((calibration, correction), *gains),
+        adc: stages.adc.map(|adc| adc.scaling),
+        chain: Chain::new(
+            (check, (held_rails, (None, (calibration, correction)))),
+            *gains,
+        ),
     })
+}
+
+impl<const N: usize> ChainF32<N> {
+    /// The chain with the core's winding check for windings of `amplitude` (checked).
+    fn with_winding_check(mut self, amplitude: f32) -> Result<Self, ConfigError> {
+        self.chain.front_end.1.1.0 = Some(WindingCheck::new(amplitude)?);
+        Ok(self)
+    }
 }
 
 impl at_chain_f32 {
@@ -270,6 +252,21 @@ impl at_chain_f32 {
         let result = match gains.get() {
             Ok(AnyGains::Two(g)) => build(g, stages).map(|c| self.slot_put(c)),
             Ok(AnyGains::Three(g)) => build(g, stages).map(|c| self.slot_put(c)),
+            Err(refused) => return refused.status(),
+        };
+        result.err().map_or(crate::status::AT_OK, status_of)
+    }
+
+    /// Stores `chain` with the core's winding check for windings of `amplitude` (`self`
+    /// unchanged on error).
+    pub(crate) fn set_with_winding_check(
+        &mut self,
+        chain: &at_chain_f32,
+        amplitude: f32,
+    ) -> at_status {
+        let result = match chain.get() {
+            Ok(AnyChain::Two(c)) => c.with_winding_check(amplitude).map(|c| self.slot_put(c)),
+            Ok(AnyChain::Three(c)) => c.with_winding_check(amplitude).map(|c| self.slot_put(c)),
             Err(refused) => return refused.status(),
         };
         result.err().map_or(crate::status::AT_OK, status_of)
@@ -313,20 +310,20 @@ impl at_chain_state_f32 {
     /// another build's.
     pub(crate) fn calibrator(&mut self) -> Result<&mut Calibrator<f32>, Refused> {
         if self.tag == <StateF32<2> as Stored>::TAG {
-            return self.of_order::<2>().map(|s| &mut s.front_end.0);
+            return self.of_order::<2>().map(|s| &mut s.front_end.1.1.1.0);
         }
-        self.of_order::<3>().map(|s| &mut s.front_end.0)
+        self.of_order::<3>().map(|s| &mut s.front_end.1.1.1.0)
     }
 
     /// A copy of the calibrator held (a fresh one's for a fresh state).
     pub(crate) fn calibrator_value(&self) -> Result<Calibrator<f32>, Refused> {
         match self.slot_get::<StateF32<2>>() {
-            Ok(s) => return Ok(s.front_end.0),
+            Ok(s) => return Ok(s.front_end.1.1.1.0),
             Err(Refused::OtherBuild) => return Err(Refused::OtherBuild),
             Err(Refused::NotInitialised) => {}
         }
         match self.slot_get::<StateF32<3>>() {
-            Ok(s) => Ok(s.front_end.0),
+            Ok(s) => Ok(s.front_end.1.1.1.0),
             Err(Refused::NotInitialised) => Ok(Calibrator::new()),
             Err(refused) => Err(refused),
         }
@@ -346,12 +343,36 @@ impl at_chain_state_f32 {
         };
         faults.map_or(0, |f| u32::from(f.bits()))
     }
+
+    /// Returns the front-end faults latched by the front-end and winding checks
+    /// (`AT_FRONT_END_FAULT_*` bits) and clears them; 0 for a fresh state (or another
+    /// build's).
+    pub(crate) fn clear_front_end_faults(&mut self) -> u32 {
+        /// Both checks' latched faults, cleared.
+        fn of(front_end: &mut FrontEndState) -> u32 {
+            let faults = front_end.0.0.clear_faults()
+                | front_end.1.0.clear_faults()
+                | front_end.1.1.0.clear_faults();
+            u32::from(faults.bits())
+        }
+        match self.tag {
+            t if t == <StateF32<2> as Stored>::TAG => {
+                self.of_order::<2>().map_or(0, |s| of(&mut s.front_end))
+            }
+            t if t == <StateF32<3> as Stored>::TAG => {
+                self.of_order::<3>().map_or(0, |s| of(&mut s.front_end))
+            }
+            _ => 0,
+        }
+    }
 }
 
-/// An input of the chain: a `(y_c, y_s)` pair, or ADC counts for a chain with an ADC stage.
+/// An input of the chain: a `(y_c, y_s)` pair, a demodulated pair with its front-end
+/// faults, or ADC counts for a chain with an ADC stage.
 pub(crate) trait Input: Copy {
-    /// The pair the front end takes, `None` if the chain cannot take this input.
-    fn pair(self, adc: Option<&AdcScaling<f32>>) -> Option<(f32, f32)>;
+    /// The pair the front end takes, with the faults given with it; `None` if the chain
+    /// cannot take this input.
+    fn pair(self, adc: Option<&AdcScaling<f32>>) -> Option<((f32, f32), FrontEndFaults)>;
 }
 
 /// A `(y_c, y_s)` pair in the input's units (the ADC stage, if any, is for counts).
@@ -360,8 +381,21 @@ pub(crate) struct Pair(pub(crate) f32, pub(crate) f32);
 
 impl Input for Pair {
     #[inline(always)]
-    fn pair(self, _: Option<&AdcScaling<f32>>) -> Option<(f32, f32)> {
-        Some((self.0, self.1))
+    fn pair(self, _: Option<&AdcScaling<f32>>) -> Option<((f32, f32), FrontEndFaults)> {
+        Some(((self.0, self.1), FrontEndFaults::NONE))
+    }
+}
+
+/// A demodulator's pair, with the front-end faults of its window (`faults`: the
+/// `AT_FRONT_END_FAULT_*` bits, the core's `FrontEndFaults`), for a chain without an ADC
+/// stage (the demodulator took the counts; the ADC's range, in counts, says nothing of a
+/// pair).
+impl Input for &at_demodulated_pair_f32 {
+    #[inline(always)]
+    fn pair(self, adc: Option<&AdcScaling<f32>>) -> Option<((f32, f32), FrontEndFaults)> {
+        // The core's flags fit 8 bits; higher bits are none of its.
+        let faults = FrontEndFaults::from_bits((self.faults & 0xff) as u8);
+        adc.is_none().then_some(((self.y_c, self.y_s), faults))
     }
 }
 
@@ -371,8 +405,8 @@ pub(crate) struct Counts<I>(pub(crate) I, pub(crate) I);
 
 impl<I: AdcSample> Input for Counts<I> {
     #[inline(always)]
-    fn pair(self, adc: Option<&AdcScaling<f32>>) -> Option<(f32, f32)> {
-        adc.map(|adc| adc.sample(self.0, self.1))
+    fn pair(self, adc: Option<&AdcScaling<f32>>) -> Option<((f32, f32), FrontEndFaults)> {
+        adc.map(|adc| (adc.sample(self.0, self.1), FrontEndFaults::NONE))
     }
 }
 

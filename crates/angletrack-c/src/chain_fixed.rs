@@ -5,9 +5,12 @@
 //! monitor); `at_chain_state_fixed`, one channel's state; and `at_adc_counts`, the plain
 //! ADC settings (the core's `AdcCounts`).
 //!
-//! The chain is the core's `Chain<(AdcCounts, (Option<FixedCalibration>,
-//! Option<FixedAngleCorrectionTable<256>>)), FixedGains<N>>`. A chain without an ADC
-//! takes `int16` samples through the
+//! The chain is the core's `Chain<(AdcCounts, (Option<FrontEndCheck<i16>>,
+//! (Option<FixedCalibration>, Option<FixedAngleCorrectionTable<256>>))), FixedGains<N>>`:
+//! with a stated range of codes (`at_chain_fixed_with_adc_range`) the core's
+//! `FrontEndCheck` flags clipping against it, in the observer's 16-bit units (the codes
+//! through the ADC's own shift, exact). A chain without an ADC takes `int16` samples through
+//! the
 //! identity of `AdcCounts::twos_complement(16)` (a widening, two comparisons and a shift by
 //! 0); an absent calibration or table is skipped by the core's `Option` stage (one test of its flag), not
 //! run as an identity.
@@ -16,7 +19,7 @@ use core::mem::MaybeUninit;
 
 use angletrack_core::{
     AdcCounts, AdcSample, Chain, ChainState, ConfigError, FixedCalibration, FixedGains, FixedState,
-    Order, SensorCalibration, SupportedOrder,
+    FrontEndCheck, FrontEndCheckState, Order, SensorCalibration, SupportedOrder,
 };
 
 use crate::calibration::at_sensor_calibration_f32;
@@ -27,10 +30,10 @@ use crate::table::{TableFixed, at_angle_table_fixed};
 
 /// The 8-byte words of an `at_chain_fixed`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_CHAIN_FIXED_WORDS: usize = 76;
+pub const AT_CHAIN_FIXED_WORDS: usize = 77;
 /// The 8-byte words of an `at_chain_state_fixed`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_CHAIN_STATE_FIXED_WORDS: usize = 7;
+pub const AT_CHAIN_STATE_FIXED_WORDS: usize = 8;
 
 /// The ADC of a fixed-point chain (the core's `AdcCounts`): each count less
 /// `mid_scale_counts`, shifted left by `shift` (0 to 15) bits to the observer's 16-bit range,
@@ -101,8 +104,15 @@ pub struct at_chain_state_fixed {
 
 slot::slot_struct!(at_chain_state_fixed, AT_CHAIN_STATE_FIXED_WORDS);
 
-/// The front end of a fixed-point chain.
-type FrontEnd = (AdcCounts, (Option<FixedCalibration>, Option<TableFixed>));
+/// The front end of a fixed-point chain: the ADC, the optional clipping check, the stored
+/// calibration and the angle table.
+type FrontEnd = (
+    AdcCounts,
+    (
+        Option<FrontEndCheck<i16>>,
+        (Option<FixedCalibration>, Option<TableFixed>),
+    ),
+);
 
 /// What an `at_chain_fixed` holds: the core's chain of order `N`, and whether its ADC was
 /// given (else `u16` and `i32` counts are refused).
@@ -115,7 +125,8 @@ pub(crate) struct ChainFixed<const N: usize> {
 }
 
 /// The state of a fixed-point chain of order `N`.
-pub(crate) type StateFixed<const N: usize> = ChainState<((), ((), ())), FixedState<N>>;
+pub(crate) type StateFixed<const N: usize> =
+    ChainState<((), ((FrontEndCheckState, ()), ((), ()))), FixedState<N>>;
 
 impl Stored for ChainFixed<2> {
     const TAG: u32 = 0x4154_7102; // "ATq", order 2
@@ -170,8 +181,23 @@ where
     let observer = gains.with_monitor(nominal)?;
     Ok(ChainFixed {
         has_adc: adc.is_some(),
-        chain: Chain::new((adc.unwrap_or(IDENTITY), (calibration, table)), observer),
+        chain: Chain::new(
+            (adc.unwrap_or(IDENTITY), (None, (calibration, table))),
+            observer,
+        ),
     })
+}
+
+impl<const N: usize> ChainFixed<N> {
+    /// The chain with clipping flagged at the codes `min` and `max`: checked ordered, then
+    /// taken through the ADC's shift to the observer's 16 bits (exact: a code at a rail is
+    /// the rail's value; saturated beyond 16 bits, as the samples are).
+    fn with_adc_range(mut self, min: i32, max: i32) -> Result<Self, ConfigError> {
+        FrontEndCheck::around((), Some((min, max)))?;
+        let rails = self.chain.front_end.0.sample(min, max);
+        self.chain.front_end.1.0 = Some(FrontEndCheck::around((), Some(rails))?);
+        Ok(self)
+    }
 }
 
 /// An `at_chain_fixed`'s chain of either order.
@@ -203,6 +229,22 @@ impl at_chain_fixed {
         result.err().map_or(AT_OK, status_of)
     }
 
+    /// Stores `chain` with clipping flagged at the codes `min` and `max` (`self` unchanged
+    /// on error).
+    pub(crate) fn set_with_adc_range(
+        &mut self,
+        chain: &at_chain_fixed,
+        min: i32,
+        max: i32,
+    ) -> at_status {
+        let result = match chain.get() {
+            Ok(AnyChainFixed::Two(c)) => c.with_adc_range(min, max).map(|c| self.slot_put(c)),
+            Ok(AnyChainFixed::Three(c)) => c.with_adc_range(min, max).map(|c| self.slot_put(c)),
+            Err(refused) => return refused.status(),
+        };
+        result.err().map_or(AT_OK, status_of)
+    }
+
     /// The chain, if made by `at_chain_fixed_new` of this build.
     #[inline(always)]
     pub(crate) fn get(&self) -> Result<AnyChainFixed<'_>, Refused> {
@@ -226,7 +268,7 @@ impl at_chain_state_fixed {
         StateFixed<N>: Stored,
     {
         self.slot_get_or_put(|| ChainState {
-            front_end: ((), ((), ())),
+            front_end: ((), ((FrontEndCheckState::default(), ()), ((), ()))),
             observer: FixedState::new(),
         })
     }
@@ -251,6 +293,21 @@ impl at_chain_state_fixed {
             _ => None,
         };
         faults.unwrap_or(0)
+    }
+
+    /// Returns the front-end faults latched by the clipping check (`AT_FRONT_END_FAULT_*`
+    /// bits) and clears them; 0 for a fresh state (or another build's).
+    pub(crate) fn clear_front_end_faults(&mut self) -> u32 {
+        let faults = match self.tag {
+            t if t == <StateFixed<2> as Stored>::TAG => self
+                .of_order::<2>()
+                .map(|s| s.front_end.1.0.0.clear_faults()),
+            t if t == <StateFixed<3> as Stored>::TAG => self
+                .of_order::<3>()
+                .map(|s| s.front_end.1.0.0.clear_faults()),
+            _ => return 0,
+        };
+        faults.map_or(0, |f| u32::from(f.bits()))
     }
 }
 

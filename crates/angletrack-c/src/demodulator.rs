@@ -31,6 +31,10 @@ pub const AT_FRONT_END_FAULT_CLIPPING: u32 = 1 << 2;
 /// its threshold, above the loss of excitation's).
 pub const AT_FRONT_END_FAULT_WEAK_EXCITATION: u32 = 1 << 3;
 
+/// A front-end fault: a winding open or shorted (the chain's winding check,
+/// `at_chain_f32_with_winding_check`).
+pub const AT_FRONT_END_FAULT_WINDING: u32 = 1 << 4;
+
 /// The checked configuration of a synchronous demodulator, made by `at_demodulator_f32_new`
 /// (reference tables, scale, thresholds). Immutable once made; place it anywhere; copy it by
 /// assignment; never write its fields. A zeroed one is refused.

@@ -21,8 +21,9 @@ pub const AT_FAULT_AMPLITUDE_MISMATCH: u32 = 1 << 5;
 /// An offset or the quadrature angle of the online calibration is beyond its bound.
 pub const AT_FAULT_OFFSET_OR_QUADRATURE: u32 = 1 << 6;
 /// A front-end fault: a stage before the observer flagged the sample (the core's
-/// `FrontEndCheck`, `WindingCheck`), and while the fault invalidates it the observer
-/// coasted on its prediction. The C chains have no such stage yet: never set by them.
+/// `FrontEndCheck`, `WindingCheck`: clipping against the ADC's stated range, a
+/// demodulator's fault, a winding open or shorted), and while the fault invalidates it the
+/// observer coasted on its prediction. Set by the float chain (`at_chain_f32_*`).
 pub const AT_FAULT_FRONT_END: u32 = 1 << 7;
 /// Not the sensor's: the call's gains were NULL or not made by `at_gains_f32_new` (or its
 /// state, ADC or calibrator NULL, or not made by their constructor); nothing was computed

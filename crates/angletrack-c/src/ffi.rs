@@ -13,7 +13,7 @@ use core::ffi::c_char;
 
 use angletrack_core::{AdcSample, AdcScaling};
 
-use crate::adc::at_adc_f32;
+use crate::adc::{at_adc_f32, codes_of};
 use crate::calibration::{
     AT_CALIBRATION_FINDING_CENTRE, at_calibrator_f32, at_sensor_calibration_f32, status_of,
 };
@@ -186,7 +186,9 @@ pub extern "C" fn at_fault_name(bit: u32) -> *const c_char {
 }
 
 /// Writes to `out` an ADC front end removing `mid_scale_counts` (the reading of a zero
-/// signal, at most 2^30 in magnitude) and dividing by `counts_per_unit` (positive).
+/// signal, at most 2^30 in magnitude) and dividing by `counts_per_unit` (positive), with no
+/// range of codes stated (`at_adc_f32_set_range` states it; without it a chain measures
+/// the rails as the extremes held flat).
 ///
 /// # Safety
 /// See the header's introduction.
@@ -198,12 +200,13 @@ pub unsafe extern "C" fn at_adc_f32_new(
 ) -> at_status {
     // SAFETY: the caller's contract; NULL is checked by `as_mut`.
     unsafe { out.as_mut() }.map_or(AT_ERR_NULL_POINTER, |out| {
-        out.set(AdcScaling::new(mid_scale_counts, counts_per_unit))
+        out.set(AdcScaling::new(mid_scale_counts, counts_per_unit), None)
     })
 }
 
 /// Writes to `out` the front end of an unsigned (offset binary) ADC of `bits` bits (2 to
-/// 31): samples in units of full scale (+-1).
+/// 31): samples in units of full scale (+-1), its range of codes stated (0 to
+/// `2^bits - 1`: a chain flags clipping at them, `at_adc_f32_set_range`).
 ///
 /// # Safety
 /// See the header's introduction.
@@ -211,12 +214,13 @@ pub unsafe extern "C" fn at_adc_f32_new(
 pub unsafe extern "C" fn at_adc_f32_offset_binary(bits: u32, out: *mut at_adc_f32) -> at_status {
     // SAFETY: the caller's contract; NULL is checked by `as_mut`.
     unsafe { out.as_mut() }.map_or(AT_ERR_NULL_POINTER, |out| {
-        out.set(AdcScaling::offset_binary(bits))
+        out.set(AdcScaling::offset_binary(bits), Some(codes_of(bits, true)))
     })
 }
 
 /// Writes to `out` the front end of a signed (two's complement) ADC of `bits` bits (2 to
-/// 32): samples in units of full scale (+-1).
+/// 32): samples in units of full scale (+-1), its range of codes stated (`-2^(bits-1)` to
+/// `2^(bits-1) - 1`: a chain flags clipping at them, `at_adc_f32_set_range`).
 ///
 /// # Safety
 /// See the header's introduction.
@@ -224,7 +228,34 @@ pub unsafe extern "C" fn at_adc_f32_offset_binary(bits: u32, out: *mut at_adc_f3
 pub unsafe extern "C" fn at_adc_f32_twos_complement(bits: u32, out: *mut at_adc_f32) -> at_status {
     // SAFETY: the caller's contract; NULL is checked by `as_mut`.
     unsafe { out.as_mut() }.map_or(AT_ERR_NULL_POINTER, |out| {
-        out.set(AdcScaling::twos_complement(bits))
+        out.set(
+            AdcScaling::twos_complement(bits),
+            Some(codes_of(bits, false)),
+        )
+    })
+}
+
+/// States the range of codes of the ADC `adc`: its lowest `min_counts` and highest
+/// `max_counts` (`AT_ERR_ADC_RANGE` unless `min_counts < max_counts`; `adc` unchanged on
+/// error). A chain with this ADC (`at_chain_f32_new`) flags a sample with a channel at or
+/// beyond a rail `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_CLIPPING`), and coasts on its
+/// prediction through one with both channels there. Without a stated range the chain
+/// measures the rails on the counts as they come (the core's `HeldRailCheck`: an extreme a
+/// channel holds for 4 consecutive samples while the other moves, the samples piled up
+/// there, on a signal spanning both sides of mid-scale), a weaker test. The plain
+/// observer's `at_update_f32_adc_*` check neither.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_adc_f32_set_range(
+    adc: *mut at_adc_f32,
+    min_counts: i32,
+    max_counts: i32,
+) -> at_status {
+    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
+    unsafe { adc.as_mut() }.map_or(AT_ERR_NULL_POINTER, |adc| {
+        adc.set_range(min_counts, max_counts)
     })
 }
 

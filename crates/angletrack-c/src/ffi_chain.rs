@@ -26,7 +26,11 @@ pub extern "C" fn at_calibration_settings_f32_default() -> at_calibration_settin
 
 /// Builds a signal chain into `out`: the observer `gains` (required) after the optional
 /// stages, each NULL when absent, in this order: the ADC front end `adc` (then the chain
-/// takes counts: `at_chain_f32_track_u16`, ...), one calibration stage (a stored calibration
+/// takes counts: `at_chain_f32_track_u16`, ...; with its range stated, a sample with a
+/// channel at or beyond a rail is flagged `AT_FAULT_FRONT_END` and one with both there is
+/// coasted through: `at_adc_f32_set_range`), the front-end faults a demodulator gave its
+/// pairs (`at_chain_f32_track_demodulated`: the observer coasts through a loss of
+/// excitation), one calibration stage (a stored calibration
 /// `stored`, applied to every sample, or the online calibration with its `settings`,
 /// learning per channel in `at_chain_state_f32`; not both: `AT_ERR_STAGES`), and one angle
 /// correction (the harmonic `correction` or its `table`, the same cost whatever the error's
@@ -51,7 +55,7 @@ pub unsafe extern "C" fn at_chain_f32_new(
         return AT_ERR_NULL_POINTER;
     };
     // SAFETY: the caller's contract; NULL (an absent stage) is checked by `as_ref`.
-    let adc = match unsafe { adc.as_ref() }.map(at_adc_f32::get) {
+    let adc = match unsafe { adc.as_ref() }.map(at_adc_f32::stage) {
         Some(Ok(adc)) => Some(adc),
         Some(Err(refused)) => return refused.status(),
         None => None,
@@ -73,7 +77,7 @@ pub unsafe extern "C" fn at_chain_f32_new(
 ///
 /// # Safety
 /// As theirs.
-unsafe fn track_input(
+pub(crate) unsafe fn track_input(
     chain: *const at_chain_f32,
     state: *mut at_chain_state_f32,
     input: impl Input,
@@ -95,7 +99,7 @@ unsafe fn track_input(
 ///
 /// # Safety
 /// As theirs.
-unsafe fn update_input(
+pub(crate) unsafe fn update_input(
     chain: *const at_chain_f32,
     state: *mut at_chain_state_f32,
     input: impl Input,

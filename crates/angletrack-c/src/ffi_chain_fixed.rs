@@ -104,6 +104,41 @@ pub unsafe extern "C" fn at_chain_fixed_new(
     out.set(gains, stages, nominal_amplitude_counts)
 }
 
+/// Writes to `out` the chain `chain` with the ADC's range of codes stated: its lowest
+/// `min_counts` and highest `max_counts` (raw counts, as the chain takes them;
+/// `AT_ERR_ADC_RANGE` unless `min_counts < max_counts`). A sample with a channel at or
+/// beyond a rail is flagged `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_CLIPPING`), and one
+/// with both there is coasted through. `out` unchanged on error.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_fixed_with_adc_range(
+    chain: *const at_chain_fixed,
+    min_counts: i32,
+    max_counts: i32,
+    out: *mut at_chain_fixed,
+) -> at_status {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
+    match unsafe { (chain.as_ref(), out.as_mut()) } {
+        (Some(chain), Some(out)) => out.set_with_adc_range(chain, min_counts, max_counts),
+        _ => AT_ERR_NULL_POINTER,
+    }
+}
+
+/// Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
+/// against the ADC's range) and clears them. 0 for NULL.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_state_fixed_clear_front_end_faults(
+    state: *mut at_chain_state_fixed,
+) -> u32 {
+    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
+    unsafe { state.as_mut() }.map_or(0, at_chain_state_fixed::clear_front_end_faults)
+}
+
 /// The body of the `at_chain_fixed_track_*` functions.
 ///
 /// # Safety

@@ -5,7 +5,7 @@
 //!
 //! Every struct is plain and sized, so that firmware can place it in static memory:
 //! `at_gains_f32` (the checked configuration, order 2 or 3), `at_state_f32` (one channel),
-//! `at_adc_f32` (the ADC front end), `at_calibrator_f32` (the online calibration), and the
+//! `at_adc_f32` (the ADC front end, with its stated range of codes), `at_calibrator_f32` (the online calibration), and the
 //! C mirrors `at_estimate_f32`, `at_fault_thresholds_f32` and `at_sensor_calibration_f32`;
 //! for cores without an FPU, the fixed-point observer: `at_fixed_gains` (its checked
 //! integer configuration, from the constants `angletrack design --dtype fixed --format c`
@@ -19,7 +19,10 @@
 //! observer) with its per-channel `at_chain_state_f32`, and the plain stage settings
 //! `at_angle_correction_f32` and `at_calibration_settings_f32` (`chain`); the synchronous
 //! demodulator, `at_demodulator_f32` with its `at_demodulator_state_f32`, which turns a
-//! resolver's windings into the chain's pairs (`demodulator`).
+//! resolver's windings into the chain's pairs, taken with their front-end faults
+//! (`demodulator`). The float chain composes the core's `FrontEndCheck` (clipping against
+//! the ADC's stated range, the demodulator's faults) and `WindingCheck`: a sample they
+//! invalidate is coasted through, and its estimate carries `AT_FAULT_FRONT_END`.
 //! The first four hold the core's Rust values in private storage, sized at compile time
 //! and checked against the Rust types on every target (`slot`); a zeroed state or
 //! calibrator is a fresh one, zeroed gains or ADC are refused. Each starts with a tag and a
@@ -55,6 +58,7 @@ mod ffi_chain;
 mod ffi_chain_fixed;
 mod ffi_demodulator;
 mod ffi_fixed;
+mod ffi_front_end;
 mod fixed;
 mod gains;
 mod observer;
@@ -79,8 +83,8 @@ pub use chain_fixed::{
 pub use demodulator::{
     AT_DEMODULATOR_F32_WORDS, AT_DEMODULATOR_STATE_F32_WORDS, AT_FRONT_END_FAULT_CLIPPING,
     AT_FRONT_END_FAULT_LOSS_OF_EXCITATION, AT_FRONT_END_FAULT_PHASE_DRIFT,
-    AT_FRONT_END_FAULT_WEAK_EXCITATION, at_demodulated_pair_f32, at_demodulator_f32,
-    at_demodulator_settings_f32, at_demodulator_state_f32,
+    AT_FRONT_END_FAULT_WEAK_EXCITATION, AT_FRONT_END_FAULT_WINDING, at_demodulated_pair_f32,
+    at_demodulator_f32, at_demodulator_settings_f32, at_demodulator_state_f32,
 };
 pub use faults::*;
 pub use ffi::*;
@@ -88,6 +92,7 @@ pub use ffi_chain::*;
 pub use ffi_chain_fixed::*;
 pub use ffi_demodulator::*;
 pub use ffi_fixed::*;
+pub use ffi_front_end::*;
 pub use fixed::{
     AT_FIXED_GAINS_WORDS, AT_FIXED_STATE_WORDS, at_fixed_estimate, at_fixed_gains, at_fixed_state,
 };
@@ -115,3 +120,5 @@ mod tests_chain;
 mod tests_chain_fixed;
 #[cfg(test)]
 mod tests_demodulator;
+#[cfg(test)]
+mod tests_front_end;

@@ -27,7 +27,7 @@
 
 use core::mem::{MaybeUninit, align_of, size_of};
 
-use angletrack_core::{AdcScaling, Calibrator, FixedGains, FixedState, Gains, ObserverState};
+use angletrack_core::{Calibrator, FixedGains, FixedState, Gains, ObserverState};
 
 use crate::status::{AT_ERR_NOT_INITIALISED, AT_ERR_OTHER_BUILD, at_status};
 
@@ -35,7 +35,7 @@ use crate::status::{AT_ERR_NOT_INITIALISED, AT_ERR_OTHER_BUILD, at_status};
 /// value the library stores in one changes; part of every struct's layout word (with the
 /// crate's version and the sizes, which change it without a bump). `at_layout_version()`
 /// returns the library's, to compare with the header's at start-up.
-pub const AT_LAYOUT_VERSION: u32 = 3;
+pub const AT_LAYOUT_VERSION: u32 = 4;
 
 /// A type a slot can hold, with its tag. `Copy` types only: overwriting one drops nothing,
 /// and a C copy of the words (with the tag) is a copy of the value.
@@ -58,9 +58,6 @@ impl Stored for ObserverState<f32, 2> {
 }
 impl Stored for ObserverState<f32, 3> {
     const TAG: u32 = 0x4154_5303; // "ATS", order 3
-}
-impl Stored for AdcScaling<f32> {
-    const TAG: u32 = 0x4154_4101; // "ATA"
 }
 impl Stored for Calibrator<f32> {
     const TAG: u32 = 0x4154_4301; // "ATC"
@@ -115,19 +112,23 @@ const fn hash_type<T>(h: u32) -> u32 {
 
 /// This build's fingerprint of the layouts: the layout version, the crate's version and
 /// every stored type's size and alignment.
-const BUILD: u32 = {
-    let mut h = hash(0x811c_9dc5, AT_LAYOUT_VERSION);
-    let version = env!("CARGO_PKG_VERSION").as_bytes();
+const BUILD: u32 = build_of(AT_LAYOUT_VERSION);
+
+/// The fingerprint of this build's layouts under the layout version `version` (a build of
+/// another version differs in its `version` at least).
+const fn build_of(version: u32) -> u32 {
+    let mut h = hash(0x811c_9dc5, version);
+    let crate_version = env!("CARGO_PKG_VERSION").as_bytes();
     let mut i = 0;
-    while i < version.len() {
-        h = hash(h, version[i] as u32);
+    while i < crate_version.len() {
+        h = hash(h, crate_version[i] as u32);
         i += 1;
     }
     h = hash_type::<Gains<f32, 2>>(h);
     h = hash_type::<Gains<f32, 3>>(h);
     h = hash_type::<ObserverState<f32, 2>>(h);
     h = hash_type::<ObserverState<f32, 3>>(h);
-    h = hash_type::<AdcScaling<f32>>(h);
+    h = hash_type::<crate::adc::AdcF32>(h);
     h = hash_type::<Calibrator<f32>>(h);
     h = hash_type::<FixedGains<2>>(h);
     h = hash_type::<FixedGains<3>>(h);
@@ -143,11 +144,18 @@ const BUILD: u32 = {
     h = hash_type::<crate::chain_fixed::StateFixed<3>>(h);
     h = hash_type::<angletrack_core::Demodulator<f32>>(h);
     hash_type::<angletrack_core::DemodulatorState<f32>>(h)
-};
+}
 
 /// The layout word of a C struct of `size` bytes in this build (never 0).
 pub(crate) const fn layout_of(size: usize) -> u32 {
     hash(BUILD, size as u32) | 1
+}
+
+/// The layout word a build of the layout version `version`, otherwise this one, writes in
+/// a C struct of `size` bytes: for tests that make a struct of the previous version.
+#[cfg(test)]
+pub(crate) const fn layout_of_version(version: u32, size: usize) -> u32 {
+    hash(build_of(version), size as u32) | 1
 }
 
 /// Fails to compile unless a `T` fits in `W` words of 8 bytes with their alignment: the
@@ -285,6 +293,13 @@ macro_rules! slot_struct {
             #[allow(dead_code)]
             pub(crate) fn clone_tag(&self) -> u32 {
                 self.tag
+            }
+
+            /// Writes the tag, for tests that make a struct holding another type.
+            #[cfg(test)]
+            #[allow(dead_code)]
+            pub(crate) fn set_tag_for_test(&mut self, tag: u32) {
+                self.tag = tag;
             }
 
             /// Writes the layout word, for tests that make a struct of another build.

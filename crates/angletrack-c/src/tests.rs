@@ -11,6 +11,14 @@ const GAINS_3: [f32; 3] = [0.094_326_17, 0.000_562_075, 1.213_522e-5];
 /// The 2nd-order gains of the repository's benchmark (10 kHz).
 const GAINS_2: [f32; 2] = [0.060_898_63, 0.000_956_514_8];
 const SAMPLE_PERIOD_S: f32 = 1e-4;
+/// A calibration to write into: all zero.
+const ZEROED: at_sensor_calibration_f32 = at_sensor_calibration_f32 {
+    offset_c: 0.0,
+    offset_s: 0.0,
+    amplitude_c: 0.0,
+    amplitude_s: 0.0,
+    quadrature_rad: 0.0,
+};
 
 fn gains_of(l: &[f32]) -> at_gains_f32 {
     let mut gains = at_gains_f32::ZEROED;
@@ -178,13 +186,7 @@ fn calibration_learns_offsets_and_round_trips() {
     let gains = gains_of(&GAINS_3);
     let mut state = at_state_f32::FRESH;
     let mut calibrator = at_calibrator_f32::FRESH;
-    let mut learned = at_sensor_calibration_f32 {
-        offset_c: 0.0,
-        offset_s: 0.0,
-        amplitude_c: 0.0,
-        amplitude_s: 0.0,
-        quadrature_rad: 0.0,
-    };
+    let mut learned = ZEROED;
     // SAFETY: valid pointers to live values.
     unsafe {
         assert_eq!(
@@ -222,13 +224,7 @@ fn calibration_learns_offsets_and_round_trips() {
 /// minutes to interpret), not these calls.
 fn assert_calibration_round_trips(stored: &at_sensor_calibration_f32) {
     let mut loaded = at_calibrator_f32::FRESH;
-    let mut again = at_sensor_calibration_f32 {
-        offset_c: 0.0,
-        offset_s: 0.0,
-        amplitude_c: 0.0,
-        amplitude_s: 0.0,
-        quadrature_rad: 0.0,
-    };
+    let mut again = ZEROED;
     // SAFETY: valid pointers to live values.
     unsafe {
         assert_eq!(at_calibrator_f32_load(&mut loaded, stored), AT_OK);

@@ -11,10 +11,12 @@ use crate::real::{ChainNumber, Float};
 use crate::state::{Estimate, ObserverState};
 
 mod front_end_check;
+mod held_rails;
 mod observers;
 mod stages;
 
 pub use front_end_check::{FrontEndCheck, FrontEndCheckState, WindingCheck};
+pub use held_rails::{HELD_RAIL_SAMPLES, HeldRailCheck, HeldRails};
 pub use stages::OnlineCalibration;
 
 /// The observer's prediction for the sample a stage is processing, in the observer's

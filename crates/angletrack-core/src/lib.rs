@@ -156,8 +156,8 @@ pub use bank::ChannelBank;
 pub use calibration::{FixedCalibration, SensorCalibration};
 pub use calibration_settings::CalibrationSettings;
 pub use chain::{
-    Chain, ChainState, Feedback, FrontEndCheck, FrontEndCheckState, OnlineCalibration, Prediction,
-    Stage, WindingCheck,
+    Chain, ChainState, Feedback, FrontEndCheck, FrontEndCheckState, HELD_RAIL_SAMPLES,
+    HeldRailCheck, HeldRails, OnlineCalibration, Prediction, Stage, WindingCheck,
 };
 pub use const_config::Real;
 pub use demodulator::{

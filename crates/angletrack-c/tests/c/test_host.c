@@ -4,7 +4,7 @@
  * the refusals (invalid gains, NULL pointers, zeroed structs, structs of another build); the
  * fixed-point observer from the constants `angletrack design --dtype fixed --format c`
  * prints (fixed_ato3.h) on 12-bit counts, and its chain with the angle-correction tables
- * (test_host_tables.c). Prints one line per check
+ * (test_host_tables.c); the float chain's front-end faults (test_host_front_end.c). Prints one line per check
  * and exits 0 if all pass. Built and run by scripts/test.d/16-c-api.sh. */
 #include <stdio.h>
 #include <string.h>
@@ -14,6 +14,7 @@
 #include "gains_ato2.h"
 #include "gains_ato3.h"
 #include "scenario.h"
+#include "test_host_front_end.h"
 #include "test_host_tables.h"
 
 /* Statically allocated, as firmware would: zeroed, so the states are fresh. */
@@ -347,6 +348,7 @@ int main(void) {
   fixed_point();
   chains();
   demodulation();
+  failures += front_end_checks(&gains3);
   layouts();
   failures += fixed_chain_checks(&gains3);
 

@@ -46,7 +46,7 @@ impl FrontEndCheckState {
 
     /// Books one sample's `faults`, the observer coasting if `coasting`.
     #[inline(always)]
-    fn set(&mut self, faults: FrontEndFaults, coasting: bool) {
+    pub(super) fn set(&mut self, faults: FrontEndFaults, coasting: bool) {
         self.faults = faults;
         self.coasting = coasting;
         self.latched |= faults;
@@ -54,7 +54,7 @@ impl FrontEndCheckState {
 
     /// [`Faults::FRONT_END`] while the last sample has a front-end fault.
     #[inline(always)]
-    fn chain_faults(&self) -> Faults {
+    pub(super) fn chain_faults(&self) -> Faults {
         Faults::when(!self.faults.is_empty(), Faults::FRONT_END)
     }
 }

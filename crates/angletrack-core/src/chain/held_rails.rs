@@ -1,0 +1,283 @@
+//! [`HeldRailCheck`]: clipping flagged without a stated ADC range, against the rails
+//! measured on the samples as they come: an extreme held flat, as a clipped signal's is and
+//! a clean one's is not (the CLI's test of a measured range, made per sample, with a still
+//! shaft's constant windings told apart).
+
+use super::front_end_check::FrontEndCheckState;
+use super::{Prediction, Stage};
+use crate::faults::Faults;
+use crate::front_end_faults::FrontEndFaults;
+use crate::real::Float;
+
+/// Consecutive samples of a channel at an extreme, the other channel moving, that make it
+/// a rail (with the samples piled up there).
+pub const HELD_RAIL_SAMPLES: u8 = 4;
+
+/// The counts of the pile-up test are halved from this value on (their ratio kept).
+const COUNT_LIMIT: u16 = 1 << 15;
+
+/// One side's extreme (the lowest or the highest sample of either channel so far) and the
+/// evidence that it is a rail.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct Side<T> {
+    value: T,
+    /// Each channel's consecutive samples at `value` while the other channel moved.
+    run: [u8; 2],
+    /// Some channel was held at `value` for [`HELD_RAIL_SAMPLES`].
+    held: bool,
+    /// Samples at `value`, and samples in the band just inside it (half a percent of the
+    /// span), since `value` was reached.
+    at: u16,
+    band: u16,
+}
+
+impl<T: Float> Side<T> {
+    /// Whether the extreme is a rail: held flat, and reached by more than four times the
+    /// samples of the band just inside it (a clipped signal piles up at its rail, a clean
+    /// one, even quantised and slow enough to repeat its peak code, thins out toward it).
+    fn is_rail(&self) -> bool {
+        self.held && u32::from(self.at) > 4 * u32::from(self.band)
+    }
+
+    /// Books channel `k`'s sample `x`, beyond (`beyond(x, value)`), at, or inside the
+    /// extreme (within `band` of it: `inside(x, value, band)`), `moved` whether the other
+    /// channel moved since the last sample.
+    #[inline(always)]
+    fn book(&mut self, k: usize, x: T, moved: bool, band: T, low: bool) {
+        let beyond = if low { x < self.value } else { x > self.value };
+        if beyond {
+            // A new extreme: the old one's samples are in its band if it is close.
+            let close = (x - self.value).abs() <= band;
+            self.band = if close {
+                self.band.saturating_add(self.at)
+            } else {
+                0
+            };
+            *self = Side {
+                value: x,
+                band: self.band,
+                ..Side::default()
+            };
+        }
+        let run = self.run.get_mut(k);
+        if x == self.value {
+            self.at = self.at.saturating_add(1);
+            if let Some(run) = run {
+                *run = run.saturating_add(u8::from(moved));
+                self.held |= *run >= HELD_RAIL_SAMPLES;
+            }
+        } else {
+            if let Some(run) = run {
+                *run = 0;
+            }
+            if (x - self.value).abs() <= band {
+                self.band = self.band.saturating_add(1);
+            }
+        }
+        if self.at >= COUNT_LIMIT || self.band >= COUNT_LIMIT {
+            self.at /= 2;
+            self.band /= 2;
+        }
+    }
+}
+
+/// The state of a [`HeldRailCheck`]: the extremes and their evidence, the last sample, and
+/// the check's faults ([`FrontEndCheckState`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct HeldRails<T> {
+    check: FrontEndCheckState,
+    started: bool,
+    last: (T, T),
+    low: Side<T>,
+    high: Side<T>,
+}
+
+impl<T: Float> HeldRails<T> {
+    /// The front-end faults found (the last sample's, latched, and whether it coasted).
+    pub fn check(&self) -> &FrontEndCheckState {
+        &self.check
+    }
+
+    /// The front-end faults latched since the last clear, cleared.
+    pub fn clear_faults(&mut self) -> FrontEndFaults {
+        self.check.clear_faults()
+    }
+
+    /// The rails found so far, `(low, high)`, each `None` while not found.
+    pub fn rails(&self) -> (Option<T>, Option<T>) {
+        (
+            self.low.is_rail().then_some(self.low.value),
+            self.high.is_rail().then_some(self.high.value),
+        )
+    }
+}
+
+/// Clipping without a stated ADC range: the rails measured on the samples as they come.
+/// An extreme (the lowest or highest sample of either channel so far) is a rail once a
+/// channel sits at it for [`HELD_RAIL_SAMPLES`] consecutive samples while the other channel
+/// moves (a still shaft holds both), the samples piled up there (more than four times those
+/// of the band half a percent of the span inside it), on a signal spanning more than 1.5
+/// times its largest channel (both sides of zero, as a resolver's windings after the ADC's
+/// mid-scale is removed). A sample with a channel at a rail is flagged
+/// [`FrontEndFaults::CLIPPING`] ([`Faults::FRONT_END`] on the estimate); with both, the
+/// observer coasts on its prediction. A finite stated range is the better test
+/// ([`FrontEndCheck::around`](crate::FrontEndCheck::around)): use this one where none is
+/// known. NaN and infinite samples are left to the observer (`BAD_SAMPLE`).
+///
+/// ```
+/// use angletrack_core::{Chain, ChainState, Faults, Gains, HeldRailCheck};
+/// let gains = Gains::<f32, 3>::new([0.3, 0.04, 0.002], 1e-4)?;
+/// let chain = Chain::new(HeldRailCheck::new(), gains);
+/// let mut state = ChainState::new();
+/// let mut flagged = 0;
+/// for k in 0..2000 {
+///     // 50 rev/s, amplitude 1.4, clipped at +-0.9 (rails nobody stated).
+///     let theta = 0.0314_f32 * k as f32;
+///     let clip = |v: f32| v.clamp(-0.9, 0.9);
+///     let e = chain.update(&mut state, (clip(1.4 * theta.cos()), clip(1.4 * theta.sin())));
+///     flagged += usize::from(e.faults.contains(Faults::FRONT_END));
+/// }
+/// assert_eq!(state.front_end.rails(), (Some(-0.9), Some(0.9)));
+/// assert!(flagged > 1800, "{flagged}");
+/// # Ok::<(), angletrack_core::ConfigError>(())
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct HeldRailCheck;
+
+impl HeldRailCheck {
+    /// The check (it has no setting).
+    ///
+    /// ```
+    /// use angletrack_core::{Chain, ChainState, Gains, HeldRailCheck};
+    /// let chain = Chain::new(HeldRailCheck::new(), Gains::<f64, 2>::new([0.05, 0.0012], 1e-4)?);
+    /// let mut state = ChainState::new();
+    /// chain.update(&mut state, (0.8, 0.6));
+    /// assert_eq!(state.front_end.rails(), (None, None));
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub const fn new() -> Self {
+        Self
+    }
+}
+
+impl<T: Float> Stage<T, (T, T)> for HeldRailCheck {
+    type State = HeldRails<T>;
+    type Memo = ();
+    const QUIET_FROM_INPUT: bool = true;
+
+    #[inline(always)]
+    fn forward(
+        &self,
+        s: &mut HeldRails<T>,
+        _: &impl Prediction<T>,
+        (y_c, y_s): (T, T),
+    ) -> ((T, T), ()) {
+        if !(y_c.is_finite() && y_s.is_finite()) {
+            s.check.set(FrontEndFaults::NONE, false);
+            return ((y_c, y_s), ());
+        }
+        if !s.started {
+            s.started = true;
+            s.low.value = y_c.min(y_s);
+            s.high.value = y_c.max(y_s);
+            s.last = (y_c, y_s);
+        }
+        let band = (s.high.value - s.low.value) * T::from_f32(0.005);
+        let moved = [y_s != s.last.1, y_c != s.last.0];
+        for (k, x) in [y_c, y_s].into_iter().enumerate() {
+            let moved = moved.get(k).copied().unwrap_or(false);
+            s.low.book(k, x, moved, band, true);
+            s.high.book(k, x, moved, band, false);
+        }
+        s.last = (y_c, y_s);
+        let spans = s.high.value - s.low.value > T::from_f32(1.5) * y_c.abs().max(y_s.abs());
+        let (low, high) = (spans && s.low.is_rail(), spans && s.high.is_rail());
+        let clipped = |x: T| (low && x <= s.low.value) || (high && x >= s.high.value);
+        let (clipped_c, clipped_s) = (clipped(y_c), clipped(y_s));
+        s.check.set(
+            FrontEndFaults::when(clipped_c || clipped_s, FrontEndFaults::CLIPPING),
+            clipped_c && clipped_s,
+        );
+        ((y_c, y_s), ())
+    }
+
+    #[inline(always)]
+    fn faults(&self, s: &mut HeldRails<T>) -> Faults {
+        s.check.chain_faults()
+    }
+
+    #[inline(always)]
+    fn coasts(&self, s: &HeldRails<T>) -> bool {
+        s.check.coasting()
+    }
+
+    #[inline(always)]
+    fn quiet(&self, s: &HeldRails<T>) -> bool {
+        s.check.faults().is_empty()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{Chain, ChainState, Gains};
+
+    /// `samples` of a resolver at `step` rad per sample and amplitude `amplitude`, rounded
+    /// to counts and clipped to `[-rail, rail]`: the samples flagged, those coasted, and the
+    /// rails found.
+    fn run(
+        step: f64,
+        amplitude: f64,
+        rail: f64,
+        samples: usize,
+    ) -> (usize, usize, (Option<f64>, Option<f64>)) {
+        let gains = Gains::<f64, 3>::new([0.3, 0.04, 0.002], 1e-4).unwrap();
+        let chain = Chain::new(HeldRailCheck::new(), gains);
+        let mut state = ChainState::new();
+        let (mut flagged, mut coasted) = (0, 0);
+        let count = |v: f64| libm::round(v).clamp(-rail, rail);
+        for k in 0..samples {
+            let theta = 0.3 + step * k as f64;
+            let e = chain.update(
+                &mut state,
+                (
+                    count(amplitude * libm::cos(theta)),
+                    count(amplitude * libm::sin(theta)),
+                ),
+            );
+            flagged += usize::from(e.faults.contains(Faults::FRONT_END));
+            coasted += usize::from(state.front_end.check().coasting());
+        }
+        (flagged, coasted, state.front_end.rails())
+    }
+
+    #[test]
+    fn signed_12_bit_counts_clipped_at_their_rails_are_found() {
+        // Amplitude 1.4 where the rails are at 0.9 (3184 counts), 50 rev/s at 10 kHz: both
+        // rails found within the first turn, every sample after flagged (|cos| >= 0.9/1.4
+        // on 56 % of the turn: one channel at least is at a rail at every angle).
+        let (flagged, coasted, rails) = run(0.0314, 3184.0, 2047.0, 2000);
+        assert_eq!(rails, (Some(-2047.0), Some(2047.0)));
+        assert!(flagged > 1800, "{flagged}");
+        // Both channels clipped around the diagonals: 11 % of the turn.
+        assert!((160..280).contains(&coasted), "{coasted}");
+    }
+
+    #[test]
+    fn a_clean_quantised_signal_at_any_speed_has_no_rail() {
+        // 1800 counts: fast, and slow enough to repeat its peak code for 75 samples.
+        for step in [0.0314, 6.28e-4] {
+            let (flagged, _, rails) = run(step, 1800.0, 2047.0, 12_000);
+            assert_eq!((flagged, rails), (0, (None, None)), "step {step}");
+        }
+    }
+
+    #[test]
+    fn a_still_shaft_has_no_rail() {
+        // Held still (at 0.3 rad) or turning by a count's noise: no channel moves for long.
+        let (flagged, _, rails) = run(0.0, 1800.0, 2047.0, 2000);
+        assert_eq!((flagged, rails), (0, (None, None)));
+        let (flagged, _, _) = run(1e-6, 1800.0, 2047.0, 2000);
+        assert_eq!(flagged, 0);
+    }
+}

@@ -5,7 +5,7 @@
 use core::mem::MaybeUninit;
 
 use angletrack_core::{
-    AdcSample, AdcScaling, Chain, ChainState, Estimate, Gains, ObserverState, Order, SupportedOrder,
+    AdcSample, AdcScaling, Chain, Estimate, Gains, ObserverState, Order, SupportedOrder,
 };
 
 use crate::calibration::at_calibrator_f32;
@@ -184,16 +184,11 @@ impl Sample for Calibrated<'_> {
     ) -> at_estimate_f32 {
         match self.0.get_mut() {
             Ok(calibrator) => {
-                // The chain of the gains' online calibration and the observer, on copies of
-                // the two states the C API keeps apart, written back.
-                let chain = Chain::new(gains.online_calibration(), *gains);
-                let mut chained = ChainState {
-                    front_end: *calibrator,
-                    observer: *state,
-                };
-                let estimate = chain.update(&mut chained, (self.1, self.2));
-                (*calibrator, *state) = (chained.front_end, chained.observer);
-                estimate.into()
+                // The chain of the gains' online calibration and the observer, on the two
+                // states the C API keeps apart.
+                Chain::new(gains.online_calibration(), *gains)
+                    .update_parts(calibrator, state, (self.1, self.2))
+                    .into()
             }
             Err(_) => at_estimate_f32::INVALID,
         }

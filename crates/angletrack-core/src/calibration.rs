@@ -5,6 +5,7 @@
 use crate::error::{ConfigError, Parameter};
 use crate::real::Float;
 use crate::real::check_positive;
+use crate::real::saturate::saturate_i16;
 
 /// The sensor model `y_c = o_c + A_c cos(theta)`, `y_s = o_s + A_s sin(theta + phi)`: the
 /// two offsets, the two channels' amplitudes (their ratio `g = A_s / A_c` is the gain
@@ -212,12 +213,14 @@ impl<T: Float> SensorCalibration<T> {
 /// these constants; `const` to build from them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FixedCalibration {
-    offset_c: i16,
-    offset_s: i16,
+    // Each within `i16`, held in 32 bits: a Cortex-M0 loads a 32-bit field by its offset in
+    // one instruction, a 16-bit one only with the offset in a register.
+    offset_c: i32,
+    offset_s: i32,
     /// `A_c / (A_s cos phi)` in Q14: below 2.
-    sine_gain_q14: i16,
+    sine_gain_q14: i32,
     /// `tan phi` in Q14: within +-1 (`|phi| <= pi/4`).
-    cross_gain_q14: i16,
+    cross_gain_q14: i32,
 }
 
 impl Default for FixedCalibration {
@@ -256,7 +259,7 @@ impl FixedCalibration {
         let in_i16 = |v: f64, parameter: Parameter| {
             let rounded = libm::round(v);
             if (-32768.0..=32767.0).contains(&rounded) {
-                Ok(rounded as i16)
+                Ok(rounded as i32)
             } else {
                 Err(ConfigError::OutOfRange(parameter))
             }
@@ -275,11 +278,11 @@ impl FixedCalibration {
     /// coefficients (every product below 2^30 and their sum below 2^31: no overflow).
     #[inline(always)]
     pub fn correct(&self, y_c: i16, y_s: i16) -> (i16, i16) {
-        let c = (i32::from(y_c) - i32::from(self.offset_c)).clamp(-32768, 32767);
-        let s = (i32::from(y_s) - i32::from(self.offset_s)).clamp(-32768, 32767);
-        let s = (s * i32::from(self.sine_gain_q14) - c * i32::from(self.cross_gain_q14)
+        let c = saturate_i16(i32::from(y_c) - self.offset_c);
+        let s = saturate_i16(i32::from(y_s) - self.offset_s);
+        let s = (i32::from(s) * self.sine_gain_q14 - i32::from(c) * self.cross_gain_q14
             + (1 << 13))
             >> 14;
-        (c as i16, s.clamp(-32768, 32767) as i16)
+        (c, saturate_i16(s))
     }
 }

@@ -213,14 +213,12 @@ impl<T: Float> SensorCalibration<T> {
 /// these constants; `const` to build from them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FixedCalibration {
-    // Each within `i16`, held in 32 bits: a Cortex-M0 loads a 32-bit field by its offset in
-    // one instruction, a 16-bit one only with the offset in a register.
-    offset_c: i32,
-    offset_s: i32,
+    offset_c: i16,
+    offset_s: i16,
     /// `A_c / (A_s cos phi)` in Q14: below 2.
-    sine_gain_q14: i32,
+    sine_gain_q14: i16,
     /// `tan phi` in Q14: within +-1 (`|phi| <= pi/4`).
-    cross_gain_q14: i32,
+    cross_gain_q14: i16,
 }
 
 impl Default for FixedCalibration {
@@ -259,7 +257,7 @@ impl FixedCalibration {
         let in_i16 = |v: f64, parameter: Parameter| {
             let rounded = libm::round(v);
             if (-32768.0..=32767.0).contains(&rounded) {
-                Ok(rounded as i32)
+                Ok(rounded as i16)
             } else {
                 Err(ConfigError::OutOfRange(parameter))
             }
@@ -278,9 +276,10 @@ impl FixedCalibration {
     /// coefficients (every product below 2^30 and their sum below 2^31: no overflow).
     #[inline(always)]
     pub fn correct(&self, y_c: i16, y_s: i16) -> (i16, i16) {
-        let c = saturate_i16(i32::from(y_c) - self.offset_c);
-        let s = saturate_i16(i32::from(y_s) - self.offset_s);
-        let s = (i32::from(s) * self.sine_gain_q14 - i32::from(c) * self.cross_gain_q14
+        let c = saturate_i16(i32::from(y_c) - i32::from(self.offset_c));
+        let s = saturate_i16(i32::from(y_s) - i32::from(self.offset_s));
+        let s = (i32::from(s) * i32::from(self.sine_gain_q14)
+            - i32::from(c) * i32::from(self.cross_gain_q14)
             + (1 << 13))
             >> 14;
         (c, saturate_i16(s))

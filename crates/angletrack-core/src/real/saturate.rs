@@ -6,6 +6,24 @@
 //! the two limits kept in registers for a clamp, and saturates out of line. ARMv6-M is told
 //! apart as in `fixed/multiply.rs` (the Arm architecture without 32-bit atomics).
 
+/// `v` saturated to `i16`, as an `i32`: where the value fits, `v` itself, which the
+/// caller's next operations use without a sign extension.
+#[inline(always)]
+pub(crate) fn saturated(v: i32) -> i32 {
+    #[cfg(any(not(target_arch = "arm"), target_has_atomic = "32"))]
+    {
+        i32::from(clamped(v))
+    }
+    #[cfg(not(any(not(target_arch = "arm"), target_has_atomic = "32")))]
+    {
+        if v >> 15 == v >> 31 {
+            v
+        } else {
+            i32::from(out_of_range(v))
+        }
+    }
+}
+
 /// `v` saturated to `i16` (`v.clamp(-32768, 32767)`).
 #[inline(always)]
 pub(crate) fn saturate_i16(v: i32) -> i16 {
@@ -56,7 +74,7 @@ fn out_of_range(v: i32) -> i16 {
 
 #[cfg(test)]
 mod tests {
-    use super::{clamped, saturate_i16, tested};
+    use super::{clamped, saturate_i16, saturated, tested};
 
     #[test]
     fn both_forms_saturate_to_i16() {
@@ -74,6 +92,7 @@ mod tests {
             assert_eq!(clamped(v), expected, "{v}");
             assert_eq!(tested(v), expected, "{v}");
             assert_eq!(saturate_i16(v), expected, "{v}");
+            assert_eq!(saturated(v), i32::from(expected), "{v}");
         }
     }
 }

@@ -19,6 +19,7 @@
 use crate::angle_correction::AngleCorrection;
 use crate::error::{ConfigError, Parameter};
 use crate::real::Float;
+use crate::real::saturate::saturate_i16;
 
 /// The sensor's angle error `d` (rad) at the `L` angles `-pi + 2 pi k / L` of one electrical
 /// turn (`L` a power of two, 4 to 4096), removed inside the phase detector as
@@ -198,8 +199,10 @@ impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
 /// (exactly `-d`, scaled by `1 / cos d`), rounded and saturated to `i16`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct FixedAngleCorrectionTable<const L: usize> {
-    /// `tan d_k` in Q15. One value per entry, not the float table's pair: a Cortex-M0 has
-    /// 16 KiB of RAM, and the step to the next entry is one load and one subtraction.
+    /// `tan d_k` in Q15, entry `k` at `(k + L / 2) mod L`: from the angle 0, so that the
+    /// binary angle's top bits index it as they are (no half turn added per sample). One
+    /// value per entry, not the float table's pair: a Cortex-M0 has 16 KiB of RAM, and the
+    /// step to the next entry is one load and one subtraction.
     tangents_q15: [i16; L],
 }
 
@@ -236,7 +239,7 @@ impl<const L: usize> FixedAngleCorrectionTable<L> {
             if errors_q15[k].unsigned_abs() > 8192 {
                 return Err(ConfigError::OutOfRange(Parameter::AngleCorrection));
             }
-            tangents_q15[k] = tangent_q15(errors_q15[k]);
+            tangents_q15[(k + L / 2) & (L - 1)] = tangent_q15(errors_q15[k]);
             k += 1;
         }
         Ok(Self { tangents_q15 })
@@ -283,8 +286,8 @@ impl<const L: usize> FixedAngleCorrectionTable<L> {
         let _ = Self::BITS;
         let mut tangents_q15 = [0; L];
         for (k, q) in tangents_q15.iter_mut().enumerate() {
-            // |t| <= tan 0.25: at most 8368 in Q15.
-            *q = libm::round(tangent(k) * 32768.0) as i16;
+            // |t| <= tan 0.25: at most 8368 in Q15. Slot k holds entry k + L / 2.
+            *q = libm::round(tangent((k + L / 2) & (L - 1)) * 32768.0) as i16;
         }
         Self { tangents_q15 }
     }
@@ -294,8 +297,8 @@ impl<const L: usize> FixedAngleCorrectionTable<L> {
     /// `angle_table::tests::fixed_tangents_round_trip_every_error`).
     pub fn errors_q15(&self) -> [i16; L] {
         let mut errors_q15 = [0; L];
-        for (d, &t) in errors_q15.iter_mut().zip(&self.tangents_q15) {
-            *d = arctangent_q15(t);
+        for (k, d) in errors_q15.iter_mut().enumerate() {
+            *d = arctangent_q15(self.tangents_q15[(k + L / 2) & (L - 1)]);
         }
         errors_q15
     }
@@ -311,9 +314,9 @@ impl<const L: usize> FixedAngleCorrectionTable<L> {
     /// `tan d` in Q15 at the binary angle `angle`, interpolated linearly.
     #[inline(always)]
     fn tangent_at(&self, angle: i32) -> i32 {
-        // The angle from -pi as an unsigned turn: the index is its top bits, the fraction
-        // the next 15.
-        let turn = angle.wrapping_sub(i32::MIN) as u32;
+        // The angle as an unsigned turn from 0 (the table's first slot): the index is its
+        // top bits, the fraction the next 15.
+        let turn = angle as u32;
         let k = (turn >> (32 - Self::BITS)) as usize & (L - 1);
         let fraction = ((turn << Self::BITS) >> 17) as i32;
         let t = i32::from(self.tangents_q15[k]);
@@ -331,8 +334,7 @@ impl<const L: usize> FixedAngleCorrectionTable<L> {
         let (c, s) = (i32::from(y_c), i32::from(y_s));
         let c_out = c + ((s * t + (1 << 14)) >> 15);
         let s_out = s - ((c * t + (1 << 14)) >> 15);
-        let saturate = |v: i32| v.clamp(-32768, 32767) as i16;
-        (saturate(c_out), saturate(s_out))
+        (saturate_i16(c_out), saturate_i16(s_out))
     }
 }
 

@@ -5,6 +5,7 @@
 use crate::error::{ConfigError, Parameter};
 use crate::real::Float;
 use crate::real::check_positive;
+use crate::real::saturate::{saturate_i16, saturated};
 
 /// The sensor model `y_c = o_c + A_c cos(theta)`, `y_s = o_s + A_s sin(theta + phi)`: the
 /// two offsets, the two channels' amplitudes (their ratio `g = A_s / A_c` is the gain
@@ -275,11 +276,12 @@ impl FixedCalibration {
     /// coefficients (every product below 2^30 and their sum below 2^31: no overflow).
     #[inline(always)]
     pub fn correct(&self, y_c: i16, y_s: i16) -> (i16, i16) {
-        let c = (i32::from(y_c) - i32::from(self.offset_c)).clamp(-32768, 32767);
-        let s = (i32::from(y_s) - i32::from(self.offset_s)).clamp(-32768, 32767);
+        let c = saturated(i32::from(y_c) - i32::from(self.offset_c));
+        let s = saturated(i32::from(y_s) - i32::from(self.offset_s));
         let s = (s * i32::from(self.sine_gain_q14) - c * i32::from(self.cross_gain_q14)
             + (1 << 13))
             >> 14;
-        (c as i16, s.clamp(-32768, 32767) as i16)
+        // Both within i16 (saturated).
+        (c as i16, saturate_i16(s))
     }
 }

@@ -266,22 +266,28 @@ impl<V: ChainNumber, X, A: Stage<V, X>, B: Stage<V, (V, V)>> Stage<V, X> for (A,
 /// assert!((estimate.angle - core::f32::consts::FRAC_PI_2).abs() < 1e-6);
 /// # Ok::<(), angletrack_core::ConfigError>(())
 /// ```
+// `repr(C)`, the observer first: the per-sample path reads the observer's gains and state
+// most, and at offset 0 a Cortex-M0 reaches them by its loads' immediate offsets instead of
+// a base address computed and kept per sample (ChainState likewise).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C)]
 pub struct Chain<F, O> {
-    /// The stages before the observer.
-    pub front_end: F,
     /// The observer.
     pub observer: O,
+    /// The stages before the observer.
+    pub front_end: F,
 }
 
 /// The mutable state of one channel of a [`Chain`]: its front end's `F` (a nest of pairs,
 /// as the front end's stages) and its observer's `O`.
+// `repr(C)`, the observer first: see `Chain`.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C)]
 pub struct ChainState<F, O> {
-    /// The front end's state.
-    pub front_end: F,
     /// The observer's state.
     pub observer: O,
+    /// The front end's state.
+    pub front_end: F,
 }
 
 impl<F: Default, O: Default> Default for ChainState<F, O> {

@@ -9,6 +9,7 @@
 use core::fmt::{Debug, Display};
 use core::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub, SubAssign};
 
+pub(crate) mod saturate;
 pub(crate) mod sincos;
 
 use crate::error::{ConfigError, Parameter};

@@ -322,11 +322,13 @@ impl<T: Float, const N: usize> ObserverState<T, N> {
     /// The next sample's predicted angle `(A x)[0]` (rad, not wrapped), tracking or not.
     #[inline(always)]
     pub(crate) fn predicted_angle(&self) -> T {
-        if self.tracking {
-            self.next_angle
-        } else {
-            predict(&self.x)[0]
+        // Loaded first and replaced where not tracking: the tracking path then has no
+        // branch of its own to take (one instruction fewer on a Cortex-M4F).
+        let mut angle = self.next_angle;
+        if !self.tracking {
+            angle = predict(&self.x)[0];
         }
+        angle
     }
 
     /// Books one step of the recursion: the whole turns it crossed and its phase-detector

@@ -6,7 +6,12 @@
 //! API (`update-*`, a loop over `Gains::update`) and the block API (`block-*`,
 //! `Gains::update_block`), and the fast one with the diagnostics off (`update-fast-unmonitored`,
 //! `FaultThresholds::disabled()`: the bare loop), and `ChannelBank`s of 16 and 64 channels
-//! sharing the gains (`bank-fast-16`, `bank-fast-64`, throughput in channel-samples).
+//! sharing the gains (`bank-fast-16`, `bank-fast-64`, throughput in channel-samples: the
+//! observer's bank step `Gains::update_bank` on struct-of-arrays inputs), and the same
+//! banks through a chain's bank form (`chain-bank-fast-16`, `chain-bank-fast-64`:
+//! `Chain::track_bank` with no front end, one `(y_c, y_s)` pair per lane). The single
+//! stream's throughput (`update-fast-unmonitored`, the work a bank lane does) over a
+//! bank's is the bank's gain per channel-sample.
 //! Throughput is in samples, so every report reads as time per sample and the ratio to
 //! `baseline` is the ratio of the reported times.
 //!
@@ -20,8 +25,8 @@ use angletrack_benches::{
     gains,
 };
 use angletrack_core::{
-    ChannelBank, Estimate, Exact, Fast, FaultThresholds, Gains, ObserverState, Order, Real, SinCos,
-    SupportedOrder,
+    Chain, ChainState, ChannelBank, Estimate, Exact, Fast, FaultThresholds, Gains, ObserverState,
+    Order, Real, SinCos, SupportedOrder,
 };
 use criterion::measurement::WallTime;
 use criterion::{BenchmarkGroup, Criterion, Throughput, criterion_group, criterion_main};
@@ -132,6 +137,23 @@ fn bench_bank<T: Real, const N: usize, const L: usize>(
             let mut bank = start;
             for (c, s) in y_c[1..].iter().zip(&y_s[1..]) {
                 gains.update_bank(&mut bank, c, s);
+            }
+            bank
+        })
+    });
+    let chain = Chain::new((), gains);
+    let pairs: Vec<[(T, T); L]> = y_c
+        .iter()
+        .zip(&y_s)
+        .map(|(c, s)| core::array::from_fn(|j| (c[j], s[j])))
+        .collect();
+    let mut start = ChainState::new_bank();
+    chain.track_bank(&mut start, &pairs[0]);
+    group.bench_function(format!("chain-{id}"), |b| {
+        b.iter(|| {
+            let mut bank = start;
+            for inputs in &pairs[1..] {
+                chain.track_bank(&mut bank, inputs);
             }
             bank
         })

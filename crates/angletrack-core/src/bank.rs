@@ -7,9 +7,8 @@ use crate::gains::Gains;
 use crate::real::Float;
 use crate::real::sincos::SinCos;
 use crate::recursion::Sample;
-use crate::state::Estimate;
-use crate::state::magnitude;
-use crate::wrap::{FullWrap, NoWrap, OneTurnWrap, Wrap, one_turn_limit, sample_angle, wrapped};
+use crate::state::{Estimate, ObserverState};
+use crate::wrap::{FullWrap, NoWrap, OneTurnWrap, Wrap, one_turn_limit, wrapped};
 
 /// The states of `L` independent channels of order `N`, laid out as a struct of arrays
 /// (`x[i][lane]`) so that [`Gains::update_bank`] runs the lanes side by side and the
@@ -21,7 +20,10 @@ use crate::wrap::{FullWrap, NoWrap, OneTurnWrap, Wrap, one_turn_limit, sample_an
 /// A bank runs the same recursion as a single observer, with the same rejection of bad
 /// samples (a lane coasts on its prediction and is marked in [`ChannelBank::rejected`]);
 /// it does not run the fault monitor (use single observers where each channel needs
-/// diagnostics).
+/// diagnostics). Its lanes are exactly single observers whose monitor is off
+/// ([`FaultThresholds::disabled`](crate::FaultThresholds::disabled)): the rare cases (a
+/// lane's first sample, the re-acquisition after a front-end fault of a
+/// [`Chain`](crate::Chain)'s bank form) run the single observer's code on the lane.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ChannelBank<T, const N: usize, const L: usize> {
     x: [[T; L]; N],
@@ -33,8 +35,15 @@ pub struct ChannelBank<T, const N: usize, const L: usize> {
     /// 1 for a lane whose last sample was rejected, else 0: lane-wide integers, which a
     /// vectorised loop stores as they are (bytes would have to be packed first).
     rejected: [u32; L],
+    /// The lanes that have no angle yet.
     pending: [bool; L],
-    initialised: bool,
+    /// The lanes that coasted through a front-end fault (a chain's): the next used sample
+    /// sets their angle from its `atan2`.
+    coasted: [bool; L],
+    /// The faults each lane's chain front end flagged, latched.
+    latched: [Faults; L],
+    /// Some lane is pending or coasted: the next sample runs the lanes one by one.
+    rare: bool,
 }
 
 impl<T: Float, const N: usize, const L: usize> Default for ChannelBank<T, N, L> {
@@ -64,7 +73,9 @@ impl<T: Float, const N: usize, const L: usize> ChannelBank<T, N, L> {
             phase_error: [T::ZERO; L],
             rejected: [0; L],
             pending: [true; L],
-            initialised: false,
+            coasted: [false; L],
+            latched: [Faults::NONE; L],
+            rare: true,
         }
     }
 
@@ -98,7 +109,81 @@ impl<T: Float, const N: usize, const L: usize> ChannelBank<T, N, L> {
 
     /// `false` until every lane has had a valid sample.
     pub fn is_initialised(&self) -> bool {
-        self.initialised
+        !self.pending.contains(&true)
+    }
+
+    /// The faults each lane's front end flagged since they were last cleared, in a
+    /// [`Chain`](crate::Chain)'s bank form (a rejected sample shows in
+    /// [`ChannelBank::rejected`], for its sample).
+    pub fn latched_faults(&self) -> [Faults; L] {
+        self.latched
+    }
+
+    /// Returns the latched faults and clears them.
+    pub fn clear_faults(&mut self) -> [Faults; L] {
+        core::mem::replace(&mut self.latched, [Faults::NONE; L])
+    }
+
+    /// Latches `faults` in lane `lane` (nothing for a lane outside the bank).
+    pub(crate) fn latch(&mut self, lane: usize, faults: Faults) {
+        if let Some(latched) = self.latched.get_mut(lane) {
+            *latched |= faults;
+        }
+    }
+
+    /// Lane `lane` as the state of a single observer whose monitor is off: the same
+    /// results, sample by sample, to the bit (the lane's predicted angle is live: for a lane
+    /// that is not tracking, it is the prediction the single state computes on demand).
+    #[inline(always)]
+    pub(crate) fn lane_state(&self, lane: usize) -> ObserverState<T, N> {
+        let mut state = ObserverState::new();
+        if self.pending[lane] {
+            return state;
+        }
+        for (i, xi) in state.x.iter_mut().enumerate() {
+            *xi = self.x[i][lane];
+        }
+        state.turns = i64::from(self.turns[lane]);
+        state.phase_error = self.phase_error[lane];
+        state.amplitude = self.amplitude[lane];
+        state.initialised = true;
+        state.coasted = self.coasted[lane];
+        state.tracking = !state.coasted;
+        if state.tracking {
+            state.next_angle = self.next_angle[lane];
+        }
+        if self.rejected[lane] != 0 {
+            state.faults = Faults::BAD_SAMPLE;
+        }
+        state
+    }
+
+    /// Lane `lane` set from the single observer's `state` (see [`ChannelBank::lane_state`]);
+    /// the bank's turn count is the low 32 bits of the state's.
+    #[inline(always)]
+    pub(crate) fn set_lane(&mut self, lane: usize, state: &ObserverState<T, N>) {
+        for (i, xi) in state.x.iter().enumerate() {
+            self.x[i][lane] = *xi;
+        }
+        self.next_angle[lane] = state.predicted_angle();
+        self.amplitude[lane] = state.amplitude;
+        self.turns[lane] = state.turns as i32;
+        self.phase_error[lane] = state.phase_error;
+        self.rejected[lane] = u32::from(state.faults.contains(Faults::BAD_SAMPLE));
+        self.pending[lane] = !state.initialised;
+        self.coasted[lane] = state.coasted;
+    }
+
+    /// Lane `lane`'s predicted angle for its next sample (rad, not wrapped), as the single
+    /// observer's.
+    #[inline(always)]
+    pub(crate) fn predicted_angle(&self, lane: usize) -> T {
+        self.next_angle[lane]
+    }
+
+    /// Marks the bank for the lane-by-lane path if a lane is pending or coasted.
+    pub(crate) fn update_rare(&mut self) {
+        self.rare = self.pending.contains(&true) || self.coasted.contains(&true);
     }
 }
 
@@ -135,8 +220,8 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         y_c: &[T; L],
         y_s: &[T; L],
     ) {
-        if !bank.initialised {
-            self.initialise_bank(bank, y_c, y_s);
+        if bank.rare {
+            self.update_lanes_as_single_observers(bank, y_c, y_s);
             return;
         }
         // Side by side: the same operations on every lane and no branch in the loop, so the
@@ -248,6 +333,16 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         if lane >= L {
             return None;
         }
+        Some(self.lane_estimate(bank, lane))
+    }
+
+    /// The estimate of lane `lane` (< `L`) of a bank.
+    #[inline(always)]
+    pub(crate) fn lane_estimate<const L: usize>(
+        &self,
+        bank: &ChannelBank<T, N, L>,
+        lane: usize,
+    ) -> Estimate<T> {
         let mut x = [T::ZERO; N];
         for (i, xi) in x.iter_mut().enumerate() {
             *xi = bank.x[i][lane];
@@ -257,36 +352,33 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         } else {
             Faults::NONE
         };
-        Some(self.estimate_of(&x, bank.turns[lane] as i64, bank.phase_error[lane], faults))
+        self.estimate_of(&x, bank.turns[lane] as i64, bank.phase_error[lane], faults)
     }
 
-    /// The update while some lanes wait for their first valid sample.
+    /// The gains of a bank's lane as a single observer: these, the monitor off.
+    pub(crate) fn unmonitored(&self) -> Self {
+        let mut gains = *self;
+        gains.thresholds.thresholds.monitor = false;
+        gains
+    }
+
+    /// The update while some lane waits for its first valid sample or coasted through a
+    /// front-end fault: each lane as a single observer whose monitor is off.
     #[cold]
-    fn initialise_bank<const L: usize>(
+    #[inline(never)]
+    fn update_lanes_as_single_observers<const L: usize>(
         &self,
         bank: &mut ChannelBank<T, N, L>,
         y_c: &[T; L],
         y_s: &[T; L],
     ) {
-        let mut all = true;
+        let gains = self.unmonitored();
         for lane in 0..L {
-            let (c, s) = (y_c[lane], y_s[lane]);
-            if !bank.pending[lane] {
-                self.update_lane::<FullWrap, L>(bank, lane, c, s);
-                continue;
-            }
-            let (amplitude2, valid) = self.thresholds.accept(c, s);
-            bank.rejected[lane] = u32::from(!valid);
-            if let (true, Some((angle, whole))) = (valid, sample_angle(c, s)) {
-                bank.amplitude[lane] = magnitude(amplitude2);
-                bank.turns[lane] = whole;
-                bank.x[0][lane] = angle;
-                bank.next_angle[lane] = angle;
-                bank.pending[lane] = false;
-            }
-            all &= !bank.pending[lane];
+            let mut state = bank.lane_state(lane);
+            gains.track(&mut state, y_c[lane], y_s[lane]);
+            bank.set_lane(lane, &state);
         }
-        bank.initialised = all;
+        bank.update_rare();
     }
 }
 

@@ -10,6 +10,7 @@ use crate::real::sincos::SinCos;
 use crate::real::{ChainNumber, Float};
 use crate::state::{Estimate, ObserverState};
 
+mod bank;
 mod front_end_check;
 mod held_rails;
 mod observers;

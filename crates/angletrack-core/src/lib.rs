@@ -120,6 +120,10 @@
 // `!(x > 0)` is deliberate throughout: it is true for NaN, which must be refused too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+// Only for the `f64` square root of the `std` feature (`real.rs`).
+#[cfg(feature = "std")]
+extern crate std;
+
 mod adc;
 mod angle_correction;
 mod angle_table;

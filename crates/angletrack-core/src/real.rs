@@ -340,7 +340,24 @@ impl_real! {
 impl_real! {
     f64, bits u64, default Exact, tau_lo 2.449_293_598_294_706_4e-16_f64, one_turn_edge_fix true,
     fast_error 2e-13, fewest_instructions false, polynomials F64_SIN_POLY, F64_COS_POLY, libm atan2, sincos, sqrt, expm1,
-    track_magnitude |_previous, amplitude2| libm::sqrt(amplitude2), checks for_f64
+    track_magnitude |_previous, amplitude2| sqrt_f64(amplitude2), checks for_f64
+}
+
+/// The square root of the `f64` magnitude ([`Float::track_magnitude`]): with the `std`
+/// feature the standard library's (the compiler's own operation, which the loop over a
+/// [`ChannelBank`](crate::ChannelBank)'s lanes vectorises: `sqrtpd`), else `libm`'s (on
+/// x86-64 an inline `sqrtsd` that no loop around it can vectorise). Both are correctly
+/// rounded: the same bits.
+#[inline(always)]
+fn sqrt_f64(x: f64) -> f64 {
+    #[cfg(feature = "std")]
+    {
+        x.sqrt()
+    }
+    #[cfg(not(feature = "std"))]
+    {
+        libm::sqrt(x)
+    }
 }
 
 /// One Heron (Newton) step of `sqrt(amplitude2)` from `previous` (> 0): the mean of

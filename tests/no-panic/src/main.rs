@@ -48,6 +48,21 @@ where
     if let Some(e) = gains.bank_estimate(&bank, black_box(2)) {
         sum += e.angle + e.speed;
     }
+    // A chain's bank form: an online calibration (learning: lane by lane with the
+    // feedback; off: side by side).
+    if let Ok(online) = OnlineCalibration::new(CalibrationSettings::default(), black_box(1e-4)) {
+        let chain = Chain::new(online, gains);
+        let mut banked = ChainState::<[Calibrator<f32>; 4], ChannelBank<f32, N, 4>>::new_bank();
+        if black_box(true) {
+            banked.front_end[1].enable();
+        }
+        let inputs = black_box([(0.5f32, -0.5f32); 4]);
+        for _ in 0..black_box(4) {
+            chain.track_bank(&mut banked, &inputs);
+        }
+        let e = chain.update_bank(&mut banked, &inputs);
+        sum += e[black_box(1) % 4].angle + banked.observer.latched_faults()[3].bits() as f32;
+    }
     sum += raw_and_calibrated(&gains);
     sum + out[black_box(3) % 16].angle + n as f32 + state.clear_faults().bits() as f32
 }

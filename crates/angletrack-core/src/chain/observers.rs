@@ -187,11 +187,11 @@ impl<const N: usize> Observe<i16> for FixedGains<N> {
 }
 
 /// Hands what the observer made of a sample back to the front end `F` (of input `X`).
-struct ToFrontEnd<'a, V: ChainNumber, X, F: Stage<V, X>> {
-    front_end: &'a F,
-    state: &'a mut F::State,
-    memo: F::Memo,
-    input: PhantomData<fn(X) -> V>,
+pub(super) struct ToFrontEnd<'a, V: ChainNumber, X, F: Stage<V, X>> {
+    pub(super) front_end: &'a F,
+    pub(super) state: &'a mut F::State,
+    pub(super) memo: F::Memo,
+    pub(super) input: PhantomData<fn(X) -> V>,
 }
 
 impl<V: ChainNumber, X, F: Stage<V, X>> SampleObserver<V> for ToFrontEnd<'_, V, X, F> {

@@ -4,14 +4,14 @@
 
 use core::marker::PhantomData;
 
-use super::observers::{Observe, ToFrontEnd};
+use super::observers::{Observe, finish_with_feedback};
 use super::{Chain, ChainState, Prediction, Stage};
 use crate::bank::ChannelBank;
 use crate::faults::Faults;
 use crate::gains::Gains;
 use crate::real::Float;
 use crate::real::sincos::SinCos;
-use crate::state::{Estimate, ObserverState};
+use crate::state::Estimate;
 use crate::wrap::wrap_angle;
 
 /// A lane's prediction, as the single observer's: its predicted angle (a bank keeps it
@@ -185,11 +185,10 @@ fn lanes_with_feedback<
                 .front_end
                 .forward(front_end, &prediction, inputs[lane])
         };
-        let faults = finish_lane(
+        let faults: Faults = finish_with_feedback(
             &chain.front_end,
             &gains,
-            front_end,
-            &mut observer,
+            &mut (front_end, &mut observer),
             pair,
             memo,
         );
@@ -224,11 +223,10 @@ fn forwarded_lanes_with_feedback<
         let mut observer = bank.lane_state(lane);
         let pair = (y_c[lane], y_s[lane]);
         let front_end = &mut state.front_end[lane];
-        let faults = finish_lane(
+        let faults: Faults = finish_with_feedback(
             &chain.front_end,
             &gains,
-            front_end,
-            &mut observer,
+            &mut (front_end, &mut observer),
             pair,
             memos[lane],
         );
@@ -238,33 +236,6 @@ fn forwarded_lanes_with_feedback<
     });
     bank.update_rare();
     faults
-}
-
-/// One lane's observer step on its front end's `pair`, with the feedback of `memo` to the
-/// front end, or its coast where the front end says the sample is not a measurement (as
-/// the single chain's): the front end's faults.
-#[inline(always)]
-fn finish_lane<F: Stage<T, X>, X, T: Float, const N: usize, S: SinCos<T>>(
-    front_end: &F,
-    gains: &Gains<T, N, S>,
-    state: &mut F::State,
-    observer: &mut ObserverState<T, N>,
-    (y_c, y_s): (T, T),
-    memo: F::Memo,
-) -> Faults {
-    if front_end.coasts(state) {
-        Observe::coast(gains, observer);
-        front_end.feedback(state, memo, None);
-    } else {
-        let to_front_end = ToFrontEnd {
-            front_end,
-            state: &mut *state,
-            memo,
-            input: PhantomData,
-        };
-        Observe::track_observing(gains, observer, y_c, y_s, to_front_end);
-    }
-    front_end.faults(state)
 }
 
 #[cfg(test)]

@@ -187,11 +187,11 @@ impl<const N: usize> Observe<i16> for FixedGains<N> {
 }
 
 /// Hands what the observer made of a sample back to the front end `F` (of input `X`).
-pub(super) struct ToFrontEnd<'a, V: ChainNumber, X, F: Stage<V, X>> {
-    pub(super) front_end: &'a F,
-    pub(super) state: &'a mut F::State,
-    pub(super) memo: F::Memo,
-    pub(super) input: PhantomData<fn(X) -> V>,
+struct ToFrontEnd<'a, V: ChainNumber, X, F: Stage<V, X>> {
+    front_end: &'a F,
+    state: &'a mut F::State,
+    memo: F::Memo,
+    input: PhantomData<fn(X) -> V>,
 }
 
 impl<V: ChainNumber, X, F: Stage<V, X>> SampleObserver<V> for ToFrontEnd<'_, V, X, F> {
@@ -216,6 +216,14 @@ pub(crate) trait Output<V: ChainNumber, O: Observe<V>> {
 impl<V: ChainNumber, O: Observe<V>> Output<V, O> for () {
     #[inline(always)]
     fn of(_: &O, _: &O::State, _: Faults) {}
+}
+
+/// The front end's faults alone (a bank's lane, whose estimate is read apart).
+impl<V: ChainNumber, O: Observe<V>> Output<V, O> for Faults {
+    #[inline(always)]
+    fn of(_: &O, _: &O::State, faults: Faults) -> Faults {
+        faults
+    }
 }
 
 /// The float observers' estimate, as [`Observe::estimate_with`].
@@ -312,7 +320,7 @@ where
         let prediction = chain.observer.prediction(observer);
         chain.front_end.forward(front_end, &prediction, input)
     };
-    finish_with_feedback(chain, states, pair, memo)
+    finish_with_feedback(&chain.front_end, &chain.observer, states, pair, memo)
 }
 
 /// [`finish_with_feedback`] out of line, for a front end that is quiet or not after the
@@ -331,15 +339,16 @@ where
     O: Observe<V>,
     R: Output<V, O>,
 {
-    finish_with_feedback(chain, states, pair, memo)
+    finish_with_feedback(&chain.front_end, &chain.observer, states, pair, memo)
 }
 
 /// The observer's step on the front end's `pair` with the feedback of `memo` to the front
 /// end (or its coast, where the front end says the sample is not a measurement), then the
 /// front end's faults, latched and carried by the result.
 #[inline(always)]
-fn finish_with_feedback<V, X, F, O, R>(
-    chain: &Chain<F, O>,
+pub(super) fn finish_with_feedback<V, X, F, O, R>(
+    front_end: &F,
+    observer: &O,
     states: &mut impl States<F::State, O::State>,
     (y_c, y_s): (V, V),
     memo: F::Memo,
@@ -350,7 +359,6 @@ where
     O: Observe<V>,
     R: Output<V, O>,
 {
-    let (front_end, observer) = (&chain.front_end, &chain.observer);
     let (front_end_state, observer_state) = states.split();
     if front_end.coasts(front_end_state) {
         observer.coast(observer_state);

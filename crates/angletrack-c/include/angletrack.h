@@ -132,13 +132,13 @@
  * The 8-byte words of an `at_demodulator_f32`'s storage (checked against the Rust types at
  * compile time, on every target).
  */
-#define AT_DEMODULATOR_F32_WORDS 10
+#define AT_DEMODULATOR_F32_WORDS 9
 
 /**
  * The 8-byte words of an `at_demodulator_state_f32`'s storage (checked against the Rust
  * type at compile time, on every target).
  */
-#define AT_DEMODULATOR_STATE_F32_WORDS 32
+#define AT_DEMODULATOR_STATE_F32_WORDS 24
 
 /**
  * A pair's front-end fault: loss of excitation (the carrier amplitude at the windings

@@ -14,10 +14,10 @@ use crate::status::{at_status, status_of_result};
 
 /// The 8-byte words of an `at_demodulator_f32`'s storage (checked against the Rust types at
 /// compile time, on every target).
-pub const AT_DEMODULATOR_F32_WORDS: usize = 10;
+pub const AT_DEMODULATOR_F32_WORDS: usize = 9;
 /// The 8-byte words of an `at_demodulator_state_f32`'s storage (checked against the Rust
 /// type at compile time, on every target).
-pub const AT_DEMODULATOR_STATE_F32_WORDS: usize = 32;
+pub const AT_DEMODULATOR_STATE_F32_WORDS: usize = 24;
 
 /// A pair's front-end fault: loss of excitation (the carrier amplitude at the windings
 /// below its threshold).

@@ -1,8 +1,8 @@
 //! The arithmetic a [`Demodulator`](crate::Demodulator) runs in (`docs/theory.md §13`): the
 //! sums of one segment of ADC samples, the window's offset-free and normalised components,
 //! and the products of the carrier loop's phase detector, for `f32`, `f64` and `i16`
-//! samples (fixed point: a Q10 sine table, `i32` sums, `i64` window values, no division
-//! but one per window). The demodulator's logic is written once over this trait.
+//! samples (fixed point: a Q10 sine table, `i32` sums, `i64` window values, two 32-bit
+//! divisions per window). The demodulator's logic is written once over this trait.
 
 use core::fmt::Debug;
 use core::ops::AddAssign;
@@ -99,17 +99,25 @@ pub trait DemodulatorNumber:
     /// `sum += x`.
     #[doc(hidden)]
     fn accumulate(sum: &mut Self::Sum, x: Self);
-    /// A word whose sign bit is set when `x` is more than `half_span` from `centre`: the
-    /// words of a segment's samples are ORed, one branch-free operation per sample (a NaN
-    /// is caught by the window's power instead).
+    /// A winding's sample as it is summed, and a word whose sign bit is set when `x` is
+    /// more than `half_span` from `centre`: the words of a segment's samples are ORed, one
+    /// branch-free operation per sample (a NaN is caught by the window's power instead).
+    /// The floats sum `x - centre` (the subtraction the clipping test makes anyway: smaller
+    /// sums, less rounding); the fixed point sums `x` (its range bounds the sums).
     #[doc(hidden)]
-    fn clip_word(x: Self, centre: Self, half_span: Self) -> u32;
+    fn prepare(x: Self, centre: Self, half_span: Self) -> (Self, u32);
     /// `false` for a window value that is NaN or infinite.
     #[doc(hidden)]
     fn is_finite(x: Self::Wide) -> bool;
-    /// The trapezoid window's value from its segments: `2 rest + first + last`.
+    /// A segment's sum as a window's.
     #[doc(hidden)]
-    fn combine(rest: Self::Sum, first: Self::Sum, last: Self::Sum) -> Self::Wide;
+    fn widen(x: Self::Sum) -> Self::Wide;
+    /// `acc + x`: a segment's sum into a window's.
+    #[doc(hidden)]
+    fn add_sum(acc: Self::Wide, x: Self::Sum) -> Self::Wide;
+    /// `acc + 2 x`: a segment's sum into a window's at weight 2.
+    #[doc(hidden)]
+    fn add_twice(acc: Self::Wide, x: Self::Sum) -> Self::Wide;
     /// The reciprocal of a window's weight (its count of samples, doubled), in the form
     /// [`DemodulatorNumber::component`] takes.
     #[doc(hidden)]
@@ -123,13 +131,19 @@ pub trait DemodulatorNumber:
         r: Self::Wide,
         per_weight: Self::Wide,
     ) -> Self::Wide;
-    /// A component in the pair's unit: times `gain` (from [`DemodulatorNumber::pair_gain`]).
+    /// A channel's mean over the window, `x / w`, in the form
+    /// [`DemodulatorNumber::pair_component`] takes.
     #[doc(hidden)]
-    fn to_pair(component: Self::Wide, gain: Self::Wide) -> Self;
-    /// The gain that makes a winding of amplitude `amplitude_counts` an envelope of 1 (the
-    /// fixed-point unit for `i16`); `None` if the type cannot hold it.
+    fn mean(x: Self::Wide, per_weight: Self::Wide) -> Self::Wide;
+    /// The factor from a window's sums to the pair's unit: `gain / w` (`gain` from
+    /// [`DemodulatorNumber::pair_gain`]), one per window.
     #[doc(hidden)]
-    fn pair_gain(amplitude_counts: Self::Real) -> Option<Self::Wide>;
+    fn window_scale(per_weight: Self::Wide, gain: Self::Wide) -> Self::Wide;
+    /// A winding's component in the pair's unit: `(xr - mean r) gain / w`, with `mean`
+    /// from [`DemodulatorNumber::mean`] and `scale` from
+    /// [`DemodulatorNumber::window_scale`].
+    #[doc(hidden)]
+    fn pair_component(xr: Self::Wide, mean: Self::Wide, r: Self::Wide, scale: Self::Wide) -> Self;
     /// `-x` (saturated for `i16`).
     #[doc(hidden)]
     fn negate(x: Self) -> Self;
@@ -146,13 +160,6 @@ pub trait DemodulatorNumber:
     /// [`DemodulatorNumber::fraction`]).
     #[doc(hidden)]
     fn times_fraction(a: Self::Wide, fraction: Self::Wide) -> Self::Wide;
-    /// A fraction in [-1, 1] as [`DemodulatorNumber::times_fraction`] takes it.
-    #[doc(hidden)]
-    fn fraction(x: Self::Real) -> Self::Wide;
-    /// The square of a fraction of the pair's unit, as a product of pair components: a
-    /// power threshold.
-    #[doc(hidden)]
-    fn unit_power(fraction: Self::Real) -> Self::Wide;
     /// `num / den` in Q31 (`2^31` = 1), saturated to `i32`; 0 unless `den > 0`.
     #[doc(hidden)]
     fn ratio_q31(num: Self::Wide, den: Self::Wide) -> i32;
@@ -161,9 +168,11 @@ pub trait DemodulatorNumber:
     /// A window value as a float (any common scale), for diagnostics.
     #[doc(hidden)]
     fn wide_to_real(x: Self::Wide) -> Self::Real;
-    /// A setting (counts) in the type of the samples, saturated; `None` if not finite.
+    /// [`Demodulator::new`](crate::Demodulator::new): the type's `const` constructor.
     #[doc(hidden)]
-    fn from_counts(x: Self::Real) -> Option<Self>;
+    fn demodulator(
+        settings: crate::DemodulatorSettings<Self::Real>,
+    ) -> Result<crate::Demodulator<Self>, crate::ConfigError>;
 }
 
 macro_rules! float_number {
@@ -187,18 +196,28 @@ macro_rules! float_number {
                 *sum += x;
             }
             #[inline(always)]
-            fn clip_word(x: $t, centre: $t, half_span: $t) -> u32 {
+            fn prepare(x: $t, centre: $t, half_span: $t) -> ($t, u32) {
+                let x = x - centre;
                 // The sign bit of the float; its top 32 bits for `f64`.
-                ((half_span - (x - centre).abs()).to_bits()
-                    >> (8 * core::mem::size_of::<$t>() - 32)) as u32
+                let clip = ((half_span - x.abs()).to_bits()
+                    >> (8 * core::mem::size_of::<$t>() - 32)) as u32;
+                (x, clip)
             }
             #[inline(always)]
             fn is_finite(x: $t) -> bool {
                 Float::is_finite(x)
             }
             #[inline(always)]
-            fn combine(rest: $t, first: $t, last: $t) -> $t {
-                rest + rest + first + last
+            fn widen(x: $t) -> $t {
+                x
+            }
+            #[inline(always)]
+            fn add_sum(acc: $t, x: $t) -> $t {
+                acc + x
+            }
+            #[inline(always)]
+            fn add_twice(acc: $t, x: $t) -> $t {
+                acc + (x + x)
             }
             #[inline(always)]
             fn per_weight(weight: u32) -> $t {
@@ -209,11 +228,16 @@ macro_rules! float_number {
                 (xr - x * r * per_weight) * per_weight
             }
             #[inline(always)]
-            fn to_pair(component: $t, gain: $t) -> $t {
-                component * gain
+            fn mean(x: $t, per_weight: $t) -> $t {
+                x * per_weight
             }
-            fn pair_gain(amplitude_counts: $t) -> Option<$t> {
-                Some(2.0 / amplitude_counts)
+            #[inline(always)]
+            fn window_scale(per_weight: $t, gain: $t) -> $t {
+                per_weight * gain
+            }
+            #[inline(always)]
+            fn pair_component(xr: $t, mean: $t, r: $t, scale: $t) -> $t {
+                (xr - mean * r) * scale
             }
             #[inline(always)]
             fn negate(x: $t) -> $t {
@@ -235,12 +259,6 @@ macro_rules! float_number {
             fn times_fraction(a: $t, fraction: $t) -> $t {
                 a * fraction
             }
-            fn fraction(x: $t) -> $t {
-                x
-            }
-            fn unit_power(fraction: $t) -> $t {
-                fraction * fraction
-            }
             #[inline(always)]
             fn ratio_q31(num: $t, den: $t) -> i32 {
                 if den > 0.0 {
@@ -256,8 +274,10 @@ macro_rules! float_number {
             fn wide_to_real(x: $t) -> $t {
                 x
             }
-            fn from_counts(x: $t) -> Option<$t> {
-                Float::is_finite(x).then_some(x)
+            fn demodulator(
+                settings: crate::DemodulatorSettings<$t>,
+            ) -> Result<crate::Demodulator<$t>, crate::ConfigError> {
+                crate::Demodulator::<$t>::new_const(settings)
             }
         }
     };
@@ -291,21 +311,34 @@ impl DemodulatorNumber for i16 {
         *sum += i32::from(x);
     }
     #[inline(always)]
-    fn clip_word(x: i16, centre: i16, half_span: i16) -> u32 {
-        (i32::from(half_span) - (i32::from(x) - i32::from(centre)).abs()) as u32
+    fn prepare(x: i16, centre: i16, half_span: i16) -> (i16, u32) {
+        // Negative (the sign bit set) when x is outside [centre - half_span, centre +
+        // half_span]: x - low and high - x ORed.
+        let (x32, centre, half_span) = (i32::from(x), i32::from(centre), i32::from(half_span));
+        let clip = ((x32 - (centre - half_span)) | (centre + half_span - x32)) as u32;
+        (x, clip)
     }
     #[inline(always)]
     fn is_finite(_: i64) -> bool {
         true
     }
     #[inline(always)]
-    fn combine(rest: i32, first: i32, last: i32) -> i64 {
-        2 * i64::from(rest) + i64::from(first) + i64::from(last)
+    fn widen(x: i32) -> i64 {
+        i64::from(x)
+    }
+    #[inline(always)]
+    fn add_sum(acc: i64, x: i32) -> i64 {
+        acc + i64::from(x)
+    }
+    #[inline(always)]
+    fn add_twice(acc: i64, x: i32) -> i64 {
+        acc + 2 * i64::from(x)
     }
     #[inline(always)]
     fn per_weight(weight: u32) -> i64 {
-        // A weight is at least 2 (checked at construction: 4 samples per period or more).
-        ((1_u64 << 32) / u64::from(weight.max(1))) as i64
+        // (2^32 - 1) / w for 2^32 / w: a 32-bit division (a weight is at least 8: 4 samples
+        // per period or more), and the difference below 2^-32 of the value.
+        i64::from(u32::MAX / weight.max(1))
     }
     #[inline(always)]
     fn component(xr: i64, x: i64, r: i64, per_weight: i64) -> i64 {
@@ -316,16 +349,23 @@ impl DemodulatorNumber for i16 {
         ((xr - mean) * per_weight) >> 32
     }
     #[inline(always)]
-    fn to_pair(component: i64, gain: i64) -> i16 {
-        // component = envelope * amplitude * 512 (Q10 / 2); gain = 2^38 / (512 amplitude):
-        // envelope * 2^14 after the shift of 24.
-        let v = (component * gain) >> 24;
-        v.clamp(i64::from(i16::MIN), i64::from(i16::MAX)) as i16
+    fn mean(x: i64, per_weight: i64) -> i64 {
+        // Q15: |x| <= 2^15 w and 2^32 / w give at most 2^47 before the shift, 2^30 after.
+        (x * per_weight) >> 17
     }
-    fn pair_gain(amplitude_counts: f32) -> Option<i64> {
-        // 2^14 / (512 amplitude) in Q24: 2^29 / amplitude.
-        let gain = 536_870_912.0_f32 / amplitude_counts;
-        (1.0..16_777_216.0).contains(&gain).then_some(gain as i64)
+    #[inline(always)]
+    fn window_scale(per_weight: i64, gain: i64) -> i64 {
+        // 2^32 / w times gain < 2^24 (Q24), over 2^24: 2^32 gain / w, at most 2^53 / w.
+        (per_weight * gain) >> 24
+    }
+    #[inline(always)]
+    fn pair_component(xr: i64, mean: i64, r: i64, scale: i64) -> i16 {
+        // |mean| <= 2^30 (Q15) and |r| <= 2^10 w: |mean r| / 2^15 <= 2^25 w, as |xr|; their
+        // difference (at most 2^26 w) times the scale (at most 2^8 gain / w, gain < 2^24)
+        // is below 2^58. The component is envelope * amplitude * 512 (Q10 / 2) times w;
+        // gain = 2^38 / (512 amplitude): envelope * 2^14 after the shifts of 24 and 32.
+        let v = ((xr - ((mean * r) >> 15)) * scale) >> 32;
+        v.clamp(i64::from(i16::MIN), i64::from(i16::MAX)) as i16
     }
     #[inline(always)]
     fn negate(x: i16) -> i16 {
@@ -347,20 +387,20 @@ impl DemodulatorNumber for i16 {
     fn times_fraction(a: i64, fraction: i64) -> i64 {
         (a * fraction) >> 16
     }
-    fn fraction(x: f32) -> i64 {
-        (x * 65_536.0) as i64
-    }
-    fn unit_power(fraction: f32) -> i64 {
-        let v = fraction * f32::from(FIXED_PAIR_UNIT);
-        (v * v) as i64
-    }
     #[inline(always)]
     fn ratio_q31(num: i64, den: i64) -> i32 {
         if den > 0 {
-            // The detector's ratios are within [-1, 1]; den < 2^33 (three windings' powers
-            // of at most 2^30 each), so 2^30 num fits an i64.
+            // The detector's ratios are within [-1, 1] and den <= 2^32 (two windings' powers
+            // of at most 2^31 each): both over 2^16 (rounded), a 32-bit division gives the
+            // ratio in Q14. Its resolution is 2^16 / den: 2^-12 at the nominal amplitude
+            // (den = 2^28), 2^-8 at the loss-of-excitation threshold; the carrier loop
+            // averages it over windows.
             let num = num.max(-den).min(den);
-            (((num << 30) / den) << 1).clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32
+            let den = ((den + (1 << 15)) >> 16).max(1) as i32;
+            let num = ((num + (1 << 15)) >> 16) as i32;
+            let num = num.max(-den).min(den);
+            (i64::from((num << 14) / den) << 17).clamp(i64::from(i32::MIN), i64::from(i32::MAX))
+                as i32
         } else {
             0
         }
@@ -371,8 +411,9 @@ impl DemodulatorNumber for i16 {
     fn wide_to_real(x: i64) -> f32 {
         x as f32
     }
-    fn from_counts(x: f32) -> Option<i16> {
-        // `as` saturates.
-        Float::is_finite(x).then_some(x as i16)
+    fn demodulator(
+        settings: crate::DemodulatorSettings<f32>,
+    ) -> Result<crate::Demodulator<i16>, crate::ConfigError> {
+        crate::Demodulator::<i16>::new_const(settings)
     }
 }

@@ -83,3 +83,46 @@ impl<T: Float> DemodulatorSettings<T> {
         }
     }
 }
+
+/// Defines [`DemodulatorSettings::new_const`] for the float type `$t`.
+macro_rules! const_settings {
+    ($t:ident) => {
+        impl DemodulatorSettings<$t> {
+            /// [`DemodulatorSettings::new`] as a `const fn` (the same defaults, the `f32`
+            /// values in both types), for a
+            /// `static` demodulator ([`Demodulator::new_const`](crate::Demodulator)).
+            ///
+            /// ```
+            /// use angletrack_core::DemodulatorSettings;
+            #[doc = concat!("const SETTINGS: DemodulatorSettings<", stringify!($t), "> = DemodulatorSettings::<", stringify!($t), ">::new_const(10e3, 150e3, 1800.0, 0.0, 4095.0);")]
+            /// assert_eq!(SETTINGS, DemodulatorSettings::new(10e3, 150e3, 1800.0, 0.0, 4095.0));
+            /// ```
+            pub const fn new_const(
+                carrier_hz: $t,
+                adc_rate_hz: $t,
+                carrier_amplitude_counts: $t,
+                adc_min_code: $t,
+                adc_max_code: $t,
+            ) -> Self {
+                Self {
+                    carrier_hz,
+                    adc_rate_hz,
+                    carrier_amplitude_counts,
+                    adc_min_code,
+                    adc_max_code,
+                    clip_margin_counts: (adc_max_code - adc_min_code) * (1.0 / 256.0),
+                    loss_of_excitation: 0.25,
+                    weak_excitation: 0.7_f32 as $t,
+                    phase_drift_bound_rad: (44.0 * core::f32::consts::PI / 180.0) as $t,
+                    expected_delay_rad: 0.0,
+                    carrier_loop_bandwidth: 0.3_f32 as $t,
+                    max_carrier_error: 0.03_f32 as $t,
+                    startup_periods: 24,
+                }
+            }
+        }
+    };
+}
+
+const_settings!(f32);
+const_settings!(f64);

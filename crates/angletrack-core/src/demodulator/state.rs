@@ -41,25 +41,49 @@ impl<V> DemodulatedPair<V> {
     }
 }
 
-/// The sums of one segment of samples: per channel (cosine winding, sine winding,
-/// excitation) the samples times the reference `sin` and `cos`, and the samples; and the
-/// reference's own sums.
+/// The sums of the windings' samples over one segment (in `S`: a segment's type) or one
+/// window (its wide type): per winding (cosine, sine) the samples times the reference `sin`
+/// and `cos`, and the samples; and the reference's own sums.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(super) struct Sums<S> {
-    pub(super) xs: [S; 3],
-    pub(super) xc: [S; 3],
-    pub(super) x: [S; 3],
+    pub(super) xs: [S; 2],
+    pub(super) xc: [S; 2],
+    pub(super) x: [S; 2],
     pub(super) s: S,
     pub(super) c: S,
 }
 
-/// A segment: its sums, its first sample, its length and its samples' clipping words ORed
-/// (the sign bit set if one was clipped).
+/// The same sums of the excitation's samples (with the reference's of [`Sums`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(super) struct ExcitationSums<S> {
+    pub(super) xs: S,
+    pub(super) xc: S,
+    pub(super) x: S,
+}
+
+/// The segment being summed: its sums, its first sample, its length and its samples'
+/// clipping words ORed (the sign bit set if one was clipped).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub(super) struct Segment<S> {
     pub(super) sums: Sums<S>,
+    pub(super) excitation: ExcitationSums<S>,
     pub(super) first: u64,
     pub(super) length: u32,
+    pub(super) clip: u32,
+}
+
+/// The window under way: a period's first quarter (weight 1) and the rest of the period
+/// (weight 2) summed in the wide type; the next first quarter completes it.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub(super) struct PendingWindow<W> {
+    pub(super) sums: Sums<W>,
+    pub(super) excitation: ExcitationSums<W>,
+    /// The window's first sample.
+    pub(super) first: u64,
+    /// The lengths of its first quarter and of the rest of its period.
+    pub(super) quarter: u32,
+    pub(super) rest: u32,
+    /// Its samples' clipping words ORed.
     pub(super) clip: u32,
 }
 
@@ -87,8 +111,7 @@ pub struct DemodulatorState<V: DemodulatorNumber> {
     /// Whether the current segment is a period's first quarter.
     pub(super) in_first_quarter: bool,
     pub(super) current: Segment<V::Sum>,
-    pub(super) first_quarter: Segment<V::Sum>,
-    pub(super) rest: Segment<V::Sum>,
+    pub(super) pending: PendingWindow<V::Wide>,
     /// Rest segments completed (periods).
     pub(super) periods: u64,
     /// Windows completed.
@@ -125,8 +148,7 @@ impl<V: DemodulatorNumber> DemodulatorState<V> {
             left: 0,
             in_first_quarter: true,
             current: Segment::default(),
-            first_quarter: Segment::default(),
-            rest: Segment::default(),
+            pending: PendingWindow::default(),
             periods: 0,
             windows: 0,
             excitation: false,

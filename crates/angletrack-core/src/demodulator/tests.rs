@@ -7,6 +7,7 @@ extern crate std;
 use std::vec::Vec;
 
 use super::*;
+use crate::FrontEndFaults;
 use core::f64::consts::{PI, TAU};
 
 const AMPLITUDE: f64 = 1800.0;

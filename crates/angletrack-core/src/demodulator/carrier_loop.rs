@@ -1,0 +1,95 @@
+//! The demodulator's carrier loop (`docs/theory.md §13`): the phase and step of its
+//! oscillator corrected once per window from the phase detector `sum I Q / sum (I^2 + Q^2)`
+//! (`sin(2e)/2` for a phase error `e`), and the carrier's half turn resolved from the
+//! recorded excitation or, at the end of the start-up, from the expected delay.
+
+use super::{Demodulator, DemodulatorNumber, DemodulatorState, QUARTER};
+
+/// The largest phase correction per window (a sixteenth of a turn).
+const MAX_CORRECTION: i64 = 1 << 28;
+
+impl<V: DemodulatorNumber> Demodulator<V> {
+    /// The loop's correction from a window's detector products (`in_phase` and
+    /// `quadrature` powers, their `cross` product, the `power`), while the carrier is there;
+    /// `full` for a window of full (not weak) excitation.
+    #[inline(always)]
+    pub(super) fn track_carrier(
+        &self,
+        state: &mut DemodulatorState<V>,
+        in_phase: V::Wide,
+        quadrature: V::Wide,
+        cross: V::Wide,
+        power: V::Wide,
+        full: bool,
+    ) {
+        if !state.delay_ready && state.windows.is_multiple_of(2) && in_phase < quadrature {
+            // Acquiring a quarter turn off, where the detector's error vanishes too
+            // (unstably): a quarter turn on (not on the next window, which holds samples
+            // from before).
+            state.phase = state.phase.wrapping_add(QUARTER);
+        } else {
+            // sum I Q / sum (I^2 + Q^2) = sin(2e) / 2, about e (rad), in Q31.
+            self.correct(state, V::ratio_q31(cross, power), full);
+        }
+    }
+
+    /// The carrier loop's correction for a phase error `error` (Q31 rad): the phase now,
+    /// the step (within the carrier error allowed) from the next sample on.
+    ///
+    /// A window of weak excitation (one that straddles the onset or the end of a loss, or a
+    /// carrier fading) corrects the phase only: its error is too unsure for the frequency.
+    /// A window of full excitation also moves the held step (the frequency the loop keeps
+    /// through a loss) 1/64 of the way to the loop's.
+    #[inline(always)]
+    fn correct(&self, state: &mut DemodulatorState<V>, error: i32, full: bool) {
+        // 32 by 32 bits into 64 (one instruction where the core has it).
+        let times = |gain: i32| i64::from(error) * i64::from(gain);
+        let phase = (times(self.phase_gain) >> 16).clamp(-MAX_CORRECTION, MAX_CORRECTION);
+        state.phase = state.phase.wrapping_add(phase as i32 as u32);
+        if full {
+            let step = i64::from(state.step) + (times(self.step_gain) >> 24);
+            state.step = step
+                .max(i64::from(self.step_min))
+                .min(i64::from(self.step_max)) as u32;
+            let held = i64::from(state.held_step);
+            state.held_step = (held + ((i64::from(state.step) - held) >> 6)) as u32;
+        }
+    }
+
+    /// A window's excitation components `(I, Q)` against the loop's phase: kept for the
+    /// delay, and from the end of the start-up the half turn taken from them.
+    #[inline(always)]
+    pub(super) fn resolve_from_excitation(
+        &self,
+        state: &mut DemodulatorState<V>,
+        (i, q): (V::Wide, V::Wide),
+    ) {
+        state.excitation_iq = (i, q);
+        // cos(delay after the excitation - expected) < 0: the loop holds the other half turn.
+        let along = V::sub(
+            V::times_fraction(i, self.expected_cos),
+            V::times_fraction(q, self.expected_sin),
+        );
+        if state.delay_ready || state.windows >= u64::from(self.startup_periods) {
+            state.flip = along < V::Wide::default();
+        }
+    }
+
+    /// The end of the start-up: without an excitation, the half turn whose phase at the
+    /// first sample (the loop's phase taken back at its step) is within a quarter turn of the
+    /// expected delay.
+    #[cold]
+    #[inline(never)]
+    pub(super) fn resolve(&self, state: &mut DemodulatorState<V>) {
+        let back = state.sample.wrapping_mul(u64::from(state.step)) as u32;
+        let mut delay = state.phase.wrapping_sub(back);
+        if !state.excitation {
+            state.flip = (delay.wrapping_sub(self.expected) as i32).unsigned_abs() > QUARTER;
+        }
+        if state.flip {
+            delay = delay.wrapping_add(2 * QUARTER);
+        }
+        state.startup_delay = delay;
+        state.delay_ready = true;
+    }
+}

@@ -8,7 +8,7 @@ use crate::real::Float;
 use crate::real::sincos::SinCos;
 use crate::recursion::Sample;
 use crate::state::{Estimate, ObserverState};
-use crate::wrap::{FullWrap, NoWrap, OneTurnWrap, Wrap, one_turn_limit, wrapped};
+use crate::wrap::{FullWrap, NoWrap, Wrap, wrapped};
 
 /// The states of `L` independent channels of order `N`, laid out as a struct of arrays
 /// (`x[i][lane]`) so that [`Gains::update_bank`] runs the lanes side by side and the
@@ -187,17 +187,6 @@ impl<T: Float, const N: usize, const L: usize> ChannelBank<T, N, L> {
     }
 }
 
-/// The wrap a bank's predicted angles need in one sample (see [`Gains::lanes_wrap`]).
-#[derive(Clone, Copy)]
-enum LanesWrap {
-    /// Every angle is in [-pi, pi) already.
-    None,
-    /// Every angle is within about a turn: [`OneTurnWrap`].
-    OneTurn,
-    /// Some angle is further off, or not finite: each lane with the single observer's wrap.
-    Full,
-}
-
 impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// One sample for each of the `L` lanes of a bank. A lane's first valid sample
     /// initialises it from `atan2(y_s, y_c)`; until every lane is initialised the lanes run
@@ -225,62 +214,39 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             return;
         }
         // Side by side: the same operations on every lane and no branch in the loop, so the
-        // compiler vectorises it. The wrap of the predicted angles is chosen for the whole
-        // bank: none in the usual sample (every lane inside [-pi, pi): a lane crosses the
-        // edge once a turn), by selects when a lane crossed it, one by one beyond a turn.
-        match self.lanes_wrap(bank) {
-            LanesWrap::None => {
-                for lane in 0..L {
-                    self.update_lane::<NoWrap, L>(bank, lane, y_c[lane], y_s[lane]);
-                }
-            }
-            LanesWrap::OneTurn => {
-                for lane in 0..L {
-                    self.update_lane::<OneTurnWrap, L>(bank, lane, y_c[lane], y_s[lane]);
-                }
-            }
-            LanesWrap::Full => self.update_lanes_one_by_one(bank, y_c, y_s),
+        // compiler vectorises it, on predicted angles every one of which is in [-pi, pi):
+        // in the usual sample they are already (a lane crosses the edge once a turn); where
+        // one is not, it is wrapped first, out of line, by the single observer's wrap and
+        // its turns counted, which is what the single observer's step does first.
+        if !Self::lanes_inside(bank) {
+            Self::wrap_lanes(bank);
+        }
+        for lane in 0..L {
+            self.update_lane::<NoWrap, L>(bank, lane, y_c[lane], y_s[lane]);
         }
     }
 
-    /// How the lanes' predicted angles must be wrapped this sample: not at all if every one
-    /// is in [-pi, pi); by [`OneTurnWrap`] if every one is within [`one_turn_limit`] (about a
-    /// turn off), which is true of any lane a loop tracks (the prediction moves by the
-    /// speed and acceleration of one sample, and by the correction); else lane by lane.
+    /// Whether every lane's predicted angle is in [-pi, pi) (false for NaN).
     #[inline(always)]
-    fn lanes_wrap<const L: usize>(&self, bank: &ChannelBank<T, N, L>) -> LanesWrap {
-        // Each test is false for NaN.
+    fn lanes_inside<const L: usize>(bank: &ChannelBank<T, N, L>) -> bool {
         let mut inside = true;
         for &angle in &bank.next_angle {
             inside &= angle >= -T::PI && angle < T::PI;
         }
-        if inside {
-            return LanesWrap::None;
-        }
-        let limit = one_turn_limit::<T>();
-        let mut within = true;
-        for &angle in &bank.next_angle {
-            within &= angle.abs() < limit;
-        }
-        if within {
-            LanesWrap::OneTurn
-        } else {
-            LanesWrap::Full
-        }
+        inside
     }
 
-    /// The update of a bank whose lanes may go more than a turn off in one sample (see
-    /// [`Gains::lanes_wrap`]): lane by lane, with the single observer's wrap.
+    /// Wraps the predicted angles outside [-pi, pi) as the single observer's step does
+    /// ([`FullWrap`]), their turns counted.
     #[cold]
     #[inline(never)]
-    fn update_lanes_one_by_one<const L: usize>(
-        &self,
-        bank: &mut ChannelBank<T, N, L>,
-        y_c: &[T; L],
-        y_s: &[T; L],
-    ) {
+    fn wrap_lanes<const L: usize>(bank: &mut ChannelBank<T, N, L>) {
         for lane in 0..L {
-            self.update_lane::<FullWrap, L>(bank, lane, y_c[lane], y_s[lane]);
+            let angle = &mut bank.next_angle[lane];
+            if !(*angle >= -T::PI && *angle < T::PI) {
+                let whole = FullWrap::wrap(angle);
+                bank.turns[lane] = bank.turns[lane].wrapping_add(whole);
+            }
         }
     }
 

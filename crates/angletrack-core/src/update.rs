@@ -351,8 +351,8 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// `next_angle` the previous sample left: predict, detect, correct. A sample that is not
     /// `valid` is not used (the correction is zero: the state coasts on its prediction). `W`
     /// wraps the predicted angle: [`FullWrap`] for one channel;
-    /// [`NoWrap`](crate::wrap::NoWrap) or [`OneTurnWrap`](crate::wrap::OneTurnWrap) for the
-    /// lanes of a bank, as the bank's angles need.
+    /// [`NoWrap`](crate::wrap::NoWrap) for the lanes of a bank, whose angles are wrapped
+    /// before the step where they need it.
     ///
     /// ```text
     /// X_p = A X_e                      (the angle row is next_angle, wrapped)

@@ -1,6 +1,6 @@
 //! Angles kept in [-pi, pi) with the whole turns counted apart (`docs/theory.md §5`): the
 //! wrap of the recursion's predicted angle, for a single channel ([`FullWrap`]) and for the
-//! lanes of a bank ([`NoWrap`], [`OneTurnWrap`]), the wrap of an angle as read, and the
+//! lanes of a bank ([`NoWrap`], the lanes outside wrapped first by [`FullWrap`]), the wrap of an angle as read, and the
 //! angle `atan2(y_s, y_c)` of a sample, which (re-)acquires a channel's angle; the first
 //! sample's angle, the re-acquisition and the turns crossed on the way are written once over
 //! [`TurnArithmetic`], which the floats and the fixed-point format (`fixed/turns.rs`) implement.
@@ -201,8 +201,8 @@ pub(crate) fn re_acquired<A: TurnArithmetic>(angle: A::Angle, y_c: A, y_s: A) ->
     A::advance(angle, A::difference(A::atan2(y_c, y_s), angle))
 }
 
-/// How a step wraps the predicted angle: [`FullWrap`] for a single channel, [`NoWrap`] or
-/// [`OneTurnWrap`] for the lanes of a bank.
+/// How a step wraps the predicted angle: [`FullWrap`] for a single channel, [`NoWrap`] for
+/// the lanes of a bank (wrapped before the step where one needs it).
 pub(crate) trait Wrap {
     /// Wraps `angle` into [-pi, pi); returns the whole turns removed.
     fn wrap<T: Float>(angle: &mut T) -> i32;
@@ -211,12 +211,8 @@ pub(crate) trait Wrap {
 /// Any number of turns: a comparison and a branch, the rare case out of line.
 pub(crate) struct FullWrap;
 
-/// At most one turn, by selects ([`wrap_one_turn`]): for angles within
-/// [`one_turn_limit`], which the caller makes sure of.
-pub(crate) struct OneTurnWrap;
-
 /// No wrap at all: for angles already in [-pi, pi), which the caller makes sure of (it is
-/// then what [`OneTurnWrap`] gives, to the bit).
+/// then what [`FullWrap`] gives, to the bit).
 pub(crate) struct NoWrap;
 
 impl Wrap for NoWrap {
@@ -230,15 +226,6 @@ impl Wrap for FullWrap {
     #[inline(always)]
     fn wrap<T: Float>(angle: &mut T) -> i32 {
         wrap_angle(angle)
-    }
-}
-
-impl Wrap for OneTurnWrap {
-    #[inline(always)]
-    fn wrap<T: Float>(angle: &mut T) -> i32 {
-        let (wrapped, whole) = wrap_one_turn(*angle);
-        *angle = wrapped;
-        whole
     }
 }
 

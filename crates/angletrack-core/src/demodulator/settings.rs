@@ -3,6 +3,17 @@
 
 use crate::real::Float;
 
+// The defaults of `DemodulatorSettings::new` and `new_const`, in `f32` for both types.
+/// The clipping margin's share of the ADC's range.
+const CLIP_MARGIN_OF_RANGE: f32 = 1.0 / 256.0;
+const LOSS_OF_EXCITATION: f32 = 0.25;
+const WEAK_EXCITATION: f32 = 0.7;
+/// 44 degrees: the AD2S1210's lock range.
+const PHASE_DRIFT_BOUND_RAD: f32 = 44.0 * core::f32::consts::PI / 180.0;
+const CARRIER_LOOP_BANDWIDTH: f32 = 0.3;
+const MAX_CARRIER_ERROR: f32 = 0.03;
+const STARTUP_PERIODS: u32 = 24;
+
 /// The settings of a [`Demodulator`](crate::Demodulator), checked by
 /// [`Demodulator::new`](crate::Demodulator::new). `T` is the float type of the
 /// demodulator's [`Real`](crate::DemodulatorNumber::Real) (`f32` for `f32` and `i16`
@@ -72,14 +83,14 @@ impl<T: Float> DemodulatorSettings<T> {
             carrier_amplitude_counts,
             adc_min_code,
             adc_max_code,
-            clip_margin_counts: (adc_max_code - adc_min_code) * T::from_f32(1.0 / 256.0),
-            loss_of_excitation: T::from_f32(0.25),
-            weak_excitation: T::from_f32(0.7),
-            phase_drift_bound_rad: T::from_f32(44.0 * core::f32::consts::PI / 180.0),
+            clip_margin_counts: (adc_max_code - adc_min_code) * T::from_f32(CLIP_MARGIN_OF_RANGE),
+            loss_of_excitation: T::from_f32(LOSS_OF_EXCITATION),
+            weak_excitation: T::from_f32(WEAK_EXCITATION),
+            phase_drift_bound_rad: T::from_f32(PHASE_DRIFT_BOUND_RAD),
             expected_delay_rad: T::ZERO,
-            carrier_loop_bandwidth: T::from_f32(0.3),
-            max_carrier_error: T::from_f32(0.03),
-            startup_periods: 24,
+            carrier_loop_bandwidth: T::from_f32(CARRIER_LOOP_BANDWIDTH),
+            max_carrier_error: T::from_f32(MAX_CARRIER_ERROR),
+            startup_periods: STARTUP_PERIODS,
         }
     }
 }
@@ -110,14 +121,15 @@ macro_rules! const_settings {
                     carrier_amplitude_counts,
                     adc_min_code,
                     adc_max_code,
-                    clip_margin_counts: (adc_max_code - adc_min_code) * (1.0 / 256.0),
-                    loss_of_excitation: 0.25,
-                    weak_excitation: 0.7_f32 as $t,
-                    phase_drift_bound_rad: (44.0 * core::f32::consts::PI / 180.0) as $t,
+                    clip_margin_counts: (adc_max_code - adc_min_code)
+                        * (CLIP_MARGIN_OF_RANGE as $t),
+                    loss_of_excitation: LOSS_OF_EXCITATION as $t,
+                    weak_excitation: WEAK_EXCITATION as $t,
+                    phase_drift_bound_rad: PHASE_DRIFT_BOUND_RAD as $t,
                     expected_delay_rad: 0.0,
-                    carrier_loop_bandwidth: 0.3_f32 as $t,
-                    max_carrier_error: 0.03_f32 as $t,
-                    startup_periods: 24,
+                    carrier_loop_bandwidth: CARRIER_LOOP_BANDWIDTH as $t,
+                    max_carrier_error: MAX_CARRIER_ERROR as $t,
+                    startup_periods: STARTUP_PERIODS,
                 }
             }
         }

@@ -11,7 +11,7 @@ use crate::faults::Faults;
 use crate::gains::Gains;
 use crate::real::Float;
 use crate::real::sincos::SinCos;
-use crate::state::Estimate;
+use crate::state::{Estimate, ObserverState};
 use crate::wrap::wrap_angle;
 
 /// A lane's prediction, as the single observer's: its predicted angle (a bank keeps it
@@ -175,29 +175,21 @@ fn lanes_with_feedback<
     inputs: &[X; L],
 ) -> [Faults; L] {
     let gains = chain.observer.unmonitored();
-    let bank = &mut state.observer;
-    let faults = core::array::from_fn(|lane| {
-        let mut observer = bank.lane_state(lane);
-        let front_end = &mut state.front_end[lane];
+    each_lane(state, |lane, front_end, observer| {
         let (pair, memo) = {
-            let prediction = Observe::prediction(&gains, &observer);
+            let prediction = Observe::prediction(&gains, observer);
             chain
                 .front_end
                 .forward(front_end, &prediction, inputs[lane])
         };
-        let faults: Faults = finish_with_feedback(
+        finish_with_feedback(
             &chain.front_end,
             &gains,
-            &mut (front_end, &mut observer),
+            &mut (front_end, observer),
             pair,
             memo,
-        );
-        bank.set_lane(lane, &observer);
-        bank.latch(lane, faults);
-        faults
-    });
-    bank.update_rare();
-    faults
+        )
+    })
 }
 
 /// [`lanes_with_feedback`] after the forward pass (for a front end whose quiet depends on
@@ -218,18 +210,29 @@ fn forwarded_lanes_with_feedback<
     memos: [F::Memo; L],
 ) -> [Faults; L] {
     let gains = chain.observer.unmonitored();
+    each_lane(state, |lane, front_end, observer| {
+        let pair = (y_c[lane], y_s[lane]);
+        finish_with_feedback(
+            &chain.front_end,
+            &gains,
+            &mut (front_end, observer),
+            pair,
+            memos[lane],
+        )
+    })
+}
+
+/// Runs `lane_step` on each lane's front-end state and its lane as a single observer's
+/// state, which is written back with the front end's faults it returns (latched).
+#[inline(always)]
+fn each_lane<FS, T: Float, const N: usize, const L: usize>(
+    state: &mut ChainState<[FS; L], ChannelBank<T, N, L>>,
+    mut lane_step: impl FnMut(usize, &mut FS, &mut ObserverState<T, N>) -> Faults,
+) -> [Faults; L] {
     let bank = &mut state.observer;
     let faults = core::array::from_fn(|lane| {
         let mut observer = bank.lane_state(lane);
-        let pair = (y_c[lane], y_s[lane]);
-        let front_end = &mut state.front_end[lane];
-        let faults: Faults = finish_with_feedback(
-            &chain.front_end,
-            &gains,
-            &mut (front_end, &mut observer),
-            pair,
-            memos[lane],
-        );
+        let faults = lane_step(lane, &mut state.front_end[lane], &mut observer);
         bank.set_lane(lane, &observer);
         bank.latch(lane, faults);
         faults

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "angletrack.h"
+#include "test_checks.h"
 #include "fixed_ato3.h"
 #include "gains_ato2.h"
 #include "gains_ato3.h"
@@ -26,20 +27,6 @@ static at_fixed_gains fixed3, zeroed_fixed;
 static at_fixed_state fixed_state;
 static at_chain_f32 chain, plain_chain;
 static at_chain_state_f32 chain_state;
-
-static int failures = 0;
-
-static void check(int pass, const char *what) {
-  printf("%s %s\n", pass ? "PASS" : "FAIL", what);
-  failures += !pass;
-}
-
-static void check_status(at_status got, at_status expected, const char *what) {
-  char line[200];
-  snprintf(line, sizeof line, "%s: status %d \"%s\" (expected %d)", what, (int)got,
-           at_status_message(got), (int)expected);
-  check(got == expected, line);
-}
 
 static void track(const char *name, const at_gains_f32 *gains, const at_adc_f32 *adc_or_null,
                   double sample_period_s, float angle_tolerance, float speed_tolerance) {

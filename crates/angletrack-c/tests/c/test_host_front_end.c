@@ -8,25 +8,12 @@
 #include <stdio.h>
 
 #include "angletrack.h"
+#include "test_checks.h"
 #include "test_host_front_end.h"
 
 #define PI 3.14159265358979323846
 
 static at_chain_state_f32 chain_state;
-
-static int failures;
-
-static void check(int pass, const char *what) {
-  printf("%s %s\n", pass ? "PASS" : "FAIL", what);
-  failures += !pass;
-}
-
-static void check_status(at_status got, at_status expected, const char *what) {
-  char line[200];
-  snprintf(line, sizeof line, "%s: status %d \"%s\" (expected %d)", what, (int)got,
-           at_status_message(got), (int)expected);
-  check(got == expected, line);
-}
 
 /* `error` wrapped to [-pi, pi) (rad). */
 static double wrapped(double error) {

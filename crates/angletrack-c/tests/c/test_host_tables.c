@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "angletrack.h"
+#include "test_checks.h"
 #include "fixed_ato3.h"
 #include "test_host_tables.h"
 
@@ -19,20 +20,6 @@ static at_fixed_gains gains;
 static at_chain_fixed corrected, uncorrected, bare;
 static at_chain_state_fixed state;
 static at_angle_table_fixed table;
-
-static int failures;
-
-static void check(int pass, const char *what) {
-  printf("%s %s\n", pass ? "PASS" : "FAIL", what);
-  failures += !pass;
-}
-
-static void check_status(at_status got, at_status expected, const char *what) {
-  char line[200];
-  snprintf(line, sizeof line, "%s: status %d \"%s\" (expected %d)", what, (int)got,
-           at_status_message(got), (int)expected);
-  check(got == expected, line);
-}
 
 /* Sample k's true angle (50 Hz at 10 kHz) and the imperfect sensor's 12-bit counts. */
 static double sensor(long k, uint16_t *raw_c, uint16_t *raw_s) {

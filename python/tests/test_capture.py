@@ -70,6 +70,34 @@ def test_npy_and_npz_captures_keep_their_dtype(tmp_path):
     np.testing.assert_array_equal(cap.y_c, np.cos(theta).astype(np.float32))
 
 
+def test_a_record_npy_capture_reads_its_fields_by_name(tmp_path, capsys):
+    t, theta = motion(300)
+    counts = (2048 + 1800 * np.column_stack([np.cos(theta), np.sin(theta)])).round()
+    # Packed, mixed types and byte orders, as numpy.save writes a record array.
+    packed = np.zeros(300, dtype=[("t", "<f8"), ("cos", "<i2"), ("sin", ">i4"), ("ref", "<f4")])
+    packed["t"], packed["cos"], packed["sin"], packed["ref"] = t, counts[:, 0], counts[:, 1], theta
+    np.save(tmp_path / "packed.npy", packed)
+    # Aligned: padding between the fields.
+    aligned = np.zeros(300, dtype=np.dtype([("cos", "u1"), ("sin", "<f8")], align=True))
+    aligned["cos"], aligned["sin"] = np.arange(300) % 200, np.sin(theta)
+    np.save(tmp_path / "aligned.npy", aligned)
+    cap = angletrack.read_capture(tmp_path / "packed.npy", columns="y_c=cos,y_s=sin,reference=ref")
+    np.testing.assert_array_equal(cap.y_c, counts[:, 0])
+    np.testing.assert_array_equal(cap.y_s, counts[:, 1])
+    np.testing.assert_array_equal(cap.reference_rad, theta.astype(np.float32))
+    assert cap.sample_dtype == "int16" and cap.sample_rate_hz == pytest.approx(1e4, rel=1e-9)
+    assert cap.columns == {"time": "t", "y_c": "cos", "y_s": "sin", "reference": "ref"}
+    cap = angletrack.read_capture(tmp_path / "aligned.npy", columns="y_c=cos,y_s=sin", sample_rate_hz=1e4)
+    np.testing.assert_array_equal(cap.y_c, np.arange(300) % 200)
+    np.testing.assert_array_equal(cap.y_s, np.sin(theta))
+    assert cap.sample_dtype == "uint8"
+    # A text field is named, in one line.
+    labelled = np.zeros(3, dtype=[("cos", "<f8"), ("label", "<U4")])
+    np.save(tmp_path / "labelled.npy", labelled)
+    with pytest.raises(angletrack.CaptureError, match='field "label" has dtype <U4'):
+        angletrack.read_capture(tmp_path / "labelled.npy", columns="y_c=cos,y_s=cos")
+
+
 def test_the_reader_streams_chunks_that_track_like_one_call(tmp_path):
     t, theta = motion(3000)
     path = write_text(tmp_path / "run.txt", ["time", "y_c", "y_s"], zip(t, np.cos(theta), np.sin(theta)), "  ")

@@ -759,7 +759,8 @@ class CaptureReader:
     delimited text (any delimiter, sniffed; decimal points or commas, sniffed; header or
     not; an instrument's metadata lines before it, sniffed or ``skip_rows``; UTF-8, Latin-1
     or UTF-16 with its byte-order mark; an oscilloscope's (x, y) column pairs, whose time
-    columns must agree), NumPy ``.npy`` (2-D, rows x columns) or ``.npz`` (named 1-D arrays,
+    columns must agree), NumPy ``.npy`` (2-D, rows x columns; or a 1-D record array, its
+    fields by name) or ``.npz`` (named 1-D arrays,
     streamed). ``columns``: ``"y_c=cos,y_s=sin,time=t"`` or a dict; each value a header
     name, else a 0-based index, or ``"-"`` to ignore a time or reference column; one column
     per role; roles left out get their usual names. ``sample_rate_hz`` states the true rate

@@ -18,6 +18,7 @@ mod encoding;
 mod error;
 mod npy;
 mod npy_out;
+mod npy_record;
 mod output;
 mod reader;
 mod sniff;

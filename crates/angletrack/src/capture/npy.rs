@@ -1,5 +1,6 @@
 //! Rows of NumPy files (through the `npyz` crate): a 2-D `.npy` array (rows x columns,
-//! C order), or the named 1-D arrays of an `.npz` (a zip of `.npy` files, stored or
+//! C order), a 1-D structured `.npy` (one record per row, its numeric fields the columns:
+//! `npy_record.rs`), or the named 1-D arrays of an `.npz` (a zip of `.npy` files, stored or
 //! deflated, as `numpy.savez` and `numpy.savez_compressed` write), each read as it streams.
 
 use std::fs::File;
@@ -10,17 +11,35 @@ use flate2::read::DeflateDecoder;
 use npyz::{NpyFile, TypeChar};
 
 use super::error::CaptureError;
+use super::npy_record::RecordLayout;
 use super::source::{Filled, RawRows, RowSource};
 
 /// The values of an array as `f64` (exactly for integers up to 2^53), in storage order.
 type Values = Box<dyn Iterator<Item = std::io::Result<f64>> + Send>;
 
+/// The numpy name of a scalar type of the samples (`None` for a type a capture cannot hold).
+pub(super) fn numpy_name(kind: TypeChar, size: u64) -> Option<&'static str> {
+    Some(match (kind, size) {
+        (TypeChar::Float, 8) => "float64",
+        (TypeChar::Float, 4) => "float32",
+        (TypeChar::Int, 8) => "int64",
+        (TypeChar::Int, 4) => "int32",
+        (TypeChar::Int, 2) => "int16",
+        (TypeChar::Int, 1) => "int8",
+        (TypeChar::Uint, 8) => "uint64",
+        (TypeChar::Uint, 4) => "uint32",
+        (TypeChar::Uint, 2) => "uint16",
+        (TypeChar::Uint, 1) => "uint8",
+        _ => return None,
+    })
+}
+
 /// The values of `file`, its numpy dtype name and whether the dtype is an integer one.
 fn values<R: Read + Send + 'static>(file: NpyFile<R>) -> Result<(Values, String, bool), String> {
     let Some(npyz::DType::Plain(ts)) = Some(file.dtype()) else {
         return Err(format!(
-            "a structured or nested array (dtype {}) is not supported: save a 2-D array of \
-             numbers, or one array per column in an .npz",
+            "a nested array (dtype {}) is not supported: save a 2-D array of numbers, a 1-D \
+             record array of numeric fields, or one array per column in an .npz",
             file.dtype().descr()
         ));
     };
@@ -34,22 +53,22 @@ fn values<R: Read + Send + 'static>(file: NpyFile<R>) -> Result<(Values, String,
             ) as Values
         };
     }
-    let (values, name) = match (ts.type_char(), size) {
-        (TypeChar::Float, 8) => (as_f64!(f64), "float64"),
-        (TypeChar::Float, 4) => (as_f64!(f32), "float32"),
-        (TypeChar::Int, 8) => (as_f64!(i64), "int64"),
-        (TypeChar::Int, 4) => (as_f64!(i32), "int32"),
-        (TypeChar::Int, 2) => (as_f64!(i16), "int16"),
-        (TypeChar::Int, 1) => (as_f64!(i8), "int8"),
-        (TypeChar::Uint, 8) => (as_f64!(u64), "uint64"),
-        (TypeChar::Uint, 4) => (as_f64!(u32), "uint32"),
-        (TypeChar::Uint, 2) => (as_f64!(u16), "uint16"),
-        (TypeChar::Uint, 1) => (as_f64!(u8), "uint8"),
-        _ => {
-            return Err(format!(
-                "dtype {ts} is not supported: expected integers or float32/float64"
-            ));
-        }
+    let Some(name) = numpy_name(ts.type_char(), size) else {
+        return Err(format!(
+            "dtype {ts} is not supported: expected integers or float32/float64"
+        ));
+    };
+    let values = match (ts.type_char(), size) {
+        (TypeChar::Float, 8) => as_f64!(f64),
+        (TypeChar::Float, _) => as_f64!(f32),
+        (TypeChar::Int, 8) => as_f64!(i64),
+        (TypeChar::Int, 4) => as_f64!(i32),
+        (TypeChar::Int, 2) => as_f64!(i16),
+        (TypeChar::Int, _) => as_f64!(i8),
+        (_, 8) => as_f64!(u64),
+        (_, 4) => as_f64!(u32),
+        (_, 2) => as_f64!(u16),
+        _ => as_f64!(u8),
     };
     Ok((values, name.to_string(), ts.type_char() != TypeChar::Float))
 }
@@ -58,17 +77,24 @@ fn values<R: Read + Send + 'static>(file: NpyFile<R>) -> Result<(Values, String,
 /// row buffer must not be allocated).
 pub const MAX_COLUMNS: usize = 1 << 16;
 
-/// The rows of a 2-D `.npy` array (rows x columns), streamed.
+/// The rows of a 2-D `.npy` array (rows x columns), or of a 1-D record array (its numeric
+/// fields the columns), streamed.
 pub struct NpySource {
     path: PathBuf,
     values: Values,
     dtype: String,
-    integer: bool,
+    /// Per column: whether its values are integers, and its numpy type (a record's fields
+    /// may differ: the first column read, the cosine signal's, is the samples').
+    integer: Vec<bool>,
+    column_dtypes: Vec<String>,
+    first_column: Option<usize>,
+    /// A record array: its columns named by its fields.
+    field_names: bool,
     columns: usize,
     rows_total: u64,
     row: u64,
     buffer: Vec<f64>,
-    item_bytes: u64,
+    row_bytes: u64,
 }
 
 impl core::fmt::Debug for NpySource {
@@ -85,7 +111,8 @@ impl core::fmt::Debug for NpySource {
 }
 
 impl NpySource {
-    /// Opens the `.npy` file `path`; the columns are named by their 0-based index.
+    /// Opens the `.npy` file `path`; the columns are named by their 0-based index, or for a
+    /// record array by its fields' names.
     pub fn open(path: &Path) -> Result<(Self, Vec<String>), CaptureError> {
         let fail = |m: String| CaptureError::new(path, m);
         let file = File::open(path).map_err(|e| CaptureError::io(path, &e))?;
@@ -97,12 +124,39 @@ impl NpySource {
                 "a Fortran-ordered array: save numpy.ascontiguousarray(a) (rows x columns)".into(),
             ));
         }
+        let source = |values, dtype, integer: Vec<bool>, column_dtypes, rows_total, row_bytes| {
+            let columns = integer.len();
+            Self {
+                path: path.to_path_buf(),
+                values,
+                dtype,
+                integer,
+                column_dtypes,
+                first_column: None,
+                field_names: false,
+                columns,
+                rows_total,
+                row: 0,
+                buffer: vec![0.0; columns],
+                row_bytes,
+            }
+        };
+        if let (npyz::DType::Record(_), [rows]) = (npy.dtype(), &shape[..]) {
+            let layout = RecordLayout::new(&npy.dtype()).map_err(fail)?;
+            let descr = npy.dtype().descr();
+            let values = layout.values(npy.into_inner());
+            let (names, width) = (layout.names.clone(), layout.width as u64);
+            let dtype = format!("record {descr}");
+            let mut source = source(values, dtype, layout.integer, layout.dtypes, *rows, width);
+            source.field_names = true;
+            return Ok((source, names));
+        }
         let (rows_total, columns) = match shape[..] {
             [rows, columns] => (rows, columns as usize),
             _ => {
                 return Err(fail(format!(
                     "an array of shape {shape:?}: expected 2-D (rows x columns; one row per \
-                     sample), or an .npz with one array per column"
+                     sample), a 1-D record array, or an .npz with one array per column"
                 )));
             }
         };
@@ -114,25 +168,34 @@ impl NpySource {
         let item_bytes = npy.header().dtype().num_bytes().unwrap_or(8) as u64;
         let (values, dtype, integer) = values(npy).map_err(fail)?;
         let names = (0..columns).map(|i| i.to_string()).collect();
+        let row_bytes = columns as u64 * item_bytes;
+        let column_dtypes = vec![dtype.clone(); columns];
         Ok((
-            Self {
-                path: path.to_path_buf(),
+            source(
                 values,
                 dtype,
-                integer,
-                columns,
+                vec![integer; columns],
+                column_dtypes,
                 rows_total,
-                row: 0,
-                buffer: vec![0.0; columns],
-                item_bytes,
-            },
+                row_bytes,
+            ),
             names,
         ))
     }
 }
 
+impl NpySource {
+    /// Whether the columns are named (a record array's fields), not numbered.
+    pub fn has_field_names(&self) -> bool {
+        self.field_names
+    }
+}
+
 impl RowSource for NpySource {
     fn read(&mut self, columns: &[usize], rows: &mut RawRows, max_rows: usize) -> Filled {
+        if self.first_column.is_none() {
+            self.first_column = columns.first().copied();
+        }
         while rows.lines.len() < max_rows && self.row < self.rows_total {
             for slot in self.buffer.iter_mut() {
                 *slot = match self.values.next() {
@@ -152,7 +215,7 @@ impl RowSource for NpySource {
             self.row += 1;
             for (k, &c) in columns.iter().enumerate() {
                 rows.columns[k].push(self.buffer[c]);
-                rows.integers[k] &= self.integer;
+                rows.integers[k] &= self.integer.get(c).copied().unwrap_or(false);
             }
             rows.lines.push(self.row);
         }
@@ -160,11 +223,12 @@ impl RowSource for NpySource {
     }
 
     fn bytes_read(&self) -> u64 {
-        self.row * self.columns as u64 * self.item_bytes
+        self.row * self.row_bytes
     }
 
     fn stored_dtype(&self) -> Option<String> {
-        Some(self.dtype.clone())
+        let first = self.first_column.and_then(|c| self.column_dtypes.get(c));
+        Some(first.unwrap_or(&self.dtype).clone())
     }
 }
 

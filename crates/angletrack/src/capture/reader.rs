@@ -178,7 +178,8 @@ impl CaptureReader {
         {
             Kind::Npy => {
                 let (s, names) = NpySource::open(path)?;
-                (Box::new(s), names, false, "npy".to_string())
+                let named = s.has_field_names();
+                (Box::new(s), names, named, "npy".to_string())
             }
             Kind::Npz => {
                 let (s, names) = NpzSource::open(path)?;

@@ -87,6 +87,7 @@ mod error;
 pub mod export;
 mod linalg;
 pub mod paper;
+mod rails;
 mod sim;
 mod thresholds;
 
@@ -115,6 +116,7 @@ pub use design::{
     third_order_butterworth, third_order_from_overshoot, third_order_from_poles,
 };
 pub use error::{Argument, Error};
+pub use rails::measured_adc_range;
 pub use sim::{
     ChannelBatch, ErrorStatistics, EstimateColumns, FIXED_TABLE_LENGTH, FixedChain,
     FixedChainState, FixedColumns, FixedFrontEnd, FixedInput, Kinematics, LANES,

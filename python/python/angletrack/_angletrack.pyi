@@ -396,6 +396,15 @@ def measured_carrier_cycles_per_sample(y_c: _Samples, y_s: _Samples) -> Optional
     """The carrier frequency of raw windings in cycles per sample, from the tone at twice
     the carrier in ``y_c^2 + y_s^2``; ``None`` when it cannot be measured."""
 
+def measured_adc_range(y_c: _Samples, y_s: _Samples) -> Optional[tuple[float, float]]:
+    """The ADC range measured on the samples: each extreme of both channels that is a rail
+    (held flat over ``HELD_RAIL_SAMPLES`` consecutive samples of a channel, and reached by
+    more than four times the samples of the half-percent band just inside it); an extreme
+    that is not is put one span beyond. ``None`` when neither is a rail."""
+
+#: Consecutive samples of a channel at an extreme that make it a rail.
+HELD_RAIL_SAMPLES: int
+
 def offset_binary_mid_scale(largest_count: float) -> int:
     """The mid-scale (counts) of unsigned, offset-binary ADC counts whose largest sample is
     ``largest_count`` (a whole number, 0 to 2^53): ``2^(b-1)`` for the smallest ``b``, at

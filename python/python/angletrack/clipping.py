@@ -16,9 +16,10 @@ from typing import Optional
 import numpy as np
 
 import angletrack
+from angletrack._angletrack import HELD_RAIL_SAMPLES, measured_adc_range
 
-#: Consecutive samples at an extreme that make it a rail.
-FLAT_SAMPLES = 4
+#: Consecutive samples at an extreme that make it a rail (the crate's rule).
+FLAT_SAMPLES = HELD_RAIL_SAMPLES
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -84,46 +85,13 @@ def stated_range(args: argparse.Namespace) -> Optional[tuple[float, float]]:
     return 0.0, 2.0**bits - 1.0
 
 
-def _held_flat(y: np.ndarray, value: float) -> bool:
-    """Whether ``y`` sits at ``value`` for at least ``FLAT_SAMPLES`` consecutive samples."""
-    at = np.concatenate(([False], y == value, [False]))
-    edges = np.flatnonzero(np.diff(at.astype(np.int8)))
-    return bool(len(edges)) and int(np.max(edges[1::2] - edges[::2])) >= FLAT_SAMPLES
-
-
-def _is_rail(y_c: np.ndarray, y_s: np.ndarray, value: float, inward: float) -> bool:
-    """Whether the extreme ``value`` is a rail: held flat (``FLAT_SAMPLES`` consecutive
-    samples in a channel) and reached by more samples than the band of ``inward`` (a signed
-    half-percent of the span) just inside it holds four times over: a clipped signal piles
-    up at its rail, a clean one (even quantised, and slow enough to repeat its peak code)
-    thins out toward its peak."""
-    if not (_held_flat(y_c, value) or _held_flat(y_s, value)):
-        return False
-    both = np.concatenate((y_c, y_s))
-    at = int(np.count_nonzero(both == value))
-    inside = (both - value) * np.sign(inward)
-    band = int(np.count_nonzero((inside > 0) & (inside <= abs(inward))))
-    return at > 4 * band
-
-
 def measured_range(y_c: np.ndarray, y_s: np.ndarray) -> Optional[tuple[float, float]]:
-    """The range measured on the samples: an extreme (of both channels) that is a rail
-    (held flat over ``FLAT_SAMPLES`` consecutive samples, the samples piled up there); an
-    extreme that is not is put one span beyond, so that it flags nothing. ``None`` when
-    neither is a rail."""
-    y_c, y_s = np.asarray(y_c, dtype=np.float64), np.asarray(y_s, dtype=np.float64)
-    finite = np.concatenate((y_c[np.isfinite(y_c)], y_s[np.isfinite(y_s)]))
-    if len(finite) == 0:
-        return None
-    low, high = float(np.min(finite)), float(np.max(finite))
-    if not low < high:
-        return None
-    span = high - low
-    low_rail = _is_rail(y_c, y_s, low, 0.005 * span)
-    high_rail = _is_rail(y_c, y_s, high, -0.005 * span)
-    if not (low_rail or high_rail):
-        return None
-    return (low if low_rail else low - span), (high if high_rail else high + span)
+    """The range measured on the samples (``measured_adc_range``, the crate's rule): an
+    extreme (of both channels) that is a rail (held flat over ``FLAT_SAMPLES`` consecutive
+    samples, the samples piled up there); an extreme that is not is put one span beyond, so
+    that it flags nothing. ``None`` when neither is a rail."""
+    return measured_adc_range(np.ascontiguousarray(y_c, dtype=np.float64),
+                              np.ascontiguousarray(y_s, dtype=np.float64))
 
 
 def flag_clipped(faults: np.ndarray, y_c: np.ndarray, y_s: np.ndarray,

@@ -1,0 +1,120 @@
+//! The ADC range of a capture measured on its samples, against which clipping is flagged
+//! when no range is stated: an extreme that is a rail, as a clipped signal's is and a clean
+//! one's is not (`docs/theory.md §15`). The same test as the core's streaming
+//! [`HeldRailCheck`](angletrack_core::HeldRailCheck), made on a whole block of samples: held
+//! flat over [`HELD_RAIL_SAMPLES`] consecutive samples of a channel, and reached by more
+//! than four times the samples of the band just inside it (half a percent of the span).
+
+use angletrack_core::HELD_RAIL_SAMPLES;
+
+/// The band just inside an extreme, as a fraction of the span of the samples.
+const BAND_FRACTION: f64 = 0.005;
+
+/// Whether `y` sits at `value` for at least [`HELD_RAIL_SAMPLES`] consecutive samples.
+fn held_flat(y: &[f64], value: f64) -> bool {
+    let mut run = 0usize;
+    for &v in y {
+        run = if v == value { run + 1 } else { 0 };
+        if run >= usize::from(HELD_RAIL_SAMPLES) {
+            return true;
+        }
+    }
+    false
+}
+
+/// Whether the extreme `value` of `y_c` and `y_s` is a rail: held flat in a channel, and
+/// reached by more than four times the samples within `band` inside it (`inward`: the
+/// direction of the inside, `+1` above a low extreme, `-1` below a high one). A clipped
+/// signal piles up at its rail; a clean one, even quantised and slow enough to repeat its
+/// peak code, thins out toward its peak.
+fn is_rail(y_c: &[f64], y_s: &[f64], value: f64, band: f64, inward: f64) -> bool {
+    if !(held_flat(y_c, value) || held_flat(y_s, value)) {
+        return false;
+    }
+    let (mut at, mut near) = (0usize, 0usize);
+    for &v in y_c.iter().chain(y_s) {
+        let inside = (v - value) * inward;
+        if v == value {
+            at += 1;
+        } else if inside > 0.0 && inside <= band {
+            near += 1;
+        }
+    }
+    at > 4 * near
+}
+
+/// The ADC range measured on the samples `y_c`, `y_s` (any lengths; NaNs ignored): each
+/// extreme of both channels that is a rail; an extreme that is not is put one span beyond,
+/// so that it flags nothing. `None` when neither extreme is a rail (or the samples hold no
+/// two distinct finite values): clipping is then not checked.
+///
+/// ```
+/// use angletrack::measured_adc_range;
+/// // Windings clipped at 0.9 of their amplitude: the rails are found.
+/// let clipped = |f: fn(f64) -> f64| -> Vec<f64> {
+///     (0..2000).map(|k| f(0.01 * k as f64).clamp(-0.9, 0.9)).collect()
+/// };
+/// assert_eq!(measured_adc_range(&clipped(f64::cos), &clipped(f64::sin)), Some((-0.9, 0.9)));
+/// // Clean ones have none.
+/// let clean = |f: fn(f64) -> f64| -> Vec<f64> { (0..2000).map(|k| f(0.01 * k as f64)).collect() };
+/// assert_eq!(measured_adc_range(&clean(f64::cos), &clean(f64::sin)), None);
+/// ```
+pub fn measured_adc_range(y_c: &[f64], y_s: &[f64]) -> Option<(f64, f64)> {
+    let finite = y_c.iter().chain(y_s).copied().filter(|v| v.is_finite());
+    let (low, high) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+        (lo.min(v), hi.max(v))
+    });
+    if !(low < high) {
+        return None;
+    }
+    let span = high - low;
+    let band = BAND_FRACTION * span;
+    let low_rail = is_rail(y_c, y_s, low, band, 1.0);
+    let high_rail = is_rail(y_c, y_s, high, band, -1.0);
+    if !(low_rail || high_rail) {
+        return None;
+    }
+    Some((
+        if low_rail { low } else { low - span },
+        if high_rail { high } else { high + span },
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// 12-bit counts of a sine of 1800 counts about 2048, offset by `offset`, clipped to the
+    /// codes 0..=4095, and a cosine channel unclipped.
+    fn counts(offset: f64, n: usize) -> (Vec<f64>, Vec<f64>) {
+        let y = |k: usize, phase: f64| {
+            (2048.0 + offset + 1800.0 * (0.003 * k as f64 + phase).sin())
+                .round()
+                .clamp(0.0, 4095.0)
+        };
+        (
+            (0..n).map(|k| y(k, 0.0)).collect(),
+            (0..n).map(|k| y(k, 1.57)).collect(),
+        )
+    }
+
+    #[test]
+    fn a_rail_held_at_one_side_is_found_and_the_other_side_put_beyond() {
+        // 400 counts high: the top clips at 4095 for many samples; the bottom (648) is a
+        // clean peak.
+        let (c, s) = counts(400.0, 5000);
+        let (low, high) = measured_adc_range(&c, &s).unwrap();
+        assert_eq!(high, 4095.0);
+        assert!(low < 648.0 - 3000.0, "{low}");
+        // Unclipped quantised counts repeat their peak codes but thin out toward them.
+        let (c, s) = counts(0.0, 5000);
+        assert_eq!(measured_adc_range(&c, &s), None);
+    }
+
+    #[test]
+    fn too_few_values_measure_nothing() {
+        assert_eq!(measured_adc_range(&[], &[]), None);
+        assert_eq!(measured_adc_range(&[1.0; 8], &[1.0; 8]), None);
+        assert_eq!(measured_adc_range(&[f64::NAN, 2.0], &[2.0, f64::NAN]), None);
+    }
+}

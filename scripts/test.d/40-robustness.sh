@@ -79,20 +79,33 @@ echo "--- fuzzing (${fuzz_seconds} s per target)"
 if [[ "$(cargo fuzz --version 2>/dev/null || true)" != *" 0.13."* ]]; then
   cargo install cargo-fuzz --version 0.13.2 --locked
 fi
-log=$(mktemp)
 # libFuzzer writes the inputs it finds into its first corpus directory and only reads the
 # others: the kept corpus (fuzz/corpus) is read, and the new inputs go to a scratch
 # directory, so that a test run leaves the working tree as it found it.
 found=$(mktemp -d)
-for target in $(cd fuzz && cargo +nightly fuzz list); do
+targets=$(cd fuzz && cargo +nightly fuzz list)
+# Every target built first, by one cargo (`cargo fuzz build` takes the same defaults as
+# `cargo fuzz run`: release, debug assertions and overflow checks, AddressSanitizer), so that
+# a build failure stops here. Then the targets fuzz side by side: libFuzzer runs in one
+# process on one core, and each gets the same half minute of its own core as when they ran
+# one after the other (`-max_total_time` is wall time).
+(cd fuzz && cargo +nightly fuzz build)
+for target in $targets; do
   mkdir -p "fuzz/corpus/$target" "$found/$target"
+  (cd fuzz && exec cargo +nightly fuzz run "$target" "$found/$target" "corpus/$target" -- \
+    -max_len=4096 -max_total_time="$fuzz_seconds" -print_final_stats=1) >"$found/$target.log" 2>&1 &
+  echo $! >"$found/$target.pid"
+done
+failed=0
+for target in $targets; do
   status=0
-  (cd fuzz && cargo +nightly fuzz run "$target" "$found/$target" "corpus/$target" -- \
-    -max_len=4096 -max_total_time="$fuzz_seconds" -print_final_stats=1) >"$log" 2>&1 || status=$?
+  wait "$(cat "$found/$target.pid")" || status=$?
+  log="$found/$target.log"
   grep -E "^Done|stat::number_of_executed_units|panicked|SUMMARY|ERROR" "$log" || true
   echo "$target: $(ls "$found/$target" | wc -l) new inputs beyond fuzz/corpus/$target (in $found/$target)"
   if [ "$status" -ne 0 ]; then
     tail -n 40 "$log" >&2
-    echo "FAIL: fuzz target $target failed (status $status)" >&2; exit 1
+    echo "FAIL: fuzz target $target failed (status $status)" >&2; failed=1
   fi
 done
+[ "$failed" -eq 0 ] || exit 1

@@ -14,6 +14,11 @@ need_rust
 root="$(pwd)"
 # The scratch builds below share the workspace's compiled dependencies.
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$root/target}"
+# This step's builds (the crates copied out, their README examples, the packages `cargo
+# publish` verifies) show that they build and that the example runs: no debugger reads them,
+# so they leave out the dev profile's debug information, which only adds to their build time
+# (an environment setting, so that it reaches the scratch packages outside the workspace too).
+export CARGO_PROFILE_DEV_DEBUG=false
 crates=$(publishable_crates)
 
 echo "--- manifests agree with the workspace"

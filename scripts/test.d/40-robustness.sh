@@ -10,6 +10,22 @@ fuzz_seconds="${ANGLETRACK_FUZZ_SECONDS:-30}"
 
 rustup component add llvm-tools >/dev/null
 nm_tool=$(ls "$(rustc --print sysroot)"/lib/rustlib/*/bin/llvm-nm | head -n 1)
+rustup toolchain install nightly --profile minimal >/dev/null 2>&1 || true
+rustup +nightly component add miri rust-src >/dev/null
+if [[ "$(cargo fuzz --version 2>/dev/null || true)" != *" 0.13."* ]]; then
+  cargo install cargo-fuzz --version 0.13.2 --locked
+fi
+
+# The fuzz targets' build (nightly, AddressSanitizer), the longest build of this step and one
+# that keeps both cores busy, starts first, in the background, beside the no-panic images and
+# Miri, which leave a core idle most of the time (one link-time-optimised image at a time;
+# Miri's interpreter on one thread). `cargo fuzz build` takes the same defaults as `cargo
+# fuzz run` (release, debug assertions and overflow checks, AddressSanitizer) and builds
+# every target; the fuzzing below waits for it.
+scratch=$(mktemp -d)
+(cd fuzz && exec cargo +nightly fuzz build) >"$scratch/fuzz-build.log" 2>&1 &
+fuzz_build=$!
+trap 'kill "$fuzz_build" 2>/dev/null || true; rm -rf "$scratch"' EXIT
 
 # The images (tests/no-panic) are built for each core: adding one is one word here.
 no_panic_targets=(thumbv7em-none-eabihf thumbv6m-none-eabi)
@@ -53,8 +69,6 @@ for target in "${no_panic_targets[@]}"; do
 done
 
 echo "--- Miri: the C API's tests (its unsafe slots and extern calls)"
-rustup toolchain install nightly --profile minimal >/dev/null 2>&1 || true
-rustup +nightly component add miri rust-src >/dev/null
 # The workspace optimises its test builds; Miri ignores opt-level and warns, so it gets 0.
 # Miri checks what nothing else does where there is unsafe code: the C API's boundary (under
 # Miri its libm runs portable code: the x86 sqrt is inline assembly, which Miri cannot run).
@@ -76,23 +90,36 @@ if [ "${ANGLETRACK_MIRI:-}" = all ]; then
 fi
 
 echo "--- fuzzing (${fuzz_seconds} s per target)"
-if [[ "$(cargo fuzz --version 2>/dev/null || true)" != *" 0.13."* ]]; then
-  cargo install cargo-fuzz --version 0.13.2 --locked
+status=0
+wait "$fuzz_build" || status=$?
+if [ "$status" -ne 0 ]; then
+  tail -n 60 "$scratch/fuzz-build.log" >&2
+  echo "FAIL: the fuzz targets' build failed (status $status)" >&2; exit 1
 fi
-log=$(mktemp)
 # libFuzzer writes the inputs it finds into its first corpus directory and only reads the
 # others: the kept corpus (fuzz/corpus) is read, and the new inputs go to a scratch
 # directory, so that a test run leaves the working tree as it found it.
 found=$(mktemp -d)
-for target in $(cd fuzz && cargo +nightly fuzz list); do
+targets=$(cd fuzz && cargo +nightly fuzz list)
+# The targets fuzz side by side: libFuzzer runs in one process on one core, and each gets the
+# same half minute of its own core as when they ran one after the other (`-max_total_time`
+# is wall time).
+for target in $targets; do
   mkdir -p "fuzz/corpus/$target" "$found/$target"
+  (cd fuzz && exec cargo +nightly fuzz run "$target" "$found/$target" "corpus/$target" -- \
+    -max_len=4096 -max_total_time="$fuzz_seconds" -print_final_stats=1) >"$found/$target.log" 2>&1 &
+  echo $! >"$found/$target.pid"
+done
+failed=0
+for target in $targets; do
   status=0
-  (cd fuzz && cargo +nightly fuzz run "$target" "$found/$target" "corpus/$target" -- \
-    -max_len=4096 -max_total_time="$fuzz_seconds" -print_final_stats=1) >"$log" 2>&1 || status=$?
+  wait "$(cat "$found/$target.pid")" || status=$?
+  log="$found/$target.log"
   grep -E "^Done|stat::number_of_executed_units|panicked|SUMMARY|ERROR" "$log" || true
   echo "$target: $(ls "$found/$target" | wc -l) new inputs beyond fuzz/corpus/$target (in $found/$target)"
   if [ "$status" -ne 0 ]; then
     tail -n 40 "$log" >&2
-    echo "FAIL: fuzz target $target failed (status $status)" >&2; exit 1
+    echo "FAIL: fuzz target $target failed (status $status)" >&2; failed=1
   fi
 done
+[ "$failed" -eq 0 ] || exit 1

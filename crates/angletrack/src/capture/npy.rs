@@ -90,7 +90,6 @@ pub struct NpySource {
     first_column: Option<usize>,
     /// A record array: its columns named by its fields.
     field_names: bool,
-    columns: usize,
     rows_total: u64,
     row: u64,
     buffer: Vec<f64>,
@@ -104,7 +103,7 @@ impl core::fmt::Debug for NpySource {
             "NpySource({}, {} x {} {})",
             self.path.display(),
             self.rows_total,
-            self.columns,
+            self.integer.len(),
             self.dtype
         )
     }
@@ -134,7 +133,6 @@ impl NpySource {
                 column_dtypes,
                 first_column: None,
                 field_names: false,
-                columns,
                 rows_total,
                 row: 0,
                 buffer: vec![0.0; columns],

@@ -126,7 +126,7 @@
  * The 8-byte words of an `at_chain_state_fixed`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_STATE_FIXED_WORDS 8
+#define AT_CHAIN_STATE_FIXED_WORDS 12
 
 /**
  * The 8-byte words of an `at_demodulator_f32`'s storage (checked against the Rust types at
@@ -249,7 +249,7 @@
  * crate's version and the sizes, which change it without a bump). `at_layout_version()`
  * returns the library's, to compare with the header's at start-up.
  */
-#define AT_LAYOUT_VERSION 4
+#define AT_LAYOUT_VERSION 5
 
 /**
  * The entries of an angle-correction table (`at_angle_correction_table_f32`,
@@ -1640,7 +1640,9 @@ at_status at_chain_fixed_new(const struct at_fixed_gains *gains,
  * `min_counts` and highest `max_counts` (raw counts, as the chain takes them;
  * `AT_ERR_ADC_RANGE` unless `min_counts < max_counts`). A sample with a channel at or
  * beyond a rail is flagged `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_CLIPPING`), and one
- * with both there is coasted through. `out` unchanged on error.
+ * with both there is coasted through. `out` unchanged on error. Without a stated range a
+ * chain with an ADC measures the rails on the counts as they come (the core's
+ * `HeldRailCheck`, as `at_adc_f32_set_range` says of the float chain), a weaker test.
  *
  * # Safety
  * See the header's introduction.
@@ -1652,7 +1654,7 @@ at_status at_chain_fixed_with_adc_range(const struct at_chain_fixed *chain,
 
 /**
  * Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
- * against the ADC's range) and clears them. 0 for NULL.
+ * against the ADC's stated range or the rails measured) and clears them. 0 for NULL.
  *
  * # Safety
  * See the header's introduction.

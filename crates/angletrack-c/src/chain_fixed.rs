@@ -6,11 +6,12 @@
 //! ADC settings (the core's `AdcCounts`).
 //!
 //! The chain is the core's `Chain<(AdcCounts, (Option<FrontEndCheck<i16>>,
-//! (Option<FixedCalibration>, Option<FixedAngleCorrectionTable<256>>))), FixedGains<N>>`:
-//! with a stated range of codes (`at_chain_fixed_with_adc_range`) the core's
-//! `FrontEndCheck` flags clipping against it, in the observer's 16-bit units (the codes
-//! through the ADC's own shift, exact). A chain without an ADC takes `int16` samples through
-//! the
+//! (Option<HeldRailCheck>, (Option<FixedCalibration>,
+//! Option<FixedAngleCorrectionTable<256>>)))), FixedGains<N>>`: with a stated range of codes
+//! (`at_chain_fixed_with_adc_range`) the core's `FrontEndCheck` flags clipping against it,
+//! in the observer's 16-bit units (the codes through the ADC's own shift, exact); with an ADC
+//! and no range the core's `HeldRailCheck` flags it against the rails it measures on those
+//! units. A chain without an ADC takes `int16` samples through the
 //! identity of `AdcCounts::twos_complement(16)` (a widening, two comparisons and a shift by
 //! 0); an absent calibration or table is skipped by the core's `Option` stage (one test of its flag), not
 //! run as an identity.
@@ -19,7 +20,8 @@ use core::mem::MaybeUninit;
 
 use angletrack_core::{
     AdcCounts, AdcSample, Chain, ChainState, ConfigError, FixedCalibration, FixedGains, FixedState,
-    FrontEndCheck, FrontEndCheckState, Order, SensorCalibration, SupportedOrder,
+    FrontEndCheck, FrontEndCheckState, HeldRailCheck, HeldRails, Order, SensorCalibration,
+    SupportedOrder,
 };
 
 use crate::calibration::at_sensor_calibration_f32;
@@ -33,7 +35,7 @@ use crate::table::{TableFixed, at_angle_table_fixed};
 pub const AT_CHAIN_FIXED_WORDS: usize = 77;
 /// The 8-byte words of an `at_chain_state_fixed`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_CHAIN_STATE_FIXED_WORDS: usize = 8;
+pub const AT_CHAIN_STATE_FIXED_WORDS: usize = 12;
 
 /// The ADC of a fixed-point chain (the core's `AdcCounts`): each count less
 /// `mid_scale_counts`, shifted left by `shift` (0 to 15) bits to the observer's 16-bit range,
@@ -104,13 +106,17 @@ pub struct at_chain_state_fixed {
 
 slot::slot_struct!(at_chain_state_fixed, AT_CHAIN_STATE_FIXED_WORDS);
 
-/// The front end of a fixed-point chain: the ADC, the optional clipping check, the stored
-/// calibration and the angle table.
+/// The front end of a fixed-point chain: the ADC, the clipping check against a stated
+/// range or (with an ADC and no range) against the rails measured, the stored calibration
+/// and the angle table.
 type FrontEnd = (
     AdcCounts,
     (
         Option<FrontEndCheck<i16>>,
-        (Option<FixedCalibration>, Option<TableFixed>),
+        (
+            Option<HeldRailCheck>,
+            (Option<FixedCalibration>, Option<TableFixed>),
+        ),
     ),
 );
 
@@ -126,7 +132,7 @@ pub(crate) struct ChainFixed<const N: usize> {
 
 /// The state of a fixed-point chain of order `N`.
 pub(crate) type StateFixed<const N: usize> =
-    ChainState<((), ((FrontEndCheckState, ()), ((), ()))), FixedState<N>>;
+    ChainState<((), ((FrontEndCheckState, ()), (HeldRails<i16>, ((), ())))), FixedState<N>>;
 
 impl Stored for ChainFixed<2> {
     const TAG: u32 = 0x4154_7102; // "ATq", order 2
@@ -179,10 +185,15 @@ where
         .transpose()?;
     let nominal = (nominal_amplitude_counts != 0.0).then_some(nominal_amplitude_counts);
     let observer = gains.with_monitor(nominal)?;
+    // Counts from an ADC with no stated range: clipping against the rails measured.
+    let held_rails = adc.is_some().then_some(HeldRailCheck::new());
     Ok(ChainFixed {
         has_adc: adc.is_some(),
         chain: Chain::new(
-            (adc.unwrap_or(IDENTITY), (None, (calibration, table))),
+            (
+                adc.unwrap_or(IDENTITY),
+                (None, (held_rails, (calibration, table))),
+            ),
             observer,
         ),
     })
@@ -196,6 +207,7 @@ impl<const N: usize> ChainFixed<N> {
         FrontEndCheck::around((), Some((min, max)))?;
         let rails = self.chain.front_end.0.sample(min, max);
         self.chain.front_end.1.0 = Some(FrontEndCheck::around((), Some(rails))?);
+        self.chain.front_end.1.1.0 = None;
         Ok(self)
     }
 }
@@ -268,7 +280,13 @@ impl at_chain_state_fixed {
         StateFixed<N>: Stored,
     {
         self.slot_get_or_put(|| ChainState {
-            front_end: ((), ((FrontEndCheckState::default(), ()), ((), ()))),
+            front_end: (
+                (),
+                (
+                    (FrontEndCheckState::default(), ()),
+                    (HeldRails::default(), ((), ())),
+                ),
+            ),
             observer: FixedState::new(),
         })
     }
@@ -295,19 +313,20 @@ impl at_chain_state_fixed {
         faults.unwrap_or(0)
     }
 
-    /// Returns the front-end faults latched by the clipping check (`AT_FRONT_END_FAULT_*`
-    /// bits) and clears them; 0 for a fresh state (or another build's).
+    /// Returns the front-end faults latched by the clipping checks, against the stated
+    /// range or the rails measured (`AT_FRONT_END_FAULT_*` bits), and clears them; 0 for a
+    /// fresh state (or another build's).
     pub(crate) fn clear_front_end_faults(&mut self) -> u32 {
-        let faults = match self.tag {
-            t if t == <StateFixed<2> as Stored>::TAG => self
-                .of_order::<2>()
-                .map(|s| s.front_end.1.0.0.clear_faults()),
-            t if t == <StateFixed<3> as Stored>::TAG => self
-                .of_order::<3>()
-                .map(|s| s.front_end.1.0.0.clear_faults()),
-            _ => return 0,
-        };
-        faults.map_or(0, |f| u32::from(f.bits()))
+        /// Both checks' latched faults, cleared.
+        fn of<const N: usize>(state: &mut StateFixed<N>) -> u32 {
+            let checks = &mut state.front_end.1;
+            u32::from((checks.0.0.clear_faults() | checks.1.0.clear_faults()).bits())
+        }
+        match self.tag {
+            t if t == <StateFixed<2> as Stored>::TAG => self.of_order::<2>().map_or(0, of),
+            t if t == <StateFixed<3> as Stored>::TAG => self.of_order::<3>().map_or(0, of),
+            _ => 0,
+        }
     }
 }
 

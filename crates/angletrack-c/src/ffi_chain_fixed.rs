@@ -108,7 +108,9 @@ pub unsafe extern "C" fn at_chain_fixed_new(
 /// `min_counts` and highest `max_counts` (raw counts, as the chain takes them;
 /// `AT_ERR_ADC_RANGE` unless `min_counts < max_counts`). A sample with a channel at or
 /// beyond a rail is flagged `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_CLIPPING`), and one
-/// with both there is coasted through. `out` unchanged on error.
+/// with both there is coasted through. `out` unchanged on error. Without a stated range a
+/// chain with an ADC measures the rails on the counts as they come (the core's
+/// `HeldRailCheck`, as `at_adc_f32_set_range` says of the float chain), a weaker test.
 ///
 /// # Safety
 /// See the header's introduction.
@@ -127,7 +129,7 @@ pub unsafe extern "C" fn at_chain_fixed_with_adc_range(
 }
 
 /// Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
-/// against the ADC's range) and clears them. 0 for NULL.
+/// against the ADC's stated range or the rails measured) and clears them. 0 for NULL.
 ///
 /// # Safety
 /// See the header's introduction.

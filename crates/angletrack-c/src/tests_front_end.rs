@@ -429,3 +429,48 @@ fn the_fixed_point_chain_flags_signed_12_bit_counts_at_its_stated_rails() {
         );
     }
 }
+
+#[test]
+fn the_fixed_point_chain_without_a_range_flags_counts_held_at_their_rails() {
+    let mut gains = at_fixed_gains::ZEROED;
+    let mut adc = at_adc_counts::default();
+    let mut chain = at_chain_fixed::ZEROED;
+    // SAFETY: valid pointers to live values, or NULL.
+    unsafe {
+        assert_eq!(
+            at_fixed_gains_new(GAINS_3.as_ptr(), 3, 1e-4, &mut gains),
+            AT_OK
+        );
+        assert_eq!(at_adc_counts_offset_binary(12, &mut adc), AT_OK);
+        assert_eq!(
+            at_chain_fixed_new(&gains, &adc, null(), null(), 0.0, &mut chain),
+            AT_OK
+        );
+        // 50 rev/s at 10 kHz, amplitude 3184 counts on a 12-bit ADC (codes 0 to 4095):
+        // clipped on 56 % of each turn in one channel at least, from the first turn on.
+        let run = |amplitude: f64| {
+            let mut state = at_chain_state_fixed::FRESH;
+            let mut flagged = 0;
+            for k in 0..2000 {
+                let theta = 0.3 + 0.0314 * f64::from(k);
+                let code = |x: f64| (2048.0 + amplitude * x).round().clamp(0.0, 4095.0) as u16;
+                let e = at_chain_fixed_update_u16(
+                    &chain,
+                    &mut state,
+                    code(theta.cos()),
+                    code(theta.sin()),
+                );
+                flagged += usize::from(e.faults & AT_FAULT_FRONT_END != 0);
+            }
+            (
+                flagged,
+                at_chain_state_fixed_clear_front_end_faults(&mut state),
+            )
+        };
+        let (flagged, latched) = run(3184.0);
+        assert!(flagged > 1800, "{flagged}");
+        assert_eq!(latched, AT_FRONT_END_FAULT_CLIPPING);
+        // A clean signal of 1800 counts: nothing.
+        assert_eq!(run(1800.0), (0, 0));
+    }
+}

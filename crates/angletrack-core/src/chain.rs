@@ -17,7 +17,10 @@ mod observers;
 mod stages;
 
 pub use front_end_check::{FrontEndCheck, FrontEndCheckState, WindingCheck};
-pub use held_rails::{HELD_RAIL_SAMPLES, HeldRailCheck, HeldRails};
+pub use held_rails::{
+    HELD_RAIL_SAMPLES, HeldRailCheck, HeldRails, RAIL_BAND_PER_SPAN, RailSample,
+    is_piled_up_at_rail,
+};
 pub use stages::OnlineCalibration;
 
 /// The observer's prediction for the sample a stage is processing, in the observer's

@@ -161,7 +161,8 @@ pub use calibration::{FixedCalibration, SensorCalibration};
 pub use calibration_settings::CalibrationSettings;
 pub use chain::{
     Chain, ChainState, Feedback, FrontEndCheck, FrontEndCheckState, HELD_RAIL_SAMPLES,
-    HeldRailCheck, HeldRails, OnlineCalibration, Prediction, Stage, WindingCheck,
+    HeldRailCheck, HeldRails, OnlineCalibration, Prediction, RAIL_BAND_PER_SPAN, RailSample, Stage,
+    WindingCheck, is_piled_up_at_rail,
 };
 pub use const_config::Real;
 pub use demodulator::{

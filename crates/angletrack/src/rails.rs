@@ -5,10 +5,7 @@
 //! flat over [`HELD_RAIL_SAMPLES`] consecutive samples of a channel, and reached by more
 //! than four times the samples of the band just inside it (half a percent of the span).
 
-use angletrack_core::HELD_RAIL_SAMPLES;
-
-/// The band just inside an extreme, as a fraction of the span of the samples.
-const BAND_FRACTION: f64 = 0.005;
+use angletrack_core::{HELD_RAIL_SAMPLES, RAIL_BAND_PER_SPAN, is_piled_up_at_rail};
 
 /// Whether `y` sits at `value` for at least [`HELD_RAIL_SAMPLES`] consecutive samples.
 fn held_flat(y: &[f64], value: f64) -> bool {
@@ -23,15 +20,13 @@ fn held_flat(y: &[f64], value: f64) -> bool {
 }
 
 /// Whether the extreme `value` of `y_c` and `y_s` is a rail: held flat in a channel, and
-/// reached by more than four times the samples within `band` inside it (`inward`: the
-/// direction of the inside, `+1` above a low extreme, `-1` below a high one). A clipped
-/// signal piles up at its rail; a clean one, even quantised and slow enough to repeat its
-/// peak code, thins out toward its peak.
+/// piled up against the samples within `band` inside it ([`is_piled_up_at_rail`];
+/// `inward`: the direction of the inside, `+1` above a low extreme, `-1` below a high one).
 fn is_rail(y_c: &[f64], y_s: &[f64], value: f64, band: f64, inward: f64) -> bool {
     if !(held_flat(y_c, value) || held_flat(y_s, value)) {
         return false;
     }
-    let (mut at, mut near) = (0usize, 0usize);
+    let (mut at, mut near) = (0u64, 0u64);
     for &v in y_c.iter().chain(y_s) {
         let inside = (v - value) * inward;
         if v == value {
@@ -40,7 +35,7 @@ fn is_rail(y_c: &[f64], y_s: &[f64], value: f64, band: f64, inward: f64) -> bool
             near += 1;
         }
     }
-    at > 4 * near
+    is_piled_up_at_rail(at, near)
 }
 
 /// The ADC range measured on the samples `y_c`, `y_s` (any lengths; NaNs ignored): each
@@ -68,7 +63,7 @@ pub fn measured_adc_range(y_c: &[f64], y_s: &[f64]) -> Option<(f64, f64)> {
         return None;
     }
     let span = high - low;
-    let band = BAND_FRACTION * span;
+    let band = span / f64::from(RAIL_BAND_PER_SPAN);
     let low_rail = is_rail(y_c, y_s, low, band, 1.0);
     let high_rail = is_rail(y_c, y_s, high, band, -1.0);
     if !(low_rail || high_rail) {

@@ -1,20 +1,102 @@
 //! [`HeldRailCheck`]: clipping flagged without a stated ADC range, against the rails
 //! measured on the samples as they come: an extreme held flat, as a clipped signal's is and
 //! a clean one's is not (the CLI's test of a measured range, made per sample, with a still
-//! shaft's constant windings told apart).
+//! shaft's constant windings told apart). On floats and on the fixed-point chain's 16-bit
+//! samples alike ([`RailSample`]).
 
 use super::front_end_check::FrontEndCheckState;
 use super::{Prediction, Stage};
 use crate::faults::Faults;
 use crate::front_end_faults::FrontEndFaults;
-use crate::real::Float;
+use crate::real::{ChainNumber, Float};
 
 /// Consecutive samples of a channel at an extreme, the other channel moving, that make it
 /// a rail (with the samples piled up there).
 pub const HELD_RAIL_SAMPLES: u8 = 4;
 
+/// The band just inside an extreme whose samples a rail must outnumber: the span of the
+/// samples (lowest to highest) divided by this (half a percent).
+pub const RAIL_BAND_PER_SPAN: u16 = 200;
+
+/// Whether an extreme reached by `at` samples, with `in_band` samples in the band just
+/// inside it ([`RAIL_BAND_PER_SPAN`]), is piled up as a rail: more than four times as many
+/// at it. A clipped signal piles up at its rail; a clean one, even quantised and slow
+/// enough to repeat its peak code, thins out toward its peak. The one rule of the
+/// streaming [`HeldRailCheck`] and of the std crate's measured range of a capture.
+///
+/// ```
+/// use angletrack_core::is_piled_up_at_rail;
+/// assert!(is_piled_up_at_rail(41, 10));
+/// assert!(!is_piled_up_at_rail(40, 10));
+/// ```
+pub const fn is_piled_up_at_rail(at: u64, in_band: u64) -> bool {
+    at > 4 * in_band
+}
+
 /// The counts of the pile-up test are halved from this value on (their ratio kept).
 const COUNT_LIMIT: u16 = 1 << 15;
+
+/// A sample type the [`HeldRailCheck`] measures rails on: `f32` and `f64`, and `i16` (the
+/// fixed-point chain's samples after its ADC stage, whose differences are taken in 32 bits).
+pub trait RailSample: Copy + PartialOrd + Default {
+    /// `false` for NaN and infinities (left to the observer).
+    fn is_number(self) -> bool;
+    /// The band just inside an extreme for samples from `low` to `high`: the span over
+    /// [`RAIL_BAND_PER_SPAN`].
+    fn band(low: Self, high: Self) -> Self;
+    /// Whether `x` is within `band` of `value`.
+    fn is_near(x: Self, value: Self, band: Self) -> bool;
+    /// Whether the samples from `low` to `high` span more than 1.5 times the larger of
+    /// `|x_c|` and `|x_s|` (both sides of zero, as a resolver's windings do once the ADC's
+    /// mid-scale is removed).
+    fn spans(low: Self, high: Self, x_c: Self, x_s: Self) -> bool;
+}
+
+impl<T: Float> RailSample for T {
+    #[inline(always)]
+    fn is_number(self) -> bool {
+        self.is_finite()
+    }
+
+    #[inline(always)]
+    fn band(low: T, high: T) -> T {
+        (high - low) * T::from_f32(1.0 / RAIL_BAND_PER_SPAN as f32)
+    }
+
+    #[inline(always)]
+    fn is_near(x: T, value: T, band: T) -> bool {
+        (x - value).abs() <= band
+    }
+
+    #[inline(always)]
+    fn spans(low: T, high: T, x_c: T, x_s: T) -> bool {
+        high - low > T::from_f32(1.5) * x_c.abs().max(x_s.abs())
+    }
+}
+
+impl RailSample for i16 {
+    #[inline(always)]
+    fn is_number(self) -> bool {
+        true
+    }
+
+    #[inline(always)]
+    fn band(low: i16, high: i16) -> i16 {
+        // At most 65535 / 200: an i16.
+        ((i32::from(high) - i32::from(low)) / i32::from(RAIL_BAND_PER_SPAN)) as i16
+    }
+
+    #[inline(always)]
+    fn is_near(x: i16, value: i16, band: i16) -> bool {
+        (i32::from(x) - i32::from(value)).abs() <= i32::from(band)
+    }
+
+    #[inline(always)]
+    fn spans(low: i16, high: i16, x_c: i16, x_s: i16) -> bool {
+        let largest = i32::from(x_c).abs().max(i32::from(x_s).abs());
+        2 * (i32::from(high) - i32::from(low)) > 3 * largest
+    }
+}
 
 /// One side's extreme (the lowest or the highest sample of either channel so far) and the
 /// evidence that it is a rail.
@@ -31,12 +113,10 @@ struct Side<T> {
     band: u16,
 }
 
-impl<T: Float> Side<T> {
-    /// Whether the extreme is a rail: held flat, and reached by more than four times the
-    /// samples of the band just inside it (a clipped signal piles up at its rail, a clean
-    /// one, even quantised and slow enough to repeat its peak code, thins out toward it).
+impl<T: RailSample> Side<T> {
+    /// Whether the extreme is a rail: held flat, and piled up ([`is_piled_up_at_rail`]).
     fn is_rail(&self) -> bool {
-        self.held && u32::from(self.at) > 4 * u32::from(self.band)
+        self.held && is_piled_up_at_rail(u64::from(self.at), u64::from(self.band))
     }
 
     /// Books channel `k`'s sample `x`, beyond (`beyond(x, value)`), at, or inside the
@@ -47,7 +127,7 @@ impl<T: Float> Side<T> {
         let beyond = if low { x < self.value } else { x > self.value };
         if beyond {
             // A new extreme: the old one's samples are in its band if it is close.
-            let close = (x - self.value).abs() <= band;
+            let close = T::is_near(x, self.value, band);
             self.band = if close {
                 self.band.saturating_add(self.at)
             } else {
@@ -70,7 +150,7 @@ impl<T: Float> Side<T> {
             if let Some(run) = run {
                 *run = 0;
             }
-            if (x - self.value).abs() <= band {
+            if T::is_near(x, self.value, band) {
                 self.band = self.band.saturating_add(1);
             }
         }
@@ -92,7 +172,7 @@ pub struct HeldRails<T> {
     high: Side<T>,
 }
 
-impl<T: Float> HeldRails<T> {
+impl<T: RailSample> HeldRails<T> {
     /// The front-end faults found (the last sample's, latched, and whether it coasted).
     pub fn check(&self) -> &FrontEndCheckState {
         &self.check
@@ -160,7 +240,7 @@ impl HeldRailCheck {
     }
 }
 
-impl<T: Float> Stage<T, (T, T)> for HeldRailCheck {
+impl<T: RailSample + ChainNumber> Stage<T, (T, T)> for HeldRailCheck {
     type State = HeldRails<T>;
     type Memo = ();
     const QUIET_FROM_INPUT: bool = true;
@@ -172,17 +252,16 @@ impl<T: Float> Stage<T, (T, T)> for HeldRailCheck {
         _: &impl Prediction<T>,
         (y_c, y_s): (T, T),
     ) -> ((T, T), ()) {
-        if !(y_c.is_finite() && y_s.is_finite()) {
+        if !(y_c.is_number() && y_s.is_number()) {
             s.check.set(FrontEndFaults::NONE, false);
             return ((y_c, y_s), ());
         }
         if !s.started {
             s.started = true;
-            s.low.value = y_c.min(y_s);
-            s.high.value = y_c.max(y_s);
+            (s.low.value, s.high.value) = if y_c < y_s { (y_c, y_s) } else { (y_s, y_c) };
             s.last = (y_c, y_s);
         }
-        let band = (s.high.value - s.low.value) * T::from_f32(0.005);
+        let band = T::band(s.low.value, s.high.value);
         let moved = [y_s != s.last.1, y_c != s.last.0];
         for (k, x) in [y_c, y_s].into_iter().enumerate() {
             let moved = moved.get(k).copied().unwrap_or(false);
@@ -190,7 +269,7 @@ impl<T: Float> Stage<T, (T, T)> for HeldRailCheck {
             s.high.book(k, x, moved, band, false);
         }
         s.last = (y_c, y_s);
-        let spans = s.high.value - s.low.value > T::from_f32(1.5) * y_c.abs().max(y_s.abs());
+        let spans = T::spans(s.low.value, s.high.value, y_c, y_s);
         let (low, high) = (spans && s.low.is_rail(), spans && s.high.is_rail());
         let clipped = |x: T| (low && x <= s.low.value) || (high && x >= s.high.value);
         let (clipped_c, clipped_s) = (clipped(y_c), clipped(y_s));
@@ -249,6 +328,60 @@ mod tests {
             coasted += usize::from(state.front_end.check().coasting());
         }
         (flagged, coasted, state.front_end.rails())
+    }
+
+    /// The same resolver through the fixed-point chain: signed counts of `bits` bits (2 to
+    /// 16) clipped to `[-rail, rail]`, the ADC stage shifting them to 16 bits, then the check.
+    fn run_fixed(
+        step: f64,
+        amplitude: f64,
+        rail: f64,
+        bits: u32,
+        samples: usize,
+    ) -> (usize, usize, (Option<i16>, Option<i16>)) {
+        let gains = crate::FixedGains::<3>::new([0.3, 0.04, 0.002], 1e-4).unwrap();
+        let adc = crate::AdcCounts::twos_complement(bits).unwrap();
+        let chain = Chain::new((adc, HeldRailCheck::new()), gains);
+        let mut state = ChainState::new();
+        let (mut flagged, mut coasted) = (0, 0);
+        let count = |v: f64| libm::round(v).clamp(-rail, rail) as i16;
+        for k in 0..samples {
+            let theta = 0.3 + step * k as f64;
+            let e = chain.update(
+                &mut state,
+                (
+                    count(amplitude * libm::cos(theta)),
+                    count(amplitude * libm::sin(theta)),
+                ),
+            );
+            flagged += usize::from(e.faults.contains(Faults::FRONT_END));
+            coasted += usize::from(state.front_end.1.check().coasting());
+        }
+        (flagged, coasted, state.front_end.1.rails())
+    }
+
+    #[test]
+    fn the_fixed_point_chain_finds_the_rails_of_clipped_counts() {
+        // As the float test below, in the fixed-point chain: the rails at +-2047 counts,
+        // shifted by the ADC stage's 4 bits to +-32752.
+        let (flagged, coasted, rails) = run_fixed(0.0314, 3184.0, 2047.0, 12, 2000);
+        assert_eq!(rails, (Some(-32752), Some(32752)));
+        assert!(flagged > 1800, "{flagged}");
+        assert!((160..280).contains(&coasted), "{coasted}");
+        // 16-bit counts clipped at their full scale: the spans in 32 bits do not wrap.
+        let (flagged, _, rails) = run_fixed(0.0314, 46000.0, 32767.0, 16, 2000);
+        assert_eq!(rails, (Some(-32767), Some(32767)));
+        assert!(flagged > 1800, "{flagged}");
+    }
+
+    #[test]
+    fn the_fixed_point_chain_finds_no_rail_on_clean_or_still_counts() {
+        for step in [0.0314, 6.28e-4] {
+            let (flagged, _, rails) = run_fixed(step, 1800.0, 2047.0, 12, 12_000);
+            assert_eq!((flagged, rails), (0, (None, None)), "step {step}");
+        }
+        let (flagged, _, rails) = run_fixed(0.0, 1800.0, 2047.0, 12, 2000);
+        assert_eq!((flagged, rails), (0, (None, None)));
     }
 
     #[test]

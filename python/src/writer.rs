@@ -1,12 +1,14 @@
-//! `EstimatesWriter`: an observer's estimates written chunk by chunk by the std crate's
-//! writer (CSV with the shortest round-trip decimals, or a `.npy` structured array).
+//! `EstimatesWriter` and `TableWriter`: an observer's estimates, or any table of named
+//! numeric columns, written chunk by chunk by the std crate's writers (CSV with the shortest
+//! round-trip decimals, a `.npy` structured array or an `.npz`).
 
 use std::path::PathBuf;
 
 use angletrack::capture::{
-    EstimateRows, EstimatesWriter as CoreWriter, OutputFile as CoreOutputFile, OutputFloat,
+    Column, ColumnType, EstimateRows, EstimatesWriter as CoreWriter, OutputFile as CoreOutputFile,
+    OutputFloat, TableWriter as CoreTableWriter,
 };
-use numpy::{Element, PyArrayMethods, PyReadonlyArray1};
+use numpy::{Element, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
 use crate::arrays::Float;
@@ -127,6 +129,169 @@ impl PyEstimatesWriter {
 
     /// Closes the file; after an exception in the block, discards it instead (the target
     /// is left as it was: a partial file never passes for the estimates of a capture).
+    #[pyo3(signature = (exc_type, _exc_value, _traceback))]
+    fn __exit__(
+        &mut self,
+        exc_type: &Bound<'_, PyAny>,
+        _exc_value: &Bound<'_, PyAny>,
+        _traceback: &Bound<'_, PyAny>,
+    ) -> Result<bool> {
+        if exc_type.is_none() {
+            self.close()?;
+        } else {
+            self.writer = None;
+        }
+        Ok(false)
+    }
+}
+
+/// Writes a table of named numeric columns chunk by chunk in constant memory, in the format
+/// of `path`'s extension as `EstimatesWriter` does (`.csv`, `.npy` structured array, `.npz`
+/// of one array per column; another extension is refused). `columns` lists `(name, dtype)`
+/// in file order: names of letters, digits and underscores, each once; dtypes float64,
+/// float32, uint8 or int32 (anything `numpy.dtype` reads as one of them). `write(arrays)`
+/// appends one 1-D array per column, of the column's dtype, all of one length. All or
+/// nothing, as `EstimatesWriter`: the target is replaced by `close()` or at the end of a
+/// `with` block, and left as it was after an exception in the block.
+#[pyclass(name = "TableWriter", module = "angletrack")]
+#[derive(Debug)]
+pub struct PyTableWriter {
+    writer: Option<CoreTableWriter>,
+}
+
+/// The column type of the dtype-like `dtype` of column `name` (as `numpy.dtype` reads it).
+fn column_type(py: Python<'_>, name: &str, dtype: &Bound<'_, PyAny>) -> Result<ColumnType> {
+    let resolved: Option<String> = py
+        .import("numpy")
+        .and_then(|numpy| numpy.call_method1("dtype", (dtype,)))
+        .and_then(|d| d.getattr("name"))
+        .and_then(|n| n.extract())
+        .ok();
+    resolved
+        .as_deref()
+        .and_then(ColumnType::of_name)
+        .ok_or_else(|| {
+            let given = resolved.unwrap_or_else(|| dtype.to_string());
+            Error::value(
+                "columns",
+                format!("{name}: dtype {given}: expected float64, float32, uint8 or int32"),
+            )
+        })
+}
+
+/// The values of column `name` of type `kind` in `array`: a 1-D contiguous array of that
+/// type.
+fn column_values<'py>(
+    array: &Bound<'py, PyAny>,
+    name: &str,
+    kind: ColumnType,
+) -> Result<ColumnArray<'py>> {
+    fn typed<'py, T: Element>(array: &Bound<'py, PyAny>) -> Option<PyReadonlyArray1<'py, T>> {
+        array
+            .cast::<numpy::PyArray1<T>>()
+            .ok()
+            .and_then(|a| a.try_readonly().ok())
+            .filter(|a| a.is_contiguous())
+    }
+    let values = match kind {
+        ColumnType::F64 => typed(array).map(ColumnArray::F64),
+        ColumnType::F32 => typed(array).map(ColumnArray::F32),
+        ColumnType::U8 => typed(array).map(ColumnArray::U8),
+        ColumnType::I32 => typed(array).map(ColumnArray::I32),
+    };
+    values.ok_or_else(|| {
+        let wanted = match kind {
+            ColumnType::F64 => "float64",
+            ColumnType::F32 => "float32",
+            ColumnType::U8 => "uint8",
+            ColumnType::I32 => "int32",
+        };
+        Error::value(
+            "arrays",
+            format!("{name}: expected a contiguous 1-D {wanted} array"),
+        )
+    })
+}
+
+/// One column's array, read-only, of the column's type.
+enum ColumnArray<'py> {
+    F64(PyReadonlyArray1<'py, f64>),
+    F32(PyReadonlyArray1<'py, f32>),
+    U8(PyReadonlyArray1<'py, u8>),
+    I32(PyReadonlyArray1<'py, i32>),
+}
+
+impl ColumnArray<'_> {
+    /// The values as the writer's column (contiguous: checked when read).
+    fn column(&self) -> Column<'_> {
+        match self {
+            ColumnArray::F64(a) => Column::F64(a.as_slice().unwrap_or(&[])),
+            ColumnArray::F32(a) => Column::F32(a.as_slice().unwrap_or(&[])),
+            ColumnArray::U8(a) => Column::U8(a.as_slice().unwrap_or(&[])),
+            ColumnArray::I32(a) => Column::I32(a.as_slice().unwrap_or(&[])),
+        }
+    }
+}
+
+#[pymethods]
+impl PyTableWriter {
+    #[new]
+    #[pyo3(signature = (path, columns))]
+    fn py_new(
+        py: Python<'_>,
+        path: PathBuf,
+        columns: Vec<(String, Bound<'_, PyAny>)>,
+    ) -> Result<Self> {
+        let typed = columns
+            .iter()
+            .map(|(name, dtype)| Ok((name.as_str(), column_type(py, name, dtype)?)))
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Self {
+            writer: Some(CoreTableWriter::create(&path, &typed)?),
+        })
+    }
+
+    /// Appends a chunk: one array per column, in the columns' order.
+    #[pyo3(signature = (arrays))]
+    fn write(&mut self, py: Python<'_>, arrays: Vec<Bound<'_, PyAny>>) -> Result<()> {
+        let writer = self
+            .writer
+            .as_mut()
+            .ok_or_else(|| Error::value("writer", "is closed"))?;
+        if arrays.len() != writer.columns().len() {
+            return Err(Error::value(
+                "arrays",
+                format!(
+                    "{} given for a table of {} columns",
+                    arrays.len(),
+                    writer.columns().len()
+                ),
+            ));
+        }
+        let held = writer
+            .columns()
+            .iter()
+            .zip(&arrays)
+            .map(|((name, kind), array)| column_values(array, name, *kind))
+            .collect::<Result<Vec<_>>>()?;
+        let columns: Vec<Column<'_>> = held.iter().map(ColumnArray::column).collect();
+        py.detach(|| writer.write(&columns))?;
+        Ok(())
+    }
+
+    /// Finishes the file; returns the number of rows written (0 if already closed).
+    fn close(&mut self) -> Result<u64> {
+        match self.writer.take() {
+            Some(w) => Ok(w.finish()?),
+            None => Ok(0),
+        }
+    }
+
+    fn __enter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
+        slf
+    }
+
+    /// Closes the file; after an exception in the block, discards it instead.
     #[pyo3(signature = (exc_type, _exc_value, _traceback))]
     fn __exit__(
         &mut self,

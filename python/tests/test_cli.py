@@ -176,13 +176,14 @@ def test_track_names_the_flag_of_a_file_it_cannot_read(tmp_path, capsys, flag, v
     assert status == 2 and err.strip() == "angletrack: error: " + expected.format(dir=tmp_path), err
 
 
-def test_track_names_the_output_flag_of_a_format_the_run_does_not_write(tmp_path, capsys):
+def test_track_names_the_output_flag_of_a_format_it_does_not_write(tmp_path, capsys):
     cap = tmp_path / "capture.csv"
     write_capture(cap, with_reference=False)
-    status = cli.main(["track", str(cap), "--gains", "0.06,0.001", "--dtype", "fixed", "-o", str(tmp_path / "e.npy")])
-    err = capsys.readouterr().err
-    assert status == 2 and "--output: " in err and "with --dtype fixed are CSV (.csv)" in err, err
-    assert not (tmp_path / "e.npy").exists()
+    for extra in ([], ["--dtype", "fixed"], ["--carrier-hz", "1000"]):
+        status = cli.main(["track", str(cap), "--gains", "0.06,0.001", *extra, "-o", str(tmp_path / "e.dat")])
+        err = capsys.readouterr().err
+        assert status == 2 and "--output: " in err and "are CSV (.csv), NumPy (.npy) or .npz" in err, (extra, err)
+        assert not (tmp_path / "e.dat").exists()
 
 
 def test_report_writes_markdown_and_plots(tmp_path):

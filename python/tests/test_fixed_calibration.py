@@ -96,6 +96,17 @@ def test_track_fixed_applies_the_stored_calibration_in_integers(tmp_path, gains_
     assert rms_of(fixed) < rms_of(floating) + 2e-4, (fixed, floating)
     data = np.genfromtxt(tmp_path / "fixed.csv", delimiter=",", names=True)
     assert data.dtype.names[:2] == ("time_s", "angle_rad") and np.all(data["faults"][len(data) // 2:] == 0)
+    # The same run as .npz and .npy: the firmware's binary angle as int32, the faults as uint8, the
+    # values those of the CSV (whose floats read back exactly).
+    for suffix in (".npz", ".npy"):
+        assert cli.main(base + ["--calibration", str(cal), "--output", str(tmp_path / f"fixed{suffix}")]) == 0
+    capsys.readouterr()
+    archive, records = np.load(tmp_path / "fixed.npz"), np.load(tmp_path / "fixed.npy")
+    assert archive["angle_binary"].dtype == np.int32 and archive["faults"].dtype == np.uint8
+    assert records.dtype.names == data.dtype.names
+    for name in data.dtype.names:
+        np.testing.assert_array_equal(archive[name], data[name])
+        np.testing.assert_array_equal(records[name], data[name])
 
 
 def test_fixed_observer_takes_the_stages(tmp_path):

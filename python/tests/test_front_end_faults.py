@@ -68,6 +68,26 @@ def track_windings(tmp_path, gains, t, theta, c, s, capsys, *options):
     return est, wrapped(est["angle_rad"] - truth), summary
 
 
+def test_the_resolver_path_writes_npy_and_npz(tmp_path, carrier_gains, capsys):
+    # The same run as CSV, .npy and .npz: the fault columns uint8, the same values in each.
+    t, _, c, s = windings(0.02)
+    capture = tmp_path / "windings.csv"
+    write_csv(capture, time=t, y_c=c, y_s=s)
+    outputs = [tmp_path / f"est{suffix}" for suffix in (".csv", ".npy", ".npz")]
+    for out in outputs:
+        assert cli.main(["track", str(capture), "--gains-file", str(carrier_gains), "--carrier-hz",
+                         str(CARRIER_HZ), "--pole-pairs", "2", "-o", str(out)]) == 0
+    capsys.readouterr()
+    text, records, archive = read_csv(outputs[0]), np.load(outputs[1]), np.load(outputs[2])
+    assert list(records.dtype.names) == list(text) == sorted(archive.files, key=list(text).index)
+    assert "front_end_faults" in text and "electrical_angle_rad" in text
+    assert records["front_end_faults"].dtype == np.uint8 and archive["faults"].dtype == np.uint8
+    assert len(records) > 150
+    for name in text:
+        np.testing.assert_array_equal(records[name], text[name])
+        np.testing.assert_array_equal(archive[name], text[name])
+
+
 def test_a_10_ms_loss_of_excitation_is_coasted_through(tmp_path, carrier_gains, capsys):
     lost = (0.10, 0.11)
 

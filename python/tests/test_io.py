@@ -148,7 +148,7 @@ def test_the_estimates_format_follows_the_extension(tmp_path, capsys):
         assert est["faults"].dtype == np.uint8 and len(est["angle_rad"]) == N
         t, theta = motion()
         assert est["position_rad"][-1] == pytest.approx(theta[-1], abs=1e-3)
-    for output, options in (("est.dat", []), ("est.npy", ["--dtype", "fixed"])):
+    for output, options in (("est.dat", []), ("est.txt", ["--dtype", "fixed"])):
         assert track(cap, "--gains-file", g, "-o", tmp_path / output, *options) == 2
         assert "the estimates' format follows the extension" in error_line(capsys)
         assert not (tmp_path / output).exists()
@@ -261,3 +261,23 @@ def test_constructors_show_their_signatures_and_stubs_return_types():
     assert "decimal=None, skip_rows=0" in str(inspect.signature(angletrack.CaptureReader))
     assert str(inspect.signature(angletrack.OutputFile)) == "(path)"
     assert inspect.signature(harmonics.track_calibrated).return_annotation == "Estimates"
+
+
+def test_a_table_writer_names_the_column_it_refuses(tmp_path):
+    path = tmp_path / "table.npz"
+    path.write_bytes(b"kept")
+    columns = [("time_s", np.float64), ("angle_binary", "int32"), ("faults", np.dtype(np.uint8))]
+    with pytest.raises(ValueError, match=r"columns: code: dtype int64: expected float64, float32, uint8 or int32"):
+        angletrack.TableWriter(path, [("code", np.int64)])
+    with pytest.raises(ValueError, match=r"arrays: angle_binary: expected a contiguous 1-D int32 array"):
+        with angletrack.TableWriter(path, columns) as w:
+            w.write([np.zeros(3), np.zeros(3, dtype=np.int64), np.zeros(3, dtype=np.uint8)])
+    with pytest.raises(ValueError, match=r"faults: 2 values where the first column has 3"):
+        with angletrack.TableWriter(path, columns) as w:
+            w.write([np.zeros(3), np.zeros(3, dtype=np.int32), np.zeros(2, dtype=np.uint8)])
+    assert path.read_bytes() == b"kept"
+    with angletrack.TableWriter(path, columns) as w:
+        w.write([np.array([0.0, 1e-4]), np.array([-7, 2**31 - 1], dtype=np.int32), np.array([0, 4], dtype=np.uint8)])
+    with np.load(path) as table:
+        assert table.files == ["time_s", "angle_binary", "faults"]
+        assert table["angle_binary"].tolist() == [-7, 2**31 - 1] and table["faults"].dtype == np.uint8

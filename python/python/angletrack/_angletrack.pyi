@@ -2,7 +2,7 @@
 
 import os
 from collections.abc import Iterable, Sequence
-from typing import Literal, Optional, Protocol, TypedDict, Union, overload
+from typing import Any, Literal, Optional, Protocol, TypedDict, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -841,6 +841,23 @@ class EstimatesWriter:
     def close(self) -> int:
         """Finishes the file; returns the rows written."""
     def __enter__(self) -> EstimatesWriter: ...
+    def __exit__(self, exc_type: object, _exc_value: object, _traceback: object) -> bool: ...
+
+class TableWriter:
+    """A table of named numeric columns written chunk by chunk, the format from the
+    extension as ``EstimatesWriter``'s: ``.csv`` (the names as header, floats as the
+    shortest decimal that reads back, integers as digits), ``.npy`` (a structured array,
+    one field per column) or ``.npz`` (one array per column). ``columns``: ``(name, dtype)``
+    in file order, names of letters, digits and underscores, each once; dtypes float64,
+    float32, uint8 or int32. Written beside ``path`` and renamed to it by ``close()``; after
+    an exception in a ``with`` block the file is discarded."""
+
+    def __init__(self, path: Union[str, os.PathLike], columns: Sequence[tuple[str, npt.DTypeLike]]) -> None: ...
+    def write(self, arrays: Sequence[npt.NDArray[Any]]) -> None:
+        """Appends a chunk: one contiguous 1-D array per column, of its dtype, one length."""
+    def close(self) -> int:
+        """Finishes the file; returns the rows written."""
+    def __enter__(self) -> TableWriter: ...
     def __exit__(self, exc_type: object, _exc_value: object, _traceback: object) -> bool: ...
 
 class OutputFile:

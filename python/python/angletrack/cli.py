@@ -109,8 +109,8 @@ def _cmd_track(args: argparse.Namespace) -> int:
 
     Streams CAPTURE (delimited text with any delimiter, with or without a header, an
     oscilloscope's (x, y) column pairs, integer ADC counts; or NumPy .npy/.npz) through an
-    observer in constant memory and writes the estimates as CSV, or as a .npy structured
-    array when the output ends in .npy. The capture's sample rate (time column) must agree
+    observer in constant memory and writes the estimates as CSV, a .npy structured array or
+    an .npz of one array per column, by the output's extension. The capture's sample rate (time column) must agree
     with the gains'. The signals may be in any unit (volts, raw ADC counts): the loop is
     amplitude-invariant and the diagnostics are scaled to the capture's own amplitude. With a
     reference column, prints the errors against it. --calibrate learns and corrects the
@@ -144,13 +144,9 @@ def _cmd_track(args: argparse.Namespace) -> int:
         calibration=calibration_io.angle_calibration(stored),
         adc_range=clipping.stated_range(args),
     )
-    suffix = output.suffix.lower()
-    text_only = settings.dtype == "fixed" or settings.carrier_hz is not None
-    if suffix not in ESTIMATE_EXTENSIONS or (text_only and suffix != ".csv"):
-        formats = "CSV (.csv)" if text_only else "CSV (.csv), NumPy (.npy) or .npz"
-        run = " with --dtype fixed" if settings.dtype == "fixed" else " with --carrier-hz" if text_only else ""
+    if output.suffix.lower() not in ESTIMATE_EXTENSIONS:
         raise ValueError(f"--output: {output}: the estimates' format follows the extension, and the formats "
-                         f"written{run} are {formats}")
+                         "written are CSV (.csv), NumPy (.npy) or .npz")
     summary, observer = tracking.track_capture(settings)
     print(summary)
     if args.calibrate and observer is not None:

@@ -22,10 +22,11 @@ if TYPE_CHECKING:
     from angletrack import harmonics
     from angletrack.tracking import TrackSettings
 
-#: The columns ``track --dtype fixed`` writes (CSV): the estimates in physical units beside
-#: the firmware's integers of the angle and the phase error.
-COLUMNS = ["time_s", "angle_rad", "position_rad", "speed_rad_s", "acceleration_rad_s2", "phase_error", "faults",
-           "angle_binary"]
+#: The columns ``track --dtype fixed`` writes and their dtypes: the estimates in physical
+#: units beside the firmware's binary angle (2^32 per turn).
+COLUMNS = [("time_s", np.float64), ("angle_rad", np.float64), ("position_rad", np.float64),
+           ("speed_rad_s", np.float64), ("acceleration_rad_s2", np.float64), ("phase_error", np.float64),
+           ("faults", np.uint8), ("angle_binary", np.int32)]
 
 
 def refusal(s: "TrackSettings") -> Optional[str]:
@@ -40,8 +41,6 @@ def refusal(s: "TrackSettings") -> Optional[str]:
         return ("dtype: --dtype fixed with --calibrate: the online calibration learns in float; learn it "
                 "with --calibrate (float64) or `angletrack calibrate`, then apply it with --dtype fixed "
                 "--calibration FILE")
-    if s.output.suffix == ".npy":
-        return "output: --dtype fixed writes CSV (its estimates have no .npy layout yet)"
     return None
 
 
@@ -55,7 +54,8 @@ def _counts(values: np.ndarray, capture: object) -> np.ndarray:
 def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.CaptureReader, first,
                 stats) -> tuple[list[str], angletrack.FixedObserver]:
     """Runs the capture of ``reader`` (its first chunk ``first`` read already) through the
-    fixed-point chain with ``gains``, writes the estimates to ``s.output`` (CSV) and adds
+    fixed-point chain with ``gains``, writes the estimates to ``s.output`` (``COLUMNS``; CSV,
+    ``.npy`` or ``.npz``) and adds
     the errors to ``stats``; returns the summary's lines and the observer."""
     message = refusal(s)
     if message is not None:
@@ -74,8 +74,7 @@ def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.
     adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
     # All or nothing: written beside the output and renamed when complete; a fault part
     # way (a malformed row, an interrupt) leaves the output as it was.
-    with angletrack.OutputFile(s.output) as target, open(target.temporary_path, "w") as out:
-        out.write(",".join(COLUMNS) + "\n")
+    with angletrack.TableWriter(s.output, COLUMNS) as out:
         chunk = first
         while chunk is not None:
             est = observer.update(_counts(chunk.y_c, s.capture), _counts(chunk.y_s, s.capture))
@@ -86,9 +85,9 @@ def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.
             faults = np.asarray(est.faults)
             flagged += clipping.flag_clipped(faults, chunk.y_c, chunk.y_s, adc_range)
             angle = np.asarray(est.angle, dtype=np.float64) * (math.pi / 2**31)
-            rows = np.column_stack([time_s, angle, est.position_rad, est.speed_rad_s, est.acceleration_rad_s2,
-                                    np.asarray(est.phase_error) / 2**15, faults, est.angle])
-            np.savetxt(out, rows, fmt="%.17g", delimiter=",")
+            values = [time_s, angle, est.position_rad, est.speed_rad_s, est.acceleration_rad_s2,
+                      np.asarray(est.phase_error) / 2**15, faults, est.angle]
+            out.write([np.ascontiguousarray(v, dtype=dtype) for v, (_, dtype) in zip(values, COLUMNS)])
             rejected += int(np.count_nonzero(np.asarray(est.faults) & bad))
             if stats is not None:
                 stats.add(time_s, angle, chunk.reference_rad)

@@ -242,13 +242,12 @@ def update_on_pairs(observer, pairs, dtype):
 
 
 def track_windings(s) -> tuple:
-    """``angletrack track --carrier-hz``: demodulates, tracks, writes the CSV; returns the
+    """``angletrack track --carrier-hz``: demodulates, tracks, writes the estimates (CSV,
+    ``.npy`` or ``.npz``, by the crate's ``TableWriter``); returns the
     summary and the observer of the pairs after the last one (its learned calibration)
     (``s`` a :class:`angletrack.tracking.TrackSettings`)."""
     from angletrack.tracking import _ErrorStatistics
 
-    if s.output.suffix == ".npy":
-        raise ValueError("output: --carrier-hz writes CSV (its extra columns have no .npy layout yet)")
     reader = angletrack.CaptureReader(
         s.capture, **s.reader_options(), chunk_rows=s.chunk_rows,
     )
@@ -275,16 +274,16 @@ def track_windings(s) -> tuple:
     t0 = float(first.time_s[0]) if first.time_s is not None else 0.0
     stats = _ErrorStatistics(s.skip_s, s.lock_tolerance_rad) if first.reference_rad is not None else None
     reference = _Reference()
-    names = ["time_s", "angle_rad", "position_rad", "speed_rad_s", "acceleration_rad_s2", "phase_error",
-             "faults", "front_end_faults", "y_c", "y_s"]
+    columns = [(name, np.float64) for name in ("time_s", "angle_rad", "position_rad", "speed_rad_s",
+                                                "acceleration_rad_s2", "phase_error")]
+    columns += [("faults", np.uint8), ("front_end_faults", np.uint8), ("y_c", np.float64), ("y_s", np.float64)]
     if drive is not None:
-        names += ["electrical_angle_rad", "electrical_speed_rad_s"]
+        columns += [("electrical_angle_rad", np.float64), ("electrical_speed_rad_s", np.float64)]
     pairs_total = 0
     s.output.parent.mkdir(parents=True, exist_ok=True)
     # All or nothing: written beside the output and renamed when complete; a fault part
     # way (a malformed row, an interrupt) leaves the output as it was.
-    with angletrack.OutputFile(s.output) as target, open(target.temporary_path, "w") as out:
-        out.write(",".join(names) + "\n")
+    with angletrack.TableWriter(s.output, columns) as out:
         chunk = first
         while chunk is not None:
             if stats is not None:
@@ -303,14 +302,13 @@ def track_windings(s) -> tuple:
                 scale = demodulator.tracked_carrier_hz * gains.sample_period_s
                 speed = np.asarray(est.speed, dtype=np.float64) * scale
                 acceleration = np.asarray(est.acceleration, dtype=np.float64) * scale**2
-                columns = [time_s, est.angle, est.position, speed, acceleration, est.phase_error,
-                           est.faults, pairs.faults, pairs.y_c, pairs.y_s]
+                values = [time_s, est.angle, est.position, speed, acceleration, est.phase_error,
+                          est.faults, pairs.faults, pairs.y_c, pairs.y_s]
                 if drive is not None:
                     angles = drive.update(est)
-                    columns += [angles.electrical_angle_rad,
-                                np.asarray(angles.electrical_speed_rad_s, dtype=np.float64) * scale]
-                rows = np.column_stack([np.asarray(c, dtype=np.float64) for c in columns])
-                np.savetxt(out, rows, fmt="%.17g", delimiter=",")
+                    values += [angles.electrical_angle_rad,
+                               np.asarray(angles.electrical_speed_rad_s, dtype=np.float64) * scale]
+                out.write([np.ascontiguousarray(v, dtype=dtype) for v, (_, dtype) in zip(values, columns)])
                 pairs_total += len(pairs)
                 if stats is not None:
                     stats.add(time_s, est.angle, reference.at(time_s))

@@ -23,6 +23,7 @@ mod output;
 mod reader;
 mod sniff;
 mod source;
+mod table;
 mod text;
 mod time;
 mod write;
@@ -38,8 +39,9 @@ pub use error::CaptureError;
 pub use output::{NamedPath, OutputFile, check_outputs, write_output};
 pub use reader::{CaptureChunk, CaptureOptions, CaptureReader};
 pub use sniff::{DecimalMark, Delimiter};
+pub use table::{Column, ColumnType, EstimatesFormat, TableWriter};
 pub use time::{SPACING_TOLERANCE, TimeUnit};
-pub use write::{ESTIMATE_COLUMNS, EstimateRows, EstimatesFormat, EstimatesWriter, OutputFloat};
+pub use write::{ESTIMATE_COLUMNS, EstimateRows, EstimatesWriter, OutputFloat};
 
 /// A whole capture in memory, with what was learnt reading it.
 #[derive(Debug, Clone, PartialEq)]

@@ -28,7 +28,7 @@ pub fn npy_header(descr: &str, shape: &str, min_bytes: usize) -> Vec<u8> {
 #[derive(Debug)]
 pub struct NpzColumn {
     /// The array's name in the archive (without `.npy`).
-    pub name: &'static str,
+    pub name: String,
     /// Its numpy type string (`<f8`, `<f4`, `|u1`).
     pub descr: &'static str,
     /// The values written so far.
@@ -39,14 +39,10 @@ pub struct NpzColumn {
 impl NpzColumn {
     /// A column named `name` of type `descr`, kept beside `target` until the archive is
     /// assembled.
-    pub fn create(
-        target: &Path,
-        name: &'static str,
-        descr: &'static str,
-    ) -> Result<Self, CaptureError> {
+    pub fn create(target: &Path, name: &str, descr: &'static str) -> Result<Self, CaptureError> {
         let (path, file) = temporary_beside(target)?;
         Ok(Self {
-            name,
+            name: name.to_owned(),
             descr,
             out: BufWriter::with_capacity(1 << 18, file),
             temp: TemporaryFile::new(path),

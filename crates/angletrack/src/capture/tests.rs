@@ -286,3 +286,118 @@ fn estimates_round_trip_through_csv_and_npy() {
     assert_eq!(header.shape(), &[4]);
     assert_eq!(bytes.len(), 256 + 4 * (8 + 4 + 8 + 4 + 4 + 4 + 1));
 }
+
+#[test]
+fn a_table_of_integer_and_float_columns_in_each_format() {
+    let columns = [
+        ("time_s", ColumnType::F64),
+        ("angle_binary", ColumnType::I32),
+        ("faults", ColumnType::U8),
+        ("y_c", ColumnType::F32),
+    ];
+    let chunk = [
+        Column::F64(&[0.0, 1e-4]),
+        Column::I32(&[i32::MIN, 7]),
+        Column::U8(&[0, 255]),
+        Column::F32(&[0.5, -1e-7]),
+    ];
+    let csv = file("table.csv", b"");
+    let mut w = TableWriter::create(&csv, &columns).unwrap();
+    w.write(&chunk).unwrap();
+    assert_eq!(w.finish().unwrap(), 2);
+    assert_eq!(
+        std::fs::read_to_string(&csv).unwrap(),
+        "time_s,angle_binary,faults,y_c\n0.0,-2147483648,0,0.5\n0.0001,7,255,-1e-7\n"
+    );
+    // A structured array: the fields' types in the header, the records packed after it.
+    let npy = file("table.npy", b"");
+    let mut w = TableWriter::create(&npy, &columns).unwrap();
+    w.write(&chunk).unwrap();
+    w.write(&chunk).unwrap();
+    assert_eq!(w.finish().unwrap(), 4);
+    let bytes = std::fs::read(&npy).unwrap();
+    // The header's length: 10 bytes, then the dict's length (little-endian u16).
+    let start = 10 + usize::from(u16::from_le_bytes([bytes[8], bytes[9]]));
+    assert_eq!(start % 64, 0);
+    let header = String::from_utf8_lossy(&bytes[10..start]);
+    assert!(
+        header.contains(
+            "'descr': [('time_s', '<f8'), ('angle_binary', '<i4'), ('faults', '|u1'), \
+             ('y_c', '<f4')], 'fortran_order': False, 'shape': (4,)"
+        ),
+        "{header}"
+    );
+    assert_eq!(bytes.len(), start + 4 * (8 + 4 + 1 + 4));
+    assert_eq!(&bytes[start + 8..start + 12], &i32::MIN.to_le_bytes());
+    assert_eq!(bytes[start + 12], 0);
+    assert_eq!(&bytes[start + 17 + 8..start + 17 + 12], &7i32.to_le_bytes());
+    // The header is written again at the end with the count: for every length of the
+    // fields' list (so that some header's count crosses a 64-byte boundary), it has room.
+    for length in 1..=64 {
+        let name = "x".repeat(length);
+        let npy = file("room.npy", b"");
+        let mut w = TableWriter::create(&npy, &[(name.as_str(), ColumnType::F64)]).unwrap();
+        w.write(&[Column::F64(&[0.5; 12_345])]).unwrap();
+        w.finish().unwrap();
+        let bytes = std::fs::read(&npy).unwrap();
+        let start = 10 + usize::from(u16::from_le_bytes([bytes[8], bytes[9]]));
+        assert!(String::from_utf8_lossy(&bytes[10..start]).contains("'shape': (12345,)"));
+        assert_eq!(bytes.len(), start + 12_345 * 8, "name of {length}");
+        assert_eq!(&bytes[start..start + 8], &0.5f64.to_le_bytes());
+    }
+    // One array per column, named as the columns.
+    let npz = file("table.npz", b"");
+    let mut w = TableWriter::create(&npz, &columns).unwrap();
+    w.write(&chunk).unwrap();
+    w.finish().unwrap();
+    let mut zip = zip::ZipArchive::new(std::fs::File::open(&npz).unwrap()).unwrap();
+    let names: Vec<String> = (0..zip.len())
+        .map(|k| zip.by_index(k).unwrap().name().unwrap().into_owned())
+        .collect();
+    assert_eq!(
+        names,
+        ["time_s.npy", "angle_binary.npy", "faults.npy", "y_c.npy"]
+    );
+    let mut member = Vec::new();
+    std::io::Read::read_to_end(&mut zip.by_name("angle_binary.npy").unwrap(), &mut member).unwrap();
+    assert_eq!(&member[member.len() - 8..], &[0, 0, 0, 0x80, 7, 0, 0, 0]);
+}
+
+#[test]
+fn a_table_refuses_bad_columns_and_leaves_the_target_as_it_was() {
+    let target = file("kept.csv", b"before\n");
+    for (columns, message) in [
+        (&[][..], "columns: a table needs one at least"),
+        (&[("angle rad", ColumnType::F64)][..], "is not a name"),
+        (
+            &[("a", ColumnType::F64), ("a", ColumnType::U8)][..],
+            "a given twice",
+        ),
+    ] {
+        let e = TableWriter::create(&target, columns)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(message), "{e}");
+    }
+    let mut w =
+        TableWriter::create(&target, &[("a", ColumnType::F64), ("b", ColumnType::U8)]).unwrap();
+    for (chunk, message) in [
+        (
+            &[Column::F64(&[1.0])][..],
+            "columns: 1 given for a table of 2",
+        ),
+        (
+            &[Column::F64(&[1.0]), Column::I32(&[1])][..],
+            "b: values of numpy type <i4 for a column of |u1",
+        ),
+        (
+            &[Column::F64(&[1.0]), Column::U8(&[1, 2])][..],
+            "b: 2 values where the first column has 1",
+        ),
+    ] {
+        let e = w.write(chunk).unwrap_err().to_string();
+        assert!(e.contains(message), "{e}");
+    }
+    drop(w);
+    assert_eq!(std::fs::read_to_string(&target).unwrap(), "before\n");
+}

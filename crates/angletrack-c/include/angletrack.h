@@ -108,7 +108,7 @@
  * The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_STATE_F32_WORDS 29
+#define AT_CHAIN_STATE_F32_WORDS 30
 
 /**
  * The harmonic orders an `at_angle_correction_f32` holds (the core's

@@ -39,13 +39,18 @@ const COUNT_LIMIT: u16 = 1 << 15;
 /// A sample type the [`HeldRailCheck`] measures rails on: `f32` and `f64`, and `i16` (the
 /// fixed-point chain's samples after its ADC stage, whose differences are taken in 32 bits).
 pub trait RailSample: Copy + PartialOrd + Default {
+    /// The band just inside an extreme, in the form [`RailSample::is_near`] takes.
+    type Band: Copy;
     /// `false` for NaN and infinities (left to the observer).
     fn is_number(self) -> bool;
     /// The band just inside an extreme for samples from `low` to `high`: the span over
     /// [`RAIL_BAND_PER_SPAN`].
-    fn band(low: Self, high: Self) -> Self;
+    fn band(low: Self, high: Self) -> Self::Band;
     /// Whether `x` is within `band` of `value`.
-    fn is_near(x: Self, value: Self, band: Self) -> bool;
+    fn is_near(x: Self, value: Self, band: Self::Band) -> bool;
+    /// The open interval of samples farther than the band from both extremes `low` and
+    /// `high`: a sample inside it is [`RailSample::is_near`] neither (the check's quick path).
+    fn far_inside(low: Self, high: Self) -> (Self, Self);
     /// Whether the samples from `low` to `high` span more than 1.5 times the larger of
     /// `|x_c|` and `|x_s|` (both sides of zero, as a resolver's windings do once the ADC's
     /// mid-scale is removed).
@@ -53,6 +58,8 @@ pub trait RailSample: Copy + PartialOrd + Default {
 }
 
 impl<T: Float> RailSample for T {
+    type Band = T;
+
     #[inline(always)]
     fn is_number(self) -> bool {
         self.is_finite()
@@ -69,26 +76,48 @@ impl<T: Float> RailSample for T {
     }
 
     #[inline(always)]
+    fn far_inside(low: T, high: T) -> (T, T) {
+        // Twice the band: a margin for the rounding of the sums.
+        let band = T::band(low, high);
+        (low + (band + band), high - (band + band))
+    }
+
+    #[inline(always)]
     fn spans(low: T, high: T, x_c: T, x_s: T) -> bool {
         high - low > T::from_f32(1.5) * x_c.abs().max(x_s.abs())
     }
 }
 
+/// The band is the span itself, the distance multiplied by [`RAIL_BAND_PER_SPAN`] instead:
+/// no division per sample (a library call on cores without a divider).
 impl RailSample for i16 {
+    type Band = i32;
+
     #[inline(always)]
     fn is_number(self) -> bool {
         true
     }
 
     #[inline(always)]
-    fn band(low: i16, high: i16) -> i16 {
-        // At most 65535 / 200: an i16.
-        ((i32::from(high) - i32::from(low)) / i32::from(RAIL_BAND_PER_SPAN)) as i16
+    fn band(low: i16, high: i16) -> i32 {
+        i32::from(high) - i32::from(low)
     }
 
     #[inline(always)]
-    fn is_near(x: i16, value: i16, band: i16) -> bool {
-        (i32::from(x) - i32::from(value)).abs() <= i32::from(band)
+    fn is_near(x: i16, value: i16, span: i32) -> bool {
+        // At most 65535 * 200: within an i32.
+        (i32::from(x) - i32::from(value)).abs() * i32::from(RAIL_BAND_PER_SPAN) <= span
+    }
+
+    #[inline(always)]
+    fn far_inside(low: i16, high: i16) -> (i16, i16) {
+        // x - low > floor(span / 200) makes 200 (x - low) > span: not near. Between the
+        // extremes: an i16.
+        let band = (i32::from(high) - i32::from(low)) / i32::from(RAIL_BAND_PER_SPAN);
+        (
+            (i32::from(low) + band) as i16,
+            (i32::from(high) - band) as i16,
+        )
     }
 
     #[inline(always)]
@@ -123,7 +152,7 @@ impl<T: RailSample> Side<T> {
     /// extreme (within `band` of it: `inside(x, value, band)`), `moved` whether the other
     /// channel moved since the last sample.
     #[inline(always)]
-    fn book(&mut self, k: usize, x: T, moved: bool, band: T, low: bool) {
+    fn book(&mut self, k: usize, x: T, moved: bool, band: T::Band, low: bool) {
         let beyond = if low { x < self.value } else { x > self.value };
         if beyond {
             // A new extreme: the old one's samples are in its band if it is close.
@@ -170,6 +199,8 @@ pub struct HeldRails<T> {
     last: (T, T),
     low: Side<T>,
     high: Side<T>,
+    /// Samples strictly inside are far from both extremes ([`RailSample::far_inside`]).
+    far_inside: (T, T),
 }
 
 impl<T: RailSample> HeldRails<T> {
@@ -261,6 +292,16 @@ impl<T: RailSample + ChainNumber> Stage<T, (T, T)> for HeldRailCheck {
             (s.low.value, s.high.value) = if y_c < y_s { (y_c, y_s) } else { (y_s, y_c) };
             s.last = (y_c, y_s);
         }
+        // Most samples are far from both extremes: no count moves, no channel is held at
+        // one, none is clipped (a comparison each instead of the booking).
+        let (above, below) = s.far_inside;
+        if y_c > above && y_c < below && y_s > above && y_s < below {
+            s.low.run = [0; 2];
+            s.high.run = [0; 2];
+            s.last = (y_c, y_s);
+            s.check.set(FrontEndFaults::NONE, false);
+            return ((y_c, y_s), ());
+        }
         let band = T::band(s.low.value, s.high.value);
         let moved = [y_s != s.last.1, y_c != s.last.0];
         for (k, x) in [y_c, y_s].into_iter().enumerate() {
@@ -269,6 +310,7 @@ impl<T: RailSample + ChainNumber> Stage<T, (T, T)> for HeldRailCheck {
             s.high.book(k, x, moved, band, false);
         }
         s.last = (y_c, y_s);
+        s.far_inside = T::far_inside(s.low.value, s.high.value);
         let spans = T::spans(s.low.value, s.high.value, y_c, y_s);
         let (low, high) = (spans && s.low.is_rail(), spans && s.high.is_rail());
         let clipped = |x: T| (low && x <= s.low.value) || (high && x >= s.high.value);

@@ -5,7 +5,9 @@
 //! silent conversion), converts the constants dict and runs `angletrack::FixedColumns` with
 //! the GIL released.
 
-use angletrack::{FixedDesignConstants, FixedFrontEnd, fixed_front_end};
+use angletrack::{
+    FixedDesignConstants, FixedFrontEnd, FixedFrontEndState, fixed_front_end, with_fixed_clipping,
+};
 use angletrack_core::fixed::FixedConstants;
 use angletrack_core::{
     AngleCorrection, Chain, ChainState, ConfigError as CoreConfigError, FixedGains, FixedState,
@@ -211,14 +213,20 @@ fn counts<'py>(obj: &Bound<'py, PyAny>, parameter: &'static str) -> Result<Sampl
 /// in integers): `mid_scale_counts` removed and the counts shifted left by `input_shift`
 /// bits (`AdcCounts`), then `calibration` (learned in float on the counts before the shift)
 /// applied: a `SensorCalibration` as a `FixedCalibration`, a `harmonics.Calibration` also
-/// with its harmonics as a 1024-entry `FixedAngleCorrectionTable`.
+/// with its harmonics as a 1024-entry `FixedAngleCorrectionTable`. `adc_range=(min, max)`
+/// (integer codes, as the samples come): a sample at or beyond it in either channel is
+/// flagged `Faults.FRONT_END` and one clipped in both channels is coasted through; or
+/// `measure_adc_range=True`: the same against the rails measured on the samples as they
+/// come (the core's `HeldRailCheck`), as the C chain does.
 #[pyclass(name = "FixedObserver", module = "angletrack")]
 #[derive(Debug)]
 pub struct PyFixedObserver {
     channel: FixedChannel,
-    /// The chain's front end (counts, stored calibration, angle correction table), or
-    /// `None`: the samples go to the observer as they are.
+    /// The chain's front end (counts, clipping checks, stored calibration, angle correction
+    /// table), or `None`: the samples go to the observer as they are.
     front_end: Option<FixedFrontEnd>,
+    /// The front end's state (the clipping checks'), kept from call to call.
+    front_state: FixedFrontEndState,
 }
 
 /// The stored sensor calibration and angle correction of a chain, either absent.
@@ -258,16 +266,34 @@ fn front_end(
     calibration: Option<&Bound<'_, PyAny>>,
     mid_scale_counts: i32,
     input_shift: u32,
+    adc_range: Option<(i32, i32)>,
+    measure_adc_range: bool,
 ) -> Result<Option<FixedFrontEnd>> {
     let (sensor, correction) = stages(calibration)?;
-    if sensor.is_none() && mid_scale_counts == 0 && input_shift == 0 {
+    if sensor.is_none()
+        && mid_scale_counts == 0
+        && input_shift == 0
+        && adc_range.is_none()
+        && !measure_adc_range
+    {
         return Ok(None);
     }
-    Ok(Some(fixed_front_end(
+    if measure_adc_range && adc_range.is_some() {
+        return Err(Error::value(
+            "measure_adc_range",
+            "give adc_range or measure_adc_range, not both",
+        ));
+    }
+    let front_end = fixed_front_end(
         mid_scale_counts,
         input_shift,
         sensor.as_ref(),
         correction.as_ref(),
+    )?;
+    Ok(Some(with_fixed_clipping(
+        front_end,
+        adc_range,
+        measure_adc_range,
     )?))
 }
 
@@ -275,19 +301,29 @@ fn front_end(
 impl PyFixedObserver {
     #[new]
     #[pyo3(signature = (design, *, nominal_amplitude = Some(16384.0), calibration = None,
-        mid_scale_counts = 0, input_shift = 0))]
+        mid_scale_counts = 0, input_shift = 0, adc_range = None, measure_adc_range = false))]
     fn py_new(
         design: &Bound<'_, PyAny>,
         nominal_amplitude: Option<f64>,
         calibration: Option<&Bound<'_, PyAny>>,
         mid_scale_counts: i32,
         input_shift: u32,
+        adc_range: Option<(i32, i32)>,
+        measure_adc_range: bool,
     ) -> Result<Self> {
         let channel =
             FixedChannel::of_gains(&designed_gains(design)?)?.with_monitor(nominal_amplitude)?;
+        let front_end = front_end(
+            calibration,
+            mid_scale_counts,
+            input_shift,
+            adc_range,
+            measure_adc_range,
+        )?;
         Ok(Self {
             channel,
-            front_end: front_end(calibration, mid_scale_counts, input_shift)?,
+            front_end,
+            front_state: FixedFrontEndState::default(),
         })
     }
 
@@ -298,7 +334,9 @@ impl PyFixedObserver {
     /// leaves the loop unstable.
     #[staticmethod]
     #[pyo3(signature = (constants, sample_period_s, *, nominal_amplitude = Some(16384.0),
-        calibration = None, mid_scale_counts = 0, input_shift = 0))]
+        calibration = None, mid_scale_counts = 0, input_shift = 0, adc_range = None,
+        measure_adc_range = false))]
+    #[allow(clippy::too_many_arguments)]
     fn from_constants(
         constants: &Bound<'_, PyAny>,
         sample_period_s: f64,
@@ -306,6 +344,8 @@ impl PyFixedObserver {
         calibration: Option<&Bound<'_, PyAny>>,
         mid_scale_counts: i32,
         input_shift: u32,
+        adc_range: Option<(i32, i32)>,
+        measure_adc_range: bool,
     ) -> Result<Self> {
         let constants = constants.cast::<PyMapping>().map_err(|_| {
             Error::value(
@@ -326,9 +366,17 @@ impl PyFixedObserver {
             .map_err(|_| not_integers("acceleration_shift", &shift, "an integer from 0 to 15"))?;
         let channel = FixedChannel::of_constants(&multiplier, shift, sample_period_s)?
             .with_monitor(nominal_amplitude)?;
+        let front_end = front_end(
+            calibration,
+            mid_scale_counts,
+            input_shift,
+            adc_range,
+            measure_adc_range,
+        )?;
         Ok(Self {
             channel,
-            front_end: front_end(calibration, mid_scale_counts, input_shift)?,
+            front_end,
+            front_state: FixedFrontEndState::default(),
         })
     }
 
@@ -347,19 +395,27 @@ impl PyFixedObserver {
         check_equal_lengths(("y_c", y_c.len()), ("y_s", y_s.len()))?;
         let out = FixedArrays::new(py, y_c.len())?;
         let (channel, front_end) = (&mut self.channel, self.front_end);
+        let front_state = &mut self.front_state;
         out.fill(py, |columns| {
             with_channel!(channel, g, s => match front_end {
                 None => columns.run(g, s, y_c, y_s),
                 Some(front_end) => {
-                    // The stages hold no state: the chain's is the observer's.
-                    let mut state = ChainState { front_end: ((), ((), ())), observer: *s };
+                    let mut state = ChainState { front_end: *front_state, observer: *s };
                     let count = columns.run_chain(&Chain::new(front_end, *g), &mut state, y_c, y_s);
-                    *s = state.observer;
+                    (*front_state, *s) = (state.front_end, state.observer);
                     count
                 }
             })
         })?;
         Ok(out.into_estimates(y_c.len()))
+    }
+
+    /// The front-end faults latched (4: a sample clipped against `adc_range` or the rails
+    /// measured).
+    #[getter]
+    fn latched_front_end_faults(&self) -> u8 {
+        let (_, ((stated, measured), _)) = &self.front_state;
+        (stated.0.latched_faults() | measured.check().latched_faults()).bits()
     }
 
     /// The estimate after the last sample.

@@ -6,8 +6,8 @@
 use angletrack::{CountsSettings, EstimateColumns, ThresholdPolicy, online_calibration};
 use angletrack_core::{
     CalibrationMode, CalibrationStatus, Calibrator, Chain, ChainState, Faults, FrontEndCheck,
-    FrontEndCheckState, FrontEndFaults, Gains as CoreGains, Observer as CoreObserver,
-    ObserverState, Real, SinCos, WindingCheck,
+    FrontEndCheckState, FrontEndFaults, Gains as CoreGains, HeldRailCheck, HeldRails,
+    Observer as CoreObserver, ObserverState, Real, SinCos, WindingCheck,
 };
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
@@ -33,8 +33,24 @@ pub struct ObserverOptions {
     /// The ADC's range `(min, max)` in the input's units (counts for integer samples):
     /// a sample at or beyond it is clipped (`crate::front_end`).
     pub adc_range: Option<(f64, f64)>,
+    /// Without `adc_range`: clipping flagged against the rails measured as the samples come
+    /// (the core's `HeldRailCheck`).
+    pub measure_adc_range: bool,
     /// The windings' nominal envelope amplitude for the winding check (`None`: no check).
     pub winding_amplitude: Option<f64>,
+}
+
+impl ObserverOptions {
+    /// Refuses a stated range with the measured one.
+    pub fn checked(self) -> Result<Self> {
+        if self.measure_adc_range && self.adc_range.is_some() {
+            return Err(Error::value(
+                "measure_adc_range",
+                "give adc_range or measure_adc_range, not both",
+            ));
+        }
+        Ok(self)
+    }
 }
 
 /// What `Observer` does with the core observer of whichever float type, order and sin/cos
@@ -76,6 +92,8 @@ pub struct Channel<T: Real, const N: usize, S> {
     adc: AdcInput<T>,
     thresholds: ThresholdPolicy<T>,
     adc_range: Option<(f64, f64)>,
+    held_rails: Option<HeldRailCheck>,
+    rails: HeldRails<T>,
     winding: Option<WindingCheck<T>>,
     front_end: (FrontEndCheckState, FrontEndCheckState),
 }
@@ -94,6 +112,8 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Channel<T, N, S> {
             adc: AdcInput::new(options.adc),
             thresholds,
             adc_range: options.adc_range,
+            held_rails: options.measure_adc_range.then_some(HeldRailCheck::new()),
+            rails: HeldRails::default(),
             winding: options
                 .winding_amplitude
                 .map(|a| WindingCheck::new(T::from_f64(a)))
@@ -156,7 +176,9 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
     }
 
     fn front_end_faults(&self) -> FrontEndFaults {
-        self.front_end.0.latched_faults() | self.front_end.1.latched_faults()
+        self.front_end.0.latched_faults()
+            | self.front_end.1.latched_faults()
+            | self.rails.check().latched_faults()
     }
 
     fn estimate(&self) -> Estimate {
@@ -239,17 +261,23 @@ fn run_columns<T: Real, const N: usize, S: SinCos<T>>(
     front_end_faults: Option<&[u8]>,
 ) {
     let gains = channel.observer.gains;
-    // The front-end check (quiet on a sample without a fault), the winding check if asked
-    // for, then the online calibration (with the calibration off, the chain's quiet path:
-    // one branch on the mode).
+    // The front-end check (quiet on a sample without a fault), the rails measured and the
+    // winding check if asked for, then the online calibration (with the calibration off,
+    // the chain's quiet path: one branch on the mode).
     let chain = Chain::new(
-        (check, (channel.winding, online_calibration(&gains))),
+        (
+            check,
+            (
+                channel.held_rails,
+                (channel.winding, online_calibration(&gains)),
+            ),
+        ),
         gains,
     );
     let mut state = ChainState {
         front_end: (
             (channel.front_end.0, ()),
-            (channel.front_end.1, channel.calibrator),
+            (channel.rails, (channel.front_end.1, channel.calibrator)),
         ),
         observer: channel.observer.state,
     };
@@ -266,12 +294,13 @@ fn run_columns<T: Real, const N: usize, S: SinCos<T>>(
             .enumerate()
             .map(|(k, (&c, &s))| chain.update(&mut state, ((c, s), faults(k)))),
     );
-    let ((check, ()), (winding, calibrator)) = state.front_end;
+    let ((check, ()), (rails, (winding, calibrator))) = state.front_end;
     (
         channel.front_end,
+        channel.rails,
         channel.calibrator,
         channel.observer.state,
-    ) = ((check, winding), calibrator, state.observer);
+    ) = ((check, winding), rails, calibrator, state.observer);
 }
 
 /// Refuses the first value that is not finite, naming its parameter: a NaN state would be
@@ -300,6 +329,10 @@ fn finite(values: &[(&'static str, f64)]) -> Result<()> {
 /// `adc_range=(min, max)`: the ADC's range in the samples' units (counts for integer
 /// samples): a sample at or beyond it in either channel is flagged `Faults.FRONT_END`, and
 /// one clipped in both channels is not used (the observer coasts on its prediction).
+/// `measure_adc_range=True` (without `adc_range`): the same against the rails measured as
+/// the samples come: an extreme a channel holds for `HELD_RAIL_SAMPLES` samples while the
+/// other moves, the samples piled up there (the core's `HeldRailCheck`; a clean signal and
+/// a still shaft have none).
 ///
 /// `winding_amplitude`: the windings' nominal envelope amplitude in the samples' units (1
 /// for a `Demodulator`'s pairs): a winding open or shorted (reading below a quarter of it
@@ -321,7 +354,8 @@ impl PyObserver {
     #[new]
     #[pyo3(signature = (gains, *, dtype = None, sin_cos = None, fault_thresholds = None,
         calibration = None, initial_calibration = None, adc_mid_scale = None,
-        adc_counts_per_unit = None, adc_range = None, winding_amplitude = None))]
+        adc_counts_per_unit = None, adc_range = None, measure_adc_range = false,
+        winding_amplitude = None))]
     #[allow(clippy::too_many_arguments)]
     fn py_new(
         gains: PyGains,
@@ -333,6 +367,7 @@ impl PyObserver {
         adc_mid_scale: Option<i64>,
         adc_counts_per_unit: Option<f64>,
         adc_range: Option<(f64, f64)>,
+        measure_adc_range: bool,
         winding_amplitude: Option<f64>,
     ) -> Result<PyClassInitializer<Self>> {
         let options = ObserverOptions {
@@ -340,8 +375,10 @@ impl PyObserver {
             adc: adc_settings(adc_mid_scale, adc_counts_per_unit)?,
             calibration: CalibrationChoice::new(calibration, initial_calibration)?,
             adc_range: crate::counts::adc_range(adc_range)?,
+            measure_adc_range,
             winding_amplitude,
-        };
+        }
+        .checked()?;
         RunSettings::from_arguments(gains, dtype, sin_cos)?.subclass(|gains| {
             let inner = gains.observer(&options)?;
             Ok(Self { inner })
@@ -378,7 +415,8 @@ impl PyObserver {
     }
 
     /// The front-end faults latched since they were last cleared (bits of
-    /// `DemodulatedPairs.faults`, and 4 for a sample clipped against `adc_range`).
+    /// `DemodulatedPairs.faults`, and 4 for a sample clipped against `adc_range` or the
+    /// rails measured).
     #[getter]
     fn latched_front_end_faults(&self) -> u8 {
         self.inner.front_end_faults().bits()
@@ -536,6 +574,7 @@ pub fn track(
         adc: adc_settings(adc_mid_scale, adc_counts_per_unit)?,
         calibration: CalibrationChoice::default(),
         adc_range: crate::counts::adc_range(adc_range)?,
+        measure_adc_range: false,
         winding_amplitude: None,
     };
     settings

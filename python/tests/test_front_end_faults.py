@@ -229,7 +229,28 @@ def test_volts_clipped_at_0_9_are_flagged_against_the_stated_range(tmp_path, cap
     # measures no rail.
     status, captured, est = clipped_run(tmp_path, capsys, np.cos(THETA), np.sin(THETA))
     assert status == 0 and not np.any(est["faults"].astype(int) & FRONT_END)
-    assert "samples clipped" not in captured.out
+    assert "rails measured as the samples come: 0 samples clipped" in captured.out, captured.out
+
+
+@pytest.mark.parametrize("options", [(), ("--dtype", "fixed")])
+def test_clipping_that_starts_after_the_first_chunk_is_flagged(tmp_path, capsys, options):
+    # Unsigned 12-bit counts, clean (amplitude 1800) for the first 70,000 samples, past the
+    # first chunk of 65,536 rows; then at 1.3 times full scale, clipped at 0 and 4095. No
+    # range stated, none held flat in the first chunk: the chain measures the rails as the
+    # samples come and flags them from the first turn of the clipping on.
+    theta = 0.3 + 0.0314 * np.arange(80_000)
+    amplitude = np.where(np.arange(80_000) < 70_000, 1800.0, 2662.0)
+    c = np.clip(np.round(2048 + amplitude * np.cos(theta)), 0, 4095)
+    s = np.clip(np.round(2048 + amplitude * np.sin(theta)), 0, 4095)
+    status, captured, est = clipped_run(tmp_path, capsys, c, s, *options)
+    assert status == 0, captured.err
+    flagged = (est["faults"].astype(int) & FRONT_END) != 0
+    at_rail = (c == 0) | (c == 4095) | (s == 0) | (s == 4095)
+    assert not np.any(flagged[:70_000])
+    # A turn is 200 samples: from the second turn of the clipping on, every sample at a rail.
+    late = np.arange(80_000) >= 70_400
+    assert np.mean(at_rail[late]) > 0.5 and np.all(flagged[late] == at_rail[late])
+    assert "rails measured as the samples come" in captured.out, captured.out
 
 
 def test_clipping_is_flagged_with_an_angle_calibration_too(tmp_path, capsys):
@@ -328,3 +349,26 @@ def test_the_time_stamps_come_from_the_time_column(tmp_path, carrier_gains, caps
     speed = est["speed_rad_s"][-len(est) // 4:]
     assert np.max(np.abs(speed / OMEGA - 1.0)) < 2e-3
     assert np.max(np.abs(error[len(error) // 2:])) < 5e-3
+
+
+def test_fixed_and_float_observers_measure_the_rails_or_take_the_range():
+    # 12-bit codes at 1.3 times full scale: both observers find the rails as the samples come,
+    # or flag against the stated codes; both at once are refused, naming the argument.
+    theta = 0.3 + 0.0314 * np.arange(4000)
+    c = np.clip(np.round(2048 + 2662 * np.cos(theta)), 0, 4095).astype(np.int16)
+    s = np.clip(np.round(2048 + 2662 * np.sin(theta)), 0, 4095).astype(np.int16)
+    at_rail = (c == 0) | (c == 4095) | (s == 0) | (s == 4095)
+    design = angletrack.third_order_butterworth(2e-3, 1e-4)
+    gains = angletrack.Gains([0.3, 0.04, 0.002], 1e-4)
+    fixed = dict(mid_scale_counts=2048, input_shift=3, nominal_amplitude=None)
+    for observer in (angletrack.FixedObserver(design, measure_adc_range=True, **fixed),
+                     angletrack.FixedObserver(design, adc_range=(0, 4095), **fixed),
+                     angletrack.Observer(gains, adc_mid_scale=2048, measure_adc_range=True)):
+        est = observer.update(c, s)
+        flagged = (np.asarray(est.faults).astype(int) & FRONT_END) != 0
+        assert np.all(flagged[400:] == at_rail[400:]), observer
+        assert observer.latched_front_end_faults == 4
+    with pytest.raises(ValueError, match="measure_adc_range: give adc_range or measure_adc_range, not both"):
+        angletrack.FixedObserver(design, adc_range=(0, 4095), measure_adc_range=True)
+    with pytest.raises(ValueError, match="measure_adc_range: give adc_range or measure_adc_range, not both"):
+        angletrack.Observer(gains, adc_range=(0.0, 4095.0), measure_adc_range=True)

@@ -202,7 +202,10 @@ class Observer(_RunSettings):
     ``initial_calibration`` if given) or ``"frozen"`` (apply ``initial_calibration``).
     ``adc_range=(min, max)`` (the samples' units, counts for integer samples): a sample at
     or beyond it in either channel is flagged ``Faults.FRONT_END``, one clipped in both is
-    coasted through. ``winding_amplitude``: the windings' nominal envelope amplitude (1 for
+    coasted through; ``measure_adc_range=True`` (without ``adc_range``): the same against the
+    rails measured as the samples come (an extreme held flat over ``HELD_RAIL_SAMPLES``
+    samples while the other channel moves, the samples piled up there; the core's
+    ``HeldRailCheck``). ``winding_amplitude``: the windings' nominal envelope amplitude (1 for
     demodulated pairs), against which a winding open or shorted is flagged and coasted
     through."""
 
@@ -214,6 +217,7 @@ class Observer(_RunSettings):
         adc_mid_scale: Optional[int] = None,
         adc_counts_per_unit: Optional[float] = None,
         adc_range: Optional[tuple[float, float]] = None,
+        measure_adc_range: bool = False,
         winding_amplitude: Optional[float] = None,
     ) -> None: ...
     def update(self, y_c: _Signal, y_s: _Signal,
@@ -340,7 +344,11 @@ class FixedObserver:
     removed and the counts shifted left by ``input_shift`` bits (``AdcCounts``), then
     ``calibration`` (learned in float on the counts before the shift): a
     ``SensorCalibration`` (``FixedCalibration``), or a ``harmonics.Calibration`` (also its
-    harmonics as a 1024-entry ``FixedAngleCorrectionTable``)."""
+    harmonics as a 1024-entry ``FixedAngleCorrectionTable``). ``adc_range=(min, max)``
+    (integer codes as the samples come): a sample at or beyond it in either channel is
+    flagged ``Faults.FRONT_END``, one clipped in both coasted through; or
+    ``measure_adc_range=True``: the same against the rails measured as the samples come (the
+    core's ``HeldRailCheck``, as the C chain)."""
 
     def __init__(
         self,
@@ -350,6 +358,8 @@ class FixedObserver:
         calibration: Union[None, SensorCalibration, _AngleCalibrationLike] = None,
         mid_scale_counts: int = 0,
         input_shift: int = 0,
+        adc_range: Optional[tuple[int, int]] = None,
+        measure_adc_range: bool = False,
     ) -> None: ...
     @staticmethod
     def from_constants(
@@ -360,6 +370,8 @@ class FixedObserver:
         calibration: Union[None, SensorCalibration, _AngleCalibrationLike] = None,
         mid_scale_counts: int = 0,
         input_shift: int = 0,
+        adc_range: Optional[tuple[int, int]] = None,
+        measure_adc_range: bool = False,
     ) -> FixedObserver:
         """The observer of the integers a firmware embeds: the dict ``Design.fixed_constants()``
         returns (``multiplier``, ``acceleration_shift``; other keys ignored), checked again
@@ -369,6 +381,9 @@ class FixedObserver:
         dtype, such as numpy's default int64, is read as int16 when every value fits;
         ``TypeError`` for floats, ``ConfigError`` for a value outside int16 or unequal
         lengths) and returns the estimates of every sample."""
+    @property
+    def latched_front_end_faults(self) -> int:
+        """The front-end faults latched (4: a sample clipped)."""
     @property
     def estimate(self) -> FixedEstimate:
         """The estimate after the last sample."""

@@ -1,7 +1,9 @@
 """The ADC range of a capture, against which ``angletrack track`` flags clipping: stated
 (``--adc-range MIN,MAX``, or ``--adc-bits N`` with ``--adc-signed`` or ``--adc-unsigned``), or
 else measured on the first chunk (an extreme held flat over several consecutive samples, with
-the samples piled up there, as a clipped signal's are and a clean one's are not).
+the samples piled up there, as a clipped signal's are and a clean one's are not), or else
+measured as the samples come by the observer's chain (the same test, sample by sample: the
+core's ``HeldRailCheck``).
 
 A sample at or beyond the range in either channel is flagged ``Faults.FRONT_END``
 (``CLIPPING`` among the front-end faults); one clipped in both channels is not used: the
@@ -28,8 +30,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "the ADC's range (clipping)",
         "a sample at or beyond the range in either channel is flagged FRONT_END (clipping); one clipped in "
         "both channels is not used (the observer coasts on its prediction); default: the capture's extremes "
-        f"when held flat over {FLAT_SAMPLES} or more consecutive samples (a clipped signal), else no check "
-        "(with --carrier-hz: the smallest power-of-two range holding the windings' samples)",
+        f"when held flat over {FLAT_SAMPLES} or more consecutive samples (a clipped signal) in the first chunk, "
+        "else the rails measured the same way as the samples come (with --carrier-hz: the smallest "
+        "power-of-two range holding the windings' samples)",
     )
     g.add_argument("--adc-range", metavar="MIN,MAX",
                    help="the ADC's lowest and highest values in the capture's units (counts or volts), "
@@ -54,6 +57,17 @@ def joined_negative_range(argv: list[str]) -> list[str]:
         else:
             out.append(arg)
     return out
+
+
+def integer_range(adc_range: Optional[tuple[float, float]], what: str) -> Optional[tuple[int, int]]:
+    """``adc_range`` in whole counts for the fixed-point chain, or a one-line ``ValueError``
+    naming ``what`` (the option the range came from) when a bound is not a whole number."""
+    if adc_range is None:
+        return None
+    low, high = adc_range
+    if low != int(low) or high != int(high) or not -(2**31) <= low < high < 2**31:
+        raise ValueError(f"adc_range: --dtype fixed takes whole counts; {what} is {low:g} to {high:g}")
+    return int(low), int(high)
 
 
 def stated_range(args: argparse.Namespace) -> Optional[tuple[float, float]]:
@@ -96,8 +110,7 @@ def measured_range(y_c: np.ndarray, y_s: np.ndarray) -> Optional[tuple[float, fl
 
 def flag_clipped(faults: np.ndarray, y_c: np.ndarray, y_s: np.ndarray,
                  adc_range: Optional[tuple[float, float]]) -> int:
-    """For the paths whose observer has no clipping stage (the fixed-point chain, an angle
-    calibration): sets ``Faults.FRONT_END`` in ``faults`` on each sample with a channel at
+    """For the path whose observer has no clipping stage (an angle calibration): sets ``Faults.FRONT_END`` in ``faults`` on each sample with a channel at
     or beyond a rail of ``adc_range`` (in the capture's units) and returns their count; the
     observer does not coast through them there, it only flags them."""
     if adc_range is None:
@@ -110,8 +123,10 @@ def flag_clipped(faults: np.ndarray, y_c: np.ndarray, y_s: np.ndarray,
 
 
 def describe(adc_range: Optional[tuple[float, float]], stated: bool) -> str:
-    """The range for the summary."""
+    """The range for the summary (``None``: none stated or found on the first chunk, the
+    rails measured as the samples come)."""
     if adc_range is None:
-        return "ADC range: none stated, no extreme held flat: clipping not checked"
+        return ("ADC range: none stated, no extreme held flat in the first chunk: rails measured as the "
+                "samples come")
     how = "stated" if stated else f"measured: extremes held flat over {FLAT_SAMPLES}+ samples"
     return f"ADC range {adc_range[0]:.6g} to {adc_range[1]:.6g} ({how})"

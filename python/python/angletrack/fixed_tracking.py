@@ -66,12 +66,16 @@ def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.
     calibration: Union[None, angletrack.SensorCalibration, "harmonics.Calibration"] = (
         s.calibration if s.calibration is not None else s.observer_arguments.get("initial_calibration"))
     mid, shift, amplitude, monitor = fixed_input(first.y_c, first.y_s)
+    adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
+    counts_range = clipping.integer_range(
+        adc_range, "the stated --adc-range" if s.adc_range is not None else "the range measured")
+    # No range stated or found on the first chunk: the rails measured as the samples come.
     observer = angletrack.FixedObserver(gains, nominal_amplitude=monitor, calibration=calibration,
-                                        mid_scale_counts=mid, input_shift=shift)
+                                        mid_scale_counts=mid, input_shift=shift, adc_range=counts_range,
+                                        measure_adc_range=counts_range is None)
     s.output.parent.mkdir(parents=True, exist_ok=True)
     rejected = flagged = 0
-    bad = int(angletrack.Faults.BAD_SAMPLE)
-    adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
+    bad, front_end = int(angletrack.Faults.BAD_SAMPLE), int(angletrack.Faults.FRONT_END)
     # All or nothing: written beside the output and renamed when complete; a fault part
     # way (a malformed row, an interrupt) leaves the output as it was.
     with angletrack.TableWriter(s.output, COLUMNS) as out:
@@ -81,9 +85,8 @@ def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.
             time_s = chunk.time_s
             if time_s is None:
                 time_s = (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) * gains.sample_period_s
-            # The fixed-point chain has no clipping stage: clipped samples are flagged here.
             faults = np.asarray(est.faults)
-            flagged += clipping.flag_clipped(faults, chunk.y_c, chunk.y_s, adc_range)
+            flagged += int(np.count_nonzero(faults & front_end))
             angle = np.asarray(est.angle, dtype=np.float64) * (math.pi / 2**31)
             values = [time_s, angle, est.position_rad, est.speed_rad_s, est.acceleration_rad_s2,
                       np.asarray(est.phase_error) / 2**15, faults, est.angle]
@@ -103,7 +106,6 @@ def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.
         f"{reader.rows} samples ({reader.format}, {reader.sample_dtype}) -> {s.output}",
         f"faults latched: {latched.name if latched else 'none'}; {rejected} samples rejected",
     ]
-    if adc_range is not None:
-        lines.append(f"{clipping.describe(adc_range, s.adc_range is not None)}: {flagged} samples clipped "
-                     "(flagged FRONT_END; flagged only)")
+    lines.append(f"{clipping.describe(adc_range, s.adc_range is not None)}: {flagged} samples clipped "
+                 "(flagged FRONT_END; those clipped in both channels coasted through)")
     return lines, observer

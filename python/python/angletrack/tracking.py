@@ -335,8 +335,10 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
         observer = harmonics.CalibratedObserver(gains, calibration, dtype=dtype, sin_cos=s.sin_cos)
     else:
         shifted = None if adc_range is None else (adc_range[0] - mid, adc_range[1] - mid)
+        # No range stated or found on the first chunk: the rails measured as the samples come
+        # (clipping that starts later in the capture).
         observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos, adc_range=shifted,
-                                       **s.observer_arguments)
+                                       measure_adc_range=shifted is None, **s.observer_arguments)
     progress = _Progress(s.progress)
     rejected, y_c_sum, flagged = 0, 0.0, 0
     ranges = _Ranges()
@@ -378,7 +380,7 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     ]
     if mid:
         lines.insert(2, f"unsigned ADC counts: mid-scale {mid:g} removed")
-    if adc_range is not None:
+    if adc_range is not None or not flag_here:
         coasted = "flagged only" if flag_here else "those clipped in both channels coasted through"
         lines.append(f"{clipping.describe(adc_range, s.adc_range is not None)}: {flagged} samples clipped "
                      f"(flagged FRONT_END; {coasted})")

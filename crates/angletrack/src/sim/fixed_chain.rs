@@ -7,7 +7,8 @@
 
 use angletrack_core::{
     AdcCounts, AngleCorrection, AngleCorrectionTable, Chain, ChainState, ConfigError,
-    FixedAngleCorrectionTable, FixedCalibration, FixedGains, FixedState, SensorCalibration,
+    FixedAngleCorrectionTable, FixedCalibration, FixedGains, FixedState, FrontEndCheck,
+    FrontEndCheckState, HeldRailCheck, HeldRails, SensorCalibration,
 };
 
 use super::calibrated::{NOMINAL_AMPLITUDE_SAMPLES, nominal_amplitude};
@@ -18,21 +19,32 @@ use crate::counts::{UnsignedCountsError, capture_mid_scale};
 /// harmonic, far below the table's 2^-15 rad step).
 pub const FIXED_TABLE_LENGTH: usize = 1024;
 
-/// The front end of the fixed-point chain: counts to 16-bit samples, the stored
-/// calibration, the angle correction table (each the identity when not given).
+/// The clipping checks of the fixed-point chain, on its 16-bit samples: against the ADC's
+/// stated range, or against the rails measured as the samples come (each absent when not
+/// asked for).
+pub type FixedClipping = (Option<FrontEndCheck<i16>>, Option<HeldRailCheck>);
+
+/// The front end of the fixed-point chain: counts to 16-bit samples, the clipping checks, the
+/// stored calibration, the angle correction table (each the identity when not given).
 pub type FixedFrontEnd = (
     AdcCounts,
     (
-        FixedCalibration,
-        FixedAngleCorrectionTable<FIXED_TABLE_LENGTH>,
+        FixedClipping,
+        (
+            FixedCalibration,
+            FixedAngleCorrectionTable<FIXED_TABLE_LENGTH>,
+        ),
     ),
 );
 
 /// The fixed-point chain of order `N` with the [`FixedFrontEnd`].
 pub type FixedChain<const N: usize> = Chain<FixedFrontEnd, FixedGains<N>>;
 
-/// The state of one channel of a [`FixedChain`] (the front end's stages hold none).
-pub type FixedChainState<const N: usize> = ChainState<((), ((), ())), FixedState<N>>;
+/// The state of the [`FixedFrontEnd`]: the clipping checks' (the other stages hold none).
+pub type FixedFrontEndState = ((), (((FrontEndCheckState, ()), HeldRails<i16>), ((), ())));
+
+/// The state of one channel of a [`FixedChain`].
+pub type FixedChainState<const N: usize> = ChainState<FixedFrontEndState, FixedState<N>>;
 
 /// The largest amplitude (16-bit counts) [`fixed_input_shift`] brings a signal to: a
 /// quarter of headroom below `i16::MAX` for offsets, imbalance and noise.
@@ -104,7 +116,52 @@ pub fn fixed_front_end(
     let table = FixedAngleCorrectionTable::from_table(&AngleCorrectionTable::from_harmonics(
         correction.unwrap_or(&AngleCorrection::NONE),
     ));
-    Ok((adc, (calibration, table)))
+    Ok((adc, ((None, None), (calibration, table))))
+}
+
+/// `front_end` with clipping flagged against the ADC's `adc_range` of codes `(min, max)`
+/// (counts as the chain takes them, taken through its ADC stage to 16 bits: exact), or, with
+/// `measure_rails` and no range, against the rails measured on the 16-bit samples as they
+/// come (the core's `HeldRailCheck`). A sample clipped in both channels is coasted through.
+/// Refuses a range that is not `min < max` ([`Parameter::AdcRange`]) and both at once
+/// ([`Parameter::AdcRange`]).
+///
+/// ```
+/// use angletrack::core::{Chain, Faults, FixedGains};
+/// use angletrack::{FixedChain, FixedChainState, fixed_front_end, with_fixed_clipping};
+/// let front_end = fixed_front_end(2048, 4, None, None)?;
+/// let checked = with_fixed_clipping(front_end, Some((0, 4095)), false)?;
+/// let chain: FixedChain<2> = Chain::new(checked, FixedGains::<2>::new([0.05, 0.0012], 1e-4)?);
+/// let mut state = FixedChainState::new();
+/// // A channel at the ADC's top code: flagged; inside: not.
+/// assert!(chain.update(&mut state, (4095i16, 2048i16)).faults.contains(Faults::FRONT_END));
+/// assert!(!chain.update(&mut state, (4000i16, 2048i16)).faults.contains(Faults::FRONT_END));
+/// assert!(with_fixed_clipping(front_end, Some((4095, 0)), false).is_err());
+/// # Ok::<(), angletrack::core::ConfigError>(())
+/// ```
+///
+/// [`Parameter::AdcRange`]: angletrack_core::Parameter::AdcRange
+pub fn with_fixed_clipping(
+    front_end: FixedFrontEnd,
+    adc_range: Option<(i32, i32)>,
+    measure_rails: bool,
+) -> Result<FixedFrontEnd, ConfigError> {
+    let (adc, (_, stages)) = front_end;
+    let stated = match adc_range {
+        Some(_) if measure_rails => {
+            return Err(ConfigError::OutOfRange(
+                angletrack_core::Parameter::AdcRange,
+            ));
+        }
+        Some((min, max)) => {
+            // Ordered in counts, then through the ADC (its saturation keeps the order).
+            FrontEndCheck::around((), Some((min, max)))?;
+            Some(FrontEndCheck::around((), Some(adc.sample(min, max)))?)
+        }
+        None => None,
+    };
+    let measured = (measure_rails && adc_range.is_none()).then_some(HeldRailCheck::new());
+    Ok((adc, ((stated, measured), stages)))
 }
 
 /// How a capture's counts reach the fixed-point observer, measured from its first samples

@@ -21,8 +21,9 @@ pub use calibrated::{
 };
 pub use columns::{EstimateColumns, Output};
 pub use fixed_chain::{
-    FIXED_TABLE_LENGTH, FixedChain, FixedChainState, FixedFrontEnd, FixedInput, fixed_front_end,
-    fixed_input, fixed_input_shift, fixed_monitor_amplitude,
+    FIXED_TABLE_LENGTH, FixedChain, FixedChainState, FixedClipping, FixedFrontEnd,
+    FixedFrontEndState, FixedInput, fixed_front_end, fixed_input, fixed_input_shift,
+    fixed_monitor_amplitude, with_fixed_clipping,
 };
 pub use fixed_columns::FixedColumns;
 pub use metrics::{ErrorStatistics, Metrics, MetricsOptions, Run, run};

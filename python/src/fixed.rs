@@ -297,6 +297,17 @@ fn front_end(
     )?))
 }
 
+impl PyFixedObserver {
+    /// The observer of `channel` behind `front_end`, its state fresh.
+    fn of_stages(channel: FixedChannel, front_end: Option<FixedFrontEnd>) -> Result<Self> {
+        Ok(Self {
+            channel,
+            front_end,
+            front_state: FixedFrontEndState::default(),
+        })
+    }
+}
+
 #[pymethods]
 impl PyFixedObserver {
     #[new]
@@ -313,18 +324,16 @@ impl PyFixedObserver {
     ) -> Result<Self> {
         let channel =
             FixedChannel::of_gains(&designed_gains(design)?)?.with_monitor(nominal_amplitude)?;
-        let front_end = front_end(
-            calibration,
-            mid_scale_counts,
-            input_shift,
-            adc_range,
-            measure_adc_range,
-        )?;
-        Ok(Self {
+        Self::of_stages(
             channel,
-            front_end,
-            front_state: FixedFrontEndState::default(),
-        })
+            front_end(
+                calibration,
+                mid_scale_counts,
+                input_shift,
+                adc_range,
+                measure_adc_range,
+            )?,
+        )
     }
 
     /// The observer of the integer constants a firmware embeds: the dict
@@ -366,18 +375,16 @@ impl PyFixedObserver {
             .map_err(|_| not_integers("acceleration_shift", &shift, "an integer from 0 to 15"))?;
         let channel = FixedChannel::of_constants(&multiplier, shift, sample_period_s)?
             .with_monitor(nominal_amplitude)?;
-        let front_end = front_end(
-            calibration,
-            mid_scale_counts,
-            input_shift,
-            adc_range,
-            measure_adc_range,
-        )?;
-        Ok(Self {
+        Self::of_stages(
             channel,
-            front_end,
-            front_state: FixedFrontEndState::default(),
-        })
+            front_end(
+                calibration,
+                mid_scale_counts,
+                input_shift,
+                adc_range,
+                measure_adc_range,
+            )?,
+        )
     }
 
     /// Runs the observer over the int16 samples `y_c ~ cos(theta)`, `y_s ~ sin(theta)`

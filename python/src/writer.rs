@@ -5,8 +5,8 @@
 use std::path::PathBuf;
 
 use angletrack::capture::{
-    Column, ColumnType, EstimateRows, EstimatesWriter as CoreWriter, OutputFile as CoreOutputFile,
-    OutputFloat, TableWriter as CoreTableWriter,
+    CaptureError, Column, ColumnType, EstimateRows, EstimatesWriter as CoreWriter,
+    OutputFile as CoreOutputFile, OutputFloat, TableWriter as CoreTableWriter,
 };
 use numpy::{Element, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -14,6 +14,43 @@ use pyo3::prelude::*;
 use crate::arrays::Float;
 use crate::errors::{Error, Result};
 use crate::estimates::Estimates;
+
+/// A writer that completes its file (the crate's `EstimatesWriter` and `TableWriter`).
+trait Finish {
+    /// Completes the file; the rows written.
+    fn finish(self) -> std::result::Result<u64, CaptureError>;
+}
+
+impl Finish for CoreWriter {
+    fn finish(self) -> std::result::Result<u64, CaptureError> {
+        CoreWriter::finish(self)
+    }
+}
+
+impl Finish for CoreTableWriter {
+    fn finish(self) -> std::result::Result<u64, CaptureError> {
+        CoreTableWriter::finish(self)
+    }
+}
+
+/// `close()`: completes the writer in `slot`; 0 if closed already.
+fn close<W: Finish>(slot: &mut Option<W>) -> Result<u64> {
+    match slot.take() {
+        Some(w) => Ok(w.finish()?),
+        None => Ok(0),
+    }
+}
+
+/// `__exit__`: closes after a clean block; after an exception, discards the file (the target
+/// is left as it was).
+fn exit<W: Finish>(slot: &mut Option<W>, exc_type: &Bound<'_, PyAny>) -> Result<bool> {
+    if exc_type.is_none() {
+        close(slot)?;
+    } else {
+        *slot = None;
+    }
+    Ok(false)
+}
 
 /// Writes estimates chunk by chunk in constant memory: `.npy` (a structured array with
 /// fields `time_s`, `angle_rad`, `position_rad`, `speed_rad_s`, `acceleration_rad_s2`,
@@ -117,10 +154,7 @@ impl PyEstimatesWriter {
 
     /// Finishes the file; returns the number of rows written (0 if already closed).
     fn close(&mut self) -> Result<u64> {
-        match self.writer.take() {
-            Some(w) => Ok(w.finish()?),
-            None => Ok(0),
-        }
+        close(&mut self.writer)
     }
 
     fn __enter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
@@ -136,12 +170,7 @@ impl PyEstimatesWriter {
         _exc_value: &Bound<'_, PyAny>,
         _traceback: &Bound<'_, PyAny>,
     ) -> Result<bool> {
-        if exc_type.is_none() {
-            self.close()?;
-        } else {
-            self.writer = None;
-        }
-        Ok(false)
+        exit(&mut self.writer, exc_type)
     }
 }
 
@@ -281,10 +310,7 @@ impl PyTableWriter {
 
     /// Finishes the file; returns the number of rows written (0 if already closed).
     fn close(&mut self) -> Result<u64> {
-        match self.writer.take() {
-            Some(w) => Ok(w.finish()?),
-            None => Ok(0),
-        }
+        close(&mut self.writer)
     }
 
     fn __enter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
@@ -299,12 +325,7 @@ impl PyTableWriter {
         _exc_value: &Bound<'_, PyAny>,
         _traceback: &Bound<'_, PyAny>,
     ) -> Result<bool> {
-        if exc_type.is_none() {
-            self.close()?;
-        } else {
-            self.writer = None;
-        }
-        Ok(false)
+        exit(&mut self.writer, exc_type)
     }
 }
 

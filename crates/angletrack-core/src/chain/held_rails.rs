@@ -343,9 +343,16 @@ mod tests {
     use super::*;
     use crate::{Chain, ChainState, Gains};
 
-    /// `samples` of a resolver at `step` rad per sample and amplitude `amplitude`, rounded
-    /// to counts and clipped to `[-rail, rail]`: the samples flagged, those coasted, and the
-    /// rails found.
+    /// Sample `k` of a resolver at `step` rad per sample from 0.3 rad and amplitude
+    /// `amplitude`, rounded to counts and clipped to `[-rail, rail]`.
+    fn counts(k: usize, step: f64, amplitude: f64, rail: f64) -> (f64, f64) {
+        let theta = 0.3 + step * k as f64;
+        let count = |v: f64| libm::round(amplitude * v).clamp(-rail, rail);
+        (count(libm::cos(theta)), count(libm::sin(theta)))
+    }
+
+    /// `samples` of [`counts`] through the check: the samples flagged, those coasted, and
+    /// the rails found.
     fn run(
         step: f64,
         amplitude: f64,
@@ -356,24 +363,16 @@ mod tests {
         let chain = Chain::new(HeldRailCheck::new(), gains);
         let mut state = ChainState::new();
         let (mut flagged, mut coasted) = (0, 0);
-        let count = |v: f64| libm::round(v).clamp(-rail, rail);
         for k in 0..samples {
-            let theta = 0.3 + step * k as f64;
-            let e = chain.update(
-                &mut state,
-                (
-                    count(amplitude * libm::cos(theta)),
-                    count(amplitude * libm::sin(theta)),
-                ),
-            );
+            let e = chain.update(&mut state, counts(k, step, amplitude, rail));
             flagged += usize::from(e.faults.contains(Faults::FRONT_END));
             coasted += usize::from(state.front_end.check().coasting());
         }
         (flagged, coasted, state.front_end.rails())
     }
 
-    /// The same resolver through the fixed-point chain: signed counts of `bits` bits (2 to
-    /// 16) clipped to `[-rail, rail]`, the ADC stage shifting them to 16 bits, then the check.
+    /// The same through the fixed-point chain: signed counts of `bits` bits (2 to 16), the
+    /// ADC stage shifting them to 16 bits, then the check.
     fn run_fixed(
         step: f64,
         amplitude: f64,
@@ -386,16 +385,9 @@ mod tests {
         let chain = Chain::new((adc, HeldRailCheck::new()), gains);
         let mut state = ChainState::new();
         let (mut flagged, mut coasted) = (0, 0);
-        let count = |v: f64| libm::round(v).clamp(-rail, rail) as i16;
         for k in 0..samples {
-            let theta = 0.3 + step * k as f64;
-            let e = chain.update(
-                &mut state,
-                (
-                    count(amplitude * libm::cos(theta)),
-                    count(amplitude * libm::sin(theta)),
-                ),
-            );
+            let (c, s) = counts(k, step, amplitude, rail);
+            let e = chain.update(&mut state, (c as i16, s as i16));
             flagged += usize::from(e.faults.contains(Faults::FRONT_END));
             coasted += usize::from(state.front_end.1.check().coasting());
         }

@@ -76,8 +76,8 @@ pub enum Error {
     },
     /// A firmware source generator refused its arguments.
     Export(angletrack::export::ExportError),
-    /// A calibration file could not be read.
-    CalibrationFile(angletrack::CalibrationFileError),
+    /// A JSON file of the crate's (a calibration, gains) could not be read.
+    JsonFile(angletrack::JsonFileError),
     /// An exception raised by Python (or numpy) while converting an argument.
     Python(PyErr),
 }
@@ -122,9 +122,9 @@ impl From<angletrack::export::ExportError> for Error {
     }
 }
 
-impl From<angletrack::CalibrationFileError> for Error {
-    fn from(e: angletrack::CalibrationFileError) -> Self {
-        Error::CalibrationFile(e)
+impl From<angletrack::JsonFileError> for Error {
+    fn from(e: angletrack::JsonFileError) -> Self {
+        Error::JsonFile(e)
     }
 }
 
@@ -229,7 +229,7 @@ impl From<Error> for PyErr {
                  samples in chunks (the observers keep their state between calls)"
             )),
             Error::Export(e) => config_error(e.field(), e.to_string()),
-            Error::CalibrationFile(e) => PyValueError::new_err(e.to_string()),
+            Error::JsonFile(e) => PyValueError::new_err(e.to_string()),
             Error::Python(e) => e,
         }
     }

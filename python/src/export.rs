@@ -3,7 +3,7 @@
 //! wraps them in `angletrack.export` and `angletrack.harmonics`.
 
 use angletrack::FixedDesignConstants;
-use angletrack::export::{self, FloatType};
+use angletrack::export::{self, FixedGainsFile, FloatType, GainsFile};
 use pyo3::conversion::FromPyObjectOwned;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -122,6 +122,65 @@ pub fn calibration_rust(
     )?)
 }
 
+/// The design's JSON text as a value (`None` for none).
+fn design(design_json: Option<&str>) -> Result<Option<serde_json::Value>> {
+    design_json
+        .map(|text| {
+            serde_json::from_str(text)
+                .map_err(|e| Error::value("metadata", format!("is not JSON ({e})")))
+        })
+        .transpose()
+}
+
+/// The gains file's text of `gains` and their design (JSON text)
+/// (`angletrack::export::GainsFile::to_json`).
+#[pyfunction]
+#[pyo3(signature = (gains, design_json = None))]
+pub fn gains_file_json(gains: PyGains, design_json: Option<&str>) -> Result<String> {
+    Ok(GainsFile {
+        gains: gains.set.gains(),
+        sample_period_s: gains.set.sample_period(),
+        design: design(design_json)?,
+    }
+    .to_json())
+}
+
+/// The gains and the sample period of a gains file's `text` (`file` names it in errors),
+/// checked by the core (`angletrack::export::GainsFile::from_json`).
+#[pyfunction]
+#[pyo3(signature = (text, file = "gains file"))]
+pub fn read_gains_file(text: &str, file: &str) -> Result<(Vec<f64>, f64)> {
+    let read = GainsFile::from_json(text, file)?;
+    Ok((read.gains, read.sample_period_s))
+}
+
+/// The fixed-point gains file's text of `constants` and their design (JSON text)
+/// (`angletrack::export::FixedGainsFile::to_json`).
+#[pyfunction]
+#[pyo3(signature = (constants, design_json = None))]
+pub fn fixed_gains_file_json(
+    constants: &Bound<'_, PyDict>,
+    design_json: Option<&str>,
+) -> Result<String> {
+    Ok(FixedGainsFile {
+        constants: fixed_constants(constants)?,
+        design: design(design_json)?,
+    }
+    .to_json())
+}
+
+/// The constants of a fixed-point gains file's `text`, as `Design.fixed_constants()` gives
+/// them, checked by the core (`angletrack::export::FixedGainsFile::from_json`).
+#[pyfunction]
+#[pyo3(signature = (text, file = "gains file"))]
+pub fn read_fixed_gains_file<'py>(
+    py: Python<'py>,
+    text: &str,
+    file: &str,
+) -> Result<Bound<'py, PyDict>> {
+    crate::design::constants_dict(py, FixedGainsFile::from_json(text, file)?.constants)
+}
+
 /// Adds the functions to the module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(gains_c_header, m)?)?;
@@ -130,5 +189,12 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(fixed_rust, m)?)?;
     m.add_function(wrap_pyfunction!(calibration_c_header, m)?)?;
     m.add_function(wrap_pyfunction!(calibration_rust, m)?)?;
+    m.add("GAINS_FILE_FORMAT", export::GAINS_FILE_FORMAT)?;
+    m.add("FIXED_GAINS_FILE_FORMAT", export::FIXED_GAINS_FILE_FORMAT)?;
+    m.add("GAINS_FILE_VERSION", export::GAINS_FILE_VERSION)?;
+    m.add_function(wrap_pyfunction!(gains_file_json, m)?)?;
+    m.add_function(wrap_pyfunction!(read_gains_file, m)?)?;
+    m.add_function(wrap_pyfunction!(fixed_gains_file_json, m)?)?;
+    m.add_function(wrap_pyfunction!(read_fixed_gains_file, m)?)?;
     Ok(())
 }

@@ -85,6 +85,7 @@ mod counts;
 mod design;
 mod error;
 pub mod export;
+mod json_file;
 mod linalg;
 pub mod paper;
 mod rails;
@@ -98,10 +99,9 @@ pub use analysis::{
 };
 pub use calibration::{
     ANGLE_CALIBRATION_FORMAT, CALIBRATION_FILE_VERSION, CalibrationError, CalibrationFile,
-    CalibrationFileError, CalibrationMethod, CalibrationOptions, CaptureCalibration,
-    CaptureCalibrator, MIN_ERROR_TRANSFER, OrderQuality, OrderStatus, SENSOR_CALIBRATION_FORMAT,
-    SPECTRUM_ORDERS, SensorCalibrationRecord, error_transfer, learn_angle_correction,
-    order_warnings,
+    CalibrationMethod, CalibrationOptions, CaptureCalibration, CaptureCalibrator,
+    MIN_ERROR_TRANSFER, OrderQuality, OrderStatus, SENSOR_CALIBRATION_FORMAT, SPECTRUM_ORDERS,
+    SensorCalibrationRecord, error_transfer, learn_angle_correction, order_warnings,
 };
 pub use carrier::measured_carrier_cycles_per_sample;
 pub use counts::{
@@ -116,6 +116,7 @@ pub use design::{
     third_order_butterworth, third_order_from_overshoot, third_order_from_poles,
 };
 pub use error::{Argument, Error};
+pub use json_file::JsonFileError;
 pub use rails::measured_adc_range;
 pub use sim::{
     ChannelBatch, ErrorStatistics, EstimateColumns, FIXED_TABLE_LENGTH, FixedChain,

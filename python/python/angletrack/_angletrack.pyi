@@ -1070,6 +1070,26 @@ def calibration_rust(
 ) -> str:
     """A block of Rust ``const`` for ``SensorCalibration::new`` and ``AngleCorrection::new``."""
 
+# ----------------------------------------------------------- gains files (angletrack::export::GainsFile)
+
+#: The ``format`` of a gains file (``angletrack design --format json``).
+GAINS_FILE_FORMAT: str
+#: The ``format`` of a fixed-point constants file (``angletrack design --dtype fixed --format json``).
+FIXED_GAINS_FILE_FORMAT: str
+#: The ``version`` both are written with, and the only one read.
+GAINS_FILE_VERSION: int
+
+def gains_file_json(gains: Gains, design_json: Optional[str] = None) -> str:
+    """The gains file's JSON text: the gains and sample period in float64 (exact round trip),
+    and the design (JSON text) under ``design``."""
+def read_gains_file(text: str, file: str = "gains file") -> tuple[list[float], float]:
+    """The gains and sample period of a gains file's text, checked by the core; ``ValueError``
+    naming ``file`` and the field."""
+def fixed_gains_file_json(constants: _FixedConstants, design_json: Optional[str] = None) -> str:
+    """The fixed-point constants file's JSON text."""
+def read_fixed_gains_file(text: str, file: str = "gains file") -> _FixedConstants:
+    """The constants of a fixed-point constants file's text, checked by the core."""
+
 # ----------------------------------------------------------- calibration files (angletrack::CalibrationFile)
 
 #: The ``format`` of a sensor calibration file (``angletrack track --calibrate``).

@@ -12,13 +12,13 @@ import json
 from typing import TYPE_CHECKING, Any
 
 from angletrack import _angletrack
-from angletrack._angletrack import ConfigError, Gains
+from angletrack._angletrack import Gains
 
 if TYPE_CHECKING:
     from angletrack._angletrack import _FixedConstants as FixedConstants
 
-JSON_FORMAT = "angletrack-gains"
-JSON_VERSION = 1
+JSON_FORMAT = _angletrack.GAINS_FILE_FORMAT
+JSON_VERSION = _angletrack.GAINS_FILE_VERSION
 
 
 def to_c_header(gains: Gains, *, name: str = "angletrack", dtype: str = "float32", description: str = "") -> str:
@@ -38,50 +38,20 @@ def to_rust(gains: Gains, *, name: str = "angletrack", dtype: str = "float32", d
 
 def to_json(gains: Gains, *, metadata: dict[str, Any] | None = None) -> str:
     """JSON with the gains and the sample period in float64 (exact round trip), plus
-    ``metadata`` (the design's method and specification)."""
-    doc = {
-        "format": JSON_FORMAT,
-        "version": JSON_VERSION,
-        "order": gains.order,
-        "sample_period_s": gains.sample_period_s,
-        "gains": list(gains.gains),
-    }
-    if metadata:
-        doc["design"] = metadata
-    return json.dumps(doc, indent=2) + "\n"
+    ``metadata`` (the design's method and specification) under ``design``
+    (``angletrack::export::GainsFile``)."""
+    return _angletrack.gains_file_json(gains, None if metadata is None else json.dumps(metadata))
 
 
-def json_document(text: str, what: str, format: str, version: int) -> dict:
-    """The JSON object of ``text``, checked to be a ``format`` document of ``version``;
-    ``ValueError`` starting with ``what`` (``"gains file"``) otherwise."""
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as e:
-        raise ValueError(f"{what}: not JSON ({e})") from None
-    if not isinstance(doc, dict) or doc.get("format") != format:
-        raise ValueError(f"{what}: not an {format} document")
-    if doc.get("version") != version:
-        raise ValueError(f"{what}: version {doc.get('version')!r} is not supported (expected {version})")
-    return doc
+def gains_from_json(text: str, file: str = "gains file") -> Gains:
+    """The :class:`Gains` of a JSON document written by :func:`to_json`, checked by the core
+    (``ValueError`` naming ``file`` and the field: another format or version, an ``order``
+    that contradicts the gains, gains the core refuses)."""
+    gains, sample_period_s = _angletrack.read_gains_file(text, file)
+    return Gains(gains, sample_period_s=sample_period_s)
 
 
-def gains_from_json(text: str) -> Gains:
-    """The :class:`Gains` of a JSON document written by :func:`to_json` (checked again)."""
-    doc = json_document(text, "gains file", JSON_FORMAT, JSON_VERSION)
-    for key in ("gains", "sample_period_s"):
-        if key not in doc:
-            raise ValueError(f"gains file: missing {key!r}")
-    order = doc.get("order")
-    if order is not None and (not isinstance(doc["gains"], list) or order != len(doc["gains"])):
-        # An order that contradicts the gains is a file edited by hand: neither is trusted.
-        count = len(doc["gains"]) if isinstance(doc["gains"], list) else "no list of"
-        e = ConfigError(f"order: the gains file says order {order!r} but holds {count} gains")
-        e.parameter = "order"
-        raise e
-    return Gains(doc["gains"], sample_period_s=doc["sample_period_s"])
-
-
-FIXED_JSON_FORMAT = "angletrack-fixed-gains"
+FIXED_JSON_FORMAT = _angletrack.FIXED_GAINS_FILE_FORMAT
 
 
 def fixed_to_c_header(constants: FixedConstants, *, name: str = "angletrack", description: str = "") -> str:
@@ -99,8 +69,12 @@ def fixed_to_rust(constants: FixedConstants, *, name: str = "angletrack", descri
 
 
 def fixed_to_json(constants: FixedConstants, *, metadata: dict[str, Any] | None = None) -> str:
-    """JSON with the fixed-point constants, the gains they represent and the sample period."""
-    doc = {"format": FIXED_JSON_FORMAT, "version": JSON_VERSION, "order": len(constants["multiplier"]), **constants}
-    if metadata:
-        doc["design"] = metadata
-    return json.dumps(doc, indent=2) + "\n"
+    """JSON with the fixed-point constants, the gains they represent and the sample period
+    (``angletrack::export::FixedGainsFile``)."""
+    return _angletrack.fixed_gains_file_json(constants, None if metadata is None else json.dumps(metadata))
+
+
+def fixed_from_json(text: str, file: str = "gains file") -> FixedConstants:
+    """The constants of a JSON document written by :func:`fixed_to_json`, checked by the core
+    (``FixedGains::from_constants``), as ``Design.fixed_constants()`` gives them."""
+    return _angletrack.read_fixed_gains_file(text, file)

@@ -82,11 +82,8 @@ class TrackSettings:
             text = self.gains_file.read_text(encoding="utf-8")
         except OSError as e:
             raise ValueError(f"--gains-file: {self.gains_file}: {e.strerror or e}") from e
-        try:
-            return export.gains_from_json(text)
-        except (ValueError, TypeError) as e:
-            # The file and the field: "g.json: sample_period_s: expected a number, got str 'x'".
-            raise ValueError(f"{self.gains_file}: {e}") from e
+        # Errors name the file and the field: "g.json: sample_period_s: must be a number, got "x"".
+        return export.gains_from_json(text, str(self.gains_file))
 
 
 def _rate_error(capture_hz: float, gains_hz: float, time_unit: str) -> str:

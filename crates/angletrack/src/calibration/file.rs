@@ -34,13 +34,13 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-use core::fmt;
 use std::path::Path;
 
 use angletrack_core::{AngleCorrection, MAX_CORRECTION_ORDER, SensorCalibration};
-use serde_json::{Map, Value};
+use serde_json::Value;
 
 use super::{CalibrationMethod, CaptureCalibration, OrderQuality, OrderStatus, SPECTRUM_ORDERS};
+use crate::json_file::{Document, JsonFileError, number};
 
 /// The `format` of a file of [`SensorCalibrationRecord`].
 pub const SENSOR_CALIBRATION_FORMAT: &str = "angletrack-sensor-calibration";
@@ -82,44 +82,10 @@ pub enum CalibrationFile {
     Angle(CaptureCalibration),
 }
 
-/// Why a calibration file could not be read or written: the file (or the name the caller
-/// gave its text), the field at fault (`None` for the whole file: not JSON, not readable),
-/// and what is wrong.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct CalibrationFileError {
-    /// The file's path, or the name of its text.
-    pub file: String,
-    /// The field at fault, dotted for a nested one (`calibration.amplitude_s`).
-    pub field: Option<String>,
-    /// What is wrong with it.
-    pub reason: String,
-}
-
-impl CalibrationFileError {
-    fn new(file: &str, field: Option<&str>, reason: impl Into<String>) -> Self {
-        Self {
-            file: file.to_string(),
-            field: field.map(str::to_string),
-            reason: reason.into(),
-        }
-    }
-}
-
-impl fmt::Display for CalibrationFileError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match &self.field {
-            Some(field) => write!(f, "{}: {field}: {}", self.file, self.reason),
-            None => write!(f, "{}: {}", self.file, self.reason),
-        }
-    }
-}
-
-impl std::error::Error for CalibrationFileError {}
-
 impl CalibrationFile {
     /// The calibration of the JSON `text` of either format (or a bare object of the sensor
     /// calibration's five fields); `file` names it in errors.
-    pub fn from_json(text: &str, file: &str) -> Result<Self, CalibrationFileError> {
+    pub fn from_json(text: &str, file: &str) -> Result<Self, JsonFileError> {
         let doc = Document::parse(text, file)?;
         match doc.object.get("format").and_then(Value::as_str) {
             Some(ANGLE_CALIBRATION_FORMAT) => doc.angle().map(CalibrationFile::Angle),
@@ -136,25 +102,24 @@ impl CalibrationFile {
     }
 
     /// Reads the calibration file at `path` (either format).
-    pub fn read(path: &Path) -> Result<Self, CalibrationFileError> {
+    pub fn read(path: &Path) -> Result<Self, JsonFileError> {
         let name = path.display().to_string();
         let text = std::fs::read_to_string(path)
-            .map_err(|e| CalibrationFileError::new(&name, None, e.to_string()))?;
+            .map_err(|e| JsonFileError::new(&name, None, e.to_string()))?;
         Self::from_json(&text, &name)
     }
 
     /// Writes the calibration to `path` as [`CalibrationFile::to_json`].
-    pub fn write(&self, path: &Path) -> Result<(), CalibrationFileError> {
-        std::fs::write(path, self.to_json()).map_err(|e| {
-            CalibrationFileError::new(&path.display().to_string(), None, e.to_string())
-        })
+    pub fn write(&self, path: &Path) -> Result<(), JsonFileError> {
+        std::fs::write(path, self.to_json())
+            .map_err(|e| JsonFileError::new(&path.display().to_string(), None, e.to_string()))
     }
 }
 
 impl SensorCalibrationRecord {
     /// The calibration of JSON `text` of [`SENSOR_CALIBRATION_FORMAT`] (or a bare object of
     /// the five fields); `file` names it in errors.
-    pub fn from_json(text: &str, file: &str) -> Result<Self, CalibrationFileError> {
+    pub fn from_json(text: &str, file: &str) -> Result<Self, JsonFileError> {
         Document::parse(text, file)?.sensor()
     }
 
@@ -184,7 +149,7 @@ impl SensorCalibrationRecord {
 impl CaptureCalibration {
     /// The calibration of JSON `text` of [`ANGLE_CALIBRATION_FORMAT`] (another format is
     /// refused); `file` names it in errors.
-    pub fn from_json(text: &str, file: &str) -> Result<Self, CalibrationFileError> {
+    pub fn from_json(text: &str, file: &str) -> Result<Self, JsonFileError> {
         Document::parse(text, file)?.angle()
     }
 
@@ -231,57 +196,13 @@ impl CaptureCalibration {
     }
 }
 
-/// `value` as a JSON number: its shortest round-trip decimal, `null` if not finite.
-fn number(value: f64) -> String {
-    if value.is_finite() {
-        format!("{value:?}")
-    } else {
-        "null".to_string()
-    }
-}
-
-/// A parsed JSON object and the name of its file, for the errors.
-struct Document<'a> {
-    object: Map<String, Value>,
-    file: &'a str,
-}
-
-impl<'a> Document<'a> {
-    fn parse(text: &str, file: &'a str) -> Result<Self, CalibrationFileError> {
-        let value: Value = serde_json::from_str(text)
-            .map_err(|e| CalibrationFileError::new(file, None, format!("not JSON ({e})")))?;
-        match value {
-            Value::Object(object) => Ok(Self { object, file }),
-            _ => Err(CalibrationFileError::new(
-                file,
-                None,
-                "expected a JSON object",
-            )),
-        }
-    }
-
-    fn error(&self, field: &str, reason: impl Into<String>) -> CalibrationFileError {
-        CalibrationFileError::new(self.file, Some(field), reason)
-    }
-
-    /// Refuses a `version` other than [`CALIBRATION_FILE_VERSION`] (a missing one too).
-    fn check_version(&self) -> Result<(), CalibrationFileError> {
-        match self.object.get("version") {
-            Some(v) if v.as_u64() == Some(CALIBRATION_FILE_VERSION) => Ok(()),
-            other => Err(self.error(
-                "version",
-                format!(
-                    "{} is not supported (expected {CALIBRATION_FILE_VERSION})",
-                    other.map_or("none".to_string(), Value::to_string)
-                ),
-            )),
-        }
-    }
-
-    fn sensor(&self) -> Result<SensorCalibrationRecord, CalibrationFileError> {
+impl Document<'_> {
+    fn sensor(&self) -> Result<SensorCalibrationRecord, JsonFileError> {
         match self.object.get("format") {
             None => {}
-            Some(Value::String(f)) if f == SENSOR_CALIBRATION_FORMAT => self.check_version()?,
+            Some(Value::String(f)) if f == SENSOR_CALIBRATION_FORMAT => {
+                self.check_version(CALIBRATION_FILE_VERSION)?
+            }
             Some(other) => {
                 return Err(self.error(
                     "format",
@@ -331,17 +252,9 @@ impl<'a> Document<'a> {
         })
     }
 
-    fn angle(&self) -> Result<CaptureCalibration, CalibrationFileError> {
-        match self.object.get("format") {
-            Some(Value::String(f)) if f == ANGLE_CALIBRATION_FORMAT => {}
-            _ => {
-                return Err(self.error(
-                    "format",
-                    format!("not an {ANGLE_CALIBRATION_FORMAT} document"),
-                ));
-            }
-        }
-        self.check_version()?;
+    fn angle(&self) -> Result<CaptureCalibration, JsonFileError> {
+        self.check_format(ANGLE_CALIBRATION_FORMAT)?;
+        self.check_version(CALIBRATION_FILE_VERSION)?;
         let [o_c, o_s, a_c, a_s, q] = self.numbers::<5>("sensor")?;
         let sensor = SensorCalibration::new(o_c, o_s, a_c, a_s, q)
             .map_err(|e| self.error("sensor", e.to_string()))?;
@@ -366,7 +279,7 @@ impl<'a> Document<'a> {
     }
 
     /// The `orders` list (every order unknown when it is missing, as in older files).
-    fn orders(&self) -> Result<[OrderQuality; SPECTRUM_ORDERS], CalibrationFileError> {
+    fn orders(&self) -> Result<[OrderQuality; SPECTRUM_ORDERS], JsonFileError> {
         let mut orders = [OrderQuality::UNKNOWN; SPECTRUM_ORDERS];
         let list = match self.object.get("orders") {
             None | Some(Value::Null) => return Ok(orders),
@@ -401,31 +314,5 @@ impl<'a> Document<'a> {
             };
         }
         Ok(orders)
-    }
-
-    /// The list of `N` numbers under `field`.
-    fn numbers<const N: usize>(&self, field: &str) -> Result<[f64; N], CalibrationFileError> {
-        let refused = || self.error(field, format!("must be a list of {N} numbers"));
-        let list = self
-            .object
-            .get(field)
-            .and_then(Value::as_array)
-            .filter(|list| list.len() == N)
-            .ok_or_else(refused)?;
-        let mut out = [0.0; N];
-        for (slot, value) in out.iter_mut().zip(list) {
-            *slot = value.as_f64().ok_or_else(refused)?;
-        }
-        Ok(out)
-    }
-
-    /// The number under `field`; NaN when it is missing or `null`.
-    fn optional_number(&self, field: &str) -> Result<f64, CalibrationFileError> {
-        match self.object.get(field) {
-            None | Some(Value::Null) => Ok(f64::NAN),
-            Some(v) => v
-                .as_f64()
-                .ok_or_else(|| self.error(field, format!("must be a number, got {v}"))),
-        }
     }
 }

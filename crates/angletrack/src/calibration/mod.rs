@@ -36,8 +36,8 @@ mod quality;
 mod tracker;
 
 pub use file::{
-    ANGLE_CALIBRATION_FORMAT, CALIBRATION_FILE_VERSION, CalibrationFile, CalibrationFileError,
-    SENSOR_CALIBRATION_FORMAT, SensorCalibrationRecord,
+    ANGLE_CALIBRATION_FORMAT, CALIBRATION_FILE_VERSION, CalibrationFile, SENSOR_CALIBRATION_FORMAT,
+    SensorCalibrationRecord,
 };
 pub use learner::CaptureCalibrator;
 pub use quality::{CalibrationMethod, OrderQuality, OrderStatus, SPECTRUM_ORDERS, order_warnings};

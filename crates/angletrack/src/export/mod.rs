@@ -1,6 +1,7 @@
 //! Gains and calibrations as source code for firmware: a C header or a block of Rust
 //! `const`s, the text `angletrack design --format c|rust` and `angletrack calibrate --format
-//! c|rust` write.
+//! c|rust` write; and the gains files of `angletrack design --format json` ([`GainsFile`],
+//! [`FixedGainsFile`]).
 //!
 //! Float constants are written in the firmware's float type ([`FloatType`]): each as the
 //! shortest decimal that rounds back to the same `f32` (or `f64`), in scientific notation
@@ -22,11 +23,15 @@ use core::str::FromStr;
 
 mod calibration;
 mod gains;
+mod gains_file;
 #[cfg(test)]
 mod tests;
 
 pub use calibration::{calibration_c_header, calibration_rust};
 pub use gains::{fixed_c_header, fixed_rust, gains_c_header, gains_rust};
+pub use gains_file::{
+    FIXED_GAINS_FILE_FORMAT, FixedGainsFile, GAINS_FILE_FORMAT, GAINS_FILE_VERSION, GainsFile,
+};
 
 /// The float type of the constants written for firmware.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

@@ -83,14 +83,15 @@ pub fn fixed_monitor_amplitude(amplitude: f64, shift: u32) -> f64 {
 /// shifted left by `shift` bits, corrected by `sensor` (learned on the counts before the
 /// shift, in their units: its offsets are scaled by `2^shift` here) and by the angle error
 /// `correction` (a [`FIXED_TABLE_LENGTH`]-entry table of its harmonics); each the identity
-/// when `None`. Refuses (naming the parameter) a mid-scale or shift out of range and a
-/// calibration whose integers do not fit.
+/// when `None`; no clipping check ([`with_fixed_clipping`] adds one). Refuses (naming the
+/// parameter) a mid-scale or shift out of range and a calibration whose integers do not fit.
 ///
 /// ```
 /// use angletrack::{fixed_front_end, core::{AngleCorrection, SensorCalibration}};
 /// let sensor = SensorCalibration::new(36.0, -36.0, 1800.0, 1854.0, 0.0)?;
 /// let correction = AngleCorrection::new([0.0; 8], [0.0, 0.0, 4e-3, 0.0, 0.0, 0.0, 0.0, 0.0])?;
-/// let (adc, (calibration, _table)) = fixed_front_end(0, 3, Some(&sensor), Some(&correction))?;
+/// let (adc, (_clipping, (calibration, _table))) =
+///     fixed_front_end(0, 3, Some(&sensor), Some(&correction))?;
 /// assert_eq!(adc.sample(1800i16, 0i16), (14_400, 0));
 /// // The offsets in the shifted counts: 36 * 8.
 /// assert_eq!(calibration.correct(288, -288), (0, 0));

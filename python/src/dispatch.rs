@@ -16,7 +16,8 @@ use crate::batch::{Batch, RunBatch};
 use crate::errors::{Error, Result};
 use crate::estimates::Estimates;
 use crate::gains::{GainSet, PyGains};
-use crate::observer::{Channel, ObserverOps, ObserverOptions};
+use crate::observer::{ObserverOps, ObserverOptions};
+use crate::observer_channel::Channel;
 
 /// Which sin/cos the phase detector uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -29,6 +29,7 @@ mod gains;
 mod metrics;
 mod motion;
 mod observer;
+mod observer_channel;
 mod paper;
 mod resolver;
 mod scenario;

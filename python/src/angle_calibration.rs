@@ -9,7 +9,9 @@ use angletrack::{
     SensorCalibration, ThresholdPolicy,
 };
 use angletrack_core::MAX_CORRECTION_ORDER;
-use angletrack_core::{Chain, ChainState};
+use angletrack_core::{
+    Chain, ChainState, FrontEndCheck, FrontEndCheckState, HeldRailCheck, HeldRails,
+};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
@@ -259,12 +261,33 @@ pub fn checked(
     Ok((sensor, correction))
 }
 
-/// The corrected observer of concrete types: the core's chain of the stored sensor
-/// calibration and the angle correction before the observer.
+/// How the corrected observer checks its samples for clipping: against `range` (the
+/// samples' units), or with `measure` against the rails measured as they come (the core's
+/// `HeldRailCheck`), or not at all.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Clipping {
+    /// The ADC's range.
+    pub range: Option<(f64, f64)>,
+    /// Without a range: the rails measured.
+    pub measure: bool,
+}
+
+/// The corrected observer's stages in `T`: the clipping checks, the stored sensor
+/// calibration, the angle correction.
+type CorrectedStages<T> = (
+    (Option<FrontEndCheck<T>>, Option<HeldRailCheck>),
+    (SensorCalibration<T>, AngleCorrection<T>),
+);
+
+/// The state of [`CorrectedStages`]: the clipping checks' (the other stages hold none).
+type CorrectedStagesState<T> = (((FrontEndCheckState, ()), HeldRails<T>), ((), ()));
+
+/// The corrected observer of concrete types: the core's chain of the clipping checks (on the
+/// raw samples), the stored sensor calibration and the angle correction before the observer.
 #[derive(Debug)]
 struct Corrected<T: Sample, const N: usize, S: PhaseSinCos<T>> {
-    chain: Chain<(SensorCalibration<T>, AngleCorrection<T>), Gains<T, N, S>>,
-    state: ChainState<((), ()), ObserverState<T, N>>,
+    chain: Chain<CorrectedStages<T>, Gains<T, N, S>>,
+    state: ChainState<CorrectedStagesState<T>, ObserverState<T, N>>,
     /// The monitor's thresholds: scaled to the first call's samples (`ThresholdPolicy`),
     /// so that counts or volts are monitored as normalised signals are.
     thresholds: ThresholdPolicy<T>,
@@ -292,16 +315,31 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for Corrected<T, N, S> {
 /// (checked again there).
 pub fn corrected<T: Sample, const N: usize, S: PhaseSinCos<T>>(
     gains: Gains<T, N, S>,
+    clipping: Clipping,
     sensor: &SensorCalibration<f64>,
     correction: &AngleCorrection<f64>,
 ) -> Result<Box<dyn Run>> {
     let f = T::from_f64;
+    if clipping.measure && clipping.range.is_some() {
+        return Err(Error::value(
+            "measure_adc_range",
+            "give adc_range or measure_adc_range, not both",
+        ));
+    }
+    let stated = match clipping.range {
+        Some((min, max)) => Some(
+            FrontEndCheck::around((), Some((f(min), f(max))))
+                .map_err(|e| Error::value("adc_range", e.to_string()))?,
+        ),
+        None => None,
+    };
+    let measured = clipping.measure.then_some(HeldRailCheck::new());
     let (o_c, o_s, a_c, a_s, phi) = sensor.parameters();
     let sensor = SensorCalibration::new(f(o_c), f(o_s), f(a_c), f(a_s), f(phi))?;
     let (a, b) = correction.coefficients();
     let correction = AngleCorrection::new(a.map(f), b.map(f))?;
     Ok(Box::new(Corrected {
-        chain: Chain::new((sensor, correction), gains),
+        chain: Chain::new(((stated, measured), (sensor, correction)), gains),
         state: ChainState::new(),
         thresholds: ThresholdPolicy::new(None),
     }))
@@ -311,7 +349,9 @@ pub fn corrected<T: Sample, const N: usize, S: PhaseSinCos<T>>(
 /// quadrature) and an angle correction (harmonic coefficients `cos`, `sin`, rad) before its
 /// phase detector (the core's chain of both stages), in `dtype` (float32 or float64, default
 /// float64) with `sin_cos` (the default of the dtype); its state carries over from one
-/// `update` to the next, so a capture can be tracked chunk by chunk.
+/// `update` to the next, so a capture can be tracked chunk by chunk. The raw samples are
+/// checked for clipping against `adc_range`, or with `measure_adc_range` against the rails
+/// measured, as `Observer` checks them.
 #[pyclass(name = "_CorrectedObserver", module = "angletrack")]
 #[derive(Debug)]
 pub struct PyCorrectedObserver {
@@ -321,7 +361,9 @@ pub struct PyCorrectedObserver {
 #[pymethods]
 impl PyCorrectedObserver {
     #[new]
-    #[pyo3(signature = (gains, sensor, cos, sin, *, dtype = None, sin_cos = None))]
+    #[pyo3(signature = (gains, sensor, cos, sin, *, dtype = None, sin_cos = None,
+        adc_range = None, measure_adc_range = false))]
+    #[allow(clippy::too_many_arguments)]
     fn py_new(
         gains: PyGains,
         sensor: SensorParameters,
@@ -329,11 +371,19 @@ impl PyCorrectedObserver {
         sin: Vec<f64>,
         dtype: Option<&Bound<'_, PyAny>>,
         sin_cos: Option<&str>,
+        adc_range: Option<(f64, f64)>,
+        measure_adc_range: bool,
     ) -> Result<Self> {
         let (sensor, correction) = checked(sensor, cos, sin)?;
         let settings = RunSettings::from_arguments(gains, dtype, sin_cos)?;
+        let clipping = Clipping {
+            range: crate::counts::adc_range(adc_range)?,
+            measure: measure_adc_range,
+        };
         Ok(Self {
-            inner: settings.typed_gains()?.corrected(&sensor, &correction)?,
+            inner: settings
+                .typed_gains()?
+                .corrected(clipping, &sensor, &correction)?,
         })
     }
 

@@ -11,6 +11,7 @@ use angletrack_core::{
 use numpy::Element;
 use pyo3::prelude::*;
 
+use crate::angle_calibration::Clipping;
 use crate::arrays::Float;
 use crate::batch::{Batch, RunBatch};
 use crate::errors::{Error, Result};
@@ -72,9 +73,11 @@ pub trait TypedGains {
     fn observer(&self, options: &ObserverOptions) -> Result<Box<dyn ObserverOps>>;
     /// A batch of `channels` observers (the input check only, no diagnostics).
     fn batch(&self, channels: usize) -> Result<Box<dyn RunBatch>>;
-    /// An observer behind the chain of a stored sensor calibration and an angle correction.
+    /// An observer behind the chain of the clipping checks, a stored sensor calibration and
+    /// an angle correction.
     fn corrected(
         &self,
+        clipping: Clipping,
         sensor: &SensorCalibration<f64>,
         correction: &AngleCorrection<f64>,
     ) -> Result<Box<dyn Run>>;
@@ -91,10 +94,11 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> TypedGains for CoreGains<T, N
 
     fn corrected(
         &self,
+        clipping: Clipping,
         sensor: &SensorCalibration<f64>,
         correction: &AngleCorrection<f64>,
     ) -> Result<Box<dyn Run>> {
-        crate::angle_calibration::corrected(*self, sensor, correction)
+        crate::angle_calibration::corrected(*self, clipping, sensor, correction)
     }
 }
 

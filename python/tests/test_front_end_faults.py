@@ -254,8 +254,8 @@ def test_clipping_that_starts_after_the_first_chunk_is_flagged(tmp_path, capsys,
 
 
 def test_clipping_is_flagged_with_an_angle_calibration_too(tmp_path, capsys):
-    # The angle calibration's observer has no clipping stage: its clipped samples are flagged
-    # by the CLI (not coasted through), against the stated range.
+    # The angle calibration's observer checks its raw samples against the stated range as
+    # the plain observer does.
     gains = angletrack.Gains([0.3, 0.04, 0.002], 1e-4)
     theta = 0.3 + 0.0314 * np.arange(20_000)
     calibration = angletrack.calibrate(np.cos(theta), np.sin(theta), gains, reference=theta)
@@ -267,7 +267,7 @@ def test_clipping_is_flagged_with_an_angle_calibration_too(tmp_path, capsys):
     flagged = (est["faults"].astype(int) & FRONT_END) != 0
     expected = np.mean((np.abs(c) >= 0.9) | (np.abs(s) >= 0.9))
     assert expected > 0.4 and np.mean(flagged) == pytest.approx(expected, abs=1e-9)
-    assert "samples clipped (flagged FRONT_END; flagged only)" in captured.out
+    assert "samples clipped (flagged FRONT_END; those clipped in both channels coasted through)" in captured.out
 
 
 def test_signed_12_bit_counts_clipped_from_the_start_are_flagged(tmp_path, capsys):

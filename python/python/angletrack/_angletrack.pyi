@@ -1040,6 +1040,7 @@ class _CorrectedObserver:
     def __init__(
         self, gains: Gains, sensor: _SensorParameters, cos: Sequence[float],
         sin: Sequence[float], *, dtype: _DType = None, sin_cos: _SinCos = None,
+        adc_range: Optional[tuple[float, float]] = None, measure_adc_range: bool = False,
     ) -> None: ...
     def update(self, y_c: _Samples, y_s: _Samples) -> Estimates: ...
 

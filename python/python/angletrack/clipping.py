@@ -17,7 +17,6 @@ from typing import Optional
 
 import numpy as np
 
-import angletrack
 from angletrack._angletrack import HELD_RAIL_SAMPLES, measured_adc_range
 
 #: Consecutive samples at an extreme that make it a rail (the crate's rule).
@@ -106,20 +105,6 @@ def measured_range(y_c: np.ndarray, y_s: np.ndarray) -> Optional[tuple[float, fl
     that it flags nothing. ``None`` when neither is a rail."""
     return measured_adc_range(np.ascontiguousarray(y_c, dtype=np.float64),
                               np.ascontiguousarray(y_s, dtype=np.float64))
-
-
-def flag_clipped(faults: np.ndarray, y_c: np.ndarray, y_s: np.ndarray,
-                 adc_range: Optional[tuple[float, float]]) -> int:
-    """For the path whose observer has no clipping stage (an angle calibration): sets ``Faults.FRONT_END`` in ``faults`` on each sample with a channel at
-    or beyond a rail of ``adc_range`` (in the capture's units) and returns their count; the
-    observer does not coast through them there, it only flags them."""
-    if adc_range is None:
-        return 0
-    low, high = adc_range
-    y_c, y_s = np.asarray(y_c, dtype=np.float64), np.asarray(y_s, dtype=np.float64)
-    clipped = (y_c <= low) | (y_c >= high) | (y_s <= low) | (y_s >= high)
-    faults |= np.where(clipped, np.uint8(int(angletrack.Faults.FRONT_END)), np.uint8(0)).astype(faults.dtype)
-    return int(np.count_nonzero(clipped))
 
 
 def describe(adc_range: Optional[tuple[float, float]], stated: bool) -> str:

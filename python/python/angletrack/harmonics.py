@@ -171,13 +171,16 @@ class CalibratedObserver:
     """An observer whose samples are corrected by ``calibration`` before its phase detector
     (the core's chain of the stored sensor calibration and the angle correction), in
     ``dtype`` (float32 or float64) with ``sin_cos`` (default: the dtype's); ``update`` may be
-    called chunk by chunk."""
+    called chunk by chunk. The raw samples are checked for clipping as ``Observer`` checks
+    them: against ``adc_range``, or with ``measure_adc_range`` against the rails measured."""
 
     def __init__(self, gains: Gains, calibration: Calibration, *, dtype: Any = np.float64,
-                 sin_cos: Optional[str] = None):
+                 sin_cos: Optional[str] = None, adc_range: Optional[tuple[float, float]] = None,
+                 measure_adc_range: bool = False):
         self.dtype = np.dtype(dtype)
         self._inner = _CorrectedObserver(gains, tuple(calibration.sensor), list(calibration.cos),
-                                         list(calibration.sin), dtype=self.dtype, sin_cos=sin_cos)
+                                         list(calibration.sin), dtype=self.dtype, sin_cos=sin_cos,
+                                         adc_range=adc_range, measure_adc_range=measure_adc_range)
         self.gains = gains
         self.calibration = calibration
         self.latched_faults = 0

@@ -325,15 +325,13 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     calibration = s.calibration
     mid = unsigned_mid_scale(reader.sample_dtype, first.y_c, first.y_s)
     adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
-    # An angle calibration's observer has no clipping stage: its clipped samples are flagged
-    # here (not coasted through).
-    flag_here = calibration is not None
+    shifted = None if adc_range is None else (adc_range[0] - mid, adc_range[1] - mid)
+    # No range stated or found on the first chunk: the rails measured as the samples come
+    # (clipping that starts later in the capture).
     if calibration is not None:
-        observer = harmonics.CalibratedObserver(gains, calibration, dtype=dtype, sin_cos=s.sin_cos)
+        observer = harmonics.CalibratedObserver(gains, calibration, dtype=dtype, sin_cos=s.sin_cos,
+                                                adc_range=shifted, measure_adc_range=shifted is None)
     else:
-        shifted = None if adc_range is None else (adc_range[0] - mid, adc_range[1] - mid)
-        # No range stated or found on the first chunk: the rails measured as the samples come
-        # (clipping that starts later in the capture).
         observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos, adc_range=shifted,
                                        measure_adc_range=shifted is None, **s.observer_arguments)
     progress = _Progress(s.progress)
@@ -351,8 +349,6 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
             time_s = chunk.time_s
             if time_s is None:
                 time_s = (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) * gains.sample_period_s
-            if flag_here:
-                clipping.flag_clipped(est.faults, chunk.y_c, chunk.y_s, adc_range)
             writer.write(time_s, est)
             rejected += int(np.count_nonzero(est.faults & bad))
             flagged += int(np.count_nonzero(est.faults & front_end))
@@ -377,10 +373,8 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     ]
     if mid:
         lines.insert(2, f"unsigned ADC counts: mid-scale {mid:g} removed")
-    if adc_range is not None or not flag_here:
-        coasted = "flagged only" if flag_here else "those clipped in both channels coasted through"
-        lines.append(f"{clipping.describe(adc_range, s.adc_range is not None)}: {flagged} samples clipped "
-                     f"(flagged FRONT_END; {coasted})")
+    lines.append(f"{clipping.describe(adc_range, s.adc_range is not None)}: {flagged} samples clipped "
+                 "(flagged FRONT_END; those clipped in both channels coasted through)")
     if not s.observer_arguments and calibration is None:
         lines += ranges.off_centre_note()
     if stats is not None:

@@ -178,4 +178,6 @@ impl<V: DemodulatorNumber> Demodulator<V> {
 #[cfg(test)]
 mod construction_tests;
 #[cfg(test)]
+mod range_tests;
+#[cfg(test)]
 mod tests;

@@ -1,13 +1,13 @@
 //! The arithmetic a [`Demodulator`](crate::Demodulator) runs in (`docs/theory.md §13`): the
 //! sums of one segment of ADC samples, the window's offset-free and normalised components,
 //! and the products of the carrier loop's phase detector, for `f32`, `f64` and `i16`
-//! samples (fixed point: a Q10 sine table, `i32` sums, `i64` window values, two 32-bit
-//! divisions per window). The demodulator's logic is written once over this trait.
+//! samples (fixed point: a Q10 sine table, `i32` sums and window values, exact 64-bit
+//! products of 32-bit values, no division). The demodulator's logic is written once over this trait.
 
 use core::fmt::Debug;
 use core::ops::AddAssign;
 
-use crate::fixed::{round_to_i64, taylor_sin};
+use crate::fixed::{round_to_i64, taylor_sin, wide_product};
 use crate::real::{ChainNumber, Float};
 
 /// Entries of the reference sine table per turn: the index is the top 8 bits of the
@@ -106,6 +106,10 @@ pub trait DemodulatorNumber:
     /// sums, less rounding); the fixed point sums `x` (its range bounds the sums).
     #[doc(hidden)]
     fn prepare(x: Self, centre: Self, half_span: Self) -> (Self, u32);
+    /// A segment's sum of products of samples and the reference in the unit of a window's
+    /// (the same for the floats; rounded to units of `2^3` for `i16`).
+    #[doc(hidden)]
+    fn product_sum(x: Self::Sum) -> Self::Sum;
     /// `false` for a window value that is NaN or infinite.
     #[doc(hidden)]
     fn is_finite(x: Self::Wide) -> bool;
@@ -123,7 +127,9 @@ pub trait DemodulatorNumber:
     #[doc(hidden)]
     fn per_weight(weight: u32) -> Self::Wide;
     /// A channel's component (in-phase or quadrature) with the channel's mean over the
-    /// window removed and divided by the window's weight: `(xr - x r / w) / w`.
+    /// window removed and divided by the window's weight: `(xr - x r / w) / w` (for the fixed
+    /// point, times a positive factor common to a window's components: their ratio and signs
+    /// are what is used).
     #[doc(hidden)]
     fn component(
         xr: Self::Wide,
@@ -208,6 +214,10 @@ macro_rules! float_number {
                 Float::is_finite(x)
             }
             #[inline(always)]
+            fn product_sum(x: $t) -> $t {
+                x
+            }
+            #[inline(always)]
             fn widen(x: $t) -> $t {
                 x
             }
@@ -286,16 +296,32 @@ macro_rules! float_number {
 float_number!(f32, SINE_F32);
 float_number!(f64, SINE_F64_STATIC);
 
-/// The fixed point: `i16` samples (counts), the Q10 table, `i32` segment sums, `i64`
-/// window values; a component is `2^32 (xr - x r / w) / w` for the weight `w`, divided by
-/// the window's weight through its reciprocal `2^32 / w` (one division per window); the pairs
-/// are Q14.
+/// The fixed point's unit of a window's products of samples and the reference: `2^3` (a
+/// segment's sum is rounded to it when it joins a window), so that a window's products fit an
+/// `i32` (`docs/theory.md §13`).
+const PRODUCT_SHIFT: u32 = 3;
+
+/// The fixed point: `i16` samples (counts), the Q10 table, `i32` segment sums and `i32`
+/// window values (the products of samples and the reference in units of `2^3`, the sums of
+/// samples and of the reference exact); the means in Q15 and the pairs in Q14, through the
+/// reciprocal `2^32 / w` of the window's weight `w` (from a table) and exact 64-bit products
+/// of 32-bit values (`wide_product`: four 16-bit products on a Cortex-M0).
+///
+/// The ranges (`docs/theory.md §13`): at most 64 samples per period, and a carrier at most
+/// 20 % slower ([`DemodulatorSettings::max_carrier_error`](crate::DemodulatorSettings)), so
+/// at most `n = 80` samples a tracked period; a segment covers at most 7/8 of a turn (the
+/// rest of a period after a correction back, `begin_segment`), at most 70 samples, and a
+/// window's weight is at most `20 + 2 * 70 + 20 = 180` (below 184 with the segments' rounding
+/// up), at least 4 (a sample in each of its three segments).
 impl DemodulatorNumber for i16 {
     type Real = f32;
     type Sum = i32;
-    type Wide = i64;
-    // A segment (at most three quarters of a period) of samples of 16 bits times Q10
-    // entries: 48 * 2^15 * 2^10 < 2^31.
+    type Wide = i32;
+    // A segment's products: |x| <= 2^15 times the Q10 reference, whose magnitudes summed over
+    // samples spaced 2 pi / n apart across at most 7/8 of a turn are at most 1024 (n / (2 pi)
+    // times the integral of |sin| over 7/8 of a turn, 3.71, plus one for each of its at most
+    // four monotone pieces): for n = 80, 51.2 * 1024 * 2^15 < 2^30.7, within an i32 (the test
+    // `full_scale_samples_at_the_most_samples_per_period_do_not_overflow`).
     const MAX_SAMPLES_PER_PERIOD: u32 = 64;
 
     #[inline(always)]
@@ -319,52 +345,65 @@ impl DemodulatorNumber for i16 {
         (x, clip)
     }
     #[inline(always)]
-    fn is_finite(_: i64) -> bool {
+    fn is_finite(_: i32) -> bool {
         true
     }
     #[inline(always)]
-    fn widen(x: i32) -> i64 {
-        i64::from(x)
+    fn product_sum(x: i32) -> i32 {
+        // Rounded (half up) to units of 2^3: floor((x + 4) / 8) without the addition's
+        // overflow. A window's products are then at most 2^15 * 1024 * 184 / 8 < 2^29.6 in
+        // that unit; the window's sums of samples at most 2^15 * 184 < 2^23 and of the
+        // reference 1024 * 184 < 2^18, exact.
+        ((x >> (PRODUCT_SHIFT - 1)) + 1) >> 1
     }
     #[inline(always)]
-    fn add_sum(acc: i64, x: i32) -> i64 {
-        acc + i64::from(x)
+    fn widen(x: i32) -> i32 {
+        x
     }
     #[inline(always)]
-    fn add_twice(acc: i64, x: i32) -> i64 {
-        acc + 2 * i64::from(x)
+    fn add_sum(acc: i32, x: i32) -> i32 {
+        acc.wrapping_add(x)
     }
     #[inline(always)]
-    fn per_weight(weight: u32) -> i64 {
-        // (2^32 - 1) / w for 2^32 / w: a 32-bit division (a weight is at least 8: 4 samples
-        // per period or more), and the difference below 2^-32 of the value.
-        i64::from(u32::MAX / weight.max(1))
+    fn add_twice(acc: i32, x: i32) -> i32 {
+        acc.wrapping_add(x.wrapping_shl(1))
     }
     #[inline(always)]
-    fn component(xr: i64, x: i64, r: i64, per_weight: i64) -> i64 {
-        // |x| <= 2^15 w, |r| <= 2^10 w, w <= 2^8 (160 for 64 samples per period): |x r| <= 2^41,
-        // then times 2^32 / w over 2^32 in two steps of 2^16, below 2^63 throughout.
-        let mean = (((x * r) >> 16) * per_weight) >> 16;
-        // |xr - mean| <= 2^33 (2^15 2^10 w) and 2^32 / w <= 2^29 (w >= 8): below 2^62.
-        ((xr - mean) * per_weight) >> 32
+    fn per_weight(weight: u32) -> i32 {
+        // floor((2^32 - 1) / w) for 2^32 / w, at most 2^30 (w >= 4), from a table (a 32-bit
+        // division is some 100 instructions on a Cortex-M0); the weights beyond it, which a
+        // window cannot have, divided.
+        match RECIPROCALS.get(weight as usize) {
+            Some(&reciprocal) => reciprocal as i32,
+            None => (u32::MAX / weight) as i32,
+        }
     }
     #[inline(always)]
-    fn mean(x: i64, per_weight: i64) -> i64 {
-        // Q15: |x| <= 2^15 w and 2^32 / w give at most 2^47 before the shift, 2^30 after.
-        (x * per_weight) >> 17
+    fn component(xr: i32, x: i32, r: i32, per_weight: i32) -> i32 {
+        // `xr - x r / w` in units of 2^3, not divided by w: a window's two excitation
+        // components share the factor, and only their ratio and signs are used. It is
+        // `sum w_k (x_k - mean) ref_k`, at most 2^16 * 1024 * 184 / 8 < 2^30.6 in magnitude
+        // (and so is `I cos - Q sin` for any angle): `times_fraction` keeps it within an i32.
+        centred(xr, Self::mean(x, per_weight), r)
     }
     #[inline(always)]
-    fn window_scale(per_weight: i64, gain: i64) -> i64 {
-        // 2^32 / w times gain < 2^24 (Q24), over 2^24: 2^32 gain / w, at most 2^53 / w.
-        (per_weight * gain) >> 24
+    fn mean(x: i32, per_weight: i32) -> i32 {
+        // Q15: |x| <= 2^15 w times 2^32 / w, at most 2^47 before the shift, 2^30 after.
+        (wide_product(x, per_weight) >> 17) as i32
     }
     #[inline(always)]
-    fn pair_component(xr: i64, mean: i64, r: i64, scale: i64) -> i16 {
-        // |mean| <= 2^30 (Q15) and |r| <= 2^10 w: |mean r| / 2^15 <= 2^25 w, as |xr|; their
-        // difference (at most 2^26 w) times the scale (at most 2^8 gain / w, gain < 2^24)
-        // is below 2^58. The component is envelope * amplitude * 512 (Q10 / 2) times w;
-        // gain = 2^38 / (512 amplitude): envelope * 2^14 after the shifts of 24 and 32.
-        let v = ((xr - ((mean * r) >> 15)) * scale) >> 32;
+    fn window_scale(per_weight: i32, gain: i32) -> i32 {
+        // 2^32 / w times gain < 2^24 (Q24) over 2^23: 2^9 gain / w, below 2^31 (w >= 4), so
+        // that a component in units of 2^3 times it over 2^30 is the component times
+        // gain / w over 2^24 (`pair_component`).
+        (wide_product(per_weight, gain) >> 23) as i32
+    }
+    #[inline(always)]
+    fn pair_component(xr: i32, mean: i32, r: i32, scale: i32) -> i16 {
+        // The component is envelope * amplitude * 512 (Q10 / 2) times w; gain = 2^38 / (512
+        // amplitude): the component times gain / w over 2^24 is envelope * 2^14. The centred
+        // component (below 2^30.6, `component`) times the scale (below 2^31) is below 2^62.
+        let v = wide_product(centred(xr, mean, r), scale) >> 30;
         v.clamp(i64::from(i16::MIN), i64::from(i16::MAX)) as i16
     }
     #[inline(always)]
@@ -372,43 +411,62 @@ impl DemodulatorNumber for i16 {
         x.saturating_neg()
     }
     #[inline(always)]
-    fn product(a: i16, b: i16) -> i64 {
-        i64::from(i32::from(a) * i32::from(b))
+    fn product(a: i16, b: i16) -> i32 {
+        // Over 2^4: a product of two i16 is at most 2^30 in magnitude, a window's power (four
+        // of them) at most 2^28, and the window's test 4 p < 3 p_last within an i32.
+        (i32::from(a) * i32::from(b)) >> 4
     }
     #[inline(always)]
-    fn add(a: i64, b: i64) -> i64 {
+    fn add(a: i32, b: i32) -> i32 {
         a.wrapping_add(b)
     }
     #[inline(always)]
-    fn sub(a: i64, b: i64) -> i64 {
+    fn sub(a: i32, b: i32) -> i32 {
         a.wrapping_sub(b)
     }
     #[inline(always)]
-    fn times_fraction(a: i64, fraction: i64) -> i64 {
-        (a * fraction) >> 16
+    fn times_fraction(a: i32, fraction: i32) -> i32 {
+        // A Q16 fraction within [-1, 1]: at most |a| (a power, or an excitation component,
+        // `component`), an i32.
+        (wide_product(a, fraction) >> 16) as i32
     }
     #[inline(always)]
-    fn ratio_q31(num: i64, den: i64) -> i32 {
-        if den > 0 {
-            // The detector's ratios are within [-1, 1] and den <= 2^32 (two windings' powers
-            // of at most 2^31 each): both over 2^16 (rounded), a 32-bit division gives the
-            // ratio in Q14. Its resolution is 2^16 / den: 2^-12 at the nominal amplitude
-            // (den = 2^28), 2^-8 at the loss-of-excitation threshold; the carrier loop
-            // averages it over windows.
-            let num = num.max(-den).min(den);
-            let den = ((den + (1 << 15)) >> 16).max(1) as i32;
-            let num = ((num + (1 << 15)) >> 16) as i32;
-            let num = num.max(-den).min(den);
-            (i64::from((num << 14) / den) << 17).clamp(i64::from(i32::MIN), i64::from(i32::MAX))
-                as i32
-        } else {
-            0
+    fn ratio_q31(num: i32, den: i32) -> i32 {
+        if den <= 0 {
+            return 0;
         }
+        // The detector's ratios are within [-1, 1], den <= 2^28 (four products of pair
+        // components over 2^4). Without a division (some 100 instructions on a Cortex-M0):
+        // den shifted up by e into [2^27, 2^28] (num with it, within +-den), its reciprocal
+        // 2^42 / den from the table by its top 8 bits (to 2^-8 of the value: the loop's gain
+        // that much off, its zero exact), num over 2^13 (at most 2^15) times it (at most
+        // 2^15) over 2^15: the ratio in Q14.
+        let num = num.max(-den).min(den);
+        let (mut d, mut e) = (den as u32, 0);
+        if d < 1 << 12 {
+            (d, e) = (d << 16, e + 16);
+        }
+        if d < 1 << 20 {
+            (d, e) = (d << 8, e + 8);
+        }
+        if d < 1 << 24 {
+            (d, e) = (d << 4, e + 4);
+        }
+        if d < 1 << 26 {
+            (d, e) = (d << 2, e + 2);
+        }
+        if d < 1 << 27 {
+            (d, e) = (d << 1, e + 1);
+        }
+        let index = ((d >> 20).wrapping_sub(128)) as usize;
+        let reciprocal = i32::from(RATIO_RECIPROCALS.get(index).copied().unwrap_or(1 << 14));
+        let ratio = (((num << e) >> 13) * reciprocal) >> 15;
+        ratio.clamp(-(1 << 14), (1 << 14) - 1) << 17
     }
     fn to_real(x: i16) -> f32 {
         f32::from(x) / f32::from(FIXED_PAIR_UNIT)
     }
-    fn wide_to_real(x: i64) -> f32 {
+    fn wide_to_real(x: i32) -> f32 {
         x as f32
     }
     fn demodulator(
@@ -417,3 +475,39 @@ impl DemodulatorNumber for i16 {
         crate::Demodulator::<i16>::new_const(settings)
     }
 }
+
+/// A fixed-point window's component with the channel's mean removed, `xr - mean r` (`xr` in
+/// units of 2^3; `mean` in Q15 and `r` the reference's sum, so `mean r / 2^18` in units of
+/// 2^3, rounded): below 2^30.6 in magnitude (`component`).
+#[inline(always)]
+fn centred(xr: i32, mean: i32, r: i32) -> i32 {
+    // |mean r| <= 2^30 * 1024 * 184 < 2^48.
+    let removed = (wide_product(mean, r) + (1 << (14 + PRODUCT_SHIFT))) >> (15 + PRODUCT_SHIFT);
+    (i64::from(xr) - removed) as i32
+}
+
+/// `floor((2^32 - 1) / w)` for the weights `w` of windows, 4 to 255 (the weights below 4,
+/// which a window cannot have, as 4).
+static RECIPROCALS: [u32; 256] = {
+    let mut table = [0; 256];
+    let mut w = 0;
+    while w < 256 {
+        table[w] = u32::MAX / if w < 4 { 4 } else { w as u32 };
+        w += 1;
+    }
+    table
+};
+
+/// `2^42 / d` for `d` in [2^27, 2^28] by its top 8 bits (`d / 2^20` less 128, 0 to 128),
+/// at the middle of each step, rounded: within 2^-8 of the value.
+static RATIO_RECIPROCALS: [u16; 129] = {
+    let mut table = [0; 129];
+    let mut i = 0;
+    while i < 129 {
+        // 2^42 / ((128.5 + i) 2^20) = 2^23 / (257 + 2 i).
+        let d = 257 + 2 * i as u32;
+        table[i] = ((2 * (1 << 23) + d) / (2 * d)) as u16;
+        i += 1;
+    }
+    table
+};

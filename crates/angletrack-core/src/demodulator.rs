@@ -29,6 +29,7 @@ use crate::state::{Estimate, ObserverState};
 mod carrier_loop;
 mod construction;
 mod number;
+mod number_fixed;
 mod push;
 mod settings;
 mod state;

@@ -103,46 +103,18 @@ impl DemodulatorNumber for i16 {
     }
     #[inline(always)]
     fn window_scale(per_weight: i32, gain: i32) -> i32 {
-        // 2^32 / w times gain < 2^24 (Q24) over 2^23: s = 2^9 gain / w, below 2^31 (w >= 4),
-        // so that a component in units of 2^3 times s over 2^30 is the component times
-        // gain / w over 2^24 (`pair_component`). Kept as a mantissa m below 2^15 and a shift
-        // k (0 to 16) with s = m 2^k to 2^-14 of it (the pairs' common scale: their angle
-        // unchanged), packed as m 2^8 + k, so that a component takes two 16-bit products.
-        let (mut mantissa, mut k) = ((wide_product(per_weight, gain) >> 23) as u32, 0);
-        if mantissa >= 1 << 23 {
-            (mantissa, k) = (mantissa >> 8, k + 8);
-        }
-        if mantissa >= 1 << 19 {
-            (mantissa, k) = (mantissa >> 4, k + 4);
-        }
-        if mantissa >= 1 << 17 {
-            (mantissa, k) = (mantissa >> 2, k + 2);
-        }
-        if mantissa >= 1 << 16 {
-            (mantissa, k) = (mantissa >> 1, k + 1);
-        }
-        if mantissa >= 1 << 15 {
-            (mantissa, k) = (mantissa >> 1, k + 1);
-        }
-        ((mantissa << 8) | k) as i32
+        // 2^32 / w times gain < 2^24 (Q24) over 2^23: 2^9 gain / w, below 2^31 (w >= 4), so
+        // that a component in units of 2^3 times it over 2^30 is the component times
+        // gain / w over 2^24 (`pair_component`).
+        (wide_product(per_weight, gain) >> 23) as i32
     }
     #[inline(always)]
     fn pair_component(xr: i32, mean: i32, r: i32, scale: i32) -> i16 {
         // The component is envelope * amplitude * 512 (Q10 / 2) times w; gain = 2^38 / (512
-        // amplitude): the component d (below 2^30.6, `component`) times gain / w over 2^24,
-        // d s / 2^30 with s = m 2^k (`window_scale`), is envelope * 2^14. With d = h 2^16 + l
-        // (h signed, 0 <= l < 2^16), floor(d m / 2^16) = h m + floor(l m / 2^16) (|h m| <
-        // 2^29.6, l m < 2^31), then times 2^k over 2^14: shifted down by 14 - k, or up by at
-        // most 2 once saturated beyond the pairs' range (2^20 > 2^15 / 2^-2).
-        let (mantissa, k) = (scale >> 8, (scale & 0xff) as u32);
-        let d = centred(xr, mean, r);
-        let product = (d >> 16) * mantissa + (((d & 0xffff) * mantissa) >> 16);
-        let v = if k <= 14 {
-            product >> (14 - k)
-        } else {
-            product.clamp(-(1 << 20), 1 << 20) << (k - 14)
-        };
-        v.clamp(i32::from(i16::MIN), i32::from(i16::MAX)) as i16
+        // amplitude): the component times gain / w over 2^24 is envelope * 2^14. The centred
+        // component (below 2^30.6, `component`) times the scale (below 2^31) is below 2^62.
+        let v = wide_product(centred(xr, mean, r), scale) >> 30;
+        v.clamp(i64::from(i16::MIN), i64::from(i16::MAX)) as i16
     }
     #[inline(always)]
     fn negate(x: i16) -> i16 {
@@ -219,21 +191,10 @@ impl DemodulatorNumber for i16 {
 /// 2^3, rounded): below 2^30.6 in magnitude (`component`).
 #[inline(always)]
 fn centred(xr: i32, mean: i32, r: i32) -> i32 {
-    const HALF: i32 = 1 << (14 + PRODUCT_SHIFT);
-    if (-(1 << 14)..1 << 14).contains(&r) {
-        // The window's reference sums nearly cancel (a period's sines, the first quarter's
-        // at both ends): |r| < 2^14 but where the samples per period are few and not whole.
-        // Then with mean = h 2^16 + l (h signed, |h| <= 2^14, 0 <= l < 2^16), a = h r below
-        // 2^28 and |l r| < 2^30, and floor((a 2^16 + l r + 2^17) / 2^18) = floor(a / 4) +
-        // floor(((a mod 4) 2^16 + l r + 2^17) / 2^18) with no product over 32 bits.
-        let (high, low) = (mean >> 16, mean & 0xffff);
-        let (a, b) = (high * r, low * r);
-        xr - ((a >> 2) + ((((a & 3) << 16) + b + HALF) >> (15 + PRODUCT_SHIFT)))
-    } else {
-        // |mean r| <= 2^30 * 1024 * 184 < 2^48.
-        let removed = (wide_product(mean, r) + i64::from(HALF)) >> (15 + PRODUCT_SHIFT);
-        (i64::from(xr) - removed) as i32
-    }
+    // |mean r| <= 2^30 * 1024 * 184 < 2^48.
+    let half = 1 << (14 + PRODUCT_SHIFT);
+    let removed = (wide_product(mean, r) + half) >> (15 + PRODUCT_SHIFT);
+    (i64::from(xr) - removed) as i32
 }
 
 /// `floor((2^32 - 1) / w)` for the weights `w` of windows, 4 to 255 (the weights below 4,
@@ -268,8 +229,7 @@ mod tests {
     use proptest::prelude::*;
 
     proptest! {
-        /// Both forms of `centred` (the reference's sum small or not) give the rounded
-        /// `xr - mean r / 2^18` over the values' ranges.
+        /// `centred` gives the rounded `xr - mean r / 2^18` over the values' ranges.
         #[test]
         fn centred_is_the_rounded_difference(
             xr in -(1 << 30)..(1 << 30),
@@ -281,9 +241,9 @@ mod tests {
             prop_assert_eq!(i128::from(centred(xr, mean, r)), i128::from(xr) - removed);
         }
 
-        /// A window's component in the pair's unit through the scale's mantissa and shift:
-        /// the exact `d 2^9 gain / w / 2^30` to 2^-13 of it and a unit, saturated to an
-        /// `i16`, for every weight and gain (the shifts of 0 to 16 included).
+        /// A window's component in the pair's unit through the window's scale: the exact
+        /// `d 2^9 gain / w / 2^30` to 2^-13 of it and a unit, saturated to an `i16`, for
+        /// every weight and gain.
         #[test]
         fn the_scaled_component_is_the_exact_one(
             d in -(1 << 30)..(1 << 30),

@@ -1,8 +1,9 @@
 //! The arithmetic a [`Demodulator`](crate::Demodulator) runs in (`docs/theory.md §13`): the
 //! sums of one segment of ADC samples, the window's offset-free and normalised components,
 //! and the products of the carrier loop's phase detector, for `f32`, `f64` and `i16`
-//! samples (fixed point: a Q10 sine table, `i32` sums and window values, exact 64-bit
-//! products of 32-bit values, no division). The demodulator's logic is written once over this trait.
+//! samples (the fixed point's in `number_fixed.rs`: a Q10 sine table, `i32` sums and
+//! window values, exact 64-bit products of 32-bit values, no division). The demodulator's
+//! logic is written once over this trait.
 
 use core::fmt::Debug;
 use core::ops::AddAssign;

@@ -29,6 +29,7 @@ use crate::state::{Estimate, ObserverState};
 mod carrier_loop;
 mod construction;
 mod number;
+mod number_fixed;
 mod push;
 mod settings;
 mod state;
@@ -177,5 +178,7 @@ impl<V: DemodulatorNumber> Demodulator<V> {
 
 #[cfg(test)]
 mod construction_tests;
+#[cfg(test)]
+mod range_tests;
 #[cfg(test)]
 mod tests;

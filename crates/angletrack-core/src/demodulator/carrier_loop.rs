@@ -4,9 +4,10 @@
 //! recorded excitation or, at the end of the start-up, from the expected delay.
 
 use super::{Demodulator, DemodulatorNumber, DemodulatorState, QUARTER};
+use crate::fixed::wide_product;
 
 /// The largest phase correction per window (a sixteenth of a turn).
-const MAX_CORRECTION: i64 = 1 << 28;
+const MAX_CORRECTION: i32 = 1 << 28;
 
 impl<V: DemodulatorNumber> Demodulator<V> {
     /// The loop's correction from a window's detector products (`in_phase` and
@@ -42,17 +43,22 @@ impl<V: DemodulatorNumber> Demodulator<V> {
     /// through a loss) 1/64 of the way to the loop's.
     #[inline(always)]
     fn correct(&self, state: &mut DemodulatorState<V>, error: i32, full: bool) {
-        // 32 by 32 bits into 64 (one instruction where the core has it).
-        let times = |gain: i32| i64::from(error) * i64::from(gain);
-        let phase = (times(self.phase_gain) >> 16).clamp(-MAX_CORRECTION, MAX_CORRECTION);
-        state.phase = state.phase.wrapping_add(phase as i32 as u32);
+        // 32 by 32 bits into 64 (one instruction where the core has it, four 16-bit
+        // products on ARMv6-M), the rest in 32 bits: |error| <= 2^31 times the proportional
+        // gain, at most sqrt(2) 0.5 / pi in Q16 (below 2^14), over 2^16 is below 2^29; times
+        // the integral gain, at most 0.5^2 / pi / 4 in Q24 (below 2^18.4), over 2^24 below
+        // 2^25.4; the steps are below 0.3 turn (2^30.3: 4 samples a period or more, a carrier
+        // error of 0.2 at most): the same integers as in 64 bits.
+        let phase = (wide_product(error, self.phase_gain) >> 16) as i32;
+        let phase = phase.clamp(-MAX_CORRECTION, MAX_CORRECTION);
+        state.phase = state.phase.wrapping_add(phase as u32);
         if full {
-            let step = i64::from(state.step) + (times(self.step_gain) >> 24);
-            state.step = step
-                .max(i64::from(self.step_min))
-                .min(i64::from(self.step_max)) as u32;
-            let held = i64::from(state.held_step);
-            state.held_step = (held + ((i64::from(state.step) - held) >> 6)) as u32;
+            let change = (wide_product(error, self.step_gain) >> 24) as i32;
+            let step = (state.step as i32).wrapping_add(change);
+            state.step = step.max(self.step_min as i32).min(self.step_max as i32) as u32;
+            let held = state.held_step as i32;
+            let toward = (state.step as i32).wrapping_sub(held) >> 6;
+            state.held_step = held.wrapping_add(toward) as u32;
         }
     }
 

@@ -274,10 +274,10 @@ mod for_i16 {
     mod number {
         use super::FIXED_PAIR_UNIT;
         /// 2^14 / (512 amplitude) in Q24: 2^29 / amplitude, within [1, 2^24).
-        pub(super) const fn pair_gain(amplitude_counts: f32) -> Option<i64> {
+        pub(super) const fn pair_gain(amplitude_counts: f32) -> Option<i32> {
             let gain = 536_870_912.0_f32 / amplitude_counts;
             if gain >= 1.0 && gain < 16_777_216.0 {
-                Some(gain as i64)
+                Some(gain as i32)
             } else {
                 None
             }
@@ -286,14 +286,15 @@ mod for_i16 {
         pub(super) const fn from_counts(x: f32) -> Option<i16> {
             if x.is_finite() { Some(x as i16) } else { None }
         }
-        /// The square of a fraction of [`FIXED_PAIR_UNIT`], as a product of pair components.
-        pub(super) const fn unit_power(fraction: f32) -> i64 {
+        /// The square of a fraction of [`FIXED_PAIR_UNIT`], as a product of pair components
+        /// (over 2^4).
+        pub(super) const fn unit_power(fraction: f32) -> i32 {
             let v = fraction * FIXED_PAIR_UNIT as f32;
-            (v * v) as i64
+            (v * v / 16.0) as i32
         }
         /// A fraction in [-1, 1] in Q16.
-        pub(super) const fn fraction(x: f32) -> i64 {
-            (x * 65_536.0) as i64
+        pub(super) const fn fraction(x: f32) -> i32 {
+            (x * 65_536.0) as i32
         }
     }
     checked_demodulator!(i16, f32, for_f32, number);

@@ -1,8 +1,9 @@
 //! The arithmetic a [`Demodulator`](crate::Demodulator) runs in (`docs/theory.md §13`): the
 //! sums of one segment of ADC samples, the window's offset-free and normalised components,
 //! and the products of the carrier loop's phase detector, for `f32`, `f64` and `i16`
-//! samples (fixed point: a Q10 sine table, `i32` sums, `i64` window values, two 32-bit
-//! divisions per window). The demodulator's logic is written once over this trait.
+//! samples (the fixed point's in `number_fixed.rs`: a Q10 sine table, `i32` sums and
+//! window values, exact 64-bit products of 32-bit values, no division). The demodulator's
+//! logic is written once over this trait.
 
 use core::fmt::Debug;
 use core::ops::AddAssign;
@@ -23,8 +24,8 @@ static SINE_F32: [f32; TABLE_LEN] = sine_f32();
 /// The same in `f64` (a `static`: one copy in the image).
 static SINE_F64_STATIC: [f64; TABLE_LEN] = SINE_F64;
 /// The same in Q10 (`round(1024 sin)`): a sample of 16 bits times an entry fits 26 bits,
-/// and a segment of up to 48 of them an `i32` (`docs/theory.md §13`).
-static SINE_Q10: [i16; TABLE_LEN] = sine_q10();
+/// and a segment of them an `i32` (`number_fixed.rs`, `docs/theory.md §13`).
+pub(super) static SINE_Q10: [i16; TABLE_LEN] = sine_q10();
 
 /// The fixed-point output unit: a pair's envelope 1 is this many counts (Q14), so that an
 /// envelope of up to 2 fits an `i16`.
@@ -106,6 +107,10 @@ pub trait DemodulatorNumber:
     /// sums, less rounding); the fixed point sums `x` (its range bounds the sums).
     #[doc(hidden)]
     fn prepare(x: Self, centre: Self, half_span: Self) -> (Self, u32);
+    /// A segment's sum of products of samples and the reference in the unit of a window's
+    /// (the same for the floats; rounded to units of `2^3` for `i16`).
+    #[doc(hidden)]
+    fn product_sum(x: Self::Sum) -> Self::Sum;
     /// `false` for a window value that is NaN or infinite.
     #[doc(hidden)]
     fn is_finite(x: Self::Wide) -> bool;
@@ -123,7 +128,9 @@ pub trait DemodulatorNumber:
     #[doc(hidden)]
     fn per_weight(weight: u32) -> Self::Wide;
     /// A channel's component (in-phase or quadrature) with the channel's mean over the
-    /// window removed and divided by the window's weight: `(xr - x r / w) / w`.
+    /// window removed and divided by the window's weight: `(xr - x r / w) / w` (for the fixed
+    /// point, times a positive factor common to a window's components: their ratio and signs
+    /// are what is used).
     #[doc(hidden)]
     fn component(
         xr: Self::Wide,
@@ -208,6 +215,10 @@ macro_rules! float_number {
                 Float::is_finite(x)
             }
             #[inline(always)]
+            fn product_sum(x: $t) -> $t {
+                x
+            }
+            #[inline(always)]
             fn widen(x: $t) -> $t {
                 x
             }
@@ -285,135 +296,3 @@ macro_rules! float_number {
 
 float_number!(f32, SINE_F32);
 float_number!(f64, SINE_F64_STATIC);
-
-/// The fixed point: `i16` samples (counts), the Q10 table, `i32` segment sums, `i64`
-/// window values; a component is `2^32 (xr - x r / w) / w` for the weight `w`, divided by
-/// the window's weight through its reciprocal `2^32 / w` (one division per window); the pairs
-/// are Q14.
-impl DemodulatorNumber for i16 {
-    type Real = f32;
-    type Sum = i32;
-    type Wide = i64;
-    // A segment (at most three quarters of a period) of samples of 16 bits times Q10
-    // entries: 48 * 2^15 * 2^10 < 2^31.
-    const MAX_SAMPLES_PER_PERIOD: u32 = 64;
-
-    #[inline(always)]
-    fn sine_table() -> &'static [i16; TABLE_LEN] {
-        &SINE_Q10
-    }
-    #[inline(always)]
-    fn mac(sum: &mut i32, x: i16, r: i16) {
-        *sum += i32::from(x) * i32::from(r);
-    }
-    #[inline(always)]
-    fn accumulate(sum: &mut i32, x: i16) {
-        *sum += i32::from(x);
-    }
-    #[inline(always)]
-    fn prepare(x: i16, centre: i16, half_span: i16) -> (i16, u32) {
-        // Negative (the sign bit set) when x is outside [centre - half_span, centre +
-        // half_span]: x - low and high - x ORed.
-        let (x32, centre, half_span) = (i32::from(x), i32::from(centre), i32::from(half_span));
-        let clip = ((x32 - (centre - half_span)) | (centre + half_span - x32)) as u32;
-        (x, clip)
-    }
-    #[inline(always)]
-    fn is_finite(_: i64) -> bool {
-        true
-    }
-    #[inline(always)]
-    fn widen(x: i32) -> i64 {
-        i64::from(x)
-    }
-    #[inline(always)]
-    fn add_sum(acc: i64, x: i32) -> i64 {
-        acc + i64::from(x)
-    }
-    #[inline(always)]
-    fn add_twice(acc: i64, x: i32) -> i64 {
-        acc + 2 * i64::from(x)
-    }
-    #[inline(always)]
-    fn per_weight(weight: u32) -> i64 {
-        // (2^32 - 1) / w for 2^32 / w: a 32-bit division (a weight is at least 8: 4 samples
-        // per period or more), and the difference below 2^-32 of the value.
-        i64::from(u32::MAX / weight.max(1))
-    }
-    #[inline(always)]
-    fn component(xr: i64, x: i64, r: i64, per_weight: i64) -> i64 {
-        // |x| <= 2^15 w, |r| <= 2^10 w, w <= 2^8 (160 for 64 samples per period): |x r| <= 2^41,
-        // then times 2^32 / w over 2^32 in two steps of 2^16, below 2^63 throughout.
-        let mean = (((x * r) >> 16) * per_weight) >> 16;
-        // |xr - mean| <= 2^33 (2^15 2^10 w) and 2^32 / w <= 2^29 (w >= 8): below 2^62.
-        ((xr - mean) * per_weight) >> 32
-    }
-    #[inline(always)]
-    fn mean(x: i64, per_weight: i64) -> i64 {
-        // Q15: |x| <= 2^15 w and 2^32 / w give at most 2^47 before the shift, 2^30 after.
-        (x * per_weight) >> 17
-    }
-    #[inline(always)]
-    fn window_scale(per_weight: i64, gain: i64) -> i64 {
-        // 2^32 / w times gain < 2^24 (Q24), over 2^24: 2^32 gain / w, at most 2^53 / w.
-        (per_weight * gain) >> 24
-    }
-    #[inline(always)]
-    fn pair_component(xr: i64, mean: i64, r: i64, scale: i64) -> i16 {
-        // |mean| <= 2^30 (Q15) and |r| <= 2^10 w: |mean r| / 2^15 <= 2^25 w, as |xr|; their
-        // difference (at most 2^26 w) times the scale (at most 2^8 gain / w, gain < 2^24)
-        // is below 2^58. The component is envelope * amplitude * 512 (Q10 / 2) times w;
-        // gain = 2^38 / (512 amplitude): envelope * 2^14 after the shifts of 24 and 32.
-        let v = ((xr - ((mean * r) >> 15)) * scale) >> 32;
-        v.clamp(i64::from(i16::MIN), i64::from(i16::MAX)) as i16
-    }
-    #[inline(always)]
-    fn negate(x: i16) -> i16 {
-        x.saturating_neg()
-    }
-    #[inline(always)]
-    fn product(a: i16, b: i16) -> i64 {
-        i64::from(i32::from(a) * i32::from(b))
-    }
-    #[inline(always)]
-    fn add(a: i64, b: i64) -> i64 {
-        a.wrapping_add(b)
-    }
-    #[inline(always)]
-    fn sub(a: i64, b: i64) -> i64 {
-        a.wrapping_sub(b)
-    }
-    #[inline(always)]
-    fn times_fraction(a: i64, fraction: i64) -> i64 {
-        (a * fraction) >> 16
-    }
-    #[inline(always)]
-    fn ratio_q31(num: i64, den: i64) -> i32 {
-        if den > 0 {
-            // The detector's ratios are within [-1, 1] and den <= 2^32 (two windings' powers
-            // of at most 2^31 each): both over 2^16 (rounded), a 32-bit division gives the
-            // ratio in Q14. Its resolution is 2^16 / den: 2^-12 at the nominal amplitude
-            // (den = 2^28), 2^-8 at the loss-of-excitation threshold; the carrier loop
-            // averages it over windows.
-            let num = num.max(-den).min(den);
-            let den = ((den + (1 << 15)) >> 16).max(1) as i32;
-            let num = ((num + (1 << 15)) >> 16) as i32;
-            let num = num.max(-den).min(den);
-            (i64::from((num << 14) / den) << 17).clamp(i64::from(i32::MIN), i64::from(i32::MAX))
-                as i32
-        } else {
-            0
-        }
-    }
-    fn to_real(x: i16) -> f32 {
-        f32::from(x) / f32::from(FIXED_PAIR_UNIT)
-    }
-    fn wide_to_real(x: i64) -> f32 {
-        x as f32
-    }
-    fn demodulator(
-        settings: crate::DemodulatorSettings<f32>,
-    ) -> Result<crate::Demodulator<i16>, crate::ConfigError> {
-        crate::Demodulator::<i16>::new_const(settings)
-    }
-}

@@ -14,12 +14,30 @@ use crate::front_end_faults::FrontEndFaults;
 #[inline(always)]
 fn complete<V: DemodulatorNumber>(pending: &Sums<V::Wide>, last: &Sums<V::Sum>) -> Sums<V::Wide> {
     Sums {
-        xs: pairwise(pending.xs, last.xs, V::add_sum),
-        xc: pairwise(pending.xc, last.xc, V::add_sum),
+        xs: pairwise(pending.xs, last.xs, add_product::<V>),
+        xc: pairwise(pending.xc, last.xc, add_product::<V>),
         x: pairwise(pending.x, last.x, V::add_sum),
         s: V::add_sum(pending.s, last.s),
         c: V::add_sum(pending.c, last.c),
     }
+}
+
+/// A segment's sum of products as a window's.
+#[inline(always)]
+fn widen_product<V: DemodulatorNumber>(x: V::Sum) -> V::Wide {
+    V::widen(V::product_sum(x))
+}
+
+/// `acc + x` for a segment's sum of products `x`.
+#[inline(always)]
+fn add_product<V: DemodulatorNumber>(acc: V::Wide, x: V::Sum) -> V::Wide {
+    V::add_sum(acc, V::product_sum(x))
+}
+
+/// `acc + 2 x` for a segment's sum of products `x`.
+#[inline(always)]
+fn add_product_twice<V: DemodulatorNumber>(acc: V::Wide, x: V::Sum) -> V::Wide {
+    V::add_twice(acc, V::product_sum(x))
 }
 
 /// A segment's sums as a window's.
@@ -29,8 +47,8 @@ fn widen<V: DemodulatorNumber>(segment: &Sums<V::Sum>) -> Sums<V::Wide> {
     let [c, d] = segment.xc;
     let [e, f] = segment.x;
     Sums {
-        xs: [V::widen(a), V::widen(b)],
-        xc: [V::widen(c), V::widen(d)],
+        xs: [widen_product::<V>(a), widen_product::<V>(b)],
+        xc: [widen_product::<V>(c), widen_product::<V>(d)],
         x: [V::widen(e), V::widen(f)],
         s: V::widen(segment.s),
         c: V::widen(segment.c),
@@ -42,6 +60,57 @@ fn widen<V: DemodulatorNumber>(segment: &Sums<V::Sum>) -> Sums<V::Wide> {
 fn pairwise<A, B, C>(a: [A; 2], b: [B; 2], f: impl Fn(A, B) -> C) -> [C; 2] {
     let ([a0, a1], [b0, b1]) = (a, b);
     [f(a0, b0), f(a1, b1)]
+}
+
+/// The samples a segment takes at the loop's `step` (at least 1) to cover `distance` (1 to
+/// 7/8 of a turn) of phase: `ceil(distance / step)`, the division's result. On ARMv6-M
+/// (Cortex-M0/M0+, no divider: a 32-bit division is some 100 instructions) it is counted from
+/// `guess`, the same kind of segment's last length (or 0), a sample at a time: the step
+/// changes by a few percent between windows and a correction by at most a sixteenth of a
+/// turn, so the count moves by a few samples at most. ARMv6-M is told apart as in
+/// `fixed/multiply.rs`: the Arm architecture without 32-bit atomics.
+#[inline(always)]
+fn samples_to_reach(distance: u32, step: u32, guess: u32) -> u32 {
+    #[cfg(any(not(target_arch = "arm"), target_has_atomic = "32"))]
+    {
+        let _ = guess;
+        (distance - 1) / step + 1
+    }
+    #[cfg(not(any(not(target_arch = "arm"), target_has_atomic = "32")))]
+    {
+        counted(distance, step, guess)
+    }
+}
+
+/// [`samples_to_reach`] by counting from `guess` (taken within 1 to 128): `reach` is
+/// `n step` throughout, in 64 bits (a guess from a slower step times this one may pass 2^32);
+/// it ends at the least `n` with `n step >= distance`.
+#[cfg_attr(
+    not(all(target_arch = "arm", not(target_has_atomic = "32"))),
+    allow(dead_code)
+)]
+#[inline(always)]
+fn counted(distance: u32, step: u32, guess: u32) -> u32 {
+    let mut n = guess.clamp(1, 128);
+    // The loop's steps are below 0.3 turn (a carrier error of 0.2 at most and 4 samples a
+    // period or more), an i32.
+    let mut reach = crate::fixed::wide_product(n as i32, step as i32);
+    let (distance, step) = (i64::from(distance), i64::from(step));
+    if reach < distance {
+        while reach < distance {
+            reach += step;
+            n += 1;
+        }
+    } else {
+        while n > 1 {
+            let below = reach - step;
+            if below < distance {
+                break;
+            }
+            (reach, n) = (below, n - 1);
+        }
+    }
+    n
 }
 
 /// `2 rest + first + last` weighted sample offsets from the window's first sample, for
@@ -71,7 +140,14 @@ impl<V: DemodulatorNumber> Demodulator<V> {
         };
         let distance = if distance > limit { 1 } else { distance.max(1) };
         let step = state.step.max(1);
-        let length = (distance - 1) / step + 1;
+        // The same kind of segment's last length: the last first quarter's is the pending
+        // window's, the last rest's is kept in the pending window until this one ends.
+        let guess = if state.in_first_quarter {
+            state.pending.quarter
+        } else {
+            state.pending.rest
+        };
+        let length = samples_to_reach(distance, step, guess);
         state.current = Segment {
             first: state.sample,
             length,
@@ -99,28 +175,29 @@ impl<V: DemodulatorNumber> Demodulator<V> {
                 sums: widen::<V>(&segment.sums),
                 first: segment.first,
                 quarter: segment.length,
+                rest: state.pending.rest,
                 clip: segment.clip,
                 ..PendingWindow::default()
             };
             if state.excitation {
                 let (e, w) = (&segment.excitation, &mut pending.excitation);
-                w.xs = V::widen(e.xs);
-                w.xc = V::widen(e.xc);
+                w.xs = widen_product::<V>(e.xs);
+                w.xc = widen_product::<V>(e.xc);
                 w.x = V::widen(e.x);
             }
             state.pending = pending;
             pair
         } else {
             let (p, r) = (&mut state.pending, &segment.sums);
-            p.sums.xs = pairwise(p.sums.xs, r.xs, V::add_twice);
-            p.sums.xc = pairwise(p.sums.xc, r.xc, V::add_twice);
+            p.sums.xs = pairwise(p.sums.xs, r.xs, add_product_twice::<V>);
+            p.sums.xc = pairwise(p.sums.xc, r.xc, add_product_twice::<V>);
             p.sums.x = pairwise(p.sums.x, r.x, V::add_twice);
             p.sums.s = V::add_twice(p.sums.s, r.s);
             p.sums.c = V::add_twice(p.sums.c, r.c);
             if state.excitation {
                 let (w, e) = (&mut p.excitation, &segment.excitation);
-                w.xs = V::add_twice(w.xs, e.xs);
-                w.xc = V::add_twice(w.xc, e.xc);
+                w.xs = add_product_twice::<V>(w.xs, e.xs);
+                w.xc = add_product_twice::<V>(w.xc, e.xc);
                 w.x = V::add_twice(w.x, e.x);
             }
             p.rest = segment.length;
@@ -157,8 +234,8 @@ impl<V: DemodulatorNumber> Demodulator<V> {
             let (e, l) = (&pending.excitation, &last.excitation);
             let x = V::add_sum(e.x, l.x);
             Some((
-                V::component(V::add_sum(e.xs, l.xs), x, sums.s, per_weight),
-                V::component(V::add_sum(e.xc, l.xc), x, sums.c, per_weight),
+                V::component(add_product::<V>(e.xs, l.xs), x, sums.s, per_weight),
+                V::component(add_product::<V>(e.xc, l.xc), x, sums.c, per_weight),
             ))
         } else {
             None
@@ -224,5 +301,34 @@ impl<V: DemodulatorNumber> Demodulator<V> {
             weight,
             faults,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{QUARTER, counted, samples_to_reach};
+    use proptest::prelude::*;
+
+    proptest! {
+        /// From the last length of a segment (at a step within the loop's range) or none,
+        /// the count is the division.
+        #[test]
+        fn counting_gives_the_division(
+            distance in 1..=3 * QUARTER + QUARTER / 2,
+            samples_per_period in 4.0..64.0_f64,
+            error in 0.8..1.2_f64,
+            last_error in 0.8..1.2_f64,
+            last_distance in 1..=3 * QUARTER + QUARTER / 2,
+        ) {
+            let nominal = 4_294_967_296.0 / samples_per_period;
+            let (step, last) = ((nominal * error) as u32, (nominal * last_error) as u32);
+            for guess in [0, (last_distance - 1) / last + 1] {
+                prop_assert_eq!(counted(distance, step, guess), (distance - 1) / step + 1);
+                prop_assert_eq!(
+                    samples_to_reach(distance, step, guess),
+                    (distance - 1) / step + 1
+                );
+            }
+        }
     }
 }

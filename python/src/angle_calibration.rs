@@ -16,6 +16,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use crate::arrays::{check_equal_lengths, samples};
+use crate::counts::Clipping;
 use crate::dispatch::{Arg, PhaseSinCos, Run, RunSettings, Sample};
 use crate::errors::{Error, Result};
 use crate::estimates::{Estimates, OutputArrays};
@@ -261,17 +262,6 @@ pub fn checked(
     Ok((sensor, correction))
 }
 
-/// How the corrected observer checks its samples for clipping: against `range` (the
-/// samples' units), or with `measure` against the rails measured as they come (the core's
-/// `HeldRailCheck`), or not at all.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct Clipping {
-    /// The ADC's range.
-    pub range: Option<(f64, f64)>,
-    /// Without a range: the rails measured.
-    pub measure: bool,
-}
-
 /// The corrected observer's stages in `T`: the clipping checks, the stored sensor
 /// calibration, the angle correction.
 type CorrectedStages<T> = (
@@ -320,12 +310,6 @@ pub fn corrected<T: Sample, const N: usize, S: PhaseSinCos<T>>(
     correction: &AngleCorrection<f64>,
 ) -> Result<Box<dyn Run>> {
     let f = T::from_f64;
-    if clipping.measure && clipping.range.is_some() {
-        return Err(Error::value(
-            "measure_adc_range",
-            "give adc_range or measure_adc_range, not both",
-        ));
-    }
     let stated = match clipping.range {
         Some((min, max)) => Some(
             FrontEndCheck::around((), Some((f(min), f(max))))
@@ -376,10 +360,7 @@ impl PyCorrectedObserver {
     ) -> Result<Self> {
         let (sensor, correction) = checked(sensor, cos, sin)?;
         let settings = RunSettings::from_arguments(gains, dtype, sin_cos)?;
-        let clipping = Clipping {
-            range: crate::counts::adc_range(adc_range)?,
-            measure: measure_adc_range,
-        };
+        let clipping = Clipping::of_floats(adc_range, measure_adc_range)?;
         Ok(Self {
             inner: settings
                 .typed_gains()?

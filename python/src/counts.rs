@@ -83,6 +83,46 @@ pub struct AdcInput<T> {
     mid_scale_stated: bool,
 }
 
+/// The clipping arguments `adc_range` and `measure_adc_range` of an observer, checked: the
+/// ADC's stated range (`R`: floats in the samples' units, or the fixed point's integer codes),
+/// or the rails measured as the samples come (the core's `HeldRailCheck`), or neither.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Clipping<R = (f64, f64)> {
+    /// The stated range.
+    pub range: Option<R>,
+    /// Without a range: the rails measured.
+    pub measure: bool,
+}
+
+impl<R> Default for Clipping<R> {
+    fn default() -> Self {
+        Self {
+            range: None,
+            measure: false,
+        }
+    }
+}
+
+impl<R> Clipping<R> {
+    /// The arguments, refused (naming `measure_adc_range`) when both are given.
+    pub fn new(range: Option<R>, measure: bool) -> Result<Self> {
+        if measure && range.is_some() {
+            return Err(Error::value(
+                "measure_adc_range",
+                "give adc_range or measure_adc_range, not both",
+            ));
+        }
+        Ok(Self { range, measure })
+    }
+}
+
+impl Clipping {
+    /// The arguments of a float range ([`adc_range`]'s checks first).
+    pub fn of_floats(range: Option<(f64, f64)>, measure: bool) -> Result<Self> {
+        Self::new(adc_range(range)?, measure)
+    }
+}
+
 /// The ADC range argument `adc_range` checked: two finite numbers, the first below the
 /// second.
 pub fn adc_range(range: Option<(f64, f64)>) -> Result<Option<(f64, f64)>> {

@@ -11,9 +11,9 @@ use angletrack_core::{
 use numpy::Element;
 use pyo3::prelude::*;
 
-use crate::angle_calibration::Clipping;
 use crate::arrays::Float;
 use crate::batch::{Batch, RunBatch};
+use crate::counts::Clipping;
 use crate::errors::{Error, Result};
 use crate::estimates::Estimates;
 use crate::gains::{GainSet, PyGains};

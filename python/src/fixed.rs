@@ -21,6 +21,7 @@ use pyo3::types::{PyDict, PyMapping};
 use crate::angle_calibration::{SensorParameters, checked};
 use crate::arrays::{Samples, check_equal_lengths, samples};
 use crate::calibration::PySensorCalibration;
+use crate::counts::Clipping;
 use crate::design::{PyDesign, constants_dict};
 use crate::errors::{Error, Result};
 use crate::fixed_estimates::{FixedArrays, FixedEstimate, FixedEstimates};
@@ -266,23 +267,15 @@ fn front_end(
     calibration: Option<&Bound<'_, PyAny>>,
     mid_scale_counts: i32,
     input_shift: u32,
-    adc_range: Option<(i32, i32)>,
-    measure_adc_range: bool,
+    clipping: Clipping<(i32, i32)>,
 ) -> Result<Option<FixedFrontEnd>> {
     let (sensor, correction) = stages(calibration)?;
     if sensor.is_none()
         && mid_scale_counts == 0
         && input_shift == 0
-        && adc_range.is_none()
-        && !measure_adc_range
+        && clipping == Clipping::default()
     {
         return Ok(None);
-    }
-    if measure_adc_range && adc_range.is_some() {
-        return Err(Error::value(
-            "measure_adc_range",
-            "give adc_range or measure_adc_range, not both",
-        ));
     }
     let front_end = fixed_front_end(
         mid_scale_counts,
@@ -292,8 +285,8 @@ fn front_end(
     )?;
     Ok(Some(with_fixed_clipping(
         front_end,
-        adc_range,
-        measure_adc_range,
+        clipping.range,
+        clipping.measure,
     )?))
 }
 
@@ -330,8 +323,7 @@ impl PyFixedObserver {
                 calibration,
                 mid_scale_counts,
                 input_shift,
-                adc_range,
-                measure_adc_range,
+                Clipping::new(adc_range, measure_adc_range)?,
             )?,
         )
     }
@@ -381,8 +373,7 @@ impl PyFixedObserver {
                 calibration,
                 mid_scale_counts,
                 input_shift,
-                adc_range,
-                measure_adc_range,
+                Clipping::new(adc_range, measure_adc_range)?,
             )?,
         )
     }

@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 
 use crate::arrays::Float;
 use crate::calibration::{CalibrationChoice, PySensorCalibration, mode_name, status_name};
-use crate::counts::adc_settings;
+use crate::counts::{Clipping, adc_settings};
 use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::{Arg, Run, RunSettings};
 use crate::errors::{Error, Result};
@@ -26,27 +26,11 @@ pub struct ObserverOptions {
     pub adc: CountsSettings,
     /// The online calibration.
     pub calibration: CalibrationChoice,
-    /// The ADC's range `(min, max)` in the input's units (counts for integer samples):
-    /// a sample at or beyond it is clipped (`crate::front_end`).
-    pub adc_range: Option<(f64, f64)>,
-    /// Without `adc_range`: clipping flagged against the rails measured as the samples come
-    /// (the core's `HeldRailCheck`).
-    pub measure_adc_range: bool,
+    /// The clipping checks: the ADC's range in the input's units (counts for integer
+    /// samples), or the rails measured.
+    pub clipping: Clipping,
     /// The windings' nominal envelope amplitude for the winding check (`None`: no check).
     pub winding_amplitude: Option<f64>,
-}
-
-impl ObserverOptions {
-    /// Refuses a stated range with the measured one.
-    pub fn checked(self) -> Result<Self> {
-        if self.measure_adc_range && self.adc_range.is_some() {
-            return Err(Error::value(
-                "measure_adc_range",
-                "give adc_range or measure_adc_range, not both",
-            ));
-        }
-        Ok(self)
-    }
 }
 
 /// What `Observer` does with the core observer of whichever float type, order and sin/cos
@@ -60,7 +44,8 @@ pub trait ObserverOps: Run {
         y_s: Arg<'_, '_>,
         front_end_faults: Option<&[u8]>,
     ) -> Result<Estimates>;
-    /// The front-end faults latched (of the check and the winding check).
+    /// The front-end faults latched (of the range check, the rails measured and the winding
+    /// check).
     fn front_end_faults(&self) -> FrontEndFaults;
     fn estimate(&self) -> Estimate;
     fn reset(&mut self);
@@ -149,11 +134,9 @@ impl PyObserver {
             thresholds: fault_thresholds,
             adc: adc_settings(adc_mid_scale, adc_counts_per_unit)?,
             calibration: CalibrationChoice::new(calibration, initial_calibration)?,
-            adc_range: crate::counts::adc_range(adc_range)?,
-            measure_adc_range,
+            clipping: Clipping::of_floats(adc_range, measure_adc_range)?,
             winding_amplitude,
-        }
-        .checked()?;
+        };
         RunSettings::from_arguments(gains, dtype, sin_cos)?.subclass(|gains| {
             let inner = gains.observer(&options)?;
             Ok(Self { inner })
@@ -348,8 +331,7 @@ pub fn track(
         thresholds: fault_thresholds,
         adc: adc_settings(adc_mid_scale, adc_counts_per_unit)?,
         calibration: CalibrationChoice::default(),
-        adc_range: crate::counts::adc_range(adc_range)?,
-        measure_adc_range: false,
+        clipping: Clipping::of_floats(adc_range, false)?,
         winding_amplitude: None,
     };
     settings

@@ -48,8 +48,8 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Channel<T, N, S> {
             calibrator: options.calibration.calibrator()?,
             adc: AdcInput::new(options.adc),
             thresholds,
-            adc_range: options.adc_range,
-            held_rails: options.measure_adc_range.then_some(HeldRailCheck::new()),
+            adc_range: options.clipping.range,
+            held_rails: options.clipping.measure.then_some(HeldRailCheck::new()),
             rails: HeldRails::default(),
             winding: options
                 .winding_amplitude

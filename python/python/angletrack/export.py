@@ -40,7 +40,7 @@ def to_json(gains: Gains, *, metadata: dict[str, Any] | None = None) -> str:
     """JSON with the gains and the sample period in float64 (exact round trip), plus
     ``metadata`` (the design's method and specification) under ``design``
     (``angletrack::export::GainsFile``)."""
-    return _angletrack.gains_file_json(gains, None if metadata is None else json.dumps(metadata))
+    return _angletrack.gains_file_json(gains, json.dumps(metadata) if metadata else None)
 
 
 def gains_from_json(text: str, file: str = "gains file") -> Gains:
@@ -71,7 +71,7 @@ def fixed_to_rust(constants: FixedConstants, *, name: str = "angletrack", descri
 def fixed_to_json(constants: FixedConstants, *, metadata: dict[str, Any] | None = None) -> str:
     """JSON with the fixed-point constants, the gains they represent and the sample period
     (``angletrack::export::FixedGainsFile``)."""
-    return _angletrack.fixed_gains_file_json(constants, None if metadata is None else json.dumps(metadata))
+    return _angletrack.fixed_gains_file_json(constants, json.dumps(metadata) if metadata else None)
 
 
 def fixed_from_json(text: str, file: str = "gains file") -> FixedConstants:

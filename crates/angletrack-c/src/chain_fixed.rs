@@ -200,13 +200,11 @@ where
 }
 
 impl<const N: usize> ChainFixed<N> {
-    /// The chain with clipping flagged at the codes `min` and `max`: checked ordered, then
-    /// taken through the ADC's shift to the observer's 16 bits (exact: a code at a rail is
-    /// the rail's value; saturated beyond 16 bits, as the samples are).
+    /// The chain with clipping flagged at the codes `min` and `max` (the core's
+    /// `FrontEndCheck::of_adc_codes`: through the ADC to the observer's 16 bits, exact).
     fn with_adc_range(mut self, min: i32, max: i32) -> Result<Self, ConfigError> {
-        FrontEndCheck::around((), Some((min, max)))?;
-        let rails = self.chain.front_end.0.sample(min, max);
-        self.chain.front_end.1.0 = Some(FrontEndCheck::around((), Some(rails))?);
+        let check = FrontEndCheck::of_adc_codes(&self.chain.front_end.0, min, max)?;
+        self.chain.front_end.1.0 = Some(check);
         self.chain.front_end.1.1.0 = None;
         Ok(self)
     }

@@ -5,6 +5,7 @@
 //! prediction ([`Stage::coasts`]) and the estimate carries [`Faults::FRONT_END`].
 
 use super::{Feedback, Prediction, Stage};
+use crate::adc::AdcCounts;
 use crate::error::{ConfigError, Parameter};
 use crate::faults::Faults;
 use crate::front_end_faults::FrontEndFaults;
@@ -105,6 +106,33 @@ impl<X> FrontEndCheck<X> {
             range: None,
             inner: (),
         }
+    }
+}
+
+impl FrontEndCheck<i16> {
+    /// The fixed-point chain's check of its 16-bit samples against the ADC's range of codes
+    /// `min_counts` to `max_counts` (as the chain takes them), taken through `adc`: exact, a
+    /// code at a rail gives the rail's sample (saturated beyond 16 bits, as the samples are).
+    /// Refuses codes that are not ordered, or that the saturation joins
+    /// ([`Parameter::AdcRange`]).
+    ///
+    /// ```
+    /// use angletrack_core::{AdcCounts, FrontEndCheck, Parameter};
+    /// let adc = AdcCounts::offset_binary(12)?;
+    /// let check = FrontEndCheck::of_adc_codes(&adc, 0, 4095)?;
+    /// assert_eq!(check.adc_range(), Some((-32768, 32752)));
+    /// let err = FrontEndCheck::of_adc_codes(&adc, 4095, 0).unwrap_err();
+    /// assert_eq!(err.parameter(), Parameter::AdcRange);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub fn of_adc_codes(
+        adc: &AdcCounts,
+        min_counts: i32,
+        max_counts: i32,
+    ) -> Result<Self, ConfigError> {
+        // Ordered in codes first: the ADC's saturation keeps the order, but may join them.
+        FrontEndCheck::<i32>::around((), Some((min_counts, max_counts)))?;
+        Self::around((), Some(adc.sample(min_counts, max_counts)))
     }
 }
 

@@ -154,11 +154,7 @@ pub fn with_fixed_clipping(
                 angletrack_core::Parameter::AdcRange,
             ));
         }
-        Some((min, max)) => {
-            // Ordered in counts, then through the ADC (its saturation keeps the order).
-            FrontEndCheck::around((), Some((min, max)))?;
-            Some(FrontEndCheck::around((), Some(adc.sample(min, max)))?)
-        }
+        Some((min, max)) => Some(FrontEndCheck::of_adc_codes(&adc, min, max)?),
         None => None,
     };
     let measured = (measure_rails && adc_range.is_none()).then_some(HeldRailCheck::new());

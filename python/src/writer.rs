@@ -229,15 +229,9 @@ fn column_values<'py>(
         ColumnType::I32 => typed(array).map(ColumnArray::I32),
     };
     values.ok_or_else(|| {
-        let wanted = match kind {
-            ColumnType::F64 => "float64",
-            ColumnType::F32 => "float32",
-            ColumnType::U8 => "uint8",
-            ColumnType::I32 => "int32",
-        };
         Error::value(
             "arrays",
-            format!("{name}: expected a contiguous 1-D {wanted} array"),
+            format!("{name}: expected a contiguous 1-D {} array", kind.name()),
         )
     })
 }

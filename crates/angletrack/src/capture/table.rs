@@ -70,8 +70,25 @@ impl ColumnType {
         }
     }
 
-    /// The type of a numpy type name (`float64`, `float32`, `uint8`, `int32`, as
-    /// `numpy.dtype(...).name` gives them); `None` for another.
+    /// Every column type.
+    pub const ALL: [ColumnType; 4] = [
+        ColumnType::F64,
+        ColumnType::F32,
+        ColumnType::U8,
+        ColumnType::I32,
+    ];
+
+    /// The numpy type name (`numpy.dtype(...).name`): `float64`, `float32`, `uint8`, `int32`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ColumnType::F64 => "float64",
+            ColumnType::F32 => "float32",
+            ColumnType::U8 => "uint8",
+            ColumnType::I32 => "int32",
+        }
+    }
+
+    /// The type of a numpy type name ([`ColumnType::name`]); `None` for another.
     ///
     /// ```
     /// use angletrack::capture::ColumnType;
@@ -79,13 +96,7 @@ impl ColumnType {
     /// assert_eq!(ColumnType::of_name("int64"), None);
     /// ```
     pub fn of_name(name: &str) -> Option<Self> {
-        match name {
-            "float64" => Some(ColumnType::F64),
-            "float32" => Some(ColumnType::F32),
-            "uint8" => Some(ColumnType::U8),
-            "int32" => Some(ColumnType::I32),
-            _ => None,
-        }
+        Self::ALL.into_iter().find(|t| t.name() == name)
     }
 }
 

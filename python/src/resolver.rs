@@ -4,7 +4,7 @@
 //! `ResolverModel` and `resolver_windings` (the scenario generator's carrier-modulated
 //! windings); the drive's outputs are in `drive`.
 
-use angletrack::ResolverModel;
+use angletrack::{ResolverModel, WindingRails};
 use angletrack_core::{
     ConfigError as CoreConfigError, Demodulator as CoreDemodulator, DemodulatorSettings,
     DemodulatorState, Parameter,
@@ -75,13 +75,18 @@ impl PyDemodulatedPairs {
 /// `samples_per_period` times the carrier), optionally with the excitation's samples, in;
 /// one `(y_c, y_s)` pair per tracked carrier period out. The carrier's phase and frequency
 /// are tracked; its half-turn ambiguity is resolved from the excitation when given, else
-/// around `expected_delay_rad` (the carrier's phase at the first sample). The state carries
-/// over between `push` calls.
+/// around `expected_delay_rad` (the carrier's phase at the first sample). Clipping is
+/// checked against `adc_min_code` to `adc_max_code`; with `measure_adc_range=True` also
+/// against the rails measured on each pushed block (for a range that is only a guess: every
+/// pair whose window holds a sample at a rail is flagged clipping). The state carries over
+/// between `push` calls.
 #[pyclass(name = "Demodulator", module = "angletrack")]
 #[derive(Debug)]
 pub struct PyDemodulator {
     demodulator: CoreDemodulator<f64>,
     state: DemodulatorState<f64>,
+    /// The rails measured as the samples come (`measure_adc_range=True`).
+    rails: Option<WindingRails>,
 }
 
 #[pymethods]
@@ -91,7 +96,7 @@ impl PyDemodulator {
         samples_per_period = None, adc_min_code = 0.0, adc_max_code = 4095.0,
         expected_delay_rad = 0.0, startup_periods = None, phase_drift_bound_rad = None,
         loss_of_excitation = None, weak_excitation = None, carrier_loop_bandwidth = None,
-        max_carrier_error = None))]
+        max_carrier_error = None, measure_adc_range = false))]
     #[allow(clippy::too_many_arguments)]
     fn py_new(
         carrier_hz: f64,
@@ -107,6 +112,7 @@ impl PyDemodulator {
         weak_excitation: Option<f64>,
         carrier_loop_bandwidth: Option<f64>,
         max_carrier_error: Option<f64>,
+        measure_adc_range: bool,
     ) -> Result<Self> {
         let adc_rate_hz = match (adc_rate_hz, samples_per_period) {
             (Some(rate), None) => rate,
@@ -147,6 +153,7 @@ impl PyDemodulator {
         Ok(Self {
             demodulator,
             state: DemodulatorState::new(),
+            rails: measure_adc_range.then(WindingRails::new),
         })
     }
 
@@ -178,7 +185,7 @@ impl PyDemodulator {
                 "give the excitation on every push of a run or on none",
             ));
         }
-        let (demodulator, state) = (&self.demodulator, &mut self.state);
+        let (demodulator, state, rails) = (&self.demodulator, &mut self.state, &mut self.rails);
         let p = py.detach(|| {
             let mut out = PairColumns::default();
             let sink = |pair: angletrack_core::DemodulatedPair<f64>| {
@@ -190,9 +197,10 @@ impl PyDemodulator {
                 out.window.push(pair.window);
                 out.faults.push(pair.faults.bits());
             };
-            match e {
-                Some(e) => demodulator.push_block_with_excitation(state, c, s, e, sink),
-                None => demodulator.push_block(state, c, s, sink),
+            match (rails, e) {
+                (Some(rails), e) => rails.push_block(demodulator, state, c, s, e, sink),
+                (None, Some(e)) => demodulator.push_block_with_excitation(state, c, s, e, sink),
+                (None, None) => demodulator.push_block(state, c, s, sink),
             };
             out
         });
@@ -257,10 +265,27 @@ impl PyDemodulator {
         self.state.startup_delay_rad()
     }
 
-    /// The front-end faults latched so far (bits, as `DemodulatedPairs.faults`).
+    /// The front-end faults latched so far (bits, as `DemodulatedPairs.faults`), the
+    /// clipping against the measured rails included.
     #[getter]
     fn latched_faults(&self) -> u8 {
-        self.state.latched_faults().bits()
+        let measured = self.rails.as_ref().map(WindingRails::latched_faults);
+        (self.state.latched_faults() | measured.unwrap_or_default()).bits()
+    }
+
+    /// With `measure_adc_range=True`: the rails measured so far, `(low, high)` (a side
+    /// without a rail one span beyond the samples), or `None` before the first; `None`
+    /// without it.
+    #[getter]
+    fn measured_adc_range(&self) -> Option<(f64, f64)> {
+        self.rails.as_ref().and_then(WindingRails::rails)
+    }
+
+    /// With `measure_adc_range=True`: the samples found at a measured rail so far; 0
+    /// without it.
+    #[getter]
+    fn clipped_samples(&self) -> u64 {
+        self.rails.as_ref().map_or(0, WindingRails::clipped_samples)
     }
 
     fn __repr__(&self) -> String {

@@ -15,6 +15,7 @@ CARRIER_HZ = 10_000.0
 ADC_HZ = 160_000.0
 OMEGA = 2 * math.pi * 50.0  # 50 rev/s
 FRONT_END = int(angletrack.Faults.FRONT_END)
+CLIPPING = 4  # among the front-end faults (DemodulatedPairs.faults)
 
 
 def wrapped(a):
@@ -107,6 +108,34 @@ def test_a_10_ms_loss_of_excitation_is_coasted_through(tmp_path, carrier_gains, 
     after = est["time_s"] > lost[1] + 2e-4
     assert not np.any(est["faults"][after].astype(int) & (FRONT_END | int(angletrack.Faults.FALSE_LOCK)))
     assert "LOSS_OF_EXCITATION" in summary
+
+
+def test_carrier_windings_clipped_after_the_first_chunk_are_flagged(tmp_path, carrier_gains, capsys):
+    # Windings in volts (no ADC range stated): amplitude 0.7 for the first 0.5 s (80,000
+    # samples, past the first chunk of 65,536 rows), then 1.5, clipped at +-0.9 (the carrier's
+    # peaks held flat over 4 samples or more, what makes a rail). The first
+    # chunk holds no rail, so the range is a guess (-2 to 1) that the clipping never reaches:
+    # the rails must be measured on the later samples, and every pair whose window holds a
+    # clipped sample flagged.
+    t = np.arange(96_000) / ADC_HZ
+    theta = 0.3 + OMEGA * t
+    carrier = np.sin(2 * math.pi * CARRIER_HZ * t - math.radians(20.0))
+    amplitude = np.where(t < 0.5, 0.7, 1.5)
+    c = np.clip(amplitude * np.cos(theta) * carrier, -0.9, 0.9)
+    s = np.clip(amplitude * np.sin(theta) * carrier, -0.9, 0.9)
+    est, error, summary = track_windings(tmp_path, carrier_gains, t, theta, c, s, capsys)
+    clipped = (np.abs(c) >= 0.9) | (np.abs(s) >= 0.9)
+    assert not np.any(clipped[t < 0.5]) and np.mean(clipped[t >= 0.5]) > 0.2
+    flagged = (est["front_end_faults"].astype(int) & CLIPPING) != 0
+    # A window is 1.25 carrier periods (20 samples) about its centre stamp: each pair whose
+    # window holds a clipped sample is flagged, and none of the clean part is.
+    period = 1.0 / CARRIER_HZ
+    holds = np.array([np.any(clipped[(t >= stamp - 0.625 * period) & (t < stamp + 0.625 * period)])
+                      for stamp in est["time_s"]])
+    assert not np.any(flagged[est["time_s"] < 0.5 - period])
+    late = est["time_s"] > 0.5 + period
+    assert np.mean(holds[late]) > 0.9 and np.all(flagged[late][holds[late]])
+    assert "CLIPPING" in summary and "rails measured as the samples come" in summary, summary
 
 
 @pytest.mark.parametrize("delay_deg", [90.0, 305.0])

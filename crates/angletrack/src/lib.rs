@@ -91,6 +91,7 @@ pub mod paper;
 mod rails;
 mod sim;
 mod thresholds;
+mod winding_rails;
 
 pub use analysis::{
     DesignReport, LARGE_STEP_RAD, PredictedError, SETTLING_BAND, StepResponse,
@@ -128,3 +129,4 @@ pub use sim::{
     with_fixed_clipping,
 };
 pub use thresholds::ThresholdPolicy;
+pub use winding_rails::WindingRails;

@@ -263,6 +263,9 @@ def track_windings(s) -> tuple:
     demodulator = angletrack.Demodulator(
         carrier_hz=carrier_hz, adc_rate_hz=adc_hz, carrier_amplitude_counts=amplitude,
         adc_min_code=adc_min, adc_max_code=adc_max, expected_delay_rad=math.radians(s.expected_delay_deg),
+        # A guessed range may lie beyond rails that only later samples reach: they are
+        # measured as the samples come.
+        measure_adc_range=adc_how == "guessed",
     )
     dtype = np.dtype(s.dtype)
     observer = pairs_observer(s, gains)
@@ -320,8 +323,8 @@ def track_windings(s) -> tuple:
     lines = [
         repr(observer),
         f"{reader.rows} ADC samples at {adc_hz:.6g} Hz ({n:.6g} per {carrier_hz:.6g} Hz carrier period; amplitude "
-        f"{amplitude:.6g} counts, ADC codes {adc_min:.6g} to {adc_max:.6g}, {adc_how}) -> {pairs_total} estimates -> "
-        f"{s.output}",
+        f"{amplitude:.6g} counts, ADC codes {adc_min:.6g} to {adc_max:.6g}, {adc_how}{_rails_note(demodulator, adc_how)}) -> "
+        f"{pairs_total} estimates -> {s.output}",
         _delay_line(demodulator, s.expected_delay_deg),
         f"front-end faults latched: {_front_end_names(_latched_front_end(demodulator, observer))}; "
         f"observer faults latched: {latched.name if latched else 'none'}",
@@ -329,6 +332,17 @@ def track_windings(s) -> tuple:
     if stats is not None:
         lines.append(stats.report())
     return "\n".join(lines), observer
+
+
+def _rails_note(demodulator, adc_how: str) -> str:
+    """After a guessed range: the rails measured as the samples come and what they found."""
+    if adc_how != "guessed":
+        return ""
+    if demodulator.measured_adc_range is None:
+        return "; rails measured as the samples come: none found"
+    low, high = demodulator.measured_adc_range
+    return (f"; rails measured as the samples come: {low:.6g} to {high:.6g}, "
+            f"{demodulator.clipped_samples} samples clipped")
 
 
 def _latched_front_end(demodulator, observer) -> int:

@@ -1,6 +1,6 @@
 //! `FaultThresholds` and the fault flags: the core's diagnostics, configured from Python.
 
-use angletrack_core::{FaultThresholds as CoreThresholds, Faults, Float, Real};
+use angletrack_core::{FaultThresholds as CoreThresholds, Faults, Float, FrontEndFaults, Real};
 use pyo3::prelude::*;
 
 /// Thresholds of the observer's diagnostics (like an RDC chip's fault register) and of its
@@ -164,8 +164,26 @@ impl PyFaultThresholds {
 /// `Observer.latched_faults`, by the names of the core's `Faults` constants
 /// (`LOSS_OF_SIGNAL`: the core's "loss of signal" in upper case, words joined by `_`).
 pub fn fault_bits() -> Vec<(String, u8)> {
-    Faults::NAMES
-        .iter()
-        .map(|(flag, name)| (name.to_uppercase().replace(' ', "_"), flag.bits()))
+    constant_names(
+        Faults::NAMES
+            .iter()
+            .map(|(flag, name)| (*name, flag.bits())),
+    )
+}
+
+/// The front-end fault flag bits of `DemodulatedPairs.faults`, the resolver path's
+/// `front_end_faults` column and `Demodulator.latched_faults`, named as [`fault_bits`].
+pub fn front_end_fault_bits() -> Vec<(String, u8)> {
+    constant_names(
+        FrontEndFaults::NAMES
+            .iter()
+            .map(|(flag, name)| (*name, flag.bits())),
+    )
+}
+
+/// The core's flag names as its constants spell them.
+fn constant_names<'a>(flags: impl Iterator<Item = (&'a str, u8)>) -> Vec<(String, u8)> {
+    flags
+        .map(|(name, bits)| (name.to_uppercase().replace(' ', "_"), bits))
         .collect()
 }

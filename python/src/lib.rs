@@ -45,6 +45,7 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<diagnostics::PyFaultThresholds>()?;
     m.add_class::<calibration::PySensorCalibration>()?;
     m.add("FAULT_BITS", diagnostics::fault_bits())?;
+    m.add("FRONT_END_FAULT_BITS", diagnostics::front_end_fault_bits())?;
     m.add_class::<estimates::Estimate>()?;
     m.add_class::<estimates::Estimates>()?;
     m.add_function(wrap_pyfunction!(observer::track, m)?)?;

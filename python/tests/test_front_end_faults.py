@@ -15,7 +15,7 @@ CARRIER_HZ = 10_000.0
 ADC_HZ = 160_000.0
 OMEGA = 2 * math.pi * 50.0  # 50 rev/s
 FRONT_END = int(angletrack.Faults.FRONT_END)
-CLIPPING = 4  # among the front-end faults (DemodulatedPairs.faults)
+CLIPPING = int(angletrack.FrontEndFaults.CLIPPING)
 
 
 def wrapped(a):
@@ -103,11 +103,19 @@ def test_a_10_ms_loss_of_excitation_is_coasted_through(tmp_path, carrier_gains, 
     assert np.max(np.abs(error[through])) < 0.02
     assert np.max(np.abs(est["speed_rad_s"][through] / OMEGA - 1.0)) < 0.02
     during = (est["time_s"] > lost[0] + 2e-4) & (est["time_s"] < lost[1] - 2e-4)
-    assert np.all(est["front_end_faults"][during].astype(int) & 1)
+    assert np.all(est["front_end_faults"][during].astype(int) & int(angletrack.FrontEndFaults.LOSS_OF_EXCITATION))
     assert np.all(est["faults"][during].astype(int) & FRONT_END)
     after = est["time_s"] > lost[1] + 2e-4
     assert not np.any(est["faults"][after].astype(int) & (FRONT_END | int(angletrack.Faults.FALSE_LOCK)))
     assert "LOSS_OF_EXCITATION" in summary
+
+
+def test_the_front_end_fault_flags_are_the_cores():
+    # The bits of DemodulatedPairs.faults and the front_end_faults column, documented in
+    # the C header and the guide: a renamed or moved flag is an incompatible change.
+    flags = [(flag.name, int(flag)) for flag in angletrack.FrontEndFaults]
+    assert flags == [("LOSS_OF_EXCITATION", 1), ("PHASE_DRIFT", 2), ("CLIPPING", 4), ("WEAK_EXCITATION", 8),
+                     ("WINDING", 16)]
 
 
 def test_carrier_windings_clipped_after_the_first_chunk_are_flagged(tmp_path, carrier_gains, capsys):

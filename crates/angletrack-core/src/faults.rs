@@ -137,38 +137,60 @@ impl fmt::Debug for Faults {
 #[cfg(feature = "defmt")]
 impl defmt::Format for Faults {
     fn format(&self, f: defmt::Formatter<'_>) {
-        if self.is_empty() {
-            defmt::write!(f, "none");
-            return;
-        }
-        let mut first = true;
-        for (flag, name) in Faults::NAMES {
-            if self.contains(flag) {
-                if !first {
-                    defmt::write!(f, ", ");
-                }
-                defmt::write!(f, "{=str}", name);
-                first = false;
-            }
-        }
+        format_names(
+            f,
+            Faults::NAMES
+                .iter()
+                .filter(|(flag, _)| self.contains(*flag))
+                .map(|(_, name)| *name),
+        );
     }
+}
+
+/// `names` apart by commas, `none` if there are none: a fault register for `defmt`.
+#[cfg(feature = "defmt")]
+pub(crate) fn format_names<'a>(f: defmt::Formatter<'_>, names: impl Iterator<Item = &'a str>) {
+    let mut first = true;
+    for name in names {
+        if !first {
+            defmt::write!(f, ", ");
+        }
+        defmt::write!(f, "{=str}", name);
+        first = false;
+    }
+    if first {
+        defmt::write!(f, "none");
+    }
+}
+
+/// `names` apart by commas, `none` if there are none: a fault register's
+/// [`Display`](fmt::Display).
+pub(crate) fn write_names<'a>(
+    f: &mut fmt::Formatter<'_>,
+    names: impl Iterator<Item = &'a str>,
+) -> fmt::Result {
+    let mut first = true;
+    for name in names {
+        if !first {
+            f.write_str(", ")?;
+        }
+        f.write_str(name)?;
+        first = false;
+    }
+    if first {
+        f.write_str("none")?;
+    }
+    Ok(())
 }
 
 impl fmt::Display for Faults {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.is_empty() {
-            return f.write_str("none");
-        }
-        let mut first = true;
-        for (flag, name) in Faults::NAMES {
-            if self.contains(flag) {
-                if !first {
-                    f.write_str(", ")?;
-                }
-                f.write_str(name)?;
-                first = false;
-            }
-        }
-        Ok(())
+        write_names(
+            f,
+            Faults::NAMES
+                .iter()
+                .filter(|(flag, _)| self.contains(*flag))
+                .map(|(_, name)| *name),
+        )
     }
 }

@@ -37,6 +37,25 @@ impl FrontEndFaults {
     pub const INVALIDATING: FrontEndFaults =
         FrontEndFaults(Self::LOSS_OF_EXCITATION.0 | Self::WINDING.0);
 
+    /// Every flag with its name, in bit order: the names [`Display`](core::fmt::Display)
+    /// writes (the constant's name in lower case, words apart), for code that lists the
+    /// flags, such as a binding that builds its own flag type from them.
+    ///
+    /// ```
+    /// use angletrack_core::FrontEndFaults;
+    /// assert_eq!(FrontEndFaults::NAMES[2], (FrontEndFaults::CLIPPING, "clipping"));
+    /// let all = FrontEndFaults::NAMES.iter().fold(FrontEndFaults::NONE, |all, (f, _)| all | *f);
+    /// assert_eq!(all.bits(), 0x1f);
+    /// assert_eq!((FrontEndFaults::CLIPPING | FrontEndFaults::WINDING).to_string(), "clipping, winding");
+    /// ```
+    pub const NAMES: [(FrontEndFaults, &'static str); 5] = [
+        (FrontEndFaults::LOSS_OF_EXCITATION, "loss of excitation"),
+        (FrontEndFaults::PHASE_DRIFT, "phase drift"),
+        (FrontEndFaults::CLIPPING, "clipping"),
+        (FrontEndFaults::WEAK_EXCITATION, "weak excitation"),
+        (FrontEndFaults::WINDING, "winding"),
+    ];
+
     /// The raw bits (bit 0 loss of excitation, 1 phase drift, 2 clipping, 3 weak
     /// excitation, 4 winding).
     pub const fn bits(self) -> u8 {
@@ -75,6 +94,27 @@ impl FrontEndFaults {
     #[inline(always)]
     pub(crate) const fn when(condition: bool, flag: FrontEndFaults) -> FrontEndFaults {
         FrontEndFaults(flag.0 * condition as u8)
+    }
+}
+
+/// The flags by name (`none` when empty); unknown bits are not named.
+impl core::fmt::Display for FrontEndFaults {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let set = FrontEndFaults::NAMES
+            .iter()
+            .filter(|(flag, _)| self.contains(*flag));
+        crate::faults::write_names(f, set.map(|(_, name)| *name))
+    }
+}
+
+/// The flags by name, as [`Display`](core::fmt::Display) writes them (`none` when empty).
+#[cfg(feature = "defmt")]
+impl defmt::Format for FrontEndFaults {
+    fn format(&self, f: defmt::Formatter<'_>) {
+        let set = FrontEndFaults::NAMES
+            .iter()
+            .filter(|(flag, _)| self.contains(*flag));
+        crate::faults::format_names(f, set.map(|(_, name)| *name));
     }
 }
 

@@ -43,6 +43,7 @@ from angletrack._angletrack import (
     Estimates,
     EstimatesWriter,
     FAULT_BITS,
+    FRONT_END_FAULT_BITS,
     FaultThresholds,
     FixedEstimate,
     FixedEstimates,
@@ -119,6 +120,7 @@ __all__ = [
     "EstimatesWriter",
     "FaultThresholds",
     "Faults",
+    "FrontEndFaults",
     "FixedEstimate",
     "FixedEstimates",
     "FixedObserver",
@@ -182,9 +184,6 @@ __all__ = [
     "track_calibrated",
 ]
 
-#: Fault flags of ``Estimates.faults`` (uint8 per sample), ``Estimate.faults`` and
-#: ``Observer.latched_faults``, as in an RDC chip's fault register: ``Faults(bits)`` names
-#: them, ``est.faults & Faults.BAD_SAMPLE`` selects one.
 from angletrack.harmonics import (  # noqa: E402
     CalibratedObserver,
     Calibration,
@@ -192,16 +191,32 @@ from angletrack.harmonics import (  # noqa: E402
     track_calibrated,
 )
 
-Faults = _enum.IntFlag("Faults", dict(FAULT_BITS))
-Faults.__module__ = __name__
-Faults.__doc__ = (
+
+def _flags(name: str, bits, doc: str):
+    """A flag type of this package named ``name`` from the crate's ``(name, bit)`` list."""
+    flags = _enum.IntFlag(name, dict(bits))
+    flags.__module__, flags.__doc__ = __name__, doc
+    return flags
+
+
+#: Fault flags of ``Estimates.faults`` (uint8 per sample), ``Estimate.faults`` and
+#: ``Observer.latched_faults``, as in an RDC chip's fault register: ``Faults(bits)`` names
+#: them, ``est.faults & Faults.BAD_SAMPLE`` selects one.
+Faults = _flags("Faults", FAULT_BITS, (
     "Fault flags as in an RDC chip's fault register: LOSS_OF_SIGNAL, DEGRADATION_OF_SIGNAL, "
     "LOSS_OF_TRACKING, BAD_SAMPLE (the observer coasted), FALSE_LOCK (re-acquired), and with the "
     "online calibration AMPLITUDE_MISMATCH (channel gains apart) and OFFSET_OR_QUADRATURE (a "
     "learned offset or quadrature angle beyond its bound); FRONT_END: a front-end fault (clipping "
     "against adc_range, a demodulator's fault, a winding open or shorted), coasted through when it "
     "invalidates the sample."
-)
+))
+
+#: The resolver front end's own fault flags, as ``Faults`` names the observer's.
+FrontEndFaults = _flags("FrontEndFaults", FRONT_END_FAULT_BITS, (
+    "The resolver front end's fault flags (``DemodulatedPairs.faults``, the resolver path's "
+    "front_end_faults column, ``Demodulator.latched_faults``): LOSS_OF_EXCITATION, PHASE_DRIFT "
+    "(the carrier loop out of lock), CLIPPING, WEAK_EXCITATION, WINDING (open or shorted)."
+))
 
 # The resolver front end's whole-array helpers (pure Python over the extension's classes).
 from angletrack.resolver import demodulate, drive_outputs  # noqa: E402

@@ -485,6 +485,7 @@ def track_batch(
 # ----------------------------------------------------------------- diagnostics
 
 FAULT_BITS: list[tuple[str, int]]
+FRONT_END_FAULT_BITS: list[tuple[str, int]]
 
 class FaultThresholds:
     """Diagnostics thresholds (defaults for ``nominal_amplitude``)."""

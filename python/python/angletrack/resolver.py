@@ -366,6 +366,5 @@ def _delay_line(demodulator, expected_delay_deg: float) -> str:
 
 
 def _front_end_names(bits: int) -> str:
-    names = [name for bit, name in ((1, "LOSS_OF_EXCITATION"), (2, "PHASE_DRIFT"), (4, "CLIPPING"),
-                                    (8, "WEAK_EXCITATION"), (16, "WINDING")) if bits & bit]
+    names = [flag.name for flag in angletrack.FrontEndFaults if bits & flag]
     return "|".join(names) if names else "none"

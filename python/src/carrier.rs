@@ -5,8 +5,10 @@
 
 use pyo3::prelude::*;
 
+use angletrack::{WindingsPlan, WindingsSettings};
+
 use crate::arrays::samples;
-use crate::errors::Result;
+use crate::errors::{Error, Result};
 
 /// The carrier frequency of the raw windings `y_c`, `y_s` (1-D float64, any offset) in
 /// cycles per sample, from the tone at twice the carrier in `y_c^2 + y_s^2` (the angle
@@ -49,4 +51,72 @@ pub fn measured_adc_range(
 ) -> Result<Option<(f64, f64)>> {
     let (c, s) = (samples::<f64>(y_c, "y_c")?, samples::<f64>(y_s, "y_s")?);
     Ok(angletrack::measured_adc_range(c.as_slice(), s.as_slice()))
+}
+
+/// How a capture of raw windings is demodulated (`angletrack::WindingsPlan`): the ADC rate
+/// and samples per declared carrier period, a winding's carrier amplitude, the ADC's codes
+/// and where they come from (`"stated"`, `"measured: extremes held flat"` or `"guessed"`).
+#[pyclass(name = "WindingsPlan", module = "angletrack", frozen, get_all)]
+#[derive(Debug, Clone)]
+pub struct PyWindingsPlan {
+    /// The ADC rate (Hz).
+    adc_rate_hz: f64,
+    /// ADC samples per declared carrier period.
+    samples_per_period: f64,
+    /// A winding's carrier amplitude at envelope 1 (counts).
+    carrier_amplitude_counts: f64,
+    /// The lowest ADC code clipping is checked against.
+    adc_min_code: f64,
+    /// The highest ADC code clipping is checked against.
+    adc_max_code: f64,
+    /// Where the ADC's codes come from.
+    adc_range_source: String,
+}
+
+/// The plan of a capture of raw windings whose first samples are `first_c`, `first_s`
+/// (1-D float64): the ADC rate from `samples_per_period` times `carrier_hz`, else the
+/// capture's rate `capture_hz`; a ratio the time column contradicts by more than 1 %, or a
+/// carrier more than 2 % from the one measured in the samples, is refused naming both
+/// values; the amplitude and ADC range as stated, else measured (the range guessed when no
+/// rail shows).
+///
+/// >>> import numpy as np
+/// >>> from angletrack._angletrack import plan_windings
+/// >>> k = np.arange(4000)
+/// >>> carrier = np.sin(2 * np.pi * k / 15.0)
+/// >>> c, s = 2048 + 1800 * np.cos(0.002 * k) * carrier, 2048 + 1800 * np.sin(0.002 * k) * carrier
+/// >>> plan = plan_windings(c, s, carrier_hz=10e3, capture_hz=150e3)
+/// >>> plan.samples_per_period, plan.adc_min_code, plan.adc_max_code, plan.adc_range_source
+/// (15.0, 0.0, 4095.0, 'guessed')
+#[pyfunction]
+#[pyo3(signature = (first_c, first_s, *, carrier_hz, capture_hz = None, samples_per_period = None,
+    carrier_amplitude_counts = None, adc_range = None))]
+pub fn plan_windings(
+    first_c: &Bound<'_, PyAny>,
+    first_s: &Bound<'_, PyAny>,
+    carrier_hz: f64,
+    capture_hz: Option<f64>,
+    samples_per_period: Option<f64>,
+    carrier_amplitude_counts: Option<f64>,
+    adc_range: Option<(f64, f64)>,
+) -> Result<PyWindingsPlan> {
+    let (c, s) = (
+        samples::<f64>(first_c, "first_c")?,
+        samples::<f64>(first_s, "first_s")?,
+    );
+    let mut settings = WindingsSettings::new(carrier_hz);
+    settings.capture_hz = capture_hz;
+    settings.samples_per_period = samples_per_period;
+    settings.carrier_amplitude_counts = carrier_amplitude_counts;
+    settings.adc_range = adc_range;
+    let plan = WindingsPlan::new(c.as_slice(), s.as_slice(), &settings)
+        .map_err(|e| Error::value(e.argument(), e.to_string()))?;
+    Ok(PyWindingsPlan {
+        adc_rate_hz: plan.adc_rate_hz,
+        samples_per_period: plan.samples_per_period,
+        carrier_amplitude_counts: plan.carrier_amplitude_counts,
+        adc_min_code: plan.adc_range.0,
+        adc_max_code: plan.adc_range.1,
+        adc_range_source: plan.adc_range_source.to_string(),
+    })
 }

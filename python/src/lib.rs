@@ -59,6 +59,8 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
         m
     )?)?;
     m.add_function(wrap_pyfunction!(carrier::measured_adc_range, m)?)?;
+    m.add_function(wrap_pyfunction!(carrier::plan_windings, m)?)?;
+    m.add_class::<carrier::PyWindingsPlan>()?;
     m.add("HELD_RAIL_SAMPLES", angletrack::core::HELD_RAIL_SAMPLES)?;
     m.add_function(wrap_pyfunction!(counts::offset_binary_mid_scale, m)?)?;
     m.add_function(wrap_pyfunction!(counts::capture_mid_scale, m)?)?;

@@ -92,6 +92,7 @@ mod rails;
 mod sim;
 mod thresholds;
 mod winding_rails;
+mod windings_plan;
 
 pub use analysis::{
     DesignReport, LARGE_STEP_RAD, PredictedError, SETTLING_BAND, StepResponse,
@@ -130,3 +131,7 @@ pub use sim::{
 };
 pub use thresholds::ThresholdPolicy;
 pub use winding_rails::WindingRails;
+pub use windings_plan::{
+    AdcRangeSource, CARRIER_TOLERANCE, SAMPLES_PER_PERIOD_TOLERANCE, WindingsPlan,
+    WindingsPlanError, WindingsSettings,
+};

@@ -420,6 +420,31 @@ def measured_adc_range(y_c: _Samples, y_s: _Samples) -> Optional[tuple[float, fl
 #: Consecutive samples of a channel at an extreme that make it a rail.
 HELD_RAIL_SAMPLES: int
 
+class WindingsPlan:
+    """How a capture of raw windings is demodulated (``plan_windings``)."""
+
+    adc_rate_hz: float
+    samples_per_period: float
+    carrier_amplitude_counts: float
+    adc_min_code: float
+    adc_max_code: float
+    adc_range_source: str
+    """``"stated"``, ``"measured: extremes held flat"`` or ``"guessed"``."""
+
+def plan_windings(
+    first_c: _Samples,
+    first_s: _Samples,
+    *,
+    carrier_hz: float,
+    capture_hz: Optional[float] = None,
+    samples_per_period: Optional[float] = None,
+    carrier_amplitude_counts: Optional[float] = None,
+    adc_range: Optional[tuple[float, float]] = None,
+) -> WindingsPlan:
+    """The ADC rate, samples per period, amplitude and ADC range of a capture of raw windings
+    from its first samples, as stated or measured; a ratio the time column contradicts (1 %)
+    or a carrier 2 % from the one measured is refused, naming both values."""
+
 def offset_binary_mid_scale(largest_count: float) -> int:
     """The mid-scale (counts) of unsigned, offset-binary ADC counts whose largest sample is
     ``largest_count`` (a whole number, 0 to 2^53): ``2^(b-1)`` for the smallest ``b``, at

@@ -32,6 +32,7 @@ import numpy as np
 
 import angletrack
 from angletrack import export
+from angletrack._angletrack import plan_windings
 
 
 def demodulate(raw_c, raw_s, *, carrier_hz: float, carrier_amplitude_counts: float, excitation=None,
@@ -103,59 +104,6 @@ def track_options(args: argparse.Namespace) -> dict:
     }
 
 
-def _adc_rate(capture_hz: Optional[float], carrier_hz: float, stated: Optional[float]) -> tuple[float, float]:
-    """The ADC rate (Hz) and the samples per carrier period: from --samples-per-period if
-    given, else from the capture's rate; at least 4 samples per period."""
-    if stated is not None:
-        adc_hz = stated * carrier_hz
-    elif capture_hz is None:
-        raise ValueError("samples_per_period: the capture has no time column: give --samples-per-period "
-                         "or --sample-rate (the ADC rate)")
-    else:
-        adc_hz = capture_hz
-    ratio = adc_hz / carrier_hz
-    if not ratio >= 4.0:
-        raise ValueError(
-            f"samples_per_period: the ADC rate {adc_hz:.6g} Hz over the carrier {carrier_hz:.6g} Hz "
-            f"is {ratio:.6g} samples per period; at least 4 are needed"
-        )
-    return adc_hz, ratio
-
-
-#: How far a declared carrier may be from the one measured in the capture.
-CARRIER_TOLERANCE = 0.02
-
-
-def refuse_contradicting_rates(first, capture_hz: Optional[float], carrier_hz: float, stated: Optional[float],
-                               n: float) -> None:
-    """Refuses, in one line naming both values, a ``--samples-per-period`` that the capture's
-    time column contradicts (more than 1 %), and a ``--carrier-hz`` more than 2 % from the
-    carrier measured in the first chunk's windings (``measured_carrier_cycles_per_sample``,
-    at the capture's rate, else at ``n`` samples per declared period: then only the ratio
-    is checked)."""
-    if stated is not None and capture_hz is not None:
-        ratio = capture_hz / carrier_hz
-        if abs(ratio / stated - 1.0) > 0.01:
-            raise ValueError(
-                f"samples_per_period: --samples-per-period {stated:g} contradicts the capture's time column: "
-                f"{capture_hz:.6g} Hz over --carrier-hz {carrier_hz:.6g} is {ratio:.6g} samples per period"
-            )
-    from angletrack._angletrack import measured_carrier_cycles_per_sample
-
-    cycles = measured_carrier_cycles_per_sample(np.asarray(first.y_c, dtype=np.float64),
-                                                np.asarray(first.y_s, dtype=np.float64))
-    if cycles is None:
-        return
-    rate_hz = capture_hz if capture_hz is not None else n * carrier_hz
-    measured_hz = cycles * rate_hz
-    if abs(measured_hz / carrier_hz - 1.0) > CARRIER_TOLERANCE:
-        clock = "the capture's time column" if capture_hz is not None else f"{n:.6g} samples per declared period"
-        raise ValueError(
-            f"carrier_hz: --carrier-hz {carrier_hz:.6g} is {100 * (carrier_hz / measured_hz - 1):+.3g} % from the "
-            f"carrier measured in the capture, {measured_hz:.6g} Hz (at {rate_hz:.6g} samples/s, {clock})"
-        )
-
-
 def _gains(s, carrier_hz: float) -> angletrack.Gains:
     from angletrack.tracking import RATE_TOLERANCE
 
@@ -169,31 +117,6 @@ def _gains(s, carrier_hz: float) -> angletrack.Gains:
             f"so design the gains at {carrier_hz:.6g} Hz"
         )
     return gains
-
-
-def _adc_range(first, stated: Optional[tuple]) -> tuple[float, float, str]:
-    """The ADC's codes and how they were found: as stated (``--adc-range``, ``--adc-bits``);
-    else the first chunk's extremes where held flat (``clipping.measured_range``); else
-    guessed: the smallest power-of-two span holding its samples (unsigned from 0 if none is
-    negative)."""
-    from angletrack import clipping
-
-    if stated is not None:
-        return stated[0], stated[1], "stated"
-    measured = clipping.measured_range(first.y_c, first.y_s)
-    if measured is not None:
-        return measured[0], measured[1], "measured: extremes held flat"
-    largest = float(max(np.max(np.abs(first.y_c)), np.max(np.abs(first.y_s)), 1.0))
-    bits = math.ceil(math.log2(largest + 1.0))
-    if min(np.min(first.y_c), np.min(first.y_s)) >= 0:
-        return 0.0, 2.0**bits - 1.0, "guessed"
-    return -(2.0**bits), 2.0**bits - 1.0, "guessed"
-
-
-def _measured_amplitude(first) -> float:
-    """A winding's carrier amplitude at envelope 1: the windings' variances sum to ``A^2 / 2``
-    at every shaft angle."""
-    return math.sqrt(2.0 * (float(np.var(first.y_c)) + float(np.var(first.y_s))))
 
 
 @dataclasses.dataclass
@@ -255,11 +178,16 @@ def track_windings(s) -> tuple:
     first = next(chunks)
     capture_hz = reader.sample_rate_hz
     carrier_hz = s.carrier_hz
-    adc_hz, n = _adc_rate(capture_hz, carrier_hz, s.samples_per_period)
-    refuse_contradicting_rates(first, capture_hz, carrier_hz, s.samples_per_period, n)
+    # The rate, amplitude and ADC range as stated or measured on the first chunk, and the
+    # contradictions refused: the crate's rules (angletrack::WindingsPlan).
+    plan = plan_windings(
+        np.asarray(first.y_c, dtype=np.float64), np.asarray(first.y_s, dtype=np.float64), carrier_hz=carrier_hz,
+        capture_hz=capture_hz, samples_per_period=s.samples_per_period,
+        carrier_amplitude_counts=s.carrier_amplitude_counts, adc_range=s.adc_range,
+    )
+    adc_hz, n, amplitude = plan.adc_rate_hz, plan.samples_per_period, plan.carrier_amplitude_counts
+    adc_min, adc_max, adc_how = plan.adc_min_code, plan.adc_max_code, plan.adc_range_source
     gains = _gains(s, carrier_hz)
-    amplitude = s.carrier_amplitude_counts or _measured_amplitude(first)
-    adc_min, adc_max, adc_how = _adc_range(first, s.adc_range)
     demodulator = angletrack.Demodulator(
         carrier_hz=carrier_hz, adc_rate_hz=adc_hz, carrier_amplitude_counts=amplitude,
         adc_min_code=adc_min, adc_max_code=adc_max, expected_delay_rad=math.radians(s.expected_delay_deg),

@@ -30,3 +30,41 @@ for p in json.load(sys.stdin)["packages"]:
     if p["publish"] != []:
         print(p["name"], p["rust_version"], os.path.dirname(p["manifest_path"]))'
 }
+
+# The nightly toolchain with Miri, and cargo-fuzz, for the robustness step and its fuzz build.
+need_fuzz_tools() {
+  rustup toolchain install nightly --profile minimal >/dev/null 2>&1 || true
+  rustup +nightly component add miri rust-src >/dev/null
+  if [[ "$(cargo fuzz --version 2>/dev/null || true)" != *" 0.13."* ]]; then
+    cargo install cargo-fuzz --version 0.13.2 --locked
+  fi
+}
+
+# wait_fuzz_build STATE_DIR tools|status: waits for the fuzz build of scripts/fuzz-build.sh
+# writing to STATE_DIR to have installed the nightly tools, or to end; fails if it ends
+# without a status (killed) or, for `status`, with one other than 0 (its log's last lines on
+# stderr); for `tools`, if it ended without installing them.
+wait_fuzz_build() {
+  local state="$1" what="$2" pid status
+  until [ -f "$state/$what" ] || [ -f "$state/status" ]; do
+    pid=$(cat "$state/pid" 2>/dev/null || true)
+    if [ -n "$pid" ] && ! kill -0 "$pid" 2>/dev/null && [ ! -f "$state/status" ]; then
+      echo "FAIL: the fuzz build (process $pid) ended without a status" >&2; return 1
+    fi
+    sleep 1
+  done
+  [ -f "$state/$what" ] && [ "$what" = tools ] && return 0
+  status=$(cat "$state/status")
+  if [ "$status" -ne 0 ] || [ ! -f "$state/$what" ]; then
+    tail -n 60 "$state/log" >&2
+    echo "FAIL: the fuzz targets' build failed (status $status)" >&2
+    return 1
+  fi
+}
+
+# stop_fuzz_build STATE_DIR: stops the fuzz build writing to STATE_DIR, if it still runs.
+stop_fuzz_build() {
+  local pid
+  pid=$(cat "$1/pid" 2>/dev/null || true)
+  [ -z "$pid" ] || kill -- "-$pid" 2>/dev/null || true
+}

@@ -10,20 +10,22 @@ fuzz_seconds="${ANGLETRACK_FUZZ_SECONDS:-30}"
 
 rustup component add llvm-tools >/dev/null
 nm_tool=$(ls "$(rustc --print sysroot)"/lib/rustlib/*/bin/llvm-nm | head -n 1)
-
-# The fuzz targets' build (scripts/fuzz-build.sh), the longest build of this step and one that
-# keeps both cores busy: started by scripts/test.sh beside the firmware step (its state in
-# ANGLETRACK_FUZZ_BUILD), else here, in the background, beside the no-panic images and Miri,
-# which leave a core idle most of the time (one link-time-optimised image at a time; Miri's
-# interpreter on one thread). The fuzzing below waits for it.
-scratch=$(mktemp -d)
-fuzz_state="${ANGLETRACK_FUZZ_BUILD:-}"
-if [ -z "$fuzz_state" ]; then
-  fuzz_state="$scratch/fuzz-build"
-  mkdir -p "$fuzz_state"
-  setsid bash scripts/fuzz-build.sh "$fuzz_state" &
+rustup toolchain install nightly --profile minimal >/dev/null 2>&1 || true
+rustup +nightly component add miri rust-src >/dev/null
+if [[ "$(cargo fuzz --version 2>/dev/null || true)" != *" 0.13."* ]]; then
+  cargo install cargo-fuzz --version 0.13.2 --locked
 fi
-trap 'stop_fuzz_build "$fuzz_state"; rm -rf "$scratch"' EXIT
+
+# The fuzz targets' build (nightly, AddressSanitizer), the longest build of this step and one
+# that keeps both cores busy, starts first, in the background, beside the no-panic images and
+# Miri, which leave a core idle most of the time (one link-time-optimised image at a time;
+# Miri's interpreter on one thread). `cargo fuzz build` takes the same defaults as `cargo
+# fuzz run` (release, debug assertions and overflow checks, AddressSanitizer) and builds
+# every target; the fuzzing below waits for it.
+scratch=$(mktemp -d)
+(cd fuzz && exec cargo +nightly fuzz build) >"$scratch/fuzz-build.log" 2>&1 &
+fuzz_build=$!
+trap 'kill "$fuzz_build" 2>/dev/null || true; rm -rf "$scratch"' EXIT
 
 # The images (tests/no-panic) are built for each core: adding one is one word here.
 no_panic_targets=(thumbv7em-none-eabihf thumbv6m-none-eabi)
@@ -67,8 +69,6 @@ for target in "${no_panic_targets[@]}"; do
 done
 
 echo "--- Miri: the C API's tests (its unsafe slots and extern calls)"
-# The nightly toolchain and Miri, installed by the fuzz build's script before it builds.
-wait_fuzz_build "$fuzz_state" tools
 # The workspace optimises its test builds; Miri ignores opt-level and warns, so it gets 0.
 # Miri checks what nothing else does where there is unsafe code: the C API's boundary (under
 # Miri its libm runs portable code: the x86 sqrt is inline assembly, which Miri cannot run).
@@ -90,7 +90,12 @@ if [ "${ANGLETRACK_MIRI:-}" = all ]; then
 fi
 
 echo "--- fuzzing (${fuzz_seconds} s per target)"
-wait_fuzz_build "$fuzz_state" status
+status=0
+wait "$fuzz_build" || status=$?
+if [ "$status" -ne 0 ]; then
+  tail -n 60 "$scratch/fuzz-build.log" >&2
+  echo "FAIL: the fuzz targets' build failed (status $status)" >&2; exit 1
+fi
 # libFuzzer writes the inputs it finds into its first corpus directory and only reads the
 # others: the kept corpus (fuzz/corpus) is read, and the new inputs go to a scratch
 # directory, so that a test run leaves the working tree as it found it.

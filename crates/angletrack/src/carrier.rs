@@ -39,18 +39,34 @@ const MIN_INTERVALS: usize = 8;
 /// assert!((f / 10.1e3 - 1.0).abs() < 1e-3, "{f}");
 /// ```
 pub fn measured_carrier_cycles_per_sample(y_c: &[f64], y_s: &[f64]) -> Option<f64> {
+    cycles_of_power(&centred_power(y_c, y_s))
+}
+
+/// The windings' power about their means, sample by sample, over the samples both have:
+/// `(y_c - mean_c)^2 + (y_s - mean_s)^2`, whose mean is `A^2 / 2` at every shaft angle for
+/// the carrier amplitude `A` (the tone at twice the carrier about it).
+pub(crate) fn centred_power(y_c: &[f64], y_s: &[f64]) -> Vec<f64> {
     let n = y_c.len().min(y_s.len());
+    let (y_c, y_s) = (&y_c[..n], &y_s[..n]);
+    let (mean_c, mean_s) = (mean(y_c), mean(y_s));
+    y_c.iter()
+        .zip(y_s)
+        .map(|(c, s)| (c - mean_c).powi(2) + (s - mean_s).powi(2))
+        .collect()
+}
+
+/// The mean of `values` (0 for none).
+pub(crate) fn mean(values: &[f64]) -> f64 {
+    values.iter().sum::<f64>() / values.len().max(1) as f64
+}
+
+/// [`measured_carrier_cycles_per_sample`] from the windings' [`centred_power`].
+pub(crate) fn cycles_of_power(power: &[f64]) -> Option<f64> {
+    let n = power.len();
     if n < 2 {
         return None;
     }
-    let mean = |y: &[f64]| y[..n].iter().sum::<f64>() / n as f64;
-    let (mean_c, mean_s) = (mean(y_c), mean(y_s));
-    let power: Vec<f64> = y_c[..n]
-        .iter()
-        .zip(&y_s[..n])
-        .map(|(c, s)| (c - mean_c).powi(2) + (s - mean_s).powi(2))
-        .collect();
-    let level = power.iter().sum::<f64>() / n as f64;
+    let level = mean(power);
     if !(level.is_finite() && level > 0.0) {
         return None;
     }

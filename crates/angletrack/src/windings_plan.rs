@@ -5,7 +5,7 @@
 
 use core::fmt;
 
-use crate::carrier::measured_carrier_cycles_per_sample;
+use crate::carrier::{centred_power, cycles_of_power, mean};
 use crate::rails::measured_adc_range;
 
 /// How far a declared carrier may be from the one measured in the capture (fraction).
@@ -207,8 +207,9 @@ impl WindingsPlan {
     /// The plan of a capture whose first samples are `first_c`, `first_s` (raw windings,
     /// any offset): the ADC rate and samples per period (at least 4), refused if the time
     /// column contradicts a stated ratio by more than 1 % or the carrier measured in the
-    /// samples ([`measured_carrier_cycles_per_sample`]) is more than 2 % from the declared
-    /// one; the amplitude and ADC range as stated or measured.
+    /// samples ([`measured_carrier_cycles_per_sample`](crate::measured_carrier_cycles_per_sample))
+    /// is more than 2 % from the declared one; the amplitude and ADC range as stated or
+    /// measured.
     ///
     /// ```
     /// use angletrack::{AdcRangeSource, WindingsPlan, WindingsSettings};
@@ -258,7 +259,9 @@ impl WindingsPlan {
                 carrier_hz,
             });
         }
-        if let Some(cycles) = measured_carrier_cycles_per_sample(first_c, first_s) {
+        // The windings' power about their means gives both the carrier and the amplitude.
+        let power = centred_power(first_c, first_s);
+        if let Some(cycles) = cycles_of_power(&power) {
             let rate_hz = settings.capture_hz.unwrap_or(adc_rate_hz);
             let measured_hz = cycles * rate_hz;
             if (measured_hz / carrier_hz - 1.0).abs() > CARRIER_TOLERANCE {
@@ -271,10 +274,11 @@ impl WindingsPlan {
                 });
             }
         }
-        // A stated amplitude is the demodulator's to check.
+        // A stated amplitude is the demodulator's to check; a measured one from the power's
+        // mean, A^2 / 2.
         let carrier_amplitude_counts = settings
             .carrier_amplitude_counts
-            .unwrap_or_else(|| measured_amplitude(first_c, first_s));
+            .unwrap_or_else(|| (2.0 * mean(&power)).sqrt());
         let (adc_range, adc_range_source) = match settings.adc_range {
             Some(range) => (range, AdcRangeSource::Stated),
             None => match measured_adc_range(first_c, first_s) {
@@ -290,17 +294,6 @@ impl WindingsPlan {
             adc_range_source,
         })
     }
-}
-
-/// A winding's carrier amplitude at envelope 1: the windings' variances sum to `A^2 / 2` at
-/// every shaft angle.
-fn measured_amplitude(c: &[f64], s: &[f64]) -> f64 {
-    let variance = |y: &[f64]| {
-        let n = y.len().max(1) as f64;
-        let mean = y.iter().sum::<f64>() / n;
-        y.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / n
-    };
-    (2.0 * (variance(c) + variance(s))).sqrt()
 }
 
 /// The smallest power-of-two span of codes holding the samples (at least 1 in magnitude):

@@ -16,7 +16,7 @@
 //! ```
 
 use angletrack_core::fixed::FixedConstants;
-use angletrack_core::{ConfigError, FixedGains, Gains};
+use angletrack_core::{ConfigError, FixedGains, Gains, Order, SupportedOrder};
 use serde_json::Value;
 
 use crate::FixedDesignConstants;
@@ -67,9 +67,43 @@ fn document(mut members: Vec<String>, design: Option<&Value>) -> String {
     format!("{{\n{}\n}}\n", members.join(",\n"))
 }
 
-/// The error of a value the core refused: its field, its message.
-fn refused(doc: &Document<'_>, field: &str, e: ConfigError) -> JsonFileError {
-    doc.error(field, e.to_string())
+/// `two` or `three` on the `values` of `field` by their count, the observer's order: another
+/// count, or a value the core refuses (its message), is an error naming `field`.
+fn by_order<T: Copy, R>(
+    doc: &Document<'_>,
+    field: &str,
+    values: &[T],
+    two: impl FnOnce([T; 2]) -> Result<R, ConfigError>,
+    three: impl FnOnce([T; 3]) -> Result<R, ConfigError>,
+) -> Result<R, JsonFileError> {
+    match *values {
+        [a, b] => two([a, b]),
+        [a, b, c] => three([a, b, c]),
+        _ => {
+            return Err(doc.error(
+                field,
+                format!("2 or 3 (the observer's order), got {}", values.len()),
+            ));
+        }
+    }
+    .map_err(|e| doc.error(field, e.to_string()))
+}
+
+/// The core's check of a fixed-point file's constants, and the constants it checked.
+fn fixed_constants<const N: usize>(
+    multiplier: [i32; N],
+    acceleration_shift: u32,
+    sample_period_s: f64,
+) -> Result<FixedDesignConstants, ConfigError>
+where
+    Order<N>: SupportedOrder,
+{
+    let constants = FixedConstants {
+        multiplier,
+        acceleration_shift,
+    };
+    FixedGains::<N>::from_constants(constants, sample_period_s)
+        .map(|g| FixedDesignConstants::of(&g))
 }
 
 impl GainsFile {
@@ -118,17 +152,13 @@ impl GainsFile {
             ));
         }
         let sample_period_s = doc.number("sample_period_s")?;
-        match *gains.as_slice() {
-            [l1, l2] => Gains::<f64, 2>::new([l1, l2], sample_period_s).map(|_| ()),
-            [l1, l2, l3] => Gains::<f64, 3>::new([l1, l2, l3], sample_period_s).map(|_| ()),
-            _ => {
-                return Err(doc.error(
-                    "gains",
-                    format!("2 or 3 (the observer's order), got {}", gains.len()),
-                ));
-            }
-        }
-        .map_err(|e| refused(&doc, "gains", e))?;
+        by_order(
+            &doc,
+            "gains",
+            &gains,
+            |g| Gains::<f64, 2>::new(g, sample_period_s).map(|_| ()),
+            |g| Gains::<f64, 3>::new(g, sample_period_s).map(|_| ()),
+        )?;
         Ok(Self {
             gains,
             sample_period_s,
@@ -184,31 +214,13 @@ impl FixedGainsFile {
             .and_then(|s| u32::try_from(s).ok())
             .ok_or_else(|| doc.error("acceleration_shift", "must be an integer from 0 to 15"))?;
         let sample_period_s = doc.number("sample_period_s")?;
-        let constants = match *multiplier.as_slice() {
-            [a, b] => FixedGains::<2>::from_constants(
-                FixedConstants {
-                    multiplier: [a, b],
-                    acceleration_shift,
-                },
-                sample_period_s,
-            )
-            .map(|g| FixedDesignConstants::of(&g)),
-            [a, b, c] => FixedGains::<3>::from_constants(
-                FixedConstants {
-                    multiplier: [a, b, c],
-                    acceleration_shift,
-                },
-                sample_period_s,
-            )
-            .map(|g| FixedDesignConstants::of(&g)),
-            _ => {
-                return Err(doc.error(
-                    "multiplier",
-                    format!("2 or 3 (the observer's order), got {}", multiplier.len()),
-                ));
-            }
-        }
-        .map_err(|e| refused(&doc, "multiplier", e))?;
+        let constants = by_order(
+            &doc,
+            "multiplier",
+            &multiplier,
+            |m| fixed_constants(m, acceleration_shift, sample_period_s),
+            |m| fixed_constants(m, acceleration_shift, sample_period_s),
+        )?;
         Ok(Self {
             constants,
             design: doc.object.get("design").cloned(),

@@ -449,7 +449,7 @@ fn the_fixed_point_chain_without_a_range_flags_counts_held_at_their_rails() {
         // 50 rev/s at 10 kHz (200 samples a turn), amplitude 3184 counts on a 12-bit ADC
         // (codes 0 to 4095): one channel at least at a rail at every angle, flagged from the
         // first turn on. Fewer samples under Miri, whose interpreter is slow.
-        let samples: u32 = if cfg!(miri) { 400 } else { 2000 };
+        let samples: u32 = if cfg!(miri) { 300 } else { 2000 };
         let run = |amplitude: f64| {
             let mut state = at_chain_state_fixed::FRESH;
             let mut flagged = 0;

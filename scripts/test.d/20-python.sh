@@ -13,7 +13,38 @@ angletrack_tools_venv
 command -v cc >/dev/null 2>&1 || need_debian_packages gcc
 root="$(pwd)"
 work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
+deps_job=""
+trap '[ -z "$deps_job" ] || kill "$deps_job" 2>/dev/null || true; rm -rf "$work"' EXIT
+
+# PATH without any directory that holds a Rust toolchain (cargo, rustc or rustup).
+no_rust_path=""
+IFS=: read -ra path_dirs <<<"$PATH"
+for dir in "${path_dirs[@]}"; do
+  [ -n "$dir" ] || continue
+  [ -e "$dir/cargo" ] || [ -e "$dir/rustc" ] || [ -e "$dir/rustup" ] && continue
+  no_rust_path="${no_rust_path:+$no_rust_path:}$dir"
+done
+# `without_rust CMD...`: CMD with that PATH and none of Rust's variables.
+without_rust() {
+  env -u CARGO_HOME -u RUSTUP_HOME -u RUSTUP_TOOLCHAIN -u CARGO -u RUSTC PATH="$no_rust_path" "$@"
+}
+
+# The fresh environment and what the wheel will need there (the package's dependencies and
+# its plot extra's, as python/pyproject.toml declares them, and the test tools, all pinned by
+# the tools list), installed while the wheel builds: pip waits on the network and the disk,
+# maturin on the two cores. The wheel's own install below then resolves the same
+# requirements again, from its metadata, and finds them met.
+python/.venv/bin/python - >"$work/requirements.txt" <<'PY'
+import tomllib
+project = tomllib.load(open("python/pyproject.toml", "rb"))["project"]
+print("\n".join(project["dependencies"] + project["optional-dependencies"]["plot"]))
+print("pytest\nhypothesis\npytest-xdist")
+PY
+without_rust "$BASH" -euo pipefail -c '
+  python3 -m venv "$1"
+  "$1/bin/python" -m pip --disable-pip-version-check -q install --only-binary :all: -c "$2" -r "$3"
+' _ "$work/venv" "$root/python/requirements-dev.txt" "$work/requirements.txt" >"$work/deps.log" 2>&1 &
+deps_job=$!
 
 echo "--- maturin build --profile wheel-test (abi3 wheel)"
 status=0
@@ -41,17 +72,13 @@ echo "--- installing the wheel into a fresh virtual environment, no Rust on PATH
 # The PyPI description's example (python/README.md, its first python block) runs there too.
 awk '/^```python/ { on = 1; next } on && /^```/ { exit } on { print }' python/README.md \
   >"$work/readme_example.py"
-python3 -m venv "$work/venv"
-# PATH without any directory that holds a Rust toolchain (cargo, rustc or rustup).
-no_rust_path=""
-IFS=: read -ra path_dirs <<<"$PATH"
-for dir in "${path_dirs[@]}"; do
-  [ -n "$dir" ] || continue
-  [ -e "$dir/cargo" ] || [ -e "$dir/rustc" ] || [ -e "$dir/rustup" ] && continue
-  no_rust_path="${no_rust_path:+$no_rust_path:}$dir"
-done
-env -u CARGO_HOME -u RUSTUP_HOME -u RUSTUP_TOOLCHAIN -u CARGO -u RUSTC PATH="$no_rust_path" \
-  "$BASH" -euo pipefail -c '
+status=0
+wait "$deps_job" || status=$?
+deps_job=""
+if [ "$status" -ne 0 ]; then
+  cat "$work/deps.log" >&2; echo "FAIL: the test environment's dependencies (status $status)" >&2; exit 1
+fi
+without_rust "$BASH" -euo pipefail -c '
     venv="$1"; wheel="$2"; constraints="$3"
     if command -v cargo || command -v rustc || command -v rustup; then
       echo "FAIL: a Rust toolchain is still on PATH (above)" >&2; exit 1

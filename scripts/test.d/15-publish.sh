@@ -3,10 +3,11 @@
 # - their manifests agree with the workspace (version, licence, repository, lints, shared
 #   dependencies' versions), since they write those keys out instead of inheriting them, and
 #   their READMEs state their MSRV;
-# - a crate copied out of the repository alone (the core; the std crate beside the core)
-#   builds, and so does the Rust example of its README (the core's for the Cortex-M4F);
 # - `cargo publish --dry-run` of the whole workspace: each publishable crate is packaged and
 #   built from its package, against the others' packages (as crates.io will serve them);
+# - the core's package also builds for the Cortex-M4F, and the Rust example of each crate's
+#   README builds against it (the core's package for the Cortex-M4F; the std crate's, which
+#   runs, against its source: its package names the core by a version no registry serves yet);
 # - their docs build without warnings, the core's for the Cortex-M4F as on docs.rs.
 set -euo pipefail
 source scripts/lib.sh
@@ -50,40 +51,8 @@ print("\n".join(failures) or "the publishable crates' manifests agree with the w
 sys.exit(1 if failures else 0)
 EOF
 
-echo "--- the crates copied out of the repository, and their README examples"
 scratch="$(mktemp -d)"
 trap 'rm -rf "$scratch"' EXIT
-# A README's first ```rust block, as a file.
-readme_example() { # $1: README, $2: output file
-  awk '/^```rust/ { on = 1; next } on && /^```/ { exit } on { print }' "$1" >"$2"
-  [ -s "$2" ] || { echo "FAIL: no rust example in $1" >&2; exit 1; }
-}
-# A scratch package depending on the copied crates; the workspace's lock file keeps the
-# dependencies' versions (and so their compiled artifacts).
-scratch_package() { # $1: directory, $2: name, $3: dependency line
-  mkdir -p "$1/src"
-  printf '[package]\nname = "%s"\nversion = "0.0.0"\nedition = "2024"\npublish = false\n\n[dependencies]\n%s\n\n[workspace]\n' \
-    "$2" "$3" >"$1/Cargo.toml"
-  cp "$root/Cargo.lock" "$1/Cargo.lock"
-}
-mkdir -p "$scratch/crates"
-cp -r crates/angletrack-core crates/angletrack "$scratch/crates/"
-(cd "$scratch/crates/angletrack-core" && cp "$root/Cargo.lock" . &&
-  cargo build -q && cargo build -q --target thumbv7em-none-eabihf)
-echo "crates/angletrack-core alone builds (host, thumbv7em-none-eabihf)"
-(cd "$scratch/crates/angletrack" && cp "$root/Cargo.lock" . && cargo build -q)
-echo "crates/angletrack beside crates/angletrack-core builds"
-scratch_package "$scratch/core-readme" core-readme \
-  'angletrack-core = { path = "../crates/angletrack-core" }'
-readme_example crates/angletrack-core/README.md "$scratch/core-readme/src/lib.rs"
-(cd "$scratch/core-readme" && cargo build -q --target thumbv7em-none-eabihf)
-echo "crates/angletrack-core/README.md's example builds for thumbv7em-none-eabihf"
-scratch_package "$scratch/std-readme" std-readme \
-  'angletrack = { path = "../crates/angletrack" }'
-readme_example crates/angletrack/README.md "$scratch/std-readme/src/main.rs"
-(cd "$scratch/std-readme" && cargo run -q >"$scratch/std-readme.out")
-grep -q "const GAINS: \[f32; 2\]" "$scratch/std-readme.out"
-echo "crates/angletrack/README.md's example runs"
 
 echo "--- cargo publish --dry-run"
 # --workspace packages every member without `publish = false`, each verified by a build
@@ -109,6 +78,37 @@ grep -E "^ *(Packaged|Verifying|Finished)|warning|error" "$log" || true
 if [ "$status" -ne 0 ]; then
   cat "$log" >&2; echo "FAIL: cargo publish --dry-run (status $status)" >&2; exit 1
 fi
+
+echo "--- the core's package on the Cortex-M4F, and the READMEs' examples"
+# A README's first ```rust block, as a file.
+readme_example() { # $1: README, $2: output file
+  awk '/^```rust/ { on = 1; next } on && /^```/ { exit } on { print }' "$1" >"$2"
+  [ -s "$2" ] || { echo "FAIL: no rust example in $1" >&2; exit 1; }
+}
+# A scratch package depending on a crate; the workspace's lock file keeps the dependencies'
+# versions (and so their compiled artifacts).
+scratch_package() { # $1: directory, $2: name, $3: dependency line
+  mkdir -p "$1/src"
+  printf '[package]\nname = "%s"\nversion = "0.0.0"\nedition = "2024"\npublish = false\n\n[dependencies]\n%s\n\n[workspace]\n' \
+    "$2" "$3" >"$1/Cargo.toml"
+  cp "$root/Cargo.lock" "$1/Cargo.lock"
+}
+# The package as `cargo publish` unpacked it to verify it, copied out of the workspace's tree.
+core_version=$(sed -n 's/^version = "\(.*\)"/\1/p' crates/angletrack-core/Cargo.toml | head -n 1)
+cp -r "$CARGO_TARGET_DIR/package/angletrack-core-$core_version" "$scratch/angletrack-core"
+(cd "$scratch/angletrack-core" && cargo build -q --target thumbv7em-none-eabihf)
+echo "the angletrack-core package builds for thumbv7em-none-eabihf"
+scratch_package "$scratch/core-readme" core-readme \
+  'angletrack-core = { path = "../angletrack-core" }'
+readme_example crates/angletrack-core/README.md "$scratch/core-readme/src/lib.rs"
+(cd "$scratch/core-readme" && cargo build -q --target thumbv7em-none-eabihf)
+echo "crates/angletrack-core/README.md's example builds for thumbv7em-none-eabihf against the package"
+scratch_package "$scratch/std-readme" std-readme \
+  "angletrack = { path = \"$root/crates/angletrack\" }"
+readme_example crates/angletrack/README.md "$scratch/std-readme/src/main.rs"
+(cd "$scratch/std-readme" && cargo run -q >"$scratch/std-readme.out")
+grep -q "const GAINS: \[f32; 2\]" "$scratch/std-readme.out"
+echo "crates/angletrack/README.md's example runs"
 
 echo "--- docs"
 while read -r name _msrv _dir; do

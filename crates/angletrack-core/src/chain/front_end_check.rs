@@ -281,13 +281,13 @@ impl<V: ChainNumber, X: PartialOrd + Copy, S: Stage<V, (X, X)>> Stage<V, ((X, X)
 /// let chain = Chain::new(WindingCheck::new(1.0)?, gains);
 /// let mut state = ChainState::new();
 /// for _ in 0..200 {
-///     chain.update(&mut state, (0.5, 0.866)); // 60 degrees
+///     chain.update(&mut state, (0.643, 0.766)); // 50 degrees
 /// }
 /// // The cosine winding opens: flagged on the first sample, the angle held.
-/// let e = chain.update(&mut state, (0.0, 0.866));
+/// let e = chain.update(&mut state, (0.0, 0.766));
 /// assert!(e.faults.contains(Faults::FRONT_END));
 /// assert_eq!(state.front_end.faults(), FrontEndFaults::WINDING);
-/// assert!((e.angle - 1.0472).abs() < 1e-3);
+/// assert!((e.angle - 0.8727).abs() < 1e-3);
 /// # Ok::<(), angletrack_core::ConfigError>(())
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]

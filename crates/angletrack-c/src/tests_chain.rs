@@ -12,7 +12,7 @@ const GAINS_3: [f32; 3] = [0.094_326_17, 0.000_562_075, 1.213_522e-5];
 /// Fewer samples under Miri, whose interpreter is slow: Miri checks the calls (their
 /// pointers, the slots' layouts), which a few dozen samples make as the full run does;
 /// `cargo test` checks what the full run computes.
-const SAMPLES: u32 = if cfg!(miri) { 60 } else { 5000 };
+pub(crate) const SAMPLES: u32 = if cfg!(miri) { 60 } else { 5000 };
 
 fn gains() -> at_gains_f32 {
     let mut gains = at_gains_f32::ZEROED;

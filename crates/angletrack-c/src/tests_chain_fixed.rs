@@ -8,12 +8,9 @@ use core::f64::consts::{PI, TAU};
 use core::ptr::null;
 
 use crate::chain_fixed::{ChainFixed, StateFixed};
+use crate::tests_chain::SAMPLES;
 use crate::*;
 
-/// Fewer samples under Miri, whose interpreter is slow: Miri checks the calls (their
-/// pointers, the slots' layouts), which a few dozen samples make as the full run does;
-/// `cargo test` checks what the full run computes.
-const SAMPLES: u32 = if cfg!(miri) { 60 } else { 5000 };
 const GAINS_3: [f32; 3] = [0.094_326_17, 0.000_562_075, 1.213_522e-5];
 
 fn fixed_gains() -> at_fixed_gains {

@@ -34,16 +34,18 @@ without_rust() {
 # the tools list), installed while the wheel builds: pip waits on the network and the disk,
 # maturin on the two cores. The wheel's own install below then resolves the same
 # requirements again, from its metadata, and finds them met.
+test_tools=(pytest hypothesis pytest-xdist)
 python/.venv/bin/python - >"$work/requirements.txt" <<'PY'
 import tomllib
 project = tomllib.load(open("python/pyproject.toml", "rb"))["project"]
 print("\n".join(project["dependencies"] + project["optional-dependencies"]["plot"]))
-print("pytest\nhypothesis\npytest-xdist")
 PY
 without_rust "$BASH" -euo pipefail -c '
   python3 -m venv "$1"
-  "$1/bin/python" -m pip --disable-pip-version-check -q install --only-binary :all: -c "$2" -r "$3"
-' _ "$work/venv" "$root/python/requirements-dev.txt" "$work/requirements.txt" >"$work/deps.log" 2>&1 &
+  "$1/bin/python" -m pip --disable-pip-version-check -q install --only-binary :all: -c "$2" \
+    -r "$3" "${@:4}"
+' _ "$work/venv" "$root/python/requirements-dev.txt" "$work/requirements.txt" "${test_tools[@]}" \
+  >"$work/deps.log" 2>&1 &
 deps_job=$!
 
 echo "--- maturin build --profile wheel-test (abi3 wheel)"
@@ -86,13 +88,14 @@ without_rust "$BASH" -euo pipefail -c '
     echo "no cargo, rustc or rustup on PATH"
     # Binary wheels only, versions pinned by the tools list: nothing is built here.
     "$venv/bin/python" -m pip --disable-pip-version-check -q install --only-binary :all: \
-      -c "$constraints" "$wheel[plot]" pytest hypothesis pytest-xdist
+      -c "$constraints" "$wheel[plot]" "${@:5}"
     cd "$venv"
     "$venv/bin/python" -c "import angletrack; print(\"imported\", angletrack.__name__, angletrack.__version__, \"from\", angletrack.__file__)"
     "$venv/bin/angletrack" --version
     "$venv/bin/python" "$4" >"$4.out"
     echo "python/README.md example: $(tail -n 1 "$4.out")"
-  ' _ "$work/venv" "$wheel" "$root/python/requirements-dev.txt" "$work/readme_example.py"
+  ' _ "$work/venv" "$wheel" "$root/python/requirements-dev.txt" "$work/readme_example.py" \
+  "${test_tools[@]}"
 
 echo "--- pytest against the installed wheel"
 cd "$work"

@@ -65,8 +65,12 @@ echo "--- cargo publish --dry-run"
 # current one. Their unpacked copies and their builds' fingerprints are removed first.
 rm -rf "$CARGO_TARGET_DIR/package"
 cargo_home="${CARGO_HOME:-$HOME/.cargo}"
+# A crate's version, from its manifest's first `version` line.
+crate_version() { # $1: the crate's directory
+  sed -n 's/^version = "\(.*\)"/\1/p' "$1/Cargo.toml" | head -n 1
+}
 while read -r name _msrv dir; do
-  version=$(sed -n 's/^version = "\(.*\)"/\1/p' "$dir/Cargo.toml" | head -n 1)
+  version=$(crate_version "$dir")
   rm -rf "$cargo_home"/registry/src/*/"$name-$version"
   [ -d "$CARGO_TARGET_DIR/debug/.fingerprint" ] &&
     find "$CARGO_TARGET_DIR/debug/.fingerprint" -maxdepth 1 -regex ".*/$name-[0-9a-f]*" -exec rm -rf {} +
@@ -94,8 +98,8 @@ scratch_package() { # $1: directory, $2: name, $3: dependency line
   cp "$root/Cargo.lock" "$1/Cargo.lock"
 }
 # The package as `cargo publish` unpacked it to verify it, copied out of the workspace's tree.
-core_version=$(sed -n 's/^version = "\(.*\)"/\1/p' crates/angletrack-core/Cargo.toml | head -n 1)
-cp -r "$CARGO_TARGET_DIR/package/angletrack-core-$core_version" "$scratch/angletrack-core"
+cp -r "$CARGO_TARGET_DIR/package/angletrack-core-$(crate_version crates/angletrack-core)" \
+  "$scratch/angletrack-core"
 (cd "$scratch/angletrack-core" && cargo build -q --target thumbv7em-none-eabihf)
 echo "the angletrack-core package builds for thumbv7em-none-eabihf"
 scratch_package "$scratch/core-readme" core-readme \

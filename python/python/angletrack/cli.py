@@ -7,101 +7,29 @@ arguments and files, and writes files and text.
 from __future__ import annotations
 
 import argparse
-import math
 import pathlib
 import sys
-from typing import Callable, Optional, Sequence
-
+from typing import Optional, Sequence
 
 import angletrack
 from angletrack import calibration as calibration_io
 from angletrack import capture as capture_io
 from angletrack import clipping
-from angletrack import export, harmonics, resolver, tracking
-
-
-def _command(sub, run: Callable[[argparse.Namespace], int]) -> argparse.ArgumentParser:
-    """The subcommand NAME of ``run`` (named ``_cmd_NAME``): the first line of its docstring
-    is the command's help, the rest its description."""
-    help_line, _, description = run.__doc__.partition("\n\n")
-    name = run.__name__[len("_cmd_"):]
-    parser = sub.add_parser(name, help=help_line.strip(), description=" ".join(description.split()))
-    parser.set_defaults(func=run)
-    return parser
-
-
-def _float_list(text: str) -> list[float]:
-    try:
-        return [float(v) for v in text.split(",")]
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got {text!r}") from None
-
-
-def _number(text: str, *, positive: bool) -> float:
-    """A finite number, positive or at least 0; argparse names the option in its message."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not math.isfinite(value) or value < 0 or (positive and value == 0):
-        raise argparse.ArgumentTypeError(f"expected a {'positive' if positive else 'non-negative'} number, got {text}")
-    return value
-
-
-def _positive(text: str) -> float:
-    return _number(text, positive=True)
-
-
-def _non_negative(text: str) -> float:
-    return _number(text, positive=False)
-
-
-def _add_gains_source(p: argparse.ArgumentParser, required: bool = True) -> None:
-    g = p.add_argument_group("gains (one of)" if required else "gains (optional: run the observer)")
-    src = g.add_mutually_exclusive_group(required=required)
-    src.add_argument("--gains-file", type=pathlib.Path, metavar="FILE.json",
-                     help="gains written by `angletrack design --format json`")
-    src.add_argument("--gains", type=_float_list, metavar="L1,L2[,L3]",
-                     help="discrete gains (dimensionless); needs --sample-rate or a time column")
-    p.add_argument("--sample-rate", type=_positive, metavar="HZ",
-                   help="the capture's true sample rate (Hz): overrides the gains file's and the time "
-                   "column's, and skips the check of the time column's spacing (rounded, repeated or "
-                   "jittered stamps; stamps going back are refused); default: the gains file's, checked "
-                   "against the time column")
-
-
-def _add_reader_arguments(p) -> None:
-    """The capture-reader options every command that reads a capture shares, beside its
-    --columns, --delimiter and --time-unit."""
-    p.add_argument("--decimal", choices=[".", ","], metavar="MARK",
-                   help="decimal mark of the numbers: '.' or ',' (default: sniffed, ',' for numbers such as "
-                   "0,5 beside a ';', tab or blank delimiter)")
-    p.add_argument("--skip-rows", type=_count, default=0, metavar="N",
-                   help="lines skipped before the header (an instrument's metadata; lines of another width "
-                   "than the data are skipped without it)")
-
-
-def _count(text: str) -> int:
-    """A whole number, 0 or more."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"expected a whole number of at least 0, got {text}")
-    return value
+from angletrack import harmonics, resolver, tracking
+from angletrack.cli_args import (
+    add_gains_source,
+    add_reader_arguments,
+    non_negative_number,
+    png_path,
+    positive_number,
+    refuse_overwriting_inputs,
+    subcommand,
+)
+from angletrack.cli_design import add_design_parser
 
 
 #: The extensions of the estimates track writes (the format follows the extension).
 ESTIMATE_EXTENSIONS = (".csv", ".npy", ".npz")
-
-
-def _refuse_overwriting_inputs(args: argparse.Namespace, outputs: dict) -> None:
-    """Refuses an output that is an input of the command (the capture, the gains file, a
-    stored calibration) or another output, before anything is written."""
-    inputs = {"capture": args.capture, "--gains-file": getattr(args, "gains_file", None),
-              "--calibration": getattr(args, "calibration", None)}
-    capture_io.check_outputs(outputs, inputs)
 
 
 def _cmd_track(args: argparse.Namespace) -> int:
@@ -121,7 +49,7 @@ def _cmd_track(args: argparse.Namespace) -> int:
     output = args.output or args.capture.with_name(args.capture.stem + "_estimates.csv")
     png = (args.plot or output.with_suffix(".png")) if args.plot is not None else None
     calibration_out = calibration_io.default_path(args.capture, args.calibration_out) if args.calibrate else None
-    _refuse_overwriting_inputs(args, {"--output": output, "--calibration-out": calibration_out, "--plot": png})
+    refuse_overwriting_inputs(args, {"--output": output, "--calibration-out": calibration_out, "--plot": png})
     stored = calibration_io.read_stored(args.calibration)
     settings = tracking.TrackSettings(
         capture=args.capture,
@@ -158,227 +86,28 @@ def _cmd_track(args: argparse.Namespace) -> int:
     return 0
 
 
-# ----------------------------------------------------------------------------- design
-
-#: For each observer, its design variants: (function, required options, optional options).
-#: A variant applies when all its required options are given; of two that apply, the one whose
-#: options include the other's is meant.
-_DESIGNS = {
-    "second-order": [
-        ("second_order_from_tracking_error_sampled", ["max_error", "acceleration", "overshoot"], []),
-        ("second_order_from_tracking_error", ["max_error", "acceleration"], ["damping"]),
-        ("second_order_from_bandwidth", ["bandwidth"], ["damping"]),
-        ("second_order_butterworth", ["butterworth_time_constant"], []),
-    ],
-    "third-order": [
-        ("third_order_from_poles", ["pole_ratio", "pole_time_constant"], ["pole_frequency_ratio"]),
-        ("third_order_from_overshoot", ["overshoot", "settling_time"], ["pole_frequency_ratio"]),
-        ("third_order_butterworth", ["butterworth_time_constant"], []),
-    ],
-    "kalman": [
-        ("kalman", ["q", "r"], []),
-        ("kalman_from_jerk_std", ["jerk_std", "noise_std"], []),
-        ("kalman_from_jerk_density", ["jerk_density", "noise_std"], []),
-    ],
-}
-
-#: CLI option (dest) -> keyword argument of the design functions.
-_KEYWORDS = {
-    "max_error": "max_error_rad",
-    "acceleration": "acceleration_rad_s2",
-    "damping": "damping",
-    "bandwidth": "bandwidth_hz",
-    "butterworth_time_constant": "time_constant_s",
-    "pole_ratio": "pole_ratio",
-    "pole_time_constant": "pole_time_constant_s",
-    "pole_frequency_ratio": "pole_frequency_ratio",
-    "overshoot": "overshoot",
-    "settling_time": "settling_time_s",
-    "q": "process_noise_q",
-    "r": "measurement_noise_r",
-    "jerk_std": "jerk_std_rad_s3",
-    "jerk_density": "jerk_density_rad2_s5",
-    "noise_std": "sensor_noise_std",
-}
-
-_DEFAULTS = {"damping": 1.0, "pole_frequency_ratio": angletrack.PAPER_POLE_FREQUENCY_RATIO}
-
-_CONTINUOUS = {"second-order", "third-order"}
-
-#: Design functions that design the discrete loop itself: no discretisation argument.
-_DISCRETE = {"second_order_from_tracking_error_sampled", "kalman", "kalman_from_jerk_std", "kalman_from_jerk_density"}
-
-
-def _option(dest: str) -> str:
-    return "--" + dest.replace("_", "-")
-
-
-def _design_from_args(args: argparse.Namespace) -> tuple[angletrack.Design, dict]:
-    """Picks the design variant from the options given and calls it."""
-    given = {dest for dest in _KEYWORDS if getattr(args, dest, None) is not None}
-    variants = _DESIGNS[args.observer]
-    matching = [v for v in variants if set(v[1]) <= given]
-    matching = [v for v in matching if not any(set(v[1]) < set(w[1]) for w in matching)]
-    if len(matching) != 1:
-        choices = "; or ".join(" ".join(_option(o) + " ..." for o in req) for _, req, _ in variants)
-        what = "several specifications" if matching else "no complete specification"
-        raise ValueError(f"{args.observer}: {what} given; give exactly one of: {choices}")
-    function, required, optional = matching[0]
-    used = set(required) | set(optional)
-    unused = given - used - ({"noise_std"} if args.observer in _CONTINUOUS else set())
-    if unused:
-        raise ValueError(f"{args.observer}: {', '.join(sorted(_option(u) for u in unused))} not used by {function}")
-    kwargs = {_KEYWORDS[o]: getattr(args, o) for o in required}
-    for o in optional:
-        value = getattr(args, o)
-        kwargs[_KEYWORDS[o]] = _DEFAULTS[o] if value is None else value
-    if args.sample_rate is None or not args.sample_rate > 0:
-        raise ValueError("sample_rate: --sample-rate must be a positive number of Hz")
-    kwargs["sample_period_s"] = 1.0 / args.sample_rate
-    if function not in _DISCRETE:
-        kwargs["discretisation"] = args.discretisation
-    design = getattr(angletrack, function)(**kwargs)
-    return design, {"function": function, **kwargs}
-
-
-def _add_design_parser(sub) -> None:
-    design = _command(sub, _cmd_design)
-    design.add_argument("observer", choices=sorted(_DESIGNS), help="which observer")
-    design.add_argument("--sample-rate", type=float, required=True, metavar="HZ", help="sample rate (Hz)")
-    spec = design.add_argument_group(
-        "specification (one set, by observer)",
-        "second-order: --max-error, --acceleration and --overshoot (met by the sampled loop itself), "
-        "or --max-error and --acceleration [--damping], or --bandwidth [--damping], or "
-        "--butterworth-time-constant; third-order: --pole-ratio and --pole-time-constant "
-        "[--pole-frequency-ratio], or --overshoot and --settling-time [--pole-frequency-ratio], or "
-        "--butterworth-time-constant; kalman: --q and --r, or --jerk-std and --noise-std, or "
-        "--jerk-density and --noise-std",
-    )
-    for dest, (metavar, text) in {
-        "max_error": ("RAD", "tolerated angle error at --acceleration (rad)"),
-        "acceleration": ("RAD_S2", "acceleration of the tolerated error (rad/s^2)"),
-        "damping": ("M", f"damping ratio m (default 1; the paper: {angletrack.PAPER_FIVE_PERCENT_DAMPING} "
-                    "for 5 %% overshoot)"),
-        "bandwidth": ("HZ", "-3 dB bandwidth of the continuous loop (Hz)"),
-        "butterworth_time_constant": ("S", "time constant Tc of the Butterworth setting (s)"),
-        "pole_ratio": ("K", f"real pole at -K/T (the paper: {angletrack.PAPER_POLE_RATIO})"),
-        "pole_time_constant": ("S", "time constant T of the complex pair (s)"),
-        "pole_frequency_ratio": ("PSI", "complex pair at (-1 +- j psi)/T (default 3 pi/2)"),
-        "overshoot": ("FRACTION", "target overshoot (0.1 for 10 %%)"),
-        "settling_time": ("S", "target 2 %% settling time (s)"),
-        "q": ("Q", "process noise variance of the scaled jerk Ts^3 beta (rad^2)"),
-        "r": ("R", "measurement noise variance per channel"),
-        "jerk_std": ("RAD_S3", "standard deviation of the jerk (rad/s^3)"),
-        "jerk_density": ("RAD2_S5", "power spectral density of the jerk (rad^2/s^5)"),
-        "noise_std": ("STD", "sensor noise standard deviation per channel (amplitude 1); "
-                      "also the noise of the report's predicted errors"),
-    }.items():
-        spec.add_argument(_option(dest), dest=dest, type=float, metavar=metavar, help=text)
-    # The design functions parse the name (the Rust crate's Discretisation::from_str).
-    design.add_argument("--discretisation", default="pole_matching", metavar="NAME",
-                        help="mapping of a continuous design: pole_matching (default), forward_euler or "
-                        "tustin ('-' for '_' and any case accepted)")
-    design.add_argument("--format", choices=["c", "rust", "json"], default="c",
-                        help="gains file format (default c)")
-    design.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",
-                        help="write the gains there (default: print them after the report)")
-    design.add_argument("--dtype", choices=["float32", "float64", "fixed"], default="float32",
-                        help="float type of the C/Rust constants (default float32; JSON is always float64), "
-                             "or fixed: the fixed-point observer's integer constants (docs/theory.md §14)")
-    design.add_argument("--name", default="angletrack", help="identifier prefix in the C/Rust output")
-    design.add_argument("--plot", type=_png_path, metavar="FILE.png",
-                        help="draw the loop's Bode plot and its noise-against-bandwidth trade-off")
-    design.add_argument("--plot-acceleration", type=_positive, default=1000.0, metavar="RAD_S2",
-                        help="acceleration of the trade-off's tracking error, 2nd order (default 1000 rad/s^2)")
-    design.add_argument("--plot-jerk", type=_positive, default=1e5, metavar="RAD_S3",
-                        help="jerk of the trade-off's tracking error, 3rd order (default 1e5 rad/s^3)")
-
-
-def _cmd_design(args: argparse.Namespace) -> int:
-    """design gains from a specification, print the design's report, export the gains
-
-    Designs an observer from a specification, prints its datasheet (poles, bandwidth, error
-    constants, noise, step responses) and writes the gains as a C header, a Rust const block
-    or JSON, ready for angletrack-core's Gains::new(gains, Ts).
-    """
-    design, spec = _design_from_args(args)
-    noise = args.noise_std if args.noise_std is not None else 0.0
-    report = design.report(sensor_noise_std=noise)
-    spec_text = ", ".join(f"{k}={v!r}" for k, v in spec.items() if k != "function")
-    description = (
-        f"{design.method} ({spec['function']}: {spec_text})\n"
-        f"-3 dB bandwidth {report.bandwidth_hz or float('nan'):.6g} Hz, linear step overshoot "
-        f"{100 * report.linear_step.overshoot:.3g} %, 2 % settling {report.linear_step.settling_time_s:.6g} s"
-    )
-    metadata = {"method": design.method, "discretisation": design.discretisation, "specification": spec}
-    if args.dtype == "fixed":
-        constants = design.fixed_constants()
-        if args.format == "c":
-            text = export.fixed_to_c_header(constants, name=args.name, description=description)
-        elif args.format == "rust":
-            text = export.fixed_to_rust(constants, name=args.name, description=description)
-        else:
-            text = export.fixed_to_json(constants, metadata=metadata)
-    elif args.format == "c":
-        text = export.to_c_header(design.gains, name=args.name, dtype=args.dtype, description=description)
-    elif args.format == "rust":
-        text = export.to_rust(design.gains, name=args.name, dtype=args.dtype, description=description)
-    else:
-        text = export.to_json(design.gains, metadata=metadata)
-    print(f"{design!r}\n")
-    print(report)
-    if args.output is None:
-        print()
-        sys.stdout.write(text)
-    else:
-        args.output.parent.mkdir(parents=True, exist_ok=True)
-        capture_io.write_output(args.output, text)
-        kind = args.dtype if args.format != 'json' or args.dtype == 'fixed' else 'float64'
-        print(f"\nwrote the gains ({args.format}, {kind}) to {args.output}")
-    if args.plot is not None:
-        from angletrack import design_plots
-
-        print(design_plots.plot_design(
-            design, args.plot, sensor_noise_std=noise or _PLOT_NOISE_STD, acceleration_rad_s2=args.plot_acceleration,
-            jerk_rad_s3=args.plot_jerk, title=f"{design.method}: " + ", ".join(
-                f"{k}={v:.6g}" if isinstance(v, float) else f"{k}={v}" for k, v in spec.items() if k != "function"),
-        ))
-    return 0
-
-
 # ----------------------------------------------------------------------------- plot
-
-#: Sensor noise of `design --plot`'s trade-off without --noise-std (per channel, amplitude 1).
-_PLOT_NOISE_STD = 1e-3
-
-
-def _png_path(text: str):
-    """A .png file name; ``""`` (the option without its value) stays ``""``: the command's
-    default name."""
-    if text and not text.lower().endswith(".png"):
-        raise argparse.ArgumentTypeError(f"expected a file name ending in .png, got {text!r}")
-    return pathlib.Path(text) if text else ""
 
 
 def _add_plot_parser(sub) -> None:
-    plot = _command(sub, _cmd_plot)
+    plot = subcommand(sub, _cmd_plot)
     plot.add_argument("capture", type=pathlib.Path, metavar="CAPTURE")
-    _add_gains_source(plot, required=False)
+    add_gains_source(plot, required=False)
     plot.add_argument("--columns", metavar="ROLE=COLUMN,...", help="as for `angletrack track`")
     plot.add_argument("--delimiter", metavar="CHAR", help="as for `angletrack track`")
     plot.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s", help="unit of the time column")
-    _add_reader_arguments(plot)
-    plot.add_argument("--skip", type=_non_negative, default=0.0, metavar="S",
+    add_reader_arguments(plot)
+    plot.add_argument("--skip", type=non_negative_number, default=0.0, metavar="S",
                       help="leave the first S seconds out of the angle error (as well as the start-up)")
     plot.add_argument("--include-start-up", action="store_true",
                       help="against the observer's angle: count its start-up before the lock in the angle error "
                       "(default: left out, and shaded on the figure)")
-    plot.add_argument("--lock-tolerance", type=_positive, default=0.01, metavar="RAD",
+    plot.add_argument("--lock-tolerance", type=positive_number, default=0.01, metavar="RAD",
                       help="against the observer's angle: it is locked once the error, averaged over blocks of "
                       "an eighth of the loop's time constant, has stayed within RAD (default 0.01) for 4 time "
                       "constants")
     where = plot.add_mutually_exclusive_group()
-    where.add_argument("--output", "-o", type=_png_path, metavar="FILE.png",
+    where.add_argument("--output", "-o", type=png_path, metavar="FILE.png",
                        help="the figure (default: CAPTURE_plot.png beside the capture)")
     where.add_argument("--out", type=pathlib.Path, metavar="DIR",
                        help="directory for CAPTURE_plot.png and CAPTURE_plot.json (the fitted figures)")
@@ -413,7 +142,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         png, summary = args.out / f"{name}.png", args.out / f"{name}.json"
     else:
         png = args.output or args.capture.with_name(f"{name}.png")
-    _refuse_overwriting_inputs(args, {"--output": png, "--out (figures)": summary})
+    refuse_overwriting_inputs(args, {"--output": png, "--out (figures)": summary})
     print(plots.plot_capture_file(settings, png, summary_json=summary, max_points=args.max_points,
                                   include_start_up=args.include_start_up))
     return 0
@@ -423,7 +152,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
 
 
 def _add_report_parser(sub) -> None:
-    rep = _command(sub, _cmd_report)
+    rep = subcommand(sub, _cmd_report)
     rep.add_argument("--out", type=pathlib.Path, required=True, metavar="DIR", help="output directory")
     rep.add_argument("--no-plots", action="store_true", help="skip the PNG plots (no matplotlib needed)")
 
@@ -455,7 +184,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     _add_track_parser(sub)
-    _add_design_parser(sub)
+    add_design_parser(sub)
     _add_report_parser(sub)
     _add_plot_parser(sub)
     _add_calibrate_parser(sub)
@@ -484,7 +213,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     below --min-significance times it is not learned. Writes JSON for `angletrack track
     --calibration`, or a C header / Rust const block for firmware.
     """
-    _refuse_overwriting_inputs(args, {"--output": args.output})
+    refuse_overwriting_inputs(args, {"--output": args.output})
     settings = tracking.TrackSettings(capture=args.capture, output=args.output, gains_file=args.gains_file,
                                       gains=args.gains, sample_rate_hz=args.sample_rate, columns=args.columns,
                                       delimiter=args.delimiter, decimal=args.decimal, skip_rows=args.skip_rows,
@@ -509,15 +238,15 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
 
 
 def _add_calibrate_parser(sub) -> None:
-    cal = _command(sub, _cmd_calibrate)
+    cal = subcommand(sub, _cmd_calibrate)
     cal.add_argument("capture", type=pathlib.Path, metavar="CAPTURE")
-    _add_gains_source(cal)
+    add_gains_source(cal)
     cal.add_argument("--columns", metavar="ROLE=COLUMN,...",
                      help="which columns hold what (as for track; a reference column is calibrated against)")
     cal.add_argument("--delimiter", metavar="CHAR", help="field delimiter (default: sniffed)")
     cal.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s",
                      help="unit of the time column (default s)")
-    _add_reader_arguments(cal)
+    add_reader_arguments(cal)
     cal.add_argument("--self", dest="self_calibration", action="store_true",
                      help="self-calibrate even when the capture has a reference column")
     cal.add_argument("--loop", choices=["own", "gains"], default="own",
@@ -531,7 +260,7 @@ def _add_calibrate_parser(sub) -> None:
     cal.add_argument("--settle-fraction", type=float, default=0.2, metavar="F",
                      help="self-calibration: fraction of the capture, from its start, left out while the loop "
                      "settles (in [0, 1); default 0.2)")
-    cal.add_argument("--min-significance", type=_non_negative, default=3.0, metavar="X",
+    cal.add_argument("--min-significance", type=non_negative_number, default=3.0, metavar="X",
                      help="learn an order only when its amplitude is at least X times its uncertainty "
                      "(default 3; 0 learns every order, warning of those below their uncertainty)")
     cal.add_argument("--format", choices=["json", "c", "rust"], default="json",
@@ -541,9 +270,9 @@ def _add_calibrate_parser(sub) -> None:
 
 
 def _add_track_parser(sub) -> None:
-    track = _command(sub, _cmd_track)
+    track = subcommand(sub, _cmd_track)
     track.add_argument("capture", type=pathlib.Path, metavar="CAPTURE")
-    _add_gains_source(track)
+    add_gains_source(track)
     cols = track.add_argument_group("the capture's layout (sniffed by default)")
     cols.add_argument("--columns", metavar="ROLE=COLUMN,...",
                       help="which columns hold what: roles y_c, y_s, time, reference; each column a header "
@@ -554,7 +283,7 @@ def _add_track_parser(sub) -> None:
                       help="field delimiter: one character, 'tab' or 'whitespace' (default: sniffed)")
     cols.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s",
                       help="unit of the time column (default s)")
-    _add_reader_arguments(cols)
+    add_reader_arguments(cols)
     track.add_argument("--dtype", choices=["float32", "float64", "fixed"], default="float64",
                        help="number type the observer runs on (default float64); fixed: the fixed-point chain "
                        "on integer counts (a --calibration applied in integers, as a firmware does)")
@@ -564,9 +293,9 @@ def _add_track_parser(sub) -> None:
                        help="estimates file, its format from its extension: .csv, .npy (a NumPy structured "
                        "array) or .npz (one array per column); never an input; written beside it and renamed "
                        "when complete (default: CAPTURE_estimates.csv beside the capture)")
-    track.add_argument("--skip", type=_non_negative, default=0.0, metavar="S",
+    track.add_argument("--skip", type=non_negative_number, default=0.0, metavar="S",
                        help="with a reference: leave the first S seconds out of the error statistics")
-    track.add_argument("--lock-tolerance", type=_positive, default=0.01, metavar="RAD",
+    track.add_argument("--lock-tolerance", type=positive_number, default=0.01, metavar="RAD",
                        help="with a reference: angle error of the lock (default 0.01 rad)")
     track.add_argument("--progress", action="store_true",
                        help="report progress on stderr (default: only when stderr is a terminal)")
@@ -582,7 +311,7 @@ def _add_track_parser(sub) -> None:
                        "or one that --calibrate wrote (frozen; with --calibrate, learning starts from it)")
     resolver.add_track_arguments(track)
     clipping.add_arguments(track)
-    track.add_argument("--plot", nargs="?", const="", type=_png_path, metavar="FILE.png",
+    track.add_argument("--plot", nargs="?", const="", type=png_path, metavar="FILE.png",
                        help="also draw the capture (as `angletrack plot`) into FILE.png (default: the "
                        "output's name with .png)")
 

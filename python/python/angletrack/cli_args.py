@@ -1,0 +1,105 @@
+"""The ``angletrack`` command line's shared argument types and helpers: subcommands from
+their functions, numbers, gains sources, capture-reader options and the check that no output
+overwrites an input."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import pathlib
+from typing import Callable
+
+from angletrack import capture as capture_io
+
+
+def subcommand(sub, run: Callable[[argparse.Namespace], int]) -> argparse.ArgumentParser:
+    """The subcommand NAME of ``run`` (named ``_cmd_NAME``): the first line of its docstring
+    is the command's help, the rest its description."""
+    help_line, _, description = run.__doc__.partition("\n\n")
+    name = run.__name__[len("_cmd_"):]
+    parser = sub.add_parser(name, help=help_line.strip(), description=" ".join(description.split()))
+    parser.set_defaults(func=run)
+    return parser
+
+
+def float_list(text: str) -> list[float]:
+    """Comma-separated numbers, such as gains ``0.06,0.001``."""
+    try:
+        return [float(v) for v in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got {text!r}") from None
+
+
+def finite_number(text: str, *, positive: bool) -> float:
+    """A finite number, positive or at least 0; argparse names the option in its message."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(value) or value < 0 or (positive and value == 0):
+        raise argparse.ArgumentTypeError(f"expected a {'positive' if positive else 'non-negative'} number, got {text}")
+    return value
+
+
+def positive_number(text: str) -> float:
+    """A finite number above 0."""
+    return finite_number(text, positive=True)
+
+
+def non_negative_number(text: str) -> float:
+    """A finite number, 0 or more."""
+    return finite_number(text, positive=False)
+
+
+def add_gains_source(p: argparse.ArgumentParser, required: bool = True) -> None:
+    """The observer's gains, from --gains-file or --gains (one of them required unless
+    ``required`` is false), and --sample-rate."""
+    g = p.add_argument_group("gains (one of)" if required else "gains (optional: run the observer)")
+    src = g.add_mutually_exclusive_group(required=required)
+    src.add_argument("--gains-file", type=pathlib.Path, metavar="FILE.json",
+                     help="gains written by `angletrack design --format json`")
+    src.add_argument("--gains", type=float_list, metavar="L1,L2[,L3]",
+                     help="discrete gains (dimensionless); needs --sample-rate or a time column")
+    p.add_argument("--sample-rate", type=positive_number, metavar="HZ",
+                   help="the capture's true sample rate (Hz): overrides the gains file's and the time "
+                   "column's, and skips the check of the time column's spacing (rounded, repeated or "
+                   "jittered stamps; stamps going back are refused); default: the gains file's, checked "
+                   "against the time column")
+
+
+def add_reader_arguments(p) -> None:
+    """The capture-reader options every command that reads a capture shares, beside its
+    --columns, --delimiter and --time-unit."""
+    p.add_argument("--decimal", choices=[".", ","], metavar="MARK",
+                   help="decimal mark of the numbers: '.' or ',' (default: sniffed, ',' for numbers such as "
+                   "0,5 beside a ';', tab or blank delimiter)")
+    p.add_argument("--skip-rows", type=whole_number, default=0, metavar="N",
+                   help="lines skipped before the header (an instrument's metadata; lines of another width "
+                   "than the data are skipped without it)")
+
+
+def whole_number(text: str) -> int:
+    """A whole number, 0 or more."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected a whole number of at least 0, got {text}")
+    return value
+
+
+def refuse_overwriting_inputs(args: argparse.Namespace, outputs: dict) -> None:
+    """Refuses an output that is an input of the command (the capture, the gains file, a
+    stored calibration) or another output, before anything is written."""
+    inputs = {"capture": args.capture, "--gains-file": getattr(args, "gains_file", None),
+              "--calibration": getattr(args, "calibration", None)}
+    capture_io.check_outputs(outputs, inputs)
+
+
+def png_path(text: str):
+    """A .png file name; ``""`` (the option without its value) stays ``""``: the command's
+    default name."""
+    if text and not text.lower().endswith(".png"):
+        raise argparse.ArgumentTypeError(f"expected a file name ending in .png, got {text!r}")
+    return pathlib.Path(text) if text else ""

@@ -103,6 +103,28 @@ def test_design_prints_to_stdout_without_output(capsys):
 
 
 @pytest.mark.parametrize(
+    "name, marker",
+    [("gains.json", '"format": "angletrack-gains"'), ("gains.H", "#define ANGLETRACK_ORDER 3"),
+     ("gains.rs", "pub const ANGLETRACK_GAINS: [f32; 3] = ["), ("gains.txt", "#define ANGLETRACK_ORDER 3")],
+)
+def test_design_writes_the_format_its_output_names(tmp_path, name, marker):
+    # Without --format, the output's extension names the format (C for any other).
+    path = tmp_path / name
+    assert run_cli("design", "kalman", "--sample-rate", 10000, "--jerk-std", 1e5, "--noise-std", 0.01,
+                   "--output", path) == 0
+    assert marker in path.read_text()
+
+
+def test_design_refuses_a_format_its_output_does_not_name(tmp_path, capsys):
+    path = tmp_path / "gains.h"
+    assert run_cli("design", "kalman", "--sample-rate", 10000, "--jerk-std", 1e5, "--noise-std", 0.01,
+                   "--format", "json", "--output", path) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--format json does not match --output" in err and "(c)" in err
+    assert not path.exists()
+
+
+@pytest.mark.parametrize(
     "args, message",
     [
         (["design", "second-order", "--sample-rate", "10000"], "no complete specification"),

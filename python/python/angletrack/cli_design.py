@@ -66,6 +66,21 @@ _DISCRETE = {"second_order_from_tracking_error_sampled", "kalman", "kalman_from_
 _PLOT_NOISE_STD = 1e-3
 
 
+#: The gains file format an output's extension names.
+_FORMAT_OF_EXTENSION = {".h": "c", ".hpp": "c", ".rs": "rust", ".json": "json"}
+
+
+def _gains_format(given: str | None, output: pathlib.Path | None) -> str:
+    """The format of the gains: ``given`` (--format), else the one the output's extension names,
+    else C. A --format other than the extension's is refused: the file would hold one format
+    under another's name."""
+    named = _FORMAT_OF_EXTENSION.get(output.suffix.lower()) if output is not None else None
+    if given is not None and named is not None and given != named:
+        raise ValueError(f"format: --format {given} does not match --output {output} ({named}); "
+                         "give one of them, or both alike")
+    return given or named or "c"
+
+
 def _option(dest: str) -> str:
     return "--" + dest.replace("_", "-")
 
@@ -135,8 +150,9 @@ def add_design_parser(sub) -> None:
     design.add_argument("--discretisation", default="pole_matching", metavar="NAME",
                         help="mapping of a continuous design: pole_matching (default), forward_euler or "
                         "tustin ('-' for '_' and any case accepted)")
-    design.add_argument("--format", choices=["c", "rust", "json"], default="c",
-                        help="gains file format (default c)")
+    design.add_argument("--format", choices=["c", "rust", "json"],
+                        help="gains file format (default: the output's by its extension, .h c, .rs rust, "
+                        ".json json; else c)")
     design.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",
                         help="write the gains there (default: print them after the report)")
     design.add_argument("--dtype", choices=["float32", "float64", "fixed"], default="float32",
@@ -158,6 +174,7 @@ def _cmd_design(args: argparse.Namespace) -> int:
     constants, noise, step responses) and writes the gains as a C header, a Rust const block
     or JSON, ready for angletrack-core's Gains::new(gains, Ts).
     """
+    gains_format = _gains_format(args.format, args.output)
     design, spec = _design_from_args(args)
     noise = args.noise_std if args.noise_std is not None else 0.0
     report = design.report(sensor_noise_std=noise)
@@ -170,15 +187,15 @@ def _cmd_design(args: argparse.Namespace) -> int:
     metadata = {"method": design.method, "discretisation": design.discretisation, "specification": spec}
     if args.dtype == "fixed":
         constants = design.fixed_constants()
-        if args.format == "c":
+        if gains_format == "c":
             text = export.fixed_to_c_header(constants, name=args.name, description=description)
-        elif args.format == "rust":
+        elif gains_format == "rust":
             text = export.fixed_to_rust(constants, name=args.name, description=description)
         else:
             text = export.fixed_to_json(constants, metadata=metadata)
-    elif args.format == "c":
+    elif gains_format == "c":
         text = export.to_c_header(design.gains, name=args.name, dtype=args.dtype, description=description)
-    elif args.format == "rust":
+    elif gains_format == "rust":
         text = export.to_rust(design.gains, name=args.name, dtype=args.dtype, description=description)
     else:
         text = export.to_json(design.gains, metadata=metadata)
@@ -190,8 +207,8 @@ def _cmd_design(args: argparse.Namespace) -> int:
     else:
         args.output.parent.mkdir(parents=True, exist_ok=True)
         capture_io.write_output(args.output, text)
-        kind = args.dtype if args.format != 'json' or args.dtype == 'fixed' else 'float64'
-        print(f"\nwrote the gains ({args.format}, {kind}) to {args.output}")
+        kind = args.dtype if gains_format != 'json' or args.dtype == 'fixed' else 'float64'
+        print(f"\nwrote the gains ({gains_format}, {kind}) to {args.output}")
     if args.plot is not None:
         from angletrack import design_plots
 

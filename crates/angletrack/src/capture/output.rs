@@ -6,7 +6,7 @@
 
 use std::fs::{File, OpenOptions};
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use super::error::CaptureError;
@@ -15,31 +15,46 @@ use super::error::CaptureError;
 /// `("capture", path)`.
 pub type NamedPath<'a> = (&'a str, &'a Path);
 
-/// The absolute path of `path` with its symbolic links and `..` resolved as far as it
-/// exists (an output that does not exist yet: its directory's real path and its name).
+/// The absolute path of `path` with its symbolic links and `..` resolved: its longest
+/// existing ancestor's real path, then the rest of its components, each `..` taking one
+/// back. That is the file the path names once the run has created the directories it
+/// lacks (`new/../capture.csv` is the capture).
 fn resolved(path: &Path) -> PathBuf {
-    if let Ok(real) = path.canonicalize() {
-        return real;
+    let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    let components: Vec<Component<'_>> = absolute.components().collect();
+    for existing in (1..=components.len()).rev() {
+        let Ok(mut real) = components[..existing]
+            .iter()
+            .collect::<PathBuf>()
+            .canonicalize()
+        else {
+            continue;
+        };
+        for component in &components[existing..] {
+            match component {
+                Component::ParentDir => {
+                    real.pop();
+                }
+                Component::CurDir => {}
+                other => real.push(other),
+            }
+        }
+        // The components left may lead back into existing files and links.
+        return real.canonicalize().unwrap_or(real);
     }
-    let parent = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
-    match (parent.canonicalize(), path.file_name()) {
-        (Ok(dir), Some(name)) => dir.join(name),
-        _ => std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf()),
-    }
+    absolute
 }
 
 /// Whether `a` and `b` are one file: one device and inode (hard links, symbolic links and
 /// any spelling of the path) where both exist, else one resolved path.
 fn same_file(a: &Path, b: &Path) -> bool {
+    let (a, b) = (resolved(a), resolved(b));
     #[cfg(unix)]
-    if let (Ok(ma), Ok(mb)) = (std::fs::metadata(a), std::fs::metadata(b)) {
+    if let (Ok(ma), Ok(mb)) = (std::fs::metadata(&a), std::fs::metadata(&b)) {
         use std::os::unix::fs::MetadataExt;
         return ma.dev() == mb.dev() && ma.ino() == mb.ino();
     }
-    resolved(a) == resolved(b)
+    a == b
 }
 
 /// Refuses, before anything is written, an output that is one of the `inputs` or another

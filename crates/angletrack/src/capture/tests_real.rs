@@ -241,6 +241,41 @@ fn an_output_that_is_an_input_is_refused_in_every_spelling() {
         let e = check_outputs(&[("--output", &output)], &inputs).unwrap_err();
         assert!(e.to_string().contains("--output: is the capture"), "{e}");
     }
+    // Through directories that do not exist yet (the run would create them), and an output
+    // whose own directory does not.
+    for output in [
+        d.join("new").join("..").join("capture.csv"),
+        d.join("new")
+            .join("deeper")
+            .join("..")
+            .join("..")
+            .join("capture.csv"),
+        d.join("out")
+            .join("new")
+            .join(".")
+            .join("..")
+            .join("..")
+            .join("link.csv"),
+    ] {
+        let e = check_outputs(&[("--output", &output)], &inputs).unwrap_err();
+        assert!(e.to_string().contains("--output: is the capture"), "{e}");
+    }
+    let e = check_outputs(
+        &[
+            ("--output", &d.join("new").join("a.csv")),
+            (
+                "--plot",
+                &d.join("other").join("..").join("new").join("a.csv"),
+            ),
+        ],
+        &inputs,
+    );
+    assert!(
+        e.unwrap_err()
+            .to_string()
+            .contains("--plot: is the --output")
+    );
+    assert!(check_outputs(&[("--output", &d.join("new").join("capture.csv"))], &inputs).is_ok());
     let a = d.join("a.csv");
     let e = check_outputs(&[("--output", &a), ("--calibration-out", &a)], &inputs);
     assert!(

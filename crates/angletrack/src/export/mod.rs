@@ -201,13 +201,19 @@ pub fn identifier(name: &str) -> Result<&str, ExportError> {
 }
 
 /// The lines of a description for a comment: trimmed, each without trailing blanks (none
-/// for an empty description).
-fn comment_lines(description: &str) -> impl Iterator<Item = &str> {
-    let trimmed = description.trim();
-    trimmed
-        .split('\n')
-        .map(|line| line.strip_suffix('\r').unwrap_or(line).trim_end())
-        .filter(move |_| !trimmed.is_empty())
+/// for an empty description), split at every line break (`\n`, `\r\n` or a lone `\r`,
+/// which some compilers end a line at), and any `*/` written `* /`: a description never
+/// closes the C header's block comment, whatever its text.
+fn comment_lines(description: &str) -> impl Iterator<Item = String> {
+    let text = description.trim().replace("\r\n", "\n");
+    let lines: Vec<String> = if text.is_empty() {
+        Vec::new()
+    } else {
+        text.split(['\n', '\r'])
+            .map(|line| line.trim_end().replace("*/", "* /"))
+            .collect()
+    };
+    lines.into_iter()
 }
 
 /// `values` as literals of `float_type` with `suffix`, comma-separated.

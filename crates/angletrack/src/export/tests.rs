@@ -69,6 +69,15 @@ fn descriptions_become_trimmed_comment_lines() {
     let lines: Vec<_> = comment_lines("\n  first  \r\nsecond\t\n\n").collect();
     assert_eq!(lines, ["first", "second"]);
     assert_eq!(comment_lines("  \n ").count(), 0);
+    // Nothing a description holds ends the comment: a `*/` is broken, a lone carriage return
+    // (a line's end to some compilers) starts a new comment line.
+    let lines: Vec<_> = comment_lines("x */ int evil; /*\rint more;\n\nend").collect();
+    assert_eq!(lines, ["x * / int evil; /*", "int more;", "", "end"]);
+    let gains = angletrack_core::Gains::<f64, 2>::new([0.06, 0.001], 1e-4).unwrap();
+    let header = gains_c_header(&gains, FloatType::F32, "motor", "a */ int evil; /*\rb").unwrap();
+    // The header's first comment ends after the description's last line.
+    let comment_end = header.find("*/").unwrap();
+    assert!(header[..comment_end].contains(" * b\n"), "{header}");
 }
 
 #[test]

@@ -15,7 +15,8 @@ impl FrontEndFaults {
     /// both windings) is below its threshold: the excitation, a winding or the ADC is gone.
     pub const LOSS_OF_EXCITATION: FrontEndFaults = FrontEndFaults(1);
     /// Carrier phase drift: the carrier loop is out of lock, its phase error beyond its
-    /// bound (44 degrees by default, the AD2S1210's lock range).
+    /// bound (44 degrees by default, the AD2S1210's lock range), or its frequency held at
+    /// the bound of the carrier error allowed (the carrier beyond it).
     pub const PHASE_DRIFT: FrontEndFaults = FrontEndFaults(1 << 1);
     /// Clipping: a raw sample of the window was within the margin of the ADC's rails (or
     /// not a number).

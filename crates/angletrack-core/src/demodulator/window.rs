@@ -265,6 +265,11 @@ impl<V: DemodulatorNumber> Demodulator<V> {
             let cross = V::add(V::product(y_c, q_yc), V::product(y_s, q_ys));
             self.track_carrier(state, in_phase, quadrature, cross, power, !weak);
         }
+        // The step held at a bound of the carrier error allowed: the carrier is beyond it, and
+        // neither the loop's phase (lagging by what the bound leaves) nor the start-up's delay
+        // (taken back at the bound's step) holds.
+        let pinned = state.step == self.step_min || state.step == self.step_max;
+        let drifted = drifted || (!lost && pinned);
         state.windows = state.windows.wrapping_add(1);
         if let Some(iq) = excitation {
             self.resolve_from_excitation(state, iq);

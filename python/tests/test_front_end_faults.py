@@ -115,7 +115,7 @@ def test_the_front_end_fault_flags_are_the_cores():
     # the C header and the guide: a renamed or moved flag is an incompatible change.
     flags = [(flag.name, int(flag)) for flag in angletrack.FrontEndFaults]
     assert flags == [("LOSS_OF_EXCITATION", 1), ("PHASE_DRIFT", 2), ("CLIPPING", 4), ("WEAK_EXCITATION", 8),
-                     ("WINDING", 16)]
+                     ("WINDING", 16), ("EXCITATION_REFERENCE", 32)]
 
 
 def test_carrier_windings_clipped_after_the_first_chunk_are_flagged(tmp_path, carrier_gains, capsys):

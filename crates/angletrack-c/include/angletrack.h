@@ -170,6 +170,14 @@
 #define AT_FRONT_END_FAULT_WINDING (1 << 4)
 
 /**
+ * A pair's front-end fault: the recorded excitation (`at_demodulator_f32_push_with_excitation`)
+ * unusable in this window (its carrier below an eighth of the windings' nominal amplitude,
+ * or not a number), or none usable since the start-up: the carrier's half turn is not
+ * checked against it.
+ */
+#define AT_FRONT_END_FAULT_EXCITATION_REFERENCE (1 << 5)
+
+/**
  * Loss of signal: a window's RMS amplitude is below the loss-of-signal threshold.
  */
 #define AT_FAULT_LOSS_OF_SIGNAL 1

@@ -7,7 +7,9 @@
 
 use core::mem::MaybeUninit;
 
-use angletrack_core::{DemodulatedPair, Demodulator, DemodulatorSettings, DemodulatorState};
+use angletrack_core::{
+    DemodulatedPair, Demodulator, DemodulatorSettings, DemodulatorState, FrontEndFaults,
+};
 
 use crate::slot::{self, Refused, Stored};
 use crate::status::{at_status, status_of_result};
@@ -34,6 +36,12 @@ pub const AT_FRONT_END_FAULT_WEAK_EXCITATION: u32 = 1 << 3;
 /// A front-end fault: a winding open or shorted (the chain's winding check,
 /// `at_chain_f32_with_winding_check`).
 pub const AT_FRONT_END_FAULT_WINDING: u32 = 1 << 4;
+
+/// A pair's front-end fault: the recorded excitation (`at_demodulator_f32_push_with_excitation`)
+/// unusable in this window (its carrier below an eighth of the windings' nominal amplitude,
+/// or not a number), or none usable since the start-up: the carrier's half turn is not
+/// checked against it.
+pub const AT_FRONT_END_FAULT_EXCITATION_REFERENCE: u32 = 1 << 5;
 
 /// The checked configuration of a synchronous demodulator, made by `at_demodulator_f32_new`
 /// (reference tables, scale, thresholds). Immutable once made; place it anywhere; copy it by
@@ -187,6 +195,33 @@ impl From<DemodulatedPair<f32>> for at_demodulated_pair_f32 {
 const _: () = assert!(size_of::<Demodulator<f32>>().div_ceil(8) == AT_DEMODULATOR_F32_WORDS);
 const _: () =
     assert!(size_of::<DemodulatorState<f32>>().div_ceil(8) == AT_DEMODULATOR_STATE_F32_WORDS);
+
+// The pairs' `faults` are the core's bits: each constant is its flag's.
+const _: () = {
+    let flags = [
+        (
+            AT_FRONT_END_FAULT_LOSS_OF_EXCITATION,
+            FrontEndFaults::LOSS_OF_EXCITATION,
+        ),
+        (AT_FRONT_END_FAULT_PHASE_DRIFT, FrontEndFaults::PHASE_DRIFT),
+        (AT_FRONT_END_FAULT_CLIPPING, FrontEndFaults::CLIPPING),
+        (
+            AT_FRONT_END_FAULT_WEAK_EXCITATION,
+            FrontEndFaults::WEAK_EXCITATION,
+        ),
+        (AT_FRONT_END_FAULT_WINDING, FrontEndFaults::WINDING),
+        (
+            AT_FRONT_END_FAULT_EXCITATION_REFERENCE,
+            FrontEndFaults::EXCITATION_REFERENCE,
+        ),
+    ];
+    assert!(flags.len() == FrontEndFaults::NAMES.len());
+    let mut k = 0;
+    while k < flags.len() {
+        assert!(flags[k].0 == flags[k].1.bits() as u32);
+        k += 1;
+    }
+};
 
 impl Stored for Demodulator<f32> {
     const TAG: u32 = 0x4154_4401; // "ATD"

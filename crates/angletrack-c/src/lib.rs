@@ -82,9 +82,10 @@ pub use chain_fixed::{
 };
 pub use demodulator::{
     AT_DEMODULATOR_F32_WORDS, AT_DEMODULATOR_STATE_F32_WORDS, AT_FRONT_END_FAULT_CLIPPING,
-    AT_FRONT_END_FAULT_LOSS_OF_EXCITATION, AT_FRONT_END_FAULT_PHASE_DRIFT,
-    AT_FRONT_END_FAULT_WEAK_EXCITATION, AT_FRONT_END_FAULT_WINDING, at_demodulated_pair_f32,
-    at_demodulator_f32, at_demodulator_settings_f32, at_demodulator_state_f32,
+    AT_FRONT_END_FAULT_EXCITATION_REFERENCE, AT_FRONT_END_FAULT_LOSS_OF_EXCITATION,
+    AT_FRONT_END_FAULT_PHASE_DRIFT, AT_FRONT_END_FAULT_WEAK_EXCITATION, AT_FRONT_END_FAULT_WINDING,
+    at_demodulated_pair_f32, at_demodulator_f32, at_demodulator_settings_f32,
+    at_demodulator_state_f32,
 };
 pub use faults::*;
 pub use ffi::*;

@@ -40,6 +40,11 @@ pub use settings::DemodulatorSettings;
 pub use state::{DemodulatedPair, DemodulatorState};
 use state::{PendingWindow, Segment, Sums};
 
+/// The recorded excitation's least carrier amplitude as a fraction of the windings' nominal
+/// one: below it (a flat or missing reference) the window's excitation resolves nothing
+/// ([`FrontEndFaults::EXCITATION_REFERENCE`](crate::FrontEndFaults::EXCITATION_REFERENCE)).
+pub const EXCITATION_REFERENCE_FRACTION: f32 = 0.125;
+
 /// A quarter turn of the carrier loop's phase.
 const QUARTER: u32 = 1 << 30;
 
@@ -62,6 +67,9 @@ pub struct Demodulator<V: DemodulatorNumber> {
     weak_power: V::Wide,
     /// `cos(2 bound)`: the loop is out of lock where `cos 2e` is below it.
     drift_cos2: V::Wide,
+    /// The recorded excitation's least usable power, in the pair's unit
+    /// ([`EXCITATION_REFERENCE_FRACTION`] squared).
+    reference_power: V::Wide,
     expected: u32,
     expected_cos: V::Wide,
     expected_sin: V::Wide,
@@ -180,5 +188,7 @@ impl<V: DemodulatorNumber> Demodulator<V> {
 mod construction_tests;
 #[cfg(test)]
 mod range_tests;
+#[cfg(test)]
+mod reference_tests;
 #[cfg(test)]
 mod tests;

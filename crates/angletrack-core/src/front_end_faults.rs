@@ -30,6 +30,14 @@ impl FrontEndFaults {
     /// of nominal by default) though above the loss of excitation's.
     pub const WEAK_EXCITATION: FrontEndFaults = FrontEndFaults(1 << 3);
 
+    /// The recorded excitation unusable: with samples of the excitation
+    /// ([`Demodulator::push_with_excitation`](crate::Demodulator::push_with_excitation)), its
+    /// carrier in this window is below an eighth of the windings' nominal amplitude (a flat
+    /// or missing reference) or not a number, or none has been usable since the start-up.
+    /// The carrier's half turn is then not checked against it: the one last resolved from
+    /// it is kept, and before any, the expected delay's is taken.
+    pub const EXCITATION_REFERENCE: FrontEndFaults = FrontEndFaults(1 << 5);
+
     /// The faults that invalidate a sample's measurement: the observer of a chain coasts on
     /// its prediction while one holds ([`FrontEndCheck`](crate::FrontEndCheck)). Clipping
     /// of one channel does not (the pair is distorted, not lost); both channels clipped is
@@ -46,19 +54,20 @@ impl FrontEndFaults {
     /// use angletrack_core::FrontEndFaults;
     /// assert_eq!(FrontEndFaults::NAMES[2], (FrontEndFaults::CLIPPING, "clipping"));
     /// let all = FrontEndFaults::NAMES.iter().fold(FrontEndFaults::NONE, |all, (f, _)| all | *f);
-    /// assert_eq!(all.bits(), 0x1f);
+    /// assert_eq!(all.bits(), 0x3f);
     /// assert_eq!((FrontEndFaults::CLIPPING | FrontEndFaults::WINDING).to_string(), "clipping, winding");
     /// ```
-    pub const NAMES: [(FrontEndFaults, &'static str); 5] = [
+    pub const NAMES: [(FrontEndFaults, &'static str); 6] = [
         (FrontEndFaults::LOSS_OF_EXCITATION, "loss of excitation"),
         (FrontEndFaults::PHASE_DRIFT, "phase drift"),
         (FrontEndFaults::CLIPPING, "clipping"),
         (FrontEndFaults::WEAK_EXCITATION, "weak excitation"),
         (FrontEndFaults::WINDING, "winding"),
+        (FrontEndFaults::EXCITATION_REFERENCE, "excitation reference"),
     ];
 
     /// The raw bits (bit 0 loss of excitation, 1 phase drift, 2 clipping, 3 weak
-    /// excitation, 4 winding).
+    /// excitation, 4 winding, 5 excitation reference).
     pub const fn bits(self) -> u8 {
         self.0
     }

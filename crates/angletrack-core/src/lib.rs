@@ -167,7 +167,7 @@ pub use chain::{
 pub use const_config::Real;
 pub use demodulator::{
     DemodulatedPair, Demodulator, DemodulatorNumber, DemodulatorSettings, DemodulatorState,
-    FIXED_PAIR_UNIT,
+    EXCITATION_REFERENCE_FRACTION, FIXED_PAIR_UNIT,
 };
 pub use design::{
     Discretisation, MAX_POLE_TIMES_PERIOD, PolePair, UnknownDiscretisation,

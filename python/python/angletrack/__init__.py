@@ -215,7 +215,8 @@ Faults = _flags("Faults", FAULT_BITS, (
 FrontEndFaults = _flags("FrontEndFaults", FRONT_END_FAULT_BITS, (
     "The resolver front end's fault flags (``DemodulatedPairs.faults``, the resolver path's "
     "front_end_faults column, ``Demodulator.latched_faults``): LOSS_OF_EXCITATION, PHASE_DRIFT "
-    "(the carrier loop out of lock), CLIPPING, WEAK_EXCITATION, WINDING (open or shorted)."
+    "(the carrier loop out of lock or at its frequency bound), CLIPPING, WEAK_EXCITATION, WINDING (open or "
+    "shorted), EXCITATION_REFERENCE (the recorded excitation flat or not a number: the half turn unchecked)."
 ))
 
 # The resolver front end's whole-array helpers (pure Python over the extension's classes).

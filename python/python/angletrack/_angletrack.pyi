@@ -937,7 +937,8 @@ class DemodulatedPairs:
     quadrature_s: npt.NDArray[np.float64]
     window: npt.NDArray[np.uint64]
     faults: npt.NDArray[np.uint8]
-    """Front-end faults: 1 loss of excitation, 2 carrier phase drift, 4 clipping, 8 weak excitation."""
+    """Front-end faults: 1 loss of excitation, 2 carrier phase drift, 4 clipping, 8 weak excitation,
+    32 excitation reference (the recorded excitation unusable: ``FrontEndFaults``)."""
     def __len__(self) -> int: ...
 
 class Demodulator:

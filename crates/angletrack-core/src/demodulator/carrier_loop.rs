@@ -78,18 +78,19 @@ impl<V: DemodulatorNumber> Demodulator<V> {
         );
         if state.delay_ready || state.windows >= u64::from(self.startup_periods) {
             state.flip = along < V::Wide::default();
+            state.reference_resolved = true;
         }
     }
 
-    /// The end of the start-up: without an excitation, the half turn whose phase at the
-    /// first sample (the loop's phase taken back at its step) is within a quarter turn of the
-    /// expected delay.
+    /// The end of the start-up: unless a recorded excitation resolved it, the half turn whose
+    /// phase at the first sample (the loop's phase taken back at its step) is within a
+    /// quarter turn of the expected delay.
     #[cold]
     #[inline(never)]
     pub(super) fn resolve(&self, state: &mut DemodulatorState<V>) {
         let back = state.sample.wrapping_mul(u64::from(state.step)) as u32;
         let mut delay = state.phase.wrapping_sub(back);
-        if !state.excitation {
+        if !state.reference_resolved {
             state.flip = (delay.wrapping_sub(self.expected) as i32).unsigned_abs() > QUARTER;
         }
         if state.flip {

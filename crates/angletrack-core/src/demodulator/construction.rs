@@ -5,7 +5,10 @@
 //! observer's configuration), and [`Demodulator::new`] reaches the same code through
 //! [`DemodulatorNumber`].
 
-use super::{Demodulator, DemodulatorNumber, DemodulatorSettings, FIXED_PAIR_UNIT};
+use super::{
+    Demodulator, DemodulatorNumber, DemodulatorSettings, EXCITATION_REFERENCE_FRACTION,
+    FIXED_PAIR_UNIT,
+};
 use crate::error::{ConfigError, Parameter, const_try};
 
 /// Defines, for the sample type `$v` whose settings are in the float type `$r` (its checks
@@ -215,6 +218,7 @@ macro_rules! checked_demodulator {
                     pair_gain,
                     loss_power: $n::unit_power(loss),
                     weak_power: $n::unit_power(weak),
+                    reference_power: $n::unit_power(EXCITATION_REFERENCE_FRACTION as $r),
                     drift_cos2: $n::fraction(cos2),
                     expected: turn_fraction_to_phase(expected / TAU),
                     expected_cos: $n::fraction(cos_expected),

@@ -120,6 +120,8 @@ pub struct DemodulatorState<V: DemodulatorNumber> {
     pub(super) excitation: bool,
     /// The last window's excitation components `(I, Q)` against the loop's phase.
     pub(super) excitation_iq: (V::Wide, V::Wide),
+    /// Whether a usable window of the recorded excitation has resolved the half turn.
+    pub(super) reference_resolved: bool,
     /// Whether the pairs are negated (the loop locked half a turn from the chosen carrier).
     pub(super) flip: bool,
     /// The carrier's phase at the first sample, as chosen at start-up (2^32 per turn).
@@ -153,6 +155,7 @@ impl<V: DemodulatorNumber> DemodulatorState<V> {
             windows: 0,
             excitation: false,
             excitation_iq: (V::Wide::default(), V::Wide::default()),
+            reference_resolved: false,
             flip: false,
             startup_delay: 0,
             delay_ready: false,
@@ -166,13 +169,14 @@ impl<V: DemodulatorNumber> DemodulatorState<V> {
     }
 
     /// The carrier delay chosen (rad, in [-pi, pi)): with a recorded excitation the
-    /// windings' carrier after it, as of the last window; without, the windings' carrier
-    /// phase at the first sample (the declared carrier's phase 0), as chosen at start-up.
+    /// windings' carrier after it, as of its last usable window; without one (or before its
+    /// first usable window), the windings' carrier phase at the first sample (the declared
+    /// carrier's phase 0), as chosen at start-up.
     /// The other half turn is the same signal with the shaft half a turn further
     /// (`docs/theory.md §13`). Meant for diagnostics (one `atan2`).
     pub fn carrier_delay_rad(&self) -> V::Real {
         use crate::real::Float;
-        if self.excitation {
+        if self.reference_resolved {
             let (i, q) = self.excitation_iq;
             let (i, q) = (V::wide_to_real(i), V::wide_to_real(q));
             let half = if self.flip {

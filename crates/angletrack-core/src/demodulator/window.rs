@@ -233,9 +233,19 @@ impl<V: DemodulatorNumber> Demodulator<V> {
         let excitation = if state.excitation {
             let (e, l) = (&pending.excitation, &last.excitation);
             let x = V::add_sum(e.x, l.x);
+            let (xs, xc) = (add_product::<V>(e.xs, l.xs), add_product::<V>(e.xc, l.xc));
+            // Its carrier in the pair's unit (the windings' nominal amplitude 1): a flat,
+            // missing or NaN reference gives no half turn.
+            let mean = V::mean(x, per_weight);
+            let (i, q) = (
+                V::pair_component(xs, mean, sums.s, scale),
+                V::pair_component(xc, mean, sums.c, scale),
+            );
+            let usable = V::add(V::product(i, i), V::product(q, q)) >= self.reference_power;
             Some((
-                V::component(add_product::<V>(e.xs, l.xs), x, sums.s, per_weight),
-                V::component(add_product::<V>(e.xc, l.xc), x, sums.c, per_weight),
+                V::component(xs, x, sums.s, per_weight),
+                V::component(xc, x, sums.c, per_weight),
+                usable,
             ))
         } else {
             None
@@ -271,8 +281,12 @@ impl<V: DemodulatorNumber> Demodulator<V> {
         let pinned = state.step == self.step_min || state.step == self.step_max;
         let drifted = drifted || (!lost && pinned);
         state.windows = state.windows.wrapping_add(1);
-        if let Some(iq) = excitation {
-            self.resolve_from_excitation(state, iq);
+        let mut no_reference = false;
+        if let Some((i, q, usable)) = excitation {
+            if usable {
+                self.resolve_from_excitation(state, (i, q));
+            }
+            no_reference = !usable || !state.reference_resolved;
         }
         if !state.delay_ready {
             if state.windows < u64::from(self.startup_periods) {
@@ -293,7 +307,8 @@ impl<V: DemodulatorNumber> Demodulator<V> {
         let faults = FrontEndFaults::when(lost, FrontEndFaults::LOSS_OF_EXCITATION)
             | FrontEndFaults::when(weak, FrontEndFaults::WEAK_EXCITATION)
             | FrontEndFaults::when(drifted, FrontEndFaults::PHASE_DRIFT)
-            | FrontEndFaults::when(clipped, FrontEndFaults::CLIPPING);
+            | FrontEndFaults::when(clipped, FrontEndFaults::CLIPPING)
+            | FrontEndFaults::when(no_reference, FrontEndFaults::EXCITATION_REFERENCE);
         state.latched |= faults;
         Some(DemodulatedPair {
             y_c,

@@ -1,0 +1,104 @@
+//! A recorded excitation that is no reference (`docs/theory.md §13`): flat, not a number, or
+//! lost part way. Its windows are flagged `EXCITATION_REFERENCE`, the half turn is kept from
+//! its last usable window (or, before any, taken from the expected delay), and a usable
+//! reference again clears the flag.
+
+extern crate std;
+use std::vec::Vec;
+
+use super::*;
+use crate::FrontEndFaults;
+use core::f64::consts::TAU;
+
+/// 10 kHz carrier at 160 kHz, the windings' carrier 200 degrees after the ADC's first
+/// sample, the shaft at 0.7 rad.
+const SAMPLES_PER_PERIOD: f64 = 16.0;
+const DELAY_RAD: f64 = 200.0 * TAU / 360.0;
+const ANGLE_RAD: f64 = 0.7;
+
+/// The pairs of `samples` samples, the excitation's sample `j` given by `excitation` (its
+/// carrier's phase), with the expected delay `expected_rad`: each pair's angle (rad) and
+/// faults, and the state after the run.
+fn run(
+    samples: usize,
+    expected_rad: f64,
+    excitation: impl Fn(usize, f64) -> f64,
+) -> (Vec<(f64, FrontEndFaults)>, DemodulatorState<f64>) {
+    let d = Demodulator::new(DemodulatorSettings {
+        expected_delay_rad: expected_rad,
+        ..DemodulatorSettings::new(10e3, 160e3, 1800.0, 0.0, 4095.0)
+    })
+    .unwrap();
+    let mut state = DemodulatorState::new();
+    let mut pairs = Vec::new();
+    for j in 0..samples {
+        let psi = TAU * j as f64 / SAMPLES_PER_PERIOD + DELAY_RAD;
+        let carrier = 1800.0 * psi.sin();
+        let (c, s) = (
+            2048.0 + ANGLE_RAD.cos() * carrier,
+            2048.0 + ANGLE_RAD.sin() * carrier,
+        );
+        if let Some(pair) = d.push_with_excitation(&mut state, c, s, excitation(j, psi)) {
+            pairs.push((pair.y_s.atan2(pair.y_c), pair.faults));
+        }
+    }
+    (pairs, state)
+}
+
+/// `true` when `angle` is the shaft's, to 1 mrad.
+fn right(angle: f64) -> bool {
+    (angle - ANGLE_RAD).abs() < 1e-3
+}
+
+#[test]
+fn a_flat_or_nan_excitation_is_flagged_and_the_expected_delay_resolves_the_half_turn() {
+    // The expected delay, 180 degrees, is within a quarter turn of the windings' 200: the
+    // half turn it resolves is the right one.
+    for flat in [2048.0, f64::NAN, 2048.0 + 1e-3] {
+        let (pairs, state) = run(16 * 200, 180f64.to_radians(), |_, _| flat);
+        assert!(pairs.len() > 150, "{flat}");
+        assert!(
+            pairs
+                .iter()
+                .all(|&(angle, faults)| right(angle)
+                    && faults == FrontEndFaults::EXCITATION_REFERENCE),
+            "{flat}: {:?}",
+            &pairs[..3]
+        );
+        assert!(
+            state
+                .latched_faults()
+                .intersects(FrontEndFaults::EXCITATION_REFERENCE)
+        );
+        // The delay chosen at start-up, not one measured against a flat line.
+        // (To 0.05 rad, as without an excitation: `tests.rs`.)
+        let error = (state.carrier_delay_rad() - DELAY_RAD).rem_euclid(TAU);
+        assert!(error.min(TAU - error) < 0.05, "{flat}: delay error {error}");
+    }
+}
+
+#[test]
+fn a_reference_lost_part_way_keeps_the_half_turn_and_is_flagged_until_it_returns() {
+    // The excitation in phase with the windings' carrier, flat from sample 1600 to 2400
+    // (50 windows), with an expected delay that would choose the wrong half turn by itself.
+    let lost = 1600..2400;
+    let (pairs, _) = run(16 * 300, 20f64.to_radians(), |j, psi| {
+        if lost.contains(&j) {
+            2048.0
+        } else {
+            2048.0 + 1500.0 * psi.sin()
+        }
+    });
+    assert!(pairs.iter().all(|&(angle, _)| right(angle)));
+    let flagged = pairs
+        .iter()
+        .filter(|p| p.1 == FrontEndFaults::EXCITATION_REFERENCE)
+        .count();
+    // 50 windows without the reference and the two that straddle its edges, of at most
+    // 51 + 2 pairs flagged; the others clean.
+    assert!((49..=53).contains(&flagged), "{flagged} flagged");
+    assert_eq!(
+        flagged + pairs.iter().filter(|p| p.1.is_empty()).count(),
+        pairs.len()
+    );
+}

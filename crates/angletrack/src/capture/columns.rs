@@ -262,6 +262,30 @@ pub fn resolve(
             }
         }
     }
+    // A signal's column found by a name the header gives twice could be either: the first
+    // is no more likely than the other (the time column's repeats are an oscilloscope's
+    // (x, y) pairs, `pair_times`).
+    for (index, role) in indices.iter().zip(Role::ALL) {
+        let Some(i) = *index else { continue };
+        let wanted = map.get(role);
+        let by_index = wanted.is_some_and(|w| {
+            w.trim().parse::<usize>() == Ok(i) && normalised(&names[i]) != normalised(w)
+        });
+        let same: Vec<usize> = (0..names.len())
+            .filter(|&j| normalised(&names[j]) == normalised(&names[i]))
+            .collect();
+        if has_header && role != Role::Time && !by_index && same.len() > 1 {
+            let listed: Vec<String> = same.iter().map(usize::to_string).collect();
+            return Err(format!(
+                "columns: {role}={} is ambiguous: columns {} are all named {:?}; name one by \
+                 its 0-based index, e.g. {role}={}",
+                wanted.unwrap_or(&names[i]),
+                listed.join(" and "),
+                names[i],
+                same[same.len() - 1]
+            ));
+        }
+    }
     let mut resolved = ResolvedColumns {
         indices,
         other_times: Vec::new(),

@@ -80,6 +80,20 @@ fn header_names_match_without_their_units() {
 }
 
 #[test]
+fn a_signal_named_twice_in_the_header_is_ambiguous_unless_named_by_index() {
+    let text = b"time,y_c,y_s,Y_S [V]\n0,1,0,0.5\n1,1,0,0.5\n";
+    for columns in ["", "y_s=y_s"] {
+        let e = error("twice.csv", text, columns);
+        assert!(
+            e.contains("y_s=y_s is ambiguous: columns 2 and 3") && e.contains("y_s=3"),
+            "{e}"
+        );
+    }
+    let c = read("twice.csv", text, "y_s=3").unwrap();
+    assert_eq!(c.samples.y_s, [0.5, 0.5]);
+}
+
+#[test]
 fn integer_counts_keep_their_dtype_and_indices_map_a_headerless_file() {
     let c = read("adc.csv", b"2048 3548\n2050 3547\n", "y_c=0,y_s=1").unwrap();
     assert_eq!(c.samples.y_c, [2048.0, 2050.0]);

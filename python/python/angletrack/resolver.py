@@ -85,11 +85,23 @@ def add_track_arguments(track: argparse.ArgumentParser) -> None:
     g.add_argument("--expected-delay-deg", type=float, default=0.0, metavar="DEG",
                    help="the carrier's phase at the first sample (degrees) the carrier's half-turn "
                    "ambiguity is resolved around (default 0)")
-    g.add_argument("--pole-pairs", type=int, metavar="P",
-                   help="write electrical_angle_rad for a motor of P pole pairs (default 1)")
+    g.add_argument("--pole-pairs", type=pole_pairs_count, metavar="P",
+                   help="write electrical_angle_rad for a motor of P pole pairs (1 to 65536; default 1)")
     g.add_argument("--latency", type=float, metavar="S",
                    help="extrapolate electrical_angle_rad by S seconds from each row's time_s (the PWM "
                    "update instant; default 0)")
+
+
+def pole_pairs_count(text: str) -> int:
+    """A pole-pair count the drive outputs take (:class:`angletrack.DriveOutputs`' rule: a
+    whole number from 1 to 2^16); argparse names the option in its message."""
+    try:
+        value = int(text)
+        angletrack.DriveOutputs(sample_period_s=1.0, pole_pairs=value)
+    except (ValueError, OverflowError):
+        # ConfigError is a ValueError; OverflowError: beyond the binding's u32.
+        raise argparse.ArgumentTypeError(f"expected a whole number of pole pairs from 1 to 65536, got {text}") from None
+    return value
 
 
 def track_options(args: argparse.Namespace) -> dict:
@@ -200,7 +212,7 @@ def track_windings(s) -> tuple:
     drive = None
     if s.pole_pairs is not None or s.latency_s is not None:
         drive = angletrack.DriveOutputs(
-            sample_period_s=gains.sample_period_s, pole_pairs=s.pole_pairs or 1, latency_s=s.latency_s or 0.0,
+            sample_period_s=gains.sample_period_s, pole_pairs=1 if s.pole_pairs is None else s.pole_pairs, latency_s=s.latency_s or 0.0,
         )
     t0 = float(first.time_s[0]) if first.time_s is not None else 0.0
     stats = _ErrorStatistics(s.skip_s, s.lock_tolerance_rad) if first.reference_rad is not None else None

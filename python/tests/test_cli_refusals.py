@@ -76,3 +76,11 @@ def test_pole_pairs_out_of_range_are_refused_naming_the_flag(tmp_path, capsys, g
     last = argparse_refused(capsys, "track", clean, "--gains-file", gains, "--carrier-hz", 10000,
                             "--pole-pairs", value, "-o", out, flag="--pole-pairs")
     assert "from 1 to 65536" in last and not out.exists()
+
+
+def test_design_refuses_a_plot_onto_its_gains_file(tmp_path, capsys):
+    same = tmp_path / "same.png"
+    same.write_bytes(b"kept")
+    refused(capsys, "design", "kalman", "--sample-rate", RATE_HZ, "--jerk-std", 1e6, "--noise-std", 0.01,
+            "--format", "json", "-o", same, "--plot", same, flag="--plot")
+    assert same.read_bytes() == b"kept"

@@ -91,8 +91,8 @@ def whole_number(text: str) -> int:
 
 def refuse_overwriting_inputs(args: argparse.Namespace, outputs: dict) -> None:
     """Refuses an output that is an input of the command (the capture, the gains file, a
-    stored calibration) or another output, before anything is written."""
-    inputs = {"capture": args.capture, "--gains-file": getattr(args, "gains_file", None),
+    stored calibration; those it has) or another output, before anything is written."""
+    inputs = {"capture": getattr(args, "capture", None), "--gains-file": getattr(args, "gains_file", None),
               "--calibration": getattr(args, "calibration", None)}
     capture_io.check_outputs(outputs, inputs)
 

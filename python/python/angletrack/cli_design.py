@@ -10,7 +10,7 @@ import sys
 import angletrack
 from angletrack import capture as capture_io
 from angletrack import export
-from angletrack.cli_args import subcommand, png_path, positive_number
+from angletrack.cli_args import png_path, positive_number, refuse_overwriting_inputs, subcommand
 
 
 #: For each observer, its design variants: (function, required options, optional options).
@@ -175,6 +175,7 @@ def _cmd_design(args: argparse.Namespace) -> int:
     or JSON, ready for angletrack-core's Gains::new(gains, Ts).
     """
     gains_format = _gains_format(args.format, args.output)
+    refuse_overwriting_inputs(args, {"--output": args.output, "--plot": args.plot})
     design, spec = _design_from_args(args)
     noise = args.noise_std if args.noise_std is not None else 0.0
     report = design.report(sensor_noise_std=noise)

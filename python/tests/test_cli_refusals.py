@@ -41,8 +41,8 @@ def angle(n):
 
 @pytest.fixture
 def clean(tmp_path):
-    """0.1 s at 50 rev/s with a reference column."""
-    t, theta = angle(1000)
+    """0.15 s at 50 rev/s (7.5 turns) with a reference column."""
+    t, theta = angle(1500)
     path = tmp_path / "clean.csv"
     capture.write_capture(path, {"time": t, "y_c": np.cos(theta), "y_s": np.sin(theta), "reference": theta})
     return path
@@ -84,3 +84,17 @@ def test_design_refuses_a_plot_onto_its_gains_file(tmp_path, capsys):
     refused(capsys, "design", "kalman", "--sample-rate", RATE_HZ, "--jerk-std", 1e6, "--noise-std", 0.01,
             "--format", "json", "-o", same, "--plot", same, flag="--plot")
     assert same.read_bytes() == b"kept"
+
+
+def test_calibrate_writes_the_format_its_output_names(tmp_path, capsys, gains, clean):
+    # The rule of design's gains (one function): the extension names the format, a --format
+    # that contradicts it is refused before the capture is read.
+    cal = tmp_path / "cal.json"
+    err = refused(capsys, "calibrate", clean, "--gains-file", gains, "--format", "c", "-o", cal, flag="--format c")
+    assert "does not match --output" in err and not cal.exists()
+    header = tmp_path / "cal.h"
+    assert cli.main(["calibrate", str(clean), "--gains-file", str(gains), "-o", str(header)]) == 0
+    assert "#ifndef ANGLETRACK_CALIBRATION_H" in header.read_text()
+    assert cli.main(["calibrate", str(clean), "--gains-file", str(gains), "-o", str(cal)]) == 0
+    out = tmp_path / "e.csv"
+    assert cli.main(["track", str(clean), "--gains-file", str(gains), "--calibration", str(cal), "-o", str(out)]) == 0

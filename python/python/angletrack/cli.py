@@ -20,6 +20,7 @@ from angletrack.cli_args import (
     add_gains_source,
     add_reader_arguments,
     non_negative_number,
+    output_format,
     png_path,
     positive_number,
     refuse_overwriting_inputs,
@@ -213,6 +214,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     below --min-significance times it is not learned. Writes JSON for `angletrack track
     --calibration`, or a C header / Rust const block for firmware.
     """
+    calibration_format = output_format(args.format, args.output, default="json")
     refuse_overwriting_inputs(args, {"--output": args.output})
     settings = tracking.TrackSettings(capture=args.capture, output=args.output, gains_file=args.gains_file,
                                       gains=args.gains, sample_rate_hz=args.sample_rate, columns=args.columns,
@@ -228,7 +230,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
         for name, flag in _CALIBRATE_FLAGS.items():
             message = message.replace(name, flag)
         raise ValueError(message) from None
-    text = {"json": cal.to_json, "c": cal.to_c_header, "rust": cal.to_rust}[args.format]()
+    text = {"json": cal.to_json, "c": cal.to_c_header, "rust": cal.to_rust}[calibration_format]()
     if args.output is None:
         print(text, end="")
     else:
@@ -263,8 +265,9 @@ def _add_calibrate_parser(sub) -> None:
     cal.add_argument("--min-significance", type=non_negative_number, default=3.0, metavar="X",
                      help="learn an order only when its amplitude is at least X times its uncertainty "
                      "(default 3; 0 learns every order, warning of those below their uncertainty)")
-    cal.add_argument("--format", choices=["json", "c", "rust"], default="json",
-                     help="json (for track --calibration, default), c (header) or rust (const block)")
+    cal.add_argument("--format", choices=["json", "c", "rust"],
+                     help="json (for track --calibration), c (header) or rust (const block); default: the "
+                     "output's by its extension (.json json, .h c, .rs rust), else json")
     cal.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",
                      help="where to write it (default: standard output)")
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 import argparse
 import math
 import pathlib
-from typing import Callable
+from typing import Callable, Optional
 
 from angletrack import capture as capture_io
 
@@ -95,6 +95,21 @@ def refuse_overwriting_inputs(args: argparse.Namespace, outputs: dict) -> None:
     inputs = {"capture": getattr(args, "capture", None), "--gains-file": getattr(args, "gains_file", None),
               "--calibration": getattr(args, "calibration", None)}
     capture_io.check_outputs(outputs, inputs)
+
+
+#: The format of a file an output's extension names (gains, a calibration).
+_FORMAT_OF_EXTENSION = {".h": "c", ".hpp": "c", ".rs": "rust", ".json": "json"}
+
+
+def output_format(given: Optional[str], output: Optional[pathlib.Path], default: str) -> str:
+    """The format to write: ``given`` (--format), else the one the output's extension names
+    (.h c, .rs rust, .json json), else ``default``. A --format other than the extension's is
+    refused: the file would hold one format under another's name."""
+    named = _FORMAT_OF_EXTENSION.get(output.suffix.lower()) if output is not None else None
+    if given is not None and named is not None and given != named:
+        raise ValueError(f"format: --format {given} does not match --output {output} ({named}); "
+                         "give one of them, or both alike")
+    return given or named or default
 
 
 def png_path(text: str):

@@ -98,3 +98,32 @@ def test_calibrate_writes_the_format_its_output_names(tmp_path, capsys, gains, c
     assert cli.main(["calibrate", str(clean), "--gains-file", str(gains), "-o", str(cal)]) == 0
     out = tmp_path / "e.csv"
     assert cli.main(["track", str(clean), "--gains-file", str(gains), "--calibration", str(cal), "-o", str(out)]) == 0
+
+
+def test_calibrate_makes_its_output_directory(tmp_path, capsys, gains, clean):
+    out = tmp_path / "new" / "dir" / "cal.json"
+    assert cli.main(["calibrate", str(clean), "--gains-file", str(gains), "-o", str(out)]) == 0
+    assert '"format"' in out.read_text()
+
+
+@pytest.mark.parametrize("command", [
+    ["calibrate", "{clean}", "--gains-file", "{gains}", "-o", "{dir}"],
+    ["track", "{clean}", "--gains-file", "{gains}", "-o", "{dir}/x.csv", "--plot", "{dir}"],
+    ["design", "kalman", "--sample-rate", "1e4", "--jerk-std", "1e6", "--noise-std", "0.01", "-o", "{dir}"],
+])
+def test_an_output_that_is_a_directory_is_refused_naming_the_flag(tmp_path, capsys, gains, clean, command):
+    args = [a.format(clean=clean, gains=gains, dir=tmp_path) for a in command]
+    flag = "--plot" if "--plot" in args else "--output"
+    # The track's --plot names a .png, so that argparse takes it.
+    if flag == "--plot":
+        (tmp_path / "d.png").mkdir()
+        args[-1] = str(tmp_path / "d.png")
+    err = refused(capsys, *args, flag=flag)
+    assert "is a directory" in err and not (tmp_path / "x.csv").exists()
+
+
+def test_an_output_whose_directory_cannot_be_made_is_refused_before_tracking(tmp_path, capsys, gains, clean):
+    out = tmp_path / "e.csv"
+    err = refused(capsys, "track", clean, "--gains-file", gains, "-o", out, "--plot", "/proc/nope/x.png",
+                  flag="--plot: /proc/nope/x.png: cannot make its directory")
+    assert not out.exists(), err

@@ -19,6 +19,7 @@ from angletrack import harmonics, resolver, tracking
 from angletrack.cli_args import (
     add_gains_source,
     add_reader_arguments,
+    make_output_directories,
     non_negative_number,
     output_format,
     png_path,
@@ -50,7 +51,11 @@ def _cmd_track(args: argparse.Namespace) -> int:
     output = args.output or args.capture.with_name(args.capture.stem + "_estimates.csv")
     png = (args.plot or output.with_suffix(".png")) if args.plot is not None else None
     calibration_out = calibration_io.default_path(args.capture, args.calibration_out) if args.calibrate else None
-    refuse_overwriting_inputs(args, {"--output": output, "--calibration-out": calibration_out, "--plot": png})
+    outputs = {"--output": output, "--calibration-out": calibration_out, "--plot": png}
+    refuse_overwriting_inputs(args, outputs)
+    if output.suffix.lower() not in ESTIMATE_EXTENSIONS:
+        raise ValueError(f"--output: {output}: the estimates' format follows the extension, and the formats "
+                         "written are CSV (.csv), NumPy (.npy) or .npz")
     stored = calibration_io.read_stored(args.calibration)
     settings = tracking.TrackSettings(
         capture=args.capture,
@@ -73,9 +78,7 @@ def _cmd_track(args: argparse.Namespace) -> int:
         calibration=calibration_io.angle_calibration(stored),
         adc_range=clipping.stated_range(args),
     )
-    if output.suffix.lower() not in ESTIMATE_EXTENSIONS:
-        raise ValueError(f"--output: {output}: the estimates' format follows the extension, and the formats "
-                         "written are CSV (.csv), NumPy (.npy) or .npz")
+    make_output_directories(outputs)
     summary, observer = tracking.track_capture(settings)
     print(summary)
     if args.calibrate and observer is not None:
@@ -143,7 +146,9 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         png, summary = args.out / f"{name}.png", args.out / f"{name}.json"
     else:
         png = args.output or args.capture.with_name(f"{name}.png")
-    refuse_overwriting_inputs(args, {"--output": png, "--out (figures)": summary})
+    outputs = {"--output": png, "--out (figures)": summary}
+    refuse_overwriting_inputs(args, outputs)
+    make_output_directories(outputs)
     print(plots.plot_capture_file(settings, png, summary_json=summary, max_points=args.max_points,
                                   include_start_up=args.include_start_up))
     return 0
@@ -216,6 +221,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     """
     calibration_format = output_format(args.format, args.output, default="json")
     refuse_overwriting_inputs(args, {"--output": args.output})
+    make_output_directories({"--output": args.output})
     settings = tracking.TrackSettings(capture=args.capture, output=args.output, gains_file=args.gains_file,
                                       gains=args.gains, sample_rate_hz=args.sample_rate, columns=args.columns,
                                       delimiter=args.delimiter, decimal=args.decimal, skip_rows=args.skip_rows,

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import pathlib
 from typing import Callable, Optional
 
@@ -95,6 +96,24 @@ def refuse_overwriting_inputs(args: argparse.Namespace, outputs: dict) -> None:
     inputs = {"capture": getattr(args, "capture", None), "--gains-file": getattr(args, "gains_file", None),
               "--calibration": getattr(args, "calibration", None)}
     capture_io.check_outputs(outputs, inputs)
+
+
+def make_output_directories(outputs: dict) -> None:
+    """Before anything is computed: makes the outputs' directories (as ``mkdir -p``), and
+    refuses an output that is a directory or whose directory cannot be made or written in, in
+    one line naming its flag (the keys of ``outputs``; ``None`` paths left out)."""
+    for flag, path in outputs.items():
+        if path is None:
+            continue
+        path = pathlib.Path(path)
+        if path.is_dir():
+            raise ValueError(f"{flag}: {path} is a directory: give a file name")
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as e:
+            raise ValueError(f"{flag}: {path}: cannot make its directory: {e.strerror or e}") from None
+        if not os.access(path.parent, os.W_OK | os.X_OK):
+            raise ValueError(f"{flag}: {path}: its directory is not writable")
 
 
 #: The format of a file an output's extension names (gains, a calibration).

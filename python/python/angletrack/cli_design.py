@@ -10,7 +10,9 @@ import sys
 import angletrack
 from angletrack import capture as capture_io
 from angletrack import export
-from angletrack.cli_args import output_format, png_path, positive_number, refuse_overwriting_inputs, subcommand
+from angletrack.cli_args import (
+    make_output_directories, output_format, png_path, positive_number, refuse_overwriting_inputs, subcommand,
+)
 
 
 #: For each observer, its design variants: (function, required options, optional options).
@@ -162,6 +164,7 @@ def _cmd_design(args: argparse.Namespace) -> int:
     gains_format = output_format(args.format, args.output, default="c")
     refuse_overwriting_inputs(args, {"--output": args.output, "--plot": args.plot})
     design, spec = _design_from_args(args)
+    make_output_directories({"--output": args.output, "--plot": args.plot})
     noise = args.noise_std if args.noise_std is not None else 0.0
     report = design.report(sensor_noise_std=noise)
     spec_text = ", ".join(f"{k}={v!r}" for k, v in spec.items() if k != "function")
@@ -191,7 +194,6 @@ def _cmd_design(args: argparse.Namespace) -> int:
         print()
         sys.stdout.write(text)
     else:
-        args.output.parent.mkdir(parents=True, exist_ok=True)
         capture_io.write_output(args.output, text)
         kind = args.dtype if gains_format != 'json' or args.dtype == 'fixed' else 'float64'
         print(f"\nwrote the gains ({gains_format}, {kind}) to {args.output}")

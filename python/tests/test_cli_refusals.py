@@ -127,3 +127,71 @@ def test_an_output_whose_directory_cannot_be_made_is_refused_before_tracking(tmp
     err = refused(capsys, "track", clean, "--gains-file", gains, "-o", out, "--plot", "/proc/nope/x.png",
                   flag="--plot: /proc/nope/x.png: cannot make its directory")
     assert not out.exists(), err
+
+
+# ----------------------------------------------------------------- a failed run leaves no output
+
+
+def raw_windings(path, duration_s=0.01):
+    """Raw resolver windings (10 kHz carrier at 160 kHz, 12-bit counts) with a reference."""
+    profile = angletrack.MotionProfile(0.3, 300.0).constant_speed(300.0, duration_s)
+    scenario = angletrack.resolver_windings(profile, angletrack.ResolverModel(), seed=1)
+    capture.write_capture(path, {"time": scenario.time_s, "y_c": scenario.y_c, "y_s": scenario.y_s,
+                                 "reference": scenario.angle_rad})
+    return path
+
+
+def test_a_capture_of_bad_samples_leaves_no_estimates(tmp_path, capsys, gains):
+    t, _ = angle(200)
+    cap = tmp_path / "all_nan.csv"
+    capture.write_capture(cap, {"time": t, "y_c": np.full(200, np.nan), "y_s": np.full(200, np.nan)})
+    out = tmp_path / "a.csv"
+    err = refused(capsys, "track", cap, "--gains-file", gains, "-o", out, flag="mean nothing")
+    assert not out.exists(), err
+
+
+@pytest.mark.parametrize("path", ["float", "fixed", "resolver"])
+def test_a_skip_beyond_the_capture_leaves_no_estimates(tmp_path, capsys, gains, clean, path):
+    out = tmp_path / "b.csv"
+    if path == "resolver":
+        args = [raw_windings(tmp_path / "raw.csv"), "--carrier-hz", 10000]
+    elif path == "fixed":
+        args = [counts(tmp_path / "counts.npy", angle(300)[1], 0.0), "--sample-rate", RATE_HZ, "--dtype", "fixed"]
+    else:
+        args = [clean]
+    refused(capsys, "track", *args, "--gains-file", gains, "-o", out, "--skip", 5, flag="--skip 5")
+    assert not out.exists()
+
+
+def test_a_calibration_that_learned_nothing_leaves_no_estimates(tmp_path, capsys, gains):
+    # A rotor standing still: no turn to learn from.
+    t, _ = angle(500)
+    noise = np.random.default_rng(0).normal(0.0, 0.01, (2, 500))
+    cap = tmp_path / "still.csv"
+    capture.write_capture(cap, {"time": t, "y_c": 0.8 + noise[0], "y_s": 0.6 + noise[1]})
+    out = tmp_path / "c.csv"
+    refused(capsys, "track", cap, "--gains-file", gains, "--calibrate", "-o", out, flag="learned 0 turns")
+    assert not out.exists() and not (tmp_path / "still_calibration.json").exists()
+
+
+def test_a_calibration_out_through_a_new_directory_is_written(tmp_path, capsys, gains, clean):
+    out, cal = tmp_path / "e1.csv", tmp_path / "nosuch" / ".." / "g.json"
+    status, err = run(capsys, "track", clean, "--gains-file", gains, "--calibrate", "--calibration-out", cal,
+                      "-o", out)
+    assert status == 0 and out.exists() and (tmp_path / "g.json").exists(), err
+
+
+def test_plot_with_the_fixed_point_chain_draws_the_capture(tmp_path, capsys, gains):
+    pytest.importorskip("matplotlib")
+    out = tmp_path / "f.csv"
+    cap = counts(tmp_path / "counts.npy", angle(300)[1], 2048.0)
+    status, err = run(capsys, "track", cap, "--sample-rate", RATE_HZ, "--gains-file", gains, "--dtype", "fixed",
+                      "-o", out, "--plot")
+    assert status == 0 and out.exists() and (tmp_path / "f.png").stat().st_size > 10_000, err
+
+
+def test_plot_on_the_resolver_path_is_refused_before_tracking(tmp_path, capsys, gains):
+    out = tmp_path / "r.csv"
+    err = refused(capsys, "track", raw_windings(tmp_path / "raw.csv"), "--carrier-hz", 10000, "--gains-file", gains,
+                  "-o", out, "--plot", flag="--plot with --carrier-hz")
+    assert not out.exists() and not (tmp_path / "r.png").exists(), err

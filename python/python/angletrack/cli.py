@@ -78,15 +78,30 @@ def _cmd_track(args: argparse.Namespace) -> int:
         calibration=calibration_io.angle_calibration(stored),
         adc_range=clipping.stated_range(args),
     )
-    make_output_directories(outputs)
-    summary, observer = tracking.track_capture(settings)
-    print(summary)
-    if args.calibrate and observer is not None:
-        print(calibration_io.write_learned(args.capture, args.calibration_out, observer))
     if png is not None:
+        if args.carrier_hz is not None:
+            raise ValueError("plot: --plot with --carrier-hz: the figure is drawn from y_c, y_s samples, not "
+                             "carrier-modulated windings; draw the demodulated pairs from the estimates with "
+                             "`angletrack plot ESTIMATES --columns time=time_s,y_c=y_c,y_s=y_s --sample-rate HZ`")
         from angletrack import plots
 
-        print(plots.plot_capture_file(settings, png))
+        plots.pyplot(" (or leave out --plot)")  # refused before tracking
+    make_output_directories(outputs)
+    summary, observer = tracking.track_capture(settings)
+    written = [output]
+    try:
+        lines = [summary]
+        if args.calibrate and observer is not None:
+            lines.append(calibration_io.write_learned(args.capture, args.calibration_out, observer))
+            written.append(calibration_out)
+        if png is not None:
+            lines.append(plots.plot_capture_file(settings, png))
+    except BaseException:
+        # A run that fails leaves no output that could pass for a complete one.
+        for path in written:
+            path.unlink(missing_ok=True)
+        raise
+    print("\n".join(lines))
     return 0
 
 

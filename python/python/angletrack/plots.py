@@ -174,7 +174,10 @@ def analyse_capture(
     lock = None
     if s.gains_file is not None or s.gains is not None:
         gains = tracking.gains_for_capture(s, reader.sample_rate_hz if first.time_s is not None else None)
-        observer = angletrack.Observer(gains, dtype=np.dtype(s.dtype), sin_cos=s.sin_cos)
+        # `track --dtype fixed --plot`: the figure draws the float observer (the fixed-point
+        # chain's estimates are the output's).
+        dtype = np.dtype("float64" if s.dtype == "fixed" else s.dtype)
+        observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos)
         rate_hz: Optional[float] = gains.sample_rate_hz
         if first.reference_rad is None:
             lock = _lock_detector(gains, s.lock_tolerance_rad)
@@ -211,7 +214,7 @@ def analyse_capture(
         a.lissajous.add(chunk.y_c, chunk.y_s)
         angle = chunk.reference_rad
         if observer is not None:
-            est = observer.update(chunk.y_c.astype(s.dtype, copy=False), chunk.y_s.astype(s.dtype, copy=False))
+            est = observer.update(chunk.y_c.astype(dtype, copy=False), chunk.y_s.astype(dtype, copy=False))
             angle = est.angle.astype(np.float64) if angle is None else angle
             a.speed.add(time_s, est.speed)
             for name, bit in angletrack.FAULT_BITS:

@@ -181,7 +181,7 @@ def track_windings(s) -> tuple:
     ``.npy`` or ``.npz``, by the crate's ``TableWriter``); returns the
     summary and the observer of the pairs after the last one (its learned calibration)
     (``s`` a :class:`angletrack.tracking.TrackSettings`)."""
-    from angletrack.tracking import _ErrorStatistics
+    from angletrack.tracking import _ErrorStatistics, finishing_checks
 
     reader = angletrack.CaptureReader(
         s.capture, **s.reader_options(), chunk_rows=s.chunk_rows,
@@ -259,6 +259,7 @@ def track_windings(s) -> tuple:
         if pairs_total == 0:  # inside the block: no output is left behind
             raise ValueError(f"{s.capture}: too short: no pair left the demodulator's start-up "
                              f"({reader.rows} samples)")
+        statistics = finishing_checks(s, observer, stats)
     latched = angletrack.Faults(observer.latched_faults)
     lines = [
         repr(observer),
@@ -269,9 +270,7 @@ def track_windings(s) -> tuple:
         f"front-end faults latched: {_front_end_names(_latched_front_end(demodulator, observer))}; "
         f"observer faults latched: {latched.name if latched else 'none'}",
     ]
-    if stats is not None:
-        lines.append(stats.report())
-    return "\n".join(lines), observer
+    return "\n".join(lines + statistics), observer
 
 
 def _rails_note(demodulator, adc_how: str) -> str:

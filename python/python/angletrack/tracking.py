@@ -289,13 +289,26 @@ def unsigned_mid_scale(sample_dtype: str, y_c: np.ndarray, y_s: np.ndarray) -> f
                                    np.ascontiguousarray(y_s, dtype=np.float64)))
 
 
+def finishing_checks(s: TrackSettings, observer, stats: Optional[_ErrorStatistics]) -> list[str]:
+    """The checks at the end of the capture, made inside the writer's block so that a run
+    they refuse leaves no estimates (the writer discards its temporary file): ``--calibrate``
+    learned a turn, ``--skip`` leaves samples for the statistics. Returns the statistics'
+    lines (none without a reference)."""
+    if s.observer_arguments.get("calibration") == "learn":
+        from angletrack import calibration as calibration_io
+
+        calibration_io.check_learned(observer)
+    return [] if stats is None else [stats.report()]
+
+
 def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, angletrack.FixedObserver, harmonics.CalibratedObserver]]:
     """Runs ``s``: writes the estimates to ``s.output`` and returns the summary to print and
     the observer at the end of the capture (its learned calibration, its faults; for
     carrier-modulated windings the observer of the demodulated pairs, which go through the
     same calibration stages as y_c, y_s samples).
     Raises ``ValueError`` (``CaptureError``, ``ConfigError``) on a capture that cannot be
-    tracked, before anything is written where it can be told before."""
+    tracked, before anything is written where it can be told before, else leaving no
+    estimates (:func:`finishing_checks`)."""
     if s.dtype == "fixed":
         from angletrack import fixed_tracking
 
@@ -319,8 +332,7 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
         from angletrack import fixed_tracking
 
         lines, fixed = fixed_tracking.track_fixed(s, gains, reader, first, stats)
-        return "\n".join(lines[:1] + _stated_rate_note(s) + lines[1:]
-                         + ([stats.report()] if stats is not None else [])), fixed
+        return "\n".join(lines[:1] + _stated_rate_note(s) + lines[1:]), fixed
     dtype = np.dtype(s.dtype)
     calibration = s.calibration
     mid = unsigned_mid_scale(reader.sample_dtype, first.y_c, first.y_s)
@@ -358,10 +370,12 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
                 stats.add(time_s, est.angle, chunk.reference_rad)
             progress.update(reader)
             chunk = next(chunks, None)
-    progress.update(reader, final=True)
-    total = reader.rows
-    if 2 * rejected > total:
-        raise ValueError(_rejections_error(s, rejected, total, reader, y_c_sum / total))
+        progress.update(reader, final=True)
+        total = reader.rows
+        # Refused inside the block: no estimates are left behind.
+        if 2 * rejected > total:
+            raise ValueError(_rejections_error(s, rejected, total, reader, y_c_sum / total))
+        statistics = finishing_checks(s, observer, stats)
     latched = angletrack.Faults(observer.latched_faults)
     lines = [
         repr(observer),
@@ -377,9 +391,7 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
                  "(flagged FRONT_END; those clipped in both channels coasted through)")
     if not s.observer_arguments and calibration is None:
         lines += ranges.off_centre_note()
-    if stats is not None:
-        lines.append(stats.report())
-    return "\n".join(lines), observer
+    return "\n".join(lines + statistics), observer
 
 
 def calibrate_capture(s: TrackSettings, **options) -> harmonics.Calibration:

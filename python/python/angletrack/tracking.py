@@ -277,13 +277,16 @@ class _Ranges:
         ]
 
 
-def unsigned_mid_scale(sample_dtype: str, y_c: np.ndarray, y_s: np.ndarray) -> float:
+def unsigned_mid_scale(sample_dtype: str, y_c: np.ndarray, y_s: np.ndarray,
+                       adc_range: Optional[tuple[float, float]] = None) -> float:
     """The mid-scale of unsigned ADC counts, for a capture of integers none of whose first
     samples is negative and some positive: the observer's rule for uint16 counts
     (the Rust crate's ``capture_mid_scale``: ``offset_binary_mid_scale`` of the largest
-    sample). 0 otherwise: signed counts and physical units are centred already. The loop
-    needs the signal centred on zero, not scaled (it is amplitude-invariant)."""
-    if not sample_dtype.startswith(("int", "uint")) or len(y_c) == 0:
+    sample). 0 otherwise: signed counts and physical units are centred already, and so are
+    counts whose stated ``adc_range`` (``--adc-range``, ``--adc-bits``) is signed
+    (:func:`clipping.signed`). The loop needs the signal centred on zero, not scaled (it is
+    amplitude-invariant)."""
+    if not sample_dtype.startswith(("int", "uint")) or len(y_c) == 0 or clipping.signed(adc_range):
         return 0.0
     return float(capture_mid_scale(np.ascontiguousarray(y_c, dtype=np.float64),
                                    np.ascontiguousarray(y_s, dtype=np.float64)))
@@ -335,7 +338,7 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
         return "\n".join(lines[:1] + _stated_rate_note(s) + lines[1:]), fixed
     dtype = np.dtype(s.dtype)
     calibration = s.calibration
-    mid = unsigned_mid_scale(reader.sample_dtype, first.y_c, first.y_s)
+    mid = unsigned_mid_scale(reader.sample_dtype, first.y_c, first.y_s, s.adc_range)
     adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
     shifted = None if adc_range is None else (adc_range[0] - mid, adc_range[1] - mid)
     # No range stated or found on the first chunk: the rails measured as the samples come
@@ -409,7 +412,7 @@ def calibrate_capture(s: TrackSettings, **options) -> harmonics.Calibration:
     first_reader = reader()
     first = next(iter(first_reader))
     gains = gains_for_capture(s, first_reader.sample_rate_hz if first.time_s is not None else None)
-    mid = unsigned_mid_scale(first_reader.sample_dtype, first.y_c, first.y_s)
+    mid = unsigned_mid_scale(first_reader.sample_dtype, first.y_c, first.y_s, s.adc_range)
     del first_reader, first
 
     def chunks():

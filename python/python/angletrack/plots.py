@@ -170,6 +170,9 @@ def analyse_capture(
     )
     chunks = iter(reader)
     first = next(chunks)
+    # Unsigned counts centred as `angletrack track` centres them (the same rule): the
+    # figure shows what the observer sees.
+    mid = tracking.unsigned_mid_scale(reader.sample_dtype, first.y_c, first.y_s, s.adc_range)
     observer = None
     lock = None
     if s.gains_file is not None or s.gains is not None:
@@ -210,11 +213,12 @@ def analyse_capture(
         time_s = chunk.time_s if chunk.time_s is not None else (index / rate_hz if rate_hz else index)
         start = float(time_s[0]) if start is None else start
         time_s = time_s - start
-        moments.add(chunk.y_c, chunk.y_s)
-        a.lissajous.add(chunk.y_c, chunk.y_s)
+        y_c, y_s = chunk.y_c - mid, chunk.y_s - mid
+        moments.add(y_c, y_s)
+        a.lissajous.add(y_c, y_s)
         angle = chunk.reference_rad
         if observer is not None:
-            est = observer.update(chunk.y_c.astype(dtype, copy=False), chunk.y_s.astype(dtype, copy=False))
+            est = observer.update(y_c.astype(dtype, copy=False), y_s.astype(dtype, copy=False))
             angle = est.angle.astype(np.float64) if angle is None else angle
             a.speed.add(time_s, est.speed)
             for name, bit in angletrack.FAULT_BITS:
@@ -226,7 +230,7 @@ def analyse_capture(
                 a.speed.add(t[1:], wrap(np.diff(r)) / np.diff(t))
             previous = (float(time_s[-1]), float(chunk.reference_rad[-1]))
         if angle is not None:
-            error = wrap(np.arctan2(chunk.y_s, chunk.y_c) - angle)
+            error = wrap(np.arctan2(y_s, y_c) - angle)
             locked = np.ones(n, dtype=bool)
             if lock is not None:
                 was_locked = lock.lock_index is not None
@@ -247,6 +251,7 @@ def analyse_capture(
     a.description = (
         f"{a.rows} samples ({reader.format}, {reader.sample_dtype}; columns "
         + ", ".join(f"{k}={v}" for k, v in reader.columns.items()) + ")"
+        + (f"; unsigned ADC counts: mid-scale {mid:g} removed" if mid else "")
     )
     return a
 

@@ -229,3 +229,27 @@ def test_the_plot_centres_unsigned_counts_as_track_does(tmp_path, gains):
     # Measured 0.16 mrad RMS (the counts' rounding); on the raw counts it was 1.4 rad.
     assert a.errors.rms_rad() < 1e-3 and "mid-scale 2048 removed" in a.description
     assert abs(a.fit.offset_cos) < 2 and abs(a.fit.offset_sin) < 2
+
+
+# ----------------------------------------------------------------- options that would do nothing
+
+
+def test_plot_refuses_a_skip_beyond_the_capture(tmp_path, capsys, clean):
+    png = tmp_path / "p.png"
+    refused(capsys, "plot", clean, "-o", png, "--skip", 100, flag="--skip 100")
+    assert not png.exists()
+
+
+def test_calibration_out_without_calibrate_is_refused(tmp_path, capsys, gains, clean):
+    out = tmp_path / "x.csv"
+    refused(capsys, "track", clean, "--gains-file", gains, "--calibration-out", tmp_path / "c.json", "-o", out,
+            flag="--calibration-out")
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("option", [["--samples-per-period", 16], ["--carrier-amplitude", 1800],
+                                    ["--expected-delay-deg", 305], ["--pole-pairs", 4]])
+def test_winding_options_without_carrier_hz_are_refused(tmp_path, capsys, gains, clean, option):
+    out = tmp_path / "x.csv"
+    err = refused(capsys, "track", clean, "--gains-file", gains, *option, "-o", out, flag=option[0])
+    assert "--carrier-hz" in err and not out.exists()

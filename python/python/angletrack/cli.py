@@ -51,6 +51,9 @@ def _cmd_track(args: argparse.Namespace) -> int:
     output = args.output or args.capture.with_name(args.capture.stem + "_estimates.csv")
     png = (args.plot or output.with_suffix(".png")) if args.plot is not None else None
     calibration_out = calibration_io.default_path(args.capture, args.calibration_out) if args.calibrate else None
+    if args.calibration_out is not None and not args.calibrate:
+        raise ValueError("calibration_out: --calibration-out is where --calibrate writes what it learns: give "
+                         "--calibrate too (or leave --calibration-out out)")
     outputs = {"--output": output, "--calibration-out": calibration_out, "--plot": png}
     refuse_overwriting_inputs(args, outputs)
     if output.suffix.lower() not in ESTIMATE_EXTENSIONS:

@@ -457,6 +457,10 @@ def plot_capture_file(
     if png.suffix.lower() != ".png":
         raise ValueError(f"plot: {png} is not a .png file name")
     a = analyse_capture(s, max_points, include_start_up=include_start_up)
+    if a.reference is not None and a.rows and a.last_s < s.skip_s:
+        # As track refuses it: a figure without its angle error is not what was asked for.
+        raise ValueError(f"skip: --skip {s.skip_s:g} s leaves no sample of the capture ({a.last_s:.6g} "
+                         f"{'s' if a.time_unit == 's' else 'samples'} long) for the angle error")
     plot_capture(plt, a, png)
     lines = [a.describe(), f"plot: {png}"]
     if summary_json is not None:

@@ -82,7 +82,7 @@ def add_track_arguments(track: argparse.ArgumentParser) -> None:
     g.add_argument("--carrier-amplitude", type=float, metavar="COUNTS",
                    help="a winding's carrier amplitude at envelope 1 (counts, peak); default: "
                    "measured on the first chunk")
-    g.add_argument("--expected-delay-deg", type=float, default=0.0, metavar="DEG",
+    g.add_argument("--expected-delay-deg", type=float, metavar="DEG",
                    help="the carrier's phase at the first sample (degrees) the carrier's half-turn "
                    "ambiguity is resolved around (default 0)")
     g.add_argument("--pole-pairs", type=pole_pairs_count, metavar="P",
@@ -105,12 +105,20 @@ def pole_pairs_count(text: str) -> int:
 
 
 def track_options(args: argparse.Namespace) -> dict:
-    """The :class:`angletrack.tracking.TrackSettings` fields of the options above."""
+    """The :class:`angletrack.tracking.TrackSettings` fields of the options above; those of
+    the windings given without ``--carrier-hz`` are refused in one line naming them."""
+    given = [flag for flag, value in (
+        ("--samples-per-period", args.samples_per_period), ("--carrier-amplitude", args.carrier_amplitude),
+        ("--expected-delay-deg", args.expected_delay_deg), ("--pole-pairs", args.pole_pairs),
+        ("--latency", args.latency)) if value is not None]
+    if args.carrier_hz is None and given:
+        raise ValueError(f"carrier_hz: {', '.join(given)} need{'s' if len(given) == 1 else ''} --carrier-hz "
+                         "(the resolver path: raw windings demodulated)")
     return {
         "carrier_hz": args.carrier_hz,
         "samples_per_period": args.samples_per_period,
         "carrier_amplitude_counts": args.carrier_amplitude,
-        "expected_delay_deg": args.expected_delay_deg,
+        "expected_delay_deg": 0.0 if args.expected_delay_deg is None else args.expected_delay_deg,
         "pole_pairs": args.pole_pairs,
         "latency_s": args.latency,
     }

@@ -111,16 +111,24 @@ _NOTHING_LEARNED = {
 }
 
 
+def check_learned(observer: Any) -> None:
+    """``ValueError`` (one line, naming ``--calibrate``) when ``observer``'s online calibration
+    learned no turn, the status saying why: checked before the estimates are finalised, so
+    that such a run leaves neither a calibration nor estimates."""
+    turns, status = observer.calibration_turns_learned, observer.calibration_status
+    if turns == 0:
+        raise ValueError(f"calibration: --calibrate learned 0 turns (status {status}): "
+                         f"{_NOTHING_LEARNED[status]}; no calibration written")
+
+
 def write_learned(capture: pathlib.Path, output: Optional[pathlib.Path], observer: Any) -> str:
     """Writes what ``observer`` learned beside the estimates of ``capture`` (or to
     ``output``) and returns the line that says so. ``ValueError`` (one line, naming
     ``--calibrate``) when it learned no turn: nothing is written, and the status says why."""
     path = default_path(capture, output)
+    check_learned(observer)
     learned = observer.calibration
     turns, status = observer.calibration_turns_learned, observer.calibration_status
-    if turns == 0:
-        raise ValueError(f"calibration: --calibrate learned 0 turns (status {status}): "
-                         f"{_NOTHING_LEARNED[status]}; no calibration written")
     write(path, learned, turns_learned=turns, source=str(capture))
     stalled = ("; status stalled: no turn learned over the last 16 turns at speed"
                if status == "stalled" else "")

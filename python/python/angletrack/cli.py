@@ -19,7 +19,9 @@ from angletrack import harmonics, resolver, tracking
 from angletrack.cli_args import (
     add_gains_source,
     add_reader_arguments,
+    make_output_directories,
     non_negative_number,
+    output_format,
     png_path,
     positive_number,
     refuse_overwriting_inputs,
@@ -49,7 +51,14 @@ def _cmd_track(args: argparse.Namespace) -> int:
     output = args.output or args.capture.with_name(args.capture.stem + "_estimates.csv")
     png = (args.plot or output.with_suffix(".png")) if args.plot is not None else None
     calibration_out = calibration_io.default_path(args.capture, args.calibration_out) if args.calibrate else None
-    refuse_overwriting_inputs(args, {"--output": output, "--calibration-out": calibration_out, "--plot": png})
+    if args.calibration_out is not None and not args.calibrate:
+        raise ValueError("calibration_out: --calibration-out is where --calibrate writes what it learns: give "
+                         "--calibrate too (or leave --calibration-out out)")
+    outputs = {"--output": output, "--calibration-out": calibration_out, "--plot": png}
+    refuse_overwriting_inputs(args, outputs)
+    if output.suffix.lower() not in ESTIMATE_EXTENSIONS:
+        raise ValueError(f"--output: {output}: the estimates' format follows the extension, and the formats "
+                         "written are CSV (.csv), NumPy (.npy) or .npz")
     stored = calibration_io.read_stored(args.calibration)
     settings = tracking.TrackSettings(
         capture=args.capture,
@@ -72,17 +81,30 @@ def _cmd_track(args: argparse.Namespace) -> int:
         calibration=calibration_io.angle_calibration(stored),
         adc_range=clipping.stated_range(args),
     )
-    if output.suffix.lower() not in ESTIMATE_EXTENSIONS:
-        raise ValueError(f"--output: {output}: the estimates' format follows the extension, and the formats "
-                         "written are CSV (.csv), NumPy (.npy) or .npz")
-    summary, observer = tracking.track_capture(settings)
-    print(summary)
-    if args.calibrate and observer is not None:
-        print(calibration_io.write_learned(args.capture, args.calibration_out, observer))
     if png is not None:
+        if args.carrier_hz is not None:
+            raise ValueError("plot: --plot with --carrier-hz: the figure is drawn from y_c, y_s samples, not "
+                             "carrier-modulated windings; draw the demodulated pairs from the estimates with "
+                             "`angletrack plot ESTIMATES --columns time=time_s,y_c=y_c,y_s=y_s --sample-rate HZ`")
         from angletrack import plots
 
-        print(plots.plot_capture_file(settings, png))
+        plots.pyplot(" (or leave out --plot)")  # refused before tracking
+    make_output_directories(outputs)
+    summary, observer = tracking.track_capture(settings)
+    written = [output]
+    try:
+        lines = [summary]
+        if args.calibrate and observer is not None:
+            lines.append(calibration_io.write_learned(args.capture, args.calibration_out, observer))
+            written.append(calibration_out)
+        if png is not None:
+            lines.append(plots.plot_capture_file(settings, png))
+    except BaseException:
+        # A run that fails leaves no output that could pass for a complete one.
+        for path in written:
+            path.unlink(missing_ok=True)
+        raise
+    print("\n".join(lines))
     return 0
 
 
@@ -142,7 +164,9 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         png, summary = args.out / f"{name}.png", args.out / f"{name}.json"
     else:
         png = args.output or args.capture.with_name(f"{name}.png")
-    refuse_overwriting_inputs(args, {"--output": png, "--out (figures)": summary})
+    outputs = {"--output": png, "--out (figures)": summary}
+    refuse_overwriting_inputs(args, outputs)
+    make_output_directories(outputs)
     print(plots.plot_capture_file(settings, png, summary_json=summary, max_points=args.max_points,
                                   include_start_up=args.include_start_up))
     return 0
@@ -213,7 +237,9 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     below --min-significance times it is not learned. Writes JSON for `angletrack track
     --calibration`, or a C header / Rust const block for firmware.
     """
+    calibration_format = output_format(args.format, args.output, default="json")
     refuse_overwriting_inputs(args, {"--output": args.output})
+    make_output_directories({"--output": args.output})
     settings = tracking.TrackSettings(capture=args.capture, output=args.output, gains_file=args.gains_file,
                                       gains=args.gains, sample_rate_hz=args.sample_rate, columns=args.columns,
                                       delimiter=args.delimiter, decimal=args.decimal, skip_rows=args.skip_rows,
@@ -228,7 +254,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
         for name, flag in _CALIBRATE_FLAGS.items():
             message = message.replace(name, flag)
         raise ValueError(message) from None
-    text = {"json": cal.to_json, "c": cal.to_c_header, "rust": cal.to_rust}[args.format]()
+    text = {"json": cal.to_json, "c": cal.to_c_header, "rust": cal.to_rust}[calibration_format]()
     if args.output is None:
         print(text, end="")
     else:
@@ -263,8 +289,9 @@ def _add_calibrate_parser(sub) -> None:
     cal.add_argument("--min-significance", type=non_negative_number, default=3.0, metavar="X",
                      help="learn an order only when its amplitude is at least X times its uncertainty "
                      "(default 3; 0 learns every order, warning of those below their uncertainty)")
-    cal.add_argument("--format", choices=["json", "c", "rust"], default="json",
-                     help="json (for track --calibration, default), c (header) or rust (const block)")
+    cal.add_argument("--format", choices=["json", "c", "rust"],
+                     help="json (for track --calibration), c (header) or rust (const block); default: the "
+                     "output's by its extension (.json json, .h c, .rs rust), else json")
     cal.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",
                      help="where to write it (default: standard output)")
 

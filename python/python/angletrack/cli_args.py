@@ -6,8 +6,9 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import pathlib
-from typing import Callable
+from typing import Callable, Optional
 
 from angletrack import capture as capture_io
 
@@ -91,10 +92,43 @@ def whole_number(text: str) -> int:
 
 def refuse_overwriting_inputs(args: argparse.Namespace, outputs: dict) -> None:
     """Refuses an output that is an input of the command (the capture, the gains file, a
-    stored calibration) or another output, before anything is written."""
-    inputs = {"capture": args.capture, "--gains-file": getattr(args, "gains_file", None),
+    stored calibration; those it has) or another output, before anything is written."""
+    inputs = {"capture": getattr(args, "capture", None), "--gains-file": getattr(args, "gains_file", None),
               "--calibration": getattr(args, "calibration", None)}
     capture_io.check_outputs(outputs, inputs)
+
+
+def make_output_directories(outputs: dict) -> None:
+    """Before anything is computed: makes the outputs' directories (as ``mkdir -p``), and
+    refuses an output that is a directory or whose directory cannot be made or written in, in
+    one line naming its flag (the keys of ``outputs``; ``None`` paths left out)."""
+    for flag, path in outputs.items():
+        if path is None:
+            continue
+        path = pathlib.Path(path)
+        if path.is_dir():
+            raise ValueError(f"{flag}: {path} is a directory: give a file name")
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as e:
+            raise ValueError(f"{flag}: {path}: cannot make its directory: {e.strerror or e}") from None
+        if not os.access(path.parent, os.W_OK | os.X_OK):
+            raise ValueError(f"{flag}: {path}: its directory is not writable")
+
+
+#: The format of a file an output's extension names (gains, a calibration).
+_FORMAT_OF_EXTENSION = {".h": "c", ".hpp": "c", ".rs": "rust", ".json": "json"}
+
+
+def output_format(given: Optional[str], output: Optional[pathlib.Path], default: str) -> str:
+    """The format to write: ``given`` (--format), else the one the output's extension names
+    (.h c, .rs rust, .json json), else ``default``. A --format other than the extension's is
+    refused: the file would hold one format under another's name."""
+    named = _FORMAT_OF_EXTENSION.get(output.suffix.lower()) if output is not None else None
+    if given is not None and named is not None and given != named:
+        raise ValueError(f"format: --format {given} does not match --output {output} ({named}); "
+                         "give one of them, or both alike")
+    return given or named or default
 
 
 def png_path(text: str):

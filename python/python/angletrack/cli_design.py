@@ -10,7 +10,9 @@ import sys
 import angletrack
 from angletrack import capture as capture_io
 from angletrack import export
-from angletrack.cli_args import subcommand, png_path, positive_number
+from angletrack.cli_args import (
+    make_output_directories, output_format, png_path, positive_number, refuse_overwriting_inputs, subcommand,
+)
 
 
 #: For each observer, its design variants: (function, required options, optional options).
@@ -64,21 +66,6 @@ _DISCRETE = {"second_order_from_tracking_error_sampled", "kalman", "kalman_from_
 
 #: Sensor noise of `design --plot`'s trade-off without --noise-std (per channel, amplitude 1).
 _PLOT_NOISE_STD = 1e-3
-
-
-#: The gains file format an output's extension names.
-_FORMAT_OF_EXTENSION = {".h": "c", ".hpp": "c", ".rs": "rust", ".json": "json"}
-
-
-def _gains_format(given: str | None, output: pathlib.Path | None) -> str:
-    """The format of the gains: ``given`` (--format), else the one the output's extension names,
-    else C. A --format other than the extension's is refused: the file would hold one format
-    under another's name."""
-    named = _FORMAT_OF_EXTENSION.get(output.suffix.lower()) if output is not None else None
-    if given is not None and named is not None and given != named:
-        raise ValueError(f"format: --format {given} does not match --output {output} ({named}); "
-                         "give one of them, or both alike")
-    return given or named or "c"
 
 
 def _option(dest: str) -> str:
@@ -174,8 +161,10 @@ def _cmd_design(args: argparse.Namespace) -> int:
     constants, noise, step responses) and writes the gains as a C header, a Rust const block
     or JSON, ready for angletrack-core's Gains::new(gains, Ts).
     """
-    gains_format = _gains_format(args.format, args.output)
+    gains_format = output_format(args.format, args.output, default="c")
+    refuse_overwriting_inputs(args, {"--output": args.output, "--plot": args.plot})
     design, spec = _design_from_args(args)
+    make_output_directories({"--output": args.output, "--plot": args.plot})
     noise = args.noise_std if args.noise_std is not None else 0.0
     report = design.report(sensor_noise_std=noise)
     spec_text = ", ".join(f"{k}={v!r}" for k, v in spec.items() if k != "function")
@@ -205,7 +194,6 @@ def _cmd_design(args: argparse.Namespace) -> int:
         print()
         sys.stdout.write(text)
     else:
-        args.output.parent.mkdir(parents=True, exist_ok=True)
         capture_io.write_output(args.output, text)
         kind = args.dtype if gains_format != 'json' or args.dtype == 'fixed' else 'float64'
         print(f"\nwrote the gains ({gains_format}, {kind}) to {args.output}")

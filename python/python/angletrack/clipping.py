@@ -98,6 +98,13 @@ def stated_range(args: argparse.Namespace) -> Optional[tuple[float, float]]:
     return 0.0, 2.0**bits - 1.0
 
 
+def signed(adc_range: Optional[tuple[float, float]]) -> bool:
+    """Whether ``adc_range`` (stated) holds negative values: signed counts, centred on zero
+    already, so that no unsigned mid-scale is guessed from their first samples (signed counts
+    that happen all to be positive, the rotor in one quadrant, are not offset binary)."""
+    return adc_range is not None and adc_range[0] < 0
+
+
 def measured_range(y_c: np.ndarray, y_s: np.ndarray) -> Optional[tuple[float, float]]:
     """The range measured on the samples (``measured_adc_range``, the crate's rule): an
     extreme (of both channels) that is a rail (held flat over ``FLAT_SAMPLES`` consecutive

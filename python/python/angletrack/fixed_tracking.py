@@ -55,8 +55,10 @@ def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.
                 stats) -> tuple[list[str], angletrack.FixedObserver]:
     """Runs the capture of ``reader`` (its first chunk ``first`` read already) through the
     fixed-point chain with ``gains``, writes the estimates to ``s.output`` (``COLUMNS``; CSV,
-    ``.npy`` or ``.npz``) and adds
-    the errors to ``stats``; returns the summary's lines and the observer."""
+    ``.npy`` or ``.npz``) and adds the errors to ``stats``; returns the summary's lines (the
+    statistics' last) and the observer."""
+    from angletrack.tracking import finishing_checks
+
     message = refusal(s)
     if message is not None:
         raise ValueError(message)
@@ -65,7 +67,12 @@ def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.
                          "samples (use --dtype float32 or float64)")
     calibration: Union[None, angletrack.SensorCalibration, "harmonics.Calibration"] = (
         s.calibration if s.calibration is not None else s.observer_arguments.get("initial_calibration"))
-    mid, shift, amplitude, monitor = fixed_input(first.y_c, first.y_s)
+    y_c, y_s = first.y_c, first.y_s
+    if clipping.signed(s.adc_range):
+        # Signed counts are centred on zero whatever their first samples: negated, they keep
+        # their magnitudes (the amplitude measured) and rule out the unsigned guess.
+        y_c, y_s = -y_c, -y_s
+    mid, shift, amplitude, monitor = fixed_input(y_c, y_s)
     adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
     counts_range = clipping.integer_range(
         adc_range, "the stated --adc-range" if s.adc_range is not None else "the range measured")
@@ -95,6 +102,7 @@ def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.
             if stats is not None:
                 stats.add(time_s, angle, chunk.reference_rad)
             chunk = next(iter(reader), None)
+        statistics = finishing_checks(s, observer, stats)  # inside the block: no estimates left behind
     latched = angletrack.Faults(observer.latched_faults)
     stages = "no stored calibration" if calibration is None else (
         "stored calibration (FixedCalibration)" if isinstance(calibration, angletrack.SensorCalibration)
@@ -108,4 +116,4 @@ def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.
     ]
     lines.append(f"{clipping.describe(adc_range, s.adc_range is not None)}: {flagged} samples clipped "
                  "(flagged FRONT_END; those clipped in both channels coasted through)")
-    return lines, observer
+    return lines + statistics, observer

@@ -170,11 +170,17 @@ def analyse_capture(
     )
     chunks = iter(reader)
     first = next(chunks)
+    # Unsigned counts centred as `angletrack track` centres them (the same rule): the
+    # figure shows what the observer sees.
+    mid = tracking.unsigned_mid_scale(reader.sample_dtype, first.y_c, first.y_s, s.adc_range)
     observer = None
     lock = None
     if s.gains_file is not None or s.gains is not None:
         gains = tracking.gains_for_capture(s, reader.sample_rate_hz if first.time_s is not None else None)
-        observer = angletrack.Observer(gains, dtype=np.dtype(s.dtype), sin_cos=s.sin_cos)
+        # `track --dtype fixed --plot`: the figure draws the float observer (the fixed-point
+        # chain's estimates are the output's).
+        dtype = np.dtype("float64" if s.dtype == "fixed" else s.dtype)
+        observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos)
         rate_hz: Optional[float] = gains.sample_rate_hz
         if first.reference_rad is None:
             lock = _lock_detector(gains, s.lock_tolerance_rad)
@@ -207,11 +213,12 @@ def analyse_capture(
         time_s = chunk.time_s if chunk.time_s is not None else (index / rate_hz if rate_hz else index)
         start = float(time_s[0]) if start is None else start
         time_s = time_s - start
-        moments.add(chunk.y_c, chunk.y_s)
-        a.lissajous.add(chunk.y_c, chunk.y_s)
+        y_c, y_s = chunk.y_c - mid, chunk.y_s - mid
+        moments.add(y_c, y_s)
+        a.lissajous.add(y_c, y_s)
         angle = chunk.reference_rad
         if observer is not None:
-            est = observer.update(chunk.y_c.astype(s.dtype, copy=False), chunk.y_s.astype(s.dtype, copy=False))
+            est = observer.update(y_c.astype(dtype, copy=False), y_s.astype(dtype, copy=False))
             angle = est.angle.astype(np.float64) if angle is None else angle
             a.speed.add(time_s, est.speed)
             for name, bit in angletrack.FAULT_BITS:
@@ -223,7 +230,7 @@ def analyse_capture(
                 a.speed.add(t[1:], wrap(np.diff(r)) / np.diff(t))
             previous = (float(time_s[-1]), float(chunk.reference_rad[-1]))
         if angle is not None:
-            error = wrap(np.arctan2(chunk.y_s, chunk.y_c) - angle)
+            error = wrap(np.arctan2(y_s, y_c) - angle)
             locked = np.ones(n, dtype=bool)
             if lock is not None:
                 was_locked = lock.lock_index is not None
@@ -244,6 +251,7 @@ def analyse_capture(
     a.description = (
         f"{a.rows} samples ({reader.format}, {reader.sample_dtype}; columns "
         + ", ".join(f"{k}={v}" for k, v in reader.columns.items()) + ")"
+        + (f"; unsigned ADC counts: mid-scale {mid:g} removed" if mid else "")
     )
     return a
 
@@ -449,6 +457,10 @@ def plot_capture_file(
     if png.suffix.lower() != ".png":
         raise ValueError(f"plot: {png} is not a .png file name")
     a = analyse_capture(s, max_points, include_start_up=include_start_up)
+    if a.reference is not None and a.rows and a.last_s < s.skip_s:
+        # As track refuses it: a figure without its angle error is not what was asked for.
+        raise ValueError(f"skip: --skip {s.skip_s:g} s leaves no sample of the capture ({a.last_s:.6g} "
+                         f"{'s' if a.time_unit == 's' else 'samples'} long) for the angle error")
     plot_capture(plt, a, png)
     lines = [a.describe(), f"plot: {png}"]
     if summary_json is not None:

@@ -82,23 +82,43 @@ def add_track_arguments(track: argparse.ArgumentParser) -> None:
     g.add_argument("--carrier-amplitude", type=float, metavar="COUNTS",
                    help="a winding's carrier amplitude at envelope 1 (counts, peak); default: "
                    "measured on the first chunk")
-    g.add_argument("--expected-delay-deg", type=float, default=0.0, metavar="DEG",
+    g.add_argument("--expected-delay-deg", type=float, metavar="DEG",
                    help="the carrier's phase at the first sample (degrees) the carrier's half-turn "
                    "ambiguity is resolved around (default 0)")
-    g.add_argument("--pole-pairs", type=int, metavar="P",
-                   help="write electrical_angle_rad for a motor of P pole pairs (default 1)")
+    g.add_argument("--pole-pairs", type=pole_pairs_count, metavar="P",
+                   help="write electrical_angle_rad for a motor of P pole pairs (1 to 65536; default 1)")
     g.add_argument("--latency", type=float, metavar="S",
                    help="extrapolate electrical_angle_rad by S seconds from each row's time_s (the PWM "
                    "update instant; default 0)")
 
 
+def pole_pairs_count(text: str) -> int:
+    """A pole-pair count the drive outputs take (:class:`angletrack.DriveOutputs`' rule: a
+    whole number from 1 to 2^16); argparse names the option in its message."""
+    try:
+        value = int(text)
+        angletrack.DriveOutputs(sample_period_s=1.0, pole_pairs=value)
+    except (ValueError, OverflowError):
+        # ConfigError is a ValueError; OverflowError: beyond the binding's u32.
+        raise argparse.ArgumentTypeError(f"expected a whole number of pole pairs from 1 to 65536, got {text}") from None
+    return value
+
+
 def track_options(args: argparse.Namespace) -> dict:
-    """The :class:`angletrack.tracking.TrackSettings` fields of the options above."""
+    """The :class:`angletrack.tracking.TrackSettings` fields of the options above; those of
+    the windings given without ``--carrier-hz`` are refused in one line naming them."""
+    given = [flag for flag, value in (
+        ("--samples-per-period", args.samples_per_period), ("--carrier-amplitude", args.carrier_amplitude),
+        ("--expected-delay-deg", args.expected_delay_deg), ("--pole-pairs", args.pole_pairs),
+        ("--latency", args.latency)) if value is not None]
+    if args.carrier_hz is None and given:
+        raise ValueError(f"carrier_hz: {', '.join(given)} need{'s' if len(given) == 1 else ''} --carrier-hz "
+                         "(the resolver path: raw windings demodulated)")
     return {
         "carrier_hz": args.carrier_hz,
         "samples_per_period": args.samples_per_period,
         "carrier_amplitude_counts": args.carrier_amplitude,
-        "expected_delay_deg": args.expected_delay_deg,
+        "expected_delay_deg": 0.0 if args.expected_delay_deg is None else args.expected_delay_deg,
         "pole_pairs": args.pole_pairs,
         "latency_s": args.latency,
     }
@@ -169,7 +189,7 @@ def track_windings(s) -> tuple:
     ``.npy`` or ``.npz``, by the crate's ``TableWriter``); returns the
     summary and the observer of the pairs after the last one (its learned calibration)
     (``s`` a :class:`angletrack.tracking.TrackSettings`)."""
-    from angletrack.tracking import _ErrorStatistics
+    from angletrack.tracking import _ErrorStatistics, finishing_checks
 
     reader = angletrack.CaptureReader(
         s.capture, **s.reader_options(), chunk_rows=s.chunk_rows,
@@ -200,7 +220,7 @@ def track_windings(s) -> tuple:
     drive = None
     if s.pole_pairs is not None or s.latency_s is not None:
         drive = angletrack.DriveOutputs(
-            sample_period_s=gains.sample_period_s, pole_pairs=s.pole_pairs or 1, latency_s=s.latency_s or 0.0,
+            sample_period_s=gains.sample_period_s, pole_pairs=1 if s.pole_pairs is None else s.pole_pairs, latency_s=s.latency_s or 0.0,
         )
     t0 = float(first.time_s[0]) if first.time_s is not None else 0.0
     stats = _ErrorStatistics(s.skip_s, s.lock_tolerance_rad) if first.reference_rad is not None else None
@@ -247,6 +267,7 @@ def track_windings(s) -> tuple:
         if pairs_total == 0:  # inside the block: no output is left behind
             raise ValueError(f"{s.capture}: too short: no pair left the demodulator's start-up "
                              f"({reader.rows} samples)")
+        statistics = finishing_checks(s, observer, stats)
     latched = angletrack.Faults(observer.latched_faults)
     lines = [
         repr(observer),
@@ -257,9 +278,7 @@ def track_windings(s) -> tuple:
         f"front-end faults latched: {_front_end_names(_latched_front_end(demodulator, observer))}; "
         f"observer faults latched: {latched.name if latched else 'none'}",
     ]
-    if stats is not None:
-        lines.append(stats.report())
-    return "\n".join(lines), observer
+    return "\n".join(lines + statistics), observer
 
 
 def _rails_note(demodulator, adc_how: str) -> str:

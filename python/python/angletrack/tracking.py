@@ -277,16 +277,31 @@ class _Ranges:
         ]
 
 
-def unsigned_mid_scale(sample_dtype: str, y_c: np.ndarray, y_s: np.ndarray) -> float:
+def unsigned_mid_scale(sample_dtype: str, y_c: np.ndarray, y_s: np.ndarray,
+                       adc_range: Optional[tuple[float, float]] = None) -> float:
     """The mid-scale of unsigned ADC counts, for a capture of integers none of whose first
     samples is negative and some positive: the observer's rule for uint16 counts
     (the Rust crate's ``capture_mid_scale``: ``offset_binary_mid_scale`` of the largest
-    sample). 0 otherwise: signed counts and physical units are centred already. The loop
-    needs the signal centred on zero, not scaled (it is amplitude-invariant)."""
-    if not sample_dtype.startswith(("int", "uint")) or len(y_c) == 0:
+    sample). 0 otherwise: signed counts and physical units are centred already, and so are
+    counts whose stated ``adc_range`` (``--adc-range``, ``--adc-bits``) is signed
+    (:func:`clipping.signed`). The loop needs the signal centred on zero, not scaled (it is
+    amplitude-invariant)."""
+    if not sample_dtype.startswith(("int", "uint")) or len(y_c) == 0 or clipping.signed(adc_range):
         return 0.0
     return float(capture_mid_scale(np.ascontiguousarray(y_c, dtype=np.float64),
                                    np.ascontiguousarray(y_s, dtype=np.float64)))
+
+
+def finishing_checks(s: TrackSettings, observer, stats: Optional[_ErrorStatistics]) -> list[str]:
+    """The checks at the end of the capture, made inside the writer's block so that a run
+    they refuse leaves no estimates (the writer discards its temporary file): ``--calibrate``
+    learned a turn, ``--skip`` leaves samples for the statistics. Returns the statistics'
+    lines (none without a reference)."""
+    if s.observer_arguments.get("calibration") == "learn":
+        from angletrack import calibration as calibration_io
+
+        calibration_io.check_learned(observer)
+    return [] if stats is None else [stats.report()]
 
 
 def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, angletrack.FixedObserver, harmonics.CalibratedObserver]]:
@@ -295,7 +310,8 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     carrier-modulated windings the observer of the demodulated pairs, which go through the
     same calibration stages as y_c, y_s samples).
     Raises ``ValueError`` (``CaptureError``, ``ConfigError``) on a capture that cannot be
-    tracked, before anything is written where it can be told before."""
+    tracked, before anything is written where it can be told before, else leaving no
+    estimates (:func:`finishing_checks`)."""
     if s.dtype == "fixed":
         from angletrack import fixed_tracking
 
@@ -319,11 +335,10 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
         from angletrack import fixed_tracking
 
         lines, fixed = fixed_tracking.track_fixed(s, gains, reader, first, stats)
-        return "\n".join(lines[:1] + _stated_rate_note(s) + lines[1:]
-                         + ([stats.report()] if stats is not None else [])), fixed
+        return "\n".join(lines[:1] + _stated_rate_note(s) + lines[1:]), fixed
     dtype = np.dtype(s.dtype)
     calibration = s.calibration
-    mid = unsigned_mid_scale(reader.sample_dtype, first.y_c, first.y_s)
+    mid = unsigned_mid_scale(reader.sample_dtype, first.y_c, first.y_s, s.adc_range)
     adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
     shifted = None if adc_range is None else (adc_range[0] - mid, adc_range[1] - mid)
     # No range stated or found on the first chunk: the rails measured as the samples come
@@ -358,10 +373,12 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
                 stats.add(time_s, est.angle, chunk.reference_rad)
             progress.update(reader)
             chunk = next(chunks, None)
-    progress.update(reader, final=True)
-    total = reader.rows
-    if 2 * rejected > total:
-        raise ValueError(_rejections_error(s, rejected, total, reader, y_c_sum / total))
+        progress.update(reader, final=True)
+        total = reader.rows
+        # Refused inside the block: no estimates are left behind.
+        if 2 * rejected > total:
+            raise ValueError(_rejections_error(s, rejected, total, reader, y_c_sum / total))
+        statistics = finishing_checks(s, observer, stats)
     latched = angletrack.Faults(observer.latched_faults)
     lines = [
         repr(observer),
@@ -377,9 +394,7 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
                  "(flagged FRONT_END; those clipped in both channels coasted through)")
     if not s.observer_arguments and calibration is None:
         lines += ranges.off_centre_note()
-    if stats is not None:
-        lines.append(stats.report())
-    return "\n".join(lines), observer
+    return "\n".join(lines + statistics), observer
 
 
 def calibrate_capture(s: TrackSettings, **options) -> harmonics.Calibration:
@@ -397,7 +412,7 @@ def calibrate_capture(s: TrackSettings, **options) -> harmonics.Calibration:
     first_reader = reader()
     first = next(iter(first_reader))
     gains = gains_for_capture(s, first_reader.sample_rate_hz if first.time_s is not None else None)
-    mid = unsigned_mid_scale(first_reader.sample_dtype, first.y_c, first.y_s)
+    mid = unsigned_mid_scale(first_reader.sample_dtype, first.y_c, first.y_s, s.adc_range)
     del first_reader, first
 
     def chunks():

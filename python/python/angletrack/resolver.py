@@ -31,7 +31,6 @@ from typing import Optional
 import numpy as np
 
 import angletrack
-from angletrack import export
 from angletrack._angletrack import plan_windings
 
 

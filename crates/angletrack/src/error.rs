@@ -108,6 +108,10 @@ pub enum Argument {
     TransformationRatio,
     /// The DC common mode (ADC counts) of a resolver model's windings.
     CommonMode,
+    /// The relative amplitude imbalance of a resolver model's sine winding.
+    WindingImbalance,
+    /// The noise standard deviation (ADC counts) of a resolver model's windings.
+    NoiseStdCounts,
 }
 
 impl Argument {
@@ -164,6 +168,8 @@ impl Argument {
             Argument::CarrierDelay => "carrier_delay_rad",
             Argument::TransformationRatio => "transformation_ratio",
             Argument::CommonMode => "common_mode_counts",
+            Argument::WindingImbalance => "winding_imbalance",
+            Argument::NoiseStdCounts => "noise_std_counts",
         }
     }
 }

@@ -91,12 +91,19 @@ impl ResolverModel {
             });
         }
         finite(self.carrier_delay_rad, Argument::CarrierDelay)?;
+        // Beyond, a turn is below the delay's f64 resolution: the carrier would be noise.
+        if self.carrier_delay_rad.abs() > 1e3 {
+            return Err(Error::OutOfRange {
+                argument: Argument::CarrierDelay,
+                expected: "within +-1000 rad",
+            });
+        }
         positive(self.excitation_amplitude_counts, Argument::Amplitude)?;
         positive(self.transformation_ratio, Argument::TransformationRatio)?;
-        finite(self.winding_imbalance, Argument::AmplitudeImbalance)?;
+        finite(self.winding_imbalance, Argument::WindingImbalance)?;
         if self.winding_imbalance <= -1.0 {
             return Err(Error::OutOfRange {
-                argument: Argument::AmplitudeImbalance,
+                argument: Argument::WindingImbalance,
                 expected: "> -1",
             });
         }
@@ -107,7 +114,7 @@ impl ResolverModel {
                 expected: "0 (no ADC) to 24",
             });
         }
-        non_negative(self.noise_std_counts, Argument::NoiseStd)?;
+        non_negative(self.noise_std_counts, Argument::NoiseStdCounts)?;
         Ok(())
     }
 
@@ -146,7 +153,7 @@ impl Scenario {
         let (n, truth) = profile.sample(ts)?;
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let normal = Normal::new(0.0, model.noise_std_counts)
-            .map_err(|_| Error::NotFinite(Argument::NoiseStd))?;
+            .map_err(|_| Error::NotFinite(Argument::NoiseStdCounts))?;
         let base = model.mid_scale_counts() + model.common_mode_counts;
         let amplitude_c = model.amplitude_counts();
         let amplitude_s = amplitude_c * (1.0 + model.winding_imbalance);

@@ -108,4 +108,43 @@ fn refuses_bad_models_by_name() {
         refused(ResolverModel { adc_bits: 30, ..d }),
         Argument::AdcBits
     );
+    // Each named as the model's field is (the sensor model's are spelt otherwise), and a
+    // delay whose turns f64 no longer resolves refused.
+    let named = [
+        (
+            ResolverModel {
+                winding_imbalance: -2.0,
+                ..d
+            },
+            "winding_imbalance",
+        ),
+        (
+            ResolverModel {
+                noise_std_counts: -1.0,
+                ..d
+            },
+            "noise_std_counts",
+        ),
+        (
+            ResolverModel {
+                carrier_delay_rad: 1e18,
+                ..d
+            },
+            "carrier_delay_rad",
+        ),
+    ];
+    for (model, name) in named {
+        assert_eq!(refused(model).name(), name);
+    }
+    assert!(
+        Scenario::resolver_windings(
+            &profile(),
+            &ResolverModel {
+                carrier_delay_rad: -999.0,
+                ..d
+            },
+            1
+        )
+        .is_ok()
+    );
 }

@@ -205,6 +205,40 @@ fn malformed_inputs_name_the_file_line_and_column() {
 }
 
 #[test]
+fn evenly_spaced_epoch_nanoseconds_are_accepted_and_their_rate_kept() {
+    // 160 kHz stamped in nanoseconds since 1970 (2025): 6250 ns apart, held in f64 seconds to
+    // about 240 ns.
+    let mut text = String::from("time,y_c,y_s\n");
+    for k in 0..2000_i64 {
+        text += &format!("{},1,0\n", 1_764_000_000_000_000_000 + 6250 * k);
+    }
+    let path = file("epoch_ns.csv", text.as_bytes());
+    let c = read_capture(
+        path,
+        CaptureOptions {
+            time_unit: TimeUnit::Nanoseconds,
+            ..options("")
+        },
+    )
+    .unwrap();
+    // The rate from the first and last stamps, each to 240 ns over 12.5 ms: 2e-5.
+    let rate = c.sample_rate_hz.unwrap();
+    assert!((rate / 160e3 - 1.0).abs() < 1e-4, "{rate}");
+    // A step 2 % off is still refused.
+    text += "1764000000012506250,1,0\n";
+    let path = file("epoch_ns_jump.csv", text.as_bytes());
+    let e = read_capture(
+        path,
+        CaptureOptions {
+            time_unit: TimeUnit::Nanoseconds,
+            ..options("")
+        },
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("differs from the capture's"), "{e}");
+}
+
+#[test]
 fn a_stated_rate_skips_the_spacing_check_and_units_convert_the_time() {
     let path = file(
         "jittered.csv",

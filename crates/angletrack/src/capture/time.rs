@@ -136,7 +136,12 @@ impl SpacingCheck {
             let mut previous = self.last_s.unwrap_or(first);
             for (k, &t) in time_s.iter().enumerate() {
                 let dt = t - previous;
-                if (k > 0 || self.last_s.is_some()) && (dt - step).abs() > SPACING_TOLERANCE * step
+                // Stamps far from zero (an epoch's nanoseconds) hold their seconds to an f64's
+                // resolution there, a step to twice it: that much is the stamps', not the
+                // samples'.
+                let resolution = 2.0 * t.abs().max(previous.abs()) * f64::EPSILON;
+                if (k > 0 || self.last_s.is_some())
+                    && (dt - step).abs() > SPACING_TOLERANCE * step + resolution
                 {
                     return Err((
                         k,

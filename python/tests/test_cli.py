@@ -131,7 +131,9 @@ def test_design_refuses_a_format_its_output_does_not_name(tmp_path, capsys):
         (["design", "second-order", "--sample-rate", "10000", "--bandwidth", "100", "--max-error", "1e-3",
           "--acceleration", "10"], "several specifications"),
         (["design", "kalman", "--sample-rate", "10000", "--q", "1e-9", "--r", "1", "--bandwidth", "3"], "--bandwidth not used"),
-        (["design", "second-order", "--sample-rate", "10000", "--bandwidth", "-5"], "bandwidth_hz must be positive"),
+        (["design", "second-order", "--sample-rate", "10000", "--bandwidth", "-5"], "error: --bandwidth must be positive"),
+        (["design", "kalman", "--sample-rate", "10000", "--jerk-std", "1e5", "--noise-std", "-1"],
+         "error: --noise-std must be positive"),
         (["design", "kalman", "--sample-rate", "0", "--q", "1e-9", "--r", "1"], "sample_rate"),
     ],
 )

@@ -96,8 +96,23 @@ def _design_from_args(args: argparse.Namespace) -> tuple[angletrack.Design, dict
     kwargs["sample_period_s"] = 1.0 / args.sample_rate
     if function not in _DISCRETE:
         kwargs["discretisation"] = args.discretisation
-    design = getattr(angletrack, function)(**kwargs)
+    try:
+        design = getattr(angletrack, function)(**kwargs)
+    except angletrack.ConfigError as e:
+        raise ValueError(_with_flag(str(e), e.parameter)) from None
     return design, {"function": function, **kwargs}
+
+
+def _with_flag(message: str, parameter: str) -> str:
+    """A design function's message about its keyword ``parameter`` with the option the user
+    wrote in its place (``bandwidth_hz must be positive`` reads ``--bandwidth must be
+    positive``); the keyword is kept where no option names it."""
+    flags = {keyword: _option(dest) for dest, keyword in _KEYWORDS.items()}
+    flags["sample_period_s"] = "--sample-rate (its period, sample_period_s)"
+    flag = flags.get(parameter)
+    if flag is None or not message.startswith(parameter):
+        return message
+    return flag + message[len(parameter):]
 
 
 def add_design_parser(sub) -> None:

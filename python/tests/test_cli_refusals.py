@@ -61,13 +61,25 @@ def counts(path, theta, mid, amplitude=1800.0, reference=True):
 
 
 def argparse_refused(capsys, *args, flag):
-    """Asserts argparse refuses ``angletrack ARGS`` (status 2, after its usage lines) in a
-    last line naming ``flag``; returns that line."""
+    """Asserts argparse refuses ``angletrack ARGS`` (status 2) in one line naming ``flag``;
+    returns that line."""
     with pytest.raises(SystemExit) as exit_:
         cli.main([str(a) for a in args])
-    last = capsys.readouterr().err.strip().splitlines()[-1]
-    assert exit_.value.code == 2 and f"argument {flag}:" in last, last
-    return last
+    err = capsys.readouterr().err.strip()
+    assert exit_.value.code == 2 and err.count("\n") == 0 and f"argument {flag}:" in err, err
+    return err
+
+
+@pytest.mark.parametrize("args, flag", [
+    (["track", "c.csv", "--gains", "0.1,0.01", "--carrier-hz", "1e4", "--latency", "-1"], "--latency"),
+    (["track", "c.csv", "--gains", "0.1,0.01", "--carrier-hz", "1e4", "--expected-delay-deg", "nan"],
+     "--expected-delay-deg"),
+    (["track", "c.csv", "--gains", "0.1,0.01", "--carrier-hz", "1e4", "--carrier-amplitude", "0"],
+     "--carrier-amplitude"),
+    (["design", "kalman", "--sample-rate", "1e4", "--q"], "--q"),
+])
+def test_argument_errors_are_one_line_naming_the_option(capsys, args, flag):
+    assert "--help" in argparse_refused(capsys, *args, flag=flag)
 
 
 @pytest.mark.parametrize("value", ["0", "-3", "4294967296", "65537", "2.5"])

@@ -17,6 +17,7 @@ from angletrack import capture as capture_io
 from angletrack import clipping
 from angletrack import harmonics, resolver, tracking
 from angletrack.cli_args import (
+    OneLineErrorParser,
     add_gains_source,
     add_reader_arguments,
     make_output_directories,
@@ -199,7 +200,7 @@ def _cmd_report(args: argparse.Namespace) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``angletrack`` argument parser with its three subcommands."""
-    parser = argparse.ArgumentParser(
+    parser = OneLineErrorParser(
         prog="angletrack",
         description="Angle tracking observers (software resolver-to-digital conversion): "
         "design gains for firmware, run an observer over a capture, reproduce the paper.",

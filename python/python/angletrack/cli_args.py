@@ -13,6 +13,15 @@ from typing import Callable, Optional
 from angletrack import capture as capture_io
 
 
+class OneLineErrorParser(argparse.ArgumentParser):
+    """An argument parser whose refusals are one line, ``angletrack track: error: argument
+    --latency: ...``, without the usage lines before it (``--help`` shows those); its
+    subcommands' parsers are of its class too."""
+
+    def error(self, message: str):
+        self.exit(2, f"{self.prog}: error: {' '.join(message.split())} (see {self.prog} --help)\n")
+
+
 def subcommand(sub, run: Callable[[argparse.Namespace], int]) -> argparse.ArgumentParser:
     """The subcommand NAME of ``run`` (named ``_cmd_NAME``): the first line of its docstring
     is the command's help, the rest its description."""
@@ -39,6 +48,17 @@ def finite_number(text: str, *, positive: bool) -> float:
         raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
     if not math.isfinite(value) or value < 0 or (positive and value == 0):
         raise argparse.ArgumentTypeError(f"expected a {'positive' if positive else 'non-negative'} number, got {text}")
+    return value
+
+
+def any_finite_number(text: str) -> float:
+    """A finite number of either sign."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text}")
     return value
 
 

@@ -32,6 +32,7 @@ import numpy as np
 
 import angletrack
 from angletrack._angletrack import plan_windings
+from angletrack.cli_args import any_finite_number, non_negative_number, positive_number
 
 
 def demodulate(raw_c, raw_s, *, carrier_hz: float, carrier_amplitude_counts: float, excitation=None,
@@ -78,15 +79,15 @@ def add_track_arguments(track: argparse.ArgumentParser) -> None:
     g.add_argument("--samples-per-period", type=float, metavar="N",
                    help="ADC samples per carrier period, at least 4, any ratio such as 9.6 (default: the "
                    "capture's rate / the carrier frequency; refused if the time column says otherwise)")
-    g.add_argument("--carrier-amplitude", type=float, metavar="COUNTS",
+    g.add_argument("--carrier-amplitude", type=positive_number, metavar="COUNTS",
                    help="a winding's carrier amplitude at envelope 1 (counts, peak); default: "
                    "measured on the first chunk")
-    g.add_argument("--expected-delay-deg", type=float, metavar="DEG",
+    g.add_argument("--expected-delay-deg", type=any_finite_number, metavar="DEG",
                    help="the carrier's phase at the first sample (degrees) the carrier's half-turn "
                    "ambiguity is resolved around (default 0)")
     g.add_argument("--pole-pairs", type=pole_pairs_count, metavar="P",
                    help="write electrical_angle_rad for a motor of P pole pairs (1 to 65536; default 1)")
-    g.add_argument("--latency", type=float, metavar="S",
+    g.add_argument("--latency", type=non_negative_number, metavar="S",
                    help="extrapolate electrical_angle_rad by S seconds from each row's time_s (the PWM "
                    "update instant; default 0)")
 

@@ -265,3 +265,15 @@ def test_winding_options_without_carrier_hz_are_refused(tmp_path, capsys, gains,
     out = tmp_path / "x.csv"
     err = refused(capsys, "track", clean, "--gains-file", gains, *option, "-o", out, flag=option[0])
     assert "--carrier-hz" in err and not out.exists()
+
+
+def test_a_gains_file_with_a_byte_order_mark_is_read_and_one_not_utf8_is_named(tmp_path, capsys, gains, clean):
+    text = gains.read_bytes()
+    bom = tmp_path / "bom.json"
+    bom.write_bytes(b"\xef\xbb\xbf" + text)
+    assert cli.main(["track", str(clean), "--gains-file", str(bom), "-o", str(tmp_path / "a.csv")]) == 0
+    latin = tmp_path / "latin.json"
+    latin.write_bytes(text.replace(b'"format"', b'"f\xe4rmat"', 1))
+    out = tmp_path / "b.csv"
+    err = refused(capsys, "track", clean, "--gains-file", latin, "-o", out, flag="--gains-file")
+    assert "latin.json: not UTF-8 text (byte 0xe4" in err and not out.exists()

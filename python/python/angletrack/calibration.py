@@ -20,6 +20,7 @@ import pathlib
 from typing import TYPE_CHECKING, Any, Optional, Union
 
 from angletrack import SensorCalibration, _angletrack
+from angletrack import capture as capture_io
 
 if TYPE_CHECKING:
     from angletrack import harmonics
@@ -69,10 +70,7 @@ def read_stored(path: Optional[pathlib.Path]) -> Union[None, SensorCalibration, 
 
     if path is None:
         return None
-    try:
-        text = pathlib.Path(path).read_text(encoding="utf-8")
-    except OSError as e:
-        raise ValueError(f"--calibration: {path}: {e.strerror or e}") from e
+    text = capture_io.read_text_file(path, "--calibration")
     stored = _angletrack.calibration_from_json(text, str(path))
     return stored if isinstance(stored, SensorCalibration) else harmonics.Calibration.from_learned(stored)
 

@@ -20,6 +20,7 @@ from typing import Optional, Union
 import numpy as np
 
 import angletrack
+from angletrack import capture as capture_io
 from angletrack import clipping, export, harmonics
 from angletrack._angletrack import capture_mid_scale
 
@@ -78,10 +79,7 @@ class TrackSettings:
         once however many steps ask for them."""
         if self.gains_file is None:
             return None
-        try:
-            text = self.gains_file.read_text(encoding="utf-8")
-        except OSError as e:
-            raise ValueError(f"--gains-file: {self.gains_file}: {e.strerror or e}") from e
+        text = capture_io.read_text_file(self.gains_file, "--gains-file")
         # Errors name the file and the field: "g.json: sample_period_s: must be a number, got "x"".
         return export.gains_from_json(text, str(self.gains_file))
 

@@ -76,6 +76,12 @@ impl<'a> Document<'a> {
     pub(crate) fn check_format(&self, format: &str) -> Result<(), JsonFileError> {
         match self.object.get("format") {
             Some(Value::String(f)) if f == format => Ok(()),
+            // Another of the library's documents (the fixed-point constants where the gains
+            // are read, a calibration): say which.
+            Some(Value::String(f)) => Err(self.error(
+                "format",
+                format!("not an {format} document but an {f:?} one"),
+            )),
             _ => Err(self.error("format", format!("not an {format} document"))),
         }
     }

@@ -259,7 +259,12 @@ mod tests {
         for (from, to, message) in [
             (
                 "angletrack-gains",
-                "x",
+                "angletrack-fixed-gains",
+                "g.json: format: not an angletrack-gains document but an \"angletrack-fixed-gains\" one",
+            ),
+            (
+                "\"format\": \"angletrack-gains\"",
+                "\"format\": 3",
                 "g.json: format: not an angletrack-gains document",
             ),
             (

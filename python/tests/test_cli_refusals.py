@@ -277,3 +277,16 @@ def test_a_gains_file_with_a_byte_order_mark_is_read_and_one_not_utf8_is_named(t
     out = tmp_path / "b.csv"
     err = refused(capsys, "track", clean, "--gains-file", latin, "-o", out, flag="--gains-file")
     assert "latin.json: not UTF-8 text (byte 0xe4" in err and not out.exists()
+
+
+def test_a_file_in_the_way_of_an_output_directory_is_named(tmp_path, capsys, gains, clean):
+    in_the_way = tmp_path / "afile"
+    in_the_way.write_text("keep")
+    for args, flag in [
+        (["track", clean, "--gains-file", gains, "-o", in_the_way / "deeper" / "x.csv"], "--output"),
+        (["plot", clean, "--out", in_the_way], "--out"),
+        (["report", "--out", in_the_way, "--no-plots"], "--out"),
+    ]:
+        err = refused(capsys, *args, flag=flag)
+        assert f"{in_the_way} is a file, not a directory" in err, err
+    assert in_the_way.read_text() == "keep"

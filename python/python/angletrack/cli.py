@@ -165,7 +165,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         png, summary = args.out / f"{name}.png", args.out / f"{name}.json"
     else:
         png = args.output or args.capture.with_name(f"{name}.png")
-    outputs = {"--output": png, "--out (figures)": summary}
+    outputs = {"--out" if args.out is not None else "--output": png, "--out (figures)": summary}
     refuse_overwriting_inputs(args, outputs)
     make_output_directories(outputs)
     print(plots.plot_capture_file(settings, png, summary_json=summary, max_points=args.max_points,
@@ -193,6 +193,8 @@ def _cmd_report(args: argparse.Namespace) -> int:
     """
     from angletrack import report
 
+    if args.out.exists() and not args.out.is_dir():
+        raise ValueError(f"--out: {args.out} is a file, not a directory")
     path = report.write_report(args.out, plots=not args.no_plots)
     print(f"report: {path}")
     return 0

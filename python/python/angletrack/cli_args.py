@@ -128,6 +128,9 @@ def make_output_directories(outputs: dict) -> None:
         path = pathlib.Path(path)
         if path.is_dir():
             raise ValueError(f"{flag}: {path} is a directory: give a file name")
+        in_the_way = next((p for p in path.parents if p.exists() and not p.is_dir()), None)
+        if in_the_way is not None:
+            raise ValueError(f"{flag}: {path}: {in_the_way} is a file, not a directory")
         try:
             path.parent.mkdir(parents=True, exist_ok=True)
         except OSError as e:

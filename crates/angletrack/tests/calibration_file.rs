@@ -194,7 +194,8 @@ fn refusals_name_the_file_and_the_field() {
     let e = CaptureCalibration::from_json(&sensor, "calibration file").unwrap_err();
     assert_eq!(
         e.to_string(),
-        "calibration file: format: not an angletrack-calibration document"
+        "calibration file: format: not an angletrack-calibration document but an \
+         \"angletrack-sensor-calibration\" one"
     );
 }
 

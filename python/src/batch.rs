@@ -6,8 +6,6 @@ use angletrack_core::Real;
 use pyo3::prelude::*;
 
 use crate::arrays::{Float, channel_samples};
-use angletrack::CountsSettings;
-
 use crate::counts::AdcInput;
 use crate::dispatch::{Arg, PhaseSinCos, RunSettings, Sample};
 use crate::errors::{Error, Result};
@@ -27,7 +25,7 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Batch<T, N, S> {
     pub fn new(batch: ChannelBatch<T, N, S>) -> Self {
         Self {
             batch,
-            adc: AdcInput::new(CountsSettings::default()),
+            adc: AdcInput::new(crate::counts::AdcSettings::default()),
         }
     }
 }

@@ -3,14 +3,13 @@
 //! The per-sample work is the core's `Gains::update`; this module only moves samples in and
 //! estimates out, with the GIL released, straight into preallocated arrays that numpy owns.
 
-use angletrack::CountsSettings;
 use angletrack_core::{CalibrationMode, CalibrationStatus, Faults, FrontEndFaults};
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 
 use crate::arrays::Float;
 use crate::calibration::{CalibrationChoice, PySensorCalibration, mode_name, status_name};
-use crate::counts::{Clipping, adc_settings};
+use crate::counts::{AdcSettings, Clipping, adc_settings};
 use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::{Arg, Run, RunSettings};
 use crate::errors::{Error, Result};
@@ -22,8 +21,8 @@ use crate::gains::PyGains;
 pub struct ObserverOptions {
     /// The diagnostics' thresholds; `None`: scaled to the first call's samples.
     pub thresholds: Option<PyFaultThresholds>,
-    /// How integer counts are scaled.
-    pub adc: CountsSettings,
+    /// How integer counts are scaled, and which ADC arguments were given.
+    pub adc: AdcSettings,
     /// The online calibration.
     pub calibration: CalibrationChoice,
     /// The clipping checks: the ADC's range in the input's units (counts for integer
@@ -79,7 +78,9 @@ fn finite(values: &[(&'static str, f64)]) -> Result<()> {
 /// converted exactly: minus `adc_mid_scale` (default 0 for signed counts; for uint16 the
 /// mid-scale of the smallest offset-binary ADC that holds the first call's samples, 2048
 /// for counts up to 4095) and divided by `adc_counts_per_unit` (default 1: the observer
-/// runs in counts). The loop is amplitude-invariant, so counts or volts track alike.
+/// runs in counts). The loop is amplitude-invariant, so counts or volts track alike. The
+/// two ADC arguments apply to counts only: float samples with either given are refused
+/// (`ConfigError` naming it), not tracked unscaled.
 ///
 /// `fault_thresholds=None` (the default) scales the diagnostics to the signal: at the
 /// first `update`, `FaultThresholds(nominal_amplitude=A)` with `A` the median magnitude
@@ -307,10 +308,11 @@ impl PyObserver {
 }
 
 /// Runs a fresh observer with `gains` over `y_c`, `y_s` in the samples' own dtype (float32
-/// or float64; float64 for raw ADC counts, int16, uint16 or int32, scaled as `Observer`
-/// does) and returns the estimates. `fault_thresholds=None` scales the diagnostics to the
-/// samples' own amplitude, as `Observer` does; `adc_range=(min, max)` flags samples clipped
-/// against it, as `Observer` does.
+/// or float64; float64 for raw ADC counts, int16, uint16, int32 or int64, scaled as
+/// `Observer` does; `adc_mid_scale` or `adc_counts_per_unit` with float samples is a
+/// `ConfigError` naming it) and returns the estimates. `fault_thresholds=None` scales the
+/// diagnostics to the samples' own amplitude, as `Observer` does; `adc_range=(min, max)`
+/// flags samples clipped against it, as `Observer` does.
 #[pyfunction]
 #[pyo3(signature = (gains, y_c, y_s, *, sin_cos = None, fault_thresholds = None,
     adc_mid_scale = None, adc_counts_per_unit = None, adc_range = None))]

@@ -192,10 +192,11 @@ class Observer(_RunSettings):
     """An observer whose state persists between calls: chunked input gives exactly the
     result of one call.
 
-    Integer samples (int16, uint16, int32) are raw ADC counts: minus ``adc_mid_scale``
+    Integer samples (int16, uint16, int32, int64) are raw ADC counts: minus ``adc_mid_scale``
     (default 0 for signed counts; for uint16 the mid-scale ``2^(b-1)`` of the smallest
     ``b``-bit ADC holding the first call's samples) and divided by ``adc_counts_per_unit``
-    (default 1), exactly. ``fault_thresholds=None`` scales the diagnostics to the signal:
+    (default 1), exactly. The two ADC arguments apply to counts only: float samples with
+    either given are refused (``ConfigError`` naming it), not tracked unscaled. ``fault_thresholds=None`` scales the diagnostics to the signal:
     ``FaultThresholds(nominal_amplitude=A)``, ``A`` the median ``sqrt(y_c^2 + y_s^2)`` of
     the first call's first 4096 samples. ``calibration``: ``None`` (off), ``"learn"`` (correct
     and learn offsets, gain imbalance and quadrature while tracking, from
@@ -269,8 +270,9 @@ def track(
     adc_range: Optional[tuple[float, float]] = None,
 ) -> Estimates:
     """Runs a fresh observer over the samples in their own dtype (float32 or float64;
-    float64 for raw counts, scaled as ``Observer`` does). ``fault_thresholds=None`` scales
-    the diagnostics to the samples' amplitude."""
+    float64 for raw counts, scaled as ``Observer`` does; ``adc_mid_scale`` or
+    ``adc_counts_per_unit`` with float samples is a ``ConfigError`` naming it).
+    ``fault_thresholds=None`` scales the diagnostics to the samples' amplitude."""
 
 #: Samples the fixed-point observer accepts: int16 counts (mid-scale removed), or integers
 #: within int16 (a list); no other dtype is converted.

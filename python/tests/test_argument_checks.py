@@ -1,0 +1,49 @@
+"""Arguments the extension would otherwise ignore, clamp or convert silently: each is refused
+with a one-line error whose message starts with the argument's name as the caller wrote it
+(a ``ConfigError`` for a value, a ``TypeError`` for a type)."""
+
+import math
+
+import numpy as np
+import pytest
+
+import angletrack as at
+from angletrack import _angletrack as X
+from angletrack.harmonics import Calibration
+
+SAMPLE_PERIOD = 1e-4
+
+
+def gains2():
+    return at.Gains([0.06, 0.001], sample_period_s=SAMPLE_PERIOD)
+
+
+def circle(n=200, amplitude=1.0, speed_rad_per_sample=0.01):
+    theta = speed_rad_per_sample * np.arange(n)
+    return amplitude * np.cos(theta), amplitude * np.sin(theta)
+
+
+def refused(exception, parameter, call):
+    """``call()`` raises ``exception`` whose one-line message starts with ``parameter``."""
+    with pytest.raises(exception) as e:
+        call()
+    message = str(e.value)
+    assert message.startswith(parameter), message
+    assert "\n" not in message, message
+    if exception is at.ConfigError:
+        assert e.value.parameter == parameter
+    return message
+
+
+# ---------------------------------------------------------------- ADC options with floats
+
+
+@pytest.mark.parametrize("option, value", [("adc_mid_scale", 2048), ("adc_counts_per_unit", 1000.0)])
+def test_adc_options_with_float_samples_are_refused(option, value):
+    c, s = circle()
+    refused(at.ConfigError, option, lambda: at.Observer(gains2(), **{option: value}).update(c, s))
+    refused(at.ConfigError, option, lambda: at.track(gains2(), c, s, **{option: value}))
+    # With counts the option applies: 2048 +- 1000 counts minus 2048, over 1000, is the circle.
+    counts = [np.round(2048 + 1000 * v).astype(np.int32) for v in (c, s)]
+    est = at.track(gains2(), *counts, adc_mid_scale=2048, adc_counts_per_unit=1000.0)
+    assert abs(est.angle[-1] - 0.01 * 199) < 1e-2

@@ -104,6 +104,7 @@ fn finite(values: &[(&'static str, f64)]) -> Result<()> {
 /// `calibration`: `None` (off), `"learn"` (correct offsets, gain imbalance and quadrature
 /// error and learn them while tracking, from `initial_calibration` if given) or `"frozen"`
 /// (apply `initial_calibration`, learn nothing). The calibration is in the input's units.
+/// `initial_calibration` with the calibration off is refused (`ConfigError` naming it).
 #[pyclass(name = "Observer", module = "angletrack", extends = RunSettings)]
 #[derive(Debug)]
 pub struct PyObserver {

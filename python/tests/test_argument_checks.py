@@ -47,3 +47,17 @@ def test_adc_options_with_float_samples_are_refused(option, value):
     counts = [np.round(2048 + 1000 * v).astype(np.int32) for v in (c, s)]
     est = at.track(gains2(), *counts, adc_mid_scale=2048, adc_counts_per_unit=1000.0)
     assert abs(est.angle[-1] - 0.01 * 199) < 1e-2
+
+
+# ------------------------------------------------------- a calibration given while off
+
+
+def test_initial_calibration_with_the_calibration_off_is_refused():
+    cal = at.SensorCalibration(offset_c=0.1, offset_s=-0.1, amplitude_s=1.1, quadrature_rad=0.02)
+    refused(at.ConfigError, "initial_calibration", lambda: at.Observer(gains2(), initial_calibration=cal))
+    o = at.Observer(gains2(), calibration="frozen", initial_calibration=cal)
+    refused(at.ConfigError, "initial_calibration", lambda: o.set_calibration("off", cal))
+    refused(at.ConfigError, "initial_calibration", lambda: o.set_calibration(None, cal))
+    assert o.calibration_mode == "frozen"
+    o.set_calibration(None)
+    assert o.calibration_mode == "off"

@@ -200,7 +200,8 @@ class Observer(_RunSettings):
     ``FaultThresholds(nominal_amplitude=A)``, ``A`` the median ``sqrt(y_c^2 + y_s^2)`` of
     the first call's first 4096 samples. ``calibration``: ``None`` (off), ``"learn"`` (correct
     and learn offsets, gain imbalance and quadrature while tracking, from
-    ``initial_calibration`` if given) or ``"frozen"`` (apply ``initial_calibration``).
+    ``initial_calibration`` if given) or ``"frozen"`` (apply ``initial_calibration``);
+    ``initial_calibration`` with the calibration off is a ``ConfigError`` naming it.
     ``adc_range=(min, max)`` (the samples' units, counts for integer samples): a sample at
     or beyond it in either channel is flagged ``Faults.FRONT_END``, one clipped in both is
     coasted through; ``measure_adc_range=True`` (without ``adc_range``): the same against the
@@ -260,7 +261,8 @@ class Observer(_RunSettings):
     def set_calibration(
         self, calibration: _CalibrationMode, initial_calibration: Optional[SensorCalibration] = None
     ) -> None:
-        """As the constructor's arguments; the state is kept."""
+        """As the constructor's arguments (``initial_calibration`` refused with ``"off"`` or
+        ``None``); the state is kept."""
 
 def track(
     gains: Gains, y_c: _Signal, y_s: _Signal, *, sin_cos: _SinCos = None,

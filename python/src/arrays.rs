@@ -227,8 +227,9 @@ pub fn as_slice_mut<'a, T: Element>(view: &'a mut PyReadwriteArray1<'_, T>) -> R
 
 /// Samples of many channels: a 2-D array (`channels x samples`, any layout; a copy is made
 /// only if it is not C-contiguous) flattened row-major, with the number of channels and of
-/// samples per channel. An array of floats is checked like [`samples`] here; raw ADC counts
-/// (`crate::counts`) are returned as they are, for the caller's front end to convert.
+/// samples per channel. An array of floats is checked like [`samples`]; raw ADC counts
+/// (`crate::counts`) are refused (`TypeError`): a batch takes samples of amplitude about 1,
+/// which counts are not.
 pub fn channel_samples<'py, T: Element + Copy>(
     obj: &Bound<'py, PyAny>,
     parameter: &'static str,
@@ -246,14 +247,20 @@ pub fn channel_samples<'py, T: Element + Copy>(
         ));
     }
     let (channels, per_channel) = (array.shape()[0], array.shape()[1]);
-    let counts = Counts::of_descr(&array.dtype()).is_some();
+    if Counts::of_descr(&array.dtype()).is_some() {
+        return Err(Error::Dtype {
+            parameter,
+            given: format!("raw ADC counts of dtype {}", array.dtype()),
+            expected: "floats (float32 or float64) of amplitude about 1: a batch takes no \
+                       raw counts, scale them first, (counts - mid_scale) / amplitude"
+                .into(),
+        });
+    }
     let flat = numpy
         .getattr("ascontiguousarray")?
         .call1((array,))?
         .call_method1("reshape", (-1,))?;
-    if !counts {
-        samples::<T>(&flat, parameter)?;
-    }
+    samples::<T>(&flat, parameter)?;
     Ok((flat, channels, per_channel))
 }
 

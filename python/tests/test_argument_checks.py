@@ -61,3 +61,22 @@ def test_initial_calibration_with_the_calibration_off_is_refused():
     assert o.calibration_mode == "frozen"
     o.set_calibration(None)
     assert o.calibration_mode == "off"
+
+
+# ------------------------------------------------------------------- the batch's input
+
+
+@pytest.mark.parametrize("dtype", [np.int16, np.uint16, np.int32, np.int64])
+def test_batch_refuses_raw_counts(dtype):
+    c, s = circle()
+    counts = [np.round(2048 + 1000 * v).astype(dtype)[None, :] for v in (c, s)]
+    message = refused(TypeError, "y_c", lambda: at.track_batch(gains2(), *counts))
+    assert "raw ADC counts" in message
+    refused(TypeError, "y_c", lambda: at.ObserverBatch(gains2(), 1).update(*counts))
+
+
+def test_batch_tracks_floats_of_amplitude_up_to_4_and_rejects_above():
+    c, s = circle()
+    est = at.track_batch(gains2(), np.stack([3.9 * c, 4.1 * c]), np.stack([3.9 * s, 4.1 * s]))
+    assert abs(est.angle[0, -1] - 0.01 * 199) < 1e-2
+    assert np.all((np.asarray(est.faults[1]) & int(at.Faults.BAD_SAMPLE)) != 0)

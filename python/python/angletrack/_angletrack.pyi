@@ -469,16 +469,16 @@ def capture_mid_scale(y_c: _Samples, y_s: _Samples) -> int:
 _OutputName = Literal["angle", "position", "speed", "acceleration", "phase_error", "faults"]
 _Outputs = Union[_OutputName, Iterable[_OutputName], None]
 
-_ChannelSamples = Union[
-    npt.NDArray[np.float32], npt.NDArray[np.float64], Sequence[Sequence[float]],
-    npt.NDArray[np.int16], npt.NDArray[np.uint16], npt.NDArray[np.int32], npt.NDArray[np.int64],
-]
+_ChannelSamples = Union[npt.NDArray[np.float32], npt.NDArray[np.float64], Sequence[Sequence[float]]]
 
 class ObserverBatch(_RunSettings):
     """Many observers on one gain set, run 8 at a time side by side; 2-D arrays
     (channels x samples). Each channel equals an ``Observer`` with
     ``FaultThresholds.disabled()`` (bad samples rejected, no fault monitor); the state
-    persists between calls."""
+    persists between calls. The samples are floats of amplitude about 1: one of magnitude
+    ``sqrt(y_c^2 + y_s^2)`` above 4 (``max_input_amplitude``) is rejected as
+    ``BAD_SAMPLE``. Raw ADC counts (an integer dtype) are a ``TypeError``: scale them
+    first, ``(counts - mid_scale) / amplitude``."""
 
     def __init__(
         self, gains: Gains, channels: int, *, dtype: _DType = None, sin_cos: _SinCos = None,
@@ -507,7 +507,7 @@ def track_batch(
     outputs: _Outputs,
 ) -> _SelectedEstimates:
     """Runs a fresh ``ObserverBatch`` over 2-D samples (channels x samples) in their own
-    dtype; the result's arrays have the inputs' shape. Only the estimates named in
+    dtype (float32 or float64, amplitude about 1, as ``ObserverBatch`` takes); the result's arrays have the inputs' shape. Only the estimates named in
     ``outputs`` (e.g. ``("angle", "speed")``, default all) are computed and allocated, the
     others are ``None``: ask for what you use, the run's memory traffic follows."""
 

@@ -49,7 +49,13 @@ pub trait ObserverOps: Run {
     fn estimate(&self) -> Estimate;
     fn reset(&mut self);
     fn initialise(&mut self, y_c: f64, y_s: f64);
-    fn set_state(&mut self, angle_rad: f64, speed_rad_s: f64, acceleration_rad_s2: f64);
+    /// Sets the state, refusing (naming the argument) a value the state cannot hold.
+    fn set_state(
+        &mut self,
+        angle_rad: f64,
+        speed_rad_s: f64,
+        acceleration_rad_s2: f64,
+    ) -> Result<()>;
     fn is_initialised(&self) -> bool;
     fn latched_faults(&self) -> Faults;
     fn clear_faults(&mut self) -> Faults;
@@ -203,9 +209,10 @@ impl PyObserver {
         Ok(())
     }
 
-    /// Starts from a known angle (rad, any value: wrapped, whole turns counted), speed
-    /// (rad/s) and acceleration (rad/s^2, ignored at order 2). Refuses (`ConfigError`) a
-    /// value that is not finite.
+    /// Starts from a known angle (rad: wrapped, whole turns counted, within +-2^31 turns),
+    /// speed (rad/s, within half a turn per sample, `pi / sample_period_s`) and acceleration
+    /// (rad/s^2, within `pi / sample_period_s^2`; 0 at order 2, which has no acceleration
+    /// state). Refuses (`ConfigError` naming it) a value that is not finite or beyond these.
     #[pyo3(signature = (angle_rad, speed_rad_s = 0.0, acceleration_rad_s2 = 0.0))]
     fn set_state(
         &mut self,
@@ -219,8 +226,7 @@ impl PyObserver {
             ("acceleration_rad_s2", acceleration_rad_s2),
         ])?;
         self.inner
-            .set_state(angle_rad, speed_rad_s, acceleration_rad_s2);
-        Ok(())
+            .set_state(angle_rad, speed_rad_s, acceleration_rad_s2)
     }
 
     /// The faults latched since they were last cleared (bits, see `angletrack.Faults`), like

@@ -80,3 +80,37 @@ def test_batch_tracks_floats_of_amplitude_up_to_4_and_rejects_above():
     est = at.track_batch(gains2(), np.stack([3.9 * c, 4.1 * c]), np.stack([3.9 * s, 4.1 * s]))
     assert abs(est.angle[0, -1] - 0.01 * 199) < 1e-2
     assert np.all((np.asarray(est.faults[1]) & int(at.Faults.BAD_SAMPLE)) != 0)
+
+
+# ------------------------------------------------------------------------- set_state
+
+
+@pytest.mark.parametrize("gains, call, parameter", [
+    ("order2", dict(angle_rad=2.0**31 * 2 * math.pi), "angle_rad"),
+    ("order2", dict(angle_rad=2.0**64), "angle_rad"),
+    ("order2", dict(angle_rad=1e300), "angle_rad"),
+    ("order2", dict(angle_rad=math.inf), "angle_rad"),
+    ("order2", dict(angle_rad=0.0, speed_rad_s=1.01 * math.pi / SAMPLE_PERIOD), "speed_rad_s"),
+    ("order2", dict(angle_rad=0.0, speed_rad_s=-1e300), "speed_rad_s"),
+    ("order2", dict(angle_rad=0.0, acceleration_rad_s2=1.0), "acceleration_rad_s2"),
+    ("order3", dict(angle_rad=0.0, acceleration_rad_s2=1.01 * math.pi / SAMPLE_PERIOD**2), "acceleration_rad_s2"),
+    ("order3", dict(angle_rad=0.0, acceleration_rad_s2=math.nan), "acceleration_rad_s2"),
+])
+def test_set_state_refuses_what_the_state_cannot_hold(gains, call, parameter):
+    g = gains2() if gains == "order2" else at.Gains([0.3, 0.04, 0.002], sample_period_s=SAMPLE_PERIOD)
+    o = at.Observer(g)
+    refused(at.ConfigError, parameter, lambda: o.set_state(**call))
+    assert not o.is_initialised
+
+
+def test_set_state_keeps_what_it_is_given_within_the_limits():
+    o = at.Observer(at.Gains([0.3, 0.04, 0.002], sample_period_s=SAMPLE_PERIOD))
+    angle = 1000.5 * 2 * math.pi
+    o.set_state(angle, 0.9 * math.pi / SAMPLE_PERIOD, -0.9 * math.pi / SAMPLE_PERIOD**2)
+    e = o.estimate
+    assert abs(e.position - angle) < 1e-6 * angle
+    assert abs(e.speed / (0.9 * math.pi / SAMPLE_PERIOD) - 1) < 1e-9
+    assert abs(e.acceleration / (-0.9 * math.pi / SAMPLE_PERIOD**2) - 1) < 1e-9
+    o2 = at.Observer(gains2())
+    o2.set_state(1.0, 10.0, 0.0)
+    assert abs(o2.estimate.speed - 10.0) < 1e-9

@@ -237,7 +237,9 @@ class Observer(_RunSettings):
     def initialise(self, y_c: float, y_s: float) -> None:
         """Angle from one sample; ``ConfigError`` if a value is not finite."""
     def set_state(self, angle_rad: float, speed_rad_s: float = 0.0, acceleration_rad_s2: float = 0.0) -> None:
-        """Starts from a known state; ``ConfigError`` naming a value that is not finite."""
+        """Starts from a known state; ``ConfigError`` naming a value that is not finite, an
+        angle of 2^31 turns or more, a speed beyond ``pi / sample_period_s``, an
+        acceleration beyond ``pi / sample_period_s**2`` or any but 0 at order 2."""
     @property
     def is_initialised(self) -> bool: ...
     @property

@@ -195,6 +195,17 @@ pub fn samples<'py, T: Element + Copy>(
     Ok(Samples::Copied(copy))
 }
 
+/// The samples of two paired arguments (a cosine and a sine channel), each checked as by
+/// [`samples`], refused (naming the second) when their lengths differ.
+pub fn paired_samples<'py, T: Element + Copy>(
+    (a, a_name): (&Bound<'py, PyAny>, &'static str),
+    (b, b_name): (&Bound<'py, PyAny>, &'static str),
+) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
+    let (a, b) = (samples::<T>(a, a_name)?, samples::<T>(b, b_name)?);
+    check_equal_lengths((a_name, a.as_slice().len()), (b_name, b.as_slice().len()))?;
+    Ok((a, b))
+}
+
 /// Checks that two sample arrays have the same length.
 pub fn check_equal_lengths(a: (&'static str, usize), b: (&'static str, usize)) -> Result<()> {
     if a.1 == b.1 {

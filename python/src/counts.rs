@@ -16,7 +16,7 @@ use numpy::prelude::*;
 use numpy::{Element, PyArray1, PyArrayDescr, PyUntypedArray, dtype};
 use pyo3::prelude::*;
 
-use crate::arrays::{Samples, read_only, samples};
+use crate::arrays::{Samples, paired_samples, read_only, samples};
 use crate::dispatch::Sample;
 use crate::errors::{Error, Result};
 
@@ -338,7 +338,7 @@ pub fn offset_binary_mid_scale(largest_count: f64) -> Result<u64> {
 /// (parameter `capture`) for counts no ADC gives.
 #[pyfunction]
 pub fn capture_mid_scale(y_c: &Bound<'_, PyAny>, y_s: &Bound<'_, PyAny>) -> Result<u64> {
-    let (c, s) = (samples::<f64>(y_c, "y_c")?, samples::<f64>(y_s, "y_s")?);
+    let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
     angletrack::capture_mid_scale(c.as_slice(), s.as_slice())
         .map_err(|e| Error::value("capture", e.to_string()))
 }
@@ -349,7 +349,7 @@ pub fn capture_mid_scale(y_c: &Bound<'_, PyAny>, y_s: &Bound<'_, PyAny>) -> Resu
 /// `ConfigError` (parameter `capture`) for counts no ADC gives.
 #[pyfunction]
 pub fn fixed_input(y_c: &Bound<'_, PyAny>, y_s: &Bound<'_, PyAny>) -> Result<(i32, u32, f64, f64)> {
-    let (c, s) = (samples::<f64>(y_c, "y_c")?, samples::<f64>(y_s, "y_s")?);
+    let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
     let i = angletrack::fixed_input(c.as_slice(), s.as_slice())
         .map_err(|e| Error::value("capture", e.to_string()))?;
     Ok((

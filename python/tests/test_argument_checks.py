@@ -114,3 +114,35 @@ def test_set_state_keeps_what_it_is_given_within_the_limits():
     o2 = at.Observer(gains2())
     o2.set_state(1.0, 10.0, 0.0)
     assert abs(o2.estimate.speed - 10.0) < 1e-9
+
+
+# ------------------------------------------------------------------- paired arrays
+
+
+@pytest.mark.parametrize("function, second, kwargs, cut", [
+    (X.capture_mid_scale, "y_s", {}, 1),
+    (X.fixed_input, "y_s", {}, 5),
+    (X.measured_adc_range, "y_s", {}, 3),
+    (X.measured_carrier_cycles_per_sample, "y_s", {}, 1),
+    (X.plan_windings, "first_s", dict(carrier_hz=10e3, capture_hz=160e3), 7),
+])
+def test_paired_arrays_of_unequal_lengths_are_refused(function, second, kwargs, cut):
+    k = np.arange(400)
+    carrier = np.sin(2 * np.pi * k / 16.0)
+    c = np.round(2048 + 1800 * np.cos(0.002 * k) * carrier)
+    s = np.round(2048 + 1800 * np.sin(0.002 * k) * carrier)
+    function(c, s, **kwargs)
+    refused(at.ConfigError, second, lambda: function(c, s[:-cut], **kwargs))
+
+
+@pytest.mark.parametrize("option, value", [
+    ("carrier_amplitude_counts", math.nan), ("carrier_amplitude_counts", -1.0),
+    ("carrier_amplitude_counts", 0.0), ("carrier_amplitude_counts", 1e300),
+    ("adc_range", (4095.0, 0.0)), ("adc_range", (math.nan, 1.0)),
+])
+def test_plan_windings_refuses_a_stated_amplitude_or_range_no_adc_gives(option, value):
+    k = np.arange(400)
+    carrier = np.sin(2 * np.pi * k / 16.0)
+    c, s = 2048 + 1800 * np.cos(0.002 * k) * carrier, 2048 + 1800 * np.sin(0.002 * k) * carrier
+    refused(at.ConfigError, option,
+            lambda: X.plan_windings(c, s, carrier_hz=10e3, capture_hz=160e3, **{option: value}))

@@ -449,7 +449,9 @@ def plan_windings(
 ) -> WindingsPlan:
     """The ADC rate, samples per period, amplitude and ADC range of a capture of raw windings
     from its first samples, as stated or measured; a ratio the time column contradicts (1 %)
-    or a carrier 2 % from the one measured is refused, naming both values."""
+    or a carrier 2 % from the one measured is refused, naming both values. ``ConfigError``
+    for unequal lengths (``first_s``), an amplitude not a positive number of counts up to
+    2^31, or a range not two finite numbers in order."""
 
 def offset_binary_mid_scale(largest_count: float) -> int:
     """The mid-scale (counts) of unsigned, offset-binary ADC counts whose largest sample is

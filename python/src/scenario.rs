@@ -210,7 +210,8 @@ impl PyScenario {
     }
 
     /// A scenario from recorded arrays (a capture with a reference angle): the truth
-    /// `angle_rad` beside `y_c`, `y_s`; `speed_rad_s` NaN when not given.
+    /// `angle_rad` (finite at every sample: `ConfigError` otherwise) beside `y_c`, `y_s`;
+    /// `speed_rad_s` NaN when not given.
     #[staticmethod]
     #[pyo3(signature = (*, sample_period_s, angle_rad, y_c, y_s, speed_rad_s = None))]
     fn from_arrays(
@@ -228,6 +229,16 @@ impl PyScenario {
             ));
         }
         let angle = samples::<f64>(angle_rad, "angle_rad")?.as_slice().to_vec();
+        // The metrics compare every estimate with this truth: one not finite would mix NaN
+        // into the statistics.
+        if let Some((k, v)) = angle.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(Error::value(
+                "angle_rad",
+                format!(
+                    "{v} at index {k} is not finite: the reference angle must be known at every sample"
+                ),
+            ));
+        }
         let c = samples::<f64>(y_c, "y_c")?.as_slice().to_vec();
         let s = samples::<f64>(y_s, "y_s")?.as_slice().to_vec();
         check_equal_lengths(("angle_rad", angle.len()), ("y_c", c.len()))?;

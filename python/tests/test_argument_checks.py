@@ -146,3 +146,15 @@ def test_plan_windings_refuses_a_stated_amplitude_or_range_no_adc_gives(option, 
     c, s = 2048 + 1800 * np.cos(0.002 * k) * carrier, 2048 + 1800 * np.sin(0.002 * k) * carrier
     refused(at.ConfigError, option,
             lambda: X.plan_windings(c, s, carrier_hz=10e3, capture_hz=160e3, **{option: value}))
+
+
+# --------------------------------------------------------------------------- scenario
+
+
+def test_scenario_from_arrays_refuses_a_reference_angle_not_finite():
+    c, s = circle(10)
+    angle = 0.01 * np.arange(10)
+    angle[4] = np.nan
+    message = refused(at.ConfigError, "angle_rad",
+                      lambda: at.Scenario.from_arrays(sample_period_s=SAMPLE_PERIOD, angle_rad=angle, y_c=c, y_s=s))
+    assert "index 4" in message

@@ -753,7 +753,9 @@ class Scenario:
     def from_arrays(
         *, sample_period_s: float, angle_rad: _Samples, y_c: _Samples, y_s: _Samples,
         speed_rad_s: Optional[_Samples] = None,
-    ) -> Scenario: ...
+    ) -> Scenario:
+        """A scenario of recorded arrays; ``ConfigError`` naming ``angle_rad`` if a reference
+        angle is not finite."""
     sample_period_s: float
     time_s: npt.NDArray[np.float64]
     angle_rad: npt.NDArray[np.float64]

@@ -6,7 +6,9 @@
 //!   uint16, int32: `crate::counts`);
 //! * a non-contiguous (strided, misaligned) array is copied, since that is what a user
 //!   slicing `y[::2]` expects;
-//! * anything else (a list, a tuple) is converted with `numpy.asarray(obj, dtype)`.
+//! * anything else (a list, a tuple) is converted with `numpy.asarray(obj, dtype)` when
+//!   it holds real numbers (`TypeError` for strings, complex numbers, booleans or objects;
+//!   `ConfigError` for `None`).
 
 use numpy::prelude::*;
 use numpy::{
@@ -130,16 +132,38 @@ fn as_array<'py, T: Element>(
     if let Ok(array) = obj.cast::<PyUntypedArray>() {
         return Ok(array.clone());
     }
+    if obj.is_none() {
+        return Err(Error::value(
+            parameter,
+            "expected an array of samples, got None",
+        ));
+    }
     let py = obj.py();
-    PyModule::import(py, "numpy")?
-        .getattr("asarray")?
-        .call1((obj, dtype::<T>(py)))
-        .map_err(|e| {
-            Error::value(
-                parameter,
-                format!("cannot be read as an array of floats ({e})"),
-            )
-        })?
+    let asarray = PyModule::import(py, "numpy")?.getattr("asarray")?;
+    let unreadable = |e: PyErr| {
+        Error::value(
+            parameter,
+            format!("cannot be read as an array of floats ({e})"),
+        )
+    };
+    // Read as numpy reads it first: converted straight to floats, strings would be parsed
+    // and complex numbers lose their imaginary part, silently.
+    let read = asarray
+        .call1((obj,))
+        .map_err(unreadable)?
+        .cast_into::<PyUntypedArray>()
+        .map_err(|e| Error::Python(e.into()))?;
+    let kind = read.dtype().kind();
+    if read.len() > 0 && !matches!(kind, b'i' | b'u' | b'f') {
+        return Err(Error::Dtype {
+            parameter,
+            given: format!("a sequence of dtype {}", read.dtype()),
+            expected: "real numbers".into(),
+        });
+    }
+    asarray
+        .call1((read, dtype::<T>(py)))
+        .map_err(unreadable)?
         .cast_into::<PyUntypedArray>()
         .map_err(|e| Error::Python(e.into()))
 }

@@ -158,3 +158,42 @@ def test_scenario_from_arrays_refuses_a_reference_angle_not_finite():
     message = refused(at.ConfigError, "angle_rad",
                       lambda: at.Scenario.from_arrays(sample_period_s=SAMPLE_PERIOD, angle_rad=angle, y_c=c, y_s=s))
     assert "index 4" in message
+
+
+# -------------------------------------------------------- the calibrated observer's input
+
+
+def no_calibration():
+    return Calibration(sensor=(0.0, 0.0, 1.0, 1.0, 0.0), cos=(0.0,) * 8, sin=(0.0,) * 8)
+
+
+@pytest.mark.parametrize("y, exception", [
+    (None, at.ConfigError),
+    (np.float64(1.0), at.ConfigError),
+    (np.ones(8, dtype=np.complex128), TypeError),
+    (["1.0"] * 8, TypeError),
+    ([1 + 1j] * 8, TypeError),
+    (np.ones(8, dtype=np.float32), TypeError),
+])
+def test_calibrated_observer_checks_its_samples_as_observer_does(y, exception):
+    o = at.CalibratedObserver(gains2(), no_calibration())
+    refused(exception, "y_c", lambda: o.update(y, y))
+    refused(exception, "y_c", lambda: at.Observer(gains2()).update(y, y))
+
+
+def test_calibrated_observer_of_float32_refuses_float64():
+    o = at.CalibratedObserver(gains2(), no_calibration(), dtype=np.float32)
+    c, s = circle()
+    refused(TypeError, "y_c", lambda: o.update(c, s))
+    est = o.update(c.astype(np.float32), s.astype(np.float32))
+    assert est.angle.dtype == np.float32
+    assert abs(est.angle[-1] - 0.01 * 199) < 1e-2
+
+
+@pytest.mark.parametrize("y, exception", [
+    (["1.0"] * 2000, TypeError),
+    (np.ones(2000, dtype=np.complex128), TypeError),
+    (None, at.ConfigError),
+])
+def test_calibrate_checks_its_samples(y, exception):
+    refused(exception, "y_c", lambda: at.calibrate(y, y, gains2()))

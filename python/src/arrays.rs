@@ -326,11 +326,30 @@ pub enum Count {
 impl Count {
     /// The count, at least `min`, or a `ConfigError` naming `parameter`.
     pub fn at_least(&self, parameter: &'static str, min: usize) -> Result<usize> {
+        self.within(parameter, min as i128, usize::MAX as i128)
+            .map(|n| n as usize)
+    }
+
+    /// The value as the integer type `I` the crates take, or a `ConfigError` naming
+    /// `parameter` with `I`'s range.
+    pub fn get<I: Whole>(&self, parameter: &'static str) -> Result<I> {
+        let n = self.within(parameter, I::MIN, I::MAX)?;
+        // Within `I`'s range, checked above.
+        I::try_from(n).map_err(|_| Error::value(parameter, format!("{n} is out of range")))
+    }
+
+    /// The value from `min` to `max`, or a `ConfigError` naming `parameter` (a bound of 2^64
+    /// or more is left out of the message as no bound).
+    fn within(&self, parameter: &'static str, min: i128, max: i128) -> Result<i128> {
         match *self {
-            Count::Whole(n) if n >= min as i128 && n <= usize::MAX as i128 => Ok(n as usize),
+            Count::Whole(n) if (min..=max).contains(&n) => Ok(n),
             Count::Whole(n) => Err(Error::value(
                 parameter,
-                format!("{n}: expected a whole number of at least {min}"),
+                if n < min && max >= u64::MAX as i128 {
+                    format!("{n}: expected a whole number of at least {min}")
+                } else {
+                    format!("{n}: expected a whole number from {min} to {max}")
+                },
             )),
             Count::Other(ref given) => Err(Error::value(
                 parameter,
@@ -339,6 +358,24 @@ impl Count {
         }
     }
 }
+
+/// An integer type a whole-number argument is converted to ([`Count::get`]).
+pub trait Whole: TryFrom<i128> {
+    /// The smallest value.
+    const MIN: i128;
+    /// The largest value.
+    const MAX: i128;
+}
+
+macro_rules! whole {
+    ($($t:ty),*) => {$(
+        impl Whole for $t {
+            const MIN: i128 = <$t>::MIN as i128;
+            const MAX: i128 = <$t>::MAX as i128;
+        }
+    )*};
+}
+whole!(u8, u32, u64, usize, i32, i64);
 
 impl<'a, 'py> FromPyObject<'a, 'py> for Count {
     type Error = PyErr;

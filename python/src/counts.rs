@@ -69,17 +69,17 @@ pub struct AdcSettings {
 
 /// The ADC arguments of an observer: `adc_mid_scale` (counts, `None`: by the rule of this
 /// module) and `adc_counts_per_unit`, checked by the core (a `ConfigError` naming either).
-pub fn adc_settings(mid_scale: Option<i64>, counts_per_unit: Option<f64>) -> Result<AdcSettings> {
+pub fn adc_settings(
+    mid_scale: Option<crate::arrays::Count>,
+    counts_per_unit: Option<f64>,
+) -> Result<AdcSettings> {
     let stated = if mid_scale.is_some() {
         Some("adc_mid_scale")
     } else {
         counts_per_unit.map(|_| "adc_counts_per_unit")
     };
     let mid_scale = mid_scale
-        .map(|m| {
-            i32::try_from(m)
-                .map_err(|_| Error::value("adc_mid_scale", format!("{m} is beyond +-2^30 counts")))
-        })
+        .map(|m| m.get::<i32>("adc_mid_scale"))
         .transpose()?;
     Ok(AdcSettings {
         counts: CountsSettings::new(mid_scale, counts_per_unit.unwrap_or(1.0))?,

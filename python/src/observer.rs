@@ -7,7 +7,7 @@ use angletrack_core::{CalibrationMode, CalibrationStatus, Faults, FrontEndFaults
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 
-use crate::arrays::Float;
+use crate::arrays::{Count, Float};
 use crate::calibration::{CalibrationChoice, PySensorCalibration, mode_name, status_name};
 use crate::counts::{AdcSettings, Clipping, adc_settings};
 use crate::diagnostics::PyFaultThresholds;
@@ -132,7 +132,7 @@ impl PyObserver {
         fault_thresholds: Option<PyFaultThresholds>,
         calibration: Option<&str>,
         initial_calibration: Option<PySensorCalibration>,
-        adc_mid_scale: Option<i64>,
+        adc_mid_scale: Option<Count>,
         adc_counts_per_unit: Option<f64>,
         adc_range: Option<(f64, f64)>,
         measure_adc_range: bool,
@@ -331,7 +331,7 @@ pub fn track(
     y_s: &Bound<'_, PyAny>,
     sin_cos: Option<&str>,
     fault_thresholds: Option<PyFaultThresholds>,
-    adc_mid_scale: Option<i64>,
+    adc_mid_scale: Option<Count>,
     adc_counts_per_unit: Option<f64>,
     adc_range: Option<(f64, f64)>,
 ) -> Result<Estimates> {

@@ -197,3 +197,44 @@ def test_calibrated_observer_of_float32_refuses_float64():
 ])
 def test_calibrate_checks_its_samples(y, exception):
     refused(exception, "y_c", lambda: at.calibrate(y, y, gains2()))
+
+
+# --------------------------------------------------------------- whole-number arguments
+
+
+def design():
+    return at.third_order_butterworth(2e-3, 1e-4)
+
+
+INTEGER_ARGUMENTS = [
+    ("adc_mid_scale", lambda v: at.Observer(gains2(), adc_mid_scale=v)),
+    ("adc_mid_scale", lambda v: at.track(gains2(), np.zeros(4, np.int16), np.zeros(4, np.int16), adc_mid_scale=v)),
+    ("startup_periods", lambda v: at.Demodulator(carrier_hz=10e3, carrier_amplitude_counts=1800.0,
+                                                 samples_per_period=16.0, startup_periods=v)),
+    ("pole_pairs", lambda v: at.DriveOutputs(sample_period_s=SAMPLE_PERIOD, pole_pairs=v)),
+    ("speed_ratio", lambda v: at.DriveOutputs(sample_period_s=SAMPLE_PERIOD, speed_ratio=v)),
+    ("input_shift", lambda v: at.FixedObserver(design(), input_shift=v)),
+    ("mid_scale_counts", lambda v: at.FixedObserver(design(), mid_scale_counts=v)),
+    ("lowest_order", lambda v: at.calibrate(*circle(4000), gains2(), lowest_order=v)),
+    ("highest_order", lambda v: at.calibrate(*circle(4000), gains2(), highest_order=v)),
+    ("seed", lambda v: at.Scenario.generate(at.MotionProfile().constant_speed(1.0, 1e-3),
+                                            sample_period_s=SAMPLE_PERIOD, seed=v)),
+    ("seed", lambda v: at.resolver_windings(at.MotionProfile().constant_speed(1.0, 1e-3), seed=v)),
+    ("samples_per_period", lambda v: at.ResolverModel(samples_per_period=v)),
+    ("adc_bits", lambda v: at.ResolverModel(adc_bits=v)),
+    ("adc_bits", lambda v: at.SensorModel(adc_bits=v)),
+    ("turns_learned", lambda v: X.sensor_calibration_to_json(at.SensorCalibration(), turns_learned=v)),
+]
+
+
+@pytest.mark.parametrize("value", [-1, 2**64, 1.5, "3"], ids=["negative", "2**64", "float", "str"])
+@pytest.mark.parametrize("parameter, call", INTEGER_ARGUMENTS,
+                         ids=[f"{p}-{k}" for k, (p, _) in enumerate(INTEGER_ARGUMENTS)])
+def test_integer_arguments_out_of_range_name_the_argument(parameter, call, value):
+    if value == -1 and parameter in ("adc_mid_scale", "mid_scale_counts"):
+        value = -(2**31) - 1  # negative mid-scales are counts too
+    with pytest.raises((at.ConfigError, TypeError)) as e:
+        call(value)
+    message = str(e.value)
+    assert message.startswith(parameter), message
+    assert "\n" not in message, message

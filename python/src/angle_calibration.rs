@@ -15,7 +15,7 @@ use angletrack_core::{
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::arrays::{check_equal_lengths, samples};
+use crate::arrays::{Count, check_equal_lengths, samples};
 use crate::counts::Clipping;
 use crate::dispatch::{Arg, PhaseSinCos, Run, RunSettings, Sample};
 use crate::errors::{Error, Result};
@@ -28,21 +28,21 @@ pub type SensorParameters = (f64, f64, f64, f64, f64);
 /// The options of a calibration, checked by the crate.
 #[allow(clippy::too_many_arguments)]
 fn options(
-    lowest_order: Option<usize>,
-    highest_order: usize,
+    lowest_order: Option<Count>,
+    highest_order: Count,
     settle_fraction: f64,
     self_calibration: bool,
     own_loop: bool,
     min_significance: f64,
-) -> CalibrationOptions {
-    CalibrationOptions {
-        lowest_order,
-        highest_order,
+) -> Result<CalibrationOptions> {
+    Ok(CalibrationOptions {
+        lowest_order: lowest_order.map(|o| o.get("lowest_order")).transpose()?,
+        highest_order: highest_order.get("highest_order")?,
         settle_fraction,
         self_calibration,
         own_loop,
         min_significance,
-    }
+    })
 }
 
 /// A refused calibration as a `ConfigError` naming the option.
@@ -54,7 +54,7 @@ fn refused(e: CalibrationError) -> Error {
 /// `reference` angle if given (`angletrack::learn_angle_correction`): a dict (see
 /// [`learned_dict`]).
 #[pyfunction]
-#[pyo3(signature = (gains, y_c, y_s, *, reference = None, lowest_order = None, highest_order = 8,
+#[pyo3(signature = (gains, y_c, y_s, *, reference = None, lowest_order = None, highest_order = Count::Whole(8),
     settle_fraction = 0.2, self_calibration = false, own_loop = true, min_significance = 3.0))]
 #[allow(clippy::too_many_arguments)]
 pub fn learn_calibration<'py>(
@@ -63,8 +63,8 @@ pub fn learn_calibration<'py>(
     y_c: &Bound<'py, PyAny>,
     y_s: &Bound<'py, PyAny>,
     reference: Option<&Bound<'py, PyAny>>,
-    lowest_order: Option<usize>,
-    highest_order: usize,
+    lowest_order: Option<Count>,
+    highest_order: Count,
     settle_fraction: f64,
     self_calibration: bool,
     own_loop: bool,
@@ -87,7 +87,7 @@ pub fn learn_calibration<'py>(
         self_calibration,
         own_loop,
         min_significance,
-    );
+    )?;
     let learned = with_gains!(gains.set, g => py.detach(|| {
         angletrack::learn_angle_correction(&g, c, s, reference, &options)
     }))
@@ -116,12 +116,12 @@ impl PyCaptureCalibrator {
 #[pymethods]
 impl PyCaptureCalibrator {
     #[new]
-    #[pyo3(signature = (gains, *, lowest_order = None, highest_order = 8, settle_fraction = 0.2,
+    #[pyo3(signature = (gains, *, lowest_order = None, highest_order = Count::Whole(8), settle_fraction = 0.2,
         self_calibration = false, own_loop = true, min_significance = 3.0))]
     fn py_new(
         gains: PyGains,
-        lowest_order: Option<usize>,
-        highest_order: usize,
+        lowest_order: Option<Count>,
+        highest_order: Count,
         settle_fraction: f64,
         self_calibration: bool,
         own_loop: bool,
@@ -134,7 +134,7 @@ impl PyCaptureCalibrator {
             self_calibration,
             own_loop,
             min_significance,
-        );
+        )?;
         let period = with_gains!(&gains.set, g => g.sample_period());
         Ok(Self {
             inner: Some(CaptureCalibrator::new(period, &options).map_err(refused)?),

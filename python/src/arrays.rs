@@ -6,7 +6,9 @@
 //!   uint16, int32: `crate::counts`);
 //! * a non-contiguous (strided, misaligned) array is copied, since that is what a user
 //!   slicing `y[::2]` expects;
-//! * anything else (a list, a tuple) is converted with `numpy.asarray(obj, dtype)`.
+//! * anything else (a list, a tuple) is converted with `numpy.asarray(obj, dtype)` when
+//!   it holds real numbers (`TypeError` for strings, complex numbers, booleans or objects;
+//!   `ConfigError` for `None`).
 
 use numpy::prelude::*;
 use numpy::{
@@ -130,16 +132,38 @@ fn as_array<'py, T: Element>(
     if let Ok(array) = obj.cast::<PyUntypedArray>() {
         return Ok(array.clone());
     }
+    if obj.is_none() {
+        return Err(Error::value(
+            parameter,
+            "expected an array of samples, got None",
+        ));
+    }
     let py = obj.py();
-    PyModule::import(py, "numpy")?
-        .getattr("asarray")?
-        .call1((obj, dtype::<T>(py)))
-        .map_err(|e| {
-            Error::value(
-                parameter,
-                format!("cannot be read as an array of floats ({e})"),
-            )
-        })?
+    let asarray = PyModule::import(py, "numpy")?.getattr("asarray")?;
+    let unreadable = |e: PyErr| {
+        Error::value(
+            parameter,
+            format!("cannot be read as an array of floats ({e})"),
+        )
+    };
+    // Read as numpy reads it first: converted straight to floats, strings would be parsed
+    // and complex numbers lose their imaginary part, silently.
+    let read = asarray
+        .call1((obj,))
+        .map_err(unreadable)?
+        .cast_into::<PyUntypedArray>()
+        .map_err(|e| Error::Python(e.into()))?;
+    let kind = read.dtype().kind();
+    if read.len() > 0 && !matches!(kind, b'i' | b'u' | b'f') {
+        return Err(Error::Dtype {
+            parameter,
+            given: format!("a sequence of dtype {}", read.dtype()),
+            expected: "real numbers".into(),
+        });
+    }
+    asarray
+        .call1((read, dtype::<T>(py)))
+        .map_err(unreadable)?
         .cast_into::<PyUntypedArray>()
         .map_err(|e| Error::Python(e.into()))
 }
@@ -195,6 +219,17 @@ pub fn samples<'py, T: Element + Copy>(
     Ok(Samples::Copied(copy))
 }
 
+/// The samples of two paired arguments (a cosine and a sine channel), each checked as by
+/// [`samples`], refused (naming the second) when their lengths differ.
+pub fn paired_samples<'py, T: Element + Copy>(
+    (a, a_name): (&Bound<'py, PyAny>, &'static str),
+    (b, b_name): (&Bound<'py, PyAny>, &'static str),
+) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
+    let (a, b) = (samples::<T>(a, a_name)?, samples::<T>(b, b_name)?);
+    check_equal_lengths((a_name, a.as_slice().len()), (b_name, b.as_slice().len()))?;
+    Ok((a, b))
+}
+
 /// Checks that two sample arrays have the same length.
 pub fn check_equal_lengths(a: (&'static str, usize), b: (&'static str, usize)) -> Result<()> {
     if a.1 == b.1 {
@@ -227,8 +262,9 @@ pub fn as_slice_mut<'a, T: Element>(view: &'a mut PyReadwriteArray1<'_, T>) -> R
 
 /// Samples of many channels: a 2-D array (`channels x samples`, any layout; a copy is made
 /// only if it is not C-contiguous) flattened row-major, with the number of channels and of
-/// samples per channel. An array of floats is checked like [`samples`] here; raw ADC counts
-/// (`crate::counts`) are returned as they are, for the caller's front end to convert.
+/// samples per channel. An array of floats is checked like [`samples`]; raw ADC counts
+/// (`crate::counts`) are refused (`TypeError`): a batch takes samples of amplitude about 1,
+/// which counts are not.
 pub fn channel_samples<'py, T: Element + Copy>(
     obj: &Bound<'py, PyAny>,
     parameter: &'static str,
@@ -246,14 +282,20 @@ pub fn channel_samples<'py, T: Element + Copy>(
         ));
     }
     let (channels, per_channel) = (array.shape()[0], array.shape()[1]);
-    let counts = Counts::of_descr(&array.dtype()).is_some();
+    if Counts::of_descr(&array.dtype()).is_some() {
+        return Err(Error::Dtype {
+            parameter,
+            given: format!("raw ADC counts of dtype {}", array.dtype()),
+            expected: "floats (float32 or float64) of amplitude about 1: a batch takes no \
+                       raw counts, scale them first, (counts - mid_scale) / amplitude"
+                .into(),
+        });
+    }
     let flat = numpy
         .getattr("ascontiguousarray")?
         .call1((array,))?
         .call_method1("reshape", (-1,))?;
-    if !counts {
-        samples::<T>(&flat, parameter)?;
-    }
+    samples::<T>(&flat, parameter)?;
     Ok((flat, channels, per_channel))
 }
 
@@ -284,11 +326,30 @@ pub enum Count {
 impl Count {
     /// The count, at least `min`, or a `ConfigError` naming `parameter`.
     pub fn at_least(&self, parameter: &'static str, min: usize) -> Result<usize> {
+        self.within(parameter, min as i128, usize::MAX as i128)
+            .map(|n| n as usize)
+    }
+
+    /// The value as the integer type `I` the crates take, or a `ConfigError` naming
+    /// `parameter` with `I`'s range.
+    pub fn get<I: Whole>(&self, parameter: &'static str) -> Result<I> {
+        let n = self.within(parameter, I::MIN, I::MAX)?;
+        // Within `I`'s range, checked above.
+        I::try_from(n).map_err(|_| Error::value(parameter, format!("{n} is out of range")))
+    }
+
+    /// The value from `min` to `max`, or a `ConfigError` naming `parameter` (a bound of 2^64
+    /// or more is left out of the message as no bound).
+    fn within(&self, parameter: &'static str, min: i128, max: i128) -> Result<i128> {
         match *self {
-            Count::Whole(n) if n >= min as i128 && n <= usize::MAX as i128 => Ok(n as usize),
+            Count::Whole(n) if (min..=max).contains(&n) => Ok(n),
             Count::Whole(n) => Err(Error::value(
                 parameter,
-                format!("{n}: expected a whole number of at least {min}"),
+                if n < min && max >= u64::MAX as i128 {
+                    format!("{n}: expected a whole number of at least {min}")
+                } else {
+                    format!("{n}: expected a whole number from {min} to {max}")
+                },
             )),
             Count::Other(ref given) => Err(Error::value(
                 parameter,
@@ -297,6 +358,24 @@ impl Count {
         }
     }
 }
+
+/// An integer type a whole-number argument is converted to ([`Count::get`]).
+pub trait Whole: TryFrom<i128> {
+    /// The smallest value.
+    const MIN: i128;
+    /// The largest value.
+    const MAX: i128;
+}
+
+macro_rules! whole {
+    ($($t:ty),*) => {$(
+        impl Whole for $t {
+            const MIN: i128 = <$t>::MIN as i128;
+            const MAX: i128 = <$t>::MAX as i128;
+        }
+    )*};
+}
+whole!(u8, u32, u64, usize, i32, i64);
 
 impl<'a, 'py> FromPyObject<'a, 'py> for Count {
     type Error = PyErr;

@@ -6,29 +6,21 @@ use angletrack_core::Real;
 use pyo3::prelude::*;
 
 use crate::arrays::{Float, channel_samples};
-use angletrack::CountsSettings;
-
-use crate::counts::AdcInput;
 use crate::dispatch::{Arg, PhaseSinCos, RunSettings, Sample};
 use crate::errors::{Error, Result};
 use crate::estimates::{Estimates, OutputArrays, OutputSelection};
 use crate::gains::PyGains;
 
-/// A batch behind the binding's front end: raw ADC counts scaled as an `Observer` scales
-/// them with its default ADC arguments (`crate::counts`).
+/// A batch on float samples of amplitude about 1 (no raw counts: `crate::arrays`).
 #[derive(Debug)]
 pub struct Batch<T: Real, const N: usize, S> {
     batch: ChannelBatch<T, N, S>,
-    adc: AdcInput<T>,
 }
 
 impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Batch<T, N, S> {
-    /// `batch` with the default front end.
+    /// `batch` on numpy arrays.
     pub fn new(batch: ChannelBatch<T, N, S>) -> Self {
-        Self {
-            batch,
-            adc: AdcInput::new(CountsSettings::default()),
-        }
+        Self { batch }
     }
 }
 
@@ -73,7 +65,10 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> RunBatch for Batch<T, N, S> {
                 ),
             ));
         }
-        let (y_c, y_s) = self.adc.signals(&y_c, &y_s)?;
+        let (y_c, y_s) = (
+            crate::arrays::samples::<T>(&y_c, "y_c")?,
+            crate::arrays::samples::<T>(&y_s, "y_s")?,
+        );
         let out = OutputArrays::<T>::selected(py, channels_c * samples, outputs)?;
         let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
         out.fill(py, |columns| {
@@ -88,8 +83,11 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> RunBatch for Batch<T, N, S> {
 /// The state persists between calls, so chunks along the sample axis give exactly the result
 /// of one call. Each channel gives exactly what an `Observer` with the same gains and
 /// `FaultThresholds.disabled()` gives: a batch rejects bad samples (fault bit BAD_SAMPLE)
-/// but runs no fault monitor. Raw ADC counts (int16, uint16, int32) are accepted as by
-/// `Observer` with its default ADC arguments. `update(..., outputs=("angle", "speed"))`
+/// but runs no fault monitor. The samples are floats of amplitude about 1: a sample whose
+/// magnitude `sqrt(y_c^2 + y_s^2)` is above 4 (the thresholds' `max_input_amplitude`) is
+/// rejected as BAD_SAMPLE. Raw ADC counts (an integer dtype) are refused (`TypeError` naming
+/// the argument): scale them to that amplitude first, `(counts - mid_scale) / amplitude`.
+/// `update(..., outputs=("angle", "speed"))`
 /// computes and returns only those estimates (the others are `None`).
 #[pyclass(name = "ObserverBatch", module = "angletrack", extends = RunSettings)]
 #[derive(Debug)]
@@ -147,7 +145,8 @@ impl PyObserverBatch {
 }
 
 /// Runs a fresh batch of observers with `gains` over 2-D arrays `y_c`, `y_s` (channels x
-/// samples) in their own dtype and returns the estimates, shaped like the inputs: those
+/// samples) in their own dtype (float32 or float64, amplitude about 1: see `ObserverBatch`)
+/// and returns the estimates, shaped like the inputs: those
 /// named in `outputs` (`None`: all; e.g. `("angle", "speed")`), the others `None`.
 #[pyfunction]
 #[pyo3(signature = (gains, y_c, y_s, *, sin_cos = None, outputs = None))]

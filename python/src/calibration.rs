@@ -157,7 +157,7 @@ pub struct CalibrationChoice {
 
 impl CalibrationChoice {
     /// `calibration`: `None` (off), `"learn"` or `"frozen"`; `initial_calibration` the
-    /// calibration to start from (needed when frozen).
+    /// calibration to start from (needed when frozen, refused when off).
     pub fn new(mode: Option<&str>, initial: Option<PySensorCalibration>) -> Result<Self> {
         let mode = match mode {
             None | Some("off") => CalibrationMode::Off,
@@ -170,6 +170,14 @@ impl CalibrationChoice {
                 ));
             }
         };
+        // Off applies nothing: a calibration given with it would be reported (by
+        // `Observer.calibration`) but not applied.
+        if mode == CalibrationMode::Off && initial.is_some() {
+            return Err(Error::value(
+                "initial_calibration",
+                "is applied only with calibration='learn' or 'frozen' (the calibration is off)",
+            ));
+        }
         if mode == CalibrationMode::Frozen && initial.is_none() {
             return Err(Error::value(
                 "initial_calibration",

@@ -15,12 +15,12 @@ use crate::errors::Result;
 #[pyo3(signature = (calibration, *, turns_learned = None, source = None))]
 pub fn sensor_calibration_to_json(
     calibration: PySensorCalibration,
-    turns_learned: Option<u32>,
+    turns_learned: Option<crate::arrays::Count>,
     source: Option<String>,
 ) -> Result<String> {
     let record = SensorCalibrationRecord {
         calibration: calibration.typed()?,
-        turns_learned,
+        turns_learned: turns_learned.map(|n| n.get("turns_learned")).transpose()?,
         source,
     };
     Ok(record.to_json())

@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 
 use angletrack::{WindingsPlan, WindingsSettings};
 
-use crate::arrays::samples;
+use crate::arrays::paired_samples;
 use crate::errors::{Error, Result};
 
 /// The carrier frequency of the raw windings `y_c`, `y_s` (1-D float64, any offset) in
@@ -26,7 +26,7 @@ pub fn measured_carrier_cycles_per_sample(
     y_c: &Bound<'_, PyAny>,
     y_s: &Bound<'_, PyAny>,
 ) -> Result<Option<f64>> {
-    let (c, s) = (samples::<f64>(y_c, "y_c")?, samples::<f64>(y_s, "y_s")?);
+    let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
     Ok(angletrack::measured_carrier_cycles_per_sample(
         c.as_slice(),
         s.as_slice(),
@@ -49,7 +49,7 @@ pub fn measured_adc_range(
     y_c: &Bound<'_, PyAny>,
     y_s: &Bound<'_, PyAny>,
 ) -> Result<Option<(f64, f64)>> {
-    let (c, s) = (samples::<f64>(y_c, "y_c")?, samples::<f64>(y_s, "y_s")?);
+    let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
     Ok(angletrack::measured_adc_range(c.as_slice(), s.as_slice()))
 }
 
@@ -73,12 +73,17 @@ pub struct PyWindingsPlan {
     adc_range_source: String,
 }
 
+/// The largest carrier amplitude `plan_windings` takes: half the span of a 32-bit ADC.
+const LARGEST_CARRIER_AMPLITUDE_COUNTS: f64 = 2_147_483_648.0;
+
 /// The plan of a capture of raw windings whose first samples are `first_c`, `first_s`
 /// (1-D float64): the ADC rate from `samples_per_period` times `carrier_hz`, else the
 /// capture's rate `capture_hz`; a ratio the time column contradicts by more than 1 %, or a
 /// carrier more than 2 % from the one measured in the samples, is refused naming both
 /// values; the amplitude and ADC range as stated, else measured (the range guessed when no
-/// rail shows).
+/// rail shows). `ConfigError` for unequal lengths (naming `first_s`), an amplitude that is
+/// not a positive number of counts up to 2^31, or a range that is not two finite numbers,
+/// the first below the second.
 ///
 /// >>> import numpy as np
 /// >>> from angletrack._angletrack import plan_windings
@@ -100,10 +105,16 @@ pub fn plan_windings(
     carrier_amplitude_counts: Option<f64>,
     adc_range: Option<(f64, f64)>,
 ) -> Result<PyWindingsPlan> {
-    let (c, s) = (
-        samples::<f64>(first_c, "first_c")?,
-        samples::<f64>(first_s, "first_s")?,
-    );
+    let (c, s) = paired_samples::<f64>((first_c, "first_c"), (first_s, "first_s"))?;
+    if let Some(a) = carrier_amplitude_counts
+        && !(a.is_finite() && a > 0.0 && a <= LARGEST_CARRIER_AMPLITUDE_COUNTS)
+    {
+        return Err(Error::value(
+            "carrier_amplitude_counts",
+            format!("{a}: expected a positive number of counts up to 2^31 (a 32-bit ADC's)"),
+        ));
+    }
+    let adc_range = crate::counts::adc_range(adc_range)?;
     let mut settings = WindingsSettings::new(carrier_hz);
     settings.capture_hz = capture_hz;
     settings.samples_per_period = samples_per_period;

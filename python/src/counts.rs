@@ -16,7 +16,7 @@ use numpy::prelude::*;
 use numpy::{Element, PyArray1, PyArrayDescr, PyUntypedArray, dtype};
 use pyo3::prelude::*;
 
-use crate::arrays::{Samples, read_only, samples};
+use crate::arrays::{Samples, paired_samples, read_only, samples};
 use crate::dispatch::Sample;
 use crate::errors::{Error, Result};
 
@@ -57,22 +57,34 @@ impl Counts {
     }
 }
 
+/// The ADC arguments of an observer as given: the settings, and the name of the first one
+/// the caller stated (`None`: neither), refused when the samples turn out to be floats.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct AdcSettings {
+    /// The scaling of integer counts.
+    pub counts: CountsSettings,
+    /// The first ADC argument the caller gave.
+    pub stated: Option<&'static str>,
+}
+
 /// The ADC arguments of an observer: `adc_mid_scale` (counts, `None`: by the rule of this
 /// module) and `adc_counts_per_unit`, checked by the core (a `ConfigError` naming either).
 pub fn adc_settings(
-    mid_scale: Option<i64>,
+    mid_scale: Option<crate::arrays::Count>,
     counts_per_unit: Option<f64>,
-) -> Result<CountsSettings> {
+) -> Result<AdcSettings> {
+    let stated = if mid_scale.is_some() {
+        Some("adc_mid_scale")
+    } else {
+        counts_per_unit.map(|_| "adc_counts_per_unit")
+    };
     let mid_scale = mid_scale
-        .map(|m| {
-            i32::try_from(m)
-                .map_err(|_| Error::value("adc_mid_scale", format!("{m} is beyond +-2^30 counts")))
-        })
+        .map(|m| m.get::<i32>("adc_mid_scale"))
         .transpose()?;
-    Ok(CountsSettings::new(
-        mid_scale,
-        counts_per_unit.unwrap_or(1.0),
-    )?)
+    Ok(AdcSettings {
+        counts: CountsSettings::new(mid_scale, counts_per_unit.unwrap_or(1.0))?,
+        stated,
+    })
 }
 
 /// The front end of one observer: the crate's `CountsInput`, which decides the scaling at
@@ -81,6 +93,7 @@ pub fn adc_settings(
 pub struct AdcInput<T> {
     input: CountsInput<T>,
     mid_scale_stated: bool,
+    stated: Option<&'static str>,
 }
 
 /// The clipping arguments `adc_range` and `measure_adc_range` of an observer, checked: the
@@ -151,23 +164,34 @@ impl<T: Sample> AdcInput<T> {
     }
 
     /// A front end that decides its scaling at the first call with counts.
-    pub fn new(settings: CountsSettings) -> Self {
+    pub fn new(settings: AdcSettings) -> Self {
         Self {
-            input: CountsInput::new(settings),
-            mid_scale_stated: settings.mid_scale().is_some(),
+            input: CountsInput::new(settings.counts),
+            mid_scale_stated: settings.counts.mid_scale().is_some(),
+            stated: settings.stated,
         }
     }
 
     /// The samples of `y_c` and `y_s`: arrays of the observer's float type as they are,
     /// arrays of counts converted (`y_s` then of `y_c`'s counts type). `y_c` is checked
-    /// first, then `y_s`, each as `crate::arrays::samples` checks floats.
+    /// first, then `y_s`, each as `crate::arrays::samples` checks floats. Floats are refused
+    /// (naming the ADC argument) when an ADC argument was given: it applies to counts only,
+    /// and ignoring it would track other samples than the caller asked for.
     pub fn signals<'py>(
         &mut self,
         y_c: &Bound<'py, PyAny>,
         y_s: &Bound<'py, PyAny>,
     ) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
         let Some((kind, c)) = Counts::of_samples(y_c) else {
-            return Ok((samples::<T>(y_c, "y_c")?, samples::<T>(y_s, "y_s")?));
+            let pair = (samples::<T>(y_c, "y_c")?, samples::<T>(y_s, "y_s")?);
+            if let Some(stated) = self.stated {
+                return Err(Error::value(
+                    stated,
+                    "applies to raw ADC counts (int16, uint16, int32 or int64 arrays) but the \
+                     samples are floats: scale floats before the call, or leave it out",
+                ));
+            }
+            return Ok(pair);
         };
         match Counts::of_samples(y_s) {
             Some((ks, s)) if ks == kind => match kind {
@@ -314,7 +338,7 @@ pub fn offset_binary_mid_scale(largest_count: f64) -> Result<u64> {
 /// (parameter `capture`) for counts no ADC gives.
 #[pyfunction]
 pub fn capture_mid_scale(y_c: &Bound<'_, PyAny>, y_s: &Bound<'_, PyAny>) -> Result<u64> {
-    let (c, s) = (samples::<f64>(y_c, "y_c")?, samples::<f64>(y_s, "y_s")?);
+    let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
     angletrack::capture_mid_scale(c.as_slice(), s.as_slice())
         .map_err(|e| Error::value("capture", e.to_string()))
 }
@@ -325,7 +349,7 @@ pub fn capture_mid_scale(y_c: &Bound<'_, PyAny>, y_s: &Bound<'_, PyAny>) -> Resu
 /// `ConfigError` (parameter `capture`) for counts no ADC gives.
 #[pyfunction]
 pub fn fixed_input(y_c: &Bound<'_, PyAny>, y_s: &Bound<'_, PyAny>) -> Result<(i32, u32, f64, f64)> {
-    let (c, s) = (samples::<f64>(y_c, "y_c")?, samples::<f64>(y_s, "y_s")?);
+    let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
     let i = angletrack::fixed_input(c.as_slice(), s.as_slice())
         .map_err(|e| Error::value("capture", e.to_string()))?;
     Ok((

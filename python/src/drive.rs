@@ -8,7 +8,7 @@ use angletrack_core::{
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 
-use crate::arrays::samples;
+use crate::arrays::{Count, samples};
 use crate::errors::Result;
 use crate::estimates::Estimates;
 use crate::resolver::renamed;
@@ -45,15 +45,20 @@ pub struct PyDriveOutputs {
 #[pymethods]
 impl PyDriveOutputs {
     #[new]
-    #[pyo3(signature = (*, sample_period_s, pole_pairs = 1, speed_ratio = 1, latency_s = 0.0,
-        speed_cutoff_hz = None))]
+    #[pyo3(signature = (*, sample_period_s, pole_pairs = Count::Whole(1), speed_ratio = Count::Whole(1),
+        latency_s = 0.0, speed_cutoff_hz = None),
+        text_signature = "(*, sample_period_s, pole_pairs=1, speed_ratio=1, latency_s=0.0, speed_cutoff_hz=None)")]
     fn py_new(
         sample_period_s: f64,
-        pole_pairs: u32,
-        speed_ratio: u32,
+        pole_pairs: Count,
+        speed_ratio: Count,
         latency_s: f64,
         speed_cutoff_hz: Option<f64>,
     ) -> Result<Self> {
+        let (pole_pairs, speed_ratio) = (
+            pole_pairs.get("pole_pairs")?,
+            speed_ratio.get("speed_ratio")?,
+        );
         let mut outputs =
             CoreDriveOutputs::new(pole_pairs, speed_ratio, latency_s, sample_period_s)?;
         if let Some(cutoff) = speed_cutoff_hz {

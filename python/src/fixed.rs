@@ -19,7 +19,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
 
 use crate::angle_calibration::{SensorParameters, checked};
-use crate::arrays::{Samples, check_equal_lengths, samples};
+use crate::arrays::{Count, Samples, check_equal_lengths, samples};
 use crate::calibration::PySensorCalibration;
 use crate::counts::Clipping;
 use crate::design::{PyDesign, constants_dict};
@@ -305,13 +305,15 @@ impl PyFixedObserver {
 impl PyFixedObserver {
     #[new]
     #[pyo3(signature = (design, *, nominal_amplitude = Some(16384.0), calibration = None,
-        mid_scale_counts = 0, input_shift = 0, adc_range = None, measure_adc_range = false))]
+        mid_scale_counts = Count::Whole(0), input_shift = Count::Whole(0), adc_range = None,
+        measure_adc_range = false),
+        text_signature = "(design, *, nominal_amplitude=16384.0, calibration=None, mid_scale_counts=0, input_shift=0, adc_range=None, measure_adc_range=False)")]
     fn py_new(
         design: &Bound<'_, PyAny>,
         nominal_amplitude: Option<f64>,
         calibration: Option<&Bound<'_, PyAny>>,
-        mid_scale_counts: i32,
-        input_shift: u32,
+        mid_scale_counts: Count,
+        input_shift: Count,
         adc_range: Option<(i32, i32)>,
         measure_adc_range: bool,
     ) -> Result<Self> {
@@ -321,8 +323,8 @@ impl PyFixedObserver {
             channel,
             front_end(
                 calibration,
-                mid_scale_counts,
-                input_shift,
+                mid_scale_counts.get("mid_scale_counts")?,
+                input_shift.get("input_shift")?,
                 Clipping::new(adc_range, measure_adc_range)?,
             )?,
         )
@@ -335,16 +337,17 @@ impl PyFixedObserver {
     /// leaves the loop unstable.
     #[staticmethod]
     #[pyo3(signature = (constants, sample_period_s, *, nominal_amplitude = Some(16384.0),
-        calibration = None, mid_scale_counts = 0, input_shift = 0, adc_range = None,
-        measure_adc_range = false))]
+        calibration = None, mid_scale_counts = Count::Whole(0), input_shift = Count::Whole(0),
+        adc_range = None, measure_adc_range = false),
+        text_signature = "(constants, sample_period_s, *, nominal_amplitude=16384.0, calibration=None, mid_scale_counts=0, input_shift=0, adc_range=None, measure_adc_range=False)")]
     #[allow(clippy::too_many_arguments)]
     fn from_constants(
         constants: &Bound<'_, PyAny>,
         sample_period_s: f64,
         nominal_amplitude: Option<f64>,
         calibration: Option<&Bound<'_, PyAny>>,
-        mid_scale_counts: i32,
-        input_shift: u32,
+        mid_scale_counts: Count,
+        input_shift: Count,
         adc_range: Option<(i32, i32)>,
         measure_adc_range: bool,
     ) -> Result<Self> {
@@ -371,8 +374,8 @@ impl PyFixedObserver {
             channel,
             front_end(
                 calibration,
-                mid_scale_counts,
-                input_shift,
+                mid_scale_counts.get("mid_scale_counts")?,
+                input_shift.get("input_shift")?,
                 Clipping::new(adc_range, measure_adc_range)?,
             )?,
         )

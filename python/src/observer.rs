@@ -3,14 +3,13 @@
 //! The per-sample work is the core's `Gains::update`; this module only moves samples in and
 //! estimates out, with the GIL released, straight into preallocated arrays that numpy owns.
 
-use angletrack::CountsSettings;
 use angletrack_core::{CalibrationMode, CalibrationStatus, Faults, FrontEndFaults};
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 
-use crate::arrays::Float;
+use crate::arrays::{Count, Float};
 use crate::calibration::{CalibrationChoice, PySensorCalibration, mode_name, status_name};
-use crate::counts::{Clipping, adc_settings};
+use crate::counts::{AdcSettings, Clipping, adc_settings};
 use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::{Arg, Run, RunSettings};
 use crate::errors::{Error, Result};
@@ -22,8 +21,8 @@ use crate::gains::PyGains;
 pub struct ObserverOptions {
     /// The diagnostics' thresholds; `None`: scaled to the first call's samples.
     pub thresholds: Option<PyFaultThresholds>,
-    /// How integer counts are scaled.
-    pub adc: CountsSettings,
+    /// How integer counts are scaled, and which ADC arguments were given.
+    pub adc: AdcSettings,
     /// The online calibration.
     pub calibration: CalibrationChoice,
     /// The clipping checks: the ADC's range in the input's units (counts for integer
@@ -50,7 +49,13 @@ pub trait ObserverOps: Run {
     fn estimate(&self) -> Estimate;
     fn reset(&mut self);
     fn initialise(&mut self, y_c: f64, y_s: f64);
-    fn set_state(&mut self, angle_rad: f64, speed_rad_s: f64, acceleration_rad_s2: f64);
+    /// Sets the state, refusing (naming the argument) a value the state cannot hold.
+    fn set_state(
+        &mut self,
+        angle_rad: f64,
+        speed_rad_s: f64,
+        acceleration_rad_s2: f64,
+    ) -> Result<()>;
     fn is_initialised(&self) -> bool;
     fn latched_faults(&self) -> Faults;
     fn clear_faults(&mut self) -> Faults;
@@ -79,7 +84,9 @@ fn finite(values: &[(&'static str, f64)]) -> Result<()> {
 /// converted exactly: minus `adc_mid_scale` (default 0 for signed counts; for uint16 the
 /// mid-scale of the smallest offset-binary ADC that holds the first call's samples, 2048
 /// for counts up to 4095) and divided by `adc_counts_per_unit` (default 1: the observer
-/// runs in counts). The loop is amplitude-invariant, so counts or volts track alike.
+/// runs in counts). The loop is amplitude-invariant, so counts or volts track alike. The
+/// two ADC arguments apply to counts only: float samples with either given are refused
+/// (`ConfigError` naming it), not tracked unscaled.
 ///
 /// `fault_thresholds=None` (the default) scales the diagnostics to the signal: at the
 /// first `update`, `FaultThresholds(nominal_amplitude=A)` with `A` the median magnitude
@@ -103,6 +110,7 @@ fn finite(values: &[(&'static str, f64)]) -> Result<()> {
 /// `calibration`: `None` (off), `"learn"` (correct offsets, gain imbalance and quadrature
 /// error and learn them while tracking, from `initial_calibration` if given) or `"frozen"`
 /// (apply `initial_calibration`, learn nothing). The calibration is in the input's units.
+/// `initial_calibration` with the calibration off is refused (`ConfigError` naming it).
 #[pyclass(name = "Observer", module = "angletrack", extends = RunSettings)]
 #[derive(Debug)]
 pub struct PyObserver {
@@ -124,7 +132,7 @@ impl PyObserver {
         fault_thresholds: Option<PyFaultThresholds>,
         calibration: Option<&str>,
         initial_calibration: Option<PySensorCalibration>,
-        adc_mid_scale: Option<i64>,
+        adc_mid_scale: Option<Count>,
         adc_counts_per_unit: Option<f64>,
         adc_range: Option<(f64, f64)>,
         measure_adc_range: bool,
@@ -201,9 +209,10 @@ impl PyObserver {
         Ok(())
     }
 
-    /// Starts from a known angle (rad, any value: wrapped, whole turns counted), speed
-    /// (rad/s) and acceleration (rad/s^2, ignored at order 2). Refuses (`ConfigError`) a
-    /// value that is not finite.
+    /// Starts from a known angle (rad: wrapped, whole turns counted, within +-2^31 turns),
+    /// speed (rad/s, within half a turn per sample, `pi / sample_period_s`) and acceleration
+    /// (rad/s^2, within `pi / sample_period_s^2`; 0 at order 2, which has no acceleration
+    /// state). Refuses (`ConfigError` naming it) a value that is not finite or beyond these.
     #[pyo3(signature = (angle_rad, speed_rad_s = 0.0, acceleration_rad_s2 = 0.0))]
     fn set_state(
         &mut self,
@@ -217,8 +226,7 @@ impl PyObserver {
             ("acceleration_rad_s2", acceleration_rad_s2),
         ])?;
         self.inner
-            .set_state(angle_rad, speed_rad_s, acceleration_rad_s2);
-        Ok(())
+            .set_state(angle_rad, speed_rad_s, acceleration_rad_s2)
     }
 
     /// The faults latched since they were last cleared (bits, see `angletrack.Faults`), like
@@ -307,10 +315,11 @@ impl PyObserver {
 }
 
 /// Runs a fresh observer with `gains` over `y_c`, `y_s` in the samples' own dtype (float32
-/// or float64; float64 for raw ADC counts, int16, uint16 or int32, scaled as `Observer`
-/// does) and returns the estimates. `fault_thresholds=None` scales the diagnostics to the
-/// samples' own amplitude, as `Observer` does; `adc_range=(min, max)` flags samples clipped
-/// against it, as `Observer` does.
+/// or float64; float64 for raw ADC counts, int16, uint16, int32 or int64, scaled as
+/// `Observer` does; `adc_mid_scale` or `adc_counts_per_unit` with float samples is a
+/// `ConfigError` naming it) and returns the estimates. `fault_thresholds=None` scales the
+/// diagnostics to the samples' own amplitude, as `Observer` does; `adc_range=(min, max)`
+/// flags samples clipped against it, as `Observer` does.
 #[pyfunction]
 #[pyo3(signature = (gains, y_c, y_s, *, sin_cos = None, fault_thresholds = None,
     adc_mid_scale = None, adc_counts_per_unit = None, adc_range = None))]
@@ -322,7 +331,7 @@ pub fn track(
     y_s: &Bound<'_, PyAny>,
     sin_cos: Option<&str>,
     fault_thresholds: Option<PyFaultThresholds>,
-    adc_mid_scale: Option<i64>,
+    adc_mid_scale: Option<Count>,
     adc_counts_per_unit: Option<f64>,
     adc_range: Option<(f64, f64)>,
 ) -> Result<Estimates> {

@@ -12,7 +12,7 @@ use angletrack_core::{
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 
-use crate::arrays::{check_equal_lengths, samples};
+use crate::arrays::{Count, check_equal_lengths, samples};
 use crate::errors::{Error, Result};
 use crate::motion::PyMotionProfile;
 use crate::scenario::PyScenario;
@@ -106,7 +106,7 @@ impl PyDemodulator {
         adc_min_code: f64,
         adc_max_code: f64,
         expected_delay_rad: f64,
-        startup_periods: Option<u32>,
+        startup_periods: Option<Count>,
         phase_drift_bound_rad: Option<f64>,
         loss_of_excitation: Option<f64>,
         weak_excitation: Option<f64>,
@@ -133,7 +133,10 @@ impl PyDemodulator {
         );
         settings.expected_delay_rad = expected_delay_rad;
         let d = settings;
-        settings.startup_periods = startup_periods.unwrap_or(d.startup_periods);
+        settings.startup_periods = match startup_periods {
+            Some(n) => n.get("startup_periods")?,
+            None => d.startup_periods,
+        };
         settings.phase_drift_bound_rad = phase_drift_bound_rad.unwrap_or(d.phase_drift_bound_rad);
         settings.loss_of_excitation = loss_of_excitation.unwrap_or(d.loss_of_excitation);
         settings.weak_excitation = weak_excitation.unwrap_or(d.weak_excitation);
@@ -348,28 +351,34 @@ impl PyResolverModel {
     #[allow(clippy::too_many_arguments)]
     fn py_new(
         carrier_hz: Option<f64>,
-        samples_per_period: Option<usize>,
+        samples_per_period: Option<Count>,
         carrier_delay_rad: Option<f64>,
         excitation_amplitude_counts: Option<f64>,
         transformation_ratio: Option<f64>,
         winding_imbalance: Option<f64>,
         common_mode_counts: Option<f64>,
-        adc_bits: Option<u32>,
+        adc_bits: Option<Count>,
         noise_std_counts: Option<f64>,
-    ) -> Self {
+    ) -> Result<Self> {
         let d = ResolverModel::default();
-        Self {
+        Ok(Self {
             carrier_hz: carrier_hz.unwrap_or(d.carrier_hz),
-            samples_per_period: samples_per_period.unwrap_or(d.samples_per_period),
+            samples_per_period: match samples_per_period {
+                Some(n) => n.get("samples_per_period")?,
+                None => d.samples_per_period,
+            },
             carrier_delay_rad: carrier_delay_rad.unwrap_or(d.carrier_delay_rad),
             excitation_amplitude_counts: excitation_amplitude_counts
                 .unwrap_or(d.excitation_amplitude_counts),
             transformation_ratio: transformation_ratio.unwrap_or(d.transformation_ratio),
             winding_imbalance: winding_imbalance.unwrap_or(d.winding_imbalance),
             common_mode_counts: common_mode_counts.unwrap_or(d.common_mode_counts),
-            adc_bits: adc_bits.unwrap_or(d.adc_bits),
+            adc_bits: match adc_bits {
+                Some(n) => n.get("adc_bits")?,
+                None => d.adc_bits,
+            },
             noise_std_counts: noise_std_counts.unwrap_or(d.noise_std_counts),
-        }
+        })
     }
 
     /// The carrier amplitude of a winding at the ADC (counts) at envelope 1.
@@ -399,13 +408,15 @@ impl PyResolverModel {
 /// a `Scenario` at the ADC rate whose `y_c`, `y_s` are the raw samples (counts) beside the
 /// truth; the noise from a ChaCha8 generator seeded with `seed`.
 #[pyfunction]
-#[pyo3(signature = (profile, model = None, *, seed = 0))]
+#[pyo3(signature = (profile, model = None, *, seed = Count::Whole(0)),
+    text_signature = "(profile, model=None, *, seed=0)")]
 pub fn resolver_windings(
     py: Python<'_>,
     profile: &PyMotionProfile,
     model: Option<&PyResolverModel>,
-    seed: u64,
+    seed: Count,
 ) -> Result<PyScenario> {
+    let seed: u64 = seed.get("seed")?;
     let model = model.map_or_else(ResolverModel::default, PyResolverModel::model);
     // The crate names these two after their kind; the caller wrote the model's field names.
     if !(model.carrier_hz.is_finite() && model.carrier_hz > 0.0) {

@@ -5,7 +5,7 @@ use angletrack::{MAX_ANGLE_ERROR_HARMONICS, SensorModel};
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 
-use crate::arrays::{check_equal_lengths, samples};
+use crate::arrays::{Count, check_equal_lengths, samples};
 use crate::calibration::PySensorCalibration;
 use crate::errors::{Error, Result};
 use crate::motion::PyMotionProfile;
@@ -84,7 +84,7 @@ impl PySensorModel {
         third_harmonic: Option<f64>,
         angle_error_harmonics: Option<Vec<(u32, f64, f64)>>,
         noise_std: Option<f64>,
-        adc_bits: Option<u32>,
+        adc_bits: Option<Count>,
         adc_full_scale: Option<f64>,
     ) -> Result<Self> {
         let angle_error_harmonics = angle_error_harmonics.unwrap_or_default();
@@ -108,7 +108,10 @@ impl PySensorModel {
             third_harmonic: third_harmonic.unwrap_or(d.third_harmonic),
             angle_error_harmonics,
             noise_std: noise_std.unwrap_or(d.noise_std),
-            adc_bits: adc_bits.unwrap_or(d.adc_bits),
+            adc_bits: match adc_bits {
+                Some(n) => n.get("adc_bits")?,
+                None => d.adc_bits,
+            },
             adc_full_scale: adc_full_scale.unwrap_or(d.adc_full_scale),
         })
     }
@@ -193,14 +196,16 @@ impl PyScenario {
     /// `None`); the noise comes from a ChaCha8 generator seeded with `seed`, so the same
     /// arguments give the same scenario on every machine.
     #[staticmethod]
-    #[pyo3(signature = (profile, sensor = None, *, sample_period_s, seed = 0))]
+    #[pyo3(signature = (profile, sensor = None, *, sample_period_s, seed = Count::Whole(0)),
+        text_signature = "(profile, sensor=None, *, sample_period_s, seed=0)")]
     fn generate(
         py: Python<'_>,
         profile: &PyMotionProfile,
         sensor: Option<&PySensorModel>,
         sample_period_s: f64,
-        seed: u64,
+        seed: Count,
     ) -> Result<Self> {
+        let seed: u64 = seed.get("seed")?;
         let sensor = sensor.map_or_else(SensorModel::default, PySensorModel::model);
         let profile = profile.inner.clone();
         let s = py.detach(move || {
@@ -210,7 +215,8 @@ impl PyScenario {
     }
 
     /// A scenario from recorded arrays (a capture with a reference angle): the truth
-    /// `angle_rad` beside `y_c`, `y_s`; `speed_rad_s` NaN when not given.
+    /// `angle_rad` (finite at every sample: `ConfigError` otherwise) beside `y_c`, `y_s`;
+    /// `speed_rad_s` NaN when not given.
     #[staticmethod]
     #[pyo3(signature = (*, sample_period_s, angle_rad, y_c, y_s, speed_rad_s = None))]
     fn from_arrays(
@@ -228,6 +234,16 @@ impl PyScenario {
             ));
         }
         let angle = samples::<f64>(angle_rad, "angle_rad")?.as_slice().to_vec();
+        // The metrics compare every estimate with this truth: one not finite would mix NaN
+        // into the statistics.
+        if let Some((k, v)) = angle.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(Error::value(
+                "angle_rad",
+                format!(
+                    "{v} at index {k} is not finite: the reference angle must be known at every sample"
+                ),
+            ));
+        }
         let c = samples::<f64>(y_c, "y_c")?.as_slice().to_vec();
         let s = samples::<f64>(y_s, "y_s")?.as_slice().to_vec();
         check_equal_lengths(("angle_rad", angle.len()), ("y_c", c.len()))?;

@@ -42,7 +42,10 @@ def test_wrong_shape_length_or_empty_is_a_value_error(observer32):
     with pytest.raises(ValueError, match=r"y_c: is empty"):
         observer32.update(ok[:0], ok[:0])
     with pytest.raises(ValueError, match=r"y_c: cannot be read"):
-        observer32.update(["a", "b"], ["c", "d"])
+        observer32.update([[1.0], [1.0, 2.0]], ok)
+    # Strings are not parsed as numbers: a wrong type.
+    with pytest.raises(TypeError, match=r"^y_c: expected real numbers, got a sequence of dtype <U"):
+        observer32.update(["1.5", "2"], ["c", "d"])
     # A refused call leaves the state untouched.
     assert not observer32.is_initialised
 

@@ -127,16 +127,25 @@ def test_unsigned_counts_take_the_offset_binary_mid_scale_of_their_range():
     assert np.max(np.abs(np.angle(np.exp(1j * (sc.angle_rad - whole.position)))[2000:])) < 0.05
 
 
-def test_a_batch_takes_counts_as_an_observer_does():
+def test_a_batch_takes_counts_scaled_to_amplitude_1_as_an_observer_does():
     sc = constant_speed(at.SensorModel(amplitude=AMPLITUDE, noise_std=5.0), turns=2)
     raw_c = np.stack([counts(sc.y_c + 2048, np.uint16), counts(-sc.y_c + 2048, np.uint16)])
     raw_s = np.stack([counts(sc.y_s + 2048, np.uint16), counts(-sc.y_s + 2048, np.uint16)])
     gains = at.Gains(KALMAN, SAMPLE_PERIOD)
-    batch = at.track_batch(gains, raw_c, raw_s)
+    # Raw counts are refused (their amplitude is far above the batch's limit of 4), scaled
+    # counts are tracked as an Observer tracks them.
+    with pytest.raises(TypeError, match="^y_c: .*raw ADC counts of dtype uint16"):
+        at.track_batch(gains, raw_c, raw_s)
+    scaled_c, scaled_s = (raw_c - 2048.0) / AMPLITUDE, (raw_s - 2048.0) / AMPLITUDE
+    batch = at.track_batch(gains, scaled_c, scaled_s)
     bare = at.FaultThresholds.disabled()
     for channel in range(2):
-        single = at.track(gains, raw_c[channel], raw_s[channel], fault_thresholds=bare)
+        single = at.track(gains, scaled_c[channel], scaled_s[channel], fault_thresholds=bare)
         np.testing.assert_array_equal(batch.position[channel], single.position)
+    # The second channel is the first turned by half a turn: both track it.
+    error = np.angle(np.exp(1j * (batch.angle[0] - batch.angle[1] - np.pi)))
+    assert np.max(np.abs(error[200:])) < 0.05
+    assert not np.any(np.asarray(batch.faults) & int(at.Faults.BAD_SAMPLE))
 
 
 def test_integer_arguments_are_checked_naming_them():

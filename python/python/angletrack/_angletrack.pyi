@@ -192,14 +192,16 @@ class Observer(_RunSettings):
     """An observer whose state persists between calls: chunked input gives exactly the
     result of one call.
 
-    Integer samples (int16, uint16, int32) are raw ADC counts: minus ``adc_mid_scale``
+    Integer samples (int16, uint16, int32, int64) are raw ADC counts: minus ``adc_mid_scale``
     (default 0 for signed counts; for uint16 the mid-scale ``2^(b-1)`` of the smallest
     ``b``-bit ADC holding the first call's samples) and divided by ``adc_counts_per_unit``
-    (default 1), exactly. ``fault_thresholds=None`` scales the diagnostics to the signal:
+    (default 1), exactly. The two ADC arguments apply to counts only: float samples with
+    either given are refused (``ConfigError`` naming it), not tracked unscaled. ``fault_thresholds=None`` scales the diagnostics to the signal:
     ``FaultThresholds(nominal_amplitude=A)``, ``A`` the median ``sqrt(y_c^2 + y_s^2)`` of
     the first call's first 4096 samples. ``calibration``: ``None`` (off), ``"learn"`` (correct
     and learn offsets, gain imbalance and quadrature while tracking, from
-    ``initial_calibration`` if given) or ``"frozen"`` (apply ``initial_calibration``).
+    ``initial_calibration`` if given) or ``"frozen"`` (apply ``initial_calibration``);
+    ``initial_calibration`` with the calibration off is a ``ConfigError`` naming it.
     ``adc_range=(min, max)`` (the samples' units, counts for integer samples): a sample at
     or beyond it in either channel is flagged ``Faults.FRONT_END``, one clipped in both is
     coasted through; ``measure_adc_range=True`` (without ``adc_range``): the same against the
@@ -235,7 +237,9 @@ class Observer(_RunSettings):
     def initialise(self, y_c: float, y_s: float) -> None:
         """Angle from one sample; ``ConfigError`` if a value is not finite."""
     def set_state(self, angle_rad: float, speed_rad_s: float = 0.0, acceleration_rad_s2: float = 0.0) -> None:
-        """Starts from a known state; ``ConfigError`` naming a value that is not finite."""
+        """Starts from a known state; ``ConfigError`` naming a value that is not finite, an
+        angle of 2^31 turns or more, a speed beyond ``pi / sample_period_s``, an
+        acceleration beyond ``pi / sample_period_s**2`` or any but 0 at order 2."""
     @property
     def is_initialised(self) -> bool: ...
     @property
@@ -259,7 +263,8 @@ class Observer(_RunSettings):
     def set_calibration(
         self, calibration: _CalibrationMode, initial_calibration: Optional[SensorCalibration] = None
     ) -> None:
-        """As the constructor's arguments; the state is kept."""
+        """As the constructor's arguments (``initial_calibration`` refused with ``"off"`` or
+        ``None``); the state is kept."""
 
 def track(
     gains: Gains, y_c: _Signal, y_s: _Signal, *, sin_cos: _SinCos = None,
@@ -269,8 +274,9 @@ def track(
     adc_range: Optional[tuple[float, float]] = None,
 ) -> Estimates:
     """Runs a fresh observer over the samples in their own dtype (float32 or float64;
-    float64 for raw counts, scaled as ``Observer`` does). ``fault_thresholds=None`` scales
-    the diagnostics to the samples' amplitude."""
+    float64 for raw counts, scaled as ``Observer`` does; ``adc_mid_scale`` or
+    ``adc_counts_per_unit`` with float samples is a ``ConfigError`` naming it).
+    ``fault_thresholds=None`` scales the diagnostics to the samples' amplitude."""
 
 #: Samples the fixed-point observer accepts: int16 counts (mid-scale removed), or integers
 #: within int16 (a list); no other dtype is converted.
@@ -443,7 +449,9 @@ def plan_windings(
 ) -> WindingsPlan:
     """The ADC rate, samples per period, amplitude and ADC range of a capture of raw windings
     from its first samples, as stated or measured; a ratio the time column contradicts (1 %)
-    or a carrier 2 % from the one measured is refused, naming both values."""
+    or a carrier 2 % from the one measured is refused, naming both values. ``ConfigError``
+    for unequal lengths (``first_s``), an amplitude not a positive number of counts up to
+    2^31, or a range not two finite numbers in order."""
 
 def offset_binary_mid_scale(largest_count: float) -> int:
     """The mid-scale (counts) of unsigned, offset-binary ADC counts whose largest sample is
@@ -465,16 +473,16 @@ def capture_mid_scale(y_c: _Samples, y_s: _Samples) -> int:
 _OutputName = Literal["angle", "position", "speed", "acceleration", "phase_error", "faults"]
 _Outputs = Union[_OutputName, Iterable[_OutputName], None]
 
-_ChannelSamples = Union[
-    npt.NDArray[np.float32], npt.NDArray[np.float64], Sequence[Sequence[float]],
-    npt.NDArray[np.int16], npt.NDArray[np.uint16], npt.NDArray[np.int32], npt.NDArray[np.int64],
-]
+_ChannelSamples = Union[npt.NDArray[np.float32], npt.NDArray[np.float64], Sequence[Sequence[float]]]
 
 class ObserverBatch(_RunSettings):
     """Many observers on one gain set, run 8 at a time side by side; 2-D arrays
     (channels x samples). Each channel equals an ``Observer`` with
     ``FaultThresholds.disabled()`` (bad samples rejected, no fault monitor); the state
-    persists between calls."""
+    persists between calls. The samples are floats of amplitude about 1: one of magnitude
+    ``sqrt(y_c^2 + y_s^2)`` above 4 (``max_input_amplitude``) is rejected as
+    ``BAD_SAMPLE``. Raw ADC counts (an integer dtype) are a ``TypeError``: scale them
+    first, ``(counts - mid_scale) / amplitude``."""
 
     def __init__(
         self, gains: Gains, channels: int, *, dtype: _DType = None, sin_cos: _SinCos = None,
@@ -503,7 +511,7 @@ def track_batch(
     outputs: _Outputs,
 ) -> _SelectedEstimates:
     """Runs a fresh ``ObserverBatch`` over 2-D samples (channels x samples) in their own
-    dtype; the result's arrays have the inputs' shape. Only the estimates named in
+    dtype (float32 or float64, amplitude about 1, as ``ObserverBatch`` takes); the result's arrays have the inputs' shape. Only the estimates named in
     ``outputs`` (e.g. ``("angle", "speed")``, default all) are computed and allocated, the
     others are ``None``: ask for what you use, the run's memory traffic follows."""
 
@@ -745,7 +753,9 @@ class Scenario:
     def from_arrays(
         *, sample_period_s: float, angle_rad: _Samples, y_c: _Samples, y_s: _Samples,
         speed_rad_s: Optional[_Samples] = None,
-    ) -> Scenario: ...
+    ) -> Scenario:
+        """A scenario of recorded arrays; ``ConfigError`` naming ``angle_rad`` if a reference
+        angle is not finite."""
     sample_period_s: float
     time_s: npt.NDArray[np.float64]
     angle_rad: npt.NDArray[np.float64]

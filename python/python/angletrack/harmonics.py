@@ -138,11 +138,9 @@ def calibrate(y_c: Any, y_s: Any, gains: Gains, *, reference: Any = None, lowest
     ``gains``, past the first ``settle_fraction`` of the capture. ``lowest_order`` (default:
     1 against a reference, 3 in a self-calibration) to ``highest_order``; an order below
     ``min_significance`` times its uncertainty is not learned. ``ConfigError`` naming the
-    option at fault (a capture shorter than 5 turns, an order the loop follows, ...)."""
-    y_c = np.ascontiguousarray(y_c, dtype=np.float64)
-    y_s = np.ascontiguousarray(y_s, dtype=np.float64)
-    if reference is not None:
-        reference = np.ascontiguousarray(reference, dtype=np.float64)
+    option at fault (a capture shorter than 5 turns, an order the loop follows, ...); the
+    samples are float64 arrays or sequences of real numbers (``TypeError`` otherwise)."""
+    # The extension checks the samples' dtype (TypeError, no silent conversion) and shape.
     learned = learn_calibration(gains, y_c, y_s, reference=reference, lowest_order=lowest_order,
                                 highest_order=highest_order, settle_fraction=settle_fraction,
                                 self_calibration=self_calibration, own_loop=own_loop,
@@ -172,7 +170,10 @@ class CalibratedObserver:
     (the core's chain of the stored sensor calibration and the angle correction), in
     ``dtype`` (float32 or float64) with ``sin_cos`` (default: the dtype's); ``update`` may be
     called chunk by chunk. The raw samples are checked for clipping as ``Observer`` checks
-    them: against ``adc_range``, or with ``measure_adc_range`` against the rails measured."""
+    them: against ``adc_range``, or with ``measure_adc_range`` against the rails measured.
+    ``update`` takes samples as ``Observer.update`` does: arrays of ``dtype`` (``TypeError``
+    for another dtype, no silent conversion) or sequences of real numbers, 1-D (a
+    ``ConfigError`` naming ``y_c`` or ``y_s`` for ``None`` or a scalar)."""
 
     def __init__(self, gains: Gains, calibration: Calibration, *, dtype: Any = np.float64,
                  sin_cos: Optional[str] = None, adc_range: Optional[tuple[float, float]] = None,
@@ -187,8 +188,7 @@ class CalibratedObserver:
 
     def update(self, y_c: Any, y_s: Any) -> Estimates:
         """The estimates of the samples ``(y_c, y_s)`` (an ``Estimates``)."""
-        est = self._inner.update(np.ascontiguousarray(y_c, dtype=self.dtype),
-                                 np.ascontiguousarray(y_s, dtype=self.dtype))
+        est = self._inner.update(y_c, y_s)
         self.latched_faults |= int(np.bitwise_or.reduce(est.faults)) if len(est) else 0
         return est
 

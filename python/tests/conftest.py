@@ -36,14 +36,22 @@ def capture():
 
 @pytest.fixture
 def file_reads(monkeypatch):
-    """The names of the files read through ``pathlib.Path.read_text`` during the test, one
-    entry per read (to check that a command reads a file once)."""
-    reads = []
-    read_text = pathlib.Path.read_text
+    """The names of the files read through ``pathlib.Path.read_text`` or ``read_bytes``
+    during the test, one entry per read (to check that a command reads a file once)."""
+    reads, inside = [], []
 
-    def counted(self, *args, **kwargs):
-        reads.append(self.name)
-        return read_text(self, *args, **kwargs)
+    def counting(read):
+        def counted(self, *args, **kwargs):
+            # One entry per read, whichever of the two calls the other.
+            if not inside:
+                reads.append(self.name)
+            inside.append(self)
+            try:
+                return read(self, *args, **kwargs)
+            finally:
+                inside.pop()
+        return counted
 
-    monkeypatch.setattr(pathlib.Path, "read_text", counted)
+    monkeypatch.setattr(pathlib.Path, "read_text", counting(pathlib.Path.read_text))
+    monkeypatch.setattr(pathlib.Path, "read_bytes", counting(pathlib.Path.read_bytes))
     return reads

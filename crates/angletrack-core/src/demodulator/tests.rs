@@ -73,6 +73,16 @@ fn settings(carrier_hz: f64, adc_hz: f64) -> DemodulatorSettings<f64> {
     DemodulatorSettings::new(carrier_hz, adc_hz, AMPLITUDE, 0.0, 4095.0)
 }
 
+/// The demodulator of a 10 kHz carrier at 160 kHz expecting the bench's delay plus
+/// `offset_rad`.
+fn expecting(bench: &Bench, offset_rad: f64) -> Demodulator<f64> {
+    Demodulator::new(DemodulatorSettings {
+        expected_delay_rad: bench.delay + offset_rad,
+        ..settings(10e3, 160e3)
+    })
+    .unwrap()
+}
+
 /// Runs `samples` samples (with the excitation if `excitation`); every pair with its angle
 /// error against the truth at its centre (rad, wrapped).
 fn run(
@@ -115,11 +125,7 @@ fn a_carrier_half_a_percent_off_tracks_within_3_mrad() {
     let mut bench = Bench::new(10_050.0, 160e3);
     bench.delay = 305f64.to_radians();
     bench.noise = 2.0;
-    let d = Demodulator::new(DemodulatorSettings {
-        expected_delay_rad: bench.delay,
-        ..settings(10e3, 160e3)
-    })
-    .unwrap();
+    let d = expecting(&bench, 0.0);
     let mut state = DemodulatorState::new();
     let pairs = run(&d, &mut state, &bench, 160 * 100, false);
     let (rms, max) = rms_max(&pairs, 10);
@@ -152,11 +158,7 @@ fn a_carrier_beyond_the_error_allowed_is_flagged_on_every_pair() {
     for carrier in [10_500.0, 9_600.0, 10_400.0] {
         let mut bench = Bench::new(carrier, 160e3);
         bench.delay = 305f64.to_radians();
-        let d = Demodulator::new(DemodulatorSettings {
-            expected_delay_rad: bench.delay,
-            ..settings(10e3, 160e3)
-        })
-        .unwrap();
+        let d = expecting(&bench, 0.0);
         let mut state = DemodulatorState::new();
         let pairs = run(&d, &mut state, &bench, 160 * 100, false);
         assert!(pairs.len() > 50);
@@ -222,11 +224,7 @@ fn without_excitation_the_expected_delay_resolves_the_half_turn_and_the_delay_is
         let mut bench = Bench::new(10_030.0, 160e3);
         bench.delay = f64::to_radians(degrees);
         // Expected 40 degrees off: resolved to the truth.
-        let d = Demodulator::new(DemodulatorSettings {
-            expected_delay_rad: bench.delay + 0.7,
-            ..settings(10e3, 160e3)
-        })
-        .unwrap();
+        let d = expecting(&bench, 0.7);
         let mut state = DemodulatorState::new();
         let pairs = run(&d, &mut state, &bench, 16_000, false);
         let (rms, _) = rms_max(&pairs, 5);
@@ -235,11 +233,7 @@ fn without_excitation_the_expected_delay_resolves_the_half_turn_and_the_delay_is
         std::println!("{degrees}: delay error {error}");
         assert!(error.abs() < 0.05, "{degrees}: delay error {error}");
         // Expected 180 degrees off: the angle is half a turn off, as the delay says.
-        let d = Demodulator::new(DemodulatorSettings {
-            expected_delay_rad: bench.delay + PI,
-            ..settings(10e3, 160e3)
-        })
-        .unwrap();
+        let d = expecting(&bench, PI);
         let mut state = DemodulatorState::new();
         let pairs = run(&d, &mut state, &bench, 16_000, false);
         assert!(pairs.iter().skip(5).all(|p| (p.1.abs() - PI).abs() < 0.01));

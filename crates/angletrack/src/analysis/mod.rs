@@ -14,8 +14,8 @@ pub use frequency_response::closed_loop_response;
 pub use noise::{PredictedError, predicted_error, predicted_error_on_kalman_model};
 pub use report::DesignReport;
 pub use speed::max_trackable_speed_rad_s;
-pub(crate) use step::continuous_step;
 pub use step::{LARGE_STEP_RAD, SETTLING_BAND, StepResponse};
+pub(crate) use step::{continuous_step, continuous_step_within};
 
 #[cfg(test)]
 mod tests;

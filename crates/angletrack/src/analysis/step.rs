@@ -57,6 +57,16 @@ impl StepResponse {
 /// with the constant input appended to the state) on a grid fine enough for the overshoot
 /// (1/40 of the fastest pole's time constant) and long enough to settle.
 pub(crate) fn continuous_step(c: &[f64]) -> StepResponse {
+    continuous_step_within(c, MAX_STEP_SAMPLES)
+}
+
+/// The most samples of [`continuous_step`]'s grid.
+const MAX_STEP_SAMPLES: usize = 1_000_000;
+
+/// [`continuous_step`] on at most `max_samples` samples (at least 100): a coarser grid than
+/// its own where the loop is stiff (a fast pole far from the others), for a search that only
+/// brackets the overshoot. Exact at its samples all the same (the matrix exponential).
+pub(crate) fn continuous_step_within(c: &[f64], max_samples: usize) -> StepResponse {
     let n = c.len();
     let poles = linalg::roots(c);
     let fastest = poles.iter().map(|p| p.norm()).fold(0.0, f64::max);
@@ -64,7 +74,7 @@ pub(crate) fn continuous_step(c: &[f64]) -> StepResponse {
     let fastest_oscillation = poles.iter().map(|p| p.im.abs()).fold(0.0, f64::max);
     let h = (1.0 / (40.0 * fastest)).min(0.02 / fastest_oscillation.max(1e-300));
     let horizon = 16.0 / slowest;
-    let steps = ((horizon / h).ceil() as usize).clamp(100, 1_000_000);
+    let steps = ((horizon / h).ceil() as usize).clamp(100, max_samples.max(100));
     let h = horizon / steps as f64;
     // State (x, u): dx = S x + k (u - x1), du = 0, with k the continuous gains; over one
     // step of h, x <- Phi x + Gamma u with Phi, Gamma blocks of exp(M h).

@@ -6,7 +6,7 @@ use angletrack_core::PolePair;
 
 use super::discretisation::{ContinuousPoles, discretise};
 use super::{Design, DesignMethod, Discretisation};
-use crate::analysis::continuous_step;
+use crate::analysis::{continuous_step, continuous_step_within};
 use crate::error::{Argument, Error, positive};
 use crate::linalg;
 
@@ -113,13 +113,19 @@ pub fn third_order_butterworth(
 /// The smallest and largest `K` searched by [`third_order_from_overshoot`].
 const POLE_RATIO_SEARCH: (f64, f64) = (0.05, 1e4);
 
+/// The most samples of a step response while [`third_order_from_overshoot`] tabulates the
+/// overshoot over `K` to find its bracket: at large `K` the real pole is fast and the grid
+/// that resolves it holds a million samples; the bracket needs the slow pair's peak only.
+const BRACKET_STEP_SAMPLES: usize = 5_000;
+
 /// The 3rd-order ATO from a target overshoot of the (linear, continuous) step response and
 /// a target 2 % settling time, within the pole family `-K/T`, `(-1 +- j psi)/T` with `psi`
 /// fixed (the paper uses `psi = 3 pi / 2`).
 ///
 /// The overshoot depends on `K` and `psi` only (`T` scales time). The search: the overshoot
 /// of the continuous step response (computed exactly by the matrix exponential) is
-/// tabulated over `K` on a logarithmic grid from 0.05 to 10^4; the first bracket in which it
+/// tabulated over `K` on a logarithmic grid from 0.05 to 10^4 (each response on at most 5,000
+/// samples: the bracket needs the slow pair's peak only); the first bracket in which it
 /// crosses the target (from above: small `K` gives large overshoot) is refined by bisection
 /// to a relative 1e-10. Then `T` is the target settling time divided by the settling time
 /// of the loop with `T = 1`. [`Error::NoSolution`] names the overshoot if no `K` in the range
@@ -147,21 +153,19 @@ pub fn third_order_from_overshoot(
     check_pole_family(1.0, pole_frequency_ratio)?;
     positive(sample_period_s, Argument::SamplePeriod)?;
     let psi = pole_frequency_ratio;
-    let overshoot_at = |k: f64| -> f64 {
-        continuous_step(&linalg::monic_from_roots(
-            &third_order_poles(k, 1.0, psi).poles(),
-        ))
-        .overshoot
-    };
+    let loop_of = |k: f64| linalg::monic_from_roots(&third_order_poles(k, 1.0, psi).poles());
+    let bracket_overshoot =
+        |k: f64| continuous_step_within(&loop_of(k), BRACKET_STEP_SAMPLES).overshoot;
+    let overshoot_at = |k: f64| continuous_step(&loop_of(k)).overshoot;
     let (lo, hi) = POLE_RATIO_SEARCH;
     let steps = 60;
     let ratio = (hi / lo).powf(1.0 / steps as f64);
     let mut bracket = None;
     let mut k_prev = lo;
-    let mut o_prev = overshoot_at(lo);
+    let mut o_prev = bracket_overshoot(lo);
     for i in 1..=steps {
         let k = lo * ratio.powi(i);
-        let o = overshoot_at(k);
+        let o = bracket_overshoot(k);
         if (o_prev - target) * (o - target) <= 0.0 {
             bracket = Some((k_prev, k, o_prev > target));
             break;

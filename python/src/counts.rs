@@ -345,12 +345,18 @@ pub fn capture_mid_scale(y_c: &Bound<'_, PyAny>, y_s: &Bound<'_, PyAny>) -> Resu
 
 /// How a capture's counts reach the fixed-point observer, from its first samples `y_c`,
 /// `y_s` (`angletrack::fixed_input`): `(mid_scale_counts, input_shift, amplitude,
-/// nominal_amplitude)`, the last the monitor's (the `FixedObserver` arguments). A
-/// `ConfigError` (parameter `capture`) for counts no ADC gives.
+/// nominal_amplitude)`, the last the monitor's (the `FixedObserver` arguments); no
+/// mid-scale for counts stated `signed`. A `ConfigError` (parameter `capture`) for counts
+/// no ADC gives.
 #[pyfunction]
-pub fn fixed_input(y_c: &Bound<'_, PyAny>, y_s: &Bound<'_, PyAny>) -> Result<(i32, u32, f64, f64)> {
+#[pyo3(signature = (y_c, y_s, *, signed = false))]
+pub fn fixed_input(
+    y_c: &Bound<'_, PyAny>,
+    y_s: &Bound<'_, PyAny>,
+    signed: bool,
+) -> Result<(i32, u32, f64, f64)> {
     let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
-    let i = angletrack::fixed_input(c.as_slice(), s.as_slice())
+    let i = angletrack::fixed_input(c.as_slice(), s.as_slice(), signed)
         .map_err(|e| Error::value("capture", e.to_string()))?;
     Ok((
         i.mid_scale_counts,

@@ -214,10 +214,12 @@ def test_plot_on_the_resolver_path_is_refused_before_tracking(tmp_path, capsys, 
 
 @pytest.mark.parametrize("dtype", ["float64", "fixed"])
 @pytest.mark.parametrize("stated", [["--adc-bits", 12, "--adc-signed"], ["--adc-range", "-2048,2047"]])
-def test_a_stated_signed_range_rules_out_the_unsigned_mid_scale(tmp_path, capsys, gains, dtype, stated):
-    # Signed 12-bit counts that are all positive: the rotor swinging within the first quadrant.
+@pytest.mark.parametrize("centre", [0.8, 0.8 - math.pi])
+def test_a_stated_signed_range_rules_out_the_unsigned_mid_scale(tmp_path, capsys, gains, dtype, stated, centre):
+    # Signed 12-bit counts that are all positive (all negative): the rotor swinging within
+    # the first (third) quadrant.
     t, _ = angle(1000)
-    theta = 0.8 + 0.6 * np.sin(2 * math.pi * 10.0 * t)
+    theta = centre + 0.6 * np.sin(2 * math.pi * 10.0 * t)
     cap = counts(tmp_path / "signed_q1.npy", theta, 0.0)
     out = tmp_path / "s.csv"
     status, err = run(capsys, "track", cap, "--sample-rate", RATE_HZ, "--gains-file", gains, "--dtype", dtype,

@@ -458,11 +458,11 @@ def offset_binary_mid_scale(largest_count: float) -> int:
     ``largest_count`` (a whole number, 0 to 2^53): ``2^(b-1)`` for the smallest ``b``, at
     least 2, whose range ``2^b`` holds it; the rule an observer centres uint16 counts by."""
 
-def fixed_input(y_c: _Samples, y_s: _Samples) -> tuple[int, int, float, float]:
+def fixed_input(y_c: _Samples, y_s: _Samples, *, signed: bool = False) -> tuple[int, int, float, float]:
     """How a capture's counts reach the fixed-point observer, from its first samples:
     ``(mid_scale_counts, input_shift, amplitude, nominal_amplitude)`` (the last the
-    monitor's), the ``FixedObserver`` arguments; ``ConfigError`` (parameter ``capture``)
-    for counts no ADC gives."""
+    monitor's), the ``FixedObserver`` arguments; no mid-scale for counts stated ``signed``;
+    ``ConfigError`` (parameter ``capture``) for counts no ADC gives."""
 
 def capture_mid_scale(y_c: _Samples, y_s: _Samples) -> int:
     """The mid-scale (counts) of a capture of whole counts read as floats, from its first

@@ -67,12 +67,7 @@ def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.
                          "samples (use --dtype float32 or float64)")
     calibration: Union[None, angletrack.SensorCalibration, "harmonics.Calibration"] = (
         s.calibration if s.calibration is not None else s.observer_arguments.get("initial_calibration"))
-    y_c, y_s = first.y_c, first.y_s
-    if clipping.signed(s.adc_range):
-        # Signed counts are centred on zero whatever their first samples: negated, they keep
-        # their magnitudes (the amplitude measured) and rule out the unsigned guess.
-        y_c, y_s = -y_c, -y_s
-    mid, shift, amplitude, monitor = fixed_input(y_c, y_s)
+    mid, shift, amplitude, monitor = fixed_input(first.y_c, first.y_s, signed=clipping.signed(s.adc_range))
     adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
     counts_range = clipping.integer_range(
         adc_range, "the stated --adc-range" if s.adc_range is not None else "the range measured")

@@ -177,21 +177,32 @@ pub struct FixedInput {
 }
 
 /// The [`FixedInput`] of a capture of whole counts from its first samples `y_c`, `y_s`: the
-/// mid-scale of unsigned counts, then the amplitude of the centred samples, the shift and
-/// the monitor's amplitude derived from it. Refuses counts no ADC gives.
+/// mid-scale of unsigned counts (none where the counts are stated `signed`: signed counts
+/// all of one sign, the rotor in one quadrant, are no offset binary), then the amplitude of
+/// the centred samples, the shift and the monitor's amplitude derived from it. Refuses
+/// counts no ADC gives.
 ///
 /// ```
 /// let theta: Vec<f64> = (0..1000).map(|k| 0.01 * k as f64).collect();
 /// let y_c: Vec<f64> = theta.iter().map(|t| (2048.0 + 1800.0 * t.cos()).round()).collect();
 /// let y_s: Vec<f64> = theta.iter().map(|t| (2048.0 + 1800.0 * t.sin()).round()).collect();
-/// let input = angletrack::fixed_input(&y_c, &y_s)?;
+/// let input = angletrack::fixed_input(&y_c, &y_s, false)?;
 /// assert_eq!((input.mid_scale_counts, input.shift), (2048, 3));
 /// assert!((input.amplitude - 1800.0).abs() < 1.0);
+/// assert_eq!(angletrack::fixed_input(&y_c, &y_s, true)?.mid_scale_counts, 0);
 /// # Ok::<(), angletrack::UnsignedCountsError>(())
 /// ```
-pub fn fixed_input(y_c: &[f64], y_s: &[f64]) -> Result<FixedInput, UnsignedCountsError> {
+pub fn fixed_input(
+    y_c: &[f64],
+    y_s: &[f64],
+    signed: bool,
+) -> Result<FixedInput, UnsignedCountsError> {
     let n = y_c.len().min(y_s.len()).min(NOMINAL_AMPLITUDE_SAMPLES);
-    let mid = capture_mid_scale(&y_c[..n], &y_s[..n])?;
+    let mid = if signed {
+        0
+    } else {
+        capture_mid_scale(&y_c[..n], &y_s[..n])?
+    };
     let centred = |y: &[f64]| -> Vec<f64> { y[..n].iter().map(|v| v - mid as f64).collect() };
     let amplitude = nominal_amplitude(&centred(y_c), &centred(y_s)).unwrap_or(0.0);
     let shift = fixed_input_shift(amplitude);

@@ -150,6 +150,7 @@ mod real;
 mod recursion;
 mod stability;
 mod state;
+mod tracker;
 mod update;
 mod wrap;
 
@@ -186,6 +187,11 @@ pub use outputs::{DriveAngle, DriveOutputs, DriveOutputsState};
 pub use real::sincos::{Detection, Exact, Fast, SinCos, SinCosUnit};
 pub use real::{ChainNumber, Float};
 pub use state::{Estimate, ObserverState};
+pub use tracker::{
+    CalibrationStage, CorrectionStage, FixedCalibrationStage, FixedCorrectionStage, Input, Rails,
+    TRACKER_TABLE_LENGTH, Tracker, TrackerFrontEnd, TrackerFrontEndState, TrackerInput,
+    TrackerNumber, TrackerSettings, TrackerState,
+};
 
 #[cfg(test)]
 mod test_support;

@@ -1,0 +1,211 @@
+//! The standard chain, one type for every door (`docs/theory.md §15`): a [`Tracker`] is a
+//! [`Chain`] whose front end is the [`TrackerFrontEnd`], the stages every sensor setup is
+//! made of, named and in their order: the input (pairs in the observer's units, or raw
+//! ADC counts through the ADC's scaling), clipping (against a stated range, or the rails
+//! measured), the front-end faults a demodulator gives its pairs, the winding check, the
+//! sensor calibration (none, stored or online) and the angle correction (none, harmonics
+//! or table), before the observer (`f32`, `f64` or fixed point). Its settings
+//! ([`TrackerSettings`]) are checked together, once, by [`TrackerFrontEnd::new`]; its
+//! per-sample forms are the chain's ([`Chain::track`], [`Chain::update`],
+//! [`Chain::update_block`]). A custom chain still composes its own stages: the tracker is
+//! one such front end, not a parallel path.
+
+use crate::chain::{Chain, ChainState, FrontEndCheck, HeldRailCheck};
+use crate::error::ConfigError;
+
+mod choices;
+mod front_end;
+mod number;
+
+pub use choices::{
+    CalibrationStage, CorrectionStage, FixedCalibrationStage, FixedCorrectionStage,
+    TRACKER_TABLE_LENGTH,
+};
+pub use front_end::{TrackerFrontEnd, TrackerFrontEndState};
+pub use number::{TrackerInput, TrackerNumber};
+
+/// The standard chain: the [`TrackerFrontEnd`] before the observer `O` ([`Gains`] for
+/// `f32` and `f64`, [`FixedGains`] for fixed point, on `i16` samples).
+///
+/// ```
+/// use angletrack_core::{
+///     AdcScaling, CalibrationStage, CorrectionStage, Gains, Input, Rails, Tracker,
+///     TrackerFrontEnd, TrackerSettings, TrackerState,
+/// };
+/// // A 12-bit offset-binary ADC whose rails are its codes 0 and 4095, no calibration.
+/// let settings = TrackerSettings::<f32> {
+///     input: Input::Counts {
+///         adc: AdcScaling::offset_binary(12)?,
+///         rails: Rails::Stated { min: 0, max: 4095 },
+///     },
+///     winding: None,
+///     calibration: CalibrationStage::None,
+///     correction: CorrectionStage::None,
+/// };
+/// let gains = Gains::<f32, 3>::new([0.1578, 0.0126, 0.000_34], 50e-6)?;
+/// let tracker: Tracker<f32, _> = Tracker::new(TrackerFrontEnd::new(settings)?, gains);
+/// let mut state = TrackerState::new();
+/// let estimate = tracker.update(&mut state, (2048u16 + 900, 2048u16 + 1559));
+/// assert!((estimate.angle - 1.0472).abs() < 1e-3 && estimate.faults.is_empty());
+/// // At a rail: clipping.
+/// tracker.update(&mut state, (4095u16, 2048u16 + 1559));
+/// assert!(!state.front_end.faults().is_empty());
+/// # Ok::<(), angletrack_core::ConfigError>(())
+/// ```
+///
+/// [`Gains`]: crate::Gains
+/// [`FixedGains`]: crate::FixedGains
+pub type Tracker<V, O> = Chain<TrackerFrontEnd<V>, O>;
+
+/// One channel's state of a [`Tracker`] whose observer's state is `S`
+/// ([`ObserverState`](crate::ObserverState) or [`FixedState`](crate::FixedState)).
+pub type TrackerState<V, S> = ChainState<TrackerFrontEndState<V>, S>;
+
+/// Where clipping is looked for, in the units of the input `X` (ADC codes for counts).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Rails<X> {
+    /// Not looked for (signals that cannot clip, or checked before the chain).
+    #[default]
+    Unchecked,
+    /// The rails measured on the samples as they come ([`HeldRailCheck`]): for an ADC
+    /// whose range nobody stated.
+    Measured,
+    /// The lowest and highest values the input can take (an ADC's codes): a sample at or
+    /// beyond either is clipped ([`FrontEndCheck`]).
+    Stated {
+        /// The lowest value (code).
+        min: X,
+        /// The highest value (code).
+        max: X,
+    },
+}
+
+/// What the chain's samples are.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Input<A, V> {
+    /// Pairs in the observer's units (floats: volts, fractions of full scale; fixed
+    /// point: its 16-bit samples).
+    Units {
+        /// Where clipping is looked for, in those units.
+        rails: Rails<V>,
+    },
+    /// Raw ADC counts, scaled by `adc` ([`AdcScaling`](crate::AdcScaling) for the floats,
+    /// [`AdcCounts`](crate::AdcCounts) for fixed point), whose signedness and mid-scale
+    /// the caller states through it.
+    Counts {
+        /// The ADC's scaling.
+        adc: A,
+        /// Where clipping is looked for, in ADC codes.
+        rails: Rails<i32>,
+    },
+}
+
+/// The settings of a [`TrackerFrontEnd`], in the number type `V` of its observer: every
+/// stage of the standard chain. `Copy`: a firmware keeps it in flash.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TrackerSettings<V: TrackerNumber> {
+    /// The input and its clipping.
+    pub input: Input<V::Adc, V>,
+    /// The winding check (floats: `Some(WindingCheck::new(amplitude)?)`, the windings'
+    /// amplitude in the observer's units; fixed point: `()`, none).
+    pub winding: V::Winding,
+    /// The sensor calibration.
+    pub calibration: V::Calibration,
+    /// The angle correction.
+    pub correction: V::Correction,
+}
+
+impl<V: TrackerNumber> Default for TrackerSettings<V> {
+    /// Pairs in the observer's units, no clipping check, no winding check, calibration or
+    /// correction.
+    fn default() -> Self {
+        Self {
+            input: Input::Units {
+                rails: Rails::Unchecked,
+            },
+            winding: V::Winding::default(),
+            calibration: V::Calibration::default(),
+            correction: V::Correction::default(),
+        }
+    }
+}
+
+impl<V: TrackerNumber> TrackerFrontEnd<V> {
+    /// The front end of `settings`, checked: a stated range must be ordered, and for
+    /// counts stay ordered through the ADC's scaling ([`Parameter::AdcRange`]). The stages
+    /// were checked when they were made.
+    ///
+    /// ```
+    /// use angletrack_core::{AdcCounts, Input, Parameter, Rails, TrackerFrontEnd, TrackerSettings};
+    /// let settings = TrackerSettings::<i16> {
+    ///     input: Input::Counts { adc: AdcCounts::offset_binary(12)?, rails: Rails::Stated { min: 4095, max: 0 } },
+    ///     ..TrackerSettings::default()
+    /// };
+    /// assert_eq!(TrackerFrontEnd::new(settings).unwrap_err().parameter(), Parameter::AdcRange);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    ///
+    /// [`Parameter::AdcRange`]: crate::Parameter::AdcRange
+    pub fn new(settings: TrackerSettings<V>) -> Result<Self, ConfigError> {
+        let (adc, counts, range, measured) = match settings.input {
+            Input::Units { rails } => {
+                let (range, measured) = match rails {
+                    Rails::Unchecked => (None, false),
+                    Rails::Measured => (None, true),
+                    Rails::Stated { min, max } => (Some((min, max)), false),
+                };
+                (V::unscaled_adc(), false, range, measured)
+            }
+            Input::Counts { adc, rails } => {
+                let (range, measured) = match rails {
+                    Rails::Unchecked => (None, false),
+                    Rails::Measured => (None, true),
+                    Rails::Stated { min, max } => (Some(V::range_of_codes(&adc, min, max)?), false),
+                };
+                (adc, true, range, measured)
+            }
+        };
+        Ok(Self {
+            adc,
+            counts,
+            check: FrontEndCheck::around((), range)?,
+            rails: measured.then_some(HeldRailCheck::new()),
+            winding: settings.winding,
+            calibration: settings.calibration,
+            correction: settings.correction,
+        })
+    }
+
+    /// The ADC's scaling, when the input is counts.
+    pub fn adc(&self) -> Option<V::Adc> {
+        self.counts.then_some(self.adc)
+    }
+
+    /// The stated range in the observer's samples (through the ADC for counts), if any.
+    pub fn adc_range(&self) -> Option<(V, V)> {
+        self.check.adc_range()
+    }
+
+    /// Whether the rails are measured ([`Rails::Measured`]).
+    pub fn measures_rails(&self) -> bool {
+        self.rails.is_some()
+    }
+
+    /// The winding check.
+    pub fn winding(&self) -> V::Winding {
+        self.winding
+    }
+
+    /// The sensor calibration stage.
+    pub fn calibration(&self) -> V::Calibration {
+        self.calibration
+    }
+
+    /// The angle correction stage.
+    pub fn correction(&self) -> V::Correction {
+        self.correction
+    }
+}
+
+#[cfg(test)]
+mod tests;

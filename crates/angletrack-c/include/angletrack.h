@@ -102,7 +102,7 @@
  * The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_F32_WORDS 284
+#define AT_CHAIN_F32_WORDS 282
 
 /**
  * The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
@@ -120,7 +120,7 @@
  * The 8-byte words of an `at_chain_fixed`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_FIXED_WORDS 77
+#define AT_CHAIN_FIXED_WORDS 76
 
 /**
  * The 8-byte words of an `at_chain_state_fixed`'s storage (checked against the Rust type at

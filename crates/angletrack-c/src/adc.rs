@@ -5,7 +5,7 @@
 
 use core::mem::MaybeUninit;
 
-use angletrack_core::{AdcScaling, ConfigError, FrontEndCheck};
+use angletrack_core::{AdcScaling, ConfigError, FrontEndCheck, Rails};
 
 use crate::slot::{self, Refused, Stored};
 use crate::status::{AT_OK, at_status, status_of, status_of_result};
@@ -28,27 +28,13 @@ impl Stored for AdcF32 {
     const TAG: u32 = 0x4154_4102;
 }
 
-impl AdcF32 {
-    /// The stated range in the observer's units, through the scaling's own arithmetic (a
-    /// code at a rail scales to the rail's value exactly, up to 2^24 counts from mid-scale).
-    pub(crate) fn range_in_units(&self) -> Option<(f32, f32)> {
-        self.range.map(|(min, max)| self.scaling.sample(min, max))
+/// The codes of an ADC of `bits` bits, signed (two's complement) or not (offset binary), by
+/// the core's rule (`Rails::of_adc_bits`); `None` for a width it refuses.
+pub(crate) fn codes_of(bits: u32, signed: bool) -> Option<(i32, i32)> {
+    match Rails::of_adc_bits(bits, signed) {
+        Ok(Rails::Stated { min, max }) => Some((min, max)),
+        _ => None,
     }
-}
-
-/// The codes of an ADC of `bits` bits, offset binary (0 to `2^bits - 1`) or two's complement
-/// (`-2^(bits-1)` to `2^(bits-1) - 1`), for `bits` its constructor accepted.
-pub(crate) fn codes_of(bits: u32, offset_binary: bool) -> (i32, i32) {
-    let span = 1_i64 << bits.min(32);
-    let (min, max) = if offset_binary {
-        (0, span - 1)
-    } else {
-        (-span / 2, span / 2 - 1)
-    };
-    (
-        i32::try_from(min).unwrap_or(i32::MIN),
-        i32::try_from(max).unwrap_or(i32::MAX),
-    )
 }
 
 /// The checked ADC front end, made by `at_adc_f32_new`, `at_adc_f32_offset_binary` or
@@ -130,20 +116,9 @@ mod tests {
             adc.get().map(|a| a.sample(4095u16, 0u16)),
             Ok((2047.0 / 2048.0, -1.0))
         );
-        assert_eq!(adc.stage().map(AdcF32::range_in_units), Ok(None));
+        assert_eq!(adc.stage().map(|a| a.range), Ok(None));
         assert_eq!(adc.set_range(4095, 4095), AT_ERR_ADC_RANGE);
         assert_eq!(adc.set_range(0, 4095), AT_OK);
-        assert_eq!(
-            adc.stage().map(AdcF32::range_in_units),
-            Ok(Some((-1.0, 2047.0 / 2048.0)))
-        );
-    }
-
-    #[test]
-    fn codes_of_each_coding() {
-        assert_eq!(codes_of(12, true), (0, 4095));
-        assert_eq!(codes_of(12, false), (-2048, 2047));
-        assert_eq!(codes_of(31, true), (0, i32::MAX));
-        assert_eq!(codes_of(32, false), (i32::MIN, i32::MAX));
+        assert_eq!(adc.stage().map(|a| a.range), Ok(Some((0, 4095))));
     }
 }

@@ -1,13 +1,11 @@
 //! `at_calibrator_f32` (the online calibration of one channel, the core's `Calibrator<f32>`)
 //! and `at_sensor_calibration_f32` (the sensor's offsets, amplitudes and quadrature as
-//! plain floats, which firmware stores in flash and loads at start-up); the float chain's
-//! calibration stage of C's choice, `Calibration`.
+//! plain floats, which firmware stores in flash and loads at start-up).
 
 use core::mem::MaybeUninit;
 
 use angletrack_core::{
-    CalibrationMode, CalibrationStatus, Calibrator, ConfigError, Faults, Feedback,
-    OnlineCalibration, Prediction, SensorCalibration, Stage,
+    CalibrationMode, CalibrationStatus, Calibrator, ConfigError, SensorCalibration,
 };
 
 use crate::slot::{self, Refused};
@@ -169,65 +167,6 @@ pub(crate) fn status_of(calibrator: &Calibrator<f32>) -> u32 {
         CalibrationStatus::FindingCentre => AT_CALIBRATION_FINDING_CENTRE,
         CalibrationStatus::Centred => AT_CALIBRATION_CENTRED,
         CalibrationStatus::Stalled => AT_CALIBRATION_STALLED,
-    }
-}
-
-/// The chain's calibration stage: none, a stored calibration or the online calibration.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) enum Calibration {
-    /// No calibration.
-    None,
-    /// A stored calibration, applied to every sample.
-    Stored(SensorCalibration<f32>),
-    /// The online calibration (its state the channel's `Calibrator`).
-    Online(OnlineCalibration<f32>),
-}
-
-/// The core's stage held, each `Stage` method delegated to it.
-impl Stage<f32, (f32, f32)> for Calibration {
-    type State = Calibrator<f32>;
-    type Memo = (f32, f32);
-
-    #[inline(always)]
-    fn forward(
-        &self,
-        calibrator: &mut Calibrator<f32>,
-        prediction: &impl Prediction<f32>,
-        input: (f32, f32),
-    ) -> ((f32, f32), (f32, f32)) {
-        match self {
-            Calibration::None => (input, input),
-            Calibration::Stored(stored) => (stored.forward(&mut (), prediction, input).0, input),
-            Calibration::Online(online) => online.forward(calibrator, prediction, input),
-        }
-    }
-
-    #[inline(always)]
-    fn feedback(
-        &self,
-        calibrator: &mut Calibrator<f32>,
-        raw: (f32, f32),
-        used: Option<Feedback<f32>>,
-    ) {
-        if let Calibration::Online(online) = self {
-            online.feedback(calibrator, raw, used);
-        }
-    }
-
-    #[inline(always)]
-    fn faults(&self, calibrator: &mut Calibrator<f32>) -> Faults {
-        match self {
-            Calibration::Online(online) => online.faults(calibrator),
-            _ => Faults::NONE,
-        }
-    }
-
-    #[inline(always)]
-    fn quiet(&self, calibrator: &Calibrator<f32>) -> bool {
-        match self {
-            Calibration::Online(online) => online.quiet(calibrator),
-            _ => true,
-        }
     }
 }
 

@@ -7,40 +7,33 @@
 //! and the plain C mirrors of the stages' settings, `at_angle_correction_f32` and
 //! `at_calibration_settings_f32`.
 //!
-//! The chain is the core's `Chain<(FrontEndCheck<f32>, (Option<HeldRailCheck>,
-//! (Option<WindingCheck<f32>>, (Calibration, Correction)))), Gains<f32, N>>`: the core's
-//! [`FrontEndCheck`] flags clipping against the ADC's stated range (in the observer's units,
-//! through the ADC's scaling) and passes on the faults a demodulator gave a pair, the
-//! observer coasting through those that invalidate it; for an ADC without a stated range,
-//! the core's [`HeldRailCheck`] flags clipping against the rails it measures; the core's
-//! [`WindingCheck`], if asked for, a winding open or shorted;
-//! `Calibration` (in `calibration`) is the one calibration stage of C's choice (none, the core's
-//! `SensorCalibration`, or its `OnlineCalibration`), which delegates each of the core's
-//! `Stage` methods to the stage it holds; [`Correction`] likewise the angle correction
-//! (none, the core's harmonic `AngleCorrection` or its `AngleCorrectionTable`). Counts go
-//! through the core's `AdcScaling` first, as its ADC stage does.
+//! The chain is the core's standard chain, `Tracker<f32, Gains<f32, N>>`, built by the
+//! core's `TrackerFrontEnd::new` from the stages given: counts through the ADC's scaling
+//! with clipping at its stated codes (or its rails measured when none are stated), a
+//! demodulator's faults, the winding check if asked for, the calibration (none, stored or
+//! online) and the angle correction (none, harmonics or table). This file only converts.
 
 use core::mem::MaybeUninit;
 
 use angletrack_core::{
-    AdcSample, AdcScaling, AngleCorrection, CalibrationSettings, Calibrator, Chain, ChainState,
-    ConfigError, FrontEndCheck, FrontEndCheckState, FrontEndFaults, Gains, HeldRailCheck,
-    HeldRails, MAX_CORRECTION_ORDER, ObserverState, OnlineCalibration, Order, SupportedOrder,
-    WindingCheck,
+    AdcSample, AngleCorrection, CalibrationSettings, CalibrationStage, Calibrator, ChainState,
+    ConfigError, CorrectionStage, FrontEndFaults, Gains, Input as CoreInput, MAX_CORRECTION_ORDER,
+    ObserverState, OnlineCalibration, Order, Rails, SupportedOrder, Tracker, TrackerFrontEnd,
+    TrackerInput, TrackerSettings, TrackerState, WindingCheck,
 };
 
 use crate::adc::AdcF32;
-use crate::calibration::{Calibration, at_sensor_calibration_f32};
+use crate::calibration::at_sensor_calibration_f32;
 use crate::demodulator::at_demodulated_pair_f32;
 use crate::gains::{AnyGains, at_gains_f32};
 use crate::observer::at_estimate_f32;
 use crate::slot::{self, Refused, Stored};
 use crate::status::{AT_ERR_STAGES, at_status, status_of};
-use crate::table::{Correction, at_angle_correction_table_f32};
+use crate::table::at_angle_correction_table_f32;
 
 /// The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_CHAIN_F32_WORDS: usize = 284;
+pub const AT_CHAIN_F32_WORDS: usize = 282;
 /// The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
 /// compile time, on every target).
 pub const AT_CHAIN_STATE_F32_WORDS: usize = 30;
@@ -140,36 +133,11 @@ impl at_calibration_settings_f32 {
     }
 }
 
-/// The front end of the chain after the ADC: the front-end check (clipping against the
-/// stated range, the demodulator's faults), for an ADC without a stated range the rails
-/// measured as extremes held flat, the optional winding check, the calibration and the
-/// angle correction.
-type FrontEnd = (
-    FrontEndCheck<f32>,
-    (
-        Option<HeldRailCheck>,
-        (Option<WindingCheck<f32>>, (Calibration, Correction)),
-    ),
-);
-
-/// What an `at_chain_f32` holds: the optional ADC and the core's chain of order `N`.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct ChainF32<const N: usize> {
-    /// The ADC stage, for counts.
-    pub(crate) adc: Option<AdcScaling<f32>>,
-    /// The core's chain.
-    pub(crate) chain: Chain<FrontEnd, Gains<f32, N>>,
-}
-
-/// The state of the chain's front end: the front-end check's, the held rails', the winding
-/// check's, the online calibration's.
-type FrontEndState = (
-    (FrontEndCheckState, ()),
-    (HeldRails<f32>, (FrontEndCheckState, (Calibrator<f32>, ()))),
-);
+/// What an `at_chain_f32` holds: the core's standard chain of order `N`.
+pub(crate) type ChainF32<const N: usize> = Tracker<f32, Gains<f32, N>>;
 
 /// The state of a chain of order `N`.
-pub(crate) type StateF32<const N: usize> = ChainState<FrontEndState, ObserverState<f32, N>>;
+pub(crate) type StateF32<const N: usize> = TrackerState<f32, ObserverState<f32, N>>;
 
 impl Stored for ChainF32<2> {
     const TAG: u32 = 0x4154_4b02; // "ATK", order 2
@@ -205,40 +173,51 @@ fn build<const N: usize>(
     stages: Stages<'_>,
 ) -> Result<ChainF32<N>, ConfigError> {
     let calibration = match (stages.stored, stages.online) {
-        (Some(stored), _) => Calibration::Stored(stored.checked()?),
-        (None, Some(settings)) => Calibration::Online(OnlineCalibration::new(
+        (Some(stored), _) => CalibrationStage::Stored(stored.checked()?),
+        (None, Some(settings)) => CalibrationStage::Online(OnlineCalibration::new(
             settings.to_core(),
             gains.sample_period(),
         )?),
-        (None, None) => Calibration::None,
+        (None, None) => CalibrationStage::None,
     };
     let correction = match (stages.correction, stages.table) {
-        (Some(c), _) => Correction::Harmonics(AngleCorrection::new(
+        (Some(c), _) => CorrectionStage::Harmonics(AngleCorrection::new(
             c.cos_coefficients,
             c.sin_coefficients,
         )?),
-        (None, Some(table)) => Correction::Table(table.checked()?),
-        (None, None) => Correction::None,
+        (None, Some(table)) => CorrectionStage::Table(table.checked()?),
+        (None, None) => CorrectionStage::None,
     };
-    let range = stages.adc.and_then(AdcF32::range_in_units);
-    let check = FrontEndCheck::around((), range)?;
-    // Counts without a stated range: their rails measured.
-    let held_rails = (stages.adc.is_some() && range.is_none()).then_some(HeldRailCheck::new());
-    Ok(ChainF32 {
-        adc: stages.adc.map(|adc| adc.scaling),
-        chain: Chain::new(
-            (check, (held_rails, (None, (calibration, correction)))),
-            *gains,
-        ),
-    })
+    let input = match stages.adc {
+        Some(adc) => CoreInput::Counts {
+            adc: adc.scaling,
+            rails: adc
+                .range
+                .map_or(Rails::Measured, |(min, max)| Rails::Stated { min, max }),
+        },
+        None => CoreInput::Units {
+            rails: Rails::Unchecked,
+        },
+    };
+    let front_end = TrackerFrontEnd::new(TrackerSettings {
+        input,
+        winding: None,
+        calibration,
+        correction,
+    })?;
+    Ok(Tracker::new(front_end, *gains))
 }
 
-impl<const N: usize> ChainF32<N> {
-    /// The chain with the core's winding check for windings of `amplitude` (checked).
-    fn with_winding_check(mut self, amplitude: f32) -> Result<Self, ConfigError> {
-        self.chain.front_end.1.1.0 = Some(WindingCheck::new(amplitude)?);
-        Ok(self)
-    }
+/// `chain` with the core's winding check for windings of `amplitude` (checked).
+fn with_winding_check<const N: usize>(
+    chain: &ChainF32<N>,
+    amplitude: f32,
+) -> Result<ChainF32<N>, ConfigError> {
+    let winding = Some(WindingCheck::new(amplitude)?);
+    Ok(Tracker::new(
+        chain.front_end.with_winding(winding),
+        chain.observer,
+    ))
 }
 
 impl at_chain_f32 {
@@ -265,8 +244,8 @@ impl at_chain_f32 {
         amplitude: f32,
     ) -> at_status {
         let result = match chain.get() {
-            Ok(AnyChain::Two(c)) => c.with_winding_check(amplitude).map(|c| self.slot_put(c)),
-            Ok(AnyChain::Three(c)) => c.with_winding_check(amplitude).map(|c| self.slot_put(c)),
+            Ok(AnyChain::Two(c)) => with_winding_check(c, amplitude).map(|c| self.slot_put(c)),
+            Ok(AnyChain::Three(c)) => with_winding_check(c, amplitude).map(|c| self.slot_put(c)),
             Err(refused) => return refused.status(),
         };
         result.err().map_or(crate::status::AT_OK, status_of)
@@ -310,20 +289,20 @@ impl at_chain_state_f32 {
     /// another build's.
     pub(crate) fn calibrator(&mut self) -> Result<&mut Calibrator<f32>, Refused> {
         if self.tag == <StateF32<2> as Stored>::TAG {
-            return self.of_order::<2>().map(|s| &mut s.front_end.1.1.1.0);
+            return self.of_order::<2>().map(|s| s.front_end.calibrator_mut());
         }
-        self.of_order::<3>().map(|s| &mut s.front_end.1.1.1.0)
+        self.of_order::<3>().map(|s| s.front_end.calibrator_mut())
     }
 
     /// A copy of the calibrator held (a fresh one's for a fresh state).
     pub(crate) fn calibrator_value(&self) -> Result<Calibrator<f32>, Refused> {
         match self.slot_get::<StateF32<2>>() {
-            Ok(s) => return Ok(s.front_end.1.1.1.0),
+            Ok(s) => return Ok(*s.front_end.calibrator()),
             Err(Refused::OtherBuild) => return Err(Refused::OtherBuild),
             Err(Refused::NotInitialised) => {}
         }
         match self.slot_get::<StateF32<3>>() {
-            Ok(s) => Ok(s.front_end.1.1.1.0),
+            Ok(s) => Ok(*s.front_end.calibrator()),
             Err(Refused::NotInitialised) => Ok(Calibrator::new()),
             Err(refused) => Err(refused),
         }
@@ -348,12 +327,9 @@ impl at_chain_state_f32 {
     /// (`AT_FRONT_END_FAULT_*` bits) and clears them; 0 for a fresh state (or another
     /// build's).
     pub(crate) fn clear_front_end_faults(&mut self) -> u32 {
-        /// Both checks' latched faults, cleared.
-        fn of(front_end: &mut FrontEndState) -> u32 {
-            let faults = front_end.0.0.clear_faults()
-                | front_end.1.0.clear_faults()
-                | front_end.1.1.0.clear_faults();
-            u32::from(faults.bits())
+        /// The checks' latched faults, cleared.
+        fn of(front_end: &mut angletrack_core::TrackerFrontEndState<f32>) -> u32 {
+            u32::from(front_end.clear_faults().bits())
         }
         match self.tag {
             t if t == <StateF32<2> as Stored>::TAG => {
@@ -368,11 +344,12 @@ impl at_chain_state_f32 {
 }
 
 /// An input of the chain: a `(y_c, y_s)` pair, a demodulated pair with its front-end
-/// faults, or ADC counts for a chain with an ADC stage.
+/// faults, or ADC counts for a chain with an ADC stage, as the core's input.
 pub(crate) trait Input: Copy {
-    /// The pair the front end takes, with the faults given with it; `None` if the chain
-    /// cannot take this input.
-    fn pair(self, adc: Option<&AdcScaling<f32>>) -> Option<((f32, f32), FrontEndFaults)>;
+    /// The core's input.
+    type Core: TrackerInput<f32>;
+    /// The core's input; `None` if a chain of counts (`counts`) or of pairs cannot take it.
+    fn core(self, counts: bool) -> Option<Self::Core>;
 }
 
 /// A `(y_c, y_s)` pair in the input's units (the ADC stage, if any, is for counts).
@@ -380,9 +357,10 @@ pub(crate) trait Input: Copy {
 pub(crate) struct Pair(pub(crate) f32, pub(crate) f32);
 
 impl Input for Pair {
+    type Core = (f32, f32);
     #[inline(always)]
-    fn pair(self, _: Option<&AdcScaling<f32>>) -> Option<((f32, f32), FrontEndFaults)> {
-        Some(((self.0, self.1), FrontEndFaults::NONE))
+    fn core(self, _: bool) -> Option<(f32, f32)> {
+        Some((self.0, self.1))
     }
 }
 
@@ -391,11 +369,12 @@ impl Input for Pair {
 /// stage (the demodulator took the counts; the ADC's range, in counts, says nothing of a
 /// pair).
 impl Input for &at_demodulated_pair_f32 {
+    type Core = ((f32, f32), FrontEndFaults);
     #[inline(always)]
-    fn pair(self, adc: Option<&AdcScaling<f32>>) -> Option<((f32, f32), FrontEndFaults)> {
+    fn core(self, counts: bool) -> Option<Self::Core> {
         // The core's flags fit 8 bits; higher bits are none of its.
         let faults = FrontEndFaults::from_bits((self.faults & 0xff) as u8);
-        adc.is_none().then_some(((self.y_c, self.y_s), faults))
+        (!counts).then_some(((self.y_c, self.y_s), faults))
     }
 }
 
@@ -403,10 +382,14 @@ impl Input for &at_demodulated_pair_f32 {
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Counts<I>(pub(crate) I, pub(crate) I);
 
-impl<I: AdcSample> Input for Counts<I> {
+impl<I: AdcSample> Input for Counts<I>
+where
+    (I, I): TrackerInput<f32>,
+{
+    type Core = (I, I);
     #[inline(always)]
-    fn pair(self, adc: Option<&AdcScaling<f32>>) -> Option<((f32, f32), FrontEndFaults)> {
-        adc.map(|adc| (adc.sample(self.0, self.1), FrontEndFaults::NONE))
+    fn core(self, counts: bool) -> Option<(I, I)> {
+        counts.then_some((self.0, self.1))
     }
 }
 
@@ -417,13 +400,19 @@ macro_rules! through {
     ($chain:expr, $state:expr, $input:expr, |$c:ident, $s:ident, $pair:ident| $body:expr) => {
         match $chain.get() {
             Ok($crate::chain::AnyChain::Two($c)) => {
-                match ($input.pair($c.adc.as_ref()), $state.of_order::<2>()) {
+                match (
+                    $input.core($c.front_end.adc().is_some()),
+                    $state.of_order::<2>(),
+                ) {
                     (Some($pair), Ok($s)) => Some($body),
                     _ => None,
                 }
             }
             Ok($crate::chain::AnyChain::Three($c)) => {
-                match ($input.pair($c.adc.as_ref()), $state.of_order::<3>()) {
+                match (
+                    $input.core($c.front_end.adc().is_some()),
+                    $state.of_order::<3>(),
+                ) {
                     (Some($pair), Ok($s)) => Some($body),
                     _ => None,
                 }
@@ -440,7 +429,7 @@ pub(crate) fn track(
     state: &mut at_chain_state_f32,
     input: impl Input,
 ) -> bool {
-    through!(chain, state, input, |c, s, pair| c.chain.track(s, pair)).is_some()
+    through!(chain, state, input, |c, s, pair| c.track(s, pair)).is_some()
 }
 
 /// One sample through the chain, then the estimate (with the front end's faults).
@@ -450,11 +439,8 @@ pub(crate) fn update(
     state: &mut at_chain_state_f32,
     input: impl Input,
 ) -> at_estimate_f32 {
-    through!(chain, state, input, |c, s, pair| c
-        .chain
-        .update(s, pair)
-        .into())
-    .unwrap_or(at_estimate_f32::INVALID)
+    through!(chain, state, input, |c, s, pair| c.update(s, pair).into())
+        .unwrap_or(at_estimate_f32::INVALID)
 }
 
 /// The estimate `state` holds for `chain` (the observer's faults; the front end's are
@@ -467,8 +453,8 @@ pub(crate) fn estimate(chain: &at_chain_f32, state: &at_chain_state_f32) -> at_e
         StateF32<N>: Stored,
     {
         match state.slot_get::<StateF32<N>>() {
-            Ok(s) => c.chain.estimate(s).into(),
-            Err(Refused::NotInitialised) => c.chain.estimate(&StateF32::<N>::new()).into(),
+            Ok(s) => c.estimate(s).into(),
+            Err(Refused::NotInitialised) => c.estimate(&StateF32::<N>::new()).into(),
             Err(Refused::OtherBuild) => at_estimate_f32::INVALID,
         }
     }

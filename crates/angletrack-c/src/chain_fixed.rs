@@ -5,34 +5,29 @@
 //! monitor); `at_chain_state_fixed`, one channel's state; and `at_adc_counts`, the plain
 //! ADC settings (the core's `AdcCounts`).
 //!
-//! The chain is the core's `Chain<(AdcCounts, (Option<FrontEndCheck<i16>>,
-//! (Option<HeldRailCheck>, (Option<FixedCalibration>,
-//! Option<FixedAngleCorrectionTable<256>>)))), FixedGains<N>>`: with a stated range of codes
-//! (`at_chain_fixed_with_adc_range`) the core's `FrontEndCheck` flags clipping against it,
-//! in the observer's 16-bit units (the codes through the ADC's own shift, exact); with an ADC
-//! and no range the core's `HeldRailCheck` flags it against the rails it measures on those
-//! units. A chain without an ADC takes `int16` samples through the
-//! identity of `AdcCounts::twos_complement(16)` (a widening, two comparisons and a shift by
-//! 0); an absent calibration or table is skipped by the core's `Option` stage (one test of its flag), not
-//! run as an identity.
+//! The chain is the core's standard chain in fixed point, `Tracker<i16, FixedGains<N>>`,
+//! built by the core's `TrackerFrontEnd::new`: counts through the ADC with clipping at a
+//! stated range of codes (`at_chain_fixed_with_adc_range`: exact in the observer's 16-bit
+//! units) or, with an ADC and no range, at the rails measured; a chain without an ADC takes
+//! `int16` samples as they are. This file only converts.
 
 use core::mem::MaybeUninit;
 
 use angletrack_core::{
-    AdcCounts, AdcSample, Chain, ChainState, ConfigError, FixedCalibration, FixedGains, FixedState,
-    FrontEndCheck, FrontEndCheckState, HeldRailCheck, HeldRails, Order, SensorCalibration,
-    SupportedOrder,
+    AdcCounts, AdcSample, ConfigError, FixedCalibration, FixedGains, FixedState, Input, Order,
+    Rails, SensorCalibration, SupportedOrder, Tracker, TrackerFrontEnd, TrackerInput,
+    TrackerSettings, TrackerState,
 };
 
 use crate::calibration::at_sensor_calibration_f32;
 use crate::fixed::{AnyFixed, at_fixed_estimate, at_fixed_gains};
 use crate::slot::{self, Refused, Stored};
 use crate::status::{AT_OK, at_status, status_of};
-use crate::table::{TableFixed, at_angle_table_fixed};
+use crate::table::at_angle_table_fixed;
 
 /// The 8-byte words of an `at_chain_fixed`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_CHAIN_FIXED_WORDS: usize = 77;
+pub const AT_CHAIN_FIXED_WORDS: usize = 76;
 /// The 8-byte words of an `at_chain_state_fixed`'s storage (checked against the Rust type at
 /// compile time, on every target).
 pub const AT_CHAIN_STATE_FIXED_WORDS: usize = 12;
@@ -106,33 +101,11 @@ pub struct at_chain_state_fixed {
 
 slot::slot_struct!(at_chain_state_fixed, AT_CHAIN_STATE_FIXED_WORDS);
 
-/// The front end of a fixed-point chain: the ADC, the clipping check against a stated
-/// range or (with an ADC and no range) against the rails measured, the stored calibration
-/// and the angle table.
-type FrontEnd = (
-    AdcCounts,
-    (
-        Option<FrontEndCheck<i16>>,
-        (
-            Option<HeldRailCheck>,
-            (Option<FixedCalibration>, Option<TableFixed>),
-        ),
-    ),
-);
-
-/// What an `at_chain_fixed` holds: the core's chain of order `N`, and whether its ADC was
-/// given (else `u16` and `i32` counts are refused).
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct ChainFixed<const N: usize> {
-    /// Whether C gave the ADC (else it is the `int16` identity).
-    pub(crate) has_adc: bool,
-    /// The core's chain.
-    pub(crate) chain: Chain<FrontEnd, FixedGains<N>>,
-}
+/// What an `at_chain_fixed` holds: the core's standard chain of order `N`.
+pub(crate) type ChainFixed<const N: usize> = Tracker<i16, FixedGains<N>>;
 
 /// The state of a fixed-point chain of order `N`.
-pub(crate) type StateFixed<const N: usize> =
-    ChainState<((), ((FrontEndCheckState, ()), (HeldRails<i16>, ((), ())))), FixedState<N>>;
+pub(crate) type StateFixed<const N: usize> = TrackerState<i16, FixedState<N>>;
 
 impl Stored for ChainFixed<2> {
     const TAG: u32 = 0x4154_7102; // "ATq", order 2
@@ -186,28 +159,33 @@ where
     let nominal = (nominal_amplitude_counts != 0.0).then_some(nominal_amplitude_counts);
     let observer = gains.with_monitor(nominal)?;
     // Counts from an ADC with no stated range: clipping against the rails measured.
-    let held_rails = adc.is_some().then_some(HeldRailCheck::new());
-    Ok(ChainFixed {
-        has_adc: adc.is_some(),
-        chain: Chain::new(
-            (
-                adc.unwrap_or(IDENTITY),
-                (None, (held_rails, (calibration, table))),
-            ),
-            observer,
-        ),
-    })
+    let input = match adc {
+        Some(adc) => Input::Counts {
+            adc,
+            rails: Rails::Measured,
+        },
+        None => Input::Units {
+            rails: Rails::Unchecked,
+        },
+    };
+    let front_end = TrackerFrontEnd::new(TrackerSettings {
+        input,
+        winding: (),
+        calibration,
+        correction: table,
+    })?;
+    Ok(Tracker::new(front_end, observer))
 }
 
-impl<const N: usize> ChainFixed<N> {
-    /// The chain with clipping flagged at the codes `min` and `max` (the core's
-    /// `FrontEndCheck::of_adc_codes`: through the ADC to the observer's 16 bits, exact).
-    fn with_adc_range(mut self, min: i32, max: i32) -> Result<Self, ConfigError> {
-        let check = FrontEndCheck::of_adc_codes(&self.chain.front_end.0, min, max)?;
-        self.chain.front_end.1.0 = Some(check);
-        self.chain.front_end.1.1.0 = None;
-        Ok(self)
-    }
+/// `chain` with clipping flagged at the codes `min` and `max` (through the ADC to the
+/// observer's 16 bits, exact).
+fn with_adc_range<const N: usize>(
+    chain: &ChainFixed<N>,
+    min: i32,
+    max: i32,
+) -> Result<ChainFixed<N>, ConfigError> {
+    let front_end = chain.front_end.with_rails(Rails::Stated { min, max })?;
+    Ok(Tracker::new(front_end, chain.observer))
 }
 
 /// An `at_chain_fixed`'s chain of either order.
@@ -248,8 +226,8 @@ impl at_chain_fixed {
         max: i32,
     ) -> at_status {
         let result = match chain.get() {
-            Ok(AnyChainFixed::Two(c)) => c.with_adc_range(min, max).map(|c| self.slot_put(c)),
-            Ok(AnyChainFixed::Three(c)) => c.with_adc_range(min, max).map(|c| self.slot_put(c)),
+            Ok(AnyChainFixed::Two(c)) => with_adc_range(c, min, max).map(|c| self.slot_put(c)),
+            Ok(AnyChainFixed::Three(c)) => with_adc_range(c, min, max).map(|c| self.slot_put(c)),
             Err(refused) => return refused.status(),
         };
         result.err().map_or(AT_OK, status_of)
@@ -277,16 +255,7 @@ impl at_chain_state_fixed {
     where
         StateFixed<N>: Stored,
     {
-        self.slot_get_or_put(|| ChainState {
-            front_end: (
-                (),
-                (
-                    (FrontEndCheckState::default(), ()),
-                    (HeldRails::default(), ((), ())),
-                ),
-            ),
-            observer: FixedState::new(),
-        })
+        self.slot_get_or_put(StateFixed::<N>::new)
     }
 
     /// Returns the latched faults (`AT_FAULT_*` bits) and clears them; 0 for a fresh state
@@ -315,10 +284,9 @@ impl at_chain_state_fixed {
     /// range or the rails measured (`AT_FRONT_END_FAULT_*` bits), and clears them; 0 for a
     /// fresh state (or another build's).
     pub(crate) fn clear_front_end_faults(&mut self) -> u32 {
-        /// Both checks' latched faults, cleared.
+        /// The checks' latched faults, cleared.
         fn of<const N: usize>(state: &mut StateFixed<N>) -> u32 {
-            let checks = &mut state.front_end.1;
-            u32::from((checks.0.0.clear_faults() | checks.1.0.clear_faults()).bits())
+            u32::from(state.front_end.clear_faults().bits())
         }
         match self.tag {
             t if t == <StateFixed<2> as Stored>::TAG => self.of_order::<2>().map_or(0, of),
@@ -328,27 +296,32 @@ impl at_chain_state_fixed {
     }
 }
 
-/// The ADC of a chain without one: the identity of `int16` samples.
-const IDENTITY: AdcCounts = match AdcCounts::twos_complement(16) {
-    Ok(adc) => adc,
-    Err(_) => panic!("the identity is a valid ADC"),
-};
-
 /// Counts of a fixed-point chain: `int16` (through the identity if the chain has no ADC),
 /// `uint16` and `int32` (refused without an ADC).
 pub(crate) trait FixedInput: AdcSample {
     /// Whether a chain without an ADC takes this type.
     const WITHOUT_ADC: bool;
+    /// The pair as the core's chain takes it.
+    type Pair: TrackerInput<i16>;
+    /// The pair of `raw_c` and `raw_s`.
+    fn pair(raw_c: Self, raw_s: Self) -> Self::Pair;
 }
-impl FixedInput for i16 {
-    const WITHOUT_ADC: bool = true;
+
+/// The counts types C passes, each with its flag.
+macro_rules! fixed_input {
+    ($($int:ty: $without_adc:expr),*) => {$(
+        impl FixedInput for $int {
+            const WITHOUT_ADC: bool = $without_adc;
+            type Pair = ($int, $int);
+            #[inline(always)]
+            fn pair(raw_c: $int, raw_s: $int) -> ($int, $int) {
+                (raw_c, raw_s)
+            }
+        }
+    )*};
 }
-impl FixedInput for u16 {
-    const WITHOUT_ADC: bool = false;
-}
-impl FixedInput for i32 {
-    const WITHOUT_ADC: bool = false;
-}
+
+fixed_input!(i16: true, u16: false, i32: false);
 
 /// One sample through `chain` on `state`: `$body` with the chain `$c` and state `$s` of
 /// order `N`; `None` (and nothing changed) if refused: a chain not made, another build's
@@ -357,12 +330,12 @@ macro_rules! through_fixed {
     ($chain:expr, $state:expr, $input:ty, |$c:ident, $s:ident| $body:expr) => {
         match $chain.get() {
             Ok($crate::chain_fixed::AnyChainFixed::Two($c))
-                if <$input as FixedInput>::WITHOUT_ADC || $c.has_adc =>
+                if <$input as FixedInput>::WITHOUT_ADC || $c.front_end.adc().is_some() =>
             {
                 $state.of_order::<2>().ok().map(|$s| $body)
             }
             Ok($crate::chain_fixed::AnyChainFixed::Three($c))
-                if <$input as FixedInput>::WITHOUT_ADC || $c.has_adc =>
+                if <$input as FixedInput>::WITHOUT_ADC || $c.front_end.adc().is_some() =>
             {
                 $state.of_order::<3>().ok().map(|$s| $body)
             }
@@ -379,7 +352,7 @@ pub(crate) fn track_fixed<I: FixedInput>(
     raw_c: I,
     raw_s: I,
 ) -> bool {
-    through_fixed!(chain, state, I, |c, s| c.chain.track(s, (raw_c, raw_s))).is_some()
+    through_fixed!(chain, state, I, |c, s| c.track(s, I::pair(raw_c, raw_s))).is_some()
 }
 
 /// One sample of counts through the chain, then the estimate.
@@ -391,8 +364,7 @@ pub(crate) fn update_fixed<I: FixedInput>(
     raw_s: I,
 ) -> at_fixed_estimate {
     through_fixed!(chain, state, I, |c, s| c
-        .chain
-        .update(s, (raw_c, raw_s))
+        .update(s, I::pair(raw_c, raw_s))
         .into())
     .unwrap_or(at_fixed_estimate::INVALID)
 }
@@ -408,7 +380,7 @@ pub(crate) fn estimate_fixed(
         StateFixed<N>: Stored,
     {
         match state.slot_get::<StateFixed<N>>() {
-            Ok(s) => c.chain.estimate(s).into(),
+            Ok(s) => c.estimate(s).into(),
             Err(Refused::NotInitialised) => FixedGains::<N>::estimate(&FixedState::new()).into(),
             Err(Refused::OtherBuild) => at_fixed_estimate::INVALID,
         }
@@ -423,8 +395,8 @@ pub(crate) fn estimate_fixed(
 /// The sample period (s) of a chain, 0 if not made.
 pub(crate) fn sample_period_fixed(chain: &at_chain_fixed) -> f64 {
     match chain.get() {
-        Ok(AnyChainFixed::Two(c)) => c.chain.observer.sample_period(),
-        Ok(AnyChainFixed::Three(c)) => c.chain.observer.sample_period(),
+        Ok(AnyChainFixed::Two(c)) => c.observer.sample_period(),
+        Ok(AnyChainFixed::Three(c)) => c.observer.sample_period(),
         Err(_) => 0.0,
     }
 }

@@ -214,7 +214,7 @@ pub unsafe extern "C" fn at_adc_f32_new(
 pub unsafe extern "C" fn at_adc_f32_offset_binary(bits: u32, out: *mut at_adc_f32) -> at_status {
     // SAFETY: the caller's contract; NULL is checked by `as_mut`.
     unsafe { out.as_mut() }.map_or(AT_ERR_NULL_POINTER, |out| {
-        out.set(AdcScaling::offset_binary(bits), Some(codes_of(bits, true)))
+        out.set(AdcScaling::offset_binary(bits), codes_of(bits, false))
     })
 }
 
@@ -228,10 +228,7 @@ pub unsafe extern "C" fn at_adc_f32_offset_binary(bits: u32, out: *mut at_adc_f3
 pub unsafe extern "C" fn at_adc_f32_twos_complement(bits: u32, out: *mut at_adc_f32) -> at_status {
     // SAFETY: the caller's contract; NULL is checked by `as_mut`.
     unsafe { out.as_mut() }.map_or(AT_ERR_NULL_POINTER, |out| {
-        out.set(
-            AdcScaling::twos_complement(bits),
-            Some(codes_of(bits, false)),
-        )
+        out.set(AdcScaling::twos_complement(bits), codes_of(bits, true))
     })
 }
 

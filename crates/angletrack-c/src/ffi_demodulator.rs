@@ -75,8 +75,8 @@ pub unsafe extern "C" fn at_demodulator_f32_check_chain(
         (Err(refused), _) | (_, Err(refused)) => return refused.status(),
     };
     match chain {
-        AnyChain::Two(c) => status_of_result(demodulator.check_gains(&c.chain.observer)),
-        AnyChain::Three(c) => status_of_result(demodulator.check_gains(&c.chain.observer)),
+        AnyChain::Two(c) => status_of_result(demodulator.check_gains(&c.observer)),
+        AnyChain::Three(c) => status_of_result(demodulator.check_gains(&c.observer)),
     }
 }
 

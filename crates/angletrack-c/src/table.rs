@@ -8,7 +8,6 @@
 
 use angletrack_core::{
     AngleCorrection, AngleCorrectionTable, ConfigError, FixedAngleCorrectionTable, Parameter,
-    Prediction, Stage,
 };
 
 use crate::chain::at_angle_correction_f32;
@@ -45,44 +44,6 @@ pub struct at_angle_correction_table_f32 {
 pub struct at_angle_table_fixed {
     /// `d` (Q15 rad) at the angle `-pi + 2 pi k / 256`, index `k`.
     pub errors_q15: [i16; AT_ANGLE_TABLE_LENGTH],
-}
-
-/// The f32 chain's angle correction: none, the harmonic one or its table. As large as the
-/// table whatever it holds: it lives in the C struct's fixed storage (no heap, `Copy`).
-#[allow(clippy::large_enum_variant)]
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) enum Correction {
-    /// No correction.
-    None,
-    /// The harmonic correction.
-    Harmonics(AngleCorrection<f32>),
-    /// The table.
-    Table(TableF32),
-}
-
-/// The core's stage held, its `forward` delegated to it.
-impl Stage<f32, (f32, f32)> for Correction {
-    type State = ();
-    type Memo = ();
-
-    #[inline(always)]
-    fn forward(
-        &self,
-        state: &mut (),
-        prediction: &impl Prediction<f32>,
-        input: (f32, f32),
-    ) -> ((f32, f32), ()) {
-        match self {
-            Correction::None => (input, ()),
-            Correction::Harmonics(h) => h.forward(state, prediction, input),
-            Correction::Table(t) => t.forward(state, prediction, input),
-        }
-    }
-
-    #[inline(always)]
-    fn quiet(&self, _: &()) -> bool {
-        true
-    }
 }
 
 impl at_angle_correction_f32 {

@@ -80,6 +80,44 @@ pub enum Rails<X> {
     },
 }
 
+impl Rails<i32> {
+    /// The codes of an ADC of `bits` bits (1 to 32) stated as its rails: `0` to
+    /// `2^bits - 1` unsigned (offset binary), `-2^(bits-1)` to `2^(bits-1) - 1` signed
+    /// (two's complement). Refuses other widths ([`Parameter::AdcBits`]).
+    ///
+    /// ```
+    /// use angletrack_core::Rails;
+    /// assert_eq!(Rails::of_adc_bits(12, false)?, Rails::Stated { min: 0, max: 4095 });
+    /// assert_eq!(Rails::of_adc_bits(12, true)?, Rails::Stated { min: -2048, max: 2047 });
+    /// assert_eq!(Rails::of_adc_bits(32, false)?, Rails::Stated { min: 0, max: i32::MAX });
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    ///
+    /// [`Parameter::AdcBits`]: crate::Parameter::AdcBits
+    pub const fn of_adc_bits(bits: u32, signed: bool) -> Result<Self, ConfigError> {
+        if bits < 1 || bits > 32 {
+            return Err(ConfigError::OutOfRange(crate::error::Parameter::AdcBits));
+        }
+        let span = 1_i64 << bits;
+        let (min, max) = if signed {
+            (-span / 2, span / 2 - 1)
+        } else {
+            (0, span - 1)
+        };
+        // An unsigned 32-bit ADC's upper codes are beyond what the chain's counts (`i32`)
+        // hold: its rail is the largest of them.
+        let max = if max > i32::MAX as i64 {
+            i32::MAX
+        } else {
+            max as i32
+        };
+        Ok(Rails::Stated {
+            min: min as i32,
+            max,
+        })
+    }
+}
+
 /// What the chain's samples are.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Input<A, V> {
@@ -147,23 +185,14 @@ impl<V: TrackerNumber> TrackerFrontEnd<V> {
     ///
     /// [`Parameter::AdcRange`]: crate::Parameter::AdcRange
     pub fn new(settings: TrackerSettings<V>) -> Result<Self, ConfigError> {
-        let (adc, counts, range, measured) = match settings.input {
-            Input::Units { rails } => {
-                let (range, measured) = match rails {
-                    Rails::Unchecked => (None, false),
-                    Rails::Measured => (None, true),
-                    Rails::Stated { min, max } => (Some((min, max)), false),
-                };
-                (V::unscaled_adc(), false, range, measured)
-            }
-            Input::Counts { adc, rails } => {
-                let (range, measured) = match rails {
-                    Rails::Unchecked => (None, false),
-                    Rails::Measured => (None, true),
-                    Rails::Stated { min, max } => (Some(V::range_of_codes(&adc, min, max)?), false),
-                };
-                (adc, true, range, measured)
-            }
+        let (adc, counts, rails) = match settings.input {
+            Input::Units { rails } => (V::unscaled_adc(), false, rails),
+            Input::Counts { adc, rails } => (adc, true, in_samples(&adc, rails)?),
+        };
+        let (range, measured) = match rails {
+            Rails::Unchecked => (None, false),
+            Rails::Measured => (None, true),
+            Rails::Stated { min, max } => (Some((min, max)), false),
         };
         Ok(Self {
             adc,
@@ -174,6 +203,35 @@ impl<V: TrackerNumber> TrackerFrontEnd<V> {
             calibration: settings.calibration,
             correction: settings.correction,
         })
+    }
+
+    /// The same front end with clipping looked for at `rails`, in ADC codes (for a chain
+    /// of pairs in units, the codes are taken as the units' values): for a chain whose
+    /// range is stated after it was made. Refuses a range as [`TrackerFrontEnd::new`]
+    /// does ([`Parameter::AdcRange`]).
+    ///
+    /// [`Parameter::AdcRange`]: crate::Parameter::AdcRange
+    pub fn with_rails(self, rails: Rails<i32>) -> Result<Self, ConfigError> {
+        let mut settings = TrackerSettings {
+            input: Input::Counts {
+                adc: self.adc,
+                rails,
+            },
+            winding: self.winding,
+            calibration: self.calibration,
+            correction: self.correction,
+        };
+        if !self.counts {
+            settings.input = Input::Units {
+                rails: in_samples(&self.adc, rails)?,
+            };
+        }
+        Self::new(settings)
+    }
+
+    /// The same front end with the winding check `winding`.
+    pub fn with_winding(self, winding: V::Winding) -> Self {
+        Self { winding, ..self }
     }
 
     /// The ADC's scaling, when the input is counts.
@@ -205,6 +263,18 @@ impl<V: TrackerNumber> TrackerFrontEnd<V> {
     pub fn correction(&self) -> V::Correction {
         self.correction
     }
+}
+
+/// `rails` in ADC codes as the observer's samples, through `adc`.
+fn in_samples<V: TrackerNumber>(adc: &V::Adc, rails: Rails<i32>) -> Result<Rails<V>, ConfigError> {
+    Ok(match rails {
+        Rails::Unchecked => Rails::Unchecked,
+        Rails::Measured => Rails::Measured,
+        Rails::Stated { min, max } => {
+            let (min, max) = V::range_of_codes(adc, min, max)?;
+            Rails::Stated { min, max }
+        }
+    })
 }
 
 #[cfg(test)]

@@ -159,7 +159,11 @@ fn a_still_shaft_is_not_clipping_with_measured_rails() {
         e = tracker.update(&mut state, (2048u16 + 900, 2048u16 + 1559));
         assert!(e.faults.is_empty(), "{:?}", state.front_end.faults());
     }
-    assert!((e.angle - libm::atan2f(1559.0, 900.0)).abs() < 1e-4, "{}", e.angle);
+    assert!(
+        (e.angle - libm::atan2f(1559.0, 900.0)).abs() < 1e-4,
+        "{}",
+        e.angle
+    );
 }
 
 #[test]

@@ -4,6 +4,7 @@
 
 use crate::faults::Faults;
 use crate::gains::Gains;
+use crate::reacquisition::Refit;
 use crate::real::Float;
 use crate::real::sincos::SinCos;
 use crate::recursion::Sample;
@@ -37,9 +38,12 @@ pub struct ChannelBank<T, const N: usize, const L: usize> {
     rejected: [u32; L],
     /// The lanes that have no angle yet.
     pending: [bool; L],
-    /// The lanes that coasted through a front-end fault (a chain's): the next used sample
-    /// sets their angle from its `atan2`.
-    coasted: [bool; L],
+    /// The samples each lane coasted through front-end faults (a chain's) since its last
+    /// used one: the next used sample sets its angle from its `atan2`, or after a long
+    /// coast the next samples are fitted first (as a single observer's).
+    coasted: [u32; L],
+    /// Each lane's fit under way after a long coast.
+    refit: [Refit<T>; L],
     /// The faults each lane's chain front end flagged, latched.
     latched: [Faults; L],
     /// Some lane is pending or coasted: the next sample runs the lanes one by one.
@@ -73,7 +77,8 @@ impl<T: Float, const N: usize, const L: usize> ChannelBank<T, N, L> {
             phase_error: [T::ZERO; L],
             rejected: [0; L],
             pending: [true; L],
-            coasted: [false; L],
+            coasted: [0; L],
+            refit: [Refit::new(); L],
             latched: [Faults::NONE; L],
             rare: true,
         }
@@ -148,12 +153,15 @@ impl<T: Float, const N: usize, const L: usize> ChannelBank<T, N, L> {
         state.amplitude = self.amplitude[lane];
         state.initialised = true;
         state.coasted = self.coasted[lane];
-        state.tracking = !state.coasted;
+        state.refit = self.refit[lane];
+        state.tracking = state.coasted == 0;
         if state.tracking {
             state.next_angle = self.next_angle[lane];
         }
         if self.rejected[lane] != 0 {
             state.faults = Faults::BAD_SAMPLE;
+        } else if state.refit.taken > 0 {
+            state.faults = Faults::LOSS_OF_TRACKING;
         }
         state
     }
@@ -172,6 +180,7 @@ impl<T: Float, const N: usize, const L: usize> ChannelBank<T, N, L> {
         self.rejected[lane] = u32::from(state.faults.contains(Faults::BAD_SAMPLE));
         self.pending[lane] = !state.initialised;
         self.coasted[lane] = state.coasted;
+        self.refit[lane] = state.refit;
     }
 
     /// Lane `lane`'s predicted angle for its next sample (rad, not wrapped), as the single
@@ -183,7 +192,7 @@ impl<T: Float, const N: usize, const L: usize> ChannelBank<T, N, L> {
 
     /// Marks the bank for the lane-by-lane path if a lane is pending or coasted.
     pub(crate) fn update_rare(&mut self) {
-        self.rare = self.pending.contains(&true) || self.coasted.contains(&true);
+        self.rare = self.pending.contains(&true) || self.coasted.iter().any(|&c| c > 0);
     }
 }
 
@@ -315,6 +324,8 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         }
         let faults = if bank.rejected[lane] != 0 {
             Faults::BAD_SAMPLE
+        } else if bank.refit[lane].taken > 0 {
+            Faults::LOSS_OF_TRACKING
         } else {
             Faults::NONE
         };

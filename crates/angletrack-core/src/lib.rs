@@ -146,6 +146,7 @@ mod monitor;
 mod monitor_thresholds;
 mod observer;
 mod outputs;
+mod reacquisition;
 mod real;
 mod recursion;
 mod stability;

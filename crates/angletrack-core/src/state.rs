@@ -4,6 +4,7 @@
 
 use crate::faults::Faults;
 use crate::monitor::MonitorState;
+use crate::reacquisition::Refit;
 use crate::real::Float;
 use crate::wrap::{wrap_angle, wrapped};
 
@@ -106,9 +107,13 @@ pub struct ObserverState<T, const N: usize> {
     /// The angle and the magnitude are known and the last sample was used: the predicted
     /// angle `next_angle` is live and the usual path of the update runs (else it is parked).
     pub(crate) tracking: bool,
-    /// The state coasted through a front-end fault: the next used sample sets the angle
-    /// from its `atan2` (the speed and the acceleration kept) before tracking again.
-    pub(crate) coasted: bool,
+    /// The samples coasted through front-end faults since the last used one (saturated):
+    /// after a few, the next used sample sets the angle from its `atan2` (the speed and
+    /// the acceleration kept); after many, the next samples are fitted first
+    /// (`crate::reacquisition`).
+    pub(crate) coasted: u32,
+    /// The fit under way after a long coast.
+    pub(crate) refit: Refit<T>,
 }
 
 impl<T: Float, const N: usize> Default for ObserverState<T, N> {
@@ -144,7 +149,8 @@ impl<T: Float, const N: usize> ObserverState<T, N> {
             amplitude: T::ZERO,
             initialised: false,
             tracking: false,
-            coasted: false,
+            coasted: 0,
+            refit: Refit::new(),
         }
     }
 
@@ -187,7 +193,8 @@ impl<T: Float, const N: usize> ObserverState<T, N> {
             initialised: true,
             // The magnitude is not known yet: the first used sample sets it.
             tracking: false,
-            coasted: false,
+            coasted: 0,
+            refit: Refit::new(),
         }
     }
 

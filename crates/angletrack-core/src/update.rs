@@ -10,6 +10,7 @@
 use crate::faults::Faults;
 use crate::gains::Gains;
 use crate::monitor::MonitorWindow;
+use crate::reacquisition::{REFIT_AFTER_COAST, Refit};
 use crate::real::Float;
 use crate::real::sincos::{SinCos, SinCosUnit};
 use crate::recursion::{Sample, Step};
@@ -300,13 +301,20 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             state.x = x;
             state.advance(whole, T::ZERO);
             state.reject_sample();
+            // A fit under way lost a sample: it starts again.
+            state.refit = Refit::new();
             return false;
         }
         if !state.tracking {
-            if state.coasted {
-                // The first sample after a front-end fault: the angle re-acquired from it
-                // (however far the coast drifted: no false lock, and no transient of the
-                // loop correcting the drift), speed and acceleration kept.
+            if state.coasted >= REFIT_AFTER_COAST {
+                // After a long coast the speed and the acceleration are stale: the next
+                // samples are fitted, not tracked, and the loop starts from the fit.
+                return self.refit(state, y_c, y_s, amplitude2);
+            }
+            if state.coasted > 0 {
+                // The first sample after a short front-end fault: the angle re-acquired
+                // from it (however far the coast drifted: no false lock, and no transient
+                // of the loop correcting the drift), speed and acceleration kept.
                 // The state holds the previous sample's estimate: it moves by the jump
                 // from this sample's prediction to its atan2.
                 let mut jump = y_s.atan2(y_c) - predict(&state.x)[0];
@@ -314,7 +322,7 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
                 state.x[0] += jump;
                 let whole = wrap_angle(&mut state.x[0]);
                 state.turns = state.turns.wrapping_add(whole as i64);
-                state.coasted = false;
+                state.coasted = 0;
             }
             // The first used sample after the angle was set (by the first sample's atan2 or
             // by `ObserverState::at`), or after a rejected sample: the predicted angle comes
@@ -435,7 +443,45 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         let whole = wrap_angle(&mut state.x[0]);
         state.advance(whole, T::ZERO);
         state.park(Faults::NONE);
-        state.coasted = true;
+        state.coasted = state.coasted.saturating_add(1);
+        // A fit under way is cut short by the fault: it starts again after it.
+        state.refit = Refit::new();
+    }
+
+    /// One sample of the fit after a long coast (`crate::reacquisition`): its angle is the
+    /// estimate's (`atan2`, turns counted), flagged [`Faults::LOSS_OF_TRACKING`] and not
+    /// used by the loop; at the fit's last sample the state takes the fitted angle, speed
+    /// and acceleration and tracks from the next sample on. Returns `false`: the recursion
+    /// does not run on the sample.
+    #[cold]
+    #[inline(never)]
+    fn refit(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T, amplitude2: T) -> bool {
+        let before = state.x[0];
+        let (angle, whole) = re_acquired(before, y_c, y_s);
+        state.x[0] = angle;
+        state.turns = state.turns.wrapping_add(whole as i64);
+        let mut step = angle - before;
+        wrap_angle(&mut step);
+        match state.refit.take(step) {
+            None => {
+                state.park(Faults::LOSS_OF_TRACKING);
+                state.advance(0, T::ZERO);
+            }
+            Some(fitted) => {
+                state.x[0] += fitted.angle_change;
+                let whole = wrap_angle(&mut state.x[0]);
+                state.turns = state.turns.wrapping_add(whole as i64);
+                if N > 1 {
+                    state.x[1] = fitted.speed;
+                }
+                if N > 2 {
+                    state.x[2] = fitted.acceleration;
+                }
+                state.coasted = 0;
+                state.start_tracking(amplitude2);
+            }
+        }
+        false
     }
 
     /// Sets the state from one sample: angle `atan2(y_s, y_c)`, speed and acceleration 0,

@@ -108,7 +108,7 @@
  * The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_STATE_F32_WORDS 30
+#define AT_CHAIN_STATE_F32_WORDS 32
 
 /**
  * The harmonic orders an `at_angle_correction_f32` holds (the core's
@@ -126,7 +126,7 @@
  * The 8-byte words of an `at_chain_state_fixed`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_STATE_FIXED_WORDS 12
+#define AT_CHAIN_STATE_FIXED_WORDS 18
 
 /**
  * The 8-byte words of an `at_demodulator_f32`'s storage (checked against the Rust types at
@@ -237,7 +237,7 @@
  * The 8-byte words of an `at_fixed_state`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_FIXED_STATE_WORDS 8
+#define AT_FIXED_STATE_WORDS 13
 
 /**
  * The 8-byte words of an `at_gains_f32`'s storage (checked against the Rust type at
@@ -249,7 +249,7 @@
  * The 8-byte words of an `at_state_f32`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_STATE_F32_WORDS 8
+#define AT_STATE_F32_WORDS 11
 
 /**
  * The version of the C structs' layout, bumped whenever a struct of the header or a Rust

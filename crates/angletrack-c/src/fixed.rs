@@ -18,7 +18,7 @@ use crate::status::{AT_ERR_ORDER, at_status, status_of_result};
 pub const AT_FIXED_GAINS_WORDS: usize = 8;
 /// The 8-byte words of an `at_fixed_state`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_FIXED_STATE_WORDS: usize = 8;
+pub const AT_FIXED_STATE_WORDS: usize = 13;
 
 /// The checked configuration of a fixed-point observer (order 2 or 3): the gains' integer
 /// multipliers, the acceleration's shift, the sample period and the monitor's integer

@@ -15,7 +15,7 @@ use crate::slot::{self, Refused, Stored};
 
 /// The 8-byte words of an `at_state_f32`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_STATE_F32_WORDS: usize = 8;
+pub const AT_STATE_F32_WORDS: usize = 11;
 
 /// One channel's mutable state: angle, speed, acceleration, turn count, the diagnostics'
 /// filters and latched faults. A zeroed one (C static memory) is a fresh state, as after

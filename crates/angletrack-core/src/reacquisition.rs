@@ -94,9 +94,107 @@ impl<T: Float> Refit<T> {
     }
 }
 
+/// The fit in the fixed-point observer's integers: binary angles (2^-32 turn), the sums in
+/// `i64` of the doubled centred index `v = 2u` (odd, -15 to 15) and of `q = 4 p2 = v^2 - 85`
+/// (the constants below are those of `K = 16`: `sum u^2 = 340`, `sum p2^2 = 5712`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) struct FixedRefit {
+    /// Samples taken (0: none yet).
+    pub(crate) taken: u32,
+    /// The last sample's binary angle, and its angle unwrapped from the first's.
+    last: (i32, i64),
+    /// `sum theta`, `sum v theta`, `sum q theta`.
+    sums: [i64; 3],
+}
+
+/// What the integer fit gives at its last sample: the angle (2^-32 turn), the speed
+/// (2^-32 turn per sample) and the acceleration (2^-63 turn per sample^2, the state's unit).
+pub(crate) struct FixedFitted {
+    pub(crate) angle: i32,
+    pub(crate) speed: i32,
+    pub(crate) acceleration: i64,
+}
+
+const _: () = assert!(
+    REFIT_SAMPLES == 16,
+    "FixedRefit's constants are those of K = 16"
+);
+
+/// `numerator / denominator` rounded to the nearest, `denominator > 0`.
+fn rounded(numerator: i128, denominator: i128) -> i128 {
+    (2 * numerator + numerator.signum() * denominator) / (2 * denominator)
+}
+
+impl FixedRefit {
+    /// No fit under way.
+    pub(crate) const fn new() -> Self {
+        Self {
+            taken: 0,
+            last: (0, 0),
+            sums: [0; 3],
+        }
+    }
+
+    /// Takes one sample of binary angle `angle`; returns the fit once it has
+    /// [`REFIT_SAMPLES`], and is then ready for another.
+    pub(crate) fn take(&mut self, angle: i32) -> Option<FixedFitted> {
+        let unwrapped = if self.taken == 0 {
+            0
+        } else {
+            // The shortest way: the wrapping difference of binary angles.
+            self.last.1 + i64::from(angle.wrapping_sub(self.last.0))
+        };
+        self.last = (angle, unwrapped);
+        let v = 2 * i64::from(self.taken) - 15;
+        self.sums[0] += unwrapped;
+        self.sums[1] += v * unwrapped;
+        self.sums[2] += (v * v - 85) * unwrapped;
+        self.taken += 1;
+        if self.taken < REFIT_SAMPLES {
+            return None;
+        }
+        let [s0, s1, s2] = self.sums.map(i128::from);
+        // At u = 7.5 (v = 15, q = 140): c0 + 7.5 c1 + 35 c2, c1 + 15 c2 and 2 c2, with
+        // c0 = s0 / 16, c1 = s1 / 680, c2 = s2 / 22848, over their common denominator.
+        let end = rounded(7140 * s0 + 1260 * s1 + 175 * s2, 114_240);
+        let fitted = FixedFitted {
+            angle: angle.wrapping_add((end - i128::from(unwrapped)) as i32),
+            speed: rounded(168 * s1 + 75 * s2, 114_240) as i32,
+            acceleration: rounded(s2 << 31, 11_424) as i64,
+        };
+        *self = Self::new();
+        Some(fitted)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The integer fit of a parabola in binary angles, across the turn's wrap: its end
+    /// angle, speed and acceleration to within a unit of rounding.
+    #[test]
+    fn the_integer_fit_of_a_parabola() {
+        let (a, b, c) = (2.1e9_f64, 3.0e7, 4.0e5);
+        let angle = |k: f64| a + b * k + c * k * k / 2.0;
+        let mut refit = FixedRefit::new();
+        let mut fitted = None;
+        for k in 0..REFIT_SAMPLES {
+            let binary = (angle(f64::from(k)) as i64) as i32; // wraps past 2^31
+            fitted = refit.take(binary);
+        }
+        let fitted = fitted.expect("fitted after K samples");
+        let end = f64::from(REFIT_SAMPLES - 1);
+        assert!((i64::from(fitted.angle) - ((angle(end) as i64) as i32) as i64).abs() <= 2);
+        assert!(
+            (f64::from(fitted.speed) - (b + c * end)).abs() <= 2.0,
+            "{}",
+            fitted.speed
+        );
+        let acceleration = fitted.acceleration as f64 / 2f64.powi(31);
+        assert!((acceleration - c).abs() < 1e-3 * c, "{acceleration}");
+        assert_eq!(refit, FixedRefit::new());
+    }
 
     /// A parabola is fitted exactly: its end angle, speed and acceleration.
     #[test]

@@ -350,4 +350,15 @@ fn after_a_long_coast_the_speed_is_fitted_before_the_loop_runs() {
     });
     assert!(worst < 5e-3, "{worst}");
     assert_eq!(flagged, crate::reacquisition::REFIT_SAMPLES as usize - 1);
+    // Fixed point: the same fit in integers.
+    let gains = FixedGains::<3>::new(GAINS, TS).unwrap();
+    let chain = Chain::new(FrontEndCheck::<i16>::new(), gains);
+    let mut state = ChainState::new();
+    let q = |v: f64| libm::round(16384.0 * v) as i16;
+    let (worst, flagged) = through_a_loss_while_accelerating(|(c, s), given| {
+        let e = chain.update(&mut state, ((q(c), q(s)), given));
+        (binary_angle_to_rad(e.angle), e.faults)
+    });
+    assert!(worst < 5e-3, "{worst}");
+    assert_eq!(flagged, crate::reacquisition::REFIT_SAMPLES as usize - 1);
 }

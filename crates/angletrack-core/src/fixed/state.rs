@@ -2,6 +2,7 @@
 //! reports ([`FixedEstimate`]), in the integers of `docs/theory.md §14`.
 
 use crate::faults::Faults;
+use crate::reacquisition::FixedRefit;
 
 /// The state vector of the fixed-point recursion: binary angle (2^32 per turn), speed
 /// (2^-32 turn per sample) and acceleration (2^-63 turn per sample^2; 0 for a 2nd-order
@@ -61,9 +62,13 @@ pub struct FixedState<const N: usize> {
     pub(crate) latched: Faults,
     /// Whether the first sample has set the angle.
     pub(crate) initialised: bool,
-    /// The state coasted through a front-end fault: the next sample's window end sets the
-    /// angle from its `atan2` (the speed and the acceleration kept).
-    pub(crate) coasted: bool,
+    /// The samples coasted through front-end faults since the last used one (saturated):
+    /// after a few, the next sample's window end sets the angle from its `atan2` (the
+    /// speed and the acceleration kept); after many, the next samples are fitted first
+    /// (`crate::reacquisition`).
+    pub(crate) coasted: u32,
+    /// The fit under way after a long coast.
+    pub(crate) refit: FixedRefit,
 }
 
 impl<const N: usize> Default for FixedState<N> {
@@ -92,7 +97,8 @@ impl<const N: usize> FixedState<N> {
             faults: Faults::NONE,
             latched: Faults::NONE,
             initialised: false,
-            coasted: false,
+            coasted: 0,
+            refit: FixedRefit::new(),
         }
     }
 

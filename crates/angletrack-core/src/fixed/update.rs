@@ -8,6 +8,7 @@ use super::multiply::{add_round_q16, add_wide, mul_q16};
 use super::state::{FixedEstimate, FixedState, FixedVector};
 use crate::faults::Faults;
 use crate::monitor::{Measures, MonitorLimits, MonitorWindow, WindowMeasures};
+use crate::reacquisition::{FixedRefit, REFIT_AFTER_COAST};
 use crate::real::sincos::Detection;
 use crate::recursion::Sample;
 use crate::recursion::{Arithmetic, step};
@@ -318,7 +319,9 @@ impl<const N: usize> FixedGains<N> {
         // The next sample ends a window that is not taken for healthy: its end re-acquires.
         state.error_sum = 1 << 31;
         state.window_left = 1;
-        state.coasted = true;
+        state.coasted = state.coasted.saturating_add(1);
+        // A fit under way is cut short by the fault: it starts again after it.
+        state.refit = FixedRefit::new();
     }
 
     /// The last sample, in counts.
@@ -356,6 +359,11 @@ impl<const N: usize> FixedGains<N> {
         }
         state.error_sum = 0;
         state.window_left = MONITOR_WINDOW;
+        if state.coasted != 0 {
+            // A fit under way: the next sample ends a window of its own too.
+            state.error_sum = 1 << 31;
+            state.window_left = 1;
+        }
     }
 
     /// What the monitor decides the window from: half the last sample's square amplitude
@@ -388,8 +396,12 @@ impl<const N: usize> FixedGains<N> {
             self.initialise(state);
             return;
         }
-        if state.coasted {
-            state.coasted = false;
+        if state.coasted >= REFIT_AFTER_COAST {
+            self.refit(state);
+            return;
+        }
+        if state.coasted != 0 {
+            state.coasted = 0;
             Self::re_acquire(state);
             return;
         }
@@ -422,6 +434,38 @@ impl<const N: usize> FixedGains<N> {
         state.next_angle = next_angle;
         // The state counts the turns of the predicted angle.
         state.turns = turns.wrapping_add(i64::from(crossed_turns::<i16>(angle, next_angle)));
+    }
+
+    /// One sample of the fit after a long coast (`crate::reacquisition`), at its window's
+    /// end: the angle is the sample's `atan2` (turns counted), flagged
+    /// [`Faults::LOSS_OF_TRACKING`]; at the fit's last sample the state takes the fitted
+    /// angle, speed and acceleration, and the loop tracks from the next sample on.
+    fn refit(&self, state: &mut FixedState<N>) {
+        Self::re_acquire(state);
+        match state.refit.take(state.x.angle) {
+            None => {
+                state.faults = Faults::LOSS_OF_TRACKING;
+                state.latched |= Faults::LOSS_OF_TRACKING;
+            }
+            Some(fitted) => {
+                let turns = turns_of_estimate(state)
+                    .wrapping_add(i64::from(crossed_turns::<i16>(state.x.angle, fitted.angle)));
+                state.x.angle = fitted.angle;
+                state.x.acceleration = if N > 2 { fitted.acceleration } else { 0 };
+                state.x.speed = if N > 2 {
+                    fitted.speed.wrapping_add(speed_change(fitted.acceleration))
+                } else {
+                    fitted.speed
+                };
+                state.next_angle = Self::next_angle(&state.x);
+                state.turns = turns.wrapping_add(i64::from(crossed_turns::<i16>(
+                    state.x.angle,
+                    state.next_angle,
+                )));
+                state.faults = Faults::NONE;
+                state.coasted = 0;
+            }
+        }
     }
 
     /// The first sample: the angle from `atan2` ([`sample_angle`], the floats' own), speed

@@ -120,9 +120,11 @@ const _: () = assert!(
     "FixedRefit's constants are those of K = 16"
 );
 
-/// `numerator / denominator` rounded to the nearest, `denominator > 0`.
-fn rounded(numerator: i128, denominator: i128) -> i128 {
-    (2 * numerator + numerator.signum() * denominator) / (2 * denominator)
+/// `numerator / denominator` rounded to the nearest, `denominator > 0` (in `i64`: an
+/// `i128` division would bring a Cortex-M0 kilobytes of library code).
+fn rounded(numerator: i64, denominator: i64) -> i64 {
+    let half = numerator.signum().wrapping_mul(denominator / 2);
+    numerator.wrapping_add(half) / denominator
 }
 
 impl FixedRefit {
@@ -153,14 +155,33 @@ impl FixedRefit {
         if self.taken < REFIT_SAMPLES {
             return None;
         }
-        let [s0, s1, s2] = self.sums.map(i128::from);
+        let [s0, s1, s2] = self.sums;
         // At u = 7.5 (v = 15, q = 140): c0 + 7.5 c1 + 35 c2, c1 + 15 c2 and 2 c2, with
         // c0 = s0 / 16, c1 = s1 / 680, c2 = s2 / 22848, over their common denominator.
-        let end = rounded(7140 * s0 + 1260 * s1 + 175 * s2, 114_240);
+        // Below half a turn a sample, |theta| < 2^35, |s0| < 2^39, |s1| < 2^42 and
+        // |s2| < 2^46: the products below stay under 2^56 (wrapping beyond: no panic).
+        let end = rounded(
+            7140_i64
+                .wrapping_mul(s0)
+                .wrapping_add(1260_i64.wrapping_mul(s1))
+                .wrapping_add(175_i64.wrapping_mul(s2)),
+            114_240,
+        );
+        let speed = rounded(
+            168_i64
+                .wrapping_mul(s1)
+                .wrapping_add(75_i64.wrapping_mul(s2)),
+            114_240,
+        );
+        // 2^31 s2 / 11424 without 2^77: the quotient's part shifted, the remainder's scaled.
+        let (whole, part) = (s2 / 11_424, s2 % 11_424);
+        let acceleration = whole
+            .wrapping_shl(31)
+            .wrapping_add(rounded(part.wrapping_shl(31), 11_424));
         let fitted = FixedFitted {
-            angle: angle.wrapping_add((end - i128::from(unwrapped)) as i32),
-            speed: rounded(168 * s1 + 75 * s2, 114_240) as i32,
-            acceleration: rounded(s2 << 31, 11_424) as i64,
+            angle: angle.wrapping_add(end.wrapping_sub(unwrapped) as i32),
+            speed: speed as i32,
+            acceleration,
         };
         *self = Self::new();
         Some(fitted)

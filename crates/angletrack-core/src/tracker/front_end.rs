@@ -103,7 +103,16 @@ impl<V: TrackerNumber, X: TrackerInput<V>> Stage<V, X> for TrackerFrontEnd<V> {
         input: X,
     ) -> ((V, V), Memo<V>) {
         let given = input.pair(&self.adc);
-        let (pair, ()) = self.check.forward(&mut s.check, prediction, given);
+        // Without a stated range, an input that gives no faults leaves the check nothing
+        // to do, once its state is clear (a state fed a demodulator's faulted pair before).
+        let pair = if X::GIVES_FAULTS
+            || self.check.adc_range().is_some()
+            || !s.check.0.faults().is_empty()
+        {
+            self.check.forward(&mut s.check, prediction, given).0
+        } else {
+            given.0
+        };
         let (pair, _) = self.rails.forward(&mut s.rails, prediction, pair);
         let (pair, winding) = self.winding.forward(&mut s.winding, prediction, pair);
         let (pair, calibration) = self

@@ -170,6 +170,9 @@ impl TrackerNumber for i16 {
 /// An input the standard chain takes: the pair of samples in the observer's units (and the
 /// front-end faults given with it, if any), from what the caller has.
 pub trait TrackerInput<V: TrackerNumber>: Copy {
+    /// Whether the input comes with front-end faults (else the front-end check has
+    /// nothing to do without a stated range, and is skipped).
+    const GIVES_FAULTS: bool = false;
     /// The pair, through `adc` if it is raw counts, and the faults given with it.
     fn pair(self, adc: &V::Adc) -> ((V, V), FrontEndFaults);
 }
@@ -185,6 +188,7 @@ impl<T: Float> TrackerInput<T> for (T, T) {
 
 /// A pair with the front-end faults found before the chain (a demodulator's), as it is.
 impl<V: TrackerNumber> TrackerInput<V> for ((V, V), FrontEndFaults) {
+    const GIVES_FAULTS: bool = true;
     #[inline(always)]
     fn pair(self, _: &V::Adc) -> ((V, V), FrontEndFaults) {
         self
@@ -193,6 +197,7 @@ impl<V: TrackerNumber> TrackerInput<V> for ((V, V), FrontEndFaults) {
 
 /// A demodulator's pair, with its window's faults.
 impl<V: TrackerNumber> TrackerInput<V> for DemodulatedPair<V> {
+    const GIVES_FAULTS: bool = true;
     #[inline(always)]
     fn pair(self, _: &V::Adc) -> ((V, V), FrontEndFaults) {
         ((self.y_c, self.y_s), self.faults)

@@ -85,6 +85,7 @@ mod counts;
 mod design;
 mod error;
 pub mod export;
+pub mod fault_campaign;
 mod json_file;
 mod linalg;
 pub mod paper;

@@ -332,32 +332,87 @@ pub fn offset_binary_mid_scale(largest_count: f64) -> Result<u64> {
     Ok(angletrack::offset_binary_mid_scale(largest))
 }
 
-/// The mid-scale (counts) of a capture of whole counts read as floats, from its first
-/// samples `y_c`, `y_s` (`angletrack::capture_mid_scale`): 0 for signed counts or a capture
-/// centred already, else `offset_binary_mid_scale` of the largest sample. A `ConfigError`
-/// (parameter `capture`) for counts no ADC gives.
+/// Each channel's extremes of a capture of whole counts, gathered chunk by chunk
+/// (`angletrack::CountsExtremes`): what `capture_counts` reads of the whole capture.
+#[pyclass(name = "CountsExtremes", module = "angletrack")]
+#[derive(Debug, Clone, Default)]
+pub struct PyCountsExtremes {
+    inner: angletrack::CountsExtremes,
+}
+
+#[pymethods]
+impl PyCountsExtremes {
+    /// No sample yet.
+    #[new]
+    fn py_new() -> Self {
+        Self::default()
+    }
+
+    /// Adds the chunk `y_c`, `y_s` (1-D arrays of equal lengths).
+    fn add(&mut self, y_c: &Bound<'_, PyAny>, y_s: &Bound<'_, PyAny>) -> Result<()> {
+        let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
+        self.inner.add(c.as_slice(), s.as_slice());
+        Ok(())
+    }
+
+    /// `y_c`'s and `y_s`'s `(lowest, highest)`, `None` for a channel without a sample.
+    #[getter]
+    fn channels(&self) -> [Option<(f64, f64)>; 2] {
+        self.inner.channels()
+    }
+}
+
+/// The signedness and mid-scale of a whole capture of counts (`angletrack::capture_counts`):
+/// `(signed, mid_scale)` from the signedness and resolution stated (`None`: not stated),
+/// whether the counts' type is unsigned, and the capture's `extremes`. A `ConfigError`
+/// naming `adc_signed` when the capture does not show its signedness (its message ends with
+/// `state_with`, how the caller states it), naming `adc_bits` for a resolution outside 2 to
+/// 53, naming `capture` for counts no ADC gives.
 #[pyfunction]
-pub fn capture_mid_scale(y_c: &Bound<'_, PyAny>, y_s: &Bound<'_, PyAny>) -> Result<u64> {
-    let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
-    angletrack::capture_mid_scale(c.as_slice(), s.as_slice())
-        .map_err(|e| Error::value("capture", e.to_string()))
+#[pyo3(signature = (extremes, *, signed = None, bits = None, unsigned_type = false,
+    state_with = "give adc_signed=True or adc_signed=False"))]
+pub fn capture_counts(
+    extremes: &PyCountsExtremes,
+    signed: Option<bool>,
+    bits: Option<u32>,
+    unsigned_type: bool,
+    state_with: &str,
+) -> Result<(bool, u64)> {
+    use angletrack::{CountsError, Signedness, StatedCounts};
+    let stated = StatedCounts {
+        signedness: signed.map(|s| {
+            if s {
+                Signedness::Signed
+            } else {
+                Signedness::Unsigned
+            }
+        }),
+        bits,
+    };
+    match angletrack::capture_counts(stated, unsigned_type, &extremes.inner) {
+        Ok(c) => Ok((c.signedness == Signedness::Signed, c.mid_scale)),
+        Err(e @ CountsError::Ambiguous { .. }) => {
+            Err(Error::value("adc_signed", format!("{e}: {state_with}")))
+        }
+        Err(e @ CountsError::Bits(_)) => Err(Error::value("adc_bits", e.to_string())),
+        Err(e @ CountsError::NotCounts(_)) => Err(Error::value("capture", e.to_string())),
+    }
 }
 
 /// How a capture's counts reach the fixed-point observer, from its first samples `y_c`,
-/// `y_s` (`angletrack::fixed_input`): `(mid_scale_counts, input_shift, amplitude,
-/// nominal_amplitude)`, the last the monitor's (the `FixedObserver` arguments); no
-/// mid-scale for counts stated `signed`. A `ConfigError` (parameter `capture`) for counts
-/// no ADC gives.
+/// `y_s` and the capture's `mid_scale` (`capture_counts`'s; `angletrack::fixed_input`):
+/// `(mid_scale_counts, input_shift, amplitude, nominal_amplitude)`, the last the monitor's
+/// (the `FixedObserver` arguments). A `ConfigError` naming `mid_scale_counts` beyond an
+/// int32.
 #[pyfunction]
-#[pyo3(signature = (y_c, y_s, *, signed = false))]
+#[pyo3(signature = (y_c, y_s, mid_scale))]
 pub fn fixed_input(
     y_c: &Bound<'_, PyAny>,
     y_s: &Bound<'_, PyAny>,
-    signed: bool,
+    mid_scale: u64,
 ) -> Result<(i32, u32, f64, f64)> {
     let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
-    let i = angletrack::fixed_input(c.as_slice(), s.as_slice(), signed)
-        .map_err(|e| Error::value("capture", e.to_string()))?;
+    let i = angletrack::fixed_input(c.as_slice(), s.as_slice(), mid_scale)?;
     Ok((
         i.mid_scale_counts,
         i.shift,

@@ -80,30 +80,41 @@ def test_signed_counts_track_exactly_as_their_float64_values(dtype):
 
 
 def test_track_and_the_observer_centre_unsigned_counts_by_one_rule():
-    from angletrack import tracking
-
     gains = at.Gains(KALMAN, SAMPLE_PERIOD)
     sc = constant_speed(at.SensorModel(amplitude=AMPLITUDE, noise_std=5.0), turns=1)
+    X = at._angletrack
     for centre in (2048, 16384):  # 12-bit and 15-bit counts
         raw_c, raw_s = counts(sc.y_c + centre, np.uint16), counts(sc.y_s + centre, np.uint16)
-        # What `angletrack track` removes from a capture of whole counts (float64 chunks) ...
-        mid = tracking.unsigned_mid_scale("int64", raw_c.astype(np.float64), raw_s.astype(np.float64))
-        assert mid == centre
+        # What `angletrack track` removes from a capture of whole counts (float64 chunks):
+        # a whole turn swinging about the mid-scale shows offset binary ...
+        extremes = X.CountsExtremes()
+        extremes.add(raw_c.astype(np.float64), raw_s.astype(np.float64))
+        signed, mid = X.capture_counts(extremes)
+        assert (signed, mid) == (False, centre)
         # ... is what the observer removes from uint16 counts by itself.
         np.testing.assert_array_equal(at.track(gains, raw_c, raw_s).position,
                                       at.track(gains, raw_c, raw_s, adc_mid_scale=int(mid)).position)
-    assert [at._angletrack.offset_binary_mid_scale(n) for n in (0, 1, 3, 4, 4095, 4096, 65535)] == [
+    assert [X.offset_binary_mid_scale(n) for n in (0, 1, 3, 4, 4095, 4096, 65535)] == [
         2, 2, 2, 4, 2048, 4096, 32768]
-    # Signed counts, physical units and a capture without a positive count are centred already.
-    assert tracking.unsigned_mid_scale("int64", np.array([-3.0, 4000.0]), np.array([5.0, 6.0])) == 0
-    assert tracking.unsigned_mid_scale("float64", np.array([3.0]), np.array([5.0])) == 0
-    assert tracking.unsigned_mid_scale("int64", np.zeros(3), np.zeros(3)) == 0
+    # A negative count anywhere: signed. Stated: as stated. Neither shown nor stated: refused,
+    # naming the argument and how to state it.
+    extremes = X.CountsExtremes()
+    extremes.add(np.array([3.0, 4000.0]), np.array([5.0, 6.0]))
+    assert X.capture_counts(extremes, signed=True) == (True, 0)
+    assert X.capture_counts(extremes, signed=False, bits=12) == (False, 2048)
+    with pytest.raises(ValueError, match="^adc_signed: .*state it: say so") as e:
+        X.capture_counts(extremes, state_with="say so")
+    assert e.value.parameter == "adc_signed"
+    extremes.add(np.array([-3.0]), np.array([5.0]))
+    assert X.capture_counts(extremes) == (True, 0)
     for bad in (-1.0, 0.5, float("nan"), 2.0**60):
         with pytest.raises(ValueError, match="largest_count"):
-            at._angletrack.offset_binary_mid_scale(bad)
-    # Through track, counts beyond what float64 holds exactly name the capture, not the binding's argument.
+            X.offset_binary_mid_scale(bad)
+    # Counts beyond what float64 holds exactly name the capture, not the binding's argument.
+    huge = X.CountsExtremes()
+    huge.add(np.array([1.0, 2.0**60]), np.array([1.0, 1.0]))
     with pytest.raises(ValueError, match="^capture: unsigned counts up to"):
-        tracking.unsigned_mid_scale("uint64", np.array([1.0, 2.0**60]), np.array([1.0, 1.0]))
+        X.capture_counts(huge, unsigned_type=True)
 
 
 def test_unsigned_counts_take_the_offset_binary_mid_scale_of_their_range():

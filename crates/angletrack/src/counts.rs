@@ -38,10 +38,6 @@ pub fn offset_binary_mid_scale(largest_count: u64) -> u64 {
     1 << (bits - 1)
 }
 
-/// The largest count [`capture_mid_scale`] takes: 2^53, below which every whole number is
-/// an `f64`.
-const LARGEST_EXACT_COUNT: f64 = 9_007_199_254_740_992.0;
-
 /// A capture's counts that no offset-binary ADC gives: the largest sample is not a whole
 /// number from 0 to 2^53.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -61,44 +57,6 @@ impl core::fmt::Display for UnsignedCountsError {
 }
 
 impl std::error::Error for UnsignedCountsError {}
-
-/// The mid-scale of a capture of whole counts read as `f64` (integers in a text file, of
-/// any width), from its first samples: 0 when a sample is negative or none is positive
-/// (signed counts, or centred already), else [`offset_binary_mid_scale`] of the largest
-/// sample, the rule of `u16` counts ([`AdcCount::default_mid_scale`]).
-///
-/// ```
-/// use angletrack::capture_mid_scale;
-/// assert_eq!(capture_mid_scale(&[4000.0, 2048.0], &[96.0, 2048.0])?, 2048);
-/// assert_eq!(capture_mid_scale(&[-3.0, 4000.0], &[5.0, 6.0])?, 0);
-/// assert!(capture_mid_scale(&[1.0, 2f64.powi(60)], &[1.0])
-///     .unwrap_err()
-///     .to_string()
-///     .starts_with("unsigned counts up to 1152921504606846976"));
-/// # Ok::<(), angletrack::UnsignedCountsError>(())
-/// ```
-pub fn capture_mid_scale(y_c: &[f64], y_s: &[f64]) -> Result<u64, UnsignedCountsError> {
-    let samples = || y_c.iter().chain(y_s).copied();
-    if samples().any(|x| x < 0.0) {
-        return Ok(0);
-    }
-    // NaN wins the fold, and is refused below.
-    let largest = samples().fold(0.0_f64, |m, x| {
-        if x.is_nan() || m.is_nan() {
-            f64::NAN
-        } else {
-            m.max(x)
-        }
-    });
-    if largest == 0.0 {
-        return Ok(0);
-    }
-    if !(largest.fract() == 0.0 && largest <= LARGEST_EXACT_COUNT) {
-        return Err(UnsignedCountsError { largest });
-    }
-    // Checked above: a whole number from 1 to 2^53, exact as a u64.
-    Ok(offset_binary_mid_scale(largest as u64))
-}
 
 /// An integer type of raw ADC counts, with the mid-scale it is centred on when none is
 /// given (the module's rule).
@@ -278,21 +236,6 @@ mod tests {
         assert_eq!(e.parameter(), Parameter::CountsPerUnit);
         let e = CountsSettings::new(Some((1 << 30) + 1), 1.0).unwrap_err();
         assert_eq!(e.parameter(), Parameter::MidScaleCounts);
-    }
-
-    #[test]
-    fn a_capture_of_whole_counts_is_centred_only_when_unsigned() {
-        assert_eq!(capture_mid_scale(&[4095.0], &[0.0]), Ok(2048));
-        assert_eq!(
-            capture_mid_scale(&[16384.0 + 1800.0], &[16384.0]),
-            Ok(16384)
-        );
-        assert_eq!(capture_mid_scale(&[0.0; 3], &[0.0; 3]), Ok(0));
-        assert_eq!(capture_mid_scale(&[], &[]), Ok(0));
-        assert_eq!(capture_mid_scale(&[-1.0, 1e30], &[0.5]), Ok(0));
-        for bad in [2.5, f64::NAN, 2f64.powi(60), f64::INFINITY] {
-            assert!(capture_mid_scale(&[1.0, bad], &[1.0]).is_err(), "{bad}");
-        }
     }
 
     #[test]

@@ -458,16 +458,33 @@ def offset_binary_mid_scale(largest_count: float) -> int:
     ``largest_count`` (a whole number, 0 to 2^53): ``2^(b-1)`` for the smallest ``b``, at
     least 2, whose range ``2^b`` holds it; the rule an observer centres uint16 counts by."""
 
-def fixed_input(y_c: _Samples, y_s: _Samples, *, signed: bool = False) -> tuple[int, int, float, float]:
-    """How a capture's counts reach the fixed-point observer, from its first samples:
-    ``(mid_scale_counts, input_shift, amplitude, nominal_amplitude)`` (the last the
-    monitor's), the ``FixedObserver`` arguments; no mid-scale for counts stated ``signed``;
-    ``ConfigError`` (parameter ``capture``) for counts no ADC gives."""
+def fixed_input(y_c: _Samples, y_s: _Samples, mid_scale: int) -> tuple[int, int, float, float]:
+    """How a capture's counts reach the fixed-point observer, from its first samples and the
+    capture's ``mid_scale`` (``capture_counts``'s): ``(mid_scale_counts, input_shift,
+    amplitude, nominal_amplitude)`` (the last the monitor's), the ``FixedObserver``
+    arguments; ``ConfigError`` (parameter ``mid_scale_counts``) beyond an int32."""
 
-def capture_mid_scale(y_c: _Samples, y_s: _Samples) -> int:
-    """The mid-scale (counts) of a capture of whole counts read as floats, from its first
-    samples: 0 if a sample is negative or none is positive, else ``offset_binary_mid_scale``
-    of the largest; ``ConfigError`` (parameter ``capture``) for counts no ADC gives."""
+class CountsExtremes:
+    """Each channel's extremes of a capture of whole counts, gathered chunk by chunk: what
+    ``capture_counts`` reads of the whole capture."""
+
+    def __init__(self) -> None: ...
+    def add(self, y_c: _Samples, y_s: _Samples) -> None:
+        """Adds a chunk (1-D arrays of equal lengths; non-finite samples left out)."""
+    @property
+    def channels(self) -> list[Optional[tuple[float, float]]]:
+        """``y_c``'s and ``y_s``'s ``(lowest, highest)``, ``None`` for a channel without a sample."""
+
+def capture_counts(extremes: CountsExtremes, *, signed: Optional[bool] = None, bits: Optional[int] = None,
+                   unsigned_type: bool = False,
+                   state_with: str = "give adc_signed=True or adc_signed=False") -> tuple[bool, int]:
+    """``(signed, mid_scale)`` of a whole capture of counts by the crate's rule: the
+    signedness stated, else unsigned for an unsigned type, signed for a negative sample
+    anywhere, unsigned when both channels swing about one offset-binary mid-scale; else
+    ``ConfigError`` (parameter ``adc_signed``, the message ending with ``state_with``).
+    Unsigned counts are centred on ``2^(bits-1)``, else on ``offset_binary_mid_scale`` of
+    the largest sample (``ConfigError`` naming ``capture`` for counts no ADC gives, naming
+    ``adc_bits`` outside 2 to 53)."""
 
 #: The estimates a batch may be asked for (``outputs=``).
 _OutputName = Literal["angle", "position", "speed", "acceleration", "phase_error", "faults"]

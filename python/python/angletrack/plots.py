@@ -172,7 +172,7 @@ def analyse_capture(
     first = next(chunks)
     # Unsigned counts centred as `angletrack track` centres them (the same rule): the
     # figure shows what the observer sees.
-    mid = tracking.unsigned_mid_scale(reader.sample_dtype, first.y_c, first.y_s, s.adc_range)
+    mid = tracking.counts_mid_scale(s, reader.sample_dtype)
     observer = None
     lock = None
     if s.gains_file is not None or s.gains is not None:

@@ -1,17 +1,18 @@
 //! Raw ADC counts as an observer's input: integer numpy arrays (int16, uint16, int32, and
-//! numpy's default int64, range-checked) converted through the core's `AdcScaling`, with no
-//! conversion by the caller. int64 counts follow the rule `angletrack track` applies to a
-//! capture of whole numbers: with a negative count they are signed (as int32), else
-//! unsigned, centred on the offset-binary mid-scale (as uint16, up to 65535; above, the
-//! mid-scale must be stated).
+//! numpy's default int64, range-checked as int32) converted through the core's
+//! `AdcScaling`, with no conversion by the caller.
 //!
-//! The rule (the same for `track` and `Observer.update`, and `angletrack track` takes it for a
-//! capture of non-negative whole counts) is `angletrack::CountsInput`'s: the counts minus a
-//! mid-scale, divided by `adc_counts_per_unit` (default 1: the observer runs in counts), the
-//! mid-scale of uint16 counts found from the first call's samples when `adc_mid_scale` is not
-//! given. This module only moves numpy arrays in and out.
+//! The rule is `angletrack::CountsInput`'s (the crate's `counts` module): the counts minus a
+//! mid-scale, divided by `adc_counts_per_unit` (default 1: the observer runs in counts). The
+//! mid-scale is `adc_mid_scale`, else 0 for signed counts (int16 and int32 arrays, or
+//! `adc_signed=True`); `track` (the whole capture in one call) reads the rest from its
+//! samples by `angletrack::capture_counts`, while `Observer` (a stream) refuses unsigned or
+//! int64 counts whose mid-scale or signedness is not stated, naming the argument. This
+//! module only moves numpy arrays in and out and names the arguments.
 
-use angletrack::{AdcCount, CountsInput, CountsSettings};
+use angletrack::{
+    AdcCount, CountsError, CountsInput, CountsInputError, CountsSettings, Signedness,
+};
 use numpy::prelude::*;
 use numpy::{Element, PyArray1, PyArrayDescr, PyUntypedArray, dtype};
 use pyo3::prelude::*;
@@ -58,7 +59,7 @@ impl Counts {
 }
 
 /// The ADC arguments of an observer as given: the settings, and the name of the first one
-/// the caller stated (`None`: neither), refused when the samples turn out to be floats.
+/// the caller stated (`None`: none), refused when the samples turn out to be floats.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct AdcSettings {
     /// The scaling of integer counts.
@@ -67,33 +68,65 @@ pub struct AdcSettings {
     pub stated: Option<&'static str>,
 }
 
-/// The ADC arguments of an observer: `adc_mid_scale` (counts, `None`: by the rule of this
-/// module) and `adc_counts_per_unit`, checked by the core (a `ConfigError` naming either).
+/// The ADC arguments of an observer: `adc_mid_scale` (counts), `adc_counts_per_unit` and
+/// `adc_signed` (`None`: not stated), checked by the core (a `ConfigError` naming either
+/// of the first two).
 pub fn adc_settings(
     mid_scale: Option<crate::arrays::Count>,
     counts_per_unit: Option<f64>,
+    signed: Option<bool>,
 ) -> Result<AdcSettings> {
-    let stated = if mid_scale.is_some() {
-        Some("adc_mid_scale")
-    } else {
-        counts_per_unit.map(|_| "adc_counts_per_unit")
-    };
+    let stated = [
+        mid_scale.is_some().then_some("adc_mid_scale"),
+        counts_per_unit.map(|_| "adc_counts_per_unit"),
+        signed.map(|_| "adc_signed"),
+    ]
+    .into_iter()
+    .flatten()
+    .next();
     let mid_scale = mid_scale
         .map(|m| m.get::<i32>("adc_mid_scale"))
         .transpose()?;
+    let signedness = signed.map(|s| {
+        if s {
+            Signedness::Signed
+        } else {
+            Signedness::Unsigned
+        }
+    });
     Ok(AdcSettings {
-        counts: CountsSettings::new(mid_scale, counts_per_unit.unwrap_or(1.0))?,
+        counts: CountsSettings::new(mid_scale, counts_per_unit, signedness)?,
         stated,
     })
 }
 
-/// The front end of one observer: the crate's `CountsInput`, which decides the scaling at
-/// the first call with counts and keeps it, so that a capture fed in chunks is scaled alike.
+/// The front end of one observer: the crate's `CountsInput`, of a stream (`Observer`) or of
+/// a whole capture in one call (`track`).
 #[derive(Debug, Clone, Copy)]
 pub struct AdcInput<T> {
     input: CountsInput<T>,
-    mid_scale_stated: bool,
     stated: Option<&'static str>,
+}
+
+/// A `CountsInputError` as the Python caller wrote the arguments.
+fn named(e: CountsInputError) -> Error {
+    const STATE: &str =
+        "give adc_signed=True (two's complement) or adc_signed=False (offset binary)";
+    match e {
+        CountsInputError::Scaling(e) => Error::Config(e),
+        CountsInputError::Counts(e @ CountsError::Ambiguous { .. }) => {
+            Error::value("adc_signed", format!("{e}: {STATE}"))
+        }
+        CountsInputError::Counts(e) => Error::value("y_c", e.to_string()),
+        CountsInputError::StreamMidScale => Error::value(
+            "adc_mid_scale",
+            format!("{e}; give adc_mid_scale, or track the whole capture in one call with track()"),
+        ),
+        CountsInputError::StreamSignedness => Error::value(
+            "adc_signed",
+            format!("{e}; {STATE}, or give int16 or int32 arrays, which are signed"),
+        ),
+    }
 }
 
 /// The clipping arguments `adc_range` and `measure_adc_range` of an observer, checked: the
@@ -158,16 +191,24 @@ pub fn is_counts(samples: &Bound<'_, PyAny>) -> bool {
 }
 
 impl<T: Sample> AdcInput<T> {
-    /// The scaling decided at the first call with counts, if any.
+    /// The scaling of the last call with counts, if any.
     pub fn decided(&self) -> Option<angletrack_core::AdcScaling<T>> {
         self.input.decided()
     }
 
-    /// A front end that decides its scaling at the first call with counts.
-    pub fn new(settings: AdcSettings) -> Self {
+    /// Whether `adc_counts_per_unit` was stated.
+    pub fn counts_per_unit_stated(&self) -> bool {
+        self.input.settings().counts_per_unit().is_some()
+    }
+
+    /// The front end of a stream (`whole`: of a whole capture given in one call).
+    pub fn new(settings: AdcSettings, whole: bool) -> Self {
         Self {
-            input: CountsInput::new(settings.counts),
-            mid_scale_stated: settings.counts.mid_scale().is_some(),
+            input: if whole {
+                CountsInput::whole(settings.counts)
+            } else {
+                CountsInput::stream(settings.counts)
+            },
             stated: settings.stated,
         }
     }
@@ -195,9 +236,9 @@ impl<T: Sample> AdcInput<T> {
         };
         match Counts::of_samples(y_s) {
             Some((ks, s)) if ks == kind => match kind {
-                Counts::I16 => self.convert::<i16>(&c, &s),
-                Counts::U16 => self.convert::<u16>(&c, &s),
-                Counts::I32 => self.convert::<i32>(&c, &s),
+                Counts::I16 => self.convert::<i16>(&c, &s, Some(Signedness::Signed)),
+                Counts::U16 => self.convert::<u16>(&c, &s, None),
+                Counts::I32 => self.convert::<i32>(&c, &s, Some(Signedness::Signed)),
                 Counts::I64 => self.convert_i64(&c, &s),
             },
             other => {
@@ -228,25 +269,15 @@ impl<T: Sample> AdcInput<T> {
         }
     }
 
-    /// int64 counts as int32 (signed, or with the mid-scale stated or decided) or uint16
-    /// (non-negative, centred by the offset-binary rule), each checked against its range.
+    /// int64 counts as int32 (checked against its range), of no signedness of their own.
     fn convert_i64<'py>(
         &mut self,
         y_c: &Bound<'py, PyUntypedArray>,
         y_s: &Bound<'py, PyUntypedArray>,
     ) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
-        let c = counts::<i64>(y_c, "y_c")?;
-        let s = counts::<i64>(y_s, "y_s")?;
-        let signed = self.mid_scale_stated
-            || self.input.decided().is_some()
-            || c.iter().chain(&s).any(|&v| v < 0);
-        let (c, s) = if signed {
-            let (c, s) = (narrowed::<i32>(&c, "y_c")?, narrowed::<i32>(&s, "y_s")?);
-            self.input.scale(&c, &s)?
-        } else {
-            let (c, s) = (narrowed::<u16>(&c, "y_c")?, narrowed::<u16>(&s, "y_s")?);
-            self.input.scale(&c, &s)?
-        };
+        let c = narrowed(&counts::<i64>(y_c, "y_c")?, "y_c")?;
+        let s = narrowed(&counts::<i64>(y_s, "y_s")?, "y_s")?;
+        let (c, s) = self.input.scale(&c, &s, None).map_err(named)?;
         Ok((Samples::Copied(c), Samples::Copied(s)))
     }
 
@@ -254,10 +285,11 @@ impl<T: Sample> AdcInput<T> {
         &mut self,
         y_c: &Bound<'py, PyUntypedArray>,
         y_s: &Bound<'py, PyUntypedArray>,
+        signedness: Option<Signedness>,
     ) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
         let c = counts::<I>(y_c, "y_c")?;
         let s = counts::<I>(y_s, "y_s")?;
-        let (c, s) = self.input.scale(&c, &s)?;
+        let (c, s) = self.input.scale(&c, &s, signedness).map_err(named)?;
         Ok((Samples::Copied(c), Samples::Copied(s)))
     }
 }
@@ -280,23 +312,17 @@ impl Count for i16 {}
 impl Count for u16 {}
 impl Count for i32 {}
 
-/// `counts` (int64) as `I`, or a `ConfigError` naming `parameter` and the first count
-/// beyond `I`'s range.
-fn narrowed<I: TryFrom<i64>>(counts: &[i64], parameter: &'static str) -> Result<Vec<I>> {
+/// `counts` (int64) as int32, or a `ConfigError` naming `parameter` and the first count
+/// beyond its range.
+fn narrowed(counts: &[i64], parameter: &'static str) -> Result<Vec<i32>> {
     counts
         .iter()
         .enumerate()
         .map(|(k, &v)| {
-            I::try_from(v).map_err(|_| {
-                let range = if core::mem::size_of::<I>() == 2 {
-                    "0 to 65535 for unsigned counts without adc_mid_scale (state it for a wider \
-                     ADC)"
-                } else {
-                    "+-2^31 for signed counts"
-                };
+            i32::try_from(v).map_err(|_| {
                 Error::value(
                     parameter,
-                    format!("int64 count {v} at index {k} is beyond {range}"),
+                    format!("int64 count {v} at index {k} is beyond +-2^31"),
                 )
             })
         })
@@ -397,6 +423,21 @@ pub fn capture_counts(
         Err(e @ CountsError::Bits(_)) => Err(Error::value("adc_bits", e.to_string())),
         Err(e @ CountsError::NotCounts(_)) => Err(Error::value("capture", e.to_string())),
     }
+}
+
+/// The diagnostics' thresholds of a whole capture whose first samples are `y_c`, `y_s`
+/// (`angletrack::capture_fault_thresholds`): `FaultThresholds(nominal_amplitude=A)` with
+/// `A` the median magnitude of the first 4096 samples (the defaults when it is not
+/// positive). What `track` measures, and what a caller feeding the capture to an `Observer`
+/// in chunks states with `fault_thresholds=`.
+#[pyfunction]
+pub fn capture_fault_thresholds(
+    y_c: &Bound<'_, PyAny>,
+    y_s: &Bound<'_, PyAny>,
+) -> Result<crate::diagnostics::PyFaultThresholds> {
+    let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
+    let t = angletrack::capture_fault_thresholds(c.as_slice(), s.as_slice());
+    Ok(crate::diagnostics::PyFaultThresholds::from_typed(&t))
 }
 
 /// How a capture's counts reach the fixed-point observer, from its first samples `y_c`,

@@ -111,7 +111,8 @@ pub use capture_counts::{
 };
 pub use carrier::measured_carrier_cycles_per_sample;
 pub use counts::{
-    AdcCount, CountsInput, CountsSettings, UnsignedCountsError, offset_binary_mid_scale,
+    AdcCount, CountsInput, CountsInputError, CountsSettings, UnsignedCountsError,
+    offset_binary_mid_scale,
 };
 pub use design::{
     AnyDesign, Design, DesignMethod, Discretisation, FixedDesignConstants, KalmanSolution,
@@ -132,7 +133,7 @@ pub use sim::{
     fixed_monitor_amplitude, nominal_amplitude, online_calibration, run, run_calibrated,
     with_fixed_clipping,
 };
-pub use thresholds::ThresholdPolicy;
+pub use thresholds::{ThresholdInput, ThresholdPolicy, ThresholdsNotStated};
 pub use winding_rails::WindingRails;
 pub use windings_plan::{
     AdcRangeSource, CARRIER_TOLERANCE, SAMPLES_PER_PERIOD_TOLERANCE, WindingsPlan,

@@ -180,7 +180,8 @@ def analyse_capture(
         # `track --dtype fixed --plot`: the figure draws the float observer (the fixed-point
         # chain's estimates are the output's).
         dtype = np.dtype("float64" if s.dtype == "fixed" else s.dtype)
-        observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos)
+        observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos,
+                                       fault_thresholds=tracking.fault_thresholds(first, mid))
         rate_hz: Optional[float] = gains.sample_rate_hz
         if first.reference_rad is None:
             lock = _lock_detector(gains, s.lock_tolerance_rad)

@@ -22,7 +22,7 @@ import numpy as np
 import angletrack
 from angletrack import capture as capture_io
 from angletrack import clipping, export, harmonics
-from angletrack._angletrack import CountsExtremes, capture_counts
+from angletrack._angletrack import CountsExtremes, capture_counts, capture_fault_thresholds
 
 #: Relative difference of two sample rates taken as the same rate (the time column's
 #: spacing check uses the same 1 %).
@@ -300,6 +300,15 @@ def counts_mid_scale(s: TrackSettings, sample_dtype: str) -> float:
     return float(mid)
 
 
+def fault_thresholds(first, mid: float) -> angletrack.FaultThresholds:
+    """The diagnostics' thresholds of the capture whose first chunk is ``first`` (mid-scale
+    ``mid`` removed): scaled to its amplitude (``capture_fault_thresholds``: the median
+    magnitude of its first 4096 samples), as ``angletrack.track`` scales a whole capture's.
+    Stated to the observer, which is fed in chunks and measures nothing itself."""
+    return capture_fault_thresholds(np.ascontiguousarray(first.y_c - mid, dtype=np.float64),
+                                    np.ascontiguousarray(first.y_s - mid, dtype=np.float64))
+
+
 def finishing_checks(s: TrackSettings, observer, stats: Optional[_ErrorStatistics]) -> list[str]:
     """The checks at the end of the capture, made inside the writer's block so that a run
     they refuse leaves no estimates (the writer discards its temporary file): ``--calibrate``
@@ -349,14 +358,17 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     mid = counts_mid_scale(s, reader.sample_dtype)
     adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
     shifted = None if adc_range is None else (adc_range[0] - mid, adc_range[1] - mid)
+    thresholds = fault_thresholds(first, mid)
     # No range stated or found on the first chunk: the rails measured as the samples come
     # (clipping that starts later in the capture).
     if calibration is not None:
         observer = harmonics.CalibratedObserver(gains, calibration, dtype=dtype, sin_cos=s.sin_cos,
-                                                adc_range=shifted, measure_adc_range=shifted is None)
+                                                adc_range=shifted, measure_adc_range=shifted is None,
+                                                fault_thresholds=thresholds)
     else:
         observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos, adc_range=shifted,
-                                       measure_adc_range=shifted is None, **s.observer_arguments)
+                                       measure_adc_range=shifted is None, fault_thresholds=thresholds,
+                                       **s.observer_arguments)
     progress = _Progress(s.progress)
     rejected, y_c_sum, flagged = 0, 0.0, 0
     ranges = _Ranges()

@@ -275,8 +275,9 @@ impl<T: Sample> AdcInput<T> {
         y_c: &Bound<'py, PyUntypedArray>,
         y_s: &Bound<'py, PyUntypedArray>,
     ) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
-        let c = narrowed(&counts::<i64>(y_c, "y_c")?, "y_c")?;
-        let s = narrowed(&counts::<i64>(y_s, "y_s")?, "y_s")?;
+        // Both arrays' shapes first, then their ranges, as for the other dtypes.
+        let (c, s) = (counts::<i64>(y_c, "y_c")?, counts::<i64>(y_s, "y_s")?);
+        let (c, s) = (narrowed(&c, "y_c")?, narrowed(&s, "y_s")?);
         let (c, s) = self.input.scale(&c, &s, None).map_err(named)?;
         Ok((Samples::Copied(c), Samples::Copied(s)))
     }
@@ -335,8 +336,8 @@ const LARGEST_EXACT_COUNT: f64 = 9_007_199_254_740_992.0;
 
 /// The mid-scale (counts) of unsigned, offset-binary ADC counts whose largest sample is
 /// `largest_count` (a whole number, 0 to 2^53): `2^(b-1)` for the smallest `b`, at least 2,
-/// whose range `2^b` holds it (2048 for 12-bit counts up to 4095). The rule by which an
-/// observer centres uint16 counts without `adc_mid_scale`.
+/// whose range `2^b` holds it (2048 for 12-bit counts up to 4095). What `track` removes
+/// from uint16 counts without `adc_mid_scale` (the largest sample of the whole capture).
 ///
 /// >>> from angletrack._angletrack import offset_binary_mid_scale
 /// >>> offset_binary_mid_scale(4095), offset_binary_mid_scale(4096)

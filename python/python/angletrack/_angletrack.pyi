@@ -473,7 +473,8 @@ def plan_windings(
 def offset_binary_mid_scale(largest_count: float) -> int:
     """The mid-scale (counts) of unsigned, offset-binary ADC counts whose largest sample is
     ``largest_count`` (a whole number, 0 to 2^53): ``2^(b-1)`` for the smallest ``b``, at
-    least 2, whose range ``2^b`` holds it; the rule an observer centres uint16 counts by."""
+    least 2, whose range ``2^b`` holds it; what ``track`` removes from uint16 counts
+    without ``adc_mid_scale`` (the largest sample of the whole capture)."""
 
 def fixed_input(y_c: _Samples, y_s: _Samples, mid_scale: int) -> tuple[int, int, float, float]:
     """How a capture's counts reach the fixed-point observer, from its first samples and the

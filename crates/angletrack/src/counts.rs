@@ -326,8 +326,8 @@ mod tests {
     #[test]
     fn a_stream_scales_every_chunk_alike_or_refuses() {
         // Fed in chunks of 1, 7 or at once, a stream scales by what is stated only: the
-        // same counts whatever the chunks (by its first chunk's largest sample, 1024 was
-        // taken for this capture at rest below 2048).
+        // same counts whatever the chunks (a first chunk's largest sample would give 1024
+        // for this capture at rest below 2048).
         let (c, s) = resting_then_turning();
         let settings = CountsSettings::new(Some(2048), None, None).unwrap();
         let mut one = CountsInput::<f64>::stream(settings);

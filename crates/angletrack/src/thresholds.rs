@@ -142,9 +142,9 @@ mod tests {
 
     #[test]
     fn a_stream_is_monitored_alike_whatever_its_first_chunk() {
-        // A biased signal: the magnitude of its first samples is not its amplitude. A
-        // stream's thresholds do not depend on them (they were the median of the first
-        // call's samples: one sample in chunks of 1).
+        // A biased signal: the magnitude of its first samples is not its amplitude, and a
+        // first call's median magnitude would be one sample's in chunks of 1. A stream's
+        // thresholds do not depend on them.
         let mut policy = ThresholdPolicy::<f64>::stream(None);
         for chunk in [[1.6], [0.3], [-0.4]] {
             assert_eq!(

@@ -17,6 +17,7 @@ use pyo3::types::{PyDict, PyList};
 
 use crate::arrays::{Count, check_equal_lengths, samples};
 use crate::counts::Clipping;
+use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::{Arg, PhaseSinCos, Run, RunSettings, Sample};
 use crate::errors::{Error, Result};
 use crate::estimates::{Estimates, OutputArrays};
@@ -278,9 +279,6 @@ type CorrectedStagesState<T> = (((FrontEndCheckState, ()), HeldRails<T>), ((), (
 struct Corrected<T: Sample, const N: usize, S: PhaseSinCos<T>> {
     chain: Chain<CorrectedStages<T>, Gains<T, N, S>>,
     state: ChainState<CorrectedStagesState<T>, ObserverState<T, N>>,
-    /// The monitor's thresholds: scaled to the first call's samples (`ThresholdPolicy`),
-    /// so that counts or volts are monitored as normalised signals are.
-    thresholds: ThresholdPolicy<T>,
 }
 
 impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for Corrected<T, N, S> {
@@ -288,9 +286,6 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for Corrected<T, N, S> {
         let (c, s) = (samples::<T>(y_c, "y_c")?, samples::<T>(y_s, "y_s")?);
         let (c, s) = (c.as_slice(), s.as_slice());
         check_equal_lengths(("y_c", c.len()), ("y_s", s.len()))?;
-        if let Some(thresholds) = self.thresholds.decide(c, s) {
-            self.chain.observer = self.chain.observer.with_fault_thresholds(thresholds)?;
-        }
         let n = c.len();
         let out = OutputArrays::<T>::new(py, n)?;
         let (chain, state) = (&self.chain, &mut self.state);
@@ -308,8 +303,15 @@ pub fn corrected<T: Sample, const N: usize, S: PhaseSinCos<T>>(
     clipping: Clipping,
     sensor: &SensorCalibration<f64>,
     correction: &AngleCorrection<f64>,
+    thresholds: Option<PyFaultThresholds>,
 ) -> Result<Box<dyn Run>> {
     let f = T::from_f64;
+    // A stream of floats: the thresholds given, or the defaults (the crate's rule).
+    let policy = ThresholdPolicy::stream(thresholds.map(|t| t.typed()));
+    let gains = match policy.thresholds() {
+        Some(t) => gains.with_fault_thresholds(t)?,
+        None => gains,
+    };
     let stated = match clipping.range {
         Some((min, max)) => Some(
             FrontEndCheck::around((), Some((f(min), f(max))))
@@ -325,7 +327,6 @@ pub fn corrected<T: Sample, const N: usize, S: PhaseSinCos<T>>(
     Ok(Box::new(Corrected {
         chain: Chain::new(((stated, measured), (sensor, correction)), gains),
         state: ChainState::new(),
-        thresholds: ThresholdPolicy::new(None),
     }))
 }
 
@@ -335,7 +336,8 @@ pub fn corrected<T: Sample, const N: usize, S: PhaseSinCos<T>>(
 /// float64) with `sin_cos` (the default of the dtype); its state carries over from one
 /// `update` to the next, so a capture can be tracked chunk by chunk. The raw samples are
 /// checked for clipping against `adc_range`, or with `measure_adc_range` against the rails
-/// measured, as `Observer` checks them.
+/// measured, as `Observer` checks them; the diagnostics' thresholds are `fault_thresholds`,
+/// else those of amplitude 1, as `Observer`'s for floats.
 #[pyclass(name = "_CorrectedObserver", module = "angletrack")]
 #[derive(Debug)]
 pub struct PyCorrectedObserver {
@@ -346,7 +348,7 @@ pub struct PyCorrectedObserver {
 impl PyCorrectedObserver {
     #[new]
     #[pyo3(signature = (gains, sensor, cos, sin, *, dtype = None, sin_cos = None,
-        adc_range = None, measure_adc_range = false))]
+        adc_range = None, measure_adc_range = false, fault_thresholds = None))]
     #[allow(clippy::too_many_arguments)]
     fn py_new(
         gains: PyGains,
@@ -357,14 +359,18 @@ impl PyCorrectedObserver {
         sin_cos: Option<&str>,
         adc_range: Option<(f64, f64)>,
         measure_adc_range: bool,
+        fault_thresholds: Option<PyFaultThresholds>,
     ) -> Result<Self> {
         let (sensor, correction) = checked(sensor, cos, sin)?;
         let settings = RunSettings::from_arguments(gains, dtype, sin_cos)?;
         let clipping = Clipping::of_floats(adc_range, measure_adc_range)?;
         Ok(Self {
-            inner: settings
-                .typed_gains()?
-                .corrected(clipping, &sensor, &correction)?,
+            inner: settings.typed_gains()?.corrected(
+                clipping,
+                &sensor,
+                &correction,
+                fault_thresholds,
+            )?,
         })
     }
 

@@ -1,17 +1,18 @@
 //! Raw ADC counts as an observer's input: integer numpy arrays (int16, uint16, int32, and
-//! numpy's default int64, range-checked) converted through the core's `AdcScaling`, with no
-//! conversion by the caller. int64 counts follow the rule `angletrack track` applies to a
-//! capture of whole numbers: with a negative count they are signed (as int32), else
-//! unsigned, centred on the offset-binary mid-scale (as uint16, up to 65535; above, the
-//! mid-scale must be stated).
+//! numpy's default int64, range-checked as int32) converted through the core's
+//! `AdcScaling`, with no conversion by the caller.
 //!
-//! The rule (the same for `track` and `Observer.update`, and `angletrack track` takes it for a
-//! capture of non-negative whole counts) is `angletrack::CountsInput`'s: the counts minus a
-//! mid-scale, divided by `adc_counts_per_unit` (default 1: the observer runs in counts), the
-//! mid-scale of uint16 counts found from the first call's samples when `adc_mid_scale` is not
-//! given. This module only moves numpy arrays in and out.
+//! The rule is `angletrack::CountsInput`'s (the crate's `counts` module): the counts minus a
+//! mid-scale, divided by `adc_counts_per_unit` (default 1: the observer runs in counts). The
+//! mid-scale is `adc_mid_scale`, else 0 for signed counts (int16 and int32 arrays, or
+//! `adc_signed=True`); `track` (the whole capture in one call) reads the rest from its
+//! samples by `angletrack::capture_counts`, while `Observer` (a stream) refuses unsigned or
+//! int64 counts whose mid-scale or signedness is not stated, naming the argument. This
+//! module only moves numpy arrays in and out and names the arguments.
 
-use angletrack::{AdcCount, CountsInput, CountsSettings};
+use angletrack::{
+    AdcCount, CountsError, CountsInput, CountsInputError, CountsSettings, Signedness,
+};
 use numpy::prelude::*;
 use numpy::{Element, PyArray1, PyArrayDescr, PyUntypedArray, dtype};
 use pyo3::prelude::*;
@@ -58,7 +59,7 @@ impl Counts {
 }
 
 /// The ADC arguments of an observer as given: the settings, and the name of the first one
-/// the caller stated (`None`: neither), refused when the samples turn out to be floats.
+/// the caller stated (`None`: none), refused when the samples turn out to be floats.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct AdcSettings {
     /// The scaling of integer counts.
@@ -67,33 +68,65 @@ pub struct AdcSettings {
     pub stated: Option<&'static str>,
 }
 
-/// The ADC arguments of an observer: `adc_mid_scale` (counts, `None`: by the rule of this
-/// module) and `adc_counts_per_unit`, checked by the core (a `ConfigError` naming either).
+/// The ADC arguments of an observer: `adc_mid_scale` (counts), `adc_counts_per_unit` and
+/// `adc_signed` (`None`: not stated), checked by the core (a `ConfigError` naming either
+/// of the first two).
 pub fn adc_settings(
     mid_scale: Option<crate::arrays::Count>,
     counts_per_unit: Option<f64>,
+    signed: Option<bool>,
 ) -> Result<AdcSettings> {
-    let stated = if mid_scale.is_some() {
-        Some("adc_mid_scale")
-    } else {
-        counts_per_unit.map(|_| "adc_counts_per_unit")
-    };
+    let stated = [
+        mid_scale.is_some().then_some("adc_mid_scale"),
+        counts_per_unit.map(|_| "adc_counts_per_unit"),
+        signed.map(|_| "adc_signed"),
+    ]
+    .into_iter()
+    .flatten()
+    .next();
     let mid_scale = mid_scale
         .map(|m| m.get::<i32>("adc_mid_scale"))
         .transpose()?;
+    let signedness = signed.map(|s| {
+        if s {
+            Signedness::Signed
+        } else {
+            Signedness::Unsigned
+        }
+    });
     Ok(AdcSettings {
-        counts: CountsSettings::new(mid_scale, counts_per_unit.unwrap_or(1.0))?,
+        counts: CountsSettings::new(mid_scale, counts_per_unit, signedness)?,
         stated,
     })
 }
 
-/// The front end of one observer: the crate's `CountsInput`, which decides the scaling at
-/// the first call with counts and keeps it, so that a capture fed in chunks is scaled alike.
+/// The front end of one observer: the crate's `CountsInput`, of a stream (`Observer`) or of
+/// a whole capture in one call (`track`).
 #[derive(Debug, Clone, Copy)]
 pub struct AdcInput<T> {
     input: CountsInput<T>,
-    mid_scale_stated: bool,
     stated: Option<&'static str>,
+}
+
+/// A `CountsInputError` as the Python caller wrote the arguments.
+fn named(e: CountsInputError) -> Error {
+    const STATE: &str =
+        "give adc_signed=True (two's complement) or adc_signed=False (offset binary)";
+    match e {
+        CountsInputError::Scaling(e) => Error::Config(e),
+        CountsInputError::Counts(e @ CountsError::Ambiguous { .. }) => {
+            Error::value("adc_signed", format!("{e}: {STATE}"))
+        }
+        CountsInputError::Counts(e) => Error::value("y_c", e.to_string()),
+        CountsInputError::StreamMidScale => Error::value(
+            "adc_mid_scale",
+            format!("{e}; give adc_mid_scale, or track the whole capture in one call with track()"),
+        ),
+        CountsInputError::StreamSignedness => Error::value(
+            "adc_signed",
+            format!("{e}; {STATE}, or give int16 or int32 arrays, which are signed"),
+        ),
+    }
 }
 
 /// The clipping arguments `adc_range` and `measure_adc_range` of an observer, checked: the
@@ -158,16 +191,24 @@ pub fn is_counts(samples: &Bound<'_, PyAny>) -> bool {
 }
 
 impl<T: Sample> AdcInput<T> {
-    /// The scaling decided at the first call with counts, if any.
+    /// The scaling of the last call with counts, if any.
     pub fn decided(&self) -> Option<angletrack_core::AdcScaling<T>> {
         self.input.decided()
     }
 
-    /// A front end that decides its scaling at the first call with counts.
-    pub fn new(settings: AdcSettings) -> Self {
+    /// Whether `adc_counts_per_unit` was stated.
+    pub fn counts_per_unit_stated(&self) -> bool {
+        self.input.settings().counts_per_unit().is_some()
+    }
+
+    /// The front end of a stream (`whole`: of a whole capture given in one call).
+    pub fn new(settings: AdcSettings, whole: bool) -> Self {
         Self {
-            input: CountsInput::new(settings.counts),
-            mid_scale_stated: settings.counts.mid_scale().is_some(),
+            input: if whole {
+                CountsInput::whole(settings.counts)
+            } else {
+                CountsInput::stream(settings.counts)
+            },
             stated: settings.stated,
         }
     }
@@ -195,9 +236,9 @@ impl<T: Sample> AdcInput<T> {
         };
         match Counts::of_samples(y_s) {
             Some((ks, s)) if ks == kind => match kind {
-                Counts::I16 => self.convert::<i16>(&c, &s),
-                Counts::U16 => self.convert::<u16>(&c, &s),
-                Counts::I32 => self.convert::<i32>(&c, &s),
+                Counts::I16 => self.convert::<i16>(&c, &s, Some(Signedness::Signed)),
+                Counts::U16 => self.convert::<u16>(&c, &s, None),
+                Counts::I32 => self.convert::<i32>(&c, &s, Some(Signedness::Signed)),
                 Counts::I64 => self.convert_i64(&c, &s),
             },
             other => {
@@ -228,25 +269,16 @@ impl<T: Sample> AdcInput<T> {
         }
     }
 
-    /// int64 counts as int32 (signed, or with the mid-scale stated or decided) or uint16
-    /// (non-negative, centred by the offset-binary rule), each checked against its range.
+    /// int64 counts as int32 (checked against its range), of no signedness of their own.
     fn convert_i64<'py>(
         &mut self,
         y_c: &Bound<'py, PyUntypedArray>,
         y_s: &Bound<'py, PyUntypedArray>,
     ) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
-        let c = counts::<i64>(y_c, "y_c")?;
-        let s = counts::<i64>(y_s, "y_s")?;
-        let signed = self.mid_scale_stated
-            || self.input.decided().is_some()
-            || c.iter().chain(&s).any(|&v| v < 0);
-        let (c, s) = if signed {
-            let (c, s) = (narrowed::<i32>(&c, "y_c")?, narrowed::<i32>(&s, "y_s")?);
-            self.input.scale(&c, &s)?
-        } else {
-            let (c, s) = (narrowed::<u16>(&c, "y_c")?, narrowed::<u16>(&s, "y_s")?);
-            self.input.scale(&c, &s)?
-        };
+        // Both arrays' shapes first, then their ranges, as for the other dtypes.
+        let (c, s) = (counts::<i64>(y_c, "y_c")?, counts::<i64>(y_s, "y_s")?);
+        let (c, s) = (narrowed(&c, "y_c")?, narrowed(&s, "y_s")?);
+        let (c, s) = self.input.scale(&c, &s, None).map_err(named)?;
         Ok((Samples::Copied(c), Samples::Copied(s)))
     }
 
@@ -254,10 +286,11 @@ impl<T: Sample> AdcInput<T> {
         &mut self,
         y_c: &Bound<'py, PyUntypedArray>,
         y_s: &Bound<'py, PyUntypedArray>,
+        signedness: Option<Signedness>,
     ) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
         let c = counts::<I>(y_c, "y_c")?;
         let s = counts::<I>(y_s, "y_s")?;
-        let (c, s) = self.input.scale(&c, &s)?;
+        let (c, s) = self.input.scale(&c, &s, signedness).map_err(named)?;
         Ok((Samples::Copied(c), Samples::Copied(s)))
     }
 }
@@ -280,23 +313,17 @@ impl Count for i16 {}
 impl Count for u16 {}
 impl Count for i32 {}
 
-/// `counts` (int64) as `I`, or a `ConfigError` naming `parameter` and the first count
-/// beyond `I`'s range.
-fn narrowed<I: TryFrom<i64>>(counts: &[i64], parameter: &'static str) -> Result<Vec<I>> {
+/// `counts` (int64) as int32, or a `ConfigError` naming `parameter` and the first count
+/// beyond its range.
+fn narrowed(counts: &[i64], parameter: &'static str) -> Result<Vec<i32>> {
     counts
         .iter()
         .enumerate()
         .map(|(k, &v)| {
-            I::try_from(v).map_err(|_| {
-                let range = if core::mem::size_of::<I>() == 2 {
-                    "0 to 65535 for unsigned counts without adc_mid_scale (state it for a wider \
-                     ADC)"
-                } else {
-                    "+-2^31 for signed counts"
-                };
+            i32::try_from(v).map_err(|_| {
                 Error::value(
                     parameter,
-                    format!("int64 count {v} at index {k} is beyond {range}"),
+                    format!("int64 count {v} at index {k} is beyond +-2^31"),
                 )
             })
         })
@@ -309,8 +336,8 @@ const LARGEST_EXACT_COUNT: f64 = 9_007_199_254_740_992.0;
 
 /// The mid-scale (counts) of unsigned, offset-binary ADC counts whose largest sample is
 /// `largest_count` (a whole number, 0 to 2^53): `2^(b-1)` for the smallest `b`, at least 2,
-/// whose range `2^b` holds it (2048 for 12-bit counts up to 4095). The rule by which an
-/// observer centres uint16 counts without `adc_mid_scale`.
+/// whose range `2^b` holds it (2048 for 12-bit counts up to 4095). What `track` removes
+/// from uint16 counts without `adc_mid_scale` (the largest sample of the whole capture).
 ///
 /// >>> from angletrack._angletrack import offset_binary_mid_scale
 /// >>> offset_binary_mid_scale(4095), offset_binary_mid_scale(4096)
@@ -332,32 +359,102 @@ pub fn offset_binary_mid_scale(largest_count: f64) -> Result<u64> {
     Ok(angletrack::offset_binary_mid_scale(largest))
 }
 
-/// The mid-scale (counts) of a capture of whole counts read as floats, from its first
-/// samples `y_c`, `y_s` (`angletrack::capture_mid_scale`): 0 for signed counts or a capture
-/// centred already, else `offset_binary_mid_scale` of the largest sample. A `ConfigError`
-/// (parameter `capture`) for counts no ADC gives.
+/// Each channel's extremes of a capture of whole counts, gathered chunk by chunk
+/// (`angletrack::CountsExtremes`): what `capture_counts` reads of the whole capture.
+#[pyclass(name = "CountsExtremes", module = "angletrack")]
+#[derive(Debug, Clone, Default)]
+pub struct PyCountsExtremes {
+    inner: angletrack::CountsExtremes,
+}
+
+#[pymethods]
+impl PyCountsExtremes {
+    /// No sample yet.
+    #[new]
+    fn py_new() -> Self {
+        Self::default()
+    }
+
+    /// Adds the chunk `y_c`, `y_s` (1-D arrays of equal lengths).
+    fn add(&mut self, y_c: &Bound<'_, PyAny>, y_s: &Bound<'_, PyAny>) -> Result<()> {
+        let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
+        self.inner.add(c.as_slice(), s.as_slice());
+        Ok(())
+    }
+
+    /// `y_c`'s and `y_s`'s `(lowest, highest)`, `None` for a channel without a sample.
+    #[getter]
+    fn channels(&self) -> [Option<(f64, f64)>; 2] {
+        self.inner.channels()
+    }
+}
+
+/// The signedness and mid-scale of a whole capture of counts (`angletrack::capture_counts`):
+/// `(signed, mid_scale)` from the signedness and resolution stated (`None`: not stated),
+/// whether the counts' type is unsigned, and the capture's `extremes`. A `ConfigError`
+/// naming `adc_signed` when the capture does not show its signedness (its message ends with
+/// `state_with`, how the caller states it), naming `adc_bits` for a resolution outside 2 to
+/// 53, naming `capture` for counts no ADC gives.
 #[pyfunction]
-pub fn capture_mid_scale(y_c: &Bound<'_, PyAny>, y_s: &Bound<'_, PyAny>) -> Result<u64> {
+#[pyo3(signature = (extremes, *, signed = None, bits = None, unsigned_type = false,
+    state_with = "give adc_signed=True or adc_signed=False"))]
+pub fn capture_counts(
+    extremes: &PyCountsExtremes,
+    signed: Option<bool>,
+    bits: Option<u32>,
+    unsigned_type: bool,
+    state_with: &str,
+) -> Result<(bool, u64)> {
+    use angletrack::{CountsError, Signedness, StatedCounts};
+    let stated = StatedCounts {
+        signedness: signed.map(|s| {
+            if s {
+                Signedness::Signed
+            } else {
+                Signedness::Unsigned
+            }
+        }),
+        bits,
+    };
+    match angletrack::capture_counts(stated, unsigned_type, &extremes.inner) {
+        Ok(c) => Ok((c.signedness == Signedness::Signed, c.mid_scale)),
+        Err(e @ CountsError::Ambiguous { .. }) => {
+            Err(Error::value("adc_signed", format!("{e}: {state_with}")))
+        }
+        Err(e @ CountsError::Bits(_)) => Err(Error::value("adc_bits", e.to_string())),
+        Err(e @ CountsError::NotCounts(_)) => Err(Error::value("capture", e.to_string())),
+    }
+}
+
+/// The diagnostics' thresholds of a whole capture whose first samples are `y_c`, `y_s`
+/// (`angletrack::capture_fault_thresholds`): `FaultThresholds(nominal_amplitude=A)` with
+/// `A` the median magnitude of the first 4096 samples (the defaults when it is not
+/// positive). What `track` measures, and what a caller feeding the capture to an `Observer`
+/// in chunks states with `fault_thresholds=`.
+#[pyfunction]
+pub fn capture_fault_thresholds(
+    y_c: &Bound<'_, PyAny>,
+    y_s: &Bound<'_, PyAny>,
+) -> Result<crate::diagnostics::PyFaultThresholds> {
     let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
-    angletrack::capture_mid_scale(c.as_slice(), s.as_slice())
-        .map_err(|e| Error::value("capture", e.to_string()))
+    let t = angletrack::capture_fault_thresholds(c.as_slice(), s.as_slice());
+    Ok(crate::diagnostics::PyFaultThresholds::from_typed(&t))
 }
 
 /// How a capture's counts reach the fixed-point observer, from its first samples `y_c`,
-/// `y_s` (`angletrack::fixed_input`): `(mid_scale_counts, input_shift, amplitude,
-/// nominal_amplitude)`, the last the monitor's (the `FixedObserver` arguments); no
-/// mid-scale for counts stated `signed`. A `ConfigError` (parameter `capture`) for counts
-/// no ADC gives.
+/// `y_s` and the capture's `mid_scale` (`capture_counts`'s; `angletrack::fixed_input`):
+/// `(mid_scale_counts, input_shift, amplitude, nominal_amplitude)`, the last the monitor's
+/// (the `FixedObserver` arguments). A `ConfigError` naming `mid_scale_counts` beyond an
+/// int32.
 #[pyfunction]
-#[pyo3(signature = (y_c, y_s, *, signed = false))]
+#[pyo3(signature = (y_c, y_s, mid_scale))]
 pub fn fixed_input(
     y_c: &Bound<'_, PyAny>,
     y_s: &Bound<'_, PyAny>,
-    signed: bool,
+    mid_scale: u64,
 ) -> Result<(i32, u32, f64, f64)> {
     let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
-    let i = angletrack::fixed_input(c.as_slice(), s.as_slice(), signed)
-        .map_err(|e| Error::value("capture", e.to_string()))?;
+    let i = angletrack::fixed_input(c.as_slice(), s.as_slice(), mid_scale)?;
     Ok((
         i.mid_scale_counts,
         i.shift,

@@ -80,6 +80,7 @@ pub trait TypedGains {
         clipping: Clipping,
         sensor: &SensorCalibration<f64>,
         correction: &AngleCorrection<f64>,
+        thresholds: Option<crate::diagnostics::PyFaultThresholds>,
     ) -> Result<Box<dyn Run>>;
 }
 
@@ -97,8 +98,9 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> TypedGains for CoreGains<T, N
         clipping: Clipping,
         sensor: &SensorCalibration<f64>,
         correction: &AngleCorrection<f64>,
+        thresholds: Option<crate::diagnostics::PyFaultThresholds>,
     ) -> Result<Box<dyn Run>> {
-        crate::angle_calibration::corrected(*self, clipping, sensor, correction)
+        crate::angle_calibration::corrected(*self, clipping, sensor, correction, thresholds)
     }
 }
 

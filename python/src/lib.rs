@@ -63,7 +63,9 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<carrier::PyWindingsPlan>()?;
     m.add("HELD_RAIL_SAMPLES", angletrack::core::HELD_RAIL_SAMPLES)?;
     m.add_function(wrap_pyfunction!(counts::offset_binary_mid_scale, m)?)?;
-    m.add_function(wrap_pyfunction!(counts::capture_mid_scale, m)?)?;
+    m.add_function(wrap_pyfunction!(counts::capture_counts, m)?)?;
+    m.add_function(wrap_pyfunction!(counts::capture_fault_thresholds, m)?)?;
+    m.add_class::<counts::PyCountsExtremes>()?;
     m.add_function(wrap_pyfunction!(counts::fixed_input, m)?)?;
     design_functions::register(m)?;
     scenario::register(m)?;

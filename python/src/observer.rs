@@ -19,8 +19,11 @@ use crate::gains::PyGains;
 /// What `Observer` and `track` are asked for besides the gains, float type and sin/cos.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct ObserverOptions {
-    /// The diagnostics' thresholds; `None`: scaled to the first call's samples.
+    /// The diagnostics' thresholds; `None`: by the crate's `ThresholdPolicy`.
     pub thresholds: Option<PyFaultThresholds>,
+    /// Whether the samples come in one call holding the whole capture (`track`), not as a
+    /// stream (`Observer`).
+    pub whole: bool,
     /// How integer counts are scaled, and which ADC arguments were given.
     pub adc: AdcSettings,
     /// The online calibration.
@@ -80,18 +83,22 @@ fn finite(values: &[(&'static str, f64)]) -> Result<()> {
 /// An angle tracking observer running on numpy arrays: checked gains plus a state that
 /// persists between calls, so a capture fed in chunks gives exactly the result of one call.
 ///
-/// Samples may be floats of the observer's dtype or raw ADC counts (int16, uint16, int32),
-/// converted exactly: minus `adc_mid_scale` (default 0 for signed counts; for uint16 the
-/// mid-scale of the smallest offset-binary ADC that holds the first call's samples, 2048
-/// for counts up to 4095) and divided by `adc_counts_per_unit` (default 1: the observer
-/// runs in counts). The loop is amplitude-invariant, so counts or volts track alike. The
-/// two ADC arguments apply to counts only: float samples with either given are refused
-/// (`ConfigError` naming it), not tracked unscaled.
+/// Samples may be floats of the observer's dtype or raw ADC counts (int16, uint16, int32,
+/// int64), converted exactly: minus `adc_mid_scale` and divided by `adc_counts_per_unit`
+/// (default 1: the observer runs in counts). Nothing is read from the samples, so that
+/// chunks of any size give the result of one call: without `adc_mid_scale`, int16 and int32
+/// counts (or any with `adc_signed=True`) are signed, mid-scale 0; uint16 counts (or any with
+/// `adc_signed=False`) are refused, naming `adc_mid_scale`; int64 counts without
+/// `adc_signed` are refused, naming it. The loop is amplitude-invariant, so counts or volts
+/// track alike. The ADC arguments apply to counts only: float samples with any given are
+/// refused (`ConfigError` naming it), not tracked unscaled.
 ///
-/// `fault_thresholds=None` (the default) scales the diagnostics to the signal: at the
-/// first `update`, `FaultThresholds(nominal_amplitude=A)` with `A` the median magnitude
-/// `sqrt(y_c^2 + y_s^2)` of its first 4096 samples (amplitude 1 if that is not positive);
-/// give thresholds to state the amplitude yourself.
+/// `fault_thresholds=None` (the default): the diagnostics' defaults, those of a signal of
+/// amplitude 1 in the observer's units: floats of amplitude about 1, or counts with
+/// `adc_counts_per_unit` their amplitude in counts. Raw counts in counts (no
+/// `adc_counts_per_unit`) are refused without thresholds (`ConfigError` naming
+/// `fault_thresholds`): give `FaultThresholds(nominal_amplitude=A)` with `A` in the samples'
+/// units. Never measured on the first call, whose samples depend on the chunks.
 ///
 /// `adc_range=(min, max)`: the ADC's range in the samples' units (counts for integer
 /// samples): a sample at or beyond it in either channel is flagged `Faults.FRONT_END`, and
@@ -122,8 +129,8 @@ impl PyObserver {
     #[new]
     #[pyo3(signature = (gains, *, dtype = None, sin_cos = None, fault_thresholds = None,
         calibration = None, initial_calibration = None, adc_mid_scale = None,
-        adc_counts_per_unit = None, adc_range = None, measure_adc_range = false,
-        winding_amplitude = None))]
+        adc_counts_per_unit = None, adc_signed = None, adc_range = None,
+        measure_adc_range = false, winding_amplitude = None))]
     #[allow(clippy::too_many_arguments)]
     fn py_new(
         gains: PyGains,
@@ -134,13 +141,15 @@ impl PyObserver {
         initial_calibration: Option<PySensorCalibration>,
         adc_mid_scale: Option<Count>,
         adc_counts_per_unit: Option<f64>,
+        adc_signed: Option<bool>,
         adc_range: Option<(f64, f64)>,
         measure_adc_range: bool,
         winding_amplitude: Option<f64>,
     ) -> Result<PyClassInitializer<Self>> {
         let options = ObserverOptions {
             thresholds: fault_thresholds,
-            adc: adc_settings(adc_mid_scale, adc_counts_per_unit)?,
+            whole: false,
+            adc: adc_settings(adc_mid_scale, adc_counts_per_unit, adc_signed)?,
             calibration: CalibrationChoice::new(calibration, initial_calibration)?,
             clipping: Clipping::of_floats(adc_range, measure_adc_range)?,
             winding_amplitude,
@@ -241,8 +250,7 @@ impl PyObserver {
         self.inner.clear_faults().bits()
     }
 
-    /// The diagnostics thresholds the observer runs with; `None` until the first `update`
-    /// when they are scaled to its samples.
+    /// The diagnostics thresholds the observer runs with (given, or the defaults).
     #[getter]
     fn fault_thresholds(&self) -> Option<PyFaultThresholds> {
         self.inner.fault_thresholds()
@@ -314,15 +322,20 @@ impl PyObserver {
     }
 }
 
-/// Runs a fresh observer with `gains` over `y_c`, `y_s` in the samples' own dtype (float32
-/// or float64; float64 for raw ADC counts, int16, uint16, int32 or int64, scaled as
-/// `Observer` does; `adc_mid_scale` or `adc_counts_per_unit` with float samples is a
-/// `ConfigError` naming it) and returns the estimates. `fault_thresholds=None` scales the
-/// diagnostics to the samples' own amplitude, as `Observer` does; `adc_range=(min, max)`
-/// flags samples clipped against it, as `Observer` does.
+/// Runs a fresh observer with `gains` over the whole capture `y_c`, `y_s` in the samples'
+/// own dtype (float32 or float64; float64 for raw ADC counts, int16, uint16, int32 or
+/// int64) and returns the estimates. Counts are scaled as `Observer` scales them, except
+/// that what is not stated is read from the whole capture (the crate's `capture_counts`):
+/// uint16 counts, or counts with `adc_signed=False`, lose the offset-binary mid-scale of
+/// the largest sample; int64 counts are signed with a negative sample, unsigned when both
+/// channels swing about one offset-binary mid-scale, else refused (`ConfigError` naming
+/// `adc_signed`). `fault_thresholds=None` scales the diagnostics to the capture's own
+/// amplitude (the median magnitude of its first 4096 samples). `adc_mid_scale`,
+/// `adc_counts_per_unit` or `adc_signed` with float samples is a `ConfigError` naming it;
+/// `adc_range=(min, max)` flags samples clipped against it, as `Observer` does.
 #[pyfunction]
 #[pyo3(signature = (gains, y_c, y_s, *, sin_cos = None, fault_thresholds = None,
-    adc_mid_scale = None, adc_counts_per_unit = None, adc_range = None))]
+    adc_mid_scale = None, adc_counts_per_unit = None, adc_signed = None, adc_range = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn track(
     py: Python<'_>,
@@ -333,12 +346,14 @@ pub fn track(
     fault_thresholds: Option<PyFaultThresholds>,
     adc_mid_scale: Option<Count>,
     adc_counts_per_unit: Option<f64>,
+    adc_signed: Option<bool>,
     adc_range: Option<(f64, f64)>,
 ) -> Result<Estimates> {
     let settings = RunSettings::new(gains, Float::of_samples(y_c, "y_c")?, sin_cos)?;
     let options = ObserverOptions {
         thresholds: fault_thresholds,
-        adc: adc_settings(adc_mid_scale, adc_counts_per_unit)?,
+        whole: true,
+        adc: adc_settings(adc_mid_scale, adc_counts_per_unit, adc_signed)?,
         calibration: CalibrationChoice::default(),
         clipping: Clipping::of_floats(adc_range, false)?,
         winding_amplitude: None,

@@ -2,7 +2,7 @@
 //! and its run over numpy arrays through the front-end chain (the ADC range check, the rails
 //! measured, the winding check, the online calibration).
 
-use angletrack::{EstimateColumns, ThresholdPolicy, online_calibration};
+use angletrack::{EstimateColumns, ThresholdInput, ThresholdPolicy, online_calibration};
 use angletrack_core::{
     CalibrationMode, CalibrationStatus, Calibrator, Chain, ChainState, Faults, FrontEndCheck,
     FrontEndCheckState, FrontEndFaults, Gains as CoreGains, HeldRailCheck, HeldRails,
@@ -21,7 +21,7 @@ use crate::observer::{ObserverOps, ObserverOptions};
 
 /// The core observer behind the binding's front end: integer counts scaled
 /// (`crate::counts`), the online calibration, and the diagnostics' thresholds by the crate's
-/// `ThresholdPolicy` (scaled to the first call's samples when the caller gave none).
+/// `ThresholdPolicy` (of a stream for `Observer`, of a whole capture for `track`).
 #[derive(Debug)]
 pub struct Channel<T: Real, const N: usize, S> {
     observer: CoreObserver<T, N, S>,
@@ -38,7 +38,12 @@ pub struct Channel<T: Real, const N: usize, S> {
 impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Channel<T, N, S> {
     /// The observer of `gains` with `options`.
     pub fn new(gains: CoreGains<T, N, S>, options: &ObserverOptions) -> Result<Self> {
-        let thresholds = ThresholdPolicy::new(options.thresholds.map(|t| t.typed()));
+        let given = options.thresholds.map(|t| t.typed());
+        let thresholds = if options.whole {
+            ThresholdPolicy::whole(given)
+        } else {
+            ThresholdPolicy::stream(given)
+        };
         let gains = match thresholds.thresholds() {
             Some(t) => gains.with_fault_thresholds(t)?,
             None => gains,
@@ -46,7 +51,7 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Channel<T, N, S> {
         Ok(Self {
             observer: CoreObserver::new(gains),
             calibrator: options.calibration.calibrator()?,
-            adc: AdcInput::new(options.adc),
+            adc: AdcInput::new(options.adc, options.whole),
             thresholds,
             adc_range: options.clipping.range,
             held_rails: options.clipping.measure.then_some(HeldRailCheck::new()),
@@ -100,7 +105,23 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
         if let Some(faults) = front_end_faults {
             check_equal_lengths(("y_c", y_c.len()), ("front_end_faults", faults.len()))?;
         }
-        if let Some(thresholds) = self.thresholds.decide(y_c, y_s) {
+        let input = if counts {
+            ThresholdInput::Counts {
+                counts_per_unit_stated: self.adc.counts_per_unit_stated(),
+            }
+        } else {
+            ThresholdInput::Floats
+        };
+        let decided = self.thresholds.decide(input, y_c, y_s).map_err(|e| {
+            Error::value(
+                "fault_thresholds",
+                format!(
+                    "{e}: give fault_thresholds=FaultThresholds(nominal_amplitude=A) with A \
+                         in counts, or adc_counts_per_unit=A"
+                ),
+            )
+        })?;
+        if let Some(thresholds) = decided {
             self.observer.gains = self.observer.gains.with_fault_thresholds(thresholds)?;
         }
         let check = FrontEndCheck::around((), self.range_in_units(counts))
@@ -162,7 +183,7 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
     }
 
     fn fault_thresholds(&self) -> Option<PyFaultThresholds> {
-        // The gains' own (checked) thresholds, once the policy has decided them.
+        // The gains' own (checked) thresholds, once the policy has them.
         let thresholds = self.observer.gains.fault_thresholds();
         self.thresholds
             .thresholds()

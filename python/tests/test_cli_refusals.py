@@ -231,6 +231,42 @@ def test_a_stated_signed_range_rules_out_the_unsigned_mid_scale(tmp_path, capsys
     assert np.max(np.abs(estimates["angle_rad"][200:] - theta[200:])) < 3e-3
 
 
+@pytest.mark.parametrize("dtype", ["float64", "fixed"])
+def test_signed_counts_at_rest_in_the_first_quadrant_are_read_from_the_whole_capture(tmp_path, capsys, gains,
+                                                                                     dtype):
+    # Signed counts at rest at 0.5 rad for longer than the first chunk (65,536 rows), then
+    # turning: the negative samples later in the capture make them signed (read from the
+    # first samples they were taken as unsigned: 1.13 rad RMS, advice --calibrate).
+    theta = np.concatenate([np.full(70_000, 0.5), 0.5 + 2 * math.pi * 50.0 * np.arange(1, 5001) / RATE_HZ])
+    cap = counts(tmp_path / "signed.npy", theta, 0.0)
+    out = tmp_path / "s.csv"
+    status, err = run(capsys, "track", cap, "--sample-rate", RATE_HZ, "--gains-file", gains, "--dtype", dtype,
+                      "-o", out)
+    assert status == 0, err
+    angle_rad = np.genfromtxt(out, delimiter=",", names=True)["angle_rad"]
+    # Measured 0 at rest, 0.05 rad at the step to 50 rev/s, within 3 mrad of it after 20 ms.
+    assert np.max(np.abs(angle_rad[:70_000] - 0.5)) < 1e-3
+    assert np.max(np.abs(angle_rad[70_200:] - np.remainder(theta[70_200:] + math.pi, 2 * math.pi) + math.pi)) < 3e-3
+    # The same counts cut before they turn show no signedness: refused, not guessed.
+    short = counts(tmp_path / "still.npy", theta[:1000], 0.0)
+    refused(capsys, "track", short, "--sample-rate", RATE_HZ, "--gains-file", gains, "--dtype", dtype, "-o", out,
+            flag="--adc-signed or --adc-unsigned")
+
+
+@pytest.mark.parametrize("dtype", ["float64", "fixed"])
+def test_a_still_shaft_in_unsigned_counts_is_not_clipping(tmp_path, capsys, gains, dtype):
+    # 12-bit offset-binary counts, noise-free, the rotor at rest at 60 degrees: its
+    # constant channels held no rail (every row was flagged CLIPPING, the angle 0 rad).
+    cap = counts(tmp_path / "still.npy", np.full(20_000, math.pi / 3), 2048.0, amplitude=1800.0)
+    out = tmp_path / "s.csv"
+    status, err = run(capsys, "track", cap, "--sample-rate", RATE_HZ, "--gains-file", gains, "--dtype", dtype,
+                      "--adc-unsigned", "-o", out)
+    assert status == 0, err
+    estimates = np.genfromtxt(out, delimiter=",", names=True)
+    assert not np.any(estimates["faults"])
+    assert np.max(np.abs(estimates["angle_rad"] - math.pi / 3)) < 1e-3
+
+
 def test_the_plot_centres_unsigned_counts_as_track_does(tmp_path, gains):
     # Unsigned 12-bit counts on mid-scale 2048: the figure's angle error (plot, track --plot)
     # is measured on the counts centred as the observer sees them.

@@ -400,7 +400,8 @@ def test_fixed_and_float_observers_measure_the_rails_or_take_the_range():
     fixed = dict(mid_scale_counts=2048, input_shift=3, nominal_amplitude=None)
     for observer in (angletrack.FixedObserver(design, measure_adc_range=True, **fixed),
                      angletrack.FixedObserver(design, adc_range=(0, 4095), **fixed),
-                     angletrack.Observer(gains, adc_mid_scale=2048, measure_adc_range=True)):
+                     angletrack.Observer(gains, adc_mid_scale=2048, measure_adc_range=True,
+                                         fault_thresholds=angletrack.FaultThresholds(nominal_amplitude=2662.0))):
         est = observer.update(c, s)
         flagged = (np.asarray(est.faults).astype(int) & FRONT_END) != 0
         assert np.all(flagged[400:] == at_rail[400:]), observer

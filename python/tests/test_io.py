@@ -253,8 +253,17 @@ def test_refusals_name_their_argument_and_int64_counts_are_taken():
     # A batch takes floats of amplitude about 1, not counts (test_argument_checks.py).
     with pytest.raises(TypeError, match=r"^y_c: .*raw ADC counts of dtype int64"):
         angletrack.track_batch(g, np.stack([c64, c64]), np.stack([s64, s64]))
-    with pytest.raises(angletrack.ConfigError, match=r"^y_s: int64 count 70000 at index 1 is beyond 0 to 65535"):
+    with pytest.raises(angletrack.ConfigError, match=r"^y_s: int64 count 1099511627776 at index 1 is beyond"):
+        angletrack.track(g, c64[:3], np.array([1, 2**40, 2]))
+    # int64 counts that do not show their signedness (all non-negative, no swing about a
+    # mid-scale) are refused naming adc_signed, not guessed; stated, they are tracked.
+    with pytest.raises(angletrack.ConfigError, match=r"^adc_signed: .*adc_signed=True"):
         angletrack.track(g, c64[:3], np.array([1, 70000, 2]))
+    still_c, still_s = np.full(2000, 2048 + 900), np.full(2000, 2048 + 1559)
+    with pytest.raises(angletrack.ConfigError, match=r"^adc_signed: "):
+        angletrack.track(g, still_c, still_s)
+    at_rest = angletrack.track(g, still_c, still_s, adc_signed=False)
+    assert abs(at_rest.angle[-1] - np.pi / 3) < 1e-3 and not np.any(at_rest.faults)
 
 
 def test_constructors_show_their_signatures_and_stubs_return_types():

@@ -69,41 +69,56 @@ def test_signed_counts_track_exactly_as_their_float64_values(dtype):
     assert from_counts.dtype == "float64"
     np.testing.assert_array_equal(from_counts.position, from_floats.position)
     np.testing.assert_array_equal(from_counts.faults, from_floats.faults)
-    # No unit stated: the diagnostics follow the signal (1800 counts), no sample is rejected.
+    # No unit stated: track's diagnostics follow the capture (1800 counts), no sample is rejected.
     assert not (from_counts.faults & at.Faults.BAD_SAMPLE).any()
-    obs = at.Observer(gains)
-    assert obs.fault_thresholds is None
-    obs.update(c, s)
+    # An Observer, fed in chunks, measures nothing: raw counts in counts need their
+    # amplitude stated, which capture_fault_thresholds measures as track does.
+    with pytest.raises(at.ConfigError, match="^fault_thresholds: raw counts fed in chunks"):
+        at.Observer(gains).update(c, s)
+    thresholds = at.capture_fault_thresholds(c.astype(np.float64), s.astype(np.float64))
+    obs = at.Observer(gains, fault_thresholds=thresholds)
+    np.testing.assert_array_equal(obs.update(c, s).faults, from_counts.faults)
     assert abs(obs.fault_thresholds.nominal_amplitude / AMPLITUDE - 1.0) < 0.1
     assert not at.Faults(obs.latched_faults) & (at.Faults.BAD_SAMPLE | at.Faults.LOSS_OF_TRACKING)
     assert abs(obs.amplitude / AMPLITUDE - 1.0) < 0.2
 
 
 def test_track_and_the_observer_centre_unsigned_counts_by_one_rule():
-    from angletrack import tracking
-
     gains = at.Gains(KALMAN, SAMPLE_PERIOD)
     sc = constant_speed(at.SensorModel(amplitude=AMPLITUDE, noise_std=5.0), turns=1)
+    X = at._angletrack
     for centre in (2048, 16384):  # 12-bit and 15-bit counts
         raw_c, raw_s = counts(sc.y_c + centre, np.uint16), counts(sc.y_s + centre, np.uint16)
-        # What `angletrack track` removes from a capture of whole counts (float64 chunks) ...
-        mid = tracking.unsigned_mid_scale("int64", raw_c.astype(np.float64), raw_s.astype(np.float64))
-        assert mid == centre
+        # What `angletrack track` removes from a capture of whole counts (float64 chunks):
+        # a whole turn swinging about the mid-scale shows offset binary ...
+        extremes = X.CountsExtremes()
+        extremes.add(raw_c.astype(np.float64), raw_s.astype(np.float64))
+        signed, mid = X.capture_counts(extremes)
+        assert (signed, mid) == (False, centre)
         # ... is what the observer removes from uint16 counts by itself.
         np.testing.assert_array_equal(at.track(gains, raw_c, raw_s).position,
                                       at.track(gains, raw_c, raw_s, adc_mid_scale=int(mid)).position)
-    assert [at._angletrack.offset_binary_mid_scale(n) for n in (0, 1, 3, 4, 4095, 4096, 65535)] == [
+    assert [X.offset_binary_mid_scale(n) for n in (0, 1, 3, 4, 4095, 4096, 65535)] == [
         2, 2, 2, 4, 2048, 4096, 32768]
-    # Signed counts, physical units and a capture without a positive count are centred already.
-    assert tracking.unsigned_mid_scale("int64", np.array([-3.0, 4000.0]), np.array([5.0, 6.0])) == 0
-    assert tracking.unsigned_mid_scale("float64", np.array([3.0]), np.array([5.0])) == 0
-    assert tracking.unsigned_mid_scale("int64", np.zeros(3), np.zeros(3)) == 0
+    # A negative count anywhere: signed. Stated: as stated. Neither shown nor stated: refused,
+    # naming the argument and how to state it.
+    extremes = X.CountsExtremes()
+    extremes.add(np.array([3.0, 4000.0]), np.array([5.0, 6.0]))
+    assert X.capture_counts(extremes, signed=True) == (True, 0)
+    assert X.capture_counts(extremes, signed=False, bits=12) == (False, 2048)
+    with pytest.raises(ValueError, match="^adc_signed: .*state it: say so") as e:
+        X.capture_counts(extremes, state_with="say so")
+    assert e.value.parameter == "adc_signed"
+    extremes.add(np.array([-3.0]), np.array([5.0]))
+    assert X.capture_counts(extremes) == (True, 0)
     for bad in (-1.0, 0.5, float("nan"), 2.0**60):
         with pytest.raises(ValueError, match="largest_count"):
-            at._angletrack.offset_binary_mid_scale(bad)
-    # Through track, counts beyond what float64 holds exactly name the capture, not the binding's argument.
+            X.offset_binary_mid_scale(bad)
+    # Counts beyond what float64 holds exactly name the capture, not the binding's argument.
+    huge = X.CountsExtremes()
+    huge.add(np.array([1.0, 2.0**60]), np.array([1.0, 1.0]))
     with pytest.raises(ValueError, match="^capture: unsigned counts up to"):
-        tracking.unsigned_mid_scale("uint64", np.array([1.0, 2.0**60]), np.array([1.0, 1.0]))
+        X.capture_counts(huge, unsigned_type=True)
 
 
 def test_unsigned_counts_take_the_offset_binary_mid_scale_of_their_range():
@@ -119,12 +134,36 @@ def test_unsigned_counts_take_the_offset_binary_mid_scale_of_their_range():
     # In units of full scale: the same angles (the loop is amplitude-invariant).
     scaled = at.track(gains, raw_c, raw_s, adc_mid_scale=2048, adc_counts_per_unit=2048.0)
     np.testing.assert_allclose(scaled.position, signed.position, rtol=0, atol=1e-9)
-    # Fed in chunks to an observer, float32: the first chunk fixes the scaling.
-    obs = at.Observer(gains, dtype=np.float32)
+    # Fed in chunks to an observer, float32: nothing read from a chunk, the mid-scale and
+    # the amplitude stated (refused without them), the chunks give the one call's result.
+    with pytest.raises(at.ConfigError, match="^adc_mid_scale: unsigned counts fed in chunks"):
+        at.Observer(gains, dtype=np.float32).update(raw_c, raw_s)
+    stated = dict(adc_mid_scale=2048, fault_thresholds=at.FaultThresholds(nominal_amplitude=AMPLITUDE))
+    obs = at.Observer(gains, dtype=np.float32, **stated)
     parts = [obs.update(raw_c[a:b], raw_s[a:b]) for a, b in [(0, 1000), (1000, len(raw_c))]]
-    whole = at.Observer(gains, dtype=np.float32).update(raw_c, raw_s)
+    whole = at.Observer(gains, dtype=np.float32, **stated).update(raw_c, raw_s)
     np.testing.assert_array_equal(np.concatenate([p.position for p in parts]), whole.position)
     assert np.max(np.abs(np.angle(np.exp(1j * (sc.angle_rad - whole.position)))[2000:])) < 0.05
+
+
+@pytest.mark.parametrize("chunk", [1, 7, 1000])
+def test_chunks_of_any_size_give_the_angles_and_flags_of_one_call(chunk):
+    # Biased signals, whose first samples' magnitude is not their amplitude: the thresholds
+    # were the median magnitude of the first call's samples (one sample in chunks of 1), and
+    # 2,880 of these 20,000 rows' flags differed from one call's. Now nothing is read from
+    # a call: the floats run with the defaults (amplitude 1), the counts as stated.
+    gains = at.Gains(KALMAN, SAMPLE_PERIOD)
+    theta = 0.3 + 2 * np.pi * 20.0 * SAMPLE_PERIOD * np.arange(20_000)
+    floats = (0.6 + np.cos(theta), -0.4 + 0.9 * np.sin(theta))
+    raw = (counts(2948 + 1000 * np.cos(theta), np.uint16), counts(1348 + 900 * np.sin(theta), np.uint16))
+    stated = dict(adc_mid_scale=2048, fault_thresholds=at.FaultThresholds(nominal_amplitude=1000.0))
+    for (c, s), options in ((floats, {}), (raw, stated)):
+        one = at.Observer(gains, **options).update(c, s)
+        assert np.count_nonzero(one.faults) > 1000  # the bias degrades the signal: flagged
+        observer = at.Observer(gains, **options)
+        parts = [observer.update(c[k:k + chunk], s[k:k + chunk]) for k in range(0, len(c), chunk)]
+        for name in ("angle", "position", "speed", "faults"):
+            np.testing.assert_array_equal(np.concatenate([getattr(p, name) for p in parts]), getattr(one, name))
 
 
 def test_a_batch_takes_counts_scaled_to_amplitude_1_as_an_observer_does():
@@ -194,10 +233,11 @@ def test_an_observer_learns_the_calibration_and_applies_it_frozen():
     gains = at.Gains(KALMAN, SAMPLE_PERIOD)
     c, s = counts(sc.y_c), counts(sc.y_s)
     first = first_converged_sample()
-    plain = at.Observer(gains)
+    stated = dict(fault_thresholds=at.FaultThresholds(nominal_amplitude=AMPLITUDE))
+    plain = at.Observer(gains, **stated)
     assert plain.calibration_mode == "off"
     uncorrected, _ = error_without_mean(sc.angle_rad, plain.update(c, s).position, first)
-    learning = at.Observer(gains, calibration="learn")
+    learning = at.Observer(gains, calibration="learn", **stated)
     corrected, _ = error_without_mean(sc.angle_rad, learning.update(c, s).position, first)
     assert 0.05 < uncorrected < 0.075 and corrected < 3e-3, (uncorrected, corrected)
     learned = learning.calibration
@@ -211,7 +251,7 @@ def test_an_observer_learns_the_calibration_and_applies_it_frozen():
     assert abs(learned.amplitude_ratio - 1.1) < 5e-3
     assert abs(learned.quadrature_rad - math.radians(3.0)) < 5e-3
     # Frozen at what was learned, from the first sample: corrected after two turns.
-    frozen = at.Observer(gains, calibration="frozen", initial_calibration=learned)
+    frozen = at.Observer(gains, calibration="frozen", initial_calibration=learned, **stated)
     early, _ = error_without_mean(sc.angle_rad, frozen.update(c, s).position, first // 10)
     assert early < 3e-3 and frozen.calibration == learned and frozen.calibration_turns_learned == 16
     frozen.set_calibration(None)

@@ -1,27 +1,42 @@
 //! Raw ADC counts as an observer's input: the mid-scale subtracted, divided by the counts
-//! per unit (the core's [`AdcScaling`]), with the mid-scale found from the counts when none
-//! is given.
+//! per unit (the core's [`AdcScaling`]).
 //!
-//! The rule ([`AdcCount::default_mid_scale`]): signed counts (`i16`, `i32`) have had their
-//! mid-scale removed already (0); unsigned counts (`u16`, an offset-binary ADC) are centred
-//! on [`offset_binary_mid_scale`] of their largest sample, `2^(b-1)` for the smallest
-//! `b`-bit range that holds it, since a signal centred on the mid-scale always exceeds it.
-//! A capture fed in chunks is scaled alike throughout: [`CountsInput`] decides the scaling
-//! at its first chunk and keeps it. The loop needs no more (its phase error is normalised);
-//! the monitor's amplitudes follow the signal ([`ThresholdPolicy`](crate::ThresholdPolicy)).
+//! The mid-scale is stated, or follows from the counts' type and, for a whole capture, the
+//! module [`capture_counts`]'s rule; it is never read from one chunk of a stream, which would
+//! scale a capture fed in chunks otherwise than the same capture in one call
+//! ([`CountsInput`]):
+//! * a stated mid-scale is removed as stated;
+//! * counts of a type the caller chose as signed (`i16`, `i32` arrays) have it removed already
+//!   (0);
+//! * otherwise a [`CountsInput::whole`] capture (every sample in one call) is decided by
+//!   [`capture_counts`]: the signedness stated, else unsigned for an unsigned type (`u16`),
+//!   signed for a negative sample, unsigned when both channels swing about one offset-binary
+//!   mid-scale, else refused;
+//! * a [`CountsInput::stream`] (chunks to come) refuses unsigned counts without a stated
+//!   mid-scale, and counts of no stated signedness, as it cannot see the whole capture.
 //!
 //! ```
-//! use angletrack::{CountsInput, CountsSettings};
-//! // A 12-bit offset-binary ADC: a zero signal reads 2048.
-//! let mut input = CountsInput::<f32>::new(CountsSettings::default());
-//! let (y_c, y_s) = input.scale(&[4000_u16, 2048, 96], &[2048_u16, 4000, 2048])?;
+//! use angletrack::{CountsInput, CountsSettings, Signedness};
+//! // A 12-bit offset-binary ADC, its mid-scale stated: a zero signal reads 2048.
+//! let settings = CountsSettings::new(Some(2048), None, None)?;
+//! let mut input = CountsInput::<f32>::stream(settings);
+//! let (y_c, y_s) = input.scale(&[4000_u16, 2048, 96], &[2048_u16, 4000, 2048], None)?;
 //! assert_eq!((y_c, y_s), (vec![1952.0, 0.0, -1952.0], vec![0.0, 1952.0, 0.0]));
-//! // The next chunk keeps the first one's mid-scale, whatever its largest sample.
-//! assert_eq!(input.scale(&[1000_u16], &[2048_u16])?.0, vec![-1048.0]);
-//! # Ok::<(), angletrack::ConfigError>(())
+//! // Not stated: a stream of unsigned counts is refused; a whole capture shows it.
+//! let mut stream = CountsInput::<f32>::stream(CountsSettings::default());
+//! assert!(stream.scale(&[4000_u16], &[2048_u16], None).is_err());
+//! let mut whole = CountsInput::<f32>::whole(CountsSettings::default());
+//! assert_eq!(whole.scale(&[4000_u16], &[2048_u16], None)?.0, vec![1952.0]);
+//! // Signed counts: by their type, or stated.
+//! assert_eq!(stream.scale(&[-7_i32], &[7_i32], Some(Signedness::Signed))?.0, vec![-7.0]);
+//! # Ok::<(), angletrack::CountsInputError>(())
 //! ```
 
 use angletrack_core::{AdcSample, AdcScaling, ConfigError, Real};
+
+use crate::capture_counts::{
+    CountsError, CountsExtremes, Signedness, StatedCounts, capture_counts,
+};
 
 /// The mid-scale `2^(b-1)` (counts) of unsigned, offset-binary ADC counts (0 to `2^b - 1`,
 /// a zero signal at `2^(b-1)`) whose largest sample is `largest_count`, for the smallest
@@ -37,10 +52,6 @@ pub fn offset_binary_mid_scale(largest_count: u64) -> u64 {
     let bits = (u64::BITS - largest_count.leading_zeros()).max(2);
     1 << (bits - 1)
 }
-
-/// The largest count [`capture_mid_scale`] takes: 2^53, below which every whole number is
-/// an `f64`.
-const LARGEST_EXACT_COUNT: f64 = 9_007_199_254_740_992.0;
 
 /// A capture's counts that no offset-binary ADC gives: the largest sample is not a whole
 /// number from 0 to 2^53.
@@ -62,170 +73,195 @@ impl core::fmt::Display for UnsignedCountsError {
 
 impl std::error::Error for UnsignedCountsError {}
 
-/// The mid-scale of a capture of whole counts read as `f64` (integers in a text file, of
-/// any width), from its first samples: 0 when a sample is negative or none is positive
-/// (signed counts, or centred already), else [`offset_binary_mid_scale`] of the largest
-/// sample, the rule of `u16` counts ([`AdcCount::default_mid_scale`]).
-///
-/// ```
-/// use angletrack::capture_mid_scale;
-/// assert_eq!(capture_mid_scale(&[4000.0, 2048.0], &[96.0, 2048.0])?, 2048);
-/// assert_eq!(capture_mid_scale(&[-3.0, 4000.0], &[5.0, 6.0])?, 0);
-/// assert!(capture_mid_scale(&[1.0, 2f64.powi(60)], &[1.0])
-///     .unwrap_err()
-///     .to_string()
-///     .starts_with("unsigned counts up to 1152921504606846976"));
-/// # Ok::<(), angletrack::UnsignedCountsError>(())
-/// ```
-pub fn capture_mid_scale(y_c: &[f64], y_s: &[f64]) -> Result<u64, UnsignedCountsError> {
-    let samples = || y_c.iter().chain(y_s).copied();
-    if samples().any(|x| x < 0.0) {
-        return Ok(0);
-    }
-    // NaN wins the fold, and is refused below.
-    let largest = samples().fold(0.0_f64, |m, x| {
-        if x.is_nan() || m.is_nan() {
-            f64::NAN
-        } else {
-            m.max(x)
-        }
-    });
-    if largest == 0.0 {
-        return Ok(0);
-    }
-    if !(largest.fract() == 0.0 && largest <= LARGEST_EXACT_COUNT) {
-        return Err(UnsignedCountsError { largest });
-    }
-    // Checked above: a whole number from 1 to 2^53, exact as a u64.
-    Ok(offset_binary_mid_scale(largest as u64))
-}
-
-/// An integer type of raw ADC counts, with the mid-scale it is centred on when none is
-/// given (the module's rule).
+/// An integer type of raw ADC counts.
 pub trait AdcCount: AdcSample {
-    /// The mid-scale of the first samples `y_c`, `y_s` of a capture of this type.
-    fn default_mid_scale(y_c: &[Self], y_s: &[Self]) -> i32
-    where
-        Self: Sized;
+    /// The signedness the type itself states: unsigned for `u16`, none for the others
+    /// (whose caller states it, or not).
+    const UNSIGNED: bool;
+    /// The count as an `f64` (exact).
+    fn count(self) -> f64;
 }
 
 impl AdcCount for i16 {
-    /// 0: signed counts have their mid-scale removed.
-    fn default_mid_scale(_: &[Self], _: &[Self]) -> i32 {
-        0
+    const UNSIGNED: bool = false;
+    fn count(self) -> f64 {
+        f64::from(self)
     }
 }
 
 impl AdcCount for i32 {
-    /// 0: signed counts have their mid-scale removed.
-    fn default_mid_scale(_: &[Self], _: &[Self]) -> i32 {
-        0
+    const UNSIGNED: bool = false;
+    fn count(self) -> f64 {
+        f64::from(self)
     }
 }
 
 impl AdcCount for u16 {
-    /// [`offset_binary_mid_scale`] of the largest sample (2 for no sample).
-    fn default_mid_scale(y_c: &[Self], y_s: &[Self]) -> i32 {
-        let largest = y_c.iter().chain(y_s).copied().max().unwrap_or(0);
-        // At most 2^15 for a u16's largest sample: an i32 holds it.
-        i32::try_from(offset_binary_mid_scale(u64::from(largest))).unwrap_or(i32::MAX)
+    const UNSIGNED: bool = true;
+    fn count(self) -> f64 {
+        f64::from(self)
     }
 }
 
-/// How counts are scaled: the mid-scale (`None`: by the module's rule) and the counts per
-/// unit of the observer's input (1: the observer runs in counts). Checked by the core.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// What the caller stated of the counts: the mid-scale, the counts per unit of the
+/// observer's input (`None`: 1, the observer runs in counts) and the signedness. Checked
+/// by the core.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct CountsSettings {
     mid_scale: Option<i32>,
-    counts_per_unit: f64,
+    counts_per_unit: Option<f64>,
+    signedness: Option<Signedness>,
 }
 
 impl CountsSettings {
     /// The settings, checked as the core's [`AdcScaling::new`] checks them (a
     /// [`ConfigError`] naming the mid-scale or the counts per unit).
-    pub fn new(mid_scale: Option<i32>, counts_per_unit: f64) -> Result<Self, ConfigError> {
-        AdcScaling::<f64>::new(mid_scale.unwrap_or(0), counts_per_unit)?;
+    pub fn new(
+        mid_scale: Option<i32>,
+        counts_per_unit: Option<f64>,
+        signedness: Option<Signedness>,
+    ) -> Result<Self, ConfigError> {
+        AdcScaling::<f64>::new(mid_scale.unwrap_or(0), counts_per_unit.unwrap_or(1.0))?;
         Ok(Self {
             mid_scale,
             counts_per_unit,
+            signedness,
         })
     }
 
-    /// The mid-scale given, if any.
+    /// The mid-scale stated, if any.
     pub fn mid_scale(&self) -> Option<i32> {
         self.mid_scale
     }
 
-    /// The counts per unit.
-    pub fn counts_per_unit(&self) -> f64 {
+    /// The counts per unit stated, if any (1 when not).
+    pub fn counts_per_unit(&self) -> Option<f64> {
         self.counts_per_unit
     }
 
-    /// The scaling of a capture whose first samples are `y_c`, `y_s`: the mid-scale given,
-    /// else [`AdcCount::default_mid_scale`] of these samples.
-    pub fn scaling<T: Real, I: AdcCount>(
-        &self,
-        y_c: &[I],
-        y_s: &[I],
-    ) -> Result<AdcScaling<T>, ConfigError> {
-        let mid_scale = self
-            .mid_scale
-            .unwrap_or_else(|| I::default_mid_scale(y_c, y_s));
-        AdcScaling::new(mid_scale, T::from_f64(self.counts_per_unit))
+    /// The signedness stated, if any.
+    pub fn signedness(&self) -> Option<Signedness> {
+        self.signedness
     }
 }
 
-impl Default for CountsSettings {
-    /// The mid-scale by the module's rule, one count per unit.
-    fn default() -> Self {
-        Self {
-            mid_scale: None,
-            counts_per_unit: 1.0,
+/// Why a [`CountsInput`] scales no counts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CountsInputError {
+    /// The scaling the core refuses.
+    Scaling(ConfigError),
+    /// A whole capture that [`capture_counts`] decides nothing for.
+    Counts(CountsError),
+    /// Unsigned counts of a stream without a stated mid-scale.
+    StreamMidScale,
+    /// Counts of a stream of no signedness stated (by the caller or the type).
+    StreamSignedness,
+}
+
+impl core::fmt::Display for CountsInputError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            CountsInputError::Scaling(e) => e.fmt(f),
+            CountsInputError::Counts(e) => e.fmt(f),
+            CountsInputError::StreamMidScale => f.write_str(
+                "unsigned counts fed in chunks need their mid-scale stated (2048 for a 12-bit \
+                 ADC): no chunk shows the whole capture's",
+            ),
+            CountsInputError::StreamSignedness => f.write_str(
+                "counts fed in chunks need their signedness stated: no chunk shows the whole \
+                 capture's",
+            ),
         }
     }
 }
 
-/// The counts of one observer's input: the scaling is decided at the first chunk of
-/// counts ([`CountsSettings::scaling`]) and kept for the chunks after it.
+impl std::error::Error for CountsInputError {}
+
+impl From<ConfigError> for CountsInputError {
+    fn from(e: ConfigError) -> Self {
+        CountsInputError::Scaling(e)
+    }
+}
+
+/// The counts of one observer's input, scaled by the module's rule: the same scaling for
+/// every call, decided without reading the samples ([`CountsInput::stream`]) or from the
+/// one call that holds the whole capture ([`CountsInput::whole`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CountsInput<T> {
     settings: CountsSettings,
+    whole: bool,
     scaling: Option<AdcScaling<T>>,
 }
 
 impl<T: Real> CountsInput<T> {
-    /// An input that decides its scaling at its first chunk.
-    pub fn new(settings: CountsSettings) -> Self {
+    /// The input of a stream: chunks to come, none of which shows the whole capture.
+    pub fn stream(settings: CountsSettings) -> Self {
         Self {
             settings,
+            whole: false,
             scaling: None,
         }
     }
 
-    /// The scaling decided, `None` before the first chunk.
+    /// The input of a whole capture, given in one call.
+    pub fn whole(settings: CountsSettings) -> Self {
+        Self {
+            whole: true,
+            ..Self::stream(settings)
+        }
+    }
+
+    /// The settings stated.
+    pub fn settings(&self) -> CountsSettings {
+        self.settings
+    }
+
+    /// The scaling of the last chunk, `None` before the first.
     pub fn decided(&self) -> Option<AdcScaling<T>> {
         self.scaling
     }
 
-    /// The scaling of the chunk `y_c`, `y_s`: decided from it if it is the first.
+    /// The scaling of the chunk `y_c`, `y_s` of counts of type `I`, `signedness` the one the
+    /// caller's choice of type states (`None`: none; the settings' own comes first).
     pub fn scaling<I: AdcCount>(
         &mut self,
         y_c: &[I],
         y_s: &[I],
-    ) -> Result<AdcScaling<T>, ConfigError> {
-        match self.scaling {
-            Some(scaling) => Ok(scaling),
-            None => Ok(*self.scaling.insert(self.settings.scaling(y_c, y_s)?)),
-        }
+        signedness: Option<Signedness>,
+    ) -> Result<AdcScaling<T>, CountsInputError> {
+        let signedness = self.settings.signedness.or(signedness);
+        let mid_scale = match (self.settings.mid_scale, signedness) {
+            (Some(mid), _) => mid,
+            (None, Some(Signedness::Signed)) => 0,
+            (None, _) if self.whole => {
+                let count = |y: &[I]| -> Vec<f64> { y.iter().map(|&v| v.count()).collect() };
+                let extremes = CountsExtremes::of(&count(y_c), &count(y_s));
+                let stated = StatedCounts {
+                    signedness,
+                    bits: None,
+                };
+                let decided = capture_counts(stated, I::UNSIGNED, &extremes)
+                    .map_err(CountsInputError::Counts)?;
+                i32::try_from(decided.mid_scale).map_err(|_| {
+                    ConfigError::OutOfRange(angletrack_core::Parameter::MidScaleCounts)
+                })?
+            }
+            (None, Some(Signedness::Unsigned)) => return Err(CountsInputError::StreamMidScale),
+            (None, None) if I::UNSIGNED => return Err(CountsInputError::StreamMidScale),
+            (None, None) => return Err(CountsInputError::StreamSignedness),
+        };
+        let per_unit = T::from_f64(self.settings.counts_per_unit.unwrap_or(1.0));
+        Ok(*self.scaling.insert(AdcScaling::new(mid_scale, per_unit)?))
     }
 
-    /// The chunk `y_c`, `y_s` in the observer's units.
+    /// The chunk `y_c`, `y_s` in the observer's units ([`CountsInput::scaling`]).
     pub fn scale<I: AdcCount>(
         &mut self,
         y_c: &[I],
         y_s: &[I],
-    ) -> Result<(Vec<T>, Vec<T>), ConfigError> {
-        let scaling = self.scaling(y_c, y_s)?;
+        signedness: Option<Signedness>,
+    ) -> Result<(Vec<T>, Vec<T>), CountsInputError> {
+        let scaling = self.scaling(y_c, y_s, signedness)?;
         let scale = |values: &[I]| values.iter().map(|&x| scaling.scale(x)).collect();
         Ok((scale(y_c), scale(y_s)))
     }
@@ -252,60 +288,89 @@ mod tests {
     }
 
     #[test]
-    fn unsigned_counts_are_centred_by_the_largest_sample_of_either_channel() {
-        assert_eq!(u16::default_mid_scale(&[10, 20], &[4000]), 2048);
-        assert_eq!(u16::default_mid_scale(&[65535], &[]), 32768);
-        assert_eq!(u16::default_mid_scale(&[], &[]), 2);
-        assert_eq!(i16::default_mid_scale(&[4000], &[4000]), 0);
-        assert_eq!(i32::default_mid_scale(&[1 << 20], &[0]), 0);
-    }
-
-    #[test]
     fn a_given_mid_scale_and_counts_per_unit_are_used_as_they_are() {
-        let settings = CountsSettings::new(Some(100), 2.0).unwrap();
-        let mut input = CountsInput::<f64>::new(settings);
-        let (c, s) = input.scale(&[4000_u16], &[100_u16]).unwrap();
+        let settings = CountsSettings::new(Some(100), Some(2.0), None).unwrap();
+        let mut input = CountsInput::<f64>::stream(settings);
+        let (c, s) = input.scale(&[4000_u16], &[100_u16], None).unwrap();
         assert_eq!((c, s), (vec![1950.0], vec![0.0]));
         assert_eq!(
             (settings.mid_scale(), settings.counts_per_unit()),
-            (Some(100), 2.0)
+            (Some(100), Some(2.0))
         );
     }
 
     #[test]
     fn settings_the_core_refuses_name_their_parameter() {
-        let e = CountsSettings::new(None, 0.0).unwrap_err();
+        let e = CountsSettings::new(None, Some(0.0), None).unwrap_err();
         assert_eq!(e.parameter(), Parameter::CountsPerUnit);
-        let e = CountsSettings::new(Some((1 << 30) + 1), 1.0).unwrap_err();
+        let e = CountsSettings::new(Some((1 << 30) + 1), None, None).unwrap_err();
         assert_eq!(e.parameter(), Parameter::MidScaleCounts);
     }
 
-    #[test]
-    fn a_capture_of_whole_counts_is_centred_only_when_unsigned() {
-        assert_eq!(capture_mid_scale(&[4095.0], &[0.0]), Ok(2048));
-        assert_eq!(
-            capture_mid_scale(&[16384.0 + 1800.0], &[16384.0]),
-            Ok(16384)
-        );
-        assert_eq!(capture_mid_scale(&[0.0; 3], &[0.0; 3]), Ok(0));
-        assert_eq!(capture_mid_scale(&[], &[]), Ok(0));
-        assert_eq!(capture_mid_scale(&[-1.0, 1e30], &[0.5]), Ok(0));
-        for bad in [2.5, f64::NAN, 2f64.powi(60), f64::INFINITY] {
-            assert!(capture_mid_scale(&[1.0, bad], &[1.0]).is_err(), "{bad}");
-        }
+    /// A 12-bit capture at rest at 200 degrees (every sample below 2048), then turning.
+    fn resting_then_turning() -> (Vec<u16>, Vec<u16>) {
+        let theta = |k: usize| {
+            3.49 + if k < 100 {
+                0.0
+            } else {
+                0.05 * (k - 100) as f64
+            }
+        };
+        let count = |v: f64| (2048.0 + 1800.0 * v).round() as u16;
+        (
+            (0..400).map(|k| count(theta(k).cos())).collect(),
+            (0..400).map(|k| count(theta(k).sin())).collect(),
+        )
     }
 
     #[test]
-    fn the_first_chunk_decides_the_scaling() {
-        let mut input = CountsInput::<f32>::new(CountsSettings::default());
-        assert_eq!(input.decided(), None);
-        input.scale(&[4095_u16], &[0_u16]).unwrap();
-        let first = input.decided().unwrap();
-        // A later chunk with a larger sample keeps the first mid-scale.
+    fn a_stream_scales_every_chunk_alike_or_refuses() {
+        // Fed in chunks of 1, 7 or at once, a stream scales by what is stated only: the
+        // same counts whatever the chunks (a first chunk's largest sample would give 1024
+        // for this capture at rest below 2048).
+        let (c, s) = resting_then_turning();
+        let settings = CountsSettings::new(Some(2048), None, None).unwrap();
+        let mut one = CountsInput::<f64>::stream(settings);
+        let whole = one.scale(&c, &s, None).unwrap();
+        for chunk in [1, 7] {
+            let mut input = CountsInput::<f64>::stream(settings);
+            let (mut cc, mut ss) = (vec![], vec![]);
+            for (c, s) in c.chunks(chunk).zip(s.chunks(chunk)) {
+                let (c, s) = input.scale(c, s, None).unwrap();
+                cc.extend(c);
+                ss.extend(s);
+            }
+            assert_eq!((cc, ss), whole, "chunks of {chunk}");
+        }
+        let mut unstated = CountsInput::<f64>::stream(CountsSettings::default());
+        let e = unstated.scale(&c[..1], &s[..1], None).unwrap_err();
+        assert_eq!(e, CountsInputError::StreamMidScale);
+        let wide: Vec<i32> = c.iter().map(|&v| i32::from(v)).collect();
+        let e = unstated.scale(&wide, &wide, None).unwrap_err();
+        assert_eq!(e, CountsInputError::StreamSignedness);
+        let signed = Some(Signedness::Signed);
         assert_eq!(
-            input.scale(&[8000_u16], &[2048_u16]).unwrap().0,
-            vec![5952.0]
+            unstated.scale(&[-5_i32], &[5], signed).unwrap().0,
+            vec![-5.0]
         );
-        assert_eq!(input.decided(), Some(first));
+    }
+
+    #[test]
+    fn a_whole_capture_is_decided_by_the_capture_rule() {
+        let (c, s) = resting_then_turning();
+        let mut input = CountsInput::<f64>::whole(CountsSettings::default());
+        input.scale(&c, &s, None).unwrap();
+        assert_eq!(input.decided().unwrap().mid_scale_counts(), 2048);
+        // int32 counts (no signedness of their own) at rest: refused, not guessed.
+        let still = [2948_i32; 50];
+        let e = input.scale(&still, &still, None).unwrap_err();
+        assert!(matches!(
+            e,
+            CountsInputError::Counts(CountsError::Ambiguous { .. })
+        ));
+        let unsigned = CountsSettings::new(None, None, Some(Signedness::Unsigned)).unwrap();
+        let mut input = CountsInput::<f64>::whole(unsigned);
+        input.scale(&still, &[3607; 50], None).unwrap();
+        assert_eq!(input.decided().unwrap().mid_scale_counts(), 2048);
     }
 }

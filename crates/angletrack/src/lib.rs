@@ -53,9 +53,9 @@
 //! * Calibration files ([`CalibrationFile`]): a sensor calibration learned while tracking
 //!   ([`SensorCalibrationRecord`]) or by [`learn_angle_correction`] ([`CaptureCalibration`])
 //!   as JSON, read back exactly, every refusal naming the file and the field.
-//! * Raw ADC counts and units ([`CountsInput`], [`offset_binary_mid_scale`], [`capture_mid_scale`],
-//!   [`ThresholdPolicy`]): the mid-scale of unsigned counts found from the first samples, and
-//!   the monitor's thresholds scaled to the first samples' amplitude.
+//! * Raw ADC counts and units ([`CountsInput`], [`offset_binary_mid_scale`], [`capture_counts`],
+//!   [`ThresholdPolicy`]): a capture's signedness and mid-scale, stated or read from the
+//!   whole capture, and the monitor's thresholds.
 //!
 //! The mathematics is in the repository's `docs/theory.md`: the designs in §2 to §4, the
 //! discretisations in §7, the noise prediction in §8, the speed limits in §9; each module
@@ -80,6 +80,7 @@ pub use nalgebra::Complex;
 mod analysis;
 mod calibration;
 pub mod capture;
+mod capture_counts;
 mod carrier;
 mod counts;
 mod design;
@@ -106,9 +107,12 @@ pub use calibration::{
     MIN_ERROR_TRANSFER, OrderQuality, OrderStatus, SENSOR_CALIBRATION_FORMAT, SPECTRUM_ORDERS,
     SensorCalibrationRecord, error_transfer, learn_angle_correction, order_warnings,
 };
+pub use capture_counts::{
+    CaptureCounts, CountsError, CountsExtremes, Signedness, StatedCounts, capture_counts,
+};
 pub use carrier::measured_carrier_cycles_per_sample;
 pub use counts::{
-    AdcCount, CountsInput, CountsSettings, UnsignedCountsError, capture_mid_scale,
+    AdcCount, CountsInput, CountsInputError, CountsSettings, UnsignedCountsError,
     offset_binary_mid_scale,
 };
 pub use design::{
@@ -130,7 +134,7 @@ pub use sim::{
     fixed_monitor_amplitude, nominal_amplitude, online_calibration, run, run_calibrated,
     with_fixed_clipping,
 };
-pub use thresholds::ThresholdPolicy;
+pub use thresholds::{ThresholdInput, ThresholdPolicy, ThresholdsNotStated};
 pub use winding_rails::WindingRails;
 pub use windings_plan::{
     AdcRangeSource, CARRIER_TOLERANCE, SAMPLES_PER_PERIOD_TOLERANCE, WindingsPlan,

@@ -3,14 +3,15 @@
 //! samples against one range, fixed when it is built; a capture that states none and holds
 //! no rail in its first samples gives it a guess, which clipping that starts later (a gain
 //! raised, a larger excitation) may never reach. [`WindingRails`] measures the rails on each
-//! block of samples as it comes ([`measured_adc_range`], the same rule) and flags
+//! block of samples as it comes (the rule of [`measured_adc_range`](crate::measured_adc_range), a
+//! winding held at a rail whatever the other does) and flags
 //! [`FrontEndFaults::CLIPPING`] on every pair whose window holds a sample at a rail.
 
 use std::collections::VecDeque;
 
 use angletrack_core::{DemodulatedPair, Demodulator, DemodulatorState, FrontEndFaults};
 
-use crate::rails::measured_adc_range;
+use crate::rails::measured_winding_range;
 
 /// The rails of a resolver's raw windings measured block by block, and the clipping they
 /// show flagged on the demodulated pairs (see the module's documentation).
@@ -112,7 +113,7 @@ impl WindingRails {
     /// Measures the rails on the samples `c`, `s` (those found before kept: a side's rail is
     /// the innermost found) and notes the indices of the samples at or beyond one.
     fn book(&mut self, c: &[f64], s: &[f64]) {
-        if let Some((low, high)) = measured_adc_range(c, s) {
+        if let Some((low, high)) = measured_winding_range(c, s) {
             self.rails = Some(match self.rails {
                 Some((l, h)) => (l.max(low), h.min(high)),
                 None => (low, high),

@@ -6,7 +6,7 @@
 use core::fmt;
 
 use crate::carrier::{centred_power, cycles_of_power, mean};
-use crate::rails::measured_adc_range;
+use crate::rails::measured_winding_range;
 
 /// How far a declared carrier may be from the one measured in the capture (fraction).
 pub const CARRIER_TOLERANCE: f64 = 0.02;
@@ -52,7 +52,8 @@ impl WindingsSettings {
 pub enum AdcRangeSource {
     /// As stated.
     Stated,
-    /// The first samples' extremes held flat ([`measured_adc_range`]).
+    /// The first samples' extremes held flat ([`measured_adc_range`](crate::measured_adc_range)'s
+    /// rule on windings).
     Measured,
     /// A guess: the smallest power-of-two span holding the first samples (from 0 if none is
     /// negative). Measure the rails as the samples come
@@ -281,7 +282,7 @@ impl WindingsPlan {
             .unwrap_or_else(|| (2.0 * mean(&power)).sqrt());
         let (adc_range, adc_range_source) = match settings.adc_range {
             Some(range) => (range, AdcRangeSource::Stated),
-            None => match measured_adc_range(first_c, first_s) {
+            None => match measured_winding_range(first_c, first_s) {
                 Some(range) => (range, AdcRangeSource::Measured),
                 None => (guessed_range(first_c, first_s), AdcRangeSource::Guessed),
             },

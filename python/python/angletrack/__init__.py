@@ -100,6 +100,7 @@ from angletrack._angletrack import (
     track,
     track_batch,
     write_output,
+    capture_fault_thresholds,
 )
 
 __all__ = [
@@ -177,6 +178,7 @@ __all__ = [
     "third_order_from_overshoot",
     "third_order_from_poles",
     "track",
+    "capture_fault_thresholds",
     "track_batch",
     "Calibration",
     "CalibratedObserver",

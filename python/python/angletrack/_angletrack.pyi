@@ -11,7 +11,7 @@ __version__: str
 
 _Samples = Union[npt.NDArray[np.float32], npt.NDArray[np.float64], Sequence[float]]
 #: Samples an observer accepts: floats, or raw ADC counts (int16, uint16, int32) scaled
-#: exactly (minus ``adc_mid_scale``, divided by ``adc_counts_per_unit``).
+#: exactly (minus ``adc_mid_scale``, divided by ``adc_counts_per_unit``; see ``Observer``).
 _Signal = Union[
     _Samples, npt.NDArray[np.int16], npt.NDArray[np.uint16], npt.NDArray[np.int32], npt.NDArray[np.int64]
 ]
@@ -193,12 +193,17 @@ class Observer(_RunSettings):
     result of one call.
 
     Integer samples (int16, uint16, int32, int64) are raw ADC counts: minus ``adc_mid_scale``
-    (default 0 for signed counts; for uint16 the mid-scale ``2^(b-1)`` of the smallest
-    ``b``-bit ADC holding the first call's samples) and divided by ``adc_counts_per_unit``
-    (default 1), exactly. The two ADC arguments apply to counts only: float samples with
-    either given are refused (``ConfigError`` naming it), not tracked unscaled. ``fault_thresholds=None`` scales the diagnostics to the signal:
-    ``FaultThresholds(nominal_amplitude=A)``, ``A`` the median ``sqrt(y_c^2 + y_s^2)`` of
-    the first call's first 4096 samples. ``calibration``: ``None`` (off), ``"learn"`` (correct
+    and divided by ``adc_counts_per_unit`` (default 1), exactly; nothing is read from the
+    samples, which depend on the chunks. Without ``adc_mid_scale``: int16 and int32 counts
+    (or any with ``adc_signed=True``) are signed, mid-scale 0; uint16 counts (or any with
+    ``adc_signed=False``) are a ``ConfigError`` naming ``adc_mid_scale``; int64 counts without
+    ``adc_signed`` are a ``ConfigError`` naming it. The ADC arguments apply to counts only:
+    float samples with any given are refused (``ConfigError`` naming it), not tracked
+    unscaled. ``fault_thresholds=None``: the defaults, those of amplitude 1 in the observer's
+    units (floats of amplitude about 1, or counts over ``adc_counts_per_unit``, their
+    amplitude in counts); raw counts in counts without thresholds are a ``ConfigError``
+    naming ``fault_thresholds``: state ``FaultThresholds(nominal_amplitude=A)``, ``A`` in
+    counts (``capture_fault_thresholds`` measures it on a capture's first samples). ``calibration``: ``None`` (off), ``"learn"`` (correct
     and learn offsets, gain imbalance and quadrature while tracking, from
     ``initial_calibration`` if given) or ``"frozen"`` (apply ``initial_calibration``);
     ``initial_calibration`` with the calibration off is a ``ConfigError`` naming it.
@@ -218,6 +223,7 @@ class Observer(_RunSettings):
         initial_calibration: Optional[SensorCalibration] = None,
         adc_mid_scale: Optional[int] = None,
         adc_counts_per_unit: Optional[float] = None,
+        adc_signed: Optional[bool] = None,
         adc_range: Optional[tuple[float, float]] = None,
         measure_adc_range: bool = False,
         winding_amplitude: Optional[float] = None,
@@ -247,7 +253,7 @@ class Observer(_RunSettings):
     def clear_faults(self) -> int: ...
     @property
     def fault_thresholds(self) -> Optional[FaultThresholds]:
-        """The thresholds; ``None`` until the first update when scaled to its samples."""
+        """The thresholds the observer runs with (given, or the defaults)."""
     @property
     def amplitude(self) -> float:
         """The magnitude ``sqrt(y_c^2 + y_s^2)`` the loop normalises by (input units)."""
@@ -271,12 +277,23 @@ def track(
     fault_thresholds: Optional[FaultThresholds] = None,
     adc_mid_scale: Optional[int] = None,
     adc_counts_per_unit: Optional[float] = None,
+    adc_signed: Optional[bool] = None,
     adc_range: Optional[tuple[float, float]] = None,
 ) -> Estimates:
-    """Runs a fresh observer over the samples in their own dtype (float32 or float64;
-    float64 for raw counts, scaled as ``Observer`` does; ``adc_mid_scale`` or
-    ``adc_counts_per_unit`` with float samples is a ``ConfigError`` naming it).
-    ``fault_thresholds=None`` scales the diagnostics to the samples' amplitude."""
+    """Runs a fresh observer over the whole capture in the samples' own dtype (float32 or
+    float64; float64 for raw counts, scaled as ``Observer`` does, except that what is not
+    stated is read from the whole capture by the crate's ``capture_counts``: uint16 counts
+    or ``adc_signed=False`` lose the offset-binary mid-scale of the largest sample; int64
+    counts are signed with a negative sample, unsigned when both channels swing about one
+    offset-binary mid-scale, else a ``ConfigError`` naming ``adc_signed``). An ADC argument
+    with float samples is a ``ConfigError`` naming it. ``fault_thresholds=None`` scales the
+    diagnostics to the capture's amplitude (``capture_fault_thresholds``)."""
+
+def capture_fault_thresholds(y_c: _Samples, y_s: _Samples) -> FaultThresholds:
+    """The thresholds of a capture whose first samples these are:
+    ``FaultThresholds(nominal_amplitude=A)``, ``A`` the median ``sqrt(y_c^2 + y_s^2)`` of
+    its first 4096 samples (the defaults when not positive); what ``track`` measures, and
+    what a caller feeding the capture to an ``Observer`` in chunks states."""
 
 #: Samples the fixed-point observer accepts: int16 counts (mid-scale removed), or integers
 #: within int16 (a list); no other dtype is converted.
@@ -456,18 +473,36 @@ def plan_windings(
 def offset_binary_mid_scale(largest_count: float) -> int:
     """The mid-scale (counts) of unsigned, offset-binary ADC counts whose largest sample is
     ``largest_count`` (a whole number, 0 to 2^53): ``2^(b-1)`` for the smallest ``b``, at
-    least 2, whose range ``2^b`` holds it; the rule an observer centres uint16 counts by."""
+    least 2, whose range ``2^b`` holds it; what ``track`` removes from uint16 counts
+    without ``adc_mid_scale`` (the largest sample of the whole capture)."""
 
-def fixed_input(y_c: _Samples, y_s: _Samples, *, signed: bool = False) -> tuple[int, int, float, float]:
-    """How a capture's counts reach the fixed-point observer, from its first samples:
-    ``(mid_scale_counts, input_shift, amplitude, nominal_amplitude)`` (the last the
-    monitor's), the ``FixedObserver`` arguments; no mid-scale for counts stated ``signed``;
-    ``ConfigError`` (parameter ``capture``) for counts no ADC gives."""
+def fixed_input(y_c: _Samples, y_s: _Samples, mid_scale: int) -> tuple[int, int, float, float]:
+    """How a capture's counts reach the fixed-point observer, from its first samples and the
+    capture's ``mid_scale`` (``capture_counts``'s): ``(mid_scale_counts, input_shift,
+    amplitude, nominal_amplitude)`` (the last the monitor's), the ``FixedObserver``
+    arguments; ``ConfigError`` (parameter ``mid_scale_counts``) beyond an int32."""
 
-def capture_mid_scale(y_c: _Samples, y_s: _Samples) -> int:
-    """The mid-scale (counts) of a capture of whole counts read as floats, from its first
-    samples: 0 if a sample is negative or none is positive, else ``offset_binary_mid_scale``
-    of the largest; ``ConfigError`` (parameter ``capture``) for counts no ADC gives."""
+class CountsExtremes:
+    """Each channel's extremes of a capture of whole counts, gathered chunk by chunk: what
+    ``capture_counts`` reads of the whole capture."""
+
+    def __init__(self) -> None: ...
+    def add(self, y_c: _Samples, y_s: _Samples) -> None:
+        """Adds a chunk (1-D arrays of equal lengths; non-finite samples left out)."""
+    @property
+    def channels(self) -> list[Optional[tuple[float, float]]]:
+        """``y_c``'s and ``y_s``'s ``(lowest, highest)``, ``None`` for a channel without a sample."""
+
+def capture_counts(extremes: CountsExtremes, *, signed: Optional[bool] = None, bits: Optional[int] = None,
+                   unsigned_type: bool = False,
+                   state_with: str = "give adc_signed=True or adc_signed=False") -> tuple[bool, int]:
+    """``(signed, mid_scale)`` of a whole capture of counts by the crate's rule: the
+    signedness stated, else unsigned for an unsigned type, signed for a negative sample
+    anywhere, unsigned when both channels swing about one offset-binary mid-scale; else
+    ``ConfigError`` (parameter ``adc_signed``, the message ending with ``state_with``).
+    Unsigned counts are centred on ``2^(bits-1)``, else on ``offset_binary_mid_scale`` of
+    the largest sample (``ConfigError`` naming ``capture`` for counts no ADC gives, naming
+    ``adc_bits`` outside 2 to 53)."""
 
 #: The estimates a batch may be asked for (``outputs=``).
 _OutputName = Literal["angle", "position", "speed", "acceleration", "phase_error", "faults"]
@@ -1083,6 +1118,7 @@ class _CorrectedObserver:
         self, gains: Gains, sensor: _SensorParameters, cos: Sequence[float],
         sin: Sequence[float], *, dtype: _DType = None, sin_cos: _SinCos = None,
         adc_range: Optional[tuple[float, float]] = None, measure_adc_range: bool = False,
+        fault_thresholds: Optional[FaultThresholds] = None,
     ) -> None: ...
     def update(self, y_c: _Samples, y_s: _Samples) -> Estimates: ...
 

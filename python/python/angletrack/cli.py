@@ -61,6 +61,7 @@ def _cmd_track(args: argparse.Namespace) -> int:
         raise ValueError(f"--output: {output}: the estimates' format follows the extension, and the formats "
                          "written are CSV (.csv), NumPy (.npy) or .npz")
     stored = calibration_io.read_stored(args.calibration)
+    adc_signed, adc_bits = clipping.stated_counts(args)
     settings = tracking.TrackSettings(
         capture=args.capture,
         output=output,
@@ -81,6 +82,8 @@ def _cmd_track(args: argparse.Namespace) -> int:
         **resolver.track_options(args),
         calibration=calibration_io.angle_calibration(stored),
         adc_range=clipping.stated_range(args),
+        adc_signed=adc_signed,
+        adc_bits=adc_bits,
     )
     if png is not None:
         if args.carrier_hz is not None:
@@ -120,6 +123,7 @@ def _add_plot_parser(sub) -> None:
     plot.add_argument("--delimiter", metavar="CHAR", help="as for `angletrack track`")
     plot.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s", help="unit of the time column")
     add_reader_arguments(plot)
+    clipping.add_signedness(plot)
     plot.add_argument("--skip", type=non_negative_number, default=0.0, metavar="S",
                       help="leave the first S seconds out of the angle error (as well as the start-up)")
     plot.add_argument("--include-start-up", action="store_true",
@@ -157,7 +161,7 @@ def _cmd_plot(args: argparse.Namespace) -> int:
         capture=args.capture, output=args.capture, gains_file=args.gains_file, gains=args.gains,
         sample_rate_hz=args.sample_rate, columns=args.columns, delimiter=args.delimiter,
         decimal=args.decimal, skip_rows=args.skip_rows, time_unit=args.time_unit, skip_s=args.skip,
-        lock_tolerance_rad=args.lock_tolerance,
+        lock_tolerance_rad=args.lock_tolerance, adc_signed=args.adc_signed,
     )
     name = args.capture.stem + "_plot"
     summary = None
@@ -246,7 +250,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     settings = tracking.TrackSettings(capture=args.capture, output=args.output, gains_file=args.gains_file,
                                       gains=args.gains, sample_rate_hz=args.sample_rate, columns=args.columns,
                                       delimiter=args.delimiter, decimal=args.decimal, skip_rows=args.skip_rows,
-                                      time_unit=args.time_unit)
+                                      time_unit=args.time_unit, adc_signed=args.adc_signed)
     try:
         cal = tracking.calibrate_capture(
             settings, lowest_order=args.lowest_order, highest_order=args.highest_order,
@@ -276,6 +280,7 @@ def _add_calibrate_parser(sub) -> None:
     cal.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s",
                      help="unit of the time column (default s)")
     add_reader_arguments(cal)
+    clipping.add_signedness(cal)
     cal.add_argument("--self", dest="self_calibration", action="store_true",
                      help="self-calibrate even when the capture has a reference column")
     cal.add_argument("--loop", choices=["own", "gains"], default="own",

@@ -1,5 +1,6 @@
 """The ADC range of a capture, against which ``angletrack track`` flags clipping: stated
-(``--adc-range MIN,MAX``, or ``--adc-bits N`` with ``--adc-signed`` or ``--adc-unsigned``), or
+(``--adc-range MIN,MAX``, or ``--adc-bits N`` with ``--adc-signed`` or ``--adc-unsigned``, which
+also state the counts' signedness alone), or
 else measured on the first chunk (an extreme held flat over several consecutive samples, with
 the samples piled up there, as a clipped signal's are and a clean one's are not), or else
 measured as the samples come by the observer's chain (the same test, sample by sample: the
@@ -39,11 +40,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     g.add_argument("--adc-bits", type=int, metavar="N",
                    help="the ADC's resolution (bits), with --adc-signed (-2^(N-1) to 2^(N-1)-1) or "
                    "--adc-unsigned (0 to 2^N-1)")
-    sign = g.add_mutually_exclusive_group()
+    add_signedness(g)
+
+
+def add_signedness(parser) -> None:
+    """``--adc-signed`` and ``--adc-unsigned``: the counts' signedness, stated (else read from
+    the whole capture by the crate's rule, ``angletrack::capture_counts``)."""
+    sign = parser.add_mutually_exclusive_group()
     sign.add_argument("--adc-signed", dest="adc_signed", action="store_true", default=None,
-                      help="with --adc-bits: two's complement counts")
+                      help="the counts are two's complement (a zero signal reads 0); with --adc-bits: the "
+                      "ADC's range too; default: read from the whole capture (a negative sample: signed; both "
+                      "channels swinging about 2^(N-1): unsigned; else refused)")
     sign.add_argument("--adc-unsigned", dest="adc_signed", action="store_false",
-                      help="with --adc-bits: offset-binary counts")
+                      help="the counts are offset binary (a zero signal reads 2^(N-1), N from --adc-bits or the "
+                      "smallest range holding the capture's largest sample); with --adc-bits: the ADC's range too")
 
 
 def joined_negative_range(argv: list[str]) -> list[str]:
@@ -86,8 +96,6 @@ def stated_range(args: argparse.Namespace) -> Optional[tuple[float, float]]:
             raise ValueError(f"adc_range: --adc-range {text}: expected finite MIN < MAX")
         return low, high
     if bits is None:
-        if signed is not None:
-            raise ValueError("adc_range: --adc-signed and --adc-unsigned need --adc-bits")
         return None
     if not 2 <= bits <= 32:
         raise ValueError(f"adc_range: --adc-bits {bits}: expected 2 to 32")
@@ -98,11 +106,19 @@ def stated_range(args: argparse.Namespace) -> Optional[tuple[float, float]]:
     return 0.0, 2.0**bits - 1.0
 
 
-def signed(adc_range: Optional[tuple[float, float]]) -> bool:
-    """Whether ``adc_range`` (stated) holds negative values: signed counts, centred on zero
-    already, so that no unsigned mid-scale is guessed from their first samples (signed counts
-    that happen all to be positive, the rotor in one quadrant, are not offset binary)."""
-    return adc_range is not None and adc_range[0] < 0
+def stated_counts(args: argparse.Namespace) -> tuple[Optional[bool], Optional[int]]:
+    """The counts' signedness and resolution the options state (``None``: not stated):
+    ``--adc-signed``/``--adc-unsigned`` and ``--adc-bits``, or a stated ``--adc-range``
+    (signed when it holds negative values; the resolution of an unsigned range 0 to
+    ``2^N - 1``)."""
+    signed, bits = getattr(args, "adc_signed", None), getattr(args, "adc_bits", None)
+    text = getattr(args, "adc_range", None)
+    if text is None or signed is not None:
+        return signed, bits
+    low, high = stated_range(args) or (0.0, 0.0)
+    whole = high + 1.0
+    power = whole >= 4 and whole == 2.0 ** round(np.log2(whole))
+    return low < 0, (int(round(np.log2(whole))) if low == 0 and power else None)
 
 
 def measured_range(y_c: np.ndarray, y_s: np.ndarray) -> Optional[tuple[float, float]]:

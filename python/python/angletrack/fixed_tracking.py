@@ -1,9 +1,9 @@
 """``angletrack track --dtype fixed``: a capture of integer counts streamed through the
 fixed-point chain (:class:`angletrack.FixedObserver` with its stages: the mid-scale removed
 and the counts shifted to 16 bits, a stored calibration in integers, the angle correction
-as a table), as a firmware computes it. The mid-scale, the shift and the monitor's
-amplitude are measured from the capture's first samples by the Rust crate
-(``angletrack::fixed_input``); the calibration is learned in float (``angletrack calibrate``
+as a table), as a firmware computes it. The mid-scale is the capture's (stated, or read from
+the whole capture: ``tracking.counts_mid_scale``); the shift and the monitor's amplitude are
+measured from its first samples by the Rust crate (``angletrack::fixed_input``); the calibration is learned in float (``angletrack calibrate``
 or ``track --calibrate``) and applied here in integers.
 """
 
@@ -67,7 +67,9 @@ def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.
                          "samples (use --dtype float32 or float64)")
     calibration: Union[None, angletrack.SensorCalibration, "harmonics.Calibration"] = (
         s.calibration if s.calibration is not None else s.observer_arguments.get("initial_calibration"))
-    mid, shift, amplitude, monitor = fixed_input(first.y_c, first.y_s, signed=clipping.signed(s.adc_range))
+    from angletrack.tracking import counts_mid_scale
+
+    mid, shift, amplitude, monitor = fixed_input(first.y_c, first.y_s, int(counts_mid_scale(s, reader.sample_dtype)))
     adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
     counts_range = clipping.integer_range(
         adc_range, "the stated --adc-range" if s.adc_range is not None else "the range measured")

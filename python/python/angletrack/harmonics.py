@@ -29,7 +29,8 @@ from typing import TYPE_CHECKING, Any, Callable, Iterable, Optional
 import numpy as np
 
 from angletrack import _angletrack
-from angletrack._angletrack import Estimates, Gains, _CaptureCalibrator, _CorrectedObserver, learn_calibration
+from angletrack._angletrack import (Estimates, FaultThresholds, Gains, _CaptureCalibrator, _CorrectedObserver,
+                                   capture_fault_thresholds, learn_calibration)
 
 if TYPE_CHECKING:
     from angletrack._angletrack import _LearnedCalibration as LearnedCalibration
@@ -173,15 +174,18 @@ class CalibratedObserver:
     them: against ``adc_range``, or with ``measure_adc_range`` against the rails measured.
     ``update`` takes samples as ``Observer.update`` does: arrays of ``dtype`` (``TypeError``
     for another dtype, no silent conversion) or sequences of real numbers, 1-D (a
-    ``ConfigError`` naming ``y_c`` or ``y_s`` for ``None`` or a scalar)."""
+    ``ConfigError`` naming ``y_c`` or ``y_s`` for ``None`` or a scalar). The diagnostics'
+    thresholds are ``fault_thresholds``, else those of amplitude 1 (as ``Observer``'s for
+    floats: never measured on a chunk)."""
 
     def __init__(self, gains: Gains, calibration: Calibration, *, dtype: Any = np.float64,
                  sin_cos: Optional[str] = None, adc_range: Optional[tuple[float, float]] = None,
-                 measure_adc_range: bool = False):
+                 measure_adc_range: bool = False, fault_thresholds: Optional[FaultThresholds] = None):
         self.dtype = np.dtype(dtype)
         self._inner = _CorrectedObserver(gains, tuple(calibration.sensor), list(calibration.cos),
                                          list(calibration.sin), dtype=self.dtype, sin_cos=sin_cos,
-                                         adc_range=adc_range, measure_adc_range=measure_adc_range)
+                                         adc_range=adc_range, measure_adc_range=measure_adc_range,
+                                         fault_thresholds=fault_thresholds)
         self.gains = gains
         self.calibration = calibration
         self.latched_faults = 0
@@ -198,6 +202,9 @@ class CalibratedObserver:
 
 
 def track_calibrated(gains: Gains, y_c: Any, y_s: Any, calibration: Calibration) -> Estimates:
-    """The estimates of ``(y_c, y_s)`` tracked by a :class:`CalibratedObserver`."""
-    return CalibratedObserver(gains, calibration).update(y_c, y_s)
+    """The estimates of the whole capture ``(y_c, y_s)`` tracked by a
+    :class:`CalibratedObserver`, its diagnostics scaled to the capture's amplitude
+    (``capture_fault_thresholds``, as ``track`` scales them)."""
+    thresholds = capture_fault_thresholds(y_c, y_s)
+    return CalibratedObserver(gains, calibration, fault_thresholds=thresholds).update(y_c, y_s)
 

@@ -172,7 +172,7 @@ def analyse_capture(
     first = next(chunks)
     # Unsigned counts centred as `angletrack track` centres them (the same rule): the
     # figure shows what the observer sees.
-    mid = tracking.unsigned_mid_scale(reader.sample_dtype, first.y_c, first.y_s, s.adc_range)
+    mid = tracking.counts_mid_scale(s, reader.sample_dtype)
     observer = None
     lock = None
     if s.gains_file is not None or s.gains is not None:
@@ -180,7 +180,8 @@ def analyse_capture(
         # `track --dtype fixed --plot`: the figure draws the float observer (the fixed-point
         # chain's estimates are the output's).
         dtype = np.dtype("float64" if s.dtype == "fixed" else s.dtype)
-        observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos)
+        observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos,
+                                       fault_thresholds=tracking.fault_thresholds(first, mid))
         rate_hz: Optional[float] = gains.sample_rate_hz
         if first.reference_rad is None:
             lock = _lock_detector(gains, s.lock_tolerance_rad)

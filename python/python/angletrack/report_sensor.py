@@ -48,13 +48,14 @@ def imperfect_sensor() -> at.SensorModel:
 
 def run_sensor(design: at.Design, sample_period_s: float) -> SensorResult:
     """Tracks section 5's sensor with ``design``: the plain observer, then one learning the
-    calibration (both with the diagnostics scaled to the signal, as by default)."""
+    calibration (both with the diagnostics stated for the sensor's amplitude)."""
     speed = 2 * math.pi * ELECTRICAL_HZ
     profile = at.MotionProfile(0.3, speed).constant_speed(speed, TURNS / ELECTRICAL_HZ)
     sensor = imperfect_sensor()
     sc = at.Scenario.generate(profile, sensor, sample_period_s=sample_period_s, seed=5)
-    uncorrected = at.Observer(design.gains).update(sc.y_c, sc.y_s)
-    learning = at.Observer(design.gains, calibration="learn")
+    thresholds = at.FaultThresholds(nominal_amplitude=AMPLITUDE)
+    uncorrected = at.Observer(design.gains, fault_thresholds=thresholds).update(sc.y_c, sc.y_s)
+    learning = at.Observer(design.gains, calibration="learn", fault_thresholds=thresholds)
     corrected = learning.update(sc.y_c, sc.y_s)
     first = round(CONVERGED_TURNS / ELECTRICAL_HZ / sample_period_s)
     return SensorResult(sensor, sc, uncorrected, corrected, learning.calibration,

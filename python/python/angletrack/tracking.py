@@ -22,7 +22,7 @@ import numpy as np
 import angletrack
 from angletrack import capture as capture_io
 from angletrack import clipping, export, harmonics
-from angletrack._angletrack import capture_mid_scale
+from angletrack._angletrack import CountsExtremes, capture_counts, capture_fault_thresholds
 
 #: Relative difference of two sample rates taken as the same rate (the time column's
 #: spacing check uses the same 1 %).
@@ -67,6 +67,11 @@ class TrackSettings:
     #: The ADC's range stated by ``--adc-range``/``--adc-bits`` (the capture's units), against
     #: which clipping is flagged (``angletrack.clipping``); ``None``: measured.
     adc_range: Optional[tuple] = None
+    #: The counts' signedness stated (``--adc-signed``: ``True``, ``--adc-unsigned``: ``False``,
+    #: or by ``--adc-range``; ``clipping.stated_counts``); ``None``: read from the capture.
+    adc_signed: Optional[bool] = None
+    #: The ADC's resolution stated (``--adc-bits``, or an unsigned ``--adc-range``).
+    adc_bits: Optional[int] = None
 
     def reader_options(self) -> dict:
         """The capture reader's keyword arguments (the capture's layout and rate)."""
@@ -275,19 +280,33 @@ class _Ranges:
         ]
 
 
-def unsigned_mid_scale(sample_dtype: str, y_c: np.ndarray, y_s: np.ndarray,
-                       adc_range: Optional[tuple[float, float]] = None) -> float:
-    """The mid-scale of unsigned ADC counts, for a capture of integers none of whose first
-    samples is negative and some positive: the observer's rule for uint16 counts
-    (the Rust crate's ``capture_mid_scale``: ``offset_binary_mid_scale`` of the largest
-    sample). 0 otherwise: signed counts and physical units are centred already, and so are
-    counts whose stated ``adc_range`` (``--adc-range``, ``--adc-bits``) is signed
-    (:func:`clipping.signed`). The loop needs the signal centred on zero, not scaled (it is
-    amplitude-invariant)."""
-    if not sample_dtype.startswith(("int", "uint")) or len(y_c) == 0 or clipping.signed(adc_range):
+def counts_mid_scale(s: TrackSettings, sample_dtype: str) -> float:
+    """The mid-scale removed from the capture ``s.capture`` of ``sample_dtype``: 0 for floats;
+    for whole counts, the crate's rule (``angletrack::capture_counts``): the signedness and
+    resolution stated (``s.adc_signed``, ``s.adc_bits``), else read from the whole capture,
+    which is then read once more, chunk by chunk, for its extremes; a capture that does not
+    show its signedness is refused, naming ``--adc-signed`` and ``--adc-unsigned``. The loop
+    needs the signal centred on zero, not scaled (it is amplitude-invariant)."""
+    if not sample_dtype.startswith(("int", "uint")):
         return 0.0
-    return float(capture_mid_scale(np.ascontiguousarray(y_c, dtype=np.float64),
-                                   np.ascontiguousarray(y_s, dtype=np.float64)))
+    extremes = CountsExtremes()
+    if s.adc_signed is None or (not s.adc_signed and s.adc_bits is None):
+        for chunk in angletrack.CaptureReader(s.capture, **s.reader_options(), chunk_rows=s.chunk_rows):
+            extremes.add(np.ascontiguousarray(chunk.y_c, dtype=np.float64),
+                         np.ascontiguousarray(chunk.y_s, dtype=np.float64))
+    _, mid = capture_counts(extremes, signed=s.adc_signed, bits=s.adc_bits,
+                            unsigned_type=sample_dtype.startswith("uint"),
+                            state_with="give --adc-signed or --adc-unsigned")
+    return float(mid)
+
+
+def fault_thresholds(first, mid: float) -> angletrack.FaultThresholds:
+    """The diagnostics' thresholds of the capture whose first chunk is ``first`` (mid-scale
+    ``mid`` removed): scaled to its amplitude (``capture_fault_thresholds``: the median
+    magnitude of its first 4096 samples), as ``angletrack.track`` scales a whole capture's.
+    Stated to the observer, which is fed in chunks and measures nothing itself."""
+    return capture_fault_thresholds(np.ascontiguousarray(first.y_c - mid, dtype=np.float64),
+                                    np.ascontiguousarray(first.y_s - mid, dtype=np.float64))
 
 
 def finishing_checks(s: TrackSettings, observer, stats: Optional[_ErrorStatistics]) -> list[str]:
@@ -336,17 +355,20 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
         return "\n".join(lines[:1] + _stated_rate_note(s) + lines[1:]), fixed
     dtype = np.dtype(s.dtype)
     calibration = s.calibration
-    mid = unsigned_mid_scale(reader.sample_dtype, first.y_c, first.y_s, s.adc_range)
+    mid = counts_mid_scale(s, reader.sample_dtype)
     adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
     shifted = None if adc_range is None else (adc_range[0] - mid, adc_range[1] - mid)
+    thresholds = fault_thresholds(first, mid)
     # No range stated or found on the first chunk: the rails measured as the samples come
     # (clipping that starts later in the capture).
     if calibration is not None:
         observer = harmonics.CalibratedObserver(gains, calibration, dtype=dtype, sin_cos=s.sin_cos,
-                                                adc_range=shifted, measure_adc_range=shifted is None)
+                                                adc_range=shifted, measure_adc_range=shifted is None,
+                                                fault_thresholds=thresholds)
     else:
         observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos, adc_range=shifted,
-                                       measure_adc_range=shifted is None, **s.observer_arguments)
+                                       measure_adc_range=shifted is None, fault_thresholds=thresholds,
+                                       **s.observer_arguments)
     progress = _Progress(s.progress)
     rejected, y_c_sum, flagged = 0, 0.0, 0
     ranges = _Ranges()
@@ -400,7 +422,7 @@ def calibrate_capture(s: TrackSettings, **options) -> harmonics.Calibration:
     ``s.capture`` (``s.columns``, ``s.delimiter``, ``s.time_unit``), read twice in chunks in
     constant memory (:func:`harmonics.calibrate_chunks`, whose ``options`` these are), with
     the gains of ``s`` at its sample rate (checked as for :func:`track_capture`). Unsigned
-    counts are centred first (:func:`unsigned_mid_scale`), as ``track`` centres them, so that
+    counts are centred first (:func:`counts_mid_scale`), as ``track`` centres them, so that
     the offsets learned are the ones ``track --calibration`` (float or fixed) sees; the
     amplitude is the capture's own (counts, volts or normalised)."""
 
@@ -410,7 +432,7 @@ def calibrate_capture(s: TrackSettings, **options) -> harmonics.Calibration:
     first_reader = reader()
     first = next(iter(first_reader))
     gains = gains_for_capture(s, first_reader.sample_rate_hz if first.time_s is not None else None)
-    mid = unsigned_mid_scale(first_reader.sample_dtype, first.y_c, first.y_s, s.adc_range)
+    mid = counts_mid_scale(s, first_reader.sample_dtype)
     del first_reader, first
 
     def chunks():

@@ -12,7 +12,6 @@ use angletrack_core::{
 };
 
 use super::calibrated::{NOMINAL_AMPLITUDE_SAMPLES, nominal_amplitude};
-use crate::counts::{UnsignedCountsError, capture_mid_scale};
 
 /// Entries per electrical turn of the angle correction table the fixed-point chain builds
 /// from learned harmonics: 1024 (the interpolation's error below 2e-7 rad for a 4 mrad 3rd
@@ -161,12 +160,11 @@ pub fn with_fixed_clipping(
     Ok((adc, ((stated, measured), stages)))
 }
 
-/// How a capture's counts reach the fixed-point observer, measured from its first samples
-/// ([`fixed_input`]).
+/// How a capture's counts reach the fixed-point observer ([`fixed_input`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FixedInput {
-    /// The mid-scale removed from unsigned counts ([`capture_mid_scale`]; 0 for signed
-    /// counts).
+    /// The mid-scale removed (decided by [`capture_counts`](crate::capture_counts); 0 for
+    /// signed counts).
     pub mid_scale_counts: i32,
     /// The left shift to the 16-bit range ([`fixed_input_shift`]).
     pub shift: u32,
@@ -176,38 +174,34 @@ pub struct FixedInput {
     pub monitor_amplitude: f64,
 }
 
-/// The [`FixedInput`] of a capture of whole counts from its first samples `y_c`, `y_s`: the
-/// mid-scale of unsigned counts (none where the counts are stated `signed`: signed counts
-/// all of one sign, the rotor in one quadrant, are no offset binary), then the amplitude of
-/// the centred samples, the shift and the monitor's amplitude derived from it. Refuses
-/// counts no ADC gives.
+/// The [`FixedInput`] of a capture of whole counts whose mid-scale is `mid_scale_counts`
+/// (the capture's, by [`capture_counts`](crate::capture_counts): never guessed here), from
+/// its first samples `y_c`, `y_s`: the amplitude of the centred samples, the shift and the
+/// monitor's amplitude derived from it. A [`ConfigError`] naming the mid-scale when no
+/// `i32` holds it.
 ///
 /// ```
 /// let theta: Vec<f64> = (0..1000).map(|k| 0.01 * k as f64).collect();
 /// let y_c: Vec<f64> = theta.iter().map(|t| (2048.0 + 1800.0 * t.cos()).round()).collect();
 /// let y_s: Vec<f64> = theta.iter().map(|t| (2048.0 + 1800.0 * t.sin()).round()).collect();
-/// let input = angletrack::fixed_input(&y_c, &y_s, false)?;
+/// let input = angletrack::fixed_input(&y_c, &y_s, 2048)?;
 /// assert_eq!((input.mid_scale_counts, input.shift), (2048, 3));
 /// assert!((input.amplitude - 1800.0).abs() < 1.0);
-/// assert_eq!(angletrack::fixed_input(&y_c, &y_s, true)?.mid_scale_counts, 0);
-/// # Ok::<(), angletrack::UnsignedCountsError>(())
+/// # Ok::<(), angletrack_core::ConfigError>(())
 /// ```
 pub fn fixed_input(
     y_c: &[f64],
     y_s: &[f64],
-    signed: bool,
-) -> Result<FixedInput, UnsignedCountsError> {
+    mid_scale_counts: u64,
+) -> Result<FixedInput, ConfigError> {
+    let mid = i32::try_from(mid_scale_counts)
+        .map_err(|_| ConfigError::OutOfRange(angletrack_core::Parameter::MidScaleCounts))?;
     let n = y_c.len().min(y_s.len()).min(NOMINAL_AMPLITUDE_SAMPLES);
-    let mid = if signed {
-        0
-    } else {
-        capture_mid_scale(&y_c[..n], &y_s[..n])?
-    };
-    let centred = |y: &[f64]| -> Vec<f64> { y[..n].iter().map(|v| v - mid as f64).collect() };
+    let centred = |y: &[f64]| -> Vec<f64> { y[..n].iter().map(|v| v - f64::from(mid)).collect() };
     let amplitude = nominal_amplitude(&centred(y_c), &centred(y_s)).unwrap_or(0.0);
     let shift = fixed_input_shift(amplitude);
     Ok(FixedInput {
-        mid_scale_counts: i32::try_from(mid).unwrap_or(i32::MAX),
+        mid_scale_counts: mid,
         shift,
         amplitude,
         monitor_amplitude: fixed_monitor_amplitude(amplitude, shift),

@@ -69,6 +69,7 @@ impl<T: Real> Workload<T> {
             T::from_f64(self.acceleration_rad_s2),
             T::from_f64(SAMPLE_PERIOD_S),
         )
+        .unwrap()
     }
 }
 

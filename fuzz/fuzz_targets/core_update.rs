@@ -133,7 +133,9 @@ where
             T::from_f64(speed),
             T::from_f64(acceleration),
             gains.sample_period(),
-        ),
+        )
+        // What the state cannot hold is refused: the fuzzed run starts from its first sample.
+        .unwrap_or_default(),
         None => ObserverState::new(),
     };
     let check = |e: Estimate<T>, state: &ObserverState<T, N>, calibrator: &Calibrator<T>| {

@@ -159,14 +159,13 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
         speed_rad_s: f64,
         acceleration_rad_s2: f64,
     ) -> Result<()> {
-        let period = self.observer.gains.sample_period().to_f64();
-        state_within_limits(N, period, angle_rad, speed_rad_s, acceleration_rad_s2)?;
+        // The core refuses what the state cannot hold, naming the argument.
         self.observer.state = ObserverState::at(
             T::from_f64(angle_rad),
             T::from_f64(speed_rad_s),
             T::from_f64(acceleration_rad_s2),
             self.observer.gains.sample_period(),
-        );
+        )?;
         Ok(())
     }
 
@@ -214,64 +213,6 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
         self.calibrator = choice.calibrator()?;
         Ok(())
     }
-}
-
-/// Refuses (naming the argument) a state `ObserverState::at` would not hold as given: an
-/// angle of 2^31 turns or more (its turns are not counted: it becomes 0), a speed beyond
-/// half a turn per sample or an acceleration beyond `pi / Ts^2` (limited there), an
-/// acceleration at order 2 (which has none: dropped). Finite values are checked by the
-/// caller.
-fn state_within_limits(
-    order: usize,
-    sample_period_s: f64,
-    angle_rad: f64,
-    speed_rad_s: f64,
-    acceleration_rad_s2: f64,
-) -> Result<()> {
-    use core::f64::consts::{PI, TAU};
-    // The core counts whole turns in an i32; one turn of margin for the wrap's rounding.
-    let max_angle = (f64::from(i32::MAX) - 1.0) * TAU;
-    if angle_rad.abs() >= max_angle {
-        return Err(Error::value(
-            "angle_rad",
-            format!("{angle_rad} rad is beyond the +-2^31 turns the observer counts"),
-        ));
-    }
-    if order < 2 && speed_rad_s != 0.0 {
-        return Err(Error::value(
-            "speed_rad_s",
-            format!("{speed_rad_s}: an observer of order {order} has no speed state, give 0"),
-        ));
-    }
-    if (speed_rad_s * sample_period_s).abs() > PI {
-        return Err(Error::value(
-            "speed_rad_s",
-            format!(
-                "{speed_rad_s} rad/s is beyond half a turn per sample (pi / sample_period_s = {} \
-                 rad/s), which the sampled loop cannot represent",
-                PI / sample_period_s
-            ),
-        ));
-    }
-    if order < 3 && acceleration_rad_s2 != 0.0 {
-        return Err(Error::value(
-            "acceleration_rad_s2",
-            format!(
-                "{acceleration_rad_s2}: an observer of order {order} has no acceleration state, \
-                 give 0"
-            ),
-        ));
-    }
-    if (acceleration_rad_s2 * sample_period_s * sample_period_s).abs() > PI {
-        return Err(Error::value(
-            "acceleration_rad_s2",
-            format!(
-                "{acceleration_rad_s2} rad/s^2 is beyond pi / sample_period_s^2 = {} rad/s^2",
-                PI / (sample_period_s * sample_period_s)
-            ),
-        ));
-    }
-    Ok(())
 }
 
 /// Runs `channel` over `y_c`, `y_s` into the columns (all of equal length, checked by the

@@ -113,6 +113,12 @@ pub enum Parameter {
     MeasurementNoise,
     /// The coefficients of an [`AngleCorrection`](crate::AngleCorrection) (rad).
     AngleCorrection,
+    /// The angle (rad) a state starts at ([`ObserverState::at`](crate::ObserverState::at)).
+    InitialAngle,
+    /// The speed (rad/s) a state starts at.
+    InitialSpeed,
+    /// The acceleration (rad/s^2) a state starts at.
+    InitialAcceleration,
 }
 
 impl Parameter {
@@ -184,6 +190,9 @@ impl Parameter {
             Parameter::ProcessNoise => "process_noise_q",
             Parameter::MeasurementNoise => "measurement_noise_r",
             Parameter::AngleCorrection => "angle_correction",
+            Parameter::InitialAngle => "angle_rad",
+            Parameter::InitialSpeed => "speed_rad_s",
+            Parameter::InitialAcceleration => "acceleration_rad_s2",
         }
     }
 

@@ -2,10 +2,11 @@
 //! updates), [`Estimate`] (what it reports, in physical units) and the Taylor step `A x`
 //! that predicts the next sample (`docs/theory.md §5`).
 
+use crate::error::{ConfigError, Parameter};
 use crate::faults::Faults;
 use crate::monitor::MonitorState;
 use crate::reacquisition::Refit;
-use crate::real::Float;
+use crate::real::{Float, check_positive};
 use crate::wrap::{wrap_angle, wrapped};
 
 /// What an observer knows after a sample.
@@ -154,35 +155,66 @@ impl<T: Float, const N: usize> ObserverState<T, N> {
         }
     }
 
-    /// A state starting at a known angle `angle_rad` (any value: it is wrapped and the whole
-    /// turns counted), speed `speed_rad_s` and acceleration `acceleration_rad_s2` (ignored at
-    /// order 2), for the sample period `sample_period_s` (s).
+    /// A state starting at a known angle `angle_rad` (wrapped, the whole turns counted),
+    /// speed `speed_rad_s` and acceleration `acceleration_rad_s2`, for the sample period
+    /// `sample_period_s` (s).
     ///
-    /// Non-finite values are replaced by 0. Speed and acceleration are limited to what a
-    /// sampled loop can represent: half a turn per sample (`pi / Ts` rad/s, beyond which
-    /// the angle aliases, `docs/theory.md §9`) and `pi / Ts^2` rad/s^2, so that no state
-    /// starts near overflow.
+    /// Refuses, naming the parameter, what the state cannot hold as given: a value that is
+    /// not finite, an angle of `2^31 - 1` turns or more (the turns are counted in 32 bits
+    /// as the angle is wrapped), a speed beyond half a turn per sample (`pi / Ts` rad/s,
+    /// beyond which the angle aliases, `docs/theory.md §9`) or an acceleration beyond
+    /// `pi / Ts^2` rad/s^2, and a speed or an acceleration other than 0 for an observer of
+    /// an order that has none.
     ///
     /// ```
-    /// use angletrack_core::ObserverState;
-    /// let state = ObserverState::<f32, 3>::at(7.0, 100.0, 0.0, 1e-4);
+    /// use angletrack_core::{ObserverState, Parameter};
+    /// let state = ObserverState::<f32, 3>::at(7.0, 100.0, 0.0, 1e-4)?;
     /// assert_eq!(state.turns(), 1);
     /// assert!((state.angle() - (7.0 - core::f32::consts::TAU)).abs() < 1e-6);
     /// assert!((state.speed(1e-4) - 100.0).abs() < 1e-3);
+    /// let err = ObserverState::<f32, 2>::at(0.0, 0.0, 1.0, 1e-4).unwrap_err();
+    /// assert_eq!(err.parameter(), Parameter::InitialAcceleration);
+    /// let err = ObserverState::<f64, 3>::at(0.0, 4e4, 0.0, 1e-4).unwrap_err();
+    /// assert_eq!(err.parameter().name(), "speed_rad_s");
+    /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
-    pub fn at(angle_rad: T, speed_rad_s: T, acceleration_rad_s2: T, sample_period_s: T) -> Self {
-        let finite_or_zero = |v: T| if v.is_finite() { v } else { T::ZERO };
-        let limited = |v: T| finite_or_zero(v).max(-T::PI).min(T::PI);
+    pub fn at(
+        angle_rad: T,
+        speed_rad_s: T,
+        acceleration_rad_s2: T,
+        sample_period_s: T,
+    ) -> Result<Self, ConfigError> {
+        let ts = check_positive(sample_period_s, Parameter::SamplePeriod)?;
+        let finite = |v: T, parameter| {
+            if v.is_finite() {
+                Ok(v)
+            } else {
+                Err(ConfigError::NotFinite(parameter))
+            }
+        };
+        let angle = finite(angle_rad, Parameter::InitialAngle)?;
+        let speed = finite(speed_rad_s, Parameter::InitialSpeed)? * ts;
+        let acceleration = finite(acceleration_rad_s2, Parameter::InitialAcceleration)? * ts * ts;
+        let out_of_range = |parameter| Err(ConfigError::OutOfRange(parameter));
+        if !(angle.abs() < T::from_i32(i32::MAX - 1) * T::TAU) {
+            return out_of_range(Parameter::InitialAngle);
+        }
+        if (N < 2 && speed != T::ZERO) || !(speed.abs() <= T::PI) {
+            return out_of_range(Parameter::InitialSpeed);
+        }
+        if (N < 3 && acceleration != T::ZERO) || !(acceleration.abs() <= T::PI) {
+            return out_of_range(Parameter::InitialAcceleration);
+        }
         let mut x = [T::ZERO; N];
-        x[0] = finite_or_zero(angle_rad);
+        x[0] = angle;
         let turns = wrap_angle(&mut x[0]) as i64;
         if N > 1 {
-            x[1] = limited(speed_rad_s * sample_period_s);
+            x[1] = speed;
         }
         if N > 2 {
-            x[2] = limited(acceleration_rad_s2 * sample_period_s * sample_period_s);
+            x[2] = acceleration;
         }
-        Self {
+        Ok(Self {
             x,
             next_angle: Self::PARKED_ANGLE,
             turns,
@@ -195,7 +227,7 @@ impl<T: Float, const N: usize> ObserverState<T, N> {
             tracking: false,
             coasted: 0,
             refit: Refit::new(),
-        }
+        })
     }
 
     /// The estimated angle (rad), in [-pi, pi).

@@ -123,7 +123,8 @@ pub(crate) fn run<T: Real, const N: usize, S: SinCos<T>>(
         T::from_f64(theta(0.0).1),
         T::ZERO,
         gains.sample_period(),
-    );
+    )
+    .unwrap();
     (1..samples)
         .map(|k| {
             let t = k as f64 * TS;
@@ -184,7 +185,7 @@ pub(crate) fn settling_samples<const N: usize>(gains: &Gains<f64, N>) -> usize {
         .with_fault_thresholds(FaultThresholds::disabled())
         .unwrap();
     let step = 0.01f64;
-    let mut state = ObserverState::at(0.0, 0.0, 0.0, TS);
+    let mut state = ObserverState::at(0.0, 0.0, 0.0, TS).unwrap();
     let mut last_outside = 0;
     // A linear, stable response: once inside the band for three times as long as it took
     // to get there, it stays.

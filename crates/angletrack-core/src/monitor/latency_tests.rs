@@ -31,7 +31,7 @@ fn samples_to_flag(
     fault: impl Fn(usize, f64) -> (f64, f64),
 ) -> usize {
     let gains = kalman();
-    let mut state = ObserverState::at(0.0, STEP_RAD / TS, 0.0, TS);
+    let mut state = ObserverState::at(0.0, STEP_RAD / TS, 0.0, TS).unwrap();
     let healthy = |theta: f64| (theta.cos(), theta.sin());
     for k in 1..=warm_up {
         let (c, s) = healthy(STEP_RAD * k as f64);
@@ -99,14 +99,14 @@ fn over_speed_is_flagged_within_one_window() {
     let o2 = Gains::<f64, 2>::new([0.06, 0.001], TS).unwrap();
     let step = 0.6 * core::f64::consts::PI;
     for offset in 0..WINDOW {
-        let mut state = ObserverState::at(0.0, STEP_RAD / TS, 0.0, TS);
+        let mut state = ObserverState::at(0.0, STEP_RAD / TS, 0.0, TS).unwrap();
         for k in 1..=4 * WINDOW + offset {
             let theta = STEP_RAD * k as f64;
             o2.update(&mut state, theta.cos(), theta.sin());
         }
         assert!(state.latched_faults().is_empty());
         let (angle, turns) = (state.angle(), state.turns() as f64);
-        let mut fast = ObserverState::at(angle, step / TS, 0.0, TS);
+        let mut fast = ObserverState::at(angle, step / TS, 0.0, TS).unwrap();
         fast.monitor = state.monitor;
         let flagged = (1..=WINDOW).find(|&k| {
             let theta = angle + turns * core::f64::consts::TAU + step * k as f64;
@@ -136,7 +136,7 @@ fn false_lock_is_flagged_within_two_windows() {
 #[test]
 fn a_rejected_sample_is_flagged_at_once_and_only_for_itself() {
     let gains = kalman();
-    let mut state = ObserverState::at(0.0, STEP_RAD / TS, 0.0, TS);
+    let mut state = ObserverState::at(0.0, STEP_RAD / TS, 0.0, TS).unwrap();
     for k in 1..200usize {
         let theta = STEP_RAD * k as f64;
         let bad = k % 37 == 0;
@@ -179,7 +179,7 @@ fn a_start_180_degrees_off_is_flagged_at_the_first_used_sample() {
     // the first used sample alone, which flags the false lock and re-acquires.
     let gains = kalman();
     let truth = 179f64.to_radians();
-    let mut state = ObserverState::at(0.0, 0.0, 0.0, TS);
+    let mut state = ObserverState::at(0.0, 0.0, 0.0, TS).unwrap();
     let e = gains.update(&mut state, truth.cos(), truth.sin());
     assert!(e.faults.contains(Faults::FALSE_LOCK), "{}", e.faults);
     assert!((e.angle - truth).abs() < 0.05, "re-acquired at {}", e.angle);

@@ -48,7 +48,7 @@ fn every_observer_relocks_within_its_settling_time_from_179_9_degrees_off() {
         let settling = settling_samples(&gains);
         let filter = 1.0 / gains.fault_thresholds().filter_factor;
         let off = 179.9f64.to_radians();
-        let state = ObserverState::at(1.0 - off, 50.0, 0.0, TS);
+        let state = ObserverState::at(1.0 - off, 50.0, 0.0, TS).unwrap();
         let lock = samples_to_lock(&gains, state, 1.0, 50.0, 4 * settling);
         assert!(
             lock < settling,
@@ -71,7 +71,7 @@ fn every_observer_relocks_within_its_settling_time_after_a_180_degree_jump() {
         let gains = with_default_monitor(gains);
         let settling = settling_samples(&gains);
         let speed = 80.0;
-        let mut state = ObserverState::at(0.3, speed, 0.0, TS);
+        let mut state = ObserverState::at(0.3, speed, 0.0, TS).unwrap();
         let warm_up = n(2000);
         for k in 1..warm_up {
             let theta = 0.3 + speed * k as f64 * TS;
@@ -109,7 +109,7 @@ fn exactly_180_degrees_off_the_bare_loop_lingers_and_the_detector_does_not() {
         .with_fault_thresholds(FaultThresholds::disabled())
         .unwrap();
     let settling = settling_samples(&ok);
-    let start = ObserverState::at(-1.0 + core::f64::consts::PI, 0.0, 0.0, TS);
+    let start = ObserverState::at(-1.0 + core::f64::consts::PI, 0.0, 0.0, TS).unwrap();
     let bare_lock = samples_to_lock(&bare, start, -1.0, 0.0, 20 * settling);
     let lock = samples_to_lock(&ok, start, -1.0, 0.0, 20 * settling);
     assert!(lock < settling / 4, "detector: {lock} samples");
@@ -124,7 +124,7 @@ fn diagnostics_flag_loss_and_degradation_of_signal_and_latch_them() {
     let (_, _, ok) = designs();
     // Started at the shaft's speed: from rest, the pull-in to 100 rad/s peaks at a phase
     // error of 5.9 degrees, which the window's mean rightly flags as loss of tracking.
-    let mut state = ObserverState::at(0.0, 0.01 / TS, 0.0, TS);
+    let mut state = ObserverState::at(0.0, 0.01 / TS, 0.0, TS).unwrap();
     let mut k = 0usize;
     let runs = if cfg!(miri) { 150 } else { 500 };
     let mut run = |state: &mut ObserverState<f64, 3>, amplitude: f64, n: usize| {
@@ -184,7 +184,7 @@ fn diagnostics_flag_loss_of_tracking_on_a_speed_the_loop_cannot_follow() {
     assert!(flagged);
     // The speed check alone: over pi/2 rad per sample, seen at the first used sample (the
     // monitor's first window is that sample alone).
-    let mut fast = ObserverState::at(0.0, 0.6 * core::f64::consts::PI / TS, 0.0, TS);
+    let mut fast = ObserverState::at(0.0, 0.6 * core::f64::consts::PI / TS, 0.0, TS).unwrap();
     let theta = 0.6 * core::f64::consts::PI;
     let e = o2.update(&mut fast, theta.cos(), theta.sin());
     assert!(e.faults.contains(Faults::LOSS_OF_TRACKING), "{}", e.faults);

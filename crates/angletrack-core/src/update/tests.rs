@@ -62,7 +62,7 @@ fn multi_turn_f32_keeps_full_resolution_after_a_million_turns() {
     let gains = Gains::<f32, 3, Exact>::new([0.3, 0.04, 0.002], TS as f32).unwrap();
     let per_turn = 8u64;
     let step = core::f64::consts::TAU / per_turn as f64;
-    let mut state = ObserverState::<f32, 3>::at(0.0, (step / TS) as f32, 0.0, TS as f32);
+    let mut state = ObserverState::<f32, 3>::at(0.0, (step / TS) as f32, 0.0, TS as f32).unwrap();
     let turns = if cfg!(miri) { 100 } else { 1_000_000u64 };
     let mut worst = 0.0f64;
     for k in 1..=turns * per_turn {
@@ -219,12 +219,18 @@ fn observers_relock_within_their_settling_time_after_a_burst_of_bad_samples() {
 }
 
 #[test]
-fn a_state_started_at_absurd_speed_and_acceleration_stays_finite_while_coasting() {
-    // A state at the largest float speed and acceleration, x = (0, 3.4e38, 1.9e38), would
-    // overflow in the prediction: `at` limits it to half a turn per sample.
+fn a_state_at_the_largest_speed_and_acceleration_stays_finite_while_coasting() {
+    // The largest float speed and acceleration, x = (0, 3.4e38, 1.9e38), would overflow in
+    // the prediction: `at` refuses them, and holds half a turn per sample (and per
+    // sample^2), the most a sampled loop represents.
     let gains = Gains::<f32, 3>::new([0.06, 0.0019, 3e-5], 1e-4).unwrap();
-    let mut state = ObserverState::at(0.0, f32::MAX, f32::MAX, 1e-4);
-    assert_eq!(state.scaled_state()[1], core::f32::consts::PI);
+    let refused = ObserverState::<f32, 3>::at(0.0, f32::MAX, 0.0, 1e-4).unwrap_err();
+    assert_eq!(refused.parameter(), Parameter::InitialSpeed);
+    let refused = ObserverState::<f32, 3>::at(0.0, 0.0, f32::MAX, 1e-4).unwrap_err();
+    assert_eq!(refused.parameter(), Parameter::InitialAcceleration);
+    let pi = core::f32::consts::PI;
+    let mut state = ObserverState::at(0.0, pi / 1e-4, pi / 1e-8, 1e-4).unwrap();
+    assert!((state.scaled_state()[1] - pi).abs() < 1e-5);
     for _ in 0..n(10_000) {
         gains.update(&mut state, f32::NAN, 0.0);
         assert!(
@@ -301,8 +307,8 @@ proptest! {
     ) {
         let (_, _, ok) = designs();
         let shifted = theta0 + n as f64 * core::f64::consts::TAU;
-        let mut a = ObserverState::at(theta0, speed, 0.0, TS);
-        let mut b = ObserverState::at(shifted, speed, 0.0, TS);
+        let mut a = ObserverState::at(theta0, speed, 0.0, TS).unwrap();
+        let mut b = ObserverState::at(shifted, speed, 0.0, TS).unwrap();
         prop_assert_eq!(b.turns() - a.turns(), n);
         for k in 1..crate::test_support::n(300).max(20) {
             let t = k as f64 * TS;

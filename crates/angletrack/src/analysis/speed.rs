@@ -39,7 +39,9 @@ pub(super) fn simulate_nonlinear<const N: usize>(
     truth: impl Fn(usize) -> f64,
 ) -> impl Iterator<Item = f64> {
     let gains = *gains;
-    let mut state = ObserverState::at(0.0, 0.0, 0.0, gains.sample_period());
+    // At rest at angle 0: within every limit, for the gains' checked sample period.
+    let mut state = ObserverState::at(0.0, 0.0, 0.0, gains.sample_period())
+        .unwrap_or_else(|e| unreachable!("a state at rest is valid: {e}"));
     (0..samples).map(move |k| {
         let (s, c) = truth(k).sin_cos();
         gains.update(&mut state, c, s).position()

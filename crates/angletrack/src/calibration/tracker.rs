@@ -47,9 +47,13 @@ impl<const N: usize> Tracker for LoopTracker<N> {
             Some(state) => state,
             None if y_c.is_finite() && y_s.is_finite() => {
                 let (c, s) = self.chain.front_end.correct(y_c, y_s);
+                // A first-pass speed the loop cannot hold (beyond half a turn a sample):
+                // the loop starts from the sample alone and locks by itself.
+                let observer =
+                    ObserverState::at(s.atan2(c), self.speed_rad_s, 0.0, ts).unwrap_or_default();
                 self.state.insert(ChainState {
                     front_end: (),
-                    observer: ObserverState::at(s.atan2(c), self.speed_rad_s, 0.0, ts),
+                    observer,
                 })
             }
             None => return None,

@@ -91,6 +91,7 @@ pub mod paper;
 mod rails;
 mod sim;
 mod thresholds;
+pub mod tracker_file;
 mod winding_rails;
 mod windings_plan;
 

@@ -74,6 +74,9 @@ pub enum SinCosKind {
 pub enum Input {
     /// Numbers in physical units (volts, normalised): tracked as they are.
     Units,
+    /// Integer counts whose mid-scale is measured on the capture's first samples (the
+    /// command line's rule without a stated one; a firmware states it).
+    Counts,
     /// Counts of an ADC of `bits` bits, two's complement (`signed`: mid-scale 0) or offset
     /// binary (mid-scale `2^(bits-1)`); its full scale is the rails of
     /// [`AdcRange::FullScale`].

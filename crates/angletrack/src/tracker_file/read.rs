@@ -147,6 +147,10 @@ impl Document<'_> {
             checked.map_err(|e| doc.error("bits", e.to_string()))?;
             return Ok(Input::Bits { bits, signed });
         }
+        if !doc.object.contains_key("mid_scale") && !doc.object.contains_key("counts_per_unit") {
+            doc.refuse_unknown(&["kind", "bits", "mid_scale"])?;
+            return Ok(Input::Counts);
+        }
         doc.refuse_unknown(&["kind", "mid_scale", "counts_per_unit"])?;
         let mid_scale = doc.integer("mid_scale", i32::MIN.into(), i32::MAX.into())? as i32;
         let counts_per_unit = doc.number("counts_per_unit")?;

@@ -66,7 +66,9 @@ fn every_setting_reads_back_identical() {
     let mut sin = [0.0; 8];
     sin[3] = -2.5e-4;
     harmonics.correction = Correction::Harmonics(AngleCorrection::new(cos, sin).unwrap());
-    for tracker in [TrackerFile::new(gains()), full(), harmonics] {
+    let mut counts = TrackerFile::new(gains());
+    counts.input = Input::Counts;
+    for tracker in [TrackerFile::new(gains()), full(), harmonics, counts] {
         let text = tracker.to_json();
         assert_eq!(read(&text).unwrap(), tracker, "{text}");
         assert_eq!(read(&text).unwrap().to_json(), text);

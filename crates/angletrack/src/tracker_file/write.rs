@@ -56,6 +56,7 @@ fn numbers(values: &[f64]) -> String {
 fn input(input: &Input) -> String {
     match *input {
         Input::Units => nested(&[kind("units")]),
+        Input::Counts => nested(&[kind("counts")]),
         Input::Bits { bits, signed } => nested(&[
             kind("counts"),
             ("bits", bits.to_string()),

@@ -14,7 +14,7 @@ from typing import Optional, Sequence
 import angletrack
 from angletrack import calibration as calibration_io
 from angletrack import capture as capture_io
-from angletrack import clipping
+from angletrack import clipping, cli_tracker
 from angletrack import harmonics, resolver, tracking
 from angletrack.cli_args import (
     OneLineErrorParser,
@@ -60,27 +60,31 @@ def _cmd_track(args: argparse.Namespace) -> int:
     if output.suffix.lower() not in ESTIMATE_EXTENSIONS:
         raise ValueError(f"--output: {output}: the estimates' format follows the extension, and the formats "
                          "written are CSV (.csv), NumPy (.npy) or .npz")
+    from_tracker = cli_tracker.track_fields(args)
     stored = calibration_io.read_stored(args.calibration)
+    options = dict(
+        gains_file=args.gains_file, gains=args.gains, dtype=args.dtype or "float64", sin_cos=args.sin_cos,
+        observer_arguments=calibration_io.observer_arguments(args.calibrate, stored),
+        calibration=calibration_io.angle_calibration(stored), adc_range=clipping.stated_range(args),
+    )
+    windings = resolver.track_options(args)
+    if from_tracker is not None:
+        options.update(from_tracker)
+        windings["pole_pairs"] = options.pop("pole_pairs")
     settings = tracking.TrackSettings(
         capture=args.capture,
         output=output,
-        gains_file=args.gains_file,
-        gains=args.gains,
         sample_rate_hz=args.sample_rate,
         columns=args.columns,
         delimiter=args.delimiter,
         decimal=args.decimal,
         skip_rows=args.skip_rows,
         time_unit=args.time_unit,
-        dtype=args.dtype,
-        sin_cos=args.sin_cos,
         skip_s=args.skip,
         lock_tolerance_rad=args.lock_tolerance,
         progress=args.progress or sys.stderr.isatty(),
-        observer_arguments=calibration_io.observer_arguments(args.calibrate, stored),
-        **resolver.track_options(args),
-        calibration=calibration_io.angle_calibration(stored),
-        adc_range=clipping.stated_range(args),
+        **windings,
+        **options,
     )
     if png is not None:
         if args.carrier_hz is not None:
@@ -243,10 +247,18 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     calibration_format = output_format(args.format, args.output, default="json")
     refuse_overwriting_inputs(args, {"--output": args.output})
     make_output_directories({"--output": args.output})
+    tracker = cli_tracker.read(args.tracker)
+    from_tracker = {}
+    if tracker is not None:
+        cli_tracker.checked_flags(args, tracker)
+        # The learning sees the samples as track does (mid-scale, scaling); what the file
+        # stored before is replaced by what is learned.
+        fields = tracker.replaced(calibration={"kind": "none"}, correction={"kind": "none"}).track_settings()
+        from_tracker = {k: fields[k] for k in ("tracker_gains", "mid_scale", "counts_per_unit", "adc_range")}
     settings = tracking.TrackSettings(capture=args.capture, output=args.output, gains_file=args.gains_file,
                                       gains=args.gains, sample_rate_hz=args.sample_rate, columns=args.columns,
                                       delimiter=args.delimiter, decimal=args.decimal, skip_rows=args.skip_rows,
-                                      time_unit=args.time_unit)
+                                      time_unit=args.time_unit, **from_tracker)
     try:
         cal = tracking.calibrate_capture(
             settings, lowest_order=args.lowest_order, highest_order=args.highest_order,
@@ -258,6 +270,8 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
             message = message.replace(name, flag)
         raise ValueError(message) from None
     text = {"json": cal.to_json, "c": cal.to_c_header, "rust": cal.to_rust}[calibration_format]()
+    if tracker is not None and calibration_format == "json":
+        text = tracker.with_calibration(text, "the calibration learned").to_json()
     if args.output is None:
         print(text, end="")
     else:
@@ -269,7 +283,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
 def _add_calibrate_parser(sub) -> None:
     cal = subcommand(sub, _cmd_calibrate)
     cal.add_argument("capture", type=pathlib.Path, metavar="CAPTURE")
-    add_gains_source(cal)
+    add_gains_source(cal, tracker=True)
     cal.add_argument("--columns", metavar="ROLE=COLUMN,...",
                      help="which columns hold what (as for track; a reference column is calibrated against)")
     cal.add_argument("--delimiter", metavar="CHAR", help="field delimiter (default: sniffed)")
@@ -293,8 +307,9 @@ def _add_calibrate_parser(sub) -> None:
                      help="learn an order only when its amplitude is at least X times its uncertainty "
                      "(default 3; 0 learns every order, warning of those below their uncertainty)")
     cal.add_argument("--format", choices=["json", "c", "rust"],
-                     help="json (for track --calibration), c (header) or rust (const block); default: the "
-                     "output's by its extension (.json json, .h c, .rs rust), else json")
+                     help="json (for track --calibration; with --tracker: the tracker file with the calibration and "
+                     "its harmonics as the correction), c (header) or rust (const block); default: the output's by "
+                     "its extension (.json json, .h c, .rs rust), else json")
     cal.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",
                      help="where to write it (default: standard output)")
 
@@ -302,7 +317,7 @@ def _add_calibrate_parser(sub) -> None:
 def _add_track_parser(sub) -> None:
     track = subcommand(sub, _cmd_track)
     track.add_argument("capture", type=pathlib.Path, metavar="CAPTURE")
-    add_gains_source(track)
+    add_gains_source(track, tracker=True)
     cols = track.add_argument_group("the capture's layout (sniffed by default)")
     cols.add_argument("--columns", metavar="ROLE=COLUMN,...",
                       help="which columns hold what: roles y_c, y_s, time, reference; each column a header "
@@ -314,7 +329,7 @@ def _add_track_parser(sub) -> None:
     cols.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s",
                       help="unit of the time column (default s)")
     add_reader_arguments(cols)
-    track.add_argument("--dtype", choices=["float32", "float64", "fixed"], default="float64",
+    track.add_argument("--dtype", choices=["float32", "float64", "fixed"], default=None,
                        help="number type the observer runs on (default float64); fixed: the fixed-point chain "
                        "on integer counts (a --calibration applied in integers, as a firmware does)")
     track.add_argument("--sin-cos", choices=["fast", "exact"], default=None,

@@ -68,6 +68,9 @@ def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.
     calibration: Union[None, angletrack.SensorCalibration, "harmonics.Calibration"] = (
         s.calibration if s.calibration is not None else s.observer_arguments.get("initial_calibration"))
     mid, shift, amplitude, monitor = fixed_input(first.y_c, first.y_s, signed=clipping.signed(s.adc_range))
+    if s.mid_scale is not None:
+        # A tracker file's stated mid-scale, not the one measured on the first samples.
+        mid = int(s.mid_scale)
     adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
     counts_range = clipping.integer_range(
         adc_range, "the stated --adc-range" if s.adc_range is not None else "the range measured")

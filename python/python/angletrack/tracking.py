@@ -67,6 +67,14 @@ class TrackSettings:
     #: The ADC's range stated by ``--adc-range``/``--adc-bits`` (the capture's units), against
     #: which clipping is flagged (``angletrack.clipping``); ``None``: measured.
     adc_range: Optional[tuple] = None
+    #: The gains of a tracker file (``--tracker``), in place of ``gains_file``.
+    tracker_gains: Optional[angletrack.Gains] = None
+    #: The mid-scale removed from the samples as a tracker file states it; ``None``: the
+    #: capture's (:func:`unsigned_mid_scale`).
+    mid_scale: Optional[float] = None
+    #: What the samples are divided by after the mid-scale (a tracker file's
+    #: ``input.counts_per_unit``).
+    counts_per_unit: float = 1.0
 
     def reader_options(self) -> dict:
         """The capture reader's keyword arguments (the capture's layout and rate)."""
@@ -75,8 +83,10 @@ class TrackSettings:
 
     @functools.cached_property
     def designed_gains(self) -> Optional[angletrack.Gains]:
-        """The gains in ``gains_file`` at their designed rate (``None`` without one), read
-        once however many steps ask for them."""
+        """The gains in ``gains_file`` (or the tracker file's) at their designed rate
+        (``None`` without one), read once however many steps ask for them."""
+        if self.tracker_gains is not None:
+            return self.tracker_gains
         if self.gains_file is None:
             return None
         text = capture_io.read_text_file(self.gains_file, "--gains-file")
@@ -321,6 +331,10 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
 
         if s.carrier_hz is None:
             raise ValueError("pole_pairs: --pole-pairs and --latency need --carrier-hz (the resolver path)")
+        if s.tracker_gains is not None and (s.mid_scale or s.counts_per_unit != 1.0):
+            raise ValueError("input: with --carrier-hz the capture holds raw windings, demodulated into pairs "
+                             "of amplitude 1: the tracker file's input mid_scale, bits or counts_per_unit do not "
+                             'apply; give input {"kind": "counts"} or {"kind": "units"}')
         return resolver.track_windings(s)
     reader = angletrack.CaptureReader(
         s.capture, **s.reader_options(), chunk_rows=s.chunk_rows,
@@ -336,17 +350,7 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
         return "\n".join(lines[:1] + _stated_rate_note(s) + lines[1:]), fixed
     dtype = np.dtype(s.dtype)
     calibration = s.calibration
-    mid = unsigned_mid_scale(reader.sample_dtype, first.y_c, first.y_s, s.adc_range)
-    adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
-    shifted = None if adc_range is None else (adc_range[0] - mid, adc_range[1] - mid)
-    # No range stated or found on the first chunk: the rails measured as the samples come
-    # (clipping that starts later in the capture).
-    if calibration is not None:
-        observer = harmonics.CalibratedObserver(gains, calibration, dtype=dtype, sin_cos=s.sin_cos,
-                                                adc_range=shifted, measure_adc_range=shifted is None)
-    else:
-        observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos, adc_range=shifted,
-                                       measure_adc_range=shifted is None, **s.observer_arguments)
+    observer, mid, adc_range = _observer(s, gains, reader.sample_dtype, first)
     progress = _Progress(s.progress)
     rejected, y_c_sum, flagged = 0, 0.0, 0
     ranges = _Ranges()
@@ -357,8 +361,8 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     with angletrack.EstimatesWriter(s.output, dtype=dtype) as writer:
         chunk = first
         while chunk is not None:
-            est = observer.update((chunk.y_c - mid).astype(dtype, copy=False),
-                                  (chunk.y_s - mid).astype(dtype, copy=False))
+            y_c, y_s = _scaled(s, chunk.y_c, mid), _scaled(s, chunk.y_s, mid)
+            est = observer.update(y_c.astype(dtype, copy=False), y_s.astype(dtype, copy=False))
             time_s = chunk.time_s
             if time_s is None:
                 time_s = (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) * gains.sample_period_s
@@ -366,7 +370,7 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
             rejected += int(np.count_nonzero(est.faults & bad))
             flagged += int(np.count_nonzero(est.faults & front_end))
             y_c_sum += float(np.sum(chunk.y_c))
-            ranges.add(chunk.y_c - mid, chunk.y_s - mid)
+            ranges.add(y_c, y_s)
             if stats is not None:
                 stats.add(time_s, est.angle, chunk.reference_rad)
             progress.update(reader)
@@ -395,6 +399,64 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     return "\n".join(lines + statistics), observer
 
 
+def _scaled(s: TrackSettings, y: np.ndarray, mid: float) -> np.ndarray:
+    """Samples as the observer takes them: minus the mid-scale, over ``counts_per_unit``."""
+    return y - mid if s.counts_per_unit == 1.0 else (y - mid) / s.counts_per_unit
+
+
+def _mid_scale(s: TrackSettings, sample_dtype: str, y_c: np.ndarray, y_s: np.ndarray) -> float:
+    """The mid-scale removed: the tracker file's, else the capture's guess (unsigned counts).
+    Integer counts tracked as units are refused: their mid-scale would be left in."""
+    if s.mid_scale is None:
+        return unsigned_mid_scale(sample_dtype, y_c, y_s, s.adc_range)
+    if s.tracker_gains is not None and s.mid_scale == 0.0 and unsigned_mid_scale(sample_dtype, y_c, y_s):
+        raise ValueError(f"input: the tracker file says units or signed counts, but {s.capture} holds unsigned "
+                         f"{sample_dtype} counts: set its input to {{\"kind\": \"counts\"}} (the mid-scale "
+                         "measured) or state bits or mid_scale")
+    return s.mid_scale
+
+
+def _observer(s: TrackSettings, gains: angletrack.Gains, sample_dtype: str, first) -> tuple:
+    """The float observer of ``s`` for a capture of ``sample_dtype`` whose first chunk is
+    ``first``, the mid-scale removed from its samples and the ADC range (its units) it
+    flags clipping against: one setup for ``track`` and :func:`track_arrays`."""
+    dtype = np.dtype(s.dtype)
+    mid = _mid_scale(s, sample_dtype, first.y_c, first.y_s)
+    adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
+    shifted = None if adc_range is None else (
+        (adc_range[0] - mid) / s.counts_per_unit, (adc_range[1] - mid) / s.counts_per_unit)
+    # No range stated or found on the first chunk: the rails measured as the samples come
+    # (clipping that starts later in the capture).
+    if s.calibration is not None:
+        observer = harmonics.CalibratedObserver(gains, s.calibration, dtype=dtype, sin_cos=s.sin_cos,
+                                                adc_range=shifted, measure_adc_range=shifted is None)
+    else:
+        observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos, adc_range=shifted,
+                                       measure_adc_range=shifted is None, **s.observer_arguments)
+    return observer, mid, adc_range
+
+
+class _Samples:
+    """Arrays in the shape of a capture's chunk, for :func:`_observer`."""
+
+    def __init__(self, y_c: np.ndarray, y_s: np.ndarray):
+        self.y_c, self.y_s = y_c, y_s
+
+
+def track_arrays(s: TrackSettings, y_c: np.ndarray, y_s: np.ndarray) -> tuple:
+    """The estimates of the samples ``(y_c, y_s)`` as :func:`track_capture` computes them
+    over a capture holding them (one chunk; ``s.dtype`` float32 or float64), and the
+    observer at the end."""
+    if s.dtype == "fixed":
+        raise ValueError("dtype: Tracker.track runs float observers; track a fixed-point setup with "
+                         "`angletrack track --tracker` or angletrack.FixedObserver")
+    observer, mid, _ = _observer(s, s.designed_gains, y_c.dtype.name, _Samples(y_c, y_s))
+    dtype = np.dtype(s.dtype)
+    est = observer.update(_scaled(s, y_c, mid).astype(dtype, copy=False),
+                          _scaled(s, y_s, mid).astype(dtype, copy=False))
+    return est, observer
+
+
 def calibrate_capture(s: TrackSettings, **options) -> harmonics.Calibration:
     """``angletrack calibrate``: the :class:`harmonics.Calibration` learned from the capture
     ``s.capture`` (``s.columns``, ``s.delimiter``, ``s.time_unit``), read twice in chunks in
@@ -410,11 +472,11 @@ def calibrate_capture(s: TrackSettings, **options) -> harmonics.Calibration:
     first_reader = reader()
     first = next(iter(first_reader))
     gains = gains_for_capture(s, first_reader.sample_rate_hz if first.time_s is not None else None)
-    mid = unsigned_mid_scale(first_reader.sample_dtype, first.y_c, first.y_s, s.adc_range)
+    mid = _mid_scale(s, first_reader.sample_dtype, first.y_c, first.y_s)
     del first_reader, first
 
     def chunks():
         for chunk in reader():
-            yield chunk.y_c - mid, chunk.y_s - mid, chunk.reference_rad
+            yield _scaled(s, chunk.y_c, mid), _scaled(s, chunk.y_s, mid), chunk.reference_rad
 
     return harmonics.calibrate_chunks(chunks, gains, **options)

@@ -168,3 +168,54 @@ def test_the_guides_example_is_a_tracker_file_and_the_pages_block():
     page = (guide / "tracker-file.md").read_text(encoding="utf-8")
     blocks = re.findall(r"```text\n(.*?)```\n", page, flags=re.S)
     assert example in blocks
+
+
+def test_online_calibration_by_the_file_is_the_flags_calibrate(tmp_path, capsys):
+    cap = tmp_path / "volts.csv"
+    y_c, y_s = counts_capture(tmp_path / "counts.csv")
+    t = np.arange(len(y_c)) / SAMPLE_RATE_HZ
+    np.savetxt(cap, np.column_stack([t, (y_c - 2048) / 4000.0, (y_s - 2048) / 4000.0]), fmt="%.17g",
+               delimiter=",", header="time,y_c,y_s", comments="")
+    gains = design(tmp_path, "json", "g.json")
+    tracker = angletrack.Tracker.from_gains_json(gains.read_text(), "g.json").replaced(
+        calibration={"kind": "online"})
+    tracker.write(tmp_path / "online.json")
+    assert run("track", cap, "--gains-file", gains, "--calibrate", "--calibration-out", tmp_path / "c1.json",
+               "-o", tmp_path / "flags.npz") == 0
+    assert run("track", cap, "--tracker", tmp_path / "online.json", "--calibrate", "--calibration-out",
+               tmp_path / "c2.json", "-o", tmp_path / "tracker.npz") == 0
+    capsys.readouterr()
+    by_flags, by_tracker = estimates(tmp_path / "flags.npz"), estimates(tmp_path / "tracker.npz")
+    for name in by_flags:
+        np.testing.assert_array_equal(by_tracker[name], by_flags[name], err_msg=name)
+    assert (tmp_path / "c1.json").read_text() == (tmp_path / "c2.json").read_text()
+
+
+def test_the_files_front_end_settings_reach_the_observer():
+    theta = 0.3 + 2 * math.pi * 200.0 * np.arange(4000) / SAMPLE_RATE_HZ
+    y_c, y_s = 0.9 * np.cos(theta), 0.9 * np.sin(theta)
+    thresholds = {"nominal_amplitude": 0.9, "max_speed_rad_s": 3000.0, "re_acquire": False}
+    tracker = angletrack.Tracker({"format": "angletrack-tracker", "version": 1, "sample_period_s": 5e-5,
+                                  "gains": [0.0487706, 0.0012192, 1.52392e-5], "fault_thresholds": thresholds,
+                                  "winding_check": {"amplitude": 0.9}, "calibration": {"kind": "online"}})
+    est = tracker.track(y_c, y_s)
+    direct = angletrack.Observer(tracker.gains, dtype=np.float64, fault_thresholds=angletrack.FaultThresholds(
+        **thresholds), winding_amplitude=0.9, calibration="learn", measure_adc_range=True)
+    expected = direct.update(y_c, y_s)
+    np.testing.assert_array_equal(est.angle, expected.angle)
+    np.testing.assert_array_equal(est.faults, expected.faults)
+    assert tracker.observer.fault_thresholds.max_speed_rad_s == 3000.0
+    assert tracker.observer.calibration_turns_learned == direct.calibration_turns_learned > 0
+
+
+@pytest.mark.parametrize("fields, message", [
+    ({"correction": {"kind": "table", "errors_rad": [0.0, 1e-3]}}, "correction.kind: \"table\""),
+    ({"correction": {"kind": "harmonics", "cos": [0.0] * 8, "sin": [1e-3] + [0.0] * 7}},
+     "correction.kind: \"harmonics\" are applied after a stored sensor calibration"),
+    ({"calibration": {"kind": "online", "max_offset": 0.05}}, "calibration.max_offset: 0.05"),
+])
+def test_settings_the_package_does_not_run_are_refused_naming_the_field(fields, message):
+    tracker = angletrack.Tracker({"format": "angletrack-tracker", "version": 1, "sample_period_s": 5e-5,
+                                  "gains": [0.0487706, 0.0012192, 1.52392e-5], **fields}, "t.json")
+    with pytest.raises(ValueError, match=re.escape(f"t.json: {message}")):
+        tracker.track(np.ones(10), np.zeros(10))

@@ -53,16 +53,19 @@ class Tracker:
     and the field as written). ``document`` is the file as a dict, every setting present."""
 
     def __init__(self, document: dict, file: str = "tracker"):
-        text = _angletrack.checked_tracker_file(json.dumps(document), file)
+        self._read(json.dumps(document), file)
+
+    def _read(self, text: str, file: str) -> None:
         self.file = file
-        self.document: dict = json.loads(text)
+        self.document: dict = json.loads(_angletrack.checked_tracker_file(text, file))
+        #: The observer of the last :meth:`track`, at its end (``None`` before).
+        self.observer: Any = None
 
     @classmethod
     def from_json(cls, text: str, file: str = "tracker") -> "Tracker":
         """The tracker of JSON ``text`` (``file`` names it in errors)."""
         tracker = cls.__new__(cls)
-        tracker.file = file
-        tracker.document = json.loads(_angletrack.checked_tracker_file(text, file))
+        tracker._read(text, file)
         return tracker
 
     @classmethod

@@ -335,6 +335,9 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
             raise ValueError("input: with --carrier-hz the capture holds raw windings, demodulated into pairs "
                              "of amplitude 1: the tracker file's input mid_scale, bits or counts_per_unit do not "
                              'apply; give input {"kind": "counts"} or {"kind": "units"}')
+        if s.observer_arguments.get("winding_amplitude", 1.0) != 1.0:
+            raise ValueError("winding_check: with --carrier-hz the windings are checked on the demodulated pairs, "
+                             "whose envelope is 1: give {\"amplitude\": 1.0} or null")
         return resolver.track_windings(s)
     reader = angletrack.CaptureReader(
         s.capture, **s.reader_options(), chunk_rows=s.chunk_rows,

@@ -28,8 +28,11 @@
 //! # Ok::<(), angletrack::JsonFileError>(())
 //! ```
 
+mod firmware;
 mod read;
 mod write;
+
+pub use firmware::{FirmwareError, Language};
 
 #[cfg(test)]
 mod tests;

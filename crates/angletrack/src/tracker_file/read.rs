@@ -52,11 +52,9 @@ impl Document<'_> {
         let given = self.string(key)?;
         kinds.iter().find(|&&k| k == given).copied().ok_or_else(|| {
             let names: Vec<String> = kinds.iter().map(|k| format!("{k:?}")).collect();
-            let (last, rest) = names.split_last().expect("kinds is not empty");
-            let expected = if rest.is_empty() {
-                last.clone()
-            } else {
-                format!("{} or {last}", rest.join(", "))
+            let expected = match names.split_last() {
+                Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+                _ => names.concat(),
             };
             self.error(key, format!("expected {expected}, got {given:?}"))
         })

@@ -265,3 +265,51 @@ fn settings_that_contradict_each_other_are_refused() {
     let e = read(&tracker.to_json()).unwrap_err();
     assert_eq!(e.field.as_deref(), Some("calibration.kind"), "{e}");
 }
+
+#[test]
+fn firmware_constants_are_the_generators_gains_and_calibration() {
+    use crate::export::{FloatType, calibration_c_header, fixed_rust, gains_c_header};
+    let mut tracker = TrackerFile::new(gains()).with_calibration_file(&CalibrationFile::Sensor(
+        SensorCalibrationRecord {
+            calibration: sensor(),
+            turns_learned: None,
+            source: None,
+        },
+    ));
+    tracker.number_type = NumberType::F32;
+    let text = tracker
+        .firmware_constants("t.json", Language::C, "motor")
+        .unwrap();
+    let g = &tracker.gains.gains;
+    let core = angletrack_core::Gains::<f64, 3>::new([g[0], g[1], g[2]], 50e-6).unwrap();
+    let header = gains_c_header(&core, FloatType::F32, "motor", "x").unwrap();
+    let zero = AngleCorrection::new([0.0; 8], [0.0; 8]).unwrap();
+    let calibration = calibration_c_header(&sensor(), &zero, FloatType::F32, "motor").unwrap();
+    // The gains' lines (after the comment, which describes the setup) and the calibration.
+    let from_guard = |t: &str| t[t.find("#ifndef").unwrap()..].to_string();
+    assert!(text.contains(&from_guard(&header)), "{text}");
+    assert!(text.ends_with(&calibration), "{text}");
+    assert!(
+        text.contains(" * From a tracker file: number type f32.\n"),
+        "{text}"
+    );
+
+    tracker.number_type = NumberType::Fixed;
+    tracker.input = Input::Counts;
+    tracker.calibration = Calibration::None;
+    let text = tracker
+        .firmware_constants("t.json", Language::Rust, "motor")
+        .unwrap();
+    let fixed = angletrack_core::FixedGains::<3>::new([g[0], g[1], g[2]], 50e-6).unwrap();
+    let expected = fixed_rust(&crate::FixedDesignConstants::of(&fixed), "motor", "x").unwrap();
+    let tail = |t: &str| t[t.find("pub const").unwrap()..].to_string();
+    assert_eq!(tail(&text), tail(&expected));
+
+    let e = full()
+        .firmware_constants("t.json", Language::C, "motor")
+        .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "t.json: fault_thresholds: fault thresholds: no firmware constants are generated for it yet; leave it out"
+    );
+}

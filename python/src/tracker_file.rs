@@ -3,10 +3,10 @@
 
 use angletrack::CalibrationFile;
 use angletrack::export::GainsFile;
-use angletrack::tracker_file::TrackerFile;
+use angletrack::tracker_file::{FirmwareError, Language, TrackerFile};
 use pyo3::prelude::*;
 
-use crate::errors::Result;
+use crate::errors::{Error, Result};
 
 /// The tracker file's JSON `text` checked (`file` names it in errors), written again as
 /// the crate writes it: every setting present, the numbers exact.
@@ -37,6 +37,34 @@ pub fn tracker_file_with_calibration(
     Ok(tracker.with_calibration_file(&calibration).to_json())
 }
 
+/// The firmware constants of the tracker file's JSON `text` (`file` names it in errors):
+/// `language` `"c"` (a header) or `"rust"` (`const`s), every identifier prefixed by `name`
+/// (`TrackerFile::firmware_constants`).
+#[pyfunction]
+pub fn tracker_firmware_constants(
+    text: &str,
+    file: &str,
+    language: &str,
+    name: &str,
+) -> Result<String> {
+    let language = match language {
+        "c" => Language::C,
+        "rust" => Language::Rust,
+        other => {
+            return Err(Error::value(
+                "language",
+                format!("expected \"c\" or \"rust\", got {other:?}"),
+            ));
+        }
+    };
+    TrackerFile::from_json(text, file)?
+        .firmware_constants(file, language, name)
+        .map_err(|e| match e {
+            FirmwareError::File(e) => Error::JsonFile(e),
+            FirmwareError::Export(e) => Error::Export(e),
+        })
+}
+
 /// Adds the functions and the format's name and version to the module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add(
@@ -50,5 +78,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(checked_tracker_file, m)?)?;
     m.add_function(wrap_pyfunction!(tracker_file_from_gains, m)?)?;
     m.add_function(wrap_pyfunction!(tracker_file_with_calibration, m)?)?;
+    m.add_function(wrap_pyfunction!(tracker_firmware_constants, m)?)?;
     Ok(())
 }

@@ -219,3 +219,22 @@ def test_settings_the_package_does_not_run_are_refused_naming_the_field(fields, 
                                   "gains": [0.0487706, 0.0012192, 1.52392e-5], **fields}, "t.json")
     with pytest.raises(ValueError, match=re.escape(f"t.json: {message}")):
         tracker.track(np.ones(10), np.zeros(10))
+
+
+def test_export_writes_the_firmware_constants_design_and_calibrate_write(tmp_path, setup, capsys):
+    header = tmp_path / "motor.h"
+    assert run("export", setup["tracker"], "--name", "motor", "-o", header) == 0
+    text = header.read_text()
+    gains = design(tmp_path, "c", "gains.h").read_text()
+    learned = angletrack.Calibration.from_json(setup["calibration"].read_text())
+    assert text.endswith(learned.to_c_header(name="motor", dtype="float32"))
+    # The gains' declarations, as `design` writes them (float32, the file's number type).
+    declarations = gains[gains.index("#ifndef"):].replace("ANGLETRACK", "MOTOR").replace("angletrack_", "motor_")
+    assert declarations in text
+    assert " * Input: 12-bit counts: AdcScaling::offset_binary(12); ADC range: the full scale.\n" in text
+    # A tracker file is not an export format; a setting no generator writes is refused.
+    assert run("export", setup["tracker"], "-o", tmp_path / "x.json") == 2
+    online = angletrack.Tracker.from_file(setup["first"]).replaced(calibration={"kind": "online"})
+    online.write(tmp_path / "online.json")
+    assert run("export", tmp_path / "online.json") == 2
+    assert "calibration.kind: an online calibration: no firmware constants" in capsys.readouterr().err

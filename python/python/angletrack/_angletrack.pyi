@@ -1174,3 +1174,7 @@ def tracker_file_with_calibration(tracker_text: str, tracker_file: str, calibrat
                                   calibration_file: str) -> str:
     """The tracker file's text with the calibration of a calibration file's text (either
     kind) in place of its own."""
+def tracker_firmware_constants(text: str, file: str, language: str, name: str) -> str:
+    """A tracker file's firmware constants: ``language`` ``"c"`` (a header) or ``"rust"``
+    (``const`` items), identifiers prefixed by ``name``; ``ValueError`` naming a setting no
+    generator writes, ``ConfigError`` naming ``name``."""

@@ -1,4 +1,5 @@
-"""The ``angletrack`` command line: ``design``, ``track``, ``plot`` and ``report``.
+"""The ``angletrack`` command line: ``design``, ``track``, ``calibrate``, ``export``, ``plot``
+and ``report``.
 
 Every number comes from the Rust crates through the extension; this module reads
 arguments and files, and writes files and text.
@@ -204,8 +205,44 @@ def _cmd_report(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_export(args: argparse.Namespace) -> int:
+    """write a tracker file's firmware constants (C header or Rust consts)
+
+    Writes the gains of TRACKER in its number type (float32, float64, or the fixed-point
+    constants) and its stored calibration with the angle error's harmonics, as `design` and
+    `calibrate` write them, in one C header or one block of Rust consts; the first comment
+    states the rest of the setup (input, ADC range, pole pairs) for the firmware's own
+    constructors. Settings no generator writes yet (fault thresholds, a winding check, an
+    online calibration, a correction table) are refused.
+    """
+    language = output_format(args.format, args.output, default="c")
+    if language not in ("c", "rust"):
+        raise ValueError(f"format: export writes C (.h) or Rust (.rs), not {language}: the tracker file is the JSON")
+    refuse_overwriting_inputs(args, {"--output": args.output})
+    make_output_directories({"--output": args.output})
+    tracker = cli_tracker.read(args.tracker)
+    text = tracker.firmware_constants(language, name=args.name)
+    if args.output is None:
+        sys.stdout.write(text)
+    else:
+        capture_io.write_output(args.output, text)
+        print(f"wrote the firmware constants of {args.tracker} ({language}) to {args.output}")
+    return 0
+
+
+def _add_export_parser(sub) -> None:
+    export = subcommand(sub, _cmd_export)
+    export.add_argument("tracker", type=pathlib.Path, metavar="TRACKER")
+    export.add_argument("--format", choices=["c", "rust"],
+                        help="c (header) or rust (const block); default: the output's by its extension (.h c, .rs "
+                        "rust), else c")
+    export.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",
+                        help="where to write them (default: standard output)")
+    export.add_argument("--name", default="angletrack", help="identifier prefix")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    """The ``angletrack`` argument parser with its three subcommands."""
+    """The ``angletrack`` argument parser with its subcommands."""
     parser = OneLineErrorParser(
         prog="angletrack",
         description="Angle tracking observers (software resolver-to-digital conversion): "
@@ -219,6 +256,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_report_parser(sub)
     _add_plot_parser(sub)
     _add_calibrate_parser(sub)
+    _add_export_parser(sub)
     return parser
 
 

@@ -103,6 +103,12 @@ class Tracker:
         """The file's JSON text, as the crate writes it."""
         return _angletrack.checked_tracker_file(json.dumps(self.document), self.file)
 
+    def firmware_constants(self, language: str = "c", *, name: str = "angletrack") -> str:
+        """The setup's firmware constants (``language`` ``"c"`` or ``"rust"``): the gains in
+        the number type (or the fixed-point constants) and a stored calibration with its
+        harmonics, every identifier prefixed by ``name``."""
+        return _angletrack.tracker_firmware_constants(self.to_json(), self.file, language, name)
+
     def write(self, path: Union[str, pathlib.Path]) -> None:
         """Writes the file to ``path``, all or nothing."""
         _angletrack.write_output(pathlib.Path(path), self.to_json())

@@ -75,19 +75,23 @@ def setup(tmp_path, capsys):
     return {"capture": cap, "gains": gains, "calibration": cal, "tracker": tracker, "first": first}
 
 
-def test_track_with_the_tracker_file_gives_the_flags_numbers_bit_for_bit(tmp_path, setup, capsys):
-    cap = setup["capture"]
-    flags = ["--gains-file", setup["gains"], "--calibration", setup["calibration"], "--dtype", "float32",
+@pytest.mark.parametrize("dtype, number_type, observer", [("float32", "f32", "CalibratedObserver"),
+                                                          ("fixed", "fixed", "FixedObserver")])
+def test_track_with_the_tracker_file_gives_the_flags_numbers_bit_for_bit(tmp_path, setup, capsys, dtype,
+                                                                         number_type, observer):
+    cap, tracker = setup["capture"], tmp_path / f"{number_type}.json"
+    angletrack.Tracker.from_file(setup["tracker"]).replaced(number_type=number_type).write(tracker)
+    flags = ["--gains-file", setup["gains"], "--calibration", setup["calibration"], "--dtype", dtype,
              "--adc-bits", "12", "--adc-unsigned"]
     assert run("track", cap, *flags, "-o", tmp_path / "flags.npz") == 0
-    assert run("track", cap, "--tracker", setup["tracker"], "-o", tmp_path / "tracker.npz") == 0
+    assert run("track", cap, "--tracker", tracker, "-o", tmp_path / "tracker.npz") == 0
     printed = capsys.readouterr().out
-    assert "CalibratedObserver" in printed and "ADC range 0 to 4095 (stated)" in printed, printed
+    assert observer in printed and "ADC range 0 to 4095 (stated)" in printed, printed
     by_flags, by_tracker = estimates(tmp_path / "flags.npz"), estimates(tmp_path / "tracker.npz")
     assert by_flags.keys() == by_tracker.keys()
     for name in by_flags:
         np.testing.assert_array_equal(by_tracker[name], by_flags[name], err_msg=name)
-    assert by_tracker["angle_rad"].dtype == np.float32
+    assert by_tracker["angle_rad"].dtype == (np.float32 if dtype == "float32" else np.float64)
     # Not trivially equal: the calibration and the angle correction were applied.
     assert np.count_nonzero(by_tracker["faults"]) < len(by_tracker["faults"])
 

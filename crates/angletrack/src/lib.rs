@@ -53,6 +53,9 @@
 //! * Calibration files ([`CalibrationFile`]): a sensor calibration learned while tracking
 //!   ([`SensorCalibrationRecord`]) or by [`learn_angle_correction`] ([`CaptureCalibration`])
 //!   as JSON, read back exactly, every refusal naming the file and the field.
+//! * Tracker files ([`tracker_file::TrackerFile`]): a whole sensor setup (gains, number
+//!   type, input, ADC range, calibration, correction) as one versioned JSON document, and its
+//!   firmware constants.
 //! * Raw ADC counts and units ([`CountsInput`], [`offset_binary_mid_scale`], [`capture_mid_scale`],
 //!   [`ThresholdPolicy`]): the mid-scale of unsigned counts found from the first samples, and
 //!   the monitor's thresholds scaled to the first samples' amplitude.

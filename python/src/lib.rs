@@ -33,6 +33,7 @@ mod observer_channel;
 mod paper;
 mod resolver;
 mod scenario;
+mod tracker_file;
 mod writer;
 
 /// The compiled part of the `angletrack` Python package.
@@ -76,5 +77,6 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     angle_calibration::register(m)?;
     export::register(m)?;
     calibration_file::register(m)?;
+    tracker_file::register(m)?;
     Ok(())
 }

@@ -50,10 +50,12 @@ pub(crate) fn number(value: f64) -> String {
     }
 }
 
-/// A parsed JSON object and the name of its file, for the errors.
+/// A parsed JSON object and the name of its file, for the errors; for a nested object (a
+/// [`Document::section`]), the dotted path before its fields' names.
 pub(crate) struct Document<'a> {
     pub(crate) object: Map<String, Value>,
     pub(crate) file: &'a str,
+    pub(crate) prefix: String,
 }
 
 impl<'a> Document<'a> {
@@ -62,14 +64,54 @@ impl<'a> Document<'a> {
         let value: Value = serde_json::from_str(text)
             .map_err(|e| JsonFileError::new(file, None, format!("not JSON ({e})")))?;
         match value {
-            Value::Object(object) => Ok(Self { object, file }),
+            Value::Object(object) => Ok(Self {
+                object,
+                file,
+                prefix: String::new(),
+            }),
             _ => Err(JsonFileError::new(file, None, "expected a JSON object")),
         }
     }
 
-    /// The error of `field`.
+    /// The error of `field` (its dotted path in a section).
     pub(crate) fn error(&self, field: &str, reason: impl Into<String>) -> JsonFileError {
-        JsonFileError::new(self.file, Some(field), reason)
+        JsonFileError::new(self.file, Some(&format!("{}{field}", self.prefix)), reason)
+    }
+
+    /// The object under `field` as a document whose errors name its fields `field.NAME`
+    /// (`None`: missing or `null`; refused: not an object).
+    pub(crate) fn section(&self, field: &str) -> Result<Option<Document<'a>>, JsonFileError> {
+        match self.object.get(field) {
+            None | Some(Value::Null) => Ok(None),
+            Some(Value::Object(object)) => Ok(Some(Document {
+                object: object.clone(),
+                file: self.file,
+                prefix: format!("{}{field}.", self.prefix),
+            })),
+            Some(v) => Err(self.error(field, format!("must be an object, got {v}"))),
+        }
+    }
+
+    /// Refuses a field not in `known`: a misspelt one would otherwise be ignored, its value
+    /// silently replaced by the default.
+    pub(crate) fn refuse_unknown(&self, known: &[&str]) -> Result<(), JsonFileError> {
+        match self.object.keys().find(|k| !known.contains(&k.as_str())) {
+            None => Ok(()),
+            Some(key) => Err(self.error(
+                key,
+                format!("unknown field (expected one of: {})", known.join(", ")),
+            )),
+        }
+    }
+
+    /// The string under `field` (refused: missing, not a string).
+    pub(crate) fn string(&self, field: &str) -> Result<&str, JsonFileError> {
+        match self.object.get(field) {
+            None => Err(self.error(field, "missing")),
+            Some(v) => v
+                .as_str()
+                .ok_or_else(|| self.error(field, format!("must be a string, got {v}"))),
+        }
     }
 
     /// Refuses a `format` other than `format` (a missing one too).

@@ -53,6 +53,9 @@
 //! * Calibration files ([`CalibrationFile`]): a sensor calibration learned while tracking
 //!   ([`SensorCalibrationRecord`]) or by [`learn_angle_correction`] ([`CaptureCalibration`])
 //!   as JSON, read back exactly, every refusal naming the file and the field.
+//! * Tracker files ([`tracker_file::TrackerFile`]): a whole sensor setup (gains, number
+//!   type, input, ADC range, calibration, correction) as one versioned JSON document, and its
+//!   firmware constants.
 //! * Raw ADC counts and units ([`CountsInput`], [`offset_binary_mid_scale`], [`capture_counts`],
 //!   [`ThresholdPolicy`]): a capture's signedness and mid-scale, stated or read from the
 //!   whole capture, and the monitor's thresholds.
@@ -93,6 +96,7 @@ pub mod paper;
 mod rails;
 mod sim;
 mod thresholds;
+pub mod tracker_file;
 mod winding_rails;
 mod windings_plan;
 

@@ -184,6 +184,7 @@ __all__ = [
     "CalibratedObserver",
     "calibrate",
     "track_calibrated",
+    "Tracker",
 ]
 
 from angletrack.harmonics import (  # noqa: E402
@@ -192,6 +193,7 @@ from angletrack.harmonics import (  # noqa: E402
     calibrate,
     track_calibrated,
 )
+from angletrack.tracker import Tracker  # noqa: E402
 
 
 def _flags(name: str, bits, doc: str):

@@ -1195,3 +1195,22 @@ def sensor_calibration_from_json(text: str, file: str) -> SensorCalibration:
     fields)."""
 def angle_calibration_from_json(text: str, file: str) -> _LearnedCalibration:
     """The calibration of an angle calibration file's text (another format is refused)."""
+
+#: The ``format`` of a tracker file (``angletrack.Tracker``).
+TRACKER_FILE_FORMAT: str
+#: The ``version`` of a tracker file written, and the only one read.
+TRACKER_FILE_VERSION: int
+
+def checked_tracker_file(text: str, file: str) -> str:
+    """A tracker file's text checked by the crate and written again as it writes it (every
+    setting present); ``ValueError`` naming ``file`` and the field as written."""
+def tracker_file_from_gains(gains_text: str, gains_file: str) -> str:
+    """The tracker file's text of a gains file's, the other settings at their defaults."""
+def tracker_file_with_calibration(tracker_text: str, tracker_file: str, calibration_text: str,
+                                  calibration_file: str) -> str:
+    """The tracker file's text with the calibration of a calibration file's text (either
+    kind) in place of its own."""
+def tracker_firmware_constants(text: str, file: str, language: str, name: str) -> str:
+    """A tracker file's firmware constants: ``language`` ``"c"`` (a header) or ``"rust"``
+    (``const`` items), identifiers prefixed by ``name``; ``ValueError`` naming a setting no
+    generator writes, ``ConfigError`` naming ``name``."""

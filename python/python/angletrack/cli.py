@@ -1,4 +1,5 @@
-"""The ``angletrack`` command line: ``design``, ``track``, ``plot`` and ``report``.
+"""The ``angletrack`` command line: ``design``, ``track``, ``calibrate``, ``export``, ``plot``
+and ``report``.
 
 Every number comes from the Rust crates through the extension; this module reads
 arguments and files, and writes files and text.
@@ -14,7 +15,7 @@ from typing import Optional, Sequence
 import angletrack
 from angletrack import calibration as calibration_io
 from angletrack import capture as capture_io
-from angletrack import clipping
+from angletrack import clipping, cli_tracker
 from angletrack import harmonics, resolver, tracking
 from angletrack.cli_args import (
     OneLineErrorParser,
@@ -60,30 +61,33 @@ def _cmd_track(args: argparse.Namespace) -> int:
     if output.suffix.lower() not in ESTIMATE_EXTENSIONS:
         raise ValueError(f"--output: {output}: the estimates' format follows the extension, and the formats "
                          "written are CSV (.csv), NumPy (.npy) or .npz")
+    from_tracker = cli_tracker.track_fields(args)
     stored = calibration_io.read_stored(args.calibration)
     adc_signed, adc_bits = clipping.stated_counts(args)
+    options = dict(
+        gains_file=args.gains_file, gains=args.gains, dtype=args.dtype or "float64", sin_cos=args.sin_cos,
+        observer_arguments=calibration_io.observer_arguments(args.calibrate, stored),
+        calibration=calibration_io.angle_calibration(stored), adc_range=clipping.stated_range(args),
+        adc_signed=adc_signed, adc_bits=adc_bits,
+    )
+    windings = resolver.track_options(args)
+    if from_tracker is not None:
+        options.update(from_tracker)
+        windings["pole_pairs"] = options.pop("pole_pairs")
     settings = tracking.TrackSettings(
         capture=args.capture,
         output=output,
-        gains_file=args.gains_file,
-        gains=args.gains,
         sample_rate_hz=args.sample_rate,
         columns=args.columns,
         delimiter=args.delimiter,
         decimal=args.decimal,
         skip_rows=args.skip_rows,
         time_unit=args.time_unit,
-        dtype=args.dtype,
-        sin_cos=args.sin_cos,
         skip_s=args.skip,
         lock_tolerance_rad=args.lock_tolerance,
         progress=args.progress or sys.stderr.isatty(),
-        observer_arguments=calibration_io.observer_arguments(args.calibrate, stored),
-        **resolver.track_options(args),
-        calibration=calibration_io.angle_calibration(stored),
-        adc_range=clipping.stated_range(args),
-        adc_signed=adc_signed,
-        adc_bits=adc_bits,
+        **windings,
+        **options,
     )
     if png is not None:
         if args.carrier_hz is not None:
@@ -204,8 +208,44 @@ def _cmd_report(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_export(args: argparse.Namespace) -> int:
+    """write a tracker file's firmware constants (C header or Rust consts)
+
+    Writes the gains of TRACKER in its number type (float32, float64, or the fixed-point
+    constants) and its stored calibration with the angle error's harmonics, as `design` and
+    `calibrate` write them, in one C header or one block of Rust consts; the first comment
+    states the rest of the setup (input, ADC range, pole pairs) for the firmware's own
+    constructors. Settings no generator writes yet (fault thresholds, a winding check, an
+    online calibration, a correction table) are refused.
+    """
+    language = output_format(args.format, args.output, default="c")
+    if language not in ("c", "rust"):
+        raise ValueError(f"format: export writes C (.h) or Rust (.rs), not {language}: the tracker file is the JSON")
+    refuse_overwriting_inputs(args, {"--output": args.output})
+    make_output_directories({"--output": args.output})
+    tracker = cli_tracker.read(args.tracker)
+    text = tracker.firmware_constants(language, name=args.name)
+    if args.output is None:
+        sys.stdout.write(text)
+    else:
+        capture_io.write_output(args.output, text)
+        print(f"wrote the firmware constants of {args.tracker} ({language}) to {args.output}")
+    return 0
+
+
+def _add_export_parser(sub) -> None:
+    export = subcommand(sub, _cmd_export)
+    export.add_argument("tracker", type=pathlib.Path, metavar="TRACKER")
+    export.add_argument("--format", choices=["c", "rust"],
+                        help="c (header) or rust (const block); default: the output's by its extension (.h c, .rs "
+                        "rust), else c")
+    export.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",
+                        help="where to write them (default: standard output)")
+    export.add_argument("--name", default="angletrack", help="identifier prefix")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    """The ``angletrack`` argument parser with its three subcommands."""
+    """The ``angletrack`` argument parser with its subcommands."""
     parser = OneLineErrorParser(
         prog="angletrack",
         description="Angle tracking observers (software resolver-to-digital conversion): "
@@ -219,6 +259,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_report_parser(sub)
     _add_plot_parser(sub)
     _add_calibrate_parser(sub)
+    _add_export_parser(sub)
     return parser
 
 
@@ -247,10 +288,18 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     calibration_format = output_format(args.format, args.output, default="json")
     refuse_overwriting_inputs(args, {"--output": args.output})
     make_output_directories({"--output": args.output})
+    tracker = cli_tracker.read(args.tracker)
+    from_tracker = {}
+    if tracker is not None:
+        cli_tracker.checked_flags(args, tracker)
+        # The learning sees the samples as track does (mid-scale, scaling); what the file
+        # stored before is replaced by what is learned.
+        fields = tracker.replaced(calibration={"kind": "none"}, correction={"kind": "none"}).track_settings()
+        from_tracker = {k: fields[k] for k in ("tracker_gains", "mid_scale", "counts_per_unit", "adc_range")}
     settings = tracking.TrackSettings(capture=args.capture, output=args.output, gains_file=args.gains_file,
                                       gains=args.gains, sample_rate_hz=args.sample_rate, columns=args.columns,
                                       delimiter=args.delimiter, decimal=args.decimal, skip_rows=args.skip_rows,
-                                      time_unit=args.time_unit, adc_signed=args.adc_signed)
+                                      time_unit=args.time_unit, adc_signed=args.adc_signed, **from_tracker)
     try:
         cal = tracking.calibrate_capture(
             settings, lowest_order=args.lowest_order, highest_order=args.highest_order,
@@ -262,6 +311,8 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
             message = message.replace(name, flag)
         raise ValueError(message) from None
     text = {"json": cal.to_json, "c": cal.to_c_header, "rust": cal.to_rust}[calibration_format]()
+    if tracker is not None and calibration_format == "json":
+        text = tracker.with_calibration(text, "the calibration learned").to_json()
     if args.output is None:
         print(text, end="")
     else:
@@ -273,7 +324,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
 def _add_calibrate_parser(sub) -> None:
     cal = subcommand(sub, _cmd_calibrate)
     cal.add_argument("capture", type=pathlib.Path, metavar="CAPTURE")
-    add_gains_source(cal)
+    add_gains_source(cal, tracker=True)
     cal.add_argument("--columns", metavar="ROLE=COLUMN,...",
                      help="which columns hold what (as for track; a reference column is calibrated against)")
     cal.add_argument("--delimiter", metavar="CHAR", help="field delimiter (default: sniffed)")
@@ -298,8 +349,9 @@ def _add_calibrate_parser(sub) -> None:
                      help="learn an order only when its amplitude is at least X times its uncertainty "
                      "(default 3; 0 learns every order, warning of those below their uncertainty)")
     cal.add_argument("--format", choices=["json", "c", "rust"],
-                     help="json (for track --calibration), c (header) or rust (const block); default: the "
-                     "output's by its extension (.json json, .h c, .rs rust), else json")
+                     help="json (for track --calibration; with --tracker: the tracker file with the calibration and "
+                     "its harmonics as the correction), c (header) or rust (const block); default: the output's by "
+                     "its extension (.json json, .h c, .rs rust), else json")
     cal.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",
                      help="where to write it (default: standard output)")
 
@@ -307,7 +359,7 @@ def _add_calibrate_parser(sub) -> None:
 def _add_track_parser(sub) -> None:
     track = subcommand(sub, _cmd_track)
     track.add_argument("capture", type=pathlib.Path, metavar="CAPTURE")
-    add_gains_source(track)
+    add_gains_source(track, tracker=True)
     cols = track.add_argument_group("the capture's layout (sniffed by default)")
     cols.add_argument("--columns", metavar="ROLE=COLUMN,...",
                       help="which columns hold what: roles y_c, y_s, time, reference; each column a header "
@@ -319,7 +371,7 @@ def _add_track_parser(sub) -> None:
     cols.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s",
                       help="unit of the time column (default s)")
     add_reader_arguments(cols)
-    track.add_argument("--dtype", choices=["float32", "float64", "fixed"], default="float64",
+    track.add_argument("--dtype", choices=["float32", "float64", "fixed"], default=None,
                        help="number type the observer runs on (default float64); fixed: the fixed-point chain "
                        "on integer counts (a --calibration applied in integers, as a firmware does)")
     track.add_argument("--sin-cos", choices=["fast", "exact"], default=None,

@@ -72,11 +72,16 @@ def non_negative_number(text: str) -> float:
     return finite_number(text, positive=False)
 
 
-def add_gains_source(p: argparse.ArgumentParser, required: bool = True) -> None:
-    """The observer's gains, from --gains-file or --gains (one of them required unless
-    ``required`` is false), and --sample-rate."""
+def add_gains_source(p: argparse.ArgumentParser, required: bool = True, tracker: bool = False) -> None:
+    """The observer's gains, from --gains-file or --gains (or --tracker, with ``tracker``;
+    one of them required unless ``required`` is false), and --sample-rate."""
     g = p.add_argument_group("gains (one of)" if required else "gains (optional: run the observer)")
     src = g.add_mutually_exclusive_group(required=required)
+    if tracker:
+        src.add_argument("--tracker", type=pathlib.Path, metavar="FILE.json",
+                         help="a tracker file (docs/guide/tracker-file.md): the gains and the whole setup (number "
+                         "type, input, ADC range, calibration, correction...); an option beside it that says "
+                         "otherwise than the file is refused")
     src.add_argument("--gains-file", type=pathlib.Path, metavar="FILE.json",
                      help="gains written by `angletrack design --format json`")
     src.add_argument("--gains", type=float_list, metavar="L1,L2[,L3]",
@@ -114,7 +119,7 @@ def refuse_overwriting_inputs(args: argparse.Namespace, outputs: dict) -> None:
     """Refuses an output that is an input of the command (the capture, the gains file, a
     stored calibration; those it has) or another output, before anything is written."""
     inputs = {"capture": getattr(args, "capture", None), "--gains-file": getattr(args, "gains_file", None),
-              "--calibration": getattr(args, "calibration", None)}
+              "--calibration": getattr(args, "calibration", None), "--tracker": getattr(args, "tracker", None)}
     capture_io.check_outputs(outputs, inputs)
 
 
@@ -139,7 +144,8 @@ def make_output_directories(outputs: dict) -> None:
             raise ValueError(f"{flag}: {path}: its directory is not writable")
 
 
-#: The format of a file an output's extension names (gains, a calibration).
+#: The format of a file an output's extension names (gains, a calibration); a tracker file
+#: is JSON too.
 _FORMAT_OF_EXTENSION = {".h": "c", ".hpp": "c", ".rs": "rust", ".json": "json"}
 
 
@@ -148,6 +154,8 @@ def output_format(given: Optional[str], output: Optional[pathlib.Path], default:
     (.h c, .rs rust, .json json), else ``default``. A --format other than the extension's is
     refused: the file would hold one format under another's name."""
     named = _FORMAT_OF_EXTENSION.get(output.suffix.lower()) if output is not None else None
+    if given == "tracker" and named == "json":
+        return given
     if given is not None and named is not None and given != named:
         raise ValueError(f"format: --format {given} does not match --output {output} ({named}); "
                          "give one of them, or both alike")

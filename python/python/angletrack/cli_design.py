@@ -152,9 +152,10 @@ def add_design_parser(sub) -> None:
     design.add_argument("--discretisation", default="pole_matching", metavar="NAME",
                         help="mapping of a continuous design: pole_matching (default), forward_euler or "
                         "tustin ('-' for '_' and any case accepted)")
-    design.add_argument("--format", choices=["c", "rust", "json"],
+    design.add_argument("--format", choices=["c", "rust", "json", "tracker"],
                         help="gains file format (default: the output's by its extension, .h c, .rs rust, "
-                        ".json json; else c)")
+                        ".json json; else c); tracker: a tracker file (JSON, docs/guide/tracker-file.md) of the "
+                        "gains with --dtype as its number type, for `angletrack calibrate|track --tracker`")
     design.add_argument("--output", "-o", type=pathlib.Path, metavar="FILE",
                         help="write the gains there (default: print them after the report)")
     design.add_argument("--dtype", choices=["float32", "float64", "fixed"], default="float32",
@@ -167,6 +168,18 @@ def add_design_parser(sub) -> None:
                         help="acceleration of the trade-off's tracking error, 2nd order (default 1000 rad/s^2)")
     design.add_argument("--plot-jerk", type=positive_number, default=1e5, metavar="RAD_S3",
                         help="jerk of the trade-off's tracking error, 3rd order (default 1e5 rad/s^3)")
+
+
+def _tracker_text(gains_json: str, dtype: str) -> str:
+    """The tracker file of the gains file's text ``gains_json`` whose number type is
+    ``dtype`` (fixed: on counts, their mid-scale measured), its other settings the defaults."""
+    from angletrack.tracker import Tracker
+
+    number_type = {"float32": "f32", "float64": "f64", "fixed": "fixed"}[dtype]
+    settings: dict = {"number_type": number_type}
+    if dtype == "fixed":
+        settings["input"] = {"kind": "counts"}
+    return Tracker.from_gains_json(gains_json, "the design").replaced(**settings).to_json()
 
 
 def _cmd_design(args: argparse.Namespace) -> int:
@@ -189,7 +202,9 @@ def _cmd_design(args: argparse.Namespace) -> int:
         f"{100 * report.linear_step.overshoot:.3g} %, 2 % settling {report.linear_step.settling_time_s:.6g} s"
     )
     metadata = {"method": design.method, "discretisation": design.discretisation, "specification": spec}
-    if args.dtype == "fixed":
+    if gains_format == "tracker":
+        text = _tracker_text(export.to_json(design.gains, metadata=metadata), args.dtype)
+    elif args.dtype == "fixed":
         constants = design.fixed_constants()
         if gains_format == "c":
             text = export.fixed_to_c_header(constants, name=args.name, description=description)
@@ -211,7 +226,8 @@ def _cmd_design(args: argparse.Namespace) -> int:
     else:
         capture_io.write_output(args.output, text)
         kind = args.dtype if gains_format != 'json' or args.dtype == 'fixed' else 'float64'
-        print(f"\nwrote the gains ({gains_format}, {kind}) to {args.output}")
+        what = f"a tracker file, number type {args.dtype}" if gains_format == "tracker" else f"{gains_format}, {kind}"
+        print(f"\nwrote the gains ({what}) to {args.output}")
     if args.plot is not None:
         from angletrack import design_plots
 

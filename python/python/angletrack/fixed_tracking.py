@@ -67,9 +67,10 @@ def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.
                          "samples (use --dtype float32 or float64)")
     calibration: Union[None, angletrack.SensorCalibration, "harmonics.Calibration"] = (
         s.calibration if s.calibration is not None else s.observer_arguments.get("initial_calibration"))
-    from angletrack.tracking import counts_mid_scale
+    from angletrack.tracking import _mid_scale
 
-    mid, shift, amplitude, monitor = fixed_input(first.y_c, first.y_s, int(counts_mid_scale(s, reader.sample_dtype)))
+    # A tracker file's stated mid-scale, else the capture's by the crate's rule.
+    mid, shift, amplitude, monitor = fixed_input(first.y_c, first.y_s, int(_mid_scale(s, reader.sample_dtype)))
     adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
     counts_range = clipping.integer_range(
         adc_range, "the stated --adc-range" if s.adc_range is not None else "the range measured")

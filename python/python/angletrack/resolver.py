@@ -170,8 +170,8 @@ def pairs_observer(s, gains: angletrack.Gains):
         return harmonics.CalibratedObserver(gains, s.calibration, dtype=np.dtype(s.dtype), sin_cos=s.sin_cos)
     # The pairs' envelope is 1 at the carrier amplitude: a winding open or shorted is
     # checked against it, and coasted through as the demodulator's loss of excitation.
-    return angletrack.Observer(gains, dtype=np.dtype(s.dtype), sin_cos=s.sin_cos, winding_amplitude=1.0,
-                               **s.observer_arguments)
+    return angletrack.Observer(gains, dtype=np.dtype(s.dtype), sin_cos=s.sin_cos,
+                               **{"winding_amplitude": 1.0, **s.observer_arguments})
 
 
 def update_on_pairs(observer, pairs, dtype):

@@ -72,6 +72,14 @@ class TrackSettings:
     adc_signed: Optional[bool] = None
     #: The ADC's resolution stated (``--adc-bits``, or an unsigned ``--adc-range``).
     adc_bits: Optional[int] = None
+    #: The gains of a tracker file (``--tracker``), in place of ``gains_file``.
+    tracker_gains: Optional[angletrack.Gains] = None
+    #: The mid-scale removed from the samples as a tracker file states it; ``None``: the
+    #: capture's (:func:`counts_mid_scale`).
+    mid_scale: Optional[float] = None
+    #: What the samples are divided by after the mid-scale (a tracker file's
+    #: ``input.counts_per_unit``).
+    counts_per_unit: float = 1.0
 
     def reader_options(self) -> dict:
         """The capture reader's keyword arguments (the capture's layout and rate)."""
@@ -80,8 +88,10 @@ class TrackSettings:
 
     @functools.cached_property
     def designed_gains(self) -> Optional[angletrack.Gains]:
-        """The gains in ``gains_file`` at their designed rate (``None`` without one), read
-        once however many steps ask for them."""
+        """The gains in ``gains_file`` (or the tracker file's) at their designed rate
+        (``None`` without one), read once however many steps ask for them."""
+        if self.tracker_gains is not None:
+            return self.tracker_gains
         if self.gains_file is None:
             return None
         text = capture_io.read_text_file(self.gains_file, "--gains-file")
@@ -280,33 +290,38 @@ class _Ranges:
         ]
 
 
-def counts_mid_scale(s: TrackSettings, sample_dtype: str) -> float:
+def counts_mid_scale(s: TrackSettings, sample_dtype: str, whole: Optional[tuple] = None) -> float:
     """The mid-scale removed from the capture ``s.capture`` of ``sample_dtype``: 0 for floats;
     for whole counts, the crate's rule (``angletrack::capture_counts``): the signedness and
     resolution stated (``s.adc_signed``, ``s.adc_bits``), else read from the whole capture,
-    which is then read once more, chunk by chunk, for its extremes; a capture that does not
+    which is then read once more, chunk by chunk, for its extremes (``whole``: the arrays of a
+    capture held in memory, read instead); a capture that does not
     show its signedness is refused, naming ``--adc-signed`` and ``--adc-unsigned``. The loop
     needs the signal centred on zero, not scaled (it is amplitude-invariant)."""
     if not sample_dtype.startswith(("int", "uint")):
         return 0.0
     extremes = CountsExtremes()
     if s.adc_signed is None or (not s.adc_signed and s.adc_bits is None):
-        for chunk in angletrack.CaptureReader(s.capture, **s.reader_options(), chunk_rows=s.chunk_rows):
-            extremes.add(np.ascontiguousarray(chunk.y_c, dtype=np.float64),
-                         np.ascontiguousarray(chunk.y_s, dtype=np.float64))
+        blocks = [whole] if whole is not None else (
+            (chunk.y_c, chunk.y_s)
+            for chunk in angletrack.CaptureReader(s.capture, **s.reader_options(), chunk_rows=s.chunk_rows))
+        for y_c, y_s in blocks:
+            extremes.add(np.ascontiguousarray(y_c, dtype=np.float64), np.ascontiguousarray(y_s, dtype=np.float64))
     _, mid = capture_counts(extremes, signed=s.adc_signed, bits=s.adc_bits,
                             unsigned_type=sample_dtype.startswith("uint"),
                             state_with="give --adc-signed or --adc-unsigned")
     return float(mid)
 
 
-def fault_thresholds(first, mid: float) -> angletrack.FaultThresholds:
+def fault_thresholds(first, mid: float, counts_per_unit: float = 1.0) -> angletrack.FaultThresholds:
     """The diagnostics' thresholds of the capture whose first chunk is ``first`` (mid-scale
-    ``mid`` removed): scaled to its amplitude (``capture_fault_thresholds``: the median
-    magnitude of its first 4096 samples), as ``angletrack.track`` scales a whole capture's.
-    Stated to the observer, which is fed in chunks and measures nothing itself."""
-    return capture_fault_thresholds(np.ascontiguousarray(first.y_c - mid, dtype=np.float64),
-                                    np.ascontiguousarray(first.y_s - mid, dtype=np.float64))
+    ``mid`` removed, divided by ``counts_per_unit``): scaled to its amplitude
+    (``capture_fault_thresholds``: the median magnitude of its first 4096 samples), as
+    ``angletrack.track`` scales a whole capture's. Stated to the observer, which is fed in
+    chunks and measures nothing itself."""
+    return capture_fault_thresholds(
+        np.ascontiguousarray((first.y_c - mid) / counts_per_unit, dtype=np.float64),
+        np.ascontiguousarray((first.y_s - mid) / counts_per_unit, dtype=np.float64))
 
 
 def finishing_checks(s: TrackSettings, observer, stats: Optional[_ErrorStatistics]) -> list[str]:
@@ -340,6 +355,13 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
 
         if s.carrier_hz is None:
             raise ValueError("pole_pairs: --pole-pairs and --latency need --carrier-hz (the resolver path)")
+        if s.tracker_gains is not None and (s.mid_scale or s.counts_per_unit != 1.0):
+            raise ValueError("input: with --carrier-hz the capture holds raw windings, demodulated into pairs "
+                             "of amplitude 1: the tracker file's input mid_scale, bits or counts_per_unit do not "
+                             'apply; give input {"kind": "counts"} or {"kind": "units"}')
+        if s.observer_arguments.get("winding_amplitude", 1.0) != 1.0:
+            raise ValueError("winding_check: with --carrier-hz the windings are checked on the demodulated pairs, "
+                             "whose envelope is 1: give {\"amplitude\": 1.0} or null")
         return resolver.track_windings(s)
     reader = angletrack.CaptureReader(
         s.capture, **s.reader_options(), chunk_rows=s.chunk_rows,
@@ -355,20 +377,7 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
         return "\n".join(lines[:1] + _stated_rate_note(s) + lines[1:]), fixed
     dtype = np.dtype(s.dtype)
     calibration = s.calibration
-    mid = counts_mid_scale(s, reader.sample_dtype)
-    adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
-    shifted = None if adc_range is None else (adc_range[0] - mid, adc_range[1] - mid)
-    thresholds = fault_thresholds(first, mid)
-    # No range stated or found on the first chunk: the rails measured as the samples come
-    # (clipping that starts later in the capture).
-    if calibration is not None:
-        observer = harmonics.CalibratedObserver(gains, calibration, dtype=dtype, sin_cos=s.sin_cos,
-                                                adc_range=shifted, measure_adc_range=shifted is None,
-                                                fault_thresholds=thresholds)
-    else:
-        observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos, adc_range=shifted,
-                                       measure_adc_range=shifted is None, fault_thresholds=thresholds,
-                                       **s.observer_arguments)
+    observer, mid, adc_range = _observer(s, gains, reader.sample_dtype, first)
     progress = _Progress(s.progress)
     rejected, y_c_sum, flagged = 0, 0.0, 0
     ranges = _Ranges()
@@ -379,8 +388,8 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     with angletrack.EstimatesWriter(s.output, dtype=dtype) as writer:
         chunk = first
         while chunk is not None:
-            est = observer.update((chunk.y_c - mid).astype(dtype, copy=False),
-                                  (chunk.y_s - mid).astype(dtype, copy=False))
+            y_c, y_s = _scaled(s, chunk.y_c, mid), _scaled(s, chunk.y_s, mid)
+            est = observer.update(y_c.astype(dtype, copy=False), y_s.astype(dtype, copy=False))
             time_s = chunk.time_s
             if time_s is None:
                 time_s = (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) * gains.sample_period_s
@@ -388,7 +397,7 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
             rejected += int(np.count_nonzero(est.faults & bad))
             flagged += int(np.count_nonzero(est.faults & front_end))
             y_c_sum += float(np.sum(chunk.y_c))
-            ranges.add(chunk.y_c - mid, chunk.y_s - mid)
+            ranges.add(y_c, y_s)
             if stats is not None:
                 stats.add(time_s, est.angle, chunk.reference_rad)
             progress.update(reader)
@@ -417,6 +426,73 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     return "\n".join(lines + statistics), observer
 
 
+def _scaled(s: TrackSettings, y: np.ndarray, mid: float) -> np.ndarray:
+    """Samples as the observer takes them: minus the mid-scale, over ``counts_per_unit``."""
+    return y - mid if s.counts_per_unit == 1.0 else (y - mid) / s.counts_per_unit
+
+
+def _mid_scale(s: TrackSettings, sample_dtype: str, whole: Optional[tuple] = None) -> float:
+    """The mid-scale removed: the tracker file's, else the capture's by the crate's rule
+    (:func:`counts_mid_scale`; ``whole``: the arrays of a capture held in memory, else the
+    file ``s.capture`` is read). Unsigned counts tracked as units or signed counts by a
+    tracker file are refused: their mid-scale would be left in."""
+    if s.mid_scale is None:
+        return counts_mid_scale(s, sample_dtype, whole)
+    if s.tracker_gains is not None and s.mid_scale == 0.0 and sample_dtype.startswith("uint"):
+        raise ValueError(f"input: the tracker file says units or signed counts, but {s.capture} holds unsigned "
+                         f"{sample_dtype} counts: set its input to {{\"kind\": \"counts\"}} (the mid-scale "
+                         "measured) or state bits or mid_scale")
+    return s.mid_scale
+
+
+def _observer(s: TrackSettings, gains: angletrack.Gains, sample_dtype: str, first,
+              whole: Optional[tuple] = None) -> tuple:
+    """The float observer of ``s`` for a capture of ``sample_dtype`` whose first chunk is
+    ``first`` (``whole``: the capture's arrays when it is held in memory), the mid-scale
+    removed from its samples and the ADC range (its units) it flags clipping against: one
+    setup for ``track`` and :func:`track_arrays`. The thresholds are the tracker file's, or
+    the capture's (:func:`fault_thresholds`), stated to the observer."""
+    dtype = np.dtype(s.dtype)
+    mid = _mid_scale(s, sample_dtype, whole)
+    adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
+    shifted = None if adc_range is None else (
+        (adc_range[0] - mid) / s.counts_per_unit, (adc_range[1] - mid) / s.counts_per_unit)
+    arguments = dict(s.observer_arguments)
+    thresholds = arguments.pop("fault_thresholds", None) or fault_thresholds(first, mid, s.counts_per_unit)
+    # No range stated or found on the first chunk: the rails measured as the samples come
+    # (clipping that starts later in the capture).
+    if s.calibration is not None:
+        observer = harmonics.CalibratedObserver(gains, s.calibration, dtype=dtype, sin_cos=s.sin_cos,
+                                                adc_range=shifted, measure_adc_range=shifted is None,
+                                                fault_thresholds=thresholds)
+    else:
+        observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos, adc_range=shifted,
+                                       measure_adc_range=shifted is None, fault_thresholds=thresholds,
+                                       **arguments)
+    return observer, mid, adc_range
+
+
+class _Samples:
+    """Arrays in the shape of a capture's chunk, for :func:`_observer`."""
+
+    def __init__(self, y_c: np.ndarray, y_s: np.ndarray):
+        self.y_c, self.y_s = y_c, y_s
+
+
+def track_arrays(s: TrackSettings, y_c: np.ndarray, y_s: np.ndarray) -> tuple:
+    """The estimates of the samples ``(y_c, y_s)`` as :func:`track_capture` computes them
+    over a capture holding them (one chunk; ``s.dtype`` float32 or float64), and the
+    observer at the end."""
+    if s.dtype == "fixed":
+        raise ValueError("dtype: Tracker.track runs float observers; track a fixed-point setup with "
+                         "`angletrack track --tracker` or angletrack.FixedObserver")
+    observer, mid, _ = _observer(s, s.designed_gains, y_c.dtype.name, _Samples(y_c, y_s), (y_c, y_s))
+    dtype = np.dtype(s.dtype)
+    est = observer.update(_scaled(s, y_c, mid).astype(dtype, copy=False),
+                          _scaled(s, y_s, mid).astype(dtype, copy=False))
+    return est, observer
+
+
 def calibrate_capture(s: TrackSettings, **options) -> harmonics.Calibration:
     """``angletrack calibrate``: the :class:`harmonics.Calibration` learned from the capture
     ``s.capture`` (``s.columns``, ``s.delimiter``, ``s.time_unit``), read twice in chunks in
@@ -432,11 +508,11 @@ def calibrate_capture(s: TrackSettings, **options) -> harmonics.Calibration:
     first_reader = reader()
     first = next(iter(first_reader))
     gains = gains_for_capture(s, first_reader.sample_rate_hz if first.time_s is not None else None)
-    mid = counts_mid_scale(s, first_reader.sample_dtype)
+    mid = _mid_scale(s, first_reader.sample_dtype)
     del first_reader, first
 
     def chunks():
         for chunk in reader():
-            yield chunk.y_c - mid, chunk.y_s - mid, chunk.reference_rad
+            yield _scaled(s, chunk.y_c, mid), _scaled(s, chunk.y_s, mid), chunk.reference_rad
 
     return harmonics.calibrate_chunks(chunks, gains, **options)

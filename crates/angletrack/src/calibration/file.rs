@@ -50,7 +50,7 @@ pub const ANGLE_CALIBRATION_FORMAT: &str = "angletrack-calibration";
 pub const CALIBRATION_FILE_VERSION: u64 = 1;
 
 /// The fields of a sensor calibration, in [`SensorCalibration::new`]'s order.
-const SENSOR_FIELDS: [&str; 5] = [
+pub(crate) const SENSOR_FIELDS: [&str; 5] = [
     "offset_c",
     "offset_s",
     "amplitude_c",

@@ -29,7 +29,7 @@ use angletrack_core::{AngleCorrection, Gains, MAX_CORRECTION_ORDER, SensorCalibr
 use nalgebra::Complex;
 
 mod ellipse;
-mod file;
+pub(crate) mod file;
 mod harmonic_fit;
 mod learner;
 mod quality;

@@ -51,14 +51,14 @@ pub struct FixedGainsFile {
     pub design: Option<Value>,
 }
 
-/// `values` as a JSON list, one number a line.
-fn list<T>(values: &[T], item: impl Fn(&T) -> String) -> String {
+/// `values` as a JSON list, one number a line (a member of the document's top level).
+pub(crate) fn list<T>(values: &[T], item: impl Fn(&T) -> String) -> String {
     let items: Vec<String> = values.iter().map(|v| format!("    {}", item(v))).collect();
     format!("[\n{}\n  ]", items.join(",\n"))
 }
 
 /// The members of a document, the design last, as one JSON object's text.
-fn document(mut members: Vec<String>, design: Option<&Value>) -> String {
+pub(crate) fn document(mut members: Vec<String>, design: Option<&Value>) -> String {
     if let Some(design) = design {
         // Nested one level: its lines indented by two more blanks.
         let pretty = serde_json::to_string_pretty(design).unwrap_or_else(|_| "null".into());

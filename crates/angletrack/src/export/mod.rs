@@ -23,7 +23,7 @@ use core::str::FromStr;
 
 mod calibration;
 mod gains;
-mod gains_file;
+pub(crate) mod gains_file;
 #[cfg(test)]
 mod tests;
 

@@ -63,10 +63,12 @@ impl<T: Real> Workload<T> {
     }
 
     fn initial_state<const N: usize>(&self) -> ObserverState<T, N> {
+        // An order without an acceleration state starts without one.
+        let acceleration = if N > 2 { self.acceleration_rad_s2 } else { 0.0 };
         ObserverState::at(
             T::from_f64(self.angle_rad),
             T::from_f64(self.speed_rad_s),
-            T::from_f64(self.acceleration_rad_s2),
+            T::from_f64(acceleration),
             T::from_f64(SAMPLE_PERIOD_S),
         )
         .unwrap()

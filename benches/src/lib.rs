@@ -206,7 +206,7 @@ mod tests {
             };
             if l[2] == 0.0 {
                 let g: Gains<f64, 2, Exact> = gains([l[0], l[1]]);
-                let mut s = ObserverState::at(angle, speed, accel, SAMPLE_PERIOD_S).unwrap();
+                let mut s = ObserverState::at(angle, speed, 0.0, SAMPLE_PERIOD_S).unwrap();
                 for k in 0..signal.len() {
                     let e = g.update(&mut s, signal.y_c[k], signal.y_s[k]);
                     check(e, hand.update(signal.y_c[k], signal.y_s[k]));

@@ -25,7 +25,7 @@ pub struct TrackerFrontEnd<V: TrackerNumber> {
 }
 
 /// One channel's state of a [`TrackerFrontEnd`]: the front-end check's, the rails
-/// measured, the winding check's and the online calibration's [`Calibrator`] (floats).
+/// measured, the winding check's and the online calibration's [`Calibrator`](crate::Calibrator) (floats).
 /// The default is fresh: no fault, no rail found, the online calibration off.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct TrackerFrontEndState<V: TrackerNumber> {

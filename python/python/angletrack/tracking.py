@@ -438,11 +438,25 @@ def _mid_scale(s: TrackSettings, sample_dtype: str, whole: Optional[tuple] = Non
     tracker file are refused: their mid-scale would be left in."""
     if s.mid_scale is None:
         return counts_mid_scale(s, sample_dtype, whole)
-    if s.tracker_gains is not None and s.mid_scale == 0.0 and sample_dtype.startswith("uint"):
+    if s.tracker_gains is not None and s.mid_scale == 0.0 and _shows_unsigned(s, sample_dtype, whole):
         raise ValueError(f"input: the tracker file says units or signed counts, but {s.capture} holds unsigned "
                          f"{sample_dtype} counts: set its input to {{\"kind\": \"counts\"}} (the mid-scale "
                          "measured) or state bits or mid_scale")
     return s.mid_scale
+
+
+def _shows_unsigned(s: TrackSettings, sample_dtype: str, whole: Optional[tuple]) -> bool:
+    """Whether the capture's whole counts are offset binary by the crate's rule read from
+    the capture alone (an unsigned dtype, or both channels swinging across one mid-scale
+    with no negative sample); a capture that shows neither is taken as the tracker file
+    states it."""
+    if not sample_dtype.startswith(("int", "uint")):
+        return False
+    try:
+        unstated = dataclasses.replace(s, adc_signed=None, adc_bits=None)
+        return counts_mid_scale(unstated, sample_dtype, whole) != 0.0
+    except ValueError:
+        return False
 
 
 def _observer(s: TrackSettings, gains: angletrack.Gains, sample_dtype: str, first,

@@ -13,6 +13,7 @@
 use angletrack::{
     AdcCount, CountsError, CountsInput, CountsInputError, CountsSettings, Signedness,
 };
+use angletrack_core::Rails;
 use numpy::prelude::*;
 use numpy::{Element, PyArray1, PyArrayDescr, PyUntypedArray, dtype};
 use pyo3::prelude::*;
@@ -159,6 +160,21 @@ impl<R> Clipping<R> {
             ));
         }
         Ok(Self { range, measure })
+    }
+}
+
+impl<R: Copy> Clipping<R> {
+    /// The core's rails of the arguments, the range's bounds by `bound` (refusing a bound
+    /// the input cannot take).
+    pub fn rails<X>(&self, bound: impl Fn(R) -> Result<(X, X)>) -> Result<Rails<X>> {
+        Ok(match self.range {
+            Some(range) => {
+                let (min, max) = bound(range)?;
+                Rails::Stated { min, max }
+            }
+            None if self.measure => Rails::Measured,
+            None => Rails::Unchecked,
+        })
     }
 }
 

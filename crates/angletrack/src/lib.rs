@@ -135,8 +135,7 @@ pub use sim::{
     Kinematics, LANES, MAX_ANGLE_ERROR_HARMONICS, MAX_SAMPLES, Metrics, MetricsOptions, Motion,
     MotionProfile, NOMINAL_AMPLITUDE_SAMPLES, Output, ResolverModel, Run, Scenario, SensorModel,
     capture_fault_thresholds, fixed_front_end, fixed_input, fixed_input_shift,
-    fixed_monitor_amplitude, nominal_amplitude, online_calibration, run, run_calibrated,
-    with_fixed_clipping,
+    fixed_monitor_amplitude, nominal_amplitude, run, run_calibrated, with_fixed_clipping,
 };
 pub use thresholds::{ThresholdInput, ThresholdPolicy, ThresholdsNotStated};
 pub use winding_rails::WindingRails;

@@ -16,8 +16,7 @@ mod sensor;
 
 pub use batch::{ChannelBatch, LANES};
 pub use calibrated::{
-    NOMINAL_AMPLITUDE_SAMPLES, capture_fault_thresholds, nominal_amplitude, online_calibration,
-    run_calibrated,
+    NOMINAL_AMPLITUDE_SAMPLES, capture_fault_thresholds, nominal_amplitude, run_calibrated,
 };
 pub use columns::{EstimateColumns, Output};
 pub use fixed_chain::{

@@ -133,21 +133,12 @@ fn named(e: CountsInputError) -> Error {
 /// The clipping arguments `adc_range` and `measure_adc_range` of an observer, checked: the
 /// ADC's stated range (`R`: floats in the samples' units, or the fixed point's integer codes),
 /// or the rails measured as the samples come (the core's `HeldRailCheck`), or neither.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Clipping<R = (f64, f64)> {
     /// The stated range.
     pub range: Option<R>,
     /// Without a range: the rails measured.
     pub measure: bool,
-}
-
-impl<R> Default for Clipping<R> {
-    fn default() -> Self {
-        Self {
-            range: None,
-            measure: false,
-        }
-    }
 }
 
 impl<R> Clipping<R> {

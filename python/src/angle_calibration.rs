@@ -8,9 +8,9 @@ use angletrack::{
     EstimateColumns, Gains, ObserverState, OrderQuality, OrderStatus, SPECTRUM_ORDERS,
     SensorCalibration, ThresholdPolicy,
 };
-use angletrack_core::MAX_CORRECTION_ORDER;
 use angletrack_core::{
-    Chain, ChainState, FrontEndCheck, FrontEndCheckState, HeldRailCheck, HeldRails,
+    CalibrationStage, CorrectionStage, Input, MAX_CORRECTION_ORDER, Tracker, TrackerFrontEnd,
+    TrackerSettings, TrackerState,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -263,22 +263,13 @@ pub fn checked(
     Ok((sensor, correction))
 }
 
-/// The corrected observer's stages in `T`: the clipping checks, the stored sensor
-/// calibration, the angle correction.
-type CorrectedStages<T> = (
-    (Option<FrontEndCheck<T>>, Option<HeldRailCheck>),
-    (SensorCalibration<T>, AngleCorrection<T>),
-);
-
-/// The state of [`CorrectedStages`]: the clipping checks' (the other stages hold none).
-type CorrectedStagesState<T> = (((FrontEndCheckState, ()), HeldRails<T>), ((), ()));
-
-/// The corrected observer of concrete types: the core's chain of the clipping checks (on the
-/// raw samples), the stored sensor calibration and the angle correction before the observer.
+/// The corrected observer of concrete types: the core's standard chain (`Tracker`) of the
+/// clipping checks (on the raw samples), the stored sensor calibration and the angle
+/// correction before the observer, and its state.
 #[derive(Debug)]
 struct Corrected<T: Sample, const N: usize, S: PhaseSinCos<T>> {
-    chain: Chain<CorrectedStages<T>, Gains<T, N, S>>,
-    state: ChainState<CorrectedStagesState<T>, ObserverState<T, N>>,
+    tracker: Tracker<T, Gains<T, N, S>>,
+    state: TrackerState<T, ObserverState<T, N>>,
 }
 
 impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for Corrected<T, N, S> {
@@ -288,9 +279,13 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for Corrected<T, N, S> {
         check_equal_lengths(("y_c", c.len()), ("y_s", s.len()))?;
         let n = c.len();
         let out = OutputArrays::<T>::new(py, n)?;
-        let (chain, state) = (&self.chain, &mut self.state);
+        let (tracker, state) = (&self.tracker, &mut self.state);
         out.fill(py, |columns: EstimateColumns<'_, T>| {
-            columns.write(c.iter().zip(s).map(|(&c, &s)| chain.update(state, (c, s))));
+            columns.write(
+                c.iter()
+                    .zip(s)
+                    .map(|(&c, &s)| tracker.update(state, (c, s))),
+            );
         })?;
         out.into_estimates(py, n, None)
     }
@@ -312,21 +307,21 @@ pub fn corrected<T: Sample, const N: usize, S: PhaseSinCos<T>>(
         Some(t) => gains.with_fault_thresholds(t)?,
         None => gains,
     };
-    let stated = match clipping.range {
-        Some((min, max)) => Some(
-            FrontEndCheck::around((), Some((f(min), f(max))))
-                .map_err(|e| Error::value("adc_range", e.to_string()))?,
-        ),
-        None => None,
-    };
-    let measured = clipping.measure.then_some(HeldRailCheck::new());
+    let rails = clipping.rails(|(min, max)| Ok((f(min), f(max))))?;
     let (o_c, o_s, a_c, a_s, phi) = sensor.parameters();
     let sensor = SensorCalibration::new(f(o_c), f(o_s), f(a_c), f(a_s), f(phi))?;
     let (a, b) = correction.coefficients();
     let correction = AngleCorrection::new(a.map(f), b.map(f))?;
+    let front_end = TrackerFrontEnd::new(TrackerSettings {
+        input: Input::Units { rails },
+        winding: None,
+        calibration: CalibrationStage::Stored(sensor),
+        correction: CorrectionStage::Harmonics(correction),
+    })
+    .map_err(|e| Error::value("adc_range", e.to_string()))?;
     Ok(Box::new(Corrected {
-        chain: Chain::new(((stated, measured), (sensor, correction)), gains),
-        state: ChainState::new(),
+        tracker: Tracker::new(front_end, gains),
+        state: TrackerState::new(),
     }))
 }
 

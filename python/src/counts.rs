@@ -13,6 +13,7 @@
 use angletrack::{
     AdcCount, CountsError, CountsInput, CountsInputError, CountsSettings, Signedness,
 };
+use angletrack_core::Rails;
 use numpy::prelude::*;
 use numpy::{Element, PyArray1, PyArrayDescr, PyUntypedArray, dtype};
 use pyo3::prelude::*;
@@ -132,21 +133,12 @@ fn named(e: CountsInputError) -> Error {
 /// The clipping arguments `adc_range` and `measure_adc_range` of an observer, checked: the
 /// ADC's stated range (`R`: floats in the samples' units, or the fixed point's integer codes),
 /// or the rails measured as the samples come (the core's `HeldRailCheck`), or neither.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Clipping<R = (f64, f64)> {
     /// The stated range.
     pub range: Option<R>,
     /// Without a range: the rails measured.
     pub measure: bool,
-}
-
-impl<R> Default for Clipping<R> {
-    fn default() -> Self {
-        Self {
-            range: None,
-            measure: false,
-        }
-    }
 }
 
 impl<R> Clipping<R> {
@@ -159,6 +151,21 @@ impl<R> Clipping<R> {
             ));
         }
         Ok(Self { range, measure })
+    }
+}
+
+impl<R: Copy> Clipping<R> {
+    /// The core's rails of the arguments, the range's bounds by `bound` (refusing a bound
+    /// the input cannot take).
+    pub fn rails<X>(&self, bound: impl Fn(R) -> Result<(X, X)>) -> Result<Rails<X>> {
+        Ok(match self.range {
+            Some(range) => {
+                let (min, max) = bound(range)?;
+                Rails::Stated { min, max }
+            }
+            None if self.measure => Rails::Measured,
+            None => Rails::Unchecked,
+        })
     }
 }
 

@@ -5,13 +5,11 @@
 //! silent conversion), converts the constants dict and runs `angletrack::FixedColumns` with
 //! the GIL released.
 
-use angletrack::{
-    FixedDesignConstants, FixedFrontEnd, FixedFrontEndState, fixed_front_end, with_fixed_clipping,
-};
+use angletrack::{FixedDesignConstants, fixed_front_end};
 use angletrack_core::fixed::FixedConstants;
 use angletrack_core::{
-    AngleCorrection, Chain, ChainState, ConfigError as CoreConfigError, FixedGains, FixedState,
-    Order, SensorCalibration, SupportedOrder,
+    AngleCorrection, ConfigError as CoreConfigError, FixedGains, FixedState, Order,
+    SensorCalibration, SupportedOrder, Tracker, TrackerFrontEnd, TrackerState,
 };
 use numpy::PyUntypedArray;
 use numpy::prelude::*;
@@ -27,14 +25,21 @@ use crate::errors::{Error, Result};
 use crate::fixed_estimates::{FixedArrays, FixedEstimate, FixedEstimates};
 use crate::gains::{GainSet, PyGains};
 
-/// The gains and state of a fixed-point observer of order 2 or 3.
+/// The core's fixed-point standard chain (`Tracker<i16, FixedGains<N>>`) of order 2 or 3,
+/// and its state.
 #[derive(Debug, Clone, Copy)]
 enum FixedChannel {
-    Second(FixedGains<2>, FixedState<2>),
-    Third(FixedGains<3>, FixedState<3>),
+    Second(
+        Tracker<i16, FixedGains<2>>,
+        TrackerState<i16, FixedState<2>>,
+    ),
+    Third(
+        Tracker<i16, FixedGains<3>>,
+        TrackerState<i16, FixedState<3>>,
+    ),
 }
 
-/// Runs `$body` with `$g` and `$s` bound to the gains and state inside a [`FixedChannel`].
+/// Runs `$body` with `$g` and `$s` bound to the tracker and state inside a [`FixedChannel`].
 macro_rules! with_channel {
     ($channel:expr, $g:ident, $s:ident => $body:expr) => {
         match $channel {
@@ -61,23 +66,32 @@ where
 }
 
 impl FixedChannel {
-    /// The fixed-point observer of checked float gains, quantised by the core.
-    fn of_gains(set: &GainSet) -> core::result::Result<Self, CoreConfigError> {
+    /// The fixed-point observer of checked float gains, quantised by the core, behind
+    /// `front_end`.
+    fn of_gains(
+        set: &GainSet,
+        front_end: TrackerFrontEnd<i16>,
+    ) -> core::result::Result<Self, CoreConfigError> {
         Ok(match set {
             GainSet::Second(g) => Self::Second(
-                FixedGains::new(g.gains(), g.sample_period())?,
-                FixedState::new(),
+                Tracker::new(front_end, FixedGains::new(g.gains(), g.sample_period())?),
+                TrackerState::new(),
             ),
             GainSet::Third(g) => Self::Third(
-                FixedGains::new(g.gains(), g.sample_period())?,
-                FixedState::new(),
+                Tracker::new(front_end, FixedGains::new(g.gains(), g.sample_period())?),
+                TrackerState::new(),
             ),
         })
     }
 
     /// The fixed-point observer of the integer constants (2 or 3 multipliers), checked by
-    /// the core; a refusal names `constants` and the gain.
-    fn of_constants(multiplier: &[i32], shift: u32, sample_period_s: f64) -> Result<Self> {
+    /// the core, behind `front_end`; a refusal names `constants` and the gain.
+    fn of_constants(
+        multiplier: &[i32],
+        shift: u32,
+        sample_period_s: f64,
+        front_end: TrackerFrontEnd<i16>,
+    ) -> Result<Self> {
         let named = |e: CoreConfigError| match e {
             CoreConfigError::NotFinite(_) | CoreConfigError::NotPositive(_) => Error::Config(e),
             _ => Error::value(
@@ -87,12 +101,18 @@ impl FixedChannel {
         };
         Ok(match *multiplier {
             [a, b] => Self::Second(
-                gains_of_constants([a, b], shift, sample_period_s).map_err(named)?,
-                FixedState::new(),
+                Tracker::new(
+                    front_end,
+                    gains_of_constants([a, b], shift, sample_period_s).map_err(named)?,
+                ),
+                TrackerState::new(),
             ),
             [a, b, c] => Self::Third(
-                gains_of_constants([a, b, c], shift, sample_period_s).map_err(named)?,
-                FixedState::new(),
+                Tracker::new(
+                    front_end,
+                    gains_of_constants([a, b, c], shift, sample_period_s).map_err(named)?,
+                ),
+                TrackerState::new(),
             ),
             _ => {
                 return Err(Error::value(
@@ -110,8 +130,14 @@ impl FixedChannel {
     /// The same observer with the monitor for `nominal_amplitude` counts (`None`: off).
     fn with_monitor(self, nominal_amplitude: Option<f64>) -> Result<Self> {
         Ok(match self {
-            Self::Second(g, s) => Self::Second(g.with_monitor(nominal_amplitude)?, s),
-            Self::Third(g, s) => Self::Third(g.with_monitor(nominal_amplitude)?, s),
+            Self::Second(t, s) => Self::Second(
+                Tracker::new(t.front_end, t.observer.with_monitor(nominal_amplitude)?),
+                s,
+            ),
+            Self::Third(t, s) => Self::Third(
+                Tracker::new(t.front_end, t.observer.with_monitor(nominal_amplitude)?),
+                s,
+            ),
         })
     }
 }
@@ -210,11 +236,11 @@ fn counts<'py>(obj: &Bound<'py, PyAny>, parameter: &'static str) -> Result<Sampl
 /// that rounds to zero, does not fit, or leaves the quantised loop unstable);
 /// `FixedObserver.from_constants` takes the integers a firmware embeds.
 /// `nominal_amplitude` (counts, 16384 to 46341) sets the monitor's thresholds; `None` turns
-/// the monitor off. The chain's stages before the observer (`angletrack::fixed_front_end`,
-/// in integers): `mid_scale_counts` removed and the counts shifted left by `input_shift`
+/// the monitor off. The stages before the observer, the core's standard chain (`Tracker`,
+/// its front end by `angletrack::fixed_front_end`), in integers: `mid_scale_counts` removed and the counts shifted left by `input_shift`
 /// bits (`AdcCounts`), then `calibration` (learned in float on the counts before the shift)
 /// applied: a `SensorCalibration` as a `FixedCalibration`, a `harmonics.Calibration` also
-/// with its harmonics as a 1024-entry `FixedAngleCorrectionTable`. `adc_range=(min, max)`
+/// with its harmonics as the core's 256-entry `FixedAngleCorrectionTable`. `adc_range=(min, max)`
 /// (integer codes, as the samples come): a sample at or beyond it in either channel is
 /// flagged `Faults.FRONT_END` and one clipped in both channels is coasted through; or
 /// `measure_adc_range=True`: the same against the rails measured on the samples as they
@@ -223,11 +249,6 @@ fn counts<'py>(obj: &Bound<'py, PyAny>, parameter: &'static str) -> Result<Sampl
 #[derive(Debug)]
 pub struct PyFixedObserver {
     channel: FixedChannel,
-    /// The chain's front end (counts, clipping checks, stored calibration, angle correction
-    /// table), or `None`: the samples go to the observer as they are.
-    front_end: Option<FixedFrontEnd>,
-    /// The front end's state (the clipping checks'), kept from call to call.
-    front_state: FixedFrontEndState,
 }
 
 /// The stored sensor calibration and angle correction of a chain, either absent.
@@ -262,43 +283,22 @@ fn stages(calibration: Option<&Bound<'_, PyAny>>) -> Result<Stages> {
     Ok((Some(sensor), Some(correction)))
 }
 
-/// The chain's front end of the arguments, or `None` when none of them asks for a stage.
+/// The core's front end of the arguments (`angletrack::fixed_front_end`).
 fn front_end(
     calibration: Option<&Bound<'_, PyAny>>,
-    mid_scale_counts: i32,
-    input_shift: u32,
+    mid_scale_counts: Count,
+    input_shift: Count,
     clipping: Clipping<(i32, i32)>,
-) -> Result<Option<FixedFrontEnd>> {
+) -> Result<TrackerFrontEnd<i16>> {
     let (sensor, correction) = stages(calibration)?;
-    if sensor.is_none()
-        && mid_scale_counts == 0
-        && input_shift == 0
-        && clipping == Clipping::default()
-    {
-        return Ok(None);
-    }
-    let front_end = fixed_front_end(
-        mid_scale_counts,
-        input_shift,
+    let rails = clipping.rails(Ok)?;
+    Ok(fixed_front_end(
+        mid_scale_counts.get("mid_scale_counts")?,
+        input_shift.get("input_shift")?,
         sensor.as_ref(),
         correction.as_ref(),
-    )?;
-    Ok(Some(with_fixed_clipping(
-        front_end,
-        clipping.range,
-        clipping.measure,
-    )?))
-}
-
-impl PyFixedObserver {
-    /// The observer of `channel` behind `front_end`, its state fresh.
-    fn of_stages(channel: FixedChannel, front_end: Option<FixedFrontEnd>) -> Result<Self> {
-        Ok(Self {
-            channel,
-            front_end,
-            front_state: FixedFrontEndState::default(),
-        })
-    }
+        rails,
+    )?)
 }
 
 #[pymethods]
@@ -317,17 +317,11 @@ impl PyFixedObserver {
         adc_range: Option<(i32, i32)>,
         measure_adc_range: bool,
     ) -> Result<Self> {
-        let channel =
-            FixedChannel::of_gains(&designed_gains(design)?)?.with_monitor(nominal_amplitude)?;
-        Self::of_stages(
-            channel,
-            front_end(
-                calibration,
-                mid_scale_counts.get("mid_scale_counts")?,
-                input_shift.get("input_shift")?,
-                Clipping::new(adc_range, measure_adc_range)?,
-            )?,
-        )
+        let gains = designed_gains(design)?;
+        let clipping = Clipping::new(adc_range, measure_adc_range)?;
+        let front_end = front_end(calibration, mid_scale_counts, input_shift, clipping)?;
+        let channel = FixedChannel::of_gains(&gains, front_end)?.with_monitor(nominal_amplitude)?;
+        Ok(Self { channel })
     }
 
     /// The observer of the integer constants a firmware embeds: the dict
@@ -368,17 +362,11 @@ impl PyFixedObserver {
         let shift: u32 = shift
             .extract()
             .map_err(|_| not_integers("acceleration_shift", &shift, "an integer from 0 to 15"))?;
-        let channel = FixedChannel::of_constants(&multiplier, shift, sample_period_s)?
+        let clipping = Clipping::new(adc_range, measure_adc_range)?;
+        let front_end = front_end(calibration, mid_scale_counts, input_shift, clipping)?;
+        let channel = FixedChannel::of_constants(&multiplier, shift, sample_period_s, front_end)?
             .with_monitor(nominal_amplitude)?;
-        Self::of_stages(
-            channel,
-            front_end(
-                calibration,
-                mid_scale_counts.get("mid_scale_counts")?,
-                input_shift.get("input_shift")?,
-                Clipping::new(adc_range, measure_adc_range)?,
-            )?,
-        )
+        Ok(Self { channel })
     }
 
     /// Runs the observer over the int16 samples `y_c ~ cos(theta)`, `y_s ~ sin(theta)`
@@ -395,19 +383,11 @@ impl PyFixedObserver {
         let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
         check_equal_lengths(("y_c", y_c.len()), ("y_s", y_s.len()))?;
         let out = FixedArrays::new(py, y_c.len())?;
-        let (channel, front_end) = (&mut self.channel, self.front_end);
-        let front_state = &mut self.front_state;
-        out.fill(py, |columns| {
-            with_channel!(channel, g, s => match front_end {
-                None => columns.run(g, s, y_c, y_s),
-                Some(front_end) => {
-                    let mut state = ChainState { front_end: *front_state, observer: *s };
-                    let count = columns.run_chain(&Chain::new(front_end, *g), &mut state, y_c, y_s);
-                    (*front_state, *s) = (state.front_end, state.observer);
-                    count
-                }
-            })
-        })?;
+        let channel = &mut self.channel;
+        out.fill(
+            py,
+            |columns| with_channel!(channel, t, s => columns.run_chain(t, s, y_c, y_s)),
+        )?;
         Ok(out.into_estimates(y_c.len()))
     }
 
@@ -415,19 +395,20 @@ impl PyFixedObserver {
     /// measured).
     #[getter]
     fn latched_front_end_faults(&self) -> u8 {
-        let (_, ((stated, measured), _)) = &self.front_state;
-        (stated.0.latched_faults() | measured.check().latched_faults()).bits()
+        with_channel!(&self.channel, _t, s => s.front_end.latched_faults().bits())
     }
 
     /// The estimate after the last sample.
     #[getter]
     fn estimate(&self) -> FixedEstimate {
-        with_channel!(&self.channel, g, s => FixedEstimate::new(g, &FixedGains::estimate(s)))
+        with_channel!(&self.channel, t, s => {
+            FixedEstimate::new(&t.observer, &FixedGains::estimate(&s.observer))
+        })
     }
 
     /// Forgets the state: the next sample sets the angle from its `atan2`.
     fn reset(&mut self) {
-        with_channel!(&mut self.channel, _g, s => *s = FixedState::new());
+        with_channel!(&mut self.channel, _t, s => s.observer = FixedState::new());
     }
 
     /// The integer constants (the dict `Design.fixed_constants()` returns): what
@@ -436,50 +417,50 @@ impl PyFixedObserver {
     fn constants<'py>(&self, py: Python<'py>) -> Result<Bound<'py, PyDict>> {
         constants_dict(
             py,
-            with_channel!(&self.channel, g, _s => FixedDesignConstants::of(g)),
+            with_channel!(&self.channel, t, _s => FixedDesignConstants::of(&t.observer)),
         )
     }
 
     /// The gains the integers represent, `(l1, l2[, l3])` (float): the loop that runs.
     #[getter]
     fn gains(&self) -> Vec<f64> {
-        with_channel!(&self.channel, g, _s => g.gains().to_vec())
+        with_channel!(&self.channel, t, _s => t.observer.gains().to_vec())
     }
 
     /// The sample period `Ts` (s).
     #[getter]
     fn sample_period_s(&self) -> f64 {
-        with_channel!(&self.channel, g, _s => g.sample_period())
+        with_channel!(&self.channel, t, _s => t.observer.sample_period())
     }
 
     /// The observer order: 2 or 3.
     #[getter]
     fn order(&self) -> usize {
-        with_channel!(&self.channel, g, _s => g.gains().len())
+        with_channel!(&self.channel, t, _s => t.observer.gains().len())
     }
 
     /// The faults latched since they were last cleared (bits, see `angletrack.Faults`).
     #[getter]
     fn latched_faults(&self) -> u8 {
-        with_channel!(&self.channel, _g, s => s.latched_faults().bits())
+        with_channel!(&self.channel, _t, s => s.observer.latched_faults().bits())
     }
 
     /// Returns the latched faults (bits) and clears them.
     fn clear_faults(&mut self) -> u8 {
-        with_channel!(&mut self.channel, _g, s => {
-            let latched = s.latched_faults().bits();
-            s.clear_faults();
+        with_channel!(&mut self.channel, _t, s => {
+            let latched = s.observer.latched_faults().bits();
+            s.observer.clear_faults();
             latched
         })
     }
 
     fn __repr__(&self) -> String {
-        with_channel!(&self.channel, g, _s => format!(
+        with_channel!(&self.channel, t, _s => format!(
             "FixedObserver(order={}, multiplier={:?}, acceleration_shift={}, sample_period_s={:e})",
-            g.gains().len(),
-            g.constants().multiplier,
-            g.constants().acceleration_shift,
-            g.sample_period()
+            t.observer.gains().len(),
+            t.observer.constants().multiplier,
+            t.observer.constants().acceleration_shift,
+            t.observer.sample_period()
         ))
     }
 }

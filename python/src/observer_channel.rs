@@ -1,38 +1,37 @@
-//! The core observer behind `Observer`: `Channel`, one per float type, order and sin/cos,
-//! and its run over numpy arrays through the front-end chain (the ADC range check, the rails
-//! measured, the winding check, the online calibration).
+//! The core's standard chain behind `Observer`: `Channel`, one per float type, order and
+//! sin/cos, holding the core's `Tracker` (the ADC range check, the rails measured, the
+//! winding check, the online calibration) and its state, and its run over numpy arrays.
 
-use angletrack::{EstimateColumns, ThresholdInput, ThresholdPolicy, online_calibration};
+use angletrack::{EstimateColumns, ThresholdInput, ThresholdPolicy};
 use angletrack_core::{
-    CalibrationMode, CalibrationStatus, Calibrator, Chain, ChainState, Faults, FrontEndCheck,
-    FrontEndCheckState, FrontEndFaults, Gains as CoreGains, HeldRailCheck, HeldRails,
-    Observer as CoreObserver, ObserverState, Real, SinCos, WindingCheck,
+    AdcScaling, CalibrationMode, CalibrationStage, CalibrationStatus, CorrectionStage, Faults,
+    FrontEndFaults, Gains as CoreGains, Input, ObserverState, SinCos, Tracker, TrackerFrontEnd,
+    TrackerSettings, TrackerState, WindingCheck,
 };
 use pyo3::prelude::*;
 
 use crate::arrays::check_equal_lengths;
 use crate::calibration::{CalibrationChoice, PySensorCalibration};
-use crate::counts::AdcInput;
+use crate::counts::{AdcInput, Clipping};
 use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::{Arg, PhaseSinCos, Run, Sample};
 use crate::errors::{Error, Result};
 use crate::estimates::{Estimate, Estimates, OutputArrays};
 use crate::observer::{ObserverOps, ObserverOptions};
 
-/// The core observer behind the binding's front end: integer counts scaled
-/// (`crate::counts`), the online calibration, and the diagnostics' thresholds by the crate's
-/// `ThresholdPolicy` (of a stream for `Observer`, of a whole capture for `track`).
+/// The core's standard chain behind `Observer` (`Tracker`: the clipping checks, the winding
+/// check, the online calibration), its state, integer counts scaled (`crate::counts`), and
+/// the diagnostics' thresholds by the crate's `ThresholdPolicy` (of a stream for
+/// `Observer`, of a whole capture for `track`).
 #[derive(Debug)]
-pub struct Channel<T: Real, const N: usize, S> {
-    observer: CoreObserver<T, N, S>,
-    calibrator: Calibrator<T>,
+pub struct Channel<T: Sample, const N: usize, S> {
+    tracker: Tracker<T, CoreGains<T, N, S>>,
+    state: TrackerState<T, ObserverState<T, N>>,
     adc: AdcInput<T>,
     thresholds: ThresholdPolicy<T>,
-    adc_range: Option<(f64, f64)>,
-    held_rails: Option<HeldRailCheck>,
-    rails: HeldRails<T>,
-    winding: Option<WindingCheck<T>>,
-    front_end: (FrontEndCheckState, FrontEndCheckState),
+    /// `adc_range` as given (in the samples' units, or in codes for counts), or the rails
+    /// measured.
+    clipping: Clipping,
 }
 
 impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Channel<T, N, S> {
@@ -48,21 +47,68 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Channel<T, N, S> {
             Some(t) => gains.with_fault_thresholds(t)?,
             None => gains,
         };
+        let winding = options
+            .winding_amplitude
+            .map(|a| WindingCheck::new(T::from_f64(a)))
+            .transpose()
+            .map_err(|e| Error::value("winding_amplitude", e.to_string()))?;
+        let front_end = front_end(
+            &options.clipping,
+            None,
+            winding,
+            CalibrationStage::Online(gains.online_calibration()),
+        )?;
+        let mut state = TrackerState::new();
+        *state.front_end.calibrator_mut() = options.calibration.calibrator()?;
         Ok(Self {
-            observer: CoreObserver::new(gains),
-            calibrator: options.calibration.calibrator()?,
+            tracker: Tracker::new(front_end, gains),
+            state,
             adc: AdcInput::new(options.adc, options.whole),
             thresholds,
-            adc_range: options.clipping.range,
-            held_rails: options.clipping.measure.then_some(HeldRailCheck::new()),
-            rails: HeldRails::default(),
-            winding: options
-                .winding_amplitude
-                .map(|a| WindingCheck::new(T::from_f64(a)))
-                .transpose()
-                .map_err(|e| Error::value("winding_amplitude", e.to_string()))?,
-            front_end: Default::default(),
+            clipping: options.clipping,
         })
+    }
+}
+
+/// The core's front end of the arguments for samples scaled by `adc` (`None`: floats, in
+/// the units of `adc_range`): `adc_range` in codes through the ADC's scaling when the
+/// samples are counts (the core's rule).
+fn front_end<T: Sample>(
+    clipping: &Clipping,
+    adc: Option<AdcScaling<T>>,
+    winding: Option<WindingCheck<T>>,
+    calibration: CalibrationStage<T>,
+) -> Result<TrackerFrontEnd<T>> {
+    let input = match adc {
+        Some(adc) => Input::Counts {
+            adc,
+            rails: clipping.rails(|(min, max)| Ok((code(min)?, code(max)?)))?,
+        },
+        None => Input::Units {
+            rails: clipping.rails(|(min, max)| Ok((T::from_f64(min), T::from_f64(max))))?,
+        },
+    };
+    TrackerFrontEnd::new(TrackerSettings {
+        input,
+        winding,
+        calibration,
+        correction: CorrectionStage::None,
+    })
+    .map_err(|e| Error::value("adc_range", e.to_string()))
+}
+
+/// A bound of `adc_range` for counts as an ADC code: a whole number, beyond int32 taken as
+/// int32's extreme (the chain's counts are int32, wider ones refused as samples: the core's
+/// `Rails::of_adc_bits` takes an unsigned 32-bit ADC's rail so).
+fn code(bound: f64) -> Result<i32> {
+    if bound.fract() == 0.0 {
+        // A whole number: saturated to int32, as the comment above says.
+        Ok(bound as i32)
+    } else {
+        Err(Error::value(
+            "adc_range",
+            format!("{bound}: the samples are counts, expected whole ADC codes"),
+        ))
     }
 }
 
@@ -72,24 +118,6 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for Channel<T, N, S> {
     }
 }
 
-impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Channel<T, N, S> {
-    /// The ADC range in the observer's units: counts through the decided scaling when
-    /// `counts` (the samples were counts), else as given.
-    fn range_in_units(&self, counts: bool) -> Option<(T, T)> {
-        let (min, max) = self.adc_range?;
-        match self.adc.decided().filter(|_| counts) {
-            Some(adc) => {
-                let mid = f64::from(adc.mid_scale_counts());
-                let per_unit = adc.counts_per_unit().to_f64();
-                Some((
-                    T::from_f64((min - mid) / per_unit),
-                    T::from_f64((max - mid) / per_unit),
-                ))
-            }
-            None => Some((T::from_f64(min), T::from_f64(max))),
-        }
-    }
-}
 impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N, S> {
     fn run_with_faults(
         &mut self,
@@ -122,35 +150,41 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
             )
         })?;
         if let Some(thresholds) = decided {
-            self.observer.gains = self.observer.gains.with_fault_thresholds(thresholds)?;
+            let gains = self.tracker.observer.with_fault_thresholds(thresholds)?;
+            self.tracker.observer = gains;
         }
-        let check = FrontEndCheck::around((), self.range_in_units(counts))
-            .map_err(|e| Error::value("adc_range", e.to_string()))?;
+        // The range in codes is the ADC's: the front end follows the scaling the samples
+        // decided (measured or unchecked rails are the same for any).
+        let adc = self.adc.decided().filter(|_| counts);
+        let held = self.tracker.front_end;
+        if self.clipping.range.is_some() && held.adc() != adc {
+            let calibration = held.calibration();
+            self.tracker.front_end = front_end(&self.clipping, adc, held.winding(), calibration)?;
+        }
         let out = OutputArrays::<T>::new(py, y_c.len())?;
+        let (tracker, state) = (&self.tracker, &mut self.state);
         out.fill(py, |columns| {
-            run_columns(columns, self, check, (y_c, y_s), front_end_faults)
+            run_columns(columns, tracker, state, (y_c, y_s), front_end_faults)
         })?;
         out.into_estimates(py, y_c.len(), None)
     }
 
     fn front_end_faults(&self) -> FrontEndFaults {
-        self.front_end.0.latched_faults()
-            | self.front_end.1.latched_faults()
-            | self.rails.check().latched_faults()
+        self.state.front_end.latched_faults()
     }
 
     fn estimate(&self) -> Estimate {
-        Estimate::from_core(&self.observer.gains.estimate(&self.observer.state))
+        Estimate::from_core(&self.tracker.observer.estimate(&self.state.observer))
     }
 
     fn reset(&mut self) {
-        self.observer.state = ObserverState::new();
+        self.state.observer = ObserverState::new();
     }
 
     fn initialise(&mut self, y_c: f64, y_s: f64) {
         let (y_c, y_s) = (T::from_f64(y_c), T::from_f64(y_s));
-        let o = &mut self.observer;
-        o.gains.initialise(&mut o.state, y_c, y_s);
+        let gains = &self.tracker.observer;
+        gains.initialise(&mut self.state.observer, y_c, y_s);
     }
 
     fn set_state(
@@ -160,92 +194,71 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
         acceleration_rad_s2: f64,
     ) -> Result<()> {
         // The core refuses what the state cannot hold, naming the argument.
-        self.observer.state = ObserverState::at(
+        self.state.observer = ObserverState::at(
             T::from_f64(angle_rad),
             T::from_f64(speed_rad_s),
             T::from_f64(acceleration_rad_s2),
-            self.observer.gains.sample_period(),
+            self.tracker.observer.sample_period(),
         )?;
         Ok(())
     }
 
     fn is_initialised(&self) -> bool {
-        self.observer.state.is_initialised()
+        self.state.observer.is_initialised()
     }
 
     fn latched_faults(&self) -> Faults {
-        self.observer.state.latched_faults()
+        self.state.observer.latched_faults()
     }
 
     fn clear_faults(&mut self) -> Faults {
-        self.observer.state.clear_faults()
+        self.state.observer.clear_faults()
     }
 
     fn fault_thresholds(&self) -> Option<PyFaultThresholds> {
         // The gains' own (checked) thresholds, once the policy has them.
-        let thresholds = self.observer.gains.fault_thresholds();
+        let thresholds = self.tracker.observer.fault_thresholds();
         self.thresholds
             .thresholds()
             .map(|_| PyFaultThresholds::from_typed(&thresholds))
     }
 
     fn amplitude(&self) -> f64 {
-        self.observer.state.amplitude().to_f64()
+        self.state.observer.amplitude().to_f64()
     }
 
     fn calibration(&self) -> PySensorCalibration {
-        PySensorCalibration::from_core(&self.calibrator.calibration())
+        PySensorCalibration::from_core(&self.state.front_end.calibrator().calibration())
     }
 
     fn calibration_mode(&self) -> CalibrationMode {
-        self.calibrator.mode()
+        self.state.front_end.calibrator().mode()
     }
 
     fn calibration_turns_learned(&self) -> u32 {
-        self.calibrator.turns_learned()
+        self.state.front_end.calibrator().turns_learned()
     }
 
     fn calibration_status(&self) -> CalibrationStatus {
-        self.calibrator.status()
+        self.state.front_end.calibrator().status()
     }
 
     fn set_calibration(&mut self, choice: &CalibrationChoice) -> Result<()> {
-        self.calibrator = choice.calibrator()?;
+        *self.state.front_end.calibrator_mut() = choice.calibrator()?;
         Ok(())
     }
 }
 
-/// Runs `channel` over `y_c`, `y_s` into the columns (all of equal length, checked by the
-/// caller), through the front-end `check` with the samples' `front_end_faults` if given.
-/// Called with the GIL released: no Python object is touched.
-fn run_columns<T: Real, const N: usize, S: SinCos<T>>(
+/// Runs `tracker` from `state` over `y_c`, `y_s` into the columns (all of equal length,
+/// checked by the caller), with the samples' `front_end_faults` if given. Called with the
+/// GIL released: no Python object is touched.
+fn run_columns<T: Sample, const N: usize, S: SinCos<T>>(
     columns: EstimateColumns<'_, T>,
-    channel: &mut Channel<T, N, S>,
-    check: FrontEndCheck<T>,
+    tracker: &Tracker<T, CoreGains<T, N, S>>,
+    state: &mut TrackerState<T, ObserverState<T, N>>,
     (y_c, y_s): (&[T], &[T]),
     front_end_faults: Option<&[u8]>,
 ) {
-    let gains = channel.observer.gains;
-    // The front-end check (quiet on a sample without a fault), the rails measured and the
-    // winding check if asked for, then the online calibration (with the calibration off,
-    // the chain's quiet path: one branch on the mode).
-    let chain = Chain::new(
-        (
-            check,
-            (
-                channel.held_rails,
-                (channel.winding, online_calibration(&gains)),
-            ),
-        ),
-        gains,
-    );
-    let mut state = ChainState {
-        front_end: (
-            (channel.front_end.0, ()),
-            (channel.rails, (channel.front_end.1, channel.calibrator)),
-        ),
-        observer: channel.observer.state,
-    };
     let faults = |k: usize| {
         front_end_faults
             .and_then(|f| f.get(k))
@@ -257,13 +270,6 @@ fn run_columns<T: Real, const N: usize, S: SinCos<T>>(
         y_c.iter()
             .zip(y_s)
             .enumerate()
-            .map(|(k, (&c, &s))| chain.update(&mut state, ((c, s), faults(k)))),
+            .map(|(k, (&c, &s))| tracker.update(state, ((c, s), faults(k)))),
     );
-    let ((check, ()), (rails, (winding, calibrator))) = state.front_end;
-    (
-        channel.front_end,
-        channel.rails,
-        channel.calibrator,
-        channel.observer.state,
-    ) = ((check, winding), rails, calibrator, state.observer);
 }

@@ -130,13 +130,11 @@ pub use error::{Argument, Error};
 pub use json_file::JsonFileError;
 pub use rails::measured_adc_range;
 pub use sim::{
-    ChannelBatch, ErrorStatistics, EstimateColumns, FIXED_TABLE_LENGTH, FixedChain,
-    FixedChainState, FixedClipping, FixedColumns, FixedFrontEnd, FixedFrontEndState, FixedInput,
-    Kinematics, LANES, MAX_ANGLE_ERROR_HARMONICS, MAX_SAMPLES, Metrics, MetricsOptions, Motion,
-    MotionProfile, NOMINAL_AMPLITUDE_SAMPLES, Output, ResolverModel, Run, Scenario, SensorModel,
+    ChannelBatch, ErrorStatistics, EstimateColumns, FixedColumns, FixedInput, Kinematics, LANES,
+    MAX_ANGLE_ERROR_HARMONICS, MAX_SAMPLES, Metrics, MetricsOptions, Motion, MotionProfile,
+    NOMINAL_AMPLITUDE_SAMPLES, Output, ResolverModel, Run, Scenario, SensorModel,
     capture_fault_thresholds, fixed_front_end, fixed_input, fixed_input_shift,
-    fixed_monitor_amplitude, nominal_amplitude, online_calibration, run, run_calibrated,
-    with_fixed_clipping,
+    fixed_monitor_amplitude, nominal_amplitude, run, run_calibrated,
 };
 pub use thresholds::{ThresholdInput, ThresholdPolicy, ThresholdsNotStated};
 pub use winding_rails::WindingRails;

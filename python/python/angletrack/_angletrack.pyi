@@ -367,7 +367,7 @@ class FixedObserver:
     removed and the counts shifted left by ``input_shift`` bits (``AdcCounts``), then
     ``calibration`` (learned in float on the counts before the shift): a
     ``SensorCalibration`` (``FixedCalibration``), or a ``harmonics.Calibration`` (also its
-    harmonics as a 1024-entry ``FixedAngleCorrectionTable``). ``adc_range=(min, max)``
+    harmonics as the core's 256-entry ``FixedAngleCorrectionTable``). ``adc_range=(min, max)``
     (integer codes as the samples come): a sample at or beyond it in either channel is
     flagged ``Faults.FRONT_END``, one clipped in both coasted through; or
     ``measure_adc_range=True``: the same against the rails measured as the samples come (the

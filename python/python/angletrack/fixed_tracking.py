@@ -104,7 +104,7 @@ def track_fixed(s: "TrackSettings", gains: angletrack.Gains, reader: angletrack.
     latched = angletrack.Faults(observer.latched_faults)
     stages = "no stored calibration" if calibration is None else (
         "stored calibration (FixedCalibration)" if isinstance(calibration, angletrack.SensorCalibration)
-        else "stored calibration (FixedCalibration) and angle correction (FixedAngleCorrectionTable, 1024 entries)")
+        else "stored calibration (FixedCalibration) and angle correction (FixedAngleCorrectionTable, 256 entries)")
     lines = [
         repr(observer),
         f"fixed-point chain: counts of amplitude {amplitude:.6g}, mid-scale {mid} removed, shifted left by "

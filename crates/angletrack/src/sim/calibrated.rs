@@ -5,8 +5,7 @@
 //! it.
 
 use angletrack_core::{
-    Calibrator, Chain, ChainState, FaultThresholds, Gains, ObserverState, OnlineCalibration, Real,
-    SinCos,
+    Calibrator, Chain, ChainState, FaultThresholds, Gains, ObserverState, Real, SinCos,
 };
 
 use super::Scenario;
@@ -44,23 +43,13 @@ pub fn run_calibrated<T: Real, const N: usize, S: SinCos<T>>(
     calibrator: Calibrator<T>,
     scenario: &Scenario,
 ) -> (Run, Calibrator<T>) {
-    let chain = Chain::new(online_calibration(gains), *gains);
+    let chain = Chain::new(gains.online_calibration(), *gains);
     let mut state = ChainState {
         front_end: calibrator,
         observer: ObserverState::new(),
     };
     let run = run_with(scenario, |c, s| chain.update(&mut state, (c, s)));
     (run, state.front_end)
-}
-
-/// The online calibration stage of a chain before `gains`, with the gains' calibration
-/// settings (the [`Calibrator`] is its state).
-pub fn online_calibration<T: Real, const N: usize, S: SinCos<T>>(
-    gains: &Gains<T, N, S>,
-) -> OnlineCalibration<T> {
-    // The gains checked their settings against their own sample period: this cannot fail.
-    OnlineCalibration::new(gains.calibration_settings(), gains.sample_period())
-        .unwrap_or_else(|e| unreachable!("the gains' calibration settings were checked: {e}"))
 }
 
 /// The nominal amplitude of a capture, estimated from its samples: the median of

@@ -1,49 +1,18 @@
-//! The fixed-point chain from learned float values (`docs/theory.md §14`): counts of any
-//! amplitude brought to the fixed-point observer's 16-bit range ([`fixed_input_shift`]), a
-//! stored [`SensorCalibration`] applied in integers ([`FixedCalibration`]) and the learned
-//! harmonics as a [`FixedAngleCorrectionTable`], before the [`FixedGains`] observer. What
-//! `angletrack track --dtype fixed --calibration cal.json` and the Python `FixedObserver`'s
-//! stages run: the learning is in float (`angletrack calibrate`), the tracking in integers.
+//! The fixed-point chain's front end from learned float values (`docs/theory.md §14`):
+//! counts of any amplitude brought to the fixed-point observer's 16-bit range
+//! ([`fixed_input_shift`]), a stored [`SensorCalibration`] applied in integers
+//! ([`FixedCalibration`]) and the learned harmonics as the core's fixed-point angle
+//! correction table, as the core's [`TrackerFrontEnd`] before the [`FixedGains`] observer
+//! (the core's `Tracker<i16, FixedGains<N>>`). What `angletrack track --dtype fixed
+//! --calibration cal.json` and the Python `FixedObserver` run: the learning is in float
+//! (`angletrack calibrate`), the tracking in integers.
 
 use angletrack_core::{
-    AdcCounts, AngleCorrection, AngleCorrectionTable, Chain, ChainState, ConfigError,
-    FixedAngleCorrectionTable, FixedCalibration, FixedGains, FixedState, FrontEndCheck,
-    FrontEndCheckState, HeldRailCheck, HeldRails, SensorCalibration,
+    AdcCounts, AngleCorrection, ConfigError, FixedAngleCorrectionTable, FixedCalibration, Input,
+    Rails, SensorCalibration, TrackerFrontEnd, TrackerSettings,
 };
 
 use super::calibrated::{NOMINAL_AMPLITUDE_SAMPLES, nominal_amplitude};
-
-/// Entries per electrical turn of the angle correction table the fixed-point chain builds
-/// from learned harmonics: 1024 (the interpolation's error below 2e-7 rad for a 4 mrad 3rd
-/// harmonic, far below the table's 2^-15 rad step).
-pub const FIXED_TABLE_LENGTH: usize = 1024;
-
-/// The clipping checks of the fixed-point chain, on its 16-bit samples: against the ADC's
-/// stated range, or against the rails measured as the samples come (each absent when not
-/// asked for).
-pub type FixedClipping = (Option<FrontEndCheck<i16>>, Option<HeldRailCheck>);
-
-/// The front end of the fixed-point chain: counts to 16-bit samples, the clipping checks, the
-/// stored calibration, the angle correction table (each the identity when not given).
-pub type FixedFrontEnd = (
-    AdcCounts,
-    (
-        FixedClipping,
-        (
-            FixedCalibration,
-            FixedAngleCorrectionTable<FIXED_TABLE_LENGTH>,
-        ),
-    ),
-);
-
-/// The fixed-point chain of order `N` with the [`FixedFrontEnd`].
-pub type FixedChain<const N: usize> = Chain<FixedFrontEnd, FixedGains<N>>;
-
-/// The state of the [`FixedFrontEnd`]: the clipping checks' (the other stages hold none).
-pub type FixedFrontEndState = ((), (((FrontEndCheckState, ()), HeldRails<i16>), ((), ())));
-
-/// The state of one channel of a [`FixedChain`].
-pub type FixedChainState<const N: usize> = ChainState<FixedFrontEndState, FixedState<N>>;
 
 /// The largest amplitude (16-bit counts) [`fixed_input_shift`] brings a signal to: a
 /// quarter of headroom below `i16::MAX` for offsets, imbalance and noise.
@@ -78,86 +47,60 @@ pub fn fixed_monitor_amplitude(amplitude: f64, shift: u32) -> f64 {
     (amplitude * f64::from(1u32 << shift.min(15))).clamp(16384.0, 46341.0)
 }
 
-/// The front end of the fixed-point chain for counts with `mid_scale_counts` removed,
-/// shifted left by `shift` bits, corrected by `sensor` (learned on the counts before the
-/// shift, in their units: its offsets are scaled by `2^shift` here) and by the angle error
-/// `correction` (a [`FIXED_TABLE_LENGTH`]-entry table of its harmonics); each the identity
-/// when `None`; no clipping check ([`with_fixed_clipping`] adds one). Refuses (naming the
-/// parameter) a mid-scale or shift out of range and a calibration whose integers do not fit.
+/// The core's front end of the fixed-point chain for counts with `mid_scale_counts`
+/// removed, shifted left by `shift` bits, checked for clipping at `rails` (in codes, as the
+/// counts come: [`TrackerFrontEnd::new`]'s rule), corrected by `sensor` (learned on the
+/// counts before the shift, in their units: its offsets are scaled by `2^shift` here) and by
+/// the angle error `correction` (the core's table of its harmonics); each absent when
+/// `None`. Refuses (naming the parameter) a mid-scale or shift out of range, a range that is
+/// not ordered through the ADC ([`Parameter::AdcRange`]) and a calibration whose integers
+/// do not fit.
 ///
 /// ```
-/// use angletrack::{fixed_front_end, core::{AngleCorrection, SensorCalibration}};
+/// use angletrack::core::{AngleCorrection, Faults, FixedGains, Rails, SensorCalibration};
+/// use angletrack::core::{Tracker, TrackerState};
+/// use angletrack::fixed_front_end;
 /// let sensor = SensorCalibration::new(36.0, -36.0, 1800.0, 1854.0, 0.0)?;
 /// let correction = AngleCorrection::new([0.0; 8], [0.0, 0.0, 4e-3, 0.0, 0.0, 0.0, 0.0, 0.0])?;
-/// let (adc, (_clipping, (calibration, _table))) =
-///     fixed_front_end(0, 3, Some(&sensor), Some(&correction))?;
-/// assert_eq!(adc.sample(1800i16, 0i16), (14_400, 0));
+/// let front_end = fixed_front_end(0, 3, Some(&sensor), Some(&correction), Rails::Unchecked)?;
+/// assert_eq!(front_end.adc().map(|adc| adc.sample(1800i16, 0i16)), Some((14_400, 0)));
 /// // The offsets in the shifted counts: 36 * 8.
-/// assert_eq!(calibration.correct(288, -288), (0, 0));
+/// assert_eq!(front_end.calibration().map(|c| c.correct(288, -288)), Some((0, 0)));
+/// // A channel at the ADC's top code: flagged; inside: not.
+/// let checked = fixed_front_end(2048, 4, None, None, Rails::Stated { min: 0, max: 4095 })?;
+/// let tracker = Tracker::new(checked, FixedGains::<2>::new([0.05, 0.0012], 1e-4)?);
+/// let mut state = TrackerState::new();
+/// assert!(tracker.update(&mut state, (4095i16, 2048i16)).faults.contains(Faults::FRONT_END));
+/// assert!(!tracker.update(&mut state, (4000i16, 2048i16)).faults.contains(Faults::FRONT_END));
+/// assert!(fixed_front_end(2048, 4, None, None, Rails::Stated { min: 4095, max: 0 }).is_err());
 /// # Ok::<(), angletrack::core::ConfigError>(())
 /// ```
+///
+/// [`Parameter::AdcRange`]: angletrack_core::Parameter::AdcRange
 pub fn fixed_front_end(
     mid_scale_counts: i32,
     shift: u32,
     sensor: Option<&SensorCalibration<f64>>,
     correction: Option<&AngleCorrection<f64>>,
-) -> Result<FixedFrontEnd, ConfigError> {
+    rails: Rails<i32>,
+) -> Result<TrackerFrontEnd<i16>, ConfigError> {
     let adc = AdcCounts::new(mid_scale_counts, shift)?;
     let calibration = match sensor {
-        None => FixedCalibration::IDENTITY,
+        None => None,
         Some(sensor) => {
             let scale = f64::from(1u32 << shift);
             let (o_c, o_s, a_c, a_s, phi) = sensor.parameters();
             let shifted =
                 SensorCalibration::new(o_c * scale, o_s * scale, a_c * scale, a_s * scale, phi)?;
-            FixedCalibration::new(&shifted)?
+            Some(FixedCalibration::new(&shifted)?)
         }
     };
-    let table = FixedAngleCorrectionTable::from_table(&AngleCorrectionTable::from_harmonics(
-        correction.unwrap_or(&AngleCorrection::NONE),
-    ));
-    Ok((adc, ((None, None), (calibration, table))))
-}
-
-/// `front_end` with clipping flagged against the ADC's `adc_range` of codes `(min, max)`
-/// (counts as the chain takes them, taken through its ADC stage to 16 bits: exact), or, with
-/// `measure_rails` and no range, against the rails measured on the 16-bit samples as they
-/// come (the core's `HeldRailCheck`). A sample clipped in both channels is coasted through.
-/// Refuses a range that is not `min < max` ([`Parameter::AdcRange`]) and both at once
-/// ([`Parameter::AdcRange`]).
-///
-/// ```
-/// use angletrack::core::{Chain, Faults, FixedGains};
-/// use angletrack::{FixedChain, FixedChainState, fixed_front_end, with_fixed_clipping};
-/// let front_end = fixed_front_end(2048, 4, None, None)?;
-/// let checked = with_fixed_clipping(front_end, Some((0, 4095)), false)?;
-/// let chain: FixedChain<2> = Chain::new(checked, FixedGains::<2>::new([0.05, 0.0012], 1e-4)?);
-/// let mut state = FixedChainState::new();
-/// // A channel at the ADC's top code: flagged; inside: not.
-/// assert!(chain.update(&mut state, (4095i16, 2048i16)).faults.contains(Faults::FRONT_END));
-/// assert!(!chain.update(&mut state, (4000i16, 2048i16)).faults.contains(Faults::FRONT_END));
-/// assert!(with_fixed_clipping(front_end, Some((4095, 0)), false).is_err());
-/// # Ok::<(), angletrack::core::ConfigError>(())
-/// ```
-///
-/// [`Parameter::AdcRange`]: angletrack_core::Parameter::AdcRange
-pub fn with_fixed_clipping(
-    front_end: FixedFrontEnd,
-    adc_range: Option<(i32, i32)>,
-    measure_rails: bool,
-) -> Result<FixedFrontEnd, ConfigError> {
-    let (adc, (_, stages)) = front_end;
-    let stated = match adc_range {
-        Some(_) if measure_rails => {
-            return Err(ConfigError::OutOfRange(
-                angletrack_core::Parameter::AdcRange,
-            ));
-        }
-        Some((min, max)) => Some(FrontEndCheck::of_adc_codes(&adc, min, max)?),
-        None => None,
-    };
-    let measured = (measure_rails && adc_range.is_none()).then_some(HeldRailCheck::new());
-    Ok((adc, ((stated, measured), stages)))
+    TrackerFrontEnd::new(TrackerSettings {
+        input: Input::Counts { adc, rails },
+        winding: (),
+        calibration,
+        correction: correction.map(FixedAngleCorrectionTable::from_harmonics),
+    })
 }
 
 /// How a capture's counts reach the fixed-point observer ([`fixed_input`]).
@@ -211,6 +154,7 @@ pub fn fixed_input(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use angletrack_core::FixedGains;
 
     /// The issue's sensor in int16 counts of amplitude 1800 (offsets 2 %, imbalance 3 %, a
     /// 3rd harmonic of 4 mrad) through the chain with its stored calibration: the angle
@@ -222,13 +166,14 @@ mod tests {
         b[2] = 4e-3;
         let correction = AngleCorrection::new([0.0; 8], b).unwrap();
         let shift = fixed_input_shift(1800.0);
-        let front_end = fixed_front_end(0, shift, Some(&sensor), Some(&correction)).unwrap();
+        let front_end =
+            fixed_front_end(0, shift, Some(&sensor), Some(&correction), Rails::Unchecked).unwrap();
         let gains = FixedGains::<3>::new([0.1578, 0.0126, 0.000_34], 50e-6)
             .unwrap()
             .with_monitor(Some(fixed_monitor_amplitude(1800.0, shift)))
             .unwrap();
-        let chain: FixedChain<3> = Chain::new(front_end, gains);
-        let mut state = FixedChainState::new();
+        let chain = angletrack_core::Tracker::new(front_end, gains);
+        let mut state = angletrack_core::TrackerState::new();
         let (mut squares, mut count) = (0.0, 0);
         for k in 0..20_000 {
             let theta = 0.3 + 0.02 * k as f64;

@@ -16,14 +16,11 @@ mod sensor;
 
 pub use batch::{ChannelBatch, LANES};
 pub use calibrated::{
-    NOMINAL_AMPLITUDE_SAMPLES, capture_fault_thresholds, nominal_amplitude, online_calibration,
-    run_calibrated,
+    NOMINAL_AMPLITUDE_SAMPLES, capture_fault_thresholds, nominal_amplitude, run_calibrated,
 };
 pub use columns::{EstimateColumns, Output};
 pub use fixed_chain::{
-    FIXED_TABLE_LENGTH, FixedChain, FixedChainState, FixedClipping, FixedFrontEnd,
-    FixedFrontEndState, FixedInput, fixed_front_end, fixed_input, fixed_input_shift,
-    fixed_monitor_amplitude, with_fixed_clipping,
+    FixedInput, fixed_front_end, fixed_input, fixed_input_shift, fixed_monitor_amplitude,
 };
 pub use fixed_columns::FixedColumns;
 pub use metrics::{ErrorStatistics, Metrics, MetricsOptions, Run, run};

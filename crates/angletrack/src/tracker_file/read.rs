@@ -35,8 +35,8 @@ const FIELDS: [&str; 14] = [
 ];
 
 /// The length of the table a `"table"` correction's curve is checked as (the fixed-point
-/// chain's, [`crate::FIXED_TABLE_LENGTH`]).
-const TABLE_LENGTH: usize = crate::FIXED_TABLE_LENGTH;
+/// chain's, [`angletrack_core::TRACKER_TABLE_LENGTH`]).
+const TABLE_LENGTH: usize = angletrack_core::TRACKER_TABLE_LENGTH;
 
 impl Document<'_> {
     /// The core's refusal `e` of a value of this section: the field its parameter names,

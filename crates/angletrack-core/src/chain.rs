@@ -436,4 +436,6 @@ impl<F, const N: usize> Chain<F, FixedGains<N>> {
 #[cfg(test)]
 mod coast_tests;
 #[cfg(test)]
+mod jump_tests;
+#[cfg(test)]
 mod tests;

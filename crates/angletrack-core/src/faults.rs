@@ -24,7 +24,10 @@ impl Faults {
     /// Loss of tracking: the window's mean phase-detector error is above its threshold, or
     /// the estimated speed at the window's end is above the monitor's speed threshold
     /// ([`FaultThresholds::max_speed`](crate::FaultThresholds::max_speed): by default a
-    /// quarter turn per sample, half the largest trackable speed, `docs/theory.md §9`).
+    /// quarter turn per sample, half the largest trackable speed, `docs/theory.md §9`); or
+    /// (float observers) a re-acquisition after a front-end fault of at most 64 samples
+    /// jumped a quarter turn or more, held for the window under way and the next 16
+    /// (`docs/theory.md §10`).
     pub const LOSS_OF_TRACKING: Faults = Faults(1 << 2);
     /// The sample was rejected (NaN, infinite, or amplitude above the input bound): the
     /// observer coasted on its prediction.

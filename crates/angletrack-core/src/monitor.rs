@@ -240,6 +240,9 @@ pub(crate) struct MonitorState<T> {
     pub(crate) flags: Faults,
     /// Flags latched until cleared.
     pub(crate) latched: Faults,
+    /// Window ends left that flag [`Faults::LOSS_OF_TRACKING`] whatever their means, after
+    /// an implausible re-acquisition (`crate::reacquisition`).
+    pub(crate) held_windows: u32,
 }
 
 impl<T: Float> MonitorState<T> {
@@ -253,6 +256,7 @@ impl<T: Float> MonitorState<T> {
             amplitude2: T::ZERO,
             flags: Faults::NONE,
             latched: Faults::NONE,
+            held_windows: 0,
         }
     }
 
@@ -345,6 +349,9 @@ impl<T: Float> CheckedThresholds<T> {
             in_phase,
         };
         let false_lock = self.decide_window(&measures, &mut monitor.flags, &mut monitor.latched);
+        if monitor.held_windows > 0 {
+            monitor.hold_implausible_jump();
+        }
         monitor.start_window(self.window, self.window_inverse);
         false_lock && self.thresholds.re_acquire
     }

@@ -10,7 +10,7 @@
 use crate::faults::Faults;
 use crate::gains::Gains;
 use crate::monitor::MonitorWindow;
-use crate::reacquisition::{REFIT_AFTER_COAST, Refit};
+use crate::reacquisition::{REFIT_AFTER_COAST, Refit, check_jump};
 use crate::real::Float;
 use crate::real::sincos::{SinCos, SinCosUnit};
 use crate::recursion::{Sample, Step};
@@ -314,11 +314,13 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
             if state.coasted > 0 {
                 // The first sample after a short front-end fault: the angle re-acquired
                 // from it (however far the coast drifted: no false lock, and no transient
-                // of the loop correcting the drift), speed and acceleration kept.
+                // of the loop correcting the drift), speed and acceleration kept; a jump
+                // no coast could drift is flagged (`check_jump`).
                 // The state holds the previous sample's estimate: it moves by the jump
                 // from this sample's prediction to its atan2.
                 let mut jump = y_s.atan2(y_c) - predict(&state.x)[0];
                 wrap_angle(&mut jump);
+                check_jump(state, jump, self.thresholds.thresholds.monitor);
                 state.x[0] += jump;
                 let whole = wrap_angle(&mut state.x[0]);
                 state.turns = state.turns.wrapping_add(whole as i64);
@@ -462,6 +464,12 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         state.turns = state.turns.wrapping_add(whole as i64);
         let mut step = angle - before;
         wrap_angle(&mut step);
+        if state.refit.taken == 0 {
+            // The first sample after the coast: its jump from the coast's prediction.
+            let mut jump = step - if N > 1 { state.x[1] } else { T::ZERO };
+            wrap_angle(&mut jump);
+            check_jump(state, jump, self.thresholds.thresholds.monitor);
+        }
         match state.refit.take(step) {
             None => {
                 state.park(Faults::LOSS_OF_TRACKING);

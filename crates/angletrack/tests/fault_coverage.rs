@@ -28,16 +28,16 @@ type Held = (
 /// (measured plus 10 %; `None`: a case is never flagged today, or nothing is wrong).
 const HELD: &[Held] = &[
     ("healthy", "—", 35, Some(0.00), 0.10, None),
-    ("dead channel", "start", 1006532, Some(44.73), 0.10, None),
+    ("dead channel", "start", 1006325, Some(77.10), 0.10, None),
     ("dead channel", "mid-run", 414271, Some(86.68), 0.10, None),
-    ("open channel", "start", 1021346, Some(45.06), 0.10, None),
+    ("open channel", "start", 1021247, Some(77.04), 0.10, None),
     ("open channel", "mid-run", 414013, Some(83.99), 0.10, None),
-    ("shorted channel", "start", 1055245, Some(63.88), 0.10, None),
+    ("shorted channel", "start", 1055245, Some(77.07), 0.10, None),
     (
         "shorted channel",
         "mid-run",
         590801,
-        Some(65.09),
+        Some(77.49),
         0.10,
         None,
     ),

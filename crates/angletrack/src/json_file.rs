@@ -41,6 +41,20 @@ impl fmt::Display for JsonFileError {
 
 impl std::error::Error for JsonFileError {}
 
+/// The text of the file at `path` and the name its errors give it (its path).
+pub(crate) fn read_text(path: &std::path::Path) -> Result<(String, String), JsonFileError> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| JsonFileError::new(&name, None, e.to_string()))?;
+    Ok((text, name))
+}
+
+/// Writes `text` to the file at `path`, an error naming it.
+pub(crate) fn write_text(path: &std::path::Path, text: &str) -> Result<(), JsonFileError> {
+    std::fs::write(path, text)
+        .map_err(|e| JsonFileError::new(&path.display().to_string(), None, e.to_string()))
+}
+
 /// `value` as a JSON number: its shortest round-trip decimal, `null` if not finite.
 pub(crate) fn number(value: f64) -> String {
     if value.is_finite() {

@@ -208,16 +208,13 @@ impl TrackerFile {
 
     /// Reads the tracker file at `path`.
     pub fn read(path: &Path) -> Result<Self, JsonFileError> {
-        let name = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| JsonFileError::new(&name, None, e.to_string()))?;
+        let (text, name) = crate::json_file::read_text(path)?;
         Self::from_json(&text, &name)
     }
 
     /// Writes the tracker file to `path` as [`TrackerFile::to_json`].
     pub fn write(&self, path: &Path) -> Result<(), JsonFileError> {
-        std::fs::write(path, self.to_json())
-            .map_err(|e| JsonFileError::new(&path.display().to_string(), None, e.to_string()))
+        crate::json_file::write_text(path, &self.to_json())
     }
 }
 

@@ -25,7 +25,6 @@
 use crate::faults::Faults;
 use crate::monitor::MonitorState;
 use crate::real::Float;
-use crate::state::ObserverState;
 
 /// The samples of a coast after which the next samples are fitted rather than tracked:
 /// below it the coasted speed is trusted (a drift of a few samples, taken out by the
@@ -33,7 +32,7 @@ use crate::state::ObserverState;
 pub(crate) const REFIT_AFTER_COAST: u32 = 16;
 
 /// The longest coast after which a re-acquisition's jump of a quarter turn or more is
-/// flagged ([`check_jump`]): 64 samples, over which only an acceleration change
+/// flagged (`check_jump` in `update`): 64 samples, over which only an acceleration change
 /// beyond 7.7e-4 rad per sample^2 drifts that far (`2 (pi/2) / 64^2`).
 pub(crate) const IMPLAUSIBLE_JUMP_MAX_COAST: u32 = 64;
 
@@ -115,28 +114,7 @@ impl<T: Float> Refit<T> {
     }
 }
 
-/// The re-acquisition after a coast through a front-end fault of at most
-/// [`IMPLAUSIBLE_JUMP_MAX_COAST`] samples, whose first sample's angle is `jump` (rad,
-/// wrapped) from the coast's prediction: a quarter turn or more is implausible (the coast
-/// held the speed, and a shaft whose acceleration changed by less than 7.7e-4 rad per
-/// sample^2, 3e5 rad/s^2 at 20 kHz, drifts less in 64 samples). Such a jump says the angle
-/// before the fault was wrong, and the pair after it may be as wrong: the loop had followed
-/// a faulty pair (a dead or open channel from the start stands the estimate at +-pi/2), and
-/// the winding check took the healthy winding's zero crossing for an open winding. The
-/// re-acquired angle does not cure that: the monitor, if `monitored`, flags it
-/// ([`MonitorState::flag_implausible_jump`]).
-#[inline(always)]
-pub(crate) fn check_jump<T: Float, const N: usize>(
-    state: &mut ObserverState<T, N>,
-    jump: T,
-    monitored: bool,
-) {
-    if monitored && state.coasted <= IMPLAUSIBLE_JUMP_MAX_COAST && !(jump.abs() < T::FRAC_PI_2) {
-        state.monitor.flag_implausible_jump();
-    }
-}
-
-/// The monitor's side of [`check_jump`].
+/// The monitor's side of the check of a re-acquisition's jump (`Gains::prepare`).
 impl<T: Float> MonitorState<T> {
     /// A re-acquisition after a short coast jumped a quarter turn or more: the angle before
     /// it was wrong, and the pair it re-acquired from may be as wrong (a faulty pair the

@@ -158,12 +158,21 @@ impl<T: Float, const N: usize, const L: usize> ChannelBank<T, N, L> {
         if state.tracking {
             state.next_angle = self.next_angle[lane];
         }
-        if self.rejected[lane] != 0 {
-            state.faults = Faults::BAD_SAMPLE;
-        } else if state.refit.taken > 0 {
-            state.faults = Faults::LOSS_OF_TRACKING;
-        }
+        state.faults = self.lane_faults(lane);
         state
+    }
+
+    /// Lane `lane`'s sample faults as the single observer's (its monitor off): a rejected
+    /// sample, or one of the fit after a long coast.
+    #[inline(always)]
+    fn lane_faults(&self, lane: usize) -> Faults {
+        if self.rejected[lane] != 0 {
+            Faults::BAD_SAMPLE
+        } else if self.refit[lane].taken > 0 {
+            Faults::LOSS_OF_TRACKING
+        } else {
+            Faults::NONE
+        }
     }
 
     /// Lane `lane` set from the single observer's `state` (see [`ChannelBank::lane_state`]);
@@ -322,14 +331,12 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         for (i, xi) in x.iter_mut().enumerate() {
             *xi = bank.x[i][lane];
         }
-        let faults = if bank.rejected[lane] != 0 {
-            Faults::BAD_SAMPLE
-        } else if bank.refit[lane].taken > 0 {
-            Faults::LOSS_OF_TRACKING
-        } else {
-            Faults::NONE
-        };
-        self.estimate_of(&x, bank.turns[lane] as i64, bank.phase_error[lane], faults)
+        self.estimate_of(
+            &x,
+            bank.turns[lane] as i64,
+            bank.phase_error[lane],
+            bank.lane_faults(lane),
+        )
     }
 
     /// The gains of a bank's lane as a single observer: these, the monitor off.

@@ -5,7 +5,6 @@
 
 use crate::error::{ConfigError, Parameter};
 use crate::real::Float;
-use crate::real::check_positive;
 
 /// The largest mid-scale (in counts, either sign) an [`AdcScaling`] accepts: `2^30`, so that
 /// a sample minus the mid-scale never overflows (see [`AdcSample`]).
@@ -81,18 +80,31 @@ impl AdcSample for i32 {
 /// normalised, `docs/theory.md §12`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AdcScaling<T> {
-    mid_scale_counts: i32,
-    units_per_count: T,
+    pub(crate) mid_scale_counts: i32,
+    pub(crate) units_per_count: T,
 }
 
 impl<T: Float> Default for AdcScaling<T> {
     /// No scaling: mid-scale 0, one count per unit.
     fn default() -> Self {
-        Self {
-            mid_scale_counts: 0,
-            units_per_count: T::ONE,
-        }
+        Self::UNSCALED
     }
+}
+
+/// `2^(bits-1)` for `bits` in [2, `max_bits`] (capped at `2^30`), else the error.
+pub(crate) const fn half_range(bits: u32, max_bits: u32) -> Result<i32, ConfigError> {
+    if bits < 2 || bits > max_bits {
+        return Err(ConfigError::OutOfRange(Parameter::AdcBits));
+    }
+    Ok(1 << if bits - 1 < 30 { bits - 1 } else { 30 })
+}
+
+impl<T: Float> AdcScaling<T> {
+    /// No scaling: mid-scale 0, one count per unit.
+    pub(crate) const UNSCALED: Self = Self {
+        mid_scale_counts: 0,
+        units_per_count: T::ONE,
+    };
 }
 
 impl<T: Float> AdcScaling<T> {
@@ -110,18 +122,7 @@ impl<T: Float> AdcScaling<T> {
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
     pub fn new(mid_scale_counts: i32, counts_per_unit: T) -> Result<Self, ConfigError> {
-        if mid_scale_counts.unsigned_abs() > MAX_MID_SCALE_COUNTS as u32 {
-            return Err(ConfigError::OutOfRange(Parameter::MidScaleCounts));
-        }
-        let counts = check_positive(counts_per_unit, Parameter::CountsPerUnit)?;
-        let units_per_count = T::ONE / counts;
-        if !(units_per_count.is_finite() && units_per_count > T::ZERO) {
-            return Err(ConfigError::OutOfRange(Parameter::CountsPerUnit));
-        }
-        Ok(Self {
-            mid_scale_counts,
-            units_per_count,
-        })
+        T::new_adc_scaling(mid_scale_counts, counts_per_unit)
     }
 
     /// An unsigned (offset binary) ADC of `bits` bits (2 to 31): mid-scale `2^(bits-1)`,
@@ -134,7 +135,7 @@ impl<T: Float> AdcScaling<T> {
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
     pub fn offset_binary(bits: u32) -> Result<Self, ConfigError> {
-        let half = Self::half_range(bits, 31)?;
+        let half = half_range(bits, 31)?;
         Self::new(half, T::from_i32(half))
     }
 
@@ -148,7 +149,7 @@ impl<T: Float> AdcScaling<T> {
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
     pub fn twos_complement(bits: u32) -> Result<Self, ConfigError> {
-        let half = Self::half_range(bits, 32)?;
+        let half = half_range(bits, 32)?;
         // 2^31 counts per unit for 32 bits: 2^30 times 2, exact.
         let counts = if bits == 32 {
             T::from_i32(MAX_MID_SCALE_COUNTS) * T::TWO
@@ -156,14 +157,6 @@ impl<T: Float> AdcScaling<T> {
             T::from_i32(half)
         };
         Self::new(0, counts)
-    }
-
-    /// `2^(bits-1)` for `bits` in [2, `max_bits`] (capped at `2^30`), else the error.
-    fn half_range(bits: u32, max_bits: u32) -> Result<i32, ConfigError> {
-        if !(2..=max_bits).contains(&bits) {
-            return Err(ConfigError::OutOfRange(Parameter::AdcBits));
-        }
-        Ok(1 << (bits - 1).min(30))
     }
 
     /// The mid-scale (counts).
@@ -204,6 +197,14 @@ pub struct AdcCounts {
 }
 
 impl AdcCounts {
+    /// Counts as they come: mid-scale 0, no shift.
+    pub(crate) const UNSCALED: Self = Self {
+        mid_scale_counts: 0,
+        shift: 0,
+        low: -(1 << 15),
+        high: (1 << 15) - 1,
+    };
+
     /// Counts with `mid_scale_counts` (at most [`MAX_MID_SCALE_COUNTS`] in magnitude)
     /// removed, shifted left by `shift` (0 to 15) bits.
     ///
@@ -270,6 +271,19 @@ impl AdcCounts {
         // `max` then `min`, not `clamp`, whose check of its bounds' order would be a panic
         // path for a configuration the optimiser cannot see (one from C memory, say).
         (difference.max(self.low).min(self.high) << self.shift) as i16
+    }
+
+    /// The code `code` as [`AdcCounts::scale`] takes it, in a `const fn` (for the range
+    /// of a chain built in constant evaluation): the same saturation and shift.
+    pub(crate) const fn code_sample(&self, code: i32) -> i16 {
+        let difference = code.saturating_sub(self.mid_scale_counts);
+        let low = if difference < self.low {
+            self.low
+        } else {
+            difference
+        };
+        let saturated = if low > self.high { self.high } else { low };
+        (saturated << self.shift) as i16
     }
 
     /// The pair `(y_c, y_s)` for the fixed-point observer, from the raw samples of the

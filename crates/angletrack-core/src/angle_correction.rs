@@ -20,8 +20,11 @@
 //! multiply-adds; the rotation, with `sin d = d - d^3/6` and `cos d = 1 - d^2/2`
 //! (within `|d|^4/24` for `|d|` up to [`AngleCorrection::max_total_rad`]), a few more.
 
-use crate::error::{ConfigError, Parameter};
+use crate::error::ConfigError;
 use crate::real::Float;
+
+/// [`AngleCorrection::max_total_rad`] (rad).
+pub(crate) const MAX_TOTAL_RAD: f64 = 0.25;
 
 /// The highest harmonic order an [`AngleCorrection`] holds.
 pub const MAX_CORRECTION_ORDER: usize = 8;
@@ -34,11 +37,11 @@ pub const MAX_CORRECTION_ORDER: usize = 8;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AngleCorrection<T> {
     /// `a_k` (index `k - 1`), rad.
-    cos_coefficients: [T; MAX_CORRECTION_ORDER],
+    pub(crate) cos_coefficients: [T; MAX_CORRECTION_ORDER],
     /// `b_k` (index `k - 1`), rad.
-    sin_coefficients: [T; MAX_CORRECTION_ORDER],
+    pub(crate) sin_coefficients: [T; MAX_CORRECTION_ORDER],
     /// The highest order with a non-zero coefficient (0: no correction).
-    order: usize,
+    pub(crate) order: usize,
 }
 
 impl<T: Float> Default for AngleCorrection<T> {
@@ -48,20 +51,6 @@ impl<T: Float> Default for AngleCorrection<T> {
 }
 
 impl<T: Float> AngleCorrection<T> {
-    /// No correction.
-    pub const NONE: Self = Self {
-        cos_coefficients: [T::ZERO; MAX_CORRECTION_ORDER],
-        sin_coefficients: [T::ZERO; MAX_CORRECTION_ORDER],
-        order: 0,
-    };
-
-    /// The largest `sum_k |a_k| + |b_k|` (rad), a bound of `|d|`: 0.25 rad, within which the
-    /// rotation's polynomial sin/cos of `d` err by less than `|d|^4/24` (2e-4 at the bound,
-    /// 1e-10 for a sensor's few mrad). Float sensors are within a few tens of mrad.
-    pub fn max_total_rad() -> T {
-        T::from_f32(0.25)
-    }
-
     /// A correction from its coefficients `cos_coefficients[k - 1] = a_k` and
     /// `sin_coefficients[k - 1] = b_k` (rad), `d(theta) = sum_k a_k cos(k theta) +
     /// b_k sin(k theta)`.
@@ -90,26 +79,23 @@ impl<T: Float> AngleCorrection<T> {
         cos_coefficients: [T; MAX_CORRECTION_ORDER],
         sin_coefficients: [T; MAX_CORRECTION_ORDER],
     ) -> Result<Self, ConfigError> {
-        let mut total = T::ZERO;
-        let mut order = 0;
-        for k in 0..MAX_CORRECTION_ORDER {
-            let (a, b) = (cos_coefficients[k], sin_coefficients[k]);
-            if !(a.is_finite() && b.is_finite()) {
-                return Err(ConfigError::NotFinite(Parameter::AngleCorrection));
-            }
-            total += a.abs() + b.abs();
-            if a != T::ZERO || b != T::ZERO {
-                order = k + 1;
-            }
-        }
-        if !(total <= Self::max_total_rad()) {
-            return Err(ConfigError::OutOfRange(Parameter::AngleCorrection));
-        }
-        Ok(Self {
-            cos_coefficients,
-            sin_coefficients,
-            order,
-        })
+        T::new_angle_correction(cos_coefficients, sin_coefficients)
+    }
+}
+
+impl<T: Float> AngleCorrection<T> {
+    /// No correction.
+    pub const NONE: Self = Self {
+        cos_coefficients: [T::ZERO; MAX_CORRECTION_ORDER],
+        sin_coefficients: [T::ZERO; MAX_CORRECTION_ORDER],
+        order: 0,
+    };
+
+    /// The largest `sum_k |a_k| + |b_k|` (rad), a bound of `|d|`: 0.25 rad, within which the
+    /// rotation's polynomial sin/cos of `d` err by less than `|d|^4/24` (2e-4 at the bound,
+    /// 1e-10 for a sensor's few mrad). Float sensors are within a few tens of mrad.
+    pub fn max_total_rad() -> T {
+        T::from_f32(MAX_TOTAL_RAD as f32)
     }
 
     /// The coefficients `(a, b)`: `a[k - 1] = a_k`, `b[k - 1] = b_k` (rad), as
@@ -171,6 +157,7 @@ pub(crate) fn rotate_by<T: Float>(d: T, y_c: T, y_s: T) -> (T, T) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::error::Parameter;
 
     #[test]
     fn recurrence_matches_direct_sum_to_the_highest_order() {

@@ -29,12 +29,12 @@ use crate::real::saturate::saturate_i16;
 pub struct AngleCorrectionTable<T, const L: usize> {
     /// Per entry `k`: `t_k = tan d_k` and the step to the next entry, `t_{k+1} - t_k`
     /// (periodic), side by side, so that the interpolation loads both from one address.
-    segments: [[T; 2]; L],
+    pub(crate) segments: [[T; 2]; L],
 }
 
 impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
     /// `L` as a float: entries per turn.
-    const LENGTH_IS_A_POWER_OF_TWO: () = assert!(
+    pub(crate) const LENGTH_IS_A_POWER_OF_TWO: () = assert!(
         L.is_power_of_two() && L >= 4 && L <= 4096,
         "the table's length L must be a power of two from 4 to 4096"
     );
@@ -53,35 +53,7 @@ impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
     pub fn new(errors: [T; L]) -> Result<Self, ConfigError> {
-        let () = Self::LENGTH_IS_A_POWER_OF_TWO;
-        for d in errors {
-            if !d.is_finite() {
-                return Err(ConfigError::NotFinite(Parameter::AngleCorrection));
-            }
-            if !(d.abs() <= AngleCorrection::<T>::max_total_rad()) {
-                return Err(ConfigError::OutOfRange(Parameter::AngleCorrection));
-            }
-        }
-        Ok(Self::of_errors(&errors))
-    }
-
-    /// The table of checked `errors`.
-    fn of_errors(errors: &[T; L]) -> Self {
-        let mut table = Self {
-            segments: [[T::ZERO; 2]; L],
-        };
-        for (segment, &d) in table.segments.iter_mut().zip(errors) {
-            segment[0] = tangent(d);
-        }
-        table.set_steps();
-        table
-    }
-
-    /// Each entry's step to the next (periodic), from the entries.
-    fn set_steps(&mut self) {
-        for k in 0..L {
-            self.segments[k][1] = self.segments[(k + 1) % L][0] - self.segments[k][0];
-        }
+        T::new_angle_table(errors)
     }
 
     /// The table of a harmonic correction: its error at each of the `L` angles.
@@ -107,9 +79,9 @@ impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
             segments: [[T::ZERO; 2]; L],
         };
         for (k, segment) in table.segments.iter_mut().enumerate() {
-            segment[0] = tangent(harmonics.error_at(Self::angle_of(k)));
+            segment[0] = harmonics.error_at(Self::angle_of(k));
         }
-        table.set_steps();
+        T::table_of_errors(&mut table.segments);
         table
     }
 
@@ -128,6 +100,13 @@ impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
     pub fn from_curve(curve: &[T]) -> Result<Self, ConfigError> {
+        Self::new(Self::entries_of_curve(curve)?)
+    }
+
+    /// The `L` entries (rad) [`AngleCorrectionTable::from_curve`] makes of `curve`: the
+    /// errors [`AngleCorrectionTable::new`] then takes (a firmware's `const` table is made
+    /// of them). Refuses a curve of fewer than 2 points, naming `curve`.
+    pub fn entries_of_curve(curve: &[T]) -> Result<[T; L], ConfigError> {
         let () = Self::LENGTH_IS_A_POWER_OF_TWO;
         let points = curve.len();
         if points < 2 {
@@ -143,7 +122,7 @@ impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
             let (a, b) = (curve[j], curve[(j + 1) % points]);
             *d = a + (b - a) * fraction;
         }
-        Self::new(errors)
+        Ok(errors)
     }
 
     /// The angle of entry `k` (rad): `-pi + 2 pi k / L`.
@@ -276,7 +255,9 @@ impl<const L: usize> FixedAngleCorrectionTable<L> {
     /// ```
     pub fn from_harmonics(harmonics: &AngleCorrection<f64>) -> Self {
         Self::of_tangents(|k| {
-            tangent(harmonics.error_at(AngleCorrectionTable::<f64, L>::angle_of(k)))
+            crate::const_config::stages::for_f64::tangent(
+                harmonics.error_at(AngleCorrectionTable::<f64, L>::angle_of(k)),
+            )
         })
     }
 
@@ -371,26 +352,6 @@ const fn round_q30_to_q15(v: i64) -> i16 {
         -((-v + half) >> 15)
     };
     rounded as i16
-}
-
-/// `tan d` in floats for `|d| <= 0.25` rad (a table's errors, at construction only): its
-/// series to `d^11` (the next term is below 6e-11 rad there), in the table's own float (no
-/// `f64` routine in an `f32` firmware).
-fn tangent<T: Float>(d: T) -> T {
-    let d2 = d * d;
-    let coefficients = [
-        1.0 / 3.0,
-        2.0 / 15.0,
-        17.0 / 315.0,
-        62.0 / 2835.0,
-        1382.0 / 155_925.0,
-    ];
-    // Horner's rule in d^2: d (1 + d^2 (1/3 + d^2 (2/15 + ...))).
-    let mut sum = T::ZERO;
-    for &c in coefficients.iter().rev() {
-        sum = (sum + T::from_f64(c)) * d2;
-    }
-    d * (T::ONE + sum)
 }
 
 #[cfg(test)]

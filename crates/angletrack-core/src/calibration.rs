@@ -2,9 +2,8 @@
 //! (`docs/theory.md §12`), as a `Copy` value that firmware stores and loads, and the
 //! correction it applies to each sample before the phase detector.
 
-use crate::error::{ConfigError, Parameter};
+use crate::error::{ConfigError, Parameter, const_try};
 use crate::real::Float;
-use crate::real::check_positive;
 use crate::real::saturate::{saturate_i16, saturated};
 
 /// The sensor model `y_c = o_c + A_c cos(theta)`, `y_s = o_s + A_s sin(theta + phi)`: the
@@ -27,15 +26,15 @@ use crate::real::saturate::{saturate_i16, saturated};
 /// [`SensorCalibration::new`] at start-up. The default corrects nothing.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SensorCalibration<T> {
-    offset_c: T,
-    offset_s: T,
-    amplitude_c: T,
-    amplitude_s: T,
-    quadrature_rad: T,
+    pub(crate) offset_c: T,
+    pub(crate) offset_s: T,
+    pub(crate) amplitude_c: T,
+    pub(crate) amplitude_s: T,
+    pub(crate) quadrature_rad: T,
     /// `A_c / (A_s cos phi)`.
-    sine_gain: T,
+    pub(crate) sine_gain: T,
     /// `tan phi`.
-    cross_gain: T,
+    pub(crate) cross_gain: T,
 }
 
 impl<T: Float> Default for SensorCalibration<T> {
@@ -45,33 +44,6 @@ impl<T: Float> Default for SensorCalibration<T> {
 }
 
 impl<T: Float> SensorCalibration<T> {
-    /// No correction: offsets 0, amplitudes 1, quadrature 0.
-    pub const IDENTITY: Self = Self {
-        offset_c: T::ZERO,
-        offset_s: T::ZERO,
-        amplitude_c: T::ONE,
-        amplitude_s: T::ONE,
-        quadrature_rad: T::ZERO,
-        sine_gain: T::ONE,
-        cross_gain: T::ZERO,
-    };
-
-    /// The largest quadrature angle a calibration may hold (rad): pi/4, beyond which the
-    /// correction (a division by `cos phi`) would amplify the noise by more than `sqrt(2)`;
-    /// real sensors are within a few degrees.
-    pub fn max_quadrature_rad() -> T {
-        T::FRAC_PI_2 * T::HALF
-    }
-
-    /// The calibration that only removes the offsets `(offset_c, offset_s)` (finite).
-    pub(crate) fn with_offsets(offset_c: T, offset_s: T) -> Self {
-        Self {
-            offset_c,
-            offset_s,
-            ..Self::IDENTITY
-        }
-    }
-
     /// A calibration from the sensor model's parameters: offsets `offset_c`, `offset_s` and
     /// amplitudes `amplitude_c`, `amplitude_s` (input units), quadrature `quadrature_rad`.
     ///
@@ -97,36 +69,38 @@ impl<T: Float> SensorCalibration<T> {
         amplitude_s: T,
         quadrature_rad: T,
     ) -> Result<Self, ConfigError> {
-        for (value, parameter) in [
-            (offset_c, Parameter::OffsetCos),
-            (offset_s, Parameter::OffsetSin),
-            (quadrature_rad, Parameter::Quadrature),
-        ] {
-            if !value.is_finite() {
-                return Err(ConfigError::NotFinite(parameter));
-            }
-        }
-        let amplitude_c = check_positive(amplitude_c, Parameter::AmplitudeCos)?;
-        let amplitude_s = check_positive(amplitude_s, Parameter::AmplitudeSin)?;
-        if !(quadrature_rad.abs() < Self::max_quadrature_rad()) {
-            return Err(ConfigError::OutOfRange(Parameter::Quadrature));
-        }
-        // The polynomial sin/cos (`docs/theory.md §11`, within 3e-7 in `f32`): `libm`'s would
-        // compute in `f64`, which the `f32` path avoids.
-        let (sin, cos) = quadrature_rad.fast_sin_cos();
-        let sine_gain = amplitude_c / (amplitude_s * cos);
-        if !(sine_gain.is_finite() && sine_gain > T::ZERO) {
-            return Err(ConfigError::OutOfRange(Parameter::AmplitudeSin));
-        }
-        Ok(Self {
+        T::new_sensor_calibration(
+            (offset_c, offset_s),
+            (amplitude_c, amplitude_s),
+            quadrature_rad,
+        )
+    }
+
+    /// No correction: offsets 0, amplitudes 1, quadrature 0.
+    pub const IDENTITY: Self = Self {
+        offset_c: T::ZERO,
+        offset_s: T::ZERO,
+        amplitude_c: T::ONE,
+        amplitude_s: T::ONE,
+        quadrature_rad: T::ZERO,
+        sine_gain: T::ONE,
+        cross_gain: T::ZERO,
+    };
+
+    /// The largest quadrature angle a calibration may hold (rad): pi/4, beyond which the
+    /// correction (a division by `cos phi`) would amplify the noise by more than `sqrt(2)`;
+    /// real sensors are within a few degrees.
+    pub fn max_quadrature_rad() -> T {
+        T::FRAC_PI_2 * T::HALF
+    }
+
+    /// The calibration that only removes the offsets `(offset_c, offset_s)` (finite).
+    pub(crate) fn with_offsets(offset_c: T, offset_s: T) -> Self {
+        Self {
             offset_c,
             offset_s,
-            amplitude_c,
-            amplitude_s,
-            quadrature_rad,
-            sine_gain,
-            cross_gain: sin / cos,
-        })
+            ..Self::IDENTITY
+        }
     }
 
     /// The calibration of the regression of one turn's samples on the observer's angle,
@@ -254,20 +228,37 @@ impl FixedCalibration {
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
     pub fn new(calibration: &SensorCalibration<f64>) -> Result<Self, ConfigError> {
-        let in_i16 = |v: f64, parameter: Parameter| {
-            let rounded = libm::round(v);
-            if (-32768.0..=32767.0).contains(&rounded) {
-                Ok(rounded as i16)
-            } else {
-                Err(ConfigError::OutOfRange(parameter))
-            }
-        };
-        let q14 = |v: f64| libm::round(v * 16384.0);
+        Self::new_const(calibration)
+    }
+
+    /// [`FixedCalibration::new`] as a `const fn`: a firmware's stored calibration in a
+    /// `static`, checked when it compiles.
+    ///
+    /// ```
+    /// use angletrack_core::{FixedCalibration, SensorCalibration};
+    /// const LEARNED: SensorCalibration<f64> =
+    ///     match SensorCalibration::<f64>::new_const(300.0, -200.0, 16000.0, 17000.0, 0.02) {
+    ///         Ok(calibration) => calibration,
+    ///         Err(_) => panic!("bad calibration"),
+    ///     };
+    /// static FIXED: FixedCalibration = match FixedCalibration::new_const(&LEARNED) {
+    ///     Ok(fixed) => fixed,
+    ///     Err(_) => panic!("beyond the fixed-point ranges"),
+    /// };
+    /// assert_eq!(FIXED.correct(300, -200), (0, 0));
+    /// ```
+    pub const fn new_const(calibration: &SensorCalibration<f64>) -> Result<Self, ConfigError> {
         Ok(Self {
-            offset_c: in_i16(calibration.offset_c, Parameter::OffsetCos)?,
-            offset_s: in_i16(calibration.offset_s, Parameter::OffsetSin)?,
-            sine_gain_q14: in_i16(q14(calibration.sine_gain), Parameter::AmplitudeSin)?,
-            cross_gain_q14: in_i16(q14(calibration.cross_gain), Parameter::Quadrature)?,
+            offset_c: const_try!(attempt_i16(calibration.offset_c, Parameter::OffsetCos)),
+            offset_s: const_try!(attempt_i16(calibration.offset_s, Parameter::OffsetSin)),
+            sine_gain_q14: const_try!(attempt_i16(
+                calibration.sine_gain * 16384.0,
+                Parameter::AmplitudeSin
+            )),
+            cross_gain_q14: const_try!(attempt_i16(
+                calibration.cross_gain * 16384.0,
+                Parameter::Quadrature
+            )),
         })
     }
 
@@ -284,4 +275,25 @@ impl FixedCalibration {
         // Both within i16 (saturated).
         (c as i16, saturate_i16(s))
     }
+}
+
+/// `v` (finite) rounded to the nearest integer, half away from zero (as `libm::round`),
+/// if that fits an `i16`: exact, since `v` less its truncation is exact below 2^52.
+const fn attempt_i16(v: f64, parameter: Parameter) -> Result<i16, ConfigError> {
+    if !(v > -32769.0 && v < 32768.0) {
+        return Err(ConfigError::OutOfRange(parameter));
+    }
+    let whole = v as i32;
+    let fraction = v - whole as f64;
+    let rounded = if fraction >= 0.5 {
+        whole + 1
+    } else if fraction <= -0.5 {
+        whole - 1
+    } else {
+        whole
+    };
+    if rounded < -32768 || rounded > 32767 {
+        return Err(ConfigError::OutOfRange(parameter));
+    }
+    Ok(rounded as i16)
 }

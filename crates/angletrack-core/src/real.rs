@@ -44,6 +44,8 @@ pub trait Float:
     + AddAssign
     + SubAssign
     + MulAssign
+    + crate::const_config::ConstChecks
+    + crate::const_config::ConstStages
 {
     /// 0.
     const ZERO: Self;

@@ -10,8 +10,9 @@
 //! [`Chain::update_block`]). A custom chain still composes its own stages: the tracker is
 //! one such front end, not a parallel path.
 
+use crate::adc::AdcCounts;
 use crate::chain::{Chain, ChainState, FrontEndCheck, HeldRailCheck};
-use crate::error::ConfigError;
+use crate::error::{ConfigError, Parameter};
 
 mod choices;
 mod front_end;
@@ -185,24 +186,7 @@ impl<V: TrackerNumber> TrackerFrontEnd<V> {
     ///
     /// [`Parameter::AdcRange`]: crate::Parameter::AdcRange
     pub fn new(settings: TrackerSettings<V>) -> Result<Self, ConfigError> {
-        let (adc, counts, rails) = match settings.input {
-            Input::Units { rails } => (V::unscaled_adc(), false, rails),
-            Input::Counts { adc, rails } => (adc, true, in_samples(&adc, rails)?),
-        };
-        let (range, measured) = match rails {
-            Rails::Unchecked => (None, false),
-            Rails::Measured => (None, true),
-            Rails::Stated { min, max } => (Some((min, max)), false),
-        };
-        Ok(Self {
-            adc,
-            counts,
-            check: FrontEndCheck::around((), range)?,
-            rails: measured.then_some(HeldRailCheck::new()),
-            winding: settings.winding,
-            calibration: settings.calibration,
-            correction: settings.correction,
-        })
+        V::new_front_end(settings)
     }
 
     /// The same front end with clipping looked for at `rails`, in ADC codes (for a chain
@@ -262,6 +246,88 @@ impl<V: TrackerNumber> TrackerFrontEnd<V> {
     /// The angle correction stage.
     pub fn correction(&self) -> V::Correction {
         self.correction
+    }
+}
+
+impl TrackerFrontEnd<i16> {
+    /// [`TrackerFrontEnd::new`] for the fixed-point chain, as a `const fn`: a firmware's
+    /// standard chain in a `static`, checked when it compiles (the floats' is
+    /// `TrackerFrontEnd::<f32>::new_const`).
+    ///
+    /// ```
+    /// use angletrack_core::{
+    ///     AdcCounts, FixedAngleCorrectionTable, FixedGains, Input, Rails, Tracker,
+    ///     TrackerFrontEnd, TrackerSettings, fixed::FixedConstants,
+    /// };
+    /// const fn ok<V: Copy>(r: Result<V, angletrack_core::ConfigError>) -> V {
+    ///     match r {
+    ///         Ok(v) => v,
+    ///         Err(_) => panic!("refused"),
+    ///     }
+    /// }
+    /// const GAINS: FixedConstants<3> = FixedConstants {
+    ///     multiplier: [215_733_201, 17_225_845, 1_903_920_691],
+    ///     acceleration_shift: 3,
+    /// };
+    /// static TRACKER: Tracker<i16, FixedGains<3>> = Tracker::new(
+    ///     ok(TrackerFrontEnd::<i16>::new_const(TrackerSettings {
+    ///         input: Input::Counts {
+    ///             adc: ok(AdcCounts::offset_binary(12)),
+    ///             rails: Rails::Stated { min: 0, max: 4095 },
+    ///         },
+    ///         winding: (),
+    ///         calibration: None,
+    ///         correction: Some(ok(FixedAngleCorrectionTable::new([0; 256]))),
+    ///     })),
+    ///     ok(FixedGains::from_constants(GAINS, 50e-6)),
+    /// );
+    /// assert_eq!(TRACKER.front_end.adc_range(), Some((-32768, 32752)));
+    /// ```
+    pub const fn new_const(settings: TrackerSettings<i16>) -> Result<Self, ConfigError> {
+        let (adc, counts, range) = match settings.input {
+            Input::Units { rails } => (AdcCounts::UNSCALED, false, rails),
+            Input::Counts { adc, rails } => {
+                let range = match rails {
+                    Rails::Unchecked => Rails::Unchecked,
+                    Rails::Measured => Rails::Measured,
+                    Rails::Stated { min, max } => {
+                        // Ordered in codes first: the ADC's saturation keeps the order, but
+                        // may join them.
+                        if min >= max {
+                            return Err(ConfigError::OutOfRange(Parameter::AdcRange));
+                        }
+                        Rails::Stated {
+                            min: adc.code_sample(min),
+                            max: adc.code_sample(max),
+                        }
+                    }
+                };
+                (adc, true, range)
+            }
+        };
+        let (range, measured) = match range {
+            Rails::Unchecked => (None, false),
+            Rails::Measured => (None, true),
+            Rails::Stated { min, max } => {
+                if min >= max {
+                    return Err(ConfigError::OutOfRange(Parameter::AdcRange));
+                }
+                (Some((min, max)), false)
+            }
+        };
+        Ok(Self {
+            adc,
+            counts,
+            check: FrontEndCheck::of_ordered_range(range),
+            rails: if measured {
+                Some(HeldRailCheck::new())
+            } else {
+                None
+            },
+            winding: settings.winding,
+            calibration: settings.calibration,
+            correction: settings.correction,
+        })
     }
 }
 

@@ -9,7 +9,7 @@ use crate::adc::AdcCounts;
 use crate::error::{ConfigError, Parameter};
 use crate::faults::Faults;
 use crate::front_end_faults::FrontEndFaults;
-use crate::real::{ChainNumber, Float, check_positive};
+use crate::real::{ChainNumber, Float};
 
 /// The mutable state of a [`FrontEndCheck`] or a [`WindingCheck`]: the front-end faults of
 /// the last sample, whether it was a measurement, and the faults latched since the last
@@ -133,6 +133,13 @@ impl FrontEndCheck<i16> {
         // Ordered in codes first: the ADC's saturation keeps the order, but may join them.
         FrontEndCheck::<i32>::around((), Some((min_counts, max_counts)))?;
         Self::around((), Some(adc.sample(min_counts, max_counts)))
+    }
+}
+
+impl<X: Copy> FrontEndCheck<X> {
+    /// The check of a range its caller found ordered (`min < max`), or of none.
+    pub(crate) const fn of_ordered_range(range: Option<(X, X)>) -> Self {
+        Self { range, inner: () }
     }
 }
 
@@ -292,7 +299,7 @@ impl<V: ChainNumber, X: PartialOrd + Copy, S: Stage<V, (X, X)>> Stage<V, ((X, X)
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WindingCheck<T> {
-    amplitude: T,
+    pub(crate) amplitude: T,
 }
 
 impl<T: Float> WindingCheck<T> {
@@ -300,9 +307,7 @@ impl<T: Float> WindingCheck<T> {
     /// samples' units: 1 for a demodulator's pairs), finite and positive
     /// ([`Parameter::NominalAmplitude`]).
     pub fn new(amplitude: T) -> Result<Self, ConfigError> {
-        Ok(Self {
-            amplitude: check_positive(amplitude, Parameter::NominalAmplitude)?,
-        })
+        T::new_winding_check(amplitude)
     }
 
     /// The nominal amplitude.

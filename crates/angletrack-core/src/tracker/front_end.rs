@@ -15,13 +15,13 @@ use crate::front_end_faults::FrontEndFaults;
 /// `Copy`; each channel's mutable part is a [`TrackerFrontEndState`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TrackerFrontEnd<V: TrackerNumber> {
-    pub(super) adc: V::Adc,
-    pub(super) counts: bool,
-    pub(super) check: FrontEndCheck<V>,
-    pub(super) rails: Option<HeldRailCheck>,
-    pub(super) winding: V::Winding,
-    pub(super) calibration: V::Calibration,
-    pub(super) correction: V::Correction,
+    pub(crate) adc: V::Adc,
+    pub(crate) counts: bool,
+    pub(crate) check: FrontEndCheck<V>,
+    pub(crate) rails: Option<HeldRailCheck>,
+    pub(crate) winding: V::Winding,
+    pub(crate) calibration: V::Calibration,
+    pub(crate) correction: V::Correction,
 }
 
 /// One channel's state of a [`TrackerFrontEnd`]: the front-end check's, the rails

@@ -86,8 +86,10 @@ pub trait TrackerNumber:
     /// for `i16`.
     type Correction: Stage<Self, (Self, Self), State = ()> + Copy + Debug + PartialEq + Default;
 
-    /// The ADC that passes counts through as they are (mid-scale 0, one count per unit).
-    fn unscaled_adc() -> Self::Adc;
+    /// [`TrackerFrontEnd::new`](crate::TrackerFrontEnd::new): the type's `new_const`.
+    fn new_front_end(
+        settings: crate::TrackerSettings<Self>,
+    ) -> Result<crate::TrackerFrontEnd<Self>, ConfigError>;
 
     /// One pair of raw counts through `adc`.
     fn scale<I: AdcSample>(adc: &Self::Adc, raw_c: I, raw_s: I) -> (Self, Self);
@@ -110,8 +112,10 @@ impl<T: Float> TrackerNumber for T {
     type Calibrator = Calibrator<T>;
     type Correction = CorrectionStage<T>;
 
-    fn unscaled_adc() -> AdcScaling<T> {
-        AdcScaling::default()
+    fn new_front_end(
+        settings: crate::TrackerSettings<T>,
+    ) -> Result<crate::TrackerFrontEnd<T>, ConfigError> {
+        T::new_tracker_front_end(settings)
     }
 
     #[inline(always)]
@@ -132,12 +136,6 @@ impl<T: Float> TrackerNumber for T {
     }
 }
 
-/// Counts as they come: mid-scale 0, no shift.
-const UNSCALED_COUNTS: AdcCounts = match AdcCounts::new(0, 0) {
-    Ok(adc) => adc,
-    Err(_) => panic!("mid-scale 0, shift 0 is a valid ADC"),
-};
-
 impl TrackerNumber for i16 {
     type Adc = AdcCounts;
     type Winding = ();
@@ -146,8 +144,10 @@ impl TrackerNumber for i16 {
     type Calibrator = ();
     type Correction = FixedCorrectionStage;
 
-    fn unscaled_adc() -> AdcCounts {
-        UNSCALED_COUNTS
+    fn new_front_end(
+        settings: crate::TrackerSettings<i16>,
+    ) -> Result<crate::TrackerFrontEnd<i16>, ConfigError> {
+        crate::TrackerFrontEnd::<i16>::new_const(settings)
     }
 
     #[inline(always)]

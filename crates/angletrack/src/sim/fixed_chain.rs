@@ -87,13 +87,7 @@ pub fn fixed_front_end(
     let adc = AdcCounts::new(mid_scale_counts, shift)?;
     let calibration = match sensor {
         None => None,
-        Some(sensor) => {
-            let scale = f64::from(1u32 << shift);
-            let (o_c, o_s, a_c, a_s, phi) = sensor.parameters();
-            let shifted =
-                SensorCalibration::new(o_c * scale, o_s * scale, a_c * scale, a_s * scale, phi)?;
-            Some(FixedCalibration::new(&shifted)?)
-        }
+        Some(sensor) => Some(FixedCalibration::new(&shifted_calibration(sensor, shift)?)?),
     };
     TrackerFrontEnd::new(TrackerSettings {
         input: Input::Counts { adc, rails },
@@ -101,6 +95,18 @@ pub fn fixed_front_end(
         calibration,
         correction: correction.map(FixedAngleCorrectionTable::from_harmonics),
     })
+}
+
+/// `sensor` (learned on counts before the shift) in the counts shifted left by `shift`
+/// bits, as the fixed-point chain's calibration takes it (its offsets and amplitudes times
+/// `2^shift`).
+pub fn shifted_calibration(
+    sensor: &SensorCalibration<f64>,
+    shift: u32,
+) -> Result<SensorCalibration<f64>, ConfigError> {
+    let scale = f64::from(1u32 << shift.min(15));
+    let (o_c, o_s, a_c, a_s, phi) = sensor.parameters();
+    SensorCalibration::new(o_c * scale, o_s * scale, a_c * scale, a_s * scale, phi)
 }
 
 /// How a capture's counts reach the fixed-point observer ([`fixed_input`]).

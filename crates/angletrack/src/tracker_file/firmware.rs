@@ -95,7 +95,7 @@ fn float_type(number_type: NumberType) -> FloatType {
 
 impl TrackerFile {
     /// The lines of the first comment: the settings the firmware states itself.
-    fn setup_comment(&self) -> String {
+    pub(super) fn setup_comment(&self) -> String {
         let input = match self.input {
             Input::Units => "samples in units".to_string(),
             Input::Counts => "counts, the mid-scale measured".to_string(),
@@ -150,18 +150,21 @@ impl TrackerFile {
         None
     }
 
-    /// The setup's firmware constants in `language`, every identifier prefixed by `name`:
-    /// the gains (`gains_c_header`/`gains_rust` in the number type, or the fixed-point
-    /// constants), then a stored calibration with its harmonics (`calibration_c_header`/
-    /// `calibration_rust`). `file` names the tracker file in the refusal of a setting no
-    /// generator writes (fault thresholds, a winding check, an online calibration, a
-    /// correction table).
+    /// The setup's firmware constants in `language`, every identifier prefixed by `name`.
+    /// Rust: the whole tracker as one `static` ([`TrackerFile::rust_tracker`]). C: the gains
+    /// (`gains_c_header` in the number type, or the fixed-point constants), then a stored
+    /// calibration with its harmonics (`calibration_c_header`). `file` names the tracker
+    /// file in the refusal of a setting no generator writes (in C: fault thresholds, a
+    /// winding check, an online calibration, a correction table).
     pub fn firmware_constants(
         &self,
         file: &str,
         language: Language,
         name: &str,
     ) -> Result<String, FirmwareError> {
+        if language == Language::Rust {
+            return self.rust_tracker(file, name);
+        }
         if let Some((field, what)) = self.unwritten() {
             return Err(FirmwareError::File(JsonFileError::new(
                 file,

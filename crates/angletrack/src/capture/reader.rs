@@ -201,7 +201,7 @@ impl CaptureReader {
         );
         let mut wanted: Vec<usize> = roles.iter().filter_map(|&r| layout.index(r)).collect();
         wanted.extend(&layout.other_times);
-        let spacing = SpacingCheck::new(options.sample_rate_hz.is_none());
+        let spacing = SpacingCheck::new(options.sample_rate_hz);
         Ok(Self {
             path: path.to_path_buf(),
             source,

@@ -255,6 +255,36 @@ fn a_stated_rate_skips_the_spacing_check_and_units_convert_the_time() {
 }
 
 #[test]
+fn a_stated_rate_that_contradicts_the_time_column_is_refused_naming_both() {
+    // 20 kHz in the time column (rounded to 10 us, so each step alone is 40 to 60 us).
+    let mut text = String::from("t,y_c,y_s\n");
+    for k in 0..400 {
+        text += &format!("{},1,0\n", (k as f64 * 50.0 / 10.0).round() * 10.0);
+    }
+    let path = file("rate.csv", text.as_bytes());
+    let options = |rate: f64| CaptureOptions {
+        sample_rate_hz: Some(rate),
+        time_unit: TimeUnit::Microseconds,
+        chunk_rows: 64,
+        ..Default::default()
+    };
+    let e = read_capture(&path, options(1e4)).unwrap_err().to_string();
+    assert!(
+        e.contains(
+            "--sample-rate 10000 Hz contradicts the time column, whose mean step 50 us is 20000 Hz"
+        ),
+        "{e}"
+    );
+    // The rate the stamps say, and one 0.5 % off (a crystal's error), are accepted.
+    assert_eq!(
+        read_capture(&path, options(2e4)).unwrap().sample_rate_hz,
+        Some(2e4)
+    );
+    assert!(read_capture(&path, options(2.01e4)).is_ok());
+    assert!(read_capture(&path, options(2.03e4)).is_err());
+}
+
+#[test]
 fn chunks_stream_the_rows_in_order() {
     let mut text = String::from("time;y_c;y_s\n");
     for k in 0..1001 {

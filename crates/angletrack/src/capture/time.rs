@@ -69,24 +69,40 @@ impl FromStr for TimeUnit {
 /// The spacing of time stamps tolerated around the capture's step: 1 %.
 pub const SPACING_TOLERANCE: f64 = 0.01;
 
+/// The steps a time column spans before its mean is held against a stated rate: over 100
+/// steps, stamps rounded to a whole step move the mean by at most 1 %.
+pub const STATED_RATE_STEPS: u64 = 100;
+
 /// The order and spacing checks of a time column read in chunks: each stamp after the one
 /// before it, and (unless the rate was stated) each step within [`SPACING_TOLERANCE`] of
 /// the first chunk's median step. With the rate stated, a stamp equal to the one before
-/// (rounded stamps) is accepted; one before it never is.
+/// (rounded stamps) is accepted; one before it never is; and once the column spans
+/// [`STATED_RATE_STEPS`] steps, its mean step must be the stated rate's within
+/// [`SPACING_TOLERANCE`] (a rate that contradicts the time stamps is refused, naming both).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SpacingCheck {
     check_spacing: bool,
+    stated_rate_hz: Option<f64>,
     nominal_step_s: Option<f64>,
     first_s: Option<f64>,
     last_s: Option<f64>,
     count: u64,
 }
 
+/// A rate (Hz) as the messages show it: to a micro-hertz, trailing zeros dropped.
+fn format_rate(rate_hz: f64) -> String {
+    format!("{:.6}", rate_hz)
+        .trim_end_matches('0')
+        .trim_end_matches('.')
+        .to_string()
+}
+
 impl SpacingCheck {
-    /// A check of a new column; `check_spacing` false when the sample rate is stated.
-    pub fn new(check_spacing: bool) -> Self {
+    /// A check of a new column, with the sample rate (Hz) the user stated, if any.
+    pub fn new(stated_rate_hz: Option<f64>) -> Self {
         Self {
-            check_spacing,
+            check_spacing: stated_rate_hz.is_none(),
+            stated_rate_hz,
             nominal_step_s: None,
             first_s: None,
             last_s: None,
@@ -160,6 +176,21 @@ impl SpacingCheck {
         self.first_s.get_or_insert(first);
         self.last_s = Some(last);
         self.count += time_s.len() as u64;
+        if let (Some(rate), Some(step)) = (self.stated_rate_hz, self.mean_step_s())
+            && self.count > STATED_RATE_STEPS
+            && (step * rate - 1.0).abs() > SPACING_TOLERANCE
+        {
+            return Err((
+                time_s.len() - 1,
+                format!(
+                    "sample_rate: --sample-rate {rate} Hz contradicts the time column, whose \
+                     mean step {} is {} Hz (more than 1 % apart): leave out --sample-rate, or \
+                     the time column (--columns time=-), or give its unit (--time-unit)",
+                    shown(step),
+                    format_rate(1.0 / step)
+                ),
+            ));
+        }
         Ok(())
     }
 

@@ -11,6 +11,7 @@ use nalgebra::Complex;
 use super::ellipse::EllipseMoments;
 use super::harmonic_fit::{FittedHarmonics, HarmonicFit, undo_loop_following};
 use super::quality::{CalibrationMethod, OrderQuality, OrderStatus, SPECTRUM_ORDERS};
+use super::reference_following::ReferenceFollowing;
 use super::tracker::{LoopTracker, Tracker, Unwrap};
 use super::{
     CalibrationError, CalibrationOptions, CaptureCalibration, MIN_ERROR_TRANSFER, error_transfer,
@@ -42,6 +43,7 @@ struct FitPass {
     settle: u64,
     seen: u64,
     reference: Unwrap,
+    following: ReferenceFollowing,
     speed: (f64, f64),
     first_position: Option<f64>,
     last_position: f64,
@@ -222,6 +224,7 @@ impl CaptureCalibrator {
             settle,
             seen: 0,
             reference: Unwrap::default(),
+            following: ReferenceFollowing::default(),
             speed: (f64::INFINITY, f64::NEG_INFINITY),
             first_position: None,
             last_position: 0.0,
@@ -326,6 +329,9 @@ impl CaptureCalibrator {
                 continue;
             }
             let (c, s) = fit.sensor.correct(raw_c, raw_s);
+            if fit.tracker.is_none() {
+                fit.following.add(s.atan2(c), position);
+            }
             let error = s.atan2(c) - angle;
             let error = error - TAU * (error / TAU).round();
             fit.harmonics.add(angle, position, error);
@@ -353,6 +359,7 @@ impl CaptureCalibrator {
                 ),
             ));
         }
+        fit.following.check()?;
         let (low, high) = fit.speed;
         if fit.tracker.is_some() && !(high - low <= MAX_SPEED_SPREAD * omega.abs()) {
             return Err(refused(

@@ -33,6 +33,7 @@ pub(crate) mod file;
 mod harmonic_fit;
 mod learner;
 mod quality;
+mod reference_following;
 mod tracker;
 
 pub use file::{

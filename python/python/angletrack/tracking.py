@@ -316,7 +316,8 @@ def counts_mid_scale(s: TrackSettings, sample_dtype: str, whole: Optional[tuple]
 def fault_thresholds(first, mid: float, counts_per_unit: float = 1.0) -> angletrack.FaultThresholds:
     """The diagnostics' thresholds of the capture whose first chunk is ``first`` (mid-scale
     ``mid`` removed, divided by ``counts_per_unit``): scaled to its amplitude
-    (``capture_fault_thresholds``: the median magnitude of its first 4096 samples), as
+    (``capture_fault_thresholds``: the median magnitude of its first 4096 samples around
+    the Lissajous figure's centre), as
     ``angletrack.track`` scales a whole capture's. Stated to the observer, which is fed in
     chunks and measures nothing itself."""
     return capture_fault_thresholds(

@@ -478,11 +478,24 @@ fn a_reference_that_runs_the_other_way_or_at_another_multiple_is_named() {
     // An encoder counting the other way, with its own zero.
     let e = learn(s.angle_rad.iter().map(|t| 0.3 - t).collect()).unwrap_err();
     assert_eq!(e.option, "reference");
-    assert!(e.reason.starts_with("it runs opposite to the sensor"), "{}", e.reason);
+    assert!(
+        e.reason.starts_with("it runs opposite to the sensor"),
+        "{}",
+        e.reason
+    );
     // A mechanical reference of a sensor with 4 pole pairs, the pole pairs not stated.
     let e = learn(s.angle_rad.iter().map(|t| t / 4.0).collect()).unwrap_err();
-    assert!(e.reason.starts_with("the sensor's angle turns 4 times as fast"), "{}", e.reason);
+    assert!(
+        e.reason
+            .starts_with("the sensor's angle turns 4 times as fast"),
+        "{}",
+        e.reason
+    );
     // Pole pairs stated twice over: the reference turns twice as fast.
     let e = learn(s.angle_rad.iter().map(|t| t * 2.0).collect()).unwrap_err();
-    assert!(e.reason.starts_with("the reference turns 2 times as fast"), "{}", e.reason);
+    assert!(
+        e.reason.starts_with("the reference turns 2 times as fast"),
+        "{}",
+        e.reason
+    );
 }

@@ -52,41 +52,77 @@ pub fn run_calibrated<T: Real, const N: usize, S: SinCos<T>>(
     (run, state.front_end)
 }
 
-/// The nominal amplitude of a capture, estimated from its samples: the median of
-/// `sqrt(y_c^2 + y_s^2)` over the first [`NOMINAL_AMPLITUDE_SAMPLES`] samples (non-finite
-/// ones left out), in the samples' own units. The median rather than the mean, so that a
-/// few bad samples do not move it; the first samples, so that a long capture costs no more.
-/// Offsets, imbalance and quadrature error of a few percent move it by about as much, well
-/// inside the diagnostics' bands (0.5 to 1.5 times the nominal amplitude). `None` when no
-/// sample is finite or the median is not positive (a capture that starts without signal).
+/// The nominal amplitude of a capture, estimated from its first [`NOMINAL_AMPLITUDE_SAMPLES`]
+/// samples (non-finite ones left out), in the samples' own units: the amplitude the
+/// observer's checks see once the signals' bias is removed. Where those samples go round the
+/// Lissajous figure's centre (the centre taken half-way between each channel's 1st and 99th
+/// percentiles, and each quadrant around it visited by 1 % of the samples), the median of
+/// `sqrt((y_c - c_c)^2 + (y_s - c_s)^2)`: a bias (a single-supply ADC's mid-rail, 2.5 V under
+/// a 1 V signal) leaves it as it is. Elsewhere (a standstill, a fraction of a turn), the
+/// median of `sqrt(y_c^2 + y_s^2)`. The median, so that a few bad samples do not move it;
+/// the first samples, so that a long capture costs no more. Imbalance and quadrature of a
+/// few percent move it by about as much, inside the diagnostics' bands (0.5 to 1.5 times).
+/// `None` when no sample is finite or the median is not positive.
 ///
 /// ```
 /// let theta: Vec<f64> = (0..1000).map(|k| 0.01 * k as f64).collect();
 /// let y_c: Vec<f64> = theta.iter().map(|t| 1800.0 * t.cos()).collect();
 /// let y_s: Vec<f64> = theta.iter().map(|t| 1800.0 * t.sin()).collect();
 /// let amplitude = angletrack::nominal_amplitude(&y_c, &y_s).unwrap();
-/// assert!((amplitude - 1800.0).abs() < 1e-9);
+/// assert!((amplitude - 1800.0).abs() < 1.0, "{amplitude}");
+/// // The same signal on a bias of 2.5 times its amplitude.
+/// let biased = |y: &[f64]| y.iter().map(|v| v + 4500.0).collect::<Vec<_>>();
+/// let amplitude = angletrack::nominal_amplitude(&biased(&y_c), &biased(&y_s)).unwrap();
+/// assert!((amplitude - 1800.0).abs() < 10.0, "{amplitude}");
 /// assert_eq!(angletrack::nominal_amplitude(&[0.0_f32; 8], &[0.0; 8]), None);
 /// ```
 pub fn nominal_amplitude<T: Real>(y_c: &[T], y_s: &[T]) -> Option<f64> {
-    let mut magnitudes: Vec<f64> = y_c
+    let pairs: Vec<(f64, f64)> = y_c
         .iter()
         .zip(y_s)
         .take(NOMINAL_AMPLITUDE_SAMPLES)
-        .map(|(&c, &s)| c.to_f64().hypot(s.to_f64()))
-        .filter(|m| m.is_finite())
+        .map(|(&c, &s)| (c.to_f64(), s.to_f64()))
+        .filter(|(c, s)| c.is_finite() && s.is_finite())
         .collect();
-    if magnitudes.is_empty() {
-        return None;
-    }
-    magnitudes.sort_unstable_by(f64::total_cmp);
-    let n = magnitudes.len();
-    let median = if n % 2 == 1 {
-        magnitudes[n / 2]
-    } else {
-        0.5 * (magnitudes[n / 2 - 1] + magnitudes[n / 2])
+    let centre = lissajous_centre(&pairs).unwrap_or((0.0, 0.0));
+    let magnitudes = pairs
+        .iter()
+        .map(|(c, s)| (c - centre.0).hypot(s - centre.1))
+        .collect();
+    median(magnitudes).filter(|&m| m > 0.0)
+}
+
+/// The centre of the samples' Lissajous figure (half-way between each channel's 1st and
+/// 99th percentiles), if the samples go round it (each quadrant holds 1 % of them).
+fn lissajous_centre(pairs: &[(f64, f64)]) -> Option<(f64, f64)> {
+    let middle = |mut values: Vec<f64>| {
+        values.sort_unstable_by(f64::total_cmp);
+        let last = values.len().checked_sub(1)?;
+        Some(0.5 * (values[last / 100] + values[last - last / 100]))
     };
-    (median > 0.0).then_some(median)
+    let centre = (
+        middle(pairs.iter().map(|p| p.0).collect())?,
+        middle(pairs.iter().map(|p| p.1).collect())?,
+    );
+    let mut quadrants = [0usize; 4];
+    for (c, s) in pairs {
+        quadrants[usize::from(*c < centre.0) + 2 * usize::from(*s < centre.1)] += 1;
+    }
+    quadrants
+        .iter()
+        .all(|&n| n * 100 >= pairs.len() && n > 0)
+        .then_some(centre)
+}
+
+/// The median of `values`, `None` if there are none.
+fn median(mut values: Vec<f64>) -> Option<f64> {
+    values.sort_unstable_by(f64::total_cmp);
+    let n = values.len();
+    match n {
+        0 => None,
+        _ if n % 2 == 1 => Some(values[n / 2]),
+        _ => Some(0.5 * (values[n / 2 - 1] + values[n / 2])),
+    }
 }
 
 /// The default [`FaultThresholds`] scaled to the capture's [`nominal_amplitude`]

@@ -147,8 +147,22 @@ pub fn fixed_input(
         .map_err(|_| ConfigError::OutOfRange(angletrack_core::Parameter::MidScaleCounts))?;
     let n = y_c.len().min(y_s.len()).min(NOMINAL_AMPLITUDE_SAMPLES);
     let centred = |y: &[f64]| -> Vec<f64> { y[..n].iter().map(|v| v - f64::from(mid)).collect() };
-    let amplitude = nominal_amplitude(&centred(y_c), &centred(y_s)).unwrap_or(0.0);
-    let shift = fixed_input_shift(amplitude);
+    let (y_c, y_s) = (centred(y_c), centred(y_s));
+    let amplitude = nominal_amplitude(&y_c, &y_s).unwrap_or(0.0);
+    // The shift that keeps the samples themselves in 16 bits: their extent (the 99th
+    // percentile of each pair's larger magnitude), which a bias adds to the amplitude.
+    let mut extents: Vec<f64> = y_c
+        .iter()
+        .zip(&y_s)
+        .map(|(c, s)| c.abs().max(s.abs()))
+        .filter(|e| e.is_finite())
+        .collect();
+    extents.sort_unstable_by(f64::total_cmp);
+    let extent = extents
+        .get(extents.len().saturating_sub(1) * 99 / 100)
+        .copied()
+        .unwrap_or(0.0);
+    let shift = fixed_input_shift(extent.max(amplitude));
     Ok(FixedInput {
         mid_scale_counts: mid,
         shift,

@@ -77,19 +77,43 @@ pub fn run_calibrated<T: Real, const N: usize, S: SinCos<T>>(
 /// assert_eq!(angletrack::nominal_amplitude(&[0.0_f32; 8], &[0.0; 8]), None);
 /// ```
 pub fn nominal_amplitude<T: Real>(y_c: &[T], y_s: &[T]) -> Option<f64> {
-    let pairs: Vec<(f64, f64)> = y_c
-        .iter()
+    let pairs = first_pairs(y_c, y_s);
+    let around = |(c_c, c_s): (f64, f64)| -> Vec<f64> {
+        pairs
+            .iter()
+            .map(|(c, s)| (c - c_c).hypot(s - c_s))
+            .collect()
+    };
+    let ring = lissajous_centre(&pairs)
+        .map(around)
+        .filter(|m| is_ring(m.clone()));
+    median(ring.unwrap_or_else(|| around((0.0, 0.0)))).filter(|&m| m > 0.0)
+}
+
+/// The first [`NOMINAL_AMPLITUDE_SAMPLES`] pairs whose samples are both finite.
+fn first_pairs<T: Real>(y_c: &[T], y_s: &[T]) -> Vec<(f64, f64)> {
+    y_c.iter()
         .zip(y_s)
         .take(NOMINAL_AMPLITUDE_SAMPLES)
         .map(|(&c, &s)| (c.to_f64(), s.to_f64()))
         .filter(|(c, s)| c.is_finite() && s.is_finite())
-        .collect();
-    let centre = lissajous_centre(&pairs).unwrap_or((0.0, 0.0));
-    let magnitudes = pairs
-        .iter()
-        .map(|(c, s)| (c - centre.0).hypot(s - centre.1))
-        .collect();
-    median(magnitudes).filter(|&m| m > 0.0)
+        .collect()
+}
+
+/// Whether magnitudes around a centre are a ring's (the 10th to 90th percentiles within
+/// half the median: imbalance and noise of a sensor), not a blob's (noise at a standstill,
+/// whose 10th to 90th percentiles span 1.4 times the median).
+fn is_ring(mut magnitudes: Vec<f64>) -> bool {
+    magnitudes.sort_unstable_by(f64::total_cmp);
+    let last = magnitudes.len().saturating_sub(1);
+    match (
+        magnitudes.get(last / 10),
+        magnitudes.get(last / 2),
+        magnitudes.get(last - last / 10),
+    ) {
+        (Some(low), Some(middle), Some(high)) => high - low <= 0.5 * middle,
+        _ => false,
+    }
 }
 
 /// The centre of the samples' Lissajous figure (half-way between each channel's 1st and
@@ -137,10 +161,23 @@ fn median(mut values: Vec<f64>) -> Option<f64> {
 /// assert_eq!((t.nominal_amplitude, t.loss_of_signal), (1800.0, 450.0));
 /// ```
 pub fn capture_fault_thresholds<T: Real>(y_c: &[T], y_s: &[T]) -> FaultThresholds<T> {
-    match nominal_amplitude(y_c, y_s) {
-        Some(amplitude) => FaultThresholds::for_amplitude(T::from_f64(amplitude)),
-        None => FaultThresholds::default(),
+    let Some(amplitude) = nominal_amplitude(y_c, y_s) else {
+        return FaultThresholds::default();
+    };
+    let mut thresholds = FaultThresholds::for_amplitude(T::from_f64(amplitude));
+    // A biased signal's samples are no bad samples: the input bound covers the bias too
+    // (until a calibration removes it, the observer sees it).
+    let magnitudes = first_pairs(y_c, y_s)
+        .iter()
+        .map(|(c, s)| c.hypot(*s))
+        .collect();
+    if let Some(raw) = median(magnitudes) {
+        let bound = T::from_f64(raw) * T::from_f32(4.0);
+        if bound > thresholds.max_input_amplitude {
+            thresholds.max_input_amplitude = bound;
+        }
     }
+    thresholds
 }
 
 #[cfg(test)]

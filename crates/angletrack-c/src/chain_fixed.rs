@@ -1,5 +1,8 @@
-//! The signal chain in fixed point (the core's [`Chain`] on [`FixedGains`]), for cores
-//! without an FPU: `at_chain_fixed`, the configuration of one chain (the ADC's counts to the
+//! The signal chain in fixed point (the core's `Tracker` on `FixedGains`), for cores
+//! without an FPU: `at_fixed_gains`, the observer's checked integer configuration of order
+//! 2 or 3 (from the constants `angletrack design --dtype fixed --format c` prints, or from
+//! float gains); `at_fixed_estimate`, what it reports; `at_chain_fixed`, the configuration
+//! of one chain (the ADC's counts to the
 //! observer's 16-bit samples, an optional stored sensor calibration and an optional angle
 //! correction table, both applied in integers, and the fixed-point observer with its
 //! monitor); `at_chain_state_fixed`, one channel's state; and `at_adc_counts`, the plain
@@ -13,17 +16,132 @@
 
 use core::mem::MaybeUninit;
 
+use angletrack_core::fixed::FixedConstants;
 use angletrack_core::{
-    AdcCounts, AdcSample, ConfigError, FixedCalibration, FixedGains, FixedState, Input, Order,
-    Rails, SensorCalibration, SupportedOrder, Tracker, TrackerFrontEnd, TrackerInput,
-    TrackerSettings, TrackerState,
+    AdcCounts, ConfigError, FixedCalibration, FixedEstimate, FixedGains, FixedState, Input, Order,
+    Rails, SensorCalibration, SupportedOrder, Tracker, TrackerFrontEnd, TrackerSettings,
+    TrackerState,
 };
 
 use crate::calibration::at_sensor_calibration_f32;
-use crate::fixed::{AnyFixed, at_fixed_estimate, at_fixed_gains};
-use crate::slot::{self, Refused, Stored};
-use crate::status::{AT_OK, at_status, status_of};
+use crate::door::{CChain, ChainInput, through};
+use crate::faults::AT_FAULT_INVALID_ARGUMENT;
+use crate::slot::{self, ByOrder, Refused, Stored, by_order};
+use crate::status::{AT_ERR_ORDER, at_status};
 use crate::table::at_angle_table_fixed;
+
+/// The 8-byte words of an `at_fixed_gains`'s storage (checked against the Rust type at
+/// compile time, on every target).
+pub const AT_FIXED_GAINS_WORDS: usize = 8;
+/// The checked configuration of a fixed-point observer (order 2 or 3): the gains' integer
+/// multipliers, the acceleration's shift and the sample period (`at_chain_fixed_new` adds
+/// the monitor's thresholds). Made by `at_fixed_gains_from_constants` or
+/// `at_fixed_gains_new`; immutable once made, one serves any number of chains. Place it
+/// anywhere; copy it by assignment; never write its fields. A zeroed one is refused.
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct at_fixed_gains {
+    /// Private: which Rust value `storage` holds (0: none).
+    pub(crate) tag: u32,
+    /// Private: the layout of the build that wrote it.
+    pub(crate) layout: u32,
+    /// Private: the Rust value.
+    pub(crate) storage: [MaybeUninit<u64>; AT_FIXED_GAINS_WORDS],
+}
+
+slot::slot_struct!(at_fixed_gains, AT_FIXED_GAINS_WORDS);
+
+/// What the fixed-point observer knows after a sample, in its integers.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct at_fixed_estimate {
+    /// Binary angle: 2^32 per turn, `INT32_MIN` is -pi (rad = angle * 2 pi / 2^32).
+    pub angle: i32,
+    /// Whole turns since initialisation: the position is `turns + angle / 2^32` turns.
+    pub turns: i64,
+    /// Speed (2^-32 turn per sample).
+    pub speed: i32,
+    /// Acceleration (2^-63 turn per sample^2); 0 for a 2nd-order observer.
+    pub acceleration: i64,
+    /// Normalised phase error (Q15: 32768 is 1), about the sine of the phase error.
+    pub phase_error: i32,
+    /// The monitor's last window's faults (`AT_FAULT_*` bits), or
+    /// `AT_FAULT_INVALID_ARGUMENT` alone when the call's arguments were refused.
+    pub faults: u32,
+}
+
+impl From<FixedEstimate> for at_fixed_estimate {
+    fn from(e: FixedEstimate) -> Self {
+        Self {
+            angle: e.angle,
+            turns: e.turns,
+            speed: e.speed,
+            acceleration: e.acceleration,
+            phase_error: e.phase_error,
+            faults: u32::from(e.faults.bits()),
+        }
+    }
+}
+
+impl at_fixed_estimate {
+    /// The estimate of a call whose arguments were NULL, not made, or another build's.
+    pub(crate) const INVALID: Self = Self {
+        angle: 0,
+        turns: 0,
+        speed: 0,
+        acceleration: 0,
+        phase_error: 0,
+        faults: AT_FAULT_INVALID_ARGUMENT,
+    };
+}
+
+impl at_fixed_gains {
+    /// The gains, if made by a constructor of this build.
+    pub(crate) fn get(&self) -> Result<ByOrder<&FixedGains<2>, &FixedGains<3>>, Refused> {
+        self.either()
+    }
+
+    /// Checks the integer constants (`multiplier.len()` is the order) and stores them.
+    pub(crate) fn set_constants(
+        &mut self,
+        multiplier: &[i32],
+        acceleration_shift: u32,
+        sample_period_s: f64,
+    ) -> at_status {
+        match *multiplier {
+            [m1, m2] => self.slot_store(FixedGains::<2>::from_constants(
+                FixedConstants {
+                    multiplier: [m1, m2],
+                    acceleration_shift,
+                },
+                sample_period_s,
+            )),
+            [m1, m2, m3] => self.slot_store(FixedGains::<3>::from_constants(
+                FixedConstants {
+                    multiplier: [m1, m2, m3],
+                    acceleration_shift,
+                },
+                sample_period_s,
+            )),
+            _ => AT_ERR_ORDER,
+        }
+    }
+
+    /// Quantises float gains (`gains.len()` is the order) and stores them.
+    pub(crate) fn set_gains(&mut self, gains: &[f32], sample_period_s: f64) -> at_status {
+        match *gains {
+            [l1, l2] => self.slot_store(FixedGains::<2>::new(
+                [f64::from(l1), f64::from(l2)],
+                sample_period_s,
+            )),
+            [l1, l2, l3] => self.slot_store(FixedGains::<3>::new(
+                [f64::from(l1), f64::from(l2), f64::from(l3)],
+                sample_period_s,
+            )),
+            _ => AT_ERR_ORDER,
+        }
+    }
+}
 
 /// The 8-byte words of an `at_chain_fixed`'s storage (checked against the Rust type at
 /// compile time, on every target).
@@ -63,7 +181,6 @@ impl at_adc_counts {
 
     /// The conversion, checked by the core's `AdcCounts`.
     fn checked(&self) -> Result<AdcCounts, ConfigError> {
-        AdcCounts::new(self.mid_scale_counts, self.shift)?;
         AdcCounts::new(self.mid_scale_counts, self.shift)
     }
 }
@@ -75,11 +192,11 @@ impl at_adc_counts {
 #[derive(Debug, Clone, Copy)]
 pub struct at_chain_fixed {
     /// Private: which Rust value `storage` holds (0: none).
-    tag: u32,
+    pub(crate) tag: u32,
     /// Private: the layout of the build that wrote it.
-    layout: u32,
+    pub(crate) layout: u32,
     /// Private: the Rust value.
-    storage: [MaybeUninit<u64>; AT_CHAIN_FIXED_WORDS],
+    pub(crate) storage: [MaybeUninit<u64>; AT_CHAIN_FIXED_WORDS],
 }
 
 slot::slot_struct!(at_chain_fixed, AT_CHAIN_FIXED_WORDS);
@@ -92,11 +209,11 @@ slot::slot_struct!(at_chain_fixed, AT_CHAIN_FIXED_WORDS);
 #[derive(Debug, Clone, Copy)]
 pub struct at_chain_state_fixed {
     /// Private: which Rust value `storage` holds (0: a fresh state).
-    tag: u32,
+    pub(crate) tag: u32,
     /// Private: the layout of the build that wrote it.
-    layout: u32,
+    pub(crate) layout: u32,
     /// Private: the Rust value.
-    storage: [MaybeUninit<u64>; AT_CHAIN_STATE_FIXED_WORDS],
+    pub(crate) storage: [MaybeUninit<u64>; AT_CHAIN_STATE_FIXED_WORDS],
 }
 
 slot::slot_struct!(at_chain_state_fixed, AT_CHAIN_STATE_FIXED_WORDS);
@@ -188,15 +305,6 @@ fn with_adc_range<const N: usize>(
     Ok(Tracker::new(front_end, chain.observer))
 }
 
-/// An `at_chain_fixed`'s chain of either order.
-#[derive(Debug, Clone, Copy)]
-pub(crate) enum AnyChainFixed<'a> {
-    /// Order 2.
-    Two(&'a ChainFixed<2>),
-    /// Order 3.
-    Three(&'a ChainFixed<3>),
-}
-
 impl at_chain_fixed {
     /// Builds and stores the chain (`self` unchanged on error).
     pub(crate) fn set(
@@ -205,16 +313,14 @@ impl at_chain_fixed {
         stages: FixedStages<'_>,
         nominal_amplitude_counts: f64,
     ) -> at_status {
-        let result = match gains.get() {
-            Ok(AnyFixed::Two(g)) => {
-                build(g, stages, nominal_amplitude_counts).map(|c| self.slot_put(c))
-            }
-            Ok(AnyFixed::Three(g)) => {
-                build(g, stages, nominal_amplitude_counts).map(|c| self.slot_put(c))
-            }
-            Err(refused) => return refused.status(),
-        };
-        result.err().map_or(AT_OK, status_of)
+        match gains.get() {
+            Ok(g) => by_order!(g, |g| self.slot_store(build(
+                g,
+                stages,
+                nominal_amplitude_counts
+            ))),
+            Err(refused) => refused.status(),
+        }
     }
 
     /// Stores `chain` with clipping flagged at the codes `min` and `max` (`self` unchanged
@@ -225,22 +331,16 @@ impl at_chain_fixed {
         min: i32,
         max: i32,
     ) -> at_status {
-        let result = match chain.get() {
-            Ok(AnyChainFixed::Two(c)) => with_adc_range(c, min, max).map(|c| self.slot_put(c)),
-            Ok(AnyChainFixed::Three(c)) => with_adc_range(c, min, max).map(|c| self.slot_put(c)),
-            Err(refused) => return refused.status(),
-        };
-        result.err().map_or(AT_OK, status_of)
+        match chain.get() {
+            Ok(c) => by_order!(c, |c| self.slot_store(with_adc_range(c, min, max))),
+            Err(refused) => refused.status(),
+        }
     }
 
     /// The chain, if made by `at_chain_fixed_new` of this build.
     #[inline(always)]
-    pub(crate) fn get(&self) -> Result<AnyChainFixed<'_>, Refused> {
-        if self.tag == <ChainFixed<2> as Stored>::TAG {
-            self.slot_get().map(AnyChainFixed::Two)
-        } else {
-            self.slot_get().map(AnyChainFixed::Three)
-        }
+    pub(crate) fn get(&self) -> Result<ByOrder<&ChainFixed<2>, &ChainFixed<3>>, Refused> {
+        self.either()
     }
 }
 
@@ -261,142 +361,60 @@ impl at_chain_state_fixed {
     /// Returns the latched faults (`AT_FAULT_*` bits) and clears them; 0 for a fresh state
     /// (or another build's).
     pub(crate) fn clear_faults(&mut self) -> u32 {
-        /// The faults of the state of order `N`.
-        fn of<const N: usize>(s: &mut at_chain_state_fixed) -> Option<u32>
-        where
-            StateFixed<N>: Stored,
-        {
-            s.of_order::<N>().ok().map(|s| {
-                let f = s.observer.latched_faults();
+        let held = self.either_mut::<StateFixed<2>, StateFixed<3>>();
+        held.map_or(0, |s| {
+            by_order!(s, |s| {
+                let faults = s.observer.latched_faults();
                 s.observer.clear_faults();
-                u32::from(f.bits())
+                u32::from(faults.bits())
             })
-        }
-        let faults = match self.tag {
-            t if t == <StateFixed<2> as Stored>::TAG => of::<2>(self),
-            t if t == <StateFixed<3> as Stored>::TAG => of::<3>(self),
-            _ => None,
-        };
-        faults.unwrap_or(0)
+        })
     }
 
     /// Returns the front-end faults latched by the clipping checks, against the stated
     /// range or the rails measured (`AT_FRONT_END_FAULT_*` bits), and clears them; 0 for a
     /// fresh state (or another build's).
     pub(crate) fn clear_front_end_faults(&mut self) -> u32 {
-        /// The checks' latched faults, cleared.
-        fn of<const N: usize>(state: &mut StateFixed<N>) -> u32 {
-            u32::from(state.front_end.clear_faults().bits())
-        }
-        match self.tag {
-            t if t == <StateFixed<2> as Stored>::TAG => self.of_order::<2>().map_or(0, of),
-            t if t == <StateFixed<3> as Stored>::TAG => self.of_order::<3>().map_or(0, of),
-            _ => 0,
-        }
+        let held = self.either_mut::<StateFixed<2>, StateFixed<3>>();
+        held.map_or(0, |s| {
+            u32::from(by_order!(s, |s| s.front_end.clear_faults()).bits())
+        })
     }
 }
 
-/// Counts of a fixed-point chain: `int16` (through the identity if the chain has no ADC),
-/// `uint16` and `int32` (refused without an ADC).
-pub(crate) trait FixedInput: AdcSample {
-    /// Whether a chain without an ADC takes this type.
-    const WITHOUT_ADC: bool;
-    /// The pair as the core's chain takes it.
-    type Pair: TrackerInput<i16>;
-    /// The pair of `raw_c` and `raw_s`.
-    fn pair(raw_c: Self, raw_s: Self) -> Self::Pair;
-}
+impl CChain for at_chain_fixed {
+    type Number = i16;
+    type State = at_chain_state_fixed;
+    type Estimate = at_fixed_estimate;
+    const INVALID: at_fixed_estimate = at_fixed_estimate::INVALID;
 
-/// The counts types C passes, each with its flag.
-macro_rules! fixed_input {
-    ($($int:ty: $without_adc:expr),*) => {$(
-        impl FixedInput for $int {
-            const WITHOUT_ADC: bool = $without_adc;
-            type Pair = ($int, $int);
-            #[inline(always)]
-            fn pair(raw_c: $int, raw_s: $int) -> ($int, $int) {
-                (raw_c, raw_s)
-            }
-        }
-    )*};
-}
-
-fixed_input!(i16: true, u16: false, i32: false);
-
-/// One sample through `chain` on `state`: `$body` with the chain `$c` and state `$s` of
-/// order `N`; `None` (and nothing changed) if refused: a chain not made, another build's
-/// state, counts the chain cannot take.
-macro_rules! through_fixed {
-    ($chain:expr, $state:expr, $input:ty, |$c:ident, $s:ident| $body:expr) => {
-        match $chain.get() {
-            Ok($crate::chain_fixed::AnyChainFixed::Two($c))
-                if <$input as FixedInput>::WITHOUT_ADC || $c.front_end.adc().is_some() =>
-            {
-                $state.of_order::<2>().ok().map(|$s| $body)
-            }
-            Ok($crate::chain_fixed::AnyChainFixed::Three($c))
-                if <$input as FixedInput>::WITHOUT_ADC || $c.front_end.adc().is_some() =>
-            {
-                $state.of_order::<3>().ok().map(|$s| $body)
-            }
-            _ => None,
-        }
-    };
-}
-
-/// One sample of counts through the chain, the state only: `false` if refused.
-#[inline(always)]
-pub(crate) fn track_fixed<I: FixedInput>(
-    chain: &at_chain_fixed,
-    state: &mut at_chain_state_fixed,
-    raw_c: I,
-    raw_s: I,
-) -> bool {
-    through_fixed!(chain, state, I, |c, s| c.track(s, I::pair(raw_c, raw_s))).is_some()
-}
-
-/// One sample of counts through the chain, then the estimate.
-#[inline(always)]
-pub(crate) fn update_fixed<I: FixedInput>(
-    chain: &at_chain_fixed,
-    state: &mut at_chain_state_fixed,
-    raw_c: I,
-    raw_s: I,
-) -> at_fixed_estimate {
-    through_fixed!(chain, state, I, |c, s| c
-        .update(s, I::pair(raw_c, raw_s))
-        .into())
-    .unwrap_or(at_fixed_estimate::INVALID)
-}
-
-/// The estimate `state` holds for `chain`: a fresh state's for a fresh state.
-pub(crate) fn estimate_fixed(
-    chain: &at_chain_fixed,
-    state: &at_chain_state_fixed,
-) -> at_fixed_estimate {
-    /// The estimate of a chain of order `N`.
-    fn of<const N: usize>(c: &ChainFixed<N>, state: &at_chain_state_fixed) -> at_fixed_estimate
-    where
-        StateFixed<N>: Stored,
-    {
-        match state.slot_get::<StateFixed<N>>() {
-            Ok(s) => c.estimate(s).into(),
-            Err(Refused::NotInitialised) => FixedGains::<N>::estimate(&FixedState::new()).into(),
-            Err(Refused::OtherBuild) => at_fixed_estimate::INVALID,
-        }
+    #[inline(always)]
+    fn track<I: ChainInput<i16>>(&self, state: &mut at_chain_state_fixed, input: I) -> bool {
+        through!(self, state, I, input, |c, s, x| c.track(s, x)).is_some()
     }
-    match chain.get() {
-        Ok(AnyChainFixed::Two(c)) => of(c, state),
-        Ok(AnyChainFixed::Three(c)) => of(c, state),
-        Err(_) => at_fixed_estimate::INVALID,
-    }
-}
 
-/// The sample period (s) of a chain, 0 if not made.
-pub(crate) fn sample_period_fixed(chain: &at_chain_fixed) -> f64 {
-    match chain.get() {
-        Ok(AnyChainFixed::Two(c)) => c.observer.sample_period(),
-        Ok(AnyChainFixed::Three(c)) => c.observer.sample_period(),
-        Err(_) => 0.0,
+    #[inline(always)]
+    fn update<I: ChainInput<i16>>(
+        &self,
+        state: &mut at_chain_state_fixed,
+        input: I,
+    ) -> Self::Estimate {
+        through!(self, state, I, input, |c, s, x| c.update(s, x).into()).unwrap_or(Self::INVALID)
+    }
+
+    fn estimate(&self, state: &at_chain_state_fixed) -> at_fixed_estimate {
+        /// The estimate of a chain of order `N`.
+        fn of<const N: usize>(c: &ChainFixed<N>, state: &at_chain_state_fixed) -> at_fixed_estimate
+        where
+            StateFixed<N>: Stored,
+        {
+            match state.slot_get::<StateFixed<N>>() {
+                Ok(s) => c.estimate(s).into(),
+                Err(Refused::NotInitialised) => c.estimate(&StateFixed::<N>::new()).into(),
+                Err(Refused::OtherBuild) => at_fixed_estimate::INVALID,
+            }
+        }
+        self.get()
+            .map_or(Self::INVALID, |c| by_order!(c, |c| of(c, state)))
     }
 }

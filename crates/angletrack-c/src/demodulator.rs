@@ -50,11 +50,11 @@ pub const AT_FRONT_END_FAULT_EXCITATION_REFERENCE: u32 = 1 << 5;
 #[derive(Debug, Clone, Copy)]
 pub struct at_demodulator_f32 {
     /// Private: which Rust value `storage` holds (0: none).
-    tag: u32,
+    pub(crate) tag: u32,
     /// Private: the layout of the build that wrote it.
-    layout: u32,
+    pub(crate) layout: u32,
     /// Private: the Rust value.
-    storage: [MaybeUninit<u64>; AT_DEMODULATOR_F32_WORDS],
+    pub(crate) storage: [MaybeUninit<u64>; AT_DEMODULATOR_F32_WORDS],
 }
 
 slot::slot_struct!(at_demodulator_f32, AT_DEMODULATOR_F32_WORDS);
@@ -67,11 +67,11 @@ slot::slot_struct!(at_demodulator_f32, AT_DEMODULATOR_F32_WORDS);
 #[derive(Debug, Clone, Copy)]
 pub struct at_demodulator_state_f32 {
     /// Private: which Rust value `storage` holds (0: a fresh state).
-    tag: u32,
+    pub(crate) tag: u32,
     /// Private: the layout of the build that wrote it.
-    layout: u32,
+    pub(crate) layout: u32,
     /// Private: the Rust value.
-    storage: [MaybeUninit<u64>; AT_DEMODULATOR_STATE_F32_WORDS],
+    pub(crate) storage: [MaybeUninit<u64>; AT_DEMODULATOR_STATE_F32_WORDS],
 }
 
 slot::slot_struct!(at_demodulator_state_f32, AT_DEMODULATOR_STATE_F32_WORDS);

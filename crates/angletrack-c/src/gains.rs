@@ -5,10 +5,10 @@
 
 use core::mem::MaybeUninit;
 
-use angletrack_core::{ConfigError, FaultThresholds, Gains};
+use angletrack_core::{FaultThresholds, Gains};
 
-use crate::slot::{self, Refused};
-use crate::status::{AT_ERR_ORDER, at_status, status_of_result};
+use crate::slot::{self, ByOrder, Refused, by_order};
+use crate::status::{AT_ERR_ORDER, at_status};
 
 /// The 8-byte words of an `at_gains_f32`'s storage (checked against the Rust type at
 /// compile time, on every target).
@@ -16,69 +16,39 @@ pub const AT_GAINS_F32_WORDS: usize = 18;
 
 /// The checked gains, sample period and fault thresholds of an observer (order 2 or 3),
 /// made by `at_gains_f32_new`. Immutable once made: one serves any number of channels
-/// (`at_state_f32`). Place it anywhere (static memory, the stack); copy it by assignment;
+/// (`at_chain_f32`). Place it anywhere (static memory, the stack); copy it by assignment;
 /// never write its fields. A zeroed one is refused by every call (`AT_ERR_NOT_INITIALISED`,
 /// or `AT_FAULT_INVALID_ARGUMENT` from an update).
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
 pub struct at_gains_f32 {
     /// Private: which Rust value `storage` holds.
-    tag: u32,
+    pub(crate) tag: u32,
     /// Private: the layout of the build that wrote it.
-    layout: u32,
+    pub(crate) layout: u32,
     /// Private: the Rust value.
-    storage: [MaybeUninit<u64>; AT_GAINS_F32_WORDS],
+    pub(crate) storage: [MaybeUninit<u64>; AT_GAINS_F32_WORDS],
 }
 
 slot::slot_struct!(at_gains_f32, AT_GAINS_F32_WORDS);
 
-/// The gains of either order, borrowed from an `at_gains_f32`.
-#[derive(Debug, Clone, Copy)]
-pub(crate) enum AnyGains<'a> {
-    /// A 2nd-order observer.
-    Two(&'a Gains<f32, 2>),
-    /// A 3rd-order observer.
-    Three(&'a Gains<f32, 3>),
-}
-
-/// Evaluates `$body` with `$g` bound to the `&Gains<f32, N>` of an [`AnyGains`], whatever
-/// its order: the generic code is written once and instantiated for both orders.
-macro_rules! with_gains {
-    ($any:expr, |$g:ident| $body:expr) => {
-        match $any {
-            $crate::gains::AnyGains::Two($g) => $body,
-            $crate::gains::AnyGains::Three($g) => $body,
-        }
-    };
-}
-pub(crate) use with_gains;
+/// The gains of either order held by an `at_gains_f32`.
+pub(crate) type AnyGains<'a> = ByOrder<&'a Gains<f32, 2>, &'a Gains<f32, 3>>;
 
 impl at_gains_f32 {
     /// The gains, if made by `at_gains_f32_new` of this build.
     pub(crate) fn get(&self) -> Result<AnyGains<'_>, Refused> {
-        match self.slot_get() {
-            Ok(g) => Ok(AnyGains::Two(g)),
-            Err(Refused::NotInitialised) => self.slot_get().map(AnyGains::Three),
-            Err(refused) => Err(refused),
-        }
+        self.either()
     }
 
     /// Checks `gains` (`order` of them) and the sample period, and stores them with the
     /// default fault thresholds; on error `self` is left as it was.
     pub(crate) fn set(&mut self, gains: &[f32], sample_period_s: f32) -> at_status {
         match *gains {
-            [l1, l2] => self.store(Gains::<f32, 2>::new([l1, l2], sample_period_s)),
-            [l1, l2, l3] => self.store(Gains::<f32, 3>::new([l1, l2, l3], sample_period_s)),
+            [l1, l2] => self.slot_store(Gains::<f32, 2>::new([l1, l2], sample_period_s)),
+            [l1, l2, l3] => self.slot_store(Gains::<f32, 3>::new([l1, l2, l3], sample_period_s)),
             _ => AT_ERR_ORDER,
         }
-    }
-
-    /// Stores checked gains of either order; returns the status of the check.
-    fn store<G: slot::Stored>(&mut self, result: Result<G, ConfigError>) -> at_status {
-        if let Ok(gains) = result {
-            self.slot_put(gains);
-        }
-        status_of_result(result)
     }
 
     /// Replaces the fault thresholds (checked as the core does).
@@ -86,20 +56,17 @@ impl at_gains_f32 {
         &mut self,
         thresholds: &at_fault_thresholds_f32,
     ) -> at_status {
-        let any = match self.get() {
-            Ok(any) => any,
-            Err(refused) => return refused.status(),
-        };
         let thresholds = (*thresholds).to_core();
-        match any {
-            AnyGains::Two(g) => self.store(g.with_fault_thresholds(thresholds)),
-            AnyGains::Three(g) => self.store(g.with_fault_thresholds(thresholds)),
+        match self.get() {
+            Ok(ByOrder::Two(g)) => self.slot_store(g.with_fault_thresholds(thresholds)),
+            Ok(ByOrder::Three(g)) => self.slot_store(g.with_fault_thresholds(thresholds)),
+            Err(refused) => refused.status(),
         }
     }
 
     /// The fault thresholds, if the gains were made.
     pub(crate) fn fault_thresholds(&self) -> Result<at_fault_thresholds_f32, Refused> {
-        let thresholds = with_gains!(self.get()?, |g| g.fault_thresholds());
+        let thresholds = by_order!(self.get()?, |g| g.fault_thresholds());
         Ok(at_fault_thresholds_f32::from_core(&thresholds))
     }
 }
@@ -145,7 +112,7 @@ impl at_fault_thresholds_f32 {
         Self::from_core(&FaultThresholds::for_amplitude(nominal_amplitude))
     }
 
-    fn from_core(t: &FaultThresholds<f32>) -> Self {
+    pub(crate) fn from_core(t: &FaultThresholds<f32>) -> Self {
         Self {
             nominal_amplitude: t.nominal_amplitude,
             max_input_amplitude: t.max_input_amplitude,
@@ -176,49 +143,5 @@ impl at_fault_thresholds_f32 {
         t.monitor = self.monitor != 0;
         t.re_acquire = self.re_acquire != 0;
         t
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::status::{
-        AT_ERR_FILTER_FACTOR, AT_ERR_GAINS_2, AT_ERR_NOT_INITIALISED, AT_ERR_SAMPLE_PERIOD_S, AT_OK,
-    };
-
-    #[test]
-    fn checks_as_the_core_and_keeps_the_order() {
-        let mut gains = at_gains_f32::ZEROED;
-        assert!(gains.get().is_err());
-        assert_eq!(gains.set(&[0.3, 0.04, -0.002], 1e-4), AT_ERR_GAINS_2);
-        assert!(
-            gains.get().is_err(),
-            "a refused set leaves the struct as it was"
-        );
-        assert_eq!(gains.set(&[0.3, 0.04], 0.0), AT_ERR_SAMPLE_PERIOD_S);
-        assert_eq!(gains.set(&[0.3], 1e-4), AT_ERR_ORDER);
-        assert_eq!(gains.set(&[0.05, 0.0012], 1e-4), AT_OK);
-        assert!(matches!(gains.get(), Ok(AnyGains::Two(g)) if g.gains() == [0.05, 0.0012]));
-        assert_eq!(gains.set(&[0.3, 0.04, 0.002], 1e-4), AT_OK);
-        assert!(matches!(gains.get(), Ok(AnyGains::Three(g)) if g.sample_period() == 1e-4));
-    }
-
-    #[test]
-    fn fault_thresholds_round_trip() {
-        let mut gains = at_gains_f32::ZEROED;
-        let mut t = at_fault_thresholds_f32::for_amplitude(1800.0);
-        assert_eq!(gains.set_fault_thresholds(&t), AT_ERR_NOT_INITIALISED);
-        assert_eq!(gains.set(&[0.3, 0.04, 0.002], 1e-4), AT_OK);
-        t.max_speed_rad_s = 1000.0;
-        t.monitor = 0;
-        assert_eq!(gains.set_fault_thresholds(&t), AT_OK);
-        assert_eq!(gains.fault_thresholds(), Ok(t));
-        let core = with_gains!(gains.get().unwrap(), |g| g.fault_thresholds());
-        assert_eq!(
-            (core.max_speed, core.monitor, core.loss_of_signal),
-            (Some(1000.0), false, 450.0)
-        );
-        t.filter_factor = 1.5;
-        assert_eq!(gains.set_fault_thresholds(&t), AT_ERR_FILTER_FACTOR);
     }
 }

@@ -27,9 +27,9 @@
 
 use core::mem::{MaybeUninit, align_of, size_of};
 
-use angletrack_core::{Calibrator, FixedGains, FixedState, Gains, ObserverState};
+use angletrack_core::{ConfigError, FixedGains, Gains};
 
-use crate::status::{AT_ERR_NOT_INITIALISED, AT_ERR_OTHER_BUILD, at_status};
+use crate::status::{AT_ERR_NOT_INITIALISED, AT_ERR_OTHER_BUILD, at_status, status_of_result};
 
 /// The version of the C structs' layout, bumped whenever a struct of the header or a Rust
 /// value the library stores in one changes; part of every struct's layout word (with the
@@ -53,26 +53,11 @@ impl Stored for Gains<f32, 2> {
 impl Stored for Gains<f32, 3> {
     const TAG: u32 = 0x4154_4703; // "ATG", order 3
 }
-impl Stored for ObserverState<f32, 2> {
-    const TAG: u32 = 0x4154_5302; // "ATS", order 2
-}
-impl Stored for ObserverState<f32, 3> {
-    const TAG: u32 = 0x4154_5303; // "ATS", order 3
-}
-impl Stored for Calibrator<f32> {
-    const TAG: u32 = 0x4154_4301; // "ATC"
-}
 impl Stored for FixedGains<2> {
     const TAG: u32 = 0x4154_6702; // "ATg", order 2
 }
 impl Stored for FixedGains<3> {
     const TAG: u32 = 0x4154_6703; // "ATg", order 3
-}
-impl Stored for FixedState<2> {
-    const TAG: u32 = 0x4154_7302; // "ATs", order 2
-}
-impl Stored for FixedState<3> {
-    const TAG: u32 = 0x4154_7303; // "ATs", order 3
 }
 
 /// Why a slot's words are not read as a value.
@@ -126,14 +111,9 @@ const fn build_of(version: u32) -> u32 {
     }
     h = hash_type::<Gains<f32, 2>>(h);
     h = hash_type::<Gains<f32, 3>>(h);
-    h = hash_type::<ObserverState<f32, 2>>(h);
-    h = hash_type::<ObserverState<f32, 3>>(h);
     h = hash_type::<crate::adc::AdcF32>(h);
-    h = hash_type::<Calibrator<f32>>(h);
     h = hash_type::<FixedGains<2>>(h);
     h = hash_type::<FixedGains<3>>(h);
-    h = hash_type::<FixedState<2>>(h);
-    h = hash_type::<FixedState<3>>(h);
     h = hash_type::<crate::chain::ChainF32<2>>(h);
     h = hash_type::<crate::chain::ChainF32<3>>(h);
     h = hash_type::<crate::chain::StateF32<2>>(h);
@@ -195,6 +175,22 @@ pub(crate) fn get<T: Stored, const W: usize>(
     // struct (copy it whole, as the header allows) keeps them together. The borrow of
     // `words` bounds the reference's life.
     Ok(unsafe { &*words.as_ptr().cast::<T>() })
+}
+
+/// [`get`], mutable.
+#[inline(always)]
+pub(crate) fn get_mut<T: Stored, const W: usize>(
+    words: &mut [MaybeUninit<u64>; W],
+    tag: u32,
+    layout: u32,
+    expected: u32,
+) -> Result<&mut T, Refused> {
+    const { assert!(fits::<T, W>(), "a C API struct's storage is too small") };
+    if tag != T::TAG || layout != expected {
+        return Err(refusal(tag, layout, expected));
+    }
+    // SAFETY: as in `get`; the exclusive borrow of `words` makes the reference unique.
+    Ok(unsafe { &mut *words.as_mut_ptr().cast::<T>() })
 }
 
 /// The value in `words` if `tag` is `T`'s, else `start()` stored there (and tagged); refused
@@ -288,27 +284,76 @@ macro_rules! slot_struct {
                 )
             }
 
-            /// The tag, for tests that check a struct was left untouched.
-            #[cfg(test)]
+            /// Stores the value of a check, if it passed; the check's status (`self`
+            /// unchanged on error).
             #[allow(dead_code)]
-            pub(crate) fn clone_tag(&self) -> u32 {
-                self.tag
+            pub(crate) fn slot_store<T: $crate::slot::Stored>(
+                &mut self,
+                result: Result<T, angletrack_core::ConfigError>,
+            ) -> $crate::status::at_status {
+                $crate::slot::store(self, result, Self::slot_put)
             }
 
-            /// Writes the tag, for tests that make a struct holding another type.
-            #[cfg(test)]
+            /// The value held, of order 2 (`A`) or 3 (`B`), if this build's: one comparison
+            /// selects the order, the checked read refuses the rest.
             #[allow(dead_code)]
-            pub(crate) fn set_tag_for_test(&mut self, tag: u32) {
-                self.tag = tag;
+            #[inline(always)]
+            pub(crate) fn either<A: $crate::slot::Stored, B: $crate::slot::Stored>(
+                &self,
+            ) -> Result<$crate::slot::ByOrder<&A, &B>, $crate::slot::Refused> {
+                if self.tag == A::TAG {
+                    self.slot_get().map($crate::slot::ByOrder::Two)
+                } else {
+                    self.slot_get().map($crate::slot::ByOrder::Three)
+                }
             }
 
-            /// Writes the layout word, for tests that make a struct of another build.
-            #[cfg(test)]
+            /// The value held, of order 2 (`A`) or 3 (`B`), if any of this build's.
             #[allow(dead_code)]
-            pub(crate) fn set_layout_for_test(&mut self, layout: u32) {
-                self.layout = layout;
+            pub(crate) fn either_mut<A: $crate::slot::Stored, B: $crate::slot::Stored>(
+                &mut self,
+            ) -> Option<$crate::slot::ByOrder<&mut A, &mut B>> {
+                let (tag, layout) = (self.tag, self.layout);
+                if tag == A::TAG {
+                    let a = $crate::slot::get_mut(&mut self.storage, tag, layout, Self::LAYOUT);
+                    a.ok().map($crate::slot::ByOrder::Two)
+                } else {
+                    let b = $crate::slot::get_mut(&mut self.storage, tag, layout, Self::LAYOUT);
+                    b.ok().map($crate::slot::ByOrder::Three)
+                }
             }
         }
     };
 }
 pub(crate) use slot_struct;
+
+/// `put` of the value of a check that passed; the check's status.
+pub(crate) fn store<S, T>(
+    slot: &mut S,
+    result: Result<T, ConfigError>,
+    put: impl FnOnce(&mut S, T),
+) -> at_status {
+    status_of_result(result.map(|value| put(slot, value)))
+}
+
+/// A value of the observer's order 2 or 3 (gains, a chain, a state), borrowed from a C
+/// struct: the core's types are generic over the order, the C structs hold either.
+#[derive(Debug)]
+pub(crate) enum ByOrder<A, B> {
+    /// Order 2.
+    Two(A),
+    /// Order 3.
+    Three(B),
+}
+
+/// Evaluates `$body` with `$x` bound to the value of a [`ByOrder`], whatever its order: the
+/// generic code is written once and instantiated for both.
+macro_rules! by_order {
+    ($any:expr, |$x:ident| $body:expr) => {
+        match $any {
+            $crate::slot::ByOrder::Two($x) => $body,
+            $crate::slot::ByOrder::Three($x) => $body,
+        }
+    };
+}
+pub(crate) use by_order;

@@ -131,8 +131,7 @@ static struct result track(const at_chain_fixed *chain, int imperfect, int with_
     /* The difference of binary angles wraps to the nearest turn exactly. */
     int32_t error = (int32_t)((uint32_t)e.angle - (uint32_t)true_binary_angle(k));
     double angle_error = fabs((double)error * (2.0 * PI / 4294967296.0));
-    double speed = (double)e.speed / 4294967296.0 * 2.0 * PI / at_chain_fixed_sample_period_s(chain);
-    double speed_error = fabs(speed - SPEED_RAD_S);
+    double speed_error = fabs(at_chain_fixed_speed_rad_s(chain, &e) - SPEED_RAD_S);
     if (angle_error > r.angle) r.angle = angle_error;
     if (speed_error > r.speed) r.speed = speed_error;
   }

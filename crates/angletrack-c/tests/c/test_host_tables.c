@@ -173,8 +173,9 @@ int fixed_chain_checks(const at_gains_f32 *gains3) {
            "corrected (faults 0x%x), %.3g rad without the calibration and table",
            good, (unsigned)faults, plain);
   check(good < 5e-4 && faults == 0u && plain > 20.0 * good, line);
-  check(fabs(at_chain_fixed_sample_period_s(&corrected) - FIXED3_SAMPLE_PERIOD_S) < 1e-12,
-        "fixed chain: its sample period");
+  at_fixed_estimate one_turn_a_second = {0, 0, (int32_t)lrint(4294967296.0 * FIXED3_SAMPLE_PERIOD_S), 0, 0, 0u};
+  check(fabs(at_chain_fixed_speed_rad_s(&corrected, &one_turn_a_second) - 2.0 * 3.14159265358979) < 1e-5,
+        "fixed chain: a speed in rad/s at its sample period");
   refusals(&adc, &calibration);
   tables(gains3);
 

@@ -7,7 +7,7 @@ use core::mem::MaybeUninit;
 
 use angletrack_core::{AdcScaling, ConfigError, FrontEndCheck, Rails};
 
-use crate::slot::{self, Refused, Stored};
+use crate::slot::{self, Refused, Slot, Stored};
 use crate::status::at_status;
 
 /// The 8-byte words of an `at_adc_f32`'s storage (checked against the Rust type at compile

@@ -26,7 +26,7 @@ use crate::calibration::{at_calibration_settings_f32, at_sensor_calibration_f32}
 use crate::door::{CChain, ChainInput, through};
 use crate::faults::AT_FAULT_INVALID_ARGUMENT;
 use crate::gains::at_gains_f32;
-use crate::slot::{self, ByOrder, Refused, Stored, by_order};
+use crate::slot::{self, ByOrder, Refused, Slot, Stored, by_order};
 use crate::status::{AT_ERR_STAGES, at_status};
 use crate::table::at_angle_correction_table_f32;
 

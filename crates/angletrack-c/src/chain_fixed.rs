@@ -26,7 +26,7 @@ use angletrack_core::{
 use crate::calibration::at_sensor_calibration_f32;
 use crate::door::{CChain, ChainInput, through};
 use crate::faults::AT_FAULT_INVALID_ARGUMENT;
-use crate::slot::{self, ByOrder, Refused, Stored, by_order};
+use crate::slot::{self, ByOrder, Refused, Slot, Stored, by_order};
 use crate::status::{AT_ERR_ORDER, at_status};
 use crate::table::at_angle_table_fixed;
 

@@ -7,11 +7,9 @@
 
 use core::mem::MaybeUninit;
 
-use angletrack_core::{
-    DemodulatedPair, Demodulator, DemodulatorSettings, DemodulatorState, FrontEndFaults,
-};
+use angletrack_core::{DemodulatedPair, Demodulator, DemodulatorSettings, DemodulatorState};
 
-use crate::slot::{self, Refused, Stored};
+use crate::slot::{self, Refused, Slot, Stored};
 use crate::status::{at_status, status_of_result};
 
 /// The 8-byte words of an `at_demodulator_f32`'s storage (checked against the Rust types at
@@ -195,33 +193,6 @@ impl From<DemodulatedPair<f32>> for at_demodulated_pair_f32 {
 const _: () = assert!(size_of::<Demodulator<f32>>().div_ceil(8) == AT_DEMODULATOR_F32_WORDS);
 const _: () =
     assert!(size_of::<DemodulatorState<f32>>().div_ceil(8) == AT_DEMODULATOR_STATE_F32_WORDS);
-
-// The pairs' `faults` are the core's bits: each constant is its flag's.
-const _: () = {
-    let flags = [
-        (
-            AT_FRONT_END_FAULT_LOSS_OF_EXCITATION,
-            FrontEndFaults::LOSS_OF_EXCITATION,
-        ),
-        (AT_FRONT_END_FAULT_PHASE_DRIFT, FrontEndFaults::PHASE_DRIFT),
-        (AT_FRONT_END_FAULT_CLIPPING, FrontEndFaults::CLIPPING),
-        (
-            AT_FRONT_END_FAULT_WEAK_EXCITATION,
-            FrontEndFaults::WEAK_EXCITATION,
-        ),
-        (AT_FRONT_END_FAULT_WINDING, FrontEndFaults::WINDING),
-        (
-            AT_FRONT_END_FAULT_EXCITATION_REFERENCE,
-            FrontEndFaults::EXCITATION_REFERENCE,
-        ),
-    ];
-    assert!(flags.len() == FrontEndFaults::NAMES.len());
-    let mut k = 0;
-    while k < flags.len() {
-        assert!(flags[k].0 == flags[k].1.bits() as u32);
-        k += 1;
-    }
-};
 
 impl Stored for Demodulator<f32> {
     const TAG: u32 = 0x4154_4401; // "ATD"

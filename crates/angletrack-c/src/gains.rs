@@ -7,7 +7,7 @@ use core::mem::MaybeUninit;
 
 use angletrack_core::{FaultThresholds, Gains};
 
-use crate::slot::{self, ByOrder, Refused, by_order};
+use crate::slot::{self, ByOrder, Refused, Slot, by_order};
 use crate::status::{AT_ERR_ORDER, at_status};
 
 /// The 8-byte words of an `at_gains_f32`'s storage (checked against the Rust type at

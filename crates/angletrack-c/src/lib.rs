@@ -59,32 +59,20 @@ mod slot;
 mod status;
 mod table;
 
-pub use adc::{AT_ADC_F32_WORDS, at_adc_f32};
+pub use adc::*;
 pub use calibration::*;
-pub use chain::{
-    AT_CHAIN_F32_WORDS, AT_CHAIN_STATE_F32_WORDS, AT_CORRECTION_ORDER, at_angle_correction_f32,
-    at_chain_f32, at_chain_state_f32, at_estimate_f32,
-};
-pub use chain_fixed::{
-    AT_CHAIN_FIXED_WORDS, AT_CHAIN_STATE_FIXED_WORDS, AT_FIXED_GAINS_WORDS, at_adc_counts,
-    at_chain_fixed, at_chain_state_fixed, at_fixed_estimate, at_fixed_gains,
-};
-pub use demodulator::{
-    AT_DEMODULATOR_F32_WORDS, AT_DEMODULATOR_STATE_F32_WORDS, AT_FRONT_END_FAULT_CLIPPING,
-    AT_FRONT_END_FAULT_EXCITATION_REFERENCE, AT_FRONT_END_FAULT_LOSS_OF_EXCITATION,
-    AT_FRONT_END_FAULT_PHASE_DRIFT, AT_FRONT_END_FAULT_WEAK_EXCITATION, AT_FRONT_END_FAULT_WINDING,
-    at_demodulated_pair_f32, at_demodulator_f32, at_demodulator_settings_f32,
-    at_demodulator_state_f32,
-};
+pub use chain::*;
+pub use chain_fixed::*;
+pub use demodulator::*;
 pub use faults::*;
 pub use ffi::*;
 pub use ffi_chain::*;
 pub use ffi_chain_fixed::*;
 pub use ffi_demodulator::*;
-pub use gains::{AT_GAINS_F32_WORDS, at_fault_thresholds_f32, at_gains_f32};
+pub use gains::*;
 pub use slot::AT_LAYOUT_VERSION;
 pub use status::*;
-pub use table::{AT_ANGLE_TABLE_LENGTH, at_angle_correction_table_f32, at_angle_table_fixed};
+pub use table::*;
 
 /// A bare-metal C program has no panic handler; the library's is never reached (no call
 /// panics), and parks the core if it were.
@@ -101,7 +89,7 @@ mod tests;
 #[cfg(test)]
 mod tests_support;
 #[cfg(test)]
-use tests_support::Words;
+use {slot::Slot, tests_support::Words};
 #[cfg(test)]
 mod tests_chain;
 #[cfg(test)]

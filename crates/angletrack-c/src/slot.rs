@@ -138,11 +138,11 @@ pub(crate) const fn layout_of_version(version: u32, size: usize) -> u32 {
     hash(build_of(version), size as u32) | 1
 }
 
-/// Fails to compile unless a `T` fits in `W` words of 8 bytes with their alignment: the
+/// Fails to compile unless a `T` fits in `words` words of 8 bytes with their alignment: the
 /// header's storage sizes are checked against the Rust types at every build, on every
 /// target.
-const fn fits<T, const W: usize>() -> bool {
-    size_of::<T>() <= W * size_of::<u64>() && align_of::<T>() <= align_of::<u64>()
+const fn fits<T>(words: usize) -> bool {
+    size_of::<T>() <= words * size_of::<u64>() && align_of::<T>() <= align_of::<u64>()
 }
 
 /// Why a struct whose tag and layout are not `T`'s of this build holds no `T`: another
@@ -157,84 +157,116 @@ fn refusal(tag: u32, layout: u32, expected: u32) -> Refused {
     }
 }
 
-/// The value in `words` if `tag` is `T`'s and `layout` this build's `expected`.
-#[inline(always)]
-pub(crate) fn get<T: Stored, const W: usize>(
-    words: &[MaybeUninit<u64>; W],
-    tag: u32,
-    layout: u32,
-    expected: u32,
-) -> Result<&T, Refused> {
-    const { assert!(fits::<T, W>(), "a C API struct's storage is too small") };
-    if tag != T::TAG || layout != expected {
-        return Err(refusal(tag, layout, expected));
-    }
-    // SAFETY: `words` is aligned for `T` and large enough (checked at compile time above),
-    // and with the tag `T::TAG` and this build's layout word it holds a valid `T`: only
-    // `put::<T>` writes that pair, after writing a `T` there, and whatever C does with the
-    // struct (copy it whole, as the header allows) keeps them together. The borrow of
-    // `words` bounds the reference's life.
-    Ok(unsafe { &*words.as_ptr().cast::<T>() })
-}
+/// A C struct with the fields `tag`, `layout` and `storage` (of [`Slot::WORDS`] words),
+/// which holds a [`Stored`] value (`slot_struct!` implements it).
+pub(crate) trait Slot {
+    /// The words of its storage.
+    const WORDS: usize;
+    /// This build's layout word for the struct.
+    const LAYOUT: u32;
+    /// The tag, the layout word and the storage.
+    fn words(&self) -> (u32, u32, &[MaybeUninit<u64>]);
+    /// The same, to write.
+    fn words_mut(&mut self) -> (&mut u32, &mut u32, &mut [MaybeUninit<u64>]);
 
-/// [`get`], mutable.
-#[inline(always)]
-pub(crate) fn get_mut<T: Stored, const W: usize>(
-    words: &mut [MaybeUninit<u64>; W],
-    tag: u32,
-    layout: u32,
-    expected: u32,
-) -> Result<&mut T, Refused> {
-    const { assert!(fits::<T, W>(), "a C API struct's storage is too small") };
-    if tag != T::TAG || layout != expected {
-        return Err(refusal(tag, layout, expected));
-    }
-    // SAFETY: as in `get`; the exclusive borrow of `words` makes the reference unique.
-    Ok(unsafe { &mut *words.as_mut_ptr().cast::<T>() })
-}
-
-/// The value in `words` if `tag` is `T`'s, else `start()` stored there (and tagged); refused
-/// only when the struct is another build's.
-#[inline(always)]
-pub(crate) fn get_or_put<'a, T: Stored, const W: usize>(
-    words: &'a mut [MaybeUninit<u64>; W],
-    tag: &mut u32,
-    layout: &mut u32,
-    expected: u32,
-    start: impl FnOnce() -> T,
-) -> Result<&'a mut T, Refused> {
-    const { assert!(fits::<T, W>(), "a C API struct's storage is too small") };
-    if *tag != T::TAG || *layout != expected {
-        if refusal(*tag, *layout, expected) == Refused::OtherBuild {
-            return Err(Refused::OtherBuild);
+    /// The value held, if it is a `T` of this build.
+    #[inline(always)]
+    fn slot_get<T: Stored>(&self) -> Result<&T, Refused> {
+        const {
+            assert!(
+                fits::<T>(Self::WORDS),
+                "a C API struct's storage is too small"
+            )
+        };
+        let (tag, layout, words) = self.words();
+        if tag != T::TAG || layout != Self::LAYOUT {
+            return Err(refusal(tag, layout, Self::LAYOUT));
         }
-        put(words, tag, layout, expected, start());
+        // SAFETY: the words are aligned for `T` and large enough (checked at compile time
+        // above), and with the tag `T::TAG` and this build's layout word they hold a valid
+        // `T`: only `slot_put::<T>` writes that pair, after writing a `T` there, and
+        // whatever C does with the struct (copy it whole, as the header allows) keeps them
+        // together. The borrow of `self` bounds the reference's life.
+        Ok(unsafe { &*words.as_ptr().cast::<T>() })
     }
-    // SAFETY: the words hold a valid `T` (the tag is `T`'s and the layout this build's: see
-    // `get`, or it was just written by `put`); the exclusive borrow of `words` makes the
-    // reference unique.
-    Ok(unsafe { &mut *words.as_mut_ptr().cast::<T>() })
+
+    /// [`Slot::slot_get`], to write.
+    #[inline(always)]
+    fn slot_get_mut<T: Stored>(&mut self) -> Result<&mut T, Refused> {
+        const {
+            assert!(
+                fits::<T>(Self::WORDS),
+                "a C API struct's storage is too small"
+            )
+        };
+        let (&mut tag, &mut layout, words) = self.words_mut();
+        if tag != T::TAG || layout != Self::LAYOUT {
+            return Err(refusal(tag, layout, Self::LAYOUT));
+        }
+        // SAFETY: as in `slot_get`; the exclusive borrow of `self` makes the reference
+        // unique.
+        Ok(unsafe { &mut *words.as_mut_ptr().cast::<T>() })
+    }
+
+    /// The `T` held, or `start()` stored (and tagged); refused only when the struct is
+    /// another build's.
+    #[inline(always)]
+    fn slot_get_or_put<T: Stored>(&mut self, start: impl FnOnce() -> T) -> Result<&mut T, Refused> {
+        let (tag, layout, _) = self.words();
+        if tag != T::TAG || layout != Self::LAYOUT {
+            if refusal(tag, layout, Self::LAYOUT) == Refused::OtherBuild {
+                return Err(Refused::OtherBuild);
+            }
+            self.slot_put(start());
+        }
+        self.slot_get_mut()
+    }
+
+    /// Stores `value` and tags it as a `T` of this build.
+    fn slot_put<T: Stored>(&mut self, value: T) {
+        const {
+            assert!(
+                fits::<T>(Self::WORDS),
+                "a C API struct's storage is too small"
+            )
+        };
+        let (tag, layout, words) = self.words_mut();
+        // SAFETY: the words are aligned for `T` and hold a `T` (checked at compile time
+        // above); `T` is `Copy`, so overwriting whatever they held drops nothing.
+        unsafe { words.as_mut_ptr().cast::<T>().write(value) };
+        *tag = T::TAG;
+        *layout = Self::LAYOUT;
+    }
+
+    /// Stores the value of a check, if it passed; the check's status (`self` unchanged on
+    /// error).
+    fn slot_store<T: Stored>(&mut self, result: Result<T, ConfigError>) -> at_status {
+        status_of_result(result.map(|value| self.slot_put(value)))
+    }
+
+    /// The value held, of order 2 (`A`) or 3 (`B`), if this build's: one comparison selects
+    /// the order, the checked read refuses the rest.
+    #[inline(always)]
+    fn either<A: Stored, B: Stored>(&self) -> Result<ByOrder<&A, &B>, Refused> {
+        if self.words().0 == A::TAG {
+            self.slot_get().map(ByOrder::Two)
+        } else {
+            self.slot_get().map(ByOrder::Three)
+        }
+    }
+
+    /// The value held, of order 2 (`A`) or 3 (`B`), if any of this build's.
+    fn either_mut<A: Stored, B: Stored>(&mut self) -> Option<ByOrder<&mut A, &mut B>> {
+        if self.words().0 == A::TAG {
+            self.slot_get_mut().ok().map(ByOrder::Two)
+        } else {
+            self.slot_get_mut().ok().map(ByOrder::Three)
+        }
+    }
 }
 
-/// Stores `value` in `words` and tags them as `T`, of this build's layout `expected`.
-pub(crate) fn put<T: Stored, const W: usize>(
-    words: &mut [MaybeUninit<u64>; W],
-    tag: &mut u32,
-    layout: &mut u32,
-    expected: u32,
-    value: T,
-) {
-    const { assert!(fits::<T, W>(), "a C API struct's storage is too small") };
-    // SAFETY: the words are aligned for `T` and hold a `T` (checked at compile time above);
-    // `T` is `Copy`, so overwriting whatever the words held drops nothing.
-    unsafe { words.as_mut_ptr().cast::<T>().write(value) };
-    *tag = T::TAG;
-    *layout = expected;
-}
-
-/// The slot methods of a C struct with the fields `tag`, `layout` and `storage` (of `$words`
-/// words): `ZEROED`, `LAYOUT` (this build's layout word for it), `slot_get`,
-/// `slot_get_or_put` and `slot_put`, which call this module's functions with its fields.
+/// [`Slot`] for a C struct of `$words` words, and its `ZEROED` value (as C static memory
+/// holds).
 macro_rules! slot_struct {
     ($name:ident, $words:expr) => {
         impl $name {
@@ -245,96 +277,23 @@ macro_rules! slot_struct {
                 layout: 0,
                 storage: [core::mem::MaybeUninit::new(0); $words],
             };
+        }
 
-            /// This build's layout word for this struct.
-            pub(crate) const LAYOUT: u32 = $crate::slot::layout_of(core::mem::size_of::<Self>());
-
-            /// The value held, if it is a `T` of this build.
-            #[allow(dead_code)]
-            pub(crate) fn slot_get<T: $crate::slot::Stored>(
-                &self,
-            ) -> Result<&T, $crate::slot::Refused> {
-                $crate::slot::get(&self.storage, self.tag, self.layout, Self::LAYOUT)
-            }
-
-            /// The `T` held, or `start()` stored; refused if another build's.
-            #[allow(dead_code)]
-            pub(crate) fn slot_get_or_put<T: $crate::slot::Stored>(
-                &mut self,
-                start: impl FnOnce() -> T,
-            ) -> Result<&mut T, $crate::slot::Refused> {
-                $crate::slot::get_or_put(
-                    &mut self.storage,
-                    &mut self.tag,
-                    &mut self.layout,
-                    Self::LAYOUT,
-                    start,
-                )
-            }
-
-            /// Stores `value`.
-            #[allow(dead_code)]
-            pub(crate) fn slot_put<T: $crate::slot::Stored>(&mut self, value: T) {
-                $crate::slot::put(
-                    &mut self.storage,
-                    &mut self.tag,
-                    &mut self.layout,
-                    Self::LAYOUT,
-                    value,
-                )
-            }
-
-            /// Stores the value of a check, if it passed; the check's status (`self`
-            /// unchanged on error).
-            #[allow(dead_code)]
-            pub(crate) fn slot_store<T: $crate::slot::Stored>(
-                &mut self,
-                result: Result<T, angletrack_core::ConfigError>,
-            ) -> $crate::status::at_status {
-                $crate::slot::store(self, result, Self::slot_put)
-            }
-
-            /// The value held, of order 2 (`A`) or 3 (`B`), if this build's: one comparison
-            /// selects the order, the checked read refuses the rest.
-            #[allow(dead_code)]
+        impl $crate::slot::Slot for $name {
+            const WORDS: usize = $words;
+            const LAYOUT: u32 = $crate::slot::layout_of(core::mem::size_of::<Self>());
             #[inline(always)]
-            pub(crate) fn either<A: $crate::slot::Stored, B: $crate::slot::Stored>(
-                &self,
-            ) -> Result<$crate::slot::ByOrder<&A, &B>, $crate::slot::Refused> {
-                if self.tag == A::TAG {
-                    self.slot_get().map($crate::slot::ByOrder::Two)
-                } else {
-                    self.slot_get().map($crate::slot::ByOrder::Three)
-                }
+            fn words(&self) -> (u32, u32, &[core::mem::MaybeUninit<u64>]) {
+                (self.tag, self.layout, &self.storage)
             }
-
-            /// The value held, of order 2 (`A`) or 3 (`B`), if any of this build's.
-            #[allow(dead_code)]
-            pub(crate) fn either_mut<A: $crate::slot::Stored, B: $crate::slot::Stored>(
-                &mut self,
-            ) -> Option<$crate::slot::ByOrder<&mut A, &mut B>> {
-                let (tag, layout) = (self.tag, self.layout);
-                if tag == A::TAG {
-                    let a = $crate::slot::get_mut(&mut self.storage, tag, layout, Self::LAYOUT);
-                    a.ok().map($crate::slot::ByOrder::Two)
-                } else {
-                    let b = $crate::slot::get_mut(&mut self.storage, tag, layout, Self::LAYOUT);
-                    b.ok().map($crate::slot::ByOrder::Three)
-                }
+            #[inline(always)]
+            fn words_mut(&mut self) -> (&mut u32, &mut u32, &mut [core::mem::MaybeUninit<u64>]) {
+                (&mut self.tag, &mut self.layout, &mut self.storage)
             }
         }
     };
 }
 pub(crate) use slot_struct;
-
-/// `put` of the value of a check that passed; the check's status.
-pub(crate) fn store<S, T>(
-    slot: &mut S,
-    result: Result<T, ConfigError>,
-    put: impl FnOnce(&mut S, T),
-) -> at_status {
-    status_of_result(result.map(|value| put(slot, value)))
-}
 
 /// A value of the observer's order 2 or 3 (gains, a chain, a state), borrowed from a C
 /// struct: the core's types are generic over the order, the C structs hold either.

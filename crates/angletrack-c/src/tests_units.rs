@@ -162,3 +162,30 @@ fn refuses_what_the_core_refuses() {
     let curve = at_angle_correction_table_f32::from_curve(&[0.0, 0.002, 0.0, -0.002]).unwrap();
     assert!((curve.errors_rad[64] - 0.002).abs() < 1e-7);
 }
+
+/// The pairs' `faults` are the core's bits: each constant is its flag's.
+#[test]
+fn front_end_fault_bits_are_the_core_s() {
+    use angletrack_core::FrontEndFaults;
+    let flags = [
+        (
+            AT_FRONT_END_FAULT_LOSS_OF_EXCITATION,
+            FrontEndFaults::LOSS_OF_EXCITATION,
+        ),
+        (AT_FRONT_END_FAULT_PHASE_DRIFT, FrontEndFaults::PHASE_DRIFT),
+        (AT_FRONT_END_FAULT_CLIPPING, FrontEndFaults::CLIPPING),
+        (
+            AT_FRONT_END_FAULT_WEAK_EXCITATION,
+            FrontEndFaults::WEAK_EXCITATION,
+        ),
+        (AT_FRONT_END_FAULT_WINDING, FrontEndFaults::WINDING),
+        (
+            AT_FRONT_END_FAULT_EXCITATION_REFERENCE,
+            FrontEndFaults::EXCITATION_REFERENCE,
+        ),
+    ];
+    assert_eq!(flags.len(), FrontEndFaults::NAMES.len());
+    for (bit, flag) in flags {
+        assert_eq!(bit, u32::from(flag.bits()));
+    }
+}

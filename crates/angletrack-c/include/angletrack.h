@@ -108,12 +108,6 @@
 #define AT_CORRECTION_ORDER 8
 
 /**
- * The 8-byte words of an `at_fixed_gains`'s storage (checked against the Rust type at
- * compile time, on every target).
- */
-#define AT_FIXED_GAINS_WORDS 8
-
-/**
  * The 8-byte words of an `at_chain_fixed`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
@@ -225,12 +219,6 @@
 #define AT_FAULT_INVALID_ARGUMENT 2147483648
 
 /**
- * The 8-byte words of an `at_gains_f32`'s storage (checked against the Rust type at
- * compile time, on every target).
- */
-#define AT_GAINS_F32_WORDS 18
-
-/**
  * The version of the C structs' layout, bumped whenever a struct of the header or a Rust
  * value the library stores in one changes; part of every struct's layout word (with the
  * crate's version and the sizes, which change it without a bump). `at_layout_version()`
@@ -252,32 +240,10 @@
 typedef int32_t at_status;
 
 /**
- * The checked gains, sample period and fault thresholds of an observer (order 2 or 3),
- * made by `at_gains_f32_new`. Immutable once made: one serves any number of channels
- * (`at_chain_f32`). Place it anywhere (static memory, the stack); copy it by assignment;
- * never write its fields. A zeroed one is refused by every call (`AT_ERR_NOT_INITIALISED`,
- * or `AT_FAULT_INVALID_ARGUMENT` from an update).
- */
-typedef struct at_gains_f32 {
-  /**
-   * Private: which Rust value `storage` holds.
-   */
-  uint32_t tag;
-  /**
-   * Private: the layout of the build that wrote it.
-   */
-  uint32_t layout;
-  /**
-   * Private: the Rust value.
-   */
-  uint64_t storage[AT_GAINS_F32_WORDS];
-} at_gains_f32;
-
-/**
  * The thresholds of the diagnostics and of the input check, in the input's units
  * (amplitudes) unless stated: the core's `FaultThresholds`. Start from
  * `at_fault_thresholds_f32_for_amplitude(nominal)` (the defaults scaled to the nominal
- * amplitude), change fields, then `at_gains_f32_set_fault_thresholds`.
+ * amplitude), change fields, and write it to `at_gains_f32::thresholds`.
  */
 typedef struct at_fault_thresholds_f32 {
   /**
@@ -329,6 +295,31 @@ typedef struct at_fault_thresholds_f32 {
    */
   uint32_t re_acquire;
 } at_fault_thresholds_f32;
+
+/**
+ * The gains, sample period and fault thresholds of an observer (order 2 or 3): filled by
+ * `at_gains_f32_new` (checked, with the default fault thresholds) from the gains
+ * `angletrack design --format c` writes, or written. Change `thresholds` as needed;
+ * `at_chain_f32_new` checks it all (a zeroed one is refused: `AT_ERR_ORDER`).
+ */
+typedef struct at_gains_f32 {
+  /**
+   * `l1`, `l2`, `l3` (dimensionless; `l3` unused at order 2).
+   */
+  float gains[3];
+  /**
+   * The observer's order, 2 or 3.
+   */
+  uint32_t order;
+  /**
+   * The sample period (s).
+   */
+  float sample_period_s;
+  /**
+   * The fault thresholds.
+   */
+  struct at_fault_thresholds_f32 thresholds;
+} at_gains_f32;
 
 /**
  * The checked ADC front end, made by `at_adc_f32_new`, `at_adc_f32_offset_binary` or
@@ -546,25 +537,28 @@ typedef struct at_demodulated_pair_f32 {
 } at_demodulated_pair_f32;
 
 /**
- * The checked configuration of a fixed-point observer (order 2 or 3): the gains' integer
- * multipliers, the acceleration's shift and the sample period (`at_chain_fixed_new` adds
- * the monitor's thresholds). Made by `at_fixed_gains_from_constants` or
- * `at_fixed_gains_new`; immutable once made, one serves any number of chains. Place it
- * anywhere; copy it by assignment; never write its fields. A zeroed one is refused.
+ * The integer constants of a fixed-point observer (order 2 or 3), as `angletrack design
+ * --dtype fixed --format c` prints them: filled by `at_fixed_gains_from_constants`
+ * (checked) or `at_fixed_gains_new` (quantised from float gains), or written;
+ * `at_chain_fixed_new` checks them (a zeroed one is refused: `AT_ERR_ORDER`).
  */
 typedef struct at_fixed_gains {
   /**
-   * Private: which Rust value `storage` holds (0: none).
+   * The gains' integer multipliers (`m3` unused at order 2).
    */
-  uint32_t tag;
+  int32_t multiplier[3];
   /**
-   * Private: the layout of the build that wrote it.
+   * The observer's order, 2 or 3.
    */
-  uint32_t layout;
+  uint32_t order;
   /**
-   * Private: the Rust value.
+   * The acceleration's shift (1 to 15 at order 3, 0 at order 2).
    */
-  uint64_t storage[AT_FIXED_GAINS_WORDS];
+  uint32_t acceleration_shift;
+  /**
+   * The sample period (s).
+   */
+  double sample_period_s;
 } at_fixed_gains;
 
 /**
@@ -1041,38 +1035,11 @@ at_status at_gains_f32_new(const float *gains,
                            struct at_gains_f32 *out);
 
 /**
- * The order (2 or 3) of gains made by `at_gains_f32_new`; 0 for NULL or gains not made.
- *
- * # Safety
- * See the header's introduction.
- */
-size_t at_gains_f32_order(const struct at_gains_f32 *gains);
-
-/**
  * The default fault thresholds for signals of amplitude `nominal_amplitude` (input units:
  * 1 for samples in units of full scale, as an ADC stage of `at_adc_f32_offset_binary`
  * gives them).
  */
 struct at_fault_thresholds_f32 at_fault_thresholds_f32_for_amplitude(float nominal_amplitude);
-
-/**
- * Replaces the fault thresholds of `gains` (checked: `AT_OK`, or the status naming the
- * refused threshold; `gains` is unchanged on error). Not while another call uses `gains`.
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_gains_f32_set_fault_thresholds(struct at_gains_f32 *gains,
-                                            const struct at_fault_thresholds_f32 *thresholds);
-
-/**
- * Writes the fault thresholds of `gains` to `out`.
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_gains_f32_fault_thresholds(const struct at_gains_f32 *gains,
-                                        struct at_fault_thresholds_f32 *out);
 
 /**
  * The C structs' layout version of the library (`AT_LAYOUT_VERSION` of the header it was
@@ -1440,15 +1407,6 @@ at_status at_fixed_gains_new(const float *gains,
                              size_t order,
                              double sample_period_s,
                              struct at_fixed_gains *out);
-
-/**
- * The order (2 or 3) of fixed-point gains; 0 for NULL or gains not made (or another
- * build's).
- *
- * # Safety
- * See the header's introduction.
- */
-size_t at_fixed_gains_order(const struct at_fixed_gains *gains);
 
 /**
  * The settings of an offset-binary (unsigned) ADC of `bits` bits (2 to 16): mid-scale

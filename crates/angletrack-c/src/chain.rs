@@ -25,9 +25,9 @@ use crate::adc::AdcF32;
 use crate::calibration::{at_calibration_settings_f32, at_sensor_calibration_f32};
 use crate::door::{CChain, ChainInput, through};
 use crate::faults::AT_FAULT_INVALID_ARGUMENT;
-use crate::gains::at_gains_f32;
+use crate::gains::{at_gains_f32, with_order};
 use crate::slot::{self, ByOrder, Refused, Slot, Stored, by_order};
-use crate::status::{AT_ERR_STAGES, at_status};
+use crate::status::{AT_ERR_STAGES, AT_OK, at_status};
 use crate::table::at_angle_correction_table_f32;
 
 /// The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
@@ -236,10 +236,10 @@ impl at_chain_f32 {
         {
             return AT_ERR_STAGES;
         }
-        match gains.get() {
-            Ok(g) => by_order!(g, |g| self.slot_store(build(g, stages))),
-            Err(refused) => refused.status(),
-        }
+        let built = with_order!(gains.order, N => gains
+            .core::<N>()
+            .and_then(|g| build(&g, stages).map(|c| self.slot_put(c))));
+        built.map_or_else(|status| status, |()| AT_OK)
     }
 
     /// Stores `chain` with the core's winding check for windings of `amplitude` (`self`

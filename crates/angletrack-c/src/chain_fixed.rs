@@ -1,8 +1,6 @@
 //! The signal chain in fixed point (the core's `Tracker` on `FixedGains`), for cores
-//! without an FPU: `at_fixed_gains`, the observer's checked integer configuration of order
-//! 2 or 3 (from the constants `angletrack design --dtype fixed --format c` prints, or from
-//! float gains); `at_fixed_estimate`, what it reports; `at_chain_fixed`, the configuration
-//! of one chain (the ADC's counts to the
+//! without an FPU: `at_fixed_estimate`, what the observer reports; `at_chain_fixed`, the
+//! configuration of one chain (the ADC's counts to the
 //! observer's 16-bit samples, an optional stored sensor calibration and an optional angle
 //! correction table, both applied in integers, and the fixed-point observer with its
 //! monitor); `at_chain_state_fixed`, one channel's state; and `at_adc_counts`, the plain
@@ -16,7 +14,6 @@
 
 use core::mem::MaybeUninit;
 
-use angletrack_core::fixed::FixedConstants;
 use angletrack_core::{
     AdcCounts, ConfigError, FixedCalibration, FixedEstimate, FixedGains, FixedState, Input, Order,
     Rails, SensorCalibration, SupportedOrder, Tracker, TrackerFrontEnd, TrackerSettings,
@@ -26,30 +23,10 @@ use angletrack_core::{
 use crate::calibration::at_sensor_calibration_f32;
 use crate::door::{CChain, ChainInput, through};
 use crate::faults::AT_FAULT_INVALID_ARGUMENT;
+use crate::gains::{at_fixed_gains, with_order};
 use crate::slot::{self, ByOrder, Refused, Slot, Stored, by_order};
-use crate::status::{AT_ERR_ORDER, at_status};
+use crate::status::{AT_OK, at_status};
 use crate::table::at_angle_table_fixed;
-
-/// The 8-byte words of an `at_fixed_gains`'s storage (checked against the Rust type at
-/// compile time, on every target).
-pub const AT_FIXED_GAINS_WORDS: usize = 8;
-/// The checked configuration of a fixed-point observer (order 2 or 3): the gains' integer
-/// multipliers, the acceleration's shift and the sample period (`at_chain_fixed_new` adds
-/// the monitor's thresholds). Made by `at_fixed_gains_from_constants` or
-/// `at_fixed_gains_new`; immutable once made, one serves any number of chains. Place it
-/// anywhere; copy it by assignment; never write its fields. A zeroed one is refused.
-#[repr(C)]
-#[derive(Debug, Clone, Copy)]
-pub struct at_fixed_gains {
-    /// Private: which Rust value `storage` holds (0: none).
-    pub(crate) tag: u32,
-    /// Private: the layout of the build that wrote it.
-    pub(crate) layout: u32,
-    /// Private: the Rust value.
-    pub(crate) storage: [MaybeUninit<u64>; AT_FIXED_GAINS_WORDS],
-}
-
-slot::slot_struct!(at_fixed_gains, AT_FIXED_GAINS_WORDS);
 
 /// What the fixed-point observer knows after a sample, in its integers.
 #[repr(C)]
@@ -93,54 +70,6 @@ impl at_fixed_estimate {
         phase_error: 0,
         faults: AT_FAULT_INVALID_ARGUMENT,
     };
-}
-
-impl at_fixed_gains {
-    /// The gains, if made by a constructor of this build.
-    pub(crate) fn get(&self) -> Result<ByOrder<&FixedGains<2>, &FixedGains<3>>, Refused> {
-        self.either()
-    }
-
-    /// Checks the integer constants (`multiplier.len()` is the order) and stores them.
-    pub(crate) fn set_constants(
-        &mut self,
-        multiplier: &[i32],
-        acceleration_shift: u32,
-        sample_period_s: f64,
-    ) -> at_status {
-        match *multiplier {
-            [m1, m2] => self.slot_store(FixedGains::<2>::from_constants(
-                FixedConstants {
-                    multiplier: [m1, m2],
-                    acceleration_shift,
-                },
-                sample_period_s,
-            )),
-            [m1, m2, m3] => self.slot_store(FixedGains::<3>::from_constants(
-                FixedConstants {
-                    multiplier: [m1, m2, m3],
-                    acceleration_shift,
-                },
-                sample_period_s,
-            )),
-            _ => AT_ERR_ORDER,
-        }
-    }
-
-    /// Quantises float gains (`gains.len()` is the order) and stores them.
-    pub(crate) fn set_gains(&mut self, gains: &[f32], sample_period_s: f64) -> at_status {
-        match *gains {
-            [l1, l2] => self.slot_store(FixedGains::<2>::new(
-                [f64::from(l1), f64::from(l2)],
-                sample_period_s,
-            )),
-            [l1, l2, l3] => self.slot_store(FixedGains::<3>::new(
-                [f64::from(l1), f64::from(l2), f64::from(l3)],
-                sample_period_s,
-            )),
-            _ => AT_ERR_ORDER,
-        }
-    }
 }
 
 /// The 8-byte words of an `at_chain_fixed`'s storage (checked against the Rust type at
@@ -313,14 +242,10 @@ impl at_chain_fixed {
         stages: FixedStages<'_>,
         nominal_amplitude_counts: f64,
     ) -> at_status {
-        match gains.get() {
-            Ok(g) => by_order!(g, |g| self.slot_store(build(
-                g,
-                stages,
-                nominal_amplitude_counts
-            ))),
-            Err(refused) => refused.status(),
-        }
+        let built = with_order!(gains.order, N => gains
+            .core::<N>()
+            .and_then(|g| build(&g, stages, nominal_amplitude_counts).map(|c| self.slot_put(c))));
+        built.map_or_else(|status| status, |()| AT_OK)
     }
 
     /// Stores `chain` with clipping flagged at the codes `min` and `max` (`self` unchanged

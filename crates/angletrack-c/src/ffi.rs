@@ -16,13 +16,13 @@ use angletrack_core::{AdcScaling, ConfigError};
 use crate::adc::{at_adc_f32, codes_of};
 use crate::faults;
 use crate::gains::{at_fault_thresholds_f32, at_gains_f32};
-use crate::slot::{AT_LAYOUT_VERSION, by_order};
+use crate::slot::AT_LAYOUT_VERSION;
 use crate::status::{
     AT_ERR_NULL_POINTER, AT_ERR_ORDER, AT_OK, at_status, message, status_of_result,
 };
 
 /// The body of the gains' constructors: `out` and the `order` values at `values`
-/// checked, then `set` on them.
+/// checked, then `make` of them written to `out` (unchanged on error).
 ///
 /// # Safety
 /// As the constructors'.
@@ -30,7 +30,7 @@ pub(crate) unsafe fn construct<V, T>(
     values: *const V,
     order: usize,
     out: *mut T,
-    set: impl FnOnce(&mut T, &[V]) -> at_status,
+    make: impl FnOnce(&[V]) -> Result<T, at_status>,
 ) -> at_status {
     // SAFETY: the caller's contract (see `ffi`); NULL is checked by `as_mut`.
     let Some(out) = (unsafe { out.as_mut() }) else {
@@ -45,7 +45,13 @@ pub(crate) unsafe fn construct<V, T>(
     // SAFETY: `values` is not NULL and points to `order` values (the caller's contract);
     // `order` is 2 or 3, so the slice is small.
     let values = unsafe { core::slice::from_raw_parts(values, order) };
-    set(out, values)
+    make(values).map_or_else(
+        |status| status,
+        |value| {
+            *out = value;
+            AT_OK
+        },
+    )
 }
 
 /// Writes `result` to `out` (unchanged on error); its status.
@@ -76,20 +82,7 @@ pub unsafe extern "C" fn at_gains_f32_new(
     out: *mut at_gains_f32,
 ) -> at_status {
     // SAFETY: the same contract.
-    unsafe { construct(gains, order, out, |out, g| out.set(g, sample_period_s)) }
-}
-
-/// The order (2 or 3) of gains made by `at_gains_f32_new`; 0 for NULL or gains not made.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_gains_f32_order(gains: *const at_gains_f32) -> usize {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-    let gains = unsafe { gains.as_ref() };
-    gains
-        .and_then(|g| g.get().ok())
-        .map_or(0, |any| by_order!(any, |g| g.order()))
+    unsafe { construct(gains, order, out, |g| at_gains_f32::of(g, sample_period_s)) }
 }
 
 /// The default fault thresholds for signals of amplitude `nominal_amplitude` (input units:
@@ -100,45 +93,6 @@ pub extern "C" fn at_fault_thresholds_f32_for_amplitude(
     nominal_amplitude: f32,
 ) -> at_fault_thresholds_f32 {
     at_fault_thresholds_f32::for_amplitude(nominal_amplitude)
-}
-
-/// Replaces the fault thresholds of `gains` (checked: `AT_OK`, or the status naming the
-/// refused threshold; `gains` is unchanged on error). Not while another call uses `gains`.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_gains_f32_set_fault_thresholds(
-    gains: *mut at_gains_f32,
-    thresholds: *const at_fault_thresholds_f32,
-) -> at_status {
-    // SAFETY: the caller's contract; NULL is checked by `as_mut` and `as_ref`.
-    match unsafe { (gains.as_mut(), thresholds.as_ref()) } {
-        (Some(gains), Some(thresholds)) => gains.set_fault_thresholds(thresholds),
-        _ => AT_ERR_NULL_POINTER,
-    }
-}
-
-/// Writes the fault thresholds of `gains` to `out`.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_gains_f32_fault_thresholds(
-    gains: *const at_gains_f32,
-    out: *mut at_fault_thresholds_f32,
-) -> at_status {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
-    let (Some(gains), Some(out)) = (unsafe { (gains.as_ref(), out.as_mut()) }) else {
-        return AT_ERR_NULL_POINTER;
-    };
-    match gains.fault_thresholds() {
-        Ok(thresholds) => {
-            *out = thresholds;
-            AT_OK
-        }
-        Err(refused) => refused.status(),
-    }
 }
 
 /// The C structs' layout version of the library (`AT_LAYOUT_VERSION` of the header it was

@@ -11,10 +11,10 @@ use crate::calibration::at_sensor_calibration_f32;
 use crate::chain::at_angle_correction_f32;
 use crate::chain_fixed::{
     FixedStages, at_adc_counts, at_chain_fixed, at_chain_state_fixed, at_fixed_estimate,
-    at_fixed_gains,
 };
 use crate::door::{estimate_of, track_input, update_input};
 use crate::ffi::{construct, write};
+use crate::gains::at_fixed_gains;
 use crate::slot::by_order;
 use crate::status::{AT_ERR_NULL_POINTER, AT_OK, at_status, status_of};
 use crate::table::{AT_ANGLE_TABLE_LENGTH, at_angle_correction_table_f32, at_angle_table_fixed};
@@ -39,8 +39,8 @@ pub unsafe extern "C" fn at_fixed_gains_from_constants(
 ) -> at_status {
     // SAFETY: the same contract.
     unsafe {
-        construct(multiplier, order, out, |out, m| {
-            out.set_constants(m, acceleration_shift, sample_period_s)
+        construct(multiplier, order, out, |m| {
+            at_fixed_gains::checked(m, acceleration_shift, sample_period_s)
         })
     }
 }
@@ -63,23 +63,10 @@ pub unsafe extern "C" fn at_fixed_gains_new(
 ) -> at_status {
     // SAFETY: the same contract.
     unsafe {
-        construct(gains, order, out, |out, g| {
-            out.set_gains(g, sample_period_s)
+        construct(gains, order, out, |g| {
+            at_fixed_gains::quantised(g, sample_period_s)
         })
     }
-}
-
-/// The order (2 or 3) of fixed-point gains; 0 for NULL or gains not made (or another
-/// build's).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_fixed_gains_order(gains: *const at_fixed_gains) -> usize {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-    unsafe { gains.as_ref() }
-        .and_then(|g| g.get().ok())
-        .map_or(0, |any| by_order!(any, |g| g.gains().len()))
 }
 
 /// The settings of an offset-binary (unsigned) ADC of `bits` bits (2 to 16): mid-scale

@@ -27,7 +27,7 @@
 
 use core::mem::{MaybeUninit, align_of, size_of};
 
-use angletrack_core::{ConfigError, FixedGains, Gains};
+use angletrack_core::ConfigError;
 
 use crate::status::{AT_ERR_NOT_INITIALISED, AT_ERR_OTHER_BUILD, at_status, status_of_result};
 
@@ -46,19 +46,6 @@ pub(crate) trait Stored: Copy {
 
 /// The high half of every tag: "AT".
 const TAG_FAMILY: u32 = 0x4154;
-
-impl Stored for Gains<f32, 2> {
-    const TAG: u32 = 0x4154_4702; // "ATG", order 2
-}
-impl Stored for Gains<f32, 3> {
-    const TAG: u32 = 0x4154_4703; // "ATG", order 3
-}
-impl Stored for FixedGains<2> {
-    const TAG: u32 = 0x4154_6702; // "ATg", order 2
-}
-impl Stored for FixedGains<3> {
-    const TAG: u32 = 0x4154_6703; // "ATg", order 3
-}
 
 /// Why a slot's words are not read as a value.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -109,11 +96,7 @@ const fn build_of(version: u32) -> u32 {
         h = hash(h, crate_version[i] as u32);
         i += 1;
     }
-    h = hash_type::<Gains<f32, 2>>(h);
-    h = hash_type::<Gains<f32, 3>>(h);
     h = hash_type::<crate::adc::AdcF32>(h);
-    h = hash_type::<FixedGains<2>>(h);
-    h = hash_type::<FixedGains<3>>(h);
     h = hash_type::<crate::chain::ChainF32<2>>(h);
     h = hash_type::<crate::chain::ChainF32<3>>(h);
     h = hash_type::<crate::chain::StateF32<2>>(h);

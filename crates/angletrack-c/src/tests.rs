@@ -40,6 +40,11 @@ fn chain_of(l: &[f32], adc: Option<&at_adc_f32>) -> at_chain_f32 {
     chain
 }
 
+/// A chain to write into.
+fn chain_out() -> at_chain_f32 {
+    at_chain_f32::ZEROED
+}
+
 /// Tracks `speed` (rad/s) for 0.5 s from a zeroed state; returns the last estimate and the
 /// true angle then, with `sample` making the call from the true angle.
 fn track(speed: f32, mut sample: impl FnMut(f32) -> at_estimate_f32) -> (at_estimate_f32, f32) {
@@ -80,8 +85,7 @@ fn a_state_follows_the_order_of_its_chain() {
     let mut state = at_chain_state_f32::FRESH;
     // SAFETY: valid pointers to live values.
     unsafe {
-        assert_eq!(at_gains_f32_order(&gains_of(&GAINS_2)), 2);
-        assert_eq!(at_gains_f32_order(&gains_of(&GAINS_3)), 3);
+        assert_eq!((gains_of(&GAINS_2).order, gains_of(&GAINS_3).order), (2, 3));
         at_chain_f32_update(&three, &mut state, 1.0, 0.0);
         let e = at_chain_f32_update(&two, &mut state, 0.0, 1.0);
         assert!((e.angle - PI / 2.0).abs() < 1e-6, "started afresh: {e:?}");
@@ -110,18 +114,31 @@ fn null_and_zeroed_arguments_are_refused() {
         assert_eq!(at_chain_f32_update(null(), &mut state, 1.0, 0.0), invalid);
         assert_eq!(at_chain_f32_update(&chain, null_mut(), 1.0, 0.0), invalid);
         assert_eq!(at_chain_f32_update(&zeroed, &mut state, 1.0, 0.0), invalid);
-        assert_eq!(at_gains_f32_order(&out), 0);
+        let new = at_chain_f32_new(
+            &out,
+            null(),
+            null(),
+            null(),
+            null(),
+            null(),
+            &mut chain_out(),
+        );
+        assert_eq!(new, AT_ERR_ORDER, "zeroed gains");
         assert_eq!(at_chain_state_f32_clear_faults(null_mut()), 0);
         at_chain_state_f32_reset(null_mut());
-        let t = at_fault_thresholds_f32_for_amplitude(1.0);
-        assert_eq!(
-            at_gains_f32_set_fault_thresholds(&mut out, &t),
-            AT_ERR_NOT_INITIALISED
+        let mut thresholds = gains_of(&GAINS_3);
+        thresholds.thresholds = at_fault_thresholds_f32_for_amplitude(1800.0);
+        thresholds.thresholds.filter_factor = 1.5;
+        let new = at_chain_f32_new(
+            &thresholds,
+            null(),
+            null(),
+            null(),
+            null(),
+            null(),
+            &mut chain_out(),
         );
-        assert_eq!(
-            at_gains_f32_set_fault_thresholds(null_mut(), &t),
-            AT_ERR_NULL_POINTER
-        );
+        assert_eq!(new, AT_ERR_FILTER_FACTOR);
         let adc = at_adc_f32::ZEROED;
         let gains = gains_of(&GAINS_3);
         let mut counts = at_chain_f32::ZEROED;
@@ -277,7 +294,7 @@ fn fixed_point_tracks_samples_and_reads_the_estimate_on_demand() {
             at_fixed_gains_from_constants(m, 3, 1, 1e-4, &mut gains),
             AT_OK
         );
-        assert_eq!(at_fixed_gains_order(&gains), 3);
+        assert_eq!(gains.order, 3);
         let new = at_chain_fixed_new(&gains, null(), null(), null(), 28_800.0, &mut chain);
         assert_eq!(new, AT_OK);
         let speed = 2.0 * core::f64::consts::PI * 50.0;
@@ -315,18 +332,14 @@ fn fixed_point_tracks_samples_and_reads_the_estimate_on_demand() {
 
 #[test]
 fn structs_of_another_build_are_refused_and_left_as_they_are() {
-    let mut other = gains_of(&GAINS_3);
-    other.set_layout_for_test(at_gains_f32::LAYOUT.wrapping_add(2));
-    let mut thresholds = at_fault_thresholds_f32_for_amplitude(1.0);
-    let mut chain = at_chain_f32::ZEROED;
+    let mut chain = chain_of(&GAINS_3, None);
+    let mut other = chain;
+    other.set_layout_for_test(1);
     // SAFETY: valid pointers to live values.
     unsafe {
         assert_eq!(at_layout_version(), AT_LAYOUT_VERSION);
-        let read = at_gains_f32_fault_thresholds(&other, &mut thresholds);
-        assert_eq!(read, AT_ERR_OTHER_BUILD);
-        let new = at_chain_f32_new(&other, null(), null(), null(), null(), null(), &mut chain);
+        let new = at_chain_f32_with_winding_check(&other, 1.0, &mut chain);
         assert_eq!(new, AT_ERR_OTHER_BUILD);
-        assert_eq!(chain.clone_tag(), 0);
         let mut state = at_chain_state_f32::FRESH;
         let learning = at_chain_state_f32_set_calibration_mode(&mut state, AT_CALIBRATION_LEARNING);
         assert_eq!(learning, AT_OK);
@@ -341,8 +354,8 @@ fn structs_of_another_build_are_refused_and_left_as_they_are() {
         );
     }
     assert_ne!(
-        at_gains_f32::LAYOUT,
-        at_fixed_gains::LAYOUT,
+        at_chain_f32::LAYOUT,
+        at_chain_fixed::LAYOUT,
         "the size is in the layout"
     );
 }

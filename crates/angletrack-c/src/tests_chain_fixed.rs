@@ -300,7 +300,7 @@ fn refuses_each_bad_parameter_with_its_status() {
         let zeroed = at_fixed_gains::ZEROED;
         assert_eq!(
             at_chain_fixed_new(&zeroed, null(), null(), null(), 0.0, &mut chain),
-            AT_ERR_NOT_INITIALISED
+            AT_ERR_ORDER
         );
         assert_eq!(
             at_chain_fixed_new(null(), null(), null(), null(), 0.0, &mut chain),

@@ -32,13 +32,43 @@ macro_rules! words {
 }
 
 words!(
-    at_gains_f32,
     at_adc_f32,
     at_chain_f32,
     at_chain_state_f32,
-    at_fixed_gains,
     at_chain_fixed,
     at_chain_state_fixed,
     at_demodulator_f32,
     at_demodulator_state_f32
 );
+
+impl at_gains_f32 {
+    /// All zero, as C static memory holds (refused by the chain: order 0).
+    pub(crate) const ZEROED: Self = Self {
+        gains: [0.0; 3],
+        order: 0,
+        sample_period_s: 0.0,
+        thresholds: at_fault_thresholds_f32 {
+            nominal_amplitude: 0.0,
+            max_input_amplitude: 0.0,
+            loss_of_signal: 0.0,
+            degradation_low: 0.0,
+            degradation_high: 0.0,
+            loss_of_tracking: 0.0,
+            max_speed_rad_s: 0.0,
+            filter_factor: 0.0,
+            false_lock: 0.0,
+            monitor: 0,
+            re_acquire: 0,
+        },
+    };
+}
+
+impl at_fixed_gains {
+    /// All zero, as C static memory holds (refused by the chain: order 0).
+    pub(crate) const ZEROED: Self = Self {
+        multiplier: [0; 3],
+        order: 0,
+        acceleration_shift: 0,
+        sample_period_s: 0.0,
+    };
+}

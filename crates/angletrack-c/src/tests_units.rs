@@ -4,7 +4,6 @@
 use angletrack_core::{AdcScaling, ConfigError, Faults, FixedGains, Parameter};
 
 use crate::faults::{NAMES, name};
-use crate::slot::{ByOrder, Refused, by_order};
 use crate::status::{PARAMETERS, message, status_of};
 use crate::*;
 
@@ -42,39 +41,38 @@ fn bits_and_names_match_the_core() {
 }
 
 #[test]
-fn checks_as_the_core_and_keeps_the_order() {
-    let mut gains = at_gains_f32::ZEROED;
-    assert!(gains.get().is_err());
-    assert_eq!(gains.set(&[0.3, 0.04, -0.002], 1e-4), AT_ERR_GAINS_2);
-    assert!(
-        gains.get().is_err(),
-        "a refused set leaves the struct as it was"
+fn gains_check_as_the_core_and_keep_the_order() {
+    assert_eq!(
+        at_gains_f32::of(&[0.3, 0.04, -0.002], 1e-4),
+        Err(AT_ERR_GAINS_2)
     );
-    assert_eq!(gains.set(&[0.3, 0.04], 0.0), AT_ERR_SAMPLE_PERIOD_S);
-    assert_eq!(gains.set(&[0.3], 1e-4), AT_ERR_ORDER);
-    assert_eq!(gains.set(&[0.05, 0.0012], 1e-4), AT_OK);
-    assert!(matches!(gains.get(), Ok(ByOrder::Two(g)) if g.gains() == [0.05, 0.0012]));
-    assert_eq!(gains.set(&[0.3, 0.04, 0.002], 1e-4), AT_OK);
-    assert!(matches!(gains.get(), Ok(ByOrder::Three(g)) if g.sample_period() == 1e-4));
-}
-
-#[test]
-fn fault_thresholds_round_trip() {
-    let mut gains = at_gains_f32::ZEROED;
-    let mut t = at_fault_thresholds_f32::for_amplitude(1800.0);
-    assert_eq!(gains.set_fault_thresholds(&t), AT_ERR_NOT_INITIALISED);
-    assert_eq!(gains.set(&[0.3, 0.04, 0.002], 1e-4), AT_OK);
-    t.max_speed_rad_s = 1000.0;
-    t.monitor = 0;
-    assert_eq!(gains.set_fault_thresholds(&t), AT_OK);
-    assert_eq!(gains.fault_thresholds(), Ok(t));
-    let core = by_order!(gains.get().unwrap(), |g| g.fault_thresholds());
+    assert_eq!(
+        at_gains_f32::of(&[0.3, 0.04], 0.0),
+        Err(AT_ERR_SAMPLE_PERIOD_S)
+    );
+    assert_eq!(at_gains_f32::of(&[0.3], 1e-4), Err(AT_ERR_ORDER));
+    let two = at_gains_f32::of(&[0.05, 0.0012], 1e-4).unwrap();
+    assert_eq!((two.order, two.gains), (2, [0.05, 0.0012, 0.0]));
+    assert_eq!(two.core::<2>().map(|g| g.gains()), Ok([0.05, 0.0012]));
+    let mut three = at_gains_f32::of(&[0.3, 0.04, 0.002], 1e-4).unwrap();
+    let core = three.core::<3>().unwrap().fault_thresholds();
+    assert_eq!(
+        three.thresholds,
+        at_fault_thresholds_f32::from_core(&core),
+        "the core's defaults"
+    );
+    three.thresholds = at_fault_thresholds_f32::for_amplitude(1800.0);
+    three.thresholds.max_speed_rad_s = 1000.0;
+    three.thresholds.monitor = 0;
+    let core = three.core::<3>().unwrap().fault_thresholds();
     assert_eq!(
         (core.max_speed, core.monitor, core.loss_of_signal),
         (Some(1000.0), false, 450.0)
     );
-    t.filter_factor = 1.5;
-    assert_eq!(gains.set_fault_thresholds(&t), AT_ERR_FILTER_FACTOR);
+    assert_eq!(at_fault_thresholds_f32::from_core(&core), three.thresholds);
+    three.thresholds.filter_factor = 1.5;
+    let refused = three.core::<3>().map_err(status_of);
+    assert_eq!(refused.err(), Some(AT_ERR_FILTER_FACTOR));
 }
 
 #[test]
@@ -97,28 +95,31 @@ fn stores_the_checked_front_end() {
 
 #[test]
 fn constants_and_gains_check_as_the_core() {
-    let mut gains = at_fixed_gains::ZEROED;
-    assert_eq!(gains.get().err(), Some(Refused::NotInitialised));
-    assert_eq!(gains.set_gains(&[0.1578, 0.0126, 0.000_34], 50e-6), AT_OK);
+    let quantised = at_fixed_gains::quantised(&[0.1578, 0.0126, 0.000_34], 50e-6).unwrap();
     let designed = FixedGains::<3>::new(
         [0.1578f32.into(), 0.0126f32.into(), 0.000_34f32.into()],
         50e-6,
     )
     .unwrap()
     .constants();
-    let mut again = at_fixed_gains::ZEROED;
+    assert_eq!(quantised.core::<3>().map(|g| g.constants()), Ok(designed));
+    let again = at_fixed_gains::checked(&designed.multiplier, designed.acceleration_shift, 50e-6);
+    assert_eq!(again, Ok(quantised));
+    let shift_0 = at_fixed_gains::checked(&[1, 1, 1], 0, 50e-6);
     assert_eq!(
-        again.set_constants(&designed.multiplier, designed.acceleration_shift, 50e-6),
-        AT_OK
-    );
-    assert!(matches!(again.get(), Ok(ByOrder::Three(g)) if g.constants() == designed));
-    assert_eq!(
-        again.set_constants(&[1, 1, 1], 0, 50e-6),
-        AT_ERR_GAINS_2,
+        shift_0,
+        Err(AT_ERR_GAINS_2),
         "the shift of a 3rd-order observer is 1 to 15"
     );
-    assert_eq!(again.set_constants(&[1, 1], 0, 0.0), AT_ERR_SAMPLE_PERIOD_S);
-    assert_eq!(again.set_constants(&[1], 0, 1e-4), AT_ERR_ORDER);
+    assert_eq!(
+        at_fixed_gains::checked(&[1, 1], 0, 0.0),
+        Err(AT_ERR_SAMPLE_PERIOD_S)
+    );
+    assert_eq!(at_fixed_gains::checked(&[1], 0, 1e-4), Err(AT_ERR_ORDER));
+    assert_eq!(
+        at_fixed_gains::quantised(&[1e-30, 1e-3], 1e-4),
+        Err(AT_ERR_GAINS_0)
+    );
 }
 
 fn third_harmonic(b3: f32) -> at_angle_correction_f32 {

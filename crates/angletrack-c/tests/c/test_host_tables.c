@@ -96,7 +96,7 @@ static void refusals(const at_adc_counts *adc, const at_sensor_calibration_f32 *
                "fixed chain: monitor amplitude 2000 refused");
   at_fixed_gains zeroed;
   memset(&zeroed, 0, sizeof zeroed);
-  check_status(at_chain_fixed_new(&zeroed, adc, NULL, NULL, 0.0, &out), AT_ERR_NOT_INITIALISED,
+  check_status(at_chain_fixed_new(&zeroed, adc, NULL, NULL, 0.0, &out), AT_ERR_ORDER,
                "fixed chain: zeroed gains refused");
   check_status(at_chain_fixed_new(&gains, adc, NULL, NULL, 0.0, NULL), AT_ERR_NULL_POINTER,
                "fixed chain: NULL out refused");

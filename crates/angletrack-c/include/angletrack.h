@@ -224,7 +224,7 @@
  * crate's version and the sizes, which change it without a bump). `at_layout_version()`
  * returns the library's, to compare with the header's at start-up.
  */
-#define AT_LAYOUT_VERSION 5
+#define AT_LAYOUT_VERSION 6
 
 /**
  * The entries of an angle-correction table (`at_angle_correction_table_f32`,
@@ -786,7 +786,7 @@ typedef struct at_demodulator_state_f32 {
 #define AT_ERR_ORDER 2
 
 /**
- * A struct argument was not made by its constructor (`at_gains_f32_new`, `at_adc_f32_new`, ...).
+ * A struct argument was not made by its constructor (`at_chain_f32_new`, `at_adc_f32_new`, ...).
  */
 #define AT_ERR_NOT_INITIALISED 3
 

@@ -15,7 +15,7 @@ pub const AT_OK: at_status = 0;
 pub const AT_ERR_NULL_POINTER: at_status = 1;
 /// The observer order was not 2 or 3.
 pub const AT_ERR_ORDER: at_status = 2;
-/// A struct argument was not made by its constructor (`at_gains_f32_new`, `at_adc_f32_new`, ...).
+/// A struct argument was not made by its constructor (`at_chain_f32_new`, `at_adc_f32_new`, ...).
 pub const AT_ERR_NOT_INITIALISED: at_status = 3;
 /// The calibration mode was not one of `AT_CALIBRATION_*`.
 pub const AT_ERR_MODE: at_status = 4;

@@ -7,14 +7,14 @@
 //! leaves its padding bytes uninitialised, and a copy of the struct by value in Rust (C
 //! copies bytes) must not read those as integers. Miri checks this in the crate's tests.
 //!
-//! A slot holds one of a few `Copy` types, told apart by a tag that only [`put`] writes,
-//! right after it wrote a value of that type: [`get`] and [`get_or_put`] read the words as
+//! A slot holds one of a few `Copy` types, told apart by a tag that only [`Slot::slot_put`] writes,
+//! right after it wrote a value of that type: [`Slot::slot_get`] and [`Slot::slot_get_or_put`] read the words as
 //! the type only when the tag is the type's. A zeroed or never-initialised struct has no
 //! type's tag (tag 0, or garbage that does not match), so it is refused or started afresh
 //! instead of being read as a Rust value. The tags are 32-bit values unlikely to appear
 //! by chance, all starting with the bytes "AT" (`0x4154` in the high half).
 //!
-//! Beside the tag, [`put`] writes the struct's layout word: a fingerprint of this build's
+//! Beside the tag, [`Slot::slot_put`] writes the struct's layout word: a fingerprint of this build's
 //! layouts ([`layout_of`]: the C API's layout version `AT_LAYOUT_VERSION`, the crate's
 //! version, the C struct's size and the size and alignment of every stored Rust type). A
 //! struct written by another build of the library (another version, a header of another
@@ -40,7 +40,7 @@ pub const AT_LAYOUT_VERSION: u32 = 6;
 /// A type a slot can hold, with its tag. `Copy` types only: overwriting one drops nothing,
 /// and a C copy of the words (with the tag) is a copy of the value.
 pub(crate) trait Stored: Copy {
-    /// The tag [`put`] writes beside a value of this type; "AT" in its high half, never 0.
+    /// The tag [`Slot::slot_put`] writes beside a value of this type; "AT" in its high half, never 0.
     const TAG: u32;
 }
 

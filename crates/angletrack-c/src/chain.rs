@@ -16,17 +16,17 @@
 use core::mem::MaybeUninit;
 
 use angletrack_core::{
-    AngleCorrection, CalibrationStage, Calibrator, ChainState, ConfigError, CorrectionStage,
-    Estimate, Gains, Input, MAX_CORRECTION_ORDER, ObserverState, OnlineCalibration, Order, Rails,
-    SupportedOrder, Tracker, TrackerFrontEnd, TrackerSettings, TrackerState, WindingCheck,
+    AngleCorrection, CalibrationStage, Calibrator, ConfigError, CorrectionStage, Estimate, Gains,
+    Input, MAX_CORRECTION_ORDER, ObserverState, OnlineCalibration, Rails, Tracker, TrackerFrontEnd,
+    TrackerSettings, TrackerState, WindingCheck,
 };
 
 use crate::adc::AdcF32;
 use crate::calibration::{at_calibration_settings_f32, at_sensor_calibration_f32};
-use crate::door::{CChain, ChainInput, through};
+use crate::door::c_chain;
 use crate::faults::AT_FAULT_INVALID_ARGUMENT;
 use crate::gains::{at_gains_f32, with_order};
-use crate::slot::{self, ByOrder, Refused, Slot, Stored, by_order};
+use crate::slot::{self, Refused, Slot, Stored, by_order};
 use crate::status::{AT_ERR_STAGES, AT_OK, at_status};
 use crate::table::at_angle_correction_table_f32;
 
@@ -223,12 +223,6 @@ fn with_winding_check<const N: usize>(
 }
 
 impl at_chain_f32 {
-    /// The chain, if made by `at_chain_f32_new` of this build.
-    #[inline(always)]
-    pub(crate) fn get(&self) -> Result<ByOrder<&ChainF32<2>, &ChainF32<3>>, Refused> {
-        self.either()
-    }
-
     /// Builds and stores the chain (`self` unchanged on error).
     pub(crate) fn set(&mut self, gains: &at_gains_f32, stages: Stages<'_>) -> at_status {
         if (stages.stored.is_some() && stages.online.is_some())
@@ -253,24 +247,6 @@ impl at_chain_f32 {
 }
 
 impl at_chain_state_f32 {
-    /// A fresh state (all zero, as C static memory holds).
-    pub(crate) const FRESH: Self = Self::ZEROED;
-
-    /// The state of a chain of order `N`: the one held, or a fresh one; refused if another
-    /// build's.
-    #[inline(always)]
-    pub(crate) fn of_order<const N: usize>(&mut self) -> Result<&mut StateF32<N>, Refused>
-    where
-        StateF32<N>: Stored,
-    {
-        self.slot_get_or_put(ChainState::new)
-    }
-
-    /// The state held, of either order (none for a fresh state or another build's).
-    fn held(&mut self) -> Option<ByOrder<&mut StateF32<2>, &mut StateF32<3>>> {
-        self.either_mut()
-    }
-
     /// The calibrator of the state held (of either order), or a fresh one's; refused if
     /// another build's.
     pub(crate) fn calibrator(&mut self) -> Result<&mut Calibrator<f32>, Refused> {
@@ -296,51 +272,13 @@ impl at_chain_state_f32 {
             u32::from(by_order!(s, |s| s.observer.clear_faults()).bits())
         })
     }
-
-    /// Returns the front-end faults latched by the front-end and winding checks
-    /// (`AT_FRONT_END_FAULT_*` bits) and clears them; 0 for a fresh state (or another
-    /// build's).
-    pub(crate) fn clear_front_end_faults(&mut self) -> u32 {
-        self.held().map_or(0, |s| {
-            u32::from(by_order!(s, |s| s.front_end.clear_faults()).bits())
-        })
-    }
 }
 
-impl CChain for at_chain_f32 {
-    type Number = f32;
-    type State = at_chain_state_f32;
-    type Estimate = at_estimate_f32;
-    const INVALID: at_estimate_f32 = at_estimate_f32::INVALID;
-
-    #[inline(always)]
-    fn track<I: ChainInput<f32>>(&self, state: &mut at_chain_state_f32, input: I) -> bool {
-        through!(self, state, I, input, |c, s, x| c.track(s, x)).is_some()
-    }
-
-    #[inline(always)]
-    fn update<I: ChainInput<f32>>(
-        &self,
-        state: &mut at_chain_state_f32,
-        input: I,
-    ) -> Self::Estimate {
-        through!(self, state, I, input, |c, s, x| c.update(s, x).into()).unwrap_or(Self::INVALID)
-    }
-
-    fn estimate(&self, state: &at_chain_state_f32) -> at_estimate_f32 {
-        /// The estimate of a chain of order `N`.
-        fn of<const N: usize>(c: &ChainF32<N>, state: &at_chain_state_f32) -> at_estimate_f32
-        where
-            Order<N>: SupportedOrder,
-            StateF32<N>: Stored,
-        {
-            match state.slot_get::<StateF32<N>>() {
-                Ok(s) => c.estimate(s).into(),
-                Err(Refused::NotInitialised) => c.estimate(&StateF32::<N>::new()).into(),
-                Err(Refused::OtherBuild) => at_estimate_f32::INVALID,
-            }
-        }
-        self.get()
-            .map_or(Self::INVALID, |c| by_order!(c, |c| of(c, state)))
-    }
-}
+c_chain!(
+    at_chain_f32,
+    at_chain_state_f32,
+    at_estimate_f32,
+    f32,
+    ChainF32,
+    StateF32
+);

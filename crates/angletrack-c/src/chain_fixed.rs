@@ -21,10 +21,10 @@ use angletrack_core::{
 };
 
 use crate::calibration::at_sensor_calibration_f32;
-use crate::door::{CChain, ChainInput, through};
+use crate::door::c_chain;
 use crate::faults::AT_FAULT_INVALID_ARGUMENT;
 use crate::gains::{at_fixed_gains, with_order};
-use crate::slot::{self, ByOrder, Refused, Slot, Stored, by_order};
+use crate::slot::{self, Slot, Stored, by_order};
 use crate::status::{AT_OK, at_status};
 use crate::table::at_angle_table_fixed;
 
@@ -261,33 +261,13 @@ impl at_chain_fixed {
             Err(refused) => refused.status(),
         }
     }
-
-    /// The chain, if made by `at_chain_fixed_new` of this build.
-    #[inline(always)]
-    pub(crate) fn get(&self) -> Result<ByOrder<&ChainFixed<2>, &ChainFixed<3>>, Refused> {
-        self.either()
-    }
 }
 
 impl at_chain_state_fixed {
-    /// A fresh state (all zero, as C static memory holds).
-    pub(crate) const FRESH: Self = Self::ZEROED;
-
-    /// The state of a chain of order `N`: the one held, or a fresh one; refused if another
-    /// build's.
-    #[inline(always)]
-    pub(crate) fn of_order<const N: usize>(&mut self) -> Result<&mut StateFixed<N>, Refused>
-    where
-        StateFixed<N>: Stored,
-    {
-        self.slot_get_or_put(StateFixed::<N>::new)
-    }
-
     /// Returns the latched faults (`AT_FAULT_*` bits) and clears them; 0 for a fresh state
     /// (or another build's).
     pub(crate) fn clear_faults(&mut self) -> u32 {
-        let held = self.either_mut::<StateFixed<2>, StateFixed<3>>();
-        held.map_or(0, |s| {
+        self.held().map_or(0, |s| {
             by_order!(s, |s| {
                 let faults = s.observer.latched_faults();
                 s.observer.clear_faults();
@@ -295,51 +275,13 @@ impl at_chain_state_fixed {
             })
         })
     }
-
-    /// Returns the front-end faults latched by the clipping checks, against the stated
-    /// range or the rails measured (`AT_FRONT_END_FAULT_*` bits), and clears them; 0 for a
-    /// fresh state (or another build's).
-    pub(crate) fn clear_front_end_faults(&mut self) -> u32 {
-        let held = self.either_mut::<StateFixed<2>, StateFixed<3>>();
-        held.map_or(0, |s| {
-            u32::from(by_order!(s, |s| s.front_end.clear_faults()).bits())
-        })
-    }
 }
 
-impl CChain for at_chain_fixed {
-    type Number = i16;
-    type State = at_chain_state_fixed;
-    type Estimate = at_fixed_estimate;
-    const INVALID: at_fixed_estimate = at_fixed_estimate::INVALID;
-
-    #[inline(always)]
-    fn track<I: ChainInput<i16>>(&self, state: &mut at_chain_state_fixed, input: I) -> bool {
-        through!(self, state, I, input, |c, s, x| c.track(s, x)).is_some()
-    }
-
-    #[inline(always)]
-    fn update<I: ChainInput<i16>>(
-        &self,
-        state: &mut at_chain_state_fixed,
-        input: I,
-    ) -> Self::Estimate {
-        through!(self, state, I, input, |c, s, x| c.update(s, x).into()).unwrap_or(Self::INVALID)
-    }
-
-    fn estimate(&self, state: &at_chain_state_fixed) -> at_fixed_estimate {
-        /// The estimate of a chain of order `N`.
-        fn of<const N: usize>(c: &ChainFixed<N>, state: &at_chain_state_fixed) -> at_fixed_estimate
-        where
-            StateFixed<N>: Stored,
-        {
-            match state.slot_get::<StateFixed<N>>() {
-                Ok(s) => c.estimate(s).into(),
-                Err(Refused::NotInitialised) => c.estimate(&StateFixed::<N>::new()).into(),
-                Err(Refused::OtherBuild) => at_fixed_estimate::INVALID,
-            }
-        }
-        self.get()
-            .map_or(Self::INVALID, |c| by_order!(c, |c| of(c, state)))
-    }
-}
+c_chain!(
+    at_chain_fixed,
+    at_chain_state_fixed,
+    at_fixed_estimate,
+    i16,
+    ChainFixed,
+    StateFixed
+);

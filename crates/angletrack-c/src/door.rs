@@ -121,6 +121,108 @@ macro_rules! through {
 }
 pub(crate) use through;
 
+/// The methods of a chain struct `$chain` holding the core's `$tracker<N>` of either order
+/// and of its state struct `$state` holding `$tracker_state<N>`: the chain's `get` and
+/// [`CChain`] (with the estimate `$estimate` on the numbers `$number`), the state's
+/// `FRESH`, `of_order`, `held` and `clear_front_end_faults`. The per-sample forms check
+/// the arguments (a chain not made, another build's state, an input the chain does not
+/// take: `None`, nothing changed) and run the core's chain of the order held.
+macro_rules! c_chain {
+    ($chain:ty, $state:ty, $estimate:ty, $number:ty, $tracker:ident, $tracker_state:ident) => {
+        impl $chain {
+            /// The chain, if made by its constructor of this build.
+            #[inline(always)]
+            pub(crate) fn get(
+                &self,
+            ) -> Result<$crate::slot::ByOrder<&$tracker<2>, &$tracker<3>>, $crate::slot::Refused>
+            {
+                $crate::slot::Slot::either(self)
+            }
+        }
+
+        impl $state {
+            /// A fresh state (all zero, as C static memory holds).
+            pub(crate) const FRESH: Self = Self::ZEROED;
+
+            /// The state of a chain of order `N`: the one held, or a fresh one; refused if
+            /// another build's.
+            #[inline(always)]
+            pub(crate) fn of_order<const N: usize>(
+                &mut self,
+            ) -> Result<&mut $tracker_state<N>, $crate::slot::Refused>
+            where
+                $tracker_state<N>: $crate::slot::Stored,
+            {
+                $crate::slot::Slot::slot_get_or_put(self, angletrack_core::ChainState::new)
+            }
+
+            /// The state held, of either order (none for a fresh state or another build's).
+            pub(crate) fn held(
+                &mut self,
+            ) -> Option<$crate::slot::ByOrder<&mut $tracker_state<2>, &mut $tracker_state<3>>> {
+                $crate::slot::Slot::either_mut(self)
+            }
+
+            /// Returns the front-end faults latched by the front-end checks
+            /// (`AT_FRONT_END_FAULT_*` bits) and clears them; 0 for a fresh state (or
+            /// another build's).
+            pub(crate) fn clear_front_end_faults(&mut self) -> u32 {
+                self.held().map_or(0, |s| {
+                    u32::from($crate::slot::by_order!(s, |s| s.front_end.clear_faults()).bits())
+                })
+            }
+        }
+
+        impl $crate::door::CChain for $chain {
+            type Number = $number;
+            type State = $state;
+            type Estimate = $estimate;
+            const INVALID: $estimate = <$estimate>::INVALID;
+
+            #[inline(always)]
+            fn track<I: $crate::door::ChainInput<$number>>(
+                &self,
+                state: &mut $state,
+                input: I,
+            ) -> bool {
+                $crate::door::through!(self, state, I, input, |c, s, x| c.track(s, x)).is_some()
+            }
+
+            #[inline(always)]
+            fn update<I: $crate::door::ChainInput<$number>>(
+                &self,
+                state: &mut $state,
+                input: I,
+            ) -> $estimate {
+                let estimate =
+                    $crate::door::through!(self, state, I, input, |c, s, x| c.update(s, x).into());
+                estimate.unwrap_or(Self::INVALID)
+            }
+
+            fn estimate(&self, state: &$state) -> $estimate {
+                /// The estimate of a chain of order `N`.
+                fn of<const N: usize>(c: &$tracker<N>, state: &$state) -> $estimate
+                where
+                    angletrack_core::Order<N>: angletrack_core::SupportedOrder,
+                    $tracker_state<N>: $crate::slot::Stored,
+                {
+                    match $crate::slot::Slot::slot_get::<$tracker_state<N>>(state) {
+                        Ok(s) => c.estimate(s).into(),
+                        Err($crate::slot::Refused::NotInitialised) => {
+                            c.estimate(&$tracker_state::<N>::new()).into()
+                        }
+                        Err($crate::slot::Refused::OtherBuild) => <$estimate>::INVALID,
+                    }
+                }
+                self.get().map_or(Self::INVALID, |c| {
+                    $crate::slot::by_order!(c, |c| of(c, state))
+                })
+            }
+        }
+    };
+}
+pub(crate) use c_chain;
+
 /// The body of the `track` functions: 0, or `AT_FAULT_INVALID_ARGUMENT` (nothing changed)
 /// for a NULL pointer or a refused argument.
 ///

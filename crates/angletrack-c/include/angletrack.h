@@ -1022,7 +1022,7 @@ extern "C" {
 /**
  * Checks `order` (2 or 3) discrete gains `gains` (l1, l2[, l3], dimensionless, as
  * `angletrack design --format c` writes them) and the sample period `sample_period_s` (s),
- * and writes the observer's configuration, with the default fault thresholds, to `out`.
+ * and writes them, with the core's default fault thresholds, to the plain `out`.
  * Returns `AT_OK`, or the status naming the refused parameter (`AT_ERR_GAINS_2` for an
  * unstable `l3`, ...); `out` is unchanged on error.
  *
@@ -1378,9 +1378,9 @@ uint32_t at_chain_state_f32_clear_front_end_faults(struct at_chain_state_f32 *st
  * Checks the integer constants of a fixed-point observer of order `order` (2 or 3), as
  * `angletrack design --dtype fixed --format c --name NAME` prints them (`NAME_gain_multiplier`,
  * `NAME_ORDER`, `NAME_ACCELERATION_SHIFT`, `NAME_SAMPLE_PERIOD_S`): each multiplier
- * positive, the shift 1 to 15 (0 at order 2), the loop they represent stable. Writes the
- * configuration, to `out` (the monitor's thresholds are the chain's:
- * `at_chain_fixed_new`); `out` is unchanged on error (`AT_ERR_GAINS_0`..`_2` naming the gain,
+ * positive, the shift 1 to 15 (0 at order 2), the loop they represent stable. Writes them
+ * to the plain `out` (the monitor's thresholds are the chain's: `at_chain_fixed_new`);
+ * `out` is unchanged on error (`AT_ERR_GAINS_0`..`_2` naming the gain,
  * `AT_ERR_SAMPLE_PERIOD_S`, ...).
  *
  * # Safety

@@ -68,7 +68,7 @@ pub(crate) unsafe fn write<T>(result: Result<T, ConfigError>, out: *mut T) -> at
 
 /// Checks `order` (2 or 3) discrete gains `gains` (l1, l2[, l3], dimensionless, as
 /// `angletrack design --format c` writes them) and the sample period `sample_period_s` (s),
-/// and writes the observer's configuration, with the default fault thresholds, to `out`.
+/// and writes them, with the core's default fault thresholds, to the plain `out`.
 /// Returns `AT_OK`, or the status naming the refused parameter (`AT_ERR_GAINS_2` for an
 /// unstable `l3`, ...); `out` is unchanged on error.
 ///

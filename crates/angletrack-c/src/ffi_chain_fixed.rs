@@ -22,9 +22,9 @@ use crate::table::{AT_ANGLE_TABLE_LENGTH, at_angle_correction_table_f32, at_angl
 /// Checks the integer constants of a fixed-point observer of order `order` (2 or 3), as
 /// `angletrack design --dtype fixed --format c --name NAME` prints them (`NAME_gain_multiplier`,
 /// `NAME_ORDER`, `NAME_ACCELERATION_SHIFT`, `NAME_SAMPLE_PERIOD_S`): each multiplier
-/// positive, the shift 1 to 15 (0 at order 2), the loop they represent stable. Writes the
-/// configuration, to `out` (the monitor's thresholds are the chain's:
-/// `at_chain_fixed_new`); `out` is unchanged on error (`AT_ERR_GAINS_0`..`_2` naming the gain,
+/// positive, the shift 1 to 15 (0 at order 2), the loop they represent stable. Writes them
+/// to the plain `out` (the monitor's thresholds are the chain's: `at_chain_fixed_new`);
+/// `out` is unchanged on error (`AT_ERR_GAINS_0`..`_2` naming the gain,
 /// `AT_ERR_SAMPLE_PERIOD_S`, ...).
 ///
 /// # Safety

@@ -75,7 +75,7 @@ echo "--- Miri: the C API's tests (its unsafe slots and extern calls)"
 # The core forbids unsafe code, its arithmetic is checked for overflow by `cargo test`, and
 # its tests take about 10 minutes of Miri's interpreter (half of this command's budget): they
 # run under Miri on request (ANGLETRACK_MIRI=all).
-# Three tests track half a second of signal through the legacy calls to check convergence
+# Three tests track half a second of signal through the chains to check convergence
 # (a minute each under Miri), one a quarter second of resolver windings through the
 # demodulator, one two turns of counts for the rails held flat (7 s); every extern function
 # they call is called by another test, so Miri skips them and `cargo test` runs them. So
@@ -86,7 +86,7 @@ cargo +nightly miri test --config profile.test.opt-level=0 -p angletrack-c --lib
   --skip tests::calibration_learns_offsets_and_round_trips \
   --skip tests_demodulator::a_10_ms_loss_of_excitation_through_the_demodulator_is_coasted_through \
   --skip tests_front_end::without_a_stated_range_the_rails_held_flat_are_found \
-  --skip table::tests::tables_agree_with_their_harmonics
+  --skip tests_units::tables_agree_with_their_harmonics
 if [ "${ANGLETRACK_MIRI:-}" = all ]; then
   cargo +nightly miri test --config profile.test.opt-level=0 -p angletrack-core --lib \
     --features libm/force-soft-floats

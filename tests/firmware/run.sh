@@ -33,6 +33,8 @@
 #     (`Demodulator::push_block`, the firmware's DMA buffer) over all samples;
 #  4. prints the code size of each variant's update function, alone and with the out-of-line
 #     functions it calls (`code_size <variant>: N bytes; M bytes with ...`);
+#     and on the Cortex-M0 the C API's fixed-point chain (`c/run.sh count m0`:
+#     `insns_per_sample c-chain-fixed-...-m0: N`, per call of its per-sample function);
 # then, with the counts of all cores run (kept in counts.txt in the build directory),
 #  5. checks them against their budgets (budgets.txt, checked by budgets.sh): prints
 #     `budget <count> <variant>: N <= B ok` for each, a warning where an interim ceiling
@@ -278,6 +280,9 @@ cores=("$@")
 counts="$target_dir/counts.txt"
 for c in "${cores[@]}"; do
   run_core "$c"
+  # The C API's calls of the same chains (c/run.sh, the library built in the workspace's
+  # target directory), budgeted beside them.
+  if [ "$c" = m0 ]; then env -u CARGO_TARGET_DIR bash c/run.sh count m0; fi
 done | tee "$counts"
 bash budgets.sh check "$counts" "${cores[@]}"
 bash budgets.sh tamper "$counts" "${cores[@]}"

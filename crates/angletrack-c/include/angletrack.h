@@ -4,32 +4,29 @@
  * cbindgen: do not edit. Link with libangletrack_c.a (cargo build -p angletrack-c --release
  * [--target thumbv7em-none-eabihf or thumbv6m-none-eabi]).
  *
- * Once, at start-up: at_gains_f32_new() checks the gains that `angletrack design --format c`
- * writes (NAME_gains, NAME_ORDER, NAME_SAMPLE_PERIOD_S). Every sample: at_update_f32()
- * (or at_update_f32_adc_*() on raw ADC counts, at_update_f32_calibrated() through the
- * online calibration) returns an at_estimate_f32. On a core without an FPU (Cortex-M0),
- * the fixed-point observer: at_fixed_gains_from_constants() checks the integer constants of
- * `angletrack design --dtype fixed --format c` (NAME_gain_multiplier, NAME_ORDER,
- * NAME_ACCELERATION_SHIFT, NAME_SAMPLE_PERIOD_S), at_fixed_gains_set_monitor() sets the
- * signal's amplitude in counts; every sample, at_fixed_track() on int16 samples (counts
- * less mid-scale, 12-bit ones shifted left by 4), at_fixed_state_estimate() on demand (or
- * at_fixed_update(), both); its signal chain, at_chain_fixed_new() (the ADC's at_adc_counts,
- * a stored calibration in the observer's 16-bit counts, the Q15 at_angle_table_fixed, the
- * monitor's amplitude; at_chain_fixed_with_adc_range() flags clipped counts), takes raw
- * counts: at_chain_fixed_track_u16() (or _i16, _i32),
- * at_chain_fixed_estimate() on demand. One float signal chain of optional stages (at_chain_f32_new(): the
- * ADC, a stored calibration or the online calibration with its at_calibration_settings_f32,
- * the harmonic at_angle_correction_f32, the observer) serves every combination:
- * at_chain_f32_track*() on floats or counts, at_chain_f32_estimate() on demand, or
- * at_chain_f32_update*(); with the ADC's range stated (its bits, or at_adc_f32_set_range()),
- * a clipped sample is flagged AT_FAULT_FRONT_END. From raw resolver windings,
+ * Once, at start-up, build a signal chain: at_gains_f32_new() checks the gains that
+ * `angletrack design --format c` writes (NAME_gains, NAME_ORDER, NAME_SAMPLE_PERIOD_S), and
+ * at_chain_f32_new() puts them after the optional stages (the ADC, at_adc_f32; a stored
+ * calibration or the online calibration; the harmonic angle correction or its table; NULL
+ * when absent). Every sample: at_chain_f32_track() (or _update(), which returns an
+ * at_estimate_f32) on floats, _i16/_u16/_i32 on raw ADC counts; at_chain_f32_estimate() on
+ * demand. With the ADC's range stated (its bits, or at_adc_f32_set_range()), a clipped
+ * sample is flagged AT_FAULT_FRONT_END. From raw resolver windings,
  * at_demodulator_f32_push() gives one (y_c, y_s) pair per carrier period, which
  * at_chain_f32_update_demodulated() takes with its faults (the observer coasts through a
- * loss of excitation; at_chain_f32_with_winding_check() adds a winding open or shorted). The structs are plain and sized: place
- * them in static memory.
- * A zeroed at_state_f32, at_fixed_state, at_chain_state_f32, at_chain_state_fixed or
- * at_calibrator_f32 is a fresh one; zeroed at_gains_f32, at_fixed_gains, at_chain_f32,
- * at_chain_fixed or at_adc_f32 are refused until made by their constructor.
+ * loss of excitation; at_chain_f32_with_winding_check() adds a winding open or shorted).
+ * On a core without an FPU (Cortex-M0), the fixed-point chain: at_fixed_gains_from_constants()
+ * checks the integer constants of `angletrack design --dtype fixed --format c`
+ * (NAME_gain_multiplier, NAME_ORDER, NAME_ACCELERATION_SHIFT, NAME_SAMPLE_PERIOD_S), and
+ * at_chain_fixed_new() puts them after the ADC's at_adc_counts, a stored calibration in the
+ * observer's 16-bit counts and the Q15 at_angle_table_fixed, with the monitor's amplitude
+ * (at_chain_fixed_with_adc_range() flags clipped counts); every sample,
+ * at_chain_fixed_track_u16() (or _i16, _i32, and their _update_ forms) on raw counts,
+ * at_chain_fixed_estimate() on demand. The structs are plain and sized: place them in
+ * static memory.
+ * A zeroed at_chain_state_f32, at_chain_state_fixed or at_demodulator_state_f32 is a fresh
+ * one; zeroed at_gains_f32, at_fixed_gains, at_chain_f32, at_chain_fixed, at_adc_f32 or
+ * at_demodulator_f32 are refused until made by their constructor.
  *
  * Layout: every struct made by the library starts with its private tag (which Rust value it
  * holds) and layout word (a fingerprint of the build that wrote it: AT_LAYOUT_VERSION, the
@@ -60,40 +57,34 @@
 #define AT_ADC_F32_WORDS 3
 
 /**
- * The 8-byte words of an `at_calibrator_f32`'s storage (checked against the Rust type at
- * compile time, on every target).
- */
-#define AT_CALIBRATOR_F32_WORDS 14
-
-/**
- * `at_calibrator_f32_mode`: neither corrects nor learns (a fresh calibrator's mode).
+ * `at_chain_state_f32_calibration_mode`: neither corrects nor learns (a fresh calibrator's mode).
  */
 #define AT_CALIBRATION_OFF 0
 
 /**
- * `at_calibrator_f32_mode`: corrects each sample and learns while the observer tracks.
+ * `at_chain_state_f32_calibration_mode`: corrects each sample and learns while the observer tracks.
  */
 #define AT_CALIBRATION_LEARNING 1
 
 /**
- * `at_calibrator_f32_mode`: corrects each sample, learns nothing.
+ * `at_chain_state_f32_calibration_mode`: corrects each sample, learns nothing.
  */
 #define AT_CALIBRATION_FROZEN 2
 
 /**
- * `at_calibrator_f32_status`: the channels' centres are not found yet (the rotor has not
+ * `at_chain_state_f32_calibration_status`: the channels' centres are not found yet (the rotor has not
  * turned a whole turn while learning, or is at rest); nothing is learned (a fresh
  * calibrator's status).
  */
 #define AT_CALIBRATION_FINDING_CENTRE 0
 
 /**
- * `at_calibrator_f32_status`: the centre is known (found, or loaded); learning, or ready to.
+ * `at_chain_state_f32_calibration_status`: the centre is known (found, or loaded); learning, or ready to.
  */
 #define AT_CALIBRATION_CENTRED 1
 
 /**
- * `at_calibrator_f32_status`: 16 electrical turns at speed without a turn learned (the
+ * `at_chain_state_f32_calibration_status`: 16 electrical turns at speed without a turn learned (the
  * observer not locked within 0.29 of phase error, or the speed not steady).
  */
 #define AT_CALIBRATION_STALLED 2
@@ -216,40 +207,16 @@
  * A front-end fault: a stage before the observer flagged the sample (the core's
  * `FrontEndCheck`, `WindingCheck`: clipping against the ADC's stated range, a
  * demodulator's fault, a winding open or shorted), and while the fault invalidates it the
- * observer coasted on its prediction. Set by the float chain (`at_chain_f32_*`).
+ * observer coasted on its prediction.
  */
 #define AT_FAULT_FRONT_END (1 << 7)
 
 /**
- * Not the sensor's: the call's gains were NULL or not made by `at_gains_f32_new` (or its
- * state, ADC or calibrator NULL, or not made by their constructor); nothing was computed
- * and the estimate's other fields are 0.
+ * Not the sensor's: the call's chain or state was NULL, not made by its constructor or
+ * another build's (or the chain cannot take the input); nothing was computed and the
+ * estimate's other fields are 0.
  */
 #define AT_FAULT_INVALID_ARGUMENT 2147483648
-
-/**
- * The 8-byte words of an `at_fixed_gains`'s storage (checked against the Rust type at
- * compile time, on every target).
- */
-#define AT_FIXED_GAINS_WORDS 8
-
-/**
- * The 8-byte words of an `at_fixed_state`'s storage (checked against the Rust type at
- * compile time, on every target).
- */
-#define AT_FIXED_STATE_WORDS 13
-
-/**
- * The 8-byte words of an `at_gains_f32`'s storage (checked against the Rust type at
- * compile time, on every target).
- */
-#define AT_GAINS_F32_WORDS 18
-
-/**
- * The 8-byte words of an `at_state_f32`'s storage (checked against the Rust type at
- * compile time, on every target).
- */
-#define AT_STATE_F32_WORDS 11
 
 /**
  * The version of the C structs' layout, bumped whenever a struct of the header or a Rust
@@ -257,7 +224,7 @@
  * crate's version and the sizes, which change it without a bump). `at_layout_version()`
  * returns the library's, to compare with the header's at start-up.
  */
-#define AT_LAYOUT_VERSION 5
+#define AT_LAYOUT_VERSION 6
 
 /**
  * The entries of an angle-correction table (`at_angle_correction_table_f32`,
@@ -273,32 +240,10 @@
 typedef int32_t at_status;
 
 /**
- * The checked gains, sample period and fault thresholds of an observer (order 2 or 3),
- * made by `at_gains_f32_new`. Immutable once made: one serves any number of channels
- * (`at_state_f32`). Place it anywhere (static memory, the stack); copy it by assignment;
- * never write its fields. A zeroed one is refused by every call (`AT_ERR_NOT_INITIALISED`,
- * or `AT_FAULT_INVALID_ARGUMENT` from an update).
- */
-typedef struct at_gains_f32 {
-  /**
-   * Private: which Rust value `storage` holds.
-   */
-  uint32_t tag;
-  /**
-   * Private: the layout of the build that wrote it.
-   */
-  uint32_t layout;
-  /**
-   * Private: the Rust value.
-   */
-  uint64_t storage[AT_GAINS_F32_WORDS];
-} at_gains_f32;
-
-/**
  * The thresholds of the diagnostics and of the input check, in the input's units
  * (amplitudes) unless stated: the core's `FaultThresholds`. Start from
  * `at_fault_thresholds_f32_for_amplitude(nominal)` (the defaults scaled to the nominal
- * amplitude), change fields, then `at_gains_f32_set_fault_thresholds`.
+ * amplitude), change fields, and write it to `at_gains_f32::thresholds`.
  */
 typedef struct at_fault_thresholds_f32 {
   /**
@@ -352,58 +297,29 @@ typedef struct at_fault_thresholds_f32 {
 } at_fault_thresholds_f32;
 
 /**
- * One channel's mutable state: angle, speed, acceleration, turn count, the diagnostics'
- * filters and latched faults. A zeroed one (C static memory) is a fresh state, as after
- * `at_state_f32_reset`: it initialises itself from its first sample. It takes the order of
- * the gains it is updated with: updated with gains of another order than its last, it
- * starts afresh. Place it anywhere; copy it by assignment; never write its fields.
+ * The gains, sample period and fault thresholds of an observer (order 2 or 3): filled by
+ * `at_gains_f32_new` (checked, with the default fault thresholds) from the gains
+ * `angletrack design --format c` writes, or written. Change `thresholds` as needed;
+ * `at_chain_f32_new` checks it all (a zeroed one is refused: `AT_ERR_ORDER`).
  */
-typedef struct at_state_f32 {
+typedef struct at_gains_f32 {
   /**
-   * Private: which Rust value `storage` holds (0: a fresh state).
+   * `l1`, `l2`, `l3` (dimensionless; `l3` unused at order 2).
    */
-  uint32_t tag;
+  float gains[3];
   /**
-   * Private: the layout of the build that wrote it.
+   * The observer's order, 2 or 3.
    */
-  uint32_t layout;
+  uint32_t order;
   /**
-   * Private: the Rust value.
+   * The sample period (s).
    */
-  uint64_t storage[AT_STATE_F32_WORDS];
-} at_state_f32;
-
-/**
- * What the observer knows after a sample.
- */
-typedef struct at_estimate_f32 {
+  float sample_period_s;
   /**
-   * Estimated angle (rad), wrapped to [-pi, pi).
+   * The fault thresholds.
    */
-  float angle;
-  /**
-   * Whole turns counted since initialisation (positive counter-clockwise); the
-   * multi-turn position is `turns * 2 pi + angle` (rad).
-   */
-  int64_t turns;
-  /**
-   * Estimated speed (rad/s).
-   */
-  float speed;
-  /**
-   * Estimated acceleration (rad/s^2); 0 for a 2nd-order observer.
-   */
-  float acceleration;
-  /**
-   * Normalised phase-detector output of this sample (about the sine of the phase
-   * error, dimensionless); 0 when the sample was rejected.
-   */
-  float phase_error;
-  /**
-   * This sample's faults (`AT_FAULT_*` bits); the state also latches them.
-   */
-  uint32_t faults;
-} at_estimate_f32;
+  struct at_fault_thresholds_f32 thresholds;
+} at_gains_f32;
 
 /**
  * The checked ADC front end, made by `at_adc_f32_new`, `at_adc_f32_offset_binary` or
@@ -425,54 +341,6 @@ typedef struct at_adc_f32 {
    */
   uint64_t storage[AT_ADC_F32_WORDS];
 } at_adc_f32;
-
-/**
- * One channel's online calibration: the correction applied to each sample and its
- * estimator. A zeroed one (C static memory) is a fresh calibrator: off, no correction,
- * nothing learned. Place it anywhere; copy it by assignment; never write its fields.
- */
-typedef struct at_calibrator_f32 {
-  /**
-   * Private: whether `storage` holds it (0: a fresh calibrator).
-   */
-  uint32_t tag;
-  /**
-   * Private: the layout of the build that wrote it.
-   */
-  uint32_t layout;
-  /**
-   * Private: the Rust value.
-   */
-  uint64_t storage[AT_CALIBRATOR_F32_WORDS];
-} at_calibrator_f32;
-
-/**
- * A sensor's calibration, `y_c = offset_c + amplitude_c cos(theta)`,
- * `y_s = offset_s + amplitude_s sin(theta + quadrature_rad)` (input units, rad): plain
- * floats to store in flash. `at_calibrator_f32_load` checks them.
- */
-typedef struct at_sensor_calibration_f32 {
-  /**
-   * Offset of the cosine channel.
-   */
-  float offset_c;
-  /**
-   * Offset of the sine channel.
-   */
-  float offset_s;
-  /**
-   * Amplitude of the cosine channel (positive).
-   */
-  float amplitude_c;
-  /**
-   * Amplitude of the sine channel (positive).
-   */
-  float amplitude_s;
-  /**
-   * Quadrature (non-orthogonality) angle (rad), below pi/4 in magnitude.
-   */
-  float quadrature_rad;
-} at_sensor_calibration_f32;
 
 /**
  * The online calibration's settings (the core's `CalibrationSettings`): when it learns and
@@ -499,6 +367,34 @@ typedef struct at_calibration_settings_f32 {
    */
   float max_quadrature_rad;
 } at_calibration_settings_f32;
+
+/**
+ * A sensor's calibration, `y_c = offset_c + amplitude_c cos(theta)`,
+ * `y_s = offset_s + amplitude_s sin(theta + quadrature_rad)` (input units, rad): plain
+ * floats to store in flash. `at_chain_f32_new` and `at_chain_state_f32_load_calibration` check them.
+ */
+typedef struct at_sensor_calibration_f32 {
+  /**
+   * Offset of the cosine channel.
+   */
+  float offset_c;
+  /**
+   * Offset of the sine channel.
+   */
+  float offset_s;
+  /**
+   * Amplitude of the cosine channel (positive).
+   */
+  float amplitude_c;
+  /**
+   * Amplitude of the sine channel (positive).
+   */
+  float amplitude_s;
+  /**
+   * Quadrature (non-orthogonality) angle (rad), below pi/4 in magnitude.
+   */
+  float quadrature_rad;
+} at_sensor_calibration_f32;
 
 /**
  * A harmonic angle error `d(theta) = sum_k a_k cos(k theta) + b_k sin(k theta)`, `k = 1..8`
@@ -574,6 +470,98 @@ typedef struct at_chain_state_f32 {
 } at_chain_state_f32;
 
 /**
+ * What the observer knows after a sample.
+ */
+typedef struct at_estimate_f32 {
+  /**
+   * Estimated angle (rad), wrapped to [-pi, pi).
+   */
+  float angle;
+  /**
+   * Whole turns counted since initialisation (positive counter-clockwise); the
+   * multi-turn position is `turns * 2 pi + angle` (rad).
+   */
+  int64_t turns;
+  /**
+   * Estimated speed (rad/s).
+   */
+  float speed;
+  /**
+   * Estimated acceleration (rad/s^2); 0 for a 2nd-order observer.
+   */
+  float acceleration;
+  /**
+   * Normalised phase-detector output of this sample (about the sine of the phase
+   * error, dimensionless); 0 when the sample was rejected.
+   */
+  float phase_error;
+  /**
+   * This sample's faults (`AT_FAULT_*` bits); the state also latches them.
+   */
+  uint32_t faults;
+} at_estimate_f32;
+
+/**
+ * One demodulated pair: the windings' envelopes at the centroid of their window.
+ */
+typedef struct at_demodulated_pair_f32 {
+  /**
+   * The cosine winding's envelope, `~ cos theta` (nominal amplitude 1).
+   */
+  float y_c;
+  /**
+   * The sine winding's envelope, `~ sin theta`.
+   */
+  float y_s;
+  /**
+   * The cosine winding's quadrature component (about 0).
+   */
+  float quadrature_c;
+  /**
+   * The sine winding's quadrature component (about 0).
+   */
+  float quadrature_s;
+  /**
+   * The index of the window (start-up windows included).
+   */
+  uint64_t window;
+  /**
+   * The ADC sample index (from 0, the first sample pushed) at which the pair holds: the
+   * centroid of its window's weights (divide by the ADC rate for seconds).
+   */
+  double centre_sample;
+  /**
+   * This window's front-end faults (`AT_FRONT_END_FAULT_*` bits).
+   */
+  uint32_t faults;
+} at_demodulated_pair_f32;
+
+/**
+ * The integer constants of a fixed-point observer (order 2 or 3), as `angletrack design
+ * --dtype fixed --format c` prints them: filled by `at_fixed_gains_from_constants`
+ * (checked) or `at_fixed_gains_new` (quantised from float gains), or written;
+ * `at_chain_fixed_new` checks them (a zeroed one is refused: `AT_ERR_ORDER`).
+ */
+typedef struct at_fixed_gains {
+  /**
+   * The gains' integer multipliers (`m3` unused at order 2).
+   */
+  int32_t multiplier[3];
+  /**
+   * The observer's order, 2 or 3.
+   */
+  uint32_t order;
+  /**
+   * The acceleration's shift (1 to 15 at order 3, 0 at order 2).
+   */
+  uint32_t acceleration_shift;
+  /**
+   * The sample period (s).
+   */
+  double sample_period_s;
+} at_fixed_gains;
+
+/**
  * The ADC of a fixed-point chain (the core's `AdcCounts`): each count less
  * `mid_scale_counts`, shifted left by `shift` (0 to 15) bits to the observer's 16-bit range,
  * saturated. Plain: write it (`{2048, 4}` for a 12-bit offset-binary ADC), or fill it with
@@ -591,28 +579,6 @@ typedef struct at_adc_counts {
    */
   uint32_t shift;
 } at_adc_counts;
-
-/**
- * The checked configuration of a fixed-point observer (order 2 or 3): the gains' integer
- * multipliers, the acceleration's shift, the sample period and the monitor's integer
- * thresholds. Made by `at_fixed_gains_from_constants` or `at_fixed_gains_new`; immutable
- * once made (but for `at_fixed_gains_set_monitor`), one serves any number of channels. Place
- * it anywhere; copy it by assignment; never write its fields. A zeroed one is refused.
- */
-typedef struct at_fixed_gains {
-  /**
-   * Private: which Rust value `storage` holds (0: none).
-   */
-  uint32_t tag;
-  /**
-   * Private: the layout of the build that wrote it.
-   */
-  uint32_t layout;
-  /**
-   * Private: the Rust value.
-   */
-  uint64_t storage[AT_FIXED_GAINS_WORDS];
-} at_fixed_gains;
 
 /**
  * The sensor's angle error `d` in Q15 rad (2^-15 rad) at the angles `-pi + 2 pi k / 256`
@@ -805,64 +771,6 @@ typedef struct at_demodulator_state_f32 {
 } at_demodulator_state_f32;
 
 /**
- * One demodulated pair: the windings' envelopes at the centroid of their window.
- */
-typedef struct at_demodulated_pair_f32 {
-  /**
-   * The cosine winding's envelope, `~ cos theta` (nominal amplitude 1).
-   */
-  float y_c;
-  /**
-   * The sine winding's envelope, `~ sin theta`.
-   */
-  float y_s;
-  /**
-   * The cosine winding's quadrature component (about 0).
-   */
-  float quadrature_c;
-  /**
-   * The sine winding's quadrature component (about 0).
-   */
-  float quadrature_s;
-  /**
-   * The index of the window (start-up windows included).
-   */
-  uint64_t window;
-  /**
-   * The ADC sample index (from 0, the first sample pushed) at which the pair holds: the
-   * centroid of its window's weights (divide by the ADC rate for seconds).
-   */
-  double centre_sample;
-  /**
-   * This window's front-end faults (`AT_FRONT_END_FAULT_*` bits).
-   */
-  uint32_t faults;
-} at_demodulated_pair_f32;
-
-/**
- * One fixed-point channel's mutable state: the integer state vector, the amplitude's
- * reciprocal, the turn count, the monitor's window and latched faults. A zeroed one (C
- * static memory) is a fresh state, as after `at_fixed_state_reset`: it initialises itself
- * from its first sample. It takes the order of the gains it is updated with (updated with
- * gains of another order than its last, it starts afresh). Place it anywhere; copy it by
- * assignment; never write its fields.
- */
-typedef struct at_fixed_state {
-  /**
-   * Private: which Rust value `storage` holds (0: a fresh state).
-   */
-  uint32_t tag;
-  /**
-   * Private: the layout of the build that wrote it.
-   */
-  uint32_t layout;
-  /**
-   * Private: the Rust value.
-   */
-  uint64_t storage[AT_FIXED_STATE_WORDS];
-} at_fixed_state;
-
-/**
  * Success.
  */
 #define AT_OK 0
@@ -878,7 +786,7 @@ typedef struct at_fixed_state {
 #define AT_ERR_ORDER 2
 
 /**
- * A struct argument was not made by its constructor (`at_gains_f32_new`, `at_adc_f32_new`, ...).
+ * A struct argument was not made by its constructor (`at_chain_f32_new`, `at_adc_f32_new`, ...).
  */
 #define AT_ERR_NOT_INITIALISED 3
 
@@ -1114,7 +1022,7 @@ extern "C" {
 /**
  * Checks `order` (2 or 3) discrete gains `gains` (l1, l2[, l3], dimensionless, as
  * `angletrack design --format c` writes them) and the sample period `sample_period_s` (s),
- * and writes the observer's configuration, with the default fault thresholds, to `out`.
+ * and writes them, with the core's default fault thresholds, to the plain `out`.
  * Returns `AT_OK`, or the status naming the refused parameter (`AT_ERR_GAINS_2` for an
  * unstable `l3`, ...); `out` is unchanged on error.
  *
@@ -1127,71 +1035,11 @@ at_status at_gains_f32_new(const float *gains,
                            struct at_gains_f32 *out);
 
 /**
- * The order (2 or 3) of gains made by `at_gains_f32_new`; 0 for NULL or gains not made.
- *
- * # Safety
- * See the header's introduction.
- */
-size_t at_gains_f32_order(const struct at_gains_f32 *gains);
-
-/**
  * The default fault thresholds for signals of amplitude `nominal_amplitude` (input units:
- * 1 for samples in units of full scale, as `at_update_f32_adc_*` gives them).
+ * 1 for samples in units of full scale, as an ADC stage of `at_adc_f32_offset_binary`
+ * gives them).
  */
 struct at_fault_thresholds_f32 at_fault_thresholds_f32_for_amplitude(float nominal_amplitude);
-
-/**
- * Replaces the fault thresholds of `gains` (checked: `AT_OK`, or the status naming the
- * refused threshold; `gains` is unchanged on error). Not while another call uses `gains`.
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_gains_f32_set_fault_thresholds(struct at_gains_f32 *gains,
-                                            const struct at_fault_thresholds_f32 *thresholds);
-
-/**
- * Writes the fault thresholds of `gains` to `out`.
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_gains_f32_fault_thresholds(const struct at_gains_f32 *gains,
-                                        struct at_fault_thresholds_f32 *out);
-
-/**
- * Makes `state` fresh: it initialises itself from its next sample (angle from
- * `atan2(y_s, y_c)`, speed 0), with no faults latched. A zeroed state is fresh too. NULL is
- * ignored.
- *
- * # Safety
- * See the header's introduction.
- */
-void at_state_f32_reset(struct at_state_f32 *state);
-
-/**
- * Returns the faults latched in `state` since they were last cleared (`AT_FAULT_*` bits)
- * and clears them; a fault still present is flagged again at the next sample. 0 for NULL.
- *
- * # Safety
- * See the header's introduction.
- */
-uint32_t at_state_f32_clear_faults(struct at_state_f32 *state);
-
-/**
- * One sample of the demodulated signals `y_c ~ cos(theta)`, `y_s ~ sin(theta)` (any unit:
- * the loop is amplitude-invariant; the fault thresholds are in the same unit): predict,
- * detect the phase error, correct, monitor. Never fails: a bad sample (NaN, infinite, too
- * large) is flagged `AT_FAULT_BAD_SAMPLE` and the state coasts. NULL or gains not made:
- * `AT_FAULT_INVALID_ARGUMENT`, and `state` is unchanged.
- *
- * # Safety
- * See the header's introduction.
- */
-struct at_estimate_f32 at_update_f32(const struct at_gains_f32 *gains,
-                                     struct at_state_f32 *state,
-                                     float y_c,
-                                     float y_s);
 
 /**
  * The C structs' layout version of the library (`AT_LAYOUT_VERSION` of the header it was
@@ -1252,129 +1100,12 @@ at_status at_adc_f32_twos_complement(uint32_t bits, struct at_adc_f32 *out);
  * prediction through one with both channels there. Without a stated range the chain
  * measures the rails on the counts as they come (the core's `HeldRailCheck`: an extreme a
  * channel holds for 4 consecutive samples while the other moves, the samples piled up
- * there, on a signal spanning both sides of mid-scale), a weaker test. The plain
- * observer's `at_update_f32_adc_*` check neither.
+ * there, on a signal spanning both sides of mid-scale), a weaker test.
  *
  * # Safety
  * See the header's introduction.
  */
 at_status at_adc_f32_set_range(struct at_adc_f32 *adc, int32_t min_counts, int32_t max_counts);
-
-/**
- * `at_update_f32` on raw signed 16-bit ADC samples, through the front end `adc`.
- *
- * # Safety
- * See the header's introduction.
- */
-struct at_estimate_f32 at_update_f32_adc_i16(const struct at_gains_f32 *gains,
-                                             struct at_state_f32 *state,
-                                             const struct at_adc_f32 *adc,
-                                             int16_t raw_c,
-                                             int16_t raw_s);
-
-/**
- * `at_update_f32` on raw unsigned 16-bit ADC samples, through the front end `adc`.
- *
- * # Safety
- * See the header's introduction.
- */
-struct at_estimate_f32 at_update_f32_adc_u16(const struct at_gains_f32 *gains,
-                                             struct at_state_f32 *state,
-                                             const struct at_adc_f32 *adc,
-                                             uint16_t raw_c,
-                                             uint16_t raw_s);
-
-/**
- * `at_update_f32` on raw signed 32-bit ADC samples, through the front end `adc`.
- *
- * # Safety
- * See the header's introduction.
- */
-struct at_estimate_f32 at_update_f32_adc_i32(const struct at_gains_f32 *gains,
-                                             struct at_state_f32 *state,
-                                             const struct at_adc_f32 *adc,
-                                             int32_t raw_c,
-                                             int32_t raw_s);
-
-/**
- * Makes `calibrator` fresh: off, no correction, nothing learned (a zeroed one is fresh
- * too). NULL is ignored.
- *
- * # Safety
- * See the header's introduction.
- */
-void at_calibrator_f32_reset(struct at_calibrator_f32 *calibrator);
-
-/**
- * Loads a stored calibration into `calibrator` (checked: `AT_OK`, or the status naming
- * the refused field; unchanged on error), frozen: it corrects each sample and learns
- * nothing until `at_calibrator_f32_enable`, which continues from it.
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_calibrator_f32_load(struct at_calibrator_f32 *calibrator,
-                                 const struct at_sensor_calibration_f32 *stored);
-
-/**
- * Writes the calibration `calibrator` applies (to store in flash) to `out`.
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_calibrator_f32_calibration(const struct at_calibrator_f32 *calibrator,
-                                        struct at_sensor_calibration_f32 *out);
-
-/**
- * Sets the mode of `calibrator`: `AT_CALIBRATION_LEARNING` (correct and learn),
- * `AT_CALIBRATION_FROZEN` (correct only) or `AT_CALIBRATION_OFF`; the calibration is kept.
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_calibrator_f32_set_mode(struct at_calibrator_f32 *calibrator, uint32_t mode);
-
-/**
- * The mode of `calibrator` (`AT_CALIBRATION_*`); `AT_CALIBRATION_OFF` for NULL.
- *
- * # Safety
- * See the header's introduction.
- */
-uint32_t at_calibrator_f32_mode(const struct at_calibrator_f32 *calibrator);
-
-/**
- * The number of turns `calibrator` has learned since it was started or loaded; 0 for NULL.
- *
- * # Safety
- * See the header's introduction.
- */
-uint32_t at_calibrator_f32_turns_learned(const struct at_calibrator_f32 *calibrator);
-
-/**
- * Where the online calibration of `calibrator` stands: `AT_CALIBRATION_FINDING_CENTRE`,
- * `AT_CALIBRATION_CENTRED` or `AT_CALIBRATION_STALLED`; `AT_CALIBRATION_FINDING_CENTRE`
- * for NULL or another build's calibrator.
- *
- * # Safety
- * See the header's introduction.
- */
-uint32_t at_calibrator_f32_status(const struct at_calibrator_f32 *calibrator);
-
-/**
- * `at_update_f32` through the online calibration `calibrator`: unless it is off, the
- * sample is corrected before the phase detector and, while learning, the calibration is
- * learned from the observer's angle (applied once per completed turn). The estimate
- * carries `AT_FAULT_AMPLITUDE_MISMATCH` and `AT_FAULT_OFFSET_OR_QUADRATURE` when the
- * calibration is beyond its bounds.
- *
- * # Safety
- * See the header's introduction.
- */
-struct at_estimate_f32 at_update_f32_calibrated(const struct at_gains_f32 *gains,
-                                                struct at_state_f32 *state,
-                                                struct at_calibrator_f32 *calibrator,
-                                                float y_c,
-                                                float y_s);
 
 /**
  * The online calibration's default settings (the core's `CalibrationSettings::default`).
@@ -1581,27 +1312,101 @@ at_status at_chain_state_f32_calibration(const struct at_chain_state_f32 *state,
 uint32_t at_chain_state_f32_turns_learned(const struct at_chain_state_f32 *state);
 
 /**
- * `at_update_f32` without the estimate: the state (and its latched faults) only, the
- * cheapest per-sample call of the plain observer; `at_state_f32_estimate` reads the
- * estimate on demand. Returns 0, or `AT_FAULT_INVALID_ARGUMENT` for refused arguments.
+ * Where the online calibration of `state` stands: `AT_CALIBRATION_FINDING_CENTRE`,
+ * `AT_CALIBRATION_CENTRED` or `AT_CALIBRATION_STALLED`; `AT_CALIBRATION_FINDING_CENTRE`
+ * for NULL or another build's state.
  *
  * # Safety
  * See the header's introduction.
  */
-uint32_t at_track_f32(const struct at_gains_f32 *gains,
-                      struct at_state_f32 *state,
-                      float y_c,
-                      float y_s);
+uint32_t at_chain_state_f32_calibration_status(const struct at_chain_state_f32 *state);
 
 /**
- * The estimate `state` holds for `gains` (its last sample's); refused arguments:
- * `AT_FAULT_INVALID_ARGUMENT`.
+ * Writes to `out` the chain `chain` with a winding check: a winding open or shorted (one
+ * winding reading below a quarter of `nominal_amplitude` where the observer's prediction
+ * puts at least half of it, the other agreeing with the prediction) is flagged
+ * `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_WINDING`) and coasted through while it holds.
+ * `nominal_amplitude` is the windings' peak in the chain's input units after the
+ * calibration (1 for a demodulator's pairs; `AT_ERR_NOMINAL_AMPLITUDE` unless finite and
+ * positive). `out` unchanged on error.
  *
  * # Safety
  * See the header's introduction.
  */
-struct at_estimate_f32 at_state_f32_estimate(const struct at_gains_f32 *gains,
-                                             const struct at_state_f32 *state);
+at_status at_chain_f32_with_winding_check(const struct at_chain_f32 *chain,
+                                          float nominal_amplitude,
+                                          struct at_chain_f32 *out);
+
+/**
+ * `at_chain_f32_track` on a demodulator's pair (`at_demodulator_f32_push`), with the
+ * front-end faults of its window: while one invalidates the pair (loss of excitation, a
+ * winding open or shorted) the observer coasts on its prediction instead of using it, and
+ * every fault is latched as `AT_FAULT_FRONT_END` (`at_chain_state_f32_clear_front_end_faults`
+ * gives the front-end bits). Returns 0, or `AT_FAULT_INVALID_ARGUMENT` (nothing changed)
+ * for refused arguments, a chain with an ADC stage among them (the demodulator takes the
+ * counts: build the chain without one).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_f32_track_demodulated(const struct at_chain_f32 *chain,
+                                        struct at_chain_state_f32 *state,
+                                        const struct at_demodulated_pair_f32 *pair);
+
+/**
+ * `at_chain_f32_track_demodulated`, then the estimate, which carries `AT_FAULT_FRONT_END`
+ * while the pair has a front-end fault.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_chain_f32_update_demodulated(const struct at_chain_f32 *chain,
+                                                       struct at_chain_state_f32 *state,
+                                                       const struct at_demodulated_pair_f32 *pair);
+
+/**
+ * Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
+ * against the ADC's range, the demodulator's faults, a winding open or shorted) and clears
+ * them. 0 for NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_state_f32_clear_front_end_faults(struct at_chain_state_f32 *state);
+
+/**
+ * Checks the integer constants of a fixed-point observer of order `order` (2 or 3), as
+ * `angletrack design --dtype fixed --format c --name NAME` prints them (`NAME_gain_multiplier`,
+ * `NAME_ORDER`, `NAME_ACCELERATION_SHIFT`, `NAME_SAMPLE_PERIOD_S`): each multiplier
+ * positive, the shift 1 to 15 (0 at order 2), the loop they represent stable. Writes them
+ * to the plain `out` (the monitor's thresholds are the chain's: `at_chain_fixed_new`);
+ * `out` is unchanged on error (`AT_ERR_GAINS_0`..`_2` naming the gain,
+ * `AT_ERR_SAMPLE_PERIOD_S`, ...).
+ *
+ * # Safety
+ * `multiplier` points to `order` integers; see the header's introduction.
+ */
+at_status at_fixed_gains_from_constants(const int32_t *multiplier,
+                                        size_t order,
+                                        uint32_t acceleration_shift,
+                                        double sample_period_s,
+                                        struct at_fixed_gains *out);
+
+/**
+ * Quantises `order` (2 or 3) float gains `gains` (l1, l2[, l3], as `angletrack design
+ * --format c` writes them and `at_gains_f32_new` takes them) at the sample period
+ * `sample_period_s` (s) into a fixed-point observer's configuration, checked (a gain that
+ * rounds to zero or does not fit is refused, naming it), to `out` (unchanged on error).
+ * Costs double-precision arithmetic: at start-up, or on the host (then embed the
+ * constants and use `at_fixed_gains_from_constants`).
+ *
+ * # Safety
+ * `gains` points to `order` floats; see the header's introduction.
+ */
+at_status at_fixed_gains_new(const float *gains,
+                             size_t order,
+                             double sample_period_s,
+                             struct at_fixed_gains *out);
 
 /**
  * The settings of an offset-binary (unsigned) ADC of `bits` bits (2 to 16): mid-scale
@@ -1755,13 +1560,24 @@ struct at_fixed_estimate at_chain_fixed_estimate(const struct at_chain_fixed *ch
                                                  const struct at_chain_state_fixed *state);
 
 /**
- * The sample period (s) of `chain`'s observer; 0 for NULL or a chain not made (for
- * `at_fixed_estimate`'s speed: `speed / 2^32 * 2 pi / period` rad/s).
+ * The multi-turn position of `estimate` (rad): `2 pi (turns + angle / 2^32)`; 0 for NULL.
+ * Double-precision arithmetic: for a host, or out of the sample loop.
  *
  * # Safety
  * See the header's introduction.
  */
-double at_chain_fixed_sample_period_s(const struct at_chain_fixed *chain);
+double at_chain_fixed_position_rad(const struct at_chain_fixed *chain,
+                                   const struct at_fixed_estimate *estimate);
+
+/**
+ * The speed of `estimate` (rad/s) at the sample period of `chain`'s observer; 0 for NULL
+ * or a chain not made. Double-precision arithmetic: for a host, or out of the sample loop.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+double at_chain_fixed_speed_rad_s(const struct at_chain_fixed *chain,
+                                  const struct at_fixed_estimate *estimate);
 
 /**
  * Makes `state` fresh: the observer initialises itself from its next sample. NULL is
@@ -1930,186 +1746,6 @@ void at_demodulator_state_f32_reset(struct at_demodulator_state_f32 *state);
  * See the header's introduction.
  */
 uint32_t at_demodulator_state_f32_clear_faults(struct at_demodulator_state_f32 *state);
-
-/**
- * Checks the integer constants of a fixed-point observer of order `order` (2 or 3), as
- * `angletrack design --dtype fixed --format c --name NAME` prints them (`NAME_gain_multiplier`,
- * `NAME_ORDER`, `NAME_ACCELERATION_SHIFT`, `NAME_SAMPLE_PERIOD_S`): each multiplier
- * positive, the shift 1 to 15 (0 at order 2), the loop they represent stable. Writes the
- * configuration, with the monitor's thresholds for a nominal amplitude of 16384 counts, to
- * `out`; `out` is unchanged on error (`AT_ERR_GAINS_0`..`_2` naming the gain,
- * `AT_ERR_SAMPLE_PERIOD_S`, ...).
- *
- * # Safety
- * `multiplier` points to `order` integers; see the header's introduction.
- */
-at_status at_fixed_gains_from_constants(const int32_t *multiplier,
-                                        size_t order,
-                                        uint32_t acceleration_shift,
-                                        double sample_period_s,
-                                        struct at_fixed_gains *out);
-
-/**
- * Quantises `order` (2 or 3) float gains `gains` (l1, l2[, l3], as `angletrack design
- * --format c` writes them and `at_gains_f32_new` takes them) at the sample period
- * `sample_period_s` (s) into a fixed-point observer's configuration, checked (a gain that
- * rounds to zero or does not fit is refused, naming it), to `out` (unchanged on error).
- * Costs double-precision arithmetic: at start-up, or on the host (then embed the
- * constants and use `at_fixed_gains_from_constants`).
- *
- * # Safety
- * `gains` points to `order` floats; see the header's introduction.
- */
-at_status at_fixed_gains_new(const float *gains,
-                             size_t order,
-                             double sample_period_s,
-                             struct at_fixed_gains *out);
-
-/**
- * Sets the monitor of `gains` for signals of `nominal_amplitude_counts` (16384 to 46341
- * counts: a 12-bit reading shifted left by 4 is about 28,800), or turns it off with 0 (only
- * the input's handling remains). `AT_OK`, or `AT_ERR_NOMINAL_AMPLITUDE` (`gains` unchanged).
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_fixed_gains_set_monitor(struct at_fixed_gains *gains, double nominal_amplitude_counts);
-
-/**
- * The order (2 or 3) of fixed-point gains; 0 for NULL or gains not made (or another
- * build's).
- *
- * # Safety
- * See the header's introduction.
- */
-size_t at_fixed_gains_order(const struct at_fixed_gains *gains);
-
-/**
- * Makes `state` fresh (it initialises itself from its next sample); a zeroed state is
- * fresh too. NULL is ignored.
- *
- * # Safety
- * See the header's introduction.
- */
-void at_fixed_state_reset(struct at_fixed_state *state);
-
-/**
- * Returns the faults latched in `state` since they were last cleared (`AT_FAULT_*` bits)
- * and clears them. 0 for NULL.
- *
- * # Safety
- * See the header's introduction.
- */
-uint32_t at_fixed_state_clear_faults(struct at_fixed_state *state);
-
-/**
- * One sample of the integer signals `y_c ~ cos(theta)`, `y_s ~ sin(theta)` (counts, the
- * ADC's mid-scale removed; amplitudes from 4096 to 46341 counts are normalised exactly, so
- * a 12-bit reading is shifted left by 3 or 4), the state only: the cheapest per-sample
- * call (`at_fixed_state_estimate` reads the estimate on demand). Returns 0, or
- * `AT_FAULT_INVALID_ARGUMENT` when a pointer is NULL, the gains were not made or a struct
- * is another build's (then `state` is unchanged).
- *
- * # Safety
- * See the header's introduction.
- */
-uint32_t at_fixed_track(const struct at_fixed_gains *gains,
-                        struct at_fixed_state *state,
-                        int16_t y_c,
-                        int16_t y_s);
-
-/**
- * `at_fixed_track`, then the estimate (`at_fixed_state_estimate`); on refused arguments
- * an estimate whose faults are `AT_FAULT_INVALID_ARGUMENT` (the rest 0).
- *
- * # Safety
- * See the header's introduction.
- */
-struct at_fixed_estimate at_fixed_update(const struct at_fixed_gains *gains,
-                                         struct at_fixed_state *state,
-                                         int16_t y_c,
-                                         int16_t y_s);
-
-/**
- * The estimate `state` holds (its last sample's; all zero for a fresh state). NULL or
- * another build's state: `AT_FAULT_INVALID_ARGUMENT`.
- *
- * # Safety
- * See the header's introduction.
- */
-struct at_fixed_estimate at_fixed_state_estimate(const struct at_fixed_state *state);
-
-/**
- * The multi-turn position of `estimate` (rad): `2 pi (turns + angle / 2^32)`. 0 for NULL.
- * Double-precision arithmetic: for a host, or out of the sample loop.
- *
- * # Safety
- * See the header's introduction.
- */
-double at_fixed_position_rad(const struct at_fixed_estimate *estimate);
-
-/**
- * The speed of `estimate` (rad/s) at the sample period of `gains`. 0 for NULL or gains
- * not made. Double-precision arithmetic: for a host, or out of the sample loop.
- *
- * # Safety
- * See the header's introduction.
- */
-double at_fixed_speed_rad_s(const struct at_fixed_gains *gains,
-                            const struct at_fixed_estimate *estimate);
-
-/**
- * Writes to `out` the chain `chain` with a winding check: a winding open or shorted (one
- * winding reading below a quarter of `nominal_amplitude` where the observer's prediction
- * puts at least half of it, the other agreeing with the prediction) is flagged
- * `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_WINDING`) and coasted through while it holds.
- * `nominal_amplitude` is the windings' peak in the chain's input units after the
- * calibration (1 for a demodulator's pairs; `AT_ERR_NOMINAL_AMPLITUDE` unless finite and
- * positive). `out` unchanged on error.
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_chain_f32_with_winding_check(const struct at_chain_f32 *chain,
-                                          float nominal_amplitude,
-                                          struct at_chain_f32 *out);
-
-/**
- * `at_chain_f32_track` on a demodulator's pair (`at_demodulator_f32_push`), with the
- * front-end faults of its window: while one invalidates the pair (loss of excitation, a
- * winding open or shorted) the observer coasts on its prediction instead of using it, and
- * every fault is latched as `AT_FAULT_FRONT_END` (`at_chain_state_f32_clear_front_end_faults`
- * gives the front-end bits). Returns 0, or `AT_FAULT_INVALID_ARGUMENT` (nothing changed)
- * for refused arguments, a chain with an ADC stage among them (the demodulator takes the
- * counts: build the chain without one).
- *
- * # Safety
- * See the header's introduction.
- */
-uint32_t at_chain_f32_track_demodulated(const struct at_chain_f32 *chain,
-                                        struct at_chain_state_f32 *state,
-                                        const struct at_demodulated_pair_f32 *pair);
-
-/**
- * `at_chain_f32_track_demodulated`, then the estimate, which carries `AT_FAULT_FRONT_END`
- * while the pair has a front-end fault.
- *
- * # Safety
- * See the header's introduction.
- */
-struct at_estimate_f32 at_chain_f32_update_demodulated(const struct at_chain_f32 *chain,
-                                                       struct at_chain_state_f32 *state,
-                                                       const struct at_demodulated_pair_f32 *pair);
-
-/**
- * Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
- * against the ADC's range, the demodulator's faults, a winding open or shorted) and clears
- * them. 0 for NULL.
- *
- * # Safety
- * See the header's introduction.
- */
-uint32_t at_chain_state_f32_clear_front_end_faults(struct at_chain_state_f32 *state);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -7,8 +7,8 @@ use core::mem::MaybeUninit;
 
 use angletrack_core::{AdcScaling, ConfigError, FrontEndCheck, Rails};
 
-use crate::slot::{self, Refused, Stored};
-use crate::status::{AT_OK, at_status, status_of, status_of_result};
+use crate::slot::{self, Refused, Slot, Stored};
+use crate::status::at_status;
 
 /// The 8-byte words of an `at_adc_f32`'s storage (checked against the Rust type at compile
 /// time, on every target).
@@ -45,11 +45,11 @@ pub(crate) fn codes_of(bits: u32, signed: bool) -> Option<(i32, i32)> {
 #[derive(Debug, Clone, Copy)]
 pub struct at_adc_f32 {
     /// Private: whether `storage` holds it.
-    tag: u32,
+    pub(crate) tag: u32,
     /// Private: the layout of the build that wrote it.
-    layout: u32,
+    pub(crate) layout: u32,
     /// Private: the Rust value.
-    storage: [MaybeUninit<u64>; AT_ADC_F32_WORDS],
+    pub(crate) storage: [MaybeUninit<u64>; AT_ADC_F32_WORDS],
 }
 
 slot::slot_struct!(at_adc_f32, AT_ADC_F32_WORDS);
@@ -72,53 +72,17 @@ impl at_adc_f32 {
         scaling: Result<AdcScaling<f32>, ConfigError>,
         range: Option<(i32, i32)>,
     ) -> at_status {
-        if let Ok(scaling) = scaling {
-            self.slot_put(AdcF32 { scaling, range });
-        }
-        status_of_result(scaling)
+        self.slot_store(scaling.map(|scaling| AdcF32 { scaling, range }))
     }
 
     /// States the range of codes `min` to `max` (checked by the core's `FrontEndCheck`:
     /// `AT_ERR_ADC_RANGE` unless `min < max`); refused, and `self` unchanged, for an ADC not
     /// made.
     pub(crate) fn set_range(&mut self, min: i32, max: i32) -> at_status {
-        let scaling = match self.get() {
-            Ok(scaling) => *scaling,
-            Err(refused) => return refused.status(),
-        };
-        match FrontEndCheck::around((), Some((min, max))) {
-            Ok(_) => {
-                self.slot_put(AdcF32 {
-                    scaling,
-                    range: Some((min, max)),
-                });
-                AT_OK
-            }
-            Err(e) => status_of(e),
+        let range = Some((min, max));
+        match self.get() {
+            Ok(&scaling) => self.set(FrontEndCheck::around((), range).map(|_| scaling), range),
+            Err(refused) => refused.status(),
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::status::{AT_ERR_ADC_RANGE, AT_ERR_BITS, AT_ERR_NOT_INITIALISED, AT_OK};
-
-    #[test]
-    fn stores_the_checked_front_end() {
-        let mut adc = at_adc_f32::ZEROED;
-        assert!(adc.get().is_err());
-        assert_eq!(adc.set_range(0, 4095), AT_ERR_NOT_INITIALISED);
-        assert_eq!(adc.set(AdcScaling::offset_binary(40), None), AT_ERR_BITS);
-        assert!(adc.get().is_err());
-        assert_eq!(adc.set(AdcScaling::offset_binary(12), None), AT_OK);
-        assert_eq!(
-            adc.get().map(|a| a.sample(4095u16, 0u16)),
-            Ok((2047.0 / 2048.0, -1.0))
-        );
-        assert_eq!(adc.stage().map(|a| a.range), Ok(None));
-        assert_eq!(adc.set_range(4095, 4095), AT_ERR_ADC_RANGE);
-        assert_eq!(adc.set_range(0, 4095), AT_OK);
-        assert_eq!(adc.stage().map(|a| a.range), Ok(Some((0, 4095))));
     }
 }

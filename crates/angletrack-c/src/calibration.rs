@@ -1,56 +1,36 @@
-//! `at_calibrator_f32` (the online calibration of one channel, the core's `Calibrator<f32>`)
-//! and `at_sensor_calibration_f32` (the sensor's offsets, amplitudes and quadrature as
-//! plain floats, which firmware stores in flash and loads at start-up).
-
-use core::mem::MaybeUninit;
+//! The sensor calibration's plain C structs: `at_sensor_calibration_f32` (the sensor's
+//! offsets, amplitudes and quadrature as plain floats, which firmware stores in flash and
+//! loads at start-up) and `at_calibration_settings_f32` (the online calibration's
+//! settings), and the online calibration's modes and status (the core's `Calibrator`, held
+//! per channel in `at_chain_state_f32`).
 
 use angletrack_core::{
-    CalibrationMode, CalibrationStatus, Calibrator, ConfigError, SensorCalibration,
+    CalibrationMode, CalibrationSettings, CalibrationStatus, Calibrator, ConfigError,
+    SensorCalibration,
 };
 
-use crate::slot::{self, Refused};
-use crate::status::{AT_ERR_MODE, AT_OK, at_status, status_of_result};
+use crate::status::{AT_ERR_MODE, AT_OK, at_status};
 
-/// The 8-byte words of an `at_calibrator_f32`'s storage (checked against the Rust type at
-/// compile time, on every target).
-pub const AT_CALIBRATOR_F32_WORDS: usize = 14;
-
-/// `at_calibrator_f32_mode`: neither corrects nor learns (a fresh calibrator's mode).
+/// `at_chain_state_f32_calibration_mode`: neither corrects nor learns (a fresh calibrator's mode).
 pub const AT_CALIBRATION_OFF: u32 = 0;
-/// `at_calibrator_f32_mode`: corrects each sample and learns while the observer tracks.
+/// `at_chain_state_f32_calibration_mode`: corrects each sample and learns while the observer tracks.
 pub const AT_CALIBRATION_LEARNING: u32 = 1;
-/// `at_calibrator_f32_mode`: corrects each sample, learns nothing.
+/// `at_chain_state_f32_calibration_mode`: corrects each sample, learns nothing.
 pub const AT_CALIBRATION_FROZEN: u32 = 2;
 
-/// `at_calibrator_f32_status`: the channels' centres are not found yet (the rotor has not
+/// `at_chain_state_f32_calibration_status`: the channels' centres are not found yet (the rotor has not
 /// turned a whole turn while learning, or is at rest); nothing is learned (a fresh
 /// calibrator's status).
 pub const AT_CALIBRATION_FINDING_CENTRE: u32 = 0;
-/// `at_calibrator_f32_status`: the centre is known (found, or loaded); learning, or ready to.
+/// `at_chain_state_f32_calibration_status`: the centre is known (found, or loaded); learning, or ready to.
 pub const AT_CALIBRATION_CENTRED: u32 = 1;
-/// `at_calibrator_f32_status`: 16 electrical turns at speed without a turn learned (the
+/// `at_chain_state_f32_calibration_status`: 16 electrical turns at speed without a turn learned (the
 /// observer not locked within 0.29 of phase error, or the speed not steady).
 pub const AT_CALIBRATION_STALLED: u32 = 2;
 
-/// One channel's online calibration: the correction applied to each sample and its
-/// estimator. A zeroed one (C static memory) is a fresh calibrator: off, no correction,
-/// nothing learned. Place it anywhere; copy it by assignment; never write its fields.
-#[repr(C)]
-#[derive(Debug, Clone, Copy)]
-pub struct at_calibrator_f32 {
-    /// Private: whether `storage` holds it (0: a fresh calibrator).
-    tag: u32,
-    /// Private: the layout of the build that wrote it.
-    layout: u32,
-    /// Private: the Rust value.
-    storage: [MaybeUninit<u64>; AT_CALIBRATOR_F32_WORDS],
-}
-
-slot::slot_struct!(at_calibrator_f32, AT_CALIBRATOR_F32_WORDS);
-
 /// A sensor's calibration, `y_c = offset_c + amplitude_c cos(theta)`,
 /// `y_s = offset_s + amplitude_s sin(theta + quadrature_rad)` (input units, rad): plain
-/// floats to store in flash. `at_calibrator_f32_load` checks them.
+/// floats to store in flash. `at_chain_f32_new` and `at_chain_state_f32_load_calibration` check them.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct at_sensor_calibration_f32 {
@@ -79,47 +59,6 @@ impl From<SensorCalibration<f32>> for at_sensor_calibration_f32 {
     }
 }
 
-impl at_calibrator_f32 {
-    /// A fresh calibrator (all zero, as C static memory holds).
-    pub(crate) const FRESH: Self = Self::ZEROED;
-
-    /// The calibrator held, or a fresh one; refused if another build's.
-    pub(crate) fn get_mut(&mut self) -> Result<&mut Calibrator<f32>, Refused> {
-        self.slot_get_or_put(Calibrator::new)
-    }
-
-    /// A copy of the calibrator held, or a fresh one; refused if another build's.
-    pub(crate) fn value(&self) -> Result<Calibrator<f32>, Refused> {
-        match self.slot_get() {
-            Ok(c) => Ok(*c),
-            Err(Refused::NotInitialised) => Ok(Calibrator::new()),
-            Err(refused) => Err(refused),
-        }
-    }
-
-    /// Loads a stored calibration (checked), frozen; on error `self` is left as it was.
-    pub(crate) fn load(&mut self, stored: &at_sensor_calibration_f32) -> at_status {
-        let calibration = stored.checked();
-        if let Ok(calibration) = calibration {
-            self.slot_put(Calibrator::from_calibration(calibration));
-        }
-        status_of_result(calibration)
-    }
-
-    /// Sets the mode from an `AT_CALIBRATION_*` value.
-    pub(crate) fn set_mode(&mut self, mode: u32) -> at_status {
-        match self.get_mut() {
-            Ok(calibrator) => set_mode_of(calibrator, mode),
-            Err(refused) => refused.status(),
-        }
-    }
-
-    /// The mode, as an `AT_CALIBRATION_*` value (off for another build's calibrator).
-    pub(crate) fn mode(&self) -> u32 {
-        self.value().map_or(AT_CALIBRATION_OFF, |c| mode_of(&c))
-    }
-}
-
 impl at_sensor_calibration_f32 {
     /// The core's calibration, checked.
     pub(crate) fn checked(&self) -> Result<SensorCalibration<f32>, ConfigError> {
@@ -130,14 +69,6 @@ impl at_sensor_calibration_f32 {
             self.amplitude_s,
             self.quadrature_rad,
         )
-    }
-}
-
-#[cfg(test)]
-impl at_sensor_calibration_f32 {
-    /// The calibration that corrects nothing.
-    pub(crate) fn from_core_identity() -> Self {
-        SensorCalibration::IDENTITY.into()
     }
 }
 
@@ -162,7 +93,7 @@ pub(crate) fn mode_of(calibrator: &Calibrator<f32>) -> u32 {
 }
 
 /// The status of `calibrator`, as an `AT_CALIBRATION_*` status value.
-pub(crate) fn status_of(calibrator: &Calibrator<f32>) -> u32 {
+pub(crate) fn calibration_status(calibrator: &Calibrator<f32>) -> u32 {
     match calibrator.status() {
         CalibrationStatus::FindingCentre => AT_CALIBRATION_FINDING_CENTRE,
         CalibrationStatus::Centred => AT_CALIBRATION_CENTRED,
@@ -170,40 +101,44 @@ pub(crate) fn status_of(calibrator: &Calibrator<f32>) -> u32 {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::status::AT_ERR_AMPLITUDE_S;
+/// The online calibration's settings (the core's `CalibrationSettings`): when it learns and
+/// the bounds beyond which its estimates raise a fault. Start from
+/// `at_calibration_settings_f32_default()`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct at_calibration_settings_f32 {
+    /// Learns only above this electrical speed (rad/s); 0 for the default, one turn in
+    /// 4096 samples.
+    pub min_speed_rad_s: f32,
+    /// An offset above this fraction of its channel's amplitude flags
+    /// `AT_FAULT_OFFSET_OR_QUADRATURE` (default 0.1).
+    pub max_offset: f32,
+    /// `|A_s / A_c - 1|` above this flags `AT_FAULT_AMPLITUDE_MISMATCH` (default 0.2).
+    pub max_amplitude_mismatch: f32,
+    /// `|quadrature|` (rad) above this flags `AT_FAULT_OFFSET_OR_QUADRATURE` (default 0.1).
+    pub max_quadrature_rad: f32,
+}
 
-    #[test]
-    fn loads_checks_and_reads_back() {
-        let mut calibrator = at_calibrator_f32::FRESH;
-        assert_eq!(calibrator.mode(), AT_CALIBRATION_OFF);
-        let stored = at_sensor_calibration_f32 {
-            offset_c: 90.0,
-            offset_s: -90.0,
-            amplitude_c: 1800.0,
-            amplitude_s: 1980.0,
-            quadrature_rad: 0.052,
-        };
-        assert_eq!(calibrator.load(&stored), AT_OK);
-        assert_eq!(calibrator.mode(), AT_CALIBRATION_FROZEN);
-        assert_eq!(
-            at_sensor_calibration_f32::from(calibrator.value().unwrap().calibration()),
-            stored
-        );
-        assert_eq!(calibrator.set_mode(AT_CALIBRATION_LEARNING), AT_OK);
-        assert_eq!(calibrator.mode(), AT_CALIBRATION_LEARNING);
-        assert_eq!(calibrator.set_mode(7), AT_ERR_MODE);
-        let bad = at_sensor_calibration_f32 {
-            amplitude_s: -1.0,
-            ..stored
-        };
-        assert_eq!(calibrator.load(&bad), AT_ERR_AMPLITUDE_S);
-        assert_eq!(
-            calibrator.mode(),
-            AT_CALIBRATION_LEARNING,
-            "a refused load changes nothing"
-        );
+impl From<CalibrationSettings<f32>> for at_calibration_settings_f32 {
+    fn from(d: CalibrationSettings<f32>) -> Self {
+        Self {
+            min_speed_rad_s: d.min_speed_rad_s.unwrap_or(0.0),
+            max_offset: d.max_offset,
+            max_amplitude_mismatch: d.max_amplitude_mismatch,
+            max_quadrature_rad: d.max_quadrature_rad,
+        }
+    }
+}
+
+impl at_calibration_settings_f32 {
+    /// The core's settings, field by field (from the core's defaults, so that fields it
+    /// may add keep them).
+    pub(crate) fn to_core(self) -> CalibrationSettings<f32> {
+        let mut s = CalibrationSettings::default();
+        s.min_speed_rad_s = (self.min_speed_rad_s != 0.0).then_some(self.min_speed_rad_s);
+        s.max_offset = self.max_offset;
+        s.max_amplitude_mismatch = self.max_amplitude_mismatch;
+        s.max_quadrature_rad = self.max_quadrature_rad;
+        s
     }
 }

@@ -1,5 +1,6 @@
-//! The signal chain in fixed point (the core's [`Chain`] on [`FixedGains`]), for cores
-//! without an FPU: `at_chain_fixed`, the configuration of one chain (the ADC's counts to the
+//! The signal chain in fixed point (the core's `Tracker` on `FixedGains`), for cores
+//! without an FPU: `at_fixed_estimate`, what the observer reports; `at_chain_fixed`, the
+//! configuration of one chain (the ADC's counts to the
 //! observer's 16-bit samples, an optional stored sensor calibration and an optional angle
 //! correction table, both applied in integers, and the fixed-point observer with its
 //! monitor); `at_chain_state_fixed`, one channel's state; and `at_adc_counts`, the plain
@@ -14,16 +15,62 @@
 use core::mem::MaybeUninit;
 
 use angletrack_core::{
-    AdcCounts, AdcSample, ConfigError, FixedCalibration, FixedGains, FixedState, Input, Order,
-    Rails, SensorCalibration, SupportedOrder, Tracker, TrackerFrontEnd, TrackerInput,
-    TrackerSettings, TrackerState,
+    AdcCounts, ConfigError, FixedCalibration, FixedEstimate, FixedGains, FixedState, Input, Order,
+    Rails, SensorCalibration, SupportedOrder, Tracker, TrackerFrontEnd, TrackerSettings,
+    TrackerState,
 };
 
 use crate::calibration::at_sensor_calibration_f32;
-use crate::fixed::{AnyFixed, at_fixed_estimate, at_fixed_gains};
-use crate::slot::{self, Refused, Stored};
-use crate::status::{AT_OK, at_status, status_of};
+use crate::door::c_chain;
+use crate::faults::AT_FAULT_INVALID_ARGUMENT;
+use crate::gains::{at_fixed_gains, with_order};
+use crate::slot::{self, Slot, Stored, by_order};
+use crate::status::{AT_OK, at_status};
 use crate::table::at_angle_table_fixed;
+
+/// What the fixed-point observer knows after a sample, in its integers.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct at_fixed_estimate {
+    /// Binary angle: 2^32 per turn, `INT32_MIN` is -pi (rad = angle * 2 pi / 2^32).
+    pub angle: i32,
+    /// Whole turns since initialisation: the position is `turns + angle / 2^32` turns.
+    pub turns: i64,
+    /// Speed (2^-32 turn per sample).
+    pub speed: i32,
+    /// Acceleration (2^-63 turn per sample^2); 0 for a 2nd-order observer.
+    pub acceleration: i64,
+    /// Normalised phase error (Q15: 32768 is 1), about the sine of the phase error.
+    pub phase_error: i32,
+    /// The monitor's last window's faults (`AT_FAULT_*` bits), or
+    /// `AT_FAULT_INVALID_ARGUMENT` alone when the call's arguments were refused.
+    pub faults: u32,
+}
+
+impl From<FixedEstimate> for at_fixed_estimate {
+    fn from(e: FixedEstimate) -> Self {
+        Self {
+            angle: e.angle,
+            turns: e.turns,
+            speed: e.speed,
+            acceleration: e.acceleration,
+            phase_error: e.phase_error,
+            faults: u32::from(e.faults.bits()),
+        }
+    }
+}
+
+impl at_fixed_estimate {
+    /// The estimate of a call whose arguments were NULL, not made, or another build's.
+    pub(crate) const INVALID: Self = Self {
+        angle: 0,
+        turns: 0,
+        speed: 0,
+        acceleration: 0,
+        phase_error: 0,
+        faults: AT_FAULT_INVALID_ARGUMENT,
+    };
+}
 
 /// The 8-byte words of an `at_chain_fixed`'s storage (checked against the Rust type at
 /// compile time, on every target).
@@ -63,7 +110,6 @@ impl at_adc_counts {
 
     /// The conversion, checked by the core's `AdcCounts`.
     fn checked(&self) -> Result<AdcCounts, ConfigError> {
-        AdcCounts::new(self.mid_scale_counts, self.shift)?;
         AdcCounts::new(self.mid_scale_counts, self.shift)
     }
 }
@@ -75,11 +121,11 @@ impl at_adc_counts {
 #[derive(Debug, Clone, Copy)]
 pub struct at_chain_fixed {
     /// Private: which Rust value `storage` holds (0: none).
-    tag: u32,
+    pub(crate) tag: u32,
     /// Private: the layout of the build that wrote it.
-    layout: u32,
+    pub(crate) layout: u32,
     /// Private: the Rust value.
-    storage: [MaybeUninit<u64>; AT_CHAIN_FIXED_WORDS],
+    pub(crate) storage: [MaybeUninit<u64>; AT_CHAIN_FIXED_WORDS],
 }
 
 slot::slot_struct!(at_chain_fixed, AT_CHAIN_FIXED_WORDS);
@@ -92,11 +138,11 @@ slot::slot_struct!(at_chain_fixed, AT_CHAIN_FIXED_WORDS);
 #[derive(Debug, Clone, Copy)]
 pub struct at_chain_state_fixed {
     /// Private: which Rust value `storage` holds (0: a fresh state).
-    tag: u32,
+    pub(crate) tag: u32,
     /// Private: the layout of the build that wrote it.
-    layout: u32,
+    pub(crate) layout: u32,
     /// Private: the Rust value.
-    storage: [MaybeUninit<u64>; AT_CHAIN_STATE_FIXED_WORDS],
+    pub(crate) storage: [MaybeUninit<u64>; AT_CHAIN_STATE_FIXED_WORDS],
 }
 
 slot::slot_struct!(at_chain_state_fixed, AT_CHAIN_STATE_FIXED_WORDS);
@@ -188,15 +234,6 @@ fn with_adc_range<const N: usize>(
     Ok(Tracker::new(front_end, chain.observer))
 }
 
-/// An `at_chain_fixed`'s chain of either order.
-#[derive(Debug, Clone, Copy)]
-pub(crate) enum AnyChainFixed<'a> {
-    /// Order 2.
-    Two(&'a ChainFixed<2>),
-    /// Order 3.
-    Three(&'a ChainFixed<3>),
-}
-
 impl at_chain_fixed {
     /// Builds and stores the chain (`self` unchanged on error).
     pub(crate) fn set(
@@ -205,16 +242,10 @@ impl at_chain_fixed {
         stages: FixedStages<'_>,
         nominal_amplitude_counts: f64,
     ) -> at_status {
-        let result = match gains.get() {
-            Ok(AnyFixed::Two(g)) => {
-                build(g, stages, nominal_amplitude_counts).map(|c| self.slot_put(c))
-            }
-            Ok(AnyFixed::Three(g)) => {
-                build(g, stages, nominal_amplitude_counts).map(|c| self.slot_put(c))
-            }
-            Err(refused) => return refused.status(),
-        };
-        result.err().map_or(AT_OK, status_of)
+        let built = with_order!(gains.order, N => gains
+            .core::<N>()
+            .and_then(|g| build(&g, stages, nominal_amplitude_counts).map(|c| self.slot_put(c))));
+        built.map_or_else(|status| status, |()| AT_OK)
     }
 
     /// Stores `chain` with clipping flagged at the codes `min` and `max` (`self` unchanged
@@ -225,178 +256,32 @@ impl at_chain_fixed {
         min: i32,
         max: i32,
     ) -> at_status {
-        let result = match chain.get() {
-            Ok(AnyChainFixed::Two(c)) => with_adc_range(c, min, max).map(|c| self.slot_put(c)),
-            Ok(AnyChainFixed::Three(c)) => with_adc_range(c, min, max).map(|c| self.slot_put(c)),
-            Err(refused) => return refused.status(),
-        };
-        result.err().map_or(AT_OK, status_of)
-    }
-
-    /// The chain, if made by `at_chain_fixed_new` of this build.
-    #[inline(always)]
-    pub(crate) fn get(&self) -> Result<AnyChainFixed<'_>, Refused> {
-        if self.tag == <ChainFixed<2> as Stored>::TAG {
-            self.slot_get().map(AnyChainFixed::Two)
-        } else {
-            self.slot_get().map(AnyChainFixed::Three)
+        match chain.get() {
+            Ok(c) => by_order!(c, |c| self.slot_store(with_adc_range(c, min, max))),
+            Err(refused) => refused.status(),
         }
     }
 }
 
 impl at_chain_state_fixed {
-    /// A fresh state (all zero, as C static memory holds).
-    pub(crate) const FRESH: Self = Self::ZEROED;
-
-    /// The state of a chain of order `N`: the one held, or a fresh one; refused if another
-    /// build's.
-    #[inline(always)]
-    pub(crate) fn of_order<const N: usize>(&mut self) -> Result<&mut StateFixed<N>, Refused>
-    where
-        StateFixed<N>: Stored,
-    {
-        self.slot_get_or_put(StateFixed::<N>::new)
-    }
-
     /// Returns the latched faults (`AT_FAULT_*` bits) and clears them; 0 for a fresh state
     /// (or another build's).
     pub(crate) fn clear_faults(&mut self) -> u32 {
-        /// The faults of the state of order `N`.
-        fn of<const N: usize>(s: &mut at_chain_state_fixed) -> Option<u32>
-        where
-            StateFixed<N>: Stored,
-        {
-            s.of_order::<N>().ok().map(|s| {
-                let f = s.observer.latched_faults();
+        self.held().map_or(0, |s| {
+            by_order!(s, |s| {
+                let faults = s.observer.latched_faults();
                 s.observer.clear_faults();
-                u32::from(f.bits())
+                u32::from(faults.bits())
             })
-        }
-        let faults = match self.tag {
-            t if t == <StateFixed<2> as Stored>::TAG => of::<2>(self),
-            t if t == <StateFixed<3> as Stored>::TAG => of::<3>(self),
-            _ => None,
-        };
-        faults.unwrap_or(0)
-    }
-
-    /// Returns the front-end faults latched by the clipping checks, against the stated
-    /// range or the rails measured (`AT_FRONT_END_FAULT_*` bits), and clears them; 0 for a
-    /// fresh state (or another build's).
-    pub(crate) fn clear_front_end_faults(&mut self) -> u32 {
-        /// The checks' latched faults, cleared.
-        fn of<const N: usize>(state: &mut StateFixed<N>) -> u32 {
-            u32::from(state.front_end.clear_faults().bits())
-        }
-        match self.tag {
-            t if t == <StateFixed<2> as Stored>::TAG => self.of_order::<2>().map_or(0, of),
-            t if t == <StateFixed<3> as Stored>::TAG => self.of_order::<3>().map_or(0, of),
-            _ => 0,
-        }
+        })
     }
 }
 
-/// Counts of a fixed-point chain: `int16` (through the identity if the chain has no ADC),
-/// `uint16` and `int32` (refused without an ADC).
-pub(crate) trait FixedInput: AdcSample {
-    /// Whether a chain without an ADC takes this type.
-    const WITHOUT_ADC: bool;
-    /// The pair as the core's chain takes it.
-    type Pair: TrackerInput<i16>;
-    /// The pair of `raw_c` and `raw_s`.
-    fn pair(raw_c: Self, raw_s: Self) -> Self::Pair;
-}
-
-/// The counts types C passes, each with its flag.
-macro_rules! fixed_input {
-    ($($int:ty: $without_adc:expr),*) => {$(
-        impl FixedInput for $int {
-            const WITHOUT_ADC: bool = $without_adc;
-            type Pair = ($int, $int);
-            #[inline(always)]
-            fn pair(raw_c: $int, raw_s: $int) -> ($int, $int) {
-                (raw_c, raw_s)
-            }
-        }
-    )*};
-}
-
-fixed_input!(i16: true, u16: false, i32: false);
-
-/// One sample through `chain` on `state`: `$body` with the chain `$c` and state `$s` of
-/// order `N`; `None` (and nothing changed) if refused: a chain not made, another build's
-/// state, counts the chain cannot take.
-macro_rules! through_fixed {
-    ($chain:expr, $state:expr, $input:ty, |$c:ident, $s:ident| $body:expr) => {
-        match $chain.get() {
-            Ok($crate::chain_fixed::AnyChainFixed::Two($c))
-                if <$input as FixedInput>::WITHOUT_ADC || $c.front_end.adc().is_some() =>
-            {
-                $state.of_order::<2>().ok().map(|$s| $body)
-            }
-            Ok($crate::chain_fixed::AnyChainFixed::Three($c))
-                if <$input as FixedInput>::WITHOUT_ADC || $c.front_end.adc().is_some() =>
-            {
-                $state.of_order::<3>().ok().map(|$s| $body)
-            }
-            _ => None,
-        }
-    };
-}
-
-/// One sample of counts through the chain, the state only: `false` if refused.
-#[inline(always)]
-pub(crate) fn track_fixed<I: FixedInput>(
-    chain: &at_chain_fixed,
-    state: &mut at_chain_state_fixed,
-    raw_c: I,
-    raw_s: I,
-) -> bool {
-    through_fixed!(chain, state, I, |c, s| c.track(s, I::pair(raw_c, raw_s))).is_some()
-}
-
-/// One sample of counts through the chain, then the estimate.
-#[inline(always)]
-pub(crate) fn update_fixed<I: FixedInput>(
-    chain: &at_chain_fixed,
-    state: &mut at_chain_state_fixed,
-    raw_c: I,
-    raw_s: I,
-) -> at_fixed_estimate {
-    through_fixed!(chain, state, I, |c, s| c
-        .update(s, I::pair(raw_c, raw_s))
-        .into())
-    .unwrap_or(at_fixed_estimate::INVALID)
-}
-
-/// The estimate `state` holds for `chain`: a fresh state's for a fresh state.
-pub(crate) fn estimate_fixed(
-    chain: &at_chain_fixed,
-    state: &at_chain_state_fixed,
-) -> at_fixed_estimate {
-    /// The estimate of a chain of order `N`.
-    fn of<const N: usize>(c: &ChainFixed<N>, state: &at_chain_state_fixed) -> at_fixed_estimate
-    where
-        StateFixed<N>: Stored,
-    {
-        match state.slot_get::<StateFixed<N>>() {
-            Ok(s) => c.estimate(s).into(),
-            Err(Refused::NotInitialised) => FixedGains::<N>::estimate(&FixedState::new()).into(),
-            Err(Refused::OtherBuild) => at_fixed_estimate::INVALID,
-        }
-    }
-    match chain.get() {
-        Ok(AnyChainFixed::Two(c)) => of(c, state),
-        Ok(AnyChainFixed::Three(c)) => of(c, state),
-        Err(_) => at_fixed_estimate::INVALID,
-    }
-}
-
-/// The sample period (s) of a chain, 0 if not made.
-pub(crate) fn sample_period_fixed(chain: &at_chain_fixed) -> f64 {
-    match chain.get() {
-        Ok(AnyChainFixed::Two(c)) => c.observer.sample_period(),
-        Ok(AnyChainFixed::Three(c)) => c.observer.sample_period(),
-        Err(_) => 0.0,
-    }
-}
+c_chain!(
+    at_chain_fixed,
+    at_chain_state_fixed,
+    at_fixed_estimate,
+    i16,
+    ChainFixed,
+    StateFixed
+);

@@ -7,11 +7,9 @@
 
 use core::mem::MaybeUninit;
 
-use angletrack_core::{
-    DemodulatedPair, Demodulator, DemodulatorSettings, DemodulatorState, FrontEndFaults,
-};
+use angletrack_core::{DemodulatedPair, Demodulator, DemodulatorSettings, DemodulatorState};
 
-use crate::slot::{self, Refused, Stored};
+use crate::slot::{self, Refused, Slot, Stored};
 use crate::status::{at_status, status_of_result};
 
 /// The 8-byte words of an `at_demodulator_f32`'s storage (checked against the Rust types at
@@ -50,11 +48,11 @@ pub const AT_FRONT_END_FAULT_EXCITATION_REFERENCE: u32 = 1 << 5;
 #[derive(Debug, Clone, Copy)]
 pub struct at_demodulator_f32 {
     /// Private: which Rust value `storage` holds (0: none).
-    tag: u32,
+    pub(crate) tag: u32,
     /// Private: the layout of the build that wrote it.
-    layout: u32,
+    pub(crate) layout: u32,
     /// Private: the Rust value.
-    storage: [MaybeUninit<u64>; AT_DEMODULATOR_F32_WORDS],
+    pub(crate) storage: [MaybeUninit<u64>; AT_DEMODULATOR_F32_WORDS],
 }
 
 slot::slot_struct!(at_demodulator_f32, AT_DEMODULATOR_F32_WORDS);
@@ -67,11 +65,11 @@ slot::slot_struct!(at_demodulator_f32, AT_DEMODULATOR_F32_WORDS);
 #[derive(Debug, Clone, Copy)]
 pub struct at_demodulator_state_f32 {
     /// Private: which Rust value `storage` holds (0: a fresh state).
-    tag: u32,
+    pub(crate) tag: u32,
     /// Private: the layout of the build that wrote it.
-    layout: u32,
+    pub(crate) layout: u32,
     /// Private: the Rust value.
-    storage: [MaybeUninit<u64>; AT_DEMODULATOR_STATE_F32_WORDS],
+    pub(crate) storage: [MaybeUninit<u64>; AT_DEMODULATOR_STATE_F32_WORDS],
 }
 
 slot::slot_struct!(at_demodulator_state_f32, AT_DEMODULATOR_STATE_F32_WORDS);
@@ -195,33 +193,6 @@ impl From<DemodulatedPair<f32>> for at_demodulated_pair_f32 {
 const _: () = assert!(size_of::<Demodulator<f32>>().div_ceil(8) == AT_DEMODULATOR_F32_WORDS);
 const _: () =
     assert!(size_of::<DemodulatorState<f32>>().div_ceil(8) == AT_DEMODULATOR_STATE_F32_WORDS);
-
-// The pairs' `faults` are the core's bits: each constant is its flag's.
-const _: () = {
-    let flags = [
-        (
-            AT_FRONT_END_FAULT_LOSS_OF_EXCITATION,
-            FrontEndFaults::LOSS_OF_EXCITATION,
-        ),
-        (AT_FRONT_END_FAULT_PHASE_DRIFT, FrontEndFaults::PHASE_DRIFT),
-        (AT_FRONT_END_FAULT_CLIPPING, FrontEndFaults::CLIPPING),
-        (
-            AT_FRONT_END_FAULT_WEAK_EXCITATION,
-            FrontEndFaults::WEAK_EXCITATION,
-        ),
-        (AT_FRONT_END_FAULT_WINDING, FrontEndFaults::WINDING),
-        (
-            AT_FRONT_END_FAULT_EXCITATION_REFERENCE,
-            FrontEndFaults::EXCITATION_REFERENCE,
-        ),
-    ];
-    assert!(flags.len() == FrontEndFaults::NAMES.len());
-    let mut k = 0;
-    while k < flags.len() {
-        assert!(flags[k].0 == flags[k].1.bits() as u32);
-        k += 1;
-    }
-};
 
 impl Stored for Demodulator<f32> {
     const TAG: u32 = 0x4154_4401; // "ATD"

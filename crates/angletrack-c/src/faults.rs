@@ -1,10 +1,7 @@
-//! The fault bits of `at_estimate_f32::faults` and `at_state_f32_clear_faults`: the core's
-//! [`Faults`] bits, and one bit of the C API's own.
+//! The fault bits of the estimates' `faults` and of `at_chain_state_f32_clear_faults`: the core's
+//! [`Faults`](angletrack_core::Faults) bits, and one bit of the C API's own.
 
 use core::ffi::CStr;
-
-#[cfg(test)]
-use angletrack_core::Faults;
 
 /// Loss of signal: a window's RMS amplitude is below the loss-of-signal threshold.
 pub const AT_FAULT_LOSS_OF_SIGNAL: u32 = 1;
@@ -23,16 +20,16 @@ pub const AT_FAULT_OFFSET_OR_QUADRATURE: u32 = 1 << 6;
 /// A front-end fault: a stage before the observer flagged the sample (the core's
 /// `FrontEndCheck`, `WindingCheck`: clipping against the ADC's stated range, a
 /// demodulator's fault, a winding open or shorted), and while the fault invalidates it the
-/// observer coasted on its prediction. Set by the float chain (`at_chain_f32_*`).
+/// observer coasted on its prediction.
 pub const AT_FAULT_FRONT_END: u32 = 1 << 7;
-/// Not the sensor's: the call's gains were NULL or not made by `at_gains_f32_new` (or its
-/// state, ADC or calibrator NULL, or not made by their constructor); nothing was computed
-/// and the estimate's other fields are 0.
+/// Not the sensor's: the call's chain or state was NULL, not made by its constructor or
+/// another build's (or the chain cannot take the input); nothing was computed and the
+/// estimate's other fields are 0.
 pub const AT_FAULT_INVALID_ARGUMENT: u32 = 0x8000_0000;
 
 /// The C API's fault bits with their names, in bit order (the core's `Faults::NAMES`,
 /// then the C API's own).
-const NAMES: [(u32, &CStr); 9] = [
+pub(crate) const NAMES: [(u32, &CStr); 9] = [
     (AT_FAULT_LOSS_OF_SIGNAL, c"loss of signal"),
     (AT_FAULT_DEGRADATION_OF_SIGNAL, c"degradation of signal"),
     (AT_FAULT_LOSS_OF_TRACKING, c"loss of tracking"),
@@ -50,26 +47,4 @@ pub(crate) fn name(bit: u32) -> &'static CStr {
         .iter()
         .find(|(b, _)| *b == bit)
         .map_or(c"unknown fault", |(_, name)| name)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The C constants are the core's bits with the core's names, in the core's order.
-    #[test]
-    fn bits_and_names_match_the_core() {
-        assert_eq!(Faults::NAMES.len() + 1, NAMES.len());
-        for ((flag, core_name), (bit, c_name)) in Faults::NAMES.iter().zip(&NAMES) {
-            assert_eq!(u32::from(flag.bits()), *bit);
-            assert_eq!(c_name.to_str(), Ok(*core_name));
-            assert_eq!(name(*bit), *c_name);
-        }
-        let all_core = Faults::NAMES
-            .iter()
-            .fold(0, |all, (f, _)| all | u32::from(f.bits()));
-        assert_eq!(all_core & AT_FAULT_INVALID_ARGUMENT, 0);
-        assert_eq!(name(0).to_str(), Ok("unknown fault"));
-        assert_eq!(name(3).to_str(), Ok("unknown fault"));
-    }
 }

@@ -1,27 +1,30 @@
-//! The `extern "C"` functions of the signal chain (`at_chain_f32_*`, `at_chain_state_f32_*`)
-//! and of the float observer's state-only form (`at_track_f32`, `at_state_f32_estimate`):
-//! each checks its pointers, turns them into references, and calls the safe code of
-//! `chain` (or the core). The caller's contract is `ffi`'s.
+//! The `extern "C"` functions of the float signal chain (`at_chain_f32_*`,
+//! `at_chain_state_f32_*`, `at_calibration_settings_f32_default`): each checks its
+//! pointers, turns them into references, and calls the safe code of `chain` (or the core).
+//! The caller's contract is `ffi`'s.
 #![allow(unsafe_code)]
 
-use angletrack_core::Calibrator;
+use angletrack_core::{CalibrationSettings, Calibrator};
 
 use crate::adc::at_adc_f32;
-use crate::calibration::{at_sensor_calibration_f32, mode_of, set_mode_of};
-use crate::chain::{
-    Counts, Input, Pair, Stages, at_angle_correction_f32, at_calibration_settings_f32,
-    at_chain_f32, at_chain_state_f32, estimate, track, update,
+use crate::calibration::{
+    AT_CALIBRATION_FINDING_CENTRE, at_calibration_settings_f32, at_sensor_calibration_f32,
+    calibration_status, mode_of, set_mode_of,
 };
+use crate::chain::{
+    Stages, at_angle_correction_f32, at_chain_f32, at_chain_state_f32, at_estimate_f32,
+};
+use crate::demodulator::at_demodulated_pair_f32;
+use crate::door::{estimate_of, track_input, update_input};
 use crate::faults::AT_FAULT_INVALID_ARGUMENT;
-use crate::gains::{at_gains_f32, with_gains};
-use crate::observer::{at_estimate_f32, at_state_f32};
+use crate::gains::at_gains_f32;
 use crate::status::{AT_ERR_NULL_POINTER, AT_OK, at_status, status_of_result};
 use crate::table::at_angle_correction_table_f32;
 
 /// The online calibration's default settings (the core's `CalibrationSettings::default`).
 #[unsafe(no_mangle)]
 pub extern "C" fn at_calibration_settings_f32_default() -> at_calibration_settings_f32 {
-    at_calibration_settings_f32::default_settings()
+    CalibrationSettings::default().into()
 }
 
 /// Builds a signal chain into `out`: the observer `gains` (required) after the optional
@@ -73,44 +76,6 @@ pub unsafe extern "C" fn at_chain_f32_new(
     out.set(gains, stages)
 }
 
-/// The body of the `at_chain_f32_track*` functions.
-///
-/// # Safety
-/// As theirs.
-pub(crate) unsafe fn track_input(
-    chain: *const at_chain_f32,
-    state: *mut at_chain_state_f32,
-    input: impl Input,
-) -> u32 {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
-    match unsafe { (chain.as_ref(), state.as_mut()) } {
-        (Some(chain), Some(state)) => {
-            if track(chain, state, input) {
-                0
-            } else {
-                AT_FAULT_INVALID_ARGUMENT
-            }
-        }
-        _ => AT_FAULT_INVALID_ARGUMENT,
-    }
-}
-
-/// The body of the `at_chain_f32_update*` functions.
-///
-/// # Safety
-/// As theirs.
-pub(crate) unsafe fn update_input(
-    chain: *const at_chain_f32,
-    state: *mut at_chain_state_f32,
-    input: impl Input,
-) -> at_estimate_f32 {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
-    match unsafe { (chain.as_ref(), state.as_mut()) } {
-        (Some(chain), Some(state)) => update(chain, state, input),
-        _ => at_estimate_f32::INVALID,
-    }
-}
-
 /// One sample `(y_c, y_s)` through the chain's stages and observer, the state only (the
 /// cheapest per-sample call; `at_chain_f32_estimate` reads the estimate on demand, the
 /// stages' faults are latched in the state). Returns 0, or `AT_FAULT_INVALID_ARGUMENT`
@@ -127,7 +92,7 @@ pub unsafe extern "C" fn at_chain_f32_track(
     y_s: f32,
 ) -> u32 {
     // SAFETY: the same contract.
-    unsafe { track_input(chain, state, Pair(y_c, y_s)) }
+    unsafe { track_input(chain, state, (y_c, y_s)) }
 }
 
 /// `at_chain_f32_track`, then the estimate, which carries the stages' faults.
@@ -142,7 +107,7 @@ pub unsafe extern "C" fn at_chain_f32_update(
     y_s: f32,
 ) -> at_estimate_f32 {
     // SAFETY: the same contract.
-    unsafe { update_input(chain, state, Pair(y_c, y_s)) }
+    unsafe { update_input(chain, state, (y_c, y_s)) }
 }
 
 /// `at_chain_f32_track` on raw `i16` ADC counts, through the chain's ADC stage
@@ -158,7 +123,7 @@ pub unsafe extern "C" fn at_chain_f32_track_i16(
     raw_s: i16,
 ) -> u32 {
     // SAFETY: the same contract.
-    unsafe { track_input(chain, state, Counts(raw_c, raw_s)) }
+    unsafe { track_input(chain, state, (raw_c, raw_s)) }
 }
 
 /// `at_chain_f32_update` on raw `i16` ADC counts, through the chain's ADC stage
@@ -174,7 +139,7 @@ pub unsafe extern "C" fn at_chain_f32_update_i16(
     raw_s: i16,
 ) -> at_estimate_f32 {
     // SAFETY: the same contract.
-    unsafe { update_input(chain, state, Counts(raw_c, raw_s)) }
+    unsafe { update_input(chain, state, (raw_c, raw_s)) }
 }
 
 /// `at_chain_f32_track` on raw `u16` ADC counts, through the chain's ADC stage
@@ -190,7 +155,7 @@ pub unsafe extern "C" fn at_chain_f32_track_u16(
     raw_s: u16,
 ) -> u32 {
     // SAFETY: the same contract.
-    unsafe { track_input(chain, state, Counts(raw_c, raw_s)) }
+    unsafe { track_input(chain, state, (raw_c, raw_s)) }
 }
 
 /// `at_chain_f32_update` on raw `u16` ADC counts, through the chain's ADC stage
@@ -206,7 +171,7 @@ pub unsafe extern "C" fn at_chain_f32_update_u16(
     raw_s: u16,
 ) -> at_estimate_f32 {
     // SAFETY: the same contract.
-    unsafe { update_input(chain, state, Counts(raw_c, raw_s)) }
+    unsafe { update_input(chain, state, (raw_c, raw_s)) }
 }
 
 /// `at_chain_f32_track` on raw `i32` ADC counts, through the chain's ADC stage
@@ -222,7 +187,7 @@ pub unsafe extern "C" fn at_chain_f32_track_i32(
     raw_s: i32,
 ) -> u32 {
     // SAFETY: the same contract.
-    unsafe { track_input(chain, state, Counts(raw_c, raw_s)) }
+    unsafe { track_input(chain, state, (raw_c, raw_s)) }
 }
 
 /// `at_chain_f32_update` on raw `i32` ADC counts, through the chain's ADC stage
@@ -238,7 +203,7 @@ pub unsafe extern "C" fn at_chain_f32_update_i32(
     raw_s: i32,
 ) -> at_estimate_f32 {
     // SAFETY: the same contract.
-    unsafe { update_input(chain, state, Counts(raw_c, raw_s)) }
+    unsafe { update_input(chain, state, (raw_c, raw_s)) }
 }
 
 /// The estimate `state` holds for `chain` (its last sample's; the observer's faults, the
@@ -251,11 +216,8 @@ pub unsafe extern "C" fn at_chain_f32_estimate(
     chain: *const at_chain_f32,
     state: *const at_chain_state_f32,
 ) -> at_estimate_f32 {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-    match unsafe { (chain.as_ref(), state.as_ref()) } {
-        (Some(chain), Some(state)) => estimate(chain, state),
-        _ => at_estimate_f32::INVALID,
-    }
+    // SAFETY: the same contract.
+    unsafe { estimate_of(chain, state) }
 }
 
 /// Makes `state` fresh: the observer initialises itself from its next sample, the online
@@ -375,53 +337,98 @@ pub unsafe extern "C" fn at_chain_state_f32_turns_learned(state: *const at_chain
         .map_or(0, |c| c.turns_learned())
 }
 
-/// `at_update_f32` without the estimate: the state (and its latched faults) only, the
-/// cheapest per-sample call of the plain observer; `at_state_f32_estimate` reads the
-/// estimate on demand. Returns 0, or `AT_FAULT_INVALID_ARGUMENT` for refused arguments.
+/// Where the online calibration of `state` stands: `AT_CALIBRATION_FINDING_CENTRE`,
+/// `AT_CALIBRATION_CENTRED` or `AT_CALIBRATION_STALLED`; `AT_CALIBRATION_FINDING_CENTRE`
+/// for NULL or another build's state.
 ///
 /// # Safety
 /// See the header's introduction.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_track_f32(
-    gains: *const at_gains_f32,
-    state: *mut at_state_f32,
-    y_c: f32,
-    y_s: f32,
+pub unsafe extern "C" fn at_chain_state_f32_calibration_status(
+    state: *const at_chain_state_f32,
 ) -> u32 {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
-    let (Some(gains), Some(state)) = (unsafe { (gains.as_ref(), state.as_mut()) }) else {
-        return AT_FAULT_INVALID_ARGUMENT;
-    };
-    let Ok(any) = gains.get() else {
-        return AT_FAULT_INVALID_ARGUMENT;
-    };
-    with_gains!(any, |g| match state.of_order() {
-        Ok(s) => {
-            g.track(s, y_c, y_s);
-            0
-        }
-        Err(_) => AT_FAULT_INVALID_ARGUMENT,
-    })
+    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
+    unsafe { state.as_ref() }
+        .and_then(|s| s.calibrator_value().ok())
+        .map_or(AT_CALIBRATION_FINDING_CENTRE, |c| calibration_status(&c))
 }
 
-/// The estimate `state` holds for `gains` (its last sample's); refused arguments:
-/// `AT_FAULT_INVALID_ARGUMENT`.
+/// Writes to `out` the chain `chain` with a winding check: a winding open or shorted (one
+/// winding reading below a quarter of `nominal_amplitude` where the observer's prediction
+/// puts at least half of it, the other agreeing with the prediction) is flagged
+/// `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_WINDING`) and coasted through while it holds.
+/// `nominal_amplitude` is the windings' peak in the chain's input units after the
+/// calibration (1 for a demodulator's pairs; `AT_ERR_NOMINAL_AMPLITUDE` unless finite and
+/// positive). `out` unchanged on error.
 ///
 /// # Safety
 /// See the header's introduction.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_state_f32_estimate(
-    gains: *const at_gains_f32,
-    state: *const at_state_f32,
+pub unsafe extern "C" fn at_chain_f32_with_winding_check(
+    chain: *const at_chain_f32,
+    nominal_amplitude: f32,
+    out: *mut at_chain_f32,
+) -> at_status {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
+    match unsafe { (chain.as_ref(), out.as_mut()) } {
+        (Some(chain), Some(out)) => out.set_with_winding_check(chain, nominal_amplitude),
+        _ => AT_ERR_NULL_POINTER,
+    }
+}
+
+/// `at_chain_f32_track` on a demodulator's pair (`at_demodulator_f32_push`), with the
+/// front-end faults of its window: while one invalidates the pair (loss of excitation, a
+/// winding open or shorted) the observer coasts on its prediction instead of using it, and
+/// every fault is latched as `AT_FAULT_FRONT_END` (`at_chain_state_f32_clear_front_end_faults`
+/// gives the front-end bits). Returns 0, or `AT_FAULT_INVALID_ARGUMENT` (nothing changed)
+/// for refused arguments, a chain with an ADC stage among them (the demodulator takes the
+/// counts: build the chain without one).
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_f32_track_demodulated(
+    chain: *const at_chain_f32,
+    state: *mut at_chain_state_f32,
+    pair: *const at_demodulated_pair_f32,
+) -> u32 {
+    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
+    match unsafe { pair.as_ref() } {
+        // SAFETY: the same contract.
+        Some(pair) => unsafe { track_input(chain, state, pair) },
+        None => AT_FAULT_INVALID_ARGUMENT,
+    }
+}
+
+/// `at_chain_f32_track_demodulated`, then the estimate, which carries `AT_FAULT_FRONT_END`
+/// while the pair has a front-end fault.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_f32_update_demodulated(
+    chain: *const at_chain_f32,
+    state: *mut at_chain_state_f32,
+    pair: *const at_demodulated_pair_f32,
 ) -> at_estimate_f32 {
     // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-    let (Some(gains), Some(state)) = (unsafe { (gains.as_ref(), state.as_ref()) }) else {
-        return at_estimate_f32::INVALID;
-    };
-    match gains.get() {
-        Ok(any) => with_gains!(any, |g| state
-            .value_of_order()
-            .map_or(at_estimate_f32::INVALID, |s| g.estimate(&s).into())),
-        Err(_) => at_estimate_f32::INVALID,
+    match unsafe { pair.as_ref() } {
+        // SAFETY: the same contract.
+        Some(pair) => unsafe { update_input(chain, state, pair) },
+        None => at_estimate_f32::INVALID,
     }
+}
+
+/// Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
+/// against the ADC's range, the demodulator's faults, a winding open or shorted) and clears
+/// them. 0 for NULL.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_state_f32_clear_front_end_faults(
+    state: *mut at_chain_state_f32,
+) -> u32 {
+    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
+    unsafe { state.as_mut() }.map_or(0, at_chain_state_f32::clear_front_end_faults)
 }

@@ -1,38 +1,71 @@
-//! The `extern "C"` functions of the fixed-point chain (`at_chain_fixed_*`,
+//! The `extern "C"` functions of the fixed-point chain (`at_fixed_gains_*`, `at_chain_fixed_*`,
 //! `at_chain_state_fixed_*`, `at_adc_counts_*`) and of the angle-correction tables
 //! (`at_angle_table_fixed_*`, `at_angle_correction_table_f32_*`): each checks its pointers,
 //! turns them into references, and calls the safe code of `chain_fixed` and `table`. The
 //! caller's contract is `ffi`'s.
 #![allow(unsafe_code)]
 
-use angletrack_core::ConfigError;
+use angletrack_core::{Faults, FixedEstimate};
 
 use crate::calibration::at_sensor_calibration_f32;
 use crate::chain::at_angle_correction_f32;
 use crate::chain_fixed::{
-    FixedInput, FixedStages, at_adc_counts, at_chain_fixed, at_chain_state_fixed, estimate_fixed,
-    sample_period_fixed, track_fixed, update_fixed,
+    FixedStages, at_adc_counts, at_chain_fixed, at_chain_state_fixed, at_fixed_estimate,
 };
-use crate::faults::AT_FAULT_INVALID_ARGUMENT;
-use crate::fixed::{at_fixed_estimate, at_fixed_gains};
+use crate::door::{estimate_of, track_input, update_input};
+use crate::ffi::{construct, write};
+use crate::gains::at_fixed_gains;
+use crate::slot::by_order;
 use crate::status::{AT_ERR_NULL_POINTER, AT_OK, at_status, status_of};
 use crate::table::{AT_ANGLE_TABLE_LENGTH, at_angle_correction_table_f32, at_angle_table_fixed};
 
-/// Writes `result` to `out` (unchanged on error); its status.
+/// Checks the integer constants of a fixed-point observer of order `order` (2 or 3), as
+/// `angletrack design --dtype fixed --format c --name NAME` prints them (`NAME_gain_multiplier`,
+/// `NAME_ORDER`, `NAME_ACCELERATION_SHIFT`, `NAME_SAMPLE_PERIOD_S`): each multiplier
+/// positive, the shift 1 to 15 (0 at order 2), the loop they represent stable. Writes them
+/// to the plain `out` (the monitor's thresholds are the chain's: `at_chain_fixed_new`);
+/// `out` is unchanged on error (`AT_ERR_GAINS_0`..`_2` naming the gain,
+/// `AT_ERR_SAMPLE_PERIOD_S`, ...).
 ///
 /// # Safety
-/// `out` is NULL or valid for writes (the caller's contract).
-unsafe fn write<T>(result: Result<T, ConfigError>, out: *mut T) -> at_status {
-    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
-    let Some(out) = (unsafe { out.as_mut() }) else {
-        return AT_ERR_NULL_POINTER;
-    };
-    match result {
-        Ok(value) => {
-            *out = value;
-            AT_OK
-        }
-        Err(error) => status_of(error),
+/// `multiplier` points to `order` integers; see the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_fixed_gains_from_constants(
+    multiplier: *const i32,
+    order: usize,
+    acceleration_shift: u32,
+    sample_period_s: f64,
+    out: *mut at_fixed_gains,
+) -> at_status {
+    // SAFETY: the same contract.
+    unsafe {
+        construct(multiplier, order, out, |m| {
+            at_fixed_gains::checked(m, acceleration_shift, sample_period_s)
+        })
+    }
+}
+
+/// Quantises `order` (2 or 3) float gains `gains` (l1, l2[, l3], as `angletrack design
+/// --format c` writes them and `at_gains_f32_new` takes them) at the sample period
+/// `sample_period_s` (s) into a fixed-point observer's configuration, checked (a gain that
+/// rounds to zero or does not fit is refused, naming it), to `out` (unchanged on error).
+/// Costs double-precision arithmetic: at start-up, or on the host (then embed the
+/// constants and use `at_fixed_gains_from_constants`).
+///
+/// # Safety
+/// `gains` points to `order` floats; see the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_fixed_gains_new(
+    gains: *const f32,
+    order: usize,
+    sample_period_s: f64,
+    out: *mut at_fixed_gains,
+) -> at_status {
+    // SAFETY: the same contract.
+    unsafe {
+        construct(gains, order, out, |g| {
+            at_fixed_gains::quantised(g, sample_period_s)
+        })
     }
 }
 
@@ -141,48 +174,6 @@ pub unsafe extern "C" fn at_chain_state_fixed_clear_front_end_faults(
     unsafe { state.as_mut() }.map_or(0, at_chain_state_fixed::clear_front_end_faults)
 }
 
-/// The body of the `at_chain_fixed_track_*` functions.
-///
-/// # Safety
-/// As theirs.
-#[inline(always)]
-unsafe fn track_counts<I: FixedInput>(
-    chain: *const at_chain_fixed,
-    state: *mut at_chain_state_fixed,
-    raw_c: I,
-    raw_s: I,
-) -> u32 {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
-    match unsafe { (chain.as_ref(), state.as_mut()) } {
-        (Some(chain), Some(state)) => {
-            if track_fixed(chain, state, raw_c, raw_s) {
-                0
-            } else {
-                AT_FAULT_INVALID_ARGUMENT
-            }
-        }
-        _ => AT_FAULT_INVALID_ARGUMENT,
-    }
-}
-
-/// The body of the `at_chain_fixed_update_*` functions.
-///
-/// # Safety
-/// As theirs.
-#[inline(always)]
-unsafe fn update_counts<I: FixedInput>(
-    chain: *const at_chain_fixed,
-    state: *mut at_chain_state_fixed,
-    raw_c: I,
-    raw_s: I,
-) -> at_fixed_estimate {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
-    match unsafe { (chain.as_ref(), state.as_mut()) } {
-        (Some(chain), Some(state)) => update_fixed(chain, state, raw_c, raw_s),
-        _ => at_fixed_estimate::INVALID,
-    }
-}
-
 /// One sample of `int16` counts through the chain's stages and observer, the state only (the
 /// cheapest per-sample call; `at_chain_fixed_estimate` reads the estimate on demand). A
 /// chain without an ADC takes `int16` samples as they are. Returns 0, or
@@ -199,7 +190,7 @@ pub unsafe extern "C" fn at_chain_fixed_track_i16(
     raw_s: i16,
 ) -> u32 {
     // SAFETY: the same contract.
-    unsafe { track_counts(chain, state, raw_c, raw_s) }
+    unsafe { track_input(chain, state, (raw_c, raw_s)) }
 }
 
 /// `at_chain_fixed_track_i16`, then the estimate; on refused arguments an estimate whose
@@ -215,7 +206,7 @@ pub unsafe extern "C" fn at_chain_fixed_update_i16(
     raw_s: i16,
 ) -> at_fixed_estimate {
     // SAFETY: the same contract.
-    unsafe { update_counts(chain, state, raw_c, raw_s) }
+    unsafe { update_input(chain, state, (raw_c, raw_s)) }
 }
 
 /// `at_chain_fixed_track_i16` on `uint16` counts, through the chain's ADC
@@ -231,7 +222,7 @@ pub unsafe extern "C" fn at_chain_fixed_track_u16(
     raw_s: u16,
 ) -> u32 {
     // SAFETY: the same contract.
-    unsafe { track_counts(chain, state, raw_c, raw_s) }
+    unsafe { track_input(chain, state, (raw_c, raw_s)) }
 }
 
 /// `at_chain_fixed_track_u16`, then the estimate; on refused arguments an estimate whose
@@ -247,7 +238,7 @@ pub unsafe extern "C" fn at_chain_fixed_update_u16(
     raw_s: u16,
 ) -> at_fixed_estimate {
     // SAFETY: the same contract.
-    unsafe { update_counts(chain, state, raw_c, raw_s) }
+    unsafe { update_input(chain, state, (raw_c, raw_s)) }
 }
 
 /// `at_chain_fixed_track_i16` on `int32` counts, through the chain's ADC
@@ -263,7 +254,7 @@ pub unsafe extern "C" fn at_chain_fixed_track_i32(
     raw_s: i32,
 ) -> u32 {
     // SAFETY: the same contract.
-    unsafe { track_counts(chain, state, raw_c, raw_s) }
+    unsafe { track_input(chain, state, (raw_c, raw_s)) }
 }
 
 /// `at_chain_fixed_track_i32`, then the estimate; on refused arguments an estimate whose
@@ -279,7 +270,7 @@ pub unsafe extern "C" fn at_chain_fixed_update_i32(
     raw_s: i32,
 ) -> at_fixed_estimate {
     // SAFETY: the same contract.
-    unsafe { update_counts(chain, state, raw_c, raw_s) }
+    unsafe { update_input(chain, state, (raw_c, raw_s)) }
 }
 
 /// The estimate `state` holds for `chain` (its last sample's; all zero for a fresh state).
@@ -292,22 +283,67 @@ pub unsafe extern "C" fn at_chain_fixed_estimate(
     chain: *const at_chain_fixed,
     state: *const at_chain_state_fixed,
 ) -> at_fixed_estimate {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-    match unsafe { (chain.as_ref(), state.as_ref()) } {
-        (Some(chain), Some(state)) => estimate_fixed(chain, state),
-        _ => at_fixed_estimate::INVALID,
-    }
+    // SAFETY: the same contract.
+    unsafe { estimate_of(chain, state) }
 }
 
-/// The sample period (s) of `chain`'s observer; 0 for NULL or a chain not made (for
-/// `at_fixed_estimate`'s speed: `speed / 2^32 * 2 pi / period` rad/s).
+/// The multi-turn position of `estimate` (rad): `2 pi (turns + angle / 2^32)`; 0 for NULL.
+/// Double-precision arithmetic: for a host, or out of the sample loop.
 ///
 /// # Safety
 /// See the header's introduction.
 #[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_fixed_sample_period_s(chain: *const at_chain_fixed) -> f64 {
+pub unsafe extern "C" fn at_chain_fixed_position_rad(
+    chain: *const at_chain_fixed,
+    estimate: *const at_fixed_estimate,
+) -> f64 {
+    // SAFETY: the same contract.
+    unsafe { in_units(chain, estimate, false) }
+}
+
+/// The speed of `estimate` (rad/s) at the sample period of `chain`'s observer; 0 for NULL
+/// or a chain not made. Double-precision arithmetic: for a host, or out of the sample loop.
+///
+/// # Safety
+/// See the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_chain_fixed_speed_rad_s(
+    chain: *const at_chain_fixed,
+    estimate: *const at_fixed_estimate,
+) -> f64 {
+    // SAFETY: the same contract.
+    unsafe { in_units(chain, estimate, true) }
+}
+
+/// The body of the conversions of an estimate to physical units, by the chain's observer:
+/// its `speed` (rad/s), else its position (rad).
+///
+/// # Safety
+/// The header's contract.
+unsafe fn in_units(
+    chain: *const at_chain_fixed,
+    estimate: *const at_fixed_estimate,
+    speed: bool,
+) -> f64 {
     // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-    unsafe { chain.as_ref() }.map_or(0.0, sample_period_fixed)
+    let (Some(chain), Some(e)) = (unsafe { (chain.as_ref(), estimate.as_ref()) }) else {
+        return 0.0;
+    };
+    let e = FixedEstimate {
+        angle: e.angle,
+        turns: e.turns,
+        speed: e.speed,
+        acceleration: e.acceleration,
+        phase_error: e.phase_error,
+        faults: Faults::NONE,
+    };
+    chain.get().map_or(0.0, |c| {
+        by_order!(c, |c| if speed {
+            c.observer.speed_rad_s(&e)
+        } else {
+            c.observer.position_rad(&e)
+        })
+    })
 }
 
 /// Makes `state` fresh: the observer initialises itself from its next sample. NULL is

@@ -5,12 +5,13 @@
 
 use angletrack_core::DemodulatorSettings;
 
-use crate::chain::{AnyChain, at_chain_f32};
+use crate::chain::at_chain_f32;
 use crate::demodulator::{
     at_demodulated_pair_f32, at_demodulator_f32, at_demodulator_settings_f32,
     at_demodulator_state_f32,
 };
 use crate::faults::AT_FAULT_INVALID_ARGUMENT;
+use crate::slot::by_order;
 use crate::status::{AT_ERR_NULL_POINTER, at_status, status_of_result};
 
 /// The demodulator's settings for a carrier of `carrier_hz` (Hz) sampled at `adc_rate_hz`
@@ -74,10 +75,9 @@ pub unsafe extern "C" fn at_demodulator_f32_check_chain(
         (Ok(d), Ok(c)) => (d, c),
         (Err(refused), _) | (_, Err(refused)) => return refused.status(),
     };
-    match chain {
-        AnyChain::Two(c) => status_of_result(demodulator.check_gains(&c.observer)),
-        AnyChain::Three(c) => status_of_result(demodulator.check_gains(&c.observer)),
-    }
+    by_order!(chain, |c| status_of_result(
+        demodulator.check_gains(&c.observer)
+    ))
 }
 
 /// One ADC sample of each winding (`raw_c` of the cosine winding, `raw_s` of the sine

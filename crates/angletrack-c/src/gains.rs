@@ -1,113 +1,157 @@
-//! `at_gains_f32`: the checked configuration of an observer of order 2 or 3 (the core's
-//! `Gains<f32, 2>` or `Gains<f32, 3>`, which a tag tells apart: the core refuses `l3 = 0`,
-//! so order 2 is its own type, not order 3 with a zero gain), and its fault thresholds as
-//! the plain C struct `at_fault_thresholds_f32`.
+//! The observers' configurations as plain C structs, which firmware may fill at start-up
+//! or keep `const` in flash, checked by the chains' constructors: `at_gains_f32` (the float
+//! observer's gains of order 2 or 3, sample period and fault thresholds
+//! `at_fault_thresholds_f32`) and `at_fixed_gains` (the fixed-point observer's integer
+//! constants). The core's `Gains<f32, N>` and `FixedGains<N>` are of one order each: the
+//! order field chooses.
 
-use core::mem::MaybeUninit;
+use angletrack_core::fixed::FixedConstants;
+use angletrack_core::{ConfigError, FaultThresholds, FixedGains, Gains, Order, SupportedOrder};
 
-use angletrack_core::{ConfigError, FaultThresholds, Gains};
+use crate::status::at_status;
 
-use crate::slot::{self, Refused};
-use crate::status::{AT_ERR_ORDER, at_status, status_of_result};
-
-/// The 8-byte words of an `at_gains_f32`'s storage (checked against the Rust type at
-/// compile time, on every target).
-pub const AT_GAINS_F32_WORDS: usize = 18;
-
-/// The checked gains, sample period and fault thresholds of an observer (order 2 or 3),
-/// made by `at_gains_f32_new`. Immutable once made: one serves any number of channels
-/// (`at_state_f32`). Place it anywhere (static memory, the stack); copy it by assignment;
-/// never write its fields. A zeroed one is refused by every call (`AT_ERR_NOT_INITIALISED`,
-/// or `AT_FAULT_INVALID_ARGUMENT` from an update).
-#[repr(C)]
-#[derive(Debug, Clone, Copy)]
-pub struct at_gains_f32 {
-    /// Private: which Rust value `storage` holds.
-    tag: u32,
-    /// Private: the layout of the build that wrote it.
-    layout: u32,
-    /// Private: the Rust value.
-    storage: [MaybeUninit<u64>; AT_GAINS_F32_WORDS],
-}
-
-slot::slot_struct!(at_gains_f32, AT_GAINS_F32_WORDS);
-
-/// The gains of either order, borrowed from an `at_gains_f32`.
-#[derive(Debug, Clone, Copy)]
-pub(crate) enum AnyGains<'a> {
-    /// A 2nd-order observer.
-    Two(&'a Gains<f32, 2>),
-    /// A 3rd-order observer.
-    Three(&'a Gains<f32, 3>),
-}
-
-/// Evaluates `$body` with `$g` bound to the `&Gains<f32, N>` of an [`AnyGains`], whatever
-/// its order: the generic code is written once and instantiated for both orders.
-macro_rules! with_gains {
-    ($any:expr, |$g:ident| $body:expr) => {
-        match $any {
-            $crate::gains::AnyGains::Two($g) => $body,
-            $crate::gains::AnyGains::Three($g) => $body,
+/// `$body` (a `Result<_, ConfigError>`) with the constant `$n` the order `$order` (2 or
+/// 3): the generic code is written once and instantiated for both; its error as a status,
+/// `AT_ERR_ORDER` for another order.
+macro_rules! with_order {
+    ($order:expr, $n:ident => $body:expr) => {
+        match $order {
+            2 => {
+                const $n: usize = 2;
+                $body.map_err($crate::status::status_of)
+            }
+            3 => {
+                const $n: usize = 3;
+                $body.map_err($crate::status::status_of)
+            }
+            _ => Err($crate::status::AT_ERR_ORDER),
         }
     };
 }
-pub(crate) use with_gains;
+pub(crate) use with_order;
+
+/// The gains, sample period and fault thresholds of an observer (order 2 or 3): filled by
+/// `at_gains_f32_new` (checked, with the default fault thresholds) from the gains
+/// `angletrack design --format c` writes, or written. Change `thresholds` as needed;
+/// `at_chain_f32_new` checks it all (a zeroed one is refused: `AT_ERR_ORDER`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct at_gains_f32 {
+    /// `l1`, `l2`, `l3` (dimensionless; `l3` unused at order 2).
+    pub gains: [f32; 3],
+    /// The observer's order, 2 or 3.
+    pub order: u32,
+    /// The sample period (s).
+    pub sample_period_s: f32,
+    /// The fault thresholds.
+    pub thresholds: at_fault_thresholds_f32,
+}
 
 impl at_gains_f32 {
-    /// The gains, if made by `at_gains_f32_new` of this build.
-    pub(crate) fn get(&self) -> Result<AnyGains<'_>, Refused> {
-        match self.slot_get() {
-            Ok(g) => Ok(AnyGains::Two(g)),
-            Err(Refused::NotInitialised) => self.slot_get().map(AnyGains::Three),
-            Err(refused) => Err(refused),
-        }
+    /// The gains `l` (their number is the order) at `sample_period_s`, checked, with the
+    /// core's default fault thresholds.
+    pub(crate) fn of(l: &[f32], sample_period_s: f32) -> Result<Self, at_status> {
+        let mut gains = [0.0; 3];
+        gains[..l.len()].copy_from_slice(l);
+        with_order!(l.len(), N => {
+            let core = Gains::<f32, N>::new(core::array::from_fn(|i| l[i]), sample_period_s);
+            core.map(|g| Self {
+                gains,
+                order: N as u32,
+                sample_period_s,
+                thresholds: at_fault_thresholds_f32::from_core(&g.fault_thresholds()),
+            })
+        })
     }
 
-    /// Checks `gains` (`order` of them) and the sample period, and stores them with the
-    /// default fault thresholds; on error `self` is left as it was.
-    pub(crate) fn set(&mut self, gains: &[f32], sample_period_s: f32) -> at_status {
-        match *gains {
-            [l1, l2] => self.store(Gains::<f32, 2>::new([l1, l2], sample_period_s)),
-            [l1, l2, l3] => self.store(Gains::<f32, 3>::new([l1, l2, l3], sample_period_s)),
-            _ => AT_ERR_ORDER,
-        }
+    /// The core's gains of order `N`, checked.
+    pub(crate) fn core<const N: usize>(&self) -> Result<Gains<f32, N>, ConfigError>
+    where
+        Order<N>: SupportedOrder,
+    {
+        let gains = Gains::new(
+            core::array::from_fn(|i| self.gains[i]),
+            self.sample_period_s,
+        )?;
+        gains.with_fault_thresholds(self.thresholds.to_core())
     }
+}
 
-    /// Stores checked gains of either order; returns the status of the check.
-    fn store<G: slot::Stored>(&mut self, result: Result<G, ConfigError>) -> at_status {
-        if let Ok(gains) = result {
-            self.slot_put(gains);
-        }
-        status_of_result(result)
-    }
+/// The integer constants of a fixed-point observer (order 2 or 3), as `angletrack design
+/// --dtype fixed --format c` prints them: filled by `at_fixed_gains_from_constants`
+/// (checked) or `at_fixed_gains_new` (quantised from float gains), or written;
+/// `at_chain_fixed_new` checks them (a zeroed one is refused: `AT_ERR_ORDER`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct at_fixed_gains {
+    /// The gains' integer multipliers (`m3` unused at order 2).
+    pub multiplier: [i32; 3],
+    /// The observer's order, 2 or 3.
+    pub order: u32,
+    /// The acceleration's shift (1 to 15 at order 3, 0 at order 2).
+    pub acceleration_shift: u32,
+    /// The sample period (s).
+    pub sample_period_s: f64,
+}
 
-    /// Replaces the fault thresholds (checked as the core does).
-    pub(crate) fn set_fault_thresholds(
-        &mut self,
-        thresholds: &at_fault_thresholds_f32,
-    ) -> at_status {
-        let any = match self.get() {
-            Ok(any) => any,
-            Err(refused) => return refused.status(),
+impl at_fixed_gains {
+    /// The core's gains of order `N`, checked.
+    pub(crate) fn core<const N: usize>(&self) -> Result<FixedGains<N>, ConfigError>
+    where
+        Order<N>: SupportedOrder,
+    {
+        let constants = FixedConstants {
+            multiplier: core::array::from_fn(|i| self.multiplier[i]),
+            acceleration_shift: self.acceleration_shift,
         };
-        let thresholds = (*thresholds).to_core();
-        match any {
-            AnyGains::Two(g) => self.store(g.with_fault_thresholds(thresholds)),
-            AnyGains::Three(g) => self.store(g.with_fault_thresholds(thresholds)),
+        FixedGains::from_constants(constants, self.sample_period_s)
+    }
+
+    /// The constants of `gains` (of order `N`).
+    pub(crate) fn of<const N: usize>(gains: &FixedGains<N>) -> Self
+    where
+        Order<N>: SupportedOrder,
+    {
+        let constants = gains.constants();
+        let mut multiplier = [0; 3];
+        multiplier[..N].copy_from_slice(&constants.multiplier);
+        Self {
+            multiplier,
+            order: N as u32,
+            acceleration_shift: constants.acceleration_shift,
+            sample_period_s: gains.sample_period(),
         }
     }
 
-    /// The fault thresholds, if the gains were made.
-    pub(crate) fn fault_thresholds(&self) -> Result<at_fault_thresholds_f32, Refused> {
-        let thresholds = with_gains!(self.get()?, |g| g.fault_thresholds());
-        Ok(at_fault_thresholds_f32::from_core(&thresholds))
+    /// The constants `multiplier` (their number is the order), checked.
+    pub(crate) fn checked(
+        multiplier: &[i32],
+        acceleration_shift: u32,
+        sample_period_s: f64,
+    ) -> Result<Self, at_status> {
+        let mut out = Self {
+            multiplier: [0; 3],
+            order: multiplier.len() as u32,
+            acceleration_shift,
+            sample_period_s,
+        };
+        out.multiplier[..multiplier.len()].copy_from_slice(multiplier);
+        with_order!(out.order, N => out.core::<N>().map(|_| out))
+    }
+
+    /// The float gains `l` (their number is the order) quantised, checked.
+    pub(crate) fn quantised(l: &[f32], sample_period_s: f64) -> Result<Self, at_status> {
+        with_order!(l.len(), N => {
+            let gains = core::array::from_fn(|i| f64::from(l[i]));
+            FixedGains::<N>::new(gains, sample_period_s).map(|g| Self::of(&g))
+        })
     }
 }
 
 /// The thresholds of the diagnostics and of the input check, in the input's units
 /// (amplitudes) unless stated: the core's `FaultThresholds`. Start from
 /// `at_fault_thresholds_f32_for_amplitude(nominal)` (the defaults scaled to the nominal
-/// amplitude), change fields, then `at_gains_f32_set_fault_thresholds`.
+/// amplitude), change fields, and write it to `at_gains_f32::thresholds`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct at_fault_thresholds_f32 {
@@ -145,7 +189,7 @@ impl at_fault_thresholds_f32 {
         Self::from_core(&FaultThresholds::for_amplitude(nominal_amplitude))
     }
 
-    fn from_core(t: &FaultThresholds<f32>) -> Self {
+    pub(crate) fn from_core(t: &FaultThresholds<f32>) -> Self {
         Self {
             nominal_amplitude: t.nominal_amplitude,
             max_input_amplitude: t.max_input_amplitude,
@@ -163,7 +207,7 @@ impl at_fault_thresholds_f32 {
 
     /// The core's thresholds, field by field (assigned to the core's defaults, so that
     /// fields the core may add keep their defaults).
-    fn to_core(self) -> FaultThresholds<f32> {
+    pub(crate) fn to_core(self) -> FaultThresholds<f32> {
         let mut t = FaultThresholds::for_amplitude(self.nominal_amplitude);
         t.max_input_amplitude = self.max_input_amplitude;
         t.loss_of_signal = self.loss_of_signal;
@@ -176,49 +220,5 @@ impl at_fault_thresholds_f32 {
         t.monitor = self.monitor != 0;
         t.re_acquire = self.re_acquire != 0;
         t
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::status::{
-        AT_ERR_FILTER_FACTOR, AT_ERR_GAINS_2, AT_ERR_NOT_INITIALISED, AT_ERR_SAMPLE_PERIOD_S, AT_OK,
-    };
-
-    #[test]
-    fn checks_as_the_core_and_keeps_the_order() {
-        let mut gains = at_gains_f32::ZEROED;
-        assert!(gains.get().is_err());
-        assert_eq!(gains.set(&[0.3, 0.04, -0.002], 1e-4), AT_ERR_GAINS_2);
-        assert!(
-            gains.get().is_err(),
-            "a refused set leaves the struct as it was"
-        );
-        assert_eq!(gains.set(&[0.3, 0.04], 0.0), AT_ERR_SAMPLE_PERIOD_S);
-        assert_eq!(gains.set(&[0.3], 1e-4), AT_ERR_ORDER);
-        assert_eq!(gains.set(&[0.05, 0.0012], 1e-4), AT_OK);
-        assert!(matches!(gains.get(), Ok(AnyGains::Two(g)) if g.gains() == [0.05, 0.0012]));
-        assert_eq!(gains.set(&[0.3, 0.04, 0.002], 1e-4), AT_OK);
-        assert!(matches!(gains.get(), Ok(AnyGains::Three(g)) if g.sample_period() == 1e-4));
-    }
-
-    #[test]
-    fn fault_thresholds_round_trip() {
-        let mut gains = at_gains_f32::ZEROED;
-        let mut t = at_fault_thresholds_f32::for_amplitude(1800.0);
-        assert_eq!(gains.set_fault_thresholds(&t), AT_ERR_NOT_INITIALISED);
-        assert_eq!(gains.set(&[0.3, 0.04, 0.002], 1e-4), AT_OK);
-        t.max_speed_rad_s = 1000.0;
-        t.monitor = 0;
-        assert_eq!(gains.set_fault_thresholds(&t), AT_OK);
-        assert_eq!(gains.fault_thresholds(), Ok(t));
-        let core = with_gains!(gains.get().unwrap(), |g| g.fault_thresholds());
-        assert_eq!(
-            (core.max_speed, core.monitor, core.loss_of_signal),
-            (Some(1000.0), false, 450.0)
-        );
-        t.filter_factor = 1.5;
-        assert_eq!(gains.set_fault_thresholds(&t), AT_ERR_FILTER_FACTOR);
     }
 }

@@ -3,29 +3,25 @@
 //! written in C. Built for the host (`cargo build -p angletrack-c --release`), a
 //! Cortex-M4F (`--target thumbv7em-none-eabihf`) or a Cortex-M0 (`thumbv6m-none-eabi`).
 //!
-//! Every struct is plain and sized, so that firmware can place it in static memory:
-//! `at_gains_f32` (the checked configuration, order 2 or 3), `at_state_f32` (one channel),
-//! `at_adc_f32` (the ADC front end, with its stated range of codes), `at_calibrator_f32` (the online calibration), and the
-//! C mirrors `at_estimate_f32`, `at_fault_thresholds_f32` and `at_sensor_calibration_f32`;
-//! for cores without an FPU, the fixed-point observer: `at_fixed_gains` (its checked
-//! integer configuration, from the constants `angletrack design --dtype fixed --format c`
-//! prints or from float gains), `at_fixed_state` (one channel, int16 samples) and the
-//! mirror `at_fixed_estimate` (`fixed`), and its signal chain `at_chain_fixed` with its
-//! `at_chain_state_fixed` and the plain `at_adc_counts` (`chain_fixed`: raw counts, a stored
-//! calibration and an angle-correction table, in integers); the
-//! plain angle-correction tables `at_angle_table_fixed` and `at_angle_correction_table_f32`
-//! (`table`); the float signal chain, `at_chain_f32` (the core's
-//! `Chain` of optional stages: ADC, stored or online calibration, angle correction, and the
-//! observer) with its per-channel `at_chain_state_f32`, and the plain stage settings
-//! `at_angle_correction_f32` and `at_calibration_settings_f32` (`chain`); the synchronous
-//! demodulator, `at_demodulator_f32` with its `at_demodulator_state_f32`, which turns a
-//! resolver's windings into the chain's pairs, taken with their front-end faults
-//! (`demodulator`). The float chain composes the core's `FrontEndCheck` (clipping against
-//! the ADC's stated range, the demodulator's faults) and `WindingCheck`: a sample they
-//! invalidate is coasted through, and its estimate carries `AT_FAULT_FRONT_END`.
-//! The first four hold the core's Rust values in private storage, sized at compile time
-//! and checked against the Rust types on every target (`slot`); a zeroed state or
-//! calibrator is a fresh one, zeroed gains or ADC are refused. Each starts with a tag and a
+//! Every struct is plain and sized, so that firmware can place it in static memory. Each
+//! observer is a signal chain, the core's standard chain (`Tracker`) assembled by the core
+//! from the stages given; the C API only converts. The float chain: `at_gains_f32` (the
+//! observer's checked gains, order 2 or 3, with its fault thresholds
+//! `at_fault_thresholds_f32`), `at_adc_f32` (the ADC stage, with its stated range of codes),
+//! the plain stage settings `at_sensor_calibration_f32`, `at_calibration_settings_f32`,
+//! `at_angle_correction_f32` and `at_angle_correction_table_f32`, `at_chain_f32` (the chain)
+//! with its per-channel `at_chain_state_f32`, and the estimate `at_estimate_f32` (`chain`).
+//! For cores without an FPU, the fixed-point chain: `at_fixed_gains`, the plain
+//! `at_adc_counts` and `at_angle_table_fixed`, `at_chain_fixed` with its
+//! `at_chain_state_fixed`, and `at_fixed_estimate` (`chain_fixed`). The synchronous
+//! demodulator, `at_demodulator_f32` with its `at_demodulator_state_f32`, turns a
+//! resolver's windings into the float chain's pairs, taken with their front-end faults
+//! (`demodulator`). A front-end check (clipping against the ADC's stated range or its rails
+//! measured, a demodulator's faults, a winding open or shorted) that invalidates a sample
+//! is coasted through, and its estimate carries `AT_FAULT_FRONT_END`.
+//! The structs made by a constructor hold the core's Rust values in private storage, sized
+//! at compile time and checked against the Rust types on every target (`slot`); a zeroed
+//! state is a fresh one, a zeroed configuration is refused. Each starts with a tag and a
 //! layout word (the fingerprint of the build that wrote it: `AT_LAYOUT_VERSION`, the
 //! crate's version, the struct's size, the target), so that a struct from another build is
 //! refused (`AT_ERR_OTHER_BUILD`), never read.
@@ -36,8 +32,8 @@
 //! pointers give `AT_ERR_NULL_POINTER` (or `AT_FAULT_INVALID_ARGUMENT` from an update),
 //! never undefined behaviour.
 //!
-//! Unsafe code is denied except at the boundary: `ffi` (the `extern "C"` functions and
-//! their pointers) and `slot` (the Rust values in C memory), each unsafe block with its
+//! Unsafe code is denied except at the boundary: the `ffi*` modules and `door` (the
+//! `extern "C"` functions and their pointers) and `slot` (the Rust values in C memory), each unsafe block with its
 //! safety argument. For a bare-metal target the library carries its panic handler (the C
 //! program has none); no call reaches it (tests/firmware/c checks that the linked example
 //! holds no panic code). On a host, std provides it.
@@ -52,56 +48,31 @@ mod calibration;
 mod chain;
 mod chain_fixed;
 mod demodulator;
+mod door;
 mod faults;
 mod ffi;
 mod ffi_chain;
 mod ffi_chain_fixed;
 mod ffi_demodulator;
-mod ffi_fixed;
-mod ffi_front_end;
-mod fixed;
 mod gains;
-mod observer;
 mod slot;
 mod status;
 mod table;
 
-pub use adc::{AT_ADC_F32_WORDS, at_adc_f32};
-pub use calibration::{
-    AT_CALIBRATION_CENTRED, AT_CALIBRATION_FINDING_CENTRE, AT_CALIBRATION_FROZEN,
-    AT_CALIBRATION_LEARNING, AT_CALIBRATION_OFF, AT_CALIBRATION_STALLED, AT_CALIBRATOR_F32_WORDS,
-    at_calibrator_f32, at_sensor_calibration_f32,
-};
-pub use chain::{
-    AT_CHAIN_F32_WORDS, AT_CHAIN_STATE_F32_WORDS, AT_CORRECTION_ORDER, at_angle_correction_f32,
-    at_calibration_settings_f32, at_chain_f32, at_chain_state_f32,
-};
-pub use chain_fixed::{
-    AT_CHAIN_FIXED_WORDS, AT_CHAIN_STATE_FIXED_WORDS, at_adc_counts, at_chain_fixed,
-    at_chain_state_fixed,
-};
-pub use demodulator::{
-    AT_DEMODULATOR_F32_WORDS, AT_DEMODULATOR_STATE_F32_WORDS, AT_FRONT_END_FAULT_CLIPPING,
-    AT_FRONT_END_FAULT_EXCITATION_REFERENCE, AT_FRONT_END_FAULT_LOSS_OF_EXCITATION,
-    AT_FRONT_END_FAULT_PHASE_DRIFT, AT_FRONT_END_FAULT_WEAK_EXCITATION, AT_FRONT_END_FAULT_WINDING,
-    at_demodulated_pair_f32, at_demodulator_f32, at_demodulator_settings_f32,
-    at_demodulator_state_f32,
-};
+pub use adc::*;
+pub use calibration::*;
+pub use chain::*;
+pub use chain_fixed::*;
+pub use demodulator::*;
 pub use faults::*;
 pub use ffi::*;
 pub use ffi_chain::*;
 pub use ffi_chain_fixed::*;
 pub use ffi_demodulator::*;
-pub use ffi_fixed::*;
-pub use ffi_front_end::*;
-pub use fixed::{
-    AT_FIXED_GAINS_WORDS, AT_FIXED_STATE_WORDS, at_fixed_estimate, at_fixed_gains, at_fixed_state,
-};
-pub use gains::{AT_GAINS_F32_WORDS, at_fault_thresholds_f32, at_gains_f32};
-pub use observer::{AT_STATE_F32_WORDS, at_estimate_f32, at_state_f32};
+pub use gains::*;
 pub use slot::AT_LAYOUT_VERSION;
 pub use status::*;
-pub use table::{AT_ANGLE_TABLE_LENGTH, at_angle_correction_table_f32, at_angle_table_fixed};
+pub use table::*;
 
 /// A bare-metal C program has no panic handler; the library's is never reached (no call
 /// panics), and parks the core if it were.
@@ -116,6 +87,10 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_support;
+#[cfg(test)]
+use {slot::Slot, tests_support::Words};
+#[cfg(test)]
 mod tests_chain;
 #[cfg(test)]
 mod tests_chain_fixed;
@@ -123,3 +98,5 @@ mod tests_chain_fixed;
 mod tests_demodulator;
 #[cfg(test)]
 mod tests_front_end;
+#[cfg(test)]
+mod tests_units;

@@ -1,5 +1,5 @@
 //! Rust values kept in C memory: the private `tag`, `layout` and `storage` words of the C
-//! API's structs (`at_gains_f32`, `at_state_f32`, `at_fixed_gains`, ...), which C code sizes
+//! API's structs (`at_chain_f32`, `at_chain_state_f32`, `at_adc_f32`, ...), which C code sizes
 //! from the header and may place anywhere (static memory, the stack), copy by assignment
 //! and zero.
 //!
@@ -7,14 +7,14 @@
 //! leaves its padding bytes uninitialised, and a copy of the struct by value in Rust (C
 //! copies bytes) must not read those as integers. Miri checks this in the crate's tests.
 //!
-//! A slot holds one of a few `Copy` types, told apart by a tag that only [`put`] writes,
-//! right after it wrote a value of that type: [`get`] and [`get_or_put`] read the words as
+//! A slot holds one of a few `Copy` types, told apart by a tag that only [`Slot::slot_put`] writes,
+//! right after it wrote a value of that type: [`Slot::slot_get`] and [`Slot::slot_get_or_put`] read the words as
 //! the type only when the tag is the type's. A zeroed or never-initialised struct has no
 //! type's tag (tag 0, or garbage that does not match), so it is refused or started afresh
 //! instead of being read as a Rust value. The tags are 32-bit values unlikely to appear
 //! by chance, all starting with the bytes "AT" (`0x4154` in the high half).
 //!
-//! Beside the tag, [`put`] writes the struct's layout word: a fingerprint of this build's
+//! Beside the tag, [`Slot::slot_put`] writes the struct's layout word: a fingerprint of this build's
 //! layouts ([`layout_of`]: the C API's layout version `AT_LAYOUT_VERSION`, the crate's
 //! version, the C struct's size and the size and alignment of every stored Rust type). A
 //! struct written by another build of the library (another version, a header of another
@@ -27,53 +27,25 @@
 
 use core::mem::{MaybeUninit, align_of, size_of};
 
-use angletrack_core::{Calibrator, FixedGains, FixedState, Gains, ObserverState};
+use angletrack_core::ConfigError;
 
-use crate::status::{AT_ERR_NOT_INITIALISED, AT_ERR_OTHER_BUILD, at_status};
+use crate::status::{AT_ERR_NOT_INITIALISED, AT_ERR_OTHER_BUILD, at_status, status_of_result};
 
 /// The version of the C structs' layout, bumped whenever a struct of the header or a Rust
 /// value the library stores in one changes; part of every struct's layout word (with the
 /// crate's version and the sizes, which change it without a bump). `at_layout_version()`
 /// returns the library's, to compare with the header's at start-up.
-pub const AT_LAYOUT_VERSION: u32 = 5;
+pub const AT_LAYOUT_VERSION: u32 = 6;
 
 /// A type a slot can hold, with its tag. `Copy` types only: overwriting one drops nothing,
 /// and a C copy of the words (with the tag) is a copy of the value.
 pub(crate) trait Stored: Copy {
-    /// The tag [`put`] writes beside a value of this type; "AT" in its high half, never 0.
+    /// The tag [`Slot::slot_put`] writes beside a value of this type; "AT" in its high half, never 0.
     const TAG: u32;
 }
 
 /// The high half of every tag: "AT".
 const TAG_FAMILY: u32 = 0x4154;
-
-impl Stored for Gains<f32, 2> {
-    const TAG: u32 = 0x4154_4702; // "ATG", order 2
-}
-impl Stored for Gains<f32, 3> {
-    const TAG: u32 = 0x4154_4703; // "ATG", order 3
-}
-impl Stored for ObserverState<f32, 2> {
-    const TAG: u32 = 0x4154_5302; // "ATS", order 2
-}
-impl Stored for ObserverState<f32, 3> {
-    const TAG: u32 = 0x4154_5303; // "ATS", order 3
-}
-impl Stored for Calibrator<f32> {
-    const TAG: u32 = 0x4154_4301; // "ATC"
-}
-impl Stored for FixedGains<2> {
-    const TAG: u32 = 0x4154_6702; // "ATg", order 2
-}
-impl Stored for FixedGains<3> {
-    const TAG: u32 = 0x4154_6703; // "ATg", order 3
-}
-impl Stored for FixedState<2> {
-    const TAG: u32 = 0x4154_7302; // "ATs", order 2
-}
-impl Stored for FixedState<3> {
-    const TAG: u32 = 0x4154_7303; // "ATs", order 3
-}
 
 /// Why a slot's words are not read as a value.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -124,16 +96,7 @@ const fn build_of(version: u32) -> u32 {
         h = hash(h, crate_version[i] as u32);
         i += 1;
     }
-    h = hash_type::<Gains<f32, 2>>(h);
-    h = hash_type::<Gains<f32, 3>>(h);
-    h = hash_type::<ObserverState<f32, 2>>(h);
-    h = hash_type::<ObserverState<f32, 3>>(h);
     h = hash_type::<crate::adc::AdcF32>(h);
-    h = hash_type::<Calibrator<f32>>(h);
-    h = hash_type::<FixedGains<2>>(h);
-    h = hash_type::<FixedGains<3>>(h);
-    h = hash_type::<FixedState<2>>(h);
-    h = hash_type::<FixedState<3>>(h);
     h = hash_type::<crate::chain::ChainF32<2>>(h);
     h = hash_type::<crate::chain::ChainF32<3>>(h);
     h = hash_type::<crate::chain::StateF32<2>>(h);
@@ -158,11 +121,11 @@ pub(crate) const fn layout_of_version(version: u32, size: usize) -> u32 {
     hash(build_of(version), size as u32) | 1
 }
 
-/// Fails to compile unless a `T` fits in `W` words of 8 bytes with their alignment: the
+/// Fails to compile unless a `T` fits in `words` words of 8 bytes with their alignment: the
 /// header's storage sizes are checked against the Rust types at every build, on every
 /// target.
-const fn fits<T, const W: usize>() -> bool {
-    size_of::<T>() <= W * size_of::<u64>() && align_of::<T>() <= align_of::<u64>()
+const fn fits<T>(words: usize) -> bool {
+    size_of::<T>() <= words * size_of::<u64>() && align_of::<T>() <= align_of::<u64>()
 }
 
 /// Why a struct whose tag and layout are not `T`'s of this build holds no `T`: another
@@ -177,68 +140,116 @@ fn refusal(tag: u32, layout: u32, expected: u32) -> Refused {
     }
 }
 
-/// The value in `words` if `tag` is `T`'s and `layout` this build's `expected`.
-#[inline(always)]
-pub(crate) fn get<T: Stored, const W: usize>(
-    words: &[MaybeUninit<u64>; W],
-    tag: u32,
-    layout: u32,
-    expected: u32,
-) -> Result<&T, Refused> {
-    const { assert!(fits::<T, W>(), "a C API struct's storage is too small") };
-    if tag != T::TAG || layout != expected {
-        return Err(refusal(tag, layout, expected));
-    }
-    // SAFETY: `words` is aligned for `T` and large enough (checked at compile time above),
-    // and with the tag `T::TAG` and this build's layout word it holds a valid `T`: only
-    // `put::<T>` writes that pair, after writing a `T` there, and whatever C does with the
-    // struct (copy it whole, as the header allows) keeps them together. The borrow of
-    // `words` bounds the reference's life.
-    Ok(unsafe { &*words.as_ptr().cast::<T>() })
-}
+/// A C struct with the fields `tag`, `layout` and `storage` (of [`Slot::WORDS`] words),
+/// which holds a [`Stored`] value (`slot_struct!` implements it).
+pub(crate) trait Slot {
+    /// The words of its storage.
+    const WORDS: usize;
+    /// This build's layout word for the struct.
+    const LAYOUT: u32;
+    /// The tag, the layout word and the storage.
+    fn words(&self) -> (u32, u32, &[MaybeUninit<u64>]);
+    /// The same, to write.
+    fn words_mut(&mut self) -> (&mut u32, &mut u32, &mut [MaybeUninit<u64>]);
 
-/// The value in `words` if `tag` is `T`'s, else `start()` stored there (and tagged); refused
-/// only when the struct is another build's.
-#[inline(always)]
-pub(crate) fn get_or_put<'a, T: Stored, const W: usize>(
-    words: &'a mut [MaybeUninit<u64>; W],
-    tag: &mut u32,
-    layout: &mut u32,
-    expected: u32,
-    start: impl FnOnce() -> T,
-) -> Result<&'a mut T, Refused> {
-    const { assert!(fits::<T, W>(), "a C API struct's storage is too small") };
-    if *tag != T::TAG || *layout != expected {
-        if refusal(*tag, *layout, expected) == Refused::OtherBuild {
-            return Err(Refused::OtherBuild);
+    /// The value held, if it is a `T` of this build.
+    #[inline(always)]
+    fn slot_get<T: Stored>(&self) -> Result<&T, Refused> {
+        const {
+            assert!(
+                fits::<T>(Self::WORDS),
+                "a C API struct's storage is too small"
+            )
+        };
+        let (tag, layout, words) = self.words();
+        if tag != T::TAG || layout != Self::LAYOUT {
+            return Err(refusal(tag, layout, Self::LAYOUT));
         }
-        put(words, tag, layout, expected, start());
+        // SAFETY: the words are aligned for `T` and large enough (checked at compile time
+        // above), and with the tag `T::TAG` and this build's layout word they hold a valid
+        // `T`: only `slot_put::<T>` writes that pair, after writing a `T` there, and
+        // whatever C does with the struct (copy it whole, as the header allows) keeps them
+        // together. The borrow of `self` bounds the reference's life.
+        Ok(unsafe { &*words.as_ptr().cast::<T>() })
     }
-    // SAFETY: the words hold a valid `T` (the tag is `T`'s and the layout this build's: see
-    // `get`, or it was just written by `put`); the exclusive borrow of `words` makes the
-    // reference unique.
-    Ok(unsafe { &mut *words.as_mut_ptr().cast::<T>() })
+
+    /// [`Slot::slot_get`], to write.
+    #[inline(always)]
+    fn slot_get_mut<T: Stored>(&mut self) -> Result<&mut T, Refused> {
+        const {
+            assert!(
+                fits::<T>(Self::WORDS),
+                "a C API struct's storage is too small"
+            )
+        };
+        let (&mut tag, &mut layout, words) = self.words_mut();
+        if tag != T::TAG || layout != Self::LAYOUT {
+            return Err(refusal(tag, layout, Self::LAYOUT));
+        }
+        // SAFETY: as in `slot_get`; the exclusive borrow of `self` makes the reference
+        // unique.
+        Ok(unsafe { &mut *words.as_mut_ptr().cast::<T>() })
+    }
+
+    /// The `T` held, or `start()` stored (and tagged); refused only when the struct is
+    /// another build's.
+    #[inline(always)]
+    fn slot_get_or_put<T: Stored>(&mut self, start: impl FnOnce() -> T) -> Result<&mut T, Refused> {
+        let (tag, layout, _) = self.words();
+        if tag != T::TAG || layout != Self::LAYOUT {
+            if refusal(tag, layout, Self::LAYOUT) == Refused::OtherBuild {
+                return Err(Refused::OtherBuild);
+            }
+            self.slot_put(start());
+        }
+        self.slot_get_mut()
+    }
+
+    /// Stores `value` and tags it as a `T` of this build.
+    fn slot_put<T: Stored>(&mut self, value: T) {
+        const {
+            assert!(
+                fits::<T>(Self::WORDS),
+                "a C API struct's storage is too small"
+            )
+        };
+        let (tag, layout, words) = self.words_mut();
+        // SAFETY: the words are aligned for `T` and hold a `T` (checked at compile time
+        // above); `T` is `Copy`, so overwriting whatever they held drops nothing.
+        unsafe { words.as_mut_ptr().cast::<T>().write(value) };
+        *tag = T::TAG;
+        *layout = Self::LAYOUT;
+    }
+
+    /// Stores the value of a check, if it passed; the check's status (`self` unchanged on
+    /// error).
+    fn slot_store<T: Stored>(&mut self, result: Result<T, ConfigError>) -> at_status {
+        status_of_result(result.map(|value| self.slot_put(value)))
+    }
+
+    /// The value held, of order 2 (`A`) or 3 (`B`), if this build's: one comparison selects
+    /// the order, the checked read refuses the rest.
+    #[inline(always)]
+    fn either<A: Stored, B: Stored>(&self) -> Result<ByOrder<&A, &B>, Refused> {
+        if self.words().0 == A::TAG {
+            self.slot_get().map(ByOrder::Two)
+        } else {
+            self.slot_get().map(ByOrder::Three)
+        }
+    }
+
+    /// The value held, of order 2 (`A`) or 3 (`B`), if any of this build's.
+    fn either_mut<A: Stored, B: Stored>(&mut self) -> Option<ByOrder<&mut A, &mut B>> {
+        if self.words().0 == A::TAG {
+            self.slot_get_mut().ok().map(ByOrder::Two)
+        } else {
+            self.slot_get_mut().ok().map(ByOrder::Three)
+        }
+    }
 }
 
-/// Stores `value` in `words` and tags them as `T`, of this build's layout `expected`.
-pub(crate) fn put<T: Stored, const W: usize>(
-    words: &mut [MaybeUninit<u64>; W],
-    tag: &mut u32,
-    layout: &mut u32,
-    expected: u32,
-    value: T,
-) {
-    const { assert!(fits::<T, W>(), "a C API struct's storage is too small") };
-    // SAFETY: the words are aligned for `T` and hold a `T` (checked at compile time above);
-    // `T` is `Copy`, so overwriting whatever the words held drops nothing.
-    unsafe { words.as_mut_ptr().cast::<T>().write(value) };
-    *tag = T::TAG;
-    *layout = expected;
-}
-
-/// The slot methods of a C struct with the fields `tag`, `layout` and `storage` (of `$words`
-/// words): `ZEROED`, `LAYOUT` (this build's layout word for it), `slot_get`,
-/// `slot_get_or_put` and `slot_put`, which call this module's functions with its fields.
+/// [`Slot`] for a C struct of `$words` words, and its `ZEROED` value (as C static memory
+/// holds).
 macro_rules! slot_struct {
     ($name:ident, $words:expr) => {
         impl $name {
@@ -249,66 +260,42 @@ macro_rules! slot_struct {
                 layout: 0,
                 storage: [core::mem::MaybeUninit::new(0); $words],
             };
+        }
 
-            /// This build's layout word for this struct.
-            pub(crate) const LAYOUT: u32 = $crate::slot::layout_of(core::mem::size_of::<Self>());
-
-            /// The value held, if it is a `T` of this build.
-            #[allow(dead_code)]
-            pub(crate) fn slot_get<T: $crate::slot::Stored>(
-                &self,
-            ) -> Result<&T, $crate::slot::Refused> {
-                $crate::slot::get(&self.storage, self.tag, self.layout, Self::LAYOUT)
+        impl $crate::slot::Slot for $name {
+            const WORDS: usize = $words;
+            const LAYOUT: u32 = $crate::slot::layout_of(core::mem::size_of::<Self>());
+            #[inline(always)]
+            fn words(&self) -> (u32, u32, &[core::mem::MaybeUninit<u64>]) {
+                (self.tag, self.layout, &self.storage)
             }
-
-            /// The `T` held, or `start()` stored; refused if another build's.
-            #[allow(dead_code)]
-            pub(crate) fn slot_get_or_put<T: $crate::slot::Stored>(
-                &mut self,
-                start: impl FnOnce() -> T,
-            ) -> Result<&mut T, $crate::slot::Refused> {
-                $crate::slot::get_or_put(
-                    &mut self.storage,
-                    &mut self.tag,
-                    &mut self.layout,
-                    Self::LAYOUT,
-                    start,
-                )
-            }
-
-            /// Stores `value`.
-            #[allow(dead_code)]
-            pub(crate) fn slot_put<T: $crate::slot::Stored>(&mut self, value: T) {
-                $crate::slot::put(
-                    &mut self.storage,
-                    &mut self.tag,
-                    &mut self.layout,
-                    Self::LAYOUT,
-                    value,
-                )
-            }
-
-            /// The tag, for tests that check a struct was left untouched.
-            #[cfg(test)]
-            #[allow(dead_code)]
-            pub(crate) fn clone_tag(&self) -> u32 {
-                self.tag
-            }
-
-            /// Writes the tag, for tests that make a struct holding another type.
-            #[cfg(test)]
-            #[allow(dead_code)]
-            pub(crate) fn set_tag_for_test(&mut self, tag: u32) {
-                self.tag = tag;
-            }
-
-            /// Writes the layout word, for tests that make a struct of another build.
-            #[cfg(test)]
-            #[allow(dead_code)]
-            pub(crate) fn set_layout_for_test(&mut self, layout: u32) {
-                self.layout = layout;
+            #[inline(always)]
+            fn words_mut(&mut self) -> (&mut u32, &mut u32, &mut [core::mem::MaybeUninit<u64>]) {
+                (&mut self.tag, &mut self.layout, &mut self.storage)
             }
         }
     };
 }
 pub(crate) use slot_struct;
+
+/// A value of the observer's order 2 or 3 (gains, a chain, a state), borrowed from a C
+/// struct: the core's types are generic over the order, the C structs hold either.
+#[derive(Debug)]
+pub(crate) enum ByOrder<A, B> {
+    /// Order 2.
+    Two(A),
+    /// Order 3.
+    Three(B),
+}
+
+/// Evaluates `$body` with `$x` bound to the value of a [`ByOrder`], whatever its order: the
+/// generic code is written once and instantiated for both.
+macro_rules! by_order {
+    ($any:expr, |$x:ident| $body:expr) => {
+        match $any {
+            $crate::slot::ByOrder::Two($x) => $body,
+            $crate::slot::ByOrder::Three($x) => $body,
+        }
+    };
+}
+pub(crate) use by_order;

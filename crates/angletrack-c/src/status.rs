@@ -1,7 +1,7 @@
 //! `at_status`: what a C API call that can fail returns, `AT_OK` or an error naming the
 //! refused parameter (the core's [`Parameter`]), and its message.
 
-use core::ffi::{CStr, c_char};
+use core::ffi::CStr;
 
 use angletrack_core::{ConfigError, Parameter};
 
@@ -15,7 +15,7 @@ pub const AT_OK: at_status = 0;
 pub const AT_ERR_NULL_POINTER: at_status = 1;
 /// The observer order was not 2 or 3.
 pub const AT_ERR_ORDER: at_status = 2;
-/// A struct argument was not made by its constructor (`at_gains_f32_new`, `at_adc_f32_new`, ...).
+/// A struct argument was not made by its constructor (`at_chain_f32_new`, `at_adc_f32_new`, ...).
 pub const AT_ERR_NOT_INITIALISED: at_status = 3;
 /// The calibration mode was not one of `AT_CALIBRATION_*`.
 pub const AT_ERR_MODE: at_status = 4;
@@ -111,57 +111,51 @@ pub const AT_ERR_MAX_CARRIER_ERROR: at_status = 55;
 /// A parameter this version of the C API has no code for (a newer core's).
 pub const AT_ERR_OTHER_PARAMETER: at_status = 63;
 
-/// Every parameter with its status code: the one table both directions use.
-const PARAMETERS: [(Parameter, at_status); 40] = [
-    (Parameter::SamplePeriod, AT_ERR_SAMPLE_PERIOD_S),
-    (Parameter::AngleGain, AT_ERR_GAINS_0),
-    (Parameter::SpeedGain, AT_ERR_GAINS_1),
-    (Parameter::AccelerationGain, AT_ERR_GAINS_2),
-    (Parameter::MaxInputAmplitude, AT_ERR_MAX_INPUT_AMPLITUDE),
-    (Parameter::LossOfSignalThreshold, AT_ERR_LOSS_OF_SIGNAL),
-    (Parameter::DegradationHighThreshold, AT_ERR_DEGRADATION_HIGH),
-    (Parameter::DegradationLowThreshold, AT_ERR_DEGRADATION_LOW),
-    (Parameter::LossOfTrackingThreshold, AT_ERR_LOSS_OF_TRACKING),
-    (Parameter::FilterFactor, AT_ERR_FILTER_FACTOR),
-    (Parameter::FalseLockThreshold, AT_ERR_FALSE_LOCK),
-    (Parameter::NominalAmplitude, AT_ERR_NOMINAL_AMPLITUDE),
-    (Parameter::MaxSpeed, AT_ERR_MAX_SPEED_RAD_S),
-    (Parameter::MidScaleCounts, AT_ERR_MID_SCALE_COUNTS),
-    (Parameter::CountsPerUnit, AT_ERR_COUNTS_PER_UNIT),
-    (Parameter::AdcBits, AT_ERR_BITS),
-    (Parameter::OffsetCos, AT_ERR_OFFSET_C),
-    (Parameter::OffsetSin, AT_ERR_OFFSET_S),
-    (Parameter::AmplitudeCos, AT_ERR_AMPLITUDE_C),
-    (Parameter::AmplitudeSin, AT_ERR_AMPLITUDE_S),
-    (Parameter::Quadrature, AT_ERR_QUADRATURE_RAD),
-    (Parameter::MinSpeed, AT_ERR_MIN_SPEED_RAD_S),
-    (Parameter::MaxOffset, AT_ERR_MAX_OFFSET),
-    (
-        Parameter::MaxAmplitudeMismatch,
-        AT_ERR_MAX_AMPLITUDE_MISMATCH,
-    ),
-    (Parameter::MaxQuadrature, AT_ERR_MAX_QUADRATURE_RAD),
-    (Parameter::AngleCorrection, AT_ERR_ANGLE_CORRECTION),
-    (Parameter::CarrierFrequency, AT_ERR_CARRIER_HZ),
-    (Parameter::SamplesPerPeriod, AT_ERR_SAMPLES_PER_PERIOD),
-    (Parameter::CarrierAmplitude, AT_ERR_CARRIER_AMPLITUDE_COUNTS),
-    (Parameter::AdcRange, AT_ERR_ADC_RANGE),
-    (
-        Parameter::LossOfExcitationThreshold,
-        AT_ERR_LOSS_OF_EXCITATION,
-    ),
-    (Parameter::PhaseDriftBound, AT_ERR_PHASE_DRIFT_BOUND_RAD),
-    (Parameter::ExpectedDelay, AT_ERR_EXPECTED_DELAY_RAD),
-    (
-        Parameter::CarrierLoopBandwidth,
-        AT_ERR_CARRIER_LOOP_BANDWIDTH,
-    ),
-    (Parameter::AdcRate, AT_ERR_ADC_RATE_HZ),
-    (Parameter::WeakExcitationThreshold, AT_ERR_WEAK_EXCITATION),
-    (Parameter::MaxCarrierError, AT_ERR_MAX_CARRIER_ERROR),
-    (Parameter::StartupPeriods, AT_ERR_STARTUP_PERIODS),
-    (Parameter::AdcShift, AT_ERR_SHIFT),
-    (Parameter::AngleErrorCurve, AT_ERR_CURVE),
+/// Every parameter with its status code and its name as the core names it
+/// (`Parameter::name`, checked by the tests), NUL-terminated: the one table both
+/// directions and the messages use.
+#[rustfmt::skip]
+pub(crate) const PARAMETERS: [(Parameter, at_status, &CStr); 40] = [
+    (Parameter::SamplePeriod, AT_ERR_SAMPLE_PERIOD_S, c"sample_period_s"),
+    (Parameter::AngleGain, AT_ERR_GAINS_0, c"gains[0] (l1)"),
+    (Parameter::SpeedGain, AT_ERR_GAINS_1, c"gains[1] (l2)"),
+    (Parameter::AccelerationGain, AT_ERR_GAINS_2, c"gains[2] (l3)"),
+    (Parameter::MaxInputAmplitude, AT_ERR_MAX_INPUT_AMPLITUDE, c"max_input_amplitude"),
+    (Parameter::LossOfSignalThreshold, AT_ERR_LOSS_OF_SIGNAL, c"loss_of_signal"),
+    (Parameter::DegradationHighThreshold, AT_ERR_DEGRADATION_HIGH, c"degradation_high"),
+    (Parameter::DegradationLowThreshold, AT_ERR_DEGRADATION_LOW, c"degradation_low"),
+    (Parameter::LossOfTrackingThreshold, AT_ERR_LOSS_OF_TRACKING, c"loss_of_tracking"),
+    (Parameter::FilterFactor, AT_ERR_FILTER_FACTOR, c"filter_factor"),
+    (Parameter::FalseLockThreshold, AT_ERR_FALSE_LOCK, c"false_lock"),
+    (Parameter::NominalAmplitude, AT_ERR_NOMINAL_AMPLITUDE, c"nominal_amplitude"),
+    (Parameter::MaxSpeed, AT_ERR_MAX_SPEED_RAD_S, c"max_speed_rad_s"),
+    (Parameter::MidScaleCounts, AT_ERR_MID_SCALE_COUNTS, c"mid_scale_counts"),
+    (Parameter::CountsPerUnit, AT_ERR_COUNTS_PER_UNIT, c"counts_per_unit"),
+    (Parameter::AdcBits, AT_ERR_BITS, c"bits"),
+    (Parameter::OffsetCos, AT_ERR_OFFSET_C, c"offset_c"),
+    (Parameter::OffsetSin, AT_ERR_OFFSET_S, c"offset_s"),
+    (Parameter::AmplitudeCos, AT_ERR_AMPLITUDE_C, c"amplitude_c"),
+    (Parameter::AmplitudeSin, AT_ERR_AMPLITUDE_S, c"amplitude_s"),
+    (Parameter::Quadrature, AT_ERR_QUADRATURE_RAD, c"quadrature_rad"),
+    (Parameter::MinSpeed, AT_ERR_MIN_SPEED_RAD_S, c"min_speed_rad_s"),
+    (Parameter::MaxOffset, AT_ERR_MAX_OFFSET, c"max_offset"),
+    (Parameter::MaxAmplitudeMismatch, AT_ERR_MAX_AMPLITUDE_MISMATCH, c"max_amplitude_mismatch"),
+    (Parameter::MaxQuadrature, AT_ERR_MAX_QUADRATURE_RAD, c"max_quadrature_rad"),
+    (Parameter::AngleCorrection, AT_ERR_ANGLE_CORRECTION, c"angle_correction"),
+    (Parameter::CarrierFrequency, AT_ERR_CARRIER_HZ, c"carrier_hz"),
+    (Parameter::SamplesPerPeriod, AT_ERR_SAMPLES_PER_PERIOD, c"samples_per_period"),
+    (Parameter::CarrierAmplitude, AT_ERR_CARRIER_AMPLITUDE_COUNTS, c"carrier_amplitude_counts"),
+    (Parameter::AdcRange, AT_ERR_ADC_RANGE, c"adc_range"),
+    (Parameter::LossOfExcitationThreshold, AT_ERR_LOSS_OF_EXCITATION, c"loss_of_excitation"),
+    (Parameter::PhaseDriftBound, AT_ERR_PHASE_DRIFT_BOUND_RAD, c"phase_drift_bound_rad"),
+    (Parameter::ExpectedDelay, AT_ERR_EXPECTED_DELAY_RAD, c"expected_delay_rad"),
+    (Parameter::CarrierLoopBandwidth, AT_ERR_CARRIER_LOOP_BANDWIDTH, c"carrier_loop_bandwidth"),
+    (Parameter::AdcRate, AT_ERR_ADC_RATE_HZ, c"adc_rate_hz"),
+    (Parameter::WeakExcitationThreshold, AT_ERR_WEAK_EXCITATION, c"weak_excitation"),
+    (Parameter::MaxCarrierError, AT_ERR_MAX_CARRIER_ERROR, c"max_carrier_error"),
+    (Parameter::StartupPeriods, AT_ERR_STARTUP_PERIODS, c"startup_periods"),
+    (Parameter::AdcShift, AT_ERR_SHIFT, c"shift"),
+    (Parameter::AngleErrorCurve, AT_ERR_CURVE, c"curve"),
 ];
 
 /// The status naming the parameter a configuration error refused.
@@ -169,8 +163,8 @@ pub(crate) fn status_of(error: ConfigError) -> at_status {
     let parameter = error.parameter();
     PARAMETERS
         .iter()
-        .find(|(p, _)| *p == parameter)
-        .map_or(AT_ERR_OTHER_PARAMETER, |(_, status)| *status)
+        .find(|(p, _, _)| *p == parameter)
+        .map_or(AT_ERR_OTHER_PARAMETER, |(_, status, _)| *status)
 }
 
 /// `AT_OK`, or the status of the error.
@@ -190,76 +184,13 @@ pub(crate) fn message(status: at_status) -> &'static CStr {
         AT_ERR_OTHER_BUILD => {
             c"a struct argument was made by another build of the library (layout version or size differs)"
         }
-        AT_ERR_SAMPLE_PERIOD_S => c"sample_period_s",
-        AT_ERR_GAINS_0 => c"gains[0] (l1)",
-        AT_ERR_GAINS_1 => c"gains[1] (l2)",
-        AT_ERR_GAINS_2 => c"gains[2] (l3)",
-        AT_ERR_MAX_INPUT_AMPLITUDE => c"max_input_amplitude",
-        AT_ERR_LOSS_OF_SIGNAL => c"loss_of_signal",
-        AT_ERR_DEGRADATION_HIGH => c"degradation_high",
-        AT_ERR_DEGRADATION_LOW => c"degradation_low",
-        AT_ERR_LOSS_OF_TRACKING => c"loss_of_tracking",
-        AT_ERR_FILTER_FACTOR => c"filter_factor",
-        AT_ERR_FALSE_LOCK => c"false_lock",
-        AT_ERR_NOMINAL_AMPLITUDE => c"nominal_amplitude",
-        AT_ERR_MAX_SPEED_RAD_S => c"max_speed_rad_s",
-        AT_ERR_MID_SCALE_COUNTS => c"mid_scale_counts",
-        AT_ERR_COUNTS_PER_UNIT => c"counts_per_unit",
-        AT_ERR_BITS => c"bits",
-        AT_ERR_OFFSET_C => c"offset_c",
-        AT_ERR_OFFSET_S => c"offset_s",
-        AT_ERR_AMPLITUDE_C => c"amplitude_c",
-        AT_ERR_AMPLITUDE_S => c"amplitude_s",
-        AT_ERR_QUADRATURE_RAD => c"quadrature_rad",
-        AT_ERR_MIN_SPEED_RAD_S => c"min_speed_rad_s",
-        AT_ERR_MAX_OFFSET => c"max_offset",
-        AT_ERR_MAX_AMPLITUDE_MISMATCH => c"max_amplitude_mismatch",
-        AT_ERR_MAX_QUADRATURE_RAD => c"max_quadrature_rad",
-        AT_ERR_ANGLE_CORRECTION => c"angle_correction",
-        AT_ERR_CARRIER_HZ => c"carrier_hz",
-        AT_ERR_SAMPLES_PER_PERIOD => c"samples_per_period",
-        AT_ERR_CARRIER_AMPLITUDE_COUNTS => c"carrier_amplitude_counts",
-        AT_ERR_ADC_RANGE => c"adc_range",
-        AT_ERR_LOSS_OF_EXCITATION => c"loss_of_excitation",
-        AT_ERR_PHASE_DRIFT_BOUND_RAD => c"phase_drift_bound_rad",
-        AT_ERR_EXPECTED_DELAY_RAD => c"expected_delay_rad",
-        AT_ERR_CARRIER_LOOP_BANDWIDTH => c"carrier_loop_bandwidth",
-        AT_ERR_ADC_RATE_HZ => c"adc_rate_hz",
-        AT_ERR_WEAK_EXCITATION => c"weak_excitation",
-        AT_ERR_MAX_CARRIER_ERROR => c"max_carrier_error",
-        AT_ERR_STARTUP_PERIODS => c"startup_periods",
-        AT_ERR_SHIFT => c"shift",
-        AT_ERR_CURVE => c"curve",
         AT_ERR_STAGES => {
             c"a chain takes one calibration (stored or online) and one angle correction (harmonics or table)"
         }
         AT_ERR_OTHER_PARAMETER => c"a parameter of a newer core",
-        _ => c"unknown status",
-    }
-}
-
-/// [`message`] as a C string pointer (static, NUL-terminated).
-pub(crate) fn message_ptr(status: at_status) -> *const c_char {
-    message(status).as_ptr()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Each parameter's status names it as the core does, and the codes are distinct.
-    #[test]
-    fn messages_are_the_core_parameter_names() {
-        for (i, (parameter, status)) in PARAMETERS.iter().enumerate() {
-            assert_eq!(
-                message(*status).to_str(),
-                Ok(parameter.name()),
-                "{parameter:?}"
-            );
-            assert_eq!(status_of(ConfigError::NotFinite(*parameter)), *status);
-            assert!(PARAMETERS[..i].iter().all(|(_, s)| s != status));
-        }
-        assert_eq!(message(AT_OK).to_str(), Ok("ok"));
-        assert_eq!(message(-7).to_str(), Ok("unknown status"));
+        _ => PARAMETERS
+            .iter()
+            .find(|(_, s, _)| *s == status)
+            .map_or(c"unknown status", |(_, _, name)| name),
     }
 }

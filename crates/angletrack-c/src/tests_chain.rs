@@ -1,12 +1,27 @@
-//! Tests of the signal chain through its `extern "C"` functions: each combination agrees
-//! with the per-combination call it replaces, bit for bit, and the stages correct an
-//! imperfect sensor.
+//! Tests of the signal chain through its `extern "C"` functions: each combination is the
+//! core's tracker of the same stages, bit for bit (the door only converts), and the stages
+//! correct an imperfect sensor.
 #![allow(unsafe_code)]
 
 use core::f32::consts::{PI, TAU};
 use core::ptr::null;
 
+use angletrack_core::{
+    AdcScaling, CalibrationSettings, CalibrationStage, Gains, Input, OnlineCalibration, Rails,
+    SensorCalibration, Tracker, TrackerFrontEnd, TrackerSettings,
+};
+
+use crate::chain::{ChainF32, StateF32};
 use crate::*;
+
+/// A calibration to write into: all zero.
+const ZEROED: at_sensor_calibration_f32 = at_sensor_calibration_f32 {
+    offset_c: 0.0,
+    offset_s: 0.0,
+    amplitude_c: 0.0,
+    amplitude_s: 0.0,
+    quadrature_rad: 0.0,
+};
 
 const GAINS_3: [f32; 3] = [0.094_326_17, 0.000_562_075, 1.213_522e-5];
 /// Fewer samples under Miri, whose interpreter is slow: Miri checks the calls (their
@@ -83,76 +98,76 @@ fn wrapped(e: f32) -> f32 {
     (e % TAU + 3.0 * PI) % TAU - PI
 }
 
+/// The core's standard chain of the benchmark's 3rd-order gains and `settings`.
+fn core_chain(settings: TrackerSettings<f32>) -> ChainF32<3> {
+    let gains = Gains::<f32, 3>::new(GAINS_3, 1e-4).unwrap();
+    Tracker::new(TrackerFrontEnd::new(settings).unwrap(), gains)
+}
+
 #[test]
-fn each_combination_agrees_with_the_call_it_replaces() {
-    let gains = gains();
+fn each_combination_is_the_core_tracker_bit_for_bit() {
     let mut adc = at_adc_f32::ZEROED;
     let settings = at_calibration_settings_f32_default();
+    let online = CalibrationSettings::default();
+    let core = [
+        core_chain(TrackerSettings::default()),
+        core_chain(TrackerSettings {
+            input: Input::Counts {
+                adc: AdcScaling::offset_binary(12).unwrap(),
+                rails: Rails::Stated { min: 0, max: 4095 },
+            },
+            ..TrackerSettings::default()
+        }),
+        core_chain(TrackerSettings {
+            calibration: CalibrationStage::Online(OnlineCalibration::new(online, 1e-4).unwrap()),
+            ..TrackerSettings::default()
+        }),
+    ];
+    let mut core_states = [(); 3].map(|()| StateF32::<3>::new());
+    core_states[2].front_end.calibrator_mut().enable();
     // SAFETY: valid pointers to live values.
     unsafe {
         assert_eq!(at_adc_f32_offset_binary(12, &mut adc), AT_OK);
         let plain = chain_of(None, None, None, None).unwrap();
         let counts = chain_of(Some(&adc), None, None, None).unwrap();
         let online = chain_of(None, None, Some(&settings), None).unwrap();
-        let (mut s1, mut s2, mut s3) = (
-            at_state_f32::FRESH,
-            at_state_f32::FRESH,
-            at_state_f32::FRESH,
-        );
-        let mut s4 = at_state_f32::FRESH;
-        let mut calibrator = at_calibrator_f32::FRESH;
-        let (mut c1, mut c2, mut c3) = (
-            at_chain_state_f32::FRESH,
-            at_chain_state_f32::FRESH,
-            at_chain_state_f32::FRESH,
-        );
-        at_calibrator_f32_set_mode(&mut calibrator, AT_CALIBRATION_LEARNING);
-        at_chain_state_f32_set_calibration_mode(&mut c3, AT_CALIBRATION_LEARNING);
+        let mut states = [at_chain_state_f32::FRESH; 3];
+        at_chain_state_f32_set_calibration_mode(&mut states[2], AT_CALIBRATION_LEARNING);
         for k in 0..SAMPLES {
             let t = theta(k);
             let (y_c, y_s) = (0.05 + t.cos(), -0.05 + 1.1 * (t + 0.05).sin());
             let raw = |x: f32| (2048.0 + 1800.0 * x / 1.2).round() as u16;
+            let [s0, s1, s2] = &mut states;
+            let [c0, c1, c2] = &mut core_states;
+            let e = at_chain_f32_update(&plain, s0, y_c, y_s);
+            assert_eq!(e, core[0].update(c0, (y_c, y_s)).into());
+            let e = at_chain_f32_update_u16(&counts, s1, raw(y_c), raw(y_s));
+            assert_eq!(e, core[1].update(c1, (raw(y_c), raw(y_s))).into());
+            let e = at_chain_f32_update(&online, s2, y_c, y_s);
+            assert_eq!(e, core[2].update(c2, (y_c, y_s)).into());
+            assert_eq!(at_chain_f32_track(&plain, s0, y_c, y_s), 0);
+            core[0].track(c0, (y_c, y_s));
             assert_eq!(
-                at_chain_f32_update(&plain, &mut c1, y_c, y_s),
-                at_update_f32(&gains, &mut s1, y_c, y_s)
-            );
-            assert_eq!(
-                at_chain_f32_update_u16(&counts, &mut c2, raw(y_c), raw(y_s)),
-                at_update_f32_adc_u16(&gains, &mut s2, &adc, raw(y_c), raw(y_s))
-            );
-            assert_eq!(
-                at_chain_f32_update(&online, &mut c3, y_c, y_s),
-                at_update_f32_calibrated(&gains, &mut s3, &mut calibrator, y_c, y_s)
-            );
-            assert_eq!(at_track_f32(&gains, &mut s4, y_c, y_s), 0);
-            assert_eq!(
-                at_state_f32_estimate(&gains, &s4),
-                at_chain_f32_estimate(&plain, &c1)
+                at_chain_f32_estimate(&plain, s0),
+                core[0].estimate(c0).into()
             );
         }
-        let mut learned = at_sensor_calibration_f32::from_core_identity();
-        assert_eq!(at_chain_state_f32_calibration(&c3, &mut learned), AT_OK);
-        let mut expected = learned;
+        let mut learned = ZEROED;
         assert_eq!(
-            at_calibrator_f32_calibration(&calibrator, &mut expected),
+            at_chain_state_f32_calibration(&states[2], &mut learned),
             AT_OK
         );
-        assert_eq!(learned, expected);
-        assert_eq!(
-            at_chain_state_f32_turns_learned(&c3),
-            at_calibrator_f32_turns_learned(&calibrator)
-        );
-        assert_eq!(
-            at_chain_state_f32_calibration_mode(&c3),
-            AT_CALIBRATION_LEARNING
-        );
+        let expected = core_states[2].front_end.calibrator().calibration();
+        assert_eq!(learned, expected.into());
+        let turns = core_states[2].front_end.calibrator().turns_learned();
+        assert_eq!(at_chain_state_f32_turns_learned(&states[2]), turns);
+        let mode = at_chain_state_f32_calibration_mode(&states[2]);
+        assert_eq!(mode, AT_CALIBRATION_LEARNING);
         // Counts into a chain without an ADC stage are refused, the state unchanged.
-        let before = at_chain_f32_estimate(&plain, &c1);
-        assert_eq!(
-            at_chain_f32_track_u16(&plain, &mut c1, 1, 2),
-            AT_FAULT_INVALID_ARGUMENT
-        );
-        assert_eq!(at_chain_f32_estimate(&plain, &c1), before);
+        let before = at_chain_f32_estimate(&plain, &states[0]);
+        let refused = at_chain_f32_track_u16(&plain, &mut states[0], 1, 2);
+        assert_eq!(refused, AT_FAULT_INVALID_ARGUMENT);
+        assert_eq!(at_chain_f32_estimate(&plain, &states[0]), before);
     }
 }
 
@@ -217,7 +232,7 @@ fn a_stored_calibration_and_the_angle_correction_remove_the_sensor_errors() {
 
 #[test]
 fn refusals_name_the_stage() {
-    let stored = at_sensor_calibration_f32::from_core_identity();
+    let stored = at_sensor_calibration_f32::from(SensorCalibration::IDENTITY);
     let mut settings = at_calibration_settings_f32_default();
     assert_eq!(
         chain_of(None, Some(&stored), Some(&settings), None).err(),

@@ -7,6 +7,8 @@
 use core::f64::consts::{PI, TAU};
 use core::ptr::null;
 
+use angletrack_core::{FixedGains, FixedState};
+
 use crate::chain_fixed::{ChainFixed, StateFixed};
 use crate::tests_chain::SAMPLES;
 use crate::*;
@@ -68,11 +70,18 @@ fn error_rad(angle: i32, truth: f64) -> f64 {
     (e + 3.0 * PI).rem_euclid(TAU) - PI
 }
 
+/// The core's fixed-point observer of the 3rd-order gains, its monitor for `nominal`.
+fn core_observer(nominal: f64) -> (FixedGains<3>, FixedState<3>) {
+    let gains = GAINS_3.map(f64::from);
+    let observer = FixedGains::<3>::new(gains, 1e-4).and_then(|g| g.with_monitor(Some(nominal)));
+    (observer.unwrap(), FixedState::new())
+}
+
 #[test]
 fn without_stages_it_is_the_observer_bit_for_bit() {
     let chain = chain_of(None, None, None, 16384.0).unwrap();
-    let gains = fixed_gains();
-    let (mut state, mut plain) = (at_chain_state_fixed::FRESH, at_fixed_state::FRESH);
+    let (gains, mut plain) = core_observer(16384.0);
+    let mut state = at_chain_state_fixed::FRESH;
     for k in 0..SAMPLES.min(1000) {
         let (y_c, y_s) = (
             (16000.0 * theta(k).cos()) as i16,
@@ -82,17 +91,15 @@ fn without_stages_it_is_the_observer_bit_for_bit() {
         let (a, b) = unsafe {
             (
                 at_chain_fixed_update_i16(&chain, &mut state, y_c, y_s),
-                at_fixed_update(&gains, &mut plain, y_c, y_s),
+                at_fixed_estimate::from(gains.update(&mut plain, y_c, y_s)),
             )
         };
         assert_eq!(a, b, "{k}");
     }
     // SAFETY: as above.
     unsafe {
-        assert_eq!(
-            at_chain_fixed_estimate(&chain, &state),
-            at_fixed_state_estimate(&plain)
-        );
+        let estimate = at_fixed_estimate::from(FixedGains::<3>::estimate(&plain));
+        assert_eq!(at_chain_fixed_estimate(&chain, &state), estimate);
         assert_eq!(
             at_chain_fixed_track_u16(&chain, &mut state, 0, 0),
             AT_FAULT_INVALID_ARGUMENT
@@ -101,20 +108,20 @@ fn without_stages_it_is_the_observer_bit_for_bit() {
             at_chain_fixed_track_i32(&chain, &mut state, 0, 0),
             AT_FAULT_INVALID_ARGUMENT
         );
-        assert_eq!(at_chain_fixed_sample_period_s(&chain), 1e-4);
+        let second = at_fixed_estimate {
+            speed: 1 << 22,
+            ..estimate
+        };
+        let speed = at_chain_fixed_speed_rad_s(&chain, &second);
+        assert!((speed - TAU / 1024.0 / 1e-4).abs() < 1e-9, "{speed}");
     }
 }
 
 #[test]
 fn the_adc_is_the_conversion_it_replaces() {
     let chain = chain_of(Some(&adc_12()), None, None, 28_800.0).unwrap();
-    let mut gains = fixed_gains();
-    let (mut state, mut plain) = (at_chain_state_fixed::FRESH, at_fixed_state::FRESH);
-    // SAFETY: valid pointers to live values.
-    assert_eq!(
-        unsafe { at_fixed_gains_set_monitor(&mut gains, 28_800.0) },
-        AT_OK
-    );
+    let (gains, mut plain) = core_observer(28_800.0);
+    let mut state = at_chain_state_fixed::FRESH;
     for k in 0..SAMPLES.min(1000) {
         let raw = |x: f64| (2048.0 + 1800.0 * x).round() as u16;
         let (c, s) = (raw(theta(k).cos()), raw(theta(k).sin()));
@@ -123,7 +130,7 @@ fn the_adc_is_the_conversion_it_replaces() {
         let (a, b, i) = unsafe {
             let mut again = state;
             let a = at_chain_fixed_update_u16(&chain, &mut state, c, s);
-            let b = at_fixed_update(&gains, &mut plain, shifted(c), shifted(s));
+            let b = gains.update(&mut plain, shifted(c), shifted(s)).into();
             at_chain_fixed_track_i32(&chain, &mut again, c.into(), s.into());
             (a, b, at_chain_fixed_estimate(&chain, &again))
         };
@@ -293,7 +300,7 @@ fn refuses_each_bad_parameter_with_its_status() {
         let zeroed = at_fixed_gains::ZEROED;
         assert_eq!(
             at_chain_fixed_new(&zeroed, null(), null(), null(), 0.0, &mut chain),
-            AT_ERR_NOT_INITIALISED
+            AT_ERR_ORDER
         );
         assert_eq!(
             at_chain_fixed_new(null(), null(), null(), null(), 0.0, &mut chain),

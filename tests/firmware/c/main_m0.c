@@ -17,7 +17,9 @@
  *     gains `angletrack design --format c` writes (at_fixed_gains_new), with
  *     at_chain_fixed_update_u16.
  * The image exits 0 if both pass. Built with -DCOUNT_SAMPLES=N, it only runs the corrected
- * chain of check 1 for N samples (run.sh counts its instructions per sample). */
+ * chain of check 1 for N samples (run.sh counts its instructions per sample): from its
+ * counts through at_chain_fixed_track_u16, or, with -DCOUNT_INT16, the same chain without
+ * its ADC on the same samples as int16 through at_chain_fixed_track_i16. */
 #include <math.h>
 #include <stdio.h>
 
@@ -62,7 +64,7 @@
 
 /* Static memory, zeroed at start-up: the states are fresh. */
 static at_fixed_gains gains3, gains2;
-static at_chain_fixed corrected, uncorrected, ideal;
+static at_chain_fixed corrected, uncorrected, ideal, samples_corrected;
 static at_chain_state_fixed state;
 static at_angle_table_fixed table;
 
@@ -131,8 +133,7 @@ static struct result track(const at_chain_fixed *chain, int imperfect, int with_
     /* The difference of binary angles wraps to the nearest turn exactly. */
     int32_t error = (int32_t)((uint32_t)e.angle - (uint32_t)true_binary_angle(k));
     double angle_error = fabs((double)error * (2.0 * PI / 4294967296.0));
-    double speed = (double)e.speed / 4294967296.0 * 2.0 * PI / at_chain_fixed_sample_period_s(chain);
-    double speed_error = fabs(speed - SPEED_RAD_S);
+    double speed_error = fabs(at_chain_fixed_speed_rad_s(chain, &e) - SPEED_RAD_S);
     if (angle_error > r.angle) r.angle = angle_error;
     if (speed_error > r.speed) r.speed = speed_error;
   }
@@ -195,7 +196,10 @@ static int build(void) {
          accepted("the uncorrected chain",
                   at_chain_fixed_new(&gains3, &adc, NULL, NULL, NOMINAL_AMPLITUDE, &uncorrected)) &&
          accepted("the ideal sensor's chain",
-                  at_chain_fixed_new(&gains2, &adc, NULL, NULL, NOMINAL_AMPLITUDE, &ideal));
+                  at_chain_fixed_new(&gains2, &adc, NULL, NULL, NOMINAL_AMPLITUDE, &ideal)) &&
+         accepted("the corrected chain without its ADC",
+                  at_chain_fixed_new(&gains3, NULL, &calibration, &table, NOMINAL_AMPLITUDE,
+                                     &samples_corrected));
 }
 
 int main(void) {
@@ -212,10 +216,24 @@ int main(void) {
   uint32_t faults = 0;
   for (long k = 0; k < COUNTED_PERIOD; k++) sensor(k, 1, &counted_c[k], &counted_s[k]);
   long i = 0;
+#ifdef COUNT_INT16
+  /* The chain without its ADC on the same samples as int16 (mid-scale removed, shifted by
+   * 4, as its ADC stage would), through at_chain_fixed_track_i16. */
+  static int16_t samples_c[COUNTED_PERIOD], samples_s[COUNTED_PERIOD];
+  for (long k = 0; k < COUNTED_PERIOD; k++) {
+    samples_c[k] = (int16_t)((counted_c[k] - 2048) * (1 << ADC_SHIFT));
+    samples_s[k] = (int16_t)((counted_s[k] - 2048) * (1 << ADC_SHIFT));
+  }
+  for (long k = 0; k < COUNT_SAMPLES; k++) {
+    faults |= at_chain_fixed_track_i16(&samples_corrected, &state, samples_c[i], samples_s[i]);
+    if (++i == COUNTED_PERIOD) i = 0;
+  }
+#else
   for (long k = 0; k < COUNT_SAMPLES; k++) {
     faults |= at_chain_fixed_track_u16(&corrected, &state, counted_c[i], counted_s[i]);
     if (++i == COUNTED_PERIOD) i = 0;
   }
+#endif
   return faults == 0u ? 0 : 1;
 #else
   struct result good = track(&corrected, 1, 0);

@@ -16,16 +16,21 @@
 #  3. checks that the image holds no panic code: no C API call can reach the library's
 #     panic handler, so the linker's garbage collection drops it;
 #  4. prints the image's code size;
-#  5. on the Cortex-M0, counts the instructions of the fixed-point chain per sample with the
-#     firmware test's QEMU plugin (tests/firmware/plugin/insn_count.c): the image built with
-#     -DCOUNT_SAMPLES=N runs the corrected chain's at_chain_fixed_track_u16 N times; the
-#     instructions inside it and the functions it calls (from the symbol table), from runs of
-#     1000 and 2000 samples, per sample: `insns_per_sample c-chain-fixed-corrected-m0: N`.
+# With `count` first (tests/firmware/run.sh, whose budgets hold the counts), it only counts,
+# on the Cortex-M0: the instructions of the fixed-point chain per sample, with the firmware
+# test's QEMU plugin (tests/firmware/plugin/insn_count.c): the image built with
+# -DCOUNT_SAMPLES=N runs the corrected chain N times, the instructions inside the counted
+# function and the functions it calls (from the symbol table), from runs of 1000 and 2000
+# samples, per sample:
+#  `insns_per_sample c-chain-fixed-corrected-m0: N`: at_chain_fixed_track_u16 from raw
+#    12-bit counts (the ADC stage, the rails measured, the stored calibration, the table);
+#  `insns_per_sample c-chain-fixed-samples-corrected-m0: N` (-DCOUNT_INT16): the same
+#    chain without its ADC on the same samples as int16, at_chain_fixed_track_i16.
 # Needs: cargo with the thumbv7em-none-eabihf and thumbv6m-none-eabi targets,
 # qemu-system-arm, gcc-arm-none-eabi, libnewlib-arm-none-eabi (scripts/test.d/16-c-api.sh
 # installs them).
-# Usage: bash tests/firmware/c/run.sh [m4|m0]   (default both; CARGO_TARGET_DIR overrides
-# the build directory)
+# Usage: bash tests/firmware/c/run.sh [count] [m4|m0]   (default both; CARGO_TARGET_DIR
+# overrides the build directory)
 set -euo pipefail
 shopt -s inherit_errexit
 here="$(cd "$(dirname "$0")" && pwd)"
@@ -71,16 +76,17 @@ run() {
     -serial none -semihosting-config enable=on,target=native -kernel "$out/$1.elf" 2>&1
 }
 
-# count_per_sample: the instructions per sample inside at_chain_fixed_track_u16 and the
-# functions it calls (direct branches, transitively), from two runs of the -DCOUNT_SAMPLES
-# image.
+# count_per_sample FUNCTION LABEL [CFLAGS...]: the instructions per sample inside FUNCTION
+# and the functions it calls (direct branches, transitively), from two runs of the
+# -DCOUNT_SAMPLES image built with CFLAGS, printed as LABEL's.
 count_per_sample() {
-  local plugin="$out/insn_count.so" counted=at_chain_fixed_track_u16 elf f n
+  local plugin="$out/insn_count.so" counted=$1 label=$2 elf f n
+  shift 2
   gcc -O2 -Wall -Wextra -Werror -shared -fPIC -fvisibility=hidden -I"$here/../plugin" \
     -o "$plugin" "$here/../plugin/insn_count.c"
   local -a counts=()
   for n in 1000 2000; do
-    build "count-$core-$n" -DCOUNT_SAMPLES="$n"
+    build "count-$core-$n" -DCOUNT_SAMPLES="$n" "$@"
     elf="$out/count-$core-$n.elf"
     # The functions reachable from the root, each as START-END (the Thumb bit cleared).
     local -A seen=()
@@ -106,17 +112,29 @@ count_per_sample() {
       { echo "FAIL: the counting image ($n samples) exited with an error" >&2; exit 1; }
     counts+=("$(sed -n 's/^insns_in_ranges: //p' "$out/insns.log")")
   done
-  awk -v a="${counts[0]}" -v b="${counts[1]}" \
-    'BEGIN { printf "insns_per_sample c-chain-fixed-corrected-m0: %.1f\n", (b - a) / 1000 }'
+  awk -v a="${counts[0]}" -v b="${counts[1]}" -v label="$label" \
+    'BEGIN { printf "insns_per_sample %s: %.1f\n", label, (b - a) / 1000 }'
 }
 
+count_only=false
+if [ "${1:-}" = count ]; then
+  count_only=true
+  shift
+fi
 cores=("$@")
 [ ${#cores[@]} -gt 0 ] || cores=(m4 m0)
 for c in "${cores[@]}"; do
   core_settings "$c"
-  echo "--- the C example on the $core ($target)"
+  $count_only || echo "--- the C example on the $core ($target)"
   (cd "$root" && CARGO_TARGET_DIR="$target_dir" cargo build -q --locked -p angletrack-c \
     --release --target "$target")
+  if $count_only; then
+    if [ "$core" = m0 ]; then
+      count_per_sample at_chain_fixed_track_u16 c-chain-fixed-corrected-m0
+      count_per_sample at_chain_fixed_track_i16 c-chain-fixed-samples-corrected-m0 -DCOUNT_INT16
+    fi
+    continue
+  fi
 
   build "example-$core"
   output=$(run "example-$core") ||
@@ -145,5 +163,4 @@ for c in "${cores[@]}"; do
   echo "no panic code in the image"
   arm-none-eabi-size "$out/example-$core.elf" |
     awk 'NR == 2 { print "image size: text " $1 " bytes, data " $2 ", bss " $3 }'
-  if [ "$core" = m0 ]; then count_per_sample; fi
 done

@@ -49,24 +49,25 @@ static float scenario_wrapped(double error) {
   return (float)(error - SCENARIO_PI);
 }
 
-/* Tracks `samples` samples of amplitude `amplitude` at `speed_rad_s` from the state
- * `state` (fresh), through at_update_f32 with `gains`, or, if `adc` is not NULL, as 12-bit
- * offset-binary counts through at_update_f32_adc_u16; checks the last `window` samples. */
-static scenario_result scenario_track(const at_gains_f32 *gains, at_state_f32 *state,
-                                      const at_adc_f32 *adc, double speed_rad_s,
-                                      double sample_period_s, float amplitude, long samples,
-                                      long window) {
+/* Tracks `samples` samples of amplitude `amplitude` at `speed_rad_s` through `chain` from
+ * a fresh state `state`, as floats (at_chain_f32_update), or, if `counts`, as 12-bit
+ * offset-binary counts (at_chain_f32_update_u16: a chain with the 12-bit ADC stage); checks
+ * the last `window` samples. */
+static scenario_result scenario_track(const at_chain_f32 *chain, at_chain_state_f32 *state,
+                                      int counts, double speed_rad_s, double sample_period_s,
+                                      float amplitude, long samples, long window) {
   scenario_result r = {0.0f, 0.0f, 0u, 0};
+  at_chain_state_f32_reset(state);
   for (long k = 0; k < samples; k++) {
     double theta = scenario_angle(k, speed_rad_s, sample_period_s);
     float y_c = amplitude * cosf((float)theta);
     float y_s = amplitude * sinf((float)theta);
     at_estimate_f32 e;
-    if (adc != NULL) {
-      e = at_update_f32_adc_u16(gains, state, adc, (uint16_t)lrintf(2048.0f + 2048.0f * y_c),
-                                (uint16_t)lrintf(2048.0f + 2048.0f * y_s));
+    if (counts) {
+      e = at_chain_f32_update_u16(chain, state, (uint16_t)lrintf(2048.0f + 2048.0f * y_c),
+                                  (uint16_t)lrintf(2048.0f + 2048.0f * y_s));
     } else {
-      e = at_update_f32(gains, state, y_c, y_s);
+      e = at_chain_f32_update(chain, state, y_c, y_s);
     }
     if (k < samples - window) continue;
     float angle_error = fabsf(scenario_wrapped((double)e.angle - theta));
@@ -101,28 +102,27 @@ static int scenario_passes(const char *name, scenario_result r, float angle_tole
 #endif
 
 /* Learns a sensor with offsets 0.05 and -0.05, amplitude ratio 1.1 and quadrature 0.05 rad
- * through at_update_f32_calibrated at the scenario's speed, from a fresh state and
- * calibrator; writes the learned calibration to `learned` and a line to `line`; 1 (PASS) if
- * it is within 5e-3 of the sensor's. */
-static int scenario_calibrate(const at_gains_f32 *gains, at_state_f32 *state,
-                              at_calibrator_f32 *calibrator, double sample_period_s,
-                              at_sensor_calibration_f32 *learned, char *line, size_t len) {
-  at_state_f32_reset(state);
-  at_calibrator_f32_reset(calibrator);
-  int pass = at_calibrator_f32_set_mode(calibrator, AT_CALIBRATION_LEARNING) == AT_OK;
+ * through `chain` (with the online calibration stage) at the scenario's speed, from a fresh
+ * state `state` set to learn; writes the learned calibration to `learned` and a line to
+ * `line`; 1 (PASS) if it is within 5e-3 of the sensor's. */
+static int scenario_calibrate(const at_chain_f32 *chain, at_chain_state_f32 *state,
+                              double sample_period_s, at_sensor_calibration_f32 *learned,
+                              char *line, size_t len) {
+  at_chain_state_f32_reset(state);
+  int pass = at_chain_state_f32_set_calibration_mode(state, AT_CALIBRATION_LEARNING) == AT_OK;
   for (long k = 0; k < SCENARIO_SAMPLES; k++) {
     float theta = (float)scenario_angle(k, SCENARIO_SPEED_RAD_S, sample_period_s);
-    at_update_f32_calibrated(gains, state, calibrator, SCENARIO_SIGNAL_OFFSET_C + cosf(theta),
-                             -0.05f + 1.1f * sinf(theta + 0.05f));
+    at_chain_f32_track(chain, state, SCENARIO_SIGNAL_OFFSET_C + cosf(theta),
+                       -0.05f + 1.1f * sinf(theta + 0.05f));
   }
-  pass &= at_calibrator_f32_calibration(calibrator, learned) == AT_OK;
+  pass &= at_chain_state_f32_calibration(state, learned) == AT_OK;
   float ratio = learned->amplitude_s / learned->amplitude_c;
   pass &= fabsf(learned->offset_c - 0.05f) < 5e-3f && fabsf(learned->offset_s + 0.05f) < 5e-3f &&
           fabsf(ratio - 1.1f) < 5e-3f && fabsf(learned->quadrature_rad - 0.05f) < 5e-3f;
   snprintf(line, len,
            "%s online calibration: learned in %u turns offsets %.4f %.4f, amplitude ratio %.4f, "
            "quadrature %.4f rad (sensor: 0.05 -0.05, 1.1, 0.05; tolerance 5e-3)\n",
-           pass ? "PASS" : "FAIL", (unsigned)at_calibrator_f32_turns_learned(calibrator),
+           pass ? "PASS" : "FAIL", (unsigned)at_chain_state_f32_turns_learned(state),
            (double)learned->offset_c, (double)learned->offset_s, (double)ratio,
            (double)learned->quadrature_rad);
   return pass;

@@ -1,8 +1,8 @@
 /* The C API on the host: a C program written against angletrack.h, linked with
  * libangletrack_c.a, that designs nothing: it takes the gains `angletrack design --format c`
- * writes (gains_ato3.h, gains_ato2.h), tracks a synthetic resolver (scenario.h) and checks
- * the refusals (invalid gains, NULL pointers, zeroed structs, structs of another build); the
- * fixed-point observer from the constants `angletrack design --dtype fixed --format c`
+ * writes (gains_ato3.h, gains_ato2.h), tracks a synthetic resolver (scenario.h) through the
+ * signal chain and checks the refusals (invalid gains, NULL pointers, zeroed structs, structs
+ * of another build); the fixed-point chain from the constants `angletrack design --dtype fixed --format c`
  * prints (fixed_ato3.h) on 12-bit counts, and its chain with the angle-correction tables
  * (test_host_tables.c); the float chain's front-end faults (test_host_front_end.c). Prints one line per check
  * and exits 0 if all pass. Built and run by scripts/test.d/16-c-api.sh. */
@@ -19,51 +19,52 @@
 #include "test_host_tables.h"
 
 /* Statically allocated, as firmware would: zeroed, so the states are fresh. */
-static at_gains_f32 gains3, gains2, zeroed_gains;
-static at_state_f32 state;
+static at_gains_f32 gains3, gains2;
 static at_adc_f32 adc;
-static at_calibrator_f32 calibrator;
 static at_fixed_gains fixed3, zeroed_fixed;
-static at_fixed_state fixed_state;
-static at_chain_f32 chain, plain_chain;
+static at_chain_fixed fixed_chain, zeroed_fixed_chain;
+static at_chain_state_fixed fixed_state;
+static at_chain_f32 chain, plain_chain, zeroed_chain;
 static at_chain_state_f32 chain_state;
 
+/* The scenario through the chain of `gains` and the ADC `adc_or_null` (counts if not NULL). */
 static void track(const char *name, const at_gains_f32 *gains, const at_adc_f32 *adc_or_null,
                   double sample_period_s, float angle_tolerance, float speed_tolerance) {
   char line[300];
-  at_state_f32_reset(&state);
-  scenario_result r = scenario_track(gains, &state, adc_or_null, SCENARIO_SPEED_RAD_S, sample_period_s,
-                                     SCENARIO_AMPLITUDE, SCENARIO_SAMPLES, SCENARIO_WINDOW);
+  check_status(at_chain_f32_new(gains, adc_or_null, NULL, NULL, NULL, NULL, &chain), AT_OK, name);
+  scenario_result r = scenario_track(&chain, &chain_state, adc_or_null != NULL, SCENARIO_SPEED_RAD_S,
+                                     sample_period_s, SCENARIO_AMPLITUDE, SCENARIO_SAMPLES,
+                                     SCENARIO_WINDOW);
   int pass = scenario_passes(name, r, angle_tolerance, speed_tolerance, line, sizeof line);
   fputs(line, stdout);
   failures += !pass;
 }
 
-/* The fixed-point observer: the constants accepted, the scenario tracked from 12-bit
- * offset-binary counts (mid-scale removed, shifted left by 4: amplitude 28,800), the
- * refusals. */
+/* The fixed-point chain without stages (the observer alone on int16 samples): the
+ * constants accepted, the scenario tracked from 12-bit counts shifted left by 4 (amplitude
+ * 28,800), the refusals. */
 static void fixed_point(void) {
   char line[300];
   check_status(at_fixed_gains_from_constants(fixed3_gain_multiplier, FIXED3_ORDER,
                                              FIXED3_ACCELERATION_SHIFT, FIXED3_SAMPLE_PERIOD_S,
                                              &fixed3),
                AT_OK, "fixed-point constants accepted");
-  check_status(at_fixed_gains_set_monitor(&fixed3, 1800.0 * 16.0), AT_OK,
-               "fixed-point monitor at 28,800 counts");
-  check(at_fixed_gains_order(&fixed3) == 3 && at_fixed_gains_order(&zeroed_fixed) == 0,
-        "fixed-point order 3; 0 for zeroed gains");
+  check_status(at_chain_fixed_new(&fixed3, NULL, NULL, NULL, 1800.0 * 16.0, &fixed_chain), AT_OK,
+               "fixed-point chain: the observer alone, its monitor at 28,800 counts");
+  check(fixed3.order == 3 && fixed3.acceleration_shift == FIXED3_ACCELERATION_SHIFT,
+        "fixed-point constants: order 3, the shift");
   double worst_angle = 0.0, worst_speed = 0.0;
   uint32_t faults = 0;
   for (long k = 0; k < SCENARIO_SAMPLES; k++) {
     double theta = scenario_angle(k, SCENARIO_SPEED_RAD_S, FIXED3_SAMPLE_PERIOD_S);
     int16_t y_c = (int16_t)(lrint(1800.0 * cos(theta)) * 16);
     int16_t y_s = (int16_t)(lrint(1800.0 * sin(theta)) * 16);
-    faults |= at_fixed_track(&fixed3, &fixed_state, y_c, y_s);
+    faults |= at_chain_fixed_track_i16(&fixed_chain, &fixed_state, y_c, y_s);
     if (k < SCENARIO_SAMPLES - SCENARIO_WINDOW) continue;
-    at_fixed_estimate e = at_fixed_state_estimate(&fixed_state);
+    at_fixed_estimate e = at_chain_fixed_estimate(&fixed_chain, &fixed_state);
     double angle = e.angle * (2.0 * SCENARIO_PI / 4294967296.0);
     double angle_error = fabs(scenario_wrapped(angle - theta));
-    double speed_error = fabs(at_fixed_speed_rad_s(&fixed3, &e) - SCENARIO_SPEED_RAD_S);
+    double speed_error = fabs(at_chain_fixed_speed_rad_s(&fixed_chain, &e) - SCENARIO_SPEED_RAD_S);
     if (angle_error > worst_angle) worst_angle = angle_error;
     if (speed_error > worst_speed) worst_speed = speed_error;
     faults |= e.faults;
@@ -73,8 +74,8 @@ static void fixed_point(void) {
            "faults 0x%x",
            worst_angle, worst_speed, (unsigned)faults);
   check(worst_angle < 3e-4 && worst_speed < 0.1 && faults == 0u, line);
-  at_fixed_estimate e = at_fixed_state_estimate(&fixed_state);
-  double position = at_fixed_position_rad(&e);
+  at_fixed_estimate e = at_chain_fixed_estimate(&fixed_chain, &fixed_state);
+  double position = at_chain_fixed_position_rad(&fixed_chain, &e);
   check(fabs(position - (0.3 + SCENARIO_SPEED_RAD_S * 4999 * 1e-4)) < 1e-3,
         "fixed-point multi-turn position");
 
@@ -91,15 +92,17 @@ static void fixed_point(void) {
   const float too_small[2] = {1e-30f, 1e-3f};
   check_status(at_fixed_gains_new(too_small, 2, 1e-4, &out), AT_ERR_GAINS_0,
                "fixed-point l1 rounding to 0 refused");
-  check_status(at_fixed_gains_set_monitor(&out, 2000.0), AT_ERR_NOMINAL_AMPLITUDE,
-               "fixed-point monitor at 2000 counts refused");
-  check_status(at_fixed_gains_set_monitor(&zeroed_fixed, 20000.0), AT_ERR_NOT_INITIALISED,
-               "zeroed fixed-point gains refused");
+  at_chain_fixed refused;
+  check_status(at_chain_fixed_new(&fixed3, NULL, NULL, NULL, 2000.0, &refused),
+               AT_ERR_NOMINAL_AMPLITUDE, "fixed-point monitor at 2000 counts refused");
+  check_status(at_chain_fixed_new(&zeroed_fixed, NULL, NULL, NULL, 20000.0, &refused),
+               AT_ERR_ORDER, "zeroed fixed-point gains refused");
   check_status(at_fixed_gains_new(NULL, 2, 1e-4, &out), AT_ERR_NULL_POINTER,
                "NULL fixed-point gains");
-  check(at_fixed_track(&zeroed_fixed, &fixed_state, 1, 0) == AT_FAULT_INVALID_ARGUMENT &&
-            at_fixed_track(&fixed3, NULL, 1, 0) == AT_FAULT_INVALID_ARGUMENT &&
-            at_fixed_update(NULL, &fixed_state, 1, 0).faults == AT_FAULT_INVALID_ARGUMENT,
+  check(at_chain_fixed_track_i16(&zeroed_fixed_chain, &fixed_state, 1, 0) ==
+                AT_FAULT_INVALID_ARGUMENT &&
+            at_chain_fixed_track_i16(&fixed_chain, NULL, 1, 0) == AT_FAULT_INVALID_ARGUMENT &&
+            at_chain_fixed_update_i16(NULL, &fixed_state, 1, 0).faults == AT_FAULT_INVALID_ARGUMENT,
         "fixed-point track and update with NULL or zeroed arguments refused");
 }
 
@@ -178,21 +181,23 @@ static void chains(void) {
   check(at_chain_f32_track_u16(&plain_chain, NULL, 1, 2) == AT_FAULT_INVALID_ARGUMENT,
         "chain: NULL state refused");
 
-  /* The plain observer's state-only form: the estimate on demand is the update's. */
-  at_state_f32 tracked, updated;
-  at_state_f32_reset(&tracked);
-  at_state_f32_reset(&updated);
+  /* The state-only form: the estimate on demand is the update's. */
+  check_status(at_chain_f32_new(&gains3, NULL, NULL, NULL, NULL, NULL, &chain), AT_OK,
+               "chain: the observer alone");
+  at_chain_state_f32 tracked, updated;
+  at_chain_state_f32_reset(&tracked);
+  at_chain_state_f32_reset(&updated);
   int same = 1;
   for (long k = 0; k < 100; k++) {
     double theta = scenario_angle(k, SCENARIO_SPEED_RAD_S, ATO3_SAMPLE_PERIOD_S);
-    at_estimate_f32 e = at_update_f32(&gains3, &updated, (float)cos(theta), (float)sin(theta));
-    same &= at_track_f32(&gains3, &tracked, (float)cos(theta), (float)sin(theta)) == 0u;
-    at_estimate_f32 on_demand = at_state_f32_estimate(&gains3, &tracked);
+    at_estimate_f32 e = at_chain_f32_update(&chain, &updated, (float)cos(theta), (float)sin(theta));
+    same &= at_chain_f32_track(&chain, &tracked, (float)cos(theta), (float)sin(theta)) == 0u;
+    at_estimate_f32 on_demand = at_chain_f32_estimate(&chain, &tracked);
     same &= e.angle == on_demand.angle && e.turns == on_demand.turns &&
             e.speed == on_demand.speed && e.acceleration == on_demand.acceleration &&
             e.phase_error == on_demand.phase_error && e.faults == on_demand.faults;
   }
-  check(same, "at_track_f32 + at_state_f32_estimate give at_update_f32's estimates");
+  check(same, "at_chain_f32_track + at_chain_f32_estimate give at_chain_f32_update's estimates");
 }
 
 /* The demodulator: resolver windings sampled 16 times per 10 kHz carrier period by a 12-bit
@@ -234,46 +239,40 @@ static void demodulation(void) {
  * `layout` field is written here only to make such a struct. */
 static void layouts(void) {
   check(at_layout_version() == AT_LAYOUT_VERSION, "the library's layout version is the header's");
-  at_gains_f32 other = gains3;
+  at_chain_f32 other = plain_chain;
   other.layout += 2;
-  at_fault_thresholds_f32 t;
-  check_status(at_gains_f32_fault_thresholds(&other, &t), AT_ERR_OTHER_BUILD,
-               "gains of another build refused");
-  check(at_update_f32(&other, &state, 1.0f, 0.0f).faults == AT_FAULT_INVALID_ARGUMENT,
-        "update with gains of another build flags AT_FAULT_INVALID_ARGUMENT");
-  at_fixed_gains other_fixed = fixed3;
-  other_fixed.layout += 2;
-  check_status(at_fixed_gains_set_monitor(&other_fixed, 20000.0), AT_ERR_OTHER_BUILD,
-               "fixed-point gains of another build refused");
-  at_fixed_state other_state = fixed_state;
+  check_status(at_chain_f32_with_winding_check(&other, 1.0f, &chain), AT_ERR_OTHER_BUILD,
+               "a chain of another build refused");
+  at_chain_state_fixed other_state = fixed_state;
   other_state.layout += 2;
-  at_fixed_state before = other_state;
-  check(at_fixed_track(&fixed3, &other_state, 1, 0) == AT_FAULT_INVALID_ARGUMENT &&
-            at_fixed_state_estimate(&other_state).faults == AT_FAULT_INVALID_ARGUMENT &&
+  at_chain_state_fixed before = other_state;
+  check(at_chain_fixed_track_i16(&fixed_chain, &other_state, 1, 0) == AT_FAULT_INVALID_ARGUMENT &&
+            at_chain_fixed_estimate(&fixed_chain, &other_state).faults == AT_FAULT_INVALID_ARGUMENT &&
             memcmp(&before, &other_state, sizeof before) == 0,
         "a fixed-point state of another build refused and left unchanged");
-  at_fixed_state_reset(&other_state);
-  check(at_fixed_track(&fixed3, &other_state, 1, 0) == 0u, "reset, it is this build's");
-  at_calibrator_f32 other_calibrator = calibrator;
-  other_calibrator.layout += 2;
-  check_status(at_calibrator_f32_set_mode(&other_calibrator, AT_CALIBRATION_LEARNING),
-               AT_ERR_OTHER_BUILD, "calibrator of another build refused");
-  printf("sizeof: at_fixed_gains %zu, at_fixed_state %zu, at_fixed_estimate %zu bytes\n",
-         sizeof(at_fixed_gains), sizeof(at_fixed_state), sizeof(at_fixed_estimate));
+  at_chain_state_fixed_reset(&other_state);
+  check(at_chain_fixed_track_i16(&fixed_chain, &other_state, 1, 0) == 0u,
+        "reset, it is this build's");
+  at_chain_state_f32 other_chain_state = chain_state;
+  other_chain_state.layout += 2;
+  check_status(at_chain_state_f32_set_calibration_mode(&other_chain_state, AT_CALIBRATION_LEARNING),
+               AT_ERR_OTHER_BUILD, "a chain state of another build refused");
+  printf("sizeof: at_fixed_gains %zu, at_chain_state_fixed %zu, at_fixed_estimate %zu bytes\n",
+         sizeof(at_fixed_gains), sizeof(at_chain_state_fixed), sizeof(at_fixed_estimate));
 }
 
 int main(void) {
-  printf("sizeof: at_gains_f32 %zu, at_state_f32 %zu, at_adc_f32 %zu, at_calibrator_f32 %zu, "
+  printf("sizeof: at_gains_f32 %zu, at_chain_f32 %zu, at_chain_state_f32 %zu, at_adc_f32 %zu, "
          "at_estimate_f32 %zu bytes\n",
-         sizeof(at_gains_f32), sizeof(at_state_f32), sizeof(at_adc_f32),
-         sizeof(at_calibrator_f32), sizeof(at_estimate_f32));
+         sizeof(at_gains_f32), sizeof(at_chain_f32), sizeof(at_chain_state_f32),
+         sizeof(at_adc_f32), sizeof(at_estimate_f32));
 
   /* The gains exactly as `angletrack design --format c` writes them. */
   check_status(at_gains_f32_new(ato3_gains, ATO3_ORDER, ATO3_SAMPLE_PERIOD_S, &gains3), AT_OK,
                "ato3 gains accepted");
   check_status(at_gains_f32_new(ato2_gains, ATO2_ORDER, ATO2_SAMPLE_PERIOD_S, &gains2), AT_OK,
                "ato2 gains accepted");
-  check(at_gains_f32_order(&gains3) == 3 && at_gains_f32_order(&gains2) == 2, "orders 3 and 2");
+  check(gains3.order == 3 && gains2.order == 2, "orders 3 and 2");
 
   track("3rd order, 50 Hz", &gains3, NULL, ATO3_SAMPLE_PERIOD_S, SCENARIO_ANGLE_TOLERANCE_RAD,
         SCENARIO_SPEED_TOLERANCE_RAD_S);
@@ -292,45 +291,56 @@ int main(void) {
   check_status(at_gains_f32_new(ato3_gains, 3, 0.0f, &out), AT_ERR_SAMPLE_PERIOD_S,
                "zero sample period refused");
   check_status(at_gains_f32_new(ato3_gains, 4, 1e-4f, &out), AT_ERR_ORDER, "order 4 refused");
-  at_fault_thresholds_f32 thresholds = at_fault_thresholds_f32_for_amplitude(0.9f);
-  thresholds.filter_factor = 1.5f;
-  check_status(at_gains_f32_set_fault_thresholds(&out, &thresholds), AT_ERR_FILTER_FACTOR,
-               "filter factor 1.5 refused");
+  out.thresholds = at_fault_thresholds_f32_for_amplitude(0.9f);
+  out.thresholds.filter_factor = 1.5f;
+  check_status(at_chain_f32_new(&out, NULL, NULL, NULL, NULL, NULL, &chain), AT_ERR_FILTER_FACTOR,
+               "filter factor 1.5 refused by the chain");
 
   /* NULL pointers and zeroed structs: an error, never a crash. */
   check_status(at_gains_f32_new(NULL, 3, 1e-4f, &out), AT_ERR_NULL_POINTER, "NULL gains");
   check_status(at_gains_f32_new(ato3_gains, 3, 1e-4f, NULL), AT_ERR_NULL_POINTER, "NULL out");
-  check(at_update_f32(NULL, &state, 1.0f, 0.0f).faults == AT_FAULT_INVALID_ARGUMENT,
-        "update with NULL gains flags AT_FAULT_INVALID_ARGUMENT");
-  check(at_update_f32(&gains3, NULL, 1.0f, 0.0f).faults == AT_FAULT_INVALID_ARGUMENT,
-        "update with NULL state flags AT_FAULT_INVALID_ARGUMENT");
-  check(at_update_f32(&zeroed_gains, &state, 1.0f, 0.0f).faults == AT_FAULT_INVALID_ARGUMENT,
-        "update with zeroed gains flags AT_FAULT_INVALID_ARGUMENT");
-  check(at_state_f32_clear_faults(NULL) == 0u, "clear faults of NULL");
-  at_state_f32_reset(NULL);
-  check_status(at_calibrator_f32_load(NULL, NULL), AT_ERR_NULL_POINTER, "NULL calibrator");
+  check_status(at_chain_f32_new(&gains3, NULL, NULL, NULL, NULL, NULL, &plain_chain), AT_OK,
+               "chain: the observer alone");
+  check(at_chain_f32_update(NULL, &chain_state, 1.0f, 0.0f).faults == AT_FAULT_INVALID_ARGUMENT,
+        "update with a NULL chain flags AT_FAULT_INVALID_ARGUMENT");
+  check(at_chain_f32_update(&plain_chain, NULL, 1.0f, 0.0f).faults == AT_FAULT_INVALID_ARGUMENT,
+        "update with a NULL state flags AT_FAULT_INVALID_ARGUMENT");
+  check(at_chain_f32_update(&zeroed_chain, &chain_state, 1.0f, 0.0f).faults ==
+            AT_FAULT_INVALID_ARGUMENT,
+        "update with a zeroed chain flags AT_FAULT_INVALID_ARGUMENT");
+  check(at_chain_state_f32_clear_faults(NULL) == 0u, "clear faults of NULL");
+  at_chain_state_f32_reset(NULL);
+  check_status(at_chain_state_f32_load_calibration(NULL, NULL), AT_ERR_NULL_POINTER,
+               "NULL chain state");
 
   /* Faults: a NaN sample is flagged, latched, and cleared. */
-  at_state_f32_reset(&state);
-  at_update_f32(&gains3, &state, 1.0f, 0.0f);
-  check(at_update_f32(&gains3, &state, NAN, 0.0f).faults == AT_FAULT_BAD_SAMPLE,
+  at_chain_state_f32_reset(&chain_state);
+  at_chain_f32_update(&plain_chain, &chain_state, 1.0f, 0.0f);
+  check(at_chain_f32_update(&plain_chain, &chain_state, NAN, 0.0f).faults == AT_FAULT_BAD_SAMPLE,
         "NaN sample flagged bad sample");
-  check(at_state_f32_clear_faults(&state) == AT_FAULT_BAD_SAMPLE &&
-            at_state_f32_clear_faults(&state) == 0u,
+  check(at_chain_state_f32_clear_faults(&chain_state) == AT_FAULT_BAD_SAMPLE &&
+            at_chain_state_f32_clear_faults(&chain_state) == 0u,
         "bad sample latched, then cleared");
   check(strcmp(at_fault_name(AT_FAULT_BAD_SAMPLE), "bad sample") == 0, "fault name");
 
   /* Online calibration: learn a sensor's offsets, store them, load them. */
+  at_calibration_settings_f32 settings = at_calibration_settings_f32_default();
+  check_status(at_chain_f32_new(&gains3, NULL, NULL, &settings, NULL, NULL, &chain), AT_OK,
+               "chain: the online calibration, the observer");
   at_sensor_calibration_f32 learned;
   char line[300];
-  int pass = scenario_calibrate(&gains3, &state, &calibrator, ATO3_SAMPLE_PERIOD_S, &learned, line,
+  int pass = scenario_calibrate(&chain, &chain_state, ATO3_SAMPLE_PERIOD_S, &learned, line,
                                 sizeof line);
   fputs(line, stdout);
   failures += !pass;
-  at_calibrator_f32 loaded;
-  at_calibrator_f32_reset(&loaded);
-  check_status(at_calibrator_f32_load(&loaded, &learned), AT_OK, "stored calibration loaded");
-  check(at_calibrator_f32_mode(&loaded) == AT_CALIBRATION_FROZEN, "loaded calibration frozen");
+  check(at_chain_state_f32_calibration_status(&chain_state) == AT_CALIBRATION_CENTRED,
+        "the online calibration centred");
+  at_chain_state_f32 loaded;
+  at_chain_state_f32_reset(&loaded);
+  check_status(at_chain_state_f32_load_calibration(&loaded, &learned), AT_OK,
+               "stored calibration loaded");
+  check(at_chain_state_f32_calibration_mode(&loaded) == AT_CALIBRATION_FROZEN,
+        "loaded calibration frozen");
 
   fixed_point();
   chains();

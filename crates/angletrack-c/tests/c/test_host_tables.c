@@ -96,7 +96,7 @@ static void refusals(const at_adc_counts *adc, const at_sensor_calibration_f32 *
                "fixed chain: monitor amplitude 2000 refused");
   at_fixed_gains zeroed;
   memset(&zeroed, 0, sizeof zeroed);
-  check_status(at_chain_fixed_new(&zeroed, adc, NULL, NULL, 0.0, &out), AT_ERR_NOT_INITIALISED,
+  check_status(at_chain_fixed_new(&zeroed, adc, NULL, NULL, 0.0, &out), AT_ERR_ORDER,
                "fixed chain: zeroed gains refused");
   check_status(at_chain_fixed_new(&gains, adc, NULL, NULL, 0.0, NULL), AT_ERR_NULL_POINTER,
                "fixed chain: NULL out refused");
@@ -173,8 +173,9 @@ int fixed_chain_checks(const at_gains_f32 *gains3) {
            "corrected (faults 0x%x), %.3g rad without the calibration and table",
            good, (unsigned)faults, plain);
   check(good < 5e-4 && faults == 0u && plain > 20.0 * good, line);
-  check(fabs(at_chain_fixed_sample_period_s(&corrected) - FIXED3_SAMPLE_PERIOD_S) < 1e-12,
-        "fixed chain: its sample period");
+  at_fixed_estimate one_turn_a_second = {0, 0, (int32_t)lrint(4294967296.0 * FIXED3_SAMPLE_PERIOD_S), 0, 0, 0u};
+  check(fabs(at_chain_fixed_speed_rad_s(&corrected, &one_turn_a_second) - 2.0 * 3.14159265358979) < 1e-5,
+        "fixed chain: a speed in rad/s at its sample period");
   refusals(&adc, &calibration);
   tables(gains3);
 

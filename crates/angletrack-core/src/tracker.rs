@@ -305,29 +305,39 @@ impl TrackerFrontEnd<i16> {
                 (adc, true, range)
             }
         };
-        let (range, measured) = match range {
-            Rails::Unchecked => (None, false),
-            Rails::Measured => (None, true),
-            Rails::Stated { min, max } => {
-                if min >= max {
-                    return Err(ConfigError::OutOfRange(Parameter::AdcRange));
-                }
-                (Some((min, max)), false)
-            }
+        if let Rails::Stated { min, max } = range
+            && min >= max
+        {
+            return Err(ConfigError::OutOfRange(Parameter::AdcRange));
+        }
+        Ok(Self::of_checked(adc, counts, range, settings))
+    }
+}
+
+impl<V: TrackerNumber> TrackerFrontEnd<V> {
+    /// The front end of its checked parts (the `const` constructors' common end): the ADC
+    /// (`counts`: whether the input goes through it), the rails in the observer's samples
+    /// (a stated range found ordered) and the stages of `settings`.
+    pub(crate) const fn of_checked(
+        adc: V::Adc,
+        counts: bool,
+        rails: Rails<V>,
+        settings: TrackerSettings<V>,
+    ) -> Self {
+        let (range, rails) = match rails {
+            Rails::Unchecked => (None, None),
+            Rails::Measured => (None, Some(HeldRailCheck::new())),
+            Rails::Stated { min, max } => (Some((min, max)), None),
         };
-        Ok(Self {
+        Self {
             adc,
             counts,
             check: FrontEndCheck::of_ordered_range(range),
-            rails: if measured {
-                Some(HeldRailCheck::new())
-            } else {
-                None
-            },
+            rails,
             winding: settings.winding,
             calibration: settings.calibration,
             correction: settings.correction,
-        })
+        }
     }
 }
 

@@ -11,7 +11,7 @@ use crate::angle_correction::{AngleCorrection, MAX_CORRECTION_ORDER};
 use crate::angle_table::AngleCorrectionTable;
 use crate::calibration::SensorCalibration;
 use crate::calibration_settings::CalibrationSettings;
-use crate::chain::{FrontEndCheck, HeldRailCheck, OnlineCalibration, WindingCheck};
+use crate::chain::{OnlineCalibration, WindingCheck};
 use crate::error::{ConfigError, Parameter};
 use crate::tracker::{Input, Rails, TrackerFrontEnd, TrackerSettings};
 
@@ -382,29 +382,13 @@ macro_rules! const_stages {
                         (adc, true, rails)
                     }
                 };
-                let (range, measured) = match rails {
-                    Rails::Unchecked => (None, false),
-                    Rails::Measured => (None, true),
-                    Rails::Stated { min, max } => {
-                        if !(min < max) {
-                            return Err(ConfigError::OutOfRange(Parameter::AdcRange));
-                        }
-                        (Some((min, max)), false)
-                    }
-                };
-                Ok(Self {
-                    adc,
-                    counts,
-                    check: FrontEndCheck::of_ordered_range(range),
-                    rails: if measured {
-                        Some(HeldRailCheck::new())
-                    } else {
-                        None
-                    },
-                    winding: settings.winding,
-                    calibration: settings.calibration,
-                    correction: settings.correction,
-                })
+                // NaN compares false: refused.
+                if let Rails::Stated { min, max } = rails
+                    && !(min < max)
+                {
+                    return Err(ConfigError::OutOfRange(Parameter::AdcRange));
+                }
+                Ok(Self::of_checked(adc, counts, rails, settings))
             }
         }
 

@@ -1,0 +1,416 @@
+//! What a design needs, estimated from a capture (`docs/theory.md §16.1`, `§16.2`): the
+//! sensor noise from the radial residual around the Lissajous ellipse, the motion from the
+//! reference angle or from the signals' own angle, each with its uncertainty.
+
+use core::f64::consts::TAU;
+
+use super::DesignCaptureError;
+use super::ellipse::Ellipse;
+use super::linear_loop;
+
+/// The fewest samples a capture must have.
+pub const MIN_SAMPLES: usize = 2000;
+/// The fewest turns the shaft must travel (forward and back both count): the ellipse fit
+/// needs its whole circumference, the motion's statistics more than one event.
+pub const MIN_TURNS: f64 = 2.0;
+/// Below this travel (rad) the capture is at standstill.
+const STANDSTILL_RAD: f64 = 0.1;
+/// The share of the capture left out at its start (and, for a smoothed angle, at its end)
+/// where the error is predicted or measured: the loops' initial transients.
+pub const SKIP_FRACTION: f64 = 0.1;
+
+/// A value estimated from a capture, with its standard uncertainty.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Uncertain {
+    /// The estimate.
+    pub value: f64,
+    /// Its standard uncertainty (one standard deviation of the estimate).
+    pub std: f64,
+}
+
+/// A capture's two channels, its sample period and, if it has one, the reference angle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CaptureSignals<'a> {
+    /// The cosine channel, in any unit (counts, volts).
+    pub cos: &'a [f64],
+    /// The sine channel, in the cosine's unit.
+    pub sin: &'a [f64],
+    /// The sample period (s).
+    pub sample_period_s: f64,
+    /// The true angle (rad, wrapped or not) from an encoder or a simulation, if recorded.
+    pub reference_angle_rad: Option<&'a [f64]>,
+    /// The channels' quantisation step in their unit (1 for ADC counts), if known.
+    pub quantisation_step: Option<f64>,
+}
+
+/// The sensor noise, relative to the signals' amplitude (the designs' `sensor_noise_std`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NoiseEstimate {
+    /// The Lissajous ellipse's mean amplitude, in the signals' unit.
+    pub amplitude: f64,
+    /// The noise standard deviation of the cosine channel (relative to its amplitude).
+    pub cos_std: Uncertain,
+    /// The noise standard deviation of the sine channel (relative to its amplitude).
+    pub sin_std: Uncertain,
+    /// The phase detector's noise per channel, `sqrt((cos_std^2 + sin_std^2) / 2)`: what
+    /// the designs take as `sensor_noise_std`.
+    pub std: Uncertain,
+    /// The white part's standard deviation.
+    pub white_std: f64,
+    /// The coloured part's standard deviation (0 for white noise).
+    pub coloured_std: f64,
+    /// The coloured part's correlation from one sample to the next (its first-order
+    /// autoregression's pole, in `[0, 1)`).
+    pub coloured_pole: f64,
+    /// The quantisation's share of `std` (`step / sqrt(12)` relative to the amplitude),
+    /// when the step is known.
+    pub quantisation_std: Option<f64>,
+}
+
+/// The shaft's motion.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MotionEstimate {
+    /// The jerk's standard deviation (rad/s^3) as a white sequence constant over each
+    /// sample (the Kalman model's, [`kalman_from_jerk_std`](crate::kalman_from_jerk_std)).
+    pub jerk_std_rad_s3: Uncertain,
+    /// `true` when taken from the reference angle, `false` from the signals' own angle.
+    pub from_reference: bool,
+    /// The turns travelled.
+    pub turns: f64,
+    /// The angle the loops' lag is predicted on: the reference, or the signals' angle
+    /// smoothed without delay by a first-pass loop ([`CaptureEstimates::first_pass_gains`]).
+    pub angle_rad: Vec<f64>,
+}
+
+/// Everything estimated from one capture.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CaptureEstimates {
+    /// The sample period (s).
+    pub sample_period_s: f64,
+    /// The sensor noise.
+    pub noise: NoiseEstimate,
+    /// The motion.
+    pub motion: MotionEstimate,
+    /// Without a reference: the gains of the first-pass loop that smoothed the angle, whose
+    /// noise the lag predictions take out again; empty with a reference.
+    pub first_pass_gains: Vec<f64>,
+    /// The radial residual (relative): a realisation of the phase detector's noise, smoothed
+    /// by the first pass like the angle (empty with a reference).
+    pub(super) smoothed_noise: Vec<f64>,
+}
+
+impl CaptureEstimates {
+    /// The samples over which errors are predicted: [`SKIP_FRACTION`] left out at the start
+    /// and, for a smoothed angle, at the end.
+    pub fn window(&self) -> core::ops::Range<usize> {
+        let n = self.motion.angle_rad.len();
+        let skip = (SKIP_FRACTION * n as f64).ceil() as usize;
+        let end = if self.motion.from_reference {
+            n
+        } else {
+            n - skip
+        };
+        skip..end
+    }
+}
+
+fn check_series(
+    name: &'static str,
+    series: &[f64],
+    expected: usize,
+) -> Result<(), DesignCaptureError> {
+    if series.len() != expected {
+        return Err(DesignCaptureError::LengthMismatch {
+            series: name,
+            len: series.len(),
+            expected,
+        });
+    }
+    match series.iter().position(|v| !v.is_finite()) {
+        Some(index) => Err(DesignCaptureError::NotFinite {
+            series: name,
+            index,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// The angle unwrapped: each step taken as the one within `(-pi, pi]`.
+fn unwrapped(wrapped: impl Iterator<Item = f64>) -> Vec<f64> {
+    let mut out: Vec<f64> = Vec::new();
+    for a in wrapped {
+        let next = match out.last() {
+            None => a,
+            Some(&previous) => {
+                let step = a - previous;
+                previous + step - TAU * (step / TAU).round()
+            }
+        };
+        out.push(next);
+    }
+    out
+}
+
+/// The autocovariances `c_0 .. c_3` of `r` (its mean removed).
+fn autocovariances(r: &[f64]) -> [f64; 4] {
+    let n = r.len();
+    let mean = r.iter().sum::<f64>() / n as f64;
+    core::array::from_fn(|lag| {
+        (lag..n)
+            .map(|k| (r[k] - mean) * (r[k - lag] - mean))
+            .sum::<f64>()
+            / n as f64
+    })
+}
+
+/// The noise from the radial residual `r` around the ellipse at the angles `theta`.
+fn noise(r: &[f64], theta: &[f64], ellipse: &Ellipse, step: Option<f64>) -> NoiseEstimate {
+    let n = r.len() as f64;
+    let c = autocovariances(r);
+    let rho = c[1] / c[0];
+    // White unless the lag-1 correlation stands out of its sampling spread.
+    let (white, coloured, pole) = if rho > 3.0 / n.sqrt() && c[2] > 0.0 {
+        let pole = (c[2] / c[1]).clamp(0.0, 0.999);
+        let coloured = (c[1] / pole.max(1e-12)).min(c[0]);
+        ((c[0] - coloured).max(0.0), coloured, pole)
+    } else {
+        (c[0], 0.0, 0.0)
+    };
+    // r^2 = (v_c + v_s)/2 + (v_c - v_s)/2 cos(2 theta): the channels apart.
+    let (mut s0, mut s1) = (0.0, 0.0);
+    let (mut n11, mut n12, mut n22) = (0.0, 0.0, 0.0);
+    for (&ri, &t) in r.iter().zip(theta) {
+        let x = (2.0 * t).cos();
+        s0 += ri * ri;
+        s1 += ri * ri * x;
+        n11 += 1.0;
+        n12 += x;
+        n22 += x * x;
+    }
+    let det = n11 * n22 - n12 * n12;
+    let mean = (s0 * n22 - s1 * n12) / det;
+    let half_difference = (s1 * n11 - s0 * n12) / det;
+    let effective = n * (1.0 - rho.max(0.0)) / (1.0 + rho.max(0.0));
+    let spread = (0.5 / effective).sqrt();
+    let channel = |v: f64| {
+        let value = v.max(0.0).sqrt();
+        Uncertain {
+            value,
+            std: value * spread * core::f64::consts::SQRT_2,
+        }
+    };
+    let std = c[0].sqrt();
+    NoiseEstimate {
+        amplitude: ellipse.amplitude(),
+        cos_std: channel(mean + half_difference),
+        sin_std: channel(mean - half_difference),
+        std: Uncertain {
+            value: std,
+            std: std * spread,
+        },
+        white_std: white.sqrt(),
+        coloured_std: coloured.sqrt(),
+        coloured_pole: pole,
+        quantisation_std: step.map(|q| q / 12f64.sqrt() / ellipse.amplitude()),
+    }
+}
+
+/// `sum d_k^2` of the third difference at stride `h` of the scaled angle's response to one
+/// sample of unit jerk (`G = (1/6, 1/2, 1)`): `var(third difference) = q * factor`.
+fn third_difference_factor(h: usize) -> f64 {
+    // The angle after the jerk, zero before it: theta[1] = 1/6, then constant acceleration.
+    let mut theta = vec![0.0; 3 * h + 1];
+    let (mut angle, mut speed) = (1.0 / 6.0, 0.5);
+    for value in theta.iter_mut().skip(1) {
+        *value = angle;
+        angle += speed + 0.5;
+        speed += 1.0;
+    }
+    let at = |m: isize| if m < 1 { 0.0 } else { theta[m as usize] };
+    let h = h as isize;
+    (-3 * h..=0)
+        .map(|k| at(k + 3 * h) - 3.0 * at(k + 2 * h) + 3.0 * at(k + h) - at(k))
+        .map(|d| d * d)
+        .sum()
+}
+
+/// The autocovariance at lag `m` of white (`white`) plus autoregressive noise.
+fn noise_autocovariance(m: usize, white: f64, coloured: f64, pole: f64) -> f64 {
+    coloured * pole.powi(m as i32) + if m == 0 { white } else { 0.0 }
+}
+
+/// The jerk's standard deviation from the third differences of `angle` at the stride where
+/// they stand well above the angle's noise (`noise`: white, coloured variance and pole).
+fn jerk_std(angle: &[f64], ts: f64, noise: (f64, f64, f64)) -> Uncertain {
+    let n = angle.len();
+    let (white, coloured, pole) = noise;
+    let mut h = 1;
+    loop {
+        let count = n - 3 * h;
+        let mean_square = (0..count)
+            .map(|k| angle[k + 3 * h] - 3.0 * angle[k + 2 * h] + 3.0 * angle[k + h] - angle[k])
+            .map(|d| d * d)
+            .sum::<f64>()
+            / count as f64;
+        let c = |m| noise_autocovariance(m, white, coloured, pole);
+        let from_noise = 20.0 * c(0) - 30.0 * c(h) + 12.0 * c(2 * h) - 2.0 * c(3 * h);
+        let enough = mean_square > 10.0 * from_noise;
+        if enough || 3 * (2 * h) * 32 > n {
+            let motion = (mean_square - from_noise).max(0.0);
+            let value = (motion / third_difference_factor(h)).sqrt() / ts.powi(3);
+            let independent = (count as f64 / (3 * h) as f64).max(1.0);
+            let relative = (2.0 / independent).sqrt() * mean_square / motion.max(f64::MIN_POSITIVE);
+            return Uncertain {
+                value,
+                std: 0.5 * value * relative,
+            };
+        }
+        h *= 2;
+    }
+}
+
+/// Estimates the sensor noise and the motion from `signals` (`docs/theory.md §16.1`,
+/// `§16.2`).
+///
+/// Refuses a capture shorter than [`MIN_SAMPLES`], at standstill or travelling fewer than
+/// [`MIN_TURNS`] turns, series of different lengths or with a sample not finite, and
+/// channels that trace no ellipse.
+///
+/// ```
+/// use angletrack::design_capture::{CaptureSignals, estimate_from_capture};
+/// let ts = 1e-4;
+/// let angle: Vec<f64> = (0..20_000).map(|k| 300.0 * k as f64 * ts).collect();
+/// let cos: Vec<f64> = angle.iter().map(|a| 2.0 * a.cos()).collect();
+/// let sin: Vec<f64> = angle.iter().map(|a| 2.0 * a.sin()).collect();
+/// let signals = CaptureSignals { cos: &cos, sin: &sin, sample_period_s: ts,
+///     reference_angle_rad: Some(&angle), quantisation_step: None };
+/// let estimates = estimate_from_capture(&signals)?;
+/// assert!((estimates.noise.amplitude - 2.0).abs() < 1e-9);
+/// assert!(estimates.noise.std.value < 1e-9);
+/// # Ok::<(), angletrack::design_capture::DesignCaptureError>(())
+/// ```
+pub fn estimate_from_capture(
+    signals: &CaptureSignals<'_>,
+) -> Result<CaptureEstimates, DesignCaptureError> {
+    let ts = signals.sample_period_s;
+    if !(ts > 0.0 && ts.is_finite()) {
+        return Err(DesignCaptureError::Argument {
+            name: "sample_period_s",
+            expected: "a positive number of seconds",
+        });
+    }
+    if let Some(step) = signals.quantisation_step
+        && !(step > 0.0 && step.is_finite())
+    {
+        return Err(DesignCaptureError::Argument {
+            name: "quantisation_step",
+            expected: "a positive number in the signals' unit",
+        });
+    }
+    let n = signals.cos.len();
+    check_series("cos", signals.cos, n)?;
+    check_series("sin", signals.sin, n)?;
+    if let Some(reference) = signals.reference_angle_rad {
+        check_series("reference_angle_rad", reference, n)?;
+    }
+    if n < MIN_SAMPLES {
+        return Err(DesignCaptureError::TooShort {
+            samples: n,
+            needed: MIN_SAMPLES,
+        });
+    }
+    let reference = signals
+        .reference_angle_rad
+        .map(|r| unwrapped(r.iter().copied()));
+    let travel = |angle: &[f64]| angle.windows(2).map(|w| (w[1] - w[0]).abs()).sum::<f64>();
+    // The travel is judged before the fit where a reference says it.
+    if let Some(angle) = &reference {
+        check_travel(travel(angle))?;
+    }
+    let ellipse = Ellipse::fit(signals.cos, signals.sin)?;
+    let normalised: Vec<(f64, f64)> = signals
+        .cos
+        .iter()
+        .zip(signals.sin)
+        .map(|(&c, &s)| ellipse.normalised(c, s))
+        .collect();
+    let own_angle = unwrapped(normalised.iter().map(|&(c, s)| s.atan2(c)));
+    let radial: Vec<f64> = normalised.iter().map(|&(c, s)| c.hypot(s) - 1.0).collect();
+    if reference.is_none() {
+        check_travel(travel(&own_angle))?;
+    }
+    let noise = noise(&radial, &own_angle, &ellipse, signals.quantisation_step);
+    let variances = (
+        noise.white_std.powi(2),
+        noise.coloured_std.powi(2),
+        noise.coloured_pole,
+    );
+    let (angle, jerk, from_reference) = match reference {
+        Some(angle) => {
+            let jerk = jerk_std(&angle, ts, (0.0, 0.0, 0.0));
+            (angle, jerk, true)
+        }
+        None => {
+            let jerk = jerk_std(&own_angle, ts, variances);
+            (own_angle, jerk, false)
+        }
+    };
+    let turns = travel(&angle) / TAU;
+    let (angle, first_pass_gains, smoothed_noise) = if from_reference {
+        (angle, Vec::new(), Vec::new())
+    } else {
+        let gains = first_pass(jerk.value, noise.std.value, ts)?;
+        let smoothed_angle = linear_loop::smoothed(&gains, &angle);
+        let smoothed_noise = linear_loop::smoothed(&gains, &radial);
+        (smoothed_angle, gains, smoothed_noise)
+    };
+    Ok(CaptureEstimates {
+        sample_period_s: ts,
+        noise,
+        motion: MotionEstimate {
+            jerk_std_rad_s3: jerk,
+            from_reference,
+            turns,
+            angle_rad: angle,
+        },
+        first_pass_gains,
+        smoothed_noise,
+    })
+}
+
+fn check_travel(travelled_rad: f64) -> Result<(), DesignCaptureError> {
+    if travelled_rad < STANDSTILL_RAD {
+        return Err(DesignCaptureError::Standstill { travelled_rad });
+    }
+    let turns = travelled_rad / TAU;
+    if turns < MIN_TURNS {
+        return Err(DesignCaptureError::TooFewTurns {
+            turns,
+            needed: MIN_TURNS,
+        });
+    }
+    Ok(())
+}
+
+/// How much wider than the Kalman design of the estimated jerk and noise the first pass
+/// is: its lag then stays small where the candidates' errors are decided.
+const FIRST_PASS_WIDENING: f64 = 4.0;
+
+/// The gains of the first-pass loop that smooths the signals' own angle: the Kalman design
+/// of the estimated jerk and noise, [`FIRST_PASS_WIDENING`] times wider (`q` scaled by its
+/// sixth power), `q / r` kept where the design accepts it.
+fn first_pass(
+    jerk_std_rad_s3: f64,
+    noise_std: f64,
+    ts: f64,
+) -> Result<Vec<f64>, DesignCaptureError> {
+    let r = noise_std.max(1e-9).powi(2);
+    let q = (jerk_std_rad_s3 * ts.powi(3)).powi(2) * FIRST_PASS_WIDENING.powi(6);
+    let ratio = (q / r).clamp(1e-24, 1e3);
+    crate::kalman(ratio * r, r, ts)
+        .map(|d| d.gains.gains().to_vec())
+        .map_err(|_| DesignCaptureError::Argument {
+            name: "sample_period_s",
+            expected: "a period at which the first pass's Kalman design exists",
+        })
+}

@@ -4,9 +4,10 @@
 
 use core::f64::consts::{FRAC_1_SQRT_2, FRAC_PI_2, TAU};
 
-use super::estimate::CaptureEstimates;
+use super::estimate::{CaptureEstimates, FIRST_PASS_WIDENING, kalman_q};
 use super::{DesignCaptureError, linear_loop};
 use crate::analysis::{loop_bandwidth_hz, small_signal_step};
+use crate::closed_loop_response;
 use crate::tracker_file::NumberType;
 use crate::{AnyDesign, Discretisation};
 
@@ -16,8 +17,8 @@ pub enum ObserverFamily {
     /// 2nd order, damping `sqrt(2)/2`, by its bandwidth
     /// ([`second_order_from_bandwidth`](crate::second_order_from_bandwidth)).
     SecondOrder,
-    /// 3rd-order Butterworth setting by its time constant
-    /// ([`third_order_butterworth`](crate::third_order_butterworth)).
+    /// 3rd order by the paper's pole placement (`K` = 39.04, `psi` = 3 pi / 2) by its
+    /// time constant ([`third_order_from_poles`](crate::third_order_from_poles)).
     ThirdOrder,
     /// The steady-state Kalman ATO by its `q` at the estimated `r` ([`kalman`](crate::kalman)).
     Kalman,
@@ -45,7 +46,9 @@ pub struct DesignConstraints {
     /// The smallest -3 dB bandwidth (Hz); `None`: any.
     pub min_bandwidth_hz: Option<f64>,
     /// The largest speed step (rad/s) the loop must acquire: its linear peak error stays
-    /// under `pi/2`, where the phase detector's sine still rises; `None`: none.
+    /// under `pi/2`, where the phase detector's sine still rises; `None`: the capture's
+    /// initial speed ([`MotionEstimate::initial_speed_rad_s`](super::MotionEstimate)), the
+    /// step of a tracker started on the moving shaft.
     pub speed_step_rad_s: Option<f64>,
     /// The number type the observer runs on: its angle's rounding is one part of the error.
     pub number_type: NumberType,
@@ -95,7 +98,8 @@ pub struct CaptureCandidate {
     pub bandwidth_hz: f64,
     /// Its predicted error.
     pub predicted: PredictedErrorParts,
-    /// The constraint it breaks, as named in [`DesignConstraints`]; `None`: it meets them.
+    /// The constraint it breaks, as named in [`DesignConstraints`] (`speed_step_rad_s` also
+    /// for the capture's initial speed); `None`: it meets them.
     pub refused_by: Option<&'static str>,
 }
 
@@ -135,10 +139,16 @@ fn design_at(family: ObserverFamily, hz: f64, r: f64, ts: f64) -> Option<AnyDesi
                 .ok()
                 .map(Into::into)
         }
-        ObserverFamily::ThirdOrder => crate::third_order_butterworth(1.0 / pole, ts, pm)
-            .ok()
-            .map(Into::into),
-        ObserverFamily::Kalman => crate::kalman(r * (pole * ts).powi(6), r, ts)
+        ObserverFamily::ThirdOrder => crate::third_order_from_poles(
+            crate::paper::POLE_RATIO,
+            crate::paper::POLE_FREQUENCY_RATIO / pole,
+            crate::paper::POLE_FREQUENCY_RATIO,
+            ts,
+            pm,
+        )
+        .ok()
+        .map(Into::into),
+        ObserverFamily::Kalman => crate::kalman(kalman_q(hz, r, ts), r, ts)
             .ok()
             .map(Into::into),
     }
@@ -183,6 +193,7 @@ fn refusal(
     design: &AnyDesign,
     bandwidth_hz: f64,
     constraints: &DesignConstraints,
+    initial_speed_rad_s: f64,
 ) -> Option<&'static str> {
     if let Some(min) = constraints.min_bandwidth_hz
         && bandwidth_hz < min
@@ -190,7 +201,8 @@ fn refusal(
         return Some("min_bandwidth_hz");
     }
     let ts = design.sample_period();
-    if let Some(step) = constraints.speed_step_rad_s {
+    let step = constraints.speed_step_rad_s.unwrap_or(initial_speed_rad_s);
+    if step > 0.0 {
         let horizon = ((20.0 / (TAU * bandwidth_hz * ts)) as usize).clamp(100, 2_000_000);
         if step * ts * linear_loop::speed_step_peak(&design.gains(), horizon) > FRAC_PI_2 {
             return Some("speed_step_rad_s");
@@ -263,58 +275,26 @@ fn check_constraints(c: &DesignConstraints) -> Result<(), DesignCaptureError> {
 /// # Ok::<(), angletrack::design_capture::DesignCaptureError>(())
 /// ```
 pub fn choose_design(
-    estimates: CaptureEstimates,
+    mut estimates: CaptureEstimates,
     constraints: &DesignConstraints,
 ) -> Result<CaptureDesign, DesignCaptureError> {
     check_constraints(constraints)?;
-    let ts = estimates.sample_period_s;
-    let r = estimates.noise.std.value.max(1e-9).powi(2);
-    let centre = crate::kalman_from_jerk_std(
-        estimates.motion.jerk_std_rad_s3.value.max(1e-30),
-        r.sqrt(),
-        ts,
-    )
-    .ok()
-    .and_then(|d| loop_bandwidth_hz(&d.gains.gains(), ts))
-    .unwrap_or(0.01 / ts);
-    let highest = 0.2 / ts;
-    let low = (centre / GRID_SPAN)
-        .max(constraints.min_bandwidth_hz.unwrap_or(0.0))
-        .min(highest / 4.0);
-    let high = (centre * GRID_SPAN).clamp(4.0 * low, highest);
-    let points = constraints.grid_points;
-    let mut candidates = Vec::new();
-    for family in ObserverFamily::ALL {
-        for i in 0..points {
-            let hz = low * (high / low).powf(i as f64 / (points - 1) as f64);
-            let Some(design) = design_at(family, hz, r, ts) else {
-                continue;
-            };
-            let gains = design.gains();
-            let (Some(bandwidth_hz), Some(predicted)) = (
-                loop_bandwidth_hz(&gains, ts),
-                estimates.predicted_error(&gains, constraints.number_type),
-            ) else {
-                continue;
-            };
-            let refused_by = refusal(&design, bandwidth_hz, constraints);
-            candidates.push(CaptureCandidate {
-                family,
-                design,
-                bandwidth_hz,
-                predicted,
-                refused_by,
-            });
+    let mut candidates = grid(&estimates, constraints);
+    // Without a reference the first pass follows the choice: a few times its bandwidth.
+    for _ in 0..FIRST_PASS_ROUNDS {
+        let (Some(current), Some(chosen)) =
+            (estimates.first_pass_bandwidth_hz, best(&candidates, None))
+        else {
+            break;
+        };
+        let wanted = FIRST_PASS_WIDENING * chosen.bandwidth_hz;
+        if (wanted / current).ln().abs() < FIRST_PASS_SETTLED.ln() {
+            break;
         }
+        estimates.smooth_with(wanted)?;
+        candidates = grid(&estimates, constraints);
     }
-    let best = |family: Option<ObserverFamily>| {
-        candidates
-            .iter()
-            .filter(|c| c.refused_by.is_none() && family.is_none_or(|f| c.family == f))
-            .min_by(|a, b| a.predicted.total_rad.total_cmp(&b.predicted.total_rad))
-            .cloned()
-    };
-    let Some(chosen) = best(None) else {
+    let Some(chosen) = best(&candidates, None) else {
         return Err(DesignCaptureError::NoDesign {
             constraint: candidates
                 .last()
@@ -325,7 +305,7 @@ pub fn choose_design(
     let runners_up = ObserverFamily::ALL
         .into_iter()
         .filter(|&f| f != chosen.family)
-        .filter_map(|f| best(Some(f)))
+        .filter_map(|f| best(&candidates, Some(f)))
         .collect();
     Ok(CaptureDesign {
         estimates,
@@ -334,4 +314,96 @@ pub fn choose_design(
         runners_up,
         candidates,
     })
+}
+
+/// The most times the first pass is redone after a choice.
+const FIRST_PASS_ROUNDS: usize = 3;
+/// The first pass is kept when within this factor of the bandwidth the choice asks.
+const FIRST_PASS_SETTLED: f64 = 1.5;
+
+/// The candidate of least predicted error meeting the constraints, of `family` if given.
+fn best(
+    candidates: &[CaptureCandidate],
+    family: Option<ObserverFamily>,
+) -> Option<CaptureCandidate> {
+    candidates
+        .iter()
+        .filter(|c| c.refused_by.is_none() && family.is_none_or(|f| c.family == f))
+        .min_by(|a, b| a.predicted.total_rad.total_cmp(&b.predicted.total_rad))
+        .cloned()
+}
+
+/// Every family's designs over the grid of bandwidths, predicted and checked.
+fn grid(estimates: &CaptureEstimates, constraints: &DesignConstraints) -> Vec<CaptureCandidate> {
+    let ts = estimates.sample_period_s;
+    let r = estimates.noise.std.value.max(1e-9).powi(2);
+    let centre = estimates.centre_bandwidth_hz();
+    let highest = 0.2 / ts;
+    let low = (centre / GRID_SPAN)
+        .max(constraints.min_bandwidth_hz.unwrap_or(0.0))
+        .min(highest / 4.0);
+    let high = (centre * GRID_SPAN).clamp(4.0 * low, highest);
+    let points = constraints.grid_points;
+    let mut candidates = Vec::new();
+    for family in ObserverFamily::ALL {
+        // Each family over the part of the band where it can be designed at this rate.
+        let mut top = high;
+        while top > low && design_at(family, top, r, ts).is_none() {
+            top /= 1.1;
+        }
+        for i in 0..points {
+            let hz = low * (top / low).powf(i as f64 / (points - 1) as f64);
+            let Some(design) = design_at(family, hz, r, ts) else {
+                continue;
+            };
+            let gains = design.gains();
+            let (Some(bandwidth_hz), Some(predicted)) = (
+                bandwidth_near(&design, hz),
+                estimates.predicted_error(&gains, constraints.number_type),
+            ) else {
+                continue;
+            };
+            let refused_by = refusal(
+                &design,
+                bandwidth_hz,
+                constraints,
+                estimates.motion.initial_speed_rad_s,
+            );
+            candidates.push(CaptureCandidate {
+                family,
+                design,
+                bandwidth_hz,
+                predicted,
+                refused_by,
+            });
+        }
+    }
+    candidates
+}
+
+/// The -3 dB bandwidth (Hz) of `design`, designed near `hz`: bisected between `hz / 16`
+/// and `16 hz` (in the logarithm) where the gain brackets `1/sqrt(2)`, else by the
+/// report's scan of the whole band.
+fn bandwidth_near(design: &AnyDesign, hz: f64) -> Option<f64> {
+    let gain = |f: f64| -> f64 {
+        let response = match design {
+            AnyDesign::Second(d) => closed_loop_response(&d.gains, &[f]),
+            AnyDesign::Third(d) => closed_loop_response(&d.gains, &[f]),
+        };
+        response.map_or(f64::NAN, |h| h[0].norm())
+    };
+    let nyquist = 0.5 / design.sample_period();
+    let (mut low, mut high) = (hz / 16.0, (16.0 * hz).min(nyquist));
+    if !(gain(low) > FRAC_1_SQRT_2 && gain(high) < FRAC_1_SQRT_2) {
+        return loop_bandwidth_hz(&design.gains(), design.sample_period());
+    }
+    while high / low > 1.0 + 1e-9 {
+        let mid = (low * high).sqrt();
+        if gain(mid) > FRAC_1_SQRT_2 {
+            low = mid;
+        } else {
+            high = mid;
+        }
+    }
+    Some((low * high).sqrt())
 }

@@ -77,6 +77,9 @@ pub struct MotionEstimate {
     pub from_reference: bool,
     /// The turns travelled.
     pub turns: f64,
+    /// The speed (rad/s) at the capture's start, over its first 10 samples of
+    /// [`MotionEstimate::angle_rad`]: the speed step a tracker started on it acquires.
+    pub initial_speed_rad_s: f64,
     /// The angle the loops' lag is predicted on: the reference, or the signals' angle
     /// smoothed without delay by a first-pass loop ([`CaptureEstimates::first_pass_gains`]).
     pub angle_rad: Vec<f64>,
@@ -94,12 +97,48 @@ pub struct CaptureEstimates {
     /// Without a reference: the gains of the first-pass loop that smoothed the angle, whose
     /// noise the lag predictions take out again; empty with a reference.
     pub first_pass_gains: Vec<f64>,
+    /// The first pass's nominal bandwidth (Hz); `None` with a reference.
+    pub first_pass_bandwidth_hz: Option<f64>,
     /// The radial residual (relative): a realisation of the phase detector's noise, smoothed
     /// by the first pass like the angle (empty with a reference).
     pub(super) smoothed_noise: Vec<f64>,
+    /// The signals' own angle (unwrapped) and radial residual, which a first pass smooths.
+    own_angle: Vec<f64>,
+    radial: Vec<f64>,
 }
 
 impl CaptureEstimates {
+    /// Without a reference, smooths the signals' own angle (and the radial residual alike)
+    /// with a first pass: the Kalman design whose nominal bandwidth is `bandwidth_hz`
+    /// (`docs/theory.md §16.2`); with a reference, nothing.
+    pub(super) fn smooth_with(&mut self, bandwidth_hz: f64) -> Result<(), DesignCaptureError> {
+        if self.motion.from_reference {
+            return Ok(());
+        }
+        let gains = kalman_at(bandwidth_hz, self.noise.std.value, self.sample_period_s)?;
+        // The first pass starts at the slope of a few of its time constants.
+        let span = (0.5 / (bandwidth_hz * self.sample_period_s)) as usize;
+        self.motion.angle_rad = linear_loop::smoothed(&gains, &self.own_angle, span);
+        self.motion.initial_speed_rad_s =
+            initial_speed(&self.motion.angle_rad, self.sample_period_s);
+        self.smoothed_noise = linear_loop::smoothed(&gains, &self.radial, span);
+        self.first_pass_gains = gains;
+        self.first_pass_bandwidth_hz = Some(bandwidth_hz);
+        Ok(())
+    }
+
+    /// Where the choice's grid is centred (Hz): the nominal bandwidth of the Kalman design
+    /// of the estimated jerk and noise, at least the initial speed over `2 pi` (a loop much
+    /// narrower acquires it badly) and `1e-4` of the sample rate (a jerk too small to see).
+    pub(super) fn centre_bandwidth_hz(&self) -> f64 {
+        let ts = self.sample_period_s;
+        let q = (self.motion.jerk_std_rad_s3.value * ts.powi(3)).powi(2);
+        let r = self.noise.std.value.max(MIN_NOISE_STD).powi(2);
+        nominal_bandwidth_hz(q / r, ts)
+            .max(self.motion.initial_speed_rad_s / TAU)
+            .max(1e-4 / ts)
+    }
+
     /// The samples over which errors are predicted: [`SKIP_FRACTION`] left out at the start
     /// and, for a smoothed angle, at the end.
     pub fn window(&self) -> core::ops::Range<usize> {
@@ -254,16 +293,24 @@ fn jerk_std(angle: &[f64], ts: f64, noise: (f64, f64, f64)) -> Uncertain {
             / count as f64;
         let c = |m| noise_autocovariance(m, white, coloured, pole);
         let from_noise = 20.0 * c(0) - 30.0 * c(h) + 12.0 * c(2 * h) - 2.0 * c(3 * h);
-        let enough = mean_square > 10.0 * from_noise;
-        if enough || 3 * (2 * h) * 32 > n {
-            let motion = (mean_square - from_noise).max(0.0);
-            let value = (motion / third_difference_factor(h)).sqrt() / ts.powi(3);
+        let enough = mean_square > 3.0 * from_noise;
+        // Stop before the next stride leaves fewer than 16 independent differences.
+        if enough || 3 * (2 * h) * 16 > n {
+            // The mean square's sampling spread, over the independent differences.
             let independent = (count as f64 / (3 * h) as f64).max(1.0);
-            let relative = (2.0 / independent).sqrt() * mean_square / motion.max(f64::MIN_POSITIVE);
-            return Uncertain {
-                value,
-                std: 0.5 * value * relative,
+            let spread = (2.0 / independent).sqrt() * mean_square;
+            let factor = third_difference_factor(h);
+            let jerk = |variance: f64| (variance.max(0.0) / factor).sqrt() / ts.powi(3);
+            let motion = mean_square - from_noise;
+            let value = jerk(motion);
+            // Where the motion hardly stands out of the spread, the jerk that would just
+            // match the spread is the uncertainty: an upper bound, not a measure.
+            let std = if motion > 2.0 * spread {
+                0.5 * value * spread / motion
+            } else {
+                jerk(spread)
             };
+            return Uncertain { value, std };
         }
         h *= 2;
     }
@@ -340,42 +387,44 @@ pub fn estimate_from_capture(
         check_travel(travel(&own_angle))?;
     }
     let noise = noise(&radial, &own_angle, &ellipse, signals.quantisation_step);
-    let variances = (
-        noise.white_std.powi(2),
-        noise.coloured_std.powi(2),
-        noise.coloured_pole,
-    );
-    let (angle, jerk, from_reference) = match reference {
-        Some(angle) => {
-            let jerk = jerk_std(&angle, ts, (0.0, 0.0, 0.0));
-            (angle, jerk, true)
-        }
+    // The reference has no noise to take out; the signals' own angle has the sensor's.
+    let (angle, angle_noise, own_angle, radial) = match reference {
+        Some(angle) => (angle, (0.0, 0.0, 0.0), Vec::new(), Vec::new()),
         None => {
-            let jerk = jerk_std(&own_angle, ts, variances);
-            (own_angle, jerk, false)
+            let variances = (
+                noise.white_std.powi(2),
+                noise.coloured_std.powi(2),
+                noise.coloured_pole,
+            );
+            (own_angle.clone(), variances, own_angle, radial)
         }
     };
-    let turns = travel(&angle) / TAU;
-    let (angle, first_pass_gains, smoothed_noise) = if from_reference {
-        (angle, Vec::new(), Vec::new())
-    } else {
-        let gains = first_pass(jerk.value, noise.std.value, ts)?;
-        let smoothed_angle = linear_loop::smoothed(&gains, &angle);
-        let smoothed_noise = linear_loop::smoothed(&gains, &radial);
-        (smoothed_angle, gains, smoothed_noise)
-    };
-    Ok(CaptureEstimates {
+    let from_reference = signals.reference_angle_rad.is_some();
+    let mut estimates = CaptureEstimates {
         sample_period_s: ts,
         noise,
         motion: MotionEstimate {
-            jerk_std_rad_s3: jerk,
+            jerk_std_rad_s3: jerk_std(&angle, ts, angle_noise),
             from_reference,
-            turns,
+            turns: travel(&angle) / TAU,
+            initial_speed_rad_s: initial_speed(&angle, ts),
             angle_rad: angle,
         },
-        first_pass_gains,
-        smoothed_noise,
-    })
+        first_pass_gains: Vec::new(),
+        first_pass_bandwidth_hz: None,
+        smoothed_noise: Vec::new(),
+        own_angle,
+        radial,
+    };
+    let first_pass_hz = FIRST_PASS_WIDENING * estimates.centre_bandwidth_hz();
+    estimates.smooth_with(first_pass_hz)?;
+    Ok(estimates)
+}
+
+/// `|theta[10] - theta[0]| / (10 Ts)` (rad/s).
+fn initial_speed(angle: &[f64], ts: f64) -> f64 {
+    const SPAN: usize = 10;
+    (angle[SPAN] - angle[0]).abs() / (SPAN as f64 * ts)
 }
 
 fn check_travel(travelled_rad: f64) -> Result<(), DesignCaptureError> {
@@ -394,19 +443,28 @@ fn check_travel(travelled_rad: f64) -> Result<(), DesignCaptureError> {
 
 /// How much wider than the Kalman design of the estimated jerk and noise the first pass
 /// is: its lag then stays small where the candidates' errors are decided.
-const FIRST_PASS_WIDENING: f64 = 4.0;
+pub(super) const FIRST_PASS_WIDENING: f64 = 4.0;
 
-/// The gains of the first-pass loop that smooths the signals' own angle: the Kalman design
-/// of the estimated jerk and noise, [`FIRST_PASS_WIDENING`] times wider (`q` scaled by its
-/// sixth power), `q / r` kept where the design accepts it.
-fn first_pass(
-    jerk_std_rad_s3: f64,
-    noise_std: f64,
-    ts: f64,
-) -> Result<Vec<f64>, DesignCaptureError> {
-    let r = noise_std.max(1e-9).powi(2);
-    let q = (jerk_std_rad_s3 * ts.powi(3)).powi(2) * FIRST_PASS_WIDENING.powi(6);
-    let ratio = (q / r).clamp(1e-24, 1e3);
+/// The noise standard deviation below which a noise counts as this one (a capture of
+/// exact signals still gets a Kalman design).
+const MIN_NOISE_STD: f64 = 1e-9;
+
+/// The nominal bandwidth (Hz) of the Kalman design of ratio `q / r`:
+/// `(q / r)^(1/6) / (2 pi Ts)`, where its loop's poles sit for small ratios.
+pub(super) fn nominal_bandwidth_hz(q_over_r: f64, ts: f64) -> f64 {
+    q_over_r.powf(1.0 / 6.0) / (TAU * ts)
+}
+
+/// The `q` of the Kalman design at noise variance `r` whose nominal bandwidth is `hz`.
+pub(super) fn kalman_q(hz: f64, r: f64, ts: f64) -> f64 {
+    r * (TAU * hz * ts).powi(6)
+}
+
+/// The gains of the Kalman design of nominal bandwidth `hz` at noise `noise_std`, `q / r`
+/// kept where the design accepts it.
+fn kalman_at(hz: f64, noise_std: f64, ts: f64) -> Result<Vec<f64>, DesignCaptureError> {
+    let r = noise_std.max(MIN_NOISE_STD).powi(2);
+    let ratio = (kalman_q(hz, r, ts) / r).clamp(1e-24, 1e3);
     crate::kalman(ratio * r, r, ts)
         .map(|d| d.gains.gains().to_vec())
         .map_err(|_| DesignCaptureError::Argument {

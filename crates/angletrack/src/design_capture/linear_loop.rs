@@ -30,29 +30,38 @@ fn run(
     })
 }
 
-/// [`run`] over `angle` from its first sample, moving at its first difference's speed.
-pub(super) fn filtered(l: &[f64], angle: &[f64]) -> Vec<f64> {
+/// [`run`] over `angle` from its first sample, moving at `speed` (rad per sample); from
+/// rest (`speed` 0) as the observer starts, initialised on its first sample.
+pub(super) fn filtered(l: &[f64], angle: &[f64], speed: f64) -> Vec<f64> {
     let Some(&first) = angle.first() else {
         return Vec::new();
     };
-    let speed = angle.get(1).map_or(0.0, |&a| a - first);
     run(l, angle.iter().copied(), [first - speed, speed, 0.0]).collect()
 }
 
+/// The mean slope (per sample) of the first `span` samples of `series` against the next
+/// `span`: a start for a loop on a noisy series.
+fn initial_slope(series: &[f64], span: usize) -> f64 {
+    let span = span.clamp(1, series.len() / 2);
+    let mean = |s: &[f64]| s.iter().sum::<f64>() / s.len() as f64;
+    (mean(&series[span..2 * span]) - mean(&series[..span])) / span as f64
+}
+
 /// The zero-phase smoothing of `series`: the loop of `l` run forward, then backward over
-/// its output (`|T(e^jw)|^2`, no delay).
-pub(super) fn smoothed(l: &[f64], series: &[f64]) -> Vec<f64> {
-    let mut forward = filtered(l, series);
+/// its output (`|T(e^jw)|^2`, no delay), each started at the slope of its first
+/// `span` samples.
+pub(super) fn smoothed(l: &[f64], series: &[f64], span: usize) -> Vec<f64> {
+    let mut forward = filtered(l, series, initial_slope(series, span));
     forward.reverse();
-    let mut back = filtered(l, &forward);
+    let mut back = filtered(l, &forward, initial_slope(&forward, span));
     back.reverse();
     back
 }
 
-/// The mean square of `angle - filtered(l, angle)` over the samples `window`: the loop's
-/// tracking error (its lag) on the angle.
+/// The mean square of `angle - filtered(l, angle, 0)` over the samples `window`: the
+/// loop's tracking error (its lag, and the transient of its start from rest) on the angle.
 pub(super) fn mean_square_error(l: &[f64], angle: &[f64], window: core::ops::Range<usize>) -> f64 {
-    let estimate = filtered(l, angle);
+    let estimate = filtered(l, angle, 0.0);
     let count = window.len().max(1) as f64;
     window
         .map(|k| (angle[k] - estimate[k]).powi(2))

@@ -84,7 +84,7 @@ fn coloured_noise_through_the_loop_is_the_simulated_variance() {
             n
         })
         .collect();
-    let out = linear_loop::filtered(&l, &noise);
+    let out = linear_loop::filtered(&l, &noise, 0.0);
     let measured = out[1000..].iter().map(|x| x * x).sum::<f64>() / (out.len() - 1000) as f64;
     assert!(
         (measured / predicted - 1.0).abs() < 0.05,

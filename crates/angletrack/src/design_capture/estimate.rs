@@ -139,6 +139,35 @@ impl CaptureEstimates {
             .max(1e-4 / ts)
     }
 
+    /// The estimated spectra (one-sided, rad^2/Hz) at `points` frequencies spread
+    /// geometrically from a thousandth of the sample rate to the Nyquist frequency, as
+    /// `(hz, noise, motion)`: see [`CaptureEstimates::spectra_rad2_per_hz`].
+    pub fn spectra(&self, points: usize) -> Vec<(f64, f64, f64)> {
+        let nyquist = 0.5 / self.sample_period_s;
+        (0..points)
+            .map(|i| {
+                let hz = nyquist * 1e-3_f64.powf(1.0 - i as f64 / (points.max(2) - 1) as f64);
+                let (noise, motion) = self.spectra_rad2_per_hz(hz);
+                (hz, noise, motion)
+            })
+            .collect()
+    }
+
+    /// The estimated spectra at `hz` (one-sided, rad^2/Hz): the phase detector's noise
+    /// (white and first-order autoregressive parts) and the angle of the white-jerk model
+    /// (`2 jerk_std^2 Ts / (2 pi f)^6`), for plotting.
+    pub fn spectra_rad2_per_hz(&self, hz: f64) -> (f64, f64) {
+        let ts = self.sample_period_s;
+        let n = &self.noise;
+        let w = TAU * hz * ts;
+        let coloured = n.coloured_std.powi(2) * (1.0 - n.coloured_pole.powi(2))
+            / (1.0 - 2.0 * n.coloured_pole * w.cos() + n.coloured_pole.powi(2));
+        let noise = 2.0 * ts * (n.white_std.powi(2) + coloured);
+        let jerk = self.motion.jerk_std_rad_s3.value;
+        let motion = 2.0 * jerk * jerk * ts / (TAU * hz).powi(6);
+        (noise, motion)
+    }
+
     /// The samples over which errors are predicted: [`SKIP_FRACTION`] left out at the start
     /// and, for a smoothed angle, at the end.
     pub fn window(&self) -> core::ops::Range<usize> {
@@ -202,10 +231,45 @@ fn autocovariances(r: &[f64]) -> [f64; 4] {
     })
 }
 
+/// The harmonics of the angle taken out of the radial residual's colour: what is a
+/// function of the angle (the fit's bias at high noise, the signals' harmonics) is radial
+/// only, unseen by the phase detector, yet as correlated as the angle is slow.
+const RESIDUAL_HARMONICS: usize = 4;
+
+/// `r` less its least-squares fit by a constant and the first [`RESIDUAL_HARMONICS`]
+/// harmonics of `theta`.
+fn without_angle_pattern(r: &[f64], theta: &[f64]) -> Vec<f64> {
+    const M: usize = 2 * RESIDUAL_HARMONICS + 1;
+    let row = |t: f64| {
+        let mut x = nalgebra::SVector::<f64, M>::zeros();
+        x[0] = 1.0;
+        for k in 1..=RESIDUAL_HARMONICS {
+            let (s, c) = (k as f64 * t).sin_cos();
+            x[2 * k - 1] = c;
+            x[2 * k] = s;
+        }
+        x
+    };
+    let mut normal = nalgebra::SMatrix::<f64, M, M>::zeros();
+    let mut rhs = nalgebra::SVector::<f64, M>::zeros();
+    for (&ri, &t) in r.iter().zip(theta) {
+        let x = row(t);
+        normal += x * x.transpose();
+        rhs += x * ri;
+    }
+    let Some(fit) = normal.lu().solve(&rhs) else {
+        return r.to_vec();
+    };
+    r.iter()
+        .zip(theta)
+        .map(|(&ri, &t)| ri - fit.dot(&row(t)))
+        .collect()
+}
+
 /// The noise from the radial residual `r` around the ellipse at the angles `theta`.
 fn noise(r: &[f64], theta: &[f64], ellipse: &Ellipse, step: Option<f64>) -> NoiseEstimate {
     let n = r.len() as f64;
-    let c = autocovariances(r);
+    let c = autocovariances(&without_angle_pattern(r, theta));
     let rho = c[1] / c[0];
     // White unless the lag-1 correlation stands out of its sampling spread.
     let (white, coloured, pole) = if rho > 3.0 / n.sqrt() && c[2] > 0.0 {

@@ -2,8 +2,8 @@
 //! without the reference column, the design chosen from one capture measured on a second
 //! one; prints one row per case. Run by `scripts/design-from-capture-check.sh`.
 //!
-//! Arguments: the samples per capture (default 100000, 10 s at 10 kHz) and the grid
-//! points per family (default 31).
+//! Arguments: the samples per capture (default 100000, 10 s at 10 kHz), the grid points
+//! per family (default 31) and, optionally, a text the setups' names must contain.
 
 #[path = "../tests/support/capture_generator.rs"]
 mod capture_generator;
@@ -16,15 +16,19 @@ fn main() {
     let grid = args
         .next()
         .map_or(31, |a| a.parse().expect("grid points: an integer"));
+    let only = args.next().unwrap_or_default();
     println!(
-        "| setup | reference | chosen | predicted (rad) | measured (rad) | measured/predicted | best of grid (rad) | measured/best | noise est/true | jerk est/true |"
+        "| setup | reference | chosen | predicted (rad) | measured (rad) | measured/predicted | best of grid (rad) | measured/best | measured/best of whole grid | noise est/true | jerk est/true |"
     );
-    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
+    println!("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |");
     for (name, setup) in capture_generator::setups(samples) {
+        if !name.contains(&only) {
+            continue;
+        }
         for with_reference in [true, false] {
             let c = capture_generator::check(&setup, 1, with_reference, grid);
             println!(
-                "| {name} | {} | {} {:.3} Hz | {:.3e} | {:.3e} | {:.3} | {:.3e} | {:.3} | {:.3} | {} |",
+                "| {name} | {} | {} {:.3} Hz | {:.3e} | {:.3e} | {:.3} | {:.3e} | {:.3} | {:.3} | {:.3} | {} |",
                 if with_reference { "yes" } else { "no" },
                 c.chosen.0,
                 c.chosen.1,
@@ -33,6 +37,7 @@ fn main() {
                 c.measured_rad / c.predicted_rad,
                 c.best_of_grid_rad,
                 c.measured_rad / c.best_of_grid_rad,
+                c.measured_rad / c.best_of_whole_grid_rad,
                 c.noise_ratio,
                 c.jerk_ratio.map_or("-".into(), |r| format!("{r:.3}")),
             );

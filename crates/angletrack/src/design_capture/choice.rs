@@ -2,7 +2,7 @@
 //! bandwidths, the design whose predicted RMS angle error (noise through the loop, lag on
 //! the capture's motion, the number type's rounding) is least under the constraints.
 
-use core::f64::consts::{FRAC_1_SQRT_2, FRAC_PI_2, TAU};
+use core::f64::consts::{FRAC_1_SQRT_2, FRAC_PI_4, TAU};
 
 use super::estimate::{CaptureEstimates, FIRST_PASS_WIDENING, kalman_q};
 use super::{DesignCaptureError, linear_loop};
@@ -204,7 +204,7 @@ fn refusal(
     let step = constraints.speed_step_rad_s.unwrap_or(initial_speed_rad_s);
     if step > 0.0 {
         let horizon = ((20.0 / (TAU * bandwidth_hz * ts)) as usize).clamp(100, 2_000_000);
-        if step * ts * linear_loop::speed_step_peak(&design.gains(), horizon) > FRAC_PI_2 {
+        if step * ts * linear_loop::speed_step_peak(&design.gains(), horizon) > FRAC_PI_4 {
             return Some("speed_step_rad_s");
         }
     }

@@ -43,7 +43,9 @@ pub enum DesignCaptureError {
         /// The sample's index.
         index: usize,
     },
-    /// The signals do not lie on an ellipse (a conic fit that is no ellipse).
+    /// The signals do not lie on an ellipse: a conic fit that is no ellipse, or a residual
+    /// around it above [`MAX_NOISE_STD`](super::MAX_NOISE_STD) of its amplitude (a shaft at
+    /// standstill, whose noise the fit takes for an ellipse).
     NoEllipse,
     /// An argument out of its range.
     Argument {
@@ -89,7 +91,8 @@ impl fmt::Display for DesignCaptureError {
             }
             Self::NoEllipse => write!(
                 f,
-                "cos and sin do not trace an ellipse: are they the sensor's two channels?"
+                "cos and sin do not trace the Lissajous ellipse: a shaft at standstill, or not \
+                 the sensor's two channels?"
             ),
             Self::Argument { name, expected } => write!(f, "{name} must be {expected}"),
             Self::NoDesign { constraint } => write!(

@@ -13,6 +13,9 @@ pub const MIN_SAMPLES: usize = 2000;
 /// The fewest turns the shaft must travel (forward and back both count): the ellipse fit
 /// needs its whole circumference, the motion's statistics more than one event.
 pub const MIN_TURNS: f64 = 2.0;
+/// The largest noise (relative to the amplitude) of signals that trace an ellipse: above
+/// it the fit has taken a blob of noise for one.
+pub const MAX_NOISE_STD: f64 = 0.25;
 /// Below this travel (rad) the capture is at standstill.
 const STANDSTILL_RAD: f64 = 0.1;
 /// The share of the capture left out at its start (and, for a smoothed angle, at its end)
@@ -320,7 +323,7 @@ fn noise(r: &[f64], theta: &[f64], ellipse: &Ellipse, step: Option<f64>) -> Nois
 
 /// `sum d_k^2` of the third difference at stride `h` of the scaled angle's response to one
 /// sample of unit jerk (`G = (1/6, 1/2, 1)`): `var(third difference) = q * factor`.
-fn third_difference_factor(h: usize) -> f64 {
+pub(super) fn third_difference_factor(h: usize) -> f64 {
     // The angle after the jerk, zero before it: theta[1] = 1/6, then constant acceleration.
     let mut theta = vec![0.0; 3 * h + 1];
     let (mut angle, mut speed) = (1.0 / 6.0, 0.5);
@@ -451,6 +454,9 @@ pub fn estimate_from_capture(
         check_travel(travel(&own_angle))?;
     }
     let noise = noise(&radial, &own_angle, &ellipse, signals.quantisation_step);
+    if !(noise.std.value <= MAX_NOISE_STD) {
+        return Err(DesignCaptureError::NoEllipse);
+    }
     // The reference has no noise to take out; the signals' own angle has the sensor's.
     let (angle, angle_noise, own_angle, radial) = match reference {
         Some(angle) => (angle, (0.0, 0.0, 0.0), Vec::new(), Vec::new()),

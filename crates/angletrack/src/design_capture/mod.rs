@@ -39,8 +39,8 @@ pub use choice::{
 };
 pub use error::DesignCaptureError;
 pub use estimate::{
-    CaptureEstimates, CaptureSignals, MIN_SAMPLES, MIN_TURNS, MotionEstimate, NoiseEstimate,
-    SKIP_FRACTION, Uncertain, estimate_from_capture,
+    CaptureEstimates, CaptureSignals, MAX_NOISE_STD, MIN_SAMPLES, MIN_TURNS, MotionEstimate,
+    NoiseEstimate, SKIP_FRACTION, Uncertain, estimate_from_capture,
 };
 
 /// [`estimate_from_capture`] then [`choose_design`].

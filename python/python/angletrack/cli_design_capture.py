@@ -35,26 +35,33 @@ def add_arguments(design) -> None:
     group.add_argument("--min-bandwidth", type=float, metavar="HZ", help="smallest -3 dB bandwidth (Hz)")
     group.add_argument("--speed-step", type=float, metavar="RAD_S",
                        help="largest speed step to acquire (rad/s; default the capture's initial speed)")
+    group.add_argument("--quantisation-step", type=float, metavar="STEP",
+                       help="the samples' quantisation step in their unit (default: 1 for integer samples, "
+                       "ADC counts; else none)")
     group.add_argument("--grid-points", type=int, default=31, metavar="N",
                        help="bandwidths tried per observer (default 31)")
 
 
 def _read(args: argparse.Namespace):
-    """The capture's arrays, its sample period and its quantisation step (1 for counts)."""
+    """The capture's arrays, its sample period and its quantisation step (stated, else 1 for
+    integer samples)."""
     capture = capture_io.read_capture(
         args.from_capture, columns=args.columns, delimiter=args.delimiter, decimal=args.decimal,
         skip_rows=args.skip_rows, time_unit=args.time_unit, sample_rate_hz=args.sample_rate,
     )
     if capture.sample_rate_hz is None:
         raise ValueError("sample_rate: the capture has no time column: give --sample-rate")
-    counts = capture.sample_dtype.startswith(("int", "uint"))
-    return capture, 1.0 / capture.sample_rate_hz, (1.0 if counts else None)
+    step = args.quantisation_step
+    if step is None and capture.sample_dtype.startswith(("int", "uint")):
+        step = 1.0
+    return capture, 1.0 / capture.sample_rate_hz, step
 
 
 def _with_flag(e: angletrack.ConfigError) -> str:
     """The binding's message about its keyword with the option the user wrote."""
     flags = {"max_overshoot": "--max-overshoot", "min_bandwidth_hz": "--min-bandwidth",
              "speed_step_rad_s": "--speed-step", "grid_points": "--grid-points",
+             "quantisation_step": "--quantisation-step",
              "sample_period_s": "--sample-rate (its period, sample_period_s)"}
     message = str(e)
     flag = flags.get(e.parameter)

@@ -436,7 +436,6 @@ pub fn estimate_from_capture(
     let reference = signals
         .reference_angle_rad
         .map(|r| unwrapped(r.iter().copied()));
-    let travel = |angle: &[f64]| angle.windows(2).map(|w| (w[1] - w[0]).abs()).sum::<f64>();
     // The travel is judged before the fit where a reference says it.
     if let Some(angle) = &reference {
         check_travel(travel(angle))?;
@@ -495,6 +494,18 @@ pub fn estimate_from_capture(
 fn initial_speed(angle: &[f64], ts: f64) -> f64 {
     const SPAN: usize = 10;
     (angle[SPAN] - angle[0]).abs() / (SPAN as f64 * ts)
+}
+
+/// The segments the travel is summed over: few enough that the noise of the signals' own
+/// angle adds little, many enough to follow reversals.
+const TRAVEL_SEGMENTS: usize = 200;
+
+/// The angle travelled (rad), forward and back: `|delta theta|` summed over
+/// [`TRAVEL_SEGMENTS`] segments.
+fn travel(angle: &[f64]) -> f64 {
+    let step = (angle.len() / TRAVEL_SEGMENTS).max(1);
+    let ends: Vec<f64> = angle.iter().step_by(step).copied().collect();
+    ends.windows(2).map(|w| (w[1] - w[0]).abs()).sum()
 }
 
 fn check_travel(travelled_rad: f64) -> Result<(), DesignCaptureError> {

@@ -37,7 +37,7 @@ fn a_capture_without_motion_enough_is_refused_naming_what_it_lacks() {
     let e = estimate_from_capture(&signals(&cos, &sin, None)).unwrap_err();
     assert_eq!(
         e.to_string(),
-        "capture with too few turns: 0.80 turns travelled, at least 2 needed"
+        "capture with too few turns: 0.79 turns travelled, at least 2 needed"
     );
     let mut bad = cos.clone();
     bad[17] = f64::NAN;

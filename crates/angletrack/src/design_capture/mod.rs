@@ -30,7 +30,9 @@ mod choice;
 mod ellipse;
 mod error;
 mod estimate;
+mod jerk;
 mod linear_loop;
+mod noise;
 mod tracker;
 
 pub use choice::{

@@ -110,8 +110,8 @@ fn constraints_out_of_range_are_refused_by_name() {
 #[test]
 fn the_third_difference_factor_is_one_half_at_stride_one_and_eleven_twentieths_h5_beyond() {
     // docs/theory.md §16.2: (1 + 16 + 1) / 36 at h = 1, the quadratic B-spline's 11/20 h^5.
-    assert!((super::estimate::third_difference_factor(1) - 0.5).abs() < 1e-15);
+    assert!((super::jerk::third_difference_factor(1) - 0.5).abs() < 1e-15);
     let h = 64;
-    let ratio = super::estimate::third_difference_factor(h) / (h as f64).powi(5);
+    let ratio = super::jerk::third_difference_factor(h) / (h as f64).powi(5);
     assert!((ratio / 0.55 - 1.0).abs() < 1e-3, "{ratio}");
 }

@@ -59,7 +59,6 @@ def test_counts_without_a_reference_are_quantised_and_read_from_the_signals(tmp_
 
 
 def test_the_plot_is_drawn(tmp_path, capsys):
-    pytest.importorskip("matplotlib")
     cap, png = tmp_path / "capture.csv", tmp_path / "d.png"
     write_capture(cap)
     assert cli.main(["design", "--from-capture", str(cap), "--grid-points", "6", "--plot", str(png)]) == 0
@@ -140,3 +139,10 @@ def test_the_guide_capture_measures_what_was_predicted(tmp_path, capsys):
     measured = float(line.split()[1])
     assert abs(measured / predicted - 1) < 0.10, (measured, predicted)
     assert 0.11e-3 < predicted < 0.44e-3
+
+
+def test_a_specification_with_from_capture_is_refused(tmp_path, capsys):
+    cap = tmp_path / "capture.csv"
+    write_capture(cap, n=3000)
+    assert cli.main(["design", "--from-capture", str(cap), "--bandwidth", "100"]) == 2
+    assert "--bandwidth: not used with --from-capture" in capsys.readouterr().err

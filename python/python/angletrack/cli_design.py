@@ -193,7 +193,8 @@ def _cmd_design(args: argparse.Namespace) -> int:
     or JSON, ready for angletrack-core's Gains::new(gains, Ts).
     """
     if args.from_capture is not None:
-        return cli_design_capture.run(args)
+        given = [_option(dest) for dest in _KEYWORDS if getattr(args, dest, None) is not None]
+        return cli_design_capture.run(args, given)
     if args.observer is None:
         raise ValueError("observer: give the observer (second-order, third-order or kalman) or --from-capture")
     gains_format = output_format(args.format, args.output, default="c")

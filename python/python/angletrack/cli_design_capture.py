@@ -9,7 +9,7 @@ import pathlib
 
 import angletrack
 from angletrack import capture as capture_io
-from angletrack.cli_args import make_output_directories, refuse_overwriting_inputs
+from angletrack.cli_args import add_reader_arguments, make_output_directories, refuse_overwriting_inputs
 
 #: ``--dtype`` -> the tracker file's number type.
 _NUMBER_TYPES = {"float32": "f32", "float64": "f64", "fixed": "fixed"}
@@ -28,8 +28,7 @@ def add_arguments(design) -> None:
     group.add_argument("--delimiter", metavar="CHAR", help="as for `angletrack track`")
     group.add_argument("--time-unit", choices=["s", "ms", "us", "ns"], default="s",
                        help="unit of the time column (default s)")
-    group.add_argument("--decimal", choices=[".", ","], metavar="MARK", help="as for `angletrack track`")
-    group.add_argument("--skip-rows", type=int, default=0, metavar="N", help="as for `angletrack track`")
+    add_reader_arguments(group)
     group.add_argument("--max-overshoot", type=float, metavar="FRACTION",
                        help="largest overshoot of the linear step response (0.1 for 10 %%)")
     group.add_argument("--min-bandwidth", type=float, metavar="HZ", help="smallest -3 dB bandwidth (Hz)")
@@ -92,8 +91,11 @@ def _describe(result: dict) -> str:
     return "\n".join(lines)
 
 
-def run(args: argparse.Namespace) -> int:
-    """``design --from-capture``: choose, print, write the tracker file, draw."""
+def run(args: argparse.Namespace, specification: list[str]) -> int:
+    """``design --from-capture``: choose, print, write the tracker file, draw.
+    ``specification``: the options of a design by specification that were given, refused."""
+    if specification:
+        raise ValueError(f"{specification[0]}: not used with --from-capture, which measures the noise and the motion")
     if args.observer is not None:
         raise ValueError(f"observer: {args.observer} given with --from-capture, which chooses the observer")
     if args.format not in (None, "tracker"):

@@ -87,7 +87,7 @@ pub fn design_from_capture<'py>(
     min_bandwidth_hz: Option<f64>,
     speed_step_rad_s: Option<f64>,
     number_type: &str,
-    grid_points: usize,
+    grid_points: i64,
 ) -> Result<Bound<'py, PyDict>> {
     let (cos, sin) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
     let reference = reference_angle_rad
@@ -116,7 +116,8 @@ pub fn design_from_capture<'py>(
         min_bandwidth_hz,
         speed_step_rad_s,
         number_type,
-        grid_points,
+        // A count out of usize is out of the crate's range too, which names it.
+        grid_points: usize::try_from(grid_points).unwrap_or(0),
     };
     let design = py.detach(|| choose(&signals, &constraints))?;
     let out = PyDict::new(py);

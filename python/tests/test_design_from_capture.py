@@ -86,6 +86,7 @@ def test_python_returns_the_design_the_estimates_and_the_candidates():
     ({"number_type": "f16"}, "number_type"),
     ({"max_overshoot": -0.1}, "max_overshoot"),
     ({"grid_points": 1}, "grid_points"),
+    ({"grid_points": -3}, "grid_points"),
 ])
 def test_python_refusals_name_the_argument(kwargs, parameter):
     theta = np.arange(5000) * 0.01

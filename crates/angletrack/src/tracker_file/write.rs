@@ -142,42 +142,48 @@ impl TrackerFile {
     /// back to the same `f64`.
     pub fn to_json(&self) -> String {
         let g = &self.gains;
-        let mut members = vec![
-            format!("  \"format\": \"{TRACKER_FILE_FORMAT}\""),
-            format!("  \"version\": {TRACKER_FILE_VERSION}"),
-            format!("  \"sample_period_s\": {}", number(g.sample_period_s)),
-            format!("  \"gains\": {}", list(&g.gains, |&v| number(v))),
-            format!("  \"number_type\": \"{}\"", self.number_type.name()),
-            format!(
-                "  \"sin_cos\": {}",
-                self.sin_cos
-                    .name()
-                    .map_or("null".to_string(), |n| format!("\"{n}\""))
-            ),
-            format!("  \"input\": {}", input(&self.input)),
-            format!("  \"adc_range\": {}", adc_range(&self.adc_range)),
-            format!(
-                "  \"winding_check\": {}",
-                self.winding_amplitude
-                    .map_or("null".to_string(), |a| nested(&[("amplitude", number(a))]))
-            ),
-            format!(
-                "  \"fault_thresholds\": {}",
-                self.fault_thresholds
-                    .as_ref()
-                    .map_or("null".to_string(), thresholds)
-            ),
-            format!("  \"calibration\": {}", calibration(&self.calibration)),
-            format!("  \"correction\": {}", correction(&self.correction)),
-            format!(
-                "  \"pole_pairs\": {}",
-                self.pole_pairs
-                    .map_or("null".to_string(), |p| p.to_string())
-            ),
-        ];
-        if let Some(error) = self.predicted_error_rms_rad {
-            members.push(format!("  \"predicted_error_rms_rad\": {}", number(error)));
-        }
-        document(members, g.design.as_ref())
+        // A record, not a setting: written only when known.
+        let predicted = self
+            .predicted_error_rms_rad
+            .map(|e| format!("  \"predicted_error_rms_rad\": {}", number(e)));
+        document(
+            vec![
+                format!("  \"format\": \"{TRACKER_FILE_FORMAT}\""),
+                format!("  \"version\": {TRACKER_FILE_VERSION}"),
+                format!("  \"sample_period_s\": {}", number(g.sample_period_s)),
+                format!("  \"gains\": {}", list(&g.gains, |&v| number(v))),
+                format!("  \"number_type\": \"{}\"", self.number_type.name()),
+                format!(
+                    "  \"sin_cos\": {}",
+                    self.sin_cos
+                        .name()
+                        .map_or("null".to_string(), |n| format!("\"{n}\""))
+                ),
+                format!("  \"input\": {}", input(&self.input)),
+                format!("  \"adc_range\": {}", adc_range(&self.adc_range)),
+                format!(
+                    "  \"winding_check\": {}",
+                    self.winding_amplitude
+                        .map_or("null".to_string(), |a| nested(&[("amplitude", number(a))]))
+                ),
+                format!(
+                    "  \"fault_thresholds\": {}",
+                    self.fault_thresholds
+                        .as_ref()
+                        .map_or("null".to_string(), thresholds)
+                ),
+                format!("  \"calibration\": {}", calibration(&self.calibration)),
+                format!("  \"correction\": {}", correction(&self.correction)),
+                format!(
+                    "  \"pole_pairs\": {}",
+                    self.pole_pairs
+                        .map_or("null".to_string(), |p| p.to_string())
+                ),
+            ]
+            .into_iter()
+            .chain(predicted)
+            .collect(),
+            g.design.as_ref(),
+        )
     }
 }

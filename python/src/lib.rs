@@ -16,6 +16,7 @@ mod capture;
 mod carrier;
 mod counts;
 mod design;
+mod design_capture;
 mod design_functions;
 mod diagnostics;
 mod dispatch;
@@ -78,5 +79,6 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     export::register(m)?;
     calibration_file::register(m)?;
     tracker_file::register(m)?;
+    design_capture::register(m)?;
     Ok(())
 }

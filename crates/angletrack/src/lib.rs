@@ -53,6 +53,9 @@
 //! * Calibration files ([`CalibrationFile`]): a sensor calibration learned while tracking
 //!   ([`SensorCalibrationRecord`]) or by [`learn_angle_correction`] ([`CaptureCalibration`])
 //!   as JSON, read back exactly, every refusal naming the file and the field.
+//! * Design from a capture ([`design_capture`]): the noise and the motion estimated from a
+//!   recording, the observer of least predicted RMS angle error chosen over the orders and
+//!   bandwidths (`docs/theory.md §16`).
 //! * Tracker files ([`tracker_file::TrackerFile`]): a whole sensor setup (gains, number
 //!   type, input, ADC range, calibration, correction) as one versioned JSON document, and its
 //!   firmware constants.
@@ -87,6 +90,7 @@ mod capture_counts;
 mod carrier;
 mod counts;
 mod design;
+pub mod design_capture;
 mod error;
 pub mod export;
 pub mod fault_campaign;

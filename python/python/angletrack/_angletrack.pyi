@@ -704,6 +704,31 @@ def third_order_from_overshoot(
 def kalman(process_noise_q: float, measurement_noise_r: float, sample_period_s: float) -> Design: ...
 def kalman_from_jerk_std(jerk_std_rad_s3: float, sensor_noise_std: float, sample_period_s: float) -> Design: ...
 def kalman_from_jerk_density(jerk_density_rad2_s5: float, sensor_noise_std: float, sample_period_s: float) -> Design: ...
+def design_from_capture(
+    y_c: npt.NDArray[np.float64],
+    y_s: npt.NDArray[np.float64],
+    sample_period_s: float,
+    *,
+    reference_angle_rad: Optional[npt.NDArray[np.float64]] = None,
+    quantisation_step: Optional[float] = None,
+    max_overshoot: Optional[float] = None,
+    min_bandwidth_hz: Optional[float] = None,
+    speed_step_rad_s: Optional[float] = None,
+    number_type: str = "f32",
+    grid_points: int = 31,
+) -> dict[str, Any]:
+    """The observer chosen from a capture (docs/guide/design-from-capture.md): the sensor
+    noise and the motion estimated from ``y_c``, ``y_s`` (and the reference angle if
+    given), the design of least predicted RMS angle error over the 2nd-order, 3rd-order and
+    Kalman observers and ``grid_points`` bandwidths each, under the constraints. Returns
+    ``design`` (a :class:`Design`), ``tracker_json`` (its tracker file, with
+    ``predicted_error_rms_rad``), ``predicted_error_rms_rad``, ``chosen``, ``runners_up``
+    and ``candidates`` (dicts: ``observer``, ``bandwidth_hz``, ``gains``,
+    ``predicted_error_rms_rad``, ``noise_rad``, ``lag_rad``, ``number_type_rad``,
+    ``refused_by``), ``noise`` and ``motion`` (the estimates, each uncertain one as
+    ``{"value", "std"}``) and ``spectra`` (``frequency_hz``, ``noise_rad2_per_hz``,
+    ``motion_rad2_per_hz``). A capture that cannot support the estimates (too short, at
+    standstill, too few turns) raises ``ValueError`` saying which."""
 
 # ----------------------------------------------------------------- the paper
 

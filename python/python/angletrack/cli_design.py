@@ -9,7 +9,7 @@ import sys
 
 import angletrack
 from angletrack import capture as capture_io
-from angletrack import export
+from angletrack import cli_design_capture, export
 from angletrack.cli_args import (
     make_output_directories, output_format, png_path, positive_number, refuse_overwriting_inputs, subcommand,
 )
@@ -117,8 +117,10 @@ def _with_flag(message: str, parameter: str) -> str:
 
 def add_design_parser(sub) -> None:
     design = subcommand(sub, _cmd_design)
-    design.add_argument("observer", choices=sorted(_DESIGNS), help="which observer")
-    design.add_argument("--sample-rate", type=float, required=True, metavar="HZ", help="sample rate (Hz)")
+    design.add_argument("observer", choices=sorted(_DESIGNS), nargs="?",
+                        help="which observer (none with --from-capture, which chooses it)")
+    design.add_argument("--sample-rate", type=float, metavar="HZ",
+                        help="sample rate (Hz); with --from-capture, the capture's time column's by default")
     spec = design.add_argument_group(
         "specification (one set, by observer)",
         "second-order: --max-error, --acceleration and --overshoot (met by the sampled loop itself), "
@@ -166,6 +168,7 @@ def add_design_parser(sub) -> None:
                         help="draw the loop's Bode plot and its noise-against-bandwidth trade-off")
     design.add_argument("--plot-acceleration", type=positive_number, default=1000.0, metavar="RAD_S2",
                         help="acceleration of the trade-off's tracking error, 2nd order (default 1000 rad/s^2)")
+    cli_design_capture.add_arguments(design)
     design.add_argument("--plot-jerk", type=positive_number, default=1e5, metavar="RAD_S3",
                         help="jerk of the trade-off's tracking error, 3rd order (default 1e5 rad/s^3)")
 
@@ -189,6 +192,11 @@ def _cmd_design(args: argparse.Namespace) -> int:
     constants, noise, step responses) and writes the gains as a C header, a Rust const block
     or JSON, ready for angletrack-core's Gains::new(gains, Ts).
     """
+    if args.from_capture is not None:
+        given = [_option(dest) for dest in _KEYWORDS if getattr(args, dest, None) is not None]
+        return cli_design_capture.run(args, given)
+    if args.observer is None:
+        raise ValueError("observer: give the observer (second-order, third-order or kalman) or --from-capture")
     gains_format = output_format(args.format, args.output, default="c")
     refuse_overwriting_inputs(args, {"--output": args.output, "--plot": args.plot})
     design, spec = _design_from_args(args)

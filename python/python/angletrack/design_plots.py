@@ -154,3 +154,55 @@ def plot_design(
     fig.savefig(png, dpi=DPI)
     plt.close(fig)
     return f"plot: {png}"
+
+
+#: Colours of the observers in ``design --from-capture --plot``.
+_OBSERVER_COLOURS = {"second-order": "tab:blue", "third-order": "tab:green", "kalman": "tab:purple"}
+
+
+def plot_design_from_capture(result: dict, png: pathlib.Path, *, title: str) -> str:
+    """Writes the plot of :func:`angletrack.design_from_capture`'s ``result`` to ``png``: the
+    estimated noise and motion spectra, and the predicted RMS angle error against the
+    bandwidth for each observer (refused designs hollow), the chosen one marked; returns the
+    line to print."""
+    from angletrack.plots import pyplot
+
+    plt = pyplot()
+    if png.suffix.lower() != ".png":
+        raise ValueError(f"plot: {png} is not a .png file name")
+    fig, (ax_spectra, ax_error) = plt.subplots(1, 2, figsize=FIGURE_SIZE_IN)
+    spectra = result["spectra"]
+    ax_spectra.loglog(spectra["frequency_hz"], spectra["noise_rad2_per_hz"], color="tab:blue",
+                      label="phase detector noise (estimated)")
+    ax_spectra.loglog(spectra["frequency_hz"], spectra["motion_rad2_per_hz"], color="tab:orange",
+                      label="angle of the estimated white jerk")
+    ax_spectra.set_xlabel("frequency (Hz)")
+    ax_spectra.set_ylabel("one-sided spectrum (rad^2/Hz)")
+    ax_spectra.set_title("Estimated spectra", fontsize=10)
+    ax_spectra.grid(alpha=0.3, which="both")
+    ax_spectra.legend(fontsize=8)
+    for observer, colour in _OBSERVER_COLOURS.items():
+        rows = [c for c in result["candidates"] if c["observer"] == observer]
+        if not rows:
+            continue
+        bw = np.array([c["bandwidth_hz"] for c in rows])
+        total = 1e3 * np.array([c["predicted_error_rms_rad"] for c in rows])
+        ax_error.loglog(bw, total, color=colour, lw=1, label=observer)
+        refused = np.array([c["refused_by"] is not None for c in rows])
+        ax_error.plot(bw[~refused], total[~refused], "o", color=colour, ms=3)
+        ax_error.plot(bw[refused], total[refused], "o", mfc="none", color=colour, ms=3)
+    chosen = result["chosen"]
+    ax_error.plot([chosen["bandwidth_hz"]], [1e3 * chosen["predicted_error_rms_rad"]], "*", color="tab:red", ms=14,
+                  label=f"chosen: {chosen['observer']}, {chosen['bandwidth_hz']:.4g} Hz, "
+                  f"{1e3 * chosen['predicted_error_rms_rad']:.4g} mrad")
+    ax_error.set_xlabel("-3 dB bandwidth (Hz)")
+    ax_error.set_ylabel("predicted RMS angle error (mrad)")
+    ax_error.set_title("Predicted error against bandwidth (hollow: refused by a constraint)", fontsize=10)
+    ax_error.grid(alpha=0.3, which="both")
+    ax_error.legend(fontsize=8)
+    fig.suptitle(textwrap.fill(f"design from {title}", 150), fontsize=10)
+    fig.tight_layout()
+    png.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(png, dpi=DPI)
+    plt.close(fig)
+    return f"plot: {png}"

@@ -33,6 +33,12 @@ pub(crate) fn small_signal_step<const N: usize>(gains: &Gains<f64, N>) -> Option
     (samples < MAX_SIMULATION_SAMPLES).then(|| discrete.linear_step(samples))
 }
 
+/// The -3 dB bandwidth (Hz) of the discrete loop of gains `l` at sample period `ts`, see
+/// [`DesignReport::bandwidth_hz`](crate::DesignReport::bandwidth_hz).
+pub(crate) fn loop_bandwidth_hz(l: &[f64], ts: f64) -> Option<f64> {
+    DiscreteLoop::new(l, ts).bandwidth_hz()
+}
+
 /// The closed-loop matrices of a discrete gain set.
 pub(super) struct DiscreteLoop {
     l: Vec<f64>,

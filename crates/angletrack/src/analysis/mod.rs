@@ -9,7 +9,7 @@ mod report;
 mod speed;
 mod step;
 
-pub(crate) use discrete_loop::small_signal_step;
+pub(crate) use discrete_loop::{loop_bandwidth_hz, small_signal_step};
 pub use frequency_response::closed_loop_response;
 pub use noise::{PredictedError, predicted_error, predicted_error_on_kalman_model};
 pub use report::DesignReport;

@@ -169,6 +169,10 @@ pub struct TrackerFile {
     pub correction: Correction,
     /// The motor's pole pairs (`None`: 1, the electrical angle is the mechanical one).
     pub pole_pairs: Option<u32>,
+    /// The RMS angle error (rad) predicted for these gains on the capture they were
+    /// designed from ([`design_capture`](crate::design_capture)); a record, not a setting:
+    /// written only when known.
+    pub predicted_error_rms_rad: Option<f64>,
 }
 
 impl TrackerFile {
@@ -187,6 +191,7 @@ impl TrackerFile {
             calibration: Calibration::None,
             correction: Correction::None,
             pole_pairs: None,
+            predicted_error_rms_rad: None,
         }
     }
 

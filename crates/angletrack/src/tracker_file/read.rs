@@ -17,7 +17,7 @@ use crate::export::GainsFile;
 use crate::json_file::{Document, JsonFileError};
 
 /// The top level's fields.
-const FIELDS: [&str; 14] = [
+const FIELDS: [&str; 15] = [
     "format",
     "version",
     "sample_period_s",
@@ -32,6 +32,7 @@ const FIELDS: [&str; 14] = [
     "calibration",
     "correction",
     "pole_pairs",
+    "predicted_error_rms_rad",
 ];
 
 /// The length of the table a `"table"` correction's curve is checked as (the fixed-point
@@ -90,6 +91,15 @@ impl Document<'_> {
             None => Ok(default),
             Some(Value::Null) => Ok(None),
             Some(_) => self.number(field).map(Some),
+        }
+    }
+
+    /// `predicted_error_rms_rad`: a non-negative number, or missing or `null`.
+    fn predicted_error(&self) -> Result<Option<f64>, JsonFileError> {
+        let field = "predicted_error_rms_rad";
+        match self.maybe(field, None)? {
+            Some(v) if !(v >= 0.0) => Err(self.error(field, "a number of at least 0 (rad)")),
+            value => Ok(value),
         }
     }
 
@@ -416,6 +426,7 @@ impl TrackerFile {
             calibration,
             correction: doc.correction()?,
             pole_pairs: doc.pole_pairs()?,
+            predicted_error_rms_rad: doc.predicted_error()?,
         };
         if number_type == NumberType::Fixed {
             if tracker.input == Input::Units {

@@ -45,6 +45,7 @@ fn full() -> TrackerFile {
         },
         correction: Correction::Table(vec![0.0, 0.002, 0.0, -0.002]),
         pole_pairs: Some(4),
+        predicted_error_rms_rad: Some(2.5e-4),
     }
 }
 

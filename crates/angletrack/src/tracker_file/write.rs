@@ -142,6 +142,10 @@ impl TrackerFile {
     /// back to the same `f64`.
     pub fn to_json(&self) -> String {
         let g = &self.gains;
+        // A record, not a setting: written only when known.
+        let predicted = self
+            .predicted_error_rms_rad
+            .map(|e| format!("  \"predicted_error_rms_rad\": {}", number(e)));
         document(
             vec![
                 format!("  \"format\": \"{TRACKER_FILE_FORMAT}\""),
@@ -175,7 +179,10 @@ impl TrackerFile {
                     self.pole_pairs
                         .map_or("null".to_string(), |p| p.to_string())
                 ),
-            ],
+            ]
+            .into_iter()
+            .chain(predicted)
+            .collect(),
             g.design.as_ref(),
         )
     }

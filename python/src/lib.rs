@@ -33,6 +33,7 @@ mod observer_channel;
 mod paper;
 mod resolver;
 mod scenario;
+mod study;
 mod tracker_file;
 mod writer;
 
@@ -78,5 +79,6 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     export::register(m)?;
     calibration_file::register(m)?;
     tracker_file::register(m)?;
+    study::register(m)?;
     Ok(())
 }

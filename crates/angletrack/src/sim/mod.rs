@@ -23,6 +23,7 @@ pub use fixed_chain::{
     FixedInput, fixed_front_end, fixed_input, fixed_input_shift, fixed_monitor_amplitude,
 };
 pub use fixed_columns::FixedColumns;
+pub(crate) use metrics::wrap;
 pub use metrics::{ErrorStatistics, Metrics, MetricsOptions, Run, run};
 pub use motion::{Kinematics, Motion, MotionProfile};
 pub use resolver::ResolverModel;

@@ -1,0 +1,378 @@
+//! One run of a study: one simulated sensor through one motion profile and one setup, and
+//! the row of its results.
+
+use std::time::Instant;
+
+use angletrack_core::{
+    AngleCorrection, CalibrationSettings, CalibrationStage, Calibrator, CorrectionStage, Exact,
+    Fast, FaultThresholds, Faults, Float, Gains, Input, ObserverState, Order, Rails, Real,
+    SensorCalibration, SinCos, SupportedOrder, Tracker, TrackerFrontEnd, TrackerSettings,
+    TrackerState, WindingCheck,
+};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use super::spec::{SENSOR_PARAMETERS, Spec};
+use crate::sim::wrap;
+use crate::tracker_file::{AdcRange, Calibration, Correction, NumberType, SinCosKind, TrackerFile};
+use crate::{Scenario, SensorModel, capture_fault_thresholds};
+
+/// One value of a row.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StudyCell {
+    /// A whole number.
+    Integer(u64),
+    /// A number (NaN: none, such as the time to lock of a run that never locked).
+    Number(f64),
+    /// A text (empty: none).
+    Text(String),
+}
+
+/// The results of one run. The angle error is `truth - estimate` wrapped to [-pi, pi),
+/// over the samples from the study's `skip_s` on (the start-up left out).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StudyRow {
+    /// The run id.
+    pub run: u64,
+    /// The sensor's index (its parameters are the same in every profile and setup).
+    pub sensor: u64,
+    /// The motion profile's name.
+    pub profile: String,
+    /// The setup's name.
+    pub setup: String,
+    /// The setup's number type (`"f32"`, `"f64"`).
+    pub number_type: &'static str,
+    /// The sensor's parameters drawn, in the order of the specification's `sensor` fields
+    /// (amplitude, offsets, imbalance, quadrature error (rad), 3rd harmonic, noise std).
+    pub parameters: [f64; SENSOR_PARAMETERS.len()],
+    /// Samples in the error statistics.
+    pub samples: u64,
+    /// RMS angle error (rad).
+    pub rms_error_rad: f64,
+    /// Largest angle error magnitude (rad).
+    pub max_error_rad: f64,
+    /// Mean angle error (rad).
+    pub mean_error_rad: f64,
+    /// Time (s) from which the angle error stays within the lock tolerance; NaN if it is
+    /// outside at the end.
+    pub time_to_lock_s: f64,
+    /// Samples after the start-up whose estimate carries a fault.
+    pub fault_samples: u64,
+    /// The faults raised over the whole run, by name (`"none"`).
+    pub faults: String,
+    /// What the online calibration learned by the end (offset_c, offset_s, amplitude_c,
+    /// amplitude_s, quadrature_rad); NaN for a setup without one.
+    pub learned: [f64; 5],
+    /// Seconds the run took (generation and tracking): the one value that differs between
+    /// two computations of the same run.
+    pub seconds: f64,
+    /// Why the run has no results (empty row otherwise).
+    pub error: Option<String>,
+}
+
+/// The names of [`StudyRow::learned`]'s columns.
+const LEARNED: [&str; 5] = [
+    "learned_offset_c",
+    "learned_offset_s",
+    "learned_amplitude_c",
+    "learned_amplitude_s",
+    "learned_quadrature_rad",
+];
+
+impl StudyRow {
+    /// The row as named columns, in the order a table of runs holds them.
+    pub fn columns(&self) -> Vec<(&'static str, StudyCell)> {
+        use StudyCell::{Integer, Number, Text};
+        let mut out = vec![
+            ("run", Integer(self.run)),
+            ("sensor", Integer(self.sensor)),
+            ("profile", Text(self.profile.clone())),
+            ("setup", Text(self.setup.clone())),
+            ("number_type", Text(self.number_type.to_string())),
+        ];
+        out.extend(
+            SENSOR_PARAMETERS
+                .iter()
+                .zip(self.parameters)
+                .map(|(n, v)| (*n, Number(v))),
+        );
+        out.extend([
+            ("samples", Integer(self.samples)),
+            ("rms_error_rad", Number(self.rms_error_rad)),
+            ("max_error_rad", Number(self.max_error_rad)),
+            ("mean_error_rad", Number(self.mean_error_rad)),
+            ("time_to_lock_s", Number(self.time_to_lock_s)),
+            ("fault_samples", Integer(self.fault_samples)),
+            ("faults", Text(self.faults.clone())),
+        ]);
+        out.extend(
+            LEARNED
+                .iter()
+                .zip(self.learned)
+                .map(|(n, v)| (*n, Number(v))),
+        );
+        out.push(("seconds", Number(self.seconds)));
+        out.push(("error", Text(self.error.clone().unwrap_or_default())));
+        out
+    }
+}
+
+/// SplitMix64's finaliser: a seed from the study's seed and a run's indices, well mixed so
+/// that neighbouring indices give unrelated generators.
+fn derived_seed(seed: u64, parts: &[u64]) -> u64 {
+    parts.iter().fold(seed, |acc, &part| {
+        let mut z = acc
+            ^ part
+                .wrapping_add(0x9e37_79b9_7f4a_7c15)
+                .wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    })
+}
+
+/// The row of run `run` of `spec`.
+pub(super) fn run(spec: &Spec, run: u64) -> StudyRow {
+    let started = Instant::now();
+    let (profiles, setups) = (spec.profiles.len() as u64, spec.setups.len() as u64);
+    let sensor = run / (profiles * setups);
+    let profile = (run / setups) % profiles;
+    let setup = run % setups;
+    let mut rng = ChaCha8Rng::seed_from_u64(derived_seed(spec.seed, &[sensor, 0]));
+    let parameters = spec.parameters.map(|p| p.draw(&mut rng));
+    let (profile_name, motion) = &spec.profiles[profile as usize];
+    let (setup_name, tracker) = &spec.setups[setup as usize];
+    let mut row = StudyRow {
+        run,
+        sensor,
+        profile: profile_name.clone(),
+        setup: setup_name.clone(),
+        number_type: tracker.number_type.name(),
+        parameters,
+        samples: 0,
+        rms_error_rad: f64::NAN,
+        max_error_rad: f64::NAN,
+        mean_error_rad: f64::NAN,
+        time_to_lock_s: f64::NAN,
+        fault_samples: 0,
+        faults: String::new(),
+        learned: [f64::NAN; 5],
+        seconds: 0.0,
+        error: None,
+    };
+    if run >= spec.runs() {
+        row.error = Some(format!(
+            "run: {run} is beyond the study's {} runs",
+            spec.runs()
+        ));
+        return row;
+    }
+    let [
+        amplitude,
+        offset_cos,
+        offset_sin,
+        amplitude_imbalance,
+        quadrature_error_rad,
+        third_harmonic,
+        noise_std,
+    ] = parameters;
+    let model = SensorModel {
+        amplitude,
+        offset_cos,
+        offset_sin,
+        amplitude_imbalance,
+        quadrature_error_rad,
+        third_harmonic,
+        noise_std,
+        adc_bits: spec.adc_bits,
+        adc_full_scale: spec.adc_full_scale,
+        ..SensorModel::default()
+    };
+    let noise_seed = derived_seed(spec.seed, &[sensor, 1 + profile]);
+    let outcome = Scenario::generate(motion, &model, spec.sample_period_s, noise_seed)
+        .map_err(|e| format!("sensor: {e}"))
+        .and_then(|scenario| track(spec, tracker, &scenario, &mut row));
+    if let Err(e) = outcome {
+        row.error = Some(e);
+    }
+    row.seconds = started.elapsed().as_secs_f64();
+    row
+}
+
+/// Tracks `scenario` with `tracker` (dispatched on its number type, order and sin/cos),
+/// filling `row`'s results.
+fn track(
+    spec: &Spec,
+    tracker: &TrackerFile,
+    scenario: &Scenario,
+    row: &mut StudyRow,
+) -> Result<(), String> {
+    let exact = match tracker.sin_cos {
+        SinCosKind::Default => tracker.number_type == NumberType::F64,
+        kind => kind == SinCosKind::Exact,
+    };
+    match (tracker.number_type, tracker.gains.gains.len(), exact) {
+        (NumberType::F32, 2, false) => track_with::<f32, 2, Fast>(spec, tracker, scenario, row),
+        (NumberType::F32, 2, true) => track_with::<f32, 2, Exact>(spec, tracker, scenario, row),
+        (NumberType::F32, _, false) => track_with::<f32, 3, Fast>(spec, tracker, scenario, row),
+        (NumberType::F32, _, true) => track_with::<f32, 3, Exact>(spec, tracker, scenario, row),
+        (_, 2, false) => track_with::<f64, 2, Fast>(spec, tracker, scenario, row),
+        (_, 2, true) => track_with::<f64, 2, Exact>(spec, tracker, scenario, row),
+        (_, _, false) => track_with::<f64, 3, Fast>(spec, tracker, scenario, row),
+        (_, _, true) => track_with::<f64, 3, Exact>(spec, tracker, scenario, row),
+    }
+}
+
+fn typed<T: Float + Real>(c: &SensorCalibration<f64>) -> Result<SensorCalibration<T>, String> {
+    let (o_c, o_s, a_c, a_s, phi) = c.parameters();
+    SensorCalibration::new(
+        T::from_f64(o_c),
+        T::from_f64(o_s),
+        T::from_f64(a_c),
+        T::from_f64(a_s),
+        T::from_f64(phi),
+    )
+    .map_err(|e| format!("calibration: {e}"))
+}
+
+fn typed_thresholds<T: Float + Real>(t: &FaultThresholds<f64>) -> FaultThresholds<T> {
+    FaultThresholds::for_amplitude(T::from_f64(t.nominal_amplitude))
+        .with_max_input_amplitude(T::from_f64(t.max_input_amplitude))
+        .with_loss_of_signal(T::from_f64(t.loss_of_signal))
+        .with_degradation_low(T::from_f64(t.degradation_low))
+        .with_degradation_high(T::from_f64(t.degradation_high))
+        .with_loss_of_tracking(T::from_f64(t.loss_of_tracking))
+        .with_max_speed(t.max_speed.map(T::from_f64))
+        .with_filter_factor(T::from_f64(t.filter_factor))
+        .with_false_lock(T::from_f64(t.false_lock))
+        .with_monitor(t.monitor)
+        .with_re_acquire(t.re_acquire)
+}
+
+fn typed_settings<T: Float + Real>(s: &CalibrationSettings<f64>) -> CalibrationSettings<T> {
+    let mut out = CalibrationSettings::default();
+    out.min_speed_rad_s = s.min_speed_rad_s.map(T::from_f64);
+    out.max_offset = T::from_f64(s.max_offset);
+    out.max_amplitude_mismatch = T::from_f64(s.max_amplitude_mismatch);
+    out.max_quadrature_rad = T::from_f64(s.max_quadrature_rad);
+    out
+}
+
+/// The standard chain of `tracker` in `T`, order `N`, sin/cos `S`, over `scenario`.
+fn track_with<T: Float + Real, const N: usize, S: SinCos<T>>(
+    spec: &Spec,
+    tracker: &TrackerFile,
+    scenario: &Scenario,
+    row: &mut StudyRow,
+) -> Result<(), String>
+where
+    Order<N>: SupportedOrder,
+{
+    let file = &tracker.gains;
+    let mut values = [T::ZERO; N];
+    for (slot, &g) in values.iter_mut().zip(&file.gains) {
+        *slot = T::from_f64(g);
+    }
+    let thresholds = match &tracker.fault_thresholds {
+        Some(t) => typed_thresholds(t),
+        None => typed_thresholds(&capture_fault_thresholds(&scenario.y_c, &scenario.y_s)),
+    };
+    let mut gains = Gains::<T, N>::new(values, T::from_f64(file.sample_period_s))
+        .and_then(|g| g.with_fault_thresholds(thresholds))
+        .map_err(|e| format!("gains: {e}"))?
+        .with_sin_cos::<S>();
+    let mut calibrator = Calibrator::new();
+    let calibration = match &tracker.calibration {
+        Calibration::None => CalibrationStage::None,
+        Calibration::Stored(c) => CalibrationStage::Stored(typed(c)?),
+        Calibration::Online { initial, settings } => {
+            gains = gains
+                .with_calibration_settings(typed_settings(settings))
+                .map_err(|e| format!("calibration: {e}"))?;
+            if let Some(c) = initial {
+                calibrator = Calibrator::from_calibration(typed(c)?);
+            }
+            calibrator.enable();
+            CalibrationStage::Online(gains.online_calibration())
+        }
+    };
+    let correction = match &tracker.correction {
+        Correction::Harmonics(h) => {
+            let (cos, sin) = h.coefficients();
+            CorrectionStage::Harmonics(
+                AngleCorrection::new(cos.map(T::from_f64), sin.map(T::from_f64))
+                    .map_err(|e| format!("correction: {e}"))?,
+            )
+        }
+        _ => CorrectionStage::None,
+    };
+    let rails = match tracker.adc_range {
+        AdcRange::Stated { min, max } => Rails::Stated {
+            min: T::from_f64(min),
+            max: T::from_f64(max),
+        },
+        _ => Rails::Measured,
+    };
+    let winding = tracker
+        .winding_amplitude
+        .map(|a| WindingCheck::new(T::from_f64(a)))
+        .transpose()
+        .map_err(|e| format!("winding_check: {e}"))?;
+    let front_end = TrackerFrontEnd::new(TrackerSettings {
+        input: Input::Units { rails },
+        winding,
+        calibration,
+        correction,
+    })
+    .map_err(|e| format!("adc_range: {e}"))?;
+    let chain: Tracker<T, Gains<T, N, S>> = Tracker::new(front_end, gains);
+    let mut state: TrackerState<T, ObserverState<T, N>> = TrackerState::new();
+    *state.front_end.calibrator_mut() = calibrator;
+    let first = (spec.skip_s / scenario.sample_period_s).ceil() as usize;
+    if first >= scenario.len() {
+        return Err(format!(
+            "skip_s: {} s leaves no sample of profile {:?}",
+            spec.skip_s, row.profile
+        ));
+    }
+    let (mut sum, mut squares, mut largest, mut faulty) = (0.0, 0.0, 0.0_f64, 0u64);
+    let mut latched = Faults::NONE;
+    let mut last_outside = None;
+    for (k, ((&c, &s), &truth)) in scenario
+        .y_c
+        .iter()
+        .zip(&scenario.y_s)
+        .zip(&scenario.angle_rad)
+        .enumerate()
+    {
+        let e = chain.update(&mut state, (T::from_f64(c), T::from_f64(s)));
+        let error = wrap(truth - e.angle.to_f64());
+        latched = latched.union(e.faults);
+        if !(error.abs() <= spec.lock_tolerance_rad) {
+            last_outside = Some(k);
+        }
+        if k >= first {
+            sum += error;
+            squares += error * error;
+            largest = largest.max(error.abs());
+            faulty += u64::from(!e.faults.is_empty());
+        }
+    }
+    let n = (scenario.len() - first) as f64;
+    row.samples = (scenario.len() - first) as u64;
+    row.rms_error_rad = (squares / n).sqrt();
+    row.max_error_rad = largest;
+    row.mean_error_rad = sum / n;
+    row.time_to_lock_s = match last_outside {
+        Some(k) if k + 1 == scenario.len() => f64::NAN,
+        Some(k) => (k + 1) as f64 * scenario.sample_period_s,
+        None => 0.0,
+    };
+    row.fault_samples = faulty;
+    row.faults = latched.to_string();
+    if matches!(tracker.calibration, Calibration::Online { .. }) {
+        let (o_c, o_s, a_c, a_s, phi) = state.front_end.calibrator().calibration().parameters();
+        row.learned = [o_c, o_s, a_c, a_s, phi].map(T::to_f64);
+    }
+    Ok(())
+}

@@ -1,0 +1,462 @@
+//! Reading a study's specification: its sensors' parameters (each a value or a
+//! distribution), its motion profiles and its setups (tracker files), every field checked
+//! and every error naming the field as written.
+
+use std::path::Path;
+
+use rand::Rng;
+use rand_distr::{Distribution, Normal};
+use serde_json::Value;
+
+use super::{STUDY_FORMAT, STUDY_VERSION};
+use crate::json_file::{Document, JsonFileError};
+use crate::tracker_file::{AdcRange, Correction, Input, NumberType, TrackerFile};
+use crate::{Motion, MotionProfile};
+
+/// The sensor parameters a study draws, in the order they are drawn and written.
+pub(super) const SENSOR_PARAMETERS: [&str; 7] = [
+    "amplitude",
+    "offset_cos",
+    "offset_sin",
+    "amplitude_imbalance",
+    "quadrature_error_rad",
+    "third_harmonic",
+    "noise_std",
+];
+
+/// The top level's fields.
+const FIELDS: [&str; 10] = [
+    "format",
+    "version",
+    "seed",
+    "sensors",
+    "sample_period_s",
+    "skip_s",
+    "lock_tolerance_rad",
+    "sensor",
+    "profiles",
+    "setups",
+];
+
+/// The most sensors of one study (10^9: run ids stay exact in every table's integers).
+const MAX_SENSORS: i64 = 1_000_000_000;
+
+/// One sensor parameter: a value, or a distribution it is drawn from per sensor.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Spread {
+    /// The same value for every sensor.
+    Fixed(f64),
+    /// Normal, of mean and standard deviation.
+    Normal(f64, f64),
+    /// Uniform over `[low, high)`.
+    Uniform(f64, f64),
+}
+
+impl Spread {
+    /// One draw (the generator advances for every kind, so that a parameter's draws do not
+    /// depend on whether another one is spread).
+    pub(super) fn draw(self, rng: &mut impl Rng) -> f64 {
+        let unit: f64 = rng.random();
+        let gaussian: f64 = Normal::new(0.0, 1.0).map_or(0.0, |n| n.sample(rng));
+        match self {
+            Spread::Fixed(value) => value,
+            Spread::Normal(mean, std) => mean + std * gaussian,
+            Spread::Uniform(low, high) => low + (high - low) * unit,
+        }
+    }
+}
+
+/// A study's specification, checked.
+#[derive(Debug, Clone)]
+pub(super) struct Spec {
+    pub(super) seed: u64,
+    pub(super) sensors: u64,
+    pub(super) sample_period_s: f64,
+    pub(super) skip_s: f64,
+    pub(super) lock_tolerance_rad: f64,
+    pub(super) parameters: [Spread; SENSOR_PARAMETERS.len()],
+    pub(super) adc_bits: u32,
+    pub(super) adc_full_scale: f64,
+    pub(super) profiles: Vec<(String, MotionProfile)>,
+    pub(super) setups: Vec<(String, TrackerFile)>,
+}
+
+/// `text` (a study document, named `file` in errors) with each setup's `tracker` given as a
+/// path replaced by that file's document, read relative to `base_dir`: what every run needs,
+/// in one text that runs anywhere.
+pub(super) fn resolve(text: &str, file: &str, base_dir: &Path) -> Result<String, JsonFileError> {
+    let mut value: Value = serde_json::from_str(text)
+        .map_err(|e| JsonFileError::new(file, None, format!("not JSON ({e})")))?;
+    if let Some(Value::Object(setups)) = value.get_mut("setups") {
+        for (name, setup) in setups.iter_mut() {
+            let Some(Value::String(path)) = setup.get("tracker") else {
+                continue;
+            };
+            let field = format!("setups.{name}.tracker");
+            let path = base_dir.join(path.as_str());
+            let tracker = std::fs::read_to_string(&path).map_err(|e| {
+                JsonFileError::new(file, Some(&field), format!("{}: {e}", path.display()))
+            })?;
+            let document: Value = serde_json::from_str(&tracker).map_err(|e| {
+                JsonFileError::new(&path.display().to_string(), None, format!("not JSON ({e})"))
+            })?;
+            // Checked here, so that a bad tracker file is named by its path, not the spec.
+            TrackerFile::from_json(&tracker, &path.display().to_string())?;
+            setup["tracker"] = document;
+        }
+    }
+    let resolved = value.to_string();
+    Spec::parse(&resolved, file)?;
+    Ok(resolved)
+}
+
+impl Spec {
+    /// The specification of `text` (named `file` in errors), its trackers inline.
+    pub(super) fn parse(text: &str, file: &str) -> Result<Self, JsonFileError> {
+        let doc = Document::parse(text, file)?;
+        doc.refuse_unknown(&FIELDS)?;
+        doc.check_format(STUDY_FORMAT)?;
+        doc.check_version(STUDY_VERSION)?;
+        let seed = doc
+            .object
+            .get("seed")
+            .and_then(Value::as_u64)
+            .ok_or_else(|| doc.error("seed", "must be a whole number of at least 0"))?;
+        let sensors = doc
+            .object
+            .get("sensors")
+            .and_then(Value::as_i64)
+            .filter(|n| (1..=MAX_SENSORS).contains(n))
+            .ok_or_else(|| {
+                doc.error(
+                    "sensors",
+                    format!("must be a whole number from 1 to {MAX_SENSORS}"),
+                )
+            })? as u64;
+        let sample_period_s = doc.number("sample_period_s")?;
+        if !(sample_period_s > 0.0 && sample_period_s.is_finite()) {
+            return Err(doc.error("sample_period_s", "must be a positive number of seconds"));
+        }
+        let skip_s = optional(&doc, "skip_s", 0.0)?;
+        if !(skip_s >= 0.0 && skip_s.is_finite()) {
+            return Err(doc.error("skip_s", "must be a number of seconds of at least 0"));
+        }
+        let lock_tolerance_rad = optional(&doc, "lock_tolerance_rad", 0.01)?;
+        if !(lock_tolerance_rad > 0.0 && lock_tolerance_rad.is_finite()) {
+            return Err(doc.error("lock_tolerance_rad", "must be a positive angle (rad)"));
+        }
+        let sensor = doc
+            .section("sensor")?
+            .ok_or_else(|| doc.error("sensor", "missing"))?;
+        let (parameters, adc_bits, adc_full_scale) = sensor_parameters(&sensor)?;
+        let profiles = named(&doc, "profiles", |d, _| profile(d))?;
+        let setups = named(&doc, "setups", |d, name| setup(d, name, sample_period_s))?;
+        Ok(Spec {
+            seed,
+            sensors,
+            sample_period_s,
+            skip_s,
+            lock_tolerance_rad,
+            parameters,
+            adc_bits,
+            adc_full_scale,
+            profiles,
+            setups,
+        })
+    }
+
+    /// The number of runs: every sensor through every profile and every setup.
+    pub(super) fn runs(&self) -> u64 {
+        self.sensors * self.profiles.len() as u64 * self.setups.len() as u64
+    }
+}
+
+/// The number under `field`, `default` when missing.
+fn optional(doc: &Document<'_>, field: &str, default: f64) -> Result<f64, JsonFileError> {
+    match doc.object.get(field) {
+        None => Ok(default),
+        Some(_) => doc.number(field),
+    }
+}
+
+/// The entries of the table `field` (name to object), each read by `read`, in the order
+/// written; at least one.
+fn named<T>(
+    doc: &Document<'_>,
+    field: &str,
+    read: impl Fn(&Document<'_>, &str) -> Result<T, JsonFileError>,
+) -> Result<Vec<(String, T)>, JsonFileError> {
+    let section = doc
+        .section(field)?
+        .ok_or_else(|| doc.error(field, "missing"))?;
+    if section.object.is_empty() {
+        return Err(doc.error(field, "must name at least one"));
+    }
+    let names: Vec<String> = section.object.keys().cloned().collect();
+    names
+        .into_iter()
+        .map(|name| {
+            let entry = section
+                .section(&name)?
+                .ok_or_else(|| section.error(&name, "must be an object"))?;
+            Ok((name.clone(), read(&entry, &name)?))
+        })
+        .collect()
+}
+
+/// A parameter's value or distribution: a number, `{"normal": {"mean", "std"}}` or
+/// `{"uniform": {"low", "high"}}`.
+fn spread(doc: &Document<'_>, field: &str, default: f64) -> Result<Spread, JsonFileError> {
+    let Some(value) = doc.object.get(field) else {
+        return Ok(Spread::Fixed(default));
+    };
+    if let Some(v) = value.as_f64() {
+        return finite(doc, field, v).map(Spread::Fixed);
+    }
+    let expected = "a number, {\"normal\": {\"mean\": M, \"std\": S}} or {\"uniform\": {\"low\": L, \"high\": H}}";
+    let distribution = doc
+        .section(field)?
+        .ok_or_else(|| doc.error(field, format!("must be {expected}, got {value}")))?;
+    let kind = distribution
+        .object
+        .keys()
+        .next()
+        .cloned()
+        .unwrap_or_default();
+    distribution.refuse_unknown(&["normal", "uniform"])?;
+    if distribution.object.len() != 1 {
+        return Err(doc.error(field, format!("must be {expected}")));
+    }
+    let inner = distribution
+        .section(&kind)?
+        .ok_or_else(|| distribution.error(&kind, "must be an object"))?;
+    if kind == "normal" {
+        inner.refuse_unknown(&["mean", "std"])?;
+        let (mean, std) = (inner.number("mean")?, inner.number("std")?);
+        finite(&inner, "mean", mean)?;
+        if !(std >= 0.0 && std.is_finite()) {
+            return Err(inner.error(
+                "std",
+                format!("must be a finite number of at least 0, got {std}"),
+            ));
+        }
+        Ok(Spread::Normal(mean, std))
+    } else {
+        inner.refuse_unknown(&["low", "high"])?;
+        let (low, high) = (inner.number("low")?, inner.number("high")?);
+        if !(low.is_finite() && high.is_finite() && low <= high) {
+            return Err(inner.error(
+                "high",
+                format!("expected finite low <= high, got {low} to {high}"),
+            ));
+        }
+        Ok(Spread::Uniform(low, high))
+    }
+}
+
+fn finite(doc: &Document<'_>, field: &str, v: f64) -> Result<f64, JsonFileError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(doc.error(field, format!("must be finite, got {v}")))
+    }
+}
+
+type SensorSection = ([Spread; SENSOR_PARAMETERS.len()], u32, f64);
+
+/// The `sensor` table: the spread of each of [`SENSOR_PARAMETERS`] (missing: the ideal
+/// sensor's value) and the ADC's `adc_bits` and `adc_full_scale`, the same for every sensor.
+fn sensor_parameters(doc: &Document<'_>) -> Result<SensorSection, JsonFileError> {
+    let mut known = SENSOR_PARAMETERS.to_vec();
+    known.extend(["adc_bits", "adc_full_scale"]);
+    doc.refuse_unknown(&known)?;
+    let ideal = crate::SensorModel::default();
+    let defaults = [ideal.amplitude, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+    let mut parameters = [Spread::Fixed(0.0); SENSOR_PARAMETERS.len()];
+    for ((slot, name), default) in parameters.iter_mut().zip(SENSOR_PARAMETERS).zip(defaults) {
+        *slot = spread(doc, name, default)?;
+    }
+    let adc_bits = match doc.object.get("adc_bits") {
+        None => 0,
+        Some(v) => v.as_u64().filter(|&b| b <= 32).ok_or_else(|| {
+            doc.error(
+                "adc_bits",
+                format!("must be a whole number from 0 (no ADC) to 32, got {v}"),
+            )
+        })? as u32,
+    };
+    let adc_full_scale = optional(doc, "adc_full_scale", ideal.adc_full_scale)?;
+    Ok((parameters, adc_bits, adc_full_scale))
+}
+
+/// The fields of each kind of motion segment (the crate's [`Motion`]'s, as written).
+const SEGMENTS: [(&str, &[&str]); 7] = [
+    ("constant_speed", &["speed_rad_s", "duration_s"]),
+    (
+        "constant_acceleration",
+        &["acceleration_rad_s2", "duration_s"],
+    ),
+    ("step", &["step_rad", "duration_s"]),
+    (
+        "trapezoidal",
+        &["distance_rad", "max_speed_rad_s", "max_acceleration_rad_s2"],
+    ),
+    (
+        "s_curve",
+        &[
+            "distance_rad",
+            "max_speed_rad_s",
+            "max_acceleration_rad_s2",
+            "max_jerk_rad_s3",
+        ],
+    ),
+    (
+        "speed_ripple",
+        &["ripple_rad_s", "frequency_hz", "duration_s"],
+    ),
+    ("reversal", &["acceleration_rad_s2"]),
+];
+
+/// A motion profile: `initial_angle_rad`, `initial_speed_rad_s` and `segments`, a list of
+/// one-key objects `{"constant_speed": {"speed_rad_s": ..., "duration_s": ...}}`.
+fn profile(doc: &Document<'_>) -> Result<MotionProfile, JsonFileError> {
+    doc.refuse_unknown(&["initial_angle_rad", "initial_speed_rad_s", "segments"])?;
+    let mut profile = MotionProfile::new(
+        optional(doc, "initial_angle_rad", 0.0)?,
+        optional(doc, "initial_speed_rad_s", 0.0)?,
+    );
+    let Some(Value::Array(segments)) = doc.object.get("segments") else {
+        return Err(doc.error("segments", "must be a list of segments, such as [{\"constant_speed\": {\"speed_rad_s\": 300.0, \"duration_s\": 0.5}}]"));
+    };
+    let kinds: Vec<&str> = SEGMENTS.iter().map(|(k, _)| *k).collect();
+    for (k, segment) in segments.iter().enumerate() {
+        let field = format!("segments[{k}]");
+        let one = match segment {
+            Value::Object(o) if o.len() == 1 => o,
+            _ => {
+                return Err(doc.error(
+                    &field,
+                    format!("must be one of {{{}: {{...}}}}", kinds.join(", ")),
+                ));
+            }
+        };
+        let (kind, values) = one.iter().next().expect("one entry");
+        let holder = Document {
+            object: one.clone(),
+            file: doc.file,
+            prefix: format!("{}{field}.", doc.prefix),
+        };
+        let Some(&(_, names)) = SEGMENTS.iter().find(|(k, _)| k == kind) else {
+            return Err(holder.error(
+                kind,
+                format!("unknown segment (expected one of: {})", kinds.join(", ")),
+            ));
+        };
+        let Value::Object(values) = values else {
+            return Err(holder.error(kind, "must be an object"));
+        };
+        let fields = Document {
+            object: values.clone(),
+            file: doc.file,
+            prefix: format!("{}{field}.{kind}.", doc.prefix),
+        };
+        fields.refuse_unknown(names)?;
+        let mut v = [0.0; 4];
+        for (slot, name) in v.iter_mut().zip(names) {
+            *slot = fields.number(name)?;
+        }
+        profile = profile.then(match kind.as_str() {
+            "constant_speed" => Motion::ConstantSpeed {
+                speed_rad_s: v[0],
+                duration_s: v[1],
+            },
+            "constant_acceleration" => Motion::ConstantAcceleration {
+                acceleration_rad_s2: v[0],
+                duration_s: v[1],
+            },
+            "step" => Motion::Step {
+                step_rad: v[0],
+                duration_s: v[1],
+            },
+            "trapezoidal" => Motion::Trapezoidal {
+                distance_rad: v[0],
+                max_speed_rad_s: v[1],
+                max_acceleration_rad_s2: v[2],
+            },
+            "s_curve" => Motion::SCurve {
+                distance_rad: v[0],
+                max_speed_rad_s: v[1],
+                max_acceleration_rad_s2: v[2],
+                max_jerk_rad_s3: v[3],
+            },
+            "speed_ripple" => Motion::SpeedRipple {
+                ripple_rad_s: v[0],
+                frequency_hz: v[1],
+                duration_s: v[2],
+            },
+            _ => Motion::Reversal {
+                acceleration_rad_s2: v[0],
+            },
+        });
+    }
+    Ok(profile)
+}
+
+/// A setup: `{"tracker": DOCUMENT}` (a path was replaced by its document by [`resolve`]);
+/// its samples are the simulated sensor's, in units, at the study's sample period, so the
+/// tracker's input must be units and its gains of that period.
+fn setup(
+    doc: &Document<'_>,
+    name: &str,
+    sample_period_s: f64,
+) -> Result<TrackerFile, JsonFileError> {
+    doc.refuse_unknown(&["tracker"])?;
+    let text = match doc.object.get("tracker") {
+        Some(v @ Value::Object(_)) => v.to_string(),
+        _ => return Err(doc.error("tracker", "must be a tracker file's path or document")),
+    };
+    let field = format!("setups.{name}.tracker");
+    let tracker = TrackerFile::from_json(&text, &format!("{} {field}", doc.file))?;
+    let refuse = |what: &str, why: &str| {
+        Err(JsonFileError::new(
+            doc.file,
+            Some(&format!("{field}.{what}")),
+            why,
+        ))
+    };
+    let period = tracker.gains.sample_period_s;
+    if (period / sample_period_s - 1.0).abs() > 1e-9 {
+        return Err(JsonFileError::new(
+            doc.file,
+            Some(&format!("{field}.sample_period_s")),
+            format!(
+                "{period} s, but the study samples every {sample_period_s} s (sample_period_s): design the gains for the study's rate"
+            ),
+        ));
+    }
+    if tracker.input != Input::Units {
+        return refuse(
+            "input",
+            "a study's simulated sensor gives samples in units: give input {\"kind\": \"units\"}",
+        );
+    }
+    if tracker.adc_range == AdcRange::FullScale {
+        return refuse(
+            "adc_range",
+            "\"full_scale\" is for counts: give \"measured\" or \"stated\" in units",
+        );
+    }
+    if tracker.number_type == NumberType::Fixed {
+        return refuse(
+            "number_type",
+            "studies run f32 and f64 trackers; the fixed-point chain is not simulated yet",
+        );
+    }
+    if matches!(tracker.correction, Correction::Table(_)) {
+        return refuse(
+            "correction",
+            "studies apply a correction of harmonics (\"kind\": \"harmonics\"), not a table yet",
+        );
+    }
+    Ok(tracker)
+}

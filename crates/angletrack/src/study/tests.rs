@@ -1,0 +1,89 @@
+use std::path::Path;
+
+use super::Study;
+
+/// A study of one sensor of `sensor` turning at 300 rad/s for 1 s at 10 kHz through the
+/// tracker `tracker` (fields beside the gains).
+fn spec(sensor: &str, tracker: &str) -> String {
+    format!(
+        r#"{{"format": "angletrack-study", "version": 1, "seed": 3, "sensors": 1,
+        "sample_period_s": 1e-4, "skip_s": 0.5, "sensor": {{{sensor}}},
+        "profiles": {{"cruise": {{"initial_speed_rad_s": 300.0,
+            "segments": [{{"constant_speed": {{"speed_rad_s": 300.0, "duration_s": 1.0}}}}]}}}},
+        "setups": {{"online": {{"tracker": {{"format": "angletrack-tracker", "version": 1,
+            "sample_period_s": 1e-4, "gains": [0.06, 0.0019, 3e-5]{tracker}}}}}}}}}"#
+    )
+}
+
+fn error(text: &str) -> String {
+    Study::from_json(text, "s.json", Path::new("."))
+        .unwrap_err()
+        .to_string()
+}
+
+#[test]
+fn an_online_calibration_learns_the_drawn_sensor_and_removes_its_error() {
+    let sensor = r#""offset_cos": 0.05, "amplitude_imbalance": 0.1, "noise_std": 0.001"#;
+    let online = r#", "calibration": {"kind": "online"}"#;
+    let learned = Study::from_json(&spec(sensor, online), "s.json", Path::new("."))
+        .unwrap()
+        .run(0);
+    assert_eq!(learned.error, None);
+    let [o_c, _, a_c, a_s, _] = learned.learned;
+    assert!((o_c - 0.05).abs() < 2e-3, "{o_c}");
+    assert!((a_s / a_c - 1.1).abs() < 2e-3, "{a_c} {a_s}");
+    let plain = Study::from_json(&spec(sensor, ""), "s.json", Path::new("."))
+        .unwrap()
+        .run(0);
+    assert!(plain.learned[0].is_nan());
+    // The offset's error (about 0.05 rad peak) is gone once learned.
+    assert!(plain.max_error_rad > 0.03 && learned.rms_error_rad < 0.005);
+}
+
+#[test]
+fn a_bad_spec_is_refused_naming_the_field() {
+    assert_eq!(
+        error(&spec(r#""offset_cos": {"normal": {"mean": 0.0}}"#, "")),
+        "s.json: sensor.offset_cos.normal.std: missing"
+    );
+    assert_eq!(
+        error(&spec(r#""offset": 0.1"#, "")),
+        "s.json: sensor.offset: unknown field (expected one of: amplitude, offset_cos, offset_sin, \
+         amplitude_imbalance, quadrature_error_rad, third_harmonic, noise_std, adc_bits, adc_full_scale)"
+    );
+    assert!(
+        error(&spec("", r#", "number_type": "fixed""#))
+            .starts_with("s.json: setups.online.tracker.number_type: studies run f32 and f64")
+    );
+    let other_rate = spec("", "").replace(
+        "\"sample_period_s\": 1e-4, \"skip",
+        "\"sample_period_s\": 5e-5, \"skip",
+    );
+    assert!(error(&other_rate).starts_with(
+        "s.json: setups.online.tracker.sample_period_s: 0.0001 s, but the study samples every 5e-5 s"
+    ));
+}
+
+#[test]
+fn a_drawn_sensor_out_of_the_models_range_is_a_row_with_its_error() {
+    let study = Study::from_json(
+        &spec(r#""amplitude_imbalance": -2.0"#, ""),
+        "s.json",
+        Path::new("."),
+    )
+    .unwrap();
+    let row = study.run(0);
+    assert!(
+        row.error.unwrap().starts_with("sensor: "),
+        "{:?}",
+        study.run(0).error
+    );
+    assert!(row.rms_error_rad.is_nan());
+    assert!(
+        study
+            .run(1)
+            .error
+            .unwrap()
+            .contains("beyond the study's 1 runs")
+    );
+}

@@ -1,0 +1,67 @@
+"""Measures ``angletrack study`` on Dask (docs/guide/studies.md, "Scale"): one study of runs
+of ``--samples`` samples each (one sensor through a third-order f64 tracker at 20 kHz),
+run with 1 and then 2 local workers; prints the throughput of each, their ratio, and the
+scheduling overhead: wall time x workers minus the runs' own time, over the runs' time.
+
+    python python/scripts/study_scale.py --samples 1000000 --runs 16
+
+Needs the package with its study extra installed; not part of the test command (it times).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import pathlib
+import tempfile
+
+import pyarrow.parquet as pq
+
+from angletrack import cli, study, study_dask
+
+
+def spec(directory: pathlib.Path, samples: int, runs: int) -> pathlib.Path:
+    tracker = directory / "tracker.json"
+    assert cli.main(["design", "third-order", "--sample-rate", "20000", "--butterworth-time-constant", "2e-3",
+                     "--dtype", "float64", "--format", "tracker", "-o", str(tracker)]) == 0
+    duration = (samples - 1) / 20e3
+    document = {
+        "format": "angletrack-study", "version": 1, "seed": 1, "sensors": runs, "sample_period_s": 5e-5,
+        "skip_s": 0.02,
+        "sensor": {"offset_cos": {"normal": {"mean": 0.0, "std": 0.005}}, "noise_std": 0.001},
+        "profiles": {"cruise": {"initial_speed_rad_s": 300.0,
+                                "segments": [{"constant_speed": {"speed_rad_s": 300.0, "duration_s": duration}}]}},
+        "setups": {"f64": {"tracker": "tracker.json"}},
+    }
+    path = directory / "scale.json"
+    path.write_text(json.dumps(document))
+    return path
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--samples", type=int, default=1_000_000)
+    parser.add_argument("--runs", type=int, default=16)
+    args = parser.parse_args()
+    print(f"load average before: {os.getloadavg()}")
+    with tempfile.TemporaryDirectory() as scratch:
+        directory = pathlib.Path(scratch)
+        path = spec(directory, args.samples, args.runs)
+        throughput = {}
+        for workers in (1, 2):
+            output = directory / f"w{workers}.parquet"
+            _, measured = study.run_study(path, output, study_dask.Cluster(workers=workers), progress=False)
+            wall = measured["seconds"]
+            busy = sum(pq.read_table(output).column("seconds").to_pylist())
+            throughput[workers] = args.runs * args.samples / wall
+            print(f"{workers} worker(s): {args.runs} runs of {args.samples} samples in {wall:.2f} s wall, "
+                  f"{busy:.2f} s in the runs: {throughput[workers] / 1e6:.2f} M samples/s, "
+                  f"{busy / args.runs * 1e3:.1f} ms per run, scheduling overhead "
+                  f"{100 * (wall * workers - busy) / busy:.1f} %")
+        print(f"2 workers / 1 worker: {throughput[2] / throughput[1]:.2f}x")
+    print(f"load average after: {os.getloadavg()}")
+
+
+if __name__ == "__main__":
+    main()

@@ -416,7 +416,14 @@ fn setup(
         _ => return Err(doc.error("tracker", "must be a tracker file's path or document")),
     };
     let field = format!("setups.{name}.tracker");
-    let tracker = TrackerFile::from_json(&text, &format!("{} {field}", doc.file))?;
+    // Named as the spec's field: `study.toml: setups.f32.tracker.calibration.max_offset`.
+    let tracker = TrackerFile::from_json(&text, doc.file).map_err(|e| {
+        let at = e
+            .field
+            .as_ref()
+            .map_or(field.clone(), |f| format!("{field}.{f}"));
+        JsonFileError::new(doc.file, Some(&at), e.reason)
+    })?;
     let refuse = |what: &str, why: &str| {
         Err(JsonFileError::new(
             doc.file,
@@ -434,6 +441,12 @@ fn setup(
             ),
         ));
     }
+    if tracker.number_type == NumberType::Fixed {
+        return refuse(
+            "number_type",
+            "studies run f32 and f64 trackers; the fixed-point chain is not simulated yet",
+        );
+    }
     if tracker.input != Input::Units {
         return refuse(
             "input",
@@ -444,12 +457,6 @@ fn setup(
         return refuse(
             "adc_range",
             "\"full_scale\" is for counts: give \"measured\" or \"stated\" in units",
-        );
-    }
-    if tracker.number_type == NumberType::Fixed {
-        return refuse(
-            "number_type",
-            "studies run f32 and f64 trackers; the fixed-point chain is not simulated yet",
         );
     }
     if matches!(tracker.correction, Correction::Table(_)) {

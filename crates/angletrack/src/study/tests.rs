@@ -51,17 +51,31 @@ fn a_bad_spec_is_refused_naming_the_field() {
         "s.json: sensor.offset: unknown field (expected one of: amplitude, offset_cos, offset_sin, \
          amplitude_imbalance, quadrature_error_rad, third_harmonic, noise_std, adc_bits, adc_full_scale)"
     );
+    let fixed = error(&spec(
+        "",
+        r#", "number_type": "fixed", "input": {"kind": "counts", "bits": 12, "signed": true}"#,
+    ));
     assert!(
-        error(&spec("", r#", "number_type": "fixed""#))
-            .starts_with("s.json: setups.online.tracker.number_type: studies run f32 and f64")
+        fixed.starts_with("s.json: setups.online.tracker.number_type: studies run f32 and f64"),
+        "{fixed}"
     );
     let other_rate = spec("", "").replace(
         "\"sample_period_s\": 1e-4, \"skip",
         "\"sample_period_s\": 5e-5, \"skip",
     );
-    assert!(error(&other_rate).starts_with(
-        "s.json: setups.online.tracker.sample_period_s: 0.0001 s, but the study samples every 5e-5 s"
-    ));
+    assert_eq!(
+        error(&other_rate),
+        "s.json: setups.online.tracker.sample_period_s: 0.0001 s, but the study samples every 0.00005 s \
+         (sample_period_s): design the gains for the study's rate"
+    );
+}
+
+#[test]
+fn a_setups_tracker_refused_by_its_reader_is_named_as_the_specs_field() {
+    assert_eq!(
+        error(&spec("", r#", "number_type": "f16""#)),
+        "s.json: setups.online.tracker.number_type: expected \"f32\", \"f64\" or \"fixed\", got \"f16\""
+    );
 }
 
 #[test]

@@ -1,6 +1,6 @@
 """``angletrack study`` and ``angletrack lot`` on Dask: the guide's example spec gives the same
-rows on one local worker, on two (resumed part way) and on a real scheduler with two worker
-processes; a lot with a corrupt capture among good ones gives a row each and the outlier
+rows on one local worker, on two (resuming a study stopped part way) and on a real scheduler
+with two worker processes; a lot with a corrupt capture among good ones gives a row each and the outlier
 report; the yield and lot plots are written; without the extra, one line says how to
 install it."""
 
@@ -54,24 +54,25 @@ def scheduler(tmp_path):
     dask = pathlib.Path(sys.executable).parent / "dask"
     file = tmp_path / "scheduler.json"
     common = ["--no-dashboard", "--dashboard-address", ":0"]
+    # The workers wait for the scheduler's file: all three start at once.
     started = [subprocess.Popen([str(dask), "scheduler", "--scheduler-file", str(file), "--port", "0",
                                  "--host", "127.0.0.1", *common], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
     try:
-        deadline = time.monotonic() + 60
-        while not file.exists() and time.monotonic() < deadline:
-            time.sleep(0.1)
         for _ in range(2):
             started.append(subprocess.Popen([str(dask), "worker", "--scheduler-file", str(file), "--nthreads", "1",
                                              "--nworkers", "1", *common],
                                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+        deadline = time.monotonic() + 60
+        while not file.exists() and time.monotonic() < deadline:
+            time.sleep(0.1)
         from dask.distributed import Client
 
         with Client(scheduler_file=str(file), timeout="60s") as client:
             client.wait_for_workers(2, timeout=60)
         yield file
     finally:
-        for process in reversed(started):
-            process.terminate()
+        for process in started:
+            process.kill()
         for process in started:
             process.wait(timeout=30)
 
@@ -80,19 +81,23 @@ def test_the_guide_spec_gives_the_same_rows_on_any_workers(tmp_path, scheduler, 
     spec = guide_spec(tmp_path)
     one, two, remote = tmp_path / "one.parquet", tmp_path / "two.parquet", tmp_path / "remote.parquet"
     assert cli.main(["study", str(spec), "-o", str(one), "--workers", "1", "--no-progress"]) == 0
-    # Two workers, interrupted after 10 runs and resumed: the runs done are skipped.
-    study.run_study(spec, two, study_dask.Cluster(workers=2), progress=False, first_runs=10)
+    # Interrupted after 10 runs (on the scheduler, whose workers are up already) and resumed
+    # on two local workers: the runs done are skipped.
+    study.run_study(spec, two, study_dask.Cluster(scheduler_file=scheduler), progress=False, first_runs=10)
     assert len(pq.read_table(two)) == 10
     assert cli.main(["study", str(spec), "-o", str(two), "--workers", "2", "--resume", "--no-progress"]) == 0
-    assert "32 runs" not in capsys.readouterr().out.splitlines()[-1] and len(pq.read_table(two)) == 32
+    assert "48 runs" not in capsys.readouterr().out.splitlines()[-1] and len(pq.read_table(two)) == 48
     assert cli.main(["study", str(spec), "-o", str(remote), "--scheduler-file", str(scheduler),
                      "--no-progress"]) == 0
     reference = rows(one)
-    assert reference["run"] == list(range(32)) and set(reference["error"]) == {""}
+    assert reference["run"] == list(range(48)) and set(reference["error"]) == {""}
     assert same(reference, rows(two)) and same(reference, rows(remote))
     # Every sensor is the same sensor in each profile and setup; the spreads were drawn.
     assert len(set(reference["offset_cos"])) == 8
     assert max(reference["max_error_rad"]) < 0.1
+    # The online calibration learned each sensor's offset (within 2 mrad of the 5 mrad spread).
+    online = [k for k, setup in enumerate(reference["setup"]) if setup == "f32_online"]
+    assert all(abs(reference["learned_offset_c"][k] - reference["offset_cos"][k]) < 2e-3 for k in online)
     # Results already there: refused without --resume; with it, nothing is left to do.
     assert cli.main(["study", str(spec), "-o", str(one), "--workers", "1"]) == 2
     assert "give --resume" in capsys.readouterr().err

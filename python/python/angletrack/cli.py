@@ -156,7 +156,10 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     and its harmonics 1 to 10; the speed and the observer's fault flags over time. Against
     the observer's angle, its start-up until lock is left out of the error and shaded.
     Reads the capture in chunks: any size, at most --max-points points per series (the
-    scatters a random subsample, the time series min and max per point).
+    scatters a random subsample, the time series min and max per point). Given the results of
+    `angletrack study` or `angletrack lot` (RESULTS.parquet), draws the yield curve and the
+    error against each sensor parameter, or each calibration parameter's histogram with its
+    outliers.
     """
     from angletrack import plots, study_plots
 

@@ -100,7 +100,10 @@ def _cmd_lot(args: argparse.Namespace) -> int:
     tracker_text = capture_io.read_text_file(args.tracker, "--tracker")
     from angletrack.tracker import Tracker
 
-    Tracker.from_json(tracker_text, str(args.tracker))  # refused here, not once per capture
+    # Refused here, not once per capture.
+    if Tracker.from_json(tracker_text, str(args.tracker)).dtype == "fixed":
+        raise ValueError(f'--tracker: {args.tracker}: number_type "fixed": a lot tracks float trackers ("f32", '
+                         '"f64"); track the fixed-point chain with `angletrack track --tracker`')
     layout = lot.Layout(columns=args.columns, delimiter=args.delimiter, decimal=args.decimal,
                         skip_rows=args.skip_rows, time_unit=args.time_unit, sample_rate_hz=args.sample_rate)
     source = "\n".join([tracker_text, repr(layout), str(args.skip)])
@@ -110,7 +113,7 @@ def _cmd_lot(args: argparse.Namespace) -> int:
     writer = study_dask.PartWriter(args.output, source)
     if todo:
         tasks = ((batch, tracker_text, str(args.tracker), layout, args.skip)
-                 for batch in study_dask.batches(todo, cluster.workers or 1, largest=4))
+                 for batch in study_dask.batches(todo, len(todo), cluster.workers or 1, largest=4))
         study_dask.run_tasks(cluster, lot.lot_task, tasks, len(todo), writer, progress=not args.no_progress,
                              unit="capture")
     report, _ = lot.outlier_report(args.output, dict(args.limit or []), args.spread_factor)

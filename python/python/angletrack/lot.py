@@ -94,8 +94,10 @@ def capture_row(capture: str, tracker_text: str, tracker_file: str, layout: Layo
         settings = tracking.TrackSettings(capture=path, output=path, skip_s=skip_s, **dataclasses.asdict(layout),
                                           **calibrated.track_settings())
         _track(settings, row)
-    except (ValueError, TypeError, OSError, RuntimeError, MemoryError) as e:
-        row["status"], row["error"] = "error", " ".join(str(e).split())
+    except Exception as e:  # noqa: BLE001 - any failure is the capture's row, never a stopped lot
+        known = isinstance(e, (ValueError, TypeError, OSError, RuntimeError, MemoryError))
+        message = " ".join(str(e).split())
+        row["status"], row["error"] = "error", message if known else f"{type(e).__name__}: {message}"
     row["seconds"] = time.monotonic() - started
     return row
 
@@ -113,10 +115,8 @@ def _fill_calibration(row: dict, cal: harmonics.Calibration) -> None:
 def _track(s: tracking.TrackSettings, row: dict) -> None:
     """Tracks the capture of ``s`` as ``track`` does (its observer, its scaling, its refusal
     of a capture mostly rejected), counting the faults and, against a reference column, the
-    angle error; the estimates are not kept."""
-    if s.dtype == "fixed":
-        raise ValueError('number_type: a lot tracks float trackers ("f32", "f64"); the fixed-point chain is '
-                         "tracked by `angletrack track --tracker`")
+    angle error; the estimates are not kept. Float trackers only (the command refuses
+    ``"fixed"``)."""
     reader = angletrack.CaptureReader(s.capture, **s.reader_options(), chunk_rows=s.chunk_rows)
     chunks = iter(reader)
     first = next(chunks)

@@ -49,12 +49,13 @@ def run_study(spec: pathlib.Path, output: pathlib.Path, cluster: study_dask.Clus
         runs = min(runs, first_runs)
     study_dask.prepare_output(output, resume)
     done = study_dask.done_keys(output, "run", resolved) if resume else set()
-    todo = [r for r in range(runs) if r not in done]
+    count = runs - sum(1 for r in done if r < runs)
     writer = study_dask.PartWriter(output, resolved)
-    if not todo:
+    if count == 0:
         return f"study {spec}: all {runs} runs already in {output}", {}
+    todo = (r for r in range(runs) if r not in done)
     measured = study_dask.run_tasks(
-        cluster, study_task, ((resolved, batch) for batch in study_dask.batches(todo, cluster.workers or 1)),
-        len(todo), writer, progress=progress)
+        cluster, study_task, ((resolved, batch) for batch in study_dask.batches(todo, count, cluster.workers or 1)),
+        count, writer, progress=progress)
     return (f"study {spec}: {measured['rows']} runs in {measured['seconds']:.1f} s on {measured['workers']} "
             f"workers ({len(done)} already done) -> {output}"), measured

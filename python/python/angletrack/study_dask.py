@@ -21,7 +21,7 @@ import os
 import pathlib
 import time
 import uuid
-from typing import Any, Callable, Iterable, Optional, Sequence
+from typing import Any, Callable, Iterable, Iterator, Optional, Sequence
 
 #: The line the commands print when the extra is missing.
 INSTALL_HINT = "install the study extra: pip install 'angletrack[study]' (Dask, pyarrow, tqdm)"
@@ -84,11 +84,14 @@ class PartWriter:
         self.parts = 0
 
     def add(self, rows: Sequence[dict]) -> None:
+        """Gathers ``rows``; writes a part once :data:`PART_ROWS` are gathered or
+        :data:`PART_SECONDS` have passed since the last."""
         self.rows.extend(rows)
         if len(self.rows) >= PART_ROWS or time.monotonic() - self.last > PART_SECONDS:
             self.flush()
 
     def flush(self) -> None:
+        """Writes the rows gathered as one part file (none without rows)."""
         import pyarrow as pa
         import pyarrow.parquet as pq
 
@@ -173,8 +176,15 @@ def run_tasks(cluster: Cluster, task: Callable[..., list], arguments: Iterable[t
             local.close()
 
 
-def batches(keys: Sequence[Any], workers: int, largest: int = 16) -> list:
-    """``keys`` in batches, one task each: about 8 tasks per worker for balance, at most
-    ``largest`` keys per task."""
-    size = max(1, min(largest, len(keys) // max(8 * workers, 1)))
-    return [keys[i:i + size] for i in range(0, len(keys), size)]
+def batches(keys: Iterable[Any], count: int, workers: int, largest: int = 16) -> Iterator[list]:
+    """The ``count`` ``keys`` in batches, one task each, made as they are submitted: about 8
+    tasks per worker for balance, at most ``largest`` keys per task."""
+    size = max(1, min(largest, count // max(8 * workers, 1)))
+    batch: list = []
+    for key in keys:
+        batch.append(key)
+        if len(batch) == size:
+            yield batch
+            batch = []
+    if batch:
+        yield batch

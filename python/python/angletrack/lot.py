@@ -50,7 +50,7 @@ def captures(patterns: Sequence[str]) -> list[str]:
     each once; a pattern that matches nothing is refused."""
     found: list[str] = []
     for pattern in patterns:
-        matches = sorted(glob.glob(pattern)) if glob.has_magic(pattern) else [pattern]
+        matches = sorted(glob.glob(pattern)) if any(c in pattern for c in "*?[") else [pattern]
         if not matches:
             raise ValueError(f"CAPTURES: {pattern} matches no file")
         found += [m for m in matches if m not in found]

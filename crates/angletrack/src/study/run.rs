@@ -5,8 +5,8 @@ use std::time::Instant;
 
 use angletrack_core::{
     AngleCorrection, CalibrationSettings, CalibrationStage, Calibrator, CorrectionStage, Exact,
-    Fast, FaultThresholds, Faults, Float, Gains, Input, ObserverState, Order, Rails, Real,
-    SensorCalibration, SinCos, SupportedOrder, Tracker, TrackerFrontEnd, TrackerSettings,
+    Fast, FaultThresholds, Faults, FixedGains, Float, Gains, Input, ObserverState, Order, Rails,
+    Real, SensorCalibration, SinCos, SupportedOrder, Tracker, TrackerFrontEnd, TrackerSettings,
     TrackerState, WindingCheck,
 };
 use rand::SeedableRng;
@@ -14,8 +14,10 @@ use rand_chacha::ChaCha8Rng;
 
 use super::spec::{SENSOR_PARAMETERS, Spec};
 use crate::sim::wrap;
-use crate::tracker_file::{AdcRange, Calibration, Correction, NumberType, SinCosKind, TrackerFile};
-use crate::{Scenario, SensorModel, capture_fault_thresholds};
+use crate::tracker_file::{
+    AdcRange, Calibration, Correction, Input as TrackerInput, NumberType, SinCosKind, TrackerFile,
+};
+use crate::{Scenario, SensorModel, capture_fault_thresholds, fixed_front_end, fixed_input};
 
 /// One value of a row.
 #[derive(Debug, Clone, PartialEq)]
@@ -40,7 +42,7 @@ pub struct StudyRow {
     pub profile: String,
     /// The setup's name.
     pub setup: String,
-    /// The setup's number type (`"f32"`, `"f64"`).
+    /// The setup's number type (`"f32"`, `"f64"`, `"fixed"`).
     pub number_type: &'static str,
     /// The sensor's parameters drawn, in the order of the specification's `sensor` fields
     /// (amplitude, offsets, imbalance, quadrature error (rad), 3rd harmonic, noise std).
@@ -212,6 +214,8 @@ fn track(
         kind => kind == SinCosKind::Exact,
     };
     match (tracker.number_type, tracker.gains.gains.len(), exact) {
+        (NumberType::Fixed, 2, _) => track_fixed::<2>(spec, tracker, scenario, row),
+        (NumberType::Fixed, _, _) => track_fixed::<3>(spec, tracker, scenario, row),
         (NumberType::F32, 2, false) => track_with::<f32, 2, Fast>(spec, tracker, scenario, row),
         (NumberType::F32, 2, true) => track_with::<f32, 2, Exact>(spec, tracker, scenario, row),
         (NumberType::F32, _, false) => track_with::<f32, 3, Fast>(spec, tracker, scenario, row),
@@ -328,16 +332,7 @@ where
     let chain: Tracker<T, Gains<T, N, S>> = Tracker::new(front_end, gains);
     let mut state: TrackerState<T, ObserverState<T, N>> = TrackerState::new();
     *state.front_end.calibrator_mut() = calibrator;
-    let first = (spec.skip_s / scenario.sample_period_s).ceil() as usize;
-    if first >= scenario.len() {
-        return Err(format!(
-            "skip_s: {} s leaves no sample of profile {:?}",
-            spec.skip_s, row.profile
-        ));
-    }
-    let (mut sum, mut squares, mut largest, mut faulty) = (0.0, 0.0, 0.0_f64, 0u64);
-    let mut latched = Faults::NONE;
-    let mut last_outside = None;
+    let mut errors = Errors::new(spec, scenario, row)?;
     for (k, ((&c, &s), &truth)) in scenario
         .y_c
         .iter()
@@ -346,33 +341,153 @@ where
         .enumerate()
     {
         let e = chain.update(&mut state, (T::from_f64(c), T::from_f64(s)));
-        let error = wrap(truth - e.angle.to_f64());
-        latched = latched.union(e.faults);
-        if !(error.abs() <= spec.lock_tolerance_rad) {
-            last_outside = Some(k);
-        }
-        if k >= first {
-            sum += error;
-            squares += error * error;
-            largest = largest.max(error.abs());
-            faulty += u64::from(!e.faults.is_empty());
-        }
+        errors.add(k, truth - e.angle.to_f64(), e.faults);
     }
-    let n = (scenario.len() - first) as f64;
-    row.samples = (scenario.len() - first) as u64;
-    row.rms_error_rad = (squares / n).sqrt();
-    row.max_error_rad = largest;
-    row.mean_error_rad = sum / n;
-    row.time_to_lock_s = match last_outside {
-        Some(k) if k + 1 == scenario.len() => f64::NAN,
-        Some(k) => (k + 1) as f64 * scenario.sample_period_s,
-        None => 0.0,
-    };
-    row.fault_samples = faulty;
-    row.faults = latched.to_string();
+    errors.write(row);
     if matches!(tracker.calibration, Calibration::Online { .. }) {
         let (o_c, o_s, a_c, a_s, phi) = state.front_end.calibrator().calibration().parameters();
         row.learned = [o_c, o_s, a_c, a_s, phi].map(T::to_f64);
     }
     Ok(())
+}
+
+/// The fixed-point chain of `tracker` (order `N`) over `scenario`, its samples the sensor's
+/// ADC codes (the study's `adc_bits`, the tracker's `input.bits`) as int16 counts.
+fn track_fixed<const N: usize>(
+    spec: &Spec,
+    tracker: &TrackerFile,
+    scenario: &Scenario,
+    row: &mut StudyRow,
+) -> Result<(), String>
+where
+    Order<N>: SupportedOrder,
+{
+    let TrackerInput::Bits { bits, signed } = tracker.input else {
+        return Err("input: the fixed-point chain takes the ADC's counts: give input.bits".into());
+    };
+    let lsb = 2.0 * spec.adc_full_scale / f64::from(bits).exp2();
+    let mid = if signed { 0 } else { 1_i32 << (bits - 1) };
+    // The sensor model rounds to its ADC's grid and saturates there: its codes fit.
+    let code = |y: f64| ((y / lsb).round() as i32 + mid) as i16;
+    let head = scenario.len().min(crate::NOMINAL_AMPLITUDE_SAMPLES);
+    let counts =
+        |y: &[f64]| -> Vec<f64> { y[..head].iter().map(|&v| f64::from(code(v))).collect() };
+    let input = fixed_input(&counts(&scenario.y_c), &counts(&scenario.y_s), mid as u64)
+        .map_err(|e| format!("input: {e}"))?;
+    let sensor = match &tracker.calibration {
+        Calibration::Stored(c) => Some(*c),
+        _ => None,
+    };
+    let correction = match &tracker.correction {
+        Correction::Harmonics(h) => Some(*h),
+        _ => None,
+    };
+    let rails = match tracker.adc_range {
+        AdcRange::FullScale => {
+            Rails::of_adc_bits(bits, signed).map_err(|e| format!("adc_range: {e}"))?
+        }
+        AdcRange::Stated { min, max } => Rails::Stated {
+            min: min as i32,
+            max: max as i32,
+        },
+        AdcRange::Measured => Rails::Measured,
+    };
+    let front_end = fixed_front_end(
+        mid,
+        input.shift,
+        sensor.as_ref(),
+        correction.as_ref(),
+        rails,
+    )
+    .map_err(|e| format!("calibration: {e}"))?;
+    let mut values = [0.0; N];
+    values.copy_from_slice(&tracker.gains.gains[..N]);
+    let gains = FixedGains::<N>::new(values, tracker.gains.sample_period_s)
+        .and_then(|g| g.with_monitor(Some(input.monitor_amplitude)))
+        .map_err(|e| format!("gains: {e}"))?;
+    let chain = Tracker::new(front_end, gains);
+    let mut state = TrackerState::new();
+    let mut errors = Errors::new(spec, scenario, row)?;
+    for (k, ((&c, &s), &truth)) in scenario
+        .y_c
+        .iter()
+        .zip(&scenario.y_s)
+        .zip(&scenario.angle_rad)
+        .enumerate()
+    {
+        let e = chain.update(&mut state, (code(c), code(s)));
+        errors.add(k, truth - chain.observer.position_rad(&e), e.faults);
+    }
+    errors.write(row);
+    Ok(())
+}
+
+/// The statistics of a run's angle error and faults, sample by sample.
+struct Errors {
+    /// The first sample in the statistics (after `skip_s`), the lock tolerance (rad).
+    first: usize,
+    tolerance: f64,
+    sample_period_s: f64,
+    samples: usize,
+    sum: f64,
+    squares: f64,
+    largest: f64,
+    faulty: u64,
+    latched: Faults,
+    last_outside: Option<usize>,
+}
+
+impl Errors {
+    fn new(spec: &Spec, scenario: &Scenario, row: &StudyRow) -> Result<Self, String> {
+        let first = (spec.skip_s / scenario.sample_period_s).ceil() as usize;
+        if first >= scenario.len() {
+            return Err(format!(
+                "skip_s: {} s leaves no sample of profile {:?}",
+                spec.skip_s, row.profile
+            ));
+        }
+        Ok(Self {
+            first,
+            tolerance: spec.lock_tolerance_rad,
+            sample_period_s: scenario.sample_period_s,
+            samples: scenario.len(),
+            sum: 0.0,
+            squares: 0.0,
+            largest: 0.0,
+            faulty: 0,
+            latched: Faults::NONE,
+            last_outside: None,
+        })
+    }
+
+    /// Sample `k`'s error `truth - estimate` (rad, wrapped here) and the faults its
+    /// estimate carries.
+    fn add(&mut self, k: usize, error: f64, faults: Faults) {
+        let error = wrap(error);
+        self.latched = self.latched.union(faults);
+        if !(error.abs() <= self.tolerance) {
+            self.last_outside = Some(k);
+        }
+        if k >= self.first {
+            self.sum += error;
+            self.squares += error * error;
+            self.largest = self.largest.max(error.abs());
+            self.faulty += u64::from(!faults.is_empty());
+        }
+    }
+
+    fn write(self, row: &mut StudyRow) {
+        let n = (self.samples - self.first) as f64;
+        row.samples = (self.samples - self.first) as u64;
+        row.rms_error_rad = (self.squares / n).sqrt();
+        row.max_error_rad = self.largest;
+        row.mean_error_rad = self.sum / n;
+        row.time_to_lock_s = match self.last_outside {
+            Some(k) if k + 1 == self.samples => f64::NAN,
+            Some(k) => (k + 1) as f64 * self.sample_period_s,
+            None => 0.0,
+        };
+        row.fault_samples = self.faulty;
+        row.faults = self.latched.to_string();
+    }
 }

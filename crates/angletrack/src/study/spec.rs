@@ -150,7 +150,9 @@ impl Spec {
             .ok_or_else(|| doc.error("sensor", "missing"))?;
         let (parameters, adc_bits, adc_full_scale) = sensor_parameters(&sensor)?;
         let profiles = named(&doc, "profiles", |d, _| profile(d))?;
-        let setups = named(&doc, "setups", |d, name| setup(d, name, sample_period_s))?;
+        let setups = named(&doc, "setups", |d, name| {
+            setup(d, name, sample_period_s, adc_bits)
+        })?;
         Ok(Spec {
             seed,
             sensors,
@@ -403,12 +405,13 @@ fn profile(doc: &Document<'_>) -> Result<MotionProfile, JsonFileError> {
 }
 
 /// A setup: `{"tracker": DOCUMENT}` (a path was replaced by its document by [`resolve`]);
-/// its samples are the simulated sensor's, in units, at the study's sample period, so the
-/// tracker's input must be units and its gains of that period.
+/// its samples are the simulated sensor's at the study's sample period, so its gains must
+/// be of that period, and its input units (f32, f64) or the sensor's ADC codes (fixed).
 fn setup(
     doc: &Document<'_>,
     name: &str,
     sample_period_s: f64,
+    adc_bits: u32,
 ) -> Result<TrackerFile, JsonFileError> {
     doc.refuse_unknown(&["tracker"])?;
     let text = match doc.object.get("tracker") {
@@ -442,18 +445,30 @@ fn setup(
         ));
     }
     if tracker.number_type == NumberType::Fixed {
-        return refuse(
-            "number_type",
-            "studies run f32 and f64 trackers; the fixed-point chain is not simulated yet",
-        );
-    }
-    if tracker.input != Input::Units {
+        // The fixed-point chain takes the sensor's ADC codes: the same ADC on both sides.
+        let bits_ok = matches!(tracker.input, Input::Bits { bits, signed } if bits == adc_bits && bits <= if signed { 16 } else { 15 });
+        if !bits_ok {
+            return refuse(
+                "input",
+                &format!(
+                    "number_type \"fixed\" tracks the sensor's ADC codes as int16 counts: give input.bits \
+                     the study's sensor.adc_bits ({adc_bits}; 1 to 15 unsigned, 16 signed) and input.signed"
+                ),
+            );
+        }
+        if tracker.fault_thresholds.is_some() {
+            return refuse(
+                "fault_thresholds",
+                "the fixed-point monitor is scaled to the signal's counts: leave it null",
+            );
+        }
+    } else if tracker.input != Input::Units {
         return refuse(
             "input",
-            "a study's simulated sensor gives samples in units: give input {\"kind\": \"units\"}",
+            "a study's simulated sensor gives f32 and f64 trackers samples in units: give input {\"kind\": \"units\"}",
         );
     }
-    if tracker.adc_range == AdcRange::FullScale {
+    if tracker.adc_range == AdcRange::FullScale && tracker.number_type != NumberType::Fixed {
         return refuse(
             "adc_range",
             "\"full_scale\" is for counts: give \"measured\" or \"stated\" in units",

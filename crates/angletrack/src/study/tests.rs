@@ -41,6 +41,31 @@ fn an_online_calibration_learns_the_drawn_sensor_and_removes_its_error() {
 }
 
 #[test]
+fn the_fixed_point_chain_tracks_the_sensors_adc_codes_as_the_float_one_does() {
+    let sensor = r#""offset_cos": 0.01, "noise_std": 0.001, "adc_bits": 12"#;
+    let fixed = r#", "number_type": "fixed", "input": {"kind": "counts", "bits": 12, "signed": false},
+        "adc_range": {"rule": "full_scale"}"#;
+    let run = |tracker: &str| {
+        Study::from_json(&spec(sensor, tracker), "s.json", Path::new("."))
+            .unwrap()
+            .run(0)
+    };
+    let (fixed, float) = (run(fixed), run(""));
+    assert_eq!((&fixed.error, fixed.number_type), (&None, "fixed"));
+    // The offset's error, about 10 mrad peak, in both; the integers add little.
+    assert!(
+        (fixed.max_error_rad - float.max_error_rad).abs() < 1e-3,
+        "{} {}",
+        fixed.max_error_rad,
+        float.max_error_rad
+    );
+    assert!(
+        fixed.max_error_rad > 5e-3 && fixed.fault_samples == 0,
+        "{fixed:?}"
+    );
+}
+
+#[test]
 fn a_bad_spec_is_refused_naming_the_field() {
     assert_eq!(
         error(&spec(r#""offset_cos": {"normal": {"mean": 0.0}}"#, "")),
@@ -56,7 +81,9 @@ fn a_bad_spec_is_refused_naming_the_field() {
         r#", "number_type": "fixed", "input": {"kind": "counts", "bits": 12, "signed": true}"#,
     ));
     assert!(
-        fixed.starts_with("s.json: setups.online.tracker.number_type: studies run f32 and f64"),
+        fixed.starts_with(
+            "s.json: setups.online.tracker.input: number_type \"fixed\" tracks the sensor's ADC codes"
+        ),
         "{fixed}"
     );
     let other_rate = spec("", "").replace(

@@ -25,6 +25,7 @@
 //! # Ok::<(), angletrack::JsonFileError>(())
 //! ```
 
+mod row;
 mod run;
 mod spec;
 
@@ -32,7 +33,7 @@ use std::path::Path;
 
 use crate::json_file::JsonFileError;
 
-pub use run::{StudyCell, StudyRow};
+pub use row::{StudyCell, StudyRow};
 
 /// The `format` of a study's specification.
 pub const STUDY_FORMAT: &str = "angletrack-study";

@@ -60,7 +60,7 @@ def scheduler(tmp_path):
     try:
         for _ in range(2):
             started.append(subprocess.Popen([str(dask), "worker", "--scheduler-file", str(file), "--nthreads", "1",
-                                             "--nworkers", "1", *common],
+                                             "--no-nanny", *common],
                                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
         deadline = time.monotonic() + 60
         while not file.exists() and time.monotonic() < deadline:

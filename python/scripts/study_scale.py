@@ -12,13 +12,15 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import pathlib
 import tempfile
 
+import numpy as np
 import pyarrow.parquet as pq
 
-from angletrack import cli, study, study_dask
+from angletrack import capture, cli, lot, study, study_dask
 
 
 def spec(directory: pathlib.Path, samples: int, runs: int) -> pathlib.Path:
@@ -43,6 +45,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--samples", type=int, default=1_000_000)
     parser.add_argument("--runs", type=int, default=16)
+    parser.add_argument("--lot-rows", type=int, default=0)
     args = parser.parse_args()
     print(f"load average before: {os.getloadavg()}")
     with tempfile.TemporaryDirectory() as scratch:
@@ -60,7 +63,25 @@ def main() -> None:
                   f"{busy / args.runs * 1e3:.1f} ms per run, scheduling overhead "
                   f"{100 * (wall * workers - busy) / busy:.1f} %")
         print(f"2 workers / 1 worker: {throughput[2] / throughput[1]:.2f}x")
+        if args.lot_rows:
+            lot_capture(directory, args.lot_rows)
     print(f"load average after: {os.getloadavg()}")
+
+
+def lot_capture(directory: pathlib.Path, rows: int) -> None:
+    """Times one capture of ``rows`` rows calibrated and tracked as a lot's unit."""
+    t = np.arange(rows) / 20e3
+    theta = 0.3 + 2 * math.pi * 50.0 * t
+    seen = theta + 0.003 * np.sin(3 * theta)
+    rng = np.random.default_rng(1)
+    path = directory / "unit.npy"
+    capture.write_capture(path, {"time": t, "y_c": 0.02 + np.cos(seen) + 1e-3 * rng.standard_normal(rows),
+                                 "y_s": -0.01 + 1.02 * np.sin(seen) + 1e-3 * rng.standard_normal(rows),
+                                 "reference": theta})
+    tracker = directory / "tracker.json"
+    row = lot.capture_row(str(path), tracker.read_text(), str(tracker), lot.Layout())
+    print(f"lot: one capture of {rows} rows calibrated and tracked in {row['seconds']:.2f} s ({row['status']}, "
+          f"load average {os.getloadavg()[0]:.1f})")
 
 
 if __name__ == "__main__":

@@ -164,7 +164,14 @@ def test_a_bad_spec_is_one_line_naming_the_field(tmp_path, capsys):
     err = capsys.readouterr().err
     assert err == (f"angletrack: error: {spec}: sensor.offset_cos.normal.std: must be a finite number of at "
                    "least 0, got -1\n")
-    os.remove(tmp_path / "tracker32.json")
     spec.write_text(spec.read_text().replace("std = -1", "std = 0.005"))
+    other = tmp_path / "other.parquet"
+    other.mkdir()
+    writer = study_dask.PartWriter(other, "another specification")
+    writer.add([{"run": 0}])
+    writer.flush()
+    assert cli.main(["study", str(spec), "-o", str(other), "--resume", "--workers", "1"]) == 2
+    assert "holds results of another specification or lot" in capsys.readouterr().err
+    os.remove(tmp_path / "tracker32.json")
     assert cli.main(["study", str(spec), "-o", str(tmp_path / "r.parquet"), "--workers", "1"]) == 2
     assert "setups.f32.tracker" in capsys.readouterr().err

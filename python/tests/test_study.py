@@ -142,6 +142,9 @@ def test_a_lot_with_a_corrupt_capture_gives_a_row_each_and_the_outliers(tmp_path
     assert "6 calibrated and tracked, 1 failed" in report
     assert "outlier" in report and "unit9.csv: offset_c" in report and "failed" in report and "unit5.csv" in report
     assert not any(f"unit{k}.csv: offset_c" in report for k in range(5))
+    assert cli.main(["lot", str(units / "*.csv"), "--tracker", str(tracker), "-o", str(tmp_path / "x.parquet"),
+                     "--limit", "offset=0,1"]) == 2
+    assert "limit: offset is not a number column" in capsys.readouterr().err
     png = tmp_path / "lot.png"
     assert cli.main(["plot", str(output), "-o", str(png)]) == 0 and png.stat().st_size > 10_000
 

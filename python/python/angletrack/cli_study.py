@@ -96,6 +96,7 @@ def _cmd_lot(args: argparse.Namespace) -> int:
     from angletrack import lot, study_dask
 
     cluster = _cluster(args)
+    lot.check_limits(dict(args.limit or []))
     files = lot.captures(args.captures)
     tracker_text = capture_io.read_text_file(args.tracker, "--tracker")
     from angletrack.tracker import Tracker

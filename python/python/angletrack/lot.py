@@ -148,6 +148,16 @@ def _track(s: tracking.TrackSettings, row: dict) -> None:
         row["tracked_max_error_rad"] = stats.largest
 
 
+def check_limits(limits: dict) -> None:
+    """Refuses a ``--limit`` on a column the lot's rows do not have, or on a text column,
+    before any capture is read."""
+    numbers = [name for name, value in _empty_row("").items() if isinstance(value, (int, float))]
+    for column in limits:
+        if column not in numbers:
+            raise ValueError(f"limit: {column} is not a number column of the lot's rows (one of: "
+                             f"{', '.join(numbers)})")
+
+
 def outlier_report(output: pathlib.Path, limits: dict, spread_factor: float = SPREAD_FACTOR) -> tuple[str, list]:
     """The lot's outliers in the dataset ``output``: for each screened column (and each of
     ``limits``, ``{column: (low, high)}``, either ``None``), the units beyond the limits or

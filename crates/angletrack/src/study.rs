@@ -21,12 +21,13 @@
 //! assert_eq!(row.error, None);
 //! assert!(row.rms_error_rad < 0.02);
 //! assert_eq!(study.run(1).columns()[..4], row.columns()[..4]); // the same run, the same row
-//! assert!(matches!(row.columns()[0], ("run", StudyCell::Integer(1))));
+//! assert_eq!(row.columns()[0], ("run".to_string(), StudyCell::Integer(1)));
 //! # Ok::<(), angletrack::JsonFileError>(())
 //! ```
 
 mod row;
 mod run;
+mod sensor;
 mod spec;
 
 use std::path::Path;

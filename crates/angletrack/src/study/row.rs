@@ -3,7 +3,8 @@
 
 use angletrack_core::Faults;
 
-use super::spec::{SENSOR_PARAMETERS, Spec};
+use super::sensor::SENSOR_PARAMETERS;
+use super::spec::Spec;
 use crate::Scenario;
 use crate::sim::wrap;
 
@@ -35,6 +36,9 @@ pub struct StudyRow {
     /// The sensor's parameters drawn, in the order of the specification's `sensor` fields
     /// (amplitude, offsets, imbalance, quadrature error (rad), 3rd harmonic, noise std).
     pub parameters: [f64; SENSOR_PARAMETERS.len()],
+    /// The sensor's angle error harmonics drawn: order, amplitude (rad), phase (rad), in
+    /// the order of the specification's `sensor.angle_error_harmonics`.
+    pub angle_error_harmonics: Vec<(u32, f64, f64)>,
     /// Samples in the error statistics.
     pub samples: u64,
     /// RMS angle error (rad).
@@ -70,23 +74,29 @@ const LEARNED: [&str; 5] = [
 ];
 
 impl StudyRow {
-    /// The row as named columns, in the order a table of runs holds them.
-    pub fn columns(&self) -> Vec<(&'static str, StudyCell)> {
+    /// The row as named columns, in the order a table of runs holds them; each angle error
+    /// harmonic of order K drawn gives `angle_error_hK_rad` and `angle_error_hK_phase_rad`
+    /// after the other sensor parameters.
+    pub fn columns(&self) -> Vec<(String, StudyCell)> {
         use StudyCell::{Integer, Number, Text};
-        let mut out = vec![
-            ("run", Integer(self.run)),
-            ("sensor", Integer(self.sensor)),
-            ("profile", Text(self.profile.clone())),
-            ("setup", Text(self.setup.clone())),
-            ("number_type", Text(self.number_type.to_string())),
+        let mut out: Vec<(String, StudyCell)> = vec![
+            ("run".into(), Integer(self.run)),
+            ("sensor".into(), Integer(self.sensor)),
+            ("profile".into(), Text(self.profile.clone())),
+            ("setup".into(), Text(self.setup.clone())),
+            ("number_type".into(), Text(self.number_type.to_string())),
         ];
         out.extend(
             SENSOR_PARAMETERS
                 .iter()
                 .zip(self.parameters)
-                .map(|(n, v)| (*n, Number(v))),
+                .map(|(n, v)| (n.to_string(), Number(v))),
         );
-        out.extend([
+        for &(k, amplitude, phase) in &self.angle_error_harmonics {
+            out.push((format!("angle_error_h{k}_rad"), Number(amplitude)));
+            out.push((format!("angle_error_h{k}_phase_rad"), Number(phase)));
+        }
+        let results = [
             ("samples", Integer(self.samples)),
             ("rms_error_rad", Number(self.rms_error_rad)),
             ("max_error_rad", Number(self.max_error_rad)),
@@ -94,15 +104,16 @@ impl StudyRow {
             ("time_to_lock_s", Number(self.time_to_lock_s)),
             ("fault_samples", Integer(self.fault_samples)),
             ("faults", Text(self.faults.clone())),
-        ]);
+        ];
+        out.extend(results.into_iter().map(|(n, v)| (n.to_string(), v)));
         out.extend(
             LEARNED
                 .iter()
                 .zip(self.learned)
-                .map(|(n, v)| (*n, Number(v))),
+                .map(|(n, v)| (n.to_string(), Number(v))),
         );
-        out.push(("seconds", Number(self.seconds)));
-        out.push(("error", Text(self.error.clone().unwrap_or_default())));
+        out.push(("seconds".into(), Number(self.seconds)));
+        out.push(("error".into(), Text(self.error.clone().unwrap_or_default())));
         out
     }
 }

@@ -17,7 +17,7 @@ use super::spec::Spec;
 use crate::tracker_file::{
     AdcRange, Calibration, Correction, Input as TrackerInput, NumberType, SinCosKind, TrackerFile,
 };
-use crate::{Scenario, SensorModel, capture_fault_thresholds, fixed_front_end, fixed_input};
+use crate::{Scenario, capture_fault_thresholds, fixed_front_end, fixed_input};
 
 /// SplitMix64's finaliser: a seed from the study's seed and a run's indices, well mixed so
 /// that neighbouring indices give unrelated generators.
@@ -41,7 +41,7 @@ pub(super) fn run(spec: &Spec, run: u64) -> StudyRow {
     let profile = (run / setups) % profiles;
     let setup = run % setups;
     let mut rng = ChaCha8Rng::seed_from_u64(derived_seed(spec.seed, &[sensor, 0]));
-    let parameters = spec.parameters.map(|p| p.draw(&mut rng));
+    let drawn = spec.sensor.draw(&mut rng);
     let (profile_name, motion) = &spec.profiles[profile as usize];
     let (setup_name, tracker) = &spec.setups[setup as usize];
     let mut row = StudyRow {
@@ -50,7 +50,8 @@ pub(super) fn run(spec: &Spec, run: u64) -> StudyRow {
         profile: profile_name.clone(),
         setup: setup_name.clone(),
         number_type: tracker.number_type.name(),
-        parameters,
+        parameters: drawn.parameters,
+        angle_error_harmonics: drawn.harmonics.clone(),
         samples: 0,
         rms_error_rad: f64::NAN,
         max_error_rad: f64::NAN,
@@ -69,27 +70,7 @@ pub(super) fn run(spec: &Spec, run: u64) -> StudyRow {
         ));
         return row;
     }
-    let [
-        amplitude,
-        offset_cos,
-        offset_sin,
-        amplitude_imbalance,
-        quadrature_error_rad,
-        third_harmonic,
-        noise_std,
-    ] = parameters;
-    let model = SensorModel {
-        amplitude,
-        offset_cos,
-        offset_sin,
-        amplitude_imbalance,
-        quadrature_error_rad,
-        third_harmonic,
-        noise_std,
-        adc_bits: spec.adc_bits,
-        adc_full_scale: spec.adc_full_scale,
-        ..SensorModel::default()
-    };
+    let model = spec.sensor.model(&drawn);
     let noise_seed = derived_seed(spec.seed, &[sensor, 1 + profile]);
     let outcome = Scenario::generate(motion, &model, spec.sample_period_s, noise_seed)
         .map_err(|e| format!("sensor: {e}"))
@@ -265,7 +246,7 @@ where
     let TrackerInput::Bits { bits, signed } = tracker.input else {
         return Err("input: the fixed-point chain takes the ADC's counts: give input.bits".into());
     };
-    let lsb = 2.0 * spec.adc_full_scale / f64::from(bits).exp2();
+    let lsb = 2.0 * spec.sensor.adc_full_scale / f64::from(bits).exp2();
     let mid = if signed { 0 } else { 1_i32 << (bits - 1) };
     // The sensor model rounds to its ADC's grid and saturates there: its codes fit.
     let code = |y: f64| ((y / lsb).round() as i32 + mid) as i16;

@@ -4,25 +4,13 @@
 
 use std::path::Path;
 
-use rand::Rng;
-use rand_distr::{Distribution, Normal};
 use serde_json::Value;
 
+use super::sensor::SensorSpread;
 use super::{STUDY_FORMAT, STUDY_VERSION};
 use crate::json_file::{Document, JsonFileError};
 use crate::tracker_file::{AdcRange, Correction, Input, NumberType, TrackerFile};
 use crate::{Motion, MotionProfile};
-
-/// The sensor parameters a study draws, in the order they are drawn and written.
-pub(super) const SENSOR_PARAMETERS: [&str; 7] = [
-    "amplitude",
-    "offset_cos",
-    "offset_sin",
-    "amplitude_imbalance",
-    "quadrature_error_rad",
-    "third_harmonic",
-    "noise_std",
-];
 
 /// The top level's fields.
 const FIELDS: [&str; 10] = [
@@ -41,31 +29,6 @@ const FIELDS: [&str; 10] = [
 /// The most sensors of one study (10^9: run ids stay exact in every table's integers).
 const MAX_SENSORS: i64 = 1_000_000_000;
 
-/// One sensor parameter: a value, or a distribution it is drawn from per sensor.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) enum Spread {
-    /// The same value for every sensor.
-    Fixed(f64),
-    /// Normal, of mean and standard deviation.
-    Normal(f64, f64),
-    /// Uniform over `[low, high)`.
-    Uniform(f64, f64),
-}
-
-impl Spread {
-    /// One draw (the generator advances for every kind, so that a parameter's draws do not
-    /// depend on whether another one is spread).
-    pub(super) fn draw(self, rng: &mut impl Rng) -> f64 {
-        let unit: f64 = rng.random();
-        let gaussian: f64 = Normal::new(0.0, 1.0).map_or(0.0, |n| n.sample(rng));
-        match self {
-            Spread::Fixed(value) => value,
-            Spread::Normal(mean, std) => mean + std * gaussian,
-            Spread::Uniform(low, high) => low + (high - low) * unit,
-        }
-    }
-}
-
 /// A study's specification, checked.
 #[derive(Debug, Clone)]
 pub(super) struct Spec {
@@ -74,9 +37,7 @@ pub(super) struct Spec {
     pub(super) sample_period_s: f64,
     pub(super) skip_s: f64,
     pub(super) lock_tolerance_rad: f64,
-    pub(super) parameters: [Spread; SENSOR_PARAMETERS.len()],
-    pub(super) adc_bits: u32,
-    pub(super) adc_full_scale: f64,
+    pub(super) sensor: SensorSpread,
     pub(super) profiles: Vec<(String, MotionProfile)>,
     pub(super) setups: Vec<(String, TrackerFile)>,
 }
@@ -148,7 +109,8 @@ impl Spec {
         let sensor = doc
             .section("sensor")?
             .ok_or_else(|| doc.error("sensor", "missing"))?;
-        let (parameters, adc_bits, adc_full_scale) = sensor_parameters(&sensor)?;
+        let sensor = SensorSpread::parse(&sensor)?;
+        let adc_bits = sensor.adc_bits;
         let profiles = named(&doc, "profiles", |d, _| profile(d))?;
         let setups = named(&doc, "setups", |d, name| {
             setup(d, name, sample_period_s, adc_bits)
@@ -159,9 +121,7 @@ impl Spec {
             sample_period_s,
             skip_s,
             lock_tolerance_rad,
-            parameters,
-            adc_bits,
-            adc_full_scale,
+            sensor,
             profiles,
             setups,
         })
@@ -174,7 +134,11 @@ impl Spec {
 }
 
 /// The number under `field`, `default` when missing.
-fn optional(doc: &Document<'_>, field: &str, default: f64) -> Result<f64, JsonFileError> {
+pub(super) fn optional(
+    doc: &Document<'_>,
+    field: &str,
+    default: f64,
+) -> Result<f64, JsonFileError> {
     match doc.object.get(field) {
         None => Ok(default),
         Some(_) => doc.number(field),
@@ -204,91 +168,6 @@ fn named<T>(
             Ok((name.clone(), read(&entry, &name)?))
         })
         .collect()
-}
-
-/// A parameter's value or distribution: a number, `{"normal": {"mean", "std"}}` or
-/// `{"uniform": {"low", "high"}}`.
-fn spread(doc: &Document<'_>, field: &str, default: f64) -> Result<Spread, JsonFileError> {
-    let Some(value) = doc.object.get(field) else {
-        return Ok(Spread::Fixed(default));
-    };
-    if let Some(v) = value.as_f64() {
-        return finite(doc, field, v).map(Spread::Fixed);
-    }
-    let expected = "a number, {\"normal\": {\"mean\": M, \"std\": S}} or {\"uniform\": {\"low\": L, \"high\": H}}";
-    let distribution = doc
-        .section(field)?
-        .ok_or_else(|| doc.error(field, format!("must be {expected}, got {value}")))?;
-    let kind = distribution
-        .object
-        .keys()
-        .next()
-        .cloned()
-        .unwrap_or_default();
-    distribution.refuse_unknown(&["normal", "uniform"])?;
-    if distribution.object.len() != 1 {
-        return Err(doc.error(field, format!("must be {expected}")));
-    }
-    let inner = distribution
-        .section(&kind)?
-        .ok_or_else(|| distribution.error(&kind, "must be an object"))?;
-    if kind == "normal" {
-        inner.refuse_unknown(&["mean", "std"])?;
-        let (mean, std) = (inner.number("mean")?, inner.number("std")?);
-        finite(&inner, "mean", mean)?;
-        if !(std >= 0.0 && std.is_finite()) {
-            return Err(inner.error(
-                "std",
-                format!("must be a finite number of at least 0, got {std}"),
-            ));
-        }
-        Ok(Spread::Normal(mean, std))
-    } else {
-        inner.refuse_unknown(&["low", "high"])?;
-        let (low, high) = (inner.number("low")?, inner.number("high")?);
-        if !(low.is_finite() && high.is_finite() && low <= high) {
-            return Err(inner.error(
-                "high",
-                format!("expected finite low <= high, got {low} to {high}"),
-            ));
-        }
-        Ok(Spread::Uniform(low, high))
-    }
-}
-
-fn finite(doc: &Document<'_>, field: &str, v: f64) -> Result<f64, JsonFileError> {
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(doc.error(field, format!("must be finite, got {v}")))
-    }
-}
-
-type SensorSection = ([Spread; SENSOR_PARAMETERS.len()], u32, f64);
-
-/// The `sensor` table: the spread of each of [`SENSOR_PARAMETERS`] (missing: the ideal
-/// sensor's value) and the ADC's `adc_bits` and `adc_full_scale`, the same for every sensor.
-fn sensor_parameters(doc: &Document<'_>) -> Result<SensorSection, JsonFileError> {
-    let mut known = SENSOR_PARAMETERS.to_vec();
-    known.extend(["adc_bits", "adc_full_scale"]);
-    doc.refuse_unknown(&known)?;
-    let ideal = crate::SensorModel::default();
-    let defaults = [ideal.amplitude, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
-    let mut parameters = [Spread::Fixed(0.0); SENSOR_PARAMETERS.len()];
-    for ((slot, name), default) in parameters.iter_mut().zip(SENSOR_PARAMETERS).zip(defaults) {
-        *slot = spread(doc, name, default)?;
-    }
-    let adc_bits = match doc.object.get("adc_bits") {
-        None => 0,
-        Some(v) => v.as_u64().filter(|&b| b <= 32).ok_or_else(|| {
-            doc.error(
-                "adc_bits",
-                format!("must be a whole number from 0 (no ADC) to 32, got {v}"),
-            )
-        })? as u32,
-    };
-    let adc_full_scale = optional(doc, "adc_full_scale", ideal.adc_full_scale)?;
-    Ok((parameters, adc_bits, adc_full_scale))
 }
 
 /// The fields of each kind of motion segment (the crate's [`Motion`]'s, as written).

@@ -66,6 +66,33 @@ fn the_fixed_point_chain_tracks_the_sensors_adc_codes_as_the_float_one_does() {
 }
 
 #[test]
+fn the_angle_error_harmonics_drawn_are_in_the_signals_and_the_row() {
+    let sensor = r#""angle_error_harmonics": [{"order": 3, "amplitude_rad": {"uniform": {"low": 0.004, "high": 0.005}}, "phase_rad": 0.3}]"#;
+    let row = Study::from_json(&spec(sensor, ""), "s.json", Path::new("."))
+        .unwrap()
+        .run(0);
+    let amplitude = row.angle_error_harmonics[0].1;
+    assert!((0.004..0.005).contains(&amplitude) && row.angle_error_harmonics[0].2 == 0.3);
+    let names: Vec<String> = row.columns().into_iter().map(|(name, _)| name).collect();
+    assert!(
+        names.contains(&"angle_error_h3_rad".to_string())
+            && names.contains(&"angle_error_h3_phase_rad".to_string())
+    );
+    // The loop follows the sensor's reading: its error against the truth is the harmonic's,
+    // within the loop's filtering of 143 Hz.
+    assert!(
+        row.max_error_rad > 0.5 * amplitude && row.max_error_rad < 2.0 * amplitude,
+        "{} {amplitude}",
+        row.max_error_rad
+    );
+    let repeated = r#""angle_error_harmonics": [{"order": 3}, {"order": 3}]"#;
+    assert_eq!(
+        error(&spec(repeated, "")),
+        "s.json: sensor.angle_error_harmonics[1].order: must be a whole number from 1 to 32, each order once"
+    );
+}
+
+#[test]
 fn a_bad_spec_is_refused_naming_the_field() {
     assert_eq!(
         error(&spec(r#""offset_cos": {"normal": {"mean": 0.0}}"#, "")),
@@ -74,7 +101,8 @@ fn a_bad_spec_is_refused_naming_the_field() {
     assert_eq!(
         error(&spec(r#""offset": 0.1"#, "")),
         "s.json: sensor.offset: unknown field (expected one of: amplitude, offset_cos, offset_sin, \
-         amplitude_imbalance, quadrature_error_rad, third_harmonic, noise_std, adc_bits, adc_full_scale)"
+         amplitude_imbalance, quadrature_error_rad, third_harmonic, noise_std, angle_error_harmonics, adc_bits, \
+         adc_full_scale)"
     );
     let fixed = error(&spec(
         "",

@@ -93,7 +93,7 @@ def test_the_guide_spec_gives_the_same_rows_on_any_workers(tmp_path, scheduler, 
     assert reference["run"] == list(range(64)) and set(reference["error"]) == {""}
     assert same(reference, rows(two)) and same(reference, rows(remote))
     # Every sensor is the same sensor in each profile and setup; the spreads were drawn.
-    assert len(set(reference["offset_cos"])) == 8
+    assert len(set(reference["offset_cos"])) == 8 and len(set(reference["angle_error_h2_rad"])) == 8
     assert max(reference["max_error_rad"]) < 0.1 and "fixed" in reference["number_type"]
     # The online calibration learned each sensor's offset (within 2 mrad of the 5 mrad spread).
     online = [k for k, setup in enumerate(reference["setup"]) if setup == "f32_online"]

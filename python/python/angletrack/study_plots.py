@@ -2,7 +2,7 @@
 
 A study's: the yield curve (for each setup, the fraction of sensors whose largest angle
 error over every profile is within an error, against that error) and the largest error
-against each sensor parameter that was spread. A lot's: the histogram of each
+against each sensor parameter that was spread (the angle error harmonics' amplitudes too). A lot's: the histogram of each
 calibration parameter with its outliers marked (:func:`angletrack.lot.outlier_report`).
 """
 
@@ -62,7 +62,9 @@ def worst_per_sensor(table) -> dict:
 
 def _study_figure(plt, table, png: pathlib.Path) -> str:
     worst = worst_per_sensor(table)
-    varied = [p for p in STUDY_PARAMETERS if np.ptp(table.column(p).to_numpy()) > 0]
+    harmonics = [c for c in table.column_names if c.startswith("angle_error_h") and c.endswith("_rad")
+                 and not c.endswith("_phase_rad")]
+    varied = [p for p in (*STUDY_PARAMETERS, *harmonics) if np.ptp(table.column(p).to_numpy()) > 0]
     columns = 1 + len(varied)
     fig, axes = plt.subplots(1, columns, figsize=(5.0 * columns, 4.2), squeeze=False)
     yield_axes = axes[0][0]

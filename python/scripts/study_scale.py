@@ -15,6 +15,7 @@ import json
 import math
 import os
 import pathlib
+import resource
 import tempfile
 
 import numpy as np
@@ -23,7 +24,7 @@ import pyarrow.parquet as pq
 from angletrack import capture, cli, lot, study, study_dask
 
 
-def spec(directory: pathlib.Path, samples: int, runs: int) -> pathlib.Path:
+def spec(directory: pathlib.Path, samples: int, runs: int, name: str = "scale.json") -> pathlib.Path:
     tracker = directory / "tracker.json"
     assert cli.main(["design", "third-order", "--sample-rate", "20000", "--butterworth-time-constant", "2e-3",
                      "--dtype", "float64", "--format", "tracker", "-o", str(tracker)]) == 0
@@ -36,7 +37,7 @@ def spec(directory: pathlib.Path, samples: int, runs: int) -> pathlib.Path:
                                 "segments": [{"constant_speed": {"speed_rad_s": 300.0, "duration_s": duration}}]}},
         "setups": {"f64": {"tracker": "tracker.json"}},
     }
-    path = directory / "scale.json"
+    path = directory / name
     path.write_text(json.dumps(document))
     return path
 
@@ -51,21 +52,39 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as scratch:
         directory = pathlib.Path(scratch)
         path = spec(directory, args.samples, args.runs)
-        throughput = {}
+        # The same number of runs of 2 samples: the workers' CPU time outside the runs
+        # (starting, importing), taken off theirs.
+        empty = spec(directory, 2, args.runs, "empty.json")
+        throughput, cpu_per_run = {}, {}
         for workers in (1, 2):
-            output = directory / f"w{workers}.parquet"
-            _, measured = study.run_study(path, output, study_dask.Cluster(workers=workers), progress=False)
+            cpu = {}
+            for name, study_spec in (("empty", empty), ("runs", path)):
+                before = _children_cpu_s()
+                _, measured = study.run_study(study_spec, directory / f"{name}{workers}.parquet",
+                                              study_dask.Cluster(workers=workers), progress=False)
+                cpu[name] = _children_cpu_s() - before
+            output = directory / f"runs{workers}.parquet"
             wall = measured["seconds"]
             busy = sum(pq.read_table(output).column("seconds").to_pylist())
             throughput[workers] = args.runs * args.samples / wall
+            cpu_per_run[workers] = (cpu["runs"] - cpu["empty"]) / args.runs
             print(f"{workers} worker(s): {args.runs} runs of {args.samples} samples in {wall:.2f} s wall, "
                   f"{busy:.2f} s in the runs: {throughput[workers] / 1e6:.2f} M samples/s, "
                   f"{busy / args.runs * 1e3:.1f} ms per run, scheduling overhead "
-                  f"{100 * (wall * workers - busy) / busy:.1f} %")
-        print(f"2 workers / 1 worker: {throughput[2] / throughput[1]:.2f}x")
+                  f"{100 * (wall * workers - busy) / busy:.1f} %; the workers' CPU time per run "
+                  f"{cpu_per_run[workers] * 1e3:.1f} ms")
+        print(f"2 workers / 1 worker: {throughput[2] / throughput[1]:.2f}x wall; CPU time per run "
+              f"{cpu_per_run[2] / cpu_per_run[1]:.2f}x (1.00: the runs do not slow each other on two free cores)")
         if args.lot_rows:
             lot_capture(directory, args.lot_rows)
     print(f"load average after: {os.getloadavg()}")
+
+
+def _children_cpu_s() -> float:
+    """CPU time (user and system) of this process's finished children: the local cluster's
+    workers once it is closed."""
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
 
 
 def lot_capture(directory: pathlib.Path, rows: int) -> None:

@@ -4,6 +4,7 @@ with two worker processes; a lot with a corrupt capture among good ones gives a 
 report; the yield and lot plots are written; without the extra, one line says how to
 install it."""
 
+import json
 import math
 import os
 import pathlib
@@ -87,8 +88,8 @@ def test_the_guide_spec_gives_the_same_rows_on_any_workers(tmp_path, scheduler, 
     assert len(pq.read_table(two)) == 10
     assert cli.main(["study", str(spec), "-o", str(two), "--workers", "2", "--resume", "--no-progress"]) == 0
     assert "64 runs" not in capsys.readouterr().out.splitlines()[-1] and len(pq.read_table(two)) == 64
-    assert cli.main(["study", str(spec), "-o", str(remote), "--scheduler-file", str(scheduler),
-                     "--no-progress"]) == 0
+    address = json.loads(scheduler.read_text())["address"]
+    assert cli.main(["study", str(spec), "-o", str(remote), "--scheduler", address, "--no-progress"]) == 0
     reference = rows(one)
     assert reference["run"] == list(range(64)) and set(reference["error"]) == {""}
     assert same(reference, rows(two)) and same(reference, rows(remote))

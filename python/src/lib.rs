@@ -34,6 +34,7 @@ mod observer_channel;
 mod paper;
 mod resolver;
 mod scenario;
+mod study;
 mod tracker_file;
 mod writer;
 
@@ -80,5 +81,6 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     calibration_file::register(m)?;
     tracker_file::register(m)?;
     design_capture::register(m)?;
+    study::register(m)?;
     Ok(())
 }

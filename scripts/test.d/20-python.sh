@@ -30,7 +30,7 @@ without_rust() {
 }
 
 # The fresh environment and what the wheel will need there (the package's dependencies and
-# its plot extra's, as python/pyproject.toml declares them, and the test tools, all pinned by
+# its plot and study extras', as python/pyproject.toml declares them, and the test tools, all pinned by
 # the tools list), installed while the wheel builds: pip waits on the network and the disk,
 # maturin on the two cores. The wheel's own install below then resolves the same
 # requirements again, from its metadata, and finds them met.
@@ -38,7 +38,8 @@ test_tools=(pytest hypothesis pytest-xdist)
 python/.venv/bin/python - >"$work/requirements.txt" <<'PY'
 import tomllib
 project = tomllib.load(open("python/pyproject.toml", "rb"))["project"]
-print("\n".join(project["dependencies"] + project["optional-dependencies"]["plot"]))
+extras = project["optional-dependencies"]
+print("\n".join(project["dependencies"] + extras["plot"] + extras["study"]))
 PY
 without_rust "$BASH" -euo pipefail -c '
   python3 -m venv "$1"
@@ -88,7 +89,7 @@ without_rust "$BASH" -euo pipefail -c '
     echo "no cargo, rustc or rustup on PATH"
     # Binary wheels only, versions pinned by the tools list: nothing is built here.
     "$venv/bin/python" -m pip --disable-pip-version-check -q install --only-binary :all: \
-      -c "$constraints" "$wheel[plot]" "${@:5}"
+      -c "$constraints" "$wheel[plot,study]" "${@:5}"
     cd "$venv"
     "$venv/bin/python" -c "import angletrack; print(\"imported\", angletrack.__name__, angletrack.__version__, \"from\", angletrack.__file__)"
     "$venv/bin/angletrack" --version

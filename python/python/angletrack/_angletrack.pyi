@@ -1239,3 +1239,21 @@ def tracker_firmware_constants(text: str, file: str, language: str, name: str) -
     """A tracker file's firmware constants: ``language`` ``"c"`` (a header) or ``"rust"``
     (``const`` items), identifiers prefixed by ``name``; ``ValueError`` naming a setting no
     generator writes, ``ConfigError`` naming ``name``."""
+
+#: The ``format`` of a study's specification (``angletrack study``).
+STUDY_FORMAT: str
+
+def study_resolve(text: str, file: str, base_dir: Union[str, os.PathLike]) -> tuple[str, int]:
+    """A study's JSON specification checked by the crate (``angletrack::study``), its tracker
+    files read relative to ``base_dir`` and put inline: ``(resolved, runs)``; ``ValueError``
+    naming ``file`` and the field as written."""
+
+def study_runs(resolved: str, runs: list[int]) -> list[dict[str, Any]]:
+    """The rows of the run ids ``runs`` of a resolved specification, one dict of named
+    columns each (the crate's ``StudyRow::columns``), computed with the GIL released."""
+
+def lot_outliers(values: list[float], spread_factor: float, low: Optional[float] = None,
+                 high: Optional[float] = None) -> tuple[float, float, list[bool]]:
+    """``(median, scaled MAD, flags)`` of a lot's ``values`` (``angletrack::lot::outliers``):
+    flagged below ``low``, above ``high``, or further than ``spread_factor`` scaled MADs from
+    the median; NaN never flagged."""

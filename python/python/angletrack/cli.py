@@ -1,5 +1,5 @@
-"""The ``angletrack`` command line: ``design``, ``track``, ``calibrate``, ``export``, ``plot``
-and ``report``.
+"""The ``angletrack`` command line: ``design``, ``track``, ``calibrate``, ``export``, ``plot``,
+``report``, ``study`` and ``lot``.
 
 Every number comes from the Rust crates through the extension; this module reads
 arguments and files, and writes files and text.
@@ -30,6 +30,7 @@ from angletrack.cli_args import (
     subcommand,
 )
 from angletrack.cli_design import add_design_parser
+from angletrack.cli_study import add_lot_parser, add_study_parser
 
 
 #: The extensions of the estimates track writes (the format follows the extension).
@@ -155,10 +156,15 @@ def _cmd_plot(args: argparse.Namespace) -> int:
     and its harmonics 1 to 10; the speed and the observer's fault flags over time. Against
     the observer's angle, its start-up until lock is left out of the error and shaded.
     Reads the capture in chunks: any size, at most --max-points points per series (the
-    scatters a random subsample, the time series min and max per point).
+    scatters a random subsample, the time series min and max per point). Given the results of
+    `angletrack study` or `angletrack lot` (RESULTS.parquet), draws the yield curve and the
+    error against each sensor parameter, or each calibration parameter's histogram with its
+    outliers.
     """
-    from angletrack import plots
+    from angletrack import plots, study_plots
 
+    if study_plots.is_results(args.capture):
+        return study_plots.plot_command(args)
     if args.max_points < 2:
         raise ValueError(f"max_points: --max-points must be at least 2, got {args.max_points}")
     settings = tracking.TrackSettings(
@@ -260,6 +266,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_plot_parser(sub)
     _add_calibrate_parser(sub)
     _add_export_parser(sub)
+    add_study_parser(sub)
+    add_lot_parser(sub)
     return parser
 
 

@@ -24,6 +24,7 @@ pub use fixed_chain::{
     shifted_calibration,
 };
 pub use fixed_columns::FixedColumns;
+pub(crate) use metrics::wrap;
 pub use metrics::{ErrorStatistics, Metrics, MetricsOptions, Run, run};
 pub use motion::{Kinematics, Motion, MotionProfile};
 pub use resolver::ResolverModel;

@@ -1,0 +1,190 @@
+"""Running many independent tasks on Dask and streaming their rows to Parquet: what
+``angletrack study`` and ``angletrack lot`` share.
+
+Python only plans, schedules and collects here; each task is one call into the Rust crates
+(which release the GIL). The tasks run on a local cluster of processes (one per core, or
+``workers``), or on an existing cluster (``scheduler`` address or ``scheduler_file``). At
+most a few tasks per worker are in flight, and every row is written as its task completes,
+so memory stays bounded whatever the number of tasks. The output is a Parquet dataset: a
+directory of part files, each complete when it appears (written beside and renamed), so an
+interrupted run leaves every part written readable and ``resume`` skips the rows already
+there. A worker lost mid-task has its tasks redone by Dask; nothing finished is lost.
+
+Dask, pyarrow and tqdm are the optional extra ``angletrack[study]``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import os
+import pathlib
+import time
+import uuid
+from typing import Any, Callable, Iterable, Iterator, Optional, Sequence
+
+#: The line the commands print when the extra is missing.
+INSTALL_HINT = "install the study extra: pip install 'angletrack[study]' (Dask, pyarrow, tqdm)"
+#: Rows gathered before a part file is written, and the longest wait (s) before one is.
+PART_ROWS = 512
+PART_SECONDS = 10.0
+#: Tasks in flight per worker thread: enough to keep each busy while results come back.
+TASKS_PER_WORKER = 3
+#: Times Dask retries a task whose worker raised (a lost worker's tasks are redone anyway).
+RETRIES = 2
+#: The key of the Parquet schema's metadata holding what the rows were computed from.
+SOURCE_KEY = b"angletrack-source"
+
+
+def require_extra() -> None:
+    """Refuses, in one line naming the extra, when Dask, pyarrow or tqdm is missing."""
+    for module in ("dask.distributed", "pyarrow.parquet", "tqdm"):
+        try:
+            __import__(module)
+        except ImportError:
+            raise RuntimeError(f"{module.split('.')[0]} is missing: {INSTALL_HINT}") from None
+
+
+@dataclasses.dataclass
+class Cluster:
+    """Where the tasks run: a local cluster of ``workers`` processes (default: one per
+    core), or the scheduler at ``scheduler`` (``tcp://host:8786``) or in ``scheduler_file``."""
+
+    workers: Optional[int] = None
+    scheduler: Optional[str] = None
+    scheduler_file: Optional[pathlib.Path] = None
+
+    def client(self):
+        """A connected ``dask.distributed.Client`` (and the local cluster it owns, if any)."""
+        from dask.distributed import Client, LocalCluster
+
+        if self.scheduler is not None:
+            return Client(self.scheduler, timeout="30s"), None
+        if self.scheduler_file is not None:
+            return Client(scheduler_file=str(self.scheduler_file), timeout="30s"), None
+        workers = self.workers or os.cpu_count() or 1
+        # Any free port for its HTTP server (8787 may be taken), errors only in the log: the progress bar
+        # and the summary are what the user reads.
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                               dashboard_address=":0", silence_logs=logging.ERROR)
+        return Client(cluster), cluster
+
+
+class PartWriter:
+    """Rows to a Parquet dataset directory, a part file per batch, each renamed into place
+    when complete; the schema's metadata records ``source`` (what the rows were computed
+    from), checked on resume."""
+
+    def __init__(self, directory: pathlib.Path, source: str):
+        self.directory, self.source = directory, source
+        self.rows: list = []
+        self.written = 0
+        self.last = time.monotonic()
+        self.session = uuid.uuid4().hex[:8]
+        self.parts = 0
+
+    def add(self, rows: Sequence[dict]) -> None:
+        """Gathers ``rows``; writes a part once :data:`PART_ROWS` are gathered or
+        :data:`PART_SECONDS` have passed since the last."""
+        self.rows.extend(rows)
+        if len(self.rows) >= PART_ROWS or time.monotonic() - self.last > PART_SECONDS:
+            self.flush()
+
+    def flush(self) -> None:
+        """Writes the rows gathered as one part file (none without rows)."""
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        self.last = time.monotonic()
+        if not self.rows:
+            return
+        table = pa.Table.from_pylist(self.rows).replace_schema_metadata({SOURCE_KEY: self.source.encode()})
+        name = f"part-{self.session}-{self.parts:05d}.parquet"
+        temporary = self.directory / f".{name}.tmp"
+        pq.write_table(table, temporary)
+        temporary.rename(self.directory / name)
+        self.written += len(self.rows)
+        self.parts += 1
+        self.rows = []
+
+
+def done_keys(directory: pathlib.Path, key: str, source: str, flag: str = "--output") -> set:
+    """The values of column ``key`` in the dataset ``directory`` (the rows already written),
+    refusing one computed from another ``source``."""
+    import pyarrow.parquet as pq
+
+    parts = sorted(directory.glob("part-*.parquet"))
+    done: set = set()
+    for part in parts:
+        file = pq.ParquetFile(part)
+        written = (file.schema_arrow.metadata or {}).get(SOURCE_KEY, b"").decode()
+        if written != source:
+            raise ValueError(f"{flag}: {directory} holds results of another specification or lot ({part.name}): "
+                             "--resume continues the same one; give another --output")
+        done.update(file.read(columns=[key]).column(key).to_pylist())
+    return done
+
+
+def prepare_output(directory: pathlib.Path, resume: bool, flag: str = "--output") -> None:
+    """Makes the dataset directory; one already holding parts is refused unless ``resume``."""
+    if directory.exists() and not directory.is_dir():
+        raise ValueError(f"{flag}: {directory} is a file: the results are a Parquet dataset (a directory of parts)")
+    if directory.is_dir() and any(directory.glob("part-*.parquet")) and not resume:
+        raise ValueError(f"{flag}: {directory} already holds results: give --resume to continue them, or another "
+                         "--output")
+    directory.mkdir(parents=True, exist_ok=True)
+    for stale in directory.glob(".part-*.tmp"):
+        stale.unlink()
+
+
+def run_tasks(cluster: Cluster, task: Callable[..., list], arguments: Iterable[tuple], total_rows: int,
+              writer: PartWriter, *, progress: bool = True, unit: str = "run") -> dict:
+    """Runs ``task(*a)`` for each ``a`` of ``arguments`` on ``cluster`` (each returns a list
+    of row dicts), writing the rows as tasks complete; returns what it measured: ``rows``,
+    ``seconds`` (wall time from the first submission), ``workers``."""
+    from dask.distributed import as_completed
+    from tqdm import tqdm
+
+    client, local = cluster.client()
+    try:
+        threads = max(sum(client.nthreads().values()), 1)
+        pending = iter(arguments)
+        started = time.monotonic()
+        in_flight = as_completed()
+
+        def submit(count: int) -> None:
+            for args in pending:
+                in_flight.add(client.submit(task, *args, pure=False, retries=RETRIES))
+                count -= 1
+                if count == 0:
+                    return
+
+        submit(threads * TASKS_PER_WORKER)
+        with tqdm(total=total_rows, unit=unit, disable=not progress, dynamic_ncols=True) as bar:
+            for future in in_flight:
+                rows = future.result()
+                future.release()
+                writer.add(rows)
+                bar.update(len(rows))
+                submit(1)
+        writer.flush()
+        return {"rows": writer.written, "seconds": time.monotonic() - started, "workers": threads}
+    finally:
+        writer.flush()
+        client.close()
+        if local is not None:
+            local.close()
+
+
+def batches(keys: Iterable[Any], count: int, workers: int, largest: int = 16) -> Iterator[list]:
+    """The ``count`` ``keys`` in batches, one task each, made as they are submitted: about 8
+    tasks per worker for balance, at most ``largest`` keys per task."""
+    size = max(1, min(largest, count // max(8 * workers, 1)))
+    batch: list = []
+    for key in keys:
+        batch.append(key)
+        if len(batch) == size:
+            yield batch
+            batch = []
+    if batch:
+        yield batch

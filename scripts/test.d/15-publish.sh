@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# What crates.io and a vendoring firmware project get from the publishable crates:
+# What the Rust package registry and a vendoring firmware project get from the publishable crates:
 # - their manifests agree with the workspace (version, licence, repository, lints, shared
 #   dependencies' versions), since they write those keys out instead of inheriting them, and
 #   their READMEs state their MSRV;
 # - `cargo publish --dry-run` of the whole workspace: each publishable crate is packaged and
-#   built from its package, against the others' packages (as crates.io will serve them);
+#   built from its package, against the others' packages (as the registry will serve them);
 # - the core's package also builds for the Cortex-M4F, and the Rust example of each crate's
 #   README builds against it (the core's package for the Cortex-M4F; the std crate's, which
 #   runs, against its source: its package names the core by a version no registry serves yet);
@@ -56,7 +56,7 @@ trap 'rm -rf "$scratch"' EXIT
 
 echo "--- cargo publish --dry-run"
 # --workspace packages every member without `publish = false`, each verified by a build
-# from its package against a local registry of the others (the core is not on crates.io
+# from its package against a local registry of the others (the core is not on the registry
 # yet, so the std crate could not be verified on its own). --allow-dirty: the test command
 # also runs on work trees with uncommitted changes.
 # Cargo unpacks each verified package into its registry's source cache and builds it into

@@ -3,7 +3,9 @@
 //! The per-sample work is the core's `Gains::update`; this module only moves samples in and
 //! estimates out, with the GIL released, straight into preallocated arrays that numpy owns.
 
-use angletrack_core::{CalibrationMode, CalibrationStatus, Faults, FrontEndFaults};
+use angletrack_core::{
+    AngleCorrection, CalibrationMode, CalibrationStatus, Faults, FrontEndFaults, SensorCalibration,
+};
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 
@@ -11,7 +13,7 @@ use crate::arrays::{Count, Float};
 use crate::calibration::{CalibrationChoice, PySensorCalibration, mode_name, status_name};
 use crate::counts::{AdcSettings, Clipping, adc_settings};
 use crate::diagnostics::PyFaultThresholds;
-use crate::dispatch::{Arg, Run, RunSettings};
+use crate::dispatch::{Arg, RunSettings};
 use crate::errors::{Error, Result};
 use crate::estimates::{Estimate, Estimates};
 use crate::gains::PyGains;
@@ -33,13 +35,17 @@ pub struct ObserverOptions {
     pub clipping: Clipping,
     /// The windings' nominal envelope amplitude for the winding check (`None`: no check).
     pub winding_amplitude: Option<f64>,
+    /// A stored sensor calibration and angle correction in place of the online calibration
+    /// (`harmonics.CalibratedObserver`).
+    pub stored: Option<(SensorCalibration<f64>, AngleCorrection<f64>)>,
 }
 
 /// What `Observer` does with the core observer of whichever float type, order and sin/cos
 /// its settings chose.
-pub trait ObserverOps: Run {
-    /// [`Run::run`] with the front-end faults of each sample (`None`: none given).
-    fn run_with_faults(
+pub trait ObserverOps: core::fmt::Debug + Send + Sync {
+    /// Runs over `y_c`, `y_s` with the front-end faults of each sample (`None`: none given)
+    /// and returns the estimates of every sample; the state carries over to the next call.
+    fn run(
         &mut self,
         py: Python<'_>,
         y_c: Arg<'_, '_>,
@@ -153,6 +159,7 @@ impl PyObserver {
             calibration: CalibrationChoice::new(calibration, initial_calibration)?,
             clipping: Clipping::of_floats(adc_range, measure_adc_range)?,
             winding_amplitude,
+            stored: None,
         };
         RunSettings::from_arguments(gains, dtype, sin_cos)?.subclass(|gains| {
             let inner = gains.observer(&options)?;
@@ -186,7 +193,7 @@ impl PyObserver {
                     "expected a contiguous uint8 array".to_string(),
                 )
             })?;
-        self.inner.run_with_faults(py, y_c, y_s, faults)
+        self.inner.run(py, y_c, y_s, faults)
     }
 
     /// The front-end faults latched since they were last cleared (bits of
@@ -357,9 +364,10 @@ pub fn track(
         calibration: CalibrationChoice::default(),
         clipping: Clipping::of_floats(adc_range, false)?,
         winding_amplitude: None,
+        stored: None,
     };
     settings
         .typed_gains()?
         .observer(&options)?
-        .run(py, y_c, y_s)
+        .run(py, y_c, y_s, None)
 }

@@ -4,9 +4,10 @@
 
 use angletrack::{EstimateColumns, ThresholdInput, ThresholdPolicy};
 use angletrack_core::{
-    AdcScaling, CalibrationMode, CalibrationStage, CalibrationStatus, CorrectionStage, Faults,
-    FrontEndFaults, Gains as CoreGains, Input, ObserverState, SinCos, Tracker, TrackerFrontEnd,
-    TrackerSettings, TrackerState, WindingCheck,
+    AdcScaling, AngleCorrection, CalibrationMode, CalibrationStage, CalibrationStatus,
+    CorrectionStage, Faults, FrontEndFaults, Gains as CoreGains, Input, ObserverState,
+    SensorCalibration, SinCos, Tracker, TrackerFrontEnd, TrackerSettings, TrackerState,
+    WindingCheck,
 };
 use pyo3::prelude::*;
 
@@ -14,7 +15,7 @@ use crate::arrays::check_equal_lengths;
 use crate::calibration::{CalibrationChoice, PySensorCalibration};
 use crate::counts::{AdcInput, Clipping};
 use crate::diagnostics::PyFaultThresholds;
-use crate::dispatch::{Arg, PhaseSinCos, Run, Sample};
+use crate::dispatch::{Arg, PhaseSinCos, Sample};
 use crate::errors::{Error, Result};
 use crate::estimates::{Estimate, Estimates, OutputArrays};
 use crate::observer::{ObserverOps, ObserverOptions};
@@ -52,12 +53,28 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Channel<T, N, S> {
             .map(|a| WindingCheck::new(T::from_f64(a)))
             .transpose()
             .map_err(|e| Error::value("winding_amplitude", e.to_string()))?;
-        let front_end = front_end(
-            &options.clipping,
-            None,
-            winding,
-            CalibrationStage::Online(gains.online_calibration()),
-        )?;
+        let (calibration, correction) = match &options.stored {
+            Some((sensor, correction)) => {
+                let f = T::from_f64;
+                let (o_c, o_s, a_c, a_s, phi) = sensor.parameters();
+                let (a, b) = correction.coefficients();
+                (
+                    CalibrationStage::Stored(SensorCalibration::new(
+                        f(o_c),
+                        f(o_s),
+                        f(a_c),
+                        f(a_s),
+                        f(phi),
+                    )?),
+                    CorrectionStage::Harmonics(AngleCorrection::new(a.map(f), b.map(f))?),
+                )
+            }
+            None => (
+                CalibrationStage::Online(gains.online_calibration()),
+                CorrectionStage::None,
+            ),
+        };
+        let front_end = front_end(&options.clipping, None, winding, (calibration, correction))?;
         let mut state = TrackerState::new();
         *state.front_end.calibrator_mut() = options.calibration.calibrator()?;
         Ok(Self {
@@ -77,7 +94,7 @@ fn front_end<T: Sample>(
     clipping: &Clipping,
     adc: Option<AdcScaling<T>>,
     winding: Option<WindingCheck<T>>,
-    calibration: CalibrationStage<T>,
+    (calibration, correction): (CalibrationStage<T>, CorrectionStage<T>),
 ) -> Result<TrackerFrontEnd<T>> {
     let input = match adc {
         Some(adc) => Input::Counts {
@@ -92,7 +109,7 @@ fn front_end<T: Sample>(
         input,
         winding,
         calibration,
-        correction: CorrectionStage::None,
+        correction,
     })
     .map_err(|e| Error::value("adc_range", e.to_string()))
 }
@@ -112,14 +129,8 @@ fn code(bound: f64) -> Result<i32> {
     }
 }
 
-impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for Channel<T, N, S> {
-    fn run(&mut self, py: Python<'_>, y_c: Arg<'_, '_>, y_s: Arg<'_, '_>) -> Result<Estimates> {
-        self.run_with_faults(py, y_c, y_s, None)
-    }
-}
-
 impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N, S> {
-    fn run_with_faults(
+    fn run(
         &mut self,
         py: Python<'_>,
         y_c: Arg<'_, '_>,
@@ -158,8 +169,8 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
         let adc = self.adc.decided().filter(|_| counts);
         let held = self.tracker.front_end;
         if self.clipping.range.is_some() && held.adc() != adc {
-            let calibration = held.calibration();
-            self.tracker.front_end = front_end(&self.clipping, adc, held.winding(), calibration)?;
+            let stages = (held.calibration(), held.correction());
+            self.tracker.front_end = front_end(&self.clipping, adc, held.winding(), stages)?;
         }
         let out = OutputArrays::<T>::new(py, y_c.len())?;
         let (tracker, state) = (&self.tracker, &mut self.state);

@@ -31,8 +31,8 @@ class _FixedConstants(TypedDict):
     sample_period_s: float
 
 class _LearnedCalibration(TypedDict):
-    """An angle calibration as the extension gives it (``learn_calibration``, a calibration
-    file): the sensor's ``(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)``,
+    """An angle calibration as the extension gives it (``_CaptureCalibrator.finish``, a
+    calibration file): the sensor's ``(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)``,
     the angle error's ``cos`` and ``sin`` coefficients (8 each, rad) and what the learning
     saw (NaN where unknown): the method, each order's quality and the warnings."""
 
@@ -1091,13 +1091,6 @@ class DriveOutputs:
     @property
     def latency_s(self) -> float: ...
 # ----------------------------------------------------------- angle error calibration
-
-def learn_calibration(
-    gains: Gains, y_c: _Samples, y_s: _Samples, *, reference: Optional[_Samples] = None,
-    lowest_order: Optional[int] = None, highest_order: int = 8, settle_fraction: float = 0.2,
-    self_calibration: bool = False, own_loop: bool = True, min_significance: float = 3.0,
-) -> _LearnedCalibration:
-    """The calibration of a capture held in memory (see ``angletrack.calibrate``)."""
 
 class _CaptureCalibrator:
     """A calibration learned from a capture read twice in chunks (see

@@ -20,6 +20,7 @@ _DType = Union[type[np.float32], type[np.float64], np.dtype, Literal["float32", 
 _SinCos = Optional[Literal["fast", "exact"]]
 #: The float type of the constants written for firmware.
 _FloatType = Literal["float32", "float64"]
+_Language = Literal["c", "rust"]
 _SensorParameters = tuple[float, float, float, float, float]
 
 class _FixedConstants(TypedDict):
@@ -1117,30 +1118,25 @@ class _CorrectedObserver:
 
 # ----------------------------------------------------------- firmware source (angletrack::export)
 
-def gains_c_header(
-    gains: Gains, *, name: str = "angletrack", dtype: _FloatType = "float32", description: str = ""
+def gains_source(
+    gains: Gains, language: _Language, *, name: str = "angletrack", dtype: _FloatType = "float32",
+    description: str = "",
 ) -> str:
-    """A C header with the gains, the sample period, the sample rate and the order in
-    ``dtype``; ``ConfigError`` naming ``name`` (not an identifier), ``dtype`` or the value
-    not finite in ``dtype``."""
-def gains_rust(
-    gains: Gains, *, name: str = "angletrack", dtype: _FloatType = "float32", description: str = ""
+    """A C header (``language="c"``) with the gains, the sample period, the sample rate and the
+    order in ``dtype``, or a block of Rust ``const`` (``"rust"``) for
+    ``angletrack_core::Gains::new``; ``ConfigError`` naming ``language``, ``name`` (not an
+    identifier), ``dtype`` or the value not finite in ``dtype``."""
+def fixed_source(
+    constants: _FixedConstants, language: _Language, *, name: str = "angletrack", description: str = ""
 ) -> str:
-    """A block of Rust ``const`` for ``angletrack_core::Gains::new``."""
-def fixed_c_header(constants: _FixedConstants, *, name: str = "angletrack", description: str = "") -> str:
-    """A C header with the fixed-point constants of ``Design.fixed_constants()``."""
-def fixed_rust(constants: _FixedConstants, *, name: str = "angletrack", description: str = "") -> str:
-    """A Rust ``const`` for ``angletrack_core::FixedGains::from_constants``."""
-def calibration_c_header(
-    sensor: _SensorParameters, cos: Sequence[float], sin: Sequence[float], *, name: str = "angletrack",
-    dtype: _FloatType = "float32",
+    """A C header (``"c"``) or a Rust ``const`` (``"rust"``) for
+    ``angletrack_core::FixedGains::from_constants`` of ``Design.fixed_constants()``."""
+def calibration_source(
+    sensor: _SensorParameters, cos: Sequence[float], sin: Sequence[float], language: _Language, *,
+    name: str = "angletrack", dtype: _FloatType = "float32",
 ) -> str:
-    """A C header with a sensor calibration and an angle correction (checked by the core)."""
-def calibration_rust(
-    sensor: _SensorParameters, cos: Sequence[float], sin: Sequence[float], *, name: str = "angletrack",
-    dtype: _FloatType = "float32",
-) -> str:
-    """A block of Rust ``const`` for ``SensorCalibration::new`` and ``AngleCorrection::new``."""
+    """A C header (``"c"``) or a block of Rust ``const`` (``"rust"``) with a sensor calibration
+    and an angle correction (checked by the core)."""
 
 # ----------------------------------------------------------- gains files (angletrack::export::GainsFile)
 
@@ -1203,7 +1199,7 @@ def tracker_file_with_calibration(tracker_text: str, tracker_file: str, calibrat
                                   calibration_file: str) -> str:
     """The tracker file's text with the calibration of a calibration file's text (either
     kind) in place of its own."""
-def tracker_firmware_constants(text: str, file: str, language: str, name: str) -> str:
+def tracker_firmware_constants(text: str, file: str, language: _Language, name: str) -> str:
     """A tracker file's firmware constants: ``language`` ``"c"`` (a header) or ``"rust"``
     (``const`` items), identifiers prefixed by ``name``; ``ValueError`` naming a setting no
     generator writes, ``ConfigError`` naming ``name``."""

@@ -121,12 +121,12 @@ class Calibration:
     def to_c_header(self, *, name: str = "angletrack", dtype: str = "float32") -> str:
         """A C header with the sensor calibration and the correction's coefficients
         (``angletrack::export::calibration_c_header``)."""
-        return _angletrack.calibration_c_header(self.sensor, self.cos, self.sin, name=name, dtype=dtype)
+        return _angletrack.calibration_source(self.sensor, self.cos, self.sin, "c", name=name, dtype=dtype)
 
     def to_rust(self, *, name: str = "angletrack", dtype: str = "float32") -> str:
         """A Rust ``const`` block for ``SensorCalibration::new`` and ``AngleCorrection::new``
         (``angletrack::export::calibration_rust``)."""
-        return _angletrack.calibration_rust(self.sensor, self.cos, self.sin, name=name, dtype=dtype)
+        return _angletrack.calibration_source(self.sensor, self.cos, self.sin, "rust", name=name, dtype=dtype)
 
 
 def calibrate(y_c: Any, y_s: Any, gains: Gains, *, reference: Any = None, lowest_order: Optional[int] = None,

@@ -337,35 +337,6 @@ fn narrowed(counts: &[i64], parameter: &'static str) -> Result<Vec<i32>> {
         .collect()
 }
 
-/// The largest count `offset_binary_mid_scale` takes: 2^53, below which every whole number
-/// is a float64.
-const LARGEST_EXACT_COUNT: f64 = 9_007_199_254_740_992.0;
-
-/// The mid-scale (counts) of unsigned, offset-binary ADC counts whose largest sample is
-/// `largest_count` (a whole number, 0 to 2^53): `2^(b-1)` for the smallest `b`, at least 2,
-/// whose range `2^b` holds it (2048 for 12-bit counts up to 4095). What `track` removes
-/// from uint16 counts without `adc_mid_scale` (the largest sample of the whole capture).
-///
-/// >>> from angletrack._angletrack import offset_binary_mid_scale
-/// >>> offset_binary_mid_scale(4095), offset_binary_mid_scale(4096)
-/// (2048, 4096)
-#[pyfunction]
-pub fn offset_binary_mid_scale(largest_count: f64) -> Result<u64> {
-    if !(largest_count.is_finite()
-        && largest_count >= 0.0
-        && largest_count.fract() == 0.0
-        && largest_count <= LARGEST_EXACT_COUNT)
-    {
-        return Err(Error::value(
-            "largest_count",
-            format!("{largest_count}: expected a whole number of counts from 0 to 2^53"),
-        ));
-    }
-    // Checked above: a whole number from 0 to 2^53, exact as a u64.
-    let largest = largest_count as u64;
-    Ok(angletrack::offset_binary_mid_scale(largest))
-}
-
 /// Each channel's extremes of a capture of whole counts, gathered chunk by chunk
 /// (`angletrack::CountsExtremes`): what `capture_counts` reads of the whole capture.
 #[pyclass(name = "CountsExtremes", module = "angletrack")]

@@ -65,32 +65,52 @@ where
     FixedGains::from_constants(constants, sample_period_s)
 }
 
+/// The chain of `gains` with the monitor for `nominal_amplitude` counts (`None`: off)
+/// behind `front_end`.
+fn chain<const N: usize>(
+    gains: FixedGains<N>,
+    front_end: TrackerFrontEnd<i16>,
+    nominal_amplitude: Option<f64>,
+) -> Result<Tracker<i16, FixedGains<N>>>
+where
+    Order<N>: SupportedOrder,
+{
+    Ok(Tracker::new(
+        front_end,
+        gains.with_monitor(nominal_amplitude)?,
+    ))
+}
+
 impl FixedChannel {
     /// The fixed-point observer of checked float gains, quantised by the core, behind
-    /// `front_end`.
+    /// `front_end`, with the monitor for `nominal_amplitude`.
     fn of_gains(
         set: &GainSet,
         front_end: TrackerFrontEnd<i16>,
-    ) -> core::result::Result<Self, CoreConfigError> {
+        nominal_amplitude: Option<f64>,
+    ) -> Result<Self> {
+        let a = nominal_amplitude;
         Ok(match set {
-            GainSet::Second(g) => Self::Second(
-                Tracker::new(front_end, FixedGains::new(g.gains(), g.sample_period())?),
-                TrackerState::new(),
-            ),
-            GainSet::Third(g) => Self::Third(
-                Tracker::new(front_end, FixedGains::new(g.gains(), g.sample_period())?),
-                TrackerState::new(),
-            ),
+            GainSet::Second(g) => {
+                let gains = FixedGains::new(g.gains(), g.sample_period())?;
+                Self::Second(chain(gains, front_end, a)?, TrackerState::new())
+            }
+            GainSet::Third(g) => {
+                let gains = FixedGains::new(g.gains(), g.sample_period())?;
+                Self::Third(chain(gains, front_end, a)?, TrackerState::new())
+            }
         })
     }
 
     /// The fixed-point observer of the integer constants (2 or 3 multipliers), checked by
-    /// the core, behind `front_end`; a refusal names `constants` and the gain.
+    /// the core, behind `front_end`, with the monitor for `nominal_amplitude`; a refusal
+    /// names `constants` and the gain.
     fn of_constants(
         multiplier: &[i32],
         shift: u32,
         sample_period_s: f64,
         front_end: TrackerFrontEnd<i16>,
+        nominal_amplitude: Option<f64>,
     ) -> Result<Self> {
         let named = |e: CoreConfigError| match e {
             CoreConfigError::NotFinite(_) | CoreConfigError::NotPositive(_) => Error::Config(e),
@@ -99,21 +119,17 @@ impl FixedChannel {
                 format!("{e} (multiplier {multiplier:?}, acceleration_shift {shift})"),
             ),
         };
+        let a = nominal_amplitude;
         Ok(match *multiplier {
-            [a, b] => Self::Second(
-                Tracker::new(
-                    front_end,
-                    gains_of_constants([a, b], shift, sample_period_s).map_err(named)?,
-                ),
-                TrackerState::new(),
-            ),
-            [a, b, c] => Self::Third(
-                Tracker::new(
-                    front_end,
-                    gains_of_constants([a, b, c], shift, sample_period_s).map_err(named)?,
-                ),
-                TrackerState::new(),
-            ),
+            [l1, l2] => {
+                let gains = gains_of_constants([l1, l2], shift, sample_period_s).map_err(named)?;
+                Self::Second(chain(gains, front_end, a)?, TrackerState::new())
+            }
+            [l1, l2, l3] => {
+                let gains =
+                    gains_of_constants([l1, l2, l3], shift, sample_period_s).map_err(named)?;
+                Self::Third(chain(gains, front_end, a)?, TrackerState::new())
+            }
             _ => {
                 return Err(Error::value(
                     "constants",
@@ -124,20 +140,6 @@ impl FixedChannel {
                     ),
                 ));
             }
-        })
-    }
-
-    /// The same observer with the monitor for `nominal_amplitude` counts (`None`: off).
-    fn with_monitor(self, nominal_amplitude: Option<f64>) -> Result<Self> {
-        Ok(match self {
-            Self::Second(t, s) => Self::Second(
-                Tracker::new(t.front_end, t.observer.with_monitor(nominal_amplitude)?),
-                s,
-            ),
-            Self::Third(t, s) => Self::Third(
-                Tracker::new(t.front_end, t.observer.with_monitor(nominal_amplitude)?),
-                s,
-            ),
         })
     }
 }
@@ -320,7 +322,7 @@ impl PyFixedObserver {
         let gains = designed_gains(design)?;
         let clipping = Clipping::new(adc_range, measure_adc_range)?;
         let front_end = front_end(calibration, mid_scale_counts, input_shift, clipping)?;
-        let channel = FixedChannel::of_gains(&gains, front_end)?.with_monitor(nominal_amplitude)?;
+        let channel = FixedChannel::of_gains(&gains, front_end, nominal_amplitude)?;
         Ok(Self { channel })
     }
 
@@ -364,8 +366,13 @@ impl PyFixedObserver {
             .map_err(|_| not_integers("acceleration_shift", &shift, "an integer from 0 to 15"))?;
         let clipping = Clipping::new(adc_range, measure_adc_range)?;
         let front_end = front_end(calibration, mid_scale_counts, input_shift, clipping)?;
-        let channel = FixedChannel::of_constants(&multiplier, shift, sample_period_s, front_end)?
-            .with_monitor(nominal_amplitude)?;
+        let channel = FixedChannel::of_constants(
+            &multiplier,
+            shift,
+            sample_period_s,
+            front_end,
+            nominal_amplitude,
+        )?;
         Ok(Self { channel })
     }
 

@@ -431,10 +431,6 @@ class FixedObserver:
     def clear_faults(self) -> int:
         """Returns the latched faults (bits) and clears them."""
 
-def measured_carrier_cycles_per_sample(y_c: _Samples, y_s: _Samples) -> Optional[float]:
-    """The carrier frequency of raw windings in cycles per sample, from the tone at twice
-    the carrier in ``y_c^2 + y_s^2``; ``None`` when it cannot be measured."""
-
 def measured_adc_range(y_c: _Samples, y_s: _Samples) -> Optional[tuple[float, float]]:
     """The ADC range measured on the samples: each extreme of both channels that is a rail
     (held flat over ``HELD_RAIL_SAMPLES`` consecutive samples of a channel, and reached by
@@ -471,12 +467,6 @@ def plan_windings(
     for unequal lengths (``first_s``), an amplitude not a positive number of counts up to
     2^31, or a range not two finite numbers in order."""
 
-def offset_binary_mid_scale(largest_count: float) -> int:
-    """The mid-scale (counts) of unsigned, offset-binary ADC counts whose largest sample is
-    ``largest_count`` (a whole number, 0 to 2^53): ``2^(b-1)`` for the smallest ``b``, at
-    least 2, whose range ``2^b`` holds it; what ``track`` removes from uint16 counts
-    without ``adc_mid_scale`` (the largest sample of the whole capture)."""
-
 def fixed_input(y_c: _Samples, y_s: _Samples, mid_scale: int) -> tuple[int, int, float, float]:
     """How a capture's counts reach the fixed-point observer, from its first samples and the
     capture's ``mid_scale`` (``capture_counts``'s): ``(mid_scale_counts, input_shift,
@@ -501,8 +491,8 @@ def capture_counts(extremes: CountsExtremes, *, signed: Optional[bool] = None, b
     signedness stated, else unsigned for an unsigned type, signed for a negative sample
     anywhere, unsigned when both channels swing about one offset-binary mid-scale; else
     ``ConfigError`` (parameter ``adc_signed``, the message ending with ``state_with``).
-    Unsigned counts are centred on ``2^(bits-1)``, else on ``offset_binary_mid_scale`` of
-    the largest sample (``ConfigError`` naming ``capture`` for counts no ADC gives, naming
+    Unsigned counts are centred on ``2^(bits-1)``, else on the offset-binary mid-scale of
+    the largest sample (``angletrack::offset_binary_mid_scale``) (``ConfigError`` naming ``capture`` for counts no ADC gives, naming
     ``adc_bits`` outside 2 to 53)."""
 
 #: The estimates a batch may be asked for (``outputs=``).

@@ -435,7 +435,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(read_capture, m)?)?;
     m.add_function(wrap_pyfunction!(check_outputs, m)?)?;
     m.add_function(wrap_pyfunction!(write_output, m)?)?;
-    m.add_class::<crate::writer::PyEstimatesWriter>()?;
+    m.add_function(wrap_pyfunction!(crate::writer::estimate_columns, m)?)?;
     m.add_class::<crate::writer::PyTableWriter>()?;
     m.add_class::<crate::writer::PyOutputFile>()?;
     Ok(())

@@ -905,24 +905,13 @@ def read_capture(
 ) -> Capture:
     """Reads a whole capture (the checks of ``CaptureReader``)."""
 
-class EstimatesWriter:
-    """Estimates written chunk by chunk, the format from the extension: ``.npy`` (a
-    structured array, fields ``time_s``, ``angle_rad``, ``position_rad``, ``speed_rad_s``,
-    ``acceleration_rad_s2``, ``phase_error``, ``faults``), ``.npz`` (one array per field) or
-    ``.csv`` (those names as header, each number the shortest decimal that reads back to the
-    same float); another extension is refused. Written beside ``path`` and renamed to it by
-    ``close()``; after an exception in a ``with`` block the file is discarded."""
-
-    def __init__(self, path: Union[str, os.PathLike], *, dtype: _DType = None) -> None: ...
-    def write(self, time_s: npt.NDArray[np.float64], estimates: Estimates) -> None: ...
-    def close(self) -> int:
-        """Finishes the file; returns the rows written."""
-    def __enter__(self) -> EstimatesWriter: ...
-    def __exit__(self, exc_type: object, _exc_value: object, _traceback: object) -> bool: ...
+def estimate_columns(dtype: _DType = None) -> list[tuple[str, str]]:
+    """The columns ``(name, dtype)`` of estimates of the float type ``dtype`` (float32 or
+    float64): what ``angletrack.EstimatesWriter`` writes through a ``TableWriter``."""
 
 class TableWriter:
     """A table of named numeric columns written chunk by chunk, the format from the
-    extension as ``EstimatesWriter``'s: ``.csv`` (the names as header, floats as the
+    extension: ``.csv`` (the names as header, floats as the
     shortest decimal that reads back, integers as digits), ``.npy`` (a structured array,
     one field per column) or ``.npz`` (one array per column). ``columns``: ``(name, dtype)``
     in file order, names of letters, digits and underscores, each once; dtypes float64,

@@ -41,7 +41,7 @@ pub use reader::{CaptureChunk, CaptureOptions, CaptureReader};
 pub use sniff::{DecimalMark, Delimiter};
 pub use table::{Column, ColumnType, EstimatesFormat, TableWriter};
 pub use time::{SPACING_TOLERANCE, TimeUnit};
-pub use write::{ESTIMATE_COLUMNS, EstimateRows, EstimatesWriter, OutputFloat};
+pub use write::{ESTIMATE_COLUMNS, EstimateRows, EstimatesWriter, OutputFloat, estimate_columns};
 
 /// A whole capture in memory, with what was learnt reading it.
 #[derive(Debug, Clone, PartialEq)]

@@ -9,6 +9,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::errors::{Error, Result};
+use crate::getters::class_methods;
 
 /// A sensor's calibration, the model `y_c = offset_c + amplitude_c cos(theta)`,
 /// `y_s = offset_s + amplitude_s sin(theta + quadrature_rad)` in the observer's input units
@@ -73,69 +74,68 @@ impl PySensorCalibration {
     }
 }
 
-#[pymethods]
-impl PySensorCalibration {
-    #[new]
-    #[pyo3(signature = (*, offset_c = 0.0, offset_s = 0.0, amplitude_c = 1.0, amplitude_s = 1.0,
-        quadrature_rad = 0.0))]
-    fn py_new(
-        offset_c: f64,
-        offset_s: f64,
-        amplitude_c: f64,
-        amplitude_s: f64,
-        quadrature_rad: f64,
-    ) -> Result<Self> {
-        let c = CoreCalibration::new(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)?;
-        Ok(Self::from_core(&c))
+class_methods! {
+    PySensorCalibration {
+        /// The gain imbalance `amplitude_s / amplitude_c`.
+        amplitude_ratio: f64 = |this, py| this.amplitude_s / this.amplitude_c;
     }
-
-    /// The gain imbalance `amplitude_s / amplitude_c`.
-    #[getter]
-    fn amplitude_ratio(&self) -> f64 {
-        self.amplitude_s / self.amplitude_c
-    }
-
-    /// The fields as a dict of floats (for `json.dumps`).
-    // A Python method takes `&self` (pyo3 passes no Rust value), though the type is `Copy`.
-    #[allow(clippy::wrong_self_convention)]
-    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        let values = [
-            self.offset_c,
-            self.offset_s,
-            self.amplitude_c,
-            self.amplitude_s,
-            self.quadrature_rad,
-        ];
-        for (name, value) in FIELDS.iter().zip(values) {
-            d.set_item(name, value)?;
+    methods {
+        #[new]
+        #[pyo3(signature = (*, offset_c = 0.0, offset_s = 0.0, amplitude_c = 1.0, amplitude_s = 1.0,
+            quadrature_rad = 0.0))]
+        fn py_new(
+            offset_c: f64,
+            offset_s: f64,
+            amplitude_c: f64,
+            amplitude_s: f64,
+            quadrature_rad: f64,
+        ) -> Result<Self> {
+            let c = CoreCalibration::new(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)?;
+            Ok(Self::from_core(&c))
         }
-        Ok(d)
-    }
 
-    /// The calibration of a dict holding the five fields (as `to_dict` writes them; other
-    /// keys are ignored), checked as the constructor does.
-    #[staticmethod]
-    fn from_dict(d: &Bound<'_, PyDict>) -> Result<Self> {
-        let mut values = [0.0; 5];
-        for (value, name) in values.iter_mut().zip(FIELDS) {
-            let item = d
-                .get_item(name)?
-                .ok_or_else(|| Error::value(name_of(name), "missing from the dict"))?;
-            *value = item
-                .extract::<f64>()
-                .map_err(|_| Error::value(name_of(name), "must be a number"))?;
+        /// The fields as a dict of floats (for `json.dumps`).
+        // A Python method takes `&self` (pyo3 passes no Rust value), though the type is `Copy`.
+        #[allow(clippy::wrong_self_convention)]
+        fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+            let d = PyDict::new(py);
+            let values = [
+                self.offset_c,
+                self.offset_s,
+                self.amplitude_c,
+                self.amplitude_s,
+                self.quadrature_rad,
+            ];
+            for (name, value) in FIELDS.iter().zip(values) {
+                d.set_item(name, value)?;
+            }
+            Ok(d)
         }
-        let [o_c, o_s, a_c, a_s, q] = values;
-        Self::py_new(o_c, o_s, a_c, a_s, q)
-    }
 
-    fn __repr__(&self) -> String {
-        format!(
-            "SensorCalibration(offset_c={:?}, offset_s={:?}, amplitude_c={:?}, amplitude_s={:?}, \
-             quadrature_rad={:?})",
-            self.offset_c, self.offset_s, self.amplitude_c, self.amplitude_s, self.quadrature_rad
-        )
+        /// The calibration of a dict holding the five fields (as `to_dict` writes them; other
+        /// keys are ignored), checked as the constructor does.
+        #[staticmethod]
+        fn from_dict(d: &Bound<'_, PyDict>) -> Result<Self> {
+            let mut values = [0.0; 5];
+            for (value, name) in values.iter_mut().zip(FIELDS) {
+                let item = d
+                    .get_item(name)?
+                    .ok_or_else(|| Error::value(name_of(name), "missing from the dict"))?;
+                *value = item
+                    .extract::<f64>()
+                    .map_err(|_| Error::value(name_of(name), "must be a number"))?;
+            }
+            let [o_c, o_s, a_c, a_s, q] = values;
+            Self::py_new(o_c, o_s, a_c, a_s, q)
+        }
+
+        fn __repr__(&self) -> String {
+            format!(
+                "SensorCalibration(offset_c={:?}, offset_s={:?}, amplitude_c={:?}, amplitude_s={:?}, \
+                 quadrature_rad={:?})",
+                self.offset_c, self.offset_s, self.amplitude_c, self.amplitude_s, self.quadrature_rad
+            )
+        }
     }
 }
 

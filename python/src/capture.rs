@@ -15,6 +15,7 @@ use pyo3::types::{PyDict, PyString};
 
 use crate::arrays::Count;
 use crate::errors::{Error, Result};
+use crate::getters::class_methods;
 
 /// The column mapping of a `columns` argument: `"y_c=cos,y_s=sin"` or a dict
 /// `{"y_c": "cos", "y_s": 1}` (names or 0-based indices).
@@ -189,91 +190,66 @@ impl PyCaptureReader {
     }
 }
 
-#[pymethods]
-impl PyCaptureReader {
-    #[new]
-    #[pyo3(signature = (path, *, columns = None, delimiter = None, decimal = None, skip_rows = Count::Whole(0), time_unit = "s", sample_rate_hz = None, chunk_rows = Count::Whole(65536)), text_signature = "(path, *, columns=None, delimiter=None, decimal=None, skip_rows=0, time_unit='s', sample_rate_hz=None, chunk_rows=65536)")]
-    #[allow(clippy::too_many_arguments)]
-    fn py_new(
-        path: PathBuf,
-        columns: Option<&Bound<'_, PyAny>>,
-        delimiter: Option<&str>,
-        decimal: Option<&str>,
-        skip_rows: Count,
-        time_unit: &str,
-        sample_rate_hz: Option<f64>,
-        chunk_rows: Count,
-    ) -> Result<Self> {
-        let layout = Layout {
-            delimiter,
-            decimal,
-            skip_rows: skip_rows.at_least("skip_rows", 0)? as u64,
-        };
-        let chunk_rows = chunk_rows.at_least("chunk_rows", 2)?;
-        let options = options(columns, layout, time_unit, sample_rate_hz, chunk_rows)?;
-        Ok(Self {
-            reader: Mutex::new(CoreReader::open(path, options)?),
-        })
+class_methods! {
+    PyCaptureReader {
+        /// The sample rate (Hz): the stated one, else the time column's (mean spacing of the
+        /// rows read so far); `None` without either.
+        sample_rate_hz: Option<f64> = |this, py| this.reader().sample_rate_hz();
+        /// Samples read so far.
+        rows: u64 = |this, py| this.reader().rows();
+        /// The samples' element type as stored (`int16`; `int64` for whole numbers in text).
+        sample_dtype: String = |this, py| this.reader().sample_dtype();
+        /// `{role: column name}` of the columns used.
+        columns: Result<Bound<'py, PyDict>> = |this, py| mapping_dict(py, &this.reader().mapping());
+        /// `npy`, `npz` or `text, delimiter X`.
+        format: String = |this, py| this.reader().format().to_string();
+        /// The file.
+        path: PathBuf = |this, py| this.reader().path().to_path_buf();
+        /// `(bytes read, file size)`, for progress.
+        progress_bytes: (u64, u64) = |this, py| this.reader().progress_bytes();
     }
-
-    fn __iter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
-        slf
-    }
-
-    fn __next__(&mut self, py: Python<'_>) -> Result<Option<PyCaptureChunk>> {
-        let reader = self
-            .reader
-            .get_mut()
-            .unwrap_or_else(std::sync::PoisonError::into_inner);
-        let done = py.detach(|| reader.next_chunk().map(|c| c.is_none()))?;
-        if done {
-            return Ok(None);
+    methods {
+        #[new]
+        #[pyo3(signature = (path, *, columns = None, delimiter = None, decimal = None, skip_rows = Count::Whole(0), time_unit = "s", sample_rate_hz = None, chunk_rows = Count::Whole(65536)), text_signature = "(path, *, columns=None, delimiter=None, decimal=None, skip_rows=0, time_unit='s', sample_rate_hz=None, chunk_rows=65536)")]
+        #[allow(clippy::too_many_arguments)]
+        fn py_new(
+            path: PathBuf,
+            columns: Option<&Bound<'_, PyAny>>,
+            delimiter: Option<&str>,
+            decimal: Option<&str>,
+            skip_rows: Count,
+            time_unit: &str,
+            sample_rate_hz: Option<f64>,
+            chunk_rows: Count,
+        ) -> Result<Self> {
+            let layout = Layout {
+                delimiter,
+                decimal,
+                skip_rows: skip_rows.at_least("skip_rows", 0)? as u64,
+            };
+            let chunk_rows = chunk_rows.at_least("chunk_rows", 2)?;
+            let options = options(columns, layout, time_unit, sample_rate_hz, chunk_rows)?;
+            Ok(Self {
+                reader: Mutex::new(CoreReader::open(path, options)?),
+            })
         }
-        // The chunk was read above; it is borrowed again under the GIL to be copied out.
-        Ok(reader.last_chunk().map(|c| PyCaptureChunk::new(py, c)))
-    }
 
-    /// The sample rate (Hz): the stated one, else the time column's (mean spacing of the
-    /// rows read so far); `None` without either.
-    #[getter]
-    fn sample_rate_hz(&self) -> Option<f64> {
-        self.reader().sample_rate_hz()
-    }
+        fn __iter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
+            slf
+        }
 
-    /// Samples read so far.
-    #[getter]
-    fn rows(&self) -> u64 {
-        self.reader().rows()
-    }
-
-    /// The samples' element type as stored (`int16`; `int64` for whole numbers in text).
-    #[getter]
-    fn sample_dtype(&self) -> String {
-        self.reader().sample_dtype()
-    }
-
-    /// `{role: column name}` of the columns used.
-    #[getter]
-    fn columns<'py>(&self, py: Python<'py>) -> Result<Bound<'py, PyDict>> {
-        mapping_dict(py, &self.reader().mapping())
-    }
-
-    /// `npy`, `npz` or `text, delimiter X`.
-    #[getter]
-    fn format(&self) -> String {
-        self.reader().format().to_string()
-    }
-
-    /// The file.
-    #[getter]
-    fn path(&self) -> PathBuf {
-        self.reader().path().to_path_buf()
-    }
-
-    /// `(bytes read, file size)`, for progress.
-    #[getter]
-    fn progress_bytes(&self) -> (u64, u64) {
-        self.reader().progress_bytes()
+        fn __next__(&mut self, py: Python<'_>) -> Result<Option<PyCaptureChunk>> {
+            let reader = self
+                .reader
+                .get_mut()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            let done = py.detach(|| reader.next_chunk().map(|c| c.is_none()))?;
+            if done {
+                return Ok(None);
+            }
+            // The chunk was read above; it is borrowed again under the GIL to be copied out.
+            Ok(reader.last_chunk().map(|c| PyCaptureChunk::new(py, c)))
+        }
     }
 }
 

@@ -13,6 +13,7 @@ use crate::arrays::Float;
 use crate::batch::{Batch, RunBatch};
 use crate::errors::{Error, Result};
 use crate::gains::{GainSet, PyGains};
+use crate::getters::class_methods;
 use crate::observer::{ObserverOps, ObserverOptions};
 use crate::observer_channel::Channel;
 
@@ -164,35 +165,20 @@ impl RunSettings {
     }
 }
 
-#[pymethods]
-impl RunSettings {
-    /// The gains it runs with.
-    #[getter]
-    fn gains(&self) -> PyGains {
-        self.gains.clone()
+class_methods! {
+    RunSettings {
+        /// The gains it runs with.
+        gains: PyGains = |this, py| this.gains.clone();
+        /// The float type it runs on: 'float32' or 'float64'.
+        dtype: &'static str = |this, py| this.float.name();
+        /// The phase detector's sin/cos: 'fast' (polynomial) or 'exact' (libm).
+        sin_cos: &'static str = |this, py| this.sin_cos.name();
+        /// The observer order (2 or 3).
+        order: usize = |this, py| this.gains.set.order();
+        /// The sample period (s).
+        sample_period_s: f64 = |this, py| this.gains.set.sample_period();
     }
+    methods {
 
-    /// The float type it runs on: 'float32' or 'float64'.
-    #[getter]
-    fn dtype(&self) -> &'static str {
-        self.float.name()
-    }
-
-    /// The phase detector's sin/cos: 'fast' (polynomial) or 'exact' (libm).
-    #[getter]
-    fn sin_cos(&self) -> &'static str {
-        self.sin_cos.name()
-    }
-
-    /// The observer order (2 or 3).
-    #[getter]
-    fn order(&self) -> usize {
-        self.gains.set.order()
-    }
-
-    /// The sample period (s).
-    #[getter]
-    fn sample_period_s(&self) -> f64 {
-        self.gains.set.sample_period()
     }
 }

@@ -26,6 +26,7 @@ mod export;
 mod fixed;
 mod fixed_estimates;
 mod gains;
+mod getters;
 mod metrics;
 mod motion;
 mod observer;

@@ -12,6 +12,7 @@ use pyo3::prelude::*;
 
 use crate::arrays::Float;
 use crate::errors::{Error, Result};
+use crate::getters::class_methods;
 
 /// `close()`: completes the writer in `slot`; 0 if closed already.
 fn close(slot: &mut Option<CoreTableWriter>) -> Result<u64> {
@@ -209,57 +210,56 @@ pub struct PyOutputFile {
     temporary: PathBuf,
 }
 
-#[pymethods]
-impl PyOutputFile {
-    #[new]
-    #[pyo3(signature = (path))]
-    fn py_new(path: PathBuf) -> Result<Self> {
-        let output = CoreOutputFile::create(&path)?;
-        let temporary = output.temporary().to_path_buf();
-        Ok(Self {
-            output: Some(output),
-            temporary,
-        })
+class_methods! {
+    PyOutputFile {
+        /// The temporary file to write, beside the target.
+        temporary_path: PathBuf = |this, py| this.temporary.clone();
     }
-
-    /// The temporary file to write, beside the target.
-    #[getter]
-    fn temporary_path(&self) -> PathBuf {
-        self.temporary.clone()
-    }
-
-    /// Renames the temporary file over the target.
-    fn commit(&mut self) -> Result<()> {
-        match self.output.take() {
-            Some(o) => Ok(o.commit()?),
-            None => Err(Error::value(
-                "OutputFile",
-                "is committed or discarded already",
-            )),
+    methods {
+        #[new]
+        #[pyo3(signature = (path))]
+        fn py_new(path: PathBuf) -> Result<Self> {
+            let output = CoreOutputFile::create(&path)?;
+            let temporary = output.temporary().to_path_buf();
+            Ok(Self {
+                output: Some(output),
+                temporary,
+            })
         }
-    }
 
-    /// Removes the temporary file; the target stays as it was.
-    fn discard(&mut self) {
-        self.output = None;
-    }
-
-    fn __enter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
-        slf
-    }
-
-    #[pyo3(signature = (exc_type, _exc_value, _traceback))]
-    fn __exit__(
-        &mut self,
-        exc_type: &Bound<'_, PyAny>,
-        _exc_value: &Bound<'_, PyAny>,
-        _traceback: &Bound<'_, PyAny>,
-    ) -> Result<bool> {
-        if exc_type.is_none() && self.output.is_some() {
-            self.commit()?;
-        } else {
-            self.discard();
+        /// Renames the temporary file over the target.
+        fn commit(&mut self) -> Result<()> {
+            match self.output.take() {
+                Some(o) => Ok(o.commit()?),
+                None => Err(Error::value(
+                    "OutputFile",
+                    "is committed or discarded already",
+                )),
+            }
         }
-        Ok(false)
+
+        /// Removes the temporary file; the target stays as it was.
+        fn discard(&mut self) {
+            self.output = None;
+        }
+
+        fn __enter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
+            slf
+        }
+
+        #[pyo3(signature = (exc_type, _exc_value, _traceback))]
+        fn __exit__(
+            &mut self,
+            exc_type: &Bound<'_, PyAny>,
+            _exc_value: &Bound<'_, PyAny>,
+            _traceback: &Bound<'_, PyAny>,
+        ) -> Result<bool> {
+            if exc_type.is_none() && self.output.is_some() {
+                self.commit()?;
+            } else {
+                self.discard();
+            }
+            Ok(false)
+        }
     }
 }

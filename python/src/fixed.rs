@@ -22,7 +22,7 @@ use crate::calibration::PySensorCalibration;
 use crate::counts::Clipping;
 use crate::design::{PyDesign, constants_dict};
 use crate::errors::{Error, Result};
-use crate::fixed_estimates::{FixedArrays, FixedEstimate, FixedEstimates};
+use crate::fixed_estimates::{FixedEstimate, FixedEstimates, run_fixed};
 use crate::gains::{GainSet, PyGains};
 use crate::getters::class_methods;
 
@@ -421,13 +421,10 @@ class_methods! {
             let (y_c, y_s) = (counts(y_c, "y_c")?, counts(y_s, "y_s")?);
             let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
             check_equal_lengths(("y_c", y_c.len()), ("y_s", y_s.len()))?;
-            let out = FixedArrays::new(py, y_c.len())?;
             let channel = &mut self.channel;
-            out.fill(
-                py,
-                |columns| with_channel!(channel, t, s => columns.run_chain(t, s, y_c, y_s)),
-            )?;
-            Ok(out.into_estimates(y_c.len()))
+            run_fixed(py, y_c.len(), |columns| {
+                with_channel!(channel, t, s => columns.run_chain(t, s, y_c, y_s));
+            })
         }
 
         /// Forgets the state: the next sample sets the angle from its `atan2`.

@@ -8,7 +8,7 @@ use pyo3::prelude::*;
 use crate::arrays::{Float, channel_samples};
 use crate::dispatch::{Arg, PhaseSinCos, RunSettings, Sample};
 use crate::errors::{Error, Result};
-use crate::estimates::{Estimates, OutputArrays, OutputSelection};
+use crate::estimates::{Estimates, OutputSelection, run_estimates};
 use crate::gains::PyGains;
 use crate::getters::class_methods;
 
@@ -70,12 +70,13 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> RunBatch for Batch<T, N, S> {
             crate::arrays::samples::<T>(&y_c, "y_c")?,
             crate::arrays::samples::<T>(&y_s, "y_s")?,
         );
-        let out = OutputArrays::<T>::selected(py, channels_c * samples, outputs)?;
         let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
-        out.fill(py, |columns| {
-            ChannelBatch::run(&mut self.batch, y_c, y_s, samples, columns)
-        })??;
-        out.into_estimates(py, samples, Some((channels_c, samples)))
+        let shape = Some((channels_c, samples));
+        let (run, estimates) = run_estimates(py, channels_c * samples, (outputs, shape), |c| {
+            ChannelBatch::run(&mut self.batch, y_c, y_s, samples, c)
+        })?;
+        run?;
+        Ok(estimates)
     }
 }
 

@@ -17,7 +17,7 @@ use crate::counts::{AdcInput, Clipping};
 use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::{Arg, PhaseSinCos, Sample};
 use crate::errors::{Error, Result};
-use crate::estimates::{Estimate, Estimates, OutputArrays};
+use crate::estimates::{Estimate, Estimates, OutputSelection, run_estimates};
 use crate::observer::{ObserverOps, ObserverOptions};
 
 /// The core's standard chain behind `Observer` (`Tracker`: the clipping checks, the winding
@@ -172,12 +172,12 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
             let stages = (held.calibration(), held.correction());
             self.tracker.front_end = front_end(&self.clipping, adc, held.winding(), stages)?;
         }
-        let out = OutputArrays::<T>::new(py, y_c.len())?;
         let (tracker, state) = (&self.tracker, &mut self.state);
-        out.fill(py, |columns| {
+        let all = (OutputSelection::ALL, None);
+        let ((), estimates) = run_estimates(py, y_c.len(), all, |columns| {
             run_columns(columns, tracker, state, (y_c, y_s), front_end_faults)
         })?;
-        out.into_estimates(py, y_c.len(), None)
+        Ok(estimates)
     }
 
     fn front_end_faults(&self) -> FrontEndFaults {

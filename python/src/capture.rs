@@ -1,13 +1,13 @@
-//! `read_capture`, `CaptureReader` and `EstimatesWriter`: the std crate's capture reader and
-//! estimates writer on numpy arrays, the parsing and formatting in Rust with the GIL
-//! released.
+//! `read_capture` and `CaptureReader`: the std crate's capture reader on numpy arrays, the
+//! parsing in Rust with the GIL released; `check_outputs` and `write_output`, its rules for
+//! what a run writes.
 
 use std::path::PathBuf;
 use std::sync::Mutex;
 
 use angletrack::capture::{
-    Capture as CoreCapture, CaptureChunk, CaptureOptions, CaptureReader as CoreReader, ColumnMap,
-    DecimalMark, Delimiter, Role, TimeUnit, read_capture as core_read_capture,
+    Capture as CoreCapture, CaptureChunk, CaptureOptions, CaptureReader as CoreReader, Role,
+    WrittenCaptureOptions, read_capture as core_read_capture,
 };
 use numpy::{PyArray1, ToPyArray};
 use pyo3::prelude::*;
@@ -17,94 +17,28 @@ use crate::arrays::Count;
 use crate::errors::{Error, Result};
 use crate::getters::class_methods;
 
-/// The column mapping of a `columns` argument: `"y_c=cos,y_s=sin"` or a dict
-/// `{"y_c": "cos", "y_s": 1}` (names or 0-based indices).
-fn column_map(columns: Option<&Bound<'_, PyAny>>) -> Result<ColumnMap> {
+/// The text of a `columns` argument: `"y_c=cos,y_s=sin"` or a dict `{"y_c": "cos", "y_s": 1}`
+/// (names or 0-based indices); empty for `None` (the usual header names).
+fn columns_text(columns: Option<&Bound<'_, PyAny>>) -> Result<String> {
     let Some(columns) = columns.filter(|c| !c.is_none()) else {
-        return Ok(ColumnMap::default());
+        return Ok(String::new());
     };
     if let Ok(text) = columns.cast::<PyString>() {
-        return text
-            .to_cow()?
-            .parse()
-            .map_err(|m: String| Error::value("columns", strip(&m)));
+        return Ok(text.to_cow()?.into_owned());
     }
     let dict = columns
         .cast::<PyDict>()
         .map_err(|_| Error::value("columns", "expected 'y_c=NAME,y_s=NAME,...' or a dict"))?;
-    let mut text = Vec::new();
-    for (role, column) in dict.iter() {
-        text.push(format!("{}={}", role.str()?, column.str()?));
-    }
-    text.join(",")
-        .parse()
-        .map_err(|m: String| Error::value("columns", strip(&m)))
+    let pairs = dict
+        .iter()
+        .map(|(role, column)| Ok(format!("{}={}", role.str()?, column.str()?)))
+        .collect::<PyResult<Vec<_>>>()?;
+    Ok(pairs.join(","))
 }
 
-/// A message without the parameter name the binding's error adds again.
-fn strip(message: &str) -> String {
-    message
-        .strip_prefix("columns: ")
-        .unwrap_or(message)
-        .to_string()
-}
-
-/// The Python arguments of the text layout: `delimiter`, `decimal` (`.` or `,`; `None`:
-/// sniffed) and `skip_rows` (lines before the header).
-#[derive(Debug, Clone, Copy)]
-struct Layout<'a> {
-    delimiter: Option<&'a str>,
-    decimal: Option<&'a str>,
-    skip_rows: u64,
-}
-
-/// The reader's options from the Python arguments.
-fn options(
-    columns: Option<&Bound<'_, PyAny>>,
-    layout: Layout<'_>,
-    time_unit: &str,
-    sample_rate_hz: Option<f64>,
-    chunk_rows: usize,
-) -> Result<CaptureOptions> {
-    let delimiter = layout
-        .delimiter
-        .map(Delimiter::parse)
-        .transpose()
-        .map_err(|m| Error::value("delimiter", m.trim_start_matches("delimiter: ")))?;
-    let decimal = layout
-        .decimal
-        .map(DecimalMark::parse)
-        .transpose()
-        .map_err(|m| Error::value("decimal", m.trim_start_matches("decimal: ")))?;
-    if decimal == Some(DecimalMark::Comma) && delimiter == Some(Delimiter::Byte(b',')) {
-        return Err(Error::value(
-            "decimal",
-            "',' with the delimiter ',': the fields could not be told apart",
-        ));
-    }
-    let time_unit: TimeUnit = time_unit
-        .parse()
-        .map_err(|m: String| Error::value("time_unit", m.trim_start_matches("time_unit: ")))?;
-    if let Some(rate) = sample_rate_hz
-        && !(rate.is_finite() && rate > 0.0)
-    {
-        return Err(Error::value(
-            "sample_rate_hz",
-            format!("{rate} Hz: the sample rate must be positive and finite"),
-        ));
-    }
-    if chunk_rows < 2 {
-        return Err(Error::value("chunk_rows", "at least 2 rows per chunk"));
-    }
-    Ok(CaptureOptions {
-        columns: column_map(columns)?,
-        delimiter,
-        decimal,
-        skip_rows: layout.skip_rows,
-        time_unit,
-        sample_rate_hz,
-        chunk_rows,
-    })
+/// The reader's options of the Python arguments, parsed and checked by the crate.
+fn options(written: &WrittenCaptureOptions<'_>) -> Result<CaptureOptions> {
+    CaptureOptions::parse(written).map_err(|e| Error::value(e.option, e.reason))
 }
 
 /// `{role: column name}` of the columns used.
@@ -222,13 +156,16 @@ class_methods! {
             sample_rate_hz: Option<f64>,
             chunk_rows: Count,
         ) -> Result<Self> {
-            let layout = Layout {
+            let options = options(&WrittenCaptureOptions {
+                columns: &columns_text(columns)?,
                 delimiter,
                 decimal,
                 skip_rows: skip_rows.at_least("skip_rows", 0)? as u64,
-            };
-            let chunk_rows = chunk_rows.at_least("chunk_rows", 2)?;
-            let options = options(columns, layout, time_unit, sample_rate_hz, chunk_rows)?;
+                time_unit,
+                sample_rate_hz,
+                // The crate's rule (at least 2) names it.
+                chunk_rows: chunk_rows.at_least("chunk_rows", 0)?,
+            })?;
             Ok(Self {
                 reader: Mutex::new(CoreReader::open(path, options)?),
             })
@@ -307,12 +244,15 @@ pub fn read_capture(
     time_unit: &str,
     sample_rate_hz: Option<f64>,
 ) -> Result<PyCapture> {
-    let layout = Layout {
+    let options = options(&WrittenCaptureOptions {
+        columns: &columns_text(columns)?,
         delimiter,
         decimal,
         skip_rows: skip_rows.at_least("skip_rows", 0)? as u64,
-    };
-    let options = options(columns, layout, time_unit, sample_rate_hz, 1 << 16)?;
+        time_unit,
+        sample_rate_hz,
+        chunk_rows: CaptureOptions::default().chunk_rows,
+    })?;
     let read_path = path.clone();
     let c: CoreCapture = py.detach(|| core_read_capture(read_path, options))?;
     let samples = c.samples;

@@ -78,7 +78,7 @@ pub trait ObserverOps: core::fmt::Debug + Send + Sync {
     fn set_calibration(&mut self, choice: &CalibrationChoice) -> Result<()>;
 }
 
-/// Refuses the first value that is not finite, naming its parameter: a NaN state would be
+/// Refuses the first value that is not finite, naming its parameter: a NaN sample would be
 /// silently replaced by the observer's own start.
 fn finite(values: &[(&'static str, f64)]) -> Result<()> {
     match values.iter().find(|(_, v)| !v.is_finite()) {
@@ -254,11 +254,6 @@ class_methods! {
             speed_rad_s: f64,
             acceleration_rad_s2: f64,
         ) -> Result<()> {
-            finite(&[
-                ("angle_rad", angle_rad),
-                ("speed_rad_s", speed_rad_s),
-                ("acceleration_rad_s2", acceleration_rad_s2),
-            ])?;
             self.inner
                 .set_state(angle_rad, speed_rad_s, acceleration_rad_s2)
         }

@@ -2,9 +2,8 @@
 //! online correction of offsets, gain imbalance and quadrature error (`docs/theory.md §12`),
 //! configured, read and written from Python.
 
-use angletrack_core::{
-    CalibrationMode, CalibrationStatus, Calibrator, Real, SensorCalibration as CoreCalibration,
-};
+use angletrack::OnlineCalibrationChoice;
+use angletrack_core::{Real, SensorCalibration as CoreCalibration};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -148,83 +147,12 @@ fn name_of(name: &str) -> &'static str {
         .unwrap_or("calibration")
 }
 
-/// What the `calibration` and `initial_calibration` arguments ask for.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CalibrationChoice {
-    mode: CalibrationMode,
+/// The online calibration of the arguments `calibration` (`None`, `"learn"` or `"frozen"`)
+/// and `initial_calibration`, checked by the crate's `OnlineCalibrationChoice`.
+pub fn calibration_choice(
+    mode: Option<&str>,
     initial: Option<PySensorCalibration>,
-}
-
-impl CalibrationChoice {
-    /// `calibration`: `None` (off), `"learn"` or `"frozen"`; `initial_calibration` the
-    /// calibration to start from (needed when frozen, refused when off).
-    pub fn new(mode: Option<&str>, initial: Option<PySensorCalibration>) -> Result<Self> {
-        let mode = match mode {
-            None | Some("off") => CalibrationMode::Off,
-            Some("learn") => CalibrationMode::Learning,
-            Some("frozen") => CalibrationMode::Frozen,
-            Some(other) => {
-                return Err(Error::value(
-                    "calibration",
-                    format!("expected None, 'learn' or 'frozen', got {other:?}"),
-                ));
-            }
-        };
-        // Off applies nothing: a calibration given with it would be reported (by
-        // `Observer.calibration`) but not applied.
-        if mode == CalibrationMode::Off && initial.is_some() {
-            return Err(Error::value(
-                "initial_calibration",
-                "is applied only with calibration='learn' or 'frozen' (the calibration is off)",
-            ));
-        }
-        if mode == CalibrationMode::Frozen && initial.is_none() {
-            return Err(Error::value(
-                "initial_calibration",
-                "is needed with calibration='frozen' (the calibration to apply)",
-            ));
-        }
-        Ok(Self { mode, initial })
-    }
-
-    /// The core calibrator it stands for, in float type `T`.
-    pub fn calibrator<T: Real>(&self) -> Result<Calibrator<T>> {
-        let mut calibrator = match &self.initial {
-            Some(c) => Calibrator::from_calibration(c.typed()?),
-            None => Calibrator::new(),
-        };
-        match self.mode {
-            CalibrationMode::Off => calibrator.disable(),
-            CalibrationMode::Learning => calibrator.enable(),
-            CalibrationMode::Frozen => calibrator.freeze(),
-        }
-        Ok(calibrator)
-    }
-}
-
-impl Default for CalibrationChoice {
-    fn default() -> Self {
-        Self {
-            mode: CalibrationMode::Off,
-            initial: None,
-        }
-    }
-}
-
-/// The name of a mode in the Python API.
-pub fn mode_name(mode: CalibrationMode) -> &'static str {
-    match mode {
-        CalibrationMode::Off => "off",
-        CalibrationMode::Learning => "learn",
-        CalibrationMode::Frozen => "frozen",
-    }
-}
-
-/// The name of a status in the Python API.
-pub fn status_name(status: CalibrationStatus) -> &'static str {
-    match status {
-        CalibrationStatus::FindingCentre => "finding-centre",
-        CalibrationStatus::Centred => "centred",
-        CalibrationStatus::Stalled => "stalled",
-    }
+) -> Result<OnlineCalibrationChoice> {
+    let initial = initial.map(|c| c.typed::<f64>()).transpose()?;
+    OnlineCalibrationChoice::new(mode, initial).map_err(|e| Error::value(e.argument, e.reason))
 }

@@ -3,6 +3,7 @@
 //! The per-sample work is the core's `Gains::update`; this module only moves samples in and
 //! estimates out, with the GIL released, straight into preallocated arrays that numpy owns.
 
+use angletrack::{OnlineCalibrationChoice, mode_name, status_name};
 use angletrack_core::{
     AngleCorrection, CalibrationMode, CalibrationStatus, Faults, FrontEndFaults, SensorCalibration,
 };
@@ -10,7 +11,7 @@ use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 
 use crate::arrays::{Count, Float};
-use crate::calibration::{CalibrationChoice, PySensorCalibration, mode_name, status_name};
+use crate::calibration::{PySensorCalibration, calibration_choice};
 use crate::counts::{AdcSettings, Clipping, adc_settings};
 use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::{Arg, RunSettings};
@@ -30,7 +31,7 @@ pub struct ObserverOptions {
     /// How integer counts are scaled, and which ADC arguments were given.
     pub adc: AdcSettings,
     /// The online calibration.
-    pub calibration: CalibrationChoice,
+    pub calibration: OnlineCalibrationChoice,
     /// The clipping checks: the ADC's range in the input's units (counts for integer
     /// samples), or the rails measured.
     pub clipping: Clipping,
@@ -75,11 +76,11 @@ pub trait ObserverOps: core::fmt::Debug + Send + Sync {
     fn calibration_mode(&self) -> CalibrationMode;
     fn calibration_turns_learned(&self) -> u32;
     fn calibration_status(&self) -> CalibrationStatus;
-    fn set_calibration(&mut self, choice: &CalibrationChoice) -> Result<()>;
+    fn set_calibration(&mut self, choice: &OnlineCalibrationChoice) -> Result<()>;
 }
 
-/// Refuses the first value that is not finite, naming its parameter: a NaN sample would be
-/// silently replaced by the observer's own start.
+/// Refuses the first value that is not finite, naming its parameter and the value (a NaN
+/// sample would otherwise be replaced silently by the observer's own start).
 fn finite(values: &[(&'static str, f64)]) -> Result<()> {
     match values.iter().find(|(_, v)| !v.is_finite()) {
         Some(&(parameter, v)) => Err(Error::value(parameter, format!("{v} is not finite"))),
@@ -188,7 +189,7 @@ class_methods! {
                 thresholds: fault_thresholds,
                 whole: false,
                 adc: adc_settings(adc_mid_scale, adc_counts_per_unit, adc_signed)?,
-                calibration: CalibrationChoice::new(calibration, initial_calibration)?,
+                calibration: calibration_choice(calibration, initial_calibration)?,
                 clipping: Clipping::of_floats(adc_range, measure_adc_range)?,
                 winding_amplitude,
                 stored: None,
@@ -254,6 +255,12 @@ class_methods! {
             speed_rad_s: f64,
             acceleration_rad_s2: f64,
         ) -> Result<()> {
+            // The message users see names the value (the core's names only the parameter).
+            finite(&[
+                ("angle_rad", angle_rad),
+                ("speed_rad_s", speed_rad_s),
+                ("acceleration_rad_s2", acceleration_rad_s2),
+            ])?;
             self.inner
                 .set_state(angle_rad, speed_rad_s, acceleration_rad_s2)
         }
@@ -271,7 +278,7 @@ class_methods! {
             calibration: Option<&str>,
             initial_calibration: Option<PySensorCalibration>,
         ) -> Result<()> {
-            let choice = CalibrationChoice::new(calibration, initial_calibration)?;
+            let choice = calibration_choice(calibration, initial_calibration)?;
             self.inner.set_calibration(&choice)
         }
 
@@ -320,7 +327,7 @@ pub fn track(
         thresholds: fault_thresholds,
         whole: true,
         adc: adc_settings(adc_mid_scale, adc_counts_per_unit, adc_signed)?,
-        calibration: CalibrationChoice::default(),
+        calibration: OnlineCalibrationChoice::default(),
         clipping: Clipping::of_floats(adc_range, false)?,
         winding_amplitude: None,
         stored: None,

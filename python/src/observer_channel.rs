@@ -2,17 +2,19 @@
 //! sin/cos, holding the core's `Tracker` (the ADC range check, the rails measured, the
 //! winding check, the online calibration) and its state, and its run over numpy arrays.
 
-use angletrack::{EstimateColumns, ThresholdInput, ThresholdPolicy};
+use angletrack::{
+    EstimateColumns, OnlineCalibrationChoice, ThresholdInput, ThresholdPolicy,
+    converted_calibration,
+};
 use angletrack_core::{
     AdcScaling, AngleCorrection, CalibrationMode, CalibrationStage, CalibrationStatus,
-    CorrectionStage, Faults, FrontEndFaults, Gains as CoreGains, Input, ObserverState,
-    SensorCalibration, SinCos, Tracker, TrackerFrontEnd, TrackerSettings, TrackerState,
-    WindingCheck,
+    CorrectionStage, Faults, FrontEndFaults, Gains as CoreGains, Input, ObserverState, SinCos,
+    Tracker, TrackerFrontEnd, TrackerSettings, TrackerState, WindingCheck,
 };
 use pyo3::prelude::*;
 
 use crate::arrays::check_equal_lengths;
-use crate::calibration::{CalibrationChoice, PySensorCalibration};
+use crate::calibration::PySensorCalibration;
 use crate::counts::{AdcInput, Clipping};
 use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::{Arg, PhaseSinCos, Sample};
@@ -55,18 +57,13 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Channel<T, N, S> {
             .map_err(|e| Error::value("winding_amplitude", e.to_string()))?;
         let (calibration, correction) = match &options.stored {
             Some((sensor, correction)) => {
-                let f = T::from_f64;
-                let (o_c, o_s, a_c, a_s, phi) = sensor.parameters();
                 let (a, b) = correction.coefficients();
                 (
-                    CalibrationStage::Stored(SensorCalibration::new(
-                        f(o_c),
-                        f(o_s),
-                        f(a_c),
-                        f(a_s),
-                        f(phi),
+                    CalibrationStage::Stored(converted_calibration(sensor)?),
+                    CorrectionStage::Harmonics(AngleCorrection::new(
+                        a.map(T::from_f64),
+                        b.map(T::from_f64),
                     )?),
-                    CorrectionStage::Harmonics(AngleCorrection::new(a.map(f), b.map(f))?),
                 )
             }
             None => (
@@ -254,7 +251,7 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
         self.state.front_end.calibrator().status()
     }
 
-    fn set_calibration(&mut self, choice: &CalibrationChoice) -> Result<()> {
+    fn set_calibration(&mut self, choice: &OnlineCalibrationChoice) -> Result<()> {
         *self.state.front_end.calibrator_mut() = choice.calibrator()?;
         Ok(())
     }

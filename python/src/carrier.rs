@@ -49,9 +49,6 @@ pub struct PyWindingsPlan {
     adc_range_source: String,
 }
 
-/// The largest carrier amplitude `plan_windings` takes: half the span of a 32-bit ADC.
-const LARGEST_CARRIER_AMPLITUDE_COUNTS: f64 = 2_147_483_648.0;
-
 /// The plan of a capture of raw windings whose first samples are `first_c`, `first_s`
 /// (1-D float64): the ADC rate from `samples_per_period` times `carrier_hz`, else the
 /// capture's rate `capture_hz`; a ratio the time column contradicts by more than 1 %, or a
@@ -82,14 +79,6 @@ pub fn plan_windings(
     adc_range: Option<(f64, f64)>,
 ) -> Result<PyWindingsPlan> {
     let (c, s) = paired_samples::<f64>((first_c, "first_c"), (first_s, "first_s"))?;
-    if let Some(a) = carrier_amplitude_counts
-        && !(a.is_finite() && a > 0.0 && a <= LARGEST_CARRIER_AMPLITUDE_COUNTS)
-    {
-        return Err(Error::value(
-            "carrier_amplitude_counts",
-            format!("{a}: expected a positive number of counts up to 2^31 (a 32-bit ADC's)"),
-        ));
-    }
     let adc_range = crate::counts::adc_range(adc_range)?;
     let mut settings = WindingsSettings::new(carrier_hz);
     settings.capture_hz = capture_hz;

@@ -373,17 +373,6 @@ pub fn resolver_windings(
 ) -> Result<PyScenario> {
     let seed: u64 = seed.get("seed")?;
     let model = model.map_or_else(ResolverModel::default, PyResolverModel::model);
-    // The crate names these two after their kind; the caller wrote the model's field names.
-    if !(model.carrier_hz.is_finite() && model.carrier_hz > 0.0) {
-        return Err(Error::value("carrier_hz", "must be finite and positive"));
-    }
-    let amplitude = model.excitation_amplitude_counts;
-    if !(amplitude.is_finite() && amplitude > 0.0) {
-        return Err(Error::value(
-            "excitation_amplitude_counts",
-            "must be finite and positive",
-        ));
-    }
     let profile = profile.inner.clone();
     let s = py.detach(move || angletrack::Scenario::resolver_windings(&profile, &model, seed))?;
     Ok(PyScenario::from_scenario(py, s))

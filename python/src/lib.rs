@@ -28,6 +28,7 @@ mod fixed_estimates;
 mod gains;
 mod getters;
 mod metrics;
+mod model_class;
 mod motion;
 mod observer;
 mod observer_channel;

@@ -15,6 +15,7 @@ use pyo3::prelude::*;
 use crate::arrays::{Count, check_equal_lengths, samples};
 use crate::errors::{Error, Result};
 use crate::getters::class_methods;
+use crate::model_class::{ModelField, model_class};
 use crate::motion::PyMotionProfile;
 use crate::scenario::PyScenario;
 
@@ -264,97 +265,47 @@ class_methods! {
     }
 }
 
-/// A carrier-excited resolver sampled by an ADC clocked with the excitation (the std crate's
-/// `ResolverModel`; defaults: 10 kHz carrier, 16 samples per period, 12-bit ADC, amplitude
-/// 1800 counts, noise 1 LSB, no delay). Checked when windings are generated.
-#[pyclass(name = "ResolverModel", module = "angletrack", frozen, get_all)]
-#[derive(Debug, Clone)]
-pub struct PyResolverModel {
-    /// The excitation carrier frequency (Hz).
-    carrier_hz: f64,
-    /// ADC samples of each winding per carrier period.
-    samples_per_period: usize,
-    /// The carrier's phase delay from the excitation to the ADC (rad).
-    carrier_delay_rad: f64,
-    /// The excitation's amplitude (counts, as the windings would show it at ratio 1).
-    excitation_amplitude_counts: f64,
-    /// Winding amplitude over excitation amplitude.
-    transformation_ratio: f64,
-    /// The sine winding's relative amplitude error.
-    winding_imbalance: f64,
-    /// A DC common mode on both windings (counts).
-    common_mode_counts: f64,
-    /// The ADC's resolution (bits); 0 for no quantisation.
-    adc_bits: u32,
-    /// The noise's standard deviation on each sample (counts).
-    noise_std_counts: f64,
-}
-
-impl PyResolverModel {
-    fn model(&self) -> ResolverModel {
-        ResolverModel {
-            carrier_hz: self.carrier_hz,
-            samples_per_period: self.samples_per_period,
-            carrier_delay_rad: self.carrier_delay_rad,
-            excitation_amplitude_counts: self.excitation_amplitude_counts,
-            transformation_ratio: self.transformation_ratio,
-            winding_imbalance: self.winding_imbalance,
-            common_mode_counts: self.common_mode_counts,
-            adc_bits: self.adc_bits,
-            noise_std_counts: self.noise_std_counts,
-        }
-    }
-}
-
-class_methods! {
-    PyResolverModel {
-        /// The carrier amplitude of a winding at the ADC (counts) at envelope 1.
-        amplitude_counts: f64 = |this, py| this.model().amplitude_counts();
-        /// The ADC sample period (s).
-        adc_sample_period_s: f64 = |this, py| this.model().adc_sample_period_s();
-        /// The ADC's mid-scale code (0 without an ADC).
-        mid_scale_counts: f64 = |this, py| this.model().mid_scale_counts();
+model_class! {
+    /// A carrier-excited resolver sampled by an ADC clocked with the excitation (the std crate's
+    /// `ResolverModel`; defaults: 10 kHz carrier, 16 samples per period, 12-bit ADC, amplitude
+    /// 1800 counts, noise 1 LSB, no delay). Checked when windings are generated.
+    PyResolverModel = "ResolverModel" of ResolverModel {
+        /// The excitation carrier frequency (Hz).
+        carrier_hz: f64,
+        /// ADC samples of each winding per carrier period.
+        samples_per_period: usize,
+        /// The carrier's phase delay from the excitation to the ADC (rad).
+        carrier_delay_rad: f64,
+        /// The excitation's amplitude (counts, as the windings would show it at ratio 1).
+        excitation_amplitude_counts: f64,
+        /// Winding amplitude over excitation amplitude.
+        transformation_ratio: f64,
+        /// The sine winding's relative amplitude error.
+        winding_imbalance: f64,
+        /// A DC common mode on both windings (counts).
+        common_mode_counts: f64,
+        /// The ADC's resolution (bits); 0 for no quantisation.
+        adc_bits: u32,
+        /// The noise's standard deviation on each sample (counts).
+        noise_std_counts: f64,
     }
     methods {
-        #[new]
-        #[pyo3(signature = (*, carrier_hz = None, samples_per_period = None, carrier_delay_rad = None,
-            excitation_amplitude_counts = None, transformation_ratio = None, winding_imbalance = None,
-            common_mode_counts = None, adc_bits = None, noise_std_counts = None))]
-        #[allow(clippy::too_many_arguments)]
-        fn py_new(
-            carrier_hz: Option<f64>,
-            samples_per_period: Option<Count>,
-            carrier_delay_rad: Option<f64>,
-            excitation_amplitude_counts: Option<f64>,
-            transformation_ratio: Option<f64>,
-            winding_imbalance: Option<f64>,
-            common_mode_counts: Option<f64>,
-            adc_bits: Option<Count>,
-            noise_std_counts: Option<f64>,
-        ) -> Result<Self> {
-            let d = ResolverModel::default();
-            Ok(Self {
-                carrier_hz: carrier_hz.unwrap_or(d.carrier_hz),
-                samples_per_period: match samples_per_period {
-                    Some(n) => n.get("samples_per_period")?,
-                    None => d.samples_per_period,
-                },
-                carrier_delay_rad: carrier_delay_rad.unwrap_or(d.carrier_delay_rad),
-                excitation_amplitude_counts: excitation_amplitude_counts
-                    .unwrap_or(d.excitation_amplitude_counts),
-                transformation_ratio: transformation_ratio.unwrap_or(d.transformation_ratio),
-                winding_imbalance: winding_imbalance.unwrap_or(d.winding_imbalance),
-                common_mode_counts: common_mode_counts.unwrap_or(d.common_mode_counts),
-                adc_bits: match adc_bits {
-                    Some(n) => n.get("adc_bits")?,
-                    None => d.adc_bits,
-                },
-                noise_std_counts: noise_std_counts.unwrap_or(d.noise_std_counts),
-            })
+        /// The carrier amplitude of a winding at the ADC (counts) at envelope 1.
+        #[getter]
+        fn amplitude_counts(&self) -> f64 {
+            self.model().amplitude_counts()
         }
 
-        fn __repr__(&self) -> String {
-            format!("{:?}", self.model())
+        /// The ADC sample period (s).
+        #[getter]
+        fn adc_sample_period_s(&self) -> f64 {
+            self.model().adc_sample_period_s()
+        }
+
+        /// The ADC's mid-scale code (0 without an ADC).
+        #[getter]
+        fn mid_scale_counts(&self) -> f64 {
+            self.model().mid_scale_counts()
         }
     }
 }

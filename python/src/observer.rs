@@ -42,6 +42,32 @@ pub struct ObserverOptions {
     pub stored: Option<(SensorCalibration<f64>, AngleCorrection<f64>)>,
 }
 
+/// What an `Observer`'s state holds now, in float64 (its attributes).
+#[derive(Debug, Clone)]
+pub struct ObserverStatus {
+    /// The estimate after the last sample.
+    pub estimate: Estimate,
+    /// `False` until the first sample (or `set_state`) has set the angle.
+    pub initialised: bool,
+    /// The faults latched.
+    pub latched_faults: Faults,
+    /// The front-end faults latched (of the range check, the rails measured and the winding
+    /// check).
+    pub front_end_faults: FrontEndFaults,
+    /// The diagnostics' thresholds, once decided.
+    pub fault_thresholds: Option<PyFaultThresholds>,
+    /// The signal's magnitude the loop normalises its phase error by.
+    pub amplitude: f64,
+    /// The sensor calibration applied (or learned so far).
+    pub calibration: PySensorCalibration,
+    /// The calibration's mode.
+    pub calibration_mode: CalibrationMode,
+    /// The electrical turns the calibration has learned from.
+    pub calibration_turns_learned: u32,
+    /// Where the online calibration stands.
+    pub calibration_status: CalibrationStatus,
+}
+
 /// What `Observer` does with the core observer of whichever float type, order and sin/cos
 /// its settings chose.
 pub trait ObserverOps: core::fmt::Debug + Send + Sync {
@@ -54,10 +80,8 @@ pub trait ObserverOps: core::fmt::Debug + Send + Sync {
         y_s: Arg<'_, '_>,
         front_end_faults: Option<&[u8]>,
     ) -> Result<Estimates>;
-    /// The front-end faults latched (of the range check, the rails measured and the winding
-    /// check).
-    fn front_end_faults(&self) -> FrontEndFaults;
-    fn estimate(&self) -> Estimate;
+    /// What the observer's state holds now.
+    fn status(&self) -> ObserverStatus;
     fn reset(&mut self);
     fn initialise(&mut self, y_c: f64, y_s: f64);
     /// Sets the state, refusing (naming the argument) a value the state cannot hold.
@@ -67,15 +91,7 @@ pub trait ObserverOps: core::fmt::Debug + Send + Sync {
         speed_rad_s: f64,
         acceleration_rad_s2: f64,
     ) -> Result<()>;
-    fn is_initialised(&self) -> bool;
-    fn latched_faults(&self) -> Faults;
     fn clear_faults(&mut self) -> Faults;
-    fn fault_thresholds(&self) -> Option<PyFaultThresholds>;
-    fn amplitude(&self) -> f64;
-    fn calibration(&self) -> PySensorCalibration;
-    fn calibration_mode(&self) -> CalibrationMode;
-    fn calibration_turns_learned(&self) -> u32;
-    fn calibration_status(&self) -> CalibrationStatus;
     fn set_calibration(&mut self, choice: &OnlineCalibrationChoice) -> Result<()>;
 }
 
@@ -137,32 +153,32 @@ class_methods! {
         /// The front-end faults latched since they were last cleared (bits of
         /// `DemodulatedPairs.faults`, and 4 for a sample clipped against `adc_range` or the
         /// rails measured).
-        latched_front_end_faults: u8 = |this, py| this.inner.front_end_faults().bits();
+        latched_front_end_faults: u8 = |this, py| this.inner.status().front_end_faults.bits();
         /// The estimate after the last sample.
-        estimate: Estimate = |this, py| this.inner.estimate();
+        estimate: Estimate = |this, py| this.inner.status().estimate;
         /// The faults latched since they were last cleared (bits, see `angletrack.Faults`), like
         /// reading an RDC chip's fault register.
-        latched_faults: u8 = |this, py| this.inner.latched_faults().bits();
+        latched_faults: u8 = |this, py| this.inner.status().latched_faults.bits();
         /// The diagnostics thresholds the observer runs with (given, or the defaults).
-        fault_thresholds: Option<PyFaultThresholds> = |this, py| this.inner.fault_thresholds();
+        fault_thresholds: Option<PyFaultThresholds> = |this, py| this.inner.status().fault_thresholds;
         /// The signal's magnitude `sqrt(y_c^2 + y_s^2)` the loop normalises its phase error by
         /// (input units, after the calibration's correction).
-        amplitude: f64 = |this, py| this.inner.amplitude();
+        amplitude: f64 = |this, py| this.inner.status().amplitude;
         /// The sensor calibration applied to each sample (unless the calibration is off): what
         /// it learned so far, or was given.
-        calibration: PySensorCalibration = |this, py| this.inner.calibration();
+        calibration: PySensorCalibration = |this, py| this.inner.status().calibration;
         /// The calibration's mode: `"off"`, `"learn"` or `"frozen"`.
-        calibration_mode: &'static str = |this, py| mode_name(this.inner.calibration_mode());
+        calibration_mode: &'static str = |this, py| mode_name(this.inner.status().calibration_mode);
         /// The electrical turns the calibration has learned from since it started or was set.
-        calibration_turns_learned: u32 = |this, py| this.inner.calibration_turns_learned();
+        calibration_turns_learned: u32 = |this, py| this.inner.status().calibration_turns_learned;
         /// Where the online calibration stands: `"finding-centre"` (the channels' centres are
         /// not found yet: the rotor has not turned a whole turn, or is at rest; nothing is
         /// learned and the angle of biased signals is wrong), `"centred"` (learning, or ready
         /// to), or `"stalled"` (16 electrical turns at speed without a turn learned: the
         /// observer is not locked within 0.29 of phase error, or the speed is not steady).
-        calibration_status: &'static str = |this, py| status_name(this.inner.calibration_status());
+        calibration_status: &'static str = |this, py| status_name(this.inner.status().calibration_status);
         /// `False` until the first sample (or `set_state`) has set the angle.
-        is_initialised: bool = |this, py| this.inner.is_initialised();
+        is_initialised: bool = |this, py| this.inner.status().initialised;
     }
     methods {
         #[new]
@@ -288,8 +304,8 @@ class_methods! {
                 "Observer({}, gains={:?}, calibration={}, initialised={})",
                 settings.describe(),
                 settings.gain_set().gains(),
-                mode_name(slf.inner.calibration_mode()),
-                slf.inner.is_initialised()
+                mode_name(slf.inner.status().calibration_mode),
+                slf.inner.status().initialised
             )
         }
     }

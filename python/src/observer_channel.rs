@@ -7,9 +7,9 @@ use angletrack::{
     converted_calibration,
 };
 use angletrack_core::{
-    AdcScaling, AngleCorrection, CalibrationMode, CalibrationStage, CalibrationStatus,
-    CorrectionStage, Faults, FrontEndFaults, Gains as CoreGains, Input, ObserverState, SinCos,
-    Tracker, TrackerFrontEnd, TrackerSettings, TrackerState, WindingCheck,
+    AdcScaling, AngleCorrection, CalibrationStage, CorrectionStage, Faults, FrontEndFaults,
+    Gains as CoreGains, Input, ObserverState, SinCos, Tracker, TrackerFrontEnd, TrackerSettings,
+    TrackerState, WindingCheck,
 };
 use pyo3::prelude::*;
 
@@ -20,7 +20,7 @@ use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::{Arg, PhaseSinCos, Sample};
 use crate::errors::{Error, Result};
 use crate::estimates::{Estimate, Estimates, OutputSelection, run_estimates};
-use crate::observer::{ObserverOps, ObserverOptions};
+use crate::observer::{ObserverOps, ObserverOptions, ObserverStatus};
 
 /// The core's standard chain behind `Observer` (`Tracker`: the clipping checks, the winding
 /// check, the online calibration), its state, integer counts scaled (`crate::counts`), and
@@ -177,12 +177,23 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
         Ok(estimates)
     }
 
-    fn front_end_faults(&self) -> FrontEndFaults {
-        self.state.front_end.latched_faults()
-    }
-
-    fn estimate(&self) -> Estimate {
-        Estimate::from_core(&self.tracker.observer.estimate(&self.state.observer))
+    fn status(&self) -> ObserverStatus {
+        let (observer, calibrator) = (&self.state.observer, self.state.front_end.calibrator());
+        // The gains' own (checked) thresholds, once the policy has them.
+        let thresholds = self.tracker.observer.fault_thresholds();
+        ObserverStatus {
+            estimate: Estimate::from_core(&self.tracker.observer.estimate(observer)),
+            initialised: observer.is_initialised(),
+            latched_faults: observer.latched_faults(),
+            front_end_faults: self.state.front_end.latched_faults(),
+            fault_thresholds: (self.thresholds.thresholds())
+                .map(|_| PyFaultThresholds::from_typed(&thresholds)),
+            amplitude: observer.amplitude().to_f64(),
+            calibration: PySensorCalibration::from_core(&calibrator.calibration()),
+            calibration_mode: calibrator.mode(),
+            calibration_turns_learned: calibrator.turns_learned(),
+            calibration_status: calibrator.status(),
+        }
     }
 
     fn reset(&mut self) {
@@ -211,44 +222,8 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
         Ok(())
     }
 
-    fn is_initialised(&self) -> bool {
-        self.state.observer.is_initialised()
-    }
-
-    fn latched_faults(&self) -> Faults {
-        self.state.observer.latched_faults()
-    }
-
     fn clear_faults(&mut self) -> Faults {
         self.state.observer.clear_faults()
-    }
-
-    fn fault_thresholds(&self) -> Option<PyFaultThresholds> {
-        // The gains' own (checked) thresholds, once the policy has them.
-        let thresholds = self.tracker.observer.fault_thresholds();
-        self.thresholds
-            .thresholds()
-            .map(|_| PyFaultThresholds::from_typed(&thresholds))
-    }
-
-    fn amplitude(&self) -> f64 {
-        self.state.observer.amplitude().to_f64()
-    }
-
-    fn calibration(&self) -> PySensorCalibration {
-        PySensorCalibration::from_core(&self.state.front_end.calibrator().calibration())
-    }
-
-    fn calibration_mode(&self) -> CalibrationMode {
-        self.state.front_end.calibrator().mode()
-    }
-
-    fn calibration_turns_learned(&self) -> u32 {
-        self.state.front_end.calibrator().turns_learned()
-    }
-
-    fn calibration_status(&self) -> CalibrationStatus {
-        self.state.front_end.calibrator().status()
     }
 
     fn set_calibration(&mut self, choice: &OnlineCalibrationChoice) -> Result<()> {

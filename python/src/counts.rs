@@ -249,23 +249,12 @@ impl<T: Sample> AdcInput<T> {
                 Counts::I64 => self.convert_i64(&c, &s),
             },
             other => {
-                // `y_c`'s own shape first, as for floats.
-                match kind {
-                    Counts::I16 => counts::<i16>(&c, "y_c").map(drop),
-                    Counts::U16 => counts::<u16>(&c, "y_c").map(drop),
-                    Counts::I32 => counts::<i32>(&c, "y_c").map(drop),
-                    Counts::I64 => counts::<i64>(&c, "y_c").map(drop),
-                }?;
+                // `y_c`'s own shape first, as for floats, then `y_s`'s.
+                one_dimensional(&c, "y_c")?;
                 if let Ok(array) = y_s.cast::<PyUntypedArray>()
                     && array.ndim() != 1
                 {
-                    return Err(Error::value(
-                        "y_s",
-                        format!(
-                            "expected a 1-D array of samples, got shape {:?}",
-                            array.shape()
-                        ),
-                    ));
+                    one_dimensional(array, "y_s")?;
                 }
                 Err(Error::Dtype {
                     parameter: "y_s",
@@ -441,20 +430,26 @@ pub fn fixed_input(
     ))
 }
 
+/// Refuses (naming `parameter`) an array of samples that is not 1-D and non-empty.
+fn one_dimensional(array: &Bound<'_, PyUntypedArray>, parameter: &'static str) -> Result<()> {
+    if array.ndim() == 1 && array.len() > 0 {
+        return Ok(());
+    }
+    Err(Error::value(
+        parameter,
+        format!(
+            "expected a non-empty 1-D array of samples, got shape {:?}",
+            array.shape()
+        ),
+    ))
+}
+
 /// The counts of a 1-D, non-empty array of `I`, copied.
 fn counts<I: Element + Copy>(
     array: &Bound<'_, PyUntypedArray>,
     parameter: &'static str,
 ) -> Result<Vec<I>> {
-    if array.ndim() != 1 || array.len() == 0 {
-        return Err(Error::value(
-            parameter,
-            format!(
-                "expected a non-empty 1-D array of samples, got shape {:?}",
-                array.shape()
-            ),
-        ));
-    }
+    one_dimensional(array, parameter)?;
     let typed = array
         .cast::<PyArray1<I>>()
         .map_err(|e| Error::Python(e.into()))?;

@@ -1,5 +1,5 @@
-//! The angle-dependent error calibration (`angletrack::learn_angle_correction`) and the
-//! observer that applies it, on numpy arrays; the Python package wraps them in
+//! The angle-dependent error calibration (`angletrack::CaptureCalibrator`) and the observer
+//! that applies it (the `Observer`'s chain with the stored stages), on numpy arrays; the Python package wraps them in
 //! `angletrack.harmonics` (`calibrate`, `calibrate_chunks`, `Calibration`,
 //! `CalibratedObserver`).
 

@@ -1,7 +1,7 @@
 //! The angle-dependent error calibration (`angletrack::CaptureCalibrator`) and the observer
-//! that applies it (the `Observer`'s chain with the stored stages), on numpy arrays; the Python package wraps them in
-//! `angletrack.harmonics` (`calibrate`, `calibrate_chunks`, `Calibration`,
-//! `CalibratedObserver`).
+//! that applies it (the `Observer`'s chain with the stored stages), on numpy arrays; the
+//! Python package wraps them in `angletrack.harmonics` (`calibrate`, `calibrate_chunks`,
+//! `Calibration`, `CalibratedObserver`).
 
 use angletrack::{
     AngleCorrection, CalibrationError, CalibrationOptions, CaptureCalibration, CaptureCalibrator,
@@ -22,26 +22,6 @@ use crate::observer::{ObserverOps, ObserverOptions};
 
 /// The sensor calibration `(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)`.
 pub type SensorParameters = (f64, f64, f64, f64, f64);
-
-/// The options of a calibration, checked by the crate.
-#[allow(clippy::too_many_arguments)]
-fn options(
-    lowest_order: Option<Count>,
-    highest_order: Count,
-    settle_fraction: f64,
-    self_calibration: bool,
-    own_loop: bool,
-    min_significance: f64,
-) -> Result<CalibrationOptions> {
-    Ok(CalibrationOptions {
-        lowest_order: lowest_order.map(|o| o.get("lowest_order")).transpose()?,
-        highest_order: highest_order.get("highest_order")?,
-        settle_fraction,
-        self_calibration,
-        own_loop,
-        min_significance,
-    })
-}
 
 /// A refused calibration as a `ConfigError` naming the option.
 fn refused(e: CalibrationError) -> Error {
@@ -80,14 +60,14 @@ impl PyCaptureCalibrator {
         own_loop: bool,
         min_significance: f64,
     ) -> Result<Self> {
-        let options = options(
-            lowest_order,
-            highest_order,
+        let options = CalibrationOptions {
+            lowest_order: lowest_order.map(|o| o.get("lowest_order")).transpose()?,
+            highest_order: highest_order.get("highest_order")?,
             settle_fraction,
             self_calibration,
             own_loop,
             min_significance,
-        )?;
+        };
         let period = with_gains!(&gains.set, g => g.sample_period());
         Ok(Self {
             inner: Some(CaptureCalibrator::new(period, &options).map_err(refused)?),

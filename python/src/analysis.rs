@@ -9,6 +9,7 @@ use pyo3::types::PyComplex;
 use crate::design::complex_list;
 use crate::errors::Result;
 use crate::gains::{GainSet, PyGains, with_gains};
+use crate::getters::class_methods;
 
 /// Overshoot and 2 % settling time of a step response.
 #[pyclass(name = "StepResponse", module = "angletrack", frozen, get_all)]
@@ -55,149 +56,73 @@ impl From<angletrack::DesignReport> for DesignReport {
     }
 }
 
-#[pymethods]
-impl DesignReport {
-    /// The design rule, in words.
-    #[getter]
-    fn method(&self) -> &'static str {
-        self.inner.method.name()
+class_methods! {
+    DesignReport {
+        /// The design rule, in words.
+        method: &'static str = |this, py| this.inner.method.name();
+        /// The mapping of a continuous design, or `None`.
+        discretisation: Option<&'static str> = |this, py| this.inner.discretisation.map(|d| d.id());
+        /// Loop order (2 or 3).
+        order: usize = |this, py| this.inner.order;
+        /// Sample period (s).
+        sample_period_s: f64 = |this, py| this.inner.sample_period_s;
+        /// The discrete gains.
+        gains: Vec<f64> = |this, py| this.inner.gains.clone();
+        /// Poles `z_i` of the discrete loop.
+        discrete_poles: Vec<Bound<'py, PyComplex>> = |this, py| complex_list(py, &this.inner.discrete_poles);
+        /// Their continuous equivalents `ln(z_i) / Ts` (rad/s).
+        continuous_equivalent_poles: Vec<Bound<'py, PyComplex>> = |this, py| complex_list(py, &this.inner.continuous_equivalent_poles);
+        /// The continuous design's poles (rad/s); empty for Kalman and given gains.
+        design_poles: Vec<Bound<'py, PyComplex>> = |this, py| complex_list(py, &this.inner.design_poles);
+        /// Largest relative pole shift of the discretisation, or `None`.
+        pole_shift: Option<f64> = |this, py| this.inner.pole_shift;
+        /// -3 dB bandwidth (Hz) of the closed-loop angle transfer function, or `None`.
+        bandwidth_hz: Option<f64> = |this, py| this.inner.bandwidth_hz;
+        /// Order 2: discrete acceleration constant Ka (1/s^2).
+        acceleration_constant_per_s2: Option<f64> = |this, py| this.inner.acceleration_constant_per_s2;
+        /// Order 2: continuous acceleration constant `k_b1` (1/s^2).
+        continuous_acceleration_constant_per_s2: Option<f64> = |this, py| this.inner.continuous_acceleration_constant_per_s2;
+        /// Order 3: steady-state angle error per unit jerk (s^3).
+        error_per_unit_jerk_s3: Option<f64> = |this, py| this.inner.error_per_unit_jerk_s3;
+        /// Order 3: `1 / k_c2` of the continuous design (s^3).
+        continuous_error_per_unit_jerk_s3: Option<f64> = |this, py| this.inner.continuous_error_per_unit_jerk_s3;
+        /// The sensor noise standard deviation the noise figures are for.
+        sensor_noise_std: f64 = |this, py| this.inner.sensor_noise_std;
+        /// Predicted steady-state RMS angle error (rad) from the sensor noise alone (the shaft
+        /// at constant speed), the same assumption for every design.
+        angle_error_rms_rad: f64 = |this, py| this.inner.angle_error_rms_rad;
+        /// Predicted steady-state RMS speed error (rad/s) from the sensor noise alone.
+        speed_error_rms_rad_s: f64 = |this, py| this.inner.speed_error_rms_rad_s;
+        /// Kalman design: `sqrt(P11)` (rad), the RMS angle error on the design's own model
+        /// (its `q` and `r`, random jerk included): the smallest any linear observer reaches
+        /// there, so larger than `angle_error_rms_rad` (sensor noise alone).
+        kalman_angle_floor_rad: Option<f64> = |this, py| this.inner.kalman_angle_floor_rad;
+        /// Kalman design: `sqrt(P22) / Ts` (rad/s), on the model of `kalman_angle_floor_rad`.
+        kalman_speed_floor_rad_s: Option<f64> = |this, py| this.inner.kalman_speed_floor_rad_s;
+        /// Small-signal (linear) step response of the discrete loop.
+        linear_step: PyStepResponse = |this, py| this.inner.linear_step.into();
+        /// Step response of the continuous design, or `None`.
+        continuous_step: Option<PyStepResponse> = |this, py| this.inner.continuous_step.map(Into::into);
+        /// Response of the bare nonlinear loop (no diagnostics) to a 179 degree step from rest.
+        large_step: PyStepResponse = |this, py| this.inner.large_step.into();
+        /// The 179 degree step with the core's default diagnostics (false-lock detection
+        /// re-acquires the angle).
+        large_step_with_diagnostics: PyStepResponse = |this, py| this.inner.large_step_with_diagnostics.into();
+        /// Where the nonlinear loop ends after the 179 degree step (rad).
+        large_step_final_rad: f64 = |this, py| this.inner.large_step_final_rad;
+        /// The largest trackable speed, `pi / Ts` (rad/s, `docs/theory.md §9`).
+        max_speed_rad_s: f64 = |this, py| this.inner.max_speed_rad_s;
+        /// The largest speed step (rad/s) the loop acquires from rest without slipping a cycle.
+        acquisition_speed_rad_s: f64 = |this, py| this.inner.acquisition_speed_rad_s;
     }
-    /// The mapping of a continuous design, or `None`.
-    #[getter]
-    fn discretisation(&self) -> Option<&'static str> {
-        self.inner.discretisation.map(|d| d.id())
-    }
-    /// Loop order (2 or 3).
-    #[getter]
-    fn order(&self) -> usize {
-        self.inner.order
-    }
-    /// Sample period (s).
-    #[getter]
-    fn sample_period_s(&self) -> f64 {
-        self.inner.sample_period_s
-    }
-    /// The discrete gains.
-    #[getter]
-    fn gains(&self) -> Vec<f64> {
-        self.inner.gains.clone()
-    }
-    /// Poles `z_i` of the discrete loop.
-    #[getter]
-    fn discrete_poles<'py>(&self, py: Python<'py>) -> Vec<Bound<'py, PyComplex>> {
-        complex_list(py, &self.inner.discrete_poles)
-    }
-    /// Their continuous equivalents `ln(z_i) / Ts` (rad/s).
-    #[getter]
-    fn continuous_equivalent_poles<'py>(&self, py: Python<'py>) -> Vec<Bound<'py, PyComplex>> {
-        complex_list(py, &self.inner.continuous_equivalent_poles)
-    }
-    /// The continuous design's poles (rad/s); empty for Kalman and given gains.
-    #[getter]
-    fn design_poles<'py>(&self, py: Python<'py>) -> Vec<Bound<'py, PyComplex>> {
-        complex_list(py, &self.inner.design_poles)
-    }
-    /// Largest relative pole shift of the discretisation, or `None`.
-    #[getter]
-    fn pole_shift(&self) -> Option<f64> {
-        self.inner.pole_shift
-    }
-    /// -3 dB bandwidth (Hz) of the closed-loop angle transfer function, or `None`.
-    #[getter]
-    fn bandwidth_hz(&self) -> Option<f64> {
-        self.inner.bandwidth_hz
-    }
-    /// Order 2: discrete acceleration constant Ka (1/s^2).
-    #[getter]
-    fn acceleration_constant_per_s2(&self) -> Option<f64> {
-        self.inner.acceleration_constant_per_s2
-    }
-    /// Order 2: continuous acceleration constant `k_b1` (1/s^2).
-    #[getter]
-    fn continuous_acceleration_constant_per_s2(&self) -> Option<f64> {
-        self.inner.continuous_acceleration_constant_per_s2
-    }
-    /// Order 3: steady-state angle error per unit jerk (s^3).
-    #[getter]
-    fn error_per_unit_jerk_s3(&self) -> Option<f64> {
-        self.inner.error_per_unit_jerk_s3
-    }
-    /// Order 3: `1 / k_c2` of the continuous design (s^3).
-    #[getter]
-    fn continuous_error_per_unit_jerk_s3(&self) -> Option<f64> {
-        self.inner.continuous_error_per_unit_jerk_s3
-    }
-    /// The sensor noise standard deviation the noise figures are for.
-    #[getter]
-    fn sensor_noise_std(&self) -> f64 {
-        self.inner.sensor_noise_std
-    }
-    /// Predicted steady-state RMS angle error (rad) from the sensor noise alone (the shaft
-    /// at constant speed), the same assumption for every design.
-    #[getter]
-    fn angle_error_rms_rad(&self) -> f64 {
-        self.inner.angle_error_rms_rad
-    }
-    /// Predicted steady-state RMS speed error (rad/s) from the sensor noise alone.
-    #[getter]
-    fn speed_error_rms_rad_s(&self) -> f64 {
-        self.inner.speed_error_rms_rad_s
-    }
-    /// Kalman design: `sqrt(P11)` (rad), the RMS angle error on the design's own model
-    /// (its `q` and `r`, random jerk included): the smallest any linear observer reaches
-    /// there, so larger than `angle_error_rms_rad` (sensor noise alone).
-    #[getter]
-    fn kalman_angle_floor_rad(&self) -> Option<f64> {
-        self.inner.kalman_angle_floor_rad
-    }
-    /// Kalman design: `sqrt(P22) / Ts` (rad/s), on the model of `kalman_angle_floor_rad`.
-    #[getter]
-    fn kalman_speed_floor_rad_s(&self) -> Option<f64> {
-        self.inner.kalman_speed_floor_rad_s
-    }
-    /// Small-signal (linear) step response of the discrete loop.
-    #[getter]
-    fn linear_step(&self) -> PyStepResponse {
-        self.inner.linear_step.into()
-    }
-    /// Step response of the continuous design, or `None`.
-    #[getter]
-    fn continuous_step(&self) -> Option<PyStepResponse> {
-        self.inner.continuous_step.map(Into::into)
-    }
-    /// Response of the bare nonlinear loop (no diagnostics) to a 179 degree step from rest.
-    #[getter]
-    fn large_step(&self) -> PyStepResponse {
-        self.inner.large_step.into()
-    }
-    /// The 179 degree step with the core's default diagnostics (false-lock detection
-    /// re-acquires the angle).
-    #[getter]
-    fn large_step_with_diagnostics(&self) -> PyStepResponse {
-        self.inner.large_step_with_diagnostics.into()
-    }
-    /// Where the nonlinear loop ends after the 179 degree step (rad).
-    #[getter]
-    fn large_step_final_rad(&self) -> f64 {
-        self.inner.large_step_final_rad
-    }
-    /// The largest trackable speed, `pi / Ts` (rad/s, `docs/theory.md §9`).
-    #[getter]
-    fn max_speed_rad_s(&self) -> f64 {
-        self.inner.max_speed_rad_s
-    }
-    /// The largest speed step (rad/s) the loop acquires from rest without slipping a cycle.
-    #[getter]
-    fn acquisition_speed_rad_s(&self) -> f64 {
-        self.inner.acquisition_speed_rad_s
-    }
+    methods {
+        fn __str__(&self) -> String {
+            self.inner.to_string()
+        }
 
-    fn __str__(&self) -> String {
-        self.inner.to_string()
-    }
-
-    fn __repr__(&self) -> String {
-        format!("DesignReport:\n{}", self.inner)
+        fn __repr__(&self) -> String {
+            format!("DesignReport:\n{}", self.inner)
+        }
     }
 }
 

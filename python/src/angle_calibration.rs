@@ -1,99 +1,31 @@
-//! The angle-dependent error calibration (`angletrack::learn_angle_correction`) and the
-//! observer that applies it, on numpy arrays; the Python package wraps them in
-//! `angletrack.harmonics` (`calibrate`, `calibrate_chunks`, `Calibration`,
-//! `CalibratedObserver`).
+//! The angle-dependent error calibration (`angletrack::CaptureCalibrator`) and the observer
+//! that applies it (the `Observer`'s chain with the stored stages), on numpy arrays; the
+//! Python package wraps them in `angletrack.harmonics` (`calibrate`, `calibrate_chunks`,
+//! `Calibration`, `CalibratedObserver`).
 
 use angletrack::{
     AngleCorrection, CalibrationError, CalibrationOptions, CaptureCalibration, CaptureCalibrator,
-    EstimateColumns, Gains, ObserverState, OrderQuality, OrderStatus, SPECTRUM_ORDERS,
-    SensorCalibration, ThresholdPolicy,
+    OrderQuality, OrderStatus, SPECTRUM_ORDERS, SensorCalibration,
 };
-use angletrack_core::{
-    CalibrationStage, CorrectionStage, Input, MAX_CORRECTION_ORDER, Tracker, TrackerFrontEnd,
-    TrackerSettings, TrackerState,
-};
+use angletrack_core::MAX_CORRECTION_ORDER;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::arrays::{Count, check_equal_lengths, samples};
+use crate::arrays::{Count, check_equal_lengths, paired_samples, samples};
 use crate::counts::Clipping;
 use crate::diagnostics::PyFaultThresholds;
-use crate::dispatch::{Arg, PhaseSinCos, Run, RunSettings, Sample};
+use crate::dispatch::RunSettings;
 use crate::errors::{Error, Result};
-use crate::estimates::{Estimates, OutputArrays};
+use crate::estimates::Estimates;
 use crate::gains::{GainSet, PyGains, with_gains};
+use crate::observer::{ObserverOps, ObserverOptions};
 
 /// The sensor calibration `(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)`.
 pub type SensorParameters = (f64, f64, f64, f64, f64);
 
-/// The options of a calibration, checked by the crate.
-#[allow(clippy::too_many_arguments)]
-fn options(
-    lowest_order: Option<Count>,
-    highest_order: Count,
-    settle_fraction: f64,
-    self_calibration: bool,
-    own_loop: bool,
-    min_significance: f64,
-) -> Result<CalibrationOptions> {
-    Ok(CalibrationOptions {
-        lowest_order: lowest_order.map(|o| o.get("lowest_order")).transpose()?,
-        highest_order: highest_order.get("highest_order")?,
-        settle_fraction,
-        self_calibration,
-        own_loop,
-        min_significance,
-    })
-}
-
 /// A refused calibration as a `ConfigError` naming the option.
 fn refused(e: CalibrationError) -> Error {
     Error::value(e.option, e.reason)
-}
-
-/// Learns the calibration of a capture `(y_c, y_s)` held in memory (float64), with its
-/// `reference` angle if given (`angletrack::learn_angle_correction`): a dict (see
-/// [`learned_dict`]).
-#[pyfunction]
-#[pyo3(signature = (gains, y_c, y_s, *, reference = None, lowest_order = None, highest_order = Count::Whole(8),
-    settle_fraction = 0.2, self_calibration = false, own_loop = true, min_significance = 3.0))]
-#[allow(clippy::too_many_arguments)]
-pub fn learn_calibration<'py>(
-    py: Python<'py>,
-    gains: PyGains,
-    y_c: &Bound<'py, PyAny>,
-    y_s: &Bound<'py, PyAny>,
-    reference: Option<&Bound<'py, PyAny>>,
-    lowest_order: Option<Count>,
-    highest_order: Count,
-    settle_fraction: f64,
-    self_calibration: bool,
-    own_loop: bool,
-    min_significance: f64,
-) -> Result<Bound<'py, PyDict>> {
-    let (c, s) = (samples::<f64>(y_c, "y_c")?, samples::<f64>(y_s, "y_s")?);
-    let (c, s) = (c.as_slice(), s.as_slice());
-    check_equal_lengths(("y_c", c.len()), ("y_s", s.len()))?;
-    let reference = reference
-        .map(|r| samples::<f64>(r, "reference"))
-        .transpose()?;
-    let reference = reference.as_ref().map(|r| r.as_slice());
-    if let Some(r) = reference {
-        check_equal_lengths(("y_c", c.len()), ("reference", r.len()))?;
-    }
-    let options = options(
-        lowest_order,
-        highest_order,
-        settle_fraction,
-        self_calibration,
-        own_loop,
-        min_significance,
-    )?;
-    let learned = with_gains!(gains.set, g => py.detach(|| {
-        angletrack::learn_angle_correction(&g, c, s, reference, &options)
-    }))
-    .map_err(refused)?;
-    learned_dict(py, &learned)
 }
 
 /// A calibration learned from a capture read twice, chunk by chunk
@@ -128,14 +60,14 @@ impl PyCaptureCalibrator {
         own_loop: bool,
         min_significance: f64,
     ) -> Result<Self> {
-        let options = options(
-            lowest_order,
-            highest_order,
+        let options = CalibrationOptions {
+            lowest_order: lowest_order.map(|o| o.get("lowest_order")).transpose()?,
+            highest_order: highest_order.get("highest_order")?,
             settle_fraction,
             self_calibration,
             own_loop,
             min_significance,
-        )?;
+        };
         let period = with_gains!(&gains.set, g => g.sample_period());
         Ok(Self {
             inner: Some(CaptureCalibrator::new(period, &options).map_err(refused)?),
@@ -145,8 +77,7 @@ impl PyCaptureCalibrator {
 
     /// The first pass: a chunk of raw samples (float64).
     fn add_geometry(&mut self, y_c: &Bound<'_, PyAny>, y_s: &Bound<'_, PyAny>) -> Result<()> {
-        let (c, s) = (samples::<f64>(y_c, "y_c")?, samples::<f64>(y_s, "y_s")?);
-        check_equal_lengths(("y_c", c.as_slice().len()), ("y_s", s.as_slice().len()))?;
+        let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
         self.inner()?.add_geometry(c.as_slice(), s.as_slice());
         Ok(())
     }
@@ -169,8 +100,7 @@ impl PyCaptureCalibrator {
         y_s: &Bound<'_, PyAny>,
         reference: Option<&Bound<'_, PyAny>>,
     ) -> Result<()> {
-        let (c, s) = (samples::<f64>(y_c, "y_c")?, samples::<f64>(y_s, "y_s")?);
-        check_equal_lengths(("y_c", c.as_slice().len()), ("y_s", s.as_slice().len()))?;
+        let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
         let reference = reference
             .map(|r| samples::<f64>(r, "reference"))
             .transpose()?;
@@ -182,7 +112,7 @@ impl PyCaptureCalibrator {
         Ok(())
     }
 
-    /// The calibration learned (a dict, as `learn_calibration` gives).
+    /// The calibration learned (a dict: see [`learned_dict`]).
     fn finish<'py>(&mut self, py: Python<'py>) -> Result<Bound<'py, PyDict>> {
         let inner = self
             .inner
@@ -263,68 +193,6 @@ pub fn checked(
     Ok((sensor, correction))
 }
 
-/// The corrected observer of concrete types: the core's standard chain (`Tracker`) of the
-/// clipping checks (on the raw samples), the stored sensor calibration and the angle
-/// correction before the observer, and its state.
-#[derive(Debug)]
-struct Corrected<T: Sample, const N: usize, S: PhaseSinCos<T>> {
-    tracker: Tracker<T, Gains<T, N, S>>,
-    state: TrackerState<T, ObserverState<T, N>>,
-}
-
-impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for Corrected<T, N, S> {
-    fn run(&mut self, py: Python<'_>, y_c: Arg<'_, '_>, y_s: Arg<'_, '_>) -> Result<Estimates> {
-        let (c, s) = (samples::<T>(y_c, "y_c")?, samples::<T>(y_s, "y_s")?);
-        let (c, s) = (c.as_slice(), s.as_slice());
-        check_equal_lengths(("y_c", c.len()), ("y_s", s.len()))?;
-        let n = c.len();
-        let out = OutputArrays::<T>::new(py, n)?;
-        let (tracker, state) = (&self.tracker, &mut self.state);
-        out.fill(py, |columns: EstimateColumns<'_, T>| {
-            columns.write(
-                c.iter()
-                    .zip(s)
-                    .map(|(&c, &s)| tracker.update(state, (c, s))),
-            );
-        })?;
-        out.into_estimates(py, n, None)
-    }
-}
-
-/// The corrected observer for gains of concrete types, its stages converted to `T`
-/// (checked again there).
-pub fn corrected<T: Sample, const N: usize, S: PhaseSinCos<T>>(
-    gains: Gains<T, N, S>,
-    clipping: Clipping,
-    sensor: &SensorCalibration<f64>,
-    correction: &AngleCorrection<f64>,
-    thresholds: Option<PyFaultThresholds>,
-) -> Result<Box<dyn Run>> {
-    let f = T::from_f64;
-    // A stream of floats: the thresholds given, or the defaults (the crate's rule).
-    let policy = ThresholdPolicy::stream(thresholds.map(|t| t.typed()));
-    let gains = match policy.thresholds() {
-        Some(t) => gains.with_fault_thresholds(t)?,
-        None => gains,
-    };
-    let rails = clipping.rails(|(min, max)| Ok((f(min), f(max))))?;
-    let (o_c, o_s, a_c, a_s, phi) = sensor.parameters();
-    let sensor = SensorCalibration::new(f(o_c), f(o_s), f(a_c), f(a_s), f(phi))?;
-    let (a, b) = correction.coefficients();
-    let correction = AngleCorrection::new(a.map(f), b.map(f))?;
-    let front_end = TrackerFrontEnd::new(TrackerSettings {
-        input: Input::Units { rails },
-        winding: None,
-        calibration: CalibrationStage::Stored(sensor),
-        correction: CorrectionStage::Harmonics(correction),
-    })
-    .map_err(|e| Error::value("adc_range", e.to_string()))?;
-    Ok(Box::new(Corrected {
-        tracker: Tracker::new(front_end, gains),
-        state: TrackerState::new(),
-    }))
-}
-
 /// An observer whose samples are corrected by a sensor calibration (offsets, amplitudes,
 /// quadrature) and an angle correction (harmonic coefficients `cos`, `sin`, rad) before its
 /// phase detector (the core's chain of both stages), in `dtype` (float32 or float64, default
@@ -336,7 +204,7 @@ pub fn corrected<T: Sample, const N: usize, S: PhaseSinCos<T>>(
 #[pyclass(name = "_CorrectedObserver", module = "angletrack")]
 #[derive(Debug)]
 pub struct PyCorrectedObserver {
-    inner: Box<dyn Run>,
+    inner: Box<dyn ObserverOps>,
 }
 
 #[pymethods]
@@ -356,16 +224,15 @@ impl PyCorrectedObserver {
         measure_adc_range: bool,
         fault_thresholds: Option<PyFaultThresholds>,
     ) -> Result<Self> {
-        let (sensor, correction) = checked(sensor, cos, sin)?;
+        let options = ObserverOptions {
+            stored: Some(checked(sensor, cos, sin)?),
+            thresholds: fault_thresholds,
+            clipping: Clipping::of_floats(adc_range, measure_adc_range)?,
+            ..ObserverOptions::default()
+        };
         let settings = RunSettings::from_arguments(gains, dtype, sin_cos)?;
-        let clipping = Clipping::of_floats(adc_range, measure_adc_range)?;
         Ok(Self {
-            inner: settings.typed_gains()?.corrected(
-                clipping,
-                &sensor,
-                &correction,
-                fault_thresholds,
-            )?,
+            inner: settings.typed_gains()?.observer(&options)?,
         })
     }
 
@@ -377,13 +244,12 @@ impl PyCorrectedObserver {
         y_c: &Bound<'_, PyAny>,
         y_s: &Bound<'_, PyAny>,
     ) -> Result<Estimates> {
-        self.inner.run(py, y_c, y_s)
+        self.inner.run(py, y_c, y_s, None)
     }
 }
 
 /// Adds the functions to the module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(learn_calibration, m)?)?;
     m.add_class::<PyCaptureCalibrator>()?;
     m.add_class::<PyCorrectedObserver>()?;
     Ok(())

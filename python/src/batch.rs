@@ -8,8 +8,9 @@ use pyo3::prelude::*;
 use crate::arrays::{Float, channel_samples};
 use crate::dispatch::{Arg, PhaseSinCos, RunSettings, Sample};
 use crate::errors::{Error, Result};
-use crate::estimates::{Estimates, OutputArrays, OutputSelection};
+use crate::estimates::{Estimates, OutputSelection, run_estimates};
 use crate::gains::PyGains;
+use crate::getters::class_methods;
 
 /// A batch on float samples of amplitude about 1 (no raw counts: `crate::arrays`).
 #[derive(Debug)]
@@ -69,12 +70,13 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> RunBatch for Batch<T, N, S> {
             crate::arrays::samples::<T>(&y_c, "y_c")?,
             crate::arrays::samples::<T>(&y_s, "y_s")?,
         );
-        let out = OutputArrays::<T>::selected(py, channels_c * samples, outputs)?;
         let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
-        out.fill(py, |columns| {
-            ChannelBatch::run(&mut self.batch, y_c, y_s, samples, columns)
-        })??;
-        out.into_estimates(py, samples, Some((channels_c, samples)))
+        let shape = Some((channels_c, samples));
+        let (run, estimates) = run_estimates(py, channels_c * samples, (outputs, shape), |c| {
+            ChannelBatch::run(&mut self.batch, y_c, y_s, samples, c)
+        })?;
+        run?;
+        Ok(estimates)
     }
 }
 
@@ -96,51 +98,50 @@ pub struct PyObserverBatch {
     inner: Box<dyn RunBatch>,
 }
 
-#[pymethods]
-impl PyObserverBatch {
-    #[new]
-    #[pyo3(signature = (gains, channels, *, dtype = None, sin_cos = None))]
-    fn py_new(
-        gains: PyGains,
-        channels: crate::arrays::Count,
-        dtype: Option<&Bound<'_, PyAny>>,
-        sin_cos: Option<&str>,
-    ) -> Result<PyClassInitializer<Self>> {
-        let channels = channels.at_least("channels", 1)?;
-        RunSettings::from_arguments(gains, dtype, sin_cos)?.subclass(|gains| {
-            let inner = gains.batch(channels)?;
-            Ok(Self { channels, inner })
-        })
+class_methods! {
+    PyObserverBatch {
+        /// The number of channels.
+        channels: usize = |this, py| this.channels;
     }
+    methods {
+        #[new]
+        #[pyo3(signature = (gains, channels, *, dtype = None, sin_cos = None))]
+        fn py_new(
+            gains: PyGains,
+            channels: crate::arrays::Count,
+            dtype: Option<&Bound<'_, PyAny>>,
+            sin_cos: Option<&str>,
+        ) -> Result<PyClassInitializer<Self>> {
+            let channels = channels.at_least("channels", 1)?;
+            RunSettings::from_arguments(gains, dtype, sin_cos)?.subclass(|gains| {
+                let inner = gains.batch(channels)?;
+                Ok(Self { channels, inner })
+            })
+        }
 
-    /// The number of channels.
-    #[getter]
-    fn channels(&self) -> usize {
-        self.channels
-    }
+        /// Runs every channel over its samples: `y_c`, `y_s` are 2-D arrays (channels x
+        /// samples) of the batch's dtype; returns `Estimates` whose arrays have that shape.
+        /// `outputs` names the estimates to compute (`angle`, `position`, `speed`,
+        /// `acceleration`, `phase_error`, `faults`; `None`: all), the others are `None`.
+        #[pyo3(signature = (y_c, y_s, *, outputs = None))]
+        fn update(
+            &mut self,
+            py: Python<'_>,
+            y_c: Arg<'_, '_>,
+            y_s: Arg<'_, '_>,
+            outputs: Option<Arg<'_, '_>>,
+        ) -> Result<Estimates> {
+            let outputs = OutputSelection::from_argument(outputs)?;
+            self.inner.run(py, y_c, y_s, outputs)
+        }
 
-    /// Runs every channel over its samples: `y_c`, `y_s` are 2-D arrays (channels x
-    /// samples) of the batch's dtype; returns `Estimates` whose arrays have that shape.
-    /// `outputs` names the estimates to compute (`angle`, `position`, `speed`,
-    /// `acceleration`, `phase_error`, `faults`; `None`: all), the others are `None`.
-    #[pyo3(signature = (y_c, y_s, *, outputs = None))]
-    fn update(
-        &mut self,
-        py: Python<'_>,
-        y_c: Arg<'_, '_>,
-        y_s: Arg<'_, '_>,
-        outputs: Option<Arg<'_, '_>>,
-    ) -> Result<Estimates> {
-        let outputs = OutputSelection::from_argument(outputs)?;
-        self.inner.run(py, y_c, y_s, outputs)
-    }
-
-    fn __repr__(slf: PyRef<'_, Self>) -> String {
-        format!(
-            "ObserverBatch(channels={}, {})",
-            slf.channels,
-            slf.as_super().describe()
-        )
+        fn __repr__(slf: PyRef<'_, Self>) -> String {
+            format!(
+                "ObserverBatch(channels={}, {})",
+                slf.channels,
+                slf.as_super().describe()
+            )
+        }
     }
 }
 

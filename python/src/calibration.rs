@@ -2,13 +2,13 @@
 //! online correction of offsets, gain imbalance and quadrature error (`docs/theory.md §12`),
 //! configured, read and written from Python.
 
-use angletrack_core::{
-    CalibrationMode, CalibrationStatus, Calibrator, Real, SensorCalibration as CoreCalibration,
-};
+use angletrack::OnlineCalibrationChoice;
+use angletrack_core::{Real, SensorCalibration as CoreCalibration};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::errors::{Error, Result};
+use crate::getters::class_methods;
 
 /// A sensor's calibration, the model `y_c = offset_c + amplitude_c cos(theta)`,
 /// `y_s = offset_s + amplitude_s sin(theta + quadrature_rad)` in the observer's input units
@@ -73,69 +73,68 @@ impl PySensorCalibration {
     }
 }
 
-#[pymethods]
-impl PySensorCalibration {
-    #[new]
-    #[pyo3(signature = (*, offset_c = 0.0, offset_s = 0.0, amplitude_c = 1.0, amplitude_s = 1.0,
-        quadrature_rad = 0.0))]
-    fn py_new(
-        offset_c: f64,
-        offset_s: f64,
-        amplitude_c: f64,
-        amplitude_s: f64,
-        quadrature_rad: f64,
-    ) -> Result<Self> {
-        let c = CoreCalibration::new(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)?;
-        Ok(Self::from_core(&c))
+class_methods! {
+    PySensorCalibration {
+        /// The gain imbalance `amplitude_s / amplitude_c`.
+        amplitude_ratio: f64 = |this, py| this.amplitude_s / this.amplitude_c;
     }
-
-    /// The gain imbalance `amplitude_s / amplitude_c`.
-    #[getter]
-    fn amplitude_ratio(&self) -> f64 {
-        self.amplitude_s / self.amplitude_c
-    }
-
-    /// The fields as a dict of floats (for `json.dumps`).
-    // A Python method takes `&self` (pyo3 passes no Rust value), though the type is `Copy`.
-    #[allow(clippy::wrong_self_convention)]
-    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let d = PyDict::new(py);
-        let values = [
-            self.offset_c,
-            self.offset_s,
-            self.amplitude_c,
-            self.amplitude_s,
-            self.quadrature_rad,
-        ];
-        for (name, value) in FIELDS.iter().zip(values) {
-            d.set_item(name, value)?;
+    methods {
+        #[new]
+        #[pyo3(signature = (*, offset_c = 0.0, offset_s = 0.0, amplitude_c = 1.0, amplitude_s = 1.0,
+            quadrature_rad = 0.0))]
+        fn py_new(
+            offset_c: f64,
+            offset_s: f64,
+            amplitude_c: f64,
+            amplitude_s: f64,
+            quadrature_rad: f64,
+        ) -> Result<Self> {
+            let c = CoreCalibration::new(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)?;
+            Ok(Self::from_core(&c))
         }
-        Ok(d)
-    }
 
-    /// The calibration of a dict holding the five fields (as `to_dict` writes them; other
-    /// keys are ignored), checked as the constructor does.
-    #[staticmethod]
-    fn from_dict(d: &Bound<'_, PyDict>) -> Result<Self> {
-        let mut values = [0.0; 5];
-        for (value, name) in values.iter_mut().zip(FIELDS) {
-            let item = d
-                .get_item(name)?
-                .ok_or_else(|| Error::value(name_of(name), "missing from the dict"))?;
-            *value = item
-                .extract::<f64>()
-                .map_err(|_| Error::value(name_of(name), "must be a number"))?;
+        /// The fields as a dict of floats (for `json.dumps`).
+        // A Python method takes `&self` (pyo3 passes no Rust value), though the type is `Copy`.
+        #[allow(clippy::wrong_self_convention)]
+        fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+            let d = PyDict::new(py);
+            let values = [
+                self.offset_c,
+                self.offset_s,
+                self.amplitude_c,
+                self.amplitude_s,
+                self.quadrature_rad,
+            ];
+            for (name, value) in FIELDS.iter().zip(values) {
+                d.set_item(name, value)?;
+            }
+            Ok(d)
         }
-        let [o_c, o_s, a_c, a_s, q] = values;
-        Self::py_new(o_c, o_s, a_c, a_s, q)
-    }
 
-    fn __repr__(&self) -> String {
-        format!(
-            "SensorCalibration(offset_c={:?}, offset_s={:?}, amplitude_c={:?}, amplitude_s={:?}, \
-             quadrature_rad={:?})",
-            self.offset_c, self.offset_s, self.amplitude_c, self.amplitude_s, self.quadrature_rad
-        )
+        /// The calibration of a dict holding the five fields (as `to_dict` writes them; other
+        /// keys are ignored), checked as the constructor does.
+        #[staticmethod]
+        fn from_dict(d: &Bound<'_, PyDict>) -> Result<Self> {
+            let mut values = [0.0; 5];
+            for (value, name) in values.iter_mut().zip(FIELDS) {
+                let item = d
+                    .get_item(name)?
+                    .ok_or_else(|| Error::value(name_of(name), "missing from the dict"))?;
+                *value = item
+                    .extract::<f64>()
+                    .map_err(|_| Error::value(name_of(name), "must be a number"))?;
+            }
+            let [o_c, o_s, a_c, a_s, q] = values;
+            Self::py_new(o_c, o_s, a_c, a_s, q)
+        }
+
+        fn __repr__(&self) -> String {
+            format!(
+                "SensorCalibration(offset_c={:?}, offset_s={:?}, amplitude_c={:?}, amplitude_s={:?}, \
+                 quadrature_rad={:?})",
+                self.offset_c, self.offset_s, self.amplitude_c, self.amplitude_s, self.quadrature_rad
+            )
+        }
     }
 }
 
@@ -148,83 +147,12 @@ fn name_of(name: &str) -> &'static str {
         .unwrap_or("calibration")
 }
 
-/// What the `calibration` and `initial_calibration` arguments ask for.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CalibrationChoice {
-    mode: CalibrationMode,
+/// The online calibration of the arguments `calibration` (`None`, `"learn"` or `"frozen"`)
+/// and `initial_calibration`, checked by the crate's `OnlineCalibrationChoice`.
+pub fn calibration_choice(
+    mode: Option<&str>,
     initial: Option<PySensorCalibration>,
-}
-
-impl CalibrationChoice {
-    /// `calibration`: `None` (off), `"learn"` or `"frozen"`; `initial_calibration` the
-    /// calibration to start from (needed when frozen, refused when off).
-    pub fn new(mode: Option<&str>, initial: Option<PySensorCalibration>) -> Result<Self> {
-        let mode = match mode {
-            None | Some("off") => CalibrationMode::Off,
-            Some("learn") => CalibrationMode::Learning,
-            Some("frozen") => CalibrationMode::Frozen,
-            Some(other) => {
-                return Err(Error::value(
-                    "calibration",
-                    format!("expected None, 'learn' or 'frozen', got {other:?}"),
-                ));
-            }
-        };
-        // Off applies nothing: a calibration given with it would be reported (by
-        // `Observer.calibration`) but not applied.
-        if mode == CalibrationMode::Off && initial.is_some() {
-            return Err(Error::value(
-                "initial_calibration",
-                "is applied only with calibration='learn' or 'frozen' (the calibration is off)",
-            ));
-        }
-        if mode == CalibrationMode::Frozen && initial.is_none() {
-            return Err(Error::value(
-                "initial_calibration",
-                "is needed with calibration='frozen' (the calibration to apply)",
-            ));
-        }
-        Ok(Self { mode, initial })
-    }
-
-    /// The core calibrator it stands for, in float type `T`.
-    pub fn calibrator<T: Real>(&self) -> Result<Calibrator<T>> {
-        let mut calibrator = match &self.initial {
-            Some(c) => Calibrator::from_calibration(c.typed()?),
-            None => Calibrator::new(),
-        };
-        match self.mode {
-            CalibrationMode::Off => calibrator.disable(),
-            CalibrationMode::Learning => calibrator.enable(),
-            CalibrationMode::Frozen => calibrator.freeze(),
-        }
-        Ok(calibrator)
-    }
-}
-
-impl Default for CalibrationChoice {
-    fn default() -> Self {
-        Self {
-            mode: CalibrationMode::Off,
-            initial: None,
-        }
-    }
-}
-
-/// The name of a mode in the Python API.
-pub fn mode_name(mode: CalibrationMode) -> &'static str {
-    match mode {
-        CalibrationMode::Off => "off",
-        CalibrationMode::Learning => "learn",
-        CalibrationMode::Frozen => "frozen",
-    }
-}
-
-/// The name of a status in the Python API.
-pub fn status_name(status: CalibrationStatus) -> &'static str {
-    match status {
-        CalibrationStatus::FindingCentre => "finding-centre",
-        CalibrationStatus::Centred => "centred",
-        CalibrationStatus::Stalled => "stalled",
-    }
+) -> Result<OnlineCalibrationChoice> {
+    let initial = initial.map(|c| c.typed::<f64>()).transpose()?;
+    OnlineCalibrationChoice::new(mode, initial).map_err(|e| Error::value(e.argument, e.reason))
 }

@@ -59,7 +59,7 @@ pub fn angle_calibration_to_json(
 }
 
 /// The calibration of JSON `text` of either format (`file` names it in errors): a
-/// `SensorCalibration`, or the dict of an angle calibration (as `learn_calibration` gives).
+/// `SensorCalibration`, or the dict of an angle calibration (as `_CaptureCalibrator.finish` gives).
 #[pyfunction]
 pub fn calibration_from_json<'py>(
     py: Python<'py>,

@@ -1,13 +1,13 @@
-//! `read_capture`, `CaptureReader` and `EstimatesWriter`: the std crate's capture reader and
-//! estimates writer on numpy arrays, the parsing and formatting in Rust with the GIL
-//! released.
+//! `read_capture` and `CaptureReader`: the std crate's capture reader on numpy arrays, the
+//! parsing in Rust with the GIL released; `check_outputs` and `write_output`, its rules for
+//! what a run writes.
 
 use std::path::PathBuf;
 use std::sync::Mutex;
 
 use angletrack::capture::{
-    Capture as CoreCapture, CaptureChunk, CaptureOptions, CaptureReader as CoreReader, ColumnMap,
-    DecimalMark, Delimiter, Role, TimeUnit, read_capture as core_read_capture,
+    Capture as CoreCapture, CaptureChunk, CaptureOptions, CaptureReader as CoreReader, Role,
+    WrittenCaptureOptions, read_capture as core_read_capture,
 };
 use numpy::{PyArray1, ToPyArray};
 use pyo3::prelude::*;
@@ -15,95 +15,30 @@ use pyo3::types::{PyDict, PyString};
 
 use crate::arrays::Count;
 use crate::errors::{Error, Result};
+use crate::getters::class_methods;
 
-/// The column mapping of a `columns` argument: `"y_c=cos,y_s=sin"` or a dict
-/// `{"y_c": "cos", "y_s": 1}` (names or 0-based indices).
-fn column_map(columns: Option<&Bound<'_, PyAny>>) -> Result<ColumnMap> {
+/// The text of a `columns` argument: `"y_c=cos,y_s=sin"` or a dict `{"y_c": "cos", "y_s": 1}`
+/// (names or 0-based indices); empty for `None` (the usual header names).
+fn columns_text(columns: Option<&Bound<'_, PyAny>>) -> Result<String> {
     let Some(columns) = columns.filter(|c| !c.is_none()) else {
-        return Ok(ColumnMap::default());
+        return Ok(String::new());
     };
     if let Ok(text) = columns.cast::<PyString>() {
-        return text
-            .to_cow()?
-            .parse()
-            .map_err(|m: String| Error::value("columns", strip(&m)));
+        return Ok(text.to_cow()?.into_owned());
     }
     let dict = columns
         .cast::<PyDict>()
         .map_err(|_| Error::value("columns", "expected 'y_c=NAME,y_s=NAME,...' or a dict"))?;
-    let mut text = Vec::new();
-    for (role, column) in dict.iter() {
-        text.push(format!("{}={}", role.str()?, column.str()?));
-    }
-    text.join(",")
-        .parse()
-        .map_err(|m: String| Error::value("columns", strip(&m)))
+    let pairs = dict
+        .iter()
+        .map(|(role, column)| Ok(format!("{}={}", role.str()?, column.str()?)))
+        .collect::<PyResult<Vec<_>>>()?;
+    Ok(pairs.join(","))
 }
 
-/// A message without the parameter name the binding's error adds again.
-fn strip(message: &str) -> String {
-    message
-        .strip_prefix("columns: ")
-        .unwrap_or(message)
-        .to_string()
-}
-
-/// The Python arguments of the text layout: `delimiter`, `decimal` (`.` or `,`; `None`:
-/// sniffed) and `skip_rows` (lines before the header).
-#[derive(Debug, Clone, Copy)]
-struct Layout<'a> {
-    delimiter: Option<&'a str>,
-    decimal: Option<&'a str>,
-    skip_rows: u64,
-}
-
-/// The reader's options from the Python arguments.
-fn options(
-    columns: Option<&Bound<'_, PyAny>>,
-    layout: Layout<'_>,
-    time_unit: &str,
-    sample_rate_hz: Option<f64>,
-    chunk_rows: usize,
-) -> Result<CaptureOptions> {
-    let delimiter = layout
-        .delimiter
-        .map(Delimiter::parse)
-        .transpose()
-        .map_err(|m| Error::value("delimiter", m.trim_start_matches("delimiter: ")))?;
-    let decimal = layout
-        .decimal
-        .map(DecimalMark::parse)
-        .transpose()
-        .map_err(|m| Error::value("decimal", m.trim_start_matches("decimal: ")))?;
-    if decimal == Some(DecimalMark::Comma) && delimiter == Some(Delimiter::Byte(b',')) {
-        return Err(Error::value(
-            "decimal",
-            "',' with the delimiter ',': the fields could not be told apart",
-        ));
-    }
-    let time_unit: TimeUnit = time_unit
-        .parse()
-        .map_err(|m: String| Error::value("time_unit", m.trim_start_matches("time_unit: ")))?;
-    if let Some(rate) = sample_rate_hz
-        && !(rate.is_finite() && rate > 0.0)
-    {
-        return Err(Error::value(
-            "sample_rate_hz",
-            format!("{rate} Hz: the sample rate must be positive and finite"),
-        ));
-    }
-    if chunk_rows < 2 {
-        return Err(Error::value("chunk_rows", "at least 2 rows per chunk"));
-    }
-    Ok(CaptureOptions {
-        columns: column_map(columns)?,
-        delimiter,
-        decimal,
-        skip_rows: layout.skip_rows,
-        time_unit,
-        sample_rate_hz,
-        chunk_rows,
-    })
+/// The reader's options of the Python arguments, parsed and checked by the crate.
+fn options(written: &WrittenCaptureOptions<'_>) -> Result<CaptureOptions> {
+    CaptureOptions::parse(written).map_err(|e| Error::value(e.option, e.reason))
 }
 
 /// `{role: column name}` of the columns used.
@@ -189,91 +124,69 @@ impl PyCaptureReader {
     }
 }
 
-#[pymethods]
-impl PyCaptureReader {
-    #[new]
-    #[pyo3(signature = (path, *, columns = None, delimiter = None, decimal = None, skip_rows = Count::Whole(0), time_unit = "s", sample_rate_hz = None, chunk_rows = Count::Whole(65536)), text_signature = "(path, *, columns=None, delimiter=None, decimal=None, skip_rows=0, time_unit='s', sample_rate_hz=None, chunk_rows=65536)")]
-    #[allow(clippy::too_many_arguments)]
-    fn py_new(
-        path: PathBuf,
-        columns: Option<&Bound<'_, PyAny>>,
-        delimiter: Option<&str>,
-        decimal: Option<&str>,
-        skip_rows: Count,
-        time_unit: &str,
-        sample_rate_hz: Option<f64>,
-        chunk_rows: Count,
-    ) -> Result<Self> {
-        let layout = Layout {
-            delimiter,
-            decimal,
-            skip_rows: skip_rows.at_least("skip_rows", 0)? as u64,
-        };
-        let chunk_rows = chunk_rows.at_least("chunk_rows", 2)?;
-        let options = options(columns, layout, time_unit, sample_rate_hz, chunk_rows)?;
-        Ok(Self {
-            reader: Mutex::new(CoreReader::open(path, options)?),
-        })
+class_methods! {
+    PyCaptureReader {
+        /// The sample rate (Hz): the stated one, else the time column's (mean spacing of the
+        /// rows read so far); `None` without either.
+        sample_rate_hz: Option<f64> = |this, py| this.reader().sample_rate_hz();
+        /// Samples read so far.
+        rows: u64 = |this, py| this.reader().rows();
+        /// The samples' element type as stored (`int16`; `int64` for whole numbers in text).
+        sample_dtype: String = |this, py| this.reader().sample_dtype();
+        /// `{role: column name}` of the columns used.
+        columns: Result<Bound<'py, PyDict>> = |this, py| mapping_dict(py, &this.reader().mapping());
+        /// `npy`, `npz` or `text, delimiter X`.
+        format: String = |this, py| this.reader().format().to_string();
+        /// The file.
+        path: PathBuf = |this, py| this.reader().path().to_path_buf();
+        /// `(bytes read, file size)`, for progress.
+        progress_bytes: (u64, u64) = |this, py| this.reader().progress_bytes();
     }
-
-    fn __iter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
-        slf
-    }
-
-    fn __next__(&mut self, py: Python<'_>) -> Result<Option<PyCaptureChunk>> {
-        let reader = self
-            .reader
-            .get_mut()
-            .unwrap_or_else(std::sync::PoisonError::into_inner);
-        let done = py.detach(|| reader.next_chunk().map(|c| c.is_none()))?;
-        if done {
-            return Ok(None);
+    methods {
+        #[new]
+        #[pyo3(signature = (path, *, columns = None, delimiter = None, decimal = None, skip_rows = Count::Whole(0), time_unit = "s", sample_rate_hz = None, chunk_rows = Count::Whole(65536)), text_signature = "(path, *, columns=None, delimiter=None, decimal=None, skip_rows=0, time_unit='s', sample_rate_hz=None, chunk_rows=65536)")]
+        #[allow(clippy::too_many_arguments)]
+        fn py_new(
+            path: PathBuf,
+            columns: Option<&Bound<'_, PyAny>>,
+            delimiter: Option<&str>,
+            decimal: Option<&str>,
+            skip_rows: Count,
+            time_unit: &str,
+            sample_rate_hz: Option<f64>,
+            chunk_rows: Count,
+        ) -> Result<Self> {
+            let options = options(&WrittenCaptureOptions {
+                columns: &columns_text(columns)?,
+                delimiter,
+                decimal,
+                skip_rows: skip_rows.at_least("skip_rows", 0)? as u64,
+                time_unit,
+                sample_rate_hz,
+                // The crate's rule (at least 2) names it.
+                chunk_rows: chunk_rows.at_least("chunk_rows", 0)?,
+            })?;
+            Ok(Self {
+                reader: Mutex::new(CoreReader::open(path, options)?),
+            })
         }
-        // The chunk was read above; it is borrowed again under the GIL to be copied out.
-        Ok(reader.last_chunk().map(|c| PyCaptureChunk::new(py, c)))
-    }
 
-    /// The sample rate (Hz): the stated one, else the time column's (mean spacing of the
-    /// rows read so far); `None` without either.
-    #[getter]
-    fn sample_rate_hz(&self) -> Option<f64> {
-        self.reader().sample_rate_hz()
-    }
+        fn __iter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
+            slf
+        }
 
-    /// Samples read so far.
-    #[getter]
-    fn rows(&self) -> u64 {
-        self.reader().rows()
-    }
-
-    /// The samples' element type as stored (`int16`; `int64` for whole numbers in text).
-    #[getter]
-    fn sample_dtype(&self) -> String {
-        self.reader().sample_dtype()
-    }
-
-    /// `{role: column name}` of the columns used.
-    #[getter]
-    fn columns<'py>(&self, py: Python<'py>) -> Result<Bound<'py, PyDict>> {
-        mapping_dict(py, &self.reader().mapping())
-    }
-
-    /// `npy`, `npz` or `text, delimiter X`.
-    #[getter]
-    fn format(&self) -> String {
-        self.reader().format().to_string()
-    }
-
-    /// The file.
-    #[getter]
-    fn path(&self) -> PathBuf {
-        self.reader().path().to_path_buf()
-    }
-
-    /// `(bytes read, file size)`, for progress.
-    #[getter]
-    fn progress_bytes(&self) -> (u64, u64) {
-        self.reader().progress_bytes()
+        fn __next__(&mut self, py: Python<'_>) -> Result<Option<PyCaptureChunk>> {
+            let reader = self
+                .reader
+                .get_mut()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            let done = py.detach(|| reader.next_chunk().map(|c| c.is_none()))?;
+            if done {
+                return Ok(None);
+            }
+            // The chunk was read above; it is borrowed again under the GIL to be copied out.
+            Ok(reader.last_chunk().map(|c| PyCaptureChunk::new(py, c)))
+        }
     }
 }
 
@@ -331,12 +244,15 @@ pub fn read_capture(
     time_unit: &str,
     sample_rate_hz: Option<f64>,
 ) -> Result<PyCapture> {
-    let layout = Layout {
+    let options = options(&WrittenCaptureOptions {
+        columns: &columns_text(columns)?,
         delimiter,
         decimal,
         skip_rows: skip_rows.at_least("skip_rows", 0)? as u64,
-    };
-    let options = options(columns, layout, time_unit, sample_rate_hz, 1 << 16)?;
+        time_unit,
+        sample_rate_hz,
+        chunk_rows: CaptureOptions::default().chunk_rows,
+    })?;
     let read_path = path.clone();
     let c: CoreCapture = py.detach(|| core_read_capture(read_path, options))?;
     let samples = c.samples;
@@ -435,7 +351,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(read_capture, m)?)?;
     m.add_function(wrap_pyfunction!(check_outputs, m)?)?;
     m.add_function(wrap_pyfunction!(write_output, m)?)?;
-    m.add_class::<crate::writer::PyEstimatesWriter>()?;
+    m.add_function(wrap_pyfunction!(crate::writer::estimate_columns, m)?)?;
     m.add_class::<crate::writer::PyTableWriter>()?;
     m.add_class::<crate::writer::PyOutputFile>()?;
     Ok(())

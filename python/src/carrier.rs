@@ -1,7 +1,6 @@
-//! What a capture's samples tell of the front end, measured in the crate: the carrier
-//! frequency of raw windings (`angletrack::measured_carrier_cycles_per_sample`), against
-//! which a declared carrier is checked, and the ADC's rails (`angletrack::measured_adc_range`),
-//! against which clipping is flagged when no range is stated.
+//! What a capture's samples tell of the front end, measured in the crate: the ADC's rails
+//! (`angletrack::measured_adc_range`), against which clipping is flagged when no range is
+//! stated, and the plan of a capture of raw windings (`angletrack::WindingsPlan`).
 
 use pyo3::prelude::*;
 
@@ -9,29 +8,6 @@ use angletrack::{WindingsPlan, WindingsSettings};
 
 use crate::arrays::paired_samples;
 use crate::errors::{Error, Result};
-
-/// The carrier frequency of the raw windings `y_c`, `y_s` (1-D float64, any offset) in
-/// cycles per sample, from the tone at twice the carrier in `y_c^2 + y_s^2` (the angle
-/// modulation cancels there); `None` when it cannot be measured (too few samples, no
-/// carrier, fewer than about 5 samples per carrier period).
-///
-/// >>> import numpy as np
-/// >>> from angletrack._angletrack import measured_carrier_cycles_per_sample
-/// >>> k = np.arange(4000)
-/// >>> carrier = np.sin(2 * np.pi * k / 15.0)
-/// >>> round(1 / measured_carrier_cycles_per_sample(np.cos(0.001 * k) * carrier, np.sin(0.001 * k) * carrier), 3)
-/// 15.0
-#[pyfunction]
-pub fn measured_carrier_cycles_per_sample(
-    y_c: &Bound<'_, PyAny>,
-    y_s: &Bound<'_, PyAny>,
-) -> Result<Option<f64>> {
-    let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
-    Ok(angletrack::measured_carrier_cycles_per_sample(
-        c.as_slice(),
-        s.as_slice(),
-    ))
-}
 
 /// The ADC range measured on the samples `y_c`, `y_s` (1-D float64; NaNs ignored): each
 /// extreme of both channels that is a rail (held flat over 4 consecutive samples of a
@@ -73,9 +49,6 @@ pub struct PyWindingsPlan {
     adc_range_source: String,
 }
 
-/// The largest carrier amplitude `plan_windings` takes: half the span of a 32-bit ADC.
-const LARGEST_CARRIER_AMPLITUDE_COUNTS: f64 = 2_147_483_648.0;
-
 /// The plan of a capture of raw windings whose first samples are `first_c`, `first_s`
 /// (1-D float64): the ADC rate from `samples_per_period` times `carrier_hz`, else the
 /// capture's rate `capture_hz`; a ratio the time column contradicts by more than 1 %, or a
@@ -106,14 +79,6 @@ pub fn plan_windings(
     adc_range: Option<(f64, f64)>,
 ) -> Result<PyWindingsPlan> {
     let (c, s) = paired_samples::<f64>((first_c, "first_c"), (first_s, "first_s"))?;
-    if let Some(a) = carrier_amplitude_counts
-        && !(a.is_finite() && a > 0.0 && a <= LARGEST_CARRIER_AMPLITUDE_COUNTS)
-    {
-        return Err(Error::value(
-            "carrier_amplitude_counts",
-            format!("{a}: expected a positive number of counts up to 2^31 (a 32-bit ADC's)"),
-        ));
-    }
     let adc_range = crate::counts::adc_range(adc_range)?;
     let mut settings = WindingsSettings::new(carrier_hz);
     settings.capture_hz = capture_hz;

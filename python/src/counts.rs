@@ -249,23 +249,12 @@ impl<T: Sample> AdcInput<T> {
                 Counts::I64 => self.convert_i64(&c, &s),
             },
             other => {
-                // `y_c`'s own shape first, as for floats.
-                match kind {
-                    Counts::I16 => counts::<i16>(&c, "y_c").map(drop),
-                    Counts::U16 => counts::<u16>(&c, "y_c").map(drop),
-                    Counts::I32 => counts::<i32>(&c, "y_c").map(drop),
-                    Counts::I64 => counts::<i64>(&c, "y_c").map(drop),
-                }?;
+                // `y_c`'s own shape first, as for floats, then `y_s`'s.
+                one_dimensional(&c, "y_c")?;
                 if let Ok(array) = y_s.cast::<PyUntypedArray>()
                     && array.ndim() != 1
                 {
-                    return Err(Error::value(
-                        "y_s",
-                        format!(
-                            "expected a 1-D array of samples, got shape {:?}",
-                            array.shape()
-                        ),
-                    ));
+                    one_dimensional(array, "y_s")?;
                 }
                 Err(Error::Dtype {
                     parameter: "y_s",
@@ -335,35 +324,6 @@ fn narrowed(counts: &[i64], parameter: &'static str) -> Result<Vec<i32>> {
             })
         })
         .collect()
-}
-
-/// The largest count `offset_binary_mid_scale` takes: 2^53, below which every whole number
-/// is a float64.
-const LARGEST_EXACT_COUNT: f64 = 9_007_199_254_740_992.0;
-
-/// The mid-scale (counts) of unsigned, offset-binary ADC counts whose largest sample is
-/// `largest_count` (a whole number, 0 to 2^53): `2^(b-1)` for the smallest `b`, at least 2,
-/// whose range `2^b` holds it (2048 for 12-bit counts up to 4095). What `track` removes
-/// from uint16 counts without `adc_mid_scale` (the largest sample of the whole capture).
-///
-/// >>> from angletrack._angletrack import offset_binary_mid_scale
-/// >>> offset_binary_mid_scale(4095), offset_binary_mid_scale(4096)
-/// (2048, 4096)
-#[pyfunction]
-pub fn offset_binary_mid_scale(largest_count: f64) -> Result<u64> {
-    if !(largest_count.is_finite()
-        && largest_count >= 0.0
-        && largest_count.fract() == 0.0
-        && largest_count <= LARGEST_EXACT_COUNT)
-    {
-        return Err(Error::value(
-            "largest_count",
-            format!("{largest_count}: expected a whole number of counts from 0 to 2^53"),
-        ));
-    }
-    // Checked above: a whole number from 0 to 2^53, exact as a u64.
-    let largest = largest_count as u64;
-    Ok(angletrack::offset_binary_mid_scale(largest))
 }
 
 /// Each channel's extremes of a capture of whole counts, gathered chunk by chunk
@@ -470,20 +430,26 @@ pub fn fixed_input(
     ))
 }
 
+/// Refuses (naming `parameter`) an array of samples that is not 1-D and non-empty.
+fn one_dimensional(array: &Bound<'_, PyUntypedArray>, parameter: &'static str) -> Result<()> {
+    if array.ndim() == 1 && array.len() > 0 {
+        return Ok(());
+    }
+    Err(Error::value(
+        parameter,
+        format!(
+            "expected a non-empty 1-D array of samples, got shape {:?}",
+            array.shape()
+        ),
+    ))
+}
+
 /// The counts of a 1-D, non-empty array of `I`, copied.
 fn counts<I: Element + Copy>(
     array: &Bound<'_, PyUntypedArray>,
     parameter: &'static str,
 ) -> Result<Vec<I>> {
-    if array.ndim() != 1 || array.len() == 0 {
-        return Err(Error::value(
-            parameter,
-            format!(
-                "expected a non-empty 1-D array of samples, got shape {:?}",
-                array.shape()
-            ),
-        ));
-    }
+    one_dimensional(array, parameter)?;
     let typed = array
         .cast::<PyArray1<I>>()
         .map_err(|e| Error::Python(e.into()))?;

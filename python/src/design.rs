@@ -8,6 +8,7 @@ use pyo3::types::{PyComplex, PyDict};
 use crate::analysis::DesignReport;
 use crate::errors::Result;
 use crate::gains::{GainSet, PyGains, with_gains};
+use crate::getters::class_methods;
 
 /// Runs `$body` with `$d` bound to the concrete `Design<N>` inside `$any`.
 macro_rules! with_design {
@@ -110,100 +111,74 @@ impl<D: Into<AnyDesign>> From<D> for PyDesign {
     }
 }
 
-#[pymethods]
-impl PyDesign {
-    /// Wraps gains designed elsewhere, to analyse them.
-    #[staticmethod]
-    #[pyo3(signature = (gains))]
-    fn from_gains(gains: PyGains) -> Self {
-        with_gains!(gains.set, g => Design::from_gains(g).into())
+class_methods! {
+    PyDesign {
+        /// The designed discrete gains (float64, checked).
+        gains: PyGains = |this, py| {
+            PyGains {
+                set: this.gain_set(),
+            }
+        };
+        /// The design rule, in words.
+        method: &'static str = |this, py| with_design!(&this.inner, d => d.method.name());
+        /// The mapping of a continuous design ('pole_matching', 'forward_euler', 'tustin');
+        /// `None` for Kalman and given gains.
+        discretisation: Option<&'static str> =
+            |this, py| with_design!(&this.inner, d => d.discretisation.map(|x| x.id()));
+        /// The continuous closed-loop poles (rad/s) of a continuous design; empty otherwise.
+        continuous_poles: Vec<Bound<'py, PyComplex>> =
+            |this, py| with_design!(&this.inner, d => complex_list(py, &d.continuous_poles));
+        /// The continuous gains `(k_a, k_b[, k_c])` (1/s, 1/s^2, 1/s^3) of a continuous design,
+        /// in the order of `gains` (the state each corrects, angle first: `l_i ~ k_i Ts^i`).
+        continuous_gains: Option<Vec<f64>> =
+            |this, py| with_design!(&this.inner, d => d.continuous_gains.map(|k| k.to_vec()));
+        /// Coefficients (lowest power first, leading 1 omitted) of the continuous closed-loop
+        /// polynomial `s^N + ... + c0` of a continuous design, the order of
+        /// `Gains.loop_polynomial`: `continuous_gains` reversed.
+        continuous_loop_polynomial: Option<Vec<f64>> =
+            |this, py| with_design!(&this.inner, d => d.continuous_loop_polynomial());
+        /// The Riccati solution of a Kalman design; `None` otherwise.
+        kalman: Option<PyKalmanSolution> =
+            |this, py| with_design!(&this.inner, d => d.kalman.as_ref().map(|k| PyKalmanSolution::new(k, d.sample_period())));
+        /// The sample period (s).
+        sample_period_s: f64 = |this, py| this.inner.sample_period();
+        /// The observer order (2 or 3).
+        order: usize = |this, py| this.inner.order();
     }
-
-    /// The designed discrete gains (float64, checked).
-    #[getter]
-    fn gains(&self) -> PyGains {
-        PyGains {
-            set: self.gain_set(),
+    methods {
+        /// Wraps gains designed elsewhere, to analyse them.
+        #[staticmethod]
+        #[pyo3(signature = (gains))]
+        fn from_gains(gains: PyGains) -> Self {
+            with_gains!(gains.set, g => Design::from_gains(g).into())
         }
-    }
 
-    /// The design rule, in words.
-    #[getter]
-    fn method(&self) -> &'static str {
-        with_design!(&self.inner, d => d.method.name())
-    }
+        /// The design's datasheet for white sensor noise of standard deviation
+        /// `sensor_noise_std` per channel (amplitude 1; 0 for a noise-free analysis).
+        #[pyo3(signature = (sensor_noise_std = 0.0))]
+        fn report(&self, py: Python<'_>, sensor_noise_std: f64) -> Result<DesignReport> {
+            let inner = self.inner.clone();
+            let report = py.detach(move || inner.report(sensor_noise_std))?;
+            Ok(report.into())
+        }
 
-    /// The mapping of a continuous design ('pole_matching', 'forward_euler', 'tustin');
-    /// `None` for Kalman and given gains.
-    #[getter]
-    fn discretisation(&self) -> Option<&'static str> {
-        with_design!(&self.inner, d => d.discretisation.map(|x| x.id()))
-    }
+        /// The design's constants for the core's fixed-point observer (`docs/theory.md §14`): a
+        /// dict with `multiplier` (one per gain), `acceleration_shift`, the `quantised_gains`
+        /// they represent and `sample_period_s`. Raises `ConfigError` naming the gain if one
+        /// rounds to zero, does not fit, or the quantised loop is unstable.
+        fn fixed_constants<'py>(&self, py: Python<'py>) -> Result<Bound<'py, PyDict>> {
+            constants_dict(py, self.inner.fixed_constants()?)
+        }
 
-    /// The continuous closed-loop poles (rad/s) of a continuous design; empty otherwise.
-    #[getter]
-    fn continuous_poles<'py>(&self, py: Python<'py>) -> Vec<Bound<'py, PyComplex>> {
-        with_design!(&self.inner, d => complex_list(py, &d.continuous_poles))
-    }
-
-    /// The continuous gains `(k_a, k_b[, k_c])` (1/s, 1/s^2, 1/s^3) of a continuous design,
-    /// in the order of `gains` (the state each corrects, angle first: `l_i ~ k_i Ts^i`).
-    #[getter]
-    fn continuous_gains(&self) -> Option<Vec<f64>> {
-        with_design!(&self.inner, d => d.continuous_gains.map(|k| k.to_vec()))
-    }
-
-    /// Coefficients (lowest power first, leading 1 omitted) of the continuous closed-loop
-    /// polynomial `s^N + ... + c0` of a continuous design, the order of
-    /// `Gains.loop_polynomial`: `continuous_gains` reversed.
-    #[getter]
-    fn continuous_loop_polynomial(&self) -> Option<Vec<f64>> {
-        with_design!(&self.inner, d => d.continuous_loop_polynomial())
-    }
-
-    /// The Riccati solution of a Kalman design; `None` otherwise.
-    #[getter]
-    fn kalman(&self) -> Option<PyKalmanSolution> {
-        with_design!(&self.inner, d => d.kalman.as_ref().map(|k| PyKalmanSolution::new(k, d.sample_period())))
-    }
-
-    /// The sample period (s).
-    #[getter]
-    fn sample_period_s(&self) -> f64 {
-        self.inner.sample_period()
-    }
-
-    /// The observer order (2 or 3).
-    #[getter]
-    fn order(&self) -> usize {
-        self.inner.order()
-    }
-
-    /// The design's datasheet for white sensor noise of standard deviation
-    /// `sensor_noise_std` per channel (amplitude 1; 0 for a noise-free analysis).
-    #[pyo3(signature = (sensor_noise_std = 0.0))]
-    fn report(&self, py: Python<'_>, sensor_noise_std: f64) -> Result<DesignReport> {
-        let inner = self.inner.clone();
-        let report = py.detach(move || inner.report(sensor_noise_std))?;
-        Ok(report.into())
-    }
-
-    /// The design's constants for the core's fixed-point observer (`docs/theory.md §14`): a
-    /// dict with `multiplier` (one per gain), `acceleration_shift`, the `quantised_gains`
-    /// they represent and `sample_period_s`. Raises `ConfigError` naming the gain if one
-    /// rounds to zero, does not fit, or the quantised loop is unstable.
-    fn fixed_constants<'py>(&self, py: Python<'py>) -> Result<Bound<'py, PyDict>> {
-        constants_dict(py, self.inner.fixed_constants()?)
-    }
-
-    fn __repr__(&self) -> String {
-        with_design!(&self.inner, d => format!(
-            "Design(method={:?}, discretisation={}, order={}, sample_period_s={:e}, gains={:?})",
-            d.method.name(),
-            d.discretisation.map_or("None".to_string(), |x| format!("{:?}", x.id())),
-            d.gains.order(),
-            d.sample_period(),
-            d.gains.gains()
-        ))
+        fn __repr__(&self) -> String {
+            with_design!(&self.inner, d => format!(
+                "Design(method={:?}, discretisation={}, order={}, sample_period_s={:e}, gains={:?})",
+                d.method.name(),
+                d.discretisation.map_or("None".to_string(), |x| format!("{:?}", x.id())),
+                d.gains.order(),
+                d.sample_period(),
+                d.gains.gains()
+            ))
+        }
     }
 }

@@ -5,18 +5,15 @@
 use core::fmt::Debug;
 
 use angletrack::{ChannelBatch, convert_gains};
-use angletrack_core::{
-    AngleCorrection, Exact, Fast, Gains as CoreGains, Real, SensorCalibration, SinCos,
-};
+use angletrack_core::{Exact, Fast, Gains as CoreGains, Real, SinCos};
 use numpy::Element;
 use pyo3::prelude::*;
 
 use crate::arrays::Float;
 use crate::batch::{Batch, RunBatch};
-use crate::counts::Clipping;
 use crate::errors::{Error, Result};
-use crate::estimates::Estimates;
 use crate::gains::{GainSet, PyGains};
+use crate::getters::class_methods;
 use crate::observer::{ObserverOps, ObserverOptions};
 use crate::observer_channel::Channel;
 
@@ -73,15 +70,6 @@ pub trait TypedGains {
     fn observer(&self, options: &ObserverOptions) -> Result<Box<dyn ObserverOps>>;
     /// A batch of `channels` observers (the input check only, no diagnostics).
     fn batch(&self, channels: usize) -> Result<Box<dyn RunBatch>>;
-    /// An observer behind the chain of the clipping checks, a stored sensor calibration and
-    /// an angle correction.
-    fn corrected(
-        &self,
-        clipping: Clipping,
-        sensor: &SensorCalibration<f64>,
-        correction: &AngleCorrection<f64>,
-        thresholds: Option<crate::diagnostics::PyFaultThresholds>,
-    ) -> Result<Box<dyn Run>>;
 }
 
 impl<T: Sample, const N: usize, S: PhaseSinCos<T>> TypedGains for CoreGains<T, N, S> {
@@ -92,24 +80,6 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> TypedGains for CoreGains<T, N
     fn batch(&self, channels: usize) -> Result<Box<dyn RunBatch>> {
         Ok(Box::new(Batch::new(ChannelBatch::new(*self, channels)?)))
     }
-
-    fn corrected(
-        &self,
-        clipping: Clipping,
-        sensor: &SensorCalibration<f64>,
-        correction: &AngleCorrection<f64>,
-        thresholds: Option<crate::diagnostics::PyFaultThresholds>,
-    ) -> Result<Box<dyn Run>> {
-        crate::angle_calibration::corrected(*self, clipping, sensor, correction, thresholds)
-    }
-}
-
-/// Something that runs over sample arrays of the Python caller: an observer of concrete
-/// types behind the one dispatch.
-pub trait Run: Debug + Send + Sync {
-    /// Runs over `y_c`, `y_s` and returns the estimates of every sample; the state carries
-    /// over to the next call.
-    fn run(&mut self, py: Python<'_>, y_c: Arg<'_, '_>, y_s: Arg<'_, '_>) -> Result<Estimates>;
 }
 
 /// A Python argument as the binding receives it, converted where it is used.
@@ -195,35 +165,20 @@ impl RunSettings {
     }
 }
 
-#[pymethods]
-impl RunSettings {
-    /// The gains it runs with.
-    #[getter]
-    fn gains(&self) -> PyGains {
-        self.gains.clone()
+class_methods! {
+    RunSettings {
+        /// The gains it runs with.
+        gains: PyGains = |this, py| this.gains.clone();
+        /// The float type it runs on: 'float32' or 'float64'.
+        dtype: &'static str = |this, py| this.float.name();
+        /// The phase detector's sin/cos: 'fast' (polynomial) or 'exact' (libm).
+        sin_cos: &'static str = |this, py| this.sin_cos.name();
+        /// The observer order (2 or 3).
+        order: usize = |this, py| this.gains.set.order();
+        /// The sample period (s).
+        sample_period_s: f64 = |this, py| this.gains.set.sample_period();
     }
+    methods {
 
-    /// The float type it runs on: 'float32' or 'float64'.
-    #[getter]
-    fn dtype(&self) -> &'static str {
-        self.float.name()
-    }
-
-    /// The phase detector's sin/cos: 'fast' (polynomial) or 'exact' (libm).
-    #[getter]
-    fn sin_cos(&self) -> &'static str {
-        self.sin_cos.name()
-    }
-
-    /// The observer order (2 or 3).
-    #[getter]
-    fn order(&self) -> usize {
-        self.gains.set.order()
-    }
-
-    /// The sample period (s).
-    #[getter]
-    fn sample_period_s(&self) -> f64 {
-        self.gains.set.sample_period()
     }
 }

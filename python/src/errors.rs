@@ -92,46 +92,25 @@ impl Error {
     }
 }
 
-impl From<CoreConfigError> for Error {
-    fn from(e: CoreConfigError) -> Self {
-        Error::Config(e)
-    }
+/// `From` each error of the crates (and Python's) into its variant of [`Error`].
+macro_rules! from_errors {
+    ($($error:ty => $variant:ident),* $(,)?) => {$(
+        impl From<$error> for Error {
+            fn from(e: $error) -> Self {
+                Error::$variant(e.into())
+            }
+        }
+    )*};
 }
 
-impl From<angletrack::core::UnknownDiscretisation> for Error {
-    fn from(e: angletrack::core::UnknownDiscretisation) -> Self {
-        Error::Design(e.into())
-    }
-}
-
-impl From<angletrack::Error> for Error {
-    fn from(e: angletrack::Error) -> Self {
-        Error::Design(e)
-    }
-}
-
-impl From<CoreCaptureError> for Error {
-    fn from(e: CoreCaptureError) -> Self {
-        Error::Capture(e)
-    }
-}
-
-impl From<angletrack::export::ExportError> for Error {
-    fn from(e: angletrack::export::ExportError) -> Self {
-        Error::Export(e)
-    }
-}
-
-impl From<angletrack::JsonFileError> for Error {
-    fn from(e: angletrack::JsonFileError) -> Self {
-        Error::JsonFile(e)
-    }
-}
-
-impl From<PyErr> for Error {
-    fn from(e: PyErr) -> Self {
-        Error::Python(e)
-    }
+from_errors! {
+    CoreConfigError => Config,
+    angletrack::core::UnknownDiscretisation => Design,
+    angletrack::Error => Design,
+    CoreCaptureError => Capture,
+    angletrack::export::ExportError => Export,
+    angletrack::JsonFileError => JsonFile,
+    PyErr => Python,
 }
 
 /// The Python argument a parameter of the core's configuration comes from: the core names

@@ -63,64 +63,45 @@ impl OutputSelection {
     }
 }
 
-/// The output arrays of a run, allocated by numpy (which asks for huge pages on large
-/// arrays) and written in place; `None` for an output not asked for.
-pub(crate) struct OutputArrays<'py, T: Element> {
-    angle: Option<Bound<'py, PyArray1<T>>>,
-    position: Option<Bound<'py, PyArray1<f64>>>,
-    speed: Option<Bound<'py, PyArray1<T>>>,
-    acceleration: Option<Bound<'py, PyArray1<T>>>,
-    phase_error: Option<Bound<'py, PyArray1<T>>>,
-    faults: Option<Bound<'py, PyArray1<u8>>>,
-}
-
-impl<'py, T: Real + Element> OutputArrays<'py, T> {
-    /// `n` elements of every quantity (see [`OutputArrays::selected`]).
-    pub(crate) fn new(py: Python<'py>, n: usize) -> Result<Self> {
-        Self::selected(py, n, OutputSelection::ALL)
+/// The estimates of `n` samples (the arrays shaped `shape` if given) and what `fill`
+/// returns: each output in `outputs` allocated by numpy (which asks for huge pages on large
+/// arrays) and filled in place by `fill` with the GIL released, `None` for an output not
+/// asked for. A `MemoryError` when they need more than the machine's physical memory (each
+/// allocation alone may succeed, overcommitted, and the run be killed when it writes them),
+/// or when numpy cannot allocate one.
+pub(crate) fn run_estimates<T: Real + Element, R: Send>(
+    py: Python<'_>,
+    n: usize,
+    (outputs, shape): (OutputSelection, Option<(usize, usize)>),
+    fill: impl FnOnce(EstimateColumns<'_, T>) -> R + Send,
+) -> Result<(R, Estimates)> {
+    let per_sample: usize = Output::ALL
+        .iter()
+        .filter(|&&o| outputs.has(o))
+        .map(|o| o.bytes_per_sample::<T>())
+        .sum();
+    let bytes = n as u128 * per_sample as u128;
+    if physical_memory_bytes(py).is_some_and(|memory| bytes > memory) {
+        return Err(Error::Memory {
+            parameter: "y_c",
+            bytes,
+        });
     }
-
-    /// `n` elements of each quantity in `outputs`; a `MemoryError` when they need more
-    /// than the machine's physical memory (each allocation alone may succeed,
-    /// overcommitted, and the run be killed when it writes them), or when numpy cannot
-    /// allocate one.
-    pub(crate) fn selected(py: Python<'py>, n: usize, outputs: OutputSelection) -> Result<Self> {
-        let per_sample: usize = Output::ALL
-            .iter()
-            .filter(|&&o| outputs.has(o))
-            .map(|o| o.bytes_per_sample::<T>())
-            .sum();
-        let bytes = n as u128 * per_sample as u128;
-        if physical_memory_bytes(py).is_some_and(|memory| bytes > memory) {
-            return Err(Error::Memory {
-                parameter: "y_c",
-                bytes,
-            });
-        }
-        let array = |output: Output| outputs.has(output).then_some(n);
-        Ok(Self {
-            angle: zeros(py, array(Output::Angle))?,
-            position: zeros(py, array(Output::Position))?,
-            speed: zeros(py, array(Output::Speed))?,
-            acceleration: zeros(py, array(Output::Acceleration))?,
-            phase_error: zeros(py, array(Output::PhaseError))?,
-            faults: zeros(py, array(Output::Faults))?,
-        })
-    }
-
-    /// Calls `fill` with the arrays' slices, the GIL released.
-    pub(crate) fn fill<R: Send>(
-        &self,
-        py: Python<'_>,
-        fill: impl FnOnce(EstimateColumns<'_, T>) -> R + Send,
-    ) -> Result<R> {
+    let array = |output: Output| outputs.has(output).then_some(n);
+    let angle = zeros::<T>(py, array(Output::Angle))?;
+    let position = zeros::<f64>(py, array(Output::Position))?;
+    let speed = zeros::<T>(py, array(Output::Speed))?;
+    let acceleration = zeros::<T>(py, array(Output::Acceleration))?;
+    let phase_error = zeros::<T>(py, array(Output::PhaseError))?;
+    let faults = zeros::<u8>(py, array(Output::Faults))?;
+    let filled = {
         let mut w = (
-            write(&self.angle)?,
-            write(&self.position)?,
-            write(&self.speed)?,
-            write(&self.acceleration)?,
-            write(&self.phase_error)?,
-            write(&self.faults)?,
+            write(&angle)?,
+            write(&position)?,
+            write(&speed)?,
+            write(&acceleration)?,
+            write(&phase_error)?,
+            write(&faults)?,
         );
         let columns = EstimateColumns {
             angle: slice(&mut w.0)?,
@@ -130,35 +111,26 @@ impl<'py, T: Real + Element> OutputArrays<'py, T> {
             phase_error: slice(&mut w.4)?,
             faults: slice(&mut w.5)?,
         };
-        Ok(py.detach(|| fill(columns)))
-    }
-
-    /// The `Estimates` of `len` samples, each array reshaped to `shape` if given, `None`
-    /// for an output not asked for.
-    pub(crate) fn into_estimates(
-        self,
-        py: Python<'py>,
-        len: usize,
-        shape: Option<(usize, usize)>,
-    ) -> Result<Estimates> {
-        let shaped = |a: Option<Bound<'py, PyAny>>| -> Result<Py<PyAny>> {
-            Ok(match (a, shape) {
-                (None, _) => py.None(),
-                (Some(a), Some(shape)) => a.call_method1("reshape", shape)?.unbind(),
-                (Some(a), None) => a.unbind(),
-            })
-        };
-        Ok(Estimates {
-            len,
-            dtype: numpy::dtype::<T>(py).to_string(),
-            angle: shaped(self.angle.map(Bound::into_any))?,
-            position: shaped(self.position.map(Bound::into_any))?,
-            speed: shaped(self.speed.map(Bound::into_any))?,
-            acceleration: shaped(self.acceleration.map(Bound::into_any))?,
-            phase_error: shaped(self.phase_error.map(Bound::into_any))?,
-            faults: shaped(self.faults.map(Bound::into_any))?,
+        py.detach(|| fill(columns))
+    };
+    let shaped = |a: Option<Bound<'_, PyAny>>| -> Result<Py<PyAny>> {
+        Ok(match (a, shape) {
+            (None, _) => py.None(),
+            (Some(a), Some(shape)) => a.call_method1("reshape", shape)?.unbind(),
+            (Some(a), None) => a.unbind(),
         })
-    }
+    };
+    let estimates = Estimates {
+        len: shape.map_or(n, |(_, samples)| samples),
+        dtype: numpy::dtype::<T>(py).to_string(),
+        angle: shaped(angle.map(Bound::into_any))?,
+        position: shaped(position.map(Bound::into_any))?,
+        speed: shaped(speed.map(Bound::into_any))?,
+        acceleration: shaped(acceleration.map(Bound::into_any))?,
+        phase_error: shaped(phase_error.map(Bound::into_any))?,
+        faults: shaped(faults.map(Bound::into_any))?,
+    };
+    Ok((filled, estimates))
 }
 
 /// A write borrow of an output array, if there is one.

@@ -4,6 +4,7 @@
 
 use angletrack::FixedDesignConstants;
 use angletrack::export::{self, FixedGainsFile, FloatType, GainsFile};
+use angletrack::tracker_file::Language;
 use pyo3::conversion::FromPyObjectOwned;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -17,25 +18,29 @@ fn float_type(dtype: &str) -> Result<FloatType> {
     Ok(dtype.parse::<FloatType>()?)
 }
 
-/// The C header of `gains` (`angletrack::export::gains_c_header`).
+/// The language named `language` (`"c"` or `"rust"`), refused naming it.
+pub fn language(language: &str) -> Result<Language> {
+    Language::from_name(language).ok_or_else(|| {
+        Error::value(
+            "language",
+            format!("expected \"c\" or \"rust\", got {language:?}"),
+        )
+    })
+}
+
+/// The C header or Rust `const`s of `gains` (`angletrack::export::gains_c_header`,
+/// `gains_rust`).
 #[pyfunction]
-#[pyo3(signature = (gains, *, name = "angletrack", dtype = "float32", description = ""))]
-pub fn gains_c_header(
+#[pyo3(signature = (gains, language, *, name = "angletrack", dtype = "float32", description = ""))]
+pub fn gains_source(
     gains: PyGains,
+    language: &str,
     name: &str,
     dtype: &str,
     description: &str,
 ) -> Result<String> {
-    let float_type = float_type(dtype)?;
-    Ok(with_gains!(gains.set, g => export::gains_c_header(&g, float_type, name, description))?)
-}
-
-/// The Rust `const`s of `gains` (`angletrack::export::gains_rust`).
-#[pyfunction]
-#[pyo3(signature = (gains, *, name = "angletrack", dtype = "float32", description = ""))]
-pub fn gains_rust(gains: PyGains, name: &str, dtype: &str, description: &str) -> Result<String> {
-    let float_type = float_type(dtype)?;
-    Ok(with_gains!(gains.set, g => export::gains_rust(&g, float_type, name, description))?)
+    let (language, float) = (self::language(language)?, float_type(dtype)?);
+    Ok(with_gains!(gains.set, g => language.gains(&g, float, name, description))?)
 }
 
 /// The value of `key` in the dict of fixed-point constants.
@@ -58,68 +63,35 @@ fn fixed_constants(constants: &Bound<'_, PyDict>) -> Result<FixedDesignConstants
     })
 }
 
-/// The C header of fixed-point constants (`angletrack::export::fixed_c_header`).
+/// The C header or Rust `const`s of fixed-point constants (`angletrack::export::fixed_c_header`,
+/// `fixed_rust`).
 #[pyfunction]
-#[pyo3(signature = (constants, *, name = "angletrack", description = ""))]
-pub fn fixed_c_header(
+#[pyo3(signature = (constants, language, *, name = "angletrack", description = ""))]
+pub fn fixed_source(
     constants: &Bound<'_, PyDict>,
+    language: &str,
     name: &str,
     description: &str,
 ) -> Result<String> {
-    Ok(export::fixed_c_header(
-        &fixed_constants(constants)?,
-        name,
-        description,
-    )?)
+    let constants = fixed_constants(constants)?;
+    Ok(self::language(language)?.fixed(&constants, name, description)?)
 }
 
-/// The Rust `const`s of fixed-point constants (`angletrack::export::fixed_rust`).
+/// The C header or Rust `const`s of a calibration (`angletrack::export::calibration_c_header`,
+/// `calibration_rust`).
 #[pyfunction]
-#[pyo3(signature = (constants, *, name = "angletrack", description = ""))]
-pub fn fixed_rust(constants: &Bound<'_, PyDict>, name: &str, description: &str) -> Result<String> {
-    Ok(export::fixed_rust(
-        &fixed_constants(constants)?,
-        name,
-        description,
-    )?)
-}
-
-/// The C header of a calibration (`angletrack::export::calibration_c_header`).
-#[pyfunction]
-#[pyo3(signature = (sensor, cos, sin, *, name = "angletrack", dtype = "float32"))]
-pub fn calibration_c_header(
+#[pyo3(signature = (sensor, cos, sin, language, *, name = "angletrack", dtype = "float32"))]
+pub fn calibration_source(
     sensor: SensorParameters,
     cos: Vec<f64>,
     sin: Vec<f64>,
+    language: &str,
     name: &str,
     dtype: &str,
 ) -> Result<String> {
     let (sensor, correction) = checked(sensor, cos, sin)?;
-    Ok(export::calibration_c_header(
-        &sensor,
-        &correction,
-        float_type(dtype)?,
-        name,
-    )?)
-}
-
-/// The Rust `const`s of a calibration (`angletrack::export::calibration_rust`).
-#[pyfunction]
-#[pyo3(signature = (sensor, cos, sin, *, name = "angletrack", dtype = "float32"))]
-pub fn calibration_rust(
-    sensor: SensorParameters,
-    cos: Vec<f64>,
-    sin: Vec<f64>,
-    name: &str,
-    dtype: &str,
-) -> Result<String> {
-    let (sensor, correction) = checked(sensor, cos, sin)?;
-    Ok(export::calibration_rust(
-        &sensor,
-        &correction,
-        float_type(dtype)?,
-        name,
-    )?)
+    let (language, float) = (self::language(language)?, float_type(dtype)?);
+    Ok(language.calibration(&sensor, &correction, float, name)?)
 }
 
 /// The design's JSON text as a value (`None` for none).
@@ -183,12 +155,9 @@ pub fn read_fixed_gains_file<'py>(
 
 /// Adds the functions to the module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(gains_c_header, m)?)?;
-    m.add_function(wrap_pyfunction!(gains_rust, m)?)?;
-    m.add_function(wrap_pyfunction!(fixed_c_header, m)?)?;
-    m.add_function(wrap_pyfunction!(fixed_rust, m)?)?;
-    m.add_function(wrap_pyfunction!(calibration_c_header, m)?)?;
-    m.add_function(wrap_pyfunction!(calibration_rust, m)?)?;
+    m.add_function(wrap_pyfunction!(gains_source, m)?)?;
+    m.add_function(wrap_pyfunction!(fixed_source, m)?)?;
+    m.add_function(wrap_pyfunction!(calibration_source, m)?)?;
     m.add("GAINS_FILE_FORMAT", export::GAINS_FILE_FORMAT)?;
     m.add("FIXED_GAINS_FILE_FORMAT", export::FIXED_GAINS_FILE_FORMAT)?;
     m.add("GAINS_FILE_VERSION", export::GAINS_FILE_VERSION)?;

@@ -22,8 +22,9 @@ use crate::calibration::PySensorCalibration;
 use crate::counts::Clipping;
 use crate::design::{PyDesign, constants_dict};
 use crate::errors::{Error, Result};
-use crate::fixed_estimates::{FixedArrays, FixedEstimate, FixedEstimates};
+use crate::fixed_estimates::{FixedEstimate, FixedEstimates, run_fixed};
 use crate::gains::{GainSet, PyGains};
+use crate::getters::class_methods;
 
 /// The core's fixed-point standard chain (`Tracker<i16, FixedGains<N>>`) of order 2 or 3,
 /// and its state.
@@ -65,32 +66,52 @@ where
     FixedGains::from_constants(constants, sample_period_s)
 }
 
+/// The chain of `gains` with the monitor for `nominal_amplitude` counts (`None`: off)
+/// behind `front_end`.
+fn chain<const N: usize>(
+    gains: FixedGains<N>,
+    front_end: TrackerFrontEnd<i16>,
+    nominal_amplitude: Option<f64>,
+) -> Result<Tracker<i16, FixedGains<N>>>
+where
+    Order<N>: SupportedOrder,
+{
+    Ok(Tracker::new(
+        front_end,
+        gains.with_monitor(nominal_amplitude)?,
+    ))
+}
+
 impl FixedChannel {
     /// The fixed-point observer of checked float gains, quantised by the core, behind
-    /// `front_end`.
+    /// `front_end`, with the monitor for `nominal_amplitude`.
     fn of_gains(
         set: &GainSet,
         front_end: TrackerFrontEnd<i16>,
-    ) -> core::result::Result<Self, CoreConfigError> {
+        nominal_amplitude: Option<f64>,
+    ) -> Result<Self> {
+        let a = nominal_amplitude;
         Ok(match set {
-            GainSet::Second(g) => Self::Second(
-                Tracker::new(front_end, FixedGains::new(g.gains(), g.sample_period())?),
-                TrackerState::new(),
-            ),
-            GainSet::Third(g) => Self::Third(
-                Tracker::new(front_end, FixedGains::new(g.gains(), g.sample_period())?),
-                TrackerState::new(),
-            ),
+            GainSet::Second(g) => {
+                let gains = FixedGains::new(g.gains(), g.sample_period())?;
+                Self::Second(chain(gains, front_end, a)?, TrackerState::new())
+            }
+            GainSet::Third(g) => {
+                let gains = FixedGains::new(g.gains(), g.sample_period())?;
+                Self::Third(chain(gains, front_end, a)?, TrackerState::new())
+            }
         })
     }
 
     /// The fixed-point observer of the integer constants (2 or 3 multipliers), checked by
-    /// the core, behind `front_end`; a refusal names `constants` and the gain.
+    /// the core, behind `front_end`, with the monitor for `nominal_amplitude`; a refusal
+    /// names `constants` and the gain.
     fn of_constants(
         multiplier: &[i32],
         shift: u32,
         sample_period_s: f64,
         front_end: TrackerFrontEnd<i16>,
+        nominal_amplitude: Option<f64>,
     ) -> Result<Self> {
         let named = |e: CoreConfigError| match e {
             CoreConfigError::NotFinite(_) | CoreConfigError::NotPositive(_) => Error::Config(e),
@@ -99,21 +120,17 @@ impl FixedChannel {
                 format!("{e} (multiplier {multiplier:?}, acceleration_shift {shift})"),
             ),
         };
+        let a = nominal_amplitude;
         Ok(match *multiplier {
-            [a, b] => Self::Second(
-                Tracker::new(
-                    front_end,
-                    gains_of_constants([a, b], shift, sample_period_s).map_err(named)?,
-                ),
-                TrackerState::new(),
-            ),
-            [a, b, c] => Self::Third(
-                Tracker::new(
-                    front_end,
-                    gains_of_constants([a, b, c], shift, sample_period_s).map_err(named)?,
-                ),
-                TrackerState::new(),
-            ),
+            [l1, l2] => {
+                let gains = gains_of_constants([l1, l2], shift, sample_period_s).map_err(named)?;
+                Self::Second(chain(gains, front_end, a)?, TrackerState::new())
+            }
+            [l1, l2, l3] => {
+                let gains =
+                    gains_of_constants([l1, l2, l3], shift, sample_period_s).map_err(named)?;
+                Self::Third(chain(gains, front_end, a)?, TrackerState::new())
+            }
             _ => {
                 return Err(Error::value(
                     "constants",
@@ -124,20 +141,6 @@ impl FixedChannel {
                     ),
                 ));
             }
-        })
-    }
-
-    /// The same observer with the monitor for `nominal_amplitude` counts (`None`: off).
-    fn with_monitor(self, nominal_amplitude: Option<f64>) -> Result<Self> {
-        Ok(match self {
-            Self::Second(t, s) => Self::Second(
-                Tracker::new(t.front_end, t.observer.with_monitor(nominal_amplitude)?),
-                s,
-            ),
-            Self::Third(t, s) => Self::Third(
-                Tracker::new(t.front_end, t.observer.with_monitor(nominal_amplitude)?),
-                s,
-            ),
         })
     }
 }
@@ -301,166 +304,151 @@ fn front_end(
     )?)
 }
 
-#[pymethods]
-impl PyFixedObserver {
-    #[new]
-    #[pyo3(signature = (design, *, nominal_amplitude = Some(16384.0), calibration = None,
-        mid_scale_counts = Count::Whole(0), input_shift = Count::Whole(0), adc_range = None,
-        measure_adc_range = false),
-        text_signature = "(design, *, nominal_amplitude=16384.0, calibration=None, mid_scale_counts=0, input_shift=0, adc_range=None, measure_adc_range=False)")]
-    fn py_new(
-        design: &Bound<'_, PyAny>,
-        nominal_amplitude: Option<f64>,
-        calibration: Option<&Bound<'_, PyAny>>,
-        mid_scale_counts: Count,
-        input_shift: Count,
-        adc_range: Option<(i32, i32)>,
-        measure_adc_range: bool,
-    ) -> Result<Self> {
-        let gains = designed_gains(design)?;
-        let clipping = Clipping::new(adc_range, measure_adc_range)?;
-        let front_end = front_end(calibration, mid_scale_counts, input_shift, clipping)?;
-        let channel = FixedChannel::of_gains(&gains, front_end)?.with_monitor(nominal_amplitude)?;
-        Ok(Self { channel })
-    }
-
-    /// The observer of the integer constants a firmware embeds: the dict
-    /// `Design.fixed_constants()` returns (`multiplier`, `acceleration_shift`; other keys
-    /// are ignored), at `sample_period_s` (s). Checked again by the core: `ConfigError`
-    /// (parameter `constants`) naming the gain whose multiplier or shift is out of range or
-    /// leaves the loop unstable.
-    #[staticmethod]
-    #[pyo3(signature = (constants, sample_period_s, *, nominal_amplitude = Some(16384.0),
-        calibration = None, mid_scale_counts = Count::Whole(0), input_shift = Count::Whole(0),
-        adc_range = None, measure_adc_range = false),
-        text_signature = "(constants, sample_period_s, *, nominal_amplitude=16384.0, calibration=None, mid_scale_counts=0, input_shift=0, adc_range=None, measure_adc_range=False)")]
-    #[allow(clippy::too_many_arguments)]
-    fn from_constants(
-        constants: &Bound<'_, PyAny>,
-        sample_period_s: f64,
-        nominal_amplitude: Option<f64>,
-        calibration: Option<&Bound<'_, PyAny>>,
-        mid_scale_counts: Count,
-        input_shift: Count,
-        adc_range: Option<(i32, i32)>,
-        measure_adc_range: bool,
-    ) -> Result<Self> {
-        let constants = constants.cast::<PyMapping>().map_err(|_| {
-            Error::value(
-                "constants",
-                format!(
-                    "expected the dict Design.fixed_constants() returns, got an object of type {}",
-                    constants.get_type()
-                ),
+class_methods! {
+    PyFixedObserver {
+        /// The front-end faults latched (4: a sample clipped against `adc_range` or the rails
+        /// measured).
+        latched_front_end_faults: u8 =
+            |this, py| with_channel!(&this.channel, _t, s => s.front_end.latched_faults().bits());
+        /// The estimate after the last sample.
+        estimate: FixedEstimate = |this, py| {
+            with_channel!(&this.channel, t, s => {
+                FixedEstimate::new(&t.observer, &FixedGains::estimate(&s.observer))
+            })
+        };
+        /// The integer constants (the dict `Design.fixed_constants()` returns): what
+        /// `FixedObserver.from_constants` takes back.
+        constants: Result<Bound<'py, PyDict>> = |this, py| {
+            constants_dict(
+                py,
+                with_channel!(&this.channel, t, _s => FixedDesignConstants::of(&t.observer)),
             )
-        })?;
-        let multiplier = constant(constants, "multiplier")?;
-        let multiplier: Vec<i32> = multiplier
-            .extract()
-            .map_err(|_| not_integers("multiplier", &multiplier, "a list of integers (int32)"))?;
-        let shift = constant(constants, "acceleration_shift")?;
-        let shift: u32 = shift
-            .extract()
-            .map_err(|_| not_integers("acceleration_shift", &shift, "an integer from 0 to 15"))?;
-        let clipping = Clipping::new(adc_range, measure_adc_range)?;
-        let front_end = front_end(calibration, mid_scale_counts, input_shift, clipping)?;
-        let channel = FixedChannel::of_constants(&multiplier, shift, sample_period_s, front_end)?
-            .with_monitor(nominal_amplitude)?;
-        Ok(Self { channel })
+        };
+        /// The gains the integers represent, `(l1, l2[, l3])` (float): the loop that runs.
+        gains: Vec<f64> =
+            |this, py| with_channel!(&this.channel, t, _s => t.observer.gains().to_vec());
+        /// The sample period `Ts` (s).
+        sample_period_s: f64 =
+            |this, py| with_channel!(&this.channel, t, _s => t.observer.sample_period());
+        /// The observer order: 2 or 3.
+        order: usize = |this, py| with_channel!(&this.channel, t, _s => t.observer.gains().len());
+        /// The faults latched since they were last cleared (bits, see `angletrack.Faults`).
+        latched_faults: u8 =
+            |this, py| with_channel!(&this.channel, _t, s => s.observer.latched_faults().bits());
     }
+    methods {
+        #[new]
+        #[pyo3(signature = (design, *, nominal_amplitude = Some(16384.0), calibration = None,
+            mid_scale_counts = Count::Whole(0), input_shift = Count::Whole(0), adc_range = None,
+            measure_adc_range = false),
+            text_signature = "(design, *, nominal_amplitude=16384.0, calibration=None, mid_scale_counts=0, input_shift=0, adc_range=None, measure_adc_range=False)")]
+        fn py_new(
+            design: &Bound<'_, PyAny>,
+            nominal_amplitude: Option<f64>,
+            calibration: Option<&Bound<'_, PyAny>>,
+            mid_scale_counts: Count,
+            input_shift: Count,
+            adc_range: Option<(i32, i32)>,
+            measure_adc_range: bool,
+        ) -> Result<Self> {
+            let gains = designed_gains(design)?;
+            let clipping = Clipping::new(adc_range, measure_adc_range)?;
+            let front_end = front_end(calibration, mid_scale_counts, input_shift, clipping)?;
+            let channel = FixedChannel::of_gains(&gains, front_end, nominal_amplitude)?;
+            Ok(Self { channel })
+        }
 
-    /// Runs the observer over the int16 samples `y_c ~ cos(theta)`, `y_s ~ sin(theta)`
-    /// (1-D, equal lengths; a list of integers within int16 is read too) and returns the
-    /// estimates of every sample. The state carries over to the next call.
-    #[pyo3(signature = (y_c, y_s))]
-    fn update(
-        &mut self,
-        py: Python<'_>,
-        y_c: &Bound<'_, PyAny>,
-        y_s: &Bound<'_, PyAny>,
-    ) -> Result<FixedEstimates> {
-        let (y_c, y_s) = (counts(y_c, "y_c")?, counts(y_s, "y_s")?);
-        let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
-        check_equal_lengths(("y_c", y_c.len()), ("y_s", y_s.len()))?;
-        let out = FixedArrays::new(py, y_c.len())?;
-        let channel = &mut self.channel;
-        out.fill(
-            py,
-            |columns| with_channel!(channel, t, s => columns.run_chain(t, s, y_c, y_s)),
-        )?;
-        Ok(out.into_estimates(y_c.len()))
-    }
+        /// The observer of the integer constants a firmware embeds: the dict
+        /// `Design.fixed_constants()` returns (`multiplier`, `acceleration_shift`; other keys
+        /// are ignored), at `sample_period_s` (s). Checked again by the core: `ConfigError`
+        /// (parameter `constants`) naming the gain whose multiplier or shift is out of range or
+        /// leaves the loop unstable.
+        #[staticmethod]
+        #[pyo3(signature = (constants, sample_period_s, *, nominal_amplitude = Some(16384.0),
+            calibration = None, mid_scale_counts = Count::Whole(0), input_shift = Count::Whole(0),
+            adc_range = None, measure_adc_range = false),
+            text_signature = "(constants, sample_period_s, *, nominal_amplitude=16384.0, calibration=None, mid_scale_counts=0, input_shift=0, adc_range=None, measure_adc_range=False)")]
+        #[allow(clippy::too_many_arguments)]
+        fn from_constants(
+            constants: &Bound<'_, PyAny>,
+            sample_period_s: f64,
+            nominal_amplitude: Option<f64>,
+            calibration: Option<&Bound<'_, PyAny>>,
+            mid_scale_counts: Count,
+            input_shift: Count,
+            adc_range: Option<(i32, i32)>,
+            measure_adc_range: bool,
+        ) -> Result<Self> {
+            let constants = constants.cast::<PyMapping>().map_err(|_| {
+                Error::value(
+                    "constants",
+                    format!(
+                        "expected the dict Design.fixed_constants() returns, got an object of type {}",
+                        constants.get_type()
+                    ),
+                )
+            })?;
+            let multiplier = constant(constants, "multiplier")?;
+            let multiplier: Vec<i32> = multiplier
+                .extract()
+                .map_err(|_| not_integers("multiplier", &multiplier, "a list of integers (int32)"))?;
+            let shift = constant(constants, "acceleration_shift")?;
+            let shift: u32 = shift
+                .extract()
+                .map_err(|_| not_integers("acceleration_shift", &shift, "an integer from 0 to 15"))?;
+            let clipping = Clipping::new(adc_range, measure_adc_range)?;
+            let front_end = front_end(calibration, mid_scale_counts, input_shift, clipping)?;
+            let channel = FixedChannel::of_constants(
+                &multiplier,
+                shift,
+                sample_period_s,
+                front_end,
+                nominal_amplitude,
+            )?;
+            Ok(Self { channel })
+        }
 
-    /// The front-end faults latched (4: a sample clipped against `adc_range` or the rails
-    /// measured).
-    #[getter]
-    fn latched_front_end_faults(&self) -> u8 {
-        with_channel!(&self.channel, _t, s => s.front_end.latched_faults().bits())
-    }
+        /// Runs the observer over the int16 samples `y_c ~ cos(theta)`, `y_s ~ sin(theta)`
+        /// (1-D, equal lengths; a list of integers within int16 is read too) and returns the
+        /// estimates of every sample. The state carries over to the next call.
+        #[pyo3(signature = (y_c, y_s))]
+        fn update(
+            &mut self,
+            py: Python<'_>,
+            y_c: &Bound<'_, PyAny>,
+            y_s: &Bound<'_, PyAny>,
+        ) -> Result<FixedEstimates> {
+            let (y_c, y_s) = (counts(y_c, "y_c")?, counts(y_s, "y_s")?);
+            let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
+            check_equal_lengths(("y_c", y_c.len()), ("y_s", y_s.len()))?;
+            let channel = &mut self.channel;
+            run_fixed(py, y_c.len(), |columns| {
+                with_channel!(channel, t, s => columns.run_chain(t, s, y_c, y_s));
+            })
+        }
 
-    /// The estimate after the last sample.
-    #[getter]
-    fn estimate(&self) -> FixedEstimate {
-        with_channel!(&self.channel, t, s => {
-            FixedEstimate::new(&t.observer, &FixedGains::estimate(&s.observer))
-        })
-    }
+        /// Forgets the state: the next sample sets the angle from its `atan2`.
+        fn reset(&mut self) {
+            with_channel!(&mut self.channel, _t, s => s.observer = FixedState::new());
+        }
 
-    /// Forgets the state: the next sample sets the angle from its `atan2`.
-    fn reset(&mut self) {
-        with_channel!(&mut self.channel, _t, s => s.observer = FixedState::new());
-    }
+        /// Returns the latched faults (bits) and clears them.
+        fn clear_faults(&mut self) -> u8 {
+            with_channel!(&mut self.channel, _t, s => {
+                let latched = s.observer.latched_faults().bits();
+                s.observer.clear_faults();
+                latched
+            })
+        }
 
-    /// The integer constants (the dict `Design.fixed_constants()` returns): what
-    /// `FixedObserver.from_constants` takes back.
-    #[getter]
-    fn constants<'py>(&self, py: Python<'py>) -> Result<Bound<'py, PyDict>> {
-        constants_dict(
-            py,
-            with_channel!(&self.channel, t, _s => FixedDesignConstants::of(&t.observer)),
-        )
-    }
-
-    /// The gains the integers represent, `(l1, l2[, l3])` (float): the loop that runs.
-    #[getter]
-    fn gains(&self) -> Vec<f64> {
-        with_channel!(&self.channel, t, _s => t.observer.gains().to_vec())
-    }
-
-    /// The sample period `Ts` (s).
-    #[getter]
-    fn sample_period_s(&self) -> f64 {
-        with_channel!(&self.channel, t, _s => t.observer.sample_period())
-    }
-
-    /// The observer order: 2 or 3.
-    #[getter]
-    fn order(&self) -> usize {
-        with_channel!(&self.channel, t, _s => t.observer.gains().len())
-    }
-
-    /// The faults latched since they were last cleared (bits, see `angletrack.Faults`).
-    #[getter]
-    fn latched_faults(&self) -> u8 {
-        with_channel!(&self.channel, _t, s => s.observer.latched_faults().bits())
-    }
-
-    /// Returns the latched faults (bits) and clears them.
-    fn clear_faults(&mut self) -> u8 {
-        with_channel!(&mut self.channel, _t, s => {
-            let latched = s.observer.latched_faults().bits();
-            s.observer.clear_faults();
-            latched
-        })
-    }
-
-    fn __repr__(&self) -> String {
-        with_channel!(&self.channel, t, _s => format!(
-            "FixedObserver(order={}, multiplier={:?}, acceleration_shift={}, sample_period_s={:e})",
-            t.observer.gains().len(),
-            t.observer.constants().multiplier,
-            t.observer.constants().acceleration_shift,
-            t.observer.sample_period()
-        ))
+        fn __repr__(&self) -> String {
+            with_channel!(&self.channel, t, _s => format!(
+                "FixedObserver(order={}, multiplier={:?}, acceleration_shift={}, sample_period_s={:e})",
+                t.observer.gains().len(),
+                t.observer.constants().multiplier,
+                t.observer.constants().acceleration_shift,
+                t.observer.sample_period()
+            ))
+        }
     }
 }

@@ -71,34 +71,60 @@ impl FixedEstimate {
     }
 }
 
-/// The estimates of a `FixedObserver.update`, one numpy array per quantity, one element per
-/// sample: the firmware's integers (`angle` int32, `turns` int64, `speed` int32,
-/// `acceleration` int64, `phase_error` int32, `faults` uint8) and the same in physical
-/// units (float64).
-#[pyclass(module = "angletrack", frozen, get_all)]
-#[derive(Debug)]
-pub struct FixedEstimates {
+/// `FixedEstimates` of the columns `name: element type` (in `FixedColumns`' order), and
+/// [`run_fixed`], which allocates and fills them.
+macro_rules! fixed_estimates {
+    ($($(#[$doc:meta])* $field:ident: $t:ty,)*) => {
+        /// The estimates of a `FixedObserver.update`, one numpy array per quantity, one element
+        /// per sample: the firmware's integers (`angle` int32, `turns` int64, `speed` int32,
+        /// `acceleration` int64, `phase_error` int32, `faults` uint8) and the same in physical
+        /// units (float64).
+        #[pyclass(module = "angletrack", frozen, get_all)]
+        #[derive(Debug)]
+        pub struct FixedEstimates {
+            $($(#[$doc])* $field: Py<PyAny>,)*
+            /// The number of samples.
+            len: usize,
+        }
+
+        /// The estimates of `n` samples: the columns allocated by numpy (a `MemoryError`
+        /// where they cannot be) and filled by `fill` with the GIL released.
+        pub(crate) fn run_fixed(
+            py: Python<'_>,
+            n: usize,
+            fill: impl FnOnce(FixedColumns<'_>) + Send,
+        ) -> Result<FixedEstimates> {
+            $(let $field = array::<$t>(py, n)?;)*
+            {
+                $(let mut $field = writable(&$field)?;)*
+                let columns = FixedColumns { $($field: as_slice_mut(&mut $field)?,)* };
+                py.detach(|| fill(columns));
+            }
+            Ok(FixedEstimates { $($field: $field.into_any().unbind(),)* len: n })
+        }
+    };
+}
+
+fixed_estimates! {
     /// Binary angle (int32, 2^32 per turn, -2^31 is -pi).
-    angle: Py<PyAny>,
+    angle: i32,
     /// Whole turns since initialisation (int64).
-    turns: Py<PyAny>,
+    turns: i64,
     /// Speed (int32, 2^-32 turn per sample).
-    speed: Py<PyAny>,
+    speed: i32,
     /// Acceleration (int64, 2^-63 turn per sample^2); 0 for a 2nd-order observer.
-    acceleration: Py<PyAny>,
+    acceleration: i64,
     /// Normalised phase error (int32, Q15: 2^15 is 1).
-    phase_error: Py<PyAny>,
+    phase_error: i32,
     /// Fault flags of the monitor's window each sample ends in (uint8 bits, see
     /// `angletrack.Faults`).
-    faults: Py<PyAny>,
+    faults: u8,
     /// Multi-turn position `2 pi (turns + angle / 2^32)` (rad, float64).
-    position_rad: Py<PyAny>,
+    position_rad: f64,
     /// Speed (rad/s, float64).
-    speed_rad_s: Py<PyAny>,
+    speed_rad_s: f64,
     /// Acceleration (rad/s^2, float64).
-    acceleration_rad_s2: Py<PyAny>,
-    /// The number of samples.
-    len: usize,
+    acceleration_rad_s2: f64,
 }
 
 #[pymethods]
@@ -116,86 +142,7 @@ impl FixedEstimates {
     }
 }
 
-/// The output arrays of a fixed-point run, allocated by numpy and written in place.
-pub(crate) struct FixedArrays<'py> {
-    angle: Bound<'py, PyArray1<i32>>,
-    turns: Bound<'py, PyArray1<i64>>,
-    speed: Bound<'py, PyArray1<i32>>,
-    acceleration: Bound<'py, PyArray1<i64>>,
-    phase_error: Bound<'py, PyArray1<i32>>,
-    faults: Bound<'py, PyArray1<u8>>,
-    position_rad: Bound<'py, PyArray1<f64>>,
-    speed_rad_s: Bound<'py, PyArray1<f64>>,
-    acceleration_rad_s2: Bound<'py, PyArray1<f64>>,
-}
-
 /// A zeroed array of `n` elements.
 fn array<'py, E: Element>(py: Python<'py>, n: usize) -> Result<Bound<'py, PyArray1<E>>> {
     zeros(py, Some(n))?.ok_or_else(|| Error::value("output", "was not allocated"))
-}
-
-impl<'py> FixedArrays<'py> {
-    /// `n` elements of every quantity.
-    pub(crate) fn new(py: Python<'py>, n: usize) -> Result<Self> {
-        Ok(Self {
-            angle: array(py, n)?,
-            turns: array(py, n)?,
-            speed: array(py, n)?,
-            acceleration: array(py, n)?,
-            phase_error: array(py, n)?,
-            faults: array(py, n)?,
-            position_rad: array(py, n)?,
-            speed_rad_s: array(py, n)?,
-            acceleration_rad_s2: array(py, n)?,
-        })
-    }
-
-    /// Calls `fill` with the arrays' slices, the GIL released.
-    pub(crate) fn fill<R: Send>(
-        &self,
-        py: Python<'_>,
-        fill: impl FnOnce(FixedColumns<'_>) -> R + Send,
-    ) -> Result<R> {
-        let mut integers = (
-            writable(&self.angle)?,
-            writable(&self.turns)?,
-            writable(&self.speed)?,
-            writable(&self.acceleration)?,
-            writable(&self.phase_error)?,
-            writable(&self.faults)?,
-        );
-        let mut physical = (
-            writable(&self.position_rad)?,
-            writable(&self.speed_rad_s)?,
-            writable(&self.acceleration_rad_s2)?,
-        );
-        let columns = FixedColumns {
-            angle: as_slice_mut(&mut integers.0)?,
-            turns: as_slice_mut(&mut integers.1)?,
-            speed: as_slice_mut(&mut integers.2)?,
-            acceleration: as_slice_mut(&mut integers.3)?,
-            phase_error: as_slice_mut(&mut integers.4)?,
-            faults: as_slice_mut(&mut integers.5)?,
-            position_rad: as_slice_mut(&mut physical.0)?,
-            speed_rad_s: as_slice_mut(&mut physical.1)?,
-            acceleration_rad_s2: as_slice_mut(&mut physical.2)?,
-        };
-        Ok(py.detach(|| fill(columns)))
-    }
-
-    /// The `FixedEstimates` of `len` samples.
-    pub(crate) fn into_estimates(self, len: usize) -> FixedEstimates {
-        FixedEstimates {
-            angle: self.angle.into_any().unbind(),
-            turns: self.turns.into_any().unbind(),
-            speed: self.speed.into_any().unbind(),
-            acceleration: self.acceleration.into_any().unbind(),
-            phase_error: self.phase_error.into_any().unbind(),
-            faults: self.faults.into_any().unbind(),
-            position_rad: self.position_rad.into_any().unbind(),
-            speed_rad_s: self.speed_rad_s.into_any().unbind(),
-            acceleration_rad_s2: self.acceleration_rad_s2.into_any().unbind(),
-            len,
-        }
-    }
 }

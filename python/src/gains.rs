@@ -5,6 +5,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyType;
 
 use crate::errors::{Error, Result};
+use crate::getters::class_methods;
 
 /// Checked discrete gains of order 2 or 3, in `f64` (the Python-side configuration).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -177,79 +178,62 @@ pub fn reals(obj: &Bound<'_, PyAny>, parameter: &'static str) -> Result<Vec<f64>
         .collect()
 }
 
-#[pymethods]
-impl PyGains {
-    #[new]
-    #[pyo3(signature = (gains, sample_period_s))]
-    fn py_new(gains: &Bound<'_, PyAny>, sample_period_s: &Bound<'_, PyAny>) -> Result<Self> {
-        let gains = reals(gains, "gains")?;
-        let sample_period_s = real(sample_period_s, "sample_period_s")?;
-        Ok(Self {
-            set: GainSet::new(&gains, sample_period_s)?,
-        })
+class_methods! {
+    PyGains {
+        /// The discrete gains `(l1, l2[, l3])` (dimensionless).
+        gains: Vec<f64> = |this, py| this.set.gains();
+        /// Coefficients (lowest first, leading 1 omitted) of the closed-loop characteristic
+        /// polynomial in `s = z - 1`.
+        loop_polynomial: Vec<f64> = |this, py| this.set.loop_polynomial();
+        /// The sample period `Ts` (s).
+        sample_period_s: f64 = |this, py| this.set.sample_period();
+        /// The sample rate `1/Ts` (Hz).
+        sample_rate_hz: f64 = |this, py| 1.0 / this.set.sample_period();
+        /// The observer order: 2 (angle, speed) or 3 (angle, speed, acceleration).
+        order: usize = |this, py| this.set.order();
     }
+    methods {
+        #[new]
+        #[pyo3(signature = (gains, sample_period_s))]
+        fn py_new(gains: &Bound<'_, PyAny>, sample_period_s: &Bound<'_, PyAny>) -> Result<Self> {
+            let gains = reals(gains, "gains")?;
+            let sample_period_s = real(sample_period_s, "sample_period_s")?;
+            Ok(Self {
+                set: GainSet::new(&gains, sample_period_s)?,
+            })
+        }
 
-    /// Gains from the closed-loop characteristic polynomial written in `s = z - 1`
-    /// (coefficients lowest first, monic, leading 1 omitted), as the core's pole-matching
-    /// entry point.
-    #[staticmethod]
-    #[pyo3(signature = (coefficients, sample_period_s))]
-    fn from_loop_polynomial(coefficients: Vec<f64>, sample_period_s: f64) -> Result<Self> {
-        Ok(Self {
-            set: GainSet::from_loop_polynomial(&coefficients, sample_period_s)?,
-        })
-    }
+        /// Gains from the closed-loop characteristic polynomial written in `s = z - 1`
+        /// (coefficients lowest first, monic, leading 1 omitted), as the core's pole-matching
+        /// entry point.
+        #[staticmethod]
+        #[pyo3(signature = (coefficients, sample_period_s))]
+        fn from_loop_polynomial(coefficients: Vec<f64>, sample_period_s: f64) -> Result<Self> {
+            Ok(Self {
+                set: GainSet::from_loop_polynomial(&coefficients, sample_period_s)?,
+            })
+        }
 
-    /// The discrete gains `(l1, l2[, l3])` (dimensionless).
-    #[getter]
-    fn gains(&self) -> Vec<f64> {
-        self.set.gains()
-    }
+        /// Pickling: rebuilt (and checked again) from the gains and the sample period.
+        fn __reduce__<'py>(slf: &Bound<'py, Self>) -> (Bound<'py, PyType>, (Vec<f64>, f64)) {
+            let set = &slf.get().set;
+            (slf.get_type(), (set.gains(), set.sample_period()))
+        }
 
-    /// Coefficients (lowest first, leading 1 omitted) of the closed-loop characteristic
-    /// polynomial in `s = z - 1`.
-    #[getter]
-    fn loop_polynomial(&self) -> Vec<f64> {
-        self.set.loop_polynomial()
-    }
-
-    /// The sample period `Ts` (s).
-    #[getter]
-    fn sample_period_s(&self) -> f64 {
-        self.set.sample_period()
-    }
-
-    /// The sample rate `1/Ts` (Hz).
-    #[getter]
-    fn sample_rate_hz(&self) -> f64 {
-        1.0 / self.set.sample_period()
-    }
-
-    /// The observer order: 2 (angle, speed) or 3 (angle, speed, acceleration).
-    #[getter]
-    fn order(&self) -> usize {
-        self.set.order()
-    }
-
-    /// Pickling: rebuilt (and checked again) from the gains and the sample period.
-    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> (Bound<'py, PyType>, (Vec<f64>, f64)) {
-        let set = &slf.get().set;
-        (slf.get_type(), (set.gains(), set.sample_period()))
-    }
-
-    fn __repr__(&self) -> String {
-        let l: Vec<String> = self
-            .set
-            .gains()
-            .iter()
-            .map(|x| format!("{x:.9e}"))
-            .collect();
-        format!(
-            "Gains(gains=[{}], sample_period_s={:e})  # order {}, {:.6} Hz",
-            l.join(", "),
-            self.set.sample_period(),
-            self.set.order(),
-            1.0 / self.set.sample_period()
-        )
+        fn __repr__(&self) -> String {
+            let l: Vec<String> = self
+                .set
+                .gains()
+                .iter()
+                .map(|x| format!("{x:.9e}"))
+                .collect();
+            format!(
+                "Gains(gains=[{}], sample_period_s={:e})  # order {}, {:.6} Hz",
+                l.join(", "),
+                self.set.sample_period(),
+                self.set.order(),
+                1.0 / self.set.sample_period()
+            )
+        }
     }
 }

@@ -27,7 +27,9 @@ mod export;
 mod fixed;
 mod fixed_estimates;
 mod gains;
+mod getters;
 mod metrics;
+mod model_class;
 mod motion;
 mod observer;
 mod observer_channel;
@@ -57,15 +59,10 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<fixed_estimates::FixedEstimates>()?;
     m.add_class::<batch::PyObserverBatch>()?;
     m.add_function(wrap_pyfunction!(batch::track_batch, m)?)?;
-    m.add_function(wrap_pyfunction!(
-        carrier::measured_carrier_cycles_per_sample,
-        m
-    )?)?;
     m.add_function(wrap_pyfunction!(carrier::measured_adc_range, m)?)?;
     m.add_function(wrap_pyfunction!(carrier::plan_windings, m)?)?;
     m.add_class::<carrier::PyWindingsPlan>()?;
     m.add("HELD_RAIL_SAMPLES", angletrack::core::HELD_RAIL_SAMPLES)?;
-    m.add_function(wrap_pyfunction!(counts::offset_binary_mid_scale, m)?)?;
     m.add_function(wrap_pyfunction!(counts::capture_counts, m)?)?;
     m.add_function(wrap_pyfunction!(counts::capture_fault_thresholds, m)?)?;
     m.add_class::<counts::PyCountsExtremes>()?;

@@ -3,18 +3,22 @@
 //! The per-sample work is the core's `Gains::update`; this module only moves samples in and
 //! estimates out, with the GIL released, straight into preallocated arrays that numpy owns.
 
-use angletrack_core::{CalibrationMode, CalibrationStatus, Faults, FrontEndFaults};
+use angletrack::{OnlineCalibrationChoice, mode_name, status_name};
+use angletrack_core::{
+    AngleCorrection, CalibrationMode, CalibrationStatus, Faults, FrontEndFaults, SensorCalibration,
+};
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 
 use crate::arrays::{Count, Float};
-use crate::calibration::{CalibrationChoice, PySensorCalibration, mode_name, status_name};
+use crate::calibration::{PySensorCalibration, calibration_choice};
 use crate::counts::{AdcSettings, Clipping, adc_settings};
 use crate::diagnostics::PyFaultThresholds;
-use crate::dispatch::{Arg, Run, RunSettings};
+use crate::dispatch::{Arg, RunSettings};
 use crate::errors::{Error, Result};
 use crate::estimates::{Estimate, Estimates};
 use crate::gains::PyGains;
+use crate::getters::class_methods;
 
 /// What `Observer` and `track` are asked for besides the gains, float type and sin/cos.
 #[derive(Debug, Clone, Copy, Default)]
@@ -27,29 +31,57 @@ pub struct ObserverOptions {
     /// How integer counts are scaled, and which ADC arguments were given.
     pub adc: AdcSettings,
     /// The online calibration.
-    pub calibration: CalibrationChoice,
+    pub calibration: OnlineCalibrationChoice,
     /// The clipping checks: the ADC's range in the input's units (counts for integer
     /// samples), or the rails measured.
     pub clipping: Clipping,
     /// The windings' nominal envelope amplitude for the winding check (`None`: no check).
     pub winding_amplitude: Option<f64>,
+    /// A stored sensor calibration and angle correction in place of the online calibration
+    /// (`harmonics.CalibratedObserver`).
+    pub stored: Option<(SensorCalibration<f64>, AngleCorrection<f64>)>,
+}
+
+/// What an `Observer`'s state holds now, in float64 (its attributes).
+#[derive(Debug, Clone)]
+pub struct ObserverStatus {
+    /// The estimate after the last sample.
+    pub estimate: Estimate,
+    /// `False` until the first sample (or `set_state`) has set the angle.
+    pub initialised: bool,
+    /// The faults latched.
+    pub latched_faults: Faults,
+    /// The front-end faults latched (of the range check, the rails measured and the winding
+    /// check).
+    pub front_end_faults: FrontEndFaults,
+    /// The diagnostics' thresholds, once decided.
+    pub fault_thresholds: Option<PyFaultThresholds>,
+    /// The signal's magnitude the loop normalises its phase error by.
+    pub amplitude: f64,
+    /// The sensor calibration applied (or learned so far).
+    pub calibration: PySensorCalibration,
+    /// The calibration's mode.
+    pub calibration_mode: CalibrationMode,
+    /// The electrical turns the calibration has learned from.
+    pub calibration_turns_learned: u32,
+    /// Where the online calibration stands.
+    pub calibration_status: CalibrationStatus,
 }
 
 /// What `Observer` does with the core observer of whichever float type, order and sin/cos
 /// its settings chose.
-pub trait ObserverOps: Run {
-    /// [`Run::run`] with the front-end faults of each sample (`None`: none given).
-    fn run_with_faults(
+pub trait ObserverOps: core::fmt::Debug + Send + Sync {
+    /// Runs over `y_c`, `y_s` with the front-end faults of each sample (`None`: none given)
+    /// and returns the estimates of every sample; the state carries over to the next call.
+    fn run(
         &mut self,
         py: Python<'_>,
         y_c: Arg<'_, '_>,
         y_s: Arg<'_, '_>,
         front_end_faults: Option<&[u8]>,
     ) -> Result<Estimates>;
-    /// The front-end faults latched (of the range check, the rails measured and the winding
-    /// check).
-    fn front_end_faults(&self) -> FrontEndFaults;
-    fn estimate(&self) -> Estimate;
+    /// What the observer's state holds now.
+    fn status(&self) -> ObserverStatus;
     fn reset(&mut self);
     fn initialise(&mut self, y_c: f64, y_s: f64);
     /// Sets the state, refusing (naming the argument) a value the state cannot hold.
@@ -59,20 +91,12 @@ pub trait ObserverOps: Run {
         speed_rad_s: f64,
         acceleration_rad_s2: f64,
     ) -> Result<()>;
-    fn is_initialised(&self) -> bool;
-    fn latched_faults(&self) -> Faults;
     fn clear_faults(&mut self) -> Faults;
-    fn fault_thresholds(&self) -> Option<PyFaultThresholds>;
-    fn amplitude(&self) -> f64;
-    fn calibration(&self) -> PySensorCalibration;
-    fn calibration_mode(&self) -> CalibrationMode;
-    fn calibration_turns_learned(&self) -> u32;
-    fn calibration_status(&self) -> CalibrationStatus;
-    fn set_calibration(&mut self, choice: &CalibrationChoice) -> Result<()>;
+    fn set_calibration(&mut self, choice: &OnlineCalibrationChoice) -> Result<()>;
 }
 
-/// Refuses the first value that is not finite, naming its parameter: a NaN state would be
-/// silently replaced by the observer's own start.
+/// Refuses the first value that is not finite, naming its parameter and the value (a NaN
+/// sample would otherwise be replaced silently by the observer's own start).
 fn finite(values: &[(&'static str, f64)]) -> Result<()> {
     match values.iter().find(|(_, v)| !v.is_finite()) {
         Some(&(parameter, v)) => Err(Error::value(parameter, format!("{v} is not finite"))),
@@ -124,201 +148,166 @@ pub struct PyObserver {
     inner: Box<dyn ObserverOps>,
 }
 
-#[pymethods]
-impl PyObserver {
-    #[new]
-    #[pyo3(signature = (gains, *, dtype = None, sin_cos = None, fault_thresholds = None,
-        calibration = None, initial_calibration = None, adc_mid_scale = None,
-        adc_counts_per_unit = None, adc_signed = None, adc_range = None,
-        measure_adc_range = false, winding_amplitude = None))]
-    #[allow(clippy::too_many_arguments)]
-    fn py_new(
-        gains: PyGains,
-        dtype: Option<&Bound<'_, PyAny>>,
-        sin_cos: Option<&str>,
-        fault_thresholds: Option<PyFaultThresholds>,
-        calibration: Option<&str>,
-        initial_calibration: Option<PySensorCalibration>,
-        adc_mid_scale: Option<Count>,
-        adc_counts_per_unit: Option<f64>,
-        adc_signed: Option<bool>,
-        adc_range: Option<(f64, f64)>,
-        measure_adc_range: bool,
-        winding_amplitude: Option<f64>,
-    ) -> Result<PyClassInitializer<Self>> {
-        let options = ObserverOptions {
-            thresholds: fault_thresholds,
-            whole: false,
-            adc: adc_settings(adc_mid_scale, adc_counts_per_unit, adc_signed)?,
-            calibration: CalibrationChoice::new(calibration, initial_calibration)?,
-            clipping: Clipping::of_floats(adc_range, measure_adc_range)?,
-            winding_amplitude,
-        };
-        RunSettings::from_arguments(gains, dtype, sin_cos)?.subclass(|gains| {
-            let inner = gains.observer(&options)?;
-            Ok(Self { inner })
-        })
+class_methods! {
+    PyObserver {
+        /// The front-end faults latched since they were last cleared (bits of
+        /// `DemodulatedPairs.faults`, and 4 for a sample clipped against `adc_range` or the
+        /// rails measured).
+        latched_front_end_faults: u8 = |this, py| this.inner.status().front_end_faults.bits();
+        /// The estimate after the last sample.
+        estimate: Estimate = |this, py| this.inner.status().estimate;
+        /// The faults latched since they were last cleared (bits, see `angletrack.Faults`), like
+        /// reading an RDC chip's fault register.
+        latched_faults: u8 = |this, py| this.inner.status().latched_faults.bits();
+        /// The diagnostics thresholds the observer runs with (given, or the defaults).
+        fault_thresholds: Option<PyFaultThresholds> = |this, py| this.inner.status().fault_thresholds;
+        /// The signal's magnitude `sqrt(y_c^2 + y_s^2)` the loop normalises its phase error by
+        /// (input units, after the calibration's correction).
+        amplitude: f64 = |this, py| this.inner.status().amplitude;
+        /// The sensor calibration applied to each sample (unless the calibration is off): what
+        /// it learned so far, or was given.
+        calibration: PySensorCalibration = |this, py| this.inner.status().calibration;
+        /// The calibration's mode: `"off"`, `"learn"` or `"frozen"`.
+        calibration_mode: &'static str = |this, py| mode_name(this.inner.status().calibration_mode);
+        /// The electrical turns the calibration has learned from since it started or was set.
+        calibration_turns_learned: u32 = |this, py| this.inner.status().calibration_turns_learned;
+        /// Where the online calibration stands: `"finding-centre"` (the channels' centres are
+        /// not found yet: the rotor has not turned a whole turn, or is at rest; nothing is
+        /// learned and the angle of biased signals is wrong), `"centred"` (learning, or ready
+        /// to), or `"stalled"` (16 electrical turns at speed without a turn learned: the
+        /// observer is not locked within 0.29 of phase error, or the speed is not steady).
+        calibration_status: &'static str = |this, py| status_name(this.inner.status().calibration_status);
+        /// `False` until the first sample (or `set_state`) has set the angle.
+        is_initialised: bool = |this, py| this.inner.status().initialised;
     }
+    methods {
+        #[new]
+        #[pyo3(signature = (gains, *, dtype = None, sin_cos = None, fault_thresholds = None,
+            calibration = None, initial_calibration = None, adc_mid_scale = None,
+            adc_counts_per_unit = None, adc_signed = None, adc_range = None,
+            measure_adc_range = false, winding_amplitude = None))]
+        #[allow(clippy::too_many_arguments)]
+        fn py_new(
+            gains: PyGains,
+            dtype: Option<&Bound<'_, PyAny>>,
+            sin_cos: Option<&str>,
+            fault_thresholds: Option<PyFaultThresholds>,
+            calibration: Option<&str>,
+            initial_calibration: Option<PySensorCalibration>,
+            adc_mid_scale: Option<Count>,
+            adc_counts_per_unit: Option<f64>,
+            adc_signed: Option<bool>,
+            adc_range: Option<(f64, f64)>,
+            measure_adc_range: bool,
+            winding_amplitude: Option<f64>,
+        ) -> Result<PyClassInitializer<Self>> {
+            let options = ObserverOptions {
+                thresholds: fault_thresholds,
+                whole: false,
+                adc: adc_settings(adc_mid_scale, adc_counts_per_unit, adc_signed)?,
+                calibration: calibration_choice(calibration, initial_calibration)?,
+                clipping: Clipping::of_floats(adc_range, measure_adc_range)?,
+                winding_amplitude,
+                stored: None,
+            };
+            RunSettings::from_arguments(gains, dtype, sin_cos)?.subclass(|gains| {
+                let inner = gains.observer(&options)?;
+                Ok(Self { inner })
+            })
+        }
 
-    /// Runs the observer over the samples `y_c ~ cos(theta)`, `y_s ~ sin(theta)` (1-D,
-    /// equal lengths, of the observer's dtype, or both raw counts of one integer dtype) and
-    /// returns the estimates of every sample. The state carries over to the next call.
-    ///
-    /// `front_end_faults` (uint8, one per sample, the bits of `DemodulatedPairs.faults`):
-    /// while a sample's faults invalidate it (loss of excitation, a winding open or
-    /// shorted) the observer coasts on its prediction, and every flagged sample's estimate
-    /// carries `Faults.FRONT_END`; so do samples clipped against `adc_range`.
-    #[pyo3(signature = (y_c, y_s, front_end_faults = None))]
-    fn update(
-        &mut self,
-        py: Python<'_>,
-        y_c: Arg<'_, '_>,
-        y_s: Arg<'_, '_>,
-        front_end_faults: Option<PyReadonlyArray1<'_, u8>>,
-    ) -> Result<Estimates> {
-        let faults = front_end_faults
-            .as_ref()
-            .map(|f| f.as_slice())
-            .transpose()
-            .map_err(|_| {
-                Error::value(
-                    "front_end_faults",
-                    "expected a contiguous uint8 array".to_string(),
-                )
-            })?;
-        self.inner.run_with_faults(py, y_c, y_s, faults)
-    }
+        /// Runs the observer over the samples `y_c ~ cos(theta)`, `y_s ~ sin(theta)` (1-D,
+        /// equal lengths, of the observer's dtype, or both raw counts of one integer dtype) and
+        /// returns the estimates of every sample. The state carries over to the next call.
+        ///
+        /// `front_end_faults` (uint8, one per sample, the bits of `DemodulatedPairs.faults`):
+        /// while a sample's faults invalidate it (loss of excitation, a winding open or
+        /// shorted) the observer coasts on its prediction, and every flagged sample's estimate
+        /// carries `Faults.FRONT_END`; so do samples clipped against `adc_range`.
+        #[pyo3(signature = (y_c, y_s, front_end_faults = None))]
+        fn update(
+            &mut self,
+            py: Python<'_>,
+            y_c: Arg<'_, '_>,
+            y_s: Arg<'_, '_>,
+            front_end_faults: Option<PyReadonlyArray1<'_, u8>>,
+        ) -> Result<Estimates> {
+            let faults = front_end_faults
+                .as_ref()
+                .map(|f| f.as_slice())
+                .transpose()
+                .map_err(|_| {
+                    Error::value(
+                        "front_end_faults",
+                        "expected a contiguous uint8 array".to_string(),
+                    )
+                })?;
+            self.inner.run(py, y_c, y_s, faults)
+        }
 
-    /// The front-end faults latched since they were last cleared (bits of
-    /// `DemodulatedPairs.faults`, and 4 for a sample clipped against `adc_range` or the
-    /// rails measured).
-    #[getter]
-    fn latched_front_end_faults(&self) -> u8 {
-        self.inner.front_end_faults().bits()
-    }
+        /// Forgets the state: the next sample initialises the observer from its `atan2`. Keeps
+        /// the calibration.
+        fn reset(&mut self) {
+            self.inner.reset();
+        }
 
-    /// The estimate after the last sample.
-    #[getter]
-    fn estimate(&self) -> Estimate {
-        self.inner.estimate()
-    }
+        /// Sets the angle from one sample, `atan2(y_s, y_c)`; speed and acceleration 0.
+        /// Refuses (`ConfigError`) a sample that is not finite.
+        #[pyo3(signature = (y_c, y_s))]
+        fn initialise(&mut self, y_c: f64, y_s: f64) -> Result<()> {
+            finite(&[("y_c", y_c), ("y_s", y_s)])?;
+            self.inner.initialise(y_c, y_s);
+            Ok(())
+        }
 
-    /// Forgets the state: the next sample initialises the observer from its `atan2`. Keeps
-    /// the calibration.
-    fn reset(&mut self) {
-        self.inner.reset();
-    }
+        /// Starts from a known angle (rad: wrapped, whole turns counted, within +-2^31 turns),
+        /// speed (rad/s, within half a turn per sample, `pi / sample_period_s`) and acceleration
+        /// (rad/s^2, within `pi / sample_period_s^2`; 0 at order 2, which has no acceleration
+        /// state). Refuses (`ConfigError` naming it) a value that is not finite or beyond these.
+        #[pyo3(signature = (angle_rad, speed_rad_s = 0.0, acceleration_rad_s2 = 0.0))]
+        fn set_state(
+            &mut self,
+            angle_rad: f64,
+            speed_rad_s: f64,
+            acceleration_rad_s2: f64,
+        ) -> Result<()> {
+            // The message users see names the value (the core's names only the parameter).
+            finite(&[
+                ("angle_rad", angle_rad),
+                ("speed_rad_s", speed_rad_s),
+                ("acceleration_rad_s2", acceleration_rad_s2),
+            ])?;
+            self.inner
+                .set_state(angle_rad, speed_rad_s, acceleration_rad_s2)
+        }
 
-    /// Sets the angle from one sample, `atan2(y_s, y_c)`; speed and acceleration 0.
-    /// Refuses (`ConfigError`) a sample that is not finite.
-    #[pyo3(signature = (y_c, y_s))]
-    fn initialise(&mut self, y_c: f64, y_s: f64) -> Result<()> {
-        finite(&[("y_c", y_c), ("y_s", y_s)])?;
-        self.inner.initialise(y_c, y_s);
-        Ok(())
-    }
+        /// Returns the latched faults (bits) and clears them.
+        fn clear_faults(&mut self) -> u8 {
+            self.inner.clear_faults().bits()
+        }
 
-    /// Starts from a known angle (rad: wrapped, whole turns counted, within +-2^31 turns),
-    /// speed (rad/s, within half a turn per sample, `pi / sample_period_s`) and acceleration
-    /// (rad/s^2, within `pi / sample_period_s^2`; 0 at order 2, which has no acceleration
-    /// state). Refuses (`ConfigError` naming it) a value that is not finite or beyond these.
-    #[pyo3(signature = (angle_rad, speed_rad_s = 0.0, acceleration_rad_s2 = 0.0))]
-    fn set_state(
-        &mut self,
-        angle_rad: f64,
-        speed_rad_s: f64,
-        acceleration_rad_s2: f64,
-    ) -> Result<()> {
-        finite(&[
-            ("angle_rad", angle_rad),
-            ("speed_rad_s", speed_rad_s),
-            ("acceleration_rad_s2", acceleration_rad_s2),
-        ])?;
-        self.inner
-            .set_state(angle_rad, speed_rad_s, acceleration_rad_s2)
-    }
+        /// Sets the calibration as the constructor's `calibration` and `initial_calibration`
+        /// do (`ConfigError` naming them); the state is kept.
+        #[pyo3(signature = (calibration, initial_calibration = None))]
+        fn set_calibration(
+            &mut self,
+            calibration: Option<&str>,
+            initial_calibration: Option<PySensorCalibration>,
+        ) -> Result<()> {
+            let choice = calibration_choice(calibration, initial_calibration)?;
+            self.inner.set_calibration(&choice)
+        }
 
-    /// The faults latched since they were last cleared (bits, see `angletrack.Faults`), like
-    /// reading an RDC chip's fault register.
-    #[getter]
-    fn latched_faults(&self) -> u8 {
-        self.inner.latched_faults().bits()
-    }
-
-    /// Returns the latched faults (bits) and clears them.
-    fn clear_faults(&mut self) -> u8 {
-        self.inner.clear_faults().bits()
-    }
-
-    /// The diagnostics thresholds the observer runs with (given, or the defaults).
-    #[getter]
-    fn fault_thresholds(&self) -> Option<PyFaultThresholds> {
-        self.inner.fault_thresholds()
-    }
-
-    /// The signal's magnitude `sqrt(y_c^2 + y_s^2)` the loop normalises its phase error by
-    /// (input units, after the calibration's correction).
-    #[getter]
-    fn amplitude(&self) -> f64 {
-        self.inner.amplitude()
-    }
-
-    /// The sensor calibration applied to each sample (unless the calibration is off): what
-    /// it learned so far, or was given.
-    #[getter]
-    fn calibration(&self) -> PySensorCalibration {
-        self.inner.calibration()
-    }
-
-    /// The calibration's mode: `"off"`, `"learn"` or `"frozen"`.
-    #[getter]
-    fn calibration_mode(&self) -> &'static str {
-        mode_name(self.inner.calibration_mode())
-    }
-
-    /// The electrical turns the calibration has learned from since it started or was set.
-    #[getter]
-    fn calibration_turns_learned(&self) -> u32 {
-        self.inner.calibration_turns_learned()
-    }
-
-    /// Where the online calibration stands: `"finding-centre"` (the channels' centres are
-    /// not found yet: the rotor has not turned a whole turn, or is at rest; nothing is
-    /// learned and the angle of biased signals is wrong), `"centred"` (learning, or ready
-    /// to), or `"stalled"` (16 electrical turns at speed without a turn learned: the
-    /// observer is not locked within 0.29 of phase error, or the speed is not steady).
-    #[getter]
-    fn calibration_status(&self) -> &'static str {
-        status_name(self.inner.calibration_status())
-    }
-
-    /// Sets the calibration as the constructor's `calibration` and `initial_calibration`
-    /// do (`ConfigError` naming them); the state is kept.
-    #[pyo3(signature = (calibration, initial_calibration = None))]
-    fn set_calibration(
-        &mut self,
-        calibration: Option<&str>,
-        initial_calibration: Option<PySensorCalibration>,
-    ) -> Result<()> {
-        let choice = CalibrationChoice::new(calibration, initial_calibration)?;
-        self.inner.set_calibration(&choice)
-    }
-
-    /// `False` until the first sample (or `set_state`) has set the angle.
-    #[getter]
-    fn is_initialised(&self) -> bool {
-        self.inner.is_initialised()
-    }
-
-    fn __repr__(slf: PyRef<'_, Self>) -> String {
-        let settings = slf.as_super();
-        format!(
-            "Observer({}, gains={:?}, calibration={}, initialised={})",
-            settings.describe(),
-            settings.gain_set().gains(),
-            mode_name(slf.inner.calibration_mode()),
-            slf.inner.is_initialised()
-        )
+        fn __repr__(slf: PyRef<'_, Self>) -> String {
+            let settings = slf.as_super();
+            format!(
+                "Observer({}, gains={:?}, calibration={}, initialised={})",
+                settings.describe(),
+                settings.gain_set().gains(),
+                mode_name(slf.inner.status().calibration_mode),
+                slf.inner.status().initialised
+            )
+        }
     }
 }
 
@@ -354,12 +343,13 @@ pub fn track(
         thresholds: fault_thresholds,
         whole: true,
         adc: adc_settings(adc_mid_scale, adc_counts_per_unit, adc_signed)?,
-        calibration: CalibrationChoice::default(),
+        calibration: OnlineCalibrationChoice::default(),
         clipping: Clipping::of_floats(adc_range, false)?,
         winding_amplitude: None,
+        stored: None,
     };
     settings
         .typed_gains()?
         .observer(&options)?
-        .run(py, y_c, y_s)
+        .run(py, y_c, y_s, None)
 }

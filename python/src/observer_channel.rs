@@ -2,22 +2,25 @@
 //! sin/cos, holding the core's `Tracker` (the ADC range check, the rails measured, the
 //! winding check, the online calibration) and its state, and its run over numpy arrays.
 
-use angletrack::{EstimateColumns, ThresholdInput, ThresholdPolicy};
+use angletrack::{
+    EstimateColumns, OnlineCalibrationChoice, ThresholdInput, ThresholdPolicy,
+    converted_calibration,
+};
 use angletrack_core::{
-    AdcScaling, CalibrationMode, CalibrationStage, CalibrationStatus, CorrectionStage, Faults,
-    FrontEndFaults, Gains as CoreGains, Input, ObserverState, SinCos, Tracker, TrackerFrontEnd,
-    TrackerSettings, TrackerState, WindingCheck,
+    AdcScaling, AngleCorrection, CalibrationStage, CorrectionStage, Faults, FrontEndFaults,
+    Gains as CoreGains, Input, ObserverState, SinCos, Tracker, TrackerFrontEnd, TrackerSettings,
+    TrackerState, WindingCheck,
 };
 use pyo3::prelude::*;
 
 use crate::arrays::check_equal_lengths;
-use crate::calibration::{CalibrationChoice, PySensorCalibration};
+use crate::calibration::PySensorCalibration;
 use crate::counts::{AdcInput, Clipping};
 use crate::diagnostics::PyFaultThresholds;
-use crate::dispatch::{Arg, PhaseSinCos, Run, Sample};
+use crate::dispatch::{Arg, PhaseSinCos, Sample};
 use crate::errors::{Error, Result};
-use crate::estimates::{Estimate, Estimates, OutputArrays};
-use crate::observer::{ObserverOps, ObserverOptions};
+use crate::estimates::{Estimate, Estimates, OutputSelection, run_estimates};
+use crate::observer::{ObserverOps, ObserverOptions, ObserverStatus};
 
 /// The core's standard chain behind `Observer` (`Tracker`: the clipping checks, the winding
 /// check, the online calibration), its state, integer counts scaled (`crate::counts`), and
@@ -52,12 +55,23 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Channel<T, N, S> {
             .map(|a| WindingCheck::new(T::from_f64(a)))
             .transpose()
             .map_err(|e| Error::value("winding_amplitude", e.to_string()))?;
-        let front_end = front_end(
-            &options.clipping,
-            None,
-            winding,
-            CalibrationStage::Online(gains.online_calibration()),
-        )?;
+        let (calibration, correction) = match &options.stored {
+            Some((sensor, correction)) => {
+                let (a, b) = correction.coefficients();
+                (
+                    CalibrationStage::Stored(converted_calibration(sensor)?),
+                    CorrectionStage::Harmonics(AngleCorrection::new(
+                        a.map(T::from_f64),
+                        b.map(T::from_f64),
+                    )?),
+                )
+            }
+            None => (
+                CalibrationStage::Online(gains.online_calibration()),
+                CorrectionStage::None,
+            ),
+        };
+        let front_end = front_end(&options.clipping, None, winding, (calibration, correction))?;
         let mut state = TrackerState::new();
         *state.front_end.calibrator_mut() = options.calibration.calibrator()?;
         Ok(Self {
@@ -77,7 +91,7 @@ fn front_end<T: Sample>(
     clipping: &Clipping,
     adc: Option<AdcScaling<T>>,
     winding: Option<WindingCheck<T>>,
-    calibration: CalibrationStage<T>,
+    (calibration, correction): (CalibrationStage<T>, CorrectionStage<T>),
 ) -> Result<TrackerFrontEnd<T>> {
     let input = match adc {
         Some(adc) => Input::Counts {
@@ -92,7 +106,7 @@ fn front_end<T: Sample>(
         input,
         winding,
         calibration,
-        correction: CorrectionStage::None,
+        correction,
     })
     .map_err(|e| Error::value("adc_range", e.to_string()))
 }
@@ -112,14 +126,8 @@ fn code(bound: f64) -> Result<i32> {
     }
 }
 
-impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Run for Channel<T, N, S> {
-    fn run(&mut self, py: Python<'_>, y_c: Arg<'_, '_>, y_s: Arg<'_, '_>) -> Result<Estimates> {
-        self.run_with_faults(py, y_c, y_s, None)
-    }
-}
-
 impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N, S> {
-    fn run_with_faults(
+    fn run(
         &mut self,
         py: Python<'_>,
         y_c: Arg<'_, '_>,
@@ -158,23 +166,34 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
         let adc = self.adc.decided().filter(|_| counts);
         let held = self.tracker.front_end;
         if self.clipping.range.is_some() && held.adc() != adc {
-            let calibration = held.calibration();
-            self.tracker.front_end = front_end(&self.clipping, adc, held.winding(), calibration)?;
+            let stages = (held.calibration(), held.correction());
+            self.tracker.front_end = front_end(&self.clipping, adc, held.winding(), stages)?;
         }
-        let out = OutputArrays::<T>::new(py, y_c.len())?;
         let (tracker, state) = (&self.tracker, &mut self.state);
-        out.fill(py, |columns| {
+        let all = (OutputSelection::ALL, None);
+        let ((), estimates) = run_estimates(py, y_c.len(), all, |columns| {
             run_columns(columns, tracker, state, (y_c, y_s), front_end_faults)
         })?;
-        out.into_estimates(py, y_c.len(), None)
+        Ok(estimates)
     }
 
-    fn front_end_faults(&self) -> FrontEndFaults {
-        self.state.front_end.latched_faults()
-    }
-
-    fn estimate(&self) -> Estimate {
-        Estimate::from_core(&self.tracker.observer.estimate(&self.state.observer))
+    fn status(&self) -> ObserverStatus {
+        let (observer, calibrator) = (&self.state.observer, self.state.front_end.calibrator());
+        // The gains' own (checked) thresholds, once the policy has them.
+        let thresholds = self.tracker.observer.fault_thresholds();
+        ObserverStatus {
+            estimate: Estimate::from_core(&self.tracker.observer.estimate(observer)),
+            initialised: observer.is_initialised(),
+            latched_faults: observer.latched_faults(),
+            front_end_faults: self.state.front_end.latched_faults(),
+            fault_thresholds: (self.thresholds.thresholds())
+                .map(|_| PyFaultThresholds::from_typed(&thresholds)),
+            amplitude: observer.amplitude().to_f64(),
+            calibration: PySensorCalibration::from_core(&calibrator.calibration()),
+            calibration_mode: calibrator.mode(),
+            calibration_turns_learned: calibrator.turns_learned(),
+            calibration_status: calibrator.status(),
+        }
     }
 
     fn reset(&mut self) {
@@ -203,47 +222,11 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
         Ok(())
     }
 
-    fn is_initialised(&self) -> bool {
-        self.state.observer.is_initialised()
-    }
-
-    fn latched_faults(&self) -> Faults {
-        self.state.observer.latched_faults()
-    }
-
     fn clear_faults(&mut self) -> Faults {
         self.state.observer.clear_faults()
     }
 
-    fn fault_thresholds(&self) -> Option<PyFaultThresholds> {
-        // The gains' own (checked) thresholds, once the policy has them.
-        let thresholds = self.tracker.observer.fault_thresholds();
-        self.thresholds
-            .thresholds()
-            .map(|_| PyFaultThresholds::from_typed(&thresholds))
-    }
-
-    fn amplitude(&self) -> f64 {
-        self.state.observer.amplitude().to_f64()
-    }
-
-    fn calibration(&self) -> PySensorCalibration {
-        PySensorCalibration::from_core(&self.state.front_end.calibrator().calibration())
-    }
-
-    fn calibration_mode(&self) -> CalibrationMode {
-        self.state.front_end.calibrator().mode()
-    }
-
-    fn calibration_turns_learned(&self) -> u32 {
-        self.state.front_end.calibrator().turns_learned()
-    }
-
-    fn calibration_status(&self) -> CalibrationStatus {
-        self.state.front_end.calibrator().status()
-    }
-
-    fn set_calibration(&mut self, choice: &CalibrationChoice) -> Result<()> {
+    fn set_calibration(&mut self, choice: &OnlineCalibrationChoice) -> Result<()> {
         *self.state.front_end.calibrator_mut() = choice.calibrator()?;
         Ok(())
     }

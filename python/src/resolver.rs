@@ -14,6 +14,8 @@ use pyo3::prelude::*;
 
 use crate::arrays::{Count, check_equal_lengths, samples};
 use crate::errors::{Error, Result};
+use crate::getters::class_methods;
+use crate::model_class::{ModelField, model_class};
 use crate::motion::PyMotionProfile;
 use crate::scenario::PyScenario;
 
@@ -89,318 +91,222 @@ pub struct PyDemodulator {
     rails: Option<WindingRails>,
 }
 
-#[pymethods]
-impl PyDemodulator {
-    #[new]
-    #[pyo3(signature = (*, carrier_hz, carrier_amplitude_counts, adc_rate_hz = None,
-        samples_per_period = None, adc_min_code = 0.0, adc_max_code = 4095.0,
-        expected_delay_rad = 0.0, startup_periods = None, phase_drift_bound_rad = None,
-        loss_of_excitation = None, weak_excitation = None, carrier_loop_bandwidth = None,
-        max_carrier_error = None, measure_adc_range = false))]
-    #[allow(clippy::too_many_arguments)]
-    fn py_new(
-        carrier_hz: f64,
-        carrier_amplitude_counts: f64,
-        adc_rate_hz: Option<f64>,
-        samples_per_period: Option<f64>,
-        adc_min_code: f64,
-        adc_max_code: f64,
-        expected_delay_rad: f64,
-        startup_periods: Option<Count>,
-        phase_drift_bound_rad: Option<f64>,
-        loss_of_excitation: Option<f64>,
-        weak_excitation: Option<f64>,
-        carrier_loop_bandwidth: Option<f64>,
-        max_carrier_error: Option<f64>,
-        measure_adc_range: bool,
-    ) -> Result<Self> {
-        let adc_rate_hz = match (adc_rate_hz, samples_per_period) {
-            (Some(rate), None) => rate,
-            (None, Some(n)) => n * carrier_hz,
-            _ => {
+class_methods! {
+    PyDemodulator {
+        /// ADC samples per declared carrier period (any ratio of at least 4).
+        samples_per_period: f64 = |this, py| this.demodulator.samples_per_period();
+        /// The declared carrier period (s), the sample period the gains must have.
+        pair_period_s: f64 = |this, py| this.demodulator.pair_period_s();
+        /// The time (s) from a pair's centre to its window's last sample.
+        centre_to_end_s: f64 = |this, py| this.demodulator.centre_to_end_s();
+        /// The carrier frequency (Hz) the carrier loop tracks now.
+        tracked_carrier_hz: f64 = |this, py| this.demodulator.tracked_carrier_hz(&this.state);
+        /// `True` once the start-up is done (pairs come out from then on).
+        is_delay_ready: bool = |this, py| this.state.is_delay_ready();
+        /// `True` if the excitation's samples were pushed (the half turn resolved from them).
+        has_excitation: bool = |this, py| this.state.has_excitation();
+        /// The carrier delay chosen (rad, in [-pi, pi)): after the excitation if pushed, else
+        /// the carrier's phase at the first sample resolved around `expected_delay_rad` (the
+        /// other half turn would give the shaft half a turn further).
+        carrier_delay_rad: f64 = |this, py| this.state.carrier_delay_rad();
+        /// The carrier's phase at the first sample chosen at start-up (rad, in [-pi, pi)).
+        startup_delay_rad: f64 = |this, py| this.state.startup_delay_rad();
+        /// The front-end faults latched so far (bits, as `DemodulatedPairs.faults`), the
+        /// clipping against the measured rails included.
+        latched_faults: u8 = |this, py| {
+            let measured = this.rails.as_ref().map(WindingRails::latched_faults);
+            (this.state.latched_faults() | measured.unwrap_or_default()).bits()
+        };
+        /// With `measure_adc_range=True`: the rails measured so far, `(low, high)` (a side
+        /// without a rail one span beyond the samples), or `None` before the first; `None`
+        /// without it.
+        measured_adc_range: Option<(f64, f64)> =
+            |this, py| this.rails.as_ref().and_then(WindingRails::rails);
+        /// With `measure_adc_range=True`: the samples found at a measured rail so far; 0
+        /// without it.
+        clipped_samples: u64 =
+            |this, py| this.rails.as_ref().map_or(0, WindingRails::clipped_samples);
+    }
+    methods {
+        #[new]
+        #[pyo3(signature = (*, carrier_hz, carrier_amplitude_counts, adc_rate_hz = None,
+            samples_per_period = None, adc_min_code = 0.0, adc_max_code = 4095.0,
+            expected_delay_rad = 0.0, startup_periods = None, phase_drift_bound_rad = None,
+            loss_of_excitation = None, weak_excitation = None, carrier_loop_bandwidth = None,
+            max_carrier_error = None, measure_adc_range = false))]
+        #[allow(clippy::too_many_arguments)]
+        fn py_new(
+            carrier_hz: f64,
+            carrier_amplitude_counts: f64,
+            adc_rate_hz: Option<f64>,
+            samples_per_period: Option<f64>,
+            adc_min_code: f64,
+            adc_max_code: f64,
+            expected_delay_rad: f64,
+            startup_periods: Option<Count>,
+            phase_drift_bound_rad: Option<f64>,
+            loss_of_excitation: Option<f64>,
+            weak_excitation: Option<f64>,
+            carrier_loop_bandwidth: Option<f64>,
+            max_carrier_error: Option<f64>,
+            measure_adc_range: bool,
+        ) -> Result<Self> {
+            let adc_rate_hz = match (adc_rate_hz, samples_per_period) {
+                (Some(rate), None) => rate,
+                (None, Some(n)) => n * carrier_hz,
+                _ => {
+                    return Err(Error::value(
+                        "adc_rate_hz",
+                        "give adc_rate_hz or samples_per_period, one of them",
+                    ));
+                }
+            };
+            let mut settings = DemodulatorSettings::new(
+                carrier_hz,
+                adc_rate_hz,
+                carrier_amplitude_counts,
+                adc_min_code,
+                adc_max_code,
+            );
+            settings.expected_delay_rad = expected_delay_rad;
+            let d = settings;
+            settings.startup_periods = match startup_periods {
+                Some(n) => n.get("startup_periods")?,
+                None => d.startup_periods,
+            };
+            settings.phase_drift_bound_rad = phase_drift_bound_rad.unwrap_or(d.phase_drift_bound_rad);
+            settings.loss_of_excitation = loss_of_excitation.unwrap_or(d.loss_of_excitation);
+            settings.weak_excitation = weak_excitation.unwrap_or(d.weak_excitation);
+            settings.carrier_loop_bandwidth =
+                carrier_loop_bandwidth.unwrap_or(d.carrier_loop_bandwidth);
+            settings.max_carrier_error = max_carrier_error.unwrap_or(d.max_carrier_error);
+            let demodulator = CoreDemodulator::new(settings).map_err(|e| {
+                if e.parameter() == Parameter::AdcRate && samples_per_period.is_some() {
+                    Error::value(
+                        "samples_per_period",
+                        e.to_string().replace("adc_rate_hz", "samples_per_period"),
+                    )
+                } else {
+                    renamed(e)
+                }
+            })?;
+            Ok(Self {
+                demodulator,
+                state: DemodulatorState::new(),
+                rails: measure_adc_range.then(WindingRails::new),
+            })
+        }
+
+        /// Pushes ADC samples of the cosine (`raw_c`) and sine (`raw_s`) windings (counts, 1-D
+        /// float64 arrays of one length), and of the excitation if given (the same length; give
+        /// it on every push of a run or on none), and returns the pairs that complete.
+        #[pyo3(signature = (raw_c, raw_s, excitation = None))]
+        fn push(
+            &mut self,
+            py: Python<'_>,
+            raw_c: &Bound<'_, PyAny>,
+            raw_s: &Bound<'_, PyAny>,
+            excitation: Option<&Bound<'_, PyAny>>,
+        ) -> Result<PyDemodulatedPairs> {
+            let c = samples::<f64>(raw_c, "raw_c")?;
+            let s = samples::<f64>(raw_s, "raw_s")?;
+            let (c, s) = (c.as_slice(), s.as_slice());
+            check_equal_lengths(("raw_c", c.len()), ("raw_s", s.len()))?;
+            let e = excitation
+                .map(|e| samples::<f64>(e, "excitation"))
+                .transpose()?;
+            let e = e.as_ref().map(|e| e.as_slice());
+            if let Some(e) = e {
+                check_equal_lengths(("raw_c", c.len()), ("excitation", e.len()))?;
+            }
+            if self.state.samples() > 0 && e.is_some() != self.state.has_excitation() {
                 return Err(Error::value(
-                    "adc_rate_hz",
-                    "give adc_rate_hz or samples_per_period, one of them",
+                    "excitation",
+                    "give the excitation on every push of a run or on none",
                 ));
             }
-        };
-        let mut settings = DemodulatorSettings::new(
-            carrier_hz,
-            adc_rate_hz,
-            carrier_amplitude_counts,
-            adc_min_code,
-            adc_max_code,
-        );
-        settings.expected_delay_rad = expected_delay_rad;
-        let d = settings;
-        settings.startup_periods = match startup_periods {
-            Some(n) => n.get("startup_periods")?,
-            None => d.startup_periods,
-        };
-        settings.phase_drift_bound_rad = phase_drift_bound_rad.unwrap_or(d.phase_drift_bound_rad);
-        settings.loss_of_excitation = loss_of_excitation.unwrap_or(d.loss_of_excitation);
-        settings.weak_excitation = weak_excitation.unwrap_or(d.weak_excitation);
-        settings.carrier_loop_bandwidth =
-            carrier_loop_bandwidth.unwrap_or(d.carrier_loop_bandwidth);
-        settings.max_carrier_error = max_carrier_error.unwrap_or(d.max_carrier_error);
-        let demodulator = CoreDemodulator::new(settings).map_err(|e| {
-            if e.parameter() == Parameter::AdcRate && samples_per_period.is_some() {
-                Error::value(
-                    "samples_per_period",
-                    e.to_string().replace("adc_rate_hz", "samples_per_period"),
-                )
-            } else {
-                renamed(e)
-            }
-        })?;
-        Ok(Self {
-            demodulator,
-            state: DemodulatorState::new(),
-            rails: measure_adc_range.then(WindingRails::new),
-        })
-    }
-
-    /// Pushes ADC samples of the cosine (`raw_c`) and sine (`raw_s`) windings (counts, 1-D
-    /// float64 arrays of one length), and of the excitation if given (the same length; give
-    /// it on every push of a run or on none), and returns the pairs that complete.
-    #[pyo3(signature = (raw_c, raw_s, excitation = None))]
-    fn push(
-        &mut self,
-        py: Python<'_>,
-        raw_c: &Bound<'_, PyAny>,
-        raw_s: &Bound<'_, PyAny>,
-        excitation: Option<&Bound<'_, PyAny>>,
-    ) -> Result<PyDemodulatedPairs> {
-        let c = samples::<f64>(raw_c, "raw_c")?;
-        let s = samples::<f64>(raw_s, "raw_s")?;
-        let (c, s) = (c.as_slice(), s.as_slice());
-        check_equal_lengths(("raw_c", c.len()), ("raw_s", s.len()))?;
-        let e = excitation
-            .map(|e| samples::<f64>(e, "excitation"))
-            .transpose()?;
-        let e = e.as_ref().map(|e| e.as_slice());
-        if let Some(e) = e {
-            check_equal_lengths(("raw_c", c.len()), ("excitation", e.len()))?;
+            let (demodulator, state, rails) = (&self.demodulator, &mut self.state, &mut self.rails);
+            let p = py.detach(|| {
+                let mut out = PairColumns::default();
+                let sink = |pair: angletrack_core::DemodulatedPair<f64>| {
+                    out.time_s.push(demodulator.centre_s(&pair));
+                    out.y_c.push(pair.y_c);
+                    out.y_s.push(pair.y_s);
+                    out.quadrature_c.push(pair.quadrature_c);
+                    out.quadrature_s.push(pair.quadrature_s);
+                    out.window.push(pair.window);
+                    out.faults.push(pair.faults.bits());
+                };
+                match (rails, e) {
+                    (Some(rails), e) => rails.push_block(demodulator, state, c, s, e, sink),
+                    (None, Some(e)) => demodulator.push_block_with_excitation(state, c, s, e, sink),
+                    (None, None) => demodulator.push_block(state, c, s, sink),
+                };
+                out
+            });
+            Ok(PyDemodulatedPairs {
+                time_s: p.time_s.into_pyarray(py).unbind(),
+                y_c: p.y_c.into_pyarray(py).unbind(),
+                y_s: p.y_s.into_pyarray(py).unbind(),
+                quadrature_c: p.quadrature_c.into_pyarray(py).unbind(),
+                quadrature_s: p.quadrature_s.into_pyarray(py).unbind(),
+                window: p.window.into_pyarray(py).unbind(),
+                faults: p.faults.into_pyarray(py).unbind(),
+            })
         }
-        if self.state.samples() > 0 && e.is_some() != self.state.has_excitation() {
-            return Err(Error::value(
-                "excitation",
-                "give the excitation on every push of a run or on none",
-            ));
-        }
-        let (demodulator, state, rails) = (&self.demodulator, &mut self.state, &mut self.rails);
-        let p = py.detach(|| {
-            let mut out = PairColumns::default();
-            let sink = |pair: angletrack_core::DemodulatedPair<f64>| {
-                out.time_s.push(demodulator.centre_s(&pair));
-                out.y_c.push(pair.y_c);
-                out.y_s.push(pair.y_s);
-                out.quadrature_c.push(pair.quadrature_c);
-                out.quadrature_s.push(pair.quadrature_s);
-                out.window.push(pair.window);
-                out.faults.push(pair.faults.bits());
-            };
-            match (rails, e) {
-                (Some(rails), e) => rails.push_block(demodulator, state, c, s, e, sink),
-                (None, Some(e)) => demodulator.push_block_with_excitation(state, c, s, e, sink),
-                (None, None) => demodulator.push_block(state, c, s, sink),
-            };
-            out
-        });
-        Ok(PyDemodulatedPairs {
-            time_s: p.time_s.into_pyarray(py).unbind(),
-            y_c: p.y_c.into_pyarray(py).unbind(),
-            y_s: p.y_s.into_pyarray(py).unbind(),
-            quadrature_c: p.quadrature_c.into_pyarray(py).unbind(),
-            quadrature_s: p.quadrature_s.into_pyarray(py).unbind(),
-            window: p.window.into_pyarray(py).unbind(),
-            faults: p.faults.into_pyarray(py).unbind(),
-        })
-    }
 
-    /// ADC samples per declared carrier period (any ratio of at least 4).
-    #[getter]
-    fn samples_per_period(&self) -> f64 {
-        self.demodulator.samples_per_period()
-    }
-
-    /// The declared carrier period (s), the sample period the gains must have.
-    #[getter]
-    fn pair_period_s(&self) -> f64 {
-        self.demodulator.pair_period_s()
-    }
-
-    /// The time (s) from a pair's centre to its window's last sample.
-    #[getter]
-    fn centre_to_end_s(&self) -> f64 {
-        self.demodulator.centre_to_end_s()
-    }
-
-    /// The carrier frequency (Hz) the carrier loop tracks now.
-    #[getter]
-    fn tracked_carrier_hz(&self) -> f64 {
-        self.demodulator.tracked_carrier_hz(&self.state)
-    }
-
-    /// `True` once the start-up is done (pairs come out from then on).
-    #[getter]
-    fn is_delay_ready(&self) -> bool {
-        self.state.is_delay_ready()
-    }
-
-    /// `True` if the excitation's samples were pushed (the half turn resolved from them).
-    #[getter]
-    fn has_excitation(&self) -> bool {
-        self.state.has_excitation()
-    }
-
-    /// The carrier delay chosen (rad, in [-pi, pi)): after the excitation if pushed, else
-    /// the carrier's phase at the first sample resolved around `expected_delay_rad` (the
-    /// other half turn would give the shaft half a turn further).
-    #[getter]
-    fn carrier_delay_rad(&self) -> f64 {
-        self.state.carrier_delay_rad()
-    }
-
-    /// The carrier's phase at the first sample chosen at start-up (rad, in [-pi, pi)).
-    #[getter]
-    fn startup_delay_rad(&self) -> f64 {
-        self.state.startup_delay_rad()
-    }
-
-    /// The front-end faults latched so far (bits, as `DemodulatedPairs.faults`), the
-    /// clipping against the measured rails included.
-    #[getter]
-    fn latched_faults(&self) -> u8 {
-        let measured = self.rails.as_ref().map(WindingRails::latched_faults);
-        (self.state.latched_faults() | measured.unwrap_or_default()).bits()
-    }
-
-    /// With `measure_adc_range=True`: the rails measured so far, `(low, high)` (a side
-    /// without a rail one span beyond the samples), or `None` before the first; `None`
-    /// without it.
-    #[getter]
-    fn measured_adc_range(&self) -> Option<(f64, f64)> {
-        self.rails.as_ref().and_then(WindingRails::rails)
-    }
-
-    /// With `measure_adc_range=True`: the samples found at a measured rail so far; 0
-    /// without it.
-    #[getter]
-    fn clipped_samples(&self) -> u64 {
-        self.rails.as_ref().map_or(0, WindingRails::clipped_samples)
-    }
-
-    fn __repr__(&self) -> String {
-        format!(
-            "Demodulator(samples_per_period={}, pair_period_s={:e})",
-            self.demodulator.samples_per_period(),
-            self.demodulator.pair_period_s()
-        )
-    }
-}
-
-/// A carrier-excited resolver sampled by an ADC clocked with the excitation (the std crate's
-/// `ResolverModel`; defaults: 10 kHz carrier, 16 samples per period, 12-bit ADC, amplitude
-/// 1800 counts, noise 1 LSB, no delay). Checked when windings are generated.
-#[pyclass(name = "ResolverModel", module = "angletrack", frozen, get_all)]
-#[derive(Debug, Clone)]
-pub struct PyResolverModel {
-    /// The excitation carrier frequency (Hz).
-    carrier_hz: f64,
-    /// ADC samples of each winding per carrier period.
-    samples_per_period: usize,
-    /// The carrier's phase delay from the excitation to the ADC (rad).
-    carrier_delay_rad: f64,
-    /// The excitation's amplitude (counts, as the windings would show it at ratio 1).
-    excitation_amplitude_counts: f64,
-    /// Winding amplitude over excitation amplitude.
-    transformation_ratio: f64,
-    /// The sine winding's relative amplitude error.
-    winding_imbalance: f64,
-    /// A DC common mode on both windings (counts).
-    common_mode_counts: f64,
-    /// The ADC's resolution (bits); 0 for no quantisation.
-    adc_bits: u32,
-    /// The noise's standard deviation on each sample (counts).
-    noise_std_counts: f64,
-}
-
-impl PyResolverModel {
-    fn model(&self) -> ResolverModel {
-        ResolverModel {
-            carrier_hz: self.carrier_hz,
-            samples_per_period: self.samples_per_period,
-            carrier_delay_rad: self.carrier_delay_rad,
-            excitation_amplitude_counts: self.excitation_amplitude_counts,
-            transformation_ratio: self.transformation_ratio,
-            winding_imbalance: self.winding_imbalance,
-            common_mode_counts: self.common_mode_counts,
-            adc_bits: self.adc_bits,
-            noise_std_counts: self.noise_std_counts,
+        fn __repr__(&self) -> String {
+            format!(
+                "Demodulator(samples_per_period={}, pair_period_s={:e})",
+                self.demodulator.samples_per_period(),
+                self.demodulator.pair_period_s()
+            )
         }
     }
 }
 
-#[pymethods]
-impl PyResolverModel {
-    #[new]
-    #[pyo3(signature = (*, carrier_hz = None, samples_per_period = None, carrier_delay_rad = None,
-        excitation_amplitude_counts = None, transformation_ratio = None, winding_imbalance = None,
-        common_mode_counts = None, adc_bits = None, noise_std_counts = None))]
-    #[allow(clippy::too_many_arguments)]
-    fn py_new(
-        carrier_hz: Option<f64>,
-        samples_per_period: Option<Count>,
-        carrier_delay_rad: Option<f64>,
-        excitation_amplitude_counts: Option<f64>,
-        transformation_ratio: Option<f64>,
-        winding_imbalance: Option<f64>,
-        common_mode_counts: Option<f64>,
-        adc_bits: Option<Count>,
-        noise_std_counts: Option<f64>,
-    ) -> Result<Self> {
-        let d = ResolverModel::default();
-        Ok(Self {
-            carrier_hz: carrier_hz.unwrap_or(d.carrier_hz),
-            samples_per_period: match samples_per_period {
-                Some(n) => n.get("samples_per_period")?,
-                None => d.samples_per_period,
-            },
-            carrier_delay_rad: carrier_delay_rad.unwrap_or(d.carrier_delay_rad),
-            excitation_amplitude_counts: excitation_amplitude_counts
-                .unwrap_or(d.excitation_amplitude_counts),
-            transformation_ratio: transformation_ratio.unwrap_or(d.transformation_ratio),
-            winding_imbalance: winding_imbalance.unwrap_or(d.winding_imbalance),
-            common_mode_counts: common_mode_counts.unwrap_or(d.common_mode_counts),
-            adc_bits: match adc_bits {
-                Some(n) => n.get("adc_bits")?,
-                None => d.adc_bits,
-            },
-            noise_std_counts: noise_std_counts.unwrap_or(d.noise_std_counts),
-        })
+model_class! {
+    /// A carrier-excited resolver sampled by an ADC clocked with the excitation (the std crate's
+    /// `ResolverModel`; defaults: 10 kHz carrier, 16 samples per period, 12-bit ADC, amplitude
+    /// 1800 counts, noise 1 LSB, no delay). Checked when windings are generated.
+    PyResolverModel = "ResolverModel" of ResolverModel {
+        /// The excitation carrier frequency (Hz).
+        carrier_hz: f64,
+        /// ADC samples of each winding per carrier period.
+        samples_per_period: usize,
+        /// The carrier's phase delay from the excitation to the ADC (rad).
+        carrier_delay_rad: f64,
+        /// The excitation's amplitude (counts, as the windings would show it at ratio 1).
+        excitation_amplitude_counts: f64,
+        /// Winding amplitude over excitation amplitude.
+        transformation_ratio: f64,
+        /// The sine winding's relative amplitude error.
+        winding_imbalance: f64,
+        /// A DC common mode on both windings (counts).
+        common_mode_counts: f64,
+        /// The ADC's resolution (bits); 0 for no quantisation.
+        adc_bits: u32,
+        /// The noise's standard deviation on each sample (counts).
+        noise_std_counts: f64,
     }
+    methods {
+        /// The carrier amplitude of a winding at the ADC (counts) at envelope 1.
+        #[getter]
+        fn amplitude_counts(&self) -> f64 {
+            self.model().amplitude_counts()
+        }
 
-    /// The carrier amplitude of a winding at the ADC (counts) at envelope 1.
-    #[getter]
-    fn amplitude_counts(&self) -> f64 {
-        self.model().amplitude_counts()
-    }
+        /// The ADC sample period (s).
+        #[getter]
+        fn adc_sample_period_s(&self) -> f64 {
+            self.model().adc_sample_period_s()
+        }
 
-    /// The ADC sample period (s).
-    #[getter]
-    fn adc_sample_period_s(&self) -> f64 {
-        self.model().adc_sample_period_s()
-    }
-
-    /// The ADC's mid-scale code (0 without an ADC).
-    #[getter]
-    fn mid_scale_counts(&self) -> f64 {
-        self.model().mid_scale_counts()
-    }
-
-    fn __repr__(&self) -> String {
-        format!("{:?}", self.model())
+        /// The ADC's mid-scale code (0 without an ADC).
+        #[getter]
+        fn mid_scale_counts(&self) -> f64 {
+            self.model().mid_scale_counts()
+        }
     }
 }
 
@@ -418,17 +324,6 @@ pub fn resolver_windings(
 ) -> Result<PyScenario> {
     let seed: u64 = seed.get("seed")?;
     let model = model.map_or_else(ResolverModel::default, PyResolverModel::model);
-    // The crate names these two after their kind; the caller wrote the model's field names.
-    if !(model.carrier_hz.is_finite() && model.carrier_hz > 0.0) {
-        return Err(Error::value("carrier_hz", "must be finite and positive"));
-    }
-    let amplitude = model.excitation_amplitude_counts;
-    if !(amplitude.is_finite() && amplitude > 0.0) {
-        return Err(Error::value(
-            "excitation_amplitude_counts",
-            "must be finite and positive",
-        ));
-    }
     let profile = profile.inner.clone();
     let s = py.detach(move || angletrack::Scenario::resolver_windings(&profile, &model, seed))?;
     Ok(PyScenario::from_scenario(py, s))

@@ -1,145 +1,54 @@
 //! `SensorModel` and `Scenario`: sampled test signals with their truth, deterministic from a
 //! seed, from the `angletrack` crate.
 
-use angletrack::{MAX_ANGLE_ERROR_HARMONICS, SensorModel};
+use angletrack::SensorModel;
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 
 use crate::arrays::{Count, check_equal_lengths, samples};
 use crate::calibration::PySensorCalibration;
 use crate::errors::{Error, Result};
+use crate::model_class::{ModelField, model_class};
 use crate::motion::PyMotionProfile;
 
-/// The sensor model's fixed table of angle error harmonics from the Python list (at most
-/// [`MAX_ANGLE_ERROR_HARMONICS`], checked at construction); unused entries have amplitude 0.
-fn harmonics_table(list: &[(u32, f64, f64)]) -> [(u32, f64, f64); MAX_ANGLE_ERROR_HARMONICS] {
-    let mut table = [(0, 0.0, 0.0); MAX_ANGLE_ERROR_HARMONICS];
-    for (slot, &harmonic) in table.iter_mut().zip(list) {
-        *slot = harmonic;
+model_class! {
+    /// The sensor that turns the shaft angle into `y_c` and `y_s`: amplitude, DC offsets,
+    /// amplitude imbalance, quadrature error (rad), relative 3rd harmonic, harmonics of the angle
+    /// error (`angle_error_harmonics`: up to 8 `(order, amplitude rad, phase rad)`, the reading
+    /// being `theta + sum a sin(k theta + p)`), white noise
+    /// (standard deviation per channel) and ADC quantisation (`adc_bits`, 0 for none, over
+    /// `[-adc_full_scale, adc_full_scale)`). Checked when a scenario is generated.
+    PySensorModel = "SensorModel" of SensorModel {
+        /// Amplitude of both signals.
+        amplitude: f64,
+        /// DC offset of `y_c`.
+        offset_cos: f64,
+        /// DC offset of `y_s`.
+        offset_sin: f64,
+        /// Relative amplitude imbalance of `y_s` against `y_c`.
+        amplitude_imbalance: f64,
+        /// Quadrature error (rad).
+        quadrature_error_rad: f64,
+        /// Relative amplitude of the 3rd harmonic.
+        third_harmonic: f64,
+        /// Harmonics `(order, amplitude rad, phase rad)` of the angle error.
+        angle_error_harmonics: Vec<(u32, f64, f64)>,
+        /// Standard deviation of the white noise on each signal.
+        noise_std: f64,
+        /// ADC resolution (bits); 0 for no quantisation.
+        adc_bits: u32,
+        /// ADC full scale.
+        adc_full_scale: f64,
     }
-    table
-}
-
-/// The sensor that turns the shaft angle into `y_c` and `y_s`: amplitude, DC offsets,
-/// amplitude imbalance, quadrature error (rad), relative 3rd harmonic, harmonics of the angle
-/// error (`angle_error_harmonics`: up to 8 `(order, amplitude rad, phase rad)`, the reading
-/// being `theta + sum a sin(k theta + p)`), white noise
-/// (standard deviation per channel) and ADC quantisation (`adc_bits`, 0 for none, over
-/// `[-adc_full_scale, adc_full_scale)`). Checked when a scenario is generated.
-#[pyclass(name = "SensorModel", module = "angletrack", frozen, get_all)]
-#[derive(Debug, Clone)]
-pub struct PySensorModel {
-    /// Amplitude of both signals.
-    amplitude: f64,
-    /// DC offset of `y_c`.
-    offset_cos: f64,
-    /// DC offset of `y_s`.
-    offset_sin: f64,
-    /// Relative amplitude imbalance of `y_s` against `y_c`.
-    amplitude_imbalance: f64,
-    /// Quadrature error (rad).
-    quadrature_error_rad: f64,
-    /// Relative amplitude of the 3rd harmonic.
-    third_harmonic: f64,
-    /// Harmonics `(order, amplitude rad, phase rad)` of the angle error.
-    angle_error_harmonics: Vec<(u32, f64, f64)>,
-    /// Standard deviation of the white noise on each signal.
-    noise_std: f64,
-    /// ADC resolution (bits); 0 for no quantisation.
-    adc_bits: u32,
-    /// ADC full scale.
-    adc_full_scale: f64,
-}
-
-impl PySensorModel {
-    fn model(&self) -> SensorModel {
-        SensorModel {
-            amplitude: self.amplitude,
-            offset_cos: self.offset_cos,
-            offset_sin: self.offset_sin,
-            amplitude_imbalance: self.amplitude_imbalance,
-            quadrature_error_rad: self.quadrature_error_rad,
-            third_harmonic: self.third_harmonic,
-            angle_error_harmonics: harmonics_table(&self.angle_error_harmonics),
-            noise_std: self.noise_std,
-            adc_bits: self.adc_bits,
-            adc_full_scale: self.adc_full_scale,
+    methods {
+        /// The `SensorCalibration` of this sensor (the core's model: `offset_c = offset_cos`,
+        /// `offset_s = offset_sin`, `amplitude_c = amplitude`, `amplitude_s = amplitude (1 +
+        /// amplitude_imbalance)`, `quadrature_rad = quadrature_error_rad`): what an online
+        /// calibration should learn. `ConfigError` for an invalid model or a quadrature error
+        /// beyond pi/4.
+        fn calibration(&self) -> Result<PySensorCalibration> {
+            Ok(PySensorCalibration::from_core(&self.model().calibration()?))
         }
-    }
-}
-
-#[pymethods]
-impl PySensorModel {
-    #[new]
-    #[pyo3(signature = (*, amplitude = None, offset_cos = None, offset_sin = None,
-        amplitude_imbalance = None, quadrature_error_rad = None, third_harmonic = None,
-        angle_error_harmonics = None, noise_std = None, adc_bits = None, adc_full_scale = None))]
-    #[allow(clippy::too_many_arguments)]
-    fn py_new(
-        amplitude: Option<f64>,
-        offset_cos: Option<f64>,
-        offset_sin: Option<f64>,
-        amplitude_imbalance: Option<f64>,
-        quadrature_error_rad: Option<f64>,
-        third_harmonic: Option<f64>,
-        angle_error_harmonics: Option<Vec<(u32, f64, f64)>>,
-        noise_std: Option<f64>,
-        adc_bits: Option<Count>,
-        adc_full_scale: Option<f64>,
-    ) -> Result<Self> {
-        let angle_error_harmonics = angle_error_harmonics.unwrap_or_default();
-        if angle_error_harmonics.len() > MAX_ANGLE_ERROR_HARMONICS {
-            return Err(Error::value(
-                "angle_error_harmonics",
-                format!(
-                    "holds {} harmonics, at most {MAX_ANGLE_ERROR_HARMONICS} are supported",
-                    angle_error_harmonics.len()
-                ),
-            ));
-        }
-        // Defaults are the crate's ideal sensor.
-        let d = SensorModel::default();
-        Ok(Self {
-            amplitude: amplitude.unwrap_or(d.amplitude),
-            offset_cos: offset_cos.unwrap_or(d.offset_cos),
-            offset_sin: offset_sin.unwrap_or(d.offset_sin),
-            amplitude_imbalance: amplitude_imbalance.unwrap_or(d.amplitude_imbalance),
-            quadrature_error_rad: quadrature_error_rad.unwrap_or(d.quadrature_error_rad),
-            third_harmonic: third_harmonic.unwrap_or(d.third_harmonic),
-            angle_error_harmonics,
-            noise_std: noise_std.unwrap_or(d.noise_std),
-            adc_bits: match adc_bits {
-                Some(n) => n.get("adc_bits")?,
-                None => d.adc_bits,
-            },
-            adc_full_scale: adc_full_scale.unwrap_or(d.adc_full_scale),
-        })
-    }
-
-    /// The `SensorCalibration` of this sensor (the core's model: `offset_c = offset_cos`,
-    /// `offset_s = offset_sin`, `amplitude_c = amplitude`, `amplitude_s = amplitude (1 +
-    /// amplitude_imbalance)`, `quadrature_rad = quadrature_error_rad`): what an online
-    /// calibration should learn. `ConfigError` for an invalid model or a quadrature error
-    /// beyond pi/4.
-    fn calibration(&self) -> Result<PySensorCalibration> {
-        Ok(PySensorCalibration::from_core(&self.model().calibration()?))
-    }
-
-    fn __repr__(&self) -> String {
-        format!(
-            "SensorModel(amplitude={:?}, offset_cos={:?}, offset_sin={:?}, amplitude_imbalance={:?}, \
-             quadrature_error_rad={:?}, third_harmonic={:?}, noise_std={:?}, adc_bits={}, \
-             adc_full_scale={:?})",
-            self.amplitude,
-            self.offset_cos,
-            self.offset_sin,
-            self.amplitude_imbalance,
-            self.quadrature_error_rad,
-            self.third_harmonic,
-            self.noise_std,
-            self.adc_bits,
-            self.adc_full_scale
-        )
     }
 }
 

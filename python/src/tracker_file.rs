@@ -3,7 +3,7 @@
 
 use angletrack::CalibrationFile;
 use angletrack::export::GainsFile;
-use angletrack::tracker_file::{FirmwareError, Language, TrackerFile};
+use angletrack::tracker_file::{FirmwareError, TrackerFile};
 use pyo3::prelude::*;
 
 use crate::errors::{Error, Result};
@@ -47,16 +47,7 @@ pub fn tracker_firmware_constants(
     language: &str,
     name: &str,
 ) -> Result<String> {
-    let language = match language {
-        "c" => Language::C,
-        "rust" => Language::Rust,
-        other => {
-            return Err(Error::value(
-                "language",
-                format!("expected \"c\" or \"rust\", got {other:?}"),
-            ));
-        }
-    };
+    let language = crate::export::language(language)?;
     TrackerFile::from_json(text, file)?
         .firmware_constants(file, language, name)
         .map_err(|e| match e {

@@ -1,40 +1,21 @@
-//! `EstimatesWriter` and `TableWriter`: an observer's estimates, or any table of named
-//! numeric columns, written chunk by chunk by the std crate's writers (CSV with the shortest
-//! round-trip decimals, a `.npy` structured array or an `.npz`).
+//! `TableWriter`: any table of named numeric columns (an observer's estimates among them:
+//! `estimate_columns`), written chunk by chunk by the std crate's writer (CSV with the
+//! shortest round-trip decimals, a `.npy` structured array or an `.npz`).
 
 use std::path::PathBuf;
 
 use angletrack::capture::{
-    CaptureError, Column, ColumnType, EstimateRows, EstimatesWriter as CoreWriter,
-    OutputFile as CoreOutputFile, OutputFloat, TableWriter as CoreTableWriter,
+    self, Column, ColumnType, OutputFile as CoreOutputFile, TableWriter as CoreTableWriter,
 };
 use numpy::{Element, PyArrayMethods, PyReadonlyArray1, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 
 use crate::arrays::Float;
 use crate::errors::{Error, Result};
-use crate::estimates::Estimates;
-
-/// A writer that completes its file (the crate's `EstimatesWriter` and `TableWriter`).
-trait Finish {
-    /// Completes the file; the rows written.
-    fn finish(self) -> std::result::Result<u64, CaptureError>;
-}
-
-impl Finish for CoreWriter {
-    fn finish(self) -> std::result::Result<u64, CaptureError> {
-        CoreWriter::finish(self)
-    }
-}
-
-impl Finish for CoreTableWriter {
-    fn finish(self) -> std::result::Result<u64, CaptureError> {
-        CoreTableWriter::finish(self)
-    }
-}
+use crate::getters::class_methods;
 
 /// `close()`: completes the writer in `slot`; 0 if closed already.
-fn close<W: Finish>(slot: &mut Option<W>) -> Result<u64> {
+fn close(slot: &mut Option<CoreTableWriter>) -> Result<u64> {
     match slot.take() {
         Some(w) => Ok(w.finish()?),
         None => Ok(0),
@@ -43,7 +24,7 @@ fn close<W: Finish>(slot: &mut Option<W>) -> Result<u64> {
 
 /// `__exit__`: closes after a clean block; after an exception, discards the file (the target
 /// is left as it was).
-fn exit<W: Finish>(slot: &mut Option<W>, exc_type: &Bound<'_, PyAny>) -> Result<bool> {
+fn exit(slot: &mut Option<CoreTableWriter>, exc_type: &Bound<'_, PyAny>) -> Result<bool> {
     if exc_type.is_none() {
         close(slot)?;
     } else {
@@ -52,135 +33,30 @@ fn exit<W: Finish>(slot: &mut Option<W>, exc_type: &Bound<'_, PyAny>) -> Result<
     Ok(false)
 }
 
-/// Writes estimates chunk by chunk in constant memory: `.npy` (a structured array with
-/// fields `time_s`, `angle_rad`, `position_rad`, `speed_rad_s`, `acceleration_rad_s2`,
-/// `phase_error`, `faults`) for a path ending in `.npy`, `.npz` (one array per field) for
-/// `.npz`, CSV with a header line of those names for `.csv` (each number the shortest
-/// decimal that reads back to the same float of its type); another extension is refused.
-/// `dtype` is the observer's (float32 or float64). The rows go to a temporary file beside
-/// `path`, renamed to it by `close()` (or at the end of a `with` block; after an exception
-/// in the block the file is discarded and `path` left as it was).
-#[pyclass(name = "EstimatesWriter", module = "angletrack")]
-#[derive(Debug)]
-pub struct PyEstimatesWriter {
-    writer: Option<CoreWriter>,
-    float: Float,
-}
-
-fn column<'py, T: Element>(
-    py: Python<'py>,
-    array: &Py<PyAny>,
-    parameter: &'static str,
-) -> Result<PyReadonlyArray1<'py, T>> {
-    let bound = array.bind(py);
-    let typed = bound
-        .cast::<numpy::PyArray1<T>>()
-        .map_err(|_| Error::value(parameter, "expected 1-D estimates of the writer's dtype"))?;
-    typed
-        .try_readonly()
-        .map_err(|e| Error::value(parameter, format!("cannot be read ({e})")))
-}
-
-fn slice<'a, T: Element>(
-    a: &'a PyReadonlyArray1<'_, T>,
-    parameter: &'static str,
-) -> Result<&'a [T]> {
-    a.as_slice()
-        .map_err(|_| Error::value(parameter, "is not contiguous"))
-}
-
-impl PyEstimatesWriter {
-    fn write_typed<T: OutputFloat + Element>(
-        &mut self,
-        py: Python<'_>,
-        time_s: &[f64],
-        e: &Estimates,
-    ) -> Result<()> {
-        let angle = column::<T>(py, &e.angle, "angle")?;
-        let position = column::<f64>(py, &e.position, "position")?;
-        let speed = column::<T>(py, &e.speed, "speed")?;
-        let acceleration = column::<T>(py, &e.acceleration, "acceleration")?;
-        let phase_error = column::<T>(py, &e.phase_error, "phase_error")?;
-        let faults = column::<u8>(py, &e.faults, "faults")?;
-        let rows = EstimateRows {
-            time_s,
-            angle: slice(&angle, "angle")?,
-            position: slice(&position, "position")?,
-            speed: slice(&speed, "speed")?,
-            acceleration: slice(&acceleration, "acceleration")?,
-            phase_error: slice(&phase_error, "phase_error")?,
-            faults: slice(&faults, "faults")?,
-        };
-        let writer = self
-            .writer
-            .as_mut()
-            .ok_or_else(|| Error::value("writer", "is closed"))?;
-        py.detach(|| writer.write(rows))?;
-        Ok(())
-    }
-}
-
-#[pymethods]
-impl PyEstimatesWriter {
-    #[new]
-    #[pyo3(signature = (path, *, dtype = None))]
-    fn py_new(path: PathBuf, dtype: Option<&Bound<'_, PyAny>>) -> Result<Self> {
-        let float = Float::from_dtype_like(dtype, "dtype")?;
-        let writer = match float {
-            Float::F32 => CoreWriter::create::<f32>(&path)?,
-            Float::F64 => CoreWriter::create::<f64>(&path)?,
-        };
-        Ok(Self {
-            writer: Some(writer),
-            float,
-        })
-    }
-
-    /// Appends the estimates of a chunk, with their time stamps `time_s` (float64 array of
-    /// the same length).
-    #[pyo3(signature = (time_s, estimates))]
-    fn write(
-        &mut self,
-        py: Python<'_>,
-        time_s: PyReadonlyArray1<'_, f64>,
-        estimates: PyRef<'_, Estimates>,
-    ) -> Result<()> {
-        let time_s = slice(&time_s, "time_s")?;
-        match self.float {
-            Float::F32 => self.write_typed::<f32>(py, time_s, &estimates),
-            Float::F64 => self.write_typed::<f64>(py, time_s, &estimates),
-        }
-    }
-
-    /// Finishes the file; returns the number of rows written (0 if already closed).
-    fn close(&mut self) -> Result<u64> {
-        close(&mut self.writer)
-    }
-
-    fn __enter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
-        slf
-    }
-
-    /// Closes the file; after an exception in the block, discards it instead (the target
-    /// is left as it was: a partial file never passes for the estimates of a capture).
-    #[pyo3(signature = (exc_type, _exc_value, _traceback))]
-    fn __exit__(
-        &mut self,
-        exc_type: &Bound<'_, PyAny>,
-        _exc_value: &Bound<'_, PyAny>,
-        _traceback: &Bound<'_, PyAny>,
-    ) -> Result<bool> {
-        exit(&mut self.writer, exc_type)
-    }
+/// The columns `(name, dtype)` of estimates in the float type `dtype` (float32 or float64,
+/// default float64; `angletrack::capture::estimate_columns`): the table `EstimatesWriter`
+/// writes.
+#[pyfunction]
+#[pyo3(signature = (dtype = None))]
+pub fn estimate_columns(
+    dtype: Option<&Bound<'_, PyAny>>,
+) -> Result<Vec<(&'static str, &'static str)>> {
+    let float = match Float::from_dtype_like(dtype, "dtype")? {
+        Float::F32 => ColumnType::F32,
+        Float::F64 => ColumnType::F64,
+    };
+    Ok(capture::estimate_columns(float)
+        .map(|(name, kind)| (name, kind.name()))
+        .to_vec())
 }
 
 /// Writes a table of named numeric columns chunk by chunk in constant memory, in the format
-/// of `path`'s extension as `EstimatesWriter` does (`.csv`, `.npy` structured array, `.npz`
+/// of `path`'s extension (`.csv`, `.npy` structured array, `.npz`
 /// of one array per column; another extension is refused). `columns` lists `(name, dtype)`
 /// in file order: names of letters, digits and underscores, each once; dtypes float64,
 /// float32, uint8 or int32 (anything `numpy.dtype` reads as one of them). `write(arrays)`
 /// appends one 1-D array per column, of the column's dtype, all of one length. All or
-/// nothing, as `EstimatesWriter`: the target is replaced by `close()` or at the end of a
+/// nothing: the target is replaced by `close()` or at the end of a
 /// `with` block, and left as it was after an exception in the block.
 #[pyclass(name = "TableWriter", module = "angletrack")]
 #[derive(Debug)]
@@ -334,57 +210,56 @@ pub struct PyOutputFile {
     temporary: PathBuf,
 }
 
-#[pymethods]
-impl PyOutputFile {
-    #[new]
-    #[pyo3(signature = (path))]
-    fn py_new(path: PathBuf) -> Result<Self> {
-        let output = CoreOutputFile::create(&path)?;
-        let temporary = output.temporary().to_path_buf();
-        Ok(Self {
-            output: Some(output),
-            temporary,
-        })
+class_methods! {
+    PyOutputFile {
+        /// The temporary file to write, beside the target.
+        temporary_path: PathBuf = |this, py| this.temporary.clone();
     }
-
-    /// The temporary file to write, beside the target.
-    #[getter]
-    fn temporary_path(&self) -> PathBuf {
-        self.temporary.clone()
-    }
-
-    /// Renames the temporary file over the target.
-    fn commit(&mut self) -> Result<()> {
-        match self.output.take() {
-            Some(o) => Ok(o.commit()?),
-            None => Err(Error::value(
-                "OutputFile",
-                "is committed or discarded already",
-            )),
+    methods {
+        #[new]
+        #[pyo3(signature = (path))]
+        fn py_new(path: PathBuf) -> Result<Self> {
+            let output = CoreOutputFile::create(&path)?;
+            let temporary = output.temporary().to_path_buf();
+            Ok(Self {
+                output: Some(output),
+                temporary,
+            })
         }
-    }
 
-    /// Removes the temporary file; the target stays as it was.
-    fn discard(&mut self) {
-        self.output = None;
-    }
-
-    fn __enter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
-        slf
-    }
-
-    #[pyo3(signature = (exc_type, _exc_value, _traceback))]
-    fn __exit__(
-        &mut self,
-        exc_type: &Bound<'_, PyAny>,
-        _exc_value: &Bound<'_, PyAny>,
-        _traceback: &Bound<'_, PyAny>,
-    ) -> Result<bool> {
-        if exc_type.is_none() && self.output.is_some() {
-            self.commit()?;
-        } else {
-            self.discard();
+        /// Renames the temporary file over the target.
+        fn commit(&mut self) -> Result<()> {
+            match self.output.take() {
+                Some(o) => Ok(o.commit()?),
+                None => Err(Error::value(
+                    "OutputFile",
+                    "is committed or discarded already",
+                )),
+            }
         }
-        Ok(false)
+
+        /// Removes the temporary file; the target stays as it was.
+        fn discard(&mut self) {
+            self.output = None;
+        }
+
+        fn __enter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
+            slf
+        }
+
+        #[pyo3(signature = (exc_type, _exc_value, _traceback))]
+        fn __exit__(
+            &mut self,
+            exc_type: &Bound<'_, PyAny>,
+            _exc_value: &Bound<'_, PyAny>,
+            _traceback: &Bound<'_, PyAny>,
+        ) -> Result<bool> {
+            if exc_type.is_none() && self.output.is_some() {
+                self.commit()?;
+            } else {
+                self.discard();
+            }
+            Ok(false)
+        }
     }
 }

@@ -123,7 +123,6 @@ def test_set_state_keeps_what_it_is_given_within_the_limits():
     (X.CountsExtremes().add, "y_s", {}, 1),
     (X.fixed_input, "y_s", dict(mid_scale=2048), 5),
     (X.measured_adc_range, "y_s", {}, 3),
-    (X.measured_carrier_cycles_per_sample, "y_s", {}, 1),
     (X.plan_windings, "first_s", dict(carrier_hz=10e3, capture_hz=160e3), 7),
 ])
 def test_paired_arrays_of_unequal_lengths_are_refused(function, second, kwargs, cut):

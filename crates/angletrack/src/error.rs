@@ -104,6 +104,10 @@ pub enum Argument {
     SamplesPerPeriod,
     /// The carrier delay (rad) of a resolver model.
     CarrierDelay,
+    /// The carrier frequency (Hz) of a resolver model.
+    CarrierFrequency,
+    /// The excitation's amplitude (ADC counts) of a resolver model.
+    ExcitationAmplitude,
     /// The transformation ratio of a resolver model.
     TransformationRatio,
     /// The DC common mode (ADC counts) of a resolver model's windings.
@@ -166,6 +170,8 @@ impl Argument {
             Argument::SettlingBand => "settling_band",
             Argument::SamplesPerPeriod => "samples_per_period",
             Argument::CarrierDelay => "carrier_delay_rad",
+            Argument::CarrierFrequency => "carrier_hz",
+            Argument::ExcitationAmplitude => "excitation_amplitude_counts",
             Argument::TransformationRatio => "transformation_ratio",
             Argument::CommonMode => "common_mode_counts",
             Argument::WindingImbalance => "winding_imbalance",

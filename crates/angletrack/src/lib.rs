@@ -112,10 +112,11 @@ pub use analysis::{
     predicted_error_on_kalman_model,
 };
 pub use calibration::{
-    ANGLE_CALIBRATION_FORMAT, CALIBRATION_FILE_VERSION, CalibrationError, CalibrationFile,
-    CalibrationMethod, CalibrationOptions, CaptureCalibration, CaptureCalibrator,
-    MIN_ERROR_TRANSFER, OrderQuality, OrderStatus, SENSOR_CALIBRATION_FORMAT, SPECTRUM_ORDERS,
-    SensorCalibrationRecord, error_transfer, learn_angle_correction, order_warnings,
+    ANGLE_CALIBRATION_FORMAT, CALIBRATION_FILE_VERSION, CalibrationChoiceError, CalibrationError,
+    CalibrationFile, CalibrationMethod, CalibrationOptions, CaptureCalibration, CaptureCalibrator,
+    MIN_ERROR_TRANSFER, OnlineCalibrationChoice, OrderQuality, OrderStatus,
+    SENSOR_CALIBRATION_FORMAT, SPECTRUM_ORDERS, SensorCalibrationRecord, converted_calibration,
+    error_transfer, learn_angle_correction, mode_name, order_warnings, status_name,
 };
 pub use capture_counts::{
     CaptureCounts, CountsError, CountsExtremes, Signedness, StatedCounts, capture_counts,

@@ -88,6 +88,9 @@ pub struct WindingsPlan {
     pub adc_range_source: AdcRangeSource,
 }
 
+/// The largest carrier amplitude a plan takes (counts): a 32-bit ADC's half range.
+const LARGEST_CARRIER_AMPLITUDE_COUNTS: f64 = 2_147_483_648.0;
+
 /// Why a capture of raw windings cannot be demodulated as declared. Each has its argument
 /// ([`WindingsPlanError::argument`]) and names, where two values disagree, both (as the
 /// command line's options: `--carrier-hz`, `--samples-per-period`).
@@ -113,6 +116,9 @@ pub enum WindingsPlanError {
         /// The declared carrier (Hz).
         carrier_hz: f64,
     },
+    /// The stated carrier amplitude is not a positive number of counts up to 2^31 (a
+    /// 32-bit ADC's).
+    CarrierAmplitude(f64),
     /// The declared carrier is more than 2 % from the one measured in the capture.
     CarrierContradicted {
         /// As declared (Hz).
@@ -134,6 +140,7 @@ impl WindingsPlanError {
     pub const fn argument(&self) -> &'static str {
         match self {
             WindingsPlanError::CarrierContradicted { .. } => "carrier_hz",
+            WindingsPlanError::CarrierAmplitude(_) => "carrier_amplitude_counts",
             _ => "samples_per_period",
         }
     }
@@ -143,6 +150,10 @@ impl fmt::Display for WindingsPlanError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let g = |x: f64| significant(x, 6);
         match *self {
+            WindingsPlanError::CarrierAmplitude(a) => write!(
+                f,
+                "{a}: expected a positive number of counts up to 2^31 (a 32-bit ADC's)"
+            ),
             WindingsPlanError::NoAdcRate => write!(
                 f,
                 "the capture has no time column: give --samples-per-period or \
@@ -238,6 +249,11 @@ impl WindingsPlan {
         first_s: &[f64],
         settings: &WindingsSettings,
     ) -> Result<Self, WindingsPlanError> {
+        if let Some(a) = settings.carrier_amplitude_counts
+            && !(a.is_finite() && a > 0.0 && a <= LARGEST_CARRIER_AMPLITUDE_COUNTS)
+        {
+            return Err(WindingsPlanError::CarrierAmplitude(a));
+        }
         let carrier_hz = settings.carrier_hz;
         let adc_rate_hz = match (settings.samples_per_period, settings.capture_hz) {
             (Some(n), _) => n * carrier_hz,
@@ -275,8 +291,7 @@ impl WindingsPlan {
                 });
             }
         }
-        // A stated amplitude is the demodulator's to check; a measured one from the power's
-        // mean, A^2 / 2.
+        // A measured amplitude from the power's mean, A^2 / 2.
         let carrier_amplitude_counts = settings
             .carrier_amplitude_counts
             .unwrap_or_else(|| (2.0 * mean(&power)).sqrt());

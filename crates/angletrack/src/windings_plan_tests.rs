@@ -84,6 +84,20 @@ fn contradictions_are_refused_naming_both_values() {
 }
 
 #[test]
+fn a_stated_amplitude_no_adc_gives_is_refused_naming_it() {
+    let (c, s) = windings(4000, 1.0 / 16.0);
+    for amplitude in [f64::NAN, 0.0, -1.0, 4_294_967_296.0] {
+        let stated = WindingsSettings {
+            carrier_amplitude_counts: Some(amplitude),
+            ..settings(10e3, Some(160e3), None)
+        };
+        let e = WindingsPlan::new(&c, &s, &stated).unwrap_err();
+        assert!(matches!(e, WindingsPlanError::CarrierAmplitude(_)), "{e}");
+        assert_eq!(e.argument(), "carrier_amplitude_counts");
+    }
+}
+
+#[test]
 fn the_amplitude_and_the_range_are_measured_or_guessed_unless_stated() {
     let (c, s) = windings(4000, 1.0 / 16.0);
     let plan = WindingsPlan::new(&c, &s, &settings(10e3, Some(160e3), None)).unwrap();

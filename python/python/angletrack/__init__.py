@@ -41,7 +41,6 @@ from angletrack._angletrack import (
     ErrorStatistics,
     Estimate,
     Estimates,
-    EstimatesWriter,
     FAULT_BITS,
     FRONT_END_FAULT_BITS,
     FaultThresholds,
@@ -196,6 +195,7 @@ from angletrack.harmonics import (  # noqa: E402
     track_calibrated,
 )
 from angletrack.tracker import Tracker  # noqa: E402
+from angletrack.capture import EstimatesWriter  # noqa: E402
 
 
 def _flags(name: str, bits, doc: str):

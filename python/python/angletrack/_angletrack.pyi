@@ -20,6 +20,7 @@ _DType = Union[type[np.float32], type[np.float64], np.dtype, Literal["float32", 
 _SinCos = Optional[Literal["fast", "exact"]]
 #: The float type of the constants written for firmware.
 _FloatType = Literal["float32", "float64"]
+_Language = Literal["c", "rust"]
 _SensorParameters = tuple[float, float, float, float, float]
 
 class _FixedConstants(TypedDict):
@@ -31,8 +32,8 @@ class _FixedConstants(TypedDict):
     sample_period_s: float
 
 class _LearnedCalibration(TypedDict):
-    """An angle calibration as the extension gives it (``learn_calibration``, a calibration
-    file): the sensor's ``(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)``,
+    """An angle calibration as the extension gives it (``_CaptureCalibrator.finish``, a
+    calibration file): the sensor's ``(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)``,
     the angle error's ``cos`` and ``sin`` coefficients (8 each, rad) and what the learning
     saw (NaN where unknown): the method, each order's quality and the warnings."""
 
@@ -430,10 +431,6 @@ class FixedObserver:
     def clear_faults(self) -> int:
         """Returns the latched faults (bits) and clears them."""
 
-def measured_carrier_cycles_per_sample(y_c: _Samples, y_s: _Samples) -> Optional[float]:
-    """The carrier frequency of raw windings in cycles per sample, from the tone at twice
-    the carrier in ``y_c^2 + y_s^2``; ``None`` when it cannot be measured."""
-
 def measured_adc_range(y_c: _Samples, y_s: _Samples) -> Optional[tuple[float, float]]:
     """The ADC range measured on the samples: each extreme of both channels that is a rail
     (held flat over ``HELD_RAIL_SAMPLES`` consecutive samples of a channel, and reached by
@@ -470,12 +467,6 @@ def plan_windings(
     for unequal lengths (``first_s``), an amplitude not a positive number of counts up to
     2^31, or a range not two finite numbers in order."""
 
-def offset_binary_mid_scale(largest_count: float) -> int:
-    """The mid-scale (counts) of unsigned, offset-binary ADC counts whose largest sample is
-    ``largest_count`` (a whole number, 0 to 2^53): ``2^(b-1)`` for the smallest ``b``, at
-    least 2, whose range ``2^b`` holds it; what ``track`` removes from uint16 counts
-    without ``adc_mid_scale`` (the largest sample of the whole capture)."""
-
 def fixed_input(y_c: _Samples, y_s: _Samples, mid_scale: int) -> tuple[int, int, float, float]:
     """How a capture's counts reach the fixed-point observer, from its first samples and the
     capture's ``mid_scale`` (``capture_counts``'s): ``(mid_scale_counts, input_shift,
@@ -500,8 +491,8 @@ def capture_counts(extremes: CountsExtremes, *, signed: Optional[bool] = None, b
     signedness stated, else unsigned for an unsigned type, signed for a negative sample
     anywhere, unsigned when both channels swing about one offset-binary mid-scale; else
     ``ConfigError`` (parameter ``adc_signed``, the message ending with ``state_with``).
-    Unsigned counts are centred on ``2^(bits-1)``, else on ``offset_binary_mid_scale`` of
-    the largest sample (``ConfigError`` naming ``capture`` for counts no ADC gives, naming
+    Unsigned counts are centred on ``2^(bits-1)``, else on the offset-binary mid-scale of
+    the largest sample (``angletrack::offset_binary_mid_scale``) (``ConfigError`` naming ``capture`` for counts no ADC gives, naming
     ``adc_bits`` outside 2 to 53)."""
 
 #: The estimates a batch may be asked for (``outputs=``).
@@ -939,24 +930,13 @@ def read_capture(
 ) -> Capture:
     """Reads a whole capture (the checks of ``CaptureReader``)."""
 
-class EstimatesWriter:
-    """Estimates written chunk by chunk, the format from the extension: ``.npy`` (a
-    structured array, fields ``time_s``, ``angle_rad``, ``position_rad``, ``speed_rad_s``,
-    ``acceleration_rad_s2``, ``phase_error``, ``faults``), ``.npz`` (one array per field) or
-    ``.csv`` (those names as header, each number the shortest decimal that reads back to the
-    same float); another extension is refused. Written beside ``path`` and renamed to it by
-    ``close()``; after an exception in a ``with`` block the file is discarded."""
-
-    def __init__(self, path: Union[str, os.PathLike], *, dtype: _DType = None) -> None: ...
-    def write(self, time_s: npt.NDArray[np.float64], estimates: Estimates) -> None: ...
-    def close(self) -> int:
-        """Finishes the file; returns the rows written."""
-    def __enter__(self) -> EstimatesWriter: ...
-    def __exit__(self, exc_type: object, _exc_value: object, _traceback: object) -> bool: ...
+def estimate_columns(dtype: _DType = None) -> list[tuple[str, str]]:
+    """The columns ``(name, dtype)`` of estimates of the float type ``dtype`` (float32 or
+    float64): what ``angletrack.EstimatesWriter`` writes through a ``TableWriter``."""
 
 class TableWriter:
     """A table of named numeric columns written chunk by chunk, the format from the
-    extension as ``EstimatesWriter``'s: ``.csv`` (the names as header, floats as the
+    extension: ``.csv`` (the names as header, floats as the
     shortest decimal that reads back, integers as digits), ``.npy`` (a structured array,
     one field per column) or ``.npz`` (one array per column). ``columns``: ``(name, dtype)``
     in file order, names of letters, digits and underscores, each once; dtypes float64,
@@ -1117,13 +1097,6 @@ class DriveOutputs:
     def latency_s(self) -> float: ...
 # ----------------------------------------------------------- angle error calibration
 
-def learn_calibration(
-    gains: Gains, y_c: _Samples, y_s: _Samples, *, reference: Optional[_Samples] = None,
-    lowest_order: Optional[int] = None, highest_order: int = 8, settle_fraction: float = 0.2,
-    self_calibration: bool = False, own_loop: bool = True, min_significance: float = 3.0,
-) -> _LearnedCalibration:
-    """The calibration of a capture held in memory (see ``angletrack.calibrate``)."""
-
 class _CaptureCalibrator:
     """A calibration learned from a capture read twice in chunks (see
     ``angletrack.harmonics.calibrate_chunks``)."""
@@ -1149,30 +1122,25 @@ class _CorrectedObserver:
 
 # ----------------------------------------------------------- firmware source (angletrack::export)
 
-def gains_c_header(
-    gains: Gains, *, name: str = "angletrack", dtype: _FloatType = "float32", description: str = ""
+def gains_source(
+    gains: Gains, language: _Language, *, name: str = "angletrack", dtype: _FloatType = "float32",
+    description: str = "",
 ) -> str:
-    """A C header with the gains, the sample period, the sample rate and the order in
-    ``dtype``; ``ConfigError`` naming ``name`` (not an identifier), ``dtype`` or the value
-    not finite in ``dtype``."""
-def gains_rust(
-    gains: Gains, *, name: str = "angletrack", dtype: _FloatType = "float32", description: str = ""
+    """A C header (``language="c"``) with the gains, the sample period, the sample rate and the
+    order in ``dtype``, or a block of Rust ``const`` (``"rust"``) for
+    ``angletrack_core::Gains::new``; ``ConfigError`` naming ``language``, ``name`` (not an
+    identifier), ``dtype`` or the value not finite in ``dtype``."""
+def fixed_source(
+    constants: _FixedConstants, language: _Language, *, name: str = "angletrack", description: str = ""
 ) -> str:
-    """A block of Rust ``const`` for ``angletrack_core::Gains::new``."""
-def fixed_c_header(constants: _FixedConstants, *, name: str = "angletrack", description: str = "") -> str:
-    """A C header with the fixed-point constants of ``Design.fixed_constants()``."""
-def fixed_rust(constants: _FixedConstants, *, name: str = "angletrack", description: str = "") -> str:
-    """A Rust ``const`` for ``angletrack_core::FixedGains::from_constants``."""
-def calibration_c_header(
-    sensor: _SensorParameters, cos: Sequence[float], sin: Sequence[float], *, name: str = "angletrack",
-    dtype: _FloatType = "float32",
+    """A C header (``"c"``) or a Rust ``const`` (``"rust"``) for
+    ``angletrack_core::FixedGains::from_constants`` of ``Design.fixed_constants()``."""
+def calibration_source(
+    sensor: _SensorParameters, cos: Sequence[float], sin: Sequence[float], language: _Language, *,
+    name: str = "angletrack", dtype: _FloatType = "float32",
 ) -> str:
-    """A C header with a sensor calibration and an angle correction (checked by the core)."""
-def calibration_rust(
-    sensor: _SensorParameters, cos: Sequence[float], sin: Sequence[float], *, name: str = "angletrack",
-    dtype: _FloatType = "float32",
-) -> str:
-    """A block of Rust ``const`` for ``SensorCalibration::new`` and ``AngleCorrection::new``."""
+    """A C header (``"c"``) or a block of Rust ``const`` (``"rust"``) with a sensor calibration
+    and an angle correction (checked by the core)."""
 
 # ----------------------------------------------------------- gains files (angletrack::export::GainsFile)
 
@@ -1235,7 +1203,7 @@ def tracker_file_with_calibration(tracker_text: str, tracker_file: str, calibrat
                                   calibration_file: str) -> str:
     """The tracker file's text with the calibration of a calibration file's text (either
     kind) in place of its own."""
-def tracker_firmware_constants(text: str, file: str, language: str, name: str) -> str:
+def tracker_firmware_constants(text: str, file: str, language: _Language, name: str) -> str:
     """A tracker file's firmware constants: ``language`` ``"c"`` (a header) or ``"rust"``
     (``const`` items), identifiers prefixed by ``name``; ``ValueError`` naming a setting no
     generator writes, ``ConfigError`` naming ``name``."""

@@ -13,10 +13,11 @@ from typing import Mapping, Optional, Union
 
 import numpy as np
 
-from angletrack._angletrack import OutputFile, read_capture, write_output
+from angletrack._angletrack import Estimates, OutputFile, TableWriter, estimate_columns, read_capture, write_output
 from angletrack._angletrack import check_outputs as _check_outputs
 
-__all__ = ["OutputFile", "check_outputs", "read_capture", "read_text_file", "write_capture", "write_output"]
+__all__ = ["EstimatesWriter", "OutputFile", "check_outputs", "read_capture", "read_text_file", "write_capture",
+           "write_output"]
 
 _Path = Union[str, "os.PathLike[str]"]
 
@@ -29,6 +30,38 @@ def check_outputs(outputs: Mapping[str, Optional[_Path]], inputs: Mapping[str, O
     """
     _check_outputs({k: v for k, v in outputs.items() if v is not None},
                    {k: v for k, v in inputs.items() if v is not None})
+
+
+class EstimatesWriter:
+    """Writes estimates chunk by chunk in constant memory: ``.npy`` (a structured array with
+    fields ``time_s``, ``angle_rad``, ``position_rad``, ``speed_rad_s``,
+    ``acceleration_rad_s2``, ``phase_error``, ``faults``) for a path ending in ``.npy``,
+    ``.npz`` (one array per field) for ``.npz``, CSV with a header line of those names for
+    ``.csv`` (each number the shortest decimal that reads back to the same float of its
+    type); another extension is refused. ``dtype`` is the observer's (float32 or float64).
+    The rows go to a temporary file beside ``path``, renamed to it by ``close()`` (or at the
+    end of a ``with`` block; after an exception in the block the file is discarded and
+    ``path`` left as it was). A :class:`TableWriter` of the crate's estimate columns
+    (``estimate_columns``)."""
+
+    def __init__(self, path: _Path, *, dtype: object = None) -> None:
+        self._table = TableWriter(path, estimate_columns(dtype))
+
+    def write(self, time_s: np.ndarray, estimates: Estimates) -> None:
+        """Appends the estimates of a chunk, with their time stamps ``time_s`` (float64 array
+        of the same length)."""
+        e = estimates
+        self._table.write([time_s, e.angle, e.position, e.speed, e.acceleration, e.phase_error, e.faults])
+
+    def close(self) -> int:
+        """Finishes the file; returns the number of rows written (0 if already closed)."""
+        return self._table.close()
+
+    def __enter__(self) -> "EstimatesWriter":
+        return self
+
+    def __exit__(self, exc_type: object, exc_value: object, traceback: object) -> bool:
+        return self._table.__exit__(exc_type, exc_value, traceback)
 
 
 def read_text_file(path: _Path, option: str) -> str:

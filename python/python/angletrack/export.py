@@ -27,13 +27,13 @@ def to_c_header(gains: Gains, *, name: str = "angletrack", dtype: str = "float32
     ``name`` prefixes every identifier (``NAME_GAINS``, ``NAME_SAMPLE_PERIOD_S``, ...); the
     Rust crate's ``angletrack::export::gains_c_header`` writes it.
     """
-    return _angletrack.gains_c_header(gains, name=name, dtype=dtype, description=description)
+    return _angletrack.gains_source(gains, "c", name=name, dtype=dtype, description=description)
 
 
 def to_rust(gains: Gains, *, name: str = "angletrack", dtype: str = "float32", description: str = "") -> str:
     """A Rust ``const`` block for ``angletrack_core::Gains::<T, N>::new(GAINS, SAMPLE_PERIOD_S)``
     (``angletrack::export::gains_rust``)."""
-    return _angletrack.gains_rust(gains, name=name, dtype=dtype, description=description)
+    return _angletrack.gains_source(gains, "rust", name=name, dtype=dtype, description=description)
 
 
 def to_json(gains: Gains, *, metadata: dict[str, Any] | None = None) -> str:
@@ -59,13 +59,13 @@ def fixed_to_c_header(constants: FixedConstants, *, name: str = "angletrack", de
     gains' multipliers and the acceleration's shift, for
     ``angletrack_core::FixedGains::from_constants``, which checks them again
     (``angletrack::export::fixed_c_header``)."""
-    return _angletrack.fixed_c_header(constants, name=name, description=description)
+    return _angletrack.fixed_source(constants, "c", name=name, description=description)
 
 
 def fixed_to_rust(constants: FixedConstants, *, name: str = "angletrack", description: str = "") -> str:
     """A Rust ``const`` for ``angletrack_core::FixedGains::<N>::from_constants(CONSTANTS, Ts)``
     (``angletrack::export::fixed_rust``)."""
-    return _angletrack.fixed_rust(constants, name=name, description=description)
+    return _angletrack.fixed_source(constants, "rust", name=name, description=description)
 
 
 def fixed_to_json(constants: FixedConstants, *, metadata: dict[str, Any] | None = None) -> str:

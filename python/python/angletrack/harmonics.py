@@ -30,7 +30,7 @@ import numpy as np
 
 from angletrack import _angletrack
 from angletrack._angletrack import (Estimates, FaultThresholds, Gains, _CaptureCalibrator, _CorrectedObserver,
-                                   capture_fault_thresholds, learn_calibration)
+                                   capture_fault_thresholds)
 
 if TYPE_CHECKING:
     from angletrack._angletrack import _LearnedCalibration as LearnedCalibration
@@ -92,7 +92,7 @@ class Calibration:
 
     @classmethod
     def from_learned(cls, learned: LearnedCalibration) -> "Calibration":
-        """The calibration of the dict ``learn_calibration`` and the calibration files give."""
+        """The calibration of the dict ``_CaptureCalibrator.finish`` and the calibration files give."""
         return cls(
             sensor=tuple(learned["sensor"]), cos=tuple(learned["cos"]), sin=tuple(learned["sin"]),
             speed_rad_s=learned["speed_rad_s"], turns=learned["turns"],
@@ -121,12 +121,12 @@ class Calibration:
     def to_c_header(self, *, name: str = "angletrack", dtype: str = "float32") -> str:
         """A C header with the sensor calibration and the correction's coefficients
         (``angletrack::export::calibration_c_header``)."""
-        return _angletrack.calibration_c_header(self.sensor, self.cos, self.sin, name=name, dtype=dtype)
+        return _angletrack.calibration_source(self.sensor, self.cos, self.sin, "c", name=name, dtype=dtype)
 
     def to_rust(self, *, name: str = "angletrack", dtype: str = "float32") -> str:
         """A Rust ``const`` block for ``SensorCalibration::new`` and ``AngleCorrection::new``
         (``angletrack::export::calibration_rust``)."""
-        return _angletrack.calibration_rust(self.sensor, self.cos, self.sin, name=name, dtype=dtype)
+        return _angletrack.calibration_source(self.sensor, self.cos, self.sin, "rust", name=name, dtype=dtype)
 
 
 def calibrate(y_c: Any, y_s: Any, gains: Gains, *, reference: Any = None, lowest_order: Optional[int] = None,
@@ -141,12 +141,14 @@ def calibrate(y_c: Any, y_s: Any, gains: Gains, *, reference: Any = None, lowest
     ``min_significance`` times its uncertainty is not learned. ``ConfigError`` naming the
     option at fault (a capture shorter than 5 turns, an order the loop follows, ...); the
     samples are float64 arrays or sequences of real numbers (``TypeError`` otherwise)."""
+    calibrator = _CaptureCalibrator(gains, lowest_order=lowest_order, highest_order=highest_order,
+                                    settle_fraction=settle_fraction, self_calibration=self_calibration,
+                                    own_loop=own_loop, min_significance=min_significance)
     # The extension checks the samples' dtype (TypeError, no silent conversion) and shape.
-    learned = learn_calibration(gains, y_c, y_s, reference=reference, lowest_order=lowest_order,
-                                highest_order=highest_order, settle_fraction=settle_fraction,
-                                self_calibration=self_calibration, own_loop=own_loop,
-                                min_significance=min_significance)
-    return Calibration.from_learned(learned)
+    calibrator.add_geometry(y_c, y_s)
+    calibrator.start_fit(reference is not None)
+    calibrator.add_fit(y_c, y_s, reference)
+    return Calibration.from_learned(calibrator.finish())
 
 
 def calibrate_chunks(chunks: Callable[[], Iterable[tuple]], gains: Gains, **options: Any) -> Calibration:

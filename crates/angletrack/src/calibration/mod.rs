@@ -32,6 +32,7 @@ mod ellipse;
 pub(crate) mod file;
 mod harmonic_fit;
 mod learner;
+mod online;
 mod quality;
 mod reference_following;
 mod tracker;
@@ -41,6 +42,9 @@ pub use file::{
     SensorCalibrationRecord,
 };
 pub use learner::CaptureCalibrator;
+pub use online::{
+    CalibrationChoiceError, OnlineCalibrationChoice, converted_calibration, mode_name, status_name,
+};
 pub use quality::{CalibrationMethod, OrderQuality, OrderStatus, SPECTRUM_ORDERS, order_warnings};
 
 /// The smallest `|E/D|` of the loop at a learned harmonic in a self-calibration (see the

@@ -19,6 +19,7 @@ mod error;
 mod npy;
 mod npy_out;
 mod npy_record;
+mod options;
 mod output;
 mod reader;
 mod sniff;
@@ -36,12 +37,13 @@ mod tests_real;
 pub use columns::{ColumnMap, NO_COLUMN, ResolvedColumns, Role, is_time_name};
 pub use encoding::Encoding;
 pub use error::CaptureError;
+pub use options::{CaptureOptionError, WrittenCaptureOptions};
 pub use output::{NamedPath, OutputFile, check_outputs, write_output};
 pub use reader::{CaptureChunk, CaptureOptions, CaptureReader};
 pub use sniff::{DecimalMark, Delimiter};
 pub use table::{Column, ColumnType, EstimatesFormat, TableWriter};
 pub use time::{SPACING_TOLERANCE, TimeUnit};
-pub use write::{ESTIMATE_COLUMNS, EstimateRows, EstimatesWriter, OutputFloat};
+pub use write::{ESTIMATE_COLUMNS, EstimateRows, EstimatesWriter, OutputFloat, estimate_columns};
 
 /// A whole capture in memory, with what was learnt reading it.
 #[derive(Debug, Clone, PartialEq)]

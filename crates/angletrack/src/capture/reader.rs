@@ -150,16 +150,7 @@ impl CaptureReader {
     pub fn open(path: impl AsRef<Path>, options: CaptureOptions) -> Result<Self, CaptureError> {
         let path = path.as_ref();
         let fail = |m: String| CaptureError::new(path, m);
-        if options.chunk_rows < 2 {
-            return Err(fail("chunk_rows: at least 2 rows per chunk".into()));
-        }
-        if let Some(rate) = options.sample_rate_hz
-            && !(rate.is_finite() && rate > 0.0)
-        {
-            return Err(fail(format!(
-                "sample_rate: {rate} Hz is not a positive finite rate"
-            )));
-        }
+        options.check().map_err(|e| fail(e.to_string()))?;
         let mut file = File::open(path).map_err(|e| CaptureError::io(path, &e))?;
         let total_bytes = file.metadata().map_or(0, |m| m.len());
         let mut head = Vec::with_capacity(SNIFF_BYTES);

@@ -91,7 +91,7 @@ impl EstimatesWriter {
     /// temporary file beside `path`, renamed to it by [`finish`](Self::finish): a writer
     /// dropped before leaves `path` as it was.
     pub fn create<T: OutputFloat>(path: impl AsRef<Path>) -> Result<Self, CaptureError> {
-        let columns = ESTIMATE_COLUMNS.map(|name| (name, field_type(name, T::COLUMN_TYPE)));
+        let columns = estimate_columns(T::COLUMN_TYPE);
         Ok(Self {
             table: TableWriter::create(path, &columns)?,
             float: T::COLUMN_TYPE,
@@ -122,6 +122,12 @@ impl EstimatesWriter {
     pub fn finish(self) -> Result<u64, CaptureError> {
         self.table.finish()
     }
+}
+
+/// The estimates' columns and their types for estimates in the float type `float`
+/// ([`ESTIMATE_COLUMNS`]): the table an [`EstimatesWriter`] writes.
+pub fn estimate_columns(float: ColumnType) -> [(&'static str, ColumnType); 7] {
+    ESTIMATE_COLUMNS.map(|name| (name, field_type(name, float)))
 }
 
 /// The type of the estimates' column `name` when the observer's floats are `float`: the

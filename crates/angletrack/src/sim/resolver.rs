@@ -83,7 +83,7 @@ impl ResolverModel {
     }
 
     fn validate(&self) -> Result<(), Error> {
-        positive(self.carrier_hz, Argument::Frequency)?;
+        positive(self.carrier_hz, Argument::CarrierFrequency)?;
         if !(2..=1 << 16).contains(&self.samples_per_period) {
             return Err(Error::OutOfRange {
                 argument: Argument::SamplesPerPeriod,
@@ -98,7 +98,10 @@ impl ResolverModel {
                 expected: "within +-1000 rad",
             });
         }
-        positive(self.excitation_amplitude_counts, Argument::Amplitude)?;
+        positive(
+            self.excitation_amplitude_counts,
+            Argument::ExcitationAmplitude,
+        )?;
         positive(self.transformation_ratio, Argument::TransformationRatio)?;
         finite(self.winding_imbalance, Argument::WindingImbalance)?;
         if self.winding_imbalance <= -1.0 {

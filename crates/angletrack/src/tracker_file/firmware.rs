@@ -6,7 +6,9 @@
 
 use core::fmt;
 
-use angletrack_core::{AngleCorrection, ConfigError, FixedGains, Gains, Order, SupportedOrder};
+use angletrack_core::{
+    AngleCorrection, ConfigError, FixedGains, Gains, Order, SensorCalibration, SupportedOrder,
+};
 
 use super::{AdcRange, Calibration, Correction, Input, NumberType, TrackerFile};
 use crate::FixedDesignConstants;
@@ -23,6 +25,59 @@ pub enum Language {
     C,
     /// A block of Rust `const`s.
     Rust,
+}
+
+impl Language {
+    /// The language named `name`: `"c"` or `"rust"` (`None` for another name).
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "c" => Some(Language::C),
+            "rust" => Some(Language::Rust),
+            _ => None,
+        }
+    }
+
+    /// The float gains in this language (`gains_c_header` or `gains_rust`).
+    pub fn gains<const N: usize>(
+        self,
+        gains: &Gains<f64, N>,
+        float: FloatType,
+        name: &str,
+        description: &str,
+    ) -> Result<String, ExportError> {
+        match self {
+            Language::C => gains_c_header(gains, float, name, description),
+            Language::Rust => gains_rust(gains, float, name, description),
+        }
+    }
+
+    /// The fixed-point constants in this language (`fixed_c_header` or `fixed_rust`).
+    pub fn fixed(
+        self,
+        constants: &FixedDesignConstants,
+        name: &str,
+        description: &str,
+    ) -> Result<String, ExportError> {
+        match self {
+            Language::C => fixed_c_header(constants, name, description),
+            Language::Rust => fixed_rust(constants, name, description),
+        }
+    }
+
+    /// A stored calibration and its harmonics in this language (`calibration_c_header` or
+    /// `calibration_rust`).
+    pub fn calibration(
+        self,
+        sensor: &SensorCalibration<f64>,
+        correction: &AngleCorrection<f64>,
+        float: FloatType,
+        name: &str,
+    ) -> Result<String, ExportError> {
+        match self {
+            Language::C => calibration_c_header(sensor, correction, float, name),
+            Language::Rust => calibration_rust(sensor, correction, float, name),
+        }
+    }
 }
 
 /// Why a tracker file's firmware constants could not be written: a setting of the file no
@@ -68,18 +123,11 @@ where
     Ok(match (t.number_type, language) {
         (NumberType::Fixed, language) => {
             let constants = FixedDesignConstants::of(&FixedGains::<N>::new(gains, period)?);
-            match language {
-                Language::C => fixed_c_header(&constants, name, description),
-                Language::Rust => fixed_rust(&constants, name, description),
-            }
+            language.fixed(&constants, name, description)
         }
         (number_type, language) => {
             let gains = Gains::<f64, N>::new(gains, period)?;
-            let float = float_type(number_type);
-            match language {
-                Language::C => gains_c_header(&gains, float, name, description),
-                Language::Rust => gains_rust(&gains, float, name, description),
-            }
+            language.gains(&gains, float_type(number_type), name, description)
         }
     })
 }
@@ -195,10 +243,7 @@ impl TrackerFile {
             };
             let float = float_type(self.number_type);
             text.push('\n');
-            text.push_str(&match language {
-                Language::C => calibration_c_header(sensor, &correction, float, name)?,
-                Language::Rust => calibration_rust(sensor, &correction, float, name)?,
-            });
+            text.push_str(&language.calibration(sensor, &correction, float, name)?);
         }
         Ok(text)
     }

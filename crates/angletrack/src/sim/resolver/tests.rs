@@ -102,7 +102,14 @@ fn refuses_bad_models_by_name() {
             carrier_hz: -1.0,
             ..d
         }),
-        Argument::Frequency
+        Argument::CarrierFrequency
+    );
+    assert_eq!(
+        refused(ResolverModel {
+            excitation_amplitude_counts: f64::NAN,
+            ..d
+        }),
+        Argument::ExcitationAmplitude
     );
     assert_eq!(
         refused(ResolverModel { adc_bits: 30, ..d }),

@@ -78,7 +78,9 @@ impl PyCaptureCalibrator {
     /// The first pass: a chunk of raw samples (float64).
     fn add_geometry(&mut self, y_c: &Bound<'_, PyAny>, y_s: &Bound<'_, PyAny>) -> Result<()> {
         let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
-        self.inner()?.add_geometry(c.as_slice(), s.as_slice());
+        let (c, s) = (c.as_slice(), s.as_slice());
+        let inner = self.inner()?;
+        y_c.py().detach(|| inner.add_geometry(c, s));
         Ok(())
     }
 
@@ -108,7 +110,9 @@ impl PyCaptureCalibrator {
         if let Some(r) = reference {
             check_equal_lengths(("y_c", c.as_slice().len()), ("reference", r.len()))?;
         }
-        self.inner()?.add_fit(c.as_slice(), s.as_slice(), reference);
+        let (c, s) = (c.as_slice(), s.as_slice());
+        let inner = self.inner()?;
+        y_c.py().detach(|| inner.add_fit(c, s, reference));
         Ok(())
     }
 

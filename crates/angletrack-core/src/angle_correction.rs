@@ -56,7 +56,7 @@ impl<T: Float> AngleCorrection<T> {
     /// b_k sin(k theta)`.
     ///
     /// Refuses non-finite coefficients and a total `sum_k |a_k| + |b_k|` beyond
-    /// [`AngleCorrection::max_total_rad`] ([`Parameter::AngleCorrection`]).
+    /// [`AngleCorrection::max_total_rad`] ([`Parameter::AngleCorrection`](crate::Parameter::AngleCorrection)).
     ///
     /// ```
     /// use angletrack_core::{AngleCorrection, Parameter};

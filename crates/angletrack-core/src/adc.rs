@@ -5,6 +5,7 @@
 
 use crate::error::{ConfigError, Parameter};
 use crate::real::Float;
+use crate::real::check_positive;
 
 /// The largest mid-scale (in counts, either sign) an [`AdcScaling`] accepts: `2^30`, so that
 /// a sample minus the mid-scale never overflows (see [`AdcSample`]).
@@ -122,7 +123,18 @@ impl<T: Float> AdcScaling<T> {
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
     pub fn new(mid_scale_counts: i32, counts_per_unit: T) -> Result<Self, ConfigError> {
-        T::new_adc_scaling(mid_scale_counts, counts_per_unit)
+        if mid_scale_counts.unsigned_abs() > MAX_MID_SCALE_COUNTS as u32 {
+            return Err(ConfigError::OutOfRange(Parameter::MidScaleCounts));
+        }
+        let counts = check_positive(counts_per_unit, Parameter::CountsPerUnit)?;
+        let units_per_count = T::ONE / counts;
+        if !(units_per_count.is_finite() && units_per_count > T::ZERO) {
+            return Err(ConfigError::OutOfRange(Parameter::CountsPerUnit));
+        }
+        Ok(Self {
+            mid_scale_counts,
+            units_per_count,
+        })
     }
 
     /// An unsigned (offset binary) ADC of `bits` bits (2 to 31): mid-scale `2^(bits-1)`,

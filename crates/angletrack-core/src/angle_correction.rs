@@ -20,7 +20,7 @@
 //! multiply-adds; the rotation, with `sin d = d - d^3/6` and `cos d = 1 - d^2/2`
 //! (within `|d|^4/24` for `|d|` up to [`AngleCorrection::max_total_rad`]), a few more.
 
-use crate::error::ConfigError;
+use crate::error::{ConfigError, Parameter};
 use crate::real::Float;
 
 /// [`AngleCorrection::max_total_rad`] (rad).
@@ -79,7 +79,26 @@ impl<T: Float> AngleCorrection<T> {
         cos_coefficients: [T; MAX_CORRECTION_ORDER],
         sin_coefficients: [T; MAX_CORRECTION_ORDER],
     ) -> Result<Self, ConfigError> {
-        T::new_angle_correction(cos_coefficients, sin_coefficients)
+        let mut total = T::ZERO;
+        let mut order = 0;
+        for k in 0..MAX_CORRECTION_ORDER {
+            let (a, b) = (cos_coefficients[k], sin_coefficients[k]);
+            if !(a.is_finite() && b.is_finite()) {
+                return Err(ConfigError::NotFinite(Parameter::AngleCorrection));
+            }
+            total += a.abs() + b.abs();
+            if a != T::ZERO || b != T::ZERO {
+                order = k + 1;
+            }
+        }
+        if !(total <= Self::max_total_rad()) {
+            return Err(ConfigError::OutOfRange(Parameter::AngleCorrection));
+        }
+        Ok(Self {
+            cos_coefficients,
+            sin_coefficients,
+            order,
+        })
     }
 }
 
@@ -157,7 +176,6 @@ pub(crate) fn rotate_by<T: Float>(d: T, y_c: T, y_s: T) -> (T, T) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::error::Parameter;
 
     #[test]
     fn recurrence_matches_direct_sum_to_the_highest_order() {

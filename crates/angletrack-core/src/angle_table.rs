@@ -53,7 +53,35 @@ impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
     pub fn new(errors: [T; L]) -> Result<Self, ConfigError> {
-        T::new_angle_table(errors)
+        let () = Self::LENGTH_IS_A_POWER_OF_TWO;
+        for d in errors {
+            if !d.is_finite() {
+                return Err(ConfigError::NotFinite(Parameter::AngleCorrection));
+            }
+            if !(d.abs() <= AngleCorrection::<T>::max_total_rad()) {
+                return Err(ConfigError::OutOfRange(Parameter::AngleCorrection));
+            }
+        }
+        Ok(Self::of_errors(&errors))
+    }
+
+    /// The table of checked `errors`.
+    fn of_errors(errors: &[T; L]) -> Self {
+        let mut table = Self {
+            segments: [[T::ZERO; 2]; L],
+        };
+        for (segment, &d) in table.segments.iter_mut().zip(errors) {
+            segment[0] = tangent(d);
+        }
+        table.set_steps();
+        table
+    }
+
+    /// Each entry's step to the next (periodic), from the entries.
+    fn set_steps(&mut self) {
+        for k in 0..L {
+            self.segments[k][1] = self.segments[(k + 1) % L][0] - self.segments[k][0];
+        }
     }
 
     /// The table of a harmonic correction: its error at each of the `L` angles.
@@ -79,9 +107,9 @@ impl<T: Float, const L: usize> AngleCorrectionTable<T, L> {
             segments: [[T::ZERO; 2]; L],
         };
         for (k, segment) in table.segments.iter_mut().enumerate() {
-            segment[0] = harmonics.error_at(Self::angle_of(k));
+            segment[0] = tangent(harmonics.error_at(Self::angle_of(k)));
         }
-        T::table_of_errors(&mut table.segments);
+        table.set_steps();
         table
     }
 
@@ -255,9 +283,7 @@ impl<const L: usize> FixedAngleCorrectionTable<L> {
     /// ```
     pub fn from_harmonics(harmonics: &AngleCorrection<f64>) -> Self {
         Self::of_tangents(|k| {
-            crate::const_config::stages::for_f64::tangent(
-                harmonics.error_at(AngleCorrectionTable::<f64, L>::angle_of(k)),
-            )
+            tangent(harmonics.error_at(AngleCorrectionTable::<f64, L>::angle_of(k)))
         })
     }
 
@@ -352,6 +378,26 @@ const fn round_q30_to_q15(v: i64) -> i16 {
         -((-v + half) >> 15)
     };
     rounded as i16
+}
+
+/// `tan d` in floats for `|d| <= 0.25` rad (a table's errors, at construction only): its
+/// series to `d^11` (the next term is below 6e-11 rad there), in the table's own float (no
+/// `f64` routine in an `f32` firmware).
+fn tangent<T: Float>(d: T) -> T {
+    let d2 = d * d;
+    let coefficients = [
+        1.0 / 3.0,
+        2.0 / 15.0,
+        17.0 / 315.0,
+        62.0 / 2835.0,
+        1382.0 / 155_925.0,
+    ];
+    // Horner's rule in d^2: d (1 + d^2 (1/3 + d^2 (2/15 + ...))).
+    let mut sum = T::ZERO;
+    for &c in coefficients.iter().rev() {
+        sum = (sum + T::from_f64(c)) * d2;
+    }
+    d * (T::ONE + sum)
 }
 
 #[cfg(test)]

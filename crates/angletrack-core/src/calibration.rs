@@ -4,6 +4,7 @@
 
 use crate::error::{ConfigError, Parameter, const_try};
 use crate::real::Float;
+use crate::real::check_positive;
 use crate::real::saturate::{saturate_i16, saturated};
 
 /// The sensor model `y_c = o_c + A_c cos(theta)`, `y_s = o_s + A_s sin(theta + phi)`: the
@@ -69,11 +70,37 @@ impl<T: Float> SensorCalibration<T> {
         amplitude_s: T,
         quadrature_rad: T,
     ) -> Result<Self, ConfigError> {
-        T::new_sensor_calibration(
-            (offset_c, offset_s),
-            (amplitude_c, amplitude_s),
+        for (value, parameter) in [
+            (offset_c, Parameter::OffsetCos),
+            (offset_s, Parameter::OffsetSin),
+            (quadrature_rad, Parameter::Quadrature),
+        ] {
+            if !value.is_finite() {
+                return Err(ConfigError::NotFinite(parameter));
+            }
+        }
+        let amplitude_c = check_positive(amplitude_c, Parameter::AmplitudeCos)?;
+        let amplitude_s = check_positive(amplitude_s, Parameter::AmplitudeSin)?;
+        if !(quadrature_rad.abs() < Self::max_quadrature_rad()) {
+            return Err(ConfigError::OutOfRange(Parameter::Quadrature));
+        }
+        // The fast sin/cos polynomials (`docs/theory.md §11`, within 3e-7 in `f32`; `libm`'s
+        // would compute in `f64`, which the `f32` path avoids), by Horner's rule: the same
+        // operations as the `const` constructor's, so that both give the same calibration.
+        let (sin, cos) = quadrature_sin_cos(quadrature_rad);
+        let sine_gain = amplitude_c / (amplitude_s * cos);
+        if !(sine_gain.is_finite() && sine_gain > T::ZERO) {
+            return Err(ConfigError::OutOfRange(Parameter::AmplitudeSin));
+        }
+        Ok(Self {
+            offset_c,
+            offset_s,
+            amplitude_c,
+            amplitude_s,
             quadrature_rad,
-        )
+            sine_gain,
+            cross_gain: sin / cos,
+        })
     }
 
     /// No correction: offsets 0, amplitudes 1, quadrature 0.
@@ -296,4 +323,14 @@ const fn attempt_i16(v: f64, parameter: Parameter) -> Result<i16, ConfigError> {
         return Err(ConfigError::OutOfRange(parameter));
     }
     Ok(rounded as i16)
+}
+
+/// `(sin x, cos x)` for `|x| <= pi/2` by the fast sin/cos polynomials (`T::SIN_POLY`,
+/// `T::COS_POLY`) and Horner's rule, in the order of `const_config::stages`' `sin_cos`.
+fn quadrature_sin_cos<T: Float>(x: T) -> (T, T) {
+    let w = T::FRAC_PI_2 - x.abs();
+    let w2 = w * w;
+    let horner = |c: &[T]| c.iter().rev().fold(T::ZERO, |sum, &k| sum * w2 + k);
+    let q = horner(T::COS_POLY);
+    (if x < T::ZERO { -q } else { q }, w * horner(T::SIN_POLY))
 }

@@ -6,7 +6,7 @@
 //! one), so every check is a `const fn` on each concrete float type, defined once by a
 //! macro next to its mathematics (`stability`, `monitor`, `calibration_settings`, `error`);
 //! the `const` constructors call them directly and the generic ones through [`ConstChecks`],
-//! a supertrait of [`Float`] (and `stages.rs` for the stages and the tracker's front end). One implementation thus serves both, and an `f32` configuration
+//! a supertrait of [`Real`]. One implementation thus serves both, and an `f32` configuration
 //! is checked in `f32` arithmetic only, at compile time or at run time.
 
 use core::marker::PhantomData;
@@ -18,13 +18,15 @@ use crate::monitor::{CheckedThresholds, FaultThresholds};
 use crate::real::Float;
 
 /// A float type the observers run on and whose configurations are checked: `f32`
-/// (firmware) or `f64` (host). Sealed: only those two implement it. It is [`Float`], whose
-/// sealed supertraits hold the `const` checks of the configurations (`ConstChecks` here,
-/// `ConstStages` in `stages.rs`), so that a generic constructor ([`Gains::new`],
-/// [`FaultThresholds::for_amplitude`], ...) and its `const` twin run one check.
-pub trait Real: Float {}
+/// (firmware) or `f64` (host). Sealed: only those two implement it.
+///
+/// It is [`Float`] (the arithmetic, which the per-sample code needs) with the `const`
+/// checks of the configurations (a sealed trait, not nameable outside the crate), which
+/// the checked constructors ([`Gains::new`], [`FaultThresholds::for_amplitude`], ...) need.
+/// Code generic over the float type bounds it by `Real`.
+pub trait Real: Float + ConstChecks {}
 
-impl<T: Float> Real for T {}
+impl<T: Float + ConstChecks> Real for T {}
 
 mod sealed {
     /// The checks of [`ConstChecks`](super::ConstChecks), per float type: not nameable
@@ -336,8 +338,6 @@ mod for_f64 {
 
 mod checked;
 pub(crate) mod stages;
-
-pub(crate) use stages::ConstStages;
 
 #[cfg(test)]
 mod tests;

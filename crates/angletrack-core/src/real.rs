@@ -44,8 +44,6 @@ pub trait Float:
     + AddAssign
     + SubAssign
     + MulAssign
-    + crate::const_config::ConstChecks
-    + crate::const_config::ConstStages
 {
     /// 0.
     const ZERO: Self;

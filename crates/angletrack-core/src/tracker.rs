@@ -186,7 +186,24 @@ impl<V: TrackerNumber> TrackerFrontEnd<V> {
     ///
     /// [`Parameter::AdcRange`]: crate::Parameter::AdcRange
     pub fn new(settings: TrackerSettings<V>) -> Result<Self, ConfigError> {
-        V::new_front_end(settings)
+        let (adc, counts, rails) = match settings.input {
+            Input::Units { rails } => (V::unscaled_adc(), false, rails),
+            Input::Counts { adc, rails } => (adc, true, in_samples(&adc, rails)?),
+        };
+        let (range, measured) = match rails {
+            Rails::Unchecked => (None, false),
+            Rails::Measured => (None, true),
+            Rails::Stated { min, max } => (Some((min, max)), false),
+        };
+        Ok(Self {
+            adc,
+            counts,
+            check: FrontEndCheck::around((), range)?,
+            rails: measured.then_some(HeldRailCheck::new()),
+            winding: settings.winding,
+            calibration: settings.calibration,
+            correction: settings.correction,
+        })
     }
 
     /// The same front end with clipping looked for at `rails`, in ADC codes (for a chain

@@ -9,7 +9,7 @@ use crate::adc::AdcCounts;
 use crate::error::{ConfigError, Parameter};
 use crate::faults::Faults;
 use crate::front_end_faults::FrontEndFaults;
-use crate::real::{ChainNumber, Float};
+use crate::real::{ChainNumber, Float, check_positive};
 
 /// The mutable state of a [`FrontEndCheck`] or a [`WindingCheck`]: the front-end faults of
 /// the last sample, whether it was a measurement, and the faults latched since the last
@@ -307,7 +307,9 @@ impl<T: Float> WindingCheck<T> {
     /// samples' units: 1 for a demodulator's pairs), finite and positive
     /// ([`Parameter::NominalAmplitude`]).
     pub fn new(amplitude: T) -> Result<Self, ConfigError> {
-        T::new_winding_check(amplitude)
+        Ok(Self {
+            amplitude: check_positive(amplitude, Parameter::NominalAmplitude)?,
+        })
     }
 
     /// The nominal amplitude.

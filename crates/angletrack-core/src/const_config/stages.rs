@@ -1,10 +1,10 @@
 //! The `const` constructors of the standard chain's stages and of its front end
 //! ([`TrackerFrontEnd`]) on `f32` and `f64`, so that a firmware's whole tracker is a
-//! `static` checked when it compiles. Each check is written once, here, per float type by
-//! the macro below; the generic constructors (`AdcScaling::new`, `SensorCalibration::new`,
-//! `AngleCorrection::new`, `AngleCorrectionTable::new`, `WindingCheck::new`,
-//! `TrackerFrontEnd::new`) reach the same `const fn`s through [`ConstStages`], as the gains'
-//! reach theirs through `ConstChecks`.
+//! `static` checked when it compiles. Constant evaluation cannot call the float trait's
+//! methods, so each check is a `const fn` per float type (one macro); the run-time
+//! constructors (`AdcScaling::new`, `SensorCalibration::new`, ...) stay generic in the
+//! layers below, doing the same operations in the same order, and the tests hold both to
+//! the same bits (`tests.rs`). Above them here, the module imports them without a cycle.
 
 use crate::adc::AdcScaling;
 use crate::angle_correction::{AngleCorrection, MAX_CORRECTION_ORDER};
@@ -15,48 +15,8 @@ use crate::chain::{OnlineCalibration, WindingCheck};
 use crate::error::{ConfigError, Parameter};
 use crate::tracker::{Input, Rails, TrackerFrontEnd, TrackerSettings};
 
-mod sealed {
-    /// The stages' checks per float type (see the module): not nameable outside the
-    /// crate.
-    pub trait ConstStages: Sized {
-        /// [`AdcScaling::new`](crate::AdcScaling::new).
-        fn new_adc_scaling(
-            mid_scale_counts: i32,
-            counts_per_unit: Self,
-        ) -> Result<crate::AdcScaling<Self>, crate::ConfigError>;
-        /// [`SensorCalibration::new`](crate::SensorCalibration::new).
-        fn new_sensor_calibration(
-            offsets: (Self, Self),
-            amplitudes: (Self, Self),
-            quadrature_rad: Self,
-        ) -> Result<crate::SensorCalibration<Self>, crate::ConfigError>;
-        /// [`AngleCorrection::new`](crate::AngleCorrection::new).
-        fn new_angle_correction(
-            cos_coefficients: [Self; crate::MAX_CORRECTION_ORDER],
-            sin_coefficients: [Self; crate::MAX_CORRECTION_ORDER],
-        ) -> Result<crate::AngleCorrection<Self>, crate::ConfigError>;
-        /// [`AngleCorrectionTable::new`](crate::AngleCorrectionTable::new).
-        fn new_angle_table<const L: usize>(
-            errors: [Self; L],
-        ) -> Result<crate::AngleCorrectionTable<Self, L>, crate::ConfigError>;
-        /// A table's entries `[error, _]` made `[tan error, step to the next]`.
-        fn table_of_errors<const L: usize>(segments: &mut [[Self; 2]; L]);
-        /// [`WindingCheck::new`](crate::WindingCheck::new).
-        fn new_winding_check(
-            amplitude: Self,
-        ) -> Result<crate::WindingCheck<Self>, crate::ConfigError>;
-        /// [`TrackerFrontEnd::new`](crate::TrackerFrontEnd::new).
-        fn new_tracker_front_end(
-            settings: crate::TrackerSettings<Self>,
-        ) -> Result<crate::TrackerFrontEnd<Self>, crate::ConfigError>
-        where
-            Self: crate::TrackerNumber;
-    }
-}
-pub(crate) use sealed::ConstStages;
-
-/// The `const` constructors and the [`ConstStages`] implementation for the float type
-/// `$t`, whose fast sin/cos polynomials are `$sin` and `$cos` (`real::sincos`).
+/// The `const` constructors for the float type `$t`, whose fast sin/cos polynomials are
+/// `$sin` and `$cos` (`real::sincos`).
 macro_rules! const_stages {
     ($t:ident, $m:ident, $sin:path, $cos:path) => {
         use super::*;
@@ -87,15 +47,22 @@ macro_rules! const_stages {
         /// term is below 6e-11 rad there), by Horner's rule in `d^2`, in the table's own
         /// float (no `f64` routine in an `f32` firmware).
         pub(crate) const fn tangent(d: $t) -> $t {
-            const SERIES: [$t; 6] = [
-                1.0,
-                (1.0 / 3.0) as $t,
-                (2.0 / 15.0) as $t,
-                (17.0 / 315.0) as $t,
-                (62.0 / 2835.0) as $t,
-                (1382.0 / 155_925.0) as $t,
+            // The operations of `angle_table::tangent`, in its order.
+            const SERIES: [f64; 5] = [
+                1.0 / 3.0,
+                2.0 / 15.0,
+                17.0 / 315.0,
+                62.0 / 2835.0,
+                1382.0 / 155_925.0,
             ];
-            d * polynomial(d * d, &SERIES)
+            let d2 = d * d;
+            let mut sum: $t = 0.0;
+            let mut k = SERIES.len();
+            while k > 0 {
+                k -= 1;
+                sum = (sum + SERIES[k] as $t) * d2;
+            }
+            d * (1.0 + sum)
         }
 
         /// A table's entries `[error, _]` made `[tan error, step to the next]` (periodic).
@@ -389,57 +356,6 @@ macro_rules! const_stages {
                     return Err(ConfigError::OutOfRange(Parameter::AdcRange));
                 }
                 Ok(Self::of_checked(adc, counts, rails, settings))
-            }
-        }
-
-        impl ConstStages for $t {
-            #[inline]
-            fn new_adc_scaling(
-                mid_scale_counts: i32,
-                counts_per_unit: $t,
-            ) -> Result<AdcScaling<$t>, ConfigError> {
-                AdcScaling::<$t>::new_const(mid_scale_counts, counts_per_unit)
-            }
-            #[inline]
-            fn new_sensor_calibration(
-                (offset_c, offset_s): ($t, $t),
-                (amplitude_c, amplitude_s): ($t, $t),
-                quadrature_rad: $t,
-            ) -> Result<SensorCalibration<$t>, ConfigError> {
-                SensorCalibration::<$t>::new_const(
-                    offset_c,
-                    offset_s,
-                    amplitude_c,
-                    amplitude_s,
-                    quadrature_rad,
-                )
-            }
-            #[inline]
-            fn new_angle_correction(
-                cos_coefficients: [$t; MAX_CORRECTION_ORDER],
-                sin_coefficients: [$t; MAX_CORRECTION_ORDER],
-            ) -> Result<AngleCorrection<$t>, ConfigError> {
-                AngleCorrection::<$t>::new_const(cos_coefficients, sin_coefficients)
-            }
-            #[inline]
-            fn new_angle_table<const L: usize>(
-                errors: [$t; L],
-            ) -> Result<AngleCorrectionTable<$t, L>, ConfigError> {
-                AngleCorrectionTable::<$t, L>::new_const(errors)
-            }
-            #[inline]
-            fn table_of_errors<const L: usize>(segments: &mut [[$t; 2]; L]) {
-                table_of_errors(segments)
-            }
-            #[inline]
-            fn new_winding_check(amplitude: $t) -> Result<WindingCheck<$t>, ConfigError> {
-                WindingCheck::<$t>::new_const(amplitude)
-            }
-            #[inline]
-            fn new_tracker_front_end(
-                settings: TrackerSettings<$t>,
-            ) -> Result<TrackerFrontEnd<$t>, ConfigError> {
-                TrackerFrontEnd::<$t>::new_const(settings)
             }
         }
     };

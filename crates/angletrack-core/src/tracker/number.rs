@@ -86,10 +86,8 @@ pub trait TrackerNumber:
     /// for `i16`.
     type Correction: Stage<Self, (Self, Self), State = ()> + Copy + Debug + PartialEq + Default;
 
-    /// [`TrackerFrontEnd::new`](crate::TrackerFrontEnd::new): the type's `new_const`.
-    fn new_front_end(
-        settings: crate::TrackerSettings<Self>,
-    ) -> Result<crate::TrackerFrontEnd<Self>, ConfigError>;
+    /// The ADC that passes counts through as they are (mid-scale 0, one count per unit).
+    fn unscaled_adc() -> Self::Adc;
 
     /// One pair of raw counts through `adc`.
     fn scale<I: AdcSample>(adc: &Self::Adc, raw_c: I, raw_s: I) -> (Self, Self);
@@ -112,10 +110,8 @@ impl<T: Float> TrackerNumber for T {
     type Calibrator = Calibrator<T>;
     type Correction = CorrectionStage<T>;
 
-    fn new_front_end(
-        settings: crate::TrackerSettings<T>,
-    ) -> Result<crate::TrackerFrontEnd<T>, ConfigError> {
-        T::new_tracker_front_end(settings)
+    fn unscaled_adc() -> AdcScaling<T> {
+        AdcScaling::UNSCALED
     }
 
     #[inline(always)]
@@ -144,10 +140,8 @@ impl TrackerNumber for i16 {
     type Calibrator = ();
     type Correction = FixedCorrectionStage;
 
-    fn new_front_end(
-        settings: crate::TrackerSettings<i16>,
-    ) -> Result<crate::TrackerFrontEnd<i16>, ConfigError> {
-        crate::TrackerFrontEnd::<i16>::new_const(settings)
+    fn unscaled_adc() -> AdcCounts {
+        AdcCounts::UNSCALED
     }
 
     #[inline(always)]

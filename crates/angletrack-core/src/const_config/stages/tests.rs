@@ -130,7 +130,7 @@ macro_rules! float_combinations {
                 INPUTS.len() * WINDINGS.len() * CALIBRATIONS.len() * CORRECTIONS.len();
 
             /// The settings of combination `n`.
-            const fn settings(n: usize) -> TrackerSettings<T> {
+            pub(super) const fn settings(n: usize) -> TrackerSettings<T> {
                 let (input, winding) = (n % INPUTS.len(), n / INPUTS.len() % WINDINGS.len());
                 let rest = n / (INPUTS.len() * WINDINGS.len());
                 TrackerSettings {
@@ -312,7 +312,7 @@ mod fixed {
         acceleration_shift: 3,
     };
 
-    const fn settings(n: usize) -> TrackerSettings<i16> {
+    pub(super) const fn settings(n: usize) -> TrackerSettings<i16> {
         let rest = n / INPUTS.len();
         TrackerSettings {
             input: INPUTS[n % INPUTS.len()].0,
@@ -382,6 +382,121 @@ mod fixed {
                 }
             }
             assert!(worst < 1.5e-3, "combination {n} ({s:?}): {worst} rad");
+        }
+    }
+}
+
+/// The `const` constructors and the run-time ones (generic, in the layers below) are two
+/// bodies of the same operations: they must give the same bits, for every float type.
+macro_rules! same_bits {
+    ($t:ident, $test:ident) => {
+        #[test]
+        fn $test() {
+            type T = $t;
+            for k in -40_i32..=40 {
+                let phi = k as T * 0.019; // beyond pi/4 at the ends: refused by both
+                let offset = k as T * 0.013;
+                assert_eq!(
+                    SensorCalibration::<T>::new_const(offset, -offset, 1.0, 1.0 + phi.abs(), phi),
+                    SensorCalibration::<T>::new(offset, -offset, 1.0, 1.0 + phi.abs(), phi),
+                    "phi {phi}"
+                );
+                let errors: [T; 16] = core::array::from_fn(|j| (j as T - 7.5) * k as T * 4e-4);
+                assert_eq!(
+                    AngleCorrectionTable::<T, 16>::new_const(errors),
+                    AngleCorrectionTable::<T, 16>::new(errors),
+                    "k {k}"
+                );
+                let mut a = [0.0; 8];
+                a[(k.unsigned_abs() % 8) as usize] = k as T * 7e-3;
+                assert_eq!(
+                    AngleCorrection::<T>::new_const(a, a),
+                    AngleCorrection::<T>::new(a, a)
+                );
+                assert_eq!(
+                    WindingCheck::<T>::new_const(k as T),
+                    WindingCheck::<T>::new(k as T)
+                );
+                let counts = 1.0 + (k + 40) as T * 37.5;
+                assert_eq!(
+                    AdcScaling::<T>::new_const(k * 97, counts),
+                    AdcScaling::<T>::new(k * 97, counts)
+                );
+            }
+            for bits in 0..34 {
+                assert_eq!(
+                    AdcScaling::<T>::offset_binary_const(bits),
+                    AdcScaling::<T>::offset_binary(bits)
+                );
+                assert_eq!(
+                    AdcScaling::<T>::twos_complement_const(bits),
+                    AdcScaling::<T>::twos_complement(bits)
+                );
+            }
+            for n in 0..108 {
+                let s = $t::settings(n);
+                assert_eq!(
+                    TrackerFrontEnd::<T>::new_const(s),
+                    TrackerFrontEnd::<T>::new(s),
+                    "{n}"
+                );
+                let counts = TrackerSettings::<T> {
+                    input: Input::Counts {
+                        adc: AdcScaling::<T>::offset_binary(12).unwrap(),
+                        rails: Rails::Stated {
+                            min: n as i32 * 40,
+                            max: 4095 - n as i32 * 40,
+                        },
+                    },
+                    ..s
+                };
+                assert_eq!(
+                    TrackerFrontEnd::<T>::new_const(counts),
+                    TrackerFrontEnd::<T>::new(counts),
+                    "{n}"
+                );
+            }
+        }
+    };
+}
+
+same_bits!(
+    f32,
+    the_f32_const_and_run_time_constructors_give_the_same_bits
+);
+same_bits!(
+    f64,
+    the_f64_const_and_run_time_constructors_give_the_same_bits
+);
+
+#[test]
+fn the_fixed_point_const_and_run_time_front_ends_are_the_same() {
+    for n in 0..20 {
+        let s = fixed::settings(n);
+        assert_eq!(
+            TrackerFrontEnd::<i16>::new_const(s),
+            TrackerFrontEnd::<i16>::new(s),
+            "{n}"
+        );
+        for (min, max) in [
+            (0, 4095),
+            (4095, 0),
+            (-70_000, 70_000),
+            (2048, 2049),
+            (5, 5),
+        ] {
+            let counts = TrackerSettings::<i16> {
+                input: Input::Counts {
+                    adc: AdcCounts::offset_binary(12).unwrap(),
+                    rails: Rails::Stated { min, max },
+                },
+                ..s
+            };
+            assert_eq!(
+                TrackerFrontEnd::<i16>::new_const(counts),
+                TrackerFrontEnd::<i16>::new(counts),
+                "{n} {min} {max}"
+            );
         }
     }
 }

@@ -142,16 +142,7 @@ impl TrackerFile {
             ..TrackerSettings::default()
         })
         .map_err(|e| refuse(file, "adc_range", e.to_string()))?;
-        let input_text = match input {
-            Some(adc) => format!(
-                "Input::Counts {{ adc: ok({adc}), rails: {} }}",
-                rails_text(rails.0, |v| v.to_string())
-            ),
-            None => format!(
-                "Input::Units {{ rails: {} }}",
-                rails_text(rails.1, |v| lit(v, "adc_range").unwrap_or_default())
-            ),
-        };
+        let input_text = input_text(input, rails.0, rails.1, |v| lit(v, "adc_range"))?;
         let gains = self
             .gains
             .gains
@@ -383,16 +374,9 @@ impl TrackerFile {
             ..TrackerSettings::default()
         })
         .map_err(|e| refuse(file, "adc_range", e.to_string()))?;
-        let input_text = match input {
-            Some(adc) => format!(
-                "Input::Counts {{ adc: ok({adc}), rails: {} }}",
-                rails_text(rails.0, |v| v.to_string())
-            ),
-            None => format!(
-                "Input::Units {{ rails: {} }}",
-                rails_text(units_rails, |v| v.to_string())
-            ),
-        };
+        let input_text = input_text(input, rails.0, units_rails, |v| {
+            Ok::<_, FirmwareError>(v.to_string())
+        })?;
         let calibration = match &self.calibration {
             Calibration::None => "None".to_string(),
             Calibration::Stored(s) => {
@@ -532,17 +516,37 @@ where
     Ok((constants.multiplier.to_vec(), constants.acceleration_shift))
 }
 
-/// `rails` as Rust, its values by `value`.
-fn rails_text<X: Copy>(rails: Rails<X>, value: impl Fn(X) -> String) -> String {
-    match rails {
+/// The input as Rust: counts through `adc` (its constructor) checked at the rails in
+/// `codes`, or samples in units checked at `units`, each value written by `value`.
+fn input_text<X: Copy, E>(
+    adc: Option<String>,
+    codes: Rails<i32>,
+    units: Rails<X>,
+    value: impl Fn(X) -> Result<String, E>,
+) -> Result<String, E> {
+    Ok(match adc {
+        Some(adc) => format!(
+            "Input::Counts {{ adc: ok({adc}), rails: {} }}",
+            rails_text(codes, |v| Ok::<_, E>(v.to_string()))?
+        ),
+        None => format!("Input::Units {{ rails: {} }}", rails_text(units, value)?),
+    })
+}
+
+/// `rails` as Rust, its values by `value` (its refusal passed on).
+fn rails_text<X: Copy, E>(
+    rails: Rails<X>,
+    value: impl Fn(X) -> Result<String, E>,
+) -> Result<String, E> {
+    Ok(match rails {
         Rails::Unchecked => "Rails::Unchecked".to_string(),
         Rails::Measured => "Rails::Measured".to_string(),
         Rails::Stated { min, max } => format!(
             "Rails::Stated {{ min: {}, max: {} }}",
-            value(min),
-            value(max)
+            value(min)?,
+            value(max)?
         ),
-    }
+    })
 }
 
 /// A stored calibration's `const` constructor in `t`.

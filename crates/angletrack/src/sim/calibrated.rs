@@ -77,17 +77,24 @@ pub fn run_calibrated<T: Real, const N: usize, S: SinCos<T>>(
 /// assert_eq!(angletrack::nominal_amplitude(&[0.0_f32; 8], &[0.0; 8]), None);
 /// ```
 pub fn nominal_amplitude<T: Real>(y_c: &[T], y_s: &[T]) -> Option<f64> {
-    let pairs = first_pairs(y_c, y_s);
+    amplitudes(&first_pairs(y_c, y_s)).0
+}
+
+/// The nominal amplitude of `pairs` (see [`nominal_amplitude`]) and the median of their
+/// magnitudes around zero, each `None` without pairs.
+fn amplitudes(pairs: &[(f64, f64)]) -> (Option<f64>, Option<f64>) {
     let around = |(c_c, c_s): (f64, f64)| -> Vec<f64> {
-        pairs
+        let mut magnitudes: Vec<f64> = pairs
             .iter()
             .map(|(c, s)| (c - c_c).hypot(s - c_s))
-            .collect()
+            .collect();
+        magnitudes.sort_unstable_by(f64::total_cmp);
+        magnitudes
     };
-    let ring = lissajous_centre(&pairs)
-        .map(around)
-        .filter(|m| is_ring(m.clone()));
-    median(ring.unwrap_or_else(|| around((0.0, 0.0)))).filter(|&m| m > 0.0)
+    let raw = around((0.0, 0.0));
+    let ring = lissajous_centre(pairs).map(around).filter(|m| is_ring(m));
+    let nominal = median(ring.as_deref().unwrap_or(&raw)).filter(|&m| m > 0.0);
+    (nominal, median(&raw))
 }
 
 /// The first [`NOMINAL_AMPLITUDE_SAMPLES`] pairs whose samples are both finite.
@@ -100,16 +107,15 @@ fn first_pairs<T: Real>(y_c: &[T], y_s: &[T]) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// Whether magnitudes around a centre are a ring's (the 10th to 90th percentiles within
+/// Whether magnitudes around a centre (sorted) are a ring's (the 10th to 90th percentiles within
 /// half the median: imbalance and noise of a sensor), not a blob's (noise at a standstill,
 /// whose 10th to 90th percentiles span 1.4 times the median).
-fn is_ring(mut magnitudes: Vec<f64>) -> bool {
-    magnitudes.sort_unstable_by(f64::total_cmp);
-    let last = magnitudes.len().saturating_sub(1);
+fn is_ring(sorted: &[f64]) -> bool {
+    let last = sorted.len().saturating_sub(1);
     match (
-        magnitudes.get(last / 10),
-        magnitudes.get(last / 2),
-        magnitudes.get(last - last / 10),
+        sorted.get(last / 10),
+        sorted.get(last / 2),
+        sorted.get(last - last / 10),
     ) {
         (Some(low), Some(middle), Some(high)) => high - low <= 0.5 * middle,
         _ => false,
@@ -138,14 +144,13 @@ fn lissajous_centre(pairs: &[(f64, f64)]) -> Option<(f64, f64)> {
         .then_some(centre)
 }
 
-/// The median of `values`, `None` if there are none.
-fn median(mut values: Vec<f64>) -> Option<f64> {
-    values.sort_unstable_by(f64::total_cmp);
-    let n = values.len();
+/// The median of `sorted` (sorted values), `None` if there are none.
+fn median(sorted: &[f64]) -> Option<f64> {
+    let n = sorted.len();
     match n {
         0 => None,
-        _ if n % 2 == 1 => Some(values[n / 2]),
-        _ => Some(0.5 * (values[n / 2 - 1] + values[n / 2])),
+        _ if n % 2 == 1 => Some(sorted[n / 2]),
+        _ => Some(0.5 * (sorted[n / 2 - 1] + sorted[n / 2])),
     }
 }
 
@@ -161,17 +166,13 @@ fn median(mut values: Vec<f64>) -> Option<f64> {
 /// assert_eq!((t.nominal_amplitude, t.loss_of_signal), (1800.0, 450.0));
 /// ```
 pub fn capture_fault_thresholds<T: Real>(y_c: &[T], y_s: &[T]) -> FaultThresholds<T> {
-    let Some(amplitude) = nominal_amplitude(y_c, y_s) else {
+    let (Some(amplitude), raw) = amplitudes(&first_pairs(y_c, y_s)) else {
         return FaultThresholds::default();
     };
     let mut thresholds = FaultThresholds::for_amplitude(T::from_f64(amplitude));
     // A biased signal's samples are no bad samples: the input bound covers the bias too
     // (until a calibration removes it, the observer sees it).
-    let magnitudes = first_pairs(y_c, y_s)
-        .iter()
-        .map(|(c, s)| c.hypot(*s))
-        .collect();
-    if let Some(raw) = median(magnitudes) {
+    if let Some(raw) = raw {
         let bound = T::from_f64(raw) * T::from_f32(4.0);
         if bound > thresholds.max_input_amplitude {
             thresholds.max_input_amplitude = bound;

@@ -6,7 +6,8 @@
 
 use angletrack::export::GainsFile;
 use angletrack::tracker_file::{
-    AdcRange, Calibration, Correction, Input, Language, NumberType, TrackerFile,
+    AdcRange, Calibration, CaptureHead, Correction, Input, Language, NumberType, TrackerFile,
+    TrackerRun,
 };
 use angletrack_core::{AngleCorrection, FaultThresholds, SensorCalibration, TrackerState};
 
@@ -116,4 +117,102 @@ fn the_exported_statics_track_the_sensor_the_file_describes() {
         worst_f32 < 1.5e-3 && worst_fixed < 1.5e-3,
         "{worst_f32} {worst_fixed}"
     );
+}
+
+/// The sensor's counts over `samples` samples: at rest for a while (a standstill is no
+/// clipping), then accelerating to 30 turns/s, with a clipped stretch (the amplitude raised
+/// beyond the 12-bit codes) and a dead sine channel near the end, so that the flags have
+/// something to say.
+fn capture(samples: usize) -> (Vec<f64>, Vec<f64>) {
+    let mut angle = 0.4;
+    let (mut y_c, mut y_s) = (Vec::new(), Vec::new());
+    for k in 0..samples {
+        let speed = if k < 1500 {
+            0.0
+        } else {
+            std::f64::consts::TAU * 30.0 * ((k - 1500) as f64 / 3000.0).min(1.0)
+        };
+        angle = wrap(angle + speed * SAMPLE_PERIOD_S);
+        let (mut c, mut s) = counts(angle + harmonics().error_at(angle));
+        if (6000..6300).contains(&k) {
+            (c, s) = (
+                (2048 + (c - 2048) * 5 / 4).clamp(0, 4095),
+                (2048 + (s - 2048) * 5 / 4).clamp(0, 4095),
+            );
+        }
+        if k >= 7500 {
+            s = 2048;
+        }
+        y_c.push(f64::from(c));
+        y_s.push(f64::from(s));
+    }
+    (y_c, y_s)
+}
+
+/// The same tracker file through the exported `static` (a firmware's Rust) and through
+/// [`TrackerRun`] (what `angletrack track --tracker` and Python's `Tracker` hold), the
+/// latter fed in uneven chunks: the same angles and flags, bit for bit, in `f32` and in
+/// fixed point (issue 35, item 5).
+#[test]
+fn the_exported_static_and_the_host_run_of_a_file_agree_bit_for_bit() {
+    let (y_c, y_s) = capture(9000);
+    let head = CaptureHead {
+        y_c: &y_c,
+        y_s: &y_s,
+        counts: None,
+    };
+    for number_type in [NumberType::F32, NumberType::Fixed] {
+        let mut run = TrackerRun::new(&tracker_file(number_type), "motor.json", &head).unwrap();
+        let mut rows = angletrack::tracker_file::TrackedRows::default();
+        let mut start = 0;
+        for (k, size) in [1, 999, 4096, 17, 5000].into_iter().cycle().enumerate() {
+            if start >= y_c.len() || k > 20 {
+                break;
+            }
+            let end = (start + size).min(y_c.len());
+            let part = run.track(&y_c[start..end], &y_s[start..end]);
+            rows.angle_rad.extend(part.angle_rad);
+            rows.faults.extend(part.faults);
+            rows.front_end_faults.extend(part.front_end_faults);
+            start = end;
+        }
+        assert_eq!(rows.angle_rad.len(), y_c.len());
+        let (mut state_f32, mut state_fixed) = (TrackerState::new(), TrackerState::new());
+        let mut flagged = 0;
+        for (k, (&c, &s)) in y_c.iter().zip(&y_s).enumerate() {
+            let sample = (c as i32, s as i32);
+            let (angle, faults, front_end) = match number_type {
+                NumberType::F32 => {
+                    let e = exported_f32::MOTOR_TRACKER.update(&mut state_f32, sample);
+                    (f64::from(e.angle), e.faults, state_f32.front_end.faults())
+                }
+                _ => {
+                    let e = exported_fixed::MOTOR_TRACKER.update(&mut state_fixed, sample);
+                    let position = exported_fixed::MOTOR_TRACKER.observer.position_rad(&e);
+                    (wrap(position), e.faults, state_fixed.front_end.faults())
+                }
+            };
+            assert_eq!(
+                rows.angle_rad[k].to_bits(),
+                angle.to_bits(),
+                "{number_type:?} {k}"
+            );
+            assert_eq!(
+                (rows.faults[k], rows.front_end_faults[k]),
+                (faults.bits(), front_end.bits()),
+                "{number_type:?} {k}"
+            );
+            flagged += usize::from(faults.bits() != 0 || front_end.bits() != 0);
+        }
+        // Not trivially equal: the clipping and the dead channel were flagged, the
+        // standstill was not.
+        assert!(
+            (300..9000 - 1500).contains(&flagged),
+            "{number_type:?}: {flagged}"
+        );
+        assert!(
+            rows.faults[..1500].iter().skip(100).all(|&f| f == 0),
+            "{number_type:?}"
+        );
+    }
 }

@@ -470,7 +470,11 @@ impl TrackerFile {
     }
 
     /// The rails in codes (counts) and in units, from the file's ADC range rule.
-    fn rails(&self, file: &str, counts: bool) -> Result<(Rails<i32>, Rails<f64>), FirmwareError> {
+    pub(super) fn rails(
+        &self,
+        file: &str,
+        counts: bool,
+    ) -> Result<(Rails<i32>, Rails<f64>), FirmwareError> {
         Ok(match (self.adc_range, self.input) {
             (AdcRange::Measured, _) => (Rails::Measured, Rails::Measured),
             (AdcRange::FullScale, Input::Bits { bits, signed }) => (

@@ -31,9 +31,11 @@
 mod firmware;
 mod firmware_rust;
 mod read;
+mod runner;
 mod write;
 
 pub use firmware::{FirmwareError, Language};
+pub use runner::{CaptureHead, TrackedRows, TrackerRun};
 
 #[cfg(test)]
 mod tests;

@@ -217,12 +217,16 @@ def _cmd_report(args: argparse.Namespace) -> int:
 def _cmd_export(args: argparse.Namespace) -> int:
     """write a tracker file's firmware constants (C header or Rust consts)
 
-    Writes the gains of TRACKER in its number type (float32, float64, or the fixed-point
-    constants) and its stored calibration with the angle error's harmonics, as `design` and
-    `calibrate` write them, in one C header or one block of Rust consts; the first comment
-    states the rest of the setup (input, ADC range, pole pairs) for the firmware's own
-    constructors. Settings no generator writes yet (fault thresholds, a winding check, an
-    online calibration, a correction table) are refused.
+    Rust: the whole setup of TRACKER as one `static` NAME_TRACKER (the core's Tracker),
+    built by its const constructors, so the compiler checks every value and nothing is
+    constructed at run time; counts need their amplitude stated (fault_thresholds), and what
+    a firmware measures at run time (a mid-scale left to the capture, an online
+    calibration's initial estimate) is refused. C: the gains in the number type (float32,
+    float64, or the fixed-point constants) and the stored calibration with the angle
+    error's harmonics, as `design` and `calibrate` write them, in one header; its first
+    comment states the rest of the setup (input, ADC range, pole pairs) for the C chain's
+    constructor. Settings the C header does not carry yet (fault thresholds, a winding
+    check, an online calibration, a correction table) are refused.
     """
     language = output_format(args.format, args.output, default="c")
     if language not in ("c", "rust"):

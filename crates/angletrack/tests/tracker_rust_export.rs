@@ -188,8 +188,11 @@ fn the_exported_static_and_the_host_run_of_a_file_agree_bit_for_bit() {
                 }
                 _ => {
                     let e = exported_fixed::MOTOR_TRACKER.update(&mut state_fixed, sample);
-                    let position = exported_fixed::MOTOR_TRACKER.observer.position_rad(&e);
-                    (wrap(position), e.faults, state_fixed.front_end.faults())
+                    (
+                        f64::from(e.angle) * std::f64::consts::PI / 2147483648.0,
+                        e.faults,
+                        state_fixed.front_end.faults(),
+                    )
                 }
             };
             assert_eq!(

@@ -1,0 +1,151 @@
+//! The fixed-point chains of a [`TrackerRun`](super::TrackerRun): order 2 or 3, on counts
+//! shifted to 16 bits.
+
+use angletrack_core::{
+    AdcCounts, AngleCorrectionTable, FaultThresholds, Faults, FixedAngleCorrectionTable,
+    FixedCalibration, FixedGains, FrontEndFaults, Input as CoreInput, Order, SupportedOrder,
+    TRACKER_TABLE_LENGTH, Tracker, TrackerFrontEnd, TrackerSettings, TrackerState,
+};
+
+use super::super::{Calibration, Correction, Input, TrackerFile};
+use super::{
+    CaptureHead, Fixed, Learning, Run, TrackedRows, field, file_error, mid_scale, refuse,
+    thresholds,
+};
+use crate::json_file::JsonFileError;
+
+impl<const N: usize> Run for Fixed<N>
+where
+    Order<N>: SupportedOrder,
+{
+    fn new(file: &TrackerFile, name: &str, head: &CaptureHead<'_>) -> Result<Self, JsonFileError> {
+        let field = |f: &'static str| field(name, f);
+        if file.winding_amplitude.is_some() {
+            return Err(refuse(
+                name,
+                "winding_check",
+                "the fixed-point chain has none: leave it null",
+            ));
+        }
+        let mid = mid_scale(file, name, head)?;
+        let Some(mid) = mid else {
+            return Err(refuse(
+                name,
+                "input",
+                "the fixed-point chain takes counts: give input.bits",
+            ));
+        };
+        // The firmware's rule for a stated width (`AdcCounts::offset_binary`): shifted to 16
+        // bits; for counts of another width, the shift that keeps the samples in 16 bits.
+        let shift = match file.input {
+            Input::Bits { bits, .. } if bits <= 16 => 16 - bits,
+            Input::Scaled { .. } => {
+                return Err(refuse(
+                    name,
+                    "input",
+                    "the fixed-point chain takes counts of a stated width: give input.bits",
+                ));
+            }
+            _ => {
+                let n = head.y_c.len().min(head.y_s.len());
+                crate::fixed_input(&head.y_c[..n], &head.y_s[..n], mid as u64)
+                    .map_err(field("input"))?
+                    .shift
+            }
+        };
+        let nominal = match file.fault_thresholds {
+            Some(t) if t != FaultThresholds::for_amplitude(t.nominal_amplitude) => {
+                return Err(refuse(
+                    name,
+                    "fault_thresholds",
+                    "the fixed-point monitor takes the nominal amplitude only: leave the others at their defaults for it",
+                ));
+            }
+            _ => thresholds(file, head, Some(mid)).nominal_amplitude,
+        };
+        let (rails, _) = file.rails(name, true).map_err(|e| file_error(name, e))?;
+        let calibration = match &file.calibration {
+            Calibration::None => None,
+            Calibration::Stored(s) => Some(
+                crate::shifted_calibration(s, shift)
+                    .and_then(|s| FixedCalibration::new(&s))
+                    .map_err(field("calibration.sensor"))?,
+            ),
+            Calibration::Online { .. } => {
+                return Err(refuse(
+                    name,
+                    "calibration.kind",
+                    "the fixed-point chain has no online calibration: give \"stored\" or \"none\"",
+                ));
+            }
+        };
+        let correction = match &file.correction {
+            Correction::None => None,
+            Correction::Harmonics(h) => {
+                Some(FixedAngleCorrectionTable::<TRACKER_TABLE_LENGTH>::from_harmonics(h))
+            }
+            Correction::Table(curve) => Some(FixedAngleCorrectionTable::from_table(
+                &AngleCorrectionTable::<f64, TRACKER_TABLE_LENGTH>::from_curve(curve)
+                    .map_err(field("correction.table"))?,
+            )),
+        };
+        let adc = AdcCounts::new(mid, shift).map_err(field("input"))?;
+        let front_end = TrackerFrontEnd::<i16>::new(TrackerSettings {
+            input: CoreInput::Counts { adc, rails },
+            winding: (),
+            calibration,
+            correction,
+        })
+        .map_err(field("adc_range"))?;
+        let mut values = [0.0; N];
+        if file.gains.gains.len() != N {
+            return Err(refuse(name, "gains", "2 or 3 gains (the observer's order)"));
+        }
+        values.copy_from_slice(&file.gains.gains);
+        let gains = FixedGains::<N>::new(values, file.gains.sample_period_s)
+            .and_then(|g| g.with_monitor(Some(crate::fixed_monitor_amplitude(nominal, shift))))
+            .map_err(field("gains"))?;
+        Ok(Self {
+            tracker: Tracker::new(front_end, gains),
+            state: TrackerState::new(),
+            shift,
+        })
+    }
+
+    fn track(&mut self, y_c: &[f64], y_s: &[f64], rows: &mut TrackedRows) {
+        for (&c, &s) in y_c.iter().zip(y_s) {
+            let e = self.tracker.update(&mut self.state, (c as i32, s as i32));
+            let observer = &self.tracker.observer;
+            // The binary angle's 2^32 a turn in radians: exact in f64.
+            rows.angle_rad
+                .push(f64::from(e.angle) * (core::f64::consts::PI / 2_147_483_648.0));
+            rows.position_rad.push(observer.position_rad(&e));
+            rows.speed_rad_s.push(observer.speed_rad_s(&e));
+            rows.acceleration_rad_s2
+                .push(observer.acceleration_rad_s2(&e));
+            rows.phase_error.push(f64::from(e.phase_error) / 32768.0);
+            rows.faults.push(e.faults.bits());
+            rows.front_end_faults
+                .push(self.state.front_end.faults().bits());
+            rows.angle_binary.push(e.angle);
+        }
+    }
+
+    fn latched_faults(&self) -> (Faults, FrontEndFaults) {
+        (
+            self.state.observer.latched_faults(),
+            self.state.front_end.latched_faults(),
+        )
+    }
+
+    fn learning(&self) -> Option<Learning> {
+        None
+    }
+
+    fn describe(&self) -> String {
+        format!(
+            "the core's Tracker: fixed point, order {N}, counts shifted left by {} bits",
+            self.shift
+        )
+    }
+}

@@ -146,7 +146,7 @@ def test_raw_unsigned_adc_counts_track_with_their_mid_scale_removed(tmp_path, ca
     out = tmp_path / "est.csv"
     assert track(cap, "--gains-file", gains_file(tmp_path), "-o", out) == 0
     printed = capsys.readouterr().out
-    assert "unsigned ADC counts: mid-scale 2048 removed" in printed
+    assert "counts (AdcScaling, mid-scale 2048)" in printed
     assert "faults latched: none; 0 samples rejected" in printed
     est = np.genfromtxt(out, delimiter=",", names=True)
     error = np.angle(np.exp(1j * (est["angle_rad"] - theta)))

@@ -176,7 +176,7 @@ def test_track_float32_with_gains_and_sample_rate(tmp_path, capsys):
     write_capture(cap, with_reference=False)
     assert run_cli("track", cap, "--gains", "0.06,0.001", "--dtype", "float32") == 0
     assert (tmp_path / "capture_estimates.csv").exists()
-    assert "dtype=float32" in capsys.readouterr().out
+    assert "(f32, " in capsys.readouterr().out
 
 
 def test_track_refuses_a_capture_without_signals(tmp_path, capsys):

@@ -86,7 +86,7 @@ def test_track_fixed_applies_the_stored_calibration_in_integers(tmp_path, gains_
     assert cli.main(["track", str(test), "--gains-file", str(gains_file), "--skip", "0.1", "--calibration", str(cal),
                      "--dtype", "float32", "--output", str(tmp_path / "float32.csv")]) == 0
     single = capsys.readouterr().out
-    assert "dtype=float32" in single and rms_of(single) < rms_of(floating) + 1e-4, single
+    assert "(f32, " in single and rms_of(single) < rms_of(floating) + 1e-4, single
     print(f"RMS: plain fixed {rms_of(plain):.3e}, fixed calibrated {rms_of(fixed):.3e}, float64 calibrated "
           f"{rms_of(floating):.3e}, float32 calibrated {rms_of(single):.3e}")
     # Measured: 1.68e-02 rad RMS without the calibration, 4.30e-04 with it in fixed point,

@@ -194,7 +194,8 @@ def test_track_reads_the_calibration_file_once_and_tells_its_kind(tmp_path, caps
     assert cli.main([str(a) for a in ("track", cap, "--gains-file", gains_file, "--calibration", cal_file,
                                        "-o", tmp_path / "est.npy")]) == 0
     assert file_reads.count("cal.json") == 1
-    assert capsys.readouterr().out.startswith("CalibratedObserver(")
+    assert "stored calibration (SensorCalibration) and angle correction (AngleCorrection, harmonics)" in (
+        capsys.readouterr().out.splitlines()[0])
     # The two kinds of calibration file, and the arguments each gives the observer.
     stored = calibration.read_stored(cal_file)
     assert isinstance(stored, angletrack.Calibration) and calibration.angle_calibration(stored) is stored

@@ -934,6 +934,25 @@ def estimate_columns(dtype: _DType = None) -> list[tuple[str, str]]:
     """The columns ``(name, dtype)`` of estimates of the float type ``dtype`` (float32 or
     float64): what ``angletrack.EstimatesWriter`` writes through a ``TableWriter``."""
 
+class TrackerRun:
+    """A tracker file's chain (the Rust crate's ``TrackerRun``: the core's ``Tracker`` built
+    by the rules of the firmware's export), fed a capture chunk by chunk: what
+    ``Tracker.track`` and ``angletrack track`` hold. ``ValueError`` naming ``file`` and the
+    field on a setting the chain cannot run."""
+
+    def __init__(self, text: str, file: str, y_c: npt.NDArray[np.float64], y_s: npt.NDArray[np.float64],
+                 mid_scale: Optional[int] = None) -> None: ...
+    def track(self, y_c: npt.NDArray[np.float64], y_s: npt.NDArray[np.float64]) -> dict[str, npt.NDArray[Any]]:
+        """The estimates of the next samples (float64, equal lengths): ``angle_rad``,
+        ``position_rad``, ``speed_rad_s``, ``acceleration_rad_s2``, ``phase_error``,
+        ``faults``, ``front_end_faults`` and, for fixed point, ``angle_binary``."""
+    @property
+    def latched_faults(self) -> tuple[int, int]:
+        """The observer's and the front end's faults latched since the start."""
+    @property
+    def learning(self) -> Optional[tuple[_SensorParameters, int, str]]:
+        """What the online calibration learned: calibration, turns learned, status."""
+
 class TableWriter:
     """A table of named numeric columns written chunk by chunk, the format from the
     extension: ``.csv`` (the names as header, floats as the

@@ -72,4 +72,4 @@ def track_fields(args: argparse.Namespace) -> Optional[dict]:
     if tracker is None:
         return None
     checked_flags(args, tracker)
-    return tracker.track_settings()
+    return tracker.track_settings(strict=False)

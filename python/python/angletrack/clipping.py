@@ -134,7 +134,7 @@ def describe(adc_range: Optional[tuple[float, float]], stated: bool) -> str:
     """The range for the summary (``None``: none stated or found on the first chunk, the
     rails measured as the samples come)."""
     if adc_range is None:
-        return ("ADC range: none stated, no extreme held flat in the first chunk: rails measured as the "
-                "samples come")
+        return (f"ADC range: not given: rails measured as the samples come (extremes held flat over "
+                f"{FLAT_SAMPLES}+ samples)")
     how = "stated" if stated else f"measured: extremes held flat over {FLAT_SAMPLES}+ samples"
     return f"ADC range {adc_range[0]:.6g} to {adc_range[1]:.6g} ({how})"

@@ -21,7 +21,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 import angletrack
-from angletrack import _angletrack, harmonics, study_dask, tracking
+from angletrack import _angletrack, harmonics, study_dask, tracker_run, tracking
 from angletrack.tracker import Tracker
 
 #: The sensor calibration's columns, in ``SensorCalibration::new``'s order.
@@ -92,7 +92,7 @@ def capture_row(capture: str, tracker_text: str, tracker_file: str, layout: Layo
         _fill_calibration(row, cal)
         calibrated = tracker.with_calibration(cal.to_json(), "the calibration learned")
         settings = tracking.TrackSettings(capture=path, output=path, skip_s=skip_s, **dataclasses.asdict(layout),
-                                          **calibrated.track_settings())
+                                          **calibrated.track_settings(strict=False))
         _track(settings, row)
     except Exception as e:  # noqa: BLE001 - any failure is the capture's row, never a stopped lot
         known = isinstance(e, (ValueError, TypeError, OSError, RuntimeError, MemoryError))
@@ -113,30 +113,30 @@ def _fill_calibration(row: dict, cal: harmonics.Calibration) -> None:
 
 
 def _track(s: tracking.TrackSettings, row: dict) -> None:
-    """Tracks the capture of ``s`` as ``track`` does (its observer, its scaling, its refusal
-    of a capture mostly rejected), counting the faults and, against a reference column, the
-    angle error; the estimates are not kept. Float trackers only (the command refuses
-    ``"fixed"``)."""
+    """Tracks the capture of ``s`` as ``track`` does (the tracker file's chain,
+    ``tracker_run.Run``; its refusal of a capture mostly rejected), counting the faults and,
+    against a reference column, the angle error; the estimates are not kept."""
     reader = angletrack.CaptureReader(s.capture, **s.reader_options(), chunk_rows=s.chunk_rows)
     chunks = iter(reader)
     first = next(chunks)
     gains = tracking.gains_for_capture(s, reader.sample_rate_hz if first.time_s is not None else None)
     stats = tracking._ErrorStatistics(s.skip_s, s.lock_tolerance_rad) if first.reference_rad is not None else None
-    observer, mid, _ = tracking._observer(s, gains, reader.sample_dtype, first)
-    dtype = np.dtype(s.dtype)
+    integer = reader.sample_dtype.startswith(("int", "uint"))
+    mid = tracking._mid_scale(s, reader.sample_dtype) if integer else 0.0
+    observer = tracker_run.Run(s, gains, reader.sample_dtype, first, mid)
     bad = int(angletrack.Faults.BAD_SAMPLE)
     faulty = rejected = 0
     chunk = first
     while chunk is not None:
-        est = observer.update(tracking._scaled(s, chunk.y_c, mid).astype(dtype, copy=False),
-                              tracking._scaled(s, chunk.y_s, mid).astype(dtype, copy=False))
-        faulty += int(np.count_nonzero(est.faults))
-        rejected += int(np.count_nonzero(est.faults & bad))
+        rows = observer.track(chunk.y_c, chunk.y_s)
+        faults = rows["faults"]
+        faulty += int(np.count_nonzero(faults))
+        rejected += int(np.count_nonzero(faults & bad))
         if stats is not None:
             time_s = chunk.time_s
             if time_s is None:
                 time_s = (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) * gains.sample_period_s
-            stats.add(time_s, est.angle, chunk.reference_rad)
+            stats.add(time_s, rows["angle_rad"], chunk.reference_rad)
         chunk = next(chunks, None)
     total = reader.rows
     if 2 * rejected > total:

@@ -17,12 +17,15 @@ from __future__ import annotations
 
 import json
 import pathlib
-from typing import Any, Optional, Union
+from typing import TYPE_CHECKING, Any, Optional, Union
 
 import numpy as np
 
 from angletrack import _angletrack
 from angletrack._angletrack import FaultThresholds, Gains, SensorCalibration
+
+if TYPE_CHECKING:
+    from angletrack import tracker_run
 
 #: The ``format`` of a tracker file.
 FORMAT = _angletrack.TRACKER_FILE_FORMAT
@@ -157,13 +160,19 @@ class Tracker:
     def _refuse(self, field: str, why: str) -> None:
         raise ValueError(f"{self.file}: {field}: {why}")
 
-    def calibration_arguments(self) -> tuple[dict, Optional[Any]]:
+    def calibration_arguments(self, strict: bool = True) -> tuple[dict, Optional[Any]]:
         """The ``Observer`` arguments of the calibration (``calibration``,
         ``initial_calibration``) and the angle calibration (a ``harmonics.Calibration``,
-        ``None`` without harmonics), as ``track`` takes them."""
+        ``None`` without harmonics), as the observers of ``calibrate`` and of the resolver
+        path take them; ``strict``: refuse what those observers cannot run (a table, harmonics
+        without a stored calibration, an online calibration's own settings), which the
+        tracker file's chain (``track``, :meth:`track`) runs."""
         from angletrack import harmonics
 
         calibration, correction = self.document["calibration"], self.document["correction"]
+        if not strict and (correction["kind"] == "table"
+                           or (correction["kind"] == "harmonics" and calibration["kind"] != "stored")):
+            correction = {"kind": "none"}
         if correction["kind"] == "table":
             self._refuse("correction.kind", '"table" is a firmware\'s (AngleCorrectionTable); the Python package '
                          'applies "harmonics"')
@@ -178,7 +187,7 @@ class Tracker:
         if calibration["kind"] == "online":
             defaults = _default_online_settings()
             for name, value in calibration.items():
-                if name not in ("kind", "initial") and value != defaults[name]:
+                if strict and name not in ("kind", "initial") and value != defaults[name]:
                     self._refuse(f"calibration.{name}", f"{value}: the Python package's online calibration runs with "
                                  f"the default settings ({defaults[name]}); a firmware takes others")
             initial = calibration["initial"]
@@ -195,35 +204,42 @@ class Tracker:
             out["winding_amplitude"] = float(self.document["winding_check"]["amplitude"])
         return out
 
-    def track_settings(self) -> dict:
+    def track_settings(self, strict: bool = True) -> dict:
         """The :class:`angletrack.tracking.TrackSettings` fields of the setup: what
-        ``track`` and ``calibrate`` run it with."""
-        observer_arguments, calibration = self.calibration_arguments()
+        ``track`` and ``calibrate`` run it with; ``strict``: as for
+        :meth:`calibration_arguments`, and thresholds or a winding check beside harmonics or
+        fixed point refused."""
+        observer_arguments, calibration = self.calibration_arguments(strict)
         front_end = self.front_end_arguments()
-        if front_end and (calibration is not None or self.dtype == "fixed"):
+        if strict and front_end and (calibration is not None or self.dtype == "fixed"):
             field = "fault_thresholds" if "fault_thresholds" in front_end else "winding_check"
             why = "the harmonics' corrected observer" if calibration is not None else 'number_type "fixed"'
             self._refuse(field, f"not run by the Python package with {why} (its thresholds are scaled to the "
                          "signal); leave it null")
-        if self.dtype == "fixed" and self.counts_per_unit != 1.0:
+        if strict and self.dtype == "fixed" and self.counts_per_unit != 1.0:
             self._refuse("input.counts_per_unit", 'number_type "fixed" shifts the counts itself: give 1')
         return dict(
             tracker_gains=self.gains, dtype=self.dtype, sin_cos=self.document["sin_cos"],
             observer_arguments={**observer_arguments, **front_end}, calibration=calibration,
             adc_range=self.adc_range, mid_scale=self.mid_scale, counts_per_unit=self.counts_per_unit,
-            pole_pairs=self.document["pole_pairs"],
+            pole_pairs=self.document["pole_pairs"], tracker_document=self.document, tracker_file=self.file,
         )
 
-    def track(self, y_c: Any, y_s: Any):
+    def track(self, y_c: Any, y_s: Any) -> "tracker_run.TrackedRows":
         """The estimates of the samples ``(y_c, y_s)`` (1-D arrays of one capture), as
-        ``angletrack track --tracker`` computes them over a capture of those samples; the
-        observer at the end is ``self.observer``."""
-        from angletrack import tracking
+        ``angletrack track --tracker`` computes them over a capture of those samples: the
+        crate's chain of this file (``angletrack::tracker_file::TrackerRun``); the chain at
+        the end is ``self.observer`` (its faults latched, what an online calibration
+        learned)."""
+        from angletrack import tracker_run, tracking
 
+        y_c, y_s = np.asarray(y_c), np.asarray(y_s)
         settings = tracking.TrackSettings(capture=pathlib.Path(self.file), output=pathlib.Path(self.file),
-                                          **self.track_settings())
-        estimates, self.observer = tracking.track_arrays(settings, np.asarray(y_c), np.asarray(y_s))
-        return estimates
+                                          **self.track_settings(strict=False))
+        integer = y_c.dtype.kind in "iu"
+        mid = tracking._mid_scale(settings, y_c.dtype.name, (y_c, y_s)) if integer else 0.0
+        self.observer = tracker_run.Run(settings, self.gains, y_c.dtype.name, tracker_run.Samples(y_c, y_s), mid)
+        return tracker_run.TrackedRows(self.observer.track(y_c, y_s), self.dtype)
 
     def __repr__(self) -> str:
         d = self.document

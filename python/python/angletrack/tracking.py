@@ -21,7 +21,7 @@ import numpy as np
 
 import angletrack
 from angletrack import capture as capture_io
-from angletrack import clipping, export, harmonics
+from angletrack import clipping, export, harmonics, tracker_run
 from angletrack._angletrack import CountsExtremes, capture_counts, capture_fault_thresholds
 
 #: Relative difference of two sample rates taken as the same rate (the time column's
@@ -80,6 +80,9 @@ class TrackSettings:
     #: What the samples are divided by after the mid-scale (a tracker file's
     #: ``input.counts_per_unit``).
     counts_per_unit: float = 1.0
+    #: The ``--tracker`` file's document and path (``None``: the flags describe the setup).
+    tracker_document: Optional[dict] = None
+    tracker_file: Optional[str] = None
 
     def reader_options(self) -> dict:
         """The capture reader's keyword arguments (the capture's layout and rate)."""
@@ -356,6 +359,11 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
 
         if s.carrier_hz is None:
             raise ValueError("pole_pairs: --pole-pairs and --latency need --carrier-hz (the resolver path)")
+        if s.tracker_document is not None:
+            from angletrack.tracker import Tracker
+
+            # The resolver path's observers run a part of what a tracker file holds.
+            Tracker(s.tracker_document, s.tracker_file or "tracker").track_settings(strict=True)
         if s.tracker_gains is not None and (s.mid_scale or s.counts_per_unit != 1.0):
             raise ValueError("input: with --carrier-hz the capture holds raw windings, demodulated into pairs "
                              "of amplitude 1: the tracker file's input mid_scale, bits or counts_per_unit do not "
@@ -371,14 +379,18 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     first = next(chunks)
     gains = gains_for_capture(s, reader.sample_rate_hz if first.time_s is not None else None)
     stats = _ErrorStatistics(s.skip_s, s.lock_tolerance_rad) if first.reference_rad is not None else None
+    integer = reader.sample_dtype.startswith(("int", "uint"))
+    if s.dtype == "fixed" and not integer:
+        raise ValueError(f"dtype: --dtype fixed takes integer ADC counts; {s.capture} holds {reader.sample_dtype} "
+                         "samples (use --dtype float32 or float64)")
+    mid = _mid_scale(s, reader.sample_dtype) if integer else 0.0
+    run = tracker_run.Run(s, gains, reader.sample_dtype, first, mid)
     if s.dtype == "fixed":
         from angletrack import fixed_tracking
 
-        lines, fixed = fixed_tracking.track_fixed(s, gains, reader, first, stats)
-        return "\n".join(lines[:1] + _stated_rate_note(s) + lines[1:]), fixed
-    dtype = np.dtype(s.dtype)
-    calibration = s.calibration
-    observer, mid, adc_range = _observer(s, gains, reader.sample_dtype, first)
+        columns = fixed_tracking.COLUMNS
+    else:
+        columns = capture_io.estimate_columns(np.dtype(s.dtype))
     progress = _Progress(s.progress)
     rejected, y_c_sum, flagged = 0, 0.0, 0
     ranges = _Ranges()
@@ -386,21 +398,22 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
     s.output.parent.mkdir(parents=True, exist_ok=True)
     # A fault found part way (a malformed row, an interrupt) leaves no partial file that could
     # pass for the estimates of the whole capture: the writer discards its temporary file.
-    with angletrack.EstimatesWriter(s.output, dtype=dtype) as writer:
+    with angletrack.TableWriter(s.output, columns) as writer:
         chunk = first
         while chunk is not None:
-            y_c, y_s = _scaled(s, chunk.y_c, mid), _scaled(s, chunk.y_s, mid)
-            est = observer.update(y_c.astype(dtype, copy=False), y_s.astype(dtype, copy=False))
+            rows = run.track(chunk.y_c, chunk.y_s)
             time_s = chunk.time_s
             if time_s is None:
                 time_s = (chunk.first_sample + np.arange(len(chunk), dtype=np.float64)) * gains.sample_period_s
-            writer.write(time_s, est)
-            rejected += int(np.count_nonzero(est.faults & bad))
-            flagged += int(np.count_nonzero(est.faults & front_end))
+            rows["time_s"] = time_s
+            writer.write([np.ascontiguousarray(rows[name], dtype=dtype) for name, dtype in columns])
+            faults = rows["faults"]
+            rejected += int(np.count_nonzero(faults & bad))
+            flagged += int(np.count_nonzero(faults & front_end))
             y_c_sum += float(np.sum(chunk.y_c))
-            ranges.add(y_c, y_s)
+            ranges.add(chunk.y_c - mid, chunk.y_s - mid)
             if stats is not None:
-                stats.add(time_s, est.angle, chunk.reference_rad)
+                stats.add(time_s, rows["angle_rad"], chunk.reference_rad)
             progress.update(reader)
             chunk = next(chunks, None)
         progress.update(reader, final=True)
@@ -408,23 +421,21 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
         # Refused inside the block: no estimates are left behind.
         if 2 * rejected > total:
             raise ValueError(_rejections_error(s, rejected, total, reader, y_c_sum / total))
-        statistics = finishing_checks(s, observer, stats)
-    latched = angletrack.Faults(observer.latched_faults)
+        statistics = finishing_checks(s, run, stats)
+    latched = angletrack.Faults(run.latched_faults)
     lines = [
-        repr(observer),
+        f"{run!r} ({run.file})",
         *_stated_rate_note(s),
         f"{total} samples ({reader.format}, {reader.sample_dtype}; columns "
         + ", ".join(f"{k}={v}" for k, v in reader.columns.items())
         + f") -> {s.output}",
         f"faults latched: {latched.name if latched else 'none'}; {rejected} samples rejected",
     ]
-    if mid:
-        lines.insert(2, f"unsigned ADC counts: mid-scale {mid:g} removed")
-    lines.append(f"{clipping.describe(adc_range, s.adc_range is not None)}: {flagged} samples clipped "
+    lines.append(f"{clipping.describe(s.adc_range, s.adc_range is not None)}: {flagged} samples clipped "
                  "(flagged FRONT_END; those clipped in both channels coasted through)")
-    if not s.observer_arguments and calibration is None:
+    if run.document["calibration"]["kind"] == "none":
         lines += ranges.off_centre_note()
-    return "\n".join(lines + statistics), observer
+    return "\n".join(lines + statistics), run
 
 
 def _scaled(s: TrackSettings, y: np.ndarray, mid: float) -> np.ndarray:
@@ -458,54 +469,6 @@ def _shows_unsigned(s: TrackSettings, sample_dtype: str, whole: Optional[tuple])
         return counts_mid_scale(unstated, sample_dtype, whole) != 0.0
     except ValueError:
         return False
-
-
-def _observer(s: TrackSettings, gains: angletrack.Gains, sample_dtype: str, first,
-              whole: Optional[tuple] = None) -> tuple:
-    """The float observer of ``s`` for a capture of ``sample_dtype`` whose first chunk is
-    ``first`` (``whole``: the capture's arrays when it is held in memory), the mid-scale
-    removed from its samples and the ADC range (its units) it flags clipping against: one
-    setup for ``track`` and :func:`track_arrays`. The thresholds are the tracker file's, or
-    the capture's (:func:`fault_thresholds`), stated to the observer."""
-    dtype = np.dtype(s.dtype)
-    mid = _mid_scale(s, sample_dtype, whole)
-    adc_range = s.adc_range if s.adc_range is not None else clipping.measured_range(first.y_c, first.y_s)
-    shifted = None if adc_range is None else (
-        (adc_range[0] - mid) / s.counts_per_unit, (adc_range[1] - mid) / s.counts_per_unit)
-    arguments = dict(s.observer_arguments)
-    thresholds = arguments.pop("fault_thresholds", None) or fault_thresholds(first, mid, s.counts_per_unit)
-    # No range stated or found on the first chunk: the rails measured as the samples come
-    # (clipping that starts later in the capture).
-    if s.calibration is not None:
-        observer = harmonics.CalibratedObserver(gains, s.calibration, dtype=dtype, sin_cos=s.sin_cos,
-                                                adc_range=shifted, measure_adc_range=shifted is None,
-                                                fault_thresholds=thresholds)
-    else:
-        observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos, adc_range=shifted,
-                                       measure_adc_range=shifted is None, fault_thresholds=thresholds,
-                                       **arguments)
-    return observer, mid, adc_range
-
-
-class _Samples:
-    """Arrays in the shape of a capture's chunk, for :func:`_observer`."""
-
-    def __init__(self, y_c: np.ndarray, y_s: np.ndarray):
-        self.y_c, self.y_s = y_c, y_s
-
-
-def track_arrays(s: TrackSettings, y_c: np.ndarray, y_s: np.ndarray) -> tuple:
-    """The estimates of the samples ``(y_c, y_s)`` as :func:`track_capture` computes them
-    over a capture holding them (one chunk; ``s.dtype`` float32 or float64), and the
-    observer at the end."""
-    if s.dtype == "fixed":
-        raise ValueError("dtype: Tracker.track runs float observers; track a fixed-point setup with "
-                         "`angletrack track --tracker` or angletrack.FixedObserver")
-    observer, mid, _ = _observer(s, s.designed_gains, y_c.dtype.name, _Samples(y_c, y_s), (y_c, y_s))
-    dtype = np.dtype(s.dtype)
-    est = observer.update(_scaled(s, y_c, mid).astype(dtype, copy=False),
-                          _scaled(s, y_s, mid).astype(dtype, copy=False))
-    return est, observer
 
 
 def calibrate_capture(s: TrackSettings, **options) -> harmonics.Calibration:

@@ -101,6 +101,7 @@ struct FloatChain<T: Float, const N: usize, S: SinCos<T>> {
     state: TrackerState<T, ObserverState<T, N>>,
     counts: bool,
     calibration: Calibration,
+    description: String,
 }
 
 #[derive(Debug, Clone)]
@@ -110,7 +111,7 @@ where
 {
     tracker: Tracker<i16, angletrack_core::FixedGains<N>>,
     state: TrackerState<i16, angletrack_core::FixedState<N>>,
-    shift: u32,
+    description: String,
 }
 
 /// The chains, one variant a number type, order and sin/cos, and the dispatch of a
@@ -203,6 +204,11 @@ impl TrackerRun {
         each!(&self.chain, c => c.learning())
     }
 
+    /// Whether the chain is the fixed-point one (its rows carry the binary angle).
+    pub fn is_fixed(&self) -> bool {
+        matches!(self.chain, Chain::Fixed2(_) | Chain::Fixed3(_))
+    }
+
     /// One line naming the chain: number type, order, sin/cos and stages.
     pub fn describe(&self) -> String {
         each!(&self.chain, c => c.describe())
@@ -221,6 +227,46 @@ fn file_error(name: &str, e: super::FirmwareError) -> JsonFileError {
         super::FirmwareError::File(e) => e,
         super::FirmwareError::Export(e) => refuse(name, "adc_range", e.to_string()),
     }
+}
+
+/// `x` to 6 significant digits, for the summary.
+fn significant(x: f64) -> String {
+    let decimals = if x.is_finite() && x != 0.0 {
+        (5 - x.abs().log10().floor() as i32).clamp(0, 17) as usize
+    } else {
+        0
+    };
+    format!("{x:.decimals$}")
+}
+
+/// The order's name, for the summary.
+fn order_name(n: usize) -> &'static str {
+    if n == 2 { "2nd order" } else { "3rd order" }
+}
+
+/// The calibration and correction stages of `file` in the core's names, for the summary.
+fn stages(file: &TrackerFile, fixed: bool) -> String {
+    let calibration = match (&file.calibration, fixed) {
+        (Calibration::None, _) => "no calibration",
+        (Calibration::Stored(_), false) => "stored calibration (SensorCalibration)",
+        (Calibration::Stored(_), true) => "stored calibration (FixedCalibration)",
+        (Calibration::Online { .. }, _) => "online calibration (OnlineCalibration)",
+    };
+    let correction = match (&file.correction, fixed) {
+        (super::Correction::None, _) => "no angle correction".to_string(),
+        (super::Correction::Harmonics(_), false) => {
+            "angle correction (AngleCorrection, harmonics)".to_string()
+        }
+        (_, true) => format!(
+            "angle correction (FixedAngleCorrectionTable, {} entries)",
+            angletrack_core::TRACKER_TABLE_LENGTH
+        ),
+        (super::Correction::Table(_), false) => format!(
+            "angle correction (AngleCorrectionTable, {} entries)",
+            angletrack_core::TRACKER_TABLE_LENGTH
+        ),
+    };
+    format!("{calibration} and {correction}")
 }
 
 /// The mid-scale removed from counts: stated by the file, or measured on `head`.

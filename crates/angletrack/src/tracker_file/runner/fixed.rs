@@ -108,7 +108,14 @@ where
         Ok(Self {
             tracker: Tracker::new(front_end, gains),
             state: TrackerState::new(),
-            shift,
+            description: format!(
+                "the core's Tracker (fixed point, {}): counts of amplitude {}, mid-scale \
+                 {mid} removed, shifted left by {shift} bits (AdcCounts), monitor amplitude {}; {}",
+                super::order_name(N),
+                super::significant(nominal),
+                super::significant(crate::fixed_monitor_amplitude(nominal, shift)),
+                super::stages(file, true),
+            ),
         })
     }
 
@@ -143,9 +150,6 @@ where
     }
 
     fn describe(&self) -> String {
-        format!(
-            "the core's Tracker: fixed point, order {N}, counts shifted left by {} bits",
-            self.shift
-        )
+        self.description.clone()
     }
 }

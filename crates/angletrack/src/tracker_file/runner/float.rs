@@ -137,6 +137,23 @@ where
             state,
             counts: mid.is_some(),
             calibration: file.calibration,
+            description: format!(
+                "the core's Tracker ({}, {}, {} sin/cos): {}, thresholds for an amplitude of \
+                 {}; {}",
+                core::any::type_name::<T>(),
+                super::order_name(N),
+                core::any::type_name::<S>()
+                    .rsplit("::")
+                    .next()
+                    .unwrap_or("")
+                    .to_lowercase(),
+                match mid {
+                    Some(mid) => format!("counts (AdcScaling, mid-scale {mid})"),
+                    None => "samples in units".to_string(),
+                },
+                super::significant(t.nominal_amplitude),
+                super::stages(file, false),
+            ),
         })
     }
 
@@ -181,20 +198,6 @@ where
     }
 
     fn describe(&self) -> String {
-        let float = core::any::type_name::<T>();
-        let sin_cos = core::any::type_name::<S>()
-            .rsplit("::")
-            .next()
-            .unwrap_or("");
-        format!(
-            "the core's Tracker: {float}, order {N}, {} sin/cos, input {}, calibration {}",
-            sin_cos.to_lowercase(),
-            if self.counts { "counts" } else { "units" },
-            match self.calibration {
-                Calibration::None => "none",
-                Calibration::Stored(_) => "stored",
-                Calibration::Online { .. } => "online",
-            }
-        )
+        self.description.clone()
     }
 }

@@ -102,3 +102,20 @@ def test_a_centre_not_found_exits_non_zero_in_one_line(tmp_path, gains_file, cap
     assert "learned 0 turns" in err and "finding-centre" in err and "--calibrate" in err, err
     assert len(err.strip().splitlines()) == 1, err
     assert not (tmp_path / "short_calibration.json").exists()
+
+
+def test_a_rejected_outlier_is_no_bias(tmp_path, gains_file, capsys):
+    """A single absurd sample (1e300) in a centred capture is rejected (BAD_SAMPLE) and does
+    not make the ranges look biased: no off-centre note, the angle right."""
+    cap = tmp_path / "outlier.csv"
+    write_capture(cap)
+    lines = cap.read_text().splitlines()
+    fields = lines[5000].split(",")
+    fields[1] = "1e300"
+    lines[5000] = ",".join(fields)
+    cap.write_text("\n".join(lines) + "\n")
+    capsys.readouterr()
+    assert track(cap, gains_file) == 0
+    printed = capsys.readouterr().out
+    assert "1 samples rejected" in printed and "centred at" not in printed, printed
+    assert rms_printed(printed) < 0.1

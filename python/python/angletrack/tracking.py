@@ -411,7 +411,9 @@ def track_capture(s: TrackSettings) -> tuple[str, Union[angletrack.Observer, ang
             rejected += int(np.count_nonzero(faults & bad))
             flagged += int(np.count_nonzero(faults & front_end))
             y_c_sum += float(np.sum(chunk.y_c))
-            ranges.add(chunk.y_c - mid, chunk.y_s - mid)
+            # The samples the observer used: a rejected outlier says nothing of a bias.
+            used = (faults & bad) == 0
+            ranges.add(chunk.y_c[used] - mid, chunk.y_s[used] - mid)
             if stats is not None:
                 stats.add(time_s, rows["angle_rad"], chunk.reference_rad)
             progress.update(reader)

@@ -243,7 +243,8 @@ impl<const N: usize> Output<i16, FixedGains<N>> for FixedEstimate {
 }
 
 /// A chain's states, held together ([`ChainState`]: one pointer through the out-of-line
-/// path) or apart (a pair of references, for [`Chain::track_parts`]).
+/// path) or apart (a pair of references: a bank's lane, a block's local copy of the
+/// observer's state).
 pub(crate) trait States<F, O> {
     /// The front end's state and the observer's, borrowed together.
     fn split(&mut self) -> (&mut F, &mut O);

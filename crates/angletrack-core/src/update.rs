@@ -74,6 +74,7 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// next window ends, and re-acquire the angle from `atan2` on a false lock (see
     /// [`FaultThresholds`](crate::FaultThresholds)). Never fails, never panics, and the
     /// state stays finite.
+    #[cfg(test)]
     #[inline]
     pub(crate) fn update(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) -> Estimate<T> {
         self.track(state, y_c, y_s);

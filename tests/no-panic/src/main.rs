@@ -191,7 +191,7 @@ where
 }
 
 /// The resolver front end's per-sample entry points: the excitation's tick, the
-/// demodulator's push, push_block and feed (with the observer), the drive outputs.
+/// demodulator's push and push_block (then the observer's chain), the drive outputs.
 fn front_end() -> f32 {
     let Ok(excitation) = Excitation::new(black_box(10_000), black_box(160_000), Waveform::Sine)
     else {
@@ -208,7 +208,8 @@ fn front_end() -> f32 {
         return 0.0;
     };
     let mut carrier = ExcitationState::default();
-    let (mut front_end, mut observer) = (DemodulatorState::new(), ObserverState::new());
+    let chain = Chain::new((), gains);
+    let (mut front_end, mut observer) = (DemodulatorState::new(), ChainState::new());
     let mut drive = DriveOutputsState::default();
     let mut sum = 0.0;
     for _ in 0..black_box(640) {
@@ -217,7 +218,8 @@ fn front_end() -> f32 {
         if let Some(pair) = demodulator.push(&mut front_end, c, s) {
             sum += pair.y_c + pair.faults.bits() as f32;
         }
-        if let Some((_, e)) = demodulator.feed(&mut front_end, &gains, &mut observer, c, s) {
+        if let Some(pair) = demodulator.push(&mut front_end, c, s) {
+            let e = chain.update(&mut observer, (pair.y_c, pair.y_s));
             let angle = outputs.outputs(&mut drive, &e);
             sum += angle.electrical_angle + angle.mechanical_turns as f32;
         }

@@ -144,25 +144,6 @@ impl<F, T: Float, const N: usize, U: SinCosUnit<T>, S: SinCos<T>> Chain<F, UnitG
         observers::track(self, state, input)
     }
 
-    /// [`Chain::update`] on each of `inputs`, the estimates written to `estimates` (the
-    /// shorter of the two sets the count, which is returned).
-    pub fn update_block<X>(
-        &self,
-        state: &mut ChainState<F::State, (ObserverState<T, N>, U)>,
-        inputs: impl IntoIterator<Item = X>,
-        estimates: &mut [Estimate<T>],
-    ) -> usize
-    where
-        F: Stage<T, X>,
-    {
-        let mut count = 0;
-        for (input, estimate) in inputs.into_iter().zip(estimates.iter_mut()) {
-            *estimate = self.update(state, input);
-            count += 1;
-        }
-        count
-    }
-
     /// The estimate held by `state`, in physical units (see [`Chain::estimate`]).
     #[inline]
     pub fn estimate<St>(&self, state: &ChainState<St, (ObserverState<T, N>, U)>) -> Estimate<T> {

@@ -53,6 +53,20 @@ pub struct UnitGains<T: Float, const N: usize, U, S = <T as Float>::DefaultSinCo
 impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// These gains with the phase detector's `(sin, cos)` computed by a unit with state `U`
     /// (see [`UnitGains`]).
+    ///
+    /// ```
+    /// use angletrack_core::{Chain, ChainState, Fast, Gains, ObserverState};
+    /// let gains = Gains::<f32, 2>::new([0.05, 0.0012], 1e-4)?;
+    /// // `Fast` is a unit too: the same bits as the gains' own sin/cos.
+    /// let (plain, united) = (Chain::new((), gains), Chain::new((), gains.with_unit::<Fast>()));
+    /// let mut state = ChainState::new();
+    /// let mut unit_state = ChainState { front_end: (), observer: (ObserverState::new(), Fast) };
+    /// for k in 0..10 {
+    ///     let y = (0.1 * k as f32).sin_cos();
+    ///     assert_eq!(plain.update(&mut state, (y.1, y.0)), united.update(&mut unit_state, (y.1, y.0)));
+    /// }
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
     pub const fn with_unit<U: SinCosUnit<T>>(self) -> UnitGains<T, N, U, S> {
         UnitGains {
             gains: self,

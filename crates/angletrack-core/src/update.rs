@@ -36,11 +36,23 @@ pub(crate) struct UsedSample<T> {
 pub(crate) trait SampleObserver<T> {
     /// One sample: `Some` for a used sample, `None` for one that was not used.
     fn observe(self, used: Option<UsedSample<T>>);
+
+    /// Whether [`SampleObserver::observe`] reads the sample (`()` does not): what an
+    /// observer computes only to show it is then not computed at all.
+    #[inline(always)]
+    fn observes(&self) -> bool {
+        true
+    }
 }
 
 impl<T> SampleObserver<T> for () {
     #[inline(always)]
     fn observe(self, _used: Option<UsedSample<T>>) {}
+
+    #[inline(always)]
+    fn observes(&self) -> bool {
+        false
+    }
 }
 
 impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {

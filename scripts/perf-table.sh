@@ -123,7 +123,7 @@ trap 'rm -f "$firmware_table" "$host_table"' EXIT
       echo "| $(describe "$name") | $(cells "$m4") | $(cells "$name-m0" -m0) | $(code "$m4") | $(code "$name-m0") |"
     done
   echo
-  echo "Per sample inside one block update (\`Gains::update_block\`; 200 samples a call on the"
+  echo "Per sample inside one block update (\`Chain::update_block\`; 200 samples a call on the"
   echo "Cortex-M0, whose 16 KiB of RAM hold no more estimates), M4F / M0:"
   echo
   sed -n 's/^insns_per_sample_in_block \(.*\): \(.*\)/\1 \2/p' <<<"$firmware" | grep -v -- '-m0 ' |
@@ -272,7 +272,7 @@ cpu=$(awk -F': ' '/^model name/ { print $2; exit }' /proc/cpuinfo)
   echo
   echo "**Host, multi-channel**: \`ChannelBank\`s of 16 and 64 channels sharing one gain set"
   echo "(fast sin/cos; a bank runs no fault monitor), ns per channel-sample, and in parentheses the"
-  echo "throughput per channel-sample over that of one stream of \`Gains::update\` doing the same"
+  echo "throughput per channel-sample over that of one stream of \`Chain::update\` doing the same"
   echo "work (fast sin/cos, diagnostics off). Build \`x86-64\` is the one above (portable: SSE2,"
   echo "4 \`f32\` lanes); \`x86-64-v3\` is the same benchmarks built with"
   echo "\`RUSTFLAGS=\"-C target-cpu=x86-64-v3\"\` (AVX2 and FMA: 8 \`f32\` lanes), where this CPU has it."

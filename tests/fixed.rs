@@ -3,10 +3,11 @@
 //! observers of `§4`, on the same simulated resolver signals (the fixed path's rounded to
 //! 16-bit counts of amplitude 2^14): within 2^-16 of a turn RMS.
 
-use angletrack::core::{FixedGains, FixedState};
+use angletrack::core::FixedGains;
 use angletrack::paper::{ComparedObserver, OVERSHOOT_SAMPLE_PERIOD_S, PaperSetting};
 use angletrack::{
-    AnyDesign, Discretisation, Gains, Motion, MotionProfile, ObserverState, Scenario, SensorModel,
+    AnyDesign, Chain, ChainState, Discretisation, Gains, Motion, MotionProfile, Scenario,
+    SensorModel,
 };
 
 /// The accuracy the fixed-point path must reach (turns, RMS over the run).
@@ -49,15 +50,19 @@ where
     angletrack::core::Order<N>: angletrack::core::SupportedOrder,
 {
     let ts = scenario.sample_period_s;
-    let float = Gains::<f64, N>::new(gains, ts).expect("the design's gains");
+    let float = Chain::new(
+        (),
+        Gains::<f64, N>::new(gains, ts).expect("the design's gains"),
+    );
     let fixed = FixedGains::<N>::new(gains, ts).expect("the design's gains, quantised");
-    let (mut float_state, mut fixed_state) = (ObserverState::new(), FixedState::new());
+    let fixed_chain = Chain::new((), fixed);
+    let (mut float_state, mut fixed_state) = (ChainState::new(), ChainState::new());
     let turns = |rad: f64| rad / std::f64::consts::TAU;
     let samples = scenario.y_c.iter().zip(&scenario.y_s);
     samples
         .map(|(&c, &s)| {
-            let e = float.update(&mut float_state, c, s);
-            let f = fixed.update(&mut fixed_state, counts(c), counts(s));
+            let e = float.update(&mut float_state, (c, s));
+            let f = fixed_chain.update(&mut fixed_state, (counts(c), counts(s)));
             (turns(fixed.position_rad(&f)), turns(e.position()))
         })
         .collect()

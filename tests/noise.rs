@@ -4,8 +4,8 @@
 
 use angletrack::paper::{POLE_FREQUENCY_RATIO, POLE_RATIO};
 use angletrack::{
-    DesignReport, Discretisation, Gains, Metrics, MetricsOptions, Motion, MotionProfile,
-    ObserverState, Scenario, SensorModel, kalman, predicted_error, run,
+    Chain, ChainState, DesignReport, Discretisation, Gains, Metrics, MetricsOptions, Motion,
+    MotionProfile, Scenario, SensorModel, kalman, predicted_error, run,
     second_order_from_bandwidth, third_order_from_poles,
 };
 use rand::SeedableRng;
@@ -113,7 +113,8 @@ fn kalman_ato_reaches_its_floor_on_the_model_it_was_designed_for() {
     let jerk = Normal::new(0.0, q.sqrt()).unwrap();
     let noise = Normal::new(0.0, SIGMA).unwrap();
     let mut x = [0.3, 0.01, 0.0]; // scaled: (theta, Ts Omega, Ts^2 alpha)
-    let mut state = ObserverState::new();
+    let chain = Chain::new((), design.gains);
+    let mut state = ChainState::new();
     let (mut sum_angle, mut sum_speed, mut count) = (0.0, 0.0, 0usize);
     for k in 0..SAMPLES {
         let v = jerk.sample(&mut rng);
@@ -124,7 +125,7 @@ fn kalman_ato_reaches_its_floor_on_the_model_it_was_designed_for() {
         ];
         let y_c = x[0].cos() + noise.sample(&mut rng);
         let y_s = x[0].sin() + noise.sample(&mut rng);
-        let e = design.gains.update(&mut state, y_c, y_s);
+        let e = chain.update(&mut state, (y_c, y_s));
         if k >= 20_000 {
             let angle_error = x[0] - e.position();
             sum_angle += angle_error * angle_error;

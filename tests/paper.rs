@@ -4,9 +4,9 @@
 
 use angletrack::paper::{BUTTERWORTH_DAMPING, FIVE_PERCENT_DAMPING, PaperSetting};
 use angletrack::{
-    AnyDesign, DesignReport, Discretisation, Gains, Metrics, MetricsOptions, Motion, MotionProfile,
-    ObserverState, Scenario, SensorModel, kalman_from_jerk_std, run, second_order_butterworth,
-    second_order_from_tracking_error,
+    AnyDesign, Chain, ChainState, DesignReport, Discretisation, Gains, Metrics, MetricsOptions,
+    Motion, MotionProfile, Scenario, SensorModel, kalman_from_jerk_std, run,
+    second_order_butterworth, second_order_from_tracking_error,
 };
 use nalgebra::{Matrix2, Matrix3, Matrix3x2, Vector2, Vector3};
 
@@ -188,13 +188,13 @@ fn full_ekf_converges_to_the_time_invariant_kalman_ato() {
             acceleration_rad_s2: 500.0,
         });
     let scenario = Scenario::generate(&profile, &SensorModel::with_noise(sigma), ts, 11).unwrap();
-    let gains: Gains<f64, 3> = design.gains;
-    let mut state = ObserverState::new();
+    let chain: Chain<(), Gains<f64, 3>> = Chain::new((), design.gains);
+    let mut state = ChainState::new();
     let mut ekf = ExtendedKalmanFilter::new(scenario.y_s[0].atan2(scenario.y_c[0]), q, r);
     let transient = 5_000;
     let mut largest = 0.0_f64;
     for (k, (&y_c, &y_s)) in scenario.y_c.iter().zip(&scenario.y_s).enumerate() {
-        let ato = gains.update(&mut state, y_c, y_s);
+        let ato = chain.update(&mut state, (y_c, y_s));
         if k > 0 {
             // The ATO's phase detector is normalised by the sample's magnitude (amplitude
             // invariance, docs/theory.md §12), so it is the steady state of the EKF on the

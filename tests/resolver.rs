@@ -11,8 +11,8 @@
 use std::f64::consts::{PI, TAU};
 
 use angletrack::{
-    Demodulator, DemodulatorSettings, DemodulatorState, Design, DesignReport, Gains, Motion,
-    MotionProfile, ObserverState, ResolverModel, Scenario, kalman_from_jerk_std, predicted_error,
+    Chain, ChainState, Demodulator, DemodulatorSettings, DemodulatorState, Design, DesignReport,
+    Gains, Motion, MotionProfile, ResolverModel, Scenario, kalman_from_jerk_std, predicted_error,
 };
 
 /// ADC samples per carrier period.
@@ -70,14 +70,14 @@ fn track(model: &ResolverModel, duration_s: f64, expected_delay_rad: f64, seed: 
     demodulator
         .check_gains(&gains)
         .expect("gains at the pair rate");
-    let (mut front_end, mut observer) = (DemodulatorState::new(), ObserverState::new());
+    let chain = Chain::new((), gains);
+    let (mut front_end, mut observer) = (DemodulatorState::new(), ChainState::new());
     let (mut time_s, mut error_rad) = (Vec::new(), Vec::new());
     for (&c, &s) in capture.y_c.iter().zip(&capture.y_s) {
-        let Some((pair, estimate)) =
-            demodulator.feed(&mut front_end, &gains, &mut observer, c as f32, s as f32)
-        else {
+        let Some(pair) = demodulator.push(&mut front_end, c as f32, s as f32) else {
             continue;
         };
+        let estimate = chain.update(&mut observer, (pair.y_c, pair.y_s));
         let t = demodulator.centre_s(&pair);
         // The truth between ADC samples, by linear interpolation (exact at constant speed).
         let x = t / capture.sample_period_s;
@@ -245,7 +245,8 @@ fn the_whole_chain_gives_the_electrical_angle_at_the_pwm_update() {
         let latency_s = demodulator.centre_to_end_s() + demodulator.adc_sample_period_s();
         let outputs = DriveOutputs::new(4, 1, latency_s, 1e-4)?.with_speed_cutoff_hz(500.0)?;
         let mut carrier = ExcitationState::default();
-        let (mut front_end, mut observer) = (DemodulatorState::new(), ObserverState::new());
+        let chain = Chain::new((), gains);
+        let (mut front_end, mut observer) = (DemodulatorState::new(), ChainState::new());
         let mut drive = DriveOutputsState::default();
         // The simulated resolver: 305 degrees of carrier delay, 50 rev/s.
         let delay_turns = (305.0 / 360.0 * 4_294_967_296.0) as u32;
@@ -259,9 +260,8 @@ fn the_whole_chain_gives_the_electrical_angle_at_the_pwm_update() {
             let received: f64 = excitation.value_at(phase.wrapping_add(delay_turns));
             let raw_c = (2048.0 + 1800.0 * theta.cos() * received).round() as f32;
             let raw_s = (2048.0 + 1800.0 * theta.sin() * received).round() as f32;
-            if let Some((pair, estimate)) =
-                demodulator.feed(&mut front_end, &gains, &mut observer, raw_c, raw_s)
-            {
+            if let Some(pair) = demodulator.push(&mut front_end, raw_c, raw_s) {
+                let estimate = chain.update(&mut observer, (pair.y_c, pair.y_s));
                 assert!(pair.faults.is_empty() && estimate.faults.is_empty());
                 let angle = outputs.outputs(&mut drive, &estimate);
                 let truth = 4.0 * (0.4 + SPEED_RAD_S * (t + 1.0 / 160e3));

@@ -2,14 +2,13 @@
 //!
 //! One criterion group per observer and float type (`kalman-f32`, ...), each with the
 //! hand-written baseline (`baseline`: one struct, the standard library's `sin_cos`) and the
-//! core's observer with both phase-detector sin/cos (`exact`, `fast`) through the per-sample
-//! API (`update-*`, a loop over `Gains::update`) and the block API (`block-*`,
-//! `Gains::update_block`), and the fast one with the diagnostics off (`update-fast-unmonitored`,
-//! `FaultThresholds::disabled()`: the bare loop), and `ChannelBank`s of 16 and 64 channels
-//! sharing the gains (`bank-fast-16`, `bank-fast-64`, throughput in channel-samples: the
-//! observer's bank step `Gains::update_bank` on struct-of-arrays inputs), and the same
-//! banks through a chain's bank form (`chain-bank-fast-16`, `chain-bank-fast-64`:
-//! `Chain::track_bank` with no front end, one `(y_c, y_s)` pair per lane). The single
+//! core's observer (a chain with no front end) with both phase-detector sin/cos (`exact`,
+//! `fast`) through the per-sample API (`update-*`, a loop over `Chain::update`) and the
+//! block API (`block-*`, `Chain::update_block`), and the fast one with the diagnostics off
+//! (`update-fast-unmonitored`, `FaultThresholds::disabled()`: the bare loop), and
+//! `ChannelBank`s of 16 and 64 channels sharing the gains (`bank-fast-16`, `bank-fast-64`,
+//! throughput in channel-samples: `Chain::track_bank` with no front end, one `(y_c, y_s)`
+//! pair per lane, the observers' step side by side on struct-of-arrays states). The single
 //! stream's throughput (`update-fast-unmonitored`, the work a bank lane does) over a
 //! bank's is the bank's gain per channel-sample.
 //! Throughput is in samples, so every report reads as time per sample and the ratio to
@@ -62,16 +61,21 @@ impl<T: Real> Workload<T> {
         }
     }
 
-    fn initial_state<const N: usize>(&self) -> ObserverState<T, N> {
+    /// The state of a chain with no front end at the workload's true initial state.
+    fn initial_state<const N: usize>(&self) -> ChainState<(), ObserverState<T, N>> {
         // An order without an acceleration state starts without one.
         let acceleration = if N > 2 { self.acceleration_rad_s2 } else { 0.0 };
-        ObserverState::at(
+        let observer = ObserverState::at(
             T::from_f64(self.angle_rad),
             T::from_f64(self.speed_rad_s),
             T::from_f64(acceleration),
             T::from_f64(SAMPLE_PERIOD_S),
         )
-        .unwrap()
+        .unwrap();
+        ChainState {
+            front_end: (),
+            observer,
+        }
     }
 }
 
@@ -86,39 +90,47 @@ fn bench_core<T: Real, const N: usize, S: SinCos<T>>(
 {
     let gains: Gains<T, N, S> = gains(l);
     bench_update(group, workload, gains, &format!("update-{sin_cos}"));
+    let chain = Chain::new((), gains);
     let start = workload.initial_state::<N>();
     let mut out = vec![Estimate::default(); BLOCK];
     group.bench_function(format!("block-{sin_cos}"), |b| {
         b.iter(|| {
             let mut state = start;
-            let n = gains.update_block(&mut state, &workload.y_c, &workload.y_s, &mut out);
+            let inputs = workload
+                .y_c
+                .iter()
+                .copied()
+                .zip(workload.y_s.iter().copied());
+            let n = chain.update_block(&mut state, inputs, &mut out);
             black_box(&out);
             (n, state)
         })
     });
 }
 
-/// The per-sample API: a loop over `Gains::update`.
+/// The per-sample API: a loop over `Chain::update` (no front end).
 fn bench_update<T: Real, const N: usize, S: SinCos<T>>(
     group: &mut BenchmarkGroup<'_, WallTime>,
     workload: &Workload<T>,
     gains: Gains<T, N, S>,
     id: &str,
 ) {
+    let chain = Chain::new((), gains);
     let start = workload.initial_state::<N>();
     group.bench_function(id, |b| {
         b.iter(|| {
             let mut state = start;
             for (&c, &s) in workload.y_c.iter().zip(&workload.y_s) {
-                black_box(gains.update(&mut state, c, s));
+                black_box(chain.update(&mut state, (c, s)));
             }
             state
         })
     });
 }
 
-/// `L` channels in a [`ChannelBank`], lane `j` reading the workload's samples from
-/// `j` on; the bank is initialised by its first sample outside the timed loop.
+/// `L` channels in a [`ChannelBank`] (a chain's bank form), lane `j` reading the
+/// workload's samples from `j` on; the bank is initialised by its first sample outside the
+/// timed loop.
 fn bench_bank<T: Real, const N: usize, const L: usize>(
     group: &mut BenchmarkGroup<'_, WallTime>,
     gains: Gains<T, N, Fast>,
@@ -126,33 +138,14 @@ fn bench_bank<T: Real, const N: usize, const L: usize>(
 ) {
     let signal = benchmark_scenario(BLOCK + L);
     let (c, s) = channels::<T>(&signal);
-    let y_c: Vec<[T; L]> = (0..=BLOCK)
-        .map(|k| core::array::from_fn(|j| c[k + j]))
+    let pairs: Vec<[(T, T); L]> = (0..=BLOCK)
+        .map(|k| core::array::from_fn(|j| (c[k + j], s[k + j])))
         .collect();
-    let y_s: Vec<[T; L]> = (0..=BLOCK)
-        .map(|k| core::array::from_fn(|j| s[k + j]))
-        .collect();
-    let mut start = ChannelBank::<T, N, L>::new();
-    gains.update_bank(&mut start, &y_c[0], &y_s[0]);
+    let chain = Chain::new((), gains);
+    let mut start: ChainState<[(); L], ChannelBank<T, N, L>> = ChainState::new_bank();
+    chain.track_bank(&mut start, &pairs[0]);
     group.throughput(Throughput::Elements((BLOCK * L) as u64));
     group.bench_function(id, |b| {
-        b.iter(|| {
-            let mut bank = start;
-            for (c, s) in y_c[1..].iter().zip(&y_s[1..]) {
-                gains.update_bank(&mut bank, c, s);
-            }
-            bank
-        })
-    });
-    let chain = Chain::new((), gains);
-    let pairs: Vec<[(T, T); L]> = y_c
-        .iter()
-        .zip(&y_s)
-        .map(|(c, s)| core::array::from_fn(|j| (c[j], s[j])))
-        .collect();
-    let mut start = ChainState::new_bank();
-    chain.track_bank(&mut start, &pairs[0]);
-    group.bench_function(format!("chain-{id}"), |b| {
         b.iter(|| {
             let mut bank = start;
             for inputs in &pairs[1..] {

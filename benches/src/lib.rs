@@ -174,7 +174,7 @@ impl<T: Float> HandWrittenObserver<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use angletrack_core::{Exact, Fast, ObserverState};
+    use angletrack_core::{Chain, ChainState, Exact, Fast, ObserverState};
 
     #[test]
     fn gains_are_inside_the_stability_region_in_both_float_types() {
@@ -206,16 +206,24 @@ mod tests {
             };
             if l[2] == 0.0 {
                 let g: Gains<f64, 2, Exact> = gains([l[0], l[1]]);
-                let mut s = ObserverState::at(angle, speed, 0.0, SAMPLE_PERIOD_S).unwrap();
+                let observer = ObserverState::at(angle, speed, 0.0, SAMPLE_PERIOD_S).unwrap();
+                let mut s = ChainState {
+                    front_end: (),
+                    observer,
+                };
                 for k in 0..signal.len() {
-                    let e = g.update(&mut s, signal.y_c[k], signal.y_s[k]);
+                    let e = Chain::new((), g).update(&mut s, (signal.y_c[k], signal.y_s[k]));
                     check(e, hand.update(signal.y_c[k], signal.y_s[k]));
                 }
             } else {
                 let g: Gains<f64, 3, Exact> = gains(l);
-                let mut s = ObserverState::at(angle, speed, accel, SAMPLE_PERIOD_S).unwrap();
+                let observer = ObserverState::at(angle, speed, accel, SAMPLE_PERIOD_S).unwrap();
+                let mut s = ChainState {
+                    front_end: (),
+                    observer,
+                };
                 for k in 0..signal.len() {
-                    let e = g.update(&mut s, signal.y_c[k], signal.y_s[k]);
+                    let e = Chain::new((), g).update(&mut s, (signal.y_c[k], signal.y_s[k]));
                     check(e, hand.update(signal.y_c[k], signal.y_s[k]));
                 }
             }

@@ -127,7 +127,7 @@ where
             calibrator.enable();
         }
     }
-    let mut state = match input.initial {
+    let observer = match input.initial {
         Some((angle, speed, acceleration)) => ObserverState::at(
             T::from_f64(angle),
             T::from_f64(speed),
@@ -137,6 +137,11 @@ where
         // What the state cannot hold is refused: the fuzzed run starts from its first sample.
         .unwrap_or_default(),
         None => ObserverState::new(),
+    };
+    let learning = Chain::new(gains.online_calibration(), gains);
+    let mut learnt = ChainState {
+        front_end: calibrator,
+        observer,
     };
     let check = |e: Estimate<T>, state: &ObserverState<T, N>, calibrator: &Calibrator<T>| {
         assert!(
@@ -156,12 +161,8 @@ where
     for _ in 0..4 {
         for &(y_c, y_s) in &input.samples {
             let (y_c, y_s) = (T::from_f64(y_c), T::from_f64(y_s));
-            let e = Chain::new(gains.online_calibration(), gains).update_parts(
-                &mut calibrator,
-                &mut state,
-                (y_c, y_s),
-            );
-            check(e, &state, &calibrator);
+            let e = learning.update(&mut learnt, (y_c, y_s));
+            check(e, &learnt.observer, &learnt.front_end);
         }
     }
     let Some(adc) = &input.adc else {
@@ -177,19 +178,15 @@ where
             1 => scaling.sample(raw_c as u16, raw_s as u16),
             _ => scaling.sample(raw_c, raw_s),
         };
-        let e = Chain::new(gains.online_calibration(), gains).update_parts(
-            &mut calibrator,
-            &mut state,
-            (y_c, y_s),
-        );
-        check(e, &state, &calibrator);
+        let e = learning.update(&mut learnt, (y_c, y_s));
+        check(e, &learnt.observer, &learnt.front_end);
         let mut chained = ChainState {
             front_end: (),
-            observer: state,
+            observer: learnt.observer,
         };
         let e = Chain::new(scaling, gains).update(&mut chained, (raw_c, raw_s));
-        state = chained.observer;
-        check(e, &state, &calibrator);
+        learnt.observer = chained.observer;
+        check(e, &learnt.observer, &learnt.front_end);
     }
 }
 
@@ -219,13 +216,17 @@ where
         }
     }
     // `track` (the state only) must leave exactly the state `update` leaves.
-    let (mut state, mut tracked) = (FixedState::new(), FixedState::new());
+    let chain = Chain::new((), gains);
+    let (mut state, mut tracked) = (
+        ChainState::<(), FixedState<N>>::new(),
+        ChainState::<(), FixedState<N>>::new(),
+    );
     for &(c, s) in &fixed.samples {
-        let e = gains.update(&mut state, c, s);
-        gains.track(&mut tracked, c, s);
-        assert_eq!(FixedGains::<N>::estimate(&tracked), e);
+        let e = chain.update(&mut state, (c, s));
+        chain.track(&mut tracked, (c, s));
+        assert_eq!(chain.estimate(&tracked), e);
         assert!(e.phase_error.abs() <= 1 << 15, "{e:?}");
-        assert!((MIN_RECIPROCAL..=MAX_RECIPROCAL).contains(&state.reciprocal()));
+        assert!((MIN_RECIPROCAL..=MAX_RECIPROCAL).contains(&state.observer.reciprocal()));
     }
 }
 

@@ -9,7 +9,7 @@ use angletrack::{
     second_order_butterworth, second_order_from_bandwidth, second_order_from_tracking_error,
     third_order_butterworth, third_order_from_overshoot, third_order_from_poles,
 };
-use angletrack_core::{ObserverState, Order, SupportedOrder};
+use angletrack_core::{Chain, ChainState, Order, SupportedOrder};
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
 
@@ -43,11 +43,13 @@ where
         .to_gains::<f64>()
         .expect("a design's own gains are valid");
     let _ = design.to_gains::<f32>(); // may be refused (f32 range), never panics
-    let mut state = ObserverState::new();
+    let chain = Chain::new((), gains);
+    let mut state = ChainState::new();
     for k in 0..256 {
         let theta = 0.01 * k as f64;
-        let e = gains.update(&mut state, theta.cos() + 0.1, theta.sin() * 0.9);
-        assert!(state.scaled_state().iter().all(|x| x.is_finite()) && e.speed.is_finite());
+        let e = chain.update(&mut state, (theta.cos() + 0.1, theta.sin() * 0.9));
+        let x = state.observer.scaled_state();
+        assert!(x.iter().all(|x| x.is_finite()) && e.speed.is_finite());
     }
     // Reports simulate the loop for its settling horizon: only for loops that settle in
     // a bounded number of samples, so that the fuzzer keeps its pace.

@@ -7,7 +7,7 @@
 use core::f64::consts::{PI, TAU};
 use core::ptr::null;
 
-use angletrack_core::{FixedGains, FixedState};
+use angletrack_core::{Chain, ChainState, FixedGains, FixedState};
 
 use crate::chain_fixed::{ChainFixed, StateFixed};
 use crate::tests_chain::SAMPLES;
@@ -70,11 +70,12 @@ fn error_rad(angle: i32, truth: f64) -> f64 {
     (e + 3.0 * PI).rem_euclid(TAU) - PI
 }
 
-/// The core's fixed-point observer of the 3rd-order gains, its monitor for `nominal`.
-fn core_observer(nominal: f64) -> (FixedGains<3>, FixedState<3>) {
+/// The core's fixed-point observer of the 3rd-order gains, its monitor for `nominal` (a
+/// chain with no front end).
+fn core_observer(nominal: f64) -> (Chain<(), FixedGains<3>>, ChainState<(), FixedState<3>>) {
     let gains = GAINS_3.map(f64::from);
     let observer = FixedGains::<3>::new(gains, 1e-4).and_then(|g| g.with_monitor(Some(nominal)));
-    (observer.unwrap(), FixedState::new())
+    (Chain::new((), observer.unwrap()), ChainState::new())
 }
 
 #[test]
@@ -91,14 +92,14 @@ fn without_stages_it_is_the_observer_bit_for_bit() {
         let (a, b) = unsafe {
             (
                 at_chain_fixed_update_i16(&chain, &mut state, y_c, y_s),
-                at_fixed_estimate::from(gains.update(&mut plain, y_c, y_s)),
+                at_fixed_estimate::from(gains.update(&mut plain, (y_c, y_s))),
             )
         };
         assert_eq!(a, b, "{k}");
     }
     // SAFETY: as above.
     unsafe {
-        let estimate = at_fixed_estimate::from(FixedGains::<3>::estimate(&plain));
+        let estimate = at_fixed_estimate::from(FixedGains::<3>::estimate(&plain.observer));
         assert_eq!(at_chain_fixed_estimate(&chain, &state), estimate);
         assert_eq!(
             at_chain_fixed_track_u16(&chain, &mut state, 0, 0),
@@ -130,7 +131,7 @@ fn the_adc_is_the_conversion_it_replaces() {
         let (a, b, i) = unsafe {
             let mut again = state;
             let a = at_chain_fixed_update_u16(&chain, &mut state, c, s);
-            let b = gains.update(&mut plain, shifted(c), shifted(s)).into();
+            let b = gains.update(&mut plain, (shifted(c), shifted(s))).into();
             at_chain_fixed_track_i32(&chain, &mut again, c.into(), s.into());
             (a, b, at_chain_fixed_estimate(&chain, &again))
         };

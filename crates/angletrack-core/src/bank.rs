@@ -12,7 +12,7 @@ use crate::state::{Estimate, ObserverState};
 use crate::wrap::{FullWrap, NoWrap, Wrap, wrapped};
 
 /// The states of `L` independent channels of order `N`, laid out as a struct of arrays
-/// (`x[i][lane]`) so that [`Gains::update_bank`] runs the lanes side by side and the
+/// (`x[i][lane]`) so that [`Chain::track_bank`](crate::Chain::track_bank) runs the lanes side by side and the
 /// compiler can vectorise the loop over them. No allocation: the bank is a plain value
 /// (`(N + 3) * L` floats, for the states, the next predicted angles, the magnitudes the
 /// phase errors are normalised by and the phase errors, and `L` turn counts and flags), kept
@@ -61,10 +61,11 @@ impl<T: Float, const N: usize, const L: usize> ChannelBank<T, N, L> {
     /// exactly as single observers do.
     ///
     /// ```
-    /// use angletrack_core::{ChannelBank, Gains};
-    /// let gains = Gains::<f32, 3>::new([0.06, 0.0019, 3e-5], 1e-4)?;
-    /// let mut bank = ChannelBank::<f32, 3, 8>::new();
-    /// gains.update_bank(&mut bank, &[0.0; 8], &[1.0; 8]);
+    /// use angletrack_core::{Chain, ChainState, ChannelBank, Gains};
+    /// let chain = Chain::new((), Gains::<f32, 3>::new([0.06, 0.0019, 3e-5], 1e-4)?);
+    /// let mut state = ChainState { front_end: [(); 8], observer: ChannelBank::<f32, 3, 8>::new() };
+    /// chain.track_bank(&mut state, &[(0.0, 1.0); 8]);
+    /// let bank = &state.observer;
     /// assert!(bank.angles().iter().all(|a| (a - core::f32::consts::FRAC_PI_2).abs() < 1e-6));
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
@@ -210,18 +211,8 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// initialises it from `atan2(y_s, y_c)`; until every lane is initialised the lanes run
     /// one by one, then side by side.
     ///
-    /// ```
-    /// use angletrack_core::{ChannelBank, Gains};
-    /// let gains = Gains::<f64, 2>::new([0.06, 0.001], 1e-4)?;
-    /// let mut bank = ChannelBank::<f64, 2, 4>::new();
-    /// let (y_c, y_s) = ([1.0, 0.0, -1.0, f64::NAN], [0.0, 1.0, 0.0, 0.0]);
-    /// gains.update_bank(&mut bank, &y_c, &y_s);
-    /// gains.update_bank(&mut bank, &y_c, &y_s);
-    /// assert_eq!(bank.rejected(), [false, false, false, true]);
-    /// # Ok::<(), angletrack_core::ConfigError>(())
-    /// ```
     #[inline]
-    pub fn update_bank<const L: usize>(
+    pub(crate) fn update_bank<const L: usize>(
         &self,
         bank: &mut ChannelBank<T, N, L>,
         y_c: &[T; L],

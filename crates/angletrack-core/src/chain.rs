@@ -15,6 +15,7 @@ mod front_end_check;
 mod held_rails;
 mod observers;
 mod stages;
+mod unit;
 
 pub use front_end_check::{FrontEndCheck, FrontEndCheckState, WindingCheck};
 pub use held_rails::{
@@ -22,6 +23,7 @@ pub use held_rails::{
     is_piled_up_at_rail,
 };
 pub use stages::OnlineCalibration;
+pub use unit::UnitGains;
 
 /// The observer's prediction for the sample a stage is processing, in the observer's
 /// number format: for the float observers the angle in rad and `(sin, cos)` in `T`; for
@@ -257,19 +259,6 @@ impl<V: ChainNumber, X, A: Stage<V, X>, B: Stage<V, (V, V)>> Stage<V, X> for (A,
 /// # Ok::<(), angletrack_core::ConfigError>(())
 /// ```
 ///
-/// States kept apart (a calibrator saved on its own, an observer state shared with other
-/// code) take the `_parts` forms, with no copy:
-///
-/// ```
-/// use angletrack_core::{Calibrator, Chain, Gains, ObserverState};
-/// let gains = Gains::<f32, 3>::new([0.1578, 0.0126, 0.000_34], 50e-6)?;
-/// let chain = Chain::new(gains.online_calibration(), gains);
-/// let (mut calibrator, mut observer) = (Calibrator::new(), ObserverState::new());
-/// calibrator.enable();
-/// let estimate = chain.update_parts(&mut calibrator, &mut observer, (0.0f32, 1.0));
-/// assert!((estimate.angle - core::f32::consts::FRAC_PI_2).abs() < 1e-6);
-/// # Ok::<(), angletrack_core::ConfigError>(())
-/// ```
 // `repr(C)`, the observer first: the per-sample path reads the observer's gains and state
 // most, and at offset 0 a Cortex-M0 reaches them by its loads' immediate offsets instead of
 // a base address computed and kept per sample (ChainState likewise).
@@ -340,9 +329,8 @@ impl<F, O> Chain<F, O> {
 
 /// The chain's per-sample forms for one observer type: `track` (the state only, the
 /// cheapest per-sample form, the front end's faults latched), `update` (`track`, then the
-/// estimate, which carries the front end's faults), the two on states kept apart
-/// (`track_parts`, `update_parts`), `estimate` (on demand) and `update_block` (`update` on
-/// each input).
+/// estimate, which carries the front end's faults) and `update_block` (`update` on each
+/// input); `estimate` reads the estimate on demand.
 macro_rules! chain_forms {
     ($value:ty, $state:ty, $estimate:ty) => {
         /// One sample `input` through the front end and the observer: the state only (the
@@ -365,47 +353,39 @@ macro_rules! chain_forms {
             observers::track(self, state, input)
         }
 
-        /// [`Chain::track`] on the front end's and the observer's states kept apart (as a
-        /// C caller keeps a calibrator and an observer state, or a firmware that shares one
-        /// observer state between two front ends): the same sample, no copy.
+        /// [`Chain::update`] on each of `inputs` (a slice's `iter().copied()`, or two
+        /// slices of `y_c` and `y_s` zipped), the estimates written to `estimates`: the
+        /// shorter of the two sets the count, which is returned. The observer's state is
+        /// kept in a local copy over the block, so that it can live in registers.
+        ///
+        /// ```
+        /// use angletrack_core::{Chain, ChainState, Estimate, Gains};
+        /// let chain = Chain::new((), Gains::<f64, 2>::new([0.05, 0.0012], 1e-4)?);
+        /// let mut state = ChainState::new();
+        /// let (y_c, y_s) = ([1.0, 1.0, 1.0], [0.0, 0.0, 0.0]);
+        /// let mut out = [Estimate::default(); 3];
+        /// let inputs = y_c.iter().copied().zip(y_s.iter().copied());
+        /// assert_eq!(chain.update_block(&mut state, inputs, &mut out), 3);
+        /// # Ok::<(), angletrack_core::ConfigError>(())
+        /// ```
         #[inline]
-        pub fn track_parts<X>(&self, front_end: &mut F::State, observer: &mut $state, input: X)
-        where
-            F: Stage<$value, X>,
-        {
-            observers::track::<_, _, _, _, ()>(self, &mut (front_end, observer), input)
-        }
-
-        /// [`Chain::update`] on the front end's and the observer's states kept apart (see
-        /// [`Chain::track_parts`]).
-        #[inline]
-        pub fn update_parts<X>(
-            &self,
-            front_end: &mut F::State,
-            observer: &mut $state,
-            input: X,
-        ) -> $estimate
-        where
-            F: Stage<$value, X>,
-        {
-            observers::track(self, &mut (front_end, observer), input)
-        }
-
-        /// [`Chain::update`] on each of `inputs`, the estimates written to `estimates`
-        /// (the shorter of the two sets the count, which is returned).
-        pub fn update_block<X: Copy>(
+        pub fn update_block<X>(
             &self,
             state: &mut ChainState<F::State, $state>,
-            inputs: &[X],
+            inputs: impl IntoIterator<Item = X>,
             estimates: &mut [$estimate],
         ) -> usize
         where
             F: Stage<$value, X>,
         {
-            let count = inputs.len().min(estimates.len());
-            for (input, estimate) in inputs.iter().zip(estimates.iter_mut()) {
-                *estimate = self.update(state, *input);
+            let mut observer = state.observer;
+            let mut states = (&mut state.front_end, &mut observer);
+            let mut count = 0;
+            for (input, estimate) in inputs.into_iter().zip(estimates.iter_mut()) {
+                *estimate = observers::track(self, &mut states, input);
+                count += 1;
             }
+            state.observer = observer;
             count
         }
     };
@@ -413,6 +393,21 @@ macro_rules! chain_forms {
 
 impl<F, T: Float, const N: usize, S: SinCos<T>> Chain<F, Gains<T, N, S>> {
     chain_forms!(T, ObserverState<T, N>, Estimate<T>);
+
+    /// [`Chain::update`] on the front end's and the observer's states kept apart (the
+    /// core's tests of the online calibration keep its calibrator apart).
+    #[cfg(test)]
+    pub(crate) fn update_parts<X>(
+        &self,
+        front_end: &mut F::State,
+        observer: &mut ObserverState<T, N>,
+        input: X,
+    ) -> Estimate<T>
+    where
+        F: Stage<T, X>,
+    {
+        observers::track(self, &mut (front_end, observer), input)
+    }
 
     /// The estimate held by `state`, in physical units (the observer's faults; the front
     /// end's are latched in the state).

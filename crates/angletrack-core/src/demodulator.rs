@@ -24,7 +24,6 @@ use crate::error::{ConfigError, Parameter};
 use crate::gains::Gains;
 use crate::real::Float;
 use crate::real::sincos::SinCos;
-use crate::state::{Estimate, ObserverState};
 
 mod carrier_loop;
 mod construction;
@@ -101,24 +100,6 @@ impl<V: DemodulatorNumber> Demodulator<V> {
     /// ```
     pub fn new(settings: DemodulatorSettings<V::Real>) -> Result<Self, ConfigError> {
         V::demodulator(settings)
-    }
-
-    /// [`Demodulator::push`] and, when a pair comes out, the observer's update on it: the
-    /// whole chain from ADC samples to the angle in one call per sample pair. `gains` must be
-    /// designed for the declared carrier period ([`Demodulator::check_gains`]).
-    pub fn feed<const M: usize, S: SinCos<V>>(
-        &self,
-        state: &mut DemodulatorState<V>,
-        gains: &Gains<V, M, S>,
-        observer: &mut ObserverState<V, M>,
-        raw_c: V,
-        raw_s: V,
-    ) -> Option<(DemodulatedPair<V>, Estimate<V>)>
-    where
-        V: Float,
-    {
-        let pair = self.push(state, raw_c, raw_s)?;
-        Some((pair, gains.update(observer, pair.y_c, pair.y_s)))
     }
 
     /// Checks that `gains` run at the pair rate: their sample period must be the declared

@@ -31,7 +31,7 @@
 //! quadrature). One concept per module: `state` and `update` the recursion, `wrap` the
 //! angle wrap and turn count, `gains` and `stability` the checked configuration, `monitor`
 //! and `faults` the diagnostics, `real::sincos` the phase detector's sin/cos, `bank` many channels
-//! at once, `observer` the trait over all observers, `error` the refusals, `real` the float
+//! at once, `chain` the front end's stages composed with the observer, `error` the refusals, `real` the float
 //! types' arithmetic ([`Float`]) and sin/cos, `const_config` the checked configurations
 //! ([`Real`]: [`Float`] with the configurations' checks), `adc` the ADC front end, `calibration` the sensor correction,
 //! `calibration_settings` its configuration and `learning` its online estimator.
@@ -91,14 +91,15 @@
 //! The loop needs no nominal amplitude (its phase error is normalised); the diagnostics do,
 //! in the input's units ([`FaultThresholds::for_amplitude`]), which [`AdcScaling`] makes
 //! fractions of full scale. [`Gains`] is immutable and `Copy`; [`ObserverState`] (and a
-//! [`Calibrator`]) are the mutable part, so one gain set serves many channels.
-//! [`Observer`] bundles both and implements [`AngleTrackingObserver`], the trait for code
-//! that should not care which observer it runs.
+//! [`Calibrator`]) are the mutable part, so one gain set serves many channels. An observer
+//! on its own is a chain with no front end, `Chain::new((), gains)`, which costs nothing
+//! more: a chain's `track` and `update`, their block form `update_block` and their bank
+//! forms `track_bank` and `update_bank` are the crate's only per-sample entry points.
 //!
 //! # No panic, in optimised builds
 //!
-//! The per-sample entry points (`update`, `track`, `update_block`, a [`Chain`]'s `track` and `update`,
-//! the bank's updates) have no panic path in an optimised
+//! The per-sample entry points (a [`Chain`]'s `track`, `update`, `update_block`,
+//! `track_bank` and `update_bank`) have no panic path in an optimised
 //! build (`--release`): the repository's `tests/no-panic` image links them for a Cortex-M4F
 //! with a panic handler that the linker must drop, and its test fails if any panic path
 //! remains. Debug builds keep Rust's overflow checks, which can panic on an integer
@@ -128,7 +129,6 @@ mod adc;
 mod angle_correction;
 mod angle_table;
 mod bank;
-mod block;
 mod calibration;
 mod calibration_settings;
 mod chain;
@@ -144,7 +144,6 @@ mod gains;
 mod learning;
 mod monitor;
 mod monitor_thresholds;
-mod observer;
 mod outputs;
 mod reacquisition;
 mod real;
@@ -164,7 +163,7 @@ pub use calibration_settings::CalibrationSettings;
 pub use chain::{
     Chain, ChainState, Feedback, FrontEndCheck, FrontEndCheckState, HELD_RAIL_SAMPLES,
     HeldRailCheck, HeldRails, OnlineCalibration, Prediction, RAIL_BAND_PER_SPAN, RailSample, Stage,
-    WindingCheck, is_piled_up_at_rail,
+    UnitGains, WindingCheck, is_piled_up_at_rail,
 };
 pub use const_config::Real;
 pub use demodulator::{
@@ -183,7 +182,6 @@ pub use front_end_faults::FrontEndFaults;
 pub use gains::{Gains, Order, SupportedOrder};
 pub use learning::{CalibrationMode, CalibrationStatus, Calibrator};
 pub use monitor::FaultThresholds;
-pub use observer::{AngleTrackingObserver, Observer, SecondOrderObserver, ThirdOrderObserver};
 pub use outputs::{DriveAngle, DriveOutputs, DriveOutputsState};
 pub use real::sincos::{Detection, Exact, Fast, SinCos, SinCosUnit};
 pub use real::{ChainNumber, Float};

@@ -12,8 +12,8 @@ use crate::wrap::{wrap_angle, wrapped};
 /// What an observer knows after a sample.
 ///
 /// Its fields are read directly; it may gain fields (`#[non_exhaustive]`), so code outside
-/// this crate makes one with [`Estimate::new`] (an observer of its own behind
-/// [`AngleTrackingObserver`](crate::AngleTrackingObserver)) or [`Estimate::default`].
+/// this crate makes one with [`Estimate::new`] (an observer of its own, compared with this
+/// crate's) or [`Estimate::default`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
@@ -132,10 +132,10 @@ impl<T: Float, const N: usize> ObserverState<T, N> {
     /// `atan2(y_s, y_c)` (so tracking never starts 180 degrees off), speed and acceleration 0.
     ///
     /// ```
-    /// use angletrack_core::{Gains, ObserverState};
-    /// let gains = Gains::<f64, 2>::new([0.05, 0.0012], 1e-4)?;
-    /// let mut state = ObserverState::new();
-    /// let first = gains.update(&mut state, 0.0, 1.0); // theta = 90 degrees
+    /// use angletrack_core::{Chain, ChainState, Gains, ObserverState};
+    /// let chain = Chain::new((), Gains::<f64, 2>::new([0.05, 0.0012], 1e-4)?);
+    /// let mut state = ChainState { front_end: (), observer: ObserverState::new() };
+    /// let first = chain.update(&mut state, (0.0, 1.0)); // theta = 90 degrees
     /// assert!((first.angle - core::f64::consts::FRAC_PI_2).abs() < 1e-12);
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
@@ -269,13 +269,14 @@ impl<T: Float, const N: usize> ObserverState<T, N> {
     /// compare, is [`ObserverState::filtered_amplitude`].
     ///
     /// ```
-    /// use angletrack_core::{FaultThresholds, Gains, ObserverState};
+    /// use angletrack_core::{Chain, ChainState, FaultThresholds, Gains};
     /// let gains = Gains::<f32, 3>::new([0.3, 0.04, 0.002], 1e-4)?
     ///     .with_fault_thresholds(FaultThresholds::for_amplitude(1800.0))?;
-    /// let mut state = ObserverState::new();
-    /// gains.update(&mut state, 1800.0, 0.0); // raw ADC counts, mid-scale removed
-    /// gains.update(&mut state, 1800.0, 0.0);
-    /// assert!((state.amplitude() - 1800.0).abs() < 1e-2);
+    /// let chain = Chain::new((), gains);
+    /// let mut state = ChainState::new();
+    /// chain.track(&mut state, (1800.0, 0.0)); // raw ADC counts, mid-scale removed
+    /// chain.track(&mut state, (1800.0, 0.0));
+    /// assert!((state.observer.amplitude() - 1800.0).abs() < 1e-2);
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
     pub fn amplitude(&self) -> T {
@@ -304,13 +305,13 @@ impl<T: Float, const N: usize> ObserverState<T, N> {
     /// again at the next sample.
     ///
     /// ```
-    /// use angletrack_core::{Faults, Gains, ObserverState};
-    /// let gains = Gains::<f32, 2>::new([0.05, 0.0012], 1e-4)?;
-    /// let mut state = ObserverState::new();
-    /// gains.update(&mut state, 1.0, 0.0);
-    /// gains.update(&mut state, f32::NAN, 0.0); // a broken ADC read
-    /// assert!(state.clear_faults().contains(Faults::BAD_SAMPLE));
-    /// assert!(state.latched_faults().is_empty());
+    /// use angletrack_core::{Chain, ChainState, Faults, Gains};
+    /// let chain = Chain::new((), Gains::<f32, 2>::new([0.05, 0.0012], 1e-4)?);
+    /// let mut state = ChainState::new();
+    /// chain.track(&mut state, (1.0, 0.0));
+    /// chain.track(&mut state, (f32::NAN, 0.0)); // a broken ADC read
+    /// assert!(state.observer.clear_faults().contains(Faults::BAD_SAMPLE));
+    /// assert!(state.observer.latched_faults().is_empty());
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
     pub fn clear_faults(&mut self) -> Faults {

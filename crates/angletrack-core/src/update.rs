@@ -17,7 +17,7 @@ use crate::recursion::{Sample, Step};
 use crate::state::{Estimate, ObserverState, predict};
 use crate::wrap::{FullWrap, NoWrap, Wrap, re_acquired, sample_angle, wrap_angle, wrapped};
 
-/// What [`Gains::update_observing`] shows of a used sample.
+/// What [`Gains::track_observing`] shows of a used sample.
 #[derive(Clone, Copy)]
 pub(crate) struct UsedSample<T> {
     /// `(sin, cos)` of the sample's predicted angle.
@@ -31,20 +31,33 @@ pub(crate) struct UsedSample<T> {
     pub(crate) phase_error: T,
 }
 
-/// What [`Gains::update_observing`] shows each sample to: a trait rather than a closure,
+/// What [`Gains::track_observing`] shows each sample to: a trait rather than a closure,
 /// so that its method can be inlined into the update's loop (a closure may stay a call).
 pub(crate) trait SampleObserver<T> {
     /// One sample: `Some` for a used sample, `None` for one that was not used.
     fn observe(self, used: Option<UsedSample<T>>);
+
+    /// Whether [`SampleObserver::observe`] reads the sample (`()` does not): what an
+    /// observer computes only to show it is then not computed at all.
+    #[inline(always)]
+    fn observes(&self) -> bool {
+        true
+    }
 }
 
 impl<T> SampleObserver<T> for () {
     #[inline(always)]
     fn observe(self, _used: Option<UsedSample<T>>) {}
+
+    #[inline(always)]
+    fn observes(&self) -> bool {
+        false
+    }
 }
 
 impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
-    /// One sample of the observer: predict, detect the phase error, correct, monitor.
+    /// One sample of the observer: predict, detect the phase error, correct, monitor (what
+    /// [`Chain::update`](crate::Chain::update) runs after its front end).
     ///
     /// ```text
     /// X_p = A X_e                      (Taylor step of the scaled state)
@@ -73,53 +86,25 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// next window ends, and re-acquire the angle from `atan2` on a false lock (see
     /// [`FaultThresholds`](crate::FaultThresholds)). Never fails, never panics, and the
     /// state stays finite.
+    #[cfg(test)]
     #[inline]
-    pub fn update(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) -> Estimate<T> {
+    pub(crate) fn update(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) -> Estimate<T> {
         self.track(state, y_c, y_s);
         self.estimate(state)
     }
 
     /// [`Gains::update`] without the estimate: the state takes the sample and nothing is
-    /// computed in physical units, the cheapest per-sample entry point (for a control loop
-    /// that reads the estimate at its own rate). Read it when needed with
-    /// [`Gains::estimate`] (everything [`Gains::update`] would have returned for this
-    /// sample, to the bit) or [`ObserverState::angle`].
-    ///
-    /// ```
-    /// use angletrack_core::{Gains, ObserverState};
-    /// let gains = Gains::<f32, 3>::new([0.3, 0.04, 0.002], 50e-6)?;
-    /// let (mut state, mut twin) = (ObserverState::new(), ObserverState::new());
-    /// for k in 0..100 {
-    ///     let theta = 0.01 * k as f32;
-    ///     gains.track(&mut state, theta.cos(), theta.sin());
-    ///     let e = gains.update(&mut twin, theta.cos(), theta.sin());
-    ///     assert_eq!(gains.estimate(&state), e);
-    /// }
-    /// assert!((state.angle() - 0.99).abs() < 1e-3);
-    /// # Ok::<(), angletrack_core::ConfigError>(())
-    /// ```
+    /// computed in physical units (a chain's `track`); [`Gains::estimate`] reads, to the
+    /// bit, everything [`Gains::update`] would have returned for this sample.
     #[inline]
-    pub fn track(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) {
+    pub(crate) fn track(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T) {
         self.track_observing(state, y_c, y_s, ());
     }
 
-    /// [`Gains::update`] that also shows each sample to `observer`: `Some` with what the
+    /// [`Gains::track`] that also shows each sample to `observer`: `Some` with what the
     /// recursion computed for a used sample (after the monitor), `None` for a sample that
     /// was not used (rejected, or the first one). The online calibration learns through it;
-    /// the plain update passes `()`, which does nothing and costs nothing.
-    #[inline(always)]
-    pub(crate) fn update_observing(
-        &self,
-        state: &mut ObserverState<T, N>,
-        y_c: T,
-        y_s: T,
-        observer: impl SampleObserver<T>,
-    ) -> Estimate<T> {
-        self.track_observing(state, y_c, y_s, observer);
-        self.estimate(state)
-    }
-
-    /// [`Gains::track`] with an `observer` (see [`Gains::update_observing`]).
+    /// the plain track passes `()`, which does nothing and costs nothing.
     #[inline(always)]
     pub(crate) fn track_observing(
         &self,
@@ -132,44 +117,6 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         self.track_observing_with(state, &mut S::default(), y_c, y_s, observer);
     }
 
-    /// [`Gains::update`] with the phase detector's sin/cos computed by `unit`, a stateful
-    /// (hardware) unit such as a CORDIC coprocessor, instead of the gains' `S`: see
-    /// [`SinCosUnit`]. `unit` is used once per used sample, on the wrapped predicted angle.
-    ///
-    /// ```
-    /// use angletrack_core::{Detection, Gains, ObserverState, SinCosUnit};
-    /// /// A unit that counts its uses (a real one would drive a peripheral).
-    /// #[derive(Default)]
-    /// struct CountingUnit {
-    ///     uses: u32,
-    /// }
-    /// impl SinCosUnit<f32> for CountingUnit {
-    ///     fn sin_cos(&mut self, angle: f32) -> (f32, f32) {
-    ///         self.uses += 1;
-    ///         (libm::sinf(angle), libm::cosf(angle))
-    ///     }
-    /// }
-    /// let gains = Gains::<f32, 3>::new([0.1578, 0.0126, 0.000_34], 50e-6)?;
-    /// let (mut state, mut unit) = (ObserverState::new(), CountingUnit::default());
-    /// for _ in 0..3 {
-    ///     gains.update_with(&mut state, &mut unit, 0.5, 0.866);
-    /// }
-    /// // The first sample sets the angle from atan2; the second and third are used.
-    /// assert_eq!(unit.uses, 2);
-    /// # Ok::<(), angletrack_core::ConfigError>(())
-    /// ```
-    #[inline]
-    pub fn update_with<U: SinCosUnit<T>>(
-        &self,
-        state: &mut ObserverState<T, N>,
-        unit: &mut U,
-        y_c: T,
-        y_s: T,
-    ) -> Estimate<T> {
-        self.track_observing_with(state, unit, y_c, y_s, ());
-        self.estimate(state)
-    }
-
     /// The body of every single-channel entry point: [`Gains::track`] with the sin/cos of
     /// `unit` and an `observer`.
     ///
@@ -179,7 +126,7 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// the first sample, a rejected sample, a wrap, the monitor's decision once per window,
     /// is out of line.
     #[inline(always)]
-    fn track_observing_with<U: SinCosUnit<T>>(
+    pub(crate) fn track_observing_with<U: SinCosUnit<T>>(
         &self,
         state: &mut ObserverState<T, N>,
         unit: &mut U,

@@ -71,10 +71,9 @@
 
 pub use angletrack_core as core;
 pub use angletrack_core::{
-    AdcScaling, AngleCorrection, AngleTrackingObserver, CalibrationMode, CalibrationSettings,
-    Calibrator, ChannelBank, ConfigError, Estimate, Exact, Fast, FaultThresholds, Faults, Gains,
-    Observer, ObserverState, Parameter, Real, SecondOrderObserver, SensorCalibration, SinCos,
-    ThirdOrderObserver,
+    AdcScaling, AngleCorrection, CalibrationMode, CalibrationSettings, Calibrator, Chain,
+    ChainState, ChannelBank, ConfigError, Estimate, Exact, Fast, FaultThresholds, Faults, Gains,
+    ObserverState, Parameter, Real, SensorCalibration, SinCos,
 };
 // The resolver front end (`docs/theory.md §13`).
 pub use angletrack_core::{

@@ -218,9 +218,11 @@ where
         self.0.track(state, (y_c, y_s))
     }
     fn record(&self, state: &Self::State, _: &()) -> Record {
-        Fixed(self.0.observer).record(&state.observer, &self.0.estimate(state))
+        let alone = ChainState::new();
+        Fixed(Chain::new((), self.0.observer)).record(&alone, &self.0.estimate(state))
     }
     fn integers(&self, state: &Self::State, _: &()) -> Option<[i64; 6]> {
-        Fixed(self.0.observer).integers(&state.observer, &self.0.estimate(state))
+        let alone = ChainState::new();
+        Fixed(Chain::new((), self.0.observer)).integers(&alone, &self.0.estimate(state))
     }
 }

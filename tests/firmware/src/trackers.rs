@@ -1,13 +1,14 @@
 //! The trackers of the firmware test's variants: what one variant runs per sample
-//! ([`Tracker`]), the core's `f32` entry points ([`EntryPoint`]: `Plain`; the signal
-//! chains' in `chains.rs`), those that return no estimate (`Track`), the fixed-point
-//! observer (`Fixed`, `FixedTrack`) and the baselines' PLL. Shared, like `variants.rs`, by
+//! ([`Tracker`]), the core's `f32` entry points ([`EntryPoint`]: `Plain`, the observer
+//! alone, a chain with no front end; the signal chains with stages in `chains.rs`), those
+//! that return no estimate (`Track`), the fixed-point observer alone (`Fixed`, `FixedTrack`)
+//! and the baselines' PLL. Shared, like `variants.rs`, by
 //! the build script and the firmware.
 
 use angletrack_core::fixed::binary_angle_to_rad;
 use angletrack_core::{
-    Estimate, FixedEstimate, FixedGains, FixedState, Gains, ObserverState, Order, SinCos,
-    SupportedOrder,
+    Chain, ChainState, Estimate, FixedEstimate, FixedGains, FixedState, Gains, ObserverState,
+    Order, SinCos, SupportedOrder,
 };
 
 use crate::baseline::{Atan2, PhaseLockedLoop, PllState};
@@ -159,20 +160,21 @@ impl<E: EntryPoint> Tracker for E {
     }
 }
 
-/// The core's `Gains::update`.
+/// The observer alone: the core's `Chain::update` with no front end (and its
+/// `Chain::update_block`).
 #[derive(Debug, Clone, Copy)]
-pub struct Plain<const N: usize, S>(pub Gains<f32, N, S>);
+pub struct Plain<const N: usize, S>(pub Chain<(), Gains<f32, N, S>>);
 
 impl<const N: usize, S: SinCos<f32>> EntryPoint for Plain<N, S>
 where
     Order<N>: SupportedOrder,
 {
-    type State = ObserverState<f32, N>;
+    type State = ChainState<(), ObserverState<f32, N>>;
     type Input = f32;
     const BLOCK: bool = true;
     #[inline(always)]
     fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) -> Estimate<f32> {
-        self.0.update(state, y_c, y_s)
+        self.0.update(state, (y_c, y_s))
     }
     #[inline(always)]
     fn update_block(
@@ -182,24 +184,26 @@ where
         y_s: &[f32],
         out: &mut [Estimate<f32>],
     ) -> usize {
-        self.0.update_block(state, y_c, y_s, out)
+        let inputs = y_c.iter().copied().zip(y_s.iter().copied());
+        self.0.update_block(state, inputs, out)
     }
 }
 
-/// The core's `Gains::track`: the state only, the estimate read on demand
-/// (`Gains::estimate`) where it is checked, outside the counted update.
+/// The observer alone through the core's `Chain::track` with no front end: the state
+/// only, the estimate read on demand (`Chain::estimate`) where it is checked, outside the
+/// counted update.
 #[derive(Debug, Clone, Copy)]
-pub struct Track<const N: usize, S>(pub Gains<f32, N, S>);
+pub struct Track<const N: usize, S>(pub Chain<(), Gains<f32, N, S>>);
 
 impl<const N: usize, S: SinCos<f32>> Tracker for Track<N, S>
 where
     Order<N>: SupportedOrder,
 {
-    type State = ObserverState<f32, N>;
+    type State = ChainState<(), ObserverState<f32, N>>;
     type Input = f32;
     type Output = ();
     fn new_state(&self) -> Self::State {
-        ObserverState::new()
+        ChainState::new()
     }
     fn input(y: f32) -> f32 {
         y
@@ -209,7 +213,7 @@ where
     }
     #[inline(always)]
     fn update(&self, state: &mut Self::State, y_c: f32, y_s: f32) {
-        self.0.track(state, y_c, y_s)
+        self.0.track(state, (y_c, y_s))
     }
     fn record(&self, state: &Self::State, _: &()) -> Record {
         Record::of(&self.0.estimate(state))
@@ -261,20 +265,20 @@ pub fn fixed_counts(y: f32) -> i16 {
     }) as i16
 }
 
-/// The core's fixed-point observer (`FixedGains::update`, `docs/theory.md §14`) on 16-bit
-/// counts ([`fixed_counts`]), with its default diagnostics.
+/// The core's fixed-point observer alone (`Chain::update` with no front end,
+/// `docs/theory.md §14`) on 16-bit counts ([`fixed_counts`]), with its default diagnostics.
 #[derive(Debug, Clone, Copy)]
-pub struct Fixed<const N: usize>(pub FixedGains<N>);
+pub struct Fixed<const N: usize>(pub Chain<(), FixedGains<N>>);
 
 impl<const N: usize> Tracker for Fixed<N>
 where
     Order<N>: SupportedOrder,
 {
-    type State = FixedState<N>;
+    type State = ChainState<(), FixedState<N>>;
     type Input = i16;
     type Output = FixedEstimate;
-    fn new_state(&self) -> FixedState<N> {
-        FixedState::new()
+    fn new_state(&self) -> Self::State {
+        ChainState::new()
     }
     fn input(y: f32) -> i16 {
         fixed_counts(y)
@@ -283,19 +287,19 @@ where
         inputs.fixed
     }
     #[inline(always)]
-    fn update(&self, state: &mut FixedState<N>, y_c: i16, y_s: i16) -> FixedEstimate {
-        self.0.update(state, y_c, y_s)
+    fn update(&self, state: &mut Self::State, y_c: i16, y_s: i16) -> FixedEstimate {
+        self.0.update(state, (y_c, y_s))
     }
-    fn record(&self, _: &FixedState<N>, e: &FixedEstimate) -> Record {
+    fn record(&self, _: &Self::State, e: &FixedEstimate) -> Record {
         // The core's conversions to physical units (in f64, outside the counted update).
         Record {
             angle: binary_angle_to_rad(e.angle) as f32,
             turns: e.turns as i32,
-            speed: self.0.speed_rad_s(e) as f32,
-            acceleration: self.0.acceleration_rad_s2(e) as f32,
+            speed: self.0.observer.speed_rad_s(e) as f32,
+            acceleration: self.0.observer.acceleration_rad_s2(e) as f32,
         }
     }
-    fn integers(&self, _: &FixedState<N>, e: &FixedEstimate) -> Option<[i64; 6]> {
+    fn integers(&self, _: &Self::State, e: &FixedEstimate) -> Option<[i64; 6]> {
         Some([
             i64::from(e.angle),
             e.turns,
@@ -307,7 +311,7 @@ where
     }
 }
 
-/// The core's fixed-point observer through `FixedGains::track` (the state updated, no
+/// The core's fixed-point observer alone through `Chain::track` (the state updated, no
 /// estimate returned), the estimate read on demand outside the counted update.
 #[derive(Debug, Clone, Copy)]
 pub struct FixedTrack<const N: usize>(pub Fixed<N>);
@@ -316,11 +320,11 @@ impl<const N: usize> Tracker for FixedTrack<N>
 where
     Order<N>: SupportedOrder,
 {
-    type State = FixedState<N>;
+    type State = ChainState<(), FixedState<N>>;
     type Input = i16;
     type Output = ();
-    fn new_state(&self) -> FixedState<N> {
-        FixedState::new()
+    fn new_state(&self) -> Self::State {
+        ChainState::new()
     }
     fn input(y: f32) -> i16 {
         fixed_counts(y)
@@ -329,13 +333,13 @@ where
         inputs.fixed
     }
     #[inline(always)]
-    fn update(&self, state: &mut FixedState<N>, y_c: i16, y_s: i16) {
-        self.0.0.track(state, y_c, y_s);
+    fn update(&self, state: &mut Self::State, y_c: i16, y_s: i16) {
+        self.0.0.track(state, (y_c, y_s));
     }
-    fn record(&self, state: &FixedState<N>, _: &()) -> Record {
-        self.0.record(state, &FixedGains::estimate(state))
+    fn record(&self, state: &Self::State, _: &()) -> Record {
+        self.0.record(state, &self.0.0.estimate(state))
     }
-    fn integers(&self, state: &FixedState<N>, _: &()) -> Option<[i64; 6]> {
-        self.0.integers(state, &FixedGains::estimate(state))
+    fn integers(&self, state: &Self::State, _: &()) -> Option<[i64; 6]> {
+        self.0.integers(state, &self.0.0.estimate(state))
     }
 }

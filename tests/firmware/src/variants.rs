@@ -118,11 +118,11 @@ impl Observers {
     }
     fn fixed(&self) -> Result<Fixed<3>, ConfigError> {
         let gains = FixedGains::new(self.kalman.map(f64::from), f64::from(self.sample_period_s))?;
-        Ok(Fixed(gains))
+        Ok(Fixed(alone(gains)))
     }
     fn fixed_unmonitored(&self) -> Result<Fixed<3>, ConfigError> {
-        let Fixed(gains) = self.fixed()?;
-        Ok(Fixed(gains.with_monitor(None)?))
+        let Fixed(chain) = self.fixed()?;
+        Ok(Fixed(alone(chain.observer.with_monitor(None)?)))
     }
     /// The fast Kalman observer through the online calibration, learning or off.
     fn calibrated(
@@ -142,15 +142,20 @@ impl Observers {
     }
     /// The fixed-point observer through a stored calibration and the angle error's table.
     fn fixed_corrected(&self) -> Result<FixedChainTrack<3>, ConfigError> {
-        let Fixed(gains) = self.fixed()?;
+        let Fixed(chain) = self.fixed()?;
         Ok(FixedChainTrack(Chain::new(
             fixed_corrections(&correction()?)?,
-            gains,
+            chain.observer,
         )))
     }
     fn pll<A: Atan2>(&self) -> PhaseLockedLoop<A> {
         PhaseLockedLoop::new(PLL_BANDWIDTH_RAD_S, self.sample_period_s)
     }
+}
+
+/// The observer alone: a chain with no front end.
+fn alone<O>(observer: O) -> Chain<(), O> {
+    Chain::new((), observer)
 }
 
 /// The gains with the fast (polynomial) sin/cos.
@@ -200,17 +205,17 @@ macro_rules! variants {
 }
 
 variants! {
-    "second-order-f32-exact" => |o| o.second_order().map(Plain),
-    "second-order-f32-fast" => |o| o.second_order().map(fast).map(Plain),
-    "third-order-f32-exact" => |o| o.third_order().map(Plain),
-    "third-order-f32-fast" => |o| o.third_order().map(fast).map(Plain),
-    "kalman-f32-exact" => |o| o.kalman().map(Plain),
-    "kalman-f32-fast" => |o| o.kalman().map(fast).map(Plain),
-    "kalman-f32-fast-unmonitored" => |o| o.kalman().and_then(unmonitored).map(fast).map(Plain),
+    "second-order-f32-exact" => |o| o.second_order().map(alone).map(Plain),
+    "second-order-f32-fast" => |o| o.second_order().map(fast).map(alone).map(Plain),
+    "third-order-f32-exact" => |o| o.third_order().map(alone).map(Plain),
+    "third-order-f32-fast" => |o| o.third_order().map(fast).map(alone).map(Plain),
+    "kalman-f32-exact" => |o| o.kalman().map(alone).map(Plain),
+    "kalman-f32-fast" => |o| o.kalman().map(fast).map(alone).map(Plain),
+    "kalman-f32-fast-unmonitored" => |o| o.kalman().and_then(unmonitored).map(fast).map(alone).map(Plain),
     "kalman-f32-fast-calibrated" => |o| o.calibrated(true).map(ChainUpdate),
     "kalman-f32-fast-calibrated-off" => |o| o.calibrated(false).map(ChainUpdate),
-    "kalman-f32-fast-track" => |o| o.kalman().map(fast).map(Track),
-    "kalman-f32-fast-track-unmonitored" => |o| o.kalman().and_then(unmonitored).map(fast).map(Track),
+    "kalman-f32-fast-track" => |o| o.kalman().map(fast).map(alone).map(Track),
+    "kalman-f32-fast-track-unmonitored" => |o| o.kalman().and_then(unmonitored).map(fast).map(alone).map(Track),
     "kalman-f32-fast-track-calibrated-off" => |o| o.calibrated(false).map(ChainTrack),
     "kalman-f32-fast-track-corrected" => |o| o.corrected(),
     "kalman-f32-fast-adc" => |o| Ok(ChainUpdate(Chain::new(AdcScaling::twos_complement(12)?, fast(o.kalman()?)))),

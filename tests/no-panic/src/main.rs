@@ -1,6 +1,6 @@
-//! Every f32 per-sample entry point of the core (single observers, channel banks, signal
-//! chains with every front-end stage, the resolver front end) and the fixed-point observer's
-//! and chain's, fed with values the optimiser cannot see (`black_box`). The panic handler below is only kept by the linker if some path
+//! Every f32 per-sample entry point of the core (a chain's `track`, `update`,
+//! `update_block`, `track_bank` and `update_bank`: with no front end, with every front-end
+//! stage, with a sin/cos unit; the resolver front end) and the fixed-point chain's, fed with values the optimiser cannot see (`black_box`). The panic handler below is only kept by the linker if some path
 //! of these calls can panic; `scripts/test.d/40-robustness.sh` builds the image for a
 //! Cortex-M4F (thumbv7em-none-eabihf) and a Cortex-M0 (thumbv6m-none-eabi, soft float) and
 //! fails when the handler's symbol is in either.
@@ -10,12 +10,12 @@
 use core::hint::black_box;
 
 use angletrack_core::{
-    AdcCounts, AdcScaling, AngleCorrection, AngleCorrectionTable, AngleTrackingObserver,
-    CalibrationSettings, Calibrator, Chain, ChainState, ChannelBank, Demodulator,
-    DemodulatorSettings, DemodulatorState, DriveOutputs, DriveOutputsState, Estimate, Exact,
-    Excitation, ExcitationState, Fast, FixedAngleCorrectionTable, FixedCalibration, FixedGains,
-    FixedState, Gains, MAX_CORRECTION_ORDER, Observer, ObserverState, OnlineCalibration, Order,
-    SensorCalibration, SinCos, SupportedOrder, Waveform,
+    AdcCounts, AdcScaling, AngleCorrection, AngleCorrectionTable, CalibrationSettings, Calibrator,
+    Chain, ChainState, ChannelBank, Demodulator, DemodulatorSettings, DemodulatorState,
+    DriveOutputs, DriveOutputsState, Estimate, Exact, Excitation, ExcitationState, Fast,
+    FixedAngleCorrectionTable, FixedCalibration, FixedGains, FixedState, Gains,
+    MAX_CORRECTION_ORDER, ObserverState, OnlineCalibration, Order, SensorCalibration, SinCos,
+    SupportedOrder, Waveform,
 };
 use cortex_m_rt::entry;
 
@@ -26,24 +26,36 @@ where
     let Ok(gains) = Gains::<f32, N, S>::new(black_box(l), black_box(1e-4)) else {
         return 0.0;
     };
-    let mut state = ObserverState::new();
+    // The observer alone: a chain with no front end.
+    let bare = Chain::new((), gains);
+    let mut chained = ChainState::new();
     let mut sum = 0.0;
     for _ in 0..black_box(8) {
-        let e = gains.update(&mut state, black_box(0.5), black_box(0.5));
+        let e = bare.update(&mut chained, (black_box(0.5), black_box(0.5)));
         sum += e.angle + e.speed + e.acceleration + e.phase_error + e.faults.bits() as f32;
+        bare.track(&mut chained, (black_box(0.5), black_box(-0.5)));
     }
-    let samples = black_box([0.25f32; 16]);
+    let samples = black_box([(0.25f32, 0.25f32); 16]);
     let mut out = [Estimate::default(); 16];
-    let n = gains.update_block(&mut state, &samples, &samples, &mut out);
+    let n = bare.update_block(&mut chained, samples, &mut out);
+    let mut state = chained.observer;
     sum += corrected(&gains);
-    let mut observer = Observer::new(gains);
-    sum += observer.update(black_box(1.0), black_box(0.0)).angle;
+    // Its phase detector's sin/cos by a unit with state.
+    let unit = Chain::new((), gains.with_unit::<S>());
+    let mut united = ChainState {
+        front_end: (),
+        observer: (ObserverState::new(), S::default()),
+    };
+    sum += unit
+        .update(&mut united, (black_box(1.0), black_box(0.0)))
+        .angle;
     // A bank of channels: its update (side by side and lane by lane), block update and
     // accessors.
-    let mut bank = ChannelBank::<f32, N, 4>::new();
+    let mut banked = ChainState::<[(); 4], ChannelBank<f32, N, 4>>::new_bank();
     for _ in 0..black_box(4) {
-        gains.update_bank(&mut bank, &black_box([0.5; 4]), &black_box([-0.5; 4]));
+        bare.track_bank(&mut banked, &black_box([(0.5, -0.5); 4]));
     }
+    let bank = banked.observer;
     sum += bank.angles()[1] + bank.turns()[2] as f32 + bank.phase_errors()[0];
     if let Some(e) = gains.bank_estimate(&bank, black_box(2)) {
         sum += e.angle + e.speed;
@@ -100,8 +112,12 @@ where
     let Ok(gains) = gains.with_calibration_settings(settings) else {
         return sum;
     };
-    let mut calibrator = Calibrator::new();
-    calibrator.enable();
+    let learning = Chain::new(gains.online_calibration(), gains);
+    let mut learnt = ChainState {
+        front_end: Calibrator::new(),
+        observer: state,
+    };
+    learnt.front_end.enable();
     let mut angle = 0.0f32;
     for _ in 0..black_box(400) {
         angle = if angle > 3.0 {
@@ -110,14 +126,14 @@ where
             angle + 0.05
         };
         let (y_c, y_s) = (black_box(angle * 0.3), black_box(0.9 - angle * angle * 0.1));
-        sum += Chain::new(gains.online_calibration(), gains)
-            .update_parts(&mut calibrator, &mut state, (y_c, y_s))
-            .angle;
+        sum += learning.update(&mut learnt, (y_c, y_s)).angle;
     }
-    calibrator.freeze();
-    sum += Chain::new(gains.online_calibration(), gains)
-        .update_parts(&mut calibrator, &mut state, (0.5, 0.5))
-        .speed;
+    learnt.front_end.freeze();
+    sum += learning.update(&mut learnt, (0.5, 0.5)).speed;
+    let ChainState {
+        front_end: mut calibrator,
+        observer: state,
+    } = learnt;
     let stored = calibrator.calibration();
     let (o_c, o_s, a_c, a_s, phi) = stored.parameters();
     if let Ok(loaded) = SensorCalibration::new(o_c, o_s, a_c, black_box(a_s), phi) {
@@ -140,7 +156,8 @@ where
     let Ok(correction) = AngleCorrection::new(a, b) else {
         return 0.0;
     };
-    let (mut state, mut calibrator) = (ObserverState::new(), Calibrator::new());
+    let learning = Chain::new(gains.online_calibration(), *gains);
+    let mut learnt = ChainState::<Calibrator<f32>, ObserverState<f32, N>>::new();
     let mut sum = 0.0;
     // The chain of every float stage: counts, a stored calibration, the online one (its
     // mode changed on the way), the harmonics and their table.
@@ -161,9 +178,7 @@ where
     chain_state.front_end.1.1.0.enable();
     for k in 0..black_box(8u16) {
         let (y_c, y_s) = (black_box(0.6), black_box(-0.8));
-        sum += Chain::new(gains.online_calibration(), *gains)
-            .update_parts(&mut calibrator, &mut state, (y_c, y_s))
-            .speed;
+        sum += learning.update(&mut learnt, (y_c, y_s)).speed;
         let raw = (black_box(2048 + 100 * k), black_box(4000 - 100 * k));
         sum += chain.update(&mut chain_state, raw).angle;
         chain.track(&mut chain_state, raw);
@@ -176,7 +191,7 @@ where
 }
 
 /// The resolver front end's per-sample entry points: the excitation's tick, the
-/// demodulator's push, push_block and feed (with the observer), the drive outputs.
+/// demodulator's push and push_block (then the observer's chain), the drive outputs.
 fn front_end() -> f32 {
     let Ok(excitation) = Excitation::new(black_box(10_000), black_box(160_000), Waveform::Sine)
     else {
@@ -193,7 +208,8 @@ fn front_end() -> f32 {
         return 0.0;
     };
     let mut carrier = ExcitationState::default();
-    let (mut front_end, mut observer) = (DemodulatorState::new(), ObserverState::new());
+    let chain = Chain::new((), gains);
+    let (mut front_end, mut observer) = (DemodulatorState::new(), ChainState::new());
     let mut drive = DriveOutputsState::default();
     let mut sum = 0.0;
     for _ in 0..black_box(640) {
@@ -202,7 +218,8 @@ fn front_end() -> f32 {
         if let Some(pair) = demodulator.push(&mut front_end, c, s) {
             sum += pair.y_c + pair.faults.bits() as f32;
         }
-        if let Some((_, e)) = demodulator.feed(&mut front_end, &gains, &mut observer, c, s) {
+        if let Some(pair) = demodulator.push(&mut front_end, c, s) {
+            let e = chain.update(&mut observer, (pair.y_c, pair.y_s));
             let angle = outputs.outputs(&mut drive, &e);
             sum += angle.electrical_angle + angle.mechanical_turns as f32;
         }
@@ -224,16 +241,17 @@ where
     let Ok(gains) = gains.with_monitor(black_box(Some(20_000.0))) else {
         return 0.0;
     };
-    let mut state = FixedState::new();
+    let bare = Chain::new((), gains);
+    let mut state = ChainState::<(), FixedState<N>>::new();
     let mut sum = 0i64;
     for k in 0..black_box(8i16) {
         let (y_c, y_s) = (black_box(i16::MIN + k), black_box(i16::MAX - k));
-        let e = gains.update(&mut state, y_c, y_s);
+        let e = bare.update(&mut state, (y_c, y_s));
         sum += e.turns + i64::from(e.angle) + i64::from(e.speed) + i64::from(e.phase_error);
-        gains.track(&mut state, black_box(y_s), black_box(y_c));
+        bare.track(&mut state, (black_box(y_s), black_box(y_c)));
     }
-    let e = FixedGains::<N>::estimate(&state);
-    sum += i64::from(e.acceleration) + i64::from(state.latched_faults().bits());
+    let e = bare.estimate(&state);
+    sum += i64::from(e.acceleration) + i64::from(state.observer.latched_faults().bits());
     // The fixed-point chain of every integer stage, on each counts type.
     let Ok(stored) =
         SensorCalibration::<f64>::new(black_box(300.0), -200.0, 16000.0, 17000.0, 0.02)

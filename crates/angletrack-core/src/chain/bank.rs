@@ -1,6 +1,6 @@
 //! The bank form of a chain: `L` channels through one chain configuration, each lane with
 //! its front end's state, the observers' states side by side in a [`ChannelBank`] so that
-//! the recursion runs on every lane at once ([`Gains::update_bank`], vectorised).
+//! the recursion runs on every lane at once (`Gains::update_bank`, vectorised).
 
 use core::marker::PhantomData;
 
@@ -63,7 +63,7 @@ impl<F, T: Float, const N: usize, S: SinCos<T>> Chain<F, Gains<T, N, S>> {
     /// [`Chain::track`] on `L` channels at once, lane `j` taking `inputs[j]`: each lane's
     /// front end forwards its input with its lane's prediction; where every lane's front
     /// end is quiet ([`Stage::quiet`]) the observers run side by side
-    /// ([`Gains::update_bank`], vectorised), otherwise lane by lane with the feedback to
+    /// (vectorised), otherwise lane by lane with the feedback to
     /// the front end, its faults latched and the coast of a sample that is not a
     /// measurement, exactly as [`Chain::track`] with the monitor off (a bank runs no
     /// monitor). The front ends' faults are latched per lane

@@ -157,6 +157,12 @@ impl<const N: usize> Observe<i16> for FixedGains<N> {
         y_s: i16,
         observer: impl SampleObserver<i16>,
     ) {
+        if !observer.observes() {
+            // The observer's own track alone: the prediction's sin/cos below, though unread,
+            // would otherwise be merged with the recursion's and kept live across it (spilled
+            // on a Cortex-M0).
+            return self.track(state, y_c, y_s);
+        }
         let sin_cos = crate::fixed::sin_cos_q15(state.next_angle);
         self.track(state, y_c, y_s);
         let speed = FixedGains::<N>::corrected_speed(&state.x) >> 16;
@@ -243,7 +249,8 @@ impl<const N: usize> Output<i16, FixedGains<N>> for FixedEstimate {
 }
 
 /// A chain's states, held together ([`ChainState`]: one pointer through the out-of-line
-/// path) or apart (a pair of references, for [`Chain::track_parts`]).
+/// path) or apart (a pair of references: a bank's lane, a block's local copy of the
+/// observer's state).
 pub(crate) trait States<F, O> {
     /// The front end's state and the observer's, borrowed together.
     fn split(&mut self) -> (&mut F, &mut O);

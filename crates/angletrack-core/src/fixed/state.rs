@@ -22,10 +22,10 @@ pub(crate) struct FixedVector {
 /// the signal's magnitude, the turn count and the monitor's window sums.
 ///
 /// ```
-/// use angletrack_core::{FixedGains, FixedState};
-/// let gains = FixedGains::<3>::new([0.1578, 0.0126, 0.000_34], 50e-6)?;
-/// let mut state = FixedState::new();
-/// let e = gains.update(&mut state, 0, 16384);
+/// use angletrack_core::{Chain, ChainState, FixedGains};
+/// let chain = Chain::new((), FixedGains::<3>::new([0.1578, 0.0126, 0.000_34], 50e-6)?);
+/// let mut state = ChainState::new(); // its `observer` is a `FixedState`
+/// let e = chain.update(&mut state, (0, 16384));
 /// // A quarter turn, (cos, sin) = (0, 1), to within 2^-26 of a turn:
 /// assert!((e.angle - (1 << 30)).abs() < 64);
 /// # Ok::<(), angletrack_core::ConfigError>(())

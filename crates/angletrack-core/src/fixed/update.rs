@@ -215,49 +215,18 @@ impl<const N: usize> FixedGains<N> {
     /// correct by the one recursion of every observer, then the monitor. Never fails, never
     /// panics, never overflows (`docs/theory.md §14`).
     ///
-    /// ```
-    /// use angletrack_core::{Faults, FixedGains, FixedState};
-    /// let gains = FixedGains::<3>::new([0.1578, 0.0126, 0.000_34], 50e-6)?;
-    /// let mut state = FixedState::new();
-    /// let mut e = Default::default();
-    /// for k in 0..2000 {
-    ///     // 2 rad/ms: 0.1 rad per sample.
-    ///     let theta = 0.1 * k as f64;
-    ///     let (c, s) = ((16384.0 * theta.cos()) as i16, (16384.0 * theta.sin()) as i16);
-    ///     e = gains.update(&mut state, c, s);
-    /// }
-    /// let speed_rad_s = gains.speed_rad_s(&e);
-    /// assert!((speed_rad_s - 2000.0).abs() < 0.1, "{speed_rad_s}");
-    /// assert_eq!(e.faults, Faults::NONE);
-    /// # Ok::<(), angletrack_core::ConfigError>(())
-    /// ```
+    #[cfg(test)]
     #[inline]
-    pub fn update(&self, state: &mut FixedState<N>, y_c: i16, y_s: i16) -> FixedEstimate {
+    pub(crate) fn update(&self, state: &mut FixedState<N>, y_c: i16, y_s: i16) -> FixedEstimate {
         self.track(state, y_c, y_s);
         Self::estimate(state)
     }
 
-    /// [`FixedGains::update`] without the estimate: the state (and its faults) updated,
-    /// the estimate read on demand by [`FixedGains::estimate`] (the cheaper per-sample
-    /// entry point where the estimate is read less often than every sample).
-    ///
-    /// ```
-    /// use angletrack_core::{Faults, FixedGains, FixedState};
-    /// let gains = FixedGains::<3>::new([0.1578, 0.0126, 0.000_34], 50e-6)?;
-    /// let mut state = FixedState::new();
-    /// for k in 0..2000 {
-    ///     let theta = 0.1 * k as f64;
-    ///     let (c, s) = ((16384.0 * theta.cos()) as i16, (16384.0 * theta.sin()) as i16);
-    ///     gains.track(&mut state, c, s);
-    /// }
-    /// let e = FixedGains::estimate(&state);
-    /// assert!((gains.speed_rad_s(&e) - 2000.0).abs() < 0.1);
-    /// assert_eq!(e.faults, Faults::NONE);
-    /// # Ok::<(), angletrack_core::ConfigError>(())
-    /// ```
+    /// [`FixedGains::update`] without the estimate (a chain's `track`): the state (and its
+    /// faults) updated, the estimate read on demand by [`FixedGains::estimate`].
     // Always inlined, as the float path's: a call costs a Cortex-M a few instructions more.
     #[inline(always)]
-    pub fn track(&self, state: &mut FixedState<N>, y_c: i16, y_s: i16) {
+    pub(crate) fn track(&self, state: &mut FixedState<N>, y_c: i16, y_s: i16) {
         // Stored first: the sample's registers are then free for the rest.
         state.sample = [y_c, y_s];
         let (y_c, y_s) = (i32::from(y_c), i32::from(y_s));

@@ -45,12 +45,12 @@ pub trait SinCos<T: Float>:
 
 /// A phase detector's sin/cos computed by a unit with state: a hardware coprocessor (the
 /// CORDIC of an STM32G4, whose registers are written and read), a table with a cache, or a
-/// counter for tests. Used by [`Gains::update_with`](crate::Gains::update_with), which
-/// takes the unit by `&mut` for each sample.
+/// counter for tests. The observer of a chain uses one through
+/// [`UnitGains`](crate::UnitGains), the unit kept in the chain's state.
 ///
-/// Every [`SinCos`] (the zero-sized [`Fast`] and [`Exact`]) is a unit for free, and
-/// [`Gains::update`](crate::Gains::update) runs through the same code with its `S`, which
-/// costs nothing: the unit has no size.
+/// Every [`SinCos`] (the zero-sized [`Fast`] and [`Exact`]) is a unit for free, and the
+/// gains' own observer runs through the same code with its `S`, which costs nothing: the
+/// unit has no size.
 pub trait SinCosUnit<T: Float> {
     /// `(sin angle, cos angle)` for `angle` in [-pi, pi) (rad).
     fn sin_cos(&mut self, angle: T) -> (T, T);

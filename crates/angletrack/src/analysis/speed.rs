@@ -3,7 +3,7 @@
 
 use core::f64::consts::PI;
 
-use angletrack_core::{Gains, ObserverState};
+use angletrack_core::{Chain, ChainState, Gains, ObserverState};
 
 /// The largest speed (rad/s) an observer sampled every `sample_period_s` (s) tracks: the
 /// Nyquist speed `pi / Ts`, half a turn per sample (`docs/theory.md §9`).
@@ -38,13 +38,17 @@ pub(super) fn simulate_nonlinear<const N: usize>(
     samples: usize,
     truth: impl Fn(usize) -> f64,
 ) -> impl Iterator<Item = f64> {
-    let gains = *gains;
+    let chain = Chain::new((), *gains);
     // At rest at angle 0: within every limit, for the gains' checked sample period.
-    let mut state = ObserverState::at(0.0, 0.0, 0.0, gains.sample_period())
+    let observer = ObserverState::at(0.0, 0.0, 0.0, gains.sample_period())
         .unwrap_or_else(|e| unreachable!("a state at rest is valid: {e}"));
+    let mut state = ChainState {
+        front_end: (),
+        observer,
+    };
     (0..samples).map(move |k| {
         let (s, c) = truth(k).sin_cos();
-        gains.update(&mut state, c, s).position()
+        chain.update(&mut state, (c, s)).position()
     })
 }
 

@@ -3,7 +3,7 @@
 
 use std::f64::consts::PI;
 
-use angletrack_core::{Gains, ObserverState};
+use angletrack_core::{Chain, ChainState, Gains, ObserverState};
 
 use crate::*;
 
@@ -15,12 +15,15 @@ fn error_per_unit_jerk_matches_a_simulation_of_the_core() {
     let design = third_order_from_poles(10.0, 0.01, 2.0, ts, PM).unwrap();
     let report = DesignReport::new(&design, 0.0).unwrap();
     let jerk = 50.0; // rad/s^3
-    let mut state = ObserverState::at(0.0, 0.0, 0.0, ts).unwrap();
+    let mut state = ChainState {
+        front_end: (),
+        observer: ObserverState::at(0.0, 0.0, 0.0, ts).unwrap(),
+    };
     let mut error = 0.0;
     for k in 0..40_000 {
         let t = k as f64 * ts;
         let theta = jerk * t * t * t / 6.0;
-        let e = design.gains.update(&mut state, theta.cos(), theta.sin());
+        let e = Chain::new((), design.gains).update(&mut state, (theta.cos(), theta.sin()));
         error = theta - e.position();
     }
     // sin(e) ~ e: the small error makes the nonlinear loop linear to 1e-6.
@@ -86,11 +89,17 @@ fn acquisition_speed_separates_lock_from_cycle_slip() {
         .with_fault_thresholds(FaultThresholds::disabled())
         .unwrap();
     let final_error = |speed: f64| {
-        let mut state = ObserverState::at(0.0, 0.0, 0.0, ts).unwrap();
+        let mut state = ChainState {
+            front_end: (),
+            observer: ObserverState::at(0.0, 0.0, 0.0, ts).unwrap(),
+        };
         let mut error = 0.0;
         for k in 0..20_000 {
             let theta = speed * ts * k as f64;
-            error = theta - bare.update(&mut state, theta.cos(), theta.sin()).position();
+            error = theta
+                - Chain::new((), bare)
+                    .update(&mut state, (theta.cos(), theta.sin()))
+                    .position();
         }
         error
     };
@@ -113,7 +122,10 @@ fn worst_error_up_to<const N: usize>(gains: &Gains<f64, N>, speed: f64, accelera
         0.0
     };
     let start_speed = if acceleration > 0.0 { 0.0 } else { speed };
-    let mut state = ObserverState::at(0.0, start_speed, 0.0, ts).unwrap();
+    let mut state = ChainState {
+        front_end: (),
+        observer: ObserverState::at(0.0, start_speed, 0.0, ts).unwrap(),
+    };
     let samples = ((ramp_s + 0.1) / ts) as usize;
     // The state is the one of the sample before the first: the shaft starts one sample on.
     let angle = |t: f64| {
@@ -124,8 +136,8 @@ fn worst_error_up_to<const N: usize>(gains: &Gains<f64, N>, speed: f64, accelera
         .map(|k| {
             let theta = angle(k as f64 * ts);
             (theta
-                - gains
-                    .update(&mut state, theta.cos(), theta.sin())
+                - Chain::new((), *gains)
+                    .update(&mut state, (theta.cos(), theta.sin()))
                     .position())
             .abs()
         })

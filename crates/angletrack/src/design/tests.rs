@@ -410,14 +410,16 @@ fn sampled_design_meets_tracking_error_and_overshoot_on_the_discrete_loop() {
     let overshoot = report.linear_step.overshoot;
     assert!((overshoot - 0.05).abs() < 1e-6, "{overshoot}");
     // The core's loop under constant acceleration settles at that error (sin e ~ e).
-    let mut state = ObserverState::at(0.0, 0.0, 0.0, ts).unwrap();
+    let mut state = ChainState {
+        front_end: (),
+        observer: ObserverState::at(0.0, 0.0, 0.0, ts).unwrap(),
+    };
     let mut last = 0.0;
     for k in 0..40_000 {
         let theta = 0.5 * alpha * (k as f64 * ts).powi(2);
         last = theta
-            - design
-                .gains
-                .update(&mut state, theta.cos(), theta.sin())
+            - Chain::new((), design.gains)
+                .update(&mut state, (theta.cos(), theta.sin()))
                 .position();
     }
     assert!((last / max_error - 1.0).abs() < 1e-3, "{last} rad");

@@ -1,6 +1,6 @@
 //! Any number of channels on one gain set: several axes, or a Monte Carlo batch.
 
-use angletrack_core::{ChannelBank, Float, Gains, Real, SinCos};
+use angletrack_core::{Chain, ChainState, ChannelBank, Float, Gains, Real, SinCos};
 
 use super::columns::{EstimateColumns, Output};
 use crate::error::{Argument, Error};
@@ -14,7 +14,8 @@ pub const LANES: usize = 8;
 const BLOCK: usize = 128;
 
 /// Runs `channels` independent observers that share one gain set, [`LANES`] at a time in
-/// the core's struct-of-arrays [`ChannelBank`]s. The state persists between calls, so a
+/// the core's struct-of-arrays [`ChannelBank`]s (the bank form of a chain with no front
+/// end, [`Chain::track_bank`]). The state persists between calls, so a
 /// batch fed in chunks gives exactly the result of one call; every channel gives exactly
 /// what a single observer with the same gains and no fault monitor would.
 ///
@@ -22,10 +23,13 @@ const BLOCK: usize = 128;
 /// sample `k` at `c * samples + k`).
 #[derive(Debug, Clone)]
 pub struct ChannelBatch<T: Real, const N: usize, S = <T as Float>::DefaultSinCos> {
-    gains: Gains<T, N, S>,
+    chain: Chain<(), Gains<T, N, S>>,
     channels: usize,
-    banks: Vec<ChannelBank<T, N, LANES>>,
+    banks: Vec<BankState<T, N>>,
 }
+
+/// The state of one bank: its lanes' observers side by side (no front end).
+type BankState<T, const N: usize> = ChainState<[(); LANES], ChannelBank<T, N, LANES>>;
 
 impl<T: Real, const N: usize, S: SinCos<T>> ChannelBatch<T, N, S> {
     /// A batch of `channels` observers, each initialised by its first valid sample.
@@ -54,9 +58,9 @@ impl<T: Real, const N: usize, S: SinCos<T>> ChannelBatch<T, N, S> {
                 argument: Argument::Channels,
                 expected: "a number of channels whose state fits in memory",
             })?;
-        banks.resize(channels.div_ceil(LANES), ChannelBank::new());
+        banks.resize(channels.div_ceil(LANES), ChainState::new_bank());
         Ok(Self {
-            gains,
+            chain: Chain::new((), gains),
             channels,
             banks,
         })
@@ -69,7 +73,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> ChannelBatch<T, N, S> {
 
     /// The gains every channel runs with.
     pub fn gains(&self) -> &Gains<T, N, S> {
-        &self.gains
+        &self.chain.observer
     }
 
     /// Runs every channel over its samples: `y_c` and `y_s` hold `channels x samples`
@@ -127,9 +131,8 @@ impl<T: Real, const N: usize, S: SinCos<T>> ChannelBatch<T, N, S> {
             block.inputs_from(rows.lanes);
             for start in (0..samples).step_by(BLOCK) {
                 let len = BLOCK.min(samples - start);
-                rows.gather(&mut block.y_c[..len], y_c, start);
-                rows.gather(&mut block.y_s[..len], y_s, start);
-                block.run(&self.gains, bank, len, &out);
+                rows.gather(&mut block.inputs[..len], (y_c, y_s), start);
+                block.run(&self.chain, bank, len, &out);
                 block.scatter(&rows, start, len, &mut out);
             }
         }
@@ -154,13 +157,21 @@ impl Rows {
         from..from + len
     }
 
-    /// Copies `block.len()` samples from `start` on of each lane's row of `series` into
-    /// the lane-major `block`.
-    fn gather<E: Copy>(&self, block: &mut [[E; LANES]], series: &[E], start: usize) {
+    /// Copies `block.len()` samples from `start` on of each lane's rows of `y_c` and `y_s`
+    /// into the lane-major `block` of `(y_c, y_s)` pairs.
+    fn gather<E: Copy>(
+        &self,
+        block: &mut [[(E, E); LANES]],
+        (y_c, y_s): (&[E], &[E]),
+        start: usize,
+    ) {
         for lane in 0..self.lanes {
-            let row = &series[self.range(lane, start, block.len())];
-            for (to, &from) in block.iter_mut().zip(row) {
-                to[lane] = from;
+            let range = self.range(lane, start, block.len());
+            for (to, (&c, &s)) in block
+                .iter_mut()
+                .zip(y_c[range.clone()].iter().zip(&y_s[range]))
+            {
+                to[lane] = (c, s);
             }
         }
     }
@@ -179,8 +190,7 @@ impl Rows {
 /// One bank's samples and estimates over [`BLOCK`] samples, lane-major (`[k][lane]`), as
 /// the bank reads and writes them; empty for an output not asked for.
 struct Block<T> {
-    y_c: Vec<[T; LANES]>,
-    y_s: Vec<[T; LANES]>,
+    inputs: Vec<[(T, T); LANES]>,
     angle: Vec<[T; LANES]>,
     position: Vec<[f64; LANES]>,
     speed: Vec<[T; LANES]>,
@@ -196,8 +206,7 @@ impl<T: Real> Block<T> {
             vec![[value; LANES]; if wanted { BLOCK } else { 0 }]
         }
         Self {
-            y_c: lanes(true, T::ONE),
-            y_s: lanes(true, T::ZERO),
+            inputs: lanes(true, (T::ONE, T::ZERO)),
             angle: lanes(out.has(Output::Angle), T::ZERO),
             position: lanes(out.has(Output::Position), 0.0),
             speed: lanes(out.has(Output::Speed), T::ZERO),
@@ -209,9 +218,8 @@ impl<T: Real> Block<T> {
 
     /// Sets the inputs of the lanes from `lanes` on to the constant valid sample (1, 0).
     fn inputs_from(&mut self, lanes: usize) {
-        for (c, s) in self.y_c.iter_mut().zip(self.y_s.iter_mut()) {
-            c[lanes..].fill(T::ONE);
-            s[lanes..].fill(T::ZERO);
+        for pairs in &mut self.inputs {
+            pairs[lanes..].fill((T::ONE, T::ZERO));
         }
     }
 
@@ -219,18 +227,22 @@ impl<T: Real> Block<T> {
     #[inline]
     fn run<const N: usize, S: SinCos<T>>(
         &mut self,
-        gains: &Gains<T, N, S>,
-        bank: &mut ChannelBank<T, N, LANES>,
+        chain: &Chain<(), Gains<T, N, S>>,
+        bank: &mut BankState<T, N>,
         len: usize,
         out: &EstimateColumns<'_, T>,
     ) {
         let [angle, position, speed, acceleration, phase_error, faults] =
             Output::ALL.map(|output| out.has(output));
         for k in 0..len {
-            gains.update_bank(bank, &self.y_c[k], &self.y_s[k]);
+            chain.track_bank(bank, &self.inputs[k]);
             // One loop over the lanes per output asked for: each keeps only its part of
             // the estimate, and the branch-free ones run side by side.
-            let estimate = |lane| gains.bank_estimate(bank, lane).unwrap_or_default();
+            let estimate = |lane| {
+                (chain.observer)
+                    .bank_estimate(&bank.observer, lane)
+                    .unwrap_or_default()
+            };
             if angle {
                 self.angle[k] = core::array::from_fn(|lane| estimate(lane).angle);
             }
@@ -278,7 +290,7 @@ impl<T: Real> Block<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use angletrack_core::{Fast, FaultThresholds, Faults, ObserverState};
+    use angletrack_core::{Fast, FaultThresholds, Faults};
 
     struct Outputs<T> {
         angle: Vec<T>,
@@ -350,14 +362,17 @@ mod tests {
     fn a_batch_gives_each_channel_exactly_a_single_observer_and_streams() {
         let (channels, samples) = (11, 3000);
         let (gains, (y_c, y_s), whole) = full_run(channels, samples);
-        let single = gains
-            .with_fault_thresholds(FaultThresholds::disabled())
-            .unwrap();
+        let single = Chain::new(
+            (),
+            gains
+                .with_fault_thresholds(FaultThresholds::disabled())
+                .unwrap(),
+        );
         for c in 0..channels {
-            let mut state = ObserverState::new();
+            let mut state = ChainState::new();
             for k in 0..samples {
                 let i = c * samples + k;
-                let e = single.update(&mut state, y_c[i], y_s[i]);
+                let e = single.update(&mut state, (y_c[i], y_s[i]));
                 assert_eq!(
                     (
                         e.angle,

@@ -67,7 +67,16 @@ impl FixedColumns<'_> {
         y_c: &[i16],
         y_s: &[i16],
     ) -> usize {
-        self.run_with(gains, y_c, y_s, |c, s| gains.update(state, c, s))
+        let chain = Chain::new((), *gains);
+        let mut chain_state = ChainState {
+            front_end: (),
+            observer: *state,
+        };
+        let count = self.run_with(gains, y_c, y_s, |c, s| {
+            chain.update(&mut chain_state, (c, s))
+        });
+        *state = chain_state.observer;
+        count
     }
 
     /// As [`FixedColumns::run`], through the fixed-point chain `chain` (its front end's

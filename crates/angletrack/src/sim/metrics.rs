@@ -2,7 +2,7 @@
 
 use core::f64::consts::{PI, TAU};
 
-use angletrack_core::{Estimate, Gains, ObserverState, Real, SinCos};
+use angletrack_core::{Chain, ChainState, Estimate, Gains, Real, SinCos};
 
 use super::Scenario;
 use crate::analysis::StepResponse;
@@ -43,8 +43,9 @@ pub fn run<T: Real, const N: usize, S: SinCos<T>>(
     gains: &Gains<T, N, S>,
     scenario: &Scenario,
 ) -> Run {
-    let mut state = ObserverState::new();
-    run_with(scenario, |c, s| gains.update(&mut state, c, s))
+    let chain = Chain::new((), *gains);
+    let mut state = ChainState::new();
+    run_with(scenario, |c, s| chain.update(&mut state, (c, s)))
 }
 
 /// The estimates of `update` (one observer's per-sample step, its state captured) over the

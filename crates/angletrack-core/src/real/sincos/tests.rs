@@ -100,16 +100,17 @@ fn fast_sin_cos_observer_matches_the_exact_one() {
 #[test]
 fn a_sin_cos_used_as_a_unit_updates_exactly_as_the_gains_own() {
     let gains = Gains::<f32, 3>::new([0.1578, 0.0126, 0.000_34], 50e-6).unwrap();
-    let (mut by_gains, mut by_unit) = (ObserverState::new(), ObserverState::new());
-    let mut unit = Fast;
+    let chain = Chain::new((), gains.with_unit::<Fast>());
+    let mut by_gains = ObserverState::new();
+    let mut by_unit = ChainState {
+        front_end: (),
+        observer: (ObserverState::new(), Fast),
+    };
     for k in 0..500 {
         let angle = 0.01 * k as f32 * k as f32 * 1e-2;
         let (y_s, y_c) = (libm::sinf(angle), libm::cosf(angle));
         let expected = gains.update(&mut by_gains, y_c, y_s);
-        assert_eq!(
-            gains.update_with(&mut by_unit, &mut unit, y_c, y_s),
-            expected
-        );
+        assert_eq!(chain.update(&mut by_unit, (y_c, y_s)), expected);
     }
-    assert_eq!(by_unit, by_gains);
+    assert_eq!(by_unit.observer.0, by_gains);
 }

@@ -4,9 +4,11 @@ run with 1 and then 2 local workers, ``--repeat`` times. For each, it prints the
 load average before, the throughput, a run's own time (measured inside the run), and where
 the rest of the workers' time went (angletrack.study_timing): the per-run overhead of the
 scheduling (each task's time beside its runs and each worker's wait between two tasks, over
-the runs' time), the waits for the first task and at the end, the client's CPU time, and the
-whole overhead (wall time x workers less the runs' time, over the runs' time); then the
-spread of the 2-worker / 1-worker throughput ratio and of the per-run overhead.
+the runs' time), the waits for the first task and at the end, the CPU time of a run's
+thread and of the client, and the whole overhead (wall time x workers less the runs' time,
+over the runs' time); then the spread of the 2-worker / 1-worker throughput ratio, of the
+per-run overhead, and of the ratio the CPU times allow on two free cores (what a loaded
+machine's wall times cannot show).
 
     python python/scripts/study_scale.py --samples 1000000 --runs 64 --repeat 3
 
@@ -53,33 +55,40 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--lot-rows", type=int, default=0)
     args = parser.parse_args()
-    ratios, overheads = [], []
+    ratios, overheads, bounds = [], [], []
     with tempfile.TemporaryDirectory() as scratch:
         directory = pathlib.Path(scratch)
         path = spec(directory, args.samples, args.runs)
         for repeat in range(args.repeat):
-            throughput, run_s = {}, {}
+            throughput, run_s, cpu, client = {}, {}, {}, {}
             for workers in (1, 2):
                 load = os.getloadavg()[0]
                 _, m = study.run_study(path, directory / f"runs{workers}-{repeat}.parquet",
                                        study_dask.Cluster(workers=workers), progress=False)
                 throughput[workers] = args.runs * args.samples / m["seconds"]
                 run_s[workers] = m["runs_s"] / args.runs
+                cpu[workers] = m["tasks_cpu_s"] / args.runs
+                client[workers] = m["client_cpu_s"] / m["seconds"]
                 if workers == 2:
                     overheads.append(m["per_run_overhead"])
                 print(f"load {load:.2f}, {workers} worker(s): {args.runs} runs of {args.samples} samples in "
                       f"{m['seconds']:.2f} s wall ({m['startup_s']:.1f} s start-up before), "
-                      f"{throughput[workers] / 1e6:.2f} M samples/s, {run_s[workers] * 1e3:.1f} ms a run; "
+                      f"{throughput[workers] / 1e6:.2f} M samples/s, {run_s[workers] * 1e3:.1f} ms a run "
+                      f"({cpu[workers] * 1e3:.1f} ms CPU); "
                       f"{m['tasks']} tasks; per-run overhead {100 * m['per_run_overhead']:.2f} % "
                       f"(in tasks {m['in_tasks_s'] * 1e3:.0f} ms, between {m['between_s'] * 1e3:.0f} ms); "
                       f"first task after {m['first_s'] * 1e3:.0f} ms, tail {m['tail_s'] * 1e3:.0f} ms; "
-                      f"client CPU {100 * m['client_cpu']:.1f} %; whole overhead {100 * m['overhead']:.1f} %")
+                      f"the client {100 * client[workers]:.1f} % of a core; whole overhead {100 * m['overhead']:.1f} %")
             ratios.append(throughput[2] / throughput[1])
-            print(f"  2 workers / 1 worker: {ratios[-1]:.2f}x throughput; a run took "
-                  f"{run_s[2] / run_s[1]:.2f}x as long beside another")
+            bounds.append((2 - client[2]) * cpu[1] / cpu[2])
+            print(f"  2 workers / 1 worker: {ratios[-1]:.2f}x throughput; a run took {run_s[2] / run_s[1]:.2f}x as "
+                  f"long beside another ({cpu[2] / cpu[1]:.2f}x the CPU time); on two free cores at most "
+                  f"{bounds[-1]:.2f}x (the two cores less the client's share, times a run's CPU time with 1 worker "
+                  "over that with 2)")
         print(f"ratio over {len(ratios)} repeats: min {min(ratios):.2f}x, median {statistics.median(ratios):.2f}x, "
               f"max {max(ratios):.2f}x; per-run overhead with 2 workers: {100 * min(overheads):.2f} to "
-              f"{100 * max(overheads):.2f} %; load average now {os.getloadavg()[0]:.2f}")
+              f"{100 * max(overheads):.2f} %; the CPU-time bound {min(bounds):.2f}x to {max(bounds):.2f}x; load "
+              f"average now {os.getloadavg()[0]:.2f}")
         if args.lot_rows:
             lot_capture(directory, args.lot_rows)
 

@@ -200,12 +200,12 @@ def test_batches_hold_each_key_once_single_until_timed_then_a_task_long_then_sho
 
 def test_the_timeline_parts_the_workers_time_into_runs_tasks_waits_start_and_tail():
     timeline = study_timing.Timeline(100.0)
-    timeline.add([{"seconds": 1.0}, {"seconds": 0.4}], ("a", 100.5, 102.0))
-    timeline.add([{"seconds": 3.0}], ("b", 100.4, 103.5))
-    timeline.add([{"seconds": 0.8}], ("a", 102.1, 103.0))
+    timeline.add([{"seconds": 1.0}, {"seconds": 0.4}], ("a", 100.5, 102.0, 1.2))
+    timeline.add([{"seconds": 3.0}], ("b", 100.4, 103.5, 2.5))
+    timeline.add([{"seconds": 0.8}], ("a", 102.1, 103.0, 0.7))
     m = timeline.account(wall_s=3.6, threads=2, client_cpu_s=0.52)
     assert m["tasks"] == 3 and m["runs_s"] == pytest.approx(5.2)
     assert m["in_tasks_s"] == pytest.approx(0.3) and m["between_s"] == pytest.approx(0.1)
     assert m["first_s"] == pytest.approx(0.9) and m["tail_s"] == pytest.approx(0.5)
     assert m["per_run_overhead"] == pytest.approx(0.4 / 5.2) and m["overhead"] == pytest.approx(2.0 / 5.2)
-    assert m["client_cpu"] == pytest.approx(0.1)
+    assert m["client_cpu_s"] == 0.52 and m["tasks_cpu_s"] == pytest.approx(4.4)

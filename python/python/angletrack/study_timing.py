@@ -22,11 +22,13 @@ class Timeline:
         self.submitted_at = submitted_at
         self.tasks: dict = collections.defaultdict(list)
         self.runs_s = 0.0
+        self.cpu_s = 0.0
 
     def add(self, rows: Sequence[dict], times: tuple) -> None:
-        """One task's ``rows`` and its ``(worker thread, start, end)``."""
-        worker, start, end = times
+        """One task's ``rows`` and its ``(worker thread, start, end, CPU seconds)``."""
+        worker, start, end, cpu = times
         self.tasks[worker].append((start, end))
+        self.cpu_s += cpu
         self.runs_s += sum(row.get("seconds", 0.0) for row in rows)
 
     def account(self, wall_s: float, threads: int, client_cpu_s: float) -> dict:
@@ -34,12 +36,14 @@ class Timeline:
         seconds on ``threads`` threads whose client (and local scheduler) took
         ``client_cpu_s`` of CPU time:
 
-        ``runs_s`` the runs' own time; ``in_tasks_s`` the tasks' time beside their runs;
+        ``runs_s`` the runs' own time; ``tasks_cpu_s`` the CPU time of the threads running
+        the tasks (their runs' and the rest: what the load of the machine does not inflate);
+        ``in_tasks_s`` the tasks' time beside their runs;
         ``between_s`` the workers' waits between two of their tasks; ``first_s`` from the
         first submission to each worker's first task; ``tail_s`` from each worker's last
         task to the last one's end; ``per_run_overhead`` (in_tasks + between) / runs;
         ``overhead`` the whole wall time x threads less the runs, over the runs (start and
-        tail included); ``client_cpu`` the client's CPU time over the runs' time."""
+        tail included); ``client_cpu_s`` the client's CPU time."""
         runs = self.runs_s
         in_tasks = between = first = tail = 0.0
         last_end = max((end for spans in self.tasks.values() for _, end in spans), default=self.submitted_at)
@@ -53,4 +57,5 @@ class Timeline:
         share = (lambda t: t / runs) if runs > 0 else (lambda t: float("nan"))
         return {"runs_s": runs, "in_tasks_s": in_tasks, "between_s": between, "first_s": first, "tail_s": tail,
                 "per_run_overhead": share(in_tasks + between), "overhead": share(wall_s * threads - runs),
-                "client_cpu": share(client_cpu_s), "tasks": sum(len(s) for s in self.tasks.values())}
+                "client_cpu_s": client_cpu_s, "tasks_cpu_s": self.cpu_s,
+                "tasks": sum(len(s) for s in self.tasks.values())}

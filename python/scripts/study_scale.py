@@ -55,7 +55,7 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--lot-rows", type=int, default=0)
     args = parser.parse_args()
-    ratios, overheads, bounds = [], [], []
+    ratios, overheads, estimates = [], [], []
     with tempfile.TemporaryDirectory() as scratch:
         directory = pathlib.Path(scratch)
         path = spec(directory, args.samples, args.runs)
@@ -80,15 +80,15 @@ def main() -> None:
                       f"first task after {m['first_s'] * 1e3:.0f} ms, tail {m['tail_s'] * 1e3:.0f} ms; "
                       f"the client {100 * client[workers]:.1f} % of a core; whole overhead {100 * m['overhead']:.1f} %")
             ratios.append(throughput[2] / throughput[1])
-            bounds.append((2 - client[2]) * cpu[1] / cpu[2])
+            estimates.append((2 - client[2]) * cpu[1] / cpu[2])
             print(f"  2 workers / 1 worker: {ratios[-1]:.2f}x throughput; a run took {run_s[2] / run_s[1]:.2f}x as "
-                  f"long beside another ({cpu[2] / cpu[1]:.2f}x the CPU time); on two free cores at most "
-                  f"{bounds[-1]:.2f}x (the two cores less the client's share, times a run's CPU time with 1 worker "
+                  f"long beside another ({cpu[2] / cpu[1]:.2f}x the CPU time); on two free cores about "
+                  f"{estimates[-1]:.2f}x (the two cores less the client's share, times a run's CPU time with 1 worker "
                   "over that with 2)")
         print(f"ratio over {len(ratios)} repeats: min {min(ratios):.2f}x, median {statistics.median(ratios):.2f}x, "
               f"max {max(ratios):.2f}x; per-run overhead with 2 workers: {100 * min(overheads):.2f} to "
-              f"{100 * max(overheads):.2f} %; the CPU-time bound {min(bounds):.2f}x to {max(bounds):.2f}x; load "
-              f"average now {os.getloadavg()[0]:.2f}")
+              f"{100 * max(overheads):.2f} %; the CPU-time estimate {min(estimates):.2f}x to "
+              f"{max(estimates):.2f}x; load average now {os.getloadavg()[0]:.2f}")
         if args.lot_rows:
             lot_capture(directory, args.lot_rows)
 

@@ -45,6 +45,18 @@ TASK_SECONDS = 1.0
 TAIL_SHARE = 3
 #: Times Dask retries a task whose worker raised (a lost worker's tasks are redone anyway).
 RETRIES = 2
+#: Dask's settings for a local cluster, whose scheduler, client and workers share the
+#: machine's cores with the runs: the periodic work of each process made rarer, since what
+#: it serves does not help independent tasks sent a few at a time (the event loop's check
+#: for a blocked loop, the dashboard's system monitor, work stealing: the scheduler's queue
+#: gives each free worker the next task; the memory monitor ten times a second). The
+#: study_scale script prints the client's share of a core.
+LOCAL_CONFIG = {
+    "distributed.admin.tick.interval": "1s",
+    "distributed.admin.system-monitor.interval": "5s",
+    "distributed.scheduler.work-stealing": False,
+    "distributed.worker.memory.monitor-interval": "1s",
+}
 #: The key of the Parquet schema's metadata holding what the rows were computed from.
 SOURCE_KEY = b"angletrack-source"
 
@@ -75,12 +87,15 @@ class Cluster:
             return Client(self.scheduler, timeout="30s"), None
         if self.scheduler_file is not None:
             return Client(scheduler_file=str(self.scheduler_file), timeout="30s"), None
+        import dask
+
         workers = self.workers or os.cpu_count() or 1
         # Any free port for its HTTP server (8787 may be taken), errors only in the log: the progress bar
         # and the summary are what the user reads.
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               dashboard_address=":0", silence_logs=logging.ERROR)
-        return Client(cluster), cluster
+        with dask.config.set(LOCAL_CONFIG):
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                   dashboard_address=":0", silence_logs=logging.ERROR)
+            return Client(cluster), cluster
 
 
 class PartWriter:

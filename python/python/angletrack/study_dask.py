@@ -8,10 +8,11 @@ run on a local cluster of processes (one per core, or ``workers``, each one thre
 nanny starts them with ``OMP_NUM_THREADS=1`` and its kin, so nothing numerical in them
 starts threads of its own), or on an existing cluster (``scheduler`` address or
 ``scheduler_file``). At most a few tasks per worker are in flight, and every row is written
-as its task completes, so memory stays bounded whatever the number of tasks. The output is a Parquet dataset: a
-directory of part files, each complete when it appears (written beside and renamed), so an
-interrupted run leaves every part written readable and ``resume`` skips the rows already
-there. A worker lost mid-task has its tasks redone by Dask; nothing finished is lost.
+as its task completes, so memory stays bounded whatever the number of tasks. The output is
+a Parquet dataset: a directory of part files, each complete when it appears (written
+beside and renamed), so an interrupted run leaves every part written readable and
+``resume`` skips the rows already there. A worker lost mid-task has its tasks redone by
+Dask; nothing finished is lost.
 
 Dask, pyarrow and tqdm are the optional extra ``angletrack[study]``.
 """

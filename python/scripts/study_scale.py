@@ -1,9 +1,16 @@
 """Measures ``angletrack study`` on Dask (docs/guide/studies.md, "Scale"): one study of runs
 of ``--samples`` samples each (one sensor through a third-order f64 tracker at 20 kHz),
-run with 1 and then 2 local workers; prints the throughput of each, their ratio, and the
-scheduling overhead: wall time x workers minus the runs' own time, over the runs' time.
+run with 1 and then 2 local workers, ``--repeat`` times. For each, it prints the machine's
+load average before, the throughput, a run's own time (measured inside the run), and where
+the rest of the workers' time went (angletrack.study_timing): the per-run overhead of the
+scheduling (each task's time beside its runs and each worker's wait between two tasks, over
+the runs' time), the waits for the first task and at the end, the CPU time of a run's
+thread and of the client, and the whole overhead (wall time x workers less the runs' time,
+over the runs' time); then the spread of the 2-worker / 1-worker throughput ratio, of the
+per-run overhead, and of the ratio the CPU times allow on two free cores (what a loaded
+machine's wall times cannot show).
 
-    python python/scripts/study_scale.py --samples 1000000 --runs 16
+    python python/scripts/study_scale.py --samples 1000000 --runs 64 --repeat 3
 
 Needs the package with its study extra installed; not part of the test command (it times).
 """
@@ -15,11 +22,10 @@ import json
 import math
 import os
 import pathlib
-import resource
+import statistics
 import tempfile
 
 import numpy as np
-import pyarrow.parquet as pq
 
 from angletrack import capture, cli, lot, study, study_dask
 
@@ -45,46 +51,46 @@ def spec(directory: pathlib.Path, samples: int, runs: int, name: str = "scale.js
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--samples", type=int, default=1_000_000)
-    parser.add_argument("--runs", type=int, default=16)
+    parser.add_argument("--runs", type=int, default=64)
+    parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--lot-rows", type=int, default=0)
     args = parser.parse_args()
-    print(f"load average before: {os.getloadavg()}")
+    ratios, overheads, estimates = [], [], []
     with tempfile.TemporaryDirectory() as scratch:
         directory = pathlib.Path(scratch)
         path = spec(directory, args.samples, args.runs)
-        # The same number of runs of 2 samples: the workers' CPU time outside the runs
-        # (starting, importing), taken off theirs.
-        empty = spec(directory, 2, args.runs, "empty.json")
-        throughput, cpu_per_run = {}, {}
-        for workers in (1, 2):
-            cpu = {}
-            for name, study_spec in (("empty", empty), ("runs", path)):
-                before = _children_cpu_s()
-                _, measured = study.run_study(study_spec, directory / f"{name}{workers}.parquet",
-                                              study_dask.Cluster(workers=workers), progress=False)
-                cpu[name] = _children_cpu_s() - before
-            output = directory / f"runs{workers}.parquet"
-            wall = measured["seconds"]
-            busy = sum(pq.read_table(output).column("seconds").to_pylist())
-            throughput[workers] = args.runs * args.samples / wall
-            cpu_per_run[workers] = (cpu["runs"] - cpu["empty"]) / args.runs
-            print(f"{workers} worker(s): {args.runs} runs of {args.samples} samples in {wall:.2f} s wall, "
-                  f"{busy:.2f} s in the runs: {throughput[workers] / 1e6:.2f} M samples/s, "
-                  f"{busy / args.runs * 1e3:.1f} ms per run, scheduling overhead "
-                  f"{100 * (wall * workers - busy) / busy:.1f} %; the workers' CPU time per run "
-                  f"{cpu_per_run[workers] * 1e3:.1f} ms")
-        print(f"2 workers / 1 worker: {throughput[2] / throughput[1]:.2f}x wall; CPU time per run "
-              f"{cpu_per_run[2] / cpu_per_run[1]:.2f}x (1.00: the runs do not slow each other on two free cores)")
+        for repeat in range(args.repeat):
+            throughput, run_s, cpu, client = {}, {}, {}, {}
+            for workers in (1, 2):
+                load = os.getloadavg()[0]
+                _, m = study.run_study(path, directory / f"runs{workers}-{repeat}.parquet",
+                                       study_dask.Cluster(workers=workers), progress=False)
+                throughput[workers] = args.runs * args.samples / m["seconds"]
+                run_s[workers] = m["runs_s"] / args.runs
+                cpu[workers] = m["tasks_cpu_s"] / args.runs
+                client[workers] = m["client_cpu_s"] / m["seconds"]
+                if workers == 2:
+                    overheads.append(m["per_run_overhead"])
+                print(f"load {load:.2f}, {workers} worker(s): {args.runs} runs of {args.samples} samples in "
+                      f"{m['seconds']:.2f} s wall ({m['startup_s']:.1f} s start-up before), "
+                      f"{throughput[workers] / 1e6:.2f} M samples/s, {run_s[workers] * 1e3:.1f} ms a run "
+                      f"({cpu[workers] * 1e3:.1f} ms CPU); "
+                      f"{m['tasks']} tasks; per-run overhead {100 * m['per_run_overhead']:.2f} % "
+                      f"(in tasks {m['in_tasks_s'] * 1e3:.0f} ms, between {m['between_s'] * 1e3:.0f} ms); "
+                      f"first task after {m['first_s'] * 1e3:.0f} ms, tail {m['tail_s'] * 1e3:.0f} ms; "
+                      f"the client {100 * client[workers]:.1f} % of a core; whole overhead {100 * m['overhead']:.1f} %")
+            ratios.append(throughput[2] / throughput[1])
+            estimates.append((2 - client[2]) * cpu[1] / cpu[2])
+            print(f"  2 workers / 1 worker: {ratios[-1]:.2f}x throughput; a run took {run_s[2] / run_s[1]:.2f}x as "
+                  f"long beside another ({cpu[2] / cpu[1]:.2f}x the CPU time); on two free cores about "
+                  f"{estimates[-1]:.2f}x (the two cores less the client's share, times a run's CPU time with 1 worker "
+                  "over that with 2)")
+        print(f"ratio over {len(ratios)} repeats: min {min(ratios):.2f}x, median {statistics.median(ratios):.2f}x, "
+              f"max {max(ratios):.2f}x; per-run overhead with 2 workers: {100 * min(overheads):.2f} to "
+              f"{100 * max(overheads):.2f} %; the CPU-time estimate {min(estimates):.2f}x to "
+              f"{max(estimates):.2f}x; load average now {os.getloadavg()[0]:.2f}")
         if args.lot_rows:
             lot_capture(directory, args.lot_rows)
-    print(f"load average after: {os.getloadavg()}")
-
-
-def _children_cpu_s() -> float:
-    """CPU time (user and system) of this process's finished children: the local cluster's
-    workers once it is closed."""
-    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return usage.ru_utime + usage.ru_stime
 
 
 def lot_capture(directory: pathlib.Path, rows: int) -> None:

@@ -15,7 +15,7 @@ import time
 import numpy as np
 import pytest
 
-from angletrack import capture, cli, study, study_dask
+from angletrack import capture, cli, study, study_dask, study_timing
 
 pq = pytest.importorskip("pyarrow.parquet", reason="the study extra (angletrack[study]) is installed by the tests")
 
@@ -179,3 +179,33 @@ def test_a_bad_spec_is_one_line_naming_the_field(tmp_path, capsys):
     os.remove(tmp_path / "tracker32.json")
     assert cli.main(["study", str(spec), "-o", str(tmp_path / "r.parquet"), "--workers", "1"]) == 2
     assert "setups.f32.tracker" in capsys.readouterr().err
+
+
+def test_batches_hold_each_key_once_single_until_timed_then_a_task_long_then_shorter_to_the_end():
+    batches = study_dask.Batches(iter(range(1000)), 1000)
+    batches.threads = 2
+    first = next(batches)
+    assert first == [0]
+    batches.observe(1, 1 / 64)  # 64 keys to a task of TASK_SECONDS
+    rest = list(batches)
+    sizes = [len(b) for b in rest]
+    assert first + [k for b in rest for k in b] == list(range(1000))
+    assert sizes[0] == round(study_dask.TASK_SECONDS * 64) and sizes == sorted(sizes, reverse=True)
+    assert sizes[-1] == 1
+    short = study_dask.Batches(iter(range(100)), 100, largest=4)
+    next(short)
+    short.observe(1, 1e-6)
+    assert max(len(b) for b in short) == 4
+
+
+def test_the_timeline_parts_the_workers_time_into_runs_tasks_waits_start_and_tail():
+    timeline = study_timing.Timeline(100.0)
+    timeline.add([{"seconds": 1.0}, {"seconds": 0.4}], ("a", 100.5, 102.0, 1.2))
+    timeline.add([{"seconds": 3.0}], ("b", 100.4, 103.5, 2.5))
+    timeline.add([{"seconds": 0.8}], ("a", 102.1, 103.0, 0.7))
+    m = timeline.account(wall_s=3.6, threads=2, client_cpu_s=0.52)
+    assert m["tasks"] == 3 and m["runs_s"] == pytest.approx(5.2)
+    assert m["in_tasks_s"] == pytest.approx(0.3) and m["between_s"] == pytest.approx(0.1)
+    assert m["first_s"] == pytest.approx(0.9) and m["tail_s"] == pytest.approx(0.5)
+    assert m["per_run_overhead"] == pytest.approx(0.4 / 5.2) and m["overhead"] == pytest.approx(2.0 / 5.2)
+    assert m["client_cpu_s"] == 0.52 and m["tasks_cpu_s"] == pytest.approx(4.4)

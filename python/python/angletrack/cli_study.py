@@ -113,10 +113,12 @@ def _cmd_lot(args: argparse.Namespace) -> int:
     todo = [f for f in files if f not in done]
     writer = study_dask.PartWriter(args.output, source)
     if todo:
-        tasks = ((batch, tracker_text, str(args.tracker), layout, args.skip)
-                 for batch in study_dask.batches(todo, len(todo), cluster.workers or 1, largest=4))
-        study_dask.run_tasks(cluster, lot.lot_task, tasks, len(todo), writer, progress=not args.no_progress,
-                             unit="capture")
+        def arguments(batch: list) -> tuple:
+            return batch, tracker_text, str(args.tracker), layout, args.skip
+
+        # At most 4 captures a task: each may take seconds, and a lot's tasks are few.
+        study_dask.run_tasks(cluster, lot.lot_task, arguments, study_dask.Batches(todo, len(todo), largest=4), writer,
+                             progress=not args.no_progress, unit="capture")
     report, _ = lot.outlier_report(args.output, dict(args.limit or []), args.spread_factor)
     print(report)
     return 0

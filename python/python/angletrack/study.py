@@ -53,9 +53,8 @@ def run_study(spec: pathlib.Path, output: pathlib.Path, cluster: study_dask.Clus
     writer = study_dask.PartWriter(output, resolved)
     if count == 0:
         return f"study {spec}: all {runs} runs already in {output}", {}
-    todo = (r for r in range(runs) if r not in done)
-    measured = study_dask.run_tasks(
-        cluster, study_task, ((resolved, batch) for batch in study_dask.batches(todo, count, cluster.workers or 1)),
-        count, writer, progress=progress)
+    todo = study_dask.Batches((r for r in range(runs) if r not in done), count)
+    measured = study_dask.run_tasks(cluster, study_task, lambda batch: (resolved, batch), todo, writer,
+                                    progress=progress)
     return (f"study {spec}: {measured['rows']} runs in {measured['seconds']:.1f} s on {measured['workers']} "
             f"workers ({len(done)} already done) -> {output}"), measured

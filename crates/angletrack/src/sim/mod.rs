@@ -28,6 +28,7 @@ pub(crate) use metrics::wrap;
 pub use metrics::{ErrorStatistics, Metrics, MetricsOptions, Run, run};
 pub use motion::{Kinematics, Motion, MotionProfile};
 pub use resolver::ResolverModel;
+pub(crate) use scenario::ScenarioSample;
 pub use scenario::{MAX_SAMPLES, Scenario};
 pub use sensor::{MAX_ANGLE_ERROR_HARMONICS, SensorModel};
 

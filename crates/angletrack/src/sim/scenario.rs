@@ -5,11 +5,15 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 
-use super::{MotionProfile, SensorModel};
+use super::{Kinematics, MotionProfile, SensorModel};
 use crate::error::{Argument, Error, positive};
 
 /// Largest number of samples of one scenario (the seven series then take 5.6 GB).
 pub const MAX_SAMPLES: usize = 100_000_000;
+
+/// One sample of a scenario as [`Scenario::stream`] draws it: the shaft's state and
+/// `(y_c, y_s)`.
+pub(crate) type ScenarioSample = (Kinematics, (f64, f64));
 
 /// A sampled scenario: the truth beside the sensor signals, one value per sample.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -50,12 +54,8 @@ impl Scenario {
         sample_period_s: f64,
         seed: u64,
     ) -> Result<Self, Error> {
-        let ts = positive(sample_period_s, Argument::SamplePeriod)?;
-        sensor.validate()?;
-        let (n, truth) = profile.sample(ts)?;
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let normal = Normal::new(0.0, sensor.noise_std)
-            .map_err(|_| Error::NotFinite(Argument::SensorNoiseStd))?;
+        let (n, samples) = Self::stream(profile, sensor, sample_period_s, seed)?;
+        let ts = sample_period_s;
         let mut scenario = Scenario {
             sample_period_s: ts,
             time_s: (0..n).map(|k| k as f64 * ts).collect(),
@@ -65,9 +65,7 @@ impl Scenario {
             y_c: Vec::with_capacity(n),
             y_s: Vec::with_capacity(n),
         };
-        for state in truth {
-            let (w_c, w_s) = (normal.sample(&mut rng), normal.sample(&mut rng));
-            let (y_c, y_s) = sensor.signals(state.angle_rad, w_c, w_s);
+        for (state, (y_c, y_s)) in samples {
             scenario.angle_rad.push(state.angle_rad);
             scenario.speed_rad_s.push(state.speed_rad_s);
             scenario.acceleration_rad_s2.push(state.acceleration_rad_s2);
@@ -75,6 +73,30 @@ impl Scenario {
             scenario.y_s.push(y_s);
         }
         Ok(scenario)
+    }
+
+    /// The samples [`Scenario::generate`] stores, one at a time: their number, and each
+    /// sample's true state and `(y_c, y_s)`. A study's run tracks them as they are drawn, so
+    /// that it never holds its series (48 MB for 1e6 samples, allocated and page-faulted
+    /// anew by every run).
+    pub(crate) fn stream(
+        profile: &MotionProfile,
+        sensor: &SensorModel,
+        sample_period_s: f64,
+        seed: u64,
+    ) -> Result<(usize, impl Iterator<Item = ScenarioSample>), Error> {
+        let ts = positive(sample_period_s, Argument::SamplePeriod)?;
+        sensor.validate()?;
+        let (n, truth) = profile.sample(ts)?;
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let normal = Normal::new(0.0, sensor.noise_std)
+            .map_err(|_| Error::NotFinite(Argument::SensorNoiseStd))?;
+        let sensor = *sensor;
+        let samples = truth.map(move |state| {
+            let (w_c, w_s) = (normal.sample(&mut rng), normal.sample(&mut rng));
+            (state, sensor.signals(state.angle_rad, w_c, w_s))
+        });
+        Ok((n, samples))
     }
 
     /// The number of samples.

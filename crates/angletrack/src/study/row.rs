@@ -5,7 +5,6 @@ use angletrack_core::Faults;
 
 use super::sensor::SENSOR_PARAMETERS;
 use super::spec::Spec;
-use crate::Scenario;
 use crate::sim::wrap;
 
 /// One value of a row.
@@ -134,9 +133,10 @@ pub(super) struct Errors {
 }
 
 impl Errors {
-    pub(super) fn new(spec: &Spec, scenario: &Scenario, row: &StudyRow) -> Result<Self, String> {
-        let first = (spec.skip_s / scenario.sample_period_s).ceil() as usize;
-        if first >= scenario.len() {
+    /// The statistics of a run of `samples` samples (every `spec.sample_period_s`).
+    pub(super) fn new(spec: &Spec, samples: usize, row: &StudyRow) -> Result<Self, String> {
+        let first = (spec.skip_s / spec.sample_period_s).ceil() as usize;
+        if first >= samples {
             return Err(format!(
                 "skip_s: {} s leaves no sample of profile {:?}",
                 spec.skip_s, row.profile
@@ -145,8 +145,8 @@ impl Errors {
         Ok(Self {
             first,
             tolerance: spec.lock_tolerance_rad,
-            sample_period_s: scenario.sample_period_s,
-            samples: scenario.len(),
+            sample_period_s: spec.sample_period_s,
+            samples,
             sum: 0.0,
             squares: 0.0,
             largest: 0.0,

@@ -14,10 +14,13 @@ use rand_chacha::ChaCha8Rng;
 
 use super::row::{Errors, StudyRow};
 use super::spec::Spec;
+use crate::sim::ScenarioSample;
 use crate::tracker_file::{
     AdcRange, Calibration, Correction, Input as TrackerInput, NumberType, SinCosKind, TrackerFile,
 };
-use crate::{Scenario, capture_fault_thresholds, fixed_front_end, fixed_input};
+use crate::{
+    NOMINAL_AMPLITUDE_SAMPLES, Scenario, capture_fault_thresholds, fixed_front_end, fixed_input,
+};
 
 /// SplitMix64's finaliser: a seed from the study's seed and a run's indices, well mixed so
 /// that neighbouring indices give unrelated generators.
@@ -72,9 +75,9 @@ pub(super) fn run(spec: &Spec, run: u64) -> StudyRow {
     }
     let model = spec.sensor.model(&drawn);
     let noise_seed = derived_seed(spec.seed, &[sensor, 1 + profile]);
-    let outcome = Scenario::generate(motion, &model, spec.sample_period_s, noise_seed)
+    let outcome = Scenario::stream(motion, &model, spec.sample_period_s, noise_seed)
         .map_err(|e| format!("sensor: {e}"))
-        .and_then(|scenario| track(spec, tracker, &scenario, &mut row));
+        .and_then(|(len, samples)| track(spec, tracker, Samples::new(len, samples), &mut row));
     if let Err(e) = outcome {
         row.error = Some(e);
     }
@@ -82,12 +85,53 @@ pub(super) fn run(spec: &Spec, run: u64) -> StudyRow {
     row
 }
 
-/// Tracks `scenario` with `tracker` (dispatched on its number type, order and sin/cos),
+/// A run's samples as the scenario draws them: the first [`NOMINAL_AMPLITUDE_SAMPLES`] held
+/// (the chains read the signals' nominal amplitude from them before tracking the first),
+/// the rest tracked as they are drawn, so that a run's memory does not grow with its length.
+struct Samples<I> {
+    len: usize,
+    truth: Vec<f64>,
+    y_c: Vec<f64>,
+    y_s: Vec<f64>,
+    rest: I,
+}
+
+impl<I: Iterator<Item = ScenarioSample>> Samples<I> {
+    fn new(len: usize, mut samples: I) -> Self {
+        let head = len.min(NOMINAL_AMPLITUDE_SAMPLES);
+        let (mut truth, mut y_c, mut y_s) = (
+            Vec::with_capacity(head),
+            Vec::with_capacity(head),
+            Vec::with_capacity(head),
+        );
+        for (state, (c, s)) in samples.by_ref().take(head) {
+            truth.push(state.angle_rad);
+            y_c.push(c);
+            y_s.push(s);
+        }
+        Self {
+            len,
+            truth,
+            y_c,
+            y_s,
+            rest: samples,
+        }
+    }
+
+    /// Every sample in order: `(true angle, y_c, y_s)`.
+    fn all(self) -> impl Iterator<Item = (f64, f64, f64)> {
+        let head = self.truth.into_iter().zip(self.y_c).zip(self.y_s);
+        head.map(|((t, c), s)| (t, c, s))
+            .chain(self.rest.map(|(state, (c, s))| (state.angle_rad, c, s)))
+    }
+}
+
+/// Tracks `samples` with `tracker` (dispatched on its number type, order and sin/cos),
 /// filling `row`'s results.
-fn track(
+fn track<I: Iterator<Item = ScenarioSample>>(
     spec: &Spec,
     tracker: &TrackerFile,
-    scenario: &Scenario,
+    samples: Samples<I>,
     row: &mut StudyRow,
 ) -> Result<(), String> {
     let exact = match tracker.sin_cos {
@@ -95,16 +139,16 @@ fn track(
         kind => kind == SinCosKind::Exact,
     };
     match (tracker.number_type, tracker.gains.gains.len(), exact) {
-        (NumberType::Fixed, 2, _) => track_fixed::<2>(spec, tracker, scenario, row),
-        (NumberType::Fixed, _, _) => track_fixed::<3>(spec, tracker, scenario, row),
-        (NumberType::F32, 2, false) => track_with::<f32, 2, Fast>(spec, tracker, scenario, row),
-        (NumberType::F32, 2, true) => track_with::<f32, 2, Exact>(spec, tracker, scenario, row),
-        (NumberType::F32, _, false) => track_with::<f32, 3, Fast>(spec, tracker, scenario, row),
-        (NumberType::F32, _, true) => track_with::<f32, 3, Exact>(spec, tracker, scenario, row),
-        (_, 2, false) => track_with::<f64, 2, Fast>(spec, tracker, scenario, row),
-        (_, 2, true) => track_with::<f64, 2, Exact>(spec, tracker, scenario, row),
-        (_, _, false) => track_with::<f64, 3, Fast>(spec, tracker, scenario, row),
-        (_, _, true) => track_with::<f64, 3, Exact>(spec, tracker, scenario, row),
+        (NumberType::Fixed, 2, _) => track_fixed::<2, I>(spec, tracker, samples, row),
+        (NumberType::Fixed, _, _) => track_fixed::<3, I>(spec, tracker, samples, row),
+        (NumberType::F32, 2, false) => track_with::<f32, 2, Fast, I>(spec, tracker, samples, row),
+        (NumberType::F32, 2, true) => track_with::<f32, 2, Exact, I>(spec, tracker, samples, row),
+        (NumberType::F32, _, false) => track_with::<f32, 3, Fast, I>(spec, tracker, samples, row),
+        (NumberType::F32, _, true) => track_with::<f32, 3, Exact, I>(spec, tracker, samples, row),
+        (_, 2, false) => track_with::<f64, 2, Fast, I>(spec, tracker, samples, row),
+        (_, 2, true) => track_with::<f64, 2, Exact, I>(spec, tracker, samples, row),
+        (_, _, false) => track_with::<f64, 3, Fast, I>(spec, tracker, samples, row),
+        (_, _, true) => track_with::<f64, 3, Exact, I>(spec, tracker, samples, row),
     }
 }
 
@@ -143,15 +187,16 @@ fn typed_settings<T: Float + Real>(s: &CalibrationSettings<f64>) -> CalibrationS
     out
 }
 
-/// The standard chain of `tracker` in `T`, order `N`, sin/cos `S`, over `scenario`.
-fn track_with<T: Float + Real, const N: usize, S: SinCos<T>>(
+/// The standard chain of `tracker` in `T`, order `N`, sin/cos `S`, over `samples`.
+fn track_with<T: Float + Real, const N: usize, S: SinCos<T>, I>(
     spec: &Spec,
     tracker: &TrackerFile,
-    scenario: &Scenario,
+    samples: Samples<I>,
     row: &mut StudyRow,
 ) -> Result<(), String>
 where
     Order<N>: SupportedOrder,
+    I: Iterator<Item = ScenarioSample>,
 {
     let file = &tracker.gains;
     let mut values = [T::ZERO; N];
@@ -160,7 +205,7 @@ where
     }
     let thresholds = match &tracker.fault_thresholds {
         Some(t) => typed_thresholds(t),
-        None => typed_thresholds(&capture_fault_thresholds(&scenario.y_c, &scenario.y_s)),
+        None => typed_thresholds(&capture_fault_thresholds(&samples.y_c, &samples.y_s)),
     };
     let mut gains = Gains::<T, N>::new(values, T::from_f64(file.sample_period_s))
         .and_then(|g| g.with_fault_thresholds(thresholds))
@@ -213,14 +258,8 @@ where
     let chain: Tracker<T, Gains<T, N, S>> = Tracker::new(front_end, gains);
     let mut state: TrackerState<T, ObserverState<T, N>> = TrackerState::new();
     *state.front_end.calibrator_mut() = calibrator;
-    let mut errors = Errors::new(spec, scenario, row)?;
-    for (k, ((&c, &s), &truth)) in scenario
-        .y_c
-        .iter()
-        .zip(&scenario.y_s)
-        .zip(&scenario.angle_rad)
-        .enumerate()
-    {
+    let mut errors = Errors::new(spec, samples.len, row)?;
+    for (k, (truth, c, s)) in samples.all().enumerate() {
         let e = chain.update(&mut state, (T::from_f64(c), T::from_f64(s)));
         errors.add(k, truth - e.angle.to_f64(), e.faults);
     }
@@ -232,16 +271,17 @@ where
     Ok(())
 }
 
-/// The fixed-point chain of `tracker` (order `N`) over `scenario`, its samples the sensor's
+/// The fixed-point chain of `tracker` (order `N`) over `samples`, its samples the sensor's
 /// ADC codes (the study's `adc_bits`, the tracker's `input.bits`) as int16 counts.
-fn track_fixed<const N: usize>(
+fn track_fixed<const N: usize, I>(
     spec: &Spec,
     tracker: &TrackerFile,
-    scenario: &Scenario,
+    samples: Samples<I>,
     row: &mut StudyRow,
 ) -> Result<(), String>
 where
     Order<N>: SupportedOrder,
+    I: Iterator<Item = ScenarioSample>,
 {
     let TrackerInput::Bits { bits, signed } = tracker.input else {
         return Err("input: the fixed-point chain takes the ADC's counts: give input.bits".into());
@@ -250,10 +290,8 @@ where
     let mid = if signed { 0 } else { 1_i32 << (bits - 1) };
     // The sensor model rounds to its ADC's grid and saturates there: its codes fit.
     let code = |y: f64| ((y / lsb).round() as i32 + mid) as i16;
-    let head = scenario.len().min(crate::NOMINAL_AMPLITUDE_SAMPLES);
-    let counts =
-        |y: &[f64]| -> Vec<f64> { y[..head].iter().map(|&v| f64::from(code(v))).collect() };
-    let input = fixed_input(&counts(&scenario.y_c), &counts(&scenario.y_s), mid as u64)
+    let counts = |y: &[f64]| -> Vec<f64> { y.iter().map(|&v| f64::from(code(v))).collect() };
+    let input = fixed_input(&counts(&samples.y_c), &counts(&samples.y_s), mid as u64)
         .map_err(|e| format!("input: {e}"))?;
     let sensor = match &tracker.calibration {
         Calibration::Stored(c) => Some(*c),
@@ -288,14 +326,8 @@ where
         .map_err(|e| format!("gains: {e}"))?;
     let chain = Tracker::new(front_end, gains);
     let mut state = TrackerState::new();
-    let mut errors = Errors::new(spec, scenario, row)?;
-    for (k, ((&c, &s), &truth)) in scenario
-        .y_c
-        .iter()
-        .zip(&scenario.y_s)
-        .zip(&scenario.angle_rad)
-        .enumerate()
-    {
+    let mut errors = Errors::new(spec, samples.len, row)?;
+    for (k, (truth, c, s)) in samples.all().enumerate() {
         let e = chain.update(&mut state, (code(c), code(s)));
         errors.add(k, truth - chain.observer.position_rad(&e), e.faults);
     }

@@ -3,24 +3,15 @@
 
 use std::time::Instant;
 
-use angletrack_core::{
-    AngleCorrection, CalibrationSettings, CalibrationStage, Calibrator, CorrectionStage, Exact,
-    Fast, FaultThresholds, FixedGains, Float, Gains, Input, ObserverState, Order, Rails, Real,
-    SensorCalibration, SinCos, SupportedOrder, Tracker, TrackerFrontEnd, TrackerSettings,
-    TrackerState, WindingCheck,
-};
+use angletrack_core::Faults;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use super::row::{Errors, StudyRow};
 use super::spec::Spec;
 use crate::sim::ScenarioSample;
-use crate::tracker_file::{
-    AdcRange, Calibration, Correction, Input as TrackerInput, NumberType, SinCosKind, TrackerFile,
-};
-use crate::{
-    NOMINAL_AMPLITUDE_SAMPLES, Scenario, capture_fault_thresholds, fixed_front_end, fixed_input,
-};
+use crate::tracker_file::{CaptureHead, Input as TrackerInput, TrackerFile, TrackerRun};
+use crate::{NOMINAL_AMPLITUDE_SAMPLES, Scenario};
 
 /// SplitMix64's finaliser: a seed from the study's seed and a run's indices, well mixed so
 /// that neighbouring indices give unrelated generators.
@@ -126,211 +117,71 @@ impl<I: Iterator<Item = ScenarioSample>> Samples<I> {
     }
 }
 
-/// Tracks `samples` with `tracker` (dispatched on its number type, order and sin/cos),
-/// filling `row`'s results.
+/// How many samples a run feeds its chain at a time.
+const CHUNK: usize = 4096;
+
+/// Tracks `samples` with `tracker`'s chain (the crate's [`TrackerRun`], as `angletrack
+/// track --tracker` runs it), filling `row`'s results. The sensor's signals go in as the
+/// file's input takes them: in units, or as the codes of its ADC (`input.bits`, the study's
+/// full scale).
 fn track<I: Iterator<Item = ScenarioSample>>(
     spec: &Spec,
     tracker: &TrackerFile,
     samples: Samples<I>,
     row: &mut StudyRow,
 ) -> Result<(), String> {
-    let exact = match tracker.sin_cos {
-        SinCosKind::Default => tracker.number_type == NumberType::F64,
-        kind => kind == SinCosKind::Exact,
-    };
-    match (tracker.number_type, tracker.gains.gains.len(), exact) {
-        (NumberType::Fixed, 2, _) => track_fixed::<2, I>(spec, tracker, samples, row),
-        (NumberType::Fixed, _, _) => track_fixed::<3, I>(spec, tracker, samples, row),
-        (NumberType::F32, 2, false) => track_with::<f32, 2, Fast, I>(spec, tracker, samples, row),
-        (NumberType::F32, 2, true) => track_with::<f32, 2, Exact, I>(spec, tracker, samples, row),
-        (NumberType::F32, _, false) => track_with::<f32, 3, Fast, I>(spec, tracker, samples, row),
-        (NumberType::F32, _, true) => track_with::<f32, 3, Exact, I>(spec, tracker, samples, row),
-        (_, 2, false) => track_with::<f64, 2, Fast, I>(spec, tracker, samples, row),
-        (_, 2, true) => track_with::<f64, 2, Exact, I>(spec, tracker, samples, row),
-        (_, _, false) => track_with::<f64, 3, Fast, I>(spec, tracker, samples, row),
-        (_, _, true) => track_with::<f64, 3, Exact, I>(spec, tracker, samples, row),
-    }
-}
-
-fn typed<T: Float + Real>(c: &SensorCalibration<f64>) -> Result<SensorCalibration<T>, String> {
-    let (o_c, o_s, a_c, a_s, phi) = c.parameters();
-    SensorCalibration::new(
-        T::from_f64(o_c),
-        T::from_f64(o_s),
-        T::from_f64(a_c),
-        T::from_f64(a_s),
-        T::from_f64(phi),
-    )
-    .map_err(|e| format!("calibration: {e}"))
-}
-
-fn typed_thresholds<T: Float + Real>(t: &FaultThresholds<f64>) -> FaultThresholds<T> {
-    FaultThresholds::for_amplitude(T::from_f64(t.nominal_amplitude))
-        .with_max_input_amplitude(T::from_f64(t.max_input_amplitude))
-        .with_loss_of_signal(T::from_f64(t.loss_of_signal))
-        .with_degradation_low(T::from_f64(t.degradation_low))
-        .with_degradation_high(T::from_f64(t.degradation_high))
-        .with_loss_of_tracking(T::from_f64(t.loss_of_tracking))
-        .with_max_speed(t.max_speed.map(T::from_f64))
-        .with_filter_factor(T::from_f64(t.filter_factor))
-        .with_false_lock(T::from_f64(t.false_lock))
-        .with_monitor(t.monitor)
-        .with_re_acquire(t.re_acquire)
-}
-
-fn typed_settings<T: Float + Real>(s: &CalibrationSettings<f64>) -> CalibrationSettings<T> {
-    let mut out = CalibrationSettings::default();
-    out.min_speed_rad_s = s.min_speed_rad_s.map(T::from_f64);
-    out.max_offset = T::from_f64(s.max_offset);
-    out.max_amplitude_mismatch = T::from_f64(s.max_amplitude_mismatch);
-    out.max_quadrature_rad = T::from_f64(s.max_quadrature_rad);
-    out
-}
-
-/// The standard chain of `tracker` in `T`, order `N`, sin/cos `S`, over `samples`.
-fn track_with<T: Float + Real, const N: usize, S: SinCos<T>, I>(
-    spec: &Spec,
-    tracker: &TrackerFile,
-    samples: Samples<I>,
-    row: &mut StudyRow,
-) -> Result<(), String>
-where
-    Order<N>: SupportedOrder,
-    I: Iterator<Item = ScenarioSample>,
-{
-    let file = &tracker.gains;
-    let mut values = [T::ZERO; N];
-    for (slot, &g) in values.iter_mut().zip(&file.gains) {
-        *slot = T::from_f64(g);
-    }
-    let thresholds = match &tracker.fault_thresholds {
-        Some(t) => typed_thresholds(t),
-        None => typed_thresholds(&capture_fault_thresholds(&samples.y_c, &samples.y_s)),
-    };
-    let mut gains = Gains::<T, N>::new(values, T::from_f64(file.sample_period_s))
-        .and_then(|g| g.with_fault_thresholds(thresholds))
-        .map_err(|e| format!("gains: {e}"))?
-        .with_sin_cos::<S>();
-    let mut calibrator = Calibrator::new();
-    let calibration = match &tracker.calibration {
-        Calibration::None => CalibrationStage::None,
-        Calibration::Stored(c) => CalibrationStage::Stored(typed(c)?),
-        Calibration::Online { initial, settings } => {
-            gains = gains
-                .with_calibration_settings(typed_settings(settings))
-                .map_err(|e| format!("calibration: {e}"))?;
-            if let Some(c) = initial {
-                calibrator = Calibrator::from_calibration(typed(c)?);
-            }
-            calibrator.enable();
-            CalibrationStage::Online(gains.online_calibration())
+    let lsb_mid = match tracker.input {
+        TrackerInput::Units => None,
+        TrackerInput::Bits { bits, signed } => Some((
+            2.0 * spec.sensor.adc_full_scale / f64::from(bits).exp2(),
+            if signed { 0.0 } else { f64::from(bits - 1).exp2() },
+        )),
+        _ => {
+            return Err("input: a study's sensor gives its signals in units, or the codes of \
+                        its ADC for input.bits: give one of them"
+                .into());
         }
     };
-    let correction = match &tracker.correction {
-        Correction::Harmonics(h) => {
-            let (cos, sin) = h.coefficients();
-            CorrectionStage::Harmonics(
-                AngleCorrection::new(cos.map(T::from_f64), sin.map(T::from_f64))
-                    .map_err(|e| format!("correction: {e}"))?,
-            )
-        }
-        _ => CorrectionStage::None,
-    };
-    let rails = match tracker.adc_range {
-        AdcRange::Stated { min, max } => Rails::Stated {
-            min: T::from_f64(min),
-            max: T::from_f64(max),
-        },
-        _ => Rails::Measured,
-    };
-    let winding = tracker
-        .winding_amplitude
-        .map(|a| WindingCheck::new(T::from_f64(a)))
-        .transpose()
-        .map_err(|e| format!("winding_check: {e}"))?;
-    let front_end = TrackerFrontEnd::new(TrackerSettings {
-        input: Input::Units { rails },
-        winding,
-        calibration,
-        correction,
-    })
-    .map_err(|e| format!("adc_range: {e}"))?;
-    let chain: Tracker<T, Gains<T, N, S>> = Tracker::new(front_end, gains);
-    let mut state: TrackerState<T, ObserverState<T, N>> = TrackerState::new();
-    *state.front_end.calibrator_mut() = calibrator;
-    let mut errors = Errors::new(spec, samples.len, row)?;
-    for (k, (truth, c, s)) in samples.all().enumerate() {
-        let e = chain.update(&mut state, (T::from_f64(c), T::from_f64(s)));
-        errors.add(k, truth - e.angle.to_f64(), e.faults);
-    }
-    errors.write(row);
-    if matches!(tracker.calibration, Calibration::Online { .. }) {
-        let (o_c, o_s, a_c, a_s, phi) = state.front_end.calibrator().calibration().parameters();
-        row.learned = [o_c, o_s, a_c, a_s, phi].map(T::to_f64);
-    }
-    Ok(())
-}
-
-/// The fixed-point chain of `tracker` (order `N`) over `samples`, its samples the sensor's
-/// ADC codes (the study's `adc_bits`, the tracker's `input.bits`) as int16 counts.
-fn track_fixed<const N: usize, I>(
-    spec: &Spec,
-    tracker: &TrackerFile,
-    samples: Samples<I>,
-    row: &mut StudyRow,
-) -> Result<(), String>
-where
-    Order<N>: SupportedOrder,
-    I: Iterator<Item = ScenarioSample>,
-{
-    let TrackerInput::Bits { bits, signed } = tracker.input else {
-        return Err("input: the fixed-point chain takes the ADC's counts: give input.bits".into());
-    };
-    let lsb = 2.0 * spec.sensor.adc_full_scale / f64::from(bits).exp2();
-    let mid = if signed { 0 } else { 1_i32 << (bits - 1) };
     // The sensor model rounds to its ADC's grid and saturates there: its codes fit.
-    let code = |y: f64| ((y / lsb).round() as i32 + mid) as i16;
-    let counts = |y: &[f64]| -> Vec<f64> { y.iter().map(|&v| f64::from(code(v))).collect() };
-    let input = fixed_input(&counts(&samples.y_c), &counts(&samples.y_s), mid as u64)
-        .map_err(|e| format!("input: {e}"))?;
-    let sensor = match &tracker.calibration {
-        Calibration::Stored(c) => Some(*c),
-        _ => None,
+    let input = |y: f64| lsb_mid.map_or(y, |(lsb, mid)| (y / lsb).round() + mid);
+    let head_c: Vec<f64> = samples.y_c.iter().map(|&y| input(y)).collect();
+    let head_s: Vec<f64> = samples.y_s.iter().map(|&y| input(y)).collect();
+    let head = CaptureHead {
+        y_c: &head_c,
+        y_s: &head_s,
+        counts: None,
     };
-    let correction = match &tracker.correction {
-        Correction::Harmonics(h) => Some(*h),
-        _ => None,
-    };
-    let rails = match tracker.adc_range {
-        AdcRange::FullScale => {
-            Rails::of_adc_bits(bits, signed).map_err(|e| format!("adc_range: {e}"))?
-        }
-        AdcRange::Stated { min, max } => Rails::Stated {
-            min: min as i32,
-            max: max as i32,
-        },
-        AdcRange::Measured => Rails::Measured,
-    };
-    let front_end = fixed_front_end(
-        mid,
-        input.shift,
-        sensor.as_ref(),
-        correction.as_ref(),
-        rails,
-    )
-    .map_err(|e| format!("calibration: {e}"))?;
-    let mut values = [0.0; N];
-    values.copy_from_slice(&tracker.gains.gains[..N]);
-    let gains = FixedGains::<N>::new(values, tracker.gains.sample_period_s)
-        .and_then(|g| g.with_monitor(Some(input.monitor_amplitude)))
-        .map_err(|e| format!("gains: {e}"))?;
-    let chain = Tracker::new(front_end, gains);
-    let mut state = TrackerState::new();
+    let mut chain = TrackerRun::new(tracker, "setup", &head).map_err(|e| e.to_string())?;
     let mut errors = Errors::new(spec, samples.len, row)?;
-    for (k, (truth, c, s)) in samples.all().enumerate() {
-        let e = chain.update(&mut state, (code(c), code(s)));
-        errors.add(k, truth - chain.observer.position_rad(&e), e.faults);
+    let (mut truth, mut y_c, mut y_s) = (
+        Vec::with_capacity(CHUNK),
+        Vec::with_capacity(CHUNK),
+        Vec::with_capacity(CHUNK),
+    );
+    let mut k = 0;
+    let mut flush = |truth: &mut Vec<f64>, y_c: &mut Vec<f64>, y_s: &mut Vec<f64>| {
+        let rows = chain.track(y_c, y_s);
+        for (i, &t) in truth.iter().enumerate() {
+            errors.add(k, t - rows.angle_rad[i], Faults::from_bits_truncate(rows.faults[i]));
+            k += 1;
+        }
+        truth.clear();
+        y_c.clear();
+        y_s.clear();
+    };
+    for (t, c, s) in samples.all() {
+        truth.push(t);
+        y_c.push(input(c));
+        y_s.push(input(s));
+        if truth.len() == CHUNK {
+            flush(&mut truth, &mut y_c, &mut y_s);
+        }
     }
+    flush(&mut truth, &mut y_c, &mut y_s);
     errors.write(row);
+    if let Some(learning) = chain.learning() {
+        let (o_c, o_s, a_c, a_s, phi) = learning.calibration.parameters();
+        row.learned = [o_c, o_s, a_c, a_s, phi];
+    }
     Ok(())
 }

@@ -55,6 +55,8 @@ mod ffi_chain;
 mod ffi_chain_fixed;
 mod ffi_demodulator;
 mod gains;
+#[cfg(feature = "count-reference")]
+mod reference;
 mod slot;
 mod status;
 mod table;

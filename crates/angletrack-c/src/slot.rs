@@ -7,22 +7,22 @@
 //! leaves its padding bytes uninitialised, and a copy of the struct by value in Rust (C
 //! copies bytes) must not read those as integers. Miri checks this in the crate's tests.
 //!
-//! A slot holds one of a few `Copy` types, told apart by a tag that only [`Slot::slot_put`] writes,
-//! right after it wrote a value of that type: [`Slot::slot_get`] and [`Slot::slot_get_or_put`] read the words as
-//! the type only when the tag is the type's. A zeroed or never-initialised struct has no
-//! type's tag (tag 0, or garbage that does not match), so it is refused or started afresh
-//! instead of being read as a Rust value. The tags are 32-bit values unlikely to appear
-//! by chance, all starting with the bytes "AT" (`0x4154` in the high half).
-//!
-//! Beside the tag, [`Slot::slot_put`] writes the struct's layout word: a fingerprint of this build's
-//! layouts ([`layout_of`]: the C API's layout version `AT_LAYOUT_VERSION`, the crate's
-//! version, the C struct's size and the size and alignment of every stored Rust type). A
-//! struct written by another build of the library (another version, a header of another
-//! size, another target) carries an "AT" tag with another layout word: it is refused as
-//! such ([`Refused::OtherBuild`]), never read. The tag and the layout word are the struct's
-//! first two fields, at the same offsets in every build. The guarantee holds as long as C
-//! code writes the structs only through the API (or copies a whole struct), as the header
-//! says.
+//! A slot holds one of a few `Copy` types. Only [`Slot::slot_put`] writes a struct's tag
+//! (the type's: 32 bits starting with the bytes "AT", `0x4154` in the high half) and its
+//! layout word, right after it wrote a value of that type. The layout word is a fingerprint
+//! of this build's layouts ([`layout_of`]: the C API's layout version `AT_LAYOUT_VERSION`,
+//! the crate's version, the C struct's size and the size and alignment of every stored Rust
+//! type) hashed with the type's tag ([`typed`]): one word names the build, the struct and
+//! the type, so that [`Slot::slot_get`] and [`Slot::slot_get_or_put`] (on every sample)
+//! compare one word per struct and read the words as the type only when it is this build's
+//! word for the type. A zeroed or never-initialised struct has no such word (0, never
+//! written, or garbage that matches one 32-bit value by chance), so it is refused or started
+//! afresh instead of being read as a Rust value. A struct written by another build of the
+//! library (another version, a header of another size, another target) carries an "AT" tag
+//! with another layout word: it is refused as such ([`Refused::OtherBuild`]), never read.
+//! The tag and the layout word are the struct's first two fields, at the same offsets in
+//! every build. The guarantee holds as long as C code writes the structs only through the
+//! API (or copies a whole struct), as the header says.
 #![allow(unsafe_code)]
 
 use core::mem::{MaybeUninit, align_of, size_of};
@@ -35,7 +35,7 @@ use crate::status::{AT_ERR_NOT_INITIALISED, AT_ERR_OTHER_BUILD, at_status, statu
 /// value the library stores in one changes; part of every struct's layout word (with the
 /// crate's version and the sizes, which change it without a bump). `at_layout_version()`
 /// returns the library's, to compare with the header's at start-up.
-pub const AT_LAYOUT_VERSION: u32 = 6;
+pub const AT_LAYOUT_VERSION: u32 = 7;
 
 /// A type a slot can hold, with its tag. `Copy` types only: overwriting one drops nothing,
 /// and a C copy of the words (with the tag) is a copy of the value.
@@ -114,6 +114,13 @@ pub(crate) const fn layout_of(size: usize) -> u32 {
     hash(BUILD, size as u32) | 1
 }
 
+/// The layout word written beside a value tagged `tag` in a struct of the layout word
+/// `layout` (never 0): one word names the build, the struct and the type, so that the
+/// per-sample calls compare one word per struct.
+pub(crate) const fn typed(layout: u32, tag: u32) -> u32 {
+    hash(layout, tag) | 1
+}
+
 /// The layout word a build of the layout version `version`, otherwise this one, writes in
 /// a C struct of `size` bytes: for tests that make a struct of the previous version.
 #[cfg(test)]
@@ -128,12 +135,13 @@ const fn fits<T>(words: usize) -> bool {
     size_of::<T>() <= words * size_of::<u64>() && align_of::<T>() <= align_of::<u64>()
 }
 
-/// Why a struct whose tag and layout are not `T`'s of this build holds no `T`: another
-/// build's, or none (out of line: the per-sample paths take the other branch).
+/// Why a struct of this build's layout word `expected` whose layout word is not `T`'s holds
+/// no `T`: another build's (an "AT" tag beside a layout word that is not this build's for
+/// it), or none (out of line: the per-sample paths take the other branch).
 #[cold]
 #[inline(never)]
 fn refusal(tag: u32, layout: u32, expected: u32) -> Refused {
-    if tag >> 16 == TAG_FAMILY && layout != expected {
+    if tag >> 16 == TAG_FAMILY && layout != typed(expected, tag) {
         Refused::OtherBuild
     } else {
         Refused::NotInitialised
@@ -162,14 +170,14 @@ pub(crate) trait Slot {
             )
         };
         let (tag, layout, words) = self.words();
-        if tag != T::TAG || layout != Self::LAYOUT {
+        if layout != Self::typed::<T>() {
             return Err(refusal(tag, layout, Self::LAYOUT));
         }
         // SAFETY: the words are aligned for `T` and large enough (checked at compile time
-        // above), and with the tag `T::TAG` and this build's layout word they hold a valid
-        // `T`: only `slot_put::<T>` writes that pair, after writing a `T` there, and
-        // whatever C does with the struct (copy it whole, as the header allows) keeps them
-        // together. The borrow of `self` bounds the reference's life.
+        // above), and with this build's layout word for `T` they hold a valid `T`: only
+        // `slot_put::<T>` writes that word, after writing a `T` there, and whatever C does
+        // with the struct (copy it whole, as the header allows) keeps them together. The
+        // borrow of `self` bounds the reference's life.
         Ok(unsafe { &*words.as_ptr().cast::<T>() })
     }
 
@@ -183,7 +191,7 @@ pub(crate) trait Slot {
             )
         };
         let (&mut tag, &mut layout, words) = self.words_mut();
-        if tag != T::TAG || layout != Self::LAYOUT {
+        if layout != Self::typed::<T>() {
             return Err(refusal(tag, layout, Self::LAYOUT));
         }
         // SAFETY: as in `slot_get`; the exclusive borrow of `self` makes the reference
@@ -194,15 +202,30 @@ pub(crate) trait Slot {
     /// The `T` held, or `start()` stored (and tagged); refused only when the struct is
     /// another build's.
     #[inline(always)]
-    fn slot_get_or_put<T: Stored>(&mut self, start: impl FnOnce() -> T) -> Result<&mut T, Refused> {
-        let (tag, layout, _) = self.words();
-        if tag != T::TAG || layout != Self::LAYOUT {
-            if refusal(tag, layout, Self::LAYOUT) == Refused::OtherBuild {
-                return Err(Refused::OtherBuild);
-            }
-            self.slot_put(start());
+    fn slot_get_or_put<T: Stored>(&mut self, start: fn() -> T) -> Result<&mut T, Refused> {
+        if self.words().1 != Self::typed::<T>() {
+            self.slot_start(start)?;
         }
         self.slot_get_mut()
+    }
+
+    /// `start()` stored (and tagged) unless the struct is another build's: out of line, so
+    /// that the per-sample calls carry no fresh value.
+    #[cold]
+    #[inline(never)]
+    fn slot_start<T: Stored>(&mut self, start: fn() -> T) -> Result<(), Refused> {
+        let (tag, layout, _) = self.words();
+        if refusal(tag, layout, Self::LAYOUT) == Refused::OtherBuild {
+            return Err(Refused::OtherBuild);
+        }
+        self.slot_put(start());
+        Ok(())
+    }
+
+    /// This build's layout word for a `T` in the struct.
+    #[inline(always)]
+    fn typed<T: Stored>() -> u32 {
+        const { typed(Self::LAYOUT, T::TAG) }
     }
 
     /// Stores `value` and tags it as a `T` of this build.
@@ -218,7 +241,7 @@ pub(crate) trait Slot {
         // above); `T` is `Copy`, so overwriting whatever they held drops nothing.
         unsafe { words.as_mut_ptr().cast::<T>().write(value) };
         *tag = T::TAG;
-        *layout = Self::LAYOUT;
+        *layout = Self::typed::<T>();
     }
 
     /// Stores the value of a check, if it passed; the check's status (`self` unchanged on
@@ -231,7 +254,13 @@ pub(crate) trait Slot {
     /// the order, the checked read refuses the rest.
     #[inline(always)]
     fn either<A: Stored, B: Stored>(&self) -> Result<ByOrder<&A, &B>, Refused> {
-        if self.words().0 == A::TAG {
+        const {
+            assert!(
+                typed(Self::LAYOUT, A::TAG) != typed(Self::LAYOUT, B::TAG),
+                "the two orders' layout words must differ"
+            )
+        };
+        if self.words().1 == Self::typed::<A>() {
             self.slot_get().map(ByOrder::Two)
         } else {
             self.slot_get().map(ByOrder::Three)
@@ -240,7 +269,7 @@ pub(crate) trait Slot {
 
     /// The value held, of order 2 (`A`) or 3 (`B`), if any of this build's.
     fn either_mut<A: Stored, B: Stored>(&mut self) -> Option<ByOrder<&mut A, &mut B>> {
-        if self.words().0 == A::TAG {
+        if self.words().1 == Self::typed::<A>() {
             self.slot_get_mut().ok().map(ByOrder::Two)
         } else {
             self.slot_get_mut().ok().map(ByOrder::Three)

@@ -13,9 +13,9 @@
 //! of this build's layouts ([`layout_of`]: the C API's layout version `AT_LAYOUT_VERSION`,
 //! the crate's version, the C struct's size and the size and alignment of every stored Rust
 //! type) hashed with the type's tag ([`typed`]): one word names the build, the struct and
-//! the type, so that [`Slot::slot_get`] and [`Slot::slot_get_or_put`] (on every sample)
-//! compare one word per struct and read the words as the type only when it is this build's
-//! word for the type. A zeroed or never-initialised struct has no such word (0, never
+//! the type, so that the per-sample reads ([`Slot::either`], [`Slot::slot_get_or_put`])
+//! compare that one word per struct, and the others ([`Slot::slot_get`]) the tag too,
+//! before they read the words as the type. A zeroed or never-initialised struct has no such word (0, never
 //! written, or garbage that matches one 32-bit value by chance), so it is refused or started
 //! afresh instead of being read as a Rust value. A struct written by another build of the
 //! library (another version, a header of another size, another target) carries an "AT" tag
@@ -117,7 +117,7 @@ pub(crate) const fn layout_of(size: usize) -> u32 {
 /// The layout word written beside a value tagged `tag` in a struct of the layout word
 /// `layout` (never 0): one word names the build, the struct and the type, so that the
 /// per-sample calls compare one word per struct.
-pub(crate) const fn typed(layout: u32, tag: u32) -> u32 {
+const fn typed(layout: u32, tag: u32) -> u32 {
     hash(layout, tag) | 1
 }
 
@@ -135,13 +135,14 @@ const fn fits<T>(words: usize) -> bool {
     size_of::<T>() <= words * size_of::<u64>() && align_of::<T>() <= align_of::<u64>()
 }
 
-/// Why a struct of this build's layout word `expected` whose layout word is not `T`'s holds
-/// no `T`: another build's (an "AT" tag beside a layout word that is not this build's for
-/// it), or none (out of line: the per-sample paths take the other branch).
+/// Why a struct of this build's layout word `expected` holds no value of the type whose
+/// layout word is `word`: another build's (an "AT" tag beside a layout word that is not this
+/// build's, for that tag or that type), or none (out of line: the per-sample paths take the
+/// other branch).
 #[cold]
 #[inline(never)]
-fn refusal(tag: u32, layout: u32, expected: u32) -> Refused {
-    if tag >> 16 == TAG_FAMILY && layout != typed(expected, tag) {
+fn refusal(tag: u32, layout: u32, expected: u32, word: u32) -> Refused {
+    if tag >> 16 == TAG_FAMILY && layout != typed(expected, tag) && layout != word {
         Refused::OtherBuild
     } else {
         Refused::NotInitialised
@@ -169,44 +170,70 @@ pub(crate) trait Slot {
                 "a C API struct's storage is too small"
             )
         };
-        let (tag, layout, words) = self.words();
-        if layout != Self::typed::<T>() {
-            return Err(refusal(tag, layout, Self::LAYOUT));
+        let (tag, layout, _) = self.words();
+        if tag != T::TAG || layout != Self::typed::<T>() {
+            return Err(refusal(tag, layout, Self::LAYOUT, Self::typed::<T>()));
         }
-        // SAFETY: the words are aligned for `T` and large enough (checked at compile time
-        // above), and with this build's layout word for `T` they hold a valid `T`: only
-        // `slot_put::<T>` writes that word, after writing a `T` there, and whatever C does
-        // with the struct (copy it whole, as the header allows) keeps them together. The
-        // borrow of `self` bounds the reference's life.
-        Ok(unsafe { &*words.as_ptr().cast::<T>() })
+        // SAFETY: checked above.
+        Ok(unsafe { self.read() })
     }
 
-    /// [`Slot::slot_get`], to write.
+    /// The words as a `T`, unchecked.
+    ///
+    /// # Safety
+    /// The struct's layout word is this build's for `T`: the words are aligned for `T`
+    /// and large enough (checked at compile time), and with that word they hold a valid
+    /// `T`, since only `slot_put::<T>` writes it, after writing a `T` there, and whatever C
+    /// does with the struct (copy it whole, as the header allows) keeps them together. The
+    /// borrow of `self` bounds the reference's life.
     #[inline(always)]
-    fn slot_get_mut<T: Stored>(&mut self) -> Result<&mut T, Refused> {
+    unsafe fn read<T: Stored>(&self) -> &T {
         const {
             assert!(
                 fits::<T>(Self::WORDS),
                 "a C API struct's storage is too small"
             )
         };
-        let (&mut tag, &mut layout, words) = self.words_mut();
-        if layout != Self::typed::<T>() {
-            return Err(refusal(tag, layout, Self::LAYOUT));
+        // SAFETY: the caller's contract.
+        unsafe { &*self.words().2.as_ptr().cast::<T>() }
+    }
+
+    /// [`Slot::read`], to write.
+    ///
+    /// # Safety
+    /// As `read`; the exclusive borrow of `self` makes the reference unique.
+    #[inline(always)]
+    unsafe fn read_mut<T: Stored>(&mut self) -> &mut T {
+        const {
+            assert!(
+                fits::<T>(Self::WORDS),
+                "a C API struct's storage is too small"
+            )
+        };
+        // SAFETY: the caller's contract.
+        unsafe { &mut *self.words_mut().2.as_mut_ptr().cast::<T>() }
+    }
+
+    /// [`Slot::slot_get`], to write.
+    #[inline(always)]
+    fn slot_get_mut<T: Stored>(&mut self) -> Result<&mut T, Refused> {
+        let (tag, layout, _) = self.words();
+        if tag != T::TAG || layout != Self::typed::<T>() {
+            return Err(refusal(tag, layout, Self::LAYOUT, Self::typed::<T>()));
         }
-        // SAFETY: as in `slot_get`; the exclusive borrow of `self` makes the reference
-        // unique.
-        Ok(unsafe { &mut *words.as_mut_ptr().cast::<T>() })
+        // SAFETY: checked above.
+        Ok(unsafe { self.read_mut() })
     }
 
     /// The `T` held, or `start()` stored (and tagged); refused only when the struct is
-    /// another build's.
+    /// another build's. For the per-sample calls: the layout word alone is compared.
     #[inline(always)]
     fn slot_get_or_put<T: Stored>(&mut self, start: fn() -> T) -> Result<&mut T, Refused> {
         if self.words().1 != Self::typed::<T>() {
             self.slot_start(start)?;
         }
-        self.slot_get_mut()
+        // SAFETY: the layout word is `T`'s, as compared above or written by `slot_start`.
+        Ok(unsafe { self.read_mut() })
     }
 
     /// `start()` stored (and tagged) unless the struct is another build's: out of line, so
@@ -215,7 +242,7 @@ pub(crate) trait Slot {
     #[inline(never)]
     fn slot_start<T: Stored>(&mut self, start: fn() -> T) -> Result<(), Refused> {
         let (tag, layout, _) = self.words();
-        if refusal(tag, layout, Self::LAYOUT) == Refused::OtherBuild {
+        if refusal(tag, layout, Self::LAYOUT, Self::typed::<T>()) == Refused::OtherBuild {
             return Err(Refused::OtherBuild);
         }
         self.slot_put(start());
@@ -250,8 +277,8 @@ pub(crate) trait Slot {
         status_of_result(result.map(|value| self.slot_put(value)))
     }
 
-    /// The value held, of order 2 (`A`) or 3 (`B`), if this build's: one comparison selects
-    /// the order, the checked read refuses the rest.
+    /// The value held, of order 2 (`A`) or 3 (`B`), if this build's: for the per-sample
+    /// calls, the layout word alone is compared (it names the type).
     #[inline(always)]
     fn either<A: Stored, B: Stored>(&self) -> Result<ByOrder<&A, &B>, Refused> {
         const {
@@ -260,10 +287,14 @@ pub(crate) trait Slot {
                 "the two orders' layout words must differ"
             )
         };
-        if self.words().1 == Self::typed::<A>() {
-            self.slot_get().map(ByOrder::Two)
+        let (tag, layout, _) = self.words();
+        // SAFETY: the layout word is the type's.
+        if layout == Self::typed::<A>() {
+            Ok(ByOrder::Two(unsafe { self.read() }))
+        } else if layout == Self::typed::<B>() {
+            Ok(ByOrder::Three(unsafe { self.read() }))
         } else {
-            self.slot_get().map(ByOrder::Three)
+            Err(refusal(tag, layout, Self::LAYOUT, Self::typed::<B>()))
         }
     }
 

@@ -6,7 +6,7 @@
 
 use core::ptr::null;
 
-use crate::slot::{layout_of_version, typed};
+use crate::slot::layout_of_version;
 use crate::*;
 
 const GAINS_3: [f32; 3] = [0.094_326_17, 0.000_562_075, 1.213_522e-5];
@@ -322,11 +322,9 @@ fn structs_of_the_previous_layout_or_holding_another_type_are_refused() {
             size_of::<at_adc_f32>(),
         ));
         assert_eq!(new(&previous, &mut chain), AT_ERR_OTHER_BUILD);
-        // Its previous tag with this build's layout word for that tag: it holds no ADC of
-        // this layout.
+        // Its previous tag in this build's layout: it holds no ADC of this layout.
         let mut retagged = adc;
         retagged.set_tag_for_test(0x4154_4101);
-        retagged.set_layout_for_test(typed(at_adc_f32::LAYOUT, 0x4154_4101));
         assert_eq!(new(&retagged, &mut chain), AT_ERR_NOT_INITIALISED);
         assert_eq!(chain.clone_tag(), 0, "unchanged when refused");
         assert_eq!(new(&adc, &mut chain), AT_OK);

@@ -31,6 +31,9 @@
 #    core's Tracker called without the door on the chain and state the C structs hold
 #    (at_reference_track_u16 and _i16, the library built with its feature count-reference),
 #    whose counts the C ones' budgets are relative to;
+#  `insns_per_sample rust-chain-fixed-samples-corrected-m0: N` (-DCOUNT_COMPOSED): the same
+#    stages composed as a plain Chain (calibration, table, observer) on the int16 samples,
+#    at_reference_composed_track_i16: the Tracker's own cost on the same signal;
 #  `flash_bytes c-chain-fixed-corrected-m0: N`: the flash (text and data, bytes) that the
 #    library adds to a minimal image of that chain (minimal_m0.c, its configuration constants
 #    in flash), against the same image without the library's calls.
@@ -164,6 +167,8 @@ for c in "${cores[@]}"; do
       count_per_sample at_reference_track_u16 rust-tracker-fixed-corrected-m0 -DCOUNT_REFERENCE
       count_per_sample at_reference_track_i16 rust-tracker-fixed-samples-corrected-m0 \
         -DCOUNT_REFERENCE -DCOUNT_INT16
+      count_per_sample at_reference_composed_track_i16 rust-chain-fixed-samples-corrected-m0 \
+        -DCOUNT_REFERENCE -DCOUNT_INT16 -DCOUNT_COMPOSED
       # The library as shipped again, for whatever links it next.
       (cd "$root" && CARGO_TARGET_DIR="$target_dir" cargo build -q --locked -p angletrack-c \
         --release --target "$target")

@@ -54,9 +54,9 @@ mod ffi;
 mod ffi_chain;
 mod ffi_chain_fixed;
 mod ffi_demodulator;
-mod gains;
 #[cfg(feature = "count-reference")]
-mod reference;
+mod firmware_test_reference;
+mod gains;
 mod slot;
 mod status;
 mod table;

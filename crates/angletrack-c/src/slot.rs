@@ -164,12 +164,6 @@ pub(crate) trait Slot {
     /// The value held, if it is a `T` of this build.
     #[inline(always)]
     fn slot_get<T: Stored>(&self) -> Result<&T, Refused> {
-        const {
-            assert!(
-                fits::<T>(Self::WORDS),
-                "a C API struct's storage is too small"
-            )
-        };
         let (tag, layout, _) = self.words();
         if tag != T::TAG || layout != Self::typed::<T>() {
             return Err(refusal(tag, layout, Self::LAYOUT, Self::typed::<T>()));

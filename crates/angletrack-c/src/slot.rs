@@ -131,8 +131,11 @@ pub(crate) const fn layout_of_version(version: u32, size: usize) -> u32 {
 /// Fails to compile unless a `T` fits in `words` words of 8 bytes with their alignment: the
 /// header's storage sizes are checked against the Rust types at every build, on every
 /// target.
-const fn fits<T>(words: usize) -> bool {
-    size_of::<T>() <= words * size_of::<u64>() && align_of::<T>() <= align_of::<u64>()
+const fn assert_fits<T>(words: usize) {
+    assert!(
+        size_of::<T>() <= words * size_of::<u64>() && align_of::<T>() <= align_of::<u64>(),
+        "a C API struct's storage is too small"
+    );
 }
 
 /// Why a struct of this build's layout word `expected` holds no value of the type whose
@@ -164,12 +167,19 @@ pub(crate) trait Slot {
     /// The value held, if it is a `T` of this build.
     #[inline(always)]
     fn slot_get<T: Stored>(&self) -> Result<&T, Refused> {
+        self.holds::<T>()?;
+        // SAFETY: checked above.
+        Ok(unsafe { self.read() })
+    }
+
+    /// Whether the struct holds a `T` of this build (its tag and its layout word).
+    #[inline(always)]
+    fn holds<T: Stored>(&self) -> Result<(), Refused> {
         let (tag, layout, _) = self.words();
         if tag != T::TAG || layout != Self::typed::<T>() {
             return Err(refusal(tag, layout, Self::LAYOUT, Self::typed::<T>()));
         }
-        // SAFETY: checked above.
-        Ok(unsafe { self.read() })
+        Ok(())
     }
 
     /// The words as a `T`, unchecked.
@@ -182,12 +192,7 @@ pub(crate) trait Slot {
     /// borrow of `self` bounds the reference's life.
     #[inline(always)]
     unsafe fn read<T: Stored>(&self) -> &T {
-        const {
-            assert!(
-                fits::<T>(Self::WORDS),
-                "a C API struct's storage is too small"
-            )
-        };
+        const { assert_fits::<T>(Self::WORDS) };
         // SAFETY: the caller's contract.
         unsafe { &*self.words().2.as_ptr().cast::<T>() }
     }
@@ -198,12 +203,7 @@ pub(crate) trait Slot {
     /// As `read`; the exclusive borrow of `self` makes the reference unique.
     #[inline(always)]
     unsafe fn read_mut<T: Stored>(&mut self) -> &mut T {
-        const {
-            assert!(
-                fits::<T>(Self::WORDS),
-                "a C API struct's storage is too small"
-            )
-        };
+        const { assert_fits::<T>(Self::WORDS) };
         // SAFETY: the caller's contract.
         unsafe { &mut *self.words_mut().2.as_mut_ptr().cast::<T>() }
     }
@@ -211,10 +211,7 @@ pub(crate) trait Slot {
     /// [`Slot::slot_get`], to write.
     #[inline(always)]
     fn slot_get_mut<T: Stored>(&mut self) -> Result<&mut T, Refused> {
-        let (tag, layout, _) = self.words();
-        if tag != T::TAG || layout != Self::typed::<T>() {
-            return Err(refusal(tag, layout, Self::LAYOUT, Self::typed::<T>()));
-        }
+        self.holds::<T>()?;
         // SAFETY: checked above.
         Ok(unsafe { self.read_mut() })
     }
@@ -251,12 +248,7 @@ pub(crate) trait Slot {
 
     /// Stores `value` and tags it as a `T` of this build.
     fn slot_put<T: Stored>(&mut self, value: T) {
-        const {
-            assert!(
-                fits::<T>(Self::WORDS),
-                "a C API struct's storage is too small"
-            )
-        };
+        const { assert_fits::<T>(Self::WORDS) };
         let (tag, layout, words) = self.words_mut();
         // SAFETY: the words are aligned for `T` and hold a `T` (checked at compile time
         // above); `T` is `Copy`, so overwriting whatever they held drops nothing.

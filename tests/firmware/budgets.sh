@@ -2,7 +2,8 @@
 # The firmware test's instruction budgets (budgets.txt beside this script), checked against
 # the counts that run.sh prints:
 #  check COUNTS [CORE...]: prints, for each budget of the cores CORE (m4, m0; default both),
-#    `budget <count> <label>: N <= B ok`, or a FAIL line if N is above the ceiling B or if
+#    `budget <count> <label>: N <= B ok` (B written as a number, or as FACTOR*LABEL2: FACTOR
+#    times the count of the same kind printed for LABEL2), or a FAIL line if N is above B or if
 #    run.sh did not print the line at all (a renamed or removed variant must not lose its
 #    budget silently); where the budget has a target below its interim ceiling, also
 #    `warning: ... target T missed by D` (or a note once the target is met). Counts that
@@ -36,11 +37,13 @@ applicable() {
     /^[[:space:]]*(#|$)/ { next }
     {
       number = "^[0-9]+(\\.[0-9]+)?$"
-      if (NF < 5 || $1 !~ /^insns_/ || $3 !~ number || ($4 != "-" && $4 !~ number)) {
+      relative = "^[0-9]+(\\.[0-9]+)?[*][^ ]+$"
+      if (NF < 5 || $1 !~ /^(insns_|flash_bytes$)/ || ($3 !~ number && $3 !~ relative) ||
+          ($4 != "-" && $4 !~ number && $4 !~ relative)) {
         printf "%s:%d: expected COUNT LABEL CEILING TARGET REASON: %s\n", FILENAME, FNR, $0 > "/dev/stderr"
         exit 1
       }
-      if ($4 != "-" && $4 + 0 >= $3 + 0) {
+      if ($4 ~ number && $3 ~ number && $4 + 0 >= $3 + 0) {
         printf "%s:%d: target %s is not below the ceiling %s (write - for no target)\n", FILENAME, FNR, $4, $3 > "/dev/stderr"
         exit 1
       }
@@ -61,7 +64,18 @@ check() {
   list=$(applicable)
   awk -v list="$list" -v cores=" ${cores[*]} " -v file="$budgets" '
     # The counts: `COUNT LABEL: N`.
-    /^insns_[a-z_]+ [^ ]+: [0-9.]+$/ { key = $1 " " substr($2, 1, length($2) - 1); count[key] = $3; order[++n] = key }
+    /^(insns_[a-z_]+|flash_bytes) [^ ]+: [0-9.]+$/ { key = $1 " " substr($2, 1, length($2) - 1); count[key] = $3; order[++n] = key }
+    # A limit as written: a number, or FACTOR*LABEL, FACTOR times the count of the same kind
+    # printed for LABEL (in `why`; "" if LABEL was not printed).
+    function limit(kind, v,    star) {
+      star = index(v, "*")
+      why = ""
+      if (star == 0) return v
+      ref = kind " " substr(v, star + 1)
+      if (!(ref in count)) { why = "(" ref " not printed)"; return "" }
+      why = sprintf(" (%s x %s)", substr(v, 1, star - 1), count[ref])
+      return sprintf("%.1f", substr(v, 1, star - 1) * count[ref])
+    }
     END {
       budgets = split(list, line, "\n")
       failed = 0
@@ -76,17 +90,27 @@ check() {
           continue
         }
         c = count[key]
-        if (c + 0 > ceiling + 0) {
-          printf "budget %s: %s > %s FAIL (over by %.1f)\n", key, c, ceiling, c - ceiling
+        ceiling = limit(f[1], ceiling)
+        if (ceiling == "") {
+          printf "budget %s: the reference of its ceiling %s: FAIL\n", key, why
           failed++
           continue
         }
-        printf "budget %s: %s <= %s ok%s\n", key, c, ceiling, target == "-" ? "" : " (interim ceiling)"
+        ceiling_why = why
+        if (c + 0 > ceiling + 0) {
+          printf "budget %s: %s > %s%s FAIL (over by %.1f)\n", key, c, ceiling, ceiling_why, c - ceiling
+          failed++
+          continue
+        }
+        printf "budget %s: %s <= %s%s ok%s\n", key, c, ceiling, ceiling_why, target == "-" ? "" : " (interim ceiling)"
         if (target == "-") continue
-        if (c + 0 > target + 0) {
-          printf "warning: budget %s: target %s missed by %.1f\n", key, target, c - target
+        target = limit(f[1], target)
+        if (target == "") {
+          printf "warning: budget %s: the reference of its target %s\n", key, why
+        } else if (c + 0 > target + 0) {
+          printf "warning: budget %s: target %s%s missed by %.1f\n", key, target, why, c - target
         } else {
-          printf "note: budget %s: target %s met (%s): the ceiling can be the target now\n", key, target, c
+          printf "note: budget %s: target %s%s met (%s): the ceiling can be the target now\n", key, target, why, c
         }
       }
       for (i = 1; i <= n; i++) {
@@ -102,23 +126,33 @@ check() {
     }' "$1"
 }
 
-# tampered HOW: COUNTS with every budgeted count raised above its ceiling (HOW raise) or its
-# line removed (HOW drop).
+# tampered HOW: COUNTS with every budgeted count raised above its ceiling (HOW raise; a
+# ceiling FACTOR*LABEL on LABEL's count as tampered) or its line removed (HOW drop).
 tampered() {
   awk -v how="$1" -v list="$(applicable)" '
     BEGIN {
       n = split(list, line, "\n")
       for (i = 1; i <= n; i++) { split(line[i], f, " "); ceiling[f[1] " " f[2] ":"] = f[3] }
     }
+    # The raised value of the line `key` whose count is `c`.
+    function raised(key, c,    star, ref) {
+      if (!(key in ceiling)) return c
+      star = index(ceiling[key], "*")
+      if (star == 0) return ceiling[key] + 0.1
+      split(key, k, " ")
+      ref = k[1] " " substr(ceiling[key], star + 1) ":"
+      return substr(ceiling[key], 1, star - 1) * raised(ref, count[ref]) + 0.1
+    }
+    NR == FNR { count[$1 " " $2] = $3; next }
     {
       key = $1 " " $2
       if (key in ceiling) {
         if (how == "drop") next
-        printf "%s %.1f\n", key, ceiling[key] + 0.1
+        printf "%s %.1f\n", key, raised(key, $3)
         next
       }
       print
-    }' "$counts"
+    }' "$counts" "$counts"
 }
 
 case $mode in

@@ -224,7 +224,7 @@
  * crate's version and the sizes, which change it without a bump). `at_layout_version()`
  * returns the library's, to compare with the header's at start-up.
  */
-#define AT_LAYOUT_VERSION 6
+#define AT_LAYOUT_VERSION 7
 
 /**
  * The entries of an angle-correction table (`at_angle_correction_table_f32`,

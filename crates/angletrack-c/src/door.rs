@@ -84,9 +84,10 @@ pub(crate) trait CChain {
     type Estimate;
     /// The estimate of a call whose arguments were refused.
     const INVALID: Self::Estimate;
-    /// One sample through the chain on `state`, the state only: `false` if refused (a chain
-    /// not made, another build's state, an input the chain does not take), nothing changed.
-    fn track<I: ChainInput<Self::Number>>(&self, state: &mut Self::State, input: I) -> bool;
+    /// One sample through the chain on `state`, the state only: 0, or
+    /// `AT_FAULT_INVALID_ARGUMENT` if refused (a chain not made, another build's state, an
+    /// input the chain does not take), nothing changed.
+    fn track<I: ChainInput<Self::Number>>(&self, state: &mut Self::State, input: I) -> u32;
     /// One sample, then the estimate; `INVALID` if refused.
     fn update<I: ChainInput<Self::Number>>(
         &self,
@@ -184,8 +185,14 @@ macro_rules! c_chain {
                 &self,
                 state: &mut $state,
                 input: I,
-            ) -> bool {
-                $crate::door::through!(self, state, I, input, |c, s, x| c.track(s, x)).is_some()
+            ) -> u32 {
+                let tracked = $crate::door::through!(self, state, I, input, |c, s, x| {
+                    $crate::door::out_of_line(c, s, x, |c, s, x| {
+                        c.track(s, x);
+                        0
+                    })
+                });
+                tracked.unwrap_or($crate::faults::AT_FAULT_INVALID_ARGUMENT)
             }
 
             #[inline(always)]
@@ -194,8 +201,9 @@ macro_rules! c_chain {
                 state: &mut $state,
                 input: I,
             ) -> $estimate {
-                let estimate =
-                    $crate::door::through!(self, state, I, input, |c, s, x| c.update(s, x).into());
+                let estimate = $crate::door::through!(self, state, I, input, |c, s, x| {
+                    $crate::door::out_of_line(c, s, x, |c, s, x| c.update(s, x).into())
+                });
                 estimate.unwrap_or(Self::INVALID)
             }
 
@@ -223,6 +231,18 @@ macro_rules! c_chain {
 }
 pub(crate) use c_chain;
 
+/// `f(chain, state, input)` in a function of its own: the chain's body out of the door's
+/// order dispatch, so that the compiler does not hoist both orders' set-up above the checks.
+#[inline(never)]
+pub(crate) fn out_of_line<C, S, X, R>(
+    chain: &C,
+    state: &mut S,
+    input: X,
+    f: impl FnOnce(&C, &mut S, X) -> R,
+) -> R {
+    f(chain, state, input)
+}
+
 /// The body of the `track` functions: 0, or `AT_FAULT_INVALID_ARGUMENT` (nothing changed)
 /// for a NULL pointer or a refused argument.
 ///
@@ -236,13 +256,7 @@ pub(crate) unsafe fn track_input<C: CChain, I: ChainInput<C::Number>>(
 ) -> u32 {
     // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
     match unsafe { (chain.as_ref(), state.as_mut()) } {
-        (Some(chain), Some(state)) => {
-            if chain.track(state, input) {
-                0
-            } else {
-                AT_FAULT_INVALID_ARGUMENT
-            }
-        }
+        (Some(chain), Some(state)) => chain.track(state, input),
         _ => AT_FAULT_INVALID_ARGUMENT,
     }
 }

@@ -54,6 +54,8 @@ mod ffi;
 mod ffi_chain;
 mod ffi_chain_fixed;
 mod ffi_demodulator;
+#[cfg(feature = "count-reference")]
+mod firmware_test_reference;
 mod gains;
 mod slot;
 mod status;

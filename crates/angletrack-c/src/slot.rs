@@ -7,22 +7,22 @@
 //! leaves its padding bytes uninitialised, and a copy of the struct by value in Rust (C
 //! copies bytes) must not read those as integers. Miri checks this in the crate's tests.
 //!
-//! A slot holds one of a few `Copy` types, told apart by a tag that only [`Slot::slot_put`] writes,
-//! right after it wrote a value of that type: [`Slot::slot_get`] and [`Slot::slot_get_or_put`] read the words as
-//! the type only when the tag is the type's. A zeroed or never-initialised struct has no
-//! type's tag (tag 0, or garbage that does not match), so it is refused or started afresh
-//! instead of being read as a Rust value. The tags are 32-bit values unlikely to appear
-//! by chance, all starting with the bytes "AT" (`0x4154` in the high half).
-//!
-//! Beside the tag, [`Slot::slot_put`] writes the struct's layout word: a fingerprint of this build's
-//! layouts ([`layout_of`]: the C API's layout version `AT_LAYOUT_VERSION`, the crate's
-//! version, the C struct's size and the size and alignment of every stored Rust type). A
-//! struct written by another build of the library (another version, a header of another
-//! size, another target) carries an "AT" tag with another layout word: it is refused as
-//! such ([`Refused::OtherBuild`]), never read. The tag and the layout word are the struct's
-//! first two fields, at the same offsets in every build. The guarantee holds as long as C
-//! code writes the structs only through the API (or copies a whole struct), as the header
-//! says.
+//! A slot holds one of a few `Copy` types. Only [`Slot::slot_put`] writes a struct's tag
+//! (the type's: 32 bits starting with the bytes "AT", `0x4154` in the high half) and its
+//! layout word, right after it wrote a value of that type. The layout word is a fingerprint
+//! of this build's layouts ([`layout_of`]: the C API's layout version `AT_LAYOUT_VERSION`,
+//! the crate's version, the C struct's size and the size and alignment of every stored Rust
+//! type) hashed with the type's tag ([`typed`]): one word names the build, the struct and
+//! the type, so that the per-sample reads ([`Slot::either`], [`Slot::slot_get_or_put`])
+//! compare that one word per struct, and the others ([`Slot::slot_get`]) the tag too,
+//! before they read the words as the type. A zeroed or never-initialised struct has no such word (0, never
+//! written, or garbage that matches one 32-bit value by chance), so it is refused or started
+//! afresh instead of being read as a Rust value. A struct written by another build of the
+//! library (another version, a header of another size, another target) carries an "AT" tag
+//! with another layout word: it is refused as such ([`Refused::OtherBuild`]), never read.
+//! The tag and the layout word are the struct's first two fields, at the same offsets in
+//! every build. The guarantee holds as long as C code writes the structs only through the
+//! API (or copies a whole struct), as the header says.
 #![allow(unsafe_code)]
 
 use core::mem::{MaybeUninit, align_of, size_of};
@@ -35,7 +35,7 @@ use crate::status::{AT_ERR_NOT_INITIALISED, AT_ERR_OTHER_BUILD, at_status, statu
 /// value the library stores in one changes; part of every struct's layout word (with the
 /// crate's version and the sizes, which change it without a bump). `at_layout_version()`
 /// returns the library's, to compare with the header's at start-up.
-pub const AT_LAYOUT_VERSION: u32 = 6;
+pub const AT_LAYOUT_VERSION: u32 = 7;
 
 /// A type a slot can hold, with its tag. `Copy` types only: overwriting one drops nothing,
 /// and a C copy of the words (with the tag) is a copy of the value.
@@ -114,6 +114,13 @@ pub(crate) const fn layout_of(size: usize) -> u32 {
     hash(BUILD, size as u32) | 1
 }
 
+/// The layout word written beside a value tagged `tag` in a struct of the layout word
+/// `layout` (never 0): one word names the build, the struct and the type, so that the
+/// per-sample calls compare one word per struct.
+const fn typed(layout: u32, tag: u32) -> u32 {
+    hash(layout, tag) | 1
+}
+
 /// The layout word a build of the layout version `version`, otherwise this one, writes in
 /// a C struct of `size` bytes: for tests that make a struct of the previous version.
 #[cfg(test)]
@@ -124,16 +131,21 @@ pub(crate) const fn layout_of_version(version: u32, size: usize) -> u32 {
 /// Fails to compile unless a `T` fits in `words` words of 8 bytes with their alignment: the
 /// header's storage sizes are checked against the Rust types at every build, on every
 /// target.
-const fn fits<T>(words: usize) -> bool {
-    size_of::<T>() <= words * size_of::<u64>() && align_of::<T>() <= align_of::<u64>()
+const fn assert_fits<T>(words: usize) {
+    assert!(
+        size_of::<T>() <= words * size_of::<u64>() && align_of::<T>() <= align_of::<u64>(),
+        "a C API struct's storage is too small"
+    );
 }
 
-/// Why a struct whose tag and layout are not `T`'s of this build holds no `T`: another
-/// build's, or none (out of line: the per-sample paths take the other branch).
+/// Why a struct of this build's layout word `expected` holds no value of the type whose
+/// layout word is `word`: another build's (an "AT" tag beside a layout word that is not this
+/// build's, for that tag or that type), or none (out of line: the per-sample paths take the
+/// other branch).
 #[cold]
 #[inline(never)]
-fn refusal(tag: u32, layout: u32, expected: u32) -> Refused {
-    if tag >> 16 == TAG_FAMILY && layout != expected {
+fn refusal(tag: u32, layout: u32, expected: u32, word: u32) -> Refused {
+    if tag >> 16 == TAG_FAMILY && layout != typed(expected, tag) && layout != word {
         Refused::OtherBuild
     } else {
         Refused::NotInitialised
@@ -155,70 +167,94 @@ pub(crate) trait Slot {
     /// The value held, if it is a `T` of this build.
     #[inline(always)]
     fn slot_get<T: Stored>(&self) -> Result<&T, Refused> {
-        const {
-            assert!(
-                fits::<T>(Self::WORDS),
-                "a C API struct's storage is too small"
-            )
-        };
-        let (tag, layout, words) = self.words();
-        if tag != T::TAG || layout != Self::LAYOUT {
-            return Err(refusal(tag, layout, Self::LAYOUT));
+        self.holds::<T>()?;
+        // SAFETY: checked above.
+        Ok(unsafe { self.read() })
+    }
+
+    /// Whether the struct holds a `T` of this build (its tag and its layout word).
+    #[inline(always)]
+    fn holds<T: Stored>(&self) -> Result<(), Refused> {
+        let (tag, layout, _) = self.words();
+        if tag != T::TAG || layout != Self::typed::<T>() {
+            return Err(refusal(tag, layout, Self::LAYOUT, Self::typed::<T>()));
         }
-        // SAFETY: the words are aligned for `T` and large enough (checked at compile time
-        // above), and with the tag `T::TAG` and this build's layout word they hold a valid
-        // `T`: only `slot_put::<T>` writes that pair, after writing a `T` there, and
-        // whatever C does with the struct (copy it whole, as the header allows) keeps them
-        // together. The borrow of `self` bounds the reference's life.
-        Ok(unsafe { &*words.as_ptr().cast::<T>() })
+        Ok(())
+    }
+
+    /// The words as a `T`, unchecked.
+    ///
+    /// # Safety
+    /// The struct's layout word is this build's for `T`: the words are aligned for `T`
+    /// and large enough (checked at compile time), and with that word they hold a valid
+    /// `T`, since only `slot_put::<T>` writes it, after writing a `T` there, and whatever C
+    /// does with the struct (copy it whole, as the header allows) keeps them together. The
+    /// borrow of `self` bounds the reference's life.
+    #[inline(always)]
+    unsafe fn read<T: Stored>(&self) -> &T {
+        const { assert_fits::<T>(Self::WORDS) };
+        // SAFETY: the caller's contract.
+        unsafe { &*self.words().2.as_ptr().cast::<T>() }
+    }
+
+    /// [`Slot::read`], to write.
+    ///
+    /// # Safety
+    /// As `read`; the exclusive borrow of `self` makes the reference unique.
+    #[inline(always)]
+    unsafe fn read_mut<T: Stored>(&mut self) -> &mut T {
+        const { assert_fits::<T>(Self::WORDS) };
+        // SAFETY: the caller's contract.
+        unsafe { &mut *self.words_mut().2.as_mut_ptr().cast::<T>() }
     }
 
     /// [`Slot::slot_get`], to write.
     #[inline(always)]
     fn slot_get_mut<T: Stored>(&mut self) -> Result<&mut T, Refused> {
-        const {
-            assert!(
-                fits::<T>(Self::WORDS),
-                "a C API struct's storage is too small"
-            )
-        };
-        let (&mut tag, &mut layout, words) = self.words_mut();
-        if tag != T::TAG || layout != Self::LAYOUT {
-            return Err(refusal(tag, layout, Self::LAYOUT));
-        }
-        // SAFETY: as in `slot_get`; the exclusive borrow of `self` makes the reference
-        // unique.
-        Ok(unsafe { &mut *words.as_mut_ptr().cast::<T>() })
+        self.holds::<T>()?;
+        // SAFETY: checked above.
+        Ok(unsafe { self.read_mut() })
     }
 
     /// The `T` held, or `start()` stored (and tagged); refused only when the struct is
-    /// another build's.
+    /// another build's. For the per-sample calls: the layout word alone is compared.
     #[inline(always)]
-    fn slot_get_or_put<T: Stored>(&mut self, start: impl FnOnce() -> T) -> Result<&mut T, Refused> {
-        let (tag, layout, _) = self.words();
-        if tag != T::TAG || layout != Self::LAYOUT {
-            if refusal(tag, layout, Self::LAYOUT) == Refused::OtherBuild {
-                return Err(Refused::OtherBuild);
-            }
-            self.slot_put(start());
+    fn slot_get_or_put<T: Stored>(&mut self, start: fn() -> T) -> Result<&mut T, Refused> {
+        if self.words().1 != Self::typed::<T>() {
+            self.slot_start(start)?;
         }
-        self.slot_get_mut()
+        // SAFETY: the layout word is `T`'s, as compared above or written by `slot_start`.
+        Ok(unsafe { self.read_mut() })
+    }
+
+    /// `start()` stored (and tagged) unless the struct is another build's: out of line, so
+    /// that the per-sample calls carry no fresh value.
+    #[cold]
+    #[inline(never)]
+    fn slot_start<T: Stored>(&mut self, start: fn() -> T) -> Result<(), Refused> {
+        let (tag, layout, _) = self.words();
+        if refusal(tag, layout, Self::LAYOUT, Self::typed::<T>()) == Refused::OtherBuild {
+            return Err(Refused::OtherBuild);
+        }
+        self.slot_put(start());
+        Ok(())
+    }
+
+    /// This build's layout word for a `T` in the struct.
+    #[inline(always)]
+    fn typed<T: Stored>() -> u32 {
+        const { typed(Self::LAYOUT, T::TAG) }
     }
 
     /// Stores `value` and tags it as a `T` of this build.
     fn slot_put<T: Stored>(&mut self, value: T) {
-        const {
-            assert!(
-                fits::<T>(Self::WORDS),
-                "a C API struct's storage is too small"
-            )
-        };
+        const { assert_fits::<T>(Self::WORDS) };
         let (tag, layout, words) = self.words_mut();
         // SAFETY: the words are aligned for `T` and hold a `T` (checked at compile time
         // above); `T` is `Copy`, so overwriting whatever they held drops nothing.
         unsafe { words.as_mut_ptr().cast::<T>().write(value) };
         *tag = T::TAG;
-        *layout = Self::LAYOUT;
+        *layout = Self::typed::<T>();
     }
 
     /// Stores the value of a check, if it passed; the check's status (`self` unchanged on
@@ -227,20 +263,30 @@ pub(crate) trait Slot {
         status_of_result(result.map(|value| self.slot_put(value)))
     }
 
-    /// The value held, of order 2 (`A`) or 3 (`B`), if this build's: one comparison selects
-    /// the order, the checked read refuses the rest.
+    /// The value held, of order 2 (`A`) or 3 (`B`), if this build's: for the per-sample
+    /// calls, the layout word alone is compared (it names the type).
     #[inline(always)]
     fn either<A: Stored, B: Stored>(&self) -> Result<ByOrder<&A, &B>, Refused> {
-        if self.words().0 == A::TAG {
-            self.slot_get().map(ByOrder::Two)
+        const {
+            assert!(
+                typed(Self::LAYOUT, A::TAG) != typed(Self::LAYOUT, B::TAG),
+                "the two orders' layout words must differ"
+            )
+        };
+        let (tag, layout, _) = self.words();
+        // SAFETY: the layout word is the type's.
+        if layout == Self::typed::<A>() {
+            Ok(ByOrder::Two(unsafe { self.read() }))
+        } else if layout == Self::typed::<B>() {
+            Ok(ByOrder::Three(unsafe { self.read() }))
         } else {
-            self.slot_get().map(ByOrder::Three)
+            Err(refusal(tag, layout, Self::LAYOUT, Self::typed::<B>()))
         }
     }
 
     /// The value held, of order 2 (`A`) or 3 (`B`), if any of this build's.
     fn either_mut<A: Stored, B: Stored>(&mut self) -> Option<ByOrder<&mut A, &mut B>> {
-        if self.words().0 == A::TAG {
+        if self.words().1 == Self::typed::<A>() {
             self.slot_get_mut().ok().map(ByOrder::Two)
         } else {
             self.slot_get_mut().ok().map(ByOrder::Three)

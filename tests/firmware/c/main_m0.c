@@ -19,7 +19,12 @@
  * The image exits 0 if both pass. Built with -DCOUNT_SAMPLES=N, it only runs the corrected
  * chain of check 1 for N samples (run.sh counts its instructions per sample): from its
  * counts through at_chain_fixed_track_u16, or, with -DCOUNT_INT16, the same chain without
- * its ADC on the same samples as int16 through at_chain_fixed_track_i16. */
+ * its ADC on the same samples as int16 through at_chain_fixed_track_i16; with
+ * -DCOUNT_REFERENCE, the same through the library's Rust reference (the core's Tracker
+ * called without the door, at_reference_track_u16 and _i16: the library built with its
+ * feature count-reference), the state made by one call of the door first in both; with
+ * -DCOUNT_REFERENCE -DCOUNT_INT16 -DCOUNT_COMPOSED, the same stages composed as a plain
+ * Chain (at_reference_composed_track_i16). */
 #include <math.h>
 #include <stdio.h>
 
@@ -86,6 +91,27 @@ static int32_t true_binary_angle(long k) {
 #endif
 
 #ifdef COUNT_SAMPLES
+#ifdef COUNT_REFERENCE
+void at_reference_track_u16(const at_chain_fixed *chain, at_chain_state_fixed *state,
+                            uint16_t raw_c, uint16_t raw_s);
+void at_reference_track_i16(const at_chain_fixed *chain, at_chain_state_fixed *state,
+                            int16_t raw_c, int16_t raw_s);
+#define TRACK_U16(c, s, x, y) (at_reference_track_u16(c, s, x, y), 0u)
+#ifdef COUNT_COMPOSED
+/* The same stages composed (a Chain of the calibration, the table and the observer), in
+ * words of this image's. */
+_Bool at_reference_composed_new(const at_chain_fixed *chain, uint64_t *out, uint64_t *state);
+void at_reference_composed_track_i16(const uint64_t *chain, uint64_t *state, int16_t raw_c,
+                                     int16_t raw_s);
+static uint64_t composed[100], composed_state[20];
+#define TRACK_I16(c, s, x, y) (at_reference_composed_track_i16(composed, composed_state, x, y), 0u)
+#else
+#define TRACK_I16(c, s, x, y) (at_reference_track_i16(c, s, x, y), 0u)
+#endif
+#else
+#define TRACK_U16 at_chain_fixed_track_u16
+#define TRACK_I16 at_chain_fixed_track_i16
+#endif
 /* One period of the counted signal: 5 turns at 50 Hz sampled at 10 kHz. */
 #define COUNTED_PERIOD 1000L
 static uint16_t counted_c[COUNTED_PERIOD], counted_s[COUNTED_PERIOD];
@@ -224,13 +250,19 @@ int main(void) {
     samples_c[k] = (int16_t)((counted_c[k] - 2048) * (1 << ADC_SHIFT));
     samples_s[k] = (int16_t)((counted_s[k] - 2048) * (1 << ADC_SHIFT));
   }
+  faults |= at_chain_fixed_track_i16(&samples_corrected, &state, samples_c[0], samples_s[0]);
+#ifdef COUNT_COMPOSED
+  if (!at_reference_composed_new(&samples_corrected, composed, composed_state)) return 1;
+  at_reference_composed_track_i16(composed, composed_state, samples_c[0], samples_s[0]);
+#endif
   for (long k = 0; k < COUNT_SAMPLES; k++) {
-    faults |= at_chain_fixed_track_i16(&samples_corrected, &state, samples_c[i], samples_s[i]);
+    faults |= TRACK_I16(&samples_corrected, &state, samples_c[i], samples_s[i]);
     if (++i == COUNTED_PERIOD) i = 0;
   }
 #else
+  faults |= at_chain_fixed_track_u16(&corrected, &state, counted_c[0], counted_s[0]);
   for (long k = 0; k < COUNT_SAMPLES; k++) {
-    faults |= at_chain_fixed_track_u16(&corrected, &state, counted_c[i], counted_s[i]);
+    faults |= TRACK_U16(&corrected, &state, counted_c[i], counted_s[i]);
     if (++i == COUNTED_PERIOD) i = 0;
   }
 #endif

@@ -25,7 +25,18 @@
 #  `insns_per_sample c-chain-fixed-corrected-m0: N`: at_chain_fixed_track_u16 from raw
 #    12-bit counts (the ADC stage, the rails measured, the stored calibration, the table);
 #  `insns_per_sample c-chain-fixed-samples-corrected-m0: N` (-DCOUNT_INT16): the same
-#    chain without its ADC on the same samples as int16, at_chain_fixed_track_i16.
+#    chain without its ADC on the same samples as int16, at_chain_fixed_track_i16;
+#  `insns_per_sample rust-tracker-fixed-corrected-m0: N` and
+#    `rust-tracker-fixed-samples-corrected-m0` (-DCOUNT_REFERENCE): the same two in Rust, the
+#    core's Tracker called without the door on the chain and state the C structs hold
+#    (at_reference_track_u16 and _i16, the library built with its feature count-reference),
+#    whose counts the C ones' budgets are relative to;
+#  `insns_per_sample rust-chain-fixed-samples-corrected-m0: N` (-DCOUNT_COMPOSED): the same
+#    stages composed as a plain Chain (calibration, table, observer) on the int16 samples,
+#    at_reference_composed_track_i16: the Tracker's own cost on the same signal;
+#  `flash_bytes c-chain-fixed-corrected-m0: N`: the flash (text and data, bytes) that the
+#    library adds to a minimal image of that chain (minimal_m0.c, its configuration constants
+#    in flash), against the same image without the library's calls.
 # Needs: cargo with the thumbv7em-none-eabihf and thumbv6m-none-eabi targets,
 # qemu-system-arm, gcc-arm-none-eabi, libnewlib-arm-none-eabi (scripts/test.d/16-c-api.sh
 # installs them).
@@ -116,6 +127,23 @@ count_per_sample() {
     'BEGIN { printf "insns_per_sample %s: %.1f\n", label, (b - a) / 1000 }'
 }
 
+# flash_added LABEL: the flash (text and data) that the library adds to minimal_m0.c's image
+# (the fixed-point chain from counts with a stored calibration and a table, its
+# configuration constants in flash), against the same image built without the library's
+# calls, printed as LABEL's `flash_bytes`.
+flash_added() {
+  local sizes=() v
+  for v in with without; do
+    arm-none-eabi-gcc "${cpu[@]}" -std=c11 -Os -Wall -Wextra -Werror -ffunction-sections \
+      -fdata-sections -I"$root/crates/angletrack-c/include" -I"$root/crates/angletrack-c/tests/c" \
+      $([ $v = with ] || echo -DWITHOUT_LIBRARY) "$here/minimal_m0.c" "$here/startup.c" \
+      -nostartfiles --specs=nosys.specs -L"$here/.." -L"$here" -T"$here/link-$core.ld" \
+      -Wl,--gc-sections,--no-warn-execstack "$lib" -o "$out/minimal-$v.elf"
+    sizes+=("$(arm-none-eabi-size "$out/minimal-$v.elf" | awk 'NR == 2 { print $1 + $2 }')")
+  done
+  echo "flash_bytes $1: $((sizes[0] - sizes[1]))"
+}
+
 count_only=false
 if [ "${1:-}" = count ]; then
   count_only=true
@@ -132,6 +160,18 @@ for c in "${cores[@]}"; do
     if [ "$core" = m0 ]; then
       count_per_sample at_chain_fixed_track_u16 c-chain-fixed-corrected-m0
       count_per_sample at_chain_fixed_track_i16 c-chain-fixed-samples-corrected-m0 -DCOUNT_INT16
+      flash_added c-chain-fixed-corrected-m0
+      # The Rust reference of both: the library rebuilt with its feature count-reference.
+      (cd "$root" && CARGO_TARGET_DIR="$target_dir" cargo build -q --locked -p angletrack-c \
+        --release --target "$target" --features count-reference)
+      count_per_sample at_reference_track_u16 rust-tracker-fixed-corrected-m0 -DCOUNT_REFERENCE
+      count_per_sample at_reference_track_i16 rust-tracker-fixed-samples-corrected-m0 \
+        -DCOUNT_REFERENCE -DCOUNT_INT16
+      count_per_sample at_reference_composed_track_i16 rust-chain-fixed-samples-corrected-m0 \
+        -DCOUNT_REFERENCE -DCOUNT_INT16 -DCOUNT_COMPOSED
+      # The library as shipped again, for whatever links it next.
+      (cd "$root" && CARGO_TARGET_DIR="$target_dir" cargo build -q --locked -p angletrack-c \
+        --release --target "$target")
     fi
     continue
   fi

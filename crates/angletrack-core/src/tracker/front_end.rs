@@ -102,7 +102,13 @@ impl<V: TrackerNumber, X: TrackerInput<V>> Stage<V, X> for TrackerFrontEnd<V> {
         prediction: &impl Prediction<V>,
         input: X,
     ) -> ((V, V), Memo<V>) {
-        let given = input.pair(&self.adc);
+        // A chain without an ADC holds the unscaled one: samples go through it as a
+        // constant (the same numbers, without the stored ADC's arithmetic).
+        let given = if X::SAMPLES && !self.counts {
+            input.pair(&V::unscaled_adc())
+        } else {
+            input.pair(&self.adc)
+        };
         // Without a stated range, an input that gives no faults leaves the check nothing
         // to do, once its state is clear (a state fed a demodulator's faulted pair before).
         let pair = if X::GIVES_FAULTS

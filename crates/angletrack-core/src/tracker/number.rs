@@ -167,6 +167,11 @@ pub trait TrackerInput<V: TrackerNumber>: Copy {
     /// Whether the input comes with front-end faults (else the front-end check has
     /// nothing to do without a stated range, and is skipped).
     const GIVES_FAULTS: bool = false;
+    /// Whether the input may be samples as they are (`int16`: the fixed-point observer's),
+    /// for a chain without an ADC: its ADC is then the unscaled one, a constant that the
+    /// compiler folds away (the saturation of an `int16` to the `int16` range), where the
+    /// stored one costs its loads, subtractions, saturations and shifts on every sample.
+    const SAMPLES: bool = false;
     /// The pair, through `adc` if it is raw counts, and the faults given with it.
     fn pair(self, adc: &V::Adc) -> ((V, V), FrontEndFaults);
 }
@@ -200,8 +205,9 @@ impl<V: TrackerNumber> TrackerInput<V> for DemodulatedPair<V> {
 
 /// Raw ADC counts of each width the ADC stages take, through the chain's ADC.
 macro_rules! counts_input {
-    ($($int:ty),*) => {$(
+    ($($int:ty: $samples:expr),*) => {$(
         impl<V: TrackerNumber> TrackerInput<V> for ($int, $int) {
+            const SAMPLES: bool = $samples;
             #[inline(always)]
             fn pair(self, adc: &V::Adc) -> ((V, V), FrontEndFaults) {
                 (V::scale(adc, self.0, self.1), FrontEndFaults::NONE)
@@ -210,4 +216,4 @@ macro_rules! counts_input {
     )*};
 }
 
-counts_input!(u16, i16, i32);
+counts_input!(u16: false, i16: true, i32: false);

@@ -12,6 +12,10 @@
 #   on a Cortex-M4F (thumbv7em-none-eabihf, mps2-an386), the fixed-point chain from raw
 #   12-bit counts (a stored calibration and the angle-correction table) on a Cortex-M0
 #   (thumbv6m-none-eabi, microbit), with its instructions per sample;
+# - the same tracker file gives the same angles and flags, bit for bit, through the C door
+#   (tests/c/test_host_identity.c, built from the constants `angletrack export --format c`
+#   writes) and through the Rust crate's TrackerRun (tests/c/identity/expected.h, held to it
+#   by crates/angletrack/tests/tracker_rust_export.rs), in f32 and fixed point;
 # - the C blocks of README.md and docs/guide/*.md compile against the header (-Werror), with
 #   the headers `angletrack design --format c --name motor` writes (tests/c/guide/, which
 #   python/tests/test_guide.py checks against the command's output).
@@ -48,6 +52,12 @@ cc -std=c11 -O2 -Wall -Wextra -Werror -pedantic -I"$crate/include" -I"$crate/tes
   "$crate/tests/c/test_host_front_end.c" \
   "$CARGO_TARGET_DIR/release/libangletrack_c.a" \
   -lgcc_s -lutil -lrt -lpthread -lm -ldl -lc -o "$scratch/test_host"
+
+echo "--- the same tracker file through the C door and the Rust crate"
+cc -std=c11 -O2 -Wall -Wextra -Werror -pedantic -I"$crate/include" -I"$crate/tests/c" \
+  "$crate/tests/c/test_host_identity.c" "$CARGO_TARGET_DIR/release/libangletrack_c.a" \
+  -lgcc_s -lutil -lrt -lpthread -lm -ldl -lc -o "$scratch/test_host_identity"
+"$scratch/test_host_identity" "$crate/tests/c/identity/capture.bin"
 "$scratch/test_host"
 
 echo "--- the C blocks of the README and the guide compile"

@@ -134,12 +134,18 @@ fn track<I: Iterator<Item = ScenarioSample>>(
         TrackerInput::Units => None,
         TrackerInput::Bits { bits, signed } => Some((
             2.0 * spec.sensor.adc_full_scale / f64::from(bits).exp2(),
-            if signed { 0.0 } else { f64::from(bits - 1).exp2() },
+            if signed {
+                0.0
+            } else {
+                f64::from(bits - 1).exp2()
+            },
         )),
         _ => {
-            return Err("input: a study's sensor gives its signals in units, or the codes of \
+            return Err(
+                "input: a study's sensor gives its signals in units, or the codes of \
                         its ADC for input.bits: give one of them"
-                .into());
+                    .into(),
+            );
         }
     };
     // The sensor model rounds to its ADC's grid and saturates there: its codes fit.
@@ -162,7 +168,11 @@ fn track<I: Iterator<Item = ScenarioSample>>(
     let mut flush = |truth: &mut Vec<f64>, y_c: &mut Vec<f64>, y_s: &mut Vec<f64>| {
         let rows = chain.track(y_c, y_s);
         for (i, &t) in truth.iter().enumerate() {
-            errors.add(k, t - rows.angle_rad[i], Faults::from_bits_truncate(rows.faults[i]));
+            errors.add(
+                k,
+                t - rows.angle_rad[i],
+                Faults::from_bits_truncate(rows.faults[i]),
+            );
             k += 1;
         }
         truth.clear();

@@ -13,7 +13,6 @@
 use angletrack::{
     AdcCount, CountsError, CountsInput, CountsInputError, CountsSettings, Signedness,
 };
-use angletrack_core::Rails;
 use numpy::prelude::*;
 use numpy::{Element, PyArray1, PyArrayDescr, PyUntypedArray, dtype};
 use pyo3::prelude::*;
@@ -119,68 +118,6 @@ fn named(e: CountsInputError) -> Error {
             "adc_signed",
             format!("{e}; {STATE}, or give int16 or int32 arrays, which are signed"),
         ),
-    }
-}
-
-/// The clipping arguments `adc_range` and `measure_adc_range` of an observer, checked: the
-/// ADC's stated range (`R`: floats in the samples' units, or the fixed point's integer codes),
-/// or the rails measured as the samples come (the core's `HeldRailCheck`), or neither.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Clipping<R = (f64, f64)> {
-    /// The stated range.
-    pub range: Option<R>,
-    /// Without a range: the rails measured.
-    pub measure: bool,
-}
-
-impl<R> Clipping<R> {
-    /// The arguments, refused (naming `measure_adc_range`) when both are given.
-    pub fn new(range: Option<R>, measure: bool) -> Result<Self> {
-        if measure && range.is_some() {
-            return Err(Error::value(
-                "measure_adc_range",
-                "give adc_range or measure_adc_range, not both",
-            ));
-        }
-        Ok(Self { range, measure })
-    }
-}
-
-impl<R: Copy> Clipping<R> {
-    /// The core's rails of the arguments, the range's bounds by `bound` (refusing a bound
-    /// the input cannot take).
-    pub fn rails<X>(&self, bound: impl Fn(R) -> Result<(X, X)>) -> Result<Rails<X>> {
-        Ok(match self.range {
-            Some(range) => {
-                let (min, max) = bound(range)?;
-                Rails::Stated { min, max }
-            }
-            None if self.measure => Rails::Measured,
-            None => Rails::Unchecked,
-        })
-    }
-}
-
-impl Clipping {
-    /// The arguments of a float range ([`adc_range`]'s checks first).
-    pub fn of_floats(range: Option<(f64, f64)>, measure: bool) -> Result<Self> {
-        Self::new(adc_range(range)?, measure)
-    }
-}
-
-/// The ADC range argument `adc_range` checked: two finite numbers, the first below the
-/// second.
-pub fn adc_range(range: Option<(f64, f64)>) -> Result<Option<(f64, f64)>> {
-    match range {
-        Some((min, max)) if !(min.is_finite() && max.is_finite()) => Err(Error::value(
-            "adc_range",
-            format!("({min}, {max}): expected two finite numbers"),
-        )),
-        Some((min, max)) if min >= max => Err(Error::value(
-            "adc_range",
-            format!("({min}, {max}): the minimum must be below the maximum"),
-        )),
-        other => Ok(other),
     }
 }
 

@@ -5,17 +5,16 @@
 //! silent conversion), converts the constants dict and runs `angletrack::FixedColumns` with
 //! the GIL released.
 
-use angletrack::{FixedConstantsError, FixedTracker, fixed_front_end};
-use angletrack_core::{AngleCorrection, SensorCalibration, TrackerFrontEnd};
+use angletrack::{FixedConstantsError, FixedTracker, clipping_rails, fixed_front_end};
+use angletrack_core::{AngleCorrection, Rails, SensorCalibration, TrackerFrontEnd};
 use numpy::PyUntypedArray;
 use numpy::prelude::*;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
 
-use crate::angle_calibration::{SensorParameters, checked};
+use crate::angle_calibration::SensorParameters;
 use crate::arrays::{Count, Samples, check_equal_lengths, samples};
 use crate::calibration::PySensorCalibration;
-use crate::counts::Clipping;
 use crate::design::{PyDesign, constants_dict};
 use crate::errors::{Error, Result};
 use crate::fixed_estimates::{FixedEstimate, FixedEstimates, run_fixed};
@@ -168,7 +167,7 @@ fn stages(calibration: Option<&Bound<'_, PyAny>>) -> Result<Stages> {
     let sensor: SensorParameters = attribute("sensor")?.extract()?;
     let (cos, sin): (Vec<f64>, Vec<f64>) =
         (attribute("cos")?.extract()?, attribute("sin")?.extract()?);
-    let (sensor, correction) = checked(sensor, cos, sin)?;
+    let (sensor, correction) = angletrack::stored_stages(sensor, &cos, &sin)?;
     Ok((Some(sensor), Some(correction)))
 }
 
@@ -177,10 +176,9 @@ fn front_end(
     calibration: Option<&Bound<'_, PyAny>>,
     mid_scale_counts: Count,
     input_shift: Count,
-    clipping: Clipping<(i32, i32)>,
+    rails: Rails<i32>,
 ) -> Result<TrackerFrontEnd<i16>> {
     let (sensor, correction) = stages(calibration)?;
-    let rails = clipping.rails(Ok)?;
     Ok(fixed_front_end(
         mid_scale_counts.get("mid_scale_counts")?,
         input_shift.get("input_shift")?,
@@ -225,8 +223,8 @@ class_methods! {
             measure_adc_range: bool,
         ) -> Result<Self> {
             let gains = designed_gains(design)?;
-            let clipping = Clipping::new(adc_range, measure_adc_range)?;
-            let front_end = front_end(calibration, mid_scale_counts, input_shift, clipping)?;
+            let rails = clipping_rails(adc_range, measure_adc_range)?;
+            let front_end = front_end(calibration, mid_scale_counts, input_shift, rails)?;
             let (l, period) = with_gains!(&gains, g => (g.gains().to_vec(), g.sample_period()));
             let tracker = FixedTracker::of_gains(&l, period, front_end, nominal_amplitude)?;
             Ok(Self { tracker })
@@ -270,8 +268,8 @@ class_methods! {
             let shift: u32 = shift
                 .extract()
                 .map_err(|_| not_integers("acceleration_shift", &shift, "an integer from 0 to 15"))?;
-            let clipping = Clipping::new(adc_range, measure_adc_range)?;
-            let front_end = front_end(calibration, mid_scale_counts, input_shift, clipping)?;
+            let rails = clipping_rails(adc_range, measure_adc_range)?;
+            let front_end = front_end(calibration, mid_scale_counts, input_shift, rails)?;
             let tracker = FixedTracker::of_constants(
                 &multiplier,
                 shift,

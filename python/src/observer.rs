@@ -12,7 +12,7 @@ use pyo3::prelude::*;
 
 use crate::arrays::{Count, Float};
 use crate::calibration::{PySensorCalibration, calibration_choice};
-use crate::counts::{AdcSettings, Clipping, adc_settings};
+use crate::counts::{AdcSettings, adc_settings};
 use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::{Arg, RunSettings};
 use crate::errors::{Error, Result};
@@ -32,9 +32,10 @@ pub struct ObserverOptions {
     pub adc: AdcSettings,
     /// The online calibration.
     pub calibration: OnlineCalibrationChoice,
-    /// The clipping checks: the ADC's range in the input's units (counts for integer
-    /// samples), or the rails measured.
-    pub clipping: Clipping,
+    /// The ADC's range in the input's units (counts for integer samples).
+    pub adc_range: Option<(f64, f64)>,
+    /// Without a range: the rails measured.
+    pub measure_adc_range: bool,
     /// The windings' nominal envelope amplitude for the winding check (`None`: no check).
     pub winding_amplitude: Option<f64>,
     /// A stored sensor calibration and angle correction in place of the online calibration
@@ -206,7 +207,8 @@ class_methods! {
                 whole: false,
                 adc: adc_settings(adc_mid_scale, adc_counts_per_unit, adc_signed)?,
                 calibration: calibration_choice(calibration, initial_calibration)?,
-                clipping: Clipping::of_floats(adc_range, measure_adc_range)?,
+                adc_range,
+                measure_adc_range,
                 winding_amplitude,
                 stored: None,
             };
@@ -344,7 +346,8 @@ pub fn track(
         whole: true,
         adc: adc_settings(adc_mid_scale, adc_counts_per_unit, adc_signed)?,
         calibration: OnlineCalibrationChoice::default(),
-        clipping: Clipping::of_floats(adc_range, false)?,
+        adc_range,
+        measure_adc_range: false,
         winding_amplitude: None,
         stored: None,
     };

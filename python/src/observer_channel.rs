@@ -29,8 +29,8 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Channel<T, N, S> {
             whole: options.whole,
             counts: options.adc.counts,
             calibration: options.calibration,
-            adc_range: options.clipping.range,
-            measure_adc_range: options.clipping.measure,
+            adc_range: options.adc_range,
+            measure_adc_range: options.measure_adc_range,
             winding_amplitude: options.winding_amplitude,
             stored: options.stored,
         };

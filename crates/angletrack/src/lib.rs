@@ -88,6 +88,7 @@ mod calibration;
 pub mod capture;
 mod capture_counts;
 mod carrier;
+mod clipping;
 mod counts;
 mod demodulation;
 mod design;
@@ -124,6 +125,7 @@ pub use capture_counts::{
     CaptureCounts, CountsError, CountsExtremes, Signedness, StatedCounts, capture_counts,
 };
 pub use carrier::measured_carrier_cycles_per_sample;
+pub use clipping::{checked_adc_range, clipping_rails};
 pub use counts::{
     AdcCount, CountsInput, CountsInputError, CountsSettings, UnsignedCountsError,
     offset_binary_mid_scale,
@@ -148,7 +150,7 @@ pub use sim::{
     shifted_calibration,
 };
 pub use thresholds::{ThresholdInput, ThresholdPolicy, ThresholdsNotStated};
-pub use tracker_channel::{ChannelError, ChannelOptions, TrackerChannel};
+pub use tracker_channel::{ChannelError, ChannelOptions, TrackerChannel, stored_stages};
 pub use winding_rails::WindingRails;
 pub use windings_plan::{
     AdcRangeSource, CARRIER_TOLERANCE, SAMPLES_PER_PERIOD_TOLERANCE, WindingsPlan,

@@ -9,13 +9,14 @@ use core::fmt;
 
 use angletrack_core::{
     AdcScaling, AngleCorrection, CalibrationStage, ConfigError, CorrectionStage, FaultThresholds,
-    FrontEndFaults, Gains, Input, ObserverState, Rails, Real, SensorCalibration, SinCos, Tracker,
-    TrackerFrontEnd, TrackerSettings, TrackerState, WindingCheck,
+    FrontEndFaults, Gains, Input, MAX_CORRECTION_ORDER, ObserverState, Rails, Real,
+    SensorCalibration, SinCos, Tracker, TrackerFrontEnd, TrackerSettings, TrackerState,
+    WindingCheck,
 };
 
 use crate::{
     ArgumentError, CountsInput, CountsSettings, EstimateColumns, OnlineCalibrationChoice,
-    ThresholdInput, ThresholdPolicy, converted_calibration,
+    ThresholdInput, ThresholdPolicy, checked_adc_range, clipping_rails, converted_calibration,
 };
 
 /// What a [`TrackerChannel`] of the float type `T` runs with besides its gains.
@@ -29,9 +30,9 @@ pub struct ChannelOptions<T> {
     pub counts: CountsSettings,
     /// The online calibration.
     pub calibration: OnlineCalibrationChoice,
-    /// The ADC's range in the input's units (codes for counts), checked finite and ordered.
+    /// The ADC's range in the input's units (codes for counts): [`checked_adc_range`].
     pub adc_range: Option<(f64, f64)>,
-    /// Without a range: the rails measured as the samples come.
+    /// Without a range: the rails measured as the samples come ([`clipping_rails`]).
     pub measure_adc_range: bool,
     /// The windings' nominal envelope amplitude for the winding check (`None`: no check).
     pub winding_amplitude: Option<f64>,
@@ -59,6 +60,12 @@ impl fmt::Display for ChannelError {
 }
 
 impl std::error::Error for ChannelError {}
+
+impl From<ArgumentError> for ChannelError {
+    fn from(e: ArgumentError) -> Self {
+        ChannelError::Argument(e)
+    }
+}
 
 impl From<ConfigError> for ChannelError {
     fn from(e: ConfigError) -> Self {
@@ -98,6 +105,8 @@ pub struct TrackerChannel<T: Real, const N: usize, S> {
 impl<T: Real, const N: usize, S: SinCos<T>> TrackerChannel<T, N, S> {
     /// The chain of `gains` with `options`, from its first sample.
     pub fn new(gains: Gains<T, N, S>, options: &ChannelOptions<T>) -> Result<Self, ChannelError> {
+        let adc_range = checked_adc_range(options.adc_range)?;
+        clipping_rails(adc_range, options.measure_adc_range)?;
         let given = options.thresholds;
         let thresholds = if options.whole {
             ThresholdPolicy::whole(given)
@@ -127,7 +136,7 @@ impl<T: Real, const N: usize, S: SinCos<T>> TrackerChannel<T, N, S> {
                 CorrectionStage::None,
             ),
         };
-        let (adc_range, measure_adc_range) = (options.adc_range, options.measure_adc_range);
+        let measure_adc_range = options.measure_adc_range;
         let front_end = front_end((adc_range, measure_adc_range), None, winding, stages)?;
         let mut state = TrackerState::new();
         *state.front_end.calibrator_mut() = options.calibration.calibrator()?;
@@ -243,6 +252,40 @@ impl<T: Real, const N: usize, S: SinCos<T>> TrackerChannel<T, N, S> {
     }
 }
 
+/// The stored stages of their parameters, each checked by the core: the sensor calibration
+/// `(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)` and the angle
+/// correction's harmonic coefficients `cos`, `sin` (rad, at most
+/// [`MAX_CORRECTION_ORDER`] each, the rest 0): [`ChannelOptions::stored`].
+///
+/// ```
+/// use angletrack::stored_stages;
+/// let (sensor, correction) = stored_stages((0.0, 0.0, 1.0, 1.0, 0.0), &[1e-3], &[])?;
+/// assert_eq!(correction.coefficients().0[0], 1e-3);
+/// assert!(stored_stages((0.0, 0.0, 1.0, 1.0, 0.0), &[0.0; 9], &[]).is_err());
+/// # let _ = sensor;
+/// # Ok::<(), angletrack::ChannelError>(())
+/// ```
+pub fn stored_stages(
+    (o_c, o_s, a_c, a_s, phi): (f64, f64, f64, f64, f64),
+    cos: &[f64],
+    sin: &[f64],
+) -> Result<(SensorCalibration<f64>, AngleCorrection<f64>), ChannelError> {
+    let sensor = SensorCalibration::new(o_c, o_s, a_c, a_s, phi)?;
+    let table = |values: &[f64], name: &'static str| {
+        let mut out = [0.0; MAX_CORRECTION_ORDER];
+        if values.len() > MAX_CORRECTION_ORDER {
+            return Err(refused(
+                name,
+                format!("holds more than {MAX_CORRECTION_ORDER} coefficients"),
+            ));
+        }
+        out[..values.len()].copy_from_slice(values);
+        Ok(out)
+    };
+    let correction = AngleCorrection::new(table(cos, "cos")?, table(sin, "sin")?)?;
+    Ok((sensor, correction))
+}
+
 /// The front end for samples scaled by `adc` (`None`: floats, in the units of the ADC
 /// range): the range in codes through the ADC's scaling when the samples are counts (the
 /// core's rule); without a range, the rails measured or unchecked.
@@ -252,19 +295,6 @@ fn front_end<T: Real>(
     winding: Option<WindingCheck<T>>,
     (calibration, correction): (CalibrationStage<T>, CorrectionStage<T>),
 ) -> Result<TrackerFrontEnd<T>, ChannelError> {
-    fn rails<X>(
-        (range, measure): (Option<(f64, f64)>, bool),
-        bound: impl Fn(f64) -> Result<X, ChannelError>,
-    ) -> Result<Rails<X>, ChannelError> {
-        Ok(match range {
-            Some((min, max)) => Rails::Stated {
-                min: bound(min)?,
-                max: bound(max)?,
-            },
-            None if measure => Rails::Measured,
-            None => Rails::Unchecked,
-        })
-    }
     let input = match adc {
         Some(adc) => Input::Counts {
             adc,
@@ -281,6 +311,15 @@ fn front_end<T: Real>(
         correction,
     })
     .map_err(|e| refused("adc_range", e.to_string()))
+}
+
+/// The rails of the clipping arguments, the range's bounds by `bound`.
+fn rails<X>(
+    (range, measure): (Option<(f64, f64)>, bool),
+    bound: impl Fn(f64) -> Result<X, ChannelError>,
+) -> Result<Rails<X>, ChannelError> {
+    let range = range.map(|(min, max)| Ok::<_, ChannelError>((bound(min)?, bound(max)?)));
+    Ok(clipping_rails(range.transpose()?, measure)?)
 }
 
 /// A bound of the ADC range for counts as an ADC code: a whole number, beyond int32 taken

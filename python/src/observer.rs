@@ -84,7 +84,8 @@ pub trait ObserverOps: core::fmt::Debug + Send + Sync {
     /// What the observer's state holds now.
     fn status(&self) -> ObserverStatus;
     fn reset(&mut self);
-    fn initialise(&mut self, y_c: f64, y_s: f64);
+    /// Sets the angle from one sample, refusing (naming it) a sample that is not finite.
+    fn initialise(&mut self, y_c: f64, y_s: f64) -> Result<()>;
     /// Sets the state, refusing (naming the argument) a value the state cannot hold.
     fn set_state(
         &mut self,
@@ -94,15 +95,6 @@ pub trait ObserverOps: core::fmt::Debug + Send + Sync {
     ) -> Result<()>;
     fn clear_faults(&mut self) -> Faults;
     fn set_calibration(&mut self, choice: &OnlineCalibrationChoice) -> Result<()>;
-}
-
-/// Refuses the first value that is not finite, naming its parameter and the value (a NaN
-/// sample would otherwise be replaced silently by the observer's own start).
-fn finite(values: &[(&'static str, f64)]) -> Result<()> {
-    match values.iter().find(|(_, v)| !v.is_finite()) {
-        Some(&(parameter, v)) => Err(Error::value(parameter, format!("{v} is not finite"))),
-        None => Ok(()),
-    }
 }
 
 /// An angle tracking observer running on numpy arrays: checked gains plus a state that
@@ -257,9 +249,7 @@ class_methods! {
         /// Refuses (`ConfigError`) a sample that is not finite.
         #[pyo3(signature = (y_c, y_s))]
         fn initialise(&mut self, y_c: f64, y_s: f64) -> Result<()> {
-            finite(&[("y_c", y_c), ("y_s", y_s)])?;
-            self.inner.initialise(y_c, y_s);
-            Ok(())
+            self.inner.initialise(y_c, y_s)
         }
 
         /// Starts from a known angle (rad: wrapped, whole turns counted, within +-2^31 turns),
@@ -273,12 +263,6 @@ class_methods! {
             speed_rad_s: f64,
             acceleration_rad_s2: f64,
         ) -> Result<()> {
-            // The message users see names the value (the core's names only the parameter).
-            finite(&[
-                ("angle_rad", angle_rad),
-                ("speed_rad_s", speed_rad_s),
-                ("acceleration_rad_s2", acceleration_rad_s2),
-            ])?;
             self.inner
                 .set_state(angle_rad, speed_rad_s, acceleration_rad_s2)
         }

@@ -84,21 +84,12 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
         self.inner.state.observer = ObserverState::new();
     }
 
-    fn initialise(&mut self, y_c: f64, y_s: f64) {
-        let (y_c, y_s) = (T::from_f64(y_c), T::from_f64(y_s));
-        let gains = &self.inner.tracker.observer;
-        gains.initialise(&mut self.inner.state.observer, y_c, y_s);
+    fn initialise(&mut self, y_c: f64, y_s: f64) -> Result<()> {
+        Ok(self.inner.initialise(y_c, y_s)?)
     }
 
-    fn set_state(
-        &mut self,
-        angle_rad: f64,
-        speed_rad_s: f64,
-        acceleration_rad_s2: f64,
-    ) -> Result<()> {
-        Ok(self
-            .inner
-            .set_state(angle_rad, speed_rad_s, acceleration_rad_s2)?)
+    fn set_state(&mut self, angle_rad: f64, speed_rad_s: f64, acceleration: f64) -> Result<()> {
+        Ok(self.inner.set_state(angle_rad, speed_rad_s, acceleration)?)
     }
 
     fn clear_faults(&mut self) -> Faults {

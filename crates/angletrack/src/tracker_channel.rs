@@ -237,13 +237,29 @@ impl<T: Real, const N: usize, S: SinCos<T>> TrackerChannel<T, N, S> {
             .map(|_| self.tracker.observer.fault_thresholds())
     }
 
-    /// Sets the observer's state, refusing (naming the parameter) what it cannot hold.
+    /// Sets the angle from one sample, `atan2(y_s, y_c)`; speed and acceleration 0. A
+    /// sample that is not finite is refused, naming it and its value (the observer would
+    /// otherwise replace it silently by its own start).
+    pub fn initialise(&mut self, y_c: f64, y_s: f64) -> Result<(), ChannelError> {
+        finite(&[("y_c", y_c), ("y_s", y_s)])?;
+        let (gains, state) = (&self.tracker.observer, &mut self.state.observer);
+        gains.initialise(state, T::from_f64(y_c), T::from_f64(y_s));
+        Ok(())
+    }
+
+    /// Sets the observer's state, refusing what it cannot hold: a value that is not finite
+    /// (naming it and its value), or beyond the state's range (the core names it).
     pub fn set_state(
         &mut self,
         angle_rad: f64,
         speed_rad_s: f64,
         acceleration_rad_s2: f64,
-    ) -> Result<(), ConfigError> {
+    ) -> Result<(), ChannelError> {
+        finite(&[
+            ("angle_rad", angle_rad),
+            ("speed_rad_s", speed_rad_s),
+            ("acceleration_rad_s2", acceleration_rad_s2),
+        ])?;
         let f = T::from_f64;
         let period = self.tracker.observer.sample_period();
         self.state.observer =
@@ -311,6 +327,14 @@ fn front_end<T: Real>(
         correction,
     })
     .map_err(|e| refused("adc_range", e.to_string()))
+}
+
+/// Refuses the first value that is not finite, naming its argument and the value.
+fn finite(values: &[(&'static str, f64)]) -> Result<(), ChannelError> {
+    match values.iter().find(|(_, v)| !v.is_finite()) {
+        Some(&(argument, v)) => Err(refused(argument, format!("{v} is not finite"))),
+        None => Ok(()),
+    }
 }
 
 /// The rails of the clipping arguments, the range's bounds by `bound`.
@@ -423,5 +447,11 @@ mod tests {
         let mut channel = TrackerChannel::new(gains(), &ChannelOptions::default()).unwrap();
         assert!(channel.set_state(1.0, 10.0, 0.0).is_ok());
         assert!(channel.set_state(1.0, 1e9, 0.0).is_err());
+        let e = channel.set_state(1.0, f64::NAN, 0.0).unwrap_err();
+        assert_eq!(e.to_string(), "speed_rad_s: NaN is not finite");
+        let e = channel.initialise(1.0, f64::INFINITY).unwrap_err();
+        assert_eq!(e.to_string(), "y_s: inf is not finite");
+        channel.initialise(0.0, 1.0).unwrap();
+        assert!(channel.state.observer.is_initialised());
     }
 }

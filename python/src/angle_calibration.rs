@@ -4,15 +4,13 @@
 //! `Calibration`, `CalibratedObserver`).
 
 use angletrack::{
-    AngleCorrection, CalibrationError, CalibrationOptions, CaptureCalibration, CaptureCalibrator,
-    OrderQuality, OrderStatus, SPECTRUM_ORDERS, SensorCalibration,
+    CalibrationError, CalibrationOptions, CaptureCalibration, CaptureCalibrator, OrderQuality,
+    OrderStatus, SPECTRUM_ORDERS,
 };
-use angletrack_core::MAX_CORRECTION_ORDER;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use crate::arrays::{Count, check_equal_lengths, paired_samples, samples};
-use crate::counts::Clipping;
 use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::RunSettings;
 use crate::errors::{Error, Result};
@@ -177,26 +175,6 @@ pub fn orders_of(
     Ok(out)
 }
 
-/// The core's sensor calibration and angle correction from their parameters, checked.
-pub fn checked(
-    sensor: SensorParameters,
-    cos: Vec<f64>,
-    sin: Vec<f64>,
-) -> Result<(SensorCalibration<f64>, AngleCorrection<f64>)> {
-    let (o_c, o_s, a_c, a_s, phi) = sensor;
-    let sensor = SensorCalibration::new(o_c, o_s, a_c, a_s, phi)?;
-    let table = |values: Vec<f64>, name: &'static str| -> Result<[f64; MAX_CORRECTION_ORDER]> {
-        let mut out = [0.0; MAX_CORRECTION_ORDER];
-        if values.len() > MAX_CORRECTION_ORDER {
-            return Err(Error::value(name, "holds more than 8 coefficients"));
-        }
-        out[..values.len()].copy_from_slice(&values);
-        Ok(out)
-    };
-    let correction = AngleCorrection::new(table(cos, "cos")?, table(sin, "sin")?)?;
-    Ok((sensor, correction))
-}
-
 /// An observer whose samples are corrected by a sensor calibration (offsets, amplitudes,
 /// quadrature) and an angle correction (harmonic coefficients `cos`, `sin`, rad) before its
 /// phase detector (the core's chain of both stages), in `dtype` (float32 or float64, default
@@ -229,9 +207,10 @@ impl PyCorrectedObserver {
         fault_thresholds: Option<PyFaultThresholds>,
     ) -> Result<Self> {
         let options = ObserverOptions {
-            stored: Some(checked(sensor, cos, sin)?),
+            stored: Some(angletrack::stored_stages(sensor, &cos, &sin)?),
             thresholds: fault_thresholds,
-            clipping: Clipping::of_floats(adc_range, measure_adc_range)?,
+            adc_range,
+            measure_adc_range,
             ..ObserverOptions::default()
         };
         let settings = RunSettings::from_arguments(gains, dtype, sin_cos)?;

@@ -2,7 +2,6 @@
 //! `ChannelBatch`, run by the core's vectorisable `ChannelBank`s) on 2-D numpy arrays.
 
 use angletrack::ChannelBatch;
-use angletrack_core::Real;
 use pyo3::prelude::*;
 
 use crate::arrays::{Float, channel_samples};
@@ -11,19 +10,6 @@ use crate::errors::{Error, Result};
 use crate::estimates::{Estimates, OutputSelection, run_estimates};
 use crate::gains::PyGains;
 use crate::getters::class_methods;
-
-/// A batch on float samples of amplitude about 1 (no raw counts: `crate::arrays`).
-#[derive(Debug)]
-pub struct Batch<T: Real, const N: usize, S> {
-    batch: ChannelBatch<T, N, S>,
-}
-
-impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Batch<T, N, S> {
-    /// `batch` on numpy arrays.
-    pub fn new(batch: ChannelBatch<T, N, S>) -> Self {
-        Self { batch }
-    }
-}
 
 /// A batch of concrete types behind the one dispatch (`crate::dispatch`).
 pub trait RunBatch: core::fmt::Debug + Send + Sync {
@@ -38,7 +24,7 @@ pub trait RunBatch: core::fmt::Debug + Send + Sync {
     ) -> Result<Estimates>;
 }
 
-impl<T: Sample, const N: usize, S: PhaseSinCos<T>> RunBatch for Batch<T, N, S> {
+impl<T: Sample, const N: usize, S: PhaseSinCos<T>> RunBatch for ChannelBatch<T, N, S> {
     fn run(
         &mut self,
         py: Python<'_>,
@@ -57,12 +43,12 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> RunBatch for Batch<T, N, S> {
                 ),
             ));
         }
-        if channels_c != self.batch.channels() {
+        if channels_c != self.channels() {
             return Err(Error::value(
                 "y_c",
                 format!(
                     "has {channels_c} channels (rows) but the batch has {}",
-                    self.batch.channels()
+                    self.channels()
                 ),
             ));
         }
@@ -73,7 +59,7 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> RunBatch for Batch<T, N, S> {
         let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
         let shape = Some((channels_c, samples));
         let (run, estimates) = run_estimates(py, channels_c * samples, (outputs, shape), |c| {
-            ChannelBatch::run(&mut self.batch, y_c, y_s, samples, c)
+            ChannelBatch::run(self, y_c, y_s, samples, c)
         })?;
         run?;
         Ok(estimates)

@@ -6,7 +6,7 @@ use pyo3::IntoPyObjectExt;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::angle_calibration::{SensorParameters, checked, learned_dict, orders_of};
+use crate::angle_calibration::{SensorParameters, learned_dict, orders_of};
 use crate::calibration::PySensorCalibration;
 use crate::errors::Result;
 
@@ -44,7 +44,7 @@ pub fn angle_calibration_to_json(
     method: Option<String>,
     orders: Option<Vec<(usize, f64, f64, String)>>,
 ) -> Result<String> {
-    let (sensor, correction) = checked(sensor, cos, sin)?;
+    let (sensor, correction) = angletrack::stored_stages(sensor, &cos, &sin)?;
     let calibration = CaptureCalibration {
         sensor,
         correction,

@@ -79,7 +79,7 @@ pub fn plan_windings(
     adc_range: Option<(f64, f64)>,
 ) -> Result<PyWindingsPlan> {
     let (c, s) = paired_samples::<f64>((first_c, "first_c"), (first_s, "first_s"))?;
-    let adc_range = crate::counts::adc_range(adc_range)?;
+    let adc_range = angletrack::checked_adc_range(adc_range)?;
     let mut settings = WindingsSettings::new(carrier_hz);
     settings.capture_hz = capture_hz;
     settings.samples_per_period = samples_per_period;

@@ -13,7 +13,6 @@
 use angletrack::{
     AdcCount, CountsError, CountsInput, CountsInputError, CountsSettings, Signedness,
 };
-use angletrack_core::Rails;
 use numpy::prelude::*;
 use numpy::{Element, PyArray1, PyArrayDescr, PyUntypedArray, dtype};
 use pyo3::prelude::*;
@@ -101,14 +100,6 @@ pub fn adc_settings(
     })
 }
 
-/// The front end of one observer: the crate's `CountsInput`, of a stream (`Observer`) or of
-/// a whole capture in one call (`track`).
-#[derive(Debug, Clone, Copy)]
-pub struct AdcInput<T> {
-    input: CountsInput<T>,
-    stated: Option<&'static str>,
-}
-
 /// A `CountsInputError` as the Python caller wrote the arguments.
 fn named(e: CountsInputError) -> Error {
     const STATE: &str =
@@ -130,165 +121,86 @@ fn named(e: CountsInputError) -> Error {
     }
 }
 
-/// The clipping arguments `adc_range` and `measure_adc_range` of an observer, checked: the
-/// ADC's stated range (`R`: floats in the samples' units, or the fixed point's integer codes),
-/// or the rails measured as the samples come (the core's `HeldRailCheck`), or neither.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct Clipping<R = (f64, f64)> {
-    /// The stated range.
-    pub range: Option<R>,
-    /// Without a range: the rails measured.
-    pub measure: bool,
-}
-
-impl<R> Clipping<R> {
-    /// The arguments, refused (naming `measure_adc_range`) when both are given.
-    pub fn new(range: Option<R>, measure: bool) -> Result<Self> {
-        if measure && range.is_some() {
-            return Err(Error::value(
-                "measure_adc_range",
-                "give adc_range or measure_adc_range, not both",
-            ));
-        }
-        Ok(Self { range, measure })
-    }
-}
-
-impl<R: Copy> Clipping<R> {
-    /// The core's rails of the arguments, the range's bounds by `bound` (refusing a bound
-    /// the input cannot take).
-    pub fn rails<X>(&self, bound: impl Fn(R) -> Result<(X, X)>) -> Result<Rails<X>> {
-        Ok(match self.range {
-            Some(range) => {
-                let (min, max) = bound(range)?;
-                Rails::Stated { min, max }
-            }
-            None if self.measure => Rails::Measured,
-            None => Rails::Unchecked,
-        })
-    }
-}
-
-impl Clipping {
-    /// The arguments of a float range ([`adc_range`]'s checks first).
-    pub fn of_floats(range: Option<(f64, f64)>, measure: bool) -> Result<Self> {
-        Self::new(adc_range(range)?, measure)
-    }
-}
-
-/// The ADC range argument `adc_range` checked: two finite numbers, the first below the
-/// second.
-pub fn adc_range(range: Option<(f64, f64)>) -> Result<Option<(f64, f64)>> {
-    match range {
-        Some((min, max)) if !(min.is_finite() && max.is_finite()) => Err(Error::value(
-            "adc_range",
-            format!("({min}, {max}): expected two finite numbers"),
-        )),
-        Some((min, max)) if min >= max => Err(Error::value(
-            "adc_range",
-            format!("({min}, {max}): the minimum must be below the maximum"),
-        )),
-        other => Ok(other),
-    }
-}
-
 /// Whether `samples` are raw counts (an array of an integer dtype the observer takes).
 pub fn is_counts(samples: &Bound<'_, PyAny>) -> bool {
     Counts::of_samples(samples).is_some()
 }
 
-impl<T: Sample> AdcInput<T> {
-    /// The scaling of the last call with counts, if any.
-    pub fn decided(&self) -> Option<angletrack_core::AdcScaling<T>> {
-        self.input.decided()
-    }
-
-    /// Whether `adc_counts_per_unit` was stated.
-    pub fn counts_per_unit_stated(&self) -> bool {
-        self.input.settings().counts_per_unit().is_some()
-    }
-
-    /// The front end of a stream (`whole`: of a whole capture given in one call).
-    pub fn new(settings: AdcSettings, whole: bool) -> Self {
-        Self {
-            input: if whole {
-                CountsInput::whole(settings.counts)
-            } else {
-                CountsInput::stream(settings.counts)
-            },
-            stated: settings.stated,
+/// The samples of `y_c` and `y_s`: arrays of the observer's float type as they are,
+/// arrays of counts scaled by `input` (`y_s` then of `y_c`'s counts type). `y_c` is checked
+/// first, then `y_s`, each as `crate::arrays::samples` checks floats. Floats are refused
+/// (naming `stated`, the first ADC argument given) when an ADC argument was given: it
+/// applies to counts only, and ignoring it would track other samples than the caller asked
+/// for.
+pub fn signals<'py, T: Sample>(
+    input: &mut CountsInput<T>,
+    stated: Option<&'static str>,
+    y_c: &Bound<'py, PyAny>,
+    y_s: &Bound<'py, PyAny>,
+) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
+    let Some((kind, c)) = Counts::of_samples(y_c) else {
+        let pair = (samples::<T>(y_c, "y_c")?, samples::<T>(y_s, "y_s")?);
+        if let Some(stated) = stated {
+            return Err(Error::value(
+                stated,
+                "applies to raw ADC counts (int16, uint16, int32 or int64 arrays) but the \
+                 samples are floats: scale floats before the call, or leave it out",
+            ));
         }
-    }
-
-    /// The samples of `y_c` and `y_s`: arrays of the observer's float type as they are,
-    /// arrays of counts converted (`y_s` then of `y_c`'s counts type). `y_c` is checked
-    /// first, then `y_s`, each as `crate::arrays::samples` checks floats. Floats are refused
-    /// (naming the ADC argument) when an ADC argument was given: it applies to counts only,
-    /// and ignoring it would track other samples than the caller asked for.
-    pub fn signals<'py>(
-        &mut self,
-        y_c: &Bound<'py, PyAny>,
-        y_s: &Bound<'py, PyAny>,
-    ) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
-        let Some((kind, c)) = Counts::of_samples(y_c) else {
-            let pair = (samples::<T>(y_c, "y_c")?, samples::<T>(y_s, "y_s")?);
-            if let Some(stated) = self.stated {
-                return Err(Error::value(
-                    stated,
-                    "applies to raw ADC counts (int16, uint16, int32 or int64 arrays) but the \
-                     samples are floats: scale floats before the call, or leave it out",
-                ));
+        return Ok(pair);
+    };
+    let (c, s, signedness) = match Counts::of_samples(y_s) {
+        Some((ks, s)) if ks == kind => match kind {
+            Counts::I16 => {
+                return scaled(
+                    input,
+                    counts::<i16>(&c, "y_c")?,
+                    counts(&s, "y_s")?,
+                    Some(Signedness::Signed),
+                );
             }
-            return Ok(pair);
-        };
-        match Counts::of_samples(y_s) {
-            Some((ks, s)) if ks == kind => match kind {
-                Counts::I16 => self.convert::<i16>(&c, &s, Some(Signedness::Signed)),
-                Counts::U16 => self.convert::<u16>(&c, &s, None),
-                Counts::I32 => self.convert::<i32>(&c, &s, Some(Signedness::Signed)),
-                Counts::I64 => self.convert_i64(&c, &s),
-            },
-            other => {
-                // `y_c`'s own shape first, as for floats, then `y_s`'s.
-                one_dimensional(&c, "y_c")?;
-                if let Ok(array) = y_s.cast::<PyUntypedArray>()
-                    && array.ndim() != 1
-                {
-                    one_dimensional(array, "y_s")?;
-                }
-                Err(Error::Dtype {
-                    parameter: "y_s",
-                    given: describe(other.map(|k| k.0)),
-                    expected: format!("raw counts of y_c's dtype, {}", describe(Some(kind))),
-                })
+            Counts::U16 => {
+                return scaled(input, counts::<u16>(&c, "y_c")?, counts(&s, "y_s")?, None);
             }
+            Counts::I32 => (
+                counts::<i32>(&c, "y_c")?,
+                counts(&s, "y_s")?,
+                Some(Signedness::Signed),
+            ),
+            // int64 counts as int32 (checked against its range), of no signedness of their
+            // own: both arrays' shapes first, then their ranges.
+            Counts::I64 => {
+                let (c, s) = (counts::<i64>(&c, "y_c")?, counts::<i64>(&s, "y_s")?);
+                (narrowed(&c, "y_c")?, narrowed(&s, "y_s")?, None)
+            }
+        },
+        other => {
+            // `y_c`'s own shape first, as for floats, then `y_s`'s.
+            one_dimensional(&c, "y_c")?;
+            if let Ok(array) = y_s.cast::<PyUntypedArray>()
+                && array.ndim() != 1
+            {
+                one_dimensional(array, "y_s")?;
+            }
+            return Err(Error::Dtype {
+                parameter: "y_s",
+                given: describe(other.map(|k| k.0)),
+                expected: format!("raw counts of y_c's dtype, {}", describe(Some(kind))),
+            });
         }
-    }
+    };
+    scaled(input, c, s, signedness)
+}
 
-    /// int64 counts as int32 (checked against its range), of no signedness of their own.
-    fn convert_i64<'py>(
-        &mut self,
-        y_c: &Bound<'py, PyUntypedArray>,
-        y_s: &Bound<'py, PyUntypedArray>,
-    ) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
-        // Both arrays' shapes first, then their ranges, as for the other dtypes.
-        let (c, s) = (counts::<i64>(y_c, "y_c")?, counts::<i64>(y_s, "y_s")?);
-        let (c, s) = (narrowed(&c, "y_c")?, narrowed(&s, "y_s")?);
-        let (c, s) = self.input.scale(&c, &s, None).map_err(named)?;
-        Ok((Samples::Copied(c), Samples::Copied(s)))
-    }
-
-    fn convert<'py, I: Count>(
-        &mut self,
-        y_c: &Bound<'py, PyUntypedArray>,
-        y_s: &Bound<'py, PyUntypedArray>,
-        signedness: Option<Signedness>,
-    ) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
-        let c = counts::<I>(y_c, "y_c")?;
-        let s = counts::<I>(y_s, "y_s")?;
-        let (c, s) = self.input.scale(&c, &s, signedness).map_err(named)?;
-        Ok((Samples::Copied(c), Samples::Copied(s)))
-    }
+/// The counts `c`, `s` scaled by `input`.
+fn scaled<'py, T: Sample, I: AdcCount>(
+    input: &mut CountsInput<T>,
+    c: Vec<I>,
+    s: Vec<I>,
+    signedness: Option<Signedness>,
+) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
+    let (c, s) = input.scale(&c, &s, signedness).map_err(named)?;
+    Ok((Samples::Copied(c), Samples::Copied(s)))
 }
 
 /// The numpy name of a dtype of samples, for an error message.
@@ -301,13 +213,6 @@ fn describe(counts: Option<Counts>) -> String {
         None => "another dtype".into(),
     }
 }
-
-/// An integer type of ADC counts as numpy stores it.
-trait Count: AdcCount + Element + Copy {}
-
-impl Count for i16 {}
-impl Count for u16 {}
-impl Count for i32 {}
 
 /// `counts` (int64) as int32, or a `ConfigError` naming `parameter` and the first count
 /// beyond its range.

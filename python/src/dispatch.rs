@@ -10,7 +10,7 @@ use numpy::Element;
 use pyo3::prelude::*;
 
 use crate::arrays::Float;
-use crate::batch::{Batch, RunBatch};
+use crate::batch::RunBatch;
 use crate::errors::{Error, Result};
 use crate::gains::{GainSet, PyGains};
 use crate::getters::class_methods;
@@ -78,7 +78,7 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> TypedGains for CoreGains<T, N
     }
 
     fn batch(&self, channels: usize) -> Result<Box<dyn RunBatch>> {
-        Ok(Box::new(Batch::new(ChannelBatch::new(*self, channels)?)))
+        Ok(Box::new(ChannelBatch::new(*self, channels)?))
     }
 }
 

@@ -11,7 +11,6 @@ use pyo3::prelude::*;
 use crate::arrays::{Count, samples};
 use crate::errors::Result;
 use crate::estimates::Estimates;
-use crate::resolver::renamed;
 
 /// The drive's outputs of one `DriveOutputs.update`, float64 arrays (turns int64), one
 /// element per estimate.
@@ -62,7 +61,7 @@ impl PyDriveOutputs {
         let mut outputs =
             CoreDriveOutputs::new(pole_pairs, speed_ratio, latency_s, sample_period_s)?;
         if let Some(cutoff) = speed_cutoff_hz {
-            outputs = outputs.with_speed_cutoff_hz(cutoff).map_err(renamed)?;
+            outputs = outputs.with_speed_cutoff_hz(cutoff)?;
         }
         Ok(Self {
             outputs,

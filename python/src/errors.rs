@@ -82,6 +82,21 @@ pub enum Error {
     Python(PyErr),
 }
 
+impl From<angletrack::ArgumentError> for Error {
+    fn from(e: angletrack::ArgumentError) -> Self {
+        Error::value(e.argument, e.reason)
+    }
+}
+
+impl From<angletrack::ChannelError> for Error {
+    fn from(e: angletrack::ChannelError) -> Self {
+        match e {
+            angletrack::ChannelError::Config(e) => Error::Config(e),
+            angletrack::ChannelError::Argument(e) => e.into(),
+        }
+    }
+}
+
 impl Error {
     /// A refused value of `parameter`.
     pub fn value(parameter: &'static str, message: impl Into<String>) -> Self {
@@ -122,6 +137,7 @@ fn python_parameter(p: Parameter) -> &'static str {
         Parameter::AngleGain | Parameter::SpeedGain | Parameter::AccelerationGain => "gains",
         Parameter::MidScaleCounts => "adc_mid_scale",
         Parameter::CountsPerUnit => "adc_counts_per_unit",
+        Parameter::SpeedFilter => "speed_cutoff_hz",
         other => other.name(),
     }
 }
@@ -200,7 +216,7 @@ impl From<Error> for PyErr {
                  silent conversion is made)"
             )),
             Error::Value { parameter, message } => {
-                config_error(parameter, format!("{parameter}: {message}"))
+                config_error(parameter, python_message(parameter, message))
             }
             Error::Capture(e) => capture_error(&e),
             Error::Memory { parameter, bytes } => PyMemoryError::new_err(format!(

@@ -3,7 +3,7 @@
 
 use angletrack::{EstimateColumns, Output};
 use angletrack_core::{Estimate as CoreEstimate, Faults, Real};
-use numpy::{Element, PyArray1, PyReadwriteArray1};
+use numpy::{Element, PyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyString;
 
@@ -87,32 +87,6 @@ pub(crate) fn run_estimates<T: Real + Element, R: Send>(
             bytes,
         });
     }
-    let array = |output: Output| outputs.has(output).then_some(n);
-    let angle = zeros::<T>(py, array(Output::Angle))?;
-    let position = zeros::<f64>(py, array(Output::Position))?;
-    let speed = zeros::<T>(py, array(Output::Speed))?;
-    let acceleration = zeros::<T>(py, array(Output::Acceleration))?;
-    let phase_error = zeros::<T>(py, array(Output::PhaseError))?;
-    let faults = zeros::<u8>(py, array(Output::Faults))?;
-    let filled = {
-        let mut w = (
-            write(&angle)?,
-            write(&position)?,
-            write(&speed)?,
-            write(&acceleration)?,
-            write(&phase_error)?,
-            write(&faults)?,
-        );
-        let columns = EstimateColumns {
-            angle: slice(&mut w.0)?,
-            position: slice(&mut w.1)?,
-            speed: slice(&mut w.2)?,
-            acceleration: slice(&mut w.3)?,
-            phase_error: slice(&mut w.4)?,
-            faults: slice(&mut w.5)?,
-        };
-        py.detach(|| fill(columns))
-    };
     let shaped = |a: Option<Bound<'_, PyAny>>| -> Result<Py<PyAny>> {
         Ok(match (a, shape) {
             (None, _) => py.None(),
@@ -120,31 +94,34 @@ pub(crate) fn run_estimates<T: Real + Element, R: Send>(
             (Some(a), None) => a.unbind(),
         })
     };
-    let estimates = Estimates {
-        len: shape.map_or(n, |(_, samples)| samples),
-        dtype: numpy::dtype::<T>(py).to_string(),
-        angle: shaped(angle.map(Bound::into_any))?,
-        position: shaped(position.map(Bound::into_any))?,
-        speed: shaped(speed.map(Bound::into_any))?,
-        acceleration: shaped(acceleration.map(Bound::into_any))?,
-        phase_error: shaped(phase_error.map(Bound::into_any))?,
-        faults: shaped(faults.map(Bound::into_any))?,
-    };
-    Ok((filled, estimates))
-}
-
-/// A write borrow of an output array, if there is one.
-fn write<'py, E: Element>(
-    array: &Option<Bound<'py, PyArray1<E>>>,
-) -> Result<Option<PyReadwriteArray1<'py, E>>> {
-    array.as_ref().map(writable).transpose()
-}
-
-/// The slice of a write borrow, if there is one.
-fn slice<'a, E: Element>(
-    view: &'a mut Option<PyReadwriteArray1<'_, E>>,
-) -> Result<Option<&'a mut [E]>> {
-    view.as_mut().map(as_slice_mut).transpose()
+    // Each column: allocated if asked for, borrowed for writing while `fill` runs, then
+    // shaped into the result.
+    macro_rules! columns {
+        ($($field:ident: $t:ty = $output:ident,)*) => {{
+            $(let $field = zeros::<$t>(py, outputs.has(Output::$output).then_some(n))?;)*
+            let filled = {
+                $(let mut $field = $field.as_ref().map(writable).transpose()?;)*
+                let columns = EstimateColumns {
+                    $($field: $field.as_mut().map(as_slice_mut).transpose()?,)*
+                };
+                py.detach(|| fill(columns))
+            };
+            let estimates = Estimates {
+                len: shape.map_or(n, |(_, samples)| samples),
+                dtype: numpy::dtype::<T>(py).to_string(),
+                $($field: shaped($field.map(Bound::into_any))?,)*
+            };
+            (filled, estimates)
+        }};
+    }
+    Ok(columns! {
+        angle: T = Angle,
+        position: f64 = Position,
+        speed: T = Speed,
+        acceleration: T = Acceleration,
+        phase_error: T = PhaseError,
+        faults: u8 = Faults,
+    })
 }
 
 /// The machine's physical memory (bytes), if the platform tells it (`os.sysconf`).

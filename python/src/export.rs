@@ -9,7 +9,7 @@ use pyo3::conversion::FromPyObjectOwned;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::angle_calibration::{SensorParameters, checked};
+use crate::angle_calibration::SensorParameters;
 use crate::errors::{Error, Result};
 use crate::gains::{GainSet, PyGains, with_gains};
 
@@ -89,7 +89,7 @@ pub fn calibration_source(
     name: &str,
     dtype: &str,
 ) -> Result<String> {
-    let (sensor, correction) = checked(sensor, cos, sin)?;
+    let (sensor, correction) = angletrack::stored_stages(sensor, &cos, &sin)?;
     let (language, float) = (self::language(language)?, float_type(dtype)?);
     Ok(language.calibration(&sensor, &correction, float, name)?)
 }

@@ -5,143 +5,28 @@
 //! silent conversion), converts the constants dict and runs `angletrack::FixedColumns` with
 //! the GIL released.
 
-use angletrack::{FixedDesignConstants, fixed_front_end};
-use angletrack_core::fixed::FixedConstants;
-use angletrack_core::{
-    AngleCorrection, ConfigError as CoreConfigError, FixedGains, FixedState, Order,
-    SensorCalibration, SupportedOrder, Tracker, TrackerFrontEnd, TrackerState,
-};
+use angletrack::{FixedConstantsError, FixedTracker, clipping_rails, fixed_front_end};
+use angletrack_core::{AngleCorrection, Rails, SensorCalibration, TrackerFrontEnd};
 use numpy::PyUntypedArray;
 use numpy::prelude::*;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyMapping};
 
-use crate::angle_calibration::{SensorParameters, checked};
+use crate::angle_calibration::SensorParameters;
 use crate::arrays::{Count, Samples, check_equal_lengths, samples};
 use crate::calibration::PySensorCalibration;
-use crate::counts::Clipping;
 use crate::design::{PyDesign, constants_dict};
 use crate::errors::{Error, Result};
 use crate::fixed_estimates::{FixedEstimate, FixedEstimates, run_fixed};
-use crate::gains::{GainSet, PyGains};
+use crate::gains::{GainSet, PyGains, with_gains};
 use crate::getters::class_methods;
 
-/// The core's fixed-point standard chain (`Tracker<i16, FixedGains<N>>`) of order 2 or 3,
-/// and its state.
-#[derive(Debug, Clone, Copy)]
-enum FixedChannel {
-    Second(
-        Tracker<i16, FixedGains<2>>,
-        TrackerState<i16, FixedState<2>>,
-    ),
-    Third(
-        Tracker<i16, FixedGains<3>>,
-        TrackerState<i16, FixedState<3>>,
-    ),
-}
-
-/// Runs `$body` with `$g` and `$s` bound to the tracker and state inside a [`FixedChannel`].
-macro_rules! with_channel {
-    ($channel:expr, $g:ident, $s:ident => $body:expr) => {
-        match $channel {
-            FixedChannel::Second($g, $s) => $body,
-            FixedChannel::Third($g, $s) => $body,
+impl From<FixedConstantsError> for Error {
+    fn from(e: FixedConstantsError) -> Self {
+        match e {
+            FixedConstantsError::Config(e) => Error::Config(e),
+            FixedConstantsError::Constants(reason) => Error::value("constants", reason),
         }
-    };
-}
-
-/// The core's fixed-point gains of order `N` from their integer constants, checked again.
-fn gains_of_constants<const N: usize>(
-    multiplier: [i32; N],
-    acceleration_shift: u32,
-    sample_period_s: f64,
-) -> core::result::Result<FixedGains<N>, CoreConfigError>
-where
-    Order<N>: SupportedOrder,
-{
-    let constants = FixedConstants {
-        multiplier,
-        acceleration_shift,
-    };
-    FixedGains::from_constants(constants, sample_period_s)
-}
-
-/// The chain of `gains` with the monitor for `nominal_amplitude` counts (`None`: off)
-/// behind `front_end`.
-fn chain<const N: usize>(
-    gains: FixedGains<N>,
-    front_end: TrackerFrontEnd<i16>,
-    nominal_amplitude: Option<f64>,
-) -> Result<Tracker<i16, FixedGains<N>>>
-where
-    Order<N>: SupportedOrder,
-{
-    Ok(Tracker::new(
-        front_end,
-        gains.with_monitor(nominal_amplitude)?,
-    ))
-}
-
-impl FixedChannel {
-    /// The fixed-point observer of checked float gains, quantised by the core, behind
-    /// `front_end`, with the monitor for `nominal_amplitude`.
-    fn of_gains(
-        set: &GainSet,
-        front_end: TrackerFrontEnd<i16>,
-        nominal_amplitude: Option<f64>,
-    ) -> Result<Self> {
-        let a = nominal_amplitude;
-        Ok(match set {
-            GainSet::Second(g) => {
-                let gains = FixedGains::new(g.gains(), g.sample_period())?;
-                Self::Second(chain(gains, front_end, a)?, TrackerState::new())
-            }
-            GainSet::Third(g) => {
-                let gains = FixedGains::new(g.gains(), g.sample_period())?;
-                Self::Third(chain(gains, front_end, a)?, TrackerState::new())
-            }
-        })
-    }
-
-    /// The fixed-point observer of the integer constants (2 or 3 multipliers), checked by
-    /// the core, behind `front_end`, with the monitor for `nominal_amplitude`; a refusal
-    /// names `constants` and the gain.
-    fn of_constants(
-        multiplier: &[i32],
-        shift: u32,
-        sample_period_s: f64,
-        front_end: TrackerFrontEnd<i16>,
-        nominal_amplitude: Option<f64>,
-    ) -> Result<Self> {
-        let named = |e: CoreConfigError| match e {
-            CoreConfigError::NotFinite(_) | CoreConfigError::NotPositive(_) => Error::Config(e),
-            _ => Error::value(
-                "constants",
-                format!("{e} (multiplier {multiplier:?}, acceleration_shift {shift})"),
-            ),
-        };
-        let a = nominal_amplitude;
-        Ok(match *multiplier {
-            [l1, l2] => {
-                let gains = gains_of_constants([l1, l2], shift, sample_period_s).map_err(named)?;
-                Self::Second(chain(gains, front_end, a)?, TrackerState::new())
-            }
-            [l1, l2, l3] => {
-                let gains =
-                    gains_of_constants([l1, l2, l3], shift, sample_period_s).map_err(named)?;
-                Self::Third(chain(gains, front_end, a)?, TrackerState::new())
-            }
-            _ => {
-                return Err(Error::value(
-                    "constants",
-                    format!(
-                        "'multiplier' has {} values: expected 2 (2nd-order observer) or 3 \
-                         (3rd-order)",
-                        multiplier.len()
-                    ),
-                ));
-            }
-        })
     }
 }
 
@@ -251,7 +136,7 @@ fn counts<'py>(obj: &Bound<'py, PyAny>, parameter: &'static str) -> Result<Sampl
 #[pyclass(name = "FixedObserver", module = "angletrack")]
 #[derive(Debug)]
 pub struct PyFixedObserver {
-    channel: FixedChannel,
+    tracker: FixedTracker,
 }
 
 /// The stored sensor calibration and angle correction of a chain, either absent.
@@ -282,7 +167,7 @@ fn stages(calibration: Option<&Bound<'_, PyAny>>) -> Result<Stages> {
     let sensor: SensorParameters = attribute("sensor")?.extract()?;
     let (cos, sin): (Vec<f64>, Vec<f64>) =
         (attribute("cos")?.extract()?, attribute("sin")?.extract()?);
-    let (sensor, correction) = checked(sensor, cos, sin)?;
+    let (sensor, correction) = angletrack::stored_stages(sensor, &cos, &sin)?;
     Ok((Some(sensor), Some(correction)))
 }
 
@@ -291,10 +176,9 @@ fn front_end(
     calibration: Option<&Bound<'_, PyAny>>,
     mid_scale_counts: Count,
     input_shift: Count,
-    clipping: Clipping<(i32, i32)>,
+    rails: Rails<i32>,
 ) -> Result<TrackerFrontEnd<i16>> {
     let (sensor, correction) = stages(calibration)?;
-    let rails = clipping.rails(Ok)?;
     Ok(fixed_front_end(
         mid_scale_counts.get("mid_scale_counts")?,
         input_shift.get("input_shift")?,
@@ -308,33 +192,20 @@ class_methods! {
     PyFixedObserver {
         /// The front-end faults latched (4: a sample clipped against `adc_range` or the rails
         /// measured).
-        latched_front_end_faults: u8 =
-            |this, py| with_channel!(&this.channel, _t, s => s.front_end.latched_faults().bits());
+        latched_front_end_faults: u8 = |this, py| this.tracker.latched_faults().1;
         /// The estimate after the last sample.
-        estimate: FixedEstimate = |this, py| {
-            with_channel!(&this.channel, t, s => {
-                FixedEstimate::new(&t.observer, &FixedGains::estimate(&s.observer))
-            })
-        };
+        estimate: FixedEstimate = |this, py| FixedEstimate::new(this.tracker.estimate());
         /// The integer constants (the dict `Design.fixed_constants()` returns): what
         /// `FixedObserver.from_constants` takes back.
-        constants: Result<Bound<'py, PyDict>> = |this, py| {
-            constants_dict(
-                py,
-                with_channel!(&this.channel, t, _s => FixedDesignConstants::of(&t.observer)),
-            )
-        };
+        constants: Result<Bound<'py, PyDict>> = |this, py| constants_dict(py, this.tracker.constants());
         /// The gains the integers represent, `(l1, l2[, l3])` (float): the loop that runs.
-        gains: Vec<f64> =
-            |this, py| with_channel!(&this.channel, t, _s => t.observer.gains().to_vec());
+        gains: Vec<f64> = |this, py| this.tracker.gains();
         /// The sample period `Ts` (s).
-        sample_period_s: f64 =
-            |this, py| with_channel!(&this.channel, t, _s => t.observer.sample_period());
+        sample_period_s: f64 = |this, py| this.tracker.sample_period();
         /// The observer order: 2 or 3.
-        order: usize = |this, py| with_channel!(&this.channel, t, _s => t.observer.gains().len());
+        order: usize = |this, py| this.tracker.gains().len();
         /// The faults latched since they were last cleared (bits, see `angletrack.Faults`).
-        latched_faults: u8 =
-            |this, py| with_channel!(&this.channel, _t, s => s.observer.latched_faults().bits());
+        latched_faults: u8 = |this, py| this.tracker.latched_faults().0;
     }
     methods {
         #[new]
@@ -352,10 +223,11 @@ class_methods! {
             measure_adc_range: bool,
         ) -> Result<Self> {
             let gains = designed_gains(design)?;
-            let clipping = Clipping::new(adc_range, measure_adc_range)?;
-            let front_end = front_end(calibration, mid_scale_counts, input_shift, clipping)?;
-            let channel = FixedChannel::of_gains(&gains, front_end, nominal_amplitude)?;
-            Ok(Self { channel })
+            let rails = clipping_rails(adc_range, measure_adc_range)?;
+            let front_end = front_end(calibration, mid_scale_counts, input_shift, rails)?;
+            let (l, period) = with_gains!(&gains, g => (g.gains().to_vec(), g.sample_period()));
+            let tracker = FixedTracker::of_gains(&l, period, front_end, nominal_amplitude)?;
+            Ok(Self { tracker })
         }
 
         /// The observer of the integer constants a firmware embeds: the dict
@@ -396,16 +268,16 @@ class_methods! {
             let shift: u32 = shift
                 .extract()
                 .map_err(|_| not_integers("acceleration_shift", &shift, "an integer from 0 to 15"))?;
-            let clipping = Clipping::new(adc_range, measure_adc_range)?;
-            let front_end = front_end(calibration, mid_scale_counts, input_shift, clipping)?;
-            let channel = FixedChannel::of_constants(
+            let rails = clipping_rails(adc_range, measure_adc_range)?;
+            let front_end = front_end(calibration, mid_scale_counts, input_shift, rails)?;
+            let tracker = FixedTracker::of_constants(
                 &multiplier,
                 shift,
                 sample_period_s,
                 front_end,
                 nominal_amplitude,
             )?;
-            Ok(Self { channel })
+            Ok(Self { tracker })
         }
 
         /// Runs the observer over the int16 samples `y_c ~ cos(theta)`, `y_s ~ sin(theta)`
@@ -421,34 +293,31 @@ class_methods! {
             let (y_c, y_s) = (counts(y_c, "y_c")?, counts(y_s, "y_s")?);
             let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
             check_equal_lengths(("y_c", y_c.len()), ("y_s", y_s.len()))?;
-            let channel = &mut self.channel;
+            let tracker = &mut self.tracker;
             run_fixed(py, y_c.len(), |columns| {
-                with_channel!(channel, t, s => columns.run_chain(t, s, y_c, y_s));
+                tracker.run(columns, y_c, y_s);
             })
         }
 
         /// Forgets the state: the next sample sets the angle from its `atan2`.
         fn reset(&mut self) {
-            with_channel!(&mut self.channel, _t, s => s.observer = FixedState::new());
+            self.tracker.reset();
         }
 
         /// Returns the latched faults (bits) and clears them.
         fn clear_faults(&mut self) -> u8 {
-            with_channel!(&mut self.channel, _t, s => {
-                let latched = s.observer.latched_faults().bits();
-                s.observer.clear_faults();
-                latched
-            })
+            self.tracker.clear_faults()
         }
 
         fn __repr__(&self) -> String {
-            with_channel!(&self.channel, t, _s => format!(
+            let c = self.tracker.constants();
+            format!(
                 "FixedObserver(order={}, multiplier={:?}, acceleration_shift={}, sample_period_s={:e})",
-                t.observer.gains().len(),
-                t.observer.constants().multiplier,
-                t.observer.constants().acceleration_shift,
-                t.observer.sample_period()
-            ))
+                c.multiplier.len(),
+                c.multiplier,
+                c.acceleration_shift,
+                self.tracker.sample_period()
+            )
         }
     }
 }

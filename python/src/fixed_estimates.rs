@@ -2,7 +2,7 @@
 //! the firmware holds (`docs/theory.md §14`) and in physical units.
 
 use angletrack::FixedColumns;
-use angletrack_core::{FixedEstimate as CoreFixedEstimate, FixedGains};
+use angletrack_core::FixedEstimate as CoreFixedEstimate;
 use numpy::{Element, PyArray1};
 use pyo3::prelude::*;
 
@@ -36,8 +36,10 @@ pub struct FixedEstimate {
 }
 
 impl FixedEstimate {
-    /// The estimate `e` of the observer of `gains`.
-    pub(crate) fn new<const N: usize>(gains: &FixedGains<N>, e: &CoreFixedEstimate) -> Self {
+    /// The estimate `e` with its position, speed and acceleration in physical units.
+    pub(crate) fn new(
+        (e, [position_rad, speed_rad_s, acceleration_rad_s2]): (CoreFixedEstimate, [f64; 3]),
+    ) -> Self {
         Self {
             angle: e.angle,
             turns: e.turns,
@@ -45,9 +47,9 @@ impl FixedEstimate {
             acceleration: e.acceleration,
             phase_error: e.phase_error,
             faults: e.faults.bits(),
-            position_rad: gains.position_rad(e),
-            speed_rad_s: gains.speed_rad_s(e),
-            acceleration_rad_s2: gains.acceleration_rad_s2(e),
+            position_rad,
+            speed_rad_s,
+            acceleration_rad_s2,
         }
     }
 }

@@ -12,7 +12,7 @@ use pyo3::prelude::*;
 
 use crate::arrays::{Count, Float};
 use crate::calibration::{PySensorCalibration, calibration_choice};
-use crate::counts::{AdcSettings, Clipping, adc_settings};
+use crate::counts::{AdcSettings, adc_settings};
 use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::{Arg, RunSettings};
 use crate::errors::{Error, Result};
@@ -32,9 +32,10 @@ pub struct ObserverOptions {
     pub adc: AdcSettings,
     /// The online calibration.
     pub calibration: OnlineCalibrationChoice,
-    /// The clipping checks: the ADC's range in the input's units (counts for integer
-    /// samples), or the rails measured.
-    pub clipping: Clipping,
+    /// The ADC's range in the input's units (counts for integer samples).
+    pub adc_range: Option<(f64, f64)>,
+    /// Without a range: the rails measured.
+    pub measure_adc_range: bool,
     /// The windings' nominal envelope amplitude for the winding check (`None`: no check).
     pub winding_amplitude: Option<f64>,
     /// A stored sensor calibration and angle correction in place of the online calibration
@@ -83,7 +84,8 @@ pub trait ObserverOps: core::fmt::Debug + Send + Sync {
     /// What the observer's state holds now.
     fn status(&self) -> ObserverStatus;
     fn reset(&mut self);
-    fn initialise(&mut self, y_c: f64, y_s: f64);
+    /// Sets the angle from one sample, refusing (naming it) a sample that is not finite.
+    fn initialise(&mut self, y_c: f64, y_s: f64) -> Result<()>;
     /// Sets the state, refusing (naming the argument) a value the state cannot hold.
     fn set_state(
         &mut self,
@@ -93,15 +95,6 @@ pub trait ObserverOps: core::fmt::Debug + Send + Sync {
     ) -> Result<()>;
     fn clear_faults(&mut self) -> Faults;
     fn set_calibration(&mut self, choice: &OnlineCalibrationChoice) -> Result<()>;
-}
-
-/// Refuses the first value that is not finite, naming its parameter and the value (a NaN
-/// sample would otherwise be replaced silently by the observer's own start).
-fn finite(values: &[(&'static str, f64)]) -> Result<()> {
-    match values.iter().find(|(_, v)| !v.is_finite()) {
-        Some(&(parameter, v)) => Err(Error::value(parameter, format!("{v} is not finite"))),
-        None => Ok(()),
-    }
 }
 
 /// An angle tracking observer running on numpy arrays: checked gains plus a state that
@@ -206,7 +199,8 @@ class_methods! {
                 whole: false,
                 adc: adc_settings(adc_mid_scale, adc_counts_per_unit, adc_signed)?,
                 calibration: calibration_choice(calibration, initial_calibration)?,
-                clipping: Clipping::of_floats(adc_range, measure_adc_range)?,
+                adc_range,
+                measure_adc_range,
                 winding_amplitude,
                 stored: None,
             };
@@ -255,9 +249,7 @@ class_methods! {
         /// Refuses (`ConfigError`) a sample that is not finite.
         #[pyo3(signature = (y_c, y_s))]
         fn initialise(&mut self, y_c: f64, y_s: f64) -> Result<()> {
-            finite(&[("y_c", y_c), ("y_s", y_s)])?;
-            self.inner.initialise(y_c, y_s);
-            Ok(())
+            self.inner.initialise(y_c, y_s)
         }
 
         /// Starts from a known angle (rad: wrapped, whole turns counted, within +-2^31 turns),
@@ -271,12 +263,6 @@ class_methods! {
             speed_rad_s: f64,
             acceleration_rad_s2: f64,
         ) -> Result<()> {
-            // The message users see names the value (the core's names only the parameter).
-            finite(&[
-                ("angle_rad", angle_rad),
-                ("speed_rad_s", speed_rad_s),
-                ("acceleration_rad_s2", acceleration_rad_s2),
-            ])?;
             self.inner
                 .set_state(angle_rad, speed_rad_s, acceleration_rad_s2)
         }
@@ -344,7 +330,8 @@ pub fn track(
         whole: true,
         adc: adc_settings(adc_mid_scale, adc_counts_per_unit, adc_signed)?,
         calibration: OnlineCalibrationChoice::default(),
-        clipping: Clipping::of_floats(adc_range, false)?,
+        adc_range,
+        measure_adc_range: false,
         winding_amplitude: None,
         stored: None,
     };

@@ -4,43 +4,16 @@
 //! `ResolverModel` and `resolver_windings` (the scenario generator's carrier-modulated
 //! windings); the drive's outputs are in `drive`.
 
-use angletrack::{ResolverModel, WindingRails};
-use angletrack_core::{
-    ConfigError as CoreConfigError, Demodulator as CoreDemodulator, DemodulatorSettings,
-    DemodulatorState, Parameter,
-};
+use angletrack::{DemodulatorArguments, DemodulatorStream, ResolverModel};
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 
-use crate::arrays::{Count, check_equal_lengths, samples};
-use crate::errors::{Error, Result};
+use crate::arrays::{Count, samples};
+use crate::errors::Result;
 use crate::getters::class_methods;
 use crate::model_class::{ModelField, model_class};
 use crate::motion::PyMotionProfile;
 use crate::scenario::PyScenario;
-
-/// A core configuration error under the name of this module's Python argument (the core
-/// names the ADC range and the speed filter as settings; the caller gave other arguments).
-pub(crate) fn renamed(e: CoreConfigError) -> Error {
-    let python = match e.parameter() {
-        Parameter::AdcRange => "adc_max_code",
-        Parameter::SpeedFilter => "speed_cutoff_hz",
-        _ => return Error::Config(e),
-    };
-    Error::value(python, e.to_string())
-}
-
-/// The pairs of one call, as arrays.
-#[derive(Debug, Default)]
-struct PairColumns {
-    time_s: Vec<f64>,
-    y_c: Vec<f64>,
-    y_s: Vec<f64>,
-    quadrature_c: Vec<f64>,
-    quadrature_s: Vec<f64>,
-    window: Vec<u64>,
-    faults: Vec<u8>,
-}
 
 /// The demodulated pairs of one `Demodulator.push`: one element per carrier period (after the
 /// start-up), float64 unless stated.
@@ -85,47 +58,39 @@ impl PyDemodulatedPairs {
 #[pyclass(name = "Demodulator", module = "angletrack")]
 #[derive(Debug)]
 pub struct PyDemodulator {
-    demodulator: CoreDemodulator<f64>,
-    state: DemodulatorState<f64>,
-    /// The rails measured as the samples come (`measure_adc_range=True`).
-    rails: Option<WindingRails>,
+    stream: DemodulatorStream,
 }
 
 class_methods! {
     PyDemodulator {
         /// ADC samples per declared carrier period (any ratio of at least 4).
-        samples_per_period: f64 = |this, py| this.demodulator.samples_per_period();
+        samples_per_period: f64 = |this, py| this.stream.demodulator().samples_per_period();
         /// The declared carrier period (s), the sample period the gains must have.
-        pair_period_s: f64 = |this, py| this.demodulator.pair_period_s();
+        pair_period_s: f64 = |this, py| this.stream.demodulator().pair_period_s();
         /// The time (s) from a pair's centre to its window's last sample.
-        centre_to_end_s: f64 = |this, py| this.demodulator.centre_to_end_s();
+        centre_to_end_s: f64 = |this, py| this.stream.demodulator().centre_to_end_s();
         /// The carrier frequency (Hz) the carrier loop tracks now.
-        tracked_carrier_hz: f64 = |this, py| this.demodulator.tracked_carrier_hz(&this.state);
+        tracked_carrier_hz: f64 = |this, py| this.stream.demodulator().tracked_carrier_hz(this.stream.state());
         /// `True` once the start-up is done (pairs come out from then on).
-        is_delay_ready: bool = |this, py| this.state.is_delay_ready();
+        is_delay_ready: bool = |this, py| this.stream.state().is_delay_ready();
         /// `True` if the excitation's samples were pushed (the half turn resolved from them).
-        has_excitation: bool = |this, py| this.state.has_excitation();
+        has_excitation: bool = |this, py| this.stream.state().has_excitation();
         /// The carrier delay chosen (rad, in [-pi, pi)): after the excitation if pushed, else
         /// the carrier's phase at the first sample resolved around `expected_delay_rad` (the
         /// other half turn would give the shaft half a turn further).
-        carrier_delay_rad: f64 = |this, py| this.state.carrier_delay_rad();
+        carrier_delay_rad: f64 = |this, py| this.stream.state().carrier_delay_rad();
         /// The carrier's phase at the first sample chosen at start-up (rad, in [-pi, pi)).
-        startup_delay_rad: f64 = |this, py| this.state.startup_delay_rad();
+        startup_delay_rad: f64 = |this, py| this.stream.state().startup_delay_rad();
         /// The front-end faults latched so far (bits, as `DemodulatedPairs.faults`), the
         /// clipping against the measured rails included.
-        latched_faults: u8 = |this, py| {
-            let measured = this.rails.as_ref().map(WindingRails::latched_faults);
-            (this.state.latched_faults() | measured.unwrap_or_default()).bits()
-        };
+        latched_faults: u8 = |this, py| this.stream.latched_faults().bits();
         /// With `measure_adc_range=True`: the rails measured so far, `(low, high)` (a side
         /// without a rail one span beyond the samples), or `None` before the first; `None`
         /// without it.
-        measured_adc_range: Option<(f64, f64)> =
-            |this, py| this.rails.as_ref().and_then(WindingRails::rails);
+        measured_adc_range: Option<(f64, f64)> = |this, py| this.stream.measured_adc_range();
         /// With `measure_adc_range=True`: the samples found at a measured rail so far; 0
         /// without it.
-        clipped_samples: u64 =
-            |this, py| this.rails.as_ref().map_or(0, WindingRails::clipped_samples);
+        clipped_samples: u64 = |this, py| this.stream.clipped_samples();
     }
     methods {
         #[new]
@@ -151,49 +116,23 @@ class_methods! {
             max_carrier_error: Option<f64>,
             measure_adc_range: bool,
         ) -> Result<Self> {
-            let adc_rate_hz = match (adc_rate_hz, samples_per_period) {
-                (Some(rate), None) => rate,
-                (None, Some(n)) => n * carrier_hz,
-                _ => {
-                    return Err(Error::value(
-                        "adc_rate_hz",
-                        "give adc_rate_hz or samples_per_period, one of them",
-                    ));
-                }
-            };
-            let mut settings = DemodulatorSettings::new(
+            let arguments = DemodulatorArguments {
                 carrier_hz,
-                adc_rate_hz,
                 carrier_amplitude_counts,
-                adc_min_code,
-                adc_max_code,
-            );
-            settings.expected_delay_rad = expected_delay_rad;
-            let d = settings;
-            settings.startup_periods = match startup_periods {
-                Some(n) => n.get("startup_periods")?,
-                None => d.startup_periods,
+                adc_rate_hz,
+                samples_per_period,
+                adc_range: (adc_min_code, adc_max_code),
+                expected_delay_rad,
+                startup_periods: startup_periods.map(|n| n.get("startup_periods")).transpose()?,
+                phase_drift_bound_rad,
+                loss_of_excitation,
+                weak_excitation,
+                carrier_loop_bandwidth,
+                max_carrier_error,
+                measure_adc_range,
             };
-            settings.phase_drift_bound_rad = phase_drift_bound_rad.unwrap_or(d.phase_drift_bound_rad);
-            settings.loss_of_excitation = loss_of_excitation.unwrap_or(d.loss_of_excitation);
-            settings.weak_excitation = weak_excitation.unwrap_or(d.weak_excitation);
-            settings.carrier_loop_bandwidth =
-                carrier_loop_bandwidth.unwrap_or(d.carrier_loop_bandwidth);
-            settings.max_carrier_error = max_carrier_error.unwrap_or(d.max_carrier_error);
-            let demodulator = CoreDemodulator::new(settings).map_err(|e| {
-                if e.parameter() == Parameter::AdcRate && samples_per_period.is_some() {
-                    Error::value(
-                        "samples_per_period",
-                        e.to_string().replace("adc_rate_hz", "samples_per_period"),
-                    )
-                } else {
-                    renamed(e)
-                }
-            })?;
             Ok(Self {
-                demodulator,
-                state: DemodulatorState::new(),
-                rails: measure_adc_range.then(WindingRails::new),
+                stream: DemodulatorStream::new(&arguments)?,
             })
         }
 
@@ -208,42 +147,10 @@ class_methods! {
             raw_s: &Bound<'_, PyAny>,
             excitation: Option<&Bound<'_, PyAny>>,
         ) -> Result<PyDemodulatedPairs> {
-            let c = samples::<f64>(raw_c, "raw_c")?;
-            let s = samples::<f64>(raw_s, "raw_s")?;
-            let (c, s) = (c.as_slice(), s.as_slice());
-            check_equal_lengths(("raw_c", c.len()), ("raw_s", s.len()))?;
-            let e = excitation
-                .map(|e| samples::<f64>(e, "excitation"))
-                .transpose()?;
-            let e = e.as_ref().map(|e| e.as_slice());
-            if let Some(e) = e {
-                check_equal_lengths(("raw_c", c.len()), ("excitation", e.len()))?;
-            }
-            if self.state.samples() > 0 && e.is_some() != self.state.has_excitation() {
-                return Err(Error::value(
-                    "excitation",
-                    "give the excitation on every push of a run or on none",
-                ));
-            }
-            let (demodulator, state, rails) = (&self.demodulator, &mut self.state, &mut self.rails);
-            let p = py.detach(|| {
-                let mut out = PairColumns::default();
-                let sink = |pair: angletrack_core::DemodulatedPair<f64>| {
-                    out.time_s.push(demodulator.centre_s(&pair));
-                    out.y_c.push(pair.y_c);
-                    out.y_s.push(pair.y_s);
-                    out.quadrature_c.push(pair.quadrature_c);
-                    out.quadrature_s.push(pair.quadrature_s);
-                    out.window.push(pair.window);
-                    out.faults.push(pair.faults.bits());
-                };
-                match (rails, e) {
-                    (Some(rails), e) => rails.push_block(demodulator, state, c, s, e, sink),
-                    (None, Some(e)) => demodulator.push_block_with_excitation(state, c, s, e, sink),
-                    (None, None) => demodulator.push_block(state, c, s, sink),
-                };
-                out
-            });
+            let (c, s) = (samples::<f64>(raw_c, "raw_c")?, samples::<f64>(raw_s, "raw_s")?);
+            let e = excitation.map(|e| samples::<f64>(e, "excitation")).transpose()?;
+            let (stream, c, s, e) = (&mut self.stream, c.as_slice(), s.as_slice(), e.as_ref().map(|e| e.as_slice()));
+            let p = py.detach(|| stream.push(c, s, e))?;
             Ok(PyDemodulatedPairs {
                 time_s: p.time_s.into_pyarray(py).unbind(),
                 y_c: p.y_c.into_pyarray(py).unbind(),
@@ -258,8 +165,8 @@ class_methods! {
         fn __repr__(&self) -> String {
             format!(
                 "Demodulator(samples_per_period={}, pair_period_s={:e})",
-                self.demodulator.samples_per_period(),
-                self.demodulator.pair_period_s()
+                self.stream.demodulator().samples_per_period(),
+                self.stream.demodulator().pair_period_s()
             )
         }
     }

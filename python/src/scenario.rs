@@ -5,7 +5,7 @@ use angletrack::SensorModel;
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 
-use crate::arrays::{Count, check_equal_lengths, samples};
+use crate::arrays::{Count, samples};
 use crate::calibration::PySensorCalibration;
 use crate::errors::{Error, Result};
 use crate::model_class::{ModelField, model_class};
@@ -136,46 +136,18 @@ impl PyScenario {
         y_s: &Bound<'_, PyAny>,
         speed_rad_s: Option<&Bound<'_, PyAny>>,
     ) -> Result<Self> {
-        if !(sample_period_s.is_finite() && sample_period_s > 0.0) {
-            return Err(Error::value(
-                "sample_period_s",
-                "must be finite and positive",
-            ));
-        }
-        let angle = samples::<f64>(angle_rad, "angle_rad")?.as_slice().to_vec();
-        // The metrics compare every estimate with this truth: one not finite would mix NaN
-        // into the statistics.
-        if let Some((k, v)) = angle.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(Error::value(
-                "angle_rad",
-                format!(
-                    "{v} at index {k} is not finite: the reference angle must be known at every sample"
-                ),
-            ));
-        }
-        let c = samples::<f64>(y_c, "y_c")?.as_slice().to_vec();
-        let s = samples::<f64>(y_s, "y_s")?.as_slice().to_vec();
-        check_equal_lengths(("angle_rad", angle.len()), ("y_c", c.len()))?;
-        check_equal_lengths(("angle_rad", angle.len()), ("y_s", s.len()))?;
-        let n = angle.len();
-        let (speed, has_speed) = match speed_rad_s {
-            Some(v) => {
-                let v = samples::<f64>(v, "speed_rad_s")?.as_slice().to_vec();
-                check_equal_lengths(("angle_rad", n), ("speed_rad_s", v.len()))?;
-                (v, true)
-            }
-            None => (vec![f64::NAN; n], false),
-        };
+        let read = |obj, name| Ok::<_, Error>(samples::<f64>(obj, name)?.as_slice().to_vec());
+        let speed = speed_rad_s.map(|v| read(v, "speed_rad_s")).transpose()?;
+        let has_speed = speed.is_some();
+        let (angle, c, s) = (
+            read(angle_rad, "angle_rad")?,
+            read(y_c, "y_c")?,
+            read(y_s, "y_s")?,
+        );
+        let scenario = angletrack::Scenario::from_arrays(sample_period_s, angle, c, s, speed)?;
         Ok(Self {
-            sample_period_s,
-            time_s: array(py, (0..n).map(|k| k as f64 * sample_period_s).collect()),
-            angle_rad: array(py, angle),
-            speed_rad_s: array(py, speed),
-            acceleration_rad_s2: array(py, vec![f64::NAN; n]),
-            y_c: array(py, c),
-            y_s: array(py, s),
             has_speed,
-            len: n,
+            ..Self::from_scenario(py, scenario)
         })
     }
 

@@ -84,52 +84,52 @@ fn column_type(py: Python<'_>, name: &str, dtype: &Bound<'_, PyAny>) -> Result<C
         })
 }
 
-/// The values of column `name` of type `kind` in `array`: a 1-D contiguous array of that
-/// type.
-fn column_values<'py>(
-    array: &Bound<'py, PyAny>,
-    name: &str,
-    kind: ColumnType,
-) -> Result<ColumnArray<'py>> {
-    fn typed<'py, T: Element>(array: &Bound<'py, PyAny>) -> Option<PyReadonlyArray1<'py, T>> {
-        array
-            .cast::<numpy::PyArray1<T>>()
-            .ok()
-            .and_then(|a| a.try_readonly().ok())
-            .filter(|a| a.is_contiguous())
-    }
-    let values = match kind {
-        ColumnType::F64 => typed(array).map(ColumnArray::F64),
-        ColumnType::F32 => typed(array).map(ColumnArray::F32),
-        ColumnType::U8 => typed(array).map(ColumnArray::U8),
-        ColumnType::I32 => typed(array).map(ColumnArray::I32),
-    };
-    values.ok_or_else(|| {
-        Error::value(
-            "arrays",
-            format!("{name}: expected a contiguous 1-D {} array", kind.name()),
-        )
-    })
-}
-
-/// One column's array, read-only, of the column's type.
-enum ColumnArray<'py> {
-    F64(PyReadonlyArray1<'py, f64>),
-    F32(PyReadonlyArray1<'py, f32>),
-    U8(PyReadonlyArray1<'py, u8>),
-    I32(PyReadonlyArray1<'py, i32>),
-}
-
-impl ColumnArray<'_> {
-    /// The values as the writer's column (contiguous: checked when read).
-    fn column(&self) -> Column<'_> {
-        match self {
-            ColumnArray::F64(a) => Column::F64(a.as_slice().unwrap_or(&[])),
-            ColumnArray::F32(a) => Column::F32(a.as_slice().unwrap_or(&[])),
-            ColumnArray::U8(a) => Column::U8(a.as_slice().unwrap_or(&[])),
-            ColumnArray::I32(a) => Column::I32(a.as_slice().unwrap_or(&[])),
+/// `ColumnArray` (one column's array, read-only, of the column's type) and `column_values`
+/// of the column types `Variant: element type`.
+macro_rules! column_arrays {
+    ($($variant:ident: $t:ty),*) => {
+        enum ColumnArray<'py> {
+            $($variant(PyReadonlyArray1<'py, $t>),)*
         }
-    }
+
+        impl ColumnArray<'_> {
+            /// The values as the writer's column (contiguous: checked when read).
+            fn column(&self) -> Column<'_> {
+                match self {
+                    $(ColumnArray::$variant(a) => Column::$variant(a.as_slice().unwrap_or(&[])),)*
+                }
+            }
+        }
+
+        /// The values of column `name` of type `kind` in `array`: a 1-D contiguous array of
+        /// that type.
+        fn column_values<'py>(
+            array: &Bound<'py, PyAny>,
+            name: &str,
+            kind: ColumnType,
+        ) -> Result<ColumnArray<'py>> {
+            let values = match kind {
+                $(ColumnType::$variant => typed(array).map(ColumnArray::$variant),)*
+            };
+            values.ok_or_else(|| {
+                Error::value(
+                    "arrays",
+                    format!("{name}: expected a contiguous 1-D {} array", kind.name()),
+                )
+            })
+        }
+    };
+}
+
+column_arrays!(F64: f64, F32: f32, U8: u8, I32: i32);
+
+/// `array` as a read-only contiguous 1-D array of `T`, if it is one.
+fn typed<'py, T: Element>(array: &Bound<'py, PyAny>) -> Option<PyReadonlyArray1<'py, T>> {
+    array
+        .cast::<numpy::PyArray1<T>>()
+        .ok()
+        .and_then(|a| a.try_readonly().ok())
+        .filter(|a| a.is_contiguous())
 }
 
 #[pymethods]

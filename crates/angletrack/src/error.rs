@@ -186,6 +186,34 @@ impl fmt::Display for Argument {
     }
 }
 
+/// An argument refused by a function that names its arguments as the caller writes them
+/// (the Python API's names): the argument, and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ArgumentError {
+    /// The argument (`samples_per_period`, `angle_rad`, `raw_s`, ...).
+    pub argument: &'static str,
+    /// What is wrong with it.
+    pub reason: String,
+}
+
+impl ArgumentError {
+    /// The refusal of `argument` for `reason`.
+    pub fn new(argument: &'static str, reason: impl Into<String>) -> Self {
+        Self {
+            argument,
+            reason: reason.into(),
+        }
+    }
+}
+
+impl fmt::Display for ArgumentError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.argument, self.reason)
+    }
+}
+
+impl std::error::Error for ArgumentError {}
+
 /// Why a design, analysis, scenario or metrics function refused its arguments.
 ///
 /// Every variant names the argument at fault ([`Error::argument`]); the core's

@@ -87,7 +87,9 @@ mod calibration;
 pub mod capture;
 mod capture_counts;
 mod carrier;
+mod clipping;
 mod counts;
+mod demodulation;
 mod design;
 pub mod design_capture;
 mod error;
@@ -101,6 +103,7 @@ mod rails;
 mod sim;
 pub mod study;
 mod thresholds;
+mod tracker_channel;
 pub mod tracker_file;
 mod winding_rails;
 mod windings_plan;
@@ -121,10 +124,12 @@ pub use capture_counts::{
     CaptureCounts, CountsError, CountsExtremes, Signedness, StatedCounts, capture_counts,
 };
 pub use carrier::measured_carrier_cycles_per_sample;
+pub use clipping::{checked_adc_range, clipping_rails};
 pub use counts::{
     AdcCount, CountsInput, CountsInputError, CountsSettings, UnsignedCountsError,
     offset_binary_mid_scale,
 };
+pub use demodulation::{DemodulatorArguments, DemodulatorStream, PairColumns};
 pub use design::{
     AnyDesign, Design, DesignMethod, Discretisation, FixedDesignConstants, KalmanSolution,
     MAX_POLE_TIMES_PERIOD, convert_gains, kalman, kalman_from_jerk_density, kalman_from_jerk_std,
@@ -132,17 +137,19 @@ pub use design::{
     second_order_from_tracking_error, second_order_from_tracking_error_sampled,
     third_order_butterworth, third_order_from_overshoot, third_order_from_poles,
 };
-pub use error::{Argument, Error};
+pub use error::{Argument, ArgumentError, Error};
 pub use json_file::JsonFileError;
 pub use rails::measured_adc_range;
 pub use sim::{
-    ChannelBatch, ErrorStatistics, EstimateColumns, FixedColumns, FixedInput, Kinematics, LANES,
-    MAX_ANGLE_ERROR_HARMONICS, MAX_SAMPLES, Metrics, MetricsOptions, Motion, MotionProfile,
-    NOMINAL_AMPLITUDE_SAMPLES, Output, ResolverModel, Run, Scenario, SensorModel,
-    capture_fault_thresholds, fixed_front_end, fixed_input, fixed_input_shift,
-    fixed_monitor_amplitude, nominal_amplitude, run, run_calibrated, shifted_calibration,
+    ChannelBatch, ErrorStatistics, EstimateColumns, FixedColumns, FixedConstantsError, FixedInput,
+    FixedTracker, Kinematics, LANES, MAX_ANGLE_ERROR_HARMONICS, MAX_SAMPLES, Metrics,
+    MetricsOptions, Motion, MotionProfile, NOMINAL_AMPLITUDE_SAMPLES, Output, ResolverModel, Run,
+    Scenario, SensorModel, capture_fault_thresholds, fixed_front_end, fixed_input,
+    fixed_input_shift, fixed_monitor_amplitude, nominal_amplitude, run, run_calibrated,
+    shifted_calibration,
 };
 pub use thresholds::{ThresholdInput, ThresholdPolicy, ThresholdsNotStated};
+pub use tracker_channel::{ChannelError, ChannelOptions, TrackerChannel, stored_stages};
 pub use winding_rails::WindingRails;
 pub use windings_plan::{
     AdcRangeSource, CARRIER_TOLERANCE, SAMPLES_PER_PERIOD_TOLERANCE, WindingsPlan,

@@ -8,6 +8,7 @@ mod calibrated;
 mod columns;
 mod fixed_chain;
 mod fixed_columns;
+mod fixed_tracker;
 mod metrics;
 mod motion;
 mod resolver;
@@ -24,6 +25,7 @@ pub use fixed_chain::{
     shifted_calibration,
 };
 pub use fixed_columns::FixedColumns;
+pub use fixed_tracker::{FixedConstantsError, FixedTracker};
 pub(crate) use metrics::wrap;
 pub use metrics::{ErrorStatistics, Metrics, MetricsOptions, Run, run};
 pub use motion::{Kinematics, Motion, MotionProfile};

@@ -6,7 +6,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 
 use super::{Kinematics, MotionProfile, SensorModel};
-use crate::error::{Argument, Error, positive};
+use crate::error::{Argument, ArgumentError, Error, positive};
 
 /// Largest number of samples of one scenario (the seven series then take 5.6 GB).
 pub const MAX_SAMPLES: usize = 100_000_000;
@@ -97,6 +97,64 @@ impl Scenario {
             (state, sensor.signals(state.angle_rad, w_c, w_s))
         });
         Ok((n, samples))
+    }
+
+    /// A scenario of recorded samples: the true angle `angle_rad` (every sample's finite:
+    /// the metrics compare each estimate with it), the signals `y_c`, `y_s` and, if known,
+    /// the true speed, at `sample_period_s`; the speed unknown and the acceleration are NaN.
+    /// Refuses, naming the argument, a sample period that is not finite and positive, an
+    /// angle that is not finite and series of other lengths than the angle's.
+    ///
+    /// ```
+    /// use angletrack::Scenario;
+    /// let s = Scenario::from_arrays(1e-3, vec![0.0, 0.1], vec![1.0, 0.99], vec![0.0, 0.1], None)?;
+    /// assert_eq!(s.time_s, [0.0, 1e-3]);
+    /// let e = Scenario::from_arrays(1e-3, vec![0.0, f64::NAN], vec![1.0; 2], vec![0.0; 2], None);
+    /// assert_eq!(e.unwrap_err().argument, "angle_rad");
+    /// # Ok::<(), angletrack::ArgumentError>(())
+    /// ```
+    pub fn from_arrays(
+        sample_period_s: f64,
+        angle_rad: Vec<f64>,
+        y_c: Vec<f64>,
+        y_s: Vec<f64>,
+        speed_rad_s: Option<Vec<f64>>,
+    ) -> Result<Self, ArgumentError> {
+        if !(sample_period_s.is_finite() && sample_period_s > 0.0) {
+            return Err(ArgumentError::new(
+                "sample_period_s",
+                "must be finite and positive",
+            ));
+        }
+        if let Some((k, v)) = angle_rad.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(ArgumentError::new(
+                "angle_rad",
+                format!(
+                    "{v} at index {k} is not finite: the reference angle must be known at every sample"
+                ),
+            ));
+        }
+        let n = angle_rad.len();
+        let lengths = [("y_c", y_c.len()), ("y_s", y_s.len())]
+            .into_iter()
+            .chain(speed_rad_s.as_ref().map(|v| ("speed_rad_s", v.len())));
+        for (argument, len) in lengths {
+            if len != n {
+                return Err(ArgumentError::new(
+                    argument,
+                    format!("has {len} samples but angle_rad has {n}: they must be equal"),
+                ));
+            }
+        }
+        Ok(Scenario {
+            sample_period_s,
+            time_s: (0..n).map(|k| k as f64 * sample_period_s).collect(),
+            angle_rad,
+            speed_rad_s: speed_rad_s.unwrap_or_else(|| vec![f64::NAN; n]),
+            acceleration_rad_s2: vec![f64::NAN; n],
+            y_c,
+            y_s,
+        })
     }
 
     /// The number of samples.

@@ -347,7 +347,10 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         let speed = if N > 1 { state.x[1] } else { T::ZERO };
         let (sin, cos) = wrapped(state.x[0], 0).0.fast_sin_cos();
         let in_phase = y_c * cos + y_s * sin;
-        let re_acquire = self.thresholds.decide(&mut state.monitor, speed, in_phase);
+        let sample2 = self.thresholds.amplitude2(y_c, y_s);
+        let re_acquire = self
+            .thresholds
+            .decide(&mut state.monitor, speed, in_phase, sample2);
         state.faults = state.monitor.flags;
         if re_acquire {
             let (angle, whole) = re_acquired(state.x[0], y_c, y_s);

@@ -66,6 +66,11 @@ pub(crate) struct FixedThresholds {
     /// degradation of signal.
     pub(crate) degradation_low: u32,
     pub(crate) degradation_high: u32,
+    /// Half the square amplitude of a window's last sample outside [`round_low`,
+    /// `round_high`]: off the circle (`FaultThresholds::magnitude_tolerance`), degradation
+    /// of signal, held.
+    pub(crate) round_low: u32,
+    pub(crate) round_high: u32,
     /// Sum of `|eps|` (Q15) over the window above this: loss of tracking.
     pub(crate) loss_of_tracking: u32,
     /// |speed| (2^-32 turn per sample) above this: loss of tracking (a quarter turn).
@@ -90,6 +95,7 @@ impl MonitorLimits for FixedThresholds {
                 self.degradation_low,
                 self.degradation_high - self.degradation_low,
             ),
+            round: (self.round_low, self.round_high - self.round_low),
             loss_of_tracking: self.loss_of_tracking,
             max_speed: self.max_speed,
             false_lock: 0,
@@ -121,15 +127,29 @@ impl FixedThresholds {
         loss_of_signal: 0,
         degradation_low: 0,
         degradation_high: u32::MAX,
+        round_low: 0,
+        round_high: u32::MAX,
         loss_of_tracking: (1 << 31) - 1,
         max_speed: u32::MAX,
     };
 
     /// The float monitor's default thresholds (`FaultThresholds`) for signals of
     /// `nominal_counts`: loss of signal below 1/4, degradation outside [1/2, 3/2], loss of
-    /// tracking above a mean `|eps|` of 0.1, a quarter turn per sample.
-    const fn for_amplitude(nominal_counts: f64) -> Self {
+    /// tracking above a mean `|eps|` of 0.1, a quarter turn per sample, and, if `stated`
+    /// (the caller gave the amplitude), a last sample's magnitude further than 10 % from
+    /// the nominal one (`FaultThresholds::for_amplitude`'s `magnitude_tolerance`).
+    const fn for_amplitude(nominal_counts: f64, stated: bool) -> Self {
         Self {
+            round_low: if stated {
+                amplitude2_half_of(nominal_counts * 0.9)
+            } else {
+                0
+            },
+            round_high: if stated {
+                amplitude2_half_of(nominal_counts * 1.1)
+            } else {
+                u32::MAX
+            },
             enabled: true,
             loss_of_signal: amplitude2_half_of(nominal_counts * 0.25),
             degradation_low: amplitude2_half_of(nominal_counts * 0.5),
@@ -312,7 +332,7 @@ where
             acceleration_shift: shift,
             acceleration_scale: 1 << shift,
             sample_period_s,
-            monitor: FixedThresholds::for_amplitude(16384.0),
+            monitor: FixedThresholds::for_amplitude(16384.0, false),
         };
         match check_stability(&fixed.gains()) {
             Ok(()) => Ok(fixed),
@@ -376,7 +396,7 @@ impl<const N: usize> FixedGains<N> {
             Some(a) if !(a >= 16384.0 && a <= 46341.0) => {
                 return Err(ConfigError::OutOfRange(Parameter::NominalAmplitude));
             }
-            Some(a) => FixedThresholds::for_amplitude(a),
+            Some(a) => FixedThresholds::for_amplitude(a, true),
         };
         Ok(Self { monitor, ..self })
     }

@@ -295,7 +295,7 @@ pub(crate) struct MonitorState<T> {
 /// [`FaultThresholds::magnitude_tolerance`] before the degradation flag it raised is
 /// cleared: a faulty pair looks round at some angles (a dead channel's near its healthy
 /// winding's peaks), and the flag holds through them.
-pub const ROUNDNESS_HOLD_WINDOWS: u32 = 4;
+pub const ROUNDNESS_HOLD_WINDOWS: u32 = 8;
 
 impl<T: Float> MonitorState<T> {
     /// A monitor whose first window starts at the next used sample.

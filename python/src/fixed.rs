@@ -78,7 +78,8 @@ where
 {
     Ok(Tracker::new(
         front_end,
-        gains.with_monitor(nominal_amplitude)?,
+        // No field for the roundness check in Python yet: off, as it was.
+        gains.with_monitor_tolerance(nominal_amplitude, None)?,
     ))
 }
 

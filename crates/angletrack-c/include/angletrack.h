@@ -93,13 +93,13 @@
  * The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_F32_WORDS 282
+#define AT_CHAIN_F32_WORDS 284
 
 /**
  * The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_STATE_F32_WORDS 32
+#define AT_CHAIN_STATE_F32_WORDS 33
 
 /**
  * The harmonic orders an `at_angle_correction_f32` holds (the core's
@@ -111,13 +111,13 @@
  * The 8-byte words of an `at_chain_fixed`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_FIXED_WORDS 76
+#define AT_CHAIN_FIXED_WORDS 77
 
 /**
  * The 8-byte words of an `at_chain_state_fixed`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_STATE_FIXED_WORDS 18
+#define AT_CHAIN_STATE_FIXED_WORDS 19
 
 /**
  * The 8-byte words of an `at_demodulator_f32`'s storage (checked against the Rust types at

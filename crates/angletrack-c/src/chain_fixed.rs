@@ -74,10 +74,10 @@ impl at_fixed_estimate {
 
 /// The 8-byte words of an `at_chain_fixed`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_CHAIN_FIXED_WORDS: usize = 76;
+pub const AT_CHAIN_FIXED_WORDS: usize = 77;
 /// The 8-byte words of an `at_chain_state_fixed`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_CHAIN_STATE_FIXED_WORDS: usize = 18;
+pub const AT_CHAIN_STATE_FIXED_WORDS: usize = 19;
 
 /// The ADC of a fixed-point chain (the core's `AdcCounts`): each count less
 /// `mid_scale_counts`, shifted left by `shift` (0 to 15) bits to the observer's 16-bit range,
@@ -203,7 +203,8 @@ where
         .map(at_angle_table_fixed::checked)
         .transpose()?;
     let nominal = (nominal_amplitude_counts != 0.0).then_some(nominal_amplitude_counts);
-    let observer = gains.with_monitor(nominal)?;
+    // The C API has no field for the roundness check yet: off, as it was.
+    let observer = gains.with_monitor_tolerance(nominal, None)?;
     // Counts from an ADC with no stated range: clipping against the rails measured.
     let input = match adc {
         Some(adc) => Input::Counts {

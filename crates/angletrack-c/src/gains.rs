@@ -219,6 +219,8 @@ impl at_fault_thresholds_f32 {
         t.false_lock = self.false_lock;
         t.monitor = self.monitor != 0;
         t.re_acquire = self.re_acquire != 0;
+        // The C struct has no field for the roundness check yet: off, as it was.
+        t.magnitude_tolerance = None;
         t
     }
 }

@@ -135,21 +135,26 @@ impl FixedThresholds {
 
     /// The float monitor's default thresholds (`FaultThresholds`) for signals of
     /// `nominal_counts`: loss of signal below 1/4, degradation outside [1/2, 3/2], loss of
-    /// tracking above a mean `|eps|` of 0.1, a quarter turn per sample, and, if `stated`
-    /// (the caller gave the amplitude), a last sample's magnitude further than 10 % from
-    /// the nominal one (`FaultThresholds::for_amplitude`'s `magnitude_tolerance`).
-    const fn for_amplitude(nominal_counts: f64, stated: bool) -> Self {
+    /// tracking above a mean `|eps|` of 0.1, a quarter turn per sample, and, with a
+    /// `tolerance` (the caller gave the amplitude), a last sample's magnitude further than
+    /// that fraction from the nominal one (`FaultThresholds::magnitude_tolerance`).
+    const fn for_amplitude(nominal_counts: f64, tolerance: Option<f64>) -> Self {
+        let (round_low, round_high) = match tolerance {
+            Some(r) => (
+                // A tolerance of 1 or more: no lower edge.
+                if r < 1.0 {
+                    amplitude2_half_of(nominal_counts * (1.0 - r))
+                } else {
+                    0
+                },
+                // Saturated at u32::MAX by `as`: no upper edge beyond.
+                amplitude2_half_of(nominal_counts * (1.0 + r)),
+            ),
+            None => (0, u32::MAX),
+        };
         Self {
-            round_low: if stated {
-                amplitude2_half_of(nominal_counts * 0.9)
-            } else {
-                0
-            },
-            round_high: if stated {
-                amplitude2_half_of(nominal_counts * 1.1)
-            } else {
-                u32::MAX
-            },
+            round_low,
+            round_high,
             enabled: true,
             loss_of_signal: amplitude2_half_of(nominal_counts * 0.25),
             degradation_low: amplitude2_half_of(nominal_counts * 0.5),
@@ -332,7 +337,7 @@ where
             acceleration_shift: shift,
             acceleration_scale: 1 << shift,
             sample_period_s,
-            monitor: FixedThresholds::for_amplitude(16384.0, false),
+            monitor: FixedThresholds::for_amplitude(16384.0, None),
         };
         match check_stability(&fixed.gains()) {
             Ok(()) => Ok(fixed),
@@ -388,6 +393,39 @@ impl<const N: usize> FixedGains<N> {
         self,
         nominal_amplitude_counts: Option<f64>,
     ) -> Result<Self, ConfigError> {
+        self.with_monitor_tolerance(nominal_amplitude_counts, Some(0.1))
+    }
+
+    /// [`FixedGains::with_monitor`] with the roundness check's tolerance stated
+    /// ([`FaultThresholds::magnitude_tolerance`](crate::FaultThresholds::magnitude_tolerance):
+    /// a fraction of the nominal amplitude, 0.1 in `with_monitor`; `None`: no roundness
+    /// check, for a nominal amplitude that is not the signal's, such as one brought up to
+    /// the monitor's smallest).
+    ///
+    /// ```
+    /// use angletrack_core::{FixedGains, Parameter};
+    /// let gains = FixedGains::<2>::new([0.05, 0.0012], 1e-4)?;
+    /// let loose = gains.with_monitor_tolerance(Some(28_000.0), Some(0.3))?;
+    /// let off = gains.with_monitor_tolerance(Some(16_384.0), None)?;
+    /// let err = gains.with_monitor_tolerance(Some(28_000.0), Some(0.0)).unwrap_err();
+    /// assert_eq!(err.parameter(), Parameter::MagnitudeTolerance);
+    /// # let _ = (loose, off);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub const fn with_monitor_tolerance(
+        self,
+        nominal_amplitude_counts: Option<f64>,
+        magnitude_tolerance: Option<f64>,
+    ) -> Result<Self, ConfigError> {
+        let tolerance = match magnitude_tolerance {
+            Some(r) if !r.is_finite() => {
+                return Err(ConfigError::NotFinite(Parameter::MagnitudeTolerance));
+            }
+            Some(r) if r <= 0.0 => {
+                return Err(ConfigError::NotPositive(Parameter::MagnitudeTolerance));
+            }
+            other => other,
+        };
         let monitor = match nominal_amplitude_counts {
             None => FixedThresholds::OFF,
             Some(a) if !a.is_finite() => {
@@ -396,7 +434,7 @@ impl<const N: usize> FixedGains<N> {
             Some(a) if !(a >= 16384.0 && a <= 46341.0) => {
                 return Err(ConfigError::OutOfRange(Parameter::NominalAmplitude));
             }
-            Some(a) => FixedThresholds::for_amplitude(a, true),
+            Some(a) => FixedThresholds::for_amplitude(a, tolerance),
         };
         Ok(Self { monitor, ..self })
     }

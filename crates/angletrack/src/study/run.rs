@@ -284,7 +284,9 @@ where
     let mut values = [0.0; N];
     values.copy_from_slice(&tracker.gains.gains[..N]);
     let gains = FixedGains::<N>::new(values, tracker.gains.sample_period_s)
-        .and_then(|g| g.with_monitor(Some(input.monitor_amplitude)))
+        .and_then(|g| {
+            g.with_monitor_tolerance(Some(input.monitor_amplitude), input.magnitude_tolerance)
+        })
         .map_err(|e| format!("gains: {e}"))?;
     let chain = Tracker::new(front_end, gains);
     let mut state = TrackerState::new();

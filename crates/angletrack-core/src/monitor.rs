@@ -288,14 +288,14 @@ pub(crate) struct MonitorState<T> {
     pub(crate) held_windows: u32,
     /// Window ends left that flag [`Faults::DEGRADATION_OF_SIGNAL`] after one whose last
     /// sample was off the circle ([`FaultThresholds::magnitude_tolerance`]).
-    pub(crate) round_hold: u32,
+    pub(crate) round_hold: u8,
 }
 
 /// The window ends in a row whose last sample must be within
 /// [`FaultThresholds::magnitude_tolerance`] before the degradation flag it raised is
 /// cleared: a faulty pair looks round at some angles (a dead channel's near its healthy
 /// winding's peaks), and the flag holds through them.
-pub const ROUNDNESS_HOLD_WINDOWS: u32 = 8;
+pub const ROUNDNESS_HOLD_WINDOWS: u8 = 8;
 
 impl<T: Float> MonitorState<T> {
     /// A monitor whose first window starts at the next used sample.

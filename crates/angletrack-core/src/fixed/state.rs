@@ -62,7 +62,7 @@ pub struct FixedState<const N: usize> {
     pub(crate) latched: Faults,
     /// Window ends left that flag degradation after one whose last sample was off the
     /// circle (`crate::monitor::ROUNDNESS_HOLD_WINDOWS`).
-    pub(crate) round_hold: u32,
+    pub(crate) round_hold: u8,
     /// Whether the first sample has set the angle.
     pub(crate) initialised: bool,
     /// The samples coasted through front-end faults since the last used one (saturated):

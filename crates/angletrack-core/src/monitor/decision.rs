@@ -61,7 +61,7 @@ pub(crate) trait MonitorLimits {
         m: &Measures<Self>,
         flags: &mut Faults,
         latched: &mut Faults,
-        round_hold: &mut u32,
+        round_hold: &mut u8,
     ) -> bool {
         if self.healthy(m) && *round_hold == 0 {
             *flags = Faults::NONE;
@@ -95,7 +95,7 @@ pub(crate) trait MonitorLimits {
         in_phase: Self::InPhase,
         sample2: Self::Amplitude2,
         flags: &mut Faults,
-        (latched, round_hold): (&mut Faults, &mut u32),
+        (latched, round_hold): (&mut Faults, &mut u8),
     ) -> bool {
         let (mut faults, false_lock) = self.flags(a2, error, speed, in_phase);
         if !sample2.in_band(self.limits().round) {

@@ -99,7 +99,7 @@
  * The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_STATE_F32_WORDS 33
+#define AT_CHAIN_STATE_F32_WORDS 32
 
 /**
  * The harmonic orders an `at_angle_correction_f32` holds (the core's
@@ -117,7 +117,7 @@
  * The 8-byte words of an `at_chain_state_fixed`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_STATE_FIXED_WORDS 19
+#define AT_CHAIN_STATE_FIXED_WORDS 18
 
 /**
  * The 8-byte words of an `at_demodulator_f32`'s storage (checked against the Rust types at

@@ -35,7 +35,7 @@ use crate::table::at_angle_correction_table_f32;
 pub const AT_CHAIN_F32_WORDS: usize = 284;
 /// The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_CHAIN_STATE_F32_WORDS: usize = 33;
+pub const AT_CHAIN_STATE_F32_WORDS: usize = 32;
 
 /// The checked configuration of one signal chain, made by `at_chain_f32_new` from the
 /// observer's gains and optional stages. Immutable once made: one serves any number of

@@ -77,7 +77,7 @@ impl at_fixed_estimate {
 pub const AT_CHAIN_FIXED_WORDS: usize = 77;
 /// The 8-byte words of an `at_chain_state_fixed`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_CHAIN_STATE_FIXED_WORDS: usize = 19;
+pub const AT_CHAIN_STATE_FIXED_WORDS: usize = 18;
 
 /// The ADC of a fixed-point chain (the core's `AdcCounts`): each count less
 /// `mid_scale_counts`, shifted left by `shift` (0 to 15) bits to the observer's 16-bit range,

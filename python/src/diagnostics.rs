@@ -91,6 +91,9 @@ impl PyFaultThresholds {
             .with_false_lock(f(self.false_lock))
             .with_monitor(self.monitor)
             .with_re_acquire(self.re_acquire)
+            // The Python thresholds have no field for the roundness check yet: off, as it
+            // was.
+            .with_magnitude_tolerance(None)
     }
 }
 

@@ -40,8 +40,8 @@ const SAMPLES: usize = 2000;
 /// checked over all samples on both).
 const CHECKED_SAMPLES_M0: usize = 200;
 /// The most samples of one block update on the Cortex-M0, whose estimates must fit its
-/// 16 KiB of RAM (the Cortex-M4F runs all in one block).
-const BLOCK_SAMPLES_M0: usize = 200;
+/// 16 KiB of RAM with the stack the rest needs (the Cortex-M4F runs all in one block).
+const BLOCK_SAMPLES_M0: usize = 160;
 
 /// Largest accepted difference (rad) of every variant's multi-turn position from the
 /// simulated shaft's over the second half of the samples, once the loops have settled: the

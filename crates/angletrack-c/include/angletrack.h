@@ -93,7 +93,7 @@
  * The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_F32_WORDS 282
+#define AT_CHAIN_F32_WORDS 284
 
 /**
  * The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
@@ -111,7 +111,7 @@
  * The 8-byte words of an `at_chain_fixed`'s storage (checked against the Rust type at
  * compile time, on every target).
  */
-#define AT_CHAIN_FIXED_WORDS 76
+#define AT_CHAIN_FIXED_WORDS 77
 
 /**
  * The 8-byte words of an `at_chain_state_fixed`'s storage (checked against the Rust type at
@@ -224,7 +224,7 @@
  * crate's version and the sizes, which change it without a bump). `at_layout_version()`
  * returns the library's, to compare with the header's at start-up.
  */
-#define AT_LAYOUT_VERSION 7
+#define AT_LAYOUT_VERSION 8
 
 /**
  * The entries of an angle-correction table (`at_angle_correction_table_f32`,
@@ -294,6 +294,12 @@ typedef struct at_fault_thresholds_f32 {
    * Nonzero: re-acquire the angle on a false lock (default 1).
    */
   uint32_t re_acquire;
+  /**
+   * The roundness check's tolerance `r`: a window whose last pair's magnitude is outside
+   * `(1 +- r)` x nominal raises degradation of signal, held for
+   * `ROUNDNESS_HOLD_WINDOWS` windows (default 0.1); 0: no check.
+   */
+  float magnitude_tolerance;
 } at_fault_thresholds_f32;
 
 /**
@@ -1429,7 +1435,8 @@ at_status at_adc_counts_twos_complement(uint32_t bits, struct at_adc_counts *out
 /**
  * Builds a fixed-point signal chain into `out`: the fixed-point observer `gains` (required;
  * its monitor set here for `nominal_amplitude_counts`, the amplitude of the observer's
- * 16-bit input after the stages, 16384 to 46341, or off for 0: `AT_ERR_NOMINAL_AMPLITUDE`)
+ * 16-bit input after the stages, 16384 to 46341, with the roundness check at a tolerance
+ * of 0.1, or off for 0: `AT_ERR_NOMINAL_AMPLITUDE`)
  * after the optional stages, each NULL when absent: the ADC `adc` (then the chain takes
  * counts of any width, `at_chain_fixed_track_u16`, `_i32`, ...; without it, `int16`
  * samples only), a stored `calibration` (offsets and amplitudes in the observer's 16-bit

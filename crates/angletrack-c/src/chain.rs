@@ -32,7 +32,7 @@ use crate::table::at_angle_correction_table_f32;
 
 /// The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_CHAIN_F32_WORDS: usize = 282;
+pub const AT_CHAIN_F32_WORDS: usize = 284;
 /// The 8-byte words of an `at_chain_state_f32`'s storage (checked against the Rust type at
 /// compile time, on every target).
 pub const AT_CHAIN_STATE_F32_WORDS: usize = 32;

@@ -74,7 +74,7 @@ impl at_fixed_estimate {
 
 /// The 8-byte words of an `at_chain_fixed`'s storage (checked against the Rust type at
 /// compile time, on every target).
-pub const AT_CHAIN_FIXED_WORDS: usize = 76;
+pub const AT_CHAIN_FIXED_WORDS: usize = 77;
 /// The 8-byte words of an `at_chain_state_fixed`'s storage (checked against the Rust type at
 /// compile time, on every target).
 pub const AT_CHAIN_STATE_FIXED_WORDS: usize = 18;
@@ -203,6 +203,8 @@ where
         .map(at_angle_table_fixed::checked)
         .transpose()?;
     let nominal = (nominal_amplitude_counts != 0.0).then_some(nominal_amplitude_counts);
+    // With a nominal amplitude, the roundness check at its default tolerance (0.1), as the
+    // core's `with_monitor` and the Rust export of a tracker file set it.
     let observer = gains.with_monitor(nominal)?;
     // Counts from an ADC with no stated range: clipping against the rails measured.
     let input = match adc {

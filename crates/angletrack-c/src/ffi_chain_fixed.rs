@@ -99,7 +99,8 @@ pub unsafe extern "C" fn at_adc_counts_twos_complement(
 
 /// Builds a fixed-point signal chain into `out`: the fixed-point observer `gains` (required;
 /// its monitor set here for `nominal_amplitude_counts`, the amplitude of the observer's
-/// 16-bit input after the stages, 16384 to 46341, or off for 0: `AT_ERR_NOMINAL_AMPLITUDE`)
+/// 16-bit input after the stages, 16384 to 46341, with the roundness check at a tolerance
+/// of 0.1, or off for 0: `AT_ERR_NOMINAL_AMPLITUDE`)
 /// after the optional stages, each NULL when absent: the ADC `adc` (then the chain takes
 /// counts of any width, `at_chain_fixed_track_u16`, `_i32`, ...; without it, `int16`
 /// samples only), a stored `calibration` (offsets and amplitudes in the observer's 16-bit

@@ -181,6 +181,10 @@ pub struct at_fault_thresholds_f32 {
     pub monitor: u32,
     /// Nonzero: re-acquire the angle on a false lock (default 1).
     pub re_acquire: u32,
+    /// The roundness check's tolerance `r`: a window whose last pair's magnitude is outside
+    /// `(1 +- r)` x nominal raises degradation of signal, held for
+    /// `ROUNDNESS_HOLD_WINDOWS` windows (default 0.1); 0: no check.
+    pub magnitude_tolerance: f32,
 }
 
 impl at_fault_thresholds_f32 {
@@ -202,6 +206,7 @@ impl at_fault_thresholds_f32 {
             false_lock: t.false_lock,
             monitor: u32::from(t.monitor),
             re_acquire: u32::from(t.re_acquire),
+            magnitude_tolerance: t.magnitude_tolerance.unwrap_or(0.0),
         }
     }
 
@@ -219,6 +224,8 @@ impl at_fault_thresholds_f32 {
         t.false_lock = self.false_lock;
         t.monitor = self.monitor != 0;
         t.re_acquire = self.re_acquire != 0;
+        t.magnitude_tolerance =
+            (self.magnitude_tolerance != 0.0).then_some(self.magnitude_tolerance);
         t
     }
 }

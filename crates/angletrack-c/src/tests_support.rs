@@ -59,6 +59,7 @@ impl at_gains_f32 {
             false_lock: 0.0,
             monitor: 0,
             re_acquire: 0,
+            magnitude_tolerance: 0.0,
         },
     };
 }

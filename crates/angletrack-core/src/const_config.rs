@@ -90,7 +90,7 @@ macro_rules! const_config {
                 i += 1;
             }
             const_try!(crate::stability::$m::check_stability(&gains));
-            let thresholds = crate::monitor::$m::for_amplitude(1.0);
+            let thresholds = crate::monitor::$m::unstated();
             let calibration = crate::calibration_settings::$m::default_settings();
             Ok(Gains {
                 l: gains,

@@ -35,6 +35,8 @@ pub enum Parameter {
     NominalAmplitude,
     /// The estimated speed (rad/s) above which loss of tracking is flagged.
     MaxSpeed,
+    /// The fraction of the nominal amplitude a sample's magnitude may depart from it.
+    MagnitudeTolerance,
     /// The ADC reading of a zero signal (counts).
     MidScaleCounts,
     /// ADC counts per unit of the observer's input.
@@ -151,6 +153,7 @@ impl Parameter {
             Parameter::FalseLockThreshold => "false_lock",
             Parameter::NominalAmplitude => "nominal_amplitude",
             Parameter::MaxSpeed => "max_speed_rad_s",
+            Parameter::MagnitudeTolerance => "magnitude_tolerance",
             Parameter::MidScaleCounts => "mid_scale_counts",
             Parameter::CountsPerUnit => "counts_per_unit",
             Parameter::AdcBits => "bits",

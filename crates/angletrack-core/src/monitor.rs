@@ -35,6 +35,7 @@ use crate::real::Float;
 /// | `max_speed` | `None`: pi/2 rad per sample, i.e. `pi / (2 Ts)` rad/s |
 /// | `filter_factor` | 1/16 (windows of 16 samples) |
 /// | `false_lock` | 0 (filtered in-phase component; 0 means an error beyond 90 degrees) |
+/// | `magnitude_tolerance` | 0.1 (a window's last sample's magnitude within 10 % of the stated nominal amplitude); `None` in [`Default`], whose amplitude is not stated |
 /// | `monitor` | `true` |
 /// | `re_acquire` | `true` |
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -71,6 +72,17 @@ pub struct FaultThresholds<T> {
     /// window, at its corrected angle, below this, with the signal present: a lock about
     /// 180 degrees off.
     pub false_lock: T,
+    /// The largest distance, as a fraction of `nominal_amplitude`, of the magnitude
+    /// `sqrt(y_c^2 + y_s^2)` of a window's last sample from `nominal_amplitude`: further,
+    /// [`Faults::DEGRADATION_OF_SIGNAL`], held until [`ROUNDNESS_HOLD_WINDOWS`] windows in a
+    /// row end within it. `Some(0.1)` from [`FaultThresholds::for_amplitude`] (the caller
+    /// states the amplitude); `None` (no check) in the [`Default`] thresholds, whose
+    /// amplitude of 1 is a placeholder (a fraction of full scale, say, that a signal need
+    /// not reach). A healthy pair is round (its magnitude the same at every angle);
+    /// a dead, open, shorted or stuck channel, an imbalance, a quadrature error, clipping
+    /// or a coupled carrier make it depart from the circle at most angles, while the loop
+    /// follows the faulty pair and its residual stays small (`docs/guide/diagnostics.md`).
+    pub magnitude_tolerance: Option<T>,
     /// Compute the flags (loss of signal, degradation, loss of tracking, false lock). When
     /// `false`, only the input check runs (cheapest update).
     pub monitor: bool,
@@ -104,8 +116,18 @@ macro_rules! threshold_fns {
                 max_speed: None,
                 filter_factor: 0.0625,
                 false_lock: 0.0,
+                magnitude_tolerance: Some(0.1_f32 as $t),
                 monitor: true,
                 re_acquire: true,
+            }
+        }
+
+        /// The thresholds of an observer whose caller stated no amplitude: those of
+        /// amplitude 1 without the roundness check (`magnitude_tolerance` `None`).
+        pub(crate) const fn unstated() -> FaultThresholds<$t> {
+            FaultThresholds {
+                magnitude_tolerance: None,
+                ..for_amplitude(1.0)
             }
         }
 
@@ -143,6 +165,10 @@ macro_rules! threshold_fns {
                 Some(s) => const_try!(check_positive(s, Parameter::MaxSpeed)),
                 None => core::$t::consts::FRAC_PI_2 / sample_period_s,
             };
+            let tolerance = match t.magnitude_tolerance {
+                Some(r) => Some(const_try!(check_positive(r, Parameter::MagnitudeTolerance))),
+                None => None,
+            };
             if !t.false_lock.is_finite() {
                 return Err(ConfigError::NotFinite(Parameter::FalseLockThreshold));
             }
@@ -173,8 +199,21 @@ macro_rules! threshold_fns {
             if !(max_input2 / SQRT_MIN_POSITIVE).is_finite() {
                 return Err(ConfigError::OutOfRange(Parameter::MaxInputAmplitude));
             }
+            // The band of the square magnitude: [(1 - r)^2, (1 + r)^2] a^2, its lower edge 0
+            // for a tolerance of 1 or more; without the check, a band no number leaves.
+            let (round_middle2, round_half_width2) = match tolerance {
+                Some(r) => {
+                    let (below, above) = (1.0 - r, 1.0 + r);
+                    let below = if below > 0.0 { below } else { 0.0 };
+                    let (low2, high2) = (below * below * a * a, above * above * a * a);
+                    ((low2 + high2) * 0.5, (high2 - low2) * 0.5)
+                }
+                None => (0.0, $t::INFINITY),
+            };
             Ok(CheckedThresholds {
                 thresholds: *t,
+                round_middle2,
+                round_half_width2,
                 max_input2,
                 loss_of_signal2: los * los,
                 degradation_low2: low * low,
@@ -216,6 +255,10 @@ pub struct CheckedThresholds<T> {
     /// usual case tests the band with one comparison.
     pub(crate) degradation_middle2: T,
     pub(crate) degradation_half_width2: T,
+    /// The band of a window's last sample's square magnitude (`magnitude_tolerance`), as
+    /// its middle and half width.
+    pub(crate) round_middle2: T,
+    pub(crate) round_half_width2: T,
     pub(crate) max_scaled_speed: T,
     /// The monitor's window `W` (used samples, a power of two) and `1 / W` (exact).
     pub(crate) window: u32,
@@ -243,7 +286,16 @@ pub(crate) struct MonitorState<T> {
     /// Window ends left that flag [`Faults::LOSS_OF_TRACKING`] whatever their means, after
     /// an implausible re-acquisition (`crate::reacquisition`).
     pub(crate) held_windows: u32,
+    /// Window ends left that flag [`Faults::DEGRADATION_OF_SIGNAL`] after one whose last
+    /// sample was off the circle ([`FaultThresholds::magnitude_tolerance`]).
+    pub(crate) round_hold: u8,
 }
+
+/// The window ends in a row whose last sample must be within
+/// [`FaultThresholds::magnitude_tolerance`] before the degradation flag it raised is
+/// cleared: a faulty pair looks round at some angles (a dead channel's near its healthy
+/// winding's peaks), and the flag holds through them.
+pub const ROUNDNESS_HOLD_WINDOWS: u8 = 8;
 
 impl<T: Float> MonitorState<T> {
     /// A monitor whose first window starts at the next used sample.
@@ -257,6 +309,7 @@ impl<T: Float> MonitorState<T> {
             flags: Faults::NONE,
             latched: Faults::NONE,
             held_windows: 0,
+            round_hold: 0,
         }
     }
 
@@ -330,14 +383,16 @@ impl<T: Float> CheckedThresholds<T> {
     }
 
     /// The end of a window: its flags from its means, and from the speed `scaled_speed`
-    /// (rad per sample) and the in-phase component `in_phase` (`y_c cos + y_s sin` of the
-    /// corrected angle) of its last sample, held in `monitor.flags` and latched, and a new
-    /// window started. Returns `true` when the angle must be re-acquired (false lock).
+    /// (rad per sample), the in-phase component `in_phase` (`y_c cos + y_s sin` of the
+    /// corrected angle) and the square magnitude `sample2` of its last sample, held in
+    /// `monitor.flags` and latched, and a new window started. Returns `true` when the angle
+    /// must be re-acquired (false lock).
     pub(crate) fn decide(
         &self,
         monitor: &mut MonitorState<T>,
         scaled_speed: T,
         in_phase: T,
+        sample2: T,
     ) -> bool {
         let mean = |sum: T| sum * monitor.length_inverse;
         let (a2, error) = (mean(monitor.amplitude2_sum), mean(monitor.error_sum));
@@ -347,8 +402,14 @@ impl<T: Float> CheckedThresholds<T> {
             error,
             speed: scaled_speed.abs(),
             in_phase,
+            sample2,
         };
-        let false_lock = self.decide_window(&measures, &mut monitor.flags, &mut monitor.latched);
+        let false_lock = self.decide_window(
+            &measures,
+            &mut monitor.flags,
+            &mut monitor.latched,
+            &mut monitor.round_hold,
+        );
         if monitor.held_windows > 0 {
             monitor.hold_implausible_jump();
         }
@@ -357,173 +418,13 @@ impl<T: Float> CheckedThresholds<T> {
     }
 }
 
-/// What the monitor decides a window's flags from, in the numbers of its observer: its
-/// amplitude `A` (the floats: the mean `y_c^2 + y_s^2`; the fixed-point observer: half the
-/// square amplitude of its last sample), its phase error `E` (the mean `|eps|`; the sum of
-/// `|eps|` in Q15), the magnitude of the speed `S` at its end (rad per sample; 2^-32 turn per
-/// sample) and the in-phase component `P` of its last sample.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct WindowMeasures<A, E, S, P> {
-    pub(crate) amplitude2: A,
-    pub(crate) error: E,
-    pub(crate) speed: S,
-    pub(crate) in_phase: P,
-}
+mod decision;
 
-/// The monitor's decision on a window, written once over the [`Limits`] its
-/// [`WindowMeasures`] are compared with, in the same numbers: the floats'
-/// [`CheckedThresholds`] and the fixed-point observer's integer thresholds
-/// (`fixed/gains.rs`).
-pub(crate) trait MonitorLimits {
-    /// The amplitude measure.
-    type Amplitude2: AmplitudeMeasure;
-    /// The phase error measure.
-    type Error: Copy + PartialOrd;
-    /// The magnitude of the speed.
-    type Speed: Copy + PartialOrd;
-    /// The in-phase component.
-    type InPhase: Copy + PartialOrd;
-
-    /// The limits, as values (each read only where a test needs it, once inlined).
-    fn limits(&self) -> Limits<Self::Amplitude2, Self::Error, Self::Speed, Self::InPhase>;
-
-    /// Whether a window is healthy, in one chain of tests: no flag at all. Loss of signal
-    /// lies below the degradation band, so an amplitude inside the band rules out both.
-    #[inline(always)]
-    fn healthy(&self, m: &Measures<Self>) -> bool {
-        let l = self.limits();
-        m.amplitude2.in_band(l.band)
-            && m.error <= l.loss_of_tracking
-            && m.speed <= l.max_speed
-            && m.in_phase >= l.false_lock
-    }
-
-    /// A window's flags, held in `flags` and latched in `latched`; returns whether they
-    /// declare a false lock. A healthy window clears the flags and nothing more (the usual
-    /// case, inline); any other is [`MonitorLimits::latch_flags`] (out of line).
-    #[inline(always)]
-    fn decide_window(&self, m: &Measures<Self>, flags: &mut Faults, latched: &mut Faults) -> bool {
-        if self.healthy(m) {
-            *flags = Faults::NONE;
-            return false;
-        }
-        // The measures by value: in registers, not stored for the call.
-        self.latch_flags(m.amplitude2, m.error, m.speed, m.in_phase, flags, latched)
-    }
-
-    /// The flags of a window that is not [`MonitorLimits::healthy`], held in `flags` and
-    /// latched in `latched` (out of line: a fault is rare); returns whether they declare a
-    /// false lock.
-    #[cold]
-    #[inline(never)]
-    fn latch_flags(
-        &self,
-        a2: Self::Amplitude2,
-        error: Self::Error,
-        speed: Self::Speed,
-        in_phase: Self::InPhase,
-        flags: &mut Faults,
-        latched: &mut Faults,
-    ) -> bool {
-        let (faults, false_lock) = self.flags(a2, error, speed, in_phase);
-        *flags = faults;
-        *latched |= faults;
-        false_lock
-    }
-
-    /// The flags of a window that is not [`MonitorLimits::healthy`], from its
-    /// [`WindowMeasures`], and whether they declare a false lock.
-    #[inline(always)]
-    fn flags(
-        &self,
-        a2: Self::Amplitude2,
-        error: Self::Error,
-        speed: Self::Speed,
-        in_phase: Self::InPhase,
-    ) -> (Faults, bool) {
-        let l = self.limits();
-        let signal_lost = a2 < l.loss_of_signal;
-        let faults = Faults::when(signal_lost, Faults::LOSS_OF_SIGNAL)
-            | Faults::when(
-                a2 < l.degradation_low || a2 > l.degradation_high,
-                Faults::DEGRADATION_OF_SIGNAL,
-            )
-            | Faults::when(
-                error > l.loss_of_tracking || speed > l.max_speed,
-                Faults::LOSS_OF_TRACKING,
-            );
-        let false_lock = !signal_lost && in_phase < l.false_lock;
-        (
-            faults | Faults::when(false_lock, Faults::FALSE_LOCK),
-            false_lock,
-        )
-    }
-}
-
-/// What a window's [`WindowMeasures`] are compared with, in the same numbers: loss of signal
-/// below `loss_of_signal`, degradation outside [`degradation_low`, `degradation_high`] (loss
-/// of signal lies below that band, checked at construction), loss of tracking above
-/// `loss_of_tracking` or `max_speed`, false lock below `false_lock` with the signal present.
-pub(crate) struct Limits<A, E, S, P> {
-    pub(crate) loss_of_signal: A,
-    pub(crate) degradation_low: A,
-    pub(crate) degradation_high: A,
-    /// The degradation band in the form of its one comparison
-    /// ([`AmplitudeMeasure::in_band`]).
-    pub(crate) band: (A, A),
-    pub(crate) loss_of_tracking: E,
-    pub(crate) max_speed: S,
-    pub(crate) false_lock: P,
-}
-
-/// The [`WindowMeasures`] in the numbers of limits `L`.
-pub(crate) type Measures<L> = WindowMeasures<
-    <L as MonitorLimits>::Amplitude2,
-    <L as MonitorLimits>::Error,
-    <L as MonitorLimits>::Speed,
-    <L as MonitorLimits>::InPhase,
->;
-
-/// A monitor's amplitude measure: a float, or the fixed-point observer's `u32`
-/// (`fixed/gains.rs`).
-pub(crate) trait AmplitudeMeasure: Copy + PartialOrd {
-    /// Whether `self` lies in the degradation band, by one comparison with the band's
-    /// precomputed form `band` (NaN is outside).
-    fn in_band(self, band: (Self, Self)) -> bool;
-}
-
-/// The band as its middle and half width: `|a - middle| <= half_width` (one rounding of its
-/// edges, which [`MonitorLimits::flags`] then sorts out exactly).
-impl<T: Float> AmplitudeMeasure for T {
-    #[inline(always)]
-    fn in_band(self, (middle, half_width): (T, T)) -> bool {
-        (self - middle).abs() <= half_width
-    }
-}
-
-/// The floats' limits: the squared amplitudes, the mean `|eps|`, the speed in rad per
-/// sample and the in-phase component, from the checked thresholds.
-impl<T: Float> MonitorLimits for CheckedThresholds<T> {
-    type Amplitude2 = T;
-    type Error = T;
-    type Speed = T;
-    type InPhase = T;
-
-    #[inline(always)]
-    fn limits(&self) -> Limits<T, T, T, T> {
-        Limits {
-            loss_of_signal: self.loss_of_signal2,
-            degradation_low: self.degradation_low2,
-            degradation_high: self.degradation_high2,
-            band: (self.degradation_middle2, self.degradation_half_width2),
-            loss_of_tracking: self.thresholds.loss_of_tracking,
-            max_speed: self.max_scaled_speed,
-            false_lock: self.thresholds.false_lock,
-        }
-    }
-}
+pub(crate) use decision::{AmplitudeMeasure, Limits, Measures, MonitorLimits, WindowMeasures};
 
 #[cfg(test)]
 mod latency_tests;
+#[cfg(test)]
+mod roundness_tests;
 #[cfg(test)]
 mod tests;

@@ -92,6 +92,14 @@ impl<T: Copy> FaultThresholds<T> {
         self
     }
 
+    /// The same thresholds with [`FaultThresholds::magnitude_tolerance`] set (a fraction of
+    /// the nominal amplitude; `None`: no roundness check); see
+    /// [`FaultThresholds::with_max_input_amplitude`] for an example.
+    pub const fn with_magnitude_tolerance(mut self, magnitude_tolerance: Option<T>) -> Self {
+        self.magnitude_tolerance = magnitude_tolerance;
+        self
+    }
+
     /// The same thresholds with [`FaultThresholds::monitor`] set (whether the flags are
     /// computed); see [`FaultThresholds::with_max_input_amplitude`] for an example.
     pub const fn with_monitor(mut self, monitor: bool) -> Self {

@@ -145,8 +145,8 @@ pub use sim::{
     FixedTracker, Kinematics, LANES, MAX_ANGLE_ERROR_HARMONICS, MAX_SAMPLES, Metrics,
     MetricsOptions, Motion, MotionProfile, NOMINAL_AMPLITUDE_SAMPLES, Output, ResolverModel, Run,
     Scenario, SensorModel, capture_fault_thresholds, fixed_front_end, fixed_input,
-    fixed_input_shift, fixed_monitor_amplitude, nominal_amplitude, run, run_calibrated,
-    shifted_calibration,
+    fixed_input_shift, fixed_magnitude_tolerance, fixed_monitor_amplitude, nominal_amplitude, run,
+    run_calibrated, shifted_calibration,
 };
 pub use thresholds::{ThresholdInput, ThresholdPolicy, ThresholdsNotStated};
 pub use tracker_channel::{ChannelError, ChannelOptions, TrackerChannel, stored_stages};

@@ -117,8 +117,13 @@ impl<T: Real, const N: usize, S: SinCos<T>> Gains<T, N, S> {
 }
 
 impl<T: Real> Default for FaultThresholds<T> {
+    /// The thresholds of amplitude 1 without the roundness check (no amplitude stated:
+    /// [`FaultThresholds::magnitude_tolerance`]).
     fn default() -> Self {
-        Self::for_amplitude(T::ONE)
+        Self {
+            magnitude_tolerance: None,
+            ..Self::for_amplitude(T::ONE)
+        }
     }
 }
 

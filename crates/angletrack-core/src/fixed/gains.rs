@@ -66,6 +66,11 @@ pub(crate) struct FixedThresholds {
     /// degradation of signal.
     pub(crate) degradation_low: u32,
     pub(crate) degradation_high: u32,
+    /// Half the square amplitude of a window's last sample outside [`round_low`,
+    /// `round_high`]: off the circle (`FaultThresholds::magnitude_tolerance`), degradation
+    /// of signal, held.
+    pub(crate) round_low: u32,
+    pub(crate) round_high: u32,
     /// Sum of `|eps|` (Q15) over the window above this: loss of tracking.
     pub(crate) loss_of_tracking: u32,
     /// |speed| (2^-32 turn per sample) above this: loss of tracking (a quarter turn).
@@ -90,6 +95,7 @@ impl MonitorLimits for FixedThresholds {
                 self.degradation_low,
                 self.degradation_high - self.degradation_low,
             ),
+            round: (self.round_low, self.round_high - self.round_low),
             loss_of_tracking: self.loss_of_tracking,
             max_speed: self.max_speed,
             false_lock: 0,
@@ -121,15 +127,34 @@ impl FixedThresholds {
         loss_of_signal: 0,
         degradation_low: 0,
         degradation_high: u32::MAX,
+        round_low: 0,
+        round_high: u32::MAX,
         loss_of_tracking: (1 << 31) - 1,
         max_speed: u32::MAX,
     };
 
     /// The float monitor's default thresholds (`FaultThresholds`) for signals of
     /// `nominal_counts`: loss of signal below 1/4, degradation outside [1/2, 3/2], loss of
-    /// tracking above a mean `|eps|` of 0.1, a quarter turn per sample.
-    const fn for_amplitude(nominal_counts: f64) -> Self {
+    /// tracking above a mean `|eps|` of 0.1, a quarter turn per sample, and, with a
+    /// `tolerance` (the caller gave the amplitude), a last sample's magnitude further than
+    /// that fraction from the nominal one (`FaultThresholds::magnitude_tolerance`).
+    const fn for_amplitude(nominal_counts: f64, tolerance: Option<f64>) -> Self {
+        let (round_low, round_high) = match tolerance {
+            Some(r) => (
+                // A tolerance of 1 or more: no lower edge.
+                if r < 1.0 {
+                    amplitude2_half_of(nominal_counts * (1.0 - r))
+                } else {
+                    0
+                },
+                // Saturated at u32::MAX by `as`: no upper edge beyond.
+                amplitude2_half_of(nominal_counts * (1.0 + r)),
+            ),
+            None => (0, u32::MAX),
+        };
         Self {
+            round_low,
+            round_high,
             enabled: true,
             loss_of_signal: amplitude2_half_of(nominal_counts * 0.25),
             degradation_low: amplitude2_half_of(nominal_counts * 0.5),
@@ -312,7 +337,7 @@ where
             acceleration_shift: shift,
             acceleration_scale: 1 << shift,
             sample_period_s,
-            monitor: FixedThresholds::for_amplitude(16384.0),
+            monitor: FixedThresholds::for_amplitude(16384.0, None),
         };
         match check_stability(&fixed.gains()) {
             Ok(()) => Ok(fixed),
@@ -368,6 +393,39 @@ impl<const N: usize> FixedGains<N> {
         self,
         nominal_amplitude_counts: Option<f64>,
     ) -> Result<Self, ConfigError> {
+        self.with_monitor_tolerance(nominal_amplitude_counts, Some(0.1))
+    }
+
+    /// [`FixedGains::with_monitor`] with the roundness check's tolerance stated
+    /// ([`FaultThresholds::magnitude_tolerance`](crate::FaultThresholds::magnitude_tolerance):
+    /// a fraction of the nominal amplitude, 0.1 in `with_monitor`; `None`: no roundness
+    /// check, for a nominal amplitude that is not the signal's, such as one brought up to
+    /// the monitor's smallest).
+    ///
+    /// ```
+    /// use angletrack_core::{FixedGains, Parameter};
+    /// let gains = FixedGains::<2>::new([0.05, 0.0012], 1e-4)?;
+    /// let loose = gains.with_monitor_tolerance(Some(28_000.0), Some(0.3))?;
+    /// let off = gains.with_monitor_tolerance(Some(16_384.0), None)?;
+    /// let err = gains.with_monitor_tolerance(Some(28_000.0), Some(0.0)).unwrap_err();
+    /// assert_eq!(err.parameter(), Parameter::MagnitudeTolerance);
+    /// # let _ = (loose, off);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub const fn with_monitor_tolerance(
+        self,
+        nominal_amplitude_counts: Option<f64>,
+        magnitude_tolerance: Option<f64>,
+    ) -> Result<Self, ConfigError> {
+        let tolerance = match magnitude_tolerance {
+            Some(r) if !r.is_finite() => {
+                return Err(ConfigError::NotFinite(Parameter::MagnitudeTolerance));
+            }
+            Some(r) if r <= 0.0 => {
+                return Err(ConfigError::NotPositive(Parameter::MagnitudeTolerance));
+            }
+            other => other,
+        };
         let monitor = match nominal_amplitude_counts {
             None => FixedThresholds::OFF,
             Some(a) if !a.is_finite() => {
@@ -376,7 +434,7 @@ impl<const N: usize> FixedGains<N> {
             Some(a) if !(a >= 16384.0 && a <= 46341.0) => {
                 return Err(ConfigError::OutOfRange(Parameter::NominalAmplitude));
             }
-            Some(a) => FixedThresholds::for_amplitude(a),
+            Some(a) => FixedThresholds::for_amplitude(a, tolerance),
         };
         Ok(Self { monitor, ..self })
     }

@@ -60,6 +60,9 @@ pub struct FixedState<const N: usize> {
     pub(crate) faults: Faults,
     /// Faults latched since the last [`FixedState::clear_faults`].
     pub(crate) latched: Faults,
+    /// Window ends left that flag degradation after one whose last sample was off the
+    /// circle (`crate::monitor::ROUNDNESS_HOLD_WINDOWS`).
+    pub(crate) round_hold: u8,
     /// Whether the first sample has set the angle.
     pub(crate) initialised: bool,
     /// The samples coasted through front-end faults since the last used one (saturated):
@@ -96,6 +99,7 @@ impl<const N: usize> FixedState<N> {
             turns: 0,
             faults: Faults::NONE,
             latched: Faults::NONE,
+            round_hold: 0,
             initialised: false,
             coasted: 0,
             refit: FixedRefit::new(),

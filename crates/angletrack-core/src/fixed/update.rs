@@ -321,7 +321,7 @@ impl<const N: usize> FixedGains<N> {
         let r = state.reciprocal;
         state.reciprocal = r + ((track_reciprocal(r, amplitude2) - r) >> 1);
         let measures = Self::measures(state, amplitude2 as u32);
-        if self.monitor.healthy(&measures) {
+        if self.monitor.healthy(&measures) && state.round_hold == 0 {
             state.faults = Faults::NONE;
         } else {
             self.end_window_with_fault(state, amplitude2 as u32);
@@ -351,6 +351,8 @@ impl<const N: usize> FixedGains<N> {
             speed: state.x.speed.unsigned_abs(),
             // Its sign tells a false lock (the estimate more than a quarter turn off).
             in_phase: detect(state.x.angle, y_c, y_s).1,
+            // The amplitude is the last sample's: it is the roundness check's too.
+            sample2: amplitude2,
         }
     }
 
@@ -378,10 +380,12 @@ impl<const N: usize> FixedGains<N> {
             return;
         }
         let measures = Self::measures(state, amplitude2);
-        if self
-            .monitor
-            .decide_window(&measures, &mut state.faults, &mut state.latched)
-        {
+        if self.monitor.decide_window(
+            &measures,
+            &mut state.faults,
+            &mut state.latched,
+            &mut state.round_hold,
+        ) {
             Self::re_acquire(state);
         }
     }

@@ -155,7 +155,8 @@ fn median(sorted: &[f64]) -> Option<f64> {
 }
 
 /// The default [`FaultThresholds`] scaled to the capture's [`nominal_amplitude`]
-/// ([`FaultThresholds::for_amplitude`]); the core's defaults (amplitude 1) when it has none.
+/// ([`FaultThresholds::for_amplitude`], without the roundness check: the amplitude is
+/// measured, not stated); the core's defaults (amplitude 1) when it has none.
 /// What the Python API and the command line use when the caller gives no thresholds, so
 /// that a capture in raw ADC counts or in volts is monitored without its units being
 /// stated.
@@ -169,7 +170,10 @@ pub fn capture_fault_thresholds<T: Real>(y_c: &[T], y_s: &[T]) -> FaultThreshold
     let (Some(amplitude), raw) = amplitudes(&first_pairs(y_c, y_s)) else {
         return FaultThresholds::default();
     };
-    let mut thresholds = FaultThresholds::for_amplitude(T::from_f64(amplitude));
+    // A measured amplitude, not a stated one: the pair before any calibration need not be
+    // round, so no roundness check (`FaultThresholds::magnitude_tolerance`).
+    let mut thresholds =
+        FaultThresholds::for_amplitude(T::from_f64(amplitude)).with_magnitude_tolerance(None);
     // A biased signal's samples are no bad samples: the input bound covers the bias too
     // (until a calibration removes it, the observer sees it).
     if let Some(raw) = raw {

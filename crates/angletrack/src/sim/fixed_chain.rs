@@ -47,6 +47,22 @@ pub fn fixed_monitor_amplitude(amplitude: f64, shift: u32) -> f64 {
     (amplitude * f64::from(1u32 << shift.min(15))).clamp(16384.0, 46341.0)
 }
 
+/// The fixed-point monitor's roundness tolerance for counts of `amplitude` shifted by
+/// `shift` (`FixedGains::with_monitor_tolerance`): 0.1, the float default, where
+/// [`fixed_monitor_amplitude`] is their amplitude; `None` (no roundness check) where it
+/// brought it within the monitor's range, since the signal's magnitude is then not the
+/// nominal one.
+///
+/// ```
+/// use angletrack::fixed_magnitude_tolerance;
+/// assert_eq!(fixed_magnitude_tolerance(3000.0, 3), Some(0.1));
+/// assert_eq!(fixed_magnitude_tolerance(1800.0, 3), None);
+/// ```
+pub fn fixed_magnitude_tolerance(amplitude: f64, shift: u32) -> Option<f64> {
+    let samples = amplitude * f64::from(1u32 << shift.min(15));
+    (samples == fixed_monitor_amplitude(amplitude, shift)).then_some(0.1)
+}
+
 /// The core's front end of the fixed-point chain for counts with `mid_scale_counts`
 /// removed, shifted left by `shift` bits, checked for clipping at `rails` (in codes, as the
 /// counts come: [`TrackerFrontEnd::new`]'s rule), corrected by `sensor` (learned on the
@@ -121,6 +137,8 @@ pub struct FixedInput {
     pub amplitude: f64,
     /// The monitor's nominal amplitude ([`fixed_monitor_amplitude`]).
     pub monitor_amplitude: f64,
+    /// The monitor's roundness tolerance ([`fixed_magnitude_tolerance`]).
+    pub magnitude_tolerance: Option<f64>,
 }
 
 /// The [`FixedInput`] of a capture of whole counts whose mid-scale is `mid_scale_counts`
@@ -168,6 +186,7 @@ pub fn fixed_input(
         shift,
         amplitude,
         monitor_amplitude: fixed_monitor_amplitude(amplitude, shift),
+        magnitude_tolerance: fixed_magnitude_tolerance(amplitude, shift),
     })
 }
 
@@ -190,7 +209,10 @@ mod tests {
             fixed_front_end(0, shift, Some(&sensor), Some(&correction), Rails::Unchecked).unwrap();
         let gains = FixedGains::<3>::new([0.1578, 0.0126, 0.000_34], 50e-6)
             .unwrap()
-            .with_monitor(Some(fixed_monitor_amplitude(1800.0, shift)))
+            .with_monitor_tolerance(
+                Some(fixed_monitor_amplitude(1800.0, shift)),
+                fixed_magnitude_tolerance(1800.0, shift),
+            )
             .unwrap();
         let chain = angletrack_core::Tracker::new(front_end, gains);
         let mut state = angletrack_core::TrackerState::new();

@@ -79,7 +79,11 @@ fn chain<const N: usize>(
 where
     Order<N>: SupportedOrder,
 {
-    let tracker = Tracker::new(front_end, gains.with_monitor(nominal_amplitude)?);
+    // The Python observer has no argument for the roundness check yet: off.
+    let tracker = Tracker::new(
+        front_end,
+        gains.with_monitor_tolerance(nominal_amplitude, None)?,
+    );
     Ok((tracker, TrackerState::new()))
 }
 

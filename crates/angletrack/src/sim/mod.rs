@@ -21,8 +21,8 @@ pub use calibrated::{
 };
 pub use columns::{EstimateColumns, Output};
 pub use fixed_chain::{
-    FixedInput, fixed_front_end, fixed_input, fixed_input_shift, fixed_monitor_amplitude,
-    shifted_calibration,
+    FixedInput, fixed_front_end, fixed_input, fixed_input_shift, fixed_magnitude_tolerance,
+    fixed_monitor_amplitude, shifted_calibration,
 };
 pub use fixed_columns::FixedColumns;
 pub use fixed_tracker::{FixedConstantsError, FixedTracker};

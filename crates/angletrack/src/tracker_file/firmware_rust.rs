@@ -428,14 +428,16 @@ impl TrackerFile {
             (Some(amplitude), _) => {
                 // In the 16-bit samples (the std's rule, `fixed_monitor_amplitude`).
                 let samples = crate::fixed_monitor_amplitude(amplitude, shift);
-                observer = format!(
-                    "ok({observer}.with_monitor(Some({})))",
-                    literal(
-                        samples,
-                        FloatType::F64,
-                        "fault_thresholds.nominal_amplitude"
-                    )?
-                );
+                let samples = literal(
+                    samples,
+                    FloatType::F64,
+                    "fault_thresholds.nominal_amplitude",
+                )?;
+                // No roundness check where the std's rule moved the amplitude.
+                observer = match crate::fixed_magnitude_tolerance(amplitude, shift) {
+                    Some(_) => format!("ok({observer}.with_monitor(Some({samples})))"),
+                    None => format!("ok({observer}.with_monitor_tolerance(Some({samples}), None))"),
+                };
             }
             (None, true) => return Err(Self::amplitude_not_stated(file)),
             (None, false) => {}

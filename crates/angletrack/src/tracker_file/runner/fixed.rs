@@ -103,7 +103,14 @@ where
         }
         values.copy_from_slice(&file.gains.gains);
         let gains = FixedGains::<N>::new(values, file.gains.sample_period_s)
-            .and_then(|g| g.with_monitor(Some(crate::fixed_monitor_amplitude(nominal, shift))))
+            .and_then(|g| {
+                // The export's rule: the roundness check unless the amplitude was raised to
+                // the monitor's range.
+                g.with_monitor_tolerance(
+                    Some(crate::fixed_monitor_amplitude(nominal, shift)),
+                    crate::fixed_magnitude_tolerance(nominal, shift),
+                )
+            })
             .map_err(field("gains"))?;
         Ok(Self {
             tracker: Tracker::new(front_end, gains),

@@ -137,7 +137,10 @@ fn als_recovers_the_jerk_and_the_noise_of_the_kalman_model_within_its_uncertaint
     // The Kalman model itself: a white jerk of 1e4 rad/s^3 constant over each sample, and
     // a white angle noise of 0.01 rad, over 10 s at 10 kHz.
     let (jerk, noise, n) = (1e4, 0.01, 100_000);
-    let (w, v) = (normals(n, 0x2545_f491_4f6c_dd1d), normals(n, 0x9e37_79b9_7f4a_7c15));
+    let (w, v) = (
+        normals(n, 0x2545_f491_4f6c_dd1d),
+        normals(n, 0x9e37_79b9_7f4a_7c15),
+    );
     let (mut theta, mut speed, mut acceleration) = (0.0, 0.0, 0.0);
     let angle: Vec<f64> = (0..n)
         .map(|k| {
@@ -155,7 +158,10 @@ fn als_recovers_the_jerk_and_the_noise_of_the_kalman_model_within_its_uncertaint
     let als = super::als::estimate(&gains, hz, &angle, TS, 0.0, 0.0).unwrap();
     let j = als.jerk_std_rad_s3;
     assert!((j.value / jerk - 1.0).abs() < 0.15, "{als:?}");
-    assert!(j.std > 0.0 && (j.value - jerk).abs() < 4.0 * j.std, "{als:?}");
+    assert!(
+        j.std > 0.0 && (j.value - jerk).abs() < 4.0 * j.std,
+        "{als:?}"
+    );
     assert!((als.noise_std.value / noise - 1.0).abs() < 0.02, "{als:?}");
 }
 

@@ -33,7 +33,7 @@ def add_arguments(design) -> None:
                        help="largest overshoot of the linear step response (0.1 for 10 %%)")
     group.add_argument("--min-bandwidth", type=float, metavar="HZ", help="smallest -3 dB bandwidth (Hz)")
     group.add_argument("--speed-step", type=float, metavar="RAD_S",
-                       help="largest speed step to acquire (rad/s; default the capture's initial speed)")
+                       help="largest speed step to acquire (rad/s; default none beyond the capture's own motion)")
     group.add_argument("--quantisation-step", type=float, metavar="STEP",
                        help="the samples' quantisation step in their unit (default: 1 for integer samples, "
                        "ADC counts; else none)")

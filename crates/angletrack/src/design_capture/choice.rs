@@ -45,10 +45,10 @@ pub struct DesignConstraints {
     pub max_overshoot: Option<f64>,
     /// The smallest -3 dB bandwidth (Hz); `None`: any.
     pub min_bandwidth_hz: Option<f64>,
-    /// The largest speed step (rad/s) the loop must acquire: its linear peak error stays
-    /// under `pi/2`, where the phase detector's sine still rises; `None`: the capture's
-    /// initial speed ([`MotionEstimate::initial_speed_rad_s`](super::MotionEstimate)), the
-    /// step of a tracker started on the moving shaft.
+    /// The largest speed step (rad/s) the loop must acquire: its linear peak error after
+    /// the step stays under `pi/4`, where `sin(e) / e` is still 0.9; `None`: no step
+    /// beyond the capture's own motion, whose acquisition from rest is inside the predicted
+    /// lag already (the observer itself is run on it, `docs/theory.md §16.3`).
     pub speed_step_rad_s: Option<f64>,
     /// The number type the observer runs on: its angle's rounding is one part of the error.
     pub number_type: NumberType,
@@ -98,8 +98,7 @@ pub struct CaptureCandidate {
     pub bandwidth_hz: f64,
     /// Its predicted error.
     pub predicted: PredictedErrorParts,
-    /// The constraint it breaks, as named in [`DesignConstraints`] (`speed_step_rad_s` also
-    /// for the capture's initial speed); `None`: it meets them.
+    /// The constraint it breaks, as named in [`DesignConstraints`]; `None`: it meets them.
     pub refused_by: Option<&'static str>,
 }
 
@@ -173,10 +172,24 @@ impl CaptureEstimates {
         let rounding_var =
             linear_loop::noise_variance(l, 0.0, 0.0, 0.0, rounding_variance(number_type))?;
         let window = self.window();
-        let mut lag_var = linear_loop::mean_square_error(l, &self.motion.angle_rad, window.clone());
+        let mut lag_var =
+            linear_loop::observer_mean_square_error(l, &self.motion.angle_rad, window);
         if !self.motion.from_reference {
             // The smoothed angle's own noise, tracked alike, is no motion.
-            lag_var -= linear_loop::mean_square_error(l, &self.smoothed_noise, window);
+            // The smoothed angle's own noise, tracked alike, is no motion.
+            // The smoothed angle's own noise, tracked alike, is no motion: its expected
+            // share from the noise's spectrum (a realisation of it, such as the radial
+            // residual, differs from the angle's own by more than so slow a motion's lag).
+            let n = &self.noise;
+            let length = ((40.0 / l[0]) as usize).clamp(1000, self.motion.angle_rad.len());
+            lag_var -= linear_loop::smoothed_noise_tracking_variance(
+                l,
+                &self.first_pass_gains,
+                n.white_std.powi(2),
+                n.coloured_std.powi(2),
+                n.coloured_pole,
+                length,
+            );
         }
         let lag_var = lag_var.max(0.0);
         Some(PredictedErrorParts {
@@ -193,7 +206,6 @@ fn refusal(
     design: &AnyDesign,
     bandwidth_hz: f64,
     constraints: &DesignConstraints,
-    initial_speed_rad_s: f64,
 ) -> Option<&'static str> {
     if let Some(min) = constraints.min_bandwidth_hz
         && bandwidth_hz < min
@@ -201,8 +213,7 @@ fn refusal(
         return Some("min_bandwidth_hz");
     }
     let ts = design.sample_period();
-    let step = constraints.speed_step_rad_s.unwrap_or(initial_speed_rad_s);
-    if step > 0.0 {
+    if let Some(step) = constraints.speed_step_rad_s {
         let horizon = ((20.0 / (TAU * bandwidth_hz * ts)) as usize).clamp(100, 2_000_000);
         if step * ts * linear_loop::speed_step_peak(&design.gains(), horizon) > FRAC_PI_4 {
             return Some("speed_step_rad_s");
@@ -363,12 +374,7 @@ fn grid(estimates: &CaptureEstimates, constraints: &DesignConstraints) -> Vec<Ca
             ) else {
                 continue;
             };
-            let refused_by = refusal(
-                &design,
-                bandwidth_hz,
-                constraints,
-                estimates.motion.initial_speed_rad_s,
-            );
+            let refused_by = refusal(&design, bandwidth_hz, constraints);
             candidates.push(CaptureCandidate {
                 family,
                 design,

@@ -19,22 +19,65 @@ pub(super) struct Ellipse {
 
 impl Ellipse {
     /// The least-squares conic `x^2 + b xy + c y^2 + d x + e y + f = 0` through the
-    /// samples (centred and scaled for the normal equations' conditioning).
+    /// samples (centred and scaled for the normal equations' conditioning), then again with
+    /// the noise's bias taken out of the normal equations (`docs/theory.md §16.1`).
     pub fn fit(cos: &[f64], sin: &[f64]) -> Result<Self, DesignCaptureError> {
+        let plain = Self::fit_with_noise(cos, sin, 0.0)?;
+        // The noise per channel in the signals' unit, from the plain fit's radial residual.
+        let mean_square = cos
+            .iter()
+            .zip(sin)
+            .map(|(&c, &s)| {
+                let (u, v) = plain.normalised(c, s);
+                (u.hypot(v) - 1.0).powi(2)
+            })
+            .sum::<f64>()
+            / cos.len() as f64;
+        let variance = mean_square * plain.amplitude().powi(2);
+        Ok(Self::fit_with_noise(cos, sin, variance).unwrap_or(plain))
+    }
+
+    /// The conic fit with each monomial `x^i y^j` of the normal equations replaced by its
+    /// unbiased value for a white noise of variance `noise_variance` on each channel (in the
+    /// signals' unit): the Hermite polynomials `x^2 - s^2`, `x^3 - 3 s^2 x`,
+    /// `x^4 - 6 s^2 x^2 + 3 s^4` (consistent algebraic least squares, Kukush, Markovsky and
+    /// Van Huffel 2004). Zero gives the plain least squares.
+    pub(super) fn fit_with_noise(
+        cos: &[f64],
+        sin: &[f64],
+        noise_variance: f64,
+    ) -> Result<Self, DesignCaptureError> {
         let n = cos.len() as f64;
         let (mx, my) = (cos.iter().sum::<f64>() / n, sin.iter().sum::<f64>() / n);
         let scale = (cos.iter().map(|x| (x - mx).powi(2)).sum::<f64>() / n).sqrt();
         if !(scale > 0.0) {
             return Err(DesignCaptureError::NoEllipse);
         }
-        let mut normal = Matrix5::zeros();
-        let mut rhs = Vector5::zeros();
+        let s2 = noise_variance / (scale * scale);
+        let hermite = |t: f64| {
+            let t2 = t * t;
+            [
+                1.0,
+                t,
+                t2 - s2,
+                t2 * t - 3.0 * s2 * t,
+                t2 * t2 - 6.0 * s2 * t2 + 3.0 * s2 * s2,
+            ]
+        };
+        // The monomials' sums `sum h_i(x) h_j(y)`, `i + j <= 4`.
+        let mut sums = [[0.0; 5]; 5];
         for (&c, &s) in cos.iter().zip(sin) {
-            let (x, y) = ((c - mx) / scale, (s - my) / scale);
-            let row = Vector5::new(x * y, y * y, x, y, 1.0);
-            normal += row * row.transpose();
-            rhs -= row * (x * x);
+            let (hx, hy) = (hermite((c - mx) / scale), hermite((s - my) / scale));
+            for i in 0..5 {
+                for j in 0..5 - i {
+                    sums[i][j] += hx[i] * hy[j];
+                }
+            }
         }
+        // The row `(xy, y^2, x, y, 1)` by its exponents; the target `-x^2`.
+        const ROW: [(usize, usize); 5] = [(1, 1), (0, 2), (1, 0), (0, 1), (0, 0)];
+        let normal = Matrix5::from_fn(|a, b| sums[ROW[a].0 + ROW[b].0][ROW[a].1 + ROW[b].1]);
+        let rhs = Vector5::from_fn(|a, _| -sums[ROW[a].0 + 2][ROW[a].1]);
         let p = normal
             .lu()
             .solve(&rhs)

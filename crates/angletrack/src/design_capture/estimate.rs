@@ -5,6 +5,7 @@
 use core::f64::consts::TAU;
 
 use super::DesignCaptureError;
+use super::als::{self, AlsEstimate};
 use super::ellipse::Ellipse;
 use super::jerk::jerk_std;
 use super::linear_loop;
@@ -76,8 +77,14 @@ pub struct NoiseEstimate {
 #[derive(Debug, Clone, PartialEq)]
 pub struct MotionEstimate {
     /// The jerk's standard deviation (rad/s^3) as a white sequence constant over each
-    /// sample (the Kalman model's, [`kalman_from_jerk_std`](crate::kalman_from_jerk_std)).
+    /// sample (the Kalman model's, [`kalman_from_jerk_std`](crate::kalman_from_jerk_std)):
+    /// of [`MotionEstimate::jerk_by_differences_rad_s3`] and the ALS estimate
+    /// ([`CaptureEstimates::als`]), the one of smaller relative uncertainty.
     pub jerk_std_rad_s3: Uncertain,
+    /// The jerk's standard deviation from the angle's third differences (rad/s^3).
+    pub jerk_by_differences_rad_s3: Uncertain,
+    /// `true` when [`MotionEstimate::jerk_std_rad_s3`] is the ALS estimate's.
+    pub jerk_by_als: bool,
     /// `true` when taken from the reference angle, `false` from the signals' own angle.
     pub from_reference: bool,
     /// The turns travelled.
@@ -99,22 +106,22 @@ pub struct CaptureEstimates {
     pub noise: NoiseEstimate,
     /// The motion.
     pub motion: MotionEstimate,
+    /// The autocovariance least-squares estimate of the jerk and the noise from a
+    /// first-pass Kalman loop's innovations on the signals' own angle; `None` where the
+    /// capture is too short for the lags that loop needs.
+    pub als: Option<AlsEstimate>,
     /// Without a reference: the gains of the first-pass loop that smoothed the angle, whose
     /// noise the lag predictions take out again; empty with a reference.
     pub first_pass_gains: Vec<f64>,
     /// The first pass's nominal bandwidth (Hz); `None` with a reference.
     pub first_pass_bandwidth_hz: Option<f64>,
-    /// The radial residual (relative): a realisation of the phase detector's noise, smoothed
-    /// by the first pass like the angle (empty with a reference).
-    pub(super) smoothed_noise: Vec<f64>,
-    /// The signals' own angle (unwrapped) and radial residual, which a first pass smooths.
+    /// The signals' own angle (unwrapped), which a first pass smooths (empty with a
+    /// reference).
     own_angle: Vec<f64>,
-    radial: Vec<f64>,
 }
 
 impl CaptureEstimates {
-    /// Without a reference, smooths the signals' own angle (and the radial residual alike)
-    /// with a first pass: the Kalman design whose nominal bandwidth is `bandwidth_hz`
+    /// Without a reference, smooths the signals' own angle with a first pass: the Kalman design whose nominal bandwidth is `bandwidth_hz`
     /// (`docs/theory.md §16.2`); with a reference, nothing.
     pub(super) fn smooth_with(&mut self, bandwidth_hz: f64) -> Result<(), DesignCaptureError> {
         if self.motion.from_reference {
@@ -126,7 +133,6 @@ impl CaptureEstimates {
         self.motion.angle_rad = linear_loop::smoothed(&gains, &self.own_angle, span);
         self.motion.initial_speed_rad_s =
             initial_speed(&self.motion.angle_rad, self.sample_period_s);
-        self.smoothed_noise = linear_loop::smoothed(&gains, &self.radial, span);
         self.first_pass_gains = gains;
         self.first_pass_bandwidth_hz = Some(bandwidth_hz);
         Ok(())
@@ -297,38 +303,89 @@ pub fn estimate_from_capture(
     if !(noise.std.value <= MAX_NOISE_STD) {
         return Err(DesignCaptureError::NoEllipse);
     }
+    let own_angle_for_als = own_angle.clone();
     // The reference has no noise to take out; the signals' own angle has the sensor's.
-    let (angle, angle_noise, own_angle, radial) = match reference {
-        Some(angle) => (angle, (0.0, 0.0, 0.0), Vec::new(), Vec::new()),
+    let (angle, angle_noise, own_angle) = match reference {
+        Some(angle) => (angle, (0.0, 0.0, 0.0), Vec::new()),
         None => {
             let variances = (
                 noise.white_std.powi(2),
                 noise.coloured_std.powi(2),
                 noise.coloured_pole,
             );
-            (own_angle.clone(), variances, own_angle, radial)
+            (own_angle.clone(), variances, own_angle)
         }
     };
     let from_reference = signals.reference_angle_rad.is_some();
+    let by_differences = jerk_std(&angle, ts, angle_noise);
+    let als = als_estimate(&own_angle_for_als, ts, &noise, by_differences.value);
+    let relative = |u: &Uncertain| {
+        if u.value > 0.0 {
+            u.std / u.value
+        } else {
+            f64::INFINITY
+        }
+    };
+    // ALS is consistent for the Kalman model's white noise; with a coloured part it takes
+    // the colour's estimated shape as exact, an error its spread does not hold.
+    let white = noise.coloured_std == 0.0;
+    let jerk_by_als =
+        white && als.is_some_and(|a| relative(&a.jerk_std_rad_s3) < relative(&by_differences));
     let mut estimates = CaptureEstimates {
         sample_period_s: ts,
         noise,
         motion: MotionEstimate {
-            jerk_std_rad_s3: jerk_std(&angle, ts, angle_noise),
+            jerk_std_rad_s3: match als {
+                Some(a) if jerk_by_als => a.jerk_std_rad_s3,
+                _ => by_differences,
+            },
+            jerk_by_differences_rad_s3: by_differences,
+            jerk_by_als,
             from_reference,
             turns: travel(&angle) / TAU,
             initial_speed_rad_s: initial_speed(&angle, ts),
             angle_rad: angle,
         },
+        als,
         first_pass_gains: Vec::new(),
         first_pass_bandwidth_hz: None,
-        smoothed_noise: Vec::new(),
         own_angle,
-        radial,
     };
     let first_pass_hz = FIRST_PASS_WIDENING * estimates.centre_bandwidth_hz();
     estimates.smooth_with(first_pass_hz)?;
     Ok(estimates)
+}
+
+/// The ALS estimate (`docs/theory.md §16.2`) on the signals' own angle `own_angle`: its
+/// first pass the Kalman loop of the jerk `jerk_rad_s3` and the `noise`, then again of the
+/// ALS's own jerk where it found one, the noise's colour taken from `noise`.
+fn als_estimate(
+    own_angle: &[f64],
+    ts: f64,
+    noise: &NoiseEstimate,
+    jerk_rad_s3: f64,
+) -> Option<AlsEstimate> {
+    let r = noise.std.value.max(MIN_NOISE_STD).powi(2);
+    let coloured_share = noise.coloured_std.powi(2) / r;
+    let at = |jerk: f64| {
+        let hz = nominal_bandwidth_hz((jerk * ts.powi(3)).powi(2) / r, ts).max(1e-4 / ts);
+        let gains = kalman_at(hz, noise.std.value, ts).ok()?;
+        als::estimate(
+            &gains,
+            hz,
+            own_angle,
+            ts,
+            coloured_share.min(1.0),
+            noise.coloured_pole,
+        )
+    };
+    let first = at(jerk_rad_s3)?;
+    let jerk = first.jerk_std_rad_s3;
+    if jerk.value > 2.0 * jerk.std {
+        at(jerk.value).or(Some(first))
+    } else {
+        Some(first)
+    }
 }
 
 /// `|theta[10] - theta[0]| / (10 Ts)` (rad/s).

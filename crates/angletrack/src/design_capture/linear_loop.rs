@@ -1,18 +1,23 @@
 //! The linearised loop of a gain set (`docs/theory.md §5`, `§8`, `§16.3`) run on a series
 //! (an angle, or a noise), and its steady-state response to coloured noise.
 
+use core::f64::consts::TAU;
+
 use nalgebra::{DMatrix, DVector};
 
 use crate::linalg;
 
-/// The filtered angle estimates of the linear loop `x = (I - L e1^T) A x + L theta` of
-/// gains `l` (2 or 3, the scaled state's) over `angle`, from the state `initial`
-/// (angle, speed times `Ts`, acceleration times `Ts^2`).
-fn run(
+/// The loop `x = (I - L e1^T) A x + L d(theta - (A x)_1)` of gains `l` (2 or 3, the scaled
+/// state's) over `angle`, from the state `initial` (angle, speed times `Ts`, acceleration
+/// times `Ts^2`), with the phase detector `d`: the identity for the linearised loop, the
+/// sine for the observer's own (`docs/theory.md §1`). Yields the angle estimate and the
+/// innovation `theta - (A x)_1` (before the detector).
+fn run_with(
     l: &[f64],
     angle: impl Iterator<Item = f64>,
     initial: [f64; 3],
-) -> impl Iterator<Item = f64> {
+    detector: fn(f64) -> f64,
+) -> impl Iterator<Item = (f64, f64)> {
     let mut x = initial;
     let third = l.len() == 3;
     angle.map(move |theta| {
@@ -23,11 +28,47 @@ fn run(
             [x[0] + x[1], x[1], 0.0]
         };
         let innovation = theta - predicted[0];
+        let detected = detector(innovation);
         for (i, value) in x.iter_mut().enumerate().take(l.len()) {
-            *value = predicted[i] + l[i] * innovation;
+            *value = predicted[i] + l[i] * detected;
         }
-        x[0]
+        (x[0], innovation)
     })
+}
+
+/// The filtered angle estimates of the linear loop of gains `l` over `angle`, from the
+/// state `initial` ([`run_with`]).
+fn run(
+    l: &[f64],
+    angle: impl Iterator<Item = f64>,
+    initial: [f64; 3],
+) -> impl Iterator<Item = f64> {
+    run_with(l, angle, initial, |e| e).map(|(x, _)| x)
+}
+
+/// The innovations of the linear loop of gains `l` over `series` from the zero state: the
+/// loop's response from `series` to what it has not yet predicted.
+pub(super) fn innovations(l: &[f64], series: impl Iterator<Item = f64>) -> Vec<f64> {
+    run_with(l, series, [0.0; 3], |e| e)
+        .map(|(_, e)| e)
+        .collect()
+}
+
+/// The innovations of the linear loop of gains `l` over `series`, started on its first
+/// sample at the slope of its first `span` samples (as [`smoothed`]'s passes).
+pub(super) fn innovations_started(l: &[f64], series: &[f64], span: usize) -> Vec<f64> {
+    let Some(&first) = series.first() else {
+        return Vec::new();
+    };
+    let speed = initial_slope(series, span);
+    run_with(
+        l,
+        series.iter().copied(),
+        [first - speed, speed, 0.0],
+        |e| e,
+    )
+    .map(|(_, e)| e)
+    .collect()
 }
 
 /// [`run`] over `angle` from its first sample, moving at `speed` (rad per sample); from
@@ -58,13 +99,27 @@ pub(super) fn smoothed(l: &[f64], series: &[f64], span: usize) -> Vec<f64> {
     back
 }
 
-/// The mean square of `angle - filtered(l, angle, 0)` over the samples `window`: the
-/// loop's tracking error (its lag, and the transient of its start from rest) on the angle.
-pub(super) fn mean_square_error(l: &[f64], angle: &[f64], window: core::ops::Range<usize>) -> f64 {
-    let estimate = filtered(l, angle, 0.0);
+/// The mean square over the samples `window` of the wrapped error `angle - estimate` of
+/// the observer's own loop of gains `l` (its phase detector the sine, `docs/theory.md §1`)
+/// run from rest on `angle`: its lag, and its acquisition of the motion from rest, cycle
+/// slips and the detector's saturation included.
+pub(super) fn observer_mean_square_error(
+    l: &[f64],
+    angle: &[f64],
+    window: core::ops::Range<usize>,
+) -> f64 {
+    let Some(&first) = angle.first() else {
+        return 0.0;
+    };
     let count = window.len().max(1) as f64;
-    window
-        .map(|k| (angle[k] - estimate[k]).powi(2))
+    run_with(l, angle.iter().copied(), [first, 0.0, 0.0], f64::sin)
+        .zip(angle)
+        .take(window.end)
+        .skip(window.start)
+        .map(|((estimate, _), theta)| {
+            let e = theta - estimate;
+            (e - TAU * (e / TAU).round()).powi(2)
+        })
         .sum::<f64>()
         / count
 }
@@ -112,4 +167,37 @@ pub(super) fn speed_step_peak(l: &[f64], samples: usize) -> f64 {
         .fold(0.0, |peak, (estimate, theta)| {
             f64::max(peak, (theta - estimate).abs())
         })
+}
+
+/// The variance of the linear loop `l`'s tracking error `(1 - T)` on a noise first
+/// smoothed by the loop `first` forward and backward (`|T1|^2`): the smoothed angle's own
+/// noise as the loop would track it, for the noise of [`noise_variance`]'s white and
+/// first-order autoregressive parts, over `length` samples of the impulse response.
+pub(super) fn smoothed_noise_tracking_variance(
+    l: &[f64],
+    first: &[f64],
+    white: f64,
+    coloured: f64,
+    pole: f64,
+    length: usize,
+) -> f64 {
+    // `(1 - T) T1 T1` run forward has the power spectrum of `(1 - T) |T1|^2`.
+    let impulse = (0..length).map(|k| if k == 0 { 1.0 } else { 0.0 });
+    let once: Vec<f64> = run(first, impulse, [0.0; 3]).collect();
+    let twice: Vec<f64> = run(first, once.iter().copied(), [0.0; 3]).collect();
+    let tracked: Vec<f64> = run(l, twice.iter().copied(), [0.0; 3]).collect();
+    let h: Vec<f64> = twice.iter().zip(&tracked).map(|(s, t)| s - t).collect();
+    let mut variance = white * h.iter().map(|x| x * x).sum::<f64>();
+    if coloured > 0.0 {
+        let mut state = 0.0;
+        let energy: f64 = h
+            .iter()
+            .map(|&x| {
+                state = pole * state + x;
+                state * state
+            })
+            .sum();
+        variance += coloured * (1.0 - pole * pole) * energy;
+    }
+    variance
 }

@@ -26,6 +26,7 @@
 //! # Ok::<(), angletrack::design_capture::DesignCaptureError>(())
 //! ```
 
+mod als;
 mod choice;
 mod ellipse;
 mod error;
@@ -35,6 +36,7 @@ mod linear_loop;
 mod noise;
 mod tracker;
 
+pub use als::AlsEstimate;
 pub use choice::{
     CaptureCandidate, CaptureDesign, DesignConstraints, GRID_SPAN, ObserverFamily,
     PredictedErrorParts, choose_design,

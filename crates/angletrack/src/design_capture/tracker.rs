@@ -45,6 +45,14 @@ impl CaptureDesign {
             "noise_std_uncertainty": e.noise.std.std,
             "jerk_std_rad_s3": e.motion.jerk_std_rad_s3.value,
             "jerk_std_uncertainty_rad_s3": e.motion.jerk_std_rad_s3.std,
+            "jerk_by_als": e.motion.jerk_by_als,
+            "jerk_by_differences_rad_s3": e.motion.jerk_by_differences_rad_s3.value,
+            "als": e.als.map(|a| json!({
+                "jerk_std_rad_s3": a.jerk_std_rad_s3.value,
+                "jerk_std_uncertainty_rad_s3": a.jerk_std_rad_s3.std,
+                "noise_std": a.noise_std.value,
+                "noise_std_uncertainty": a.noise_std.std,
+            })),
             "motion_from_reference": e.motion.from_reference,
         })
     }

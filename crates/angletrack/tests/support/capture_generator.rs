@@ -201,7 +201,7 @@ pub struct Checked {
     /// Its measured RMS angle error (rad) on the second capture.
     pub measured_rad: f64,
     /// The least measured RMS angle error on the second capture of the grid's designs that
-    /// meet the constraints (by default: acquiring the capture's initial speed).
+    /// meet the constraints (by default none: every design of the grid).
     pub best_of_grid_rad: f64,
     /// The same over the whole grid, the designs refused by a constraint too.
     pub best_of_whole_grid_rad: f64,

@@ -133,6 +133,21 @@ pub fn design_from_capture<'py>(
     noise.set_item("quantisation_std", e.noise.quantisation_std)?;
     let motion = PyDict::new(py);
     motion.set_item("jerk_std_rad_s3", uncertain(py, e.motion.jerk_std_rad_s3)?)?;
+    motion.set_item(
+        "jerk_by_differences_rad_s3",
+        uncertain(py, e.motion.jerk_by_differences_rad_s3)?,
+    )?;
+    motion.set_item("jerk_by_als", e.motion.jerk_by_als)?;
+    if let Some(als) = &e.als {
+        let d = PyDict::new(py);
+        d.set_item("jerk_std_rad_s3", uncertain(py, als.jerk_std_rad_s3)?)?;
+        d.set_item("noise_std", uncertain(py, als.noise_std)?)?;
+        d.set_item("first_pass_bandwidth_hz", als.first_pass_bandwidth_hz)?;
+        d.set_item("lags", als.lags)?;
+        out.set_item("als", d)?;
+    } else {
+        out.set_item("als", py.None())?;
+    }
     motion.set_item("from_reference", e.motion.from_reference)?;
     motion.set_item("turns", e.motion.turns)?;
     motion.set_item("initial_speed_rad_s", e.motion.initial_speed_rad_s)?;

@@ -80,6 +80,13 @@ def test_python_returns_the_design_the_estimates_and_the_candidates():
     assert math.isclose(parts["predicted_error_rms_rad"] ** 2,
                         parts["noise_rad"] ** 2 + parts["lag_rad"] ** 2 + parts["number_type_rad"] ** 2, rel_tol=1e-9)
     assert len(result["spectra"]["frequency_hz"]) == len(result["spectra"]["noise_rad2_per_hz"])
+    # Without a reference and with white noise of 0.01: the autocovariance least-squares
+    # estimate is there, its noise the phase detector's (0.01 of the amplitude).
+    unreferenced = angletrack.design_from_capture(y_c, y_s, 1 / RATE_HZ, grid_points=6, number_type="f64")
+    als = unreferenced["als"]
+    assert als is not None and als["lags"] > 0 and als["first_pass_bandwidth_hz"] > 0
+    assert abs(als["noise_std"]["value"] - 0.01) < 5e-4, als
+    assert unreferenced["motion"]["jerk_by_differences_rad_s3"]["value"] > 0
 
 
 @pytest.mark.parametrize("kwargs, parameter", [

@@ -717,7 +717,11 @@ def design_from_capture(
     and ``candidates`` (dicts: ``observer``, ``bandwidth_hz``, ``gains``,
     ``predicted_error_rms_rad``, ``noise_rad``, ``lag_rad``, ``number_type_rad``,
     ``refused_by``), ``noise`` and ``motion`` (the estimates, each uncertain one as
-    ``{"value", "std"}``) and ``spectra`` (``frequency_hz``, ``noise_rad2_per_hz``,
+    ``{"value", "std"}``; the jerk used, the jerk by third differences and whether the
+    autocovariance least-squares one was used), ``als`` (the autocovariance least-squares
+    estimate of the Kalman model's jerk and noise from a first-pass loop's innovations, with
+    that loop's bandwidth and the lags fitted; ``None`` when the noise is coloured) and
+    ``spectra`` (``frequency_hz``, ``noise_rad2_per_hz``,
     ``motion_rad2_per_hz``). A capture that cannot support the estimates (too short, at
     standstill, too few turns) raises ``ValueError`` saying which."""
 

@@ -31,7 +31,8 @@ pub struct FixedColumns<'a> {
 
 impl FixedColumns<'_> {
     /// Runs `gains` from `state` over the samples `y_c`, `y_s` (counts), one
-    /// [`FixedGains::update`] per sample, writing each estimate into the columns; returns
+    /// [`Chain::update`](angletrack_core::Chain::update) of the bare observer per sample,
+    /// writing each estimate into the columns; returns
     /// how many samples it ran: the fewest of the samples and of every column's elements
     /// (the caller gives them all of one length when every sample must run).
     ///

@@ -8,9 +8,8 @@
 use std::fmt::Write as _;
 
 use angletrack_core::{
-    AdcCounts, AdcScaling, AngleCorrectionTable, FaultThresholds, FixedAngleCorrectionTable,
-    FixedCalibration, FixedGains, Input as CoreInput, Order, Rails, SupportedOrder,
-    TRACKER_TABLE_LENGTH, TrackerFrontEnd, TrackerSettings,
+    AdcCounts, AdcScaling, AngleCorrectionTable, FaultThresholds, FixedGains, Input as CoreInput,
+    Order, Rails, SupportedOrder, TRACKER_TABLE_LENGTH, TrackerFrontEnd, TrackerSettings,
 };
 
 use super::TrackerFile;
@@ -377,36 +376,17 @@ impl TrackerFile {
         let input_text = input_text(input, rails.0, units_rails, |v| {
             Ok::<_, FirmwareError>(v.to_string())
         })?;
-        let calibration = match &self.calibration {
-            Calibration::None => "None".to_string(),
-            Calibration::Stored(s) => {
-                let shifted = crate::shifted_calibration(s, shift)
-                    .map_err(|e| refuse(file, "calibration.sensor", e.to_string()))?;
-                FixedCalibration::new(&shifted)
-                    .map_err(|e| refuse(file, "calibration.sensor", e.to_string()))?;
-                format!(
-                    "Some(ok(FixedCalibration::new_const(&{})))",
-                    sensor_text("f64", &shifted, FloatType::F64)?
-                )
-            }
-            Calibration::Online { .. } => {
-                return Err(refuse(
-                    file,
-                    "calibration.kind",
-                    "the fixed-point chain has no online calibration: give \"stored\" or \"none\"",
-                ));
-            }
+        let calibration = match self
+            .fixed_calibration(file, shift)
+            .map_err(FirmwareError::File)?
+        {
+            None => "None".to_string(),
+            Some((shifted, _)) => format!(
+                "Some(ok(FixedCalibration::new_const(&{})))",
+                sensor_text("f64", &shifted, FloatType::F64)?
+            ),
         };
-        let table = match &self.correction {
-            Correction::None => None,
-            Correction::Harmonics(h) => {
-                Some(FixedAngleCorrectionTable::<TRACKER_TABLE_LENGTH>::from_harmonics(h))
-            }
-            Correction::Table(curve) => Some(FixedAngleCorrectionTable::from_table(
-                &AngleCorrectionTable::<f64, TRACKER_TABLE_LENGTH>::from_curve(curve)
-                    .map_err(|e| refuse(file, "correction.table", e.to_string()))?,
-            )),
-        };
+        let table = self.fixed_correction(file).map_err(FirmwareError::File)?;
         let correction = match table {
             None => "None".to_string(),
             Some(table) => {

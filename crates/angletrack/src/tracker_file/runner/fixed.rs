@@ -3,8 +3,8 @@
 
 use angletrack_core::{
     AdcCounts, AngleCorrectionTable, FaultThresholds, Faults, FixedAngleCorrectionTable,
-    FixedCalibration, FixedGains, FrontEndFaults, Input as CoreInput, Order, SupportedOrder,
-    TRACKER_TABLE_LENGTH, Tracker, TrackerFrontEnd, TrackerSettings, TrackerState,
+    FixedCalibration, FixedGains, FrontEndFaults, Input as CoreInput, Order, SensorCalibration,
+    SupportedOrder, TRACKER_TABLE_LENGTH, Tracker, TrackerFrontEnd, TrackerSettings, TrackerState,
 };
 
 use super::super::{Calibration, Correction, Input, TrackerFile};
@@ -13,6 +13,49 @@ use super::{
     thresholds,
 };
 use crate::json_file::JsonFileError;
+
+impl TrackerFile {
+    /// The stored calibration in the fixed-point chain's counts shifted by `shift` (the
+    /// calibration is learned on the counts before the shift), and the chain's integer
+    /// stage of it; `None` without one. An online calibration is refused, naming the
+    /// field (`name` names the file). The export writes what this builds.
+    pub(in crate::tracker_file) fn fixed_calibration(
+        &self,
+        name: &str,
+        shift: u32,
+    ) -> Result<Option<(SensorCalibration<f64>, FixedCalibration)>, JsonFileError> {
+        match &self.calibration {
+            Calibration::None => Ok(None),
+            Calibration::Stored(s) => {
+                let shifted = crate::shifted_calibration(s, shift)
+                    .map_err(field(name, "calibration.sensor"))?;
+                let fixed =
+                    FixedCalibration::new(&shifted).map_err(field(name, "calibration.sensor"))?;
+                Ok(Some((shifted, fixed)))
+            }
+            Calibration::Online { .. } => Err(refuse(
+                name,
+                "calibration.kind",
+                "the fixed-point chain has no online calibration: give \"stored\" or \"none\"",
+            )),
+        }
+    }
+
+    /// The fixed-point chain's table of the file's angle correction (`None` without one).
+    pub(in crate::tracker_file) fn fixed_correction(
+        &self,
+        name: &str,
+    ) -> Result<Option<FixedAngleCorrectionTable<TRACKER_TABLE_LENGTH>>, JsonFileError> {
+        Ok(match &self.correction {
+            Correction::None => None,
+            Correction::Harmonics(h) => Some(FixedAngleCorrectionTable::from_harmonics(h)),
+            Correction::Table(curve) => Some(FixedAngleCorrectionTable::from_table(
+                &AngleCorrectionTable::<f64, TRACKER_TABLE_LENGTH>::from_curve(curve)
+                    .map_err(field(name, "correction.table"))?,
+            )),
+        })
+    }
+}
 
 impl<const N: usize> Run for Fixed<N>
 where
@@ -64,31 +107,8 @@ where
             _ => thresholds(file, head, Some(mid)).nominal_amplitude,
         };
         let (rails, _) = file.rails(name, true).map_err(|e| file_error(name, e))?;
-        let calibration = match &file.calibration {
-            Calibration::None => None,
-            Calibration::Stored(s) => Some(
-                crate::shifted_calibration(s, shift)
-                    .and_then(|s| FixedCalibration::new(&s))
-                    .map_err(field("calibration.sensor"))?,
-            ),
-            Calibration::Online { .. } => {
-                return Err(refuse(
-                    name,
-                    "calibration.kind",
-                    "the fixed-point chain has no online calibration: give \"stored\" or \"none\"",
-                ));
-            }
-        };
-        let correction = match &file.correction {
-            Correction::None => None,
-            Correction::Harmonics(h) => {
-                Some(FixedAngleCorrectionTable::<TRACKER_TABLE_LENGTH>::from_harmonics(h))
-            }
-            Correction::Table(curve) => Some(FixedAngleCorrectionTable::from_table(
-                &AngleCorrectionTable::<f64, TRACKER_TABLE_LENGTH>::from_curve(curve)
-                    .map_err(field("correction.table"))?,
-            )),
-        };
+        let calibration = file.fixed_calibration(name, shift)?.map(|(_, c)| c);
+        let correction = file.fixed_correction(name)?;
         let adc = AdcCounts::new(mid, shift).map_err(field("input"))?;
         let front_end = TrackerFrontEnd::<i16>::new(TrackerSettings {
             input: CoreInput::Counts { adc, rails },

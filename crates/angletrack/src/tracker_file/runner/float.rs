@@ -41,9 +41,8 @@ where
             .with_filter_factor(T::from_f64(t.filter_factor))
             .with_false_lock(T::from_f64(t.false_lock))
             .with_monitor(t.monitor)
-            .with_re_acquire(t.re_acquire);
-        let mut thresholds = thresholds;
-        thresholds.magnitude_tolerance = t.magnitude_tolerance.map(T::from_f64);
+            .with_re_acquire(t.re_acquire)
+            .with_magnitude_tolerance(t.magnitude_tolerance.map(T::from_f64));
         let mut gains = Gains::<T, N>::new(values, T::from_f64(file.gains.sample_period_s))
             .map_err(field("gains"))?
             .with_fault_thresholds(thresholds)

@@ -36,10 +36,10 @@ cbindgen_version=0.29.2
 if [ "$(cbindgen --version 2>/dev/null)" != "cbindgen $cbindgen_version" ]; then
   cargo install -q --locked cbindgen --version "=$cbindgen_version"
 fi
-(cd "$crate" && cbindgen -q --config cbindgen.toml --output "$scratch/angletrack.h")
+(cd "$crate" && RUSTC_BOOTSTRAP=1 cbindgen -q --config cbindgen.toml --output "$scratch/angletrack.h")
 if ! diff -u "$crate/include/angletrack.h" "$scratch/angletrack.h"; then
   echo "FAIL: $crate/include/angletrack.h is stale: regenerate it with" \
-    "(cd $crate && cbindgen --config cbindgen.toml --output include/angletrack.h)" >&2
+    "(cd $crate && RUSTC_BOOTSTRAP=1 cbindgen --config cbindgen.toml --output include/angletrack.h)" >&2
   exit 1
 fi
 echo "$crate/include/angletrack.h matches cbindgen $cbindgen_version's output"

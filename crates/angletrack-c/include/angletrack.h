@@ -335,7 +335,7 @@ typedef struct at_gains_f32 {
  */
 typedef struct at_adc_f32 {
   /**
-   * Private: whether `storage` holds it.
+   * Private: which Rust value `storage` holds (0: none; in a state, a fresh one).
    */
   uint32_t tag;
   /**
@@ -440,7 +440,7 @@ typedef struct at_angle_correction_table_f32 {
  */
 typedef struct at_chain_f32 {
   /**
-   * Private: which Rust value `storage` holds (0: none).
+   * Private: which Rust value `storage` holds (0: none; in a state, a fresh one).
    */
   uint32_t tag;
   /**
@@ -462,7 +462,7 @@ typedef struct at_chain_f32 {
  */
 typedef struct at_chain_state_f32 {
   /**
-   * Private: which Rust value `storage` holds (0: a fresh state).
+   * Private: which Rust value `storage` holds (0: none; in a state, a fresh one).
    */
   uint32_t tag;
   /**
@@ -607,7 +607,7 @@ typedef struct at_angle_table_fixed {
  */
 typedef struct at_chain_fixed {
   /**
-   * Private: which Rust value `storage` holds (0: none).
+   * Private: which Rust value `storage` holds (0: none; in a state, a fresh one).
    */
   uint32_t tag;
   /**
@@ -628,7 +628,7 @@ typedef struct at_chain_fixed {
  */
 typedef struct at_chain_state_fixed {
   /**
-   * Private: which Rust value `storage` holds (0: a fresh state).
+   * Private: which Rust value `storage` holds (0: none; in a state, a fresh one).
    */
   uint32_t tag;
   /**
@@ -742,7 +742,7 @@ typedef struct at_demodulator_settings_f32 {
  */
 typedef struct at_demodulator_f32 {
   /**
-   * Private: which Rust value `storage` holds (0: none).
+   * Private: which Rust value `storage` holds (0: none; in a state, a fresh one).
    */
   uint32_t tag;
   /**
@@ -763,7 +763,7 @@ typedef struct at_demodulator_f32 {
  */
 typedef struct at_demodulator_state_f32 {
   /**
-   * Private: which Rust value `storage` holds (0: a fresh state).
+   * Private: which Rust value `storage` holds (0: none; in a state, a fresh one).
    */
   uint32_t tag;
   /**
@@ -1243,6 +1243,33 @@ struct at_estimate_f32 at_chain_f32_update_i32(const struct at_chain_f32 *chain,
                                                int32_t raw_s);
 
 /**
+ * `at_chain_f32_track` on a demodulator's pair (`at_demodulator_f32_push`), with the
+ * front-end faults of its window: while one invalidates the pair (loss of excitation, a
+ * winding open or shorted) the observer coasts on its prediction instead of using it, and
+ * every fault is latched as `AT_FAULT_FRONT_END` (`at_chain_state_f32_clear_front_end_faults`
+ * gives the front-end bits). Returns 0, or `AT_FAULT_INVALID_ARGUMENT` (nothing changed)
+ * for refused arguments, a chain with an ADC stage among them (the demodulator takes the
+ * counts: build the chain without one).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_f32_track_demodulated(const struct at_chain_f32 *chain,
+                                        struct at_chain_state_f32 *state,
+                                        const struct at_demodulated_pair_f32 *pair);
+
+/**
+ * `at_chain_f32_track_demodulated`, then the estimate, which carries `AT_FAULT_FRONT_END`
+ * while the pair has a front-end fault.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_chain_f32_update_demodulated(const struct at_chain_f32 *chain,
+                                                       struct at_chain_state_f32 *state,
+                                                       const struct at_demodulated_pair_f32 *pair);
+
+/**
  * The estimate `state` holds for `chain` (its last sample's; the observer's faults, the
  * stages' latched in the state). Refused arguments: `AT_FAULT_INVALID_ARGUMENT`.
  *
@@ -1342,33 +1369,6 @@ uint32_t at_chain_state_f32_calibration_status(const struct at_chain_state_f32 *
 at_status at_chain_f32_with_winding_check(const struct at_chain_f32 *chain,
                                           float nominal_amplitude,
                                           struct at_chain_f32 *out);
-
-/**
- * `at_chain_f32_track` on a demodulator's pair (`at_demodulator_f32_push`), with the
- * front-end faults of its window: while one invalidates the pair (loss of excitation, a
- * winding open or shorted) the observer coasts on its prediction instead of using it, and
- * every fault is latched as `AT_FAULT_FRONT_END` (`at_chain_state_f32_clear_front_end_faults`
- * gives the front-end bits). Returns 0, or `AT_FAULT_INVALID_ARGUMENT` (nothing changed)
- * for refused arguments, a chain with an ADC stage among them (the demodulator takes the
- * counts: build the chain without one).
- *
- * # Safety
- * See the header's introduction.
- */
-uint32_t at_chain_f32_track_demodulated(const struct at_chain_f32 *chain,
-                                        struct at_chain_state_f32 *state,
-                                        const struct at_demodulated_pair_f32 *pair);
-
-/**
- * `at_chain_f32_track_demodulated`, then the estimate, which carries `AT_FAULT_FRONT_END`
- * while the pair has a front-end fault.
- *
- * # Safety
- * See the header's introduction.
- */
-struct at_estimate_f32 at_chain_f32_update_demodulated(const struct at_chain_f32 *chain,
-                                                       struct at_chain_state_f32 *state,
-                                                       const struct at_demodulated_pair_f32 *pair);
 
 /**
  * Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
@@ -1555,6 +1555,84 @@ struct at_fixed_estimate at_chain_fixed_update_i32(const struct at_chain_fixed *
                                                    struct at_chain_state_fixed *state,
                                                    int32_t raw_c,
                                                    int32_t raw_s);
+
+/**
+ * `at_chain_fixed_track_i16` for a chain of order 2 only, its body inlined: no
+ * dispatch on the order, and an image that calls no other order's links one body.
+ * `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_fixed_track_i16_order2(const struct at_chain_fixed *chain,
+                                         struct at_chain_state_fixed *state,
+                                         int16_t raw_c,
+                                         int16_t raw_s);
+
+/**
+ * `at_chain_fixed_track_i16` for a chain of order 3 only, its body inlined: no
+ * dispatch on the order, and an image that calls no other order's links one body.
+ * `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_fixed_track_i16_order3(const struct at_chain_fixed *chain,
+                                         struct at_chain_state_fixed *state,
+                                         int16_t raw_c,
+                                         int16_t raw_s);
+
+/**
+ * `at_chain_fixed_track_u16` for a chain of order 2 only, its body inlined: no
+ * dispatch on the order, and an image that calls no other order's links one body.
+ * `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_fixed_track_u16_order2(const struct at_chain_fixed *chain,
+                                         struct at_chain_state_fixed *state,
+                                         uint16_t raw_c,
+                                         uint16_t raw_s);
+
+/**
+ * `at_chain_fixed_track_u16` for a chain of order 3 only, its body inlined: no
+ * dispatch on the order, and an image that calls no other order's links one body.
+ * `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_fixed_track_u16_order3(const struct at_chain_fixed *chain,
+                                         struct at_chain_state_fixed *state,
+                                         uint16_t raw_c,
+                                         uint16_t raw_s);
+
+/**
+ * `at_chain_fixed_track_i32` for a chain of order 2 only, its body inlined: no
+ * dispatch on the order, and an image that calls no other order's links one body.
+ * `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_fixed_track_i32_order2(const struct at_chain_fixed *chain,
+                                         struct at_chain_state_fixed *state,
+                                         int32_t raw_c,
+                                         int32_t raw_s);
+
+/**
+ * `at_chain_fixed_track_i32` for a chain of order 3 only, its body inlined: no
+ * dispatch on the order, and an image that calls no other order's links one body.
+ * `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_fixed_track_i32_order3(const struct at_chain_fixed *chain,
+                                         struct at_chain_state_fixed *state,
+                                         int32_t raw_c,
+                                         int32_t raw_s);
 
 /**
  * The estimate `state` holds for `chain` (its last sample's; all zero for a fresh state).

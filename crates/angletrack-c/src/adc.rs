@@ -3,8 +3,6 @@
 //! the ADC's stated range (its lowest and highest codes), against which a chain flags
 //! clipping (the core's `FrontEndCheck`, in `chain`).
 
-use core::mem::MaybeUninit;
-
 use angletrack_core::{AdcScaling, ConfigError, FrontEndCheck, Rails};
 
 use crate::slot::{self, Refused, Slot, Stored};
@@ -37,22 +35,13 @@ pub(crate) fn codes_of(bits: u32, signed: bool) -> Option<(i32, i32)> {
     }
 }
 
-/// The checked ADC front end, made by `at_adc_f32_new`, `at_adc_f32_offset_binary` or
-/// `at_adc_f32_twos_complement`, with its range of codes (stated by the last two, or by
-/// `at_adc_f32_set_range` at start-up). Immutable once made but for its range; place it
-/// anywhere; copy it by assignment; never write its fields. A zeroed one is refused.
-#[repr(C)]
-#[derive(Debug, Clone, Copy)]
-pub struct at_adc_f32 {
-    /// Private: whether `storage` holds it.
-    pub(crate) tag: u32,
-    /// Private: the layout of the build that wrote it.
-    pub(crate) layout: u32,
-    /// Private: the Rust value.
-    pub(crate) storage: [MaybeUninit<u64>; AT_ADC_F32_WORDS],
+slot::slot_struct! {
+    /// The checked ADC front end, made by `at_adc_f32_new`, `at_adc_f32_offset_binary` or
+    /// `at_adc_f32_twos_complement`, with its range of codes (stated by the last two, or by
+    /// `at_adc_f32_set_range` at start-up). Immutable once made but for its range; place it
+    /// anywhere; copy it by assignment; never write its fields. A zeroed one is refused.
+    at_adc_f32[AT_ADC_F32_WORDS]
 }
-
-slot::slot_struct!(at_adc_f32, AT_ADC_F32_WORDS);
 
 impl at_adc_f32 {
     /// The scaling, if made by a constructor of this build.

@@ -13,8 +13,6 @@
 //! demodulator's faults, the winding check if asked for, the calibration (none, stored or
 //! online) and the angle correction (none, harmonics or table). This file only converts.
 
-use core::mem::MaybeUninit;
-
 use angletrack_core::{
     AngleCorrection, CalibrationStage, Calibrator, ConfigError, CorrectionStage, Estimate, Gains,
     Input, MAX_CORRECTION_ORDER, ObserverState, OnlineCalibration, Rails, Tracker, TrackerFrontEnd,
@@ -37,40 +35,22 @@ pub const AT_CHAIN_F32_WORDS: usize = 284;
 /// compile time, on every target).
 pub const AT_CHAIN_STATE_F32_WORDS: usize = 32;
 
-/// The checked configuration of one signal chain, made by `at_chain_f32_new` from the
-/// observer's gains and optional stages. Immutable once made: one serves any number of
-/// channels (`at_chain_state_f32`). Place it anywhere; copy it by assignment; never write its
-/// fields. A zeroed one is refused.
-#[repr(C)]
-#[derive(Debug, Clone, Copy)]
-pub struct at_chain_f32 {
-    /// Private: which Rust value `storage` holds (0: none).
-    pub(crate) tag: u32,
-    /// Private: the layout of the build that wrote it.
-    pub(crate) layout: u32,
-    /// Private: the Rust value.
-    pub(crate) storage: [MaybeUninit<u64>; AT_CHAIN_F32_WORDS],
+slot::slot_struct! {
+    /// The checked configuration of one signal chain, made by `at_chain_f32_new` from the
+    /// observer's gains and optional stages. Immutable once made: one serves any number of
+    /// channels (`at_chain_state_f32`). Place it anywhere; copy it by assignment; never write its
+    /// fields. A zeroed one is refused.
+    at_chain_f32[AT_CHAIN_F32_WORDS]
 }
 
-slot::slot_struct!(at_chain_f32, AT_CHAIN_F32_WORDS);
-
-/// One channel's state of a signal chain: the observer's state and the online
-/// calibration's estimator. A zeroed one is fresh (as after `at_chain_state_f32_reset`): the
-/// observer initialises itself from its first sample, the online calibration is off until
-/// `at_chain_state_f32_set_calibration_mode`. Place it anywhere; copy it by assignment;
-/// never write its fields.
-#[repr(C)]
-#[derive(Debug, Clone, Copy)]
-pub struct at_chain_state_f32 {
-    /// Private: which Rust value `storage` holds (0: a fresh state).
-    pub(crate) tag: u32,
-    /// Private: the layout of the build that wrote it.
-    pub(crate) layout: u32,
-    /// Private: the Rust value.
-    pub(crate) storage: [MaybeUninit<u64>; AT_CHAIN_STATE_F32_WORDS],
+slot::slot_struct! {
+    /// One channel's state of a signal chain: the observer's state and the online
+    /// calibration's estimator. A zeroed one is fresh (as after `at_chain_state_f32_reset`): the
+    /// observer initialises itself from its first sample, the online calibration is off until
+    /// `at_chain_state_f32_set_calibration_mode`. Place it anywhere; copy it by assignment;
+    /// never write its fields.
+    at_chain_state_f32[AT_CHAIN_STATE_F32_WORDS]
 }
-
-slot::slot_struct!(at_chain_state_f32, AT_CHAIN_STATE_F32_WORDS);
 
 /// The harmonic orders an `at_angle_correction_f32` holds (the core's
 /// `MAX_CORRECTION_ORDER`: the struct's arrays are the core's, checked at compile time).
@@ -141,17 +121,11 @@ pub(crate) type ChainF32<const N: usize> = Tracker<f32, Gains<f32, N>>;
 /// The state of a chain of order `N`.
 pub(crate) type StateF32<const N: usize> = TrackerState<f32, ObserverState<f32, N>>;
 
-impl Stored for ChainF32<2> {
-    const TAG: u32 = 0x4154_4b02; // "ATK", order 2
+impl<const N: usize> Stored for ChainF32<N> {
+    const TAG: u32 = 0x4154_4b00 | N as u32; // "ATK", the order
 }
-impl Stored for ChainF32<3> {
-    const TAG: u32 = 0x4154_4b03; // "ATK", order 3
-}
-impl Stored for StateF32<2> {
-    const TAG: u32 = 0x4154_6b02; // "ATk", order 2
-}
-impl Stored for StateF32<3> {
-    const TAG: u32 = 0x4154_6b03; // "ATk", order 3
+impl<const N: usize> Stored for StateF32<N> {
+    const TAG: u32 = 0x4154_6b00 | N as u32; // "ATk", the order
 }
 
 /// The optional stages `at_chain_f32_new` takes, as references.

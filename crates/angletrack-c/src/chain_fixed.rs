@@ -12,8 +12,6 @@
 //! units) or, with an ADC and no range, at the rails measured; a chain without an ADC takes
 //! `int16` samples as they are. This file only converts.
 
-use core::mem::MaybeUninit;
-
 use angletrack_core::{
     AdcCounts, ConfigError, FixedCalibration, FixedEstimate, FixedGains, FixedState, Input, Order,
     Rails, SensorCalibration, SupportedOrder, Tracker, TrackerFrontEnd, TrackerSettings,
@@ -114,38 +112,20 @@ impl at_adc_counts {
     }
 }
 
-/// The checked configuration of one fixed-point signal chain, made by `at_chain_fixed_new`.
-/// Immutable once made: one serves any number of channels (`at_chain_state_fixed`). Place it
-/// anywhere; copy it by assignment; never write its fields. A zeroed one is refused.
-#[repr(C)]
-#[derive(Debug, Clone, Copy)]
-pub struct at_chain_fixed {
-    /// Private: which Rust value `storage` holds (0: none).
-    pub(crate) tag: u32,
-    /// Private: the layout of the build that wrote it.
-    pub(crate) layout: u32,
-    /// Private: the Rust value.
-    pub(crate) storage: [MaybeUninit<u64>; AT_CHAIN_FIXED_WORDS],
+slot::slot_struct! {
+    /// The checked configuration of one fixed-point signal chain, made by `at_chain_fixed_new`.
+    /// Immutable once made: one serves any number of channels (`at_chain_state_fixed`). Place it
+    /// anywhere; copy it by assignment; never write its fields. A zeroed one is refused.
+    at_chain_fixed[AT_CHAIN_FIXED_WORDS]
 }
 
-slot::slot_struct!(at_chain_fixed, AT_CHAIN_FIXED_WORDS);
-
-/// One channel's state of a fixed-point chain (the observer's: the stages keep none). A
-/// zeroed one is fresh (as after `at_chain_state_fixed_reset`): the observer initialises
-/// itself from its first sample. Place it anywhere; copy it by assignment; never write its
-/// fields.
-#[repr(C)]
-#[derive(Debug, Clone, Copy)]
-pub struct at_chain_state_fixed {
-    /// Private: which Rust value `storage` holds (0: a fresh state).
-    pub(crate) tag: u32,
-    /// Private: the layout of the build that wrote it.
-    pub(crate) layout: u32,
-    /// Private: the Rust value.
-    pub(crate) storage: [MaybeUninit<u64>; AT_CHAIN_STATE_FIXED_WORDS],
+slot::slot_struct! {
+    /// One channel's state of a fixed-point chain (the observer's: the stages keep none). A
+    /// zeroed one is fresh (as after `at_chain_state_fixed_reset`): the observer initialises
+    /// itself from its first sample. Place it anywhere; copy it by assignment; never write its
+    /// fields.
+    at_chain_state_fixed[AT_CHAIN_STATE_FIXED_WORDS]
 }
-
-slot::slot_struct!(at_chain_state_fixed, AT_CHAIN_STATE_FIXED_WORDS);
 
 /// What an `at_chain_fixed` holds: the core's standard chain of order `N`.
 pub(crate) type ChainFixed<const N: usize> = Tracker<i16, FixedGains<N>>;
@@ -153,17 +133,11 @@ pub(crate) type ChainFixed<const N: usize> = Tracker<i16, FixedGains<N>>;
 /// The state of a fixed-point chain of order `N`.
 pub(crate) type StateFixed<const N: usize> = TrackerState<i16, FixedState<N>>;
 
-impl Stored for ChainFixed<2> {
-    const TAG: u32 = 0x4154_7102; // "ATq", order 2
+impl<const N: usize> Stored for ChainFixed<N> {
+    const TAG: u32 = 0x4154_7100 | N as u32; // "ATq", the order
 }
-impl Stored for ChainFixed<3> {
-    const TAG: u32 = 0x4154_7103; // "ATq", order 3
-}
-impl Stored for StateFixed<2> {
-    const TAG: u32 = 0x4154_5102; // "ATQ", order 2
-}
-impl Stored for StateFixed<3> {
-    const TAG: u32 = 0x4154_5103; // "ATQ", order 3
+impl<const N: usize> Stored for StateFixed<N> {
+    const TAG: u32 = 0x4154_5100 | N as u32; // "ATQ", the order
 }
 
 /// The optional stages `at_chain_fixed_new` takes, as references.

@@ -5,8 +5,6 @@
 //! configuration, `at_demodulator_state_f32` one channel's state; `at_demodulator_settings_f32`
 //! and `at_demodulated_pair_f32` are the plain C mirrors of the core's settings and pairs.
 
-use core::mem::MaybeUninit;
-
 use angletrack_core::{DemodulatedPair, Demodulator, DemodulatorSettings, DemodulatorState};
 
 use crate::slot::{self, Refused, Slot, Stored};
@@ -41,38 +39,20 @@ pub const AT_FRONT_END_FAULT_WINDING: u32 = 1 << 4;
 /// checked against it.
 pub const AT_FRONT_END_FAULT_EXCITATION_REFERENCE: u32 = 1 << 5;
 
-/// The checked configuration of a synchronous demodulator, made by `at_demodulator_f32_new`
-/// (reference tables, scale, thresholds). Immutable once made; place it anywhere; copy it by
-/// assignment; never write its fields. A zeroed one is refused.
-#[repr(C)]
-#[derive(Debug, Clone, Copy)]
-pub struct at_demodulator_f32 {
-    /// Private: which Rust value `storage` holds (0: none).
-    pub(crate) tag: u32,
-    /// Private: the layout of the build that wrote it.
-    pub(crate) layout: u32,
-    /// Private: the Rust value.
-    pub(crate) storage: [MaybeUninit<u64>; AT_DEMODULATOR_F32_WORDS],
+slot::slot_struct! {
+    /// The checked configuration of a synchronous demodulator, made by `at_demodulator_f32_new`
+    /// (reference tables, scale, thresholds). Immutable once made; place it anywhere; copy it by
+    /// assignment; never write its fields. A zeroed one is refused.
+    at_demodulator_f32[AT_DEMODULATOR_F32_WORDS]
 }
 
-slot::slot_struct!(at_demodulator_f32, AT_DEMODULATOR_F32_WORDS);
-
-/// One channel's demodulator state: partial sums, the carrier delay, latched front-end
-/// faults. A zeroed one is fresh (as after `at_demodulator_state_f32_reset`): its next
-/// sample is the first of a carrier period (excitation phase 0). Place it anywhere; copy it
-/// by assignment; never write its fields.
-#[repr(C)]
-#[derive(Debug, Clone, Copy)]
-pub struct at_demodulator_state_f32 {
-    /// Private: which Rust value `storage` holds (0: a fresh state).
-    pub(crate) tag: u32,
-    /// Private: the layout of the build that wrote it.
-    pub(crate) layout: u32,
-    /// Private: the Rust value.
-    pub(crate) storage: [MaybeUninit<u64>; AT_DEMODULATOR_STATE_F32_WORDS],
+slot::slot_struct! {
+    /// One channel's demodulator state: partial sums, the carrier delay, latched front-end
+    /// faults. A zeroed one is fresh (as after `at_demodulator_state_f32_reset`): its next
+    /// sample is the first of a carrier period (excitation phase 0). Place it anywhere; copy it
+    /// by assignment; never write its fields.
+    at_demodulator_state_f32[AT_DEMODULATOR_STATE_F32_WORDS]
 }
-
-slot::slot_struct!(at_demodulator_state_f32, AT_DEMODULATOR_STATE_F32_WORDS);
 
 /// The demodulator's settings (the core's `DemodulatorSettings`): start from
 /// `at_demodulator_settings_f32_new`, which fills in the defaults.

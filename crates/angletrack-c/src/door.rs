@@ -1,10 +1,10 @@
 //! What the two chains' C doors share: the inputs they take ([`ChainInput`]), the chain
-//! structs' per-sample forms ([`CChain`]), and the bodies of their per-sample `extern "C"`
-//! functions ([`track_input`], [`update_input`], [`estimate_of`]), which check the
-//! pointers. The caller's contract is `ffi`'s.
+//! structs' per-sample forms of either order or of one ([`CChain`], written once for both
+//! chains by `c_chain!`), and their per-sample `extern "C"` functions (`per_sample!`), which
+//! check the pointers. The caller's contract is `ffi`'s.
 #![allow(unsafe_code)]
 
-use angletrack_core::{FrontEndFaults, TrackerInput, TrackerNumber};
+use angletrack_core::{FrontEndFaults, Order, SupportedOrder, TrackerInput, TrackerNumber};
 
 use crate::demodulator::at_demodulated_pair_f32;
 use crate::faults::AT_FAULT_INVALID_ARGUMENT;
@@ -19,23 +19,38 @@ pub(crate) trait ChainInput<V: TrackerNumber>: Copy {
     fn core(self) -> Self::Core;
 }
 
-/// A `(y_c, y_s)` pair in the observer's units (the ADC stage, if any, is for counts).
-impl ChainInput<f32> for (f32, f32) {
-    type Core = Self;
+/// An argument of a per-sample `extern "C"` function: the input, or a pointer to it.
+pub(crate) trait Arg: Copy {
+    /// The input.
+    type Input;
+    /// The input; `None` if refused (a NULL pointer).
+    ///
+    /// # Safety
+    /// A pointer is NULL or valid for reads (the header's contract).
+    unsafe fn input(self) -> Option<Self::Input>;
+}
+
+impl<T: Copy> Arg for (T, T) {
+    type Input = Self;
     #[inline(always)]
-    fn taken(_: bool) -> bool {
-        true
+    unsafe fn input(self) -> Option<Self> {
+        Some(self)
     }
+}
+
+impl Arg for *const at_demodulated_pair_f32 {
+    type Input = at_demodulated_pair_f32;
     #[inline(always)]
-    fn core(self) -> Self {
-        self
+    unsafe fn input(self) -> Option<Self::Input> {
+        // SAFETY: the caller's contract; NULL is checked by `as_ref`.
+        unsafe { self.as_ref() }.copied()
     }
 }
 
 /// A demodulator's pair with the front-end faults of its window (`AT_FRONT_END_FAULT_*`
 /// bits, the core's `FrontEndFaults`), for a chain without an ADC stage: the demodulator
 /// took the counts, and the ADC's range, in counts, says nothing of a pair.
-impl ChainInput<f32> for &at_demodulated_pair_f32 {
+impl ChainInput<f32> for at_demodulated_pair_f32 {
     type Core = ((f32, f32), FrontEndFaults);
     #[inline(always)]
     fn taken(counts: bool) -> bool {
@@ -49,9 +64,10 @@ impl ChainInput<f32> for &at_demodulated_pair_f32 {
     }
 }
 
-/// Raw counts `(raw_c, raw_s)` of the integer types C passes: for a chain with an ADC stage
-/// (and `int16` samples, as they are, for a fixed-point chain without one).
-macro_rules! counts {
+/// Pairs `(c, s)` of the types C passes: floats in the observer's units for any float chain
+/// (the ADC stage, if any, is for counts), raw counts for a chain with an ADC stage (and
+/// `int16` samples, as they are, for a fixed-point chain without one).
+macro_rules! pairs {
     ($($number:ty: $($int:ty),* => $without_adc:expr;)*) => {$($(
         impl ChainInput<$number> for ($int, $int) {
             type Core = Self;
@@ -67,14 +83,17 @@ macro_rules! counts {
     )*)*};
 }
 
-counts! {
+pairs! {
+    f32: f32 => true;
     f32: i16, u16, i32 => false;
     i16: u16, i32 => false;
     i16: i16 => true;
 }
 
 /// A chain struct of the C API (`at_chain_f32`, `at_chain_fixed`), of either order, with
-/// its state struct and its estimate.
+/// its state struct and its estimate. The forms of order `N` return `None`, nothing
+/// changed, when refused: a chain not of order `N` (not made, another build's), a state of
+/// another build, an input the chain does not take.
 pub(crate) trait CChain {
     /// The observer's numbers.
     type Number: TrackerNumber;
@@ -84,60 +103,62 @@ pub(crate) trait CChain {
     type Estimate;
     /// The estimate of a call whose arguments were refused.
     const INVALID: Self::Estimate;
-    /// One sample through the chain on `state`, the state only: 0, or
-    /// `AT_FAULT_INVALID_ARGUMENT` if refused (a chain not made, another build's state, an
-    /// input the chain does not take), nothing changed.
-    fn track<I: ChainInput<Self::Number>>(&self, state: &mut Self::State, input: I) -> u32;
-    /// One sample, then the estimate; `INVALID` if refused.
-    fn update<I: ChainInput<Self::Number>>(
+    /// The order of the chain held (2 or 3), if made by its constructor of this build.
+    fn order(&self) -> Option<usize>;
+    /// One sample through the chain of order `N` on `state`, the state only.
+    fn track_n<const N: usize, I: ChainInput<Self::Number>>(
         &self,
         state: &mut Self::State,
         input: I,
-    ) -> Self::Estimate;
-    /// The estimate `state` holds (a fresh state's for a fresh state); `INVALID` if refused.
-    fn estimate(&self, state: &Self::State) -> Self::Estimate;
+    ) -> Option<()>
+    where
+        Order<N>: SupportedOrder;
+    /// One sample, then the estimate.
+    fn update_n<const N: usize, I: ChainInput<Self::Number>>(
+        &self,
+        state: &mut Self::State,
+        input: I,
+    ) -> Option<Self::Estimate>
+    where
+        Order<N>: SupportedOrder;
+    /// The estimate `state` holds (a fresh state's for a fresh state).
+    fn estimate_n<const N: usize>(&self, state: &Self::State) -> Option<Self::Estimate>
+    where
+        Order<N>: SupportedOrder;
 }
-
-/// `$body` with `$c` the chain of the order `$chain` holds, `$s` the state of that order in
-/// `$state` (the one held, or a fresh one) and `$x` the core's input of `$input` (of type
-/// `$i`); `None`, nothing changed, if refused.
-macro_rules! through {
-    ($chain:expr, $state:expr, $i:ident, $input:expr, |$c:ident, $s:ident, $x:ident| $body:expr) => {
-        match $chain.get() {
-            Ok($crate::slot::ByOrder::Two($c)) if $i::taken($c.front_end.adc().is_some()) => {
-                $state.of_order::<2>().ok().map(|$s| {
-                    let $x = $input.core();
-                    $body
-                })
-            }
-            Ok($crate::slot::ByOrder::Three($c)) if $i::taken($c.front_end.adc().is_some()) => {
-                $state.of_order::<3>().ok().map(|$s| {
-                    let $x = $input.core();
-                    $body
-                })
-            }
-            _ => None,
-        }
-    };
-}
-pub(crate) use through;
 
 /// The methods of a chain struct `$chain` holding the core's `$tracker<N>` of either order
-/// and of its state struct `$state` holding `$tracker_state<N>`: the chain's `get` and
-/// [`CChain`] (with the estimate `$estimate` on the numbers `$number`), the state's
-/// `FRESH`, `of_order`, `held` and `clear_front_end_faults`. The per-sample forms check
-/// the arguments (a chain not made, another build's state, an input the chain does not
-/// take: `None`, nothing changed) and run the core's chain of the order held.
+/// and of its state struct `$state` holding `$tracker_state<N>`: [`CChain`] (with the
+/// estimate `$estimate` on the numbers `$number`), and the state's `FRESH`, `of_order`,
+/// `held` and `clear_front_end_faults`.
 macro_rules! c_chain {
     ($chain:ty, $state:ty, $estimate:ty, $number:ty, $tracker:ident, $tracker_state:ident) => {
         impl $chain {
             /// The chain, if made by its constructor of this build.
-            #[inline(always)]
             pub(crate) fn get(
                 &self,
             ) -> Result<$crate::slot::ByOrder<&$tracker<2>, &$tracker<3>>, $crate::slot::Refused>
             {
                 $crate::slot::Slot::either(self)
+            }
+
+            /// The chain of order `N` held, with the input `I` it takes, and the state of
+            /// that order in `state` (the one held, or a fresh one).
+            #[inline(always)]
+            fn with<'a, const N: usize, I: $crate::door::ChainInput<$number>>(
+                &'a self,
+                state: &'a mut $state,
+                input: I,
+            ) -> Option<(&'a $tracker<N>, &'a mut $tracker_state<N>, I::Core)>
+            where
+                angletrack_core::Order<N>: angletrack_core::SupportedOrder,
+            {
+                let chain = $crate::slot::Slot::slot_layout::<$tracker<N>>(self)?;
+                if !I::taken(chain.front_end.adc().is_some()) {
+                    return None;
+                }
+                let state = state.of_order::<N>().ok()?;
+                Some((chain, state, input.core()))
             }
         }
 
@@ -150,10 +171,7 @@ macro_rules! c_chain {
             #[inline(always)]
             pub(crate) fn of_order<const N: usize>(
                 &mut self,
-            ) -> Result<&mut $tracker_state<N>, $crate::slot::Refused>
-            where
-                $tracker_state<N>: $crate::slot::Stored,
-            {
+            ) -> Result<&mut $tracker_state<N>, $crate::slot::Refused> {
                 $crate::slot::Slot::slot_get_or_put(self, angletrack_core::ChainState::new)
             }
 
@@ -181,84 +199,119 @@ macro_rules! c_chain {
             const INVALID: $estimate = <$estimate>::INVALID;
 
             #[inline(always)]
-            fn track<I: $crate::door::ChainInput<$number>>(
-                &self,
-                state: &mut $state,
-                input: I,
-            ) -> u32 {
-                let tracked = $crate::door::through!(self, state, I, input, |c, s, x| {
-                    $crate::door::out_of_line(c, s, x, |c, s, x| {
-                        c.track(s, x);
-                        0
-                    })
-                });
-                tracked.unwrap_or($crate::faults::AT_FAULT_INVALID_ARGUMENT)
+            fn order(&self) -> Option<usize> {
+                match self.get() {
+                    Ok($crate::slot::ByOrder::Two(_)) => Some(2),
+                    Ok($crate::slot::ByOrder::Three(_)) => Some(3),
+                    Err(_) => None,
+                }
             }
 
             #[inline(always)]
-            fn update<I: $crate::door::ChainInput<$number>>(
+            fn track_n<const N: usize, I: $crate::door::ChainInput<$number>>(
                 &self,
                 state: &mut $state,
                 input: I,
-            ) -> $estimate {
-                let estimate = $crate::door::through!(self, state, I, input, |c, s, x| {
-                    $crate::door::out_of_line(c, s, x, |c, s, x| c.update(s, x).into())
-                });
-                estimate.unwrap_or(Self::INVALID)
+            ) -> Option<()>
+            where
+                angletrack_core::Order<N>: angletrack_core::SupportedOrder,
+            {
+                let (chain, state, input) = self.with::<N, I>(state, input)?;
+                chain.track(state, input);
+                Some(())
             }
 
-            fn estimate(&self, state: &$state) -> $estimate {
-                /// The estimate of a chain of order `N`.
-                fn of<const N: usize>(c: &$tracker<N>, state: &$state) -> $estimate
-                where
-                    angletrack_core::Order<N>: angletrack_core::SupportedOrder,
-                    $tracker_state<N>: $crate::slot::Stored,
-                {
-                    match $crate::slot::Slot::slot_get::<$tracker_state<N>>(state) {
-                        Ok(s) => c.estimate(s).into(),
-                        Err($crate::slot::Refused::NotInitialised) => {
-                            c.estimate(&$tracker_state::<N>::new()).into()
-                        }
-                        Err($crate::slot::Refused::OtherBuild) => <$estimate>::INVALID,
+            #[inline(always)]
+            fn update_n<const N: usize, I: $crate::door::ChainInput<$number>>(
+                &self,
+                state: &mut $state,
+                input: I,
+            ) -> Option<$estimate>
+            where
+                angletrack_core::Order<N>: angletrack_core::SupportedOrder,
+            {
+                let (chain, state, input) = self.with::<N, I>(state, input)?;
+                Some(chain.update(state, input).into())
+            }
+
+            fn estimate_n<const N: usize>(&self, state: &$state) -> Option<$estimate>
+            where
+                angletrack_core::Order<N>: angletrack_core::SupportedOrder,
+            {
+                let chain = $crate::slot::Slot::slot_layout::<$tracker<N>>(self)?;
+                match $crate::slot::Slot::slot_get::<$tracker_state<N>>(state) {
+                    Ok(s) => Some(chain.estimate(s).into()),
+                    Err($crate::slot::Refused::NotInitialised) => {
+                        Some(chain.estimate(&$tracker_state::<N>::new()).into())
                     }
+                    Err($crate::slot::Refused::OtherBuild) => None,
                 }
-                self.get().map_or(Self::INVALID, |c| {
-                    $crate::slot::by_order!(c, |c| of(c, state))
-                })
             }
         }
     };
 }
 pub(crate) use c_chain;
 
-/// `f(chain, state, input)` in a function of its own: the chain's body out of the door's
-/// order dispatch, so that the compiler does not hoist both orders' set-up above the checks.
+/// `f(chain, state, input)` in a function of its own: the body of one order out of the
+/// door's order dispatch, so that the compiler does not hoist both orders' set-up above the
+/// checks.
 #[inline(never)]
-pub(crate) fn out_of_line<C, S, X, R>(
-    chain: &C,
-    state: &mut S,
-    input: X,
-    f: impl FnOnce(&C, &mut S, X) -> R,
-) -> R {
+fn out_of_line<C, S, X, R>(chain: &C, state: &mut S, input: X, f: fn(&C, &mut S, X) -> R) -> R {
     f(chain, state, input)
 }
 
-/// The body of the `track` functions: 0, or `AT_FAULT_INVALID_ARGUMENT` (nothing changed)
-/// for a NULL pointer or a refused argument.
+/// The body of the `track` functions of either order: 0, or `AT_FAULT_INVALID_ARGUMENT`
+/// (nothing changed) for a NULL pointer or a refused argument.
 ///
 /// # Safety
 /// The header's contract.
 #[inline(always)]
-pub(crate) unsafe fn track_input<C: CChain, I: ChainInput<C::Number>>(
+pub(crate) unsafe fn track<C: CChain, A: Arg<Input: ChainInput<C::Number>>>(
     chain: *const C,
     state: *mut C::State,
-    input: I,
+    input: A,
 ) -> u32 {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
-    match unsafe { (chain.as_ref(), state.as_mut()) } {
-        (Some(chain), Some(state)) => chain.track(state, input),
-        _ => AT_FAULT_INVALID_ARGUMENT,
+    // SAFETY: the caller's contract; NULL is checked by `as_ref`, `as_mut` and `input`.
+    let tracked = match unsafe { (chain.as_ref(), state.as_mut(), input.input()) } {
+        (Some(c), Some(s), Some(x)) => match c.order() {
+            Some(2) => out_of_line(c, s, x, C::track_n::<2, A::Input>),
+            Some(3) => out_of_line(c, s, x, C::track_n::<3, A::Input>),
+            _ => None,
+        },
+        _ => None,
+    };
+    tracked.map_or(AT_FAULT_INVALID_ARGUMENT, |()| 0)
+}
+
+/// The body of the `track` functions of order `N`: the chain's body inlined, no dispatch.
+///
+/// # Safety
+/// The header's contract.
+#[inline(always)]
+pub(crate) unsafe fn track_order<const N: usize, C: CChain, A: Arg<Input: ChainInput<C::Number>>>(
+    chain: *const C,
+    state: *mut C::State,
+    input: A,
+) -> u32
+where
+    Order<N>: SupportedOrder,
+{
+    // SAFETY: the caller's contract; NULL is checked by `as_ref`, `as_mut` and `input`.
+    let tracked = match unsafe { (chain.as_ref(), state.as_mut(), input.input()) } {
+        (Some(c), Some(s), Some(x)) => c.track_n::<N, A::Input>(s, x),
+        _ => None,
+    };
+    match tracked {
+        Some(()) => 0,
+        None => refused(),
     }
+}
+
+/// `AT_FAULT_INVALID_ARGUMENT`, out of line: the per-sample path holds no constant for it.
+#[cold]
+#[inline(never)]
+fn refused() -> u32 {
+    AT_FAULT_INVALID_ARGUMENT
 }
 
 /// The body of the `update` functions: the estimate, or `INVALID` (nothing changed) for a
@@ -267,29 +320,62 @@ pub(crate) unsafe fn track_input<C: CChain, I: ChainInput<C::Number>>(
 /// # Safety
 /// The header's contract.
 #[inline(always)]
-pub(crate) unsafe fn update_input<C: CChain, I: ChainInput<C::Number>>(
+pub(crate) unsafe fn update<C: CChain, A: Arg<Input: ChainInput<C::Number>>>(
     chain: *const C,
     state: *mut C::State,
-    input: I,
+    input: A,
 ) -> C::Estimate {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
-    match unsafe { (chain.as_ref(), state.as_mut()) } {
-        (Some(chain), Some(state)) => chain.update(state, input),
-        _ => C::INVALID,
-    }
+    // SAFETY: the caller's contract; NULL is checked by `as_ref`, `as_mut` and `input`.
+    let estimate = match unsafe { (chain.as_ref(), state.as_mut(), input.input()) } {
+        (Some(c), Some(s), Some(x)) => match c.order() {
+            Some(2) => out_of_line(c, s, x, C::update_n::<2, A::Input>),
+            Some(3) => out_of_line(c, s, x, C::update_n::<3, A::Input>),
+            _ => None,
+        },
+        _ => None,
+    };
+    estimate.unwrap_or(C::INVALID)
 }
 
 /// The body of the `estimate` functions.
 ///
 /// # Safety
 /// The header's contract.
-pub(crate) unsafe fn estimate_of<C: CChain>(
-    chain: *const C,
-    state: *const C::State,
-) -> C::Estimate {
+pub(crate) unsafe fn estimate<C: CChain>(chain: *const C, state: *const C::State) -> C::Estimate {
     // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-    match unsafe { (chain.as_ref(), state.as_ref()) } {
-        (Some(chain), Some(state)) => chain.estimate(state),
-        _ => C::INVALID,
-    }
+    let estimate = match unsafe { (chain.as_ref(), state.as_ref()) } {
+        (Some(c), Some(s)) => match c.order() {
+            Some(2) => c.estimate_n::<2>(s),
+            Some(3) => c.estimate_n::<3>(s),
+            _ => None,
+        },
+        _ => None,
+    };
+    estimate.unwrap_or(C::INVALID)
 }
+
+/// The per-sample `extern "C"` functions of the chain `$chain` with its state `$state`:
+/// each `$name(args) -> ret = body(input)` is a function of the chain, the state and
+/// `args`, whose body is the door's `body` (`track`, `update`, or `track_order` with the
+/// order `$n`) on `input`.
+macro_rules! per_sample {
+    ($chain:ty, $state:ty; $(
+        $(#[$doc:meta])*
+        $name:ident($($arg:ident: $t:ty),*) -> $ret:ty = $body:ident$(::<$n:literal>)?($input:expr);
+    )*) => {$(
+        $(#[$doc])*
+        ///
+        /// # Safety
+        /// See the header's introduction.
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $name(
+            chain: *const $chain,
+            state: *mut $state,
+            $($arg: $t),*
+        ) -> $ret {
+            // SAFETY: the same contract.
+            unsafe { $crate::door::$body::<$($n,)? _, _>(chain, state, $input) }
+        }
+    )*};
+}
+pub(crate) use per_sample;

@@ -15,8 +15,7 @@ use crate::chain::{
     Stages, at_angle_correction_f32, at_chain_f32, at_chain_state_f32, at_estimate_f32,
 };
 use crate::demodulator::at_demodulated_pair_f32;
-use crate::door::{estimate_of, track_input, update_input};
-use crate::faults::AT_FAULT_INVALID_ARGUMENT;
+use crate::door::{estimate, per_sample};
 use crate::gains::at_gains_f32;
 use crate::status::{AT_ERR_NULL_POINTER, AT_OK, at_status, status_of_result};
 use crate::table::at_angle_correction_table_f32;
@@ -76,134 +75,45 @@ pub unsafe extern "C" fn at_chain_f32_new(
     out.set(gains, stages)
 }
 
-/// One sample `(y_c, y_s)` through the chain's stages and observer, the state only (the
-/// cheapest per-sample call; `at_chain_f32_estimate` reads the estimate on demand, the
-/// stages' faults are latched in the state). Returns 0, or `AT_FAULT_INVALID_ARGUMENT`
-/// (nothing changed) for a NULL pointer, a chain not made or a struct of another build. A
-/// chain with an ADC stage takes `y_c`, `y_s` as already scaled (the ADC is for counts).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_f32_track(
-    chain: *const at_chain_f32,
-    state: *mut at_chain_state_f32,
-    y_c: f32,
-    y_s: f32,
-) -> u32 {
-    // SAFETY: the same contract.
-    unsafe { track_input(chain, state, (y_c, y_s)) }
-}
-
-/// `at_chain_f32_track`, then the estimate, which carries the stages' faults.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_f32_update(
-    chain: *const at_chain_f32,
-    state: *mut at_chain_state_f32,
-    y_c: f32,
-    y_s: f32,
-) -> at_estimate_f32 {
-    // SAFETY: the same contract.
-    unsafe { update_input(chain, state, (y_c, y_s)) }
-}
-
-/// `at_chain_f32_track` on raw `i16` ADC counts, through the chain's ADC stage
-/// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_f32_track_i16(
-    chain: *const at_chain_f32,
-    state: *mut at_chain_state_f32,
-    raw_c: i16,
-    raw_s: i16,
-) -> u32 {
-    // SAFETY: the same contract.
-    unsafe { track_input(chain, state, (raw_c, raw_s)) }
-}
-
-/// `at_chain_f32_update` on raw `i16` ADC counts, through the chain's ADC stage
-/// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_f32_update_i16(
-    chain: *const at_chain_f32,
-    state: *mut at_chain_state_f32,
-    raw_c: i16,
-    raw_s: i16,
-) -> at_estimate_f32 {
-    // SAFETY: the same contract.
-    unsafe { update_input(chain, state, (raw_c, raw_s)) }
-}
-
-/// `at_chain_f32_track` on raw `u16` ADC counts, through the chain's ADC stage
-/// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_f32_track_u16(
-    chain: *const at_chain_f32,
-    state: *mut at_chain_state_f32,
-    raw_c: u16,
-    raw_s: u16,
-) -> u32 {
-    // SAFETY: the same contract.
-    unsafe { track_input(chain, state, (raw_c, raw_s)) }
-}
-
-/// `at_chain_f32_update` on raw `u16` ADC counts, through the chain's ADC stage
-/// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_f32_update_u16(
-    chain: *const at_chain_f32,
-    state: *mut at_chain_state_f32,
-    raw_c: u16,
-    raw_s: u16,
-) -> at_estimate_f32 {
-    // SAFETY: the same contract.
-    unsafe { update_input(chain, state, (raw_c, raw_s)) }
-}
-
-/// `at_chain_f32_track` on raw `i32` ADC counts, through the chain's ADC stage
-/// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_f32_track_i32(
-    chain: *const at_chain_f32,
-    state: *mut at_chain_state_f32,
-    raw_c: i32,
-    raw_s: i32,
-) -> u32 {
-    // SAFETY: the same contract.
-    unsafe { track_input(chain, state, (raw_c, raw_s)) }
-}
-
-/// `at_chain_f32_update` on raw `i32` ADC counts, through the chain's ADC stage
-/// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_f32_update_i32(
-    chain: *const at_chain_f32,
-    state: *mut at_chain_state_f32,
-    raw_c: i32,
-    raw_s: i32,
-) -> at_estimate_f32 {
-    // SAFETY: the same contract.
-    unsafe { update_input(chain, state, (raw_c, raw_s)) }
+per_sample! {
+    at_chain_f32, at_chain_state_f32;
+    /// One sample `(y_c, y_s)` through the chain's stages and observer, the state only (the
+    /// cheapest per-sample call; `at_chain_f32_estimate` reads the estimate on demand, the
+    /// stages' faults are latched in the state). Returns 0, or `AT_FAULT_INVALID_ARGUMENT`
+    /// (nothing changed) for a NULL pointer, a chain not made or a struct of another build. A
+    /// chain with an ADC stage takes `y_c`, `y_s` as already scaled (the ADC is for counts).
+    at_chain_f32_track(y_c: f32, y_s: f32) -> u32 = track((y_c, y_s));
+    /// `at_chain_f32_track`, then the estimate, which carries the stages' faults.
+    at_chain_f32_update(y_c: f32, y_s: f32) -> at_estimate_f32 = update((y_c, y_s));
+    /// `at_chain_f32_track` on raw `i16` ADC counts, through the chain's ADC stage
+    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+    at_chain_f32_track_i16(raw_c: i16, raw_s: i16) -> u32 = track((raw_c, raw_s));
+    /// `at_chain_f32_update` on raw `i16` ADC counts, through the chain's ADC stage
+    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+    at_chain_f32_update_i16(raw_c: i16, raw_s: i16) -> at_estimate_f32 = update((raw_c, raw_s));
+    /// `at_chain_f32_track` on raw `u16` ADC counts, through the chain's ADC stage
+    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+    at_chain_f32_track_u16(raw_c: u16, raw_s: u16) -> u32 = track((raw_c, raw_s));
+    /// `at_chain_f32_update` on raw `u16` ADC counts, through the chain's ADC stage
+    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+    at_chain_f32_update_u16(raw_c: u16, raw_s: u16) -> at_estimate_f32 = update((raw_c, raw_s));
+    /// `at_chain_f32_track` on raw `i32` ADC counts, through the chain's ADC stage
+    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+    at_chain_f32_track_i32(raw_c: i32, raw_s: i32) -> u32 = track((raw_c, raw_s));
+    /// `at_chain_f32_update` on raw `i32` ADC counts, through the chain's ADC stage
+    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+    at_chain_f32_update_i32(raw_c: i32, raw_s: i32) -> at_estimate_f32 = update((raw_c, raw_s));
+    /// `at_chain_f32_track` on a demodulator's pair (`at_demodulator_f32_push`), with the
+    /// front-end faults of its window: while one invalidates the pair (loss of excitation, a
+    /// winding open or shorted) the observer coasts on its prediction instead of using it, and
+    /// every fault is latched as `AT_FAULT_FRONT_END` (`at_chain_state_f32_clear_front_end_faults`
+    /// gives the front-end bits). Returns 0, or `AT_FAULT_INVALID_ARGUMENT` (nothing changed)
+    /// for refused arguments, a chain with an ADC stage among them (the demodulator takes the
+    /// counts: build the chain without one).
+    at_chain_f32_track_demodulated(pair: *const at_demodulated_pair_f32) -> u32 = track(pair);
+    /// `at_chain_f32_track_demodulated`, then the estimate, which carries `AT_FAULT_FRONT_END`
+    /// while the pair has a front-end fault.
+    at_chain_f32_update_demodulated(pair: *const at_demodulated_pair_f32) -> at_estimate_f32 = update(pair);
 }
 
 /// The estimate `state` holds for `chain` (its last sample's; the observer's faults, the
@@ -217,7 +127,7 @@ pub unsafe extern "C" fn at_chain_f32_estimate(
     state: *const at_chain_state_f32,
 ) -> at_estimate_f32 {
     // SAFETY: the same contract.
-    unsafe { estimate_of(chain, state) }
+    unsafe { estimate(chain, state) }
 }
 
 /// Makes `state` fresh: the observer initialises itself from its next sample, the online
@@ -373,49 +283,6 @@ pub unsafe extern "C" fn at_chain_f32_with_winding_check(
     match unsafe { (chain.as_ref(), out.as_mut()) } {
         (Some(chain), Some(out)) => out.set_with_winding_check(chain, nominal_amplitude),
         _ => AT_ERR_NULL_POINTER,
-    }
-}
-
-/// `at_chain_f32_track` on a demodulator's pair (`at_demodulator_f32_push`), with the
-/// front-end faults of its window: while one invalidates the pair (loss of excitation, a
-/// winding open or shorted) the observer coasts on its prediction instead of using it, and
-/// every fault is latched as `AT_FAULT_FRONT_END` (`at_chain_state_f32_clear_front_end_faults`
-/// gives the front-end bits). Returns 0, or `AT_FAULT_INVALID_ARGUMENT` (nothing changed)
-/// for refused arguments, a chain with an ADC stage among them (the demodulator takes the
-/// counts: build the chain without one).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_f32_track_demodulated(
-    chain: *const at_chain_f32,
-    state: *mut at_chain_state_f32,
-    pair: *const at_demodulated_pair_f32,
-) -> u32 {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-    match unsafe { pair.as_ref() } {
-        // SAFETY: the same contract.
-        Some(pair) => unsafe { track_input(chain, state, pair) },
-        None => AT_FAULT_INVALID_ARGUMENT,
-    }
-}
-
-/// `at_chain_f32_track_demodulated`, then the estimate, which carries `AT_FAULT_FRONT_END`
-/// while the pair has a front-end fault.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_f32_update_demodulated(
-    chain: *const at_chain_f32,
-    state: *mut at_chain_state_f32,
-    pair: *const at_demodulated_pair_f32,
-) -> at_estimate_f32 {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-    match unsafe { pair.as_ref() } {
-        // SAFETY: the same contract.
-        Some(pair) => unsafe { update_input(chain, state, pair) },
-        None => at_estimate_f32::INVALID,
     }
 }
 

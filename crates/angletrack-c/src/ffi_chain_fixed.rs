@@ -12,7 +12,7 @@ use crate::chain::at_angle_correction_f32;
 use crate::chain_fixed::{
     FixedStages, at_adc_counts, at_chain_fixed, at_chain_state_fixed, at_fixed_estimate,
 };
-use crate::door::{estimate_of, track_input, update_input};
+use crate::door::{estimate, per_sample};
 use crate::ffi::{construct, write};
 use crate::gains::at_fixed_gains;
 use crate::slot::by_order;
@@ -175,103 +175,53 @@ pub unsafe extern "C" fn at_chain_state_fixed_clear_front_end_faults(
     unsafe { state.as_mut() }.map_or(0, at_chain_state_fixed::clear_front_end_faults)
 }
 
-/// One sample of `int16` counts through the chain's stages and observer, the state only (the
-/// cheapest per-sample call; `at_chain_fixed_estimate` reads the estimate on demand). A
-/// chain without an ADC takes `int16` samples as they are. Returns 0, or
-/// `AT_FAULT_INVALID_ARGUMENT` (nothing changed) for a NULL pointer, a chain not made or a
-/// struct of another build.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_fixed_track_i16(
-    chain: *const at_chain_fixed,
-    state: *mut at_chain_state_fixed,
-    raw_c: i16,
-    raw_s: i16,
-) -> u32 {
-    // SAFETY: the same contract.
-    unsafe { track_input(chain, state, (raw_c, raw_s)) }
-}
-
-/// `at_chain_fixed_track_i16`, then the estimate; on refused arguments an estimate whose
-/// faults are `AT_FAULT_INVALID_ARGUMENT` (the rest 0).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_fixed_update_i16(
-    chain: *const at_chain_fixed,
-    state: *mut at_chain_state_fixed,
-    raw_c: i16,
-    raw_s: i16,
-) -> at_fixed_estimate {
-    // SAFETY: the same contract.
-    unsafe { update_input(chain, state, (raw_c, raw_s)) }
-}
-
-/// `at_chain_fixed_track_i16` on `uint16` counts, through the chain's ADC
-/// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_fixed_track_u16(
-    chain: *const at_chain_fixed,
-    state: *mut at_chain_state_fixed,
-    raw_c: u16,
-    raw_s: u16,
-) -> u32 {
-    // SAFETY: the same contract.
-    unsafe { track_input(chain, state, (raw_c, raw_s)) }
-}
-
-/// `at_chain_fixed_track_u16`, then the estimate; on refused arguments an estimate whose
-/// faults are `AT_FAULT_INVALID_ARGUMENT` (the rest 0).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_fixed_update_u16(
-    chain: *const at_chain_fixed,
-    state: *mut at_chain_state_fixed,
-    raw_c: u16,
-    raw_s: u16,
-) -> at_fixed_estimate {
-    // SAFETY: the same contract.
-    unsafe { update_input(chain, state, (raw_c, raw_s)) }
-}
-
-/// `at_chain_fixed_track_i16` on `int32` counts, through the chain's ADC
-/// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_fixed_track_i32(
-    chain: *const at_chain_fixed,
-    state: *mut at_chain_state_fixed,
-    raw_c: i32,
-    raw_s: i32,
-) -> u32 {
-    // SAFETY: the same contract.
-    unsafe { track_input(chain, state, (raw_c, raw_s)) }
-}
-
-/// `at_chain_fixed_track_i32`, then the estimate; on refused arguments an estimate whose
-/// faults are `AT_FAULT_INVALID_ARGUMENT` (the rest 0).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_fixed_update_i32(
-    chain: *const at_chain_fixed,
-    state: *mut at_chain_state_fixed,
-    raw_c: i32,
-    raw_s: i32,
-) -> at_fixed_estimate {
-    // SAFETY: the same contract.
-    unsafe { update_input(chain, state, (raw_c, raw_s)) }
+per_sample! {
+    at_chain_fixed, at_chain_state_fixed;
+    /// One sample of `int16` counts through the chain's stages and observer, the state only (the
+    /// cheapest per-sample call; `at_chain_fixed_estimate` reads the estimate on demand). A
+    /// chain without an ADC takes `int16` samples as they are. Returns 0, or
+    /// `AT_FAULT_INVALID_ARGUMENT` (nothing changed) for a NULL pointer, a chain not made or a
+    /// struct of another build.
+    at_chain_fixed_track_i16(raw_c: i16, raw_s: i16) -> u32 = track((raw_c, raw_s));
+    /// `at_chain_fixed_track_i16`, then the estimate; on refused arguments an estimate whose
+    /// faults are `AT_FAULT_INVALID_ARGUMENT` (the rest 0).
+    at_chain_fixed_update_i16(raw_c: i16, raw_s: i16) -> at_fixed_estimate = update((raw_c, raw_s));
+    /// `at_chain_fixed_track_i16` on `uint16` counts, through the chain's ADC
+    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+    at_chain_fixed_track_u16(raw_c: u16, raw_s: u16) -> u32 = track((raw_c, raw_s));
+    /// `at_chain_fixed_track_u16`, then the estimate; on refused arguments an estimate whose
+    /// faults are `AT_FAULT_INVALID_ARGUMENT` (the rest 0).
+    at_chain_fixed_update_u16(raw_c: u16, raw_s: u16) -> at_fixed_estimate = update((raw_c, raw_s));
+    /// `at_chain_fixed_track_i16` on `int32` counts, through the chain's ADC
+    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+    at_chain_fixed_track_i32(raw_c: i32, raw_s: i32) -> u32 = track((raw_c, raw_s));
+    /// `at_chain_fixed_track_i32`, then the estimate; on refused arguments an estimate whose
+    /// faults are `AT_FAULT_INVALID_ARGUMENT` (the rest 0).
+    at_chain_fixed_update_i32(raw_c: i32, raw_s: i32) -> at_fixed_estimate = update((raw_c, raw_s));
+    /// `at_chain_fixed_track_i16` for a chain of order 2 only, its body inlined: no
+    /// dispatch on the order, and an image that calls no other order's links one body.
+    /// `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
+    at_chain_fixed_track_i16_order2(raw_c: i16, raw_s: i16) -> u32 = track_order::<2>((raw_c, raw_s));
+    /// `at_chain_fixed_track_i16` for a chain of order 3 only, its body inlined: no
+    /// dispatch on the order, and an image that calls no other order's links one body.
+    /// `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
+    at_chain_fixed_track_i16_order3(raw_c: i16, raw_s: i16) -> u32 = track_order::<3>((raw_c, raw_s));
+    /// `at_chain_fixed_track_u16` for a chain of order 2 only, its body inlined: no
+    /// dispatch on the order, and an image that calls no other order's links one body.
+    /// `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
+    at_chain_fixed_track_u16_order2(raw_c: u16, raw_s: u16) -> u32 = track_order::<2>((raw_c, raw_s));
+    /// `at_chain_fixed_track_u16` for a chain of order 3 only, its body inlined: no
+    /// dispatch on the order, and an image that calls no other order's links one body.
+    /// `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
+    at_chain_fixed_track_u16_order3(raw_c: u16, raw_s: u16) -> u32 = track_order::<3>((raw_c, raw_s));
+    /// `at_chain_fixed_track_i32` for a chain of order 2 only, its body inlined: no
+    /// dispatch on the order, and an image that calls no other order's links one body.
+    /// `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
+    at_chain_fixed_track_i32_order2(raw_c: i32, raw_s: i32) -> u32 = track_order::<2>((raw_c, raw_s));
+    /// `at_chain_fixed_track_i32` for a chain of order 3 only, its body inlined: no
+    /// dispatch on the order, and an image that calls no other order's links one body.
+    /// `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
+    at_chain_fixed_track_i32_order3(raw_c: i32, raw_s: i32) -> u32 = track_order::<3>((raw_c, raw_s));
 }
 
 /// The estimate `state` holds for `chain` (its last sample's; all zero for a fresh state).
@@ -285,7 +235,7 @@ pub unsafe extern "C" fn at_chain_fixed_estimate(
     state: *const at_chain_state_fixed,
 ) -> at_fixed_estimate {
     // SAFETY: the same contract.
-    unsafe { estimate_of(chain, state) }
+    unsafe { estimate(chain, state) }
 }
 
 /// The multi-turn position of `estimate` (rad): `2 pi (turns + angle / 2^32)`; 0 for NULL.

@@ -216,6 +216,14 @@ pub(crate) trait Slot {
         Ok(unsafe { self.read_mut() })
     }
 
+    /// The value held, if it is a `T` of this build: for the per-sample calls, the layout
+    /// word alone is compared (it names the type).
+    #[inline(always)]
+    fn slot_layout<T: Stored>(&self) -> Option<&T> {
+        // SAFETY: the layout word is `T`'s.
+        (self.words().1 == Self::typed::<T>()).then(|| unsafe { self.read() })
+    }
+
     /// The `T` held, or `start()` stored (and tagged); refused only when the struct is
     /// another build's. For the per-sample calls: the layout word alone is compared.
     #[inline(always)]
@@ -294,10 +302,22 @@ pub(crate) trait Slot {
     }
 }
 
-/// [`Slot`] for a C struct of `$words` words, and its `ZEROED` value (as C static memory
-/// holds).
+/// The C struct `$name` of `$words` words of storage (its docs `$doc`), with [`Slot`]
+/// and its `ZEROED` value (as C static memory holds).
 macro_rules! slot_struct {
-    ($name:ident, $words:expr) => {
+    ($(#[$doc:meta])* $name:ident[$words:ident]) => {
+        $(#[$doc])*
+        #[repr(C)]
+        #[derive(Debug, Clone, Copy)]
+        pub struct $name {
+            /// Private: which Rust value `storage` holds (0: none; in a state, a fresh one).
+            pub(crate) tag: u32,
+            /// Private: the layout of the build that wrote it.
+            pub(crate) layout: u32,
+            /// Private: the Rust value.
+            pub(crate) storage: [core::mem::MaybeUninit<u64>; $words],
+        }
+
         impl $name {
             /// A zeroed struct, as C static memory holds.
             #[allow(dead_code)]

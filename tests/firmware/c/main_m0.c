@@ -18,8 +18,8 @@
  *     at_chain_fixed_update_u16.
  * The image exits 0 if both pass. Built with -DCOUNT_SAMPLES=N, it only runs the corrected
  * chain of check 1 for N samples (run.sh counts its instructions per sample): from its
- * counts through at_chain_fixed_track_u16, or, with -DCOUNT_INT16, the same chain without
- * its ADC on the same samples as int16 through at_chain_fixed_track_i16; with
+ * counts through at_chain_fixed_track_u16_order3, or, with -DCOUNT_INT16, the same chain
+ * without its ADC on the same samples as int16 through at_chain_fixed_track_i16_order3; with
  * -DCOUNT_REFERENCE, the same through the library's Rust reference (the core's Tracker
  * called without the door, at_reference_track_u16 and _i16: the library built with its
  * feature count-reference), the state made by one call of the door first in both; with
@@ -109,8 +109,9 @@ static uint64_t composed[100], composed_state[20];
 #define TRACK_I16(c, s, x, y) (at_reference_track_i16(c, s, x, y), 0u)
 #endif
 #else
-#define TRACK_U16 at_chain_fixed_track_u16
-#define TRACK_I16 at_chain_fixed_track_i16
+/* The chain is of order 3 (fixed_ato3.h): the per-order forms, as a firmware calls them. */
+#define TRACK_U16 at_chain_fixed_track_u16_order3
+#define TRACK_I16 at_chain_fixed_track_i16_order3
 #endif
 /* One period of the counted signal: 5 turns at 50 Hz sampled at 10 kHz. */
 #define COUNTED_PERIOD 1000L

@@ -37,7 +37,7 @@ int main(void) {
 #endif
   for (int k = 0; k < 100; k++) {
 #ifndef WITHOUT_LIBRARY
-    used = at_chain_fixed_track_u16(&chain, &state, adc_c, adc_s);
+    used = at_chain_fixed_track_u16_order3(&chain, &state, adc_c, adc_s);
 #else
     used = (uint32_t)adc_c + adc_s;
 #endif

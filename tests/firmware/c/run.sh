@@ -158,8 +158,8 @@ for c in "${cores[@]}"; do
     --release --target "$target")
   if $count_only; then
     if [ "$core" = m0 ]; then
-      count_per_sample at_chain_fixed_track_u16 c-chain-fixed-corrected-m0
-      count_per_sample at_chain_fixed_track_i16 c-chain-fixed-samples-corrected-m0 -DCOUNT_INT16
+      count_per_sample at_chain_fixed_track_u16_order3 c-chain-fixed-corrected-m0
+      count_per_sample at_chain_fixed_track_i16_order3 c-chain-fixed-samples-corrected-m0 -DCOUNT_INT16
       flash_added c-chain-fixed-corrected-m0
       # The Rust reference of both: the library rebuilt with its feature count-reference.
       (cd "$root" && CARGO_TARGET_DIR="$target_dir" cargo build -q --locked -p angletrack-c \

@@ -25,7 +25,7 @@ use crate::door::c_chain;
 use crate::faults::AT_FAULT_INVALID_ARGUMENT;
 use crate::gains::{at_gains_f32, with_order};
 use crate::slot::{self, Refused, Slot, Stored, by_order};
-use crate::status::{AT_ERR_STAGES, AT_OK, at_status};
+use crate::status::{AT_ERR_STAGES, AT_OK, at_status, status_of};
 use crate::table::at_angle_correction_table_f32;
 
 /// The 8-byte words of an `at_chain_f32`'s storage (checked against the Rust type at
@@ -228,6 +228,17 @@ impl at_chain_state_f32 {
             return self.of_order::<2>().map(|s| s.front_end.calibrator_mut());
         }
         self.of_order::<3>().map(|s| s.front_end.calibrator_mut())
+    }
+
+    /// Loads the stored calibration `stored` (checked; unchanged on error) into the
+    /// calibrator, frozen.
+    pub(crate) fn load_calibration(&mut self, stored: &at_sensor_calibration_f32) -> at_status {
+        match (stored.checked(), self.calibrator()) {
+            (Ok(calibration), Ok(c)) => *c = Calibrator::from_calibration(calibration),
+            (Err(error), _) => return status_of(error),
+            (_, Err(refused)) => return refused.status(),
+        }
+        AT_OK
     }
 
     /// A copy of the calibrator held (a fresh one's for a fresh state).

@@ -13,8 +13,8 @@
 //! `int16` samples as they are. This file only converts.
 
 use angletrack_core::{
-    AdcCounts, ConfigError, FixedCalibration, FixedEstimate, FixedGains, FixedState, Input, Order,
-    Rails, SensorCalibration, SupportedOrder, Tracker, TrackerFrontEnd, TrackerSettings,
+    AdcCounts, ConfigError, Faults, FixedCalibration, FixedEstimate, FixedGains, FixedState, Input,
+    Order, Rails, SensorCalibration, SupportedOrder, Tracker, TrackerFrontEnd, TrackerSettings,
     TrackerState,
 };
 
@@ -236,6 +236,28 @@ impl at_chain_fixed {
             Ok(c) => by_order!(c, |c| self.slot_store(with_adc_range(c, min, max))),
             Err(refused) => refused.status(),
         }
+    }
+}
+
+impl at_chain_fixed {
+    /// The estimate `e` in physical units by the chain's observer: its speed (rad/s) if
+    /// `speed`, else its position (rad); 0 for a chain not made.
+    pub(crate) fn in_units(&self, e: &at_fixed_estimate, speed: bool) -> f64 {
+        let e = FixedEstimate {
+            angle: e.angle,
+            turns: e.turns,
+            speed: e.speed,
+            acceleration: e.acceleration,
+            phase_error: e.phase_error,
+            faults: Faults::NONE,
+        };
+        self.get().map_or(0.0, |c| {
+            by_order!(c, |c| if speed {
+                c.observer.speed_rad_s(&e)
+            } else {
+                c.observer.position_rad(&e)
+            })
+        })
     }
 }
 

@@ -7,7 +7,9 @@
 
 use angletrack_core::{DemodulatedPair, Demodulator, DemodulatorSettings, DemodulatorState};
 
-use crate::slot::{self, Refused, Slot, Stored};
+use crate::chain::at_chain_f32;
+use crate::faults::AT_FAULT_INVALID_ARGUMENT;
+use crate::slot::{self, Refused, Slot, Stored, by_order};
 use crate::status::{at_status, status_of_result};
 
 /// The 8-byte words of an `at_demodulator_f32`'s storage (checked against the Rust types at
@@ -195,6 +197,40 @@ impl at_demodulator_f32 {
     #[inline(always)]
     pub(crate) fn get(&self) -> Result<&Demodulator<f32>, Refused> {
         self.slot_get()
+    }
+
+    /// Whether `chain` runs at the pair rate: its observer's sample period is the declared
+    /// carrier period (the core's `check_gains`).
+    pub(crate) fn check_chain(&self, chain: &at_chain_f32) -> at_status {
+        match (self.get(), chain.get()) {
+            (Ok(d), Ok(c)) => by_order!(c, |c| status_of_result(d.check_gains(&c.observer))),
+            (Err(refused), _) | (_, Err(refused)) => refused.status(),
+        }
+    }
+
+    /// One sample of each winding (and of the excitation, if given) into `state`: 1 with
+    /// the pair written to `out` once per tracked carrier period, else 0;
+    /// `AT_FAULT_INVALID_ARGUMENT` for a demodulator not made or a struct of another build.
+    #[inline(always)]
+    pub(crate) fn push_to(
+        &self,
+        state: &mut at_demodulator_state_f32,
+        raw_c: f32,
+        raw_s: f32,
+        excitation: Option<f32>,
+        out: &mut at_demodulated_pair_f32,
+    ) -> u32 {
+        let (Ok(demodulator), Ok(state)) = (self.get(), state.get_mut()) else {
+            return AT_FAULT_INVALID_ARGUMENT;
+        };
+        let pair = match excitation {
+            Some(e) => demodulator.push_with_excitation(state, raw_c, raw_s, e),
+            None => demodulator.push(state, raw_c, raw_s),
+        };
+        pair.map_or(0, |pair| {
+            *out = pair.into();
+            1
+        })
     }
 }
 

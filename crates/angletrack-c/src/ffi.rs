@@ -21,6 +21,73 @@ use crate::status::{
     AT_ERR_NULL_POINTER, AT_ERR_ORDER, AT_OK, at_status, message, status_of_result,
 };
 
+/// An argument of an `extern "C"` function as its body takes it: a pointer as a reference
+/// (`None` for NULL), a value as it is.
+pub(crate) trait Checked<'a> {
+    /// The argument as the body takes it.
+    type Checked;
+    /// The argument; `None` for NULL.
+    ///
+    /// # Safety
+    /// A pointer is NULL or valid for its access for `'a` (the header's contract).
+    unsafe fn checked(self) -> Option<Self::Checked>;
+}
+
+impl<'a, T: 'a> Checked<'a> for *const T {
+    type Checked = &'a T;
+    unsafe fn checked(self) -> Option<&'a T> {
+        // SAFETY: the caller's contract; NULL is checked by `as_ref`.
+        unsafe { self.as_ref() }
+    }
+}
+
+impl<'a, T: 'a> Checked<'a> for *mut T {
+    type Checked = &'a mut T;
+    unsafe fn checked(self) -> Option<&'a mut T> {
+        // SAFETY: the caller's contract; NULL is checked by `as_mut`.
+        unsafe { self.as_mut() }
+    }
+}
+
+/// [`Checked`] for the value types the `extern "C"` functions take.
+macro_rules! values {
+    ($($t:ty),*) => {$(
+        impl Checked<'_> for $t {
+            type Checked = Self;
+            unsafe fn checked(self) -> Option<Self> {
+                Some(self)
+            }
+        }
+    )*};
+}
+
+values!(i32, u32, f32, f64);
+
+/// `extern "C"` functions whose pointer arguments are all required: each
+/// `fn name(args) -> ret = body; else null;` returns `null` if a pointer is NULL, else
+/// `body` with every pointer argument a reference of the same name. The caller's contract
+/// is the header's (this module's).
+macro_rules! extern_c {
+    ($(
+        $(#[$doc:meta])*
+        fn $name:ident($($arg:ident: $t:ty),*) $(-> $ret:ty)? = $body:expr; else $null:expr;
+    )*) => {$(
+        $(#[$doc])*
+        ///
+        /// # Safety
+        /// See the header's introduction.
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $name($($arg: $t),*) $(-> $ret)? {
+            // SAFETY: the caller's contract; NULL is checked by `checked`.
+            let ($(Some($arg),)*) = (unsafe { ($($crate::ffi::Checked::checked($arg),)*) }) else {
+                return $null;
+            };
+            $body
+        }
+    )*};
+}
+pub(crate) use extern_c;
+
 /// The body of the gains' constructors: `out` and the `order` values at `values`
 /// checked, then `make` of them written to `out` (unchanged on error).
 ///
@@ -55,14 +122,7 @@ pub(crate) unsafe fn construct<V, T>(
 }
 
 /// Writes `result` to `out` (unchanged on error); its status.
-///
-/// # Safety
-/// `out` is NULL or valid for writes (the caller's contract).
-pub(crate) unsafe fn write<T>(result: Result<T, ConfigError>, out: *mut T) -> at_status {
-    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
-    let Some(out) = (unsafe { out.as_mut() }) else {
-        return AT_ERR_NULL_POINTER;
-    };
+pub(crate) fn write<T>(result: Result<T, ConfigError>, out: &mut T) -> at_status {
     status_of_result(result.map(|value| *out = value))
 }
 
@@ -118,72 +178,31 @@ pub extern "C" fn at_fault_name(bit: u32) -> *const c_char {
     faults::name(bit).as_ptr()
 }
 
-/// Writes to `out` an ADC front end removing `mid_scale_counts` (the reading of a zero
-/// signal, at most 2^30 in magnitude) and dividing by `counts_per_unit` (positive), with no
-/// range of codes stated (`at_adc_f32_set_range` states it; without it a chain measures
-/// the rails as the extremes held flat).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_adc_f32_new(
-    mid_scale_counts: i32,
-    counts_per_unit: f32,
-    out: *mut at_adc_f32,
-) -> at_status {
-    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
-    unsafe { out.as_mut() }.map_or(AT_ERR_NULL_POINTER, |out| {
-        out.set(AdcScaling::new(mid_scale_counts, counts_per_unit), None)
-    })
-}
-
-/// Writes to `out` the front end of an unsigned (offset binary) ADC of `bits` bits (2 to
-/// 31): samples in units of full scale (+-1), its range of codes stated (0 to
-/// `2^bits - 1`: a chain flags clipping at them, `at_adc_f32_set_range`).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_adc_f32_offset_binary(bits: u32, out: *mut at_adc_f32) -> at_status {
-    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
-    unsafe { out.as_mut() }.map_or(AT_ERR_NULL_POINTER, |out| {
-        out.set(AdcScaling::offset_binary(bits), codes_of(bits, false))
-    })
-}
-
-/// Writes to `out` the front end of a signed (two's complement) ADC of `bits` bits (2 to
-/// 32): samples in units of full scale (+-1), its range of codes stated (`-2^(bits-1)` to
-/// `2^(bits-1) - 1`: a chain flags clipping at them, `at_adc_f32_set_range`).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_adc_f32_twos_complement(bits: u32, out: *mut at_adc_f32) -> at_status {
-    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
-    unsafe { out.as_mut() }.map_or(AT_ERR_NULL_POINTER, |out| {
-        out.set(AdcScaling::twos_complement(bits), codes_of(bits, true))
-    })
-}
-
-/// States the range of codes of the ADC `adc`: its lowest `min_counts` and highest
-/// `max_counts` (`AT_ERR_ADC_RANGE` unless `min_counts < max_counts`; `adc` unchanged on
-/// error). A chain with this ADC (`at_chain_f32_new`) flags a sample with a channel at or
-/// beyond a rail `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_CLIPPING`), and coasts on its
-/// prediction through one with both channels there. Without a stated range the chain
-/// measures the rails on the counts as they come (the core's `HeldRailCheck`: an extreme a
-/// channel holds for 4 consecutive samples while the other moves, the samples piled up
-/// there, on a signal spanning both sides of mid-scale), a weaker test.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_adc_f32_set_range(
-    adc: *mut at_adc_f32,
-    min_counts: i32,
-    max_counts: i32,
-) -> at_status {
-    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
-    unsafe { adc.as_mut() }.map_or(AT_ERR_NULL_POINTER, |adc| {
-        adc.set_range(min_counts, max_counts)
-    })
+extern_c! {
+    /// Writes to `out` an ADC front end removing `mid_scale_counts` (the reading of a zero
+    /// signal, at most 2^30 in magnitude) and dividing by `counts_per_unit` (positive), with no
+    /// range of codes stated (`at_adc_f32_set_range` states it; without it a chain measures
+    /// the rails as the extremes held flat).
+    fn at_adc_f32_new(mid_scale_counts: i32, counts_per_unit: f32, out: *mut at_adc_f32) -> at_status
+        = out.set(AdcScaling::new(mid_scale_counts, counts_per_unit), None); else AT_ERR_NULL_POINTER;
+    /// Writes to `out` the front end of an unsigned (offset binary) ADC of `bits` bits (2 to
+    /// 31): samples in units of full scale (+-1), its range of codes stated (0 to
+    /// `2^bits - 1`: a chain flags clipping at them, `at_adc_f32_set_range`).
+    fn at_adc_f32_offset_binary(bits: u32, out: *mut at_adc_f32) -> at_status
+        = out.set(AdcScaling::offset_binary(bits), codes_of(bits, false)); else AT_ERR_NULL_POINTER;
+    /// Writes to `out` the front end of a signed (two's complement) ADC of `bits` bits (2 to
+    /// 32): samples in units of full scale (+-1), its range of codes stated (`-2^(bits-1)` to
+    /// `2^(bits-1) - 1`: a chain flags clipping at them, `at_adc_f32_set_range`).
+    fn at_adc_f32_twos_complement(bits: u32, out: *mut at_adc_f32) -> at_status
+        = out.set(AdcScaling::twos_complement(bits), codes_of(bits, true)); else AT_ERR_NULL_POINTER;
+    /// States the range of codes of the ADC `adc`: its lowest `min_counts` and highest
+    /// `max_counts` (`AT_ERR_ADC_RANGE` unless `min_counts < max_counts`; `adc` unchanged on
+    /// error). A chain with this ADC (`at_chain_f32_new`) flags a sample with a channel at or
+    /// beyond a rail `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_CLIPPING`), and coasts on its
+    /// prediction through one with both channels there. Without a stated range the chain
+    /// measures the rails on the counts as they come (the core's `HeldRailCheck`: an extreme a
+    /// channel holds for 4 consecutive samples while the other moves, the samples piled up
+    /// there, on a signal spanning both sides of mid-scale), a weaker test.
+    fn at_adc_f32_set_range(adc: *mut at_adc_f32, min_counts: i32, max_counts: i32) -> at_status
+        = adc.set_range(min_counts, max_counts); else AT_ERR_NULL_POINTER;
 }

@@ -4,7 +4,7 @@
 //! The caller's contract is `ffi`'s.
 #![allow(unsafe_code)]
 
-use angletrack_core::{CalibrationSettings, Calibrator};
+use angletrack_core::CalibrationSettings;
 
 use crate::adc::at_adc_f32;
 use crate::calibration::{
@@ -16,8 +16,10 @@ use crate::chain::{
 };
 use crate::demodulator::at_demodulated_pair_f32;
 use crate::door::{estimate, per_sample};
+use crate::ffi::extern_c;
 use crate::gains::at_gains_f32;
-use crate::status::{AT_ERR_NULL_POINTER, AT_OK, at_status, status_of_result};
+use crate::slot::Refused;
+use crate::status::{AT_ERR_NULL_POINTER, AT_OK, at_status};
 use crate::table::at_angle_correction_table_f32;
 
 /// The online calibration's default settings (the core's `CalibrationSettings::default`).
@@ -130,172 +132,55 @@ pub unsafe extern "C" fn at_chain_f32_estimate(
     unsafe { estimate(chain, state) }
 }
 
-/// Makes `state` fresh: the observer initialises itself from its next sample, the online
-/// calibration is off with nothing learned. NULL is ignored.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_state_f32_reset(state: *mut at_chain_state_f32) {
-    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
-    if let Some(state) = unsafe { state.as_mut() } {
-        *state = at_chain_state_f32::FRESH;
-    }
-}
-
-/// Returns the faults latched in `state` (the observer's and the stages', `AT_FAULT_*`
-/// bits) and clears them. 0 for NULL.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_state_f32_clear_faults(state: *mut at_chain_state_f32) -> u32 {
-    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
-    unsafe { state.as_mut() }.map_or(0, at_chain_state_f32::clear_faults)
-}
-
-/// Sets the mode of the online calibration in `state`: `AT_CALIBRATION_LEARNING`,
-/// `_FROZEN` or `_OFF` (the calibration is kept). Effective in a chain with the online
-/// calibration stage.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_state_f32_set_calibration_mode(
-    state: *mut at_chain_state_f32,
-    mode: u32,
-) -> at_status {
-    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
-    match unsafe { state.as_mut() }.map(at_chain_state_f32::calibrator) {
-        Some(Ok(calibrator)) => set_mode_of(calibrator, mode),
-        Some(Err(refused)) => refused.status(),
-        None => AT_ERR_NULL_POINTER,
-    }
-}
-
-/// The mode of the online calibration in `state` (`AT_CALIBRATION_*`; off for NULL).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_state_f32_calibration_mode(
-    state: *const at_chain_state_f32,
-) -> u32 {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-    unsafe { state.as_ref() }
-        .and_then(|s| s.calibrator_value().ok())
-        .map_or(0, |c| mode_of(&c))
-}
-
-/// Loads a stored calibration into the online calibration of `state` (checked; unchanged on
-/// error), frozen: it corrects and learns nothing until set to learn, continuing from it.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_state_f32_load_calibration(
-    state: *mut at_chain_state_f32,
-    stored: *const at_sensor_calibration_f32,
-) -> at_status {
-    // SAFETY: the caller's contract; NULL is checked by `as_mut` and `as_ref`.
-    let (Some(state), Some(stored)) = (unsafe { (state.as_mut(), stored.as_ref()) }) else {
-        return AT_ERR_NULL_POINTER;
-    };
-    let calibration = stored.checked();
-    if let Ok(calibration) = calibration {
-        match state.calibrator() {
-            Ok(calibrator) => *calibrator = Calibrator::from_calibration(calibration),
-            Err(refused) => return refused.status(),
-        }
-    }
-    status_of_result(calibration)
-}
-
-/// Writes the calibration the online calibration of `state` applies (to store in flash) to
-/// `out`.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_state_f32_calibration(
-    state: *const at_chain_state_f32,
-    out: *mut at_sensor_calibration_f32,
-) -> at_status {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
-    let (Some(state), Some(out)) = (unsafe { (state.as_ref(), out.as_mut()) }) else {
-        return AT_ERR_NULL_POINTER;
-    };
-    match state.calibrator_value() {
-        Ok(calibrator) => {
-            *out = calibrator.calibration().into();
+extern_c! {
+    /// Makes `state` fresh: the observer initialises itself from its next sample, the online
+    /// calibration is off with nothing learned. NULL is ignored.
+    fn at_chain_state_f32_reset(state: *mut at_chain_state_f32)
+        = *state = at_chain_state_f32::FRESH; else ();
+    /// Returns the faults latched in `state` (the observer's and the stages', `AT_FAULT_*`
+    /// bits) and clears them. 0 for NULL.
+    fn at_chain_state_f32_clear_faults(state: *mut at_chain_state_f32) -> u32
+        = state.clear_faults(); else 0;
+    /// Sets the mode of the online calibration in `state`: `AT_CALIBRATION_LEARNING`,
+    /// `_FROZEN` or `_OFF` (the calibration is kept). Effective in a chain with the online
+    /// calibration stage.
+    fn at_chain_state_f32_set_calibration_mode(state: *mut at_chain_state_f32, mode: u32) -> at_status
+        = state.calibrator().map_or_else(Refused::status, |c| set_mode_of(c, mode)); else AT_ERR_NULL_POINTER;
+    /// The mode of the online calibration in `state` (`AT_CALIBRATION_*`; off for NULL).
+    fn at_chain_state_f32_calibration_mode(state: *const at_chain_state_f32) -> u32
+        = state.calibrator_value().map_or(0, |c| mode_of(&c)); else 0;
+    /// Loads a stored calibration into the online calibration of `state` (checked; unchanged on
+    /// error), frozen: it corrects and learns nothing until set to learn, continuing from it.
+    fn at_chain_state_f32_load_calibration(state: *mut at_chain_state_f32, stored: *const at_sensor_calibration_f32) -> at_status
+        = state.load_calibration(stored); else AT_ERR_NULL_POINTER;
+    /// Writes the calibration the online calibration of `state` applies (to store in flash) to
+    /// `out`.
+    fn at_chain_state_f32_calibration(state: *const at_chain_state_f32, out: *mut at_sensor_calibration_f32) -> at_status
+        = state.calibrator_value().map_or_else(Refused::status, |c| {
+            *out = c.calibration().into();
             AT_OK
-        }
-        Err(refused) => refused.status(),
-    }
-}
-
-/// The turns the online calibration of `state` has learned since started or loaded; 0 for
-/// NULL.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_state_f32_turns_learned(state: *const at_chain_state_f32) -> u32 {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-    unsafe { state.as_ref() }
-        .and_then(|s| s.calibrator_value().ok())
-        .map_or(0, |c| c.turns_learned())
-}
-
-/// Where the online calibration of `state` stands: `AT_CALIBRATION_FINDING_CENTRE`,
-/// `AT_CALIBRATION_CENTRED` or `AT_CALIBRATION_STALLED`; `AT_CALIBRATION_FINDING_CENTRE`
-/// for NULL or another build's state.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_state_f32_calibration_status(
-    state: *const at_chain_state_f32,
-) -> u32 {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-    unsafe { state.as_ref() }
-        .and_then(|s| s.calibrator_value().ok())
-        .map_or(AT_CALIBRATION_FINDING_CENTRE, |c| calibration_status(&c))
-}
-
-/// Writes to `out` the chain `chain` with a winding check: a winding open or shorted (one
-/// winding reading below a quarter of `nominal_amplitude` where the observer's prediction
-/// puts at least half of it, the other agreeing with the prediction) is flagged
-/// `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_WINDING`) and coasted through while it holds.
-/// `nominal_amplitude` is the windings' peak in the chain's input units after the
-/// calibration (1 for a demodulator's pairs; `AT_ERR_NOMINAL_AMPLITUDE` unless finite and
-/// positive). `out` unchanged on error.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_f32_with_winding_check(
-    chain: *const at_chain_f32,
-    nominal_amplitude: f32,
-    out: *mut at_chain_f32,
-) -> at_status {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
-    match unsafe { (chain.as_ref(), out.as_mut()) } {
-        (Some(chain), Some(out)) => out.set_with_winding_check(chain, nominal_amplitude),
-        _ => AT_ERR_NULL_POINTER,
-    }
-}
-
-/// Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
-/// against the ADC's range, the demodulator's faults, a winding open or shorted) and clears
-/// them. 0 for NULL.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_state_f32_clear_front_end_faults(
-    state: *mut at_chain_state_f32,
-) -> u32 {
-    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
-    unsafe { state.as_mut() }.map_or(0, at_chain_state_f32::clear_front_end_faults)
+        }); else AT_ERR_NULL_POINTER;
+    /// The turns the online calibration of `state` has learned since started or loaded; 0 for
+    /// NULL.
+    fn at_chain_state_f32_turns_learned(state: *const at_chain_state_f32) -> u32
+        = state.calibrator_value().map_or(0, |c| c.turns_learned()); else 0;
+    /// Where the online calibration of `state` stands: `AT_CALIBRATION_FINDING_CENTRE`,
+    /// `AT_CALIBRATION_CENTRED` or `AT_CALIBRATION_STALLED`; `AT_CALIBRATION_FINDING_CENTRE`
+    /// for NULL or another build's state.
+    fn at_chain_state_f32_calibration_status(state: *const at_chain_state_f32) -> u32
+        = state.calibrator_value().map_or(AT_CALIBRATION_FINDING_CENTRE, |c| calibration_status(&c)); else AT_CALIBRATION_FINDING_CENTRE;
+    /// Writes to `out` the chain `chain` with a winding check: a winding open or shorted (one
+    /// winding reading below a quarter of `nominal_amplitude` where the observer's prediction
+    /// puts at least half of it, the other agreeing with the prediction) is flagged
+    /// `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_WINDING`) and coasted through while it holds.
+    /// `nominal_amplitude` is the windings' peak in the chain's input units after the
+    /// calibration (1 for a demodulator's pairs; `AT_ERR_NOMINAL_AMPLITUDE` unless finite and
+    /// positive). `out` unchanged on error.
+    fn at_chain_f32_with_winding_check(chain: *const at_chain_f32, nominal_amplitude: f32, out: *mut at_chain_f32) -> at_status
+        = out.set_with_winding_check(chain, nominal_amplitude); else AT_ERR_NULL_POINTER;
+    /// Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
+    /// against the ADC's range, the demodulator's faults, a winding open or shorted) and clears
+    /// them. 0 for NULL.
+    fn at_chain_state_f32_clear_front_end_faults(state: *mut at_chain_state_f32) -> u32
+        = state.clear_front_end_faults(); else 0;
 }

@@ -5,18 +5,15 @@
 //! caller's contract is `ffi`'s.
 #![allow(unsafe_code)]
 
-use angletrack_core::{Faults, FixedEstimate};
-
 use crate::calibration::at_sensor_calibration_f32;
 use crate::chain::at_angle_correction_f32;
 use crate::chain_fixed::{
     FixedStages, at_adc_counts, at_chain_fixed, at_chain_state_fixed, at_fixed_estimate,
 };
 use crate::door::{estimate, per_sample};
-use crate::ffi::{construct, write};
+use crate::ffi::{construct, extern_c, write};
 use crate::gains::at_fixed_gains;
-use crate::slot::by_order;
-use crate::status::{AT_ERR_NULL_POINTER, AT_OK, at_status, status_of};
+use crate::status::{AT_ERR_NULL_POINTER, at_status, status_of_result};
 use crate::table::{AT_ANGLE_TABLE_LENGTH, at_angle_correction_table_f32, at_angle_table_fixed};
 
 /// Checks the integer constants of a fixed-point observer of order `order` (2 or 3), as
@@ -69,32 +66,56 @@ pub unsafe extern "C" fn at_fixed_gains_new(
     }
 }
 
-/// The settings of an offset-binary (unsigned) ADC of `bits` bits (2 to 16): mid-scale
-/// `2^(bits-1)`, shifted by `16 - bits`, to `out` (`AT_ERR_BITS`; `out` unchanged on error).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_adc_counts_offset_binary(
-    bits: u32,
-    out: *mut at_adc_counts,
-) -> at_status {
-    // SAFETY: the same contract.
-    unsafe { write(at_adc_counts::of_bits(bits, true), out) }
-}
-
-/// The settings of a two's complement (signed) ADC of `bits` bits (2 to 16): mid-scale 0,
-/// shifted by `16 - bits`, to `out` (`AT_ERR_BITS`; `out` unchanged on error).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_adc_counts_twos_complement(
-    bits: u32,
-    out: *mut at_adc_counts,
-) -> at_status {
-    // SAFETY: the same contract.
-    unsafe { write(at_adc_counts::of_bits(bits, false), out) }
+extern_c! {
+    /// The settings of an offset-binary (unsigned) ADC of `bits` bits (2 to 16): mid-scale
+    /// `2^(bits-1)`, shifted by `16 - bits`, to `out` (`AT_ERR_BITS`; `out` unchanged on error).
+    fn at_adc_counts_offset_binary(bits: u32, out: *mut at_adc_counts) -> at_status
+        = write(at_adc_counts::of_bits(bits, true), out); else AT_ERR_NULL_POINTER;
+    /// The settings of a two's complement (signed) ADC of `bits` bits (2 to 16): mid-scale 0,
+    /// shifted by `16 - bits`, to `out` (`AT_ERR_BITS`; `out` unchanged on error).
+    fn at_adc_counts_twos_complement(bits: u32, out: *mut at_adc_counts) -> at_status
+        = write(at_adc_counts::of_bits(bits, false), out); else AT_ERR_NULL_POINTER;
+    /// Writes to `out` the chain `chain` with the ADC's range of codes stated: its lowest
+    /// `min_counts` and highest `max_counts` (raw counts, as the chain takes them;
+    /// `AT_ERR_ADC_RANGE` unless `min_counts < max_counts`). A sample with a channel at or
+    /// beyond a rail is flagged `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_CLIPPING`), and one
+    /// with both there is coasted through. `out` unchanged on error. Without a stated range a
+    /// chain with an ADC measures the rails on the counts as they come (the core's
+    /// `HeldRailCheck`, as `at_adc_f32_set_range` says of the float chain), a weaker test.
+    fn at_chain_fixed_with_adc_range(chain: *const at_chain_fixed, min_counts: i32, max_counts: i32, out: *mut at_chain_fixed) -> at_status
+        = out.set_with_adc_range(chain, min_counts, max_counts); else AT_ERR_NULL_POINTER;
+    /// Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
+    /// against the ADC's stated range or the rails measured) and clears them. 0 for NULL.
+    fn at_chain_state_fixed_clear_front_end_faults(state: *mut at_chain_state_fixed) -> u32
+        = state.clear_front_end_faults(); else 0;
+    /// The multi-turn position of `estimate` (rad): `2 pi (turns + angle / 2^32)`; 0 for NULL.
+    /// Double-precision arithmetic: for a host, or out of the sample loop.
+    fn at_chain_fixed_position_rad(chain: *const at_chain_fixed, estimate: *const at_fixed_estimate) -> f64
+        = chain.in_units(estimate, false); else 0.0;
+    /// The speed of `estimate` (rad/s) at the sample period of `chain`'s observer; 0 for NULL
+    /// or a chain not made. Double-precision arithmetic: for a host, or out of the sample loop.
+    fn at_chain_fixed_speed_rad_s(chain: *const at_chain_fixed, estimate: *const at_fixed_estimate) -> f64
+        = chain.in_units(estimate, true); else 0.0;
+    /// Makes `state` fresh: the observer initialises itself from its next sample. NULL is
+    /// ignored.
+    fn at_chain_state_fixed_reset(state: *mut at_chain_state_fixed)
+        = *state = at_chain_state_fixed::FRESH; else ();
+    /// Returns the faults latched in `state` (`AT_FAULT_*` bits) and clears them. 0 for NULL.
+    fn at_chain_state_fixed_clear_faults(state: *mut at_chain_state_fixed) -> u32
+        = state.clear_faults(); else 0;
+    /// The fixed-point table of the harmonic angle error `harmonics` (as `angletrack calibrate`
+    /// learns it; checked as `at_chain_f32_new` checks it: `AT_ERR_ANGLE_CORRECTION`), rounded to
+    /// Q15, to `out` (unchanged on error).
+    fn at_angle_table_fixed_from_harmonics(harmonics: *const at_angle_correction_f32, out: *mut at_angle_table_fixed) -> at_status
+        = write(at_angle_table_fixed::from_harmonics(harmonics), out); else AT_ERR_NULL_POINTER;
+    /// The float table of the harmonic angle error `harmonics` (checked:
+    /// `AT_ERR_ANGLE_CORRECTION`), to `out` (unchanged on error).
+    fn at_angle_correction_table_f32_from_harmonics(harmonics: *const at_angle_correction_f32, out: *mut at_angle_correction_table_f32) -> at_status
+        = write(at_angle_correction_table_f32::from_harmonics(harmonics), out); else AT_ERR_NULL_POINTER;
+    /// Checks a float table (each entry finite and within 0.25 rad): `AT_OK` or
+    /// `AT_ERR_ANGLE_CORRECTION` (`at_chain_f32_new` checks it again).
+    fn at_angle_correction_table_f32_check(table: *const at_angle_correction_table_f32) -> at_status
+        = status_of_result(table.checked()); else AT_ERR_NULL_POINTER;
 }
 
 /// Builds a fixed-point signal chain into `out`: the fixed-point observer `gains` (required;
@@ -136,43 +157,6 @@ pub unsafe extern "C" fn at_chain_fixed_new(
         return AT_ERR_NULL_POINTER;
     };
     out.set(gains, stages, nominal_amplitude_counts)
-}
-
-/// Writes to `out` the chain `chain` with the ADC's range of codes stated: its lowest
-/// `min_counts` and highest `max_counts` (raw counts, as the chain takes them;
-/// `AT_ERR_ADC_RANGE` unless `min_counts < max_counts`). A sample with a channel at or
-/// beyond a rail is flagged `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_CLIPPING`), and one
-/// with both there is coasted through. `out` unchanged on error. Without a stated range a
-/// chain with an ADC measures the rails on the counts as they come (the core's
-/// `HeldRailCheck`, as `at_adc_f32_set_range` says of the float chain), a weaker test.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_fixed_with_adc_range(
-    chain: *const at_chain_fixed,
-    min_counts: i32,
-    max_counts: i32,
-    out: *mut at_chain_fixed,
-) -> at_status {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
-    match unsafe { (chain.as_ref(), out.as_mut()) } {
-        (Some(chain), Some(out)) => out.set_with_adc_range(chain, min_counts, max_counts),
-        _ => AT_ERR_NULL_POINTER,
-    }
-}
-
-/// Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
-/// against the ADC's stated range or the rails measured) and clears them. 0 for NULL.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_state_fixed_clear_front_end_faults(
-    state: *mut at_chain_state_fixed,
-) -> u32 {
-    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
-    unsafe { state.as_mut() }.map_or(0, at_chain_state_fixed::clear_front_end_faults)
 }
 
 per_sample! {
@@ -238,90 +222,6 @@ pub unsafe extern "C" fn at_chain_fixed_estimate(
     unsafe { estimate(chain, state) }
 }
 
-/// The multi-turn position of `estimate` (rad): `2 pi (turns + angle / 2^32)`; 0 for NULL.
-/// Double-precision arithmetic: for a host, or out of the sample loop.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_fixed_position_rad(
-    chain: *const at_chain_fixed,
-    estimate: *const at_fixed_estimate,
-) -> f64 {
-    // SAFETY: the same contract.
-    unsafe { in_units(chain, estimate, false) }
-}
-
-/// The speed of `estimate` (rad/s) at the sample period of `chain`'s observer; 0 for NULL
-/// or a chain not made. Double-precision arithmetic: for a host, or out of the sample loop.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_fixed_speed_rad_s(
-    chain: *const at_chain_fixed,
-    estimate: *const at_fixed_estimate,
-) -> f64 {
-    // SAFETY: the same contract.
-    unsafe { in_units(chain, estimate, true) }
-}
-
-/// The body of the conversions of an estimate to physical units, by the chain's observer:
-/// its `speed` (rad/s), else its position (rad).
-///
-/// # Safety
-/// The header's contract.
-unsafe fn in_units(
-    chain: *const at_chain_fixed,
-    estimate: *const at_fixed_estimate,
-    speed: bool,
-) -> f64 {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-    let (Some(chain), Some(e)) = (unsafe { (chain.as_ref(), estimate.as_ref()) }) else {
-        return 0.0;
-    };
-    let e = FixedEstimate {
-        angle: e.angle,
-        turns: e.turns,
-        speed: e.speed,
-        acceleration: e.acceleration,
-        phase_error: e.phase_error,
-        faults: Faults::NONE,
-    };
-    chain.get().map_or(0.0, |c| {
-        by_order!(c, |c| if speed {
-            c.observer.speed_rad_s(&e)
-        } else {
-            c.observer.position_rad(&e)
-        })
-    })
-}
-
-/// Makes `state` fresh: the observer initialises itself from its next sample. NULL is
-/// ignored.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_state_fixed_reset(state: *mut at_chain_state_fixed) {
-    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
-    if let Some(state) = unsafe { state.as_mut() } {
-        *state = at_chain_state_fixed::FRESH;
-    }
-}
-
-/// Returns the faults latched in `state` (`AT_FAULT_*` bits) and clears them. 0 for NULL.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_state_fixed_clear_faults(
-    state: *mut at_chain_state_fixed,
-) -> u32 {
-    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
-    unsafe { state.as_mut() }.map_or(0, at_chain_state_fixed::clear_faults)
-}
-
 /// The fixed-point table of `errors_rad` (`AT_ANGLE_TABLE_LENGTH` errors in rad at the
 /// angles `-pi + 2 pi k / 256`, each finite and within 0.25 rad: `AT_ERR_ANGLE_CORRECTION`),
 /// rounded to Q15, to `out` (unchanged on error).
@@ -334,53 +234,14 @@ pub unsafe extern "C" fn at_angle_table_fixed_from_errors(
     out: *mut at_angle_table_fixed,
 ) -> at_status {
     // SAFETY: the caller's contract: NULL, or `AT_ANGLE_TABLE_LENGTH` floats.
-    let Some(errors) = (unsafe { errors_rad.cast::<[f32; AT_ANGLE_TABLE_LENGTH]>().as_ref() })
-    else {
-        return AT_ERR_NULL_POINTER;
-    };
-    // SAFETY: the same contract.
-    unsafe { write(at_angle_table_fixed::from_errors(errors), out) }
-}
-
-/// The fixed-point table of the harmonic angle error `harmonics` (as `angletrack calibrate`
-/// learns it; checked as `at_chain_f32_new` checks it: `AT_ERR_ANGLE_CORRECTION`), rounded to
-/// Q15, to `out` (unchanged on error).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_angle_table_fixed_from_harmonics(
-    harmonics: *const at_angle_correction_f32,
-    out: *mut at_angle_table_fixed,
-) -> at_status {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-    let Some(harmonics) = (unsafe { harmonics.as_ref() }) else {
-        return AT_ERR_NULL_POINTER;
-    };
-    // SAFETY: the same contract.
-    unsafe { write(at_angle_table_fixed::from_harmonics(harmonics), out) }
-}
-
-/// The float table of the harmonic angle error `harmonics` (checked:
-/// `AT_ERR_ANGLE_CORRECTION`), to `out` (unchanged on error).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_angle_correction_table_f32_from_harmonics(
-    harmonics: *const at_angle_correction_f32,
-    out: *mut at_angle_correction_table_f32,
-) -> at_status {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-    let Some(harmonics) = (unsafe { harmonics.as_ref() }) else {
-        return AT_ERR_NULL_POINTER;
-    };
-    // SAFETY: the same contract.
-    unsafe {
-        write(
-            at_angle_correction_table_f32::from_harmonics(harmonics),
-            out,
+    match unsafe {
+        (
+            errors_rad.cast::<[f32; AT_ANGLE_TABLE_LENGTH]>().as_ref(),
+            out.as_mut(),
         )
+    } {
+        (Some(errors), Some(out)) => write(at_angle_table_fixed::from_errors(errors), out),
+        _ => AT_ERR_NULL_POINTER,
     }
 }
 
@@ -397,27 +258,14 @@ pub unsafe extern "C" fn at_angle_correction_table_f32_from_curve(
     points: usize,
     out: *mut at_angle_correction_table_f32,
 ) -> at_status {
-    if curve.is_null() {
-        return AT_ERR_NULL_POINTER;
-    }
-    // SAFETY: `curve` is not NULL and points to `points` floats (the caller's contract).
-    let curve = unsafe { core::slice::from_raw_parts(curve, points) };
-    // SAFETY: the same contract.
-    unsafe { write(at_angle_correction_table_f32::from_curve(curve), out) }
-}
-
-/// Checks a float table (each entry finite and within 0.25 rad): `AT_OK` or
-/// `AT_ERR_ANGLE_CORRECTION` (`at_chain_f32_new` checks it again).
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_angle_correction_table_f32_check(
-    table: *const at_angle_correction_table_f32,
-) -> at_status {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-    match unsafe { table.as_ref() } {
-        Some(table) => table.checked().err().map_or(AT_OK, status_of),
-        None => AT_ERR_NULL_POINTER,
+    match unsafe { out.as_mut() } {
+        // SAFETY: `curve` is not NULL and points to `points` floats (the caller's contract).
+        Some(out) if !curve.is_null() => write(
+            at_angle_correction_table_f32::from_curve(unsafe {
+                core::slice::from_raw_parts(curve, points)
+            }),
+            out,
+        ),
+        _ => AT_ERR_NULL_POINTER,
     }
 }

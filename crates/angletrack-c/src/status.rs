@@ -27,136 +27,106 @@ pub const AT_ERR_OTHER_BUILD: at_status = 5;
 /// settings (a chain has one calibration stage), or both the harmonic angle correction and
 /// its table (one angle correction).
 pub const AT_ERR_STAGES: at_status = 6;
-/// `sample_period_s`: not finite, not positive, or outside [1 ps, 1000 s].
-pub const AT_ERR_SAMPLE_PERIOD_S: at_status = 16;
-/// `gains[0]` (l1): not finite, or outside the stability region of the discrete loop.
-pub const AT_ERR_GAINS_0: at_status = 17;
-/// `gains[1]` (l2): not finite, or outside the stability region of the discrete loop.
-pub const AT_ERR_GAINS_1: at_status = 18;
-/// `gains[2]` (l3): not finite, or outside the stability region of the discrete loop.
-pub const AT_ERR_GAINS_2: at_status = 19;
-/// Fault threshold `max_input_amplitude`.
-pub const AT_ERR_MAX_INPUT_AMPLITUDE: at_status = 20;
-/// Fault threshold `loss_of_signal`.
-pub const AT_ERR_LOSS_OF_SIGNAL: at_status = 21;
-/// Fault threshold `degradation_high`.
-pub const AT_ERR_DEGRADATION_HIGH: at_status = 22;
-/// Fault threshold `degradation_low`.
-pub const AT_ERR_DEGRADATION_LOW: at_status = 23;
-/// Fault threshold `loss_of_tracking`.
-pub const AT_ERR_LOSS_OF_TRACKING: at_status = 24;
-/// Fault threshold `filter_factor`.
-pub const AT_ERR_FILTER_FACTOR: at_status = 25;
-/// Fault threshold `false_lock`.
-pub const AT_ERR_FALSE_LOCK: at_status = 26;
-/// Fault threshold `nominal_amplitude`.
-pub const AT_ERR_NOMINAL_AMPLITUDE: at_status = 27;
-/// Fault threshold `max_speed_rad_s`.
-pub const AT_ERR_MAX_SPEED_RAD_S: at_status = 28;
-/// ADC `mid_scale_counts`.
-pub const AT_ERR_MID_SCALE_COUNTS: at_status = 29;
-/// ADC `counts_per_unit`.
-pub const AT_ERR_COUNTS_PER_UNIT: at_status = 30;
-/// ADC resolution `bits`.
-pub const AT_ERR_BITS: at_status = 31;
-/// Sensor calibration `offset_c`.
-pub const AT_ERR_OFFSET_C: at_status = 32;
-/// Sensor calibration `offset_s`.
-pub const AT_ERR_OFFSET_S: at_status = 33;
-/// Sensor calibration `amplitude_c`.
-pub const AT_ERR_AMPLITUDE_C: at_status = 34;
-/// Sensor calibration `amplitude_s`.
-pub const AT_ERR_AMPLITUDE_S: at_status = 35;
-/// Sensor calibration `quadrature_rad`.
-pub const AT_ERR_QUADRATURE_RAD: at_status = 36;
-/// Calibration setting `min_speed_rad_s`.
-pub const AT_ERR_MIN_SPEED_RAD_S: at_status = 37;
-/// Calibration setting `max_offset`.
-pub const AT_ERR_MAX_OFFSET: at_status = 38;
-/// Calibration setting `max_amplitude_mismatch`.
-pub const AT_ERR_MAX_AMPLITUDE_MISMATCH: at_status = 39;
-/// Calibration setting `max_quadrature_rad`.
-pub const AT_ERR_MAX_QUADRATURE_RAD: at_status = 40;
-/// Angle correction: a coefficient not finite, or their total `sum |a_k| + |b_k|` above
-/// 0.25 rad.
-pub const AT_ERR_ANGLE_CORRECTION: at_status = 41;
-/// Demodulator setting `carrier_hz`.
-pub const AT_ERR_CARRIER_HZ: at_status = 42;
-/// Samples per carrier period (the excitation's schedule; the demodulator takes `adc_rate_hz`).
-pub const AT_ERR_SAMPLES_PER_PERIOD: at_status = 43;
-/// Demodulator setting `carrier_amplitude_counts`.
-pub const AT_ERR_CARRIER_AMPLITUDE_COUNTS: at_status = 44;
-/// Demodulator settings `adc_min_code`, `adc_max_code`, `clip_margin_counts`.
-pub const AT_ERR_ADC_RANGE: at_status = 45;
-/// Demodulator setting `loss_of_excitation`.
-pub const AT_ERR_LOSS_OF_EXCITATION: at_status = 46;
-/// Demodulator setting `phase_drift_bound_rad`.
-pub const AT_ERR_PHASE_DRIFT_BOUND_RAD: at_status = 47;
-/// Demodulator setting `expected_delay_rad`.
-pub const AT_ERR_EXPECTED_DELAY_RAD: at_status = 48;
-/// Demodulator setting `carrier_loop_bandwidth`.
-pub const AT_ERR_CARRIER_LOOP_BANDWIDTH: at_status = 49;
-/// Demodulator setting `startup_periods`.
-pub const AT_ERR_STARTUP_PERIODS: at_status = 50;
-/// ADC setting `shift` (0 to 15).
-pub const AT_ERR_SHIFT: at_status = 51;
-/// An angle error `curve` of fewer than 2 points.
-pub const AT_ERR_CURVE: at_status = 52;
-/// Demodulator setting `adc_rate_hz` (at least 4 times the carrier).
-pub const AT_ERR_ADC_RATE_HZ: at_status = 53;
-/// Demodulator setting `weak_excitation`.
-pub const AT_ERR_WEAK_EXCITATION: at_status = 54;
-/// Demodulator setting `max_carrier_error`.
-pub const AT_ERR_MAX_CARRIER_ERROR: at_status = 55;
 /// A parameter this version of the C API has no code for (a newer core's).
 pub const AT_ERR_OTHER_PARAMETER: at_status = 63;
 
-/// Every parameter with its status code and its name as the core names it
-/// (`Parameter::name`, checked by the tests), NUL-terminated: the one table both
-/// directions and the messages use.
-#[rustfmt::skip]
-pub(crate) const PARAMETERS: [(Parameter, at_status, &CStr); 40] = [
-    (Parameter::SamplePeriod, AT_ERR_SAMPLE_PERIOD_S, c"sample_period_s"),
-    (Parameter::AngleGain, AT_ERR_GAINS_0, c"gains[0] (l1)"),
-    (Parameter::SpeedGain, AT_ERR_GAINS_1, c"gains[1] (l2)"),
-    (Parameter::AccelerationGain, AT_ERR_GAINS_2, c"gains[2] (l3)"),
-    (Parameter::MaxInputAmplitude, AT_ERR_MAX_INPUT_AMPLITUDE, c"max_input_amplitude"),
-    (Parameter::LossOfSignalThreshold, AT_ERR_LOSS_OF_SIGNAL, c"loss_of_signal"),
-    (Parameter::DegradationHighThreshold, AT_ERR_DEGRADATION_HIGH, c"degradation_high"),
-    (Parameter::DegradationLowThreshold, AT_ERR_DEGRADATION_LOW, c"degradation_low"),
-    (Parameter::LossOfTrackingThreshold, AT_ERR_LOSS_OF_TRACKING, c"loss_of_tracking"),
-    (Parameter::FilterFactor, AT_ERR_FILTER_FACTOR, c"filter_factor"),
-    (Parameter::FalseLockThreshold, AT_ERR_FALSE_LOCK, c"false_lock"),
-    (Parameter::NominalAmplitude, AT_ERR_NOMINAL_AMPLITUDE, c"nominal_amplitude"),
-    (Parameter::MaxSpeed, AT_ERR_MAX_SPEED_RAD_S, c"max_speed_rad_s"),
-    (Parameter::MidScaleCounts, AT_ERR_MID_SCALE_COUNTS, c"mid_scale_counts"),
-    (Parameter::CountsPerUnit, AT_ERR_COUNTS_PER_UNIT, c"counts_per_unit"),
-    (Parameter::AdcBits, AT_ERR_BITS, c"bits"),
-    (Parameter::OffsetCos, AT_ERR_OFFSET_C, c"offset_c"),
-    (Parameter::OffsetSin, AT_ERR_OFFSET_S, c"offset_s"),
-    (Parameter::AmplitudeCos, AT_ERR_AMPLITUDE_C, c"amplitude_c"),
-    (Parameter::AmplitudeSin, AT_ERR_AMPLITUDE_S, c"amplitude_s"),
-    (Parameter::Quadrature, AT_ERR_QUADRATURE_RAD, c"quadrature_rad"),
-    (Parameter::MinSpeed, AT_ERR_MIN_SPEED_RAD_S, c"min_speed_rad_s"),
-    (Parameter::MaxOffset, AT_ERR_MAX_OFFSET, c"max_offset"),
-    (Parameter::MaxAmplitudeMismatch, AT_ERR_MAX_AMPLITUDE_MISMATCH, c"max_amplitude_mismatch"),
-    (Parameter::MaxQuadrature, AT_ERR_MAX_QUADRATURE_RAD, c"max_quadrature_rad"),
-    (Parameter::AngleCorrection, AT_ERR_ANGLE_CORRECTION, c"angle_correction"),
-    (Parameter::CarrierFrequency, AT_ERR_CARRIER_HZ, c"carrier_hz"),
-    (Parameter::SamplesPerPeriod, AT_ERR_SAMPLES_PER_PERIOD, c"samples_per_period"),
-    (Parameter::CarrierAmplitude, AT_ERR_CARRIER_AMPLITUDE_COUNTS, c"carrier_amplitude_counts"),
-    (Parameter::AdcRange, AT_ERR_ADC_RANGE, c"adc_range"),
-    (Parameter::LossOfExcitationThreshold, AT_ERR_LOSS_OF_EXCITATION, c"loss_of_excitation"),
-    (Parameter::PhaseDriftBound, AT_ERR_PHASE_DRIFT_BOUND_RAD, c"phase_drift_bound_rad"),
-    (Parameter::ExpectedDelay, AT_ERR_EXPECTED_DELAY_RAD, c"expected_delay_rad"),
-    (Parameter::CarrierLoopBandwidth, AT_ERR_CARRIER_LOOP_BANDWIDTH, c"carrier_loop_bandwidth"),
-    (Parameter::AdcRate, AT_ERR_ADC_RATE_HZ, c"adc_rate_hz"),
-    (Parameter::WeakExcitationThreshold, AT_ERR_WEAK_EXCITATION, c"weak_excitation"),
-    (Parameter::MaxCarrierError, AT_ERR_MAX_CARRIER_ERROR, c"max_carrier_error"),
-    (Parameter::StartupPeriods, AT_ERR_STARTUP_PERIODS, c"startup_periods"),
-    (Parameter::AdcShift, AT_ERR_SHIFT, c"shift"),
-    (Parameter::AngleErrorCurve, AT_ERR_CURVE, c"curve"),
-];
+/// The parameters' status codes `AT_ERR_*` (with their docs) and [`PARAMETERS`], from one
+/// list: each `NAME = code: Parameter, c"name";`.
+macro_rules! parameters {
+    ($($(#[$doc:meta])* $name:ident = $code:literal: $parameter:ident, $text:literal;)*) => {
+        $($(#[$doc])* pub const $name: at_status = $code;)*
+
+        /// Every parameter with its status code and its name as the core names it
+        /// (`Parameter::name`, checked by the tests), NUL-terminated: the one table both
+        /// directions and the messages use.
+        pub(crate) const PARAMETERS: &[(Parameter, at_status, &CStr)] =
+            &[$((Parameter::$parameter, $name, $text)),*];
+    };
+}
+
+parameters! {
+    /// `sample_period_s`: not finite, not positive, or outside [1 ps, 1000 s].
+    AT_ERR_SAMPLE_PERIOD_S = 16: SamplePeriod, c"sample_period_s";
+    /// `gains[0]` (l1): not finite, or outside the stability region of the discrete loop.
+    AT_ERR_GAINS_0 = 17: AngleGain, c"gains[0] (l1)";
+    /// `gains[1]` (l2): not finite, or outside the stability region of the discrete loop.
+    AT_ERR_GAINS_1 = 18: SpeedGain, c"gains[1] (l2)";
+    /// `gains[2]` (l3): not finite, or outside the stability region of the discrete loop.
+    AT_ERR_GAINS_2 = 19: AccelerationGain, c"gains[2] (l3)";
+    /// Fault threshold `max_input_amplitude`.
+    AT_ERR_MAX_INPUT_AMPLITUDE = 20: MaxInputAmplitude, c"max_input_amplitude";
+    /// Fault threshold `loss_of_signal`.
+    AT_ERR_LOSS_OF_SIGNAL = 21: LossOfSignalThreshold, c"loss_of_signal";
+    /// Fault threshold `degradation_high`.
+    AT_ERR_DEGRADATION_HIGH = 22: DegradationHighThreshold, c"degradation_high";
+    /// Fault threshold `degradation_low`.
+    AT_ERR_DEGRADATION_LOW = 23: DegradationLowThreshold, c"degradation_low";
+    /// Fault threshold `loss_of_tracking`.
+    AT_ERR_LOSS_OF_TRACKING = 24: LossOfTrackingThreshold, c"loss_of_tracking";
+    /// Fault threshold `filter_factor`.
+    AT_ERR_FILTER_FACTOR = 25: FilterFactor, c"filter_factor";
+    /// Fault threshold `false_lock`.
+    AT_ERR_FALSE_LOCK = 26: FalseLockThreshold, c"false_lock";
+    /// Fault threshold `nominal_amplitude`.
+    AT_ERR_NOMINAL_AMPLITUDE = 27: NominalAmplitude, c"nominal_amplitude";
+    /// Fault threshold `max_speed_rad_s`.
+    AT_ERR_MAX_SPEED_RAD_S = 28: MaxSpeed, c"max_speed_rad_s";
+    /// ADC `mid_scale_counts`.
+    AT_ERR_MID_SCALE_COUNTS = 29: MidScaleCounts, c"mid_scale_counts";
+    /// ADC `counts_per_unit`.
+    AT_ERR_COUNTS_PER_UNIT = 30: CountsPerUnit, c"counts_per_unit";
+    /// ADC resolution `bits`.
+    AT_ERR_BITS = 31: AdcBits, c"bits";
+    /// Sensor calibration `offset_c`.
+    AT_ERR_OFFSET_C = 32: OffsetCos, c"offset_c";
+    /// Sensor calibration `offset_s`.
+    AT_ERR_OFFSET_S = 33: OffsetSin, c"offset_s";
+    /// Sensor calibration `amplitude_c`.
+    AT_ERR_AMPLITUDE_C = 34: AmplitudeCos, c"amplitude_c";
+    /// Sensor calibration `amplitude_s`.
+    AT_ERR_AMPLITUDE_S = 35: AmplitudeSin, c"amplitude_s";
+    /// Sensor calibration `quadrature_rad`.
+    AT_ERR_QUADRATURE_RAD = 36: Quadrature, c"quadrature_rad";
+    /// Calibration setting `min_speed_rad_s`.
+    AT_ERR_MIN_SPEED_RAD_S = 37: MinSpeed, c"min_speed_rad_s";
+    /// Calibration setting `max_offset`.
+    AT_ERR_MAX_OFFSET = 38: MaxOffset, c"max_offset";
+    /// Calibration setting `max_amplitude_mismatch`.
+    AT_ERR_MAX_AMPLITUDE_MISMATCH = 39: MaxAmplitudeMismatch, c"max_amplitude_mismatch";
+    /// Calibration setting `max_quadrature_rad`.
+    AT_ERR_MAX_QUADRATURE_RAD = 40: MaxQuadrature, c"max_quadrature_rad";
+    /// Angle correction: a coefficient not finite, or their total `sum |a_k| + |b_k|` above
+    /// 0.25 rad.
+    AT_ERR_ANGLE_CORRECTION = 41: AngleCorrection, c"angle_correction";
+    /// Demodulator setting `carrier_hz`.
+    AT_ERR_CARRIER_HZ = 42: CarrierFrequency, c"carrier_hz";
+    /// Samples per carrier period (the excitation's schedule; the demodulator takes `adc_rate_hz`).
+    AT_ERR_SAMPLES_PER_PERIOD = 43: SamplesPerPeriod, c"samples_per_period";
+    /// Demodulator setting `carrier_amplitude_counts`.
+    AT_ERR_CARRIER_AMPLITUDE_COUNTS = 44: CarrierAmplitude, c"carrier_amplitude_counts";
+    /// Demodulator settings `adc_min_code`, `adc_max_code`, `clip_margin_counts`.
+    AT_ERR_ADC_RANGE = 45: AdcRange, c"adc_range";
+    /// Demodulator setting `loss_of_excitation`.
+    AT_ERR_LOSS_OF_EXCITATION = 46: LossOfExcitationThreshold, c"loss_of_excitation";
+    /// Demodulator setting `phase_drift_bound_rad`.
+    AT_ERR_PHASE_DRIFT_BOUND_RAD = 47: PhaseDriftBound, c"phase_drift_bound_rad";
+    /// Demodulator setting `expected_delay_rad`.
+    AT_ERR_EXPECTED_DELAY_RAD = 48: ExpectedDelay, c"expected_delay_rad";
+    /// Demodulator setting `carrier_loop_bandwidth`.
+    AT_ERR_CARRIER_LOOP_BANDWIDTH = 49: CarrierLoopBandwidth, c"carrier_loop_bandwidth";
+    /// Demodulator setting `adc_rate_hz` (at least 4 times the carrier).
+    AT_ERR_ADC_RATE_HZ = 53: AdcRate, c"adc_rate_hz";
+    /// Demodulator setting `weak_excitation`.
+    AT_ERR_WEAK_EXCITATION = 54: WeakExcitationThreshold, c"weak_excitation";
+    /// Demodulator setting `max_carrier_error`.
+    AT_ERR_MAX_CARRIER_ERROR = 55: MaxCarrierError, c"max_carrier_error";
+    /// Demodulator setting `startup_periods`.
+    AT_ERR_STARTUP_PERIODS = 50: StartupPeriods, c"startup_periods";
+    /// ADC setting `shift` (0 to 15).
+    AT_ERR_SHIFT = 51: AdcShift, c"shift";
+    /// An angle error `curve` of fewer than 2 points.
+    AT_ERR_CURVE = 52: AngleErrorCurve, c"curve";
+}
 
 /// The status naming the parameter a configuration error refused.
 pub(crate) fn status_of(error: ConfigError) -> at_status {

@@ -21,7 +21,6 @@ use angletrack_core::{
 
 use crate::adc::AdcF32;
 use crate::calibration::{at_calibration_settings_f32, at_sensor_calibration_f32};
-use crate::door::c_chain;
 use crate::faults::AT_FAULT_INVALID_ARGUMENT;
 use crate::gains::{at_gains_f32, with_order};
 use crate::slot::{self, Refused, Slot, Stored, by_order};
@@ -258,12 +257,3 @@ impl at_chain_state_f32 {
         })
     }
 }
-
-c_chain!(
-    at_chain_f32,
-    at_chain_state_f32,
-    at_estimate_f32,
-    f32,
-    ChainF32,
-    StateF32
-);

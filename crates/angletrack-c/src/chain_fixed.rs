@@ -19,7 +19,6 @@ use angletrack_core::{
 };
 
 use crate::calibration::at_sensor_calibration_f32;
-use crate::door::c_chain;
 use crate::faults::AT_FAULT_INVALID_ARGUMENT;
 use crate::gains::{at_fixed_gains, with_order};
 use crate::slot::{self, Slot, Stored, by_order};
@@ -274,12 +273,3 @@ impl at_chain_state_fixed {
         })
     }
 }
-
-c_chain!(
-    at_chain_fixed,
-    at_chain_state_fixed,
-    at_fixed_estimate,
-    i16,
-    ChainFixed,
-    StateFixed
-);

@@ -1,13 +1,16 @@
-//! What the two chains' C doors share: the inputs they take ([`ChainInput`]), the chain
-//! structs' per-sample forms of either order or of one ([`CChain`], written once for both
-//! chains by `c_chain!`), and their per-sample `extern "C"` functions (`per_sample!`), which
-//! check the pointers. The caller's contract is `ffi`'s.
+//! What the two chains' C doors share: the inputs they take ([`ChainInput`], [`Arg`]), the
+//! chain structs' per-sample forms of either order or of one (written once for both chains
+//! by `c_chain!`), and their per-sample `extern "C"` functions (`per_sample!`), which check
+//! the pointers. The caller's contract is `ffi`'s.
 #![allow(unsafe_code)]
 
-use angletrack_core::{FrontEndFaults, Order, SupportedOrder, TrackerInput, TrackerNumber};
+use angletrack_core::{FrontEndFaults, TrackerInput, TrackerNumber};
 
+use crate::chain::{ChainF32, StateF32, at_chain_f32, at_chain_state_f32, at_estimate_f32};
+use crate::chain_fixed::{
+    ChainFixed, StateFixed, at_chain_fixed, at_chain_state_fixed, at_fixed_estimate,
+};
 use crate::demodulator::at_demodulated_pair_f32;
-use crate::faults::AT_FAULT_INVALID_ARGUMENT;
 
 /// An input of a chain on the numbers `V` (`f32`, or `i16` for fixed point).
 pub(crate) trait ChainInput<V: TrackerNumber>: Copy {
@@ -90,47 +93,14 @@ pairs! {
     i16: i16 => true;
 }
 
-/// A chain struct of the C API (`at_chain_f32`, `at_chain_fixed`), of either order, with
-/// its state struct and its estimate. The forms of order `N` return `None`, nothing
-/// changed, when refused: a chain not of order `N` (not made, another build's), a state of
-/// another build, an input the chain does not take.
-pub(crate) trait CChain {
-    /// The observer's numbers.
-    type Number: TrackerNumber;
-    /// One channel's state.
-    type State;
-    /// What an update reports.
-    type Estimate;
-    /// The estimate of a call whose arguments were refused.
-    const INVALID: Self::Estimate;
-    /// The order of the chain held (2 or 3), if made by its constructor of this build.
-    fn order(&self) -> Option<usize>;
-    /// One sample through the chain of order `N` on `state`, the state only.
-    fn track_n<const N: usize, I: ChainInput<Self::Number>>(
-        &self,
-        state: &mut Self::State,
-        input: I,
-    ) -> Option<()>
-    where
-        Order<N>: SupportedOrder;
-    /// One sample, then the estimate.
-    fn update_n<const N: usize, I: ChainInput<Self::Number>>(
-        &self,
-        state: &mut Self::State,
-        input: I,
-    ) -> Option<Self::Estimate>
-    where
-        Order<N>: SupportedOrder;
-    /// The estimate `state` holds (a fresh state's for a fresh state).
-    fn estimate_n<const N: usize>(&self, state: &Self::State) -> Option<Self::Estimate>
-    where
-        Order<N>: SupportedOrder;
-}
-
 /// The methods of a chain struct `$chain` holding the core's `$tracker<N>` of either order
-/// and of its state struct `$state` holding `$tracker_state<N>`: [`CChain`] (with the
-/// estimate `$estimate` on the numbers `$number`), and the state's `FRESH`, `of_order`,
-/// `held` and `clear_front_end_faults`.
+/// and of its state struct `$state` holding `$tracker_state<N>`, with the estimate
+/// `$estimate` on the numbers `$number`: the chain's `get` and the bodies of its per-sample
+/// `extern "C"` functions (`track`, `update`, `estimate` of either order, `track_order` of
+/// one), which check the pointers and return `AT_FAULT_INVALID_ARGUMENT` (an estimate with
+/// it), nothing changed, when refused: a NULL pointer, a chain not made (or of another
+/// order), a state of another build, an input the chain does not take; the state's `FRESH`,
+/// `of_order`, `held` and `clear_front_end_faults`.
 macro_rules! c_chain {
     ($chain:ty, $state:ty, $estimate:ty, $number:ty, $tracker:ident, $tracker_state:ident) => {
         impl $chain {
@@ -149,16 +119,147 @@ macro_rules! c_chain {
                 &'a self,
                 state: &'a mut $state,
                 input: I,
-            ) -> Option<(&'a $tracker<N>, &'a mut $tracker_state<N>, I::Core)>
-            where
-                angletrack_core::Order<N>: angletrack_core::SupportedOrder,
-            {
+            ) -> Option<(&'a $tracker<N>, &'a mut $tracker_state<N>, I::Core)> {
                 let chain = $crate::slot::Slot::slot_layout::<$tracker<N>>(self)?;
                 if !I::taken(chain.front_end.adc().is_some()) {
                     return None;
                 }
-                let state = state.of_order::<N>().ok()?;
-                Some((chain, state, input.core()))
+                Some((chain, state.of_order::<N>().ok()?, input.core()))
+            }
+
+            /// One sample through the chain of order `N`, the state only.
+            #[inline(always)]
+            fn track_n<const N: usize, I: $crate::door::ChainInput<$number>>(
+                &self,
+                state: &mut $state,
+                input: I,
+            ) -> Option<()> {
+                let (chain, state, input) = self.with::<N, I>(state, input)?;
+                chain.track(state, input);
+                Some(())
+            }
+
+            /// One sample through the chain of order `N`, then the estimate.
+            #[inline(always)]
+            fn update_n<const N: usize, I: $crate::door::ChainInput<$number>>(
+                &self,
+                state: &mut $state,
+                input: I,
+            ) -> Option<$estimate> {
+                let (chain, state, input) = self.with::<N, I>(state, input)?;
+                Some(chain.update(state, input).into())
+            }
+
+            /// The estimate `state` holds for the chain of order `N` (a fresh state's for a
+            /// fresh state).
+            fn estimate_n<const N: usize>(&self, state: &$state) -> Option<$estimate> {
+                let chain = $crate::slot::Slot::slot_layout::<$tracker<N>>(self)?;
+                match $crate::slot::Slot::slot_get::<$tracker_state<N>>(state) {
+                    Ok(s) => Some(chain.estimate(s).into()),
+                    Err($crate::slot::Refused::NotInitialised) => {
+                        Some(chain.estimate(&$tracker_state::<N>::new()).into())
+                    }
+                    Err($crate::slot::Refused::OtherBuild) => None,
+                }
+            }
+
+            /// The body of the `track` functions of either order.
+            ///
+            /// # Safety
+            /// The header's contract.
+            #[inline(always)]
+            pub(crate) unsafe fn track<
+                A: $crate::door::Arg<Input: $crate::door::ChainInput<$number>>,
+            >(
+                chain: *const Self,
+                state: *mut $state,
+                input: A,
+            ) -> u32 {
+                // SAFETY: the caller's contract; NULL is checked by `as_ref`, `as_mut` and `input`.
+                let tracked = match unsafe { (chain.as_ref(), state.as_mut(), input.input()) } {
+                    (Some(c), Some(s), Some(x)) => match c.get() {
+                        Ok($crate::slot::ByOrder::Two(_)) => {
+                            $crate::door::out_of_line(c, s, x, Self::track_n::<2, A::Input>)
+                        }
+                        Ok($crate::slot::ByOrder::Three(_)) => {
+                            $crate::door::out_of_line(c, s, x, Self::track_n::<3, A::Input>)
+                        }
+                        Err(_) => None,
+                    },
+                    _ => None,
+                };
+                tracked.map_or($crate::faults::AT_FAULT_INVALID_ARGUMENT, |()| 0)
+            }
+
+            /// The body of the `track` functions of order `N`: the chain's body inlined, no
+            /// dispatch.
+            ///
+            /// # Safety
+            /// The header's contract.
+            #[inline(always)]
+            #[allow(dead_code, reason = "the float chain has no per-order functions")]
+            pub(crate) unsafe fn track_order<
+                const N: usize,
+                A: $crate::door::Arg<Input: $crate::door::ChainInput<$number>>,
+            >(
+                chain: *const Self,
+                state: *mut $state,
+                input: A,
+            ) -> u32 {
+                // SAFETY: the caller's contract; NULL is checked by `as_ref`, `as_mut` and `input`.
+                let tracked = match unsafe { (chain.as_ref(), state.as_mut(), input.input()) } {
+                    (Some(c), Some(s), Some(x)) => c.track_n::<N, A::Input>(s, x),
+                    _ => None,
+                };
+                match tracked {
+                    Some(()) => 0,
+                    None => $crate::door::refused(),
+                }
+            }
+
+            /// The body of the `update` functions: the estimate.
+            ///
+            /// # Safety
+            /// The header's contract.
+            #[inline(always)]
+            pub(crate) unsafe fn update<
+                A: $crate::door::Arg<Input: $crate::door::ChainInput<$number>>,
+            >(
+                chain: *const Self,
+                state: *mut $state,
+                input: A,
+            ) -> $estimate {
+                // SAFETY: the caller's contract; NULL is checked by `as_ref`, `as_mut` and `input`.
+                let estimate = match unsafe { (chain.as_ref(), state.as_mut(), input.input()) } {
+                    (Some(c), Some(s), Some(x)) => match c.get() {
+                        Ok($crate::slot::ByOrder::Two(_)) => {
+                            $crate::door::out_of_line(c, s, x, Self::update_n::<2, A::Input>)
+                        }
+                        Ok($crate::slot::ByOrder::Three(_)) => {
+                            $crate::door::out_of_line(c, s, x, Self::update_n::<3, A::Input>)
+                        }
+                        Err(_) => None,
+                    },
+                    _ => None,
+                };
+                estimate.unwrap_or(<$estimate>::INVALID)
+            }
+
+            /// The body of the `estimate` functions.
+            ///
+            /// # Safety
+            /// The header's contract.
+            pub(crate) unsafe fn estimate(chain: *const Self, state: *const $state) -> $estimate {
+                // SAFETY: the caller's contract; NULL is checked by `as_ref`.
+                let estimate = match unsafe { (chain.as_ref(), state.as_ref()) } {
+                    (Some(c), Some(s)) => match c.get() {
+                        Ok($crate::slot::ByOrder::Two(_)) => c.estimate_n::<2>(s),
+                        Ok($crate::slot::ByOrder::Three(_)) => c.estimate_n::<3>(s),
+                        Err(_) => None,
+                    },
+                    _ => None,
+                };
+                estimate.unwrap_or(<$estimate>::INVALID)
             }
         }
 
@@ -191,175 +292,53 @@ macro_rules! c_chain {
                 })
             }
         }
-
-        impl $crate::door::CChain for $chain {
-            type Number = $number;
-            type State = $state;
-            type Estimate = $estimate;
-            const INVALID: $estimate = <$estimate>::INVALID;
-
-            #[inline(always)]
-            fn order(&self) -> Option<usize> {
-                match self.get() {
-                    Ok($crate::slot::ByOrder::Two(_)) => Some(2),
-                    Ok($crate::slot::ByOrder::Three(_)) => Some(3),
-                    Err(_) => None,
-                }
-            }
-
-            #[inline(always)]
-            fn track_n<const N: usize, I: $crate::door::ChainInput<$number>>(
-                &self,
-                state: &mut $state,
-                input: I,
-            ) -> Option<()>
-            where
-                angletrack_core::Order<N>: angletrack_core::SupportedOrder,
-            {
-                let (chain, state, input) = self.with::<N, I>(state, input)?;
-                chain.track(state, input);
-                Some(())
-            }
-
-            #[inline(always)]
-            fn update_n<const N: usize, I: $crate::door::ChainInput<$number>>(
-                &self,
-                state: &mut $state,
-                input: I,
-            ) -> Option<$estimate>
-            where
-                angletrack_core::Order<N>: angletrack_core::SupportedOrder,
-            {
-                let (chain, state, input) = self.with::<N, I>(state, input)?;
-                Some(chain.update(state, input).into())
-            }
-
-            fn estimate_n<const N: usize>(&self, state: &$state) -> Option<$estimate>
-            where
-                angletrack_core::Order<N>: angletrack_core::SupportedOrder,
-            {
-                let chain = $crate::slot::Slot::slot_layout::<$tracker<N>>(self)?;
-                match $crate::slot::Slot::slot_get::<$tracker_state<N>>(state) {
-                    Ok(s) => Some(chain.estimate(s).into()),
-                    Err($crate::slot::Refused::NotInitialised) => {
-                        Some(chain.estimate(&$tracker_state::<N>::new()).into())
-                    }
-                    Err($crate::slot::Refused::OtherBuild) => None,
-                }
-            }
-        }
     };
 }
-pub(crate) use c_chain;
+
+// Here, at the boundary: the bodies check raw pointers.
+c_chain!(
+    at_chain_f32,
+    at_chain_state_f32,
+    at_estimate_f32,
+    f32,
+    ChainF32,
+    StateF32
+);
+c_chain!(
+    at_chain_fixed,
+    at_chain_state_fixed,
+    at_fixed_estimate,
+    i16,
+    ChainFixed,
+    StateFixed
+);
 
 /// `f(chain, state, input)` in a function of its own: the body of one order out of the
 /// door's order dispatch, so that the compiler does not hoist both orders' set-up above the
 /// checks.
 #[inline(never)]
-fn out_of_line<C, S, X, R>(chain: &C, state: &mut S, input: X, f: fn(&C, &mut S, X) -> R) -> R {
+pub(crate) fn out_of_line<C, S, X, R>(
+    chain: &C,
+    state: &mut S,
+    input: X,
+    f: fn(&C, &mut S, X) -> R,
+) -> R {
     f(chain, state, input)
-}
-
-/// The body of the `track` functions of either order: 0, or `AT_FAULT_INVALID_ARGUMENT`
-/// (nothing changed) for a NULL pointer or a refused argument.
-///
-/// # Safety
-/// The header's contract.
-#[inline(always)]
-pub(crate) unsafe fn track<C: CChain, A: Arg<Input: ChainInput<C::Number>>>(
-    chain: *const C,
-    state: *mut C::State,
-    input: A,
-) -> u32 {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref`, `as_mut` and `input`.
-    let tracked = match unsafe { (chain.as_ref(), state.as_mut(), input.input()) } {
-        (Some(c), Some(s), Some(x)) => match c.order() {
-            Some(2) => out_of_line(c, s, x, C::track_n::<2, A::Input>),
-            Some(3) => out_of_line(c, s, x, C::track_n::<3, A::Input>),
-            _ => None,
-        },
-        _ => None,
-    };
-    tracked.map_or(AT_FAULT_INVALID_ARGUMENT, |()| 0)
-}
-
-/// The body of the `track` functions of order `N`: the chain's body inlined, no dispatch.
-///
-/// # Safety
-/// The header's contract.
-#[inline(always)]
-pub(crate) unsafe fn track_order<const N: usize, C: CChain, A: Arg<Input: ChainInput<C::Number>>>(
-    chain: *const C,
-    state: *mut C::State,
-    input: A,
-) -> u32
-where
-    Order<N>: SupportedOrder,
-{
-    // SAFETY: the caller's contract; NULL is checked by `as_ref`, `as_mut` and `input`.
-    let tracked = match unsafe { (chain.as_ref(), state.as_mut(), input.input()) } {
-        (Some(c), Some(s), Some(x)) => c.track_n::<N, A::Input>(s, x),
-        _ => None,
-    };
-    match tracked {
-        Some(()) => 0,
-        None => refused(),
-    }
 }
 
 /// `AT_FAULT_INVALID_ARGUMENT`, out of line: the per-sample path holds no constant for it.
 #[cold]
 #[inline(never)]
-fn refused() -> u32 {
-    AT_FAULT_INVALID_ARGUMENT
-}
-
-/// The body of the `update` functions: the estimate, or `INVALID` (nothing changed) for a
-/// NULL pointer or a refused argument.
-///
-/// # Safety
-/// The header's contract.
-#[inline(always)]
-pub(crate) unsafe fn update<C: CChain, A: Arg<Input: ChainInput<C::Number>>>(
-    chain: *const C,
-    state: *mut C::State,
-    input: A,
-) -> C::Estimate {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref`, `as_mut` and `input`.
-    let estimate = match unsafe { (chain.as_ref(), state.as_mut(), input.input()) } {
-        (Some(c), Some(s), Some(x)) => match c.order() {
-            Some(2) => out_of_line(c, s, x, C::update_n::<2, A::Input>),
-            Some(3) => out_of_line(c, s, x, C::update_n::<3, A::Input>),
-            _ => None,
-        },
-        _ => None,
-    };
-    estimate.unwrap_or(C::INVALID)
-}
-
-/// The body of the `estimate` functions.
-///
-/// # Safety
-/// The header's contract.
-pub(crate) unsafe fn estimate<C: CChain>(chain: *const C, state: *const C::State) -> C::Estimate {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-    let estimate = match unsafe { (chain.as_ref(), state.as_ref()) } {
-        (Some(c), Some(s)) => match c.order() {
-            Some(2) => c.estimate_n::<2>(s),
-            Some(3) => c.estimate_n::<3>(s),
-            _ => None,
-        },
-        _ => None,
-    };
-    estimate.unwrap_or(C::INVALID)
+pub(crate) fn refused() -> u32 {
+    crate::faults::AT_FAULT_INVALID_ARGUMENT
 }
 
 /// The per-sample `extern "C"` functions of the chain `$chain` with its state `$state`:
 /// each `$name(args) -> ret = body(input)` is a function of the chain, the state and
-/// `args`, whose body is the door's `body` (`track`, `update`, or `track_order` with the
+/// `args`, whose body is the chain's `body` (`track`, `update`, or `track_order` with the
 /// order `$n`) on `input`.
 macro_rules! per_sample {
-    ($chain:ty, $state:ty; $(
+    ($chain:ident, $state:ty; $(
         $(#[$doc:meta])*
         $name:ident($($arg:ident: $t:ty),*) -> $ret:ty = $body:ident$(::<$n:literal>)?($input:expr);
     )*) => {$(
@@ -374,7 +353,7 @@ macro_rules! per_sample {
             $($arg: $t),*
         ) -> $ret {
             // SAFETY: the same contract.
-            unsafe { $crate::door::$body::<$($n,)? _, _>(chain, state, $input) }
+            unsafe { $chain::$body::<$($n,)? _>(chain, state, $input) }
         }
     )*};
 }

@@ -15,7 +15,7 @@ use crate::chain::{
     Stages, at_angle_correction_f32, at_chain_f32, at_chain_state_f32, at_estimate_f32,
 };
 use crate::demodulator::at_demodulated_pair_f32;
-use crate::door::{estimate, per_sample};
+use crate::door::per_sample;
 use crate::ffi::extern_c;
 use crate::gains::at_gains_f32;
 use crate::slot::Refused;
@@ -129,7 +129,7 @@ pub unsafe extern "C" fn at_chain_f32_estimate(
     state: *const at_chain_state_f32,
 ) -> at_estimate_f32 {
     // SAFETY: the same contract.
-    unsafe { estimate(chain, state) }
+    unsafe { at_chain_f32::estimate(chain, state) }
 }
 
 extern_c! {

@@ -10,7 +10,7 @@ use crate::chain::at_angle_correction_f32;
 use crate::chain_fixed::{
     FixedStages, at_adc_counts, at_chain_fixed, at_chain_state_fixed, at_fixed_estimate,
 };
-use crate::door::{estimate, per_sample};
+use crate::door::per_sample;
 use crate::ffi::{construct, extern_c, write};
 use crate::gains::at_fixed_gains;
 use crate::status::{AT_ERR_NULL_POINTER, at_status, status_of_result};
@@ -219,7 +219,7 @@ pub unsafe extern "C" fn at_chain_fixed_estimate(
     state: *const at_chain_state_fixed,
 ) -> at_fixed_estimate {
     // SAFETY: the same contract.
-    unsafe { estimate(chain, state) }
+    unsafe { at_chain_fixed::estimate(chain, state) }
 }
 
 /// The fixed-point table of `errors_rad` (`AT_ANGLE_TABLE_LENGTH` errors in rad at the

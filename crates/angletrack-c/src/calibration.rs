@@ -9,6 +9,7 @@ use angletrack_core::{
     SensorCalibration,
 };
 
+use crate::mirror::mirror;
 use crate::status::{AT_ERR_MODE, AT_OK, at_status};
 
 /// `at_chain_state_f32_calibration_mode`: neither corrects nor learns (a fresh calibrator's mode).
@@ -101,44 +102,19 @@ pub(crate) fn calibration_status(calibrator: &Calibrator<f32>) -> u32 {
     }
 }
 
-/// The online calibration's settings (the core's `CalibrationSettings`): when it learns and
-/// the bounds beyond which its estimates raise a fault. Start from
-/// `at_calibration_settings_f32_default()`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct at_calibration_settings_f32 {
+mirror! {
+    /// The online calibration's settings (the core's `CalibrationSettings`): when it learns and
+    /// the bounds beyond which its estimates raise a fault. Start from
+    /// `at_calibration_settings_f32_default()`.
+    at_calibration_settings_f32: CalibrationSettings<f32> = |_: &Self| CalibrationSettings::default();
     /// Learns only above this electrical speed (rad/s); 0 for the default, one turn in
     /// 4096 samples.
-    pub min_speed_rad_s: f32,
+    min_speed_rad_s: f32 = min_speed_rad_s,
     /// An offset above this fraction of its channel's amplitude flags
     /// `AT_FAULT_OFFSET_OR_QUADRATURE` (default 0.1).
-    pub max_offset: f32,
+    max_offset: f32 = max_offset,
     /// `|A_s / A_c - 1|` above this flags `AT_FAULT_AMPLITUDE_MISMATCH` (default 0.2).
-    pub max_amplitude_mismatch: f32,
+    max_amplitude_mismatch: f32 = max_amplitude_mismatch,
     /// `|quadrature|` (rad) above this flags `AT_FAULT_OFFSET_OR_QUADRATURE` (default 0.1).
-    pub max_quadrature_rad: f32,
-}
-
-impl From<CalibrationSettings<f32>> for at_calibration_settings_f32 {
-    fn from(d: CalibrationSettings<f32>) -> Self {
-        Self {
-            min_speed_rad_s: d.min_speed_rad_s.unwrap_or(0.0),
-            max_offset: d.max_offset,
-            max_amplitude_mismatch: d.max_amplitude_mismatch,
-            max_quadrature_rad: d.max_quadrature_rad,
-        }
-    }
-}
-
-impl at_calibration_settings_f32 {
-    /// The core's settings, field by field (from the core's defaults, so that fields it
-    /// may add keep them).
-    pub(crate) fn to_core(self) -> CalibrationSettings<f32> {
-        let mut s = CalibrationSettings::default();
-        s.min_speed_rad_s = (self.min_speed_rad_s != 0.0).then_some(self.min_speed_rad_s);
-        s.max_offset = self.max_offset;
-        s.max_amplitude_mismatch = self.max_amplitude_mismatch;
-        s.max_quadrature_rad = self.max_quadrature_rad;
-        s
-    }
+    max_quadrature_rad: f32 = max_quadrature_rad,
 }

@@ -9,6 +9,7 @@ use angletrack_core::{DemodulatedPair, Demodulator, DemodulatorSettings, Demodul
 
 use crate::chain::at_chain_f32;
 use crate::faults::AT_FAULT_INVALID_ARGUMENT;
+use crate::mirror::mirror;
 use crate::slot::{self, Refused, Slot, Stored, by_order};
 use crate::status::{at_status, status_of_result};
 
@@ -56,84 +57,42 @@ slot::slot_struct! {
     at_demodulator_state_f32[AT_DEMODULATOR_STATE_F32_WORDS]
 }
 
-/// The demodulator's settings (the core's `DemodulatorSettings`): start from
-/// `at_demodulator_settings_f32_new`, which fills in the defaults.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct at_demodulator_settings_f32 {
+mirror! {
+    /// The demodulator's settings (the core's `DemodulatorSettings`): start from
+    /// `at_demodulator_settings_f32_new`, which fills in the defaults.
+    at_demodulator_settings_f32: DemodulatorSettings<f32> = |s: &Self| {
+        DemodulatorSettings::new(s.carrier_hz, s.adc_rate_hz, s.carrier_amplitude_counts, s.adc_min_code, s.adc_max_code)
+    };
     /// The declared excitation carrier frequency (Hz), tracked within `max_carrier_error`.
-    pub carrier_hz: f32,
+    carrier_hz: f32 = carrier_hz,
     /// The ADC's sample rate (Hz): at least 4 times the carrier, any ratio.
-    pub adc_rate_hz: f32,
+    adc_rate_hz: f32 = adc_rate_hz,
     /// A winding's nominal carrier amplitude at the ADC (counts, peak): the pairs are
     /// divided by it (nominal amplitude 1).
-    pub carrier_amplitude_counts: f32,
+    carrier_amplitude_counts: f32 = carrier_amplitude_counts,
     /// The lowest ADC code.
-    pub adc_min_code: f32,
+    adc_min_code: f32 = adc_min_code,
     /// The highest ADC code.
-    pub adc_max_code: f32,
+    adc_max_code: f32 = adc_max_code,
     /// A raw sample within this many counts of a rail counts as clipped (default 1/256 of
     /// the range).
-    pub clip_margin_counts: f32,
+    clip_margin_counts: f32 = clip_margin_counts,
     /// Loss of excitation below this carrier amplitude, relative to nominal (default 0.25).
-    pub loss_of_excitation: f32,
+    loss_of_excitation: f32 = loss_of_excitation,
     /// Weak excitation below this carrier amplitude, relative to nominal (default 0.7).
-    pub weak_excitation: f32,
+    weak_excitation: f32 = weak_excitation,
     /// Phase drift (the carrier loop out of lock) beyond this phase error (rad, default
     /// 44 degrees, at most pi/2).
-    pub phase_drift_bound_rad: f32,
+    phase_drift_bound_rad: f32 = phase_drift_bound_rad,
     /// The carrier delay (rad) the half turn is resolved around (default 0): after the
     /// excitation when its samples are pushed, else the carrier's phase at the first sample.
-    pub expected_delay_rad: f32,
+    expected_delay_rad: f32 = expected_delay_rad,
     /// The carrier loop's natural frequency times the carrier period (rad, default 0.3).
-    pub carrier_loop_bandwidth: f32,
+    carrier_loop_bandwidth: f32 = carrier_loop_bandwidth,
     /// The largest relative carrier frequency error tracked (default 0.03).
-    pub max_carrier_error: f32,
+    max_carrier_error: f32 = max_carrier_error,
     /// The carrier periods the loop acquires over before the first pair (default 24).
-    pub startup_periods: u32,
-}
-
-impl From<DemodulatorSettings<f32>> for at_demodulator_settings_f32 {
-    fn from(s: DemodulatorSettings<f32>) -> Self {
-        Self {
-            carrier_hz: s.carrier_hz,
-            adc_rate_hz: s.adc_rate_hz,
-            carrier_amplitude_counts: s.carrier_amplitude_counts,
-            adc_min_code: s.adc_min_code,
-            adc_max_code: s.adc_max_code,
-            clip_margin_counts: s.clip_margin_counts,
-            loss_of_excitation: s.loss_of_excitation,
-            weak_excitation: s.weak_excitation,
-            phase_drift_bound_rad: s.phase_drift_bound_rad,
-            expected_delay_rad: s.expected_delay_rad,
-            carrier_loop_bandwidth: s.carrier_loop_bandwidth,
-            max_carrier_error: s.max_carrier_error,
-            startup_periods: s.startup_periods,
-        }
-    }
-}
-
-impl at_demodulator_settings_f32 {
-    /// The core's settings, field by field (from the core's defaults for the same carrier
-    /// and ADC, so that fields it may add keep them).
-    fn to_core(self) -> DemodulatorSettings<f32> {
-        let mut s = DemodulatorSettings::new(
-            self.carrier_hz,
-            self.adc_rate_hz,
-            self.carrier_amplitude_counts,
-            self.adc_min_code,
-            self.adc_max_code,
-        );
-        s.clip_margin_counts = self.clip_margin_counts;
-        s.loss_of_excitation = self.loss_of_excitation;
-        s.weak_excitation = self.weak_excitation;
-        s.phase_drift_bound_rad = self.phase_drift_bound_rad;
-        s.expected_delay_rad = self.expected_delay_rad;
-        s.carrier_loop_bandwidth = self.carrier_loop_bandwidth;
-        s.max_carrier_error = self.max_carrier_error;
-        s.startup_periods = self.startup_periods;
-        s
-    }
+    startup_periods: u32 = startup_periods,
 }
 
 /// One demodulated pair: the windings' envelopes at the centroid of their window.

@@ -8,6 +8,7 @@
 use angletrack_core::fixed::FixedConstants;
 use angletrack_core::{ConfigError, FaultThresholds, FixedGains, Gains, Order, SupportedOrder};
 
+use crate::mirror::mirror;
 use crate::status::at_status;
 
 /// `$body` (a `Result<_, ConfigError>`) with the constant `$n` the order `$order` (2 or
@@ -59,7 +60,7 @@ impl at_gains_f32 {
                 gains,
                 order: N as u32,
                 sample_period_s,
-                thresholds: at_fault_thresholds_f32::from_core(&g.fault_thresholds()),
+                thresholds: g.fault_thresholds().into(),
             })
         })
     }
@@ -148,84 +149,47 @@ impl at_fixed_gains {
     }
 }
 
-/// The thresholds of the diagnostics and of the input check, in the input's units
-/// (amplitudes) unless stated: the core's `FaultThresholds`. Start from
-/// `at_fault_thresholds_f32_for_amplitude(nominal)` (the defaults scaled to the nominal
-/// amplitude), change fields, and write it to `at_gains_f32::thresholds`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct at_fault_thresholds_f32 {
+mirror! {
+    /// The thresholds of the diagnostics and of the input check, in the input's units
+    /// (amplitudes) unless stated: the core's `FaultThresholds`. Start from
+    /// `at_fault_thresholds_f32_for_amplitude(nominal)` (the defaults scaled to the nominal
+    /// amplitude), change fields, and write it to `at_gains_f32::thresholds`.
+    at_fault_thresholds_f32: FaultThresholds<f32> = |c: &Self| FaultThresholds::for_amplitude(c.nominal_amplitude);
     /// The amplitude of a healthy signal (default 1).
-    pub nominal_amplitude: f32,
+    nominal_amplitude: f32 = nominal_amplitude,
     /// A sample with `sqrt(y_c^2 + y_s^2)` above this is rejected (default 4 x nominal).
-    pub max_input_amplitude: f32,
+    max_input_amplitude: f32 = max_input_amplitude,
     /// A window's RMS amplitude below this: loss of signal (default 0.25 x nominal).
-    pub loss_of_signal: f32,
+    loss_of_signal: f32 = loss_of_signal,
     /// A window's RMS amplitude below this: degradation of signal (default 0.5 x nominal).
-    pub degradation_low: f32,
+    degradation_low: f32 = degradation_low,
     /// A window's RMS amplitude above this: degradation of signal (default 1.5 x nominal).
-    pub degradation_high: f32,
+    degradation_high: f32 = degradation_high,
     /// A window's mean normalised phase error above this: loss of tracking (default 0.1).
-    pub loss_of_tracking: f32,
+    loss_of_tracking: f32 = loss_of_tracking,
     /// Estimated |speed| (rad/s) above this: loss of tracking; 0 for the default, a
     /// quarter turn per sample (`pi / (2 Ts)`).
-    pub max_speed_rad_s: f32,
+    max_speed_rad_s: f32 = max_speed,
     /// 1 / W for the diagnostics' window of W used samples (1 / filter_factor rounded down
     /// to a power of two, at most 4096), in (0, 1] (default 1/16: a fault is flagged within
     /// 31 samples).
-    pub filter_factor: f32,
+    filter_factor: f32 = filter_factor,
     /// The in-phase component at a window's end below this: false lock (default 0).
-    pub false_lock: f32,
+    false_lock: f32 = false_lock,
     /// Nonzero: compute the flags (loss of signal, degradation, loss of tracking, false
     /// lock); 0: only the input check runs (default 1).
-    pub monitor: u32,
+    monitor: u32 = monitor,
     /// Nonzero: re-acquire the angle on a false lock (default 1).
-    pub re_acquire: u32,
+    re_acquire: u32 = re_acquire,
     /// The roundness check's tolerance `r`: a window whose last pair's magnitude is outside
     /// `(1 +- r)` x nominal raises degradation of signal, held for
     /// `ROUNDNESS_HOLD_WINDOWS` windows (default 0.1); 0: no check.
-    pub magnitude_tolerance: f32,
+    magnitude_tolerance: f32 = magnitude_tolerance,
 }
 
 impl at_fault_thresholds_f32 {
     /// The core's defaults scaled to `nominal_amplitude`.
     pub(crate) fn for_amplitude(nominal_amplitude: f32) -> Self {
-        Self::from_core(&FaultThresholds::for_amplitude(nominal_amplitude))
-    }
-
-    pub(crate) fn from_core(t: &FaultThresholds<f32>) -> Self {
-        Self {
-            nominal_amplitude: t.nominal_amplitude,
-            max_input_amplitude: t.max_input_amplitude,
-            loss_of_signal: t.loss_of_signal,
-            degradation_low: t.degradation_low,
-            degradation_high: t.degradation_high,
-            loss_of_tracking: t.loss_of_tracking,
-            max_speed_rad_s: t.max_speed.unwrap_or(0.0),
-            filter_factor: t.filter_factor,
-            false_lock: t.false_lock,
-            monitor: u32::from(t.monitor),
-            re_acquire: u32::from(t.re_acquire),
-            magnitude_tolerance: t.magnitude_tolerance.unwrap_or(0.0),
-        }
-    }
-
-    /// The core's thresholds, field by field (assigned to the core's defaults, so that
-    /// fields the core may add keep their defaults).
-    pub(crate) fn to_core(self) -> FaultThresholds<f32> {
-        let mut t = FaultThresholds::for_amplitude(self.nominal_amplitude);
-        t.max_input_amplitude = self.max_input_amplitude;
-        t.loss_of_signal = self.loss_of_signal;
-        t.degradation_low = self.degradation_low;
-        t.degradation_high = self.degradation_high;
-        t.loss_of_tracking = self.loss_of_tracking;
-        t.max_speed = (self.max_speed_rad_s != 0.0).then_some(self.max_speed_rad_s);
-        t.filter_factor = self.filter_factor;
-        t.false_lock = self.false_lock;
-        t.monitor = self.monitor != 0;
-        t.re_acquire = self.re_acquire != 0;
-        t.magnitude_tolerance =
-            (self.magnitude_tolerance != 0.0).then_some(self.magnitude_tolerance);
-        t
+        FaultThresholds::for_amplitude(nominal_amplitude).into()
     }
 }

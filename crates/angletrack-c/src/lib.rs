@@ -57,6 +57,7 @@ mod ffi_demodulator;
 #[cfg(feature = "count-reference")]
 mod firmware_test_reference;
 mod gains;
+mod mirror;
 mod slot;
 mod status;
 mod table;

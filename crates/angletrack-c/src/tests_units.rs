@@ -58,7 +58,7 @@ fn gains_check_as_the_core_and_keep_the_order() {
     let core = three.core::<3>().unwrap().fault_thresholds();
     assert_eq!(
         three.thresholds,
-        at_fault_thresholds_f32::from_core(&core),
+        at_fault_thresholds_f32::from(core),
         "the core's defaults"
     );
     three.thresholds = at_fault_thresholds_f32::for_amplitude(1800.0);
@@ -69,7 +69,7 @@ fn gains_check_as_the_core_and_keep_the_order() {
         (core.max_speed, core.monitor, core.loss_of_signal),
         (Some(1000.0), false, 450.0)
     );
-    assert_eq!(at_fault_thresholds_f32::from_core(&core), three.thresholds);
+    assert_eq!(at_fault_thresholds_f32::from(core), three.thresholds);
     three.thresholds.filter_factor = 1.5;
     let refused = three.core::<3>().map_err(status_of);
     assert_eq!(refused.err(), Some(AT_ERR_FILTER_FACTOR));

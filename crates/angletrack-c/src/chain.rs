@@ -23,6 +23,7 @@ use crate::adc::AdcF32;
 use crate::calibration::{at_calibration_settings_f32, at_sensor_calibration_f32};
 use crate::faults::AT_FAULT_INVALID_ARGUMENT;
 use crate::gains::{at_gains_f32, with_order};
+use crate::mirror::mirror;
 use crate::slot::{self, Refused, Slot, Stored, by_order};
 use crate::status::{AT_ERR_STAGES, AT_OK, at_status, status_of};
 use crate::table::at_angle_correction_table_f32;
@@ -69,49 +70,35 @@ pub struct at_angle_correction_f32 {
     pub sin_coefficients: [f32; AT_CORRECTION_ORDER],
 }
 
-/// What the observer knows after a sample.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct at_estimate_f32 {
+mirror! {
+    /// What the observer knows after a sample.
+    #[derive(Default)]
+    at_estimate_f32: Estimate<f32> = |_: &Self| Estimate::default();
     /// Estimated angle (rad), wrapped to [-pi, pi).
-    pub angle: f32,
+    angle: f32 = angle,
     /// Whole turns counted since initialisation (positive counter-clockwise); the
     /// multi-turn position is `turns * 2 pi + angle` (rad).
-    pub turns: i64,
+    turns: i64 = turns,
     /// Estimated speed (rad/s).
-    pub speed: f32,
+    speed: f32 = speed,
     /// Estimated acceleration (rad/s^2); 0 for a 2nd-order observer.
-    pub acceleration: f32,
+    acceleration: f32 = acceleration,
     /// Normalised phase-detector output of this sample (about the sine of the phase
     /// error, dimensionless); 0 when the sample was rejected.
-    pub phase_error: f32,
+    phase_error: f32 = phase_error,
     /// This sample's faults (`AT_FAULT_*` bits); the state also latches them.
-    pub faults: u32,
-}
-
-impl From<Estimate<f32>> for at_estimate_f32 {
-    fn from(e: Estimate<f32>) -> Self {
-        Self {
-            angle: e.angle,
-            turns: e.turns,
-            speed: e.speed,
-            acceleration: e.acceleration,
-            phase_error: e.phase_error,
-            faults: u32::from(e.faults.bits()),
-        }
-    }
+    faults: u32 = faults,
 }
 
 impl at_estimate_f32 {
-    /// The estimate of a call whose arguments were NULL or not initialised.
-    pub(crate) const INVALID: Self = Self {
-        angle: 0.0,
-        turns: 0,
-        speed: 0.0,
-        acceleration: 0.0,
-        phase_error: 0.0,
-        faults: AT_FAULT_INVALID_ARGUMENT,
-    };
+    /// The estimate of a call whose arguments were refused (NULL, not made, another
+    /// build's): `AT_FAULT_INVALID_ARGUMENT`, the rest 0.
+    pub(crate) fn invalid() -> Self {
+        Self {
+            faults: AT_FAULT_INVALID_ARGUMENT,
+            ..Self::default()
+        }
+    }
 }
 
 /// What an `at_chain_f32` holds: the core's standard chain of order `N`.

@@ -13,60 +13,47 @@
 //! `int16` samples as they are. This file only converts.
 
 use angletrack_core::{
-    AdcCounts, ConfigError, Faults, FixedCalibration, FixedEstimate, FixedGains, FixedState, Input,
-    Order, Rails, SensorCalibration, SupportedOrder, Tracker, TrackerFrontEnd, TrackerSettings,
+    AdcCounts, ConfigError, FixedCalibration, FixedEstimate, FixedGains, FixedState, Input, Order,
+    Rails, SensorCalibration, SupportedOrder, Tracker, TrackerFrontEnd, TrackerSettings,
     TrackerState,
 };
 
 use crate::calibration::at_sensor_calibration_f32;
 use crate::faults::AT_FAULT_INVALID_ARGUMENT;
 use crate::gains::{at_fixed_gains, with_order};
+use crate::mirror::mirror;
 use crate::slot::{self, Slot, Stored, by_order};
 use crate::status::{AT_OK, at_status};
 use crate::table::at_angle_table_fixed;
 
-/// What the fixed-point observer knows after a sample, in its integers.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct at_fixed_estimate {
+mirror! {
+    /// What the fixed-point observer knows after a sample, in its integers.
+    #[derive(Default, Eq)]
+    at_fixed_estimate: FixedEstimate = |_: &Self| FixedEstimate::default();
     /// Binary angle: 2^32 per turn, `INT32_MIN` is -pi (rad = angle * 2 pi / 2^32).
-    pub angle: i32,
+    angle: i32 = angle,
     /// Whole turns since initialisation: the position is `turns + angle / 2^32` turns.
-    pub turns: i64,
+    turns: i64 = turns,
     /// Speed (2^-32 turn per sample).
-    pub speed: i32,
+    speed: i32 = speed,
     /// Acceleration (2^-63 turn per sample^2); 0 for a 2nd-order observer.
-    pub acceleration: i64,
+    acceleration: i64 = acceleration,
     /// Normalised phase error (Q15: 32768 is 1), about the sine of the phase error.
-    pub phase_error: i32,
+    phase_error: i32 = phase_error,
     /// The monitor's last window's faults (`AT_FAULT_*` bits), or
     /// `AT_FAULT_INVALID_ARGUMENT` alone when the call's arguments were refused.
-    pub faults: u32,
-}
-
-impl From<FixedEstimate> for at_fixed_estimate {
-    fn from(e: FixedEstimate) -> Self {
-        Self {
-            angle: e.angle,
-            turns: e.turns,
-            speed: e.speed,
-            acceleration: e.acceleration,
-            phase_error: e.phase_error,
-            faults: u32::from(e.faults.bits()),
-        }
-    }
+    faults: u32 = faults,
 }
 
 impl at_fixed_estimate {
-    /// The estimate of a call whose arguments were NULL, not made, or another build's.
-    pub(crate) const INVALID: Self = Self {
-        angle: 0,
-        turns: 0,
-        speed: 0,
-        acceleration: 0,
-        phase_error: 0,
-        faults: AT_FAULT_INVALID_ARGUMENT,
-    };
+    /// The estimate of a call whose arguments were refused (NULL, not made, another
+    /// build's): `AT_FAULT_INVALID_ARGUMENT`, the rest 0.
+    pub(crate) fn invalid() -> Self {
+        Self {
+            faults: AT_FAULT_INVALID_ARGUMENT,
+            ..Self::default()
+        }
+    }
 }
 
 /// The 8-byte words of an `at_chain_fixed`'s storage (checked against the Rust type at
@@ -242,14 +229,7 @@ impl at_chain_fixed {
     /// The estimate `e` in physical units by the chain's observer: its speed (rad/s) if
     /// `speed`, else its position (rad); 0 for a chain not made.
     pub(crate) fn in_units(&self, e: &at_fixed_estimate, speed: bool) -> f64 {
-        let e = FixedEstimate {
-            angle: e.angle,
-            turns: e.turns,
-            speed: e.speed,
-            acceleration: e.acceleration,
-            phase_error: e.phase_error,
-            faults: Faults::NONE,
-        };
+        let e = e.to_core();
         self.get().map_or(0.0, |c| {
             by_order!(c, |c| if speed {
                 c.observer.speed_rad_s(&e)

@@ -242,7 +242,7 @@ macro_rules! c_chain {
                     },
                     _ => None,
                 };
-                estimate.unwrap_or(<$estimate>::INVALID)
+                estimate.unwrap_or(<$estimate>::invalid())
             }
 
             /// The body of the `estimate` functions.
@@ -259,7 +259,7 @@ macro_rules! c_chain {
                     },
                     _ => None,
                 };
-                estimate.unwrap_or(<$estimate>::INVALID)
+                estimate.unwrap_or(<$estimate>::invalid())
             }
         }
 

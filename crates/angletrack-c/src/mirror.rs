@@ -1,7 +1,10 @@
 //! Plain C mirrors of the core's settings structs (`at_fault_thresholds_f32`,
 //! `at_calibration_settings_f32`, `at_demodulator_settings_f32`): `mirror!` writes each
 //! struct and its conversions both ways from one list of its fields, each converted by
-//! [`Mirror`] (an optional value is 0 when absent, a flag nonzero when set).
+//! [`Mirror`] (an optional value is 0 when absent, a flag nonzero when set), and of the
+//! estimates (`at_estimate_f32`, `at_fixed_estimate`).
+
+use angletrack_core::Faults;
 
 /// A field of a C mirror (`Self`) as the core's field of type `Core`.
 pub(crate) trait Mirror<Core> {
@@ -40,6 +43,16 @@ impl Mirror<bool> for u32 {
     }
 }
 
+/// Fault bits: the core's flags fit the low 8 bits; higher bits are the C API's own.
+impl Mirror<Faults> for u32 {
+    fn to_core(self) -> Faults {
+        Faults::from_bits_truncate(self as u8)
+    }
+    fn from_core(core: Faults) -> u32 {
+        u32::from(core.bits())
+    }
+}
+
 /// The C struct `$name` (docs `$doc`) mirroring the core's `$core` field by field (each
 /// `c_field: type = core_field`), with `From<$core>` and `to_core`, which assigns the fields
 /// onto `$base(&self)` (the core's defaults for the struct's first settings, so that fields
@@ -67,6 +80,7 @@ macro_rules! mirror {
 
         impl $name {
             /// The core's settings, field by field.
+            #[allow(dead_code, reason = "the float estimate is not converted back")]
             pub(crate) fn to_core(self) -> $core {
                 let mut core: $core = ($base)(&self);
                 $(core.$core_field = $crate::mirror::Mirror::to_core(self.$field);)*

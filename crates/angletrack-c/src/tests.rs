@@ -110,7 +110,7 @@ fn null_and_zeroed_arguments_are_refused() {
             AT_ERR_NULL_POINTER
         );
         assert_eq!(at_gains_f32_new(l3, 4, 1e-4, &mut out), AT_ERR_ORDER);
-        let invalid = at_estimate_f32::INVALID;
+        let invalid = at_estimate_f32::invalid();
         assert_eq!(at_chain_f32_update(null(), &mut state, 1.0, 0.0), invalid);
         assert_eq!(at_chain_f32_update(&chain, null_mut(), 1.0, 0.0), invalid);
         assert_eq!(at_chain_f32_update(&zeroed, &mut state, 1.0, 0.0), invalid);

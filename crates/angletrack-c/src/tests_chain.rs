@@ -270,7 +270,7 @@ fn refusals_name_the_stage() {
         state.set_layout_for_test(1);
         assert_eq!(
             at_chain_f32_update(&chain, &mut state, 1.0, 0.0),
-            at_estimate_f32::INVALID
+            at_estimate_f32::invalid()
         );
         assert_eq!(
             at_chain_state_f32_set_calibration_mode(&mut state, AT_CALIBRATION_LEARNING),

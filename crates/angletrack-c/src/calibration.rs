@@ -106,7 +106,8 @@ mirror! {
     /// The online calibration's settings (the core's `CalibrationSettings`): when it learns and
     /// the bounds beyond which its estimates raise a fault. Start from
     /// `at_calibration_settings_f32_default()`.
-    at_calibration_settings_f32: CalibrationSettings<f32> = |_: &Self| CalibrationSettings::default();
+    at_calibration_settings_f32: CalibrationSettings<f32> =
+        |_: &Self| CalibrationSettings::default();
     /// Learns only above this electrical speed (rad/s); 0 for the default, one turn in
     /// 4096 samples.
     min_speed_rad_s: f32 = min_speed_rad_s,

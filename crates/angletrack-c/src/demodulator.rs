@@ -61,7 +61,8 @@ mirror! {
     /// The demodulator's settings (the core's `DemodulatorSettings`): start from
     /// `at_demodulator_settings_f32_new`, which fills in the defaults.
     at_demodulator_settings_f32: DemodulatorSettings<f32> = |s: &Self| {
-        DemodulatorSettings::new(s.carrier_hz, s.adc_rate_hz, s.carrier_amplitude_counts, s.adc_min_code, s.adc_max_code)
+        let (amplitude, min, max) = (s.carrier_amplitude_counts, s.adc_min_code, s.adc_max_code);
+        DemodulatorSettings::new(s.carrier_hz, s.adc_rate_hz, amplitude, min, max)
     };
     /// The declared excitation carrier frequency (Hz), tracked within `max_carrier_error`.
     carrier_hz: f32 = carrier_hz,

@@ -183,8 +183,10 @@ extern_c! {
     /// signal, at most 2^30 in magnitude) and dividing by `counts_per_unit` (positive), with no
     /// range of codes stated (`at_adc_f32_set_range` states it; without it a chain measures
     /// the rails as the extremes held flat).
-    fn at_adc_f32_new(mid_scale_counts: i32, counts_per_unit: f32, out: *mut at_adc_f32) -> at_status
-        = out.set(AdcScaling::new(mid_scale_counts, counts_per_unit), None); else AT_ERR_NULL_POINTER;
+    fn at_adc_f32_new(mid_scale_counts: i32, counts_per_unit: f32, out: *mut at_adc_f32
+        ) -> at_status
+        = out.set(AdcScaling::new(mid_scale_counts, counts_per_unit), None);
+        else AT_ERR_NULL_POINTER;
     /// Writes to `out` the front end of an unsigned (offset binary) ADC of `bits` bits (2 to
     /// 31): samples in units of full scale (+-1), its range of codes stated (0 to
     /// `2^bits - 1`: a chain flags clipping at them, `at_adc_f32_set_range`).
@@ -194,7 +196,8 @@ extern_c! {
     /// 32): samples in units of full scale (+-1), its range of codes stated (`-2^(bits-1)` to
     /// `2^(bits-1) - 1`: a chain flags clipping at them, `at_adc_f32_set_range`).
     fn at_adc_f32_twos_complement(bits: u32, out: *mut at_adc_f32) -> at_status
-        = out.set(AdcScaling::twos_complement(bits), codes_of(bits, true)); else AT_ERR_NULL_POINTER;
+        = out.set(AdcScaling::twos_complement(bits), codes_of(bits, true));
+        else AT_ERR_NULL_POINTER;
     /// States the range of codes of the ADC `adc`: its lowest `min_counts` and highest
     /// `max_counts` (`AT_ERR_ADC_RANGE` unless `min_counts < max_counts`; `adc` unchanged on
     /// error). A chain with this ADC (`at_chain_f32_new`) flags a sample with a channel at or

@@ -115,7 +115,8 @@ per_sample! {
     at_chain_f32_track_demodulated(pair: *const at_demodulated_pair_f32) -> u32 = track(pair);
     /// `at_chain_f32_track_demodulated`, then the estimate, which carries `AT_FAULT_FRONT_END`
     /// while the pair has a front-end fault.
-    at_chain_f32_update_demodulated(pair: *const at_demodulated_pair_f32) -> at_estimate_f32 = update(pair);
+    at_chain_f32_update_demodulated(pair: *const at_demodulated_pair_f32) -> at_estimate_f32
+        = update(pair);
 }
 
 /// The estimate `state` holds for `chain` (its last sample's; the observer's faults, the
@@ -144,18 +145,22 @@ extern_c! {
     /// Sets the mode of the online calibration in `state`: `AT_CALIBRATION_LEARNING`,
     /// `_FROZEN` or `_OFF` (the calibration is kept). Effective in a chain with the online
     /// calibration stage.
-    fn at_chain_state_f32_set_calibration_mode(state: *mut at_chain_state_f32, mode: u32) -> at_status
-        = state.calibrator().map_or_else(Refused::status, |c| set_mode_of(c, mode)); else AT_ERR_NULL_POINTER;
+    fn at_chain_state_f32_set_calibration_mode(state: *mut at_chain_state_f32, mode: u32
+        ) -> at_status
+        = state.calibrator().map_or_else(Refused::status, |c| set_mode_of(c, mode));
+        else AT_ERR_NULL_POINTER;
     /// The mode of the online calibration in `state` (`AT_CALIBRATION_*`; off for NULL).
     fn at_chain_state_f32_calibration_mode(state: *const at_chain_state_f32) -> u32
         = state.calibrator_value().map_or(0, |c| mode_of(&c)); else 0;
     /// Loads a stored calibration into the online calibration of `state` (checked; unchanged on
     /// error), frozen: it corrects and learns nothing until set to learn, continuing from it.
-    fn at_chain_state_f32_load_calibration(state: *mut at_chain_state_f32, stored: *const at_sensor_calibration_f32) -> at_status
+    fn at_chain_state_f32_load_calibration(state: *mut at_chain_state_f32,
+        stored: *const at_sensor_calibration_f32) -> at_status
         = state.load_calibration(stored); else AT_ERR_NULL_POINTER;
     /// Writes the calibration the online calibration of `state` applies (to store in flash) to
     /// `out`.
-    fn at_chain_state_f32_calibration(state: *const at_chain_state_f32, out: *mut at_sensor_calibration_f32) -> at_status
+    fn at_chain_state_f32_calibration(state: *const at_chain_state_f32,
+        out: *mut at_sensor_calibration_f32) -> at_status
         = state.calibrator_value().map_or_else(Refused::status, |c| {
             *out = c.calibration().into();
             AT_OK
@@ -168,7 +173,10 @@ extern_c! {
     /// `AT_CALIBRATION_CENTRED` or `AT_CALIBRATION_STALLED`; `AT_CALIBRATION_FINDING_CENTRE`
     /// for NULL or another build's state.
     fn at_chain_state_f32_calibration_status(state: *const at_chain_state_f32) -> u32
-        = state.calibrator_value().map_or(AT_CALIBRATION_FINDING_CENTRE, |c| calibration_status(&c)); else AT_CALIBRATION_FINDING_CENTRE;
+        = state.calibrator_value().map_or(AT_CALIBRATION_FINDING_CENTRE, |c| {
+            calibration_status(&c)
+        });
+        else AT_CALIBRATION_FINDING_CENTRE;
     /// Writes to `out` the chain `chain` with a winding check: a winding open or shorted (one
     /// winding reading below a quarter of `nominal_amplitude` where the observer's prediction
     /// puts at least half of it, the other agreeing with the prediction) is flagged
@@ -176,7 +184,8 @@ extern_c! {
     /// `nominal_amplitude` is the windings' peak in the chain's input units after the
     /// calibration (1 for a demodulator's pairs; `AT_ERR_NOMINAL_AMPLITUDE` unless finite and
     /// positive). `out` unchanged on error.
-    fn at_chain_f32_with_winding_check(chain: *const at_chain_f32, nominal_amplitude: f32, out: *mut at_chain_f32) -> at_status
+    fn at_chain_f32_with_winding_check(chain: *const at_chain_f32, nominal_amplitude: f32,
+        out: *mut at_chain_f32) -> at_status
         = out.set_with_winding_check(chain, nominal_amplitude); else AT_ERR_NULL_POINTER;
     /// Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
     /// against the ADC's range, the demodulator's faults, a winding open or shorted) and clears

@@ -82,7 +82,8 @@ extern_c! {
     /// with both there is coasted through. `out` unchanged on error. Without a stated range a
     /// chain with an ADC measures the rails on the counts as they come (the core's
     /// `HeldRailCheck`, as `at_adc_f32_set_range` says of the float chain), a weaker test.
-    fn at_chain_fixed_with_adc_range(chain: *const at_chain_fixed, min_counts: i32, max_counts: i32, out: *mut at_chain_fixed) -> at_status
+    fn at_chain_fixed_with_adc_range(chain: *const at_chain_fixed, min_counts: i32, max_counts: i32,
+        out: *mut at_chain_fixed) -> at_status
         = out.set_with_adc_range(chain, min_counts, max_counts); else AT_ERR_NULL_POINTER;
     /// Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
     /// against the ADC's stated range or the rails measured) and clears them. 0 for NULL.
@@ -90,11 +91,13 @@ extern_c! {
         = state.clear_front_end_faults(); else 0;
     /// The multi-turn position of `estimate` (rad): `2 pi (turns + angle / 2^32)`; 0 for NULL.
     /// Double-precision arithmetic: for a host, or out of the sample loop.
-    fn at_chain_fixed_position_rad(chain: *const at_chain_fixed, estimate: *const at_fixed_estimate) -> f64
+    fn at_chain_fixed_position_rad(chain: *const at_chain_fixed, estimate: *const at_fixed_estimate
+        ) -> f64
         = chain.in_units(estimate, false); else 0.0;
     /// The speed of `estimate` (rad/s) at the sample period of `chain`'s observer; 0 for NULL
     /// or a chain not made. Double-precision arithmetic: for a host, or out of the sample loop.
-    fn at_chain_fixed_speed_rad_s(chain: *const at_chain_fixed, estimate: *const at_fixed_estimate) -> f64
+    fn at_chain_fixed_speed_rad_s(chain: *const at_chain_fixed, estimate: *const at_fixed_estimate
+        ) -> f64
         = chain.in_units(estimate, true); else 0.0;
     /// Makes `state` fresh: the observer initialises itself from its next sample. NULL is
     /// ignored.
@@ -106,12 +109,15 @@ extern_c! {
     /// The fixed-point table of the harmonic angle error `harmonics` (as `angletrack calibrate`
     /// learns it; checked as `at_chain_f32_new` checks it: `AT_ERR_ANGLE_CORRECTION`), rounded to
     /// Q15, to `out` (unchanged on error).
-    fn at_angle_table_fixed_from_harmonics(harmonics: *const at_angle_correction_f32, out: *mut at_angle_table_fixed) -> at_status
+    fn at_angle_table_fixed_from_harmonics(harmonics: *const at_angle_correction_f32,
+        out: *mut at_angle_table_fixed) -> at_status
         = write(at_angle_table_fixed::from_harmonics(harmonics), out); else AT_ERR_NULL_POINTER;
     /// The float table of the harmonic angle error `harmonics` (checked:
     /// `AT_ERR_ANGLE_CORRECTION`), to `out` (unchanged on error).
-    fn at_angle_correction_table_f32_from_harmonics(harmonics: *const at_angle_correction_f32, out: *mut at_angle_correction_table_f32) -> at_status
-        = write(at_angle_correction_table_f32::from_harmonics(harmonics), out); else AT_ERR_NULL_POINTER;
+    fn at_angle_correction_table_f32_from_harmonics(harmonics: *const at_angle_correction_f32,
+        out: *mut at_angle_correction_table_f32) -> at_status
+        = write(at_angle_correction_table_f32::from_harmonics(harmonics), out);
+        else AT_ERR_NULL_POINTER;
     /// Checks a float table (each entry finite and within 0.25 rad): `AT_OK` or
     /// `AT_ERR_ANGLE_CORRECTION` (`at_chain_f32_new` checks it again).
     fn at_angle_correction_table_f32_check(table: *const at_angle_correction_table_f32) -> at_status
@@ -185,27 +191,33 @@ per_sample! {
     /// `at_chain_fixed_track_i16` for a chain of order 2 only, its body inlined: no
     /// dispatch on the order, and an image that calls no other order's links one body.
     /// `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
-    at_chain_fixed_track_i16_order2(raw_c: i16, raw_s: i16) -> u32 = track_order::<2>((raw_c, raw_s));
+    at_chain_fixed_track_i16_order2(raw_c: i16, raw_s: i16) -> u32
+        = track_order::<2>((raw_c, raw_s));
     /// `at_chain_fixed_track_i16` for a chain of order 3 only, its body inlined: no
     /// dispatch on the order, and an image that calls no other order's links one body.
     /// `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
-    at_chain_fixed_track_i16_order3(raw_c: i16, raw_s: i16) -> u32 = track_order::<3>((raw_c, raw_s));
+    at_chain_fixed_track_i16_order3(raw_c: i16, raw_s: i16) -> u32
+        = track_order::<3>((raw_c, raw_s));
     /// `at_chain_fixed_track_u16` for a chain of order 2 only, its body inlined: no
     /// dispatch on the order, and an image that calls no other order's links one body.
     /// `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
-    at_chain_fixed_track_u16_order2(raw_c: u16, raw_s: u16) -> u32 = track_order::<2>((raw_c, raw_s));
+    at_chain_fixed_track_u16_order2(raw_c: u16, raw_s: u16) -> u32
+        = track_order::<2>((raw_c, raw_s));
     /// `at_chain_fixed_track_u16` for a chain of order 3 only, its body inlined: no
     /// dispatch on the order, and an image that calls no other order's links one body.
     /// `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
-    at_chain_fixed_track_u16_order3(raw_c: u16, raw_s: u16) -> u32 = track_order::<3>((raw_c, raw_s));
+    at_chain_fixed_track_u16_order3(raw_c: u16, raw_s: u16) -> u32
+        = track_order::<3>((raw_c, raw_s));
     /// `at_chain_fixed_track_i32` for a chain of order 2 only, its body inlined: no
     /// dispatch on the order, and an image that calls no other order's links one body.
     /// `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
-    at_chain_fixed_track_i32_order2(raw_c: i32, raw_s: i32) -> u32 = track_order::<2>((raw_c, raw_s));
+    at_chain_fixed_track_i32_order2(raw_c: i32, raw_s: i32) -> u32
+        = track_order::<2>((raw_c, raw_s));
     /// `at_chain_fixed_track_i32` for a chain of order 3 only, its body inlined: no
     /// dispatch on the order, and an image that calls no other order's links one body.
     /// `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
-    at_chain_fixed_track_i32_order3(raw_c: i32, raw_s: i32) -> u32 = track_order::<3>((raw_c, raw_s));
+    at_chain_fixed_track_i32_order3(raw_c: i32, raw_s: i32) -> u32
+        = track_order::<3>((raw_c, raw_s));
 }
 
 /// The estimate `state` holds for `chain` (its last sample's; all zero for a fresh state).

@@ -154,7 +154,8 @@ mirror! {
     /// (amplitudes) unless stated: the core's `FaultThresholds`. Start from
     /// `at_fault_thresholds_f32_for_amplitude(nominal)` (the defaults scaled to the nominal
     /// amplitude), change fields, and write it to `at_gains_f32::thresholds`.
-    at_fault_thresholds_f32: FaultThresholds<f32> = |c: &Self| FaultThresholds::for_amplitude(c.nominal_amplitude);
+    at_fault_thresholds_f32: FaultThresholds<f32> =
+        |c: &Self| FaultThresholds::for_amplitude(c.nominal_amplitude);
     /// The amplitude of a healthy signal (default 1).
     nominal_amplitude: f32 = nominal_amplitude,
     /// A sample with `sqrt(y_c^2 + y_s^2)` above this is rejected (default 4 x nominal).

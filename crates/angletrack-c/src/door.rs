@@ -152,7 +152,7 @@ macro_rules! c_chain {
 
             /// The estimate `state` holds for the chain of order `N` (a fresh state's for a
             /// fresh state).
-            fn estimate_n<const N: usize>(&self, state: &$state) -> Option<$estimate> {
+            fn estimate_n<const N: usize>(&self, state: &$state, _: ()) -> Option<$estimate> {
                 let chain = $crate::slot::Slot::slot_layout::<$tracker<N>>(self)?;
                 match $crate::slot::Slot::slot_get::<$tracker_state<N>>(state) {
                     Ok(s) => Some(chain.estimate(s).into()),
@@ -160,6 +160,27 @@ macro_rules! c_chain {
                         Some(chain.estimate(&$tracker_state::<N>::new()).into())
                     }
                     Err($crate::slot::Refused::OtherBuild) => None,
+                }
+            }
+
+            /// `two` or `three`, by the order of the chain held, in a function of its own
+            /// (`out_of_line`); `None` for a chain not made.
+            #[inline(always)]
+            fn either_order<S, X, R>(
+                &self,
+                state: S,
+                input: X,
+                two: fn(&Self, S, X) -> Option<R>,
+                three: fn(&Self, S, X) -> Option<R>,
+            ) -> Option<R> {
+                match self.get() {
+                    Ok($crate::slot::ByOrder::Two(_)) => {
+                        $crate::door::out_of_line(self, state, input, two)
+                    }
+                    Ok($crate::slot::ByOrder::Three(_)) => {
+                        $crate::door::out_of_line(self, state, input, three)
+                    }
+                    Err(_) => None,
                 }
             }
 
@@ -176,19 +197,16 @@ macro_rules! c_chain {
                 input: A,
             ) -> u32 {
                 // SAFETY: the caller's contract; NULL is checked by `as_ref`, `as_mut` and `input`.
-                let tracked = match unsafe { (chain.as_ref(), state.as_mut(), input.input()) } {
-                    (Some(c), Some(s), Some(x)) => match c.get() {
-                        Ok($crate::slot::ByOrder::Two(_)) => {
-                            $crate::door::out_of_line(c, s, x, Self::track_n::<2, A::Input>)
-                        }
-                        Ok($crate::slot::ByOrder::Three(_)) => {
-                            $crate::door::out_of_line(c, s, x, Self::track_n::<3, A::Input>)
-                        }
-                        Err(_) => None,
-                    },
+                match unsafe { (chain.as_ref(), state.as_mut(), input.input()) } {
+                    (Some(c), Some(s), Some(x)) => c.either_order(
+                        s,
+                        x,
+                        Self::track_n::<2, A::Input>,
+                        Self::track_n::<3, A::Input>,
+                    ),
                     _ => None,
-                };
-                tracked.map_or($crate::faults::AT_FAULT_INVALID_ARGUMENT, |()| 0)
+                }
+                .map_or($crate::faults::AT_FAULT_INVALID_ARGUMENT, |()| 0)
             }
 
             /// The body of the `track` functions of order `N`: the chain's body inlined, no
@@ -207,14 +225,11 @@ macro_rules! c_chain {
                 input: A,
             ) -> u32 {
                 // SAFETY: the caller's contract; NULL is checked by `as_ref`, `as_mut` and `input`.
-                let tracked = match unsafe { (chain.as_ref(), state.as_mut(), input.input()) } {
+                match unsafe { (chain.as_ref(), state.as_mut(), input.input()) } {
                     (Some(c), Some(s), Some(x)) => c.track_n::<N, A::Input>(s, x),
                     _ => None,
-                };
-                match tracked {
-                    Some(()) => 0,
-                    None => $crate::door::refused(),
                 }
+                .map_or_else($crate::door::refused, |()| 0)
             }
 
             /// The body of the `update` functions: the estimate.
@@ -230,19 +245,16 @@ macro_rules! c_chain {
                 input: A,
             ) -> $estimate {
                 // SAFETY: the caller's contract; NULL is checked by `as_ref`, `as_mut` and `input`.
-                let estimate = match unsafe { (chain.as_ref(), state.as_mut(), input.input()) } {
-                    (Some(c), Some(s), Some(x)) => match c.get() {
-                        Ok($crate::slot::ByOrder::Two(_)) => {
-                            $crate::door::out_of_line(c, s, x, Self::update_n::<2, A::Input>)
-                        }
-                        Ok($crate::slot::ByOrder::Three(_)) => {
-                            $crate::door::out_of_line(c, s, x, Self::update_n::<3, A::Input>)
-                        }
-                        Err(_) => None,
-                    },
+                match unsafe { (chain.as_ref(), state.as_mut(), input.input()) } {
+                    (Some(c), Some(s), Some(x)) => c.either_order(
+                        s,
+                        x,
+                        Self::update_n::<2, A::Input>,
+                        Self::update_n::<3, A::Input>,
+                    ),
                     _ => None,
-                };
-                estimate.unwrap_or(<$estimate>::invalid())
+                }
+                .unwrap_or_else(<$estimate>::invalid)
             }
 
             /// The body of the `estimate` functions.
@@ -251,15 +263,13 @@ macro_rules! c_chain {
             /// The header's contract.
             pub(crate) unsafe fn estimate(chain: *const Self, state: *const $state) -> $estimate {
                 // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-                let estimate = match unsafe { (chain.as_ref(), state.as_ref()) } {
-                    (Some(c), Some(s)) => match c.get() {
-                        Ok($crate::slot::ByOrder::Two(_)) => c.estimate_n::<2>(s),
-                        Ok($crate::slot::ByOrder::Three(_)) => c.estimate_n::<3>(s),
-                        Err(_) => None,
-                    },
+                match unsafe { (chain.as_ref(), state.as_ref()) } {
+                    (Some(c), Some(s)) => {
+                        c.either_order(s, (), Self::estimate_n::<2>, Self::estimate_n::<3>)
+                    }
                     _ => None,
-                };
-                estimate.unwrap_or(<$estimate>::invalid())
+                }
+                .unwrap_or_else(<$estimate>::invalid)
             }
         }
 
@@ -317,12 +327,7 @@ c_chain!(
 /// door's order dispatch, so that the compiler does not hoist both orders' set-up above the
 /// checks.
 #[inline(never)]
-pub(crate) fn out_of_line<C, S, X, R>(
-    chain: &C,
-    state: &mut S,
-    input: X,
-    f: fn(&C, &mut S, X) -> R,
-) -> R {
+pub(crate) fn out_of_line<C, S, X, R>(chain: &C, state: S, input: X, f: fn(&C, S, X) -> R) -> R {
     f(chain, state, input)
 }
 

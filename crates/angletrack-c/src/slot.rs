@@ -154,6 +154,13 @@ fn refusal(tag: u32, layout: u32, expected: u32, word: u32) -> Refused {
 
 /// A C struct with the fields `tag`, `layout` and `storage` (of [`Slot::WORDS`] words),
 /// which holds a [`Stored`] value (`slot_struct!` implements it).
+///
+/// The reads' safety: the storage is read as a `T` only when the struct's layout word is
+/// this build's for `T`. The words are aligned for `T` and large enough (checked at compile
+/// time), and with that word they hold a valid `T`, since only `slot_put::<T>` writes it,
+/// after writing a `T` there, and whatever C does with the struct (copy it whole, as the
+/// header allows) keeps them together. The borrow of `self` bounds the reference's life
+/// (and, exclusive, makes a mutable one unique).
 pub(crate) trait Slot {
     /// The words of its storage.
     const WORDS: usize;
@@ -164,75 +171,57 @@ pub(crate) trait Slot {
     /// The same, to write.
     fn words_mut(&mut self) -> (&mut u32, &mut u32, &mut [MaybeUninit<u64>]);
 
+    /// This build's layout word for a `T` in the struct.
+    #[inline(always)]
+    fn typed<T: Stored>() -> u32 {
+        const { typed(Self::LAYOUT, T::TAG) }
+    }
+
+    /// Whether the struct holds a `T` of this build: its layout word (which names the
+    /// type), and unless `per_sample` its tag too.
+    #[inline(always)]
+    fn holds<T: Stored>(&self, per_sample: bool) -> Result<(), Refused> {
+        const { assert_fits::<T>(Self::WORDS) };
+        let (tag, layout, _) = self.words();
+        if layout == Self::typed::<T>() && (per_sample || tag == T::TAG) {
+            return Ok(());
+        }
+        Err(refusal(tag, layout, Self::LAYOUT, Self::typed::<T>()))
+    }
+
     /// The value held, if it is a `T` of this build.
     #[inline(always)]
     fn slot_get<T: Stored>(&self) -> Result<&T, Refused> {
-        self.holds::<T>()?;
-        // SAFETY: checked above.
-        Ok(unsafe { self.read() })
-    }
-
-    /// Whether the struct holds a `T` of this build (its tag and its layout word).
-    #[inline(always)]
-    fn holds<T: Stored>(&self) -> Result<(), Refused> {
-        let (tag, layout, _) = self.words();
-        if tag != T::TAG || layout != Self::typed::<T>() {
-            return Err(refusal(tag, layout, Self::LAYOUT, Self::typed::<T>()));
-        }
-        Ok(())
-    }
-
-    /// The words as a `T`, unchecked.
-    ///
-    /// # Safety
-    /// The struct's layout word is this build's for `T`: the words are aligned for `T`
-    /// and large enough (checked at compile time), and with that word they hold a valid
-    /// `T`, since only `slot_put::<T>` writes it, after writing a `T` there, and whatever C
-    /// does with the struct (copy it whole, as the header allows) keeps them together. The
-    /// borrow of `self` bounds the reference's life.
-    #[inline(always)]
-    unsafe fn read<T: Stored>(&self) -> &T {
-        const { assert_fits::<T>(Self::WORDS) };
-        // SAFETY: the caller's contract.
-        unsafe { &*self.words().2.as_ptr().cast::<T>() }
-    }
-
-    /// [`Slot::read`], to write.
-    ///
-    /// # Safety
-    /// As `read`; the exclusive borrow of `self` makes the reference unique.
-    #[inline(always)]
-    unsafe fn read_mut<T: Stored>(&mut self) -> &mut T {
-        const { assert_fits::<T>(Self::WORDS) };
-        // SAFETY: the caller's contract.
-        unsafe { &mut *self.words_mut().2.as_mut_ptr().cast::<T>() }
+        self.holds::<T>(false)?;
+        // SAFETY: checked above (the trait's reads' safety).
+        Ok(unsafe { &*self.words().2.as_ptr().cast::<T>() })
     }
 
     /// [`Slot::slot_get`], to write.
     #[inline(always)]
     fn slot_get_mut<T: Stored>(&mut self) -> Result<&mut T, Refused> {
-        self.holds::<T>()?;
-        // SAFETY: checked above.
-        Ok(unsafe { self.read_mut() })
+        self.holds::<T>(false)?;
+        // SAFETY: checked above (the trait's reads' safety).
+        Ok(unsafe { &mut *self.words_mut().2.as_mut_ptr().cast::<T>() })
     }
 
-    /// The value held, if it is a `T` of this build: for the per-sample calls, the layout
-    /// word alone is compared (it names the type).
+    /// The value held, if it is a `T` of this build, for the per-sample calls.
     #[inline(always)]
     fn slot_layout<T: Stored>(&self) -> Option<&T> {
-        // SAFETY: the layout word is `T`'s.
-        (self.words().1 == Self::typed::<T>()).then(|| unsafe { self.read() })
+        self.holds::<T>(true).ok()?;
+        // SAFETY: checked above (the trait's reads' safety).
+        Some(unsafe { &*self.words().2.as_ptr().cast::<T>() })
     }
 
     /// The `T` held, or `start()` stored (and tagged); refused only when the struct is
     /// another build's. For the per-sample calls: the layout word alone is compared.
     #[inline(always)]
     fn slot_get_or_put<T: Stored>(&mut self, start: fn() -> T) -> Result<&mut T, Refused> {
-        if self.words().1 != Self::typed::<T>() {
+        if self.holds::<T>(true).is_err() {
             self.slot_start(start)?;
         }
         // SAFETY: the layout word is `T`'s, as compared above or written by `slot_start`.
-        Ok(unsafe { self.read_mut() })
+        Ok(unsafe { &mut *self.words_mut().2.as_mut_ptr().cast::<T>() })
     }
 
     /// `start()` stored (and tagged) unless the struct is another build's: out of line, so
@@ -240,18 +229,11 @@ pub(crate) trait Slot {
     #[cold]
     #[inline(never)]
     fn slot_start<T: Stored>(&mut self, start: fn() -> T) -> Result<(), Refused> {
-        let (tag, layout, _) = self.words();
-        if refusal(tag, layout, Self::LAYOUT, Self::typed::<T>()) == Refused::OtherBuild {
+        if self.holds::<T>(true) == Err(Refused::OtherBuild) {
             return Err(Refused::OtherBuild);
         }
         self.slot_put(start());
         Ok(())
-    }
-
-    /// This build's layout word for a `T` in the struct.
-    #[inline(always)]
-    fn typed<T: Stored>() -> u32 {
-        const { typed(Self::LAYOUT, T::TAG) }
     }
 
     /// Stores `value` and tags it as a `T` of this build.
@@ -275,26 +257,20 @@ pub(crate) trait Slot {
     /// calls, the layout word alone is compared (it names the type).
     #[inline(always)]
     fn either<A: Stored, B: Stored>(&self) -> Result<ByOrder<&A, &B>, Refused> {
-        const {
-            assert!(
-                typed(Self::LAYOUT, A::TAG) != typed(Self::LAYOUT, B::TAG),
-                "the two orders' layout words must differ"
-            )
-        };
-        let (tag, layout, _) = self.words();
-        // SAFETY: the layout word is the type's.
-        if layout == Self::typed::<A>() {
-            Ok(ByOrder::Two(unsafe { self.read() }))
-        } else if layout == Self::typed::<B>() {
-            Ok(ByOrder::Three(unsafe { self.read() }))
-        } else {
-            Err(refusal(tag, layout, Self::LAYOUT, Self::typed::<B>()))
+        const { assert!(typed(Self::LAYOUT, A::TAG) != typed(Self::LAYOUT, B::TAG)) };
+        if let Some(a) = self.slot_layout::<A>() {
+            return Ok(ByOrder::Two(a));
         }
+        self.holds::<B>(true)?;
+        // SAFETY: checked above (the trait's reads' safety).
+        Ok(ByOrder::Three(unsafe {
+            &*self.words().2.as_ptr().cast::<B>()
+        }))
     }
 
     /// The value held, of order 2 (`A`) or 3 (`B`), if any of this build's.
     fn either_mut<A: Stored, B: Stored>(&mut self) -> Option<ByOrder<&mut A, &mut B>> {
-        if self.words().1 == Self::typed::<A>() {
+        if self.holds::<A>(false).is_ok() {
             self.slot_get_mut().ok().map(ByOrder::Two)
         } else {
             self.slot_get_mut().ok().map(ByOrder::Three)

@@ -41,6 +41,14 @@ impl<'a, T: 'a> Checked<'a> for *const T {
     }
 }
 
+/// An optional pointer (a stage absent when NULL), passed as it is.
+impl<'a, T> Checked<'a> for Option<&'a T> {
+    type Checked = Self;
+    unsafe fn checked(self) -> Option<Self> {
+        Some(self)
+    }
+}
+
 impl<'a, T: 'a> Checked<'a> for *mut T {
     type Checked = &'a mut T;
     unsafe fn checked(self) -> Option<&'a mut T> {
@@ -61,7 +69,7 @@ macro_rules! values {
     )*};
 }
 
-values!(i32, u32, f32, f64);
+values!(i32, u32, f32, f64, usize);
 
 /// `extern "C"` functions whose pointer arguments are all required: each
 /// `fn name(args) -> ret = body; else null;` returns `null` if a pointer is NULL, else
@@ -88,29 +96,22 @@ macro_rules! extern_c {
 }
 pub(crate) use extern_c;
 
-/// The body of the gains' constructors: `out` and the `order` values at `values`
-/// checked, then `make` of them written to `out` (unchanged on error).
+/// The body of the gains' constructors: the `order` values at `values` checked, then
+/// `make` of them written to `out` (unchanged on error).
 ///
 /// # Safety
-/// As the constructors'.
+/// `values` points to `order` values (the header's contract).
 pub(crate) unsafe fn construct<V, T>(
-    values: *const V,
+    values: &V,
     order: usize,
-    out: *mut T,
+    out: &mut T,
     make: impl FnOnce(&[V]) -> Result<T, at_status>,
 ) -> at_status {
-    // SAFETY: the caller's contract (see `ffi`); NULL is checked by `as_mut`.
-    let Some(out) = (unsafe { out.as_mut() }) else {
-        return AT_ERR_NULL_POINTER;
-    };
-    if values.is_null() {
-        return AT_ERR_NULL_POINTER;
-    }
     if !(order == 2 || order == 3) {
         return AT_ERR_ORDER;
     }
-    // SAFETY: `values` is not NULL and points to `order` values (the caller's contract);
-    // `order` is 2 or 3, so the slice is small.
+    // SAFETY: `values` points to `order` values (the caller's contract); `order` is 2 or 3,
+    // so the slice is small.
     let values = unsafe { core::slice::from_raw_parts(values, order) };
     make(values).map_or_else(
         |status| status,
@@ -126,23 +127,17 @@ pub(crate) fn write<T>(result: Result<T, ConfigError>, out: &mut T) -> at_status
     status_of_result(result.map(|value| *out = value))
 }
 
-/// Checks `order` (2 or 3) discrete gains `gains` (l1, l2[, l3], dimensionless, as
-/// `angletrack design --format c` writes them) and the sample period `sample_period_s` (s),
-/// and writes them, with the core's default fault thresholds, to the plain `out`.
-/// Returns `AT_OK`, or the status naming the refused parameter (`AT_ERR_GAINS_2` for an
-/// unstable `l3`, ...); `out` is unchanged on error.
-///
-/// # Safety
-/// `gains` points to `order` floats; see the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_gains_f32_new(
-    gains: *const f32,
-    order: usize,
-    sample_period_s: f32,
-    out: *mut at_gains_f32,
-) -> at_status {
-    // SAFETY: the same contract.
-    unsafe { construct(gains, order, out, |g| at_gains_f32::of(g, sample_period_s)) }
+extern_c! {
+    /// Checks `order` (2 or 3) discrete gains `gains` (l1, l2[, l3], dimensionless, as
+    /// `angletrack design --format c` writes them) and the sample period `sample_period_s` (s),
+    /// and writes them, with the core's default fault thresholds, to the plain `out`.
+    /// Returns `AT_OK`, or the status naming the refused parameter (`AT_ERR_GAINS_2` for an
+    /// unstable `l3`, ...); `out` is unchanged on error.
+    fn at_gains_f32_new(gains: *const f32, order: usize, sample_period_s: f32,
+        out: *mut at_gains_f32) -> at_status
+        // SAFETY: the header's contract: `gains` points to `order` values.
+        = unsafe { construct(gains, order, out, |g| at_gains_f32::of(g, sample_period_s)) };
+        else AT_ERR_NULL_POINTER;
 }
 
 /// The default fault thresholds for signals of amplitude `nominal_amplitude` (input units:

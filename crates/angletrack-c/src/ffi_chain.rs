@@ -28,53 +28,30 @@ pub extern "C" fn at_calibration_settings_f32_default() -> at_calibration_settin
     CalibrationSettings::default().into()
 }
 
-/// Builds a signal chain into `out`: the observer `gains` (required) after the optional
-/// stages, each NULL when absent, in this order: the ADC front end `adc` (then the chain
-/// takes counts: `at_chain_f32_track_u16`, ...; with its range stated, a sample with a
-/// channel at or beyond a rail is flagged `AT_FAULT_FRONT_END` and one with both there is
-/// coasted through: `at_adc_f32_set_range`), the front-end faults a demodulator gave its
-/// pairs (`at_chain_f32_track_demodulated`: the observer coasts through a loss of
-/// excitation), one calibration stage (a stored calibration
-/// `stored`, applied to every sample, or the online calibration with its `settings`,
-/// learning per channel in `at_chain_state_f32`; not both: `AT_ERR_STAGES`), and one angle
-/// correction (the harmonic `correction` or its `table`, the same cost whatever the error's
-/// shape; not both: `AT_ERR_STAGES`). Every stage is checked (`AT_ERR_*` naming the
-/// refused parameter, `AT_ERR_ANGLE_CORRECTION`, ...; `out` unchanged on error); the stages
-/// are copied, so they need not outlive the call.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_f32_new(
-    gains: *const at_gains_f32,
-    adc: *const at_adc_f32,
-    stored: *const at_sensor_calibration_f32,
-    settings: *const at_calibration_settings_f32,
-    correction: *const at_angle_correction_f32,
-    table: *const at_angle_correction_table_f32,
-    out: *mut at_chain_f32,
-) -> at_status {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut`.
-    let (Some(gains), Some(out)) = (unsafe { (gains.as_ref(), out.as_mut()) }) else {
-        return AT_ERR_NULL_POINTER;
-    };
-    // SAFETY: the caller's contract; NULL (an absent stage) is checked by `as_ref`.
-    let adc = match unsafe { adc.as_ref() }.map(at_adc_f32::stage) {
-        Some(Ok(adc)) => Some(adc),
-        Some(Err(refused)) => return refused.status(),
-        None => None,
-    };
-    // SAFETY: as above.
-    let stages = unsafe {
-        Stages {
-            adc,
-            stored: stored.as_ref(),
-            online: settings.as_ref(),
-            correction: correction.as_ref(),
-            table: table.as_ref(),
-        }
-    };
-    out.set(gains, stages)
+extern_c! {
+    /// Builds a signal chain into `out`: the observer `gains` (required) after the optional
+    /// stages, each NULL when absent, in this order: the ADC front end `adc` (then the chain
+    /// takes counts: `at_chain_f32_track_u16`, ...; with its range stated, a sample with a
+    /// channel at or beyond a rail is flagged `AT_FAULT_FRONT_END` and one with both there is
+    /// coasted through: `at_adc_f32_set_range`), the front-end faults a demodulator gave its
+    /// pairs (`at_chain_f32_track_demodulated`: the observer coasts through a loss of
+    /// excitation), one calibration stage (a stored calibration
+    /// `stored`, applied to every sample, or the online calibration with its `settings`,
+    /// learning per channel in `at_chain_state_f32`; not both: `AT_ERR_STAGES`), and one angle
+    /// correction (the harmonic `correction` or its `table`, the same cost whatever the error's
+    /// shape; not both: `AT_ERR_STAGES`). Every stage is checked (`AT_ERR_*` naming the
+    /// refused parameter, `AT_ERR_ANGLE_CORRECTION`, ...; `out` unchanged on error); the stages
+    /// are copied, so they need not outlive the call.
+    fn at_chain_f32_new(gains: *const at_gains_f32, adc: Option<&at_adc_f32>,
+        stored: Option<&at_sensor_calibration_f32>, settings: Option<&at_calibration_settings_f32>,
+        correction: Option<&at_angle_correction_f32>, table: Option<&at_angle_correction_table_f32>,
+        out: *mut at_chain_f32) -> at_status
+        = match adc.map(at_adc_f32::stage).transpose() {
+            Ok(adc) => {
+                out.set(gains, Stages { adc, stored, online: settings, correction, table })
+            }
+            Err(refused) => refused.status(),
+        }; else AT_ERR_NULL_POINTER;
 }
 
 per_sample! {

@@ -16,54 +16,52 @@ use crate::gains::at_fixed_gains;
 use crate::status::{AT_ERR_NULL_POINTER, at_status, status_of_result};
 use crate::table::{AT_ANGLE_TABLE_LENGTH, at_angle_correction_table_f32, at_angle_table_fixed};
 
-/// Checks the integer constants of a fixed-point observer of order `order` (2 or 3), as
-/// `angletrack design --dtype fixed --format c --name NAME` prints them (`NAME_gain_multiplier`,
-/// `NAME_ORDER`, `NAME_ACCELERATION_SHIFT`, `NAME_SAMPLE_PERIOD_S`): each multiplier
-/// positive, the shift 1 to 15 (0 at order 2), the loop they represent stable. Writes them
-/// to the plain `out` (the monitor's thresholds are the chain's: `at_chain_fixed_new`);
-/// `out` is unchanged on error (`AT_ERR_GAINS_0`..`_2` naming the gain,
-/// `AT_ERR_SAMPLE_PERIOD_S`, ...).
-///
-/// # Safety
-/// `multiplier` points to `order` integers; see the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_fixed_gains_from_constants(
-    multiplier: *const i32,
-    order: usize,
-    acceleration_shift: u32,
-    sample_period_s: f64,
-    out: *mut at_fixed_gains,
-) -> at_status {
-    // SAFETY: the same contract.
-    unsafe {
-        construct(multiplier, order, out, |m| {
-            at_fixed_gains::checked(m, acceleration_shift, sample_period_s)
-        })
-    }
-}
-
-/// Quantises `order` (2 or 3) float gains `gains` (l1, l2[, l3], as `angletrack design
-/// --format c` writes them and `at_gains_f32_new` takes them) at the sample period
-/// `sample_period_s` (s) into a fixed-point observer's configuration, checked (a gain that
-/// rounds to zero or does not fit is refused, naming it), to `out` (unchanged on error).
-/// Costs double-precision arithmetic: at start-up, or on the host (then embed the
-/// constants and use `at_fixed_gains_from_constants`).
-///
-/// # Safety
-/// `gains` points to `order` floats; see the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_fixed_gains_new(
-    gains: *const f32,
-    order: usize,
-    sample_period_s: f64,
-    out: *mut at_fixed_gains,
-) -> at_status {
-    // SAFETY: the same contract.
-    unsafe {
-        construct(gains, order, out, |g| {
-            at_fixed_gains::quantised(g, sample_period_s)
-        })
-    }
+extern_c! {
+    /// Builds a fixed-point signal chain into `out`: the fixed-point observer `gains` (required;
+    /// its monitor set here for `nominal_amplitude_counts`, the amplitude of the observer's
+    /// 16-bit input after the stages, 16384 to 46341, with the roundness check at a tolerance
+    /// of 0.1, or off for 0: `AT_ERR_NOMINAL_AMPLITUDE`)
+    /// after the optional stages, each NULL when absent: the ADC `adc` (then the chain takes
+    /// counts of any width, `at_chain_fixed_track_u16`, `_i32`, ...; without it, `int16`
+    /// samples only), a stored `calibration` (offsets and amplitudes in the observer's 16-bit
+    /// counts, after the ADC's shift; converted to integers: `AT_ERR_OFFSET_C`, ...,
+    /// `AT_ERR_AMPLITUDE_S` for a sine channel less than half the cosine's), and the angle
+    /// correction `table` (`AT_ERR_ANGLE_CORRECTION`). `out` unchanged on error; the stages are
+    /// copied, so they need not outlive the call. Double-precision arithmetic: at start-up.
+    fn at_chain_fixed_new(gains: *const at_fixed_gains, adc: Option<&at_adc_counts>,
+        calibration: Option<&at_sensor_calibration_f32>, table: Option<&at_angle_table_fixed>,
+        nominal_amplitude_counts: f64, out: *mut at_chain_fixed) -> at_status
+        = out.set(gains, FixedStages { adc, calibration, table }, nominal_amplitude_counts);
+        else AT_ERR_NULL_POINTER;
+    /// Checks the integer constants of a fixed-point observer of order `order` (2 or 3), as
+    /// `angletrack design --dtype fixed --format c --name NAME` prints them (`NAME_gain_multiplier`,
+    /// `NAME_ORDER`, `NAME_ACCELERATION_SHIFT`, `NAME_SAMPLE_PERIOD_S`): each multiplier
+    /// positive, the shift 1 to 15 (0 at order 2), the loop they represent stable. Writes them
+    /// to the plain `out` (the monitor's thresholds are the chain's: `at_chain_fixed_new`);
+    /// `out` is unchanged on error (`AT_ERR_GAINS_0`..`_2` naming the gain,
+    /// `AT_ERR_SAMPLE_PERIOD_S`, ...).
+    fn at_fixed_gains_from_constants(multiplier: *const i32, order: usize, acceleration_shift: u32,
+        sample_period_s: f64, out: *mut at_fixed_gains) -> at_status
+        // SAFETY: the header's contract: `multiplier` points to `order` values.
+        = unsafe {
+            construct(multiplier, order, out, |m| {
+                at_fixed_gains::checked(m, acceleration_shift, sample_period_s)
+            })
+        };
+        else AT_ERR_NULL_POINTER;
+    /// Quantises `order` (2 or 3) float gains `gains` (l1, l2[, l3], as `angletrack design
+    /// --format c` writes them and `at_gains_f32_new` takes them) at the sample period
+    /// `sample_period_s` (s) into a fixed-point observer's configuration, checked (a gain that
+    /// rounds to zero or does not fit is refused, naming it), to `out` (unchanged on error).
+    /// Costs double-precision arithmetic: at start-up, or on the host (then embed the
+    /// constants and use `at_fixed_gains_from_constants`).
+    fn at_fixed_gains_new(gains: *const f32, order: usize, sample_period_s: f64,
+        out: *mut at_fixed_gains) -> at_status
+        // SAFETY: the header's contract: `gains` points to `order` values.
+        = unsafe {
+            construct(gains, order, out, |g| at_fixed_gains::quantised(g, sample_period_s))
+        };
+        else AT_ERR_NULL_POINTER;
 }
 
 extern_c! {
@@ -122,47 +120,6 @@ extern_c! {
     /// `AT_ERR_ANGLE_CORRECTION` (`at_chain_f32_new` checks it again).
     fn at_angle_correction_table_f32_check(table: *const at_angle_correction_table_f32) -> at_status
         = status_of_result(table.checked()); else AT_ERR_NULL_POINTER;
-}
-
-/// Builds a fixed-point signal chain into `out`: the fixed-point observer `gains` (required;
-/// its monitor set here for `nominal_amplitude_counts`, the amplitude of the observer's
-/// 16-bit input after the stages, 16384 to 46341, with the roundness check at a tolerance
-/// of 0.1, or off for 0: `AT_ERR_NOMINAL_AMPLITUDE`)
-/// after the optional stages, each NULL when absent: the ADC `adc` (then the chain takes
-/// counts of any width, `at_chain_fixed_track_u16`, `_i32`, ...; without it, `int16`
-/// samples only), a stored `calibration` (offsets and amplitudes in the observer's 16-bit
-/// counts, after the ADC's shift; converted to integers: `AT_ERR_OFFSET_C`, ...,
-/// `AT_ERR_AMPLITUDE_S` for a sine channel less than half the cosine's), and the angle
-/// correction `table` (`AT_ERR_ANGLE_CORRECTION`). `out` unchanged on error; the stages are
-/// copied, so they need not outlive the call. Double-precision arithmetic: at start-up.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_fixed_new(
-    gains: *const at_fixed_gains,
-    adc: *const at_adc_counts,
-    calibration: *const at_sensor_calibration_f32,
-    table: *const at_angle_table_fixed,
-    nominal_amplitude_counts: f64,
-    out: *mut at_chain_fixed,
-) -> at_status {
-    // SAFETY: the caller's contract; NULL is checked by `as_ref` and `as_mut` (NULL stages
-    // are absent).
-    let (Some(gains), Some(out), stages) = (unsafe {
-        (
-            gains.as_ref(),
-            out.as_mut(),
-            FixedStages {
-                adc: adc.as_ref(),
-                calibration: calibration.as_ref(),
-                table: table.as_ref(),
-            },
-        )
-    }) else {
-        return AT_ERR_NULL_POINTER;
-    };
-    out.set(gains, stages, nominal_amplitude_counts)
 }
 
 per_sample! {

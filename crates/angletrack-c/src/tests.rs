@@ -32,10 +32,8 @@ fn gains_of(l: &[f32]) -> at_gains_f32 {
 fn chain_of(l: &[f32], adc: Option<&at_adc_f32>) -> at_chain_f32 {
     let gains = gains_of(l);
     let mut chain = at_chain_f32::ZEROED;
-    let adc = adc.map_or(null(), |a| a);
     // SAFETY: valid pointers to live values, or NULL.
-    let status =
-        unsafe { at_chain_f32_new(&gains, adc, null(), null(), null(), null(), &mut chain) };
+    let status = unsafe { at_chain_f32_new(&gains, adc, None, None, None, None, &mut chain) };
     assert_eq!(status, AT_OK);
     chain
 }
@@ -114,35 +112,19 @@ fn null_and_zeroed_arguments_are_refused() {
         assert_eq!(at_chain_f32_update(null(), &mut state, 1.0, 0.0), invalid);
         assert_eq!(at_chain_f32_update(&chain, null_mut(), 1.0, 0.0), invalid);
         assert_eq!(at_chain_f32_update(&zeroed, &mut state, 1.0, 0.0), invalid);
-        let new = at_chain_f32_new(
-            &out,
-            null(),
-            null(),
-            null(),
-            null(),
-            null(),
-            &mut chain_out(),
-        );
+        let new = at_chain_f32_new(&out, None, None, None, None, None, &mut chain_out());
         assert_eq!(new, AT_ERR_ORDER, "zeroed gains");
         assert_eq!(at_chain_state_f32_clear_faults(null_mut()), 0);
         at_chain_state_f32_reset(null_mut());
         let mut thresholds = gains_of(&GAINS_3);
         thresholds.thresholds = at_fault_thresholds_f32_for_amplitude(1800.0);
         thresholds.thresholds.filter_factor = 1.5;
-        let new = at_chain_f32_new(
-            &thresholds,
-            null(),
-            null(),
-            null(),
-            null(),
-            null(),
-            &mut chain_out(),
-        );
+        let new = at_chain_f32_new(&thresholds, None, None, None, None, None, &mut chain_out());
         assert_eq!(new, AT_ERR_FILTER_FACTOR);
         let adc = at_adc_f32::ZEROED;
         let gains = gains_of(&GAINS_3);
         let mut counts = at_chain_f32::ZEROED;
-        let new = at_chain_f32_new(&gains, &adc, null(), null(), null(), null(), &mut counts);
+        let new = at_chain_f32_new(&gains, Some(&adc), None, None, None, None, &mut counts);
         assert_eq!(new, AT_ERR_NOT_INITIALISED);
         let load = at_chain_state_f32_load_calibration(null_mut(), null());
         assert_eq!(load, AT_ERR_NULL_POINTER);
@@ -204,15 +186,7 @@ fn calibration_learns_offsets_and_round_trips() {
     let mut learned = ZEROED;
     // SAFETY: valid pointers to live values.
     unsafe {
-        let new = at_chain_f32_new(
-            &gains,
-            null(),
-            null(),
-            &settings,
-            null(),
-            null(),
-            &mut chain,
-        );
+        let new = at_chain_f32_new(&gains, None, None, Some(&settings), None, None, &mut chain);
         assert_eq!(new, AT_OK);
         let learning = at_chain_state_f32_set_calibration_mode(&mut state, AT_CALIBRATION_LEARNING);
         assert_eq!(learning, AT_OK);
@@ -295,7 +269,7 @@ fn fixed_point_tracks_samples_and_reads_the_estimate_on_demand() {
             AT_OK
         );
         assert_eq!(gains.order, 3);
-        let new = at_chain_fixed_new(&gains, null(), null(), null(), 28_800.0, &mut chain);
+        let new = at_chain_fixed_new(&gains, None, None, None, 28_800.0, &mut chain);
         assert_eq!(new, AT_OK);
         let speed = 2.0 * core::f64::consts::PI * 50.0;
         // Fewer samples under Miri, whose interpreter is slow: the loop settles in 0.3 s.

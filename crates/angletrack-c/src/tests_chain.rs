@@ -4,7 +4,6 @@
 #![allow(unsafe_code)]
 
 use core::f32::consts::{PI, TAU};
-use core::ptr::null;
 
 use angletrack_core::{
     AdcScaling, CalibrationSettings, CalibrationStage, Gains, Input, OnlineCalibration, Rails,
@@ -49,17 +48,8 @@ fn chain_of(
     let gains = gains();
     let mut chain = at_chain_f32::ZEROED;
     // SAFETY: valid pointers to live values, or NULL.
-    let status = unsafe {
-        at_chain_f32_new(
-            &gains,
-            adc.map_or(null(), |a| a),
-            stored.map_or(null(), |s| s),
-            settings.map_or(null(), |s| s),
-            correction.map_or(null(), |c| c),
-            null(),
-            &mut chain,
-        )
-    };
+    let status =
+        unsafe { at_chain_f32_new(&gains, adc, stored, settings, correction, None, &mut chain) };
     if status == AT_OK {
         Ok(chain)
     } else {
@@ -76,17 +66,7 @@ fn chain_with_table(
 ) -> at_status {
     let gains = gains();
     // SAFETY: valid pointers to live values, or NULL.
-    unsafe {
-        at_chain_f32_new(
-            &gains,
-            null(),
-            stored.map_or(null(), |s| s),
-            null(),
-            correction.map_or(null(), |c| c),
-            table,
-            out,
-        )
-    }
+    unsafe { at_chain_f32_new(&gains, None, stored, None, correction, Some(table), out) }
 }
 
 /// The angle of sample `k` at 50 Hz electrical from 0.3 rad, in [0, 2 pi).

@@ -35,16 +35,8 @@ fn chain_of(
     let gains = fixed_gains();
     let mut chain = at_chain_fixed::ZEROED;
     // SAFETY: valid pointers to live values, or NULL.
-    let status = unsafe {
-        at_chain_fixed_new(
-            &gains,
-            adc.map_or(null(), |a| a),
-            calibration.map_or(null(), |c| c),
-            table.map_or(null(), |t| t),
-            nominal,
-            &mut chain,
-        )
-    };
+    let status =
+        unsafe { at_chain_fixed_new(&gains, adc, calibration, table, nominal, &mut chain) };
     if status == AT_OK {
         Ok(chain)
     } else {
@@ -300,11 +292,11 @@ fn refuses_each_bad_parameter_with_its_status() {
     unsafe {
         let zeroed = at_fixed_gains::ZEROED;
         assert_eq!(
-            at_chain_fixed_new(&zeroed, null(), null(), null(), 0.0, &mut chain),
+            at_chain_fixed_new(&zeroed, None, None, None, 0.0, &mut chain),
             AT_ERR_ORDER
         );
         assert_eq!(
-            at_chain_fixed_new(null(), null(), null(), null(), 0.0, &mut chain),
+            at_chain_fixed_new(null(), None, None, None, 0.0, &mut chain),
             AT_ERR_NULL_POINTER
         );
         let mut state = at_chain_state_fixed::FRESH;

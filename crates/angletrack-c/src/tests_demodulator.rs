@@ -20,7 +20,7 @@ fn chain_at(sample_period_s: f32) -> at_chain_f32 {
             AT_OK
         );
         assert_eq!(
-            at_chain_f32_new(&gains, null(), null(), null(), null(), null(), &mut chain),
+            at_chain_f32_new(&gains, None, None, None, None, None, &mut chain),
             AT_OK
         );
     }
@@ -199,7 +199,7 @@ fn a_10_ms_loss_of_excitation_through_the_demodulator_is_coasted_through() {
             AT_OK
         );
         assert_eq!(
-            at_chain_f32_new(&gains, null(), null(), null(), null(), null(), &mut chain),
+            at_chain_f32_new(&gains, None, None, None, None, None, &mut chain),
             AT_OK
         );
     }

@@ -21,9 +21,8 @@ fn chain_after(adc: Option<&at_adc_f32>) -> at_chain_f32 {
             at_gains_f32_new(GAINS_3.as_ptr(), 3, 1e-4, &mut gains),
             AT_OK
         );
-        let adc = adc.map_or(null(), |a| a);
         assert_eq!(
-            at_chain_f32_new(&gains, adc, null(), null(), null(), null(), &mut chain),
+            at_chain_f32_new(&gains, adc, None, None, None, None, &mut chain),
             AT_OK
         );
     }
@@ -311,7 +310,7 @@ fn structs_of_the_previous_layout_or_holding_another_type_are_refused() {
             AT_OK
         );
         let new = |adc: &at_adc_f32, chain: &mut at_chain_f32| {
-            at_chain_f32_new(&gains, adc, null(), null(), null(), null(), chain)
+            at_chain_f32_new(&gains, Some(adc), None, None, None, None, chain)
         };
         // The ADC as the previous layout (version 3, without its range) wrote it: its tag
         // and layout word.
@@ -372,7 +371,7 @@ fn the_fixed_point_chain_flags_signed_12_bit_counts_at_its_stated_rails() {
         );
         assert_eq!(at_adc_counts_twos_complement(12, &mut adc), AT_OK);
         assert_eq!(
-            at_chain_fixed_new(&gains, &adc, null(), null(), 0.0, &mut plain),
+            at_chain_fixed_new(&gains, Some(&adc), None, None, 0.0, &mut plain),
             AT_OK
         );
         assert_eq!(
@@ -447,7 +446,7 @@ fn the_fixed_point_chain_without_a_range_flags_counts_held_at_their_rails() {
         );
         assert_eq!(at_adc_counts_offset_binary(12, &mut adc), AT_OK);
         assert_eq!(
-            at_chain_fixed_new(&gains, &adc, null(), null(), 0.0, &mut chain),
+            at_chain_fixed_new(&gains, Some(&adc), None, None, 0.0, &mut chain),
             AT_OK
         );
         // 50 rev/s at 10 kHz (200 samples a turn), amplitude 3184 counts on a 12-bit ADC

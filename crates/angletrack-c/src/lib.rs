@@ -90,16 +90,4 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
-mod tests_support;
-#[cfg(test)]
-use {slot::Slot, tests_support::Words};
-#[cfg(test)]
-mod tests_chain;
-#[cfg(test)]
-mod tests_chain_fixed;
-#[cfg(test)]
-mod tests_demodulator;
-#[cfg(test)]
-mod tests_front_end;
-#[cfg(test)]
-mod tests_units;
+use {slot::Slot, tests::tests_support::Words};

@@ -1,5 +1,20 @@
 //! Tests of the whole API through its `extern "C"` functions, called as C calls them.
+
 #![allow(unsafe_code)]
+
+// The crate's other test modules, in files of their own beside this one.
+#[path = "tests_chain.rs"]
+mod tests_chain;
+#[path = "tests_chain_fixed.rs"]
+mod tests_chain_fixed;
+#[path = "tests_demodulator.rs"]
+mod tests_demodulator;
+#[path = "tests_front_end.rs"]
+mod tests_front_end;
+#[path = "tests_support.rs"]
+pub(crate) mod tests_support;
+#[path = "tests_units.rs"]
+mod tests_units;
 
 use core::f32::consts::{PI, TAU};
 use core::ptr::{null, null_mut};

@@ -10,7 +10,7 @@ use core::ptr::null;
 use angletrack_core::{Chain, ChainState, FixedGains, FixedState};
 
 use crate::chain_fixed::{ChainFixed, StateFixed};
-use crate::tests_chain::SAMPLES;
+use crate::tests::tests_chain::SAMPLES;
 use crate::*;
 
 const GAINS_3: [f32; 3] = [0.094_326_17, 0.000_562_075, 1.213_522e-5];

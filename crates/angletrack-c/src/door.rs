@@ -257,19 +257,11 @@ macro_rules! c_chain {
                 .unwrap_or_else(<$estimate>::invalid)
             }
 
-            /// The body of the `estimate` functions.
-            ///
-            /// # Safety
-            /// The header's contract.
-            pub(crate) unsafe fn estimate(chain: *const Self, state: *const $state) -> $estimate {
-                // SAFETY: the caller's contract; NULL is checked by `as_ref`.
-                match unsafe { (chain.as_ref(), state.as_ref()) } {
-                    (Some(c), Some(s)) => {
-                        c.either_order(s, (), Self::estimate_n::<2>, Self::estimate_n::<3>)
-                    }
-                    _ => None,
-                }
-                .unwrap_or_else(<$estimate>::invalid)
+            /// The body of the `estimate` functions: the estimate `state` holds (a fresh
+            /// state's for a fresh state).
+            pub(crate) fn estimate(&self, state: &$state) -> $estimate {
+                self.either_order(state, (), Self::estimate_n::<2>, Self::estimate_n::<3>)
+                    .unwrap_or_else(<$estimate>::invalid)
             }
         }
 

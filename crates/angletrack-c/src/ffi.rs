@@ -127,19 +127,6 @@ pub(crate) fn write<T>(result: Result<T, ConfigError>, out: &mut T) -> at_status
     status_of_result(result.map(|value| *out = value))
 }
 
-extern_c! {
-    /// Checks `order` (2 or 3) discrete gains `gains` (l1, l2[, l3], dimensionless, as
-    /// `angletrack design --format c` writes them) and the sample period `sample_period_s` (s),
-    /// and writes them, with the core's default fault thresholds, to the plain `out`.
-    /// Returns `AT_OK`, or the status naming the refused parameter (`AT_ERR_GAINS_2` for an
-    /// unstable `l3`, ...); `out` is unchanged on error.
-    fn at_gains_f32_new(gains: *const f32, order: usize, sample_period_s: f32,
-        out: *mut at_gains_f32) -> at_status
-        // SAFETY: the header's contract: `gains` points to `order` values.
-        = unsafe { construct(gains, order, out, |g| at_gains_f32::of(g, sample_period_s)) };
-        else AT_ERR_NULL_POINTER;
-}
-
 /// The default fault thresholds for signals of amplitude `nominal_amplitude` (input units:
 /// 1 for samples in units of full scale, as an ADC stage of `at_adc_f32_offset_binary`
 /// gives them).
@@ -174,6 +161,16 @@ pub extern "C" fn at_fault_name(bit: u32) -> *const c_char {
 }
 
 extern_c! {
+    /// Checks `order` (2 or 3) discrete gains `gains` (l1, l2[, l3], dimensionless, as
+    /// `angletrack design --format c` writes them) and the sample period `sample_period_s` (s),
+    /// and writes them, with the core's default fault thresholds, to the plain `out`.
+    /// Returns `AT_OK`, or the status naming the refused parameter (`AT_ERR_GAINS_2` for an
+    /// unstable `l3`, ...); `out` is unchanged on error.
+    fn at_gains_f32_new(gains: *const f32, order: usize, sample_period_s: f32,
+        out: *mut at_gains_f32) -> at_status
+        // SAFETY: the header's contract: `gains` points to `order` values.
+        = unsafe { construct(gains, order, out, |g| at_gains_f32::of(g, sample_period_s)) };
+        else AT_ERR_NULL_POINTER;
     /// Writes to `out` an ADC front end removing `mid_scale_counts` (the reading of a zero
     /// signal, at most 2^30 in magnitude) and dividing by `counts_per_unit` (positive), with no
     /// range of codes stated (`at_adc_f32_set_range` states it; without it a chain measures

@@ -52,65 +52,11 @@ extern_c! {
             }
             Err(refused) => refused.status(),
         }; else AT_ERR_NULL_POINTER;
-}
-
-per_sample! {
-    at_chain_f32, at_chain_state_f32;
-    /// One sample `(y_c, y_s)` through the chain's stages and observer, the state only (the
-    /// cheapest per-sample call; `at_chain_f32_estimate` reads the estimate on demand, the
-    /// stages' faults are latched in the state). Returns 0, or `AT_FAULT_INVALID_ARGUMENT`
-    /// (nothing changed) for a NULL pointer, a chain not made or a struct of another build. A
-    /// chain with an ADC stage takes `y_c`, `y_s` as already scaled (the ADC is for counts).
-    at_chain_f32_track(y_c: f32, y_s: f32) -> u32 = track((y_c, y_s));
-    /// `at_chain_f32_track`, then the estimate, which carries the stages' faults.
-    at_chain_f32_update(y_c: f32, y_s: f32) -> at_estimate_f32 = update((y_c, y_s));
-    /// `at_chain_f32_track` on raw `i16` ADC counts, through the chain's ADC stage
-    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
-    at_chain_f32_track_i16(raw_c: i16, raw_s: i16) -> u32 = track((raw_c, raw_s));
-    /// `at_chain_f32_update` on raw `i16` ADC counts, through the chain's ADC stage
-    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
-    at_chain_f32_update_i16(raw_c: i16, raw_s: i16) -> at_estimate_f32 = update((raw_c, raw_s));
-    /// `at_chain_f32_track` on raw `u16` ADC counts, through the chain's ADC stage
-    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
-    at_chain_f32_track_u16(raw_c: u16, raw_s: u16) -> u32 = track((raw_c, raw_s));
-    /// `at_chain_f32_update` on raw `u16` ADC counts, through the chain's ADC stage
-    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
-    at_chain_f32_update_u16(raw_c: u16, raw_s: u16) -> at_estimate_f32 = update((raw_c, raw_s));
-    /// `at_chain_f32_track` on raw `i32` ADC counts, through the chain's ADC stage
-    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
-    at_chain_f32_track_i32(raw_c: i32, raw_s: i32) -> u32 = track((raw_c, raw_s));
-    /// `at_chain_f32_update` on raw `i32` ADC counts, through the chain's ADC stage
-    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
-    at_chain_f32_update_i32(raw_c: i32, raw_s: i32) -> at_estimate_f32 = update((raw_c, raw_s));
-    /// `at_chain_f32_track` on a demodulator's pair (`at_demodulator_f32_push`), with the
-    /// front-end faults of its window: while one invalidates the pair (loss of excitation, a
-    /// winding open or shorted) the observer coasts on its prediction instead of using it, and
-    /// every fault is latched as `AT_FAULT_FRONT_END` (`at_chain_state_f32_clear_front_end_faults`
-    /// gives the front-end bits). Returns 0, or `AT_FAULT_INVALID_ARGUMENT` (nothing changed)
-    /// for refused arguments, a chain with an ADC stage among them (the demodulator takes the
-    /// counts: build the chain without one).
-    at_chain_f32_track_demodulated(pair: *const at_demodulated_pair_f32) -> u32 = track(pair);
-    /// `at_chain_f32_track_demodulated`, then the estimate, which carries `AT_FAULT_FRONT_END`
-    /// while the pair has a front-end fault.
-    at_chain_f32_update_demodulated(pair: *const at_demodulated_pair_f32) -> at_estimate_f32
-        = update(pair);
-}
-
-/// The estimate `state` holds for `chain` (its last sample's; the observer's faults, the
-/// stages' latched in the state). Refused arguments: `AT_FAULT_INVALID_ARGUMENT`.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_f32_estimate(
-    chain: *const at_chain_f32,
-    state: *const at_chain_state_f32,
-) -> at_estimate_f32 {
-    // SAFETY: the same contract.
-    unsafe { at_chain_f32::estimate(chain, state) }
-}
-
-extern_c! {
+    /// The estimate `state` holds for `chain` (its last sample's; the observer's faults, the
+    /// stages' latched in the state). Refused arguments: `AT_FAULT_INVALID_ARGUMENT`.
+    fn at_chain_f32_estimate(chain: *const at_chain_f32, state: *const at_chain_state_f32
+    ) -> at_estimate_f32
+        = chain.estimate(state); else at_estimate_f32::invalid();
     /// Makes `state` fresh: the observer initialises itself from its next sample, the online
     /// calibration is off with nothing learned. NULL is ignored.
     fn at_chain_state_f32_reset(state: *mut at_chain_state_f32)
@@ -169,4 +115,46 @@ extern_c! {
     /// them. 0 for NULL.
     fn at_chain_state_f32_clear_front_end_faults(state: *mut at_chain_state_f32) -> u32
         = state.clear_front_end_faults(); else 0;
+}
+
+per_sample! {
+    at_chain_f32, at_chain_state_f32;
+    /// One sample `(y_c, y_s)` through the chain's stages and observer, the state only (the
+    /// cheapest per-sample call; `at_chain_f32_estimate` reads the estimate on demand, the
+    /// stages' faults are latched in the state). Returns 0, or `AT_FAULT_INVALID_ARGUMENT`
+    /// (nothing changed) for a NULL pointer, a chain not made or a struct of another build. A
+    /// chain with an ADC stage takes `y_c`, `y_s` as already scaled (the ADC is for counts).
+    at_chain_f32_track(y_c: f32, y_s: f32) -> u32 = track((y_c, y_s));
+    /// `at_chain_f32_track`, then the estimate, which carries the stages' faults.
+    at_chain_f32_update(y_c: f32, y_s: f32) -> at_estimate_f32 = update((y_c, y_s));
+    /// `at_chain_f32_track` on raw `i16` ADC counts, through the chain's ADC stage
+    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+    at_chain_f32_track_i16(raw_c: i16, raw_s: i16) -> u32 = track((raw_c, raw_s));
+    /// `at_chain_f32_update` on raw `i16` ADC counts, through the chain's ADC stage
+    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+    at_chain_f32_update_i16(raw_c: i16, raw_s: i16) -> at_estimate_f32 = update((raw_c, raw_s));
+    /// `at_chain_f32_track` on raw `u16` ADC counts, through the chain's ADC stage
+    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+    at_chain_f32_track_u16(raw_c: u16, raw_s: u16) -> u32 = track((raw_c, raw_s));
+    /// `at_chain_f32_update` on raw `u16` ADC counts, through the chain's ADC stage
+    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+    at_chain_f32_update_u16(raw_c: u16, raw_s: u16) -> at_estimate_f32 = update((raw_c, raw_s));
+    /// `at_chain_f32_track` on raw `i32` ADC counts, through the chain's ADC stage
+    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+    at_chain_f32_track_i32(raw_c: i32, raw_s: i32) -> u32 = track((raw_c, raw_s));
+    /// `at_chain_f32_update` on raw `i32` ADC counts, through the chain's ADC stage
+    /// (`AT_FAULT_INVALID_ARGUMENT` for a chain without one).
+    at_chain_f32_update_i32(raw_c: i32, raw_s: i32) -> at_estimate_f32 = update((raw_c, raw_s));
+    /// `at_chain_f32_track` on a demodulator's pair (`at_demodulator_f32_push`), with the
+    /// front-end faults of its window: while one invalidates the pair (loss of excitation, a
+    /// winding open or shorted) the observer coasts on its prediction instead of using it, and
+    /// every fault is latched as `AT_FAULT_FRONT_END` (`at_chain_state_f32_clear_front_end_faults`
+    /// gives the front-end bits). Returns 0, or `AT_FAULT_INVALID_ARGUMENT` (nothing changed)
+    /// for refused arguments, a chain with an ADC stage among them (the demodulator takes the
+    /// counts: build the chain without one).
+    at_chain_f32_track_demodulated(pair: *const at_demodulated_pair_f32) -> u32 = track(pair);
+    /// `at_chain_f32_track_demodulated`, then the estimate, which carries `AT_FAULT_FRONT_END`
+    /// while the pair has a front-end fault.
+    at_chain_f32_update_demodulated(pair: *const at_demodulated_pair_f32) -> at_estimate_f32
+        = update(pair);
 }

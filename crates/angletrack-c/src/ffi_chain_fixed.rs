@@ -62,9 +62,6 @@ extern_c! {
             construct(gains, order, out, |g| at_fixed_gains::quantised(g, sample_period_s))
         };
         else AT_ERR_NULL_POINTER;
-}
-
-extern_c! {
     /// The settings of an offset-binary (unsigned) ADC of `bits` bits (2 to 16): mid-scale
     /// `2^(bits-1)`, shifted by `16 - bits`, to `out` (`AT_ERR_BITS`; `out` unchanged on error).
     fn at_adc_counts_offset_binary(bits: u32, out: *mut at_adc_counts) -> at_status
@@ -120,6 +117,59 @@ extern_c! {
     /// `AT_ERR_ANGLE_CORRECTION` (`at_chain_f32_new` checks it again).
     fn at_angle_correction_table_f32_check(table: *const at_angle_correction_table_f32) -> at_status
         = status_of_result(table.checked()); else AT_ERR_NULL_POINTER;
+    /// The estimate `state` holds for `chain` (its last sample's; all zero for a fresh state).
+    /// Refused arguments: `AT_FAULT_INVALID_ARGUMENT`.
+    fn at_chain_fixed_estimate(chain: *const at_chain_fixed, state: *const at_chain_state_fixed
+    ) -> at_fixed_estimate
+        = chain.estimate(state); else at_fixed_estimate::invalid();
+}
+
+/// The fixed-point table of `errors_rad` (`AT_ANGLE_TABLE_LENGTH` errors in rad at the
+/// angles `-pi + 2 pi k / 256`, each finite and within 0.25 rad: `AT_ERR_ANGLE_CORRECTION`),
+/// rounded to Q15, to `out` (unchanged on error).
+///
+/// # Safety
+/// `errors_rad` points to `AT_ANGLE_TABLE_LENGTH` floats; see the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_angle_table_fixed_from_errors(
+    errors_rad: *const f32,
+    out: *mut at_angle_table_fixed,
+) -> at_status {
+    // SAFETY: the caller's contract: NULL, or `AT_ANGLE_TABLE_LENGTH` floats.
+    match unsafe {
+        (
+            errors_rad.cast::<[f32; AT_ANGLE_TABLE_LENGTH]>().as_ref(),
+            out.as_mut(),
+        )
+    } {
+        (Some(errors), Some(out)) => write(at_angle_table_fixed::from_errors(errors), out),
+        _ => AT_ERR_NULL_POINTER,
+    }
+}
+
+/// The float table of a measured error curve: `curve[j]` (rad) at the angle
+/// `-pi + 2 pi j / points` (`points` at least 2: `AT_ERR_CURVE`), resampled by periodic linear
+/// interpolation (entries finite and within 0.25 rad: `AT_ERR_ANGLE_CORRECTION`), to `out`
+/// (unchanged on error).
+///
+/// # Safety
+/// `curve` points to `points` floats; see the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_angle_correction_table_f32_from_curve(
+    curve: *const f32,
+    points: usize,
+    out: *mut at_angle_correction_table_f32,
+) -> at_status {
+    match unsafe { out.as_mut() } {
+        // SAFETY: `curve` is not NULL and points to `points` floats (the caller's contract).
+        Some(out) if !curve.is_null() => write(
+            at_angle_correction_table_f32::from_curve(unsafe {
+                core::slice::from_raw_parts(curve, points)
+            }),
+            out,
+        ),
+        _ => AT_ERR_NULL_POINTER,
+    }
 }
 
 per_sample! {
@@ -175,66 +225,4 @@ per_sample! {
     /// `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
     at_chain_fixed_track_i32_order3(raw_c: i32, raw_s: i32) -> u32
         = track_order::<3>((raw_c, raw_s));
-}
-
-/// The estimate `state` holds for `chain` (its last sample's; all zero for a fresh state).
-/// Refused arguments: `AT_FAULT_INVALID_ARGUMENT`.
-///
-/// # Safety
-/// See the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_chain_fixed_estimate(
-    chain: *const at_chain_fixed,
-    state: *const at_chain_state_fixed,
-) -> at_fixed_estimate {
-    // SAFETY: the same contract.
-    unsafe { at_chain_fixed::estimate(chain, state) }
-}
-
-/// The fixed-point table of `errors_rad` (`AT_ANGLE_TABLE_LENGTH` errors in rad at the
-/// angles `-pi + 2 pi k / 256`, each finite and within 0.25 rad: `AT_ERR_ANGLE_CORRECTION`),
-/// rounded to Q15, to `out` (unchanged on error).
-///
-/// # Safety
-/// `errors_rad` points to `AT_ANGLE_TABLE_LENGTH` floats; see the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_angle_table_fixed_from_errors(
-    errors_rad: *const f32,
-    out: *mut at_angle_table_fixed,
-) -> at_status {
-    // SAFETY: the caller's contract: NULL, or `AT_ANGLE_TABLE_LENGTH` floats.
-    match unsafe {
-        (
-            errors_rad.cast::<[f32; AT_ANGLE_TABLE_LENGTH]>().as_ref(),
-            out.as_mut(),
-        )
-    } {
-        (Some(errors), Some(out)) => write(at_angle_table_fixed::from_errors(errors), out),
-        _ => AT_ERR_NULL_POINTER,
-    }
-}
-
-/// The float table of a measured error curve: `curve[j]` (rad) at the angle
-/// `-pi + 2 pi j / points` (`points` at least 2: `AT_ERR_CURVE`), resampled by periodic linear
-/// interpolation (entries finite and within 0.25 rad: `AT_ERR_ANGLE_CORRECTION`), to `out`
-/// (unchanged on error).
-///
-/// # Safety
-/// `curve` points to `points` floats; see the header's introduction.
-#[unsafe(no_mangle)]
-pub unsafe extern "C" fn at_angle_correction_table_f32_from_curve(
-    curve: *const f32,
-    points: usize,
-    out: *mut at_angle_correction_table_f32,
-) -> at_status {
-    match unsafe { out.as_mut() } {
-        // SAFETY: `curve` is not NULL and points to `points` floats (the caller's contract).
-        Some(out) if !curve.is_null() => write(
-            at_angle_correction_table_f32::from_curve(unsafe {
-                core::slice::from_raw_parts(curve, points)
-            }),
-            out,
-        ),
-        _ => AT_ERR_NULL_POINTER,
-    }
 }

@@ -170,18 +170,6 @@ fn build<const N: usize>(
     Ok(Tracker::new(front_end, *gains))
 }
 
-/// `chain` with the core's winding check for windings of `amplitude` (checked).
-fn with_winding_check<const N: usize>(
-    chain: &ChainF32<N>,
-    amplitude: f32,
-) -> Result<ChainF32<N>, ConfigError> {
-    let winding = Some(WindingCheck::new(amplitude)?);
-    Ok(Tracker::new(
-        chain.front_end.with_winding(winding),
-        chain.observer,
-    ))
-}
-
 impl at_chain_f32 {
     /// Builds and stores the chain (`self` unchanged on error).
     pub(crate) fn set(&mut self, gains: &at_gains_f32, stages: Stages<'_>) -> at_status {
@@ -200,7 +188,10 @@ impl at_chain_f32 {
     /// unchanged on error).
     pub(crate) fn set_with_winding_check(&mut self, chain: &Self, amplitude: f32) -> at_status {
         match chain.get() {
-            Ok(c) => by_order!(c, |c| self.slot_store(with_winding_check(c, amplitude))),
+            Ok(c) => by_order!(c, |c| self
+                .slot_store(WindingCheck::new(amplitude).map(|w| {
+                    Tracker::new(c.front_end.with_winding(Some(w)), c.observer)
+                }))),
             Err(refused) => refused.status(),
         }
     }

@@ -185,17 +185,6 @@ where
     Ok(Tracker::new(front_end, observer))
 }
 
-/// `chain` with clipping flagged at the codes `min` and `max` (through the ADC to the
-/// observer's 16 bits, exact).
-fn with_adc_range<const N: usize>(
-    chain: &ChainFixed<N>,
-    min: i32,
-    max: i32,
-) -> Result<ChainFixed<N>, ConfigError> {
-    let front_end = chain.front_end.with_rails(Rails::Stated { min, max })?;
-    Ok(Tracker::new(front_end, chain.observer))
-}
-
 impl at_chain_fixed {
     /// Builds and stores the chain (`self` unchanged on error).
     pub(crate) fn set(
@@ -218,14 +207,16 @@ impl at_chain_fixed {
         min: i32,
         max: i32,
     ) -> at_status {
+        // Clipping flagged at the codes through the ADC to the observer's 16 bits, exact.
+        let rails = Rails::Stated { min, max };
         match chain.get() {
-            Ok(c) => by_order!(c, |c| self.slot_store(with_adc_range(c, min, max))),
+            Ok(c) => by_order!(c, |c| self.slot_store(
+                (c.front_end.with_rails(rails)).map(|f| Tracker::new(f, c.observer))
+            )),
             Err(refused) => refused.status(),
         }
     }
-}
 
-impl at_chain_fixed {
     /// The estimate `e` in physical units by the chain's observer: its speed (rad/s) if
     /// `speed`, else its position (rad); 0 for a chain not made.
     pub(crate) fn in_units(&self, e: &at_fixed_estimate, speed: bool) -> f64 {

@@ -62,20 +62,12 @@ mod slot;
 mod status;
 mod table;
 
-pub use adc::*;
-pub use calibration::*;
-pub use chain::*;
-pub use chain_fixed::*;
-pub use demodulator::*;
-pub use faults::*;
-pub use ffi::*;
-pub use ffi_chain::*;
-pub use ffi_chain_fixed::*;
-pub use ffi_demodulator::*;
-pub use gains::*;
-pub use slot::AT_LAYOUT_VERSION;
-pub use status::*;
-pub use table::*;
+// The C API: every module's public items, as the header has them.
+pub use {
+    adc::*, calibration::*, chain::*, chain_fixed::*, demodulator::*, faults::*, ffi::*,
+    ffi_chain::*, ffi_chain_fixed::*, ffi_demodulator::*, gains::*, slot::AT_LAYOUT_VERSION,
+    status::*, table::*,
+};
 
 /// A bare-metal C program has no panic handler; the library's is never reached (no call
 /// panics), and parks the core if it were.

@@ -234,12 +234,6 @@
 #define AT_ANGLE_TABLE_LENGTH 256
 
 /**
- * What a call that can fail returns: `AT_OK` (0), or the `AT_ERR_*` code of what was
- * refused. `at_status_message` gives its text.
- */
-typedef int32_t at_status;
-
-/**
  * The thresholds of the diagnostics and of the input check, in the input's units
  * (amplitudes) unless stated: the core's `FaultThresholds`. Start from
  * `at_fault_thresholds_f32_for_amplitude(nominal)` (the defaults scaled to the nominal
@@ -301,6 +295,12 @@ typedef struct at_fault_thresholds_f32 {
    */
   float magnitude_tolerance;
 } at_fault_thresholds_f32;
+
+/**
+ * What a call that can fail returns: `AT_OK` (0), or the `AT_ERR_*` code of what was
+ * refused. `at_status_message` gives its text.
+ */
+typedef int32_t at_status;
 
 /**
  * The gains, sample period and fault thresholds of an observer (order 2 or 3): filled by
@@ -454,28 +454,6 @@ typedef struct at_chain_f32 {
 } at_chain_f32;
 
 /**
- * One channel's state of a signal chain: the observer's state and the online
- * calibration's estimator. A zeroed one is fresh (as after `at_chain_state_f32_reset`): the
- * observer initialises itself from its first sample, the online calibration is off until
- * `at_chain_state_f32_set_calibration_mode`. Place it anywhere; copy it by assignment;
- * never write its fields.
- */
-typedef struct at_chain_state_f32 {
-  /**
-   * Private: which Rust value `storage` holds (0: none; in a state, a fresh one).
-   */
-  uint32_t tag;
-  /**
-   * Private: the layout of the build that wrote it.
-   */
-  uint32_t layout;
-  /**
-   * Private: the Rust value.
-   */
-  uint64_t storage[AT_CHAIN_STATE_F32_WORDS];
-} at_chain_state_f32;
-
-/**
  * What the observer knows after a sample.
  */
 typedef struct at_estimate_f32 {
@@ -506,6 +484,28 @@ typedef struct at_estimate_f32 {
    */
   uint32_t faults;
 } at_estimate_f32;
+
+/**
+ * One channel's state of a signal chain: the observer's state and the online
+ * calibration's estimator. A zeroed one is fresh (as after `at_chain_state_f32_reset`): the
+ * observer initialises itself from its first sample, the online calibration is off until
+ * `at_chain_state_f32_set_calibration_mode`. Place it anywhere; copy it by assignment;
+ * never write its fields.
+ */
+typedef struct at_chain_state_f32 {
+  /**
+   * Private: which Rust value `storage` holds (0: none; in a state, a fresh one).
+   */
+  uint32_t tag;
+  /**
+   * Private: the layout of the build that wrote it.
+   */
+  uint32_t layout;
+  /**
+   * Private: the Rust value.
+   */
+  uint64_t storage[AT_CHAIN_STATE_F32_WORDS];
+} at_chain_state_f32;
 
 /**
  * One demodulated pair: the windings' envelopes at the centroid of their window.
@@ -816,6 +816,11 @@ typedef struct at_demodulator_state_f32 {
 #define AT_ERR_STAGES 6
 
 /**
+ * A parameter this version of the C API has no code for (a newer core's).
+ */
+#define AT_ERR_OTHER_PARAMETER 63
+
+/**
  * `sample_period_s`: not finite, not positive, or outside [1 ps, 1000 s].
  */
 #define AT_ERR_SAMPLE_PERIOD_S 16
@@ -987,21 +992,6 @@ typedef struct at_demodulator_state_f32 {
 #define AT_ERR_CARRIER_LOOP_BANDWIDTH 49
 
 /**
- * Demodulator setting `startup_periods`.
- */
-#define AT_ERR_STARTUP_PERIODS 50
-
-/**
- * ADC setting `shift` (0 to 15).
- */
-#define AT_ERR_SHIFT 51
-
-/**
- * An angle error `curve` of fewer than 2 points.
- */
-#define AT_ERR_CURVE 52
-
-/**
  * Demodulator setting `adc_rate_hz` (at least 4 times the carrier).
  */
 #define AT_ERR_ADC_RATE_HZ 53
@@ -1017,28 +1007,23 @@ typedef struct at_demodulator_state_f32 {
 #define AT_ERR_MAX_CARRIER_ERROR 55
 
 /**
- * A parameter this version of the C API has no code for (a newer core's).
+ * Demodulator setting `startup_periods`.
  */
-#define AT_ERR_OTHER_PARAMETER 63
+#define AT_ERR_STARTUP_PERIODS 50
+
+/**
+ * ADC setting `shift` (0 to 15).
+ */
+#define AT_ERR_SHIFT 51
+
+/**
+ * An angle error `curve` of fewer than 2 points.
+ */
+#define AT_ERR_CURVE 52
 
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
-
-/**
- * Checks `order` (2 or 3) discrete gains `gains` (l1, l2[, l3], dimensionless, as
- * `angletrack design --format c` writes them) and the sample period `sample_period_s` (s),
- * and writes them, with the core's default fault thresholds, to the plain `out`.
- * Returns `AT_OK`, or the status naming the refused parameter (`AT_ERR_GAINS_2` for an
- * unstable `l3`, ...); `out` is unchanged on error.
- *
- * # Safety
- * `gains` points to `order` floats; see the header's introduction.
- */
-at_status at_gains_f32_new(const float *gains,
-                           size_t order,
-                           float sample_period_s,
-                           struct at_gains_f32 *out);
 
 /**
  * The default fault thresholds for signals of amplitude `nominal_amplitude` (input units:
@@ -1066,6 +1051,21 @@ const char *at_status_message(at_status status);
  * `"unknown fault"`.
  */
 const char *at_fault_name(uint32_t bit);
+
+/**
+ * Checks `order` (2 or 3) discrete gains `gains` (l1, l2[, l3], dimensionless, as
+ * `angletrack design --format c` writes them) and the sample period `sample_period_s` (s),
+ * and writes them, with the core's default fault thresholds, to the plain `out`.
+ * Returns `AT_OK`, or the status naming the refused parameter (`AT_ERR_GAINS_2` for an
+ * unstable `l3`, ...); `out` is unchanged on error.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_gains_f32_new(const float *gains,
+                           size_t order,
+                           float sample_period_s,
+                           struct at_gains_f32 *out);
 
 /**
  * Writes to `out` an ADC front end removing `mid_scale_counts` (the reading of a zero
@@ -1143,6 +1143,117 @@ at_status at_chain_f32_new(const struct at_gains_f32 *gains,
                            const struct at_angle_correction_f32 *correction,
                            const struct at_angle_correction_table_f32 *table,
                            struct at_chain_f32 *out);
+
+/**
+ * The estimate `state` holds for `chain` (its last sample's; the observer's faults, the
+ * stages' latched in the state). Refused arguments: `AT_FAULT_INVALID_ARGUMENT`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_estimate_f32 at_chain_f32_estimate(const struct at_chain_f32 *chain,
+                                             const struct at_chain_state_f32 *state);
+
+/**
+ * Makes `state` fresh: the observer initialises itself from its next sample, the online
+ * calibration is off with nothing learned. NULL is ignored.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+void at_chain_state_f32_reset(struct at_chain_state_f32 *state);
+
+/**
+ * Returns the faults latched in `state` (the observer's and the stages', `AT_FAULT_*`
+ * bits) and clears them. 0 for NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_state_f32_clear_faults(struct at_chain_state_f32 *state);
+
+/**
+ * Sets the mode of the online calibration in `state`: `AT_CALIBRATION_LEARNING`,
+ * `_FROZEN` or `_OFF` (the calibration is kept). Effective in a chain with the online
+ * calibration stage.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_chain_state_f32_set_calibration_mode(struct at_chain_state_f32 *state, uint32_t mode);
+
+/**
+ * The mode of the online calibration in `state` (`AT_CALIBRATION_*`; off for NULL).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_state_f32_calibration_mode(const struct at_chain_state_f32 *state);
+
+/**
+ * Loads a stored calibration into the online calibration of `state` (checked; unchanged on
+ * error), frozen: it corrects and learns nothing until set to learn, continuing from it.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_chain_state_f32_load_calibration(struct at_chain_state_f32 *state,
+                                              const struct at_sensor_calibration_f32 *stored);
+
+/**
+ * Writes the calibration the online calibration of `state` applies (to store in flash) to
+ * `out`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_chain_state_f32_calibration(const struct at_chain_state_f32 *state,
+                                         struct at_sensor_calibration_f32 *out);
+
+/**
+ * The turns the online calibration of `state` has learned since started or loaded; 0 for
+ * NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_state_f32_turns_learned(const struct at_chain_state_f32 *state);
+
+/**
+ * Where the online calibration of `state` stands: `AT_CALIBRATION_FINDING_CENTRE`,
+ * `AT_CALIBRATION_CENTRED` or `AT_CALIBRATION_STALLED`; `AT_CALIBRATION_FINDING_CENTRE`
+ * for NULL or another build's state.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_state_f32_calibration_status(const struct at_chain_state_f32 *state);
+
+/**
+ * Writes to `out` the chain `chain` with a winding check: a winding open or shorted (one
+ * winding reading below a quarter of `nominal_amplitude` where the observer's prediction
+ * puts at least half of it, the other agreeing with the prediction) is flagged
+ * `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_WINDING`) and coasted through while it holds.
+ * `nominal_amplitude` is the windings' peak in the chain's input units after the
+ * calibration (1 for a demodulator's pairs; `AT_ERR_NOMINAL_AMPLITUDE` unless finite and
+ * positive). `out` unchanged on error.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_chain_f32_with_winding_check(const struct at_chain_f32 *chain,
+                                          float nominal_amplitude,
+                                          struct at_chain_f32 *out);
+
+/**
+ * Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
+ * against the ADC's range, the demodulator's faults, a winding open or shorted) and clears
+ * them. 0 for NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_state_f32_clear_front_end_faults(struct at_chain_state_f32 *state);
 
 /**
  * One sample `(y_c, y_s)` through the chain's stages and observer, the state only (the
@@ -1270,115 +1381,27 @@ struct at_estimate_f32 at_chain_f32_update_demodulated(const struct at_chain_f32
                                                        const struct at_demodulated_pair_f32 *pair);
 
 /**
- * The estimate `state` holds for `chain` (its last sample's; the observer's faults, the
- * stages' latched in the state). Refused arguments: `AT_FAULT_INVALID_ARGUMENT`.
+ * Builds a fixed-point signal chain into `out`: the fixed-point observer `gains` (required;
+ * its monitor set here for `nominal_amplitude_counts`, the amplitude of the observer's
+ * 16-bit input after the stages, 16384 to 46341, with the roundness check at a tolerance
+ * of 0.1, or off for 0: `AT_ERR_NOMINAL_AMPLITUDE`)
+ * after the optional stages, each NULL when absent: the ADC `adc` (then the chain takes
+ * counts of any width, `at_chain_fixed_track_u16`, `_i32`, ...; without it, `int16`
+ * samples only), a stored `calibration` (offsets and amplitudes in the observer's 16-bit
+ * counts, after the ADC's shift; converted to integers: `AT_ERR_OFFSET_C`, ...,
+ * `AT_ERR_AMPLITUDE_S` for a sine channel less than half the cosine's), and the angle
+ * correction `table` (`AT_ERR_ANGLE_CORRECTION`). `out` unchanged on error; the stages are
+ * copied, so they need not outlive the call. Double-precision arithmetic: at start-up.
  *
  * # Safety
  * See the header's introduction.
  */
-struct at_estimate_f32 at_chain_f32_estimate(const struct at_chain_f32 *chain,
-                                             const struct at_chain_state_f32 *state);
-
-/**
- * Makes `state` fresh: the observer initialises itself from its next sample, the online
- * calibration is off with nothing learned. NULL is ignored.
- *
- * # Safety
- * See the header's introduction.
- */
-void at_chain_state_f32_reset(struct at_chain_state_f32 *state);
-
-/**
- * Returns the faults latched in `state` (the observer's and the stages', `AT_FAULT_*`
- * bits) and clears them. 0 for NULL.
- *
- * # Safety
- * See the header's introduction.
- */
-uint32_t at_chain_state_f32_clear_faults(struct at_chain_state_f32 *state);
-
-/**
- * Sets the mode of the online calibration in `state`: `AT_CALIBRATION_LEARNING`,
- * `_FROZEN` or `_OFF` (the calibration is kept). Effective in a chain with the online
- * calibration stage.
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_chain_state_f32_set_calibration_mode(struct at_chain_state_f32 *state, uint32_t mode);
-
-/**
- * The mode of the online calibration in `state` (`AT_CALIBRATION_*`; off for NULL).
- *
- * # Safety
- * See the header's introduction.
- */
-uint32_t at_chain_state_f32_calibration_mode(const struct at_chain_state_f32 *state);
-
-/**
- * Loads a stored calibration into the online calibration of `state` (checked; unchanged on
- * error), frozen: it corrects and learns nothing until set to learn, continuing from it.
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_chain_state_f32_load_calibration(struct at_chain_state_f32 *state,
-                                              const struct at_sensor_calibration_f32 *stored);
-
-/**
- * Writes the calibration the online calibration of `state` applies (to store in flash) to
- * `out`.
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_chain_state_f32_calibration(const struct at_chain_state_f32 *state,
-                                         struct at_sensor_calibration_f32 *out);
-
-/**
- * The turns the online calibration of `state` has learned since started or loaded; 0 for
- * NULL.
- *
- * # Safety
- * See the header's introduction.
- */
-uint32_t at_chain_state_f32_turns_learned(const struct at_chain_state_f32 *state);
-
-/**
- * Where the online calibration of `state` stands: `AT_CALIBRATION_FINDING_CENTRE`,
- * `AT_CALIBRATION_CENTRED` or `AT_CALIBRATION_STALLED`; `AT_CALIBRATION_FINDING_CENTRE`
- * for NULL or another build's state.
- *
- * # Safety
- * See the header's introduction.
- */
-uint32_t at_chain_state_f32_calibration_status(const struct at_chain_state_f32 *state);
-
-/**
- * Writes to `out` the chain `chain` with a winding check: a winding open or shorted (one
- * winding reading below a quarter of `nominal_amplitude` where the observer's prediction
- * puts at least half of it, the other agreeing with the prediction) is flagged
- * `AT_FAULT_FRONT_END` (`AT_FRONT_END_FAULT_WINDING`) and coasted through while it holds.
- * `nominal_amplitude` is the windings' peak in the chain's input units after the
- * calibration (1 for a demodulator's pairs; `AT_ERR_NOMINAL_AMPLITUDE` unless finite and
- * positive). `out` unchanged on error.
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_chain_f32_with_winding_check(const struct at_chain_f32 *chain,
-                                          float nominal_amplitude,
-                                          struct at_chain_f32 *out);
-
-/**
- * Returns the front-end faults latched in `state` (`AT_FRONT_END_FAULT_*` bits: clipping
- * against the ADC's range, the demodulator's faults, a winding open or shorted) and clears
- * them. 0 for NULL.
- *
- * # Safety
- * See the header's introduction.
- */
-uint32_t at_chain_state_f32_clear_front_end_faults(struct at_chain_state_f32 *state);
+at_status at_chain_fixed_new(const struct at_fixed_gains *gains,
+                             const struct at_adc_counts *adc,
+                             const struct at_sensor_calibration_f32 *calibration,
+                             const struct at_angle_table_fixed *table,
+                             double nominal_amplitude_counts,
+                             struct at_chain_fixed *out);
 
 /**
  * Checks the integer constants of a fixed-point observer of order `order` (2 or 3), as
@@ -1390,7 +1413,7 @@ uint32_t at_chain_state_f32_clear_front_end_faults(struct at_chain_state_f32 *st
  * `AT_ERR_SAMPLE_PERIOD_S`, ...).
  *
  * # Safety
- * `multiplier` points to `order` integers; see the header's introduction.
+ * See the header's introduction.
  */
 at_status at_fixed_gains_from_constants(const int32_t *multiplier,
                                         size_t order,
@@ -1407,7 +1430,7 @@ at_status at_fixed_gains_from_constants(const int32_t *multiplier,
  * constants and use `at_fixed_gains_from_constants`).
  *
  * # Safety
- * `gains` points to `order` floats; see the header's introduction.
+ * See the header's introduction.
  */
 at_status at_fixed_gains_new(const float *gains,
                              size_t order,
@@ -1431,29 +1454,6 @@ at_status at_adc_counts_offset_binary(uint32_t bits, struct at_adc_counts *out);
  * See the header's introduction.
  */
 at_status at_adc_counts_twos_complement(uint32_t bits, struct at_adc_counts *out);
-
-/**
- * Builds a fixed-point signal chain into `out`: the fixed-point observer `gains` (required;
- * its monitor set here for `nominal_amplitude_counts`, the amplitude of the observer's
- * 16-bit input after the stages, 16384 to 46341, with the roundness check at a tolerance
- * of 0.1, or off for 0: `AT_ERR_NOMINAL_AMPLITUDE`)
- * after the optional stages, each NULL when absent: the ADC `adc` (then the chain takes
- * counts of any width, `at_chain_fixed_track_u16`, `_i32`, ...; without it, `int16`
- * samples only), a stored `calibration` (offsets and amplitudes in the observer's 16-bit
- * counts, after the ADC's shift; converted to integers: `AT_ERR_OFFSET_C`, ...,
- * `AT_ERR_AMPLITUDE_S` for a sine channel less than half the cosine's), and the angle
- * correction `table` (`AT_ERR_ANGLE_CORRECTION`). `out` unchanged on error; the stages are
- * copied, so they need not outlive the call. Double-precision arithmetic: at start-up.
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_chain_fixed_new(const struct at_fixed_gains *gains,
-                             const struct at_adc_counts *adc,
-                             const struct at_sensor_calibration_f32 *calibration,
-                             const struct at_angle_table_fixed *table,
-                             double nominal_amplitude_counts,
-                             struct at_chain_fixed *out);
 
 /**
  * Writes to `out` the chain `chain` with the ADC's range of codes stated: its lowest
@@ -1480,6 +1480,107 @@ at_status at_chain_fixed_with_adc_range(const struct at_chain_fixed *chain,
  * See the header's introduction.
  */
 uint32_t at_chain_state_fixed_clear_front_end_faults(struct at_chain_state_fixed *state);
+
+/**
+ * The multi-turn position of `estimate` (rad): `2 pi (turns + angle / 2^32)`; 0 for NULL.
+ * Double-precision arithmetic: for a host, or out of the sample loop.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+double at_chain_fixed_position_rad(const struct at_chain_fixed *chain,
+                                   const struct at_fixed_estimate *estimate);
+
+/**
+ * The speed of `estimate` (rad/s) at the sample period of `chain`'s observer; 0 for NULL
+ * or a chain not made. Double-precision arithmetic: for a host, or out of the sample loop.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+double at_chain_fixed_speed_rad_s(const struct at_chain_fixed *chain,
+                                  const struct at_fixed_estimate *estimate);
+
+/**
+ * Makes `state` fresh: the observer initialises itself from its next sample. NULL is
+ * ignored.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+void at_chain_state_fixed_reset(struct at_chain_state_fixed *state);
+
+/**
+ * Returns the faults latched in `state` (`AT_FAULT_*` bits) and clears them. 0 for NULL.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+uint32_t at_chain_state_fixed_clear_faults(struct at_chain_state_fixed *state);
+
+/**
+ * The fixed-point table of the harmonic angle error `harmonics` (as `angletrack calibrate`
+ * learns it; checked as `at_chain_f32_new` checks it: `AT_ERR_ANGLE_CORRECTION`), rounded to
+ * Q15, to `out` (unchanged on error).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_angle_table_fixed_from_harmonics(const struct at_angle_correction_f32 *harmonics,
+                                              struct at_angle_table_fixed *out);
+
+/**
+ * The float table of the harmonic angle error `harmonics` (checked:
+ * `AT_ERR_ANGLE_CORRECTION`), to `out` (unchanged on error).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_angle_correction_table_f32_from_harmonics(const struct at_angle_correction_f32 *harmonics,
+                                                       struct at_angle_correction_table_f32 *out);
+
+/**
+ * Checks a float table (each entry finite and within 0.25 rad): `AT_OK` or
+ * `AT_ERR_ANGLE_CORRECTION` (`at_chain_f32_new` checks it again).
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_angle_correction_table_f32_check(const struct at_angle_correction_table_f32 *table);
+
+/**
+ * The estimate `state` holds for `chain` (its last sample's; all zero for a fresh state).
+ * Refused arguments: `AT_FAULT_INVALID_ARGUMENT`.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+struct at_fixed_estimate at_chain_fixed_estimate(const struct at_chain_fixed *chain,
+                                                 const struct at_chain_state_fixed *state);
+
+/**
+ * The fixed-point table of `errors_rad` (`AT_ANGLE_TABLE_LENGTH` errors in rad at the
+ * angles `-pi + 2 pi k / 256`, each finite and within 0.25 rad: `AT_ERR_ANGLE_CORRECTION`),
+ * rounded to Q15, to `out` (unchanged on error).
+ *
+ * # Safety
+ * `errors_rad` points to `AT_ANGLE_TABLE_LENGTH` floats; see the header's introduction.
+ */
+at_status at_angle_table_fixed_from_errors(const float *errors_rad,
+                                           struct at_angle_table_fixed *out);
+
+/**
+ * The float table of a measured error curve: `curve[j]` (rad) at the angle
+ * `-pi + 2 pi j / points` (`points` at least 2: `AT_ERR_CURVE`), resampled by periodic linear
+ * interpolation (entries finite and within 0.25 rad: `AT_ERR_ANGLE_CORRECTION`), to `out`
+ * (unchanged on error).
+ *
+ * # Safety
+ * `curve` points to `points` floats; see the header's introduction.
+ */
+at_status at_angle_correction_table_f32_from_curve(const float *curve,
+                                                   size_t points,
+                                                   struct at_angle_correction_table_f32 *out);
 
 /**
  * One sample of `int16` counts through the chain's stages and observer, the state only (the
@@ -1633,107 +1734,6 @@ uint32_t at_chain_fixed_track_i32_order3(const struct at_chain_fixed *chain,
                                          struct at_chain_state_fixed *state,
                                          int32_t raw_c,
                                          int32_t raw_s);
-
-/**
- * The estimate `state` holds for `chain` (its last sample's; all zero for a fresh state).
- * Refused arguments: `AT_FAULT_INVALID_ARGUMENT`.
- *
- * # Safety
- * See the header's introduction.
- */
-struct at_fixed_estimate at_chain_fixed_estimate(const struct at_chain_fixed *chain,
-                                                 const struct at_chain_state_fixed *state);
-
-/**
- * The multi-turn position of `estimate` (rad): `2 pi (turns + angle / 2^32)`; 0 for NULL.
- * Double-precision arithmetic: for a host, or out of the sample loop.
- *
- * # Safety
- * See the header's introduction.
- */
-double at_chain_fixed_position_rad(const struct at_chain_fixed *chain,
-                                   const struct at_fixed_estimate *estimate);
-
-/**
- * The speed of `estimate` (rad/s) at the sample period of `chain`'s observer; 0 for NULL
- * or a chain not made. Double-precision arithmetic: for a host, or out of the sample loop.
- *
- * # Safety
- * See the header's introduction.
- */
-double at_chain_fixed_speed_rad_s(const struct at_chain_fixed *chain,
-                                  const struct at_fixed_estimate *estimate);
-
-/**
- * Makes `state` fresh: the observer initialises itself from its next sample. NULL is
- * ignored.
- *
- * # Safety
- * See the header's introduction.
- */
-void at_chain_state_fixed_reset(struct at_chain_state_fixed *state);
-
-/**
- * Returns the faults latched in `state` (`AT_FAULT_*` bits) and clears them. 0 for NULL.
- *
- * # Safety
- * See the header's introduction.
- */
-uint32_t at_chain_state_fixed_clear_faults(struct at_chain_state_fixed *state);
-
-/**
- * The fixed-point table of `errors_rad` (`AT_ANGLE_TABLE_LENGTH` errors in rad at the
- * angles `-pi + 2 pi k / 256`, each finite and within 0.25 rad: `AT_ERR_ANGLE_CORRECTION`),
- * rounded to Q15, to `out` (unchanged on error).
- *
- * # Safety
- * `errors_rad` points to `AT_ANGLE_TABLE_LENGTH` floats; see the header's introduction.
- */
-at_status at_angle_table_fixed_from_errors(const float *errors_rad,
-                                           struct at_angle_table_fixed *out);
-
-/**
- * The fixed-point table of the harmonic angle error `harmonics` (as `angletrack calibrate`
- * learns it; checked as `at_chain_f32_new` checks it: `AT_ERR_ANGLE_CORRECTION`), rounded to
- * Q15, to `out` (unchanged on error).
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_angle_table_fixed_from_harmonics(const struct at_angle_correction_f32 *harmonics,
-                                              struct at_angle_table_fixed *out);
-
-/**
- * The float table of the harmonic angle error `harmonics` (checked:
- * `AT_ERR_ANGLE_CORRECTION`), to `out` (unchanged on error).
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_angle_correction_table_f32_from_harmonics(const struct at_angle_correction_f32 *harmonics,
-                                                       struct at_angle_correction_table_f32 *out);
-
-/**
- * The float table of a measured error curve: `curve[j]` (rad) at the angle
- * `-pi + 2 pi j / points` (`points` at least 2: `AT_ERR_CURVE`), resampled by periodic linear
- * interpolation (entries finite and within 0.25 rad: `AT_ERR_ANGLE_CORRECTION`), to `out`
- * (unchanged on error).
- *
- * # Safety
- * `curve` points to `points` floats; see the header's introduction.
- */
-at_status at_angle_correction_table_f32_from_curve(const float *curve,
-                                                   size_t points,
-                                                   struct at_angle_correction_table_f32 *out);
-
-/**
- * Checks a float table (each entry finite and within 0.25 rad): `AT_OK` or
- * `AT_ERR_ANGLE_CORRECTION` (`at_chain_f32_new` checks it again).
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_angle_correction_table_f32_check(const struct at_angle_correction_table_f32 *table);
 
 /**
  * The demodulator's settings for a carrier of `carrier_hz` (Hz) sampled at `adc_rate_hz`

@@ -85,6 +85,7 @@ macro_rules! extern_c {
         /// # Safety
         /// See the header's introduction.
         #[unsafe(no_mangle)]
+        #[allow(clippy::unused_unit, reason = "`else ()` of the functions that return nothing")]
         pub unsafe extern "C" fn $name($($arg: $t),*) $(-> $ret)? {
             // SAFETY: the caller's contract; NULL is checked by `checked`.
             let ($(Some($arg),)*) = (unsafe { ($($crate::ffi::Checked::checked($arg),)*) }) else {

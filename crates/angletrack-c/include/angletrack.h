@@ -21,8 +21,9 @@
  * at_chain_fixed_new() puts them after the ADC's at_adc_counts, a stored calibration in the
  * observer's 16-bit counts and the Q15 at_angle_table_fixed, with the monitor's amplitude
  * (at_chain_fixed_with_adc_range() flags clipped counts); every sample,
- * at_chain_fixed_track_u16() (or _i16, _i32, and their _update_ forms) on raw counts,
- * at_chain_fixed_estimate() on demand. The structs are plain and sized: place them in
+ * at_chain_fixed_track_u16() (or _i16, _i32, and their _update_ forms) on raw counts, or
+ * the form of the chain's order, at_chain_fixed_track_u16_order3() (_order2), whose body
+ * is inlined and links one order's code; at_chain_fixed_estimate() on demand. The structs are plain and sized: place them in
  * static memory.
  * A zeroed at_chain_state_f32, at_chain_state_fixed or at_demodulator_state_f32 is a fresh
  * one; zeroed at_gains_f32, at_fixed_gains, at_chain_f32, at_chain_fixed, at_adc_f32 or
@@ -1060,7 +1061,7 @@ const char *at_fault_name(uint32_t bit);
  * unstable `l3`, ...); `out` is unchanged on error.
  *
  * # Safety
- * See the header's introduction.
+ * `gains` points to `order` floats; see the header's introduction.
  */
 at_status at_gains_f32_new(const float *gains,
                            size_t order,
@@ -1381,6 +1382,40 @@ struct at_estimate_f32 at_chain_f32_update_demodulated(const struct at_chain_f32
                                                        const struct at_demodulated_pair_f32 *pair);
 
 /**
+ * Checks the integer constants of a fixed-point observer of order `order` (2 or 3), as
+ * `angletrack design --dtype fixed --format c --name NAME` prints them (`NAME_gain_multiplier`,
+ * `NAME_ORDER`, `NAME_ACCELERATION_SHIFT`, `NAME_SAMPLE_PERIOD_S`): each multiplier
+ * positive, the shift 1 to 15 (0 at order 2), the loop they represent stable. Writes them
+ * to the plain `out` (the monitor's thresholds are the chain's: `at_chain_fixed_new`);
+ * `out` is unchanged on error (`AT_ERR_GAINS_0`..`_2` naming the gain,
+ * `AT_ERR_SAMPLE_PERIOD_S`, ...).
+ *
+ * # Safety
+ * `multiplier` points to `order` integers; see the header's introduction.
+ */
+at_status at_fixed_gains_from_constants(const int32_t *multiplier,
+                                        size_t order,
+                                        uint32_t acceleration_shift,
+                                        double sample_period_s,
+                                        struct at_fixed_gains *out);
+
+/**
+ * Quantises `order` (2 or 3) float gains `gains` (l1, l2[, l3], as `angletrack design
+ * --format c` writes them and `at_gains_f32_new` takes them) at the sample period
+ * `sample_period_s` (s) into a fixed-point observer's configuration, checked (a gain that
+ * rounds to zero or does not fit is refused, naming it), to `out` (unchanged on error).
+ * Costs double-precision arithmetic: at start-up, or on the host (then embed the
+ * constants and use `at_fixed_gains_from_constants`).
+ *
+ * # Safety
+ * `gains` points to `order` floats; see the header's introduction.
+ */
+at_status at_fixed_gains_new(const float *gains,
+                             size_t order,
+                             double sample_period_s,
+                             struct at_fixed_gains *out);
+
+/**
  * Builds a fixed-point signal chain into `out`: the fixed-point observer `gains` (required;
  * its monitor set here for `nominal_amplitude_counts`, the amplitude of the observer's
  * 16-bit input after the stages, 16384 to 46341, with the roundness check at a tolerance
@@ -1402,40 +1437,6 @@ at_status at_chain_fixed_new(const struct at_fixed_gains *gains,
                              const struct at_angle_table_fixed *table,
                              double nominal_amplitude_counts,
                              struct at_chain_fixed *out);
-
-/**
- * Checks the integer constants of a fixed-point observer of order `order` (2 or 3), as
- * `angletrack design --dtype fixed --format c --name NAME` prints them (`NAME_gain_multiplier`,
- * `NAME_ORDER`, `NAME_ACCELERATION_SHIFT`, `NAME_SAMPLE_PERIOD_S`): each multiplier
- * positive, the shift 1 to 15 (0 at order 2), the loop they represent stable. Writes them
- * to the plain `out` (the monitor's thresholds are the chain's: `at_chain_fixed_new`);
- * `out` is unchanged on error (`AT_ERR_GAINS_0`..`_2` naming the gain,
- * `AT_ERR_SAMPLE_PERIOD_S`, ...).
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_fixed_gains_from_constants(const int32_t *multiplier,
-                                        size_t order,
-                                        uint32_t acceleration_shift,
-                                        double sample_period_s,
-                                        struct at_fixed_gains *out);
-
-/**
- * Quantises `order` (2 or 3) float gains `gains` (l1, l2[, l3], as `angletrack design
- * --format c` writes them and `at_gains_f32_new` takes them) at the sample period
- * `sample_period_s` (s) into a fixed-point observer's configuration, checked (a gain that
- * rounds to zero or does not fit is refused, naming it), to `out` (unchanged on error).
- * Costs double-precision arithmetic: at start-up, or on the host (then embed the
- * constants and use `at_fixed_gains_from_constants`).
- *
- * # Safety
- * See the header's introduction.
- */
-at_status at_fixed_gains_new(const float *gains,
-                             size_t order,
-                             double sample_period_s,
-                             struct at_fixed_gains *out);
 
 /**
  * The settings of an offset-binary (unsigned) ADC of `bits` bits (2 to 16): mid-scale

@@ -44,11 +44,6 @@ slot::slot_struct! {
 }
 
 impl at_adc_f32 {
-    /// The scaling, if made by a constructor of this build.
-    pub(crate) fn get(&self) -> Result<&AdcScaling<f32>, Refused> {
-        self.stage().map(|adc| &adc.scaling)
-    }
-
     /// The scaling and its range, if made by a constructor of this build.
     pub(crate) fn stage(&self) -> Result<&AdcF32, Refused> {
         self.slot_get()
@@ -69,8 +64,10 @@ impl at_adc_f32 {
     /// made.
     pub(crate) fn set_range(&mut self, min: i32, max: i32) -> at_status {
         let range = Some((min, max));
-        match self.get() {
-            Ok(&scaling) => self.set(FrontEndCheck::around((), range).map(|_| scaling), range),
+        match self.stage() {
+            Ok(&AdcF32 { scaling, .. }) => {
+                self.set(FrontEndCheck::around((), range).map(|_| scaling), range)
+            }
             Err(refused) => refused.status(),
         }
     }

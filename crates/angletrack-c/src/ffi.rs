@@ -97,22 +97,30 @@ macro_rules! extern_c {
 }
 pub(crate) use extern_c;
 
-/// The body of the gains' constructors: the `order` values at `values` checked, then
-/// `make` of them written to `out` (unchanged on error).
+/// The body of the gains' constructors: `out` and the `order` values at `values` checked,
+/// then `make` of them written to `out` (unchanged on error).
 ///
 /// # Safety
-/// `values` points to `order` values (the header's contract).
+/// `values` is NULL or points to `order` values, `out` is NULL or valid for writes (the
+/// header's contract).
 pub(crate) unsafe fn construct<V, T>(
-    values: &V,
+    values: *const V,
     order: usize,
-    out: &mut T,
+    out: *mut T,
     make: impl FnOnce(&[V]) -> Result<T, at_status>,
 ) -> at_status {
+    // SAFETY: the caller's contract; NULL is checked by `as_mut`.
+    let Some(out) = (unsafe { out.as_mut() }) else {
+        return AT_ERR_NULL_POINTER;
+    };
+    if values.is_null() {
+        return AT_ERR_NULL_POINTER;
+    }
     if !(order == 2 || order == 3) {
         return AT_ERR_ORDER;
     }
-    // SAFETY: `values` points to `order` values (the caller's contract); `order` is 2 or 3,
-    // so the slice is small.
+    // SAFETY: `values` is not NULL and points to `order` values (the caller's contract);
+    // `order` is 2 or 3, so the slice is small.
     let values = unsafe { core::slice::from_raw_parts(values, order) };
     make(values).map_or_else(
         |status| status,
@@ -161,17 +169,26 @@ pub extern "C" fn at_fault_name(bit: u32) -> *const c_char {
     faults::name(bit).as_ptr()
 }
 
+/// Checks `order` (2 or 3) discrete gains `gains` (l1, l2[, l3], dimensionless, as
+/// `angletrack design --format c` writes them) and the sample period `sample_period_s` (s),
+/// and writes them, with the core's default fault thresholds, to the plain `out`.
+/// Returns `AT_OK`, or the status naming the refused parameter (`AT_ERR_GAINS_2` for an
+/// unstable `l3`, ...); `out` is unchanged on error.
+///
+/// # Safety
+/// `gains` points to `order` floats; see the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_gains_f32_new(
+    gains: *const f32,
+    order: usize,
+    sample_period_s: f32,
+    out: *mut at_gains_f32,
+) -> at_status {
+    // SAFETY: the same contract.
+    unsafe { construct(gains, order, out, |g| at_gains_f32::of(g, sample_period_s)) }
+}
+
 extern_c! {
-    /// Checks `order` (2 or 3) discrete gains `gains` (l1, l2[, l3], dimensionless, as
-    /// `angletrack design --format c` writes them) and the sample period `sample_period_s` (s),
-    /// and writes them, with the core's default fault thresholds, to the plain `out`.
-    /// Returns `AT_OK`, or the status naming the refused parameter (`AT_ERR_GAINS_2` for an
-    /// unstable `l3`, ...); `out` is unchanged on error.
-    fn at_gains_f32_new(gains: *const f32, order: usize, sample_period_s: f32,
-        out: *mut at_gains_f32) -> at_status
-        // SAFETY: the header's contract: `gains` points to `order` values.
-        = unsafe { construct(gains, order, out, |g| at_gains_f32::of(g, sample_period_s)) };
-        else AT_ERR_NULL_POINTER;
     /// Writes to `out` an ADC front end removing `mid_scale_counts` (the reading of a zero
     /// signal, at most 2^30 in magnitude) and dividing by `counts_per_unit` (positive), with no
     /// range of codes stated (`at_adc_f32_set_range` states it; without it a chain measures

@@ -16,6 +16,56 @@ use crate::gains::at_fixed_gains;
 use crate::status::{AT_ERR_NULL_POINTER, at_status, status_of_result};
 use crate::table::{AT_ANGLE_TABLE_LENGTH, at_angle_correction_table_f32, at_angle_table_fixed};
 
+/// Checks the integer constants of a fixed-point observer of order `order` (2 or 3), as
+/// `angletrack design --dtype fixed --format c --name NAME` prints them (`NAME_gain_multiplier`,
+/// `NAME_ORDER`, `NAME_ACCELERATION_SHIFT`, `NAME_SAMPLE_PERIOD_S`): each multiplier
+/// positive, the shift 1 to 15 (0 at order 2), the loop they represent stable. Writes them
+/// to the plain `out` (the monitor's thresholds are the chain's: `at_chain_fixed_new`);
+/// `out` is unchanged on error (`AT_ERR_GAINS_0`..`_2` naming the gain,
+/// `AT_ERR_SAMPLE_PERIOD_S`, ...).
+///
+/// # Safety
+/// `multiplier` points to `order` integers; see the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_fixed_gains_from_constants(
+    multiplier: *const i32,
+    order: usize,
+    acceleration_shift: u32,
+    sample_period_s: f64,
+    out: *mut at_fixed_gains,
+) -> at_status {
+    // SAFETY: the same contract.
+    unsafe {
+        construct(multiplier, order, out, |m| {
+            at_fixed_gains::checked(m, acceleration_shift, sample_period_s)
+        })
+    }
+}
+
+/// Quantises `order` (2 or 3) float gains `gains` (l1, l2[, l3], as `angletrack design
+/// --format c` writes them and `at_gains_f32_new` takes them) at the sample period
+/// `sample_period_s` (s) into a fixed-point observer's configuration, checked (a gain that
+/// rounds to zero or does not fit is refused, naming it), to `out` (unchanged on error).
+/// Costs double-precision arithmetic: at start-up, or on the host (then embed the
+/// constants and use `at_fixed_gains_from_constants`).
+///
+/// # Safety
+/// `gains` points to `order` floats; see the header's introduction.
+#[unsafe(no_mangle)]
+pub unsafe extern "C" fn at_fixed_gains_new(
+    gains: *const f32,
+    order: usize,
+    sample_period_s: f64,
+    out: *mut at_fixed_gains,
+) -> at_status {
+    // SAFETY: the same contract.
+    unsafe {
+        construct(gains, order, out, |g| {
+            at_fixed_gains::quantised(g, sample_period_s)
+        })
+    }
+}
+
 extern_c! {
     /// Builds a fixed-point signal chain into `out`: the fixed-point observer `gains` (required;
     /// its monitor set here for `nominal_amplitude_counts`, the amplitude of the observer's
@@ -32,35 +82,6 @@ extern_c! {
         calibration: Option<&at_sensor_calibration_f32>, table: Option<&at_angle_table_fixed>,
         nominal_amplitude_counts: f64, out: *mut at_chain_fixed) -> at_status
         = out.set(gains, FixedStages { adc, calibration, table }, nominal_amplitude_counts);
-        else AT_ERR_NULL_POINTER;
-    /// Checks the integer constants of a fixed-point observer of order `order` (2 or 3), as
-    /// `angletrack design --dtype fixed --format c --name NAME` prints them (`NAME_gain_multiplier`,
-    /// `NAME_ORDER`, `NAME_ACCELERATION_SHIFT`, `NAME_SAMPLE_PERIOD_S`): each multiplier
-    /// positive, the shift 1 to 15 (0 at order 2), the loop they represent stable. Writes them
-    /// to the plain `out` (the monitor's thresholds are the chain's: `at_chain_fixed_new`);
-    /// `out` is unchanged on error (`AT_ERR_GAINS_0`..`_2` naming the gain,
-    /// `AT_ERR_SAMPLE_PERIOD_S`, ...).
-    fn at_fixed_gains_from_constants(multiplier: *const i32, order: usize, acceleration_shift: u32,
-        sample_period_s: f64, out: *mut at_fixed_gains) -> at_status
-        // SAFETY: the header's contract: `multiplier` points to `order` values.
-        = unsafe {
-            construct(multiplier, order, out, |m| {
-                at_fixed_gains::checked(m, acceleration_shift, sample_period_s)
-            })
-        };
-        else AT_ERR_NULL_POINTER;
-    /// Quantises `order` (2 or 3) float gains `gains` (l1, l2[, l3], as `angletrack design
-    /// --format c` writes them and `at_gains_f32_new` takes them) at the sample period
-    /// `sample_period_s` (s) into a fixed-point observer's configuration, checked (a gain that
-    /// rounds to zero or does not fit is refused, naming it), to `out` (unchanged on error).
-    /// Costs double-precision arithmetic: at start-up, or on the host (then embed the
-    /// constants and use `at_fixed_gains_from_constants`).
-    fn at_fixed_gains_new(gains: *const f32, order: usize, sample_period_s: f64,
-        out: *mut at_fixed_gains) -> at_status
-        // SAFETY: the header's contract: `gains` points to `order` values.
-        = unsafe {
-            construct(gains, order, out, |g| at_fixed_gains::quantised(g, sample_period_s))
-        };
         else AT_ERR_NULL_POINTER;
     /// The settings of an offset-binary (unsigned) ADC of `bits` bits (2 to 16): mid-scale
     /// `2^(bits-1)`, shifted by `16 - bits`, to `out` (`AT_ERR_BITS`; `out` unchanged on error).

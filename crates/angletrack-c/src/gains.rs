@@ -108,22 +108,6 @@ impl at_fixed_gains {
         FixedGains::from_constants(constants, self.sample_period_s)
     }
 
-    /// The constants of `gains` (of order `N`).
-    pub(crate) fn of<const N: usize>(gains: &FixedGains<N>) -> Self
-    where
-        Order<N>: SupportedOrder,
-    {
-        let constants = gains.constants();
-        let mut multiplier = [0; 3];
-        multiplier[..N].copy_from_slice(&constants.multiplier);
-        Self {
-            multiplier,
-            order: N as u32,
-            acceleration_shift: constants.acceleration_shift,
-            sample_period_s: gains.sample_period(),
-        }
-    }
-
     /// The constants `multiplier` (their number is the order), checked.
     pub(crate) fn checked(
         multiplier: &[i32],
@@ -144,7 +128,13 @@ impl at_fixed_gains {
     pub(crate) fn quantised(l: &[f32], sample_period_s: f64) -> Result<Self, at_status> {
         with_order!(l.len(), N => {
             let gains = core::array::from_fn(|i| f64::from(l[i]));
-            FixedGains::<N>::new(gains, sample_period_s).map(|g| Self::of(&g))
+            FixedGains::<N>::new(gains, sample_period_s).map(|g| {
+                let constants = g.constants();
+                let mut multiplier = [0; 3];
+                multiplier[..N].copy_from_slice(&constants.multiplier);
+                let (shift, sample_period_s) = (constants.acceleration_shift, g.sample_period());
+                Self { multiplier, order: N as u32, acceleration_shift: shift, sample_period_s }
+            })
         })
     }
 }

@@ -81,5 +81,3 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
 
 #[cfg(test)]
 mod tests;
-#[cfg(test)]
-use {slot::Slot, tests::tests_support::Words};

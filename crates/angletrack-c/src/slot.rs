@@ -67,7 +67,7 @@ impl Refused {
 }
 
 /// One step of the 32-bit FNV-1a hash over `value`'s four bytes.
-const fn hash(mut h: u32, value: u32) -> u32 {
+pub(crate) const fn hash(mut h: u32, value: u32) -> u32 {
     let bytes = value.to_le_bytes();
     let mut i = 0;
     while i < 4 {
@@ -88,7 +88,7 @@ const BUILD: u32 = build_of(AT_LAYOUT_VERSION);
 
 /// The fingerprint of this build's layouts under the layout version `version` (a build of
 /// another version differs in its `version` at least).
-const fn build_of(version: u32) -> u32 {
+pub(crate) const fn build_of(version: u32) -> u32 {
     let mut h = hash(0x811c_9dc5, version);
     let crate_version = env!("CARGO_PKG_VERSION").as_bytes();
     let mut i = 0;
@@ -119,13 +119,6 @@ pub(crate) const fn layout_of(size: usize) -> u32 {
 /// per-sample calls compare one word per struct.
 const fn typed(layout: u32, tag: u32) -> u32 {
     hash(layout, tag) | 1
-}
-
-/// The layout word a build of the layout version `version`, otherwise this one, writes in
-/// a C struct of `size` bytes: for tests that make a struct of the previous version.
-#[cfg(test)]
-pub(crate) const fn layout_of_version(version: u32, size: usize) -> u32 {
-    hash(build_of(version), size as u32) | 1
 }
 
 /// Fails to compile unless a `T` fits in `words` words of 8 bytes with their alignment: the

@@ -46,16 +46,6 @@ pub struct at_angle_table_fixed {
     pub errors_q15: [i16; AT_ANGLE_TABLE_LENGTH],
 }
 
-impl at_angle_correction_f32 {
-    /// The core's harmonics in f64, checked.
-    fn harmonics_f64(&self) -> Result<AngleCorrection<f64>, ConfigError> {
-        AngleCorrection::new(
-            self.cos_coefficients.map(f64::from),
-            self.sin_coefficients.map(f64::from),
-        )
-    }
-}
-
 impl at_angle_correction_table_f32 {
     /// The core's table, checked.
     pub(crate) fn checked(&self) -> Result<TableF32, ConfigError> {
@@ -110,7 +100,8 @@ impl at_angle_table_fixed {
 
     /// The table of checked harmonics, rounded to Q15 (no float table in between).
     pub(crate) fn from_harmonics(h: &at_angle_correction_f32) -> Result<Self, ConfigError> {
-        let harmonics = h.harmonics_f64()?;
+        let (a, b) = (h.cos_coefficients, h.sin_coefficients);
+        let harmonics = AngleCorrection::new(a.map(f64::from), b.map(f64::from))?;
         Ok(Self {
             errors_q15: FixedAngleCorrectionTable::from_harmonics(&harmonics).errors_q15(),
         })

@@ -19,6 +19,8 @@ mod tests_units;
 use core::f32::consts::{PI, TAU};
 use core::ptr::{null, null_mut};
 
+use crate::slot::Slot;
+use crate::tests::tests_support::Words;
 use crate::*;
 
 /// The 3rd-order gains of the repository's benchmark (10 kHz).

@@ -11,6 +11,7 @@ use angletrack_core::{
 };
 
 use crate::chain::{ChainF32, StateF32};
+use crate::tests::tests_support::Words;
 use crate::*;
 
 /// A calibration to write into: all zero.

@@ -11,6 +11,7 @@ use angletrack_core::{Chain, ChainState, FixedGains, FixedState};
 
 use crate::chain_fixed::{ChainFixed, StateFixed};
 use crate::tests::tests_chain::SAMPLES;
+use crate::tests::tests_support::Words;
 use crate::*;
 
 const GAINS_3: [f32; 3] = [0.094_326_17, 0.000_562_075, 1.213_522e-5];

@@ -5,6 +5,7 @@
 use core::f32::consts::TAU;
 use core::ptr::null;
 
+use crate::tests::tests_support::Words;
 use crate::*;
 
 const GAINS_3: [f32; 3] = [0.094_326_17, 0.000_562_075, 1.213_522e-5];

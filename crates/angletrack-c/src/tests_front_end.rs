@@ -6,7 +6,8 @@
 
 use core::ptr::null;
 
-use crate::slot::layout_of_version;
+use crate::tests::tests_support::Words;
+use crate::tests::tests_support::layout_of_version;
 use crate::*;
 
 const GAINS_3: [f32; 3] = [0.094_326_17, 0.000_562_075, 1.213_522e-5];

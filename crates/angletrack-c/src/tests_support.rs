@@ -73,3 +73,9 @@ impl at_fixed_gains {
         sample_period_s: 0.0,
     };
 }
+
+/// The layout word a build of the layout version `version`, otherwise this one, writes in
+/// a C struct of `size` bytes: for tests that make a struct of the previous version.
+pub(crate) const fn layout_of_version(version: u32, size: usize) -> u32 {
+    crate::slot::hash(crate::slot::build_of(version), size as u32) | 1
+}

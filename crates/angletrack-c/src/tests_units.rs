@@ -78,13 +78,13 @@ fn gains_check_as_the_core_and_keep_the_order() {
 #[test]
 fn stores_the_checked_front_end() {
     let mut adc = at_adc_f32::ZEROED;
-    assert!(adc.get().is_err());
+    assert!(adc.stage().is_err());
     assert_eq!(adc.set_range(0, 4095), AT_ERR_NOT_INITIALISED);
     assert_eq!(adc.set(AdcScaling::offset_binary(40), None), AT_ERR_BITS);
-    assert!(adc.get().is_err());
+    assert!(adc.stage().is_err());
     assert_eq!(adc.set(AdcScaling::offset_binary(12), None), AT_OK);
     assert_eq!(
-        adc.get().map(|a| a.sample(4095u16, 0u16)),
+        adc.stage().map(|a| a.scaling.sample(4095u16, 0u16)),
         Ok((2047.0 / 2048.0, -1.0))
     );
     assert_eq!(adc.stage().map(|a| a.range), Ok(None));

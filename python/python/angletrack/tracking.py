@@ -58,7 +58,7 @@ class TrackSettings:
     carrier_hz: Optional[float] = None
     samples_per_period: Optional[float] = None
     carrier_amplitude_counts: Optional[float] = None
-    expected_delay_deg: float = 0.0
+    expected_delay_deg: Optional[float] = None
     pole_pairs: Optional[int] = None
     latency_s: Optional[float] = None
     #: The angle calibration of ``--calibration`` (from ``angletrack calibrate``), applied by a

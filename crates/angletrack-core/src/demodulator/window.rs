@@ -286,10 +286,8 @@ impl<V: DemodulatorNumber> Demodulator<V> {
         state.windows = state.windows.wrapping_add(1);
         let mut no_reference = false;
         if let Some((i, q, usable)) = excitation {
-            if usable {
-                self.resolve_from_excitation(state, (i, q));
-            }
-            no_reference = !usable || !state.reference_resolved;
+            let decided = usable && self.resolve_from_excitation(state, (i, q));
+            no_reference = !decided || !state.reference_resolved;
         }
         if !state.delay_ready {
             if state.windows < u64::from(self.startup_periods) {

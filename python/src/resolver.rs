@@ -20,8 +20,9 @@ use crate::scenario::PyScenario;
 #[pyclass(name = "DemodulatedPairs", module = "angletrack", frozen, get_all)]
 #[derive(Debug)]
 pub struct PyDemodulatedPairs {
-    /// The time (s) at which each pair holds, the centroid of its window, counting from the
-    /// first ADC sample pushed into the demodulator (at the ADC rate).
+    /// The time (s) at which each pair holds (its window's samples weighted by their share
+    /// of the pair), counting from the first ADC sample pushed into the demodulator (at the
+    /// ADC rate).
     time_s: Py<PyArray1<f64>>,
     /// The cosine winding's envelope (nominal amplitude 1).
     y_c: Py<PyArray1<f64>>,
@@ -36,6 +37,10 @@ pub struct PyDemodulatedPairs {
     /// The front end's faults of each window (uint8 bits: 1 loss of excitation, 2 phase
     /// drift, 4 clipping, 8 weak excitation).
     faults: Py<PyArray1<u8>>,
+    /// Whether each pair's half turn rests on nothing stated (bool): every pair without
+    /// `expected_delay_rad`, and with the excitation those whose window's excitation resolved
+    /// nothing. Not a fault: the angle is right or half a turn off.
+    half_turn_unresolved: Py<PyArray1<bool>>,
 }
 
 #[pymethods]
@@ -49,8 +54,10 @@ impl PyDemodulatedPairs {
 /// `adc_rate_hz` (at least 4 per period of the `carrier_hz` excitation, any ratio; or
 /// `samples_per_period` times the carrier), optionally with the excitation's samples, in;
 /// one `(y_c, y_s)` pair per tracked carrier period out. The carrier's phase and frequency
-/// are tracked; its half-turn ambiguity is resolved from the excitation when given, else
-/// around `expected_delay_rad` (the carrier's phase at the first sample). Clipping is
+/// are tracked; its half-turn ambiguity is resolved around `expected_delay_rad`: the
+/// windings' delay after the excitation when its samples are given, else the carrier's phase
+/// at the first sample; without it (`None`), around 0 and every pair marked
+/// `half_turn_unresolved`. Clipping is
 /// checked against `adc_min_code` to `adc_max_code`; with `measure_adc_range=True` also
 /// against the rails measured on each pushed block (for a range that is only a guess: every
 /// pair whose window holds a sample at a rail is flagged clipping). The state carries over
@@ -73,8 +80,11 @@ class_methods! {
         tracked_carrier_hz: f64 = |this, py| this.stream.demodulator().tracked_carrier_hz(this.stream.state());
         /// `True` once the start-up is done (pairs come out from then on).
         is_delay_ready: bool = |this, py| this.stream.state().is_delay_ready();
-        /// `True` if the excitation's samples were pushed (the half turn resolved from them).
+        /// `True` if the excitation's samples were pushed (the delay after it measured from
+        /// them, within a half turn).
         has_excitation: bool = |this, py| this.stream.state().has_excitation();
+        /// `True` if `expected_delay_rad` was given (the half turn resolved around it).
+        is_delay_stated: bool = |this, py| this.stream.is_delay_stated();
         /// The carrier delay chosen (rad, in [-pi, pi)): after the excitation if pushed, else
         /// the carrier's phase at the first sample resolved around `expected_delay_rad` (the
         /// other half turn would give the shaft half a turn further).
@@ -96,7 +106,7 @@ class_methods! {
         #[new]
         #[pyo3(signature = (*, carrier_hz, carrier_amplitude_counts, adc_rate_hz = None,
             samples_per_period = None, adc_min_code = 0.0, adc_max_code = 4095.0,
-            expected_delay_rad = 0.0, startup_periods = None, phase_drift_bound_rad = None,
+            expected_delay_rad = None, startup_periods = None, phase_drift_bound_rad = None,
             loss_of_excitation = None, weak_excitation = None, carrier_loop_bandwidth = None,
             max_carrier_error = None, measure_adc_range = false))]
         #[allow(clippy::too_many_arguments)]
@@ -107,7 +117,7 @@ class_methods! {
             samples_per_period: Option<f64>,
             adc_min_code: f64,
             adc_max_code: f64,
-            expected_delay_rad: f64,
+            expected_delay_rad: Option<f64>,
             startup_periods: Option<Count>,
             phase_drift_bound_rad: Option<f64>,
             loss_of_excitation: Option<f64>,
@@ -159,6 +169,7 @@ class_methods! {
                 quadrature_s: p.quadrature_s.into_pyarray(py).unbind(),
                 window: p.window.into_pyarray(py).unbind(),
                 faults: p.faults.into_pyarray(py).unbind(),
+                half_turn_unresolved: p.half_turn_unresolved.into_pyarray(py).unbind(),
             })
         }
 

@@ -376,13 +376,14 @@ def test_the_speed_is_at_the_tracked_carrier_rate(tmp_path, capsys):
 
 def test_the_time_stamps_come_from_the_time_column(tmp_path, carrier_gains, capsys):
     # A declared carrier 0.5 % off (within the 2 %): the rows are stamped by the capture's
-    # clock (not the declared carrier's), at the centroids of their windows of an even
-    # number of samples (half a sample off the grid), one tracked period (16 samples) apart.
+    # clock (not the declared carrier's), at 16 samples a period at the centroids of their
+    # windows of an even number of samples (half a sample off the grid) to within the loop's
+    # phase noise (measured: 0.001 samples), one tracked period (16 samples) apart.
     scenario = windings(0.05)
     est, error, _ = track_windings(tmp_path, carrier_gains, *scenario, capsys, "--carrier-hz", "10050")
     position = est["time_s"] * ADC_HZ - 0.5
-    np.testing.assert_allclose(position, np.round(position), rtol=0, atol=1e-6)
-    np.testing.assert_allclose(np.diff(est["time_s"]) * ADC_HZ, 16.0, rtol=0, atol=1e-6)
+    np.testing.assert_allclose(position, np.round(position), rtol=0, atol=0.01)
+    np.testing.assert_allclose(np.diff(est["time_s"]) * ADC_HZ, 16.0, rtol=0, atol=0.02)
     # The speed at the tracked carrier's rate, not the declared one's (0.5 % fast before).
     speed = est["speed_rad_s"][-len(est) // 4:]
     assert np.max(np.abs(speed / OMEGA - 1.0)) < 2e-3

@@ -126,6 +126,33 @@ def test_cli_calibrate_then_track_with_calibration_below_half_a_milliradian(tmp_
     assert not refused_out.exists()
 
 
+def test_cli_calibrate_names_a_reference_that_runs_opposite_at_other_pole_pairs_and_takes_it_stated(tmp_path, capsys):
+    # A mechanical encoder counting the other way on a 2-pole-pair sensor, its zero 0.7 rad
+    # from the sensor's: refused naming --reference-ratio; stated, the harmonics are learned
+    # as against the sensor's own reference (the offset taken as the reference's zero).
+    s = learning_capture()
+    cap, cal_file, gains_file = tmp_path / "mech.csv", tmp_path / "cal.json", tmp_path / "g.json"
+    gains_file.write_text(export.to_json(gains()))
+    mechanical = np.remainder(0.7 - s.angle_rad / 2, 2 * math.pi)
+    capture.write_capture(cap, {"time": s.time_s, "y_c": s.y_c, "y_s": s.y_s, "reference": mechanical})
+    base = ["calibrate", str(cap), "--gains-file", str(gains_file), "--output", str(cal_file)]
+    capsys.readouterr()
+    assert cli.main(base) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("angletrack: error: reference:") and "--reference-ratio" in err and err.count("\n") == 1, err
+    assert cli.main(base + ["--reference-ratio", "-2"]) == 0
+    assert capsys.readouterr().out.startswith("calibrated against the reference")
+    stated = json.loads(cal_file.read_text())
+    write(cap, s)
+    assert cli.main(base) == 0
+    own = json.loads(cal_file.read_text())
+    for key in ("cos", "sin"):
+        np.testing.assert_allclose(stated[key], own[key], rtol=0, atol=2e-5)
+    with pytest.raises(SystemExit) as exit_:
+        cli.main(base + ["--reference-ratio", "0"])
+    assert exit_.value.code == 2 and "--reference-ratio" in capsys.readouterr().err
+
+
 def test_cli_calibrate_errors_name_the_flags_in_one_line(tmp_path, capsys):
     cap = tmp_path / "slow.csv"
     write(cap, scenario(angletrack.MotionProfile(0.0, 2 * math.pi * 15).constant_speed(2 * math.pi * 15, 1.0), 4))

@@ -53,13 +53,14 @@ def test_demodulator_estimates_the_delay_and_stamps_the_window_centres():
     assert demodulator.pair_period_s == pytest.approx(1e-4)
     # The loop's frequency, noisy at its bandwidth of about 0.2 f_c: within 0.1 %.
     assert demodulator.tracked_carrier_hz == pytest.approx(1e4, rel=1e-3)
-    # The first pair after the 23 start-up windows; each holds at the centroid of its
-    # trapezoid window (a period and the quarters around it: 20 samples, the centroid 9.5
-    # after the first), the windows cut at the tracked carrier's phase, one period apart.
+    # The first pair after the 23 start-up windows; at 16 samples a period each holds at the
+    # centroid of its trapezoid window (a period and the quarters around it: 20 samples, the
+    # centroid 9.5 after the first) to within the loop's phase noise (measured: 0.002
+    # samples), the windows cut at the tracked carrier's phase, one period apart.
     assert pairs.window[0] == 23 and len(pairs) == 100 - 23
     offset = pairs.time_s * 160e3 - 9.5
-    np.testing.assert_allclose(offset, np.round(offset), atol=1e-6)
-    np.testing.assert_allclose(np.diff(pairs.time_s), 1e-4, rtol=1e-9)
+    np.testing.assert_allclose(offset, np.round(offset), atol=0.01)
+    np.testing.assert_allclose(np.diff(pairs.time_s), 1e-4, rtol=1e-3)
     truth = np.interp(pairs.time_s, scenario.time_s, scenario.angle_rad)
     angle = np.arctan2(pairs.y_s, pairs.y_c)
     # Measured 4.9e-4 rad at most.
@@ -185,10 +186,10 @@ def test_demodulator_any_ratio_an_off_carrier_and_the_excitation_resolving_200_d
     assert np.all(pairs.faults == 0)
 
 
-def test_track_carrier_resolves_200_degrees_from_an_excitation_column(tmp_path, capsys):
+def test_track_carrier_half_turn_from_the_stated_delay_after_an_inverted_excitation_probe(tmp_path, capsys):
     # 150 kHz over a 10 kHz carrier (15 per period), the carrier 200 degrees off phase 0 at
-    # the first sample and recorded in an excitation column, synthesised here with numpy; no
-    # --expected-delay-deg: the excitation resolves the half turn.
+    # the first sample, recorded in an excitation column by an inverted probe (the windings
+    # 180 degrees after it), synthesised here with numpy.
     adc_hz, delay = 150e3, math.radians(200.0)
     t = np.arange(int(0.05 * adc_hz)) / adc_hz
     theta = 0.4 + 2 * math.pi * 50.0 * t
@@ -196,15 +197,23 @@ def test_track_carrier_resolves_200_degrees_from_an_excitation_column(tmp_path, 
     rng = np.random.default_rng(3)
     columns = {"time": t, "y_c": np.round(2048 + 1800 * np.cos(theta) * np.sin(psi) + rng.normal(0, 1, t.size)),
                "y_s": np.round(2048 + 1800 * np.sin(theta) * np.sin(psi) + rng.normal(0, 1, t.size)),
-               "exc": np.round(2048 + 1000 * np.sin(psi)), "reference": theta}
+               "exc": np.round(2048 - 1000 * np.sin(psi)), "reference": theta}
     raw, gains_file, out = tmp_path / "raw.csv", tmp_path / "g.json", tmp_path / "est.csv"
     capture.write_capture(raw, columns)
     design_gains(gains_file, 10_000)
+    track = ["track", str(raw), "--carrier-hz", "10000", "--gains-file", str(gains_file),
+             "--columns", "excitation=exc", "--output", str(out), "--skip", "0.02"]
     capsys.readouterr()
-    status = cli.main(["track", str(raw), "--carrier-hz", "10000", "--gains-file", str(gains_file),
-                       "--columns", "excitation=exc", "--output", str(out), "--skip", "0.02"])
+    # Without --expected-delay-deg the half turn is taken around 0, half a turn off here, and
+    # every row says so (not a fault).
+    assert cli.main(track) == 0
     printed = capsys.readouterr().out
-    assert status == 0, printed
-    assert "resolved from it" in printed and "180-degree ambiguity" not in printed, printed
+    data = np.genfromtxt(out, delimiter=",", names=True)
+    assert np.all(data["half_turn_unresolved"] == 1) and np.all(data["front_end_faults"] == 0), printed
+    assert "half_turn_unresolved" in printed and "--expected-delay-deg" in printed, printed
+    # Stated, 180 degrees after the excitation: the right angle, every row resolved.
+    assert cli.main(track + ["--expected-delay-deg", "180"]) == 0
+    printed = capsys.readouterr().out
     rms = float(printed.split("RMS ")[1].split()[0])
     assert rms < 2e-3, printed
+    assert np.all(np.genfromtxt(out, delimiter=",", names=True)["half_turn_unresolved"] == 0)

@@ -120,10 +120,11 @@ impl<V: DemodulatorNumber> Demodulator<V> {
         }
     }
 
-    /// The time (s) at which `pair` holds, counting from the first ADC sample pushed (at
-    /// time 0), from the ADC rate. In `f64`, for host-side code.
+    /// The time (s) at which `pair` holds ([`DemodulatedPair::instant_sample`]), counting
+    /// from the first ADC sample pushed (at time 0), from the ADC rate. In `f64`, for
+    /// host-side code.
     pub fn centre_s(&self, pair: &DemodulatedPair<V>) -> f64 {
-        pair.centre_sample() / self.adc_rate_hz.to_f64()
+        pair.instant_sample() / self.adc_rate_hz.to_f64()
     }
 
     /// The carrier frequency (Hz) the loop tracks now (the declared one before the first

@@ -33,7 +33,9 @@ impl FrontEndFaults {
     /// The recorded excitation unusable: with samples of the excitation
     /// ([`Demodulator::push_with_excitation`](crate::Demodulator::push_with_excitation)), its
     /// carrier in this window is below an eighth of the windings' nominal amplitude (a flat
-    /// or missing reference) or not a number, or none has been usable since the start-up.
+    /// or missing reference) or not a number, or the windings' delay after it is within 14
+    /// degrees of a quarter turn from the expected delay (the half turn undecided), or none
+    /// has been usable since the start-up.
     /// The carrier's half turn is then not checked against it: the one last resolved from
     /// it is kept, and before any, the expected delay's is taken.
     pub const EXCITATION_REFERENCE: FrontEndFaults = FrontEndFaults(1 << 5);

@@ -3,24 +3,31 @@
 //! §13`).
 //!
 //! The windings are `y_c = A cos(theta) c(t)` and `y_s = A sin(theta) c(t)` for the carrier
-//! `c(t) = sin(2 pi f t - d)`: their squares sum to `A^2 c(t)^2 = A^2 (1 - cos(4 pi f t -
-//! 2 d)) / 2`, a tone at twice the carrier whatever the shaft does (the angle modulation
-//! cancels). The measurement times the upward zero crossings of that tone (each channel's
-//! mean removed first, so that an offset adds nothing at twice the carrier), with
-//! hysteresis against noise, and averages the crossing intervals near their median, so
-//! that a stretch without carrier (an excitation fault) does not count as a long period.
+//! `c(t)`: their squares sum to `A^2 c(t)^2` whatever the shaft does (the angle modulation
+//! cancels), periodic at the carrier's period `T`; for a sine carrier a tone at twice the
+//! carrier, `A^2 (1 - cos(4 pi f t - 2 d)) / 2`. A carrier harmonic (a 2nd harmonic from an
+//! excitation amplifier) adds components at the carrier and three times it, which move
+//! the tone's zero crossings by up to a tenth of its period and hide some of them: so the
+//! measurement reads the period from the power's autocorrelation (each channel's mean
+//! removed first, so that an offset adds nothing), whose peaks sit at the multiples of
+//! `T / 2` (of `T` where a harmonic makes the halves differ) however the waveform is
+//! shaped: the first peak near `T / 2`, then the peak near ever larger multiples of it,
+//! each predicted from the last, the last one divided by its multiple. A stretch without
+//! carrier (an excitation fault) lowers the peaks, not where they are.
 
-/// The median interval's fraction within which crossing intervals are averaged.
-const INTERVAL_TOLERANCE: f64 = 0.2;
+/// A peak of the power's normalised autocorrelation is the carrier's only above this: white
+/// noise stays near 0; a sine carrier gives 1 at `T / 2`, one with a 15 % 2nd harmonic 0.7,
+/// but at 5 samples a period (`T / 2` of 2.5 samples) the whole lags either side read 0.31.
+const PEAK_CORRELATION: f64 = 0.25;
 
-/// The fewest crossing intervals a measurement averages.
-const MIN_INTERVALS: usize = 8;
+/// The fewest carrier periods a measurement spans.
+const MIN_PERIODS: f64 = 8.0;
 
 /// The carrier frequency of the raw windings `y_c`, `y_s` (equal lengths, any offset) in
-/// cycles per sample: half the rate of the upward zero crossings of `y_c^2 + y_s^2`, each
-/// channel's mean removed. `None` when the samples hold fewer than 8 clean crossing
-/// intervals, or fewer than half of its intervals near their median (too short, no
-/// carrier, or fewer than about 5 samples per carrier period, where the tone at twice the
+/// cycles per sample: the period of `y_c^2 + y_s^2` (each channel's mean removed) read from
+/// its autocorrelation, any carrier harmonics included. `None` when the samples span fewer
+/// than 8 carrier periods, when the power has no period (no carrier: its autocorrelation
+/// never reaches 0.25), or below 5 samples per carrier period (where the tone at twice the
 /// carrier is not resolved).
 ///
 /// ```
@@ -63,46 +70,64 @@ pub(crate) fn mean(values: &[f64]) -> f64 {
 /// [`measured_carrier_cycles_per_sample`] from the windings' [`centred_power`].
 pub(crate) fn cycles_of_power(power: &[f64]) -> Option<f64> {
     let n = power.len();
-    if n < 2 {
-        return None;
-    }
     let level = mean(power);
-    if !(level.is_finite() && level > 0.0) {
+    if n < 16 || !(level.is_finite() && level > 0.0) {
         return None;
     }
-    // The tone's amplitude is the mean power itself (A^2 / 2 about A^2 / 2): a quarter of it
-    // is far above the noise.
-    let hysteresis = 0.25 * level;
-    let mut crossings = Vec::new();
-    let mut armed = false;
-    for k in 1..n {
-        let (before, after) = (power[k - 1] - level, power[k] - level);
-        if before < -hysteresis {
-            armed = true;
+    let x: Vec<f64> = power.iter().map(|p| p - level).collect();
+    let energy = x.iter().map(|v| v * v).sum::<f64>() / n as f64;
+    if !(energy.is_finite() && energy > 0.0) {
+        return None;
+    }
+    // The normalised autocorrelation at a whole lag (below n).
+    let correlation = |lag: usize| {
+        let products = x.iter().zip(&x[lag..]).map(|(a, b)| a * b).sum::<f64>();
+        products / (n - lag) as f64 / energy
+    };
+    // The first peak above the threshold: half the carrier's period. Its lag at most a
+    // sixteenth of the samples (8 periods).
+    let longest = n / 16;
+    let (mut before, mut at) = (correlation(1), correlation(2));
+    let mut first = None;
+    for lag in 2..longest {
+        let after = correlation(lag + 1);
+        if at > PEAK_CORRELATION && at >= before && at >= after {
+            first = Some(lag as f64 + vertex(before, at, after));
+            break;
         }
-        if armed && before < 0.0 && after >= 0.0 {
-            crossings.push((k - 1) as f64 + before / (before - after));
-            armed = false;
-        }
+        (before, at) = (at, after);
     }
-    let mut intervals: Vec<f64> = crossings.windows(2).map(|w| w[1] - w[0]).collect();
-    if intervals.len() < MIN_INTERVALS {
-        return None;
+    let mut half_period = first?;
+    // Refined on the peak near ever larger multiples of it, each within a sample or two of
+    // its prediction, up to half the samples.
+    let mut multiple = 2.0;
+    while multiple * half_period + 2.0 < n as f64 / 2.0 {
+        let predicted = multiple * half_period;
+        let (low, high) = (
+            predicted.round() as usize - 2,
+            predicted.round() as usize + 2,
+        );
+        let values: Vec<f64> = (low..=high).map(correlation).collect();
+        let best = (1..values.len() - 1)
+            .max_by(|&a, &b| values[a].total_cmp(&values[b]))
+            .unwrap_or(2);
+        let lag = (low + best) as f64 + vertex(values[best - 1], values[best], values[best + 1]);
+        half_period = lag / multiple;
+        multiple *= 2.0;
     }
-    let mut sorted = intervals.clone();
-    sorted.sort_by(f64::total_cmp);
-    let median = sorted[sorted.len() / 2];
-    let all = intervals.len();
-    intervals.retain(|i| (i / median - 1.0).abs() <= INTERVAL_TOLERANCE);
-    // A carrier's crossings are regular: most intervals are near the median (noise alone
-    // leaves a minority there).
-    if intervals.len() < MIN_INTERVALS || 2 * intervals.len() < all {
-        return None;
+    let period = 2.0 * half_period;
+    (period >= 5.0 && n as f64 >= MIN_PERIODS * period).then(|| 1.0 / period)
+}
+
+/// The offset (within half a sample) of the vertex of the parabola through three equally
+/// spaced values, from the middle one.
+fn vertex(before: f64, at: f64, after: f64) -> f64 {
+    let curvature = before - 2.0 * at + after;
+    if curvature < 0.0 {
+        (0.5 * (before - after) / curvature).clamp(-0.5, 0.5)
+    } else {
+        0.0
     }
-    let tone_period = intervals.iter().sum::<f64>() / intervals.len() as f64;
-    // Below about 5 samples per carrier period the tone at twice the carrier is sampled
-    // below 2.5 per cycle and its crossings are not its own.
-    (tone_period >= 2.5).then(|| 0.5 / tone_period)
 }
 
 #[cfg(test)]
@@ -114,6 +139,16 @@ mod tests {
         n: usize,
         lost: core::ops::Range<usize>,
     ) -> (Vec<f64>, Vec<f64>) {
+        windings_with_harmonic(samples_per_period, n, lost, 0.0)
+    }
+
+    /// The windings of a carrier with a 2nd harmonic of relative amplitude `harmonic`.
+    fn windings_with_harmonic(
+        samples_per_period: f64,
+        n: usize,
+        lost: core::ops::Range<usize>,
+        harmonic: f64,
+    ) -> (Vec<f64>, Vec<f64>) {
         let mut noise = 12345_u64;
         let mut next = || {
             noise = noise
@@ -124,7 +159,11 @@ mod tests {
         (0..n)
             .map(|k| {
                 let phase = 2.0 * std::f64::consts::PI * k as f64 / samples_per_period - 0.6;
-                let carrier = if lost.contains(&k) { 0.0 } else { phase.sin() };
+                let carrier = if lost.contains(&k) {
+                    0.0
+                } else {
+                    phase.sin() + harmonic * (2.0 * phase + 0.4).sin()
+                };
                 let theta = 0.3 + 2.0 * std::f64::consts::PI * 50.0 * k as f64 / 160e3;
                 (
                     2048.0 + 1800.0 * theta.cos() * carrier + 2.0 * next(),
@@ -136,8 +175,18 @@ mod tests {
 
     #[test]
     fn the_carrier_is_measured_through_the_angle_modulation_imbalance_and_noise() {
-        for samples_per_period in [6.0, 9.6, 15.0, 16.0, 16.0 * 1.005, 64.0] {
+        for samples_per_period in [5.2, 6.0, 9.6, 15.0, 16.0, 16.0 * 1.005, 64.0] {
             let (c, s) = windings(samples_per_period, 16_000, 0..0);
+            let measured = measured_carrier_cycles_per_sample(&c, &s).unwrap();
+            let error = measured * samples_per_period - 1.0;
+            assert!(error.abs() < 2e-4, "{samples_per_period}: {error}");
+        }
+    }
+
+    #[test]
+    fn a_carrier_harmonic_does_not_move_the_measurement() {
+        for samples_per_period in [5.2, 6.0, 9.6, 16.0] {
+            let (c, s) = windings_with_harmonic(samples_per_period, 16_000, 0..0, 0.15);
             let measured = measured_carrier_cycles_per_sample(&c, &s).unwrap();
             let error = measured * samples_per_period - 1.0;
             assert!(error.abs() < 2e-4, "{samples_per_period}: {error}");

@@ -24,8 +24,14 @@ pub struct DemodulatorArguments {
     pub samples_per_period: Option<f64>,
     /// The ADC's codes `(min, max)` clipping is checked against.
     pub adc_range: (f64, f64),
-    /// The carrier's expected phase at the first sample (rad).
-    pub expected_delay_rad: f64,
+    /// The carrier delay (rad) the half turn is resolved around, as the caller states it:
+    /// with the excitation's samples the windings' delay after the excitation, without them
+    /// the carrier's phase at the first sample. `None`: not stated; the half turn is taken
+    /// around 0 and every pair marked [`PairColumns::half_turn_unresolved`] (the windings and
+    /// the excitation cannot tell a delay from the one half a turn away: an inverted
+    /// excitation probe, or a filter delaying the carrier beyond 90 degrees, reads as the
+    /// shaft half a turn further).
+    pub expected_delay_rad: Option<f64>,
     /// The carrier periods of the start-up.
     pub startup_periods: Option<u32>,
     /// The phase drift flagged (rad).
@@ -63,6 +69,11 @@ pub struct PairColumns {
     pub window: Vec<u64>,
     /// The front end's faults of each window (bits).
     pub faults: Vec<u8>,
+    /// Whether each pair's half turn rests on nothing stated: `true` on every pair without a
+    /// stated delay, and with the excitation on the pairs whose window's excitation resolved
+    /// nothing ([`FrontEndFaults::EXCITATION_REFERENCE`]). Not a fault: the angle is right
+    /// or exactly half a turn off, the same on every such pair.
+    pub half_turn_unresolved: Vec<bool>,
 }
 
 /// The core's demodulator of a stream of raw windings, its state and the rails measured
@@ -85,6 +96,7 @@ pub struct DemodulatorStream {
     demodulator: Demodulator<f64>,
     state: DemodulatorState<f64>,
     rails: Option<WindingRails>,
+    delay_stated: bool,
 }
 
 impl DemodulatorStream {
@@ -112,7 +124,7 @@ impl DemodulatorStream {
             max,
         );
         let settings = DemodulatorSettings {
-            expected_delay_rad: a.expected_delay_rad,
+            expected_delay_rad: a.expected_delay_rad.unwrap_or(0.0),
             startup_periods: a.startup_periods.unwrap_or(d.startup_periods),
             phase_drift_bound_rad: a.phase_drift_bound_rad.unwrap_or(d.phase_drift_bound_rad),
             loss_of_excitation: a.loss_of_excitation.unwrap_or(d.loss_of_excitation),
@@ -126,7 +138,14 @@ impl DemodulatorStream {
             demodulator,
             state: DemodulatorState::new(),
             rails: a.measure_adc_range.then(WindingRails::new),
+            delay_stated: a.expected_delay_rad.is_some(),
         })
+    }
+
+    /// Whether the carrier delay the half turn is resolved around was stated
+    /// ([`DemodulatorArguments::expected_delay_rad`]).
+    pub fn is_delay_stated(&self) -> bool {
+        self.delay_stated
     }
 
     /// The core's demodulator.
@@ -186,6 +205,7 @@ impl DemodulatorStream {
             ));
         }
         let demodulator = &self.demodulator;
+        let stated = self.delay_stated;
         let mut out = PairColumns::default();
         let sink = |pair: DemodulatedPair<f64>| {
             out.time_s.push(demodulator.centre_s(&pair));
@@ -195,6 +215,9 @@ impl DemodulatorStream {
             out.quadrature_s.push(pair.quadrature_s);
             out.window.push(pair.window);
             out.faults.push(pair.faults.bits());
+            let no_reference =
+                excitation.is_some() && pair.faults.contains(FrontEndFaults::EXCITATION_REFERENCE);
+            out.half_turn_unresolved.push(!stated || no_reference);
         };
         let (state, c, s) = (&mut self.state, raw_c, raw_s);
         match (&mut self.rails, excitation) {
@@ -292,5 +315,28 @@ mod tests {
         assert!(y_c.len() > 50, "{}", y_c.len());
         assert_eq!(pairs.y_c, y_c);
         assert_eq!(pairs.time_s.len(), y_c.len());
+    }
+
+    #[test]
+    fn the_half_turn_is_unresolved_unless_the_delay_is_stated_and_the_excitation_resolved_it() {
+        let carrier = |k: usize| (std::f64::consts::TAU * k as f64 / 16.0).sin();
+        let c: Vec<f64> = (0..1600).map(|k| 2048.0 + 1800.0 * carrier(k)).collect();
+        let s = vec![2048.0; 1600];
+        let flat = vec![2048.0; 1600];
+        let excitation: Vec<f64> = (0..1600).map(|k| 2048.0 + 1500.0 * carrier(k)).collect();
+        let unresolved = |delay: Option<f64>, e: Option<&[f64]>| {
+            let a = DemodulatorArguments {
+                expected_delay_rad: delay,
+                ..arguments()
+            };
+            let pairs = DemodulatorStream::new(&a).unwrap().push(&c, &s, e).unwrap();
+            assert!(pairs.half_turn_unresolved.len() > 50);
+            let all = pairs.half_turn_unresolved.iter().all(|&u| u);
+            assert!(all || pairs.half_turn_unresolved.iter().all(|&u| !u));
+            all
+        };
+        assert!(unresolved(None, None) && unresolved(None, Some(&excitation)));
+        assert!(!unresolved(Some(0.0), None) && !unresolved(Some(0.0), Some(&excitation)));
+        assert!(unresolved(Some(0.0), Some(&flat)));
     }
 }

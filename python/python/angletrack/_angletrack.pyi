@@ -1003,7 +1003,8 @@ class DemodulatedPairs:
     """The pairs of one ``Demodulator.push``: one element per carrier period."""
 
     time_s: npt.NDArray[np.float64]
-    """The time (s) at which each pair holds, the centroid of its window, from the first ADC sample."""
+    """The time (s) at which each pair holds (its window's samples weighted by their share of the pair),
+    from the first ADC sample."""
     y_c: npt.NDArray[np.float64]
     y_s: npt.NDArray[np.float64]
     quadrature_c: npt.NDArray[np.float64]
@@ -1012,6 +1013,9 @@ class DemodulatedPairs:
     faults: npt.NDArray[np.uint8]
     """Front-end faults: 1 loss of excitation, 2 carrier phase drift, 4 clipping, 8 weak excitation,
     32 excitation reference (the recorded excitation unusable: ``FrontEndFaults``)."""
+    half_turn_unresolved: npt.NDArray[np.bool_]
+    """Whether each pair's half turn rests on nothing stated (no ``expected_delay_rad``, or the
+    excitation unusable in its window): not a fault; the angle is right or half a turn off."""
     def __len__(self) -> int: ...
 
 class Demodulator:
@@ -1027,7 +1031,7 @@ class Demodulator:
         samples_per_period: Optional[float] = None,
         adc_min_code: float = 0.0,
         adc_max_code: float = 4095.0,
-        expected_delay_rad: float = 0.0,
+        expected_delay_rad: Optional[float] = None,
         startup_periods: Optional[int] = None,
         phase_drift_bound_rad: Optional[float] = None,
         loss_of_excitation: Optional[float] = None,
@@ -1047,6 +1051,8 @@ class Demodulator:
     def tracked_carrier_hz(self) -> float: ...
     @property
     def has_excitation(self) -> bool: ...
+    @property
+    def is_delay_stated(self) -> bool: ...
     @property
     def is_delay_ready(self) -> bool: ...
     @property

@@ -316,7 +316,8 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
         cal = tracking.calibrate_capture(
             settings, lowest_order=args.lowest_order, highest_order=args.highest_order,
             settle_fraction=args.settle_fraction, self_calibration=args.self_calibration,
-            own_loop=args.loop == "own", min_significance=args.min_significance)
+            own_loop=args.loop == "own", min_significance=args.min_significance,
+            reference_ratio=args.reference_ratio)
     except angletrack.ConfigError as e:
         message = str(e)
         for name, flag in _CALIBRATE_FLAGS.items():
@@ -333,6 +334,17 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     return 0
 
 
+def reference_ratio(text: str) -> int:
+    """``--reference-ratio``: a whole number other than 0 (argparse names the option)."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value == 0 or abs(value) > 1 << 16:
+        raise argparse.ArgumentTypeError(f"expected a whole number from -65536 to 65536 other than 0, got {text}")
+    return value
+
+
 def _add_calibrate_parser(sub) -> None:
     cal = subcommand(sub, _cmd_calibrate)
     cal.add_argument("capture", type=pathlib.Path, metavar="CAPTURE")
@@ -346,6 +358,11 @@ def _add_calibrate_parser(sub) -> None:
     clipping.add_signedness(cal)
     cal.add_argument("--self", dest="self_calibration", action="store_true",
                      help="self-calibrate even when the capture has a reference column")
+    cal.add_argument("--reference-ratio", type=reference_ratio, default=1, metavar="N",
+                     help="the sensor's angle turns N times per turn of the reference column: a whole number, the "
+                     "motor's pole pairs for a mechanical reference, negative for a reference counting the other way "
+                     "(default 1; a constant offset between the two zeros needs nothing: it is taken as the "
+                     "reference's zero)")
     cal.add_argument("--loop", choices=["own", "gains"], default="own",
                      help="self-calibration's loop: own (default: one designed from the capture's speed, every "
                      "order above its bandwidth) or gains (orders within their bandwidth are not learned)")

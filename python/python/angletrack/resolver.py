@@ -15,7 +15,10 @@ holds), ``angle_rad``, ``position_rad``, ``speed_rad_s``, ``acceleration_rad_s2`
 through which the observer coasts on its prediction when the fault invalidates the pair: loss
 of excitation, a winding open or shorted), ``front_end_faults`` (the demodulator's and the
 winding check's: 1 loss of excitation, 2 carrier phase drift, 4 clipping, 8 weak excitation,
-16 winding), ``y_c``, ``y_s`` (the demodulated pair); with
+16 winding, 32 excitation reference), ``half_turn_unresolved`` (1 where the carrier's half
+turn rests on nothing stated: no ``--expected-delay-deg``, or the excitation column unusable
+in the row's window; not a fault: the angle is right or exactly half a turn off), ``y_c``,
+``y_s`` (the demodulated pair); with
 ``--pole-pairs`` or ``--latency`` also ``electrical_angle_rad`` (pole pairs times the
 mechanical angle at ``time_s + latency``, wrapped to [-pi, pi)) and
 ``electrical_speed_rad_s``.
@@ -83,8 +86,11 @@ def add_track_arguments(track: argparse.ArgumentParser) -> None:
                    help="a winding's carrier amplitude at envelope 1 (counts, peak); default: "
                    "measured on the first chunk")
     g.add_argument("--expected-delay-deg", type=any_finite_number, metavar="DEG",
-                   help="the carrier's phase at the first sample (degrees) the carrier's half-turn "
-                   "ambiguity is resolved around (default 0)")
+                   help="the carrier delay (degrees) the carrier's half-turn ambiguity is resolved around: with "
+                   "an excitation column the windings' delay after it (180 for an inverted excitation probe), "
+                   "else the carrier's phase at the first sample; without it the half turn is taken around 0 and "
+                   "every row is marked half_turn_unresolved (the windings cannot tell a delay from the one 180 "
+                   "degrees away)")
     g.add_argument("--pole-pairs", type=pole_pairs_count, metavar="P",
                    help="write electrical_angle_rad for a motor of P pole pairs (1 to 65536; default 1)")
     g.add_argument("--latency", type=non_negative_number, metavar="S",
@@ -118,7 +124,7 @@ def track_options(args: argparse.Namespace) -> dict:
         "carrier_hz": args.carrier_hz,
         "samples_per_period": args.samples_per_period,
         "carrier_amplitude_counts": args.carrier_amplitude,
-        "expected_delay_deg": 0.0 if args.expected_delay_deg is None else args.expected_delay_deg,
+        "expected_delay_deg": args.expected_delay_deg,
         "pole_pairs": args.pole_pairs,
         "latency_s": args.latency,
     }
@@ -210,7 +216,8 @@ def track_windings(s) -> tuple:
     gains = _gains(s, carrier_hz)
     demodulator = angletrack.Demodulator(
         carrier_hz=carrier_hz, adc_rate_hz=adc_hz, carrier_amplitude_counts=amplitude,
-        adc_min_code=adc_min, adc_max_code=adc_max, expected_delay_rad=math.radians(s.expected_delay_deg),
+        adc_min_code=adc_min, adc_max_code=adc_max,
+        expected_delay_rad=None if s.expected_delay_deg is None else math.radians(s.expected_delay_deg),
         # A guessed range may lie beyond rails that only later samples reach: they are
         # measured as the samples come.
         measure_adc_range=adc_how == "guessed",
@@ -227,10 +234,11 @@ def track_windings(s) -> tuple:
     reference = _Reference()
     columns = [(name, np.float64) for name in ("time_s", "angle_rad", "position_rad", "speed_rad_s",
                                                 "acceleration_rad_s2", "phase_error")]
-    columns += [("faults", np.uint8), ("front_end_faults", np.uint8), ("y_c", np.float64), ("y_s", np.float64)]
+    columns += [("faults", np.uint8), ("front_end_faults", np.uint8), ("half_turn_unresolved", np.uint8),
+                ("y_c", np.float64), ("y_s", np.float64)]
     if drive is not None:
         columns += [("electrical_angle_rad", np.float64), ("electrical_speed_rad_s", np.float64)]
-    pairs_total = 0
+    pairs_total = unresolved_total = 0
     s.output.parent.mkdir(parents=True, exist_ok=True)
     # All or nothing: written beside the output and renamed when complete; a fault part
     # way (a malformed row, an interrupt) leaves the output as it was.
@@ -254,13 +262,14 @@ def track_windings(s) -> tuple:
                 speed = np.asarray(est.speed, dtype=np.float64) * scale
                 acceleration = np.asarray(est.acceleration, dtype=np.float64) * scale**2
                 values = [time_s, est.angle, est.position, speed, acceleration, est.phase_error,
-                          est.faults, pairs.faults, pairs.y_c, pairs.y_s]
+                          est.faults, pairs.faults, pairs.half_turn_unresolved, pairs.y_c, pairs.y_s]
                 if drive is not None:
                     angles = drive.update(est)
                     values += [angles.electrical_angle_rad,
                                np.asarray(angles.electrical_speed_rad_s, dtype=np.float64) * scale]
                 out.write([np.ascontiguousarray(v, dtype=dtype) for v, (_, dtype) in zip(values, columns)])
                 pairs_total += len(pairs)
+                unresolved_total += int(np.count_nonzero(pairs.half_turn_unresolved))
                 if stats is not None:
                     stats.add(time_s, est.angle, reference.at(time_s))
             chunk = next(chunks, None)
@@ -274,7 +283,7 @@ def track_windings(s) -> tuple:
         f"{reader.rows} ADC samples at {adc_hz:.6g} Hz ({n:.6g} per {carrier_hz:.6g} Hz carrier period; amplitude "
         f"{amplitude:.6g} counts, ADC codes {adc_min:.6g} to {adc_max:.6g}, {adc_how}{_rails_note(demodulator, adc_how)}) -> "
         f"{pairs_total} estimates -> {s.output}",
-        _delay_line(demodulator, s.expected_delay_deg),
+        _delay_line(demodulator, s.expected_delay_deg, unresolved_total, pairs_total),
         f"front-end faults latched: {_front_end_names(_latched_front_end(demodulator, observer))}; "
         f"observer faults latched: {latched.name if latched else 'none'}",
     ]
@@ -298,18 +307,24 @@ def _latched_front_end(demodulator, observer) -> int:
     return demodulator.latched_faults | getattr(observer, "latched_front_end_faults", 0)
 
 
-def _delay_line(demodulator, expected_delay_deg: float) -> str:
-    """The summary's line on the carrier: its tracked frequency, the delay chosen, and how the
-    half-turn ambiguity was resolved."""
+def _delay_line(demodulator, expected_delay_deg: Optional[float], unresolved: int, pairs: int) -> str:
+    """The summary's line on the carrier: its tracked frequency, the delay chosen, and what the
+    half-turn ambiguity was resolved from (or that it was not)."""
     delay = math.degrees(demodulator.carrier_delay_rad) % 360.0
-    line = f"carrier tracked at {demodulator.tracked_carrier_hz:.6g} Hz at the end; carrier delay chosen: {delay:.3f} deg "
-    if demodulator.has_excitation:
-        return line + (f"after the excitation column, the half turn resolved from it (within 90 deg of "
-                       f"--expected-delay-deg {expected_delay_deg:g})")
-    return line + (f"(the windings' carrier phase at the first sample, taken within 90 deg of --expected-delay-deg "
-                   f"{expected_delay_deg:g}; no excitation column): the windings cannot tell it from the delay 180 deg "
-                   f"away, so the mechanical angle carries a 180-degree ambiguity (and so does the electrical angle "
-                   f"for an odd pole-pair count)")
+    other = (delay + 180.0) % 360.0
+    line = f"carrier tracked at {demodulator.tracked_carrier_hz:.6g} Hz at the end; "
+    where = "after the excitation column" if demodulator.has_excitation else "at the first sample (no excitation column)"
+    if expected_delay_deg is None:
+        return line + (f"carrier delay {where}: {delay:.3f} or {other:.3f} deg, the windings cannot tell which "
+                       f"(half a turn of the shaft apart); taken within 90 deg of 0, so every angle is right or "
+                       f"half a turn off: all {pairs} rows marked half_turn_unresolved; state the delay with "
+                       f"--expected-delay-deg")
+    line += (f"carrier delay {where}: {delay:.3f} deg, the half turn taken within 90 deg of "
+             f"--expected-delay-deg {expected_delay_deg:g}")
+    if unresolved:
+        line += (f"; {unresolved} of {pairs} rows marked half_turn_unresolved (the excitation column unusable "
+                 f"before it resolved the half turn)")
+    return line
 
 
 def _front_end_names(bits: int) -> str:

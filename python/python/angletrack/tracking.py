@@ -58,7 +58,7 @@ class TrackSettings:
     carrier_hz: Optional[float] = None
     samples_per_period: Optional[float] = None
     carrier_amplitude_counts: Optional[float] = None
-    expected_delay_deg: float = 0.0
+    expected_delay_deg: Optional[float] = None
     pole_pairs: Optional[int] = None
     latency_s: Optional[float] = None
     #: The angle calibration of ``--calibration`` (from ``angletrack calibrate``), applied by a
@@ -473,10 +473,12 @@ def _shows_unsigned(s: TrackSettings, sample_dtype: str, whole: Optional[tuple])
         return False
 
 
-def calibrate_capture(s: TrackSettings, **options) -> harmonics.Calibration:
+def calibrate_capture(s: TrackSettings, reference_ratio: int = 1, **options) -> harmonics.Calibration:
     """``angletrack calibrate``: the :class:`harmonics.Calibration` learned from the capture
     ``s.capture`` (``s.columns``, ``s.delimiter``, ``s.time_unit``), read twice in chunks in
-    constant memory (:func:`harmonics.calibrate_chunks`, whose ``options`` these are), with
+    constant memory (:func:`harmonics.calibrate_chunks`, whose ``options`` these are), the
+    reference column in the sensor's turns (times ``reference_ratio``, a whole number: the
+    pole pairs of a mechanical reference, negative for one counting the other way), with
     the gains of ``s`` at its sample rate (checked as for :func:`track_capture`). Unsigned
     counts are centred first (:func:`counts_mid_scale`), as ``track`` centres them, so that
     the offsets learned are the ones ``track --calibration`` (float or fixed) sees; the
@@ -493,6 +495,10 @@ def calibrate_capture(s: TrackSettings, **options) -> harmonics.Calibration:
 
     def chunks():
         for chunk in reader():
-            yield _scaled(s, chunk.y_c, mid), _scaled(s, chunk.y_s, mid), chunk.reference_rad
+            reference = chunk.reference_rad
+            # A whole ratio keeps a wrapped reference's jumps whole turns.
+            if reference is not None and reference_ratio != 1:
+                reference = reference * float(reference_ratio)
+            yield _scaled(s, chunk.y_c, mid), _scaled(s, chunk.y_s, mid), reference
 
     return harmonics.calibrate_chunks(chunks, gains, **options)

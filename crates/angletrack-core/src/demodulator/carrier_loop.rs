@@ -63,23 +63,41 @@ impl<V: DemodulatorNumber> Demodulator<V> {
     }
 
     /// A window's excitation components `(I, Q)` against the loop's phase: kept for the
-    /// delay, and from the end of the start-up the half turn taken from them.
+    /// delay, and from the end of the start-up the half turn taken from them. Returns
+    /// whether they decide it: not when the delay after the excitation is within 14 degrees
+    /// (`atan(1/4)`) of a quarter turn from the expected one, where noise would choose either
+    /// half turn window by window; the one last decided is then kept.
     #[inline(always)]
     pub(super) fn resolve_from_excitation(
         &self,
         state: &mut DemodulatorState<V>,
         (i, q): (V::Wide, V::Wide),
-    ) {
+    ) -> bool {
         state.excitation_iq = (i, q);
-        // cos(delay after the excitation - expected) < 0: the loop holds the other half turn.
+        // cos and sin of (the delay after the excitation - expected), times its amplitude:
+        // cos < 0, the loop holds the other half turn.
         let along = V::sub(
             V::times_fraction(i, self.expected_cos),
             V::times_fraction(q, self.expected_sin),
         );
-        if state.delay_ready || state.windows >= u64::from(self.startup_periods) {
-            state.flip = along < V::Wide::default();
+        let across = V::add(
+            V::times_fraction(i, self.expected_sin),
+            V::times_fraction(q, self.expected_cos),
+        );
+        let zero = V::Wide::default();
+        let magnitude = |x: V::Wide| if x < zero { V::sub(zero, x) } else { x };
+        let (a, c) = (magnitude(along), magnitude(across));
+        // 4 a >= c, each step within the fixed point's i32 (a and c below 2^30.6,
+        // `number_fixed.rs`): c - 2 a > -a; past it a < c / 2, so 2 a fits.
+        let decided = a >= c || {
+            let rest = V::sub(V::sub(c, a), a);
+            rest <= zero || rest <= V::add(a, a)
+        };
+        if decided && (state.delay_ready || state.windows >= u64::from(self.startup_periods)) {
+            state.flip = along < zero;
             state.reference_resolved = true;
         }
+        decided
     }
 
     /// The end of the start-up: unless a recorded excitation resolved it, the half turn whose

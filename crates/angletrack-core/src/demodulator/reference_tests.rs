@@ -102,3 +102,31 @@ fn a_reference_lost_part_way_keeps_the_half_turn_and_is_flagged_until_it_returns
         pairs.len()
     );
 }
+
+#[test]
+fn an_excitation_a_quarter_turn_from_the_expected_delay_decides_no_half_turn() {
+    // The windings 89.7 degrees after a noisy excitation, 0 expected: each window's excitation
+    // says a half turn by its noise (60 angles half a turn from the first when every
+    // window chose). Flagged, the half turn kept: every angle the same (right or half a turn
+    // off). 60 degrees after it decides.
+    let noisy = |j: usize, psi: f64, after: f64| {
+        let hash = (j as u64 + 1)
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        let noise = ((hash >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 60.0;
+        2048.0 + 1500.0 * (psi - after.to_radians()).sin() + noise
+    };
+    let (pairs, _) = run(16 * 300, 0.0, |j, psi| noisy(j, psi, 89.7));
+    assert!(pairs.len() > 250);
+    let first = pairs[0].0;
+    let flips = pairs.iter().filter(|p| (p.0 - first).abs() > 2e-3).count();
+    assert_eq!(flips, 0);
+    assert!(
+        pairs
+            .iter()
+            .all(|p| p.1 == FrontEndFaults::EXCITATION_REFERENCE)
+    );
+    let (pairs, state) = run(16 * 300, 0.0, |j, psi| noisy(j, psi, 60.0));
+    assert!(pairs.iter().all(|p| right(p.0) && p.1.is_empty()));
+    assert!((state.carrier_delay_rad() - 60f64.to_radians()).abs() < 0.05);
+}

@@ -5,8 +5,9 @@
 use super::number::DemodulatorNumber;
 use crate::front_end_faults::FrontEndFaults;
 
-/// One demodulated pair: the windings' envelopes over one window, holding at its centroid
-/// ([`DemodulatedPair::centre_sample`]).
+/// One demodulated pair: the windings' envelopes over one window, holding at its instant
+/// ([`DemodulatedPair::instant_sample`]; the window's centroid,
+/// [`DemodulatedPair::centre_sample`], at 4k samples a carrier period).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct DemodulatedPair<V> {
     /// The cosine winding's envelope, `~ cos theta` (nominal amplitude 1; Q14 for `i16`).
@@ -27,6 +28,13 @@ pub struct DemodulatedPair<V> {
     /// The window's weight (its samples counted twice in the middle segment, once at the
     /// two ends: `docs/theory.md §13`).
     pub weight: u32,
+    /// The lengths (ADC samples) of the window's three segments: the period's first quarter,
+    /// the rest of the period, the next period's first quarter.
+    pub segment_samples: [u32; 3],
+    /// The carrier loop's phase at the sample after the window (2^32 per turn).
+    pub end_phase: u32,
+    /// The carrier loop's phase step per ADC sample over the window (2^32 per turn).
+    pub phase_step: u32,
     /// The front end's faults of this window.
     pub faults: FrontEndFaults,
 }
@@ -38,6 +46,52 @@ impl<V> DemodulatedPair<V> {
     pub fn centre_sample(&self) -> f64 {
         self.first_sample as f64
             + f64::from(self.centre_offset_times_weight) / f64::from(self.weight.max(1))
+    }
+
+    /// The (fractional) ADC sample index at which the pair's envelopes hold: the window's
+    /// samples weighted by what each contributes to the in-phase component, `w_k r_k (r_k -
+    /// mean r)` for the window weight `w_k` and the carrier reference `r_k = sin phi_k`
+    /// (its mean over the window removed with the windings' offsets). At a whole multiple of
+    /// 4 samples a carrier period it is the centroid ([`DemodulatedPair::centre_sample`]);
+    /// at other ratios the reference's samples fall unevenly across the window, and the
+    /// centroid is off by up to a quarter of a sample, depending on the carrier's phase
+    /// against the ADC's clock. The loop's phase is taken back from
+    /// [`DemodulatedPair::end_phase`] at [`DemodulatedPair::phase_step`] (the window's first
+    /// quarter ran at the step before the loop's last correction, a few ppm apart once
+    /// locked). In `f64`, for host-side code: a rotation per sample of the window.
+    pub fn instant_sample(&self) -> f64 {
+        let [quarter, rest, last] = self.segment_samples;
+        let length = quarter + rest + last;
+        let turn = core::f64::consts::TAU / 4_294_967_296.0;
+        let first = self
+            .end_phase
+            .wrapping_sub(self.phase_step.wrapping_mul(length));
+        let (mut sin, mut cos) = libm::sincos(f64::from(first) * turn);
+        let (step_sin, step_cos) = libm::sincos(f64::from(self.phase_step) * turn);
+        // Sums of w, w r, w r k, w r^2, w r^2 k over the window's samples k.
+        let (mut w_sum, mut r_sum, mut rk_sum, mut rr_sum, mut rrk_sum) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for k in 0..length {
+            let w = if k < quarter || k >= quarter + rest {
+                1.0
+            } else {
+                2.0
+            };
+            let k = f64::from(k);
+            w_sum += w;
+            r_sum += w * sin;
+            rk_sum += w * sin * k;
+            rr_sum += w * sin * sin;
+            rrk_sum += w * sin * sin * k;
+            (sin, cos) = (
+                sin * step_cos + cos * step_sin,
+                cos * step_cos - sin * step_sin,
+            );
+        }
+        let weight = w_sum * rr_sum - r_sum * r_sum;
+        if !(weight > 0.0) {
+            return self.centre_sample();
+        }
+        self.first_sample as f64 + (w_sum * rrk_sum - r_sum * rk_sum) / weight
     }
 }
 

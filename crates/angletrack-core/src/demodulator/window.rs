@@ -230,6 +230,9 @@ impl<V: DemodulatorNumber> Demodulator<V> {
         let clip = pending.clip | last.clip;
         let centre = centre_times_weight(pending.quarter, pending.rest, last.length);
         let first_sample = pending.first;
+        let segment_samples = [pending.quarter, pending.rest, last.length];
+        // The loop's phase and step over the window, before this window's correction.
+        let (end_phase, phase_step) = (state.phase, state.step);
         let excitation = if state.excitation {
             let (e, l) = (&pending.excitation, &last.excitation);
             let x = V::add_sum(e.x, l.x);
@@ -283,10 +286,8 @@ impl<V: DemodulatorNumber> Demodulator<V> {
         state.windows = state.windows.wrapping_add(1);
         let mut no_reference = false;
         if let Some((i, q, usable)) = excitation {
-            if usable {
-                self.resolve_from_excitation(state, (i, q));
-            }
-            no_reference = !usable || !state.reference_resolved;
+            let decided = usable && self.resolve_from_excitation(state, (i, q));
+            no_reference = !decided || !state.reference_resolved;
         }
         if !state.delay_ready {
             if state.windows < u64::from(self.startup_periods) {
@@ -319,6 +320,9 @@ impl<V: DemodulatorNumber> Demodulator<V> {
             first_sample,
             centre_offset_times_weight: centre,
             weight,
+            segment_samples,
+            end_phase,
+            phase_step,
             faults,
         })
     }

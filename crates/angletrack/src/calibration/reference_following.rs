@@ -46,23 +46,26 @@ impl ReferenceFollowing {
         );
         let whole = ratio.abs().round();
         let near = |r: f64| (r - r.round()).abs() <= RATIO_TOLERANCE * r.round().max(1.0);
+        let (way, sign) = if ratio < 0.0 {
+            (", the other way", "-")
+        } else {
+            ("", "")
+        };
         let reason = if ratio < 0.0 && (ratio + 1.0).abs() <= RATIO_TOLERANCE {
             format!(
                 "it runs opposite to the sensor ({travels}): an encoder counting the other way? \
-                 negate the reference column"
+                 state it with --reference-ratio -1"
             )
-        } else if ratio > 1.0 && near(ratio) {
+        } else if ratio.abs() > 1.0 && near(ratio.abs()) {
             format!(
-                "the sensor's angle turns {whole} times as fast as the reference ({travels}): \
-                 a mechanical reference? state the motor's pole pairs (--pole-pairs, times \
-                 {whole})"
+                "the sensor's angle turns {whole} times as fast as the reference{way} ({travels}): \
+                 a mechanical reference? state its pole pairs with --reference-ratio {sign}{whole}"
             )
-        } else if ratio > 0.0 && ratio < 1.0 && near(1.0 / ratio) {
+        } else if ratio.abs() < 1.0 && near(1.0 / ratio.abs()) {
+            let k = (1.0 / ratio.abs()).round();
             format!(
-                "the reference turns {} times as fast as the sensor's angle ({travels}): the \
-                 pole pairs stated (--pole-pairs) are {} times too many",
-                (1.0 / ratio).round(),
-                (1.0 / ratio).round()
+                "the reference turns {k} times as fast as the sensor's angle{way} ({travels}): a \
+                 --reference-ratio {k} times too large?"
             )
         } else {
             format!("it does not follow the sensor's angle ({travels})")

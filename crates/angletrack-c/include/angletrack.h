@@ -533,8 +533,9 @@ typedef struct at_demodulated_pair_f32 {
    */
   uint64_t window;
   /**
-   * The ADC sample index (from 0, the first sample pushed) at which the pair holds: the
-   * centroid of its window's weights (divide by the ADC rate for seconds).
+   * The ADC sample index (from 0, the first sample pushed) at which the pair holds, its
+   * samples weighted by their share of it (the window's centroid at a multiple of 4
+   * samples a carrier period; exact at any ratio; divide by the ADC rate for seconds).
    */
   double centre_sample;
   /**

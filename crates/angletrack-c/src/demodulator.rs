@@ -110,8 +110,9 @@ pub struct at_demodulated_pair_f32 {
     pub quadrature_s: f32,
     /// The index of the window (start-up windows included).
     pub window: u64,
-    /// The ADC sample index (from 0, the first sample pushed) at which the pair holds: the
-    /// centroid of its window's weights (divide by the ADC rate for seconds).
+    /// The ADC sample index (from 0, the first sample pushed) at which the pair holds, its
+    /// samples weighted by their share of it (the window's centroid at a multiple of 4
+    /// samples a carrier period; exact at any ratio; divide by the ADC rate for seconds).
     pub centre_sample: f64,
     /// This window's front-end faults (`AT_FRONT_END_FAULT_*` bits).
     pub faults: u32,
@@ -125,7 +126,7 @@ impl From<DemodulatedPair<f32>> for at_demodulated_pair_f32 {
             quadrature_c: p.quadrature_c,
             quadrature_s: p.quadrature_s,
             window: p.window,
-            centre_sample: p.centre_sample(),
+            centre_sample: p.instant_sample(),
             faults: u32::from(p.faults.bits()),
         }
     }

@@ -10,7 +10,7 @@ use angletrack::{
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::arrays::{Count, check_equal_lengths, paired_samples, samples};
+use crate::arrays::{Count, paired_samples, samples};
 use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::RunSettings;
 use crate::errors::{Error, Result};
@@ -106,7 +106,10 @@ impl PyCaptureCalibrator {
             .transpose()?;
         let reference = reference.as_ref().map(|r| r.as_slice());
         if let Some(r) = reference {
-            check_equal_lengths(("y_c", c.as_slice().len()), ("reference", r.len()))?;
+            angletrack::ArgumentError::check_equal_lengths(
+                ("y_c", c.as_slice().len()),
+                ("reference", r.len()),
+            )?;
         }
         let (c, s) = (c.as_slice(), s.as_slice());
         let inner = self.inner()?;

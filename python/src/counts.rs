@@ -87,13 +87,7 @@ pub fn adc_settings(
     let mid_scale = mid_scale
         .map(|m| m.get::<i32>("adc_mid_scale"))
         .transpose()?;
-    let signedness = signed.map(|s| {
-        if s {
-            Signedness::Signed
-        } else {
-            Signedness::Unsigned
-        }
-    });
+    let signedness = signed.map(Signedness::of_signed);
     Ok(AdcSettings {
         counts: CountsSettings::new(mid_scale, counts_per_unit, signedness)?,
         stated,
@@ -279,13 +273,7 @@ pub fn capture_counts(
 ) -> Result<(bool, u64)> {
     use angletrack::{CountsError, Signedness, StatedCounts};
     let stated = StatedCounts {
-        signedness: signed.map(|s| {
-            if s {
-                Signedness::Signed
-            } else {
-                Signedness::Unsigned
-            }
-        }),
+        signedness: signed.map(Signedness::of_signed),
         bits,
     };
     match angletrack::capture_counts(stated, unsigned_type, &extremes.inner) {

@@ -83,6 +83,7 @@ pub use angletrack_core::{
 pub use nalgebra::Complex;
 
 mod analysis;
+mod any_gains;
 mod calibration;
 pub mod capture;
 mod capture_counts;
@@ -108,6 +109,7 @@ pub mod tracker_file;
 mod winding_rails;
 mod windings_plan;
 
+pub use any_gains::AnyGains;
 pub use analysis::{
     DesignReport, LARGE_STEP_RAD, PredictedError, SETTLING_BAND, StepResponse,
     closed_loop_response, max_trackable_speed_rad_s, predicted_error,

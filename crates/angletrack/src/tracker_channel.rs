@@ -164,18 +164,12 @@ impl<T: Real, const N: usize, S: SinCos<T>> TrackerChannel<T, N, S> {
         (y_c, y_s): (&[T], &[T]),
         front_end_faults: Option<&[u8]>,
     ) -> Result<(), ChannelError> {
-        let lengths = [
-            ("y_s", Some(y_s.len())),
-            ("front_end_faults", front_end_faults.map(<[u8]>::len)),
-        ];
-        for (argument, len) in lengths {
-            if let Some(len) = len.filter(|&len| len != y_c.len()) {
-                let reason = format!(
-                    "has {len} samples but y_c has {}: they must be equal",
-                    y_c.len()
-                );
-                return Err(refused(argument, reason));
-            }
+        ArgumentError::check_equal_lengths(("y_c", y_c.len()), ("y_s", y_s.len()))?;
+        if let Some(faults) = front_end_faults {
+            ArgumentError::check_equal_lengths(
+                ("y_c", y_c.len()),
+                ("front_end_faults", faults.len()),
+            )?;
         }
         let input = if counts {
             ThresholdInput::Counts {

@@ -11,7 +11,7 @@ use pyo3::types::PyDict;
 
 use crate::angle_calibration::SensorParameters;
 use crate::errors::{Error, Result};
-use crate::gains::{GainSet, PyGains, with_gains};
+use crate::gains::{PyGains, with_gains};
 
 /// The float type named `dtype` (`"float32"` or `"float64"`).
 fn float_type(dtype: &str) -> Result<FloatType> {

@@ -109,12 +109,12 @@ pub mod tracker_file;
 mod winding_rails;
 mod windings_plan;
 
-pub use any_gains::AnyGains;
 pub use analysis::{
     DesignReport, LARGE_STEP_RAD, PredictedError, SETTLING_BAND, StepResponse,
     closed_loop_response, max_trackable_speed_rad_s, predicted_error,
     predicted_error_on_kalman_model,
 };
+pub use any_gains::AnyGains;
 pub use calibration::{
     ANGLE_CALIBRATION_FORMAT, CALIBRATION_FILE_VERSION, CalibrationChoiceError, CalibrationError,
     CalibrationFile, CalibrationMethod, CalibrationOptions, CaptureCalibration, CaptureCalibrator,
@@ -150,7 +150,7 @@ pub use sim::{
     fixed_input_shift, fixed_magnitude_tolerance, fixed_monitor_amplitude, nominal_amplitude, run,
     run_calibrated, shifted_calibration,
 };
-pub use thresholds::{ThresholdInput, ThresholdPolicy, ThresholdsNotStated};
+pub use thresholds::{ThresholdInput, converted_thresholds, ThresholdPolicy, ThresholdsNotStated};
 pub use tracker_channel::{ChannelError, ChannelOptions, TrackerChannel, stored_stages};
 pub use winding_rails::WindingRails;
 pub use windings_plan::{

@@ -31,18 +31,7 @@ where
         }
         let mid = mid_scale(file, name, head)?;
         let t = thresholds(file, head, mid);
-        let thresholds = FaultThresholds::for_amplitude(T::from_f64(t.nominal_amplitude))
-            .with_max_input_amplitude(T::from_f64(t.max_input_amplitude))
-            .with_loss_of_signal(T::from_f64(t.loss_of_signal))
-            .with_degradation_low(T::from_f64(t.degradation_low))
-            .with_degradation_high(T::from_f64(t.degradation_high))
-            .with_loss_of_tracking(T::from_f64(t.loss_of_tracking))
-            .with_max_speed(t.max_speed.map(T::from_f64))
-            .with_filter_factor(T::from_f64(t.filter_factor))
-            .with_false_lock(T::from_f64(t.false_lock))
-            .with_monitor(t.monitor)
-            .with_re_acquire(t.re_acquire)
-            .with_magnitude_tolerance(t.magnitude_tolerance.map(T::from_f64));
+        let thresholds: FaultThresholds<T> = crate::converted_thresholds(&t);
         let mut gains = Gains::<T, N>::new(values, T::from_f64(file.gains.sample_period_s))
             .map_err(field("gains"))?
             .with_fault_thresholds(thresholds)

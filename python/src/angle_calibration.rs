@@ -4,8 +4,8 @@
 //! `Calibration`, `CalibratedObserver`).
 
 use angletrack::{
-    CalibrationError, CalibrationOptions, CaptureCalibration, CaptureCalibrator, OrderQuality,
-    OrderStatus, SPECTRUM_ORDERS,
+    CalibrationError, CalibrationOptions, CaptureCalibration, CaptureCalibrator, ChannelOptions,
+    OrderQuality, OrderStatus, SPECTRUM_ORDERS,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -16,7 +16,7 @@ use crate::dispatch::RunSettings;
 use crate::errors::{Error, Result};
 use crate::estimates::Estimates;
 use crate::gains::{GainSet, PyGains, with_gains};
-use crate::observer::{ObserverOps, ObserverOptions};
+use crate::observer::ObserverOps;
 
 /// The sensor calibration `(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)`.
 pub type SensorParameters = (f64, f64, f64, f64, f64);
@@ -209,16 +209,16 @@ impl PyCorrectedObserver {
         measure_adc_range: bool,
         fault_thresholds: Option<PyFaultThresholds>,
     ) -> Result<Self> {
-        let options = ObserverOptions {
+        let options = ChannelOptions {
             stored: Some(angletrack::stored_stages(sensor, &cos, &sin)?),
-            thresholds: fault_thresholds,
+            thresholds: fault_thresholds.map(|t| t.typed()),
             adc_range,
             measure_adc_range,
-            ..ObserverOptions::default()
+            ..ChannelOptions::default()
         };
         let settings = RunSettings::from_arguments(gains, dtype, sin_cos)?;
         Ok(Self {
-            inner: settings.typed_gains()?.observer(&options)?,
+            inner: settings.typed_gains()?.observer(&options, None)?,
         })
     }
 

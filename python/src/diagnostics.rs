@@ -22,17 +22,9 @@ use crate::getters::class_methods;
     frozen,
     from_py_object
 )]
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 pub struct PyFaultThresholds {
     inner: CoreThresholds<f64>,
-}
-
-impl Default for PyFaultThresholds {
-    fn default() -> Self {
-        Self {
-            inner: CoreThresholds::default(),
-        }
-    }
 }
 
 impl PyFaultThresholds {

@@ -19,7 +19,7 @@ pub fn sensor_calibration_to_json(
     source: Option<String>,
 ) -> Result<String> {
     let record = SensorCalibrationRecord {
-        calibration: calibration.typed()?,
+        calibration: calibration.inner,
         turns_learned: turns_learned.map(|n| n.get("turns_learned")).transpose()?,
         source,
     };

@@ -132,7 +132,7 @@ fn stages(calibration: Option<&Bound<'_, PyAny>>) -> Result<Stages> {
         return Ok((None, None));
     };
     if let Ok(sensor) = calibration.extract::<PySensorCalibration>() {
-        return Ok((Some(sensor.typed::<f64>()?), None));
+        return Ok((Some(sensor.inner), None));
     }
     let attribute = |name: &str| {
         calibration.getattr(name).map_err(|_| {

@@ -35,6 +35,11 @@ pub enum Counts {
 }
 
 impl Counts {
+    /// The numpy name of the dtype.
+    fn name(self) -> &'static str {
+        ["int16", "uint16", "int32", "int64"][self as usize]
+    }
+
     /// The counts type of a dtype, `None` for any other.
     pub fn of_descr(descr: &Bound<'_, PyArrayDescr>) -> Option<Self> {
         let py = descr.py();
@@ -178,8 +183,8 @@ pub fn signals<'py, T: Sample>(
             }
             return Err(Error::Dtype {
                 parameter: "y_s",
-                given: describe(other.map(|k| k.0)),
-                expected: format!("raw counts of y_c's dtype, {}", describe(Some(kind))),
+                given: other.map_or("another dtype", |k| k.0.name()).into(),
+                expected: format!("raw counts of y_c's dtype, {}", kind.name()),
             });
         }
     };
@@ -195,17 +200,6 @@ fn scaled<'py, T: Sample, I: AdcCount>(
 ) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
     let (c, s) = input.scale(&c, &s, signedness).map_err(named)?;
     Ok((Samples::Copied(c), Samples::Copied(s)))
-}
-
-/// The numpy name of a dtype of samples, for an error message.
-fn describe(counts: Option<Counts>) -> String {
-    match counts {
-        Some(Counts::I16) => "int16".into(),
-        Some(Counts::U16) => "uint16".into(),
-        Some(Counts::I32) => "int32".into(),
-        Some(Counts::I64) => "int64".into(),
-        None => "another dtype".into(),
-    }
 }
 
 /// `counts` (int64) as int32, or a `ConfigError` naming `parameter` and the first count

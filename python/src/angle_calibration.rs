@@ -5,7 +5,6 @@
 
 use angletrack::{
     CalibrationError, CalibrationOptions, CaptureCalibration, CaptureCalibrator, ChannelOptions,
-    OrderQuality, OrderStatus, SPECTRUM_ORDERS,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -155,26 +154,6 @@ pub fn learned_dict<'py>(
     }
     out.set_item("orders", orders)?;
     out.set_item("warnings", learned.warnings())?;
-    Ok(out)
-}
-
-/// The orders' quality from `(order, amplitude_rad, uncertainty_rad, status)` tuples
-/// (unknown for the orders not given).
-pub fn orders_of(
-    orders: Option<Vec<(usize, f64, f64, String)>>,
-) -> Result<[OrderQuality; SPECTRUM_ORDERS]> {
-    let mut out = [OrderQuality::UNKNOWN; SPECTRUM_ORDERS];
-    for (order, amplitude_rad, uncertainty_rad, status) in orders.unwrap_or_default() {
-        let slot = order
-            .checked_sub(1)
-            .and_then(|i| out.get_mut(i))
-            .ok_or_else(|| Error::value("orders", format!("order {order} is not in 1..=12")))?;
-        *slot = OrderQuality {
-            amplitude_rad,
-            uncertainty_rad,
-            status: OrderStatus::from_name(&status),
-        };
-    }
     Ok(out)
 }
 

@@ -11,7 +11,7 @@ use angletrack_core::{
 use super::super::{Calibration, Correction, Input, TrackerFile};
 use super::{
     CaptureHead, FloatChain, Learning, Run, TrackedRows, field, file_error, mid_scale, refuse,
-    thresholds, typed,
+    thresholds,
 };
 use crate::Real;
 use crate::json_file::JsonFileError;
@@ -41,7 +41,8 @@ where
         let calibration = match &file.calibration {
             Calibration::None => CalibrationStage::None,
             Calibration::Stored(c) => CalibrationStage::Stored(
-                typed(c)
+                crate::converted_calibration(c)
+                    .ok()
                     .ok_or_else(|| refuse(name, "calibration.sensor", "beyond the number type"))?,
             ),
             Calibration::Online { initial, settings } => {
@@ -55,9 +56,11 @@ where
                     .with_calibration_settings(typed_settings)
                     .map_err(field("calibration"))?;
                 if let Some(c) = initial {
-                    calibrator = Calibrator::from_calibration(typed(c).ok_or_else(|| {
-                        refuse(name, "calibration.initial", "beyond the number type")
-                    })?);
+                    calibrator = Calibrator::from_calibration(
+                        crate::converted_calibration(c).ok().ok_or_else(|| {
+                            refuse(name, "calibration.initial", "beyond the number type")
+                        })?,
+                    );
                 }
                 calibrator.enable();
                 CalibrationStage::Online(gains.online_calibration())

@@ -8,7 +8,7 @@ use pyo3::types::PyComplex;
 
 use crate::design::complex_list;
 use crate::errors::Result;
-use crate::gains::{GainSet, PyGains, with_gains};
+use crate::gains::{PyGains, with_gains};
 use crate::getters::class_methods;
 
 /// Overshoot and 2 % settling time of a step response.

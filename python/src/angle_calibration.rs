@@ -4,19 +4,18 @@
 //! `Calibration`, `CalibratedObserver`).
 
 use angletrack::{
-    CalibrationError, CalibrationOptions, CaptureCalibration, CaptureCalibrator, OrderQuality,
-    OrderStatus, SPECTRUM_ORDERS,
+    CalibrationError, CalibrationOptions, CaptureCalibration, CaptureCalibrator, ChannelOptions,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::arrays::{Count, check_equal_lengths, paired_samples, samples};
+use crate::arrays::{Count, paired_samples, samples};
 use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::RunSettings;
 use crate::errors::{Error, Result};
 use crate::estimates::Estimates;
 use crate::gains::{GainSet, PyGains, with_gains};
-use crate::observer::{ObserverOps, ObserverOptions};
+use crate::observer::ObserverOps;
 
 /// The sensor calibration `(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)`.
 pub type SensorParameters = (f64, f64, f64, f64, f64);
@@ -106,7 +105,10 @@ impl PyCaptureCalibrator {
             .transpose()?;
         let reference = reference.as_ref().map(|r| r.as_slice());
         if let Some(r) = reference {
-            check_equal_lengths(("y_c", c.as_slice().len()), ("reference", r.len()))?;
+            angletrack::ArgumentError::check_equal_lengths(
+                ("y_c", c.as_slice().len()),
+                ("reference", r.len()),
+            )?;
         }
         let (c, s) = (c.as_slice(), s.as_slice());
         let inner = self.inner()?;
@@ -155,26 +157,6 @@ pub fn learned_dict<'py>(
     Ok(out)
 }
 
-/// The orders' quality from `(order, amplitude_rad, uncertainty_rad, status)` tuples
-/// (unknown for the orders not given).
-pub fn orders_of(
-    orders: Option<Vec<(usize, f64, f64, String)>>,
-) -> Result<[OrderQuality; SPECTRUM_ORDERS]> {
-    let mut out = [OrderQuality::UNKNOWN; SPECTRUM_ORDERS];
-    for (order, amplitude_rad, uncertainty_rad, status) in orders.unwrap_or_default() {
-        let slot = order
-            .checked_sub(1)
-            .and_then(|i| out.get_mut(i))
-            .ok_or_else(|| Error::value("orders", format!("order {order} is not in 1..=12")))?;
-        *slot = OrderQuality {
-            amplitude_rad,
-            uncertainty_rad,
-            status: OrderStatus::from_name(&status),
-        };
-    }
-    Ok(out)
-}
-
 /// An observer whose samples are corrected by a sensor calibration (offsets, amplitudes,
 /// quadrature) and an angle correction (harmonic coefficients `cos`, `sin`, rad) before its
 /// phase detector (the core's chain of both stages), in `dtype` (float32 or float64, default
@@ -206,16 +188,16 @@ impl PyCorrectedObserver {
         measure_adc_range: bool,
         fault_thresholds: Option<PyFaultThresholds>,
     ) -> Result<Self> {
-        let options = ObserverOptions {
+        let options = ChannelOptions {
             stored: Some(angletrack::stored_stages(sensor, &cos, &sin)?),
-            thresholds: fault_thresholds,
+            thresholds: fault_thresholds.map(|t| t.typed()),
             adc_range,
             measure_adc_range,
-            ..ObserverOptions::default()
+            ..ChannelOptions::default()
         };
         let settings = RunSettings::from_arguments(gains, dtype, sin_cos)?;
         Ok(Self {
-            inner: settings.typed_gains()?.observer(&options)?,
+            inner: settings.typed_gains()?.observer(&options, None)?,
         })
     }
 

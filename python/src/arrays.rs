@@ -10,6 +10,7 @@
 //!   it holds real numbers (`TypeError` for strings, complex numbers, booleans or objects;
 //!   `ConfigError` for `None`).
 
+use angletrack::ArgumentError;
 use numpy::prelude::*;
 use numpy::{
     Element, PyArray1, PyArrayDescr, PyReadonlyArray1, PyReadwriteArray1, PyUntypedArray, dtype,
@@ -226,23 +227,8 @@ pub fn paired_samples<'py, T: Element + Copy>(
     (b, b_name): (&Bound<'py, PyAny>, &'static str),
 ) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
     let (a, b) = (samples::<T>(a, a_name)?, samples::<T>(b, b_name)?);
-    check_equal_lengths((a_name, a.as_slice().len()), (b_name, b.as_slice().len()))?;
+    ArgumentError::check_equal_lengths((a_name, a.as_slice().len()), (b_name, b.as_slice().len()))?;
     Ok((a, b))
-}
-
-/// Checks that two sample arrays have the same length.
-pub fn check_equal_lengths(a: (&'static str, usize), b: (&'static str, usize)) -> Result<()> {
-    if a.1 == b.1 {
-        Ok(())
-    } else {
-        Err(Error::value(
-            b.0,
-            format!(
-                "has {} samples but {} has {}: they must be equal",
-                b.1, a.0, a.1
-            ),
-        ))
-    }
 }
 
 /// A write borrow of an output array the binding has just created.

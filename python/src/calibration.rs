@@ -3,7 +3,7 @@
 //! configured, read and written from Python.
 
 use angletrack::OnlineCalibrationChoice;
-use angletrack_core::{Real, SensorCalibration as CoreCalibration};
+use angletrack_core::SensorCalibration as CoreCalibration;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -20,22 +20,13 @@ use crate::getters::class_methods;
     name = "SensorCalibration",
     module = "angletrack",
     frozen,
-    get_all,
     eq,
     from_py_object
 )]
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PySensorCalibration {
-    /// Offset of the cosine channel.
-    offset_c: f64,
-    /// Offset of the sine channel.
-    offset_s: f64,
-    /// Amplitude of the cosine channel.
-    amplitude_c: f64,
-    /// Amplitude of the sine channel.
-    amplitude_s: f64,
-    /// Quadrature (non-orthogonality) angle of the sine channel (rad).
-    quadrature_rad: f64,
+    /// The core's calibration, checked.
+    pub inner: CoreCalibration<f64>,
 }
 
 /// The fields, in the order of the constructor and of `to_dict`.
@@ -48,35 +39,32 @@ const FIELDS: [&str; 5] = [
 ];
 
 impl PySensorCalibration {
-    /// The core's calibration in float type `T` (checked again: rounding may refuse it).
-    pub fn typed<T: Real>(&self) -> Result<CoreCalibration<T>> {
-        let f = T::from_f64;
-        Ok(CoreCalibration::new(
-            f(self.offset_c),
-            f(self.offset_s),
-            f(self.amplitude_c),
-            f(self.amplitude_s),
-            f(self.quadrature_rad),
-        )?)
+    /// The Python value of a core calibration.
+    pub fn from_core(c: &CoreCalibration<f64>) -> Self {
+        Self { inner: *c }
     }
 
-    /// The Python value of a core calibration.
-    pub fn from_core<T: Real>(c: &CoreCalibration<T>) -> Self {
-        let (o_c, o_s, a_c, a_s, q) = c.parameters();
-        Self {
-            offset_c: o_c.to_f64(),
-            offset_s: o_s.to_f64(),
-            amplitude_c: a_c.to_f64(),
-            amplitude_s: a_s.to_f64(),
-            quadrature_rad: q.to_f64(),
-        }
+    /// The fields in the order of [`FIELDS`].
+    fn values(&self) -> [f64; 5] {
+        let (o_c, o_s, a_c, a_s, q) = self.inner.parameters();
+        [o_c, o_s, a_c, a_s, q]
     }
 }
 
 class_methods! {
     PySensorCalibration {
+        /// Offset of the cosine channel.
+        offset_c: f64 = |this, py| this.values()[0];
+        /// Offset of the sine channel.
+        offset_s: f64 = |this, py| this.values()[1];
+        /// Amplitude of the cosine channel.
+        amplitude_c: f64 = |this, py| this.values()[2];
+        /// Amplitude of the sine channel.
+        amplitude_s: f64 = |this, py| this.values()[3];
+        /// Quadrature (non-orthogonality) angle of the sine channel (rad).
+        quadrature_rad: f64 = |this, py| this.values()[4];
         /// The gain imbalance `amplitude_s / amplitude_c`.
-        amplitude_ratio: f64 = |this, py| this.amplitude_s / this.amplitude_c;
+        amplitude_ratio: f64 = |this, py| this.values()[3] / this.values()[2];
     }
     methods {
         #[new]
@@ -98,14 +86,7 @@ class_methods! {
         #[allow(clippy::wrong_self_convention)]
         fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
             let d = PyDict::new(py);
-            let values = [
-                self.offset_c,
-                self.offset_s,
-                self.amplitude_c,
-                self.amplitude_s,
-                self.quadrature_rad,
-            ];
-            for (name, value) in FIELDS.iter().zip(values) {
+            for (name, value) in FIELDS.iter().zip(self.values()) {
                 d.set_item(name, value)?;
             }
             Ok(d)
@@ -129,10 +110,10 @@ class_methods! {
         }
 
         fn __repr__(&self) -> String {
+            let [o_c, o_s, a_c, a_s, q] = self.values();
             format!(
-                "SensorCalibration(offset_c={:?}, offset_s={:?}, amplitude_c={:?}, amplitude_s={:?}, \
-                 quadrature_rad={:?})",
-                self.offset_c, self.offset_s, self.amplitude_c, self.amplitude_s, self.quadrature_rad
+                "SensorCalibration(offset_c={o_c:?}, offset_s={o_s:?}, amplitude_c={a_c:?}, \
+                 amplitude_s={a_s:?}, quadrature_rad={q:?})"
             )
         }
     }
@@ -153,6 +134,6 @@ pub fn calibration_choice(
     mode: Option<&str>,
     initial: Option<PySensorCalibration>,
 ) -> Result<OnlineCalibrationChoice> {
-    let initial = initial.map(|c| c.typed::<f64>()).transpose()?;
-    OnlineCalibrationChoice::new(mode, initial).map_err(|e| Error::value(e.argument, e.reason))
+    OnlineCalibrationChoice::new(mode, initial.map(|c| c.inner))
+        .map_err(|e| Error::value(e.argument, e.reason))
 }

@@ -1,12 +1,14 @@
 //! The calibration files of `angletrack::CalibrationFile` on Python values: JSON text in
 //! and out (the Python package reads and writes the files themselves).
 
-use angletrack::{CalibrationFile, CalibrationMethod, CaptureCalibration, SensorCalibrationRecord};
+use angletrack::{
+    CalibrationFile, CalibrationMethod, CaptureCalibration, OrderQuality, SensorCalibrationRecord,
+};
 use pyo3::IntoPyObjectExt;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::angle_calibration::{SensorParameters, learned_dict, orders_of};
+use crate::angle_calibration::{SensorParameters, learned_dict};
 use crate::calibration::PySensorCalibration;
 use crate::errors::Result;
 
@@ -19,7 +21,7 @@ pub fn sensor_calibration_to_json(
     source: Option<String>,
 ) -> Result<String> {
     let record = SensorCalibrationRecord {
-        calibration: calibration.typed()?,
+        calibration: calibration.inner,
         turns_learned: turns_learned.map(|n| n.get("turns_learned")).transpose()?,
         source,
     };
@@ -53,7 +55,7 @@ pub fn angle_calibration_to_json(
         error_rms_rad,
         residual_rms_rad,
         method: CalibrationMethod::from_name(method.as_deref().unwrap_or("")),
-        orders: orders_of(orders)?,
+        orders: OrderQuality::table(&orders.unwrap_or_default())?,
     };
     Ok(calibration.to_json())
 }

@@ -270,31 +270,20 @@ pub fn read_capture(
     })
 }
 
-/// The `(name, path)` pairs of a dict `{name: path}` (paths as `str` or `os.PathLike`).
+/// The `(name, path)` pairs of a dict `{name: path}` (names `str`, paths `str` or
+/// `os.PathLike`), refused naming `parameter`.
 fn named_paths(obj: &Bound<'_, PyAny>, parameter: &'static str) -> Result<Vec<(String, PathBuf)>> {
-    let dict = obj.cast::<PyDict>().map_err(|_| {
+    let pairs = obj
+        .cast::<PyDict>()
+        .ok()
+        .and_then(|d| d.items().extract().ok());
+    pairs.ok_or_else(|| {
+        let given = crate::gains::type_name(obj);
         Error::value(
             parameter,
-            format!(
-                "expected a dict {{name: path}}, got {}",
-                crate::gains::type_name(obj)
-            ),
+            format!("expected a dict {{name: path}}, got {given}"),
         )
-    })?;
-    dict.iter()
-        .map(|(name, path)| {
-            let path = path.extract::<PathBuf>().map_err(|_| {
-                Error::value(
-                    parameter,
-                    format!(
-                        "{name}: expected a path, got {}",
-                        crate::gains::type_name(&path)
-                    ),
-                )
-            })?;
-            Ok((name.str()?.to_string(), path))
-        })
-        .collect()
+    })
 }
 
 /// Refuses an output that is (through symbolic links, `..` or hard links) one of the
@@ -304,16 +293,17 @@ fn named_paths(obj: &Bound<'_, PyAny>, parameter: &'static str) -> Result<Vec<(S
 #[pyfunction]
 #[pyo3(signature = (outputs, inputs))]
 pub fn check_outputs(outputs: &Bound<'_, PyAny>, inputs: &Bound<'_, PyAny>) -> Result<()> {
-    let outputs = named_paths(outputs, "outputs")?;
-    let inputs = named_paths(inputs, "inputs")?;
-    let o: Vec<_> = outputs
-        .iter()
-        .map(|(n, p)| (n.as_str(), p.as_path()))
-        .collect();
-    let i: Vec<_> = inputs
-        .iter()
-        .map(|(n, p)| (n.as_str(), p.as_path()))
-        .collect();
+    let (outputs, inputs) = (
+        named_paths(outputs, "outputs")?,
+        named_paths(inputs, "inputs")?,
+    );
+    fn borrowed(pairs: &[(String, PathBuf)]) -> Vec<(&str, &std::path::Path)> {
+        pairs
+            .iter()
+            .map(|(n, p)| (n.as_str(), p.as_path()))
+            .collect()
+    }
+    let (o, i) = (borrowed(&outputs), borrowed(&inputs));
     Ok(angletrack::capture::check_outputs(&o, &i)?)
 }
 

@@ -35,6 +35,11 @@ pub enum Counts {
 }
 
 impl Counts {
+    /// The numpy name of the dtype.
+    fn name(self) -> &'static str {
+        ["int16", "uint16", "int32", "int64"][self as usize]
+    }
+
     /// The counts type of a dtype, `None` for any other.
     pub fn of_descr(descr: &Bound<'_, PyArrayDescr>) -> Option<Self> {
         let py = descr.py();
@@ -87,13 +92,7 @@ pub fn adc_settings(
     let mid_scale = mid_scale
         .map(|m| m.get::<i32>("adc_mid_scale"))
         .transpose()?;
-    let signedness = signed.map(|s| {
-        if s {
-            Signedness::Signed
-        } else {
-            Signedness::Unsigned
-        }
-    });
+    let signedness = signed.map(Signedness::of_signed);
     Ok(AdcSettings {
         counts: CountsSettings::new(mid_scale, counts_per_unit, signedness)?,
         stated,
@@ -184,8 +183,8 @@ pub fn signals<'py, T: Sample>(
             }
             return Err(Error::Dtype {
                 parameter: "y_s",
-                given: describe(other.map(|k| k.0)),
-                expected: format!("raw counts of y_c's dtype, {}", describe(Some(kind))),
+                given: other.map_or("another dtype", |k| k.0.name()).into(),
+                expected: format!("raw counts of y_c's dtype, {}", kind.name()),
             });
         }
     };
@@ -201,17 +200,6 @@ fn scaled<'py, T: Sample, I: AdcCount>(
 ) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
     let (c, s) = input.scale(&c, &s, signedness).map_err(named)?;
     Ok((Samples::Copied(c), Samples::Copied(s)))
-}
-
-/// The numpy name of a dtype of samples, for an error message.
-fn describe(counts: Option<Counts>) -> String {
-    match counts {
-        Some(Counts::I16) => "int16".into(),
-        Some(Counts::U16) => "uint16".into(),
-        Some(Counts::I32) => "int32".into(),
-        Some(Counts::I64) => "int64".into(),
-        None => "another dtype".into(),
-    }
 }
 
 /// `counts` (int64) as int32, or a `ConfigError` naming `parameter` and the first count
@@ -279,13 +267,7 @@ pub fn capture_counts(
 ) -> Result<(bool, u64)> {
     use angletrack::{CountsError, Signedness, StatedCounts};
     let stated = StatedCounts {
-        signedness: signed.map(|s| {
-            if s {
-                Signedness::Signed
-            } else {
-                Signedness::Unsigned
-            }
-        }),
+        signedness: signed.map(Signedness::of_signed),
         bits,
     };
     match angletrack::capture_counts(stated, unsigned_type, &extremes.inner) {

@@ -3,8 +3,7 @@
 //! prediction and the estimates.
 
 use angletrack::design_capture::{
-    CaptureCandidate, CaptureSignals, DesignCaptureError, DesignConstraints, Uncertain,
-    design_from_capture as choose,
+    CaptureSignals, DesignCaptureError, DesignConstraints, design_from_capture as choose,
 };
 use angletrack::tracker_file::NumberType;
 use pyo3::exceptions::PyValueError;
@@ -48,26 +47,6 @@ impl From<DesignCaptureError> for Error {
             other => Error::Python(PyValueError::new_err(other.to_string())),
         }
     }
-}
-
-fn uncertain<'py>(py: Python<'py>, u: Uncertain) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("value", u.value)?;
-    d.set_item("std", u.std)?;
-    Ok(d)
-}
-
-fn candidate<'py>(py: Python<'py>, c: &CaptureCandidate) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("observer", c.family.name())?;
-    d.set_item("bandwidth_hz", c.bandwidth_hz)?;
-    d.set_item("gains", c.design.gains())?;
-    d.set_item("predicted_error_rms_rad", c.predicted.total_rad)?;
-    d.set_item("noise_rad", c.predicted.noise_rad)?;
-    d.set_item("lag_rad", c.predicted.lag_rad)?;
-    d.set_item("number_type_rad", c.predicted.number_type_rad)?;
-    d.set_item("refused_by", c.refused_by)?;
-    Ok(d)
 }
 
 /// Chooses the observer from a capture (`angletrack::design_capture::design_from_capture`).
@@ -120,57 +99,9 @@ pub fn design_from_capture<'py>(
         grid_points: usize::try_from(grid_points).unwrap_or(0),
     };
     let design = py.detach(|| choose(&signals, &constraints))?;
-    let out = PyDict::new(py);
-    let e = &design.estimates;
-    let noise = PyDict::new(py);
-    noise.set_item("amplitude", e.noise.amplitude)?;
-    noise.set_item("std", uncertain(py, e.noise.std)?)?;
-    noise.set_item("cos_std", uncertain(py, e.noise.cos_std)?)?;
-    noise.set_item("sin_std", uncertain(py, e.noise.sin_std)?)?;
-    noise.set_item("white_std", e.noise.white_std)?;
-    noise.set_item("coloured_std", e.noise.coloured_std)?;
-    noise.set_item("coloured_pole", e.noise.coloured_pole)?;
-    noise.set_item("quantisation_std", e.noise.quantisation_std)?;
-    let motion = PyDict::new(py);
-    motion.set_item("jerk_std_rad_s3", uncertain(py, e.motion.jerk_std_rad_s3)?)?;
-    motion.set_item(
-        "jerk_by_differences_rad_s3",
-        uncertain(py, e.motion.jerk_by_differences_rad_s3)?,
-    )?;
-    motion.set_item("jerk_by_als", e.motion.jerk_by_als)?;
-    if let Some(als) = &e.als {
-        let d = PyDict::new(py);
-        d.set_item("jerk_std_rad_s3", uncertain(py, als.jerk_std_rad_s3)?)?;
-        d.set_item("noise_std", uncertain(py, als.noise_std)?)?;
-        d.set_item("first_pass_bandwidth_hz", als.first_pass_bandwidth_hz)?;
-        d.set_item("lags", als.lags)?;
-        out.set_item("als", d)?;
-    } else {
-        out.set_item("als", py.None())?;
-    }
-    motion.set_item("from_reference", e.motion.from_reference)?;
-    motion.set_item("turns", e.motion.turns)?;
-    motion.set_item("initial_speed_rad_s", e.motion.initial_speed_rad_s)?;
-    motion.set_item("first_pass_bandwidth_hz", e.first_pass_bandwidth_hz)?;
-    out.set_item("design", PyDesign::from(design.chosen.design.clone()))?;
-    out.set_item("tracker_json", design.tracker_file().to_json())?;
-    out.set_item("chosen", candidate(py, &design.chosen)?)?;
-    out.set_item("predicted_error_rms_rad", design.chosen.predicted.total_rad)?;
-    let runners_up: PyResult<Vec<_>> = design.runners_up.iter().map(|c| candidate(py, c)).collect();
-    out.set_item("runners_up", runners_up?)?;
-    let candidates: PyResult<Vec<_>> = design.candidates.iter().map(|c| candidate(py, c)).collect();
-    out.set_item("candidates", candidates?)?;
-    let points = e.spectra(SPECTRUM_POINTS);
-    let column = |pick: fn(&(f64, f64, f64)) -> f64| points.iter().map(pick).collect::<Vec<f64>>();
-    let (frequencies, noise_psd, motion_psd) = (column(|p| p.0), column(|p| p.1), column(|p| p.2));
-    let spectra = PyDict::new(py);
-    spectra.set_item("frequency_hz", frequencies)?;
-    spectra.set_item("noise_rad2_per_hz", noise_psd)?;
-    spectra.set_item("motion_rad2_per_hz", motion_psd)?;
-    out.set_item("spectra", spectra)?;
-    out.set_item("noise", noise)?;
-    out.set_item("motion", motion)?;
-    Ok(out)
+    let out = crate::json::to_python(py, &design.report(SPECTRUM_POINTS))?;
+    out.set_item("design", PyDesign::from(design.chosen.design))?;
+    Ok(out.cast_into::<PyDict>().map_err(PyErr::from)?)
 }
 
 /// Adds `design_from_capture` to the module.

@@ -1,7 +1,10 @@
 //! `FaultThresholds` and the fault flags: the core's diagnostics, configured from Python.
 
-use angletrack_core::{FaultThresholds as CoreThresholds, Faults, Float, FrontEndFaults, Real};
+use angletrack::converted_thresholds;
+use angletrack_core::{FaultThresholds as CoreThresholds, Faults, FrontEndFaults, Real};
 use pyo3::prelude::*;
+
+use crate::getters::class_methods;
 
 /// Thresholds of the observer's diagnostics (like an RDC chip's fault register) and of its
 /// input check, in the units of `y_c`, `y_s` unless stated (the loop itself needs none: its
@@ -17,149 +20,117 @@ use pyo3::prelude::*;
     name = "FaultThresholds",
     module = "angletrack",
     frozen,
-    get_all,
     from_py_object
 )]
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, Default)]
 pub struct PyFaultThresholds {
-    /// The amplitude of a healthy signal.
-    nominal_amplitude: f64,
-    /// Samples with an amplitude above this (or non-finite) are rejected.
-    max_input_amplitude: f64,
-    /// A window's RMS amplitude below this: loss of signal.
-    loss_of_signal: f64,
-    /// A window's RMS amplitude below this: degradation of signal.
-    degradation_low: f64,
-    /// A window's RMS amplitude above this: degradation of signal.
-    degradation_high: f64,
-    /// A window's mean |phase error| above this: loss of tracking.
-    loss_of_tracking: f64,
-    /// Estimated |speed| (rad/s) above this: loss of tracking; `None`: pi / (2 Ts).
-    max_speed_rad_s: Option<f64>,
-    /// 1 / W for the monitor's window of W used samples (1 / filter_factor rounded down to
-    /// a power of two, at most 4096), in (0, 1]: a fault is flagged within 2 W - 1 samples.
-    filter_factor: f64,
-    /// In-phase component at a window's end below this: false lock.
-    false_lock: f64,
-    /// Whether the fault flags are computed (the input check always runs).
-    monitor: bool,
-    /// Whether a false lock re-acquires the angle from atan2.
-    re_acquire: bool,
-}
-
-impl From<CoreThresholds<f64>> for PyFaultThresholds {
-    fn from(t: CoreThresholds<f64>) -> Self {
-        Self::from_typed(&t)
-    }
-}
-
-impl Default for PyFaultThresholds {
-    fn default() -> Self {
-        CoreThresholds::default().into()
-    }
+    inner: CoreThresholds<f64>,
 }
 
 impl PyFaultThresholds {
     /// The Python value of thresholds in float type `T`.
     pub fn from_typed<T: Real>(t: &CoreThresholds<T>) -> Self {
         Self {
-            nominal_amplitude: t.nominal_amplitude.to_f64(),
-            max_input_amplitude: t.max_input_amplitude.to_f64(),
-            loss_of_signal: t.loss_of_signal.to_f64(),
-            degradation_low: t.degradation_low.to_f64(),
-            degradation_high: t.degradation_high.to_f64(),
-            loss_of_tracking: t.loss_of_tracking.to_f64(),
-            max_speed_rad_s: t.max_speed.map(Float::to_f64),
-            filter_factor: t.filter_factor.to_f64(),
-            false_lock: t.false_lock.to_f64(),
-            monitor: t.monitor,
-            re_acquire: t.re_acquire,
+            inner: converted_thresholds(t),
         }
     }
 
     /// The thresholds in float type `T` (checked where an observer takes them).
     pub fn typed<T: Real>(&self) -> CoreThresholds<T> {
-        let f = T::from_f64;
-        CoreThresholds::for_amplitude(f(self.nominal_amplitude))
-            .with_max_input_amplitude(f(self.max_input_amplitude))
-            .with_loss_of_signal(f(self.loss_of_signal))
-            .with_degradation_low(f(self.degradation_low))
-            .with_degradation_high(f(self.degradation_high))
-            .with_loss_of_tracking(f(self.loss_of_tracking))
-            .with_max_speed(self.max_speed_rad_s.map(f))
-            .with_filter_factor(f(self.filter_factor))
-            .with_false_lock(f(self.false_lock))
-            .with_monitor(self.monitor)
-            .with_re_acquire(self.re_acquire)
-            // The Python thresholds have no field for the roundness check yet: off, as it
-            // was.
-            .with_magnitude_tolerance(None)
+        // The Python thresholds have no field for the roundness check yet: off, as it was.
+        converted_thresholds(&self.inner).with_magnitude_tolerance(None)
     }
 }
 
-#[pymethods]
-impl PyFaultThresholds {
-    #[new]
-    #[pyo3(signature = (*, nominal_amplitude = 1.0, max_input_amplitude = None,
-        loss_of_signal = None, degradation_low = None, degradation_high = None,
-        loss_of_tracking = None, max_speed_rad_s = None, filter_factor = None,
-        false_lock = None, monitor = true, re_acquire = true))]
-    #[allow(clippy::too_many_arguments)]
-    fn py_new(
-        nominal_amplitude: f64,
-        max_input_amplitude: Option<f64>,
-        loss_of_signal: Option<f64>,
-        degradation_low: Option<f64>,
-        degradation_high: Option<f64>,
-        loss_of_tracking: Option<f64>,
-        max_speed_rad_s: Option<f64>,
-        filter_factor: Option<f64>,
-        false_lock: Option<f64>,
-        monitor: bool,
-        re_acquire: bool,
-    ) -> Self {
-        let d = Self::from(CoreThresholds::for_amplitude(nominal_amplitude));
-        Self {
-            nominal_amplitude,
-            max_input_amplitude: max_input_amplitude.unwrap_or(d.max_input_amplitude),
-            loss_of_signal: loss_of_signal.unwrap_or(d.loss_of_signal),
-            degradation_low: degradation_low.unwrap_or(d.degradation_low),
-            degradation_high: degradation_high.unwrap_or(d.degradation_high),
-            loss_of_tracking: loss_of_tracking.unwrap_or(d.loss_of_tracking),
-            max_speed_rad_s: max_speed_rad_s.or(d.max_speed_rad_s),
-            filter_factor: filter_factor.unwrap_or(d.filter_factor),
-            false_lock: false_lock.unwrap_or(d.false_lock),
-            monitor,
-            re_acquire,
+class_methods! {
+    PyFaultThresholds {
+        /// The amplitude of a healthy signal.
+        nominal_amplitude: f64 = |this, py| this.inner.nominal_amplitude;
+        /// Samples with an amplitude above this (or non-finite) are rejected.
+        max_input_amplitude: f64 = |this, py| this.inner.max_input_amplitude;
+        /// A window's RMS amplitude below this: loss of signal.
+        loss_of_signal: f64 = |this, py| this.inner.loss_of_signal;
+        /// A window's RMS amplitude below this: degradation of signal.
+        degradation_low: f64 = |this, py| this.inner.degradation_low;
+        /// A window's RMS amplitude above this: degradation of signal.
+        degradation_high: f64 = |this, py| this.inner.degradation_high;
+        /// A window's mean |phase error| above this: loss of tracking.
+        loss_of_tracking: f64 = |this, py| this.inner.loss_of_tracking;
+        /// Estimated |speed| (rad/s) above this: loss of tracking; `None`: pi / (2 Ts).
+        max_speed_rad_s: Option<f64> = |this, py| this.inner.max_speed;
+        /// 1 / W for the monitor's window of W used samples (1 / filter_factor rounded down
+        /// to a power of two, at most 4096), in (0, 1]: a fault is flagged within 2 W - 1
+        /// samples.
+        filter_factor: f64 = |this, py| this.inner.filter_factor;
+        /// In-phase component at a window's end below this: false lock.
+        false_lock: f64 = |this, py| this.inner.false_lock;
+        /// Whether the fault flags are computed (the input check always runs).
+        monitor: bool = |this, py| this.inner.monitor;
+        /// Whether a false lock re-acquires the angle from atan2.
+        re_acquire: bool = |this, py| this.inner.re_acquire;
+    }
+    methods {
+        #[new]
+        #[pyo3(signature = (*, nominal_amplitude = 1.0, max_input_amplitude = None,
+            loss_of_signal = None, degradation_low = None, degradation_high = None,
+            loss_of_tracking = None, max_speed_rad_s = None, filter_factor = None,
+            false_lock = None, monitor = true, re_acquire = true))]
+        #[allow(clippy::too_many_arguments)]
+        fn py_new(
+            nominal_amplitude: f64,
+            max_input_amplitude: Option<f64>,
+            loss_of_signal: Option<f64>,
+            degradation_low: Option<f64>,
+            degradation_high: Option<f64>,
+            loss_of_tracking: Option<f64>,
+            max_speed_rad_s: Option<f64>,
+            filter_factor: Option<f64>,
+            false_lock: Option<f64>,
+            monitor: bool,
+            re_acquire: bool,
+        ) -> Self {
+            let d = CoreThresholds::for_amplitude(nominal_amplitude);
+            let inner = d
+                .with_max_input_amplitude(max_input_amplitude.unwrap_or(d.max_input_amplitude))
+                .with_loss_of_signal(loss_of_signal.unwrap_or(d.loss_of_signal))
+                .with_degradation_low(degradation_low.unwrap_or(d.degradation_low))
+                .with_degradation_high(degradation_high.unwrap_or(d.degradation_high))
+                .with_loss_of_tracking(loss_of_tracking.unwrap_or(d.loss_of_tracking))
+                .with_max_speed(max_speed_rad_s.or(d.max_speed))
+                .with_filter_factor(filter_factor.unwrap_or(d.filter_factor))
+                .with_false_lock(false_lock.unwrap_or(d.false_lock))
+                .with_monitor(monitor)
+                .with_re_acquire(re_acquire);
+            Self { inner }
         }
-    }
 
-    /// No diagnostics and no re-acquisition, only the input check: the bare loop of the
-    /// paper (to study the loop's own large-signal behaviour).
-    #[staticmethod]
-    fn disabled() -> Self {
-        CoreThresholds::disabled().into()
-    }
+        /// No diagnostics and no re-acquisition, only the input check: the bare loop of the
+        /// paper (to study the loop's own large-signal behaviour).
+        #[staticmethod]
+        fn disabled() -> Self {
+            Self { inner: CoreThresholds::disabled() }
+        }
 
-    fn __repr__(&self) -> String {
-        let python_bool = |b: bool| if b { "True" } else { "False" };
-        format!(
-            "FaultThresholds(nominal_amplitude={}, max_input_amplitude={}, loss_of_signal={}, \
-             degradation_low={}, degradation_high={}, loss_of_tracking={}, max_speed_rad_s={}, \
-             filter_factor={}, false_lock={}, monitor={}, re_acquire={})",
-            self.nominal_amplitude,
-            self.max_input_amplitude,
-            self.loss_of_signal,
-            self.degradation_low,
-            self.degradation_high,
-            self.loss_of_tracking,
-            self.max_speed_rad_s
-                .map_or("None".to_string(), |v| v.to_string()),
-            self.filter_factor,
-            self.false_lock,
-            python_bool(self.monitor),
-            python_bool(self.re_acquire),
-        )
+        fn __repr__(&self) -> String {
+            let t = &self.inner;
+            let python_bool = |b: bool| if b { "True" } else { "False" };
+            format!(
+                "FaultThresholds(nominal_amplitude={}, max_input_amplitude={}, loss_of_signal={}, \
+                 degradation_low={}, degradation_high={}, loss_of_tracking={}, max_speed_rad_s={}, \
+                 filter_factor={}, false_lock={}, monitor={}, re_acquire={})",
+                t.nominal_amplitude,
+                t.max_input_amplitude,
+                t.loss_of_signal,
+                t.degradation_low,
+                t.degradation_high,
+                t.loss_of_tracking,
+                t.max_speed.map_or("None".to_string(), |v| v.to_string()),
+                t.filter_factor,
+                t.false_lock,
+                python_bool(t.monitor),
+                python_bool(t.re_acquire),
+            )
+        }
     }
 }
 

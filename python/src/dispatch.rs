@@ -4,7 +4,7 @@
 
 use core::fmt::Debug;
 
-use angletrack::{ChannelBatch, convert_gains};
+use angletrack::{ChannelBatch, ChannelOptions, TrackerChannel, convert_gains};
 use angletrack_core::{Exact, Fast, Gains as CoreGains, Real, SinCos};
 use numpy::Element;
 use pyo3::prelude::*;
@@ -14,7 +14,7 @@ use crate::batch::RunBatch;
 use crate::errors::{Error, Result};
 use crate::gains::{GainSet, PyGains};
 use crate::getters::class_methods;
-use crate::observer::{ObserverOps, ObserverOptions};
+use crate::observer::ObserverOps;
 use crate::observer_channel::Channel;
 
 /// Which sin/cos the phase detector uses.
@@ -66,15 +66,27 @@ impl<T: Real, S: SinCos<T> + Debug + Send + Sync> PhaseSinCos<T> for S {}
 /// Gains of the float type, order and sin/cos a caller chose, behind one object: what an
 /// `Observer` or an `ObserverBatch` is built from.
 pub trait TypedGains {
-    /// A core observer with `options` (diagnostics, ADC counts, calibration).
-    fn observer(&self, options: &ObserverOptions) -> Result<Box<dyn ObserverOps>>;
+    /// A core observer with `options` (diagnostics, ADC counts, calibration); `stated`: the
+    /// first ADC argument the caller gave (refused with float samples).
+    fn observer(
+        &self,
+        options: &ChannelOptions,
+        stated: Option<&'static str>,
+    ) -> Result<Box<dyn ObserverOps>>;
     /// A batch of `channels` observers (the input check only, no diagnostics).
     fn batch(&self, channels: usize) -> Result<Box<dyn RunBatch>>;
 }
 
 impl<T: Sample, const N: usize, S: PhaseSinCos<T>> TypedGains for CoreGains<T, N, S> {
-    fn observer(&self, options: &ObserverOptions) -> Result<Box<dyn ObserverOps>> {
-        Ok(Box::new(Channel::new(*self, options)?))
+    fn observer(
+        &self,
+        options: &ChannelOptions,
+        stated: Option<&'static str>,
+    ) -> Result<Box<dyn ObserverOps>> {
+        Ok(Box::new(Channel {
+            inner: TrackerChannel::new(*self, options)?,
+            stated,
+        }))
     }
 
     fn batch(&self, channels: usize) -> Result<Box<dyn RunBatch>> {

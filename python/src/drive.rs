@@ -2,9 +2,8 @@
 //! (`docs/theory.md §13`): the electrical angle for the pole pairs at the PWM update instant,
 //! and the filtered speed.
 
-use angletrack_core::{
-    DriveOutputs as CoreDriveOutputs, DriveOutputsState, Estimate as CoreEstimate,
-};
+use angletrack::DriveColumns;
+use angletrack_core::{DriveOutputs as CoreDriveOutputs, DriveOutputsState};
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 
@@ -76,44 +75,23 @@ impl PyDriveOutputs {
             let as_f64 = a.bind(py).call_method1("astype", ("float64",))?;
             Ok(samples::<f64>(&as_f64, "estimates")?.as_slice().to_vec())
         };
-        let angle = column(&estimates.angle)?;
-        let position = column(&estimates.position)?;
-        let speed = column(&estimates.speed)?;
-        let acceleration = column(&estimates.acceleration)?;
-        let n = angle.len();
-        let mut out = (
-            Vec::with_capacity(n),
-            Vec::with_capacity(n),
-            Vec::with_capacity(n),
-            Vec::with_capacity(n),
-            Vec::with_capacity(n),
-        );
-        for k in 0..n {
-            let estimate = CoreEstimate::new(
-                angle[k],
-                ((position[k] - angle[k]) / core::f64::consts::TAU).round() as i64,
-                speed[k],
-                acceleration[k],
-                0.0,
-                angletrack_core::Faults::NONE,
-            );
-            let drive = self.outputs.outputs(&mut self.state, &estimate);
-            out.0.push(drive.electrical_angle);
-            out.1.push(drive.electrical_speed);
-            out.2.push(drive.mechanical_angle);
-            out.3.push(drive.mechanical_turns);
-            out.4.push(drive.mechanical_speed);
-        }
+        let columns = [
+            column(&estimates.angle)?,
+            column(&estimates.position)?,
+            column(&estimates.speed)?,
+            column(&estimates.acceleration)?,
+        ];
+        let columns = columns.each_ref().map(Vec::as_slice);
+        let d = DriveColumns::of_estimates(&self.outputs, &mut self.state, columns);
         Ok(PyDriveAngles {
-            electrical_angle_rad: out.0.into_pyarray(py).unbind(),
-            electrical_speed_rad_s: out.1.into_pyarray(py).unbind(),
-            mechanical_angle_rad: out.2.into_pyarray(py).unbind(),
-            mechanical_turns: out.3.into_pyarray(py).unbind(),
-            mechanical_speed_rad_s: out.4.into_pyarray(py).unbind(),
+            electrical_angle_rad: d.electrical_angle_rad.into_pyarray(py).unbind(),
+            electrical_speed_rad_s: d.electrical_speed_rad_s.into_pyarray(py).unbind(),
+            mechanical_angle_rad: d.mechanical_angle_rad.into_pyarray(py).unbind(),
+            mechanical_turns: d.mechanical_turns.into_pyarray(py).unbind(),
+            mechanical_speed_rad_s: d.mechanical_speed_rad_s.into_pyarray(py).unbind(),
         })
     }
 
-    /// The latency (s) the angle is extrapolated by.
     #[getter]
     fn latency_s(&self) -> f64 {
         self.outputs.latency_s()

@@ -2,13 +2,14 @@
 //! its estimates into.
 
 use angletrack::{EstimateColumns, Output};
-use angletrack_core::{Estimate as CoreEstimate, Faults, Real};
+use angletrack_core::{Estimate as CoreEstimate, Real};
 use numpy::{Element, PyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyString;
 
 use crate::arrays::{as_slice_mut, writable};
 use crate::errors::{Error, Result};
+use crate::getters::class_methods;
 
 /// The estimates a caller asked for (`outputs=`): every one unless told otherwise.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -157,53 +158,50 @@ pub(crate) fn zeros<'py, E: Element>(
 }
 
 /// What an observer knows after its last sample (scalars, in `float`).
-#[pyclass(module = "angletrack", frozen, get_all)]
+#[pyclass(module = "angletrack", frozen)]
 #[derive(Debug, Clone)]
 pub struct Estimate {
-    /// Estimated angle (rad), wrapped to [-pi, pi).
-    angle: f64,
-    /// Whole turns counted since initialisation.
-    turns: i64,
-    /// Multi-turn position `turns * 2 pi + angle` (rad).
-    position: f64,
-    /// Estimated speed (rad/s).
-    speed: f64,
-    /// Estimated acceleration (rad/s^2); 0 for a 2nd-order observer.
-    acceleration: f64,
-    /// Normalised phase-detector output of the last sample (about `sin(error)`).
-    phase_error: f64,
-    /// Fault flags of the last sample (bits, see `angletrack.Faults`).
-    faults: u8,
+    inner: CoreEstimate<f64>,
 }
 
 impl Estimate {
-    pub(crate) fn from_core<T: Real>(e: &CoreEstimate<T>) -> Self {
-        Self {
-            angle: e.angle.to_f64(),
-            turns: e.turns,
-            position: e.position(),
-            speed: e.speed.to_f64(),
-            acceleration: e.acceleration.to_f64(),
-            phase_error: e.phase_error.to_f64(),
-            faults: e.faults.bits(),
-        }
+    pub(crate) fn from_core(e: &CoreEstimate<f64>) -> Self {
+        Self { inner: *e }
     }
 }
 
-#[pymethods]
-impl Estimate {
-    fn __repr__(&self) -> String {
-        format!(
-            "Estimate(angle={:.6} rad, turns={}, position={:.6} rad, speed={:.6} rad/s, \
-             acceleration={:.6} rad/s^2, phase_error={:.3e}, faults={})",
-            self.angle,
-            self.turns,
-            self.position,
-            self.speed,
-            self.acceleration,
-            self.phase_error,
-            Faults::from_bits_truncate(self.faults)
-        )
+class_methods! {
+    Estimate {
+        /// Estimated angle (rad), wrapped to [-pi, pi).
+        angle: f64 = |this, py| this.inner.angle;
+        /// Whole turns counted since initialisation.
+        turns: i64 = |this, py| this.inner.turns;
+        /// Multi-turn position `turns * 2 pi + angle` (rad).
+        position: f64 = |this, py| this.inner.position();
+        /// Estimated speed (rad/s).
+        speed: f64 = |this, py| this.inner.speed;
+        /// Estimated acceleration (rad/s^2); 0 for a 2nd-order observer.
+        acceleration: f64 = |this, py| this.inner.acceleration;
+        /// Normalised phase-detector output of the last sample (about `sin(error)`).
+        phase_error: f64 = |this, py| this.inner.phase_error;
+        /// Fault flags of the last sample (bits, see `angletrack.Faults`).
+        faults: u8 = |this, py| this.inner.faults.bits();
+    }
+    methods {
+        fn __repr__(&self) -> String {
+            let e = &self.inner;
+            format!(
+                "Estimate(angle={:.6} rad, turns={}, position={:.6} rad, speed={:.6} rad/s, \
+                 acceleration={:.6} rad/s^2, phase_error={:.3e}, faults={})",
+                e.angle,
+                e.turns,
+                e.position(),
+                e.speed,
+                e.acceleration,
+                e.phase_error,
+                e.faults
+            )
+        }
     }
 }
 

@@ -11,7 +11,7 @@ use pyo3::types::PyDict;
 
 use crate::angle_calibration::SensorParameters;
 use crate::errors::{Error, Result};
-use crate::gains::{GainSet, PyGains, with_gains};
+use crate::gains::{PyGains, with_gains};
 
 /// The float type named `dtype` (`"float32"` or `"float64"`).
 fn float_type(dtype: &str) -> Result<FloatType> {
@@ -43,23 +43,36 @@ pub fn gains_source(
     Ok(with_gains!(gains.set, g => language.gains(&g, float, name, description))?)
 }
 
-/// The value of `key` in the dict of fixed-point constants.
-fn item<'py, T: FromPyObjectOwned<'py>>(constants: &Bound<'py, PyDict>, key: &str) -> Result<T> {
-    let value = constants
-        .get_item(key)?
-        .ok_or_else(|| Error::value("constants", format!("missing {key:?}")))?;
-    value
-        .extract::<T>()
-        .map_err(|_| Error::value("constants", format!("{key:?} has the wrong type")))
+/// The value of `key` in the constants dict as `Design.fixed_constants()` gives it,
+/// refused (naming `constants`, and `expected`) when missing or of another type.
+pub fn constant<'py, T: FromPyObjectOwned<'py>>(
+    constants: &Bound<'py, PyAny>,
+    key: &str,
+    expected: &str,
+) -> Result<T> {
+    let value = constants.get_item(key).map_err(|_| {
+        Error::value(
+            "constants",
+            format!("has no key '{key}' (expected the dict Design.fixed_constants() returns)"),
+        )
+    })?;
+    value.extract::<T>().map_err(|_| {
+        Error::value(
+            "constants",
+            format!(
+                "'{key}' is {value:?}: expected {expected} (as Design.fixed_constants() gives)"
+            ),
+        )
+    })
 }
 
 /// The constants of a dict as `Design.fixed_constants()` gives it.
-fn fixed_constants(constants: &Bound<'_, PyDict>) -> Result<FixedDesignConstants> {
+fn fixed_constants(constants: &Bound<'_, PyAny>) -> Result<FixedDesignConstants> {
     Ok(FixedDesignConstants {
-        multiplier: item(constants, "multiplier")?,
-        acceleration_shift: item(constants, "acceleration_shift")?,
-        quantised_gains: item(constants, "quantised_gains")?,
-        sample_period_s: item(constants, "sample_period_s")?,
+        multiplier: constant(constants, "multiplier", "a list of integers (int32)")?,
+        acceleration_shift: constant(constants, "acceleration_shift", "an integer from 0 to 15")?,
+        quantised_gains: constant(constants, "quantised_gains", "a list of floats")?,
+        sample_period_s: constant(constants, "sample_period_s", "a period (s)")?,
     })
 }
 
@@ -73,7 +86,7 @@ pub fn fixed_source(
     name: &str,
     description: &str,
 ) -> Result<String> {
-    let constants = fixed_constants(constants)?;
+    let constants = fixed_constants(constants.as_any())?;
     Ok(self::language(language)?.fixed(&constants, name, description)?)
 }
 
@@ -135,7 +148,7 @@ pub fn fixed_gains_file_json(
     design_json: Option<&str>,
 ) -> Result<String> {
     Ok(FixedGainsFile {
-        constants: fixed_constants(constants)?,
+        constants: fixed_constants(constants.as_any())?,
         design: design(design_json)?,
     }
     .to_json())

@@ -10,13 +10,14 @@ use angletrack_core::{AngleCorrection, Rails, SensorCalibration, TrackerFrontEnd
 use numpy::PyUntypedArray;
 use numpy::prelude::*;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyMapping};
+use pyo3::types::PyDict;
 
 use crate::angle_calibration::SensorParameters;
-use crate::arrays::{Count, Samples, check_equal_lengths, samples};
+use crate::arrays::{Count, Samples, samples};
 use crate::calibration::PySensorCalibration;
 use crate::design::{PyDesign, constants_dict};
 use crate::errors::{Error, Result};
+use crate::export::constant;
 use crate::fixed_estimates::{FixedEstimate, FixedEstimates, run_fixed};
 use crate::gains::{GainSet, PyGains, with_gains};
 use crate::getters::class_methods;
@@ -46,25 +47,6 @@ fn designed_gains(design: &Bound<'_, PyAny>) -> Result<GainSet> {
             ),
         )),
     }
-}
-
-/// The value of `key` in the constants dict.
-fn constant<'py>(constants: &Bound<'py, PyMapping>, key: &str) -> Result<Bound<'py, PyAny>> {
-    constants.get_item(key).map_err(|_| {
-        Error::value(
-            "constants",
-            format!("has no key '{key}' (expected the dict Design.fixed_constants() returns)"),
-        )
-    })
-}
-
-/// The refusal of a constant `value` of `key` that is not what `Design.fixed_constants()`
-/// gives.
-fn not_integers(key: &str, value: &Bound<'_, PyAny>, expected: &str) -> Error {
-    Error::value(
-        "constants",
-        format!("'{key}' is {value:?}: expected {expected} (as Design.fixed_constants() gives)"),
-    )
 }
 
 /// The samples of argument `parameter` as int16 counts: an int16 numpy array as it is, an
@@ -150,7 +132,7 @@ fn stages(calibration: Option<&Bound<'_, PyAny>>) -> Result<Stages> {
         return Ok((None, None));
     };
     if let Ok(sensor) = calibration.extract::<PySensorCalibration>() {
-        return Ok((Some(sensor.typed::<f64>()?), None));
+        return Ok((Some(sensor.inner), None));
     }
     let attribute = |name: &str| {
         calibration.getattr(name).map_err(|_| {
@@ -251,23 +233,9 @@ class_methods! {
             adc_range: Option<(i32, i32)>,
             measure_adc_range: bool,
         ) -> Result<Self> {
-            let constants = constants.cast::<PyMapping>().map_err(|_| {
-                Error::value(
-                    "constants",
-                    format!(
-                        "expected the dict Design.fixed_constants() returns, got an object of type {}",
-                        constants.get_type()
-                    ),
-                )
-            })?;
-            let multiplier = constant(constants, "multiplier")?;
-            let multiplier: Vec<i32> = multiplier
-                .extract()
-                .map_err(|_| not_integers("multiplier", &multiplier, "a list of integers (int32)"))?;
-            let shift = constant(constants, "acceleration_shift")?;
-            let shift: u32 = shift
-                .extract()
-                .map_err(|_| not_integers("acceleration_shift", &shift, "an integer from 0 to 15"))?;
+            let multiplier: Vec<i32> =
+                constant(constants, "multiplier", "a list of integers (int32)")?;
+            let shift: u32 = constant(constants, "acceleration_shift", "an integer from 0 to 15")?;
             let rails = clipping_rails(adc_range, measure_adc_range)?;
             let front_end = front_end(calibration, mid_scale_counts, input_shift, rails)?;
             let tracker = FixedTracker::of_constants(
@@ -292,7 +260,7 @@ class_methods! {
         ) -> Result<FixedEstimates> {
             let (y_c, y_s) = (counts(y_c, "y_c")?, counts(y_s, "y_s")?);
             let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
-            check_equal_lengths(("y_c", y_c.len()), ("y_s", y_s.len()))?;
+            angletrack::ArgumentError::check_equal_lengths(("y_c", y_c.len()), ("y_s", y_s.len()))?;
             let tracker = &mut self.tracker;
             run_fixed(py, y_c.len(), |columns| {
                 tracker.run(columns, y_c, y_s);

@@ -9,67 +9,60 @@ use pyo3::prelude::*;
 use crate::arrays::{as_slice_mut, writable};
 use crate::errors::{Error, Result};
 use crate::estimates::zeros;
+use crate::getters::class_methods;
 
 /// What a fixed-point observer knows after its last sample: its integers and the same in
 /// physical units.
-#[pyclass(module = "angletrack", frozen, get_all)]
+#[pyclass(module = "angletrack", frozen)]
 #[derive(Debug, Clone)]
 pub struct FixedEstimate {
-    /// Binary angle (2^32 per turn, -2^31 is -pi).
-    angle: i32,
-    /// Whole turns since initialisation: the position is `turns + angle / 2^32` turns.
-    turns: i64,
-    /// Speed (2^-32 turn per sample).
-    speed: i32,
-    /// Acceleration (2^-63 turn per sample^2); 0 for a 2nd-order observer.
-    acceleration: i64,
-    /// Normalised phase error (Q15: 2^15 is 1).
-    phase_error: i32,
-    /// Fault flags of the monitor's last window (bits, see `angletrack.Faults`).
-    faults: u8,
-    /// Multi-turn position (rad).
-    position_rad: f64,
-    /// Speed (rad/s).
-    speed_rad_s: f64,
-    /// Acceleration (rad/s^2).
-    acceleration_rad_s2: f64,
+    /// The integers, and the position (rad), speed (rad/s) and acceleration (rad/s^2).
+    inner: (CoreFixedEstimate, [f64; 3]),
 }
 
 impl FixedEstimate {
     /// The estimate `e` with its position, speed and acceleration in physical units.
-    pub(crate) fn new(
-        (e, [position_rad, speed_rad_s, acceleration_rad_s2]): (CoreFixedEstimate, [f64; 3]),
-    ) -> Self {
-        Self {
-            angle: e.angle,
-            turns: e.turns,
-            speed: e.speed,
-            acceleration: e.acceleration,
-            phase_error: e.phase_error,
-            faults: e.faults.bits(),
-            position_rad,
-            speed_rad_s,
-            acceleration_rad_s2,
-        }
+    pub(crate) fn new(inner: (CoreFixedEstimate, [f64; 3])) -> Self {
+        Self { inner }
     }
 }
 
-#[pymethods]
-impl FixedEstimate {
-    fn __repr__(&self) -> String {
-        format!(
-            "FixedEstimate(angle={}, turns={}, speed={}, acceleration={}, phase_error={}, \
-             faults={}, position_rad={:.9}, speed_rad_s={:.6}, acceleration_rad_s2={:.6})",
-            self.angle,
-            self.turns,
-            self.speed,
-            self.acceleration,
-            self.phase_error,
-            self.faults,
-            self.position_rad,
-            self.speed_rad_s,
-            self.acceleration_rad_s2
-        )
+class_methods! {
+    FixedEstimate {
+        /// Binary angle (2^32 per turn, -2^31 is -pi).
+        angle: i32 = |this, py| this.inner.0.angle;
+        /// Whole turns since initialisation: the position is `turns + angle / 2^32` turns.
+        turns: i64 = |this, py| this.inner.0.turns;
+        /// Speed (2^-32 turn per sample).
+        speed: i32 = |this, py| this.inner.0.speed;
+        /// Acceleration (2^-63 turn per sample^2); 0 for a 2nd-order observer.
+        acceleration: i64 = |this, py| this.inner.0.acceleration;
+        /// Normalised phase error (Q15: 2^15 is 1).
+        phase_error: i32 = |this, py| this.inner.0.phase_error;
+        /// Fault flags of the monitor's last window (bits, see `angletrack.Faults`).
+        faults: u8 = |this, py| this.inner.0.faults.bits();
+        /// Multi-turn position (rad).
+        position_rad: f64 = |this, py| this.inner.1[0];
+        /// Speed (rad/s).
+        speed_rad_s: f64 = |this, py| this.inner.1[1];
+        /// Acceleration (rad/s^2).
+        acceleration_rad_s2: f64 = |this, py| this.inner.1[2];
+    }
+    methods {
+        fn __repr__(&self) -> String {
+            let (e, [position_rad, speed_rad_s, acceleration_rad_s2]) = &self.inner;
+            format!(
+                "FixedEstimate(angle={}, turns={}, speed={}, acceleration={}, phase_error={}, \
+                 faults={}, position_rad={position_rad:.9}, speed_rad_s={speed_rad_s:.6}, \
+                 acceleration_rad_s2={acceleration_rad_s2:.6})",
+                e.angle,
+                e.turns,
+                e.speed,
+                e.acceleration,
+                e.phase_error,
+                e.faults.bits(),
+            )
+        }
     }
 }
 

@@ -1,93 +1,13 @@
 //! `Gains`: the discrete gains of one observer and its sample period, checked by the core.
 
-use angletrack_core::{ConfigError, Gains as CoreGains};
 use pyo3::prelude::*;
 use pyo3::types::PyType;
 
 use crate::errors::{Error, Result};
 use crate::getters::class_methods;
 
-/// Checked discrete gains of order 2 or 3, in `f64` (the Python-side configuration).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum GainSet {
-    /// Order 2: `(l1, l2)`.
-    Second(CoreGains<f64, 2>),
-    /// Order 3: `(l1, l2, l3)`.
-    Third(CoreGains<f64, 3>),
-}
-
-/// Runs `$body` with `$g` bound to the concrete core gains inside a [`GainSet`].
-macro_rules! with_gains {
-    ($set:expr, $g:ident => $body:expr) => {
-        match $set {
-            GainSet::Second($g) => $body,
-            GainSet::Third($g) => $body,
-        }
-    };
-}
-pub(crate) use with_gains;
-
-impl GainSet {
-    /// Checks gains `l` (length 2 or 3) and the sample period (s) with the core.
-    pub fn new(l: &[f64], sample_period_s: f64) -> Result<Self> {
-        Self::of_order(
-            l,
-            "gains",
-            |l| CoreGains::new(l, sample_period_s),
-            |l| CoreGains::new(l, sample_period_s),
-        )
-    }
-
-    /// Gains from the closed-loop characteristic polynomial in `s = z - 1` (coefficients,
-    /// lowest first, leading 1 omitted).
-    pub fn from_loop_polynomial(c: &[f64], sample_period_s: f64) -> Result<Self> {
-        Self::of_order(
-            c,
-            "coefficients",
-            |c| CoreGains::from_loop_polynomial(c, sample_period_s),
-            |c| CoreGains::from_loop_polynomial(c, sample_period_s),
-        )
-    }
-
-    /// Calls `second` or `third` with the 2 or 3 `values` of argument `parameter`.
-    fn of_order(
-        values: &[f64],
-        parameter: &'static str,
-        second: impl FnOnce([f64; 2]) -> core::result::Result<CoreGains<f64, 2>, ConfigError>,
-        third: impl FnOnce([f64; 3]) -> core::result::Result<CoreGains<f64, 3>, ConfigError>,
-    ) -> Result<Self> {
-        match *values {
-            [a, b] => Ok(GainSet::Second(second([a, b])?)),
-            [a, b, c] => Ok(GainSet::Third(third([a, b, c])?)),
-            _ => Err(Error::value(
-                parameter,
-                format!(
-                    "expected 2 values (2nd-order observer) or 3 (3rd-order), got {}",
-                    values.len()
-                ),
-            )),
-        }
-    }
-
-    /// The discrete gains `(l1, l2[, l3])`.
-    pub fn gains(&self) -> Vec<f64> {
-        with_gains!(self, g => g.gains().to_vec())
-    }
-
-    fn loop_polynomial(&self) -> Vec<f64> {
-        with_gains!(self, g => g.loop_polynomial().to_vec())
-    }
-
-    /// The sample period (s).
-    pub fn sample_period(&self) -> f64 {
-        with_gains!(self, g => g.sample_period())
-    }
-
-    /// The observer order (2 or 3).
-    pub fn order(&self) -> usize {
-        with_gains!(self, g => g.order())
-    }
-}
+pub use angletrack::AnyGains as GainSet;
+pub(crate) use angletrack::with_any_gains as with_gains;
 
 /// Discrete gains of an angle tracking observer, checked against the stability region of the
 /// discrete loop.

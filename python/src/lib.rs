@@ -28,6 +28,7 @@ mod fixed;
 mod fixed_estimates;
 mod gains;
 mod getters;
+mod json;
 mod metrics;
 mod model_class;
 mod motion;

@@ -3,71 +3,20 @@
 //! The per-sample work is the core's `Gains::update`; this module only moves samples in and
 //! estimates out, with the GIL released, straight into preallocated arrays that numpy owns.
 
-use angletrack::{OnlineCalibrationChoice, mode_name, status_name};
-use angletrack_core::{
-    AngleCorrection, CalibrationMode, CalibrationStatus, Faults, FrontEndFaults, SensorCalibration,
-};
+use angletrack::{ChannelOptions, ChannelStatus, OnlineCalibrationChoice, mode_name, status_name};
+use angletrack_core::Faults;
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 
 use crate::arrays::{Count, Float};
 use crate::calibration::{PySensorCalibration, calibration_choice};
-use crate::counts::{AdcSettings, adc_settings};
+use crate::counts::adc_settings;
 use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::{Arg, RunSettings};
 use crate::errors::{Error, Result};
 use crate::estimates::{Estimate, Estimates};
 use crate::gains::PyGains;
 use crate::getters::class_methods;
-
-/// What `Observer` and `track` are asked for besides the gains, float type and sin/cos.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct ObserverOptions {
-    /// The diagnostics' thresholds; `None`: by the crate's `ThresholdPolicy`.
-    pub thresholds: Option<PyFaultThresholds>,
-    /// Whether the samples come in one call holding the whole capture (`track`), not as a
-    /// stream (`Observer`).
-    pub whole: bool,
-    /// How integer counts are scaled, and which ADC arguments were given.
-    pub adc: AdcSettings,
-    /// The online calibration.
-    pub calibration: OnlineCalibrationChoice,
-    /// The ADC's range in the input's units (counts for integer samples).
-    pub adc_range: Option<(f64, f64)>,
-    /// Without a range: the rails measured.
-    pub measure_adc_range: bool,
-    /// The windings' nominal envelope amplitude for the winding check (`None`: no check).
-    pub winding_amplitude: Option<f64>,
-    /// A stored sensor calibration and angle correction in place of the online calibration
-    /// (`harmonics.CalibratedObserver`).
-    pub stored: Option<(SensorCalibration<f64>, AngleCorrection<f64>)>,
-}
-
-/// What an `Observer`'s state holds now, in float64 (its attributes).
-#[derive(Debug, Clone)]
-pub struct ObserverStatus {
-    /// The estimate after the last sample.
-    pub estimate: Estimate,
-    /// `False` until the first sample (or `set_state`) has set the angle.
-    pub initialised: bool,
-    /// The faults latched.
-    pub latched_faults: Faults,
-    /// The front-end faults latched (of the range check, the rails measured and the winding
-    /// check).
-    pub front_end_faults: FrontEndFaults,
-    /// The diagnostics' thresholds, once decided.
-    pub fault_thresholds: Option<PyFaultThresholds>,
-    /// The signal's magnitude the loop normalises its phase error by.
-    pub amplitude: f64,
-    /// The sensor calibration applied (or learned so far).
-    pub calibration: PySensorCalibration,
-    /// The calibration's mode.
-    pub calibration_mode: CalibrationMode,
-    /// The electrical turns the calibration has learned from.
-    pub calibration_turns_learned: u32,
-    /// Where the online calibration stands.
-    pub calibration_status: CalibrationStatus,
-}
 
 /// What `Observer` does with the core observer of whichever float type, order and sin/cos
 /// its settings chose.
@@ -82,7 +31,7 @@ pub trait ObserverOps: core::fmt::Debug + Send + Sync {
         front_end_faults: Option<&[u8]>,
     ) -> Result<Estimates>;
     /// What the observer's state holds now.
-    fn status(&self) -> ObserverStatus;
+    fn status(&self) -> ChannelStatus;
     fn reset(&mut self);
     /// Sets the angle from one sample, refusing (naming it) a sample that is not finite.
     fn initialise(&mut self, y_c: f64, y_s: f64) -> Result<()>;
@@ -148,18 +97,18 @@ class_methods! {
         /// rails measured).
         latched_front_end_faults: u8 = |this, py| this.inner.status().front_end_faults.bits();
         /// The estimate after the last sample.
-        estimate: Estimate = |this, py| this.inner.status().estimate;
+        estimate: Estimate = |this, py| Estimate::from_core(&this.inner.status().estimate);
         /// The faults latched since they were last cleared (bits, see `angletrack.Faults`), like
         /// reading an RDC chip's fault register.
         latched_faults: u8 = |this, py| this.inner.status().latched_faults.bits();
         /// The diagnostics thresholds the observer runs with (given, or the defaults).
-        fault_thresholds: Option<PyFaultThresholds> = |this, py| this.inner.status().fault_thresholds;
+        fault_thresholds: Option<PyFaultThresholds> = |this, py| this.inner.status().fault_thresholds.map(|t| PyFaultThresholds::from_typed(&t));
         /// The signal's magnitude `sqrt(y_c^2 + y_s^2)` the loop normalises its phase error by
         /// (input units, after the calibration's correction).
         amplitude: f64 = |this, py| this.inner.status().amplitude;
         /// The sensor calibration applied to each sample (unless the calibration is off): what
         /// it learned so far, or was given.
-        calibration: PySensorCalibration = |this, py| this.inner.status().calibration;
+        calibration: PySensorCalibration = |this, py| PySensorCalibration::from_core(&this.inner.status().calibration);
         /// The calibration's mode: `"off"`, `"learn"` or `"frozen"`.
         calibration_mode: &'static str = |this, py| mode_name(this.inner.status().calibration_mode);
         /// The electrical turns the calibration has learned from since it started or was set.
@@ -194,18 +143,18 @@ class_methods! {
             measure_adc_range: bool,
             winding_amplitude: Option<f64>,
         ) -> Result<PyClassInitializer<Self>> {
-            let options = ObserverOptions {
-                thresholds: fault_thresholds,
-                whole: false,
-                adc: adc_settings(adc_mid_scale, adc_counts_per_unit, adc_signed)?,
+            let adc = adc_settings(adc_mid_scale, adc_counts_per_unit, adc_signed)?;
+            let options = ChannelOptions {
+                thresholds: fault_thresholds.map(|t| t.typed()),
+                counts: adc.counts,
                 calibration: calibration_choice(calibration, initial_calibration)?,
                 adc_range,
                 measure_adc_range,
                 winding_amplitude,
-                stored: None,
+                ..ChannelOptions::default()
             };
             RunSettings::from_arguments(gains, dtype, sin_cos)?.subclass(|gains| {
-                let inner = gains.observer(&options)?;
+                let inner = gains.observer(&options, adc.stated)?;
                 Ok(Self { inner })
             })
         }
@@ -325,18 +274,16 @@ pub fn track(
     adc_range: Option<(f64, f64)>,
 ) -> Result<Estimates> {
     let settings = RunSettings::new(gains, Float::of_samples(y_c, "y_c")?, sin_cos)?;
-    let options = ObserverOptions {
-        thresholds: fault_thresholds,
+    let adc = adc_settings(adc_mid_scale, adc_counts_per_unit, adc_signed)?;
+    let options = ChannelOptions {
+        thresholds: fault_thresholds.map(|t| t.typed()),
         whole: true,
-        adc: adc_settings(adc_mid_scale, adc_counts_per_unit, adc_signed)?,
-        calibration: OnlineCalibrationChoice::default(),
+        counts: adc.counts,
         adc_range,
-        measure_adc_range: false,
-        winding_amplitude: None,
-        stored: None,
+        ..ChannelOptions::default()
     };
     settings
         .typed_gains()?
-        .observer(&options)?
+        .observer(&options, adc.stated)?
         .run(py, y_c, y_s, None)
 }

@@ -2,43 +2,23 @@
 //! sin/cos, holding the core's `Tracker` (the ADC range check, the rails measured, the
 //! winding check, the online calibration) and its state, and its run over numpy arrays.
 
-use angletrack::{ChannelOptions, OnlineCalibrationChoice, TrackerChannel};
-use angletrack_core::{Faults, Gains as CoreGains, ObserverState};
+use angletrack::{ChannelStatus, OnlineCalibrationChoice, TrackerChannel};
+use angletrack_core::{Faults, ObserverState};
 use pyo3::prelude::*;
 
-use crate::calibration::PySensorCalibration;
-use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::{Arg, PhaseSinCos, Sample};
 use crate::errors::Result;
-use crate::estimates::{Estimate, Estimates, OutputSelection, run_estimates};
-use crate::observer::{ObserverOps, ObserverOptions, ObserverStatus};
+use crate::estimates::{Estimates, OutputSelection, run_estimates};
+use crate::observer::ObserverOps;
 
 /// The crate's `TrackerChannel` behind `Observer`, and the first ADC argument the caller
 /// stated (refused with float samples).
 #[derive(Debug)]
 pub struct Channel<T: Sample, const N: usize, S> {
-    inner: TrackerChannel<T, N, S>,
-    stated: Option<&'static str>,
-}
-
-impl<T: Sample, const N: usize, S: PhaseSinCos<T>> Channel<T, N, S> {
-    /// The observer of `gains` with `options`.
-    pub fn new(gains: CoreGains<T, N, S>, options: &ObserverOptions) -> Result<Self> {
-        let channel_options = ChannelOptions {
-            thresholds: options.thresholds.map(|t| t.typed()),
-            whole: options.whole,
-            counts: options.adc.counts,
-            calibration: options.calibration,
-            adc_range: options.adc_range,
-            measure_adc_range: options.measure_adc_range,
-            winding_amplitude: options.winding_amplitude,
-            stored: options.stored,
-        };
-        Ok(Self {
-            inner: TrackerChannel::new(gains, &channel_options)?,
-            stated: options.adc.stated,
-        })
-    }
+    /// The chain.
+    pub inner: TrackerChannel<T, N, S>,
+    /// The first ADC argument the caller stated.
+    pub stated: Option<&'static str>,
 }
 
 impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N, S> {
@@ -60,24 +40,8 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> ObserverOps for Channel<T, N,
         Ok(estimates)
     }
 
-    fn status(&self) -> ObserverStatus {
-        let (tracker, state) = (&self.inner.tracker, &self.inner.state);
-        let (observer, calibrator) = (&state.observer, state.front_end.calibrator());
-        ObserverStatus {
-            estimate: Estimate::from_core(&tracker.observer.estimate(observer)),
-            initialised: observer.is_initialised(),
-            latched_faults: observer.latched_faults(),
-            front_end_faults: state.front_end.latched_faults(),
-            fault_thresholds: self
-                .inner
-                .fault_thresholds()
-                .map(|t| PyFaultThresholds::from_typed(&t)),
-            amplitude: observer.amplitude().to_f64(),
-            calibration: PySensorCalibration::from_core(&calibrator.calibration()),
-            calibration_mode: calibrator.mode(),
-            calibration_turns_learned: calibrator.turns_learned(),
-            calibration_status: calibrator.status(),
-        }
+    fn status(&self) -> ChannelStatus {
+        self.inner.status()
     }
 
     fn reset(&mut self) {

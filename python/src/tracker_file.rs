@@ -91,11 +91,7 @@ impl PyTrackerRun {
     ) -> Result<Self> {
         let tracker = TrackerFile::from_json(text, file)?;
         let counts = mid_scale.map(|mid_scale| CaptureCounts {
-            signedness: if mid_scale == 0 {
-                Signedness::Signed
-            } else {
-                Signedness::Unsigned
-            },
+            signedness: Signedness::of_signed(mid_scale == 0),
             mid_scale,
         });
         let head = CaptureHead {
@@ -119,10 +115,7 @@ impl PyTrackerRun {
         y_s: PyReadonlyArray1<'py, f64>,
     ) -> Result<Bound<'py, PyDict>> {
         let (y_c, y_s) = (contiguous(&y_c, "y_c")?, contiguous(&y_s, "y_s")?);
-        if y_c.len() != y_s.len() {
-            let why = format!("{} samples against y_c's {}", y_s.len(), y_c.len());
-            return Err(Error::value("y_s", why));
-        }
+        angletrack::ArgumentError::check_equal_lengths(("y_c", y_c.len()), ("y_s", y_s.len()))?;
         let fixed = self.run.is_fixed();
         let run = &mut self.run;
         let rows = py.detach(|| run.track(y_c, y_s));

@@ -42,6 +42,18 @@ pub enum Signedness {
     Unsigned,
 }
 
+impl Signedness {
+    /// Two's complement for `true`, offset binary for `false` (an `adc_signed` argument).
+    ///
+    /// ```
+    /// use angletrack::Signedness;
+    /// assert_eq!(Signedness::of_signed(false), Signedness::Unsigned);
+    /// ```
+    pub fn of_signed(signed: bool) -> Self {
+        if signed { Self::Signed } else { Self::Unsigned }
+    }
+}
+
 /// What the caller stated of a capture's counts (`None`: not stated).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct StatedCounts {

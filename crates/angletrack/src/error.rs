@@ -204,6 +204,24 @@ impl ArgumentError {
             reason: reason.into(),
         }
     }
+
+    /// Refuses, naming the second, two series `(name, length)` of different lengths.
+    ///
+    /// ```
+    /// use angletrack::ArgumentError;
+    /// let e = ArgumentError::check_equal_lengths(("y_c", 3), ("y_s", 2)).unwrap_err();
+    /// assert_eq!(e.to_string(), "y_s: has 2 samples but y_c has 3: they must be equal");
+    /// ```
+    pub fn check_equal_lengths(
+        (a, a_len): (&'static str, usize),
+        (b, b_len): (&'static str, usize),
+    ) -> Result<(), Self> {
+        if a_len == b_len {
+            return Ok(());
+        }
+        let reason = format!("has {b_len} samples but {a} has {a_len}: they must be equal");
+        Err(Self::new(b, reason))
+    }
 }
 
 impl fmt::Display for ArgumentError {

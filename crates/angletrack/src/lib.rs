@@ -83,15 +83,18 @@ pub use angletrack_core::{
 pub use nalgebra::Complex;
 
 mod analysis;
+mod any_gains;
 mod calibration;
 pub mod capture;
 mod capture_counts;
 mod carrier;
+mod channel_status;
 mod clipping;
 mod counts;
 mod demodulation;
 mod design;
 pub mod design_capture;
+mod drive_columns;
 mod error;
 pub mod export;
 pub mod fault_campaign;
@@ -113,6 +116,7 @@ pub use analysis::{
     closed_loop_response, max_trackable_speed_rad_s, predicted_error,
     predicted_error_on_kalman_model,
 };
+pub use any_gains::AnyGains;
 pub use calibration::{
     ANGLE_CALIBRATION_FORMAT, CALIBRATION_FILE_VERSION, CalibrationChoiceError, CalibrationError,
     CalibrationFile, CalibrationMethod, CalibrationOptions, CaptureCalibration, CaptureCalibrator,
@@ -124,6 +128,7 @@ pub use capture_counts::{
     CaptureCounts, CountsError, CountsExtremes, Signedness, StatedCounts, capture_counts,
 };
 pub use carrier::measured_carrier_cycles_per_sample;
+pub use channel_status::ChannelStatus;
 pub use clipping::{checked_adc_range, clipping_rails};
 pub use counts::{
     AdcCount, CountsInput, CountsInputError, CountsSettings, UnsignedCountsError,
@@ -137,6 +142,7 @@ pub use design::{
     second_order_from_tracking_error, second_order_from_tracking_error_sampled,
     third_order_butterworth, third_order_from_overshoot, third_order_from_poles,
 };
+pub use drive_columns::DriveColumns;
 pub use error::{Argument, ArgumentError, Error};
 pub use json_file::JsonFileError;
 pub use rails::measured_adc_range;
@@ -148,7 +154,7 @@ pub use sim::{
     fixed_input_shift, fixed_magnitude_tolerance, fixed_monitor_amplitude, nominal_amplitude, run,
     run_calibrated, shifted_calibration,
 };
-pub use thresholds::{ThresholdInput, ThresholdPolicy, ThresholdsNotStated};
+pub use thresholds::{ThresholdInput, ThresholdPolicy, ThresholdsNotStated, converted_thresholds};
 pub use tracker_channel::{ChannelError, ChannelOptions, TrackerChannel, stored_stages};
 pub use winding_rails::WindingRails;
 pub use windings_plan::{

@@ -32,6 +32,31 @@ use angletrack_core::{FaultThresholds, Real};
 
 use crate::capture_fault_thresholds;
 
+/// `t` in the float type `U`, each threshold rounded to it (checked where an observer
+/// takes them).
+///
+/// ```
+/// use angletrack::{converted_thresholds, core::FaultThresholds};
+/// let t = FaultThresholds::<f64>::for_amplitude(0.1).with_max_speed(Some(1e3));
+/// let narrow: FaultThresholds<f32> = converted_thresholds(&t);
+/// assert_eq!((narrow.nominal_amplitude, narrow.max_speed), (0.1f32, Some(1e3f32)));
+/// ```
+pub fn converted_thresholds<T: Real, U: Real>(t: &FaultThresholds<T>) -> FaultThresholds<U> {
+    let f = |x: T| U::from_f64(x.to_f64());
+    FaultThresholds::for_amplitude(f(t.nominal_amplitude))
+        .with_max_input_amplitude(f(t.max_input_amplitude))
+        .with_loss_of_signal(f(t.loss_of_signal))
+        .with_degradation_low(f(t.degradation_low))
+        .with_degradation_high(f(t.degradation_high))
+        .with_loss_of_tracking(f(t.loss_of_tracking))
+        .with_max_speed(t.max_speed.map(f))
+        .with_filter_factor(f(t.filter_factor))
+        .with_false_lock(f(t.false_lock))
+        .with_monitor(t.monitor)
+        .with_re_acquire(t.re_acquire)
+        .with_magnitude_tolerance(t.magnitude_tolerance.map(f))
+}
+
 /// What an observer's samples are, as far as its thresholds' rule is concerned.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ThresholdInput {

@@ -17,13 +17,15 @@ use angletrack_core::{
 use crate::{
     ArgumentError, CountsInput, CountsSettings, EstimateColumns, OnlineCalibrationChoice,
     ThresholdInput, ThresholdPolicy, checked_adc_range, clipping_rails, converted_calibration,
+    converted_thresholds,
 };
 
-/// What a [`TrackerChannel`] of the float type `T` runs with besides its gains.
+/// What a [`TrackerChannel`] runs with besides its gains.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct ChannelOptions<T> {
-    /// The diagnostics' thresholds (`None`: by [`ThresholdPolicy`]).
-    pub thresholds: Option<FaultThresholds<T>>,
+pub struct ChannelOptions {
+    /// The diagnostics' thresholds in float64, rounded to the channel's float type (`None`:
+    /// by [`ThresholdPolicy`]).
+    pub thresholds: Option<FaultThresholds<f64>>,
     /// Whether the samples come in one call holding the whole capture, not as a stream.
     pub whole: bool,
     /// How raw counts are scaled.
@@ -104,10 +106,10 @@ pub struct TrackerChannel<T: Real, const N: usize, S> {
 
 impl<T: Real, const N: usize, S: SinCos<T>> TrackerChannel<T, N, S> {
     /// The chain of `gains` with `options`, from its first sample.
-    pub fn new(gains: Gains<T, N, S>, options: &ChannelOptions<T>) -> Result<Self, ChannelError> {
+    pub fn new(gains: Gains<T, N, S>, options: &ChannelOptions) -> Result<Self, ChannelError> {
         let adc_range = checked_adc_range(options.adc_range)?;
         clipping_rails(adc_range, options.measure_adc_range)?;
-        let given = options.thresholds;
+        let given = options.thresholds.as_ref().map(converted_thresholds);
         let thresholds = if options.whole {
             ThresholdPolicy::whole(given)
         } else {
@@ -164,18 +166,12 @@ impl<T: Real, const N: usize, S: SinCos<T>> TrackerChannel<T, N, S> {
         (y_c, y_s): (&[T], &[T]),
         front_end_faults: Option<&[u8]>,
     ) -> Result<(), ChannelError> {
-        let lengths = [
-            ("y_s", Some(y_s.len())),
-            ("front_end_faults", front_end_faults.map(<[u8]>::len)),
-        ];
-        for (argument, len) in lengths {
-            if let Some(len) = len.filter(|&len| len != y_c.len()) {
-                let reason = format!(
-                    "has {len} samples but y_c has {}: they must be equal",
-                    y_c.len()
-                );
-                return Err(refused(argument, reason));
-            }
+        ArgumentError::check_equal_lengths(("y_c", y_c.len()), ("y_s", y_s.len()))?;
+        if let Some(faults) = front_end_faults {
+            ArgumentError::check_equal_lengths(
+                ("y_c", y_c.len()),
+                ("front_end_faults", faults.len()),
+            )?;
         }
         let input = if counts {
             ThresholdInput::Counts {

@@ -90,11 +90,12 @@ impl OnlineCalibrationChoice {
     }
 }
 
-/// `calibration` in the float type `T`, checked again there.
-pub fn converted_calibration<T: Real>(
-    calibration: &SensorCalibration<f64>,
-) -> Result<SensorCalibration<T>, ConfigError> {
-    let f = T::from_f64;
+/// `calibration` in the float type `U`, checked again there (rounding to `f32` may
+/// refuse it; widening to `f64` keeps it).
+pub fn converted_calibration<T: Real, U: Real>(
+    calibration: &SensorCalibration<T>,
+) -> Result<SensorCalibration<U>, ConfigError> {
+    let f = |x: T| U::from_f64(x.to_f64());
     let (o_c, o_s, a_c, a_s, phi) = calibration.parameters();
     SensorCalibration::new(f(o_c), f(o_s), f(a_c), f(a_s), f(phi))
 }

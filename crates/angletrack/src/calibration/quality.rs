@@ -3,6 +3,8 @@
 
 use core::fmt;
 
+use crate::ArgumentError;
+
 pub use super::harmonic_fit::SPECTRUM_ORDERS;
 
 /// How the angle error was measured ([`CaptureCalibration::method`](super::CaptureCalibration)).
@@ -114,6 +116,38 @@ impl OrderQuality {
         uncertainty_rad: f64::NAN,
         status: OrderStatus::Unknown,
     };
+
+    /// Orders 1 to [`SPECTRUM_ORDERS`] (index `k - 1`) of `(order, amplitude_rad,
+    /// uncertainty_rad, status)` each, the status by its name ([`OrderStatus::from_name`]),
+    /// unknown for the orders not given; another order is refused naming `orders`.
+    ///
+    /// ```
+    /// use angletrack::{OrderQuality, OrderStatus};
+    /// let table = OrderQuality::table(&[(2, 1e-3, 1e-5, "learned".into())]).unwrap();
+    /// assert_eq!((table[1].amplitude_rad, table[1].status), (1e-3, OrderStatus::Learned));
+    /// assert!(table[0].amplitude_rad.is_nan());
+    /// assert!(OrderQuality::table(&[(13, 0.0, 0.0, "learned".into())]).is_err());
+    /// ```
+    pub fn table(
+        orders: &[(usize, f64, f64, String)],
+    ) -> Result<[Self; SPECTRUM_ORDERS], ArgumentError> {
+        let mut out = [Self::UNKNOWN; SPECTRUM_ORDERS];
+        for (order, amplitude_rad, uncertainty_rad, status) in orders {
+            let slot = order
+                .checked_sub(1)
+                .and_then(|i| out.get_mut(i))
+                .ok_or_else(|| {
+                    let reason = format!("order {order} is not in 1..={SPECTRUM_ORDERS}");
+                    ArgumentError::new("orders", reason)
+                })?;
+            *slot = Self {
+                amplitude_rad: *amplitude_rad,
+                uncertainty_rad: *uncertainty_rad,
+                status: OrderStatus::from_name(status),
+            };
+        }
+        Ok(out)
+    }
 
     /// A learned order whose amplitude is below its own uncertainty: most of it is noise.
     pub fn is_doubtful(&self) -> bool {

@@ -23,6 +23,9 @@
 //! let design = design_from_capture(&signals, &constraints)?;
 //! let tracker = design.tracker_file();
 //! assert_eq!(tracker.predicted_error_rms_rad, Some(design.chosen.predicted.total_rad));
+//! let report = design.report(10);
+//! assert_eq!(report["chosen"]["observer"], design.chosen.family.name());
+//! assert_eq!(report["spectra"]["noise_rad2_per_hz"].as_array().map(Vec::len), Some(10));
 //! # Ok::<(), angletrack::design_capture::DesignCaptureError>(())
 //! ```
 
@@ -34,6 +37,7 @@ mod estimate;
 mod jerk;
 mod linear_loop;
 mod noise;
+mod report;
 mod tracker;
 
 pub use als::AlsEstimate;

@@ -34,7 +34,6 @@ mod fixed;
 mod float;
 
 use super::{Calibration, Input, NumberType, SinCosKind, TrackerFile};
-use crate::Real;
 use crate::json_file::JsonFileError;
 
 /// The estimates of the samples a [`TrackerRun`] was fed, one entry a sample, in the
@@ -326,10 +325,4 @@ fn thresholds(
     let mid = f64::from(mid.unwrap_or(0));
     let unit = |y: &[f64]| -> Vec<f64> { y[..n].iter().map(|v| (v - mid) / per_unit).collect() };
     crate::capture_fault_thresholds(&unit(head.y_c), &unit(head.y_s))
-}
-
-fn typed<T: Float + Real>(s: &SensorCalibration<f64>) -> Option<SensorCalibration<T>> {
-    let (o_c, o_s, a_c, a_s, phi) = s.parameters();
-    let [o_c, o_s, a_c, a_s, phi] = [o_c, o_s, a_c, a_s, phi].map(T::from_f64);
-    SensorCalibration::new(o_c, o_s, a_c, a_s, phi).ok()
 }

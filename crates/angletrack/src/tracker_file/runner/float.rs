@@ -11,7 +11,7 @@ use angletrack_core::{
 use super::super::{Calibration, Correction, Input, TrackerFile};
 use super::{
     CaptureHead, FloatChain, Learning, Run, TrackedRows, field, file_error, mid_scale, refuse,
-    thresholds, typed,
+    thresholds,
 };
 use crate::Real;
 use crate::json_file::JsonFileError;
@@ -31,18 +31,7 @@ where
         }
         let mid = mid_scale(file, name, head)?;
         let t = thresholds(file, head, mid);
-        let thresholds = FaultThresholds::for_amplitude(T::from_f64(t.nominal_amplitude))
-            .with_max_input_amplitude(T::from_f64(t.max_input_amplitude))
-            .with_loss_of_signal(T::from_f64(t.loss_of_signal))
-            .with_degradation_low(T::from_f64(t.degradation_low))
-            .with_degradation_high(T::from_f64(t.degradation_high))
-            .with_loss_of_tracking(T::from_f64(t.loss_of_tracking))
-            .with_max_speed(t.max_speed.map(T::from_f64))
-            .with_filter_factor(T::from_f64(t.filter_factor))
-            .with_false_lock(T::from_f64(t.false_lock))
-            .with_monitor(t.monitor)
-            .with_re_acquire(t.re_acquire)
-            .with_magnitude_tolerance(t.magnitude_tolerance.map(T::from_f64));
+        let thresholds: FaultThresholds<T> = crate::converted_thresholds(&t);
         let mut gains = Gains::<T, N>::new(values, T::from_f64(file.gains.sample_period_s))
             .map_err(field("gains"))?
             .with_fault_thresholds(thresholds)
@@ -52,7 +41,8 @@ where
         let calibration = match &file.calibration {
             Calibration::None => CalibrationStage::None,
             Calibration::Stored(c) => CalibrationStage::Stored(
-                typed(c)
+                crate::converted_calibration(c)
+                    .ok()
                     .ok_or_else(|| refuse(name, "calibration.sensor", "beyond the number type"))?,
             ),
             Calibration::Online { initial, settings } => {
@@ -66,9 +56,11 @@ where
                     .with_calibration_settings(typed_settings)
                     .map_err(field("calibration"))?;
                 if let Some(c) = initial {
-                    calibrator = Calibrator::from_calibration(typed(c).ok_or_else(|| {
-                        refuse(name, "calibration.initial", "beyond the number type")
-                    })?);
+                    calibrator = Calibrator::from_calibration(
+                        crate::converted_calibration(c).ok().ok_or_else(|| {
+                            refuse(name, "calibration.initial", "beyond the number type")
+                        })?,
+                    );
                 }
                 calibrator.enable();
                 CalibrationStage::Online(gains.online_calibration())

@@ -623,6 +623,39 @@ typedef struct at_chain_fixed {
 } at_chain_fixed;
 
 /**
+ * The whole configuration of a fixed-point chain in integers, as `angletrack export
+ * --format c` writes it (`static const`, in flash) for `at_chain_fixed_from_constants`:
+ * the observer's `gains`, the words of its monitor's thresholds (`monitor`: enabled,
+ * loss of signal, degradation low and high, roundness low and high, loss of tracking,
+ * the largest speed; the core's `FixedGains::monitor_words`) and the optional stages,
+ * each NULL when absent: the ADC, a stored calibration and the angle-correction table.
+ */
+typedef struct at_chain_fixed_constants {
+  /**
+   * The observer's integer gains.
+   */
+  struct at_fixed_gains gains;
+  /**
+   * The monitor's threshold words.
+   */
+  uint32_t monitor[8];
+  /**
+   * The ADC, or NULL (then the chain takes `int16` samples).
+   */
+  const struct at_adc_counts *adc;
+  /**
+   * The stored calibration in its integers, or NULL: the offsets in the observer's
+   * 16-bit counts, the sine gain `A_c / (A_s cos phi)` (positive) and the cross gain
+   * `tan phi` (within +-16384), both Q14 (the core's `FixedCalibration::q14_words`).
+   */
+  const int16_t (*calibration_q14)[4];
+  /**
+   * The angle correction table, or NULL.
+   */
+  const struct at_angle_table_fixed *table;
+} at_chain_fixed_constants;
+
+/**
  * One channel's state of a fixed-point chain (the observer's: the stages keep none). A
  * zeroed one is fresh (as after `at_chain_state_fixed_reset`): the observer initialises
  * itself from its first sample. Place it anywhere; copy it by assignment; never write its
@@ -1438,6 +1471,20 @@ at_status at_chain_fixed_new(const struct at_fixed_gains *gains,
                              const struct at_angle_table_fixed *table,
                              double nominal_amplitude_counts,
                              struct at_chain_fixed *out);
+
+/**
+ * Builds the fixed-point chain of `constants` into `out`: the configuration as
+ * `angletrack export --format c` writes it (`NAME_chain`, `static const`), checked by
+ * integer comparisons only (`AT_ERR_GAINS_0`.., `AT_ERR_SAMPLE_PERIOD_S`, a threshold's
+ * or a stage's status), without floating-point arithmetic: what a firmware without an
+ * FPU calls at start-up. The loop's stability is not checked again (the export
+ * checked it). `out` unchanged on error.
+ *
+ * # Safety
+ * See the header's introduction.
+ */
+at_status at_chain_fixed_from_constants(const struct at_chain_fixed_constants *constants,
+                                        struct at_chain_fixed *out);
 
 /**
  * The settings of an offset-binary (unsigned) ADC of `bits` bits (2 to 16): mid-scale

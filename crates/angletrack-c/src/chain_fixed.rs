@@ -13,9 +13,8 @@
 //! `int16` samples as they are. This file only converts.
 
 use angletrack_core::{
-    AdcCounts, ConfigError, FixedCalibration, FixedEstimate, FixedGains, FixedState, Input, Order,
-    Rails, SensorCalibration, SupportedOrder, Tracker, TrackerFrontEnd, TrackerSettings,
-    TrackerState,
+    AdcCounts, ConfigError, FixedCalibration, FixedEstimate, FixedGains, FixedState, Input, Rails,
+    SensorCalibration, Tracker, TrackerFrontEnd, TrackerSettings, TrackerState,
 };
 
 use crate::calibration::at_sensor_calibration_f32;
@@ -23,7 +22,7 @@ use crate::faults::AT_FAULT_INVALID_ARGUMENT;
 use crate::gains::{at_fixed_gains, with_order};
 use crate::mirror::mirror;
 use crate::slot::{self, Slot, Stored, by_order};
-use crate::status::{AT_OK, at_status};
+use crate::status::{AT_OK, at_status, status_of};
 use crate::table::at_angle_table_fixed;
 
 mirror! {
@@ -81,12 +80,8 @@ pub struct at_adc_counts {
 impl at_adc_counts {
     /// The settings of an ADC of `bits` bits (2 to 16), offset binary or two's complement.
     pub(crate) fn of_bits(bits: u32, offset_binary: bool) -> Result<Self, ConfigError> {
-        let adc = if offset_binary {
-            AdcCounts::offset_binary(bits)
-        } else {
-            AdcCounts::twos_complement(bits)
-        };
-        adc.map(|_| Self {
+        // Both kinds take the same widths (2 to 16).
+        AdcCounts::twos_complement(bits).map(|_| Self {
             mid_scale_counts: if offset_binary { 1 << (bits - 1) } else { 0 },
             shift: 16 - bits,
         })
@@ -126,48 +121,39 @@ impl<const N: usize> Stored for StateFixed<N> {
     const TAG: u32 = 0x4154_5100 | N as u32; // "ATQ", the order
 }
 
-/// The optional stages `at_chain_fixed_new` takes, as references.
+/// The whole configuration of a fixed-point chain in integers, as `angletrack export
+/// --format c` writes it (`static const`, in flash) for `at_chain_fixed_from_constants`:
+/// the observer's `gains`, the words of its monitor's thresholds (`monitor`: enabled,
+/// loss of signal, degradation low and high, roundness low and high, loss of tracking,
+/// the largest speed; the core's `FixedGains::monitor_words`) and the optional stages,
+/// each NULL when absent: the ADC, a stored calibration and the angle-correction table.
+#[repr(C)]
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct FixedStages<'a> {
-    /// The ADC.
-    pub(crate) adc: Option<&'a at_adc_counts>,
-    /// A stored calibration, in the observer's 16-bit counts.
-    pub(crate) calibration: Option<&'a at_sensor_calibration_f32>,
-    /// The angle correction table.
-    pub(crate) table: Option<&'a at_angle_table_fixed>,
+pub struct at_chain_fixed_constants<'a> {
+    /// The observer's integer gains.
+    pub gains: at_fixed_gains,
+    /// The monitor's threshold words.
+    pub monitor: [u32; 8],
+    /// The ADC, or NULL (then the chain takes `int16` samples).
+    pub adc: Option<&'a at_adc_counts>,
+    /// The stored calibration in its integers, or NULL: the offsets in the observer's
+    /// 16-bit counts, the sine gain `A_c / (A_s cos phi)` (positive) and the cross gain
+    /// `tan phi` (within +-16384), both Q14 (the core's `FixedCalibration::q14_words`).
+    pub calibration_q14: Option<&'a [i16; 4]>,
+    /// The angle correction table, or NULL.
+    pub table: Option<&'a at_angle_table_fixed>,
 }
 
-/// The chain of `gains` (its monitor for `nominal_amplitude_counts`, off for 0) and the
-/// checked `stages`.
-fn build<const N: usize>(
-    gains: &FixedGains<N>,
-    stages: FixedStages<'_>,
-    nominal_amplitude_counts: f64,
-) -> Result<ChainFixed<N>, ConfigError>
-where
-    Order<N>: SupportedOrder,
-{
-    let adc = stages.adc.map(at_adc_counts::checked).transpose()?;
-    let calibration = match stages.calibration {
-        Some(c) => Some(FixedCalibration::new(&SensorCalibration::<f64>::new(
-            c.offset_c.into(),
-            c.offset_s.into(),
-            c.amplitude_c.into(),
-            c.amplitude_s.into(),
-            c.quadrature_rad.into(),
-        )?)?),
-        None => None,
-    };
-    let table = stages
-        .table
-        .map(at_angle_table_fixed::checked)
-        .transpose()?;
-    let nominal = (nominal_amplitude_counts != 0.0).then_some(nominal_amplitude_counts);
-    // With a nominal amplitude, the roundness check at its default tolerance (0.1), as the
-    // core's `with_monitor` and the Rust export of a tracker file set it.
-    let observer = gains.with_monitor(nominal)?;
-    // Counts from an ADC with no stated range: clipping against the rails measured.
-    let input = match adc {
+/// The front end of the stages: the ADC `adc` (checked; clipping against the rails
+/// measured, or `int16` samples without it), the checked `calibration` and the `table`
+/// (checked). Of no order: one copy in an image of both.
+fn front_end(
+    adc: Option<&at_adc_counts>,
+    calibration: Option<Result<FixedCalibration, ConfigError>>,
+    table: Option<&at_angle_table_fixed>,
+) -> Result<TrackerFrontEnd<i16>, ConfigError> {
+    let calibration = calibration.transpose()?;
+    let input = match adc.map(at_adc_counts::checked).transpose()? {
         Some(adc) => Input::Counts {
             adc,
             rails: Rails::Measured,
@@ -176,26 +162,57 @@ where
             rails: Rails::Unchecked,
         },
     };
-    let front_end = TrackerFrontEnd::new(TrackerSettings {
+    let correction = table.map(at_angle_table_fixed::checked).transpose()?;
+    TrackerFrontEnd::new(TrackerSettings {
         input,
         winding: (),
         calibration,
-        correction: table,
-    })?;
-    Ok(Tracker::new(front_end, observer))
+        correction,
+    })
 }
 
 impl at_chain_fixed {
-    /// Builds and stores the chain (`self` unchanged on error).
+    /// Builds and stores the chain of the observer `gains` (its monitor for
+    /// `nominal_amplitude_counts`, off for 0) after the stages (`self` unchanged on error).
     pub(crate) fn set(
         &mut self,
         gains: &at_fixed_gains,
-        stages: FixedStages<'_>,
+        adc: Option<&at_adc_counts>,
+        calibration: Option<&at_sensor_calibration_f32>,
+        table: Option<&at_angle_table_fixed>,
         nominal_amplitude_counts: f64,
     ) -> at_status {
-        let built = with_order!(gains.order, N => gains
-            .core::<N>()
-            .and_then(|g| build(&g, stages, nominal_amplitude_counts).map(|c| self.slot_put(c))));
+        let calibration = calibration.map(|c| {
+            let v = [
+                c.offset_c,
+                c.offset_s,
+                c.amplitude_c,
+                c.amplitude_s,
+                c.quadrature_rad,
+            ];
+            let [o_c, o_s, a_c, a_s, q] = v.map(f64::from);
+            FixedCalibration::new(&SensorCalibration::new(o_c, o_s, a_c, a_s, q)?)
+        });
+        let nominal = (nominal_amplitude_counts != 0.0).then_some(nominal_amplitude_counts);
+        // With a nominal amplitude, the roundness check at its default tolerance (0.1), as the
+        // core's `with_monitor` and the Rust export of a tracker file set it.
+        let built = front_end(adc, calibration, table).map_err(status_of).and_then(|f| {
+            with_order!(gains.order, N => FixedGains::<N>::from_constants(gains.constants(), gains.sample_period_s)
+                .and_then(|g| g.with_monitor(nominal))
+                .map(|g| self.slot_put(Tracker::new(f, g))))
+        });
+        built.map_or_else(|status| status, |()| AT_OK)
+    }
+
+    /// Builds and stores the chain of `c`, checked by integer comparisons only (`self`
+    /// unchanged on error).
+    pub(crate) fn set_from_constants(&mut self, c: &at_chain_fixed_constants) -> at_status {
+        let (g, q14) = (&c.gains, c.calibration_q14.copied());
+        let front = front_end(c.adc, q14.map(FixedCalibration::from_q14), c.table);
+        let built = front.map_err(status_of).and_then(|f| {
+            with_order!(g.order, N => FixedGains::<N>::from_words(g.constants(), g.sample_period_s, c.monitor)
+                .map(|g| self.slot_put(Tracker::new(f, g))))
+        });
         built.map_or_else(|status| status, |()| AT_OK)
     }
 

@@ -8,7 +8,8 @@
 use crate::calibration::at_sensor_calibration_f32;
 use crate::chain::at_angle_correction_f32;
 use crate::chain_fixed::{
-    FixedStages, at_adc_counts, at_chain_fixed, at_chain_state_fixed, at_fixed_estimate,
+    at_adc_counts, at_chain_fixed, at_chain_fixed_constants, at_chain_state_fixed,
+    at_fixed_estimate,
 };
 use crate::door::per_sample;
 use crate::ffi::{construct, extern_c, write};
@@ -81,8 +82,17 @@ extern_c! {
     fn at_chain_fixed_new(gains: *const at_fixed_gains, adc: Option<&at_adc_counts>,
         calibration: Option<&at_sensor_calibration_f32>, table: Option<&at_angle_table_fixed>,
         nominal_amplitude_counts: f64, out: *mut at_chain_fixed) -> at_status
-        = out.set(gains, FixedStages { adc, calibration, table }, nominal_amplitude_counts);
+        = out.set(gains, adc, calibration, table, nominal_amplitude_counts);
         else AT_ERR_NULL_POINTER;
+    /// Builds the fixed-point chain of `constants` into `out`: the configuration as
+    /// `angletrack export --format c` writes it (`NAME_chain`, `static const`), checked by
+    /// integer comparisons only (`AT_ERR_GAINS_0`.., `AT_ERR_SAMPLE_PERIOD_S`, a threshold's
+    /// or a stage's status), without floating-point arithmetic: what a firmware without an
+    /// FPU calls at start-up. The loop's stability is not checked again (the export
+    /// checked it). `out` unchanged on error.
+    fn at_chain_fixed_from_constants(constants: *const at_chain_fixed_constants,
+        out: *mut at_chain_fixed) -> at_status
+        = out.set_from_constants(constants); else AT_ERR_NULL_POINTER;
     /// The settings of an offset-binary (unsigned) ADC of `bits` bits (2 to 16): mid-scale
     /// `2^(bits-1)`, shifted by `16 - bits`, to `out` (`AT_ERR_BITS`; `out` unchanged on error).
     fn at_adc_counts_offset_binary(bits: u32, out: *mut at_adc_counts) -> at_status

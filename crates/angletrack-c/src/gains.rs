@@ -96,16 +96,12 @@ pub struct at_fixed_gains {
 }
 
 impl at_fixed_gains {
-    /// The core's gains of order `N`, checked.
-    pub(crate) fn core<const N: usize>(&self) -> Result<FixedGains<N>, ConfigError>
-    where
-        Order<N>: SupportedOrder,
-    {
-        let constants = FixedConstants {
+    /// The integer constants as the core's, of order `N`.
+    pub(crate) fn constants<const N: usize>(&self) -> FixedConstants<N> {
+        FixedConstants {
             multiplier: core::array::from_fn(|i| self.multiplier[i]),
             acceleration_shift: self.acceleration_shift,
-        };
-        FixedGains::from_constants(constants, self.sample_period_s)
+        }
     }
 
     /// The constants `multiplier` (their number is the order), checked.
@@ -121,7 +117,7 @@ impl at_fixed_gains {
             sample_period_s,
         };
         out.multiplier[..multiplier.len()].copy_from_slice(multiplier);
-        with_order!(out.order, N => out.core::<N>().map(|_| out))
+        with_order!(out.order, N => FixedGains::<N>::from_constants(out.constants(), sample_period_s).map(|_| out))
     }
 
     /// The float gains `l` (their number is the order) quantised, checked.

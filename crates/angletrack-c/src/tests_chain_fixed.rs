@@ -414,3 +414,39 @@ fn float_tables_from_the_c_functions() {
         assert!((table.errors_rad[0] + 0.01).abs() < 1e-7, "cos(-pi) = -1");
     }
 }
+
+#[test]
+fn the_chains_integers_are_checked_with_their_statuses() {
+    let gains = fixed_gains();
+    let observer = FixedGains::<3>::from_constants(gains.constants(), gains.sample_period_s);
+    let monitor = observer.unwrap().with_monitor(Some(28_800.0)).unwrap();
+    let constants = at_chain_fixed_constants {
+        gains,
+        monitor: monitor.monitor_words(),
+        adc: None,
+        calibration_q14: None,
+        table: None,
+    };
+    let build = |c: *const at_chain_fixed_constants| {
+        let mut chain = at_chain_fixed::ZEROED;
+        // SAFETY: a valid pointer to a live value, or NULL.
+        unsafe { at_chain_fixed_from_constants(c, &mut chain) }
+    };
+    assert_eq!(build(&constants), AT_OK);
+    assert_eq!(build(null()), AT_ERR_NULL_POINTER);
+    let no_sine = [0, 0, 0, 0];
+    let calibration_q14 = Some(&no_sine);
+    let bad = at_chain_fixed_constants {
+        calibration_q14,
+        ..constants
+    };
+    assert_eq!(build(&bad), AT_ERR_AMPLITUDE_S);
+    let mut bad = constants;
+    bad.monitor[1] = bad.monitor[2] + 1;
+    assert_eq!(build(&bad), AT_ERR_LOSS_OF_SIGNAL);
+    let mut bad = constants;
+    bad.gains.sample_period_s = f64::NAN;
+    assert_eq!(build(&bad), AT_ERR_SAMPLE_PERIOD_S);
+    bad.gains.order = 4;
+    assert_eq!(build(&bad), AT_ERR_ORDER);
+}

@@ -289,6 +289,51 @@ impl FixedCalibration {
         })
     }
 
+    /// The calibration of its integers, as [`FixedCalibration::q14_words`] gives them
+    /// (what `angletrack export --format c` writes for a firmware): the offsets (counts of
+    /// the observer's 16-bit samples), the sine gain `A_c / (A_s cos phi)` in Q14 (positive)
+    /// and the cross gain `tan phi` in Q14 (within +-16384, `|phi| <= pi/4`). Checked by
+    /// integer comparisons only, naming the parameter.
+    ///
+    /// ```
+    /// use angletrack_core::{FixedCalibration, Parameter, SensorCalibration};
+    /// static STORED: FixedCalibration = match FixedCalibration::from_q14([300, -200, 15423, 328]) {
+    ///     Ok(fixed) => fixed,
+    ///     Err(_) => panic!("the calibration's words are refused"),
+    /// };
+    /// let learned = SensorCalibration::<f64>::new(300.0, -200.0, 16000.0, 17000.0, 0.02)?;
+    /// assert_eq!(STORED, FixedCalibration::new(&learned)?);
+    /// let err = FixedCalibration::from_q14([0, 0, 0, 0]).unwrap_err();
+    /// assert_eq!(err.parameter(), Parameter::AmplitudeSin);
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub const fn from_q14(words: [i16; 4]) -> Result<Self, ConfigError> {
+        let [offset_c, offset_s, sine_gain_q14, cross_gain_q14] = words;
+        if sine_gain_q14 <= 0 {
+            return Err(ConfigError::OutOfRange(Parameter::AmplitudeSin));
+        }
+        if cross_gain_q14 < -(1 << 14) || cross_gain_q14 > 1 << 14 {
+            return Err(ConfigError::OutOfRange(Parameter::Quadrature));
+        }
+        Ok(Self {
+            offset_c,
+            offset_s,
+            sine_gain_q14,
+            cross_gain_q14,
+        })
+    }
+
+    /// The integers: the offsets, the sine gain and the cross gain in Q14 (for
+    /// [`FixedCalibration::from_q14`]).
+    pub const fn q14_words(&self) -> [i16; 4] {
+        [
+            self.offset_c,
+            self.offset_s,
+            self.sine_gain_q14,
+            self.cross_gain_q14,
+        ]
+    }
+
     /// The corrected pair (see [`SensorCalibration::correct`]), saturated to `i16`:
     /// `c = y_c - o_c`, `s = ((y_s - o_s) g - c t) / 2^14` rounded, `g` and `t` the Q14
     /// coefficients (every product below 2^30 and their sum below 2^31: no overflow).

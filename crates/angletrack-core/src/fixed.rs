@@ -11,6 +11,7 @@ mod multiply;
 mod state;
 mod update;
 mod wide_product;
+mod words;
 
 pub use binary_angle::{binary_angle, binary_angle_to_rad};
 pub(crate) use binary_angle::{round_to_i64, sin_cos_q15, taylor_sin};
@@ -18,6 +19,7 @@ pub use gains::{FixedConstants, FixedGains, MIN_NORMALISED_AMPLITUDE_COUNTS};
 pub use state::{FixedEstimate, FixedState};
 pub use update::{MAX_RECIPROCAL, MIN_RECIPROCAL, MONITOR_WINDOW};
 pub(crate) use wide_product::wide_product;
+pub use words::FixedMonitorWords;
 
 #[cfg(test)]
 mod monitor_tests;

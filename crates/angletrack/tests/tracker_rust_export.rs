@@ -240,9 +240,10 @@ fn fnv1a(rows: &angletrack::tracker_file::TrackedRows, fixed: bool) -> u64 {
 
 /// The C door's identity test's inputs and expectations (`crates/angletrack-c/tests/c/identity/`,
 /// rewritten with `ANGLETRACK_WRITE_FIXTURES=1`): the capture as 12-bit codes, the C
-/// headers `angletrack export --format c` writes for the two tracker files (their
-/// thresholds left out: the C header does not carry them yet, so the C program states the
-/// amplitude), and the hash of [`TrackerRun`]'s angles and flags on the capture. Held here
+/// headers `angletrack export --format c` writes for the two tracker files (the f32 one's
+/// thresholds left out: its C header does not carry them yet, so the C program states the
+/// amplitude; the fixed-point chain's constants carry them; the fixed-point one also as
+/// `tests/c/guide/motor.h`, the C guide's example's), and the hash of [`TrackerRun`]'s angles and flags on the capture. Held here
 /// to what `TrackerRun` gives now, so that they cannot go stale.
 #[test]
 fn the_c_identity_fixtures_are_the_host_run_of_the_files() {
@@ -279,13 +280,24 @@ fn the_c_identity_fixtures_are_the_host_run_of_the_files() {
             fnv1a(&rows, number_type == NumberType::Fixed),
             rows.faults.iter().filter(|&&f| f != 0).count()
         );
-        let header = TrackerFile {
-            fault_thresholds: None,
-            ..file
-        }
-        .firmware_constants("motor.json", Language::C, &format!("motor_{name}"))
-        .unwrap();
+        // The fixed-point chain's constants carry the monitor's thresholds; the f32 header
+        // does not yet (the C program states the amplitude).
+        let file_for_c = match number_type {
+            NumberType::Fixed => file,
+            _ => TrackerFile {
+                fault_thresholds: None,
+                ..file
+            },
+        };
+        let header = file_for_c
+            .firmware_constants("motor.json", Language::C, &format!("motor_{name}"))
+            .unwrap();
         files.push((format!("motor_{name}.h"), header.into_bytes()));
+        if number_type == NumberType::Fixed {
+            // The C guide's example of the fixed-point chain from its integers.
+            let guide = file_for_c.firmware_constants("motor.json", Language::C, "motor");
+            files.push(("../guide/motor.h".to_string(), guide.unwrap().into_bytes()));
+        }
     }
     files.push(("expected.h".to_string(), expected.into_bytes()));
     for (name, bytes) in files {

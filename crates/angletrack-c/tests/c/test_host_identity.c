@@ -7,8 +7,10 @@
  * stretch, a dead sine channel) and compares a hash of every sample's angle bits and faults
  * with the one the Rust crate's TrackerRun gives on the same file and capture
  * (identity/expected.h, written and held by crates/angletrack/tests/tracker_rust_export.rs).
- * The C header does not carry fault thresholds yet: the program states the amplitude the
- * files state (1800 counts). Usage: test_host_identity CAPTURE.bin; exits 0 if both agree.
+ * The fixed-point chain twice: from the exported gains and calibration by
+ * at_chain_fixed_new, and from the exported integers (motor_fixed_chain, with the monitor's
+ * thresholds) by at_chain_fixed_from_constants. The f32 header does not carry fault
+ * thresholds yet: the program states the amplitude the files state (1800 counts). Usage: test_host_identity CAPTURE.bin; exits 0 if both agree.
  * Built and run by scripts/test.d/16-c-api.sh. */
 #include <stdint.h>
 #include <stdio.h>
@@ -78,8 +80,24 @@ static int float_chain(void) {
                 IDENTITY_F32_FLAGGED);
 }
 
-/* The fixed-point chain: counts shifted by 16 - 12 bits, the calibration (learned on the
- * counts) and the monitor's amplitude in the shifted counts. */
+/* Tracks the capture through `chain` (made with status `s`) with the ADC's full scale as its
+ * range, from a fresh state. */
+static int track_fixed(const char *name, at_status s, const at_chain_fixed *chain) {
+  if (s == AT_OK) s = at_chain_fixed_with_adc_range(chain, 0, 4095, &fixed_chain_ranged);
+  at_chain_state_fixed_reset(&fixed_state);
+  uint64_t hash = 0xcbf29ce484222325ULL;
+  long flagged = 0;
+  for (long k = 0; s == AT_OK && k < IDENTITY_SAMPLES; k++) {
+    at_fixed_estimate e = at_chain_fixed_update_u16(&fixed_chain_ranged, &fixed_state, codes[k][0], codes[k][1]);
+    hash = hash_bytes(hash, (uint32_t)e.angle, e.faults);
+    flagged += e.faults != 0;
+  }
+  return report(name, s, hash, IDENTITY_FIXED_HASH, flagged, IDENTITY_FIXED_FLAGGED);
+}
+
+/* The fixed-point chain from the exported gains and calibration: counts shifted by 16 - 12
+ * bits, the calibration (learned on the counts) and the monitor's amplitude in the shifted
+ * counts. */
 static int fixed_point_chain(void) {
   at_status s = at_fixed_gains_from_constants(motor_fixed_gain_multiplier, MOTOR_FIXED_ORDER,
                                               MOTOR_FIXED_ACCELERATION_SHIFT, MOTOR_FIXED_SAMPLE_PERIOD_S,
@@ -99,16 +117,7 @@ static int fixed_point_chain(void) {
   if (s == AT_OK) s = at_angle_table_fixed_from_harmonics(&correction, &table);
   if (s == AT_OK)
     s = at_chain_fixed_new(&fixed_gains, &counts, &sensor, &table, IDENTITY_AMPLITUDE_COUNTS * shift, &fixed_chain);
-  if (s == AT_OK) s = at_chain_fixed_with_adc_range(&fixed_chain, 0, 4095, &fixed_chain_ranged);
-  uint64_t hash = 0xcbf29ce484222325ULL;
-  long flagged = 0;
-  for (long k = 0; s == AT_OK && k < IDENTITY_SAMPLES; k++) {
-    at_fixed_estimate e = at_chain_fixed_update_u16(&fixed_chain_ranged, &fixed_state, codes[k][0], codes[k][1]);
-    hash = hash_bytes(hash, (uint32_t)e.angle, e.faults);
-    flagged += e.faults != 0;
-  }
-  return report("fixed-point chain from the exported constants", s, hash, IDENTITY_FIXED_HASH, flagged,
-                IDENTITY_FIXED_FLAGGED);
+  return track_fixed("fixed-point chain from the exported gains and calibration", s, &fixed_chain);
 }
 
 int main(int argc, char **argv) {
@@ -130,5 +139,8 @@ int main(int argc, char **argv) {
   fclose(f);
   int pass = float_chain();
   pass &= fixed_point_chain();
+  /* The whole chain in the exported integers (motor_fixed_chain), as a firmware builds it. */
+  at_status s = at_chain_fixed_from_constants(&motor_fixed_chain, &fixed_chain);
+  pass &= track_fixed("fixed-point chain from the exported integers", s, &fixed_chain);
   return pass ? 0 : 1;
 }

@@ -122,6 +122,10 @@ impl FixedThresholds {
     /// The monitor off: thresholds no window exceeds (its error sum is at most 2^19) but
     /// the first (whose sum starts at 2^31), so that a window's end takes the healthy path
     /// but for the first sample and a false lock, which then see `enabled` false.
+    /// The defaults for 2^14 counts without a roundness check (those of
+    /// [`FixedGains::from_constants`]), evaluated when the crate compiles.
+    pub(super) const DEFAULT: Self = Self::for_amplitude(16384.0, None);
+
     const OFF: Self = Self {
         enabled: false,
         loss_of_signal: 0,
@@ -313,11 +317,24 @@ where
         constants: FixedConstants<N>,
         sample_period_s: f64,
     ) -> Result<Self, ConfigError> {
-        if !sample_period_s.is_finite() {
-            return Err(ConfigError::NotFinite(Parameter::SamplePeriod));
+        let fixed = match Self::checked_constants(constants, sample_period_s) {
+            Ok(fixed) => fixed,
+            Err(e) => return Err(e),
+        };
+        match check_stability(&fixed.gains()) {
+            Ok(()) => Ok(fixed),
+            Err(e) => Err(e),
         }
-        if sample_period_s <= 0.0 {
-            return Err(ConfigError::NotPositive(Parameter::SamplePeriod));
+    }
+
+    /// The gains of `constants` at `sample_period_s` with the monitor's defaults for 2^14
+    /// counts, their ranges checked by integer comparisons (not the loop's stability).
+    pub(super) const fn checked_constants(
+        constants: FixedConstants<N>,
+        sample_period_s: f64,
+    ) -> Result<Self, ConfigError> {
+        if let Err(e) = super::words::check_sample_period(sample_period_s) {
+            return Err(e);
         }
         let mut i = 0;
         while i < N {
@@ -332,17 +349,13 @@ where
         if (N > 2 && !shift_in_range) || (N < 3 && shift > 0) {
             return Err(ConfigError::OutOfRange(gain_parameter(2)));
         }
-        let fixed = Self {
+        Ok(Self {
             multiplier: constants.multiplier,
             acceleration_shift: shift,
             acceleration_scale: 1 << shift,
             sample_period_s,
-            monitor: FixedThresholds::for_amplitude(16384.0, None),
-        };
-        match check_stability(&fixed.gains()) {
-            Ok(()) => Ok(fixed),
-            Err(e) => Err(e),
-        }
+            monitor: FixedThresholds::DEFAULT,
+        })
     }
 }
 

@@ -339,3 +339,46 @@ fn binary_angle_turns_agree_with_the_floats_turns() {
         "{crossings:?}"
     );
 }
+
+#[test]
+fn the_words_give_back_the_observer_and_each_bad_one_is_named() {
+    let gains = FixedGains::<3>::new([0.1578, 0.0126, 0.000_34], 50e-6).unwrap();
+    let (c, off) = (gains.constants(), gains.with_monitor(None).unwrap());
+    assert_eq!(
+        FixedGains::from_words(c, 50e-6, off.monitor_words()),
+        Ok(off)
+    );
+    let words = gains.with_monitor(Some(28_800.0)).unwrap().monitor_words();
+    let refused = |k: usize, v: u32| {
+        let mut w = words;
+        w[k] = v;
+        FixedGains::from_words(c, 50e-6, w).unwrap_err().parameter()
+    };
+    assert_eq!(refused(0, 2), Parameter::NominalAmplitude);
+    assert_eq!(refused(1, words[2] + 1), Parameter::LossOfSignalThreshold);
+    assert_eq!(refused(2, words[3] + 1), Parameter::DegradationLowThreshold);
+    assert_eq!(refused(4, words[5] + 1), Parameter::MagnitudeTolerance);
+    assert_eq!(refused(6, 1 << 31), Parameter::LossOfTrackingThreshold);
+    for (period, finite) in [
+        (f64::NAN, false),
+        (-f64::INFINITY, false),
+        (-0.0, true),
+        (-1e-4, true),
+    ] {
+        let err = FixedGains::from_words(c, period, words).unwrap_err();
+        let expected = if finite {
+            ConfigError::NotPositive(Parameter::SamplePeriod)
+        } else {
+            ConfigError::NotFinite(Parameter::SamplePeriod)
+        };
+        assert_eq!(err, expected, "{period}");
+    }
+    let zero = FixedConstants {
+        multiplier: [0, 1, 1],
+        acceleration_shift: 3,
+    };
+    let err = FixedGains::from_words(zero, 50e-6, words).unwrap_err();
+    assert_eq!(err.parameter(), Parameter::AngleGain);
+    let tilted = crate::FixedCalibration::from_q14([0, 0, 16384, 16385]).unwrap_err();
+    assert_eq!(tilted.parameter(), Parameter::Quadrature);
+}

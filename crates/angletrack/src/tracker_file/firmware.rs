@@ -180,7 +180,8 @@ impl TrackerFile {
 
     /// The file's setting no generator writes yet, if any: (its field, what it is).
     fn unwritten(&self) -> Option<(&'static str, &'static str)> {
-        if self.fault_thresholds.is_some() {
+        // The fixed-point chain's constants carry the monitor's thresholds.
+        if self.fault_thresholds.is_some() && self.number_type != NumberType::Fixed {
             return Some(("fault_thresholds", "fault thresholds"));
         }
         if self.winding_amplitude.is_some() {
@@ -201,8 +202,10 @@ impl TrackerFile {
     /// The setup's firmware constants in `language`, every identifier prefixed by `name`.
     /// Rust: the whole tracker as one `static` ([`TrackerFile::rust_tracker`]). C: the gains
     /// (`gains_c_header` in the number type, or the fixed-point constants), then a stored
-    /// calibration with its harmonics (`calibration_c_header`). `file` names the tracker
-    /// file in the refusal of a setting no generator writes (in C: fault thresholds, a
+    /// calibration with its harmonics (`calibration_c_header`), then for fixed point the
+    /// whole chain in integers (`at_chain_fixed_constants`, for
+    /// `at_chain_fixed_from_constants`). `file` names the tracker
+    /// file in the refusal of a setting no generator writes (in C: fault thresholds but in fixed point, a
     /// winding check, an online calibration, a correction table).
     pub fn firmware_constants(
         &self,
@@ -244,6 +247,15 @@ impl TrackerFile {
             let float = float_type(self.number_type);
             text.push('\n');
             text.push_str(&language.calibration(sensor, &correction, float, name)?);
+        }
+        if self.number_type == NumberType::Fixed {
+            text.push('\n');
+            text.push_str(&match *self.gains.gains.as_slice() {
+                [a, b] => self.fixed_chain_c([a, b], file, name)?,
+                [a, b, c] => self.fixed_chain_c([a, b, c], file, name)?,
+                // Refused above.
+                _ => String::new(),
+            });
         }
         Ok(text)
     }

@@ -18,7 +18,7 @@ use crate::export::{FloatType, identifier, literal};
 use crate::json_file::JsonFileError;
 
 /// A refusal naming the file's `field`.
-fn refuse(file: &str, field: &str, why: impl Into<String>) -> FirmwareError {
+pub(super) fn refuse(file: &str, field: &str, why: impl Into<String>) -> FirmwareError {
     FirmwareError::File(JsonFileError::new(file, Some(field), why.into()))
 }
 
@@ -298,19 +298,7 @@ impl TrackerFile {
                 "the fixed-point chain has none: leave it null",
             ));
         }
-        // The fixed-point monitor's thresholds are the defaults of one nominal amplitude.
-        let nominal = match &self.fault_thresholds {
-            Some(th) if *th != FaultThresholds::for_amplitude(th.nominal_amplitude) => {
-                return Err(refuse(
-                    file,
-                    "fault_thresholds",
-                    "the fixed-point monitor takes the nominal amplitude only: leave the \
-                     others at their defaults for it",
-                ));
-            }
-            Some(th) => Some(th.nominal_amplitude),
-            None => None,
-        };
+        let nominal = self.fixed_nominal(file)?;
         // The std's rule for counts (`fixed_input`): shifted to 16 bits, the calibration
         // (learned on the counts before the shift) scaled with them.
         let (input, adc, shift) = match self.input {
@@ -431,9 +419,24 @@ impl TrackerFile {
         Ok((ty, body))
     }
 
+    /// The fixed-point monitor's nominal amplitude (counts before the ADC's shift), if the
+    /// file states thresholds: the defaults of one nominal amplitude, others refused.
+    pub(super) fn fixed_nominal(&self, file: &str) -> Result<Option<f64>, FirmwareError> {
+        match &self.fault_thresholds {
+            Some(th) if *th != FaultThresholds::for_amplitude(th.nominal_amplitude) => Err(refuse(
+                file,
+                "fault_thresholds",
+                "the fixed-point monitor takes the nominal amplitude only: leave the \
+                 others at their defaults for it",
+            )),
+            Some(th) => Ok(Some(th.nominal_amplitude)),
+            None => Ok(None),
+        }
+    }
+
     /// The refusal of counts tracked as counts without their amplitude (the std's rule for
     /// a stream, `ThresholdPolicy`).
-    fn amplitude_not_stated(file: &str) -> FirmwareError {
+    pub(super) fn amplitude_not_stated(file: &str) -> FirmwareError {
         refuse(
             file,
             "fault_thresholds",
@@ -443,7 +446,7 @@ impl TrackerFile {
     }
 
     /// The refusal of counts whose mid-scale is measured (a run-time measurement).
-    fn measured_mid_scale(&self, file: &str) -> FirmwareError {
+    pub(super) fn measured_mid_scale(&self, file: &str) -> FirmwareError {
         refuse(
             file,
             "input",

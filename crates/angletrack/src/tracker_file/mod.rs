@@ -29,6 +29,7 @@
 //! ```
 
 mod firmware;
+mod firmware_c;
 mod firmware_rust;
 mod read;
 mod runner;

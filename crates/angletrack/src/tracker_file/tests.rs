@@ -316,4 +316,31 @@ fn firmware_constants_are_the_generators_gains_and_calibration() {
         e.to_string(),
         "t.json: fault_thresholds: fault thresholds: no firmware constants are generated for it yet; leave it out"
     );
+
+    // C in fixed point: the chain's integers carry the monitor, so counts need their
+    // amplitude stated, as in Rust.
+    tracker.input = Input::Bits {
+        bits: 12,
+        signed: false,
+    };
+    let e = tracker
+        .firmware_constants("t.json", Language::C, "motor")
+        .unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("t.json: fault_thresholds: counts tracked as counts"),
+        "{e}"
+    );
+    tracker.fault_thresholds = Some(FaultThresholds::for_amplitude(1800.0));
+    let text = tracker
+        .firmware_constants("t.json", Language::C, "motor")
+        .unwrap();
+    assert!(
+        text.contains("static const at_adc_counts motor_adc = {2048, 4};\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains("    &motor_adc,\n    NULL,\n    NULL,\n};\n"),
+        "{text}"
+    );
 }

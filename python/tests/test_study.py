@@ -18,7 +18,7 @@ import time
 import numpy as np
 import pytest
 
-from angletrack import capture, cli, study, study_dask, study_timing
+from angletrack import capture, cli, study, study_dask, study_plots, study_timing
 
 pq = pytest.importorskip("pyarrow.parquet", reason="the study extra (angletrack[study]) is installed by the tests")
 
@@ -112,6 +112,10 @@ def test_the_guide_spec_gives_the_same_rows_on_any_workers(tmp_path, scheduler, 
     # Results already there: refused without --resume; with it, nothing is left to do.
     assert cli.main(["study", str(spec), "-o", str(one), "--workers", "1"]) == 2
     assert "give --resume" in capsys.readouterr().err
+    # The plot's parameters: the drawn ones, in the crate's column order.
+    assert study_plots.sensor_parameters(pq.read_table(one)) == [
+        "amplitude", "offset_cos", "offset_sin", "amplitude_imbalance", "quadrature_error_rad", "third_harmonic",
+        "noise_std", "angle_error_h2_rad"]
     png = tmp_path / "yield.png"
     assert cli.main(["plot", str(one), "-o", str(png)]) == 0
     assert png.stat().st_size > 10_000 and "f32: 8 sensors" in capsys.readouterr().out

@@ -169,7 +169,6 @@ def test_a_worker_lost_mid_study_loses_no_row_and_its_runs_are_redone(tmp_path, 
         study_run.join(timeout=120)
         assert "error" not in outcome and 0 < written < 24, (outcome, written)
         assert "24 runs" in outcome["summary"]
-        watcher.wait_for_workers(1)
         assert len(watcher.scheduler_info()["workers"]) == 1
     # The same study on the one worker left.
     study.run_study(spec, survived, cluster, progress=False)

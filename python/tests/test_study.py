@@ -4,18 +4,21 @@ with two worker processes; a lot with a corrupt capture among good ones gives a 
 report; the yield and lot plots are written; without the extra, one line says how to
 install it."""
 
+import dataclasses
 import json
 import math
 import os
 import pathlib
+import signal
 import subprocess
 import sys
+import threading
 import time
 
 import numpy as np
 import pytest
 
-from angletrack import capture, cli, study, study_dask, study_timing
+from angletrack import capture, cli, study, study_dask, study_plots, study_timing
 
 pq = pytest.importorskip("pyarrow.parquet", reason="the study extra (angletrack[study]) is installed by the tests")
 
@@ -48,10 +51,17 @@ def same(a: dict, b: dict) -> bool:
         and len(a[k]) == len(b[k]) for k in a)
 
 
+@dataclasses.dataclass
+class Scheduler:
+    """A real Dask scheduler's file, and its two worker processes."""
+
+    file: pathlib.Path
+    workers: list
+
+
 @pytest.fixture
 def scheduler(tmp_path):
-    """A real Dask scheduler and two worker processes, started as separate commands; the
-    scheduler file's path."""
+    """A real Dask scheduler and two worker processes, started as separate commands."""
     dask = pathlib.Path(sys.executable).parent / "dask"
     file = tmp_path / "scheduler.json"
     common = ["--no-dashboard", "--dashboard-address", ":0"]
@@ -70,7 +80,7 @@ def scheduler(tmp_path):
 
         with Client(scheduler_file=str(file), timeout="60s") as client:
             client.wait_for_workers(2, timeout=60)
-        yield file
+        yield Scheduler(file, started[1:])
     finally:
         for process in started:
             process.kill()
@@ -84,11 +94,11 @@ def test_the_guide_spec_gives_the_same_rows_on_any_workers(tmp_path, scheduler, 
     assert cli.main(["study", str(spec), "-o", str(one), "--workers", "1", "--no-progress"]) == 0
     # Interrupted after 10 runs (on the scheduler, whose workers are up already) and resumed
     # on two local workers: the runs done are skipped.
-    study.run_study(spec, two, study_dask.Cluster(scheduler_file=scheduler), progress=False, first_runs=10)
+    study.run_study(spec, two, study_dask.Cluster(scheduler_file=scheduler.file), progress=False, first_runs=10)
     assert len(pq.read_table(two)) == 10
     assert cli.main(["study", str(spec), "-o", str(two), "--workers", "2", "--resume", "--no-progress"]) == 0
     assert "64 runs" not in capsys.readouterr().out.splitlines()[-1] and len(pq.read_table(two)) == 64
-    address = json.loads(scheduler.read_text())["address"]
+    address = json.loads(scheduler.file.read_text())["address"]
     assert cli.main(["study", str(spec), "-o", str(remote), "--scheduler", address, "--no-progress"]) == 0
     reference = rows(one)
     assert reference["run"] == list(range(64)) and set(reference["error"]) == {""}
@@ -102,9 +112,69 @@ def test_the_guide_spec_gives_the_same_rows_on_any_workers(tmp_path, scheduler, 
     # Results already there: refused without --resume; with it, nothing is left to do.
     assert cli.main(["study", str(spec), "-o", str(one), "--workers", "1"]) == 2
     assert "give --resume" in capsys.readouterr().err
+    # The plot's parameters: the drawn ones, in the crate's column order.
+    assert study_plots.sensor_parameters(pq.read_table(one)) == [
+        "amplitude", "offset_cos", "offset_sin", "amplitude_imbalance", "quadrature_error_rad", "third_harmonic",
+        "noise_std", "angle_error_h2_rad"]
     png = tmp_path / "yield.png"
     assert cli.main(["plot", str(one), "-o", str(png)]) == 0
     assert png.stat().st_size > 10_000 and "f32: 8 sensors" in capsys.readouterr().out
+
+
+def cruise_spec(directory: pathlib.Path, sensors: int, samples: int) -> pathlib.Path:
+    """A study of ``sensors`` runs of ``samples`` samples each (one f64 tracker, one profile)."""
+    assert cli.main([*TRACKER_DESIGN, "--dtype", "float64", "-o", str(directory / "tracker64.json")]) == 0
+    document = {
+        "format": "angletrack-study", "version": 1, "seed": 7, "sensors": sensors, "sample_period_s": 5e-5,
+        "skip_s": 0.02, "sensor": {"offset_cos": {"normal": {"mean": 0.0, "std": 0.005}}, "noise_std": 0.001},
+        "profiles": {"cruise": {"initial_speed_rad_s": 300.0, "segments": [
+            {"constant_speed": {"speed_rad_s": 300.0, "duration_s": (samples - 1) * 5e-5}}]}},
+        "setups": {"f64": {"tracker": "tracker64.json"}},
+    }
+    (directory / "cruise.json").write_text(json.dumps(document))
+    return directory / "cruise.json"
+
+
+def test_a_worker_lost_mid_study_loses_no_row_and_its_runs_are_redone(tmp_path, scheduler, monkeypatch):
+    # 24 runs of about 15 ms, a few to a task, each task's rows a part file as it completes.
+    spec = cruise_spec(tmp_path, sensors=24, samples=100_000)
+    monkeypatch.setattr(study_dask, "TASK_SECONDS", 0.1)
+    monkeypatch.setattr(study_dask, "PART_ROWS", 1)
+    lost, survived = tmp_path / "lost.parquet", tmp_path / "one.parquet"
+    cluster = study_dask.Cluster(scheduler_file=scheduler.file)
+    outcome: dict = {}
+
+    def run() -> None:
+        try:
+            outcome["summary"] = study.run_study(spec, lost, cluster, progress=False)[0]
+        except BaseException as e:  # noqa: BLE001 - reported by the assertion below
+            outcome["error"] = e
+
+    from dask.distributed import Client
+
+    with Client(scheduler_file=str(scheduler.file), timeout="30s") as watcher:
+        pids = watcher.run(os.getpid)
+        assert sorted(pids.values()) == sorted(w.pid for w in scheduler.workers)
+        study_run = threading.Thread(target=run)
+        study_run.start()
+        # Once some rows are on disk, the worker busy with a task is killed mid-run.
+        victim, deadline = None, time.monotonic() + 60
+        while victim is None and study_run.is_alive() and time.monotonic() < deadline:
+            if any(lost.glob("part-*.parquet")):
+                victim = next((w for w, keys in watcher.processing().items() if keys), None)
+            time.sleep(0.01)
+        assert victim is not None, outcome
+        os.kill(pids[victim], signal.SIGKILL)
+        written = len(pq.read_table(lost))
+        study_run.join(timeout=120)
+        assert "error" not in outcome and 0 < written < 24, (outcome, written)
+        assert "24 runs" in outcome["summary"]
+        assert len(watcher.scheduler_info()["workers"]) == 1
+    # The same study on the one worker left.
+    study.run_study(spec, survived, cluster, progress=False)
+    reference = rows(survived)
+    assert reference["run"] == list(range(24)) and set(reference["error"]) == {""}
+    assert same(rows(lost), reference)
 
 
 def write_unit(path: pathlib.Path, offset_c: float, seed: int) -> None:

@@ -21,7 +21,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 import angletrack
-from angletrack import _angletrack, harmonics, study_dask, tracker_run, tracking
+from angletrack import _angletrack, harmonics, tracker_run, tracking
 from angletrack.tracker import Tracker
 
 #: The sensor calibration's columns, in ``SensorCalibration::new``'s order.

@@ -29,7 +29,7 @@ from typing import Optional
 import numpy as np
 
 import angletrack
-from angletrack import tracking
+from angletrack import tracker_run, tracking
 from angletrack.capture_analysis import (
     HARMONIC_ORDERS,
     WIDEST_GAP,
@@ -170,18 +170,17 @@ def analyse_capture(
     )
     chunks = iter(reader)
     first = next(chunks)
-    # Unsigned counts centred as `angletrack track` centres them (the same rule): the
-    # figure shows what the observer sees.
-    mid = tracking.counts_mid_scale(s, reader.sample_dtype)
+    # Counts centred as `angletrack track` centres them (the same rule): the figure shows
+    # what the observer sees.
+    integer = reader.sample_dtype.startswith(("int", "uint"))
+    mid = tracking._mid_scale(s, reader.sample_dtype) if integer else 0.0
     observer = None
     lock = None
     if s.gains_file is not None or s.gains is not None:
         gains = tracking.gains_for_capture(s, reader.sample_rate_hz if first.time_s is not None else None)
-        # `track --dtype fixed --plot`: the figure draws the float observer (the fixed-point
-        # chain's estimates are the output's).
-        dtype = np.dtype("float64" if s.dtype == "fixed" else s.dtype)
-        observer = angletrack.Observer(gains, dtype=dtype, sin_cos=s.sin_cos,
-                                       fault_thresholds=tracking.fault_thresholds(first, mid))
+        # The chain `angletrack track` runs (the crate's TrackerRun), so that the figure draws
+        # the estimates it writes, in fixed point too.
+        observer = tracker_run.Run(s, gains, reader.sample_dtype, first, mid)
         rate_hz: Optional[float] = gains.sample_rate_hz
         if first.reference_rad is None:
             lock = _lock_detector(gains, s.lock_tolerance_rad)
@@ -219,11 +218,11 @@ def analyse_capture(
         a.lissajous.add(y_c, y_s)
         angle = chunk.reference_rad
         if observer is not None:
-            est = observer.update(y_c.astype(dtype, copy=False), y_s.astype(dtype, copy=False))
-            angle = est.angle.astype(np.float64) if angle is None else angle
-            a.speed.add(time_s, est.speed)
+            est = observer.track(chunk.y_c, chunk.y_s)
+            angle = est["angle_rad"] if angle is None else angle
+            a.speed.add(time_s, est["speed_rad_s"])
             for name, bit in angletrack.FAULT_BITS:
-                a.faults[name].add(time_s, (est.faults & bit) != 0)
+                a.faults[name].add(time_s, (est["faults"] & bit) != 0)
         elif chunk.reference_rad is not None:
             t = np.concatenate([[previous[0]], time_s]) if previous else time_s
             r = np.concatenate([[previous[1]], chunk.reference_rad]) if previous else chunk.reference_rad

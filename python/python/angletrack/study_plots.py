@@ -16,11 +16,6 @@ import numpy as np
 from angletrack import lot
 from angletrack.study_dask import require_extra
 
-#: The sensor parameters a study draws (the crate's order), plotted when they vary.
-STUDY_PARAMETERS = ("amplitude", "offset_cos", "offset_sin", "amplitude_imbalance", "quadrature_error_rad",
-                    "third_harmonic", "noise_std")
-
-
 def is_results(path: pathlib.Path) -> bool:
     """Whether ``path`` names results (a ``.parquet`` file or dataset directory)."""
     return path.suffix.lower() == ".parquet"
@@ -60,11 +55,18 @@ def worst_per_sensor(table) -> dict:
     return {s: np.sort(worst[setups == s]) for s in sorted(set(setups))}
 
 
+def sensor_parameters(table) -> list:
+    """The sensor's drawn parameters of a study's rows, as the crate orders its columns
+    (``StudyRow::columns``: between ``number_type`` and ``samples``), the angle error
+    harmonics' phases left out."""
+    names = table.column_names
+    drawn = names[names.index("number_type") + 1:names.index("samples")]
+    return [name for name in drawn if not name.endswith("_phase_rad")]
+
+
 def _study_figure(plt, table, png: pathlib.Path) -> str:
     worst = worst_per_sensor(table)
-    harmonics = [c for c in table.column_names if c.startswith("angle_error_h") and c.endswith("_rad")
-                 and not c.endswith("_phase_rad")]
-    varied = [p for p in (*STUDY_PARAMETERS, *harmonics) if np.ptp(table.column(p).to_numpy()) > 0]
+    varied = [p for p in sensor_parameters(table) if np.ptp(table.column(p).to_numpy()) > 0]
     columns = 1 + len(varied)
     fig, axes = plt.subplots(1, columns, figsize=(5.0 * columns, 4.2), squeeze=False)
     yield_axes = axes[0][0]

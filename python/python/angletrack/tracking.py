@@ -22,7 +22,7 @@ import numpy as np
 import angletrack
 from angletrack import capture as capture_io
 from angletrack import clipping, export, harmonics, tracker_run
-from angletrack._angletrack import CountsExtremes, capture_counts, capture_fault_thresholds
+from angletrack._angletrack import CountsExtremes, capture_counts
 
 #: Relative difference of two sample rates taken as the same rate (the time column's
 #: spacing check uses the same 1 %).
@@ -314,18 +314,6 @@ def counts_mid_scale(s: TrackSettings, sample_dtype: str, whole: Optional[tuple]
                             unsigned_type=sample_dtype.startswith("uint"),
                             state_with="give --adc-signed or --adc-unsigned")
     return float(mid)
-
-
-def fault_thresholds(first, mid: float, counts_per_unit: float = 1.0) -> angletrack.FaultThresholds:
-    """The diagnostics' thresholds of the capture whose first chunk is ``first`` (mid-scale
-    ``mid`` removed, divided by ``counts_per_unit``): scaled to its amplitude
-    (``capture_fault_thresholds``: the median magnitude of its first 4096 samples around
-    the Lissajous figure's centre), as
-    ``angletrack.track`` scales a whole capture's. Stated to the observer, which is fed in
-    chunks and measures nothing itself."""
-    return capture_fault_thresholds(
-        np.ascontiguousarray((first.y_c - mid) / counts_per_unit, dtype=np.float64),
-        np.ascontiguousarray((first.y_s - mid) / counts_per_unit, dtype=np.float64))
 
 
 def finishing_checks(s: TrackSettings, observer, stats: Optional[_ErrorStatistics]) -> list[str]:

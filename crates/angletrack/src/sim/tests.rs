@@ -416,3 +416,26 @@ fn estimate_columns_take_what_their_shortest_column_holds() {
     let flag = Faults::LOSS_OF_SIGNAL.bits();
     assert_eq!(faults, [flag, flag, flag, 0, 0]);
 }
+
+#[test]
+fn the_wrap_of_an_angle_thousands_of_turns_out_is_its_remainder_in_the_half_open_turn() {
+    use super::metrics::wrap;
+    use std::f64::consts::TAU;
+    // An error within half a turn is its own wrap, to the rounding of pi's addition.
+    for x in [0.0, 1e-9, -0.5, 3.0, -PI, PI - 1e-12] {
+        assert!((wrap(x) - x).abs() < 1e-15, "{x}: {}", wrap(x));
+    }
+    assert_eq!(wrap(PI), -PI);
+    // Thousands of turns out: the remainder, to the rounding of the turns' multiple.
+    for turns in [1.0, 2400.0, -2400.0, 1e6] {
+        for rest in [0.1, -3.0, 3.1] {
+            let w = wrap(turns * TAU + rest);
+            assert!((-PI..PI).contains(&w), "{turns} turns and {rest}: {w}");
+            assert!(
+                (w - rest).abs() < 1e-15 * turns.abs() * TAU + 1e-15,
+                "{turns}, {rest}: {w}"
+            );
+        }
+    }
+    assert!(wrap(f64::NAN).is_nan() && wrap(f64::INFINITY).is_nan());
+}

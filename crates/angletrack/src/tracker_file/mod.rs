@@ -36,7 +36,7 @@ mod runner;
 mod write;
 
 pub use firmware::{FirmwareError, Language};
-pub use runner::{CaptureHead, TrackedRows, TrackerRun};
+pub use runner::{CaptureHead, TrackedRows, TrackedSample, TrackerRun};
 
 #[cfg(test)]
 mod tests;

@@ -58,6 +58,54 @@ pub struct TrackedRows {
     pub angle_binary: Vec<i32>,
 }
 
+/// One sample's estimates, as a row of [`TrackedRows`] holds them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TrackedSample {
+    /// The electrical angle (rad, in `[-pi, pi)`), exact in the observer's number type.
+    pub angle_rad: f64,
+    /// The multi-turn position (rad).
+    pub position_rad: f64,
+    /// The speed (rad/s).
+    pub speed_rad_s: f64,
+    /// The acceleration (rad/s^2; 0 at order 2).
+    pub acceleration_rad_s2: f64,
+    /// The phase detector's normalised output.
+    pub phase_error: f64,
+    /// The observer's faults ([`Faults`] bits).
+    pub faults: u8,
+    /// The front end's faults of the sample ([`FrontEndFaults`] bits).
+    pub front_end_faults: u8,
+    /// The fixed-point observer's binary angle (2^32 a turn; `None` for the floats).
+    pub angle_binary: Option<i32>,
+}
+
+impl TrackedRows {
+    /// Room for `samples` rows, the binary angle's only for the fixed-point chain.
+    fn with_capacity(samples: usize, fixed: bool) -> Self {
+        Self {
+            angle_rad: Vec::with_capacity(samples),
+            position_rad: Vec::with_capacity(samples),
+            speed_rad_s: Vec::with_capacity(samples),
+            acceleration_rad_s2: Vec::with_capacity(samples),
+            phase_error: Vec::with_capacity(samples),
+            faults: Vec::with_capacity(samples),
+            front_end_faults: Vec::with_capacity(samples),
+            angle_binary: Vec::with_capacity(if fixed { samples } else { 0 }),
+        }
+    }
+
+    fn push(&mut self, e: TrackedSample) {
+        self.angle_rad.push(e.angle_rad);
+        self.position_rad.push(e.position_rad);
+        self.speed_rad_s.push(e.speed_rad_s);
+        self.acceleration_rad_s2.push(e.acceleration_rad_s2);
+        self.phase_error.push(e.phase_error);
+        self.faults.push(e.faults);
+        self.front_end_faults.push(e.front_end_faults);
+        self.angle_binary.extend(e.angle_binary);
+    }
+}
+
 /// What a [`TrackerRun`] measures a setting on that its file leaves open: the capture's
 /// first samples and, for counts whose mid-scale is measured, what
 /// [`capture_counts`](crate::capture_counts) decided on the whole capture.
@@ -87,7 +135,7 @@ pub struct Learning {
 /// One chain of a [`TrackerRun`], whatever its number type.
 trait Run: Sized {
     fn new(file: &TrackerFile, name: &str, head: &CaptureHead<'_>) -> Result<Self, JsonFileError>;
-    fn track(&mut self, y_c: &[f64], y_s: &[f64], rows: &mut TrackedRows);
+    fn track_each(&mut self, y_c: &[f64], y_s: &[f64], each: impl FnMut(TrackedSample));
     fn latched_faults(&self) -> (Faults, FrontEndFaults);
     fn learning(&self) -> Option<Learning>;
     /// The observer and the fixed-point input's shift, for the summary.
@@ -188,9 +236,32 @@ impl TrackerRun {
     /// returns their estimates. Never fails: a sample the front end or the observer cannot
     /// use is flagged and coasted through.
     pub fn track(&mut self, y_c: &[f64], y_s: &[f64]) -> TrackedRows {
-        let mut rows = TrackedRows::default();
-        each!(&mut self.chain, c => c.track(y_c, y_s, &mut rows));
+        let mut rows = TrackedRows::with_capacity(y_c.len().min(y_s.len()), self.is_fixed());
+        self.track_each(y_c, y_s, |e| rows.push(e));
         rows
+    }
+
+    /// Feeds the samples `(y_c, y_s)` as [`track`](Self::track) does and hands each
+    /// sample's estimates to `each`, in order, keeping none: for a caller that reduces them
+    /// as they come (a study's error statistics), whose memory then does not grow with the
+    /// samples fed.
+    ///
+    /// ```
+    /// use angletrack::export::GainsFile;
+    /// use angletrack::tracker_file::{CaptureHead, TrackerFile, TrackerRun};
+    /// let gains = GainsFile { gains: vec![0.06, 0.001], sample_period_s: 1e-4, design: None };
+    /// let file = TrackerFile::new(gains);
+    /// let theta: Vec<f64> = (0..4000).map(|k| 1e-3 * k as f64).collect();
+    /// let (y_c, y_s): (Vec<f64>, Vec<f64>) = theta.iter().map(|t| (t.cos(), t.sin())).unzip();
+    /// let head = CaptureHead { y_c: &y_c, y_s: &y_s, counts: None };
+    /// let mut run = TrackerRun::new(&file, "t.json", &head)?;
+    /// let mut last = 0.0;
+    /// run.track_each(&y_c, &y_s, |e| last = e.position_rad);
+    /// assert!((last - 3.999).abs() < 1e-3);
+    /// # Ok::<(), angletrack::JsonFileError>(())
+    /// ```
+    pub fn track_each(&mut self, y_c: &[f64], y_s: &[f64], each: impl FnMut(TrackedSample)) {
+        each!(&mut self.chain, c => c.track_each(y_c, y_s, each))
     }
 
     /// The observer's and the front end's faults latched since the start.

@@ -9,7 +9,7 @@ use angletrack_core::{
 
 use super::super::{Calibration, Correction, Input, TrackerFile};
 use super::{
-    CaptureHead, Fixed, Learning, Run, TrackedRows, field, file_error, mid_scale, refuse,
+    CaptureHead, Fixed, Learning, Run, TrackedSample, field, file_error, mid_scale, refuse,
     thresholds,
 };
 use crate::json_file::JsonFileError;
@@ -146,22 +146,21 @@ where
         })
     }
 
-    fn track(&mut self, y_c: &[f64], y_s: &[f64], rows: &mut TrackedRows) {
+    fn track_each(&mut self, y_c: &[f64], y_s: &[f64], mut each: impl FnMut(TrackedSample)) {
         for (&c, &s) in y_c.iter().zip(y_s) {
             let e = self.tracker.update(&mut self.state, (c as i32, s as i32));
             let observer = &self.tracker.observer;
-            // The binary angle's 2^32 a turn in radians: exact in f64.
-            rows.angle_rad
-                .push(f64::from(e.angle) * (core::f64::consts::PI / 2_147_483_648.0));
-            rows.position_rad.push(observer.position_rad(&e));
-            rows.speed_rad_s.push(observer.speed_rad_s(&e));
-            rows.acceleration_rad_s2
-                .push(observer.acceleration_rad_s2(&e));
-            rows.phase_error.push(f64::from(e.phase_error) / 32768.0);
-            rows.faults.push(e.faults.bits());
-            rows.front_end_faults
-                .push(self.state.front_end.faults().bits());
-            rows.angle_binary.push(e.angle);
+            each(TrackedSample {
+                // The binary angle's 2^32 a turn in radians: exact in f64.
+                angle_rad: f64::from(e.angle) * (core::f64::consts::PI / 2_147_483_648.0),
+                position_rad: observer.position_rad(&e),
+                speed_rad_s: observer.speed_rad_s(&e),
+                acceleration_rad_s2: observer.acceleration_rad_s2(&e),
+                phase_error: f64::from(e.phase_error) / 32768.0,
+                faults: e.faults.bits(),
+                front_end_faults: self.state.front_end.faults().bits(),
+                angle_binary: Some(e.angle),
+            });
         }
     }
 

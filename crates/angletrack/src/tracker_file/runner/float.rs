@@ -10,7 +10,7 @@ use angletrack_core::{
 
 use super::super::{Calibration, Correction, Input, TrackerFile};
 use super::{
-    CaptureHead, FloatChain, Learning, Run, TrackedRows, field, file_error, mid_scale, refuse,
+    CaptureHead, FloatChain, Learning, Run, TrackedSample, field, file_error, mid_scale, refuse,
     thresholds,
 };
 use crate::Real;
@@ -150,7 +150,7 @@ where
         })
     }
 
-    fn track(&mut self, y_c: &[f64], y_s: &[f64], rows: &mut TrackedRows) {
+    fn track_each(&mut self, y_c: &[f64], y_s: &[f64], mut each: impl FnMut(TrackedSample)) {
         for (&c, &s) in y_c.iter().zip(y_s) {
             let e = if self.counts {
                 self.tracker.update(&mut self.state, (c as i32, s as i32))
@@ -158,14 +158,16 @@ where
                 self.tracker
                     .update(&mut self.state, (T::from_f64(c), T::from_f64(s)))
             };
-            rows.angle_rad.push(e.angle.to_f64());
-            rows.position_rad.push(e.position());
-            rows.speed_rad_s.push(e.speed.to_f64());
-            rows.acceleration_rad_s2.push(e.acceleration.to_f64());
-            rows.phase_error.push(e.phase_error.to_f64());
-            rows.faults.push(e.faults.bits());
-            rows.front_end_faults
-                .push(self.state.front_end.faults().bits());
+            each(TrackedSample {
+                angle_rad: e.angle.to_f64(),
+                position_rad: e.position(),
+                speed_rad_s: e.speed.to_f64(),
+                acceleration_rad_s2: e.acceleration.to_f64(),
+                phase_error: e.phase_error.to_f64(),
+                faults: e.faults.bits(),
+                front_end_faults: self.state.front_end.faults().bits(),
+                angle_binary: None,
+            });
         }
     }
 

@@ -3,7 +3,7 @@
 use angletrack::{ErrorStatistics, Metrics, MetricsOptions};
 use pyo3::prelude::*;
 
-use crate::arrays::{Float, samples};
+use crate::arrays::float64;
 use crate::errors::Result;
 use crate::estimates::Estimates;
 use crate::scenario::PyScenario;
@@ -88,19 +88,6 @@ impl PyMetrics {
     }
 }
 
-/// An estimates array as float64 (position is float64 already; float32 quantities are
-/// widened, exactly).
-fn as_f64(array: &Bound<'_, PyAny>, parameter: &'static str) -> Result<Vec<f64>> {
-    Ok(match Float::of_samples(array, parameter)? {
-        Float::F64 => samples::<f64>(array, parameter)?.as_slice().to_vec(),
-        Float::F32 => samples::<f32>(array, parameter)?
-            .as_slice()
-            .iter()
-            .map(|&x| f64::from(x))
-            .collect(),
-    })
-}
-
 /// Measures the estimates of a run against the scenario's truth: wrapped angle error and
 /// speed error statistics from `skip_s` (s) on, overshoot and settling time (band
 /// `settling_band` of the move), and time to lock (error within `lock_tolerance_rad`).
@@ -116,19 +103,13 @@ pub fn metrics(
 ) -> Result<PyMetrics> {
     let truth = angletrack::Scenario {
         sample_period_s: scenario.sample_period_s,
-        time_s: samples::<f64>(scenario.time_s.bind(py).as_any(), "scenario.time_s")?
-            .as_slice()
-            .to_vec(),
-        angle_rad: samples::<f64>(scenario.angle_rad.bind(py).as_any(), "scenario.angle_rad")?
-            .as_slice()
-            .to_vec(),
+        time_s: float64(scenario.time_s.bind(py).as_any(), "scenario.time_s")?,
+        angle_rad: float64(scenario.angle_rad.bind(py).as_any(), "scenario.angle_rad")?,
         speed_rad_s: if scenario.has_speed {
-            samples::<f64>(
+            float64(
                 scenario.speed_rad_s.bind(py).as_any(),
                 "scenario.speed_rad_s",
             )?
-            .as_slice()
-            .to_vec()
         } else {
             // Unknown speed truth: any finite series; its statistics are not reported.
             vec![0.0; scenario.len]
@@ -136,9 +117,9 @@ pub fn metrics(
         ..Default::default()
     };
     let run = angletrack::Run {
-        angle_rad: as_f64(estimates.position.bind(py), "estimates.position")?,
-        speed_rad_s: as_f64(estimates.speed.bind(py), "estimates.speed")?,
-        acceleration_rad_s2: as_f64(estimates.acceleration.bind(py), "estimates.acceleration")?,
+        angle_rad: float64(estimates.position.bind(py), "estimates.position")?,
+        speed_rad_s: float64(estimates.speed.bind(py), "estimates.speed")?,
+        acceleration_rad_s2: float64(estimates.acceleration.bind(py), "estimates.acceleration")?,
     };
     let options = MetricsOptions {
         skip_s,

@@ -6,44 +6,35 @@ use pyo3::prelude::*;
 use crate::arrays::float64;
 use crate::errors::Result;
 use crate::estimates::Estimates;
+use crate::getters::class_methods;
 use crate::scenario::PyScenario;
 
 /// Mean, RMS and largest magnitude of an error series.
-#[pyclass(name = "ErrorStatistics", module = "angletrack", frozen, get_all)]
+#[pyclass(name = "ErrorStatistics", module = "angletrack", frozen)]
 #[derive(Debug, Clone)]
-pub struct PyErrorStatistics {
-    /// Root mean square.
-    rms: f64,
-    /// Largest magnitude.
-    max: f64,
-    /// Mean (signed: a bias).
-    mean: f64,
-}
+pub struct PyErrorStatistics(ErrorStatistics);
 
-impl From<ErrorStatistics> for PyErrorStatistics {
-    fn from(s: ErrorStatistics) -> Self {
-        Self {
-            rms: s.rms,
-            max: s.max,
-            mean: s.mean,
-        }
+class_methods! {
+    PyErrorStatistics {
+        /// Root mean square.
+        rms: f64 = |this, py| this.0.rms;
+        /// Largest magnitude.
+        max: f64 = |this, py| this.0.max;
+        /// Mean (signed: a bias).
+        mean: f64 = |this, py| this.0.mean;
     }
-}
-
-#[pymethods]
-impl PyErrorStatistics {
-    fn __repr__(&self) -> String {
-        format!("ErrorStatistics({})", self.fields())
+    methods {
+        fn __repr__(&self) -> String {
+            format!("ErrorStatistics({})", self.fields())
+        }
     }
 }
 
 impl PyErrorStatistics {
     /// `rms=..., max=..., mean=...`.
     fn fields(&self) -> String {
-        format!(
-            "rms={:.6e}, max={:.6e}, mean={:.6e}",
-            self.rms, self.max, self.mean
-        )
+        let s = &self.0;
+        format!("rms={:.6e}, max={:.6e}, mean={:.6e}", s.rms, s.max, s.mean)
     }
 }
 
@@ -128,8 +119,10 @@ pub fn metrics(
     };
     let m = py.detach(|| Metrics::new(&truth, &run, &options))?;
     Ok(PyMetrics {
-        angle_error_rad: m.angle_error_rad.into(),
-        speed_error_rad_s: scenario.has_speed.then(|| m.speed_error_rad_s.into()),
+        angle_error_rad: PyErrorStatistics(m.angle_error_rad),
+        speed_error_rad_s: scenario
+            .has_speed
+            .then_some(PyErrorStatistics(m.speed_error_rad_s)),
         samples: m.samples,
         overshoot: m.overshoot,
         settling_time_s: m.settling_time_s,

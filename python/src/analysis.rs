@@ -12,33 +12,26 @@ use crate::gains::{PyGains, with_gains};
 use crate::getters::class_methods;
 
 /// Overshoot and 2 % settling time of a step response.
-#[pyclass(name = "StepResponse", module = "angletrack", frozen, get_all)]
+#[pyclass(name = "StepResponse", module = "angletrack", frozen)]
 #[derive(Debug, Clone)]
-pub struct PyStepResponse {
-    /// Overshoot, as a fraction of the step (0.1 for 10 %).
-    overshoot: f64,
-    /// 2 % settling time (s).
-    settling_time_s: f64,
-}
+pub struct PyStepResponse(angletrack::StepResponse);
 
-impl From<angletrack::StepResponse> for PyStepResponse {
-    fn from(s: angletrack::StepResponse) -> Self {
-        Self {
-            overshoot: s.overshoot,
-            settling_time_s: s.settling_time_s,
-        }
+class_methods! {
+    PyStepResponse {
+        /// Overshoot, as a fraction of the step (0.1 for 10 %).
+        overshoot: f64 = |this, py| this.0.overshoot;
+        /// 2 % settling time (s).
+        settling_time_s: f64 = |this, py| this.0.settling_time_s;
     }
-}
-
-#[pymethods]
-impl PyStepResponse {
-    fn __repr__(&self) -> String {
-        format!(
-            "StepResponse(overshoot={:.4} ({:.2} %), settling_time_s={:.6e})",
-            self.overshoot,
-            100.0 * self.overshoot,
-            self.settling_time_s
-        )
+    methods {
+        fn __repr__(&self) -> String {
+            format!(
+                "StepResponse(overshoot={:.4} ({:.2} %), settling_time_s={:.6e})",
+                self.0.overshoot,
+                100.0 * self.0.overshoot,
+                self.0.settling_time_s
+            )
+        }
     }
 }
 
@@ -100,14 +93,14 @@ class_methods! {
         /// Kalman design: `sqrt(P22) / Ts` (rad/s), on the model of `kalman_angle_floor_rad`.
         kalman_speed_floor_rad_s: Option<f64> = |this, py| this.inner.kalman_speed_floor_rad_s;
         /// Small-signal (linear) step response of the discrete loop.
-        linear_step: PyStepResponse = |this, py| this.inner.linear_step.into();
+        linear_step: PyStepResponse = |this, py| PyStepResponse(this.inner.linear_step);
         /// Step response of the continuous design, or `None`.
-        continuous_step: Option<PyStepResponse> = |this, py| this.inner.continuous_step.map(Into::into);
+        continuous_step: Option<PyStepResponse> = |this, py| this.inner.continuous_step.map(PyStepResponse);
         /// Response of the bare nonlinear loop (no diagnostics) to a 179 degree step from rest.
-        large_step: PyStepResponse = |this, py| this.inner.large_step.into();
+        large_step: PyStepResponse = |this, py| PyStepResponse(this.inner.large_step);
         /// The 179 degree step with the core's default diagnostics (false-lock detection
         /// re-acquires the angle).
-        large_step_with_diagnostics: PyStepResponse = |this, py| this.inner.large_step_with_diagnostics.into();
+        large_step_with_diagnostics: PyStepResponse = |this, py| PyStepResponse(this.inner.large_step_with_diagnostics);
         /// Where the nonlinear loop ends after the 179 degree step (rad).
         large_step_final_rad: f64 = |this, py| this.inner.large_step_final_rad;
         /// The largest trackable speed, `pi / Ts` (rad/s, `docs/theory.md §9`).
@@ -127,30 +120,23 @@ class_methods! {
 }
 
 /// Predicted RMS errors of the linearised loop.
-#[pyclass(name = "PredictedError", module = "angletrack", frozen, get_all)]
+#[pyclass(name = "PredictedError", module = "angletrack", frozen)]
 #[derive(Debug, Clone)]
-pub struct PyPredictedError {
-    /// RMS angle error (rad).
-    angle_rms_rad: f64,
-    /// RMS speed error (rad/s).
-    speed_rms_rad_s: f64,
-}
+pub struct PyPredictedError(angletrack::PredictedError);
 
-#[pymethods]
-impl PyPredictedError {
-    fn __repr__(&self) -> String {
-        format!(
-            "PredictedError(angle_rms_rad={:.6e}, speed_rms_rad_s={:.6e})",
-            self.angle_rms_rad, self.speed_rms_rad_s
-        )
+class_methods! {
+    PyPredictedError {
+        /// RMS angle error (rad).
+        angle_rms_rad: f64 = |this, py| this.0.angle_rms_rad;
+        /// RMS speed error (rad/s).
+        speed_rms_rad_s: f64 = |this, py| this.0.speed_rms_rad_s;
     }
-}
-
-impl From<angletrack::PredictedError> for PyPredictedError {
-    fn from(p: angletrack::PredictedError) -> Self {
-        Self {
-            angle_rms_rad: p.angle_rms_rad,
-            speed_rms_rad_s: p.speed_rms_rad_s,
+    methods {
+        fn __repr__(&self) -> String {
+            format!(
+                "PredictedError(angle_rms_rad={:.6e}, speed_rms_rad_s={:.6e})",
+                self.0.angle_rms_rad, self.0.speed_rms_rad_s
+            )
         }
     }
 }
@@ -167,7 +153,7 @@ pub fn predicted_error(
     process_noise_q: f64,
 ) -> Result<PyPredictedError> {
     let p = with_gains!(&gains.set, g => angletrack::predicted_error(g, sensor_noise_std, process_noise_q))?;
-    Ok(p.into())
+    Ok(PyPredictedError(p))
 }
 
 /// Steady-state RMS angle and speed errors of the loop with `gains` on the Kalman ATO's
@@ -187,7 +173,7 @@ pub fn predicted_error_on_kalman_model(
         sensor_noise_std,
         process_noise_q
     ))?;
-    Ok(p.map(Into::into))
+    Ok(p.map(PyPredictedError))
 }
 
 /// The largest speed (rad/s) an observer sampled every `sample_period_s` tracks: `pi / Ts`,

@@ -220,6 +220,19 @@ pub fn samples<'py, T: Element + Copy>(
     Ok(Samples::Copied(copy))
 }
 
+/// The samples of argument `parameter` (float32 or float64, checked as by [`samples`]) as
+/// float64, float32 widened exactly.
+pub fn float64(obj: &Bound<'_, PyAny>, parameter: &'static str) -> Result<Vec<f64>> {
+    Ok(match Float::of_samples(obj, parameter)? {
+        Float::F64 => samples::<f64>(obj, parameter)?.as_slice().to_vec(),
+        Float::F32 => samples::<f32>(obj, parameter)?
+            .as_slice()
+            .iter()
+            .map(|&x| f64::from(x))
+            .collect(),
+    })
+}
+
 /// The samples of two paired arguments (a cosine and a sine channel), each checked as by
 /// [`samples`], refused (naming the second) when their lengths differ.
 pub fn paired_samples<'py, T: Element + Copy>(

@@ -11,7 +11,7 @@
 //! module only moves numpy arrays in and out and names the arguments.
 
 use angletrack::{
-    AdcCount, CountsError, CountsInput, CountsInputError, CountsSettings, Signedness,
+    ChannelCounts, CountsError, CountsInput, CountsInputError, CountsSettings, Signedness,
 };
 use numpy::prelude::*;
 use numpy::{Element, PyArray1, PyArrayDescr, PyUntypedArray, dtype};
@@ -108,7 +108,9 @@ fn named(e: CountsInputError) -> Error {
         CountsInputError::Counts(e @ CountsError::Ambiguous { .. }) => {
             Error::value("adc_signed", format!("{e}: {STATE}"))
         }
-        CountsInputError::Counts(e) => Error::value("y_c", e.to_string()),
+        CountsInputError::Counts(_) => Error::value("y_c", e.to_string()),
+        CountsInputError::BeyondI32 { channel, .. } => Error::value(channel, e.to_string()),
+        CountsInputError::MixedTypes => Error::value("y_s", e.to_string()),
         CountsInputError::StreamMidScale => Error::value(
             "adc_mid_scale",
             format!("{e}; give adc_mid_scale, or track the whole capture in one call with track()"),
@@ -148,30 +150,12 @@ pub fn signals<'py, T: Sample>(
         }
         return Ok(pair);
     };
-    let (c, s, signedness) = match Counts::of_samples(y_s) {
+    match Counts::of_samples(y_s) {
         Some((ks, s)) if ks == kind => match kind {
-            Counts::I16 => {
-                return scaled(
-                    input,
-                    counts::<i16>(&c, "y_c")?,
-                    counts(&s, "y_s")?,
-                    Some(Signedness::Signed),
-                );
-            }
-            Counts::U16 => {
-                return scaled(input, counts::<u16>(&c, "y_c")?, counts(&s, "y_s")?, None);
-            }
-            Counts::I32 => (
-                counts::<i32>(&c, "y_c")?,
-                counts(&s, "y_s")?,
-                Some(Signedness::Signed),
-            ),
-            // int64 counts as int32 (checked against its range), of no signedness of their
-            // own: both arrays' shapes first, then their ranges.
-            Counts::I64 => {
-                let (c, s) = (counts::<i64>(&c, "y_c")?, counts::<i64>(&s, "y_s")?);
-                (narrowed(&c, "y_c")?, narrowed(&s, "y_s")?, None)
-            }
+            Counts::I16 => scaled::<T, i16>(input, (&c, &s)),
+            Counts::U16 => scaled::<T, u16>(input, (&c, &s)),
+            Counts::I32 => scaled::<T, i32>(input, (&c, &s)),
+            Counts::I64 => scaled::<T, i64>(input, (&c, &s)),
         },
         other => {
             // `y_c`'s own shape first, as for floats, then `y_s`'s.
@@ -181,42 +165,28 @@ pub fn signals<'py, T: Sample>(
             {
                 one_dimensional(array, "y_s")?;
             }
-            return Err(Error::Dtype {
+            Err(Error::Dtype {
                 parameter: "y_s",
                 given: other.map_or("another dtype", |k| k.0.name()).into(),
                 expected: format!("raw counts of y_c's dtype, {}", kind.name()),
-            });
-        }
-    };
-    scaled(input, c, s, signedness)
-}
-
-/// The counts `c`, `s` scaled by `input`.
-fn scaled<'py, T: Sample, I: AdcCount>(
-    input: &mut CountsInput<T>,
-    c: Vec<I>,
-    s: Vec<I>,
-    signedness: Option<Signedness>,
-) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
-    let (c, s) = input.scale(&c, &s, signedness).map_err(named)?;
-    Ok((Samples::Copied(c), Samples::Copied(s)))
-}
-
-/// `counts` (int64) as int32, or a `ConfigError` naming `parameter` and the first count
-/// beyond its range.
-fn narrowed(counts: &[i64], parameter: &'static str) -> Result<Vec<i32>> {
-    counts
-        .iter()
-        .enumerate()
-        .map(|(k, &v)| {
-            i32::try_from(v).map_err(|_| {
-                Error::value(
-                    parameter,
-                    format!("int64 count {v} at index {k} is beyond +-2^31"),
-                )
             })
-        })
-        .collect()
+        }
+    }
+}
+
+/// The counts `c`, `s` of element type `I` (both shapes checked first), scaled by `input`.
+fn scaled<'py, T: Sample, I: Element + Copy>(
+    input: &mut CountsInput<T>,
+    (c, s): (&Bound<'_, PyUntypedArray>, &Bound<'_, PyUntypedArray>),
+) -> Result<(Samples<'py, T>, Samples<'py, T>)>
+where
+    for<'a> ChannelCounts<'a>: From<&'a [I]>,
+{
+    let (c, s) = (counts::<I>(c, "y_c")?, counts::<I>(s, "y_s")?);
+    let (c, s) = input
+        .scale_channels(c.as_slice().into(), s.as_slice().into())
+        .map_err(named)?;
+    Ok((Samples::Copied(c), Samples::Copied(s)))
 }
 
 /// Each channel's extremes of a capture of whole counts, gathered chunk by chunk

@@ -7,7 +7,7 @@ use angletrack_core::{DriveOutputs as CoreDriveOutputs, DriveOutputsState};
 use numpy::{IntoPyArray, PyArray1};
 use pyo3::prelude::*;
 
-use crate::arrays::{Count, samples};
+use crate::arrays::{Count, float64};
 use crate::errors::Result;
 use crate::estimates::Estimates;
 
@@ -71,10 +71,7 @@ impl PyDriveOutputs {
     /// The drive's angles of each of `estimates` (an observer's, either dtype).
     #[pyo3(signature = (estimates))]
     fn update(&mut self, py: Python<'_>, estimates: PyRef<'_, Estimates>) -> Result<PyDriveAngles> {
-        let column = |a: &Py<PyAny>| -> Result<Vec<f64>> {
-            let as_f64 = a.bind(py).call_method1("astype", ("float64",))?;
-            Ok(samples::<f64>(&as_f64, "estimates")?.as_slice().to_vec())
-        };
+        let column = |a: &Py<PyAny>| float64(a.bind(py), "estimates");
         let columns = [
             column(&estimates.angle)?,
             column(&estimates.position)?,

@@ -3,47 +3,38 @@
 use angletrack::{ErrorStatistics, Metrics, MetricsOptions};
 use pyo3::prelude::*;
 
-use crate::arrays::{Float, samples};
+use crate::arrays::float64;
 use crate::errors::Result;
 use crate::estimates::Estimates;
+use crate::getters::class_methods;
 use crate::scenario::PyScenario;
 
 /// Mean, RMS and largest magnitude of an error series.
-#[pyclass(name = "ErrorStatistics", module = "angletrack", frozen, get_all)]
+#[pyclass(name = "ErrorStatistics", module = "angletrack", frozen)]
 #[derive(Debug, Clone)]
-pub struct PyErrorStatistics {
-    /// Root mean square.
-    rms: f64,
-    /// Largest magnitude.
-    max: f64,
-    /// Mean (signed: a bias).
-    mean: f64,
-}
+pub struct PyErrorStatistics(ErrorStatistics);
 
-impl From<ErrorStatistics> for PyErrorStatistics {
-    fn from(s: ErrorStatistics) -> Self {
-        Self {
-            rms: s.rms,
-            max: s.max,
-            mean: s.mean,
-        }
+class_methods! {
+    PyErrorStatistics {
+        /// Root mean square.
+        rms: f64 = |this, py| this.0.rms;
+        /// Largest magnitude.
+        max: f64 = |this, py| this.0.max;
+        /// Mean (signed: a bias).
+        mean: f64 = |this, py| this.0.mean;
     }
-}
-
-#[pymethods]
-impl PyErrorStatistics {
-    fn __repr__(&self) -> String {
-        format!("ErrorStatistics({})", self.fields())
+    methods {
+        fn __repr__(&self) -> String {
+            format!("ErrorStatistics({})", self.fields())
+        }
     }
 }
 
 impl PyErrorStatistics {
     /// `rms=..., max=..., mean=...`.
     fn fields(&self) -> String {
-        format!(
-            "rms={:.6e}, max={:.6e}, mean={:.6e}",
-            self.rms, self.max, self.mean
-        )
+        let s = &self.0;
+        format!("rms={:.6e}, max={:.6e}, mean={:.6e}", s.rms, s.max, s.mean)
     }
 }
 
@@ -88,19 +79,6 @@ impl PyMetrics {
     }
 }
 
-/// An estimates array as float64 (position is float64 already; float32 quantities are
-/// widened, exactly).
-fn as_f64(array: &Bound<'_, PyAny>, parameter: &'static str) -> Result<Vec<f64>> {
-    Ok(match Float::of_samples(array, parameter)? {
-        Float::F64 => samples::<f64>(array, parameter)?.as_slice().to_vec(),
-        Float::F32 => samples::<f32>(array, parameter)?
-            .as_slice()
-            .iter()
-            .map(|&x| f64::from(x))
-            .collect(),
-    })
-}
-
 /// Measures the estimates of a run against the scenario's truth: wrapped angle error and
 /// speed error statistics from `skip_s` (s) on, overshoot and settling time (band
 /// `settling_band` of the move), and time to lock (error within `lock_tolerance_rad`).
@@ -116,19 +94,13 @@ pub fn metrics(
 ) -> Result<PyMetrics> {
     let truth = angletrack::Scenario {
         sample_period_s: scenario.sample_period_s,
-        time_s: samples::<f64>(scenario.time_s.bind(py).as_any(), "scenario.time_s")?
-            .as_slice()
-            .to_vec(),
-        angle_rad: samples::<f64>(scenario.angle_rad.bind(py).as_any(), "scenario.angle_rad")?
-            .as_slice()
-            .to_vec(),
+        time_s: float64(scenario.time_s.bind(py).as_any(), "scenario.time_s")?,
+        angle_rad: float64(scenario.angle_rad.bind(py).as_any(), "scenario.angle_rad")?,
         speed_rad_s: if scenario.has_speed {
-            samples::<f64>(
+            float64(
                 scenario.speed_rad_s.bind(py).as_any(),
                 "scenario.speed_rad_s",
             )?
-            .as_slice()
-            .to_vec()
         } else {
             // Unknown speed truth: any finite series; its statistics are not reported.
             vec![0.0; scenario.len]
@@ -136,9 +108,9 @@ pub fn metrics(
         ..Default::default()
     };
     let run = angletrack::Run {
-        angle_rad: as_f64(estimates.position.bind(py), "estimates.position")?,
-        speed_rad_s: as_f64(estimates.speed.bind(py), "estimates.speed")?,
-        acceleration_rad_s2: as_f64(estimates.acceleration.bind(py), "estimates.acceleration")?,
+        angle_rad: float64(estimates.position.bind(py), "estimates.position")?,
+        speed_rad_s: float64(estimates.speed.bind(py), "estimates.speed")?,
+        acceleration_rad_s2: float64(estimates.acceleration.bind(py), "estimates.acceleration")?,
     };
     let options = MetricsOptions {
         skip_s,
@@ -147,8 +119,10 @@ pub fn metrics(
     };
     let m = py.detach(|| Metrics::new(&truth, &run, &options))?;
     Ok(PyMetrics {
-        angle_error_rad: m.angle_error_rad.into(),
-        speed_error_rad_s: scenario.has_speed.then(|| m.speed_error_rad_s.into()),
+        angle_error_rad: PyErrorStatistics(m.angle_error_rad),
+        speed_error_rad_s: scenario
+            .has_speed
+            .then_some(PyErrorStatistics(m.speed_error_rad_s)),
         samples: m.samples,
         overshoot: m.overshoot,
         settling_time_s: m.settling_time_s,

@@ -103,6 +103,44 @@ impl AdcCount for u16 {
     }
 }
 
+/// One channel's raw ADC counts, of an integer type an observer takes: `i16` and `i32` signed
+/// by the caller's choice of type, `u16` unsigned, `i64` (numpy's default integer) read as
+/// `i32` (range-checked), of no signedness of its own.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ChannelCounts<'a> {
+    /// Signed 16-bit counts.
+    I16(&'a [i16]),
+    /// Unsigned (offset-binary) 16-bit counts.
+    U16(&'a [u16]),
+    /// Signed 32-bit counts.
+    I32(&'a [i32]),
+    /// 64-bit counts, each within the `i32` range.
+    I64(&'a [i64]),
+}
+
+macro_rules! channel_counts_from {
+    ($($variant:ident: $t:ty),*) => {$(
+        impl<'a> From<&'a [$t]> for ChannelCounts<'a> {
+            fn from(counts: &'a [$t]) -> Self {
+                ChannelCounts::$variant(counts)
+            }
+        }
+    )*};
+}
+channel_counts_from!(I16: i16, U16: u16, I32: i32, I64: i64);
+
+/// `counts` of channel `channel` as `i32`, or the first beyond its range.
+fn narrowed(counts: &[i64], channel: &'static str) -> Result<Vec<i32>, CountsInputError> {
+    let narrow = |(index, &count): (usize, &i64)| {
+        i32::try_from(count).map_err(|_| CountsInputError::BeyondI32 {
+            channel,
+            index,
+            count,
+        })
+    };
+    counts.iter().enumerate().map(narrow).collect()
+}
+
 /// What the caller stated of the counts: the mid-scale, the counts per unit of the
 /// observer's input (`None`: 1, the observer runs in counts) and the signedness. Checked
 /// by the core.
@@ -156,6 +194,17 @@ pub enum CountsInputError {
     StreamMidScale,
     /// Counts of a stream of no signedness stated (by the caller or the type).
     StreamSignedness,
+    /// The two channels' counts of different types ([`ChannelCounts`]).
+    MixedTypes,
+    /// An `i64` count beyond the `i32` range, the first of its channel (`"y_c"` or `"y_s"`).
+    BeyondI32 {
+        /// The channel, `"y_c"` or `"y_s"`.
+        channel: &'static str,
+        /// The sample's index in the chunk.
+        index: usize,
+        /// The count.
+        count: i64,
+    },
 }
 
 impl core::fmt::Display for CountsInputError {
@@ -171,6 +220,12 @@ impl core::fmt::Display for CountsInputError {
                 "counts fed in chunks need their signedness stated: no chunk shows the whole \
                  capture's",
             ),
+            CountsInputError::MixedTypes => {
+                f.write_str("the cosine and sine counts are of different types")
+            }
+            CountsInputError::BeyondI32 { index, count, .. } => {
+                write!(f, "int64 count {count} at index {index} is beyond +-2^31")
+            }
         }
     }
 }
@@ -264,6 +319,37 @@ impl<T: Real> CountsInput<T> {
         let scaling = self.scaling(y_c, y_s, signedness)?;
         let scale = |values: &[I]| values.iter().map(|&x| scaling.scale(x)).collect();
         Ok((scale(y_c), scale(y_s)))
+    }
+
+    /// The chunk `y_c`, `y_s`, counts of one type ([`ChannelCounts`]: its signedness, `i64`
+    /// narrowed to `i32`, the cosine's first), in the observer's units
+    /// ([`CountsInput::scale`]); channels of different types are refused.
+    ///
+    /// ```
+    /// use angletrack::{ChannelCounts, CountsInput, CountsInputError, CountsSettings};
+    /// let mut input = CountsInput::<f64>::stream(CountsSettings::default());
+    /// let (c, s) = input.scale_channels(ChannelCounts::I16(&[-7]), ChannelCounts::I16(&[7]))?;
+    /// assert_eq!((c, s), (vec![-7.0], vec![7.0]));
+    /// let e = input.scale_channels(ChannelCounts::I64(&[0]), ChannelCounts::I64(&[1 << 40]));
+    /// assert!(matches!(e, Err(CountsInputError::BeyondI32 { channel: "y_s", index: 0, .. })));
+    /// let mixed = input.scale_channels(ChannelCounts::I16(&[0]), ChannelCounts::I32(&[0]));
+    /// assert_eq!(mixed, Err(CountsInputError::MixedTypes));
+    /// # Ok::<(), CountsInputError>(())
+    /// ```
+    pub fn scale_channels(
+        &mut self,
+        y_c: ChannelCounts<'_>,
+        y_s: ChannelCounts<'_>,
+    ) -> Result<(Vec<T>, Vec<T>), CountsInputError> {
+        use ChannelCounts as C;
+        let signed = Some(Signedness::Signed);
+        match (y_c, y_s) {
+            (C::I16(c), C::I16(s)) => self.scale(c, s, signed),
+            (C::U16(c), C::U16(s)) => self.scale(c, s, None),
+            (C::I32(c), C::I32(s)) => self.scale(c, s, signed),
+            (C::I64(c), C::I64(s)) => self.scale(&narrowed(c, "y_c")?, &narrowed(s, "y_s")?, None),
+            _ => Err(CountsInputError::MixedTypes),
+        }
     }
 }
 

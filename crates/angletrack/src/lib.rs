@@ -131,7 +131,7 @@ pub use carrier::measured_carrier_cycles_per_sample;
 pub use channel_status::ChannelStatus;
 pub use clipping::{checked_adc_range, clipping_rails};
 pub use counts::{
-    AdcCount, CountsInput, CountsInputError, CountsSettings, UnsignedCountsError,
+    AdcCount, ChannelCounts, CountsInput, CountsInputError, CountsSettings, UnsignedCountsError,
     offset_binary_mid_scale,
 };
 pub use demodulation::{DemodulatorArguments, DemodulatorStream, PairColumns};

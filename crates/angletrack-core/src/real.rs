@@ -70,6 +70,8 @@ pub trait Float:
     /// The smallest positive normal number: added to `y_c^2 + y_s^2` in the amplitude
     /// tracker so that it never divides by zero (`docs/theory.md §12`).
     const MIN_POSITIVE: Self;
+    /// Positive infinity: a level no finite number exceeds.
+    const INFINITY: Self;
     /// Coefficients of the odd minimax polynomial for sin on [-pi/2, pi/2], lowest first.
     #[doc(hidden)]
     const SIN_POLY: &'static [Self];
@@ -230,6 +232,7 @@ macro_rules! impl_real {
             const FRAC_1_TAU: Self = 1.0 / core::$t::consts::TAU;
             const EPSILON: Self = $t::EPSILON;
             const MIN_POSITIVE: Self = $t::MIN_POSITIVE;
+            const INFINITY: Self = $t::INFINITY;
             const SIN_POLY: &'static [Self] = &$sin_poly;
             const COS_POLY: &'static [Self] = &$cos_poly;
             const FAST_SIN_COS_MAX_ERROR: Self = $eps_fast;

@@ -67,10 +67,12 @@ fn degradation_of_signal_is_flagged_both_ways() {
 }
 
 #[test]
-fn loss_of_tracking_is_flagged_within_two_windows() {
-    // The angle alternating by a quarter turn each sample: the loop cannot follow, its
-    // phase error is about sin(45 degrees) in magnitude, the in-phase component positive.
-    let worst = worst_latency(Faults::LOSS_OF_TRACKING, 2 * W - 1, |k, theta| {
+fn loss_of_tracking_is_flagged_at_the_first_sample_beyond_the_tracking_error() {
+    // The angle alternating by a quarter turn each sample: the loop cannot follow. The
+    // first faulty sample is the healthy angle; the second's residual, about sin(90
+    // degrees), is beyond the tracking-error level (0.05) and flagged at once, whatever the
+    // window's phase.
+    let worst = worst_latency(Faults::LOSS_OF_TRACKING, 2, |k, theta| {
         counts(
             16384.0,
             theta
@@ -81,7 +83,7 @@ fn loss_of_tracking_is_flagged_within_two_windows() {
                 },
         )
     });
-    assert!(worst > W, "{worst}");
+    assert_eq!(worst, 2);
 }
 
 #[test]

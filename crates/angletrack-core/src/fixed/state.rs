@@ -2,6 +2,7 @@
 //! reports ([`FixedEstimate`]), in the integers of `docs/theory.md §14`.
 
 use crate::faults::Faults;
+use crate::monitor::TrackingCheck;
 use crate::reacquisition::FixedRefit;
 
 /// The state vector of the fixed-point recursion: binary angle (2^32 per turn), speed
@@ -63,6 +64,9 @@ pub struct FixedState<const N: usize> {
     /// Window ends left that flag degradation after one whose last sample was off the
     /// circle (`crate::monitor::ROUNDNESS_HOLD_WINDOWS`).
     pub(crate) round_hold: u8,
+    /// The per-sample tracking-error check (`crate::monitor::TrackingCheck`), on `|eps|` in
+    /// Q15; its flag is added to the window's in the estimate.
+    pub(crate) tracking: TrackingCheck<u32>,
     /// Whether the first sample has set the angle.
     pub(crate) initialised: bool,
     /// The samples coasted through front-end faults since the last used one (saturated):
@@ -100,6 +104,7 @@ impl<const N: usize> FixedState<N> {
             faults: Faults::NONE,
             latched: Faults::NONE,
             round_hold: 0,
+            tracking: TrackingCheck::new(u32::MAX),
             initialised: false,
             coasted: 0,
             refit: FixedRefit::new(),

@@ -488,3 +488,5 @@ mod latency_tests;
 mod roundness_tests;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tracking_tests;

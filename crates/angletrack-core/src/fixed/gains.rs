@@ -4,7 +4,9 @@
 
 use crate::error::{ConfigError, Parameter};
 use crate::gains::{Order, SupportedOrder};
-use crate::monitor::{AmplitudeMeasure, DEFAULT_TRACKING_ERROR, Limits, MonitorLimits, TrackingLevels};
+use crate::monitor::{
+    AmplitudeMeasure, DEFAULT_TRACKING_ERROR, Limits, MonitorLimits, TrackingLevels,
+};
 use crate::stability::for_f64::check_stability;
 
 /// Signal amplitudes (counts) the fixed-point path normalises exactly: from 4096 (below, the

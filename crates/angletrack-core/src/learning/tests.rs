@@ -256,7 +256,10 @@ fn calibration_faults_follow_the_bounds() {
         );
         // The sample read uncalibrated may jump from the calibrated one (the tracking
         // error's flag may be set): no calibration fault.
-        assert!(!e.faults.intersects(Faults::AMPLITUDE_MISMATCH | Faults::OFFSET_OR_QUADRATURE));
+        assert!(
+            !e.faults
+                .intersects(Faults::AMPLITUDE_MISMATCH | Faults::OFFSET_OR_QUADRATURE)
+        );
     }
 }
 

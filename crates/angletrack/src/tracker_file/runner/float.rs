@@ -37,6 +37,7 @@ where
             .with_degradation_low(T::from_f64(t.degradation_low))
             .with_degradation_high(T::from_f64(t.degradation_high))
             .with_loss_of_tracking(T::from_f64(t.loss_of_tracking))
+            .with_tracking_error(T::from_f64(t.tracking_error))
             .with_max_speed(t.max_speed.map(T::from_f64))
             .with_filter_factor(T::from_f64(t.filter_factor))
             .with_false_lock(T::from_f64(t.false_lock))

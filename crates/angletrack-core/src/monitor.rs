@@ -109,7 +109,7 @@ pub struct FaultThresholds<T> {
 /// and the `const` constructors (constant evaluation cannot call trait methods).
 macro_rules! threshold_fns {
     ($t:ident, $m:ident, sqrt_min_positive $sqrt_min_positive:expr) => {
-        use super::{CheckedThresholds, FaultThresholds, TrackingLevels};
+        use super::{CheckedThresholds, FaultThresholds};
         use $crate::error::$m::check_positive;
         use $crate::error::{ConfigError, Parameter, const_try};
 
@@ -174,7 +174,7 @@ macro_rules! threshold_fns {
                 t.loss_of_tracking,
                 Parameter::LossOfTrackingThreshold
             ));
-            let trip = const_try!(check_positive(
+            const_try!(check_positive(
                 t.tracking_error,
                 Parameter::TrackingErrorThreshold
             ));
@@ -241,10 +241,6 @@ macro_rules! threshold_fns {
                 max_scaled_speed: max_speed * sample_period_s,
                 window,
                 window_inverse: 1.0 / window as $t,
-                tracking: TrackingLevels {
-                    trip,
-                    release: trip * super::TRACKING_RELEASE_FRACTION as $t,
-                },
             })
         }
     };
@@ -288,9 +284,6 @@ pub struct CheckedThresholds<T> {
     /// The monitor's window `W` (used samples, a power of two) and `1 / W` (exact).
     pub(crate) window: u32,
     pub(crate) window_inverse: T,
-    /// The per-sample tracking-error check's levels (`tracking_error`, and the release
-    /// level below it).
-    pub(crate) tracking: TrackingLevels<T>,
 }
 
 /// The monitor's memory in each channel's state: the sums over the current window, the
@@ -313,7 +306,7 @@ pub(crate) struct MonitorState<T> {
     pub(crate) latched: Faults,
     /// Window ends left that flag [`Faults::LOSS_OF_TRACKING`] whatever their means, after
     /// an implausible re-acquisition (`crate::reacquisition`).
-    pub(crate) held_windows: u32,
+    pub(crate) held_windows: u8,
     /// Window ends left that flag [`Faults::DEGRADATION_OF_SIGNAL`] after one whose last
     /// sample was off the circle ([`FaultThresholds::magnitude_tolerance`]).
     pub(crate) round_hold: u8,
@@ -348,7 +341,7 @@ impl<T: Float> MonitorState<T> {
     /// tracking-error check's.
     #[inline(always)]
     pub(crate) fn sample_faults(&self) -> Faults {
-        self.flags | self.tracking.flag
+        self.flags | self.tracking.flag()
     }
 
     /// Starts a new window of `window` used samples, whose `1 / window` is
@@ -397,7 +390,7 @@ pub(crate) trait MonitorWindow {
     /// What one used sample adds to the window.
     type Term;
     /// The sample's residual `|eps|`, in the observer's numbers.
-    type Residual: Copy + PartialOrd;
+    type Residual: tracking::Residual;
 
     /// Adds `term` to the window's sums; returns the sample's residual.
     fn add(&mut self, term: Self::Term) -> Self::Residual;
@@ -409,8 +402,9 @@ pub(crate) trait MonitorWindow {
     fn tracking(&self) -> &TrackingCheck<Self::Residual>;
 
     /// Adds one used sample to the window and checks its residual; `true` when it ends the
-    /// window or changes the tracking flag: the caller then runs its out-of-line path, which
-    /// applies the check ([`TrackingCheck::apply`]) and decides the window if it ended.
+    /// window or its residual must go out of line ([`TrackingCheck::changes`]): the caller
+    /// then runs its out-of-line path, which applies the check ([`TrackingCheck::apply`]) and
+    /// decides the window if it ended.
     #[inline(always)]
     fn accumulate(&mut self, term: Self::Term) -> bool {
         let residual = self.add(term);
@@ -469,18 +463,18 @@ impl<T: Float> CheckedThresholds<T> {
         if monitor.held_windows > 0 {
             monitor.hold_implausible_jump();
         }
-        monitor.tracking.arm(self.tracking);
+        monitor.tracking.arm(self.thresholds.tracking_error);
         monitor.start_window(self.window, self.window_inverse);
         false_lock && self.thresholds.re_acquire
     }
 }
 
 mod decision;
-mod tracking;
+pub(crate) mod tracking;
 
 pub(crate) use decision::{AmplitudeMeasure, Limits, Measures, MonitorLimits, WindowMeasures};
 pub use tracking::TRACKING_RELEASE_FRACTION;
-pub(crate) use tracking::{TrackingCheck, TrackingLevels};
+pub(crate) use tracking::TrackingCheck;
 
 #[cfg(test)]
 mod latency_tests;

@@ -298,7 +298,7 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         let monitor = &mut state.monitor;
         monitor.tracking.apply(
             state.phase_error.abs(),
-            self.thresholds.tracking,
+            self.thresholds.thresholds.tracking_error,
             &mut monitor.latched,
         );
         if monitor.remaining == 0 {

@@ -4,9 +4,7 @@
 
 use crate::error::{ConfigError, Parameter};
 use crate::gains::{Order, SupportedOrder};
-use crate::monitor::{
-    AmplitudeMeasure, DEFAULT_TRACKING_ERROR, Limits, MonitorLimits, TrackingLevels,
-};
+use crate::monitor::{AmplitudeMeasure, DEFAULT_TRACKING_ERROR, Limits, MonitorLimits};
 use crate::stability::for_f64::check_stability;
 
 /// Signal amplitudes (counts) the fixed-point path normalises exactly: from 4096 (below, the
@@ -77,9 +75,9 @@ pub(crate) struct FixedThresholds {
     pub(crate) loss_of_tracking: u32,
     /// |speed| (2^-32 turn per sample) above this: loss of tracking (a quarter turn).
     pub(crate) max_speed: u32,
-    /// One sample's `|eps|` (Q15) above `trip`: loss of tracking, held down to `release`
+    /// One sample's `|eps|` (Q15) above this: loss of tracking, held down to half of it
     /// (`FaultThresholds::tracking_error`).
-    pub(crate) tracking: TrackingLevels<u32>,
+    pub(crate) tracking_error: i16,
 }
 
 impl MonitorLimits for FixedThresholds {
@@ -136,10 +134,7 @@ impl FixedThresholds {
         round_high: u32::MAX,
         loss_of_tracking: (1 << 31) - 1,
         max_speed: u32::MAX,
-        tracking: TrackingLevels {
-            trip: u32::MAX,
-            release: u32::MAX,
-        },
+        tracking_error: i16::MAX,
     };
 
     /// The float monitor's default thresholds (`FaultThresholds`) for signals of
@@ -171,14 +166,8 @@ impl FixedThresholds {
             degradation_high: amplitude2_half_of(nominal_counts * 1.5),
             loss_of_tracking: 3277 * super::update::MONITOR_WINDOW,
             max_speed: 1 << 30,
-            // The floats' default in Q15, rounded to nearest: 1638 and 819.
-            tracking: TrackingLevels {
-                trip: (DEFAULT_TRACKING_ERROR as f64 * 32768.0 + 0.5) as u32,
-                release: (DEFAULT_TRACKING_ERROR as f64
-                    * crate::monitor::TRACKING_RELEASE_FRACTION as f64
-                    * 32768.0
-                    + 0.5) as u32,
-            },
+            // The floats' default in Q15, rounded to nearest: 1638 (released at 819).
+            tracking_error: (DEFAULT_TRACKING_ERROR as f64 * 32768.0 + 0.5) as i16,
         }
     }
 }

@@ -177,6 +177,11 @@ fn the_nominal_amplitude_of_shifted_counts_is_set_in_a_static() {
 #[test]
 fn a_jump_beyond_the_tracking_error_is_flagged_at_once_and_one_within_never() {
     let gains = FixedGains::<3>::new(KALMAN, 50e-6).unwrap();
+    let trip = gains.monitor.tracking_error;
+    assert_eq!(
+        (trip, crate::monitor::tracking::Residual::release(trip)),
+        (1638, 819)
+    );
     let threshold = libm::asin(0.05);
     for (factor, flagged) in [(1.1, true), (0.9, false)] {
         let jump = factor * threshold;

@@ -64,16 +64,17 @@ pub struct FixedState<const N: usize> {
     /// Window ends left that flag degradation after one whose last sample was off the
     /// circle (`crate::monitor::ROUNDNESS_HOLD_WINDOWS`).
     pub(crate) round_hold: u8,
-    /// The per-sample tracking-error check (`crate::monitor::TrackingCheck`), on `|eps|` in
-    /// Q15; its flag is added to the window's in the estimate.
-    pub(crate) tracking: TrackingCheck<u32>,
     /// Whether the first sample has set the angle.
     pub(crate) initialised: bool,
     /// The samples coasted through front-end faults since the last used one (saturated):
     /// after a few, the next sample's window end sets the angle from its `atan2` (the
     /// speed and the acceleration kept); after many, the next samples are fitted first
     /// (`crate::reacquisition`).
-    pub(crate) coasted: u32,
+    pub(crate) coasted: u16,
+    /// The per-sample tracking-error check (`crate::monitor::TrackingCheck`), on `|eps|` in
+    /// Q15; its flag is added to the window's in the estimate. Beside `coasted`, both 16
+    /// bits: the state stays within the C API's storage for it.
+    pub(crate) tracking: TrackingCheck<i16>,
     /// The fit under way after a long coast.
     pub(crate) refit: FixedRefit,
 }
@@ -104,7 +105,7 @@ impl<const N: usize> FixedState<N> {
             faults: Faults::NONE,
             latched: Faults::NONE,
             round_hold: 0,
-            tracking: TrackingCheck::new(u32::MAX),
+            tracking: TrackingCheck::new(i16::MAX),
             initialised: false,
             coasted: 0,
             refit: FixedRefit::new(),

@@ -194,13 +194,13 @@ impl<const N: usize> MonitorWindow for FixedState<N> {
     /// `eps` (Q15).
     type Term = i32;
     /// `|eps|` (Q15, [`residual`]).
-    type Residual = u32;
+    type Residual = i16;
 
     /// At most MONITOR_WINDOW 2^15 = 2^20, no overflow.
     #[inline(always)]
-    fn add(&mut self, eps: i32) -> u32 {
+    fn add(&mut self, eps: i32) -> i16 {
         let residual = residual(eps);
-        self.error_sum += residual;
+        self.error_sum += residual as u32;
         residual
     }
 
@@ -210,7 +210,7 @@ impl<const N: usize> MonitorWindow for FixedState<N> {
     }
 
     #[inline(always)]
-    fn tracking(&self) -> &TrackingCheck<u32> {
+    fn tracking(&self) -> &TrackingCheck<i16> {
         &self.tracking
     }
 }
@@ -220,8 +220,9 @@ impl<const N: usize> MonitorWindow for FixedState<N> {
 /// of the threshold, and a sample's within one unit (0.002 % of the default tracking-error
 /// level).
 #[inline(always)]
-fn residual(eps: i32) -> u32 {
-    (eps ^ (eps >> 31)) as u32
+fn residual(eps: i32) -> i16 {
+    // eps is in [-2^15, 2^15 - 1] (`normalise`): the result in [0, 2^15 - 1].
+    (eps ^ (eps >> 31)) as i16
 }
 
 impl<const N: usize> FixedGains<N> {
@@ -283,7 +284,7 @@ impl<const N: usize> FixedGains<N> {
     fn end_sample(&self, state: &mut FixedState<N>) {
         state.tracking.apply(
             residual(state.phase_error),
-            self.monitor.tracking,
+            self.monitor.tracking_error,
             &mut state.latched,
         );
         if state.window_left == 0 {
@@ -398,7 +399,7 @@ impl<const N: usize> FixedGains<N> {
             self.initialise(state);
             return;
         }
-        if state.coasted >= REFIT_AFTER_COAST {
+        if u32::from(state.coasted) >= REFIT_AFTER_COAST {
             self.refit(state);
             return;
         }
@@ -497,7 +498,7 @@ impl<const N: usize> FixedGains<N> {
             state.reciprocal = next;
         }
         state.window_left = MONITOR_WINDOW;
-        state.tracking.arm(self.monitor.tracking);
+        state.tracking.arm(self.monitor.tracking_error);
         state.initialised = true;
     }
 
@@ -510,7 +511,7 @@ impl<const N: usize> FixedGains<N> {
             speed: Self::corrected_speed(&state.x),
             acceleration: if N > 2 { state.x.acceleration } else { 0 },
             phase_error: state.phase_error,
-            faults: state.faults.union(state.tracking.flag),
+            faults: state.faults.union(state.tracking.flag()),
         }
     }
 

@@ -12,76 +12,110 @@
 //! `l1 eps` toward the measurement, so an estimate after an unflagged sample is within about
 //! `(1 - l1) asin(trip level)` of the measured angle.
 //!
-//! Its cost per sample is one comparison with the level in force and one with the flag's
-//! state; the levels are switched out of line, when the flag changes.
+//! Its cost per sample is one comparison with the level in force: the trip level while the
+//! flag is clear, a level below every residual while it is held (every held sample then
+//! takes the out-of-line path, which compares it with the release level: a held flag is a
+//! fault, rare).
 
 use crate::faults::Faults;
+use crate::real::Float;
 
 /// The release level as a fraction of the trip level: the flag set by a residual above the
 /// trip level clears at the first residual at or below half of it.
 pub const TRACKING_RELEASE_FRACTION: f32 = 0.5;
 
-/// The levels of the check, in the numbers of the residual (`|eps|`; Q15 in the fixed-point
-/// observer).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct TrackingLevels<R> {
-    /// A residual above this sets the flag.
-    pub(crate) trip: R,
-    /// While the flag is set, a residual at or below this clears it.
-    pub(crate) release: R,
+/// A residual `|eps|` in an observer's numbers (a float, or Q15 in an `i32`), with what
+/// the check derives from its trip level out of line, so that a configuration stores the
+/// trip level alone.
+pub(crate) trait Residual: Copy + PartialOrd {
+    /// The release level of `trip`: [`TRACKING_RELEASE_FRACTION`] of it.
+    fn release(trip: Self) -> Self;
+    /// A level below every residual (which is at least 0): the level in force while the
+    /// flag is held.
+    fn below_every_residual() -> Self;
+    /// Whether `level` is one below every residual (negative): the flag is held.
+    fn holds(level: Self) -> bool;
 }
 
-/// The check's memory in an observer's state: the level in force (the trip level while the
-/// flag is clear, the release level while it is set) and the flag.
+impl<T: Float> Residual for T {
+    fn release(trip: T) -> T {
+        trip * T::HALF
+    }
+    fn below_every_residual() -> T {
+        -T::ONE
+    }
+    fn holds(level: T) -> bool {
+        level < T::ZERO
+    }
+}
+
+/// Q15, from 0 to 32767.
+impl Residual for i16 {
+    fn release(trip: i16) -> i16 {
+        trip >> 1
+    }
+    fn below_every_residual() -> i16 {
+        -1
+    }
+    fn holds(level: i16) -> bool {
+        level < 0
+    }
+}
+
+/// The check's memory in an observer's state: the level in force, which tells the flag
+/// (one word: the states of the C API have no room for more).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct TrackingCheck<R> {
-    /// The level the next residual is compared with.
+    /// The level the next residual is compared with: the trip level while the flag is
+    /// clear, one below every residual (negative) while it is held.
     pub(crate) level: R,
-    /// [`Faults::LOSS_OF_TRACKING`] while the flag is held, else none.
-    pub(crate) flag: Faults,
 }
 
-impl<R: Copy + PartialOrd> TrackingCheck<R> {
+impl<R: Residual> TrackingCheck<R> {
     /// A check that is not armed: `never` is a level no residual exceeds (the monitor
     /// arms it at its first decision, [`TrackingCheck::arm`]).
     pub(crate) const fn new(never: R) -> Self {
-        Self {
-            level: never,
-            flag: Faults::NONE,
-        }
+        Self { level: never }
     }
 
-    /// Whether `residual` changes the flag: above the level with the flag clear, or at or
-    /// below it with the flag set (NaN compares false: it sets nothing and clears a flag;
-    /// the input check rejects such a sample before it gets here).
+    /// [`Faults::LOSS_OF_TRACKING`] while the flag is held, else none.
+    #[inline(always)]
+    pub(crate) fn flag(&self) -> Faults {
+        Faults::when(R::holds(self.level), Faults::LOSS_OF_TRACKING)
+    }
+
+    /// Whether `residual` must go out of line ([`TrackingCheck::apply`]): above the trip
+    /// level with the flag clear, or any residual while it is held (NaN compares false: the
+    /// input check rejects such a sample before it gets here).
     #[inline(always)]
     pub(crate) fn changes(&self, residual: R) -> bool {
-        (residual > self.level) != !self.flag.is_empty()
+        residual > self.level
     }
 
-    /// The level in force set from `levels` for the flag's state.
-    pub(crate) fn arm(&mut self, levels: TrackingLevels<R>) {
-        self.level = if self.flag.is_empty() {
-            levels.trip
-        } else {
-            levels.release
-        };
+    /// The level in force of trip level `trip`, the flag kept (the monitor's first
+    /// decision arms a new check, the later ones follow a changed threshold).
+    pub(crate) fn arm(&mut self, trip: R) {
+        if !R::holds(self.level) {
+            self.level = trip;
+        }
     }
 
-    /// `residual` (one that [`TrackingCheck::changes`] the flag, or any) applied: the flag
-    /// set or cleared, the level switched, and the flag latched in `latched` when set.
+    /// `residual` applied (out of line), of trip level `trip`: with the flag clear, a
+    /// residual above `trip` sets it and latches it in `latched`; with the flag held, one at
+    /// or below the release level clears it; the level in force follows.
     #[cold]
     #[inline(never)]
-    pub(crate) fn apply(&mut self, residual: R, levels: TrackingLevels<R>, latched: &mut Faults) {
-        if self.changes(residual) {
-            self.flag = if self.flag.is_empty() {
-                Faults::LOSS_OF_TRACKING
+    pub(crate) fn apply(&mut self, residual: R, trip: R, latched: &mut Faults) {
+        if !R::holds(self.level) {
+            if residual > trip {
+                self.level = R::below_every_residual();
+                *latched |= Faults::LOSS_OF_TRACKING;
             } else {
-                Faults::NONE
-            };
-            *latched |= self.flag;
+                self.level = trip;
+            }
+        } else if !(residual > R::release(trip)) {
+            self.level = trip;
         }
-        self.arm(levels);
     }
 }
 
@@ -89,21 +123,18 @@ impl<R: Copy + PartialOrd> TrackingCheck<R> {
 mod tests {
     use super::*;
 
-    const LEVELS: TrackingLevels<f32> = TrackingLevels {
-        trip: 0.05,
-        release: 0.025,
-    };
+    const TRIP: f32 = 0.05;
 
     /// The flag of each residual of `residuals`, the check applied as the monitor does.
     fn flags<const K: usize>(residuals: [f32; K]) -> ([bool; K], Faults) {
         let mut check = TrackingCheck::new(f32::INFINITY);
-        check.arm(LEVELS);
+        check.arm(TRIP);
         let mut latched = Faults::NONE;
         let flags = residuals.map(|r| {
             if check.changes(r) {
-                check.apply(r, LEVELS, &mut latched);
+                check.apply(r, TRIP, &mut latched);
             }
-            !check.flag.is_empty()
+            !check.flag().is_empty()
         });
         (flags, latched)
     }

@@ -399,7 +399,7 @@ pub(crate) trait MonitorWindow {
     fn remaining(&mut self) -> &mut u32;
 
     /// The per-sample tracking-error check.
-    fn tracking(&self) -> &TrackingCheck<Self::Residual>;
+    fn tracking(&self) -> &TrackingCheck<<Self::Residual as tracking::Residual>::Level>;
 
     /// Adds one used sample to the window and checks its residual; `true` when it ends the
     /// window or its residual must go out of line ([`TrackingCheck::changes`]): the caller

@@ -128,6 +128,12 @@ pub trait Float:
     fn is_finite(self) -> bool;
     /// Absolute value.
     fn abs(self) -> Self;
+    /// The bits of the value as a signed integer: for values that are not NaN, ordered as
+    /// the values are among non-negative ones, and negative for negative ones (a comparison
+    /// of non-negative floats with integer instructions: no library call on a Cortex-M0).
+    type OrderedBits: Copy + PartialOrd + Eq + core::fmt::Debug;
+    /// See [`Float::OrderedBits`].
+    fn ordered_bits(self) -> Self::OrderedBits;
     /// Four-quadrant arctangent of `self / x` (rad, in [-pi, pi]).
     fn atan2(self, x: Self) -> Self;
     /// `(sin, cos)` correctly rounded to within an ulp, from [`libm`].
@@ -215,7 +221,7 @@ impl ChainNumber for i16 {
 }
 
 macro_rules! impl_real {
-    ($t:ident, bits $bits:ident, default $default:ident, tau_lo $tau_lo:expr,
+    ($t:ident, bits $bits:ident, signed $signed:ident, default $default:ident, tau_lo $tau_lo:expr,
      one_turn_edge_fix $edge_fix:expr, fast_error $eps_fast:expr, fewest_instructions $fewest:expr,
      polynomials $sin_poly:path, $cos_poly:path, libm $atan2:ident, $sincos:ident, $sqrt:ident, $expm1:ident,
      track_magnitude $track:expr, checks $m:ident) => {
@@ -285,6 +291,11 @@ macro_rules! impl_real {
             fn abs(self) -> Self {
                 $t::abs(self)
             }
+            type OrderedBits = $signed;
+            #[inline(always)]
+            fn ordered_bits(self) -> $signed {
+                self.to_bits() as $signed
+            }
             #[inline(always)]
             fn atan2(self, x: Self) -> Self {
                 libm::$atan2(self, x)
@@ -335,13 +346,13 @@ macro_rules! impl_real {
 // The constants and `libm` functions of each type; the polynomials' error bounds are
 // explained with their coefficients in `sincos.rs`.
 impl_real! {
-    f32, bits u32, default Fast, tau_lo -1.748_455_6e-7_f32, one_turn_edge_fix false,
+    f32, bits u32, signed i32, default Fast, tau_lo -1.748_455_6e-7_f32, one_turn_edge_fix false,
     fast_error 3e-7, fewest_instructions cfg!(all(target_arch = "arm", target_os = "none")), polynomials F32_SIN_POLY, F32_COS_POLY, libm atan2f, sincosf, sqrtf, expm1f,
     track_magnitude heron_step::<f32>, checks for_f32
 }
 
 impl_real! {
-    f64, bits u64, default Exact, tau_lo 2.449_293_598_294_706_4e-16_f64, one_turn_edge_fix true,
+    f64, bits u64, signed i64, default Exact, tau_lo 2.449_293_598_294_706_4e-16_f64, one_turn_edge_fix true,
     fast_error 2e-13, fewest_instructions false, polynomials F64_SIN_POLY, F64_COS_POLY, libm atan2, sincos, sqrt, expm1,
     track_magnitude |_previous, amplitude2| sqrt_f64(amplitude2), checks for_f64
 }

@@ -77,7 +77,7 @@ pub(crate) struct FixedThresholds {
     pub(crate) max_speed: u32,
     /// One sample's `|eps|` (Q15) above this: loss of tracking, held down to half of it
     /// (`FaultThresholds::tracking_error`).
-    pub(crate) tracking_error: i16,
+    pub(crate) tracking_error: i32,
 }
 
 impl MonitorLimits for FixedThresholds {
@@ -134,7 +134,7 @@ impl FixedThresholds {
         round_high: u32::MAX,
         loss_of_tracking: (1 << 31) - 1,
         max_speed: u32::MAX,
-        tracking_error: i16::MAX,
+        tracking_error: i32::MAX,
     };
 
     /// The float monitor's default thresholds (`FaultThresholds`) for signals of
@@ -167,7 +167,7 @@ impl FixedThresholds {
             loss_of_tracking: 3277 * super::update::MONITOR_WINDOW,
             max_speed: 1 << 30,
             // The floats' default in Q15, rounded to nearest: 1638 (released at 819).
-            tracking_error: (DEFAULT_TRACKING_ERROR as f64 * 32768.0 + 0.5) as i16,
+            tracking_error: (DEFAULT_TRACKING_ERROR as f64 * 32768.0 + 0.5) as i32,
         }
     }
 }

@@ -194,11 +194,11 @@ impl<const N: usize> MonitorWindow for FixedState<N> {
     /// `eps` (Q15).
     type Term = i32;
     /// `|eps|` (Q15, [`residual`]).
-    type Residual = i16;
+    type Residual = i32;
 
     /// At most MONITOR_WINDOW 2^15 = 2^20, no overflow.
     #[inline(always)]
-    fn add(&mut self, eps: i32) -> i16 {
+    fn add(&mut self, eps: i32) -> i32 {
         let residual = residual(eps);
         self.error_sum += residual as u32;
         residual
@@ -220,9 +220,8 @@ impl<const N: usize> MonitorWindow for FixedState<N> {
 /// of the threshold, and a sample's within one unit (0.002 % of the default tracking-error
 /// level).
 #[inline(always)]
-fn residual(eps: i32) -> i16 {
-    // eps is in [-2^15, 2^15 - 1] (`normalise`): the result in [0, 2^15 - 1].
-    (eps ^ (eps >> 31)) as i16
+fn residual(eps: i32) -> i32 {
+    eps ^ (eps >> 31)
 }
 
 impl<const N: usize> FixedGains<N> {

@@ -24,79 +24,118 @@ use crate::real::Float;
 /// trip level clears at the first residual at or below half of it.
 pub const TRACKING_RELEASE_FRACTION: f32 = 0.5;
 
-/// A residual `|eps|` in an observer's numbers (a float, or Q15 in an `i32`), with what
-/// the check derives from its trip level out of line, so that a configuration stores the
-/// trip level alone.
+/// A level of the check as an observer's state stores it: it tells whether the flag is
+/// held (a negative level, below every residual).
+pub(crate) trait Level: Copy {
+    /// Whether the flag is held.
+    fn holds(self) -> bool;
+}
+
+impl<T: Float> Level for T {
+    #[inline(always)]
+    fn holds(self) -> bool {
+        self < T::ZERO
+    }
+}
+
+impl Level for i16 {
+    #[inline(always)]
+    fn holds(self) -> bool {
+        self < 0
+    }
+}
+
+/// A residual `|eps|` in an observer's numbers (a float, or Q15 in an `i32`): how the
+/// check compares it per sample with the level it stores, and what it derives from its trip
+/// level out of line, so that a configuration stores the trip level alone.
 pub(crate) trait Residual: Copy + PartialOrd {
+    /// The level as the state stores it.
+    type Level: Level;
+    /// Whether `self` is above `level`.
+    fn exceeds(self, level: Self::Level) -> bool;
+    /// `trip` as a level.
+    fn level_of(trip: Self) -> Self::Level;
     /// The release level of `trip`: [`TRACKING_RELEASE_FRACTION`] of it.
     fn release(trip: Self) -> Self;
     /// A level below every residual (which is at least 0): the level in force while the
     /// flag is held.
-    fn below_every_residual() -> Self;
-    /// Whether `level` is one below every residual (negative): the flag is held.
-    fn holds(level: Self) -> bool;
+    fn below_every_residual() -> Self::Level;
 }
 
+/// Compared by their bits as signed integers ([`Float::ordered_bits`]): ordered as the
+/// residuals (non-negative), a negative level below them all, NaN above every trip level;
+/// an integer comparison, which a Cortex-M0 makes without a call.
 impl<T: Float> Residual for T {
+    type Level = T;
+    #[inline(always)]
+    fn exceeds(self, level: T) -> bool {
+        self.ordered_bits() > level.ordered_bits()
+    }
+    fn level_of(trip: T) -> T {
+        trip
+    }
     fn release(trip: T) -> T {
         trip * T::HALF
     }
     fn below_every_residual() -> T {
         -T::ONE
     }
-    fn holds(level: T) -> bool {
-        level < T::ZERO
-    }
 }
 
-/// Q15, from 0 to 32767.
-impl Residual for i16 {
-    fn release(trip: i16) -> i16 {
+/// Q15 `|eps|` from 0 to 32767, its level in 16 bits (the fixed-point state has no room for
+/// more), read as an `i32`.
+impl Residual for i32 {
+    type Level = i16;
+    #[inline(always)]
+    fn exceeds(self, level: i16) -> bool {
+        self > i32::from(level)
+    }
+    fn level_of(trip: i32) -> i16 {
+        // A trip level beyond 16 bits is one no residual exceeds.
+        i16::try_from(trip).unwrap_or(i16::MAX)
+    }
+    fn release(trip: i32) -> i32 {
         trip >> 1
     }
     fn below_every_residual() -> i16 {
         -1
-    }
-    fn holds(level: i16) -> bool {
-        level < 0
     }
 }
 
 /// The check's memory in an observer's state: the level in force, which tells the flag
 /// (one word: the states of the C API have no room for more).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct TrackingCheck<R> {
+pub(crate) struct TrackingCheck<L> {
     /// The level the next residual is compared with: the trip level while the flag is
     /// clear, one below every residual (negative) while it is held.
-    pub(crate) level: R,
+    pub(crate) level: L,
 }
 
-impl<R: Residual> TrackingCheck<R> {
-    /// A check that is not armed: `never` is a level no residual exceeds (the monitor
-    /// arms it at its first decision, [`TrackingCheck::arm`]).
-    pub(crate) const fn new(never: R) -> Self {
+impl<L: Level> TrackingCheck<L> {
+    /// A check that is not armed: `never` is a level no residual exceeds (the monitor arms
+    /// it at its first decision, [`TrackingCheck::arm`]).
+    pub(crate) const fn new(never: L) -> Self {
         Self { level: never }
     }
 
     /// [`Faults::LOSS_OF_TRACKING`] while the flag is held, else none.
     #[inline(always)]
     pub(crate) fn flag(&self) -> Faults {
-        Faults::when(R::holds(self.level), Faults::LOSS_OF_TRACKING)
+        Faults::when(self.level.holds(), Faults::LOSS_OF_TRACKING)
     }
 
     /// Whether `residual` must go out of line ([`TrackingCheck::apply`]): above the trip
-    /// level with the flag clear, or any residual while it is held (NaN compares false: the
-    /// input check rejects such a sample before it gets here).
+    /// level with the flag clear, or any residual while it is held.
     #[inline(always)]
-    pub(crate) fn changes(&self, residual: R) -> bool {
-        residual > self.level
+    pub(crate) fn changes<R: Residual<Level = L>>(&self, residual: R) -> bool {
+        residual.exceeds(self.level)
     }
 
     /// The level in force of trip level `trip`, the flag kept (the monitor's first
     /// decision arms a new check, the later ones follow a changed threshold).
-    pub(crate) fn arm(&mut self, trip: R) {
-        if !R::holds(self.level) {
-            self.level = trip;
+    pub(crate) fn arm<R: Residual<Level = L>>(&mut self, trip: R) {
+        if !self.level.holds() {
+            self.level = R::level_of(trip);
         }
     }
 
@@ -105,16 +144,21 @@ impl<R: Residual> TrackingCheck<R> {
     /// or below the release level clears it; the level in force follows.
     #[cold]
     #[inline(never)]
-    pub(crate) fn apply(&mut self, residual: R, trip: R, latched: &mut Faults) {
-        if !R::holds(self.level) {
+    pub(crate) fn apply<R: Residual<Level = L>>(
+        &mut self,
+        residual: R,
+        trip: R,
+        latched: &mut Faults,
+    ) {
+        if !self.level.holds() {
             if residual > trip {
                 self.level = R::below_every_residual();
                 *latched |= Faults::LOSS_OF_TRACKING;
             } else {
-                self.level = trip;
+                self.level = R::level_of(trip);
             }
         } else if !(residual > R::release(trip)) {
-            self.level = trip;
+            self.level = R::level_of(trip);
         }
     }
 }

@@ -4,8 +4,9 @@
 //! phase error over windows of samples, and from the speed and the in-phase component at
 //! each window's end. Its thresholds are checked at construction.
 //!
-//! Each used sample only adds to two sums and counts down (a few instructions); the
-//! flags are decided once per window of `W` used samples (`W` a power of two, 16 by
+//! Each used sample only adds to two sums, compares its residual `|eps|` with the
+//! tracking-error level (`tracking`: a sample beyond it is flagged on itself) and counts
+//! down (a few instructions); the other flags are decided once per window of `W` used samples (`W` a power of two, 16 by
 //! default: [`FaultThresholds::filter_factor`]), out of line. A fault present over a whole
 //! window is flagged at that window's end: at most `2 W - 1` used samples after it starts
 //! (31 by default). A rejected sample is flagged at once. The first window after the angle

@@ -334,7 +334,7 @@ impl<T: Float> MonitorState<T> {
             latched: Faults::NONE,
             held_windows: 0,
             round_hold: 0,
-            tracking: TrackingCheck::new(T::INFINITY),
+            tracking: TrackingCheck::new(),
         }
     }
 

@@ -105,7 +105,7 @@ impl<const N: usize> FixedState<N> {
             faults: Faults::NONE,
             latched: Faults::NONE,
             round_hold: 0,
-            tracking: TrackingCheck::new(i16::MAX),
+            tracking: TrackingCheck::new(),
             initialised: false,
             coasted: 0,
             refit: FixedRefit::new(),

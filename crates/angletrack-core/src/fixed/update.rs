@@ -497,7 +497,9 @@ impl<const N: usize> FixedGains<N> {
             state.reciprocal = next;
         }
         state.window_left = MONITOR_WINDOW;
-        state.tracking.arm(self.monitor.tracking_error);
+        if self.monitor.enabled {
+            state.tracking.arm(self.monitor.tracking_error);
+        }
         state.initialised = true;
     }
 

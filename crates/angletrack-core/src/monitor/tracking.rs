@@ -26,12 +26,15 @@ pub const TRACKING_RELEASE_FRACTION: f32 = 0.5;
 
 /// A level of the check as an observer's state stores it: it tells whether the flag is
 /// held (a negative level, below every residual).
-pub(crate) trait Level: Copy {
+pub(crate) trait Level: Copy + PartialEq {
+    /// The level of a check not armed yet: one no residual exceeds.
+    const UNARMED: Self;
     /// Whether the flag is held.
     fn holds(self) -> bool;
 }
 
 impl<T: Float> Level for T {
+    const UNARMED: T = T::INFINITY;
     #[inline(always)]
     fn holds(self) -> bool {
         self < T::ZERO
@@ -39,6 +42,7 @@ impl<T: Float> Level for T {
 }
 
 impl Level for i16 {
+    const UNARMED: i16 = i16::MAX;
     #[inline(always)]
     fn holds(self) -> bool {
         self < 0
@@ -112,10 +116,10 @@ pub(crate) struct TrackingCheck<L> {
 }
 
 impl<L: Level> TrackingCheck<L> {
-    /// A check that is not armed: `never` is a level no residual exceeds (the monitor arms
-    /// it at its first decision, [`TrackingCheck::arm`]).
-    pub(crate) const fn new(never: L) -> Self {
-        Self { level: never }
+    /// A check that is not armed: no residual exceeds its level (the monitor arms it at its
+    /// first decision, [`TrackingCheck::arm`]).
+    pub(crate) const fn new() -> Self {
+        Self { level: L::UNARMED }
     }
 
     /// [`Faults::LOSS_OF_TRACKING`] while the flag is held, else none.
@@ -131,10 +135,15 @@ impl<L: Level> TrackingCheck<L> {
         residual.exceeds(self.level)
     }
 
-    /// The level in force of trip level `trip`, the flag kept (the monitor's first
-    /// decision arms a new check, the later ones follow a changed threshold).
+    /// The level in force of trip level `trip`, the flag kept (the later decisions follow a
+    /// changed threshold). The monitor's first decision, on the first sample, arms a new
+    /// check with the flag held, not latched: the loop's acquisition is flagged (its angles
+    /// may be anything) until the residual first comes down to the release level, and a
+    /// start-up is not a fault.
     pub(crate) fn arm<R: Residual<Level = L>>(&mut self, trip: R) {
-        if !self.level.holds() {
+        if self.level == L::UNARMED {
+            self.level = R::below_every_residual();
+        } else if !self.level.holds() {
             self.level = R::level_of(trip);
         }
     }
@@ -171,9 +180,16 @@ mod tests {
 
     /// The flag of each residual of `residuals`, the check applied as the monitor does.
     fn flags<const K: usize>(residuals: [f32; K]) -> ([bool; K], Faults) {
-        let mut check = TrackingCheck::new(f32::INFINITY);
+        let mut check = TrackingCheck::new();
         check.arm(TRIP);
         let mut latched = Faults::NONE;
+        // Armed held (the acquisition), not latched, released at the first residual at or
+        // below 0.025.
+        assert!(!check.flag().is_empty());
+        check.apply(0.03, TRIP, &mut latched);
+        assert!(!check.flag().is_empty());
+        check.apply(0.02, TRIP, &mut latched);
+        assert!(check.flag().is_empty() && latched.is_empty());
         let flags = residuals.map(|r| {
             if check.changes(r) {
                 check.apply(r, TRIP, &mut latched);
@@ -196,7 +212,8 @@ mod tests {
 
     #[test]
     fn an_unarmed_check_never_trips() {
-        let check = TrackingCheck::new(f32::INFINITY);
+        let check = TrackingCheck::<f32>::new();
         assert!(!check.changes(1e30));
+        assert!(check.flag().is_empty());
     }
 }

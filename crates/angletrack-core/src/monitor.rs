@@ -464,7 +464,7 @@ impl<T: Float> CheckedThresholds<T> {
         if monitor.held_windows > 0 {
             monitor.hold_implausible_jump();
         }
-        monitor.tracking.arm(self.thresholds.tracking_error);
+        monitor.tracking.arm(self.thresholds.tracking_error, error);
         monitor.start_window(self.window, self.window_inverse);
         false_lock && self.thresholds.re_acquire
     }

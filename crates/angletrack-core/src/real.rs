@@ -53,6 +53,8 @@ pub trait Float:
     const HALF: Self;
     /// 2.
     const TWO: Self;
+    /// -2.
+    const NEG_TWO: Self;
     /// pi (rad).
     const PI: Self;
     /// pi/2 (rad).
@@ -230,6 +232,7 @@ macro_rules! impl_real {
             const ONE: Self = 1.0;
             const HALF: Self = 0.5;
             const TWO: Self = 2.0;
+            const NEG_TWO: Self = -2.0;
             const PI: Self = core::$t::consts::PI;
             const FRAC_PI_2: Self = core::$t::consts::FRAC_PI_2;
             const TAU: Self = core::$t::consts::TAU;

@@ -128,8 +128,10 @@ fn speed_beyond_a_quarter_turn_per_sample_is_loss_of_tracking() {
             "k {k}: {}",
             state.phase_error
         );
-        if flagged.is_none() && FixedGains::estimate(&state).faults != Faults::NONE {
-            flagged = Some((k, FixedGains::estimate(&state).faults));
+        // The latched register: the estimates carry the start-up's flag from the first
+        // sample (the tracking-error check's, not latched).
+        if flagged.is_none() && state.latched_faults() != Faults::NONE {
+            flagged = Some((k, state.latched_faults()));
         }
     }
     // The first window starts after the first sample (which sets the angle).

@@ -357,6 +357,11 @@ impl<const N: usize> FixedGains<N> {
         } else {
             self.end_window_with_fault(state, amplitude2 as u32);
         }
+        if self.monitor.enabled {
+            // The window's mean |eps| (Q15): the sum is at most 2^20 but the forced 2^31.
+            let mean = (state.error_sum / MONITOR_WINDOW).min(1 << 16) as i32;
+            state.tracking.arm(self.monitor.tracking_error, mean);
+        }
         state.error_sum = 0;
         state.window_left = MONITOR_WINDOW;
         if state.coasted != 0 {
@@ -498,7 +503,7 @@ impl<const N: usize> FixedGains<N> {
         }
         state.window_left = MONITOR_WINDOW;
         if self.monitor.enabled {
-            state.tracking.arm(self.monitor.tracking_error);
+            state.tracking.arm(self.monitor.tracking_error, 0);
         }
         state.initialised = true;
     }

@@ -29,12 +29,16 @@ pub const TRACKING_RELEASE_FRACTION: f32 = 0.5;
 pub(crate) trait Level: Copy + PartialEq {
     /// The level of a check not armed yet: one no residual exceeds.
     const UNARMED: Self;
+    /// The level of the start-up: below every residual (the flag held) and apart from the
+    /// fault's level, so that the start-up is neither latched nor released by one sample.
+    const STARTUP: Self;
     /// Whether the flag is held.
     fn holds(self) -> bool;
 }
 
 impl<T: Float> Level for T {
     const UNARMED: T = T::INFINITY;
+    const STARTUP: T = T::NEG_TWO;
     #[inline(always)]
     fn holds(self) -> bool {
         self < T::ZERO
@@ -43,6 +47,7 @@ impl<T: Float> Level for T {
 
 impl Level for i16 {
     const UNARMED: i16 = i16::MAX;
+    const STARTUP: i16 = -2;
     #[inline(always)]
     fn holds(self) -> bool {
         self < 0
@@ -135,14 +140,18 @@ impl<L: Level> TrackingCheck<L> {
         residual.exceeds(self.level)
     }
 
-    /// The level in force of trip level `trip`, the flag kept (the later decisions follow a
-    /// changed threshold). The monitor's first decision, on the first sample, arms a new
-    /// check with the flag held, not latched: the loop's acquisition is flagged (its angles
-    /// may be anything) until the residual first comes down to the release level, and a
-    /// start-up is not a fault.
-    pub(crate) fn arm<R: Residual<Level = L>>(&mut self, trip: R) {
+    /// At a window's end, of mean residual `window_mean`: the level in force of trip level
+    /// `trip`, the flag kept (following a changed threshold). The monitor's first decision,
+    /// on the first sample, arms a new check in its start-up: the flag held, not latched,
+    /// the loop's acquisition flagged (its angles may be anything) until a window's mean
+    /// residual comes down to the release level. A start-up is not a fault.
+    pub(crate) fn arm<R: Residual<Level = L>>(&mut self, trip: R, window_mean: R) {
         if self.level == L::UNARMED {
-            self.level = R::below_every_residual();
+            self.level = L::STARTUP;
+        } else if self.level == L::STARTUP {
+            if !(window_mean > R::release(trip)) {
+                self.level = R::level_of(trip);
+            }
         } else if !self.level.holds() {
             self.level = R::level_of(trip);
         }
@@ -159,6 +168,9 @@ impl<L: Level> TrackingCheck<L> {
         trip: R,
         latched: &mut Faults,
     ) {
+        if self.level == L::STARTUP {
+            return;
+        }
         if !self.level.holds() {
             if residual > trip {
                 self.level = R::below_every_residual();
@@ -181,14 +193,15 @@ mod tests {
     /// The flag of each residual of `residuals`, the check applied as the monitor does.
     fn flags<const K: usize>(residuals: [f32; K]) -> ([bool; K], Faults) {
         let mut check = TrackingCheck::new();
-        check.arm(TRIP);
+        check.arm(TRIP, 0.0);
         let mut latched = Faults::NONE;
-        // Armed held (the acquisition), not latched, released at the first residual at or
-        // below 0.025.
+        // Armed in its start-up (held, not latched), whatever the samples, until a window's
+        // mean residual is at or below 0.025.
         assert!(!check.flag().is_empty());
-        check.apply(0.03, TRIP, &mut latched);
+        check.apply(0.01, TRIP, &mut latched);
+        check.arm(TRIP, 0.03);
         assert!(!check.flag().is_empty());
-        check.apply(0.02, TRIP, &mut latched);
+        check.arm(TRIP, 0.02);
         assert!(check.flag().is_empty() && latched.is_empty());
         let flags = residuals.map(|r| {
             if check.changes(r) {

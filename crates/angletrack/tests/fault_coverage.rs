@@ -35,7 +35,7 @@ const HELD: &[Held] = &[
         1006326,
         Some(99.00),
         0.10,
-        Some(15),
+        Some(71),
     ),
     (
         "dead channel",
@@ -51,7 +51,7 @@ const HELD: &[Held] = &[
         1021236,
         Some(99.00),
         0.10,
-        Some(15),
+        Some(71),
     ),
     (
         "open channel",
@@ -67,7 +67,7 @@ const HELD: &[Held] = &[
         1055245,
         Some(99.00),
         0.10,
-        Some(2),
+        Some(36),
     ),
     (
         "shorted channel",
@@ -83,7 +83,7 @@ const HELD: &[Held] = &[
         839445,
         Some(99.00),
         0.10,
-        Some(90),
+        Some(106),
     ),
     (
         "stuck channel",
@@ -99,7 +99,7 @@ const HELD: &[Held] = &[
         200193,
         Some(99.00),
         0.10,
-        Some(2),
+        Some(36),
     ),
     (
         "clipping (gain 1.3 FS)",
@@ -115,7 +115,7 @@ const HELD: &[Held] = &[
         533578,
         Some(99.00),
         0.10,
-        Some(0),
+        Some(36),
     ),
     (
         "loss of excitation",
@@ -131,7 +131,7 @@ const HELD: &[Held] = &[
         321107,
         Some(99.00),
         0.10,
-        Some(0),
+        Some(36),
     ),
     (
         "brown-out (20 %)",
@@ -147,7 +147,7 @@ const HELD: &[Held] = &[
         29875,
         Some(99.00),
         0.10,
-        Some(9),
+        Some(36),
     ),
     (
         "common-mode carrier",
@@ -163,7 +163,7 @@ const HELD: &[Held] = &[
         360828,
         Some(99.00),
         0.10,
-        Some(2),
+        Some(36),
     ),
     (
         "imbalance (0.6)",
@@ -179,7 +179,7 @@ const HELD: &[Held] = &[
         483605,
         Some(99.00),
         0.10,
-        Some(2),
+        Some(141),
     ),
     (
         "quadrature (0.3 rad)",

@@ -199,6 +199,14 @@ class Tracker:
         out: dict = {}
         thresholds = self.document["fault_thresholds"]
         if thresholds is not None:
+            thresholds = dict(thresholds)
+            # The binding's FaultThresholds does not take the per-sample tracking-error level
+            # yet: its default is what it runs with, any other is refused rather than dropped.
+            tracking_error = thresholds.pop("tracking_error", None)
+            if tracking_error is not None and abs(tracking_error - 0.05) > 1e-7:
+                self._refuse("fault_thresholds.tracking_error",
+                             f"{tracking_error}: the Python package runs with the default 0.05; "
+                             "a firmware takes others")
             out["fault_thresholds"] = FaultThresholds(**thresholds)
         if self.document["winding_check"] is not None:
             out["winding_amplitude"] = float(self.document["winding_check"]["amplitude"])

@@ -56,6 +56,9 @@ class_methods! {
         degradation_high: f64 = |this, py| this.inner.degradation_high;
         /// A window's mean |phase error| above this: loss of tracking.
         loss_of_tracking: f64 = |this, py| this.inner.loss_of_tracking;
+        /// A sample's |phase error| (about the sine of its electrical angle error) above
+        /// this: loss of tracking on that sample, held until it falls to half.
+        tracking_error: f64 = |this, py| this.inner.tracking_error;
         /// Estimated |speed| (rad/s) above this: loss of tracking; `None`: pi / (2 Ts).
         max_speed_rad_s: Option<f64> = |this, py| this.inner.max_speed;
         /// 1 / W for the monitor's window of W used samples (1 / filter_factor rounded down
@@ -73,7 +76,7 @@ class_methods! {
         #[new]
         #[pyo3(signature = (*, nominal_amplitude = 1.0, max_input_amplitude = None,
             loss_of_signal = None, degradation_low = None, degradation_high = None,
-            loss_of_tracking = None, max_speed_rad_s = None, filter_factor = None,
+            loss_of_tracking = None, tracking_error = None, max_speed_rad_s = None, filter_factor = None,
             false_lock = None, monitor = true, re_acquire = true))]
         #[allow(clippy::too_many_arguments)]
         fn py_new(
@@ -83,6 +86,7 @@ class_methods! {
             degradation_low: Option<f64>,
             degradation_high: Option<f64>,
             loss_of_tracking: Option<f64>,
+            tracking_error: Option<f64>,
             max_speed_rad_s: Option<f64>,
             filter_factor: Option<f64>,
             false_lock: Option<f64>,
@@ -96,6 +100,7 @@ class_methods! {
                 .with_degradation_low(degradation_low.unwrap_or(d.degradation_low))
                 .with_degradation_high(degradation_high.unwrap_or(d.degradation_high))
                 .with_loss_of_tracking(loss_of_tracking.unwrap_or(d.loss_of_tracking))
+                .with_tracking_error(tracking_error.unwrap_or(d.tracking_error))
                 .with_max_speed(max_speed_rad_s.or(d.max_speed))
                 .with_filter_factor(filter_factor.unwrap_or(d.filter_factor))
                 .with_false_lock(false_lock.unwrap_or(d.false_lock))
@@ -116,7 +121,8 @@ class_methods! {
             let python_bool = |b: bool| if b { "True" } else { "False" };
             format!(
                 "FaultThresholds(nominal_amplitude={}, max_input_amplitude={}, loss_of_signal={}, \
-                 degradation_low={}, degradation_high={}, loss_of_tracking={}, max_speed_rad_s={}, \
+                 degradation_low={}, degradation_high={}, loss_of_tracking={}, tracking_error={}, \
+                 max_speed_rad_s={}, \
                  filter_factor={}, false_lock={}, monitor={}, re_acquire={})",
                 t.nominal_amplitude,
                 t.max_input_amplitude,
@@ -124,6 +130,7 @@ class_methods! {
                 t.degradation_low,
                 t.degradation_high,
                 t.loss_of_tracking,
+                t.tracking_error,
                 t.max_speed.map_or("None".to_string(), |v| v.to_string()),
                 t.filter_factor,
                 t.false_lock,

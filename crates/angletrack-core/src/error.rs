@@ -27,6 +27,8 @@ pub enum Parameter {
     DegradationLowThreshold,
     /// The filtered phase-detector error above which loss of tracking is flagged.
     LossOfTrackingThreshold,
+    /// One sample's phase-detector error above which loss of tracking is flagged.
+    TrackingErrorThreshold,
     /// The smoothing factor of the diagnostics' first-order filters.
     FilterFactor,
     /// The in-phase component below which a false lock is declared.
@@ -149,6 +151,7 @@ impl Parameter {
             Parameter::DegradationHighThreshold => "degradation_high",
             Parameter::DegradationLowThreshold => "degradation_low",
             Parameter::LossOfTrackingThreshold => "loss_of_tracking",
+            Parameter::TrackingErrorThreshold => "tracking_error",
             Parameter::FilterFactor => "filter_factor",
             Parameter::FalseLockThreshold => "false_lock",
             Parameter::NominalAmplitude => "nominal_amplitude",

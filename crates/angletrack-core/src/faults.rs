@@ -21,7 +21,10 @@ impl Faults {
     /// Degradation of signal: the window's RMS amplitude is outside
     /// [degradation low, degradation high] (gain drift, saturation, a broken winding).
     pub const DEGRADATION_OF_SIGNAL: Faults = Faults(1 << 1);
-    /// Loss of tracking: the window's mean phase-detector error is above its threshold, or
+    /// Loss of tracking: the sample's own phase-detector residual `|eps|` is above
+    /// [`FaultThresholds::tracking_error`](crate::FaultThresholds::tracking_error), held while
+    /// it stays above half of it (at once, on that sample); the window's mean
+    /// phase-detector error is above its threshold, or
     /// the estimated speed at the window's end is above the monitor's speed threshold
     /// ([`FaultThresholds::max_speed`](crate::FaultThresholds::max_speed): by default a
     /// quarter turn per sample, half the largest trackable speed, `docs/theory.md §9`); or

@@ -4,8 +4,9 @@
 //! phase error over windows of samples, and from the speed and the in-phase component at
 //! each window's end. Its thresholds are checked at construction.
 //!
-//! Each used sample only adds to two sums and counts down (a few instructions); the
-//! flags are decided once per window of `W` used samples (`W` a power of two, 16 by
+//! Each used sample only adds to two sums, compares its residual `|eps|` with the
+//! tracking-error level (`tracking`: a sample beyond it is flagged on itself) and counts
+//! down (a few instructions); the other flags are decided once per window of `W` used samples (`W` a power of two, 16 by
 //! default: [`FaultThresholds::filter_factor`]), out of line. A fault present over a whole
 //! window is flagged at that window's end: at most `2 W - 1` used samples after it starts
 //! (31 by default). A rejected sample is flagged at once. The first window after the angle
@@ -32,6 +33,7 @@ use crate::real::Float;
 /// | `loss_of_signal` | 0.25 |
 /// | `degradation_low`, `degradation_high` | 0.5, 1.5 |
 /// | `loss_of_tracking` | 0.1 (filtered `|eps|`, the sine of the phase error: 5.7 degrees) |
+/// | `tracking_error` | 0.05 (one sample's `|eps|`: 2.9 degrees; held down to half of it) |
 /// | `max_speed` | `None`: pi/2 rad per sample, i.e. `pi / (2 Ts)` rad/s |
 /// | `filter_factor` | 1/16 (windows of 16 samples) |
 /// | `false_lock` | 0 (filtered in-phase component; 0 means an error beyond 90 degrees) |
@@ -58,6 +60,18 @@ pub struct FaultThresholds<T> {
     /// phase error (about the sine of the angle error), so this is dimensionless, the same
     /// for every amplitude.
     pub loss_of_tracking: T,
+    /// One sample's `|eps|` above this: [`Faults::LOSS_OF_TRACKING`] at once, on that sample,
+    /// held while `|eps|` stays above [`TRACKING_RELEASE_FRACTION`] of it (the loop's
+    /// re-convergence) and latched (`docs/theory.md §10`). Dimensionless like
+    /// `loss_of_tracking` (the sine of the angle between a sample and its prediction, in
+    /// electrical radians for a sensor of several pole pairs); any positive value (above 1
+    /// it never trips but for an amplitude step). While the flag is clear, the estimate is
+    /// within about `(1 - l1) asin(tracking_error)` of the measured angle. The default 0.05
+    /// is half the default `loss_of_tracking`; it stays clear of noise whose standard
+    /// deviation per channel is below about 0.6 % of the amplitude (`|eps|` then stays below
+    /// 8 standard deviations); for noisier signals raise it to about 8 times the noise's
+    /// fraction of the amplitude.
+    pub tracking_error: T,
     /// Estimated `|speed|` (rad/s) at the end of a window above this:
     /// [`Faults::LOSS_OF_TRACKING`]. `None`: a
     /// quarter turn per sample, `pi / (2 Ts)` (`docs/theory.md §9`). Named
@@ -113,6 +127,7 @@ macro_rules! threshold_fns {
                 degradation_low: 0.5 * a,
                 degradation_high: 1.5 * a,
                 loss_of_tracking: 0.1_f32 as $t,
+                tracking_error: super::DEFAULT_TRACKING_ERROR as $t,
                 max_speed: None,
                 filter_factor: 0.0625,
                 false_lock: 0.0,
@@ -159,6 +174,10 @@ macro_rules! threshold_fns {
             const_try!(check_positive(
                 t.loss_of_tracking,
                 Parameter::LossOfTrackingThreshold
+            ));
+            const_try!(check_positive(
+                t.tracking_error,
+                Parameter::TrackingErrorThreshold
             ));
             let k = const_try!(check_positive(t.filter_factor, Parameter::FilterFactor));
             let max_speed = match t.max_speed {
@@ -238,6 +257,9 @@ pub(crate) mod for_f64 {
     threshold_fns!(f64, for_f64, sqrt_min_positive f64::from_bits(0x2000_0000_0000_0000)); // 2^-511
 }
 
+/// The default [`FaultThresholds::tracking_error`]: half the default `loss_of_tracking`.
+pub(crate) const DEFAULT_TRACKING_ERROR: f32 = 0.05;
+
 /// The largest window of the monitor (used samples): `2^12`, so that its sums stay accurate
 /// in `f32` and a fault is flagged within `2^13` samples whatever the filter factor.
 pub(crate) const MAX_WINDOW: u32 = 1 << 12;
@@ -285,10 +307,12 @@ pub(crate) struct MonitorState<T> {
     pub(crate) latched: Faults,
     /// Window ends left that flag [`Faults::LOSS_OF_TRACKING`] whatever their means, after
     /// an implausible re-acquisition (`crate::reacquisition`).
-    pub(crate) held_windows: u32,
+    pub(crate) held_windows: u8,
     /// Window ends left that flag [`Faults::DEGRADATION_OF_SIGNAL`] after one whose last
     /// sample was off the circle ([`FaultThresholds::magnitude_tolerance`]).
     pub(crate) round_hold: u8,
+    /// The per-sample tracking-error check ([`FaultThresholds::tracking_error`]).
+    pub(crate) tracking: TrackingCheck<T>,
 }
 
 /// The window ends in a row whose last sample must be within
@@ -310,7 +334,15 @@ impl<T: Float> MonitorState<T> {
             latched: Faults::NONE,
             held_windows: 0,
             round_hold: 0,
+            tracking: TrackingCheck::new(),
         }
+    }
+
+    /// The faults of the current sample: the last window's flags and the per-sample
+    /// tracking-error check's.
+    #[inline(always)]
+    pub(crate) fn sample_faults(&self) -> Faults {
+        self.flags | self.tracking.flag()
     }
 
     /// Starts a new window of `window` used samples, whose `1 / window` is
@@ -328,40 +360,59 @@ impl<T: Float> MonitorState<T> {
 impl<T: Float> MonitorWindow for MonitorState<T> {
     /// `(y_c^2 + y_s^2, eps)`.
     type Term = (T, T);
+    /// `|eps|`.
+    type Residual = T;
 
     #[inline(always)]
-    fn add(&mut self, (amplitude2, phase_error): (T, T)) {
+    fn add(&mut self, (amplitude2, phase_error): (T, T)) -> T {
+        let residual = phase_error.abs();
         self.amplitude2_sum += amplitude2;
-        self.error_sum += phase_error.abs();
+        self.error_sum += residual;
+        residual
     }
 
     #[inline(always)]
     fn remaining(&mut self) -> &mut u32 {
         &mut self.remaining
     }
+
+    #[inline(always)]
+    fn tracking(&self) -> &TrackingCheck<T> {
+        &self.tracking
+    }
 }
 
 /// A monitor's window as each used sample sees it, written once for the floats
 /// ([`MonitorState`]) and the fixed-point observer (its state, `fixed/update.rs`): the
-/// sample added to the window's sums, and the count down to the window's end, where the
-/// caller decides the flags ([`MonitorLimits::decide_window`]).
+/// sample added to the window's sums, its residual checked against the per-sample
+/// tracking-error level ([`TrackingCheck`]), and the count down to the window's end, where
+/// the caller decides the flags ([`MonitorLimits::decide_window`]).
 pub(crate) trait MonitorWindow {
     /// What one used sample adds to the window.
     type Term;
+    /// The sample's residual `|eps|`, in the observer's numbers.
+    type Residual: tracking::Residual;
 
-    /// Adds `term` to the window's sums.
-    fn add(&mut self, term: Self::Term);
+    /// Adds `term` to the window's sums; returns the sample's residual.
+    fn add(&mut self, term: Self::Term) -> Self::Residual;
 
     /// The used samples left in the window.
     fn remaining(&mut self) -> &mut u32;
 
-    /// Adds one used sample to the window; `true` when it ends the window.
+    /// The per-sample tracking-error check.
+    fn tracking(&self) -> &TrackingCheck<<Self::Residual as tracking::Residual>::Level>;
+
+    /// Adds one used sample to the window and checks its residual; `true` when it ends the
+    /// window or its residual must go out of line ([`TrackingCheck::changes`]): the caller
+    /// then runs its out-of-line path, which applies the check ([`TrackingCheck::apply`]) and
+    /// decides the window if it ended.
     #[inline(always)]
     fn accumulate(&mut self, term: Self::Term) -> bool {
-        self.add(term);
+        let residual = self.add(term);
+        let changes = self.tracking().changes(residual);
         let remaining = self.remaining();
         *remaining = remaining.wrapping_sub(1);
-        *remaining == 0
+        (*remaining == 0) | changes
     }
 }
 
@@ -413,14 +464,18 @@ impl<T: Float> CheckedThresholds<T> {
         if monitor.held_windows > 0 {
             monitor.hold_implausible_jump();
         }
+        monitor.tracking.arm(self.thresholds.tracking_error, error);
         monitor.start_window(self.window, self.window_inverse);
         false_lock && self.thresholds.re_acquire
     }
 }
 
 mod decision;
+pub(crate) mod tracking;
 
 pub(crate) use decision::{AmplitudeMeasure, Limits, Measures, MonitorLimits, WindowMeasures};
+pub use tracking::TRACKING_RELEASE_FRACTION;
+pub(crate) use tracking::TrackingCheck;
 
 #[cfg(test)]
 mod latency_tests;
@@ -428,3 +483,5 @@ mod latency_tests;
 mod roundness_tests;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tracking_tests;

@@ -69,6 +69,25 @@ impl<T: Copy> FaultThresholds<T> {
         self
     }
 
+    /// The same thresholds with [`FaultThresholds::tracking_error`] set (dimensionless: one
+    /// sample's `|eps|`, about the sine of its angle error, electrical); a value that is not
+    /// positive and finite is refused naming `tracking_error`:
+    ///
+    /// ```
+    /// use angletrack_core::{FaultThresholds, Gains, Parameter};
+    /// let gains = Gains::<f32, 2>::new([0.05, 0.0012], 1e-4)?;
+    /// let tight = FaultThresholds::<f32>::for_amplitude(1.0).with_tracking_error(0.02);
+    /// assert_eq!(gains.with_fault_thresholds(tight)?.fault_thresholds().tracking_error, 0.02);
+    /// let err = gains.with_fault_thresholds(tight.with_tracking_error(0.0)).unwrap_err();
+    /// assert_eq!(err.parameter(), Parameter::TrackingErrorThreshold);
+    /// assert_eq!(err.parameter().name(), "tracking_error");
+    /// # Ok::<(), angletrack_core::ConfigError>(())
+    /// ```
+    pub const fn with_tracking_error(mut self, tracking_error: T) -> Self {
+        self.tracking_error = tracking_error;
+        self
+    }
+
     /// The same thresholds with [`FaultThresholds::max_speed`] set (rad/s; `None`: a
     /// quarter turn per sample); see [`FaultThresholds::with_max_input_amplitude`] for an
     /// example.

@@ -38,7 +38,7 @@ pub(crate) const IMPLAUSIBLE_JUMP_MAX_COAST: u32 = 64;
 
 /// The windows after the one under way for which an implausible re-acquisition
 /// ([`MonitorState::flag_implausible_jump`]) holds [`Faults::LOSS_OF_TRACKING`].
-pub(crate) const IMPLAUSIBLE_JUMP_HOLD: u32 = 16;
+pub(crate) const IMPLAUSIBLE_JUMP_HOLD: u8 = 16;
 
 /// The samples fitted after a long coast: four groups of four.
 pub(crate) const REFIT_SAMPLES: u32 = 16;

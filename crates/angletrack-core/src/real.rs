@@ -53,6 +53,8 @@ pub trait Float:
     const HALF: Self;
     /// 2.
     const TWO: Self;
+    /// -2.
+    const NEG_TWO: Self;
     /// pi (rad).
     const PI: Self;
     /// pi/2 (rad).
@@ -70,6 +72,8 @@ pub trait Float:
     /// The smallest positive normal number: added to `y_c^2 + y_s^2` in the amplitude
     /// tracker so that it never divides by zero (`docs/theory.md §12`).
     const MIN_POSITIVE: Self;
+    /// Positive infinity: a level no finite number exceeds.
+    const INFINITY: Self;
     /// Coefficients of the odd minimax polynomial for sin on [-pi/2, pi/2], lowest first.
     #[doc(hidden)]
     const SIN_POLY: &'static [Self];
@@ -126,6 +130,12 @@ pub trait Float:
     fn is_finite(self) -> bool;
     /// Absolute value.
     fn abs(self) -> Self;
+    /// The bits of the value as a signed integer: for values that are not NaN, ordered as
+    /// the values are among non-negative ones, and negative for negative ones (a comparison
+    /// of non-negative floats with integer instructions: no library call on a Cortex-M0).
+    type OrderedBits: Copy + PartialOrd + Eq + core::fmt::Debug;
+    /// See [`Float::OrderedBits`].
+    fn ordered_bits(self) -> Self::OrderedBits;
     /// Four-quadrant arctangent of `self / x` (rad, in [-pi, pi]).
     fn atan2(self, x: Self) -> Self;
     /// `(sin, cos)` correctly rounded to within an ulp, from [`libm`].
@@ -213,7 +223,7 @@ impl ChainNumber for i16 {
 }
 
 macro_rules! impl_real {
-    ($t:ident, bits $bits:ident, default $default:ident, tau_lo $tau_lo:expr,
+    ($t:ident, bits $bits:ident, signed $signed:ident, default $default:ident, tau_lo $tau_lo:expr,
      one_turn_edge_fix $edge_fix:expr, fast_error $eps_fast:expr, fewest_instructions $fewest:expr,
      polynomials $sin_poly:path, $cos_poly:path, libm $atan2:ident, $sincos:ident, $sqrt:ident, $expm1:ident,
      track_magnitude $track:expr, checks $m:ident) => {
@@ -222,6 +232,7 @@ macro_rules! impl_real {
             const ONE: Self = 1.0;
             const HALF: Self = 0.5;
             const TWO: Self = 2.0;
+            const NEG_TWO: Self = -2.0;
             const PI: Self = core::$t::consts::PI;
             const FRAC_PI_2: Self = core::$t::consts::FRAC_PI_2;
             const TAU: Self = core::$t::consts::TAU;
@@ -230,6 +241,7 @@ macro_rules! impl_real {
             const FRAC_1_TAU: Self = 1.0 / core::$t::consts::TAU;
             const EPSILON: Self = $t::EPSILON;
             const MIN_POSITIVE: Self = $t::MIN_POSITIVE;
+            const INFINITY: Self = $t::INFINITY;
             const SIN_POLY: &'static [Self] = &$sin_poly;
             const COS_POLY: &'static [Self] = &$cos_poly;
             const FAST_SIN_COS_MAX_ERROR: Self = $eps_fast;
@@ -282,6 +294,11 @@ macro_rules! impl_real {
             fn abs(self) -> Self {
                 $t::abs(self)
             }
+            type OrderedBits = $signed;
+            #[inline(always)]
+            fn ordered_bits(self) -> $signed {
+                self.to_bits() as $signed
+            }
             #[inline(always)]
             fn atan2(self, x: Self) -> Self {
                 libm::$atan2(self, x)
@@ -332,13 +349,13 @@ macro_rules! impl_real {
 // The constants and `libm` functions of each type; the polynomials' error bounds are
 // explained with their coefficients in `sincos.rs`.
 impl_real! {
-    f32, bits u32, default Fast, tau_lo -1.748_455_6e-7_f32, one_turn_edge_fix false,
+    f32, bits u32, signed i32, default Fast, tau_lo -1.748_455_6e-7_f32, one_turn_edge_fix false,
     fast_error 3e-7, fewest_instructions cfg!(all(target_arch = "arm", target_os = "none")), polynomials F32_SIN_POLY, F32_COS_POLY, libm atan2f, sincosf, sqrtf, expm1f,
     track_magnitude heron_step::<f32>, checks for_f32
 }
 
 impl_real! {
-    f64, bits u64, default Exact, tau_lo 2.449_293_598_294_706_4e-16_f64, one_turn_edge_fix true,
+    f64, bits u64, signed i64, default Exact, tau_lo 2.449_293_598_294_706_4e-16_f64, one_turn_edge_fix true,
     fast_error 2e-13, fewest_instructions false, polynomials F64_SIN_POLY, F64_COS_POLY, libm atan2, sincos, sqrt, expm1,
     track_magnitude |_previous, amplitude2| sqrt_f64(amplitude2), checks for_f64
 }

@@ -355,7 +355,7 @@ impl<T: Float, const N: usize> ObserverState<T, N> {
             self.monitor.start_window(1, T::ONE);
         }
         self.next_angle = predict(&self.x)[0];
-        self.faults = self.monitor.flags;
+        self.faults = self.monitor.sample_faults();
         self.tracking = true;
     }
 
@@ -393,7 +393,7 @@ impl<T: Float, const N: usize> ObserverState<T, N> {
     /// window, and the predicted angle is parked, so that the next sample goes through the
     /// rare path, which starts tracking again.
     pub(crate) fn park(&mut self, flag: Faults) {
-        self.faults = flag | self.monitor.flags;
+        self.faults = flag | self.monitor.sample_faults();
         self.next_angle = Self::PARKED_ANGLE;
         self.tracking = false;
     }

@@ -284,21 +284,37 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         true
     }
 
-    /// The end of the monitor's window (once per window, out of line): the flags of its
-    /// means and of its last sample `(y_c, y_s)`, whose in-phase component is taken at the
-    /// corrected angle (by the fast polynomial sin/cos whatever `S`: a threshold test needs
-    /// no more than its 3e-7), its square magnitude `amplitude2` (the roundness check), and
-    /// on a false lock the angle re-acquired from that sample.
+    /// A used sample that changed the tracking-error flag or ended the monitor's window
+    /// (out of line): the per-sample check applied ([`TrackingCheck::apply`]); at a window's
+    /// end, the flags of its means and of its last sample `(y_c, y_s)`, whose in-phase
+    /// component is taken at the corrected angle (by the fast polynomial sin/cos whatever
+    /// `S`: a threshold test needs no more than its 3e-7), its square magnitude `amplitude2`
+    /// (the roundness check), and on a false lock the angle re-acquired from that sample.
+    ///
+    /// [`TrackingCheck::apply`]: crate::monitor::TrackingCheck::apply
     #[cold]
     #[inline(never)]
     fn decide(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T, amplitude2: T) {
+        let monitor = &mut state.monitor;
+        monitor.tracking.apply(
+            state.phase_error.abs(),
+            self.thresholds.thresholds.tracking_error,
+            &mut monitor.latched,
+        );
+        if monitor.remaining == 0 {
+            self.end_window(state, y_c, y_s, amplitude2);
+        }
+        state.faults = state.monitor.sample_faults();
+    }
+
+    /// The end of the monitor's window (see [`Gains::decide`]).
+    fn end_window(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T, amplitude2: T) {
         let speed = if N > 1 { state.x[1] } else { T::ZERO };
         let (sin, cos) = wrapped(state.x[0], 0).0.fast_sin_cos();
         let in_phase = y_c * cos + y_s * sin;
         let re_acquire = self
             .thresholds
             .decide(&mut state.monitor, speed, in_phase, amplitude2);
-        state.faults = state.monitor.flags;
         if re_acquire {
             let (angle, whole) = re_acquired(state.x[0], y_c, y_s);
             state.x[0] = angle;

@@ -49,6 +49,7 @@ pub fn converted_thresholds<T: Real, U: Real>(t: &FaultThresholds<T>) -> FaultTh
         .with_degradation_low(f(t.degradation_low))
         .with_degradation_high(f(t.degradation_high))
         .with_loss_of_tracking(f(t.loss_of_tracking))
+        .with_tracking_error(f(t.tracking_error))
         .with_max_speed(t.max_speed.map(f))
         .with_filter_factor(f(t.filter_factor))
         .with_false_lock(f(t.false_lock))

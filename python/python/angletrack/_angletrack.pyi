@@ -558,6 +558,7 @@ class FaultThresholds:
         degradation_low: Optional[float] = None,
         degradation_high: Optional[float] = None,
         loss_of_tracking: Optional[float] = None,
+        tracking_error: Optional[float] = None,
         max_speed_rad_s: Optional[float] = None,
         filter_factor: Optional[float] = None,
         false_lock: Optional[float] = None,
@@ -573,6 +574,7 @@ class FaultThresholds:
     degradation_low: float
     degradation_high: float
     loss_of_tracking: float
+    tracking_error: float
     max_speed_rad_s: Optional[float]
     filter_factor: float
     false_lock: float

@@ -25,7 +25,7 @@ NUMBER_TYPES = {"float32": "f32", "float64": "f64", "fixed": "fixed"}
 
 #: The fault thresholds' fields, as the tracker file and ``FaultThresholds`` name them.
 THRESHOLD_FIELDS = ("nominal_amplitude", "max_input_amplitude", "loss_of_signal", "degradation_low",
-                    "degradation_high", "loss_of_tracking", "max_speed_rad_s", "filter_factor", "false_lock",
+                    "degradation_high", "loss_of_tracking", "tracking_error", "max_speed_rad_s", "filter_factor", "false_lock",
                     "monitor", "re_acquire")
 
 #: The sensor calibration's fields, in ``SensorCalibration``'s order.

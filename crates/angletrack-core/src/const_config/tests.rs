@@ -171,7 +171,8 @@ fn gains_have_the_hand_computed_fields_and_refusals_on_both_types_and_orders() {
 }
 
 /// `FaultThresholds::for_amplitude` as documented: input limit 4 A, loss of signal 0.25 A,
-/// degradation 0.5 A to 1.5 A, loss of tracking 0.1 rad, a 1/16 filter, false lock at 0, a
+/// degradation 0.5 A to 1.5 A, loss of tracking 0.1 rad (a window's mean) and 0.05 (one
+/// sample's `|eps|`), a 1/16 filter, false lock at 0, a
 /// sample's magnitude within 10 % of A.
 fn documented_thresholds(a: f32) -> FaultThresholds<f32> {
     FaultThresholds {
@@ -181,6 +182,7 @@ fn documented_thresholds(a: f32) -> FaultThresholds<f32> {
         degradation_low: 0.5 * a,
         degradation_high: 1.5 * a,
         loss_of_tracking: 0.1,
+        tracking_error: 0.05,
         max_speed: None,
         filter_factor: 1.0 / 16.0,
         false_lock: 0.0,

@@ -4,7 +4,7 @@
 
 use crate::error::{ConfigError, Parameter};
 use crate::gains::{Order, SupportedOrder};
-use crate::monitor::{AmplitudeMeasure, Limits, MonitorLimits};
+use crate::monitor::{AmplitudeMeasure, DEFAULT_TRACKING_ERROR, Limits, MonitorLimits};
 use crate::stability::for_f64::check_stability;
 
 /// Signal amplitudes (counts) the fixed-point path normalises exactly: from 4096 (below, the
@@ -75,6 +75,9 @@ pub(crate) struct FixedThresholds {
     pub(crate) loss_of_tracking: u32,
     /// |speed| (2^-32 turn per sample) above this: loss of tracking (a quarter turn).
     pub(crate) max_speed: u32,
+    /// One sample's `|eps|` (Q15) above this: loss of tracking, held down to half of it
+    /// (`FaultThresholds::tracking_error`).
+    pub(crate) tracking_error: i32,
 }
 
 impl MonitorLimits for FixedThresholds {
@@ -135,11 +138,13 @@ impl FixedThresholds {
         round_high: u32::MAX,
         loss_of_tracking: (1 << 31) - 1,
         max_speed: u32::MAX,
+        tracking_error: i32::MAX,
     };
 
     /// The float monitor's default thresholds (`FaultThresholds`) for signals of
     /// `nominal_counts`: loss of signal below 1/4, degradation outside [1/2, 3/2], loss of
-    /// tracking above a mean `|eps|` of 0.1, a quarter turn per sample, and, with a
+    /// tracking above a mean `|eps|` of 0.1, a quarter turn per sample or one sample's
+    /// `|eps|` of 0.05 (held down to 0.025), and, with a
     /// `tolerance` (the caller gave the amplitude), a last sample's magnitude further than
     /// that fraction from the nominal one (`FaultThresholds::magnitude_tolerance`).
     const fn for_amplitude(nominal_counts: f64, tolerance: Option<f64>) -> Self {
@@ -165,6 +170,8 @@ impl FixedThresholds {
             degradation_high: amplitude2_half_of(nominal_counts * 1.5),
             loss_of_tracking: 3277 * super::update::MONITOR_WINDOW,
             max_speed: 1 << 30,
+            // The floats' default in Q15, rounded to nearest: 1638 (released at 819).
+            tracking_error: (DEFAULT_TRACKING_ERROR as f64 * 32768.0 + 0.5) as i32,
         }
     }
 }

@@ -67,10 +67,12 @@ fn degradation_of_signal_is_flagged_both_ways() {
 }
 
 #[test]
-fn loss_of_tracking_is_flagged_within_two_windows() {
-    // The angle alternating by a quarter turn each sample: the loop cannot follow, its
-    // phase error is about sin(45 degrees) in magnitude, the in-phase component positive.
-    let worst = worst_latency(Faults::LOSS_OF_TRACKING, 2 * W - 1, |k, theta| {
+fn loss_of_tracking_is_flagged_at_the_first_sample_beyond_the_tracking_error() {
+    // The angle alternating by a quarter turn each sample: the loop cannot follow. The
+    // first faulty sample is the healthy angle; the second's residual, about sin(90
+    // degrees), is beyond the tracking-error level (0.05) and flagged at once, whatever the
+    // window's phase.
+    let worst = worst_latency(Faults::LOSS_OF_TRACKING, 2, |k, theta| {
         counts(
             16384.0,
             theta
@@ -81,7 +83,7 @@ fn loss_of_tracking_is_flagged_within_two_windows() {
                 },
         )
     });
-    assert!(worst > W, "{worst}");
+    assert_eq!(worst, 2);
 }
 
 #[test]
@@ -126,8 +128,10 @@ fn speed_beyond_a_quarter_turn_per_sample_is_loss_of_tracking() {
             "k {k}: {}",
             state.phase_error
         );
-        if flagged.is_none() && FixedGains::estimate(&state).faults != Faults::NONE {
-            flagged = Some((k, FixedGains::estimate(&state).faults));
+        // The latched register: the estimates carry the start-up's flag from the first
+        // sample (the tracking-error check's, not latched).
+        if flagged.is_none() && state.latched_faults() != Faults::NONE {
+            flagged = Some((k, state.latched_faults()));
         }
     }
     // The first window starts after the first sample (which sets the angle).
@@ -166,4 +170,60 @@ fn the_nominal_amplitude_of_shifted_counts_is_set_in_a_static() {
     assert_eq!(latched_on_shifted_counts(SHIFTED), Faults::NONE);
     let default = FixedGains::<2>::from_constants(CONSTANTS, 1e-4).unwrap();
     assert!(latched_on_shifted_counts(default).contains(Faults::DEGRADATION_OF_SIGNAL));
+}
+
+/// The per-sample tracking-error check at its level (0.05, held down to 0.025: 1638 and
+/// 819 in Q15), as the floats' (`monitor/tracking_tests.rs`): a jump of the measured angle
+/// by 1.1 `asin(0.05)` is flagged on its own sample and held a few samples; one by 0.9
+/// `asin(0.05)` is never flagged; with the flag clear the estimate is within `asin(0.05)`.
+#[test]
+fn a_jump_beyond_the_tracking_error_is_flagged_at_once_and_one_within_never() {
+    let gains = FixedGains::<3>::new(KALMAN, 50e-6).unwrap();
+    let trip = gains.monitor.tracking_error;
+    assert_eq!(
+        (trip, crate::monitor::tracking::Residual::release(trip)),
+        (1638, 819)
+    );
+    let threshold = libm::asin(0.05);
+    for (factor, flagged) in [(1.1, true), (0.9, false)] {
+        let jump = factor * threshold;
+        let mut state = FixedState::new();
+        let (start, end) = (4000, 6000);
+        let mut held = 0;
+        for k in 0..end {
+            let theta = 0.01 * k as f64 + if k >= start { jump } else { 0.0 };
+            let (c, s) = counts(16384.0, theta);
+            gains.track(&mut state, c, s);
+            let e = FixedGains::estimate(&state);
+            let tracking = e.faults.contains(Faults::LOSS_OF_TRACKING);
+            if k + 1 == start {
+                assert_eq!(state.latched_faults(), Faults::NONE);
+            }
+            if k == start {
+                assert_eq!(tracking, flagged, "factor {factor}");
+            }
+            held += usize::from(k > start && tracking);
+            if k >= start && !tracking {
+                let error = binary_angle::binary_angle_to_rad(
+                    e.angle.wrapping_sub(binary_angle::binary_angle(theta)),
+                );
+                assert!(
+                    error.abs() < threshold,
+                    "factor {factor}, sample {k}: {error}"
+                );
+            }
+        }
+        assert_eq!(
+            state.latched_faults().contains(Faults::LOSS_OF_TRACKING),
+            flagged
+        );
+        assert!(
+            if flagged {
+                (3..60).contains(&held)
+            } else {
+                held == 0
+            },
+            "held {held}"
+        );
+    }
 }

@@ -2,6 +2,7 @@
 //! reports ([`FixedEstimate`]), in the integers of `docs/theory.md §14`.
 
 use crate::faults::Faults;
+use crate::monitor::TrackingCheck;
 use crate::reacquisition::FixedRefit;
 
 /// The state vector of the fixed-point recursion: binary angle (2^32 per turn), speed
@@ -69,7 +70,11 @@ pub struct FixedState<const N: usize> {
     /// after a few, the next sample's window end sets the angle from its `atan2` (the
     /// speed and the acceleration kept); after many, the next samples are fitted first
     /// (`crate::reacquisition`).
-    pub(crate) coasted: u32,
+    pub(crate) coasted: u16,
+    /// The per-sample tracking-error check (`crate::monitor::TrackingCheck`), on `|eps|` in
+    /// Q15; its flag is added to the window's in the estimate. Beside `coasted`, both 16
+    /// bits: the state stays within the C API's storage for it.
+    pub(crate) tracking: TrackingCheck<i16>,
     /// The fit under way after a long coast.
     pub(crate) refit: FixedRefit,
 }
@@ -100,6 +105,7 @@ impl<const N: usize> FixedState<N> {
             faults: Faults::NONE,
             latched: Faults::NONE,
             round_hold: 0,
+            tracking: TrackingCheck::new(),
             initialised: false,
             coasted: 0,
             refit: FixedRefit::new(),

@@ -7,7 +7,7 @@ use super::gains::{FixedGains, FixedThresholds};
 use super::multiply::{add_round_q16, add_wide, mul_q16};
 use super::state::{FixedEstimate, FixedState, FixedVector};
 use crate::faults::Faults;
-use crate::monitor::{Measures, MonitorLimits, MonitorWindow, WindowMeasures};
+use crate::monitor::{Measures, MonitorLimits, MonitorWindow, TrackingCheck, WindowMeasures};
 use crate::reacquisition::{FixedRefit, REFIT_AFTER_COAST};
 use crate::real::sincos::Detection;
 use crate::recursion::Sample;
@@ -193,19 +193,35 @@ fn turns_of_estimate<const N: usize>(state: &FixedState<N>) -> i64 {
 impl<const N: usize> MonitorWindow for FixedState<N> {
     /// `eps` (Q15).
     type Term = i32;
+    /// `|eps|` (Q15, [`residual`]).
+    type Residual = i32;
 
-    /// At most MONITOR_WINDOW 2^15 = 2^20, no overflow. `eps ^ (eps >> 31)` is `|eps|` less
-    /// one for a negative `eps` (one instruction): a window's sum is within MONITOR_WINDOW
-    /// units of the sum of `|eps|`, 0.03 % of the threshold.
+    /// At most MONITOR_WINDOW 2^15 = 2^20, no overflow.
     #[inline(always)]
-    fn add(&mut self, eps: i32) {
-        self.error_sum += (eps ^ (eps >> 31)) as u32;
+    fn add(&mut self, eps: i32) -> i32 {
+        let residual = residual(eps);
+        self.error_sum += residual as u32;
+        residual
     }
 
     #[inline(always)]
     fn remaining(&mut self) -> &mut u32 {
         &mut self.window_left
     }
+
+    #[inline(always)]
+    fn tracking(&self) -> &TrackingCheck<i16> {
+        &self.tracking
+    }
+}
+
+/// `|eps|` of a Q15 phase error, less one for a negative `eps` (`eps ^ (eps >> 31)`, one
+/// instruction): a window's sum is within MONITOR_WINDOW units of the sum of `|eps|`, 0.03 %
+/// of the threshold, and a sample's within one unit (0.002 % of the default tracking-error
+/// level).
+#[inline(always)]
+fn residual(eps: i32) -> i32 {
+    eps ^ (eps >> 31)
 }
 
 impl<const N: usize> FixedGains<N> {
@@ -256,6 +272,21 @@ impl<const N: usize> FixedGains<N> {
         }
         state.phase_error = step.eps;
         if state.accumulate(step.eps) {
+            self.end_sample(state);
+        }
+    }
+
+    /// A sample that changed the tracking-error flag or ended the window (out of line): the
+    /// per-sample check applied (`crate::monitor::TrackingCheck::apply`, the floats' own),
+    /// then the window's end if it ended.
+    #[inline(never)]
+    fn end_sample(&self, state: &mut FixedState<N>) {
+        state.tracking.apply(
+            residual(state.phase_error),
+            self.monitor.tracking_error,
+            &mut state.latched,
+        );
+        if state.window_left == 0 {
             self.end_window(state);
         }
     }
@@ -305,7 +336,7 @@ impl<const N: usize> FixedGains<N> {
         (((y_c * y_c) as u32).wrapping_add((y_s * y_s) as u32) >> 1) as i32
     }
 
-    /// A window's end (out of line: once per window): half a Newton step of the reciprocal
+    /// A window's end (once per window): half a Newton step of the reciprocal
     /// toward the amplitude of the window's last sample (half: the sample's noise is
     /// averaged over a few windows), then the monitor's decision ([`MonitorLimits`], the
     /// floats' own) on that amplitude, the window's sum of `|eps|`, the speed and the last
@@ -314,7 +345,7 @@ impl<const N: usize> FixedGains<N> {
     /// one with a fault.
     ///
     /// [`MonitorLimits`]: crate::monitor::MonitorLimits
-    #[inline(never)]
+    #[inline(always)]
     fn end_window(&self, state: &mut FixedState<N>) {
         let amplitude2 = Self::amplitude2_half(state);
         // Between r and the Newton step's result, both in range: in range.
@@ -325,6 +356,11 @@ impl<const N: usize> FixedGains<N> {
             state.faults = Faults::NONE;
         } else {
             self.end_window_with_fault(state, amplitude2 as u32);
+        }
+        if self.monitor.enabled {
+            // The window's mean |eps| (Q15): the sum is at most 2^20 but the forced 2^31.
+            let mean = (state.error_sum / MONITOR_WINDOW).min(1 << 16) as i32;
+            state.tracking.arm(self.monitor.tracking_error, mean);
         }
         state.error_sum = 0;
         state.window_left = MONITOR_WINDOW;
@@ -367,7 +403,7 @@ impl<const N: usize> FixedGains<N> {
             self.initialise(state);
             return;
         }
-        if state.coasted >= REFIT_AFTER_COAST {
+        if u32::from(state.coasted) >= REFIT_AFTER_COAST {
             self.refit(state);
             return;
         }
@@ -466,6 +502,9 @@ impl<const N: usize> FixedGains<N> {
             state.reciprocal = next;
         }
         state.window_left = MONITOR_WINDOW;
+        if self.monitor.enabled {
+            state.tracking.arm(self.monitor.tracking_error, 0);
+        }
         state.initialised = true;
     }
 
@@ -478,7 +517,7 @@ impl<const N: usize> FixedGains<N> {
             speed: Self::corrected_speed(&state.x),
             acceleration: if N > 2 { state.x.acceleration } else { 0 },
             phase_error: state.phase_error,
-            faults: state.faults,
+            faults: state.faults.union(state.tracking.flag()),
         }
     }
 

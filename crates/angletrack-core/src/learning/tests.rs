@@ -254,7 +254,12 @@ fn calibration_faults_follow_the_bounds() {
             &mut state,
             (1.0, 0.0),
         );
-        assert_eq!(e.faults, Faults::NONE);
+        // The sample read uncalibrated may jump from the calibrated one (the tracking
+        // error's flag may be set): no calibration fault.
+        assert!(
+            !e.faults
+                .intersects(Faults::AMPLITUDE_MISMATCH | Faults::OFFSET_OR_QUADRATURE)
+        );
     }
 }
 

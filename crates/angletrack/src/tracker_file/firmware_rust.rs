@@ -164,6 +164,7 @@ impl TrackerFile {
                 ("degradation_low", th.degradation_low),
                 ("degradation_high", th.degradation_high),
                 ("loss_of_tracking", th.loss_of_tracking),
+                ("tracking_error", th.tracking_error),
                 ("filter_factor", th.filter_factor),
                 ("false_lock", th.false_lock),
             ] {

@@ -226,6 +226,7 @@ impl Document<'_> {
                 .with_degradation_low(or("degradation_low", t.degradation_low)?)
                 .with_degradation_high(or("degradation_high", t.degradation_high)?)
                 .with_loss_of_tracking(or("loss_of_tracking", t.loss_of_tracking)?)
+                .with_tracking_error(or("tracking_error", t.tracking_error)?)
                 .with_max_speed(doc.maybe("max_speed_rad_s", t.max_speed)?)
                 .with_filter_factor(or("filter_factor", t.filter_factor)?)
                 .with_false_lock(or("false_lock", t.false_lock)?)
@@ -313,13 +314,14 @@ impl Document<'_> {
 }
 
 /// The fault thresholds' fields (the core's names).
-const THRESHOLD_FIELDS: [&str; 11] = [
+const THRESHOLD_FIELDS: [&str; 12] = [
     "nominal_amplitude",
     "max_input_amplitude",
     "loss_of_signal",
     "degradation_low",
     "degradation_high",
     "loss_of_tracking",
+    "tracking_error",
     "max_speed_rad_s",
     "filter_factor",
     "false_lock",

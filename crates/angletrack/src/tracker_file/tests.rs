@@ -37,6 +37,7 @@ fn full() -> TrackerFile {
         fault_thresholds: Some(
             FaultThresholds::for_amplitude(0.88)
                 .with_max_speed(Some(3000.0))
+                .with_tracking_error(0.04)
                 .with_re_acquire(false),
         ),
         calibration: Calibration::Online {
@@ -88,6 +89,20 @@ fn settings_left_out_are_the_defaults() {
         design: None,
     };
     assert_eq!(tracker, expected);
+}
+
+/// A file written before `tracking_error` existed reads with its default (0.05), and a
+/// value that is not positive is refused naming it.
+#[test]
+fn thresholds_without_the_tracking_error_read_with_its_default() {
+    let text = r#"{"format": "angletrack-tracker", "version": 1, "sample_period_s": 1e-4,
+        "gains": [0.06, 0.001], "fault_thresholds": {"nominal_amplitude": 0.9}}"#;
+    let thresholds = read(text).unwrap().fault_thresholds.unwrap();
+    // The f32 value in both types, as every fraction of the defaults.
+    assert_eq!(thresholds.tracking_error, f64::from(0.05_f32));
+    let refused = text.replace(r#"0.9}"#, r#"0.9, "tracking_error": -1}"#);
+    let err = read(&refused).unwrap_err().to_string();
+    assert!(err.contains("tracking_error"), "{err}");
 }
 
 #[test]

@@ -92,6 +92,7 @@ fn thresholds(t: &FaultThresholds<f64>) -> String {
         ("degradation_low", number(t.degradation_low)),
         ("degradation_high", number(t.degradation_high)),
         ("loss_of_tracking", number(t.loss_of_tracking)),
+        ("tracking_error", number(t.tracking_error)),
         ("max_speed_rad_s", optional(t.max_speed)),
         ("filter_factor", number(t.filter_factor)),
         ("false_lock", number(t.false_lock)),

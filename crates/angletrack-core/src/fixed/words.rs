@@ -109,6 +109,8 @@ where
             round_high,
             loss_of_tracking,
             max_speed,
+            // The fixed-point chain runs the default per-sample level (no setter, no word).
+            tracking_error: FixedThresholds::DEFAULT.tracking_error,
         };
         Ok(Self { monitor, ..gains })
     }

@@ -129,7 +129,7 @@ impl FixedThresholds {
     /// [`FixedGains::from_constants`]), evaluated when the crate compiles.
     pub(super) const DEFAULT: Self = Self::for_amplitude(16384.0, None);
 
-    const OFF: Self = Self {
+    pub(super) const OFF: Self = Self {
         enabled: false,
         loss_of_signal: 0,
         degradation_low: 0,

@@ -109,8 +109,13 @@ where
             round_high,
             loss_of_tracking,
             max_speed,
-            // The fixed-point chain runs the default per-sample level (no setter, no word).
-            tracking_error: FixedThresholds::DEFAULT.tracking_error,
+            // The fixed-point chain runs the default per-sample level (no setter, no word),
+            // none with the monitor off.
+            tracking_error: if enabled == 1 {
+                FixedThresholds::DEFAULT.tracking_error
+            } else {
+                FixedThresholds::OFF.tracking_error
+            },
         };
         Ok(Self { monitor, ..gains })
     }

@@ -172,7 +172,9 @@ impl<L: Level> TrackingCheck<L> {
         trip: R,
         latched: &mut Faults,
     ) {
-        if self.level == L::STARTUP {
+        // Not armed yet (the monitor's first window, whose end arms it) or in the start-up:
+        // nothing to apply.
+        if self.level == L::STARTUP || self.level == L::UNARMED {
             return;
         }
         if !self.level.holds() {

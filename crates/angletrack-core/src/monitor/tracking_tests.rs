@@ -93,3 +93,24 @@ fn a_jump_beyond_the_tracking_error_is_flagged_at_once_and_held_through_the_reco
         assert!(within.worst_clear_error < threshold, "{name}");
     }
 }
+
+/// The acquisition from rest of a shaft turning at 50 Hz electrical is the check's start-up:
+/// its samples are neither flagged nor latched although their residuals pass the trip
+/// level while the loop's speed catches up (`docs/guide/diagnostics.md`, start-up).
+#[test]
+fn the_acquisition_from_rest_is_a_start_up_neither_flagged_nor_latched() {
+    let gains = Gains::<f64, 3>::new(GAINS, TS)
+        .and_then(|g| g.with_fault_thresholds(FaultThresholds::for_amplitude(1.0)))
+        .unwrap();
+    let speed = core::f64::consts::TAU * 50.0;
+    let mut state = ObserverState::<f64, 3>::new();
+    let mut largest_residual = 0.0f64;
+    for k in 0..2000 {
+        let theta = speed * k as f64 * TS;
+        let e = gains.update(&mut state, theta.cos(), theta.sin());
+        largest_residual = largest_residual.max(state.phase_error.abs());
+        assert!(!e.faults.contains(Faults::LOSS_OF_TRACKING), "sample {k}");
+    }
+    assert!(largest_residual > 0.05, "{largest_residual}: the start-up passes the trip level");
+    assert!(!state.clear_faults().contains(Faults::LOSS_OF_TRACKING));
+}

@@ -111,6 +111,9 @@ fn the_acquisition_from_rest_is_a_start_up_neither_flagged_nor_latched() {
         largest_residual = largest_residual.max(state.phase_error.abs());
         assert!(!e.faults.contains(Faults::LOSS_OF_TRACKING), "sample {k}");
     }
-    assert!(largest_residual > 0.05, "{largest_residual}: the start-up passes the trip level");
+    assert!(
+        largest_residual > 0.05,
+        "{largest_residual}: the start-up passes the trip level"
+    );
     assert!(!state.clear_faults().contains(Faults::LOSS_OF_TRACKING));
 }

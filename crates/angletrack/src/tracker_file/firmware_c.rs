@@ -17,7 +17,45 @@ fn initialiser<T: ToString>(values: &[T], per_line: usize) -> String {
     format!("{{{}}}", lines.join(",\n    "))
 }
 
+/// The fixed-point chain's counts as the file states them ([`TrackerFile::fixed_counts`]).
+pub(super) struct FixedCounts {
+    /// The ADC stage of the stated width and signedness.
+    pub(super) adc: AdcCounts,
+    /// Whether the counts are two's complement.
+    pub(super) signed: bool,
+    /// The counts' mid-scale before the shift (0 for two's complement).
+    pub(super) mid_scale: u32,
+    /// The left shift that takes them to 16 bits, `16 - bits`.
+    pub(super) shift: u32,
+}
+
 impl TrackerFile {
+    /// The fixed-point chain's counts, by the std's rule for counts (`fixed_input`): of a
+    /// stated width, shifted to 16 bits; `None` for samples in units. Refused, naming the
+    /// field: samples scaled to units, or counts of no stated width.
+    pub(super) fn fixed_counts(&self, file: &str) -> Result<Option<FixedCounts>, FirmwareError> {
+        match self.input {
+            Input::Units => Ok(None),
+            Input::Bits { bits, signed } => Ok(Some(FixedCounts {
+                adc: if signed {
+                    AdcCounts::twos_complement(bits)
+                } else {
+                    AdcCounts::offset_binary(bits)
+                }
+                .map_err(|e| refuse(file, "input.bits", e.to_string()))?,
+                signed,
+                mid_scale: if signed { 0 } else { 1 << (bits - 1) },
+                shift: 16 - bits,
+            })),
+            Input::Scaled { .. } => Err(refuse(
+                file,
+                "input",
+                "the fixed-point chain takes counts of a stated width: give input.bits",
+            )),
+            Input::Counts => Err(self.measured_mid_scale(file)),
+        }
+    }
+
     /// The fixed-point chain's constants (gains of order `N`): `static const` structs
     /// prefixed by `name`, the chain `{name}_chain`. Refused, naming the field: counts of no
     /// stated width, thresholds other than one nominal amplitude's defaults, counts without
@@ -31,27 +69,9 @@ impl TrackerFile {
     where
         Order<N>: SupportedOrder,
     {
-        let adc = match self.input {
-            Input::Units => None,
-            Input::Bits { bits, signed } => Some((
-                if signed {
-                    AdcCounts::twos_complement(bits)
-                } else {
-                    AdcCounts::offset_binary(bits)
-                }
-                .map_err(|e| refuse(file, "input.bits", e.to_string()))?,
-                if signed { 0 } else { 1 << (bits - 1) },
-                16 - bits,
-            )),
-            Input::Scaled { .. } => {
-                return Err(refuse(
-                    file,
-                    "input",
-                    "the fixed-point chain takes counts of a stated width: give input.bits",
-                ));
-            }
-            Input::Counts => return Err(self.measured_mid_scale(file)),
-        };
+        let adc = self
+            .fixed_counts(file)?
+            .map(|c| (c.adc, c.mid_scale, c.shift));
         let shift = adc.map_or(0, |(_, _, shift)| shift);
         let observer = FixedGains::<N>::new(gains, self.gains.sample_period_s);
         let observer = match (self.fixed_nominal(file)?, adc) {

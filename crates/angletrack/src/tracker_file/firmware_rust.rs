@@ -8,8 +8,8 @@
 use std::fmt::Write as _;
 
 use angletrack_core::{
-    AdcCounts, AdcScaling, AngleCorrectionTable, FaultThresholds, FixedGains, Input as CoreInput,
-    Order, Rails, SupportedOrder, TRACKER_TABLE_LENGTH, TrackerFrontEnd, TrackerSettings,
+    AdcScaling, AngleCorrectionTable, FaultThresholds, FixedGains, Input as CoreInput, Order,
+    Rails, SupportedOrder, TRACKER_TABLE_LENGTH, TrackerFrontEnd, TrackerSettings,
 };
 
 use super::TrackerFile;
@@ -302,34 +302,22 @@ impl TrackerFile {
         let nominal = self.fixed_nominal(file)?;
         // The std's rule for counts (`fixed_input`): shifted to 16 bits, the calibration
         // (learned on the counts before the shift) scaled with them.
-        let (input, adc, shift) = match self.input {
-            Input::Units => (None, None, 0),
-            Input::Bits { bits, signed } => {
-                let kind = if signed {
+        let counts = self.fixed_counts(file)?;
+        let (input, adc, shift) = match counts {
+            None => (None, None, 0),
+            Some(c) => {
+                let kind = if c.signed {
                     "twos_complement"
                 } else {
                     "offset_binary"
                 };
-                let adc = if signed {
-                    AdcCounts::twos_complement(bits)
-                } else {
-                    AdcCounts::offset_binary(bits)
-                }
-                .map_err(|e| refuse(file, "input.bits", e.to_string()))?;
+                let bits = 16 - c.shift;
                 (
                     Some(format!("AdcCounts::{kind}({bits})")),
-                    Some(adc),
-                    16 - bits,
+                    Some(c.adc),
+                    c.shift,
                 )
             }
-            Input::Scaled { .. } => {
-                return Err(refuse(
-                    file,
-                    "input",
-                    "the fixed-point chain takes counts of a stated width: give input.bits",
-                ));
-            }
-            Input::Counts => return Err(self.measured_mid_scale(file)),
         };
         let rails = self.rails(file, adc.is_some())?;
         let units_rails = match rails.1 {

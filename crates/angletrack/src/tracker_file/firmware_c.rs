@@ -69,12 +69,10 @@ impl TrackerFile {
     where
         Order<N>: SupportedOrder,
     {
-        let adc = self
-            .fixed_counts(file)?
-            .map(|c| (c.adc, c.mid_scale, c.shift));
-        let shift = adc.map_or(0, |(_, _, shift)| shift);
+        let counts = self.fixed_counts(file)?;
+        let shift = counts.as_ref().map_or(0, |c| c.shift);
         let observer = FixedGains::<N>::new(gains, self.gains.sample_period_s);
-        let observer = match (self.fixed_nominal(file)?, adc) {
+        let observer = match (self.fixed_nominal(file)?, &counts) {
             // The std's rule (the tracker file's run): the roundness check unless the
             // amplitude was raised to the monitor's range.
             (Some(nominal), _) => observer.and_then(|g| {
@@ -111,7 +109,7 @@ impl TrackerFile {
             "adc",
             "at_adc_counts",
             "",
-            adc.map(|(_, mid, shift)| format!("{{{mid}, {shift}}}")),
+            counts.map(|c| format!("{{{}, {}}}", c.mid_scale, c.shift)),
         );
         let calibration = self
             .fixed_calibration(file, shift)

@@ -353,8 +353,11 @@ const fn tangent_q15(d: i16) -> i16 {
     let x3 = (x * x2) >> 30;
     let x5 = (x3 * x2) >> 30;
     let x7 = (x5 * x2) >> 30;
-    let t = x + x3 / 3 + 2 * x5 / 15 + 17 * x7 / 315;
-    round_q30_to_q15(t)
+    // The quotients in 32 bits (|x| <= 2^28, so x3 <= 2^24 and the others below it),
+    // truncated as the 64-bit ones would be: a core without a divider links no 64-bit
+    // division for a table made at run time.
+    let terms = (x3 as i32) / 3 + (2 * x5 as i32) / 15 + (17 * x7 as i32) / 315;
+    round_q30_to_q15(x + terms as i64)
 }
 
 /// The angle in Q15 rad of the tangent `t` in Q15 (`|t| <= 8368`), rounded to the

@@ -1707,8 +1707,9 @@ struct at_fixed_estimate at_chain_fixed_update_i32(const struct at_chain_fixed *
                                                    int32_t raw_s);
 
 /**
- * `at_chain_fixed_track_i16` for a chain of order 2 only, its body inlined: no
- * dispatch on the order, and an image that calls no other order's links one body.
+ * `at_chain_fixed_track_i16` for a chain of order 2 only: no dispatch on the
+ * order (the checks, then the chain's body), and an image that calls no other order's
+ * links one body.
  * `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
  *
  * # Safety
@@ -1720,8 +1721,9 @@ uint32_t at_chain_fixed_track_i16_order2(const struct at_chain_fixed *chain,
                                          int16_t raw_s);
 
 /**
- * `at_chain_fixed_track_i16` for a chain of order 3 only, its body inlined: no
- * dispatch on the order, and an image that calls no other order's links one body.
+ * `at_chain_fixed_track_i16` for a chain of order 3 only: no dispatch on the
+ * order (the checks, then the chain's body), and an image that calls no other order's
+ * links one body.
  * `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
  *
  * # Safety
@@ -1733,8 +1735,9 @@ uint32_t at_chain_fixed_track_i16_order3(const struct at_chain_fixed *chain,
                                          int16_t raw_s);
 
 /**
- * `at_chain_fixed_track_u16` for a chain of order 2 only, its body inlined: no
- * dispatch on the order, and an image that calls no other order's links one body.
+ * `at_chain_fixed_track_u16` for a chain of order 2 only: no dispatch on the
+ * order (the checks, then the chain's body), and an image that calls no other order's
+ * links one body.
  * `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
  *
  * # Safety
@@ -1746,8 +1749,9 @@ uint32_t at_chain_fixed_track_u16_order2(const struct at_chain_fixed *chain,
                                          uint16_t raw_s);
 
 /**
- * `at_chain_fixed_track_u16` for a chain of order 3 only, its body inlined: no
- * dispatch on the order, and an image that calls no other order's links one body.
+ * `at_chain_fixed_track_u16` for a chain of order 3 only: no dispatch on the
+ * order (the checks, then the chain's body), and an image that calls no other order's
+ * links one body.
  * `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
  *
  * # Safety
@@ -1759,8 +1763,9 @@ uint32_t at_chain_fixed_track_u16_order3(const struct at_chain_fixed *chain,
                                          uint16_t raw_s);
 
 /**
- * `at_chain_fixed_track_i32` for a chain of order 2 only, its body inlined: no
- * dispatch on the order, and an image that calls no other order's links one body.
+ * `at_chain_fixed_track_i32` for a chain of order 2 only: no dispatch on the
+ * order (the checks, then the chain's body), and an image that calls no other order's
+ * links one body.
  * `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
  *
  * # Safety
@@ -1772,8 +1777,9 @@ uint32_t at_chain_fixed_track_i32_order2(const struct at_chain_fixed *chain,
                                          int32_t raw_s);
 
 /**
- * `at_chain_fixed_track_i32` for a chain of order 3 only, its body inlined: no
- * dispatch on the order, and an image that calls no other order's links one body.
+ * `at_chain_fixed_track_i32` for a chain of order 3 only: no dispatch on the
+ * order (the checks, then the chain's body), and an image that calls no other order's
+ * links one body.
  * `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
  *
  * # Safety

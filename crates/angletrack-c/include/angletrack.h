@@ -225,7 +225,7 @@
  * crate's version and the sizes, which change it without a bump). `at_layout_version()`
  * returns the library's, to compare with the header's at start-up.
  */
-#define AT_LAYOUT_VERSION 8
+#define AT_LAYOUT_VERSION 9
 
 /**
  * The entries of an angle-correction table (`at_angle_correction_table_f32`,
@@ -295,6 +295,12 @@ typedef struct at_fault_thresholds_f32 {
    * `ROUNDNESS_HOLD_WINDOWS` windows (default 0.1); 0: no check.
    */
   float magnitude_tolerance;
+  /**
+   * One sample's normalised phase error (about the sine of its angle error, electrical)
+   * above this: loss of tracking at once, on that sample, held while it stays above a
+   * fraction of this (the loop re-converging) and latched (default 0.05, positive).
+   */
+  float tracking_error;
 } at_fault_thresholds_f32;
 
 /**
@@ -1055,6 +1061,16 @@ typedef struct at_demodulator_state_f32 {
  * An angle error `curve` of fewer than 2 points.
  */
 #define AT_ERR_CURVE 52
+
+/**
+ * Fault threshold `tracking_error`.
+ */
+#define AT_ERR_TRACKING_ERROR 56
+
+/**
+ * Fault threshold `magnitude_tolerance`.
+ */
+#define AT_ERR_MAGNITUDE_TOLERANCE 57
 
 #ifdef __cplusplus
 extern "C" {

@@ -136,6 +136,10 @@ parameters! {
     AT_ERR_SHIFT = 51: AdcShift, c"shift";
     /// An angle error `curve` of fewer than 2 points.
     AT_ERR_CURVE = 52: AngleErrorCurve, c"curve";
+    /// Fault threshold `tracking_error`.
+    AT_ERR_TRACKING_ERROR = 56: TrackingErrorThreshold, c"tracking_error";
+    /// Fault threshold `magnitude_tolerance`.
+    AT_ERR_MAGNITUDE_TOLERANCE = 57: MagnitudeTolerance, c"magnitude_tolerance";
 }
 
 /// `AT_OK`, or the status of the error.

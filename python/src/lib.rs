@@ -33,7 +33,6 @@ mod metrics;
 mod model_class;
 mod motion;
 mod observer;
-mod observer_channel;
 mod paper;
 mod resolver;
 mod scenario;

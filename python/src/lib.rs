@@ -66,7 +66,6 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(counts::capture_counts, m)?)?;
     m.add_function(wrap_pyfunction!(counts::capture_fault_thresholds, m)?)?;
     m.add_class::<counts::PyCountsExtremes>()?;
-    m.add_function(wrap_pyfunction!(counts::fixed_input, m)?)?;
     design_functions::register(m)?;
     scenario::register(m)?;
     metrics::register(m)?;

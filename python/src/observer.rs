@@ -1,7 +1,9 @@
-//! `Observer` and `track`: the core's observer on 1-D numpy arrays.
+//! `Observer` and `track`: the crate's chain of one observer (`angletrack::AnyChannel`) on
+//! 1-D numpy arrays.
 //!
-//! The per-sample work is the core's `Gains::update`; this module only moves samples in and
-//! estimates out, with the GIL released, straight into preallocated arrays that numpy owns.
+//! The per-sample work is the core's `Tracker::update`; this module only moves samples in
+//! and estimates out, with the GIL released, straight into preallocated arrays that numpy
+//! owns.
 
 use angletrack::{
     AnyChannel, ChannelOptions, TrackerChannel, mode_name, status_name, with_any_channel,

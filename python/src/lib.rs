@@ -33,7 +33,6 @@ mod metrics;
 mod model_class;
 mod motion;
 mod observer;
-mod observer_channel;
 mod paper;
 mod resolver;
 mod scenario;
@@ -67,7 +66,6 @@ fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(counts::capture_counts, m)?)?;
     m.add_function(wrap_pyfunction!(counts::capture_fault_thresholds, m)?)?;
     m.add_class::<counts::PyCountsExtremes>()?;
-    m.add_function(wrap_pyfunction!(counts::fixed_input, m)?)?;
     design_functions::register(m)?;
     scenario::register(m)?;
     metrics::register(m)?;

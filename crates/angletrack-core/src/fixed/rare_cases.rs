@@ -147,7 +147,7 @@ impl<const N: usize> FixedGains<N> {
     /// angle, speed and acceleration, and the loop tracks from the next sample on.
     fn refit_sample(&self, state: &mut FixedState<N>) {
         Self::re_acquire(state);
-        match state.refit.take(state.x.angle) {
+        match state.refit.take_angle(state.x.angle) {
             None => {
                 state.faults = Faults::LOSS_OF_TRACKING;
                 state.latched |= Faults::LOSS_OF_TRACKING;

@@ -194,7 +194,8 @@ impl<S: FitNumber> Refit<S, S::Given> {
     }
 }
 
-/// The monitor's side of the check of a re-acquisition's jump (`Gains::prepare`).
+/// The monitor's side of the check of a re-acquisition's jump (the floats'
+/// `Driver::re_acquire_after_coast`, `update/coasting.rs`).
 impl<T: Float> MonitorState<T> {
     /// A re-acquisition after a short coast jumped a quarter turn or more: the angle before
     /// it was wrong, and the pair it re-acquired from may be as wrong (a faulty pair the

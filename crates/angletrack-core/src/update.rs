@@ -1,8 +1,10 @@
 //! The float observers' per-sample update around the one recursion (`recursion.rs`,
-//! `docs/theory.md §5`), on one channel: [`Gains::update`] and [`Gains::track`] with their
-//! rare cases (first sample, rejected sample, false lock) and the windowed monitor's
-//! decision; the block forms are in `block.rs`. A [`ChannelBank`](crate::ChannelBank) runs
-//! the same step on each of its lanes.
+//! `docs/theory.md §5`), on one channel: [`Gains::update`] and [`Gains::track`], their rare
+//! cases (first sample, rejected sample, after a coast) in the order every observer takes
+//! them (`update/driver.rs`, the floats' side in `update/coasting.rs`), and the windowed
+//! monitor's decision with the re-acquisition after a false lock; the block forms are in
+//! `block.rs`. A [`ChannelBank`](crate::ChannelBank) runs the same step on each of its
+//! lanes, and this rare path on a lane that needs it.
 //!
 //! The update needs no [`SupportedOrder`](crate::SupportedOrder) bound: it is written for
 //! any order `N`, and a [`Gains`] exists only for the orders its constructors accept.

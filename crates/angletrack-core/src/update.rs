@@ -235,22 +235,23 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         amplitude2: T,
         valid: bool,
     ) -> bool {
-        let sample = Sample {
-            y_c,
-            y_s,
-            amplitude2,
-            valid,
-        };
-        if !self.rare_sample(state, sample) {
-            return false;
-        }
-        if !state.tracking {
-            // The first used sample after the angle was set (by the first sample's atan2,
-            // by `ObserverState::at` or by a re-acquisition), or after a rejected sample:
-            // the predicted angle comes back from its parking place, the sample's faults
-            // are the monitor's again, and the magnitude and the monitor's window start if
-            // they have not. (A state that tracks has coasted no sample: `rare_sample`'s
-            // tests of the coast ask nothing of it.)
+        // A state that tracks has an angle and has coasted no sample: a valid sample of it
+        // is here for the wrap alone, which then costs no more tests than the one.
+        if !(valid && state.tracking) {
+            let sample = Sample {
+                y_c,
+                y_s,
+                amplitude2,
+                valid,
+            };
+            if !self.rare_sample(state, sample) {
+                return false;
+            }
+            // The first used sample after the angle was set (by the first sample's atan2, by
+            // `ObserverState::at` or by a re-acquisition), or after a rejected sample: the
+            // predicted angle comes back from its parking place, the sample's faults are
+            // the monitor's again, and the magnitude and the monitor's window start if they
+            // have not.
             state.start_tracking(amplitude2);
         }
         let whole = wrap_angle(&mut state.next_angle);

@@ -37,18 +37,71 @@ impl<const N: usize> Driver for FixedGains<N> {
         true
     }
 
-    #[inline(always)]
+    /// The first sample: the angle from `atan2` ([`sample_angle`], the floats' own), speed
+    /// and acceleration 0, the reciprocal converged on the sample's amplitude, the first
+    /// full window started.
+    #[cold]
+    #[inline(never)]
     fn first_sample(&self, state: &mut FixedState<N>, _sample: ()) {
-        self.initialise(state);
+        let [y_c, y_s] = state.sample;
+        // Every integer sample has an angle (that of (0, 0) is 0), within one turn.
+        let angle = sample_angle(y_c, y_s).map_or(0, |(angle, _)| angle);
+        let amplitude2 = Self::amplitude2_half(state);
+        let latched = state.latched;
+        *state = FixedState::new();
+        state.latched = latched;
+        state.x.angle = angle;
+        state.next_angle = angle;
+        // Until a fixed point (or 24 steps): the same result as 24 steps, and a loop that is
+        // not unrolled into a kilobyte of code.
+        for _ in 0..24 {
+            let next = track_reciprocal(state.reciprocal, amplitude2);
+            if next == state.reciprocal {
+                break;
+            }
+            state.reciprocal = next;
+        }
+        state.window_left = MONITOR_WINDOW;
+        if self.monitor.enabled {
+            state.tracking.arm(self.monitor.tracking_error, 0);
+        }
+        state.initialised = true;
     }
 
     /// Never called: every integer sample is valid.
     #[inline(always)]
     fn reject(&self, _state: &mut FixedState<N>) {}
 
-    #[inline(always)]
+    /// One sample of the fit after a long coast (`crate::reacquisition`), at its window's
+    /// end: the angle is the sample's `atan2` (turns counted), flagged
+    /// [`Faults::LOSS_OF_TRACKING`]; at the fit's last sample the state takes the fitted
+    /// angle, speed and acceleration, and the loop tracks from the next sample on.
     fn refit(&self, state: &mut FixedState<N>, _sample: ()) {
-        self.refit_sample(state);
+        Self::re_acquire(state);
+        match state.refit.take_angle(state.x.angle) {
+            None => {
+                state.faults = Faults::LOSS_OF_TRACKING;
+                state.latched |= Faults::LOSS_OF_TRACKING;
+            }
+            Some(fitted) => {
+                let turns = turns_of_estimate(state)
+                    .wrapping_add(i64::from(crossed_turns::<i16>(state.x.angle, fitted.angle)));
+                state.x.angle = fitted.angle;
+                state.x.acceleration = if N > 2 { fitted.acceleration } else { 0 };
+                state.x.speed = if N > 2 {
+                    fitted.speed.wrapping_add(speed_change(fitted.acceleration))
+                } else {
+                    fitted.speed
+                };
+                state.next_angle = Self::next_angle(&state.x);
+                state.turns = turns.wrapping_add(i64::from(crossed_turns::<i16>(
+                    state.x.angle,
+                    state.next_angle,
+                )));
+                state.faults = Faults::NONE;
+                state.coasted = 0;
+            }
+        }
     }
 
     /// The angle re-acquired from the sample at its window's end, after the recursion ran
@@ -139,68 +192,5 @@ impl<const N: usize> FixedGains<N> {
         state.next_angle = next_angle;
         // The state counts the turns of the predicted angle.
         state.turns = turns.wrapping_add(i64::from(crossed_turns::<i16>(angle, next_angle)));
-    }
-
-    /// One sample of the fit after a long coast (`crate::reacquisition`), at its window's
-    /// end: the angle is the sample's `atan2` (turns counted), flagged
-    /// [`Faults::LOSS_OF_TRACKING`]; at the fit's last sample the state takes the fitted
-    /// angle, speed and acceleration, and the loop tracks from the next sample on.
-    fn refit_sample(&self, state: &mut FixedState<N>) {
-        Self::re_acquire(state);
-        match state.refit.take_angle(state.x.angle) {
-            None => {
-                state.faults = Faults::LOSS_OF_TRACKING;
-                state.latched |= Faults::LOSS_OF_TRACKING;
-            }
-            Some(fitted) => {
-                let turns = turns_of_estimate(state)
-                    .wrapping_add(i64::from(crossed_turns::<i16>(state.x.angle, fitted.angle)));
-                state.x.angle = fitted.angle;
-                state.x.acceleration = if N > 2 { fitted.acceleration } else { 0 };
-                state.x.speed = if N > 2 {
-                    fitted.speed.wrapping_add(speed_change(fitted.acceleration))
-                } else {
-                    fitted.speed
-                };
-                state.next_angle = Self::next_angle(&state.x);
-                state.turns = turns.wrapping_add(i64::from(crossed_turns::<i16>(
-                    state.x.angle,
-                    state.next_angle,
-                )));
-                state.faults = Faults::NONE;
-                state.coasted = 0;
-            }
-        }
-    }
-
-    /// The first sample: the angle from `atan2` ([`sample_angle`], the floats' own), speed
-    /// and acceleration 0, the reciprocal converged on the sample's amplitude, the first
-    /// full window started.
-    #[cold]
-    #[inline(never)]
-    fn initialise(&self, state: &mut FixedState<N>) {
-        let [y_c, y_s] = state.sample;
-        // Every integer sample has an angle (that of (0, 0) is 0), within one turn.
-        let angle = sample_angle(y_c, y_s).map_or(0, |(angle, _)| angle);
-        let amplitude2 = Self::amplitude2_half(state);
-        let latched = state.latched;
-        *state = FixedState::new();
-        state.latched = latched;
-        state.x.angle = angle;
-        state.next_angle = angle;
-        // Until a fixed point (or 24 steps): the same result as 24 steps, and a loop that is
-        // not unrolled into a kilobyte of code.
-        for _ in 0..24 {
-            let next = track_reciprocal(state.reciprocal, amplitude2);
-            if next == state.reciprocal {
-                break;
-            }
-            state.reciprocal = next;
-        }
-        state.window_left = MONITOR_WINDOW;
-        if self.monitor.enabled {
-            state.tracking.arm(self.monitor.tracking_error, 0);
-        }
-        state.initialised = true;
     }
 }

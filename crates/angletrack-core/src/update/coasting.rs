@@ -63,9 +63,50 @@ impl<T: Float, const N: usize, S: SinCos<T>> Driver for Gains<T, N, S> {
         state.refit = Refit::new();
     }
 
-    #[inline(always)]
+    /// One sample of the fit after a long coast (`crate::reacquisition`): its angle is the
+    /// estimate's (`atan2`, turns counted), flagged [`Faults::LOSS_OF_TRACKING`] and not
+    /// used by the loop; at the fit's last sample the state takes the fitted angle, speed
+    /// and acceleration and tracks from the next sample on.
+    #[cold]
+    #[inline(never)]
     fn refit(&self, state: &mut ObserverState<T, N>, sample: Sample<T>) {
-        self.refit_sample(state, sample.y_c, sample.y_s, sample.amplitude2);
+        let Sample {
+            y_c,
+            y_s,
+            amplitude2,
+            ..
+        } = sample;
+        let before = state.x[0];
+        let (angle, whole) = re_acquired(before, y_c, y_s);
+        state.x[0] = angle;
+        state.turns = state.turns.wrapping_add(whole as i64);
+        let mut step = angle - before;
+        wrap_angle(&mut step);
+        if state.refit.taken == 0 {
+            // The first sample after the coast: its jump from the coast's prediction.
+            let mut jump = step - if N > 1 { state.x[1] } else { T::ZERO };
+            wrap_angle(&mut jump);
+            check_jump(state, jump, self.thresholds.thresholds.monitor);
+        }
+        match state.refit.take(step) {
+            None => {
+                state.park(Faults::LOSS_OF_TRACKING);
+                state.advance(0, T::ZERO);
+            }
+            Some(fitted) => {
+                state.x[0] += fitted.angle_change;
+                let whole = wrap_angle(&mut state.x[0]);
+                state.turns = state.turns.wrapping_add(whole as i64);
+                if N > 1 {
+                    state.x[1] = fitted.speed;
+                }
+                if N > 2 {
+                    state.x[2] = fitted.acceleration;
+                }
+                state.coasted = 0;
+                state.start_tracking(amplitude2);
+            }
+        }
     }
 
     /// The angle re-acquired from the sample (however far the coast drifted: no false
@@ -114,46 +155,6 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     #[inline(never)]
     pub(crate) fn coast_front_end(&self, state: &mut ObserverState<T, N>) {
         Driver::coast(self, state);
-    }
-
-    /// One sample of the fit after a long coast (`crate::reacquisition`): its angle is the
-    /// estimate's (`atan2`, turns counted), flagged [`Faults::LOSS_OF_TRACKING`] and not
-    /// used by the loop; at the fit's last sample the state takes the fitted angle, speed
-    /// and acceleration and tracks from the next sample on.
-    #[cold]
-    #[inline(never)]
-    fn refit_sample(&self, state: &mut ObserverState<T, N>, y_c: T, y_s: T, amplitude2: T) {
-        let before = state.x[0];
-        let (angle, whole) = re_acquired(before, y_c, y_s);
-        state.x[0] = angle;
-        state.turns = state.turns.wrapping_add(whole as i64);
-        let mut step = angle - before;
-        wrap_angle(&mut step);
-        if state.refit.taken == 0 {
-            // The first sample after the coast: its jump from the coast's prediction.
-            let mut jump = step - if N > 1 { state.x[1] } else { T::ZERO };
-            wrap_angle(&mut jump);
-            check_jump(state, jump, self.thresholds.thresholds.monitor);
-        }
-        match state.refit.take(step) {
-            None => {
-                state.park(Faults::LOSS_OF_TRACKING);
-                state.advance(0, T::ZERO);
-            }
-            Some(fitted) => {
-                state.x[0] += fitted.angle_change;
-                let whole = wrap_angle(&mut state.x[0]);
-                state.turns = state.turns.wrapping_add(whole as i64);
-                if N > 1 {
-                    state.x[1] = fitted.speed;
-                }
-                if N > 2 {
-                    state.x[2] = fitted.acceleration;
-                }
-                state.coasted = 0;
-                state.start_tracking(amplitude2);
-            }
-        }
     }
 }
 

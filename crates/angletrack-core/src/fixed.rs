@@ -8,6 +8,7 @@
 mod binary_angle;
 mod gains;
 mod multiply;
+mod rare_cases;
 mod state;
 mod update;
 mod wide_product;

@@ -55,66 +55,147 @@ fn signs(taken: u32) -> (i32, i32) {
     }
 }
 
-/// The fit under way after a long coast, in a float type: the samples taken, the unwrapped
-/// angle of the last (rad, from the first's) and the sums `sum G_j`, `D`, `E`.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub(crate) struct Refit<T> {
+/// The numbers the fit sums in: a float (rad), or the fixed-point observer's `i64` (2^-32
+/// turn), whose operations wrap (no input can panic; the fit's sums stay below 2^47).
+pub(crate) trait FitNumber: Copy {
+    /// The angle of a sample as the fit is given it: nothing for the floats, which give its
+    /// step from the last; the fixed-point observer's binary angle, from which the fit
+    /// unwraps the step itself.
+    type Given: Copy;
+    /// The given angle of no sample.
+    const NO_ANGLE: Self::Given;
+    /// Zero.
+    const ZERO: Self;
+    /// `self + other`.
+    fn plus(self, other: Self) -> Self;
+    /// `self - other`.
+    fn minus(self, other: Self) -> Self;
+    /// `k self`.
+    fn times(self, k: i32) -> Self;
+    /// `self / 2^shift`: exact in a float, rounded to the nearest in an integer.
+    fn over_power_of_two(self, shift: u32) -> Self;
+    /// The acceleration `D / 128` in the state's unit: rad per sample^2 for the floats,
+    /// 2^-63 turn per sample^2 (`D / 128` 2^-32 turn, times 2^31) for the fixed point.
+    fn acceleration(d: Self) -> Self;
+}
+
+impl<T: Float> FitNumber for T {
+    type Given = ();
+    const NO_ANGLE: () = ();
+    const ZERO: T = T::ZERO;
+    #[inline(always)]
+    fn plus(self, other: T) -> T {
+        self + other
+    }
+    #[inline(always)]
+    fn minus(self, other: T) -> T {
+        self - other
+    }
+    #[inline(always)]
+    fn times(self, k: i32) -> T {
+        T::from_i32(k) * self
+    }
+    #[inline(always)]
+    fn over_power_of_two(self, shift: u32) -> T {
+        self / T::from_i32(1 << shift)
+    }
+    #[inline(always)]
+    fn acceleration(d: T) -> T {
+        d.over_power_of_two(7)
+    }
+}
+
+impl FitNumber for i64 {
+    type Given = i32;
+    const NO_ANGLE: i32 = 0;
+    const ZERO: i64 = 0;
+    #[inline(always)]
+    fn plus(self, other: i64) -> i64 {
+        self.wrapping_add(other)
+    }
+    #[inline(always)]
+    fn minus(self, other: i64) -> i64 {
+        self.wrapping_sub(other)
+    }
+    #[inline(always)]
+    fn times(self, k: i32) -> i64 {
+        self.wrapping_mul(i64::from(k))
+    }
+    #[inline(always)]
+    fn over_power_of_two(self, shift: u32) -> i64 {
+        self.wrapping_add(1 << (shift - 1)) >> shift
+    }
+    #[inline(always)]
+    fn acceleration(d: i64) -> i64 {
+        d.wrapping_shl(24)
+    }
+}
+
+/// The fit under way after a long coast, in the numbers `S`: the samples taken, the last
+/// sample's angle as given ([`FitNumber::Given`]) and unwrapped from the first's, and the
+/// sums `sum G_j`, `D`, `E`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Refit<S, A = ()> {
     /// Samples taken (0: none yet).
     pub(crate) taken: u32,
-    /// The last sample's angle, unwrapped, relative to the first's (rad).
-    last: T,
-    /// `sum G_j`, `D`, `E` (rad).
-    sums: [T; 3],
+    /// The last sample's angle as given (`A`, [`FitNumber::Given`]), and unwrapped
+    /// relative to the first's.
+    last: (A, S),
+    /// `sum G_j`, `D`, `E`.
+    sums: [S; 3],
 }
 
 /// What the fit gives at its last sample: the angle's change from that sample's own
-/// (rad), the speed (rad per sample) and the acceleration (rad per sample^2).
-pub(crate) struct Fitted<T> {
-    pub(crate) angle_change: T,
-    pub(crate) speed: T,
-    pub(crate) acceleration: T,
+/// (unwrapped), the speed (per sample) and the acceleration (in the state's unit, see
+/// [`FitNumber::acceleration`]).
+pub(crate) struct Fitted<S> {
+    pub(crate) angle_change: S,
+    pub(crate) speed: S,
+    pub(crate) acceleration: S,
 }
 
-impl<T: Float> Refit<T> {
+impl<S: FitNumber> Refit<S, S::Given> {
     /// No fit under way.
     pub(crate) const fn new() -> Self {
         Self {
             taken: 0,
-            last: T::ZERO,
-            sums: [T::ZERO; 3],
+            last: (S::NO_ANGLE, S::ZERO),
+            sums: [S::ZERO; 3],
         }
     }
 
-    /// Takes one sample whose angle moved by `step` (rad, wrapped: the shortest way) from
-    /// the last one's (anything for the first); returns the fit once it has
-    /// [`REFIT_SAMPLES`], and is then ready for another.
-    pub(crate) fn take(&mut self, step: T) -> Option<Fitted<T>> {
-        self.last = if self.taken == 0 {
-            T::ZERO
+    /// Takes one sample whose angle moved by `step` (wrapped: the shortest way) from the
+    /// last one's (anything for the first); returns the fit once it has [`REFIT_SAMPLES`],
+    /// and is then ready for another.
+    pub(crate) fn take(&mut self, step: S) -> Option<Fitted<S>> {
+        self.last.1 = if self.taken == 0 {
+            S::ZERO
         } else {
-            self.last + step
+            self.last.1.plus(step)
         };
+        let last = self.last.1;
         let (d, e) = signs(self.taken);
-        self.sums[0] += self.last;
-        self.sums[1] += T::from_i32(d) * self.last;
-        self.sums[2] += T::from_i32(e) * self.last;
+        self.sums[0] = self.sums[0].plus(last);
+        self.sums[1] = self.sums[1].plus(last.times(d));
+        self.sums[2] = self.sums[2].plus(last.times(e));
         self.taken += 1;
         if self.taken < REFIT_SAMPLES {
             return None;
         }
         let [g, d, e] = self.sums;
-        let n = T::from_i32;
+        let end = g.times(16).plus(e.times(30)).plus(d.times(35));
         let fitted = Fitted {
-            angle_change: (n(16) * g + n(30) * e + n(35) * d) / n(256) - self.last,
-            speed: (n(4) * e + n(15) * d) / n(256),
-            acceleration: d / n(128),
+            angle_change: end.over_power_of_two(8).minus(last),
+            speed: e.times(4).plus(d.times(15)).over_power_of_two(8),
+            acceleration: S::acceleration(d),
         };
         *self = Self::new();
         Some(fitted)
     }
 }
 
-/// The monitor's side of the check of a re-acquisition's jump (`Gains::prepare`).
+/// The monitor's side of the check of a re-acquisition's jump (the floats'
+/// `Driver::re_acquire_after_coast`, `update/coasting.rs`).
 impl<T: Float> MonitorState<T> {
     /// A re-acquisition after a short coast jumped a quarter turn or more: the angle before
     /// it was wrong, and the pair it re-acquired from may be as wrong (a faulty pair the
@@ -142,15 +223,7 @@ impl<T: Float> MonitorState<T> {
 
 /// The fit in the fixed-point observer's integers: binary angles (2^-32 turn), unwrapped
 /// in `i64` (16 samples of at most half a turn: below 2^35), the sums below 2^39.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub(crate) struct FixedRefit {
-    /// Samples taken (0: none yet).
-    pub(crate) taken: u32,
-    /// The last sample's binary angle, and its angle unwrapped from the first's.
-    last: (i32, i64),
-    /// `sum G_j`, `D`, `E` (2^-32 turn).
-    sums: [i64; 3],
-}
+pub(crate) type FixedRefit = Refit<i64, i32>;
 
 /// What the integer fit gives at its last sample: the angle (2^-32 turn), the speed
 /// (2^-32 turn per sample) and the acceleration (2^-63 turn per sample^2, the state's unit).
@@ -160,50 +233,19 @@ pub(crate) struct FixedFitted {
     pub(crate) acceleration: i64,
 }
 
-/// `value / 2^shift`, rounded to the nearest.
-fn shifted(value: i64, shift: u32) -> i64 {
-    value.wrapping_add(1 << (shift - 1)) >> shift
-}
-
 impl FixedRefit {
-    /// No fit under way.
-    pub(crate) const fn new() -> Self {
-        Self {
-            taken: 0,
-            last: (0, 0),
-            sums: [0; 3],
-        }
-    }
-
-    /// Takes one sample of binary angle `angle`; returns the fit once it has
-    /// [`REFIT_SAMPLES`], and is then ready for another.
-    pub(crate) fn take(&mut self, angle: i32) -> Option<FixedFitted> {
-        let unwrapped = if self.taken == 0 {
-            0
-        } else {
-            // The shortest way: the wrapping difference of binary angles.
-            self.last.1 + i64::from(angle.wrapping_sub(self.last.0))
-        };
-        self.last = (angle, unwrapped);
-        let (d, e) = signs(self.taken);
-        self.sums[0] += unwrapped;
-        self.sums[1] += i64::from(d) * unwrapped;
-        self.sums[2] += i64::from(e) * unwrapped;
-        self.taken += 1;
-        if self.taken < REFIT_SAMPLES {
-            return None;
-        }
-        let [g, d, e] = self.sums;
-        // Below 2^47: no overflow; wrapping, so that no input can panic.
-        let end = shifted((16 * g).wrapping_add(30 * e).wrapping_add(35 * d), 8);
-        let fitted = FixedFitted {
-            angle: angle.wrapping_add(end.wrapping_sub(unwrapped) as i32),
-            speed: shifted((4 * e).wrapping_add(15 * d), 8) as i32,
-            // D / 128 in 2^-32 turn, times 2^31.
-            acceleration: d.wrapping_shl(24),
-        };
-        *self = Self::new();
-        Some(fitted)
+    /// Takes one sample of binary angle `angle` (unwrapped the shortest way: the wrapping
+    /// difference of binary angles); returns the fit once it has [`REFIT_SAMPLES`], and is
+    /// then ready for another.
+    pub(crate) fn take_angle(&mut self, angle: i32) -> Option<FixedFitted> {
+        let step = i64::from(angle.wrapping_sub(self.last.0));
+        self.last.0 = angle;
+        let fitted = self.take(step)?;
+        Some(FixedFitted {
+            angle: angle.wrapping_add(fitted.angle_change as i32),
+            speed: fitted.speed as i32,
+            acceleration: fitted.acceleration,
+        })
     }
 }
 
@@ -275,7 +317,7 @@ mod tests {
         let mut fitted = None;
         for k in 0..REFIT_SAMPLES {
             let binary = (angle(f64::from(k)) as i64) as i32; // wraps past 2^31
-            fitted = refit.take(binary);
+            fitted = refit.take_angle(binary);
         }
         let fitted = fitted.expect("fitted after K samples");
         let end = f64::from(REFIT_SAMPLES - 1);

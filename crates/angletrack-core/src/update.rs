@@ -1,8 +1,10 @@
 //! The float observers' per-sample update around the one recursion (`recursion.rs`,
-//! `docs/theory.md §5`), on one channel: [`Gains::update`] and [`Gains::track`] with their
-//! rare cases (first sample, rejected sample, false lock) and the windowed monitor's
-//! decision; the block forms are in `block.rs`. A [`ChannelBank`](crate::ChannelBank) runs
-//! the same step on each of its lanes.
+//! `docs/theory.md §5`), on one channel: [`Gains::update`] and [`Gains::track`], their rare
+//! cases (first sample, rejected sample, after a coast) in the order every observer takes
+//! them (`update/driver.rs`, the floats' side in `update/coasting.rs`), and the windowed
+//! monitor's decision with the re-acquisition after a false lock; the block forms are in
+//! `block.rs`. A [`ChannelBank`](crate::ChannelBank) runs the same step on each of its
+//! lanes, and this rare path on a lane that needs it.
 //!
 //! The update needs no [`SupportedOrder`](crate::SupportedOrder) bound: it is written for
 //! any order `N`, and a [`Gains`] exists only for the orders its constructors accept.
@@ -10,12 +12,12 @@
 use crate::faults::Faults;
 use crate::gains::Gains;
 use crate::monitor::MonitorWindow;
-use crate::reacquisition::{REFIT_AFTER_COAST, Refit};
 use crate::real::Float;
 use crate::real::sincos::{SinCos, SinCosUnit};
 use crate::recursion::{Sample, Step};
 use crate::state::{Estimate, ObserverState, predict};
 use crate::wrap::{FullWrap, NoWrap, Wrap, re_acquired, sample_angle, wrap_angle, wrapped};
+use driver::Driver;
 
 /// What [`Gains::track_observing`] shows of a used sample.
 #[derive(Clone, Copy)]
@@ -217,10 +219,12 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         }));
     }
 
-    /// The rare cases of the update, before the recursion: the first sample (sets the
-    /// angle), a rejected sample (the state coasts), the first used sample after the angle
-    /// was set (starts tracking), a predicted angle to wrap. Returns `true` when the sample
-    /// is to be used by the recursion, its predicted angle now in [-pi, pi).
+    /// The rare cases of the update, before the recursion: the driver's
+    /// ([`Driver::rare_sample`]: the first sample sets the angle, a rejected sample coasts,
+    /// the first sample after a coast re-acquires or is fitted), then the first used sample
+    /// after the angle was set starts tracking, and a predicted angle is wrapped. Returns
+    /// `true` when the sample is to be used by the recursion, its predicted angle now in
+    /// [-pi, pi).
     #[cold]
     #[inline(never)]
     fn prepare(
@@ -231,52 +235,23 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
         amplitude2: T,
         valid: bool,
     ) -> bool {
-        if !state.initialised {
-            match if valid { sample_angle(y_c, y_s) } else { None } {
-                Some((angle, whole)) => {
-                    let latched = state.monitor.latched;
-                    state.restart(angle, whole, amplitude2, latched);
-                }
-                None => state.reject_sample(),
+        // A state that tracks has an angle and has coasted no sample: a valid sample of it
+        // is here for the wrap alone, which then costs no more tests than the one.
+        if !(valid && state.tracking) {
+            let sample = Sample {
+                y_c,
+                y_s,
+                amplitude2,
+                valid,
+            };
+            if !self.rare_sample(state, sample) {
+                return false;
             }
-            return false;
-        }
-        if !valid {
-            // The state coasts; its predicted angle, parked by `reject_sample`, is that of
-            // the coasted state, `predict(x)[0]` (`coast` computes it so, to the bit).
-            let (x, _, whole) = self.coast(state.x, state.predicted_angle());
-            state.x = x;
-            state.advance(whole, T::ZERO);
-            state.reject_sample();
-            // A fit under way lost a sample: it starts again.
-            state.refit = Refit::new();
-            return false;
-        }
-        if !state.tracking {
-            if state.coasted >= REFIT_AFTER_COAST {
-                // After a long coast the speed and the acceleration are stale: the next
-                // samples are fitted, not tracked, and the loop starts from the fit.
-                return self.refit(state, y_c, y_s, amplitude2);
-            }
-            if state.coasted > 0 {
-                // The first sample after a short front-end fault: the angle re-acquired
-                // from it (however far the coast drifted: no false lock, and no transient
-                // of the loop correcting the drift), speed and acceleration kept; a jump
-                // no coast could drift is flagged (`check_jump`).
-                // The state holds the previous sample's estimate: it moves by the jump
-                // from this sample's prediction to its atan2.
-                let mut jump = y_s.atan2(y_c) - predict(&state.x)[0];
-                wrap_angle(&mut jump);
-                coasting::check_jump(state, jump, self.thresholds.thresholds.monitor);
-                state.x[0] += jump;
-                let whole = wrap_angle(&mut state.x[0]);
-                state.turns = state.turns.wrapping_add(whole as i64);
-                state.coasted = 0;
-            }
-            // The first used sample after the angle was set (by the first sample's atan2 or
-            // by `ObserverState::at`), or after a rejected sample: the predicted angle comes
-            // back from its parking place, the sample's faults are the monitor's again, and
-            // the magnitude and the monitor's window start if they have not.
+            // The first used sample after the angle was set (by the first sample's atan2, by
+            // `ObserverState::at` or by a re-acquisition), or after a rejected sample: the
+            // predicted angle comes back from its parking place, the sample's faults are
+            // the monitor's again, and the magnitude and the monitor's window start if they
+            // have not.
             state.start_tracking(amplitude2);
         }
         let whole = wrap_angle(&mut state.next_angle);
@@ -373,7 +348,7 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
     /// as the rare case of [`Gains::update`].
     #[cold]
     #[inline(never)]
-    fn coast(&self, mut x: [T; N], mut next_angle: T) -> ([T; N], T, i32) {
+    pub(super) fn coasted_state(&self, mut x: [T; N], mut next_angle: T) -> ([T; N], T, i32) {
         let mut unused = T::ONE;
         let sample = Sample {
             y_c: T::ZERO,
@@ -443,6 +418,7 @@ impl<T: Float, const N: usize, S: SinCos<T>> Gains<T, N, S> {
 
 mod arithmetic;
 mod coasting;
+pub(crate) mod driver;
 
 #[cfg(test)]
 mod amplitude_tests;

@@ -1,6 +1,7 @@
 //! The fixed-point update (`docs/theory.md §14`): the integer [`Arithmetic`] of the one
-//! recursion ([`step`]), the window that updates the amplitude's reciprocal and decides the
-//! monitor's flags, and the first sample.
+//! recursion ([`step`]) and the window that updates the amplitude's reciprocal and decides
+//! the monitor's flags; the rare cases (first sample, coast, re-acquisition, a window with a
+//! fault) are the driver's, in `rare_cases.rs`.
 
 use super::binary_angle::detect;
 use super::gains::{FixedGains, FixedThresholds};
@@ -8,11 +9,10 @@ use super::multiply::{add_round_q16, add_wide, mul_q16};
 use super::state::{FixedEstimate, FixedState, FixedVector};
 use crate::faults::Faults;
 use crate::monitor::{Measures, MonitorLimits, MonitorWindow, TrackingCheck, WindowMeasures};
-use crate::reacquisition::{FixedRefit, REFIT_AFTER_COAST};
 use crate::real::sincos::Detection;
 use crate::recursion::Sample;
 use crate::recursion::{Arithmetic, step};
-use crate::wrap::{NoWrap, Wrap, crossed_turns, crosses_turn, re_acquired, sample_angle};
+use crate::wrap::{NoWrap, Wrap, crossed_turns, crosses_turn};
 
 /// What the fixed-point monitor decides a window from ([`WindowMeasures`] in its integers).
 type FixedMeasures = Measures<FixedThresholds>;
@@ -60,7 +60,7 @@ pub(crate) fn track_reciprocal(reciprocal: i32, amplitude2_half: i32) -> i32 {
 /// The speed change of one sample, `acceleration 2^-63` turn in 2^-32 turn per sample
 /// (floored), modulo one turn per sample.
 #[inline(always)]
-fn speed_change(acceleration: i64) -> i32 {
+pub(super) fn speed_change(acceleration: i64) -> i32 {
     (acceleration >> 31) as i32
 }
 
@@ -79,7 +79,7 @@ impl<const N: usize> FixedGains<N> {
     /// The predicted angle of the next sample, `angle + speed + acceleration / 2` in 2^-32
     /// turn (`acceleration 2^-64` turn is the top word of the acceleration).
     #[inline(always)]
-    fn next_angle(x: &FixedVector) -> i32 {
+    pub(super) fn next_angle(x: &FixedVector) -> i32 {
         let angle = if N > 1 {
             x.angle.wrapping_add(x.speed)
         } else {
@@ -173,7 +173,7 @@ impl<const N: usize> Arithmetic<SineTable, N> for FixedGains<N> {
 /// rare).
 #[cold]
 #[inline(never)]
-fn count_turn<const N: usize>(state: &mut FixedState<N>, from: i32) {
+pub(super) fn count_turn<const N: usize>(state: &mut FixedState<N>, from: i32) {
     state.turns = state
         .turns
         .wrapping_add(i64::from(crossed_turns::<i16>(from, state.next_angle)));
@@ -181,7 +181,7 @@ fn count_turn<const N: usize>(state: &mut FixedState<N>, from: i32) {
 
 /// The whole turns of the estimate's angle: those of the predicted angle (which the state
 /// counts) and the turn between the two, if any.
-fn turns_of_estimate<const N: usize>(state: &FixedState<N>) -> i64 {
+pub(super) fn turns_of_estimate<const N: usize>(state: &FixedState<N>) -> i64 {
     state.turns.wrapping_add(i64::from(crossed_turns::<i16>(
         state.next_angle,
         state.x.angle,
@@ -291,46 +291,13 @@ impl<const N: usize> FixedGains<N> {
         }
     }
 
-    /// A sample that is not a measurement (a chain's front end says so:
-    /// [`Stage::coasts`](crate::Stage::coasts)): the angle takes its prediction and then
-    /// advances by the speed, the speed and the acceleration held (as the float observers
-    /// coast); the next sample ends a window of its own, whose end sets the angle from that
-    /// sample's `atan2` (so that neither a drift of the coast nor a false lock outlasts the
-    /// fault). A state that has no angle yet is left as it is. The front end's flag is the
-    /// chain's to add.
-    #[cold]
-    #[inline(never)]
-    pub(crate) fn coast_front_end(&self, state: &mut FixedState<N>) {
-        if !state.initialised {
-            return;
-        }
-        let from = state.next_angle;
-        state.x.angle = from;
-        if N > 1 {
-            state.next_angle = from.wrapping_add(state.x.speed);
-        }
-        if from
-            .checked_add(state.next_angle.wrapping_sub(from))
-            .is_none()
-        {
-            count_turn(state, from);
-        }
-        state.phase_error = 0;
-        // The next sample ends a window that is not taken for healthy: its end re-acquires.
-        state.error_sum = 1 << 31;
-        state.window_left = 1;
-        state.coasted = state.coasted.saturating_add(1);
-        // A fit under way is cut short by the fault: it starts again after it.
-        state.refit = FixedRefit::new();
-    }
-
     /// The last sample, in counts.
     fn last_sample(state: &FixedState<N>) -> (i32, i32) {
         (i32::from(state.sample[0]), i32::from(state.sample[1]))
     }
 
     /// Half the last sample's square amplitude, `(y_c^2 + y_s^2) / 2`: at most 2^30.
-    fn amplitude2_half(state: &FixedState<N>) -> i32 {
+    pub(super) fn amplitude2_half(state: &FixedState<N>) -> i32 {
         let (y_c, y_s) = Self::last_sample(state);
         // The sum is at most 2^31: in 32 bits unsigned.
         (((y_c * y_c) as u32).wrapping_add((y_s * y_s) as u32) >> 1) as i32
@@ -375,7 +342,7 @@ impl<const N: usize> FixedGains<N> {
     /// `amplitude2`, the window's sum of `|eps|`, the speed and the last sample's in-phase
     /// component at its estimated angle.
     #[inline(always)]
-    fn measures(state: &FixedState<N>, amplitude2: u32) -> FixedMeasures {
+    pub(super) fn measures(state: &FixedState<N>, amplitude2: u32) -> FixedMeasures {
         let (y_c, y_s) = Self::last_sample(state);
         WindowMeasures {
             amplitude2,
@@ -390,122 +357,6 @@ impl<const N: usize> FixedGains<N> {
             // The amplitude is the last sample's: it is the roundness check's too.
             sample2: amplitude2,
         }
-    }
-
-    /// The window's end that [`FixedGains::end_window`] did not find healthy, of half a
-    /// square amplitude `amplitude2`: the first sample's, or one with a fault, whose flags
-    /// are held and latched, and after a false lock the angle re-acquired from the last
-    /// sample, keeping the speed (out of line: rare).
-    #[cold]
-    #[inline(never)]
-    fn end_window_with_fault(&self, state: &mut FixedState<N>, amplitude2: u32) {
-        if !state.initialised {
-            self.initialise(state);
-            return;
-        }
-        if u32::from(state.coasted) >= REFIT_AFTER_COAST {
-            self.refit(state);
-            return;
-        }
-        if state.coasted != 0 {
-            state.coasted = 0;
-            Self::re_acquire(state);
-            return;
-        }
-        if !self.monitor.enabled {
-            return;
-        }
-        let measures = Self::measures(state, amplitude2);
-        if self.monitor.decide_window(
-            &measures,
-            &mut state.faults,
-            &mut state.latched,
-            &mut state.round_hold,
-        ) {
-            Self::re_acquire(state);
-        }
-    }
-
-    /// The angle set from the last sample's `atan2` by the shortest way (the floats'
-    /// [`re_acquired`]), the speed and the acceleration kept (after a false lock or a
-    /// coast).
-    fn re_acquire(state: &mut FixedState<N>) {
-        let [y_c, y_s] = state.sample;
-        let (angle, whole) = re_acquired::<i16>(state.x.angle, y_c, y_s);
-        let turns = turns_of_estimate(state).wrapping_add(i64::from(whole));
-        let speed = Self::corrected_speed(&state.x);
-        let next_angle = Self::next_angle(&FixedVector {
-            angle,
-            speed,
-            ..state.x
-        });
-        state.x.angle = angle;
-        state.next_angle = next_angle;
-        // The state counts the turns of the predicted angle.
-        state.turns = turns.wrapping_add(i64::from(crossed_turns::<i16>(angle, next_angle)));
-    }
-
-    /// One sample of the fit after a long coast (`crate::reacquisition`), at its window's
-    /// end: the angle is the sample's `atan2` (turns counted), flagged
-    /// [`Faults::LOSS_OF_TRACKING`]; at the fit's last sample the state takes the fitted
-    /// angle, speed and acceleration, and the loop tracks from the next sample on.
-    fn refit(&self, state: &mut FixedState<N>) {
-        Self::re_acquire(state);
-        match state.refit.take(state.x.angle) {
-            None => {
-                state.faults = Faults::LOSS_OF_TRACKING;
-                state.latched |= Faults::LOSS_OF_TRACKING;
-            }
-            Some(fitted) => {
-                let turns = turns_of_estimate(state)
-                    .wrapping_add(i64::from(crossed_turns::<i16>(state.x.angle, fitted.angle)));
-                state.x.angle = fitted.angle;
-                state.x.acceleration = if N > 2 { fitted.acceleration } else { 0 };
-                state.x.speed = if N > 2 {
-                    fitted.speed.wrapping_add(speed_change(fitted.acceleration))
-                } else {
-                    fitted.speed
-                };
-                state.next_angle = Self::next_angle(&state.x);
-                state.turns = turns.wrapping_add(i64::from(crossed_turns::<i16>(
-                    state.x.angle,
-                    state.next_angle,
-                )));
-                state.faults = Faults::NONE;
-                state.coasted = 0;
-            }
-        }
-    }
-
-    /// The first sample: the angle from `atan2` ([`sample_angle`], the floats' own), speed
-    /// and acceleration 0, the reciprocal converged on the sample's amplitude, the first
-    /// full window started.
-    #[cold]
-    #[inline(never)]
-    fn initialise(&self, state: &mut FixedState<N>) {
-        let [y_c, y_s] = state.sample;
-        // Every integer sample has an angle (that of (0, 0) is 0), within one turn.
-        let angle = sample_angle(y_c, y_s).map_or(0, |(angle, _)| angle);
-        let amplitude2 = Self::amplitude2_half(state);
-        let latched = state.latched;
-        *state = FixedState::new();
-        state.latched = latched;
-        state.x.angle = angle;
-        state.next_angle = angle;
-        // Until a fixed point (or 24 steps): the same result as 24 steps, and a loop that is
-        // not unrolled into a kilobyte of code.
-        for _ in 0..24 {
-            let next = track_reciprocal(state.reciprocal, amplitude2);
-            if next == state.reciprocal {
-                break;
-            }
-            state.reciprocal = next;
-        }
-        state.window_left = MONITOR_WINDOW;
-        if self.monitor.enabled {
-            state.tracking.arm(self.monitor.tracking_error, 0);
-        }
-        state.initialised = true;
     }
 
     /// The estimate held by `state`.

@@ -3,7 +3,7 @@
 //! wraps them in `angletrack.export` and `angletrack.harmonics`.
 
 use angletrack::FixedDesignConstants;
-use angletrack::export::{self, FixedGainsFile, FloatType, GainsFile};
+use angletrack::export::{FixedGainsFile, FloatType, GainsFile};
 use angletrack::tracker_file::Language;
 use pyo3::conversion::FromPyObjectOwned;
 use pyo3::prelude::*;
@@ -164,19 +164,4 @@ pub fn read_fixed_gains_file<'py>(
     file: &str,
 ) -> Result<Bound<'py, PyDict>> {
     crate::design::constants_dict(py, FixedGainsFile::from_json(text, file)?.constants)
-}
-
-/// Adds the functions to the module.
-pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(gains_source, m)?)?;
-    m.add_function(wrap_pyfunction!(fixed_source, m)?)?;
-    m.add_function(wrap_pyfunction!(calibration_source, m)?)?;
-    m.add("GAINS_FILE_FORMAT", export::GAINS_FILE_FORMAT)?;
-    m.add("FIXED_GAINS_FILE_FORMAT", export::FIXED_GAINS_FILE_FORMAT)?;
-    m.add("GAINS_FILE_VERSION", export::GAINS_FILE_VERSION)?;
-    m.add_function(wrap_pyfunction!(gains_file_json, m)?)?;
-    m.add_function(wrap_pyfunction!(read_gains_file, m)?)?;
-    m.add_function(wrap_pyfunction!(fixed_gains_file_json, m)?)?;
-    m.add_function(wrap_pyfunction!(read_fixed_gains_file, m)?)?;
-    Ok(())
 }

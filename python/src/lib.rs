@@ -4,8 +4,6 @@
 //! This crate only converts: arguments in (checked by `arrays`), results out, errors in
 //! one place (`errors`). Every computation is a call into the Rust crates.
 
-use pyo3::prelude::*;
-
 mod analysis;
 mod angle_calibration;
 mod arrays;
@@ -41,44 +39,138 @@ mod study;
 mod tracker_file;
 mod writer;
 
+/// Adds each constant `NAME` of the crate module `path` to the Python module `m` as
+/// `PREFIX` + `NAME`.
+macro_rules! add_constants {
+    ($m:ident, $prefix:literal, $($path:ident)::+ { $($name:ident),+ }) => {{
+        use $($path)::+ as source;
+        $($m.add(concat!($prefix, stringify!($name)), source::$name)?;)+
+    }};
+}
+
+// Every class, function and constant the extension exports is listed here, once.
 /// The compiled part of the `angletrack` Python package.
-#[pymodule]
-fn _angletrack(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
-    m.add("ConfigError", m.py().get_type::<errors::ConfigError>())?;
-    m.add_class::<gains::PyGains>()?;
-    m.add_class::<observer::PyObserver>()?;
-    m.add_class::<diagnostics::PyFaultThresholds>()?;
-    m.add_class::<calibration::PySensorCalibration>()?;
-    m.add("FAULT_BITS", diagnostics::fault_bits())?;
-    m.add("FRONT_END_FAULT_BITS", diagnostics::front_end_fault_bits())?;
-    m.add_class::<estimates::Estimate>()?;
-    m.add_class::<estimates::Estimates>()?;
-    m.add_function(wrap_pyfunction!(observer::track, m)?)?;
-    m.add_class::<fixed::PyFixedObserver>()?;
-    m.add_class::<fixed_estimates::FixedEstimate>()?;
-    m.add_class::<fixed_estimates::FixedEstimates>()?;
-    m.add_class::<batch::PyObserverBatch>()?;
-    m.add_function(wrap_pyfunction!(batch::track_batch, m)?)?;
-    m.add_function(wrap_pyfunction!(carrier::measured_adc_range, m)?)?;
-    m.add_function(wrap_pyfunction!(carrier::plan_windings, m)?)?;
-    m.add_class::<carrier::PyWindingsPlan>()?;
-    m.add("HELD_RAIL_SAMPLES", angletrack::core::HELD_RAIL_SAMPLES)?;
-    m.add_function(wrap_pyfunction!(counts::capture_counts, m)?)?;
-    m.add_function(wrap_pyfunction!(counts::capture_fault_thresholds, m)?)?;
-    m.add_class::<counts::PyCountsExtremes>()?;
-    m.add_function(wrap_pyfunction!(counts::fixed_input, m)?)?;
-    design_functions::register(m)?;
-    scenario::register(m)?;
-    metrics::register(m)?;
-    paper::register(m)?;
-    capture::register(m)?;
-    resolver::register(m)?;
-    angle_calibration::register(m)?;
-    export::register(m)?;
-    calibration_file::register(m)?;
-    tracker_file::register(m)?;
-    design_capture::register(m)?;
-    study::register(m)?;
-    Ok(())
+#[pyo3::pymodule]
+mod _angletrack {
+    #[pymodule_export]
+    use crate::analysis::{
+        DesignReport, PyPredictedError, PyStepResponse, closed_loop_response,
+        max_trackable_speed_rad_s, predicted_error, predicted_error_on_kalman_model,
+    };
+    #[pymodule_export]
+    use crate::batch::{PyObserverBatch, track_batch};
+    #[pymodule_export]
+    use crate::calibration::PySensorCalibration;
+    #[pymodule_export]
+    use crate::calibration_file::{
+        angle_calibration_from_json, angle_calibration_to_json, calibration_from_json,
+        sensor_calibration_from_json, sensor_calibration_to_json,
+    };
+    #[pymodule_export]
+    use crate::capture::{
+        PyCapture, PyCaptureChunk, PyCaptureReader, check_outputs, read_capture, write_output,
+    };
+    #[pymodule_export]
+    use crate::carrier::{PyWindingsPlan, measured_adc_range, plan_windings};
+    #[pymodule_export]
+    use crate::counts::{PyCountsExtremes, capture_counts, capture_fault_thresholds, fixed_input};
+    #[pymodule_export]
+    use crate::design::{PyDesign, PyKalmanSolution};
+    #[pymodule_export]
+    use crate::design_capture::design_from_capture;
+    #[pymodule_export]
+    use crate::design_functions::{
+        kalman, kalman_from_jerk_density, kalman_from_jerk_std, second_order_bandwidth_ratio,
+        second_order_butterworth, second_order_from_bandwidth, second_order_from_tracking_error,
+        second_order_from_tracking_error_sampled, third_order_butterworth,
+        third_order_from_overshoot, third_order_from_poles,
+    };
+    #[pymodule_export]
+    use crate::diagnostics::PyFaultThresholds;
+    #[pymodule_export]
+    use crate::drive::{PyDriveAngles, PyDriveOutputs};
+    #[pymodule_export]
+    use crate::errors::{CaptureError, ConfigError};
+    #[pymodule_export]
+    use crate::estimates::{Estimate, Estimates};
+    #[pymodule_export]
+    use crate::export::{
+        calibration_source, fixed_gains_file_json, fixed_source, gains_file_json, gains_source,
+        read_fixed_gains_file, read_gains_file,
+    };
+    #[pymodule_export]
+    use crate::fixed::PyFixedObserver;
+    #[pymodule_export]
+    use crate::fixed_estimates::{FixedEstimate, FixedEstimates};
+    #[pymodule_export]
+    use crate::gains::PyGains;
+    #[pymodule_export]
+    use crate::metrics::{PyErrorStatistics, PyMetrics, metrics};
+    #[pymodule_export]
+    use crate::motion::PyMotionProfile;
+    #[pymodule_export]
+    use crate::observer::{PyObserver, track};
+    #[pymodule_export]
+    use crate::paper::{
+        PyPaperSetting, paper_benchmark_gains, paper_compared_observers, paper_settings,
+    };
+    #[pymodule_export]
+    use crate::resolver::{PyDemodulatedPairs, PyDemodulator, PyResolverModel, resolver_windings};
+    #[pymodule_export]
+    use crate::scenario::{PyScenario, PySensorModel};
+    #[pymodule_export]
+    use crate::study::{lot_outliers, study_resolve, study_runs};
+    #[pymodule_export]
+    use crate::writer::{PyOutputFile, PyTableWriter, estimate_columns};
+    use pyo3::prelude::*;
+
+    /// Adds the constants, and the classes and functions of the modules that register their
+    /// own.
+    #[pymodule_init]
+    fn init(m: &Bound<'_, PyModule>) -> PyResult<()> {
+        m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+        m.add("FAULT_BITS", crate::diagnostics::fault_bits())?;
+        m.add(
+            "FRONT_END_FAULT_BITS",
+            crate::diagnostics::front_end_fault_bits(),
+        )?;
+        add_constants!(
+            m,
+            "",
+            angletrack {
+                LARGE_STEP_RAD,
+                SETTLING_BAND,
+                MAX_POLE_TIMES_PERIOD,
+                SENSOR_CALIBRATION_FORMAT,
+                ANGLE_CALIBRATION_FORMAT
+            }
+        );
+        add_constants!(
+            m,
+            "",
+            angletrack::export {
+                GAINS_FILE_FORMAT,
+                FIXED_GAINS_FILE_FORMAT,
+                GAINS_FILE_VERSION
+            }
+        );
+        add_constants!(m, "", angletrack::core { HELD_RAIL_SAMPLES });
+        add_constants!(m, "", angletrack::study { STUDY_FORMAT });
+        add_constants!(
+            m,
+            "PAPER_",
+            angletrack::paper {
+                FIVE_PERCENT_DAMPING,
+                BUTTERWORTH_DAMPING,
+                POLE_RATIO,
+                POLE_FREQUENCY_RATIO,
+                OVERSHOOT_SAMPLE_PERIOD_S,
+                COMPARISON_SAMPLE_PERIOD_S,
+                COMPARISON_BANDWIDTH_HZ,
+                COMPARISON_SENSOR_NOISE_STD
+            }
+        );
+        crate::angle_calibration::register(m)?;
+        crate::tracker_file::register(m)
+    }
 }

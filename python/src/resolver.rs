@@ -246,14 +246,3 @@ pub fn resolver_windings(
     let s = py.detach(move || angletrack::Scenario::resolver_windings(&profile, &model, seed))?;
     Ok(PyScenario::from_scenario(py, s))
 }
-
-/// Adds this module's classes and functions to the extension module.
-pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_class::<PyDemodulator>()?;
-    m.add_class::<PyDemodulatedPairs>()?;
-    m.add_class::<PyResolverModel>()?;
-    m.add_function(wrap_pyfunction!(resolver_windings, m)?)?;
-    m.add_class::<crate::drive::PyDriveOutputs>()?;
-    m.add_class::<crate::drive::PyDriveAngles>()?;
-    Ok(())
-}

@@ -164,11 +164,3 @@ impl PyScenario {
         )
     }
 }
-
-/// Adds this module's classes to the extension module.
-pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_class::<crate::motion::PyMotionProfile>()?;
-    m.add_class::<PySensorModel>()?;
-    m.add_class::<PyScenario>()?;
-    Ok(())
-}

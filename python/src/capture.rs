@@ -37,26 +37,8 @@ fn columns_text(columns: Option<&Bound<'_, PyAny>>) -> Result<String> {
 }
 
 /// The reader's options of the Python arguments, parsed and checked by the crate.
-fn options(
-    columns: Option<&Bound<'_, PyAny>>,
-    delimiter: Option<&str>,
-    decimal: Option<&str>,
-    skip_rows: Count,
-    time_unit: &str,
-    sample_rate_hz: Option<f64>,
-    chunk_rows: Count,
-) -> Result<CaptureOptions> {
-    CaptureOptions::parse(&WrittenCaptureOptions {
-        columns: &columns_text(columns)?,
-        delimiter,
-        decimal,
-        skip_rows: skip_rows.get("skip_rows")?,
-        time_unit,
-        sample_rate_hz,
-        // The crate's rule (at least 2) names it.
-        chunk_rows: chunk_rows.get("chunk_rows")?,
-    })
-    .map_err(|e| Error::value(e.option, e.reason))
+fn options(written: &WrittenCaptureOptions<'_>) -> Result<CaptureOptions> {
+    CaptureOptions::parse(written).map_err(|e| Error::value(e.option, e.reason))
 }
 
 /// `{role: column name}` of the columns used.
@@ -171,7 +153,16 @@ class_methods! {
             sample_rate_hz: Option<f64>,
             chunk_rows: Count,
         ) -> Result<Self> {
-            let options = options(columns, delimiter, decimal, skip_rows, time_unit, sample_rate_hz, chunk_rows)?;
+            let options = options(&WrittenCaptureOptions {
+                columns: &columns_text(columns)?,
+                delimiter,
+                decimal,
+                skip_rows: skip_rows.get("skip_rows")?,
+                time_unit,
+                sample_rate_hz,
+                // The crate's rule (at least 2) names it.
+                chunk_rows: chunk_rows.get("chunk_rows")?,
+            })?;
             Ok(Self {
                 reader: Mutex::new(CoreReader::open(path, options)?),
             })
@@ -250,16 +241,15 @@ pub fn read_capture(
     time_unit: &str,
     sample_rate_hz: Option<f64>,
 ) -> Result<PyCapture> {
-    let chunk_rows = Count::Whole(CaptureOptions::default().chunk_rows as i128);
-    let options = options(
-        columns,
+    let options = options(&WrittenCaptureOptions {
+        columns: &columns_text(columns)?,
         delimiter,
         decimal,
-        skip_rows,
+        skip_rows: skip_rows.get("skip_rows")?,
         time_unit,
         sample_rate_hz,
-        chunk_rows,
-    )?;
+        chunk_rows: CaptureOptions::default().chunk_rows,
+    })?;
     let read_path = path.clone();
     let c: CoreCapture = py.detach(|| core_read_capture(read_path, options))?;
     let samples = c.samples;

@@ -65,11 +65,5 @@ designs! {
 #[pyfunction]
 #[pyo3(signature = (damping))]
 pub fn second_order_bandwidth_ratio(damping: f64) -> Result<f64> {
-    if !(damping > 0.0 && damping <= 1000.0) {
-        return Err(crate::errors::Error::value(
-            "damping",
-            format!("expected 0 < damping <= 1000, got {damping}"),
-        ));
-    }
-    Ok(angletrack::second_order_bandwidth_ratio(damping))
+    Ok(angletrack::second_order_bandwidth_ratio(damping)?)
 }

@@ -240,6 +240,11 @@ pub fn paired_samples<'py, T: Element + Copy>(
     Ok((a, b))
 }
 
+/// The array that takes over `values` (no copy: a whole capture is not held twice).
+pub fn array<T: Element>(py: Python<'_>, values: Vec<T>) -> Py<PyArray1<T>> {
+    PyArray1::from_vec(py, values).unbind()
+}
+
 /// A write borrow of an output array the binding has just created.
 pub fn writable<'py, T: Element>(
     array: &Bound<'py, PyArray1<T>>,

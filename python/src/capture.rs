@@ -13,7 +13,7 @@ use numpy::{PyArray1, ToPyArray};
 use pyo3::prelude::*;
 use pyo3::types::{IntoPyDict, PyDict, PyString};
 
-use crate::arrays::Count;
+use crate::arrays::{Count, array};
 use crate::errors::{Error, Result};
 use crate::getters::class_methods;
 
@@ -47,11 +47,6 @@ fn mapping_dict<'py>(py: Python<'py>, mapping: &[(Role, String)]) -> Result<Boun
         .iter()
         .map(|(role, name)| (role.key(), name))
         .into_py_dict(py)?)
-}
-
-/// The array that takes over `values` (no copy: a whole capture is not held twice).
-fn array(py: Python<'_>, values: Vec<f64>) -> Py<PyArray1<f64>> {
-    PyArray1::from_vec(py, values).unbind()
 }
 
 /// A chunk of a capture: float64 arrays of one length (time in seconds).

@@ -13,11 +13,6 @@ use crate::angle_calibration::SensorParameters;
 use crate::errors::{Error, Result};
 use crate::gains::{PyGains, with_gains};
 
-/// The float type named `dtype` (`"float32"` or `"float64"`).
-fn float_type(dtype: &str) -> Result<FloatType> {
-    Ok(dtype.parse::<FloatType>()?)
-}
-
 /// The language named `language` (`"c"` or `"rust"`), refused naming it.
 pub fn language(language: &str) -> Result<Language> {
     Language::from_name(language).ok_or_else(|| {
@@ -39,7 +34,7 @@ pub fn gains_source(
     dtype: &str,
     description: &str,
 ) -> Result<String> {
-    let (language, float) = (self::language(language)?, float_type(dtype)?);
+    let (language, float) = (self::language(language)?, dtype.parse::<FloatType>()?);
     Ok(with_gains!(gains.set, g => language.gains(&g, float, name, description))?)
 }
 
@@ -103,7 +98,7 @@ pub fn calibration_source(
     dtype: &str,
 ) -> Result<String> {
     let (sensor, correction) = angletrack::stored_stages(sensor, &cos, &sin)?;
-    let (language, float) = (self::language(language)?, float_type(dtype)?);
+    let (language, float) = (self::language(language)?, dtype.parse::<FloatType>()?);
     Ok(language.calibration(&sensor, &correction, float, name)?)
 }
 

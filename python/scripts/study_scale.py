@@ -8,9 +8,11 @@ the runs' time), the waits for the first task and at the end, the CPU time of a 
 thread and of the client, and the whole overhead (wall time x workers less the runs' time,
 over the runs' time); then the spread of the 2-worker / 1-worker throughput ratio, of the
 per-run overhead, and of the ratio the CPU times allow on two free cores (what a loaded
-machine's wall times cannot show).
+machine's wall times cannot show). With ``--baseline``, the same runs first in 1 and then 2
+plain processes (no Dask, no scheduler): what the machine's two cores give two independent
+runs, the ceiling of the workers' ratio.
 
-    python python/scripts/study_scale.py --samples 1000000 --runs 64 --repeat 3
+    python python/scripts/study_scale.py --samples 1000000 --runs 64 --repeat 3 --baseline
 
 Needs the package with its study extra installed; not part of the test command (it times).
 """
@@ -18,12 +20,14 @@ Needs the package with its study extra installed; not part of the test command (
 from __future__ import annotations
 
 import argparse
+import concurrent.futures
 import json
 import math
 import os
 import pathlib
 import statistics
 import tempfile
+import time
 
 import numpy as np
 
@@ -54,11 +58,14 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=64)
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--lot-rows", type=int, default=0)
+    parser.add_argument("--baseline", action="store_true")
     args = parser.parse_args()
     ratios, overheads, estimates = [], [], []
     with tempfile.TemporaryDirectory() as scratch:
         directory = pathlib.Path(scratch)
         path = spec(directory, args.samples, args.runs)
+        if args.baseline:
+            plain_processes(path, args.runs, args.samples, args.repeat)
         for repeat in range(args.repeat):
             throughput, run_s, cpu, client = {}, {}, {}, {}
             for workers in (1, 2):
@@ -91,6 +98,25 @@ def main() -> None:
               f"{max(estimates):.2f}x; load average now {os.getloadavg()[0]:.2f}")
         if args.lot_rows:
             lot_capture(directory, args.lot_rows)
+
+
+def plain_processes(path: pathlib.Path, runs: int, samples: int, repeat: int) -> None:
+    """The runs in 1 and 2 plain processes, one run a call (the machine's ceiling)."""
+    resolved, _ = study.read_spec(path)
+    ratios = []
+    for _ in range(repeat):
+        throughput = {}
+        for processes in (1, 2):
+            with concurrent.futures.ProcessPoolExecutor(processes) as pool:
+                list(pool.map(study.study_task, [resolved] * processes, [[r] for r in range(processes)]))
+                start = time.perf_counter()
+                list(pool.map(study.study_task, [resolved] * runs, [[r] for r in range(runs)]))
+                throughput[processes] = runs * samples / (time.perf_counter() - start)
+        ratios.append(throughput[2] / throughput[1])
+        print(f"plain processes: 1 gives {throughput[1] / 1e6:.2f} M samples/s, 2 give {throughput[2] / 1e6:.2f} "
+              f"M samples/s: {ratios[-1]:.2f}x (load average {os.getloadavg()[0]:.2f})")
+    print(f"plain processes' ratio over {repeat} repeats: min {min(ratios):.2f}x, median "
+          f"{statistics.median(ratios):.2f}x, max {max(ratios):.2f}x")
 
 
 def lot_capture(directory: pathlib.Path, rows: int) -> None:

@@ -4,7 +4,8 @@
 //! `Calibration`, `CalibratedObserver`).
 
 use angletrack::{
-    CalibrationError, CalibrationOptions, CaptureCalibration, CaptureCalibrator, ChannelOptions,
+    AnyChannel, CalibrationError, CalibrationOptions, CaptureCalibration, CaptureCalibrator,
+    ChannelOptions, with_any_channel,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -15,7 +16,7 @@ use crate::dispatch::RunSettings;
 use crate::errors::{Error, Result};
 use crate::estimates::Estimates;
 use crate::gains::{GainSet, PyGains, with_gains};
-use crate::observer::ObserverOps;
+use crate::observer::run_channel;
 
 /// The sensor calibration `(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)`.
 pub type SensorParameters = (f64, f64, f64, f64, f64);
@@ -168,7 +169,7 @@ pub fn learned_dict<'py>(
 #[pyclass(name = "_CorrectedObserver", module = "angletrack")]
 #[derive(Debug)]
 pub struct PyCorrectedObserver {
-    inner: Box<dyn ObserverOps>,
+    inner: AnyChannel,
 }
 
 #[pymethods]
@@ -197,7 +198,7 @@ impl PyCorrectedObserver {
         };
         let settings = RunSettings::from_arguments(gains, dtype, sin_cos)?;
         Ok(Self {
-            inner: settings.typed_gains()?.observer(&options, None)?,
+            inner: settings.channel(&options)?,
         })
     }
 
@@ -209,7 +210,9 @@ impl PyCorrectedObserver {
         y_c: &Bound<'_, PyAny>,
         y_s: &Bound<'_, PyAny>,
     ) -> Result<Estimates> {
-        self.inner.run(py, y_c, y_s, None)
+        with_any_channel!(AnyChannel, &mut self.inner, c => {
+            run_channel(py, c, None, (y_c, y_s), None)
+        })
     }
 }
 

@@ -1,7 +1,7 @@
 //! `ObserverBatch` and `track_batch`: many channels on one gain set (the design crate's
 //! `ChannelBatch`, run by the core's vectorisable `ChannelBank`s) on 2-D numpy arrays.
 
-use angletrack::ChannelBatch;
+use angletrack::{AnyBatch, ChannelBatch, with_any_channel};
 use pyo3::prelude::*;
 
 use crate::arrays::{Float, channel_samples};
@@ -11,59 +11,45 @@ use crate::estimates::{Estimates, OutputSelection, run_estimates};
 use crate::gains::PyGains;
 use crate::getters::class_methods;
 
-/// A batch of concrete types behind the one dispatch (`crate::dispatch`).
-pub trait RunBatch: core::fmt::Debug + Send + Sync {
-    /// Runs over 2-D `y_c`, `y_s` (channels x samples) and returns the estimates in
-    /// `outputs`, shaped like the inputs; the state carries over to the next call.
-    fn run(
-        &mut self,
-        py: Python<'_>,
-        y_c: Arg<'_, '_>,
-        y_s: Arg<'_, '_>,
-        outputs: OutputSelection,
-    ) -> Result<Estimates>;
-}
-
-impl<T: Sample, const N: usize, S: PhaseSinCos<T>> RunBatch for ChannelBatch<T, N, S> {
-    fn run(
-        &mut self,
-        py: Python<'_>,
-        y_c: Arg<'_, '_>,
-        y_s: Arg<'_, '_>,
-        outputs: OutputSelection,
-    ) -> Result<Estimates> {
-        let (y_c, channels_c, samples) = channel_samples::<T>(y_c, "y_c")?;
-        let (y_s, channels_s, samples_s) = channel_samples::<T>(y_s, "y_s")?;
-        if (channels_c, samples) != (channels_s, samples_s) {
-            return Err(Error::value(
-                "y_s",
-                format!(
-                    "has shape ({channels_s}, {samples_s}) but y_c has ({channels_c}, {samples}): \
-                     they must be equal"
-                ),
-            ));
-        }
-        if channels_c != self.channels() {
-            return Err(Error::value(
-                "y_c",
-                format!(
-                    "has {channels_c} channels (rows) but the batch has {}",
-                    self.channels()
-                ),
-            ));
-        }
-        let (y_c, y_s) = (
-            crate::arrays::samples::<T>(&y_c, "y_c")?,
-            crate::arrays::samples::<T>(&y_s, "y_s")?,
-        );
-        let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
-        let shape = Some((channels_c, samples));
-        let (run, estimates) = run_estimates(py, channels_c * samples, (outputs, shape), |c| {
-            ChannelBatch::run(self, y_c, y_s, samples, c)
-        })?;
-        run?;
-        Ok(estimates)
+/// Runs `batch` over 2-D `y_c`, `y_s` (channels x samples) and returns the estimates in
+/// `outputs`, shaped like the inputs; the state carries over to the next call.
+fn run_batch<T: Sample, const N: usize, S: PhaseSinCos<T>>(
+    py: Python<'_>,
+    batch: &mut ChannelBatch<T, N, S>,
+    (y_c, y_s): (Arg<'_, '_>, Arg<'_, '_>),
+    outputs: OutputSelection,
+) -> Result<Estimates> {
+    let (y_c, channels_c, samples) = channel_samples::<T>(y_c, "y_c")?;
+    let (y_s, channels_s, samples_s) = channel_samples::<T>(y_s, "y_s")?;
+    if (channels_c, samples) != (channels_s, samples_s) {
+        return Err(Error::value(
+            "y_s",
+            format!(
+                "has shape ({channels_s}, {samples_s}) but y_c has ({channels_c}, {samples}): \
+                 they must be equal"
+            ),
+        ));
     }
+    if channels_c != batch.channels() {
+        return Err(Error::value(
+            "y_c",
+            format!(
+                "has {channels_c} channels (rows) but the batch has {}",
+                batch.channels()
+            ),
+        ));
+    }
+    let (y_c, y_s) = (
+        crate::arrays::samples::<T>(&y_c, "y_c")?,
+        crate::arrays::samples::<T>(&y_s, "y_s")?,
+    );
+    let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
+    let shape = Some((channels_c, samples));
+    let (run, estimates) = run_estimates(py, channels_c * samples, (outputs, shape), |c| {
+        batch.run(y_c, y_s, samples, c)
+    })?;
+    run?;
+    Ok(estimates)
 }
 
 /// Many independent observers on one gain set: `channels` channels (several axes, a Monte
@@ -80,14 +66,13 @@ impl<T: Sample, const N: usize, S: PhaseSinCos<T>> RunBatch for ChannelBatch<T, 
 #[pyclass(name = "ObserverBatch", module = "angletrack", extends = RunSettings)]
 #[derive(Debug)]
 pub struct PyObserverBatch {
-    channels: usize,
-    inner: Box<dyn RunBatch>,
+    inner: AnyBatch,
 }
 
 class_methods! {
     PyObserverBatch {
         /// The number of channels.
-        channels: usize = |this, py| this.channels;
+        channels: usize = |this, py| this.inner.channels();
     }
     methods {
         #[new]
@@ -99,10 +84,9 @@ class_methods! {
             sin_cos: Option<&str>,
         ) -> Result<PyClassInitializer<Self>> {
             let channels = channels.at_least("channels", 1)?;
-            RunSettings::from_arguments(gains, dtype, sin_cos)?.subclass(|gains| {
-                let inner = gains.batch(channels)?;
-                Ok(Self { channels, inner })
-            })
+            let settings = RunSettings::from_arguments(gains, dtype, sin_cos)?;
+            let inner = settings.batch(channels)?;
+            Ok(settings.subclass(Self { inner }))
         }
 
         /// Runs every channel over its samples: `y_c`, `y_s` are 2-D arrays (channels x
@@ -118,13 +102,13 @@ class_methods! {
             outputs: Option<Arg<'_, '_>>,
         ) -> Result<Estimates> {
             let outputs = OutputSelection::from_argument(outputs)?;
-            self.inner.run(py, y_c, y_s, outputs)
+            with_any_channel!(AnyBatch, &mut self.inner, b => run_batch(py, b, (y_c, y_s), outputs))
         }
 
         fn __repr__(slf: PyRef<'_, Self>) -> String {
             format!(
                 "ObserverBatch(channels={}, {})",
-                slf.channels,
+                slf.inner.channels(),
                 slf.as_super().describe()
             )
         }
@@ -154,8 +138,6 @@ pub fn track_batch(
         .and_then(|s| s.get_item(0))
         .and_then(|c| c.extract::<usize>())
         .map_err(|_| Error::value("y_c", "expected a 2-D array (channels x samples)"))?;
-    settings
-        .typed_gains()?
-        .batch(channels)?
-        .run(py, y_c, y_s, outputs)
+    let mut batch = settings.batch(channels)?;
+    with_any_channel!(AnyBatch, &mut batch, b => run_batch(py, b, (y_c, y_s), outputs))
 }

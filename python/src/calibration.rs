@@ -100,10 +100,10 @@ class_methods! {
             for (value, name) in values.iter_mut().zip(FIELDS) {
                 let item = d
                     .get_item(name)?
-                    .ok_or_else(|| Error::value(name_of(name), "missing from the dict"))?;
+                    .ok_or_else(|| Error::value(name, "missing from the dict"))?;
                 *value = item
                     .extract::<f64>()
-                    .map_err(|_| Error::value(name_of(name), "must be a number"))?;
+                    .map_err(|_| Error::value(name, "must be a number"))?;
             }
             let [o_c, o_s, a_c, a_s, q] = values;
             Self::py_new(o_c, o_s, a_c, a_s, q)
@@ -117,15 +117,6 @@ class_methods! {
             )
         }
     }
-}
-
-/// A field's name as a `'static` parameter name of an error.
-fn name_of(name: &str) -> &'static str {
-    FIELDS
-        .iter()
-        .find(|f| **f == name)
-        .copied()
-        .unwrap_or("calibration")
 }
 
 /// The online calibration of the arguments `calibration` (`None`, `"learn"` or `"frozen"`)

@@ -265,28 +265,6 @@ pub fn capture_fault_thresholds(
     Ok(crate::diagnostics::PyFaultThresholds::from_typed(&t))
 }
 
-/// How a capture's counts reach the fixed-point observer, from its first samples `y_c`,
-/// `y_s` and the capture's `mid_scale` (`capture_counts`'s; `angletrack::fixed_input`):
-/// `(mid_scale_counts, input_shift, amplitude, nominal_amplitude)`, the last the monitor's
-/// (the `FixedObserver` arguments). A `ConfigError` naming `mid_scale_counts` beyond an
-/// int32.
-#[pyfunction]
-#[pyo3(signature = (y_c, y_s, mid_scale))]
-pub fn fixed_input(
-    y_c: &Bound<'_, PyAny>,
-    y_s: &Bound<'_, PyAny>,
-    mid_scale: u64,
-) -> Result<(i32, u32, f64, f64)> {
-    let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
-    let i = angletrack::fixed_input(c.as_slice(), s.as_slice(), mid_scale)?;
-    Ok((
-        i.mid_scale_counts,
-        i.shift,
-        i.amplitude,
-        i.monitor_amplitude,
-    ))
-}
-
 /// Refuses (naming `parameter`) an array of samples that is not 1-D and non-empty.
 fn one_dimensional(array: &Bound<'_, PyUntypedArray>, parameter: &'static str) -> Result<()> {
     if array.ndim() == 1 && array.len() > 0 {

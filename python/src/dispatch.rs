@@ -1,58 +1,19 @@
-//! The one dispatch from what a Python caller chooses at run time (float type, order,
-//! sin/cos) to the concrete generic types of the Rust crates, and the settings `Observer` and
-//! `ObserverBatch` share (their common base class, with its getters).
+//! The settings `Observer` and `ObserverBatch` share (their common base class, with its
+//! getters): what a Python caller chooses at run time (gains, float type, sin/cos), handed
+//! to the crate, which chooses the concrete generic types once (`angletrack::AnyChannel`,
+//! `angletrack::AnyBatch`).
 
-use core::fmt::Debug;
-
-use angletrack::{ChannelBatch, ChannelOptions, TrackerChannel, convert_gains};
-use angletrack_core::{Exact, Fast, Gains as CoreGains, Real, SinCos};
+use angletrack::export::FloatType;
+use angletrack::tracker_file::SinCosKind;
+use angletrack::{AnyBatch, AnyChannel, ChannelOptions};
+use angletrack_core::{Real, SinCos};
 use numpy::Element;
 use pyo3::prelude::*;
 
 use crate::arrays::Float;
-use crate::batch::RunBatch;
 use crate::errors::{Error, Result};
 use crate::gains::{GainSet, PyGains};
 use crate::getters::class_methods;
-use crate::observer::ObserverOps;
-use crate::observer_channel::Channel;
-
-/// Which sin/cos the phase detector uses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SinCosKind {
-    /// The core's branch-free polynomial (`Fast`).
-    Fast,
-    /// `libm` (`Exact`).
-    Exact,
-}
-
-impl SinCosKind {
-    /// The sin/cos named `name`; `None` gives the core's default for the float type (the
-    /// fast one in float32, whose error of 2 ulp of 1 is float32's own scale; the exact one
-    /// in float64).
-    pub fn parse(name: Option<&str>, float: Float) -> Result<Self> {
-        match name {
-            None => Ok(match float {
-                Float::F32 => SinCosKind::Fast,
-                Float::F64 => SinCosKind::Exact,
-            }),
-            Some("fast") => Ok(SinCosKind::Fast),
-            Some("exact") => Ok(SinCosKind::Exact),
-            Some(other) => Err(Error::value(
-                "sin_cos",
-                format!("expected 'fast' or 'exact', got {other:?}"),
-            )),
-        }
-    }
-
-    /// Its name in the Python API.
-    pub fn name(self) -> &'static str {
-        match self {
-            SinCosKind::Fast => "fast",
-            SinCosKind::Exact => "exact",
-        }
-    }
-}
 
 /// A float type the binding runs observers on: one of the core's, that numpy stores.
 pub trait Sample: Real + Element {}
@@ -60,39 +21,8 @@ impl<T: Real + Element> Sample for T {}
 
 /// A sin/cos of the phase detector, as the observers the binding keeps in Python objects
 /// (shared between threads) hold it.
-pub trait PhaseSinCos<T: Real>: SinCos<T> + Debug + Send + Sync {}
-impl<T: Real, S: SinCos<T> + Debug + Send + Sync> PhaseSinCos<T> for S {}
-
-/// Gains of the float type, order and sin/cos a caller chose, behind one object: what an
-/// `Observer` or an `ObserverBatch` is built from.
-pub trait TypedGains {
-    /// A core observer with `options` (diagnostics, ADC counts, calibration); `stated`: the
-    /// first ADC argument the caller gave (refused with float samples).
-    fn observer(
-        &self,
-        options: &ChannelOptions,
-        stated: Option<&'static str>,
-    ) -> Result<Box<dyn ObserverOps>>;
-    /// A batch of `channels` observers (the input check only, no diagnostics).
-    fn batch(&self, channels: usize) -> Result<Box<dyn RunBatch>>;
-}
-
-impl<T: Sample, const N: usize, S: PhaseSinCos<T>> TypedGains for CoreGains<T, N, S> {
-    fn observer(
-        &self,
-        options: &ChannelOptions,
-        stated: Option<&'static str>,
-    ) -> Result<Box<dyn ObserverOps>> {
-        Ok(Box::new(Channel {
-            inner: TrackerChannel::new(*self, options)?,
-            stated,
-        }))
-    }
-
-    fn batch(&self, channels: usize) -> Result<Box<dyn RunBatch>> {
-        Ok(Box::new(ChannelBatch::new(*self, channels)?))
-    }
-}
+pub trait PhaseSinCos<T: Real>: SinCos<T> + Send + Sync {}
+impl<T: Real, S: SinCos<T> + Send + Sync> PhaseSinCos<T> for S {}
 
 /// A Python argument as the binding receives it, converted where it is used.
 pub type Arg<'a, 'py> = &'a Bound<'py, PyAny>;
@@ -118,9 +48,20 @@ impl RunSettings {
         Self::new(gains, Float::from_dtype_like(dtype, "dtype")?, sin_cos)
     }
 
-    /// The settings for `gains` in the float type `float` with the sin/cos named `sin_cos`.
+    /// The settings for `gains` in the float type `float` with the sin/cos named `sin_cos`
+    /// (`'fast'` or `'exact'`; `None`: the float type's default).
     pub fn new(gains: PyGains, float: Float, sin_cos: Option<&str>) -> Result<Self> {
-        let sin_cos = SinCosKind::parse(sin_cos, float)?;
+        let sin_cos = match sin_cos {
+            None => SinCosKind::Default,
+            Some("fast") => SinCosKind::Fast,
+            Some("exact") => SinCosKind::Exact,
+            Some(other) => {
+                return Err(Error::value(
+                    "sin_cos",
+                    format!("expected 'fast' or 'exact', got {other:?}"),
+                ));
+            }
+        };
         Ok(Self {
             gains,
             float,
@@ -133,36 +74,45 @@ impl RunSettings {
         &self.gains.set
     }
 
-    /// The gains in the chosen float type (checked again there: rounding to float32 can
-    /// leave the stability region at its edge) with the chosen sin/cos.
-    pub fn typed_gains(&self) -> Result<Box<dyn TypedGains>> {
+    fn float_type(&self) -> FloatType {
         match self.float {
-            Float::F32 => self.with_float::<f32>(),
-            Float::F64 => self.with_float::<f64>(),
+            Float::F32 => FloatType::F32,
+            Float::F64 => FloatType::F64,
         }
     }
 
-    fn with_float<T: Sample>(&self) -> Result<Box<dyn TypedGains>> {
-        match self.sin_cos {
-            SinCosKind::Fast => self.with_types::<T, Fast>(),
-            SinCosKind::Exact => self.with_types::<T, Exact>(),
+    /// The crate's chain of one observer with these settings and `options`.
+    pub fn channel(&self, options: &ChannelOptions) -> Result<AnyChannel> {
+        Ok(AnyChannel::new(
+            &self.gains.set,
+            self.float_type(),
+            self.sin_cos,
+            options,
+        )??)
+    }
+
+    /// The crate's batch of `channels` observers with these settings.
+    pub fn batch(&self, channels: usize) -> Result<AnyBatch> {
+        Ok(AnyBatch::new(
+            &self.gains.set,
+            self.float_type(),
+            self.sin_cos,
+            channels,
+        )?)
+    }
+
+    /// The sin/cos's name in the Python API: `'fast'` or `'exact'`.
+    fn sin_cos_name(&self) -> &'static str {
+        if self.sin_cos.is_exact(self.float == Float::F64) {
+            "exact"
+        } else {
+            "fast"
         }
     }
 
-    fn with_types<T: Sample, S: PhaseSinCos<T>>(&self) -> Result<Box<dyn TypedGains>> {
-        Ok(match &self.gains.set {
-            GainSet::Second(g) => Box::new(convert_gains::<T, 2>(g)?.with_sin_cos::<S>()),
-            GainSet::Third(g) => Box::new(convert_gains::<T, 3>(g)?.with_sin_cos::<S>()),
-        })
-    }
-
-    /// The initialiser of a subclass whose value `class` makes from the typed gains.
-    pub fn subclass<C: pyo3::PyClass<BaseType = Self>>(
-        self,
-        class: impl FnOnce(&dyn TypedGains) -> Result<C>,
-    ) -> Result<PyClassInitializer<C>> {
-        let value = class(self.typed_gains()?.as_ref())?;
-        Ok(PyClassInitializer::from(self).add_subclass(value))
+    /// The initialiser of a subclass whose value is `value`.
+    pub fn subclass<C: pyo3::PyClass<BaseType = Self>>(self, value: C) -> PyClassInitializer<C> {
+        PyClassInitializer::from(self).add_subclass(value)
     }
 
     /// `order=..., dtype=..., sin_cos=..., sample_period_s=...` for the subclasses' `repr`.
@@ -171,7 +121,7 @@ impl RunSettings {
             "order={}, dtype={}, sin_cos={}, sample_period_s={:e}",
             self.gains.set.order(),
             self.float.name(),
-            self.sin_cos.name(),
+            self.sin_cos_name(),
             self.gains.set.sample_period()
         )
     }
@@ -184,13 +134,11 @@ class_methods! {
         /// The float type it runs on: 'float32' or 'float64'.
         dtype: &'static str = |this, py| this.float.name();
         /// The phase detector's sin/cos: 'fast' (polynomial) or 'exact' (libm).
-        sin_cos: &'static str = |this, py| this.sin_cos.name();
+        sin_cos: &'static str = |this, py| this.sin_cos_name();
         /// The observer order (2 or 3).
         order: usize = |this, py| this.gains.set.order();
         /// The sample period (s).
         sample_period_s: f64 = |this, py| this.gains.set.sample_period();
     }
-    methods {
-
-    }
+    methods {}
 }

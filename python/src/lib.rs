@@ -31,7 +31,6 @@ mod metrics;
 mod model_class;
 mod motion;
 mod observer;
-mod observer_channel;
 mod paper;
 mod resolver;
 mod scenario;
@@ -68,7 +67,7 @@ mod _angletrack {
             PyCapture, PyCaptureChunk, PyCaptureReader, check_outputs, read_capture, write_output,
         },
         carrier::{PyWindingsPlan, measured_adc_range, plan_windings},
-        counts::{PyCountsExtremes, capture_counts, capture_fault_thresholds, fixed_input},
+        counts::{PyCountsExtremes, capture_counts, capture_fault_thresholds},
         design::{PyDesign, PyKalmanSolution},
         design_capture::design_from_capture,
         design_functions::{

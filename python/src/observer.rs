@@ -1,10 +1,13 @@
-//! `Observer` and `track`: the core's observer on 1-D numpy arrays.
+//! `Observer` and `track`: the crate's chain of one observer (`angletrack::AnyChannel`) on
+//! 1-D numpy arrays.
 //!
-//! The per-sample work is the core's `Gains::update`; this module only moves samples in and
-//! estimates out, with the GIL released, straight into preallocated arrays that numpy owns.
+//! The per-sample work is the core's `Tracker::update`; this module only moves samples in
+//! and estimates out, with the GIL released, straight into preallocated arrays that numpy
+//! owns.
 
-use angletrack::{ChannelOptions, ChannelStatus, OnlineCalibrationChoice, mode_name, status_name};
-use angletrack_core::Faults;
+use angletrack::{
+    AnyChannel, ChannelOptions, TrackerChannel, mode_name, status_name, with_any_channel,
+};
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 
@@ -12,38 +15,30 @@ use crate::arrays::{Count, Float};
 use crate::calibration::{PySensorCalibration, calibration_choice};
 use crate::counts::adc_settings;
 use crate::diagnostics::PyFaultThresholds;
-use crate::dispatch::{Arg, RunSettings};
+use crate::dispatch::{Arg, PhaseSinCos, RunSettings, Sample};
 use crate::errors::{Error, Result};
-use crate::estimates::{Estimate, Estimates};
+use crate::estimates::{Estimate, Estimates, OutputSelection, run_estimates};
 use crate::gains::PyGains;
 use crate::getters::class_methods;
 
-/// What `Observer` does with the core observer of whichever float type, order and sin/cos
-/// its settings chose.
-pub trait ObserverOps: core::fmt::Debug + Send + Sync {
-    /// Runs over `y_c`, `y_s` with the front-end faults of each sample (`None`: none given)
-    /// and returns the estimates of every sample; the state carries over to the next call.
-    fn run(
-        &mut self,
-        py: Python<'_>,
-        y_c: Arg<'_, '_>,
-        y_s: Arg<'_, '_>,
-        front_end_faults: Option<&[u8]>,
-    ) -> Result<Estimates>;
-    /// What the observer's state holds now.
-    fn status(&self) -> ChannelStatus;
-    fn reset(&mut self);
-    /// Sets the angle from one sample, refusing (naming it) a sample that is not finite.
-    fn initialise(&mut self, y_c: f64, y_s: f64) -> Result<()>;
-    /// Sets the state, refusing (naming the argument) a value the state cannot hold.
-    fn set_state(
-        &mut self,
-        angle_rad: f64,
-        speed_rad_s: f64,
-        acceleration_rad_s2: f64,
-    ) -> Result<()>;
-    fn clear_faults(&mut self) -> Faults;
-    fn set_calibration(&mut self, choice: &OnlineCalibrationChoice) -> Result<()>;
+/// Runs `channel` over `y_c`, `y_s` (floats of its type, or counts it scales) with the
+/// front-end faults of each sample (`None`: none given) and returns the estimates of every
+/// sample; `stated`: the first ADC argument the caller gave (refused with float samples).
+pub fn run_channel<T: Sample, const N: usize, S: PhaseSinCos<T>>(
+    py: Python<'_>,
+    channel: &mut TrackerChannel<T, N, S>,
+    stated: Option<&'static str>,
+    (y_c, y_s): (Arg<'_, '_>, Arg<'_, '_>),
+    front_end_faults: Option<&[u8]>,
+) -> Result<Estimates> {
+    let counts = crate::counts::is_counts(y_c);
+    let (y_c, y_s) = crate::counts::signals(&mut channel.input, stated, y_c, y_s)?;
+    let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
+    channel.prepare(counts, (y_c, y_s), front_end_faults)?;
+    let ((), estimates) = run_estimates(py, y_c.len(), (OutputSelection::ALL, None), |columns| {
+        channel.run(columns, (y_c, y_s), front_end_faults)
+    })?;
+    Ok(estimates)
 }
 
 /// An angle tracking observer running on numpy arrays: checked gains plus a state that
@@ -87,7 +82,9 @@ pub trait ObserverOps: core::fmt::Debug + Send + Sync {
 #[pyclass(name = "Observer", module = "angletrack", extends = RunSettings)]
 #[derive(Debug)]
 pub struct PyObserver {
-    inner: Box<dyn ObserverOps>,
+    inner: AnyChannel,
+    /// The first ADC argument the caller gave.
+    stated: Option<&'static str>,
 }
 
 class_methods! {
@@ -153,10 +150,9 @@ class_methods! {
                 winding_amplitude,
                 ..ChannelOptions::default()
             };
-            RunSettings::from_arguments(gains, dtype, sin_cos)?.subclass(|gains| {
-                let inner = gains.observer(&options, adc.stated)?;
-                Ok(Self { inner })
-            })
+            let settings = RunSettings::from_arguments(gains, dtype, sin_cos)?;
+            let inner = settings.channel(&options)?;
+            Ok(settings.subclass(Self { inner, stated: adc.stated }))
         }
 
         /// Runs the observer over the samples `y_c ~ cos(theta)`, `y_s ~ sin(theta)` (1-D,
@@ -185,7 +181,10 @@ class_methods! {
                         "expected a contiguous uint8 array".to_string(),
                     )
                 })?;
-            self.inner.run(py, y_c, y_s, faults)
+            let stated = self.stated;
+            with_any_channel!(AnyChannel, &mut self.inner, c => {
+                run_channel(py, c, stated, (y_c, y_s), faults)
+            })
         }
 
         /// Forgets the state: the next sample initialises the observer from its `atan2`. Keeps
@@ -198,7 +197,7 @@ class_methods! {
         /// Refuses (`ConfigError`) a sample that is not finite.
         #[pyo3(signature = (y_c, y_s))]
         fn initialise(&mut self, y_c: f64, y_s: f64) -> Result<()> {
-            self.inner.initialise(y_c, y_s)
+            Ok(self.inner.initialise(y_c, y_s)?)
         }
 
         /// Starts from a known angle (rad: wrapped, whole turns counted, within +-2^31 turns),
@@ -212,8 +211,9 @@ class_methods! {
             speed_rad_s: f64,
             acceleration_rad_s2: f64,
         ) -> Result<()> {
-            self.inner
-                .set_state(angle_rad, speed_rad_s, acceleration_rad_s2)
+            Ok(self
+                .inner
+                .set_state(angle_rad, speed_rad_s, acceleration_rad_s2)?)
         }
 
         /// Returns the latched faults (bits) and clears them.
@@ -230,7 +230,7 @@ class_methods! {
             initial_calibration: Option<PySensorCalibration>,
         ) -> Result<()> {
             let choice = calibration_choice(calibration, initial_calibration)?;
-            self.inner.set_calibration(&choice)
+            Ok(self.inner.set_calibration(&choice)?)
         }
 
         fn __repr__(slf: PyRef<'_, Self>) -> String {
@@ -282,8 +282,8 @@ pub fn track(
         adc_range,
         ..ChannelOptions::default()
     };
-    settings
-        .typed_gains()?
-        .observer(&options, adc.stated)?
-        .run(py, y_c, y_s, None)
+    let mut channel = settings.channel(&options)?;
+    with_any_channel!(AnyChannel, &mut channel, c => {
+        run_channel(py, c, adc.stated, (y_c, y_s), None)
+    })
 }

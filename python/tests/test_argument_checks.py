@@ -121,7 +121,6 @@ def test_set_state_keeps_what_it_is_given_within_the_limits():
 
 @pytest.mark.parametrize("function, second, kwargs, cut", [
     (X.CountsExtremes().add, "y_s", {}, 1),
-    (X.fixed_input, "y_s", dict(mid_scale=2048), 5),
     (X.measured_adc_range, "y_s", {}, 3),
     (X.plan_windings, "first_s", dict(carrier_hz=10e3, capture_hz=160e3), 7),
 ])

@@ -161,7 +161,7 @@ functions_of() {
 # insns SAMPLES VARIANT [block]: "ALL IN_RANGES", the instructions executed by a count run and
 # those of them inside the address ranges $ranges (ALL again if $ranges is empty).
 insns() {
-  local log="$target_dir/insns.log" all in_ranges
+  local log="$target_dir/insns-$core.log" all in_ranges
   rm -f "$log"
   plugin_option="$plugin,out=$log${ranges:+,ranges=$ranges}" qemu count "$2" "$1" ${3:+"$3"} >&2
   all=$(sed -n 's/^insns_executed: //p' "$log")
@@ -278,11 +278,28 @@ run_core() {
 cores=("$@")
 [ ${#cores[@]} -gt 0 ] || cores=(m4 m0)
 counts="$target_dir/counts.txt"
+# The cores run side by side: QEMU runs a firmware on one host thread, so each core's runs
+# take a host core of their own (their builds wait for each other on cargo's lock). Each
+# core's output is kept apart and printed in the cores' order when all have finished.
+pids=()
 for c in "${cores[@]}"; do
-  run_core "$c"
-  # The C API's calls of the same chains (c/run.sh, the library built in the workspace's
-  # target directory), budgeted beside them.
-  if [ "$c" = m0 ]; then env -u CARGO_TARGET_DIR bash c/run.sh count m0; fi
-done | tee "$counts"
+  (
+    run_core "$c"
+    # The C API's calls of the same chains (c/run.sh, the library built in the workspace's
+    # target directory), budgeted beside them.
+    if [ "$c" = m0 ]; then env -u CARGO_TARGET_DIR bash c/run.sh count m0; fi
+  ) >"$target_dir/counts-$c.txt" 2>"$target_dir/counts-$c.log" &
+  pids+=($!)
+done
+failed=0
+for i in "${!cores[@]}"; do
+  wait "${pids[$i]}" || { failed=1; echo "FAIL: the firmware test on ${cores[$i]} (its output below)" >&2; }
+done
+: >"$counts"
+for c in "${cores[@]}"; do
+  cat "$target_dir/counts-$c.log" >&2
+  tee -a "$counts" <"$target_dir/counts-$c.txt"
+done
+[ "$failed" -eq 0 ] || exit 1
 bash budgets.sh check "$counts" "${cores[@]}"
 bash budgets.sh tamper "$counts" "${cores[@]}"

@@ -225,7 +225,7 @@
  * crate's version and the sizes, which change it without a bump). `at_layout_version()`
  * returns the library's, to compare with the header's at start-up.
  */
-#define AT_LAYOUT_VERSION 8
+#define AT_LAYOUT_VERSION 9
 
 /**
  * The entries of an angle-correction table (`at_angle_correction_table_f32`,
@@ -295,6 +295,12 @@ typedef struct at_fault_thresholds_f32 {
    * `ROUNDNESS_HOLD_WINDOWS` windows (default 0.1); 0: no check.
    */
   float magnitude_tolerance;
+  /**
+   * One sample's normalised phase error (about the sine of its angle error, electrical)
+   * above this: loss of tracking at once, on that sample, held while it stays above a
+   * fraction of this (the loop re-converging) and latched (default 0.05, positive).
+   */
+  float tracking_error;
 } at_fault_thresholds_f32;
 
 /**
@@ -1056,6 +1062,16 @@ typedef struct at_demodulator_state_f32 {
  */
 #define AT_ERR_CURVE 52
 
+/**
+ * Fault threshold `tracking_error`.
+ */
+#define AT_ERR_TRACKING_ERROR 56
+
+/**
+ * Fault threshold `magnitude_tolerance`.
+ */
+#define AT_ERR_MAGNITUDE_TOLERANCE 57
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -1707,8 +1723,9 @@ struct at_fixed_estimate at_chain_fixed_update_i32(const struct at_chain_fixed *
                                                    int32_t raw_s);
 
 /**
- * `at_chain_fixed_track_i16` for a chain of order 2 only, its body inlined: no
- * dispatch on the order, and an image that calls no other order's links one body.
+ * `at_chain_fixed_track_i16` for a chain of order 2 only: no dispatch on the
+ * order (the checks, then the chain's body), and an image that calls no other order's
+ * links one body.
  * `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
  *
  * # Safety
@@ -1720,8 +1737,9 @@ uint32_t at_chain_fixed_track_i16_order2(const struct at_chain_fixed *chain,
                                          int16_t raw_s);
 
 /**
- * `at_chain_fixed_track_i16` for a chain of order 3 only, its body inlined: no
- * dispatch on the order, and an image that calls no other order's links one body.
+ * `at_chain_fixed_track_i16` for a chain of order 3 only: no dispatch on the
+ * order (the checks, then the chain's body), and an image that calls no other order's
+ * links one body.
  * `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
  *
  * # Safety
@@ -1733,8 +1751,9 @@ uint32_t at_chain_fixed_track_i16_order3(const struct at_chain_fixed *chain,
                                          int16_t raw_s);
 
 /**
- * `at_chain_fixed_track_u16` for a chain of order 2 only, its body inlined: no
- * dispatch on the order, and an image that calls no other order's links one body.
+ * `at_chain_fixed_track_u16` for a chain of order 2 only: no dispatch on the
+ * order (the checks, then the chain's body), and an image that calls no other order's
+ * links one body.
  * `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
  *
  * # Safety
@@ -1746,8 +1765,9 @@ uint32_t at_chain_fixed_track_u16_order2(const struct at_chain_fixed *chain,
                                          uint16_t raw_s);
 
 /**
- * `at_chain_fixed_track_u16` for a chain of order 3 only, its body inlined: no
- * dispatch on the order, and an image that calls no other order's links one body.
+ * `at_chain_fixed_track_u16` for a chain of order 3 only: no dispatch on the
+ * order (the checks, then the chain's body), and an image that calls no other order's
+ * links one body.
  * `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
  *
  * # Safety
@@ -1759,8 +1779,9 @@ uint32_t at_chain_fixed_track_u16_order3(const struct at_chain_fixed *chain,
                                          uint16_t raw_s);
 
 /**
- * `at_chain_fixed_track_i32` for a chain of order 2 only, its body inlined: no
- * dispatch on the order, and an image that calls no other order's links one body.
+ * `at_chain_fixed_track_i32` for a chain of order 2 only: no dispatch on the
+ * order (the checks, then the chain's body), and an image that calls no other order's
+ * links one body.
  * `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
  *
  * # Safety
@@ -1772,8 +1793,9 @@ uint32_t at_chain_fixed_track_i32_order2(const struct at_chain_fixed *chain,
                                          int32_t raw_s);
 
 /**
- * `at_chain_fixed_track_i32` for a chain of order 3 only, its body inlined: no
- * dispatch on the order, and an image that calls no other order's links one body.
+ * `at_chain_fixed_track_i32` for a chain of order 3 only: no dispatch on the
+ * order (the checks, then the chain's body), and an image that calls no other order's
+ * links one body.
  * `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
  *
  * # Safety

@@ -5,7 +5,7 @@
 //! per channel in `at_chain_state_f32`).
 
 use angletrack_core::{
-    CalibrationMode, CalibrationSettings, CalibrationStatus, Calibrator, ConfigError,
+    CalibrationMode, CalibrationSettings, CalibrationStatus, Calibrator, ConfigError, Float,
     SensorCalibration,
 };
 
@@ -61,14 +61,16 @@ impl From<SensorCalibration<f32>> for at_sensor_calibration_f32 {
 }
 
 impl at_sensor_calibration_f32 {
-    /// The core's calibration, checked.
-    pub(crate) fn checked(&self) -> Result<SensorCalibration<f32>, ConfigError> {
+    /// The core's calibration in `f32` or `f64`, checked.
+    pub(crate) fn checked<T: Float + From<f32>>(
+        &self,
+    ) -> Result<SensorCalibration<T>, ConfigError> {
         SensorCalibration::new(
-            self.offset_c,
-            self.offset_s,
-            self.amplitude_c,
-            self.amplitude_s,
-            self.quadrature_rad,
+            self.offset_c.into(),
+            self.offset_s.into(),
+            self.amplitude_c.into(),
+            self.amplitude_s.into(),
+            self.quadrature_rad.into(),
         )
     }
 }

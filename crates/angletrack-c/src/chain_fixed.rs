@@ -14,7 +14,7 @@
 
 use angletrack_core::{
     AdcCounts, ConfigError, FixedCalibration, FixedEstimate, FixedGains, FixedState, Input, Rails,
-    SensorCalibration, Tracker, TrackerFrontEnd, TrackerSettings, TrackerState,
+    Tracker, TrackerFrontEnd, TrackerSettings, TrackerState,
 };
 
 use crate::calibration::at_sensor_calibration_f32;
@@ -182,17 +182,7 @@ impl at_chain_fixed {
         table: Option<&at_angle_table_fixed>,
         nominal_amplitude_counts: f64,
     ) -> at_status {
-        let calibration = calibration.map(|c| {
-            let v = [
-                c.offset_c,
-                c.offset_s,
-                c.amplitude_c,
-                c.amplitude_s,
-                c.quadrature_rad,
-            ];
-            let [o_c, o_s, a_c, a_s, q] = v.map(f64::from);
-            FixedCalibration::new(&SensorCalibration::new(o_c, o_s, a_c, a_s, q)?)
-        });
+        let calibration = calibration.map(|c| FixedCalibration::new(&c.checked::<f64>()?));
         let nominal = (nominal_amplitude_counts != 0.0).then_some(nominal_amplitude_counts);
         // With a nominal amplitude, the roundness check at its default tolerance (0.1), as the
         // core's `with_monitor` and the Rust export of a tracker file set it.

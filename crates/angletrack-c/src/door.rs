@@ -127,16 +127,21 @@ macro_rules! c_chain {
                 Some((chain, state.of_order::<N>().ok()?, input.core()))
             }
 
-            /// One sample through the chain of order `N`, the state only.
+            /// One sample through the chain of order `N`, the state only: 0.
             #[inline(always)]
             fn track_n<const N: usize, I: $crate::door::ChainInput<$number>>(
                 &self,
                 state: &mut $state,
                 input: I,
-            ) -> Option<()> {
+            ) -> Option<u32> {
                 let (chain, state, input) = self.with::<N, I>(state, input)?;
-                chain.track(state, input);
-                Some(())
+                // The core's body out of line: the one a Rust firmware compiles, its
+                // registers allocated without the door's checks (inlined below them, it
+                // spilled the pointers they hold).
+                Some($crate::door::out_of_line(chain, state, input, |c, s, x| {
+                    c.track(s, x);
+                    0
+                }))
             }
 
             /// One sample through the chain of order `N`, then the estimate.
@@ -206,11 +211,11 @@ macro_rules! c_chain {
                     ),
                     _ => None,
                 }
-                .map_or($crate::faults::AT_FAULT_INVALID_ARGUMENT, |()| 0)
+                .unwrap_or_else($crate::door::refused)
             }
 
-            /// The body of the `track` functions of order `N`: the chain's body inlined, no
-            /// dispatch.
+            /// The body of the `track` functions of order `N`: the checks, then the chain's
+            /// body, no dispatch.
             ///
             /// # Safety
             /// The header's contract.
@@ -229,7 +234,7 @@ macro_rules! c_chain {
                     (Some(c), Some(s), Some(x)) => c.track_n::<N, A::Input>(s, x),
                     _ => None,
                 }
-                .map_or_else($crate::door::refused, |()| 0)
+                .unwrap_or_else($crate::door::refused)
             }
 
             /// The body of the `update` functions: the estimate.
@@ -323,11 +328,12 @@ pub(crate) fn out_of_line<C, S, X, R>(chain: &C, state: S, input: X, f: fn(&C, S
     f(chain, state, input)
 }
 
-/// `AT_FAULT_INVALID_ARGUMENT`, out of line: the per-sample path holds no constant for it.
+/// `AT_FAULT_INVALID_ARGUMENT`, out of line: the per-sample path holds no constant for it
+/// (opaque to the optimiser, which would otherwise load the constant before the checks).
 #[cold]
 #[inline(never)]
 pub(crate) fn refused() -> u32 {
-    crate::faults::AT_FAULT_INVALID_ARGUMENT
+    core::hint::black_box(crate::faults::AT_FAULT_INVALID_ARGUMENT)
 }
 
 /// The per-sample `extern "C"` functions of the chain `$chain` with its state `$state`:

@@ -226,33 +226,39 @@ per_sample! {
     /// `at_chain_fixed_track_i32`, then the estimate; on refused arguments an estimate whose
     /// faults are `AT_FAULT_INVALID_ARGUMENT` (the rest 0).
     at_chain_fixed_update_i32(raw_c: i32, raw_s: i32) -> at_fixed_estimate = update((raw_c, raw_s));
-    /// `at_chain_fixed_track_i16` for a chain of order 2 only, its body inlined: no
-    /// dispatch on the order, and an image that calls no other order's links one body.
+    /// `at_chain_fixed_track_i16` for a chain of order 2 only: no dispatch on the
+    /// order (the checks, then the chain's body), and an image that calls no other order's
+    /// links one body.
     /// `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
     at_chain_fixed_track_i16_order2(raw_c: i16, raw_s: i16) -> u32
         = track_order::<2>((raw_c, raw_s));
-    /// `at_chain_fixed_track_i16` for a chain of order 3 only, its body inlined: no
-    /// dispatch on the order, and an image that calls no other order's links one body.
+    /// `at_chain_fixed_track_i16` for a chain of order 3 only: no dispatch on the
+    /// order (the checks, then the chain's body), and an image that calls no other order's
+    /// links one body.
     /// `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
     at_chain_fixed_track_i16_order3(raw_c: i16, raw_s: i16) -> u32
         = track_order::<3>((raw_c, raw_s));
-    /// `at_chain_fixed_track_u16` for a chain of order 2 only, its body inlined: no
-    /// dispatch on the order, and an image that calls no other order's links one body.
+    /// `at_chain_fixed_track_u16` for a chain of order 2 only: no dispatch on the
+    /// order (the checks, then the chain's body), and an image that calls no other order's
+    /// links one body.
     /// `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
     at_chain_fixed_track_u16_order2(raw_c: u16, raw_s: u16) -> u32
         = track_order::<2>((raw_c, raw_s));
-    /// `at_chain_fixed_track_u16` for a chain of order 3 only, its body inlined: no
-    /// dispatch on the order, and an image that calls no other order's links one body.
+    /// `at_chain_fixed_track_u16` for a chain of order 3 only: no dispatch on the
+    /// order (the checks, then the chain's body), and an image that calls no other order's
+    /// links one body.
     /// `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
     at_chain_fixed_track_u16_order3(raw_c: u16, raw_s: u16) -> u32
         = track_order::<3>((raw_c, raw_s));
-    /// `at_chain_fixed_track_i32` for a chain of order 2 only, its body inlined: no
-    /// dispatch on the order, and an image that calls no other order's links one body.
+    /// `at_chain_fixed_track_i32` for a chain of order 2 only: no dispatch on the
+    /// order (the checks, then the chain's body), and an image that calls no other order's
+    /// links one body.
     /// `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
     at_chain_fixed_track_i32_order2(raw_c: i32, raw_s: i32) -> u32
         = track_order::<2>((raw_c, raw_s));
-    /// `at_chain_fixed_track_i32` for a chain of order 3 only, its body inlined: no
-    /// dispatch on the order, and an image that calls no other order's links one body.
+    /// `at_chain_fixed_track_i32` for a chain of order 3 only: no dispatch on the
+    /// order (the checks, then the chain's body), and an image that calls no other order's
+    /// links one body.
     /// `AT_FAULT_INVALID_ARGUMENT` for a chain of the other order.
     at_chain_fixed_track_i32_order3(raw_c: i32, raw_s: i32) -> u32
         = track_order::<3>((raw_c, raw_s));

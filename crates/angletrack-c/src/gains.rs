@@ -172,6 +172,10 @@ mirror! {
     /// `(1 +- r)` x nominal raises degradation of signal, held for
     /// `ROUNDNESS_HOLD_WINDOWS` windows (default 0.1); 0: no check.
     magnitude_tolerance: f32 = magnitude_tolerance,
+    /// One sample's normalised phase error (about the sine of its angle error, electrical)
+    /// above this: loss of tracking at once, on that sample, held while it stays above a
+    /// fraction of this (the loop re-converging) and latched (default 0.05, positive).
+    tracking_error: f32 = tracking_error,
 }
 
 impl at_fault_thresholds_f32 {

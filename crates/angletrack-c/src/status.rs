@@ -30,17 +30,27 @@ pub const AT_ERR_STAGES: at_status = 6;
 /// A parameter this version of the C API has no code for (a newer core's).
 pub const AT_ERR_OTHER_PARAMETER: at_status = 63;
 
-/// The parameters' status codes `AT_ERR_*` (with their docs) and [`PARAMETERS`], from one
-/// list: each `NAME = code: Parameter, c"name";`.
+/// The parameters' status codes `AT_ERR_*` (with their docs), [`PARAMETERS`] and
+/// [`status_of`], from one list: each `NAME = code: Parameter, c"name";`.
 macro_rules! parameters {
     ($($(#[$doc:meta])* $name:ident = $code:literal: $parameter:ident, $text:literal;)*) => {
         $($(#[$doc])* pub const $name: at_status = $code;)*
 
         /// Every parameter with its status code and its name as the core names it
-        /// (`Parameter::name`, checked by the tests), NUL-terminated: the one table both
-        /// directions and the messages use.
+        /// (`Parameter::name`, checked by the tests), NUL-terminated: the table of the
+        /// messages.
         pub(crate) const PARAMETERS: &[(Parameter, at_status, &CStr)] =
             &[$((Parameter::$parameter, $name, $text)),*];
+
+        /// The status naming the parameter a configuration error refused. A `match`, not a
+        /// search of [`PARAMETERS`]: a firmware that builds a chain and never asks for a
+        /// message links no names (on a Cortex-M0, the table and its strings are 1.7 KB).
+        pub(crate) fn status_of(error: ConfigError) -> at_status {
+            match error.parameter() {
+                $(Parameter::$parameter => $name,)*
+                _ => AT_ERR_OTHER_PARAMETER,
+            }
+        }
     };
 }
 
@@ -126,15 +136,10 @@ parameters! {
     AT_ERR_SHIFT = 51: AdcShift, c"shift";
     /// An angle error `curve` of fewer than 2 points.
     AT_ERR_CURVE = 52: AngleErrorCurve, c"curve";
-}
-
-/// The status naming the parameter a configuration error refused.
-pub(crate) fn status_of(error: ConfigError) -> at_status {
-    let parameter = error.parameter();
-    PARAMETERS
-        .iter()
-        .find(|(p, _, _)| *p == parameter)
-        .map_or(AT_ERR_OTHER_PARAMETER, |(_, status, _)| *status)
+    /// Fault threshold `tracking_error`.
+    AT_ERR_TRACKING_ERROR = 56: TrackingErrorThreshold, c"tracking_error";
+    /// Fault threshold `magnitude_tolerance`.
+    AT_ERR_MAGNITUDE_TOLERANCE = 57: MagnitudeTolerance, c"magnitude_tolerance";
 }
 
 /// `AT_OK`, or the status of the error.

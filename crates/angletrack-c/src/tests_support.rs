@@ -60,6 +60,7 @@ impl at_gains_f32 {
             monitor: 0,
             re_acquire: 0,
             magnitude_tolerance: 0.0,
+            tracking_error: 0.0,
         },
     };
 }

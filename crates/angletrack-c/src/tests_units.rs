@@ -64,12 +64,18 @@ fn gains_check_as_the_core_and_keep_the_order() {
     three.thresholds = at_fault_thresholds_f32::for_amplitude(1800.0);
     three.thresholds.max_speed_rad_s = 1000.0;
     three.thresholds.monitor = 0;
+    three.thresholds.tracking_error = 0.02;
     let core = three.core::<3>().unwrap().fault_thresholds();
     assert_eq!(
         (core.max_speed, core.monitor, core.loss_of_signal),
         (Some(1000.0), false, 450.0)
     );
+    assert_eq!(core.tracking_error, 0.02);
     assert_eq!(at_fault_thresholds_f32::from(core), three.thresholds);
+    three.thresholds.tracking_error = 0.0;
+    let refused = three.core::<3>().map_err(status_of);
+    assert_eq!(refused.err(), Some(AT_ERR_TRACKING_ERROR));
+    three.thresholds.tracking_error = 0.02;
     three.thresholds.filter_factor = 1.5;
     let refused = three.core::<3>().map_err(status_of);
     assert_eq!(refused.err(), Some(AT_ERR_FILTER_FACTOR));

@@ -353,8 +353,21 @@ const fn tangent_q15(d: i16) -> i16 {
     let x3 = (x * x2) >> 30;
     let x5 = (x3 * x2) >> 30;
     let x7 = (x5 * x2) >> 30;
-    let t = x + x3 / 3 + 2 * x5 / 15 + 17 * x7 / 315;
+    // |x| <= 2^28: |x3| <= 2^24, |2 x5| <= 2^21, |17 x7| < 2^21, each below 2^32 / d.
+    let t = x + quotient(x3, 3) + quotient(2 * x5, 15) + quotient(17 * x7, 315);
     round_q30_to_q15(t)
+}
+
+/// `n / d` truncated toward zero, for `|n| < 2^32 / d`, without a division: `|n|` times
+/// `m = ceil(2^32 / d)`, shifted down by 32. Exact: the product exceeds `2^32 |n| / d` by
+/// `|n| (m d - 2^32) / d`, less than `2^32 / d` (as `m d - 2^32 < d`), too little to reach
+/// the next multiple of `2^32`. A core without a divider then links no division routine
+/// for a table made at run time; `d` a constant, `m` is one too.
+#[inline(always)]
+const fn quotient(n: i64, d: i64) -> i64 {
+    let m = ((1 << 32) + d - 1) / d;
+    let q = (n.abs() * m) >> 32;
+    if n < 0 { -q } else { q }
 }
 
 /// The angle in Q15 rad of the tangent `t` in Q15 (`|t| <= 8368`), rounded to the

@@ -83,6 +83,7 @@ pub use angletrack_core::{
 pub use nalgebra::Complex;
 
 mod analysis;
+mod any_channel;
 mod any_gains;
 mod calibration;
 pub mod capture;
@@ -116,6 +117,7 @@ pub use analysis::{
     closed_loop_response, max_trackable_speed_rad_s, predicted_error,
     predicted_error_on_kalman_model,
 };
+pub use any_channel::{AnyBatch, AnyChannel};
 pub use any_gains::AnyGains;
 pub use calibration::{
     ANGLE_CALIBRATION_FORMAT, CALIBRATION_FILE_VERSION, CalibrationChoiceError, CalibrationError,

@@ -467,12 +467,6 @@ def plan_windings(
     for unequal lengths (``first_s``), an amplitude not a positive number of counts up to
     2^31, or a range not two finite numbers in order."""
 
-def fixed_input(y_c: _Samples, y_s: _Samples, mid_scale: int) -> tuple[int, int, float, float]:
-    """How a capture's counts reach the fixed-point observer, from its first samples and the
-    capture's ``mid_scale`` (``capture_counts``'s): ``(mid_scale_counts, input_shift,
-    amplitude, nominal_amplitude)`` (the last the monitor's), the ``FixedObserver``
-    arguments; ``ConfigError`` (parameter ``mid_scale_counts``) beyond an int32."""
-
 class CountsExtremes:
     """Each channel's extremes of a capture of whole counts, gathered chunk by chunk: what
     ``capture_counts`` reads of the whole capture."""

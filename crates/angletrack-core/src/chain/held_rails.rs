@@ -111,9 +111,12 @@ impl RailSample for i16 {
 
     #[inline(always)]
     fn far_inside(low: i16, high: i16) -> (i16, i16) {
-        // x - low > floor(span / 200) makes 200 (x - low) > span: not near. Between the
-        // extremes: an i16.
-        let band = (i32::from(high) - i32::from(low)) / i32::from(RAIL_BAND_PER_SPAN);
+        // x - low > floor(span / 200) makes 200 (x - low) > span: not near. The quotient
+        // by a product and shifts, floor(span / 8) * 5243 / 2^17, exact for every span of
+        // ordered extremes (0 to 65535): a core without a divider calls no division routine.
+        // Between the extremes: an i16.
+        const { assert!(RAIL_BAND_PER_SPAN == 200) };
+        let band = (((i32::from(high) - i32::from(low)) >> 3) * 5243) >> 17;
         (
             (i32::from(low) + band) as i16,
             (i32::from(high) - band) as i16,
@@ -392,6 +395,19 @@ mod tests {
             coasted += usize::from(state.front_end.1.check().coasting());
         }
         (flagged, coasted, state.front_end.1.rails())
+    }
+
+    #[test]
+    fn the_fixed_point_band_is_the_span_over_200_for_every_span() {
+        for span in 0..=65535 {
+            let (low, high) = (i16::MIN, (i32::from(i16::MIN) + span) as i16);
+            let (above, below) = <i16 as RailSample>::far_inside(low, high);
+            let band = span / i32::from(RAIL_BAND_PER_SPAN);
+            assert_eq!(
+                (i32::from(above), i32::from(below)),
+                (-32768 + band, -32768 + span - band)
+            );
+        }
     }
 
     #[test]

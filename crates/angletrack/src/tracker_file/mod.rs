@@ -239,6 +239,16 @@ impl NumberType {
 }
 
 impl SinCosKind {
+    /// Whether it is the exact sin/cos in a float type (`float64`: `f64`, else `f32`):
+    /// the default is the fast one in `f32`, whose error of 2 ulp of 1 is `f32`'s own
+    /// scale, and the exact one in `f64`.
+    pub fn is_exact(self, float64: bool) -> bool {
+        match self {
+            SinCosKind::Default => float64,
+            kind => kind == SinCosKind::Exact,
+        }
+    }
+
     /// The name in the file (`None`: `null`, the number type's default).
     pub fn name(self) -> Option<&'static str> {
         match self {

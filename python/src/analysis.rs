@@ -182,13 +182,7 @@ pub fn predicted_error_on_kalman_model(
 #[pyfunction]
 #[pyo3(signature = (sample_period_s))]
 pub fn max_trackable_speed_rad_s(sample_period_s: f64) -> Result<f64> {
-    if !(sample_period_s.is_finite() && sample_period_s > 0.0) {
-        return Err(crate::errors::Error::value(
-            "sample_period_s",
-            format!("expected a finite period > 0 s, got {sample_period_s}"),
-        ));
-    }
-    Ok(angletrack::max_trackable_speed_rad_s(sample_period_s))
+    Ok(angletrack::max_trackable_speed_rad_s(sample_period_s)?)
 }
 
 /// The closed-loop angle transfer `H(z) = X1_e / Theta` of the linearised discrete loop of

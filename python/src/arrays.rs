@@ -44,22 +44,18 @@ impl Float {
         obj: Option<&Bound<'_, PyAny>>,
         parameter: &'static str,
     ) -> Result<Self> {
-        let Some(obj) = obj else {
+        let Some(obj) = obj.filter(|o| !o.is_none()) else {
             return Ok(Float::F64);
         };
-        if obj.is_none() {
-            return Ok(Float::F64);
-        }
-        let descr = PyArrayDescr::new(obj.py(), obj).map_err(|_| Error::Dtype {
-            parameter,
-            given: type_description(obj),
-            expected: "numpy.float32 or numpy.float64".into(),
-        })?;
-        Self::of_descr(&descr).ok_or_else(|| Error::Dtype {
-            parameter,
-            given: descr.to_string(),
-            expected: "numpy.float32 or numpy.float64".into(),
-        })
+        let descr = PyArrayDescr::new(obj.py(), obj).ok();
+        descr
+            .as_ref()
+            .and_then(Self::of_descr)
+            .ok_or_else(|| Error::Dtype {
+                parameter,
+                given: descr.map_or_else(|| type_description(obj), |d| d.to_string()),
+                expected: "numpy.float32 or numpy.float64".into(),
+            })
     }
 
     /// The float type of the samples `obj`: the dtype of a numpy array (float32 or float64;
@@ -242,6 +238,11 @@ pub fn paired_samples<'py, T: Element + Copy>(
     let (a, b) = (samples::<T>(a, a_name)?, samples::<T>(b, b_name)?);
     ArgumentError::check_equal_lengths((a_name, a.as_slice().len()), (b_name, b.as_slice().len()))?;
     Ok((a, b))
+}
+
+/// The array that takes over `values` (no copy: a whole capture is not held twice).
+pub fn array<T: Element>(py: Python<'_>, values: Vec<T>) -> Py<PyArray1<T>> {
+    PyArray1::from_vec(py, values).unbind()
 }
 
 /// A write borrow of an output array the binding has just created.

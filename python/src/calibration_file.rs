@@ -92,21 +92,3 @@ pub fn angle_calibration_from_json<'py>(
 ) -> Result<Bound<'py, PyDict>> {
     learned_dict(py, &CaptureCalibration::from_json(text, file)?)
 }
-
-/// Adds the functions to the module.
-pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add(
-        "SENSOR_CALIBRATION_FORMAT",
-        angletrack::SENSOR_CALIBRATION_FORMAT,
-    )?;
-    m.add(
-        "ANGLE_CALIBRATION_FORMAT",
-        angletrack::ANGLE_CALIBRATION_FORMAT,
-    )?;
-    m.add_function(wrap_pyfunction!(sensor_calibration_to_json, m)?)?;
-    m.add_function(wrap_pyfunction!(angle_calibration_to_json, m)?)?;
-    m.add_function(wrap_pyfunction!(calibration_from_json, m)?)?;
-    m.add_function(wrap_pyfunction!(sensor_calibration_from_json, m)?)?;
-    m.add_function(wrap_pyfunction!(angle_calibration_from_json, m)?)?;
-    Ok(())
-}

@@ -11,9 +11,9 @@ use angletrack::capture::{
 };
 use numpy::{PyArray1, ToPyArray};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyString};
+use pyo3::types::{IntoPyDict, PyDict, PyString};
 
-use crate::arrays::Count;
+use crate::arrays::{Count, array};
 use crate::errors::{Error, Result};
 use crate::getters::class_methods;
 
@@ -43,20 +43,10 @@ fn options(written: &WrittenCaptureOptions<'_>) -> Result<CaptureOptions> {
 
 /// `{role: column name}` of the columns used.
 fn mapping_dict<'py>(py: Python<'py>, mapping: &[(Role, String)]) -> Result<Bound<'py, PyDict>> {
-    let dict = PyDict::new(py);
-    for (role, name) in mapping {
-        dict.set_item(role.key(), name)?;
-    }
-    Ok(dict)
-}
-
-fn optional_array(py: Python<'_>, values: Option<&Vec<f64>>) -> Option<Py<PyArray1<f64>>> {
-    values.map(|v| v.to_pyarray(py).unbind())
-}
-
-/// The array that takes over `values` (no copy: a whole capture is not held twice).
-fn owned_array(py: Python<'_>, values: Vec<f64>) -> Py<PyArray1<f64>> {
-    PyArray1::from_vec(py, values).unbind()
+    Ok(mapping
+        .iter()
+        .map(|(role, name)| (role.key(), name))
+        .into_py_dict(py)?)
 }
 
 /// A chunk of a capture: float64 arrays of one length (time in seconds).
@@ -78,14 +68,16 @@ pub struct PyCaptureChunk {
 }
 
 impl PyCaptureChunk {
+    /// A copy of the reader's chunk `c` (the reader reuses its buffers).
     fn new(py: Python<'_>, c: &CaptureChunk) -> Self {
+        let copy = |v: &Option<Vec<f64>>| v.as_ref().map(|v| v.to_pyarray(py).unbind());
         Self {
             first_sample: c.first_sample,
-            time_s: optional_array(py, c.time_s.as_ref()),
+            time_s: copy(&c.time_s),
             y_c: c.y_c.to_pyarray(py).unbind(),
             y_s: c.y_s.to_pyarray(py).unbind(),
-            reference_rad: optional_array(py, c.reference_rad.as_ref()),
-            excitation: optional_array(py, c.excitation.as_ref()),
+            reference_rad: copy(&c.reference_rad),
+            excitation: copy(&c.excitation),
         }
     }
 }
@@ -160,11 +152,11 @@ class_methods! {
                 columns: &columns_text(columns)?,
                 delimiter,
                 decimal,
-                skip_rows: skip_rows.at_least("skip_rows", 0)? as u64,
+                skip_rows: skip_rows.get("skip_rows")?,
                 time_unit,
                 sample_rate_hz,
                 // The crate's rule (at least 2) names it.
-                chunk_rows: chunk_rows.at_least("chunk_rows", 0)?,
+                chunk_rows: chunk_rows.get("chunk_rows")?,
             })?;
             Ok(Self {
                 reader: Mutex::new(CoreReader::open(path, options)?),
@@ -248,7 +240,7 @@ pub fn read_capture(
         columns: &columns_text(columns)?,
         delimiter,
         decimal,
-        skip_rows: skip_rows.at_least("skip_rows", 0)? as u64,
+        skip_rows: skip_rows.get("skip_rows")?,
         time_unit,
         sample_rate_hz,
         chunk_rows: CaptureOptions::default().chunk_rows,
@@ -259,10 +251,10 @@ pub fn read_capture(
     Ok(PyCapture {
         path,
         rows: samples.len(),
-        time_s: samples.time_s.map(|v| owned_array(py, v)),
-        y_c: owned_array(py, samples.y_c),
-        y_s: owned_array(py, samples.y_s),
-        reference_rad: samples.reference_rad.map(|v| owned_array(py, v)),
+        time_s: samples.time_s.map(|v| array(py, v)),
+        y_c: array(py, samples.y_c),
+        y_s: array(py, samples.y_s),
+        reference_rad: samples.reference_rad.map(|v| array(py, v)),
         sample_rate_hz: c.sample_rate_hz,
         sample_dtype: c.sample_dtype,
         columns: mapping_dict(py, &c.mapping)?.unbind(),
@@ -326,23 +318,5 @@ pub fn write_output(py: Python<'_>, path: PathBuf, data: &Bound<'_, PyAny>) -> R
         })?
     };
     py.detach(|| angletrack::capture::write_output(&path, &bytes))?;
-    Ok(())
-}
-
-/// Registers the capture functions and classes in the module.
-pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add(
-        "CaptureError",
-        m.py().get_type::<crate::errors::CaptureError>(),
-    )?;
-    m.add_class::<PyCaptureReader>()?;
-    m.add_class::<PyCaptureChunk>()?;
-    m.add_class::<PyCapture>()?;
-    m.add_function(wrap_pyfunction!(read_capture, m)?)?;
-    m.add_function(wrap_pyfunction!(check_outputs, m)?)?;
-    m.add_function(wrap_pyfunction!(write_output, m)?)?;
-    m.add_function(wrap_pyfunction!(crate::writer::estimate_columns, m)?)?;
-    m.add_class::<crate::writer::PyTableWriter>()?;
-    m.add_class::<crate::writer::PyOutputFile>()?;
     Ok(())
 }

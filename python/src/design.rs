@@ -32,47 +32,40 @@ pub(crate) fn complex_list<'py>(
 
 /// The steady-state solution of a Kalman design on the scaled state
 /// `(theta, Ts*Omega, Ts^2*alpha)`.
-#[pyclass(name = "KalmanSolution", module = "angletrack", frozen, get_all)]
+#[pyclass(name = "KalmanSolution", module = "angletrack", frozen)]
 #[derive(Debug, Clone)]
 pub struct PyKalmanSolution {
-    /// Process noise variance `q` of the scaled jerk `Ts^3 beta` (rad^2).
-    process_noise_q: f64,
-    /// Measurement noise variance `r` of each channel (amplitude 1).
-    measurement_noise_r: f64,
-    /// Predicted (a priori) error covariance, the solution of the Riccati equation (3x3).
-    predicted_covariance: [[f64; 3]; 3],
-    /// Filtered (a posteriori) error covariance (3x3).
-    covariance: [[f64; 3]; 3],
-    /// `sqrt(P11)` (rad): the smallest RMS angle error of any linear estimator of the model.
-    angle_floor_rad: f64,
-    /// `sqrt(P22) / Ts` (rad/s).
-    speed_floor_rad_s: f64,
+    solution: KalmanSolution,
+    sample_period_s: f64,
 }
 
-impl PyKalmanSolution {
-    fn new(k: &KalmanSolution, sample_period_s: f64) -> Self {
-        Self {
-            process_noise_q: k.process_noise_q,
-            measurement_noise_r: k.measurement_noise_r,
-            predicted_covariance: k.predicted_covariance,
-            covariance: k.covariance,
-            angle_floor_rad: k.angle_floor_rad(),
-            speed_floor_rad_s: k.speed_floor_rad_s(sample_period_s),
-        }
+class_methods! {
+    PyKalmanSolution {
+        /// Process noise variance `q` of the scaled jerk `Ts^3 beta` (rad^2).
+        process_noise_q: f64 = |this, py| this.solution.process_noise_q;
+        /// Measurement noise variance `r` of each channel (amplitude 1).
+        measurement_noise_r: f64 = |this, py| this.solution.measurement_noise_r;
+        /// Predicted (a priori) error covariance, the solution of the Riccati equation (3x3).
+        predicted_covariance: [[f64; 3]; 3] = |this, py| this.solution.predicted_covariance;
+        /// Filtered (a posteriori) error covariance (3x3).
+        covariance: [[f64; 3]; 3] = |this, py| this.solution.covariance;
+        /// `sqrt(P11)` (rad): the smallest RMS angle error of any linear estimator of the model.
+        angle_floor_rad: f64 = |this, py| this.solution.angle_floor_rad();
+        /// `sqrt(P22) / Ts` (rad/s).
+        speed_floor_rad_s: f64 = |this, py| this.solution.speed_floor_rad_s(this.sample_period_s);
     }
-}
-
-#[pymethods]
-impl PyKalmanSolution {
-    fn __repr__(&self) -> String {
-        format!(
-            "KalmanSolution(process_noise_q={:e}, measurement_noise_r={:e}, angle_floor_rad={:.6e}, \
-             speed_floor_rad_s={:.6e})",
-            self.process_noise_q,
-            self.measurement_noise_r,
-            self.angle_floor_rad,
-            self.speed_floor_rad_s
-        )
+    methods {
+        fn __repr__(&self) -> String {
+            let k = &self.solution;
+            format!(
+                "KalmanSolution(process_noise_q={:e}, measurement_noise_r={:e}, angle_floor_rad={:.6e}, \
+                 speed_floor_rad_s={:.6e})",
+                k.process_noise_q,
+                k.measurement_noise_r,
+                k.angle_floor_rad(),
+                k.speed_floor_rad_s(self.sample_period_s)
+            )
+        }
     }
 }
 
@@ -139,7 +132,7 @@ class_methods! {
             |this, py| with_design!(&this.inner, d => d.continuous_loop_polynomial());
         /// The Riccati solution of a Kalman design; `None` otherwise.
         kalman: Option<PyKalmanSolution> =
-            |this, py| with_design!(&this.inner, d => d.kalman.as_ref().map(|k| PyKalmanSolution::new(k, d.sample_period())));
+            |this, py| with_design!(&this.inner, d => d.kalman.map(|solution| PyKalmanSolution { solution, sample_period_s: d.sample_period() }));
         /// The sample period (s).
         sample_period_s: f64 = |this, py| this.inner.sample_period();
         /// The observer order (2 or 3).

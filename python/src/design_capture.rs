@@ -103,8 +103,3 @@ pub fn design_from_capture<'py>(
     out.set_item("design", PyDesign::from(design.chosen.design))?;
     Ok(out.cast_into::<PyDict>().map_err(PyErr::from)?)
 }
-
-/// Adds `design_from_capture` to the module.
-pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(design_from_capture, m)?)
-}

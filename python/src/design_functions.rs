@@ -2,11 +2,7 @@
 
 use pyo3::prelude::*;
 
-use crate::analysis::{
-    DesignReport, PyPredictedError, PyStepResponse, closed_loop_response,
-    max_trackable_speed_rad_s, predicted_error, predicted_error_on_kalman_model,
-};
-use crate::design::{PyDesign, PyKalmanSolution};
+use crate::design::PyDesign;
 use crate::errors::Result;
 
 /// A design function of the crate as a Python function of the same name and arguments (each
@@ -21,11 +17,6 @@ macro_rules! designs {
             Ok(angletrack::$name($($arg,)* $($discretisation.parse()?)?)?.into())
         }
     )*
-        /// Adds the design functions to the module.
-        fn register_designs(m: &Bound<'_, PyModule>) -> PyResult<()> {
-            $(m.add_function(wrap_pyfunction!($name, m)?)?;)*
-            Ok(())
-        }
     };
 }
 
@@ -74,29 +65,5 @@ designs! {
 #[pyfunction]
 #[pyo3(signature = (damping))]
 pub fn second_order_bandwidth_ratio(damping: f64) -> Result<f64> {
-    if !(damping > 0.0 && damping <= 1000.0) {
-        return Err(crate::errors::Error::value(
-            "damping",
-            format!("expected 0 < damping <= 1000, got {damping}"),
-        ));
-    }
-    Ok(angletrack::second_order_bandwidth_ratio(damping))
-}
-
-pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_class::<PyDesign>()?;
-    m.add_class::<DesignReport>()?;
-    m.add_class::<PyStepResponse>()?;
-    m.add_class::<PyKalmanSolution>()?;
-    m.add_class::<PyPredictedError>()?;
-    m.add_function(wrap_pyfunction!(predicted_error, m)?)?;
-    m.add_function(wrap_pyfunction!(closed_loop_response, m)?)?;
-    m.add_function(wrap_pyfunction!(predicted_error_on_kalman_model, m)?)?;
-    m.add_function(wrap_pyfunction!(max_trackable_speed_rad_s, m)?)?;
-    register_designs(m)?;
-    m.add_function(wrap_pyfunction!(second_order_bandwidth_ratio, m)?)?;
-    m.add("LARGE_STEP_RAD", angletrack::LARGE_STEP_RAD)?;
-    m.add("SETTLING_BAND", angletrack::SETTLING_BAND)?;
-    m.add("MAX_POLE_TIMES_PERIOD", angletrack::MAX_POLE_TIMES_PERIOD)?;
-    Ok(())
+    Ok(angletrack::second_order_bandwidth_ratio(damping)?)
 }

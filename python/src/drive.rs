@@ -4,10 +4,10 @@
 
 use angletrack::DriveColumns;
 use angletrack_core::{DriveOutputs as CoreDriveOutputs, DriveOutputsState};
-use numpy::{IntoPyArray, PyArray1};
+use numpy::PyArray1;
 use pyo3::prelude::*;
 
-use crate::arrays::{Count, float64};
+use crate::arrays::{Count, array, float64};
 use crate::errors::Result;
 use crate::estimates::Estimates;
 
@@ -81,11 +81,11 @@ impl PyDriveOutputs {
         let columns = columns.each_ref().map(Vec::as_slice);
         let d = DriveColumns::of_estimates(&self.outputs, &mut self.state, columns);
         Ok(PyDriveAngles {
-            electrical_angle_rad: d.electrical_angle_rad.into_pyarray(py).unbind(),
-            electrical_speed_rad_s: d.electrical_speed_rad_s.into_pyarray(py).unbind(),
-            mechanical_angle_rad: d.mechanical_angle_rad.into_pyarray(py).unbind(),
-            mechanical_turns: d.mechanical_turns.into_pyarray(py).unbind(),
-            mechanical_speed_rad_s: d.mechanical_speed_rad_s.into_pyarray(py).unbind(),
+            electrical_angle_rad: array(py, d.electrical_angle_rad),
+            electrical_speed_rad_s: array(py, d.electrical_speed_rad_s),
+            mechanical_angle_rad: array(py, d.mechanical_angle_rad),
+            mechanical_turns: array(py, d.mechanical_turns),
+            mechanical_speed_rad_s: array(py, d.mechanical_speed_rad_s),
         })
     }
 

@@ -158,14 +158,18 @@ fn python_message(python: &str, message: String) -> String {
     }
 }
 
+/// `err` with the attributes `set` gives its value (or the error of setting them).
+fn with_attributes(
+    err: PyErr,
+    set: impl FnOnce(&Bound<'_, pyo3::exceptions::PyBaseException>) -> PyResult<()>,
+) -> PyErr {
+    Python::attach(|py| set(err.value(py)).map_or_else(|setattr| setattr, |()| err))
+}
+
 /// The `ConfigError` of `parameter` with `message`.
 fn config_error(parameter: &str, message: String) -> PyErr {
-    Python::attach(|py| {
-        let e = ConfigError::new_err(message);
-        match e.value(py).setattr("parameter", parameter) {
-            Ok(()) => e,
-            Err(setattr) => setattr,
-        }
+    with_attributes(ConfigError::new_err(message), |e| {
+        e.setattr("parameter", parameter)
     })
 }
 
@@ -178,17 +182,10 @@ fn core_config_error(e: &CoreConfigError, suffix: &str) -> PyErr {
 
 /// The `CaptureError` of a capture reader's error, with its place as attributes.
 fn capture_error(e: &CoreCaptureError) -> PyErr {
-    Python::attach(|py| {
-        let err = CaptureError::new_err(e.to_string());
-        let value = err.value(py);
-        let set = value
-            .setattr("path", e.path.to_string_lossy().into_owned())
-            .and_then(|()| value.setattr("line", e.line))
-            .and_then(|()| value.setattr("column", e.column));
-        match set {
-            Ok(()) => err,
-            Err(setattr) => setattr,
-        }
+    with_attributes(CaptureError::new_err(e.to_string()), |err| {
+        err.setattr("path", e.path.to_string_lossy().into_owned())?;
+        err.setattr("line", e.line)?;
+        err.setattr("column", e.column)
     })
 }
 

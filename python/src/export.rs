@@ -3,7 +3,7 @@
 //! wraps them in `angletrack.export` and `angletrack.harmonics`.
 
 use angletrack::FixedDesignConstants;
-use angletrack::export::{self, FixedGainsFile, FloatType, GainsFile};
+use angletrack::export::{FixedGainsFile, FloatType, GainsFile};
 use angletrack::tracker_file::Language;
 use pyo3::conversion::FromPyObjectOwned;
 use pyo3::prelude::*;
@@ -12,11 +12,6 @@ use pyo3::types::PyDict;
 use crate::angle_calibration::SensorParameters;
 use crate::errors::{Error, Result};
 use crate::gains::{PyGains, with_gains};
-
-/// The float type named `dtype` (`"float32"` or `"float64"`).
-fn float_type(dtype: &str) -> Result<FloatType> {
-    Ok(dtype.parse::<FloatType>()?)
-}
 
 /// The language named `language` (`"c"` or `"rust"`), refused naming it.
 pub fn language(language: &str) -> Result<Language> {
@@ -39,7 +34,7 @@ pub fn gains_source(
     dtype: &str,
     description: &str,
 ) -> Result<String> {
-    let (language, float) = (self::language(language)?, float_type(dtype)?);
+    let (language, float) = (self::language(language)?, dtype.parse::<FloatType>()?);
     Ok(with_gains!(gains.set, g => language.gains(&g, float, name, description))?)
 }
 
@@ -103,7 +98,7 @@ pub fn calibration_source(
     dtype: &str,
 ) -> Result<String> {
     let (sensor, correction) = angletrack::stored_stages(sensor, &cos, &sin)?;
-    let (language, float) = (self::language(language)?, float_type(dtype)?);
+    let (language, float) = (self::language(language)?, dtype.parse::<FloatType>()?);
     Ok(language.calibration(&sensor, &correction, float, name)?)
 }
 
@@ -164,19 +159,4 @@ pub fn read_fixed_gains_file<'py>(
     file: &str,
 ) -> Result<Bound<'py, PyDict>> {
     crate::design::constants_dict(py, FixedGainsFile::from_json(text, file)?.constants)
-}
-
-/// Adds the functions to the module.
-pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(gains_source, m)?)?;
-    m.add_function(wrap_pyfunction!(fixed_source, m)?)?;
-    m.add_function(wrap_pyfunction!(calibration_source, m)?)?;
-    m.add("GAINS_FILE_FORMAT", export::GAINS_FILE_FORMAT)?;
-    m.add("FIXED_GAINS_FILE_FORMAT", export::FIXED_GAINS_FILE_FORMAT)?;
-    m.add("GAINS_FILE_VERSION", export::GAINS_FILE_VERSION)?;
-    m.add_function(wrap_pyfunction!(gains_file_json, m)?)?;
-    m.add_function(wrap_pyfunction!(read_gains_file, m)?)?;
-    m.add_function(wrap_pyfunction!(fixed_gains_file_json, m)?)?;
-    m.add_function(wrap_pyfunction!(read_fixed_gains_file, m)?)?;
-    Ok(())
 }

@@ -129,11 +129,3 @@ pub fn metrics(
         time_to_lock_s: m.time_to_lock_s,
     })
 }
-
-/// Adds this module's classes and functions to the extension module.
-pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_class::<PyErrorStatistics>()?;
-    m.add_class::<PyMetrics>()?;
-    m.add_function(wrap_pyfunction!(metrics, m)?)?;
-    Ok(())
-}

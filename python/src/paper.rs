@@ -77,36 +77,3 @@ pub fn paper_benchmark_gains() -> Result<Vec<PyGains>> {
     })
     .collect()
 }
-
-/// Adds this module's classes, functions and constants to the extension module.
-pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_class::<PyPaperSetting>()?;
-    m.add_function(wrap_pyfunction!(paper_settings, m)?)?;
-    m.add_function(wrap_pyfunction!(paper_compared_observers, m)?)?;
-    m.add_function(wrap_pyfunction!(paper_benchmark_gains, m)?)?;
-    for (name, value) in [
-        ("PAPER_FIVE_PERCENT_DAMPING", paper::FIVE_PERCENT_DAMPING),
-        ("PAPER_BUTTERWORTH_DAMPING", paper::BUTTERWORTH_DAMPING),
-        ("PAPER_POLE_RATIO", paper::POLE_RATIO),
-        ("PAPER_POLE_FREQUENCY_RATIO", paper::POLE_FREQUENCY_RATIO),
-        (
-            "PAPER_OVERSHOOT_SAMPLE_PERIOD_S",
-            paper::OVERSHOOT_SAMPLE_PERIOD_S,
-        ),
-        (
-            "PAPER_COMPARISON_SAMPLE_PERIOD_S",
-            paper::COMPARISON_SAMPLE_PERIOD_S,
-        ),
-        (
-            "PAPER_COMPARISON_BANDWIDTH_HZ",
-            paper::COMPARISON_BANDWIDTH_HZ,
-        ),
-        (
-            "PAPER_COMPARISON_SENSOR_NOISE_STD",
-            paper::COMPARISON_SENSOR_NOISE_STD,
-        ),
-    ] {
-        m.add(name, value)?;
-    }
-    Ok(())
-}

@@ -5,10 +5,10 @@
 //! windings); the drive's outputs are in `drive`.
 
 use angletrack::{DemodulatorArguments, DemodulatorStream, ResolverModel};
-use numpy::{IntoPyArray, PyArray1};
+use numpy::PyArray1;
 use pyo3::prelude::*;
 
-use crate::arrays::{Count, samples};
+use crate::arrays::{Count, array, samples};
 use crate::errors::Result;
 use crate::getters::class_methods;
 use crate::model_class::{ModelField, model_class};
@@ -162,14 +162,14 @@ class_methods! {
             let (stream, c, s, e) = (&mut self.stream, c.as_slice(), s.as_slice(), e.as_ref().map(|e| e.as_slice()));
             let p = py.detach(|| stream.push(c, s, e))?;
             Ok(PyDemodulatedPairs {
-                time_s: p.time_s.into_pyarray(py).unbind(),
-                y_c: p.y_c.into_pyarray(py).unbind(),
-                y_s: p.y_s.into_pyarray(py).unbind(),
-                quadrature_c: p.quadrature_c.into_pyarray(py).unbind(),
-                quadrature_s: p.quadrature_s.into_pyarray(py).unbind(),
-                window: p.window.into_pyarray(py).unbind(),
-                faults: p.faults.into_pyarray(py).unbind(),
-                half_turn_unresolved: p.half_turn_unresolved.into_pyarray(py).unbind(),
+                time_s: array(py, p.time_s),
+                y_c: array(py, p.y_c),
+                y_s: array(py, p.y_s),
+                quadrature_c: array(py, p.quadrature_c),
+                quadrature_s: array(py, p.quadrature_s),
+                window: array(py, p.window),
+                faults: array(py, p.faults),
+                half_turn_unresolved: array(py, p.half_turn_unresolved),
             })
         }
 
@@ -245,15 +245,4 @@ pub fn resolver_windings(
     let profile = profile.inner.clone();
     let s = py.detach(move || angletrack::Scenario::resolver_windings(&profile, &model, seed))?;
     Ok(PyScenario::from_scenario(py, s))
-}
-
-/// Adds this module's classes and functions to the extension module.
-pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_class::<PyDemodulator>()?;
-    m.add_class::<PyDemodulatedPairs>()?;
-    m.add_class::<PyResolverModel>()?;
-    m.add_function(wrap_pyfunction!(resolver_windings, m)?)?;
-    m.add_class::<crate::drive::PyDriveOutputs>()?;
-    m.add_class::<crate::drive::PyDriveAngles>()?;
-    Ok(())
 }

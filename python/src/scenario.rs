@@ -2,10 +2,10 @@
 //! seed, from the `angletrack` crate.
 
 use angletrack::SensorModel;
-use numpy::{IntoPyArray, PyArray1};
+use numpy::PyArray1;
 use pyo3::prelude::*;
 
-use crate::arrays::{Count, samples};
+use crate::arrays::{Count, array, samples};
 use crate::calibration::PySensorCalibration;
 use crate::errors::{Error, Result};
 use crate::model_class::{ModelField, model_class};
@@ -76,10 +76,6 @@ pub struct PyScenario {
     pub(crate) has_speed: bool,
     /// Number of samples.
     pub(crate) len: usize,
-}
-
-fn array(py: Python<'_>, v: Vec<f64>) -> Py<PyArray1<f64>> {
-    v.into_pyarray(py).unbind()
 }
 
 impl PyScenario {
@@ -163,12 +159,4 @@ impl PyScenario {
             self.len as f64 * self.sample_period_s
         )
     }
-}
-
-/// Adds this module's classes to the extension module.
-pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_class::<crate::motion::PyMotionProfile>()?;
-    m.add_class::<PySensorModel>()?;
-    m.add_class::<PyScenario>()?;
-    Ok(())
 }

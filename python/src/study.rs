@@ -57,12 +57,3 @@ pub fn lot_outliers(
 ) -> (f64, f64, Vec<bool>) {
     angletrack::lot::outliers(&values, spread_factor, low, high)
 }
-
-/// Adds the study functions and the specification's format to the module.
-pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add("STUDY_FORMAT", angletrack::study::STUDY_FORMAT)?;
-    m.add_function(wrap_pyfunction!(study_resolve, m)?)?;
-    m.add_function(wrap_pyfunction!(study_runs, m)?)?;
-    m.add_function(wrap_pyfunction!(lot_outliers, m)?)?;
-    Ok(())
-}

@@ -14,25 +14,6 @@ use crate::arrays::Float;
 use crate::errors::{Error, Result};
 use crate::getters::class_methods;
 
-/// `close()`: completes the writer in `slot`; 0 if closed already.
-fn close(slot: &mut Option<CoreTableWriter>) -> Result<u64> {
-    match slot.take() {
-        Some(w) => Ok(w.finish()?),
-        None => Ok(0),
-    }
-}
-
-/// `__exit__`: closes after a clean block; after an exception, discards the file (the target
-/// is left as it was).
-fn exit(slot: &mut Option<CoreTableWriter>, exc_type: &Bound<'_, PyAny>) -> Result<bool> {
-    if exc_type.is_none() {
-        close(slot)?;
-    } else {
-        *slot = None;
-    }
-    Ok(false)
-}
-
 /// The columns `(name, dtype)` of estimates in the float type `dtype` (float32 or float64,
 /// default float64; `angletrack::capture::estimate_columns`): the table `EstimatesWriter`
 /// writes.
@@ -180,7 +161,12 @@ impl PyTableWriter {
 
     /// Finishes the file; returns the number of rows written (0 if already closed).
     fn close(&mut self) -> Result<u64> {
-        close(&mut self.writer)
+        Ok(self
+            .writer
+            .take()
+            .map(CoreTableWriter::finish)
+            .transpose()?
+            .unwrap_or(0))
     }
 
     fn __enter__(slf: PyRef<'_, Self>) -> PyRef<'_, Self> {
@@ -195,7 +181,12 @@ impl PyTableWriter {
         _exc_value: &Bound<'_, PyAny>,
         _traceback: &Bound<'_, PyAny>,
     ) -> Result<bool> {
-        exit(&mut self.writer, exc_type)
+        if exc_type.is_none() {
+            self.close()?;
+        } else {
+            self.writer = None;
+        }
+        Ok(false)
     }
 }
 

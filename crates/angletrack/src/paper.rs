@@ -221,7 +221,7 @@ pub fn benchmark_designs() -> Result<[AnyDesign; 3], Error> {
     let ts = BENCHMARK_SAMPLE_PERIOD_S;
     let pm = Discretisation::PoleMatching;
     // Damping 1: bandwidth = natural frequency times the 2nd-order bandwidth ratio.
-    let bandwidth_hz = 50.0 * crate::design::second_order_bandwidth_ratio(1.0);
+    let bandwidth_hz = 50.0 * crate::design::second_order_bandwidth_ratio(1.0)?;
     Ok([
         second_order_from_bandwidth(bandwidth_hz, 1.0, ts, pm)?.into(),
         third_order_from_poles(POLE_RATIO, 41.42e-3, POLE_FREQUENCY_RATIO, ts, pm)?.into(),

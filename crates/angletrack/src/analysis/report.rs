@@ -145,6 +145,7 @@ impl DesignReport {
         let sigma = non_negative(sensor_noise_std, Argument::SensorNoiseStd)?;
         let gains = design.gains;
         let ts = gains.sample_period();
+        let max_speed_rad_s = max_trackable_speed_rad_s(ts)?;
         let l = gains.gains();
         let discrete = DiscreteLoop::new(&l, ts);
         let bare = gains.with_fault_thresholds(FaultThresholds::disabled())?;
@@ -197,8 +198,8 @@ impl DesignReport {
             large_step: bare_step,
             large_step_final_rad,
             large_step_with_diagnostics: large_step(&gains).0,
-            max_speed_rad_s: max_trackable_speed_rad_s(ts),
-            acquisition_speed_rad_s: acquisition_speed(&bare, samples),
+            max_speed_rad_s,
+            acquisition_speed_rad_s: acquisition_speed(&bare, samples, max_speed_rad_s),
         })
     }
 }

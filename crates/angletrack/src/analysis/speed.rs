@@ -5,6 +5,8 @@ use core::f64::consts::PI;
 
 use angletrack_core::{Chain, ChainState, Gains, ObserverState};
 
+use crate::error::{Argument, Error, positive};
+
 /// The largest speed (rad/s) an observer sampled every `sample_period_s` (s) tracks: the
 /// Nyquist speed `pi / Ts`, half a turn per sample (`docs/theory.md §9`).
 ///
@@ -23,12 +25,16 @@ use angletrack_core::{Chain, ChainState, Gains, ObserverState};
 /// and the monitor raises `LOSS_OF_TRACKING` from half of it by default, keeping a quarter
 /// turn per sample of margin to the alias boundary (`§9`, the monitor's threshold).
 ///
+/// A period that is not finite and positive is refused.
+///
 /// ```
-/// let limit = angletrack::max_trackable_speed_rad_s(1e-4); // 10 kHz
-/// assert!((limit - 31_415.926).abs() < 1e-3);              // 5000 turns per second
+/// let limit = angletrack::max_trackable_speed_rad_s(1e-4)?; // 10 kHz
+/// assert!((limit - 31_415.926).abs() < 1e-3);               // 5000 turns per second
+/// assert!(angletrack::max_trackable_speed_rad_s(0.0).is_err());
+/// # Ok::<(), angletrack::Error>(())
 /// ```
-pub fn max_trackable_speed_rad_s(sample_period_s: f64) -> f64 {
-    PI / sample_period_s
+pub fn max_trackable_speed_rad_s(sample_period_s: f64) -> Result<f64, Error> {
+    Ok(PI / positive(sample_period_s, Argument::SamplePeriod)?)
 }
 
 /// The nonlinear loop (the core's observer) from rest at angle 0, fed `truth(k)`, returns the
@@ -52,9 +58,13 @@ pub(super) fn simulate_nonlinear<const N: usize>(
     })
 }
 
-/// The largest speed step acquired from rest without a cycle slip, see
-/// [`DesignReport::acquisition_speed_rad_s`].
-pub(super) fn acquisition_speed<const N: usize>(gains: &Gains<f64, N>, samples: usize) -> f64 {
+/// The largest speed step acquired from rest without a cycle slip, at most the largest
+/// trackable speed `top` (rad/s), see [`DesignReport::acquisition_speed_rad_s`].
+pub(super) fn acquisition_speed<const N: usize>(
+    gains: &Gains<f64, N>,
+    samples: usize,
+    top: f64,
+) -> f64 {
     let ts = gains.sample_period();
     let acquires = |speed: f64| {
         let step = speed * ts;
@@ -63,7 +73,6 @@ pub(super) fn acquisition_speed<const N: usize>(gains: &Gains<f64, N>, samples: 
             .unwrap_or(0.0);
         (last - step * (samples - 1) as f64).abs() < 0.1
     };
-    let top = max_trackable_speed_rad_s(ts);
     if acquires(top) {
         return top;
     }

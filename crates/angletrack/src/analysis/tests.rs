@@ -160,7 +160,7 @@ fn observers_track_up_to_the_documented_speed_limit_without_a_cycle_slip() {
     };
     for observer in ComparedObserver::ALL {
         let design = observer.design().unwrap();
-        let limit = max_trackable_speed_rad_s(design.sample_period());
+        let limit = max_trackable_speed_rad_s(design.sample_period()).unwrap();
         assert_eq!(design.report(0.0).unwrap().max_speed_rad_s, limit);
         let speeds = [(0.99 * limit, 0.0), (0.99 * limit, 2e3), (2.5 * limit, 2e3)];
         let worst = match &design {

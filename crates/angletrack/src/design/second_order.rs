@@ -69,15 +69,20 @@ pub fn second_order_from_tracking_error(
 }
 
 /// `omega_3dB / omega_n` of the continuous loop `(2 m wn s + wn^2) / (s^2 + 2 m wn s + wn^2)`:
-/// `sqrt(1 + 2 m^2 + sqrt((1 + 2 m^2)^2 + 1))`.
+/// `sqrt(1 + 2 m^2 + sqrt((1 + 2 m^2)^2 + 1))`, for a damping `m` in the designs' range
+/// `0 < m <= 1000` (refused outside it).
 ///
 /// ```
 /// // Damping sqrt(2)/2: the -3 dB bandwidth is 2.06 times the natural frequency.
-/// let ratio = angletrack::second_order_bandwidth_ratio(2f64.sqrt() / 2.0);
+/// let ratio = angletrack::second_order_bandwidth_ratio(2f64.sqrt() / 2.0)?;
 /// assert!((ratio - 2.058).abs() < 1e-3);
+/// assert!(angletrack::second_order_bandwidth_ratio(0.0).is_err());
+/// # Ok::<(), angletrack::Error>(())
 /// ```
-pub fn second_order_bandwidth_ratio(damping: f64) -> f64 {
-    angletrack_core::second_order_bandwidth_ratio(damping)
+pub fn second_order_bandwidth_ratio(damping: f64) -> Result<f64, Error> {
+    Ok(angletrack_core::second_order_bandwidth_ratio(
+        check_damping(damping)?,
+    ))
 }
 
 /// The 2nd-order ATO with a given -3 dB bandwidth of the continuous closed loop
@@ -99,11 +104,11 @@ pub fn second_order_from_bandwidth(
     discretisation: Discretisation,
 ) -> Result<Design<2>, Error> {
     let bandwidth = positive(bandwidth_hz, Argument::Bandwidth)?;
-    let m = check_damping(damping)?;
+    let ratio = second_order_bandwidth_ratio(damping)?;
     positive(sample_period_s, Argument::SamplePeriod)?;
-    let wn = 2.0 * PI * bandwidth / second_order_bandwidth_ratio(m);
+    let wn = 2.0 * PI * bandwidth / ratio;
     discretise(
-        PolePair::second_order(wn, m),
+        PolePair::second_order(wn, damping),
         sample_period_s,
         discretisation,
         Argument::Bandwidth,

@@ -72,18 +72,16 @@ pub fn real(obj: &Bound<'_, PyAny>, parameter: &'static str) -> Result<f64> {
 /// The floats of the sequence argument `parameter`, or a `ConfigError` naming it and the
 /// element at fault.
 pub fn reals(obj: &Bound<'_, PyAny>, parameter: &'static str) -> Result<Vec<f64>> {
-    if obj.is_instance_of::<pyo3::types::PyString>() {
-        return Err(Error::value(
-            parameter,
-            format!("expected a sequence of numbers, got {}", type_name(obj)),
-        ));
-    }
-    let items = obj.try_iter().map_err(|_| {
+    let not_a_sequence = || {
         Error::value(
             parameter,
             format!("expected a sequence of numbers, got {}", type_name(obj)),
         )
-    })?;
+    };
+    if obj.is_instance_of::<pyo3::types::PyString>() {
+        return Err(not_a_sequence());
+    }
+    let items = obj.try_iter().map_err(|_| not_a_sequence())?;
     items
         .enumerate()
         .map(|(i, item)| {

@@ -9,6 +9,7 @@ use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::angle_calibration::SensorParameters;
 use crate::errors::{Error, Result};
 
 /// The tracker file's JSON `text` checked (`file` names it in errors), written again as
@@ -58,9 +59,6 @@ pub fn tracker_firmware_constants(
             FirmwareError::Export(e) => Error::Export(e),
         })
 }
-
-/// A sensor calibration's `(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)`.
-type SensorParameters = (f64, f64, f64, f64, f64);
 
 fn contiguous<'a>(y: &'a PyReadonlyArray1<'_, f64>, name: &'static str) -> Result<&'a [f64]> {
     y.as_slice()
@@ -129,11 +127,12 @@ impl PyTrackerRun {
         ] {
             out.set_item(name, PyArray1::from_vec(py, column))?;
         }
-        out.set_item("faults", PyArray1::from_vec(py, rows.faults))?;
-        out.set_item(
-            "front_end_faults",
-            PyArray1::from_vec(py, rows.front_end_faults),
-        )?;
+        for (name, column) in [
+            ("faults", rows.faults),
+            ("front_end_faults", rows.front_end_faults),
+        ] {
+            out.set_item(name, PyArray1::from_vec(py, column))?;
+        }
         if fixed {
             out.set_item("angle_binary", PyArray1::from_vec(py, rows.angle_binary))?;
         }

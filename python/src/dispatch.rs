@@ -99,11 +99,7 @@ impl RunSettings {
 
     /// The sin/cos's name in the Python API: `'fast'` or `'exact'`.
     fn sin_cos_name(&self) -> &'static str {
-        if self.sin_cos.is_exact(self.float == Float::F64) {
-            "exact"
-        } else {
-            "fast"
-        }
+        ["fast", "exact"][usize::from(self.sin_cos.is_exact(self.float == Float::F64))]
     }
 
     /// The initialiser of a subclass whose value is `value`.

@@ -172,16 +172,9 @@ class_methods! {
             y_s: Arg<'_, '_>,
             front_end_faults: Option<PyReadonlyArray1<'_, u8>>,
         ) -> Result<Estimates> {
-            let faults = front_end_faults
-                .as_ref()
-                .map(|f| f.as_slice())
-                .transpose()
-                .map_err(|_| {
-                    Error::value(
-                        "front_end_faults",
-                        "expected a contiguous uint8 array".to_string(),
-                    )
-                })?;
+            let faults = front_end_faults.as_ref().map(|f| f.as_slice()).transpose();
+            let faults = faults
+                .map_err(|_| Error::value("front_end_faults", "expected a contiguous uint8 array"))?;
             let stated = self.stated;
             with_any_channel!(AnyChannel, &mut self.inner, c => {
                 run_channel(py, c, stated, (y_c, y_s), faults)

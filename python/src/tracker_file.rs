@@ -2,9 +2,9 @@
 //! and writes them; the Python package edits the document as a dict and hands it back.
 
 use angletrack::CalibrationFile;
+use angletrack::CaptureCounts;
 use angletrack::export::GainsFile;
 use angletrack::tracker_file::{CaptureHead, FirmwareError, TrackerFile, TrackerRun};
-use angletrack::{CaptureCounts, Signedness};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -88,10 +88,7 @@ impl PyTrackerRun {
         mid_scale: Option<u64>,
     ) -> Result<Self> {
         let tracker = TrackerFile::from_json(text, file)?;
-        let counts = mid_scale.map(|mid_scale| CaptureCounts {
-            signedness: Signedness::of_signed(mid_scale == 0),
-            mid_scale,
-        });
+        let counts = mid_scale.map(CaptureCounts::of_mid_scale);
         let head = CaptureHead {
             y_c: contiguous(&y_c, "y_c")?,
             y_s: contiguous(&y_s, "y_s")?,

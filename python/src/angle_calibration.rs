@@ -4,8 +4,7 @@
 //! `Calibration`, `CalibratedObserver`).
 
 use angletrack::{
-    AnyChannel, CalibrationError, CalibrationOptions, CaptureCalibration, CaptureCalibrator,
-    ChannelOptions, with_any_channel,
+    CalibrationError, CalibrationOptions, CaptureCalibration, CaptureCalibrator, ChannelOptions,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -14,9 +13,8 @@ use crate::arrays::{Count, paired_samples, samples};
 use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::RunSettings;
 use crate::errors::{Error, Result};
-use crate::estimates::Estimates;
 use crate::gains::{GainSet, PyGains, with_gains};
-use crate::observer::run_channel;
+use crate::observer::PyObserver;
 
 /// The sensor calibration `(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)`.
 pub type SensorParameters = (f64, f64, f64, f64, f64);
@@ -158,7 +156,7 @@ pub fn learned_dict<'py>(
     Ok(out)
 }
 
-/// An observer whose samples are corrected by a sensor calibration (offsets, amplitudes,
+/// An `Observer` whose samples are corrected by a sensor calibration (offsets, amplitudes,
 /// quadrature) and an angle correction (harmonic coefficients `cos`, `sin`, rad) before its
 /// phase detector (the core's chain of both stages), in `dtype` (float32 or float64, default
 /// float64) with `sin_cos` (the default of the dtype); its state carries over from one
@@ -166,59 +164,43 @@ pub fn learned_dict<'py>(
 /// checked for clipping against `adc_range`, or with `measure_adc_range` against the rails
 /// measured, as `Observer` checks them; the diagnostics' thresholds are `fault_thresholds`,
 /// else those of amplitude 1, as `Observer`'s for floats.
-#[pyclass(name = "_CorrectedObserver", module = "angletrack")]
-#[derive(Debug)]
-pub struct PyCorrectedObserver {
-    inner: AnyChannel,
-}
-
-#[pymethods]
-impl PyCorrectedObserver {
-    #[new]
-    #[pyo3(signature = (gains, sensor, cos, sin, *, dtype = None, sin_cos = None,
-        adc_range = None, measure_adc_range = false, fault_thresholds = None))]
-    #[allow(clippy::too_many_arguments)]
-    fn py_new(
-        gains: PyGains,
-        sensor: SensorParameters,
-        cos: Vec<f64>,
-        sin: Vec<f64>,
-        dtype: Option<&Bound<'_, PyAny>>,
-        sin_cos: Option<&str>,
-        adc_range: Option<(f64, f64)>,
-        measure_adc_range: bool,
-        fault_thresholds: Option<PyFaultThresholds>,
-    ) -> Result<Self> {
-        let options = ChannelOptions {
-            stored: Some(angletrack::stored_stages(sensor, &cos, &sin)?),
-            thresholds: fault_thresholds.map(|t| t.typed()),
-            adc_range,
-            measure_adc_range,
-            ..ChannelOptions::default()
-        };
-        let settings = RunSettings::from_arguments(gains, dtype, sin_cos)?;
-        Ok(Self {
-            inner: settings.channel(&options)?,
-        })
-    }
-
-    /// Tracks the samples `(y_c, y_s)` (of the observer's dtype) and returns their
-    /// estimates.
-    fn update(
-        &mut self,
-        py: Python<'_>,
-        y_c: &Bound<'_, PyAny>,
-        y_s: &Bound<'_, PyAny>,
-    ) -> Result<Estimates> {
-        with_any_channel!(AnyChannel, &mut self.inner, c => {
-            run_channel(py, c, None, (y_c, y_s), None)
-        })
-    }
+#[pyfunction(name = "_corrected_observer")]
+#[pyo3(signature = (gains, sensor, cos, sin, *, dtype = None, sin_cos = None,
+    adc_range = None, measure_adc_range = false, fault_thresholds = None))]
+#[allow(clippy::too_many_arguments)]
+fn corrected_observer<'py>(
+    py: Python<'py>,
+    gains: PyGains,
+    sensor: SensorParameters,
+    cos: Vec<f64>,
+    sin: Vec<f64>,
+    dtype: Option<&Bound<'_, PyAny>>,
+    sin_cos: Option<&str>,
+    adc_range: Option<(f64, f64)>,
+    measure_adc_range: bool,
+    fault_thresholds: Option<PyFaultThresholds>,
+) -> Result<Bound<'py, PyObserver>> {
+    let options = ChannelOptions {
+        stored: Some(angletrack::stored_stages(sensor, &cos, &sin)?),
+        thresholds: fault_thresholds.map(|t| t.typed()),
+        adc_range,
+        measure_adc_range,
+        ..ChannelOptions::default()
+    };
+    let settings = RunSettings::from_arguments(gains, dtype, sin_cos)?;
+    let inner = settings.channel(&options)?;
+    Ok(Bound::new(
+        py,
+        settings.subclass(PyObserver {
+            inner,
+            stated: None,
+        }),
+    )?)
 }
 
 /// Adds the functions to the module.
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyCaptureCalibrator>()?;
-    m.add_class::<PyCorrectedObserver>()?;
+    m.add_function(wrap_pyfunction!(corrected_observer, m)?)?;
     Ok(())
 }

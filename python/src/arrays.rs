@@ -17,7 +17,7 @@ use numpy::{
 };
 use pyo3::prelude::*;
 
-use crate::counts::Counts;
+use crate::counts::counts_dtype;
 use crate::errors::{Error, Result};
 
 /// The float type of a run, chosen from the input's dtype or the user's `dtype` argument.
@@ -66,7 +66,7 @@ impl Float {
         match obj.cast::<PyUntypedArray>() {
             Ok(array) => {
                 let descr = array.dtype();
-                if Counts::of_descr(&descr).is_some() {
+                if counts_dtype(&descr).is_some() {
                     return Ok(Float::F64);
                 }
                 Self::of_descr(&descr).ok_or_else(|| Error::Dtype {
@@ -282,7 +282,7 @@ pub fn channel_samples<'py, T: Element + Copy>(
         ));
     }
     let (channels, per_channel) = (array.shape()[0], array.shape()[1]);
-    if Counts::of_descr(&array.dtype()).is_some() {
+    if counts_dtype(&array.dtype()).is_some() {
         return Err(Error::Dtype {
             parameter,
             given: format!("raw ADC counts of dtype {}", array.dtype()),

@@ -1,13 +1,13 @@
 //! `ObserverBatch` and `track_batch`: many channels on one gain set (the design crate's
 //! `ChannelBatch`, run by the core's vectorisable `ChannelBank`s) on 2-D numpy arrays.
 
-use angletrack::{AnyBatch, ChannelBatch, with_any_channel};
+use angletrack::{AnyBatch, ChannelBatch, OutputSet, with_any_channel};
 use pyo3::prelude::*;
 
 use crate::arrays::{Float, channel_samples};
 use crate::dispatch::{Arg, PhaseSinCos, RunSettings, Sample};
 use crate::errors::{Error, Result};
-use crate::estimates::{Estimates, OutputSelection, run_estimates};
+use crate::estimates::{Estimates, output_set, run_estimates};
 use crate::gains::PyGains;
 use crate::getters::class_methods;
 
@@ -17,7 +17,7 @@ fn run_batch<T: Sample, const N: usize, S: PhaseSinCos<T>>(
     py: Python<'_>,
     batch: &mut ChannelBatch<T, N, S>,
     (y_c, y_s): (Arg<'_, '_>, Arg<'_, '_>),
-    outputs: OutputSelection,
+    outputs: OutputSet,
 ) -> Result<Estimates> {
     let (y_c, channels_c, samples) = channel_samples::<T>(y_c, "y_c")?;
     let (y_s, channels_s, samples_s) = channel_samples::<T>(y_s, "y_s")?;
@@ -101,7 +101,7 @@ class_methods! {
             y_s: Arg<'_, '_>,
             outputs: Option<Arg<'_, '_>>,
         ) -> Result<Estimates> {
-            let outputs = OutputSelection::from_argument(outputs)?;
+            let outputs = output_set(outputs)?;
             with_any_channel!(AnyBatch, &mut self.inner, b => run_batch(py, b, (y_c, y_s), outputs))
         }
 
@@ -129,7 +129,7 @@ pub fn track_batch(
     sin_cos: Option<&str>,
     outputs: Option<&Bound<'_, PyAny>>,
 ) -> Result<Estimates> {
-    let outputs = OutputSelection::from_argument(outputs)?;
+    let outputs = output_set(outputs)?;
     let settings = RunSettings::new(gains, Float::of_samples(y_c, "y_c")?, sin_cos)?;
     // `numpy.shape` reads nested sequences too (the run refuses any shape but 2-D).
     let channels = PyModule::import(py, "numpy")?

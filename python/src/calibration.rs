@@ -5,7 +5,7 @@
 use angletrack::OnlineCalibrationChoice;
 use angletrack_core::SensorCalibration as CoreCalibration;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{IntoPyDict, PyDict};
 
 use crate::errors::{Error, Result};
 use crate::getters::class_methods;
@@ -85,11 +85,7 @@ class_methods! {
         // A Python method takes `&self` (pyo3 passes no Rust value), though the type is `Copy`.
         #[allow(clippy::wrong_self_convention)]
         fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-            let d = PyDict::new(py);
-            for (name, value) in FIELDS.iter().zip(self.values()) {
-                d.set_item(name, value)?;
-            }
-            Ok(d)
+            FIELDS.into_iter().zip(self.values()).into_py_dict(py)
         }
 
         /// The calibration of a dict holding the five fields (as `to_dict` writes them; other

@@ -14,53 +14,29 @@ use angletrack::{
     ChannelCounts, CountsError, CountsInput, CountsInputError, CountsSettings, Signedness,
 };
 use numpy::prelude::*;
-use numpy::{Element, PyArray1, PyArrayDescr, PyUntypedArray, dtype};
+use numpy::{Element, PyArray1, PyArrayDescr, PyUntypedArray};
 use pyo3::prelude::*;
 
 use crate::arrays::{Samples, paired_samples, read_only, samples};
 use crate::dispatch::Sample;
 use crate::errors::{Error, Result};
 
-/// An integer dtype of raw ADC counts.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Counts {
-    /// `numpy.int16`.
-    I16,
-    /// `numpy.uint16` (offset binary).
-    U16,
-    /// `numpy.int32`.
-    I32,
-    /// `numpy.int64` (numpy's default integer), converted to one of the others.
-    I64,
+/// The numpy names of the integer dtypes of raw ADC counts: int16, uint16 (offset binary),
+/// int32 and int64 (numpy's default integer, converted to one of the others).
+const COUNTS_DTYPES: [&str; 4] = ["int16", "uint16", "int32", "int64"];
+
+/// The counts dtype's name of a dtype (native byte order), `None` for any other.
+pub fn counts_dtype(descr: &Bound<'_, PyArrayDescr>) -> Option<&'static str> {
+    let name = descr.to_string();
+    COUNTS_DTYPES.into_iter().find(|&n| n == name)
 }
 
-impl Counts {
-    /// The numpy name of the dtype.
-    fn name(self) -> &'static str {
-        ["int16", "uint16", "int32", "int64"][self as usize]
-    }
-
-    /// The counts type of a dtype, `None` for any other.
-    pub fn of_descr(descr: &Bound<'_, PyArrayDescr>) -> Option<Self> {
-        let py = descr.py();
-        if descr.is_equiv_to(&dtype::<i16>(py)) {
-            Some(Counts::I16)
-        } else if descr.is_equiv_to(&dtype::<u16>(py)) {
-            Some(Counts::U16)
-        } else if descr.is_equiv_to(&dtype::<i32>(py)) {
-            Some(Counts::I32)
-        } else if descr.is_equiv_to(&dtype::<i64>(py)) {
-            Some(Counts::I64)
-        } else {
-            None
-        }
-    }
-
-    /// The counts type of an argument, `None` unless it is an array of integer counts.
-    fn of_samples<'py>(obj: &Bound<'py, PyAny>) -> Option<(Self, Bound<'py, PyUntypedArray>)> {
-        let array = obj.cast::<PyUntypedArray>().ok()?;
-        Some((Self::of_descr(&array.dtype())?, array.clone()))
-    }
+/// The counts dtype's name of an argument, `None` unless it is an array of integer counts.
+fn counts_array<'py>(
+    obj: &Bound<'py, PyAny>,
+) -> Option<(&'static str, Bound<'py, PyUntypedArray>)> {
+    let array = obj.cast::<PyUntypedArray>().ok()?;
+    Some((counts_dtype(&array.dtype())?, array.clone()))
 }
 
 /// The ADC arguments of an observer as given: the settings, and the name of the first one
@@ -124,7 +100,7 @@ fn named(e: CountsInputError) -> Error {
 
 /// Whether `samples` are raw counts (an array of an integer dtype the observer takes).
 pub fn is_counts(samples: &Bound<'_, PyAny>) -> bool {
-    Counts::of_samples(samples).is_some()
+    counts_array(samples).is_some()
 }
 
 /// The samples of `y_c` and `y_s`: arrays of the observer's float type as they are,
@@ -139,7 +115,7 @@ pub fn signals<'py, T: Sample>(
     y_c: &Bound<'py, PyAny>,
     y_s: &Bound<'py, PyAny>,
 ) -> Result<(Samples<'py, T>, Samples<'py, T>)> {
-    let Some((kind, c)) = Counts::of_samples(y_c) else {
+    let Some((kind, c)) = counts_array(y_c) else {
         let pair = (samples::<T>(y_c, "y_c")?, samples::<T>(y_s, "y_s")?);
         if let Some(stated) = stated {
             return Err(Error::value(
@@ -150,12 +126,12 @@ pub fn signals<'py, T: Sample>(
         }
         return Ok(pair);
     };
-    match Counts::of_samples(y_s) {
+    match counts_array(y_s) {
         Some((ks, s)) if ks == kind => match kind {
-            Counts::I16 => scaled::<T, i16>(input, (&c, &s)),
-            Counts::U16 => scaled::<T, u16>(input, (&c, &s)),
-            Counts::I32 => scaled::<T, i32>(input, (&c, &s)),
-            Counts::I64 => scaled::<T, i64>(input, (&c, &s)),
+            "int16" => scaled::<T, i16>(input, (&c, &s)),
+            "uint16" => scaled::<T, u16>(input, (&c, &s)),
+            "int32" => scaled::<T, i32>(input, (&c, &s)),
+            _ => scaled::<T, i64>(input, (&c, &s)),
         },
         other => {
             // `y_c`'s own shape first, as for floats, then `y_s`'s.
@@ -167,8 +143,8 @@ pub fn signals<'py, T: Sample>(
             }
             Err(Error::Dtype {
                 parameter: "y_s",
-                given: other.map_or("another dtype", |k| k.0.name()).into(),
-                expected: format!("raw counts of y_c's dtype, {}", kind.name()),
+                given: other.map_or("another dtype", |k| k.0).into(),
+                expected: format!("raw counts of y_c's dtype, {kind}"),
             })
         }
     }

@@ -145,26 +145,19 @@ class_methods! {
 /// `Observer.latched_faults`, by the names of the core's `Faults` constants
 /// (`LOSS_OF_SIGNAL`: the core's "loss of signal" in upper case, words joined by `_`).
 pub fn fault_bits() -> Vec<(String, u8)> {
-    constant_names(
-        Faults::NAMES
-            .iter()
-            .map(|(flag, name)| (*name, flag.bits())),
-    )
+    constant_names(Faults::NAMES.map(|(flag, name)| (name, flag.bits())))
 }
 
 /// The front-end fault flag bits of `DemodulatedPairs.faults`, the resolver path's
 /// `front_end_faults` column and `Demodulator.latched_faults`, named as [`fault_bits`].
 pub fn front_end_fault_bits() -> Vec<(String, u8)> {
-    constant_names(
-        FrontEndFaults::NAMES
-            .iter()
-            .map(|(flag, name)| (*name, flag.bits())),
-    )
+    constant_names(FrontEndFaults::NAMES.map(|(flag, name)| (name, flag.bits())))
 }
 
 /// The core's flag names as its constants spell them.
-fn constant_names<'a>(flags: impl Iterator<Item = (&'a str, u8)>) -> Vec<(String, u8)> {
+fn constant_names<const N: usize>(flags: [(&str, u8); N]) -> Vec<(String, u8)> {
     flags
+        .into_iter()
         .map(|(name, bits)| (name.to_uppercase().replace(' ', "_"), bits))
         .collect()
 }

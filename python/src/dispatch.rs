@@ -51,17 +51,13 @@ impl RunSettings {
     /// The settings for `gains` in the float type `float` with the sin/cos named `sin_cos`
     /// (`'fast'` or `'exact'`; `None`: the float type's default).
     pub fn new(gains: PyGains, float: Float, sin_cos: Option<&str>) -> Result<Self> {
-        let sin_cos = match sin_cos {
-            None => SinCosKind::Default,
-            Some("fast") => SinCosKind::Fast,
-            Some("exact") => SinCosKind::Exact,
-            Some(other) => {
-                return Err(Error::value(
-                    "sin_cos",
-                    format!("expected 'fast' or 'exact', got {other:?}"),
-                ));
-            }
-        };
+        let sin_cos = SinCosKind::from_name(sin_cos).ok_or_else(|| {
+            let other = sin_cos.unwrap_or_default();
+            Error::value(
+                "sin_cos",
+                format!("expected 'fast' or 'exact', got {other:?}"),
+            )
+        })?;
         Ok(Self {
             gains,
             float,
@@ -103,11 +99,7 @@ impl RunSettings {
 
     /// The sin/cos's name in the Python API: `'fast'` or `'exact'`.
     fn sin_cos_name(&self) -> &'static str {
-        if self.sin_cos.is_exact(self.float == Float::F64) {
-            "exact"
-        } else {
-            "fast"
-        }
+        ["fast", "exact"][usize::from(self.sin_cos.is_exact(self.float == Float::F64))]
     }
 
     /// The initialiser of a subclass whose value is `value`.

@@ -1,7 +1,7 @@
 //! `Estimate` and `Estimates`: what observers give back, and the numpy arrays a run writes
 //! its estimates into.
 
-use angletrack::{EstimateColumns, Output};
+use angletrack::{EstimateColumns, Output, OutputSet};
 use angletrack_core::{Estimate as CoreEstimate, Real};
 use numpy::{Element, PyArray1};
 use pyo3::prelude::*;
@@ -11,57 +11,29 @@ use crate::arrays::{as_slice_mut, writable};
 use crate::errors::{Error, Result};
 use crate::getters::class_methods;
 
-/// The estimates a caller asked for (`outputs=`): every one unless told otherwise.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct OutputSelection([bool; 6]);
-
-impl OutputSelection {
-    /// Every output.
-    pub(crate) const ALL: Self = Self([true; 6]);
-
-    /// The selection of argument `outputs`: `None` for every output, else a name or an
-    /// iterable of names (`Output::name`: a tuple, a list, a set); an unknown name is
-    /// refused, named.
-    pub(crate) fn from_argument(outputs: Option<&Bound<'_, PyAny>>) -> Result<Self> {
-        let Some(outputs) = outputs.filter(|o| !o.is_none()) else {
-            return Ok(Self::ALL);
+/// The outputs of argument `outputs`: `None` for every output, else a name or an iterable
+/// of names (`Output::name`: a tuple, a list, a set); an unknown name is refused, named.
+pub(crate) fn output_set(outputs: Option<&Bound<'_, PyAny>>) -> Result<OutputSet> {
+    let Some(outputs) = outputs.filter(|o| !o.is_none()) else {
+        return Ok(OutputSet::ALL);
+    };
+    let names: Vec<String> = if let Ok(name) = outputs.cast::<PyString>() {
+        vec![name.to_string()]
+    } else {
+        let refused = |_| {
+            Error::value(
+                "outputs",
+                "expected output names (str), e.g. ('angle', 'speed')",
+            )
         };
-        let names: Vec<String> = if let Ok(name) = outputs.cast::<PyString>() {
-            vec![name.to_string()]
-        } else {
-            let refused = |_| {
-                Error::value(
-                    "outputs",
-                    "expected output names (str), e.g. ('angle', 'speed')",
-                )
-            };
-            outputs
-                .try_iter()
-                .map_err(refused)?
-                .map(|name| name.and_then(|n| n.extract::<String>()))
-                .collect::<PyResult<_>>()
-                .map_err(refused)?
-        };
-        let mut selected = [false; 6];
-        for name in &names {
-            let output = Output::from_name(name).ok_or_else(|| {
-                let known: Vec<&str> = Output::ALL.iter().map(|o| o.name()).collect();
-                Error::value(
-                    "outputs",
-                    format!(
-                        "unknown output '{name}': expected some of {}",
-                        known.join(", ")
-                    ),
-                )
-            })?;
-            selected[output as usize] = true;
-        }
-        Ok(Self(selected))
-    }
-
-    fn has(self, output: Output) -> bool {
-        self.0[output as usize]
-    }
+        outputs
+            .try_iter()
+            .map_err(refused)?
+            .map(|name| name.and_then(|n| n.extract::<String>()))
+            .collect::<PyResult<_>>()
+            .map_err(refused)?
+    };
+    OutputSet::from_names(names.iter().map(String::as_str)).map_err(|e| Error::value("outputs", e))
 }
 
 /// The estimates of `n` samples (the arrays shaped `shape` if given) and what `fill`
@@ -73,15 +45,10 @@ impl OutputSelection {
 pub(crate) fn run_estimates<T: Real + Element, R: Send>(
     py: Python<'_>,
     n: usize,
-    (outputs, shape): (OutputSelection, Option<(usize, usize)>),
+    (outputs, shape): (OutputSet, Option<(usize, usize)>),
     fill: impl FnOnce(EstimateColumns<'_, T>) -> R + Send,
 ) -> Result<(R, Estimates)> {
-    let per_sample: usize = Output::ALL
-        .iter()
-        .filter(|&&o| outputs.has(o))
-        .map(|o| o.bytes_per_sample::<T>())
-        .sum();
-    let bytes = n as u128 * per_sample as u128;
+    let bytes = n as u128 * outputs.bytes_per_sample::<T>() as u128;
     if physical_memory_bytes(py).is_some_and(|memory| bytes > memory) {
         return Err(Error::Memory {
             parameter: "y_c",
@@ -99,7 +66,7 @@ pub(crate) fn run_estimates<T: Real + Element, R: Send>(
     // shaped into the result.
     macro_rules! columns {
         ($($field:ident: $t:ty = $output:ident,)*) => {{
-            $(let $field = zeros::<$t>(py, outputs.has(Output::$output).then_some(n))?;)*
+            $(let $field = outputs.has(Output::$output).then(|| zeros::<$t>(py, n)).transpose()?;)*
             let filled = {
                 $(let mut $field = $field.as_ref().map(writable).transpose()?;)*
                 let columns = EstimateColumns {
@@ -127,47 +94,26 @@ pub(crate) fn run_estimates<T: Real + Element, R: Send>(
 
 /// The machine's physical memory (bytes), if the platform tells it (`os.sysconf`).
 fn physical_memory_bytes(py: Python<'_>) -> Option<u128> {
-    let os = PyModule::import(py, "os").ok()?;
-    let sysconf = |name: &str| -> Option<u128> {
-        let value: i64 = os
-            .getattr("sysconf")
-            .ok()?
-            .call1((name,))
-            .ok()?
-            .extract()
-            .ok()?;
-        u128::try_from(value).ok()
-    };
-    Some(sysconf("SC_PHYS_PAGES")? * sysconf("SC_PAGE_SIZE")?)
+    let sysconf = PyModule::import(py, "os").ok()?.getattr("sysconf").ok()?;
+    let value = |name: &str| sysconf.call1((name,)).ok()?.extract::<u64>().ok();
+    Some(u128::from(value("SC_PHYS_PAGES")?) * u128::from(value("SC_PAGE_SIZE")?))
 }
 
 /// A zeroed array of `n` elements allocated by `numpy.zeros`, which raises `MemoryError`
-/// where the allocation fails (a failed allocation must not abort the interpreter); `None`
-/// for no array.
-pub(crate) fn zeros<'py, E: Element>(
-    py: Python<'py>,
-    n: Option<usize>,
-) -> Result<Option<Bound<'py, PyArray1<E>>>> {
-    let Some(n) = n else {
-        return Ok(None);
-    };
+/// where the allocation fails (a failed allocation must not abort the interpreter).
+pub(crate) fn zeros<'py, E: Element>(py: Python<'py>, n: usize) -> Result<Bound<'py, PyArray1<E>>> {
     let array = PyModule::import(py, "numpy")?
         .getattr("zeros")?
         .call1((n, numpy::dtype::<E>(py)))?;
-    Ok(Some(array.cast_into::<PyArray1<E>>().map_err(PyErr::from)?))
+    Ok(array.cast_into::<PyArray1<E>>().map_err(PyErr::from)?)
 }
 
 /// What an observer knows after its last sample (scalars, in `float`).
 #[pyclass(module = "angletrack", frozen)]
 #[derive(Debug, Clone)]
 pub struct Estimate {
-    inner: CoreEstimate<f64>,
-}
-
-impl Estimate {
-    pub(crate) fn from_core(e: &CoreEstimate<f64>) -> Self {
-        Self { inner: *e }
-    }
+    /// The core's estimate.
+    pub(crate) inner: CoreEstimate<f64>,
 }
 
 class_methods! {

@@ -6,9 +6,10 @@
 //! the GIL released.
 
 use angletrack::{FixedConstantsError, FixedTracker, clipping_rails, fixed_front_end};
-use angletrack_core::{AngleCorrection, Rails, SensorCalibration, TrackerFrontEnd};
+use angletrack_core::{AngleCorrection, SensorCalibration, TrackerFrontEnd};
 use numpy::PyUntypedArray;
 use numpy::prelude::*;
+use pyo3::basic::CompareOp;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -19,7 +20,7 @@ use crate::design::{PyDesign, constants_dict};
 use crate::errors::{Error, Result};
 use crate::export::constant;
 use crate::fixed_estimates::{FixedEstimate, FixedEstimates, run_fixed};
-use crate::gains::{GainSet, PyGains, with_gains};
+use crate::gains::{GainSet, PyGains};
 use crate::getters::class_methods;
 
 impl From<FixedConstantsError> for Error {
@@ -76,11 +77,10 @@ fn counts<'py>(obj: &Bound<'py, PyAny>, parameter: &'static str) -> Result<Sampl
             expected: "int16 samples (an int16 array, or integers from -32768 to 32767)".into(),
         });
     }
-    let below = numpy.getattr("less")?.call1((&read, i16::MIN))?;
-    let above = numpy.getattr("greater")?.call1((&read, i16::MAX))?;
-    let outside = numpy
-        .getattr("flatnonzero")?
-        .call1((numpy.getattr("logical_or")?.call1((below, above))?,))?;
+    let outside = read
+        .rich_compare(i16::MIN, CompareOp::Lt)?
+        .bitor(read.rich_compare(i16::MAX, CompareOp::Gt)?)?;
+    let outside = numpy.getattr("flatnonzero")?.call1((outside,))?;
     if outside.len()? > 0 {
         let index = outside.get_item(0)?;
         return Err(Error::value(
@@ -153,13 +153,15 @@ fn stages(calibration: Option<&Bound<'_, PyAny>>) -> Result<Stages> {
     Ok((Some(sensor), Some(correction)))
 }
 
-/// The core's front end of the arguments (`angletrack::fixed_front_end`).
+/// The core's front end of the arguments (`angletrack::fixed_front_end`), clipped against
+/// `adc_range` or the rails measured (`angletrack::clipping_rails`).
 fn front_end(
     calibration: Option<&Bound<'_, PyAny>>,
     mid_scale_counts: Count,
     input_shift: Count,
-    rails: Rails<i32>,
+    (adc_range, measure_adc_range): (Option<(i32, i32)>, bool),
 ) -> Result<TrackerFrontEnd<i16>> {
+    let rails = clipping_rails(adc_range, measure_adc_range)?;
     let (sensor, correction) = stages(calibration)?;
     Ok(fixed_front_end(
         mid_scale_counts.get("mid_scale_counts")?,
@@ -176,7 +178,7 @@ class_methods! {
         /// measured).
         latched_front_end_faults: u8 = |this, py| this.tracker.latched_faults().1;
         /// The estimate after the last sample.
-        estimate: FixedEstimate = |this, py| FixedEstimate::new(this.tracker.estimate());
+        estimate: FixedEstimate = |this, py| FixedEstimate { inner: this.tracker.estimate() };
         /// The integer constants (the dict `Design.fixed_constants()` returns): what
         /// `FixedObserver.from_constants` takes back.
         constants: Result<Bound<'py, PyDict>> = |this, py| constants_dict(py, this.tracker.constants());
@@ -205,10 +207,10 @@ class_methods! {
             measure_adc_range: bool,
         ) -> Result<Self> {
             let gains = designed_gains(design)?;
-            let rails = clipping_rails(adc_range, measure_adc_range)?;
-            let front_end = front_end(calibration, mid_scale_counts, input_shift, rails)?;
-            let (l, period) = with_gains!(&gains, g => (g.gains().to_vec(), g.sample_period()));
-            let tracker = FixedTracker::of_gains(&l, period, front_end, nominal_amplitude)?;
+            let range = (adc_range, measure_adc_range);
+            let front_end = front_end(calibration, mid_scale_counts, input_shift, range)?;
+            let period = gains.sample_period();
+            let tracker = FixedTracker::of_gains(&gains.gains(), period, front_end, nominal_amplitude)?;
             Ok(Self { tracker })
         }
 
@@ -236,8 +238,8 @@ class_methods! {
             let multiplier: Vec<i32> =
                 constant(constants, "multiplier", "a list of integers (int32)")?;
             let shift: u32 = constant(constants, "acceleration_shift", "an integer from 0 to 15")?;
-            let rails = clipping_rails(adc_range, measure_adc_range)?;
-            let front_end = front_end(calibration, mid_scale_counts, input_shift, rails)?;
+            let range = (adc_range, measure_adc_range);
+            let front_end = front_end(calibration, mid_scale_counts, input_shift, range)?;
             let tracker = FixedTracker::of_constants(
                 &multiplier,
                 shift,

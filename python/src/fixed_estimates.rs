@@ -3,11 +3,10 @@
 
 use angletrack::FixedColumns;
 use angletrack_core::FixedEstimate as CoreFixedEstimate;
-use numpy::{Element, PyArray1};
 use pyo3::prelude::*;
 
 use crate::arrays::{as_slice_mut, writable};
-use crate::errors::{Error, Result};
+use crate::errors::Result;
 use crate::estimates::zeros;
 use crate::getters::class_methods;
 
@@ -17,14 +16,7 @@ use crate::getters::class_methods;
 #[derive(Debug, Clone)]
 pub struct FixedEstimate {
     /// The integers, and the position (rad), speed (rad/s) and acceleration (rad/s^2).
-    inner: (CoreFixedEstimate, [f64; 3]),
-}
-
-impl FixedEstimate {
-    /// The estimate `e` with its position, speed and acceleration in physical units.
-    pub(crate) fn new(inner: (CoreFixedEstimate, [f64; 3])) -> Self {
-        Self { inner }
-    }
+    pub(crate) inner: (CoreFixedEstimate, [f64; 3]),
 }
 
 class_methods! {
@@ -89,7 +81,7 @@ macro_rules! fixed_estimates {
             n: usize,
             fill: impl FnOnce(FixedColumns<'_>) + Send,
         ) -> Result<FixedEstimates> {
-            $(let $field = array::<$t>(py, n)?;)*
+            $(let $field = zeros::<$t>(py, n)?;)*
             {
                 $(let mut $field = writable(&$field)?;)*
                 let columns = FixedColumns { $($field: as_slice_mut(&mut $field)?,)* };
@@ -135,9 +127,4 @@ impl FixedEstimates {
             self.len
         )
     }
-}
-
-/// A zeroed array of `n` elements.
-fn array<'py, E: Element>(py: Python<'py>, n: usize) -> Result<Bound<'py, PyArray1<E>>> {
-    zeros(py, Some(n))?.ok_or_else(|| Error::value("output", "was not allocated"))
 }

@@ -58,32 +58,19 @@ pub fn type_name(obj: &Bound<'_, PyAny>) -> String {
     }
 }
 
-/// The float of argument `parameter` (an int, a float or a numpy scalar), or a
-/// `ConfigError` naming it.
-pub fn real(obj: &Bound<'_, PyAny>, parameter: &'static str) -> Result<f64> {
-    obj.extract::<f64>().map_err(|_| {
-        Error::value(
-            parameter,
-            format!("expected a number, got {}", type_name(obj)),
-        )
-    })
-}
-
 /// The floats of the sequence argument `parameter`, or a `ConfigError` naming it and the
 /// element at fault.
 pub fn reals(obj: &Bound<'_, PyAny>, parameter: &'static str) -> Result<Vec<f64>> {
-    if obj.is_instance_of::<pyo3::types::PyString>() {
-        return Err(Error::value(
-            parameter,
-            format!("expected a sequence of numbers, got {}", type_name(obj)),
-        ));
-    }
-    let items = obj.try_iter().map_err(|_| {
+    let not_a_sequence = || {
         Error::value(
             parameter,
             format!("expected a sequence of numbers, got {}", type_name(obj)),
         )
-    })?;
+    };
+    if obj.is_instance_of::<pyo3::types::PyString>() {
+        return Err(not_a_sequence());
+    }
+    let items = obj.try_iter().map_err(|_| not_a_sequence())?;
     items
         .enumerate()
         .map(|(i, item)| {
@@ -117,7 +104,11 @@ class_methods! {
         #[pyo3(signature = (gains, sample_period_s))]
         fn py_new(gains: &Bound<'_, PyAny>, sample_period_s: &Bound<'_, PyAny>) -> Result<Self> {
             let gains = reals(gains, "gains")?;
-            let sample_period_s = real(sample_period_s, "sample_period_s")?;
+            // An int, a float or a numpy scalar.
+            let sample_period_s = sample_period_s.extract::<f64>().map_err(|_| {
+                let given = type_name(sample_period_s);
+                Error::value("sample_period_s", format!("expected a number, got {given}"))
+            })?;
             Ok(Self {
                 set: GainSet::new(&gains, sample_period_s)?,
             })

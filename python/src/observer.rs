@@ -6,7 +6,7 @@
 //! owns.
 
 use angletrack::{
-    AnyChannel, ChannelOptions, TrackerChannel, mode_name, status_name, with_any_channel,
+    AnyChannel, ChannelOptions, OutputSet, TrackerChannel, mode_name, status_name, with_any_channel,
 };
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
@@ -17,7 +17,7 @@ use crate::counts::adc_settings;
 use crate::diagnostics::PyFaultThresholds;
 use crate::dispatch::{Arg, PhaseSinCos, RunSettings, Sample};
 use crate::errors::{Error, Result};
-use crate::estimates::{Estimate, Estimates, OutputSelection, run_estimates};
+use crate::estimates::{Estimate, Estimates, run_estimates};
 use crate::gains::PyGains;
 use crate::getters::class_methods;
 
@@ -35,7 +35,7 @@ pub fn run_channel<T: Sample, const N: usize, S: PhaseSinCos<T>>(
     let (y_c, y_s) = crate::counts::signals(&mut channel.input, stated, y_c, y_s)?;
     let (y_c, y_s) = (y_c.as_slice(), y_s.as_slice());
     channel.prepare(counts, (y_c, y_s), front_end_faults)?;
-    let ((), estimates) = run_estimates(py, y_c.len(), (OutputSelection::ALL, None), |columns| {
+    let ((), estimates) = run_estimates(py, y_c.len(), (OutputSet::ALL, None), |columns| {
         channel.run(columns, (y_c, y_s), front_end_faults)
     })?;
     Ok(estimates)
@@ -82,9 +82,10 @@ pub fn run_channel<T: Sample, const N: usize, S: PhaseSinCos<T>>(
 #[pyclass(name = "Observer", module = "angletrack", extends = RunSettings)]
 #[derive(Debug)]
 pub struct PyObserver {
-    inner: AnyChannel,
+    /// The crate's chain of one observer.
+    pub(crate) inner: AnyChannel,
     /// The first ADC argument the caller gave.
-    stated: Option<&'static str>,
+    pub(crate) stated: Option<&'static str>,
 }
 
 class_methods! {
@@ -94,7 +95,7 @@ class_methods! {
         /// rails measured).
         latched_front_end_faults: u8 = |this, py| this.inner.status().front_end_faults.bits();
         /// The estimate after the last sample.
-        estimate: Estimate = |this, py| Estimate::from_core(&this.inner.status().estimate);
+        estimate: Estimate = |this, py| Estimate { inner: this.inner.status().estimate };
         /// The faults latched since they were last cleared (bits, see `angletrack.Faults`), like
         /// reading an RDC chip's fault register.
         latched_faults: u8 = |this, py| this.inner.status().latched_faults.bits();
@@ -171,16 +172,9 @@ class_methods! {
             y_s: Arg<'_, '_>,
             front_end_faults: Option<PyReadonlyArray1<'_, u8>>,
         ) -> Result<Estimates> {
-            let faults = front_end_faults
-                .as_ref()
-                .map(|f| f.as_slice())
-                .transpose()
-                .map_err(|_| {
-                    Error::value(
-                        "front_end_faults",
-                        "expected a contiguous uint8 array".to_string(),
-                    )
-                })?;
+            let faults = front_end_faults.as_ref().map(|f| f.as_slice()).transpose();
+            let faults = faults
+                .map_err(|_| Error::value("front_end_faults", "expected a contiguous uint8 array"))?;
             let stated = self.stated;
             with_any_channel!(AnyChannel, &mut self.inner, c => {
                 run_channel(py, c, stated, (y_c, y_s), faults)

@@ -2,13 +2,14 @@
 //! and writes them; the Python package edits the document as a dict and hands it back.
 
 use angletrack::CalibrationFile;
+use angletrack::CaptureCounts;
 use angletrack::export::GainsFile;
 use angletrack::tracker_file::{CaptureHead, FirmwareError, TrackerFile, TrackerRun};
-use angletrack::{CaptureCounts, Signedness};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::angle_calibration::SensorParameters;
 use crate::errors::{Error, Result};
 
 /// The tracker file's JSON `text` checked (`file` names it in errors), written again as
@@ -59,9 +60,6 @@ pub fn tracker_firmware_constants(
         })
 }
 
-/// A sensor calibration's `(offset_c, offset_s, amplitude_c, amplitude_s, quadrature_rad)`.
-type SensorParameters = (f64, f64, f64, f64, f64);
-
 fn contiguous<'a>(y: &'a PyReadonlyArray1<'_, f64>, name: &'static str) -> Result<&'a [f64]> {
     y.as_slice()
         .map_err(|_| Error::value(name, "a contiguous float64 array"))
@@ -90,10 +88,7 @@ impl PyTrackerRun {
         mid_scale: Option<u64>,
     ) -> Result<Self> {
         let tracker = TrackerFile::from_json(text, file)?;
-        let counts = mid_scale.map(|mid_scale| CaptureCounts {
-            signedness: Signedness::of_signed(mid_scale == 0),
-            mid_scale,
-        });
+        let counts = mid_scale.map(CaptureCounts::of_mid_scale);
         let head = CaptureHead {
             y_c: contiguous(&y_c, "y_c")?,
             y_s: contiguous(&y_s, "y_s")?,
@@ -129,11 +124,12 @@ impl PyTrackerRun {
         ] {
             out.set_item(name, PyArray1::from_vec(py, column))?;
         }
-        out.set_item("faults", PyArray1::from_vec(py, rows.faults))?;
-        out.set_item(
-            "front_end_faults",
-            PyArray1::from_vec(py, rows.front_end_faults),
-        )?;
+        for (name, column) in [
+            ("faults", rows.faults),
+            ("front_end_faults", rows.front_end_faults),
+        ] {
+            out.set_item(name, PyArray1::from_vec(py, column))?;
+        }
         if fixed {
             out.set_item("angle_binary", PyArray1::from_vec(py, rows.angle_binary))?;
         }

@@ -118,6 +118,17 @@ pub struct CaptureCounts {
     pub mid_scale: u64,
 }
 
+impl CaptureCounts {
+    /// The counts whose mid-scale is `mid_scale`: signed (two's complement) at 0, offset
+    /// binary otherwise, as [`capture_counts`] decides them.
+    pub fn of_mid_scale(mid_scale: u64) -> Self {
+        Self {
+            signedness: Signedness::of_signed(mid_scale == 0),
+            mid_scale,
+        }
+    }
+}
+
 /// Why [`capture_counts`] decides nothing.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum CountsError {
@@ -303,5 +314,16 @@ mod tests {
         chunked.add(&[-1.0], &[7.0]);
         assert_eq!(chunked, CountsExtremes::of(&[3.0, -1.0], &[7.0]));
         assert_eq!(chunked.channels(), [Some((-1.0, 3.0)), Some((7.0, 7.0))]);
+    }
+
+    #[test]
+    fn a_mid_scale_tells_the_signedness() {
+        assert_eq!(
+            CaptureCounts::of_mid_scale(0).signedness,
+            Signedness::Signed
+        );
+        let offset_binary = CaptureCounts::of_mid_scale(2048);
+        assert_eq!(offset_binary.signedness, Signedness::Unsigned);
+        assert_eq!(offset_binary.mid_scale, 2048);
     }
 }

@@ -1136,14 +1136,12 @@ class _CaptureCalibrator:
     def add_fit(self, y_c: _Samples, y_s: _Samples, reference: Optional[_Samples] = None) -> None: ...
     def finish(self) -> _LearnedCalibration: ...
 
-class _CorrectedObserver:
-    def __init__(
-        self, gains: Gains, sensor: _SensorParameters, cos: Sequence[float],
-        sin: Sequence[float], *, dtype: _DType = None, sin_cos: _SinCos = None,
-        adc_range: Optional[tuple[float, float]] = None, measure_adc_range: bool = False,
-        fault_thresholds: Optional[FaultThresholds] = None,
-    ) -> None: ...
-    def update(self, y_c: _Samples, y_s: _Samples) -> Estimates: ...
+def _corrected_observer(
+    gains: Gains, sensor: _SensorParameters, cos: Sequence[float],
+    sin: Sequence[float], *, dtype: _DType = None, sin_cos: _SinCos = None,
+    adc_range: Optional[tuple[float, float]] = None, measure_adc_range: bool = False,
+    fault_thresholds: Optional[FaultThresholds] = None,
+) -> Observer: ...
 
 # ----------------------------------------------------------- firmware source (angletrack::export)
 

@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any, Callable, Iterable, Optional
 import numpy as np
 
 from angletrack import _angletrack
-from angletrack._angletrack import (Estimates, FaultThresholds, Gains, _CaptureCalibrator, _CorrectedObserver,
+from angletrack._angletrack import (Estimates, FaultThresholds, Gains, _CaptureCalibrator, _corrected_observer,
                                    capture_fault_thresholds)
 
 if TYPE_CHECKING:
@@ -184,10 +184,10 @@ class CalibratedObserver:
                  sin_cos: Optional[str] = None, adc_range: Optional[tuple[float, float]] = None,
                  measure_adc_range: bool = False, fault_thresholds: Optional[FaultThresholds] = None):
         self.dtype = np.dtype(dtype)
-        self._inner = _CorrectedObserver(gains, tuple(calibration.sensor), list(calibration.cos),
-                                         list(calibration.sin), dtype=self.dtype, sin_cos=sin_cos,
-                                         adc_range=adc_range, measure_adc_range=measure_adc_range,
-                                         fault_thresholds=fault_thresholds)
+        self._inner = _corrected_observer(gains, tuple(calibration.sensor), list(calibration.cos),
+                                          list(calibration.sin), dtype=self.dtype, sin_cos=sin_cos,
+                                          adc_range=adc_range, measure_adc_range=measure_adc_range,
+                                          fault_thresholds=fault_thresholds)
         self.gains = gains
         self.calibration = calibration
         self.latched_faults = 0

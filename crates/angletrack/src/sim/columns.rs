@@ -67,6 +67,53 @@ impl Output {
     }
 }
 
+/// The outputs a caller asked for (the Python `outputs=`): a set of [`Output`]s.
+///
+/// ```
+/// use angletrack::{Output, OutputSet};
+/// let set = OutputSet::from_names(["speed", "faults"]).unwrap();
+/// assert!(set.has(Output::Speed) && !set.has(Output::Angle));
+/// assert_eq!(set.bytes_per_sample::<f32>(), 5);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct OutputSet([bool; 6]);
+
+impl OutputSet {
+    /// Every output.
+    pub const ALL: Self = Self([true; 6]);
+
+    /// The outputs `names` (as [`Output::name`] spells them); an unknown name is refused,
+    /// the message naming it and the known names.
+    pub fn from_names<'a>(names: impl IntoIterator<Item = &'a str>) -> Result<Self, String> {
+        let mut selected = [false; 6];
+        for name in names {
+            let output = Output::from_name(name).ok_or_else(|| {
+                let known: Vec<&str> = Output::ALL.iter().map(|o| o.name()).collect();
+                format!(
+                    "unknown output '{name}': expected some of {}",
+                    known.join(", ")
+                )
+            })?;
+            selected[output as usize] = true;
+        }
+        Ok(Self(selected))
+    }
+
+    /// Whether `output` is in the set.
+    pub fn has(self, output: Output) -> bool {
+        self.0[output as usize]
+    }
+
+    /// The bytes one sample of the outputs in the set takes in a run of float type `T`.
+    pub fn bytes_per_sample<T>(self) -> usize {
+        Output::ALL
+            .iter()
+            .filter(|&&o| self.has(o))
+            .map(|o| o.bytes_per_sample::<T>())
+            .sum()
+    }
+}
+
 /// Where a run writes its estimates: one slice per quantity, `None` for a quantity nobody
 /// asked for (neither computed beyond need nor written). Element `i` of every column
 /// belongs to sample `i` of the run (for a batch: channel `c`, sample `k` at

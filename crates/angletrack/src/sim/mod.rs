@@ -19,7 +19,7 @@ pub use batch::{ChannelBatch, LANES};
 pub use calibrated::{
     NOMINAL_AMPLITUDE_SAMPLES, capture_fault_thresholds, nominal_amplitude, run_calibrated,
 };
-pub use columns::{EstimateColumns, Output};
+pub use columns::{EstimateColumns, Output, OutputSet};
 pub use fixed_chain::{
     FixedInput, fixed_front_end, fixed_input, fixed_input_shift, fixed_magnitude_tolerance,
     fixed_monitor_amplitude, shifted_calibration,

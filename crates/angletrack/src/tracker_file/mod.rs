@@ -257,4 +257,12 @@ impl SinCosKind {
             SinCosKind::Exact => Some("exact"),
         }
     }
+
+    /// The kind of a name as [`SinCosKind::name`] gives it (`None`: the default); `None` for
+    /// any other name.
+    pub fn from_name(name: Option<&str>) -> Option<Self> {
+        [SinCosKind::Default, SinCosKind::Fast, SinCosKind::Exact]
+            .into_iter()
+            .find(|kind| kind.name() == name)
+    }
 }

@@ -359,3 +359,11 @@ fn firmware_constants_are_the_generators_gains_and_calibration() {
         "{text}"
     );
 }
+
+#[test]
+fn sin_cos_names_read_back() {
+    for kind in [SinCosKind::Default, SinCosKind::Fast, SinCosKind::Exact] {
+        assert_eq!(SinCosKind::from_name(kind.name()), Some(kind));
+    }
+    assert_eq!(SinCosKind::from_name(Some("slow")), None);
+}

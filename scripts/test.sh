@@ -39,9 +39,9 @@ need_debian_packages gcc libc6-dev qemu-system-arm gcc-arm-none-eabi libnewlib-a
   binutils-arm-none-eabi
 
 logs=$(mktemp -d)
-pids=()
+declare -A lane_of # a running lane's process id -> its index in lanes
 cleanup() {
-  for pid in "${pids[@]}"; do kill -- -"$pid" 2>/dev/null || true; done
+  for pid in "${!lane_of[@]}"; do kill -- -"$pid" 2>/dev/null || true; done
   rm -rf "$logs"
 }
 trap cleanup EXIT
@@ -58,14 +58,12 @@ for i in "${!lanes[@]}"; do
     done
     echo "=== lane ${lanes[$i]// /, } passed ($(($(date +%s) - start)) s)"
   ) >"$logs/lane-$i.log" 2>&1 &
-  pids+=($!)
+  lane_of[$!]=$i
   echo "lane $i: ${steps[*]##*/} (output shown when it ends)"
 done
 set +m
 
 # Waits for the lanes in the order they end; the first failure stops the others.
-declare -A lane_of
-for i in "${!pids[@]}"; do lane_of[${pids[$i]}]=$i; done
 while [ ${#lane_of[@]} -gt 0 ]; do
   lane_status=0
   wait -n -p ended "${!lane_of[@]}" || lane_status=$?

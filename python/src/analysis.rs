@@ -9,30 +9,23 @@ use pyo3::types::PyComplex;
 use crate::design::complex_list;
 use crate::errors::Result;
 use crate::gains::{PyGains, with_gains};
-use crate::getters::class_methods;
+use crate::getters::{class_methods, result_class};
 
-/// Overshoot and 2 % settling time of a step response.
-#[pyclass(name = "StepResponse", module = "angletrack", frozen)]
-#[derive(Debug, Clone)]
-pub struct PyStepResponse(angletrack::StepResponse);
-
-class_methods! {
-    PyStepResponse {
+result_class! {
+    /// Overshoot and 2 % settling time of a step response.
+    #[derive(Clone)]
+    PyStepResponse = "StepResponse" of |py, s: angletrack::StepResponse| {
         /// Overshoot, as a fraction of the step (0.1 for 10 %).
-        overshoot: f64 = |this, py| this.0.overshoot;
+        overshoot: f64 = s.overshoot,
         /// 2 % settling time (s).
-        settling_time_s: f64 = |this, py| this.0.settling_time_s;
+        settling_time_s: f64 = s.settling_time_s,
     }
-    methods {
-        fn __repr__(&self) -> String {
-            format!(
-                "StepResponse(overshoot={:.4} ({:.2} %), settling_time_s={:.6e})",
-                self.0.overshoot,
-                100.0 * self.0.overshoot,
-                self.0.settling_time_s
-            )
-        }
-    }
+    repr |s| format!(
+        "StepResponse(overshoot={:.4} ({:.2} %), settling_time_s={:.6e})",
+        s.overshoot,
+        100.0 * s.overshoot,
+        s.settling_time_s
+    );
 }
 
 /// Everything the analysis predicts about a gain set, in physical units (the design's
@@ -93,14 +86,16 @@ class_methods! {
         /// Kalman design: `sqrt(P22) / Ts` (rad/s), on the model of `kalman_angle_floor_rad`.
         kalman_speed_floor_rad_s: Option<f64> = |this, py| this.inner.kalman_speed_floor_rad_s;
         /// Small-signal (linear) step response of the discrete loop.
-        linear_step: PyStepResponse = |this, py| PyStepResponse(this.inner.linear_step);
+        linear_step: Result<PyStepResponse> = |this, py| PyStepResponse::of(py, this.inner.linear_step);
         /// Step response of the continuous design, or `None`.
-        continuous_step: Option<PyStepResponse> = |this, py| this.inner.continuous_step.map(PyStepResponse);
+        continuous_step: Result<Option<PyStepResponse>> =
+            |this, py| this.inner.continuous_step.map(|s| PyStepResponse::of(py, s)).transpose();
         /// Response of the bare nonlinear loop (no diagnostics) to a 179 degree step from rest.
-        large_step: PyStepResponse = |this, py| PyStepResponse(this.inner.large_step);
+        large_step: Result<PyStepResponse> = |this, py| PyStepResponse::of(py, this.inner.large_step);
         /// The 179 degree step with the core's default diagnostics (false-lock detection
         /// re-acquires the angle).
-        large_step_with_diagnostics: PyStepResponse = |this, py| PyStepResponse(this.inner.large_step_with_diagnostics);
+        large_step_with_diagnostics: Result<PyStepResponse> =
+            |this, py| PyStepResponse::of(py, this.inner.large_step_with_diagnostics);
         /// Where the nonlinear loop ends after the 179 degree step (rad).
         large_step_final_rad: f64 = |this, py| this.inner.large_step_final_rad;
         /// The largest trackable speed, `pi / Ts` (rad/s, `docs/theory.md §9`).
@@ -119,26 +114,18 @@ class_methods! {
     }
 }
 
-/// Predicted RMS errors of the linearised loop.
-#[pyclass(name = "PredictedError", module = "angletrack", frozen)]
-#[derive(Debug, Clone)]
-pub struct PyPredictedError(angletrack::PredictedError);
-
-class_methods! {
-    PyPredictedError {
+result_class! {
+    /// Predicted RMS errors of the linearised loop.
+    PyPredictedError = "PredictedError" of |py, p: angletrack::PredictedError| {
         /// RMS angle error (rad).
-        angle_rms_rad: f64 = |this, py| this.0.angle_rms_rad;
+        angle_rms_rad: f64 = p.angle_rms_rad,
         /// RMS speed error (rad/s).
-        speed_rms_rad_s: f64 = |this, py| this.0.speed_rms_rad_s;
+        speed_rms_rad_s: f64 = p.speed_rms_rad_s,
     }
-    methods {
-        fn __repr__(&self) -> String {
-            format!(
-                "PredictedError(angle_rms_rad={:.6e}, speed_rms_rad_s={:.6e})",
-                self.0.angle_rms_rad, self.0.speed_rms_rad_s
-            )
-        }
-    }
+    repr |p| format!(
+        "PredictedError(angle_rms_rad={:.6e}, speed_rms_rad_s={:.6e})",
+        p.angle_rms_rad, p.speed_rms_rad_s
+    );
 }
 
 /// Steady-state RMS angle and speed errors of the linearised loop with `gains`, driven by
@@ -148,12 +135,13 @@ class_methods! {
 #[pyfunction]
 #[pyo3(signature = (gains, sensor_noise_std, process_noise_q = 0.0))]
 pub fn predicted_error(
+    py: Python<'_>,
     gains: PyGains,
     sensor_noise_std: f64,
     process_noise_q: f64,
 ) -> Result<PyPredictedError> {
     let p = with_gains!(&gains.set, g => angletrack::predicted_error(g, sensor_noise_std, process_noise_q))?;
-    Ok(PyPredictedError(p))
+    PyPredictedError::of(py, p)
 }
 
 /// Steady-state RMS angle and speed errors of the loop with `gains` on the Kalman ATO's
@@ -164,6 +152,7 @@ pub fn predicted_error(
 #[pyfunction]
 #[pyo3(signature = (gains, sensor_noise_std, process_noise_q))]
 pub fn predicted_error_on_kalman_model(
+    py: Python<'_>,
     gains: PyGains,
     sensor_noise_std: f64,
     process_noise_q: f64,
@@ -173,7 +162,7 @@ pub fn predicted_error_on_kalman_model(
         sensor_noise_std,
         process_noise_q
     ))?;
-    Ok(p.map(PyPredictedError))
+    p.map(|p| PyPredictedError::of(py, p)).transpose()
 }
 
 /// The largest speed (rad/s) an observer sampled every `sample_period_s` tracks: `pi / Ts`,

@@ -3,7 +3,7 @@
 
 use angletrack::{AnyDesign, Complex, Design, FixedDesignConstants, KalmanSolution};
 use pyo3::prelude::*;
-use pyo3::types::{PyComplex, PyDict};
+use pyo3::types::{PyComplex, PyDict, PyList};
 
 use crate::analysis::DesignReport;
 use crate::errors::Result;
@@ -20,14 +20,12 @@ macro_rules! with_design {
     };
 }
 
-pub(crate) fn complex_list<'py>(
-    py: Python<'py>,
-    values: &[Complex<f64>],
-) -> Vec<Bound<'py, PyComplex>> {
-    values
+/// The Python list of complex `values`.
+pub(crate) fn complex_list(py: Python<'_>, values: &[Complex<f64>]) -> PyResult<Py<PyList>> {
+    let values = values
         .iter()
-        .map(|z| PyComplex::from_doubles(py, z.re, z.im))
-        .collect()
+        .map(|z| PyComplex::from_doubles(py, z.re, z.im));
+    Ok(PyList::new(py, values)?.unbind())
 }
 
 result_class! {
@@ -104,7 +102,7 @@ class_methods! {
         discretisation: Option<&'static str> =
             |this, py| with_design!(&this.inner, d => d.discretisation.map(|x| x.id()));
         /// The continuous closed-loop poles (rad/s) of a continuous design; empty otherwise.
-        continuous_poles: Vec<Bound<'py, PyComplex>> =
+        continuous_poles: PyResult<Py<PyList>> =
             |this, py| with_design!(&this.inner, d => complex_list(py, &d.continuous_poles));
         /// The continuous gains `(k_a, k_b[, k_c])` (1/s, 1/s^2, 1/s^3) of a continuous design,
         /// in the order of `gains` (the state each corrects, angle first: `l_i ~ k_i Ts^i`).
@@ -139,7 +137,7 @@ class_methods! {
         fn report(&self, py: Python<'_>, sensor_noise_std: f64) -> Result<DesignReport> {
             let inner = self.inner.clone();
             let report = py.detach(move || inner.report(sensor_noise_std))?;
-            Ok(report.into())
+            DesignReport::of(py, report)
         }
 
         /// The design's constants for the core's fixed-point observer (`docs/theory.md §14`): a

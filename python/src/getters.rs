@@ -54,8 +54,8 @@ impl<T: numpy::Element> IntoField<Option<crate::arrays::Column<T>>> for Option<V
 
 /// The frozen class `$class` (Python `$name`) of a result: its fields, read-only
 /// attributes, each written once with its type and its value taken of the crate's result
-/// (`|py, pattern: Source|`, [`IntoField`]) in `of`, which builds the class; `len` the
-/// column whose length is the class's `len()`, `repr` its `repr()`, then any methods written
+/// (`|py, pattern: Source|`, [`IntoField`]) in `of`, which builds the class; `private` fields
+/// are no attributes; `len` the column whose length is the class's `len()`, `repr` its `repr()`, then any methods written
 /// out. Attributes before the class name (`#[derive(Clone)]`) go to its struct.
 macro_rules! result_class {
     (
@@ -63,15 +63,17 @@ macro_rules! result_class {
         $class:ident = $name:literal of |$py:ident, $source:tt: $source_ty:ty| {
             $($(#[$fdoc:meta])* $field:ident: $ty:ty = $value:expr,)*
         }
+        $(private { $($(#[$pdoc:meta])* $private:ident: $pty:ty = $pvalue:expr,)* })?
         $(len $len:ident;)?
         $(repr |$this:ident| $repr:expr;)?
         $(methods { $($methods:tt)* })?
     ) => {
         $(#[$doc])*
-        #[pyclass(name = $name, module = "angletrack", frozen, get_all)]
+        #[pyclass(name = $name, module = "angletrack", frozen)]
         #[derive(Debug)]
         pub struct $class {
-            $($(#[$fdoc])* pub(crate) $field: $ty,)*
+            $($(#[$fdoc])* #[pyo3(get)] pub(crate) $field: $ty,)*
+            $($($(#[$pdoc])* $private: $pty,)*)?
         }
 
         impl $class {
@@ -79,7 +81,8 @@ macro_rules! result_class {
             #[allow(clippy::unnecessary_wraps, unused_variables)]
             pub(crate) fn of($py: Python<'_>, $source: $source_ty) -> $crate::errors::Result<Self> {
                 use $crate::getters::IntoField;
-                Ok(Self { $($field: $value.into_field($py),)* })
+                // The private fields first: they may borrow what the attributes take.
+                Ok(Self { $($($private: $pvalue,)*)? $($field: $value.into_field($py),)* })
             }
         }
 

@@ -15,8 +15,8 @@ use crate::motion::PyMotionProfile;
 use crate::scenario::PyScenario;
 
 result_class! {
-    /// The demodulated pairs of one `Demodulator.push`: one element per carrier period (after
-    /// the start-up), float64 unless stated.
+    /// The demodulated pairs of one `Demodulator.push`: one element per carrier period (after the
+    /// start-up), float64 unless stated.
     PyDemodulatedPairs = "DemodulatedPairs" of |py, p: PairColumns| {
         /// The time (s) at which each pair holds (its window's samples weighted by their share
         /// of the pair), counting from the first ADC sample pushed into the demodulator (at the

@@ -4,141 +4,117 @@
 
 use numpy::{Complex64, PyArray1};
 use pyo3::prelude::*;
-use pyo3::types::PyComplex;
+use pyo3::types::PyList;
 
 use crate::design::complex_list;
 use crate::errors::Result;
 use crate::gains::{PyGains, with_gains};
-use crate::getters::class_methods;
+use crate::getters::result_class;
 
-/// Overshoot and 2 % settling time of a step response.
-#[pyclass(name = "StepResponse", module = "angletrack", frozen)]
-#[derive(Debug, Clone)]
-pub struct PyStepResponse(angletrack::StepResponse);
-
-class_methods! {
-    PyStepResponse {
+result_class! {
+    /// Overshoot and 2 % settling time of a step response.
+    #[derive(Clone)]
+    PyStepResponse = "StepResponse" of |py, s: angletrack::StepResponse| {
         /// Overshoot, as a fraction of the step (0.1 for 10 %).
-        overshoot: f64 = |this, py| this.0.overshoot;
+        overshoot: f64 = s.overshoot,
         /// 2 % settling time (s).
-        settling_time_s: f64 = |this, py| this.0.settling_time_s;
+        settling_time_s: f64 = s.settling_time_s,
     }
-    methods {
-        fn __repr__(&self) -> String {
-            format!(
-                "StepResponse(overshoot={:.4} ({:.2} %), settling_time_s={:.6e})",
-                self.0.overshoot,
-                100.0 * self.0.overshoot,
-                self.0.settling_time_s
-            )
-        }
-    }
+    repr |s| format!(
+        "StepResponse(overshoot={:.4} ({:.2} %), settling_time_s={:.6e})",
+        s.overshoot,
+        100.0 * s.overshoot,
+        s.settling_time_s
+    );
 }
 
-/// Everything the analysis predicts about a gain set, in physical units (the design's
-/// datasheet). `repr()` and `str()` render it as a table.
-#[pyclass(module = "angletrack", frozen)]
-#[derive(Debug, Clone)]
-pub struct DesignReport {
-    inner: angletrack::DesignReport,
-}
-
-impl From<angletrack::DesignReport> for DesignReport {
-    fn from(inner: angletrack::DesignReport) -> Self {
-        Self { inner }
-    }
-}
-
-class_methods! {
-    DesignReport {
+result_class! {
+    /// Everything the analysis predicts about a gain set, in physical units (the design's
+    /// datasheet). `repr()` and `str()` render it as a table.
+    DesignReport = "DesignReport" of |py, r: angletrack::DesignReport| {
         /// The design rule, in words.
-        method: &'static str = |this, py| this.inner.method.name();
+        method: &'static str = r.method.name(),
         /// The mapping of a continuous design, or `None`.
-        discretisation: Option<&'static str> = |this, py| this.inner.discretisation.map(|d| d.id());
+        discretisation: Option<&'static str> = r.discretisation.map(|d| d.id()),
         /// Loop order (2 or 3).
-        order: usize = |this, py| this.inner.order;
+        order: usize = r.order,
         /// Sample period (s).
-        sample_period_s: f64 = |this, py| this.inner.sample_period_s;
+        sample_period_s: f64 = r.sample_period_s,
         /// The discrete gains.
-        gains: Vec<f64> = |this, py| this.inner.gains.clone();
+        gains: Vec<f64> = r.gains,
         /// Poles `z_i` of the discrete loop.
-        discrete_poles: Vec<Bound<'py, PyComplex>> = |this, py| complex_list(py, &this.inner.discrete_poles);
+        discrete_poles: Py<PyList> = complex_list(py, &r.discrete_poles)?,
         /// Their continuous equivalents `ln(z_i) / Ts` (rad/s).
-        continuous_equivalent_poles: Vec<Bound<'py, PyComplex>> = |this, py| complex_list(py, &this.inner.continuous_equivalent_poles);
+        continuous_equivalent_poles: Py<PyList> = complex_list(py, &r.continuous_equivalent_poles)?,
         /// The continuous design's poles (rad/s); empty for Kalman and given gains.
-        design_poles: Vec<Bound<'py, PyComplex>> = |this, py| complex_list(py, &this.inner.design_poles);
+        design_poles: Py<PyList> = complex_list(py, &r.design_poles)?,
         /// Largest relative pole shift of the discretisation, or `None`.
-        pole_shift: Option<f64> = |this, py| this.inner.pole_shift;
+        pole_shift: Option<f64> = r.pole_shift,
         /// -3 dB bandwidth (Hz) of the closed-loop angle transfer function, or `None`.
-        bandwidth_hz: Option<f64> = |this, py| this.inner.bandwidth_hz;
+        bandwidth_hz: Option<f64> = r.bandwidth_hz,
         /// Order 2: discrete acceleration constant Ka (1/s^2).
-        acceleration_constant_per_s2: Option<f64> = |this, py| this.inner.acceleration_constant_per_s2;
+        acceleration_constant_per_s2: Option<f64> = r.acceleration_constant_per_s2,
         /// Order 2: continuous acceleration constant `k_b1` (1/s^2).
-        continuous_acceleration_constant_per_s2: Option<f64> = |this, py| this.inner.continuous_acceleration_constant_per_s2;
+        continuous_acceleration_constant_per_s2: Option<f64> = r.continuous_acceleration_constant_per_s2,
         /// Order 3: steady-state angle error per unit jerk (s^3).
-        error_per_unit_jerk_s3: Option<f64> = |this, py| this.inner.error_per_unit_jerk_s3;
+        error_per_unit_jerk_s3: Option<f64> = r.error_per_unit_jerk_s3,
         /// Order 3: `1 / k_c2` of the continuous design (s^3).
-        continuous_error_per_unit_jerk_s3: Option<f64> = |this, py| this.inner.continuous_error_per_unit_jerk_s3;
+        continuous_error_per_unit_jerk_s3: Option<f64> = r.continuous_error_per_unit_jerk_s3,
         /// The sensor noise standard deviation the noise figures are for.
-        sensor_noise_std: f64 = |this, py| this.inner.sensor_noise_std;
+        sensor_noise_std: f64 = r.sensor_noise_std,
         /// Predicted steady-state RMS angle error (rad) from the sensor noise alone (the shaft
         /// at constant speed), the same assumption for every design.
-        angle_error_rms_rad: f64 = |this, py| this.inner.angle_error_rms_rad;
+        angle_error_rms_rad: f64 = r.angle_error_rms_rad,
         /// Predicted steady-state RMS speed error (rad/s) from the sensor noise alone.
-        speed_error_rms_rad_s: f64 = |this, py| this.inner.speed_error_rms_rad_s;
+        speed_error_rms_rad_s: f64 = r.speed_error_rms_rad_s,
         /// Kalman design: `sqrt(P11)` (rad), the RMS angle error on the design's own model
         /// (its `q` and `r`, random jerk included): the smallest any linear observer reaches
         /// there, so larger than `angle_error_rms_rad` (sensor noise alone).
-        kalman_angle_floor_rad: Option<f64> = |this, py| this.inner.kalman_angle_floor_rad;
+        kalman_angle_floor_rad: Option<f64> = r.kalman_angle_floor_rad,
         /// Kalman design: `sqrt(P22) / Ts` (rad/s), on the model of `kalman_angle_floor_rad`.
-        kalman_speed_floor_rad_s: Option<f64> = |this, py| this.inner.kalman_speed_floor_rad_s;
+        kalman_speed_floor_rad_s: Option<f64> = r.kalman_speed_floor_rad_s,
         /// Small-signal (linear) step response of the discrete loop.
-        linear_step: PyStepResponse = |this, py| PyStepResponse(this.inner.linear_step);
+        linear_step: PyStepResponse = PyStepResponse::of(py, r.linear_step)?,
         /// Step response of the continuous design, or `None`.
-        continuous_step: Option<PyStepResponse> = |this, py| this.inner.continuous_step.map(PyStepResponse);
+        continuous_step: Option<PyStepResponse> =
+            r.continuous_step.map(|s| PyStepResponse::of(py, s)).transpose()?,
         /// Response of the bare nonlinear loop (no diagnostics) to a 179 degree step from rest.
-        large_step: PyStepResponse = |this, py| PyStepResponse(this.inner.large_step);
+        large_step: PyStepResponse = PyStepResponse::of(py, r.large_step)?,
         /// The 179 degree step with the core's default diagnostics (false-lock detection
         /// re-acquires the angle).
-        large_step_with_diagnostics: PyStepResponse = |this, py| PyStepResponse(this.inner.large_step_with_diagnostics);
+        large_step_with_diagnostics: PyStepResponse =
+            PyStepResponse::of(py, r.large_step_with_diagnostics)?,
         /// Where the nonlinear loop ends after the 179 degree step (rad).
-        large_step_final_rad: f64 = |this, py| this.inner.large_step_final_rad;
+        large_step_final_rad: f64 = r.large_step_final_rad,
         /// The largest trackable speed, `pi / Ts` (rad/s, `docs/theory.md §9`).
-        max_speed_rad_s: f64 = |this, py| this.inner.max_speed_rad_s;
+        max_speed_rad_s: f64 = r.max_speed_rad_s,
         /// The largest speed step (rad/s) the loop acquires from rest without slipping a cycle.
-        acquisition_speed_rad_s: f64 = |this, py| this.inner.acquisition_speed_rad_s;
+        acquisition_speed_rad_s: f64 = r.acquisition_speed_rad_s,
     }
+    private {
+        /// The table `str()` shows.
+        table: String = r.to_string(),
+    }
+    repr |r| format!("DesignReport:\n{}", r.table);
     methods {
         fn __str__(&self) -> String {
-            self.inner.to_string()
-        }
-
-        fn __repr__(&self) -> String {
-            format!("DesignReport:\n{}", self.inner)
+            self.table.clone()
         }
     }
 }
 
-/// Predicted RMS errors of the linearised loop.
-#[pyclass(name = "PredictedError", module = "angletrack", frozen)]
-#[derive(Debug, Clone)]
-pub struct PyPredictedError(angletrack::PredictedError);
-
-class_methods! {
-    PyPredictedError {
+result_class! {
+    /// Predicted RMS errors of the linearised loop.
+    PyPredictedError = "PredictedError" of |py, p: angletrack::PredictedError| {
         /// RMS angle error (rad).
-        angle_rms_rad: f64 = |this, py| this.0.angle_rms_rad;
+        angle_rms_rad: f64 = p.angle_rms_rad,
         /// RMS speed error (rad/s).
-        speed_rms_rad_s: f64 = |this, py| this.0.speed_rms_rad_s;
+        speed_rms_rad_s: f64 = p.speed_rms_rad_s,
     }
-    methods {
-        fn __repr__(&self) -> String {
-            format!(
-                "PredictedError(angle_rms_rad={:.6e}, speed_rms_rad_s={:.6e})",
-                self.0.angle_rms_rad, self.0.speed_rms_rad_s
-            )
-        }
-    }
+    repr |p| format!(
+        "PredictedError(angle_rms_rad={:.6e}, speed_rms_rad_s={:.6e})",
+        p.angle_rms_rad, p.speed_rms_rad_s
+    );
 }
 
 /// Steady-state RMS angle and speed errors of the linearised loop with `gains`, driven by
@@ -148,12 +124,13 @@ class_methods! {
 #[pyfunction]
 #[pyo3(signature = (gains, sensor_noise_std, process_noise_q = 0.0))]
 pub fn predicted_error(
+    py: Python<'_>,
     gains: PyGains,
     sensor_noise_std: f64,
     process_noise_q: f64,
 ) -> Result<PyPredictedError> {
     let p = with_gains!(&gains.set, g => angletrack::predicted_error(g, sensor_noise_std, process_noise_q))?;
-    Ok(PyPredictedError(p))
+    PyPredictedError::of(py, p)
 }
 
 /// Steady-state RMS angle and speed errors of the loop with `gains` on the Kalman ATO's
@@ -164,6 +141,7 @@ pub fn predicted_error(
 #[pyfunction]
 #[pyo3(signature = (gains, sensor_noise_std, process_noise_q))]
 pub fn predicted_error_on_kalman_model(
+    py: Python<'_>,
     gains: PyGains,
     sensor_noise_std: f64,
     process_noise_q: f64,
@@ -173,7 +151,7 @@ pub fn predicted_error_on_kalman_model(
         sensor_noise_std,
         process_noise_q
     ))?;
-    Ok(p.map(PyPredictedError))
+    p.map(|p| PyPredictedError::of(py, p)).transpose()
 }
 
 /// The largest speed (rad/s) an observer sampled every `sample_period_s` tracks: `pi / Ts`,

@@ -240,6 +240,9 @@ pub fn paired_samples<'py, T: Element + Copy>(
     Ok((a, b))
 }
 
+/// A numpy column of a result class.
+pub type Column<T> = Py<PyArray1<T>>;
+
 /// The array that takes over `values` (no copy: a whole capture is not held twice).
 pub fn array<T: Element>(py: Python<'_>, values: Vec<T>) -> Py<PyArray1<T>> {
     PyArray1::from_vec(py, values).unbind()

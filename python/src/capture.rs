@@ -9,13 +9,12 @@ use angletrack::capture::{
     Capture as CoreCapture, CaptureChunk, CaptureOptions, CaptureReader as CoreReader, Role,
     WrittenCaptureOptions, read_capture as core_read_capture,
 };
-use numpy::{PyArray1, ToPyArray};
 use pyo3::prelude::*;
 use pyo3::types::{IntoPyDict, PyDict, PyString};
 
-use crate::arrays::{Count, array};
+use crate::arrays::{Column, Count};
 use crate::errors::{Error, Result};
-use crate::getters::class_methods;
+use crate::getters::{class_methods, result_class};
 
 /// The text of a `columns` argument: `"y_c=cos,y_s=sin"` or a dict `{"y_c": "cos", "y_s": 1}`
 /// (names or 0-based indices); empty for `None` (the usual header names).
@@ -49,44 +48,23 @@ fn mapping_dict<'py>(py: Python<'py>, mapping: &[(Role, String)]) -> Result<Boun
         .into_py_dict(py)?)
 }
 
-/// A chunk of a capture: float64 arrays of one length (time in seconds).
-#[pyclass(name = "CaptureChunk", module = "angletrack", frozen, get_all)]
-#[derive(Debug)]
-pub struct PyCaptureChunk {
-    /// 0-based index of the chunk's first sample in the capture.
-    first_sample: u64,
-    /// Time stamps (s), or `None` without a time column.
-    time_s: Option<Py<PyArray1<f64>>>,
-    /// The cosine signal.
-    y_c: Py<PyArray1<f64>>,
-    /// The sine signal.
-    y_s: Py<PyArray1<f64>>,
-    /// The reference angle (rad), or `None`.
-    reference_rad: Option<Py<PyArray1<f64>>>,
-    /// The resolver's excitation (counts), or `None`.
-    excitation: Option<Py<PyArray1<f64>>>,
-}
-
-impl PyCaptureChunk {
-    /// A copy of the reader's chunk `c` (the reader reuses its buffers).
-    fn new(py: Python<'_>, c: &CaptureChunk) -> Self {
-        let copy = |v: &Option<Vec<f64>>| v.as_ref().map(|v| v.to_pyarray(py).unbind());
-        Self {
-            first_sample: c.first_sample,
-            time_s: copy(&c.time_s),
-            y_c: c.y_c.to_pyarray(py).unbind(),
-            y_s: c.y_s.to_pyarray(py).unbind(),
-            reference_rad: copy(&c.reference_rad),
-            excitation: copy(&c.excitation),
-        }
+result_class! {
+    /// A chunk of a capture: float64 arrays of one length (time in seconds).
+    PyCaptureChunk = "CaptureChunk" of |py, c: &CaptureChunk| {
+        /// 0-based index of the chunk's first sample in the capture.
+        first_sample: u64 = c.first_sample,
+        /// Time stamps (s), or `None` without a time column.
+        time_s: Option<Column<f64>> = c.time_s.clone(),
+        /// The cosine signal.
+        y_c: Column<f64> = c.y_c.clone(),
+        /// The sine signal.
+        y_s: Column<f64> = c.y_s.clone(),
+        /// The reference angle (rad), or `None`.
+        reference_rad: Option<Column<f64>> = c.reference_rad.clone(),
+        /// The resolver's excitation (counts), or `None`.
+        excitation: Option<Column<f64>> = c.excitation.clone(),
     }
-}
-
-#[pymethods]
-impl PyCaptureChunk {
-    fn __len__(&self, py: Python<'_>) -> usize {
-        numpy::PyUntypedArrayMethods::len(self.y_c.bind(py))
-    }
+    len y_c;
 }
 
 /// A capture read chunk by chunk in constant memory (iterate over it for `CaptureChunk`s).
@@ -176,49 +154,42 @@ class_methods! {
             if done {
                 return Ok(None);
             }
-            // The chunk was read above; it is borrowed again under the GIL to be copied out.
-            Ok(reader.last_chunk().map(|c| PyCaptureChunk::new(py, c)))
+            // The chunk was read above; it is borrowed again under the GIL to be copied out (the
+            // reader reuses its buffers).
+            reader.last_chunk().map(|c| PyCaptureChunk::of(py, c)).transpose()
         }
     }
 }
 
-/// A whole capture: float64 arrays and what was learnt reading it.
-#[pyclass(name = "Capture", module = "angletrack", frozen, get_all)]
-#[derive(Debug)]
-pub struct PyCapture {
-    /// The file.
-    path: PathBuf,
-    /// The number of samples.
-    rows: usize,
-    /// Time stamps (s), or `None`.
-    time_s: Option<Py<PyArray1<f64>>>,
-    /// The cosine signal (float64; integers exactly).
-    y_c: Py<PyArray1<f64>>,
-    /// The sine signal.
-    y_s: Py<PyArray1<f64>>,
-    /// The reference angle (rad), or `None`.
-    reference_rad: Option<Py<PyArray1<f64>>>,
-    /// The stated sample rate, else the time column's mean (Hz); `None` without either.
-    sample_rate_hz: Option<f64>,
-    /// The samples' element type as stored (`int16`; `int64` for whole numbers in text).
-    sample_dtype: String,
-    /// `{role: column name}` of the columns used.
-    columns: Py<PyDict>,
-    /// `npy`, `npz` or `text, delimiter X`.
-    format: String,
-}
-
-#[pymethods]
-impl PyCapture {
-    fn __len__(&self) -> usize {
-        self.rows
+result_class! {
+    /// A whole capture: float64 arrays and what was learnt reading it.
+    PyCapture = "Capture" of |py, (path, c): (PathBuf, CoreCapture)| {
+        /// The number of samples.
+        rows: usize = c.samples.len(),
+        /// The file.
+        path: PathBuf = path,
+        /// Time stamps (s), or `None`.
+        time_s: Option<Column<f64>> = c.samples.time_s,
+        /// The cosine signal (float64; integers exactly).
+        y_c: Column<f64> = c.samples.y_c,
+        /// The sine signal.
+        y_s: Column<f64> = c.samples.y_s,
+        /// The reference angle (rad), or `None`.
+        reference_rad: Option<Column<f64>> = c.samples.reference_rad,
+        /// The stated sample rate, else the time column's mean (Hz); `None` without either.
+        sample_rate_hz: Option<f64> = c.sample_rate_hz,
+        /// The samples' element type as stored (`int16`; `int64` for whole numbers in text).
+        sample_dtype: String = c.sample_dtype,
+        /// `{role: column name}` of the columns used.
+        columns: Py<PyDict> = mapping_dict(py, &c.mapping)?.unbind(),
+        /// `npy`, `npz` or `text, delimiter X`.
+        format: String = c.format,
     }
-
-    fn __repr__(&self) -> String {
-        format!(
-            "Capture({:?}, {} samples of {}, sample_rate_hz={:?}, {})",
-            self.path, self.rows, self.sample_dtype, self.sample_rate_hz, self.format
-        )
+    repr |c| format!("Capture({:?}, {} samples of {}, sample_rate_hz={:?}, {})", c.path, c.rows, c.sample_dtype, c.sample_rate_hz, c.format);
+    methods {
+        fn __len__(&self) -> usize {
+            self.rows
+        }
     }
 }
 
@@ -247,19 +218,7 @@ pub fn read_capture(
     })?;
     let read_path = path.clone();
     let c: CoreCapture = py.detach(|| core_read_capture(read_path, options))?;
-    let samples = c.samples;
-    Ok(PyCapture {
-        path,
-        rows: samples.len(),
-        time_s: samples.time_s.map(|v| array(py, v)),
-        y_c: array(py, samples.y_c),
-        y_s: array(py, samples.y_s),
-        reference_rad: samples.reference_rad.map(|v| array(py, v)),
-        sample_rate_hz: c.sample_rate_hz,
-        sample_dtype: c.sample_dtype,
-        columns: mapping_dict(py, &c.mapping)?.unbind(),
-        format: c.format,
-    })
+    PyCapture::of(py, (path, c))
 }
 
 /// The `(name, path)` pairs of a dict `{name: path}` (names `str`, paths `str` or

@@ -8,7 +8,7 @@ use angletrack::{WindingsPlan, WindingsSettings};
 
 use crate::arrays::paired_samples;
 use crate::errors::{Error, Result};
-use crate::getters::class_methods;
+use crate::getters::result_class;
 
 /// The ADC range measured on the samples `y_c`, `y_s` (1-D float64; NaNs ignored): each
 /// extreme of both channels that is a rail (held flat over 4 consecutive samples of a
@@ -30,29 +30,24 @@ pub fn measured_adc_range(
     Ok(angletrack::measured_adc_range(c.as_slice(), s.as_slice()))
 }
 
-/// How a capture of raw windings is demodulated (`angletrack::WindingsPlan`): the ADC rate
-/// and samples per declared carrier period, a winding's carrier amplitude, the ADC's codes
-/// and where they come from (`"stated"`, `"measured: extremes held flat"` or `"guessed"`).
-#[pyclass(name = "WindingsPlan", module = "angletrack", frozen)]
-#[derive(Debug, Clone)]
-pub struct PyWindingsPlan(WindingsPlan);
-
-class_methods! {
-    PyWindingsPlan {
+result_class! {
+    /// How a capture of raw windings is demodulated (`angletrack::WindingsPlan`): the ADC rate
+    /// and samples per declared carrier period, a winding's carrier amplitude, the ADC's codes
+    /// and where they come from (`"stated"`, `"measured: extremes held flat"` or `"guessed"`).
+    PyWindingsPlan = "WindingsPlan" of |py, p: WindingsPlan| {
         /// The ADC rate (Hz).
-        adc_rate_hz: f64 = |this, py| this.0.adc_rate_hz;
+        adc_rate_hz: f64 = p.adc_rate_hz,
         /// ADC samples per declared carrier period.
-        samples_per_period: f64 = |this, py| this.0.samples_per_period;
+        samples_per_period: f64 = p.samples_per_period,
         /// A winding's carrier amplitude at envelope 1 (counts).
-        carrier_amplitude_counts: f64 = |this, py| this.0.carrier_amplitude_counts;
+        carrier_amplitude_counts: f64 = p.carrier_amplitude_counts,
         /// The lowest ADC code clipping is checked against.
-        adc_min_code: f64 = |this, py| this.0.adc_range.0;
+        adc_min_code: f64 = p.adc_range.0,
         /// The highest ADC code clipping is checked against.
-        adc_max_code: f64 = |this, py| this.0.adc_range.1;
+        adc_max_code: f64 = p.adc_range.1,
         /// Where the ADC's codes come from.
-        adc_range_source: String = |this, py| this.0.adc_range_source.to_string();
+        adc_range_source: String = p.adc_range_source.to_string(),
     }
-    methods {}
 }
 
 /// The plan of a capture of raw windings whose first samples are `first_c`, `first_s`
@@ -93,5 +88,5 @@ pub fn plan_windings(
     settings.adc_range = adc_range;
     let plan = WindingsPlan::new(c.as_slice(), s.as_slice(), &settings)
         .map_err(|e| Error::value(e.argument(), e.to_string()))?;
-    Ok(PyWindingsPlan(plan))
+    PyWindingsPlan::of(first_c.py(), plan)
 }

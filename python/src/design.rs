@@ -3,12 +3,12 @@
 
 use angletrack::{AnyDesign, Complex, Design, FixedDesignConstants, KalmanSolution};
 use pyo3::prelude::*;
-use pyo3::types::{PyComplex, PyDict};
+use pyo3::types::{PyComplex, PyDict, PyList};
 
 use crate::analysis::DesignReport;
 use crate::errors::Result;
 use crate::gains::{GainSet, PyGains, with_gains};
-use crate::getters::class_methods;
+use crate::getters::{class_methods, result_class};
 
 /// Runs `$body` with `$d` bound to the concrete `Design<N>` inside `$any`.
 macro_rules! with_design {
@@ -20,53 +20,36 @@ macro_rules! with_design {
     };
 }
 
-pub(crate) fn complex_list<'py>(
-    py: Python<'py>,
-    values: &[Complex<f64>],
-) -> Vec<Bound<'py, PyComplex>> {
-    values
+/// The Python list of complex `values`.
+pub(crate) fn complex_list(py: Python<'_>, values: &[Complex<f64>]) -> PyResult<Py<PyList>> {
+    let values = values
         .iter()
-        .map(|z| PyComplex::from_doubles(py, z.re, z.im))
-        .collect()
+        .map(|z| PyComplex::from_doubles(py, z.re, z.im));
+    Ok(PyList::new(py, values)?.unbind())
 }
 
-/// The steady-state solution of a Kalman design on the scaled state
-/// `(theta, Ts*Omega, Ts^2*alpha)`.
-#[pyclass(name = "KalmanSolution", module = "angletrack", frozen)]
-#[derive(Debug, Clone)]
-pub struct PyKalmanSolution {
-    solution: KalmanSolution,
-    sample_period_s: f64,
-}
-
-class_methods! {
-    PyKalmanSolution {
+result_class! {
+    /// The steady-state solution of a Kalman design on the scaled state
+    /// `(theta, Ts*Omega, Ts^2*alpha)`.
+    PyKalmanSolution = "KalmanSolution" of |py, (k, ts): (KalmanSolution, f64)| {
         /// Process noise variance `q` of the scaled jerk `Ts^3 beta` (rad^2).
-        process_noise_q: f64 = |this, py| this.solution.process_noise_q;
+        process_noise_q: f64 = k.process_noise_q,
         /// Measurement noise variance `r` of each channel (amplitude 1).
-        measurement_noise_r: f64 = |this, py| this.solution.measurement_noise_r;
+        measurement_noise_r: f64 = k.measurement_noise_r,
         /// Predicted (a priori) error covariance, the solution of the Riccati equation (3x3).
-        predicted_covariance: [[f64; 3]; 3] = |this, py| this.solution.predicted_covariance;
+        predicted_covariance: [[f64; 3]; 3] = k.predicted_covariance,
         /// Filtered (a posteriori) error covariance (3x3).
-        covariance: [[f64; 3]; 3] = |this, py| this.solution.covariance;
+        covariance: [[f64; 3]; 3] = k.covariance,
         /// `sqrt(P11)` (rad): the smallest RMS angle error of any linear estimator of the model.
-        angle_floor_rad: f64 = |this, py| this.solution.angle_floor_rad();
+        angle_floor_rad: f64 = k.angle_floor_rad(),
         /// `sqrt(P22) / Ts` (rad/s).
-        speed_floor_rad_s: f64 = |this, py| this.solution.speed_floor_rad_s(this.sample_period_s);
+        speed_floor_rad_s: f64 = k.speed_floor_rad_s(ts),
     }
-    methods {
-        fn __repr__(&self) -> String {
-            let k = &self.solution;
-            format!(
-                "KalmanSolution(process_noise_q={:e}, measurement_noise_r={:e}, angle_floor_rad={:.6e}, \
-                 speed_floor_rad_s={:.6e})",
-                k.process_noise_q,
-                k.measurement_noise_r,
-                k.angle_floor_rad(),
-                k.speed_floor_rad_s(self.sample_period_s)
-            )
-        }
-    }
+    repr |k| format!(
+        "KalmanSolution(process_noise_q={:e}, measurement_noise_r={:e}, angle_floor_rad={:.6e}, \
+         speed_floor_rad_s={:.6e})",
+        k.process_noise_q, k.measurement_noise_r, k.angle_floor_rad, k.speed_floor_rad_s
+    );
 }
 
 /// The dict of fixed-point constants `Design.fixed_constants()` and
@@ -119,7 +102,7 @@ class_methods! {
         discretisation: Option<&'static str> =
             |this, py| with_design!(&this.inner, d => d.discretisation.map(|x| x.id()));
         /// The continuous closed-loop poles (rad/s) of a continuous design; empty otherwise.
-        continuous_poles: Vec<Bound<'py, PyComplex>> =
+        continuous_poles: PyResult<Py<PyList>> =
             |this, py| with_design!(&this.inner, d => complex_list(py, &d.continuous_poles));
         /// The continuous gains `(k_a, k_b[, k_c])` (1/s, 1/s^2, 1/s^3) of a continuous design,
         /// in the order of `gains` (the state each corrects, angle first: `l_i ~ k_i Ts^i`).
@@ -131,8 +114,10 @@ class_methods! {
         continuous_loop_polynomial: Option<Vec<f64>> =
             |this, py| with_design!(&this.inner, d => d.continuous_loop_polynomial());
         /// The Riccati solution of a Kalman design; `None` otherwise.
-        kalman: Option<PyKalmanSolution> =
-            |this, py| with_design!(&this.inner, d => d.kalman.map(|solution| PyKalmanSolution { solution, sample_period_s: d.sample_period() }));
+        kalman: Result<Option<PyKalmanSolution>> = |this, py| {
+            let ts = this.inner.sample_period();
+            with_design!(&this.inner, d => d.kalman.map(|k| PyKalmanSolution::of(py, (k, ts))).transpose())
+        };
         /// The sample period (s).
         sample_period_s: f64 = |this, py| this.inner.sample_period();
         /// The observer order (2 or 3).
@@ -152,7 +137,7 @@ class_methods! {
         fn report(&self, py: Python<'_>, sensor_noise_std: f64) -> Result<DesignReport> {
             let inner = self.inner.clone();
             let report = py.detach(move || inner.report(sensor_noise_std))?;
-            Ok(report.into())
+            DesignReport::of(py, report)
         }
 
         /// The design's constants for the core's fixed-point observer (`docs/theory.md §14`): a

@@ -4,28 +4,28 @@
 
 use angletrack::DriveColumns;
 use angletrack_core::{DriveOutputs as CoreDriveOutputs, DriveOutputsState};
-use numpy::PyArray1;
 use pyo3::prelude::*;
 
-use crate::arrays::{Count, array, float64};
+use crate::arrays::{Column, Count, float64};
 use crate::errors::Result;
 use crate::estimates::Estimates;
+use crate::getters::result_class;
 
-/// The drive's outputs of one `DriveOutputs.update`, float64 arrays (turns int64), one
-/// element per estimate.
-#[pyclass(name = "DriveAngles", module = "angletrack", frozen, get_all)]
-#[derive(Debug)]
-pub struct PyDriveAngles {
-    /// The motor's electrical angle at the latency (rad, in [-pi, pi)).
-    electrical_angle_rad: Py<PyArray1<f64>>,
-    /// The motor's electrical speed (rad/s), filtered.
-    electrical_speed_rad_s: Py<PyArray1<f64>>,
-    /// The shaft's mechanical angle at the latency (rad, in [-pi, pi)).
-    mechanical_angle_rad: Py<PyArray1<f64>>,
-    /// Whole mechanical turns.
-    mechanical_turns: Py<PyArray1<i64>>,
-    /// The shaft's mechanical speed (rad/s), filtered.
-    mechanical_speed_rad_s: Py<PyArray1<f64>>,
+result_class! {
+    /// The drive's outputs of one `DriveOutputs.update`, float64 arrays (turns int64), one
+    /// element per estimate.
+    PyDriveAngles = "DriveAngles" of |py, d: DriveColumns| {
+        /// The motor's electrical angle at the latency (rad, in [-pi, pi)).
+        electrical_angle_rad: Column<f64> = d.electrical_angle_rad,
+        /// The motor's electrical speed (rad/s), filtered.
+        electrical_speed_rad_s: Column<f64> = d.electrical_speed_rad_s,
+        /// The shaft's mechanical angle at the latency (rad, in [-pi, pi)).
+        mechanical_angle_rad: Column<f64> = d.mechanical_angle_rad,
+        /// Whole mechanical turns.
+        mechanical_turns: Column<i64> = d.mechanical_turns,
+        /// The shaft's mechanical speed (rad/s), filtered.
+        mechanical_speed_rad_s: Column<f64> = d.mechanical_speed_rad_s,
+    }
 }
 
 /// What a drive takes from an observer's estimates: the angle extrapolated by `latency_s`
@@ -80,13 +80,7 @@ impl PyDriveOutputs {
         ];
         let columns = columns.each_ref().map(Vec::as_slice);
         let d = DriveColumns::of_estimates(&self.outputs, &mut self.state, columns);
-        Ok(PyDriveAngles {
-            electrical_angle_rad: array(py, d.electrical_angle_rad),
-            electrical_speed_rad_s: array(py, d.electrical_speed_rad_s),
-            mechanical_angle_rad: array(py, d.mechanical_angle_rad),
-            mechanical_turns: array(py, d.mechanical_turns),
-            mechanical_speed_rad_s: array(py, d.mechanical_speed_rad_s),
-        })
+        PyDriveAngles::of(py, d)
     }
 
     #[getter]

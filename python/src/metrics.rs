@@ -6,77 +6,65 @@ use pyo3::prelude::*;
 use crate::arrays::float64;
 use crate::errors::Result;
 use crate::estimates::Estimates;
-use crate::getters::class_methods;
+use crate::getters::result_class;
 use crate::scenario::PyScenario;
 
-/// Mean, RMS and largest magnitude of an error series.
-#[pyclass(name = "ErrorStatistics", module = "angletrack", frozen)]
-#[derive(Debug, Clone)]
-pub struct PyErrorStatistics(ErrorStatistics);
-
-class_methods! {
-    PyErrorStatistics {
+result_class! {
+    /// Mean, RMS and largest magnitude of an error series.
+    #[derive(Clone)]
+    PyErrorStatistics = "ErrorStatistics" of |py, e: ErrorStatistics| {
         /// Root mean square.
-        rms: f64 = |this, py| this.0.rms;
+        rms: f64 = e.rms,
         /// Largest magnitude.
-        max: f64 = |this, py| this.0.max;
+        max: f64 = e.max,
         /// Mean (signed: a bias).
-        mean: f64 = |this, py| this.0.mean;
+        mean: f64 = e.mean,
     }
-    methods {
-        fn __repr__(&self) -> String {
-            format!("ErrorStatistics({})", self.fields())
-        }
-    }
+    repr |e| format!("ErrorStatistics({})", e.fields());
 }
 
 impl PyErrorStatistics {
     /// `rms=..., max=..., mean=...`.
     fn fields(&self) -> String {
-        let s = &self.0;
-        format!("rms={:.6e}, max={:.6e}, mean={:.6e}", s.rms, s.max, s.mean)
+        format!(
+            "rms={:.6e}, max={:.6e}, mean={:.6e}",
+            self.rms, self.max, self.mean
+        )
     }
-}
-
-/// The quality of a run against the truth (errors are truth - estimate).
-#[pyclass(name = "Metrics", module = "angletrack", frozen, get_all)]
-#[derive(Debug, Clone)]
-pub struct PyMetrics {
-    /// Wrapped angle error (rad) over the samples from `skip_s` on.
-    angle_error_rad: PyErrorStatistics,
-    /// Speed error (rad/s) over the same samples; `None` without a speed truth.
-    speed_error_rad_s: Option<PyErrorStatistics>,
-    /// Number of samples in the statistics.
-    samples: usize,
-    /// Overshoot past the truth's final angle, as a fraction of the move; `None` when the
-    /// truth ends where it started.
-    overshoot: Option<f64>,
-    /// Time (s) after which the estimate stays within the settling band of the move.
-    settling_time_s: Option<f64>,
-    /// Time (s) from which the wrapped angle error stays within the lock tolerance.
-    time_to_lock_s: Option<f64>,
 }
 
 fn optional(v: Option<f64>) -> String {
     v.map_or("None".into(), |x| format!("{x:.6e}"))
 }
 
-#[pymethods]
-impl PyMetrics {
-    fn __repr__(&self) -> String {
-        format!(
-            "Metrics(angle_error_rad: {}; speed_error_rad_s: {}; samples={}, overshoot={}, \
-             settling_time_s={}, time_to_lock_s={})",
-            self.angle_error_rad.fields(),
-            self.speed_error_rad_s
-                .as_ref()
-                .map_or("None".into(), PyErrorStatistics::fields),
-            self.samples,
-            optional(self.overshoot),
-            optional(self.settling_time_s),
-            optional(self.time_to_lock_s),
-        )
+result_class! {
+    /// The quality of a run against the truth (errors are truth - estimate).
+    PyMetrics = "Metrics" of |py, (m, has_speed): (Metrics, bool)| {
+        /// Wrapped angle error (rad) over the samples from `skip_s` on.
+        angle_error_rad: PyErrorStatistics = PyErrorStatistics::of(py, m.angle_error_rad)?,
+        /// Speed error (rad/s) over the same samples; `None` without a speed truth.
+        speed_error_rad_s: Option<PyErrorStatistics> =
+            has_speed.then(|| PyErrorStatistics::of(py, m.speed_error_rad_s)).transpose()?,
+        /// Number of samples in the statistics.
+        samples: usize = m.samples,
+        /// Overshoot past the truth's final angle, as a fraction of the move; `None` when the
+        /// truth ends where it started.
+        overshoot: Option<f64> = m.overshoot,
+        /// Time (s) after which the estimate stays within the settling band of the move.
+        settling_time_s: Option<f64> = m.settling_time_s,
+        /// Time (s) from which the wrapped angle error stays within the lock tolerance.
+        time_to_lock_s: Option<f64> = m.time_to_lock_s,
     }
+    repr |m| format!(
+        "Metrics(angle_error_rad: {}; speed_error_rad_s: {}; samples={}, overshoot={}, \
+         settling_time_s={}, time_to_lock_s={})",
+        m.angle_error_rad.fields(),
+        m.speed_error_rad_s.as_ref().map_or("None".into(), PyErrorStatistics::fields),
+        m.samples,
+        optional(m.overshoot),
+        optional(m.settling_time_s),
+        optional(m.time_to_lock_s),
+    );
 }
 
 /// Measures the estimates of a run against the scenario's truth: wrapped angle error and
@@ -118,14 +106,5 @@ pub fn metrics(
         settling_band,
     };
     let m = py.detach(|| Metrics::new(&truth, &run, &options))?;
-    Ok(PyMetrics {
-        angle_error_rad: PyErrorStatistics(m.angle_error_rad),
-        speed_error_rad_s: scenario
-            .has_speed
-            .then_some(PyErrorStatistics(m.speed_error_rad_s)),
-        samples: m.samples,
-        overshoot: m.overshoot,
-        settling_time_s: m.settling_time_s,
-        time_to_lock_s: m.time_to_lock_s,
-    })
+    PyMetrics::of(py, (m, scenario.has_speed))
 }

@@ -7,44 +7,37 @@ use pyo3::prelude::*;
 use crate::design::PyDesign;
 use crate::errors::Result;
 use crate::gains::{GainSet, PyGains};
+use crate::getters::result_class;
 
-/// One of the four settings whose step-response overshoot the paper quotes.
-#[pyclass(name = "PaperSetting", module = "angletrack", frozen, get_all)]
-#[derive(Debug, Clone)]
-pub struct PyPaperSetting {
-    /// The setting, in words (`"2nd order, m = 1.945"`).
-    name: &'static str,
-    /// The overshoot the paper quotes (percent).
-    paper_overshoot_percent: f64,
-    /// The setting designed at the requested sample period.
-    design: PyDesign,
-}
-
-#[pymethods]
-impl PyPaperSetting {
-    fn __repr__(&self) -> String {
-        format!(
-            "PaperSetting(name={:?}, paper_overshoot_percent={}, design=...)",
-            self.name, self.paper_overshoot_percent
-        )
+result_class! {
+    /// One of the four settings whose step-response overshoot the paper quotes.
+    PyPaperSetting = "PaperSetting" of |py, (s, design): (PaperSetting, PyDesign)| {
+        /// The setting, in words (`"2nd order, m = 1.945"`).
+        name: &'static str = s.name(),
+        /// The overshoot the paper quotes (percent).
+        paper_overshoot_percent: f64 = s.overshoot_percent(),
+        /// The setting designed at the requested sample period.
+        design: PyDesign = design,
     }
+    repr |s| format!(
+        "PaperSetting(name={:?}, paper_overshoot_percent={}, design=...)",
+        s.name, s.paper_overshoot_percent
+    );
 }
 
 /// The paper's four settings, in its order, designed at `sample_period_s` (by default
 /// 100 kHz, at least 200 times each loop's bandwidth) with `discretisation`.
 #[pyfunction]
 #[pyo3(signature = (sample_period_s = paper::OVERSHOOT_SAMPLE_PERIOD_S, discretisation = "pole_matching"))]
-pub fn paper_settings(sample_period_s: f64, discretisation: &str) -> Result<Vec<PyPaperSetting>> {
+pub fn paper_settings(
+    py: Python<'_>,
+    sample_period_s: f64,
+    discretisation: &str,
+) -> Result<Vec<PyPaperSetting>> {
     let discretisation = discretisation.parse()?;
     PaperSetting::ALL
         .into_iter()
-        .map(|s| {
-            Ok(PyPaperSetting {
-                name: s.name(),
-                paper_overshoot_percent: s.overshoot_percent(),
-                design: s.design(sample_period_s, discretisation)?.into(),
-            })
-        })
+        .map(|s| PyPaperSetting::of(py, (s, s.design(sample_period_s, discretisation)?.into())))
         .collect()
 }
 

@@ -4,50 +4,43 @@
 //! `ResolverModel` and `resolver_windings` (the scenario generator's carrier-modulated
 //! windings); the drive's outputs are in `drive`.
 
-use angletrack::{DemodulatorArguments, DemodulatorStream, ResolverModel};
-use numpy::PyArray1;
+use angletrack::{DemodulatorArguments, DemodulatorStream, PairColumns, ResolverModel};
 use pyo3::prelude::*;
 
-use crate::arrays::{Count, array, samples};
+use crate::arrays::{Column, Count, samples};
 use crate::errors::Result;
-use crate::getters::class_methods;
+use crate::getters::{class_methods, result_class};
 use crate::model_class::{ModelField, model_class};
 use crate::motion::PyMotionProfile;
 use crate::scenario::PyScenario;
 
-/// The demodulated pairs of one `Demodulator.push`: one element per carrier period (after the
-/// start-up), float64 unless stated.
-#[pyclass(name = "DemodulatedPairs", module = "angletrack", frozen, get_all)]
-#[derive(Debug)]
-pub struct PyDemodulatedPairs {
-    /// The time (s) at which each pair holds (its window's samples weighted by their share
-    /// of the pair), counting from the first ADC sample pushed into the demodulator (at the
-    /// ADC rate).
-    time_s: Py<PyArray1<f64>>,
-    /// The cosine winding's envelope (nominal amplitude 1).
-    y_c: Py<PyArray1<f64>>,
-    /// The sine winding's envelope.
-    y_s: Py<PyArray1<f64>>,
-    /// The cosine winding's quadrature component (about 0).
-    quadrature_c: Py<PyArray1<f64>>,
-    /// The sine winding's quadrature component.
-    quadrature_s: Py<PyArray1<f64>>,
-    /// The index of each pair's window (uint64, start-up windows counted).
-    window: Py<PyArray1<u64>>,
-    /// The front end's faults of each window (uint8 bits: 1 loss of excitation, 2 phase
-    /// drift, 4 clipping, 8 weak excitation).
-    faults: Py<PyArray1<u8>>,
-    /// Whether each pair's half turn rests on nothing stated (bool): every pair without
-    /// `expected_delay_rad`, and with the excitation those whose window's excitation resolved
-    /// nothing. Not a fault: the angle is right or half a turn off.
-    half_turn_unresolved: Py<PyArray1<bool>>,
-}
-
-#[pymethods]
-impl PyDemodulatedPairs {
-    fn __len__(&self, py: Python<'_>) -> usize {
-        numpy::PyUntypedArrayMethods::len(self.time_s.bind(py))
+result_class! {
+    /// The demodulated pairs of one `Demodulator.push`: one element per carrier period (after the
+    /// start-up), float64 unless stated.
+    PyDemodulatedPairs = "DemodulatedPairs" of |py, p: PairColumns| {
+        /// The time (s) at which each pair holds (its window's samples weighted by their share
+        /// of the pair), counting from the first ADC sample pushed into the demodulator (at the
+        /// ADC rate).
+        time_s: Column<f64> = p.time_s,
+        /// The cosine winding's envelope (nominal amplitude 1).
+        y_c: Column<f64> = p.y_c,
+        /// The sine winding's envelope.
+        y_s: Column<f64> = p.y_s,
+        /// The cosine winding's quadrature component (about 0).
+        quadrature_c: Column<f64> = p.quadrature_c,
+        /// The sine winding's quadrature component.
+        quadrature_s: Column<f64> = p.quadrature_s,
+        /// The index of each pair's window (uint64, start-up windows counted).
+        window: Column<u64> = p.window,
+        /// The front end's faults of each window (uint8 bits: 1 loss of excitation, 2 phase
+        /// drift, 4 clipping, 8 weak excitation).
+        faults: Column<u8> = p.faults,
+        /// Whether each pair's half turn rests on nothing stated (bool): every pair without
+        /// `expected_delay_rad`, and with the excitation those whose window's excitation resolved
+        /// nothing. Not a fault: the angle is right or half a turn off.
+        half_turn_unresolved: Column<bool> = p.half_turn_unresolved,
     }
+    len time_s;
 }
 
 /// The demodulator of a resolver front end (float64): ADC samples of both windings at
@@ -161,16 +154,7 @@ class_methods! {
             let e = excitation.map(|e| samples::<f64>(e, "excitation")).transpose()?;
             let (stream, c, s, e) = (&mut self.stream, c.as_slice(), s.as_slice(), e.as_ref().map(|e| e.as_slice()));
             let p = py.detach(|| stream.push(c, s, e))?;
-            Ok(PyDemodulatedPairs {
-                time_s: array(py, p.time_s),
-                y_c: array(py, p.y_c),
-                y_s: array(py, p.y_s),
-                quadrature_c: array(py, p.quadrature_c),
-                quadrature_s: array(py, p.quadrature_s),
-                window: array(py, p.window),
-                faults: array(py, p.faults),
-                half_turn_unresolved: array(py, p.half_turn_unresolved),
-            })
+            PyDemodulatedPairs::of(py, p)
         }
 
         fn __repr__(&self) -> String {
@@ -244,5 +228,5 @@ pub fn resolver_windings(
     let model = model.map_or_else(ResolverModel::default, PyResolverModel::model);
     let profile = profile.inner.clone();
     let s = py.detach(move || angletrack::Scenario::resolver_windings(&profile, &model, seed))?;
-    Ok(PyScenario::from_scenario(py, s))
+    PyScenario::of(py, s)
 }

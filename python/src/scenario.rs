@@ -2,12 +2,12 @@
 //! seed, from the `angletrack` crate.
 
 use angletrack::SensorModel;
-use numpy::PyArray1;
 use pyo3::prelude::*;
 
-use crate::arrays::{Count, array, samples};
+use crate::arrays::{Column, Count, samples};
 use crate::calibration::PySensorCalibration;
 use crate::errors::{Error, Result};
+use crate::getters::result_class;
 use crate::model_class::{ModelField, model_class};
 use crate::motion::PyMotionProfile;
 
@@ -52,51 +52,32 @@ model_class! {
     }
 }
 
-/// A sampled scenario: the truth (`angle_rad` unwrapped, `speed_rad_s`,
-/// `acceleration_rad_s2`) beside the sensor signals `y_c`, `y_s`, at times `time_s`; every
-/// array float64.
-#[pyclass(name = "Scenario", module = "angletrack", frozen, get_all)]
-#[derive(Debug)]
-pub struct PyScenario {
-    /// Sample period (s).
-    pub(crate) sample_period_s: f64,
-    /// Sample times (s).
-    pub(crate) time_s: Py<PyArray1<f64>>,
-    /// True angle (rad, unwrapped).
-    pub(crate) angle_rad: Py<PyArray1<f64>>,
-    /// True speed (rad/s); NaN where unknown (a capture without a speed reference).
-    pub(crate) speed_rad_s: Py<PyArray1<f64>>,
-    /// True acceleration (rad/s^2); NaN where unknown.
-    pub(crate) acceleration_rad_s2: Py<PyArray1<f64>>,
-    /// Cosine signal.
-    pub(crate) y_c: Py<PyArray1<f64>>,
-    /// Sine signal.
-    pub(crate) y_s: Py<PyArray1<f64>>,
-    /// `False` when the speed truth is unknown (speed metrics are then not computed).
-    pub(crate) has_speed: bool,
-    /// Number of samples.
-    pub(crate) len: usize,
-}
-
-impl PyScenario {
-    /// The Python scenario of a generated one (its truth known, speed included).
-    pub(crate) fn from_scenario(py: Python<'_>, s: angletrack::Scenario) -> Self {
-        Self {
-            len: s.len(),
-            sample_period_s: s.sample_period_s,
-            time_s: array(py, s.time_s),
-            angle_rad: array(py, s.angle_rad),
-            speed_rad_s: array(py, s.speed_rad_s),
-            acceleration_rad_s2: array(py, s.acceleration_rad_s2),
-            y_c: array(py, s.y_c),
-            y_s: array(py, s.y_s),
-            has_speed: true,
-        }
+result_class! {
+    /// A sampled scenario: the truth (`angle_rad` unwrapped, `speed_rad_s`,
+    /// `acceleration_rad_s2`) beside the sensor signals `y_c`, `y_s`, at times `time_s`; every
+    /// array float64.
+    PyScenario = "Scenario" of |py, s: angletrack::Scenario| {
+        /// Number of samples.
+        len: usize = s.len(),
+        /// Sample period (s).
+        sample_period_s: f64 = s.sample_period_s,
+        /// Sample times (s).
+        time_s: Column<f64> = s.time_s,
+        /// True angle (rad, unwrapped).
+        angle_rad: Column<f64> = s.angle_rad,
+        /// True speed (rad/s); NaN where unknown (a capture without a speed reference).
+        speed_rad_s: Column<f64> = s.speed_rad_s,
+        /// True acceleration (rad/s^2); NaN where unknown.
+        acceleration_rad_s2: Column<f64> = s.acceleration_rad_s2,
+        /// Cosine signal.
+        y_c: Column<f64> = s.y_c,
+        /// Sine signal.
+        y_s: Column<f64> = s.y_s,
+        /// `False` when the speed truth is unknown (speed metrics are then not computed).
+        has_speed: bool = true,
     }
-}
-
-#[pymethods]
-impl PyScenario {
+    repr |s| format!("Scenario({} samples, sample_period_s={:e}, duration {:.6} s)", s.len, s.sample_period_s, s.len as f64 * s.sample_period_s);
+    methods {
     /// Samples `profile` every `sample_period_s` through `sensor` (an ideal sensor if
     /// `None`); the noise comes from a ChaCha8 generator seeded with `seed`, so the same
     /// arguments give the same scenario on every machine.
@@ -116,7 +97,7 @@ impl PyScenario {
         let s = py.detach(move || {
             angletrack::Scenario::generate(&profile, &sensor, sample_period_s, seed)
         })?;
-        Ok(Self::from_scenario(py, s))
+        Self::of(py, s)
     }
 
     /// A scenario from recorded arrays (a capture with a reference angle): the truth
@@ -143,20 +124,12 @@ impl PyScenario {
         let scenario = angletrack::Scenario::from_arrays(sample_period_s, angle, c, s, speed)?;
         Ok(Self {
             has_speed,
-            ..Self::from_scenario(py, scenario)
+            ..Self::of(py, scenario)?
         })
     }
 
     fn __len__(&self) -> usize {
         self.len
     }
-
-    fn __repr__(&self) -> String {
-        format!(
-            "Scenario({} samples, sample_period_s={:e}, duration {:.6} s)",
-            self.len,
-            self.sample_period_s,
-            self.len as f64 * self.sample_period_s
-        )
     }
 }

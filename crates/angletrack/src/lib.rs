@@ -150,7 +150,7 @@ pub use sim::{
     ChannelBatch, ErrorStatistics, EstimateColumns, FixedColumns, FixedConstantsError, FixedInput,
     FixedTracker, Kinematics, LANES, MAX_ANGLE_ERROR_HARMONICS, MAX_SAMPLES, Metrics,
     MetricsOptions, Motion, MotionProfile, NOMINAL_AMPLITUDE_SAMPLES, Output, ResolverModel, Run,
-    Scenario, SensorModel, capture_fault_thresholds, fixed_front_end, fixed_input,
+    Scenario, SensorModel, angle_noise, capture_fault_thresholds, fixed_front_end, fixed_input,
     fixed_input_shift, fixed_magnitude_tolerance, fixed_monitor_amplitude, nominal_amplitude, run,
     run_calibrated, shifted_calibration,
 };

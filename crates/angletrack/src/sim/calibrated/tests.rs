@@ -204,4 +204,23 @@ fn a_noisy_sensor_is_not_flagged_with_the_thresholds_measured_on_it() {
         at_default > 10 && latched == Faults::LOSS_OF_TRACKING,
         "{at_default}"
     );
+    // At 50 Hz electrical the loop no longer follows the uncalibrated sensor's distortion
+    // (its angle up to about 90 mrad off): its residual shows it, and the level, which
+    // follows the noise only, flags it.
+    let speed = 5.0 * SPEED_RAD_S;
+    let profile = MotionProfile::new(0.3, speed).then(Motion::ConstantSpeed {
+        speed_rad_s: speed,
+        duration_s: 0.2,
+    });
+    let fast = Scenario::generate(&profile, &imperfect_sensor(), BENCHMARK_SAMPLE_PERIOD_S, 5)
+        .unwrap();
+    let file = TrackerFile::new(gains);
+    let head = CaptureHead {
+        y_c: &fast.y_c,
+        y_s: &fast.y_s,
+        counts: None,
+    };
+    let mut run = TrackerRun::new(&file, "t.json", &head).unwrap();
+    run.track(&fast.y_c, &fast.y_s);
+    assert_eq!(run.latched_faults().0, Faults::LOSS_OF_TRACKING);
 }

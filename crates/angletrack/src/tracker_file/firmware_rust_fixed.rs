@@ -123,7 +123,7 @@ impl TrackerFile {
                 )?;
                 observer = match monitor.tolerance {
                     // `with_monitor`'s tolerance.
-                    Some(r) if r == 0.1 => format!("ok({observer}.with_monitor(Some({samples})))"),
+                    Some(0.1) => format!("ok({observer}.with_monitor(Some({samples})))"),
                     Some(r) => format!(
                         "ok({observer}.with_monitor_tolerance(Some({samples}), Some({})))",
                         literal(r, FloatType::F64, "fault_thresholds.magnitude_tolerance")?

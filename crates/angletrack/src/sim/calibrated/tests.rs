@@ -212,8 +212,8 @@ fn a_noisy_sensor_is_not_flagged_with_the_thresholds_measured_on_it() {
         speed_rad_s: speed,
         duration_s: 0.2,
     });
-    let fast = Scenario::generate(&profile, &imperfect_sensor(), BENCHMARK_SAMPLE_PERIOD_S, 5)
-        .unwrap();
+    let fast =
+        Scenario::generate(&profile, &imperfect_sensor(), BENCHMARK_SAMPLE_PERIOD_S, 5).unwrap();
     let file = TrackerFile::new(gains);
     let head = CaptureHead {
         y_c: &fast.y_c,

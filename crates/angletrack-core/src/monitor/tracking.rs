@@ -29,21 +29,23 @@ pub const TRACKING_RELEASE_FRACTION: f32 = 0.5;
 pub const TRACKING_STARTUP_WINDOWS: u32 = 2;
 
 /// A level of the check as an observer's state stores it: it tells whether the flag is
-/// held (a negative level, below every residual), and the start-up's progress. The negative
-/// levels are functions, not constants: the floats' negation is not `const` for a generic
-/// type (each is a constant once inlined).
+/// held (a negative level, below every residual), and the start-up's progress (levels
+/// above every usual residual, so that the start-up's samples stay on the per-sample path).
+/// The levels are functions, not constants: the floats' arithmetic is not `const` for a
+/// generic type (each is a constant once inlined).
 pub(crate) trait Level: Copy + PartialEq {
     /// The level of a check not armed yet: one no residual exceeds.
     const UNARMED: Self;
     /// The level of a held flag (-1): below every residual.
     fn held() -> Self;
     /// The level of the start-up before a window whose mean residual is at or below the
-    /// release level (-2): below every residual and apart from the fault's level, so that
-    /// the start-up is neither latched nor released by one sample.
+    /// release level (2 pi, or 32766 in Q15): above every usual residual (one above goes out
+    /// of line and changes nothing), so that the start-up is neither flagged nor latched.
     fn startup() -> Self;
-    /// The level of the start-up after one such window (-3): the next one ends it.
+    /// The level of the start-up after one such window (pi, or 32765): the next one ends
+    /// it.
     fn settling() -> Self;
-    /// Whether the level is below every residual (the flag held, or the start-up).
+    /// Whether the flag is held (a negative level).
     fn holds(self) -> bool;
     /// Whether the level is [`Level::held`]: the flag is set.
     fn is_held(self) -> bool;
@@ -57,11 +59,11 @@ impl<T: Float> Level for T {
     }
     #[inline(always)]
     fn startup() -> T {
-        T::NEG_TWO
+        T::TAU
     }
     #[inline(always)]
     fn settling() -> T {
-        T::NEG_TWO - T::ONE
+        T::PI
     }
     #[inline(always)]
     fn holds(self) -> bool {
@@ -82,11 +84,11 @@ impl Level for i16 {
     }
     #[inline(always)]
     fn startup() -> i16 {
-        -2
+        i16::MAX - 1
     }
     #[inline(always)]
     fn settling() -> i16 {
-        -3
+        i16::MAX - 2
     }
     #[inline(always)]
     fn holds(self) -> bool {
@@ -190,7 +192,9 @@ impl<L: Level> TrackingCheck<L> {
     /// between the lobes of a third-order loop's acquisition, a window's mean dips below it
     /// and the next samples, with the noise on them, would trip.
     pub(crate) fn arm<R: Residual<Level = L>>(&mut self, trip: R, window_mean: R) {
-        if self.level == L::UNARMED {
+        if self.level.holds() {
+            // The flag held: it clears on a residual, not at a window's end.
+        } else if self.level == L::UNARMED {
             self.level = L::startup();
         } else if self.level == L::startup() || self.level == L::settling() {
             self.level = if window_mean > R::release(trip) {
@@ -200,7 +204,7 @@ impl<L: Level> TrackingCheck<L> {
             } else {
                 L::settling()
             };
-        } else if !self.level.holds() {
+        } else {
             self.level = R::level_of(trip);
         }
     }

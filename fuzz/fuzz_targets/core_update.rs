@@ -1,10 +1,11 @@
-//! Fuzzes the per-sample update: arbitrary gains, sample period, diagnostics thresholds and
+//! Fuzzes the per-sample update: arbitrary gains, sample period, diagnostics thresholds
+//! (every field of `FaultThresholds`, and the tracking-error level's rule above a noise) and
 //! samples, on both float types, both orders and both sin/cos, through the online
 //! calibration (arbitrary settings and stored calibration, learning or frozen) and the ADC
 //! front end (arbitrary mid-scale, scale and integer samples of every type). Whatever the
 //! input: no panic, and every accepted configuration keeps a finite state and calibration
 //! and an angle in [-pi, pi). The fixed-point observer too (`docs/theory.md §14`): arbitrary
-//! gains, sample period, monitor amplitude and 16-bit samples; no panic (a build with
+//! gains, sample period, monitor amplitude and roundness tolerance, and 16-bit samples; no panic (a build with
 //! overflow checks would panic on any overflow), the phase error within [-1, 1] in Q15 and
 //! the reciprocal tracker within its range.
 #![no_main]
@@ -38,8 +39,9 @@ struct Fixed {
     order: bool,
     gains: [f64; 3],
     sample_period_s: f64,
-    /// `Some(None)`: monitor off; `Some(Some(a))`: nominal amplitude `a` counts.
-    monitor: Option<Option<f64>>,
+    /// `Some((None, _))`: monitor off; `Some((Some(a), r))`: nominal amplitude `a` counts,
+    /// roundness tolerance `r` (`None`: no roundness check).
+    monitor: Option<(Option<f64>, Option<f64>)>,
     samples: Vec<(i16, i16)>,
 }
 
@@ -71,11 +73,16 @@ struct Thresholds {
     degradation_low: f64,
     degradation_high: f64,
     loss_of_tracking: f64,
+    tracking_error: f64,
     max_speed: Option<f64>,
     filter_factor: f64,
     false_lock: f64,
+    magnitude_tolerance: Option<f64>,
     monitor: bool,
     re_acquire: bool,
+    /// The angle noise (rad) the tracking-error level is raised above
+    /// (`FaultThresholds::with_tracking_error_above_noise`), after the fields.
+    noise: Option<f64>,
 }
 
 fn run<T: Real, const N: usize, S: SinCos<T>>(input: &Input)
@@ -97,11 +104,17 @@ where
             .with_degradation_low(f(t.degradation_low))
             .with_degradation_high(f(t.degradation_high))
             .with_loss_of_tracking(f(t.loss_of_tracking))
+            .with_tracking_error(f(t.tracking_error))
             .with_max_speed(t.max_speed.map(f))
             .with_filter_factor(f(t.filter_factor))
             .with_false_lock(f(t.false_lock))
+            .with_magnitude_tolerance(t.magnitude_tolerance.map(f))
             .with_monitor(t.monitor)
             .with_re_acquire(t.re_acquire);
+        let thresholds = match t.noise {
+            Some(noise) => thresholds.with_tracking_error_above_noise(f(noise)),
+            None => thresholds,
+        };
         match gains.with_fault_thresholds(thresholds) {
             Ok(g) => gains = g,
             Err(_) => return,
@@ -209,8 +222,8 @@ where
     let Ok(mut gains) = FixedGains::<N>::new(l, fixed.sample_period_s) else {
         return;
     };
-    if let Some(monitor) = fixed.monitor {
-        match gains.with_monitor(monitor) {
+    if let Some((amplitude, tolerance)) = fixed.monitor {
+        match gains.with_monitor_tolerance(amplitude, tolerance) {
             Ok(g) => gains = g,
             Err(_) => return,
         }

@@ -229,8 +229,10 @@ pub fn capture_counts(
 /// The diagnostics' thresholds of a whole capture whose first samples are `y_c`, `y_s`
 /// (`angletrack::capture_fault_thresholds`): `FaultThresholds(nominal_amplitude=A)` with
 /// `A` the median magnitude of the first 4096 samples (the defaults when it is not
-/// positive). What `track` measures, and what a caller feeding the capture to an `Observer`
-/// in chunks states with `fault_thresholds=`.
+/// positive), and the tracking-error level above their angle noise (8 times it, at least
+/// 0.05: `FaultThresholds::with_tracking_error_above_noise`). What `track` measures, and
+/// what a caller feeding the capture to an `Observer` in chunks states with
+/// `fault_thresholds=`.
 #[pyfunction]
 pub fn capture_fault_thresholds(
     y_c: &Bound<'_, PyAny>,

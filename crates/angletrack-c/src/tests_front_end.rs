@@ -38,15 +38,16 @@ fn counts_at(angle: f32, amplitude: f32) -> (i32, i32) {
     )
 }
 
-/// 20 samples of a still shaft at 1 rad (1500 counts from `mid`), then `clipped`: its
-/// estimate and the estimate before it. `update` takes counts from mid-scale.
+/// 40 samples of a still shaft at 1 rad (1500 counts from `mid`: past the tracking check's
+/// start-up of two monitor windows), then `clipped`: its estimate and the estimate before
+/// it. `update` takes counts from mid-scale.
 fn after_a_still_shaft(
     mut update: impl FnMut(i32, i32) -> at_estimate_f32,
     clipped: (i32, i32),
 ) -> (at_estimate_f32, at_estimate_f32) {
     let (c, s) = counts_at(1.0, 1500.0);
     let mut before = at_estimate_f32::default();
-    for _ in 0..20 {
+    for _ in 0..40 {
         before = update(c, s);
         assert_eq!(before.faults, 0, "{before:?}");
     }

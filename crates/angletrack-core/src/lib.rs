@@ -181,7 +181,10 @@ pub use fixed::{FixedEstimate, FixedGains, FixedState};
 pub use front_end_faults::FrontEndFaults;
 pub use gains::{Gains, Order, SupportedOrder};
 pub use learning::{CalibrationMode, CalibrationStatus, Calibrator};
-pub use monitor::{FaultThresholds, ROUNDNESS_HOLD_WINDOWS, TRACKING_RELEASE_FRACTION};
+pub use monitor::{
+    FaultThresholds, ROUNDNESS_HOLD_WINDOWS, TRACKING_RELEASE_FRACTION, TRACKING_STARTUP_WINDOWS,
+};
+pub use monitor_thresholds::TRACKING_ERROR_NOISE_FACTOR;
 pub use outputs::{DriveAngle, DriveOutputs, DriveOutputsState};
 pub use real::sincos::{Detection, Exact, Fast, SinCos, SinCosUnit};
 pub use real::{ChainNumber, Float};

@@ -69,8 +69,10 @@ pub struct FaultThresholds<T> {
     /// within about `(1 - l1) asin(tracking_error)` of the measured angle. The default 0.05
     /// is half the default `loss_of_tracking`; it stays clear of noise whose standard
     /// deviation per channel is below about 0.6 % of the amplitude (`|eps|` then stays below
-    /// 8 standard deviations); for noisier signals raise it to about 8 times the noise's
-    /// fraction of the amplitude.
+    /// 8 standard deviations); for noisier signals
+    /// [`FaultThresholds::with_tracking_error_above_noise`] sets it to 8 times the noise's
+    /// fraction of the amplitude (the `angletrack` crate does, on the thresholds it measures
+    /// on a capture).
     pub tracking_error: T,
     /// Estimated `|speed|` (rad/s) at the end of a window above this:
     /// [`Faults::LOSS_OF_TRACKING`]. `None`: a
@@ -474,8 +476,8 @@ mod decision;
 pub(crate) mod tracking;
 
 pub(crate) use decision::{AmplitudeMeasure, Limits, Measures, MonitorLimits, WindowMeasures};
-pub use tracking::TRACKING_RELEASE_FRACTION;
 pub(crate) use tracking::TrackingCheck;
+pub use tracking::{TRACKING_RELEASE_FRACTION, TRACKING_STARTUP_WINDOWS};
 
 #[cfg(test)]
 mod latency_tests;

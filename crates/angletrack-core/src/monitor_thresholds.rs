@@ -6,7 +6,14 @@
 //! ([`Gains::with_fault_thresholds`](crate::Gains::with_fault_thresholds)), with the
 //! [`ConfigError`](crate::ConfigError) naming the parameter.
 
-use crate::monitor::FaultThresholds;
+use crate::monitor::{DEFAULT_TRACKING_ERROR, FaultThresholds};
+use crate::real::Float;
+
+/// The loss-of-tracking level in standard deviations of the input's angle noise (the rule
+/// of [`FaultThresholds::with_tracking_error_above_noise`]): a residual of healthy Gaussian
+/// noise exceeds 8 of its standard deviations about once in 10^15 samples, so a healthy
+/// sensor is not flagged.
+pub const TRACKING_ERROR_NOISE_FACTOR: f32 = 8.0;
 
 impl<T: Copy> FaultThresholds<T> {
     /// The same thresholds with [`FaultThresholds::max_input_amplitude`] set (units of
@@ -132,5 +139,37 @@ impl<T: Copy> FaultThresholds<T> {
     pub const fn with_re_acquire(mut self, re_acquire: bool) -> Self {
         self.re_acquire = re_acquire;
         self
+    }
+}
+
+impl<T: Float> FaultThresholds<T> {
+    /// The same thresholds with [`FaultThresholds::tracking_error`] set above the noise of
+    /// the input's angle, as a mature RDC sets its loss-of-tracking level above its noise
+    /// floor: [`TRACKING_ERROR_NOISE_FACTOR`] (8) times `angle_noise_rad`, the standard
+    /// deviation of one sample's angle about the smooth motion (rad electrical; for Gaussian
+    /// noise of standard deviation `s` per channel on a signal of amplitude `a`, about
+    /// `s / a`), and never below the default 0.05. A noise that is not finite or not
+    /// positive leaves the thresholds as they are. The residual `|eps|` a healthy sample
+    /// shows is about its angle noise, so a sensor of any noise keeps the check clear; up
+    /// to 0.6 % noise the level stays the default.
+    ///
+    /// What the `angletrack` crate applies to the thresholds it measures on a capture
+    /// (`capture_fault_thresholds`) when the caller states none:
+    ///
+    /// ```
+    /// use angletrack_core::FaultThresholds;
+    /// let t = FaultThresholds::<f32>::for_amplitude(1800.0);
+    /// // 1 % noise: 8 times 0.01.
+    /// assert_eq!(t.with_tracking_error_above_noise(0.01).tracking_error, 0.08);
+    /// // 0.25 % noise: the default.
+    /// assert_eq!(t.with_tracking_error_above_noise(0.0025).tracking_error, 0.05);
+    /// assert_eq!(t.with_tracking_error_above_noise(f32::NAN), t);
+    /// ```
+    pub fn with_tracking_error_above_noise(self, angle_noise_rad: T) -> Self {
+        if !(angle_noise_rad > T::ZERO && angle_noise_rad < T::INFINITY) {
+            return self;
+        }
+        let level = T::from_f32(TRACKING_ERROR_NOISE_FACTOR) * angle_noise_rad;
+        self.with_tracking_error(level.max(T::from_f32(DEFAULT_TRACKING_ERROR)))
     }
 }

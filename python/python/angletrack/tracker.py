@@ -199,7 +199,10 @@ class Tracker:
         out: dict = {}
         thresholds = self.document["fault_thresholds"]
         if thresholds is not None:
-            out["fault_thresholds"] = FaultThresholds(**thresholds)
+            # The package's Observer has no roundness check (its FaultThresholds has no field
+            # for it); the crate's chain of the file (``track``) runs it.
+            fields = {name: value for name, value in thresholds.items() if name != "magnitude_tolerance"}
+            out["fault_thresholds"] = FaultThresholds(**fields)
         if self.document["winding_check"] is not None:
             out["winding_amplitude"] = float(self.document["winding_check"]["amplitude"])
         return out

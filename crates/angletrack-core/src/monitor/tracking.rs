@@ -24,33 +24,79 @@ use crate::real::Float;
 /// trip level clears at the first residual at or below half of it.
 pub const TRACKING_RELEASE_FRACTION: f32 = 0.5;
 
+/// The monitor windows in a row whose mean residual must be at or below the release level
+/// before the check arms after its start-up ([`TrackingCheck::arm`]).
+pub const TRACKING_STARTUP_WINDOWS: u32 = 2;
+
 /// A level of the check as an observer's state stores it: it tells whether the flag is
-/// held (a negative level, below every residual).
+/// held (a negative level, below every residual), and the start-up's progress (levels
+/// above every usual residual, so that the start-up's samples stay on the per-sample path).
+/// The levels are functions, not constants: the floats' arithmetic is not `const` for a
+/// generic type (each is a constant once inlined).
 pub(crate) trait Level: Copy + PartialEq {
     /// The level of a check not armed yet: one no residual exceeds.
     const UNARMED: Self;
-    /// The level of the start-up: below every residual (the flag held) and apart from the
-    /// fault's level, so that the start-up is neither latched nor released by one sample.
-    const STARTUP: Self;
-    /// Whether the flag is held.
+    /// The level of a held flag (-1): below every residual.
+    fn held() -> Self;
+    /// The level of the start-up before a window whose mean residual is at or below the
+    /// release level (2 pi, or 32766 in Q15): above every usual residual (one above goes out
+    /// of line and changes nothing), so that the start-up is neither flagged nor latched.
+    fn startup() -> Self;
+    /// The level of the start-up after one such window (pi, or 32765): the next one ends
+    /// it.
+    fn settling() -> Self;
+    /// Whether the flag is held (a negative level).
     fn holds(self) -> bool;
+    /// Whether the level is [`Level::held`]: the flag is set.
+    fn is_held(self) -> bool;
 }
 
 impl<T: Float> Level for T {
     const UNARMED: T = T::INFINITY;
-    const STARTUP: T = T::NEG_TWO;
+    #[inline(always)]
+    fn held() -> T {
+        -T::ONE
+    }
+    #[inline(always)]
+    fn startup() -> T {
+        T::TAU
+    }
+    #[inline(always)]
+    fn settling() -> T {
+        T::PI
+    }
     #[inline(always)]
     fn holds(self) -> bool {
         self < T::ZERO
+    }
+    /// Compared by their bits, an integer comparison (no library call on a Cortex-M0).
+    #[inline(always)]
+    fn is_held(self) -> bool {
+        self.ordered_bits() == Self::held().ordered_bits()
     }
 }
 
 impl Level for i16 {
     const UNARMED: i16 = i16::MAX;
-    const STARTUP: i16 = -2;
+    #[inline(always)]
+    fn held() -> i16 {
+        -1
+    }
+    #[inline(always)]
+    fn startup() -> i16 {
+        i16::MAX - 1
+    }
+    #[inline(always)]
+    fn settling() -> i16 {
+        i16::MAX - 2
+    }
     #[inline(always)]
     fn holds(self) -> bool {
         self < 0
+    }
+    #[inline(always)]
+    fn is_held(self) -> bool {
+        self == -1
     }
 }
 
@@ -66,9 +112,6 @@ pub(crate) trait Residual: Copy + PartialOrd {
     fn level_of(trip: Self) -> Self::Level;
     /// The release level of `trip`: [`TRACKING_RELEASE_FRACTION`] of it.
     fn release(trip: Self) -> Self;
-    /// A level below every residual (which is at least 0): the level in force while the
-    /// flag is held.
-    fn below_every_residual() -> Self::Level;
 }
 
 /// Compared by their bits as signed integers ([`Float::ordered_bits`]): ordered as the
@@ -86,9 +129,6 @@ impl<T: Float> Residual for T {
     fn release(trip: T) -> T {
         trip * T::HALF
     }
-    fn below_every_residual() -> T {
-        -T::ONE
-    }
 }
 
 /// Q15 `|eps|` from 0 to 32767, its level in 16 bits (the fixed-point state has no room for
@@ -105,9 +145,6 @@ impl Residual for i32 {
     }
     fn release(trip: i32) -> i32 {
         trip >> 1
-    }
-    fn below_every_residual() -> i16 {
-        -1
     }
 }
 
@@ -131,10 +168,12 @@ impl<L: Level> TrackingCheck<L> {
     /// none, the acquisition being a status and not a fault).
     #[inline(always)]
     pub(crate) fn flag(&self) -> Faults {
-        Faults::when(
-            self.level.holds() && self.level != L::STARTUP,
-            Faults::LOSS_OF_TRACKING,
-        )
+        Faults::when(self.level.is_held(), Faults::LOSS_OF_TRACKING)
+    }
+
+    /// Whether the check is in its start-up (or not armed yet): nothing to apply.
+    fn starting(&self) -> bool {
+        self.level == L::startup() || self.level == L::settling() || self.level == L::UNARMED
     }
 
     /// Whether `residual` must go out of line ([`TrackingCheck::apply`]): above the trip
@@ -146,17 +185,26 @@ impl<L: Level> TrackingCheck<L> {
 
     /// At a window's end, of mean residual `window_mean`: the level in force of trip level
     /// `trip`, the flag kept (following a changed threshold). The monitor's first decision,
-    /// on the first sample, arms a new check in its start-up: the flag held, not latched,
-    /// the loop's acquisition flagged (its angles may be anything) until a window's mean
-    /// residual comes down to the release level. A start-up is not a fault.
+    /// on the first sample, arms a new check in its start-up: nothing tripped, flagged or
+    /// latched (the loop's acquisition is a status, not a fault) until
+    /// [`TRACKING_STARTUP_WINDOWS`] windows in a row have a mean residual at or below the
+    /// release level. One such window is not enough: while the loop's lag still grows, or
+    /// between the lobes of a third-order loop's acquisition, a window's mean dips below it
+    /// and the next samples, with the noise on them, would trip.
     pub(crate) fn arm<R: Residual<Level = L>>(&mut self, trip: R, window_mean: R) {
-        if self.level == L::UNARMED {
-            self.level = L::STARTUP;
-        } else if self.level == L::STARTUP {
-            if !(window_mean > R::release(trip)) {
-                self.level = R::level_of(trip);
-            }
-        } else if !self.level.holds() {
+        if self.level.holds() {
+            // The flag held: it clears on a residual, not at a window's end.
+        } else if self.level == L::UNARMED {
+            self.level = L::startup();
+        } else if self.level == L::startup() || self.level == L::settling() {
+            self.level = if window_mean > R::release(trip) {
+                L::startup()
+            } else if self.level == L::settling() {
+                R::level_of(trip)
+            } else {
+                L::settling()
+            };
+        } else {
             self.level = R::level_of(trip);
         }
     }
@@ -174,12 +222,12 @@ impl<L: Level> TrackingCheck<L> {
     ) {
         // Not armed yet (the monitor's first window, whose end arms it) or in the start-up:
         // nothing to apply.
-        if self.level == L::STARTUP || self.level == L::UNARMED {
+        if self.starting() {
             return;
         }
         if !self.level.holds() {
             if residual > trip {
-                self.level = R::below_every_residual();
+                self.level = L::held();
                 *latched |= Faults::LOSS_OF_TRACKING;
             } else {
                 self.level = R::level_of(trip);
@@ -201,12 +249,18 @@ mod tests {
         let mut check = TrackingCheck::new();
         check.arm(TRIP, 0.0);
         let mut latched = Faults::NONE;
-        // Armed in its start-up (no trip, no flag, no latch), whatever the samples, until a
-        // window's mean residual is at or below 0.025.
+        // Armed in its start-up (no trip, no flag, no latch), whatever the samples, until
+        // two windows in a row have a mean residual at or below 0.025.
         check.apply(0.9, TRIP, &mut latched);
         check.arm(TRIP, 0.03);
-        assert!(check.flag().is_empty() && check.level == f32::STARTUP);
+        assert!(check.flag().is_empty() && check.level == f32::startup());
         check.arm(TRIP, 0.02);
+        check.apply(0.9, TRIP, &mut latched);
+        assert!(check.flag().is_empty() && check.level == f32::settling());
+        check.arm(TRIP, 0.026);
+        assert!(check.flag().is_empty() && check.level == f32::startup());
+        check.arm(TRIP, 0.025);
+        check.arm(TRIP, 0.01);
         assert!(check.flag().is_empty() && latched.is_empty() && check.level == TRIP);
         let flags = residuals.map(|r| {
             if check.changes(r) {

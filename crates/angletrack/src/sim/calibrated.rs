@@ -9,6 +9,7 @@ use angletrack_core::{
 };
 
 use super::Scenario;
+use super::angle_noise::angle_noise_about;
 use super::metrics::{Run, run_with};
 
 /// The number of samples at the start of a capture from which [`nominal_amplitude`]
@@ -77,12 +78,47 @@ pub fn run_calibrated<T: Real, const N: usize, S: SinCos<T>>(
 /// assert_eq!(angletrack::nominal_amplitude(&[0.0_f32; 8], &[0.0; 8]), None);
 /// ```
 pub fn nominal_amplitude<T: Real>(y_c: &[T], y_s: &[T]) -> Option<f64> {
-    amplitudes(&first_pairs(y_c, y_s)).0
+    amplitudes(&first_pairs(y_c, y_s)).nominal
 }
 
-/// The nominal amplitude of `pairs` (see [`nominal_amplitude`]) and the median of their
-/// magnitudes around zero, each `None` without pairs.
-fn amplitudes(pairs: &[(f64, f64)]) -> (Option<f64>, Option<f64>) {
+/// The standard deviation (rad) of a capture's angle about a smooth motion, measured on the
+/// same first samples as [`nominal_amplitude`] and about the same centre: the noise the
+/// per-sample tracking check sees (`FaultThresholds::tracking_error`). From the second
+/// differences of consecutive samples' angles, by their median absolute deviation, so that
+/// the speed, a constant acceleration and a few bad samples leave it as it is. For
+/// Gaussian noise of standard deviation `s` per channel on a signal of amplitude `a`, about
+/// `s / a`. `None` with fewer than 16 finite pairs.
+///
+/// ```
+/// use rand::SeedableRng;
+/// use rand_distr::{Distribution, Normal};
+/// let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+/// let noise = Normal::new(0.0, 18.0).unwrap(); // 1 % of 1800 counts
+/// let (y_c, y_s): (Vec<f64>, Vec<f64>) = (0..4096)
+///     .map(|k| 0.02 * k as f64)
+///     .map(|t| (1800.0 * t.cos() + noise.sample(&mut rng), 1800.0 * t.sin() + noise.sample(&mut rng)))
+///     .unzip();
+/// let measured = angletrack::angle_noise(&y_c, &y_s).unwrap();
+/// assert!((measured - 0.01).abs() < 1e-3, "{measured}");
+/// ```
+pub fn angle_noise<T: Real>(y_c: &[T], y_s: &[T]) -> Option<f64> {
+    let pairs = first_pairs(y_c, y_s);
+    angle_noise_about(&pairs, amplitudes(&pairs).centre)
+}
+
+/// What [`amplitudes`] measures on a capture's first pairs.
+struct Amplitudes {
+    /// The nominal amplitude ([`nominal_amplitude`]).
+    nominal: Option<f64>,
+    /// The median of the magnitudes around zero.
+    raw: Option<f64>,
+    /// The centre the nominal amplitude was measured about: the Lissajous figure's, or zero.
+    centre: (f64, f64),
+}
+
+/// The nominal amplitude of `pairs` (see [`nominal_amplitude`]), the median of their
+/// magnitudes around zero (each `None` without pairs) and the centre of the first.
+fn amplitudes(pairs: &[(f64, f64)]) -> Amplitudes {
     let around = |(c_c, c_s): (f64, f64)| -> Vec<f64> {
         let mut magnitudes: Vec<f64> = pairs
             .iter()
@@ -92,9 +128,18 @@ fn amplitudes(pairs: &[(f64, f64)]) -> (Option<f64>, Option<f64>) {
         magnitudes
     };
     let raw = around((0.0, 0.0));
-    let ring = lissajous_centre(pairs).map(around).filter(|m| is_ring(m));
-    let nominal = median(ring.as_deref().unwrap_or(&raw)).filter(|&m| m > 0.0);
-    (nominal, median(&raw))
+    let ring = lissajous_centre(pairs)
+        .map(|centre| (centre, around(centre)))
+        .filter(|(_, m)| is_ring(m));
+    let (centre, magnitudes) = match &ring {
+        Some((centre, magnitudes)) => (*centre, magnitudes.as_slice()),
+        None => ((0.0, 0.0), raw.as_slice()),
+    };
+    Amplitudes {
+        nominal: median(magnitudes).filter(|&m| m > 0.0),
+        raw: median(&raw),
+        centre,
+    }
 }
 
 /// The first [`NOMINAL_AMPLITUDE_SAMPLES`] pairs whose samples are both finite.
@@ -156,7 +201,9 @@ fn median(sorted: &[f64]) -> Option<f64> {
 
 /// The default [`FaultThresholds`] scaled to the capture's [`nominal_amplitude`]
 /// ([`FaultThresholds::for_amplitude`], without the roundness check: the amplitude is
-/// measured, not stated); the core's defaults (amplitude 1) when it has none.
+/// measured, not stated), with the tracking-error level above the capture's
+/// [`angle_noise`] (the core's rule, [`FaultThresholds::with_tracking_error_above_noise`]:
+/// 8 times it, at least 0.05); the core's defaults (amplitude 1) when it has none.
 /// What the Python API and the command line use when the caller gives no thresholds, so
 /// that a capture in raw ADC counts or in volts is monitored without its units being
 /// stated.
@@ -167,13 +214,21 @@ fn median(sorted: &[f64]) -> Option<f64> {
 /// assert_eq!((t.nominal_amplitude, t.loss_of_signal), (1800.0, 450.0));
 /// ```
 pub fn capture_fault_thresholds<T: Real>(y_c: &[T], y_s: &[T]) -> FaultThresholds<T> {
-    let (Some(amplitude), raw) = amplitudes(&first_pairs(y_c, y_s)) else {
+    let pairs = first_pairs(y_c, y_s);
+    let Amplitudes {
+        nominal: Some(amplitude),
+        raw,
+        centre,
+    } = amplitudes(&pairs)
+    else {
         return FaultThresholds::default();
     };
     // A measured amplitude, not a stated one: the pair before any calibration need not be
     // round, so no roundness check (`FaultThresholds::magnitude_tolerance`).
-    let mut thresholds =
-        FaultThresholds::for_amplitude(T::from_f64(amplitude)).with_magnitude_tolerance(None);
+    let noise = angle_noise_about(&pairs, centre).map_or(T::ZERO, T::from_f64);
+    let mut thresholds = FaultThresholds::for_amplitude(T::from_f64(amplitude))
+        .with_magnitude_tolerance(None)
+        .with_tracking_error_above_noise(noise);
     // A biased signal's samples are no bad samples: the input bound covers the bias too
     // (until a calibration removes it, the observer sees it).
     if let Some(raw) = raw {

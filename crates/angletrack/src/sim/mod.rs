@@ -3,6 +3,7 @@
 //! them, the metrics of a run, and many channels at once; and a carrier-excited resolver's
 //! raw windings as an ADC samples them (`resolver`).
 
+mod angle_noise;
 mod batch;
 mod calibrated;
 mod columns;
@@ -17,7 +18,8 @@ mod sensor;
 
 pub use batch::{ChannelBatch, LANES};
 pub use calibrated::{
-    NOMINAL_AMPLITUDE_SAMPLES, capture_fault_thresholds, nominal_amplitude, run_calibrated,
+    NOMINAL_AMPLITUDE_SAMPLES, angle_noise, capture_fault_thresholds, nominal_amplitude,
+    run_calibrated,
 };
 pub use columns::{EstimateColumns, Output, OutputSet};
 pub use fixed_chain::{

@@ -72,15 +72,10 @@ impl TrackerFile {
         let counts = self.fixed_counts(file)?;
         let shift = counts.as_ref().map_or(0, |c| c.shift);
         let observer = FixedGains::<N>::new(gains, self.gains.sample_period_s);
-        let observer = match (self.fixed_nominal(file)?, &counts) {
-            // The std's rule (the tracker file's run): the roundness check unless the
-            // amplitude was raised to the monitor's range.
-            (Some(nominal), _) => observer.and_then(|g| {
-                g.with_monitor_tolerance(
-                    Some(crate::fixed_monitor_amplitude(nominal, shift)),
-                    crate::fixed_magnitude_tolerance(nominal, shift),
-                )
-            }),
+        let observer = match (self.fixed_monitor(file, shift)?, &counts) {
+            (Some(m), _) => {
+                observer.and_then(|g| g.with_monitor_tolerance(Some(m.amplitude), m.tolerance))
+            }
             (None, Some(_)) => return Err(Self::amplitude_not_stated(file)),
             (None, None) => observer,
         }

@@ -8,19 +8,13 @@
 use std::fmt::Write as _;
 
 use angletrack_core::{
-    AdcScaling, AngleCorrectionTable, FaultThresholds, FixedGains, Input as CoreInput, Order,
-    Rails, SupportedOrder, TRACKER_TABLE_LENGTH, TrackerFrontEnd, TrackerSettings,
+    AdcScaling, AngleCorrectionTable, FaultThresholds, Input as CoreInput, Rails,
+    TRACKER_TABLE_LENGTH, TrackerFrontEnd, TrackerSettings,
 };
 
-use super::TrackerFile;
-use super::{AdcRange, Calibration, Correction, FirmwareError, Input, NumberType, SinCosKind};
+pub(super) use super::rules::refuse;
+use super::{Calibration, Correction, FirmwareError, Input, NumberType, SinCosKind, TrackerFile};
 use crate::export::{FloatType, identifier, literal};
-use crate::json_file::JsonFileError;
-
-/// A refusal naming the file's `field`.
-pub(super) fn refuse(file: &str, field: &str, why: impl Into<String>) -> FirmwareError {
-    FirmwareError::File(JsonFileError::new(file, Some(field), why.into()))
-}
 
 /// `values` as a Rust array literal of `float` literals.
 fn array(values: &[f64], float: FloatType, field: &'static str) -> Result<String, FirmwareError> {
@@ -154,32 +148,10 @@ impl TrackerFile {
         );
         self.check_float_gains(file)?;
         if let Some(th) = &self.fault_thresholds {
-            let mut set = format!(
-                "let mut t = FaultThresholds::<{t}>::for_amplitude_const({});",
-                lit(th.nominal_amplitude, "fault_thresholds.nominal_amplitude")?
+            observer = format!(
+                "ok({observer}.with_fault_thresholds_const({{ {} }}))",
+                thresholds_text(t, th, float)?
             );
-            for (field, value) in [
-                ("max_input_amplitude", th.max_input_amplitude),
-                ("loss_of_signal", th.loss_of_signal),
-                ("degradation_low", th.degradation_low),
-                ("degradation_high", th.degradation_high),
-                ("loss_of_tracking", th.loss_of_tracking),
-                ("tracking_error", th.tracking_error),
-                ("filter_factor", th.filter_factor),
-                ("false_lock", th.false_lock),
-            ] {
-                let _ = write!(set, " t.{field} = {};", lit(value, "fault_thresholds")?);
-            }
-            let max_speed = match th.max_speed {
-                Some(v) => format!("Some({})", lit(v, "fault_thresholds.max_speed")?),
-                None => "None".to_string(),
-            };
-            let _ = write!(
-                set,
-                " t.max_speed = {max_speed}; t.monitor = {}; t.re_acquire = {}; t",
-                th.monitor, th.re_acquire
-            );
-            observer = format!("ok({observer}.with_fault_thresholds_const({{ {set} }}))");
         }
         if let Calibration::Online { settings, .. } = &self.calibration {
             observer = format!(
@@ -277,226 +249,11 @@ impl TrackerFile {
         };
         Ok((calibration, correction))
     }
-
-    /// The fixed-point chain's type and initialiser.
-    fn fixed_tracker(&self, file: &str) -> Result<(String, String), FirmwareError> {
-        let n = self.gains.gains.len();
-        let period = literal(
-            self.gains.sample_period_s,
-            FloatType::F64,
-            "sample_period_s",
-        )?;
-        let constants = match *self.gains.gains.as_slice() {
-            [a, b] => fixed_constants::<2>([a, b], self.gains.sample_period_s),
-            [a, b, c] => fixed_constants::<3>([a, b, c], self.gains.sample_period_s),
-            _ => return Err(refuse(file, "gains", "2 or 3 gains (the observer's order)")),
-        }
-        .map_err(|e| refuse(file, "gains", e))?;
-        if self.winding_amplitude.is_some() {
-            return Err(refuse(
-                file,
-                "winding_check",
-                "the fixed-point chain has none: leave it null",
-            ));
-        }
-        let nominal = self.fixed_nominal(file)?;
-        // The std's rule for counts (`fixed_input`): shifted to 16 bits, the calibration
-        // (learned on the counts before the shift) scaled with them.
-        let counts = self.fixed_counts(file)?;
-        let (input, adc, shift) = match counts {
-            None => (None, None, 0),
-            Some(c) => {
-                let kind = if c.signed {
-                    "twos_complement"
-                } else {
-                    "offset_binary"
-                };
-                let bits = 16 - c.shift;
-                (
-                    Some(format!("AdcCounts::{kind}({bits})")),
-                    Some(c.adc),
-                    c.shift,
-                )
-            }
-        };
-        let rails = self.rails(file, adc.is_some())?;
-        let units_rails = match rails.1 {
-            Rails::Stated { min, max } => {
-                let fits = |v: f64| v.fract() == 0.0 && (-32768.0..=32767.0).contains(&v);
-                if !(fits(min) && fits(max)) {
-                    return Err(refuse(
-                        file,
-                        "adc_range",
-                        "the fixed-point samples' range is in 16-bit integers",
-                    ));
-                }
-                Rails::Stated {
-                    min: min as i16,
-                    max: max as i16,
-                }
-            }
-            Rails::Measured => Rails::Measured,
-            Rails::Unchecked => Rails::Unchecked,
-        };
-        let core_input = match adc {
-            Some(adc) => CoreInput::Counts {
-                adc,
-                rails: rails.0,
-            },
-            None => CoreInput::Units { rails: units_rails },
-        };
-        TrackerFrontEnd::<i16>::new(TrackerSettings {
-            input: core_input,
-            ..TrackerSettings::default()
-        })
-        .map_err(|e| refuse(file, "adc_range", e.to_string()))?;
-        let input_text = input_text(input, rails.0, units_rails, |v| {
-            Ok::<_, FirmwareError>(v.to_string())
-        })?;
-        let calibration = match self
-            .fixed_calibration(file, shift)
-            .map_err(FirmwareError::File)?
-        {
-            None => "None".to_string(),
-            Some((shifted, _)) => format!(
-                "Some(ok(FixedCalibration::new_const(&{})))",
-                sensor_text("f64", &shifted, FloatType::F64)?
-            ),
-        };
-        let table = self.fixed_correction(file).map_err(FirmwareError::File)?;
-        let correction = match table {
-            None => "None".to_string(),
-            Some(table) => {
-                let entries: Vec<String> = table.errors_q15().iter().map(i16::to_string).collect();
-                format!(
-                    "Some(ok(FixedAngleCorrectionTable::new([{}])))",
-                    entries.join(", ")
-                )
-            }
-        };
-        let multipliers: Vec<String> = constants.0.iter().map(i32::to_string).collect();
-        let mut observer = format!(
-            "ok(FixedGains::from_constants(\n            fixed::FixedConstants {{ multiplier: \
-             [{}], acceleration_shift: {} }},\n            {period},\n        ))",
-            multipliers.join(", "),
-            constants.1
-        );
-        match (nominal, adc.is_some()) {
-            (Some(amplitude), _) => {
-                // In the 16-bit samples (the std's rule, `fixed_monitor_amplitude`).
-                let samples = crate::fixed_monitor_amplitude(amplitude, shift);
-                let samples = literal(
-                    samples,
-                    FloatType::F64,
-                    "fault_thresholds.nominal_amplitude",
-                )?;
-                // No roundness check where the std's rule moved the amplitude.
-                observer = match crate::fixed_magnitude_tolerance(amplitude, shift) {
-                    Some(_) => format!("ok({observer}.with_monitor(Some({samples})))"),
-                    None => format!("ok({observer}.with_monitor_tolerance(Some({samples}), None))"),
-                };
-            }
-            (None, true) => return Err(Self::amplitude_not_stated(file)),
-            (None, false) => {}
-        }
-        let ty = format!("angletrack_core::Tracker<i16, angletrack_core::FixedGains<{n}>>");
-        let body = format!(
-            "    Tracker::new(\n        ok(TrackerFrontEnd::<i16>::new_const(TrackerSettings {{\n            \
-             input: {input_text},\n            winding: (),\n            calibration: {calibration},\n            \
-             correction: {correction},\n        }})),\n        {observer},\n    )\n"
-        );
-        Ok((ty, body))
-    }
-
-    /// The fixed-point monitor's nominal amplitude (counts before the ADC's shift), if the
-    /// file states thresholds: the defaults of one nominal amplitude, others refused.
-    pub(super) fn fixed_nominal(&self, file: &str) -> Result<Option<f64>, FirmwareError> {
-        match &self.fault_thresholds {
-            Some(th) if *th != FaultThresholds::for_amplitude(th.nominal_amplitude) => Err(refuse(
-                file,
-                "fault_thresholds",
-                "the fixed-point monitor takes the nominal amplitude only: leave the \
-                 others at their defaults for it",
-            )),
-            Some(th) => Ok(Some(th.nominal_amplitude)),
-            None => Ok(None),
-        }
-    }
-
-    /// The refusal of counts tracked as counts without their amplitude (the std's rule for
-    /// a stream, `ThresholdPolicy`).
-    pub(super) fn amplitude_not_stated(file: &str) -> FirmwareError {
-        refuse(
-            file,
-            "fault_thresholds",
-            "counts tracked as counts need the signal's amplitude stated for the diagnostics: \
-             give fault_thresholds (a firmware sees no whole capture)",
-        )
-    }
-
-    /// The refusal of counts whose mid-scale is measured (a run-time measurement).
-    pub(super) fn measured_mid_scale(&self, file: &str) -> FirmwareError {
-        refuse(
-            file,
-            "input",
-            "counts with the mid-scale measured on the capture: state the ADC's bits (and signedness) or its mid_scale",
-        )
-    }
-
-    /// The rails in codes (counts) and in units, from the file's ADC range rule.
-    pub(super) fn rails(
-        &self,
-        file: &str,
-        counts: bool,
-    ) -> Result<(Rails<i32>, Rails<f64>), FirmwareError> {
-        Ok(match (self.adc_range, self.input) {
-            (AdcRange::Measured, _) => (Rails::Measured, Rails::Measured),
-            (AdcRange::FullScale, Input::Bits { bits, signed }) => (
-                Rails::of_adc_bits(bits, signed)
-                    .map_err(|e| refuse(file, "input.bits", e.to_string()))?,
-                Rails::Unchecked,
-            ),
-            (AdcRange::FullScale, _) => {
-                return Err(refuse(
-                    file,
-                    "adc_range.rule",
-                    "\"full_scale\" needs the ADC's bits (input.bits)",
-                ));
-            }
-            (AdcRange::Stated { min, max }, _) if counts => {
-                let code = |v: f64| {
-                    (v.fract() == 0.0 && v.abs() <= f64::from(i32::MAX)).then_some(v as i32)
-                };
-                match (code(min), code(max)) {
-                    (Some(min), Some(max)) => (Rails::Stated { min, max }, Rails::Unchecked),
-                    _ => {
-                        return Err(refuse(
-                            file,
-                            "adc_range",
-                            "an ADC's range is in whole codes",
-                        ));
-                    }
-                }
-            }
-            (AdcRange::Stated { min, max }, _) => (Rails::Unchecked, Rails::Stated { min, max }),
-        })
-    }
-}
-
-/// The fixed-point gains' constants, checked by [`FixedGains::new`].
-fn fixed_constants<const N: usize>(gains: [f64; N], period: f64) -> Result<(Vec<i32>, u32), String>
-where
-    Order<N>: SupportedOrder,
-{
-    let constants = FixedGains::<N>::new(gains, period)
-        .map_err(|e| e.to_string())?
-        .constants();
-    Ok((constants.multiplier.to_vec(), constants.acceleration_shift))
 }
 
 /// The input as Rust: counts through `adc` (its constructor) checked at the rails in
 /// `codes`, or samples in units checked at `units`, each value written by `value`.
-fn input_text<X: Copy, E>(
+pub(super) fn input_text<X: Copy, E>(
     adc: Option<String>,
     codes: Rails<i32>,
     units: Rails<X>,
@@ -528,7 +285,7 @@ fn rails_text<X: Copy, E>(
 }
 
 /// A stored calibration's `const` constructor in `t`.
-fn sensor_text(
+pub(super) fn sensor_text(
     t: &str,
     s: &angletrack_core::SensorCalibration<f64>,
     float: FloatType,
@@ -567,4 +324,79 @@ fn calibration_settings(
             "calibration.max_quadrature_rad"
         )?,
     ))
+}
+
+/// Fault thresholds as a `const` block in `t`: every field set, a value the number type
+/// cannot hold refused naming it.
+fn thresholds_text(
+    t: &str,
+    th: &FaultThresholds<f64>,
+    float: FloatType,
+) -> Result<String, FirmwareError> {
+    let optional = |v: Option<f64>, field: &'static str| -> Result<String, FirmwareError> {
+        Ok(match v {
+            Some(v) => format!("Some({})", literal(v, float, field)?),
+            None => "None".to_string(),
+        })
+    };
+    let mut set = format!(
+        "let mut t = FaultThresholds::<{t}>::for_amplitude_const({});",
+        literal(
+            th.nominal_amplitude,
+            float,
+            "fault_thresholds.nominal_amplitude"
+        )?
+    );
+    for (field, name, value) in [
+        (
+            "max_input_amplitude",
+            "fault_thresholds.max_input_amplitude",
+            th.max_input_amplitude,
+        ),
+        (
+            "loss_of_signal",
+            "fault_thresholds.loss_of_signal",
+            th.loss_of_signal,
+        ),
+        (
+            "degradation_low",
+            "fault_thresholds.degradation_low",
+            th.degradation_low,
+        ),
+        (
+            "degradation_high",
+            "fault_thresholds.degradation_high",
+            th.degradation_high,
+        ),
+        (
+            "loss_of_tracking",
+            "fault_thresholds.loss_of_tracking",
+            th.loss_of_tracking,
+        ),
+        (
+            "tracking_error",
+            "fault_thresholds.tracking_error",
+            th.tracking_error,
+        ),
+        (
+            "filter_factor",
+            "fault_thresholds.filter_factor",
+            th.filter_factor,
+        ),
+        ("false_lock", "fault_thresholds.false_lock", th.false_lock),
+    ] {
+        let _ = write!(set, " t.{field} = {};", literal(value, float, name)?);
+    }
+    let _ = write!(
+        set,
+        " t.max_speed = {}; t.magnitude_tolerance = {}; t.monitor = {}; t.re_acquire = {}; t",
+        optional(th.max_speed, "fault_thresholds.max_speed_rad_s")?,
+        optional(
+            th.magnitude_tolerance,
+            "fault_thresholds.magnitude_tolerance"
+        )?,
+        th.monitor,
+        th.re_acquire
+    );
+    Ok(set)
 }

@@ -31,7 +31,9 @@
 mod firmware;
 mod firmware_c;
 mod firmware_rust;
+mod firmware_rust_fixed;
 mod read;
+mod rules;
 mod runner;
 mod write;
 

@@ -210,7 +210,8 @@ impl Document<'_> {
         Ok(Some(amplitude))
     }
 
-    /// The thresholds (each field missing: [`FaultThresholds::for_amplitude`]'s).
+    /// The thresholds (each field missing: [`FaultThresholds::for_amplitude`]'s; `null`
+    /// for `max_speed_rad_s` and `magnitude_tolerance`: `None`).
     fn thresholds(&self) -> Result<Option<FaultThresholds<f64>>, JsonFileError> {
         let Some(doc) = self.section("fault_thresholds")? else {
             return Ok(None);
@@ -230,6 +231,7 @@ impl Document<'_> {
                 .with_max_speed(doc.maybe("max_speed_rad_s", t.max_speed)?)
                 .with_filter_factor(or("filter_factor", t.filter_factor)?)
                 .with_false_lock(or("false_lock", t.false_lock)?)
+                .with_magnitude_tolerance(doc.maybe("magnitude_tolerance", t.magnitude_tolerance)?)
                 .with_monitor(doc.boolean("monitor", t.monitor)?)
                 .with_re_acquire(doc.boolean("re_acquire", t.re_acquire)?),
         ))
@@ -314,7 +316,7 @@ impl Document<'_> {
 }
 
 /// The fault thresholds' fields (the core's names).
-const THRESHOLD_FIELDS: [&str; 12] = [
+const THRESHOLD_FIELDS: [&str; 13] = [
     "nominal_amplitude",
     "max_input_amplitude",
     "loss_of_signal",
@@ -325,6 +327,7 @@ const THRESHOLD_FIELDS: [&str; 12] = [
     "max_speed_rad_s",
     "filter_factor",
     "false_lock",
+    "magnitude_tolerance",
     "monitor",
     "re_acquire",
 ];

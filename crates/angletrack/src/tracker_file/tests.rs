@@ -1,4 +1,6 @@
-use angletrack_core::{AngleCorrection, CalibrationSettings, FaultThresholds, SensorCalibration};
+use angletrack_core::{
+    AngleCorrection, CalibrationSettings, FaultThresholds, FixedGains, SensorCalibration,
+};
 
 use super::*;
 use crate::calibration::SensorCalibrationRecord;
@@ -38,6 +40,7 @@ fn full() -> TrackerFile {
             FaultThresholds::for_amplitude(0.88)
                 .with_max_speed(Some(3000.0))
                 .with_tracking_error(0.04)
+                .with_magnitude_tolerance(Some(0.2))
                 .with_re_acquire(false),
         ),
         calibration: Calibration::Online {
@@ -68,6 +71,10 @@ fn every_setting_reads_back_identical() {
     let mut sin = [0.0; 8];
     sin[3] = -2.5e-4;
     harmonics.correction = Correction::Harmonics(AngleCorrection::new(cos, sin).unwrap());
+    // No roundness check: `null`, which reads back as `None` (not the default 0.1).
+    harmonics.fault_thresholds = harmonics
+        .fault_thresholds
+        .map(|t| t.with_magnitude_tolerance(None));
     let mut counts = TrackerFile::new(gains());
     counts.input = Input::Counts;
     for tracker in [TrackerFile::new(gains()), full(), harmonics, counts] {
@@ -91,18 +98,29 @@ fn settings_left_out_are_the_defaults() {
     assert_eq!(tracker, expected);
 }
 
-/// A file written before `tracking_error` existed reads with its default (0.05), and a
-/// value that is not positive is refused naming it.
+/// A file written before `tracking_error` and `magnitude_tolerance` existed reads with
+/// their defaults (0.05, and 0.1 for the stated amplitude), and a value out of range is
+/// refused naming the field.
 #[test]
-fn thresholds_without_the_tracking_error_read_with_its_default() {
+fn thresholds_left_out_read_with_their_defaults_and_are_refused_by_name() {
     let text = r#"{"format": "angletrack-tracker", "version": 1, "sample_period_s": 1e-4,
         "gains": [0.06, 0.001], "fault_thresholds": {"nominal_amplitude": 0.9}}"#;
     let thresholds = read(text).unwrap().fault_thresholds.unwrap();
     // The f32 value in both types, as every fraction of the defaults.
     assert_eq!(thresholds.tracking_error, f64::from(0.05_f32));
-    let refused = text.replace(r#"0.9}"#, r#"0.9, "tracking_error": -1}"#);
-    let err = read(&refused).unwrap_err().to_string();
-    assert!(err.contains("tracking_error"), "{err}");
+    assert_eq!(thresholds.magnitude_tolerance, Some(f64::from(0.1_f32)));
+    for (field, value) in [
+        ("tracking_error", "-1"),
+        ("magnitude_tolerance", "0"),
+        ("magnitude_tolerance", "\"wide\""),
+    ] {
+        let refused = text.replace("0.9}", &format!("0.9, \"{field}\": {value}}}"));
+        let err = read(&refused).unwrap_err().to_string();
+        assert!(
+            err.starts_with(&format!("t.json: fault_thresholds.{field}: ")),
+            "{err}"
+        );
+    }
 }
 
 #[test]
@@ -366,4 +384,54 @@ fn sin_cos_names_read_back() {
         assert_eq!(SinCosKind::from_name(kind.name()), Some(kind));
     }
     assert_eq!(SinCosKind::from_name(Some("slow")), None);
+}
+
+/// Every threshold reaches the firmware: the float chain's `static` sets each field (the
+/// roundness check's tolerance too, `None` as `None`); the fixed-point monitor takes the
+/// nominal amplitude and the tolerance, and refuses another field naming it.
+#[test]
+fn the_exports_write_every_threshold_and_refuse_what_fixed_point_cannot_hold() {
+    let mut tracker = TrackerFile::new(gains());
+    tracker.number_type = NumberType::F32;
+    let stated = FaultThresholds::for_amplitude(0.9).with_magnitude_tolerance(None);
+    tracker.fault_thresholds = Some(stated);
+    let rust = |t: &TrackerFile| t.firmware_constants("t.json", Language::Rust, "motor");
+    let text = rust(&tracker).unwrap();
+    assert!(text.contains(" t.magnitude_tolerance = None;"), "{text}");
+
+    tracker.number_type = NumberType::Fixed;
+    tracker.input = Input::Bits {
+        bits: 12,
+        signed: true,
+    };
+    let fixed = |r| Some(FaultThresholds::for_amplitude(1800.0).with_magnitude_tolerance(r));
+    tracker.fault_thresholds = fixed(Some(0.25));
+    let text = rust(&tracker).unwrap();
+    assert!(
+        text.contains(".with_monitor_tolerance(Some(2.88e+04), Some(2.5e-01))"),
+        "{text}"
+    );
+    let c = tracker
+        .firmware_constants("t.json", Language::C, "motor")
+        .unwrap();
+    // The C constants carry the same monitor as the fixed-point run of the file.
+    let monitor = FixedGains::<3>::new([0.095_16, 0.004_757, 1.189e-4], 50e-6)
+        .and_then(|g| g.with_monitor_tolerance(Some(28_800.0), Some(0.25)))
+        .unwrap()
+        .monitor_words();
+    let words: Vec<String> = monitor.iter().map(|w| w.to_string()).collect();
+    assert!(c.contains(&words[..8].join(", ")), "{c}");
+    tracker.fault_thresholds = fixed(None);
+    assert!(rust(&tracker).unwrap().contains(", None))"));
+    tracker.fault_thresholds = fixed(Some(0.1)).map(|t| t.with_tracking_error(0.08));
+    for language in [Language::C, Language::Rust] {
+        let e = tracker
+            .firmware_constants("t.json", language, "motor")
+            .unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("t.json: fault_thresholds.tracking_error: the fixed-point monitor"),
+            "{e}"
+        );
+    }
 }

@@ -96,6 +96,7 @@ fn thresholds(t: &FaultThresholds<f64>) -> String {
         ("max_speed_rad_s", optional(t.max_speed)),
         ("filter_factor", number(t.filter_factor)),
         ("false_lock", number(t.false_lock)),
+        ("magnitude_tolerance", optional(t.magnitude_tolerance)),
         ("monitor", t.monitor.to_string()),
         ("re_acquire", t.re_acquire.to_string()),
     ])

@@ -158,3 +158,69 @@ fn the_sensor_model_maps_onto_the_core_calibration() {
     let err = beyond.calibration().unwrap_err();
     assert_eq!(err.argument(), Some(Argument::QuadratureError));
 }
+
+/// The sensor, uncalibrated, with 1 % noise, tracked as `angletrack track` tracks
+/// its counts (`TrackerRun`, thresholds measured on the capture): the tracking-error level
+/// follows its noise (8 times its angle noise, about 0.0095 rad), and no sample is flagged
+/// and no fault latched over its 60 turns. At the fixed default of 0.05 (5 standard
+/// deviations) the end of the loop's acquisition was flagged and latched.
+#[test]
+fn a_noisy_sensor_is_not_flagged_with_the_thresholds_measured_on_it() {
+    use crate::tracker_file::{CaptureHead, TrackerFile, TrackerRun};
+    let scenario = constant_speed(&imperfect_sensor());
+    let (y_c, y_s): (Vec<f64>, Vec<f64>) = scenario
+        .y_c
+        .iter()
+        .zip(&scenario.y_s)
+        .map(|(c, s)| (c.round(), s.round()))
+        .unzip();
+    let measured = capture_fault_thresholds(&y_c, &y_s);
+    let noise = angle_noise(&y_c, &y_s).unwrap();
+    assert!((noise - 0.0095).abs() < 5e-4, "{noise}");
+    assert_eq!(measured.tracking_error, 8.0 * noise);
+    let gains = crate::export::GainsFile {
+        gains: BENCHMARK_KALMAN_GAINS.to_vec(),
+        sample_period_s: BENCHMARK_SAMPLE_PERIOD_S,
+        design: None,
+    };
+    let head = CaptureHead {
+        y_c: &y_c,
+        y_s: &y_s,
+        counts: None,
+    };
+    let flagged = |fault_thresholds| {
+        let file = TrackerFile {
+            fault_thresholds,
+            ..TrackerFile::new(gains.clone())
+        };
+        let mut run = TrackerRun::new(&file, "t.json", &head).unwrap();
+        let rows = run.track(&y_c, &y_s);
+        let flagged = rows.faults.iter().filter(|&&f| f != 0).count();
+        (flagged, run.latched_faults().0)
+    };
+    assert_eq!(flagged(None), (0, Faults::NONE));
+    let (at_default, latched) = flagged(Some(measured.with_tracking_error(0.05)));
+    assert!(
+        at_default > 10 && latched == Faults::LOSS_OF_TRACKING,
+        "{at_default}"
+    );
+    // At 50 Hz electrical the loop no longer follows the uncalibrated sensor's distortion
+    // (its angle up to about 90 mrad off): its residual shows it, and the level, which
+    // follows the noise only, flags it.
+    let speed = 5.0 * SPEED_RAD_S;
+    let profile = MotionProfile::new(0.3, speed).then(Motion::ConstantSpeed {
+        speed_rad_s: speed,
+        duration_s: 0.2,
+    });
+    let fast =
+        Scenario::generate(&profile, &imperfect_sensor(), BENCHMARK_SAMPLE_PERIOD_S, 5).unwrap();
+    let file = TrackerFile::new(gains);
+    let head = CaptureHead {
+        y_c: &fast.y_c,
+        y_s: &fast.y_s,
+        counts: None,
+    };
+    let mut run = TrackerRun::new(&file, "t.json", &head).unwrap();
+    run.track(&fast.y_c, &fast.y_s);
+    assert_eq!(run.latched_faults().0, Faults::LOSS_OF_TRACKING);
+}

@@ -2,11 +2,12 @@
 //! shifted to 16 bits.
 
 use angletrack_core::{
-    AdcCounts, AngleCorrectionTable, FaultThresholds, Faults, FixedAngleCorrectionTable,
-    FixedCalibration, FixedGains, FrontEndFaults, Input as CoreInput, Order, SensorCalibration,
-    SupportedOrder, TRACKER_TABLE_LENGTH, Tracker, TrackerFrontEnd, TrackerSettings, TrackerState,
+    AdcCounts, AngleCorrectionTable, Faults, FixedAngleCorrectionTable, FixedCalibration,
+    FixedGains, FrontEndFaults, Input as CoreInput, Order, SensorCalibration, SupportedOrder,
+    TRACKER_TABLE_LENGTH, Tracker, TrackerFrontEnd, TrackerSettings, TrackerState,
 };
 
+use super::super::rules::FixedMonitor;
 use super::super::{Calibration, Correction, Input, TrackerFile};
 use super::{
     CaptureHead, Fixed, Learning, Run, TrackedSample, field, file_error, mid_scale, refuse,
@@ -96,16 +97,16 @@ where
                     .shift
             }
         };
-        let nominal = match file.fault_thresholds {
-            Some(t) if t != FaultThresholds::for_amplitude(t.nominal_amplitude) => {
-                return Err(refuse(
-                    name,
-                    "fault_thresholds",
-                    "the fixed-point monitor takes the nominal amplitude only: leave the others at their defaults for it",
-                ));
-            }
-            _ => thresholds(file, head, Some(mid)).nominal_amplitude,
-        };
+        // Stated thresholds: the export's monitor; measured: the capture's amplitude, by
+        // the same rule.
+        let nominal = thresholds(file, head, Some(mid)).nominal_amplitude;
+        let monitor = file
+            .fixed_monitor(name, shift)
+            .map_err(|e| file_error(name, e))?
+            .unwrap_or(FixedMonitor {
+                amplitude: crate::fixed_monitor_amplitude(nominal, shift),
+                tolerance: crate::fixed_magnitude_tolerance(nominal, shift),
+            });
         let (rails, _) = file.rails(name, true).map_err(|e| file_error(name, e))?;
         let calibration = file.fixed_calibration(name, shift)?.map(|(_, c)| c);
         let correction = file.fixed_correction(name)?;
@@ -123,14 +124,7 @@ where
         }
         values.copy_from_slice(&file.gains.gains);
         let gains = FixedGains::<N>::new(values, file.gains.sample_period_s)
-            .and_then(|g| {
-                // The export's rule: the roundness check unless the amplitude was raised to
-                // the monitor's range.
-                g.with_monitor_tolerance(
-                    Some(crate::fixed_monitor_amplitude(nominal, shift)),
-                    crate::fixed_magnitude_tolerance(nominal, shift),
-                )
-            })
+            .and_then(|g| g.with_monitor_tolerance(Some(monitor.amplitude), monitor.tolerance))
             .map_err(field("gains"))?;
         Ok(Self {
             tracker: Tracker::new(front_end, gains),
@@ -140,7 +134,7 @@ where
                  {mid} removed, shifted left by {shift} bits (AdcCounts), monitor amplitude {}; {}",
                 super::order_name(N),
                 super::significant(nominal),
-                super::significant(crate::fixed_monitor_amplitude(nominal, shift)),
+                super::significant(monitor.amplitude),
                 super::stages(file, true),
             ),
         })

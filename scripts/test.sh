@@ -17,8 +17,8 @@ export CARGO_TERM_COLOR="${CARGO_TERM_COLOR:-never}"
 only="${1:-}"
 start=$(date +%s)
 lanes=(
-  "10-rust 15-publish 20-python"
-  "12-msrv 16-c-api 30-firmware 40-robustness"
+  "10-rust 20-python"
+  "12-msrv 16-c-api 15-publish 30-firmware 40-robustness"
 )
 
 steps_of_lane() { # $1: the lane's step names; prints the lane's scripts that match $only

@@ -25,7 +25,7 @@ use crate::real::Float;
 pub const TRACKING_RELEASE_FRACTION: f32 = 0.5;
 
 /// The monitor windows in a row whose mean residual must be at or below the release level
-/// before the check arms after its start-up ([`TrackingCheck::arm`]).
+/// before the check arms after its start-up (`docs/guide/diagnostics.md`).
 pub const TRACKING_STARTUP_WINDOWS: u32 = 2;
 
 /// A level of the check as an observer's state stores it: it tells whether the flag is

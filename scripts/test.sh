@@ -9,7 +9,8 @@
 # downloads). Each lane is a chain of steps; cargo's lock on a build directory makes the two
 # lanes' builds in one profile wait for each other, so they share the cores where one lane
 # alone would leave one idle. The lanes balance the steps' measured times; a new step must be
-# placed in one.
+# placed in one. 15-publish follows 10-rust: it clears the workspace crates' fingerprints in
+# target/debug, which a build of 10-rust's running beside it would be reading.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/lib.sh
@@ -17,8 +18,8 @@ export CARGO_TERM_COLOR="${CARGO_TERM_COLOR:-never}"
 only="${1:-}"
 start=$(date +%s)
 lanes=(
-  "10-rust 20-python"
-  "12-msrv 16-c-api 15-publish 30-firmware 40-robustness"
+  "10-rust 15-publish 20-python"
+  "12-msrv 16-c-api 30-firmware 40-robustness"
 )
 
 steps_of_lane() { # $1: the lane's step names; prints the lane's scripts that match $only

@@ -3,7 +3,7 @@
 
 /// The factor that makes the median absolute deviation of a normal population an estimate
 /// of its standard deviation.
-const MAD_TO_STD: f64 = 1.482_602_218_505_602;
+pub(crate) const MAD_TO_STD: f64 = 1.482_602_218_505_602;
 
 /// The outliers of a lot's `values` (one per unit; NaN for a unit without one, never an
 /// outlier): those below `low` or above `high` when given, and those further from the
@@ -41,7 +41,7 @@ pub fn outliers(
 }
 
 /// The median of `values` (reordered); NaN for none.
-fn median_of(values: &mut [f64]) -> f64 {
+pub(crate) fn median_of(values: &mut [f64]) -> f64 {
     if values.is_empty() {
         return f64::NAN;
     }

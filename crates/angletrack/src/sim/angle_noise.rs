@@ -8,6 +8,7 @@
 //! samples of a fault and the acceleration's own change.
 
 use super::wrap;
+use crate::lot::{MAD_TO_STD, median_of};
 
 /// The fewest consecutive pairs the noise is measured on.
 const MIN_PAIRS: usize = 16;
@@ -27,20 +28,9 @@ pub(crate) fn angle_noise_about(pairs: &[(f64, f64)], centre: (f64, f64)) -> Opt
     // nothing.
     let steps: Vec<f64> = angles.windows(2).map(|w| wrap(w[1] - w[0])).collect();
     let mut second: Vec<f64> = steps.windows(2).map(|w| wrap(w[1] - w[0])).collect();
-    let middle = median(&mut second);
+    let middle = median_of(&mut second);
     let mut deviations: Vec<f64> = second.iter().map(|d| (d - middle).abs()).collect();
-    Some(1.4826 * median(&mut deviations) / 6f64.sqrt())
-}
-
-/// The median of `values` (at least one), reordering them.
-fn median(values: &mut [f64]) -> f64 {
-    values.sort_unstable_by(f64::total_cmp);
-    let n = values.len();
-    if n % 2 == 1 {
-        values[n / 2]
-    } else {
-        0.5 * (values[n / 2 - 1] + values[n / 2])
-    }
+    Some(MAD_TO_STD * median_of(&mut deviations) / 6f64.sqrt())
 }
 
 #[cfg(test)]

@@ -30,3 +30,25 @@ for p in json.load(sys.stdin)["packages"]:
     if p["publish"] != []:
         print(p["name"], p["rust_version"], os.path.dirname(p["manifest_path"]))'
 }
+
+# The oldest Rust the workspace declares ([workspace.package] rust-version): the test build
+# runs on it (scripts/test.d/10-rust.sh), so that building and testing every member also
+# shows that this Rust builds them.
+workspace_msrv() {
+  python3 -c 'import tomllib; print(tomllib.load(open("Cargo.toml", "rb"))["workspace"]["package"]["rust-version"])'
+}
+
+# Installs the toolchain of each MSRV the workspace and its publishable crates declare
+# (minimal profile) when missing, and the Cortex-M4F's standard library for the core's, which
+# is checked there. Both lanes of scripts/test.sh call this: an installed toolchain is not
+# asked for updates, so that two rustup runs do not race.
+need_msrv_toolchains() {
+  local msrv core
+  for msrv in $( (workspace_msrv; publishable_crates | cut -d' ' -f2) | sort -u); do
+    rustup run "$msrv" rustc --version >/dev/null 2>&1 ||
+      rustup toolchain install "$msrv" --profile minimal >/dev/null
+  done
+  core=$(publishable_crates | awk '$1 == "angletrack-core" { print $2 }')
+  rustup "+$core" target list --installed | grep -qx thumbv7em-none-eabihf ||
+    rustup "+$core" target add thumbv7em-none-eabihf >/dev/null
+}

@@ -9,8 +9,8 @@
 # downloads). Each lane is a chain of steps; cargo's lock on a build directory makes the two
 # lanes' builds in one profile wait for each other, so they share the cores where one lane
 # alone would leave one idle. The lanes balance the steps' measured times; a new step must be
-# placed in one. 15-publish follows 10-rust: it clears the workspace crates' fingerprints in
-# target/debug, which a build of 10-rust's running beside it would be reading.
+# placed in one. 15-publish follows 10-rust: its checks of the packages use the dependencies
+# 10-rust's lints checked.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/lib.sh
@@ -36,6 +36,7 @@ done
 # What more than one step installs, installed once before the lanes start: two package
 # managers running at once would fail on each other's locks.
 need_rust
+need_msrv_toolchains
 need_debian_packages gcc libc6-dev qemu-system-arm gcc-arm-none-eabi libnewlib-arm-none-eabi \
   binutils-arm-none-eabi
 

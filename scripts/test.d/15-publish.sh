@@ -3,23 +3,19 @@
 # - their manifests agree with the workspace (version, licence, repository, lints, shared
 #   dependencies' versions), since they write those keys out instead of inheriting them, and
 #   their READMEs state their MSRV;
-# - `cargo publish --dry-run` of the whole workspace: each publishable crate is packaged and
-#   built from its package, against the others' packages (as the registry will serve them);
-# - the core's package also builds for the Cortex-M4F, and the Rust example of each crate's
-#   README builds against it (the core's package for the Cortex-M4F; the std crate's, which
-#   runs, against its source: its package names the core by a version no registry serves yet);
+# - `cargo publish --dry-run` of the whole workspace packages each publishable crate, and
+#   each package, unpacked, compiles from its own files against the others' packages (as the
+#   registry will serve them); the core's package also builds for the Cortex-M4F, and the
+#   Rust example of its README builds against it there (the std crate's README example runs
+#   as a doctest of that crate, in `cargo test`);
 # - their docs build without warnings, the core's for the Cortex-M4F as on docs.rs.
 set -euo pipefail
 source scripts/lib.sh
 need_rust
 root="$(pwd)"
-# The scratch builds below share the workspace's compiled dependencies.
+# The scratch builds below share the workspace's compiled dependencies (those the lints of
+# 10-rust checked, in the same profile).
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$root/target}"
-# This step's builds (the crates copied out, their README examples, the packages `cargo
-# publish` verifies) show that they build and that the example runs: no debugger reads them,
-# so they leave out the dev profile's debug information, which only adds to their build time
-# (an environment setting, so that it reaches the scratch packages outside the workspace too).
-export CARGO_PROFILE_DEV_DEBUG=false
 crates=$(publishable_crates)
 
 echo "--- manifests agree with the workspace"
@@ -55,64 +51,67 @@ scratch="$(mktemp -d)"
 trap 'rm -rf "$scratch"' EXIT
 
 echo "--- cargo publish --dry-run"
-# --workspace packages every member without `publish = false`, each verified by a build
-# from its package against a local registry of the others (the core is not on the registry
-# yet, so the std crate could not be verified on its own). --allow-dirty: the test command
-# also runs on work trees with uncommitted changes.
-# Cargo unpacks each verified package into its registry's source cache and builds it into
-# the target directory, and takes a registry version it finds unpacked or built as
-# immutable: an earlier run's copy of these unpublished crates would be used instead of the
-# current one. Their unpacked copies and their builds' fingerprints are removed first.
+# --workspace packages every member without `publish = false`. --no-verify: the packages are
+# compiled below, checked rather than built: a check finds what a package leaves out (a
+# file, a feature, a dependency) as a build does, on the dependencies the workspace's lints
+# already checked, where cargo's own verification would compile them all once more.
+# --allow-dirty: the test command also runs on work trees with uncommitted changes.
 rm -rf "$CARGO_TARGET_DIR/package"
-cargo_home="${CARGO_HOME:-$HOME/.cargo}"
-# A crate's version, from its manifest's first `version` line.
-crate_version() { # $1: the crate's directory
-  sed -n 's/^version = "\(.*\)"/\1/p' "$1/Cargo.toml" | head -n 1
-}
-while read -r name _msrv dir; do
-  version=$(crate_version "$dir")
-  rm -rf "$cargo_home"/registry/src/*/"$name-$version"
-  [ -d "$CARGO_TARGET_DIR/debug/.fingerprint" ] &&
-    find "$CARGO_TARGET_DIR/debug/.fingerprint" -maxdepth 1 -regex ".*/$name-[0-9a-f]*" -exec rm -rf {} +
-done <<<"$crates"
 log="$scratch/publish.log"
 status=0
-cargo publish --dry-run --workspace --allow-dirty >"$log" 2>&1 || status=$?
-grep -E "^ *(Packaged|Verifying|Finished)|warning|error" "$log" || true
+cargo publish --dry-run --workspace --allow-dirty --no-verify >"$log" 2>&1 || status=$?
+grep -E "^ *(Packaged|Uploading)|warning|error" "$log" || true
 if [ "$status" -ne 0 ]; then
   cat "$log" >&2; echo "FAIL: cargo publish --dry-run (status $status)" >&2; exit 1
 fi
 
-echo "--- the core's package on the Cortex-M4F, and the READMEs' examples"
+echo "--- the packages compile from their own files"
+# A crate's version, from its manifest's first `version` line.
+crate_version() { # $1: the crate's directory
+  sed -n 's/^version = "\(.*\)"/\1/p' "$1/Cargo.toml" | head -n 1
+}
+# The packages unpacked side by side in a workspace of their own, each depending on the
+# others' packages by version as the registry will serve them (`[patch]` stands in for the
+# registry, which does not serve these versions yet); the workspace's lock file keeps the
+# other dependencies' versions, and so their compiled artifacts.
+packages="$scratch/packages"
+mkdir -p "$packages"
+# The same packages as the dry run's, written where cargo keeps packages (the dry run's own
+# copies are in a staging directory of cargo's).
+package_flags=()
+while read -r name _msrv _dir; do package_flags+=(-p "$name"); done <<<"$crates"
+cargo package -q --no-verify --allow-dirty "${package_flags[@]}"
+members=""
+patches=""
+while read -r name _msrv dir; do
+  unpacked="$name-$(crate_version "$dir")"
+  tar -xzf "$CARGO_TARGET_DIR/package/$unpacked.crate" -C "$packages"
+  members="$members\"$unpacked\", "
+  patches="$patches$name = { path = \"$unpacked\" }\n"
+done <<<"$crates"
+printf '[workspace]\nmembers = [%s]\nresolver = "3"\n\n[patch.crates-io]\n%b' "$members" "$patches" \
+  >"$packages/Cargo.toml"
+cp "$root/Cargo.lock" "$packages/Cargo.lock"
+(cd "$packages" && cargo check -q --workspace)
+echo "every package compiles from its own files: $(cut -d' ' -f1 <<<"$crates" | paste -sd' ')"
+core_package="$packages/angletrack-core-$(crate_version crates/angletrack-core)"
+(cd "$packages" && cargo build -q -p angletrack-core --target thumbv7em-none-eabihf)
+echo "the angletrack-core package builds for thumbv7em-none-eabihf"
+
+echo "--- the core's README example, against its package"
 # A README's first ```rust block, as a file.
 readme_example() { # $1: README, $2: output file
   awk '/^```rust/ { on = 1; next } on && /^```/ { exit } on { print }' "$1" >"$2"
   [ -s "$2" ] || { echo "FAIL: no rust example in $1" >&2; exit 1; }
 }
-# A scratch package depending on a crate; the workspace's lock file keeps the dependencies'
-# versions (and so their compiled artifacts).
-scratch_package() { # $1: directory, $2: name, $3: dependency line
-  mkdir -p "$1/src"
-  printf '[package]\nname = "%s"\nversion = "0.0.0"\nedition = "2024"\npublish = false\n\n[dependencies]\n%s\n\n[workspace]\n' \
-    "$2" "$3" >"$1/Cargo.toml"
-  cp "$root/Cargo.lock" "$1/Cargo.lock"
-}
-# The package as `cargo publish` unpacked it to verify it, copied out of the workspace's tree.
-cp -r "$CARGO_TARGET_DIR/package/angletrack-core-$(crate_version crates/angletrack-core)" \
-  "$scratch/angletrack-core"
-(cd "$scratch/angletrack-core" && cargo build -q --target thumbv7em-none-eabihf)
-echo "the angletrack-core package builds for thumbv7em-none-eabihf"
-scratch_package "$scratch/core-readme" core-readme \
-  'angletrack-core = { path = "../angletrack-core" }'
-readme_example crates/angletrack-core/README.md "$scratch/core-readme/src/lib.rs"
-(cd "$scratch/core-readme" && cargo build -q --target thumbv7em-none-eabihf)
+readme="$scratch/core-readme"
+mkdir -p "$readme/src"
+printf '[package]\nname = "core-readme"\nversion = "0.0.0"\nedition = "2024"\npublish = false\n\n[dependencies]\nangletrack-core = { path = "%s" }\n\n[workspace]\n' \
+  "$core_package" >"$readme/Cargo.toml"
+cp "$root/Cargo.lock" "$readme/Cargo.lock"
+readme_example crates/angletrack-core/README.md "$readme/src/lib.rs"
+(cd "$readme" && cargo build -q --target thumbv7em-none-eabihf)
 echo "crates/angletrack-core/README.md's example builds for thumbv7em-none-eabihf against the package"
-scratch_package "$scratch/std-readme" std-readme \
-  "angletrack = { path = \"$root/crates/angletrack\" }"
-readme_example crates/angletrack/README.md "$scratch/std-readme/src/main.rs"
-(cd "$scratch/std-readme" && cargo run -q >"$scratch/std-readme.out")
-grep -q "const GAINS: \[f32; 2\]" "$scratch/std-readme.out"
-echo "crates/angletrack/README.md's example runs"
 
 echo "--- docs"
 while read -r name _msrv _dir; do

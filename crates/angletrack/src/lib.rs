@@ -112,6 +112,12 @@ pub mod tracker_file;
 mod winding_rails;
 mod windings_plan;
 
+/// The example of the crate's README (the page the package registry shows), run as a doctest
+/// so that it stays in step with the API.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeExample;
+
 pub use analysis::{
     DesignReport, LARGE_STEP_RAD, PredictedError, SETTLING_BAND, StepResponse,
     closed_loop_response, max_trackable_speed_rad_s, predicted_error,

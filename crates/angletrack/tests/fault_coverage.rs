@@ -275,8 +275,8 @@ const HELD: &[Held] = &[
         None,
     ),
     // Below the targets: the pairs negated keep their offsets, which the stored calibration
-    // (learned on the other half turn) doubles; at standstill the angle stays about 49 mrad
-    // off, under the roundness check's reach (docs/guide/diagnostics.md).
+    // (learned on the other half turn) doubles; at standstill the angle stays off by about
+    // the bound, under the roundness check's reach (docs/guide/diagnostics.md).
     (
         "resolver: inverted excitation, no column, no delay stated",
         "start",

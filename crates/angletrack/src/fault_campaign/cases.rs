@@ -1,6 +1,6 @@
 //! The campaign's cases: a fault (with its onset), a speed profile, a sensor kind and a
-//! number type ([`super::setup`]). Every case runs on the same healthy sensor, so that what differs between a
-//! case and its healthy twin is the fault alone.
+//! number type ([`super::setup`]). Every case runs on the same healthy sensor, so that what
+//! differs between a case and its healthy twin is the fault alone.
 
 use core::f64::consts::PI;
 

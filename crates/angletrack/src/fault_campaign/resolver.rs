@@ -17,9 +17,9 @@ use crate::sim::{MAX_ANGLE_ERROR_HARMONICS, Scenario, SensorModel};
 /// The excitation carrier's frequency (Hz): the pairs, one per carrier period, come at it.
 pub const CARRIER_HZ: f64 = 10e3;
 
-/// ADC samples per carrier period: the fewest the campaign's 2nd harmonic (4 per period)
-/// is sampled over without aliasing onto the carrier, cheap to run (any ratio of at least 4
-/// works).
+/// ADC samples per carrier period: few, so that a case is cheap, with the 2nd harmonic
+/// (twice the carrier) well below the Nyquist frequency (4 times it); the demodulator takes
+/// any ratio of at least 4.
 pub const SAMPLES_PER_PERIOD: usize = 8;
 
 /// Carrier periods per case: 0.4 s, about 4000 pairs.
@@ -40,9 +40,10 @@ pub const SPEEDS: [Speed; 3] = [Speed::Standstill, Speed::Fast, Speed::Accelerat
 /// The ADC's mid-scale code, where a winding without carrier reads.
 pub const MID_SCALE: f64 = 2048.0;
 
-/// A winding's carrier amplitude at envelope 1 (counts): the healthy sensor's 0.8 of full
-/// scale. The demodulator is told it, so that its pairs' nominal amplitude is 1.
-pub const CARRIER_AMPLITUDE_COUNTS: f64 = 0.8 * MID_SCALE;
+/// A winding's carrier amplitude at envelope 1 (counts): the healthy sensor's amplitude
+/// (0.8 of full scale). The demodulator is told it, so that its pairs' nominal amplitude is
+/// 1.
+pub const CARRIER_AMPLITUDE_COUNTS: f64 = HEALTHY_SENSOR.amplitude * MID_SCALE;
 
 /// The excitation's carrier amplitude in its own column (counts).
 pub const EXCITATION_COUNTS: f64 = 1500.0;

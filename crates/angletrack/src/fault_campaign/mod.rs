@@ -16,7 +16,7 @@
 //!   flagged (the estimate's faults or the front end's non-empty);
 //! * false alarms: on the healthy runs of the same setups and speeds, the fraction of
 //!   samples flagged, and how many runs latched a fault after the start-up;
-//! * worst latency: samples from the fault's onset to its first flag.
+//! * worst latency: samples (a resolver's pairs) from the fault's onset to its first flag.
 //!
 //! Samples before [`START_UP`] (a resolver's pairs before [`resolver::START_UP_PAIRS`]) are
 //! not judged (the loop acquires from rest there).

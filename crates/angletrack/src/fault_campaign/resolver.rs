@@ -130,7 +130,7 @@ pub enum CarrierFault {
 /// The carrier faults that cannot be revealed, listed with their reason, not run.
 pub const UNDETECTABLE: [(&str, &str); 3] = [
     (
-        "resolver: inverted excitation, no excitation column, delay stated",
+        "resolver: inverted excitation, no column, delay stated",
         "the windings' carrier half a turn from the stated delay is that of the shaft half a \
          turn further (the same pairs negated): a valid signal",
     ),

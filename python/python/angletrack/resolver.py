@@ -17,7 +17,8 @@ of excitation, a winding open or shorted), ``front_end_faults`` (the demodulator
 winding check's: 1 loss of excitation, 2 carrier phase drift, 4 clipping, 8 weak excitation,
 16 winding, 32 excitation reference), ``half_turn_unresolved`` (1 where the carrier's half
 turn rests on nothing stated: no ``--expected-delay-deg``, or the excitation column unusable
-in the row's window; not a fault: the angle is right or exactly half a turn off), ``y_c``,
+in the row's window; not a fault: the angle is right or exactly half a turn off, but under a
+``--calibration`` learned on the other half turn, whose offsets then add), ``y_c``,
 ``y_s`` (the demodulated pair); with
 ``--pole-pairs`` or ``--latency`` also ``electrical_angle_rad`` (pole pairs times the
 mechanical angle at ``time_s + latency``, wrapped to [-pi, pi)) and

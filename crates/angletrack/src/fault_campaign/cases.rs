@@ -1,9 +1,12 @@
 //! The campaign's cases: a fault (with its onset), a speed profile, a sensor kind and a
-//! number type. Every case runs on the same healthy sensor, so that what differs between a
-//! case and its healthy twin is the fault alone.
+//! number type ([`super::setup`]). Every case runs on the same healthy sensor, so that what
+//! differs between a case and its healthy twin is the fault alone.
 
 use core::f64::consts::PI;
 
+pub use super::setup::{NumberType, RailsKind, SensorKind, Setup};
+
+use super::resolver::CarrierFault;
 use super::{SAMPLE_PERIOD_S, SAMPLES};
 use crate::sim::{Motion, MotionProfile};
 
@@ -21,8 +24,8 @@ pub enum Channel {
 pub enum Onset {
     /// On the first sample: the observer never sees the healthy sensor.
     Start,
-    /// Half-way through the run ([`super::MID_RUN`]), the observer locked on the healthy
-    /// sensor.
+    /// Half-way through the run ([`super::MID_RUN`]; a resolver's
+    /// [`super::resolver::MID_RUN_PERIODS`]), the observer locked on the healthy sensor.
     MidRun,
 }
 
@@ -79,6 +82,9 @@ pub enum FaultKind {
     Outliers,
     /// Every 500th sample from the onset, one channel is NaN (float units only).
     NotANumber,
+    /// A fault on a resolver's carrier path (the resolver setups only,
+    /// [`super::resolver`]).
+    Carrier(CarrierFault),
 }
 
 impl FaultKind {
@@ -103,6 +109,7 @@ impl FaultKind {
             FaultKind::BeyondSpeedLimit => "beyond the speed limit",
             FaultKind::Outliers => "outliers",
             FaultKind::NotANumber => "NaN samples",
+            FaultKind::Carrier(fault) => fault.name(),
         }
     }
 
@@ -118,6 +125,22 @@ impl FaultKind {
         }
     }
 
+    /// Whether this is a run without a fault (the baseline of the false alarms), on a pair
+    /// or on a resolver's carrier.
+    pub fn is_healthy(self) -> bool {
+        matches!(
+            self,
+            FaultKind::Healthy | FaultKind::Carrier(CarrierFault::Healthy)
+        )
+    }
+
+    /// Whether the fault is a disturbance the chain must track through unflagged (a
+    /// carrier harmonic within a driver's distortion): its own flagged samples are its
+    /// false alarms, not those of its healthy twins.
+    pub fn is_benign(self) -> bool {
+        self == FaultKind::Carrier(CarrierFault::SecondHarmonic)
+    }
+
     /// Whether the fault is the shaft's motion (then only on the constant speeds, whose
     /// profile it continues).
     pub fn is_motion(self) -> bool {
@@ -131,7 +154,7 @@ impl FaultKind {
     /// would be another healthy profile), the single-sample faults mid-run only.
     pub fn onsets(self) -> &'static [Onset] {
         match self {
-            FaultKind::Healthy => &[Onset::Start],
+            FaultKind::Healthy | FaultKind::Carrier(CarrierFault::Healthy) => &[Onset::Start],
             FaultKind::AccelerationStep(_)
             | FaultKind::BeyondSpeedLimit
             | FaultKind::Outliers
@@ -140,7 +163,8 @@ impl FaultKind {
         }
     }
 
-    /// Every fault of the campaign, the healthy baseline first.
+    /// Every fault of the campaign, the healthy baseline first, the resolver's carrier
+    /// faults last.
     pub fn all() -> Vec<FaultKind> {
         let mut all = vec![FaultKind::Healthy];
         for channel in [Channel::Cos, Channel::Sin] {
@@ -165,6 +189,7 @@ impl FaultKind {
             FaultKind::Outliers,
             FaultKind::NotANumber,
         ]);
+        all.extend(CarrierFault::all().into_iter().map(FaultKind::Carrier));
         all
     }
 }
@@ -191,6 +216,10 @@ pub enum Speed {
     SpeedStep,
     /// 3000 rad/s reversed at 1e5 rad/s^2 (60 ms) from 30 % of the run.
     Reversal,
+    /// Accelerating at 2e4 rad/s^2 from rest throughout (the resolver's ramp: 4000 rad/s at
+    /// its mid-run onset, 8000 rad/s, half its monitor's speed limit, at its end), so that a
+    /// fault mid-run falls in the acceleration.
+    Accelerating,
 }
 
 impl Speed {
@@ -213,6 +242,7 @@ impl Speed {
             Speed::RampToLimit => "ramp to 0.9 limit",
             Speed::SpeedStep => "speed step",
             Speed::Reversal => "reversal",
+            Speed::Accelerating => "accelerating",
         }
     }
 
@@ -293,6 +323,12 @@ impl Speed {
                     speed_rad_s: 2.0 * slow,
                     duration_s: run,
                 }),
+            Speed::Accelerating => {
+                MotionProfile::new(1.0, 0.0).then(Motion::ConstantAcceleration {
+                    acceleration_rad_s2: 2e4,
+                    duration_s: run,
+                })
+            }
             Speed::Reversal => MotionProfile::new(1.0, 3000.0)
                 .then(Motion::ConstantSpeed {
                     speed_rad_s: 3000.0,
@@ -309,94 +345,6 @@ impl Speed {
     }
 }
 
-/// How the pair reaches the chain.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum SensorKind {
-    /// Pairs in float units (fractions of full scale), clipping looked for at the stated
-    /// range of +-1.
-    Units,
-    /// 12-bit counts, offset binary (0 to 4095), through the core's `Input::Counts`.
-    Unsigned(RailsKind),
-    /// 12-bit counts, two's complement (-2048 to 2047).
-    Signed(RailsKind),
-}
-
-/// Where the chain looks for clipping (the core's `Rails`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum RailsKind {
-    /// `Rails::Stated`: the ADC's codes.
-    Stated,
-    /// `Rails::Measured`: the rails found on the samples.
-    Measured,
-}
-
-/// The number type of the chain.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum NumberType {
-    /// `Tracker<f32, Gains<f32, 3>>` with the winding check.
-    F32,
-    /// `Tracker<i16, FixedGains<3>>` (no winding check: the fixed-point chain has none).
-    Fixed,
-}
-
-/// A sensor kind on a number type: a chain as a user builds it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct Setup {
-    /// How the pair reaches the chain.
-    pub sensor: SensorKind,
-    /// The chain's number type.
-    pub number: NumberType,
-}
-
-impl Setup {
-    /// The campaign's setups: float units, and each pair of signedness and rails once per
-    /// number type (the fixed-point chain takes counts only).
-    pub const ALL: [Setup; 5] = [
-        Setup {
-            sensor: SensorKind::Units,
-            number: NumberType::F32,
-        },
-        Setup {
-            sensor: SensorKind::Unsigned(RailsKind::Stated),
-            number: NumberType::F32,
-        },
-        Setup {
-            sensor: SensorKind::Signed(RailsKind::Measured),
-            number: NumberType::F32,
-        },
-        Setup {
-            sensor: SensorKind::Unsigned(RailsKind::Measured),
-            number: NumberType::Fixed,
-        },
-        Setup {
-            sensor: SensorKind::Signed(RailsKind::Stated),
-            number: NumberType::Fixed,
-        },
-    ];
-
-    /// The setup's name in the table.
-    pub fn name(self) -> String {
-        let number = match self.number {
-            NumberType::F32 => "f32",
-            NumberType::Fixed => "fixed",
-        };
-        let rails = |r: RailsKind| match r {
-            RailsKind::Stated => "stated",
-            RailsKind::Measured => "measured",
-        };
-        match self.sensor {
-            SensorKind::Units => format!("{number} units"),
-            SensorKind::Unsigned(r) => format!("{number} unsigned counts, {} rails", rails(r)),
-            SensorKind::Signed(r) => format!("{number} signed counts, {} rails", rails(r)),
-        }
-    }
-
-    /// Whether `fault` can be fed to this setup (NaN only reaches float units).
-    pub fn takes(self, fault: FaultKind) -> bool {
-        fault != FaultKind::NotANumber || self.sensor == SensorKind::Units
-    }
-}
-
 /// One case of the campaign.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Case {
@@ -410,8 +358,20 @@ pub struct Case {
     pub setup: Setup,
 }
 
+impl Case {
+    /// The name of the case's row in the table: its fault's, but for a carrier fault whose
+    /// row is split by the resolver's kind ([`CarrierFault::row_name`]).
+    pub fn row_name(self) -> &'static str {
+        match (self.fault, self.setup.sensor) {
+            (FaultKind::Carrier(fault), SensorKind::Resolver(kind)) => fault.row_name(kind),
+            (fault, _) => fault.name(),
+        }
+    }
+}
+
 /// Every case of the campaign that applies (the undetectable faults included: they are
-/// listed from them, not measured), the healthy ones first.
+/// listed from them, not measured): the pairs' cases, the healthy ones first, then the
+/// resolver's (on [`super::resolver::SPEEDS`]).
 pub fn all_cases() -> Vec<Case> {
     let mut cases = Vec::new();
     for fault in FaultKind::all() {
@@ -421,6 +381,22 @@ pub fn all_cases() -> Vec<Case> {
                     continue;
                 }
                 for setup in Setup::ALL {
+                    if setup.takes(fault) {
+                        cases.push(Case {
+                            fault,
+                            onset,
+                            speed,
+                            setup,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    for fault in FaultKind::all() {
+        for &onset in fault.onsets() {
+            for speed in super::resolver::SPEEDS {
+                for setup in Setup::RESOLVER {
                     if setup.takes(fault) {
                         cases.push(Case {
                             fault,

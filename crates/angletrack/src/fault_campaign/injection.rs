@@ -81,6 +81,7 @@ impl Injector {
             FaultKind::Healthy | FaultKind::AccelerationStep(_) | FaultKind::BeyondSpeedLimit => {
                 (c, s)
             }
+            FaultKind::Carrier(_) => unreachable!("a carrier fault is injected on the windings"),
             FaultKind::Dead(channel) => set(channel, 0.0),
             FaultKind::Open(channel) => {
                 // An open input floats: a small offset and the noise it picks up.

@@ -40,6 +40,9 @@ pub struct CaseResult {
     pub latched: bool,
     /// Samples from the onset to the first flag at or after it, if any.
     pub latency: Option<usize>,
+    /// Judged samples marked half turn unresolved (a resolver's pairs without a stated
+    /// carrier delay: a status, not a fault; their angles judged modulo a half turn).
+    pub half_turn_unresolved: usize,
 }
 
 /// One sample's outcome: the angle error (rad, wrapped to +-pi) and whether it was flagged.
@@ -84,6 +87,7 @@ fn f32_tracker(sensor: SensorKind) -> Tracker<f32, Gains<f32, 3>> {
             adc: AdcScaling::twos_complement(12).expect("12 bits"),
             rails: rails(kind, true),
         },
+        SensorKind::Resolver(_) => unreachable!("the resolver's chain is resolver_run's"),
     };
     let (o_c, o_s, a_c, a_s, q) = stored_calibration().parameters();
     let calibration =
@@ -151,6 +155,7 @@ pub fn run_case(case: Case, theta: &[f64], y_c: &[f64], y_s: &[f64], seed: u64) 
         flagged: 0,
         latched: false,
         latency: None,
+        half_turn_unresolved: 0,
     };
     let mut judge = |k: usize, (error, flagged): Outcome| {
         if flagged && k >= onset && result.latency.is_none() {
@@ -183,6 +188,7 @@ pub fn run_case(case: Case, theta: &[f64], y_c: &[f64], y_s: &[f64], seed: u64) 
                     SensorKind::Signed(_) => {
                         tracker.update(&mut state, (code(c, true), code(s, true)))
                     }
+                    SensorKind::Resolver(_) => unreachable!("not a pair's setup"),
                 };
                 let error = wrapped(f64::from(e.angle) - theta[k]);
                 judge(
@@ -204,7 +210,9 @@ pub fn run_case(case: Case, theta: &[f64], y_c: &[f64], y_s: &[f64], seed: u64) 
             let (signed, kind) = match sensor {
                 SensorKind::Signed(kind) => (true, kind),
                 SensorKind::Unsigned(kind) => (false, kind),
-                SensorKind::Units => unreachable!("the fixed-point setups take counts"),
+                SensorKind::Units | SensorKind::Resolver(_) => {
+                    unreachable!("the fixed-point setups take counts")
+                }
             };
             let tracker = fixed_tracker(signed, kind);
             let mut state = TrackerState::new();
@@ -226,6 +234,7 @@ pub fn run_case(case: Case, theta: &[f64], y_c: &[f64], y_s: &[f64], seed: u64) 
             !state.observer.latched_faults().is_empty()
                 || !state.front_end.latched_faults().is_empty()
         }
+        (NumberType::F64, _) => unreachable!("the resolver's chain is resolver_run's"),
     };
     result.latched = latched;
     result

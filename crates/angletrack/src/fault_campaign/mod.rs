@@ -6,17 +6,20 @@
 //! Faults ([`FaultKind`]) are injected by the campaign's own code ([`injection`]) on the
 //! samples of a healthy sensor ([`HEALTHY_SENSOR`], the std crate's scenarios), over speed
 //! profiles ([`Speed`]), sensor kinds (float units, 12-bit signed and unsigned counts,
-//! stated and measured rails) and number types (`f32`, fixed point): [`cases`]. Each case's
-//! estimates are compared with the true electrical angle ([`measurement`]) and the results
-//! gathered per fault ([`table`]):
+//! stated and measured rails) and number types (`f32`, fixed point): [`cases`]. A resolver's
+//! raw carrier-modulated windings, with the excitation's samples or without, carry the
+//! carrier faults ([`resolver`]) through the crate's demodulator ([`resolver_run`]). Each
+//! case's estimates are compared with the true electrical angle ([`measurement`]) and the
+//! results gathered per fault ([`table`]):
 //!
 //! * coverage: of the samples whose angle error exceeds [`ERROR_BOUND_RAD`], the fraction
 //!   flagged (the estimate's faults or the front end's non-empty);
 //! * false alarms: on the healthy runs of the same setups and speeds, the fraction of
 //!   samples flagged, and how many runs latched a fault after the start-up;
-//! * worst latency: samples from the fault's onset to its first flag.
+//! * worst latency: samples (a resolver's pairs) from the fault's onset to its first flag.
 //!
-//! Samples before [`START_UP`] are not judged (the loop acquires from rest there).
+//! Samples before [`START_UP`] (a resolver's pairs before [`resolver::START_UP_PAIRS`]) are
+//! not judged (the loop acquires from rest there).
 //!
 //! ```no_run
 //! let campaign = angletrack::fault_campaign::Campaign::run();
@@ -26,12 +29,16 @@
 pub mod cases;
 pub mod injection;
 pub mod measurement;
+pub mod resolver;
+pub mod resolver_run;
+pub mod setup;
 pub mod table;
 
 use std::collections::HashMap;
 
 pub use cases::{Case, Channel, FaultKind, NumberType, Onset, RailsKind, SensorKind, Setup, Speed};
 pub use measurement::CaseResult;
+pub use resolver::{CarrierFault, ResolverKind};
 pub use table::Row;
 
 use crate::sim::{MAX_ANGLE_ERROR_HARMONICS, Scenario, SensorModel};
@@ -84,12 +91,21 @@ pub struct Campaign {
 
 impl Campaign {
     /// Runs every case of [`cases::all_cases`] but those of undetectable faults: each
-    /// speed profile's healthy scenario is generated once and shared by its cases.
+    /// speed profile's healthy scenario (and healthy resolver) is generated once and shared
+    /// by its cases.
     pub fn run() -> Self {
         let mut scenarios: HashMap<(Speed, Option<FaultKind>), Scenario> = HashMap::new();
+        let mut resolvers: HashMap<Speed, resolver::ResolverScenario> = HashMap::new();
         let mut results = Vec::new();
         for (index, case) in cases::all_cases().into_iter().enumerate() {
             if case.fault.undetectable().is_some() {
+                continue;
+            }
+            if let SensorKind::Resolver(_) = case.setup.sensor {
+                let scenario = resolvers
+                    .entry(case.speed)
+                    .or_insert_with(|| resolver::ResolverScenario::generate(case.speed));
+                results.push(resolver_run::run_case(case, scenario));
                 continue;
             }
             let motion = case.fault.is_motion().then_some(case.fault);
@@ -112,8 +128,8 @@ impl Campaign {
         Self { results }
     }
 
-    /// The table's rows: one per fault and onset, the healthy baseline first, then the
-    /// undetectable faults listed with their reason.
+    /// The table's rows: one per fault and onset, the healthy baselines first of their
+    /// sensors, then the undetectable faults listed with their reason.
     pub fn rows(&self) -> Vec<Row> {
         table::rows(&self.results)
     }

@@ -5,6 +5,7 @@ use std::fmt::Write;
 
 use super::cases::{FaultKind, Onset};
 use super::measurement::CaseResult;
+use super::resolver;
 
 /// The target for the coverage: at least 99 % of the wrong samples flagged.
 pub const COVERAGE_TARGET: f64 = 0.99;
@@ -43,9 +44,9 @@ pub struct Row {
     /// `wrong - missed` over `wrong`; `None` without a wrong sample.
     pub coverage: Option<f64>,
     /// Flagged samples over judged samples of the healthy runs of the same speeds and
-    /// setups.
+    /// setups (of the row's own runs for a benign fault, [`FaultKind::is_benign`]).
     pub false_alarms: f64,
-    /// Those healthy runs.
+    /// Those healthy runs (the row's own runs for a benign fault).
     pub healthy_runs: usize,
     /// Those healthy runs that latched a fault after the start-up though none of their
     /// judged samples was wrong: a false latch. A healthy run whose loop's own transient
@@ -79,46 +80,60 @@ impl Row {
 }
 
 /// The rows of `results`: the healthy baseline, each fault and onset in the campaign's
-/// order, then each undetectable fault with its reason.
+/// order, then each undetectable fault with its reason (the resolver's last).
 pub fn rows(results: &[CaseResult]) -> Vec<Row> {
     let healthy: Vec<&CaseResult> = results
         .iter()
-        .filter(|r| r.case.fault == FaultKind::Healthy)
+        .filter(|r| r.case.fault.is_healthy())
         .collect();
-    let mut keys: Vec<(&'static str, Option<Onset>)> = Vec::new();
     let mut undetectable: Vec<(&'static str, &'static str)> = Vec::new();
     for fault in FaultKind::all() {
-        if let Some(reason) = fault.undetectable() {
-            if !undetectable.iter().any(|(name, _)| *name == fault.name()) {
-                undetectable.push((fault.name(), reason));
-            }
-            continue;
-        }
-        for &onset in fault.onsets() {
-            let onset = (fault != FaultKind::Healthy).then_some(onset);
-            if !keys.contains(&(fault.name(), onset)) {
-                keys.push((fault.name(), onset));
-            }
+        if let Some(reason) = fault.undetectable()
+            && !undetectable.iter().any(|(name, _)| *name == fault.name())
+        {
+            undetectable.push((fault.name(), reason));
         }
     }
+    undetectable.extend(resolver::UNDETECTABLE);
+    // The rows in the campaign's order (the results are in it), a row's onsets together:
+    // each row's name and onset as its first case has them.
+    let mut keys: Vec<(&'static str, Option<Onset>)> = Vec::new();
+    for r in results {
+        let onset = (!r.case.fault.is_healthy()).then_some(r.case.onset);
+        if !keys.contains(&(r.case.row_name(), onset)) {
+            keys.push((r.case.row_name(), onset));
+        }
+    }
+    let first = |name: &str| keys.iter().position(|k| k.0 == name);
+    let order: Vec<Option<usize>> = keys.iter().map(|k| first(k.0)).collect();
+    let mut keyed: Vec<_> = order.into_iter().zip(keys).collect();
+    keyed.sort_by_key(|(first, _)| *first);
+    let keys = keyed.into_iter().map(|(_, key)| key);
     let mut rows: Vec<Row> = keys
         .into_iter()
         .map(|(name, onset)| {
             let of_row: Vec<&CaseResult> = results
                 .iter()
                 .filter(|r| {
-                    r.case.fault.name() == name && (onset.is_none() || onset == Some(r.case.onset))
+                    r.case.row_name() == name && (onset.is_none() || onset == Some(r.case.onset))
                 })
                 .collect();
-            // The healthy twins: the same speed and setup, no fault.
-            let twins: Vec<&&CaseResult> = healthy
-                .iter()
-                .filter(|h| {
-                    of_row
-                        .iter()
-                        .any(|r| r.case.speed == h.case.speed && r.case.setup == h.case.setup)
-                })
-                .collect();
+            // The healthy twins: the same speed and setup, no fault. A benign fault must not
+            // be flagged: its own runs are its twins.
+            let benign = of_row.iter().any(|r| r.case.fault.is_benign());
+            let twins: Vec<&CaseResult> = if benign {
+                of_row.clone()
+            } else {
+                healthy
+                    .iter()
+                    .copied()
+                    .filter(|h| {
+                        of_row
+                            .iter()
+                            .any(|r| r.case.speed == h.case.speed && r.case.setup == h.case.setup)
+                    })
+                    .collect()
+            };
             let sum = |f: &dyn Fn(&CaseResult) -> usize| of_row.iter().map(|r| f(r)).sum::<usize>();
             let wrong = sum(&|r| r.wrong);
             let missed = wrong - sum(&|r| r.wrong_flagged);

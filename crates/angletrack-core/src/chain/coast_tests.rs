@@ -454,3 +454,23 @@ fn a_sample_at_a_stated_rail_is_clipping_and_one_code_inside_is_not() {
         assert!(!state.front_end.0.coasting());
     }
 }
+
+#[test]
+fn only_the_invalidating_flags_a_demodulator_gives_make_the_observer_coast() {
+    // Each flag given with a pair puts FRONT_END on the estimate; the observer coasts on
+    // loss of excitation and a winding fault only (FrontEndFaults::INVALIDATING).
+    let gains = Gains::<f64, 3>::new(GAINS, TS).unwrap();
+    let chain = Chain::new(FrontEndCheck::<f64>::new(), gains);
+    for (flag, _) in FrontEndFaults::NAMES {
+        let mut state = ChainState::new();
+        for _ in 0..100 {
+            chain.update(&mut state, ((1.0, 0.0), FrontEndFaults::NONE));
+        }
+        let e = chain.update(&mut state, ((1.0, 0.0), flag));
+        assert!(e.faults.contains(Faults::FRONT_END), "{flag}");
+        let invalidating =
+            flag == FrontEndFaults::LOSS_OF_EXCITATION || flag == FrontEndFaults::WINDING;
+        assert_eq!(state.front_end.0.coasting(), invalidating, "{flag}");
+        assert_eq!(state.front_end.0.latched_faults(), flag);
+    }
+}

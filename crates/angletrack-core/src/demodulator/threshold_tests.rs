@@ -159,6 +159,42 @@ fn phase_drift_is_flagged_beyond_the_bound_of_carrier_phase_error() {
 }
 
 #[test]
+fn phase_drift_is_flagged_from_the_first_window_out_of_lock_to_the_one_after_the_last() {
+    // 46 degrees of carrier phase from period 40 to period 60, the loop frozen: windows 40 to
+    // 58 are out of lock; 39 and 59 hold an eighth of their weight on the other side of a
+    // step (6 degrees off and 41: in lock), and 59, after an out-of-lock one, is flagged
+    // too (the loop's correction of the last would have moved its timing).
+    let d = Demodulator::new(DemodulatorSettings {
+        carrier_loop_bandwidth: 1e-6,
+        ..settings()
+    })
+    .unwrap();
+    let out = 40 * SAMPLES_PER_PERIOD..60 * SAMPLES_PER_PERIOD;
+    let pairs = run(&d, 80 * SAMPLES_PER_PERIOD, |j| {
+        windings(
+            j,
+            1.0,
+            if out.contains(&j) {
+                46f64.to_radians()
+            } else {
+                0.0
+            },
+        )
+    });
+    let flagged: Vec<u64> = pairs
+        .iter()
+        .filter(|p| !p.faults.is_empty())
+        .map(|p| p.first_sample / SAMPLES_PER_PERIOD as u64)
+        .collect();
+    assert_eq!(flagged, (40..60).collect::<Vec<u64>>());
+    assert!(
+        pairs
+            .iter()
+            .all(|p| p.faults.is_empty() || p.faults == FrontEndFaults::PHASE_DRIFT)
+    );
+}
+
+#[test]
 fn a_carrier_beyond_the_carrier_error_allowed_is_phase_drift() {
     // 3 % allowed by default: 2.8 % off is tracked without a flag, 3.2 % is flagged on
     // every pair.

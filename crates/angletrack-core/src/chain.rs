@@ -431,6 +431,8 @@ impl<F, const N: usize> Chain<F, FixedGains<N>> {
 #[cfg(test)]
 mod coast_tests;
 #[cfg(test)]
+mod held_rail_tests;
+#[cfg(test)]
 mod jump_tests;
 #[cfg(test)]
 mod tests;

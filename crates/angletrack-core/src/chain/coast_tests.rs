@@ -362,3 +362,115 @@ fn after_a_long_coast_the_speed_is_fitted_before_the_loop_runs() {
     assert!(worst < 5e-3, "{worst}");
     assert_eq!(flagged, crate::reacquisition::REFIT_SAMPLES as usize - 1);
 }
+
+/// The winding check's faults on one pair `(y_c, y_s)` after 2000 pairs of a still shaft at
+/// `degrees` (the prediction there), nominal amplitude 1.
+fn winding_check_after(degrees: f64, pair: (f64, f64)) -> FrontEndFaults {
+    let gains = Gains::<f64, 3>::new(GAINS, TS).unwrap();
+    let chain = Chain::new(WindingCheck::new(1.0).unwrap(), gains);
+    let mut state = ChainState::new();
+    let theta = degrees.to_radians();
+    for _ in 0..2000 {
+        chain.update(&mut state, (libm::cos(theta), libm::sin(theta)));
+    }
+    let e = chain.update(&mut state, pair);
+    assert_eq!(
+        e.faults.contains(Faults::FRONT_END),
+        !state.front_end.faults().is_empty()
+    );
+    assert_eq!(
+        state.front_end.coasting(),
+        !state.front_end.faults().is_empty()
+    );
+    state.front_end.faults()
+}
+
+#[test]
+fn a_winding_is_open_below_a_quarter_of_the_amplitude() {
+    // At 0 rad the cosine winding carries the whole amplitude: reading 0.24 of it is open
+    // (or shorted), 0.26 is not.
+    assert_eq!(
+        winding_check_after(0.0, (0.24, 0.0)),
+        FrontEndFaults::WINDING
+    );
+    assert_eq!(winding_check_after(0.0, (0.26, 0.0)), FrontEndFaults::NONE);
+    assert_eq!(
+        winding_check_after(90.0, (0.0, -0.24)),
+        FrontEndFaults::WINDING
+    );
+    assert_eq!(winding_check_after(90.0, (0.0, 0.26)), FrontEndFaults::NONE);
+}
+
+#[test]
+fn a_winding_is_judged_where_the_prediction_puts_half_the_amplitude_on_it() {
+    // cos 58.67 degrees = 0.52, cos 61.31 = 0.48: the cosine winding reading 0 is open at
+    // the first angle, where it should read at least half the amplitude, not yet at the
+    // second.
+    for (degrees, faults) in [
+        (58.67, FrontEndFaults::WINDING),
+        (61.31, FrontEndFaults::NONE),
+    ] {
+        let sin = libm::sin(f64::to_radians(degrees));
+        assert_eq!(
+            winding_check_after(degrees, (0.0, sin)),
+            faults,
+            "{degrees}"
+        );
+    }
+}
+
+#[test]
+fn a_winding_is_judged_only_while_the_other_agrees_within_a_quarter_of_the_amplitude() {
+    // At 0 rad the sine winding should read 0: at 0.24 it agrees (the cosine winding's 0 is
+    // a winding fault), at 0.26 it does not (an observer off the shaft's angle, no fault).
+    assert_eq!(
+        winding_check_after(0.0, (0.0, 0.24)),
+        FrontEndFaults::WINDING
+    );
+    assert_eq!(winding_check_after(0.0, (0.0, 0.26)), FrontEndFaults::NONE);
+}
+
+#[test]
+fn a_sample_at_a_stated_rail_is_clipping_and_one_code_inside_is_not() {
+    let gains = FixedGains::<3>::new(GAINS, TS).unwrap();
+    let adc = AdcCounts::twos_complement(12).unwrap();
+    let chain = Chain::new(
+        FrontEndCheck::around(adc, Some((-2048i16, 2047i16))).unwrap(),
+        gains,
+    );
+    let mut state = ChainState::new();
+    for (pair, clipped) in [
+        ((2046i16, 300i16), false),
+        ((2047, 300), true),
+        ((300, -2047), false),
+        ((300, -2048), true),
+    ] {
+        let e = chain.update(&mut state, pair);
+        assert_eq!(e.faults.contains(Faults::FRONT_END), clipped, "{pair:?}");
+        assert_eq!(
+            state.front_end.0.faults(),
+            FrontEndFaults::when(clipped, FrontEndFaults::CLIPPING)
+        );
+        assert!(!state.front_end.0.coasting());
+    }
+}
+
+#[test]
+fn only_the_invalidating_flags_a_demodulator_gives_make_the_observer_coast() {
+    // Each flag given with a pair puts FRONT_END on the estimate; the observer coasts on
+    // loss of excitation and a winding fault only (FrontEndFaults::INVALIDATING).
+    let gains = Gains::<f64, 3>::new(GAINS, TS).unwrap();
+    let chain = Chain::new(FrontEndCheck::<f64>::new(), gains);
+    for (flag, _) in FrontEndFaults::NAMES {
+        let mut state = ChainState::new();
+        for _ in 0..100 {
+            chain.update(&mut state, ((1.0, 0.0), FrontEndFaults::NONE));
+        }
+        let e = chain.update(&mut state, ((1.0, 0.0), flag));
+        assert!(e.faults.contains(Faults::FRONT_END), "{flag}");
+        let invalidating =
+            flag == FrontEndFaults::LOSS_OF_EXCITATION || flag == FrontEndFaults::WINDING;
+        assert_eq!(state.front_end.0.coasting(), invalidating, "{flag}");
+        assert_eq!(state.front_end.0.latched_faults(), flag);
+    }
+}

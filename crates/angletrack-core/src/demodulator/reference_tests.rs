@@ -130,3 +130,48 @@ fn an_excitation_a_quarter_turn_from_the_expected_delay_decides_no_half_turn() {
     assert!(pairs.iter().all(|p| right(p.0) && p.1.is_empty()));
     assert!((state.carrier_delay_rad() - 60f64.to_radians()).abs() < 0.05);
 }
+
+#[test]
+fn an_excitation_below_an_eighth_of_the_windings_amplitude_is_flagged_on_every_pair() {
+    // EXCITATION_REFERENCE_FRACTION: 0.125 of the windings' 1800 counts is 225 counts. In
+    // phase with the windings' carrier (the delay after it 0, as expected), 0.13 of it
+    // resolves every window's half turn, 0.12 none.
+    for (fraction, flagged) in [(0.13, false), (0.12, true)] {
+        let amplitude = fraction * 1800.0;
+        let (pairs, _) = run(16 * 100, 0.0, |_, psi| 2048.0 + amplitude * psi.sin());
+        assert!(pairs.len() > 50);
+        let expected = if flagged {
+            FrontEndFaults::EXCITATION_REFERENCE
+        } else {
+            FrontEndFaults::NONE
+        };
+        assert!(
+            pairs.iter().all(|&(_, faults)| faults == expected),
+            "{fraction}"
+        );
+    }
+}
+
+#[test]
+fn a_delay_within_14_degrees_of_a_quarter_turn_from_the_expected_decides_no_half_turn() {
+    // |tan| of the delay's error from the expected one at most 4: decided (up to 75.96
+    // degrees); beyond, the window is flagged. A clean excitation 74 and 78 degrees before
+    // the windings, 0 expected.
+    for (after, flagged) in [
+        (74.0_f64, false),
+        (-74.0, false),
+        (78.0, true),
+        (-78.0, true),
+    ] {
+        let (pairs, _) = run(16 * 100, 0.0, |_, psi| {
+            2048.0 + 1500.0 * (psi - after.to_radians()).sin()
+        });
+        assert!(pairs.len() > 50);
+        assert!(
+            pairs
+                .iter()
+                .all(|p| p.1.contains(FrontEndFaults::EXCITATION_REFERENCE) == flagged),
+            "{after}"
+        );
+    }
+}

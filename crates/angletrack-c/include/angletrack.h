@@ -225,7 +225,7 @@
  * crate's version and the sizes, which change it without a bump). `at_layout_version()`
  * returns the library's, to compare with the header's at start-up.
  */
-#define AT_LAYOUT_VERSION 9
+#define AT_LAYOUT_VERSION 10
 
 /**
  * The entries of an angle-correction table (`at_angle_correction_table_f32`,
@@ -633,7 +633,8 @@ typedef struct at_chain_fixed {
  * --format c` writes it (`static const`, in flash) for `at_chain_fixed_from_constants`:
  * the observer's `gains`, the words of its monitor's thresholds (`monitor`: enabled,
  * loss of signal, degradation low and high, roundness low and high, loss of tracking,
- * the largest speed; the core's `FixedGains::monitor_words`) and the optional stages,
+ * the largest speed, the per-sample tracking-error level in Q15; the core's
+ * `FixedGains::monitor_words`) and the optional stages,
  * each NULL when absent: the ADC, a stored calibration and the angle-correction table.
  */
 typedef struct at_chain_fixed_constants {
@@ -644,7 +645,7 @@ typedef struct at_chain_fixed_constants {
   /**
    * The monitor's threshold words.
    */
-  uint32_t monitor[8];
+  uint32_t monitor[9];
   /**
    * The ADC, or NULL (then the chain takes `int16` samples).
    */

@@ -125,7 +125,8 @@ impl<const N: usize> Stored for StateFixed<N> {
 /// --format c` writes it (`static const`, in flash) for `at_chain_fixed_from_constants`:
 /// the observer's `gains`, the words of its monitor's thresholds (`monitor`: enabled,
 /// loss of signal, degradation low and high, roundness low and high, loss of tracking,
-/// the largest speed; the core's `FixedGains::monitor_words`) and the optional stages,
+/// the largest speed, the per-sample tracking-error level in Q15; the core's
+/// `FixedGains::monitor_words`) and the optional stages,
 /// each NULL when absent: the ADC, a stored calibration and the angle-correction table.
 #[repr(C)]
 #[derive(Debug, Clone, Copy)]
@@ -133,7 +134,7 @@ pub struct at_chain_fixed_constants<'a> {
     /// The observer's integer gains.
     pub gains: at_fixed_gains,
     /// The monitor's threshold words.
-    pub monitor: [u32; 8],
+    pub monitor: [u32; 9],
     /// The ADC, or NULL (then the chain takes `int16` samples).
     pub adc: Option<&'a at_adc_counts>,
     /// The stored calibration in its integers, or NULL: the offsets in the observer's

@@ -35,7 +35,7 @@ use crate::status::{AT_ERR_NOT_INITIALISED, AT_ERR_OTHER_BUILD, at_status, statu
 /// value the library stores in one changes; part of every struct's layout word (with the
 /// crate's version and the sizes, which change it without a bump). `at_layout_version()`
 /// returns the library's, to compare with the header's at start-up.
-pub const AT_LAYOUT_VERSION: u32 = 9;
+pub const AT_LAYOUT_VERSION: u32 = 10;
 
 /// A type a slot can hold, with its tag. `Copy` types only: overwriting one drops nothing,
 /// and a C copy of the words (with the tag) is a copy of the value.

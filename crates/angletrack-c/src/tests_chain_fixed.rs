@@ -444,6 +444,12 @@ fn the_chains_integers_are_checked_with_their_statuses() {
     let mut bad = constants;
     bad.monitor[1] = bad.monitor[2] + 1;
     assert_eq!(build(&bad), AT_ERR_LOSS_OF_SIGNAL);
+    // A tracking-error level beyond Q15's (`MAX_TRACKING_ERROR_Q15`), or none.
+    for level in [0, 32765] {
+        let mut bad = constants;
+        bad.monitor[8] = level;
+        assert_eq!(build(&bad), AT_ERR_TRACKING_ERROR, "{level}");
+    }
     let mut bad = constants;
     bad.gains.sample_period_s = f64::NAN;
     assert_eq!(build(&bad), AT_ERR_SAMPLE_PERIOD_S);

@@ -2,6 +2,7 @@
 //! every offset within the monitor's window, is flagged within its documented bound, and
 //! nothing is flagged before it.
 
+use super::gains::FixedThresholds;
 use super::update::MONITOR_WINDOW;
 use super::*;
 use crate::Faults;
@@ -172,6 +173,53 @@ fn the_nominal_amplitude_of_shifted_counts_is_set_in_a_static() {
     assert!(latched_on_shifted_counts(default).contains(Faults::DEGRADATION_OF_SIGNAL));
 }
 
+/// A jump of the measured angle by `factor` times `asin(level)` after 4000 healthy samples,
+/// tracked by `gains` whose level is `level`: flagged on its own sample and held a few
+/// samples if `flagged`, never flagged else; with the flag clear the estimate is within
+/// `asin(level)`.
+fn jump_at_the_tracking_error(gains: FixedGains<3>, level: f64, factor: f64, flagged: bool) {
+    let threshold = libm::asin(level);
+    let jump = factor * threshold;
+    let mut state = FixedState::new();
+    let (start, end) = (4000, 6000);
+    let mut held = 0;
+    for k in 0..end {
+        let theta = 0.01 * k as f64 + if k >= start { jump } else { 0.0 };
+        let (c, s) = counts(16384.0, theta);
+        gains.track(&mut state, c, s);
+        let e = FixedGains::estimate(&state);
+        let tracking = e.faults.contains(Faults::LOSS_OF_TRACKING);
+        if k + 1 == start {
+            assert_eq!(state.latched_faults(), Faults::NONE);
+        }
+        if k == start {
+            assert_eq!(tracking, flagged, "level {level}, factor {factor}");
+        }
+        held += usize::from(k > start && tracking);
+        if k >= start && !tracking {
+            let error = binary_angle::binary_angle_to_rad(
+                e.angle.wrapping_sub(binary_angle::binary_angle(theta)),
+            );
+            assert!(
+                error.abs() < threshold,
+                "level {level}, factor {factor}, sample {k}: {error}"
+            );
+        }
+    }
+    assert_eq!(
+        state.latched_faults().contains(Faults::LOSS_OF_TRACKING),
+        flagged
+    );
+    assert!(
+        if flagged {
+            (3..60).contains(&held)
+        } else {
+            held == 0
+        },
+        "level {level}, held {held}"
+    );
+}
+
 /// The per-sample tracking-error check at its level (0.05, held down to 0.025: 1638 and
 /// 819 in Q15), as the floats' (`monitor/tracking_tests.rs`): a jump of the measured angle
 /// by 1.1 `asin(0.05)` is flagged on its own sample and held a few samples; one by 0.9
@@ -184,46 +232,72 @@ fn a_jump_beyond_the_tracking_error_is_flagged_at_once_and_one_within_never() {
         (trip, crate::monitor::tracking::Residual::release(trip)),
         (1638, 819)
     );
-    let threshold = libm::asin(0.05);
     for (factor, flagged) in [(1.1, true), (0.9, false)] {
-        let jump = factor * threshold;
-        let mut state = FixedState::new();
-        let (start, end) = (4000, 6000);
-        let mut held = 0;
-        for k in 0..end {
-            let theta = 0.01 * k as f64 + if k >= start { jump } else { 0.0 };
-            let (c, s) = counts(16384.0, theta);
-            gains.track(&mut state, c, s);
-            let e = FixedGains::estimate(&state);
-            let tracking = e.faults.contains(Faults::LOSS_OF_TRACKING);
-            if k + 1 == start {
-                assert_eq!(state.latched_faults(), Faults::NONE);
-            }
-            if k == start {
-                assert_eq!(tracking, flagged, "factor {factor}");
-            }
-            held += usize::from(k > start && tracking);
-            if k >= start && !tracking {
-                let error = binary_angle::binary_angle_to_rad(
-                    e.angle.wrapping_sub(binary_angle::binary_angle(theta)),
-                );
-                assert!(
-                    error.abs() < threshold,
-                    "factor {factor}, sample {k}: {error}"
-                );
-            }
-        }
+        jump_at_the_tracking_error(gains, 0.05, factor, flagged);
+    }
+}
+
+/// The level set above the default ([`FixedGains::with_tracking_error`], 0.08 as for a
+/// sensor of 1 % noise: 2621 in Q15, held down to 1310): a jump by 1.1 `asin(0.08)` is
+/// flagged at once, one by 0.9 `asin(0.08)` (beyond the default level) never.
+#[test]
+fn a_jump_beyond_a_set_tracking_error_is_flagged_and_one_within_never() {
+    let gains = FixedGains::<3>::new(KALMAN, 50e-6)
+        .and_then(|g| g.with_monitor(Some(16384.0)))
+        .and_then(|g| g.with_tracking_error(0.08))
+        .unwrap();
+    assert_eq!(gains.monitor.tracking_error, 2621);
+    assert!(0.9 * libm::asin(0.08) > libm::asin(0.05));
+    for (factor, flagged) in [(1.1, true), (0.9, false)] {
+        jump_at_the_tracking_error(gains, 0.08, factor, flagged);
+    }
+    // The words carry the level: the gains built from them are the same.
+    let back = FixedGains::<3>::from_words(gains.constants(), 50e-6, gains.monitor_words());
+    assert_eq!(back, Ok(gains));
+}
+
+/// The level's range: refused, naming the tracking-error threshold, when not finite, not
+/// positive, rounding to 0 in Q15 or beyond [`MAX_TRACKING_ERROR_Q15`] (as a level and as
+/// a word); with the monitor off, no effect.
+#[test]
+fn a_tracking_error_level_outside_q15_is_refused() {
+    use crate::error::{ConfigError, Parameter};
+    let gains = FixedGains::<2>::new([0.05, 0.0012], 1e-4).unwrap();
+    let p = Parameter::TrackingErrorThreshold;
+    let cases = [
+        (f64::NAN, ConfigError::NotFinite(p)),
+        (f64::INFINITY, ConfigError::NotFinite(p)),
+        (0.0, ConfigError::NotPositive(p)),
+        (-0.05, ConfigError::NotPositive(p)),
+        (1e-6, ConfigError::OutOfRange(p)),
+        (32764.6 / 32768.0, ConfigError::OutOfRange(p)),
+        (1e300, ConfigError::OutOfRange(p)),
+    ];
+    for (level, refusal) in cases {
+        assert_eq!(gains.with_tracking_error(level), Err(refusal), "{level}");
+    }
+    let top = gains.with_tracking_error(32764.4 / 32768.0).unwrap();
+    assert_eq!(top.monitor_words()[8], MAX_TRACKING_ERROR_Q15 as u32);
+    assert_eq!(
+        gains
+            .with_tracking_error(0.6 / 32768.0)
+            .unwrap()
+            .monitor_words()[8],
+        1
+    );
+    let off = gains.with_monitor(None).unwrap();
+    assert_eq!(off.with_tracking_error(0.08), Ok(off));
+    for word in [0, MAX_TRACKING_ERROR_Q15 as u32 + 1] {
+        let mut words = gains.monitor_words();
+        words[8] = word;
+        let refused = FixedGains::<2>::from_words(gains.constants(), 1e-4, words);
+        assert_eq!(refused, Err(ConfigError::OutOfRange(p)), "{word}");
+        words[0] = 0;
+        // With the monitor off, the word is not read.
+        let unread = FixedGains::<2>::from_words(gains.constants(), 1e-4, words).unwrap();
         assert_eq!(
-            state.latched_faults().contains(Faults::LOSS_OF_TRACKING),
-            flagged
-        );
-        assert!(
-            if flagged {
-                (3..60).contains(&held)
-            } else {
-                held == 0
-            },
-            "held {held}"
+            unread.monitor.tracking_error,
+            FixedThresholds::OFF.tracking_error
         );
     }
 }

@@ -10,8 +10,12 @@ use crate::gains::{Order, SupportedOrder};
 /// The words of the fixed-point monitor's thresholds, in the order of
 /// [`FixedGains::monitor_words`]: enabled (0 or 1), loss of signal, degradation low and
 /// high, roundness low and high (half square amplitudes, counts^2), loss of tracking (the
-/// window's sum of `|eps|` in Q15), the largest speed (2^-32 turn per sample).
-pub type FixedMonitorWords = [u32; 8];
+/// window's sum of `|eps|` in Q15), the largest speed (2^-32 turn per sample), the
+/// per-sample tracking-error level (one sample's `|eps|` in Q15, 1 to
+/// [`MAX_TRACKING_ERROR_Q15`]: 1638, 0.05, by default; [`FixedGains::with_tracking_error`]).
+///
+/// [`MAX_TRACKING_ERROR_Q15`]: super::MAX_TRACKING_ERROR_Q15
+pub type FixedMonitorWords = [u32; 9];
 
 /// The sign bit of an `f64`.
 const SIGN: u64 = 1 << 63;
@@ -40,7 +44,10 @@ where
     /// [`FixedGains::monitor_words`] give them: what `angletrack export --format c` writes
     /// for a firmware. Checked by integer comparisons only (the sample period by its
     /// bits): the ranges of [`FixedGains::from_constants`] and thresholds in order, each
-    /// refusal naming the parameter. The loop's stability is a float computation, so it is
+    /// refusal naming the parameter (with the monitor on, a tracking-error level from 1 to
+    /// [`MAX_TRACKING_ERROR_Q15`]; with it off, that word is not read).
+    ///
+    /// [`MAX_TRACKING_ERROR_Q15`]: super::MAX_TRACKING_ERROR_Q15 The loop's stability is a float computation, so it is
     /// not checked again here: take words a checked [`FixedGains`] gave.
     ///
     /// ```
@@ -53,7 +60,10 @@ where
     ///         acceleration_shift: 3,
     ///     },
     ///     50e-6,
-    ///     [1, 25_920_000, 103_680_000, 933_120_000, 335_923_200, 501_811_200, 104_864, 1 << 30],
+    ///     [
+    ///         1, 25_920_000, 103_680_000, 933_120_000, 335_923_200, 501_811_200, 104_864,
+    ///         1 << 30, 1638,
+    ///     ],
     /// ) {
     ///     Ok(gains) => gains,
     ///     Err(_) => panic!("the fixed-point words are refused"),
@@ -63,6 +73,10 @@ where
     /// low_above_high[2] = low_above_high[3] + 1;
     /// let err = FixedGains::from_words(designed.constants(), 50e-6, low_above_high).unwrap_err();
     /// assert_eq!(err.parameter(), Parameter::DegradationLowThreshold);
+    /// let mut beyond_q15 = designed.monitor_words();
+    /// beyond_q15[8] = 40_000;
+    /// let err = FixedGains::from_words(designed.constants(), 50e-6, beyond_q15).unwrap_err();
+    /// assert_eq!(err.parameter(), Parameter::TrackingErrorThreshold);
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
     pub const fn from_words(
@@ -83,6 +97,7 @@ where
             round_high,
             loss_of_tracking,
             max_speed,
+            tracking_error,
         ] = monitor;
         let refused = if enabled > 1 {
             Some(Parameter::NominalAmplitude)
@@ -94,6 +109,10 @@ where
             Some(Parameter::MagnitudeTolerance)
         } else if loss_of_tracking > i32::MAX as u32 {
             Some(Parameter::LossOfTrackingThreshold)
+        } else if enabled == 1
+            && (tracking_error < 1 || tracking_error > super::MAX_TRACKING_ERROR_Q15 as u32)
+        {
+            Some(Parameter::TrackingErrorThreshold)
         } else {
             None
         };
@@ -109,10 +128,9 @@ where
             round_high,
             loss_of_tracking,
             max_speed,
-            // The fixed-point chain runs the default per-sample level (no setter, no word),
-            // none with the monitor off.
+            // With the monitor off, no level (the word is not read).
             tracking_error: if enabled == 1 {
-                FixedThresholds::DEFAULT.tracking_error
+                tracking_error as i32
             } else {
                 FixedThresholds::OFF.tracking_error
             },
@@ -133,6 +151,7 @@ where
             m.round_high,
             m.loss_of_tracking,
             m.max_speed,
+            m.tracking_error as u32,
         ]
     }
 }

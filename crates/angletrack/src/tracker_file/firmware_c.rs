@@ -73,9 +73,7 @@ impl TrackerFile {
         let shift = counts.as_ref().map_or(0, |c| c.shift);
         let observer = FixedGains::<N>::new(gains, self.gains.sample_period_s);
         let observer = match (self.fixed_monitor(file, shift)?, &counts) {
-            (Some(m), _) => {
-                observer.and_then(|g| g.with_monitor_tolerance(Some(m.amplitude), m.tolerance))
-            }
+            (Some(m), _) => observer.and_then(|g| m.apply(g)),
             (None, Some(_)) => return Err(Self::amplitude_not_stated(file)),
             (None, None) => observer,
         }
@@ -123,7 +121,7 @@ impl TrackerFile {
             multipliers = initialiser(&multiplier, 3),
             shift_k = constants.acceleration_shift,
             period = observer.sample_period(),
-            monitor = initialiser(&observer.monitor_words(), 8),
+            monitor = initialiser(&observer.monitor_words(), 9),
             upper = name.to_uppercase(),
         );
         Ok(text)

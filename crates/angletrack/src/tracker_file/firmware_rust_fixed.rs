@@ -130,6 +130,11 @@ impl TrackerFile {
                     ),
                     None => format!("ok({observer}.with_monitor_tolerance(Some({samples}), None))"),
                 };
+                // After the monitor, which sets the default level.
+                if let Some(level) = monitor.tracking_error {
+                    let level = literal(level, FloatType::F64, "fault_thresholds.tracking_error")?;
+                    observer = format!("ok({observer}.with_tracking_error({level}))");
+                }
             }
             (None, true) => return Err(Self::amplitude_not_stated(file)),
             (None, false) => {}

@@ -2,7 +2,8 @@
 //! its run ([`TrackerRun`](super::TrackerRun)) share: the fixed-point monitor's thresholds,
 //! the rails of the ADC range rule, and the refusals of what a firmware cannot hold.
 
-use angletrack_core::{FaultThresholds, Rails};
+use angletrack_core::fixed::MAX_TRACKING_ERROR_Q15;
+use angletrack_core::{ConfigError, FaultThresholds, FixedGains, Rails};
 
 use super::{AdcRange, FirmwareError, Input, TrackerFile};
 use crate::json_file::JsonFileError;
@@ -14,6 +15,45 @@ pub(super) struct FixedMonitor {
     pub(super) amplitude: f64,
     /// The roundness tolerance (`None`: no roundness check).
     pub(super) tolerance: Option<f64>,
+    /// The per-sample tracking-error level (`None`: the default, 0.05), the float
+    /// monitor's `tracking_error`.
+    pub(super) tracking_error: Option<f64>,
+}
+
+impl FixedMonitor {
+    /// The monitor of `thresholds` (stated or measured on the capture) for counts shifted
+    /// left by `shift`, with the rule's amplitude and tolerance: the std's for a measured
+    /// amplitude ([`fixed_monitor_amplitude`], [`fixed_magnitude_tolerance`]).
+    ///
+    /// [`fixed_monitor_amplitude`]: crate::fixed_monitor_amplitude
+    /// [`fixed_magnitude_tolerance`]: crate::fixed_magnitude_tolerance
+    pub(super) fn measured(thresholds: &FaultThresholds<f64>, shift: u32) -> Self {
+        let nominal = thresholds.nominal_amplitude;
+        Self {
+            amplitude: crate::fixed_monitor_amplitude(nominal, shift),
+            tolerance: crate::fixed_magnitude_tolerance(nominal, shift),
+            tracking_error: Self::level(thresholds),
+        }
+    }
+
+    /// The tracking-error level of `thresholds` where it departs from the default.
+    fn level(thresholds: &FaultThresholds<f64>) -> Option<f64> {
+        let default = FaultThresholds::for_amplitude(thresholds.nominal_amplitude);
+        (thresholds.tracking_error != default.tracking_error).then_some(thresholds.tracking_error)
+    }
+
+    /// `gains` with this monitor: its amplitude and tolerance, then its tracking-error
+    /// level (after: `with_monitor_tolerance` sets the default one).
+    pub(super) fn apply<const N: usize>(
+        &self,
+        gains: FixedGains<N>,
+    ) -> Result<FixedGains<N>, ConfigError> {
+        let gains = gains.with_monitor_tolerance(Some(self.amplitude), self.tolerance)?;
+        match self.tracking_error {
+            Some(level) => gains.with_tracking_error(level),
+            None => Ok(gains),
+        }
+    }
 }
 
 /// A refusal naming the file's `field`.
@@ -24,14 +64,14 @@ pub(super) fn refuse(file: &str, field: &str, why: impl Into<String>) -> Firmwar
 impl TrackerFile {
     /// The fixed-point monitor of the file's stated thresholds for counts shifted left by
     /// `shift` (`None` without thresholds). The fixed-point monitor takes the nominal
-    /// amplitude and the roundness tolerance only ([`FixedGains::with_monitor_tolerance`]):
+    /// amplitude, the roundness tolerance ([`FixedGains::with_monitor_tolerance`]) and the
+    /// per-sample tracking-error level ([`FixedGains::with_tracking_error`]) only:
     /// another field away from the stated amplitude's default is refused, naming it. The
     /// amplitude in the 16-bit samples is the std's rule ([`fixed_monitor_amplitude`]);
     /// where it moved the amplitude into the monitor's range, the signal's magnitude is not
     /// the nominal one and no roundness check runs ([`fixed_magnitude_tolerance`]);
     /// elsewhere the file's `magnitude_tolerance`.
     ///
-    /// [`FixedGains::with_monitor_tolerance`]: angletrack_core::FixedGains::with_monitor_tolerance
     /// [`fixed_monitor_amplitude`]: crate::fixed_monitor_amplitude
     /// [`fixed_magnitude_tolerance`]: crate::fixed_magnitude_tolerance
     pub(super) fn fixed_monitor(
@@ -58,7 +98,6 @@ impl TrackerFile {
                 "loss_of_tracking",
                 th.loss_of_tracking != d.loss_of_tracking,
             ),
-            ("tracking_error", th.tracking_error != d.tracking_error),
             ("max_speed_rad_s", th.max_speed != d.max_speed),
             ("filter_factor", th.filter_factor != d.filter_factor),
             ("false_lock", th.false_lock != d.false_lock),
@@ -69,9 +108,23 @@ impl TrackerFile {
             return Err(refuse(
                 file,
                 &format!("fault_thresholds.{field}"),
-                "the fixed-point monitor takes nominal_amplitude and magnitude_tolerance \
-                 only: leave it out (its default for the nominal amplitude)",
+                "the fixed-point monitor takes nominal_amplitude, magnitude_tolerance and \
+                 tracking_error only: leave it out (its default for the nominal amplitude)",
             ));
+        }
+        let tracking_error = FixedMonitor::level(th);
+        if let Some(level) = tracking_error {
+            let q15 = (level * 32768.0).round();
+            if !(1.0..=f64::from(MAX_TRACKING_ERROR_Q15)).contains(&q15) {
+                return Err(refuse(
+                    file,
+                    "fault_thresholds.tracking_error",
+                    format!(
+                        "the fixed-point monitor holds the level in Q15: from 2^-16 to {}/32768",
+                        MAX_TRACKING_ERROR_Q15
+                    ),
+                ));
+            }
         }
         // The default tolerance is the rule's (0.1 in `f64`, where the file's default is the
         // `f32` value the floats share).
@@ -83,6 +136,7 @@ impl TrackerFile {
             } else {
                 rule.and(th.magnitude_tolerance)
             },
+            tracking_error,
         }))
     }
 

@@ -388,7 +388,8 @@ fn sin_cos_names_read_back() {
 
 /// Every threshold reaches the firmware: the float chain's `static` sets each field (the
 /// roundness check's tolerance too, `None` as `None`); the fixed-point monitor takes the
-/// nominal amplitude and the tolerance, and refuses another field naming it.
+/// nominal amplitude, the tolerance and the tracking-error level (the C words' 9th), and
+/// refuses another field naming it.
 #[test]
 fn the_exports_write_every_threshold_and_refuse_what_fixed_point_cannot_hold() {
     let mut tracker = TrackerFile::new(gains());
@@ -420,17 +421,37 @@ fn the_exports_write_every_threshold_and_refuse_what_fixed_point_cannot_hold() {
         .unwrap()
         .monitor_words();
     let words: Vec<String> = monitor.iter().map(|w| w.to_string()).collect();
-    assert!(c.contains(&words[..8].join(", ")), "{c}");
+    assert!(c.contains(&words.join(", ")), "{c}");
     tracker.fault_thresholds = fixed(None);
     assert!(rust(&tracker).unwrap().contains(", None))"));
+    // A noisy sensor's level (8 times 1 % noise): 2621 in Q15, in both exports.
     tracker.fault_thresholds = fixed(Some(0.1)).map(|t| t.with_tracking_error(0.08));
+    let text = rust(&tracker).unwrap();
+    assert!(text.contains(".with_tracking_error(8e-02))"), "{text}");
+    let c = tracker
+        .firmware_constants("t.json", Language::C, "motor")
+        .unwrap();
+    assert!(c.contains(", 1073741824, 2621}"), "{c}");
+    tracker.fault_thresholds = fixed(Some(0.1)).map(|t| t.with_tracking_error(1.5));
+    for language in [Language::C, Language::Rust] {
+        let e = tracker
+            .firmware_constants("t.json", language, "motor")
+            .unwrap_err();
+        assert!(
+            e.to_string().starts_with(
+                "t.json: fault_thresholds.tracking_error: the fixed-point monitor holds"
+            ),
+            "{e}"
+        );
+    }
+    tracker.fault_thresholds = fixed(Some(0.1)).map(|t| t.with_filter_factor(0.5));
     for language in [Language::C, Language::Rust] {
         let e = tracker
             .firmware_constants("t.json", language, "motor")
             .unwrap_err();
         assert!(
             e.to_string()
-                .starts_with("t.json: fault_thresholds.tracking_error: the fixed-point monitor"),
+                .starts_with("t.json: fault_thresholds.filter_factor: the fixed-point monitor"),
             "{e}"
         );
     }

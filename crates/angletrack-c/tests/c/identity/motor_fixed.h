@@ -57,7 +57,7 @@ static const at_angle_table_fixed motor_fixed_table = {{-39, -48, -57, -66, -74,
     100, 94, 87, 79, 71, 63, 54, 46, 36, 27, 18, 8, -1, -11, -21, -30}};
 static const at_chain_fixed_constants motor_fixed_chain = {
     {{66675744, 1666807, 341344250}, 3, 1, 5e-5},
-    {1, 25920000, 103680000, 933120000, 335923200, 501811200, 104864, 1073741824},
+    {1, 25920000, 103680000, 933120000, 335923200, 501811200, 104864, 1073741824, 1638},
     &motor_fixed_adc,
     &motor_fixed_calibration_q14,
     &motor_fixed_table,

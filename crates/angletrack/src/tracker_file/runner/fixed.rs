@@ -97,16 +97,14 @@ where
                     .shift
             }
         };
-        // Stated thresholds: the export's monitor; measured: the capture's amplitude, by
-        // the same rule.
-        let nominal = thresholds(file, head, Some(mid)).nominal_amplitude;
+        // Stated thresholds: the export's monitor; measured: the capture's amplitude and
+        // tracking-error level (above its noise, as the floats'), by the same rule.
+        let measured = thresholds(file, head, Some(mid));
+        let nominal = measured.nominal_amplitude;
         let monitor = file
             .fixed_monitor(name, shift)
             .map_err(|e| file_error(name, e))?
-            .unwrap_or(FixedMonitor {
-                amplitude: crate::fixed_monitor_amplitude(nominal, shift),
-                tolerance: crate::fixed_magnitude_tolerance(nominal, shift),
-            });
+            .unwrap_or_else(|| FixedMonitor::measured(&measured, shift));
         let (rails, _) = file.rails(name, true).map_err(|e| file_error(name, e))?;
         let calibration = file.fixed_calibration(name, shift)?.map(|(_, c)| c);
         let correction = file.fixed_correction(name)?;
@@ -124,7 +122,7 @@ where
         }
         values.copy_from_slice(&file.gains.gains);
         let gains = FixedGains::<N>::new(values, file.gains.sample_period_s)
-            .and_then(|g| g.with_monitor_tolerance(Some(monitor.amplitude), monitor.tolerance))
+            .and_then(|g| monitor.apply(g))
             .map_err(field("gains"))?;
         Ok(Self {
             tracker: Tracker::new(front_end, gains),

@@ -167,6 +167,12 @@ fn the_sensor_model_maps_onto_the_core_calibration() {
 #[test]
 fn a_noisy_sensor_is_not_flagged_with_the_thresholds_measured_on_it() {
     use crate::tracker_file::{CaptureHead, TrackerFile, TrackerRun};
+    let healthy = SensorModel {
+        amplitude: AMPLITUDE,
+        noise_std: 0.01 * AMPLITUDE,
+        ..SensorModel::default()
+    };
+    let _ = healthy;
     let scenario = constant_speed(&imperfect_sensor());
     let (y_c, y_s): (Vec<f64>, Vec<f64>) = scenario
         .y_c
@@ -223,4 +229,86 @@ fn a_noisy_sensor_is_not_flagged_with_the_thresholds_measured_on_it() {
     let mut run = TrackerRun::new(&file, "t.json", &head).unwrap();
     run.track(&fast.y_c, &fast.y_s);
     assert_eq!(run.latched_faults().0, Faults::LOSS_OF_TRACKING);
+}
+
+/// The rows a healthy sensor's capture (1800 counts, round, Gaussian noise of
+/// `noise_fraction` of the amplitude, 60 turns at 10 Hz) as 12-bit counts flags in fixed
+/// point (`number_type: "fixed"`, as `angletrack track` tracks them): the level measured on
+/// it, the rows flagged with the thresholds measured (none stated), with the default ones
+/// at the measured level, and at the default level (0.05), each with the faults latched.
+fn fixed_point_flags(noise_fraction: f64) -> (f64, [(usize, Faults); 3]) {
+    use crate::tracker_file::{CaptureHead, Input, NumberType, TrackerFile, TrackerRun};
+    let healthy = SensorModel {
+        amplitude: AMPLITUDE,
+        noise_std: noise_fraction * AMPLITUDE,
+        ..SensorModel::default()
+    };
+    let scenario = constant_speed(&healthy);
+    let (y_c, y_s): (Vec<f64>, Vec<f64>) = scenario
+        .y_c
+        .iter()
+        .zip(&scenario.y_s)
+        .map(|(c, s)| (c.round(), s.round()))
+        .unzip();
+    let measured = capture_fault_thresholds(&y_c, &y_s);
+    let head = CaptureHead {
+        y_c: &y_c,
+        y_s: &y_s,
+        counts: None,
+    };
+    let file = TrackerFile {
+        number_type: NumberType::Fixed,
+        input: Input::Bits {
+            bits: 12,
+            signed: true,
+        },
+        ..TrackerFile::new(crate::export::GainsFile {
+            gains: BENCHMARK_KALMAN_GAINS.to_vec(),
+            sample_period_s: BENCHMARK_SAMPLE_PERIOD_S,
+            design: None,
+        })
+    };
+    let flagged = |fault_thresholds| {
+        let file = TrackerFile {
+            fault_thresholds,
+            ..file.clone()
+        };
+        let mut run = TrackerRun::new(&file, "t.json", &head).unwrap();
+        assert!(run.is_fixed());
+        let rows = run.track(&y_c, &y_s);
+        let flagged = rows.faults.iter().filter(|&&f| f != 0).count();
+        (flagged, run.latched_faults().0)
+    };
+    let stated = FaultThresholds::for_amplitude(measured.nominal_amplitude);
+    let level = measured.tracking_error;
+    let runs = [
+        flagged(None),
+        flagged(Some(stated.with_tracking_error(level))),
+        flagged(Some(stated)),
+    ];
+    (level, runs)
+}
+
+/// A healthy sensor with noise tracked in fixed point with the thresholds measured on its
+/// capture: the fixed-point monitor takes the floats' level (8 times the angle noise,
+/// `FaultThresholds::with_tracking_error_above_noise`), as the file's stated level, and
+/// nothing is flagged or latched (the start-up is never flagged). With 1 % noise the level
+/// is 0.080 (2627 in Q15) and the default 0.05 is about 5 standard deviations of the
+/// residual: over these 60 turns neither flags a row (the largest residual is 0.043). With
+/// 2 % noise (level 0.16) the default level flags about a thousand rows (1048) and latches
+/// loss of tracking; the measured level none.
+#[test]
+fn a_noisy_sensor_in_fixed_point_is_not_flagged_with_the_thresholds_measured_on_it() {
+    let none = (0, Faults::NONE);
+    let (level, [measured, stated, default]) = fixed_point_flags(0.01);
+    assert!((level - 0.080).abs() < 0.004, "{level}");
+    assert_eq!((measured, stated, default), (none, none, none));
+    let (level, [measured, stated, default]) = fixed_point_flags(0.02);
+    assert!((level - 0.16).abs() < 0.008, "{level}");
+    assert_eq!((measured, stated), (none, none));
+    println!("2 % noise, default level: {default:?}");
+    assert!(
+        default.0 > 500 && default.1 == Faults::LOSS_OF_TRACKING,
+        "{default:?}"
+    );
 }

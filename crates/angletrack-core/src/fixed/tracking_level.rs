@@ -32,6 +32,22 @@ impl<const N: usize> FixedGains<N> {
     /// let err = gains.with_tracking_error(0.0).unwrap_err();
     /// assert_eq!(err.parameter(), Parameter::TrackingErrorThreshold);
     /// assert!(gains.with_tracking_error(1.0).is_err());
+    ///
+    /// // A firmware's static, checked when it compiles.
+    /// static NOISY: FixedGains<2> = match FixedGains::<2>::from_constants(
+    ///     angletrack_core::fixed::FixedConstants {
+    ///         multiplier: [68_356_528, 1_640_557],
+    ///         acceleration_shift: 0,
+    ///     },
+    ///     1e-4,
+    /// ) {
+    ///     Ok(gains) => match gains.with_tracking_error(0.08) {
+    ///         Ok(gains) => gains,
+    ///         Err(_) => panic!("the level is refused"),
+    ///     },
+    ///     Err(_) => panic!("unstable gains"),
+    /// };
+    /// assert_eq!(NOISY.monitor_words()[8], 2621);
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
     pub const fn with_tracking_error(self, level: f64) -> Result<Self, ConfigError> {

@@ -21,9 +21,10 @@ pub(super) struct FixedMonitor {
 }
 
 impl FixedMonitor {
-    /// The monitor of `thresholds` (stated or measured on the capture) for counts shifted
-    /// left by `shift`, with the rule's amplitude and tolerance: the std's for a measured
-    /// amplitude ([`fixed_monitor_amplitude`], [`fixed_magnitude_tolerance`]).
+    /// The monitor of `thresholds` measured on the capture, for counts shifted left by
+    /// `shift`: the std's amplitude and tolerance for its amplitude
+    /// ([`fixed_monitor_amplitude`], [`fixed_magnitude_tolerance`]) and its tracking-error
+    /// level, the floats' own.
     ///
     /// [`fixed_monitor_amplitude`]: crate::fixed_monitor_amplitude
     /// [`fixed_magnitude_tolerance`]: crate::fixed_magnitude_tolerance

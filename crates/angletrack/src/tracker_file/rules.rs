@@ -22,9 +22,13 @@ pub(super) struct FixedMonitor {
 
 impl FixedMonitor {
     /// The monitor of `thresholds` measured on the capture, for counts shifted left by
-    /// `shift`: the std's amplitude and tolerance for its amplitude
-    /// ([`fixed_monitor_amplitude`], [`fixed_magnitude_tolerance`]) and its tracking-error
-    /// level, the floats' own.
+    /// `shift`: the std's amplitude for its amplitude ([`fixed_monitor_amplitude`]), the
+    /// floats' roundness check (none on a measured amplitude: the pair before any
+    /// calibration need not be round; [`capture_fault_thresholds`]) where the fixed-point
+    /// monitor can hold one ([`fixed_magnitude_tolerance`]), and the floats' tracking-error
+    /// level.
+    ///
+    /// [`capture_fault_thresholds`]: crate::capture_fault_thresholds
     ///
     /// [`fixed_monitor_amplitude`]: crate::fixed_monitor_amplitude
     /// [`fixed_magnitude_tolerance`]: crate::fixed_magnitude_tolerance
@@ -32,7 +36,9 @@ impl FixedMonitor {
         let nominal = thresholds.nominal_amplitude;
         Self {
             amplitude: crate::fixed_monitor_amplitude(nominal, shift),
-            tolerance: crate::fixed_magnitude_tolerance(nominal, shift),
+            tolerance: thresholds
+                .magnitude_tolerance
+                .filter(|_| crate::fixed_magnitude_tolerance(nominal, shift).is_some()),
             tracking_error: Self::level(thresholds),
         }
     }

@@ -237,13 +237,18 @@ fn a_noisy_sensor_is_not_flagged_with_the_thresholds_measured_on_it() {
 /// it, the rows flagged with the thresholds measured (none stated), with the default ones
 /// at the measured level, and at the default level (0.05), each with the faults latched.
 fn fixed_point_flags(noise_fraction: f64) -> (f64, [(usize, Faults); 3]) {
-    use crate::tracker_file::{CaptureHead, Input, NumberType, TrackerFile, TrackerRun};
     let healthy = SensorModel {
         amplitude: AMPLITUDE,
         noise_std: noise_fraction * AMPLITUDE,
         ..SensorModel::default()
     };
-    let scenario = constant_speed(&healthy);
+    fixed_point_flags_of(&healthy)
+}
+
+/// [`fixed_point_flags`] of the capture of `sensor`.
+fn fixed_point_flags_of(sensor: &SensorModel) -> (f64, [(usize, Faults); 3]) {
+    use crate::tracker_file::{CaptureHead, Input, NumberType, TrackerFile, TrackerRun};
+    let scenario = constant_speed(sensor);
     let (y_c, y_s): (Vec<f64>, Vec<f64>) = scenario
         .y_c
         .iter()
@@ -309,6 +314,22 @@ fn a_noisy_sensor_in_fixed_point_is_not_flagged_with_the_thresholds_measured_on_
     println!("2 % noise, default level: {default:?}");
     assert!(
         default.0 > 500 && default.1 == Faults::LOSS_OF_TRACKING,
+        "{default:?}"
+    );
+}
+
+/// The uncalibrated imperfect sensor (offsets 5 %, imbalance 10 %, quadrature 3 degrees,
+/// 1 % noise) in fixed point with the thresholds measured on its capture: nothing flagged
+/// or latched, as in `f32`. The measured thresholds state no roundness check (the pair
+/// before a calibration need not be round) and the fixed-point monitor takes none either;
+/// with the stated default thresholds, whose roundness check the imbalance leaves, rows
+/// are flagged.
+#[test]
+fn an_uncalibrated_sensor_in_fixed_point_is_not_flagged_with_the_thresholds_measured_on_it() {
+    let (_, [measured, _, default]) = fixed_point_flags_of(&imperfect_sensor());
+    assert_eq!(measured, (0, Faults::NONE));
+    assert!(
+        default.1.contains(Faults::DEGRADATION_OF_SIGNAL),
         "{default:?}"
     );
 }

@@ -45,10 +45,11 @@ where
     /// for a firmware. Checked by integer comparisons only (the sample period by its
     /// bits): the ranges of [`FixedGains::from_constants`] and thresholds in order, each
     /// refusal naming the parameter (with the monitor on, a tracking-error level from 1 to
-    /// [`MAX_TRACKING_ERROR_Q15`]; with it off, that word is not read).
+    /// [`MAX_TRACKING_ERROR_Q15`]; with it off, that word is not read). The loop's
+    /// stability is a float computation, so it is not checked again here: take words a
+    /// checked [`FixedGains`] gave.
     ///
-    /// [`MAX_TRACKING_ERROR_Q15`]: super::MAX_TRACKING_ERROR_Q15 The loop's stability is a float computation, so it is
-    /// not checked again here: take words a checked [`FixedGains`] gave.
+    /// [`MAX_TRACKING_ERROR_Q15`]: crate::fixed::MAX_TRACKING_ERROR_Q15
     ///
     /// ```
     /// use angletrack_core::{FixedGains, Parameter};

@@ -9,8 +9,8 @@
 # downloads). Each lane is a chain of steps; cargo's lock on a build directory makes the two
 # lanes' builds in one profile wait for each other, so they share the cores where one lane
 # alone would leave one idle. The lanes balance the steps' measured times; a new step must be
-# placed in one. 15-publish follows 10-rust: its checks of the packages use the dependencies
-# 10-rust's lints checked.
+# placed in one. 15-publish ends the second lane: by then 10-rust's lints have checked the
+# dependencies its checks of the packages reuse.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/lib.sh
@@ -18,8 +18,8 @@ export CARGO_TERM_COLOR="${CARGO_TERM_COLOR:-never}"
 only="${1:-}"
 start=$(date +%s)
 lanes=(
-  "10-rust 15-publish 20-python"
-  "12-msrv 16-c-api 30-firmware 40-robustness"
+  "10-rust 20-python"
+  "12-msrv 16-c-api 30-firmware 40-robustness 15-publish"
 )
 
 steps_of_lane() { # $1: the lane's step names; prints the lane's scripts that match $only

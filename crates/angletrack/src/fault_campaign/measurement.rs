@@ -45,6 +45,22 @@ pub struct CaseResult {
     pub half_turn_unresolved: usize,
 }
 
+impl CaseResult {
+    /// The result of `case` before any sample is judged.
+    pub fn new(case: Case) -> Self {
+        Self {
+            case,
+            samples: 0,
+            wrong: 0,
+            wrong_flagged: 0,
+            flagged: 0,
+            latched: false,
+            latency: None,
+            half_turn_unresolved: 0,
+        }
+    }
+}
+
 /// One sample's outcome: the angle error (rad, wrapped to +-pi) and whether it was flagged.
 type Outcome = (f64, bool);
 
@@ -147,16 +163,7 @@ pub fn run_case(case: Case, theta: &[f64], y_c: &[f64], y_s: &[f64], seed: u64) 
     let mut injector = Injector::new(case.fault, onset, case.setup.sensor, seed);
     let clip_units = case.fault == FaultKind::Clipping;
     let pairs = (0..SAMPLES.min(theta.len())).map(|k| injector.inject(k, y_c[k], y_s[k]));
-    let mut result = CaseResult {
-        case,
-        samples: 0,
-        wrong: 0,
-        wrong_flagged: 0,
-        flagged: 0,
-        latched: false,
-        latency: None,
-        half_turn_unresolved: 0,
-    };
+    let mut result = CaseResult::new(case);
     let mut judge = |k: usize, (error, flagged): Outcome| {
         if flagged && k >= onset && result.latency.is_none() {
             result.latency = Some(k - onset);

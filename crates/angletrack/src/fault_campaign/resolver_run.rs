@@ -113,16 +113,7 @@ pub fn run_windings(case: Case, raw: &Windings, scenario: &ResolverScenario) -> 
     let adc_hz = CARRIER_HZ * SAMPLES_PER_PERIOD as f64;
     let tracker = tracker();
     let mut state = TrackerState::new();
-    let mut result = CaseResult {
-        case,
-        samples: 0,
-        wrong: 0,
-        wrong_flagged: 0,
-        flagged: 0,
-        latched: false,
-        latency: None,
-        half_turn_unresolved: 0,
-    };
+    let mut result = CaseResult::new(case);
     for k in 0..pairs.y_c.len() {
         let faults = FrontEndFaults::from_bits(pairs.faults[k]);
         let e = tracker.update(&mut state, ((pairs.y_c[k], pairs.y_s[k]), faults));

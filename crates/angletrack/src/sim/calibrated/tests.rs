@@ -159,6 +159,18 @@ fn the_sensor_model_maps_onto_the_core_calibration() {
     assert_eq!(err.argument(), Some(Argument::QuadratureError));
 }
 
+/// The capture of `sensor` at [`constant_speed`] as an ADC gives it: each sample rounded
+/// to its count.
+fn counts_of(sensor: &SensorModel) -> (Vec<f64>, Vec<f64>) {
+    let scenario = constant_speed(sensor);
+    scenario
+        .y_c
+        .iter()
+        .zip(&scenario.y_s)
+        .map(|(c, s)| (c.round(), s.round()))
+        .unzip()
+}
+
 /// The sensor, uncalibrated, with 1 % noise, tracked as `angletrack track` tracks
 /// its counts (`TrackerRun`, thresholds measured on the capture): the tracking-error level
 /// follows its noise (8 times its angle noise, about 0.0095 rad), and no sample is flagged
@@ -167,19 +179,7 @@ fn the_sensor_model_maps_onto_the_core_calibration() {
 #[test]
 fn a_noisy_sensor_is_not_flagged_with_the_thresholds_measured_on_it() {
     use crate::tracker_file::{CaptureHead, TrackerFile, TrackerRun};
-    let healthy = SensorModel {
-        amplitude: AMPLITUDE,
-        noise_std: 0.01 * AMPLITUDE,
-        ..SensorModel::default()
-    };
-    let _ = healthy;
-    let scenario = constant_speed(&imperfect_sensor());
-    let (y_c, y_s): (Vec<f64>, Vec<f64>) = scenario
-        .y_c
-        .iter()
-        .zip(&scenario.y_s)
-        .map(|(c, s)| (c.round(), s.round()))
-        .unzip();
+    let (y_c, y_s) = counts_of(&imperfect_sensor());
     let measured = capture_fault_thresholds(&y_c, &y_s);
     let noise = angle_noise(&y_c, &y_s).unwrap();
     assert!((noise - 0.0095).abs() < 5e-4, "{noise}");
@@ -248,13 +248,7 @@ fn fixed_point_flags(noise_fraction: f64) -> (f64, [(usize, Faults); 3]) {
 /// [`fixed_point_flags`] of the capture of `sensor`.
 fn fixed_point_flags_of(sensor: &SensorModel) -> (f64, [(usize, Faults); 3]) {
     use crate::tracker_file::{CaptureHead, Input, NumberType, TrackerFile, TrackerRun};
-    let scenario = constant_speed(sensor);
-    let (y_c, y_s): (Vec<f64>, Vec<f64>) = scenario
-        .y_c
-        .iter()
-        .zip(&scenario.y_s)
-        .map(|(c, s)| (c.round(), s.round()))
-        .unzip();
+    let (y_c, y_s) = counts_of(sensor);
     let measured = capture_fault_thresholds(&y_c, &y_s);
     let head = CaptureHead {
         y_c: &y_c,

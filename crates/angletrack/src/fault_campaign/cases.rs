@@ -373,37 +373,29 @@ impl Case {
 /// listed from them, not measured): the pairs' cases, the healthy ones first, then the
 /// resolver's (on [`super::resolver::SPEEDS`]).
 pub fn all_cases() -> Vec<Case> {
+    // The pairs' speeds and setups, then the resolver's: a resolver's setups take only the
+    // carrier faults, none of them a motion fault.
+    let kinds: [(&[Speed], &[Setup]); 2] = [
+        (&Speed::ALL, &Setup::ALL),
+        (&super::resolver::SPEEDS, &Setup::RESOLVER),
+    ];
     let mut cases = Vec::new();
-    for fault in FaultKind::all() {
-        for &onset in fault.onsets() {
-            for speed in Speed::ALL {
-                if fault.is_motion() && speed.constant().is_none() {
-                    continue;
-                }
-                for setup in Setup::ALL {
-                    if setup.takes(fault) {
-                        cases.push(Case {
-                            fault,
-                            onset,
-                            speed,
-                            setup,
-                        });
+    for (speeds, setups) in kinds {
+        for fault in FaultKind::all() {
+            for &onset in fault.onsets() {
+                for &speed in speeds {
+                    if fault.is_motion() && speed.constant().is_none() {
+                        continue;
                     }
-                }
-            }
-        }
-    }
-    for fault in FaultKind::all() {
-        for &onset in fault.onsets() {
-            for speed in super::resolver::SPEEDS {
-                for setup in Setup::RESOLVER {
-                    if setup.takes(fault) {
-                        cases.push(Case {
-                            fault,
-                            onset,
-                            speed,
-                            setup,
-                        });
+                    for &setup in setups {
+                        if setup.takes(fault) {
+                            cases.push(Case {
+                                fault,
+                                onset,
+                                speed,
+                                setup,
+                            });
+                        }
                     }
                 }
             }

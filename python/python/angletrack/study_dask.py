@@ -50,13 +50,17 @@ RETRIES = 2
 #: machine's cores with the runs: the periodic work of each process made rarer, since what
 #: it serves does not help independent tasks sent a few at a time (the event loop's check
 #: for a blocked loop, the dashboard's system monitor, work stealing: the scheduler's queue
-#: gives each free worker the next task; the memory monitor ten times a second). The
-#: study_scale script prints the client's share of a core.
+#: gives each free worker the next task; the memory monitor ten times a second), and the
+#: workers' statistical profiler off: it samples the task's thread a hundred times a second
+#: for the dashboard, and with it a run beside another took 1.14x to 1.18x as long as alone
+#: (1.04x without; python/scripts/study_scale.py). The script prints the client's share of a
+#: core.
 LOCAL_CONFIG = {
     "distributed.admin.tick.interval": "1s",
     "distributed.admin.system-monitor.interval": "5s",
     "distributed.scheduler.work-stealing": False,
     "distributed.worker.memory.monitor-interval": "1s",
+    "distributed.worker.profile.enabled": False,
 }
 #: The key of the Parquet schema's metadata holding what the rows were computed from.
 SOURCE_KEY = b"angletrack-source"

@@ -59,6 +59,33 @@ impl CaseResult {
             half_turn_unresolved: 0,
         }
     }
+
+    /// Judges sample (or pair) `k` of the case, its fault starting at `onset`, the samples
+    /// before `start_up` not judged: its angle error `error` (rad, wrapped; modulo a half
+    /// turn where `unresolved`), whether it was `flagged`, and whether it is marked half
+    /// turn `unresolved` (which reveals it, for the coverage and the latency, but is not a
+    /// false alarm).
+    pub(super) fn judge(
+        &mut self,
+        k: usize,
+        (onset, start_up): (usize, usize),
+        error: f64,
+        (flagged, unresolved): (bool, bool),
+    ) {
+        if (flagged || unresolved) && k >= onset && self.latency.is_none() {
+            self.latency = Some(k - onset);
+        }
+        // Before a mid-run onset the run is its healthy twin's: judged there, not here.
+        if k < start_up.max(onset) {
+            return;
+        }
+        let wrong = error.abs() > ERROR_BOUND_RAD;
+        self.samples += 1;
+        self.wrong += usize::from(wrong);
+        self.wrong_flagged += usize::from(wrong && (flagged || unresolved));
+        self.flagged += usize::from(flagged);
+        self.half_turn_unresolved += usize::from(unresolved);
+    }
 }
 
 /// One sample's outcome: the angle error (rad, wrapped to +-pi) and whether it was flagged.
@@ -165,18 +192,7 @@ pub fn run_case(case: Case, theta: &[f64], y_c: &[f64], y_s: &[f64], seed: u64) 
     let pairs = (0..SAMPLES.min(theta.len())).map(|k| injector.inject(k, y_c[k], y_s[k]));
     let mut result = CaseResult::new(case);
     let mut judge = |k: usize, (error, flagged): Outcome| {
-        if flagged && k >= onset && result.latency.is_none() {
-            result.latency = Some(k - onset);
-        }
-        // Before a mid-run onset the run is its healthy twin's: judged there, not here.
-        if k < START_UP.max(onset) {
-            return;
-        }
-        let wrong = error.abs() > ERROR_BOUND_RAD;
-        result.samples += 1;
-        result.wrong += usize::from(wrong);
-        result.wrong_flagged += usize::from(wrong && flagged);
-        result.flagged += usize::from(flagged);
+        result.judge(k, (onset, START_UP), error, (flagged, false));
     };
     let latched = match (case.setup.number, case.setup.sensor) {
         (NumberType::F32, sensor) => {

@@ -19,7 +19,7 @@ use super::resolver::{
     CARRIER_AMPLITUDE_COUNTS, CARRIER_HZ, MID_RUN_PERIODS, ResolverKind, ResolverScenario,
     SAMPLES_PER_PERIOD, START_UP_PAIRS, WINDING_DELAY_RAD, Windings, windings,
 };
-use super::{ERROR_BOUND_RAD, GAINS, HEALTHY_SENSOR};
+use super::{GAINS, HEALTHY_SENSOR};
 use crate::{DemodulatorArguments, DemodulatorStream};
 
 /// `x` (rad) wrapped to [-pi, pi).
@@ -123,24 +123,13 @@ pub fn run_windings(case: Case, raw: &Windings, scenario: &ResolverScenario) -> 
             state.observer.clear_faults();
             state.front_end.clear_faults();
         }
-        if (flagged || unresolved) && k >= onset && result.latency.is_none() {
-            result.latency = Some(k - onset);
-        }
-        if k < START_UP_PAIRS.max(onset) {
-            continue;
-        }
         let error = wrapped(e.angle - scenario.angle_at(pairs.time_s[k] * adc_hz));
         let error = if unresolved {
             within_half_turn(error)
         } else {
             error
         };
-        let wrong = error.abs() > ERROR_BOUND_RAD;
-        result.samples += 1;
-        result.wrong += usize::from(wrong);
-        result.wrong_flagged += usize::from(wrong && (flagged || unresolved));
-        result.flagged += usize::from(flagged);
-        result.half_turn_unresolved += usize::from(unresolved);
+        result.judge(k, (onset, START_UP_PAIRS), error, (flagged, unresolved));
     }
     result.latched =
         !state.observer.latched_faults().is_empty() || !state.front_end.latched_faults().is_empty();

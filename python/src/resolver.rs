@@ -78,11 +78,13 @@ class_methods! {
         has_excitation: bool = |this, py| this.stream.state().has_excitation();
         /// `True` if `expected_delay_rad` was given (the half turn resolved around it).
         is_delay_stated: bool = |this, py| this.stream.is_delay_stated();
-        /// The carrier delay chosen (rad, in [-pi, pi)): after the excitation if pushed, else
-        /// the carrier's phase at the first sample resolved around `expected_delay_rad` (the
+        /// The carrier delay chosen (rad, in [-pi, pi), positive when the windings lag): after
+        /// the excitation if pushed, else after a carrier of phase 0 at the first sample,
+        /// resolved around `expected_delay_rad` (the
         /// other half turn would give the shaft half a turn further).
         carrier_delay_rad: f64 = |this, py| this.stream.state().carrier_delay_rad();
-        /// The carrier's phase at the first sample chosen at start-up (rad, in [-pi, pi)).
+        /// The windings' delay after a carrier of phase 0 at the first sample, chosen at
+        /// start-up (rad, in [-pi, pi)).
         startup_delay_rad: f64 = |this, py| this.stream.state().startup_delay_rad();
         /// The front-end faults latched so far (bits, as `DemodulatedPairs.faults`), the
         /// clipping against the measured rails included.

@@ -23,15 +23,15 @@ def wrapped(a):
 
 
 def windings(duration_s, fault=None, theta0=0.3, seed=2, carrier_hz=CARRIER_HZ, adc_hz=ADC_HZ,
-             delay_deg=-20.0, noise_counts=1.0):
+             delay_deg=20.0, noise_counts=1.0):
     """Raw windings of a resolver at 50 rev/s: a 10 kHz sine carrier sampled at 160 kHz by
-    a 12-bit ADC (mid-scale 2048, amplitude 1800 counts, carrier delay 20 degrees behind
+    a 12-bit ADC (mid-scale 2048, amplitude 1800 counts, carrier delay ``delay_deg`` behind
     phase 0, noise 1 count RMS, rounded); ``fault(t, c, s)`` rewrites the carrier-modulated
     windings."""
     rng = np.random.default_rng(seed)
     t = np.arange(int(round(duration_s * adc_hz))) / adc_hz
     theta = theta0 + OMEGA * t
-    carrier = np.sin(2 * math.pi * carrier_hz * t + math.radians(delay_deg))
+    carrier = np.sin(2 * math.pi * carrier_hz * t - math.radians(delay_deg))
     c, s = 1800.0 * np.cos(theta) * carrier, 1800.0 * np.sin(theta) * carrier
     if fault is not None:
         c, s = fault(t, c, s)

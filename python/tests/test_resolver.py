@@ -56,8 +56,10 @@ def test_demodulator_estimates_the_delay_and_stamps_the_window_centres():
     # The first pair after the 23 start-up windows; at 16 samples a period each holds at the
     # centroid of its trapezoid window (a period and the quarters around it: 20 samples, the
     # centroid 9.5 after the first) to within the loop's phase noise (measured: 0.002
-    # samples), the windows cut at the tracked carrier's phase, one period apart.
-    assert pairs.window[0] == 23 and len(pairs) == 100 - 23
+    # samples), the windows cut at the tracked carrier's phase, one period apart; the 77th
+    # window, cut there with the carrier 305 degrees behind phase 0, ends past the 1601
+    # samples.
+    assert pairs.window[0] == 23 and len(pairs) == 100 - 24
     offset = pairs.time_s * 160e3 - 9.5
     np.testing.assert_allclose(offset, np.round(offset), atol=0.01)
     np.testing.assert_allclose(np.diff(pairs.time_s), 1e-4, rtol=1e-3)

@@ -230,7 +230,7 @@ fn demodulator_inputs(y_c: &[f32], y_s: &[f32]) -> (Vec<f32>, Vec<f32>) {
             let phase =
                 std::f64::consts::TAU * (j % SAMPLES_PER_PERIOD) as f64 / SAMPLES_PER_PERIOD as f64;
             let carrier =
-                f64::from(CARRIER_AMPLITUDE_COUNTS) * (phase + f64::from(CARRIER_DELAY_RAD)).sin();
+                f64::from(CARRIER_AMPLITUDE_COUNTS) * (phase - f64::from(CARRIER_DELAY_RAD)).sin();
             let code = |y: f32| (2048.0 + f64::from(y) * carrier).round() as f32;
             (code(y_c[k]), code(y_s[k]))
         })

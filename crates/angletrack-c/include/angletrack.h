@@ -759,8 +759,9 @@ typedef struct at_demodulator_settings_f32 {
    */
   float phase_drift_bound_rad;
   /**
-   * The carrier delay (rad) the half turn is resolved around (default 0): after the
-   * excitation when its samples are pushed, else the carrier's phase at the first sample.
+   * The carrier delay (rad, positive when the windings lag) the half turn is resolved
+   * around (default 0): after the excitation when its samples are pushed, else after a
+   * carrier of phase 0 at the first sample.
    */
   float expected_delay_rad;
   /**
@@ -1876,7 +1877,7 @@ uint32_t at_demodulator_f32_push_with_excitation(const struct at_demodulator_f32
 
 /**
  * The carrier delay the demodulator chose (rad, in [-pi, pi)): with the excitation pushed,
- * the windings' carrier after it; without, the windings' carrier phase at the first sample,
+ * the windings' carrier after it; without, after a carrier of phase 0 at the first sample,
  * as resolved at the end of the start-up around `expected_delay_rad`. The other half turn
  * gives the same windings with the shaft half a turn further. NaN for NULL, another build's
  * state or before the start-up's end.

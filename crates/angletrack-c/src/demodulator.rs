@@ -85,8 +85,9 @@ mirror! {
     /// Phase drift (the carrier loop out of lock) beyond this phase error (rad, default
     /// 44 degrees, at most pi/2).
     phase_drift_bound_rad: f32 = phase_drift_bound_rad,
-    /// The carrier delay (rad) the half turn is resolved around (default 0): after the
-    /// excitation when its samples are pushed, else the carrier's phase at the first sample.
+    /// The carrier delay (rad, positive when the windings lag) the half turn is resolved
+    /// around (default 0): after the excitation when its samples are pushed, else after a
+    /// carrier of phase 0 at the first sample.
     expected_delay_rad: f32 = expected_delay_rad,
     /// The carrier loop's natural frequency times the carrier period (rad, default 0.3).
     carrier_loop_bandwidth: f32 = carrier_loop_bandwidth,

@@ -69,7 +69,7 @@ extern_c! {
         = demodulator.push_to(state, raw_c, raw_s, Some(excitation), out);
         else AT_FAULT_INVALID_ARGUMENT;
     /// The carrier delay the demodulator chose (rad, in [-pi, pi)): with the excitation pushed,
-    /// the windings' carrier after it; without, the windings' carrier phase at the first sample,
+    /// the windings' carrier after it; without, after a carrier of phase 0 at the first sample,
     /// as resolved at the end of the start-up around `expected_delay_rad`. The other half turn
     /// gives the same windings with the shaft half a turn further. NaN for NULL, another build's
     /// state or before the start-up's end.

@@ -127,7 +127,8 @@ impl Excitation {
 
     /// For one ADC sample per carrier period (a peak-sampling front end): the time (s) after
     /// the start of each carrier period at which the windings' carrier, delayed by
-    /// `carrier_delay_rad`, peaks: `((pi/2 - delay) mod 2 pi) / (2 pi carrier_hz)`.
+    /// `carrier_delay_rad` (it lags the excitation by that phase), peaks:
+    /// `((pi/2 + delay) mod 2 pi) / (2 pi carrier_hz)`.
     ///
     /// ```
     /// use angletrack_core::{Excitation, Waveform};
@@ -137,7 +138,7 @@ impl Excitation {
     /// # Ok::<(), angletrack_core::ConfigError>(())
     /// ```
     pub fn peak_sample_time_s<T: Float>(&self, carrier_delay_rad: T) -> T {
-        let mut phase = T::FRAC_PI_2 - carrier_delay_rad;
+        let mut phase = T::FRAC_PI_2 + carrier_delay_rad;
         crate::wrap::wrap_angle(&mut phase);
         if phase < T::ZERO {
             phase += T::TAU;

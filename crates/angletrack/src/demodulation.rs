@@ -26,7 +26,7 @@ pub struct DemodulatorArguments {
     pub adc_range: (f64, f64),
     /// The carrier delay (rad) the half turn is resolved around, as the caller states it:
     /// with the excitation's samples the windings' delay after the excitation, without them
-    /// the carrier's phase at the first sample. `None`: not stated; the half turn is taken
+    /// their delay after a carrier of phase 0 at the first sample (positive: lagging). `None`: not stated; the half turn is taken
     /// around 0 and every pair marked [`PairColumns::half_turn_unresolved`] (the windings and
     /// the excitation cannot tell a delay from the one half a turn away: an inverted
     /// excitation probe, or a filter delaying the carrier beyond 90 degrees, reads as the

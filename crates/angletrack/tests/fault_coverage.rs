@@ -304,7 +304,7 @@ const HELD: &[Held] = &[
     (
         "resolver: carrier delay 60 deg beyond the stated",
         "mid-run",
-        30,
+        14,
         Some(99.00),
         0.10,
         Some(1),

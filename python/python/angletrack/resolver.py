@@ -87,9 +87,10 @@ def add_track_arguments(track: argparse.ArgumentParser) -> None:
                    help="a winding's carrier amplitude at envelope 1 (counts, peak); default: "
                    "measured on the first chunk")
     g.add_argument("--expected-delay-deg", type=any_finite_number, metavar="DEG",
-                   help="the carrier delay (degrees) the carrier's half-turn ambiguity is resolved around: with "
-                   "an excitation column the windings' delay after it (180 for an inverted excitation probe), "
-                   "else the carrier's phase at the first sample; without it the half turn is taken around 0 and "
+                   help="the carrier delay (degrees, positive when the windings lag) the carrier's half-turn "
+                   "ambiguity is resolved around: with an excitation column the windings' delay after it (a scope's "
+                   "reading; 180 for an inverted excitation probe), else their delay after a carrier of phase 0 at "
+                   "the first sample; without it the half turn is taken around 0 and "
                    "every row is marked half_turn_unresolved (the windings cannot tell a delay from the one 180 "
                    "degrees away)")
     g.add_argument("--pole-pairs", type=pole_pairs_count, metavar="P",
@@ -314,7 +315,8 @@ def _delay_line(demodulator, expected_delay_deg: Optional[float], unresolved: in
     delay = math.degrees(demodulator.carrier_delay_rad) % 360.0
     other = (delay + 180.0) % 360.0
     line = f"carrier tracked at {demodulator.tracked_carrier_hz:.6g} Hz at the end; "
-    where = "after the excitation column" if demodulator.has_excitation else "at the first sample (no excitation column)"
+    where = ("after the excitation column" if demodulator.has_excitation
+             else "after phase 0 at the first sample (no excitation column)")
     if expected_delay_deg is None:
         return line + (f"carrier delay {where}: {delay:.3f} or {other:.3f} deg, the windings cannot tell which "
                        f"(half a turn of the shaft apart); taken within 90 deg of 0, so every angle is right or "

@@ -240,8 +240,9 @@ pub const SAMPLES_PER_PERIOD: usize = 16;
 
 /// The demodulator variants' carrier amplitude at the ADC (counts) and delay (rad).
 pub const CARRIER_AMPLITUDE_COUNTS: f32 = 1800.0;
-/// The carrier delay of the demodulator variants' raw samples (rad, 305 degrees).
-pub const CARRIER_DELAY_RAD: f32 = 5.323_254;
+/// The carrier delay of the demodulator variants' raw samples (rad, 55 degrees: the
+/// windings' carrier behind a carrier of phase 0 at the first sample).
+pub const CARRIER_DELAY_RAD: f32 = 0.959_931_2;
 
 /// Bytes of one input sample or demodulated pair: `y_c`, `y_s` (f32, little endian; a
 /// fixed-point pair as the float it stands for, exact).

@@ -193,7 +193,9 @@ macro_rules! checked_demodulator {
                     turn_fraction_to_phase(if f < 0.499_999 { f } else { 0.499_999 })
                 }
                 use core::$r::consts::{PI, TAU};
-                // Within [-pi, pi).
+                // The loop holds the windings' carrier phase, a delay's negative; within
+                // [-pi, pi).
+                let expected = -expected;
                 let expected = expected - TAU * floor_to_i32(expected / TAU + 0.5) as $r;
                 let (sin_expected, cos_expected) = sin_cos(expected);
                 let (_, cos2) = sin_cos(drift + drift);

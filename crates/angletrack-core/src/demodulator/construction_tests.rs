@@ -41,11 +41,12 @@ fn the_const_constructors_build_the_configuration_and_refuse_bad_settings() {
         F64,
         Err(ConfigError::OutOfRange(Parameter::MaxCarrierError))
     );
-    // The expected delay's wrapping and its sine and cosine, by series in constant
-    // evaluation: 5.3 rad is -0.98 rad, its cosine and sine in Q16.
+    // The expected delay as the windings' carrier phase, wrapped, and its sine and cosine,
+    // by series in constant evaluation: a delay of 5.3 rad is a phase of -5.3 rad, 0.98 rad,
+    // its cosine and sine in Q16.
     let expected = f64::from(FIXED.expected as i32) * PI / 2_147_483_648.0;
-    assert!((expected - (5.3 - TAU)).abs() < 1e-6, "{expected}");
-    let (cos, sin) = ((5.3_f64.cos() * 65_536.0), (5.3_f64.sin() * 65_536.0));
+    assert!((expected - (TAU - 5.3)).abs() < 1e-6, "{expected}");
+    let (cos, sin) = (((-5.3_f64).cos() * 65_536.0), ((-5.3_f64).sin() * 65_536.0));
     assert!(
         (FIXED.expected_cos as f64 - cos).abs() <= 2.0,
         "{}",

@@ -32,7 +32,7 @@ fn run(
     let mut state = DemodulatorState::new();
     let mut pairs = Vec::new();
     for j in 0..samples {
-        let psi = TAU * j as f64 / SAMPLES_PER_PERIOD + DELAY_RAD;
+        let psi = TAU * j as f64 / SAMPLES_PER_PERIOD - DELAY_RAD;
         let carrier = 1800.0 * psi.sin();
         let (c, s) = (
             2048.0 + ANGLE_RAD.cos() * carrier,
@@ -114,7 +114,7 @@ fn an_excitation_a_quarter_turn_from_the_expected_delay_decides_no_half_turn() {
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407);
         let noise = ((hash >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 60.0;
-        2048.0 + 1500.0 * (psi - after.to_radians()).sin() + noise
+        2048.0 + 1500.0 * (psi + after.to_radians()).sin() + noise
     };
     let (pairs, _) = run(16 * 300, 0.0, |j, psi| noisy(j, psi, 89.7));
     assert!(pairs.len() > 250);
@@ -164,7 +164,7 @@ fn a_delay_within_14_degrees_of_a_quarter_turn_from_the_expected_decides_no_half
         (-78.0, true),
     ] {
         let (pairs, _) = run(16 * 100, 0.0, |_, psi| {
-            2048.0 + 1500.0 * (psi - after.to_radians()).sin()
+            2048.0 + 1500.0 * (psi + after.to_radians()).sin()
         });
         assert!(pairs.len() > 50);
         assert!(
@@ -174,4 +174,17 @@ fn a_delay_within_14_degrees_of_a_quarter_turn_from_the_expected_decides_no_half
             "{after}"
         );
     }
+}
+
+#[test]
+fn a_delay_is_positive_when_the_windings_lag_the_excitation() {
+    // The windings 60 degrees behind the excitation (as a scope shows a resolver's phase
+    // shift): stated as 60, every angle right and the delay measured 60; stated as -60, a
+    // third of a turn away, the other half turn.
+    let excitation = |_: usize, psi: f64| 2048.0 + 1500.0 * (psi + 60f64.to_radians()).sin();
+    let (pairs, state) = run(16 * 100, 60f64.to_radians(), excitation);
+    assert!(pairs.len() > 50 && pairs.iter().all(|p| right(p.0) && p.1.is_empty()));
+    assert!((state.carrier_delay_rad() - 60f64.to_radians()).abs() < 0.05);
+    let (pairs, _) = run(16 * 100, -60f64.to_radians(), excitation);
+    assert!(pairs.iter().all(|p| !right(p.0)));
 }

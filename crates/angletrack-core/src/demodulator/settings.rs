@@ -44,9 +44,11 @@ pub struct DemodulatorSettings<T> {
     /// The carrier loop is out of lock (phase drift flagged) when its phase error exceeds
     /// this (rad, at most pi/2; 44 degrees by default, the AD2S1210's lock range).
     pub phase_drift_bound_rad: T,
-    /// The carrier delay (rad) the sign of the windings' carrier is resolved around: with a
-    /// recorded excitation, the windings' delay after it; without, the carrier's phase at the
-    /// first sample. The delay is measured modulo pi and taken within 90 degrees of this.
+    /// The carrier delay (rad, positive when the windings' carrier lags) the sign of the
+    /// windings' carrier is resolved around: with a recorded excitation, the windings' delay
+    /// after it (a scope's reading: 20 degrees for windings 20 degrees behind the
+    /// excitation); without, their delay after a carrier of phase 0 at the first sample.
+    /// The delay is measured modulo pi and taken within 90 degrees of this.
     pub expected_delay_rad: T,
     /// The carrier loop's natural frequency times the carrier period (rad, in (0, 0.5]):
     /// its bandwidth is about `0.2 carrier_hz` at the default 0.3.

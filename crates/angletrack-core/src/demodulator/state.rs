@@ -226,10 +226,11 @@ impl<V: DemodulatorNumber> DemodulatorState<V> {
         self.delay_ready
     }
 
-    /// The carrier delay chosen (rad, in [-pi, pi)): with a recorded excitation the
-    /// windings' carrier after it, as of its last usable window; without one (or before its
-    /// first usable window), the windings' carrier phase at the first sample (the declared
-    /// carrier's phase 0), as chosen at start-up.
+    /// The carrier delay chosen (rad, in [-pi, pi), positive when the windings' carrier
+    /// lags): with a recorded excitation the windings' carrier after it, as of its last
+    /// usable window; without one (or before its first usable window), the windings' carrier
+    /// after a carrier of phase 0 at the first sample (the declared carrier's), as chosen at
+    /// start-up.
     /// The other half turn is the same signal with the shaft half a turn further
     /// (`docs/theory.md §13`). Meant for diagnostics (one `atan2`).
     pub fn carrier_delay_rad(&self) -> V::Real {
@@ -242,7 +243,8 @@ impl<V: DemodulatorNumber> DemodulatorState<V> {
             } else {
                 V::Real::ZERO
             };
-            let mut delay = (-q).atan2(i) + half;
+            // The excitation's phase ahead of the windings' carrier: the delay.
+            let mut delay = q.atan2(i) - half;
             crate::wrap::wrap_angle(&mut delay);
             delay
         } else {
@@ -250,10 +252,11 @@ impl<V: DemodulatorNumber> DemodulatorState<V> {
         }
     }
 
-    /// The windings' carrier phase at the first sample chosen at start-up (rad, in [-pi, pi)).
+    /// The windings' carrier delay after a carrier of phase 0 at the first sample (the
+    /// negative of their carrier's phase there), chosen at start-up (rad, in [-pi, pi)).
     pub fn startup_delay_rad(&self) -> V::Real {
         use crate::real::Float;
-        V::Real::from_i32(self.startup_delay as i32)
+        V::Real::from_i32((self.startup_delay as i32).wrapping_neg())
             * (V::Real::PI * V::Real::from_f32(1.0 / 2_147_483_648.0))
     }
 

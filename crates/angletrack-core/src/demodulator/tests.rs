@@ -49,10 +49,11 @@ impl Bench {
     }
 
     /// Samples `j` of the windings and the excitation (the excitation leads the windings by
-    /// the resolver's own delay, taken as 0 here: the delay is the capture's).
+    /// the resolver's own delay, taken as 0 here: the delay is the capture's, after a
+    /// carrier of phase 0 at the first sample).
     fn sample(&self, j: usize, seed: &mut u64) -> (f64, f64, f64) {
         let t = j as f64 / self.adc_hz;
-        let psi = TAU * self.carrier_hz * t + self.delay + self.delay_drift * t;
+        let psi = TAU * self.carrier_hz * t - self.delay - self.delay_drift * t;
         let carrier = AMPLITUDE * self.level * psi.sin();
         let mut noise = || {
             *seed = seed

@@ -51,7 +51,7 @@ fn peak_time_covers_every_delay() {
         let delay = degrees.to_radians();
         let t: f64 = excitation.peak_sample_time_s(delay);
         assert!((0.0..1e-4).contains(&t));
-        let carrier = (core::f64::consts::TAU * 1e4 * t + delay).sin();
+        let carrier = (core::f64::consts::TAU * 1e4 * t - delay).sin();
         assert!((carrier - 1.0).abs() < 1e-9, "{degrees}: {carrier}");
     }
 }

@@ -48,9 +48,9 @@ pub const CARRIER_AMPLITUDE_COUNTS: f64 = HEALTHY_SENSOR.amplitude * MID_SCALE;
 /// The excitation's carrier amplitude in its own column (counts).
 pub const EXCITATION_COUNTS: f64 = 1500.0;
 
-/// The windings' carrier delay after the excitation (rad), the one the user states: -20
-/// degrees (the resolver's own phase shift).
-pub const WINDING_DELAY_RAD: f64 = -20.0 * PI / 180.0;
+/// The windings' carrier delay after the excitation (rad), the one the user states: 20
+/// degrees (the resolver's own phase shift, the windings behind the excitation).
+pub const WINDING_DELAY_RAD: f64 = 20.0 * PI / 180.0;
 
 /// The noise of each raw sample (counts RMS): about the healthy pair's 0.002 of full scale.
 pub const NOISE_COUNTS: f64 = 4.0;
@@ -84,7 +84,8 @@ pub enum ResolverKind {
     /// windings' delay after it, the half turn taken within a quarter turn of the stated
     /// [`WINDING_DELAY_RAD`].
     ExcitationColumn,
-    /// Without them: the carrier's phase at the first sample stated ([`WINDING_DELAY_RAD`]).
+    /// Without them: the windings' delay after a carrier of phase 0 at the first sample
+    /// stated ([`WINDING_DELAY_RAD`]).
     DelayStated,
     /// Without them and without a stated delay: every pair carries the half turn
     /// unresolved status (the angle right or half a turn off), and its angle is judged
@@ -328,7 +329,7 @@ pub fn delayed_windings(
             } else {
                 0.0
             };
-        let at_windings = CARRIER_AMPLITUDE_COUNTS * carrier(psi + delay);
+        let at_windings = CARRIER_AMPLITUDE_COUNTS * carrier(psi - delay);
         let dead = |channel: Channel| faulty(CarrierFault::DeadWinding(channel));
         let winding = |envelope: f64, channel: Channel| {
             if dead(channel) {

@@ -12,8 +12,8 @@ use crate::error::{Argument, Error, finite, non_negative, positive};
 /// A resolver excited by a sine carrier and sampled by an ADC clocked with the excitation:
 ///
 /// ```text
-/// raw_c[k] = mid + common_mode + A cos(theta) sin(2 pi k / N + delay) + w_c
-/// raw_s[k] = mid + common_mode + A (1 + imbalance) sin(theta) sin(2 pi k / N + delay) + w_s
+/// raw_c[k] = mid + common_mode + A cos(theta) sin(2 pi k / N - delay) + w_c
+/// raw_s[k] = mid + common_mode + A (1 + imbalance) sin(theta) sin(2 pi k / N - delay) + w_s
 /// A = excitation_amplitude_counts * transformation_ratio
 /// ```
 ///
@@ -27,7 +27,8 @@ pub struct ResolverModel {
     pub carrier_hz: f64,
     /// ADC samples of each winding per carrier period.
     pub samples_per_period: usize,
-    /// The carrier's phase delay from the excitation to the ADC (rad, any value).
+    /// The carrier's phase delay from the excitation to the ADC (rad, any value; positive:
+    /// the windings' carrier lags the excitation).
     pub carrier_delay_rad: f64,
     /// The excitation's amplitude (ADC counts, as the windings would show it at ratio 1).
     pub excitation_amplitude_counts: f64,
@@ -168,7 +169,7 @@ impl Scenario {
         };
         for (k, state) in truth.enumerate() {
             let phase = std::f64::consts::TAU * (k % per_period) as f64 / per_period as f64;
-            let carrier = (phase + model.carrier_delay_rad).sin();
+            let carrier = (phase - model.carrier_delay_rad).sin();
             let (sin, cos) = state.angle_rad.sin_cos();
             let raw_c = base + amplitude_c * cos * carrier + normal.sample(&mut rng);
             let raw_s = base + amplitude_s * sin * carrier + normal.sample(&mut rng);

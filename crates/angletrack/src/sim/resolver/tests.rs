@@ -36,7 +36,7 @@ fn windings_carry_the_envelopes_on_the_delayed_carrier() {
     };
     let s = Scenario::resolver_windings(&profile(), &model, 1).unwrap();
     for k in [0, 5, 17, 200] {
-        let carrier = (std::f64::consts::TAU * (k % 16) as f64 / 16.0 + 0.9).sin();
+        let carrier = (std::f64::consts::TAU * (k % 16) as f64 / 16.0 - 0.9).sin();
         let theta = s.angle_rad[k];
         assert!((s.y_c[k] - (25.0 + 1800.0 * theta.cos() * carrier)).abs() < 1e-9);
         assert!((s.y_s[k] - (25.0 + 1980.0 * theta.sin() * carrier)).abs() < 1e-9);

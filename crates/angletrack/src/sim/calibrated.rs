@@ -169,7 +169,7 @@ fn is_ring(sorted: &[f64]) -> bool {
 
 /// The centre of the samples' Lissajous figure (half-way between each channel's 1st and
 /// 99th percentiles), if the samples go round it (each quadrant holds 1 % of them).
-fn lissajous_centre(pairs: &[(f64, f64)]) -> Option<(f64, f64)> {
+pub(super) fn lissajous_centre(pairs: &[(f64, f64)]) -> Option<(f64, f64)> {
     let middle = |mut values: Vec<f64>| {
         values.sort_unstable_by(f64::total_cmp);
         let last = values.len().checked_sub(1)?;
@@ -190,7 +190,7 @@ fn lissajous_centre(pairs: &[(f64, f64)]) -> Option<(f64, f64)> {
 }
 
 /// The median of `sorted` (sorted values), `None` if there are none.
-fn median(sorted: &[f64]) -> Option<f64> {
+pub(super) fn median(sorted: &[f64]) -> Option<f64> {
     let n = sorted.len();
     match n {
         0 => None,
@@ -200,8 +200,9 @@ fn median(sorted: &[f64]) -> Option<f64> {
 }
 
 /// The default [`FaultThresholds`] scaled to the capture's [`nominal_amplitude`]
-/// ([`FaultThresholds::for_amplitude`], without the roundness check: the amplitude is
-/// measured, not stated), with the tracking-error level above the capture's
+/// ([`FaultThresholds::for_amplitude`]; the roundness check only where the first samples
+/// show a circle, round and centred on zero or that of the healthy channel beside a dead
+/// one, about that circle's amplitude: `roundness.rs`), with the tracking-error level above the capture's
 /// [`angle_noise`] (the core's rule, [`FaultThresholds::with_tracking_error_above_noise`]:
 /// 8 times it, at least 0.05); the core's defaults (amplitude 1) when it has none.
 /// What the Python API and the command line use when the caller gives no thresholds, so
@@ -224,11 +225,14 @@ pub fn capture_fault_thresholds<T: Real>(y_c: &[T], y_s: &[T]) -> FaultThreshold
         return FaultThresholds::default();
     };
     // A measured amplitude, not a stated one: the pair before any calibration need not be
-    // round, so no roundness check (`FaultThresholds::magnitude_tolerance`).
-    let noise = angle_noise_about(&pairs, centre).map_or(T::ZERO, T::from_f64);
+    // round, so the roundness check (`FaultThresholds::magnitude_tolerance`) runs only on a
+    // circle the first samples show (`roundness.rs`), about its amplitude.
+    let noise = angle_noise_about(&pairs, centre).unwrap_or(0.0);
+    let circle = super::roundness::measured_circle(&pairs, noise);
+    let amplitude = circle.map_or(amplitude, |(nominal, _)| nominal);
     let mut thresholds = FaultThresholds::for_amplitude(T::from_f64(amplitude))
-        .with_magnitude_tolerance(None)
-        .with_tracking_error_above_noise(noise);
+        .with_magnitude_tolerance(circle.map(|(_, tolerance)| T::from_f64(tolerance)))
+        .with_tracking_error_above_noise(T::from_f64(noise));
     // A biased signal's samples are no bad samples: the input bound covers the bias too
     // (until a calibration removes it, the observer sees it).
     if let Some(raw) = raw {

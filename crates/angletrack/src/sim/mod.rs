@@ -13,6 +13,7 @@ mod fixed_tracker;
 mod metrics;
 mod motion;
 mod resolver;
+mod roundness;
 mod scenario;
 mod sensor;
 

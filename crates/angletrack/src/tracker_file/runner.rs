@@ -373,7 +373,8 @@ fn mid_scale(
 }
 
 /// The fault thresholds: the file's, or scaled to the amplitude of `head` (mid-scale
-/// removed, divided by the counts per unit).
+/// removed, divided by the counts per unit, and corrected by a stored calibration: what the
+/// monitor reads).
 fn thresholds(
     file: &TrackerFile,
     head: &CaptureHead<'_>,
@@ -395,5 +396,12 @@ fn thresholds(
         .min(crate::NOMINAL_AMPLITUDE_SAMPLES);
     let mid = f64::from(mid.unwrap_or(0));
     let unit = |y: &[f64]| -> Vec<f64> { y[..n].iter().map(|v| (v - mid) / per_unit).collect() };
-    crate::capture_fault_thresholds(&unit(head.y_c), &unit(head.y_s))
+    let (mut y_c, mut y_s) = (unit(head.y_c), unit(head.y_s));
+    // The monitor reads the calibrated signal: a stored calibration's is measured.
+    if let Calibration::Stored(calibration) = &file.calibration {
+        for (c, s) in y_c.iter_mut().zip(y_s.iter_mut()) {
+            (*c, *s) = calibration.correct(*c, *s);
+        }
+    }
+    crate::capture_fault_thresholds(&y_c, &y_s)
 }

@@ -136,4 +136,63 @@ mod tests {
         let third = pairs(4096, 3.0, 0.3, (600.0, 1800.0), (0.0, 0.0));
         assert_eq!(measured_circle(&third, 0.001), None);
     }
+
+    /// A sin/cos sensor at 50 Hz electrical, 10 kHz, noise 0.2 %, its sine channel dead
+    /// (noise alone) from sample `dead_from`, tracked as `angletrack track` tracks it
+    /// (`TrackerRun`, no thresholds stated): the rows from the 1000th (or the channel's
+    /// death) whose angle is more than 50 mrad off, and of them those not flagged.
+    fn dead_sine_channel_run(dead_from: usize) -> (usize, usize) {
+        use crate::paper::{BENCHMARK_KALMAN_GAINS, BENCHMARK_SAMPLE_PERIOD_S};
+        use crate::tracker_file::{CaptureHead, TrackerFile, TrackerRun};
+        let mut seed = 1u64;
+        let mut noise = || {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.007
+        };
+        let theta: Vec<f64> = (0..20_000)
+            .map(|k| 0.3 + std::f64::consts::TAU * 50.0 * k as f64 * BENCHMARK_SAMPLE_PERIOD_S)
+            .collect();
+        let y_c: Vec<f64> = theta.iter().map(|t| t.cos() + noise()).collect();
+        let y_s: Vec<f64> = theta
+            .iter()
+            .enumerate()
+            .map(|(k, t)| if k >= dead_from { 0.0 } else { t.sin() } + noise())
+            .collect();
+        let gains = crate::export::GainsFile {
+            gains: BENCHMARK_KALMAN_GAINS.to_vec(),
+            sample_period_s: BENCHMARK_SAMPLE_PERIOD_S,
+            design: None,
+        };
+        let head = CaptureHead {
+            y_c: &y_c,
+            y_s: &y_s,
+            counts: None,
+        };
+        let mut run = TrackerRun::new(&TrackerFile::new(gains), "t.json", &head).unwrap();
+        let rows = run.track(&y_c, &y_s);
+        let (mut wrong, mut unflagged) = (0, 0);
+        for k in 1000.max(dead_from)..theta.len() {
+            let error = (rows.angle_rad[k] - theta[k] + std::f64::consts::PI)
+                .rem_euclid(std::f64::consts::TAU)
+                - std::f64::consts::PI;
+            if error.abs() > 0.05 {
+                wrong += 1;
+                unflagged += usize::from(rows.faults[k] == 0 && rows.front_end_faults[k] == 0);
+            }
+        }
+        (wrong, unflagged)
+    }
+
+    #[test]
+    fn a_channel_dead_from_the_start_or_mid_run_is_flagged_on_every_wrong_row() {
+        for dead_from in [0, 10_000] {
+            let (wrong, unflagged) = dead_sine_channel_run(dead_from);
+            assert!(
+                wrong > 5_000 && unflagged == 0,
+                "{dead_from}: {unflagged} of {wrong}"
+            );
+        }
+    }
 }

@@ -173,8 +173,8 @@ mod tests {
         let mut run = TrackerRun::new(&TrackerFile::new(gains), "t.json", &head).unwrap();
         let rows = run.track(&y_c, &y_s);
         let (mut wrong, mut unflagged) = (0, 0);
-        for k in 1000.max(dead_from)..theta.len() {
-            let error = (rows.angle_rad[k] - theta[k] + std::f64::consts::PI)
+        for (k, truth) in theta.iter().enumerate().skip(1000.max(dead_from)) {
+            let error = (rows.angle_rad[k] - truth + std::f64::consts::PI)
                 .rem_euclid(std::f64::consts::TAU)
                 - std::f64::consts::PI;
             if error.abs() > 0.05 {

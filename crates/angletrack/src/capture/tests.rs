@@ -282,6 +282,18 @@ fn a_stated_rate_that_contradicts_the_time_column_is_refused_naming_both() {
     );
     assert!(read_capture(&path, options(2.01e4)).is_ok());
     assert!(read_capture(&path, options(2.03e4)).is_err());
+    // Stamps in seconds: their mean step to 12 significant digits, not the f64's tail.
+    let mut text = String::from("t,y_c,y_s\n");
+    for k in 0..400 {
+        text += &format!("{},1,0\n", k as f64 / 2e4);
+    }
+    let path = file("rate_s.csv", text.as_bytes());
+    let seconds = CaptureOptions {
+        time_unit: TimeUnit::Seconds,
+        ..options(1e4)
+    };
+    let e = read_capture(&path, seconds).unwrap_err().to_string();
+    assert!(e.contains("whose mean step 0.00005 s is 20000 Hz"), "{e}");
 }
 
 #[test]

@@ -90,6 +90,12 @@ pub struct SpacingCheck {
 }
 
 /// A rate (Hz) as the messages show it: to a micro-hertz, trailing zeros dropped.
+/// `x` to 12 significant digits, as short as they allow: a step of 1 / 20 kHz computed from
+/// stamps is 0.00005, not 0.000049999999999999996.
+fn significant(x: f64) -> f64 {
+    format!("{x:.11e}").parse().unwrap_or(x)
+}
+
 fn format_rate(rate_hz: f64) -> String {
     format!("{:.6}", rate_hz)
         .trim_end_matches('0')
@@ -116,7 +122,7 @@ impl SpacingCheck {
         let (Some(&first), Some(&last)) = (time_s.first(), time_s.last()) else {
             return Ok(());
         };
-        let shown = |t: f64| format!("{} {}", t / unit.seconds(), unit.symbol());
+        let shown = |t: f64| format!("{} {}", significant(t / unit.seconds()), unit.symbol());
         let mut previous = self.last_s;
         for (k, &t) in time_s.iter().enumerate() {
             // With the rate stated, rounded stamps may repeat; they never go back.

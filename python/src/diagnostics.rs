@@ -37,8 +37,7 @@ impl PyFaultThresholds {
 
     /// The thresholds in float type `T` (checked where an observer takes them).
     pub fn typed<T: Real>(&self) -> CoreThresholds<T> {
-        // The Python thresholds have no field for the roundness check yet: off, as it was.
-        converted_thresholds(&self.inner).with_magnitude_tolerance(None)
+        converted_thresholds(&self.inner)
     }
 }
 
@@ -71,13 +70,16 @@ class_methods! {
         monitor: bool = |this, py| this.inner.monitor;
         /// Whether a false lock re-acquires the angle from atan2.
         re_acquire: bool = |this, py| this.inner.re_acquire;
+        /// The roundness check's tolerance (a fraction of `nominal_amplitude`; `None`: no
+        /// check): a pair whose magnitude leaves the band is flagged `DEGRADATION_OF_SIGNAL`.
+        magnitude_tolerance: Option<f64> = |this, py| this.inner.magnitude_tolerance;
     }
     methods {
         #[new]
         #[pyo3(signature = (*, nominal_amplitude = 1.0, max_input_amplitude = None,
             loss_of_signal = None, degradation_low = None, degradation_high = None,
             loss_of_tracking = None, tracking_error = None, max_speed_rad_s = None, filter_factor = None,
-            false_lock = None, monitor = true, re_acquire = true))]
+            false_lock = None, monitor = true, re_acquire = true, magnitude_tolerance = None))]
         #[allow(clippy::too_many_arguments)]
         fn py_new(
             nominal_amplitude: f64,
@@ -92,6 +94,7 @@ class_methods! {
             false_lock: Option<f64>,
             monitor: bool,
             re_acquire: bool,
+            magnitude_tolerance: Option<f64>,
         ) -> Self {
             let d = CoreThresholds::for_amplitude(nominal_amplitude);
             let inner = d
@@ -105,7 +108,8 @@ class_methods! {
                 .with_filter_factor(filter_factor.unwrap_or(d.filter_factor))
                 .with_false_lock(false_lock.unwrap_or(d.false_lock))
                 .with_monitor(monitor)
-                .with_re_acquire(re_acquire);
+                .with_re_acquire(re_acquire)
+                .with_magnitude_tolerance(magnitude_tolerance);
             Self { inner }
         }
 
@@ -123,7 +127,7 @@ class_methods! {
                 "FaultThresholds(nominal_amplitude={}, max_input_amplitude={}, loss_of_signal={}, \
                  degradation_low={}, degradation_high={}, loss_of_tracking={}, tracking_error={}, \
                  max_speed_rad_s={}, \
-                 filter_factor={}, false_lock={}, monitor={}, re_acquire={})",
+                 filter_factor={}, false_lock={}, monitor={}, re_acquire={}, magnitude_tolerance={})",
                 t.nominal_amplitude,
                 t.max_input_amplitude,
                 t.loss_of_signal,
@@ -136,6 +140,7 @@ class_methods! {
                 t.false_lock,
                 python_bool(t.monitor),
                 python_bool(t.re_acquire),
+                t.magnitude_tolerance.map_or("None".to_string(), |v| v.to_string()),
             )
         }
     }

@@ -247,7 +247,7 @@ def test_an_angle_calibration_applies_to_the_pairs_of_carrier_modulated_windings
     settings = tracking.TrackSettings(capture=tmp_path / "windings.csv", output=tmp_path / "est.csv",
                                       gains=gains().gains, carrier_hz=1e3, calibration=cal)
     # The demodulated pairs go through the same stages as y_c, y_s samples (issue 21).
-    observer = resolver.pairs_observer(settings, gains())
+    observer = resolver.pairs_observer(settings, gains(), None)
     assert isinstance(observer, harmonics.CalibratedObserver) and observer.calibration is cal
 
 

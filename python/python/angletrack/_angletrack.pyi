@@ -559,6 +559,7 @@ class FaultThresholds:
         false_lock: Optional[float] = None,
         monitor: bool = True,
         re_acquire: bool = True,
+        magnitude_tolerance: Optional[float] = None,
     ) -> None: ...
     @staticmethod
     def disabled() -> FaultThresholds:
@@ -575,6 +576,7 @@ class FaultThresholds:
     false_lock: float
     monitor: bool
     re_acquire: bool
+    magnitude_tolerance: Optional[float]
 
 # ----------------------------------------------------------------- design
 

@@ -167,19 +167,23 @@ class _Reference:
         return np.interp(time_s, self.time_s, self.angle_rad)
 
 
-def pairs_observer(s, gains: angletrack.Gains):
+def pairs_observer(s, gains: angletrack.Gains, first_pairs):
     """The observer of the demodulated pairs: the same front-end stages as for y_c, y_s
     samples (``s.observer_arguments``: the online calibration of ``--calibrate``, a stored
     ``SensorCalibration`` of ``--calibration``; an angle calibration from ``angletrack
-    calibrate`` through a :class:`harmonics.CalibratedObserver`), in ``s.dtype``."""
+    calibrate`` through a :class:`harmonics.CalibratedObserver`), in ``s.dtype``. Without a
+    calibration its thresholds are measured on ``first_pairs`` as on a capture's first
+    samples (``capture_fault_thresholds``: the roundness check on the circle they show)."""
     from angletrack import harmonics
 
     if s.calibration is not None:
         return harmonics.CalibratedObserver(gains, s.calibration, dtype=np.dtype(s.dtype), sin_cos=s.sin_cos)
     # The pairs' envelope is 1 at the carrier amplitude: a winding open or shorted is
     # checked against it, and coasted through as the demodulator's loss of excitation.
-    return angletrack.Observer(gains, dtype=np.dtype(s.dtype), sin_cos=s.sin_cos,
-                               **{"winding_amplitude": 1.0, **s.observer_arguments})
+    arguments = {"winding_amplitude": 1.0, **s.observer_arguments}
+    if not s.observer_arguments:
+        arguments["fault_thresholds"] = angletrack.capture_fault_thresholds(first_pairs.y_c, first_pairs.y_s)
+    return angletrack.Observer(gains, dtype=np.dtype(s.dtype), sin_cos=s.sin_cos, **arguments)
 
 
 def update_on_pairs(observer, pairs, dtype):
@@ -225,7 +229,7 @@ def track_windings(s) -> tuple:
         measure_adc_range=adc_how == "guessed",
     )
     dtype = np.dtype(s.dtype)
-    observer = pairs_observer(s, gains)
+    observer = None
     drive = None
     if s.pole_pairs is not None or s.latency_s is not None:
         drive = angletrack.DriveOutputs(
@@ -257,6 +261,8 @@ def track_windings(s) -> tuple:
                 # The capture's clock when it has one (the demodulator counts samples at
                 # the declared rate).
                 time_s = t0 + pairs.time_s * (adc_hz / (capture_hz or adc_hz))
+                if observer is None:
+                    observer = pairs_observer(s, gains, pairs)
                 est = update_on_pairs(observer, pairs, dtype)
                 # The observer runs at its gains' rate, the pairs come at the tracked
                 # carrier's: its speed and acceleration are rescaled to the latter.

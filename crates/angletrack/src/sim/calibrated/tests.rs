@@ -178,31 +178,20 @@ fn counts_of(sensor: &SensorModel) -> (Vec<f64>, Vec<f64>) {
 /// deviations) the end of the loop's acquisition was flagged and latched.
 #[test]
 fn a_noisy_sensor_is_not_flagged_with_the_thresholds_measured_on_it() {
-    use crate::tracker_file::{CaptureHead, TrackerFile, TrackerRun};
+    use crate::tracker_file::TrackerFile;
     let (y_c, y_s) = counts_of(&imperfect_sensor());
     let measured = capture_fault_thresholds(&y_c, &y_s);
     let noise = angle_noise(&y_c, &y_s).unwrap();
     assert!((noise - 0.0095).abs() < 5e-4, "{noise}");
     assert_eq!(measured.tracking_error, 8.0 * noise);
-    let gains = crate::export::GainsFile {
-        gains: BENCHMARK_KALMAN_GAINS.to_vec(),
-        sample_period_s: BENCHMARK_SAMPLE_PERIOD_S,
-        design: None,
-    };
-    let head = CaptureHead {
-        y_c: &y_c,
-        y_s: &y_s,
-        counts: None,
-    };
     let flagged = |fault_thresholds| {
         let file = TrackerFile {
             fault_thresholds,
-            ..TrackerFile::new(gains.clone())
+            ..benchmark_file()
         };
-        let mut run = TrackerRun::new(&file, "t.json", &head).unwrap();
-        let rows = run.track(&y_c, &y_s);
-        let flagged = rows.faults.iter().filter(|&&f| f != 0).count();
-        (flagged, run.latched_faults().0)
+        let rows = tracked(&file, &y_c, &y_s);
+        let flagged = rows.0.faults.iter().filter(|&&f| f != 0).count();
+        (flagged, rows.1)
     };
     assert_eq!(flagged(None), (0, Faults::NONE));
     let (at_default, latched) = flagged(Some(measured.with_tracking_error(0.05)));
@@ -220,15 +209,79 @@ fn a_noisy_sensor_is_not_flagged_with_the_thresholds_measured_on_it() {
     });
     let fast =
         Scenario::generate(&profile, &imperfect_sensor(), BENCHMARK_SAMPLE_PERIOD_S, 5).unwrap();
-    let file = TrackerFile::new(gains);
-    let head = CaptureHead {
-        y_c: &fast.y_c,
-        y_s: &fast.y_s,
+    let (_, latched) = tracked(&benchmark_file(), &fast.y_c, &fast.y_s);
+    assert_eq!(latched, Faults::LOSS_OF_TRACKING);
+}
+
+/// The benchmark's Kalman gains as a tracker file that states no thresholds: they are
+/// measured on the capture, as `angletrack track` runs it.
+fn benchmark_file() -> crate::tracker_file::TrackerFile {
+    crate::tracker_file::TrackerFile::new(crate::export::GainsFile {
+        gains: BENCHMARK_KALMAN_GAINS.to_vec(),
+        sample_period_s: BENCHMARK_SAMPLE_PERIOD_S,
+        design: None,
+    })
+}
+
+/// The rows of `(y_c, y_s)` tracked by `file`'s `TrackerRun`, and the faults it latched.
+fn tracked(
+    file: &crate::tracker_file::TrackerFile,
+    y_c: &[f64],
+    y_s: &[f64],
+) -> (crate::tracker_file::TrackedRows, Faults) {
+    let head = crate::tracker_file::CaptureHead {
+        y_c,
+        y_s,
         counts: None,
     };
-    let mut run = TrackerRun::new(&file, "t.json", &head).unwrap();
-    run.track(&fast.y_c, &fast.y_s);
-    assert_eq!(run.latched_faults().0, Faults::LOSS_OF_TRACKING);
+    let mut run = crate::tracker_file::TrackerRun::new(file, "t.json", &head).unwrap();
+    let rows = run.track(y_c, y_s);
+    (rows, run.latched_faults().0)
+}
+
+/// A sin/cos sensor at 50 Hz electrical, 10 kHz, noise 0.2 %, its sine channel dead (noise
+/// alone) from sample `dead_from`, tracked as `angletrack track` tracks it (no thresholds
+/// stated: measured, with the roundness check on the circle the first samples show,
+/// `sim/roundness.rs`): the rows from the 1000th (or the channel's death) whose angle is
+/// more than 50 mrad off, and of them those not flagged.
+fn dead_sine_channel_run(dead_from: usize) -> (usize, usize) {
+    let mut seed = 1u64;
+    let mut noise = || {
+        seed = seed
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.007
+    };
+    let theta: Vec<f64> = (0..20_000)
+        .map(|k| 0.3 + TAU * 50.0 * k as f64 * BENCHMARK_SAMPLE_PERIOD_S)
+        .collect();
+    let y_c: Vec<f64> = theta.iter().map(|t| t.cos() + noise()).collect();
+    let y_s: Vec<f64> = theta
+        .iter()
+        .enumerate()
+        .map(|(k, t)| if k >= dead_from { 0.0 } else { t.sin() } + noise())
+        .collect();
+    let (rows, _) = tracked(&benchmark_file(), &y_c, &y_s);
+    let (mut wrong, mut unflagged) = (0, 0);
+    for (k, truth) in theta.iter().enumerate().skip(1000.max(dead_from)) {
+        let error = (rows.angle_rad[k] - truth + PI).rem_euclid(TAU) - PI;
+        if error.abs() > 0.05 {
+            wrong += 1;
+            unflagged += usize::from(rows.faults[k] == 0 && rows.front_end_faults[k] == 0);
+        }
+    }
+    (wrong, unflagged)
+}
+
+#[test]
+fn a_channel_dead_from_the_start_or_mid_run_is_flagged_on_every_wrong_row() {
+    for dead_from in [0, 10_000] {
+        let (wrong, unflagged) = dead_sine_channel_run(dead_from);
+        assert!(
+            wrong > 5_000 && unflagged == 0,
+            "{dead_from}: {unflagged} of {wrong}"
+        );
+    }
 }
 
 /// The rows a healthy sensor's capture (1800 counts, round, Gaussian noise of

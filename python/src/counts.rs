@@ -17,7 +17,7 @@ use numpy::prelude::*;
 use numpy::{Element, PyArray1, PyArrayDescr, PyUntypedArray};
 use pyo3::prelude::*;
 
-use crate::arrays::{Samples, paired_samples, read_only, samples};
+use crate::arrays::{Count, Samples, paired_samples, read_only, samples};
 use crate::dispatch::Sample;
 use crate::errors::{Error, Result};
 
@@ -230,16 +230,23 @@ pub fn capture_counts(
 /// (`angletrack::capture_fault_thresholds`): `FaultThresholds(nominal_amplitude=A)` with
 /// `A` the median magnitude of the first 4096 samples (the defaults when it is not
 /// positive), and the tracking-error level above their angle noise (8 times it, at least
-/// 0.05: `FaultThresholds::with_tracking_error_above_noise`). What `track` measures, and
-/// what a caller feeding the capture to an `Observer` in chunks states with
-/// `fault_thresholds=`.
+/// 0.05: `FaultThresholds::with_tracking_error_above_noise`), the roundness check on the
+/// circle they show; with `pole_pairs` (a motor's, the drive's electrical angle that many
+/// times the tracked one) the angle-error levels divided by them
+/// (`angletrack::capture_fault_thresholds_for_pole_pairs`). What `track` measures, and what
+/// a caller feeding the capture to an `Observer` in chunks states with `fault_thresholds=`.
 #[pyfunction]
+#[pyo3(signature = (y_c, y_s, *, pole_pairs = Count::Whole(1)),
+    text_signature = "(y_c, y_s, *, pole_pairs=1)")]
 pub fn capture_fault_thresholds(
     y_c: &Bound<'_, PyAny>,
     y_s: &Bound<'_, PyAny>,
+    pole_pairs: Count,
 ) -> Result<crate::diagnostics::PyFaultThresholds> {
     let (c, s) = paired_samples::<f64>((y_c, "y_c"), (y_s, "y_s"))?;
-    let t = angletrack::capture_fault_thresholds(c.as_slice(), s.as_slice());
+    let pole_pairs = pole_pairs.get::<u32>("pole_pairs")?;
+    let t =
+        angletrack::capture_fault_thresholds_for_pole_pairs(c.as_slice(), s.as_slice(), pole_pairs);
     Ok(crate::diagnostics::PyFaultThresholds::from_typed(&t))
 }
 

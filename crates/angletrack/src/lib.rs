@@ -159,8 +159,9 @@ pub use sim::{
     FixedTracker, Kinematics, LANES, MAX_ANGLE_ERROR_HARMONICS, MAX_SAMPLES, Metrics,
     MetricsOptions, Motion, MotionProfile, NOMINAL_AMPLITUDE_SAMPLES, Output, OutputSet,
     ResolverModel, Run, Scenario, SensorModel, angle_noise, capture_fault_thresholds,
-    fixed_front_end, fixed_input, fixed_input_shift, fixed_magnitude_tolerance,
-    fixed_monitor_amplitude, nominal_amplitude, run, run_calibrated, shifted_calibration,
+    capture_fault_thresholds_for_pole_pairs, fixed_front_end, fixed_input, fixed_input_shift,
+    fixed_magnitude_tolerance, fixed_monitor_amplitude, nominal_amplitude, run, run_calibrated,
+    shifted_calibration,
 };
 pub use thresholds::{ThresholdInput, ThresholdPolicy, ThresholdsNotStated, converted_thresholds};
 pub use tracker_channel::{ChannelError, ChannelOptions, TrackerChannel, stored_stages};

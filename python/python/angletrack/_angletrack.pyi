@@ -290,12 +290,14 @@ def track(
     with float samples is a ``ConfigError`` naming it. ``fault_thresholds=None`` scales the
     diagnostics to the capture's amplitude (``capture_fault_thresholds``)."""
 
-def capture_fault_thresholds(y_c: _Samples, y_s: _Samples) -> FaultThresholds:
+def capture_fault_thresholds(y_c: _Samples, y_s: _Samples, *, pole_pairs: int = 1) -> FaultThresholds:
     """The thresholds of a capture whose first samples these are:
     ``FaultThresholds(nominal_amplitude=A)``, ``A`` the median ``sqrt(y_c^2 + y_s^2)`` of
-    its first 4096 samples (the defaults when not positive), and ``tracking_error`` above
-    their angle noise (8 times it, at least 0.05); what ``track`` measures, and what a caller
-    feeding the capture to an ``Observer`` in chunks states."""
+    its first 4096 samples (the defaults when not positive), ``tracking_error`` above
+    their angle noise (8 times it, at least 0.05), the roundness check on the circle they
+    show; with ``pole_pairs`` (a motor's) the angle-error levels divided by them. What
+    ``track`` measures, and what a caller feeding the capture to an ``Observer`` in chunks
+    states."""
 
 #: Samples the fixed-point observer accepts: int16 counts (mid-scale removed), or integers
 #: within int16 (a list); no other dtype is converted.

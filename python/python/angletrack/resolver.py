@@ -173,7 +173,8 @@ def pairs_observer(s, gains: angletrack.Gains, first_pairs):
     ``SensorCalibration`` of ``--calibration``; an angle calibration from ``angletrack
     calibrate`` through a :class:`harmonics.CalibratedObserver`), in ``s.dtype``. Without a
     calibration its thresholds are measured on ``first_pairs`` as on a capture's first
-    samples (``capture_fault_thresholds``: the roundness check on the circle they show)."""
+    samples (``capture_fault_thresholds``: the roundness check on the circle they show; the
+    angle-error levels divided by ``--pole-pairs``)."""
     from angletrack import harmonics
 
     if s.calibration is not None:
@@ -182,7 +183,8 @@ def pairs_observer(s, gains: angletrack.Gains, first_pairs):
     # checked against it, and coasted through as the demodulator's loss of excitation.
     arguments = {"winding_amplitude": 1.0, **s.observer_arguments}
     if not s.observer_arguments:
-        arguments["fault_thresholds"] = angletrack.capture_fault_thresholds(first_pairs.y_c, first_pairs.y_s)
+        arguments["fault_thresholds"] = angletrack.capture_fault_thresholds(
+            first_pairs.y_c, first_pairs.y_s, pole_pairs=s.pole_pairs or 1)
     return angletrack.Observer(gains, dtype=np.dtype(s.dtype), sin_cos=s.sin_cos, **arguments)
 
 

@@ -215,6 +215,29 @@ pub(super) fn median(sorted: &[f64]) -> Option<f64> {
 /// assert_eq!((t.nominal_amplitude, t.loss_of_signal), (1800.0, 450.0));
 /// ```
 pub fn capture_fault_thresholds<T: Real>(y_c: &[T], y_s: &[T]) -> FaultThresholds<T> {
+    capture_fault_thresholds_for_pole_pairs(y_c, y_s, 1)
+}
+
+/// [`capture_fault_thresholds`] for a sensor whose angle a drive multiplies by
+/// `pole_pairs` (a one-speed resolver or encoder on a motor of that many pole pairs: the
+/// electrical angle is `pole_pairs` times the tracked one): the angle-error levels, the
+/// per-sample tracking error and the window's loss of tracking, divided by them, so that
+/// they bound the electrical angle's error as they bound the tracked angle's at one pole
+/// pair; the tracking-error level still at least 8 times the capture's noise. 0 and 1 are
+/// [`capture_fault_thresholds`].
+///
+/// ```
+/// let (y_c, y_s): (Vec<f64>, Vec<f64>) = (0..4096).map(|k| (0.01 * k as f64).sin_cos()).map(|(s, c)| (c, s)).unzip();
+/// let one = angletrack::capture_fault_thresholds(&y_c, &y_s);
+/// let four = angletrack::capture_fault_thresholds_for_pole_pairs(&y_c, &y_s, 4);
+/// assert_eq!(four.tracking_error, one.tracking_error / 4.0);
+/// assert_eq!(four.loss_of_tracking, one.loss_of_tracking / 4.0);
+/// ```
+pub fn capture_fault_thresholds_for_pole_pairs<T: Real>(
+    y_c: &[T],
+    y_s: &[T],
+    pole_pairs: u32,
+) -> FaultThresholds<T> {
     let pairs = first_pairs(y_c, y_s);
     let Amplitudes {
         nominal: Some(amplitude),
@@ -233,6 +256,15 @@ pub fn capture_fault_thresholds<T: Real>(y_c: &[T], y_s: &[T]) -> FaultThreshold
     let mut thresholds = FaultThresholds::for_amplitude(T::from_f64(amplitude))
         .with_magnitude_tolerance(circle.map(|(_, tolerance)| T::from_f64(tolerance)))
         .with_tracking_error_above_noise(T::from_f64(noise));
+    if pole_pairs > 1 {
+        let p = T::from_f64(f64::from(pole_pairs));
+        let default = FaultThresholds::<T>::for_amplitude(T::ONE).tracking_error;
+        let above_noise =
+            T::from_f32(angletrack_core::TRACKING_ERROR_NOISE_FACTOR) * T::from_f64(noise);
+        thresholds = thresholds
+            .with_tracking_error((default / p).max(above_noise))
+            .with_loss_of_tracking(thresholds.loss_of_tracking / p);
+    }
     // A biased signal's samples are no bad samples: the input bound covers the bias too
     // (until a calibration removes it, the observer sees it).
     if let Some(raw) = raw {

@@ -19,8 +19,8 @@ mod sensor;
 
 pub use batch::{ChannelBatch, LANES};
 pub use calibrated::{
-    NOMINAL_AMPLITUDE_SAMPLES, angle_noise, capture_fault_thresholds, nominal_amplitude,
-    run_calibrated,
+    NOMINAL_AMPLITUDE_SAMPLES, angle_noise, capture_fault_thresholds,
+    capture_fault_thresholds_for_pole_pairs, nominal_amplitude, run_calibrated,
 };
 pub use columns::{EstimateColumns, Output, OutputSet};
 pub use fixed_chain::{

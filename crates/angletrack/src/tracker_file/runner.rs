@@ -403,5 +403,5 @@ fn thresholds(
             (*c, *s) = calibration.correct(*c, *s);
         }
     }
-    crate::capture_fault_thresholds(&y_c, &y_s)
+    crate::capture_fault_thresholds_for_pole_pairs(&y_c, &y_s, file.pole_pairs.unwrap_or(1))
 }

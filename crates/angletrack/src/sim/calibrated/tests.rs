@@ -380,3 +380,54 @@ fn an_uncalibrated_sensor_in_fixed_point_is_not_flagged_with_the_thresholds_meas
         "{default:?}"
     );
 }
+
+/// The rows of a clean capture (100 Hz, then an acceleration of 2e5 rad/s^2 for 20 ms) more
+/// than 50 / `pole_pairs` mrad off, tracked with the thresholds measured for a motor of
+/// `pole_pairs` (its electrical angle more than 50 mrad off), and of them those not flagged.
+fn acceleration_step_misses(pole_pairs: u32) -> (usize, usize) {
+    let profile = MotionProfile::new(0.3, TAU * 100.0)
+        .then(Motion::ConstantSpeed {
+            speed_rad_s: TAU * 100.0,
+            duration_s: 0.5,
+        })
+        .then(Motion::ConstantAcceleration {
+            acceleration_rad_s2: 2e5,
+            duration_s: 0.02,
+        })
+        .then(Motion::ConstantSpeed {
+            speed_rad_s: TAU * 100.0 + 4e3,
+            duration_s: 0.2,
+        });
+    let sensor = SensorModel {
+        noise_std: 1e-4,
+        ..SensorModel::default()
+    };
+    let s = Scenario::generate(&profile, &sensor, BENCHMARK_SAMPLE_PERIOD_S, 3).unwrap();
+    let file = crate::tracker_file::TrackerFile {
+        pole_pairs: Some(pole_pairs),
+        ..benchmark_file()
+    };
+    let (rows, _) = tracked(&file, &s.y_c, &s.y_s);
+    let bound = 0.05 / f64::from(pole_pairs);
+    let (mut wrong, mut unflagged) = (0, 0);
+    for (k, truth) in s.angle_rad.iter().enumerate().skip(2000) {
+        if ((rows.angle_rad[k] - truth + PI).rem_euclid(TAU) - PI).abs() > bound {
+            wrong += 1;
+            unflagged += usize::from(rows.faults[k] == 0 && rows.front_end_faults[k] == 0);
+        }
+    }
+    (wrong, unflagged)
+}
+
+#[test]
+fn thresholds_measured_for_a_motors_pole_pairs_bound_its_electrical_angle() {
+    // At 4 pole pairs the loop's lag through the step is beyond the electrical bound on
+    // some rows, every one of them flagged; the thresholds of 1 pole pair let them through.
+    let (wrong, unflagged) = acceleration_step_misses(4);
+    assert!(wrong > 10 && unflagged == 0, "{unflagged} of {wrong}");
+    let one = capture_fault_thresholds_for_pole_pairs(&[1.0, 0.0, -1.0], &[0.0, 1.0, 0.0], 1);
+    assert_eq!(
+        one,
+        capture_fault_thresholds(&[1.0, 0.0, -1.0], &[0.0, 1.0, 0.0])
+    );
+}

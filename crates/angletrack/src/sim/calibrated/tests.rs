@@ -431,3 +431,52 @@ fn thresholds_measured_for_a_motors_pole_pairs_bound_its_electrical_angle() {
         capture_fault_thresholds(&[1.0, 0.0, -1.0], &[0.0, 1.0, 0.0])
     );
 }
+
+/// A healthy capture of 12-bit signed counts of `amplitude` tracked in fixed point with the
+/// width stated (`input.bits` 12: a 4-bit shift) and the thresholds measured.
+fn fixed_point_run_of_amplitude(
+    amplitude: f64,
+) -> Result<crate::tracker_file::TrackerRun, crate::json_file::JsonFileError> {
+    use crate::tracker_file::{CaptureHead, Input, NumberType, TrackerFile, TrackerRun};
+    let (y_c, y_s) = counts_of(&SensorModel {
+        amplitude,
+        noise_std: 0.002 * amplitude,
+        ..SensorModel::default()
+    });
+    let head = CaptureHead {
+        y_c: &y_c,
+        y_s: &y_s,
+        counts: None,
+    };
+    let file = TrackerFile {
+        number_type: NumberType::Fixed,
+        input: Input::Bits {
+            bits: 12,
+            signed: true,
+        },
+        ..benchmark_file()
+    };
+    TrackerRun::new(&file, "t.json", &head)
+}
+
+#[test]
+fn a_signal_too_small_for_the_fixed_point_monitor_at_its_stated_width_is_refused() {
+    // 400 counts are 6400 in 16 bits, below 0.6 of the monitor's 16384 (9830): refused,
+    // naming the width, rather than every row flagged. 700 counts (11200) run unflagged.
+    let e = fixed_point_run_of_amplitude(400.0)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        e.contains("input.bits") && e.contains("is 6400.51 in 16 bits"),
+        "{e}"
+    );
+    let mut run = fixed_point_run_of_amplitude(700.0).unwrap();
+    let (y_c, y_s) = counts_of(&SensorModel {
+        amplitude: 700.0,
+        noise_std: 1.4,
+        ..SensorModel::default()
+    });
+    let rows = run.track(&y_c, &y_s);
+    assert_eq!(rows.faults[4000..].iter().filter(|&&f| f != 0).count(), 0);
+}

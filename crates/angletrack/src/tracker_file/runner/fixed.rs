@@ -105,6 +105,28 @@ where
             .fixed_monitor(name, shift)
             .map_err(|e| file_error(name, e))?
             .unwrap_or_else(|| FixedMonitor::measured(&measured, shift));
+        // The monitor judges a window's amplitude against half its own at the least: a
+        // signal below it in 16 bits (a small amplitude in counts of a stated width, whose
+        // shift is fixed) would be flagged on every row. Refused, rather than every row
+        // flagged, where the thresholds are measured.
+        let in_16_bits = nominal * f64::from(1u32 << shift);
+        if file.fault_thresholds.is_none() && in_16_bits < 0.6 * monitor.amplitude {
+            return Err(refuse(
+                name,
+                "input.bits",
+                format!(
+                    "the signal's amplitude, {} counts, is {} in 16 bits after the {shift}-bit \
+                     shift of its stated width, below what the fixed-point monitor judges ({}: \
+                     half its smallest amplitude, 16384, and a margin): every row would be \
+                     flagged; leave the width out (--adc-bits: the shift is then measured, {} \
+                     bits), state the fault thresholds, or track in float",
+                    super::significant(nominal),
+                    super::significant(in_16_bits),
+                    super::significant(0.6 * monitor.amplitude),
+                    crate::fixed_input_shift(nominal)
+                ),
+            ));
+        }
         let (rails, _) = file.rails(name, true).map_err(|e| file_error(name, e))?;
         let calibration = file.fixed_calibration(name, shift)?.map(|(_, c)| c);
         let correction = file.fixed_correction(name)?;

@@ -300,7 +300,7 @@ fn fixed_point_flags(noise_fraction: f64) -> (f64, [(usize, Faults); 3]) {
 
 /// [`fixed_point_flags`] of the capture of `sensor`.
 fn fixed_point_flags_of(sensor: &SensorModel) -> (f64, [(usize, Faults); 3]) {
-    use crate::tracker_file::{CaptureHead, Input, NumberType, TrackerFile, TrackerRun};
+    use crate::tracker_file::{CaptureHead, TrackerFile, TrackerRun};
     let (y_c, y_s) = counts_of(sensor);
     let measured = capture_fault_thresholds(&y_c, &y_s);
     let head = CaptureHead {
@@ -308,18 +308,7 @@ fn fixed_point_flags_of(sensor: &SensorModel) -> (f64, [(usize, Faults); 3]) {
         y_s: &y_s,
         counts: None,
     };
-    let file = TrackerFile {
-        number_type: NumberType::Fixed,
-        input: Input::Bits {
-            bits: 12,
-            signed: true,
-        },
-        ..TrackerFile::new(crate::export::GainsFile {
-            gains: BENCHMARK_KALMAN_GAINS.to_vec(),
-            sample_period_s: BENCHMARK_SAMPLE_PERIOD_S,
-            design: None,
-        })
-    };
+    let file = fixed_point_file();
     let flagged = |fault_thresholds| {
         let file = TrackerFile {
             fault_thresholds,
@@ -437,7 +426,7 @@ fn thresholds_measured_for_a_motors_pole_pairs_bound_its_electrical_angle() {
 fn fixed_point_run_of_amplitude(
     amplitude: f64,
 ) -> Result<crate::tracker_file::TrackerRun, crate::json_file::JsonFileError> {
-    use crate::tracker_file::{CaptureHead, Input, NumberType, TrackerFile, TrackerRun};
+    use crate::tracker_file::{CaptureHead, TrackerRun};
     let (y_c, y_s) = counts_of(&SensorModel {
         amplitude,
         noise_std: 0.002 * amplitude,
@@ -448,15 +437,21 @@ fn fixed_point_run_of_amplitude(
         y_s: &y_s,
         counts: None,
     };
-    let file = TrackerFile {
+    TrackerRun::new(&fixed_point_file(), "t.json", &head)
+}
+
+/// [`benchmark_file`] in fixed point, on 12-bit signed counts (`input.bits` 12: shifted
+/// left by 4 bits to 16).
+fn fixed_point_file() -> crate::tracker_file::TrackerFile {
+    use crate::tracker_file::{Input, NumberType, TrackerFile};
+    TrackerFile {
         number_type: NumberType::Fixed,
         input: Input::Bits {
             bits: 12,
             signed: true,
         },
         ..benchmark_file()
-    };
-    TrackerRun::new(&file, "t.json", &head)
+    }
 }
 
 #[test]

@@ -89,13 +89,13 @@ pub struct SpacingCheck {
     count: u64,
 }
 
-/// A rate (Hz) as the messages show it: to a micro-hertz, trailing zeros dropped.
 /// `x` to 12 significant digits, as short as they allow: a step of 1 / 20 kHz computed from
 /// stamps is 0.00005, not 0.000049999999999999996.
 fn significant(x: f64) -> f64 {
     format!("{x:.11e}").parse().unwrap_or(x)
 }
 
+/// A rate (Hz) as the messages show it: to a micro-hertz, trailing zeros dropped.
 fn format_rate(rate_hz: f64) -> String {
     format!("{:.6}", rate_hz)
         .trim_end_matches('0')

@@ -169,7 +169,7 @@ fn is_ring(sorted: &[f64]) -> bool {
 
 /// The centre of the samples' Lissajous figure (half-way between each channel's 1st and
 /// 99th percentiles), if the samples go round it (each quadrant holds 1 % of them).
-pub(super) fn lissajous_centre(pairs: &[(f64, f64)]) -> Option<(f64, f64)> {
+fn lissajous_centre(pairs: &[(f64, f64)]) -> Option<(f64, f64)> {
     let middle = |mut values: Vec<f64>| {
         values.sort_unstable_by(f64::total_cmp);
         let last = values.len().checked_sub(1)?;
@@ -201,8 +201,8 @@ pub(super) fn median(sorted: &[f64]) -> Option<f64> {
 
 /// The default [`FaultThresholds`] scaled to the capture's [`nominal_amplitude`]
 /// ([`FaultThresholds::for_amplitude`]; the roundness check only where the first samples
-/// show a circle, round and centred on zero or that of the healthy channel beside a dead
-/// one, about that circle's amplitude: `roundness.rs`), with the tracking-error level above the capture's
+/// show a circle, going all round it or along a line of a dead, stuck or shorted channel,
+/// about that circle's amplitude: `roundness.rs`), with the tracking-error level above the capture's
 /// [`angle_noise`] (the core's rule, [`FaultThresholds::with_tracking_error_above_noise`]:
 /// 8 times it, at least 0.05); the core's defaults (amplitude 1) when it has none.
 /// What the Python API and the command line use when the caller gives no thresholds, so
@@ -253,18 +253,18 @@ pub fn capture_fault_thresholds_for_pole_pairs<T: Real>(
     let noise = angle_noise_about(&pairs, centre).unwrap_or(0.0);
     let circle = super::roundness::measured_circle(&pairs, noise);
     let amplitude = circle.map_or(amplitude, |(nominal, _)| nominal);
-    let mut thresholds = FaultThresholds::for_amplitude(T::from_f64(amplitude))
-        .with_magnitude_tolerance(circle.map(|(_, tolerance)| T::from_f64(tolerance)))
-        .with_tracking_error_above_noise(T::from_f64(noise));
-    if pole_pairs > 1 {
-        let p = T::from_f64(f64::from(pole_pairs));
-        let default = FaultThresholds::<T>::for_amplitude(T::ONE).tracking_error;
-        let above_noise =
-            T::from_f32(angletrack_core::TRACKING_ERROR_NOISE_FACTOR) * T::from_f64(noise);
-        thresholds = thresholds
-            .with_tracking_error((default / p).max(above_noise))
-            .with_loss_of_tracking(thresholds.loss_of_tracking / p);
-    }
+    let measured = FaultThresholds::for_amplitude(T::from_f64(amplitude))
+        .with_magnitude_tolerance(circle.map(|(_, tolerance)| T::from_f64(tolerance)));
+    // The core's level above the noise for the electrical angle (its noise `p` times the
+    // tracked angle's), taken back to the tracked angle: at least 8 times the noise.
+    let p = T::from_f64(f64::from(pole_pairs.max(1)));
+    let level = measured
+        .with_tracking_error_above_noise(T::from_f64(noise) * p)
+        .tracking_error
+        / p;
+    let mut thresholds = measured
+        .with_tracking_error(level)
+        .with_loss_of_tracking(measured.loss_of_tracking / p);
     // A biased signal's samples are no bad samples: the input bound covers the bias too
     // (until a calibration removes it, the observer sees it).
     if let Some(raw) = raw {

@@ -109,8 +109,8 @@ where
         // signal below it in 16 bits (a small amplitude in counts of a stated width, whose
         // shift is fixed) would be flagged on every row. Refused, rather than every row
         // flagged, where the thresholds are measured.
-        let in_16_bits = nominal * f64::from(1u32 << shift);
-        if file.fault_thresholds.is_none() && in_16_bits < 0.6 * monitor.amplitude {
+        let (in_16_bits, least) = (nominal * f64::from(1u32 << shift), 0.6 * monitor.amplitude);
+        if file.fault_thresholds.is_none() && in_16_bits < least {
             return Err(refuse(
                 name,
                 "input.bits",
@@ -122,7 +122,7 @@ where
                      bits), state the fault thresholds, or track in float",
                     super::significant(nominal),
                     super::significant(in_16_bits),
-                    super::significant(0.6 * monitor.amplitude),
+                    super::significant(least),
                     crate::fixed_input_shift(nominal)
                 ),
             ));
